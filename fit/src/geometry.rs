@@ -1,0 +1,198 @@
+//! From a physical description of a view ray, a point light and a homogeneous
+//! medium to the canonical `(τ, γ, ρ)` of MATH.md §2 and back.
+//!
+//! `La = (σs · I / D) · A(τ, γ, ρ)`, with `D` the viewer–light distance. The angle
+//! γ is taken from `atan2(|d × L|, d · L)`: the cross product keeps the distance
+//! from the light to the ray (`h = D sin γ`) accurate at grazing angles, where
+//! `1 − cos²γ` would lose every digit.
+
+use crate::reference::Point;
+use std::fmt;
+
+/// A 3-vector in world units.
+pub type Vec3 = [f64; 3];
+
+fn sub(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: Vec3, b: Vec3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+/// Euclidean length without overflow or underflow for any finite input.
+fn norm(a: Vec3) -> f64 {
+    a[0].hypot(a[1]).hypot(a[2])
+}
+
+/// One view ray through a homogeneous medium lit by one point light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysicalRay {
+    /// Viewer (ray origin), world units.
+    pub origin: Vec3,
+    /// Ray direction; any non-zero length.
+    pub direction: Vec3,
+    /// Distance along the ray to the first surface, world units; `None` if the
+    /// ray escapes.
+    pub surface_distance: Option<f64>,
+    /// Light position, world units.
+    pub light: Vec3,
+    /// Light intensity (radiant intensity, W/sr or any consistent unit).
+    pub intensity: f64,
+    /// Extinction coefficient σt, 1/world unit.
+    pub sigma_t: f64,
+    /// Scattering coefficient σs ≤ σt, 1/world unit.
+    pub sigma_s: f64,
+}
+
+/// The canonical form of a [`PhysicalRay`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Canonical {
+    /// `(τ, γ, ρ)`; `g` is copied from the medium.
+    pub point: Point,
+    /// `D`, the viewer–light distance, world units.
+    pub distance: f64,
+    /// `σs · I / D`: radiance = `scale · A`.
+    pub scale: f64,
+}
+
+/// A physical description that does not define an airlight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GeometryError {
+    /// The direction has zero length or is not finite.
+    Direction,
+    /// The light sits at the viewer (D = 0) or a position is not finite.
+    LightAtViewer,
+    /// σt < 0, σs < 0, σs > σt, or a NaN.
+    Medium,
+    /// The surface distance is not > 0.
+    Surface,
+    /// The intensity is negative or NaN.
+    Intensity,
+}
+
+impl fmt::Display for GeometryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            GeometryError::Direction => "ray direction must be finite and non-zero",
+            GeometryError::LightAtViewer => "light and viewer positions must be finite and distinct",
+            GeometryError::Medium => "medium needs 0 ≤ sigma_s ≤ sigma_t < ∞",
+            GeometryError::Surface => "surface distance must be > 0",
+            GeometryError::Intensity => "light intensity must be ≥ 0",
+        })
+    }
+}
+
+impl std::error::Error for GeometryError {}
+
+impl PhysicalRay {
+    /// Canonical parameters for a medium with Henyey–Greenstein asymmetry `g`.
+    pub fn to_canonical(&self, g: f64) -> Result<Canonical, GeometryError> {
+        let dir_len = norm(self.direction);
+        if !(dir_len > 0.0 && dir_len.is_finite()) {
+            return Err(GeometryError::Direction);
+        }
+        let to_light = sub(self.light, self.origin);
+        let distance = norm(to_light);
+        if !(distance > 0.0 && distance.is_finite()) {
+            return Err(GeometryError::LightAtViewer);
+        }
+        if !(self.sigma_t.is_finite() && self.sigma_s >= 0.0 && self.sigma_s <= self.sigma_t) {
+            return Err(GeometryError::Medium);
+        }
+        if !(self.intensity >= 0.0) {
+            return Err(GeometryError::Intensity);
+        }
+        let rho = match self.surface_distance {
+            None => f64::INFINITY,
+            Some(dp) if dp > 0.0 => dp / distance,
+            Some(_) => return Err(GeometryError::Surface),
+        };
+        // Both terms scale with |d| |L|, which cancels in atan2.
+        let d = self.direction;
+        let gamma = norm(cross(d, to_light)).atan2(dot(d, to_light));
+        Ok(Canonical {
+            point: Point { tau: self.sigma_t * distance, gamma, rho, g },
+            distance,
+            scale: self.sigma_s * self.intensity / distance,
+        })
+    }
+
+    /// A physical ray realising the canonical point at viewer–light distance
+    /// `distance`: viewer at the origin, light on +z, ray in the x–z plane.
+    /// `σt = τ / D`; σs and the intensity are the caller's.
+    pub fn from_canonical(p: Point, distance: f64, sigma_s: f64, intensity: f64) -> PhysicalRay {
+        PhysicalRay {
+            origin: [0.0; 3],
+            direction: [p.gamma.sin(), 0.0, p.gamma.cos()],
+            surface_distance: if p.rho.is_finite() { Some(p.rho * distance) } else { None },
+            light: [0.0, 0.0, distance],
+            intensity,
+            sigma_t: p.tau / distance,
+            sigma_s,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_over_scales() {
+        for &dist in &[1e-4, 1.0, 3.7e2, 1e6] {
+            for &gamma in &[1e-6, 1e-3, 0.7, 1.5707963, 3.0, std::f64::consts::PI - 1e-6] {
+                let p = Point { tau: 2.5, gamma, rho: 0.75, g: 0.3 };
+                let mut ray = PhysicalRay::from_canonical(p, dist, 0.2 / dist, 10.0);
+                // Move everything away from the origin, and use an unnormalised direction.
+                let offset = [dist * 3.0, -dist * 5.0, dist * 0.25];
+                ray.origin = [offset[0], offset[1], offset[2]];
+                ray.light = [ray.light[0] + offset[0], ray.light[1] + offset[1], ray.light[2] + offset[2]];
+                ray.direction = [ray.direction[0] * 7.0, 0.0, ray.direction[2] * 7.0];
+                let c = ray.to_canonical(0.3).unwrap();
+                let rel = |a: f64, b: f64| ((a - b) / b).abs();
+                assert!(rel(c.distance, dist) < 1e-15);
+                assert!(rel(c.point.tau, 2.5) < 1e-14);
+                assert!(rel(c.point.rho, 0.75) < 1e-14);
+                // γ to a few ulps of γ even at 1e-6 rad: offsets cost ~ulp(|offset|)/D.
+                assert!(rel(c.point.gamma, gamma) < 1e-9, "D = {dist}, γ = {gamma}: {}", c.point.gamma);
+                assert!(rel(c.scale, 0.2 / dist * 10.0 / dist) < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn grazing_angle_from_cross_product() {
+        // A light 1e-7 units off a ray at distance 1e3: γ = 1e-10 exactly (to f64).
+        let ray = PhysicalRay {
+            origin: [0.0; 3],
+            direction: [1.0, 0.0, 0.0],
+            surface_distance: None,
+            light: [1e3, 1e-7, 0.0],
+            intensity: 1.0,
+            sigma_t: 0.1,
+            sigma_s: 0.05,
+        };
+        let c = ray.to_canonical(0.0).unwrap();
+        assert!(((c.point.gamma - 1e-10) / 1e-10).abs() < 1e-12, "{}", c.point.gamma);
+    }
+
+    #[test]
+    fn bad_descriptions_are_errors() {
+        let good = PhysicalRay::from_canonical(Point { tau: 1.0, gamma: 1.0, rho: 2.0, g: 0.0 }, 1.0, 0.5, 1.0);
+        assert!(good.to_canonical(0.0).is_ok());
+        let mut r = good;
+        r.direction = [0.0; 3];
+        assert_eq!(r.to_canonical(0.0), Err(GeometryError::Direction));
+        let mut r = good;
+        r.light = r.origin;
+        assert_eq!(r.to_canonical(0.0), Err(GeometryError::LightAtViewer));
+        let mut r = good;
+        r.sigma_s = 2.0;
+        assert_eq!(r.to_canonical(0.0), Err(GeometryError::Medium));
+        let mut r = good;
+        r.surface_distance = Some(0.0);
+        assert_eq!(r.to_canonical(0.0), Err(GeometryError::Surface));
+    }
+}

@@ -1,0 +1,470 @@
+//! The reference airlight `A(τ, γ, ρ; P)` of MATH.md §2, in f64, to ≤ 1e-12
+//! relative.
+//!
+//! Primary path: the u form of MATH.md §3 split at the foot of the perpendicular
+//! (`u = 1`). The forward half is integrated in `x = u − ua`, the backward half in
+//! `v = 1/u` (the substitution maps `du/(1+u²)` to `dv/(1+v²)`, so the infinite
+//! range `ρ = ∞` becomes `v → 0`). Every quantity that could cancel — `ub − ua`,
+//! `s + t − cos γ`, `1 ± cos α` — is formed in a cancellation-free way.
+//! Adaptive Gauss–Kronrod with breakpoints at the scales where the integrand has
+//! structure: `1/T` (extinction), the Henyey–Greenstein peak `1 − |g|`.
+//!
+//! Independent paths, used by the tests and the self-check:
+//! [`airlight_s_form`] (tanh–sinh in the distance `s` along the ray, §2) and
+//! [`airlight_e1`] (isotropic only; exact complex-E1 closed form, §3).
+
+use crate::e1::isotropic_kernel_integral;
+use crate::phase::Phase;
+use crate::quad::{gauss_kronrod, tanh_sinh};
+use std::f64::consts::PI;
+use std::fmt;
+
+/// Relative tolerance handed to the adaptive quadrature (on the pessimistic
+/// `|K21 − G10|` estimate; the returned Kronrod value is far better).
+pub const REFERENCE_REL_TOL: f64 = 1e-13;
+/// Subinterval budget per half of the u form.
+pub const MAX_INTERVALS: usize = 2000;
+
+/// A point of the canonical domain: `τ = σt·D`, `γ` the angle between the view ray
+/// and the direction to the light, `ρ = Dp/D` (∞ when no surface), `g` the
+/// Henyey–Greenstein asymmetry (0: isotropic).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    /// Optical distance from viewer to light, `σt · D`.
+    pub tau: f64,
+    /// Angle between the view ray and the direction to the light, radians, `[0, π]`.
+    pub gamma: f64,
+    /// Distance to the first surface in units of `D`; `f64::INFINITY` for none.
+    pub rho: f64,
+    /// Henyey–Greenstein asymmetry parameter, `(−1, 1)`; 0 is isotropic.
+    pub g: f64,
+}
+
+/// Which parameter of a [`Point`] is out of its domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Param {
+    /// `τ`
+    Tau,
+    /// `γ`
+    Gamma,
+    /// `ρ`
+    Rho,
+    /// `g`
+    G,
+}
+
+impl Param {
+    /// The column name used in CSV files and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Tau => "tau",
+            Param::Gamma => "gamma",
+            Param::Rho => "rho",
+            Param::G => "g",
+        }
+    }
+}
+
+/// An input outside the domain of `A`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamError {
+    /// The offending parameter.
+    pub param: Param,
+    /// Its value.
+    pub value: f64,
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let need = match self.param {
+            Param::Tau => "a finite number ≥ 0",
+            Param::Gamma => "an angle in [0, π] radians",
+            Param::Rho => "a number > 0, or inf for no surface",
+            Param::G => "in (−1, 1)",
+        };
+        write!(f, "{} = {} is out of range: it must be {}", self.param.name(), self.value, need)
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+impl Point {
+    /// A point; see [`Point::validate`].
+    pub fn new(tau: f64, gamma: f64, rho: f64, g: f64) -> Point {
+        Point { tau, gamma, rho, g }
+    }
+
+    /// Checks the domain: `τ ∈ [0, ∞)`, `γ ∈ [0, π]`, `ρ ∈ (0, ∞]`, `|g| < 1`, no NaN.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let err = |param, value| Err(ParamError { param, value });
+        if !(self.tau >= 0.0 && self.tau.is_finite()) {
+            return err(Param::Tau, self.tau);
+        }
+        if !(self.gamma >= 0.0 && self.gamma <= PI) {
+            return err(Param::Gamma, self.gamma);
+        }
+        if !(self.rho > 0.0) {
+            return err(Param::Rho, self.rho);
+        }
+        if !(self.g.abs() < 1.0) {
+            return err(Param::G, self.g);
+        }
+        Ok(())
+    }
+
+    /// The phase function this point uses.
+    pub fn phase(&self) -> Phase {
+        Phase::from_g(self.g)
+    }
+}
+
+/// A reference value with the quadrature's own account of itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Evaluation {
+    /// `A(τ, γ, ρ; g)`; `+∞` when the ray passes through the light.
+    pub value: f64,
+    /// Estimated relative error (the pessimistic Gauss–Kronrod estimate; 0 for
+    /// closed forms).
+    pub rel_error: f64,
+    /// Integrand evaluations spent.
+    pub evaluations: usize,
+    /// Whether the adaptive quadrature met its tolerance on every part.
+    pub converged: bool,
+}
+
+/// Quantities of the u form shared by every path (MATH.md §3).
+#[derive(Debug, Clone, Copy)]
+struct Geometry {
+    /// `sin γ`
+    h: f64,
+    /// `cos γ`
+    c: f64,
+    /// `1 − cos γ = 2 sin²(γ/2)`
+    one_minus_c: f64,
+    /// `ua = tan(γ/2)`
+    ua: f64,
+    /// `ub = (ρ + t(ρ) − cos γ)/sin γ`, ∞ for ρ = ∞
+    ub: f64,
+    /// `1/ub`
+    vb: f64,
+    /// `ub − ua`, without cancellation
+    delta: f64,
+}
+
+/// `s − cos γ + t(s)` ≥ 0 without cancellation, with `t = √((s − c)² + h²)`.
+#[inline]
+fn s_minus_c_plus_t(r: f64, t: f64, h: f64) -> f64 {
+    // r = s − c. If r < 0, t − |r| = h² / (t + |r|).
+    if r >= 0.0 {
+        r + t
+    } else {
+        h * h / (t - r)
+    }
+}
+
+/// `s − cos γ` to full precision even when `cos γ` rounds to 1: for `γ < π/2`
+/// it is `(s − 1) + (1 − cos γ)`, where `s − 1` is exact for `s ∈ [½, 2]` (the
+/// only place the difference can be small) and `1 − cos γ = 2 sin²(γ/2)`.
+#[inline]
+fn offset_from_foot(s: f64, c: f64, one_minus_c: f64) -> f64 {
+    if c > 0.0 {
+        (s - 1.0) + one_minus_c
+    } else {
+        s - c
+    }
+}
+
+impl Geometry {
+    fn new(gamma: f64, rho: f64) -> Geometry {
+        let h = gamma.sin();
+        let c = gamma.cos();
+        let half = (0.5 * gamma).sin();
+        let one_minus_c = 2.0 * half * half;
+        let ua = (0.5 * gamma).tan();
+        if rho.is_infinite() {
+            return Geometry { h, c, one_minus_c, ua, ub: f64::INFINITY, vb: 0.0, delta: f64::INFINITY };
+        }
+        let r = offset_from_foot(rho, c, one_minus_c);
+        let t = r.hypot(h);
+        let q = s_minus_c_plus_t(r, t, h);
+        // u(ρ) − ua = (ρ + t − 1)/h = 2ρ q / ((ρ + t + 1) h)
+        let delta = 2.0 * rho * q / ((rho + t + 1.0) * h);
+        // ub = q/h; 1/ub = h/q, written so that neither over- nor underflows early.
+        let (ub, vb) = if r >= 0.0 { (q / h, h / q) } else { (h / (t - r), (t - r) / h) };
+        Geometry { h, c, one_minus_c, ua, ub, vb, delta }
+    }
+}
+
+/// Validates and evaluates the reference airlight. The main entry point.
+pub fn airlight(p: Point) -> Result<f64, ParamError> {
+    airlight_detailed(p).map(|e| e.value)
+}
+
+/// [`airlight`] with the quadrature's diagnostics.
+pub fn airlight_detailed(p: Point) -> Result<Evaluation, ParamError> {
+    p.validate()?;
+    let phase = p.phase();
+    if let Some(v) = on_axis(p, phase) {
+        return Ok(Evaluation { value: v, rel_error: 0.0, evaluations: 0, converged: true });
+    }
+    let geo = Geometry::new(p.gamma, p.rho);
+    let t_ext = p.tau * geo.h; // T = τ sin γ
+    let width = phase.peak_width();
+    let mut evaluations = 0;
+    let mut err = 0.0;
+    let mut total = 0.0;
+    let mut converged = true;
+
+    // Forward half: u = ua + x, x ∈ [0, min(ub, 1) − ua], only when ua < 1 (γ < π/2).
+    if geo.ua < 1.0 {
+        let x_end = if geo.ub <= 1.0 { geo.delta } else { 1.0 - geo.ua };
+        let mut bps = vec![0.0, x_end];
+        add_scales(&mut bps, x_end, &[1.0 / t_ext]);
+        // The forward HG peak at u = 0 is algebraic: powers of 4 up to the end.
+        let mut x = 0.5 * width / 16.0;
+        while x < x_end {
+            bps.push(x);
+            x *= 4.0;
+        }
+        let q = gauss_kronrod(
+            |x| {
+                let u = geo.ua + x;
+                let w = 1.0 / (1.0 + u * u);
+                phase.eval_half(u * u * w, w) * w * (-t_ext * x).exp()
+            },
+            &finish(bps),
+            REFERENCE_REL_TOL,
+            MAX_INTERVALS,
+        );
+        total += q.value;
+        err += q.error;
+        evaluations += q.evaluations;
+        converged &= q.converged;
+    }
+    // Backward half: v = 1/u = v0 − y from v0 = min(1, 1/ua) down to vb.
+    if geo.ub > 1.0 {
+        let (v0, k0, e0) = if geo.ua < 1.0 {
+            // T(1/v − ua) = T·y/v + T(1 − ua)
+            (1.0, t_ext, t_ext * (1.0 - geo.ua))
+        } else {
+            // T/va = τ (1 − cos γ); T(1/v − ua) = τ(1 − c) y / v
+            (1.0 / geo.ua, p.tau * geo.one_minus_c, 0.0)
+        };
+        let y_end = if geo.ua < 1.0 {
+            1.0 - geo.vb
+        } else if geo.ub.is_infinite() {
+            v0
+        } else {
+            geo.delta / (geo.ua * geo.ub)
+        };
+        let mut bps = vec![0.0, y_end];
+        // Near y = 0 the decay scale is v0²/k0 (T large).
+        add_scales(&mut bps, y_end, &[v0 * v0 / k0]);
+        // Towards v = 0: the cut-off e^{−T/v} at v ~ T, whose 1 − e^{−T/v} ≈ T/v
+        // tail reaches every scale up to v0, and the backward HG peak, algebraic
+        // on the same terms. Breakpoints at every power of 4 keep each
+        // subinterval well away from that structure.
+        for s in [t_ext, 0.5 * width] {
+            if s.is_finite() && s > 0.0 {
+                let mut v = s / 16.0;
+                while v < v0 {
+                    if v > geo.vb {
+                        bps.push(v0 - v);
+                    }
+                    v *= 4.0;
+                }
+            }
+        }
+        let q = gauss_kronrod(
+            |y| {
+                let v = v0 - y;
+                if v <= 0.0 {
+                    return 0.0;
+                }
+                let w = 1.0 / (1.0 + v * v);
+                let e = if k0 == 0.0 { e0 } else { k0 * (y / v) + e0 };
+                phase.eval_half(w, v * v * w) * w * (-e).exp()
+            },
+            &finish(bps),
+            REFERENCE_REL_TOL,
+            MAX_INTERVALS,
+        );
+        total += q.value;
+        err += q.error;
+        evaluations += q.evaluations;
+        converged &= q.converged;
+    }
+    // A = 2 e^{−τ} I / h; the order keeps it from ever forming 0·∞.
+    let value = 2.0 * (-p.tau).exp() * total / geo.h;
+    let rel_error = if total > 0.0 { err / total } else { 0.0 };
+    Ok(Evaluation { value, rel_error, evaluations, converged })
+}
+
+/// `γ = 0`: the ray looks straight at the light. `α = 0` before it, so
+/// `A = P(0) e^{−τ} ρ/(1 − ρ)` for `ρ < 1` and `+∞` when the ray reaches the light.
+fn on_axis(p: Point, phase: Phase) -> Option<f64> {
+    if p.gamma != 0.0 {
+        return None;
+    }
+    Some(if p.rho < 1.0 { phase.eval_half(0.0, 1.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho) } else { f64::INFINITY })
+}
+
+/// Breakpoints at `s·4^k` inside `(0, end)` for each finite, positive scale `s`.
+fn add_scales(bps: &mut Vec<f64>, end: f64, scales: &[f64]) {
+    for &s in scales {
+        if s.is_finite() && s > 0.0 {
+            for k in [-2, -1, 0, 1, 2, 3] {
+                let x = s * 4f64.powi(k);
+                if x > 0.0 && x < end {
+                    bps.push(x);
+                }
+            }
+        }
+    }
+}
+
+fn finish(mut bps: Vec<f64>) -> Vec<f64> {
+    bps.sort_by(|a, b| a.total_cmp(b));
+    bps.dedup();
+    bps
+}
+
+/// Independent path: tanh–sinh quadrature of the s form (MATH.md §2), split
+/// geometrically around the foot of the perpendicular and at the extinction
+/// length; the tail to `ρ = ∞` is mapped by `s = S/w`. Every breakpoint is kept as
+/// the pair `(s, r = s − cos γ)`, and each node is placed from its nearer
+/// breakpoint, so neither `s` near 0 nor `r` near the foot loses digits.
+pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
+    p.validate()?;
+    let phase = p.phase();
+    if let Some(v) = on_axis(p, phase) {
+        return Ok(v);
+    }
+    let h = p.gamma.sin();
+    let c = p.gamma.cos();
+    let one_minus_c = 2.0 * (0.5 * p.gamma).sin().powi(2);
+    let tau = p.tau;
+    // Integrand at distance s, with r = s − c supplied accurately; e^{−τ} factored out.
+    let f = |s: f64, r: f64| -> f64 {
+        let t = r.hypot(h);
+        let q = s_minus_c_plus_t(r, t, h); // = 2 t sin²(α/2)
+        let s2 = 0.5 * q / t;
+        let c2 = if r <= 0.0 { 0.5 * (t - r) / t } else { 0.5 * h * h / ((t + r) * t) };
+        let excess = 2.0 * s * q / (s + t + 1.0); // s + t − 1 ≥ 0
+        phase.eval_half(s2, c2) * (-tau * excess).exp() / (t * t)
+    };
+    let tail_start = if p.rho.is_infinite() { (c.max(0.0) + 1.0) * 4.0 } else { p.rho };
+    // Breakpoints as (s, r): the ends, the foot, and geometric offsets from the foot.
+    let mut bps: Vec<(f64, f64)> =
+        vec![(0.0, -c), (tail_start, offset_from_foot(tail_start, c, one_minus_c))];
+    let mut scales = vec![h];
+    if tau > 0.0 {
+        scales.push(1.0 / tau);
+    }
+    for sc in scales {
+        for k in 0..60 {
+            let d = sc * 4f64.powi(k);
+            if d > 4.0 * (tail_start + 1.0) {
+                break;
+            }
+            for r in [d, -d, 0.0] {
+                let s = c + r;
+                if s > 0.0 && s < tail_start {
+                    bps.push((s, r));
+                }
+            }
+        }
+    }
+    bps.sort_by(|a, b| a.0.total_cmp(&b.0));
+    bps.dedup_by(|a, b| a.0 == b.0);
+    let mut total = 0.0;
+    for w in bps.windows(2) {
+        let ((sa, ra), (sb, rb)) = (w[0], w[1]);
+        // The width from whichever coordinate is smaller here, hence exact.
+        let width = if ra.abs().max(rb.abs()) < sa.abs().max(sb.abs()) { rb - ra } else { sb - sa };
+        total += tanh_sinh(
+            |da, db| if da <= db { f(sa + da, ra + da) } else { f(sb - db, rb - db) },
+            width,
+            1e-14,
+        )
+        .value;
+    }
+    if p.rho.is_infinite() {
+        let big_s = tail_start;
+        // s = S/w, ds = S/w² dw, w ∈ (0, 1].
+        total += tanh_sinh(
+            |w, _| {
+                let s = big_s / w;
+                f(s, offset_from_foot(s, c, one_minus_c)) * big_s / (w * w)
+            },
+            1.0,
+            1e-14,
+        )
+        .value;
+    }
+    Ok((-tau).exp() * total)
+}
+
+/// Independent path for isotropic media: the exact complex-E1 closed form of
+/// MATH.md §3. Returns the value and the condition number of its final
+/// subtraction (digits lost ≈ log10 of it). `g` must be 0.
+pub fn airlight_e1(p: Point) -> Result<(f64, f64), ParamError> {
+    p.validate()?;
+    if p.g != 0.0 {
+        return Err(ParamError { param: Param::G, value: p.g });
+    }
+    if let Some(v) = on_axis(p, Phase::Isotropic) {
+        return Ok((v, 1.0));
+    }
+    let geo = Geometry::new(p.gamma, p.rho);
+    let (i, cond) = isotropic_kernel_integral(p.tau * geo.h, geo.ua, geo.ub, geo.delta);
+    Ok((2.0 * (-p.tau).exp() * i / (4.0 * PI) / geo.h, cond))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn invalid_input_names_the_parameter() {
+        let cases = [
+            (Point::new(-1.0, 1.0, 1.0, 0.0), Param::Tau),
+            (Point::new(f64::NAN, 1.0, 1.0, 0.0), Param::Tau),
+            (Point::new(f64::INFINITY, 1.0, 1.0, 0.0), Param::Tau),
+            (Point::new(1.0, -0.1, 1.0, 0.0), Param::Gamma),
+            (Point::new(1.0, 3.2, 1.0, 0.0), Param::Gamma),
+            (Point::new(1.0, f64::NAN, 1.0, 0.0), Param::Gamma),
+            (Point::new(1.0, 1.0, 0.0, 0.0), Param::Rho),
+            (Point::new(1.0, 1.0, f64::NAN, 0.0), Param::Rho),
+            (Point::new(1.0, 1.0, 1.0, 1.0), Param::G),
+            (Point::new(1.0, 1.0, 1.0, -1.0), Param::G),
+            (Point::new(1.0, 1.0, 1.0, f64::NAN), Param::G),
+        ];
+        for (p, param) in cases {
+            assert_eq!(airlight(p).unwrap_err().param, param, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn looking_at_the_light() {
+        let p0 = Phase::Isotropic.eval(0.0);
+        let a = airlight(Point::new(0.5, 0.0, 0.5, 0.0)).unwrap();
+        assert!((a - p0 * (-0.5f64).exp()).abs() < 1e-16);
+        assert_eq!(airlight(Point::new(0.5, 0.0, 1.0, 0.0)).unwrap(), f64::INFINITY);
+        assert_eq!(airlight(Point::new(0.5, 0.0, f64::INFINITY, 0.3)).unwrap(), f64::INFINITY);
+        // Continuity: a tiny angle approaches the on-axis value.
+        let near = airlight(Point::new(0.5, 1e-9, 0.5, 0.0)).unwrap();
+        assert!(((near - a) / a).abs() < 1e-12, "{near} vs {a}");
+    }
+
+    #[test]
+    fn no_extinction_closed_form() {
+        // τ = 0, isotropic: A = (2/h)(atan ub − atan ua)/(4π) (seed 003).
+        for (gamma, rho) in [(0.3, 2.0), (2.5, f64::INFINITY), (1.0, 0.01)] {
+            let geo = Geometry::new(gamma, rho);
+            let exact = 2.0 * (geo.ub.atan() - geo.ua.atan()) / (4.0 * PI * geo.h);
+            let a = airlight(Point::new(0.0, gamma, rho, 0.0)).unwrap();
+            assert!(((a - exact) / exact).abs() < 1e-13, "{a} vs {exact}");
+        }
+    }
+}
