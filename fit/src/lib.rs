@@ -1,17 +1,25 @@
 //! airlight-fit: the reference single-scattering airlight integral, the geometry
-//! that maps a scene onto it, and (later) the model families fitted against it.
+//! that maps a scene onto it, the models that approximate it, and the error
+//! analysis that measures them.
 //!
 //! Everything here is f64 and follows `MATH.md`: `A(τ, γ, ρ; P)` is the canonical,
 //! dimensionless airlight, and every error figure is a relative error of `A`.
+//! Nothing here prints or exits; errors are values.
 
 #![warn(missing_docs)]
 
 pub mod domains;
 pub mod e1;
+pub mod fixtures;
 pub mod geometry;
+pub mod io;
+pub mod model;
+pub mod parallel;
 pub mod phase;
+pub mod points_csv;
 pub mod quad;
 pub mod reference;
+pub mod selfcheck;
 pub mod stats;
 
 pub use phase::Phase;

@@ -137,8 +137,6 @@ pub struct Evaluation {
 struct Geometry {
     /// `sin γ`
     h: f64,
-    /// `cos γ`
-    c: f64,
     /// `1 − cos γ = 2 sin²(γ/2)`
     one_minus_c: f64,
     /// `ua = tan(γ/2)`
@@ -182,7 +180,7 @@ impl Geometry {
         let one_minus_c = 2.0 * half * half;
         let ua = (0.5 * gamma).tan();
         if rho.is_infinite() {
-            return Geometry { h, c, one_minus_c, ua, ub: f64::INFINITY, vb: 0.0, delta: f64::INFINITY };
+            return Geometry { h, one_minus_c, ua, ub: f64::INFINITY, vb: 0.0, delta: f64::INFINITY };
         }
         let r = offset_from_foot(rho, c, one_minus_c);
         let t = r.hypot(h);
@@ -191,7 +189,7 @@ impl Geometry {
         let delta = 2.0 * rho * q / ((rho + t + 1.0) * h);
         // ub = q/h; 1/ub = h/q, written so that neither over- nor underflows early.
         let (ub, vb) = if r >= 0.0 { (q / h, h / q) } else { (h / (t - r), (t - r) / h) };
-        Geometry { h, c, one_minus_c, ua, ub, vb, delta }
+        Geometry { h, one_minus_c, ua, ub, vb, delta }
     }
 }
 

@@ -1,0 +1,96 @@
+//! The `airlight` binary from a shell's point of view: outputs, messages, exit
+//! codes, and that a failed run leaves the output file alone.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn airlight(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_airlight")).args(args).output().expect("runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("airlight-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn eval_reference_to_stdout_and_file() {
+    let dir = scratch("ok");
+    let input = dir.join("points.csv");
+    std::fs::write(&input, "tau,gamma,rho,g\n1,0.5,inf,0\n0.5,0,0.5,0.3\n2,0,2,0\n").unwrap();
+    let o = airlight(&["eval", "--model", "reference", "--input", input.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "tau,gamma,rho,g,airlight");
+    assert_eq!(lines.len(), 4);
+    // γ = 0 before the light: P(0) e^{−τ} ρ/(1 − ρ), HG g = 0.3.
+    let p0 = (1.0 - 0.09) / (4.0 * std::f64::consts::PI * 0.7f64.powi(3));
+    let want = p0 * (-0.5f64).exp();
+    let got: f64 = lines[2].rsplit(',').next().unwrap().parse().unwrap();
+    assert!(((got - want) / want).abs() < 1e-15, "{got} vs {want}");
+    assert_eq!(lines[3], "2,0,2,0,inf");
+    let output = dir.join("out.csv");
+    let o = airlight(&["eval", "-i", input.to_str().unwrap(), "-o", output.to_str().unwrap()]);
+    assert!(o.status.success());
+    assert_eq!(std::fs::read_to_string(&output).unwrap(), out);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_input_is_one_line_exit_2_and_output_untouched() {
+    let dir = scratch("bad");
+    let output = dir.join("out.csv");
+    let cases: [(&str, &str); 6] = [
+        ("tau,gamma,rho\n1,1,1\n", "missing.csv:1: column 'g': missing from the header"),
+        ("tau,gamma,rho,g\n1,1,1,0\n1,abc,1,0\n", "nonnum.csv:3: column 'gamma': 'abc' is not a number"),
+        ("tau,gamma,rho,g\n-2,1,1,0\n", "domain.csv:2: column 'tau': tau = -2 is out of range"),
+        ("tau,gamma,rho,g\n1,1,1,1.5\n", "g.csv:2: column 'g': g = 1.5 is out of range"),
+        ("tau,gamma,rho,g\n1,1,0,0\n", "rho.csv:2: column 'rho': rho = 0 is out of range"),
+        ("tau,gamma,rho,g\n1,1\n", "short.csv:2: column 'rho': missing value"),
+    ];
+    for (i, (contents, want)) in cases.iter().enumerate() {
+        let name = want.split(':').next().unwrap();
+        let input = dir.join(name);
+        std::fs::write(&input, contents).unwrap();
+        std::fs::write(&output, format!("previous {i}")).unwrap();
+        let o = airlight(&["eval", "-i", input.to_str().unwrap(), "-o", output.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{name}");
+        let err = stderr(&o);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("error: ") && err.contains(want), "{err} should contain {want}");
+        assert_eq!(std::fs::read_to_string(&output).unwrap(), format!("previous {i}"));
+    }
+    // An unknown model lists the known ones, and creates no output file.
+    let fresh = dir.join("never.csv");
+    let input = dir.join("missing.csv");
+    let o = airlight(&["eval", "--model", "nope", "-i", input.to_str().unwrap(), "-o", fresh.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr(&o).trim(), "error: unknown model 'nope'; known models: reference");
+    assert!(!fresh.exists());
+    // An input that does not exist.
+    let o = airlight(&["eval", "-i", dir.join("absent.csv").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("absent.csv: cannot read"));
+    // No temporary files left behind.
+    assert!(std::fs::read_dir(&dir).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".tmp")));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn help_explains_the_canonical_parameters() {
+    let o = airlight(&["--help"]);
+    assert!(o.status.success());
+    let help = String::from_utf8(o.stdout).unwrap();
+    for word in ["sigma_t * D", "gamma", "rho", "Henyey-Greenstein", "eval", "regenerate"] {
+        assert!(help.contains(word), "help lacks {word}");
+    }
+    let o = airlight(&["eval", "--help"]);
+    let help = String::from_utf8(o.stdout).unwrap();
+    assert!(help.contains("tau,gamma,rho,g") && help.contains("inf"));
+}

@@ -1,0 +1,84 @@
+//! A set of generated files, written atomically or compared with what is on disk.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// One generated file, its path relative to the `generated/` directory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Output {
+    /// Path under `generated/`, with `/` separators.
+    pub path: String,
+    /// Full contents.
+    pub contents: String,
+}
+
+/// How a file on disk differs from what the generator renders.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Difference {
+    /// The file does not exist.
+    Missing(PathBuf),
+    /// The file exists with other contents; the first differing line (1-based).
+    Stale(PathBuf, usize),
+}
+
+impl fmt::Display for Difference {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Difference::Missing(p) => write!(f, "{}: missing", p.display()),
+            Difference::Stale(p, line) => write!(f, "{}:{}: differs from what the generator renders", p.display(), line),
+        }
+    }
+}
+
+/// Writes every output under `root`, creating directories; each file is
+/// replaced atomically, and files whose contents are unchanged are not touched.
+pub fn write_all(root: &Path, outputs: &[Output]) -> std::io::Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    for o in outputs {
+        let path = root.join(&o.path);
+        if std::fs::read(&path).ok().as_deref() == Some(o.contents.as_bytes()) {
+            continue;
+        }
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        airlight_fit::io::write_atomic(&path, o.contents.as_bytes())?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Compares every output with the file under `root`; empty when all match.
+pub fn check(root: &Path, outputs: &[Output]) -> Vec<Difference> {
+    let mut diffs = Vec::new();
+    for o in outputs {
+        let path = root.join(&o.path);
+        match std::fs::read_to_string(&path) {
+            Err(_) => diffs.push(Difference::Missing(path)),
+            Ok(disk) if disk != o.contents => {
+                let line = disk.lines().zip(o.contents.lines()).take_while(|(a, b)| a == b).count() + 1;
+                diffs.push(Difference::Stale(path, line));
+            }
+            Ok(_) => {}
+        }
+    }
+    diffs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn write_then_check() {
+        let root = std::env::temp_dir().join(format!("airlight-out-{}", std::process::id()));
+        let outs = vec![Output { path: "a/b.md".into(), contents: "x\ny\n".into() }];
+        assert_eq!(check(&root, &outs), vec![Difference::Missing(root.join("a/b.md"))]);
+        assert_eq!(write_all(&root, &outs).unwrap().len(), 1);
+        assert!(check(&root, &outs).is_empty());
+        assert!(write_all(&root, &outs).unwrap().is_empty(), "unchanged files are not rewritten");
+        std::fs::write(root.join("a/b.md"), "x\nz\n").unwrap();
+        assert_eq!(check(&root, &outs), vec![Difference::Stale(root.join("a/b.md"), 2)]);
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+}
