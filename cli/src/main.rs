@@ -145,7 +145,8 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
         bar.set_position(done as u64);
     });
     bar.finish_and_clear();
-    let report = airlight_codegen::report::render(&check).map_err(|e| Failure(1, format!("rendering REPORT.md: {e}")))?;
+    let report =
+        airlight_codegen::report::render(&check).map_err(|e| Failure(1, format!("rendering REPORT.md: {e}")))?;
     let written = airlight_codegen::write_all(&generated, &[report])
         .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
     for d in &check.domains {

@@ -25,7 +25,9 @@ impl fmt::Display for Difference {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Difference::Missing(p) => write!(f, "{}: missing", p.display()),
-            Difference::Stale(p, line) => write!(f, "{}:{}: differs from what the generator renders", p.display(), line),
+            Difference::Stale(p, line) => {
+                write!(f, "{}:{}: differs from what the generator renders", p.display(), line)
+            }
         }
     }
 }

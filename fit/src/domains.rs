@@ -65,9 +65,7 @@ impl Domain {
     /// The corner points of the domain for each `g` in `gs`.
     pub fn corners(self, gs: &[f64]) -> Vec<Point> {
         let (taus, gammas, rhos): (Vec<f64>, Vec<f64>, Vec<f64>) = match self {
-            Domain::Extreme => {
-                (vec![0.0, 1e-8, 50.0, 100.0], vec![1e-4, PI - 1e-4], vec![1e-4, 1e4, f64::INFINITY])
-            }
+            Domain::Extreme => (vec![0.0, 1e-8, 50.0, 100.0], vec![1e-4, PI - 1e-4], vec![1e-4, 1e4, f64::INFINITY]),
             _ => {
                 let (lo, hi) = self.tau_range();
                 (vec![lo, hi], vec![GAMMA_MIN, PI - GAMMA_MIN], vec![RHO_MIN, RHO_MAX, f64::INFINITY])
@@ -97,7 +95,8 @@ impl Domain {
             let mut rng = SplitMix64(seed ^ (self as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
             let shift: [f64; 4] = std::array::from_fn(|_| rng.next_f64());
             for i in 0..n {
-                let z: [f64; 4] = std::array::from_fn(|d| (radical_inverse(i as u64 + 1, PRIMES[d]) + shift[d]).fract());
+                let z: [f64; 4] =
+                    std::array::from_fn(|d| (radical_inverse(i as u64 + 1, PRIMES[d]) + shift[d]).fract());
                 let tau = tlo + (thi - tlo) * z[0];
                 let gamma = GAMMA_MIN + (PI - 2.0 * GAMMA_MIN) * z[1];
                 let rho = if z[2] >= 1.0 - INFINITE_RHO_SHARE {

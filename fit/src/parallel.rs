@@ -5,7 +5,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// `items.iter().map(f)` on all available cores, in input order. `progress`
 /// receives `(done, total)` from the worker threads as chunks complete.
-pub fn map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync, progress: &(dyn Fn(usize, usize) + Sync)) -> Vec<R> {
+pub fn map<T: Sync, R: Send>(
+    items: &[T],
+    f: impl Fn(&T) -> R + Sync,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Vec<R> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(items.len().max(1));
     let chunk = items.len().div_ceil(threads * 16).max(1);
     let done = AtomicUsize::new(0);

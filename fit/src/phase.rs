@@ -44,11 +44,8 @@ impl Phase {
             Phase::Isotropic => 1.0 / (4.0 * PI),
             Phase::HenyeyGreenstein { g } => {
                 // 1 + g² − 2g cos α, written around the peak so that it never cancels.
-                let d = if g >= 0.0 {
-                    (1.0 - g) * (1.0 - g) + 4.0 * g * s2
-                } else {
-                    (1.0 + g) * (1.0 + g) - 4.0 * g * c2
-                };
+                let d =
+                    if g >= 0.0 { (1.0 - g) * (1.0 - g) + 4.0 * g * s2 } else { (1.0 + g) * (1.0 + g) - 4.0 * g * c2 };
                 (1.0 - g) * (1.0 + g) / (4.0 * PI * d * d.sqrt())
             }
         }
@@ -85,7 +82,13 @@ mod tests {
             let mut sum = 0.0;
             for i in 0..=n {
                 let a = i as f64 * dx;
-                let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+                let w = if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
                 sum += w * p.eval(a) * a.sin();
             }
             let integral = 2.0 * PI * sum * dx / 3.0;

@@ -67,8 +67,10 @@ pub fn parse(
         message,
     };
     let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
-    let (header_line, header) = lines.next().ok_or_else(|| err(1, None, "empty file: expected a header tau,gamma,rho,g".into()))?;
-    let names: Vec<String> = header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
+    let (header_line, header) =
+        lines.next().ok_or_else(|| err(1, None, "empty file: expected a header tau,gamma,rho,g".into()))?;
+    let names: Vec<String> =
+        header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
     let mut index = [0usize; 4];
     for (k, col) in COLUMNS.iter().enumerate() {
         index[k] = names.iter().position(|n| n == col).ok_or_else(|| {
@@ -82,7 +84,11 @@ pub fn parse(
         let mut raw: [String; 4] = Default::default();
         for k in 0..4 {
             let f = fields.get(index[k]).ok_or_else(|| {
-                err(line, Some(COLUMNS[k]), format!("missing value (the row has {} fields, the header {})", fields.len(), names.len()))
+                err(
+                    line,
+                    Some(COLUMNS[k]),
+                    format!("missing value (the row has {} fields, the header {})", fields.len(), names.len()),
+                )
             })?;
             vals[k] = parse_number(f).ok_or_else(|| err(line, Some(COLUMNS[k]), format!("'{f}' is not a number")))?;
             raw[k] = f.to_string();
@@ -145,7 +151,8 @@ mod tests {
         assert!(e("tau,gamma,rho,g\n1,4,1,0\n").starts_with("in.csv:2: column 'gamma'"));
         assert!(e("tau,gamma,rho,g\n1,1,0,0\n").starts_with("in.csv:2: column 'rho'"));
         assert!(e("tau,gamma,rho,g\n1,1,1,nan\n").starts_with("in.csv:2: column 'g'"));
-        let isotropic = |p: &Point| if p.g == 0.0 { Ok(()) } else { Err(ParamError { param: crate::Param::G, value: p.g }) };
+        let isotropic =
+            |p: &Point| if p.g == 0.0 { Ok(()) } else { Err(ParamError { param: crate::Param::G, value: p.g }) };
         let narrow = parse("in.csv", "tau,gamma,rho,g\n1,1,1,0.5\n", isotropic);
         assert!(narrow.unwrap_err().to_string().starts_with("in.csv:2: column 'g': g = 0.5"));
     }

@@ -97,16 +97,16 @@ impl Point {
     /// Checks the domain: `τ ∈ [0, ∞)`, `γ ∈ [0, π]`, `ρ ∈ (0, ∞]`, `|g| < 1`, no NaN.
     pub fn validate(&self) -> Result<(), ParamError> {
         let err = |param, value| Err(ParamError { param, value });
-        if !(self.tau >= 0.0 && self.tau.is_finite()) {
+        if !self.tau.is_finite() || self.tau < 0.0 {
             return err(Param::Tau, self.tau);
         }
-        if !(self.gamma >= 0.0 && self.gamma <= PI) {
+        if !(0.0..=PI).contains(&self.gamma) {
             return err(Param::Gamma, self.gamma);
         }
-        if !(self.rho > 0.0) {
+        if self.rho.is_nan() || self.rho <= 0.0 {
             return err(Param::Rho, self.rho);
         }
-        if !(self.g.abs() < 1.0) {
+        if self.g.is_nan() || self.g.abs() >= 1.0 {
             return err(Param::G, self.g);
         }
         Ok(())
@@ -353,8 +353,7 @@ pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
     };
     let tail_start = if p.rho.is_infinite() { (c.max(0.0) + 1.0) * 4.0 } else { p.rho };
     // Breakpoints as (s, r): the ends, the foot, and geometric offsets from the foot.
-    let mut bps: Vec<(f64, f64)> =
-        vec![(0.0, -c), (tail_start, offset_from_foot(tail_start, c, one_minus_c))];
+    let mut bps: Vec<(f64, f64)> = vec![(0.0, -c), (tail_start, offset_from_foot(tail_start, c, one_minus_c))];
     let mut scales = vec![h];
     if tau > 0.0 {
         scales.push(1.0 / tau);
@@ -380,12 +379,8 @@ pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
         let ((sa, ra), (sb, rb)) = (w[0], w[1]);
         // The width from whichever coordinate is smaller here, hence exact.
         let width = if ra.abs().max(rb.abs()) < sa.abs().max(sb.abs()) { rb - ra } else { sb - sa };
-        total += tanh_sinh(
-            |da, db| if da <= db { f(sa + da, ra + da) } else { f(sb - db, rb - db) },
-            width,
-            1e-14,
-        )
-        .value;
+        total +=
+            tanh_sinh(|da, db| if da <= db { f(sa + da, ra + da) } else { f(sb - db, rb - db) }, width, 1e-14).value;
     }
     if p.rho.is_infinite() {
         let big_s = tail_start;

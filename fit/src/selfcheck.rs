@@ -128,7 +128,10 @@ pub fn run(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> SelfCheck {
         let well_conditioned = |r: &&PointResult| r.e1.is_some_and(|(_, cond)| cond <= E1_MAX_CONDITION);
         let vs_e1 = (g_range == (0.0, 0.0)).then(|| {
             ErrorStats::from_errors(
-                results.iter().filter(well_conditioned).map(|r| (r.point, rel_error(r.value, r.e1.expect("isotropic").0))),
+                results
+                    .iter()
+                    .filter(well_conditioned)
+                    .map(|r| (r.point, rel_error(r.value, r.e1.expect("isotropic").0))),
             )
         });
         let e1_ill_conditioned = results.iter().filter(|r| r.e1.is_some()).count() - vs_e1.map_or(0, |s| s.count);
@@ -153,7 +156,9 @@ pub fn run(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> SelfCheck {
             let inf: Vec<&(Point, f64)> = rows.iter().filter(|r| r.1.is_infinite()).collect();
             let inf_ok = inf.iter().filter(|r| airlight(r.0) == Ok(f64::INFINITY)).count();
             let stats = ErrorStats::from_errors(
-                rows.iter().filter(|r| r.1.is_finite()).map(|&(p, exact)| (p, rel_error(airlight(p).expect("valid"), exact))),
+                rows.iter()
+                    .filter(|r| r.1.is_finite())
+                    .map(|&(p, exact)| (p, rel_error(airlight(p).expect("valid"), exact))),
             );
             FixtureCheck { name, finite: stats.count, infinite: (inf.len(), inf_ok), stats }
         })

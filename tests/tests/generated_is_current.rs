@@ -1,0 +1,22 @@
+//! `generated/` is what `airlight regenerate` would write now: the report is
+//! re-rendered in memory and compared byte for byte with the committed file.
+
+use airlight_tests::generated_dir;
+
+#[test]
+fn report_matches_a_fresh_regeneration() {
+    let check = airlight_fit::selfcheck::run_standard(&|_, _| {});
+    let report = airlight_codegen::report::render(&check).expect("renders");
+    let diffs = airlight_codegen::check(&generated_dir(), &[report]);
+    assert!(
+        diffs.is_empty(),
+        "generated/ is stale; run `cargo run --release -- regenerate`:\n{}",
+        diffs.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n")
+    );
+    // The self-check itself must hold the reference's specification.
+    assert!(check.worst_path_disagreement() < 1e-12);
+    for f in &check.fixtures {
+        assert!(f.stats.max < 1e-12, "{}: {:e}", f.name, f.stats.max);
+        assert_eq!(f.infinite.0, f.infinite.1, "{}: rays through the light", f.name);
+    }
+}
