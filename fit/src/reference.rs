@@ -194,6 +194,10 @@ impl Geometry {
 }
 
 /// Validates and evaluates the reference airlight. The main entry point.
+///
+/// Returns `+∞` only for a ray through the light (`γ = 0`, `ρ ≥ 1`). The value
+/// carries the factor `e^{−τ}`, so it underflows to 0 beyond τ ≈ 745; it is
+/// never NaN or negative.
 pub fn airlight(p: Point) -> Result<f64, ParamError> {
     airlight_detailed(p).map(|e| e.value)
 }
@@ -448,6 +452,36 @@ mod tests {
         // Continuity: a tiny angle approaches the on-axis value.
         let near = airlight(Point::new(0.5, 1e-9, 0.5, 0.0)).unwrap();
         assert!(((near - a) / a).abs() < 1e-12, "{near} vs {a}");
+    }
+
+    #[test]
+    fn looking_away_from_the_light() {
+        // γ = π: α = π all along, t = 1 + s, so A = P(π) e^{−τ} ∫₀^ρ e^{−2τs}/(1+s)² ds,
+        // which is P(π) ρ/(1+ρ) at τ = 0 and P(π) e^{−τ} (1 − 2τ e^{2τ} E1(2τ)) at ρ = ∞.
+        // (π as an f64 is 1.2e-16 short of π; A moves by far less than 1e-15.)
+        for g in [0.0, 0.6, -0.6] {
+            let back = Phase::from_g(g).eval(PI);
+            let a = airlight(Point::new(0.0, PI, 3.0, g)).unwrap();
+            assert!(((a - back * 0.75) / a).abs() < 1e-14, "g = {g}: {a}");
+            // e^{1} E1(1) = 0.596347362323194074341…
+            let a = airlight(Point::new(0.5, PI, f64::INFINITY, g)).unwrap();
+            let want = back * (-0.5f64).exp() * (1.0 - 0.596_347_362_323_194_1);
+            assert!(((a - want) / want).abs() < 1e-13, "g = {g}: {a} vs {want}");
+        }
+    }
+
+    #[test]
+    fn never_nan_far_outside_the_domains() {
+        for tau in [0.0, 1e-300, 1e-8, 100.0, 700.0, 1e4] {
+            for gamma in [1e-300, 1e-12, 1e-4, 1.0, PI - 1e-12, PI] {
+                for rho in [1e-300, 1e-4, 0.999_999_999, 1.0, 1e4, 1e300, f64::INFINITY] {
+                    for g in [0.0, 0.999, -0.999] {
+                        let a = airlight(Point::new(tau, gamma, rho, g)).unwrap();
+                        assert!(a >= 0.0, "A({tau}, {gamma}, {rho}; {g}) = {a}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
