@@ -51,9 +51,24 @@ enum Command {
     },
     /// List the models with the g range each supports.
     Models,
-    /// Regenerate everything under generated/: the reference self-check and REPORT.md.
+    /// Render everything under generated/ from the measurements, or with --check
+    /// compare it with what is committed.
     ///
-    /// Deterministic: running it twice writes identical files.
+    /// --check writes nothing; it fails naming every file that is missing, differs
+    /// or is orphaned (present under generated/ but not produced).
+    Generate {
+        /// Compare instead of writing; exit 1 on any difference.
+        #[arg(long)]
+        check: bool,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// The main job: measure, then regenerate everything under generated/.
+    ///
+    /// Runs the reference self-check (the fits join here as they are built) and
+    /// writes REPORT.md. Deterministic: running it twice writes identical files.
     Regenerate {
         /// Repository root (the directory holding generated/); found from the
         /// current directory if omitted.
@@ -74,6 +89,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval { model, input, output } => eval(&model, &input, output.as_deref()),
         Command::Models => models(),
+        Command::Generate { check, root } => generate(root, check),
         Command::Regenerate { root } => regenerate(root),
     };
     match result {
@@ -132,22 +148,58 @@ fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
     bar
 }
 
-fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
-    let root = match root {
-        Some(r) => r,
-        None => find_root()?,
-    };
-    let generated = root.join("generated");
-    let start = Instant::now();
+/// Runs the reference self-check with a progress bar.
+fn measure() -> selfcheck::SelfCheck {
     let bar = progress_bar(0, "reference self-check");
     let check = selfcheck::run_standard(&|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });
     bar.finish_and_clear();
-    let report =
-        airlight_codegen::report::render(&check).map_err(|e| Failure(1, format!("rendering REPORT.md: {e}")))?;
-    let written = airlight_codegen::write_all(&generated, &[report])
+    check
+}
+
+fn render(check: &selfcheck::SelfCheck) -> Result<Vec<airlight_codegen::Output>, Failure> {
+    airlight_codegen::render_all(check).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
+}
+
+fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
+    let generated = match root {
+        Some(r) => r,
+        None => find_root()?,
+    }
+    .join("generated");
+    let outputs = render(&measure())?;
+    if check_only {
+        let diffs = airlight_codegen::check(&generated, &outputs);
+        for d in &diffs {
+            eprintln!("{d}");
+        }
+        if !diffs.is_empty() {
+            return Err(Failure(
+                1,
+                format!("{} file(s) under generated/ are stale; run `airlight regenerate`", diffs.len()),
+            ));
+        }
+        println!("generated/ is current ({} file(s))", outputs.len());
+        return Ok(());
+    }
+    let written = airlight_codegen::write_all(&generated, &outputs)
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
+    println!("{} of {} file(s) changed under {}", written.len(), outputs.len(), generated.display());
+    Ok(())
+}
+
+fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
+    let generated = match root {
+        Some(r) => r,
+        None => find_root()?,
+    }
+    .join("generated");
+    let start = Instant::now();
+    let check = measure();
+    let outputs = render(&check)?;
+    let written = airlight_codegen::write_all(&generated, &outputs)
         .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
     for d in &check.domains {
         let e1 = d.vs_e1.map_or(String::new(), |s| format!(", vs E1 {:.1e}", s.max));
@@ -164,8 +216,9 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
         println!("reference vs {}: max {:.1e} over {} points", f.name, f.stats.max, f.finite);
     }
     println!(
-        "{} file(s) changed under {} in {:.1} s",
+        "{} of {} file(s) changed under {} in {:.1} s",
         written.len(),
+        outputs.len(),
         generated.display(),
         start.elapsed().as_secs_f64()
     );

@@ -94,3 +94,24 @@ fn help_explains_the_canonical_parameters() {
     let help = String::from_utf8(o.stdout).unwrap();
     assert!(help.contains("tau,gamma,rho,g") && help.contains("inf"));
 }
+
+#[test]
+fn generate_check_names_missing_and_orphaned_files_and_writes_nothing() {
+    let root = scratch("gen");
+    std::fs::create_dir_all(root.join("generated")).unwrap();
+    std::fs::write(root.join("generated/stray.txt"), "x").unwrap();
+    let o = airlight(&["generate", "--check", "--root", root.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("REPORT.md: missing"), "{err}");
+    assert!(err.contains("stray.txt: not produced by the generator (orphaned)"), "{err}");
+    assert!(!root.join("generated/REPORT.md").exists());
+    // Generating writes the report; the check then passes but for the stray file.
+    let o = airlight(&["generate", "--root", root.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(root.join("generated/REPORT.md").exists());
+    std::fs::remove_file(root.join("generated/stray.txt")).unwrap();
+    let o = airlight(&["generate", "--check", "--root", root.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_dir_all(&root).unwrap();
+}

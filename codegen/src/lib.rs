@@ -11,3 +11,11 @@ pub mod output;
 pub mod report;
 
 pub use output::{check, write_all, Difference, Output};
+
+use airlight_fit::selfcheck::SelfCheck;
+
+/// Every file under `generated/`, rendered from the measurements. This list is
+/// the generator's table of outputs: a file not in it is orphaned.
+pub fn render_all(check: &SelfCheck) -> Result<Vec<Output>, tera::Error> {
+    Ok(vec![report::render(check)?])
+}

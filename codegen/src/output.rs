@@ -19,6 +19,8 @@ pub enum Difference {
     Missing(PathBuf),
     /// The file exists with other contents; the first differing line (1-based).
     Stale(PathBuf, usize),
+    /// A file under the root that the generator does not produce.
+    Orphaned(PathBuf),
 }
 
 impl fmt::Display for Difference {
@@ -28,6 +30,7 @@ impl fmt::Display for Difference {
             Difference::Stale(p, line) => {
                 write!(f, "{}:{}: differs from what the generator renders", p.display(), line)
             }
+            Difference::Orphaned(p) => write!(f, "{}: not produced by the generator (orphaned)", p.display()),
         }
     }
 }
@@ -50,7 +53,25 @@ pub fn write_all(root: &Path, outputs: &[Output]) -> std::io::Result<Vec<PathBuf
     Ok(written)
 }
 
-/// Compares every output with the file under `root`; empty when all match.
+/// Every file under `dir`, recursively, sorted.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                out.extend(files_under(&p));
+            } else {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Compares every output with the file under `root`, and lists files under
+/// `root` that no output produces; empty when all match.
 pub fn check(root: &Path, outputs: &[Output]) -> Vec<Difference> {
     let mut diffs = Vec::new();
     for o in outputs {
@@ -64,6 +85,8 @@ pub fn check(root: &Path, outputs: &[Output]) -> Vec<Difference> {
             Ok(_) => {}
         }
     }
+    let expected: Vec<PathBuf> = outputs.iter().map(|o| root.join(&o.path)).collect();
+    diffs.extend(files_under(root).into_iter().filter(|p| !expected.contains(p)).map(Difference::Orphaned));
     diffs
 }
 
@@ -81,6 +104,8 @@ mod tests {
         assert!(write_all(&root, &outs).unwrap().is_empty(), "unchanged files are not rewritten");
         std::fs::write(root.join("a/b.md"), "x\nz\n").unwrap();
         assert_eq!(check(&root, &outs), vec![Difference::Stale(root.join("a/b.md"), 2)]);
+        std::fs::write(root.join("a/extra.txt"), "").unwrap();
+        assert_eq!(check(&root, &outs)[1], Difference::Orphaned(root.join("a/extra.txt")));
         std::fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -1,13 +1,14 @@
-//! `generated/` is what `airlight regenerate` would write now: the report is
-//! re-rendered in memory and compared byte for byte with the committed file.
+//! `generated/` is what `airlight regenerate` would write now: every output is
+//! re-rendered in memory and compared byte for byte with the committed files,
+//! and nothing else may sit there.
 
 use airlight_tests::generated_dir;
 
 #[test]
 fn report_matches_a_fresh_regeneration() {
     let check = airlight_fit::selfcheck::run_standard(&|_, _| {});
-    let report = airlight_codegen::report::render(&check).expect("renders");
-    let diffs = airlight_codegen::check(&generated_dir(), &[report]);
+    let outputs = airlight_codegen::render_all(&check).expect("renders");
+    let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),
         "generated/ is stale; run `cargo run --release -- regenerate`:\n{}",
