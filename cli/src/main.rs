@@ -163,12 +163,24 @@ fn render(check: &selfcheck::SelfCheck) -> Result<Vec<airlight_codegen::Output>,
     airlight_codegen::render_all(check).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
 }
 
-fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
-    let generated = match root {
+/// `root/generated`, with the root found from the current directory if not given.
+fn generated_dir(root: Option<PathBuf>) -> Result<PathBuf, Failure> {
+    Ok(match root {
         Some(r) => r,
         None => find_root()?,
     }
-    .join("generated");
+    .join("generated"))
+}
+
+/// Writes the outputs, returning how many files changed.
+fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Result<usize, Failure> {
+    airlight_codegen::write_all(generated, outputs)
+        .map(|w| w.len())
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))
+}
+
+fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
     let outputs = render(&measure())?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
@@ -184,23 +196,17 @@ fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
         println!("generated/ is current ({} file(s))", outputs.len());
         return Ok(());
     }
-    let written = airlight_codegen::write_all(&generated, &outputs)
-        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
-    println!("{} of {} file(s) changed under {}", written.len(), outputs.len(), generated.display());
+    let written = write_outputs(&generated, &outputs)?;
+    println!("{written} of {} file(s) changed under {}", outputs.len(), generated.display());
     Ok(())
 }
 
 fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
-    let generated = match root {
-        Some(r) => r,
-        None => find_root()?,
-    }
-    .join("generated");
+    let generated = generated_dir(root)?;
     let start = Instant::now();
     let check = measure();
     let outputs = render(&check)?;
-    let written = airlight_codegen::write_all(&generated, &outputs)
-        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
+    let written = write_outputs(&generated, &outputs)?;
     for d in &check.domains {
         let e1 = d.vs_e1.map_or(String::new(), |s| format!(", vs E1 {:.1e}", s.max));
         let phase = if d.g_range == (0.0, 0.0) { "isotropic" } else { "HG" };
@@ -216,8 +222,7 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
         println!("reference vs {}: max {:.1e} over {} points", f.name, f.stats.max, f.finite);
     }
     println!(
-        "{} of {} file(s) changed under {} in {:.1} s",
-        written.len(),
+        "{written} of {} file(s) changed under {} in {:.1} s",
         outputs.len(),
         generated.display(),
         start.elapsed().as_secs_f64()

@@ -1,19 +1,13 @@
 //! The reference against 30-digit public values and against its independent paths.
 
 use airlight_fit::domains::{Domain, VALIDATION_SEED};
+use airlight_fit::fixtures;
 use airlight_fit::reference::{airlight, airlight_detailed, airlight_e1, airlight_s_form, Point};
 use airlight_fit::stats::rel_error;
 
 fn load(name: &str) -> Vec<(Point, f64)> {
-    let path = format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|f| f.trim().parse::<f64>().unwrap()).collect();
-            (Point::new(v[0], v[1], v[2], v[3]), v[4])
-        })
-        .collect()
+    let (_, text) = fixtures::PUBLIC.iter().find(|(n, _)| *n == name).expect("a public fixture");
+    fixtures::parse(text)
 }
 
 fn check_public(name: &str, tol: f64) {
