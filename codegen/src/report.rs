@@ -37,7 +37,7 @@ pub fn fmt_point(p: &Point) -> String {
 #[derive(Serialize)]
 struct DomainRow {
     domain: &'static str,
-    phase: String,
+    phase: &'static str,
     points: usize,
     s_max: String,
     s_p99: String,
@@ -75,7 +75,7 @@ pub fn render(check: &SelfCheck) -> Result<Output, tera::Error> {
         .iter()
         .map(|d| DomainRow {
             domain: d.domain.name(),
-            phase: if d.g_range == (0.0, 0.0) { "isotropic".into() } else { "HG".into() },
+            phase: d.phase_label(),
             points: d.points,
             s_max: fmt_err(d.vs_s_form.max),
             s_p99: fmt_err(d.vs_s_form.p99),

@@ -15,6 +15,11 @@ pub trait Model: Sync {
     fn summary(&self) -> &'static str;
     /// The Henyey–Greenstein `g` it supports, `[lo, hi]`; `[0, 0]` is isotropic only.
     fn g_range(&self) -> (f64, f64);
+    /// The g range as written in tables: `[lo, hi]`.
+    fn g_range_label(&self) -> String {
+        let (lo, hi) = self.g_range();
+        format!("[{lo}, {hi}]")
+    }
     /// `A` at a point that passed [`Model::check`].
     fn eval_unchecked(&self, p: Point) -> f64;
     /// Whether `p` is in the domain of `A` and in this model's g range.
@@ -47,6 +52,9 @@ impl Model for Reference {
     /// The open interval (−1, 1): every Henyey–Greenstein medium.
     fn g_range(&self) -> (f64, f64) {
         (-1.0, 1.0)
+    }
+    fn g_range_label(&self) -> String {
+        "(-1, 1)".into()
     }
     fn check(&self, p: &Point) -> Result<(), ParamError> {
         p.validate()

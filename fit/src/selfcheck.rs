@@ -12,6 +12,9 @@ use crate::stats::{rel_error, ErrorStats};
 /// more than this factor it cannot certify 1e-13, and the comparison skips it.
 pub const E1_MAX_CONDITION: f64 = 10.0;
 
+/// The reference's specification: relative accuracy on every domain.
+pub const REFERENCE_SPEC: f64 = 1e-12;
+
 /// g range of the Henyey–Greenstein validation sets.
 pub const HG_RANGE: (f64, f64) = (-0.95, 0.95);
 
@@ -34,7 +37,7 @@ pub struct DomainCheck {
     pub e1_ill_conditioned: usize,
     /// Largest a-posteriori relative error estimate of the primary path.
     pub max_estimate: f64,
-    /// Mean and maximum integrand evaluations per point.
+    /// Mean integrand evaluations per point.
     pub mean_evaluations: f64,
     /// Maximum integrand evaluations at one point.
     pub max_evaluations: usize,
@@ -73,7 +76,50 @@ pub struct SelfCheck {
     pub fixtures: Vec<FixtureCheck>,
 }
 
+impl DomainCheck {
+    /// "isotropic" or "HG", for tables.
+    pub fn phase_label(&self) -> &'static str {
+        if self.g_range == (0.0, 0.0) {
+            "isotropic"
+        } else {
+            "HG"
+        }
+    }
+}
+
 impl SelfCheck {
+    /// Every way the reference misses its specification ([`REFERENCE_SPEC`]):
+    /// independent paths disagreeing, unconverged or non-finite values, public
+    /// values missed, rays through the light not returned as `inf`. Empty when
+    /// the reference holds.
+    pub fn problems(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for d in &self.domains {
+            let label = format!("{} {}", d.domain.name(), d.phase_label());
+            let worst = d.vs_s_form.max.max(d.vs_e1.map_or(0.0, |s| s.max));
+            if worst >= REFERENCE_SPEC {
+                out.push(format!("{label}: independent paths disagree by {worst:.1e} (spec {REFERENCE_SPEC:.0e})"));
+            }
+            if d.unconverged > 0 || d.bad_values > 0 {
+                out.push(format!("{label}: {} unconverged, {} NaN, ∞ or negative", d.unconverged, d.bad_values));
+            }
+        }
+        for f in &self.fixtures {
+            if f.stats.max >= REFERENCE_SPEC {
+                out.push(format!("{}: off by {:.1e} (spec {REFERENCE_SPEC:.0e})", f.name, f.stats.max));
+            }
+            if f.infinite.0 != f.infinite.1 {
+                out.push(format!(
+                    "{}: {} of {} rays through the light not inf",
+                    f.name,
+                    f.infinite.0 - f.infinite.1,
+                    f.infinite.0
+                ));
+            }
+        }
+        out
+    }
+
     /// Worst disagreement between independent paths over all domains.
     pub fn worst_path_disagreement(&self) -> f64 {
         self.domains
@@ -169,4 +215,23 @@ pub fn run(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> SelfCheck {
 /// [`run`] with the standard validation size.
 pub fn run_standard(progress: &(dyn Fn(usize, usize) + Sync)) -> SelfCheck {
     run(VALIDATION_POINTS, progress)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn problems_name_each_miss() {
+        let mut check = run(10, &|_, _| {});
+        assert_eq!(check.problems(), Vec::<String>::new());
+        check.domains[1].vs_s_form.max = 2e-12;
+        check.domains[2].bad_values = 1;
+        check.fixtures[1].infinite.1 = 0;
+        let p = check.problems();
+        assert_eq!(p.len(), 3, "{p:?}");
+        assert!(p[0].starts_with("thin HG: independent paths disagree by 2.0e-12"), "{}", p[0]);
+        assert!(p[1].starts_with("dense isotropic: 0 unconverged, 1 NaN"), "{}", p[1]);
+        assert!(p[2].contains("1 of 1 rays through the light not inf"), "{}", p[2]);
+    }
 }
