@@ -3,6 +3,8 @@
 //! 2 for bad input (a one-line message naming file, line and column), 1 when a
 //! check fails or a file cannot be written.
 
+use airlight_fit::catalog::{self, Family, Fits};
+use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
 use airlight_fit::{points_csv, selfcheck};
 use clap::{Parser, Subcommand};
@@ -48,9 +50,31 @@ enum Command {
         /// Where to write the result (replaced atomically); standard output if omitted.
         #[arg(long, short)]
         output: Option<PathBuf>,
+        /// Repository root (the directory holding generated/coefficients/); found
+        /// from the current directory if omitted. Only the reference works without it.
+        #[arg(long)]
+        root: Option<PathBuf>,
     },
-    /// List the models with the g range each supports.
-    Models,
+    /// List the models: g range and measured max / 99th-percentile relative error
+    /// on the thin and dense domains (from generated/coefficients/).
+    Models {
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Fit the approximation families against the reference and write the
+    /// coefficient files (generated/coefficients/*.toml) with their measured errors.
+    ///
+    /// With --family, fit only that family and print its figures; nothing is
+    /// written (a model needs all of its families).
+    Fit {
+        /// segments, phase or backscatter.
+        #[arg(long)]
+        family: Option<String>,
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
     /// Render everything under generated/ from the measurements, or with --check
     /// compare it with what is committed.
     ///
@@ -65,10 +89,10 @@ enum Command {
         #[arg(long)]
         root: Option<PathBuf>,
     },
-    /// The main job: measure, then regenerate everything under generated/.
+    /// The main job: fit every family, measure every model, then regenerate
+    /// everything under generated/ (coefficients, REPORT.md, plots).
     ///
-    /// Runs the reference self-check (the fits join here as they are built) and
-    /// writes REPORT.md. Deterministic: running it twice writes identical files.
+    /// Deterministic: running it twice writes identical files.
     Regenerate {
         /// Repository root (the directory holding generated/); found from the
         /// current directory if omitted.
@@ -87,8 +111,9 @@ fn bad_input(msg: impl std::fmt::Display) -> Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Eval { model, input, output } => eval(&model, &input, output.as_deref()),
-        Command::Models => models(),
+        Command::Eval { model, input, output, root } => eval(&model, &input, output.as_deref(), root),
+        Command::Models { root } => models(root),
+        Command::Fit { family, root } => fit(family.as_deref(), root),
         Command::Generate { check, root } => generate(root, check),
         Command::Regenerate { root } => regenerate(root),
     };
@@ -101,8 +126,31 @@ fn main() -> ExitCode {
     }
 }
 
-fn eval(model: &str, input: &Path, output: Option<&Path>) -> Result<(), Failure> {
-    let model = model::by_name(model).map_err(bad_input)?;
+/// The reference plus every model in `root/generated/coefficients/` (just the
+/// reference when no root is given or found).
+fn registry(root: Option<PathBuf>) -> Result<(model::Registry, Vec<ModelFile>), Failure> {
+    let mut reg = model::Registry::default();
+    let root = match root {
+        Some(r) => Some(r),
+        None => find_root().ok(),
+    };
+    let mut files = Vec::new();
+    if let Some(root) = root {
+        let dir = root.join("generated").join("coefficients");
+        if dir.is_dir() {
+            files = coeffs::load_dir(&dir).map_err(bad_input)?;
+            files.sort_by_key(|f| catalog::CATALOG.iter().position(|c| c.name == f.model.name).unwrap_or(usize::MAX));
+            for f in &files {
+                reg.add(Box::new(f.model.clone()));
+            }
+        }
+    }
+    Ok((reg, files))
+}
+
+fn eval(model: &str, input: &Path, output: Option<&Path>, root: Option<PathBuf>) -> Result<(), Failure> {
+    let (reg, _) = registry(root)?;
+    let model = reg.get(model).map_err(bad_input)?;
     let name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
     let rows = points_csv::parse(&name, &text, |p| model.check(p)).map_err(bad_input)?;
@@ -118,11 +166,123 @@ fn eval(model: &str, input: &Path, output: Option<&Path>) -> Result<(), Failure>
     }
 }
 
-fn models() -> Result<(), Failure> {
-    println!("{:<12} {:<16} description", "model", "g range");
-    for m in model::all() {
-        println!("{:<12} {:<16} {}", m.name(), m.g_range_label(), m.summary());
+fn models(root: Option<PathBuf>) -> Result<(), Failure> {
+    let (reg, files) = registry(root)?;
+    println!(
+        "{:<18} {:<14} {:>9} {:>9} {:>9} {:>9}  description",
+        "model", "g range", "thin max", "thin p99", "dense max", "dense p99"
+    );
+    for m in reg.iter() {
+        let e = |d: &str, f: fn(&coeffs::DomainErrors) -> f64| {
+            files
+                .iter()
+                .find(|f| f.model.name == m.name())
+                .and_then(|f| f.error(d))
+                .map_or("-".to_string(), |e| format!("{:.1e}", f(e)))
+        };
+        println!(
+            "{:<18} {:<14} {:>9} {:>9} {:>9} {:>9}  {}",
+            m.name(),
+            m.g_range_label(),
+            e("thin", |e| e.max_rel),
+            e("thin", |e| e.p99_rel),
+            e("dense", |e| e.max_rel),
+            e("dense", |e| e.p99_rel),
+            m.summary()
+        );
     }
+    Ok(())
+}
+
+/// Fits (all families, or one) with a progress bar.
+fn run_fits(only: Option<Family>) -> Fits {
+    let bar = progress_bar(0, "fitting families");
+    let fits = catalog::fit(only, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    fits
+}
+
+/// Assembles and measures every model with a progress bar.
+fn build_models(fits: &Fits) -> Result<Vec<ModelFile>, Failure> {
+    let bar = progress_bar(0, "measuring models");
+    let files = catalog::build(fits, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    files.map_err(|e| Failure(1, e))
+}
+
+fn print_fits(fits: &Fits) {
+    if let Some((rms, max, n)) = fits.paper_segments {
+        println!("segments paper (3): forward integral rms {rms:.1e} max {max:.1e} on {n} targets");
+    }
+    for (n, f) in &fits.segments {
+        println!(
+            "segments refit ({n}): forward integral rms {:.1e} max {:.1e}; kernel max |error| {:.1e}; {} iterations, {}",
+            f.rms_rel,
+            f.max_rel,
+            f.segments.kernel_error(airlight_fit::family::segments::Side::Forward).0,
+            f.outcome.iterations,
+            f.outcome.termination
+        );
+    }
+    for (k, bands) in &fits.phase {
+        let cells: Vec<String> = bands.iter().map(|b| format!("{:.1e}/{:.1e}", b.rms_rel, b.max_rel)).collect();
+        println!("phase {k} exponential(s), A rms/max per band: {}", cells.join(" "));
+    }
+    if !fits.paper_phase.is_empty() {
+        let cells: Vec<String> = fits.paper_phase.iter().map(|(r, m)| format!("{r:.1e}/{m:.1e}")).collect();
+        println!("phase paper table, A rms/max per band: {}", cells.join(" "));
+    }
+    if let (Some(r), Some((prms, pmax))) = (&fits.ratio, fits.paper_ratio) {
+        println!(
+            "backscatter ratio: refit rms {:.1e} max {:.1e} ({} iterations, {}); paper rms {prms:.1e} max {pmax:.1e}",
+            r.rms_rel, r.max_rel, r.outcome.iterations, r.outcome.termination
+        );
+    }
+    if let Some((n, f)) = &fits.expsum {
+        println!(
+            "backward sums: near {} terms max weight error {:.1e}; far {} terms max error {:.1e}",
+            n.sum.c.len(),
+            n.max_rel.0,
+            f.sum.c.len(),
+            f.max_rel.0
+        );
+    }
+}
+
+fn fit(family: Option<&str>, root: Option<PathBuf>) -> Result<(), Failure> {
+    let only = match family {
+        None => None,
+        Some(name) => Some(Family::from_name(name).ok_or_else(|| {
+            let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+            bad_input(format!("unknown family '{name}'; known families: {}", known.join(", ")))
+        })?),
+    };
+    let start = Instant::now();
+    let fits = run_fits(only);
+    print_fits(&fits);
+    if only.is_some() {
+        println!("fitted in {:.1} s; nothing written (`airlight fit` without --family writes the coefficients)", start.elapsed().as_secs_f64());
+        return Ok(());
+    }
+    let files = build_models(&fits)?;
+    let generated = generated_dir(root)?;
+    let outputs: Vec<airlight_codegen::Output> = files
+        .iter()
+        .map(|f| airlight_codegen::Output::text(format!("coefficients/{}.toml", f.model.name), coeffs::render(f)))
+        .collect();
+    let written = write_outputs(&generated, &outputs)?;
+    println!(
+        "{written} of {} coefficient file(s) changed under {} in {:.1} s",
+        outputs.len(),
+        generated.display(),
+        start.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
@@ -157,8 +317,8 @@ fn measure() -> selfcheck::SelfCheck {
     check
 }
 
-fn render(check: &selfcheck::SelfCheck) -> Result<Vec<airlight_codegen::Output>, Failure> {
-    airlight_codegen::render_all(check).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
+fn render(check: &selfcheck::SelfCheck, models: &[ModelFile]) -> Result<Vec<airlight_codegen::Output>, Failure> {
+    airlight_codegen::render_all(check, models).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
 }
 
 /// `root/generated`, with the root found from the current directory if not given.
@@ -178,8 +338,9 @@ fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Resu
 }
 
 fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
-    let generated = generated_dir(root)?;
-    let outputs = render(&measure())?;
+    let generated = generated_dir(root.clone())?;
+    let (_, files) = registry(Some(generated.parent().map(Path::to_path_buf).unwrap_or_default()))?;
+    let outputs = render(&measure(), &files)?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
         for d in &diffs {
@@ -203,8 +364,15 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     let generated = generated_dir(root)?;
     let start = Instant::now();
     let check = measure();
-    let outputs = render(&check)?;
+    let fits = run_fits(None);
+    print_fits(&fits);
+    let files = build_models(&fits)?;
+    let outputs = render(&check, &files)?;
     let written = write_outputs(&generated, &outputs)?;
+    for f in &files {
+        let e = |d: &str| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));
+        println!("{:<18} thin {}  dense {}", f.model.name, e("thin"), e("dense"));
+    }
     for d in &check.domains {
         let e1 = d.vs_e1.map_or(String::new(), |s| format!(", vs E1 {:.1e}", s.max));
         println!(

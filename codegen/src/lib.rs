@@ -8,14 +8,43 @@
 #![warn(missing_docs)]
 
 pub mod output;
+pub mod plots;
 pub mod report;
 
 pub use output::{check, write_all, Difference, Output};
 
+use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::selfcheck::SelfCheck;
+use std::fmt;
 
-/// Every file under `generated/`, rendered from the measurements. This list is
-/// the generator's table of outputs: a file not in it is orphaned.
-pub fn render_all(check: &SelfCheck) -> Result<Vec<Output>, tera::Error> {
-    Ok(vec![report::render(check)?])
+/// Why rendering failed.
+#[derive(Debug)]
+pub enum RenderError {
+    /// A template failed.
+    Template(tera::Error),
+    /// A figure failed.
+    Plot(plots::PlotError),
+}
+
+impl fmt::Display for RenderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RenderError::Template(e) => write!(f, "template: {e}"),
+            RenderError::Plot(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RenderError {}
+
+/// Every file under `generated/`, rendered from the reference self-check and the
+/// coefficient files (which are re-rendered too, so a hand edit shows as stale).
+/// This list is the generator's table of outputs: a file not in it is orphaned.
+pub fn render_all(check: &SelfCheck, models: &[ModelFile]) -> Result<Vec<Output>, RenderError> {
+    let mut out = vec![report::render(check, models).map_err(RenderError::Template)?];
+    for m in models {
+        out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
+    }
+    out.extend(plots::render(models).map_err(RenderError::Plot)?);
+    Ok(out)
 }

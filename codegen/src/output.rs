@@ -8,8 +8,15 @@ use std::path::{Path, PathBuf};
 pub struct Output {
     /// Path under `generated/`, with `/` separators.
     pub path: String,
-    /// Full contents.
-    pub contents: String,
+    /// Full contents (text for everything but images).
+    pub contents: Vec<u8>,
+}
+
+impl Output {
+    /// A text output.
+    pub fn text(path: impl Into<String>, contents: String) -> Output {
+        Output { path: path.into(), contents: contents.into_bytes() }
+    }
 }
 
 /// How a file on disk differs from what the generator renders.
@@ -41,13 +48,13 @@ pub fn write_all(root: &Path, outputs: &[Output]) -> std::io::Result<Vec<PathBuf
     let mut written = Vec::new();
     for o in outputs {
         let path = root.join(&o.path);
-        if std::fs::read(&path).ok().as_deref() == Some(o.contents.as_bytes()) {
+        if std::fs::read(&path).ok().as_deref() == Some(&o.contents[..]) {
             continue;
         }
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir)?;
         }
-        airlight_fit::io::write_atomic(&path, o.contents.as_bytes())?;
+        airlight_fit::io::write_atomic(&path, &o.contents)?;
         written.push(path);
     }
     Ok(written)
@@ -76,10 +83,11 @@ pub fn check(root: &Path, outputs: &[Output]) -> Vec<Difference> {
     let mut diffs = Vec::new();
     for o in outputs {
         let path = root.join(&o.path);
-        match std::fs::read_to_string(&path) {
+        match std::fs::read(&path) {
             Err(_) => diffs.push(Difference::Missing(path)),
             Ok(disk) if disk != o.contents => {
-                let line = disk.lines().zip(o.contents.lines()).take_while(|(a, b)| a == b).count() + 1;
+                let (a, b) = (String::from_utf8_lossy(&disk), String::from_utf8_lossy(&o.contents));
+                let line = a.lines().zip(b.lines()).take_while(|(x, y)| x == y).count() + 1;
                 diffs.push(Difference::Stale(path, line));
             }
             Ok(_) => {}
@@ -97,7 +105,7 @@ mod tests {
     #[test]
     fn write_then_check() {
         let root = std::env::temp_dir().join(format!("airlight-out-{}", std::process::id()));
-        let outs = vec![Output { path: "a/b.md".into(), contents: "x\ny\n".into() }];
+        let outs = vec![Output::text("a/b.md", "x\ny\n".into())];
         assert_eq!(check(&root, &outs), vec![Difference::Missing(root.join("a/b.md"))]);
         assert_eq!(write_all(&root, &outs).unwrap().len(), 1);
         assert!(check(&root, &outs).is_empty());

@@ -2,6 +2,8 @@
 //! later, to choose) a model. Numbers are formatted here; the template lays out.
 
 use crate::output::Output;
+use airlight_fit::coeffs::{DomainErrors, ModelFile};
+use airlight_fit::family::segments::Segments;
 use airlight_fit::reference::Point;
 use airlight_fit::selfcheck::SelfCheck;
 use airlight_fit::stats::ErrorStats;
@@ -68,8 +70,106 @@ fn worst(s: &ErrorStats) -> String {
     }
 }
 
-/// Renders `REPORT.md` from the reference self-check.
-pub fn render(check: &SelfCheck) -> Result<Output, tera::Error> {
+#[derive(Serialize)]
+struct ModelRow {
+    name: String,
+    g_range: String,
+    thin_max: String,
+    thin_p99: String,
+    dense_max: String,
+    dense_p99: String,
+    extreme_max: String,
+    thin_worst: String,
+    dense_worst: String,
+    cost: usize,
+    families: String,
+}
+
+#[derive(Serialize)]
+struct KernelRow {
+    name: String,
+    kernel: String,
+    rms: String,
+    max: String,
+    iterations: String,
+    termination: String,
+}
+
+#[derive(Serialize)]
+struct BandRow {
+    band: String,
+    paper: String,
+    k1: String,
+    k2: String,
+    k3: String,
+}
+
+/// A provenance value of a model, if present.
+fn prov<'a>(m: &'a ModelFile, table: &str, key: &str) -> Option<&'a toml::Value> {
+    m.provenance.iter().find(|(t, _)| t == table).and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key)).map(|(_, v)| v)
+}
+
+fn prov_f(m: &ModelFile, table: &str, key: &str) -> String {
+    prov(m, table, key).and_then(toml::Value::as_float).map_or("—".into(), fmt_err)
+}
+
+fn prov_s(m: &ModelFile, table: &str, key: &str) -> String {
+    prov(m, table, key).map_or("—".into(), |v| v.as_str().map_or_else(|| v.to_string(), str::to_string))
+}
+
+fn by_band(m: &ModelFile, key: &str) -> Vec<f64> {
+    prov(m, "phase.fit", key)
+        .and_then(toml::Value::as_array)
+        .map(|a| a.iter().filter_map(toml::Value::as_float).collect())
+        .unwrap_or_default()
+}
+
+fn err_cell(e: Option<&DomainErrors>, f: impl Fn(&DomainErrors) -> f64) -> String {
+    e.map_or("—".into(), |e| fmt_err(f(e)))
+}
+
+/// Both maxima of a model over thin and dense.
+fn worst_of(m: &ModelFile) -> f64 {
+    ["thin", "dense"].iter().filter_map(|d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max)
+}
+
+/// Plain-language advice computed from the measured table.
+fn advice(models: &[ModelFile]) -> Vec<String> {
+    let mut out = Vec::new();
+    let get = |n: &str| models.iter().find(|m| m.model.name == n);
+    if let (Some(p), Some(r)) = (get("paper"), get("paper-refit")) {
+        let e = |m: &ModelFile, d: &str| m.error(d).map_or(f64::NAN, |e| e.max_rel);
+        out.push(format!(
+            "The published isotropic model (`paper`) has max error {} on `thin` and {} on `dense`; the same forms refit (`paper-refit`) reach {} and {}.",
+            fmt_err(e(p, "thin")),
+            fmt_err(e(p, "dense")),
+            fmt_err(e(r, "thin")),
+            fmt_err(e(r, "dense"))
+        ));
+    }
+    for budget in [0.1, 0.03, 0.01] {
+        for (label, iso) in [("isotropic media", true), ("Henyey–Greenstein media", false)] {
+            let best = models
+                .iter()
+                .filter(|m| (m.model.g_range == (0.0, 0.0)) == iso && worst_of(m) <= budget)
+                .min_by_key(|m| m.model.cost());
+            out.push(match best {
+                Some(m) => format!(
+                    "{label}, max error ≤ {} on both `thin` and `dense`: `{}` (cost {}, measured max {}).",
+                    fmt_err(budget),
+                    m.model.name,
+                    m.model.cost(),
+                    fmt_err(worst_of(m))
+                ),
+                None => format!("{label}, max error ≤ {}: no model here meets it.", fmt_err(budget)),
+            });
+        }
+    }
+    out
+}
+
+/// Renders `REPORT.md` from the reference self-check and the coefficient files.
+pub fn render(check: &SelfCheck, models: &[ModelFile]) -> Result<Output, tera::Error> {
     let domains: Vec<DomainRow> = check
         .domains
         .iter()
@@ -113,8 +213,92 @@ pub fn render(check: &SelfCheck) -> Result<Output, tera::Error> {
     ctx.insert("domains", &domains);
     ctx.insert("fixtures", &fixtures);
     ctx.insert("worst_disagreement", &fmt_err(check.worst_path_disagreement()));
+    let rows: Vec<ModelRow> = models
+        .iter()
+        .map(|m| {
+            let worst = |d: &str| m.error(d).map_or("—".into(), |e| format!("{} at {}", fmt_err(e.max_rel), fmt_point(&e.worst)));
+            ModelRow {
+                name: m.model.name.clone(),
+                g_range: format!("[{}, {}]", m.model.g_range.0, m.model.g_range.1),
+                thin_max: err_cell(m.error("thin"), |e| e.max_rel),
+                thin_p99: err_cell(m.error("thin"), |e| e.p99_rel),
+                dense_max: err_cell(m.error("dense"), |e| e.max_rel),
+                dense_p99: err_cell(m.error("dense"), |e| e.p99_rel),
+                extreme_max: err_cell(m.error("extreme"), |e| e.max_rel),
+                thin_worst: worst("thin"),
+                dense_worst: worst("dense"),
+                cost: m.model.cost(),
+                families: m.families.join("; "),
+            }
+        })
+        .collect();
+    ctx.insert("models", &rows);
+    ctx.insert("advice", &advice(models));
+    let get = |n: &str| models.iter().find(|m| m.model.name == n);
+    let mut kernels = Vec::new();
+    let kernel_row = |name: String, m: &ModelFile| KernelRow {
+        name,
+        kernel: prov_f(m, "forward.fit", "kernel_max_abs_error"),
+        rms: prov_f(m, "forward.fit", "forward_integral_rms_rel"),
+        max: prov_f(m, "forward.fit", "forward_integral_max_rel"),
+        iterations: prov_s(m, "forward.fit", "iterations"),
+        termination: prov_s(m, "forward.fit", "termination"),
+    };
+    if let Some(m) = get("paper") {
+        kernels.push(kernel_row("paper (3)".into(), m));
+        ctx.insert("forward_targets", &prov_s(m, "forward.fit", "targets"));
+    } else {
+        ctx.insert("forward_targets", "—");
+    }
+    for m in models.iter().filter(|m| m.model.name.starts_with("segments-")) {
+        kernels.push(kernel_row(format!("refit ({})", m.model.forward.n()), m));
+    }
+    ctx.insert("kernels", &kernels);
+    ctx.insert("paper_end", &format!("{:.4}", Segments::paper().eval(std::f64::consts::FRAC_PI_2)));
+    let paper_rms = get("paper-hg").map(|m| by_band(m, "a_rms_rel_by_band")).unwrap_or_default();
+    let paper_max = get("paper-hg").map(|m| by_band(m, "a_max_rel_by_band")).unwrap_or_default();
+    let k = |n: usize| -> (Vec<f64>, Vec<f64>) {
+        get(&format!("hg-exp{n}"))
+            .map(|m| (by_band(m, "a_rms_rel_by_band"), by_band(m, "a_max_rel_by_band")))
+            .unwrap_or_default()
+    };
+    let (k1, k2, k3) = (k(1), k(2), k(3));
+    let cell = |v: &(Vec<f64>, Vec<f64>), i: usize| match (v.0.get(i), v.1.get(i)) {
+        (Some(a), Some(b)) => format!("{} / {}", fmt_err(*a), fmt_err(*b)),
+        _ => "—".into(),
+    };
+    let bands: Vec<BandRow> = airlight_fit::family::phase_exp::PAPER_BANDS
+        .iter()
+        .enumerate()
+        .map(|(i, (lo, hi))| BandRow {
+            band: format!("[{lo}, {hi}]"),
+            paper: cell(&(paper_rms.clone(), paper_max.clone()), i),
+            k1: cell(&k1, i),
+            k2: cell(&k2, i),
+            k3: cell(&k3, i),
+        })
+        .collect();
+    ctx.insert("bands", &bands);
+    let hg = get("hg-exp1");
+    ctx.insert("phase_points", &hg.map_or("—".into(), |m| prov_s(m, "phase.fit", "targets_per_band")));
+    ctx.insert("node_rule", "162");
+    ctx.insert("node_error", &hg.map_or("—".into(), |m| prov_f(m, "phase.fit", "node_rule_max_rel_error")));
+    let (pp, pr) = (get("paper"), get("paper-refit"));
+    ctx.insert("ratio_targets", &pr.map_or("—".into(), |m| prov_s(m, "backscatter.fit", "targets")));
+    ctx.insert("ratio_paper_rms", &pp.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_rms_rel")));
+    ctx.insert("ratio_paper_max", &pp.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_max_rel")));
+    ctx.insert("ratio_refit_rms", &pr.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_rms_rel")));
+    ctx.insert("ratio_refit_max", &pr.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_max_rel")));
+    let es = models.first();
+    let t = "backscatter.expsum_fit";
+    ctx.insert("near_terms", &es.map_or(0, |m| m.model.expsum.near.c.len()));
+    ctx.insert("far_terms", &es.map_or(0, |m| m.model.expsum.far.c.len()));
+    ctx.insert("near_error", &es.map_or("—".into(), |m| prov_f(m, t, "near_max_rel")));
+    ctx.insert("far_error", &es.map_or("—".into(), |m| prov_f(m, t, "far_max_rel")));
+    ctx.insert("split", &airlight_fit::family::expsum::SPLIT);
+    ctx.insert("y_max", &airlight_fit::family::expsum::Y_MAX);
     let contents = tera::Tera::one_off(TEMPLATE, &ctx, false)?;
-    Ok(Output { path: "REPORT.md".into(), contents })
+    Ok(Output::text("REPORT.md", contents))
 }
 
 #[cfg(test)]
@@ -124,7 +308,7 @@ mod tests {
     #[test]
     fn renders_a_small_self_check() {
         let check = airlight_fit::selfcheck::run(20, &|_, _| {});
-        let out = render(&check).unwrap();
+        let out = render(&check, &[]).unwrap();
         assert!(out
             .contents
             .starts_with("<!-- generated by `airlight regenerate` from codegen/templates/REPORT.md.tera"));

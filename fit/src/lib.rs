@@ -8,11 +8,18 @@
 
 #![warn(missing_docs)]
 
+pub mod analysis;
+pub mod approx;
+pub mod catalog;
+pub mod coeffs;
 pub mod domains;
 pub mod e1;
+pub mod family;
 pub mod fixtures;
 pub mod geometry;
+pub mod hexf;
 pub mod io;
+pub mod lsq;
 pub mod model;
 pub mod parallel;
 pub mod phase;

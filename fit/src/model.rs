@@ -1,8 +1,8 @@
 //! Models: complete evaluators of `A(τ, γ, ρ; g)`, looked up by name.
 //!
-//! The reference is the only model so far; fitted approximations join this
-//! registry as they are built, so `airlight eval --model NAME` and every report
-//! see them without further wiring.
+//! The reference is built in; fitted models come from their coefficient files
+//! (`generated/coefficients/<name>.toml`, see [`crate::coeffs`]) and join a
+//! [`Registry`], so `airlight eval --model NAME` and every report see them.
 
 use crate::reference::{self, Param, ParamError, Point};
 use std::fmt;
@@ -10,9 +10,9 @@ use std::fmt;
 /// A complete evaluator of the canonical airlight.
 pub trait Model: Sync {
     /// Name used on the command line and in file names.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
     /// One line for tables and help.
-    fn summary(&self) -> &'static str;
+    fn summary(&self) -> &str;
     /// The Henyey–Greenstein `g` it supports, `[lo, hi]`; `[0, 0]` is isotropic only.
     fn g_range(&self) -> (f64, f64);
     /// The g range as written in tables: `[lo, hi]`.
@@ -43,10 +43,10 @@ pub trait Model: Sync {
 pub struct Reference;
 
 impl Model for Reference {
-    fn name(&self) -> &'static str {
+    fn name(&self) -> &str {
         "reference"
     }
-    fn summary(&self) -> &'static str {
+    fn summary(&self) -> &str {
         "adaptive Gauss–Kronrod quadrature of the exact integral, f64, ≤ 1e-12 relative"
     }
     /// The open interval (−1, 1): every Henyey–Greenstein medium.
@@ -64,28 +64,54 @@ impl Model for Reference {
     }
 }
 
-/// Every model, in the order tables list them.
-pub fn all() -> Vec<&'static dyn Model> {
-    vec![&Reference]
+/// A set of models looked up by name: the reference first, then fitted models
+/// in the order they were added.
+pub struct Registry {
+    models: Vec<Box<dyn Model + Send>>,
+}
+
+impl Default for Registry {
+    fn default() -> Self {
+        Registry { models: vec![Box::new(Reference)] }
+    }
+}
+
+impl Registry {
+    /// Adds a model (a later model with the same name is never found).
+    pub fn add(&mut self, m: Box<dyn Model + Send>) {
+        self.models.push(m);
+    }
+
+    /// Every model, in table order.
+    pub fn iter(&self) -> impl Iterator<Item = &dyn Model> {
+        self.models.iter().map(|m| m.as_ref() as &dyn Model)
+    }
+
+    /// The model called `name`.
+    pub fn get(&self, name: &str) -> Result<&dyn Model, UnknownModel> {
+        self.iter().find(|m| m.name() == name).ok_or_else(|| UnknownModel {
+            name: name.to_string(),
+            known: self.iter().map(|m| m.name().to_string()).collect(),
+        })
+    }
 }
 
 /// A `--model` name that matches no model.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct UnknownModel(pub String);
+pub struct UnknownModel {
+    /// The name asked for.
+    pub name: String,
+    /// The names that exist.
+    pub known: Vec<String>,
+}
 
 impl fmt::Display for UnknownModel {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let names: Vec<&str> = all().iter().map(|m| m.name()).collect();
-        write!(f, "unknown model '{}'; known models: {}", self.0, names.join(", "))
+        write!(f, "unknown model '{}'; known models: {}", self.name, self.known.join(", "))
     }
 }
 
 impl std::error::Error for UnknownModel {}
-
-/// The model called `name`.
-pub fn by_name(name: &str) -> Result<&'static dyn Model, UnknownModel> {
-    all().into_iter().find(|m| m.name() == name).ok_or_else(|| UnknownModel(name.to_string()))
-}
 
 #[cfg(test)]
 mod tests {
@@ -93,8 +119,9 @@ mod tests {
 
     #[test]
     fn lookup() {
-        assert_eq!(by_name("reference").unwrap().name(), "reference");
-        let e = by_name("nope").err().unwrap().to_string();
+        let r = Registry::default();
+        assert_eq!(r.get("reference").unwrap().name(), "reference");
+        let e = r.get("nope").err().unwrap().to_string();
         assert_eq!(e, "unknown model 'nope'; known models: reference");
     }
 }

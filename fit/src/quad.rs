@@ -228,3 +228,48 @@ mod tests {
         assert!((q.value - 2.0).abs() < 4e-15, "{q:?}");
     }
 }
+
+/// Nodes and weights of the `n`-point Gauss–Legendre rule on [−1, 1] (Newton on
+/// the Legendre recurrence; exact for polynomials of degree `2n − 1`).
+pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut xs = vec![0.0; n];
+    let mut ws = vec![0.0; n];
+    for i in 0..n {
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 0.0;
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let pn = if n == 1 { x } else { p1 };
+            let pm = if n == 1 { 1.0 } else { p0 };
+            dp = n as f64 * (x * pn - pm) / (x * x - 1.0);
+            let dx = pn / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        xs[i] = x;
+        ws[i] = 2.0 / ((1.0 - x * x) * dp * dp);
+    }
+    (xs, ws)
+}
+
+#[cfg(test)]
+mod legendre_tests {
+    #[test]
+    fn integrates_polynomials_exactly() {
+        for n in [1, 2, 5, 8, 12] {
+            let (x, w) = super::gauss_legendre(n);
+            for deg in 0..2 * n {
+                let got: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(deg as i32)).sum();
+                let exact = if deg % 2 == 1 { 0.0 } else { 2.0 / (deg + 1) as f64 };
+                assert!((got - exact).abs() < 1e-14, "n {n} deg {deg}: {got}");
+            }
+        }
+    }
+}

@@ -1,0 +1,263 @@
+//! The report's figures (`generated/plots/*.{svg,png}`), drawn with plotters from
+//! the coefficient files and the analysis functions of airlight-fit.
+
+use crate::output::Output;
+use airlight_fit::analysis::{forward_error_grid, linspace, logspace, ratio_error_grid};
+use airlight_fit::approx::PhaseModel;
+use airlight_fit::coeffs::ModelFile;
+use airlight_fit::family::ratio::Ratio;
+use airlight_fit::family::segments::Segments;
+use airlight_fit::Phase;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// A figure failed to draw (a plotters backend error).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlotError(pub String);
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "plot: {}", self.0)
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+fn err(e: impl std::fmt::Debug) -> PlotError {
+    PlotError(format!("{e:?}"))
+}
+
+const SIZE: (u32, u32) = (1200, 520);
+
+/// Renders one figure to `plots/<name>.svg` and `plots/<name>.png`: the drawing
+/// code (`|root| …`) is expanded once per backend.
+macro_rules! both {
+    ($name:expr, |$root:ident| $body:expr) => {{
+        let name: &str = $name;
+        let mut svg = String::new();
+        {
+            let $root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+            $root.fill(&WHITE).map_err(err)?;
+            $body?;
+            $root.present().map_err(err)?;
+        }
+        // plotters encodes PNG to a path only: render into a private temporary file.
+        let tmp = std::env::temp_dir().join(format!("airlight-plot-{}-{name}.png", std::process::id()));
+        {
+            let $root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+            $root.fill(&WHITE).map_err(err)?;
+            $body?;
+            $root.present().map_err(err)?;
+        }
+        let png = std::fs::read(&tmp).map_err(err)?;
+        let _ = std::fs::remove_file(&tmp);
+        vec![Output::text(format!("plots/{name}.svg"), svg), Output { path: format!("plots/{name}.png"), contents: png }]
+    }};
+}
+
+/// Colour for `log10(error)` in `[lo, hi]`: dark blue (small) through yellow to red (large).
+fn heat(v: f64, lo: f64, hi: f64) -> RGBColor {
+    let x = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
+    let stops = [(0.0, (20, 30, 90)), (0.35, (30, 120, 180)), (0.65, (240, 220, 60)), (1.0, (200, 30, 30))];
+    for w in stops.windows(2) {
+        let ((a, ca), (b, cb)) = (w[0], w[1]);
+        if x <= b {
+            let t = (x - a) / (b - a);
+            let m = |p: u8, q: u8| (p as f64 + t * (q as f64 - p as f64)).round() as u8;
+            return RGBColor(m(ca.0, cb.0), m(ca.1, cb.1), m(ca.2, cb.2));
+        }
+    }
+    RGBColor(200, 30, 30)
+}
+
+/// Forward-kernel error over `(T, θ)`: the paper's Fig. 4, paper vs refit.
+fn forward_heatmaps<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    panels: &[(String, Vec<Vec<f64>>)],
+    ts: &[f64],
+    thetas: &[f64],
+) -> Result<(), PlotError> {
+    let (lo, hi) = (-6.0, 0.0);
+    let areas = root.split_evenly((1, panels.len()));
+    for (area, (title, grid)) in areas.iter().zip(panels) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, ("sans-serif", 20))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..FRAC_PI_2, 0.0..20.0)
+            .map_err(err)?;
+        chart.configure_mesh().x_desc("θ = π/2 − γ (rad)").y_desc("T = τ sin γ").disable_mesh().draw().map_err(err)?;
+        let (dt, dth) = (ts[1] - ts[0], thetas[1] - thetas[0]);
+        chart
+            .draw_series(grid.iter().enumerate().flat_map(|(i, row)| {
+                row.iter().enumerate().map(move |(j, e)| {
+                    let (t, th) = (ts[i], thetas[j]);
+                    let v = if *e > 0.0 { e.log10() } else { lo };
+                    Rectangle::new([(th - 0.5 * dth, t - 0.5 * dt), (th + 0.5 * dth, t + 0.5 * dt)], heat(v, lo, hi).filled())
+                })
+            }))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Log-scale line chart of named series.
+#[allow(clippy::too_many_arguments)]
+fn lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    x_log: bool,
+    series: &[(String, Vec<(f64, f64)>, RGBColor)],
+) -> Result<(), PlotError> {
+    let mut builder = ChartBuilder::on(area);
+    builder.caption(title, ("sans-serif", 20)).margin(10).x_label_area_size(40).y_label_area_size(60);
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(err)?;
+            for (name, pts, colour) in series {
+                let c = *colour;
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied().filter(|p| p.1 > 0.0 && p.1.is_finite()), c.stroke_width(2)))
+                    .map_err(err)?
+                    .label(name.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::LowerRight)
+                .draw()
+                .map_err(err)?;
+        }};
+    }
+    if x_log {
+        body!(builder
+            .build_cartesian_2d((x_range.0..x_range.1).log_scale(), (y_range.0..y_range.1).log_scale())
+            .map_err(err)?);
+    } else {
+        body!(builder.build_cartesian_2d(x_range.0..x_range.1, (y_range.0..y_range.1).log_scale()).map_err(err)?);
+    }
+    Ok(())
+}
+
+const COLOURS: [RGBColor; 6] =
+    [RGBColor(0, 0, 0), RGBColor(200, 40, 40), RGBColor(30, 110, 200), RGBColor(40, 160, 60), RGBColor(150, 60, 170), RGBColor(230, 140, 20)];
+
+fn find<'a>(models: &'a [ModelFile], name: &str) -> Result<&'a ModelFile, PlotError> {
+    models.iter().find(|m| m.model.name == name).ok_or_else(|| PlotError(format!("model '{name}' is missing")))
+}
+
+/// Every figure, from the coefficient files.
+pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
+    let mut out = Vec::new();
+
+    // 1. Forward kernel error over (T, θ): paper vs refit (Fig. 4).
+    let ts = linspace(0.25, 19.75, 40);
+    let thetas = linspace(FRAC_PI_2 / 80.0, FRAC_PI_2 * 79.0 / 80.0, 40);
+    let refit = &find(models, "paper-refit")?.model.forward;
+    let s16 = &find(models, "segments-16")?.model.forward;
+    let panels = vec![
+        ("paper, 3 segments: log10 |error|".to_string(), forward_error_grid(&Segments::paper(), &ts, &thetas)),
+        ("refit, 3 segments".to_string(), forward_error_grid(refit, &ts, &thetas)),
+        ("refit, 16 segments".to_string(), forward_error_grid(s16, &ts, &thetas)),
+    ];
+    out.extend(both!("forward-error", |root| forward_heatmaps(&root, &panels, &ts, &thetas)));
+
+    // 2. HG vs its approximations (Figs. 6–8).
+    let gs = [0.1, 0.7, 0.97];
+    let alphas = linspace(0.0, PI, 181);
+    let paper_hg = match &find(models, "paper-hg")?.model.phase {
+        PhaseModel::Exp(e) => e.clone(),
+        PhaseModel::Isotropic => return Err(PlotError("paper-hg is isotropic".into())),
+    };
+    let mut fits = Vec::new();
+    for k in 1..=3 {
+        if let PhaseModel::Exp(e) = &find(models, &format!("hg-exp{k}"))?.model.phase {
+            fits.push((format!("refit, {k} exp"), e.clone()));
+        }
+    }
+    let phase_series: Vec<Vec<(String, Vec<(f64, f64)>, RGBColor)>> = gs
+        .iter()
+        .map(|&g| {
+            let mut s = vec![(
+                "Henyey-Greenstein".to_string(),
+                alphas.iter().map(|&a| (a, Phase::from_g(g).eval(a))).collect(),
+                COLOURS[0],
+            )];
+            s.push(("paper table".into(), alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(), COLOURS[1]));
+            for (i, (name, e)) in fits.iter().enumerate() {
+                s.push((name.clone(), alphas.iter().map(|&a| (a, e.terms(g).eval(a))).collect(), COLOURS[2 + i]));
+            }
+            s
+        })
+        .collect();
+    out.extend(both!("phase", |root| {
+        let mut r: Result<(), PlotError> = Ok(());
+        for ((area, &g), s) in root.split_evenly((1, 3)).iter().zip(&gs).zip(&phase_series) {
+            let ymax = s[0].1.iter().map(|p| p.1).fold(0.0, f64::max) * 3.0;
+            let ymin = s[0].1.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) / 10.0;
+            r = r.and_then(|_| lines(area, &format!("g = {g}"), "α (rad)", "P(α) (1/sr)", (0.0, PI), (ymin, ymax), false, s));
+        }
+        r
+    }));
+
+    // 3. Backscatter ratio error (Fig. 11): paper vs refit.
+    let kappas = logspace(0.01, 20.0, 60);
+    let theta1s = [0.2, 0.8, FRAC_PI_2];
+    let refit_ratio = find(models, "paper-refit")?.model.ratio.clone().ok_or_else(|| PlotError("paper-refit has no ratio".into()))?;
+    let mut series = Vec::new();
+    for (label, r, base) in [("paper", Ratio::paper(), 1), ("refit", refit_ratio, 2)] {
+        let grid = ratio_error_grid(&r, &theta1s, &kappas);
+        for (i, row) in grid.iter().enumerate() {
+            let colour = if i == 0 { COLOURS[base] } else if i == 1 { COLOURS[base + 2] } else { COLOURS[base + 3] };
+            series.push((
+                format!("{label}, θ1 = {:.2}", theta1s[i]),
+                kappas.iter().copied().zip(row.iter().copied()).collect::<Vec<_>>(),
+                colour,
+            ));
+        }
+    }
+    out.extend(both!("backscatter-error", |root| {
+        lines(&root, "backward integral: |relative error| of the ratio form", "κ = T", "|error|", (0.01, 20.0), (1e-4, 1e3), true, &series)
+    }));
+
+    // 4. Error of A vs N for segments-N.
+    let mut pts: Vec<(usize, &ModelFile)> = models
+        .iter()
+        .filter_map(|m| m.model.name.strip_prefix("segments-").and_then(|n| n.parse().ok()).map(|n| (n, m)))
+        .collect();
+    pts.sort_by_key(|p| p.0);
+    let get = |d: &str, f: &dyn Fn(&airlight_fit::coeffs::DomainErrors) -> f64| -> Vec<(f64, f64)> {
+        pts.iter().filter_map(|(n, m)| m.error(d).map(|e| (*n as f64, f(e)))).collect()
+    };
+    let fwd: Vec<(f64, f64)> = pts
+        .iter()
+        .filter_map(|(n, m)| {
+            m.provenance
+                .iter()
+                .find(|(t, _)| t == "forward.fit")
+                .and_then(|(_, kv)| kv.iter().find(|(k, _)| k == "forward_integral_max_rel"))
+                .and_then(|(_, v)| v.as_float())
+                .map(|v| (*n as f64, v))
+        })
+        .collect();
+    let series = vec![
+        ("A, thin: max".to_string(), get("thin", &|e| e.max_rel), COLOURS[2]),
+        ("A, thin: p99".to_string(), get("thin", &|e| e.p99_rel), COLOURS[3]),
+        ("A, dense: max".to_string(), get("dense", &|e| e.max_rel), COLOURS[1]),
+        ("A, dense: p99".to_string(), get("dense", &|e| e.p99_rel), COLOURS[5]),
+        ("forward integral alone: max (fit targets)".to_string(), fwd, COLOURS[0]),
+    ];
+    out.extend(both!("error-vs-n", |root| {
+        lines(&root, "segments-N: relative error vs number of segments", "N", "relative error", (2.0, 16.0), (1e-4, 1.0), true, &series)
+    }));
+    Ok(out)
+}

@@ -1,0 +1,665 @@
+//! The models airlight ships, kept as data ([`CATALOG`]), and the pipeline that
+//! produces their coefficient files: fit each family once, assemble the models,
+//! measure every model on the validation sets.
+
+use crate::approx::{Approximation, PhaseModel};
+use crate::coeffs::{DomainErrors, ModelFile, Provenance};
+use crate::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
+use crate::family::expsum::{self, Backward, ExpSumFit, Target};
+use crate::family::phase_exp::{self, Band, BandFit, ExpPhase, PAPER_BANDS};
+use crate::family::ratio::{self, Ratio, RatioFit};
+use crate::family::segments::{self, Segments, SegmentsFit};
+use crate::lsq::{self, OUTER_SOLVER};
+use crate::model::Model;
+use crate::reference::{self, Point, REFERENCE_REL_TOL};
+use crate::stats::rel_error;
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+use toml::Value;
+
+/// Segment counts the forward family is fitted for.
+pub const SEGMENT_COUNTS: [usize; 7] = [2, 3, 4, 6, 8, 12, 16];
+/// Terms of the backward exponential sums: near (`w` on `[1, 16]`) and far (`1/y²`).
+pub const EXPSUM_TERMS: (usize, usize) = (4, 8);
+/// Term counts the phase family is fitted for.
+pub const TERM_COUNTS: [usize; 3] = [1, 2, 3];
+/// `g` range of the paper's table (and of models built on it).
+pub const PAPER_G: (f64, f64) = (0.0, 0.99);
+/// `g` range of models that mirror negative `g`.
+pub const MIRRORED_G: (f64, f64) = (-0.99, 0.99);
+
+/// Seeds of the fit samples (validation uses [`VALIDATION_SEED`]).
+pub const FORWARD_SEED: u64 = 0xF17_0000_0000_0001;
+/// Seed of the phase fit samples.
+pub const PHASE_SEED: u64 = 0xF17_0000_0000_0002;
+/// Seed of the backscatter fit samples.
+pub const RATIO_SEED: u64 = 0xF17_0000_0000_0003;
+/// Low-discrepancy points per domain (thin, dense) in each fit sample.
+pub const FORWARD_POINTS: usize = 600;
+/// Points per domain per band for the phase fit.
+pub const PHASE_POINTS: usize = 200;
+/// Points per domain for the ratio fit.
+pub const RATIO_POINTS: usize = 600;
+
+/// Where a model's forward kernel comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForwardChoice {
+    /// The paper's three printed lines.
+    Paper,
+    /// The refit with this many segments.
+    Refit(usize),
+}
+
+/// Where a model's phase function comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhaseChoice {
+    /// Exact isotropic.
+    Isotropic,
+    /// The paper's table.
+    Paper,
+    /// The refit with this many terms.
+    Refit(usize),
+}
+
+/// Where a model's backward part comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BackChoice {
+    /// The paper's ratio (γ ≤ π/2), the exponential sum beyond.
+    PaperRatio,
+    /// The refit ratio (γ ≤ π/2), the exponential sum beyond.
+    RefitRatio,
+    /// The exponential sum everywhere.
+    ExpSum,
+}
+
+/// One shipped model: which families, which range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelSpec {
+    /// Name.
+    pub name: &'static str,
+    /// One line for tables.
+    pub summary: &'static str,
+    /// Forward kernel.
+    pub forward: ForwardChoice,
+    /// Phase.
+    pub phase: PhaseChoice,
+    /// Backward part.
+    pub backward: BackChoice,
+    /// Supported `g`.
+    pub g_range: (f64, f64),
+    /// Whether the forward part keeps `e^{−τ cos γ}` (false only as printed).
+    pub forward_attenuation: bool,
+}
+
+const fn seg(name: &'static str, summary: &'static str, n: usize) -> ModelSpec {
+    ModelSpec {
+        name,
+        summary,
+        forward: ForwardChoice::Refit(n),
+        phase: PhaseChoice::Isotropic,
+        backward: BackChoice::ExpSum,
+        g_range: (0.0, 0.0),
+        forward_attenuation: true,
+    }
+}
+
+const fn hg(name: &'static str, summary: &'static str, k: usize) -> ModelSpec {
+    ModelSpec {
+        name,
+        summary,
+        forward: ForwardChoice::Refit(8),
+        phase: PhaseChoice::Refit(k),
+        backward: BackChoice::ExpSum,
+        g_range: MIRRORED_G,
+        forward_attenuation: true,
+    }
+}
+
+/// Every fitted model, in table order.
+pub const CATALOG: [ModelSpec; 15] = [
+    ModelSpec {
+        name: "paper-as-printed",
+        summary: "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
+        forward: ForwardChoice::Paper,
+        phase: PhaseChoice::Isotropic,
+        backward: BackChoice::PaperRatio,
+        g_range: (0.0, 0.0),
+        forward_attenuation: false,
+    },
+    ModelSpec {
+        name: "paper",
+        summary: "isotropic; Pradhan & Kumar's published segments and backscatter ratio, e^(-beta d1) restored",
+        forward: ForwardChoice::Paper,
+        phase: PhaseChoice::Isotropic,
+        backward: BackChoice::PaperRatio,
+        g_range: (0.0, 0.0),
+        forward_attenuation: true,
+    },
+    ModelSpec {
+        name: "paper-refit",
+        summary: "isotropic; the paper's 3-segment and ratio forms refit by least squares",
+        forward: ForwardChoice::Refit(3),
+        phase: PhaseChoice::Isotropic,
+        backward: BackChoice::RefitRatio,
+        g_range: (0.0, 0.0),
+        forward_attenuation: true,
+    },
+    ModelSpec {
+        name: "paper-hg",
+        summary: "HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)",
+        forward: ForwardChoice::Paper,
+        phase: PhaseChoice::Paper,
+        backward: BackChoice::PaperRatio,
+        g_range: PAPER_G,
+        forward_attenuation: true,
+    },
+    ModelSpec {
+        name: "paper-refit-hg",
+        summary: "HG g in [0, 0.99]; paper-refit with the one-exponential table refit on the error of A",
+        forward: ForwardChoice::Refit(3),
+        phase: PhaseChoice::Refit(1),
+        backward: BackChoice::RefitRatio,
+        g_range: PAPER_G,
+        forward_attenuation: true,
+    },
+    seg("segments-2", "isotropic; 2-segment forward kernel, 4+8-term backward sums", 2),
+    seg("segments-3", "isotropic; 3-segment forward kernel, 4+8-term backward sums", 3),
+    seg("segments-4", "isotropic; 4-segment forward kernel, 4+8-term backward sums", 4),
+    seg("segments-6", "isotropic; 6-segment forward kernel, 4+8-term backward sums", 6),
+    seg("segments-8", "isotropic; 8-segment forward kernel, 4+8-term backward sums", 8),
+    seg("segments-12", "isotropic; 12-segment forward kernel, 4+8-term backward sums", 12),
+    seg("segments-16", "isotropic; 16-segment forward kernel, 4+8-term backward sums", 16),
+    hg("hg-exp1", "HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+8-term backward sums", 1),
+    hg("hg-exp2", "HG g in [-0.99, 0.99] (mirrored); 2 exponentials per band, 8 segments, 4+8-term backward sums", 2),
+    hg("hg-exp3", "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+8-term backward sums", 3),
+];
+
+/// A family that `airlight fit --family` can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// The forward kernel (all segment counts).
+    Segments,
+    /// The phase (all term counts and bands).
+    Phase,
+    /// The backscatter ratio.
+    Backscatter,
+}
+
+impl Family {
+    /// All families.
+    pub const ALL: [Family; 3] = [Family::Segments, Family::Phase, Family::Backscatter];
+    /// Name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Segments => "segments",
+            Family::Phase => "phase",
+            Family::Backscatter => "backscatter",
+        }
+    }
+    /// Parses a command-line name.
+    pub fn from_name(s: &str) -> Option<Family> {
+        Family::ALL.into_iter().find(|f| f.name() == s)
+    }
+}
+
+/// Every family fit.
+#[derive(Debug, Clone, Default)]
+pub struct Fits {
+    /// Forward kernels by segment count, with the paper's kernel's errors on the same targets.
+    pub segments: BTreeMap<usize, SegmentsFit>,
+    /// Forward-integral RMS and max relative error of the paper's kernel on the fit targets.
+    pub paper_segments: Option<(f64, f64, usize)>,
+    /// Phase bands by term count.
+    pub phase: BTreeMap<usize, Vec<BandFit>>,
+    /// Largest error of the phase fit's node rule against the reference.
+    pub phase_node_error: f64,
+    /// Per band: RMS and max relative error of A under the paper's table (same fit points).
+    pub paper_phase: Vec<(f64, f64)>,
+    /// Backscatter ratio.
+    pub ratio: Option<RatioFit>,
+    /// Backward exponential sums, near and far.
+    pub expsum: Option<(ExpSumFit, ExpSumFit)>,
+    /// RMS and max relative error of the paper's ratio on the same targets.
+    pub paper_ratio: Option<(f64, f64)>,
+}
+
+fn rms_max(errs: &[f64]) -> (f64, f64) {
+    let rms = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len().max(1) as f64).sqrt();
+    (rms, errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())))
+}
+
+enum Job {
+    Segments(usize),
+    Band(usize, usize),
+    Ratio,
+    ExpSum(Target),
+}
+
+enum JobOut {
+    Segments(usize, SegmentsFit),
+    Band(usize, usize, BandFit),
+    Ratio(RatioFit),
+    ExpSum(Target, ExpSumFit),
+}
+
+/// Fits the given families (all if `None`). `progress(done, total)` counts fit jobs.
+pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fits {
+    let want = |f: Family| only.is_none_or(|o| o == f);
+    let mut fits = Fits::default();
+    let fwd_samples = if want(Family::Segments) { segments::samples(segments::Side::Forward, FORWARD_POINTS, FORWARD_SEED) } else { vec![] };
+    let band_samples: Vec<Vec<phase_exp::PhaseSample>> = if want(Family::Phase) {
+        PAPER_BANDS.iter().map(|&(lo, hi)| phase_exp::phase_samples(lo, hi, PHASE_POINTS, PHASE_SEED)).collect()
+    } else {
+        vec![]
+    };
+    let ratio_samples = if want(Family::Backscatter) { ratio::ratio_samples(RATIO_POINTS, RATIO_SEED) } else { vec![] };
+
+    let mut jobs = Vec::new();
+    if want(Family::Phase) {
+        // The slowest jobs first, so two cores finish together.
+        for &k in TERM_COUNTS.iter().rev() {
+            for b in 0..PAPER_BANDS.len() {
+                jobs.push(Job::Band(k, b));
+            }
+        }
+    }
+    if want(Family::Segments) {
+        jobs.extend(SEGMENT_COUNTS.iter().rev().map(|&n| Job::Segments(n)));
+    }
+    if want(Family::Backscatter) {
+        jobs.insert(0, Job::ExpSum(Target::Far));
+        jobs.insert(1, Job::ExpSum(Target::Near));
+        jobs.push(Job::Ratio);
+    }
+    let outs = crate::parallel::map(
+        &jobs,
+        |job| match *job {
+            Job::Segments(n) => JobOut::Segments(n, segments::fit(segments::Side::Forward, n, &fwd_samples)),
+            Job::Band(k, b) => {
+                let (lo, hi) = PAPER_BANDS[b];
+                JobOut::Band(k, b, phase_exp::fit_band(lo, hi, &phase_exp::start_decays(b, k), &band_samples[b]))
+            }
+            Job::Ratio => JobOut::Ratio(ratio::fit(&ratio_samples)),
+            Job::ExpSum(target) => JobOut::ExpSum(
+                target,
+                expsum::fit(target, if target == Target::Near { EXPSUM_TERMS.0 } else { EXPSUM_TERMS.1 }),
+            ),
+        },
+        progress,
+    );
+    let mut bands: BTreeMap<usize, Vec<(usize, BandFit)>> = BTreeMap::new();
+    let (mut near, mut far) = (None, None);
+    for o in outs {
+        match o {
+            JobOut::Segments(n, f) => {
+                fits.segments.insert(n, f);
+            }
+            JobOut::Band(k, b, f) => bands.entry(k).or_default().push((b, f)),
+            JobOut::Ratio(f) => fits.ratio = Some(f),
+            JobOut::ExpSum(Target::Near, f) => near = Some(f),
+            JobOut::ExpSum(Target::Far, f) => far = Some(f),
+        }
+    }
+    if let (Some(n), Some(f)) = (near, far) {
+        fits.expsum = Some((n, f));
+    }
+    for (k, mut v) in bands {
+        v.sort_by_key(|(b, _)| *b);
+        fits.phase.insert(k, v.into_iter().map(|(_, f)| f).collect());
+    }
+    if !fwd_samples.is_empty() {
+        let (rms, max) = rms_max(&segments::forward_errors(&Segments::paper(), &fwd_samples));
+        fits.paper_segments = Some((rms, max, fwd_samples.len()));
+    }
+    if !band_samples.is_empty() {
+        let paper = ExpPhase::paper();
+        fits.phase_node_error = band_samples.iter().map(|s| phase_exp::node_rule_error(s)).fold(0.0, f64::max);
+        fits.paper_phase =
+            band_samples.iter().map(|s| rms_max(&phase_exp::a_errors(|g| paper.terms(g), s))).collect();
+    }
+    if !ratio_samples.is_empty() {
+        let (rms, max) = rms_max(&ratio::backward_errors(&Ratio::paper(), &ratio_samples));
+        fits.paper_ratio = Some((rms, max));
+    }
+    fits
+}
+
+fn s(v: &str) -> Value {
+    Value::String(v.to_string())
+}
+fn i(v: impl TryInto<i64>) -> Value {
+    Value::Integer(v.try_into().unwrap_or(i64::MAX))
+}
+fn f(v: f64) -> Value {
+    Value::Float(v)
+}
+fn kv(pairs: Vec<(&str, Value)>) -> Vec<(String, Value)> {
+    pairs.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+}
+fn hex_seed(seed: u64) -> Value {
+    s(&format!("{seed:#018x}"))
+}
+
+/// Builds the model `spec` from `fits` (errors not yet measured).
+pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
+    let mut prov: Vec<Provenance> = Vec::new();
+    let mut families = Vec::new();
+    let forward = match spec.forward {
+        ForwardChoice::Paper => {
+            families.push("segments-3 (paper, §3.1)".to_string());
+            let (kmax, kat) = Segments::paper().kernel_error(segments::Side::Forward);
+            let mut v = vec![("source", s("Pradhan & Kumar §3.1, as printed"))];
+            v.push(("kernel_max_abs_error", f(kmax)));
+            v.push(("kernel_max_abs_error_at", f(kat)));
+            if let Some((rms, max, n)) = fits.paper_segments {
+                v.push(("forward_integral_rms_rel", f(rms)));
+                v.push(("forward_integral_max_rel", f(max)));
+                v.push(("targets", i(n)));
+                v.push(("targets_seed", hex_seed(FORWARD_SEED)));
+            }
+            prov.push(("forward.fit".into(), kv(v)));
+            Segments::paper()
+        }
+        ForwardChoice::Refit(n) => {
+            let fit = fits.segments.get(&n).ok_or(format!("segments-{n} was not fitted"))?;
+            families.push(format!("segments-{n} (refit)"));
+            let (kmax, kat) = fit.segments.kernel_error(segments::Side::Forward);
+            prov.push((
+                "forward.fit".into(),
+                kv(vec![
+                    ("source", s("least squares, this project")),
+                    ("objective", s("sum of squared relative errors of the forward integral ∫ e^(-T k) dθ")),
+                    ("targets", i(fit.samples)),
+                    ("targets_from", s("thin and dense points with a forward part (T = τ sin γ, θ range from γ and ρ)")),
+                    ("targets_seed", hex_seed(FORWARD_SEED)),
+                    ("inner", s("segment values: Gauss-Newton, each step linear least squares by SVD (nalgebra 0.34)")),
+                    ("inner_steps", i(fit.inner_steps)),
+                    ("outer", s(&format!("breakpoints (softmax widths): {OUTER_SOLVER}"))),
+                    ("iterations", i(fit.outcome.iterations)),
+                    ("termination", s(&fit.outcome.termination)),
+                    ("forward_integral_rms_rel", f(fit.rms_rel)),
+                    ("forward_integral_max_rel", f(fit.max_rel)),
+                    ("kernel_max_abs_error", f(kmax)),
+                    ("kernel_max_abs_error_at", f(kat)),
+                ]),
+            ));
+            fit.segments.clone()
+        }
+    };
+    let phase = match spec.phase {
+        PhaseChoice::Isotropic => {
+            families.push("isotropic".into());
+            PhaseModel::Isotropic
+        }
+        PhaseChoice::Paper => {
+            families.push("hg-exp-1 (paper appendix)".into());
+            let mut v = vec![
+                ("source", s("Pradhan & Kumar appendix, as printed")),
+                ("reading", s("4π·P(α) ≈ a e^(-b α), α in radians: the only reading whose g = 0 row is isotropic")),
+            ];
+            if !fits.paper_phase.is_empty() {
+                v.push(("a_rms_rel_by_band", Value::Array(fits.paper_phase.iter().map(|x| f(x.0)).collect())));
+                v.push(("a_max_rel_by_band", Value::Array(fits.paper_phase.iter().map(|x| f(x.1)).collect())));
+            }
+            prov.push(("phase.fit".into(), kv(v)));
+            PhaseModel::Exp(ExpPhase::paper())
+        }
+        PhaseChoice::Refit(k) => {
+            let bands = fits.phase.get(&k).ok_or(format!("hg-exp-{k} was not fitted"))?;
+            families.push(format!("hg-exp-{k} (refit)"));
+            let arr = |g: &dyn Fn(&BandFit) -> Value| Value::Array(bands.iter().map(g).collect());
+            prov.push((
+                "phase.fit".into(),
+                kv(vec![
+                    ("source", s("least squares, this project")),
+                    ("objective", s("sum of squared relative errors of A with the exact kernel (fixed 162-node rule per point)")),
+                    ("negative_g", s(if spec.g_range.0 < 0.0 { "mirror: P_g(α) = P_-g(π - α)" } else { "not supported" })),
+                    ("node_rule_max_rel_error", f(fits.phase_node_error)),
+                    ("targets_per_band", i(bands[0].samples)),
+                    ("targets_seed", hex_seed(PHASE_SEED)),
+                    ("inner", s("amplitudes: linear least squares by SVD (nalgebra 0.34)")),
+                    ("outer", s(&format!("decays (values at band ends and middle): {OUTER_SOLVER}"))),
+                    ("iterations_by_band", arr(&|b| i(b.outcome.iterations))),
+                    ("termination_by_band", arr(&|b| s(&b.outcome.termination))),
+                    ("a_rms_rel_by_band", arr(&|b| f(b.rms_rel))),
+                    ("a_max_rel_by_band", arr(&|b| f(b.max_rel))),
+                ]),
+            ));
+            PhaseModel::Exp(ExpPhase { bands: bands.iter().map(|b| b.band.clone()).collect::<Vec<Band>>(), scale: 1.0 })
+        }
+    };
+    let ratio = match spec.backward {
+        BackChoice::RefitRatio => {
+            let fit = fits.ratio.as_ref().ok_or("the backscatter ratio was not fitted")?;
+            families.push("backscatter-ratio (refit; γ ≤ π/2)".into());
+            prov.push((
+                "backscatter.fit".into(),
+                kv(vec![
+                    ("source", s("least squares, this project")),
+                    ("objective", s("sum of squared relative errors of the backward integral from the foot point")),
+                    ("targets", i(fit.samples)),
+                    ("targets_seed", hex_seed(RATIO_SEED)),
+                    ("inner", s("f: linear least squares by SVD (nalgebra 0.34)")),
+                    ("outer", s(&format!("g, h from the paper's values: {OUTER_SOLVER}"))),
+                    ("iterations", i(fit.outcome.iterations)),
+                    ("termination", s(&fit.outcome.termination)),
+                    ("backward_integral_rms_rel", f(fit.rms_rel)),
+                    ("backward_integral_max_rel", f(fit.max_rel)),
+                ]),
+            ));
+            Some(fit.ratio.clone())
+        }
+        BackChoice::PaperRatio => {
+            families.push("backscatter-ratio (paper §3.2; γ ≤ π/2)".into());
+            let mut v = vec![("source", s("Pradhan & Kumar §3.2, as printed (third row read as h)"))];
+            if let Some((rms, max)) = fits.paper_ratio {
+                v.push(("backward_integral_rms_rel", f(rms)));
+                v.push(("backward_integral_max_rel", f(max)));
+            }
+            prov.push(("backscatter.fit".into(), kv(v)));
+            Some(Ratio::paper())
+        }
+        BackChoice::ExpSum => None,
+    };
+    let (near, far) = fits.expsum.as_ref().ok_or("the backward exponential sums were not fitted")?;
+    families.push(format!(
+        "backscatter-expsum-{}+{} ({})",
+        near.sum.c.len(),
+        far.sum.c.len(),
+        if ratio.is_some() { "γ > π/2, where the ratio is undefined" } else { "all γ" }
+    ));
+    prov.push((
+        "backscatter.expsum_fit".into(),
+        kv(vec![
+            ("source", s("this project: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, split]; far 1/y² ≈ Σ c e^(-s y) on [1, y_max], y = u/max(u0, split)")),
+            ("split", f(expsum::SPLIT)),
+            ("y_max", f(expsum::Y_MAX)),
+            ("objective", s("max relative error on 400 log-spaced points (amplitudes: Lawson-reweighted least squares by SVD)")),
+            ("outer", s(&format!("log rates: {OUTER_SOLVER}, restarted until no gain"))),
+            ("near_iterations", i(near.outcome.iterations)),
+            ("near_termination", s(&near.outcome.termination)),
+            ("near_max_rel", f(near.max_rel.0)),
+            ("near_max_rel_at_u", f(near.max_rel.1)),
+            ("far_iterations", i(far.outcome.iterations)),
+            ("far_termination", s(&far.outcome.termination)),
+            ("far_max_rel", f(far.max_rel.0)),
+            ("far_max_rel_at_y", f(far.max_rel.1)),
+        ]),
+    ));
+    prov.push((
+        "provenance".into(),
+        kv(vec![
+            ("crate", s(concat!("airlight-fit ", env!("CARGO_PKG_VERSION")))),
+            ("reference", s("adaptive Gauss-Kronrod on the u form (fit/src/reference.rs)")),
+            ("reference_rel_tol", f(REFERENCE_REL_TOL)),
+            ("validation_seed", hex_seed(VALIDATION_SEED)),
+            ("validation_points_per_domain", i(VALIDATION_POINTS)),
+            ("validation_extra", s("domain corners at the ends of g_range; the 3 worst points of each domain refined by Nelder-Mead inside the domain")),
+        ]),
+    ));
+    Ok(ModelFile {
+        model: Approximation {
+            name: spec.name.into(),
+            summary: spec.summary.into(),
+            g_range: spec.g_range,
+            forward,
+            phase,
+            ratio,
+            expsum: Backward { near: near.sum.clone(), far: far.sum.clone() },
+            forward_attenuation: spec.forward_attenuation,
+        },
+        families,
+        errors: vec![],
+        provenance: prov,
+    })
+}
+
+/// The validation points of one domain and `g` range with their reference values.
+pub struct Validation {
+    /// The domain.
+    pub domain: Domain,
+    /// `g` range.
+    pub g_range: (f64, f64),
+    /// Points and reference `A`.
+    pub points: Vec<(Point, f64)>,
+}
+
+/// Reference values for the validation sets of every `(domain, g range)` in `ranges`.
+pub fn validations(ranges: &[(f64, f64)], progress: &(dyn Fn(usize, usize) + Sync)) -> Vec<Validation> {
+    let mut sets = Vec::new();
+    for &r in ranges {
+        for d in Domain::ALL {
+            sets.push((d, r, d.validation_set(r, VALIDATION_POINTS, VALIDATION_SEED)));
+        }
+    }
+    let all: Vec<Point> = sets.iter().flat_map(|s| s.2.iter().copied()).collect();
+    let values = crate::parallel::map(&all, |p| reference::airlight(*p).expect("validation points are valid"), progress);
+    let mut it = values.into_iter();
+    sets.into_iter()
+        .map(|(domain, g_range, pts)| Validation {
+            domain,
+            g_range,
+            points: pts.into_iter().map(|p| (p, it.next().expect("one value per point"))).collect(),
+        })
+        .collect()
+}
+
+/// Clamps a point into a sampled domain's box (keeping `ρ = ∞`).
+fn clamp_into(domain: Domain, g_range: (f64, f64), p: Point) -> Point {
+    let (tlo, thi) = domain.tau_range();
+    Point {
+        tau: p.tau.clamp(tlo, thi),
+        gamma: p.gamma.clamp(0.01, PI - 0.01),
+        rho: if p.rho.is_infinite() { p.rho } else { p.rho.clamp(0.01, 100.0) },
+        g: p.g.clamp(g_range.0, g_range.1),
+    }
+}
+
+/// Measures `model` on `v`: max, p99 and worst point over the validation set, the
+/// max then pushed further by a local Nelder–Mead search from the 3 worst points
+/// (sampled domains only), so the declared bound is not an accident of sampling.
+pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
+    let mut errs: Vec<(Point, f64)> = Vec::with_capacity(v.points.len());
+    let (mut non_finite, mut negative) = (0, 0);
+    for &(p, exact) in &v.points {
+        let a = model.eval_unchecked(p);
+        if !a.is_finite() && exact.is_finite() {
+            non_finite += 1;
+        }
+        if a < 0.0 {
+            negative += 1;
+        }
+        errs.push((p, rel_error(a, exact)));
+    }
+    let stats = crate::stats::ErrorStats::from_errors(errs.iter().copied());
+    let mut worst = stats.worst.unwrap_or(Point { tau: 0.0, gamma: 1.0, rho: 1.0, g: 0.0 });
+    let mut max = stats.max;
+    if v.domain != Domain::Extreme && max.is_finite() {
+        errs.sort_by(|a, b| b.1.total_cmp(&a.1));
+        for &(start, _) in errs.iter().take(3) {
+            let (found, e) = refine(model, v.domain, v.g_range, start);
+            if e > max {
+                max = e;
+                worst = found;
+            }
+        }
+    }
+    DomainErrors {
+        domain: v.domain.name().into(),
+        points: v.points.len(),
+        max_rel: max,
+        p99_rel: stats.p99,
+        worst,
+        non_finite,
+        negative,
+    }
+}
+
+/// Local search for a larger error near `start`, inside the domain.
+fn refine(model: &dyn Model, domain: Domain, g_range: (f64, f64), start: Point) -> (Point, f64) {
+    let inf = start.rho.is_infinite();
+    let to_point = |x: &[f64]| {
+        clamp_into(
+            domain,
+            g_range,
+            Point { tau: x[0], gamma: x[1], rho: if inf { f64::INFINITY } else { x[2].exp() }, g: x[3] },
+        )
+    };
+    let err = |x: &[f64]| {
+        let p = to_point(x);
+        match reference::airlight(p) {
+            Ok(exact) => -rel_error(model.eval_unchecked(p), exact),
+            Err(_) => 0.0,
+        }
+    };
+    let x0 = [start.tau, start.gamma, if inf { 0.0 } else { start.rho.ln() }, start.g];
+    let (tlo, thi) = domain.tau_range();
+    let step = [0.05 * (thi - tlo), 0.05, if inf { 0.0 } else { 0.2 }, if g_range.0 == g_range.1 { 0.0 } else { 0.02 }];
+    let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, 120);
+    (to_point(&out.param), -out.cost)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catalog_names_are_unique_and_ranges_valid() {
+        let mut names: Vec<&str> = CATALOG.iter().map(|m| m.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), CATALOG.len());
+        for m in CATALOG {
+            assert!(m.g_range.0 <= m.g_range.1 && m.g_range.1 < 1.0);
+            if m.phase == PhaseChoice::Isotropic {
+                assert_eq!(m.g_range, (0.0, 0.0));
+            }
+        }
+    }
+}
+
+/// Assembles every model of [`CATALOG`] from `fits` and measures it on the
+/// validation sets: the complete coefficient files, in catalog order.
+/// `progress(done, total)` counts reference evaluations, then models.
+pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Vec<ModelFile>, String> {
+    let mut files = CATALOG.iter().map(|spec| assemble(spec, fits)).collect::<Result<Vec<_>, _>>()?;
+    let mut ranges: Vec<(f64, f64)> = Vec::new();
+    for s in CATALOG {
+        if !ranges.contains(&s.g_range) {
+            ranges.push(s.g_range);
+        }
+    }
+    let sets = validations(&ranges, progress);
+    let jobs: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(i, f)| {
+            sets.iter().enumerate().filter(|(_, v)| v.g_range == f.model.g_range).map(move |(j, _)| (i, j)).collect::<Vec<_>>()
+        })
+        .collect();
+    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
+    for (&(i, _), e) in jobs.iter().zip(measured) {
+        files[i].errors.push(e);
+    }
+    Ok(files)
+}
