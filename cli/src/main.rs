@@ -246,7 +246,7 @@ fn print_fits(fits: &Fits) {
     }
     if let Some((n, f)) = &fits.expsum {
         println!(
-            "backward sums: near {} terms max weight error {:.1e}; far {} terms max error {:.1e}",
+            "backward sums: near {} terms max weight error {:.1e}; local {} terms max error {:.1e}",
             n.sum.c.len(),
             n.max_rel.0,
             f.sum.c.len(),

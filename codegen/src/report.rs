@@ -292,11 +292,10 @@ pub fn render(check: &SelfCheck, models: &[ModelFile]) -> Result<Output, tera::E
     let es = models.first();
     let t = "backscatter.expsum_fit";
     ctx.insert("near_terms", &es.map_or(0, |m| m.model.expsum.near.c.len()));
-    ctx.insert("far_terms", &es.map_or(0, |m| m.model.expsum.far.c.len()));
+    ctx.insert("local_terms", &es.map_or(0, |m| m.model.expsum.local.c.len()));
     ctx.insert("near_error", &es.map_or("—".into(), |m| prov_f(m, t, "near_max_rel")));
-    ctx.insert("far_error", &es.map_or("—".into(), |m| prov_f(m, t, "far_max_rel")));
+    ctx.insert("local_error", &es.map_or("—".into(), |m| prov_f(m, t, "local_max_rel")));
     ctx.insert("split", &airlight_fit::family::expsum::SPLIT);
-    ctx.insert("y_max", &airlight_fit::family::expsum::Y_MAX);
     let contents = tera::Tera::one_off(TEMPLATE, &ctx, false)?;
     Ok(Output::text("REPORT.md", contents))
 }

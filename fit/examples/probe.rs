@@ -1,32 +1,28 @@
-use airlight_fit::catalog::*;
-use std::time::Instant;
+//! Ad-hoc: observed max on many fresh random points vs declared max.
+use airlight_fit::domains::{Domain, SplitMix64};
+use airlight_fit::model::Model;
+use airlight_fit::reference::{airlight, Point};
+use airlight_fit::stats::rel_error;
+use std::f64::consts::PI;
 fn main() {
-    let t = Instant::now();
-    let fits = fit(None, &|_, _| {});
-    eprintln!("fit {:.1}s", t.elapsed().as_secs_f64());
-    for (n, f) in &fits.segments {
-        eprintln!("seg {n}: rms {:.2e} max {:.2e} it {} {} kern {:.2e}", f.rms_rel, f.max_rel, f.outcome.iterations, f.outcome.termination, f.segments.kernel_error(airlight_fit::family::segments::Side::Forward).0);
-    }
-    eprintln!("paper seg {:?}", fits.paper_segments);
-    for (k, b) in &fits.phase {
-        for f in b { eprintln!("phase k{k} [{},{}]: rms {:.2e} max {:.2e} it {} {}", f.band.g_lo, f.band.g_hi, f.rms_rel, f.max_rel, f.outcome.iterations, f.outcome.termination); }
-    }
-    eprintln!("paper phase {:?} node {:.1e}", fits.paper_phase, fits.phase_node_error);
-    let r = fits.ratio.as_ref().unwrap();
-    let (n, f) = fits.expsum.as_ref().unwrap(); eprintln!("expsum near {:?} it {} far {:?} it {}", n.max_rel, n.outcome.iterations, f.max_rel, f.outcome.iterations);
-    eprintln!("ratio rms {:.2e} max {:.2e} it {} {} ; paper {:?}", r.rms_rel, r.max_rel, r.outcome.iterations, r.outcome.termination, fits.paper_ratio);
-    let t = Instant::now();
-    let vals = validations(&[(0.0, 0.0), PAPER_G, MIRRORED_G], &|_, _| {});
-    eprintln!("validation refs {:.1}s", t.elapsed().as_secs_f64());
-    for spec in CATALOG.iter() {
-        let mf = assemble(spec, &fits).unwrap();
-        let mut line = format!("{:<18}", spec.name);
-        for v in vals.iter().filter(|v| v.g_range == spec.g_range) {
-            let e = measure(&mf.model, v);
-            line += &format!(" {} max {:.2e} p99 {:.2e} nf {} neg {} |", e.domain, e.max_rel, e.p99_rel, e.non_finite, e.negative);
-            if e.domain != "extreme" { line += &format!(" at {:?}|", e.worst); }
+    let mut files = airlight_fit::coeffs::load_dir(std::path::Path::new("generated/coefficients")).unwrap();
+    files.sort_by(|a, b| a.model.name.cmp(&b.model.name));
+    for m in &files {
+        for (d, seed) in [(Domain::Thin, 11u64), (Domain::Dense, 12)] {
+            let mut rng = SplitMix64(seed);
+            let (tlo, thi) = d.tau_range();
+            let g = m.model.g_range;
+            let pts: Vec<Point> = (0..100_000).map(|i| {
+                let e = |r: &mut SplitMix64| { let x = r.next_f64(); if i % 4 == 0 { x * x * x } else if i % 4 == 1 { 1.0 - x * x * x } else { x } };
+                let tau = tlo + (thi - tlo) * e(&mut rng);
+                let gamma = 0.01 + (PI - 0.02) * e(&mut rng);
+                let rho = if rng.next_f64() < 0.15 { f64::INFINITY } else { 0.01 * 1e4f64.powf(e(&mut rng)) };
+                Point { tau, gamma, rho, g: g.0 + (g.1 - g.0) * e(&mut rng) }
+            }).collect();
+            let errs = airlight_fit::parallel::map(&pts, |p| rel_error(m.model.eval_unchecked(*p), airlight(*p).unwrap()), &|_, _| {});
+            let (i, w) = errs.iter().enumerate().fold((0, 0.0), |b, (i, &e)| if e > b.1 { (i, e) } else { b });
+            let dec = m.error(d.name()).unwrap().max_rel;
+            println!("{:<18} {:<6} declared {:.3e} observed {:.3e} ratio {:.2} at {:?}", m.model.name, d.name(), dec, w, w / dec, pts[i]);
         }
-        eprintln!("{line}");
     }
-    eprintln!("total {:.1}s", t.elapsed().as_secs_f64());
 }

@@ -130,7 +130,7 @@ impl Approximation {
         };
         let n = self.forward.n();
         let forward = 2 * n * k;
-        let expsum = (self.expsum.near.c.len() + self.expsum.far.c.len()) * (2 + k + 1);
+        let expsum = self.expsum.near.c.len() * (2 + k + 1) + (self.expsum.local.c.len() * 2).max(6) + k + 1;
         let ratio = self.ratio.as_ref().map_or(0, |_| 3 + 2 * n + k);
         forward + expsum.max(ratio) + 3
     }

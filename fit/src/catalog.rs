@@ -19,8 +19,8 @@ use toml::Value;
 
 /// Segment counts the forward family is fitted for.
 pub const SEGMENT_COUNTS: [usize; 7] = [2, 3, 4, 6, 8, 12, 16];
-/// Terms of the backward exponential sums: near (`w` on `[1, 16]`) and far (`1/y²`).
-pub const EXPSUM_TERMS: (usize, usize) = (4, 8);
+/// Terms of the backward exponential sums: near (`w` on `[1, 16]`) and local (`1/y²` on `[1, 2]`).
+pub const EXPSUM_TERMS: (usize, usize) = (4, 3);
 /// Term counts the phase family is fitted for.
 pub const TERM_COUNTS: [usize; 3] = [1, 2, 3];
 /// `g` range of the paper's table (and of models built on it).
@@ -162,16 +162,16 @@ pub const CATALOG: [ModelSpec; 15] = [
         g_range: PAPER_G,
         forward_attenuation: true,
     },
-    seg("segments-2", "isotropic; 2-segment forward kernel, 4+8-term backward sums", 2),
-    seg("segments-3", "isotropic; 3-segment forward kernel, 4+8-term backward sums", 3),
-    seg("segments-4", "isotropic; 4-segment forward kernel, 4+8-term backward sums", 4),
-    seg("segments-6", "isotropic; 6-segment forward kernel, 4+8-term backward sums", 6),
-    seg("segments-8", "isotropic; 8-segment forward kernel, 4+8-term backward sums", 8),
-    seg("segments-12", "isotropic; 12-segment forward kernel, 4+8-term backward sums", 12),
-    seg("segments-16", "isotropic; 16-segment forward kernel, 4+8-term backward sums", 16),
-    hg("hg-exp1", "HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+8-term backward sums", 1),
-    hg("hg-exp2", "HG g in [-0.99, 0.99] (mirrored); 2 exponentials per band, 8 segments, 4+8-term backward sums", 2),
-    hg("hg-exp3", "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+8-term backward sums", 3),
+    seg("segments-2", "isotropic; 2-segment forward kernel, 4+3-term backward sums and E1", 2),
+    seg("segments-3", "isotropic; 3-segment forward kernel, 4+3-term backward sums and E1", 3),
+    seg("segments-4", "isotropic; 4-segment forward kernel, 4+3-term backward sums and E1", 4),
+    seg("segments-6", "isotropic; 6-segment forward kernel, 4+3-term backward sums and E1", 6),
+    seg("segments-8", "isotropic; 8-segment forward kernel, 4+3-term backward sums and E1", 8),
+    seg("segments-12", "isotropic; 12-segment forward kernel, 4+3-term backward sums and E1", 12),
+    seg("segments-16", "isotropic; 16-segment forward kernel, 4+3-term backward sums and E1", 16),
+    hg("hg-exp1", "HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+3-term backward sums and E1", 1),
+    hg("hg-exp2", "HG g in [-0.99, 0.99] (mirrored); 2 exponentials per band, 8 segments, 4+3-term backward sums and E1", 2),
+    hg("hg-exp3", "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1", 3),
 ];
 
 /// A family that `airlight fit --family` can name.
@@ -267,7 +267,7 @@ pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fi
         jobs.extend(SEGMENT_COUNTS.iter().rev().map(|&n| Job::Segments(n)));
     }
     if want(Family::Backscatter) {
-        jobs.insert(0, Job::ExpSum(Target::Far));
+        jobs.insert(0, Job::ExpSum(Target::Local));
         jobs.insert(1, Job::ExpSum(Target::Near));
         jobs.push(Job::Ratio);
     }
@@ -297,7 +297,7 @@ pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fi
             JobOut::Band(k, b, f) => bands.entry(k).or_default().push((b, f)),
             JobOut::Ratio(f) => fits.ratio = Some(f),
             JobOut::ExpSum(Target::Near, f) => near = Some(f),
-            JobOut::ExpSum(Target::Far, f) => far = Some(f),
+            JobOut::ExpSum(Target::Local, f) => far = Some(f),
         }
     }
     if let (Some(n), Some(f)) = (near, far) {
@@ -463,7 +463,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
     };
     let (near, far) = fits.expsum.as_ref().ok_or("the backward exponential sums were not fitted")?;
     families.push(format!(
-        "backscatter-expsum-{}+{} ({})",
+        "backscatter-expsum-{}+{}+E1 ({})",
         near.sum.c.len(),
         far.sum.c.len(),
         if ratio.is_some() { "γ > π/2, where the ratio is undefined" } else { "all γ" }
@@ -471,19 +471,19 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
     prov.push((
         "backscatter.expsum_fit".into(),
         kv(vec![
-            ("source", s("this project: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, split]; far 1/y² ≈ Σ c e^(-s y) on [1, y_max], y = u/max(u0, split)")),
+            ("source", s("this project: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, split]; beyond, 1/u² integrated exactly with E1 (Abramowitz & Stegun 5.1.53, 5.1.56), or for a far part shorter than local_ratio, 1/y² ≈ Σ c e^(-s y) on [1, local_ratio], y = u/max(u0, split)")),
             ("split", f(expsum::SPLIT)),
-            ("y_max", f(expsum::Y_MAX)),
+            ("local_ratio", f(expsum::LOCAL_RATIO)),
             ("objective", s("max relative error on 400 log-spaced points (amplitudes: Lawson-reweighted least squares by SVD)")),
             ("outer", s(&format!("log rates: {OUTER_SOLVER}, restarted until no gain"))),
             ("near_iterations", i(near.outcome.iterations)),
             ("near_termination", s(&near.outcome.termination)),
             ("near_max_rel", f(near.max_rel.0)),
             ("near_max_rel_at_u", f(near.max_rel.1)),
-            ("far_iterations", i(far.outcome.iterations)),
-            ("far_termination", s(&far.outcome.termination)),
-            ("far_max_rel", f(far.max_rel.0)),
-            ("far_max_rel_at_y", f(far.max_rel.1)),
+            ("local_iterations", i(far.outcome.iterations)),
+            ("local_termination", s(&far.outcome.termination)),
+            ("local_max_rel", f(far.max_rel.0)),
+            ("local_max_rel_at_y", f(far.max_rel.1)),
         ]),
     ));
     prov.push((
@@ -494,7 +494,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             ("reference_rel_tol", f(REFERENCE_REL_TOL)),
             ("validation_seed", hex_seed(VALIDATION_SEED)),
             ("validation_points_per_domain", i(VALIDATION_POINTS)),
-            ("validation_extra", s("domain corners at the ends of g_range; the 3 worst points of each domain refined by Nelder-Mead inside the domain")),
+            ("validation_extra", s("domain corners at the ends of g_range; local Nelder-Mead searches inside the domain from the 4 largest over- and 4 largest underestimates raise max_rel where they find more")),
         ]),
     ));
     Ok(ModelFile {
@@ -505,7 +505,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             forward,
             phase,
             ratio,
-            expsum: Backward { near: near.sum.clone(), far: far.sum.clone() },
+            expsum: Backward { near: near.sum.clone(), local: far.sum.clone() },
             forward_attenuation: spec.forward_attenuation,
         },
         families,
@@ -555,11 +555,16 @@ fn clamp_into(domain: Domain, g_range: (f64, f64), p: Point) -> Point {
     }
 }
 
+/// Points each local search starts from, per direction of the error.
+pub const REFINE_STARTS: usize = 4;
+
 /// Measures `model` on `v`: max, p99 and worst point over the validation set, the
-/// max then pushed further by a local Nelder–Mead search from the 3 worst points
-/// (sampled domains only), so the declared bound is not an accident of sampling.
+/// max then pushed further by a local Nelder–Mead search from the largest over-
+/// and underestimates (sampled domains only), so the declared bound is not an
+/// accident of sampling.
 pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
     let mut errs: Vec<(Point, f64)> = Vec::with_capacity(v.points.len());
+    let mut signed: Vec<(Point, f64)> = Vec::with_capacity(v.points.len());
     let (mut non_finite, mut negative) = (0, 0);
     for &(p, exact) in &v.points {
         let a = model.eval_unchecked(p);
@@ -570,13 +575,25 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
             negative += 1;
         }
         errs.push((p, rel_error(a, exact)));
+        if a.is_finite() && exact.is_finite() && exact > 0.0 {
+            signed.push((p, a / exact - 1.0));
+        }
     }
     let stats = crate::stats::ErrorStats::from_errors(errs.iter().copied());
     let mut worst = stats.worst.unwrap_or(Point { tau: 0.0, gamma: 1.0, rho: 1.0, g: 0.0 });
     let mut max = stats.max;
     if v.domain != Domain::Extreme && max.is_finite() {
-        errs.sort_by(|a, b| b.1.total_cmp(&a.1));
-        for &(start, _) in errs.iter().take(3) {
+        // Start the search from the largest over- and under-estimates separately: a
+        // model whose worst sampled error is an underestimate near −100% can still
+        // overestimate by more elsewhere.
+        signed.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let starts: Vec<Point> = signed
+            .iter()
+            .take(REFINE_STARTS)
+            .chain(signed.iter().rev().take(REFINE_STARTS))
+            .map(|s| s.0)
+            .collect();
+        for start in starts {
             let (found, e) = refine(model, v.domain, v.g_range, start);
             if e > max {
                 max = e;
@@ -615,7 +632,7 @@ fn refine(model: &dyn Model, domain: Domain, g_range: (f64, f64), start: Point) 
     let x0 = [start.tau, start.gamma, if inf { 0.0 } else { start.rho.ln() }, start.g];
     let (tlo, thi) = domain.tau_range();
     let step = [0.05 * (thi - tlo), 0.05, if inf { 0.0 } else { 0.2 }, if g_range.0 == g_range.1 { 0.0 } else { 0.02 }];
-    let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, 120);
+    let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, 200);
     (to_point(&out.param), -out.cost)
 }
 

@@ -185,11 +185,12 @@ pub fn render(f: &ModelFile) -> String {
     } else {
         o.push_str("family = \"expsum\"\n");
     }
-    let _ = writeln!(o, "# backward weight: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, 16]; far 1/y² ≈ Σ c e^(-s y), y = u/max(u0, 16)");
+    let _ = writeln!(o, "# backward weight: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, 16]; beyond, exact 1/u² integral via E1,");
+    let _ = writeln!(o, "# or for far parts with u1 < 2 u0: local 1/y² ≈ Σ c e^(-s y) on [1, 2], y = u/max(u0, 16)");
     hex_list(&mut o, "near_c", &m.expsum.near.c);
     hex_list(&mut o, "near_s", &m.expsum.near.s);
-    hex_list(&mut o, "far_c", &m.expsum.far.c);
-    hex_list(&mut o, "far_s", &m.expsum.far.s);
+    hex_list(&mut o, "local_c", &m.expsum.local.c);
+    hex_list(&mut o, "local_s", &m.expsum.local.s);
     prov(&mut o, "backscatter.fit");
     prov(&mut o, "backscatter.expsum_fit");
     prov(&mut o, "provenance");
@@ -318,7 +319,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         }
         Ok(ExpSum { c, s: rates })
     };
-    let expsum = Backward { near: sum("near")?, far: sum("far")? };
+    let expsum = Backward { near: sum("near")?, local: sum("local")? };
 
     let mut provenance = Vec::new();
     for (sec, path) in [

@@ -18,11 +18,10 @@
 use crate::lsq::{self, Outcome};
 use nalgebra::{DMatrix, DVector};
 
-/// Where the near sum (`w` itself) hands over to the far sum (scaled `1/y²`).
+/// Where the near sum (`w` itself) hands over to the far part (`q(u)/u²`).
 pub const SPLIT: f64 = 16.0;
-/// Upper end of the far sum's range in `y = u / max(u0, SPLIT)`; beyond it a share
-/// below `1/Y_MAX` of the far part is lost (at τ = 0; less for τ > 0).
-pub const Y_MAX: f64 = 2e3;
+/// Far parts shorter than this ratio of their ends use the local sum.
+pub const LOCAL_RATIO: f64 = 2.0;
 const GRID: usize = 400;
 
 /// What an exponential sum approximates.
@@ -30,8 +29,8 @@ const GRID: usize = 400;
 pub enum Target {
     /// `1/(1 + u²)` on `[1, SPLIT]`.
     Near,
-    /// `1/y²` on `[1, Y_MAX]`.
-    Far,
+    /// `1/y²` on `[1, LOCAL_RATIO]`.
+    Local,
 }
 
 impl Target {
@@ -39,21 +38,21 @@ impl Target {
     pub fn eval(self, x: f64) -> f64 {
         match self {
             Target::Near => weight(x),
-            Target::Far => 1.0 / (x * x),
+            Target::Local => 1.0 / (x * x),
         }
     }
     /// Upper end of the range (the lower is 1).
     pub fn end(self) -> f64 {
         match self {
             Target::Near => SPLIT,
-            Target::Far => Y_MAX,
+            Target::Local => LOCAL_RATIO,
         }
     }
     /// Name in files.
     pub fn name(self) -> &'static str {
         match self {
             Target::Near => "near",
-            Target::Far => "far",
+            Target::Local => "local",
         }
     }
 }
@@ -119,21 +118,48 @@ impl ExpSum {
     }
 }
 
-/// The backward weight in two ranges: `near` approximates `w(u)` on `[1, SPLIT]`;
-/// beyond, `w(u) = q(u)/u²` with `q = u²/(1 + u²)` within 0.4% of 1, and `far`
-/// approximates `1/y²` in the scaled variable `y = u/a`, `a = max(u0, SPLIT)`, so one
-/// fit serves every start `u0` (γ up to π) with a range of only `Y_MAX`.
+/// `φ(z) = 1 − z e^z E1(z) = z ∫₀^∞ e^{−z y}/(1 + y)² dy … ` in the form used here:
+/// `∫_a^∞ e^{−T(u − a)} u^{−2} du = φ(T a) / a`. Abramowitz & Stegun 5.1.53 (series
+/// with `ln z`, |error of E1| < 2e-7) for `z ≤ 1`, the rational 5.1.56 (|error of
+/// `z e^z E1`| < 2e-8) up to 500, written as `(D − N)/D` so nothing cancels, and the
+/// asymptotic series beyond.
+pub fn phi(z: f64) -> f64 {
+    if z <= 0.0 {
+        1.0
+    } else if z <= 1.0 {
+        let e1 = -z.ln() - 0.577_215_66
+            + z * (0.999_991_93 + z * (-0.249_910_55 + z * (0.055_199_68 + z * (-0.009_760_04 + z * 0.001_078_57))));
+        1.0 - z * z.exp() * e1
+    } else if z > 500.0 {
+        // Asymptotic series: the rational's absolute 2e-8 would be large relative to φ ≈ 1/z.
+        let r = 1.0 / z;
+        r * (1.0 + r * (-2.0 + r * (6.0 + r * (-24.0 + r * 120.0))))
+    } else {
+        let (a1, a2, a3, a4) = (8.573_328_740_1, 18.059_016_973_0, 8.634_760_892_5, 0.267_773_734_3);
+        let (b1, b2, b3, b4) = (9.573_322_345_4, 25.632_956_148_6, 21.099_653_082_7, 3.958_496_922_8);
+        let d = (((z + b1) * z + b2) * z + b3) * z + b4;
+        let diff = (((b1 - a1) * z + (b2 - a2)) * z + (b3 - a3)) * z + (b4 - a4);
+        diff / d
+    }
+}
+
+/// The backward weight in three pieces: `near` approximates `w(u)` on `[1, SPLIT]`;
+/// beyond, `w(u) = q(u)/u²` with `q = u²/(1 + u²)` within 0.4% of 1 (taken at the
+/// part's mean point), and `∫ e^{−T(u − a)} u^{−2}` is exact through [`phi`] — as a
+/// difference of two `φ` terms only when the upper end is at least `LOCAL_RATIO`
+/// times the lower (so it loses at most a bit); shorter far parts use `local`, a sum
+/// for `1/y²` on `y = u/a ∈ [1, LOCAL_RATIO]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Backward {
     /// `w(u)` on `[1, SPLIT]`.
     pub near: ExpSum,
-    /// `1/y²` on `[1, Y_MAX]`.
-    pub far: ExpSum,
+    /// `1/y²` on `[1, LOCAL_RATIO]`.
+    pub local: ExpSum,
 }
 
 impl Backward {
     /// `e^{base} ∫_{u0}^{u1} e^{−T (u − u0)} w(u) p(u) du` for `1 ≤ u0 < u1 ≤ ∞`, `p`
-    /// slowly varying (taken at each term's mean point). Every term is positive.
+    /// slowly varying (taken at each term's or part's mean point). Every part is positive.
     pub fn integrate(&self, u0: f64, u1: f64, t: f64, base: f64, p: impl Fn(f64) -> f64) -> f64 {
         let mut sum = 0.0;
         if u0 < SPLIT {
@@ -142,9 +168,19 @@ impl Backward {
         if u1 > SPLIT {
             let a = u0.max(SPLIT);
             let shift = base - t * (a - u0);
-            let y1 = if u1.is_infinite() { u1 } else { u1 / a };
             let q = |u: f64| u * u / (1.0 + u * u);
-            sum += self.far.integrate(1.0, y1, t * a, shift, |y| q(a * y) * p(a * y)) / a;
+            if u1 <= LOCAL_RATIO * a {
+                sum += self.local.integrate(1.0, u1 / a, t * a, shift, |y| q(a * y) * p(a * y)) / a;
+            } else {
+                let lambda = t + 2.0 / a;
+                let (g, mean) = if u1.is_infinite() {
+                    (phi(t * a) / a, a + 1.0 / lambda)
+                } else {
+                    let len = u1 - a;
+                    (phi(t * a) / a - (-t * len).exp() * phi(t * u1) / u1, a + len / (2.0 + lambda * len))
+                };
+                sum += shift.exp() * g * q(mean) * p(mean);
+            }
         }
         sum
     }
@@ -232,6 +268,28 @@ mod tests {
         let inf = e.integrate(1.0, f64::INFINITY, 0.3, 0.0, |_| 1.0);
         let exact: f64 = e.c.iter().zip(&e.s).map(|(c, s)| c * (-s).exp() / (0.3 + s)).sum();
         assert!((inf / exact - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn phi_matches_the_exponential_integral() {
+        for z in [1e-8, 1e-3, 0.3, 0.999, 1.0, 1.001, 3.0, 40.0, 499.0, 501.0, 1e4] {
+            let exact = 1.0 - z * crate::e1::exp_e1(crate::e1::Complex { re: z, im: 0.0 }).re;
+            assert!((phi(z) / exact - 1.0).abs() < 1e-5, "{z}: {} vs {exact}", phi(z));
+        }
+        assert_eq!(phi(0.0), 1.0);
+    }
+
+    #[test]
+    fn backward_pieces_match_quadrature() {
+        let b = Backward { near: fit(Target::Near, 4).sum, local: fit(Target::Local, 3).sum };
+        for (u0, u1, t) in [(1.0, f64::INFINITY, 0.0), (3.0, 40.0, 0.5), (20.0, 30.0, 2.0), (200.0, f64::INFINITY, 0.01), (17.0, 1e4, 0.0)] {
+            let cut = if u1.is_infinite() { 1e12 } else { u1 };
+            let pts: Vec<f64> = [u0, 16.0, 32.0, 320.0, 3200.0, 1e5, 1e8, cut].into_iter().filter(|&x| x >= u0 && x <= cut).collect();
+            let exact = gauss_kronrod(|u| (-t * (u - u0)).exp() * weight(u), &pts, 1e-12, 500).value
+                + if u1.is_infinite() { 1e-12 } else { 0.0 };
+            let got = b.integrate(u0, u1, t, 0.0, |_| 1.0);
+            assert!((got / exact - 1.0).abs() < 3e-3, "{u0} {u1} {t}: {got} vs {exact}");
+        }
     }
 
     #[test]

@@ -1,0 +1,47 @@
+//! Every committed model's declared error bound holds on points that neither the
+//! fits nor the validation sets used: independent uniform random points (not the
+//! Halton sequence) inside each domain and the model's g range, against the
+//! reference. The check allows the factor 1.5 the project promises.
+
+use airlight_fit::domains::{Domain, SplitMix64};
+use airlight_fit::model::Model;
+use airlight_fit::reference::{airlight, Point};
+use airlight_fit::stats::rel_error;
+use airlight_tests::committed_models;
+use std::f64::consts::PI;
+
+fn random_points(domain: Domain, g: (f64, f64), n: usize, seed: u64) -> Vec<Point> {
+    let mut rng = SplitMix64(seed);
+    let (tlo, thi) = domain.tau_range();
+    (0..n)
+        .map(|_| {
+            let tau = tlo + (thi - tlo) * rng.next_f64();
+            let gamma = 0.01 + (PI - 0.02) * rng.next_f64();
+            let r = rng.next_f64();
+            let rho = if r < 0.1 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
+            let gv = g.0 + (g.1 - g.0) * rng.next_f64();
+            Point { tau, gamma, rho, g: gv }
+        })
+        .collect()
+}
+
+#[test]
+fn declared_max_holds_on_fresh_points() {
+    let mut failures = Vec::new();
+    for m in committed_models() {
+        for (domain, seed) in [(Domain::Thin, 0xA11CE), (Domain::Dense, 0xB0B)] {
+            let declared = m.error(domain.name()).expect("thin and dense errors are declared").max_rel;
+            let pts = random_points(domain, m.model.g_range, 3000, seed);
+            let errs = airlight_fit::parallel::map(
+                &pts,
+                |p| rel_error(m.model.eval_unchecked(*p), airlight(*p).expect("valid")),
+                &|_, _| {},
+            );
+            let (i, worst) = errs.iter().enumerate().fold((0, 0.0), |b, (i, &e)| if e > b.1 { (i, e) } else { b });
+            if worst > 1.5 * declared {
+                failures.push(format!("{} {}: {worst:.3e} at {:?} > 1.5 × declared {declared:.3e}", m.model.name, domain.name(), pts[i]));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
