@@ -267,7 +267,10 @@ fn fit(family: Option<&str>, root: Option<PathBuf>) -> Result<(), Failure> {
     let fits = run_fits(only);
     print_fits(&fits);
     if only.is_some() {
-        println!("fitted in {:.1} s; nothing written (`airlight fit` without --family writes the coefficients)", start.elapsed().as_secs_f64());
+        println!(
+            "fitted in {:.1} s; nothing written (`airlight fit` without --family writes the coefficients)",
+            start.elapsed().as_secs_f64()
+        );
         return Ok(());
     }
     let files = build_models(&fits)?;
@@ -340,6 +343,12 @@ fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Resu
 fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
     let generated = generated_dir(root.clone())?;
     let (_, files) = registry(Some(generated.parent().map(Path::to_path_buf).unwrap_or_default()))?;
+    if files.is_empty() {
+        return Err(bad_input(format!(
+            "{}: no coefficient files; run `airlight fit` (or `airlight regenerate`) first",
+            generated.join("coefficients").display()
+        )));
+    }
     let outputs = render(&measure(), &files)?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
@@ -370,7 +379,8 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     let outputs = render(&check, &files)?;
     let written = write_outputs(&generated, &outputs)?;
     for f in &files {
-        let e = |d: &str| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));
+        let e =
+            |d: &str| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));
         println!("{:<18} thin {}  dense {}", f.model.name, e("thin"), e("dense"));
     }
     for d in &check.domains {

@@ -1,7 +1,7 @@
 //! The `airlight` binary from a shell's point of view: outputs, messages, exit
 //! codes, and that a failed run leaves the output file alone.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn airlight(args: &[&str]) -> Output {
@@ -71,7 +71,9 @@ fn bad_input_is_one_line_exit_2_and_output_untouched() {
     let input = dir.join("missing.csv");
     let o = airlight(&["eval", "--model", "nope", "-i", input.to_str().unwrap(), "-o", fresh.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
-    assert_eq!(stderr(&o).trim(), "error: unknown model 'nope'; known models: reference");
+    let err = stderr(&o);
+    assert!(err.trim().starts_with("error: unknown model 'nope'; known models: reference, paper-as-printed, paper,"), "{err}");
+    assert!(err.contains("segments-16") && err.contains("hg-exp3"), "{err}");
     assert!(!fresh.exists());
     // An input that does not exist.
     let o = airlight(&["eval", "-i", dir.join("absent.csv").to_str().unwrap()]);
@@ -95,23 +97,82 @@ fn help_explains_the_canonical_parameters() {
     assert!(help.contains("tau,gamma,rho,g") && help.contains("inf"));
 }
 
+/// Copies the committed coefficient files into `root/generated/coefficients`.
+fn copy_coefficients(root: &Path) {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let dst = root.join("generated/coefficients");
+    std::fs::create_dir_all(&dst).unwrap();
+    for e in std::fs::read_dir(repo.join("generated/coefficients")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dst.join(p.file_name().unwrap())).unwrap();
+    }
+}
+
 #[test]
 fn generate_check_names_missing_and_orphaned_files_and_writes_nothing() {
     let root = scratch("gen");
     std::fs::create_dir_all(root.join("generated")).unwrap();
+    // Without coefficient files there is nothing to render from: a clear error.
+    let o = airlight(&["generate", "--root", root.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("airlight fit"), "{}", stderr(&o));
+    copy_coefficients(&root);
     std::fs::write(root.join("generated/stray.txt"), "x").unwrap();
     let o = airlight(&["generate", "--check", "--root", root.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert!(err.contains("REPORT.md: missing"), "{err}");
+    assert!(err.contains("plots/phase.svg: missing"), "{err}");
     assert!(err.contains("stray.txt: not produced by the generator (orphaned)"), "{err}");
+    assert!(!err.contains("coefficients/"), "committed coefficient files re-render identically: {err}");
     assert!(!root.join("generated/REPORT.md").exists());
-    // Generating writes the report; the check then passes but for the stray file.
+    // Generating writes the report and plots; the check then passes but for the stray file.
     let o = airlight(&["generate", "--root", root.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(root.join("generated/REPORT.md").exists());
     std::fs::remove_file(root.join("generated/stray.txt")).unwrap();
     let o = airlight(&["generate", "--check", "--root", root.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn fitted_models_evaluate_and_list_from_their_coefficient_files() {
+    let root = scratch("models");
+    copy_coefficients(&root);
+    let input = root.join("p.csv");
+    std::fs::write(&input, "tau,gamma,rho,g\n0.5,1.0,inf,0\n3,2.5,2,0\n").unwrap();
+    let r = root.to_str().unwrap();
+    let o = airlight(&["eval", "--model", "segments-16", "-i", input.to_str().unwrap(), "--root", r]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    let reference = airlight(&["eval", "-i", input.to_str().unwrap(), "--root", r]);
+    let reference = String::from_utf8(reference.stdout).unwrap();
+    for (a, b) in out.lines().skip(1).zip(reference.lines().skip(1)) {
+        let (a, b): (f64, f64) = (a.rsplit(',').next().unwrap().parse().unwrap(), b.rsplit(',').next().unwrap().parse().unwrap());
+        assert!((a / b - 1.0).abs() < 0.02, "{a} vs {b}");
+    }
+    // An isotropic model refuses g != 0, naming the column.
+    std::fs::write(&input, "tau,gamma,rho,g\n0.5,1.0,inf,0.3\n").unwrap();
+    let o = airlight(&["eval", "--model", "paper", "-i", input.to_str().unwrap(), "--root", r]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("p.csv:2: column 'g'"), "{}", stderr(&o));
+    // The table lists every model with its measured errors.
+    let o = airlight(&["models", "--root", r]);
+    let table = String::from_utf8(o.stdout).unwrap();
+    assert!(table.contains("paper-refit") && table.contains("thin max"), "{table}");
+    // A damaged coefficient file: one line naming file, line and field; exit 2.
+    let f = root.join("generated/coefficients/segments-2.toml");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let broken = text.replacen("\"0x0p+0\", # 0.0", "\"zero\", # 0.0", 1);
+    assert_ne!(broken, text);
+    std::fs::write(&f, &broken).unwrap();
+    let o = airlight(&["models", "--root", r]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let line = broken.lines().position(|l| l.contains("\"zero\"")).unwrap() + 1;
+    let want = format!("segments-2.toml:{}: field 'forward.breakpoints'", line - 1);
+    assert!(err.contains("segments-2.toml:") && err.contains("field 'forward.breakpoints'"), "{err} vs {want}");
     std::fs::remove_dir_all(&root).unwrap();
 }

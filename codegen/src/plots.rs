@@ -52,7 +52,10 @@ macro_rules! both {
         }
         let png = std::fs::read(&tmp).map_err(err)?;
         let _ = std::fs::remove_file(&tmp);
-        vec![Output::text(format!("plots/{name}.svg"), svg), Output { path: format!("plots/{name}.png"), contents: png }]
+        vec![
+            Output::text(format!("plots/{name}.svg"), svg),
+            Output { path: format!("plots/{name}.png"), contents: png },
+        ]
     }};
 }
 
@@ -95,13 +98,19 @@ fn forward_heatmaps<DB: DrawingBackend>(
                 row.iter().enumerate().map(move |(j, e)| {
                     let (t, th) = (ts[i], thetas[j]);
                     let v = if *e > 0.0 { e.log10() } else { lo };
-                    Rectangle::new([(th - 0.5 * dth, t - 0.5 * dt), (th + 0.5 * dth, t + 0.5 * dt)], heat(v, lo, hi).filled())
+                    Rectangle::new(
+                        [(th - 0.5 * dth, t - 0.5 * dt), (th + 0.5 * dth, t + 0.5 * dt)],
+                        heat(v, lo, hi).filled(),
+                    )
                 })
             }))
             .map_err(err)?;
     }
     Ok(())
 }
+
+/// A named line and its colour.
+type Series = (String, Vec<(f64, f64)>, RGBColor);
 
 /// Log-scale line chart of named series.
 #[allow(clippy::too_many_arguments)]
@@ -113,18 +122,27 @@ fn lines<DB: DrawingBackend>(
     x_range: (f64, f64),
     y_range: (f64, f64),
     x_log: bool,
-    series: &[(String, Vec<(f64, f64)>, RGBColor)],
+    series: &[Series],
 ) -> Result<(), PlotError> {
     let mut builder = ChartBuilder::on(area);
     builder.caption(title, ("sans-serif", 20)).margin(10).x_label_area_size(40).y_label_area_size(60);
     macro_rules! body {
         ($chart:expr) => {{
             let mut chart = $chart;
-            chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).draw().map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc(y_desc)
+                .y_label_formatter(&|y| format!("{y:.0e}"))
+                .draw()
+                .map_err(err)?;
             for (name, pts, colour) in series {
                 let c = *colour;
                 chart
-                    .draw_series(LineSeries::new(pts.iter().copied().filter(|p| p.1 > 0.0 && p.1.is_finite()), c.stroke_width(2)))
+                    .draw_series(LineSeries::new(
+                        pts.iter().copied().filter(|p| p.1 > 0.0 && p.1.is_finite()),
+                        c.stroke_width(2),
+                    ))
                     .map_err(err)?
                     .label(name.as_str())
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
@@ -148,8 +166,14 @@ fn lines<DB: DrawingBackend>(
     Ok(())
 }
 
-const COLOURS: [RGBColor; 6] =
-    [RGBColor(0, 0, 0), RGBColor(200, 40, 40), RGBColor(30, 110, 200), RGBColor(40, 160, 60), RGBColor(150, 60, 170), RGBColor(230, 140, 20)];
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(0, 0, 0),
+    RGBColor(200, 40, 40),
+    RGBColor(30, 110, 200),
+    RGBColor(40, 160, 60),
+    RGBColor(150, 60, 170),
+    RGBColor(230, 140, 20),
+];
 
 fn find<'a>(models: &'a [ModelFile], name: &str) -> Result<&'a ModelFile, PlotError> {
     models.iter().find(|m| m.model.name == name).ok_or_else(|| PlotError(format!("model '{name}' is missing")))
@@ -184,7 +208,7 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
             fits.push((format!("refit, {k} exp"), e.clone()));
         }
     }
-    let phase_series: Vec<Vec<(String, Vec<(f64, f64)>, RGBColor)>> = gs
+    let phase_series: Vec<Vec<Series>> = gs
         .iter()
         .map(|&g| {
             let mut s = vec![(
@@ -192,7 +216,11 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
                 alphas.iter().map(|&a| (a, Phase::from_g(g).eval(a))).collect(),
                 COLOURS[0],
             )];
-            s.push(("paper table".into(), alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(), COLOURS[1]));
+            s.push((
+                "paper table".into(),
+                alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(),
+                COLOURS[1],
+            ));
             for (i, (name, e)) in fits.iter().enumerate() {
                 s.push((name.clone(), alphas.iter().map(|&a| (a, e.terms(g).eval(a))).collect(), COLOURS[2 + i]));
             }
@@ -204,7 +232,9 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         for ((area, &g), s) in root.split_evenly((1, 3)).iter().zip(&gs).zip(&phase_series) {
             let ymax = s[0].1.iter().map(|p| p.1).fold(0.0, f64::max) * 3.0;
             let ymin = s[0].1.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) / 10.0;
-            r = r.and_then(|_| lines(area, &format!("g = {g}"), "α (rad)", "P(α) (1/sr)", (0.0, PI), (ymin, ymax), false, s));
+            r = r.and_then(|_| {
+                lines(area, &format!("g = {g}"), "α (rad)", "P(α) (1/sr)", (0.0, PI), (ymin, ymax), false, s)
+            });
         }
         r
     }));
@@ -212,12 +242,19 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     // 3. Backscatter ratio error (Fig. 11): paper vs refit.
     let kappas = logspace(0.01, 20.0, 60);
     let theta1s = [0.2, 0.8, FRAC_PI_2];
-    let refit_ratio = find(models, "paper-refit")?.model.ratio.clone().ok_or_else(|| PlotError("paper-refit has no ratio".into()))?;
+    let refit_ratio =
+        find(models, "paper-refit")?.model.ratio.clone().ok_or_else(|| PlotError("paper-refit has no ratio".into()))?;
     let mut series = Vec::new();
     for (label, r, base) in [("paper", Ratio::paper(), 1), ("refit", refit_ratio, 2)] {
         let grid = ratio_error_grid(&r, &theta1s, &kappas);
         for (i, row) in grid.iter().enumerate() {
-            let colour = if i == 0 { COLOURS[base] } else if i == 1 { COLOURS[base + 2] } else { COLOURS[base + 3] };
+            let colour = if i == 0 {
+                COLOURS[base]
+            } else if i == 1 {
+                COLOURS[base + 2]
+            } else {
+                COLOURS[base + 3]
+            };
             series.push((
                 format!("{label}, θ1 = {:.2}", theta1s[i]),
                 kappas.iter().copied().zip(row.iter().copied()).collect::<Vec<_>>(),
@@ -226,7 +263,16 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         }
     }
     out.extend(both!("backscatter-error", |root| {
-        lines(&root, "backward integral: |relative error| of the ratio form", "κ = T", "|error|", (0.01, 20.0), (1e-4, 1e3), true, &series)
+        lines(
+            &root,
+            "backward integral: |relative error| of the ratio form",
+            "κ = T",
+            "|error|",
+            (0.01, 20.0),
+            (1e-4, 1e3),
+            true,
+            &series,
+        )
     }));
 
     // 4. Error of A vs N for segments-N.
@@ -257,7 +303,16 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         ("forward integral alone: max (fit targets)".to_string(), fwd, COLOURS[0]),
     ];
     out.extend(both!("error-vs-n", |root| {
-        lines(&root, "segments-N: relative error vs number of segments", "N", "relative error", (2.0, 16.0), (1e-4, 1.0), true, &series)
+        lines(
+            &root,
+            "segments-N: relative error vs number of segments",
+            "N",
+            "relative error",
+            (2.0, 16.0),
+            (1e-4, 1.0),
+            true,
+            &series,
+        )
     }));
     Ok(out)
 }

@@ -119,7 +119,8 @@ const fn hg(name: &'static str, summary: &'static str, k: usize) -> ModelSpec {
 pub const CATALOG: [ModelSpec; 15] = [
     ModelSpec {
         name: "paper-as-printed",
-        summary: "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
+        summary:
+            "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
         forward: ForwardChoice::Paper,
         phase: PhaseChoice::Isotropic,
         backward: BackChoice::PaperRatio,
@@ -169,9 +170,21 @@ pub const CATALOG: [ModelSpec; 15] = [
     seg("segments-8", "isotropic; 8-segment forward kernel, 4+3-term backward sums and E1", 8),
     seg("segments-12", "isotropic; 12-segment forward kernel, 4+3-term backward sums and E1", 12),
     seg("segments-16", "isotropic; 16-segment forward kernel, 4+3-term backward sums and E1", 16),
-    hg("hg-exp1", "HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+3-term backward sums and E1", 1),
-    hg("hg-exp2", "HG g in [-0.99, 0.99] (mirrored); 2 exponentials per band, 8 segments, 4+3-term backward sums and E1", 2),
-    hg("hg-exp3", "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1", 3),
+    hg(
+        "hg-exp1",
+        "HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+3-term backward sums and E1",
+        1,
+    ),
+    hg(
+        "hg-exp2",
+        "HG g in [-0.99, 0.99] (mirrored); 2 exponentials per band, 8 segments, 4+3-term backward sums and E1",
+        2,
+    ),
+    hg(
+        "hg-exp3",
+        "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1",
+        3,
+    ),
 ];
 
 /// A family that `airlight fit --family` can name.
@@ -246,7 +259,11 @@ enum JobOut {
 pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fits {
     let want = |f: Family| only.is_none_or(|o| o == f);
     let mut fits = Fits::default();
-    let fwd_samples = if want(Family::Segments) { segments::samples(segments::Side::Forward, FORWARD_POINTS, FORWARD_SEED) } else { vec![] };
+    let fwd_samples = if want(Family::Segments) {
+        segments::samples(segments::Side::Forward, FORWARD_POINTS, FORWARD_SEED)
+    } else {
+        vec![]
+    };
     let band_samples: Vec<Vec<phase_exp::PhaseSample>> = if want(Family::Phase) {
         PAPER_BANDS.iter().map(|&(lo, hi)| phase_exp::phase_samples(lo, hi, PHASE_POINTS, PHASE_SEED)).collect()
     } else {
@@ -314,8 +331,7 @@ pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fi
     if !band_samples.is_empty() {
         let paper = ExpPhase::paper();
         fits.phase_node_error = band_samples.iter().map(|s| phase_exp::node_rule_error(s)).fold(0.0, f64::max);
-        fits.paper_phase =
-            band_samples.iter().map(|s| rms_max(&phase_exp::a_errors(|g| paper.terms(g), s))).collect();
+        fits.paper_phase = band_samples.iter().map(|s| rms_max(&phase_exp::a_errors(|g| paper.terms(g), s))).collect();
     }
     if !ratio_samples.is_empty() {
         let (rms, max) = rms_max(&ratio::backward_errors(&Ratio::paper(), &ratio_samples));
@@ -370,7 +386,10 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
                     ("source", s("least squares, this project")),
                     ("objective", s("sum of squared relative errors of the forward integral ∫ e^(-T k) dθ")),
                     ("targets", i(fit.samples)),
-                    ("targets_from", s("thin and dense points with a forward part (T = τ sin γ, θ range from γ and ρ)")),
+                    (
+                        "targets_from",
+                        s("thin and dense points with a forward part (T = τ sin γ, θ range from γ and ρ)"),
+                    ),
                     ("targets_seed", hex_seed(FORWARD_SEED)),
                     ("inner", s("segment values: Gauss-Newton, each step linear least squares by SVD (nalgebra 0.34)")),
                     ("inner_steps", i(fit.inner_steps)),
@@ -412,8 +431,14 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
                 "phase.fit".into(),
                 kv(vec![
                     ("source", s("least squares, this project")),
-                    ("objective", s("sum of squared relative errors of A with the exact kernel (fixed 162-node rule per point)")),
-                    ("negative_g", s(if spec.g_range.0 < 0.0 { "mirror: P_g(α) = P_-g(π - α)" } else { "not supported" })),
+                    (
+                        "objective",
+                        s("sum of squared relative errors of A with the exact kernel (fixed 162-node rule per point)"),
+                    ),
+                    (
+                        "negative_g",
+                        s(if spec.g_range.0 < 0.0 { "mirror: P_g(α) = P_-g(π - α)" } else { "not supported" }),
+                    ),
                     ("node_rule_max_rel_error", f(fits.phase_node_error)),
                     ("targets_per_band", i(bands[0].samples)),
                     ("targets_seed", hex_seed(PHASE_SEED)),
@@ -533,7 +558,8 @@ pub fn validations(ranges: &[(f64, f64)], progress: &(dyn Fn(usize, usize) + Syn
         }
     }
     let all: Vec<Point> = sets.iter().flat_map(|s| s.2.iter().copied()).collect();
-    let values = crate::parallel::map(&all, |p| reference::airlight(*p).expect("validation points are valid"), progress);
+    let values =
+        crate::parallel::map(&all, |p| reference::airlight(*p).expect("validation points are valid"), progress);
     let mut it = values.into_iter();
     sets.into_iter()
         .map(|(domain, g_range, pts)| Validation {
@@ -587,12 +613,8 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         // model whose worst sampled error is an underestimate near −100% can still
         // overestimate by more elsewhere.
         signed.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let starts: Vec<Point> = signed
-            .iter()
-            .take(REFINE_STARTS)
-            .chain(signed.iter().rev().take(REFINE_STARTS))
-            .map(|s| s.0)
-            .collect();
+        let starts: Vec<Point> =
+            signed.iter().take(REFINE_STARTS).chain(signed.iter().rev().take(REFINE_STARTS)).map(|s| s.0).collect();
         for start in starts {
             let (found, e) = refine(model, v.domain, v.g_range, start);
             if e > max {
@@ -636,6 +658,36 @@ fn refine(model: &dyn Model, domain: Domain, g_range: (f64, f64), start: Point) 
     (to_point(&out.param), -out.cost)
 }
 
+/// Assembles every model of [`CATALOG`] from `fits` and measures it on the
+/// validation sets: the complete coefficient files, in catalog order.
+/// `progress(done, total)` counts reference evaluations, then models.
+pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Vec<ModelFile>, String> {
+    let mut files = CATALOG.iter().map(|spec| assemble(spec, fits)).collect::<Result<Vec<_>, _>>()?;
+    let mut ranges: Vec<(f64, f64)> = Vec::new();
+    for s in CATALOG {
+        if !ranges.contains(&s.g_range) {
+            ranges.push(s.g_range);
+        }
+    }
+    let sets = validations(&ranges, progress);
+    let jobs: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(i, f)| {
+            sets.iter()
+                .enumerate()
+                .filter(|(_, v)| v.g_range == f.model.g_range)
+                .map(move |(j, _)| (i, j))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
+    for (&(i, _), e) in jobs.iter().zip(measured) {
+        files[i].errors.push(e);
+    }
+    Ok(files)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -653,30 +705,4 @@ mod tests {
             }
         }
     }
-}
-
-/// Assembles every model of [`CATALOG`] from `fits` and measures it on the
-/// validation sets: the complete coefficient files, in catalog order.
-/// `progress(done, total)` counts reference evaluations, then models.
-pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Vec<ModelFile>, String> {
-    let mut files = CATALOG.iter().map(|spec| assemble(spec, fits)).collect::<Result<Vec<_>, _>>()?;
-    let mut ranges: Vec<(f64, f64)> = Vec::new();
-    for s in CATALOG {
-        if !ranges.contains(&s.g_range) {
-            ranges.push(s.g_range);
-        }
-    }
-    let sets = validations(&ranges, progress);
-    let jobs: Vec<(usize, usize)> = files
-        .iter()
-        .enumerate()
-        .flat_map(|(i, f)| {
-            sets.iter().enumerate().filter(|(_, v)| v.g_range == f.model.g_range).map(move |(j, _)| (i, j)).collect::<Vec<_>>()
-        })
-        .collect();
-    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
-    for (&(i, _), e) in jobs.iter().zip(measured) {
-        files[i].errors.push(e);
-    }
-    Ok(files)
 }

@@ -84,7 +84,11 @@ impl std::error::Error for CoeffError {}
 fn dec(x: f64) -> String {
     // Shortest text that reads back as the same f64; TOML spells infinity `inf`.
     if x.is_infinite() {
-        if x > 0.0 { "inf".into() } else { "-inf".into() }
+        if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        }
     } else {
         format!("{x:?}")
     }
@@ -185,7 +189,10 @@ pub fn render(f: &ModelFile) -> String {
     } else {
         o.push_str("family = \"expsum\"\n");
     }
-    let _ = writeln!(o, "# backward weight: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, 16]; beyond, exact 1/u² integral via E1,");
+    let _ = writeln!(
+        o,
+        "# backward weight: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, 16]; beyond, exact 1/u² integral via E1,"
+    );
     let _ = writeln!(o, "# or for far parts with u1 < 2 u0: local 1/y² ≈ Σ c e^(-s y) on [1, 2], y = u/max(u0, 16)");
     hex_list(&mut o, "near_c", &m.expsum.near.c);
     hex_list(&mut o, "near_s", &m.expsum.near.s);
@@ -207,7 +214,8 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let model = p.table(&doc, "model")?;
     let name = p.string(model, "model", "name")?;
     let summary = p.string(model, "model", "summary")?;
-    let families = p.array(model, "model", "families")?
+    let families = p
+        .array(model, "model", "families")?
         .iter()
         .map(|v| v.as_str().map(str::to_string).ok_or_else(|| p.err("model", "families", "must be strings")))
         .collect::<Result<Vec<_>, _>>()?;
@@ -277,9 +285,10 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
                     }
                     arr.iter()
                         .map(|r| {
-                            let r = r.as_array().filter(|r| r.len() == 3).ok_or_else(|| {
-                                p.err("[phase.band]", key, "rows are [g², g, 1] hexadecimal floats")
-                            })?;
+                            let r = r
+                                .as_array()
+                                .filter(|r| r.len() == 3)
+                                .ok_or_else(|| p.err("[phase.band]", key, "rows are [g², g, 1] hexadecimal floats"))?;
                             let mut c = [0.0; 3];
                             for (ci, v) in c.iter_mut().zip(r) {
                                 *ci = p.hex_value(v, "[phase.band]", key)?;
@@ -355,7 +364,8 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
 
 /// Reads every `*.toml` under `dir`, sorted by file name.
 pub fn load_dir(dir: &Path) -> Result<Vec<ModelFile>, CoeffError> {
-    let io_err = |file: String, e: std::io::Error| CoeffError { file, line: 1, field: "(file)".into(), message: e.to_string() };
+    let io_err =
+        |file: String, e: std::io::Error| CoeffError { file, line: 1, field: "(file)".into(), message: e.to_string() };
     let mut paths: Vec<_> = std::fs::read_dir(dir)
         .map_err(|e| io_err(dir.display().to_string(), e))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -424,9 +434,12 @@ impl Parser<'_> {
         t.get(key).ok_or_else(|| self.err(sec, key, "missing"))
     }
     fn table<'t>(&self, t: &'t Table, key: &str) -> Result<&'t Table, CoeffError> {
-        t.get(key)
-            .and_then(Value::as_table)
-            .ok_or_else(|| CoeffError { file: self.file.into(), line: 1, field: key.into(), message: "missing table".into() })
+        t.get(key).and_then(Value::as_table).ok_or_else(|| CoeffError {
+            file: self.file.into(),
+            line: 1,
+            field: key.into(),
+            message: "missing table".into(),
+        })
     }
     fn string(&self, t: &Table, sec: &str, key: &str) -> Result<String, CoeffError> {
         self.get(t, sec, key)?.as_str().map(str::to_string).ok_or_else(|| self.err(sec, key, "must be a string"))
@@ -464,7 +477,11 @@ impl Parser<'_> {
             return Err(self.err(sec, key, &format!("needs {} numbers", len.unwrap_or(0))));
         }
         a.iter()
-            .map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| self.err(sec, key, "must be numbers")))
+            .map(|v| {
+                v.as_float()
+                    .or_else(|| v.as_integer().map(|i| i as f64))
+                    .ok_or_else(|| self.err(sec, key, "must be numbers"))
+            })
             .collect()
     }
     fn hex_value(&self, v: &Value, sec: &str, key: &str) -> Result<f64, CoeffError> {

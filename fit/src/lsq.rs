@@ -78,7 +78,9 @@ pub fn nelder_mead(
                 termination: state.get_termination_status().to_string(),
             }
         }
-        Err(e) => Outcome { param: start.to_vec(), cost: cost(start), iterations: 0, termination: format!("failed: {e}") },
+        Err(e) => {
+            Outcome { param: start.to_vec(), cost: cost(start), iterations: 0, termination: format!("failed: {e}") }
+        }
     }
 }
 

@@ -39,7 +39,12 @@ fn declared_max_holds_on_fresh_points() {
             );
             let (i, worst) = errs.iter().enumerate().fold((0, 0.0), |b, (i, &e)| if e > b.1 { (i, e) } else { b });
             if worst > 1.5 * declared {
-                failures.push(format!("{} {}: {worst:.3e} at {:?} > 1.5 × declared {declared:.3e}", m.model.name, domain.name(), pts[i]));
+                failures.push(format!(
+                    "{} {}: {worst:.3e} at {:?} > 1.5 × declared {declared:.3e}",
+                    m.model.name,
+                    domain.name(),
+                    pts[i]
+                ));
             }
         }
     }

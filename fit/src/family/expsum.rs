@@ -282,9 +282,16 @@ mod tests {
     #[test]
     fn backward_pieces_match_quadrature() {
         let b = Backward { near: fit(Target::Near, 4).sum, local: fit(Target::Local, 3).sum };
-        for (u0, u1, t) in [(1.0, f64::INFINITY, 0.0), (3.0, 40.0, 0.5), (20.0, 30.0, 2.0), (200.0, f64::INFINITY, 0.01), (17.0, 1e4, 0.0)] {
+        for (u0, u1, t) in [
+            (1.0, f64::INFINITY, 0.0),
+            (3.0, 40.0, 0.5),
+            (20.0, 30.0, 2.0),
+            (200.0, f64::INFINITY, 0.01),
+            (17.0, 1e4, 0.0),
+        ] {
             let cut = if u1.is_infinite() { 1e12 } else { u1 };
-            let pts: Vec<f64> = [u0, 16.0, 32.0, 320.0, 3200.0, 1e5, 1e8, cut].into_iter().filter(|&x| x >= u0 && x <= cut).collect();
+            let pts: Vec<f64> =
+                [u0, 16.0, 32.0, 320.0, 3200.0, 1e5, 1e8, cut].into_iter().filter(|&x| x >= u0 && x <= cut).collect();
             let exact = gauss_kronrod(|u| (-t * (u - u0)).exp() * weight(u), &pts, 1e-12, 500).value
                 + if u1.is_infinite() { 1e-12 } else { 0.0 };
             let got = b.integrate(u0, u1, t, 0.0, |_| 1.0);

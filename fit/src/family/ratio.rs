@@ -56,7 +56,17 @@ impl Ratio {
 
 /// `∫_lo^hi e^{−κ(sec θ + tan θ)} dθ` for `0 ≤ lo ≤ hi ≤ π/2`, by adaptive quadrature.
 pub fn exact_backward(kappa: f64, lo: f64, hi: f64) -> f64 {
-    let f = |th: f64| if th >= FRAC_PI_2 { if kappa == 0.0 { 1.0 } else { 0.0 } } else { (-kappa * sec_plus_tan(th)).exp() };
+    let f = |th: f64| {
+        if th >= FRAC_PI_2 {
+            if kappa == 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        } else {
+            (-kappa * sec_plus_tan(th)).exp()
+        }
+    };
     // Breakpoints where the integrand turns over to its e^{−2κ/(π/2 − θ)} tail.
     let mut cuts = vec![lo];
     for k in 1..40 {
