@@ -245,16 +245,10 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     let refit_ratio =
         find(models, "paper-refit")?.model.ratio.clone().ok_or_else(|| PlotError("paper-refit has no ratio".into()))?;
     let mut series = Vec::new();
-    for (label, r, base) in [("paper", Ratio::paper(), 1), ("refit", refit_ratio, 2)] {
+    for (label, r, palette) in [("paper", Ratio::paper(), [1, 3, 4]), ("refit", refit_ratio, [2, 5, 0])] {
         let grid = ratio_error_grid(&r, &theta1s, &kappas);
         for (i, row) in grid.iter().enumerate() {
-            let colour = if i == 0 {
-                COLOURS[base]
-            } else if i == 1 {
-                COLOURS[base + 2]
-            } else {
-                COLOURS[base + 3]
-            };
+            let colour = COLOURS[palette[i]];
             series.push((
                 format!("{label}, θ1 = {:.2}", theta1s[i]),
                 kappas.iter().copied().zip(row.iter().copied()).collect::<Vec<_>>(),
@@ -310,7 +304,7 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
             "relative error",
             (2.0, 16.0),
             (1e-4, 1.0),
-            true,
+            false,
             &series,
         )
     }));

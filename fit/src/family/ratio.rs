@@ -92,10 +92,18 @@ pub struct RatioSample {
     pub forward: f64,
 }
 
+/// Targets at κ = 0 (no extinction, where the exact ratio is `2θ1/π`), added to the
+/// sampled ones: the commonest case in thin fog, which uniform sampling of τ barely
+/// touches.
+pub const NO_EXTINCTION_TARGETS: usize = 60;
+
 /// `n` points from each of `thin` and `dense` with a backward part starting at the
-/// foot (γ ≤ π/2), the case the family is defined for.
+/// foot (γ ≤ π/2), the case the family is defined for, plus
+/// [`NO_EXTINCTION_TARGETS`] evenly spaced `θ1` at κ = 0.
 pub fn ratio_samples(n: usize, seed: u64) -> Vec<RatioSample> {
-    let mut pts = Vec::new();
+    let mut pts: Vec<(f64, f64)> = (0..NO_EXTINCTION_TARGETS)
+        .map(|i| (0.0, FRAC_PI_2 * (i as f64 + 1.0) / NO_EXTINCTION_TARGETS as f64))
+        .collect();
     for d in [Domain::Thin, Domain::Dense] {
         for p in d.validation_set((0.0, 0.0), n, seed).into_iter().take(n) {
             let (h, x0) = (p.gamma.sin(), p.gamma.cos());
