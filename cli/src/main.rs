@@ -3,6 +3,7 @@
 //! 2 for bad input (a one-line message naming file, line and column), 1 when a
 //! check fails or a file cannot be written.
 
+use airlight_fit::bench::Bench;
 use airlight_fit::catalog::{self, Family, Fits};
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
@@ -89,6 +90,13 @@ enum Command {
         #[arg(long)]
         root: Option<PathBuf>,
     },
+    /// Time the fits and every model's evaluation; writes generated/bench.json,
+    /// which REPORT.md quotes (timings never enter `regenerate`'s own output).
+    Bench {
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
     /// The main job: fit every family, measure every model, then regenerate
     /// everything under generated/ (coefficients, REPORT.md, plots).
     ///
@@ -114,6 +122,7 @@ fn main() -> ExitCode {
         Command::Eval { model, input, output, root } => eval(&model, &input, output.as_deref(), root),
         Command::Models { root } => models(root),
         Command::Fit { family, root } => fit(family.as_deref(), root),
+        Command::Bench { root } => bench(root),
         Command::Generate { check, root } => generate(root, check),
         Command::Regenerate { root } => regenerate(root),
     };
@@ -320,8 +329,37 @@ fn measure() -> selfcheck::SelfCheck {
     check
 }
 
-fn render(check: &selfcheck::SelfCheck, models: &[ModelFile]) -> Result<Vec<airlight_codegen::Output>, Failure> {
-    airlight_codegen::render_all(check, models).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
+fn render(
+    check: &selfcheck::SelfCheck,
+    models: &[ModelFile],
+    bench: Option<&Bench>,
+) -> Result<Vec<airlight_codegen::Output>, Failure> {
+    airlight_codegen::render_all(check, models, bench).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
+}
+
+/// `generated/bench.json` if present.
+fn read_bench(generated: &Path) -> Result<Option<Bench>, Failure> {
+    let path = generated.join("bench.json");
+    match std::fs::read_to_string(&path) {
+        Err(_) => Ok(None),
+        Ok(text) => Bench::from_json(&text).map(Some).map_err(|e| bad_input(format!("{}:{e}", path.display()))),
+    }
+}
+
+fn bench(root: Option<PathBuf>) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
+    let spinner = indicatif::ProgressBar::new_spinner();
+    let (b, _) =
+        airlight_fit::bench::run(&|what| spinner.set_message(format!("bench: {what}"))).map_err(|e| Failure(1, e))?;
+    spinner.finish_and_clear();
+    println!("fit {:.1} s, measure {:.1} s on {} cores", b.fit_s, b.measure_s, b.cores);
+    for m in &b.models {
+        println!("{:<18} thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+    }
+    airlight_fit::io::write_atomic(&generated.join("bench.json"), b.to_json().as_bytes())
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
+    println!("wrote {}; `airlight generate` puts it into REPORT.md", generated.join("bench.json").display());
+    Ok(())
 }
 
 /// `root/generated`, with the root found from the current directory if not given.
@@ -349,7 +387,7 @@ fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
             generated.join("coefficients").display()
         )));
     }
-    let outputs = render(&measure(), &files)?;
+    let outputs = render(&measure(), &files, read_bench(&generated)?.as_ref())?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
         for d in &diffs {
@@ -376,7 +414,7 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     let fits = run_fits(None);
     print_fits(&fits);
     let files = build_models(&fits)?;
-    let outputs = render(&check, &files)?;
+    let outputs = render(&check, &files, read_bench(&generated)?.as_ref())?;
     let written = write_outputs(&generated, &outputs)?;
     for f in &files {
         let e =

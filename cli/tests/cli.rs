@@ -72,7 +72,10 @@ fn bad_input_is_one_line_exit_2_and_output_untouched() {
     let o = airlight(&["eval", "--model", "nope", "-i", input.to_str().unwrap(), "-o", fresh.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = stderr(&o);
-    assert!(err.trim().starts_with("error: unknown model 'nope'; known models: reference, paper-as-printed, paper,"), "{err}");
+    assert!(
+        err.trim().starts_with("error: unknown model 'nope'; known models: reference, paper-as-printed, paper,"),
+        "{err}"
+    );
     assert!(err.contains("segments-16") && err.contains("hg-exp3"), "{err}");
     assert!(!fresh.exists());
     // An input that does not exist.
@@ -149,7 +152,8 @@ fn fitted_models_evaluate_and_list_from_their_coefficient_files() {
     let reference = airlight(&["eval", "-i", input.to_str().unwrap(), "--root", r]);
     let reference = String::from_utf8(reference.stdout).unwrap();
     for (a, b) in out.lines().skip(1).zip(reference.lines().skip(1)) {
-        let (a, b): (f64, f64) = (a.rsplit(',').next().unwrap().parse().unwrap(), b.rsplit(',').next().unwrap().parse().unwrap());
+        let (a, b): (f64, f64) =
+            (a.rsplit(',').next().unwrap().parse().unwrap(), b.rsplit(',').next().unwrap().parse().unwrap());
         assert!((a / b - 1.0).abs() < 0.02, "{a} vs {b}");
     }
     // An isotropic model refuses g != 0, naming the column.

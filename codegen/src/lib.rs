@@ -13,6 +13,7 @@ pub mod report;
 
 pub use output::{check, write_all, Difference, Output};
 
+use airlight_fit::bench::Bench;
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::selfcheck::SelfCheck;
 use std::fmt;
@@ -40,8 +41,14 @@ impl std::error::Error for RenderError {}
 /// Every file under `generated/`, rendered from the reference self-check and the
 /// coefficient files (which are re-rendered too, so a hand edit shows as stale).
 /// This list is the generator's table of outputs: a file not in it is orphaned.
-pub fn render_all(check: &SelfCheck, models: &[ModelFile]) -> Result<Vec<Output>, RenderError> {
-    let mut out = vec![report::render(check, models).map_err(RenderError::Template)?];
+///
+/// `bench` is `generated/bench.json` as measured by `airlight bench` (an input the
+/// report quotes; it is passed through unchanged so it is never orphaned).
+pub fn render_all(check: &SelfCheck, models: &[ModelFile], bench: Option<&Bench>) -> Result<Vec<Output>, RenderError> {
+    let mut out = vec![report::render(check, models, bench).map_err(RenderError::Template)?];
+    if let Some(b) = bench {
+        out.push(Output::text("bench.json", b.to_json()));
+    }
     for m in models {
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
     }

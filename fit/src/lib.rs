@@ -10,6 +10,7 @@
 
 pub mod analysis;
 pub mod approx;
+pub mod bench;
 pub mod catalog;
 pub mod coeffs;
 pub mod domains;

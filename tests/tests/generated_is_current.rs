@@ -9,7 +9,10 @@ fn generated_matches_a_fresh_rendering() {
     let check = airlight_fit::selfcheck::run_standard(&|_, _| {});
     let models = committed_models();
     assert_eq!(models.len(), airlight_fit::catalog::CATALOG.len(), "one coefficient file per catalog model");
-    let outputs = airlight_codegen::render_all(&check, &models).expect("renders");
+    let bench = std::fs::read_to_string(generated_dir().join("bench.json"))
+        .ok()
+        .map(|t| airlight_fit::bench::Bench::from_json(&t).expect("bench.json parses"));
+    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref()).expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),
