@@ -344,7 +344,7 @@ pub fn render(check: &SelfCheck, models: &[ModelFile], bench: Option<&Bench>) ->
     if let Some(b) = bench {
         ctx.insert("bench_cores", &b.cores);
         ctx.insert("bench_fit", &format!("{:.0}", b.fit_s));
-        ctx.insert("bench_measure", &format!("{:.0}", b.measure_s));
+        ctx.insert("bench_measure", &format!("{:.1}", b.measure_s));
         let rows: Vec<SpeedRow> = b
             .models
             .iter()
