@@ -1,0 +1,63 @@
+//! The committed coefficient files: exact round trip, the keys the project
+//! promises, and models that stay finite and non-negative at the extremes.
+
+use airlight_fit::coeffs::{parse, render};
+use airlight_fit::domains::Domain;
+use airlight_fit::model::Model;
+use airlight_fit::reference::Point;
+use airlight_tests::{committed_models, generated_dir};
+use std::f64::consts::PI;
+
+#[test]
+fn files_round_trip_exactly_and_carry_the_promised_keys() {
+    for m in committed_models() {
+        let text = render(&m);
+        let back = parse("x.toml", &text).expect("parses");
+        assert_eq!(back, m, "{}: parse(render(m)) differs", m.model.name);
+        let raw = std::fs::read_to_string(generated_dir().join(format!("coefficients/{}.toml", m.model.name))).unwrap();
+        let doc: toml::Table = raw.parse().unwrap();
+        for key in ["name", "families", "g_range"] {
+            assert!(doc["model"].get(key).is_some(), "{}: [model].{key}", m.model.name);
+        }
+        for d in ["thin", "dense"] {
+            let e = &doc["error"][d];
+            for key in ["max_rel", "p99_rel", "worst"] {
+                assert!(e.get(key).is_some(), "{}: [error.{d}].{key}", m.model.name);
+            }
+            assert!(e["points"].as_integer().unwrap() >= 10_000);
+        }
+        for key in ["reference_rel_tol", "validation_seed", "crate"] {
+            assert!(doc["provenance"].get(key).is_some(), "{}: [provenance].{key}", m.model.name);
+        }
+        // Every hex coefficient's comment is its decimal value.
+        for line in raw.lines().filter(|l| l.trim_start().starts_with("\"0x") || l.trim_start().starts_with("\"-0x")) {
+            let (hex, comment) = line.split_once("\", #").expect("hex with comment");
+            let x = airlight_fit::hexf::parse(hex.trim().trim_start_matches('"')).unwrap();
+            let y: f64 = comment.trim().parse().unwrap();
+            assert_eq!(x.to_bits(), y.to_bits(), "{line}");
+        }
+    }
+}
+
+#[test]
+fn models_are_finite_and_non_negative_at_the_extremes() {
+    let mut pts = Domain::Extreme.corners(&[0.0]);
+    for tau in [0.0, 1e-8, 2.0, 20.0, 100.0] {
+        for gamma in [0.0, 1e-9, 1e-4, 0.01, PI / 2.0, PI - 0.01, PI - 1e-9, PI] {
+            for rho in [1e-6, 0.5, 1.0, 1.0 + 1e-9, 1e4, f64::INFINITY] {
+                pts.push(Point { tau, gamma, rho, g: 0.0 });
+            }
+        }
+    }
+    for m in committed_models() {
+        let (lo, hi) = m.model.g_range;
+        for p in &pts {
+            for g in [lo, 0.5 * (lo + hi), hi] {
+                let p = Point { g, ..*p };
+                let a = m.model.eval_unchecked(p);
+                let on_axis_through_light = p.gamma == 0.0 && p.rho >= 1.0;
+                assert!(a >= 0.0 && (a.is_finite() || on_axis_through_light), "{}: A = {a} at {p:?}", m.model.name);
+            }
+        }
+    }
+}
