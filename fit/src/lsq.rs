@@ -84,6 +84,37 @@ pub fn nelder_mead(
     }
 }
 
+/// [`nelder_mead`] restarted from its own best point with a fresh simplex (steps
+/// halved each time) while a restart improves the cost by more than 1%, at most
+/// `restarts` times: Nelder–Mead stalls in long valleys otherwise. Iterations add up;
+/// the termination reason is the last run's, with the number of runs.
+pub fn nelder_mead_restarted(
+    cost: &(dyn Fn(&[f64]) -> f64 + Sync),
+    start: &[f64],
+    step: &[f64],
+    sd_tol: f64,
+    max_iters: u64,
+    restarts: usize,
+) -> Outcome {
+    let mut best = nelder_mead(cost, start, step, sd_tol, max_iters);
+    let mut runs = 1;
+    let mut scale = 0.5;
+    for _ in 0..restarts {
+        let steps: Vec<f64> = step.iter().map(|s| s * scale).collect();
+        let again = nelder_mead(cost, &best.param, &steps, sd_tol, max_iters);
+        runs += 1;
+        scale *= 0.5;
+        let improved = again.cost < 0.99 * best.cost;
+        let iterations = best.iterations + again.iterations;
+        best = if again.cost < best.cost { Outcome { iterations, ..again } } else { Outcome { iterations, ..best } };
+        if !improved {
+            break;
+        }
+    }
+    best.termination = format!("{} ({runs} runs)", best.termination);
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

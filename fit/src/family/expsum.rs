@@ -237,18 +237,7 @@ pub fn fit(target: Target, k: usize) -> ExpSumFit {
     // Rates spread geometrically from 0.3/end to about 3.
     let (lo, hi) = ((0.3 / target.end()).ln(), 3f64.ln());
     let x0: Vec<f64> = (0..k).map(|i| lo + (hi - lo) * i as f64 / (k - 1).max(1) as f64).collect();
-    // Nelder–Mead restarted from its own result with a fresh simplex until a
-    // restart stops improving (it stalls in long valleys otherwise).
-    let mut outcome = lsq::nelder_mead(&cost, &x0, &vec![0.4; k], 1e-12, 600 * k as u64);
-    for _ in 0..3 {
-        let again = lsq::nelder_mead(&cost, &outcome.param, &vec![0.2; k], 1e-12, 600 * k as u64);
-        let better = again.cost < 0.98 * outcome.cost;
-        let iterations = outcome.iterations + again.iterations;
-        outcome = Outcome { iterations, ..if again.cost < outcome.cost { again } else { outcome } };
-        if !better {
-            break;
-        }
-    }
+    let outcome = lsq::nelder_mead_restarted(&cost, &x0, &vec![0.4; k], 1e-12, 600 * k as u64, 3);
     let sum = amplitudes(target, &to_s(&outcome.param), &us).expect("the search ended at a finite cost");
     ExpSumFit { max_rel: sum.error(target), sum, outcome }
 }

@@ -286,7 +286,7 @@ pub fn fit_band(g_lo: f64, g_hi: f64, start: &[f64], samples: &[PhaseSample]) ->
     let x0: Vec<f64> = start.iter().flat_map(|&b| [b, b, b]).collect();
     let step: Vec<f64> = x0.iter().map(|b| 0.25 * b.abs() + 0.1).collect();
     let c0 = cost(&x0);
-    let outcome = lsq::nelder_mead(&cost, &x0, &step, c0 * 1e-10, 400 * k as u64 + 400);
+    let outcome = lsq::nelder_mead_restarted(&cost, &x0, &step, c0 * 1e-10, 400 * k as u64 + 400, 2);
     let b = to_b(&outcome.param);
     let (a, mse) = solve_amplitudes(&b, gm, samples).expect("the search ended at a finite cost");
     let band = Band { g_lo, g_hi, a, b };

@@ -174,7 +174,7 @@ pub fn fit(samples: &[RatioSample]) -> RatioFit {
     let x0: Vec<f64> = p.g.iter().chain(&p.h).copied().collect();
     let step: Vec<f64> = x0.iter().map(|c| 0.2 * c.abs() + 0.05).collect();
     let c0 = cost(&x0);
-    let outcome = lsq::nelder_mead(&cost, &x0, &step, c0 * 1e-10, 4000);
+    let outcome = lsq::nelder_mead_restarted(&cost, &x0, &step, c0 * 1e-10, 4000, 2);
     let (g, h) = split(&outcome.param);
     let (ratio, mse) = solve_f(g, h, samples).expect("the search ended at a finite cost");
     let errs = backward_errors(&ratio, samples);

@@ -318,7 +318,7 @@ pub fn fit(side: Side, n: usize, samples: &[ForwardSample]) -> SegmentsFit {
         Side::Backward => (0..n - 1).map(|j| 0.5 * (n - 1 - j) as f64).collect(),
     };
     let c0 = cost(&start);
-    let outcome = lsq::nelder_mead(&cost, &start, &vec![0.3; n - 1], c0 * 1e-9, 150 * n as u64 + 200);
+    let outcome = lsq::nelder_mead_restarted(&cost, &start, &vec![0.3; n - 1], c0 * 1e-9, 150 * n as u64 + 200, 2);
     let (segments, mse, inner_steps) = fit_values(side, &breakpoints_from(&outcome.param), samples);
     let errs = forward_errors(&segments, samples);
     SegmentsFit {
