@@ -180,3 +180,18 @@ fn fitted_models_evaluate_and_list_from_their_coefficient_files() {
     assert!(err.contains("segments-2.toml:") && err.contains("field 'forward.breakpoints'"), "{err} vs {want}");
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+#[test]
+fn fit_one_family_prints_and_writes_nothing() {
+    let root = scratch("fit");
+    std::fs::create_dir_all(root.join("generated")).unwrap();
+    let o = airlight(&["fit", "--family", "backscatter", "--root", root.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.contains("backscatter ratio: refit rms") && out.contains("nothing written"), "{out}");
+    assert!(std::fs::read_dir(root.join("generated")).unwrap().next().is_none());
+    let o = airlight(&["fit", "--family", "nope"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("unknown family 'nope'; known families: segments, phase, backscatter"));
+    std::fs::remove_dir_all(&root).unwrap();
+}

@@ -61,3 +61,38 @@ fn models_are_finite_and_non_negative_at_the_extremes() {
         }
     }
 }
+
+#[test]
+fn model_geometry_limits() {
+    use airlight_fit::reference::airlight;
+    let models = committed_models();
+    let m = &models.iter().find(|m| m.model.name == "segments-16").unwrap().model;
+    // On the axis before the light: exact closed form P(0) e^{-τ} ρ/(1 − ρ).
+    let p = Point { tau: 0.7, gamma: 0.0, rho: 0.4, g: 0.0 };
+    let exact = airlight(p).unwrap();
+    assert!((m.eval_unchecked(p) / exact - 1.0).abs() < 1e-14);
+    // Continuous across γ = π/2, where the forward part vanishes and the backward
+    // part starts at the foot point.
+    for tau in [0.0, 1.0, 10.0] {
+        let a = m.eval_unchecked(Point { tau, gamma: PI / 2.0 - 1e-9, rho: 3.0, g: 0.0 });
+        let b = m.eval_unchecked(Point { tau, gamma: PI / 2.0 + 1e-9, rho: 3.0, g: 0.0 });
+        assert!((a / b - 1.0).abs() < 1e-6, "τ = {tau}: {a} vs {b}");
+    }
+    // Continuous in ρ across the far part's switch between its local sum and E1 form.
+    let gamma: f64 = 3.0; // ua = tan(1.5) ≈ 14.1: the far part starts at u = 16
+    let h = gamma.sin();
+    let x0 = gamma.cos();
+    let rho_at = |u1: f64| {
+        // u = (ρ − x0 + t)/h with t = hypot(ρ − x0, h): invert for ρ.
+        let d = (u1 * u1 * h * h - h * h) / (2.0 * u1 * h);
+        x0 + d
+    };
+    let r = rho_at(32.0);
+    let a = m.eval_unchecked(Point { tau: 2.0, gamma, rho: r * (1.0 - 1e-12), g: 0.0 });
+    let b = m.eval_unchecked(Point { tau: 2.0, gamma, rho: r * (1.0 + 1e-12), g: 0.0 });
+    assert!((a / b - 1.0).abs() < 1e-3, "{a} vs {b}");
+    // The error there is within the declared bound.
+    let p = Point { tau: 2.0, gamma, rho: r, g: 0.0 };
+    let e = (m.eval_unchecked(p) / airlight(p).unwrap() - 1.0).abs();
+    assert!(e < 1.5 * models.iter().find(|f| f.model.name == "segments-16").unwrap().error("thin").unwrap().max_rel);
+}
