@@ -461,13 +461,17 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
                 "backscatter.fit".into(),
                 kv(vec![
                     ("source", s("least squares, this project")),
-                    ("objective", s("sum of squared relative errors of the backward integral from the foot point")),
+                    (
+                        "objective",
+                        s("sum of squared relative errors of A: exact forward part plus the ratio's backward part"),
+                    ),
                     ("targets", i(fit.samples)),
                     ("targets_seed", hex_seed(RATIO_SEED)),
                     ("inner", s("f: linear least squares by SVD (nalgebra 0.34)")),
                     ("outer", s(&format!("g, h from the paper's values: {OUTER_SOLVER}"))),
                     ("iterations", i(fit.outcome.iterations)),
                     ("termination", s(&fit.outcome.termination)),
+                    ("a_rms_rel", f(fit.a_rms_rel)),
                     ("backward_integral_rms_rel", f(fit.rms_rel)),
                     ("backward_integral_max_rel", f(fit.max_rel)),
                 ]),

@@ -26,13 +26,13 @@ fn published_model_errors_match_math_md() {
     let (r5, r10) = (restored(5.0), restored(10.0));
     assert!((0.35..0.6).contains(&r5), "restored, τ = 5: {r5}");
     assert!((3.0..4.5).contains(&r10), "restored, τ = 10: {r10}");
-    // The refit trades the thin end for the dense one: far better at τ ≥ 5, within
-    // 15% below (the ratio form cannot serve κ = 0 and κ = 20 at once).
+    // The refit trades the thin end for the dense one: better at τ ≥ 5, within 10%
+    // below (one cubic ratio cannot serve κ = 0 and κ = 20 at once).
     for t in [5.0, 10.0] {
         let (a, b) = (max_error("paper-refit", t), restored(t));
-        assert!(a < 0.2 * b, "τ = {t}: refit {a} vs paper {b}");
+        assert!(a < 0.5 * b, "τ = {t}: refit {a} vs paper {b}");
     }
     for t in [0.5, 2.0] {
-        assert!(max_error("paper-refit", t) < 0.15);
+        assert!(max_error("paper-refit", t) < 0.1);
     }
 }
