@@ -148,7 +148,8 @@ fn advice(models: &[ModelFile]) -> Vec<String> {
             fmt_err(e(r, "dense"))
         ));
     }
-    let p99 = |m: &ModelFile| ["thin", "dense"].iter().filter_map(|d| m.error(d)).map(|e| e.p99_rel).fold(0.0, f64::max);
+    let p99 =
+        |m: &ModelFile| ["thin", "dense"].iter().filter_map(|d| m.error(d)).map(|e| e.p99_rel).fold(0.0, f64::max);
     if let Some(m) = models.iter().filter(|m| m.model.g_range != (0.0, 0.0)).min_by(|a, b| p99(a).total_cmp(&p99(b))) {
         out.push(format!(
             "Henyey–Greenstein media are the weak spot of the paper's forms: the best here, `{}`, still has p99 {} and max {} over thin and dense. Sums of one to three exponentials in α cannot follow HG's peak (see the phase section); use these models only knowing that.",

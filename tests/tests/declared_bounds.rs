@@ -50,3 +50,42 @@ fn declared_max_holds_on_fresh_points() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The public 30-digit values are held-out points too: every one inside a model's
+/// domain and g range must respect its declared bound (factor 1.5).
+#[test]
+fn declared_max_holds_on_the_public_values() {
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for m in committed_models() {
+        for (_, text) in airlight_fit::fixtures::PUBLIC {
+            for (p, exact) in airlight_fit::fixtures::parse(text) {
+                let domain = if (0.0..=2.0).contains(&p.tau) {
+                    Domain::Thin
+                } else if (2.0..=20.0).contains(&p.tau) {
+                    Domain::Dense
+                } else {
+                    continue;
+                };
+                let inside = (0.01..=PI - 0.01).contains(&p.gamma)
+                    && (p.rho.is_infinite() || (0.01..=100.0).contains(&p.rho))
+                    && (m.model.g_range.0..=m.model.g_range.1).contains(&p.g);
+                if !inside || !exact.is_finite() {
+                    continue;
+                }
+                checked += 1;
+                let e = rel_error(m.model.eval_unchecked(p), exact);
+                let declared = m.error(domain.name()).unwrap().max_rel;
+                if e > 1.5 * declared {
+                    failures.push(format!(
+                        "{} {}: {e:.3e} at {p:?} > 1.5 × {declared:.3e}",
+                        m.model.name,
+                        domain.name()
+                    ));
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "only {checked} public points inside the models' domains");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
