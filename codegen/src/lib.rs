@@ -3,7 +3,8 @@
 //! outputs.
 //!
 //! Templates are compiled into the binary (`include_str!`), so the generator
-//! works from any directory; each output names its template in its header.
+//! works from any directory; each text output names its source (template or
+//! fitter) in its header.
 
 #![warn(missing_docs)]
 
