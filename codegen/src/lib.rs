@@ -11,6 +11,7 @@
 pub mod output;
 pub mod plots;
 pub mod report;
+pub mod scene;
 
 pub use output::{check, write_all, Difference, Output};
 

@@ -1,0 +1,394 @@
+//! Scene specifications (`codegen/scenes/*.toml`) and the choice of model for a
+//! scene: the cheapest model whose declared error bound meets the scene's budget
+//! over the part of the error domains the scene can reach.
+
+use airlight_fit::coeffs::ModelFile;
+use std::fmt;
+
+/// The phase function a scene's medium needs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ScenePhase {
+    /// Isotropic scattering (`g = 0`).
+    Isotropic,
+    /// Henyey–Greenstein with one `g`.
+    Fixed(f64),
+    /// Henyey–Greenstein with `g` anywhere in `[lo, hi]` (a runtime parameter).
+    Range(f64, f64),
+}
+
+/// An output language.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// WGSL (wgpu, Bevy).
+    Wgsl,
+    /// GLSL (ES 3.00 and 4.50).
+    Glsl,
+    /// Rust (f32, no_std).
+    Rust,
+}
+
+/// A parsed scene file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// File stem.
+    pub name: String,
+    /// Extinction coefficient range `[lo, hi]` (1/length).
+    pub sigma_t: (f64, f64),
+    /// Phase function.
+    pub phase: ScenePhase,
+    /// Whether extinction matters (false: the exact no-extinction closed form).
+    pub extinction: bool,
+    /// Farthest light from the viewer (length units of `sigma_t`).
+    pub max_distance: f64,
+    /// Whether surfaces bound the view rays.
+    pub surfaces: bool,
+    /// Whether light scattered from beyond the foot point matters.
+    pub backscatter: bool,
+    /// Accuracy budget: largest relative error of the airlight.
+    pub max_rel_error: f64,
+    /// Languages to emit.
+    pub targets: Vec<Target>,
+}
+
+/// A scene file that cannot be used: `file:line: field 'x': message`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneError {
+    /// The file.
+    pub file: String,
+    /// 1-based line of the field (or of its table, or 1).
+    pub line: usize,
+    /// Dotted field name.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}: field '{}': {}", self.file, self.line, self.field, self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// The line of `key = …` inside `[table]`, else the table's line, else 1.
+fn locate(text: &str, table: &str, key: &str) -> usize {
+    let header = format!("[{table}]");
+    let mut inside = false;
+    let mut table_line = 1;
+    for (i, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if l.starts_with('[') {
+            inside = l == header;
+            if inside {
+                table_line = i + 1;
+            }
+        } else if inside && l.split('=').next().is_some_and(|k| k.trim() == key) {
+            return i + 1;
+        }
+    }
+    table_line
+}
+
+/// Parses a scene file.
+pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
+    let err = |table: &str, key: &str, msg: String| SceneError {
+        file: file.into(),
+        line: locate(text, table, key),
+        field: format!("{table}.{key}"),
+        message: msg,
+    };
+    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| SceneError {
+        file: file.into(),
+        line: e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1)),
+        field: "(syntax)".into(),
+        message: e.message().replace('\n', " "),
+    })?;
+    let table = |name: &str| {
+        doc.get(name).and_then(toml::Value::as_table).ok_or_else(|| SceneError {
+            file: file.into(),
+            line: 1,
+            field: name.into(),
+            message: "missing table".into(),
+        })
+    };
+    let get = |t: &str, k: &str| -> Result<&toml::Value, SceneError> {
+        table(t)?.get(k).ok_or_else(|| err(t, k, "missing".into()))
+    };
+    let num = |t: &str, k: &str| -> Result<f64, SceneError> {
+        let v = get(t, k)?;
+        v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| err(t, k, "must be a number".into()))
+    };
+    let boolean = |t: &str, k: &str| -> Result<bool, SceneError> {
+        get(t, k)?.as_bool().ok_or_else(|| err(t, k, "must be true or false".into()))
+    };
+    let pair = |t: &str, k: &str| -> Result<(f64, f64), SceneError> {
+        let a = get(t, k)?.as_array().filter(|a| a.len() == 2).ok_or_else(|| err(t, k, "must be [lo, hi]".into()))?;
+        let f = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+        match (f(&a[0]), f(&a[1])) {
+            (Some(lo), Some(hi)) if lo <= hi => Ok((lo, hi)),
+            _ => Err(err(t, k, "must be [lo, hi] with lo <= hi".into())),
+        }
+    };
+    let sigma_t = pair("medium", "sigma_t")?;
+    if sigma_t.0 < 0.0 || !sigma_t.1.is_finite() {
+        return Err(err("medium", "sigma_t", "must be finite and non-negative".into()));
+    }
+    let phase = match get("medium", "phase")?.as_str() {
+        Some("isotropic") => ScenePhase::Isotropic,
+        Some("hg") => {
+            let m = table("medium")?;
+            match (m.get("g"), m.get("g_range")) {
+                (Some(_), None) => {
+                    let g = num("medium", "g")?;
+                    if !(g > -1.0 && g < 1.0) {
+                        return Err(err("medium", "g", format!("g = {g} is outside (-1, 1)")));
+                    }
+                    ScenePhase::Fixed(g)
+                }
+                (None, Some(_)) => {
+                    let (lo, hi) = pair("medium", "g_range")?;
+                    if !(lo > -1.0 && hi < 1.0) {
+                        return Err(err("medium", "g_range", "must lie inside (-1, 1)".into()));
+                    }
+                    ScenePhase::Range(lo, hi)
+                }
+                _ => return Err(err("medium", "phase", "\"hg\" needs exactly one of g or g_range".into())),
+            }
+        }
+        _ => return Err(err("medium", "phase", "must be \"isotropic\" or \"hg\"".into())),
+    };
+    let extinction = boolean("medium", "extinction")?;
+    match get("lights", "kind")?.as_str() {
+        Some("point") => {}
+        _ => return Err(err("lights", "kind", "only \"point\" lights exist so far".into())),
+    }
+    let max_distance = num("lights", "max_distance")?;
+    if !(max_distance > 0.0 && max_distance.is_finite()) {
+        return Err(err("lights", "max_distance", "must be a positive distance".into()));
+    }
+    let max_rel_error = num("accuracy", "max_rel_error")?;
+    if max_rel_error.is_nan() || max_rel_error <= 0.0 {
+        return Err(err("accuracy", "max_rel_error", "must be positive".into()));
+    }
+    let targets = get("output", "targets")?
+        .as_array()
+        .ok_or_else(|| err("output", "targets", "must be a list".into()))?
+        .iter()
+        .map(|v| match v.as_str() {
+            Some("wgsl") => Ok(Target::Wgsl),
+            Some("glsl") => Ok(Target::Glsl),
+            Some("rust") => Ok(Target::Rust),
+            _ => Err(err("output", "targets", "entries are \"wgsl\", \"glsl\" or \"rust\"".into())),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if targets.is_empty() {
+        return Err(err("output", "targets", "name at least one target".into()));
+    }
+    let name =
+        std::path::Path::new(file).file_stem().map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned());
+    Ok(Scene {
+        name,
+        sigma_t,
+        phase,
+        extinction,
+        max_distance,
+        surfaces: boolean("ray", "surfaces")?,
+        backscatter: boolean("ray", "backscatter")?,
+        max_rel_error,
+        targets,
+    })
+}
+
+/// What the scene gets and why.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Choice {
+    /// Isotropic without extinction: the exact closed form of seed 003 (two `atan`s).
+    NoExtinction,
+    /// A fitted model.
+    Model {
+        /// Its name.
+        name: String,
+        /// Its declared bound over the domains the scene reaches.
+        bound: f64,
+        /// Its cost (transcendental calls per evaluation).
+        cost: usize,
+    },
+}
+
+/// The plan for a scene: the choice and the domains it was made over.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The model.
+    pub choice: Choice,
+    /// Largest optical distance to a light the scene can produce.
+    pub tau_max: f64,
+    /// Error domains the bound was taken over.
+    pub domains: Vec<&'static str>,
+}
+
+/// Why a scene has no model.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlanError {
+    /// The scene reaches optical distances no model was measured at.
+    OutsideDomains {
+        /// σt_max · max_distance.
+        tau_max: f64,
+    },
+    /// No model meets the budget; the best bound there is, and whose.
+    Budget {
+        /// The scene's budget.
+        budget: f64,
+        /// The smallest declared bound among models that cover the scene, if any.
+        best: Option<(String, f64)>,
+    },
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::OutsideDomains { tau_max } => write!(
+                f,
+                "the scene reaches τ = σt·D = {tau_max} but models are measured only up to τ = 20 (the dense domain)"
+            ),
+            PlanError::Budget { budget, best: Some((name, bound)) } => write!(
+                f,
+                "no model meets max_rel_error = {budget}; the best achievable for this scene is {bound:.2e} (`{name}`)"
+            ),
+            PlanError::Budget { budget, best: None } => {
+                write!(f, "no model covers this scene's phase function (budget {budget})")
+            }
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// Upper end of the `dense` domain's τ.
+const TAU_DENSE_MAX: f64 = 20.0;
+/// Upper end of the `thin` domain's τ.
+const TAU_THIN_MAX: f64 = 2.0;
+
+/// Chooses the cheapest model whose declared bound meets the scene's budget over
+/// every error domain the scene reaches (ties go to the smaller bound).
+pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
+    let tau_max = scene.sigma_t.1 * scene.max_distance;
+    if !scene.extinction && scene.phase == ScenePhase::Isotropic {
+        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec![] });
+    }
+    let tau_max = if scene.extinction { tau_max } else { 0.0 };
+    if tau_max > TAU_DENSE_MAX {
+        return Err(PlanError::OutsideDomains { tau_max });
+    }
+    // Lights can be at any distance up to max_distance, so τ starts at 0: `thin`
+    // always applies.
+    let mut domains = vec!["thin"];
+    if tau_max > TAU_THIN_MAX {
+        domains.push("dense");
+    }
+    let (g_lo, g_hi) = match scene.phase {
+        ScenePhase::Isotropic => (0.0, 0.0),
+        ScenePhase::Fixed(g) => (g, g),
+        ScenePhase::Range(lo, hi) => (lo, hi),
+    };
+    let covering: Vec<(&ModelFile, f64)> = models
+        .iter()
+        .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
+        .filter_map(|m| {
+            let bounds: Option<Vec<f64>> = domains.iter().map(|d| m.error(d).map(|e| e.max_rel)).collect();
+            bounds.map(|b| (m, b.into_iter().fold(0.0, f64::max)))
+        })
+        .collect();
+    let best = covering
+        .iter()
+        .filter(|(_, b)| *b <= scene.max_rel_error)
+        .min_by(|a, b| a.0.model.cost().cmp(&b.0.model.cost()).then(a.1.total_cmp(&b.1)));
+    match best {
+        Some((m, bound)) => Ok(Plan {
+            choice: Choice::Model { name: m.model.name.clone(), bound: *bound, cost: m.model.cost() },
+            tau_max,
+            domains,
+        }),
+        None => Err(PlanError::Budget {
+            budget: scene.max_rel_error,
+            best: covering.iter().min_by(|a, b| a.1.total_cmp(&b.1)).map(|(m, b)| (m.model.name.clone(), *b)),
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn models() -> Vec<ModelFile> {
+        airlight_fit::coeffs::load_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated/coefficients"))
+            .unwrap()
+    }
+
+    fn scene(name: &str) -> Scene {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+        parse(&path.display().to_string(), &std::fs::read_to_string(&path).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn example_scenes_get_the_cheapest_model_meeting_their_budget() {
+        let models = models();
+        for (file, want) in [("fog-street.toml", "segments-2"), ("smoke-room.toml", "segments-8")] {
+            let s = scene(file);
+            let p = plan(&s, &models).unwrap();
+            let Choice::Model { name, bound, cost } = &p.choice else { panic!("{file}: {:?}", p.choice) };
+            assert_eq!(name, want, "{file}");
+            assert!(*bound <= s.max_rel_error);
+            // Nothing cheaper would have done.
+            for m in &models {
+                if m.model.cost() < *cost && m.model.g_range.0 <= 0.0 && m.model.g_range.1 >= 0.0 {
+                    let b = p.domains.iter().map(|d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
+                    assert!(b > s.max_rel_error, "{file}: {} (cost {}) meets {b}", m.model.name, m.model.cost());
+                }
+            }
+        }
+        assert_eq!(plan(&scene("haze-sky.toml"), &models).unwrap().choice, Choice::NoExtinction);
+    }
+
+    #[test]
+    fn impossible_scenes_say_why_and_name_the_best_bound() {
+        let models = models();
+        let mut s = scene("smoke-room.toml");
+        s.max_rel_error = 1e-4;
+        let e = plan(&s, &models).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("no model meets max_rel_error = 0.0001; the best achievable for this scene is"),
+            "{msg}"
+        );
+        assert!(msg.contains("segments-16"), "{msg}");
+        s.max_distance = 100.0;
+        assert_eq!(plan(&s, &models).unwrap_err(), PlanError::OutsideDomains { tau_max: 50.0 });
+        let mut hg = scene("fog-street.toml");
+        hg.phase = ScenePhase::Fixed(0.9);
+        assert!(matches!(plan(&hg, &models).unwrap_err(), PlanError::Budget { best: Some(_), .. }));
+    }
+
+    #[test]
+    fn bad_fields_name_file_line_and_field() {
+        let good =
+            std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fog-street.toml")).unwrap();
+        let cases = [
+            ("phase = \"isotropic\"", "phase = \"mie\"", "field 'medium.phase'"),
+            ("max_rel_error = 0.02", "max_rel_error = -1", "field 'accuracy.max_rel_error'"),
+            ("kind = \"point\"", "kind = \"spot\"", "field 'lights.kind'"),
+            ("targets = [\"wgsl\", \"glsl\", \"rust\"]", "targets = [\"hlsl\"]", "field 'output.targets'"),
+            ("sigma_t = [0.0, 0.04]", "sigma_t = [0.04, 0.0]", "field 'medium.sigma_t'"),
+        ];
+        for (from, to, want) in cases {
+            let text = good.replacen(from, to, 1);
+            assert_ne!(text, good, "{from}");
+            let line = text.lines().position(|l| l.contains(to)).unwrap() + 1;
+            let e = parse("s.toml", &text).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("s.toml:{line}: {want}")), "{e}");
+        }
+        let e = parse("s.toml", "[medium\n").unwrap_err().to_string();
+        assert!(e.starts_with("s.toml:1: field '(syntax)'"), "{e}");
+    }
+}
