@@ -147,8 +147,7 @@ fn registry(root: Option<PathBuf>) -> Result<(model::Registry, Vec<ModelFile>), 
     if let Some(root) = root {
         let dir = root.join("generated").join("coefficients");
         if dir.is_dir() {
-            files = coeffs::load_dir(&dir).map_err(bad_input)?;
-            files.sort_by_key(|f| catalog::CATALOG.iter().position(|c| c.name == f.model.name).unwrap_or(usize::MAX));
+            files = catalog::load(&dir).map_err(bad_input)?;
             for f in &files {
                 reg.add(Box::new(f.model.clone()));
             }
@@ -205,24 +204,12 @@ fn models(root: Option<PathBuf>) -> Result<(), Failure> {
 
 /// Fits (all families, or one) with a progress bar.
 fn run_fits(only: Option<Family>) -> Fits {
-    let bar = progress_bar(0, "fitting families");
-    let fits = catalog::fit(only, &|done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
-    bar.finish_and_clear();
-    fits
+    with_progress("fitting families", |progress| catalog::fit(only, progress))
 }
 
 /// Assembles and measures every model with a progress bar.
 fn build_models(fits: &Fits) -> Result<Vec<ModelFile>, Failure> {
-    let bar = progress_bar(0, "measuring models");
-    let files = catalog::build(fits, &|done, total| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    });
-    bar.finish_and_clear();
-    files.map_err(|e| Failure(1, e))
+    with_progress("measuring models", |progress| catalog::build(fits, progress)).map_err(|e| Failure(1, e))
 }
 
 fn print_fits(fits: &Fits) {
@@ -234,7 +221,7 @@ fn print_fits(fits: &Fits) {
             "segments refit ({n}): forward integral rms {:.1e} max {:.1e}; kernel max |error| {:.1e}; {} iterations, {}",
             f.rms_rel,
             f.max_rel,
-            f.segments.kernel_error(airlight_fit::family::segments::Side::Forward).0,
+            f.segments.kernel_error().0,
             f.outcome.iterations,
             f.outcome.termination
         );
@@ -320,13 +307,18 @@ fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
 
 /// Runs the reference self-check with a progress bar.
 fn measure() -> selfcheck::SelfCheck {
-    let bar = progress_bar(0, "reference self-check");
-    let check = selfcheck::run_standard(&|done, total| {
+    with_progress("reference self-check", selfcheck::run_standard)
+}
+
+/// Runs `work` with a progress bar fed by its `(done, total)` callback.
+fn with_progress<T>(what: &str, work: impl FnOnce(&(dyn Fn(usize, usize) + Sync)) -> T) -> T {
+    let bar = progress_bar(0, what);
+    let out = work(&|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });
     bar.finish_and_clear();
-    check
+    out
 }
 
 fn render(

@@ -281,11 +281,8 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     let fwd: Vec<(f64, f64)> = pts
         .iter()
         .filter_map(|(n, m)| {
-            m.provenance
-                .iter()
-                .find(|(t, _)| t == "forward.fit")
-                .and_then(|(_, kv)| kv.iter().find(|(k, _)| k == "forward_integral_max_rel"))
-                .and_then(|(_, v)| v.as_float())
+            m.provenance_value("forward.fit", "forward_integral_max_rel")
+                .and_then(|v| v.as_float())
                 .map(|v| (*n as f64, v))
         })
         .collect();

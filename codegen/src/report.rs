@@ -105,21 +105,16 @@ struct BandRow {
     k3: String,
 }
 
-/// A provenance value of a model, if present.
-fn prov<'a>(m: &'a ModelFile, table: &str, key: &str) -> Option<&'a toml::Value> {
-    m.provenance.iter().find(|(t, _)| t == table).and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key)).map(|(_, v)| v)
-}
-
 fn prov_f(m: &ModelFile, table: &str, key: &str) -> String {
-    prov(m, table, key).and_then(toml::Value::as_float).map_or("—".into(), fmt_err)
+    m.provenance_value(table, key).and_then(toml::Value::as_float).map_or("—".into(), fmt_err)
 }
 
 fn prov_s(m: &ModelFile, table: &str, key: &str) -> String {
-    prov(m, table, key).map_or("—".into(), |v| v.as_str().map_or_else(|| v.to_string(), str::to_string))
+    m.provenance_value(table, key).map_or("—".into(), |v| v.as_str().map_or_else(|| v.to_string(), str::to_string))
 }
 
 fn by_band(m: &ModelFile, key: &str) -> Vec<f64> {
-    prov(m, "phase.fit", key)
+    m.provenance_value("phase.fit", key)
         .and_then(toml::Value::as_array)
         .map(|a| a.iter().filter_map(toml::Value::as_float).collect())
         .unwrap_or_default()
@@ -298,22 +293,14 @@ pub fn render(check: &SelfCheck, models: &[ModelFile], bench: Option<&Bench>) ->
     ctx.insert("node_error", &hg.map_or("—".into(), |m| prov_f(m, "phase.fit", "node_rule_max_rel_error")));
     let (pp, pr) = (get("paper"), get("paper-refit"));
     ctx.insert("ratio_targets", &pr.map_or("—".into(), |m| prov_s(m, "backscatter.fit", "targets")));
-    ctx.insert(
-        "ratio_paper_rms",
-        &pp.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_rms_rel")),
-    );
-    ctx.insert(
-        "ratio_paper_max",
-        &pp.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_max_rel")),
-    );
-    ctx.insert(
-        "ratio_refit_rms",
-        &pr.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_rms_rel")),
-    );
-    ctx.insert(
-        "ratio_refit_max",
-        &pr.map_or("—".into(), |m| prov_f(m, "backscatter.fit", "backward_integral_max_rel")),
-    );
+    for (name, m, key) in [
+        ("ratio_paper_rms", pp, "backward_integral_rms_rel"),
+        ("ratio_paper_max", pp, "backward_integral_max_rel"),
+        ("ratio_refit_rms", pr, "backward_integral_rms_rel"),
+        ("ratio_refit_max", pr, "backward_integral_max_rel"),
+    ] {
+        ctx.insert(name, &m.map_or("—".into(), |m| prov_f(m, "backscatter.fit", key)));
+    }
     let es = models.first();
     let t = "backscatter.expsum_fit";
     ctx.insert("near_terms", &es.map_or(0, |m| m.model.expsum.near.c.len()));

@@ -3,6 +3,7 @@
 //! over the part of the error domains the scene can reach.
 
 use airlight_fit::coeffs::ModelFile;
+use airlight_fit::tomlfile::{field_error, parse_table, FieldError};
 use std::fmt;
 
 /// The phase function a scene's medium needs.
@@ -50,60 +51,13 @@ pub struct Scene {
     pub targets: Vec<Target>,
 }
 
-/// A scene file that cannot be used: `file:line: field 'x': message`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SceneError {
-    /// The file.
-    pub file: String,
-    /// 1-based line of the field (or of its table, or 1).
-    pub line: usize,
-    /// Dotted field name.
-    pub field: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: field '{}': {}", self.file, self.line, self.field, self.message)
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-/// The line of `key = …` inside `[table]`, else the table's line, else 1.
-fn locate(text: &str, table: &str, key: &str) -> usize {
-    let header = format!("[{table}]");
-    let mut inside = false;
-    let mut table_line = 1;
-    for (i, line) in text.lines().enumerate() {
-        let l = line.trim();
-        if l.starts_with('[') {
-            inside = l == header;
-            if inside {
-                table_line = i + 1;
-            }
-        } else if inside && l.split('=').next().is_some_and(|k| k.trim() == key) {
-            return i + 1;
-        }
-    }
-    table_line
-}
+/// A scene file that cannot be used (file, line, field, message).
+pub type SceneError = FieldError;
 
 /// Parses a scene file.
 pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
-    let err = |table: &str, key: &str, msg: String| SceneError {
-        file: file.into(),
-        line: locate(text, table, key),
-        field: format!("{table}.{key}"),
-        message: msg,
-    };
-    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| SceneError {
-        file: file.into(),
-        line: e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1)),
-        field: "(syntax)".into(),
-        message: e.message().replace('\n', " "),
-    })?;
+    let err = |table: &str, key: &str, msg: String| field_error(file, text, table, key, msg);
+    let doc = parse_table(file, text)?;
     let table = |name: &str| {
         doc.get(name).and_then(toml::Value::as_table).ok_or_else(|| SceneError {
             file: file.into(),

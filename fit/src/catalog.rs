@@ -12,7 +12,7 @@ use crate::family::segments::{self, Segments, SegmentsFit};
 use crate::lsq::{self, OUTER_SOLVER};
 use crate::model::Model;
 use crate::reference::{self, Point, REFERENCE_REL_TOL};
-use crate::stats::rel_error;
+use crate::stats::{rel_error, rms_max};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use toml::Value;
@@ -236,11 +236,6 @@ pub struct Fits {
     pub paper_ratio: Option<(f64, f64)>,
 }
 
-fn rms_max(errs: &[f64]) -> (f64, f64) {
-    let rms = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len().max(1) as f64).sqrt();
-    (rms, errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())))
-}
-
 enum Job {
     Segments(usize),
     Band(usize, usize),
@@ -259,11 +254,7 @@ enum JobOut {
 pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fits {
     let want = |f: Family| only.is_none_or(|o| o == f);
     let mut fits = Fits::default();
-    let fwd_samples = if want(Family::Segments) {
-        segments::samples(segments::Side::Forward, FORWARD_POINTS, FORWARD_SEED)
-    } else {
-        vec![]
-    };
+    let fwd_samples = if want(Family::Segments) { segments::samples(FORWARD_POINTS, FORWARD_SEED) } else { vec![] };
     let band_samples: Vec<Vec<phase_exp::PhaseSample>> = if want(Family::Phase) {
         PAPER_BANDS.iter().map(|&(lo, hi)| phase_exp::phase_samples(lo, hi, PHASE_POINTS, PHASE_SEED)).collect()
     } else {
@@ -291,7 +282,7 @@ pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fi
     let outs = crate::parallel::map(
         &jobs,
         |job| match *job {
-            Job::Segments(n) => JobOut::Segments(n, segments::fit(segments::Side::Forward, n, &fwd_samples)),
+            Job::Segments(n) => JobOut::Segments(n, segments::fit(n, &fwd_samples)),
             Job::Band(k, b) => {
                 let (lo, hi) = PAPER_BANDS[b];
                 JobOut::Band(k, b, phase_exp::fit_band(lo, hi, &phase_exp::start_decays(b, k), &band_samples[b]))
@@ -363,7 +354,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
     let forward = match spec.forward {
         ForwardChoice::Paper => {
             families.push("segments-3 (paper, §3.1)".to_string());
-            let (kmax, kat) = Segments::paper().kernel_error(segments::Side::Forward);
+            let (kmax, kat) = Segments::paper().kernel_error();
             let mut v = vec![("source", s("Pradhan & Kumar §3.1, as printed"))];
             v.push(("kernel_max_abs_error", f(kmax)));
             v.push(("kernel_max_abs_error_at", f(kat)));
@@ -379,7 +370,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
         ForwardChoice::Refit(n) => {
             let fit = fits.segments.get(&n).ok_or(format!("segments-{n} was not fitted"))?;
             families.push(format!("segments-{n} (refit)"));
-            let (kmax, kat) = fit.segments.kernel_error(segments::Side::Forward);
+            let (kmax, kat) = fit.segments.kernel_error();
             prov.push((
                 "forward.fit".into(),
                 kv(vec![
@@ -660,6 +651,14 @@ fn refine(model: &dyn Model, domain: Domain, g_range: (f64, f64), start: Point) 
     let step = [0.05 * (thi - tlo), 0.05, if inf { 0.0 } else { 0.2 }, if g_range.0 == g_range.1 { 0.0 } else { 0.02 }];
     let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, 200);
     (to_point(&out.param), -out.cost)
+}
+
+/// The coefficient files under `dir` in catalog order (files naming no catalog
+/// model last, by name).
+pub fn load(dir: &std::path::Path) -> Result<Vec<ModelFile>, crate::coeffs::CoeffError> {
+    let mut files = crate::coeffs::load_dir(dir)?;
+    files.sort_by_key(|f| CATALOG.iter().position(|c| c.name == f.model.name).unwrap_or(usize::MAX));
+    Ok(files)
 }
 
 /// Assembles every model of [`CATALOG`] from `fits` and measures it on the

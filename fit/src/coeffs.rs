@@ -14,7 +14,8 @@ use crate::family::ratio::Ratio;
 use crate::family::segments::Segments;
 use crate::hexf;
 use crate::reference::Point;
-use std::fmt::{self, Write};
+use crate::tomlfile::{field_error, locate, parse_table, FieldError};
+use std::fmt::Write;
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -58,28 +59,19 @@ impl ModelFile {
     pub fn error(&self, domain: &str) -> Option<&DomainErrors> {
         self.errors.iter().find(|e| e.domain == domain)
     }
-}
 
-/// A coefficient file that cannot be used: `file:line: field: message`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct CoeffError {
-    /// The file.
-    pub file: String,
-    /// 1-based line (the field's line where it can be found, else its table's).
-    pub line: usize,
-    /// Dotted path of the field.
-    pub field: String,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for CoeffError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: field '{}': {}", self.file, self.line, self.field, self.message)
+    /// The provenance value `key` of table `table` (e.g. `forward.fit`), if present.
+    pub fn provenance_value(&self, table: &str, key: &str) -> Option<&Value> {
+        self.provenance
+            .iter()
+            .find(|(t, _)| t == table)
+            .and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key))
+            .map(|(_, v)| v)
     }
 }
 
-impl std::error::Error for CoeffError {}
+/// A coefficient file that cannot be used (file, line, field, message).
+pub type CoeffError = FieldError;
 
 fn dec(x: f64) -> String {
     // Shortest text that reads back as the same f64; TOML spells infinity `inf`.
@@ -206,10 +198,7 @@ pub fn render(f: &ModelFile) -> String {
 
 /// Reads a coefficient file.
 pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
-    let doc: Table = text.parse().map_err(|e: toml::de::Error| {
-        let line = e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1));
-        CoeffError { file: file.into(), line, field: "(syntax)".into(), message: e.message().replace('\n', " ") }
-    })?;
+    let doc: Table = parse_table(file, text)?;
     let p = Parser { file, text };
     let model = p.table(&doc, "model")?;
     let name = p.string(model, "model", "name")?;
@@ -393,28 +382,6 @@ pub fn load_dir(dir: &Path) -> Result<Vec<ModelFile>, CoeffError> {
         .collect()
 }
 
-/// The line of `key = …` inside `[section]` (or of the section header, or 1).
-fn locate(text: &str, section: &str, key: &str) -> usize {
-    let header = format!("[{section}]");
-    let mut in_section = section.is_empty();
-    let mut section_line = 1;
-    let leaf = key.rsplit('.').next().unwrap_or(key);
-    for (i, line) in text.lines().enumerate() {
-        let l = line.trim();
-        if l.starts_with('[') {
-            in_section = l == header || l == format!("[{header}]");
-            if in_section {
-                section_line = i + 1;
-            }
-            continue;
-        }
-        if in_section && l.split('=').next().is_some_and(|k| k.trim() == leaf) {
-            return i + 1;
-        }
-    }
-    section_line
-}
-
 struct Parser<'a> {
     file: &'a str,
     text: &'a str,
@@ -423,12 +390,7 @@ struct Parser<'a> {
 impl Parser<'_> {
     fn err(&self, section: &str, key: &str, msg: &str) -> CoeffError {
         let sec = section.trim_start_matches('[').trim_end_matches(']');
-        CoeffError {
-            file: self.file.into(),
-            line: locate(self.text, sec, key),
-            field: format!("{sec}.{key}"),
-            message: msg.into(),
-        }
+        field_error(self.file, self.text, sec, key, msg)
     }
     fn get<'t>(&self, t: &'t Table, sec: &str, key: &str) -> Result<&'t Value, CoeffError> {
         t.get(key).ok_or_else(|| self.err(sec, key, "missing"))

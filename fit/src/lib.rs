@@ -29,6 +29,7 @@ pub mod quad;
 pub mod reference;
 pub mod selfcheck;
 pub mod stats;
+pub mod tomlfile;
 
 pub use phase::Phase;
 pub use reference::{airlight, airlight_detailed, Param, ParamError, Point};

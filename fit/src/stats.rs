@@ -39,6 +39,12 @@ impl ErrorStats {
     }
 }
 
+/// Root-mean-square and largest magnitude of signed relative errors (0, 0 when empty).
+pub fn rms_max(errs: &[f64]) -> (f64, f64) {
+    let rms = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len().max(1) as f64).sqrt();
+    (rms, errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())))
+}
+
 /// `|approx − exact| / exact`; 0 when both are equal (including both `+∞` or
 /// both 0), `+∞` when only one is infinite or the approximation is NaN.
 pub fn rel_error(approx: f64, exact: f64) -> f64 {

@@ -15,10 +15,5 @@ pub fn generated_dir() -> PathBuf {
 
 /// The committed coefficient files, in catalog order.
 pub fn committed_models() -> Vec<airlight_fit::coeffs::ModelFile> {
-    let mut files = airlight_fit::coeffs::load_dir(&generated_dir().join("coefficients"))
-        .expect("committed coefficient files parse");
-    files.sort_by_key(|f| {
-        airlight_fit::catalog::CATALOG.iter().position(|c| c.name == f.model.name).unwrap_or(usize::MAX)
-    });
-    files
+    airlight_fit::catalog::load(&generated_dir().join("coefficients")).expect("committed coefficient files parse")
 }

@@ -48,13 +48,6 @@ impl Target {
             Target::Local => LOCAL_RATIO,
         }
     }
-    /// Name in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::Near => "near",
-            Target::Local => "local",
-        }
-    }
 }
 
 /// `w(u) ≈ Σ c_k e^{−s_k u}` on `[1, U_MAX]`.

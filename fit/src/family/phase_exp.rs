@@ -291,13 +291,7 @@ pub fn fit_band(g_lo: f64, g_hi: f64, start: &[f64], samples: &[PhaseSample]) ->
     let (a, mse) = solve_amplitudes(&b, gm, samples).expect("the search ended at a finite cost");
     let band = Band { g_lo, g_hi, a, b };
     let errs = a_errors(|g| ExpPhase { bands: vec![band.clone()], scale: 1.0 }.terms(g), samples);
-    BandFit {
-        band,
-        outcome,
-        samples: samples.len(),
-        rms_rel: mse.sqrt(),
-        max_rel: errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())),
-    }
+    BandFit { band, outcome, samples: samples.len(), rms_rel: mse.sqrt(), max_rel: crate::stats::rms_max(&errs).1 }
 }
 
 /// Starting decays for a `k`-term fit of a band: the paper's `b` at the band's

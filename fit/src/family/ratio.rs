@@ -202,15 +202,8 @@ pub fn fit(samples: &[RatioSample]) -> RatioFit {
     let outcome = lsq::nelder_mead_restarted(&cost, &x0, &step, c0 * 1e-10, 4000, 2);
     let (g, h) = split(&outcome.param);
     let (ratio, mse) = solve_f(g, h, samples).expect("the search ended at a finite cost");
-    let errs = backward_errors(&ratio, samples);
-    RatioFit {
-        ratio,
-        outcome,
-        samples: samples.len(),
-        rms_rel: (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt(),
-        max_rel: errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())),
-        a_rms_rel: mse.sqrt(),
-    }
+    let (rms_rel, max_rel) = crate::stats::rms_max(&backward_errors(&ratio, samples));
+    RatioFit { ratio, outcome, samples: samples.len(), rms_rel, max_rel, a_rms_rel: mse.sqrt() }
 }
 
 #[cfg(test)]

@@ -20,55 +20,6 @@ pub fn kernel(theta: f64) -> f64 {
     theta.cos() / (1.0 + theta.sin())
 }
 
-/// Which side of the foot of the perpendicular a kernel serves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    /// `θ' ∈ [0, π/2]` before the foot point: `k = sec θ' − tan θ' ∈ [0, 1]` (the paper's).
-    Forward,
-    /// `θ ∈ [0, π/2)` past the foot point: `k = sec θ + tan θ ∈ [1, ∞)` (this project's
-    /// generalisation: the backward part integrated the same way).
-    Backward,
-}
-
-impl Side {
-    /// Name in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Side::Forward => "forward",
-            Side::Backward => "backward",
-        }
-    }
-
-    /// The exact kernel.
-    pub fn kernel(self, theta: f64) -> f64 {
-        match self {
-            Side::Forward => kernel(theta),
-            Side::Backward => crate::family::phase_exp::sec_plus_tan(theta),
-        }
-    }
-
-    /// The side's angle interval of a canonical point, `(T, lo, hi)`, if non-empty.
-    pub fn interval(self, p: &Point) -> Option<(f64, f64, f64)> {
-        match self {
-            Side::Forward => forward_interval(p),
-            Side::Backward => {
-                let (h, x0) = (p.gamma.sin(), p.gamma.cos());
-                let lo = (p.gamma - FRAC_PI_2).max(0.0);
-                let hi = if p.rho.is_infinite() { FRAC_PI_2 } else { (p.rho - x0).atan2(h) };
-                (hi > lo).then_some((p.tau * h, lo, hi))
-            }
-        }
-    }
-
-    /// `∫_lo^hi e^{−T k(θ)} dθ` by adaptive quadrature.
-    pub fn exact(self, t: f64, lo: f64, hi: f64) -> f64 {
-        match self {
-            Side::Forward => exact_forward(t, lo, hi),
-            Side::Backward => crate::family::ratio::exact_backward(t, lo, hi),
-        }
-    }
-}
-
 /// `(e^x − 1) / x`, 1 at 0, accurate for all x (no 0/0, no cancellation).
 pub fn exprel(x: f64) -> f64 {
     if x == 0.0 {
@@ -161,14 +112,11 @@ impl Segments {
 
     /// Largest `|k̂ − k|` over `[0, π/2]` (dense sampling plus the breakpoints),
     /// and where it occurs.
-    /// For the backward side (unbounded at π/2) the range stops at π/2 − 0.01.
-    pub fn kernel_error(&self, side: Side) -> (f64, f64) {
+    pub fn kernel_error(&self) -> (f64, f64) {
         let mut worst = (0.0, 0.0);
-        let end = if side == Side::Forward { FRAC_PI_2 } else { FRAC_PI_2 - 0.01 };
-        let grid =
-            (0..=4000).map(|i| end * i as f64 / 4000.0).chain(self.breakpoints.iter().copied().filter(|&b| b <= end));
+        let grid = (0..=4000).map(|i| FRAC_PI_2 * i as f64 / 4000.0).chain(self.breakpoints.iter().copied());
         for th in grid {
-            let e = (self.eval(th) - side.kernel(th)).abs();
+            let e = (self.eval(th) - kernel(th)).abs();
             if e > worst.0 {
                 worst = (e, th);
             }
@@ -206,17 +154,21 @@ pub fn exact_forward(t: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// `n` points from each of `thin` and `dense` (low-discrepancy, `seed`, corners
-/// included) that have a part on `side`, with their exact integrals.
-pub fn samples(side: Side, n: usize, seed: u64) -> Vec<ForwardSample> {
+/// included) that have a forward part, with their exact forward integrals.
+pub fn samples(n: usize, seed: u64) -> Vec<ForwardSample> {
     let mut tasks = Vec::new();
     for d in [Domain::Thin, Domain::Dense] {
         for p in d.validation_set((0.0, 0.0), n, seed) {
-            if let Some(iv) = side.interval(&p) {
+            if let Some(iv) = forward_interval(&p) {
                 tasks.push(iv);
             }
         }
     }
-    crate::parallel::map(&tasks, |&(t, lo, hi)| ForwardSample { t, lo, hi, exact: side.exact(t, lo, hi) }, &|_, _| {})
+    crate::parallel::map(
+        &tasks,
+        |&(t, lo, hi)| ForwardSample { t, lo, hi, exact: exact_forward(t, lo, hi) },
+        &|_, _| {},
+    )
 }
 
 /// Result of fitting one `N`.
@@ -244,13 +196,9 @@ pub fn forward_errors(seg: &Segments, samples: &[ForwardSample]) -> Vec<f64> {
 /// Best segment values for fixed breakpoints: Gauss–Newton on the relative
 /// errors, each step a linear least-squares problem solved by SVD. Returns the
 /// kernel, the mean squared relative error and the steps taken.
-pub fn fit_values(side: Side, breakpoints: &[f64], samples: &[ForwardSample]) -> (Segments, f64, usize) {
+pub fn fit_values(breakpoints: &[f64], samples: &[ForwardSample]) -> (Segments, f64, usize) {
     let n = breakpoints.len() - 1;
-    let mut y: Vec<f64> = breakpoints.iter().map(|&t| side.kernel(t)).collect();
-    if !y[n].is_finite() {
-        // sec + tan is unbounded at π/2: start from twice its value mid-way into the last segment.
-        y[n] = 2.0 * side.kernel(0.5 * (breakpoints[n - 1] + breakpoints[n]));
-    }
+    let mut y: Vec<f64> = breakpoints.iter().map(|&t| kernel(t)).collect();
     let mut steps = 0;
     for _ in 0..8 {
         let seg = Segments::from_values(breakpoints, &y);
@@ -309,26 +257,16 @@ fn breakpoints_from(x: &[f64]) -> Vec<f64> {
 }
 
 /// Fits an `n`-segment kernel (2 ≤ n ≤ 16) to `samples`.
-pub fn fit(side: Side, n: usize, samples: &[ForwardSample]) -> SegmentsFit {
+pub fn fit(n: usize, samples: &[ForwardSample]) -> SegmentsFit {
     assert!((2..=16).contains(&n), "segments: N = {n} outside 2..=16");
-    let cost = |x: &[f64]| fit_values(side, &breakpoints_from(x), samples).1;
-    // Forward: equal widths. Backward: widths shrinking towards π/2, where sec + tan bends.
-    let start: Vec<f64> = match side {
-        Side::Forward => vec![0.0; n - 1],
-        Side::Backward => (0..n - 1).map(|j| 0.5 * (n - 1 - j) as f64).collect(),
-    };
+    let cost = |x: &[f64]| fit_values(&breakpoints_from(x), samples).1;
+    // Equal widths to start.
+    let start = vec![0.0; n - 1];
     let c0 = cost(&start);
     let outcome = lsq::nelder_mead_restarted(&cost, &start, &vec![0.3; n - 1], c0 * 1e-9, 150 * n as u64 + 200, 2);
-    let (segments, mse, inner_steps) = fit_values(side, &breakpoints_from(&outcome.param), samples);
-    let errs = forward_errors(&segments, samples);
-    SegmentsFit {
-        segments,
-        outcome,
-        inner_steps,
-        samples: samples.len(),
-        rms_rel: mse.sqrt(),
-        max_rel: errs.iter().fold(0.0, |m: f64, e| m.max(e.abs())),
-    }
+    let (segments, _, inner_steps) = fit_values(&breakpoints_from(&outcome.param), samples);
+    let (rms_rel, max_rel) = crate::stats::rms_max(&forward_errors(&segments, samples));
+    SegmentsFit { segments, outcome, inner_steps, samples: samples.len(), rms_rel, max_rel }
 }
 
 #[cfg(test)]
@@ -367,12 +305,12 @@ mod tests {
 
     #[test]
     fn refit_beats_the_paper_on_its_own_objective() {
-        let samples = samples(Side::Forward, 300, 0x05EE_DF17);
+        let samples = samples(300, 0x05EE_DF17);
         let paper = forward_errors(&Segments::paper(), &samples);
         let paper_rms = (paper.iter().map(|e| e * e).sum::<f64>() / samples.len() as f64).sqrt();
-        let fit = fit(Side::Forward, 3, &samples);
+        let fit = fit(3, &samples);
         assert!(fit.rms_rel < paper_rms, "{} vs {}", fit.rms_rel, paper_rms);
-        let more = super::fit(Side::Forward, 6, &samples);
+        let more = super::fit(6, &samples);
         assert!(more.rms_rel < 0.5 * fit.rms_rel);
         // Continuity.
         let s = &more.segments;
