@@ -321,12 +321,20 @@ fn with_progress<T>(what: &str, work: impl FnOnce(&(dyn Fn(usize, usize) + Sync)
     out
 }
 
+/// Everything under `generated/`, with the scenes of `codegen/scenes/` (next to `generated/`).
 fn render(
     check: &selfcheck::SelfCheck,
     models: &[ModelFile],
-    bench: Option<&Bench>,
+    generated: &Path,
 ) -> Result<Vec<airlight_codegen::Output>, Failure> {
-    airlight_codegen::render_all(check, models, bench).map_err(|e| Failure(1, format!("rendering generated/: {e}")))
+    let bench = read_bench(generated)?;
+    let root = generated.parent().unwrap_or(Path::new("."));
+    let scenes = airlight_codegen::scene::load_dir(&root.join("codegen/scenes"), "codegen/scenes")
+        .map_err(|e| Failure(2, e.to_string()))?;
+    airlight_codegen::render_all(check, models, bench.as_ref(), &scenes).map_err(|e| match e {
+        airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
+        _ => Failure(1, format!("rendering generated/: {e}")),
+    })
 }
 
 /// `generated/bench.json` if present.
@@ -379,7 +387,7 @@ fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
             generated.join("coefficients").display()
         )));
     }
-    let outputs = render(&measure(), &files, read_bench(&generated)?.as_ref())?;
+    let outputs = render(&measure(), &files, &generated)?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
         for d in &diffs {
@@ -406,7 +414,7 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     let fits = run_fits(None);
     print_fits(&fits);
     let files = build_models(&fits)?;
-    let outputs = render(&check, &files, read_bench(&generated)?.as_ref())?;
+    let outputs = render(&check, &files, &generated)?;
     let written = write_outputs(&generated, &outputs)?;
     for f in &files {
         let e =

@@ -8,6 +8,7 @@
 
 #![warn(missing_docs)]
 
+pub mod kernel;
 pub mod output;
 pub mod plots;
 pub mod report;
@@ -27,6 +28,8 @@ pub enum RenderError {
     Template(tera::Error),
     /// A figure failed.
     Plot(plots::PlotError),
+    /// A scene has no plan.
+    Scene(String, scene::PlanError),
 }
 
 impl fmt::Display for RenderError {
@@ -34,6 +37,7 @@ impl fmt::Display for RenderError {
         match self {
             RenderError::Template(e) => write!(f, "template: {e}"),
             RenderError::Plot(e) => write!(f, "{e}"),
+            RenderError::Scene(file, e) => write!(f, "{file}: {e}"),
         }
     }
 }
@@ -46,7 +50,13 @@ impl std::error::Error for RenderError {}
 ///
 /// `bench` is `generated/bench.json` as measured by `airlight bench` (an input the
 /// report quotes; it is passed through unchanged so it is never orphaned).
-pub fn render_all(check: &SelfCheck, models: &[ModelFile], bench: Option<&Bench>) -> Result<Vec<Output>, RenderError> {
+/// `scenes` are the scene files (`codegen/scenes/`); each gets its own kernels and plan.
+pub fn render_all(
+    check: &SelfCheck,
+    models: &[ModelFile],
+    bench: Option<&Bench>,
+    scenes: &[scene::Scene],
+) -> Result<Vec<Output>, RenderError> {
     let mut out = vec![report::render(check, models, bench).map_err(RenderError::Template)?];
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
@@ -55,5 +65,13 @@ pub fn render_all(check: &SelfCheck, models: &[ModelFile], bench: Option<&Bench>
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
     }
     out.extend(plots::render(models).map_err(RenderError::Plot)?);
+    let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
+    for s in scenes {
+        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.file.clone(), e))?;
+        let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
+        out.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
+        specs.push(spec);
+    }
+    out.extend(kernel::render(&specs).map_err(RenderError::Template)?);
     Ok(out)
 }

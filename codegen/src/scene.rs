@@ -17,6 +17,17 @@ pub enum ScenePhase {
     Range(f64, f64),
 }
 
+impl ScenePhase {
+    /// The `g` range the phase function needs.
+    pub fn g_range(&self) -> (f64, f64) {
+        match *self {
+            ScenePhase::Isotropic => (0.0, 0.0),
+            ScenePhase::Fixed(g) => (g, g),
+            ScenePhase::Range(lo, hi) => (lo, hi),
+        }
+    }
+}
+
 /// An output language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
@@ -28,11 +39,24 @@ pub enum Target {
     Rust,
 }
 
+impl Target {
+    /// As written in scene files and the output table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Wgsl => "wgsl",
+            Target::Glsl => "glsl",
+            Target::Rust => "rust",
+        }
+    }
+}
+
 /// A parsed scene file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     /// File stem.
     pub name: String,
+    /// The file, as named in messages.
+    pub file: String,
     /// Extinction coefficient range `[lo, hi]` (1/length).
     pub sigma_t: (f64, f64),
     /// Phase function.
@@ -143,6 +167,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         std::path::Path::new(file).file_stem().map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned());
     Ok(Scene {
         name,
+        file: file.to_string(),
         sigma_t,
         phase,
         extinction,
@@ -152,6 +177,31 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         max_rel_error,
         targets,
     })
+}
+
+/// Every scene file in `dir` (`*.toml`), sorted by name; `shown` is how the
+/// directory is named in messages.
+pub fn load_dir(dir: &std::path::Path, shown: &str) -> Result<Vec<Scene>, SceneError> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .map_err(|e| SceneError { file: shown.into(), line: 1, field: "(directory)".into(), message: e.to_string() })?
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| {
+            let file = format!("{shown}/{}", p.file_name().unwrap_or_default().to_string_lossy());
+            let text = std::fs::read_to_string(p).map_err(|e| SceneError {
+                file: file.clone(),
+                line: 1,
+                field: "(file)".into(),
+                message: e.to_string(),
+            })?;
+            parse(&file, &text)
+        })
+        .collect()
 }
 
 /// What the scene gets and why.
@@ -189,6 +239,12 @@ pub enum PlanError {
         /// σt_max · max_distance.
         tau_max: f64,
     },
+    /// `backscatter = false` drops the backward part, which is all of `A` when
+    /// looking away from a light: only a budget of at least 100% allows it.
+    NoBackscatter {
+        /// The scene's budget.
+        budget: f64,
+    },
     /// No model meets the budget; the best bound there is, and whose.
     Budget {
         /// The scene's budget.
@@ -209,6 +265,11 @@ impl fmt::Display for PlanError {
                 f,
                 "no model meets max_rel_error = {budget}; the best achievable for this scene is {bound:.2e} (`{name}`)"
             ),
+            PlanError::NoBackscatter { budget } => write!(
+                f,
+                "backscatter = false leaves out the backward part, which is 100% of A looking away from a light; \
+                 max_rel_error = {budget} cannot hold (it needs >= 1)"
+            ),
             PlanError::Budget { budget, best: None } => {
                 write!(f, "no model covers this scene's phase function (budget {budget})")
             }
@@ -227,6 +288,9 @@ const TAU_THIN_MAX: f64 = 2.0;
 /// every error domain the scene reaches (ties go to the smaller bound).
 pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
     let tau_max = scene.sigma_t.1 * scene.max_distance;
+    if !scene.backscatter && scene.max_rel_error < 1.0 {
+        return Err(PlanError::NoBackscatter { budget: scene.max_rel_error });
+    }
     if !scene.extinction && scene.phase == ScenePhase::Isotropic {
         return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec![] });
     }
@@ -240,11 +304,7 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
     if tau_max > TAU_THIN_MAX {
         domains.push("dense");
     }
-    let (g_lo, g_hi) = match scene.phase {
-        ScenePhase::Isotropic => (0.0, 0.0),
-        ScenePhase::Fixed(g) => (g, g),
-        ScenePhase::Range(lo, hi) => (lo, hi),
-    };
+    let (g_lo, g_hi) = scene.phase.g_range();
     let covering: Vec<(&ModelFile, f64)> = models
         .iter()
         .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)

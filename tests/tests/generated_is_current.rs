@@ -12,7 +12,10 @@ fn generated_matches_a_fresh_rendering() {
     let bench = std::fs::read_to_string(generated_dir().join("bench.json"))
         .ok()
         .map(|t| airlight_fit::bench::Bench::from_json(&t).expect("bench.json parses"));
-    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref()).expect("renders");
+    let scenes =
+        airlight_codegen::scene::load_dir(&airlight_tests::repo_root().join("codegen/scenes"), "codegen/scenes")
+            .expect("scenes parse");
+    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), &scenes).expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),

@@ -1,0 +1,773 @@
+//! Shader and Rust kernels: what each kernel needs (a [`KernelSpec`], computed from
+//! a coefficient file and, for scenes, the scene's specialisations), and their
+//! rendering through the templates under `codegen/templates/kernels/` as listed in
+//! the output table `codegen/outputs.toml`.
+//!
+//! Names, f32 literals and every derived constant are computed here; the templates
+//! only lay code out. Constants are rounded once, from the exact f64 coefficients,
+//! to the nearest f32 and printed with 9 significant digits (which reads back as
+//! the same f32 in WGSL, GLSL and Rust).
+
+use crate::output::Output;
+use crate::scene::{Choice, Plan, Scene, ScenePhase, Target};
+use airlight_fit::approx::PhaseModel;
+use airlight_fit::coeffs::ModelFile;
+use airlight_fit::family::expsum::{LOCAL_RATIO, SPLIT};
+use airlight_fit::family::phase_exp::ExpPhase;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The output table (`codegen/outputs.toml`).
+pub const OUTPUT_TABLE: &str = include_str!("../outputs.toml");
+
+/// Templates, by file name.
+pub const TEMPLATES: [(&str, &str); 12] = [
+    ("plan.md.tera", include_str!("../templates/kernels/plan.md.tera")),
+    ("kernel.rs.tera", include_str!("../templates/kernels/kernel.rs.tera")),
+    ("closed.rs.tera", include_str!("../templates/kernels/closed.rs.tera")),
+    ("kernel.wgsl.tera", include_str!("../templates/kernels/kernel.wgsl.tera")),
+    ("closed.wgsl.tera", include_str!("../templates/kernels/closed.wgsl.tera")),
+    ("kernel.glsl.tera", include_str!("../templates/kernels/kernel.glsl.tera")),
+    ("closed.glsl.tera", include_str!("../templates/kernels/closed.glsl.tera")),
+    ("math.wgsl.tera", include_str!("../templates/kernels/math.wgsl.tera")),
+    ("math.glsl.tera", include_str!("../templates/kernels/math.glsl.tera")),
+    ("Cargo.toml.tera", include_str!("../templates/kernels/Cargo.toml.tera")),
+    ("lib.rs.tera", include_str!("../templates/kernels/lib.rs.tera")),
+    ("math.rs.tera", include_str!("../templates/kernels/math.rs.tera")),
+];
+
+/// One row of the kernel table.
+#[derive(Debug, Clone, Deserialize)]
+pub struct KernelOutput {
+    /// `wgsl`, `glsl` or `rust`.
+    pub target: String,
+    /// Template for fitted models.
+    pub template: String,
+    /// Template for the no-extinction closed form.
+    pub closed_template: String,
+    /// Output path pattern.
+    pub path: String,
+    /// Prefix of every item (pattern).
+    pub prefix: String,
+    /// `#define_import_path` (pattern), for naga_oil modules.
+    #[serde(default)]
+    pub import_path: Option<String>,
+    /// What this variant is.
+    pub variant: String,
+}
+
+/// A file rendered once.
+#[derive(Debug, Clone, Deserialize)]
+pub struct FileOutput {
+    /// Template.
+    pub template: String,
+    /// Output path (pattern, for plans).
+    pub path: String,
+}
+
+/// The whole table.
+#[derive(Debug, Clone, Deserialize)]
+pub struct OutputTable {
+    /// Per-kernel outputs.
+    pub kernel: Vec<KernelOutput>,
+    /// Files of the Rust crate.
+    pub crate_file: Vec<FileOutput>,
+    /// Per-scene plan.
+    pub plan: Vec<FileOutput>,
+}
+
+impl OutputTable {
+    /// The committed table.
+    pub fn standard() -> OutputTable {
+        toml::from_str(OUTPUT_TABLE).expect("codegen/outputs.toml parses (checked by a test)")
+    }
+}
+
+/// The nearest f32 to `x`, printed with 9 significant digits (round-trips in every target).
+pub fn lit(x: f64) -> String {
+    let v = x as f32;
+    if v == 0.0 {
+        return "0.0".into();
+    }
+    format!("{v:.8e}")
+}
+
+/// How a kernel evaluates the phase function.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KernelPhase {
+    /// `1/(4π)`: no phase code.
+    Isotropic,
+    /// One `g`, its terms baked in.
+    Fixed(f64),
+    /// `g` at run time, over these bands of `|g|` (a band search).
+    Banded(Vec<usize>),
+}
+
+/// Everything that shapes one kernel.
+#[derive(Debug, Clone)]
+pub struct KernelSpec {
+    /// `segments-8`, `scene-fog-street`.
+    pub name: String,
+    /// The model, or `None` for the no-extinction closed form.
+    pub model: Option<ModelFile>,
+    /// Phase handling.
+    pub phase: KernelPhase,
+    /// Whether rays can end on a surface.
+    pub surfaces: bool,
+    /// Whether extinction is modelled (false: τ = 0).
+    pub extinction: bool,
+    /// Whether the backward part (beyond the foot point) is kept.
+    pub backscatter: bool,
+    /// The declared bound, as one line.
+    pub bound: String,
+    /// Where it came from: `None` for a model kernel, the scene file for scenes.
+    pub scene: Option<String>,
+    /// Targets to emit.
+    pub targets: Vec<Target>,
+}
+
+fn domain_bound(m: &ModelFile, domains: &[&str]) -> String {
+    domains
+        .iter()
+        .filter_map(|d| m.error(d).map(|e| format!("{d} {}", crate::report::fmt_err(e.max_rel))))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl KernelSpec {
+    /// The general kernel of a model: surfaces, extinction, backscatter, and its whole `g` range.
+    pub fn for_model(m: &ModelFile) -> KernelSpec {
+        let phase = match &m.model.phase {
+            PhaseModel::Isotropic => KernelPhase::Isotropic,
+            PhaseModel::Exp(e) => KernelPhase::Banded((0..e.bands.len()).collect()),
+        };
+        KernelSpec {
+            name: m.model.name.clone(),
+            bound: format!("max relative error of A (f64 model): {}", domain_bound(m, &["thin", "dense"])),
+            model: Some(m.clone()),
+            phase,
+            surfaces: true,
+            extinction: true,
+            backscatter: true,
+            scene: None,
+            targets: vec![Target::Wgsl, Target::Glsl, Target::Rust],
+        }
+    }
+
+    /// The specialised kernel of a scene, from its plan.
+    pub fn for_scene(scene: &Scene, plan: &Plan, models: &[ModelFile], scene_file: &str) -> KernelSpec {
+        let name = format!("scene-{}", scene.name);
+        let common = |model: Option<ModelFile>, phase: KernelPhase, bound: String| KernelSpec {
+            name: name.clone(),
+            model,
+            phase,
+            surfaces: scene.surfaces,
+            extinction: scene.extinction,
+            backscatter: scene.backscatter,
+            bound,
+            scene: Some(scene_file.to_string()),
+            targets: scene.targets.clone(),
+        };
+        match &plan.choice {
+            Choice::NoExtinction => {
+                common(None, KernelPhase::Isotropic, "exact (closed form); f32 rounding only".into())
+            }
+            Choice::Model { name: model, .. } => {
+                let m = models.iter().find(|m| &m.model.name == model).expect("the plan names a loaded model").clone();
+                let phase = match (&m.model.phase, &scene.phase) {
+                    (PhaseModel::Isotropic, _) | (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
+                    (PhaseModel::Exp(_), ScenePhase::Fixed(g)) => KernelPhase::Fixed(*g),
+                    (PhaseModel::Exp(e), ScenePhase::Range(lo, hi)) => {
+                        let (alo, ahi) = if *lo <= 0.0 && *hi >= 0.0 {
+                            (0.0, lo.abs().max(hi.abs()))
+                        } else {
+                            (lo.abs().min(hi.abs()), lo.abs().max(hi.abs()))
+                        };
+                        KernelPhase::Banded(
+                            (0..e.bands.len())
+                                .filter(|&i| {
+                                    let b = &e.bands[i];
+                                    // the band search takes the first band whose top reaches |g|
+                                    let below = if i == 0 { f64::NEG_INFINITY } else { e.bands[i - 1].g_hi };
+                                    (b.g_hi >= alo || i + 1 == e.bands.len()) && below < ahi
+                                })
+                                .collect(),
+                        )
+                    }
+                };
+                let mut bound = format!(
+                    "max relative error of A (f64 model, over {}): {}",
+                    plan.domains.join(" and "),
+                    domain_bound(&m, &plan.domains)
+                );
+                if !scene.backscatter {
+                    bound.push_str("; without the backward part (by request): up to 100% looking away from a light");
+                }
+                common(Some(m), phase, bound)
+            }
+        }
+    }
+
+    /// The kernel's name as an identifier.
+    pub fn ident(&self) -> String {
+        self.name.replace('-', "_")
+    }
+
+    /// Whether `g` is a run-time parameter.
+    pub fn g_param(&self) -> bool {
+        matches!(self.phase, KernelPhase::Banded(_))
+    }
+
+    fn exp_phase(&self) -> Option<&ExpPhase> {
+        match &self.model.as_ref()?.model.phase {
+            PhaseModel::Exp(e) => Some(e),
+            PhaseModel::Isotropic => None,
+        }
+    }
+
+    /// Worst-case operation count of one evaluation of this f32 kernel (the
+    /// canonical entry): calls of `exp`, `log`, `atan` and `sqrt`, and divisions.
+    pub fn op_count(&self) -> OpCount {
+        let Some(m) = &self.model else {
+            return OpCount { exp: 0, log: 0, atan: 1, sqrt: 0, div: 2, sincos: 1 };
+        };
+        let k = match &self.phase {
+            KernelPhase::Isotropic => 1,
+            _ => self.exp_phase().map_or(1, |e| e.k()),
+        };
+        let phase_evals = if self.phase == KernelPhase::Isotropic { 0 } else { k };
+        let n = m.model.forward.n();
+        // Forward: at most two segments' exp + exprel per term, but the loop is over all N.
+        let mut c = OpCount { exp: 2 * n * k, log: 0, atan: 3, sqrt: 0, div: 3, sincos: 1 };
+        if self.backscatter {
+            let near = m.model.expsum.near.c.len();
+            let local = m.model.expsum.local.c.len();
+            let expsum_exp = near * (2 + phase_evals) + (local * (2 + phase_evals)).max(4 + phase_evals);
+            let expsum_atan = if phase_evals > 0 { near + local } else { 0 };
+            let expsum = OpCount {
+                exp: expsum_exp,
+                log: 1,
+                atan: expsum_atan,
+                sqrt: usize::from(self.surfaces),
+                div: 12,
+                sincos: 0,
+            };
+            let back = if m.model.ratio.is_some() {
+                let ratio = OpCount { exp: 3 + 2 * n + phase_evals, log: 1, atan: 1, sqrt: 0, div: 1, sincos: 0 };
+                ratio.max(&expsum)
+            } else {
+                expsum
+            };
+            c = c.add(&back);
+        }
+        if self.phase != KernelPhase::Isotropic {
+            c.exp += phase_evals; // on-axis phase
+        }
+        c
+    }
+}
+
+/// Operation counts of one kernel evaluation (worst path).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct OpCount {
+    /// `exp` calls (exprel included).
+    pub exp: usize,
+    /// `log` calls.
+    pub log: usize,
+    /// `atan`/`atan2` calls.
+    pub atan: usize,
+    /// `sqrt` calls.
+    pub sqrt: usize,
+    /// Divisions.
+    pub div: usize,
+    /// `sin_cos` (canonical entry only).
+    pub sincos: usize,
+}
+
+impl OpCount {
+    fn add(&self, o: &OpCount) -> OpCount {
+        OpCount {
+            exp: self.exp + o.exp,
+            log: self.log + o.log,
+            atan: self.atan + o.atan,
+            sqrt: self.sqrt + o.sqrt,
+            div: self.div + o.div,
+            sincos: self.sincos + o.sincos,
+        }
+    }
+    fn max(&self, o: &OpCount) -> OpCount {
+        OpCount {
+            exp: self.exp.max(o.exp),
+            log: self.log.max(o.log),
+            atan: self.atan.max(o.atan),
+            sqrt: self.sqrt.max(o.sqrt),
+            div: self.div.max(o.div),
+            sincos: self.sincos.max(o.sincos),
+        }
+    }
+    /// Transcendental calls in all.
+    pub fn transcendental(&self) -> usize {
+        self.exp + self.log + self.atan + self.sqrt + self.sincos
+    }
+}
+
+#[derive(Serialize)]
+struct Seg {
+    lo: String,
+    hi: String,
+    slope: String,
+    icpt: String,
+}
+
+#[derive(Serialize)]
+struct Term {
+    c: String,
+    s: String,
+}
+
+#[derive(Serialize)]
+struct BandCtx {
+    g_hi: String,
+    g_mid: String,
+    a: Vec<Vec<String>>,
+    b: Vec<Vec<String>>,
+}
+
+#[derive(Serialize)]
+struct FixedCtx {
+    c: Vec<String>,
+    b: Vec<String>,
+    mirrored: bool,
+}
+
+#[derive(Serialize)]
+struct RatioCtx {
+    f: Vec<String>,
+    g: Vec<String>,
+    h: Vec<String>,
+}
+
+fn lits(xs: &[f64]) -> Vec<String> {
+    xs.iter().map(|&x| lit(x)).collect()
+}
+
+/// Comment lines of a generated file's header (without comment markers).
+fn header_lines(spec: &KernelSpec, out: &KernelOutput, template: &str) -> Vec<String> {
+    let mut h = vec![
+        format!("airlight kernel `{}` — {}.", spec.name, out.variant.replace("{ident}", &spec.ident())),
+        "Generated by `airlight generate` — edit the template, not this file.".to_string(),
+        format!("template: codegen/templates/kernels/{template}"),
+    ];
+    match &spec.model {
+        Some(m) => {
+            h.push(format!("model: {}; coefficients: generated/coefficients/{}.toml", m.model.name, m.model.name))
+        }
+        None => h.push("model: none (exact closed form without extinction, seed 003)".into()),
+    }
+    if let Some(s) = &spec.scene {
+        h.push(format!("scene: {s}; plan: generated/plans/{}.md", spec.name));
+    }
+    h.push(format!("declared bound: {}", spec.bound));
+    h
+}
+
+fn comment(lines: &[String], marker: &str) -> String {
+    lines.iter().map(|l| format!("{marker} {l}")).collect::<Vec<_>>().join("\n")
+}
+
+/// Renders one kernel for one table row.
+fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Result<Output, tera::Error> {
+    let ident = spec.ident();
+    let template = if spec.model.is_some() { &out.template } else { &out.closed_template };
+    let lang = out.target.as_str();
+    let mut ctx = tera::Context::new();
+    let header = comment(&header_lines(spec, out, template), "//");
+    let header = match &out.import_path {
+        Some(p) => format!("#define_import_path {}\n\n{header}", p.replace("{ident}", &ident)),
+        None => header,
+    };
+    ctx.insert("header", &header);
+    ctx.insert("p", &out.prefix.replace("{ident}", &ident));
+    ctx.insert("title", &spec.name);
+    ctx.insert("surfaces", &spec.surfaces);
+    ctx.insert("extinction", &spec.extinction);
+    ctx.insert("backscatter", &spec.backscatter);
+    ctx.insert("g_param", &spec.g_param());
+    ctx.insert("p_iso", &lit(1.0 / (4.0 * PI)));
+    let iso = spec.phase == KernelPhase::Isotropic;
+    ctx.insert("iso", &iso);
+
+    // Signatures, per language.
+    let (f, v3) = match lang {
+        "rust" => ("f32", "[f32; 3]"),
+        "wgsl" => ("f32", "vec3<f32>"),
+        _ => ("float", "vec3"),
+    };
+    let param = |name: &str, ty: &str| match lang {
+        "glsl" => format!("{ty} {name}"),
+        _ => format!("{name}: {ty}"),
+    };
+    let mut canon = Vec::new();
+    let mut canon_args = Vec::new();
+    if spec.extinction && spec.model.is_some() {
+        canon.push(param("tau", f));
+        canon_args.push("τ");
+    }
+    canon.push(param("gamma", f));
+    canon_args.push("γ");
+    if spec.surfaces {
+        canon.push(param("rho", f));
+        canon_args.push("ρ");
+    }
+    if spec.g_param() {
+        canon.push(param("g", f));
+    }
+    let mut args = canon_args.join(", ");
+    if spec.g_param() {
+        args.push_str("; g");
+    }
+    ctx.insert("canonical_params", &canon.join(", "));
+    ctx.insert("canonical_args", &args);
+    let mut rad = vec![param("origin", v3), param("dir", v3)];
+    if spec.surfaces {
+        rad.push(param("surface", f));
+    }
+    rad.push(param("light", v3));
+    rad.push(param("intensity", f));
+    if spec.extinction && spec.model.is_some() {
+        rad.push(param("sigma_t", f));
+    }
+    rad.push(param("sigma_s", f));
+    if spec.g_param() {
+        rad.push(param("g", f));
+    }
+    ctx.insert("radiance_params", &rad.join(", "));
+
+    if let Some(m) = &spec.model {
+        let a = &m.model;
+        ctx.insert(
+            "summary",
+            &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)),
+        );
+        // Segments in α = π/2 − θ', increasing in α.
+        let s = &a.forward;
+        let segs: Vec<Seg> = (0..s.n())
+            .rev()
+            .map(|j| Seg {
+                lo: lit(FRAC_PI_2 - s.breakpoints[j + 1]),
+                hi: lit(FRAC_PI_2 - s.breakpoints[j]),
+                slope: lit(-s.slopes[j]),
+                icpt: lit(s.intercepts[j] + s.slopes[j] * FRAC_PI_2),
+            })
+            .collect();
+        ctx.insert("segs", &segs);
+        let terms = |e: &airlight_fit::family::expsum::ExpSum| -> Vec<Term> {
+            e.c.iter().zip(&e.s).map(|(&c, &s)| Term { c: lit(c), s: lit(s) }).collect()
+        };
+        ctx.insert("near", &terms(&a.expsum.near));
+        ctx.insert("local", &terms(&a.expsum.local));
+        ctx.insert("split", &lit(SPLIT));
+        ctx.insert("local_ratio", &lit(LOCAL_RATIO));
+        ctx.insert("attenuate", &a.forward_attenuation);
+        let ratio = a.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
+        ctx.insert("ratio", &ratio);
+        let (phase, k) = match (&spec.phase, spec.exp_phase()) {
+            (KernelPhase::Isotropic, _) | (_, None) => ("isotropic", 1),
+            (KernelPhase::Fixed(g), Some(e)) => {
+                let t = e.terms(*g);
+                ctx.insert(
+                    "fixed",
+                    &FixedCtx {
+                        c: t.terms.iter().map(|x| lit(x.0)).collect(),
+                        b: t.terms.iter().map(|x| lit(x.1)).collect(),
+                        mirrored: t.mirrored,
+                    },
+                );
+                ctx.insert("fixed_g", &format!("{g}"));
+                ("fixed", e.k())
+            }
+            (KernelPhase::Banded(which), Some(e)) => {
+                let bands: Vec<BandCtx> = which
+                    .iter()
+                    .map(|&i| {
+                        let b = &e.bands[i];
+                        // Re-centred on the band's middle: the paper's quadratics cancel
+                        // to 1e-5 in f32 when evaluated in g itself (b ≈ 7e4 g² − 1.5e5 g + 7e4).
+                        let mid = 0.5 * (b.g_lo + b.g_hi);
+                        let centre =
+                            |r: &[f64; 3]| lits(&[r[0], r[1] + 2.0 * r[0] * mid, r[2] + (r[1] + r[0] * mid) * mid]);
+                        BandCtx {
+                            g_hi: lit(b.g_hi),
+                            g_mid: lit(mid),
+                            a: b.a.iter().map(centre).collect(),
+                            b: b.b.iter().map(centre).collect(),
+                        }
+                    })
+                    .collect();
+                ctx.insert("bands", &bands);
+                ctx.insert("phase_scale", &lit(e.scale));
+                ("banded", e.k())
+            }
+        };
+        ctx.insert("phase", phase);
+        ctx.insert("k", &k);
+        // Rust imports: exactly what the kernel uses.
+        let mut math = vec!["atan2", "exp", "exprel", "sin_cos", "sqrt", "HUGE"];
+        let expsum = spec.backscatter;
+        if expsum {
+            math.push("phi");
+            if !iso {
+                math.push("atan");
+            }
+        }
+        if spec.backscatter && a.ratio.is_some() {
+            math.push("ln");
+        }
+        math.sort_by_key(|s| s.to_lowercase());
+        ctx.insert("math_imports", &math.join(", "));
+        let mut consts = vec!["PI"];
+        if spec.backscatter && a.ratio.is_some() {
+            consts.insert(0, "FRAC_PI_2");
+        }
+        ctx.insert("const_imports", &consts.join(", "));
+        let (ph_param, ph_arg) = match (iso, lang) {
+            (true, _) => (String::new(), String::new()),
+            (false, "rust") => (", ph: &Phase".to_string(), ", &ph".to_string()),
+            (false, "wgsl") => (", ph: Phase".to_string(), ", ph".to_string()),
+            (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
+        };
+        ctx.insert("ph_param", &ph_param);
+        ctx.insert("ph_arg", &ph_arg);
+    } else {
+        ctx.insert("summary", "isotropic scattering without extinction, exact.");
+    }
+    let mut text = tera.render(template, &ctx)?;
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    Ok(Output::text(out.path.replace("{name}", &spec.name).replace("{ident}", &ident), text))
+}
+
+/// What a kernel was specialised to, in words.
+pub fn specialisations(spec: &KernelSpec) -> String {
+    let mut s = Vec::new();
+    s.push(match &spec.phase {
+        KernelPhase::Isotropic => "isotropic (no phase code)".to_string(),
+        KernelPhase::Fixed(g) => format!("Henyey–Greenstein at g = {g} baked in"),
+        KernelPhase::Banded(b) => format!("g at run time ({} band{})", b.len(), if b.len() == 1 { "" } else { "s" }),
+    });
+    s.push(if spec.surfaces { "surfaces".into() } else { "no surfaces (ρ = ∞)".into() });
+    if !spec.extinction {
+        s.push("no extinction (τ = 0)".into());
+    }
+    if !spec.backscatter {
+        s.push("no backward part".into());
+    }
+    s.join(", ")
+}
+
+fn engine() -> Result<tera::Tera, tera::Error> {
+    let mut t = tera::Tera::default();
+    t.autoescape_on(vec![]);
+    t.add_raw_templates(TEMPLATES.iter().copied())?;
+    Ok(t)
+}
+
+#[derive(Serialize)]
+struct CrateKernel {
+    name: String,
+    ident: String,
+    thin: String,
+    dense: String,
+    scene: bool,
+    params: Vec<&'static str>,
+    closure: String,
+}
+
+/// Every kernel output: per-kernel files from the table, the crate's own files,
+/// and the math includes of the shader targets.
+pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
+    let table = OutputTable::standard();
+    let tera = engine()?;
+    let mut out = Vec::new();
+    for spec in specs {
+        for row in &table.kernel {
+            let target = match row.target.as_str() {
+                "wgsl" => Target::Wgsl,
+                "glsl" => Target::Glsl,
+                _ => Target::Rust,
+            };
+            if spec.targets.contains(&target) {
+                out.push(render_kernel(&tera, spec, row)?);
+            }
+        }
+    }
+    let kernels: Vec<CrateKernel> = specs
+        .iter()
+        .filter(|s| s.targets.contains(&Target::Rust))
+        .map(|s| {
+            let err = |d: &str| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
+            let mut params = Vec::new();
+            if s.extinction && s.model.is_some() {
+                params.push("tau");
+            }
+            params.push("gamma");
+            if s.surfaces {
+                params.push("rho");
+            }
+            if s.g_param() {
+                params.push("g");
+            }
+            CrateKernel {
+                name: s.name.clone(),
+                ident: s.ident(),
+                thin: format!("{:e}", err("thin")),
+                dense: format!("{:e}", err("dense")),
+                scene: s.scene.is_some(),
+                closure: ["tau", "gamma", "rho", "g"]
+                    .iter()
+                    .map(|p| if params.contains(p) { p.to_string() } else { format!("_{p}") })
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                params,
+            }
+        })
+        .collect();
+    for f in &table.crate_file {
+        let mut ctx = tera::Context::new();
+        let marker = if f.path.ends_with(".toml") { "#" } else { "//" };
+        let lines = vec![
+            "Generated by `airlight generate` — edit the template, not this file.".to_string(),
+            format!("template: codegen/templates/kernels/{}", f.template),
+        ];
+        ctx.insert("header", &comment(&lines, marker));
+        ctx.insert("kernels", &kernels);
+        ctx.insert("version", env!("CARGO_PKG_VERSION"));
+        out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));
+    }
+    Ok(out)
+}
+
+#[derive(Serialize)]
+struct Candidate {
+    name: String,
+    cost: usize,
+    bound: String,
+    meets: &'static str,
+}
+
+/// The plan written next to a scene's kernels: the model and why, the expected
+/// error, the operation count, and every model that was considered.
+pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[ModelFile]) -> Result<Output, tera::Error> {
+    let table = OutputTable::standard();
+    let tera = engine()?;
+    let mut ctx = tera::Context::new();
+    let row = &table.plan[0];
+    ctx.insert(
+        "header",
+        &format!(
+            "Generated by `airlight generate` from codegen/templates/kernels/{} — edit the template, not this file",
+            row.template
+        ),
+    );
+    ctx.insert("scene", &scene.name);
+    ctx.insert("scene_file", &scene.file);
+    let files: Vec<String> = table
+        .kernel
+        .iter()
+        .filter(|k| spec.targets.iter().any(|t| t.name() == k.target))
+        .map(|k| format!("generated/{}", k.path.replace("{name}", &spec.name).replace("{ident}", &spec.ident())))
+        .collect();
+    ctx.insert("files", &files);
+    let fmt = crate::report::fmt_err;
+    let (model, why, expected) = match &plan.choice {
+        Choice::NoExtinction => (
+            "none: the exact closed form".to_string(),
+            "Isotropic scattering without extinction has an exact closed form (seed 003), cheaper and more accurate than any fit.".to_string(),
+            "exact up to f32 rounding".to_string(),
+        ),
+        Choice::Model { name, bound, cost } => (
+            format!("`{name}`"),
+            format!(
+                "The cheapest model (cost {cost}) whose declared max relative error over the domains the scene reaches ({}) is within the budget.",
+                plan.domains.join(" and ")
+            ),
+            if scene.backscatter {
+                format!("≤ {} (declared, f64 model) plus f32 rounding", fmt(*bound))
+            } else {
+                format!("≤ {} (declared) on the forward part; up to 100% where the backward part dominates", fmt(*bound))
+            },
+        ),
+    };
+    ctx.insert("model", &model);
+    ctx.insert("why", &why);
+    ctx.insert("expected", &expected);
+    ctx.insert("sigma_lo", &scene.sigma_t.0);
+    ctx.insert("sigma_hi", &scene.sigma_t.1);
+    ctx.insert(
+        "phase",
+        &match scene.phase {
+            ScenePhase::Isotropic => "isotropic".to_string(),
+            ScenePhase::Fixed(g) => format!("Henyey–Greenstein, g = {g}"),
+            ScenePhase::Range(lo, hi) => format!("Henyey–Greenstein, g ∈ [{lo}, {hi}]"),
+        },
+    );
+    ctx.insert("extinction", &scene.extinction);
+    ctx.insert("max_distance", &scene.max_distance);
+    ctx.insert("tau_max", &plan.tau_max);
+    ctx.insert("surfaces", &scene.surfaces);
+    ctx.insert("backscatter", &scene.backscatter);
+    ctx.insert("budget", &scene.max_rel_error);
+    ctx.insert("ops", &spec.op_count());
+    ctx.insert("specialised", &specialisations(spec));
+    ctx.insert("domains", &plan.domains.join(" and "));
+    let (g_lo, g_hi) = scene.phase.g_range();
+    let mut candidates: Vec<Candidate> = if matches!(plan.choice, Choice::NoExtinction) {
+        Vec::new()
+    } else {
+        models
+            .iter()
+            .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
+            .map(|m| {
+                let b = plan.domains.iter().filter_map(|d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max);
+                Candidate {
+                    name: m.model.name.clone(),
+                    cost: m.model.cost(),
+                    bound: fmt(b),
+                    meets: if b <= scene.max_rel_error { "yes" } else { "no" },
+                }
+            })
+            .collect()
+    };
+    candidates.sort_by(|a, b| a.cost.cmp(&b.cost).then(a.name.cmp(&b.name)));
+    ctx.insert("candidates", &candidates);
+    let text = tera.render(&row.template, &ctx)?;
+    Ok(Output::text(row.path.replace("{name}", &spec.name), text))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_parses_and_names_existing_templates() {
+        let t = OutputTable::standard();
+        let names: Vec<&str> = TEMPLATES.iter().map(|t| t.0).collect();
+        for k in &t.kernel {
+            assert!(names.contains(&k.template.as_str()) && names.contains(&k.closed_template.as_str()), "{k:?}");
+        }
+        for f in &t.crate_file {
+            assert!(names.contains(&f.template.as_str()), "{f:?}");
+        }
+    }
+
+    #[test]
+    fn literals_read_back_as_the_same_f32() {
+        for x in [0.1, -1.0 / 3.0, 1e-30, 6.02e23, std::f64::consts::PI, 16.0] {
+            let s = lit(x);
+            assert_eq!(s.parse::<f32>().unwrap(), x as f32, "{s}");
+            assert_eq!(s.parse::<f64>().unwrap() as f32, x as f32, "{s}");
+        }
+        assert_eq!(lit(0.0), "0.0");
+    }
+}

@@ -1,0 +1,127 @@
+//! The generated Rust kernels (`airlight-kernels`, f32) against the f64 models
+//! they were generated from, against the reference within each model's declared
+//! bound plus f32 rounding, and at the extremes (finite, non-negative).
+
+use airlight_fit::domains::{Domain, SplitMix64};
+use airlight_fit::model::Model;
+use airlight_fit::reference::Point;
+use airlight_tests::committed_models;
+use std::f64::consts::PI;
+
+/// Largest relative difference between an f32 kernel and its f64 model: f32
+/// rounding amplified by exponents up to τ = 20, by the 1/h of grazing rays and by
+/// the cancelling amplitudes of the 3-term phase fits (measured up to 4e-4).
+const PORT_TOLERANCE: f64 = 1e-3;
+/// The allowance on top of 1.5 × the declared bound for f32 kernels against the reference.
+const F32_ALLOWANCE: f64 = 1e-4;
+/// Below this, `A` is not meaningfully representable in f32 (normal range, with margin).
+const F32_TINY: f64 = 1e-30;
+
+fn points(domain: Domain, g: (f64, f64), n: usize, seed: u64) -> Vec<Point> {
+    let mut rng = SplitMix64(seed);
+    let (tlo, thi) = domain.tau_range();
+    (0..n)
+        .map(|_| {
+            let tau = tlo + (thi - tlo) * rng.next_f64();
+            let gamma = 0.01 + (PI - 0.02) * rng.next_f64();
+            let rho = if rng.next_f64() < 0.1 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
+            Point { tau, gamma, rho, g: g.0 + (g.1 - g.0) * rng.next_f64() }
+        })
+        .collect()
+}
+
+fn kernel_at(k: &airlight_kernels::Kernel, p: &Point) -> f64 {
+    let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
+    (k.airlight)(p.tau as f32, p.gamma as f32, rho, p.g as f32) as f64
+}
+
+/// The point an f32 kernel sees (its arguments rounded to f32).
+fn rounded(p: &Point) -> Point {
+    Point { tau: p.tau as f32 as f64, gamma: p.gamma as f32 as f64, rho: p.rho as f32 as f64, g: p.g as f32 as f64 }
+}
+
+#[test]
+fn every_model_has_a_kernel_and_every_kernel_is_listed() {
+    let models = committed_models();
+    for m in &models {
+        let k = airlight_kernels::kernel(&m.model.name).unwrap_or_else(|| panic!("no kernel for {}", m.model.name));
+        let want: &[&str] =
+            if m.model.g_range == (0.0, 0.0) { &["tau", "gamma", "rho"] } else { &["tau", "gamma", "rho", "g"] };
+        assert_eq!(k.params, want, "{}", m.model.name);
+        assert_eq!(k.thin_max_rel, m.error("thin").unwrap().max_rel, "{}: stale kernel crate", m.model.name);
+    }
+    let scenes = airlight_kernels::KERNELS.iter().filter(|k| k.scene).count();
+    assert_eq!(airlight_kernels::KERNELS.len(), models.len() + scenes);
+}
+
+#[test]
+fn every_model_kernel_matches_its_f64_model() {
+    let mut failures = Vec::new();
+    for m in committed_models() {
+        let k = airlight_kernels::kernel(&m.model.name).unwrap();
+        let gs = [m.model.g_range.0, 0.0f64.clamp(m.model.g_range.0, m.model.g_range.1), m.model.g_range.1];
+        for (domain, seed) in [(Domain::Thin, 0x5EED_0001), (Domain::Dense, 0x5EED_0002), (Domain::Extreme, 0)] {
+            let mut pts =
+                if domain == Domain::Extreme { Vec::new() } else { points(domain, m.model.g_range, 4000, seed) };
+            pts.extend(domain.corners(&gs));
+            for p in &pts {
+                let q = rounded(p);
+                let want = m.model.eval_unchecked(q);
+                let got = kernel_at(k, p);
+                if !(got.is_finite() && got >= 0.0) && want.is_finite() {
+                    failures.push(format!(
+                        "{} {}: {got} where the model gives {want} at {q:?}",
+                        m.model.name,
+                        domain.name()
+                    ));
+                    continue;
+                }
+                if want < F32_TINY || want > 1e30 {
+                    continue;
+                }
+                let e = (got - want).abs() / want;
+                if !(e <= PORT_TOLERANCE) {
+                    failures.push(format!("{} {}: {e:.2e} ({got} vs {want}) at {q:?}", m.model.name, domain.name()));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures[..failures.len().min(20)].join("\n"));
+}
+
+/// Held-out points against the reference: the public 30-digit values inside each
+/// model's domains, within 1.5 × the declared bound plus the f32 allowance.
+#[test]
+fn every_model_kernel_holds_its_declared_bound_on_the_public_values() {
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for m in committed_models() {
+        let k = airlight_kernels::kernel(&m.model.name).unwrap();
+        for (_, text) in airlight_fit::fixtures::PUBLIC {
+            for (p, exact) in airlight_fit::fixtures::parse(text) {
+                let domain = match p.tau {
+                    t if (0.0..=2.0).contains(&t) => "thin",
+                    t if (2.0..=20.0).contains(&t) => "dense",
+                    _ => continue,
+                };
+                let inside = (0.01..=PI - 0.01).contains(&p.gamma)
+                    && (p.rho.is_infinite() || (0.01..=100.0).contains(&p.rho))
+                    && (m.model.g_range.0..=m.model.g_range.1).contains(&p.g);
+                if !inside || !exact.is_finite() || exact < F32_TINY {
+                    continue;
+                }
+                checked += 1;
+                let e = (kernel_at(k, &p) - exact).abs() / exact;
+                let declared = m.error(domain).unwrap().max_rel;
+                if !(e <= 1.5 * declared + F32_ALLOWANCE) {
+                    failures.push(format!(
+                        "{} {domain}: {e:.3e} at {p:?} > 1.5 × {declared:.3e} + {F32_ALLOWANCE}",
+                        m.model.name
+                    ));
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "only {checked} public points inside the models' domains");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
