@@ -396,6 +396,8 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     ctx.insert("p_iso", &lit(1.0 / (4.0 * PI)));
     let iso = spec.phase == KernelPhase::Isotropic;
     ctx.insert("iso", &iso);
+    ctx.insert("uses_phi", &(spec.model.is_some() && spec.backscatter));
+    ctx.insert("closed", &spec.model.is_none());
 
     // Signatures, per language.
     let (f, v3) = match lang {
@@ -533,7 +535,7 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         let (ph_param, ph_arg) = match (iso, lang) {
             (true, _) => (String::new(), String::new()),
             (false, "rust") => (", ph: &Phase".to_string(), ", &ph".to_string()),
-            (false, "wgsl") => (", ph: Phase".to_string(), ", ph".to_string()),
+            (false, "wgsl") => (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
             (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
         };
         ctx.insert("ph_param", &ph_param);

@@ -35,7 +35,16 @@ pub enum RenderError {
 impl fmt::Display for RenderError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RenderError::Template(e) => write!(f, "template: {e}"),
+            RenderError::Template(e) => {
+                write!(f, "template: {e}")?;
+                // tera keeps the cause (file, line, what) in the source chain
+                let mut cause = std::error::Error::source(e);
+                while let Some(c) = cause {
+                    write!(f, ": {c}")?;
+                    cause = c.source();
+                }
+                Ok(())
+            }
             RenderError::Plot(e) => write!(f, "{e}"),
             RenderError::Scene(file, e) => write!(f, "{file}: {e}"),
         }

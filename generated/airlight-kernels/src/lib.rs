@@ -12,24 +12,43 @@
 #![no_std]
 #![allow(clippy::excessive_precision, clippy::approx_constant, clippy::unreadable_literal)]
 
-pub mod hg_exp1;
-pub mod hg_exp2;
-pub mod hg_exp3;
+// Generated modules are laid out by their templates, not by rustfmt.
+#[rustfmt::skip]
 pub mod math;
-pub mod paper;
+#[rustfmt::skip]
 pub mod paper_as_printed;
-pub mod paper_hg;
+#[rustfmt::skip]
+pub mod paper;
+#[rustfmt::skip]
 pub mod paper_refit;
+#[rustfmt::skip]
+pub mod paper_hg;
+#[rustfmt::skip]
 pub mod paper_refit_hg;
-pub mod scene_fog_street;
-pub mod scene_smoke_room;
-pub mod segments_12;
-pub mod segments_16;
+#[rustfmt::skip]
 pub mod segments_2;
+#[rustfmt::skip]
 pub mod segments_3;
+#[rustfmt::skip]
 pub mod segments_4;
+#[rustfmt::skip]
 pub mod segments_6;
+#[rustfmt::skip]
 pub mod segments_8;
+#[rustfmt::skip]
+pub mod segments_12;
+#[rustfmt::skip]
+pub mod segments_16;
+#[rustfmt::skip]
+pub mod hg_exp1;
+#[rustfmt::skip]
+pub mod hg_exp2;
+#[rustfmt::skip]
+pub mod hg_exp3;
+#[rustfmt::skip]
+pub mod scene_fog_street;
+#[rustfmt::skip]
+pub mod scene_smoke_room;
 
 /// A kernel's canonical entry with the uniform signature `(tau, gamma, rho, g)`:
 /// `rho < 0` means no surface; arguments the kernel does not take are ignored.

@@ -17,7 +17,7 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan2, exp, exprel, ln, phi, sin_cos, sqrt, HUGE};
+use crate::math::{atan2, exp, exprel, HUGE, ln, phi, sin_cos, sqrt};
 use core::f32::consts::{FRAC_PI_2, PI};
 
 /// The isotropic phase function, `1/(4π)`.
@@ -180,15 +180,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {

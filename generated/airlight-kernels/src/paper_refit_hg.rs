@@ -18,7 +18,7 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan, atan2, exp, exprel, ln, phi, sin_cos, sqrt, HUGE};
+use crate::math::{atan, atan2, exp, exprel, HUGE, ln, phi, sin_cos, sqrt};
 use core::f32::consts::{FRAC_PI_2, PI};
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
@@ -69,17 +69,9 @@ fn phase(g: f32) -> Phase {
     } else if ga <= 6.00000024e-1 {
         (5.00000000e-1, [[1.24863160e0, 2.80917108e-1, 2.91289777e-1]], [[4.45409489e0, 1.93692029e0, 1.08540285e0]])
     } else if ga <= 8.00000012e-1 {
-        (
-            6.99999988e-1,
-            [[2.59864181e-2, -9.20210838e-1, 2.25328699e-1]],
-            [[-7.86782801e-1, 9.38419327e-2, 1.30228269e0]],
-        )
+        (6.99999988e-1, [[2.59864181e-2, -9.20210838e-1, 2.25328699e-1]], [[-7.86782801e-1, 9.38419327e-2, 1.30228269e0]])
     } else if ga <= 8.99999976e-1 {
-        (
-            8.50000024e-1,
-            [[1.46697593e0, -9.02135611e-1, 9.56570432e-2]],
-            [[-1.96861827e0, -8.54187012e-1, 1.29259586e0]],
-        )
+        (8.50000024e-1, [[1.46697593e0, -9.02135611e-1, 9.56570432e-2]], [[-1.96861827e0, -8.54187012e-1, 1.29259586e0]])
     } else if ga <= 9.49999988e-1 {
         (9.25000012e-1, [[1.17129195e0, -7.30441272e-1, 4.28658910e-2]], [[-9.16833687e0, -1.30636775e0, 1.27513015e0]])
     } else {
@@ -252,16 +244,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-    g: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {

@@ -17,70 +17,18 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan2, exp, exprel, phi, sin_cos, sqrt, HUGE};
-use core::f32::consts::PI;
+use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use core::f32::consts::{PI};
 
 /// The isotropic phase function, `1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
 /// `α = π/2 − θ`: on `[SEG_LO[j], SEG_HI[j]]`, `k̂ = SEG_SLOPE[j]·α + SEG_ICPT[j]`.
-const SEG_LO: [f32; 12] = [
-    0.0,
-    2.53629744e-1,
-    3.97766292e-1,
-    5.58397174e-1,
-    7.06387699e-1,
-    8.33227754e-1,
-    9.53838646e-1,
-    1.07593381e0,
-    1.18807125e0,
-    1.30011570e0,
-    1.40796185e0,
-    1.49716330e0,
-];
-const SEG_HI: [f32; 12] = [
-    2.53629744e-1,
-    3.97766292e-1,
-    5.58397174e-1,
-    7.06387699e-1,
-    8.33227754e-1,
-    9.53838646e-1,
-    1.07593381e0,
-    1.18807125e0,
-    1.30011570e0,
-    1.40796185e0,
-    1.49716330e0,
-    1.57079637e0,
-];
-const SEG_SLOPE: [f32; 12] = [
-    5.03559172e-1,
-    5.13345361e-1,
-    5.28239846e-1,
-    5.55457473e-1,
-    5.80877781e-1,
-    6.15080059e-1,
-    6.54134870e-1,
-    7.02610075e-1,
-    7.55464375e-1,
-    8.24647188e-1,
-    8.95560384e-1,
-    9.69058275e-1,
-];
-const SEG_ICPT: [f32; 12] = [
-    -3.20984953e-4,
-    -2.80306255e-3,
-    -8.72758031e-3,
-    -2.39258371e-2,
-    -4.18824181e-2,
-    -7.03806877e-2,
-    -1.07632674e-1,
-    -1.59788832e-1,
-    -2.22583458e-1,
-    -3.12529176e-1,
-    -4.12372172e-1,
-    -5.22410512e-1,
-];
+const SEG_LO: [f32; 12] = [0.0, 2.53629744e-1, 3.97766292e-1, 5.58397174e-1, 7.06387699e-1, 8.33227754e-1, 9.53838646e-1, 1.07593381e0, 1.18807125e0, 1.30011570e0, 1.40796185e0, 1.49716330e0];
+const SEG_HI: [f32; 12] = [2.53629744e-1, 3.97766292e-1, 5.58397174e-1, 7.06387699e-1, 8.33227754e-1, 9.53838646e-1, 1.07593381e0, 1.18807125e0, 1.30011570e0, 1.40796185e0, 1.49716330e0, 1.57079637e0];
+const SEG_SLOPE: [f32; 12] = [5.03559172e-1, 5.13345361e-1, 5.28239846e-1, 5.55457473e-1, 5.80877781e-1, 6.15080059e-1, 6.54134870e-1, 7.02610075e-1, 7.55464375e-1, 8.24647188e-1, 8.95560384e-1, 9.69058275e-1];
+const SEG_ICPT: [f32; 12] = [-3.20984953e-4, -2.80306255e-3, -8.72758031e-3, -2.39258371e-2, -4.18824181e-2, -7.03806877e-2, -1.07632674e-1, -1.59788832e-1, -2.22583458e-1, -3.12529176e-1, -4.12372172e-1, -5.22410512e-1];
 
 /// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
@@ -207,15 +155,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {

@@ -17,8 +17,8 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan2, exp, exprel, phi, sin_cos, sqrt, HUGE};
-use core::f32::consts::PI;
+use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use core::f32::consts::{PI};
 
 /// The isotropic phase function, `1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
@@ -155,15 +155,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {

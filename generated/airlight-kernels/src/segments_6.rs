@@ -17,8 +17,8 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan2, exp, exprel, phi, sin_cos, sqrt, HUGE};
-use core::f32::consts::PI;
+use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use core::f32::consts::{PI};
 
 /// The isotropic phase function, `1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
@@ -28,8 +28,7 @@ const P_ISO: f32 = 7.95774683e-2;
 const SEG_LO: [f32; 6] = [0.0, 5.59604406e-1, 8.39412749e-1, 1.06243026e0, 1.24416280e0, 1.43164194e0];
 const SEG_HI: [f32; 6] = [5.59604406e-1, 8.39412749e-1, 1.06243026e0, 1.24416280e0, 1.43164194e0, 1.57079637e0];
 const SEG_SLOPE: [f32; 6] = [5.18066168e-1, 5.67347348e-1, 6.34785116e-1, 7.10435390e-1, 8.12268734e-1, 9.44929183e-1];
-const SEG_ICPT: [f32; 6] =
-    [-3.89139447e-3, -3.14693749e-2, -8.80774781e-2, -1.68450624e-1, -2.95147836e-1, -4.85070139e-1];
+const SEG_ICPT: [f32; 6] = [-3.89139447e-3, -3.14693749e-2, -8.80774781e-2, -1.68450624e-1, -2.95147836e-1, -4.85070139e-1];
 
 /// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
@@ -156,15 +155,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {

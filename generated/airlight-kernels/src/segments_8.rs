@@ -17,38 +17,18 @@
 //!
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
-use crate::math::{atan2, exp, exprel, phi, sin_cos, sqrt, HUGE};
-use core::f32::consts::PI;
+use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use core::f32::consts::{PI};
 
 /// The isotropic phase function, `1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
 /// `α = π/2 − θ`: on `[SEG_LO[j], SEG_HI[j]]`, `k̂ = SEG_SLOPE[j]·α + SEG_ICPT[j]`.
-const SEG_LO: [f32; 8] =
-    [0.0, 4.48732615e-1, 6.74482882e-1, 8.82378936e-1, 1.06531835e0, 1.22277427e0, 1.36956561e0, 1.48602939e0];
-const SEG_HI: [f32; 8] =
-    [4.48732615e-1, 6.74482882e-1, 8.82378936e-1, 1.06531835e0, 1.22277427e0, 1.36956561e0, 1.48602939e0, 1.57079637e0];
-const SEG_SLOPE: [f32; 8] = [
-    5.12233377e-1,
-    5.40969551e-1,
-    5.84965944e-1,
-    6.40396237e-1,
-    7.06773758e-1,
-    7.88857341e-1,
-    8.77854228e-1,
-    9.65398252e-1,
-];
-const SEG_ICPT: [f32; 8] = [
-    -2.18569813e-3,
-    -1.50805535e-2,
-    -4.47553769e-2,
-    -9.36658755e-2,
-    -1.64379075e-1,
-    -2.64748752e-1,
-    -3.86635870e-1,
-    -5.16728818e-1,
-];
+const SEG_LO: [f32; 8] = [0.0, 4.48732615e-1, 6.74482882e-1, 8.82378936e-1, 1.06531835e0, 1.22277427e0, 1.36956561e0, 1.48602939e0];
+const SEG_HI: [f32; 8] = [4.48732615e-1, 6.74482882e-1, 8.82378936e-1, 1.06531835e0, 1.22277427e0, 1.36956561e0, 1.48602939e0, 1.57079637e0];
+const SEG_SLOPE: [f32; 8] = [5.12233377e-1, 5.40969551e-1, 5.84965944e-1, 6.40396237e-1, 7.06773758e-1, 7.88857341e-1, 8.77854228e-1, 9.65398252e-1];
+const SEG_ICPT: [f32; 8] = [-2.18569813e-3, -1.50805535e-2, -4.47553769e-2, -9.36658755e-2, -1.64379075e-1, -2.64748752e-1, -3.86635870e-1, -5.16728818e-1];
 
 /// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
@@ -175,15 +155,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
 #[allow(clippy::too_many_arguments)]
-pub fn radiance(
-    origin: [f32; 3],
-    dir: [f32; 3],
-    surface: f32,
-    light: [f32; 3],
-    intensity: f32,
-    sigma_t: f32,
-    sigma_s: f32,
-) -> f32 {
+pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
     let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
     if dd <= 0.0 {
