@@ -8,7 +8,7 @@ use airlight_fit::catalog::{self, Family, Fits};
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
 use airlight_fit::{points_csv, selfcheck};
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -32,6 +32,15 @@ struct Cli {
     command: Command,
 }
 
+/// Arithmetic of `eval`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Precision {
+    /// The f64 model.
+    F64,
+    /// The generated f32 Rust kernel.
+    F32,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Evaluate a model at the points of a CSV file.
@@ -51,6 +60,11 @@ enum Command {
         /// Where to write the result (replaced atomically); standard output if omitted.
         #[arg(long, short)]
         output: Option<PathBuf>,
+        /// f64: the model as fitted (fit/); f32: the generated Rust kernel of the
+        /// same name (generated/airlight-kernels/, as compiled into this binary;
+        /// scene kernels `scene-<name>` too).
+        #[arg(long, value_enum, default_value_t = Precision::F64)]
+        precision: Precision,
         /// Repository root (the directory holding generated/coefficients/); found
         /// from the current directory if omitted. Only the reference works without it.
         #[arg(long)]
@@ -119,7 +133,9 @@ fn bad_input(msg: impl std::fmt::Display) -> Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Eval { model, input, output, root } => eval(&model, &input, output.as_deref(), root),
+        Command::Eval { model, input, output, precision, root } => {
+            eval(&model, &input, output.as_deref(), precision, root)
+        }
         Command::Models { root } => models(root),
         Command::Fit { family, root } => fit(family.as_deref(), root),
         Command::Bench { root } => bench(root),
@@ -156,13 +172,39 @@ fn registry(root: Option<PathBuf>) -> Result<(model::Registry, Vec<ModelFile>), 
     Ok((reg, files))
 }
 
-fn eval(model: &str, input: &Path, output: Option<&Path>, root: Option<PathBuf>) -> Result<(), Failure> {
+fn eval(
+    model: &str,
+    input: &Path,
+    output: Option<&Path>,
+    precision: Precision,
+    root: Option<PathBuf>,
+) -> Result<(), Failure> {
     let (reg, _) = registry(root)?;
-    let model = reg.get(model).map_err(bad_input)?;
+    let kernel = match precision {
+        Precision::F64 => None,
+        Precision::F32 => Some(airlight_kernels::kernel(model).ok_or_else(|| {
+            let known: Vec<&str> = airlight_kernels::KERNELS.iter().map(|k| k.name).collect();
+            bad_input(format!("no generated f32 kernel '{model}'; kernels: {}", known.join(", ")))
+        })?),
+    };
+    // The f64 model checks the points (g range); scene kernels take any valid point.
+    let checker: Option<&dyn model::Model> = match (reg.get(model), kernel) {
+        (Ok(m), _) => Some(m),
+        (Err(_), Some(_)) => None,
+        (Err(e), None) => return Err(bad_input(e)),
+    };
     let name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
-    let rows = points_csv::parse(&name, &text, |p| model.check(p)).map_err(bad_input)?;
-    let values = airlight_fit::parallel::map(&rows, |r| model.eval_unchecked(r.point), &|_, _| {});
+    let rows = points_csv::parse(&name, &text, |p| match checker {
+        Some(m) => m.check(p),
+        None => Ok(()),
+    })
+    .map_err(bad_input)?;
+    let values = match (kernel, checker) {
+        (Some(k), _) => rows.iter().map(|r| f32_value(k, r.point)).collect(),
+        (None, Some(m)) => airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {}),
+        (None, None) => unreachable!("f64 needs a model"),
+    };
     let csv = points_csv::render(&rows, &values);
     match output {
         Some(path) => airlight_fit::io::write_atomic(path, csv.as_bytes())
@@ -171,6 +213,18 @@ fn eval(model: &str, input: &Path, output: Option<&Path>, root: Option<PathBuf>)
             print!("{csv}");
             Ok(())
         }
+    }
+}
+
+/// A generated kernel's value at `p` (arguments rounded to f32, `ρ = ∞` passed as
+/// −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
+fn f32_value(k: &airlight_kernels::Kernel, p: airlight_fit::reference::Point) -> f64 {
+    let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
+    let v = (k.airlight)(p.tau as f32, p.gamma as f32, rho, p.g as f32);
+    if v == f32::MAX {
+        f64::INFINITY
+    } else {
+        f64::from(v)
     }
 }
 

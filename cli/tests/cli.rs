@@ -126,6 +126,8 @@ fn generate_check_names_missing_and_orphaned_files_and_writes_nothing() {
     let err = stderr(&o);
     assert!(err.contains("REPORT.md: missing"), "{err}");
     assert!(err.contains("plots/phase.svg: missing"), "{err}");
+    assert!(err.contains("wgsl/segments-8.wgsl: missing"), "{err}");
+    assert!(err.contains("airlight-kernels/src/lib.rs: missing"), "{err}");
     assert!(err.contains("stray.txt: not produced by the generator (orphaned)"), "{err}");
     assert!(!err.contains("coefficients/"), "committed coefficient files re-render identically: {err}");
     assert!(!root.join("generated/REPORT.md").exists());
@@ -193,5 +195,54 @@ fn fit_one_family_prints_and_writes_nothing() {
     let o = airlight(&["fit", "--family", "nope"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("unknown family 'nope'; known families: segments, phase, backscatter"));
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+#[test]
+fn eval_f32_runs_the_generated_kernel() {
+    let dir = scratch("f32");
+    let input = dir.join("points.csv");
+    std::fs::write(&input, "tau,gamma,rho,g\n1,0.5,inf,0\n5,2.5,3,0\n2,0,2,0\n").unwrap();
+    let run = |precision: &str| {
+        let o = airlight(&["eval", "--model", "segments-8", "--precision", precision, "-i", input.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let (f64_out, f32_out) = (run("f64"), run("f32"));
+    assert_ne!(f64_out, f32_out, "f32 must not be the f64 model");
+    for (a, b) in f64_out.lines().zip(f32_out.lines()).skip(1) {
+        let (x, y): (f64, f64) =
+            (a.rsplit(',').next().unwrap().parse().unwrap(), b.rsplit(',').next().unwrap().parse().unwrap());
+        assert!(x == y || ((x - y) / x).abs() < 1e-5, "{a} vs {b}");
+    }
+    assert!(f32_out.ends_with("2,0,2,0,inf\n"), "{f32_out}");
+    let o = airlight(&["eval", "--model", "reference", "--precision", "f32", "-i", input.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no generated f32 kernel 'reference'"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_scene_is_one_line_naming_file_line_and_field_and_nothing_is_written() {
+    let root = scratch("scene");
+    copy_coefficients(&root);
+    let scenes = root.join("codegen/scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let good = std::fs::read_to_string(repo.join("codegen/scenes/smoke-room.toml")).unwrap();
+    std::fs::write(scenes.join("room.toml"), good.replace("max_rel_error = 0.02", "max_rel_error = 1e-9")).unwrap();
+    let o = airlight(&["generate", "--root", root.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let line = good.lines().position(|l| l.starts_with("max_rel_error")).unwrap() + 1;
+    assert!(err.contains(&format!("codegen/scenes/room.toml:{line}: field 'accuracy.max_rel_error'")), "{err}");
+    assert!(err.contains("best achievable"), "{err}");
+    std::fs::write(scenes.join("room.toml"), good.replace("phase = \"isotropic\"", "phase = \"rayleigh\"")).unwrap();
+    let o = airlight(&["generate", "--root", root.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let line = good.lines().position(|l| l.starts_with("phase")).unwrap() + 1;
+    assert!(stderr(&o).contains(&format!("codegen/scenes/room.toml:{line}: field 'medium.phase'")), "{}", stderr(&o));
+    assert!(!root.join("generated/REPORT.md").exists(), "nothing is written");
     std::fs::remove_dir_all(&root).unwrap();
 }

@@ -527,9 +527,12 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         }
         math.sort_by_key(|s| s.to_lowercase());
         ctx.insert("math_imports", &math.join(", "));
-        let mut consts = vec!["PI"];
+        let mut consts = Vec::new();
         if spec.backscatter && a.ratio.is_some() {
-            consts.insert(0, "FRAC_PI_2");
+            consts.push("FRAC_PI_2");
+        }
+        if !iso {
+            consts.push("PI");
         }
         ctx.insert("const_imports", &consts.join(", "));
         let (ph_param, ph_arg) = match (iso, lang) {
@@ -554,11 +557,11 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
 pub fn specialisations(spec: &KernelSpec) -> String {
     let mut s = Vec::new();
     s.push(match &spec.phase {
-        KernelPhase::Isotropic => "isotropic (no phase code)".to_string(),
+        KernelPhase::Isotropic => "isotropic, P = 1/(4π) folded into constants".to_string(),
         KernelPhase::Fixed(g) => format!("Henyey–Greenstein at g = {g} baked in"),
         KernelPhase::Banded(b) => format!("g at run time ({} band{})", b.len(), if b.len() == 1 { "" } else { "s" }),
     });
-    s.push(if spec.surfaces { "surfaces".into() } else { "no surfaces (ρ = ∞)".into() });
+    s.push(if spec.surfaces { "rays may end early (ρ argument)".into() } else { "rays run to infinity".into() });
     if !spec.extinction {
         s.push("no extinction (τ = 0)".into());
     }

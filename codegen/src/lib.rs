@@ -28,8 +28,8 @@ pub enum RenderError {
     Template(tera::Error),
     /// A figure failed.
     Plot(plots::PlotError),
-    /// A scene has no plan.
-    Scene(String, scene::PlanError),
+    /// A scene has no plan (the error names file, line and field).
+    Scene(scene::SceneError),
 }
 
 impl fmt::Display for RenderError {
@@ -46,7 +46,7 @@ impl fmt::Display for RenderError {
                 Ok(())
             }
             RenderError::Plot(e) => write!(f, "{e}"),
-            RenderError::Scene(file, e) => write!(f, "{file}: {e}"),
+            RenderError::Scene(e) => write!(f, "{e}"),
         }
     }
 }
@@ -76,7 +76,7 @@ pub fn render_all(
     out.extend(plots::render(models).map_err(RenderError::Plot)?);
     let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
     for s in scenes {
-        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.file.clone(), e))?;
+        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
         let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
         out.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
         specs.push(spec);

@@ -73,6 +73,22 @@ pub struct Scene {
     pub max_rel_error: f64,
     /// Languages to emit.
     pub targets: Vec<Target>,
+    /// The file's text (for locating fields in plan errors).
+    pub text: String,
+}
+
+impl Scene {
+    /// A plan error as a one-line error naming this file, the line and the field
+    /// that would have to change.
+    pub fn plan_error(&self, e: &PlanError) -> SceneError {
+        let (table, key) = match e {
+            PlanError::OutsideDomains { .. } => ("lights", "max_distance"),
+            PlanError::NoBackscatter { .. } => ("ray", "backscatter"),
+            PlanError::Budget { best: None, .. } => ("medium", "phase"),
+            PlanError::Budget { .. } => ("accuracy", "max_rel_error"),
+        };
+        field_error(&self.file, &self.text, table, key, e.to_string())
+    }
 }
 
 /// A scene file that cannot be used (file, line, field, message).
@@ -168,6 +184,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
     Ok(Scene {
         name,
         file: file.to_string(),
+        text: text.to_string(),
         sigma_t,
         phase,
         extinction,
@@ -179,9 +196,12 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
     })
 }
 
-/// Every scene file in `dir` (`*.toml`), sorted by name; `shown` is how the
-/// directory is named in messages.
+/// Every scene file in `dir` (`*.toml`), sorted by name (none if `dir` does not
+/// exist); `shown` is how the directory is named in messages.
 pub fn load_dir(dir: &std::path::Path, shown: &str) -> Result<Vec<Scene>, SceneError> {
+    if !dir.exists() {
+        return Ok(Vec::new());
+    }
     let mut paths: Vec<_> = std::fs::read_dir(dir)
         .map_err(|e| SceneError { file: shown.into(), line: 1, field: "(directory)".into(), message: e.to_string() })?
         .flatten()
@@ -348,7 +368,9 @@ mod tests {
     #[test]
     fn example_scenes_get_the_cheapest_model_meeting_their_budget() {
         let models = models();
-        for (file, want) in [("fog-street.toml", "segments-2"), ("smoke-room.toml", "segments-8")] {
+        for (file, want) in
+            [("fog-street.toml", "segments-2"), ("smoke-room.toml", "segments-8"), ("harbour-fog.toml", "segments-6")]
+        {
             let s = scene(file);
             let p = plan(&s, &models).unwrap();
             let Choice::Model { name, bound, cost } = &p.choice else { panic!("{file}: {:?}", p.choice) };

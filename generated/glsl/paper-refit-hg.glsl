@@ -4,7 +4,7 @@
 // model: paper-refit-hg; coefficients: generated/coefficients/paper-refit-hg.toml
 // declared bound: max relative error of A (f64 model): thin 1.0e0, dense 4.3e0
 //
-// `paper-refit-hg`: the `paper-refit-hg` model (HG g in [0, 0.99]; paper-refit with the one-exponential table refit on the error of A), specialised: g at run time (7 bands), surfaces.
+// `paper-refit-hg`: the `paper-refit-hg` model (HG g in [0, 0.99]; paper-refit with the one-exponential table refit on the error of A), specialised: g at run time (7 bands), rays may end early (ρ argument).
 //
 // Entry points (float; lengths in any one unit, sigma in its inverse):
 //
@@ -329,6 +329,7 @@ float airlight_paper_refit_hg_airlight_geometry(float tau, float h_in, float x0,
     if (x0 > 0.0) {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         float len = airlight_paper_refit_hg_arctan2(x0, h);
         if (!open && rho < x0) {
             len = airlight_paper_refit_hg_arctan2(h * rho, 1.0 - x0 * rho);

@@ -4,7 +4,7 @@
 // model: segments-12; coefficients: generated/coefficients/segments-12.toml
 // declared bound: max relative error of A (f64 model): thin 1.5e-3, dense 1.2e-2
 //
-// `segments-12`: the `segments-12` model (isotropic; 12-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-12`: the `segments-12` model (isotropic; 12-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (float; lengths in any one unit, sigma in its inverse):
 //
@@ -120,13 +120,13 @@ float airlight_segments_12_phi(float z) {
 
 // --- the model
 
-// The isotropic phase function, 1/(4 pi).
+// Isotropic scattering: P = 1/(4 pi).
 const float airlight_segments_12_P_ISO = 7.95774683e-2;
 
-// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+// One segment's part of the integral of e^(att - T k(alpha)) over
 // alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 // On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-float airlight_segments_12_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored) {
+float airlight_segments_12_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att) {
     float lo = max(a, lo_j);
     float hi = min(b, hi_j);
     if (hi <= lo) {
@@ -134,33 +134,32 @@ float airlight_segments_12_piece(float a, float b, float len, float lo_j, float 
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     float l = (a >= lo_j && b <= hi_j) ? len : hi - lo;
-    float ang = mirrored ? airlight_segments_12_PI - lo : lo;
-    float lam = -t * slope + (mirrored ? beta : -beta);
-    float ea = att - t * (slope * lo + icpt) - beta * ang;
+    float lam = -t * slope;
+    float ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_12_exprel(-abs(lam) * l);
 }
 
 // The integral over alpha in [a, a + len], segment by segment (the forward kernel
 // k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-float airlight_segments_12_segments(float a, float len, float t, float att, float beta, bool mirrored) {
+float airlight_segments_12_segments(float a, float len, float t, float att) {
     float b = a + len;
-    return airlight_segments_12_piece(a, b, len, 0.0, 2.53629744e-1, 5.03559172e-1, -3.20984953e-4, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 2.53629744e-1, 3.97766292e-1, 5.13345361e-1, -2.80306255e-3, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 3.97766292e-1, 5.58397174e-1, 5.28239846e-1, -8.72758031e-3, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 5.58397174e-1, 7.06387699e-1, 5.55457473e-1, -2.39258371e-2, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 7.06387699e-1, 8.33227754e-1, 5.80877781e-1, -4.18824181e-2, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 8.33227754e-1, 9.53838646e-1, 6.15080059e-1, -7.03806877e-2, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 9.53838646e-1, 1.07593381e0, 6.54134870e-1, -1.07632674e-1, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 1.07593381e0, 1.18807125e0, 7.02610075e-1, -1.59788832e-1, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 1.18807125e0, 1.30011570e0, 7.55464375e-1, -2.22583458e-1, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 1.30011570e0, 1.40796185e0, 8.24647188e-1, -3.12529176e-1, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 1.40796185e0, 1.49716330e0, 8.95560384e-1, -4.12372172e-1, t, att, beta, mirrored)
-        + airlight_segments_12_piece(a, b, len, 1.49716330e0, 1.57079637e0, 9.69058275e-1, -5.22410512e-1, t, att, beta, mirrored);
+    return airlight_segments_12_piece(a, b, len, 0.0, 2.53629744e-1, 5.03559172e-1, -3.20984953e-4, t, att)
+        + airlight_segments_12_piece(a, b, len, 2.53629744e-1, 3.97766292e-1, 5.13345361e-1, -2.80306255e-3, t, att)
+        + airlight_segments_12_piece(a, b, len, 3.97766292e-1, 5.58397174e-1, 5.28239846e-1, -8.72758031e-3, t, att)
+        + airlight_segments_12_piece(a, b, len, 5.58397174e-1, 7.06387699e-1, 5.55457473e-1, -2.39258371e-2, t, att)
+        + airlight_segments_12_piece(a, b, len, 7.06387699e-1, 8.33227754e-1, 5.80877781e-1, -4.18824181e-2, t, att)
+        + airlight_segments_12_piece(a, b, len, 8.33227754e-1, 9.53838646e-1, 6.15080059e-1, -7.03806877e-2, t, att)
+        + airlight_segments_12_piece(a, b, len, 9.53838646e-1, 1.07593381e0, 6.54134870e-1, -1.07632674e-1, t, att)
+        + airlight_segments_12_piece(a, b, len, 1.07593381e0, 1.18807125e0, 7.02610075e-1, -1.59788832e-1, t, att)
+        + airlight_segments_12_piece(a, b, len, 1.18807125e0, 1.30011570e0, 7.55464375e-1, -2.22583458e-1, t, att)
+        + airlight_segments_12_piece(a, b, len, 1.30011570e0, 1.40796185e0, 8.24647188e-1, -3.12529176e-1, t, att)
+        + airlight_segments_12_piece(a, b, len, 1.40796185e0, 1.49716330e0, 8.95560384e-1, -4.12372172e-1, t, att)
+        + airlight_segments_12_piece(a, b, len, 1.49716330e0, 1.57079637e0, 9.69058275e-1, -5.22410512e-1, t, att);
 }
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_segments_12_forward(float a, float len, float t, float att) {
-    return airlight_segments_12_P_ISO * airlight_segments_12_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_12_P_ISO * airlight_segments_12_segments(a, len, t, att);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -261,6 +260,7 @@ float airlight_segments_12_airlight_geometry(float tau, float h_in, float x0, fl
     if (x0 > 0.0) {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         float len = airlight_segments_12_arctan2(x0, h);
         if (!open && rho < x0) {
             len = airlight_segments_12_arctan2(h * rho, 1.0 - x0 * rho);

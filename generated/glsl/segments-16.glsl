@@ -4,7 +4,7 @@
 // model: segments-16; coefficients: generated/coefficients/segments-16.toml
 // declared bound: max relative error of A (f64 model): thin 1.5e-3, dense 9.4e-3
 //
-// `segments-16`: the `segments-16` model (isotropic; 16-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-16`: the `segments-16` model (isotropic; 16-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (float; lengths in any one unit, sigma in its inverse):
 //
@@ -120,13 +120,13 @@ float airlight_segments_16_phi(float z) {
 
 // --- the model
 
-// The isotropic phase function, 1/(4 pi).
+// Isotropic scattering: P = 1/(4 pi).
 const float airlight_segments_16_P_ISO = 7.95774683e-2;
 
-// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+// One segment's part of the integral of e^(att - T k(alpha)) over
 // alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 // On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-float airlight_segments_16_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored) {
+float airlight_segments_16_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att) {
     float lo = max(a, lo_j);
     float hi = min(b, hi_j);
     if (hi <= lo) {
@@ -134,37 +134,36 @@ float airlight_segments_16_piece(float a, float b, float len, float lo_j, float 
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     float l = (a >= lo_j && b <= hi_j) ? len : hi - lo;
-    float ang = mirrored ? airlight_segments_16_PI - lo : lo;
-    float lam = -t * slope + (mirrored ? beta : -beta);
-    float ea = att - t * (slope * lo + icpt) - beta * ang;
+    float lam = -t * slope;
+    float ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_16_exprel(-abs(lam) * l);
 }
 
 // The integral over alpha in [a, a + len], segment by segment (the forward kernel
 // k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-float airlight_segments_16_segments(float a, float len, float t, float att, float beta, bool mirrored) {
+float airlight_segments_16_segments(float a, float len, float t, float att) {
     float b = a + len;
-    return airlight_segments_16_piece(a, b, len, 0.0, 1.56068593e-1, 5.00475287e-1, -8.42151348e-6, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.56068593e-1, 2.80344486e-1, 5.06332517e-1, -9.22551146e-4, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 2.80344486e-1, 3.88263553e-1, 5.14137864e-1, -3.11073009e-3, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 3.88263553e-1, 4.82461751e-1, 5.24915338e-1, -7.29523646e-3, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 4.82461751e-1, 5.75251937e-1, 5.35909474e-1, -1.25994924e-2, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 5.75251937e-1, 6.77858531e-1, 5.52382708e-1, -2.20757592e-2, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 6.77858531e-1, 7.76492953e-1, 5.71736813e-1, -3.51950936e-2, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 7.76492953e-1, 8.91859770e-1, 5.98007500e-1, -5.55940866e-2, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 8.91859770e-1, 1.00721216e0, 6.31583691e-1, -8.55393633e-2, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.00721216e0, 1.10808051e0, 6.72602594e-1, -1.26854077e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.10808051e0, 1.19424891e0, 7.09015727e-1, -1.67202771e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.19424891e0, 1.29637575e0, 7.56451190e-1, -2.23852560e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.29637575e0, 1.39119053e0, 8.18401217e-1, -3.04163069e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.39119053e0, 1.46048462e0, 8.76685560e-1, -3.85247707e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.46048462e0, 1.52053702e0, 9.24686730e-1, -4.55352664e-1, t, att, beta, mirrored)
-        + airlight_segments_16_piece(a, b, len, 1.52053702e0, 1.57079637e0, 9.79968965e-1, -5.39411306e-1, t, att, beta, mirrored);
+    return airlight_segments_16_piece(a, b, len, 0.0, 1.56068593e-1, 5.00475287e-1, -8.42151348e-6, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.56068593e-1, 2.80344486e-1, 5.06332517e-1, -9.22551146e-4, t, att)
+        + airlight_segments_16_piece(a, b, len, 2.80344486e-1, 3.88263553e-1, 5.14137864e-1, -3.11073009e-3, t, att)
+        + airlight_segments_16_piece(a, b, len, 3.88263553e-1, 4.82461751e-1, 5.24915338e-1, -7.29523646e-3, t, att)
+        + airlight_segments_16_piece(a, b, len, 4.82461751e-1, 5.75251937e-1, 5.35909474e-1, -1.25994924e-2, t, att)
+        + airlight_segments_16_piece(a, b, len, 5.75251937e-1, 6.77858531e-1, 5.52382708e-1, -2.20757592e-2, t, att)
+        + airlight_segments_16_piece(a, b, len, 6.77858531e-1, 7.76492953e-1, 5.71736813e-1, -3.51950936e-2, t, att)
+        + airlight_segments_16_piece(a, b, len, 7.76492953e-1, 8.91859770e-1, 5.98007500e-1, -5.55940866e-2, t, att)
+        + airlight_segments_16_piece(a, b, len, 8.91859770e-1, 1.00721216e0, 6.31583691e-1, -8.55393633e-2, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.00721216e0, 1.10808051e0, 6.72602594e-1, -1.26854077e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.10808051e0, 1.19424891e0, 7.09015727e-1, -1.67202771e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.19424891e0, 1.29637575e0, 7.56451190e-1, -2.23852560e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.29637575e0, 1.39119053e0, 8.18401217e-1, -3.04163069e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.39119053e0, 1.46048462e0, 8.76685560e-1, -3.85247707e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.46048462e0, 1.52053702e0, 9.24686730e-1, -4.55352664e-1, t, att)
+        + airlight_segments_16_piece(a, b, len, 1.52053702e0, 1.57079637e0, 9.79968965e-1, -5.39411306e-1, t, att);
 }
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_segments_16_forward(float a, float len, float t, float att) {
-    return airlight_segments_16_P_ISO * airlight_segments_16_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_16_P_ISO * airlight_segments_16_segments(a, len, t, att);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -265,6 +264,7 @@ float airlight_segments_16_airlight_geometry(float tau, float h_in, float x0, fl
     if (x0 > 0.0) {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         float len = airlight_segments_16_arctan2(x0, h);
         if (!open && rho < x0) {
             len = airlight_segments_16_arctan2(h * rho, 1.0 - x0 * rho);

@@ -4,7 +4,7 @@
 // model: segments-2; coefficients: generated/coefficients/segments-2.toml
 // declared bound: max relative error of A (f64 model): thin 1.9e-2, dense 2.1e-1
 //
-// `segments-2`: the `segments-2` model (isotropic; 2-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-2`: the `segments-2` model (isotropic; 2-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (float; lengths in any one unit, sigma in its inverse):
 //
@@ -120,13 +120,13 @@ float airlight_segments_2_phi(float z) {
 
 // --- the model
 
-// The isotropic phase function, 1/(4 pi).
+// Isotropic scattering: P = 1/(4 pi).
 const float airlight_segments_2_P_ISO = 7.95774683e-2;
 
-// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+// One segment's part of the integral of e^(att - T k(alpha)) over
 // alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 // On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-float airlight_segments_2_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored) {
+float airlight_segments_2_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att) {
     float lo = max(a, lo_j);
     float hi = min(b, hi_j);
     if (hi <= lo) {
@@ -134,23 +134,22 @@ float airlight_segments_2_piece(float a, float b, float len, float lo_j, float h
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     float l = (a >= lo_j && b <= hi_j) ? len : hi - lo;
-    float ang = mirrored ? airlight_segments_2_PI - lo : lo;
-    float lam = -t * slope + (mirrored ? beta : -beta);
-    float ea = att - t * (slope * lo + icpt) - beta * ang;
+    float lam = -t * slope;
+    float ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_2_exprel(-abs(lam) * l);
 }
 
 // The integral over alpha in [a, a + len], segment by segment (the forward kernel
 // k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-float airlight_segments_2_segments(float a, float len, float t, float att, float beta, bool mirrored) {
+float airlight_segments_2_segments(float a, float len, float t, float att) {
     float b = a + len;
-    return airlight_segments_2_piece(a, b, len, 0.0, 1.14924073e0, 5.92354953e-1, -4.40981090e-2, t, att, beta, mirrored)
-        + airlight_segments_2_piece(a, b, len, 1.14924073e0, 1.57079637e0, 8.44150960e-1, -3.33472341e-1, t, att, beta, mirrored);
+    return airlight_segments_2_piece(a, b, len, 0.0, 1.14924073e0, 5.92354953e-1, -4.40981090e-2, t, att)
+        + airlight_segments_2_piece(a, b, len, 1.14924073e0, 1.57079637e0, 8.44150960e-1, -3.33472341e-1, t, att);
 }
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_segments_2_forward(float a, float len, float t, float att) {
-    return airlight_segments_2_P_ISO * airlight_segments_2_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_2_P_ISO * airlight_segments_2_segments(a, len, t, att);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -251,6 +250,7 @@ float airlight_segments_2_airlight_geometry(float tau, float h_in, float x0, flo
     if (x0 > 0.0) {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         float len = airlight_segments_2_arctan2(x0, h);
         if (!open && rho < x0) {
             len = airlight_segments_2_arctan2(h * rho, 1.0 - x0 * rho);

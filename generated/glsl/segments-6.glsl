@@ -4,7 +4,7 @@
 // model: segments-6; coefficients: generated/coefficients/segments-6.toml
 // declared bound: max relative error of A (f64 model): thin 3.6e-3, dense 3.6e-2
 //
-// `segments-6`: the `segments-6` model (isotropic; 6-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-6`: the `segments-6` model (isotropic; 6-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (float; lengths in any one unit, sigma in its inverse):
 //
@@ -120,13 +120,13 @@ float airlight_segments_6_phi(float z) {
 
 // --- the model
 
-// The isotropic phase function, 1/(4 pi).
+// Isotropic scattering: P = 1/(4 pi).
 const float airlight_segments_6_P_ISO = 7.95774683e-2;
 
-// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+// One segment's part of the integral of e^(att - T k(alpha)) over
 // alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 // On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-float airlight_segments_6_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored) {
+float airlight_segments_6_piece(float a, float b, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att) {
     float lo = max(a, lo_j);
     float hi = min(b, hi_j);
     if (hi <= lo) {
@@ -134,27 +134,26 @@ float airlight_segments_6_piece(float a, float b, float len, float lo_j, float h
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     float l = (a >= lo_j && b <= hi_j) ? len : hi - lo;
-    float ang = mirrored ? airlight_segments_6_PI - lo : lo;
-    float lam = -t * slope + (mirrored ? beta : -beta);
-    float ea = att - t * (slope * lo + icpt) - beta * ang;
+    float lam = -t * slope;
+    float ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_6_exprel(-abs(lam) * l);
 }
 
 // The integral over alpha in [a, a + len], segment by segment (the forward kernel
 // k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-float airlight_segments_6_segments(float a, float len, float t, float att, float beta, bool mirrored) {
+float airlight_segments_6_segments(float a, float len, float t, float att) {
     float b = a + len;
-    return airlight_segments_6_piece(a, b, len, 0.0, 5.59604406e-1, 5.18066168e-1, -3.89139447e-3, t, att, beta, mirrored)
-        + airlight_segments_6_piece(a, b, len, 5.59604406e-1, 8.39412749e-1, 5.67347348e-1, -3.14693749e-2, t, att, beta, mirrored)
-        + airlight_segments_6_piece(a, b, len, 8.39412749e-1, 1.06243026e0, 6.34785116e-1, -8.80774781e-2, t, att, beta, mirrored)
-        + airlight_segments_6_piece(a, b, len, 1.06243026e0, 1.24416280e0, 7.10435390e-1, -1.68450624e-1, t, att, beta, mirrored)
-        + airlight_segments_6_piece(a, b, len, 1.24416280e0, 1.43164194e0, 8.12268734e-1, -2.95147836e-1, t, att, beta, mirrored)
-        + airlight_segments_6_piece(a, b, len, 1.43164194e0, 1.57079637e0, 9.44929183e-1, -4.85070139e-1, t, att, beta, mirrored);
+    return airlight_segments_6_piece(a, b, len, 0.0, 5.59604406e-1, 5.18066168e-1, -3.89139447e-3, t, att)
+        + airlight_segments_6_piece(a, b, len, 5.59604406e-1, 8.39412749e-1, 5.67347348e-1, -3.14693749e-2, t, att)
+        + airlight_segments_6_piece(a, b, len, 8.39412749e-1, 1.06243026e0, 6.34785116e-1, -8.80774781e-2, t, att)
+        + airlight_segments_6_piece(a, b, len, 1.06243026e0, 1.24416280e0, 7.10435390e-1, -1.68450624e-1, t, att)
+        + airlight_segments_6_piece(a, b, len, 1.24416280e0, 1.43164194e0, 8.12268734e-1, -2.95147836e-1, t, att)
+        + airlight_segments_6_piece(a, b, len, 1.43164194e0, 1.57079637e0, 9.44929183e-1, -4.85070139e-1, t, att);
 }
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_segments_6_forward(float a, float len, float t, float att) {
-    return airlight_segments_6_P_ISO * airlight_segments_6_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_6_P_ISO * airlight_segments_6_segments(a, len, t, att);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -255,6 +254,7 @@ float airlight_segments_6_airlight_geometry(float tau, float h_in, float x0, flo
     if (x0 > 0.0) {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         float len = airlight_segments_6_arctan2(x0, h);
         if (!open && rho < x0) {
             len = airlight_segments_6_arctan2(h * rho, 1.0 - x0 * rho);

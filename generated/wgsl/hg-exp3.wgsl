@@ -4,7 +4,7 @@
 // model: hg-exp3; coefficients: generated/coefficients/hg-exp3.toml
 // declared bound: max relative error of A (f64 model): thin 9.6e-1, dense 8.7e-1
 //
-// `hg-exp3`: the `hg-exp3` model (HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1), specialised: g at run time (7 bands), surfaces.
+// `hg-exp3`: the `hg-exp3` model (HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1), specialised: g at run time (7 bands), rays may end early (ρ argument).
 //
 // Entry points (f32; lengths in any one unit, sigma in its inverse):
 //
@@ -341,6 +341,7 @@ fn airlight_hg_exp3_airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32, g:
     if x0 > 0.0 {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         var len = airlight_hg_exp3_arctan2(x0, h);
         if !open && rho < x0 {
             len = airlight_hg_exp3_arctan2(h * rho, 1.0 - x0 * rho);

@@ -4,7 +4,7 @@
 // model: segments-3; coefficients: generated/coefficients/segments-3.toml
 // declared bound: max relative error of A (f64 model): thin 9.4e-3, dense 9.8e-2
 //
-// `segments-3`: the `segments-3` model (isotropic; 3-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-3`: the `segments-3` model (isotropic; 3-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (f32; lengths in any one unit, sigma in its inverse):
 //
@@ -114,13 +114,13 @@ fn airlight_segments_3_phi(z: f32) -> f32 {
 
 // --- the model
 
-/// The isotropic phase function, 1/(4 pi).
+/// Isotropic scattering: P = 1/(4 pi).
 const airlight_segments_3_P_ISO: f32 = 7.95774683e-2;
 
-/// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+/// One segment's part of the integral of e^(att - T k(alpha)) over
 /// alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 /// On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-fn airlight_segments_3_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slope: f32, icpt: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
+fn airlight_segments_3_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slope: f32, icpt: f32, t: f32, att: f32) -> f32 {
     let lo = max(a, lo_j);
     let hi = min(b, hi_j);
     if hi <= lo {
@@ -128,24 +128,23 @@ fn airlight_segments_3_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slo
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     let l = select(hi - lo, len, a >= lo_j && b <= hi_j);
-    let ang = select(lo, airlight_segments_3_PI - lo, mirrored);
-    let lam = -t * slope + select(-beta, beta, mirrored);
-    let ea = att - t * (slope * lo + icpt) - beta * ang;
+    let lam = -t * slope;
+    let ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_3_exprel(-abs(lam) * l);
 }
 
 /// The integral over alpha in [a, a + len], segment by segment (the forward kernel
 /// k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-fn airlight_segments_3_segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
+fn airlight_segments_3_segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
     let b = a + len;
-    return airlight_segments_3_piece(a, b, len, 0.0, 9.53161657e-1, 5.60681343e-1, -2.39117630e-2, t, att, beta, mirrored)
-        + airlight_segments_3_piece(a, b, len, 9.53161657e-1, 1.32442725e0, 7.11277485e-1, -1.67454228e-1, t, att, beta, mirrored)
-        + airlight_segments_3_piece(a, b, len, 1.32442725e0, 1.57079637e0, 9.04102206e-1, -4.22836542e-1, t, att, beta, mirrored);
+    return airlight_segments_3_piece(a, b, len, 0.0, 9.53161657e-1, 5.60681343e-1, -2.39117630e-2, t, att)
+        + airlight_segments_3_piece(a, b, len, 9.53161657e-1, 1.32442725e0, 7.11277485e-1, -1.67454228e-1, t, att)
+        + airlight_segments_3_piece(a, b, len, 1.32442725e0, 1.57079637e0, 9.04102206e-1, -4.22836542e-1, t, att);
 }
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_segments_3_forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
-    return airlight_segments_3_P_ISO * airlight_segments_3_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_3_P_ISO * airlight_segments_3_segments(a, len, t, att);
 }
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -246,6 +245,7 @@ fn airlight_segments_3_airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32)
     if x0 > 0.0 {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         var len = airlight_segments_3_arctan2(x0, h);
         if !open && rho < x0 {
             len = airlight_segments_3_arctan2(h * rho, 1.0 - x0 * rho);

@@ -4,7 +4,7 @@
 // model: segments-8; coefficients: generated/coefficients/segments-8.toml
 // declared bound: max relative error of A (f64 model): thin 1.5e-3, dense 2.0e-2
 //
-// `segments-8`: the `segments-8` model (isotropic; 8-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+// `segments-8`: the `segments-8` model (isotropic; 8-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //
 // Entry points (f32; lengths in any one unit, sigma in its inverse):
 //
@@ -114,13 +114,13 @@ fn airlight_segments_8_phi(z: f32) -> f32 {
 
 // --- the model
 
-/// The isotropic phase function, 1/(4 pi).
+/// Isotropic scattering: P = 1/(4 pi).
 const airlight_segments_8_P_ISO: f32 = 7.95774683e-2;
 
-/// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
+/// One segment's part of the integral of e^(att - T k(alpha)) over
 /// alpha in [a, b]: e^(larger end) * L * exprel(-|lambda| L), no 0/0, no cancellation.
 /// On [lo_j, hi_j] the kernel is k = slope * alpha + icpt.
-fn airlight_segments_8_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slope: f32, icpt: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
+fn airlight_segments_8_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slope: f32, icpt: f32, t: f32, att: f32) -> f32 {
     let lo = max(a, lo_j);
     let hi = min(b, hi_j);
     if hi <= lo {
@@ -128,29 +128,28 @@ fn airlight_segments_8_piece(a: f32, b: f32, len: f32, lo_j: f32, hi_j: f32, slo
     }
     // `len` keeps its precision when the whole interval lies in this segment.
     let l = select(hi - lo, len, a >= lo_j && b <= hi_j);
-    let ang = select(lo, airlight_segments_8_PI - lo, mirrored);
-    let lam = -t * slope + select(-beta, beta, mirrored);
-    let ea = att - t * (slope * lo + icpt) - beta * ang;
+    let lam = -t * slope;
+    let ea = att - t * (slope * lo + icpt);
     return exp(max(ea, ea + lam * l)) * l * airlight_segments_8_exprel(-abs(lam) * l);
 }
 
 /// The integral over alpha in [a, a + len], segment by segment (the forward kernel
 /// k ~ sec(theta) - tan(theta) with theta = pi/2 - alpha).
-fn airlight_segments_8_segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
+fn airlight_segments_8_segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
     let b = a + len;
-    return airlight_segments_8_piece(a, b, len, 0.0, 4.48732615e-1, 5.12233377e-1, -2.18569813e-3, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 4.48732615e-1, 6.74482882e-1, 5.40969551e-1, -1.50805535e-2, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 6.74482882e-1, 8.82378936e-1, 5.84965944e-1, -4.47553769e-2, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 8.82378936e-1, 1.06531835e0, 6.40396237e-1, -9.36658755e-2, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 1.06531835e0, 1.22277427e0, 7.06773758e-1, -1.64379075e-1, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 1.22277427e0, 1.36956561e0, 7.88857341e-1, -2.64748752e-1, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 1.36956561e0, 1.48602939e0, 8.77854228e-1, -3.86635870e-1, t, att, beta, mirrored)
-        + airlight_segments_8_piece(a, b, len, 1.48602939e0, 1.57079637e0, 9.65398252e-1, -5.16728818e-1, t, att, beta, mirrored);
+    return airlight_segments_8_piece(a, b, len, 0.0, 4.48732615e-1, 5.12233377e-1, -2.18569813e-3, t, att)
+        + airlight_segments_8_piece(a, b, len, 4.48732615e-1, 6.74482882e-1, 5.40969551e-1, -1.50805535e-2, t, att)
+        + airlight_segments_8_piece(a, b, len, 6.74482882e-1, 8.82378936e-1, 5.84965944e-1, -4.47553769e-2, t, att)
+        + airlight_segments_8_piece(a, b, len, 8.82378936e-1, 1.06531835e0, 6.40396237e-1, -9.36658755e-2, t, att)
+        + airlight_segments_8_piece(a, b, len, 1.06531835e0, 1.22277427e0, 7.06773758e-1, -1.64379075e-1, t, att)
+        + airlight_segments_8_piece(a, b, len, 1.22277427e0, 1.36956561e0, 7.88857341e-1, -2.64748752e-1, t, att)
+        + airlight_segments_8_piece(a, b, len, 1.36956561e0, 1.48602939e0, 8.77854228e-1, -3.86635870e-1, t, att)
+        + airlight_segments_8_piece(a, b, len, 1.48602939e0, 1.57079637e0, 9.65398252e-1, -5.16728818e-1, t, att);
 }
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_segments_8_forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
-    return airlight_segments_8_P_ISO * airlight_segments_8_segments(a, len, t, att, 0.0, false);
+    return airlight_segments_8_P_ISO * airlight_segments_8_segments(a, len, t, att);
 }
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of
@@ -251,6 +250,7 @@ fn airlight_segments_8_airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32)
     if x0 > 0.0 {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         var len = airlight_segments_8_arctan2(x0, h);
         if !open && rho < x0 {
             len = airlight_segments_8_arctan2(h * rho, 1.0 - x0 * rho);

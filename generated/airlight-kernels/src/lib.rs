@@ -48,6 +48,10 @@ pub mod hg_exp3;
 #[rustfmt::skip]
 pub mod scene_fog_street;
 #[rustfmt::skip]
+pub mod scene_harbour_fog;
+#[rustfmt::skip]
+pub mod scene_haze_sky;
+#[rustfmt::skip]
 pub mod scene_smoke_room;
 
 /// A kernel's canonical entry with the uniform signature `(tau, gamma, rho, g)`:
@@ -200,6 +204,22 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.9418108715113507e-2,
         dense_max_rel: 2.120715263311497e-1,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
+    },
+    Kernel {
+        name: "scene-harbour-fog",
+        scene: true,
+        params: &["tau", "gamma"],
+        thin_max_rel: 3.5885333914572e-3,
+        dense_max_rel: 3.6476540457779615e-2,
+        airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
+    },
+    Kernel {
+        name: "scene-haze-sky",
+        scene: true,
+        params: &["gamma"],
+        thin_max_rel: 0e0,
+        dense_max_rel: 0e0,
+        airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
     },
     Kernel {
         name: "scene-smoke-room",

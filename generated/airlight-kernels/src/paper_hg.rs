@@ -3,7 +3,7 @@
 // template: codegen/templates/kernels/kernel.rs.tera
 // model: paper-hg; coefficients: generated/coefficients/paper-hg.toml
 // declared bound: max relative error of A (f64 model): thin 1.0e0, dense 9.4e2
-//! `paper-hg`: the `paper-hg` model (HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)), specialised: g at run time (7 bands), surfaces.
+//! `paper-hg`: the `paper-hg` model (HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)), specialised: g at run time (7 bands), rays may end early (ρ argument).
 //!
 //! Entry points (f32; lengths in any one unit, σ in its inverse):
 //!
@@ -31,11 +31,12 @@ const SEG_ICPT: [f32; 3] = [-3.52736400e-3, -8.50711539e-2, -3.28754306e-1];
 /// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
+const SPLIT: f32 = 1.60000000e1;
 /// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2.00000000e0]`.
 const LOCAL_C: [f32; 3] = [1.97237298e-1, 3.02935791e0, 1.85083027e1];
 const LOCAL_S: [f32; 3] = [2.68402755e-1, 1.56594145e0, 4.44933319e0];
-const SPLIT: f32 = 1.60000000e1;
 const LOCAL_RATIO: f32 = 2.00000000e0;
+
 
 /// The paper's backscatter ratio `f(θ) e^{−g(θ) κ^{h(θ)}}`, cubics in θ (θ³, θ², θ, 1).
 const RATIO_F: [f32; 4] = [-3.94000001e-2, 1.06500000e-1, 5.77400029e-1, 5.79999993e-3];
@@ -108,7 +109,6 @@ fn phase_u(ph: &Phase, u: f32) -> f32 {
 /// `∫ e^{att − T k̂(α) − β α'} dα` over `α ∈ [a, a + len]`, exact per segment: each
 /// piece is `e^{larger end} · L · exprel(−|λ| L)` (no 0/0, no cancellation). `len` is
 /// passed separately so that short intervals keep their precision.
-#[allow(clippy::too_many_arguments)]
 fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
     let b = a + len;
     let mut sum = 0.0;
@@ -120,6 +120,7 @@ fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f3
             let ang = if mirrored { PI - lo } else { lo };
             let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]) - beta * ang;
             let lam = -t * SEG_SLOPE[j] + if mirrored { beta } else { -beta };
+
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }
@@ -222,6 +223,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
     if x0 > 0.0 {
         // α runs from γ to the foot point (π/2) or the surface, whichever is first;
         // both lengths are taken as angles between vectors, precise when short.
+
         let len = if !open && rho < x0 { atan2(h * rho, 1.0 - x0 * rho) } else { atan2(x0, h) };
         sum += forward(atan2(h, x0), len, t, -tau * x0, &ph);
     }

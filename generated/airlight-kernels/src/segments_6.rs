@@ -3,7 +3,7 @@
 // template: codegen/templates/kernels/kernel.rs.tera
 // model: segments-6; coefficients: generated/coefficients/segments-6.toml
 // declared bound: max relative error of A (f64 model): thin 3.6e-3, dense 3.6e-2
-//! `segments-6`: the `segments-6` model (isotropic; 6-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic (no phase code), surfaces.
+//! `segments-6`: the `segments-6` model (isotropic; 6-segment forward kernel, 4+3-term backward sums and E1), specialised: isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument).
 //!
 //! Entry points (f32; lengths in any one unit, σ in its inverse):
 //!
@@ -18,9 +18,9 @@
 //! Both return [`HUGE`] on the ray through the light, where `A` diverges.
 
 use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
-use core::f32::consts::{PI};
 
-/// The isotropic phase function, `1/(4π)`.
+
+/// Isotropic scattering: `P = 1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
@@ -33,17 +33,17 @@ const SEG_ICPT: [f32; 6] = [-3.89139447e-3, -3.14693749e-2, -8.80774781e-2, -1.6
 /// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
+const SPLIT: f32 = 1.60000000e1;
 /// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2.00000000e0]`.
 const LOCAL_C: [f32; 3] = [1.97237298e-1, 3.02935791e0, 1.85083027e1];
 const LOCAL_S: [f32; 3] = [2.68402755e-1, 1.56594145e0, 4.44933319e0];
-const SPLIT: f32 = 1.60000000e1;
 const LOCAL_RATIO: f32 = 2.00000000e0;
 
-/// `∫ e^{att − T k̂(α) − β α'} dα` over `α ∈ [a, a + len]`, exact per segment: each
+
+/// `∫ e^{att − T k̂(α)} dα` over `α ∈ [a, a + len]`, exact per segment: each
 /// piece is `e^{larger end} · L · exprel(−|λ| L)` (no 0/0, no cancellation). `len` is
 /// passed separately so that short intervals keep their precision.
-#[allow(clippy::too_many_arguments)]
-fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f32 {
+fn segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
     let b = a + len;
     let mut sum = 0.0;
     for j in 0..6 {
@@ -51,9 +51,9 @@ fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f3
         let hi = b.min(SEG_HI[j]);
         if hi > lo {
             let l = if a >= SEG_LO[j] && b <= SEG_HI[j] { len } else { hi - lo };
-            let ang = if mirrored { PI - lo } else { lo };
-            let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]) - beta * ang;
-            let lam = -t * SEG_SLOPE[j] + if mirrored { beta } else { -beta };
+            let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]);
+            let lam = -t * SEG_SLOPE[j];
+
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }
@@ -62,7 +62,7 @@ fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f3
 
 /// The forward part (α ∈ [γ, γ + len], before the foot point), times `h`.
 fn forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
-    P_ISO * segments(a, len, t, att, 0.0, false)
+    P_ISO * segments(a, len, t, att)
 }
 
 /// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`
@@ -140,6 +140,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     if x0 > 0.0 {
         // α runs from γ to the foot point (π/2) or the surface, whichever is first;
         // both lengths are taken as angles between vectors, precise when short.
+
         let len = if !open && rho < x0 { atan2(h * rho, 1.0 - x0 * rho) } else { atan2(x0, h) };
         sum += forward(atan2(h, x0), len, t, -tau * x0);
     }

@@ -6,7 +6,7 @@
 // model: hg-exp1; coefficients: generated/coefficients/hg-exp1.toml
 // declared bound: max relative error of A (f64 model): thin 1.0e0, dense 1.0e0
 //
-// `hg-exp1`: the `hg-exp1` model (HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+3-term backward sums and E1), specialised: g at run time (7 bands), surfaces.
+// `hg-exp1`: the `hg-exp1` model (HG g in [-0.99, 0.99] (mirrored); 1 exponential per band, 8 segments, 4+3-term backward sums and E1), specialised: g at run time (7 bands), rays may end early (ρ argument).
 //
 // Entry points (f32; lengths in any one unit, sigma in its inverse):
 //
@@ -313,6 +313,7 @@ fn airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
     if x0 > 0.0 {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         var len = arctan2(x0, h);
         if !open && rho < x0 {
             len = arctan2(h * rho, 1.0 - x0 * rho);

@@ -6,7 +6,7 @@
 // model: paper-hg; coefficients: generated/coefficients/paper-hg.toml
 // declared bound: max relative error of A (f64 model): thin 1.0e0, dense 9.4e2
 //
-// `paper-hg`: the `paper-hg` model (HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)), specialised: g at run time (7 bands), surfaces.
+// `paper-hg`: the `paper-hg` model (HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)), specialised: g at run time (7 bands), rays may end early (ρ argument).
 //
 // Entry points (f32; lengths in any one unit, sigma in its inverse):
 //
@@ -325,6 +325,7 @@ fn airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
     if x0 > 0.0 {
         // alpha runs from gamma to the foot point (pi/2) or the surface, whichever is
         // first; both lengths are angles between vectors, precise when short.
+
         var len = arctan2(x0, h);
         if !open && rho < x0 {
             len = arctan2(h * rho, 1.0 - x0 * rho);
