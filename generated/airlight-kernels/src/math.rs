@@ -207,23 +207,60 @@ pub fn phi(z: f32) -> f32 {
 mod tests {
     use super::*;
 
+    /// Largest relative error against f64 at the same (f32) arguments.
+    fn worst(f: impl Fn(f32) -> f32, g: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+        (0..20000)
+            .map(|i| {
+                let x = (lo + (hi - lo) * (i as f64 + 0.5) / 20000.0) as f32;
+                let (got, want) = (f64::from(f(x)), g(f64::from(x)));
+                if want == 0.0 {
+                    got.abs()
+                } else {
+                    (got - want).abs() / want.abs()
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
     #[test]
     fn close_to_f64() {
-        let mut worst = [0.0f64; 6];
-        for i in 0..20000 {
-            let x = (i as f64 + 0.5) / 20000.0;
-            let checks = [
-                (exp((x * 200.0 - 100.0) as f32) as f64, (x * 200.0 - 100.0).exp()),
-                (ln((x * 50.0).exp() as f32 * 1e-20) as f64, (((x * 50.0).exp() as f32 * 1e-20) as f64).ln()),
-                (sqrt((x * 1e3) as f32) as f64, (x * 1e3).sqrt()),
-                (atan2((x - 0.3) as f32, (0.6 - x) as f32) as f64, (x - 0.3).atan2(0.6 - x)),
-                (sin_cos((x * 3.2) as f32).0 as f64, (((x * 3.2) as f32) as f64).sin()),
-                (exprel((x * 4.0 - 2.0) as f32) as f64, ((x * 4.0 - 2.0).exp() - 1.0) / (x * 4.0 - 2.0)),
-            ];
-            for (w, (got, want)) in worst.iter_mut().zip(checks) {
-                *w = w.max((got - want).abs() / want.abs().max(1e-30));
-            }
+        let checks = [
+            ("exp", worst(exp, f64::exp, -87.0, 88.0)),
+            ("exprel", worst(exprel, |x| if x == 0.0 { 1.0 } else { x.exp_m1() / x }, -30.0, 2.0)),
+            ("ln", worst(|x| ln(exp(x)), |x| f64::from(exp(x as f32)).ln(), -100.0, 80.0)),
+            ("sqrt", worst(sqrt, f64::sqrt, 1e-6, 1e6)),
+            ("atan", worst(atan, f64::atan, -50.0, 50.0)),
+            ("sin", worst(|x| sin_cos(x).0, f64::sin, 0.0, 3.0)),
+            ("cos", worst(|x| sin_cos(x).1, f64::cos, 0.0, 1.5)),
+        ];
+        for (name, w) in checks {
+            assert!(w < 4e-7, "{name}: {w:.2e}");
         }
-        assert!(worst.iter().all(|&w| w < 2e-6), "{worst:?}");
+        assert_eq!(exp(100.0), HUGE);
+        assert_eq!(exp(-200.0), 0.0);
+        assert!((atan2(1.0, -1.0) - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+        assert_eq!(sqrt(0.0), 0.0);
+    }
+
+    #[test]
+    fn phi_matches_its_f64_form() {
+        // 1 − z e^z E1(z), by the same A&S forms in f64.
+        for z in [1e-6f32, 0.01, 0.5, 1.0, 1.5, 10.0, 300.0, 600.0, 1e4] {
+            let zf = f64::from(z);
+            let want = if zf <= 1.0 {
+                let e1 = -zf.ln() - 0.57721566
+                    + zf * (0.99999193 + zf * (-0.24991055 + zf * (0.05519968 + zf * (-0.00976004 + zf * 0.00107857))));
+                1.0 - zf * zf.exp() * e1
+            } else if zf > 500.0 {
+                let r = 1.0 / zf;
+                r * (1.0 + r * (-2.0 + r * (6.0 + r * (-24.0 + r * 120.0))))
+            } else {
+                let d = (((zf + 9.5733223454) * zf + 25.6329561486) * zf + 21.0996530827) * zf + 3.9584969228;
+                let n = (((zf + 8.5733287401) * zf + 18.0590169730) * zf + 8.6347608925) * zf + 0.2677737343;
+                (d - n) / d
+            };
+            let got = f64::from(phi(z));
+            assert!((got - want).abs() / want < 1e-5, "{z}: {got} vs {want}");
+        }
     }
 }
