@@ -403,12 +403,26 @@ fn read_bench(generated: &Path) -> Result<Option<Bench>, Failure> {
 fn bench(root: Option<PathBuf>) -> Result<(), Failure> {
     let generated = generated_dir(root)?;
     let spinner = indicatif::ProgressBar::new_spinner();
-    let (b, _) =
+    let (mut b, files) =
         airlight_fit::bench::run(&|what| spinner.set_message(format!("bench: {what}"))).map_err(|e| Failure(1, e))?;
+    // The generated f32 kernels, on the same points (in their model's g range).
+    for k in airlight_kernels::KERNELS {
+        spinner.set_message(format!("bench: {} (f32)", k.name));
+        let g = files.iter().find(|f| f.model.name == k.name).map_or((0.0, 0.0), |f| f.model.g_range);
+        let speed = |d| airlight_fit::bench::throughput_of(|p| f32_value(k, p), g, d);
+        b.kernels.push(airlight_fit::bench::ModelSpeed {
+            model: k.name.to_string(),
+            thin_per_s: speed(airlight_fit::domains::Domain::Thin),
+            dense_per_s: speed(airlight_fit::domains::Domain::Dense),
+        });
+    }
     spinner.finish_and_clear();
     println!("fit {:.1} s, measure {:.1} s on {} cores", b.fit_s, b.measure_s, b.cores);
     for m in &b.models {
-        println!("{:<18} thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+        println!("{:<18} f64 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+    }
+    for m in &b.kernels {
+        println!("{:<18} f32 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
     }
     airlight_fit::io::write_atomic(&generated.join("bench.json"), b.to_json().as_bytes())
         .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;

@@ -122,6 +122,8 @@ pub struct KernelSpec {
     pub bound: String,
     /// Where it came from: `None` for a model kernel, the scene file for scenes.
     pub scene: Option<String>,
+    /// Error domains its bound is taken over.
+    pub domains: Vec<&'static str>,
     /// Targets to emit.
     pub targets: Vec<Target>,
 }
@@ -150,6 +152,7 @@ impl KernelSpec {
             extinction: true,
             backscatter: true,
             scene: None,
+            domains: vec!["thin", "dense"],
             targets: vec![Target::Wgsl, Target::Glsl, Target::Rust],
         }
     }
@@ -166,6 +169,7 @@ impl KernelSpec {
             backscatter: scene.backscatter,
             bound,
             scene: Some(scene_file.to_string()),
+            domains: plan.domains.clone(),
             targets: scene.targets.clone(),
         };
         match &plan.choice {
@@ -206,6 +210,11 @@ impl KernelSpec {
                 common(Some(m), phase, bound)
             }
         }
+    }
+
+    /// Error domains its declared bound is taken over.
+    pub fn domains(&self) -> &[&'static str] {
+        &self.domains
     }
 
     /// The kernel's name as an identifier.

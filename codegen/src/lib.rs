@@ -66,7 +66,15 @@ pub fn render_all(
     bench: Option<&Bench>,
     scenes: &[scene::Scene],
 ) -> Result<Vec<Output>, RenderError> {
-    let mut out = vec![report::render(check, models, bench).map_err(RenderError::Template)?];
+    let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
+    let mut plans = Vec::new();
+    for s in scenes {
+        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
+        let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
+        plans.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
+        specs.push(spec);
+    }
+    let mut out = vec![report::render(check, models, bench, &specs).map_err(RenderError::Template)?];
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
     }
@@ -74,13 +82,7 @@ pub fn render_all(
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
     }
     out.extend(plots::render(models).map_err(RenderError::Plot)?);
-    let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
-    for s in scenes {
-        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
-        let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
-        out.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
-        specs.push(spec);
-    }
+    out.extend(plans);
     out.extend(kernel::render(&specs).map_err(RenderError::Template)?);
     Ok(out)
 }

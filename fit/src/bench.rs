@@ -6,6 +6,7 @@ use crate::catalog;
 use crate::coeffs::ModelFile;
 use crate::domains::{Domain, VALIDATION_SEED};
 use crate::model::Model;
+use crate::reference::Point;
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
 use std::time::Instant;
@@ -15,7 +16,7 @@ use std::time::Instant;
 pub struct ModelSpeed {
     /// Model name.
     pub model: String,
-    /// f64 evaluations per second on the thin validation-like set, one core.
+    /// Evaluations per second on the thin validation-like set, one core.
     pub thin_per_s: f64,
     /// Same on dense.
     pub dense_per_s: f64,
@@ -30,8 +31,11 @@ pub struct Bench {
     pub fit_s: f64,
     /// Wall-clock seconds to assemble and measure every model.
     pub measure_s: f64,
-    /// Per-model throughput (the reference first).
+    /// Per-model f64 throughput (the reference first).
     pub models: Vec<ModelSpeed>,
+    /// Per-kernel throughput of the generated f32 Rust kernels (`airlight-kernels`).
+    #[serde(default)]
+    pub kernels: Vec<ModelSpeed>,
 }
 
 impl Bench {
@@ -46,14 +50,22 @@ impl Bench {
 }
 
 fn throughput(model: &dyn Model, domain: Domain) -> f64 {
+    throughput_of(|p| model.eval_unchecked(p), model.g_range(), domain)
+}
+
+/// Single-core evaluations per second of `eval` on 20,000 points of `domain` with
+/// `g` in `g_range` (best of three passes): the same points for every model and
+/// kernel, so their figures compare.
+pub fn throughput_of<T>(eval: impl Fn(Point) -> T, g_range: (f64, f64), domain: Domain) -> f64 {
     // The reference takes every g in (−1, 1); time it on the public data's range.
-    let (lo, hi) = model.g_range();
+    let (lo, hi) = g_range;
     let pts = domain.validation_set((lo.max(-0.9), hi.min(0.95)), 20_000, VALIDATION_SEED ^ 0xBE7C);
     let mut best = 0.0f64;
     for _ in 0..3 {
         let t = Instant::now();
-        let s: f64 = pts.iter().map(|&p| black_box(model.eval_unchecked(black_box(p)))).sum();
-        black_box(s);
+        for &p in &pts {
+            black_box(eval(black_box(p)));
+        }
         best = best.max(pts.len() as f64 / t.elapsed().as_secs_f64());
     }
     best
@@ -82,5 +94,5 @@ pub fn run(progress: &(dyn Fn(&str) + Sync)) -> Result<(Bench, Vec<ModelFile>), 
         });
     }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    Ok((Bench { cores, fit_s, measure_s, models }, files))
+    Ok((Bench { cores, fit_s, measure_s, models, kernels: Vec::new() }, files))
 }
