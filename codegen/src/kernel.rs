@@ -478,6 +478,8 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         ctx.insert("near", &terms(&a.expsum.near));
         ctx.insert("local", &terms(&a.expsum.local));
         ctx.insert("split", &lit(SPLIT));
+        ctx.insert("split_doc", &SPLIT);
+        ctx.insert("local_ratio_doc", &LOCAL_RATIO);
         ctx.insert("local_ratio", &lit(LOCAL_RATIO));
         ctx.insert("attenuate", &a.forward_attenuation);
         let ratio = a.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });

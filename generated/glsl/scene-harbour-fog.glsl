@@ -158,7 +158,7 @@ float airlight_scene_harbour_fog_forward(float a, float len, float t, float att)
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
-// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 1.60000000e1;
+// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi.
 float airlight_scene_harbour_fog_backward_u(float tau, float t, float h, float x0) {

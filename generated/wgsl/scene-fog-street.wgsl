@@ -149,10 +149,10 @@ fn airlight_scene_fog_street_forward(a: f32, len: f32, t: f32, att: f32) -> f32 
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of
 /// e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
-/// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 1.60000000e1;
+/// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
-/// (ub < 2.00000000e0 a) by a sum for 1/y^2 on y = u/a.
+/// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
 fn airlight_scene_fog_street_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);

@@ -28,11 +28,11 @@ const SEG_HI: [f32; 8] = [4.48732615e-1, 6.74482882e-1, 8.82378936e-1, 1.0653183
 const SEG_SLOPE: [f32; 8] = [5.12233377e-1, 5.40969551e-1, 5.84965944e-1, 6.40396237e-1, 7.06773758e-1, 7.88857341e-1, 8.77854228e-1, 9.65398252e-1];
 const SEG_ICPT: [f32; 8] = [-2.18569813e-3, -1.50805535e-2, -4.47553769e-2, -9.36658755e-2, -1.64379075e-1, -2.64748752e-1, -3.86635870e-1, -5.16728818e-1];
 
-/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
+/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 16]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
 const SPLIT: f32 = 1.60000000e1;
-/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2.00000000e0]`.
+/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2]`.
 const LOCAL_C: [f32; 3] = [1.97237298e-1, 3.02935791e0, 1.85083027e1];
 const LOCAL_S: [f32; 3] = [2.68402755e-1, 1.56594145e0, 4.44933319e0];
 const LOCAL_RATIO: f32 = 2.00000000e0;
@@ -111,7 +111,6 @@ fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f3
             let ang = if mirrored { PI - lo } else { lo };
             let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]) - beta * ang;
             let lam = -t * SEG_SLOPE[j] + if mirrored { beta } else { -beta };
-
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }

@@ -30,11 +30,11 @@ const SEG_HI: [f32; 3] = [7.31296301e-1, 1.17489636e0, 1.57079637e0];
 const SEG_SLOPE: [f32; 3] = [5.21600008e-1, 6.33099973e-1, 8.40499997e-1];
 const SEG_ICPT: [f32; 3] = [-3.52736400e-3, -8.50711539e-2, -3.28754306e-1];
 
-/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
+/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 16]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
 const SPLIT: f32 = 1.60000000e1;
-/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2.00000000e0]`.
+/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2]`.
 const LOCAL_C: [f32; 3] = [1.97237298e-1, 3.02935791e0, 1.85083027e1];
 const LOCAL_S: [f32; 3] = [2.68402755e-1, 1.56594145e0, 4.44933319e0];
 const LOCAL_RATIO: f32 = 2.00000000e0;
@@ -62,7 +62,6 @@ fn segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
             let l = if a >= SEG_LO[j] && b <= SEG_HI[j] { len } else { hi - lo };
             let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]);
             let lam = -t * SEG_SLOPE[j];
-
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }

@@ -19,7 +19,6 @@
 
 use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
 
-
 /// Isotropic scattering: `P = 1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
 
@@ -30,7 +29,7 @@ const SEG_HI: [f32; 6] = [5.59604406e-1, 8.39412749e-1, 1.06243026e0, 1.24416280
 const SEG_SLOPE: [f32; 6] = [5.18066168e-1, 5.67347348e-1, 6.34785116e-1, 7.10435390e-1, 8.12268734e-1, 9.44929183e-1];
 const SEG_ICPT: [f32; 6] = [-3.89139447e-3, -3.14693749e-2, -8.80774781e-2, -1.68450624e-1, -2.95147836e-1, -4.85070139e-1];
 
-/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
+/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 16]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
 const SPLIT: f32 = 1.60000000e1;
@@ -49,7 +48,6 @@ fn segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
             let l = if a >= SEG_LO[j] && b <= SEG_HI[j] { len } else { hi - lo };
             let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]);
             let lam = -t * SEG_SLOPE[j];
-
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }

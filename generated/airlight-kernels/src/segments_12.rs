@@ -19,7 +19,6 @@
 
 use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
 
-
 /// Isotropic scattering: `P = 1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
 
@@ -30,11 +29,11 @@ const SEG_HI: [f32; 12] = [2.53629744e-1, 3.97766292e-1, 5.58397174e-1, 7.063876
 const SEG_SLOPE: [f32; 12] = [5.03559172e-1, 5.13345361e-1, 5.28239846e-1, 5.55457473e-1, 5.80877781e-1, 6.15080059e-1, 6.54134870e-1, 7.02610075e-1, 7.55464375e-1, 8.24647188e-1, 8.95560384e-1, 9.69058275e-1];
 const SEG_ICPT: [f32; 12] = [-3.20984953e-4, -2.80306255e-3, -8.72758031e-3, -2.39258371e-2, -4.18824181e-2, -7.03806877e-2, -1.07632674e-1, -1.59788832e-1, -2.22583458e-1, -3.12529176e-1, -4.12372172e-1, -5.22410512e-1];
 
-/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 1.60000000e1]`.
+/// Backward weight `1/(1 + u²) ≈ Σ NEAR_C e^{−NEAR_S u}` on `u ∈ [1, 16]`.
 const NEAR_C: [f32; 4] = [2.45746155e-3, 4.88575213e-2, 3.08479935e-1, 1.19296360e0];
 const NEAR_S: [f32; 4] = [2.49735657e-2, 1.93392336e-1, 5.81730545e-1, 1.42937565e0];
 const SPLIT: f32 = 1.60000000e1;
-/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2.00000000e0]`.
+/// `1/y² ≈ Σ LOCAL_C e^{−LOCAL_S y}` on `y ∈ [1, 2]`.
 const LOCAL_C: [f32; 3] = [1.97237298e-1, 3.02935791e0, 1.85083027e1];
 const LOCAL_S: [f32; 3] = [2.68402755e-1, 1.56594145e0, 4.44933319e0];
 const LOCAL_RATIO: f32 = 2.00000000e0;
@@ -53,7 +52,6 @@ fn segments(a: f32, len: f32, t: f32, att: f32) -> f32 {
             let l = if a >= SEG_LO[j] && b <= SEG_HI[j] { len } else { hi - lo };
             let ea = att - t * (SEG_SLOPE[j] * lo + SEG_ICPT[j]);
             let lam = -t * SEG_SLOPE[j];
-
             sum += exp(ea.max(ea + lam * l)) * l * exprel(-lam.abs() * l);
         }
     }
