@@ -3,27 +3,12 @@
 //! Halton sequence) inside each domain and the model's g range, against the
 //! reference. The check allows the factor 1.5 the project promises.
 
-use airlight_fit::domains::{Domain, SplitMix64};
+use airlight_fit::domains::Domain;
 use airlight_fit::model::Model;
-use airlight_fit::reference::{airlight, Point};
+use airlight_fit::reference::airlight;
 use airlight_fit::stats::rel_error;
-use airlight_tests::committed_models;
+use airlight_tests::{committed_models, random_points};
 use std::f64::consts::PI;
-
-fn random_points(domain: Domain, g: (f64, f64), n: usize, seed: u64) -> Vec<Point> {
-    let mut rng = SplitMix64(seed);
-    let (tlo, thi) = domain.tau_range();
-    (0..n)
-        .map(|_| {
-            let tau = tlo + (thi - tlo) * rng.next_f64();
-            let gamma = 0.01 + (PI - 0.02) * rng.next_f64();
-            let r = rng.next_f64();
-            let rho = if r < 0.1 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
-            let gv = g.0 + (g.1 - g.0) * rng.next_f64();
-            Point { tau, gamma, rho, g: gv }
-        })
-        .collect()
-}
 
 #[test]
 fn declared_max_holds_on_fresh_points() {

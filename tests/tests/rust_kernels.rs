@@ -2,10 +2,10 @@
 //! they were generated from, against the reference within each model's declared
 //! bound plus f32 rounding, and at the extremes (finite, non-negative).
 
-use airlight_fit::domains::{Domain, SplitMix64};
+use airlight_fit::domains::Domain;
 use airlight_fit::model::Model;
 use airlight_fit::reference::Point;
-use airlight_tests::committed_models;
+use airlight_tests::{committed_models, random_points};
 use std::f64::consts::PI;
 
 /// Largest relative difference between an f32 kernel and its f64 model: f32
@@ -16,19 +16,6 @@ const PORT_TOLERANCE: f64 = 1e-3;
 const F32_ALLOWANCE: f64 = 1e-4;
 /// Below this, `A` is not meaningfully representable in f32 (normal range, with margin).
 const F32_TINY: f64 = 1e-30;
-
-fn points(domain: Domain, g: (f64, f64), n: usize, seed: u64) -> Vec<Point> {
-    let mut rng = SplitMix64(seed);
-    let (tlo, thi) = domain.tau_range();
-    (0..n)
-        .map(|_| {
-            let tau = tlo + (thi - tlo) * rng.next_f64();
-            let gamma = 0.01 + (PI - 0.02) * rng.next_f64();
-            let rho = if rng.next_f64() < 0.1 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
-            Point { tau, gamma, rho, g: g.0 + (g.1 - g.0) * rng.next_f64() }
-        })
-        .collect()
-}
 
 fn kernel_at(k: &airlight_kernels::Kernel, p: &Point) -> f64 {
     let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
@@ -62,7 +49,7 @@ fn every_model_kernel_matches_its_f64_model() {
         let gs = [m.model.g_range.0, 0.0f64.clamp(m.model.g_range.0, m.model.g_range.1), m.model.g_range.1];
         for (domain, seed) in [(Domain::Thin, 0x5EED_0001), (Domain::Dense, 0x5EED_0002), (Domain::Extreme, 0)] {
             let mut pts =
-                if domain == Domain::Extreme { Vec::new() } else { points(domain, m.model.g_range, 4000, seed) };
+                if domain == Domain::Extreme { Vec::new() } else { random_points(domain, m.model.g_range, 4000, seed) };
             pts.extend(domain.corners(&gs));
             for p in &pts {
                 let q = rounded(p);
