@@ -8,6 +8,8 @@ use airlight_fit::catalog::{self, Family, Fits};
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
 use airlight_fit::{points_csv, selfcheck};
+use airlight_shaders::gate;
+use airlight_shaders::{Gpu, KernelSource, Language};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -41,6 +43,17 @@ enum Precision {
     F32,
 }
 
+/// Where `eval` runs a generated kernel.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum EvalTarget {
+    /// On the CPU: the f64 model, or the Rust kernel with `--precision f32`.
+    Cpu,
+    /// The generated WGSL kernel on the GPU adapter (f32).
+    Wgsl,
+    /// The generated GLSL kernel on the GPU adapter (f32, GLSL 4.50 compute through wgpu).
+    Glsl,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Evaluate a model at the points of a CSV file.
@@ -65,6 +78,10 @@ enum Command {
         /// scene kernels `scene-<name>` too).
         #[arg(long, value_enum, default_value_t = Precision::F64)]
         precision: Precision,
+        /// cpu, or a generated shader kernel evaluated on the GPU adapter (f32;
+        /// `--precision` is then ignored). Prints the adapter on standard error.
+        #[arg(long, value_enum, default_value_t = EvalTarget::Cpu)]
+        target: EvalTarget,
         /// Repository root (the directory holding generated/coefficients/); found
         /// from the current directory if omitted. Only the reference works without it.
         #[arg(long)]
@@ -111,8 +128,31 @@ enum Command {
         #[arg(long)]
         root: Option<PathBuf>,
     },
+    /// The error-bound gate: every generated kernel on every target (the Rust
+    /// f32 kernels on the CPU, WGSL and GLSL on the GPU adapter) against the
+    /// reference on the validation sets of its domains and on the extreme set.
+    /// Fails (exit 1, a table of the failures) if any error exceeds the declared
+    /// bound plus the f32 allowance, or any value is NaN, infinite or negative
+    /// where A is finite. Prints the adapter; without one the GPU targets are
+    /// SKIPPED, unless --require-gpu or AIRLIGHT_REQUIRE_GPU=1 makes that a failure.
+    Check {
+        /// Fail when no GPU adapter can be opened.
+        #[arg(long)]
+        require_gpu: bool,
+        /// Check only this kernel (repeatable); all kernels by default.
+        #[arg(long)]
+        kernel: Vec<String>,
+        /// Print every row, not just the summary and failures.
+        #[arg(long)]
+        all: bool,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
     /// The main job: fit every family, measure every model, then regenerate
-    /// everything under generated/ (coefficients, REPORT.md, plots).
+    /// everything under generated/ (coefficients, kernels, REPORT.md, plots), and
+    /// end with the error gate (`airlight check`).
     ///
     /// Deterministic: running it twice writes identical files.
     Regenerate {
@@ -133,9 +173,10 @@ fn bad_input(msg: impl std::fmt::Display) -> Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Eval { model, input, output, precision, root } => {
-            eval(&model, &input, output.as_deref(), precision, root)
+        Command::Eval { model, input, output, precision, target, root } => {
+            eval(&model, &input, output.as_deref(), precision, target, root)
         }
+        Command::Check { require_gpu, kernel, all, root } => check(root, require_gpu, &kernel, all),
         Command::Models { root } => models(root),
         Command::Fit { family, root } => fit(family.as_deref(), root),
         Command::Bench { root } => bench(root),
@@ -177,8 +218,12 @@ fn eval(
     input: &Path,
     output: Option<&Path>,
     precision: Precision,
+    target: EvalTarget,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
+    if target != EvalTarget::Cpu {
+        return eval_gpu(model, input, output, target, root);
+    }
     let (reg, _) = registry(root)?;
     let kernel = match precision {
         Precision::F64 => None,
@@ -214,6 +259,130 @@ fn eval(
             Ok(())
         }
     }
+}
+
+/// `eval --target wgsl|glsl`: the generated shader kernel on the GPU adapter.
+fn eval_gpu(
+    name: &str,
+    input: &Path,
+    output: Option<&Path>,
+    target: EvalTarget,
+    root: Option<PathBuf>,
+) -> Result<(), Failure> {
+    let generated = generated_dir(root.clone())?;
+    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    let k = index.kernel.iter().find(|k| k.name == name).ok_or_else(|| {
+        let known: Vec<&str> = index.kernel.iter().map(|k| k.name.as_str()).collect();
+        bad_input(format!("no generated kernel '{name}'; kernels: {}", known.join(", ")))
+    })?;
+    let (language, file) = match target {
+        EvalTarget::Wgsl => (Language::Wgsl, &k.wgsl),
+        _ => (Language::Glsl, &k.glsl),
+    };
+    let file = file.as_ref().ok_or_else(|| bad_input(format!("kernel '{name}' has no {} file", language.name())))?;
+    let path = generated.join(file);
+    let source =
+        std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
+    let (reg, _) = registry(root)?;
+    let checker = k.model.as_ref().and_then(|m| reg.get(m).ok());
+    let shown = input.display().to_string();
+    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{shown}: cannot read: {e}")))?;
+    let rows = points_csv::parse(&shown, &text, |p| match checker {
+        Some(m) => m.check(p),
+        None => Ok(()),
+    })
+    .map_err(bad_input)?;
+    let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
+    eprintln!("adapter: {}", gpu.adapter());
+    let src = KernelSource {
+        language,
+        source: &source,
+        prefix: &k.prefix,
+        params: &k.params,
+        radiance_params: &k.radiance_params,
+    };
+    let raw: Vec<[f64; 4]> = rows.iter().map(|r| [r.point.tau, r.point.gamma, r.point.rho, r.point.g]).collect();
+    let got = gpu.airlight(&src, &raw).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
+    let values: Vec<f64> = got.iter().map(|&v| if v == f32::MAX { f64::INFINITY } else { f64::from(v) }).collect();
+    write_csv(output, &points_csv::render(&rows, &values))
+}
+
+/// Writes a CSV to `output` (atomically) or standard output.
+fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure> {
+    match output {
+        Some(path) => airlight_fit::io::write_atomic(path, csv.as_bytes())
+            .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display()))),
+        None => {
+            print!("{csv}");
+            Ok(())
+        }
+    }
+}
+
+/// Opens the GPU adapter for the gate: `None` (and SKIPPED) without one, unless required.
+fn gate_gpu(require: bool) -> Result<Option<Gpu>, Failure> {
+    match Gpu::open() {
+        Ok(gpu) => {
+            println!("adapter: {}", gpu.adapter());
+            Ok(Some(gpu))
+        }
+        Err(e) if require => Err(Failure(
+            1,
+            format!("no GPU adapter, and one is required (--require-gpu or AIRLIGHT_REQUIRE_GPU=1): {e}"),
+        )),
+        Err(e) => {
+            println!("GPU targets SKIPPED: {e} (--require-gpu or AIRLIGHT_REQUIRE_GPU=1 makes this a failure)");
+            Ok(None)
+        }
+    }
+}
+
+/// Runs the gate and prints its table; fails if any row fails.
+fn run_gate(generated: &Path, gpu: Option<&Gpu>, rust: bool, only: &[String], all: bool) -> Result<(), Failure> {
+    let spinner = indicatif::ProgressBar::new_spinner();
+    let rows =
+        gate::run(generated, gpu, rust, only, &|what| spinner.set_message(format!("check: {what}"))).map_err(|e| {
+            match e {
+                gate::GateError::Input(m) => bad_input(m),
+                e => Failure(1, e.to_string()),
+            }
+        })?;
+    spinner.finish_and_clear();
+    let failures: Vec<gate::Row> = rows.iter().filter(|r| !r.passes()).cloned().collect();
+    if all {
+        print!("{}", gate::table(&rows, false));
+    }
+    let kernels: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.kernel.as_str()).collect();
+    let targets: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.target.name()).collect();
+    let worst = rows.iter().map(|r| r.max - r.declared).fold(f64::NEG_INFINITY, f64::max);
+    println!(
+        "check: {} kernels × {{{}}} × domains = {} rows; limit = declared × (1 + {:.0e}) + {:.0e}; largest excess over a declared bound {:.1e}",
+        kernels.len(),
+        targets.into_iter().collect::<Vec<_>>().join(", "),
+        rows.len(),
+        gate::F32_REL_ALLOWANCE,
+        gate::F32_ALLOWANCE,
+        worst
+    );
+    if failures.is_empty() {
+        println!("check: every kernel within its declared bound");
+        Ok(())
+    } else {
+        Err(Failure(
+            1,
+            format!(
+                "check FAILED: {} row(s) out of bounds\n{}",
+                failures.len(),
+                gate::table(&failures, false).trim_end()
+            ),
+        ))
+    }
+}
+
+fn check(root: Option<PathBuf>, require_gpu: bool, only: &[String], all: bool) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
+    let gpu = gate_gpu(require_gpu || airlight_shaders::gpu_required())?;
+    run_gate(&generated, gpu.as_ref(), true, only, all)
 }
 
 /// A generated kernel's value at `p` (arguments rounded to f32, `ρ = ∞` passed as
@@ -483,7 +652,8 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     print_fits(&fits);
     let files = build_models(&fits)?;
     let outputs = render(&check, &files, &generated)?;
-    let written = write_outputs(&generated, &outputs)?;
+    let written = airlight_codegen::write_all(&generated, &outputs)
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
     for f in &files {
         let e =
             |d: &str| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));
@@ -503,7 +673,8 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
         println!("reference vs {}: max {:.1e} over {} points", f.name, f.stats.max, f.finite);
     }
     println!(
-        "{written} of {} file(s) changed under {} in {:.1} s",
+        "{} of {} file(s) changed under {} in {:.1} s",
+        written.len(),
         outputs.len(),
         generated.display(),
         start.elapsed().as_secs_f64()
@@ -512,5 +683,12 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     if !problems.is_empty() {
         return Err(Failure(1, format!("reference self-check failed: {}", problems.join("; "))));
     }
-    Ok(())
+    // The gate. The Rust kernels compiled into this binary are the generated ones
+    // only if this run left them unchanged; otherwise the next build checks them.
+    let rust_current = !written.iter().any(|p| p.starts_with(generated.join("airlight-kernels")));
+    if !rust_current {
+        println!("the Rust kernels changed: rebuild and run `airlight check` to gate them too");
+    }
+    let gpu = gate_gpu(airlight_shaders::gpu_required())?;
+    run_gate(&generated, gpu.as_ref(), rust_current, &[], false)
 }

@@ -246,3 +246,62 @@ fn a_bad_scene_is_one_line_naming_file_line_and_field_and_nothing_is_written() {
     assert!(!root.join("generated/REPORT.md").exists(), "nothing is written");
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+fn gpu_required() -> bool {
+    std::env::var("AIRLIGHT_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+#[test]
+fn check_gates_the_named_kernels_and_names_the_adapter_or_skips_loudly() {
+    let o = airlight(&["check", "--kernel", "segments-2", "--kernel", "scene-harbour-fog", "--all"]);
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(o.status.success(), "{out}{}", stderr(&o));
+    assert!(out.contains("adapter: ") || out.contains("GPU targets SKIPPED"), "{out}");
+    assert!(out.contains("every kernel within its declared bound"), "{out}");
+    assert!(out.contains("segments-2") && out.contains("rust-f32") && out.contains("physical"), "{out}");
+    if gpu_required() {
+        assert!(out.contains("adapter: ") && out.contains("wgsl") && out.contains("glsl"), "{out}");
+    }
+    let o = airlight(&["check", "--kernel", "no-such-kernel"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no kernel 'no-such-kernel'"), "{}", stderr(&o));
+}
+
+#[test]
+fn eval_on_the_gpu_targets_matches_the_rust_kernel() {
+    let dir = scratch("gpu");
+    let input = dir.join("points.csv");
+    std::fs::write(&input, "tau,gamma,rho,g\n1,0.5,inf,0.3\n5,2.5,3,-0.5\n0.2,1.2,0.4,0.9\n").unwrap();
+    let run = |target: &str| {
+        airlight(&[
+            "eval",
+            "--model",
+            "hg-exp2",
+            "--target",
+            target,
+            "--precision",
+            "f32",
+            "-i",
+            input.to_str().unwrap(),
+        ])
+    };
+    let cpu = run("cpu");
+    assert!(cpu.status.success(), "{}", stderr(&cpu));
+    let cpu = String::from_utf8(cpu.stdout).unwrap();
+    for target in ["wgsl", "glsl"] {
+        let o = run(target);
+        if !o.status.success() && !gpu_required() && stderr(&o).contains("no GPU adapter") {
+            eprintln!("SKIPPED eval --target {target}: {}", stderr(&o));
+            continue;
+        }
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("adapter: "), "{}", stderr(&o));
+        let out = String::from_utf8(o.stdout).unwrap();
+        for (a, b) in cpu.lines().zip(out.lines()).skip(1) {
+            let (x, y): (f64, f64) =
+                (a.rsplit(',').next().unwrap().parse().unwrap(), b.rsplit(',').next().unwrap().parse().unwrap());
+            assert!(((x - y) / x).abs() < 2e-4, "{target}: {a} vs {b}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -598,6 +598,8 @@ struct CrateKernel {
     scene: bool,
     params: Vec<&'static str>,
     closure: String,
+    radiance_params: Vec<String>,
+    radiance_closure: String,
 }
 
 /// Every kernel output: per-kernel files from the table, the crate's own files,
@@ -640,6 +642,15 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
                 thin: format!("{:e}", err("thin")),
                 dense: format!("{:e}", err("dense")),
                 scene: s.scene.is_some(),
+                radiance_closure: {
+                    let rp = radiance_params(s);
+                    ["origin", "dir", "surface", "light", "intensity", "sigma_t", "sigma_s", "g"]
+                        .iter()
+                        .map(|p| if rp.iter().any(|x| x == p) { p.to_string() } else { format!("_{p}") })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+                radiance_params: radiance_params(s),
                 closure: ["tau", "gamma", "rho", "g"]
                     .iter()
                     .map(|p| if params.contains(p) { p.to_string() } else { format!("_{p}") })
@@ -662,6 +673,147 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
         out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));
     }
     Ok(out)
+}
+
+/// One kernel in `generated/kernels.toml`, the index the GPU harness and the
+/// error gate (`airlight check`) read.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IndexEntry {
+    /// Kernel name (`segments-8`, `scene-fog-street`).
+    pub name: String,
+    /// The model it evaluates; absent for the exact closed form.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    /// The scene file it was specialised for, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<String>,
+    /// Error domains its declared bound covers.
+    pub domains: Vec<String>,
+    /// Arguments of the canonical entry `<prefix>airlight`, in order.
+    pub params: Vec<String>,
+    /// Arguments of the physical entry `<prefix>radiance`, in order.
+    pub radiance_params: Vec<String>,
+    /// `g` the kernel takes at run time (both ends equal when baked in).
+    pub g: [f64; 2],
+    /// Whether rays may end on a surface (else ρ = ∞).
+    pub surfaces: bool,
+    /// Whether extinction is modelled (else τ = 0).
+    pub extinction: bool,
+    /// Whether the backward part is kept.
+    pub backscatter: bool,
+    /// Files under `generated/` by target (`wgsl`, `wgsl-bevy`, `glsl`, `rust`), with
+    /// the item prefix of the plain WGSL and GLSL files.
+    pub wgsl: Option<String>,
+    /// The Bevy variant.
+    pub wgsl_bevy: Option<String>,
+    /// The GLSL include.
+    pub glsl: Option<String>,
+    /// The Rust module (its kernel is `airlight_kernels::kernel(name)`).
+    pub rust: Option<String>,
+    /// Prefix of every item in the plain WGSL and GLSL files.
+    pub prefix: String,
+}
+
+/// The whole index.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Index {
+    /// Every kernel, models first, then scenes.
+    pub kernel: Vec<IndexEntry>,
+}
+
+impl Index {
+    /// Reads `generated/kernels.toml`.
+    pub fn parse(file: &str, text: &str) -> Result<Index, airlight_fit::tomlfile::FieldError> {
+        toml::from_str(text).map_err(|e: toml::de::Error| airlight_fit::tomlfile::FieldError {
+            file: file.into(),
+            line: e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1)),
+            field: "kernel".into(),
+            message: e.message().replace('\n', " "),
+        })
+    }
+}
+
+/// Arguments of a kernel's physical entry, in order.
+fn radiance_params(spec: &KernelSpec) -> Vec<String> {
+    let closed = spec.model.is_none();
+    let mut radiance = vec!["origin".to_string(), "dir".into()];
+    if spec.surfaces {
+        radiance.push("surface".into());
+    }
+    radiance.extend(["light".to_string(), "intensity".into()]);
+    if spec.extinction && !closed {
+        radiance.push("sigma_t".into());
+    }
+    radiance.push("sigma_s".into());
+    if spec.g_param() {
+        radiance.push("g".into());
+    }
+    radiance
+}
+
+fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
+    let ident = spec.ident();
+    let path = |target: &str, bevy: bool| {
+        table
+            .kernel
+            .iter()
+            .filter(|k| k.target == target && k.import_path.is_some() == bevy)
+            .find(|k| spec.targets.iter().any(|t| t.name() == k.target))
+            .map(|k| k.path.replace("{name}", &spec.name).replace("{ident}", &ident))
+    };
+    let mut params = Vec::new();
+    let closed = spec.model.is_none();
+    if spec.extinction && !closed {
+        params.push("tau".to_string());
+    }
+    params.push("gamma".into());
+    if spec.surfaces {
+        params.push("rho".into());
+    }
+    if spec.g_param() {
+        params.push("g".into());
+    }
+    let radiance = radiance_params(spec);
+    let g = match &spec.phase {
+        KernelPhase::Isotropic => [0.0, 0.0],
+        KernelPhase::Fixed(g) => [*g, *g],
+        KernelPhase::Banded(_) => {
+            let r = spec.model.as_ref().map_or((0.0, 0.0), |m| m.model.g_range);
+            [r.0, r.1]
+        }
+    };
+    IndexEntry {
+        name: spec.name.clone(),
+        model: spec.model.as_ref().map(|m| m.model.name.clone()),
+        scene: spec.scene.clone(),
+        domains: spec.domains.iter().map(|d| d.to_string()).collect(),
+        params,
+        radiance_params: radiance,
+        g,
+        surfaces: spec.surfaces,
+        extinction: spec.extinction,
+        backscatter: spec.backscatter,
+        wgsl: path("wgsl", false),
+        wgsl_bevy: path("wgsl", true),
+        glsl: path("glsl", false),
+        rust: path("rust", false),
+        prefix: format!("airlight_{ident}_"),
+    }
+}
+
+/// `generated/kernels.toml`.
+pub fn render_index(specs: &[KernelSpec]) -> Output {
+    let table = OutputTable::standard();
+    let index = Index { kernel: specs.iter().map(|s| index_entry(s, &table)).collect() };
+    let body = toml::to_string(&index).expect("plain data serialises");
+    Output::text(
+        "kernels.toml",
+        format!(
+            "# Index of the generated kernels: what each takes and where its files are.\n\
+             # Generated by `airlight generate` from codegen/src/kernel.rs; read by the GPU\n\
+             # harness and `airlight check`. Edit the generator, not this file.\n\n{body}"
+        ),
+    )
 }
 
 #[derive(Serialize)]

@@ -84,5 +84,6 @@ pub fn render_all(
     out.extend(plots::render(models).map_err(RenderError::Plot)?);
     out.extend(plans);
     out.extend(kernel::render(&specs).map_err(RenderError::Template)?);
+    out.push(kernel::render_index(&specs));
     Ok(out)
 }

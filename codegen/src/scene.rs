@@ -312,7 +312,7 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
         return Err(PlanError::NoBackscatter { budget: scene.max_rel_error });
     }
     if !scene.extinction && scene.phase == ScenePhase::Isotropic {
-        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec![] });
+        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec!["thin"] });
     }
     let tau_max = if scene.extinction { tau_max } else { 0.0 };
     if tau_max > TAU_DENSE_MAX {

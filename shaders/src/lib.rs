@@ -1,13 +1,17 @@
 //! airlight-shaders: the wgpu harness. It opens a GPU adapter headlessly (a real
 //! GPU, or Mesa's lavapipe software Vulkan driver where there is none), wraps a
-//! WGSL kernel function in a compute shader, evaluates it on a batch of
-//! canonical points `(τ, γ, ρ, g)` and reads the f32 results back.
-//!
-//! Kernel ABI: `fn NAME(tau: f32, gamma: f32, rho: f32, g: f32) -> f32`, with
-//! `rho = NO_SURFACE` (−1) standing for `ρ = ∞`: WGSL implementations may assume
-//! no infinities, so none is ever passed to a shader.
+//! generated kernel — WGSL, or a GLSL include as a GLSL 4.50 compute shader
+//! through wgpu's GLSL front end — in a compute shader, evaluates its canonical
+//! entry on a batch of points `(τ, γ, ρ, g)` or its physical entry on a batch of
+//! rays, and reads the f32 results back. Generated kernels are wrapped by the
+//! arguments they take ([`KernelSource`]); a hand-written WGSL function can be run
+//! with the ABI `fn NAME(tau: f32, gamma: f32, rho: f32, g: f32) -> f32` ([`Gpu::eval`]).
+//! `rho = NO_SURFACE` (−1) stands for `ρ = ∞`: kernels may assume no infinities,
+//! so none is ever passed to a shader.
 
 #![warn(missing_docs)]
+
+pub mod gate;
 
 use std::fmt;
 use wgpu::util::DeviceExt;
@@ -129,10 +133,39 @@ impl Gpu {
     /// (WGSL source without an entry point), at every point; `ρ = ∞` is passed as
     /// [`NO_SURFACE`]. Returns one f32 per point, in order.
     pub fn eval(&self, kernel: &str, function: &str, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
-        if points.is_empty() {
+        let source = wrap_kernel(kernel, function);
+        self.dispatch(wgpu::ShaderSource::Wgsl(source.into()), function, &pack_points(points), 1, points.len())
+    }
+
+    /// Evaluates a generated kernel's canonical entry (`<prefix>airlight`) at every
+    /// point `(τ, γ, ρ, g)`, passing the arguments it takes; `ρ = ∞` is passed as
+    /// [`NO_SURFACE`]. One f32 per point, in order.
+    pub fn airlight(&self, k: &KernelSource, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
+        let source = wrap(k, Entry::Canonical)?;
+        self.dispatch(k.shader(&source), k.prefix, &pack_points(points), 1, points.len())
+    }
+
+    /// Evaluates a generated kernel's physical entry (`<prefix>radiance`) for every
+    /// ray. One f32 per ray, in order.
+    pub fn radiance(&self, k: &KernelSource, rays: &[Ray]) -> Result<Vec<f32>, GpuError> {
+        let source = wrap(k, Entry::Radiance)?;
+        let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
+        self.dispatch(k.shader(&source), k.prefix, &data, RAY_VEC4S, rays.len())
+    }
+
+    /// Runs a compute shader with entry `main` over `n` items of `stride` vec4s
+    /// each (binding 0) into one f32 per item (binding 1).
+    fn dispatch(
+        &self,
+        shader: wgpu::ShaderSource,
+        label: &str,
+        data: &[f32],
+        stride: usize,
+        n: usize,
+    ) -> Result<Vec<f32>, GpuError> {
+        if n == 0 {
             return Ok(Vec::new());
         }
-        let n = points.len();
         let groups = (n as u64).div_ceil(WORKGROUP as u64);
         if groups > MAX_GROUPS_X as u64 * MAX_GROUPS_X as u64 {
             return Err(GpuError::TooLarge(n));
@@ -142,25 +175,15 @@ impl Gpu {
         } else {
             (MAX_GROUPS_X, groups.div_ceil(MAX_GROUPS_X as u64) as u32)
         };
-        let source = wrap_kernel(kernel, function);
-        let data: Vec<f32> = points
-            .iter()
-            .flat_map(|p| {
-                let rho = if p[2].is_infinite() { NO_SURFACE } else { p[2] as f32 };
-                [p[0] as f32, p[1] as f32, rho, p[3] as f32]
-            })
-            .collect();
+        debug_assert_eq!(data.len(), n * stride * 4);
         let d = &self.device;
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(function),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: shader });
         let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(function),
+            label: Some(label),
             layout: None,
             module: &module,
-            entry_point: Some("airlight_harness_main"),
+            entry_point: Some("main"),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -168,8 +191,8 @@ impl Gpu {
             return Err(GpuError::Shader(e.to_string()));
         }
         let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("points"),
-            contents: bytemuck::cast_slice(&data),
+            label: Some("inputs"),
+            contents: bytemuck::cast_slice(data),
             usage: wgpu::BufferUsages::STORAGE,
         });
         let bytes = (n * 4) as u64;
@@ -214,6 +237,199 @@ impl Gpu {
         staging.unmap();
         Ok(out)
     }
+
+    /// The device, for passes beyond the harness's (the headless render).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue.
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+}
+
+fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
+    points
+        .iter()
+        .flat_map(|p| {
+            let rho = if p[2].is_infinite() { NO_SURFACE } else { p[2] as f32 };
+            [p[0] as f32, p[1] as f32, rho, p[3] as f32]
+        })
+        .collect()
+}
+
+/// A shading language of the generated kernels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Language {
+    /// WGSL, compiled by wgpu's WGSL front end.
+    Wgsl,
+    /// A GLSL include, wrapped as a GLSL 4.50 compute shader for wgpu's GLSL front end.
+    Glsl,
+}
+
+impl Language {
+    /// As written on the command line and in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Language::Wgsl => "wgsl",
+            Language::Glsl => "glsl",
+        }
+    }
+}
+
+/// A generated kernel as the harness sees it: its text and the arguments of its
+/// two entry points (from `generated/kernels.toml`).
+#[derive(Debug, Clone, Copy)]
+pub struct KernelSource<'a> {
+    /// Language.
+    pub language: Language,
+    /// The kernel file's text.
+    pub source: &'a str,
+    /// Prefix of its items, e.g. `airlight_segments_8_`.
+    pub prefix: &'a str,
+    /// Arguments of `<prefix>airlight`, by name (`tau`, `gamma`, `rho`, `g`).
+    pub params: &'a [String],
+    /// Arguments of `<prefix>radiance`, by name.
+    pub radiance_params: &'a [String],
+}
+
+impl KernelSource<'_> {
+    fn shader<'s>(&self, wrapped: &'s str) -> wgpu::ShaderSource<'s> {
+        match self.language {
+            Language::Wgsl => wgpu::ShaderSource::Wgsl(wrapped.into()),
+            Language::Glsl => wgpu::ShaderSource::Glsl {
+                shader: wrapped.into(),
+                stage: wgpu::naga::ShaderStage::Compute,
+                defines: &[],
+            },
+        }
+    }
+}
+
+/// One view ray and its light and medium, for the physical entry point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    /// Ray origin (the viewer).
+    pub origin: [f32; 3],
+    /// Ray direction (need not be normalised).
+    pub dir: [f32; 3],
+    /// Distance to the first surface along the ray; negative: none.
+    pub surface: f32,
+    /// Light position.
+    pub light: [f32; 3],
+    /// Radiant intensity.
+    pub intensity: f32,
+    /// Extinction coefficient.
+    pub sigma_t: f32,
+    /// Scattering coefficient.
+    pub sigma_s: f32,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f32,
+}
+
+const RAY_VEC4S: usize = 4;
+
+impl Ray {
+    fn pack(&self) -> [f32; 16] {
+        let (o, d, l) = (self.origin, self.dir, self.light);
+        [
+            o[0],
+            o[1],
+            o[2],
+            self.surface,
+            d[0],
+            d[1],
+            d[2],
+            self.intensity,
+            l[0],
+            l[1],
+            l[2],
+            self.sigma_t,
+            self.sigma_s,
+            self.g,
+            0.0,
+            0.0,
+        ]
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Entry {
+    Canonical,
+    Radiance,
+}
+
+/// The compute shader around one of a generated kernel's entry points: one
+/// invocation per item, arguments taken by name from the packed inputs.
+fn wrap(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
+    let glsl = k.language == Language::Glsl;
+    let arg = |name: &str| -> Result<String, GpuError> {
+        let v3 = |i: usize| format!("x[{i}].xyz");
+        Ok(match (entry, name) {
+            (Entry::Canonical, "tau") => "x[0].x".into(),
+            (Entry::Canonical, "gamma") => "x[0].y".into(),
+            (Entry::Canonical, "rho") => "x[0].z".into(),
+            (Entry::Canonical, "g") => "x[0].w".into(),
+            (Entry::Radiance, "origin") => v3(0),
+            (Entry::Radiance, "surface") => "x[0].w".into(),
+            (Entry::Radiance, "dir") => v3(1),
+            (Entry::Radiance, "intensity") => "x[1].w".into(),
+            (Entry::Radiance, "light") => v3(2),
+            (Entry::Radiance, "sigma_t") => "x[2].w".into(),
+            (Entry::Radiance, "sigma_s") => "x[3].x".into(),
+            (Entry::Radiance, "g") => "x[3].y".into(),
+            _ => return Err(GpuError::Shader(format!("{}: unknown kernel argument '{name}'", k.prefix))),
+        })
+    };
+    let (function, params, stride) = match entry {
+        Entry::Canonical => ("airlight", k.params, 1),
+        Entry::Radiance => ("radiance", k.radiance_params, RAY_VEC4S),
+    };
+    let args = params.iter().map(|p| arg(p)).collect::<Result<Vec<_>, _>>()?.join(", ");
+    let call = format!("{}{function}({args})", k.prefix);
+    Ok(if glsl {
+        format!(
+            "#version 450\n{src}\n\
+// ---- airlight harness (shaders/src/lib.rs) ----\n\
+layout(local_size_x = {WORKGROUP}) in;\n\
+layout(std430, set = 0, binding = 0) readonly buffer AirlightInputs {{ vec4 airlight_inputs[]; }};\n\
+layout(std430, set = 0, binding = 1) buffer AirlightResults {{ float airlight_results[]; }};\n\
+void main() {{\n\
+    uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * {WORKGROUP}u;\n\
+    if (i >= uint(airlight_results.length())) {{\n\
+        return;\n\
+    }}\n\
+    vec4 x[{stride}];\n\
+    for (uint j = 0u; j < {stride}u; j++) {{\n\
+        x[j] = airlight_inputs[i * {stride}u + j];\n\
+    }}\n\
+    airlight_results[i] = {call};\n\
+}}\n",
+            src = k.source
+        )
+    } else {
+        format!(
+            "{src}\n\
+// ---- airlight harness (shaders/src/lib.rs) ----\n\
+@group(0) @binding(0) var<storage, read> airlight_inputs: array<vec4<f32>>;\n\
+@group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
+\n\
+@compute @workgroup_size({WORKGROUP})\n\
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
+    let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
+    if (i >= arrayLength(&airlight_results)) {{\n\
+        return;\n\
+    }}\n\
+    var x: array<vec4<f32>, {stride}>;\n\
+    for (var j = 0u; j < {stride}u; j++) {{\n\
+        x[j] = airlight_inputs[i * {stride}u + j];\n\
+    }}\n\
+    airlight_results[i] = {call};\n\
+}}\n",
+            src = k.source
+        )
+    })
 }
 
 /// The compute shader around a kernel: one invocation per point, 2-D dispatch
@@ -226,7 +442,7 @@ pub fn wrap_kernel(kernel: &str, function: &str) -> String {
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\
 @compute @workgroup_size({WORKGROUP})\n\
-fn airlight_harness_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
     let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
     if (i >= arrayLength(&airlight_points)) {{\n\
         return;\n\

@@ -1,7 +1,9 @@
 //! The harness on whatever adapter this machine has (lavapipe in CI): a known
-//! kernel — isotropic airlight without extinction, the closed form of seed 003 —
-//! evaluated on the GPU must match the f64 reference to f32 accuracy, and a
-//! broken kernel must be reported as a shader error, not a panic or garbage.
+//! kernel — isotropic airlight without extinction, the closed form of seed 003,
+//! hand-written and as generated in WGSL and GLSL — evaluated on the GPU must
+//! match the f64 reference to f32 accuracy; the generated kernels' canonical and
+//! physical entries on the GPU must agree with the Rust kernels; and a broken
+//! kernel must be reported as a shader error, not a panic or garbage.
 //!
 //! Without an adapter these tests print SKIPPED and pass, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (set by `.ci/run`), which makes them fail.
@@ -9,7 +11,7 @@
 use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::reference::{airlight, Point};
 use airlight_fit::stats::{rel_error, ErrorStats};
-use airlight_shaders::{gpu_required, Gpu, GpuError};
+use airlight_shaders::{gpu_required, Gpu, GpuError, KernelSource, Language};
 
 /// `A(0, γ, ρ) = (atan ub − atan ua) / (2π sin γ)` in f32, cancellation-free:
 /// the same algebra as the reference's `Geometry`.
@@ -92,4 +94,95 @@ fn invalid_kernel_is_a_shader_error() {
     let Some(gpu) = open_or_skip("invalid_kernel_is_a_shader_error") else { return };
     let err = gpu.eval("fn broken(a: f32, b: f32, c: f32, d: f32) -> f32 { return a +; }", "broken", &[[0.0; 4]]);
     assert!(matches!(err, Err(GpuError::Shader(_))), "{err:?}");
+}
+
+fn generated() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated")
+}
+
+/// A generated kernel from `generated/kernels.toml`, its source read for `language`.
+fn generated_kernel(name: &str, language: Language) -> (airlight_codegen::kernel::IndexEntry, String) {
+    let index = airlight_shaders::gate::load_index(&generated()).unwrap();
+    let k = index.kernel.into_iter().find(|k| k.name == name).unwrap();
+    let file = match language {
+        Language::Wgsl => k.wgsl.clone(),
+        Language::Glsl => k.glsl.clone(),
+    }
+    .unwrap();
+    let text = std::fs::read_to_string(generated().join(file)).unwrap();
+    (k, text)
+}
+
+#[test]
+fn generated_closed_form_matches_reference_in_wgsl_and_glsl() {
+    let Some(gpu) = open_or_skip("generated_closed_form_matches_reference_in_wgsl_and_glsl") else { return };
+    let pts: Vec<Point> = Domain::Thin
+        .validation_set((0.0, 0.0), 4000, VALIDATION_SEED ^ 0x6C1)
+        .into_iter()
+        .map(|p| Point { tau: 0.0, rho: f64::INFINITY, ..p })
+        .collect();
+    let raw: Vec<[f64; 4]> = pts.iter().map(|p| [p.tau, p.gamma, p.rho, p.g]).collect();
+    for language in [Language::Wgsl, Language::Glsl] {
+        let (k, text) = generated_kernel("scene-haze-sky", language);
+        let src = KernelSource {
+            language,
+            source: &text,
+            prefix: &k.prefix,
+            params: &k.params,
+            radiance_params: &k.radiance_params,
+        };
+        let got = gpu.airlight(&src, &raw).unwrap();
+        let stats = ErrorStats::from_errors(
+            pts.iter().zip(&got).map(|(p, &v)| (*p, rel_error(v as f64, airlight(*p).unwrap()))),
+        );
+        eprintln!("scene-haze-sky ({}): max {:.2e} at {:?}", language.name(), stats.max, stats.worst);
+        assert!(stats.max < 1e-5, "{}: {:.2e}", language.name(), stats.max);
+    }
+}
+
+#[test]
+fn generated_kernels_agree_with_the_rust_kernels_on_both_entries() {
+    let Some(gpu) = open_or_skip("generated_kernels_agree_with_the_rust_kernels_on_both_entries") else { return };
+    for name in ["segments-8", "hg-exp3", "paper", "scene-fog-street"] {
+        let rk = airlight_kernels::kernel(name).unwrap();
+        let index = airlight_shaders::gate::load_index(&generated()).unwrap();
+        let entry = index.kernel.iter().find(|k| k.name == name).unwrap();
+        let rays = airlight_shaders::gate::physical_rays(entry, 500, 7).unwrap();
+        let pts: Vec<[f64; 4]> = rays.iter().map(|r| [r.1.tau, r.1.gamma, r.1.rho, r.1.g]).collect();
+        for language in [Language::Wgsl, Language::Glsl] {
+            let (k, text) = generated_kernel(name, language);
+            let src = KernelSource {
+                language,
+                source: &text,
+                prefix: &k.prefix,
+                params: &k.params,
+                radiance_params: &k.radiance_params,
+            };
+            let canon = gpu.airlight(&src, &pts).unwrap();
+            let plain: Vec<_> = rays.iter().map(|r| r.0).collect();
+            let phys = gpu.radiance(&src, &plain).unwrap();
+            for (i, (ray, p, _)) in rays.iter().enumerate() {
+                let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
+                let cpu = (rk.airlight)(p.tau as f32, p.gamma as f32, rho, p.g as f32);
+                let cpu_phys = (rk.radiance)(
+                    ray.origin,
+                    ray.dir,
+                    ray.surface,
+                    ray.light,
+                    ray.intensity,
+                    ray.sigma_t,
+                    ray.sigma_s,
+                    ray.g,
+                );
+                for (what, gpu_v, cpu_v) in [("airlight", canon[i], cpu), ("radiance", phys[i], cpu_phys)] {
+                    let e = ((gpu_v - cpu_v) / cpu_v).abs();
+                    assert!(
+                        cpu_v == 0.0 && gpu_v == 0.0 || e < 2e-4,
+                        "{name} {} {what} at {p:?}: GPU {gpu_v} vs CPU {cpu_v}",
+                        language.name()
+                    );
+                }
+            }
+        }
+    }
 }

@@ -58,6 +58,11 @@ pub mod scene_smoke_room;
 /// `rho < 0` means no surface; arguments the kernel does not take are ignored.
 pub type Canonical = fn(f32, f32, f32, f32) -> f32;
 
+/// A kernel's physical entry with the uniform signature `(origin, dir, surface,
+/// light, intensity, sigma_t, sigma_s, g)`: `surface < 0` means none; arguments
+/// the kernel does not take are ignored.
+pub type Radiance = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) -> f32;
+
 /// One generated kernel.
 #[derive(Debug, Clone, Copy)]
 pub struct Kernel {
@@ -73,6 +78,8 @@ pub struct Kernel {
     pub dense_max_rel: f64,
     /// The canonical entry, uniform signature.
     pub airlight: Canonical,
+    /// The physical entry, uniform signature.
+    pub radiance: Radiance,
 }
 
 /// Every kernel in this crate.
@@ -84,6 +91,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 6.38880639768081e0,
         dense_max_rel: 4.850012655751017e8,
         airlight: |tau, gamma, rho, _g| paper_as_printed::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "paper",
@@ -92,6 +102,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.205391512167614e-1,
         dense_max_rel: 9.435195391294986e2,
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            paper::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "paper-refit",
@@ -100,6 +113,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.0519984472662142e-1,
         dense_max_rel: 3.0834444569937354e0,
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "paper-hg",
@@ -108,6 +124,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1e0,
         dense_max_rel: 9.425225554351499e2,
         airlight: |tau, gamma, rho, g| paper_hg::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            paper_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
     },
     Kernel {
         name: "paper-refit-hg",
@@ -116,6 +135,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.99991573777365e-1,
         dense_max_rel: 4.347930716012216e0,
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
     },
     Kernel {
         name: "segments-2",
@@ -124,6 +146,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.9418108715113507e-2,
         dense_max_rel: 2.120715263311497e-1,
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-3",
@@ -132,6 +157,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.431094167239841e-3,
         dense_max_rel: 9.84235756211562e-2,
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-4",
@@ -140,6 +168,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 5.868806092532688e-3,
         dense_max_rel: 6.026991285430418e-2,
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-6",
@@ -148,6 +179,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 3.5885333914572e-3,
         dense_max_rel: 3.6476540457779615e-2,
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-8",
@@ -156,6 +190,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.4981104008805078e-3,
         dense_max_rel: 1.9815525489093332e-2,
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-12",
@@ -164,6 +201,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.4981104008805078e-3,
         dense_max_rel: 1.1751982685251208e-2,
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "segments-16",
@@ -172,6 +212,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.4981104008805078e-3,
         dense_max_rel: 9.353469480091942e-3,
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "hg-exp1",
@@ -180,6 +223,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.99995779898211e-1,
         dense_max_rel: 9.999932374466229e-1,
         airlight: |tau, gamma, rho, g| hg_exp1::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
     },
     Kernel {
         name: "hg-exp2",
@@ -188,6 +234,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.996600215501069e-1,
         dense_max_rel: 9.994605197823282e-1,
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
     },
     Kernel {
         name: "hg-exp3",
@@ -196,6 +245,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 9.617604486027067e-1,
         dense_max_rel: 8.694872279201104e-1,
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
     },
     Kernel {
         name: "scene-fog-street",
@@ -204,6 +256,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.9418108715113507e-2,
         dense_max_rel: 2.120715263311497e-1,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "scene-harbour-fog",
@@ -212,6 +267,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 3.5885333914572e-3,
         dense_max_rel: 3.6476540457779615e-2,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
+        radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
+        },
     },
     Kernel {
         name: "scene-haze-sky",
@@ -220,6 +278,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 0e0,
         dense_max_rel: 0e0,
         airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
+        radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
+            scene_haze_sky::radiance(origin, dir, light, intensity, sigma_s)
+        },
     },
     Kernel {
         name: "scene-smoke-room",
@@ -228,6 +289,9 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.4981104008805078e-3,
         dense_max_rel: 1.9815525489093332e-2,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
     },
 ];
 

@@ -1,0 +1,430 @@
+//! The error-bound gate (`airlight check`): every generated kernel, on every
+//! target — the Rust f32 kernel on the CPU, the WGSL and the GLSL kernel on the
+//! GPU adapter — against the reference on the validation sets of its domains
+//! (the points its model's declared bounds were measured on) and on the extreme
+//! set of MATH.md §5. A kernel fails when its error exceeds the declared bound
+//! plus the f32 allowance ([`Row::limit`]), or when it returns NaN, ∞ or a
+//! negative value where `A` is finite.
+//!
+//! Scene kernels take fewer arguments than their model: their points are the
+//! same sets projected onto the scene (`ρ = ∞` without surfaces, `τ = 0` without
+//! extinction, a fixed `g`), with the reference recomputed there.
+
+use crate::{Gpu, GpuError, KernelSource, Language};
+use airlight_codegen::kernel::{Index, IndexEntry};
+use airlight_fit::catalog::{self, Validation};
+use airlight_fit::coeffs::ModelFile;
+use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
+use airlight_fit::reference::{self, Point};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+
+/// What f32 evaluation may add to a kernel's declared relative error, absolute:
+/// f32 rounding of the arguments and of exponents up to τ = 20, and GPU
+/// `exp`/`log` (Vulkan allows 3 + 2|x| ulp). Measured on these validation sets
+/// (lavapipe and the Rust kernels): at most 8.4e-6 over a declared bound.
+pub const F32_ALLOWANCE: f64 = 1e-4;
+
+/// The same, relative to the declared bound (for bounds far above 1, where the
+/// error is dominated by the model and f32 rounding scales with it; measured:
+/// 1.4e-8 of `paper-as-printed`'s 4.9e8).
+pub const F32_REL_ALLOWANCE: f64 = 1e-4;
+
+/// Below (or above) this, `A` is not representable in f32 with relative
+/// precision: only finiteness and sign are checked there.
+pub const F32_RANGE: (f64, f64) = (1e-30, 1e30);
+
+/// Where a kernel is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Target {
+    /// The generated Rust kernel (`airlight-kernels`), f32 on the CPU.
+    Rust,
+    /// The generated WGSL on the GPU adapter.
+    Wgsl,
+    /// The generated GLSL include on the GPU adapter (GLSL 4.50 compute through wgpu).
+    Glsl,
+}
+
+impl Target {
+    /// As printed.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Rust => "rust-f32",
+            Target::Wgsl => "wgsl",
+            Target::Glsl => "glsl",
+        }
+    }
+}
+
+/// One kernel × target × domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Kernel name.
+    pub kernel: String,
+    /// Where it ran.
+    pub target: Target,
+    /// `thin`, `dense` or `extreme`.
+    pub domain: &'static str,
+    /// Points with `A` in f32's range (the error statistics' population).
+    pub points: usize,
+    /// Largest relative error.
+    pub max: f64,
+    /// 99th-percentile relative error.
+    pub p99: f64,
+    /// The declared bound (the model's, for this domain).
+    pub declared: f64,
+    /// Where the largest error occurs.
+    pub worst: Option<Point>,
+    /// NaN, ∞ or negative results where `A` is finite.
+    pub bad: usize,
+    /// The first such point.
+    pub first_bad: Option<(Point, f32)>,
+}
+
+impl Row {
+    /// The limit the error must stay within.
+    pub fn limit(&self) -> f64 {
+        self.declared * (1.0 + F32_REL_ALLOWANCE) + F32_ALLOWANCE
+    }
+    /// Whether this row passes.
+    pub fn passes(&self) -> bool {
+        self.bad == 0 && self.max <= self.limit()
+    }
+}
+
+/// Why the gate could not run at all.
+#[derive(Debug)]
+pub enum GateError {
+    /// An input file is missing or malformed (message names it).
+    Input(String),
+    /// The GPU failed on a kernel (not: produced wrong numbers).
+    Gpu(String, GpuError),
+}
+
+impl fmt::Display for GateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GateError::Input(m) => write!(f, "{m}"),
+            GateError::Gpu(k, e) => write!(f, "{k}: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for GateError {}
+
+/// The kernels to check: every entry of `generated/kernels.toml` (or those named).
+pub fn load_index(generated: &Path) -> Result<Index, GateError> {
+    let path = generated.join("kernels.toml");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| GateError::Input(format!("{}: cannot read: {e} (run `airlight generate`)", path.display())))?;
+    Index::parse(&path.display().to_string(), &text).map_err(|e| GateError::Input(e.to_string()))
+}
+
+/// Projects a point onto what a kernel takes (its scene's subspace).
+pub fn project(k: &IndexEntry, p: Point) -> Point {
+    Point {
+        tau: if k.extinction { p.tau } else { 0.0 },
+        gamma: p.gamma,
+        rho: if k.surfaces { p.rho } else { f64::INFINITY },
+        g: if k.g[0] == k.g[1] { k.g[0] } else { p.g.clamp(k.g[0], k.g[1]) },
+    }
+}
+
+/// The points and reference values a kernel is checked on, per domain.
+/// Points with their reference `A`.
+type Checked = Vec<(Point, f64)>;
+
+fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(&'static str, Checked)>, GateError> {
+    let scene = k.scene.is_some();
+    let mut out = Vec::new();
+    for d in Domain::ALL {
+        if d != Domain::Extreme && !k.domains.iter().any(|x| x == d.name()) {
+            continue;
+        }
+        let set = validations.iter().find(|v| v.domain == d && v.g_range == (k.g[0], k.g[1])).map(|v| v.points.clone());
+        let pts = match (set, scene) {
+            (Some(p), false) => p,
+            _ => {
+                let base = d.validation_set((k.g[0], k.g[1]), VALIDATION_POINTS, VALIDATION_SEED);
+                let mut pts: Vec<Point> = base.into_iter().map(|p| project(k, p)).collect();
+                pts.sort_by(|a, b| {
+                    (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN")
+                });
+                pts.dedup();
+                let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
+                pts.into_iter()
+                    .zip(values)
+                    .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
+                    .collect::<Result<_, _>>()?
+            }
+        };
+        out.push((d.name(), pts));
+    }
+    Ok(out)
+}
+
+/// Rays realising canonical points at world scales from 1e-3 to 1e4 units.
+pub const PHYSICAL_RAYS: usize = 2000;
+
+/// `n` random placements of viewer, light and ray for kernel `k`: each realises a
+/// point of its domains (projected onto what it takes) at a scale `D` log-uniform
+/// in [1e-3, 1e4], the viewer up to 10·D from the origin, a random direction and
+/// medium. Returns the rays with the canonical point of their f32 inputs (computed
+/// in f64) and the expected radiance `σs·I/D·A` from the reference.
+pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::Ray, Point, f64)>, GateError> {
+    let mut rng = airlight_fit::domains::SplitMix64(seed);
+    let unit = |rng: &mut airlight_fit::domains::SplitMix64| loop {
+        let v = [2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0];
+        let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if r > 0.1 && r <= 1.0 {
+            return [v[0] / r, v[1] / r, v[2] / r];
+        }
+    };
+    let domains: Vec<Domain> =
+        [Domain::Thin, Domain::Dense].into_iter().filter(|d| k.domains.iter().any(|x| x == d.name())).collect();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let d = domains[i % domains.len()];
+        let (tlo, thi) = d.tau_range();
+        let tau = tlo + (thi - tlo) * rng.next_f64();
+        let gamma = 0.01 + (std::f64::consts::PI - 0.02) * rng.next_f64();
+        let rho = if rng.next_f64() < 0.2 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
+        let g = k.g[0] + (k.g[1] - k.g[0]) * rng.next_f64();
+        let p = project(k, Point { tau, gamma, rho, g });
+        let scale = 1e-3 * 1e7f64.powf(rng.next_f64());
+        let o = unit(&mut rng);
+        let dist = 10.0 * scale * rng.next_f64();
+        let origin = [o[0] * dist, o[1] * dist, o[2] * dist];
+        let dir = unit(&mut rng);
+        // A unit vector perpendicular to dir.
+        let a = unit(&mut rng);
+        let dot = a[0] * dir[0] + a[1] * dir[1] + a[2] * dir[2];
+        let q = [a[0] - dot * dir[0], a[1] - dot * dir[1], a[2] - dot * dir[2]];
+        let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+        let perp = [q[0] / qn, q[1] / qn, q[2] / qn];
+        let (c, s) = (p.gamma.cos(), p.gamma.sin());
+        let light: [f64; 3] = std::array::from_fn(|j| origin[j] + scale * (c * dir[j] + s * perp[j]));
+        let sigma_t = p.tau / scale;
+        let sigma_s = if sigma_t > 0.0 { 0.8 * sigma_t } else { 0.5 / scale };
+        let intensity = 1.0 + 999.0 * rng.next_f64();
+        let surface = if p.rho.is_infinite() { -1.0 } else { p.rho * scale };
+        let ray = crate::Ray {
+            origin: origin.map(|x| x as f32),
+            dir: dir.map(|x| x as f32),
+            surface: surface as f32,
+            light: light.map(|x| x as f32),
+            intensity: intensity as f32,
+            sigma_t: sigma_t as f32,
+            sigma_s: sigma_s as f32,
+            g: p.g as f32,
+        };
+        // The canonical point of the f32 inputs, in f64.
+        let f = |v: [f32; 3]| v.map(f64::from);
+        let (o, dv, l) = (f(ray.origin), f(ray.dir), f(ray.light));
+        let lv = [l[0] - o[0], l[1] - o[1], l[2] - o[2]];
+        let dd = (lv[0] * lv[0] + lv[1] * lv[1] + lv[2] * lv[2]).sqrt();
+        let cx = [dv[1] * lv[2] - dv[2] * lv[1], dv[2] * lv[0] - dv[0] * lv[2], dv[0] * lv[1] - dv[1] * lv[0]];
+        let h = (cx[0] * cx[0] + cx[1] * cx[1] + cx[2] * cx[2]).sqrt();
+        let x0 = dv[0] * lv[0] + dv[1] * lv[1] + dv[2] * lv[2];
+        let real = Point {
+            tau: if k.extinction { f64::from(ray.sigma_t) * dd } else { 0.0 },
+            gamma: h.atan2(x0),
+            rho: if ray.surface < 0.0 { f64::INFINITY } else { f64::from(ray.surface) / dd },
+            g: f64::from(ray.g),
+        };
+        let a = reference::airlight(real).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
+        let expected = f64::from(ray.sigma_s) * f64::from(ray.intensity) / dd * a;
+        out.push((ray, real, expected));
+    }
+    Ok(out)
+}
+
+/// Statistics of one kernel's values against the reference.
+fn row(k: &IndexEntry, target: Target, domain: &'static str, pts: &[(Point, f64)], got: &[f32], declared: f64) -> Row {
+    let mut errs = Vec::with_capacity(pts.len());
+    let (mut bad, mut first_bad) = (0, None);
+    for (&(p, exact), &v) in pts.iter().zip(got) {
+        // The kernels saturate at f32::MAX where A diverges.
+        let v64 = if v == f32::MAX { f64::INFINITY } else { f64::from(v) };
+        if exact.is_finite() && !(v64.is_finite() && v64 >= 0.0) {
+            bad += 1;
+            first_bad.get_or_insert((p, v));
+            continue;
+        }
+        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) {
+            errs.push((p, (v64 - exact).abs() / exact));
+        }
+    }
+    let stats = airlight_fit::stats::ErrorStats::from_errors(errs);
+    Row {
+        kernel: k.name.clone(),
+        target,
+        domain,
+        points: stats.count,
+        max: stats.max,
+        p99: stats.p99,
+        declared,
+        worst: stats.worst,
+        bad,
+        first_bad,
+    }
+}
+
+/// The declared bound of `k` on `domain`: its model's, 0 for the closed form.
+fn declared(k: &IndexEntry, models: &[ModelFile], domain: &str) -> Result<f64, GateError> {
+    let Some(name) = &k.model else { return Ok(0.0) };
+    let m = models
+        .iter()
+        .find(|m| &m.model.name == name)
+        .ok_or_else(|| GateError::Input(format!("kernel {}: no coefficient file for model {name}", k.name)))?;
+    m.error(domain)
+        .map(|e| e.max_rel)
+        .ok_or_else(|| GateError::Input(format!("model {name}: no declared error on {domain}")))
+}
+
+/// Runs the gate over the kernels under `generated` (all, or those in `only`):
+/// the Rust kernels compiled into this binary when `rust` is set (they must be
+/// the ones under `generated`), the WGSL and GLSL files when `gpu` is given.
+/// `progress` gets a line per step.
+pub fn run(
+    generated: &Path,
+    gpu: Option<&Gpu>,
+    rust: bool,
+    only: &[String],
+    progress: &dyn Fn(&str),
+) -> Result<Vec<Row>, GateError> {
+    let index = load_index(generated)?;
+    let models = catalog::load(&generated.join("coefficients")).map_err(|e| GateError::Input(e.to_string()))?;
+    let kernels: Vec<&IndexEntry> =
+        index.kernel.iter().filter(|k| only.is_empty() || only.iter().any(|n| n == &k.name)).collect();
+    if let Some(missing) = only.iter().find(|n| !index.kernel.iter().any(|k| &&k.name == n)) {
+        return Err(GateError::Input(format!("no kernel '{missing}' in {}/kernels.toml", generated.display())));
+    }
+    let mut ranges: Vec<(f64, f64)> = kernels.iter().filter(|k| k.scene.is_none()).map(|k| (k.g[0], k.g[1])).collect();
+    ranges.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
+    ranges.dedup();
+    progress("reference values on the validation sets");
+    let validations = catalog::validations(&ranges, &|_, _| {});
+    let mut rows = Vec::new();
+    for k in kernels {
+        progress(&k.name);
+        let sets = point_sets(k, &validations)?;
+        let mut sources = BTreeMap::new();
+        for (target, file) in [(Target::Wgsl, &k.wgsl), (Target::Glsl, &k.glsl)] {
+            if let Some(f) = file {
+                let path = generated.join(f);
+                let text = std::fs::read_to_string(&path)
+                    .map_err(|e| GateError::Input(format!("{}: cannot read: {e}", path.display())))?;
+                sources.insert(target, text);
+            }
+        }
+        for (domain, pts) in &sets {
+            let bound = declared(k, &models, domain)?;
+            let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
+            if rust && k.rust.is_some() {
+                let rk = airlight_kernels::kernel(&k.name).ok_or_else(|| {
+                    GateError::Input(format!("kernel {} is not in the compiled airlight-kernels (rebuild)", k.name))
+                })?;
+                let got: Vec<f32> = raw
+                    .iter()
+                    .map(|p| {
+                        let rho = if p[2].is_infinite() { crate::NO_SURFACE } else { p[2] as f32 };
+                        (rk.airlight)(p[0] as f32, p[1] as f32, rho, p[3] as f32)
+                    })
+                    .collect();
+                rows.push(row(k, Target::Rust, domain, pts, &got, bound));
+            }
+            let Some(gpu) = gpu else { continue };
+            for (target, text) in &sources {
+                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
+                let src = KernelSource {
+                    language,
+                    source: text,
+                    prefix: &k.prefix,
+                    params: &k.params,
+                    radiance_params: &k.radiance_params,
+                };
+                let got = gpu
+                    .airlight(&src, &raw)
+                    .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
+                rows.push(row(k, *target, domain, pts, &got, bound));
+            }
+        }
+        // The physical entry: random placements at world scales 1e-3 … 1e4.
+        let rays = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
+        let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
+        let bound = k
+            .domains
+            .iter()
+            .map(|d| declared(k, &models, d))
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .fold(0.0, f64::max);
+        if rust && k.rust.is_some() {
+            let rk = airlight_kernels::kernel(&k.name).expect("checked above");
+            let got: Vec<f32> = rays
+                .iter()
+                .map(|(r, _, _)| {
+                    (rk.radiance)(r.origin, r.dir, r.surface, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
+                })
+                .collect();
+            rows.push(row(k, Target::Rust, "physical", &expected, &got, bound));
+        }
+        if let Some(gpu) = gpu {
+            let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
+            for (target, text) in &sources {
+                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
+                let src = KernelSource {
+                    language,
+                    source: text,
+                    prefix: &k.prefix,
+                    params: &k.params,
+                    radiance_params: &k.radiance_params,
+                };
+                let got = gpu
+                    .radiance(&src, &plain)
+                    .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
+                rows.push(row(k, *target, "physical", &expected, &got, bound));
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The table `airlight check` prints: every row, or only failures.
+pub fn table(rows: &[Row], failures_only: bool) -> String {
+    let mut out = format!(
+        "{:<20} {:<8} {:<8} {:>6} {:>9} {:>9} {:>9}  {:<6} worst point\n",
+        "kernel", "target", "domain", "points", "max", "p99", "limit", "status"
+    );
+    for r in rows.iter().filter(|r| !failures_only || !r.passes()) {
+        let worst = match (&r.first_bad, &r.worst) {
+            (Some((p, v)), _) => format!("{} bad value(s), first {v} at {}", r.bad, fmt_point(p)),
+            (None, Some(p)) => fmt_point(p),
+            (None, None) => "—".into(),
+        };
+        out.push_str(&format!(
+            "{:<20} {:<8} {:<8} {:>6} {:>9.2e} {:>9.2e} {:>9.2e}  {:<6} {worst}\n",
+            r.kernel,
+            r.target.name(),
+            r.domain,
+            r.points,
+            r.max,
+            r.p99,
+            r.limit(),
+            if r.passes() { "ok" } else { "FAIL" }
+        ));
+    }
+    out
+}
+
+fn fmt_point(p: &Point) -> String {
+    format!(
+        "(τ {:.6}, γ {:.6}, ρ {}, g {:.4})",
+        p.tau,
+        p.gamma,
+        if p.rho.is_infinite() { "∞".into() } else { format!("{:.6}", p.rho) },
+        p.g
+    )
+}

@@ -1,0 +1,87 @@
+//! The error gate fails when a kernel breaks its bound: a wrong coefficient
+//! planted in a copy of the generated WGSL and GLSL fails on the GPU targets; a
+//! declared bound the compiled Rust kernel cannot meet fails on the CPU.
+
+use airlight_shaders::gate::{self, Target};
+use airlight_shaders::{gpu_required, Gpu};
+use std::path::{Path, PathBuf};
+
+fn generated() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated")
+}
+
+/// A copy of the inputs the gate reads for `segments-8`, in a fresh directory.
+fn copy(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("airlight-gate-{}-{name}", std::process::id()));
+    for sub in ["coefficients", "wgsl", "glsl"] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+    }
+    std::fs::copy(generated().join("kernels.toml"), dir.join("kernels.toml")).unwrap();
+    for e in std::fs::read_dir(generated().join("coefficients")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.join("coefficients").join(p.file_name().unwrap())).unwrap();
+    }
+    for f in ["wgsl/segments-8.wgsl", "glsl/segments-8.glsl"] {
+        std::fs::copy(generated().join(f), dir.join(f)).unwrap();
+    }
+    dir
+}
+
+fn replace_in(path: &Path, from: &str, to: &str) {
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains(from), "{}: no '{from}'", path.display());
+    std::fs::write(path, text.replacen(from, to, 1)).unwrap();
+}
+
+#[test]
+fn the_committed_kernels_pass_on_the_cpu() {
+    let rows = gate::run(&generated(), None, true, &["segments-8".into(), "scene-haze-sky".into()], &|_| {}).unwrap();
+    assert_eq!(
+        rows.len(),
+        4 + 3,
+        "segments-8: thin, dense, extreme, physical; the closed form: thin, extreme, physical"
+    );
+    assert!(rows.iter().all(|r| r.passes()), "{}", gate::table(&rows, true));
+}
+
+#[test]
+fn a_bound_the_rust_kernel_cannot_meet_fails() {
+    let dir = copy("bound");
+    // Declare segments-8 ten times better on thin than it is.
+    let toml = dir.join("coefficients/segments-8.toml");
+    let text = std::fs::read_to_string(&toml).unwrap();
+    let at = text.find("[error.thin]").unwrap();
+    let line = text[at..].lines().find(|l| l.starts_with("max_rel = ")).unwrap().to_string();
+    let value: f64 = line["max_rel = ".len()..].split_whitespace().next().unwrap().parse().unwrap();
+    replace_in(&toml, &line, &format!("max_rel = {}", value / 10.0));
+    let rows = gate::run(&dir, None, true, &["segments-8".into()], &|_| {}).unwrap();
+    let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
+    assert!(!failed.is_empty(), "{}", gate::table(&rows, false));
+    assert!(failed.iter().all(|r| r.target == Target::Rust && r.domain == "thin"), "{}", gate::table(&rows, true));
+    let table = gate::table(&rows, true);
+    assert!(table.contains("segments-8") && table.contains("FAIL") && table.contains("rust-f32"), "{table}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_wrong_coefficient_in_the_shaders_fails_on_the_gpu() {
+    let gpu = match Gpu::open() {
+        Ok(g) => g,
+        Err(e) if gpu_required() => panic!("AIRLIGHT_REQUIRE_GPU=1 but {e}"),
+        Err(e) => {
+            eprintln!("SKIPPED a_wrong_coefficient_in_the_shaders_fails_on_the_gpu: {e}");
+            return;
+        }
+    };
+    let dir = copy("coefficient");
+    // The isotropic phase constant, 1/(4π), off by 0.5%.
+    replace_in(&dir.join("wgsl/segments-8.wgsl"), "P_ISO: f32 = 7.95774683e-2", "P_ISO: f32 = 7.99753556e-2");
+    replace_in(&dir.join("glsl/segments-8.glsl"), "P_ISO = 7.95774683e-2", "P_ISO = 7.99753556e-2");
+    let rows = gate::run(&dir, Some(&gpu), true, &["segments-8".into()], &|_| {}).unwrap();
+    let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
+    for target in [Target::Wgsl, Target::Glsl] {
+        assert!(failed.iter().any(|r| r.target == target && r.domain == "thin"), "{}", gate::table(&rows, false));
+    }
+    assert!(failed.iter().all(|r| r.target != Target::Rust), "the compiled Rust kernel is untouched");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
