@@ -150,6 +150,33 @@ enum Command {
         #[arg(long)]
         root: Option<PathBuf>,
     },
+    /// Render a scene's point lights in fog headlessly: a full-screen fragment
+    /// pass that includes the scene's generated WGSL kernel, three panels of
+    /// increasing σt. Also renders the same image with the Rust kernel on the CPU
+    /// and with the reference, and a relative-difference image; prints the max
+    /// and mean relative errors. Writes OUT (GPU), OUT-rust.png, OUT-reference.png
+    /// and OUT-diff.png; with --report, into generated/render/ for REPORT.md.
+    Render {
+        /// The scene file (codegen/scenes/<name>.toml); its kernels must be generated.
+        #[arg(long)]
+        scene: PathBuf,
+        /// The GPU image (PNG); the others are written next to it.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Write into generated/render/ (quoted by REPORT.md after `airlight generate`).
+        #[arg(long)]
+        report: bool,
+        /// Width of each of the three panels, pixels.
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        /// Height, pixels.
+        #[arg(long, default_value_t = 240)]
+        height: u32,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
     /// The main job: fit every family, measure every model, then regenerate
     /// everything under generated/ (coefficients, kernels, REPORT.md, plots), and
     /// end with the error gate (`airlight check`).
@@ -177,6 +204,9 @@ fn main() -> ExitCode {
             eval(&model, &input, output.as_deref(), precision, target, root)
         }
         Command::Check { require_gpu, kernel, all, root } => check(root, require_gpu, &kernel, all),
+        Command::Render { scene, output, report, width, height, root } => {
+            render_scene(&scene, output.as_deref(), report, width, height, root)
+        }
         Command::Models { root } => models(root),
         Command::Fit { family, root } => fit(family.as_deref(), root),
         Command::Bench { root } => bench(root),
@@ -385,6 +415,88 @@ fn check(root: Option<PathBuf>, require_gpu: bool, only: &[String], all: bool) -
     run_gate(&generated, gpu.as_ref(), true, only, all)
 }
 
+fn render_scene(
+    scene_file: &Path,
+    output: Option<&Path>,
+    report: bool,
+    width: u32,
+    height: u32,
+    root: Option<PathBuf>,
+) -> Result<(), Failure> {
+    use airlight_shaders::render;
+    let generated = generated_dir(root)?;
+    let shown = scene_file.display().to_string();
+    let text = std::fs::read_to_string(scene_file).map_err(|e| bad_input(format!("{shown}: cannot read: {e}")))?;
+    let scene = airlight_codegen::scene::parse(&shown, &text).map_err(bad_input)?;
+    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    let name = format!("scene-{}", scene.name);
+    let k = index
+        .kernel
+        .iter()
+        .find(|k| k.name == name)
+        .ok_or_else(|| bad_input(format!("{shown}: no generated kernel {name} (run `airlight generate`)")))?;
+    let wgsl = k.wgsl.as_ref().ok_or_else(|| bad_input(format!("{shown}: the scene has no wgsl target")))?;
+    let kernel = std::fs::read_to_string(generated.join(wgsl))
+        .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join(wgsl).display())))?;
+    if width == 0 || height == 0 || width > 4096 || height > 4096 {
+        return Err(bad_input("--width and --height must be between 1 and 4096"));
+    }
+    let (base, dir) = match (output, report) {
+        (_, true) => (scene.name.clone(), generated.join("render")),
+        (Some(o), false) => (
+            o.file_stem().map_or("render".into(), |s| s.to_string_lossy().into_owned()),
+            o.parent().map_or(PathBuf::from("."), Path::to_path_buf),
+        ),
+        (None, false) => return Err(bad_input("name the image with -o OUT.png, or pass --report")),
+    };
+    let gpu = Gpu::open().map_err(|e| Failure(1, e.to_string()))?;
+    println!("adapter: {}", gpu.adapter());
+    let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
+    let image = gpu.render(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+    let reference = render::render_reference(k, &view);
+    let rust = airlight_kernels::kernel(&name).map(|rk| render::render_rust(rk, &view));
+    let exposure = render::exposure(&reference);
+    let w = view.width();
+    std::fs::create_dir_all(&dir).map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
+    let png = |suffix: &str, pixels: &[[u8; 3]]| -> Result<PathBuf, Failure> {
+        let path = dir.join(format!("{base}{suffix}.png"));
+        render::write_png(&path, w, height, pixels).map_err(|e| Failure(1, e))?;
+        Ok(path)
+    };
+    let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+    let gpu_png = png(if report { "-gpu" } else { "" }, &render::tone_map(&as64(&image), exposure))?;
+    png("-reference", &render::tone_map(&reference, exposure))?;
+    png("-diff", &render::difference(&image, &reference))?;
+    let (gmax, gmean) = render::compare(&image, &reference);
+    println!("{}: {w}×{height}, σt = {:?}", gpu_png.display(), view.sigma_t);
+    println!("GPU (WGSL) vs reference: max relative error {gmax:.2e}, mean {gmean:.2e}");
+    let mut summary = vec![
+        ("adapter".to_string(), format!("\"{}\"", gpu.adapter().to_string().replace('"', "'"))),
+        ("gpu_max_rel".into(), format!("{gmax:e}")),
+        ("gpu_mean_rel".into(), format!("{gmean:e}")),
+    ];
+    if let Some(r) = &rust {
+        png("-rust", &render::tone_map(&as64(r), exposure))?;
+        let (rmax, rmean) = render::compare(r, &reference);
+        println!("Rust kernel (CPU) vs reference: max relative error {rmax:.2e}, mean {rmean:.2e}");
+        summary.push(("rust_max_rel".into(), format!("{rmax:e}")));
+        summary.push(("rust_mean_rel".into(), format!("{rmean:e}")));
+    }
+    if report {
+        let mut toml = format!(
+            "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkernel = \"{name}\"\nwidth = {w}\nheight = {height}\nsigma_t = {:?}\n",
+            scene.file, view.sigma_t
+        );
+        for (k, v) in summary {
+            toml.push_str(&format!("{k} = {v}\n"));
+        }
+        airlight_fit::io::write_atomic(&dir.join(format!("{base}.toml")), toml.as_bytes())
+            .map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
+        println!("wrote {}/{base}*; `airlight generate` puts them into REPORT.md", dir.display());
+    }
+    Ok(())
+}
+
 /// A generated kernel's value at `p` (arguments rounded to f32, `ρ = ∞` passed as
 /// −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
 fn f32_value(k: &airlight_kernels::Kernel, p: airlight_fit::reference::Point) -> f64 {
@@ -554,7 +666,9 @@ fn render(
     let root = generated.parent().unwrap_or(Path::new("."));
     let scenes = airlight_codegen::scene::load_dir(&root.join("codegen/scenes"), "codegen/scenes")
         .map_err(|e| Failure(2, e.to_string()))?;
-    airlight_codegen::render_all(check, models, bench.as_ref(), &scenes).map_err(|e| match e {
+    let renders = airlight_codegen::read_renders(generated)
+        .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join("render").display())))?;
+    airlight_codegen::render_all(check, models, bench.as_ref(), &scenes, &renders).map_err(|e| match e {
         airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
         _ => Failure(1, format!("rendering generated/: {e}")),
     })

@@ -53,6 +53,24 @@ impl fmt::Display for RenderError {
 
 impl std::error::Error for RenderError {}
 
+/// The files under `generated/render/` (written by `airlight render --report`), as
+/// outputs to pass through; none if the directory does not exist.
+pub fn read_renders(generated: &std::path::Path) -> std::io::Result<Vec<Output>> {
+    let dir = generated.join("render");
+    if !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)?.flatten().map(|e| e.path()).filter(|p| p.is_file()).collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|p| {
+            let name = p.file_name().unwrap_or_default().to_string_lossy().into_owned();
+            Ok(Output { path: format!("render/{name}"), contents: std::fs::read(&p)? })
+        })
+        .collect()
+}
+
 /// Every file under `generated/`, rendered from the reference self-check and the
 /// coefficient files (which are re-rendered too, so a hand edit shows as stale).
 /// This list is the generator's table of outputs: a file not in it is orphaned.
@@ -60,11 +78,14 @@ impl std::error::Error for RenderError {}
 /// `bench` is `generated/bench.json` as measured by `airlight bench` (an input the
 /// report quotes; it is passed through unchanged so it is never orphaned).
 /// `scenes` are the scene files (`codegen/scenes/`); each gets its own kernels and plan.
+/// `renders` are the files `airlight render --report` wrote under `generated/render/`
+/// (a GPU's output, like `bench.json`: passed through, and quoted by the report).
 pub fn render_all(
     check: &SelfCheck,
     models: &[ModelFile],
     bench: Option<&Bench>,
     scenes: &[scene::Scene],
+    renders: &[Output],
 ) -> Result<Vec<Output>, RenderError> {
     let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
     let mut plans = Vec::new();
@@ -74,7 +95,8 @@ pub fn render_all(
         plans.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
         specs.push(spec);
     }
-    let mut out = vec![report::render(check, models, bench, &specs).map_err(RenderError::Template)?];
+    let mut out = vec![report::render(check, models, bench, &specs, renders).map_err(RenderError::Template)?];
+    out.extend(renders.iter().cloned());
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
     }

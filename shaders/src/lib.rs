@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod gate;
+pub mod render;
 
 use std::fmt;
 use wgpu::util::DeviceExt;

@@ -15,7 +15,8 @@ fn generated_matches_a_fresh_rendering() {
     let scenes =
         airlight_codegen::scene::load_dir(&airlight_tests::repo_root().join("codegen/scenes"), "codegen/scenes")
             .expect("scenes parse");
-    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), &scenes).expect("renders");
+    let renders = airlight_codegen::read_renders(&generated_dir()).expect("generated/render/ reads");
+    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), &scenes, &renders).expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),
