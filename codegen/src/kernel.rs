@@ -124,6 +124,9 @@ pub struct KernelSpec {
     pub scene: Option<String>,
     /// Error domains its bound is taken over.
     pub domains: Vec<&'static str>,
+    /// The `g` it serves: the model's range, or the scene's (`g` outside it may
+    /// fall outside the bands a scene kernel keeps).
+    pub g_range: (f64, f64),
     /// Targets to emit.
     pub targets: Vec<Target>,
 }
@@ -153,6 +156,7 @@ impl KernelSpec {
             backscatter: true,
             scene: None,
             domains: vec!["thin", "dense"],
+            g_range: m.model.g_range,
             targets: vec![Target::Wgsl, Target::Glsl, Target::Rust],
         }
     }
@@ -170,6 +174,7 @@ impl KernelSpec {
             bound,
             scene: Some(scene_file.to_string()),
             domains: plan.domains.clone(),
+            g_range: scene.phase.g_range(),
             targets: scene.targets.clone(),
         };
         match &plan.choice {
@@ -777,10 +782,7 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     let g = match &spec.phase {
         KernelPhase::Isotropic => [0.0, 0.0],
         KernelPhase::Fixed(g) => [*g, *g],
-        KernelPhase::Banded(_) => {
-            let r = spec.model.as_ref().map_or((0.0, 0.0), |m| m.model.g_range);
-            [r.0, r.1]
-        }
+        KernelPhase::Banded(_) => [spec.g_range.0, spec.g_range.1],
     };
     IndexEntry {
         name: spec.name.clone(),

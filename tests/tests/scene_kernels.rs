@@ -30,6 +30,25 @@ fn render(text: &str) -> (KernelSpec, Vec<(String, String)>) {
     (spec, files)
 }
 
+/// `glslangValidator` compiles the include as ES 3.00 (fragment) and 4.50 (compute).
+fn glslang_compiles(glsl: &str, what: &str) {
+    let dir = std::env::temp_dir().join(format!("airlight-scene-glsl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (ext, src) in [
+        ("frag", format!("#version 300 es\n{glsl}\nout highp vec4 c;\nvoid main() {{ c = vec4(0.0); }}\n")),
+        ("comp", format!("#version 450\n{glsl}\nlayout(local_size_x = 1) in;\nvoid main() {{}}\n")),
+    ] {
+        let file = dir.join(format!("k.{ext}"));
+        std::fs::write(&file, src).unwrap();
+        let out = std::process::Command::new("glslangValidator")
+            .arg(&file)
+            .output()
+            .expect("glslangValidator (glslang-tools)");
+        assert!(out.status.success(), "{what} as {ext}: {}", String::from_utf8_lossy(&out.stdout));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn naga_validates(wgsl: &str) {
     let module = naga::front::wgsl::parse_str(wgsl).unwrap_or_else(|e| panic!("{}", e.emit_to_string(wgsl)));
     naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
@@ -69,6 +88,8 @@ fn a_fixed_g_bakes_one_bands_terms_and_a_g_range_keeps_only_its_bands() {
     assert!(!wgsl.contains("_phase(g: f32)") && !wgsl.contains("ga <="), "no band search");
     assert!(wgsl.contains("fn airlight_scene_test_airlight(tau: f32, gamma: f32, rho: f32) -> f32"));
     naga_validates(wgsl);
+    let (_, glsl) = files.iter().find(|f| f.0 == "glsl/scene-test.glsl").unwrap();
+    glslang_compiles(glsl, "scene-test");
 
     let (spec, files) = render(&scene_text("phase = \"hg\"\ng_range = [0.1, 0.3]", true, false, 1.0));
     let KernelPhase::Banded(bands) = &spec.phase else { panic!("{:?}", spec.phase) };
@@ -77,6 +98,8 @@ fn a_fixed_g_bakes_one_bands_terms_and_a_g_range_keeps_only_its_bands() {
     assert_eq!(wgsl.matches("let x = ga - ").count(), 2, "two bands");
     assert!(wgsl.contains("fn airlight_scene_test_airlight(tau: f32, gamma: f32, g: f32) -> f32"));
     naga_validates(wgsl);
+    let (_, glsl) = files.iter().find(|f| f.0 == "glsl/scene-test.glsl").unwrap();
+    glslang_compiles(glsl, "scene-test");
 }
 
 #[test]
