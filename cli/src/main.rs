@@ -268,27 +268,21 @@ fn eval(
         (Err(_), Some(_)) => None,
         (Err(e), None) => return Err(bad_input(e)),
     };
-    let name = input.display().to_string();
-    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
-    let rows = points_csv::parse(&name, &text, |p| match checker {
-        Some(m) => m.check(p),
-        None => Ok(()),
-    })
-    .map_err(bad_input)?;
+    let rows = read_points(input, checker)?;
     let values = match (kernel, checker) {
         (Some(k), _) => rows.iter().map(|r| f32_value(k, r.point)).collect(),
         (None, Some(m)) => airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {}),
         (None, None) => unreachable!("f64 needs a model"),
     };
-    let csv = points_csv::render(&rows, &values);
-    match output {
-        Some(path) => airlight_fit::io::write_atomic(path, csv.as_bytes())
-            .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display()))),
-        None => {
-            print!("{csv}");
-            Ok(())
-        }
-    }
+    write_csv(output, &points_csv::render(&rows, &values))
+}
+
+/// The points of an `eval` CSV, checked against `checker`'s domain (the f64
+/// model's `g` range) when there is one.
+fn read_points(input: &Path, checker: Option<&dyn model::Model>) -> Result<Vec<points_csv::Row>, Failure> {
+    let name = input.display().to_string();
+    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    points_csv::parse(&name, &text, |p| checker.map_or(Ok(()), |m| m.check(p))).map_err(bad_input)
 }
 
 /// `eval --target wgsl|glsl`: the generated shader kernel on the GPU adapter.
@@ -315,13 +309,7 @@ fn eval_gpu(
         std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
     let (reg, _) = registry(root)?;
     let checker = k.model.as_ref().and_then(|m| reg.get(m).ok());
-    let shown = input.display().to_string();
-    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{shown}: cannot read: {e}")))?;
-    let rows = points_csv::parse(&shown, &text, |p| match checker {
-        Some(m) => m.check(p),
-        None => Ok(()),
-    })
-    .map_err(bad_input)?;
+    let rows = read_points(input, checker)?;
     let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
     eprintln!("adapter: {}", gpu.adapter());
     let src = KernelSource {

@@ -706,8 +706,7 @@ pub struct IndexEntry {
     pub extinction: bool,
     /// Whether the backward part is kept.
     pub backscatter: bool,
-    /// Files under `generated/` by target (`wgsl`, `wgsl-bevy`, `glsl`, `rust`), with
-    /// the item prefix of the plain WGSL and GLSL files.
+    /// The plain WGSL file, under `generated/`.
     pub wgsl: Option<String>,
     /// The Bevy variant.
     pub wgsl_bevy: Option<String>,

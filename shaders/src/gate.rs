@@ -319,6 +319,20 @@ pub fn run(
                 sources.insert(target, text);
             }
         }
+        let shaders: Vec<(Target, KernelSource)> = sources
+            .iter()
+            .map(|(target, text)| {
+                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
+                let src = KernelSource {
+                    language,
+                    source: text,
+                    prefix: &k.prefix,
+                    params: &k.params,
+                    radiance_params: &k.radiance_params,
+                };
+                (*target, src)
+            })
+            .collect();
         for (domain, pts) in &sets {
             let bound = declared(k, &models, domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
@@ -336,17 +350,9 @@ pub fn run(
                 rows.push(row(k, Target::Rust, domain, pts, &got, bound));
             }
             let Some(gpu) = gpu else { continue };
-            for (target, text) in &sources {
-                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
-                let src = KernelSource {
-                    language,
-                    source: text,
-                    prefix: &k.prefix,
-                    params: &k.params,
-                    radiance_params: &k.radiance_params,
-                };
+            for (target, src) in &shaders {
                 let got = gpu
-                    .airlight(&src, &raw)
+                    .airlight(src, &raw)
                     .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
                 rows.push(row(k, *target, domain, pts, &got, bound));
             }
@@ -373,17 +379,9 @@ pub fn run(
         }
         if let Some(gpu) = gpu {
             let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
-            for (target, text) in &sources {
-                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
-                let src = KernelSource {
-                    language,
-                    source: text,
-                    prefix: &k.prefix,
-                    params: &k.params,
-                    radiance_params: &k.radiance_params,
-                };
+            for (target, src) in &shaders {
                 let got = gpu
-                    .radiance(&src, &plain)
+                    .radiance(src, &plain)
                     .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
                 rows.push(row(k, *target, "physical", &expected, &got, bound));
             }
