@@ -514,7 +514,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             ("reference_rel_tol", f(REFERENCE_REL_TOL)),
             ("validation_seed", hex_seed(VALIDATION_SEED)),
             ("validation_points_per_domain", i(VALIDATION_POINTS)),
-            ("validation_extra", s("domain corners at the ends of g_range; local Nelder-Mead searches inside the domain from the 4 largest over- and 4 largest underestimates raise max_rel where they find more")),
+            ("validation_extra", s("domain corners at the ends of g_range; 48x48 grids on the faces rho = 0.01, rho = inf, tau = min and tau = max; local Nelder-Mead searches inside the domain from the 8 largest over- and 8 largest underestimates (a tenth of the domain apart) and from the 16 largest face errors (3% apart) raise max_rel where they find more")),
         ]),
     ));
     Ok(ModelFile {
@@ -542,6 +542,24 @@ pub struct Validation {
     pub g_range: (f64, f64),
     /// Points and reference `A`.
     pub points: Vec<(Point, f64)>,
+    /// Grids on the domain's faces ([`Domain::faces`]) with reference `A`: they
+    /// raise the max and start local searches, but are not part of the p99.
+    pub faces: Vec<(Point, f64)>,
+}
+
+/// Points per side of each face grid.
+pub const FACE_GRID: usize = 48;
+
+/// The `g` values of the face grids for a `g` range: its ends and 0 if inside.
+fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
+    let mut gs = vec![g_range.0];
+    if g_range.0 < 0.0 && g_range.1 > 0.0 {
+        gs.push(0.0);
+    }
+    if g_range.1 != g_range.0 {
+        gs.push(g_range.1);
+    }
+    gs
 }
 
 /// Reference values for the validation sets of every `(domain, g range)` in `ranges`.
@@ -549,18 +567,22 @@ pub fn validations(ranges: &[(f64, f64)], progress: &(dyn Fn(usize, usize) + Syn
     let mut sets = Vec::new();
     for &r in ranges {
         for d in Domain::ALL {
-            sets.push((d, r, d.validation_set(r, VALIDATION_POINTS, VALIDATION_SEED)));
+            sets.push((d, r, d.validation_set(r, VALIDATION_POINTS, VALIDATION_SEED), d.faces(&face_gs(r), FACE_GRID)));
         }
     }
-    let all: Vec<Point> = sets.iter().flat_map(|s| s.2.iter().copied()).collect();
+    let all: Vec<Point> = sets.iter().flat_map(|s| s.2.iter().chain(&s.3).copied()).collect();
     let values =
         crate::parallel::map(&all, |p| reference::airlight(*p).expect("validation points are valid"), progress);
     let mut it = values.into_iter();
+    let mut with_values = |pts: Vec<Point>| -> Vec<(Point, f64)> {
+        pts.into_iter().map(|p| (p, it.next().expect("one value per point"))).collect()
+    };
     sets.into_iter()
-        .map(|(domain, g_range, pts)| Validation {
+        .map(|(domain, g_range, pts, faces)| Validation {
             domain,
             g_range,
-            points: pts.into_iter().map(|p| (p, it.next().expect("one value per point"))).collect(),
+            points: with_values(pts),
+            faces: with_values(faces),
         })
         .collect()
 }
@@ -577,7 +599,7 @@ fn clamp_into(domain: Domain, g_range: (f64, f64), p: Point) -> Point {
 }
 
 /// Points each local search starts from, per direction of the error.
-pub const REFINE_STARTS: usize = 4;
+pub const REFINE_STARTS: usize = 8;
 
 /// Measures `model` on `v`: max, p99 and worst point over the validation set, the
 /// max then pushed further by a local Nelder–Mead search from the largest over-
@@ -607,9 +629,24 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         // Start the search from the largest over- and under-estimates separately: a
         // model whose worst sampled error is an underestimate near −100% can still
         // overestimate by more elsewhere.
+        // Starts are spread out: a model's error often plateaus at one level over a
+        // large region (the backward sum's floor), and the largest errors all sit
+        // there while a narrow peak elsewhere (a domain edge) goes unvisited.
         signed.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let starts: Vec<Point> =
-            signed.iter().take(REFINE_STARTS).chain(signed.iter().rev().take(REFINE_STARTS)).map(|s| s.0).collect();
+        let mut starts = diverse(v.domain, signed.iter().map(|s| s.0), REFINE_STARTS, 0.1);
+        starts.extend(diverse(v.domain, signed.iter().rev().map(|s| s.0), REFINE_STARTS, 0.1));
+        // The face grids: their largest errors count, and start searches too.
+        let mut faces: Vec<(Point, f64)> =
+            v.faces.iter().map(|&(p, exact)| (p, rel_error(model.eval_unchecked(p), exact))).collect();
+        faces.sort_by(|a, b| b.1.total_cmp(&a.1));
+        if let Some(&(p, e)) = faces.first() {
+            if e > max {
+                max = e;
+                worst = p;
+            }
+        }
+        // Errors along a face oscillate with the kernel's segments: many nearby starts.
+        starts.extend(diverse(v.domain, faces.iter().map(|f| f.0), 2 * REFINE_STARTS, 0.03));
         for start in starts {
             let (found, e) = refine(model, v.domain, v.g_range, start);
             if e > max {
@@ -627,6 +664,32 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         non_finite,
         negative,
     }
+}
+
+/// Up to `n` of `points` (taken in order) at least `apart` (a share of the
+/// domain) from each other (τ, γ, log ρ and g scaled to the domain's box; ρ = ∞ far from
+/// every finite ρ).
+fn diverse(domain: Domain, points: impl Iterator<Item = Point>, n: usize, apart: f64) -> Vec<Point> {
+    let (tlo, thi) = domain.tau_range();
+    let key = |p: &Point| {
+        let rho = if p.rho.is_infinite() { 10.0 } else { (p.rho / 0.01).ln() / (1e4f64).ln() };
+        [(p.tau - tlo) / (thi - tlo), p.gamma / PI, rho, 0.5 * p.g]
+    };
+    let mut out: Vec<Point> = Vec::with_capacity(n);
+    for p in points {
+        if out.len() == n {
+            break;
+        }
+        let k = key(&p);
+        let far = out.iter().all(|q| {
+            let kq = key(q);
+            k.iter().zip(&kq).map(|(a, b)| (a - b) * (a - b)).sum::<f64>() > apart * apart
+        });
+        if far {
+            out.push(p);
+        }
+    }
+    out
 }
 
 /// Local search for a larger error near `start`, inside the domain.

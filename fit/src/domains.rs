@@ -84,6 +84,33 @@ impl Domain {
         out
     }
 
+    /// Grids of `n × n` points on the faces of a sampled domain's box where
+    /// errors peak — the nearest surface (ρ = 0.01), no surface (ρ = ∞), and both
+    /// ends of τ — for each `g` in `gs`: peaks on an edge are narrow and easily
+    /// missed by a low-discrepancy set. Empty for `Extreme`.
+    pub fn faces(self, gs: &[f64], n: usize) -> Vec<Point> {
+        if self == Domain::Extreme || n < 2 {
+            return Vec::new();
+        }
+        let (tlo, thi) = self.tau_range();
+        let at = |i: usize, lo: f64, hi: f64| lo + (hi - lo) * i as f64 / (n - 1) as f64;
+        let mut out = Vec::new();
+        for &g in gs {
+            for i in 0..n {
+                for j in 0..n {
+                    let gamma = at(j, GAMMA_MIN, PI - GAMMA_MIN);
+                    let tau = at(i, tlo, thi);
+                    out.push(Point { tau, gamma, rho: RHO_MIN, g });
+                    out.push(Point { tau, gamma, rho: f64::INFINITY, g });
+                    let rho = RHO_MIN * (RHO_MAX / RHO_MIN).powf(i as f64 / (n - 1) as f64);
+                    out.push(Point { tau: tlo, gamma, rho, g });
+                    out.push(Point { tau: thi, gamma, rho, g });
+                }
+            }
+        }
+        out
+    }
+
     /// `n` low-discrepancy points of the domain with `g` uniform in `g_range`
     /// (constant when `lo == hi`), followed by the corners at `g ∈ {lo, hi}`.
     /// `Extreme` has corners only.

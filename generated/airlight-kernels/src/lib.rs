@@ -99,7 +99,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "paper",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 9.205391512167614e-1,
+        thin_max_rel: 9.205391512184692e-1,
         dense_max_rel: 9.435195391294986e2,
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -110,8 +110,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "paper-refit",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.0519984472662142e-1,
-        dense_max_rel: 3.0834444569937354e0,
+        thin_max_rel: 1.0783576966613195e-1,
+        dense_max_rel: 3.0834444569942114e0,
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -133,7 +133,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99991573777365e-1,
-        dense_max_rel: 4.347930716012216e0,
+        dense_max_rel: 4.350156466700988e0,
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -144,7 +144,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9418108715113507e-2,
-        dense_max_rel: 2.120715263311497e-1,
+        dense_max_rel: 2.1207152633140497e-1,
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -154,8 +154,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-3",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 9.431094167239841e-3,
-        dense_max_rel: 9.84235756211562e-2,
+        thin_max_rel: 9.431094167318058e-3,
+        dense_max_rel: 9.842357562198802e-2,
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -166,7 +166,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.868806092532688e-3,
-        dense_max_rel: 6.026991285430418e-2,
+        dense_max_rel: 6.026991285385562e-2,
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -177,7 +177,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.5885333914572e-3,
-        dense_max_rel: 3.6476540457779615e-2,
+        dense_max_rel: 3.647654045780987e-2,
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -187,8 +187,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-8",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104008805078e-3,
-        dense_max_rel: 1.9815525489093332e-2,
+        thin_max_rel: 1.9640270794631727e-3,
+        dense_max_rel: 1.9815525489107873e-2,
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -198,7 +198,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-12",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104008805078e-3,
+        thin_max_rel: 1.4981104097117751e-3,
         dense_max_rel: 1.1751982685251208e-2,
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -209,8 +209,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-16",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104008805078e-3,
-        dense_max_rel: 9.353469480091942e-3,
+        thin_max_rel: 1.4981104097117751e-3,
+        dense_max_rel: 9.35346948019298e-3,
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -221,7 +221,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99995779898211e-1,
-        dense_max_rel: 9.999932374466229e-1,
+        dense_max_rel: 9.999932386612747e-1,
         airlight: |tau, gamma, rho, g| hg_exp1::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -232,7 +232,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.996600215501069e-1,
-        dense_max_rel: 9.994605197823282e-1,
+        dense_max_rel: 9.99461121698095e-1,
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -242,8 +242,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "hg-exp3",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.617604486027067e-1,
-        dense_max_rel: 8.694872279201104e-1,
+        thin_max_rel: 9.624572025648099e-1,
+        dense_max_rel: 8.70680724285913e-1,
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -254,7 +254,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: true,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9418108715113507e-2,
-        dense_max_rel: 2.120715263311497e-1,
+        dense_max_rel: 2.1207152633140497e-1,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -265,7 +265,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: true,
         params: &["tau", "gamma"],
         thin_max_rel: 3.5885333914572e-3,
-        dense_max_rel: 3.6476540457779615e-2,
+        dense_max_rel: 3.647654045780987e-2,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -286,8 +286,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104008805078e-3,
-        dense_max_rel: 1.9815525489093332e-2,
+        thin_max_rel: 1.9640270794631727e-3,
+        dense_max_rel: 1.9815525489107873e-2,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
