@@ -312,16 +312,10 @@ fn eval_gpu(
     let rows = read_points(input, checker)?;
     let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
     eprintln!("adapter: {}", gpu.adapter());
-    let src = KernelSource {
-        language,
-        source: &source,
-        prefix: &k.prefix,
-        params: &k.params,
-        radiance_params: &k.radiance_params,
-    };
+    let src = KernelSource::of(k, language, &source);
     let raw: Vec<[f64; 4]> = rows.iter().map(|r| [r.point.tau, r.point.gamma, r.point.rho, r.point.g]).collect();
     let got = gpu.airlight(&src, &raw).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
-    let values: Vec<f64> = got.iter().map(|&v| if v == f32::MAX { f64::INFINITY } else { f64::from(v) }).collect();
+    let values: Vec<f64> = got.iter().map(|&v| airlight_shaders::from_kernel(v)).collect();
     write_csv(output, &points_csv::render(&rows, &values))
 }
 
@@ -489,13 +483,12 @@ fn render_scene(
 /// A generated kernel's value at `p` (arguments rounded to f32, `ρ = ∞` passed as
 /// −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
 fn f32_value(k: &airlight_kernels::Kernel, p: airlight_fit::reference::Point) -> f64 {
-    let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
-    let v = (k.airlight)(p.tau as f32, p.gamma as f32, rho, p.g as f32);
-    if v == f32::MAX {
-        f64::INFINITY
-    } else {
-        f64::from(v)
-    }
+    airlight_shaders::from_kernel((k.airlight)(
+        p.tau as f32,
+        p.gamma as f32,
+        airlight_shaders::rho_arg(p.rho),
+        p.g as f32,
+    ))
 }
 
 fn models(root: Option<PathBuf>) -> Result<(), Failure> {
@@ -599,7 +592,7 @@ fn fit(family: Option<&str>, root: Option<PathBuf>) -> Result<(), Failure> {
         .iter()
         .map(|f| airlight_codegen::Output::text(format!("coefficients/{}.toml", f.model.name), coeffs::render(f)))
         .collect();
-    let written = write_outputs(&generated, &outputs)?;
+    let written = write_outputs(&generated, &outputs)?.len();
     println!(
         "{written} of {} coefficient file(s) changed under {} in {:.1} s",
         outputs.len(),
@@ -711,10 +704,9 @@ fn generated_dir(root: Option<PathBuf>) -> Result<PathBuf, Failure> {
     .join("generated"))
 }
 
-/// Writes the outputs, returning how many files changed.
-fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Result<usize, Failure> {
+/// Writes the outputs, returning the files that changed.
+fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Result<Vec<PathBuf>, Failure> {
     airlight_codegen::write_all(generated, outputs)
-        .map(|w| w.len())
         .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))
 }
 
@@ -742,7 +734,7 @@ fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
         println!("generated/ is current ({} file(s))", outputs.len());
         return Ok(());
     }
-    let written = write_outputs(&generated, &outputs)?;
+    let written = write_outputs(&generated, &outputs)?.len();
     println!("{written} of {} file(s) changed under {}", outputs.len(), generated.display());
     Ok(())
 }
@@ -755,8 +747,7 @@ fn regenerate(root: Option<PathBuf>) -> Result<(), Failure> {
     print_fits(&fits);
     let files = build_models(&fits)?;
     let outputs = render(&check, &files, &generated)?;
-    let written = airlight_codegen::write_all(&generated, &outputs)
-        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
+    let written = write_outputs(&generated, &outputs)?;
     for f in &files {
         let e =
             |d: &str| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));

@@ -232,6 +232,44 @@ impl KernelSpec {
         matches!(self.phase, KernelPhase::Banded(_))
     }
 
+    /// Whether τ (and σt) are arguments: extinction modelled by a fitted model.
+    fn takes_tau(&self) -> bool {
+        self.extinction && self.model.is_some()
+    }
+
+    /// Arguments of the canonical entry `airlight`, in order.
+    pub fn params(&self) -> Vec<&'static str> {
+        let mut p = Vec::new();
+        if self.takes_tau() {
+            p.push("tau");
+        }
+        p.push("gamma");
+        if self.surfaces {
+            p.push("rho");
+        }
+        if self.g_param() {
+            p.push("g");
+        }
+        p
+    }
+
+    /// Arguments of the physical entry `radiance`, in order.
+    pub fn radiance_params(&self) -> Vec<&'static str> {
+        let mut p = vec!["origin", "dir"];
+        if self.surfaces {
+            p.push("surface");
+        }
+        p.extend(["light", "intensity"]);
+        if self.takes_tau() {
+            p.push("sigma_t");
+        }
+        p.push("sigma_s");
+        if self.g_param() {
+            p.push("g");
+        }
+        p
+    }
+
     fn exp_phase(&self) -> Option<&ExpPhase> {
         match &self.model.as_ref()?.model.phase {
             PhaseModel::Exp(e) => Some(e),
@@ -423,41 +461,31 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         "glsl" => format!("{ty} {name}"),
         _ => format!("{name}: {ty}"),
     };
-    let mut canon = Vec::new();
-    let mut canon_args = Vec::new();
-    if spec.extinction && spec.model.is_some() {
-        canon.push(param("tau", f));
-        canon_args.push("τ");
-    }
-    canon.push(param("gamma", f));
-    canon_args.push("γ");
-    if spec.surfaces {
-        canon.push(param("rho", f));
-        canon_args.push("ρ");
-    }
-    if spec.g_param() {
-        canon.push(param("g", f));
-    }
-    let mut args = canon_args.join(", ");
+    let typed = |names: Vec<&str>| -> String {
+        names
+            .into_iter()
+            .map(|n| param(n, if matches!(n, "origin" | "dir" | "light") { v3 } else { f }))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let params = spec.params();
+    let mut args = params
+        .iter()
+        .filter_map(|p| match *p {
+            "tau" => Some("τ"),
+            "gamma" => Some("γ"),
+            "rho" => Some("ρ"),
+            _ => None,
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
     if spec.g_param() {
         args.push_str("; g");
     }
-    ctx.insert("canonical_params", &canon.join(", "));
+    ctx.insert("canonical_params", &typed(params));
     ctx.insert("canonical_args", &args);
-    let mut rad = vec![param("origin", v3), param("dir", v3)];
-    if spec.surfaces {
-        rad.push(param("surface", f));
-    }
-    rad.push(param("light", v3));
-    rad.push(param("intensity", f));
-    if spec.extinction && spec.model.is_some() {
-        rad.push(param("sigma_t", f));
-    }
-    rad.push(param("sigma_s", f));
-    if spec.g_param() {
-        rad.push(param("g", f));
-    }
-    ctx.insert("radiance_params", &rad.join(", "));
+    let rad = typed(spec.radiance_params());
+    ctx.insert("radiance_params", &rad);
 
     if let Some(m) = &spec.model {
         let a = &m.model;
@@ -603,8 +631,14 @@ struct CrateKernel {
     scene: bool,
     params: Vec<&'static str>,
     closure: String,
-    radiance_params: Vec<String>,
+    radiance_params: Vec<&'static str>,
     radiance_closure: String,
+}
+
+/// Closure parameters of a uniform signature `all`, those the kernel does not
+/// take (`used`) marked unused with `_`.
+fn closure(all: &[&str], used: &[&str]) -> String {
+    all.iter().map(|p| if used.contains(p) { p.to_string() } else { format!("_{p}") }).collect::<Vec<_>>().join(", ")
 }
 
 /// Every kernel output: per-kernel files from the table, the crate's own files,
@@ -630,37 +664,19 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
         .filter(|s| s.targets.contains(&Target::Rust))
         .map(|s| {
             let err = |d: &str| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
-            let mut params = Vec::new();
-            if s.extinction && s.model.is_some() {
-                params.push("tau");
-            }
-            params.push("gamma");
-            if s.surfaces {
-                params.push("rho");
-            }
-            if s.g_param() {
-                params.push("g");
-            }
+            let (params, radiance_params) = (s.params(), s.radiance_params());
             CrateKernel {
                 name: s.name.clone(),
                 ident: s.ident(),
                 thin: format!("{:e}", err("thin")),
                 dense: format!("{:e}", err("dense")),
                 scene: s.scene.is_some(),
-                radiance_closure: {
-                    let rp = radiance_params(s);
-                    ["origin", "dir", "surface", "light", "intensity", "sigma_t", "sigma_s", "g"]
-                        .iter()
-                        .map(|p| if rp.iter().any(|x| x == p) { p.to_string() } else { format!("_{p}") })
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                },
-                radiance_params: radiance_params(s),
-                closure: ["tau", "gamma", "rho", "g"]
-                    .iter()
-                    .map(|p| if params.contains(p) { p.to_string() } else { format!("_{p}") })
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                radiance_closure: closure(
+                    &["origin", "dir", "surface", "light", "intensity", "sigma_t", "sigma_s", "g"],
+                    &radiance_params,
+                ),
+                closure: closure(&["tau", "gamma", "rho", "g"], &params),
+                radiance_params,
                 params,
             }
         })
@@ -737,24 +753,6 @@ impl Index {
     }
 }
 
-/// Arguments of a kernel's physical entry, in order.
-fn radiance_params(spec: &KernelSpec) -> Vec<String> {
-    let closed = spec.model.is_none();
-    let mut radiance = vec!["origin".to_string(), "dir".into()];
-    if spec.surfaces {
-        radiance.push("surface".into());
-    }
-    radiance.extend(["light".to_string(), "intensity".into()]);
-    if spec.extinction && !closed {
-        radiance.push("sigma_t".into());
-    }
-    radiance.push("sigma_s".into());
-    if spec.g_param() {
-        radiance.push("g".into());
-    }
-    radiance
-}
-
 fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     let ident = spec.ident();
     let path = |target: &str, bevy: bool| {
@@ -765,19 +763,6 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
             .find(|k| spec.targets.iter().any(|t| t.name() == k.target))
             .map(|k| k.path.replace("{name}", &spec.name).replace("{ident}", &ident))
     };
-    let mut params = Vec::new();
-    let closed = spec.model.is_none();
-    if spec.extinction && !closed {
-        params.push("tau".to_string());
-    }
-    params.push("gamma".into());
-    if spec.surfaces {
-        params.push("rho".into());
-    }
-    if spec.g_param() {
-        params.push("g".into());
-    }
-    let radiance = radiance_params(spec);
     let g = match &spec.phase {
         KernelPhase::Isotropic => [0.0, 0.0],
         KernelPhase::Fixed(g) => [*g, *g],
@@ -788,8 +773,8 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         model: spec.model.as_ref().map(|m| m.model.name.clone()),
         scene: spec.scene.clone(),
         domains: spec.domains.iter().map(|d| d.to_string()).collect(),
-        params,
-        radiance_params: radiance,
+        params: spec.params().iter().map(|p| p.to_string()).collect(),
+        radiance_params: spec.radiance_params().iter().map(|p| p.to_string()).collect(),
         g,
         surfaces: spec.surfaces,
         extinction: spec.extinction,

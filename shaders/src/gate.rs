@@ -16,7 +16,6 @@ use airlight_fit::catalog::{self, Validation};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use airlight_fit::reference::{self, Point};
-use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
 
@@ -131,10 +130,10 @@ pub fn project(k: &IndexEntry, p: Point) -> Point {
     }
 }
 
-/// The points and reference values a kernel is checked on, per domain.
 /// Points with their reference `A`.
 type Checked = Vec<(Point, f64)>;
 
+/// The points and reference values a kernel is checked on, per domain.
 fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(&'static str, Checked)>, GateError> {
     let scene = k.scene.is_some();
     let mut out = Vec::new();
@@ -205,8 +204,10 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
         let perp = [q[0] / qn, q[1] / qn, q[2] / qn];
         let (c, s) = (p.gamma.cos(), p.gamma.sin());
         let light: [f64; 3] = std::array::from_fn(|j| origin[j] + scale * (c * dir[j] + s * perp[j]));
-        let sigma_t = p.tau / scale;
-        let sigma_s = if sigma_t > 0.0 { 0.8 * sigma_t } else { 0.5 / scale };
+        // Without extinction σt is not an argument (τ = 0 below); σs ≤ σt keeps the
+        // medium physical.
+        let sigma_s = if p.tau > 0.0 { 0.8 * p.tau / scale } else { 0.5 / scale };
+        let sigma_t = if p.tau > 0.0 { p.tau / scale } else { sigma_s };
         let intensity = 1.0 + 999.0 * rng.next_f64();
         let surface = if p.rho.is_infinite() { -1.0 } else { p.rho * scale };
         let ray = crate::Ray {
@@ -220,21 +221,11 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
             g: p.g as f32,
         };
         // The canonical point of the f32 inputs, in f64.
-        let f = |v: [f32; 3]| v.map(f64::from);
-        let (o, dv, l) = (f(ray.origin), f(ray.dir), f(ray.light));
-        let lv = [l[0] - o[0], l[1] - o[1], l[2] - o[2]];
-        let dd = (lv[0] * lv[0] + lv[1] * lv[1] + lv[2] * lv[2]).sqrt();
-        let cx = [dv[1] * lv[2] - dv[2] * lv[1], dv[2] * lv[0] - dv[0] * lv[2], dv[0] * lv[1] - dv[1] * lv[0]];
-        let h = (cx[0] * cx[0] + cx[1] * cx[1] + cx[2] * cx[2]).sqrt();
-        let x0 = dv[0] * lv[0] + dv[1] * lv[1] + dv[2] * lv[2];
-        let real = Point {
-            tau: if k.extinction { f64::from(ray.sigma_t) * dd } else { 0.0 },
-            gamma: h.atan2(x0),
-            rho: if ray.surface < 0.0 { f64::INFINITY } else { f64::from(ray.surface) / dd },
-            g: f64::from(ray.g),
-        };
+        let c =
+            ray.physical().to_canonical(f64::from(ray.g)).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
+        let real = project(k, c.point);
         let a = reference::airlight(real).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
-        let expected = f64::from(ray.sigma_s) * f64::from(ray.intensity) / dd * a;
+        let expected = c.scale * a;
         out.push((ray, real, expected));
     }
     Ok(out)
@@ -245,8 +236,7 @@ fn row(k: &IndexEntry, target: Target, domain: &'static str, pts: &[(Point, f64)
     let mut errs = Vec::with_capacity(pts.len());
     let (mut bad, mut first_bad) = (0, None);
     for (&(p, exact), &v) in pts.iter().zip(got) {
-        // The kernels saturate at f32::MAX where A diverges.
-        let v64 = if v == f32::MAX { f64::INFINITY } else { f64::from(v) };
+        let v64 = crate::from_kernel(v);
         if exact.is_finite() && !(v64.is_finite() && v64 >= 0.0) {
             bad += 1;
             first_bad.get_or_insert((p, v));
@@ -310,29 +300,19 @@ pub fn run(
     for k in kernels {
         progress(&k.name);
         let sets = point_sets(k, &validations)?;
-        let mut sources = BTreeMap::new();
-        for (target, file) in [(Target::Wgsl, &k.wgsl), (Target::Glsl, &k.glsl)] {
+        let mut texts = Vec::new();
+        for (target, language, file) in
+            [(Target::Wgsl, Language::Wgsl, &k.wgsl), (Target::Glsl, Language::Glsl, &k.glsl)]
+        {
             if let Some(f) = file {
                 let path = generated.join(f);
                 let text = std::fs::read_to_string(&path)
                     .map_err(|e| GateError::Input(format!("{}: cannot read: {e}", path.display())))?;
-                sources.insert(target, text);
+                texts.push((target, language, text));
             }
         }
-        let shaders: Vec<(Target, KernelSource)> = sources
-            .iter()
-            .map(|(target, text)| {
-                let language = if *target == Target::Wgsl { Language::Wgsl } else { Language::Glsl };
-                let src = KernelSource {
-                    language,
-                    source: text,
-                    prefix: &k.prefix,
-                    params: &k.params,
-                    radiance_params: &k.radiance_params,
-                };
-                (*target, src)
-            })
-            .collect();
+        let shaders: Vec<(Target, KernelSource)> =
+            texts.iter().map(|(target, language, text)| (*target, KernelSource::of(k, *language, text))).collect();
         for (domain, pts) in &sets {
             let bound = declared(k, &models, domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
@@ -342,10 +322,7 @@ pub fn run(
                 })?;
                 let got: Vec<f32> = raw
                     .iter()
-                    .map(|p| {
-                        let rho = if p[2].is_infinite() { crate::NO_SURFACE } else { p[2] as f32 };
-                        (rk.airlight)(p[0] as f32, p[1] as f32, rho, p[3] as f32)
-                    })
+                    .map(|p| (rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
                     .collect();
                 rows.push(row(k, Target::Rust, domain, pts, &got, bound));
             }

@@ -251,13 +251,26 @@ impl Gpu {
 }
 
 fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
-    points
-        .iter()
-        .flat_map(|p| {
-            let rho = if p[2].is_infinite() { NO_SURFACE } else { p[2] as f32 };
-            [p[0] as f32, p[1] as f32, rho, p[3] as f32]
-        })
-        .collect()
+    points.iter().flat_map(|p| [p[0] as f32, p[1] as f32, rho_arg(p[2]), p[3] as f32]).collect()
+}
+
+/// `ρ` as every kernel takes it: [`NO_SURFACE`] for `ρ = ∞`.
+pub fn rho_arg(rho: f64) -> f32 {
+    if rho.is_infinite() {
+        NO_SURFACE
+    } else {
+        rho as f32
+    }
+}
+
+/// A kernel's result as `A`: kernels saturate at `f32::MAX` where `A` diverges
+/// (the ray through the light), which is ∞ here.
+pub fn from_kernel(v: f32) -> f64 {
+    if v == f32::MAX {
+        f64::INFINITY
+    } else {
+        f64::from(v)
+    }
 }
 
 /// A shading language of the generated kernels.
@@ -295,7 +308,22 @@ pub struct KernelSource<'a> {
     pub radiance_params: &'a [String],
 }
 
-impl KernelSource<'_> {
+impl<'a> KernelSource<'a> {
+    /// The kernel `entry` of `generated/kernels.toml`, its `language` file's text being `source`.
+    pub fn of(
+        entry: &'a airlight_codegen::kernel::IndexEntry,
+        language: Language,
+        source: &'a str,
+    ) -> KernelSource<'a> {
+        KernelSource {
+            language,
+            source,
+            prefix: &entry.prefix,
+            params: &entry.params,
+            radiance_params: &entry.radiance_params,
+        }
+    }
+
     fn shader<'s>(&self, wrapped: &'s str) -> wgpu::ShaderSource<'s> {
         match self.language {
             Language::Wgsl => wgpu::ShaderSource::Wgsl(wrapped.into()),
@@ -332,6 +360,20 @@ pub struct Ray {
 const RAY_VEC4S: usize = 4;
 
 impl Ray {
+    /// The same ray in f64, for the reference (`surface < 0`: none).
+    pub fn physical(&self) -> airlight_fit::geometry::PhysicalRay {
+        let f = |v: [f32; 3]| v.map(f64::from);
+        airlight_fit::geometry::PhysicalRay {
+            origin: f(self.origin),
+            direction: f(self.dir),
+            surface_distance: (self.surface >= 0.0).then_some(f64::from(self.surface)),
+            light: f(self.light),
+            intensity: f64::from(self.intensity),
+            sigma_t: f64::from(self.sigma_t),
+            sigma_s: f64::from(self.sigma_s),
+        }
+    }
+
     fn pack(&self) -> [f32; 16] {
         let (o, d, l) = (self.origin, self.dir, self.light);
         [

@@ -11,7 +11,7 @@
 
 use crate::{Gpu, GpuError};
 use airlight_codegen::kernel::IndexEntry;
-use airlight_fit::reference::{self, Point};
+use airlight_fit::reference;
 
 /// Lights: position and radiant intensity.
 pub const LIGHTS: [([f32; 3], f32); 5] = [
@@ -288,24 +288,21 @@ pub fn render_reference(k: &IndexEntry, view: &View) -> Vec<f64> {
         &pixels,
         |&(x, y)| {
             let (sigma_t, dir, surface) = view.ray(x, y);
-            let dv = dir.map(f64::from);
             lights
                 .iter()
-                .map(|(p, i)| {
-                    let l = p.map(f64::from);
-                    let dd = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
-                    let x0 = (dv[0] * l[0] + dv[1] * l[1] + dv[2] * l[2]) / dd;
-                    let c = [dv[1] * l[2] - dv[2] * l[1], dv[2] * l[0] - dv[0] * l[2], dv[0] * l[1] - dv[1] * l[0]];
-                    let h = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() / dd;
-                    let sigma_t = f64::from(sigma_t);
-                    let point = Point {
-                        tau: if k.extinction { sigma_t * dd } else { 0.0 },
-                        gamma: h.atan2(x0),
-                        rho: if surface < 0.0 { f64::INFINITY } else { f64::from(surface) / dd },
-                        g: f64::from(view.g),
+                .map(|&(light, intensity)| {
+                    let ray = crate::Ray {
+                        origin: [0.0; 3],
+                        dir,
+                        surface,
+                        light,
+                        intensity,
+                        sigma_t,
+                        sigma_s: ALBEDO * sigma_t,
+                        g: view.g,
                     };
-                    let sigma_s = f64::from(ALBEDO) * sigma_t;
-                    sigma_s * f64::from(*i) / dd * reference::airlight(point).unwrap_or(f64::INFINITY)
+                    let c = ray.physical().to_canonical(f64::from(view.g)).expect("the view's rays are physical");
+                    c.scale * reference::airlight(crate::gate::project(k, c.point)).unwrap_or(f64::INFINITY)
                 })
                 .sum()
         },

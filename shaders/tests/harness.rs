@@ -124,13 +124,7 @@ fn generated_closed_form_matches_reference_in_wgsl_and_glsl() {
     let raw: Vec<[f64; 4]> = pts.iter().map(|p| [p.tau, p.gamma, p.rho, p.g]).collect();
     for language in [Language::Wgsl, Language::Glsl] {
         let (k, text) = generated_kernel("scene-haze-sky", language);
-        let src = KernelSource {
-            language,
-            source: &text,
-            prefix: &k.prefix,
-            params: &k.params,
-            radiance_params: &k.radiance_params,
-        };
+        let src = KernelSource::of(&k, language, &text);
         let got = gpu.airlight(&src, &raw).unwrap();
         let stats = ErrorStats::from_errors(
             pts.iter().zip(&got).map(|(p, &v)| (*p, rel_error(v as f64, airlight(*p).unwrap()))),
@@ -151,13 +145,7 @@ fn generated_kernels_agree_with_the_rust_kernels_on_both_entries() {
         let pts: Vec<[f64; 4]> = rays.iter().map(|r| [r.1.tau, r.1.gamma, r.1.rho, r.1.g]).collect();
         for language in [Language::Wgsl, Language::Glsl] {
             let (k, text) = generated_kernel(name, language);
-            let src = KernelSource {
-                language,
-                source: &text,
-                prefix: &k.prefix,
-                params: &k.params,
-                radiance_params: &k.radiance_params,
-            };
+            let src = KernelSource::of(&k, language, &text);
             let canon = gpu.airlight(&src, &pts).unwrap();
             let plain: Vec<_> = rays.iter().map(|r| r.0).collect();
             let phys = gpu.radiance(&src, &plain).unwrap();

@@ -68,13 +68,7 @@ fn unexercised_specialisations_compute_within_their_bounds_on_the_gpu() {
         for (language, file) in [(Language::Wgsl, &entry.wgsl), (Language::Glsl, &entry.glsl)] {
             let file = file.as_ref().unwrap();
             let source = String::from_utf8(outputs.iter().find(|o| &o.path == file).unwrap().contents.clone()).unwrap();
-            let src = KernelSource {
-                language,
-                source: &source,
-                prefix: &entry.prefix,
-                params: &entry.params,
-                radiance_params: &entry.radiance_params,
-            };
+            let src = KernelSource::of(&entry, language, &source);
             let got = gpu.airlight(&src, &raw).unwrap_or_else(|e| panic!("{what} ({}): {e}", language.name()));
             let mut worst = 0.0f64;
             for (i, (&v, &a)) in got.iter().zip(&exact).enumerate() {
