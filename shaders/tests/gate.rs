@@ -2,8 +2,9 @@
 //! planted in a copy of the generated WGSL and GLSL fails on the GPU targets; a
 //! declared bound the compiled Rust kernel cannot meet fails on the CPU.
 
+mod common;
+
 use airlight_shaders::gate::{self, Target};
-use airlight_shaders::{gpu_required, Gpu};
 use std::path::{Path, PathBuf};
 
 fn generated() -> PathBuf {
@@ -65,14 +66,7 @@ fn a_bound_the_rust_kernel_cannot_meet_fails() {
 
 #[test]
 fn a_wrong_coefficient_in_the_shaders_fails_on_the_gpu() {
-    let gpu = match Gpu::open() {
-        Ok(g) => g,
-        Err(e) if gpu_required() => panic!("AIRLIGHT_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            eprintln!("SKIPPED a_wrong_coefficient_in_the_shaders_fails_on_the_gpu: {e}");
-            return;
-        }
-    };
+    let Some(gpu) = common::open_or_skip("a_wrong_coefficient_in_the_shaders_fails_on_the_gpu") else { return };
     let dir = copy("coefficient");
     // The isotropic phase constant, 1/(4π), off by 0.5%.
     replace_in(&dir.join("wgsl/segments-8.wgsl"), "P_ISO: f32 = 7.95774683e-2", "P_ISO: f32 = 7.99753556e-2");

@@ -11,7 +11,10 @@
 use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::reference::{airlight, Point};
 use airlight_fit::stats::{rel_error, ErrorStats};
-use airlight_shaders::{gpu_required, Gpu, GpuError, KernelSource, Language};
+mod common;
+
+use airlight_shaders::{GpuError, KernelSource, Language};
+use common::open_or_skip;
 
 /// `A(0, γ, ρ) = (atan ub − atan ua) / (2π sin γ)` in f32, cancellation-free:
 /// the same algebra as the reference's `Geometry`.
@@ -40,20 +43,6 @@ fn airlight_no_extinction(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     return angle / (2.0 * PI * h);
 }
 "#;
-
-fn open_or_skip(test: &str) -> Option<Gpu> {
-    match Gpu::open() {
-        Ok(gpu) => {
-            eprintln!("{test}: adapter {}", gpu.adapter());
-            Some(gpu)
-        }
-        Err(e) if gpu_required() => panic!("{test}: AIRLIGHT_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            eprintln!("SKIPPED {test}: {e} (set AIRLIGHT_REQUIRE_GPU=1 to make this a failure)");
-            None
-        }
-    }
-}
 
 #[test]
 fn known_kernel_matches_reference_in_f32() {

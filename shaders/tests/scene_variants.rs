@@ -4,12 +4,14 @@
 //! against the reference, within their model's declared bound (skipped loudly
 //! without an adapter unless `AIRLIGHT_REQUIRE_GPU=1`).
 
+mod common;
+
 use airlight_codegen::kernel::{self, Index, KernelSpec};
 use airlight_codegen::scene;
 use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::reference::airlight;
 use airlight_shaders::gate::project;
-use airlight_shaders::{gpu_required, Gpu, KernelSource, Language};
+use airlight_shaders::{KernelSource, Language};
 use std::path::Path;
 
 fn scene_text(phase: &str, extinction: bool, surfaces: bool, backscatter: bool, budget: f64) -> String {
@@ -21,13 +23,8 @@ fn scene_text(phase: &str, extinction: bool, surfaces: bool, backscatter: bool, 
 
 #[test]
 fn unexercised_specialisations_compute_within_their_bounds_on_the_gpu() {
-    let gpu = match Gpu::open() {
-        Ok(g) => g,
-        Err(e) if gpu_required() => panic!("AIRLIGHT_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            eprintln!("SKIPPED unexercised_specialisations_compute_within_their_bounds_on_the_gpu: {e}");
-            return;
-        }
+    let Some(gpu) = common::open_or_skip("unexercised_specialisations_compute_within_their_bounds_on_the_gpu") else {
+        return;
     };
     let models =
         airlight_fit::catalog::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated/coefficients")).unwrap();

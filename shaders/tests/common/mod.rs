@@ -1,0 +1,19 @@
+//! What the GPU tests share.
+
+use airlight_shaders::{gpu_required, Gpu};
+
+/// The adapter, or `None` after printing SKIPPED when there is none — unless
+/// `AIRLIGHT_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+pub fn open_or_skip(test: &str) -> Option<Gpu> {
+    match Gpu::open() {
+        Ok(gpu) => {
+            eprintln!("{test}: adapter {}", gpu.adapter());
+            Some(gpu)
+        }
+        Err(e) if gpu_required() => panic!("{test}: AIRLIGHT_REQUIRE_GPU=1 but {e}"),
+        Err(e) => {
+            eprintln!("SKIPPED {test}: {e} (set AIRLIGHT_REQUIRE_GPU=1 to make this a failure)");
+            None
+        }
+    }
+}
