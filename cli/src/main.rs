@@ -719,7 +719,8 @@ fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
             generated.join("coefficients").display()
         )));
     }
-    let outputs = render(&measure(), &files, &generated)?;
+    let check = airlight_codegen::read_selfcheck(&generated).map_err(bad_input)?;
+    let outputs = render(&check, &files, &generated)?;
     if check_only {
         let diffs = airlight_codegen::check(&generated, &outputs);
         for d in &diffs {

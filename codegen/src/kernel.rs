@@ -744,12 +744,7 @@ pub struct Index {
 impl Index {
     /// Reads `generated/kernels.toml`.
     pub fn parse(file: &str, text: &str) -> Result<Index, airlight_fit::tomlfile::FieldError> {
-        toml::from_str(text).map_err(|e: toml::de::Error| airlight_fit::tomlfile::FieldError {
-            file: file.into(),
-            line: e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1)),
-            field: "kernel".into(),
-            message: e.message().replace('\n', " "),
-        })
+        airlight_fit::tomlfile::from_str(file, text, "kernel")
     }
 }
 

@@ -71,6 +71,20 @@ pub fn read_renders(generated: &std::path::Path) -> std::io::Result<Vec<Output>>
         .collect()
 }
 
+/// `generated/selfcheck.toml`, the figures `airlight regenerate` measured (passed
+/// through by `generate`, which never reruns the self-check).
+pub fn read_selfcheck(generated: &std::path::Path) -> Result<SelfCheck, airlight_fit::tomlfile::FieldError> {
+    let path = generated.join(airlight_fit::selfcheck::FILE);
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(&path).map_err(|e| airlight_fit::tomlfile::FieldError {
+        file: name.clone(),
+        line: 1,
+        field: "(file)".into(),
+        message: format!("cannot read: {e} (run `airlight regenerate`)"),
+    })?;
+    SelfCheck::from_toml(&name, &text)
+}
+
 /// Every file under `generated/`, rendered from the reference self-check and the
 /// coefficient files (which are re-rendered too, so a hand edit shows as stale).
 /// This list is the generator's table of outputs: a file not in it is orphaned.
@@ -97,6 +111,7 @@ pub fn render_all(
     }
     let mut out = vec![report::render(check, models, bench, &specs, renders).map_err(RenderError::Template)?];
     out.extend(renders.iter().cloned());
+    out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
     }

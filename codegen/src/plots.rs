@@ -30,6 +30,30 @@ fn err(e: impl std::fmt::Debug) -> PlotError {
 
 const SIZE: (u32, u32) = (1200, 520);
 
+/// The one font every figure is drawn with, bundled so that the figures are the
+/// same on every machine (DejaVu Sans; licence in `codegen/fonts/LICENSE-DejaVu.txt`).
+const FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
+
+/// Makes [`FONT`] plotters' "sans-serif" (idempotent).
+fn register_font() -> Result<(), PlotError> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
+        .map_err(|_| PlotError("the bundled font does not parse".into()))
+}
+
+/// An 8-bit RGB image as PNG bytes (deterministic: fixed compression settings).
+pub fn encode_png((width, height): (u32, u32), rgb: &[u8]) -> Result<Vec<u8>, PlotError> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, width, height);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_compression(png::Compression::Default);
+        let mut w = enc.write_header().map_err(err)?;
+        w.write_image_data(rgb).map_err(err)?;
+    }
+    Ok(out)
+}
+
 /// Renders one figure to `plots/<name>.svg` and `plots/<name>.png`: the drawing
 /// code (`|root| …`) is expanded once per backend.
 macro_rules! both {
@@ -42,16 +66,15 @@ macro_rules! both {
             $body?;
             $root.present().map_err(err)?;
         }
-        // plotters encodes PNG to a path only: render into a private temporary file.
-        let tmp = std::env::temp_dir().join(format!("airlight-plot-{}-{name}.png", std::process::id()));
+        // Drawn into memory and encoded here: no file, no system font.
+        let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
         {
-            let $root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+            let $root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
             $root.fill(&WHITE).map_err(err)?;
             $body?;
             $root.present().map_err(err)?;
         }
-        let png = std::fs::read(&tmp).map_err(err)?;
-        let _ = std::fs::remove_file(&tmp);
+        let png = encode_png(SIZE, &rgb)?;
         vec![
             Output::text(format!("plots/{name}.svg"), svg),
             Output { path: format!("plots/{name}.png"), contents: png },
@@ -181,6 +204,7 @@ fn find<'a>(models: &'a [ModelFile], name: &str) -> Result<&'a ModelFile, PlotEr
 
 /// Every figure, from the coefficient files.
 pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
+    register_font()?;
     let mut out = Vec::new();
 
     // 1. Forward kernel error over (T, θ): paper vs refit (Fig. 4).

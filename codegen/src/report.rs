@@ -57,7 +57,7 @@ struct DomainRow {
 
 #[derive(Serialize)]
 struct FixtureRow {
-    name: &'static str,
+    name: String,
     finite: usize,
     max: String,
     p99: String,
@@ -256,7 +256,7 @@ pub fn render(
         .fixtures
         .iter()
         .map(|f| FixtureRow {
-            name: f.name,
+            name: f.name.clone(),
             finite: f.finite,
             max: fmt_err(f.stats.max),
             p99: fmt_err(f.stats.p99),

@@ -3,7 +3,7 @@
 //! over the part of the error domains the scene can reach.
 
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::tomlfile::{field_error, parse_table, FieldError};
+use airlight_fit::tomlfile::{deny_unknown, field_error, parse_table, FieldError};
 use std::fmt;
 
 /// The phase function a scene's medium needs.
@@ -98,6 +98,20 @@ pub type SceneError = FieldError;
 pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
     let err = |table: &str, key: &str, msg: String| field_error(file, text, table, key, msg);
     let doc = parse_table(file, text)?;
+    // Every key the planner reads; anything else is a misspelling, not a comment.
+    const KEYS: [(&str, &[&str]); 5] = [
+        ("medium", &["sigma_t", "phase", "g", "g_range", "extinction"]),
+        ("lights", &["kind", "max_distance"]),
+        ("ray", &["surfaces", "backscatter"]),
+        ("accuracy", &["max_rel_error"]),
+        ("output", &["targets"]),
+    ];
+    deny_unknown(file, text, &doc, "", &KEYS.map(|k| k.0))?;
+    for (t, keys) in KEYS {
+        if let Some(t2) = doc.get(t).and_then(toml::Value::as_table) {
+            deny_unknown(file, text, t2, t, keys)?;
+        }
+    }
     let table = |name: &str| {
         doc.get(name).and_then(toml::Value::as_table).ok_or_else(|| SceneError {
             file: file.into(),

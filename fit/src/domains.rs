@@ -10,7 +10,8 @@ use crate::reference::Point;
 use std::f64::consts::PI;
 
 /// A named error domain (MATH.md §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Domain {
     /// τ ∈ [0, 2]: light fog, the paper's regime.
     Thin,

@@ -28,7 +28,7 @@ pub const MAX_INTERVALS: usize = 2000;
 /// A point of the canonical domain: `τ = σt·D`, `γ` the angle between the view ray
 /// and the direction to the light, `ρ = Dp/D` (∞ when no surface), `g` the
 /// Henyey–Greenstein asymmetry (0: isotropic).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Point {
     /// Optical distance from viewer to light, `σt · D`.
     pub tau: f64,

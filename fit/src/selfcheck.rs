@@ -1,6 +1,7 @@
 //! The reference's account of itself: its three paths compared on every domain's
 //! validation set, and against the public 30-digit values. `airlight regenerate`
-//! writes this into `generated/REPORT.md`.
+//! runs it and writes its figures to `generated/selfcheck.toml` ([`SelfCheck::to_toml`]);
+//! `airlight generate` only reads that file back and quotes it in `REPORT.md`.
 
 use crate::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use crate::fixtures;
@@ -19,7 +20,7 @@ pub const REFERENCE_SPEC: f64 = 1e-12;
 pub const HG_RANGE: (f64, f64) = (-0.95, 0.95);
 
 /// One domain × phase family.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DomainCheck {
     /// The domain.
     pub domain: Domain,
@@ -48,10 +49,10 @@ pub struct DomainCheck {
 }
 
 /// Agreement with one public fixture file.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FixtureCheck {
     /// File name.
-    pub name: &'static str,
+    pub name: String,
     /// Points with finite exact values.
     pub finite: usize,
     /// Points where the exact value is `inf`, and how many of them the reference
@@ -62,7 +63,7 @@ pub struct FixtureCheck {
 }
 
 /// The whole self-check.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SelfCheck {
     /// Quadrature tolerance in force.
     pub tolerance: f64,
@@ -126,6 +127,25 @@ impl SelfCheck {
             .iter()
             .flat_map(|d| std::iter::once(d.vs_s_form.max).chain(d.vs_e1.map(|s| s.max)))
             .fold(0.0, f64::max)
+    }
+}
+
+/// The file under `generated/` that holds the self-check's figures.
+pub const FILE: &str = "selfcheck.toml";
+
+impl SelfCheck {
+    /// The figures as `generated/selfcheck.toml`; [`SelfCheck::from_toml`] reads them back exactly.
+    pub fn to_toml(&self) -> String {
+        let body = toml::to_string(self).expect("a self-check serialises");
+        format!(
+            "# The reference's self-check, written by `airlight regenerate` (fit/src/selfcheck.rs);\n\
+             # `airlight generate` quotes it in REPORT.md without rerunning it. Do not edit.\n{body}"
+        )
+    }
+
+    /// Reads [`SelfCheck::to_toml`]'s text; an error names the file and line.
+    pub fn from_toml(file: &str, text: &str) -> Result<SelfCheck, crate::tomlfile::FieldError> {
+        crate::tomlfile::from_str(file, text, "(self-check)")
     }
 }
 
@@ -206,7 +226,7 @@ pub fn run(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> SelfCheck {
                     .filter(|r| r.1.is_finite())
                     .map(|&(p, exact)| (p, rel_error(airlight(p).expect("valid"), exact))),
             );
-            FixtureCheck { name, finite: stats.count, infinite: (inf.len(), inf_ok), stats }
+            FixtureCheck { name: name.to_string(), finite: stats.count, infinite: (inf.len(), inf_ok), stats }
         })
         .collect();
     SelfCheck { tolerance: REFERENCE_REL_TOL, seed: VALIDATION_SEED, points_per_domain: n, domains, fixtures }
@@ -224,6 +244,8 @@ mod tests {
     #[test]
     fn problems_name_each_miss() {
         let mut check = run(10, &|_, _| {});
+        let text = check.to_toml();
+        assert_eq!(SelfCheck::from_toml("s.toml", &text).unwrap(), check, "round trip is exact");
         assert_eq!(check.problems(), Vec::<String>::new());
         check.domains[1].vs_s_form.max = 2e-12;
         check.domains[2].bad_values = 1;

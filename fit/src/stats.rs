@@ -3,7 +3,7 @@
 use crate::reference::Point;
 
 /// Summary of relative errors over a set of points.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ErrorStats {
     /// Number of points measured.
     pub count: usize,

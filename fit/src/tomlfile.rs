@@ -26,10 +26,15 @@ impl std::error::Error for FieldError {}
 
 /// Parses `text` as a TOML table; a syntax error names its line.
 pub fn parse_table(file: &str, text: &str) -> Result<toml::Table, FieldError> {
-    text.parse().map_err(|e: toml::de::Error| FieldError {
+    from_str(file, text, "(syntax)")
+}
+
+/// Deserialises `text` (serde); an error names the file, the line of its span and `field`.
+pub fn from_str<T: serde::de::DeserializeOwned>(file: &str, text: &str, field: &str) -> Result<T, FieldError> {
+    toml::from_str(text).map_err(|e: toml::de::Error| FieldError {
         file: file.into(),
         line: e.span().map_or(1, |s| text[..s.start.min(text.len())].lines().count().max(1)),
-        field: "(syntax)".into(),
+        field: field.into(),
         message: e.message().replace('\n', " "),
     })
 }
@@ -67,6 +72,65 @@ pub fn field_error(file: &str, text: &str, section: &str, key: &str, message: im
     }
 }
 
+/// Rejects every key of `table` (the table `section` of `file`; `""` for the
+/// top level) that is not in `allowed`: a misspelt key would otherwise be
+/// silently dropped by the next rewrite of the file.
+pub fn deny_unknown(
+    file: &str,
+    text: &str,
+    table: &toml::Table,
+    section: &str,
+    allowed: &[&str],
+) -> Result<(), FieldError> {
+    match table.keys().find(|k| !allowed.contains(&k.as_str())) {
+        None => Ok(()),
+        Some(k) => {
+            let what = if table.get(k).is_some_and(toml::Value::is_table) { "table" } else { "key" };
+            let field = if section.is_empty() { k.clone() } else { format!("{section}.{k}") };
+            let line = if section.is_empty() { locate_top(text, k) } else { locate(text, section, k) };
+            Err(FieldError {
+                file: file.into(),
+                line,
+                field,
+                message: format!("unknown {what} (known: {})", allowed.join(", ")),
+            })
+        }
+    }
+}
+
+/// The line of a top-level `key = …` or `[key]` / `[key.…]` header.
+fn locate_top(text: &str, key: &str) -> usize {
+    let mut in_top = true;
+    for (i, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if let Some(h) = l.strip_prefix('[') {
+            let name = h.trim_start_matches('[').trim_end_matches(']');
+            if name == key || name.starts_with(&format!("{key}.")) {
+                return i + 1;
+            }
+            in_top = false;
+        } else if in_top && l.split('=').next().is_some_and(|k| k.trim() == key) {
+            return i + 1;
+        }
+    }
+    1
+}
+
+/// A number for a one-line message: short (4 significant digits), never 300 digits.
+pub fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e5).contains(&x.abs()) {
+        let s = format!("{x:.4}");
+        let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+        if x.is_finite() {
+            s
+        } else {
+            format!("{x}")
+        }
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -80,5 +144,14 @@ mod tests {
         assert_eq!(locate(text, "nowhere", "x"), 1);
         let e = parse_table("f.toml", "[a]\nx = \n").unwrap_err();
         assert_eq!((e.line, e.field.as_str()), (2, "(syntax)"));
+        let doc = parse_table("f.toml", text).unwrap();
+        let e = deny_unknown("f.toml", text, &doc, "", &["a", "b"]).unwrap_err();
+        assert_eq!((e.line, e.field.as_str()), (6, "d"));
+        let a = doc["a"].as_table().unwrap();
+        assert!(deny_unknown("f.toml", text, a, "a", &["x"]).is_ok());
+        let e = deny_unknown("f.toml", text, a, "a", &["y"]).unwrap_err();
+        assert_eq!((e.line, e.field.as_str()), (2, "a.x"));
+        assert_eq!(short(-1e300), "-1.000e300");
+        assert_eq!(short(0.5), "0.5");
     }
 }

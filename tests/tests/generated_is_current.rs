@@ -6,7 +6,7 @@ use airlight_tests::{committed_models, generated_dir};
 
 #[test]
 fn generated_matches_a_fresh_rendering() {
-    let check = airlight_fit::selfcheck::run_standard(&|_, _| {});
+    let check = airlight_codegen::read_selfcheck(&generated_dir()).expect("generated/selfcheck.toml reads");
     let models = committed_models();
     assert_eq!(models.len(), airlight_fit::catalog::CATALOG.len(), "one coefficient file per catalog model");
     let bench = std::fs::read_to_string(generated_dir().join("bench.json"))
@@ -25,4 +25,13 @@ fn generated_matches_a_fresh_rendering() {
     );
     // The self-check itself must hold the reference's specification.
     assert_eq!(check.problems(), Vec::<String>::new());
+}
+
+/// The committed self-check is what the reference does now: `generate` passes it
+/// through, so this is where a change to the reference shows.
+#[test]
+fn committed_selfcheck_is_current() {
+    let committed = airlight_codegen::read_selfcheck(&generated_dir()).expect("generated/selfcheck.toml reads");
+    let fresh = airlight_fit::selfcheck::run_standard(&|_, _| {});
+    assert!(fresh == committed, "generated/selfcheck.toml is stale; run `cargo run --release -- regenerate`");
 }
