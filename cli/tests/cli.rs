@@ -100,7 +100,8 @@ fn help_explains_the_canonical_parameters() {
     assert!(help.contains("tau,gamma,rho,g") && help.contains("inf"));
 }
 
-/// Copies the committed coefficient files into `root/generated/coefficients`.
+/// Copies the committed inputs of `generate` into `root/generated`: the
+/// coefficient files and the reference self-check.
 fn copy_coefficients(root: &Path) {
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let dst = root.join("generated/coefficients");
@@ -109,6 +110,7 @@ fn copy_coefficients(root: &Path) {
         let p = e.unwrap().path();
         std::fs::copy(&p, dst.join(p.file_name().unwrap())).unwrap();
     }
+    std::fs::copy(repo.join("generated/selfcheck.toml"), root.join("generated/selfcheck.toml")).unwrap();
 }
 
 #[test]
@@ -304,4 +306,57 @@ fn eval_on_the_gpu_targets_matches_the_rust_kernel() {
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `airlight` does not link the generated Rust kernels: a generated file that no
+/// longer compiles is just a stale output, which `generate` rewrites.
+#[test]
+fn generate_repairs_a_broken_generated_kernel() {
+    let root = scratch("repair");
+    copy_coefficients(&root);
+    let r = root.to_str().unwrap();
+    let o = airlight(&["generate", "--root", r]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let file = root.join("generated/airlight-kernels/src/segments_8.rs");
+    let good = std::fs::read(&file).unwrap();
+    let mut broken = good.clone();
+    broken.extend_from_slice(b"\nfn broken( {\n");
+    std::fs::write(&file, &broken).unwrap();
+    let o = airlight(&["generate", "--check", "--root", r]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("segments_8.rs:"), "{}", stderr(&o));
+    let o = airlight(&["generate", "--root", r]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&file).unwrap(), good, "restored byte for byte");
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// A damaged coefficient file stops `models`, `eval` and `generate` alike: exit 2,
+/// one line naming the file, line and key, and nothing written.
+#[test]
+fn a_damaged_coefficient_file_stops_every_command_and_writes_nothing() {
+    let root = scratch("damaged");
+    copy_coefficients(&root);
+    let r = root.to_str().unwrap();
+    let f = root.join("generated/coefficients/segments-8.toml");
+    let text = std::fs::read_to_string(&f).unwrap();
+    std::fs::write(&f, text.replacen("n = 8\n", "n = 8\nsegmnets = 8\n", 1)).unwrap();
+    let input = root.join("p.csv");
+    std::fs::write(&input, "tau,gamma,rho,g\n1,1,1,0\n").unwrap();
+    let out = root.join("out.csv");
+    let before = std::fs::read_dir(root.join("generated")).unwrap().count();
+    for args in [
+        vec!["models", "--root", r],
+        vec!["eval", "--model", "segments-8", "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--root", r],
+        vec!["generate", "--root", r],
+    ] {
+        let o = airlight(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains("segments-8.toml:") && err.contains("field 'forward.segmnets'"), "{args:?}: {err}");
+    }
+    assert!(!out.exists(), "eval wrote nothing");
+    assert_eq!(std::fs::read_dir(root.join("generated")).unwrap().count(), before, "generate wrote nothing");
+    std::fs::remove_dir_all(&root).unwrap();
 }

@@ -9,11 +9,15 @@
 //! the same f32 in WGSL, GLSL and Rust).
 
 use crate::output::Output;
-use crate::scene::{Choice, Plan, Scene, ScenePhase, Target};
-use airlight_fit::approx::PhaseModel;
+use crate::scene::{Choice, Plan, Scene, ScenePhase};
+use airlight_fit::approx::{Body, PhaseModel, Split};
 use airlight_fit::coeffs::ModelFile;
+use airlight_fit::cost::{Cost, PhaseShape, Shape};
+use airlight_fit::family::closed::NoExtinction;
 use airlight_fit::family::expsum::{LOCAL_RATIO, SPLIT};
 use airlight_fit::family::phase_exp::ExpPhase;
+use airlight_fit::vocab::{Arg, ArgType, Domain, Entry, Target};
+pub use airlight_fit::vocab::{Index, IndexEntry};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -38,13 +42,12 @@ pub const TEMPLATES: [(&str, &str); 12] = [
 
 /// One row of the kernel table.
 #[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct KernelOutput {
-    /// `wgsl`, `glsl` or `rust`.
-    pub target: String,
-    /// Template for fitted models.
-    pub template: String,
-    /// Template for the no-extinction closed form.
-    pub closed_template: String,
+    /// The language.
+    pub target: Target,
+    /// The template of each family, by its kind (`Body::kind`).
+    pub templates: std::collections::BTreeMap<String, String>,
     /// Output path pattern.
     pub path: String,
     /// Prefix of every item (pattern).
@@ -58,6 +61,7 @@ pub struct KernelOutput {
 
 /// A file rendered once.
 #[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FileOutput {
     /// Template.
     pub template: String,
@@ -67,6 +71,7 @@ pub struct FileOutput {
 
 /// The whole table.
 #[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct OutputTable {
     /// Per-kernel outputs.
     pub kernel: Vec<KernelOutput>,
@@ -110,6 +115,8 @@ pub struct KernelSpec {
     pub name: String,
     /// The model, or `None` for the no-extinction closed form.
     pub model: Option<ModelFile>,
+    /// The family values the kernel evaluates (the model's, or the closed form's).
+    pub body: Body,
     /// Phase handling.
     pub phase: KernelPhase,
     /// Whether rays can end on a surface.
@@ -123,7 +130,7 @@ pub struct KernelSpec {
     /// Where it came from: `None` for a model kernel, the scene file for scenes.
     pub scene: Option<String>,
     /// Error domains its bound is taken over.
-    pub domains: Vec<&'static str>,
+    pub domains: Vec<Domain>,
     /// The `g` it serves: the model's range, or the scene's (`g` outside it may
     /// fall outside the bands a scene kernel keeps).
     pub g_range: (f64, f64),
@@ -131,10 +138,10 @@ pub struct KernelSpec {
     pub targets: Vec<Target>,
 }
 
-fn domain_bound(m: &ModelFile, domains: &[&str]) -> String {
+fn domain_bound(m: &ModelFile, domains: &[Domain]) -> String {
     domains
         .iter()
-        .filter_map(|d| m.error(d).map(|e| format!("{d} {}", crate::report::fmt_err(e.max_rel))))
+        .filter_map(|&d| m.error(d).map(|e| format!("{d} {}", crate::report::fmt_err(e.max_rel))))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -142,22 +149,23 @@ fn domain_bound(m: &ModelFile, domains: &[&str]) -> String {
 impl KernelSpec {
     /// The general kernel of a model: surfaces, extinction, backscatter, and its whole `g` range.
     pub fn for_model(m: &ModelFile) -> KernelSpec {
-        let phase = match &m.model.phase {
-            PhaseModel::Isotropic => KernelPhase::Isotropic,
-            PhaseModel::Exp(e) => KernelPhase::Banded((0..e.bands.len()).collect()),
+        let phase = match m.model.split().map(|s| &s.phase) {
+            None | Some(PhaseModel::Isotropic) => KernelPhase::Isotropic,
+            Some(PhaseModel::Exp(e)) => KernelPhase::Banded((0..e.bands.len()).collect()),
         };
         KernelSpec {
+            body: m.model.body.clone(),
             name: m.model.name.clone(),
-            bound: format!("max relative error of A (f64 model): {}", domain_bound(m, &["thin", "dense"])),
+            bound: format!("max relative error of A (f64 model): {}", domain_bound(m, &[Domain::Thin, Domain::Dense])),
             model: Some(m.clone()),
             phase,
             surfaces: true,
             extinction: true,
             backscatter: true,
             scene: None,
-            domains: vec!["thin", "dense"],
+            domains: vec![Domain::Thin, Domain::Dense],
             g_range: m.model.g_range,
-            targets: vec![Target::Wgsl, Target::Glsl, Target::Rust],
+            targets: Target::ALL.to_vec(),
         }
     }
 
@@ -166,6 +174,7 @@ impl KernelSpec {
         let name = format!("scene-{}", scene.name);
         let common = |model: Option<ModelFile>, phase: KernelPhase, bound: String| KernelSpec {
             name: name.clone(),
+            body: model.as_ref().map_or(Body::NoExtinction(NoExtinction), |m| m.model.body.clone()),
             model,
             phase,
             surfaces: scene.surfaces,
@@ -183,10 +192,10 @@ impl KernelSpec {
             }
             Choice::Model { name: model, .. } => {
                 let m = models.iter().find(|m| &m.model.name == model).expect("the plan names a loaded model").clone();
-                let phase = match (&m.model.phase, &scene.phase) {
-                    (PhaseModel::Isotropic, _) | (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
-                    (PhaseModel::Exp(_), ScenePhase::Fixed(g)) => KernelPhase::Fixed(*g),
-                    (PhaseModel::Exp(e), ScenePhase::Range(lo, hi)) => {
+                let phase = match (m.model.split().map(|s| &s.phase), &scene.phase) {
+                    (None | Some(PhaseModel::Isotropic), _) | (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
+                    (Some(PhaseModel::Exp(_)), ScenePhase::Fixed(g)) => KernelPhase::Fixed(*g),
+                    (Some(PhaseModel::Exp(e)), ScenePhase::Range(lo, hi)) => {
                         let (alo, ahi) = if *lo <= 0.0 && *hi >= 0.0 {
                             (0.0, lo.abs().max(hi.abs()))
                         } else {
@@ -206,7 +215,7 @@ impl KernelSpec {
                 };
                 let mut bound = format!(
                     "max relative error of A (f64 model, over {}): {}",
-                    plan.domains.join(" and "),
+                    join_domains(&plan.domains),
                     domain_bound(&m, &plan.domains)
                 );
                 if !scene.backscatter {
@@ -218,7 +227,7 @@ impl KernelSpec {
     }
 
     /// Error domains its declared bound is taken over.
-    pub fn domains(&self) -> &[&'static str] {
+    pub fn domains(&self) -> &[Domain] {
         &self.domains
     }
 
@@ -238,128 +247,59 @@ impl KernelSpec {
     }
 
     /// Arguments of the canonical entry `airlight`, in order.
-    pub fn params(&self) -> Vec<&'static str> {
-        let mut p = Vec::new();
-        if self.takes_tau() {
-            p.push("tau");
-        }
-        p.push("gamma");
-        if self.surfaces {
-            p.push("rho");
-        }
-        if self.g_param() {
-            p.push("g");
-        }
-        p
+    pub fn params(&self) -> Vec<Arg> {
+        self.args(Entry::Canonical)
+    }
+
+    /// Arguments of `entry`, in order: the entry's arguments less those this
+    /// kernel was specialised away from.
+    pub fn args(&self, entry: Entry) -> Vec<Arg> {
+        entry
+            .all_args()
+            .iter()
+            .copied()
+            .filter(|a| match a {
+                Arg::Tau | Arg::SigmaT => self.takes_tau(),
+                Arg::Rho | Arg::Surface => self.surfaces,
+                Arg::G => self.g_param(),
+                _ => true,
+            })
+            .collect()
     }
 
     /// Arguments of the physical entry `radiance`, in order.
-    pub fn radiance_params(&self) -> Vec<&'static str> {
-        let mut p = vec!["origin", "dir"];
-        if self.surfaces {
-            p.push("surface");
+    pub fn radiance_params(&self) -> Vec<Arg> {
+        self.args(Entry::Radiance)
+    }
+
+    /// The split family of its model, if that is what it evaluates.
+    fn split(&self) -> Option<&Split> {
+        match &self.body {
+            Body::Split(s) => Some(s),
+            Body::NoExtinction(_) => None,
         }
-        p.extend(["light", "intensity"]);
-        if self.takes_tau() {
-            p.push("sigma_t");
-        }
-        p.push("sigma_s");
-        if self.g_param() {
-            p.push("g");
-        }
-        p
     }
 
     fn exp_phase(&self) -> Option<&ExpPhase> {
-        match &self.model.as_ref()?.model.phase {
+        match &self.split()?.phase {
             PhaseModel::Exp(e) => Some(e),
             PhaseModel::Isotropic => None,
         }
     }
 
+    /// What the kernel keeps, as far as its cost goes.
+    pub fn shape(&self) -> Shape {
+        let phase = match self.phase {
+            KernelPhase::Isotropic => PhaseShape::Isotropic,
+            _ => self.body.phase_shape(),
+        };
+        Shape { phase, backscatter: self.backscatter, surfaces: self.surfaces }
+    }
+
     /// Worst-case operation count of one evaluation of this f32 kernel (the
-    /// canonical entry): calls of `exp`, `log`, `atan` and `sqrt`, and divisions.
-    pub fn op_count(&self) -> OpCount {
-        let Some(m) = &self.model else {
-            return OpCount { exp: 0, log: 0, atan: 1, sqrt: 0, div: 2, sincos: 1 };
-        };
-        let k = match &self.phase {
-            KernelPhase::Isotropic => 1,
-            _ => self.exp_phase().map_or(1, |e| e.k()),
-        };
-        let phase_evals = if self.phase == KernelPhase::Isotropic { 0 } else { k };
-        let n = m.model.forward.n();
-        // Forward: at most two segments' exp + exprel per term, but the loop is over all N.
-        let mut c = OpCount { exp: 2 * n * k, log: 0, atan: 3, sqrt: 0, div: 3, sincos: 1 };
-        if self.backscatter {
-            let near = m.model.expsum.near.c.len();
-            let local = m.model.expsum.local.c.len();
-            let expsum_exp = near * (2 + phase_evals) + (local * (2 + phase_evals)).max(4 + phase_evals);
-            let expsum_atan = if phase_evals > 0 { near + local } else { 0 };
-            let expsum = OpCount {
-                exp: expsum_exp,
-                log: 1,
-                atan: expsum_atan,
-                sqrt: usize::from(self.surfaces),
-                div: 12,
-                sincos: 0,
-            };
-            let back = if m.model.ratio.is_some() {
-                let ratio = OpCount { exp: 3 + 2 * n + phase_evals, log: 1, atan: 1, sqrt: 0, div: 1, sincos: 0 };
-                ratio.max(&expsum)
-            } else {
-                expsum
-            };
-            c = c.add(&back);
-        }
-        if self.phase != KernelPhase::Isotropic {
-            c.exp += phase_evals; // on-axis phase
-        }
-        c
-    }
-}
-
-/// Operation counts of one kernel evaluation (worst path).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct OpCount {
-    /// `exp` calls (exprel included).
-    pub exp: usize,
-    /// `log` calls.
-    pub log: usize,
-    /// `atan`/`atan2` calls.
-    pub atan: usize,
-    /// `sqrt` calls.
-    pub sqrt: usize,
-    /// Divisions.
-    pub div: usize,
-    /// `sin_cos` (canonical entry only).
-    pub sincos: usize,
-}
-
-impl OpCount {
-    fn add(&self, o: &OpCount) -> OpCount {
-        OpCount {
-            exp: self.exp + o.exp,
-            log: self.log + o.log,
-            atan: self.atan + o.atan,
-            sqrt: self.sqrt + o.sqrt,
-            div: self.div + o.div,
-            sincos: self.sincos + o.sincos,
-        }
-    }
-    fn max(&self, o: &OpCount) -> OpCount {
-        OpCount {
-            exp: self.exp.max(o.exp),
-            log: self.log.max(o.log),
-            atan: self.atan.max(o.atan),
-            sqrt: self.sqrt.max(o.sqrt),
-            div: self.div.max(o.div),
-            sincos: self.sincos.max(o.sincos),
-        }
-    }
-    /// Transcendental calls in all.
-    pub fn transcendental(&self) -> usize {
-        self.exp + self.log + self.atan + self.sqrt + self.sincos
+    /// canonical entry), from its family ([`Body::ops`]).
+    pub fn op_count(&self) -> Cost {
+        self.body.ops(self.shape())
     }
 }
 
@@ -430,8 +370,11 @@ fn comment(lines: &[String], marker: &str) -> String {
 /// Renders one kernel for one table row.
 fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Result<Output, tera::Error> {
     let ident = spec.ident();
-    let template = if spec.model.is_some() { &out.template } else { &out.closed_template };
-    let lang = out.target.as_str();
+    let kind = spec.body.kind();
+    let template = out.templates.get(kind).ok_or_else(|| {
+        tera::Error::msg(format!("codegen/outputs.toml: no {} template for the family '{kind}'", out.target))
+    })?;
+    let lang = out.target;
     let mut ctx = tera::Context::new();
     let header = comment(&header_lines(spec, out, template), "//");
     let header = match &out.import_path {
@@ -453,28 +396,27 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
 
     // Signatures, per language.
     let (f, v3) = match lang {
-        "rust" => ("f32", "[f32; 3]"),
-        "wgsl" => ("f32", "vec3<f32>"),
-        _ => ("float", "vec3"),
+        Target::Rust => ("f32", "[f32; 3]"),
+        Target::Wgsl => ("f32", "vec3<f32>"),
+        Target::Glsl => ("float", "vec3"),
     };
     let param = |name: &str, ty: &str| match lang {
-        "glsl" => format!("{ty} {name}"),
+        Target::Glsl => format!("{ty} {name}"),
         _ => format!("{name}: {ty}"),
     };
-    let typed = |names: Vec<&str>| -> String {
-        names
-            .into_iter()
-            .map(|n| param(n, if matches!(n, "origin" | "dir" | "light") { v3 } else { f }))
+    let typed = |args: Vec<Arg>| -> String {
+        args.into_iter()
+            .map(|a| param(a.name(), if a.ty() == ArgType::Vec3 { v3 } else { f }))
             .collect::<Vec<_>>()
             .join(", ")
     };
     let params = spec.params();
     let mut args = params
         .iter()
-        .filter_map(|p| match *p {
-            "tau" => Some("τ"),
-            "gamma" => Some("γ"),
-            "rho" => Some("ρ"),
+        .filter_map(|p| match p {
+            Arg::Tau => Some("τ"),
+            Arg::Gamma => Some("γ"),
+            Arg::Rho => Some("ρ"),
             _ => None,
         })
         .collect::<Vec<_>>()
@@ -487,14 +429,14 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     let rad = typed(spec.radiance_params());
     ctx.insert("radiance_params", &rad);
 
-    if let Some(m) = &spec.model {
+    if let (Some(m), Some(sp)) = (&spec.model, spec.split()) {
         let a = &m.model;
         ctx.insert(
             "summary",
             &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)),
         );
         // Segments in α = π/2 − θ', increasing in α.
-        let s = &a.forward;
+        let s = &sp.forward;
         let segs: Vec<Seg> = (0..s.n())
             .rev()
             .map(|j| Seg {
@@ -508,14 +450,14 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         let terms = |e: &airlight_fit::family::expsum::ExpSum| -> Vec<Term> {
             e.c.iter().zip(&e.s).map(|(&c, &s)| Term { c: lit(c), s: lit(s) }).collect()
         };
-        ctx.insert("near", &terms(&a.expsum.near));
-        ctx.insert("local", &terms(&a.expsum.local));
+        ctx.insert("near", &terms(&sp.expsum.near));
+        ctx.insert("local", &terms(&sp.expsum.local));
         ctx.insert("split", &lit(SPLIT));
         ctx.insert("split_doc", &SPLIT);
         ctx.insert("local_ratio_doc", &LOCAL_RATIO);
         ctx.insert("local_ratio", &lit(LOCAL_RATIO));
-        ctx.insert("attenuate", &a.forward_attenuation);
-        let ratio = a.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
+        ctx.insert("attenuate", &sp.forward_attenuation);
+        let ratio = sp.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
         ctx.insert("ratio", &ratio);
         let (phase, k) = match (&spec.phase, spec.exp_phase()) {
             (KernelPhase::Isotropic, _) | (_, None) => ("isotropic", 1),
@@ -566,13 +508,13 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
                 math.push("atan");
             }
         }
-        if spec.backscatter && a.ratio.is_some() {
+        if spec.backscatter && sp.ratio.is_some() {
             math.push("ln");
         }
         math.sort_by_key(|s| s.to_lowercase());
         ctx.insert("math_imports", &math.join(", "));
         let mut consts = Vec::new();
-        if spec.backscatter && a.ratio.is_some() {
+        if spec.backscatter && sp.ratio.is_some() {
             consts.push("FRAC_PI_2");
         }
         if !iso {
@@ -581,8 +523,10 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         ctx.insert("const_imports", &consts.join(", "));
         let (ph_param, ph_arg) = match (iso, lang) {
             (true, _) => (String::new(), String::new()),
-            (false, "rust") => (", ph: &Phase".to_string(), ", &ph".to_string()),
-            (false, "wgsl") => (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
+            (false, Target::Rust) => (", ph: &Phase".to_string(), ", &ph".to_string()),
+            (false, Target::Wgsl) => {
+                (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string())
+            }
             (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
         };
         ctx.insert("ph_param", &ph_param);
@@ -637,8 +581,23 @@ struct CrateKernel {
 
 /// Closure parameters of a uniform signature `all`, those the kernel does not
 /// take (`used`) marked unused with `_`.
-fn closure(all: &[&str], used: &[&str]) -> String {
-    all.iter().map(|p| if used.contains(p) { p.to_string() } else { format!("_{p}") }).collect::<Vec<_>>().join(", ")
+/// The uniform closure's parameters for `entry`: every argument, `_`-prefixed where unused.
+fn closure(entry: Entry, used: &[Arg]) -> String {
+    entry
+        .all_args()
+        .iter()
+        .map(|p| if used.contains(p) { p.to_string() } else { format!("_{p}") })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Domains as prose: `thin and dense`.
+pub fn join_domains(domains: &[Domain]) -> String {
+    domains.iter().map(|d| d.name()).collect::<Vec<_>>().join(" and ")
+}
+
+fn names(args: &[Arg]) -> Vec<&'static str> {
+    args.iter().map(|a| a.name()).collect()
 }
 
 /// Every kernel output: per-kernel files from the table, the crate's own files,
@@ -649,12 +608,7 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     let mut out = Vec::new();
     for spec in specs {
         for row in &table.kernel {
-            let target = match row.target.as_str() {
-                "wgsl" => Target::Wgsl,
-                "glsl" => Target::Glsl,
-                _ => Target::Rust,
-            };
-            if spec.targets.contains(&target) {
+            if spec.targets.contains(&row.target) {
                 out.push(render_kernel(&tera, spec, row)?);
             }
         }
@@ -663,21 +617,18 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
         .iter()
         .filter(|s| s.targets.contains(&Target::Rust))
         .map(|s| {
-            let err = |d: &str| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
+            let err = |d: Domain| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
             let (params, radiance_params) = (s.params(), s.radiance_params());
             CrateKernel {
                 name: s.name.clone(),
                 ident: s.ident(),
-                thin: format!("{:e}", err("thin")),
-                dense: format!("{:e}", err("dense")),
+                thin: format!("{:e}", err(Domain::Thin)),
+                dense: format!("{:e}", err(Domain::Dense)),
                 scene: s.scene.is_some(),
-                radiance_closure: closure(
-                    &["origin", "dir", "surface", "light", "intensity", "sigma_t", "sigma_s", "g"],
-                    &radiance_params,
-                ),
-                closure: closure(&["tau", "gamma", "rho", "g"], &params),
-                radiance_params,
-                params,
+                radiance_closure: closure(Entry::Radiance, &radiance_params),
+                closure: closure(Entry::Canonical, &params),
+                radiance_params: names(&radiance_params),
+                params: names(&params),
             }
         })
         .collect();
@@ -696,66 +647,14 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     Ok(out)
 }
 
-/// One kernel in `generated/kernels.toml`, the index the GPU harness and the
-/// error gate (`airlight check`) read.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct IndexEntry {
-    /// Kernel name (`segments-8`, `scene-fog-street`).
-    pub name: String,
-    /// The model it evaluates; absent for the exact closed form.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model: Option<String>,
-    /// The scene file it was specialised for, if any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub scene: Option<String>,
-    /// Error domains its declared bound covers.
-    pub domains: Vec<String>,
-    /// Arguments of the canonical entry `<prefix>airlight`, in order.
-    pub params: Vec<String>,
-    /// Arguments of the physical entry `<prefix>radiance`, in order.
-    pub radiance_params: Vec<String>,
-    /// `g` the kernel takes at run time (both ends equal when baked in).
-    pub g: [f64; 2],
-    /// Whether rays may end on a surface (else ρ = ∞).
-    pub surfaces: bool,
-    /// Whether extinction is modelled (else τ = 0).
-    pub extinction: bool,
-    /// Whether the backward part is kept.
-    pub backscatter: bool,
-    /// The plain WGSL file, under `generated/`.
-    pub wgsl: Option<String>,
-    /// The Bevy variant.
-    pub wgsl_bevy: Option<String>,
-    /// The GLSL include.
-    pub glsl: Option<String>,
-    /// The Rust module (its kernel is `airlight_kernels::kernel(name)`).
-    pub rust: Option<String>,
-    /// Prefix of every item in the plain WGSL and GLSL files.
-    pub prefix: String,
-}
-
-/// The whole index.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Index {
-    /// Every kernel, models first, then scenes.
-    pub kernel: Vec<IndexEntry>,
-}
-
-impl Index {
-    /// Reads `generated/kernels.toml`.
-    pub fn parse(file: &str, text: &str) -> Result<Index, airlight_fit::tomlfile::FieldError> {
-        airlight_fit::tomlfile::from_str(file, text, "kernel")
-    }
-}
-
 fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     let ident = spec.ident();
-    let path = |target: &str, bevy: bool| {
+    let path = |target: Target, bevy: bool| {
         table
             .kernel
             .iter()
             .filter(|k| k.target == target && k.import_path.is_some() == bevy)
-            .find(|k| spec.targets.iter().any(|t| t.name() == k.target))
+            .find(|k| spec.targets.contains(&k.target))
             .map(|k| k.path.replace("{name}", &spec.name).replace("{ident}", &ident))
     };
     let g = match &spec.phase {
@@ -767,17 +666,17 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         name: spec.name.clone(),
         model: spec.model.as_ref().map(|m| m.model.name.clone()),
         scene: spec.scene.clone(),
-        domains: spec.domains.iter().map(|d| d.to_string()).collect(),
-        params: spec.params().iter().map(|p| p.to_string()).collect(),
-        radiance_params: spec.radiance_params().iter().map(|p| p.to_string()).collect(),
+        domains: spec.domains.clone(),
+        params: spec.params(),
+        radiance_params: spec.radiance_params(),
         g,
         surfaces: spec.surfaces,
         extinction: spec.extinction,
         backscatter: spec.backscatter,
-        wgsl: path("wgsl", false),
-        wgsl_bevy: path("wgsl", true),
-        glsl: path("glsl", false),
-        rust: path("rust", false),
+        wgsl: path(Target::Wgsl, false),
+        wgsl_bevy: path(Target::Wgsl, true),
+        glsl: path(Target::Glsl, false),
+        rust: path(Target::Rust, false),
         prefix: format!("airlight_{ident}_"),
     }
 }
@@ -788,7 +687,7 @@ pub fn render_index(specs: &[KernelSpec]) -> Output {
     let index = Index { kernel: specs.iter().map(|s| index_entry(s, &table)).collect() };
     let body = toml::to_string(&index).expect("plain data serialises");
     Output::text(
-        "kernels.toml",
+        airlight_fit::vocab::INDEX_FILE,
         format!(
             "# Index of the generated kernels: what each takes and where its files are.\n\
              # Generated by `airlight generate` from codegen/src/kernel.rs; read by the GPU\n\
@@ -824,7 +723,7 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
     let files: Vec<String> = table
         .kernel
         .iter()
-        .filter(|k| spec.targets.iter().any(|t| t.name() == k.target))
+        .filter(|k| spec.targets.contains(&k.target))
         .map(|k| format!("generated/{}", k.path.replace("{name}", &spec.name).replace("{ident}", &spec.ident())))
         .collect();
     ctx.insert("files", &files);
@@ -839,7 +738,7 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
             format!("`{name}`"),
             format!(
                 "The cheapest model (cost {cost}) whose declared max relative error over the domains the scene reaches ({}) is within the budget.",
-                plan.domains.join(" and ")
+                join_domains(&plan.domains)
             ),
             if scene.backscatter {
                 format!("≤ {} (declared, f64 model) plus f32 rounding", fmt(*bound))
@@ -869,7 +768,7 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
     ctx.insert("budget", &scene.max_rel_error);
     ctx.insert("ops", &spec.op_count());
     ctx.insert("specialised", &specialisations(spec));
-    ctx.insert("domains", &plan.domains.join(" and "));
+    ctx.insert("domains", &join_domains(&plan.domains));
     let (g_lo, g_hi) = scene.phase.g_range();
     let mut candidates: Vec<Candidate> = if matches!(plan.choice, Choice::NoExtinction) {
         Vec::new()
@@ -878,7 +777,7 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
             .iter()
             .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
             .map(|m| {
-                let b = plan.domains.iter().filter_map(|d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max);
+                let b = plan.domains.iter().filter_map(|&d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max);
                 Candidate {
                     name: m.model.name.clone(),
                     cost: m.model.cost(),
@@ -903,7 +802,11 @@ mod tests {
         let t = OutputTable::standard();
         let names: Vec<&str> = TEMPLATES.iter().map(|t| t.0).collect();
         for k in &t.kernel {
-            assert!(names.contains(&k.template.as_str()) && names.contains(&k.closed_template.as_str()), "{k:?}");
+            // Every family has a template for every target, and it exists.
+            for kind in Body::KINDS {
+                let template = k.templates.get(kind).unwrap_or_else(|| panic!("{k:?}: no {kind} template"));
+                assert!(names.contains(&template.as_str()), "{k:?}");
+            }
         }
         for f in &t.crate_file {
             assert!(names.contains(&f.template.as_str()), "{f:?}");

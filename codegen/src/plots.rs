@@ -3,10 +3,11 @@
 
 use crate::output::Output;
 use airlight_fit::analysis::{forward_error_grid, linspace, logspace, ratio_error_grid};
-use airlight_fit::approx::PhaseModel;
+use airlight_fit::approx::{PhaseModel, Split};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::family::ratio::Ratio;
 use airlight_fit::family::segments::Segments;
+use airlight_fit::vocab::Domain;
 use airlight_fit::Phase;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -198,8 +199,10 @@ const COLOURS: [RGBColor; 6] = [
     RGBColor(230, 140, 20),
 ];
 
-fn find<'a>(models: &'a [ModelFile], name: &str) -> Result<&'a ModelFile, PlotError> {
-    models.iter().find(|m| m.model.name == name).ok_or_else(|| PlotError(format!("model '{name}' is missing")))
+/// The split family of the model `name`, if it is among `models`: a figure about
+/// a model that is not there is not drawn.
+fn split_of<'a>(models: &'a [ModelFile], name: &str) -> Option<&'a Split> {
+    models.iter().find(|m| m.model.name == name)?.model.split()
 }
 
 /// Every figure, from the coefficient files.
@@ -210,25 +213,25 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     // 1. Forward kernel error over (T, θ): paper vs refit (Fig. 4).
     let ts = linspace(0.25, 19.75, 40);
     let thetas = linspace(FRAC_PI_2 / 80.0, FRAC_PI_2 * 79.0 / 80.0, 40);
-    let refit = &find(models, "paper-refit")?.model.forward;
-    let s16 = &find(models, "segments-16")?.model.forward;
-    let panels = vec![
-        ("paper, 3 segments: log10 |error|".to_string(), forward_error_grid(&Segments::paper(), &ts, &thetas)),
-        ("refit, 3 segments".to_string(), forward_error_grid(refit, &ts, &thetas)),
-        ("refit, 16 segments".to_string(), forward_error_grid(s16, &ts, &thetas)),
-    ];
-    out.extend(both!("forward-error", |root| forward_heatmaps(&root, &panels, &ts, &thetas)));
+    if let (Some(refit), Some(s16)) = (split_of(models, "paper-refit"), split_of(models, "segments-16")) {
+        let panels = vec![
+            ("paper, 3 segments: log10 |error|".to_string(), forward_error_grid(&Segments::paper(), &ts, &thetas)),
+            ("refit, 3 segments".to_string(), forward_error_grid(&refit.forward, &ts, &thetas)),
+            ("refit, 16 segments".to_string(), forward_error_grid(&s16.forward, &ts, &thetas)),
+        ];
+        out.extend(both!("forward-error", |root| forward_heatmaps(&root, &panels, &ts, &thetas)));
+    }
 
     // 2. HG vs its approximations (Figs. 6–8).
     let gs = [0.1, 0.7, 0.97];
     let alphas = linspace(0.0, PI, 181);
-    let paper_hg = match &find(models, "paper-hg")?.model.phase {
-        PhaseModel::Exp(e) => e.clone(),
-        PhaseModel::Isotropic => return Err(PlotError("paper-hg is isotropic".into())),
+    let paper_hg = match split_of(models, "paper-hg").map(|s| &s.phase) {
+        Some(PhaseModel::Exp(e)) => Some(e.clone()),
+        _ => None,
     };
     let mut fits = Vec::new();
     for k in 1..=3 {
-        if let PhaseModel::Exp(e) = &find(models, &format!("hg-exp{k}"))?.model.phase {
+        if let Some(PhaseModel::Exp(e)) = split_of(models, &format!("hg-exp{k}")).map(|s| &s.phase) {
             fits.push((format!("refit, {k} exp"), e.clone()));
         }
     }
@@ -240,11 +243,13 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
                 alphas.iter().map(|&a| (a, Phase::from_g(g).eval(a))).collect(),
                 COLOURS[0],
             )];
-            s.push((
-                "paper table".into(),
-                alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(),
-                COLOURS[1],
-            ));
+            if let Some(paper_hg) = &paper_hg {
+                s.push((
+                    "paper table".into(),
+                    alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(),
+                    COLOURS[1],
+                ));
+            }
             for (i, (name, e)) in fits.iter().enumerate() {
                 s.push((name.clone(), alphas.iter().map(|&a| (a, e.terms(g).eval(a))).collect(), COLOURS[2 + i]));
             }
@@ -266,10 +271,11 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     // 3. Backscatter ratio error (Fig. 11): paper vs refit.
     let kappas = logspace(0.01, 20.0, 60);
     let theta1s = [0.2, 0.8, FRAC_PI_2];
-    let refit_ratio =
-        find(models, "paper-refit")?.model.ratio.clone().ok_or_else(|| PlotError("paper-refit has no ratio".into()))?;
+    let refit_ratio = split_of(models, "paper-refit").and_then(|s| s.ratio.clone());
     let mut series = Vec::new();
-    for (label, r, palette) in [("paper", Ratio::paper(), [1, 3, 4]), ("refit", refit_ratio, [2, 5, 0])] {
+    let ratios =
+        std::iter::once(("paper", Ratio::paper(), [1, 3, 4])).chain(refit_ratio.map(|r| ("refit", r, [2, 5, 0])));
+    for (label, r, palette) in ratios {
         let grid = ratio_error_grid(&r, &theta1s, &kappas);
         for (i, row) in grid.iter().enumerate() {
             let colour = COLOURS[palette[i]];
@@ -299,7 +305,7 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         .filter_map(|m| m.model.name.strip_prefix("segments-").and_then(|n| n.parse().ok()).map(|n| (n, m)))
         .collect();
     pts.sort_by_key(|p| p.0);
-    let get = |d: &str, f: &dyn Fn(&airlight_fit::coeffs::DomainErrors) -> f64| -> Vec<(f64, f64)> {
+    let get = |d: Domain, f: &dyn Fn(&airlight_fit::coeffs::DomainErrors) -> f64| -> Vec<(f64, f64)> {
         pts.iter().filter_map(|(n, m)| m.error(d).map(|e| (*n as f64, f(e)))).collect()
     };
     let fwd: Vec<(f64, f64)> = pts
@@ -311,12 +317,15 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         })
         .collect();
     let series = vec![
-        ("A, thin: max".to_string(), get("thin", &|e| e.max_rel), COLOURS[2]),
-        ("A, thin: p99".to_string(), get("thin", &|e| e.p99_rel), COLOURS[3]),
-        ("A, dense: max".to_string(), get("dense", &|e| e.max_rel), COLOURS[1]),
-        ("A, dense: p99".to_string(), get("dense", &|e| e.p99_rel), COLOURS[5]),
+        ("A, thin: max".to_string(), get(Domain::Thin, &|e| e.max_rel), COLOURS[2]),
+        ("A, thin: p99".to_string(), get(Domain::Thin, &|e| e.p99_rel), COLOURS[3]),
+        ("A, dense: max".to_string(), get(Domain::Dense, &|e| e.max_rel), COLOURS[1]),
+        ("A, dense: p99".to_string(), get(Domain::Dense, &|e| e.p99_rel), COLOURS[5]),
         ("forward integral alone: max (fit targets)".to_string(), fwd, COLOURS[0]),
     ];
+    if pts.len() < 2 {
+        return Ok(out);
+    }
     out.extend(both!("error-vs-n", |root| {
         lines(
             &root,

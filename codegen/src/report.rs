@@ -9,6 +9,7 @@ use airlight_fit::family::segments::Segments;
 use airlight_fit::reference::Point;
 use airlight_fit::selfcheck::SelfCheck;
 use airlight_fit::stats::ErrorStats;
+use airlight_fit::vocab::Domain;
 use serde::Serialize;
 
 const TEMPLATE_NAME: &str = "REPORT.md.tera";
@@ -127,7 +128,7 @@ fn err_cell(e: Option<&DomainErrors>, f: impl Fn(&DomainErrors) -> f64) -> Strin
 
 /// Both maxima of a model over thin and dense.
 fn worst_of(m: &ModelFile) -> f64 {
-    ["thin", "dense"].iter().filter_map(|d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max)
+    [Domain::Thin, Domain::Dense].iter().filter_map(|&d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max)
 }
 
 /// Plain-language advice computed from the measured table.
@@ -135,17 +136,18 @@ fn advice(models: &[ModelFile]) -> Vec<String> {
     let mut out = Vec::new();
     let get = |n: &str| models.iter().find(|m| m.model.name == n);
     if let (Some(p), Some(r)) = (get("paper"), get("paper-refit")) {
-        let e = |m: &ModelFile, d: &str| m.error(d).map_or(f64::NAN, |e| e.max_rel);
+        let e = |m: &ModelFile, d: Domain| m.error(d).map_or(f64::NAN, |e| e.max_rel);
         out.push(format!(
             "The published isotropic model (`paper`) has max error {} on `thin` and {} on `dense`; the same forms refit (`paper-refit`) reach {} and {}.",
-            fmt_err(e(p, "thin")),
-            fmt_err(e(p, "dense")),
-            fmt_err(e(r, "thin")),
-            fmt_err(e(r, "dense"))
+            fmt_err(e(p, Domain::Thin)),
+            fmt_err(e(p, Domain::Dense)),
+            fmt_err(e(r, Domain::Thin)),
+            fmt_err(e(r, Domain::Dense))
         ));
     }
-    let p99 =
-        |m: &ModelFile| ["thin", "dense"].iter().filter_map(|d| m.error(d)).map(|e| e.p99_rel).fold(0.0, f64::max);
+    let p99 = |m: &ModelFile| {
+        [Domain::Thin, Domain::Dense].iter().filter_map(|&d| m.error(d)).map(|e| e.p99_rel).fold(0.0, f64::max)
+    };
     if let Some(m) = models.iter().filter(|m| m.model.g_range != (0.0, 0.0)).min_by(|a, b| p99(a).total_cmp(&p99(b))) {
         out.push(format!(
             "Henyey–Greenstein media are the weak spot of the paper's forms: the best here, `{}`, still has p99 {} and max {} over thin and dense. Sums of one to three exponentials in α cannot follow HG's peak (see the phase section); use these models only knowing that.",
@@ -279,19 +281,19 @@ pub fn render(
     let rows: Vec<ModelRow> = models
         .iter()
         .map(|m| {
-            let worst = |d: &str| {
+            let worst = |d: Domain| {
                 m.error(d).map_or("—".into(), |e| format!("{} at {}", fmt_err(e.max_rel), fmt_point(&e.worst)))
             };
             ModelRow {
                 name: m.model.name.clone(),
                 g_range: format!("[{}, {}]", m.model.g_range.0, m.model.g_range.1),
-                thin_max: err_cell(m.error("thin"), |e| e.max_rel),
-                thin_p99: err_cell(m.error("thin"), |e| e.p99_rel),
-                dense_max: err_cell(m.error("dense"), |e| e.max_rel),
-                dense_p99: err_cell(m.error("dense"), |e| e.p99_rel),
-                extreme_max: err_cell(m.error("extreme"), |e| e.max_rel),
-                thin_worst: worst("thin"),
-                dense_worst: worst("dense"),
+                thin_max: err_cell(m.error(Domain::Thin), |e| e.max_rel),
+                thin_p99: err_cell(m.error(Domain::Thin), |e| e.p99_rel),
+                dense_max: err_cell(m.error(Domain::Dense), |e| e.max_rel),
+                dense_p99: err_cell(m.error(Domain::Dense), |e| e.p99_rel),
+                extreme_max: err_cell(m.error(Domain::Extreme), |e| e.max_rel),
+                thin_worst: worst(Domain::Thin),
+                dense_worst: worst(Domain::Dense),
                 cost: m.model.cost(),
                 families: m.families.join("; "),
             }
@@ -316,7 +318,9 @@ pub fn render(
         ctx.insert("forward_targets", "—");
     }
     for m in models.iter().filter(|m| m.model.name.starts_with("segments-")) {
-        kernels.push(kernel_row(format!("refit ({})", m.model.forward.n()), m));
+        if let Some(s) = m.model.split() {
+            kernels.push(kernel_row(format!("refit ({})", s.forward.n()), m));
+        }
     }
     ctx.insert("kernels", &kernels);
     ctx.insert("paper_end", &format!("{:.4}", Segments::paper().eval(std::f64::consts::FRAC_PI_2)));
@@ -358,10 +362,11 @@ pub fn render(
     ] {
         ctx.insert(name, &m.map_or("—".into(), |m| prov_f(m, "backscatter.fit", key)));
     }
-    let es = models.first();
+    let es = models.iter().find(|m| m.model.split().is_some());
     let t = "backscatter.expsum_fit";
-    ctx.insert("near_terms", &es.map_or(0, |m| m.model.expsum.near.c.len()));
-    ctx.insert("local_terms", &es.map_or(0, |m| m.model.expsum.local.c.len()));
+    let sums = es.and_then(|m| m.model.split()).map(|s| &s.expsum);
+    ctx.insert("near_terms", &sums.map_or(0, |e| e.near.c.len()));
+    ctx.insert("local_terms", &sums.map_or(0, |e| e.local.c.len()));
     ctx.insert("near_error", &es.map_or("—".into(), |m| prov_f(m, t, "near_max_rel")));
     ctx.insert("local_error", &es.map_or("—".into(), |m| prov_f(m, t, "local_max_rel")));
     ctx.insert("split", &airlight_fit::family::expsum::SPLIT);
@@ -408,7 +413,7 @@ pub fn render(
                     let dom: Vec<String> = k
                         .domains()
                         .iter()
-                        .filter_map(|d| m.error(d).map(|e| format!("{d} {}", fmt_err(e.max_rel))))
+                        .filter_map(|&d| m.error(d).map(|e| format!("{d} {}", fmt_err(e.max_rel))))
                         .collect();
                     dom.join(", ")
                 }),

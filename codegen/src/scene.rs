@@ -4,6 +4,7 @@
 
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::tomlfile::{deny_unknown, field_error, parse_table, FieldError};
+use airlight_fit::vocab::{Domain, Target};
 use std::fmt;
 
 /// The phase function a scene's medium needs.
@@ -24,28 +25,6 @@ impl ScenePhase {
             ScenePhase::Isotropic => (0.0, 0.0),
             ScenePhase::Fixed(g) => (g, g),
             ScenePhase::Range(lo, hi) => (lo, hi),
-        }
-    }
-}
-
-/// An output language.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Target {
-    /// WGSL (wgpu, Bevy).
-    Wgsl,
-    /// GLSL (ES 3.00 and 4.50).
-    Glsl,
-    /// Rust (f32, no_std).
-    Rust,
-}
-
-impl Target {
-    /// As written in scene files and the output table.
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::Wgsl => "wgsl",
-            Target::Glsl => "glsl",
-            Target::Rust => "rust",
         }
     }
 }
@@ -183,11 +162,11 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         .as_array()
         .ok_or_else(|| err("output", "targets", "must be a list".into()))?
         .iter()
-        .map(|v| match v.as_str() {
-            Some("wgsl") => Ok(Target::Wgsl),
-            Some("glsl") => Ok(Target::Glsl),
-            Some("rust") => Ok(Target::Rust),
-            _ => Err(err("output", "targets", "entries are \"wgsl\", \"glsl\" or \"rust\"".into())),
+        .map(|v| {
+            v.as_str()
+                .ok_or_else(|| "entries are strings".to_string())
+                .and_then(|t| t.parse::<Target>().map_err(|e| e.to_string()))
+                .map_err(|e| err("output", "targets", e))
         })
         .collect::<Result<Vec<_>, _>>()?;
     if targets.is_empty() {
@@ -262,7 +241,7 @@ pub struct Plan {
     /// Largest optical distance to a light the scene can produce.
     pub tau_max: f64,
     /// Error domains the bound was taken over.
-    pub domains: Vec<&'static str>,
+    pub domains: Vec<Domain>,
 }
 
 /// Why a scene has no model.
@@ -326,7 +305,7 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
         return Err(PlanError::NoBackscatter { budget: scene.max_rel_error });
     }
     if !scene.extinction && scene.phase == ScenePhase::Isotropic {
-        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec!["thin"] });
+        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec![Domain::Thin] });
     }
     let tau_max = if scene.extinction { tau_max } else { 0.0 };
     if tau_max > TAU_DENSE_MAX {
@@ -334,16 +313,16 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
     }
     // Lights can be at any distance up to max_distance, so τ starts at 0: `thin`
     // always applies.
-    let mut domains = vec!["thin"];
+    let mut domains = vec![Domain::Thin];
     if tau_max > TAU_THIN_MAX {
-        domains.push("dense");
+        domains.push(Domain::Dense);
     }
     let (g_lo, g_hi) = scene.phase.g_range();
     let covering: Vec<(&ModelFile, f64)> = models
         .iter()
         .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
         .filter_map(|m| {
-            let bounds: Option<Vec<f64>> = domains.iter().map(|d| m.error(d).map(|e| e.max_rel)).collect();
+            let bounds: Option<Vec<f64>> = domains.iter().map(|&d| m.error(d).map(|e| e.max_rel)).collect();
             bounds.map(|b| (m, b.into_iter().fold(0.0, f64::max)))
         })
         .collect();
@@ -393,7 +372,7 @@ mod tests {
             // Nothing cheaper would have done.
             for m in &models {
                 if m.model.cost() < *cost && m.model.g_range.0 <= 0.0 && m.model.g_range.1 >= 0.0 {
-                    let b = p.domains.iter().map(|d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
+                    let b = p.domains.iter().map(|&d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
                     assert!(b > s.max_rel_error, "{file}: {} (cost {}) meets {b}", m.model.name, m.model.cost());
                 }
             }

@@ -2,7 +2,7 @@
 //! produces their coefficient files: fit each family once, assemble the models,
 //! measure every model on the validation sets.
 
-use crate::approx::{Approximation, PhaseModel};
+use crate::approx::{Approximation, Body, PhaseModel, Split};
 use crate::coeffs::{DomainErrors, ModelFile, Provenance};
 use crate::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use crate::family::expsum::{self, Backward, ExpSumFit, Target};
@@ -522,11 +522,13 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             name: spec.name.into(),
             summary: spec.summary.into(),
             g_range: spec.g_range,
-            forward,
-            phase,
-            ratio,
-            expsum: Backward { near: near.sum.clone(), local: far.sum.clone() },
-            forward_attenuation: spec.forward_attenuation,
+            body: Body::Split(Split {
+                forward,
+                phase,
+                ratio,
+                expsum: Backward { near: near.sum.clone(), local: far.sum.clone() },
+                forward_attenuation: spec.forward_attenuation,
+            }),
         },
         families,
         errors: vec![],
@@ -656,7 +658,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         }
     }
     DomainErrors {
-        domain: v.domain.name().into(),
+        domain: v.domain,
         points: v.points.len(),
         max_rel: max,
         p99_rel: stats.p99,

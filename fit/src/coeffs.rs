@@ -7,15 +7,11 @@
 //! is rendered by [`render`] only, so a file parsed and rendered again is
 //! byte-identical.
 
-use crate::approx::{Approximation, PhaseModel};
+use crate::approx::{Approximation, Body};
 use crate::domains::Domain;
-use crate::family::expsum::{Backward, ExpSum};
-use crate::family::phase_exp::{Band, ExpPhase};
-use crate::family::ratio::Ratio;
-use crate::family::segments::Segments;
 use crate::hexf;
 use crate::reference::Point;
-use crate::tomlfile::{deny_unknown, field_error, locate, parse_table, short, FieldError};
+use crate::tomlfile::{locate, parse_table, short, FieldError, Reader};
 use std::fmt::Write;
 use std::path::Path;
 use toml::{Table, Value};
@@ -27,8 +23,8 @@ pub const FORMAT_VERSION: i64 = 1;
 /// Errors measured on one domain's validation set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DomainErrors {
-    /// `thin`, `dense` or `extreme`.
-    pub domain: String,
+    /// The domain.
+    pub domain: Domain,
     /// Points measured.
     pub points: usize,
     /// Largest relative error of `A`.
@@ -61,7 +57,7 @@ pub struct ModelFile {
 
 impl ModelFile {
     /// The errors on `domain`, if measured.
-    pub fn error(&self, domain: &str) -> Option<&DomainErrors> {
+    pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
         self.errors.iter().find(|e| e.domain == domain)
     }
 
@@ -78,7 +74,8 @@ impl ModelFile {
 /// A coefficient file that cannot be used (file, line, field, message).
 pub type CoeffError = FieldError;
 
-fn dec(x: f64) -> String {
+/// Shortest text that reads back as the same f64 (TOML spells infinity `inf`).
+pub fn dec(x: f64) -> String {
     // Shortest text that reads back as the same f64; TOML spells infinity `inf`.
     if x.is_infinite() {
         if x > 0.0 {
@@ -91,7 +88,8 @@ fn dec(x: f64) -> String {
     }
 }
 
-fn hex_list(out: &mut String, key: &str, xs: &[f64]) {
+/// `key = [ "hex", # decimal ... ]`.
+pub fn hex_list(out: &mut String, key: &str, xs: &[f64]) {
     let _ = writeln!(out, "{key} = [");
     for x in xs {
         let _ = writeln!(out, "  \"{}\", # {}", hexf::format(*x), dec(*x));
@@ -99,7 +97,8 @@ fn hex_list(out: &mut String, key: &str, xs: &[f64]) {
     out.push_str("]\n");
 }
 
-fn quad_rows(out: &mut String, key: &str, rows: &[[f64; 3]]) {
+/// Rows of quadratics in g as hexadecimal floats.
+pub fn quad_rows(out: &mut String, key: &str, rows: &[[f64; 3]]) {
     let _ = writeln!(out, "{key} = [");
     for r in rows {
         let _ = writeln!(
@@ -135,7 +134,7 @@ pub fn render(f: &ModelFile) -> String {
     let fam: Vec<String> = f.families.iter().map(|s| Value::from(s.clone()).to_string()).collect();
     let _ = writeln!(o, "families = [{}]", fam.join(", "));
     let _ = writeln!(o, "g_range = [{}, {}]", dec(m.g_range.0), dec(m.g_range.1));
-    let _ = writeln!(o, "forward_attenuation = {}", m.forward_attenuation);
+    let _ = writeln!(o, "kind = \"{}\"", m.body.kind());
     for e in &f.errors {
         let _ = writeln!(o, "\n[error.{}]", e.domain);
         let _ = writeln!(o, "points = {}", e.points);
@@ -153,51 +152,7 @@ pub fn render(f: &ModelFile) -> String {
             }
         }
     };
-    o.push_str("\n[forward]\nfamily = \"segments\"\n");
-    let _ = writeln!(o, "n = {}", m.forward.n());
-    hex_list(&mut o, "breakpoints", &m.forward.breakpoints);
-    hex_list(&mut o, "slopes", &m.forward.slopes);
-    hex_list(&mut o, "intercepts", &m.forward.intercepts);
-    prov(&mut o, "forward.fit");
-    o.push_str("\n[phase]\n");
-    match &m.phase {
-        PhaseModel::Isotropic => o.push_str("family = \"isotropic\"\n"),
-        PhaseModel::Exp(e) => {
-            o.push_str("family = \"exp-sum\"\n");
-            let _ = writeln!(o, "terms = {}", e.k());
-            let _ = writeln!(o, "scale = \"{}\" # {}", hexf::format(e.scale), dec(e.scale));
-            let neg = if m.g_range.0 < 0.0 { "mirror" } else { "unsupported" };
-            let _ = writeln!(o, "negative_g = \"{neg}\"");
-            for b in &e.bands {
-                o.push_str("\n[[phase.band]]\n");
-                let _ = writeln!(o, "g = [{}, {}]", dec(b.g_lo), dec(b.g_hi));
-                quad_rows(&mut o, "a", &b.a);
-                quad_rows(&mut o, "b", &b.b);
-            }
-        }
-    }
-    prov(&mut o, "phase.fit");
-    o.push_str("\n[backscatter]\n");
-    if let Some(r) = &m.ratio {
-        o.push_str("family = \"ratio+expsum\" # ratio for γ ≤ π/2, exponential sum beyond\n");
-        let _ = writeln!(o, "# ratio f(θ1) e^(-g(θ1) κ^h(θ1)), cubics in θ1 (θ1³, θ1², θ1, 1)");
-        hex_list(&mut o, "f", &r.f);
-        hex_list(&mut o, "g", &r.g);
-        hex_list(&mut o, "h", &r.h);
-    } else {
-        o.push_str("family = \"expsum\"\n");
-    }
-    let _ = writeln!(
-        o,
-        "# backward weight: near 1/(1 + u²) ≈ Σ c e^(-s u) on [1, 16]; beyond, exact 1/u² integral via E1,"
-    );
-    let _ = writeln!(o, "# or for far parts with u1 < 2 u0: local 1/y² ≈ Σ c e^(-s y) on [1, 2], y = u/max(u0, 16)");
-    hex_list(&mut o, "near_c", &m.expsum.near.c);
-    hex_list(&mut o, "near_s", &m.expsum.near.s);
-    hex_list(&mut o, "local_c", &m.expsum.local.c);
-    hex_list(&mut o, "local_s", &m.expsum.local.s);
-    prov(&mut o, "backscatter.fit");
-    prov(&mut o, "backscatter.expsum_fit");
+    m.body.render_toml(m.g_range, &mut o, &prov);
     prov(&mut o, "provenance");
     o
 }
@@ -205,8 +160,16 @@ pub fn render(f: &ModelFile) -> String {
 /// Reads a coefficient file.
 pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let doc: Table = parse_table(file, text)?;
-    let p = Parser { file, text };
-    p.deny(&doc, "", &["format_version", "model", "error", "forward", "phase", "backscatter", "provenance"])?;
+    let p = Reader { file, text };
+    let kind = match doc.get("model").and_then(|m| m.get("kind")).and_then(Value::as_str) {
+        Some(k) => k.to_string(),
+        None => p.string(p.table(&doc, "model")?, "model", "kind")?,
+    };
+    let tables = Body::tables(&kind).ok_or_else(|| {
+        p.err("model", "kind", &format!("unknown family '{kind}' (known: {})", Body::KINDS.join(", ")))
+    })?;
+    let top: Vec<&str> = ["format_version", "model", "error", "provenance"].iter().chain(tables).copied().collect();
+    p.deny(&doc, "", &top)?;
     match doc.get("format_version") {
         Some(v) if v.as_integer() == Some(FORMAT_VERSION) => {}
         found => {
@@ -220,7 +183,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         }
     }
     let model = p.table(&doc, "model")?;
-    p.deny(model, "model", &["name", "summary", "families", "g_range", "forward_attenuation"])?;
+    p.deny(model, "model", &["name", "summary", "families", "g_range", "kind"])?;
     let name = p.string(model, "model", "name")?;
     let summary = p.string(model, "model", "summary")?;
     let families = p
@@ -232,7 +195,6 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     if !(g_range[0] <= g_range[1] && g_range[0] > -1.0 && g_range[1] < 1.0) {
         return Err(p.err("model", "g_range", "must be [lo, hi] with -1 < lo <= hi < 1"));
     }
-    let forward_attenuation = p.boolean(model, "model", "forward_attenuation")?;
 
     // Every model declares a bound on every domain: the planner and the gate read them.
     let mut errors = Vec::new();
@@ -269,7 +231,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
                 }
             };
             errors.push(DomainErrors {
-                domain: domain.to_string(),
+                domain: d,
                 points: p.uint(t, &sec, "points")?,
                 max_rel: bound("max_rel")?,
                 p99_rel: bound("p99_rel")?,
@@ -280,111 +242,16 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         }
     }
 
-    let fwd = p.table(&doc, "forward")?;
-    p.deny(fwd, "forward", &["family", "n", "breakpoints", "slopes", "intercepts", "fit"])?;
-    p.expect_str(fwd, "forward", "family", "segments")?;
-    let n = p.uint(fwd, "forward", "n")?;
-    if !(1..=64).contains(&n) {
-        return Err(p.err("forward", "n", "must be 1..=64"));
-    }
-    let breakpoints = p.hexes(fwd, "forward", "breakpoints", Some(n + 1))?;
-    if breakpoints.windows(2).any(|w| w[1] <= w[0]) || breakpoints[0] != 0.0 {
-        return Err(p.err("forward", "breakpoints", "must increase from 0"));
-    }
-    let forward = Segments {
-        breakpoints,
-        slopes: p.hexes(fwd, "forward", "slopes", Some(n))?,
-        intercepts: p.hexes(fwd, "forward", "intercepts", Some(n))?,
-    };
+    let body = Body::parse_toml(&kind, &p, &doc, &g_range)?;
 
-    let ph = p.table(&doc, "phase")?;
-    p.deny(ph, "phase", &["family", "terms", "scale", "negative_g", "band", "fit"])?;
-    let family = p.string(ph, "phase", "family")?;
-    let phase = match family.as_str() {
-        "isotropic" => {
-            if g_range != [0.0, 0.0] {
-                return Err(p.err("model", "g_range", "an isotropic model takes only [0.0, 0.0]"));
-            }
-            PhaseModel::Isotropic
-        }
-        "exp-sum" => {
-            let k = p.uint(ph, "phase", "terms")?;
-            let scale = p.hex(ph, "phase", "scale")?;
-            let bands = p.array(ph, "phase", "band")?;
-            let mut out = Vec::new();
-            for b in bands {
-                let b = b.as_table().ok_or_else(|| p.err("phase.band", "band", "must be tables"))?;
-                p.deny(b, "phase.band", &["g", "a", "b"])?;
-                let g = p.floats(b, "[phase.band]", "g", Some(2))?;
-                if !(g[0] <= g[1] && g[0] >= 0.0 && g[1] < 1.0) {
-                    return Err(p.err("[phase.band]", "g", "must be [lo, hi] with 0 <= lo <= hi < 1"));
-                }
-                let rows = |key: &str| -> Result<Vec<[f64; 3]>, CoeffError> {
-                    let arr = p.array(b, "[phase.band]", key)?;
-                    if arr.len() != k {
-                        return Err(p.err("[phase.band]", key, &format!("needs {k} rows, one per term")));
-                    }
-                    arr.iter()
-                        .map(|r| {
-                            let r = r
-                                .as_array()
-                                .filter(|r| r.len() == 3)
-                                .ok_or_else(|| p.err("[phase.band]", key, "rows are [g², g, 1] hexadecimal floats"))?;
-                            let mut c = [0.0; 3];
-                            for (ci, v) in c.iter_mut().zip(r) {
-                                *ci = p.hex_value(v, "[phase.band]", key)?;
-                            }
-                            Ok(c)
-                        })
-                        .collect()
-                };
-                out.push(Band { g_lo: g[0], g_hi: g[1], a: rows("a")?, b: rows("b")? });
-            }
-            if out.is_empty() {
-                return Err(p.err("phase", "band", "at least one band"));
-            }
-            PhaseModel::Exp(ExpPhase { bands: out, scale })
-        }
-        other => return Err(p.err("phase", "family", &format!("unknown family '{other}' (isotropic, exp-sum)"))),
-    };
-
-    let bs = p.table(&doc, "backscatter")?;
-    p.deny(
-        bs,
-        "backscatter",
-        &["family", "f", "g", "h", "near_c", "near_s", "local_c", "local_s", "fit", "expsum_fit"],
-    )?;
-    let four = |k: &str| -> Result<[f64; 4], CoeffError> {
-        let v = p.hexes(bs, "backscatter", k, Some(4))?;
-        Ok([v[0], v[1], v[2], v[3]])
-    };
-    let ratio = match p.string(bs, "backscatter", "family")?.as_str() {
-        "ratio+expsum" => Some(Ratio { f: four("f")?, g: four("g")?, h: four("h")? }),
-        "expsum" => None,
-        other => {
-            return Err(p.err("backscatter", "family", &format!("unknown family '{other}' (ratio+expsum, expsum)")))
-        }
-    };
-    let sum = |which: &str| -> Result<ExpSum, CoeffError> {
-        let c = p.hexes(bs, "backscatter", &format!("{which}_c"), None)?;
-        let key = format!("{which}_s");
-        let rates = p.hexes(bs, "backscatter", &key, Some(c.len()))?;
-        if c.is_empty() || rates.iter().any(|&x| x <= 0.0) {
-            return Err(p.err("backscatter", &key, "needs at least one positive rate per amplitude"));
-        }
-        Ok(ExpSum { c, s: rates })
-    };
-    let expsum = Backward { near: sum("near")?, local: sum("local")? };
-
+    // Free-form provenance tables: `<table>.<sub>` of the family's tables, then [provenance].
     let mut provenance = Vec::new();
-    for (sec, path) in [
-        ("forward.fit", ["forward", "fit"]),
-        ("phase.fit", ["phase", "fit"]),
-        ("backscatter.fit", ["backscatter", "fit"]),
-        ("backscatter.expsum_fit", ["backscatter", "expsum_fit"]),
-    ] {
-        if let Some(t) = doc.get(path[0]).and_then(|t| t.get(path[1])).and_then(Value::as_table) {
-            provenance.push((sec.to_string(), t.iter().map(|(k, v)| (k.clone(), v.clone())).collect()));
+    for &table in tables {
+        if let Some(t) = doc.get(table).and_then(Value::as_table) {
+            for (sub, v) in t.iter().filter_map(|(k, v)| v.as_table().map(|v| (k, v))) {
+                let kv = v.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+                provenance.push((format!("{table}.{sub}"), kv));
+            }
         }
     }
     if let Some(t) = doc.get("provenance").and_then(Value::as_table) {
@@ -392,16 +259,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     }
 
     Ok(ModelFile {
-        model: Approximation {
-            name,
-            summary,
-            g_range: (g_range[0], g_range[1]),
-            forward,
-            phase,
-            ratio,
-            expsum,
-            forward_attenuation,
-        },
+        model: Approximation { name, summary, g_range: (g_range[0], g_range[1]), body },
         families,
         errors,
         provenance,
@@ -437,101 +295,4 @@ pub fn load_dir(dir: &Path) -> Result<Vec<ModelFile>, CoeffError> {
             Ok(f)
         })
         .collect()
-}
-
-struct Parser<'a> {
-    file: &'a str,
-    text: &'a str,
-}
-
-impl Parser<'_> {
-    fn deny(&self, t: &Table, section: &str, allowed: &[&str]) -> Result<(), CoeffError> {
-        deny_unknown(self.file, self.text, t, section, allowed)
-    }
-    fn err(&self, section: &str, key: &str, msg: &str) -> CoeffError {
-        let sec = section.trim_start_matches('[').trim_end_matches(']');
-        field_error(self.file, self.text, sec, key, msg)
-    }
-    fn get<'t>(&self, t: &'t Table, sec: &str, key: &str) -> Result<&'t Value, CoeffError> {
-        t.get(key).ok_or_else(|| self.err(sec, key, "missing"))
-    }
-    fn table<'t>(&self, t: &'t Table, key: &str) -> Result<&'t Table, CoeffError> {
-        t.get(key).and_then(Value::as_table).ok_or_else(|| CoeffError {
-            file: self.file.into(),
-            line: 1,
-            field: key.into(),
-            message: "missing table".into(),
-        })
-    }
-    fn string(&self, t: &Table, sec: &str, key: &str) -> Result<String, CoeffError> {
-        self.get(t, sec, key)?.as_str().map(str::to_string).ok_or_else(|| self.err(sec, key, "must be a string"))
-    }
-    fn expect_str(&self, t: &Table, sec: &str, key: &str, want: &str) -> Result<(), CoeffError> {
-        let got = self.string(t, sec, key)?;
-        if got == want {
-            Ok(())
-        } else {
-            Err(self.err(sec, key, &format!("unknown family '{got}' (expected '{want}')")))
-        }
-    }
-    fn boolean(&self, t: &Table, sec: &str, key: &str) -> Result<bool, CoeffError> {
-        self.get(t, sec, key)?.as_bool().ok_or_else(|| self.err(sec, key, "must be true or false"))
-    }
-    fn uint(&self, t: &Table, sec: &str, key: &str) -> Result<usize, CoeffError> {
-        self.get(t, sec, key)?
-            .as_integer()
-            .and_then(|i| usize::try_from(i).ok())
-            .ok_or_else(|| self.err(sec, key, "must be a non-negative integer"))
-    }
-    fn float(&self, t: &Table, sec: &str, key: &str) -> Result<f64, CoeffError> {
-        let v = self.get(t, sec, key)?;
-        v.as_float()
-            .or_else(|| v.as_integer().map(|i| i as f64))
-            .filter(|x| !x.is_nan())
-            .ok_or_else(|| self.err(sec, key, "must be a number"))
-    }
-    fn array<'t>(&self, t: &'t Table, sec: &str, key: &str) -> Result<&'t Vec<Value>, CoeffError> {
-        self.get(t, sec, key)?.as_array().ok_or_else(|| self.err(sec, key, "must be an array"))
-    }
-    fn floats(&self, t: &Table, sec: &str, key: &str, len: Option<usize>) -> Result<Vec<f64>, CoeffError> {
-        let a = self.array(t, sec, key)?;
-        if len.is_some_and(|n| n != a.len()) {
-            return Err(self.err(sec, key, &format!("needs {} numbers", len.unwrap_or(0))));
-        }
-        a.iter()
-            .map(|v| {
-                v.as_float()
-                    .or_else(|| v.as_integer().map(|i| i as f64))
-                    .ok_or_else(|| self.err(sec, key, "must be numbers"))
-            })
-            .collect()
-    }
-    fn hex_value(&self, v: &Value, sec: &str, key: &str) -> Result<f64, CoeffError> {
-        let s = v.as_str().ok_or_else(|| self.err(sec, key, "coefficients are strings like \"0x1.8p+0\""))?;
-        let x = hexf::parse(s).map_err(|e| self.err(sec, key, &e.to_string()))?;
-        if !x.is_finite() {
-            return Err(self.err(sec, key, "must be finite"));
-        }
-        // The kernels evaluate every coefficient in f32.
-        if (x as f32).is_infinite() {
-            return Err(self.err(
-                sec,
-                key,
-                &format!("{s} = {} is outside f32's range (|x| <= 3.4e38), where the kernels evaluate it", short(x)),
-            ));
-        }
-        Ok(x)
-    }
-    fn hex(&self, t: &Table, sec: &str, key: &str) -> Result<f64, CoeffError> {
-        self.hex_value(self.get(t, sec, key)?, sec, key)
-    }
-    fn hexes(&self, t: &Table, sec: &str, key: &str, len: Option<usize>) -> Result<Vec<f64>, CoeffError> {
-        let a = self.array(t, sec, key)?;
-        if let Some(n) = len {
-            if a.len() != n {
-                return Err(self.err(sec, key, &format!("needs {n} values, has {}", a.len())));
-            }
-        }
-        a.iter().map(|v| self.hex_value(v, sec, key)).collect()
-    }
 }

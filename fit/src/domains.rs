@@ -10,7 +10,7 @@ use crate::reference::Point;
 use std::f64::consts::PI;
 
 /// A named error domain (MATH.md §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Domain {
     /// τ ∈ [0, 2]: light fog, the paper's regime.
@@ -27,6 +27,12 @@ pub const VALIDATION_SEED: u64 = 0x5EED_0A1F_11A7_0001;
 pub const VALIDATION_POINTS: usize = 10_000;
 /// Share of sampled points with no surface (`ρ = ∞`).
 pub const INFINITE_RHO_SHARE: f64 = 0.1;
+
+impl std::fmt::Display for Domain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 const GAMMA_MIN: f64 = 0.01;
 const RHO_MIN: f64 = 0.01;

@@ -13,6 +13,7 @@ pub mod approx;
 pub mod bench;
 pub mod catalog;
 pub mod coeffs;
+pub mod cost;
 pub mod domains;
 pub mod e1;
 pub mod family;
@@ -30,6 +31,7 @@ pub mod reference;
 pub mod selfcheck;
 pub mod stats;
 pub mod tomlfile;
+pub mod vocab;
 
 pub use phase::Phase;
 pub use reference::{airlight, airlight_detailed, Param, ParamError, Point};

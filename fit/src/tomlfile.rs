@@ -1,7 +1,9 @@
 //! What every TOML input of the project (coefficient files, scene specs) shares:
 //! the one-line error naming file, line and field, and finding that line.
 
+use crate::hexf;
 use std::fmt;
+use toml::{Table, Value};
 
 /// A TOML file that cannot be used: `file:line: field 'x': message`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -128,6 +130,120 @@ pub fn short(x: f64) -> String {
         }
     } else {
         format!("{x:.3e}")
+    }
+}
+
+/// Reads typed fields of a TOML file, each error naming file, line and field.
+pub struct Reader<'a> {
+    /// The file, as named in messages.
+    pub file: &'a str,
+    /// Its text (to locate fields).
+    pub text: &'a str,
+}
+
+impl Reader<'_> {
+    /// Rejects keys of `t` (table `section`) not in `allowed`.
+    pub fn deny(&self, t: &Table, section: &str, allowed: &[&str]) -> Result<(), FieldError> {
+        deny_unknown(self.file, self.text, t, section, allowed)
+    }
+    /// The error for `section.key`.
+    pub fn err(&self, section: &str, key: &str, msg: &str) -> FieldError {
+        let sec = section.trim_start_matches('[').trim_end_matches(']');
+        field_error(self.file, self.text, sec, key, msg)
+    }
+    /// The value of `key`, or "missing".
+    pub fn get<'t>(&self, t: &'t Table, sec: &str, key: &str) -> Result<&'t Value, FieldError> {
+        t.get(key).ok_or_else(|| self.err(sec, key, "missing"))
+    }
+    /// The sub-table `key` of `t`.
+    pub fn table<'t>(&self, t: &'t Table, key: &str) -> Result<&'t Table, FieldError> {
+        t.get(key).and_then(Value::as_table).ok_or_else(|| FieldError {
+            file: self.file.into(),
+            line: 1,
+            field: key.into(),
+            message: "missing table".into(),
+        })
+    }
+    /// A string.
+    pub fn string(&self, t: &Table, sec: &str, key: &str) -> Result<String, FieldError> {
+        self.get(t, sec, key)?.as_str().map(str::to_string).ok_or_else(|| self.err(sec, key, "must be a string"))
+    }
+    /// A string that must equal `want`.
+    pub fn expect_str(&self, t: &Table, sec: &str, key: &str, want: &str) -> Result<(), FieldError> {
+        let got = self.string(t, sec, key)?;
+        if got == want {
+            Ok(())
+        } else {
+            Err(self.err(sec, key, &format!("unknown family '{got}' (expected '{want}')")))
+        }
+    }
+    /// `true` or `false`.
+    pub fn boolean(&self, t: &Table, sec: &str, key: &str) -> Result<bool, FieldError> {
+        self.get(t, sec, key)?.as_bool().ok_or_else(|| self.err(sec, key, "must be true or false"))
+    }
+    /// A non-negative integer.
+    pub fn uint(&self, t: &Table, sec: &str, key: &str) -> Result<usize, FieldError> {
+        self.get(t, sec, key)?
+            .as_integer()
+            .and_then(|i| usize::try_from(i).ok())
+            .ok_or_else(|| self.err(sec, key, "must be a non-negative integer"))
+    }
+    /// A number (not NaN).
+    pub fn float(&self, t: &Table, sec: &str, key: &str) -> Result<f64, FieldError> {
+        let v = self.get(t, sec, key)?;
+        v.as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .filter(|x| !x.is_nan())
+            .ok_or_else(|| self.err(sec, key, "must be a number"))
+    }
+    /// An array.
+    pub fn array<'t>(&self, t: &'t Table, sec: &str, key: &str) -> Result<&'t Vec<Value>, FieldError> {
+        self.get(t, sec, key)?.as_array().ok_or_else(|| self.err(sec, key, "must be an array"))
+    }
+    /// An array of numbers, of length `len` if given.
+    pub fn floats(&self, t: &Table, sec: &str, key: &str, len: Option<usize>) -> Result<Vec<f64>, FieldError> {
+        let a = self.array(t, sec, key)?;
+        if len.is_some_and(|n| n != a.len()) {
+            return Err(self.err(sec, key, &format!("needs {} numbers", len.unwrap_or(0))));
+        }
+        a.iter()
+            .map(|v| {
+                v.as_float()
+                    .or_else(|| v.as_integer().map(|i| i as f64))
+                    .ok_or_else(|| self.err(sec, key, "must be numbers"))
+            })
+            .collect()
+    }
+    /// An exact hexadecimal float, finite and within f32 (the kernels use it in f32).
+    pub fn hex_value(&self, v: &Value, sec: &str, key: &str) -> Result<f64, FieldError> {
+        let s = v.as_str().ok_or_else(|| self.err(sec, key, "coefficients are strings like \"0x1.8p+0\""))?;
+        let x = hexf::parse(s).map_err(|e| self.err(sec, key, &e.to_string()))?;
+        if !x.is_finite() {
+            return Err(self.err(sec, key, "must be finite"));
+        }
+        // The kernels evaluate every coefficient in f32.
+        if (x as f32).is_infinite() {
+            return Err(self.err(
+                sec,
+                key,
+                &format!("{s} = {} is outside f32's range (|x| <= 3.4e38), where the kernels evaluate it", short(x)),
+            ));
+        }
+        Ok(x)
+    }
+    /// The hexadecimal float `key`.
+    pub fn hex(&self, t: &Table, sec: &str, key: &str) -> Result<f64, FieldError> {
+        self.hex_value(self.get(t, sec, key)?, sec, key)
+    }
+    /// An array of hexadecimal floats, of length `len` if given.
+    pub fn hexes(&self, t: &Table, sec: &str, key: &str, len: Option<usize>) -> Result<Vec<f64>, FieldError> {
+        let a = self.array(t, sec, key)?;
+        if let Some(n) = len {
+            if a.len() != n {
+                return Err(self.err(sec, key, &format!("needs {n} values, has {}", a.len())));
+            }
+        }
+        a.iter().map(|v| self.hex_value(v, sec, key)).collect()
     }
 }
 

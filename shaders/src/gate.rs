@@ -10,49 +10,21 @@
 //! same sets projected onto the scene (`ρ = ∞` without surfaces, `τ = 0` without
 //! extinction, a fixed `g`), with the reference recomputed there.
 
-use crate::{Gpu, GpuError, KernelSource, Language};
-use airlight_codegen::kernel::{Index, IndexEntry};
+use crate::{Gpu, GpuError, KernelSource};
 use airlight_fit::catalog::{self, Validation};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use airlight_fit::reference::{self, Point};
+pub use airlight_fit::vocab::{f32_limit, Target, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE};
+use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
-/// What f32 evaluation may add to a kernel's declared relative error, absolute:
-/// f32 rounding of the arguments and of exponents up to τ = 20, and GPU
-/// `exp`/`log` (Vulkan allows 3 + 2|x| ulp). Measured on these validation sets
-/// (lavapipe and the Rust kernels): at most 8.4e-6 over a declared bound.
-pub const F32_ALLOWANCE: f64 = 1e-4;
-
-/// The same, relative to the declared bound (for bounds far above 1, where the
-/// error is dominated by the model and f32 rounding scales with it; measured:
-/// 1.4e-8 of `paper-as-printed`'s 4.9e8).
-pub const F32_REL_ALLOWANCE: f64 = 1e-4;
-
-/// Below (or above) this, `A` is not representable in f32 with relative
-/// precision: only finiteness and sign are checked there.
-pub const F32_RANGE: (f64, f64) = (1e-30, 1e30);
-
-/// Where a kernel is evaluated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Target {
-    /// The generated Rust kernel (`airlight-kernels`), f32 on the CPU.
-    Rust,
-    /// The generated WGSL on the GPU adapter.
-    Wgsl,
-    /// The generated GLSL include on the GPU adapter (GLSL 4.50 compute through wgpu).
-    Glsl,
-}
-
-impl Target {
-    /// As printed.
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::Rust => "rust-f32",
-            Target::Wgsl => "wgsl",
-            Target::Glsl => "glsl",
-        }
+/// The gate's label of a target: where and in what precision it runs.
+pub fn target_label(t: Target) -> &'static str {
+    match t {
+        Target::Rust => "rust-f32",
+        t => t.name(),
     }
 }
 
@@ -84,7 +56,7 @@ pub struct Row {
 impl Row {
     /// The limit the error must stay within.
     pub fn limit(&self) -> f64 {
-        self.declared * (1.0 + F32_REL_ALLOWANCE) + F32_ALLOWANCE
+        f32_limit(self.declared)
     }
     /// Whether this row passes.
     pub fn passes(&self) -> bool {
@@ -114,10 +86,7 @@ impl std::error::Error for GateError {}
 
 /// The kernels to check: every entry of `generated/kernels.toml` (or those named).
 pub fn load_index(generated: &Path) -> Result<Index, GateError> {
-    let path = generated.join("kernels.toml");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| GateError::Input(format!("{}: cannot read: {e} (run `airlight generate`)", path.display())))?;
-    Index::parse(&path.display().to_string(), &text).map_err(|e| GateError::Input(e.to_string()))
+    Index::load(generated).map_err(|e| GateError::Input(e.to_string()))
 }
 
 /// Projects a point onto what a kernel takes (its scene's subspace).
@@ -134,11 +103,11 @@ pub fn project(k: &IndexEntry, p: Point) -> Point {
 type Checked = Vec<(Point, f64)>;
 
 /// The points and reference values a kernel is checked on, per domain.
-fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(&'static str, Checked)>, GateError> {
+fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain, Checked)>, GateError> {
     let scene = k.scene.is_some();
     let mut out = Vec::new();
     for d in Domain::ALL {
-        if d != Domain::Extreme && !k.domains.iter().any(|x| x == d.name()) {
+        if d != Domain::Extreme && !k.domains.contains(&d) {
             continue;
         }
         let set = validations.iter().find(|v| v.domain == d && v.g_range == (k.g[0], k.g[1])).map(|v| v.points.clone());
@@ -158,7 +127,7 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(&'stati
                     .collect::<Result<_, _>>()?
             }
         };
-        out.push((d.name(), pts));
+        out.push((d, pts));
     }
     Ok(out)
 }
@@ -180,8 +149,7 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
             return [v[0] / r, v[1] / r, v[2] / r];
         }
     };
-    let domains: Vec<Domain> =
-        [Domain::Thin, Domain::Dense].into_iter().filter(|d| k.domains.iter().any(|x| x == d.name())).collect();
+    let domains: Vec<Domain> = [Domain::Thin, Domain::Dense].into_iter().filter(|d| k.domains.contains(d)).collect();
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let d = domains[i % domains.len()];
@@ -262,7 +230,7 @@ fn row(k: &IndexEntry, target: Target, domain: &'static str, pts: &[(Point, f64)
 }
 
 /// The declared bound of `k` on `domain`: its model's, 0 for the closed form.
-fn declared(k: &IndexEntry, models: &[ModelFile], domain: &str) -> Result<f64, GateError> {
+fn declared(k: &IndexEntry, models: &[ModelFile], domain: Domain) -> Result<f64, GateError> {
     let Some(name) = &k.model else { return Ok(0.0) };
     let m = models
         .iter()
@@ -274,13 +242,13 @@ fn declared(k: &IndexEntry, models: &[ModelFile], domain: &str) -> Result<f64, G
 }
 
 /// Runs the gate over the kernels under `generated` (all, or those in `only`):
-/// the Rust kernels compiled into this binary when `rust` is set (they must be
-/// the ones under `generated`), the WGSL and GLSL files when `gpu` is given.
-/// `progress` gets a line per step.
+/// the compiled Rust kernels in `rust` (they must be the ones under `generated`;
+/// empty: the Rust target is not checked), the WGSL and GLSL files when `gpu` is
+/// given. `progress` gets a line per step.
 pub fn run(
     generated: &Path,
     gpu: Option<&Gpu>,
-    rust: bool,
+    rust: &[CompiledKernel],
     only: &[String],
     progress: &dyn Fn(&str),
 ) -> Result<Vec<Row>, GateError> {
@@ -301,37 +269,38 @@ pub fn run(
         progress(&k.name);
         let sets = point_sets(k, &validations)?;
         let mut texts = Vec::new();
-        for (target, language, file) in
-            [(Target::Wgsl, Language::Wgsl, &k.wgsl), (Target::Glsl, Language::Glsl, &k.glsl)]
-        {
-            if let Some(f) = file {
+        for target in Target::ALL.into_iter().filter(|t| t.is_shader()) {
+            if let Some(f) = k.file(target) {
                 let path = generated.join(f);
                 let text = std::fs::read_to_string(&path)
                     .map_err(|e| GateError::Input(format!("{}: cannot read: {e}", path.display())))?;
-                texts.push((target, language, text));
+                texts.push((target, text));
             }
         }
         let shaders: Vec<(Target, KernelSource)> =
-            texts.iter().map(|(target, language, text)| (*target, KernelSource::of(k, *language, text))).collect();
+            texts.iter().map(|(target, text)| (*target, KernelSource::of(k, *target, text))).collect();
+        let compiled = match (rust.is_empty(), &k.rust) {
+            (false, Some(_)) => Some(rust.iter().find(|r| r.name == k.name).ok_or_else(|| {
+                GateError::Input(format!("kernel {} is not in the compiled airlight-kernels (rebuild)", k.name))
+            })?),
+            _ => None,
+        };
         for (domain, pts) in &sets {
-            let bound = declared(k, &models, domain)?;
+            let bound = declared(k, &models, *domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
-            if rust && k.rust.is_some() {
-                let rk = airlight_kernels::kernel(&k.name).ok_or_else(|| {
-                    GateError::Input(format!("kernel {} is not in the compiled airlight-kernels (rebuild)", k.name))
-                })?;
+            if let Some(rk) = compiled {
                 let got: Vec<f32> = raw
                     .iter()
                     .map(|p| (rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
                     .collect();
-                rows.push(row(k, Target::Rust, domain, pts, &got, bound));
+                rows.push(row(k, Target::Rust, domain.name(), pts, &got, bound));
             }
             let Some(gpu) = gpu else { continue };
             for (target, src) in &shaders {
                 let got = gpu
                     .airlight(src, &raw)
                     .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                rows.push(row(k, *target, domain, pts, &got, bound));
+                rows.push(row(k, *target, domain.name(), pts, &got, bound));
             }
         }
         // The physical entry: random placements at world scales 1e-3 … 1e4.
@@ -340,12 +309,11 @@ pub fn run(
         let bound = k
             .domains
             .iter()
-            .map(|d| declared(k, &models, d))
+            .map(|&d| declared(k, &models, d))
             .collect::<Result<Vec<_>, _>>()?
             .into_iter()
             .fold(0.0, f64::max);
-        if rust && k.rust.is_some() {
-            let rk = airlight_kernels::kernel(&k.name).expect("checked above");
+        if let Some(rk) = compiled {
             let got: Vec<f32> = rays
                 .iter()
                 .map(|(r, _, _)| {
@@ -382,7 +350,7 @@ pub fn table(rows: &[Row], failures_only: bool) -> String {
         out.push_str(&format!(
             "{:<20} {:<8} {:<8} {:>6} {:>9.2e} {:>9.2e} {:>9.2e}  {:<6} {worst}\n",
             r.kernel,
-            r.target.name(),
+            target_label(r.target),
             r.domain,
             r.points,
             r.max,

@@ -14,6 +14,8 @@
 pub mod gate;
 pub mod render;
 
+pub use airlight_fit::vocab::{Arg, Entry, Target};
+use airlight_fit::vocab::{ArgType, IndexEntry};
 use std::fmt;
 use wgpu::util::DeviceExt;
 
@@ -151,7 +153,7 @@ impl Gpu {
     pub fn radiance(&self, k: &KernelSource, rays: &[Ray]) -> Result<Vec<f32>, GpuError> {
         let source = wrap(k, Entry::Radiance)?;
         let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
-        self.dispatch(k.shader(&source), k.prefix, &data, RAY_VEC4S, rays.len())
+        self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len())
     }
 
     /// Runs a compute shader with entry `main` over `n` items of `stride` vec4s
@@ -273,48 +275,25 @@ pub fn from_kernel(v: f32) -> f64 {
     }
 }
 
-/// A shading language of the generated kernels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Language {
-    /// WGSL, compiled by wgpu's WGSL front end.
-    Wgsl,
-    /// A GLSL include, wrapped as a GLSL 4.50 compute shader for wgpu's GLSL front end.
-    Glsl,
-}
-
-impl Language {
-    /// As written on the command line and in tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            Language::Wgsl => "wgsl",
-            Language::Glsl => "glsl",
-        }
-    }
-}
-
 /// A generated kernel as the harness sees it: its text and the arguments of its
 /// two entry points (from `generated/kernels.toml`).
 #[derive(Debug, Clone, Copy)]
 pub struct KernelSource<'a> {
-    /// Language.
-    pub language: Language,
+    /// Language: [`Target::Wgsl`] or [`Target::Glsl`].
+    pub language: Target,
     /// The kernel file's text.
     pub source: &'a str,
     /// Prefix of its items, e.g. `airlight_segments_8_`.
     pub prefix: &'a str,
-    /// Arguments of `<prefix>airlight`, by name (`tau`, `gamma`, `rho`, `g`).
-    pub params: &'a [String],
-    /// Arguments of `<prefix>radiance`, by name.
-    pub radiance_params: &'a [String],
+    /// Arguments of `<prefix>airlight`.
+    pub params: &'a [Arg],
+    /// Arguments of `<prefix>radiance`.
+    pub radiance_params: &'a [Arg],
 }
 
 impl<'a> KernelSource<'a> {
     /// The kernel `entry` of `generated/kernels.toml`, its `language` file's text being `source`.
-    pub fn of(
-        entry: &'a airlight_codegen::kernel::IndexEntry,
-        language: Language,
-        source: &'a str,
-    ) -> KernelSource<'a> {
+    pub fn of(entry: &'a IndexEntry, language: Target, source: &'a str) -> KernelSource<'a> {
         KernelSource {
             language,
             source,
@@ -326,12 +305,19 @@ impl<'a> KernelSource<'a> {
 
     fn shader<'s>(&self, wrapped: &'s str) -> wgpu::ShaderSource<'s> {
         match self.language {
-            Language::Wgsl => wgpu::ShaderSource::Wgsl(wrapped.into()),
-            Language::Glsl => wgpu::ShaderSource::Glsl {
+            Target::Glsl => wgpu::ShaderSource::Glsl {
                 shader: wrapped.into(),
                 stage: wgpu::naga::ShaderStage::Compute,
                 defines: &[],
             },
+            _ => wgpu::ShaderSource::Wgsl(wrapped.into()),
+        }
+    }
+
+    fn args(&self, entry: Entry) -> &'a [Arg] {
+        match entry {
+            Entry::Canonical => self.params,
+            Entry::Radiance => self.radiance_params,
         }
     }
 }
@@ -357,8 +343,6 @@ pub struct Ray {
     pub g: f32,
 }
 
-const RAY_VEC4S: usize = 4;
-
 impl Ray {
     /// The same ray in f64, for the reference (`surface < 0`: none).
     pub fn physical(&self) -> airlight_fit::geometry::PhysicalRay {
@@ -374,63 +358,48 @@ impl Ray {
         }
     }
 
+    /// The arguments in their packing slots ([`Arg::slot`]).
     fn pack(&self) -> [f32; 16] {
-        let (o, d, l) = (self.origin, self.dir, self.light);
-        [
-            o[0],
-            o[1],
-            o[2],
-            self.surface,
-            d[0],
-            d[1],
-            d[2],
-            self.intensity,
-            l[0],
-            l[1],
-            l[2],
-            self.sigma_t,
-            self.sigma_s,
-            self.g,
-            0.0,
-            0.0,
-        ]
+        let mut out = [0.0; 16];
+        for &a in Entry::Radiance.all_args() {
+            let (v, lane) = a.slot(Entry::Radiance).expect("every radiance argument has a slot");
+            let values: &[f32] = match a {
+                Arg::Origin => &self.origin,
+                Arg::Dir => &self.dir,
+                Arg::Light => &self.light,
+                Arg::Surface => &[self.surface],
+                Arg::Intensity => &[self.intensity],
+                Arg::SigmaT => &[self.sigma_t],
+                Arg::SigmaS => &[self.sigma_s],
+                Arg::G => &[self.g],
+                Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
+            };
+            out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
+        }
+        out
     }
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum Entry {
-    Canonical,
-    Radiance,
 }
 
 /// The compute shader around one of a generated kernel's entry points: one
 /// invocation per item, arguments taken by name from the packed inputs.
 fn wrap(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
-    let glsl = k.language == Language::Glsl;
-    let arg = |name: &str| -> Result<String, GpuError> {
-        let v3 = |i: usize| format!("x[{i}].xyz");
-        Ok(match (entry, name) {
-            (Entry::Canonical, "tau") => "x[0].x".into(),
-            (Entry::Canonical, "gamma") => "x[0].y".into(),
-            (Entry::Canonical, "rho") => "x[0].z".into(),
-            (Entry::Canonical, "g") => "x[0].w".into(),
-            (Entry::Radiance, "origin") => v3(0),
-            (Entry::Radiance, "surface") => "x[0].w".into(),
-            (Entry::Radiance, "dir") => v3(1),
-            (Entry::Radiance, "intensity") => "x[1].w".into(),
-            (Entry::Radiance, "light") => v3(2),
-            (Entry::Radiance, "sigma_t") => "x[2].w".into(),
-            (Entry::Radiance, "sigma_s") => "x[3].x".into(),
-            (Entry::Radiance, "g") => "x[3].y".into(),
-            _ => return Err(GpuError::Shader(format!("{}: unknown kernel argument '{name}'", k.prefix))),
+    let glsl = k.language == Target::Glsl;
+    if !k.language.is_shader() {
+        return Err(GpuError::Shader(format!("{}: {} is not a shading language", k.prefix, k.language)));
+    }
+    let arg = |a: Arg| -> Result<String, GpuError> {
+        let (v, lane) = a.slot(entry).ok_or_else(|| {
+            GpuError::Shader(format!("{}: '{a}' is not an argument of {}", k.prefix, entry.function()))
+        })?;
+        let lanes = ["x", "y", "z", "w"];
+        Ok(match a.ty() {
+            ArgType::Scalar => format!("x[{v}].{}", lanes[lane]),
+            ArgType::Vec3 => format!("x[{v}].{}", lanes[lane..lane + 3].concat()),
         })
     };
-    let (function, params, stride) = match entry {
-        Entry::Canonical => ("airlight", k.params, 1),
-        Entry::Radiance => ("radiance", k.radiance_params, RAY_VEC4S),
-    };
-    let args = params.iter().map(|p| arg(p)).collect::<Result<Vec<_>, _>>()?.join(", ");
-    let call = format!("{}{function}({args})", k.prefix);
+    let stride = entry.packed_vec4s();
+    let args = k.args(entry).iter().map(|&p| arg(p)).collect::<Result<Vec<_>, _>>()?.join(", ");
+    let call = format!("{}{}({args})", k.prefix, entry.function());
     Ok(if glsl {
         format!(
             "#version 450\n{src}\n\

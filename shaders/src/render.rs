@@ -10,8 +10,8 @@
 //! plane, which ends the rays that hit it.
 
 use crate::{Gpu, GpuError};
-use airlight_codegen::kernel::IndexEntry;
 use airlight_fit::reference;
+use airlight_fit::vocab::{Arg, CompiledKernel, IndexEntry};
 
 /// Lights: position and radiant intensity.
 pub const LIGHTS: [([f32; 3], f32); 5] = [
@@ -94,16 +94,16 @@ pub fn shader(k: &IndexEntry, kernel: &str, view: &View) -> String {
     let args: Vec<String> = k
         .radiance_params
         .iter()
-        .map(|p| match p.as_str() {
-            "origin" => "vec3<f32>(0.0)".to_string(),
-            "dir" => "dir".into(),
-            "surface" => "surface".into(),
-            "light" => "light.xyz".into(),
-            "intensity" => "light.w".into(),
-            "sigma_t" => "sigma_t".into(),
-            "sigma_s" => format!("{ALBEDO:?} * sigma_t"),
-            "g" => format!("{:?}", view.g),
-            other => other.into(),
+        .map(|p| match p {
+            Arg::Origin => "vec3<f32>(0.0)".to_string(),
+            Arg::Dir => "dir".into(),
+            Arg::Surface => "surface".into(),
+            Arg::Light => "light.xyz".into(),
+            Arg::Intensity => "light.w".into(),
+            Arg::SigmaT => "sigma_t".into(),
+            Arg::SigmaS => format!("{ALBEDO:?} * sigma_t"),
+            Arg::G => format!("{:?}", view.g),
+            Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
         })
         .collect();
     let lights: Vec<String> =
@@ -263,7 +263,7 @@ impl Gpu {
 }
 
 /// The same image from the Rust kernel (`airlight-kernels`) on the CPU.
-pub fn render_rust(k: &airlight_kernels::Kernel, view: &View) -> Vec<f32> {
+pub fn render_rust(k: &CompiledKernel, view: &View) -> Vec<f32> {
     let lights = view.lights();
     let mut out = Vec::with_capacity((view.width() * view.height) as usize);
     for y in 0..view.height {

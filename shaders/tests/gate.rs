@@ -36,7 +36,9 @@ fn replace_in(path: &Path, from: &str, to: &str) {
 
 #[test]
 fn the_committed_kernels_pass_on_the_cpu() {
-    let rows = gate::run(&generated(), None, true, &["segments-8".into(), "scene-haze-sky".into()], &|_| {}).unwrap();
+    let rows =
+        gate::run(&generated(), None, &common::compiled(), &["segments-8".into(), "scene-haze-sky".into()], &|_| {})
+            .unwrap();
     assert_eq!(
         rows.len(),
         4 + 3,
@@ -55,7 +57,7 @@ fn a_bound_the_rust_kernel_cannot_meet_fails() {
     let line = text[at..].lines().find(|l| l.starts_with("max_rel = ")).unwrap().to_string();
     let value: f64 = line["max_rel = ".len()..].split_whitespace().next().unwrap().parse().unwrap();
     replace_in(&toml, &line, &format!("max_rel = {}", value / 10.0));
-    let rows = gate::run(&dir, None, true, &["segments-8".into()], &|_| {}).unwrap();
+    let rows = gate::run(&dir, None, &common::compiled(), &["segments-8".into()], &|_| {}).unwrap();
     let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
     assert!(!failed.is_empty(), "{}", gate::table(&rows, false));
     assert!(failed.iter().all(|r| r.target == Target::Rust && r.domain == "thin"), "{}", gate::table(&rows, true));
@@ -71,7 +73,7 @@ fn a_wrong_coefficient_in_the_shaders_fails_on_the_gpu() {
     // The isotropic phase constant, 1/(4π), off by 0.5%.
     replace_in(&dir.join("wgsl/segments-8.wgsl"), "P_ISO: f32 = 7.95774683e-2", "P_ISO: f32 = 7.99753556e-2");
     replace_in(&dir.join("glsl/segments-8.glsl"), "P_ISO = 7.95774683e-2", "P_ISO = 7.99753556e-2");
-    let rows = gate::run(&dir, Some(&gpu), true, &["segments-8".into()], &|_| {}).unwrap();
+    let rows = gate::run(&dir, Some(&gpu), &common::compiled(), &["segments-8".into()], &|_| {}).unwrap();
     let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
     for target in [Target::Wgsl, Target::Glsl] {
         assert!(failed.iter().any(|r| r.target == target && r.domain == "thin"), "{}", gate::table(&rows, false));

@@ -13,7 +13,7 @@ use airlight_fit::reference::{airlight, Point};
 use airlight_fit::stats::{rel_error, ErrorStats};
 mod common;
 
-use airlight_shaders::{GpuError, KernelSource, Language};
+use airlight_shaders::{GpuError, KernelSource, Target};
 use common::open_or_skip;
 
 /// `A(0, γ, ρ) = (atan ub − atan ua) / (2π sin γ)` in f32, cancellation-free:
@@ -90,14 +90,10 @@ fn generated() -> std::path::PathBuf {
 }
 
 /// A generated kernel from `generated/kernels.toml`, its source read for `language`.
-fn generated_kernel(name: &str, language: Language) -> (airlight_codegen::kernel::IndexEntry, String) {
+fn generated_kernel(name: &str, language: Target) -> (airlight_codegen::kernel::IndexEntry, String) {
     let index = airlight_shaders::gate::load_index(&generated()).unwrap();
     let k = index.kernel.into_iter().find(|k| k.name == name).unwrap();
-    let file = match language {
-        Language::Wgsl => k.wgsl.clone(),
-        Language::Glsl => k.glsl.clone(),
-    }
-    .unwrap();
+    let file = k.file(language).unwrap().to_string();
     let text = std::fs::read_to_string(generated().join(file)).unwrap();
     (k, text)
 }
@@ -111,7 +107,7 @@ fn generated_closed_form_matches_reference_in_wgsl_and_glsl() {
         .map(|p| Point { tau: 0.0, rho: f64::INFINITY, ..p })
         .collect();
     let raw: Vec<[f64; 4]> = pts.iter().map(|p| [p.tau, p.gamma, p.rho, p.g]).collect();
-    for language in [Language::Wgsl, Language::Glsl] {
+    for language in [Target::Wgsl, Target::Glsl] {
         let (k, text) = generated_kernel("scene-haze-sky", language);
         let src = KernelSource::of(&k, language, &text);
         let got = gpu.airlight(&src, &raw).unwrap();
@@ -132,7 +128,7 @@ fn generated_kernels_agree_with_the_rust_kernels_on_both_entries() {
         let entry = index.kernel.iter().find(|k| k.name == name).unwrap();
         let rays = airlight_shaders::gate::physical_rays(entry, 500, 7).unwrap();
         let pts: Vec<[f64; 4]> = rays.iter().map(|r| [r.1.tau, r.1.gamma, r.1.rho, r.1.g]).collect();
-        for language in [Language::Wgsl, Language::Glsl] {
+        for language in [Target::Wgsl, Target::Glsl] {
             let (k, text) = generated_kernel(name, language);
             let src = KernelSource::of(&k, language, &text);
             let canon = gpu.airlight(&src, &pts).unwrap();
@@ -168,11 +164,11 @@ fn generated_kernels_agree_with_the_rust_kernels_on_both_entries() {
 fn the_render_pass_draws_what_the_kernels_compute() {
     let Some(gpu) = open_or_skip("the_render_pass_draws_what_the_kernels_compute") else { return };
     use airlight_shaders::render;
-    let (k, text) = generated_kernel("scene-smoke-room", Language::Wgsl);
+    let (k, text) = generated_kernel("scene-smoke-room", Target::Wgsl);
     let view = render::View::for_scene(&k, 0.5, 30.0, 40, 30);
     let image = gpu.render(&k, &text, &view).unwrap();
     assert_eq!(image.len(), (view.width() * view.height) as usize);
-    let rust = render::render_rust(airlight_kernels::kernel("scene-smoke-room").unwrap(), &view);
+    let rust = render::render_rust(common::compiled().iter().find(|k| k.name == "scene-smoke-room").unwrap(), &view);
     let reference = render::render_reference(&k, &view);
     let (gpu_max, _) = render::compare(&image, &reference);
     let (rust_max, _) = render::compare(&rust, &reference);

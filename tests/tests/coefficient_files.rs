@@ -94,5 +94,91 @@ fn model_geometry_limits() {
     // The error there is within the declared bound.
     let p = Point { tau: 2.0, gamma, rho: r, g: 0.0 };
     let e = (m.eval_unchecked(p) / airlight(p).unwrap() - 1.0).abs();
-    assert!(e < 1.5 * models.iter().find(|f| f.model.name == "segments-16").unwrap().error("thin").unwrap().max_rel);
+    assert!(
+        e < 1.5
+            * models
+                .iter()
+                .find(|f| f.model.name == "segments-16")
+                .unwrap()
+                .error(airlight_fit::vocab::Domain::Thin)
+                .unwrap()
+                .max_rel
+    );
+}
+
+/// Every way a coefficient file can be damaged is refused where it is parsed,
+/// with the file, the line and the key.
+#[test]
+fn damaged_files_are_refused_naming_file_line_and_key() {
+    let path = generated_dir().join("coefficients/segments-8.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let first_slope = text.lines().skip_while(|l| !l.starts_with("slopes")).nth(1).unwrap().to_string();
+    let thin = text.find("[error.thin]").unwrap();
+    let dense = text.find("[error.dense]").unwrap();
+    // (what, damaged text, field, words of the message, the line starting with this, or 1)
+    let cases: Vec<(&str, String, &str, &str, Option<&str>)> = vec![
+        (
+            "a coefficient beyond f32",
+            text.replacen(&first_slope, "  \"-0x1p+900\", # -8.45e270", 1),
+            "forward.slopes",
+            "outside f32's range",
+            Some("slopes ="),
+        ),
+        ("[error.thin] deleted", format!("{}{}", &text[..thin], &text[dense..]), "error.thin", "missing table", None),
+        (
+            "a negative bound",
+            text.replacen("max_rel = ", "max_rel = -", 1),
+            "error.thin.max_rel",
+            ">= 0",
+            Some("max_rel = -"),
+        ),
+        (
+            "an unknown key",
+            text.replacen("n = 8\n", "n = 8\nsegmnets = 8\n", 1),
+            "forward.segmnets",
+            "unknown key",
+            Some("segmnets"),
+        ),
+        ("an unknown table", format!("{text}\n[extra]\nx = 1\n"), "extra", "unknown table", Some("[extra]")),
+        (
+            "another version",
+            text.replacen("format_version = 1", "format_version = 2", 1),
+            "format_version",
+            "reads format_version = 1",
+            Some("format_version = 2"),
+        ),
+        ("no version", text.replacen("format_version = 1\n", "", 1), "format_version", "missing", None),
+        (
+            "an unknown family",
+            text.replacen("kind = \"split\"", "kind = \"splat\"", 1),
+            "model.kind",
+            "unknown family 'splat'",
+            Some("kind = \"splat\""),
+        ),
+    ];
+    for (what, damaged, field, says, at) in cases {
+        assert_ne!(damaged, text, "{what}: the damage applies");
+        let e = parse("segments-8.toml", &damaged).expect_err(what);
+        let msg = e.to_string();
+        assert_eq!(e.field, field, "{what}: {msg}");
+        assert!(msg.contains(says), "{what}: {msg}");
+        assert!(msg.starts_with("segments-8.toml:") && msg.lines().count() == 1, "{what}: {msg}");
+        let line = at.map_or(1, |a| damaged.lines().position(|l| l.starts_with(a)).unwrap() + 1);
+        assert_eq!(e.line, line, "{what}: {msg}");
+    }
+}
+
+/// Scene files refuse unknown keys too.
+#[test]
+fn scene_files_refuse_unknown_keys() {
+    let path = airlight_tests::repo_root().join("codegen/scenes/fog-street.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let damaged = text.replacen("extinction = true", "extinction = true\nextintion = true", 1);
+    let e = airlight_codegen::scene::parse("fog-street.toml", &damaged).unwrap_err();
+    assert_eq!(e.field, "medium.extintion", "{e}");
+    let line = damaged.lines().position(|l| l.starts_with("extintion")).unwrap() + 1;
+    assert_eq!(e.line, line, "{e}");
+    let damaged = format!("{text}\n[fog]\ndensity = 1\n");
+    let e = airlight_codegen::scene::parse("fog-street.toml", &damaged).unwrap_err();
+    assert_eq!(e.field, "fog", "{e}");
 }

@@ -15,7 +15,7 @@ fn declared_max_holds_on_fresh_points() {
     let mut failures = Vec::new();
     for m in committed_models() {
         for (domain, seed) in [(Domain::Thin, 0xA11CE), (Domain::Dense, 0xB0B)] {
-            let declared = m.error(domain.name()).expect("thin and dense errors are declared").max_rel;
+            let declared = m.error(domain).expect("thin and dense errors are declared").max_rel;
             let pts = random_points(domain, m.model.g_range, 3000, seed);
             let errs = airlight_fit::parallel::map(
                 &pts,
@@ -60,7 +60,7 @@ fn declared_max_holds_on_the_public_values() {
                 }
                 checked += 1;
                 let e = rel_error(m.model.eval_unchecked(p), exact);
-                let declared = m.error(domain.name()).unwrap().max_rel;
+                let declared = m.error(domain).unwrap().max_rel;
                 if e > 1.5 * declared {
                     failures.push(format!(
                         "{} {}: {e:.3e} at {p:?} > 1.5 × {declared:.3e}",

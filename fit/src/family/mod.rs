@@ -1,7 +1,96 @@
-//! The approximation families of the paper, each with its own representation,
-//! evaluation and least-squares fit. Models (see [`crate::approx`]) assemble them.
+//! The approximation families, one module each: its representation, f64
+//! evaluation, fit, coefficient schema and cost. A model's [`Body`] is the family
+//! values it is evaluated with (see [`crate::approx`]).
+//!
+//! Adding a family: a module here, a variant of [`Body`] and its arms below, its
+//! kernel templates and the catalog entries that use it (README, "Adding a family").
 
+pub mod closed;
 pub mod expsum;
 pub mod phase_exp;
 pub mod ratio;
 pub mod segments;
+pub mod split;
+
+use crate::cost::{Cost, PhaseShape, Shape};
+use crate::reference::Point;
+use crate::tomlfile::{FieldError, Reader};
+use toml::Table;
+
+/// What a model evaluates `A` with. (Bodies are few and long-lived: the size
+/// difference between variants costs nothing.)
+#[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)]
+pub enum Body {
+    /// A forward part plus a backward part: the paper's three families and their refits.
+    Split(split::Split),
+    /// The whole integral without extinction, in closed form (exact at `τ = 0`).
+    NoExtinction(closed::NoExtinction),
+}
+
+impl Body {
+    /// Every kind, in the order of the variants.
+    pub const KINDS: [&'static str; 2] = ["split", "no-extinction"];
+
+    /// The family's name: the `kind` key of coefficient files and the stem of
+    /// its kernel templates (`codegen/templates/kernels/<kind>.<target>.tera`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Body::Split(_) => "split",
+            Body::NoExtinction(_) => "no-extinction",
+        }
+    }
+
+    /// `A` at a valid point.
+    pub fn eval(&self, p: Point) -> f64 {
+        match self {
+            Body::Split(s) => s.eval(p),
+            Body::NoExtinction(c) => c.eval(p),
+        }
+    }
+
+    /// How its phase function costs.
+    pub fn phase_shape(&self) -> PhaseShape {
+        match self {
+            Body::Split(s) => s.phase_shape(),
+            Body::NoExtinction(_) => PhaseShape::Isotropic,
+        }
+    }
+
+    /// Operation counts of one f32 kernel evaluation in `shape`: the one source
+    /// of cost for the planner, the plans and the report.
+    pub fn ops(&self, shape: Shape) -> Cost {
+        match self {
+            Body::Split(s) => s.ops(shape),
+            Body::NoExtinction(c) => c.ops(shape),
+        }
+    }
+
+    /// The top-level tables a coefficient file of family `kind` has (besides
+    /// `[model]`, `[error.*]` and `[provenance]`); `None` for an unknown kind.
+    pub fn tables(kind: &str) -> Option<&'static [&'static str]> {
+        match kind {
+            "split" => Some(split::Split::TABLES),
+            "no-extinction" => Some(&[]),
+            _ => None,
+        }
+    }
+
+    /// Writes the family's tables of a coefficient file; `prov(out, table)` writes
+    /// the provenance table `table` where it belongs.
+    pub fn render_toml(&self, g_range: (f64, f64), out: &mut String, prov: &dyn Fn(&mut String, &str)) {
+        match self {
+            Body::Split(s) => s.render_toml(g_range, out, prov),
+            Body::NoExtinction(_) => {}
+        }
+    }
+
+    /// Reads the tables of a coefficient file of family `kind` (checked by [`Body::tables`]).
+    pub fn parse_toml(kind: &str, r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Body, FieldError> {
+        Ok(match kind {
+            "split" => Body::Split(split::Split::parse_toml(r, doc, g_range)?),
+            "no-extinction" => Body::NoExtinction(closed::NoExtinction),
+            other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
+        })
+    }
+}

@@ -1,6 +1,16 @@
 //! What the GPU tests share.
 
+use airlight_fit::vocab::CompiledKernel;
 use airlight_shaders::{gpu_required, Gpu};
+
+/// The generated Rust kernels compiled into this test, as the gate takes them.
+#[allow(dead_code)]
+pub fn compiled() -> Vec<CompiledKernel> {
+    airlight_kernels::KERNELS
+        .iter()
+        .map(|k| CompiledKernel { name: k.name, airlight: k.airlight, radiance: k.radiance })
+        .collect()
+}
 
 /// The adapter, or `None` after printing SKIPPED when there is none — unless
 /// `AIRLIGHT_REQUIRE_GPU=1`, which makes a missing adapter a failure.

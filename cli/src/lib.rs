@@ -1,0 +1,903 @@
+//! The `airlight` command line, shared by its two binaries: a thin layer over the
+//! airlight libraries that parses arguments, calls them, prints, and sets the exit
+//! code: 0 on success, 2 for bad input (a one-line message naming file, line and
+//! column), 1 when a check fails or a file cannot be written.
+//!
+//! - `airlight` (`src/main.rs`) does not link the generated Rust kernels, so it
+//!   builds and runs (`generate` repairs them) however broken they are. The
+//!   commands that run compiled Rust kernels — `eval --precision f32`, `check`,
+//!   `render`, `bench` and the gate that ends `regenerate` — it hands to
+//! - `airlight-run` (`run/`, the crate that links `airlight-kernels`), which it
+//!   builds first through cargo: when the kernels do not compile, that is one
+//!   line naming the first error, and exit 1.
+
+use airlight_fit::bench::Bench;
+use airlight_fit::catalog::{self, Family, Fits};
+use airlight_fit::coeffs::{self, ModelFile};
+use airlight_fit::model;
+use airlight_fit::vocab::{CompiledKernel, Domain, Target};
+use airlight_fit::{points_csv, selfcheck};
+use airlight_shaders::gate;
+use airlight_shaders::{Gpu, KernelSource};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    name = "airlight",
+    version,
+    about = "Fast, measured single-scattering glow (airlight) around point lights in fog, smoke, haze and water",
+    long_about = "airlight computes the light a point light scatters into a view ray through a homogeneous \
+participating medium (fog, smoke, haze, water), in the canonical form A(tau, gamma, rho; g) of MATH.md:\n\n  \
+radiance = sigma_s * I / D * A(tau, gamma, rho; g)\n\n  \
+tau   = sigma_t * D, the optical distance from the viewer to the light (D = viewer-light distance)\n  \
+gamma = angle between the view ray and the direction to the light, radians in [0, pi]\n  \
+rho   = distance to the first surface along the ray divided by D (inf: no surface)\n  \
+g     = Henyey-Greenstein asymmetry in (-1, 1); 0 is isotropic scattering\n\n\
+It fits fast approximations against a high-precision reference and reports their measured error."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Arithmetic of `eval`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Precision {
+    /// The f64 model.
+    F64,
+    /// The generated f32 Rust kernel.
+    F32,
+}
+
+/// Where `eval` runs: `cpu`, or a generated shader's language.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct EvalTarget(Option<Target>);
+
+impl std::str::FromStr for EvalTarget {
+    type Err = String;
+    fn from_str(s: &str) -> Result<EvalTarget, String> {
+        if s == "cpu" {
+            return Ok(EvalTarget(None));
+        }
+        match s.parse::<Target>() {
+            Ok(t) if t.is_shader() => Ok(EvalTarget(Some(t))),
+            _ => {
+                let shaders: Vec<&str> = Target::ALL.iter().filter(|t| t.is_shader()).map(|t| t.name()).collect();
+                Err(format!("'{s}' is not cpu or a shading language ({})", shaders.join(", ")))
+            }
+        }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Evaluate a model at the points of a CSV file.
+    ///
+    /// The input has a header with the columns tau,gamma,rho,g (any order; other
+    /// columns are ignored) and one point per line; rho may be `inf`. The output
+    /// repeats those four columns and adds `airlight`, the value of A printed so
+    /// that it reads back as the same f64 (`inf` when the ray passes through the
+    /// light). Nothing is written unless every line is valid.
+    Eval {
+        /// Model to evaluate; `airlight models` lists them.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// CSV file of points.
+        #[arg(long, short)]
+        input: PathBuf,
+        /// Where to write the result (replaced atomically); standard output if omitted.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// f64: the model as fitted (fit/); f32: the generated Rust kernel of the
+        /// same name (generated/airlight-kernels/, as compiled into this binary;
+        /// scene kernels `scene-<name>` too).
+        #[arg(long, value_enum, default_value_t = Precision::F64)]
+        precision: Precision,
+        /// cpu, or a generated shader kernel evaluated on the GPU adapter: wgsl, or
+        /// glsl (GLSL 4.50 compute through wgpu); f32, `--precision` is then
+        /// ignored. Prints the adapter on standard error.
+        #[arg(long, default_value = "cpu")]
+        target: EvalTarget,
+        /// Repository root (the directory holding generated/coefficients/); found
+        /// from the current directory if omitted. Only the reference works without it.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// List the models: g range and measured max / 99th-percentile relative error
+    /// on the thin and dense domains (from generated/coefficients/).
+    Models {
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Fit the approximation families against the reference and write the
+    /// coefficient files (generated/coefficients/*.toml) with their measured errors.
+    ///
+    /// With --family, fit only that family and print its figures; nothing is
+    /// written (a model needs all of its families).
+    Fit {
+        /// segments, phase or backscatter.
+        #[arg(long)]
+        family: Option<String>,
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Render everything under generated/ from the measurements, or with --check
+    /// compare it with what is committed.
+    ///
+    /// --check writes nothing; it fails naming every file that is missing, differs
+    /// or is orphaned (present under generated/ but not produced).
+    Generate {
+        /// Compare instead of writing; exit 1 on any difference.
+        #[arg(long)]
+        check: bool,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Time the fits and every model's evaluation; writes generated/bench.json,
+    /// which REPORT.md quotes (timings never enter `regenerate`'s own output).
+    Bench {
+        /// Repository root; found from the current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// The error-bound gate: every generated kernel on every target (the Rust
+    /// f32 kernels on the CPU, WGSL and GLSL on the GPU adapter) against the
+    /// reference on the validation sets of its domains and on the extreme set.
+    /// Fails (exit 1, a table of the failures) if any error exceeds the declared
+    /// bound plus the f32 allowance, or any value is NaN, infinite or negative
+    /// where A is finite. Prints the adapter; without one the GPU targets are
+    /// SKIPPED, unless --require-gpu or AIRLIGHT_REQUIRE_GPU=1 makes that a failure.
+    Check {
+        /// Fail when no GPU adapter can be opened.
+        #[arg(long)]
+        require_gpu: bool,
+        /// Check only this kernel (repeatable); all kernels by default.
+        #[arg(long)]
+        kernel: Vec<String>,
+        /// Print every row, not just the summary and failures.
+        #[arg(long)]
+        all: bool,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Render a scene's point lights in fog headlessly: a full-screen fragment
+    /// pass that includes the scene's generated WGSL kernel, three panels of
+    /// increasing σt. Also renders the same image with the Rust kernel on the CPU
+    /// and with the reference, and a relative-difference image; prints the max
+    /// and mean relative errors. Writes OUT (GPU), OUT-rust.png, OUT-reference.png
+    /// and OUT-diff.png; with --report, into generated/render/ for REPORT.md.
+    Render {
+        /// The scene file (codegen/scenes/<name>.toml); its kernels must be generated.
+        #[arg(long)]
+        scene: PathBuf,
+        /// The GPU image (PNG); the others are written next to it.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Write into generated/render/ (quoted by REPORT.md after `airlight generate`).
+        #[arg(long)]
+        report: bool,
+        /// Width of each of the three panels, pixels.
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        /// Height, pixels.
+        #[arg(long, default_value_t = 240)]
+        height: u32,
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// The main job: fit every family, measure every model, then regenerate
+    /// everything under generated/ (coefficients, kernels, REPORT.md, plots), and
+    /// end with the error gate (`airlight check`).
+    ///
+    /// Deterministic: running it twice writes identical files.
+    Regenerate {
+        /// Repository root (the directory holding generated/); found from the
+        /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+}
+
+/// A failure: its exit code and one line for the user (empty: already printed).
+pub struct Failure(pub u8, pub String);
+
+fn bad_input(msg: impl std::fmt::Display) -> Failure {
+    Failure(2, msg.to_string())
+}
+
+/// The compiled Rust kernels a binary has: `Linked` in `airlight-run`, `Elsewhere`
+/// in `airlight` (which runs `airlight-run` for the commands that need them).
+#[derive(Clone, Copy)]
+pub enum Kernels<'a> {
+    /// Compiled into this binary.
+    Linked(&'a [CompiledKernel]),
+    /// Not linked: run `airlight-run`, built from the workspace, instead.
+    Elsewhere,
+}
+
+/// Parses the command line and runs it; the process's exit code.
+pub fn main_with(kernels: Kernels) -> ExitCode {
+    let cli = Cli::parse();
+    report(run(cli.command, kernels))
+}
+
+/// The exit code of a result, its message printed on standard error.
+pub fn report(result: Result<(), Failure>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure(code, msg)) => {
+            if !msg.is_empty() {
+                eprintln!("error: {msg}");
+            }
+            ExitCode::from(code)
+        }
+    }
+}
+
+fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
+    let linked = match kernels {
+        Kernels::Linked(k) => Some(k),
+        Kernels::Elsewhere => None,
+    };
+    match command {
+        Command::Eval { model, input, output, precision, target, root } => match (target.0, precision, linked) {
+            (Some(target), _, _) => eval_gpu(&model, &input, output.as_deref(), target, root),
+            (None, Precision::F32, None) => delegate(root, None),
+            (None, Precision::F32, Some(k)) => eval(&model, &input, output.as_deref(), Some(k), root),
+            (None, Precision::F64, _) => eval(&model, &input, output.as_deref(), None, root),
+        },
+        Command::Check { root, .. } | Command::Render { root, .. } | Command::Bench { root } if linked.is_none() => {
+            delegate(root, None)
+        }
+        Command::Check { require_gpu, kernel, all, root } => {
+            check(root, require_gpu, &kernel, all, linked.unwrap_or_default())
+        }
+        Command::Render { scene, output, report, width, height, root } => {
+            render_scene(&scene, output.as_deref(), report, width, height, root, linked.unwrap_or_default())
+        }
+        Command::Bench { root } => bench(root, linked.unwrap_or_default()),
+        Command::Models { root } => models(root),
+        Command::Fit { family, root } => fit(family.as_deref(), root),
+        Command::Generate { check, root } => generate(root, check),
+        Command::Regenerate { root } => regenerate(root, linked),
+    }
+}
+
+/// The package whose binary runs compiled Rust kernels.
+pub const RUNNER: &str = "airlight-run";
+
+/// Runs this command line (or `args` instead) in `airlight-run`, built first
+/// from the workspace this binary was built from (else the one at the root): the
+/// commands that need the compiled Rust kernels. A build failure (the generated
+/// kernels do not compile) is one line.
+fn delegate(root: Option<PathBuf>, args: Option<Vec<String>>) -> Result<(), Failure> {
+    let own = Path::new(env!("CARGO_MANIFEST_DIR")).join("../Cargo.toml");
+    let manifest = if own.is_file() {
+        own
+    } else {
+        match root {
+            Some(r) => r,
+            None => find_root()?,
+        }
+        .join("Cargo.toml")
+    };
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let cargo_args = |verb: &str| {
+        let mut c = std::process::Command::new(&cargo);
+        c.args([verb, "--release", "--quiet", "-p", RUNNER, "--manifest-path"]).arg(&manifest);
+        c
+    };
+    let built = cargo_args("build")
+        .arg("--message-format=short")
+        .output()
+        .map_err(|e| Failure(1, format!("cannot run cargo to build {RUNNER}: {e}")))?;
+    if !built.status.success() {
+        let stderr = String::from_utf8_lossy(&built.stderr);
+        let first = stderr.lines().find(|l| l.contains("error")).unwrap_or("(cargo printed no error)").trim();
+        let what = if first.contains("airlight-kernels") {
+            "the generated Rust kernels do not compile (`airlight generate` rewrites them from the templates)"
+        } else {
+            "it does not build"
+        };
+        return Err(Failure(1, format!("cannot run the compiled Rust kernels ({RUNNER}): {what}: {first}")));
+    }
+    let args = args.unwrap_or_else(|| std::env::args().skip(1).collect());
+    let status = cargo_args("run")
+        .arg("--")
+        .args(&args)
+        .status()
+        .map_err(|e| Failure(1, format!("cannot run {RUNNER}: {e}")))?;
+    match status.code() {
+        Some(0) => Ok(()),
+        // It printed its own message.
+        Some(code) => Err(Failure(u8::try_from(code).unwrap_or(1), String::new())),
+        None => Err(Failure(1, format!("{RUNNER} was killed ({status})"))),
+    }
+}
+
+/// The reference plus every model in `root/generated/coefficients/` (just the
+/// reference when no root is given or found).
+fn registry(root: Option<PathBuf>) -> Result<(model::Registry, Vec<ModelFile>), Failure> {
+    let mut reg = model::Registry::default();
+    let root = match root {
+        Some(r) => Some(r),
+        None => find_root().ok(),
+    };
+    let mut files = Vec::new();
+    if let Some(root) = root {
+        let dir = root.join("generated").join("coefficients");
+        if dir.is_dir() {
+            files = catalog::load(&dir).map_err(bad_input)?;
+            for f in &files {
+                reg.add(Box::new(f.model.clone()));
+            }
+        }
+    }
+    Ok((reg, files))
+}
+
+/// `eval` on the CPU: the f64 model, or the compiled Rust kernel of that name
+/// when `kernels` are given.
+fn eval(
+    model: &str,
+    input: &Path,
+    output: Option<&Path>,
+    kernels: Option<&[CompiledKernel]>,
+    root: Option<PathBuf>,
+) -> Result<(), Failure> {
+    let (reg, _) = registry(root)?;
+    let kernel = match kernels {
+        None => None,
+        Some(ks) => Some(ks.iter().find(|k| k.name == model).ok_or_else(|| {
+            let known: Vec<&str> = ks.iter().map(|k| k.name).collect();
+            bad_input(format!("no generated f32 kernel '{model}'; kernels: {}", known.join(", ")))
+        })?),
+    };
+    // The f64 model checks the points (g range); scene kernels take any valid point.
+    let checker: Option<&dyn model::Model> = match (reg.get(model), kernel) {
+        (Ok(m), _) => Some(m),
+        (Err(_), Some(_)) => None,
+        (Err(e), None) => return Err(bad_input(e)),
+    };
+    let rows = read_points(input, checker)?;
+    let values = match (kernel, checker) {
+        (Some(k), _) => rows.iter().map(|r| f32_value(k, r.point)).collect(),
+        (None, Some(m)) => airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {}),
+        (None, None) => unreachable!("f64 needs a model"),
+    };
+    write_csv(output, &points_csv::render(&rows, &values))
+}
+
+/// The points of an `eval` CSV, checked against `checker`'s domain (the f64
+/// model's `g` range) when there is one.
+fn read_points(input: &Path, checker: Option<&dyn model::Model>) -> Result<Vec<points_csv::Row>, Failure> {
+    let name = input.display().to_string();
+    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    points_csv::parse(&name, &text, |p| checker.map_or(Ok(()), |m| m.check(p))).map_err(bad_input)
+}
+
+/// `eval --target wgsl|glsl`: the generated shader kernel on the GPU adapter.
+fn eval_gpu(
+    name: &str,
+    input: &Path,
+    output: Option<&Path>,
+    language: Target,
+    root: Option<PathBuf>,
+) -> Result<(), Failure> {
+    let generated = generated_dir(root.clone())?;
+    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    let k = index.get(name).map_err(bad_input)?;
+    let file = k.file(language).ok_or_else(|| bad_input(format!("kernel '{name}' has no {language} file")))?;
+    let path = generated.join(file);
+    let source =
+        std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
+    let (reg, _) = registry(root)?;
+    let checker = k.model.as_ref().and_then(|m| reg.get(m).ok());
+    let rows = read_points(input, checker)?;
+    let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
+    eprintln!("adapter: {}", gpu.adapter());
+    let src = KernelSource::of(k, language, &source);
+    let raw: Vec<[f64; 4]> = rows.iter().map(|r| [r.point.tau, r.point.gamma, r.point.rho, r.point.g]).collect();
+    let got = gpu.airlight(&src, &raw).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
+    let values: Vec<f64> = got.iter().map(|&v| airlight_shaders::from_kernel(v)).collect();
+    write_csv(output, &points_csv::render(&rows, &values))
+}
+
+/// Writes a CSV to `output` (atomically) or standard output.
+fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure> {
+    match output {
+        Some(path) => airlight_fit::io::write_atomic(path, csv.as_bytes())
+            .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display()))),
+        None => {
+            print!("{csv}");
+            Ok(())
+        }
+    }
+}
+
+/// Opens the GPU adapter for the gate: `None` (and SKIPPED) without one, unless required.
+fn gate_gpu(require: bool) -> Result<Option<Gpu>, Failure> {
+    match Gpu::open() {
+        Ok(gpu) => {
+            println!("adapter: {}", gpu.adapter());
+            Ok(Some(gpu))
+        }
+        Err(e) if require => Err(Failure(
+            1,
+            format!("no GPU adapter, and one is required (--require-gpu or AIRLIGHT_REQUIRE_GPU=1): {e}"),
+        )),
+        Err(e) => {
+            println!("GPU targets SKIPPED: {e} (--require-gpu or AIRLIGHT_REQUIRE_GPU=1 makes this a failure)");
+            Ok(None)
+        }
+    }
+}
+
+/// Runs the gate and prints its table; fails if any row fails.
+fn run_gate(
+    generated: &Path,
+    gpu: Option<&Gpu>,
+    rust: &[CompiledKernel],
+    only: &[String],
+    all: bool,
+) -> Result<(), Failure> {
+    let spinner = indicatif::ProgressBar::new_spinner();
+    let rows =
+        gate::run(generated, gpu, rust, only, &|what| spinner.set_message(format!("check: {what}"))).map_err(|e| {
+            match e {
+                gate::GateError::Input(m) => bad_input(m),
+                e => Failure(1, e.to_string()),
+            }
+        })?;
+    spinner.finish_and_clear();
+    let failures: Vec<gate::Row> = rows.iter().filter(|r| !r.passes()).cloned().collect();
+    if all {
+        print!("{}", gate::table(&rows, false));
+    }
+    let kernels: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.kernel.as_str()).collect();
+    let targets: std::collections::BTreeSet<&str> = rows.iter().map(|r| gate::target_label(r.target)).collect();
+    // How much of the f32 allowance the worst row uses (negative: within the f64 bound).
+    let worst = rows.iter().map(|r| (r.max - r.declared) / (r.limit() - r.declared)).fold(f64::NEG_INFINITY, f64::max);
+    println!(
+        "check: {} kernels × {{{}}} × domains = {} rows; limit = declared × (1 + {:.0e}) + {:.0e}; the worst row uses {:.1}% of that allowance",
+        kernels.len(),
+        targets.into_iter().collect::<Vec<_>>().join(", "),
+        rows.len(),
+        gate::F32_REL_ALLOWANCE,
+        gate::F32_ALLOWANCE,
+        100.0 * worst
+    );
+    if failures.is_empty() {
+        println!("check: every kernel within its declared bound");
+        Ok(())
+    } else {
+        Err(Failure(
+            1,
+            format!(
+                "check FAILED: {} row(s) out of bounds\n{}",
+                failures.len(),
+                gate::table(&failures, false).trim_end()
+            ),
+        ))
+    }
+}
+
+fn check(
+    root: Option<PathBuf>,
+    require_gpu: bool,
+    only: &[String],
+    all: bool,
+    kernels: &[CompiledKernel],
+) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
+    let gpu = gate_gpu(require_gpu || airlight_shaders::gpu_required())?;
+    run_gate(&generated, gpu.as_ref(), kernels, only, all)
+}
+
+fn render_scene(
+    scene_file: &Path,
+    output: Option<&Path>,
+    report: bool,
+    width: u32,
+    height: u32,
+    root: Option<PathBuf>,
+    kernels: &[CompiledKernel],
+) -> Result<(), Failure> {
+    use airlight_shaders::render;
+    let generated = generated_dir(root)?;
+    let shown = scene_file.display().to_string();
+    let text = std::fs::read_to_string(scene_file).map_err(|e| bad_input(format!("{shown}: cannot read: {e}")))?;
+    let scene = airlight_codegen::scene::parse(&shown, &text).map_err(bad_input)?;
+    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    let name = format!("scene-{}", scene.name);
+    let k = index.get(&name).map_err(|e| bad_input(format!("{shown}: {e} (run `airlight generate`)")))?;
+    let wgsl = k.wgsl.as_ref().ok_or_else(|| bad_input(format!("{shown}: the scene has no wgsl target")))?;
+    let kernel = std::fs::read_to_string(generated.join(wgsl))
+        .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join(wgsl).display())))?;
+    if width == 0 || height == 0 || width > 4096 || height > 4096 {
+        return Err(bad_input("--width and --height must be between 1 and 4096"));
+    }
+    let (base, dir) = match (output, report) {
+        (_, true) => (scene.name.clone(), generated.join("render")),
+        (Some(o), false) => (
+            o.file_stem().map_or("render".into(), |s| s.to_string_lossy().into_owned()),
+            o.parent().map_or(PathBuf::from("."), Path::to_path_buf),
+        ),
+        (None, false) => return Err(bad_input("name the image with -o OUT.png, or pass --report")),
+    };
+    let gpu = Gpu::open().map_err(|e| Failure(1, e.to_string()))?;
+    println!("adapter: {}", gpu.adapter());
+    let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
+    let image = gpu.render(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+    let reference = render::render_reference(k, &view);
+    let rust = kernels.iter().find(|rk| rk.name == name).map(|rk| render::render_rust(rk, &view));
+    let exposure = render::exposure(&reference);
+    let w = view.width();
+    std::fs::create_dir_all(&dir).map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
+    let png = |suffix: &str, pixels: &[[u8; 3]]| -> Result<PathBuf, Failure> {
+        let path = dir.join(format!("{base}{suffix}.png"));
+        render::write_png(&path, w, height, pixels).map_err(|e| Failure(1, e))?;
+        Ok(path)
+    };
+    let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+    let gpu_png = png(if report { "-gpu" } else { "" }, &render::tone_map(&as64(&image), exposure))?;
+    png("-reference", &render::tone_map(&reference, exposure))?;
+    png("-diff", &render::difference(&image, &reference))?;
+    let (gmax, gmean) = render::compare(&image, &reference);
+    println!("{}: {w}×{height}, σt = {:?}", gpu_png.display(), view.sigma_t);
+    println!("GPU (WGSL) vs reference: max relative error {gmax:.2e}, mean {gmean:.2e}");
+    let mut summary = vec![
+        ("adapter".to_string(), format!("\"{}\"", gpu.adapter().to_string().replace('"', "'"))),
+        ("gpu_max_rel".into(), format!("{gmax:e}")),
+        ("gpu_mean_rel".into(), format!("{gmean:e}")),
+    ];
+    if let Some(r) = &rust {
+        png("-rust", &render::tone_map(&as64(r), exposure))?;
+        let (rmax, rmean) = render::compare(r, &reference);
+        println!("Rust kernel (CPU) vs reference: max relative error {rmax:.2e}, mean {rmean:.2e}");
+        summary.push(("rust_max_rel".into(), format!("{rmax:e}")));
+        summary.push(("rust_mean_rel".into(), format!("{rmean:e}")));
+    }
+    if report {
+        let mut toml = format!(
+            "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkernel = \"{name}\"\nwidth = {w}\nheight = {height}\nsigma_t = {:?}\n",
+            scene.file, view.sigma_t
+        );
+        for (k, v) in summary {
+            toml.push_str(&format!("{k} = {v}\n"));
+        }
+        airlight_fit::io::write_atomic(&dir.join(format!("{base}.toml")), toml.as_bytes())
+            .map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
+        println!("wrote {}/{base}*; `airlight generate` puts them into REPORT.md", dir.display());
+    }
+    Ok(())
+}
+
+/// A generated kernel's value at `p` (arguments rounded to f32, `ρ = ∞` passed as
+/// −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
+fn f32_value(k: &CompiledKernel, p: airlight_fit::reference::Point) -> f64 {
+    airlight_shaders::from_kernel((k.airlight)(
+        p.tau as f32,
+        p.gamma as f32,
+        airlight_shaders::rho_arg(p.rho),
+        p.g as f32,
+    ))
+}
+
+fn models(root: Option<PathBuf>) -> Result<(), Failure> {
+    let (reg, files) = registry(root)?;
+    println!(
+        "{:<18} {:<14} {:>9} {:>9} {:>9} {:>9}  description",
+        "model", "g range", "thin max", "thin p99", "dense max", "dense p99"
+    );
+    for m in reg.iter() {
+        let e = |d: Domain, f: fn(&coeffs::DomainErrors) -> f64| {
+            files
+                .iter()
+                .find(|f| f.model.name == m.name())
+                .and_then(|f| f.error(d))
+                .map_or("-".to_string(), |e| format!("{:.1e}", f(e)))
+        };
+        println!(
+            "{:<18} {:<14} {:>9} {:>9} {:>9} {:>9}  {}",
+            m.name(),
+            m.g_range_label(),
+            e(Domain::Thin, |e| e.max_rel),
+            e(Domain::Thin, |e| e.p99_rel),
+            e(Domain::Dense, |e| e.max_rel),
+            e(Domain::Dense, |e| e.p99_rel),
+            m.summary()
+        );
+    }
+    Ok(())
+}
+
+/// Fits (all families, or one) with a progress bar.
+fn run_fits(only: Option<Family>) -> Fits {
+    with_progress("fitting families", |progress| catalog::fit(only, progress))
+}
+
+/// Assembles and measures every model with a progress bar.
+fn build_models(fits: &Fits) -> Result<Vec<ModelFile>, Failure> {
+    with_progress("measuring models", |progress| catalog::build(fits, progress)).map_err(|e| Failure(1, e))
+}
+
+fn print_fits(fits: &Fits) {
+    if let Some((rms, max, n)) = fits.paper_segments {
+        println!("segments paper (3): forward integral rms {rms:.1e} max {max:.1e} on {n} targets");
+    }
+    for (n, f) in &fits.segments {
+        println!(
+            "segments refit ({n}): forward integral rms {:.1e} max {:.1e}; kernel max |error| {:.1e}; {} iterations, {}",
+            f.rms_rel,
+            f.max_rel,
+            f.segments.kernel_error().0,
+            f.outcome.iterations,
+            f.outcome.termination
+        );
+    }
+    for (k, bands) in &fits.phase {
+        let cells: Vec<String> = bands.iter().map(|b| format!("{:.1e}/{:.1e}", b.rms_rel, b.max_rel)).collect();
+        println!("phase {k} exponential(s), A rms/max per band: {}", cells.join(" "));
+    }
+    if !fits.paper_phase.is_empty() {
+        let cells: Vec<String> = fits.paper_phase.iter().map(|(r, m)| format!("{r:.1e}/{m:.1e}")).collect();
+        println!("phase paper table, A rms/max per band: {}", cells.join(" "));
+    }
+    if let (Some(r), Some((prms, pmax))) = (&fits.ratio, fits.paper_ratio) {
+        println!(
+            "backscatter ratio: refit rms {:.1e} max {:.1e} ({} iterations, {}); paper rms {prms:.1e} max {pmax:.1e}",
+            r.rms_rel, r.max_rel, r.outcome.iterations, r.outcome.termination
+        );
+    }
+    if let Some((n, f)) = &fits.expsum {
+        println!(
+            "backward sums: near {} terms max weight error {:.1e}; local {} terms max error {:.1e}",
+            n.sum.c.len(),
+            n.max_rel.0,
+            f.sum.c.len(),
+            f.max_rel.0
+        );
+    }
+}
+
+fn fit(family: Option<&str>, root: Option<PathBuf>) -> Result<(), Failure> {
+    let only = match family {
+        None => None,
+        Some(name) => Some(Family::from_name(name).ok_or_else(|| {
+            let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+            bad_input(format!("unknown family '{name}'; known families: {}", known.join(", ")))
+        })?),
+    };
+    let start = Instant::now();
+    let fits = run_fits(only);
+    print_fits(&fits);
+    if only.is_some() {
+        println!(
+            "fitted in {:.1} s; nothing written (`airlight fit` without --family writes the coefficients)",
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
+    let files = build_models(&fits)?;
+    let generated = generated_dir(root)?;
+    let outputs: Vec<airlight_codegen::Output> = files
+        .iter()
+        .map(|f| airlight_codegen::Output::text(format!("coefficients/{}.toml", f.model.name), coeffs::render(f)))
+        .collect();
+    let written = write_outputs(&generated, &outputs)?.len();
+    println!(
+        "{written} of {} coefficient file(s) changed under {} in {:.1} s",
+        outputs.len(),
+        generated.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// The nearest ancestor of the current directory holding `generated/` and a `Cargo.toml`.
+fn find_root() -> Result<PathBuf, Failure> {
+    let cwd = std::env::current_dir().map_err(|e| Failure(1, format!("cannot read the current directory: {e}")))?;
+    cwd.ancestors()
+        .find(|d| d.join("generated").is_dir() && d.join("Cargo.toml").is_file())
+        .map(Path::to_path_buf)
+        .ok_or_else(|| bad_input("no directory with generated/ and Cargo.toml above the current one; pass --root"))
+}
+
+fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Runs the reference self-check with a progress bar.
+fn measure() -> selfcheck::SelfCheck {
+    with_progress("reference self-check", selfcheck::run_standard)
+}
+
+/// Runs `work` with a progress bar fed by its `(done, total)` callback.
+fn with_progress<T>(what: &str, work: impl FnOnce(&(dyn Fn(usize, usize) + Sync)) -> T) -> T {
+    let bar = progress_bar(0, what);
+    let out = work(&|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    out
+}
+
+/// Everything under `generated/`, with the scenes of `codegen/scenes/` (next to `generated/`).
+fn render(
+    check: &selfcheck::SelfCheck,
+    models: &[ModelFile],
+    generated: &Path,
+) -> Result<Vec<airlight_codegen::Output>, Failure> {
+    let bench = read_bench(generated)?;
+    let root = generated.parent().unwrap_or(Path::new("."));
+    let scenes = airlight_codegen::scene::load_dir(&root.join("codegen/scenes"), "codegen/scenes")
+        .map_err(|e| Failure(2, e.to_string()))?;
+    let renders = airlight_codegen::read_renders(generated)
+        .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join("render").display())))?;
+    airlight_codegen::render_all(check, models, bench.as_ref(), &scenes, &renders).map_err(|e| match e {
+        airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
+        _ => Failure(1, format!("rendering generated/: {e}")),
+    })
+}
+
+/// `generated/bench.json` if present.
+fn read_bench(generated: &Path) -> Result<Option<Bench>, Failure> {
+    let path = generated.join("bench.json");
+    match std::fs::read_to_string(&path) {
+        Err(_) => Ok(None),
+        Ok(text) => Bench::from_json(&text).map(Some).map_err(|e| bad_input(format!("{}:{e}", path.display()))),
+    }
+}
+
+fn bench(root: Option<PathBuf>, kernels: &[CompiledKernel]) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
+    let spinner = indicatif::ProgressBar::new_spinner();
+    let (mut b, files) =
+        airlight_fit::bench::run(&|what| spinner.set_message(format!("bench: {what}"))).map_err(|e| Failure(1, e))?;
+    // The generated f32 kernels, on the same points (in their model's g range).
+    for k in kernels {
+        spinner.set_message(format!("bench: {} (f32)", k.name));
+        let g = files.iter().find(|f| f.model.name == k.name).map_or((0.0, 0.0), |f| f.model.g_range);
+        let speed = |d| airlight_fit::bench::throughput_of(|p| f32_value(k, p), g, d);
+        b.kernels.push(airlight_fit::bench::ModelSpeed {
+            model: k.name.to_string(),
+            thin_per_s: speed(airlight_fit::domains::Domain::Thin),
+            dense_per_s: speed(airlight_fit::domains::Domain::Dense),
+        });
+    }
+    spinner.finish_and_clear();
+    println!("fit {:.1} s, measure {:.1} s on {} cores", b.fit_s, b.measure_s, b.cores);
+    for m in &b.models {
+        println!("{:<18} f64 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+    }
+    for m in &b.kernels {
+        println!("{:<18} f32 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+    }
+    airlight_fit::io::write_atomic(&generated.join("bench.json"), b.to_json().as_bytes())
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
+    println!("wrote {}; `airlight generate` puts it into REPORT.md", generated.join("bench.json").display());
+    Ok(())
+}
+
+/// `root/generated`, with the root found from the current directory if not given.
+fn generated_dir(root: Option<PathBuf>) -> Result<PathBuf, Failure> {
+    Ok(match root {
+        Some(r) => r,
+        None => find_root()?,
+    }
+    .join("generated"))
+}
+
+/// Writes the outputs, returning the files that changed.
+fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Result<Vec<PathBuf>, Failure> {
+    airlight_codegen::write_all(generated, outputs)
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))
+}
+
+fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {
+    let generated = generated_dir(root.clone())?;
+    let (_, files) = registry(Some(generated.parent().map(Path::to_path_buf).unwrap_or_default()))?;
+    if files.is_empty() {
+        return Err(bad_input(format!(
+            "{}: no coefficient files; run `airlight fit` (or `airlight regenerate`) first",
+            generated.join("coefficients").display()
+        )));
+    }
+    let check = airlight_codegen::read_selfcheck(&generated).map_err(bad_input)?;
+    let outputs = render(&check, &files, &generated)?;
+    if check_only {
+        let diffs = airlight_codegen::check(&generated, &outputs);
+        for d in &diffs {
+            eprintln!("{d}");
+        }
+        if !diffs.is_empty() {
+            return Err(Failure(
+                1,
+                format!("{} file(s) under generated/ are stale; run `airlight regenerate`", diffs.len()),
+            ));
+        }
+        println!("generated/ is current ({} file(s))", outputs.len());
+        return Ok(());
+    }
+    let written = write_outputs(&generated, &outputs)?.len();
+    println!("{written} of {} file(s) changed under {}", outputs.len(), generated.display());
+    Ok(())
+}
+
+fn regenerate(root: Option<PathBuf>, kernels: Option<&[CompiledKernel]>) -> Result<(), Failure> {
+    let generated = generated_dir(root.clone())?;
+    let start = Instant::now();
+    let check = measure();
+    let fits = run_fits(None);
+    print_fits(&fits);
+    let files = build_models(&fits)?;
+    let outputs = render(&check, &files, &generated)?;
+    let written = write_outputs(&generated, &outputs)?;
+    for f in &files {
+        let e =
+            |d: Domain| f.error(d).map_or("-".to_string(), |e| format!("max {:.1e} p99 {:.1e}", e.max_rel, e.p99_rel));
+        println!("{:<18} thin {}  dense {}", f.model.name, e(Domain::Thin), e(Domain::Dense));
+    }
+    for d in &check.domains {
+        let e1 = d.vs_e1.map_or(String::new(), |s| format!(", vs E1 {:.1e}", s.max));
+        println!(
+            "reference {:<8} {:<9} {:>6} points: vs s form {:.1e}{e1}",
+            d.domain.name(),
+            d.phase_label(),
+            d.points,
+            d.vs_s_form.max
+        );
+    }
+    for f in &check.fixtures {
+        println!("reference vs {}: max {:.1e} over {} points", f.name, f.stats.max, f.finite);
+    }
+    println!(
+        "{} of {} file(s) changed under {} in {:.1} s",
+        written.len(),
+        outputs.len(),
+        generated.display(),
+        start.elapsed().as_secs_f64()
+    );
+    let problems = check.problems();
+    if !problems.is_empty() {
+        return Err(Failure(1, format!("reference self-check failed: {}", problems.join("; "))));
+    }
+    // The gate, on the kernels just written: `airlight-run` is built from them.
+    match kernels {
+        None => {
+            let mut args = vec!["check".to_string()];
+            if let Some(r) = &root {
+                args.extend(["--root".to_string(), r.display().to_string()]);
+            }
+            delegate(root, Some(args))
+        }
+        Some(k) => {
+            let changed = written.iter().any(|p| p.starts_with(generated.join("airlight-kernels")));
+            if changed {
+                println!("the Rust kernels changed: run `airlight check` to gate the rebuilt ones too");
+            }
+            let gpu = gate_gpu(airlight_shaders::gpu_required())?;
+            run_gate(&generated, gpu.as_ref(), if changed { &[] } else { k }, &[], false)
+        }
+    }
+}

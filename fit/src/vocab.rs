@@ -1,0 +1,373 @@
+//! The vocabulary every crate shares, typed once: the target languages, the
+//! kernels' arguments (name, type, GPU packing slot), the error domains
+//! ([`Domain`], whose box lives in [`crate::domains`]), the f32 allowance of the
+//! gate and the tests, and the kernel index `generated/kernels.toml` that the
+//! harness, the gate and the CLI read.
+//!
+//! Strings appear only at the edges (files, command lines); an unknown name is an
+//! error there, never a silent default.
+
+pub use crate::domains::Domain;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+/// A language the generator emits kernels in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Target {
+    /// WGSL for wgpu (plain, and as a Bevy / naga_oil module); run on the GPU adapter.
+    Wgsl,
+    /// A GLSL include (ES 3.00 and 4.50); run on the GPU adapter as GLSL 4.50 compute.
+    Glsl,
+    /// A module of the `no_std` f32 crate `airlight-kernels`; run on the CPU.
+    Rust,
+}
+
+impl Target {
+    /// Every target, in the order tables list them.
+    pub const ALL: [Target; 3] = [Target::Wgsl, Target::Glsl, Target::Rust];
+
+    /// As written in scene files, the output table, the index and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Wgsl => "wgsl",
+            Target::Glsl => "glsl",
+            Target::Rust => "rust",
+        }
+    }
+
+    /// Whether it is a shading language (evaluated on the GPU adapter).
+    pub fn is_shader(self) -> bool {
+        self != Target::Rust
+    }
+}
+
+impl fmt::Display for Target {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A name that is not one of `known`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownName {
+    /// What was asked for.
+    pub what: &'static str,
+    /// The name given.
+    pub name: String,
+    /// The names that exist.
+    pub known: Vec<&'static str>,
+}
+
+impl fmt::Display for UnknownName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "unknown {} '{}' (known: {})", self.what, self.name, self.known.join(", "))
+    }
+}
+
+impl std::error::Error for UnknownName {}
+
+impl FromStr for Target {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Target, UnknownName> {
+        Target::ALL.into_iter().find(|t| t.name() == s).ok_or_else(|| UnknownName {
+            what: "target",
+            name: s.into(),
+            known: Target::ALL.map(Target::name).to_vec(),
+        })
+    }
+}
+
+/// Which entry point of a kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Entry {
+    /// `airlight(tau, gamma, rho, g)`: the canonical `A`.
+    Canonical,
+    /// `radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)`.
+    Radiance,
+}
+
+impl Entry {
+    /// The function's name (after the kernel's prefix).
+    pub fn function(self) -> &'static str {
+        match self {
+            Entry::Canonical => "airlight",
+            Entry::Radiance => "radiance",
+        }
+    }
+
+    /// Every argument the entry can take, in signature order (a kernel takes a
+    /// subsequence of it).
+    pub fn all_args(self) -> &'static [Arg] {
+        match self {
+            Entry::Canonical => &[Arg::Tau, Arg::Gamma, Arg::Rho, Arg::G],
+            Entry::Radiance => {
+                &[Arg::Origin, Arg::Dir, Arg::Surface, Arg::Light, Arg::Intensity, Arg::SigmaT, Arg::SigmaS, Arg::G]
+            }
+        }
+    }
+
+    /// `vec4`s per item when the GPU harness packs this entry's arguments.
+    pub fn packed_vec4s(self) -> usize {
+        match self {
+            Entry::Canonical => 1,
+            Entry::Radiance => 4,
+        }
+    }
+}
+
+/// The scalar type of an argument.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ArgType {
+    /// One f32.
+    Scalar,
+    /// Three f32 (a position or direction).
+    Vec3,
+}
+
+/// An argument of a kernel's entry points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Arg {
+    /// Optical distance to the light, `σt·D`.
+    Tau,
+    /// Angle between the view ray and the direction to the light, radians.
+    Gamma,
+    /// Distance to the first surface over `D`; negative: none.
+    Rho,
+    /// Henyey–Greenstein asymmetry.
+    G,
+    /// Ray origin (the viewer).
+    Origin,
+    /// Ray direction (need not be normalised).
+    Dir,
+    /// Distance to the first surface along the ray; negative: none.
+    Surface,
+    /// Light position.
+    Light,
+    /// Radiant intensity.
+    Intensity,
+    /// Extinction coefficient.
+    SigmaT,
+    /// Scattering coefficient.
+    SigmaS,
+}
+
+impl Arg {
+    /// Its name in every generated signature.
+    pub fn name(self) -> &'static str {
+        match self {
+            Arg::Tau => "tau",
+            Arg::Gamma => "gamma",
+            Arg::Rho => "rho",
+            Arg::G => "g",
+            Arg::Origin => "origin",
+            Arg::Dir => "dir",
+            Arg::Surface => "surface",
+            Arg::Light => "light",
+            Arg::Intensity => "intensity",
+            Arg::SigmaT => "sigma_t",
+            Arg::SigmaS => "sigma_s",
+        }
+    }
+
+    /// Scalar or vec3.
+    pub fn ty(self) -> ArgType {
+        match self {
+            Arg::Origin | Arg::Dir | Arg::Light => ArgType::Vec3,
+            _ => ArgType::Scalar,
+        }
+    }
+
+    /// Where the GPU harness packs it for `entry`: `(vec4 index, first lane)`
+    /// (a vec3 takes lanes `first..first + 3`); `None` if the entry has no such argument.
+    pub fn slot(self, entry: Entry) -> Option<(usize, usize)> {
+        Some(match (entry, self) {
+            (Entry::Canonical, Arg::Tau) => (0, 0),
+            (Entry::Canonical, Arg::Gamma) => (0, 1),
+            (Entry::Canonical, Arg::Rho) => (0, 2),
+            (Entry::Canonical, Arg::G) => (0, 3),
+            (Entry::Radiance, Arg::Origin) => (0, 0),
+            (Entry::Radiance, Arg::Surface) => (0, 3),
+            (Entry::Radiance, Arg::Dir) => (1, 0),
+            (Entry::Radiance, Arg::Intensity) => (1, 3),
+            (Entry::Radiance, Arg::Light) => (2, 0),
+            (Entry::Radiance, Arg::SigmaT) => (2, 3),
+            (Entry::Radiance, Arg::SigmaS) => (3, 0),
+            (Entry::Radiance, Arg::G) => (3, 1),
+            _ => return None,
+        })
+    }
+}
+
+impl fmt::Display for Arg {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What f32 evaluation may add to a kernel's declared relative error, absolute:
+/// f32 rounding of the arguments and of exponents up to τ = 20, and GPU
+/// `exp`/`log` (Vulkan allows 3 + 2|x| ulp). Measured on the validation sets
+/// (lavapipe and the Rust kernels): at most 8.4e-6 over a declared bound.
+pub const F32_ALLOWANCE: f64 = 1e-4;
+
+/// The same, relative to the declared bound (for bounds far above 1, where the
+/// error is dominated by the model and f32 rounding scales with it; measured:
+/// 1.4e-8 of `paper-as-printed`'s 4.9e8).
+pub const F32_REL_ALLOWANCE: f64 = 1e-4;
+
+/// Below (or above) this, `A` is not representable in f32 with relative
+/// precision: only finiteness and sign are checked there.
+pub const F32_RANGE: (f64, f64) = (1e-30, 1e30);
+
+/// The largest relative error an f32 kernel (any target) may show where its f64
+/// model declares `declared`: the one rule of the gate and of the tests.
+pub fn f32_limit(declared: f64) -> f64 {
+    declared * (1.0 + F32_REL_ALLOWANCE) + F32_ALLOWANCE
+}
+
+/// A compiled Rust kernel's canonical entry, uniform signature `(tau, gamma, rho, g)`
+/// (`airlight_kernels::Canonical`).
+pub type CanonicalFn = fn(f32, f32, f32, f32) -> f32;
+
+/// A compiled Rust kernel's physical entry, uniform signature `(origin, dir,
+/// surface, light, intensity, sigma_t, sigma_s, g)` (`airlight_kernels::Radiance`).
+pub type RadianceFn = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) -> f32;
+
+/// A generated Rust kernel as compiled into some binary: the gate and the render
+/// take these from whoever links `airlight-kernels` (the `airlight-run` binary),
+/// so that nothing else has to compile the generator's output.
+#[derive(Debug, Clone, Copy)]
+pub struct CompiledKernel {
+    /// Its name in the index.
+    pub name: &'static str,
+    /// The canonical entry.
+    pub airlight: CanonicalFn,
+    /// The physical entry.
+    pub radiance: RadianceFn,
+}
+
+/// The path of the kernel index under `generated/`.
+pub const INDEX_FILE: &str = "kernels.toml";
+
+/// One kernel of the index `generated/kernels.toml`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IndexEntry {
+    /// Kernel name (`segments-8`, `scene-fog-street`).
+    pub name: String,
+    /// The model it evaluates; absent for the exact closed form.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    /// The scene file it was specialised for, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<String>,
+    /// Error domains its declared bound covers.
+    pub domains: Vec<Domain>,
+    /// Arguments of the canonical entry `<prefix>airlight`, in order.
+    pub params: Vec<Arg>,
+    /// Arguments of the physical entry `<prefix>radiance`, in order.
+    pub radiance_params: Vec<Arg>,
+    /// `g` the kernel takes at run time (both ends equal when baked in).
+    pub g: [f64; 2],
+    /// Whether rays may end on a surface (else ρ = ∞).
+    pub surfaces: bool,
+    /// Whether extinction is modelled (else τ = 0).
+    pub extinction: bool,
+    /// Whether the backward part is kept.
+    pub backscatter: bool,
+    /// The plain WGSL file, under `generated/`.
+    pub wgsl: Option<String>,
+    /// The Bevy variant.
+    pub wgsl_bevy: Option<String>,
+    /// The GLSL include.
+    pub glsl: Option<String>,
+    /// The Rust module (its kernel is `airlight_kernels::kernel(name)`).
+    pub rust: Option<String>,
+    /// Prefix of every item in the plain WGSL and GLSL files.
+    pub prefix: String,
+}
+
+impl IndexEntry {
+    /// The arguments of `entry`.
+    pub fn args(&self, entry: Entry) -> &[Arg] {
+        match entry {
+            Entry::Canonical => &self.params,
+            Entry::Radiance => &self.radiance_params,
+        }
+    }
+
+    /// The file of `target` under `generated/` (the plain WGSL for [`Target::Wgsl`]).
+    pub fn file(&self, target: Target) -> Option<&str> {
+        match target {
+            Target::Wgsl => self.wgsl.as_deref(),
+            Target::Glsl => self.glsl.as_deref(),
+            Target::Rust => self.rust.as_deref(),
+        }
+    }
+}
+
+/// The whole index.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Index {
+    /// Every kernel, models first, then scenes.
+    pub kernel: Vec<IndexEntry>,
+}
+
+impl Index {
+    /// Reads the text of `generated/kernels.toml`.
+    pub fn parse(file: &str, text: &str) -> Result<Index, crate::tomlfile::FieldError> {
+        crate::tomlfile::from_str(file, text, "kernel")
+    }
+
+    /// Reads `generated/kernels.toml` under `generated`.
+    pub fn load(generated: &std::path::Path) -> Result<Index, crate::tomlfile::FieldError> {
+        let path = generated.join(INDEX_FILE);
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(&path).map_err(|e| crate::tomlfile::FieldError {
+            file: name.clone(),
+            line: 1,
+            field: "(file)".into(),
+            message: format!("cannot read: {e} (run `airlight generate`)"),
+        })?;
+        Index::parse(&name, &text)
+    }
+
+    /// The kernel called `name`, or an error listing the ones there are.
+    pub fn get(&self, name: &str) -> Result<&IndexEntry, String> {
+        self.kernel.iter().find(|k| k.name == name).ok_or_else(|| {
+            let known: Vec<&str> = self.kernel.iter().map(|k| k.name.as_str()).collect();
+            format!("no generated kernel '{name}'; kernels: {}", known.join(", "))
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_errors() {
+        for t in Target::ALL {
+            assert_eq!(t.name().parse::<Target>(), Ok(t));
+        }
+        let e = "hlsl".parse::<Target>().unwrap_err().to_string();
+        assert_eq!(e, "unknown target 'hlsl' (known: wgsl, glsl, rust)");
+        for entry in [Entry::Canonical, Entry::Radiance] {
+            let mut used = Vec::new();
+            for a in entry.all_args() {
+                let (v, lane) = a.slot(entry).expect("every argument of an entry has a slot");
+                let width = if a.ty() == ArgType::Vec3 { 3 } else { 1 };
+                assert!(v < entry.packed_vec4s() && lane + width <= 4, "{a} fits its vec4");
+                for l in lane..lane + width {
+                    assert!(!used.contains(&(v, l)), "{a} overlaps another argument");
+                    used.push((v, l));
+                }
+            }
+        }
+        assert_eq!(f32_limit(0.0), F32_ALLOWANCE);
+    }
+}
