@@ -429,116 +429,124 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     let rad = typed(spec.radiance_params());
     ctx.insert("radiance_params", &rad);
 
-    if let (Some(m), Some(sp)) = (&spec.model, spec.split()) {
-        let a = &m.model;
-        ctx.insert(
-            "summary",
-            &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)),
-        );
-        // Segments in α = π/2 − θ', increasing in α.
-        let s = &sp.forward;
-        let segs: Vec<Seg> = (0..s.n())
-            .rev()
-            .map(|j| Seg {
-                lo: lit(FRAC_PI_2 - s.breakpoints[j + 1]),
-                hi: lit(FRAC_PI_2 - s.breakpoints[j]),
-                slope: lit(-s.slopes[j]),
-                icpt: lit(s.intercepts[j] + s.slopes[j] * FRAC_PI_2),
-            })
-            .collect();
-        ctx.insert("segs", &segs);
-        let terms = |e: &airlight_fit::family::expsum::ExpSum| -> Vec<Term> {
-            e.c.iter().zip(&e.s).map(|(&c, &s)| Term { c: lit(c), s: lit(s) }).collect()
-        };
-        ctx.insert("near", &terms(&sp.expsum.near));
-        ctx.insert("local", &terms(&sp.expsum.local));
-        ctx.insert("split", &lit(SPLIT));
-        ctx.insert("split_doc", &SPLIT);
-        ctx.insert("local_ratio_doc", &LOCAL_RATIO);
-        ctx.insert("local_ratio", &lit(LOCAL_RATIO));
-        ctx.insert("attenuate", &sp.forward_attenuation);
-        let ratio = sp.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
-        ctx.insert("ratio", &ratio);
-        let (phase, k) = match (&spec.phase, spec.exp_phase()) {
-            (KernelPhase::Isotropic, _) | (_, None) => ("isotropic", 1),
-            (KernelPhase::Fixed(g), Some(e)) => {
-                let t = e.terms(*g);
-                ctx.insert(
-                    "fixed",
-                    &FixedCtx {
-                        c: t.terms.iter().map(|x| lit(x.0)).collect(),
-                        b: t.terms.iter().map(|x| lit(x.1)).collect(),
-                        mirrored: t.mirrored,
-                    },
-                );
-                ctx.insert("fixed_g", &format!("{g}"));
-                ("fixed", e.k())
-            }
-            (KernelPhase::Banded(which), Some(e)) => {
-                let bands: Vec<BandCtx> = which
-                    .iter()
-                    .map(|&i| {
-                        let b = &e.bands[i];
-                        // Re-centred on the band's middle: the paper's quadratics cancel
-                        // to 1e-5 in f32 when evaluated in g itself (b ≈ 7e4 g² − 1.5e5 g + 7e4).
-                        let mid = 0.5 * (b.g_lo + b.g_hi);
-                        let centre =
-                            |r: &[f64; 3]| lits(&[r[0], r[1] + 2.0 * r[0] * mid, r[2] + (r[1] + r[0] * mid) * mid]);
-                        BandCtx {
-                            g_hi: lit(b.g_hi),
-                            g_mid: lit(mid),
-                            a: b.a.iter().map(centre).collect(),
-                            b: b.b.iter().map(centre).collect(),
-                        }
-                    })
-                    .collect();
-                ctx.insert("bands", &bands);
-                ctx.insert("phase_scale", &lit(e.scale));
-                ("banded", e.k())
-            }
-        };
-        ctx.insert("phase", phase);
-        ctx.insert("k", &k);
-        // Rust imports: exactly what the kernel uses.
-        let mut math = vec!["atan2", "exp", "exprel", "sin_cos", "sqrt", "HUGE"];
-        let expsum = spec.backscatter;
-        if expsum {
-            math.push("phi");
-            if !iso {
-                math.push("atan");
-            }
-        }
-        if spec.backscatter && sp.ratio.is_some() {
-            math.push("ln");
-        }
-        math.sort_by_key(|s| s.to_lowercase());
-        ctx.insert("math_imports", &math.join(", "));
-        let mut consts = Vec::new();
-        if spec.backscatter && sp.ratio.is_some() {
-            consts.push("FRAC_PI_2");
-        }
-        if !iso {
-            consts.push("PI");
-        }
-        ctx.insert("const_imports", &consts.join(", "));
-        let (ph_param, ph_arg) = match (iso, lang) {
-            (true, _) => (String::new(), String::new()),
-            (false, Target::Rust) => (", ph: &Phase".to_string(), ", &ph".to_string()),
-            (false, Target::Wgsl) => {
-                (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string())
-            }
-            (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
-        };
-        ctx.insert("ph_param", &ph_param);
-        ctx.insert("ph_arg", &ph_arg);
-    } else {
-        ctx.insert("summary", "isotropic scattering without extinction, exact.");
+    // The family's own data for its templates: one arm per family.
+    match (&spec.body, &spec.model) {
+        (Body::Split(sp), Some(m)) => split_context(&mut ctx, spec, sp, m, out),
+        (Body::NoExtinction(_), _) => ctx.insert("summary", "isotropic scattering without extinction, exact."),
+        (Body::Split(_), None) => unreachable!("a split kernel comes from a model"),
     }
     let mut text = tera.render(template, &ctx)?;
     if !text.ends_with('\n') {
         text.push('\n');
     }
     Ok(Output::text(out.path.replace("{name}", &spec.name).replace("{ident}", &ident), text))
+}
+
+/// What the split family's templates need: segments re-expressed in α, the
+/// backward sums, the ratio, the phase (isotropic, baked or banded), imports.
+fn split_context(ctx: &mut tera::Context, spec: &KernelSpec, sp: &Split, m: &ModelFile, out: &KernelOutput) {
+    let (lang, ident, iso) = (out.target, spec.ident(), spec.phase == KernelPhase::Isotropic);
+    let a = &m.model;
+    ctx.insert(
+        "summary",
+        &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)),
+    );
+    // Segments in α = π/2 − θ', increasing in α.
+    let s = &sp.forward;
+    let segs: Vec<Seg> = (0..s.n())
+        .rev()
+        .map(|j| Seg {
+            lo: lit(FRAC_PI_2 - s.breakpoints[j + 1]),
+            hi: lit(FRAC_PI_2 - s.breakpoints[j]),
+            slope: lit(-s.slopes[j]),
+            icpt: lit(s.intercepts[j] + s.slopes[j] * FRAC_PI_2),
+        })
+        .collect();
+    ctx.insert("segs", &segs);
+    let terms = |e: &airlight_fit::family::expsum::ExpSum| -> Vec<Term> {
+        e.c.iter().zip(&e.s).map(|(&c, &s)| Term { c: lit(c), s: lit(s) }).collect()
+    };
+    ctx.insert("near", &terms(&sp.expsum.near));
+    ctx.insert("local", &terms(&sp.expsum.local));
+    ctx.insert("split", &lit(SPLIT));
+    ctx.insert("split_doc", &SPLIT);
+    ctx.insert("local_ratio_doc", &LOCAL_RATIO);
+    ctx.insert("local_ratio", &lit(LOCAL_RATIO));
+    ctx.insert("attenuate", &sp.forward_attenuation);
+    let ratio = sp.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
+    ctx.insert("ratio", &ratio);
+    let (phase, k) = match (&spec.phase, spec.exp_phase()) {
+        (KernelPhase::Isotropic, _) | (_, None) => ("isotropic", 1),
+        (KernelPhase::Fixed(g), Some(e)) => {
+            let t = e.terms(*g);
+            ctx.insert(
+                "fixed",
+                &FixedCtx {
+                    c: t.terms.iter().map(|x| lit(x.0)).collect(),
+                    b: t.terms.iter().map(|x| lit(x.1)).collect(),
+                    mirrored: t.mirrored,
+                },
+            );
+            ctx.insert("fixed_g", &format!("{g}"));
+            ("fixed", e.k())
+        }
+        (KernelPhase::Banded(which), Some(e)) => {
+            let bands: Vec<BandCtx> = which
+                .iter()
+                .map(|&i| {
+                    let b = &e.bands[i];
+                    // Re-centred on the band's middle: the paper's quadratics cancel
+                    // to 1e-5 in f32 when evaluated in g itself (b ≈ 7e4 g² − 1.5e5 g + 7e4).
+                    let mid = 0.5 * (b.g_lo + b.g_hi);
+                    let centre =
+                        |r: &[f64; 3]| lits(&[r[0], r[1] + 2.0 * r[0] * mid, r[2] + (r[1] + r[0] * mid) * mid]);
+                    BandCtx {
+                        g_hi: lit(b.g_hi),
+                        g_mid: lit(mid),
+                        a: b.a.iter().map(centre).collect(),
+                        b: b.b.iter().map(centre).collect(),
+                    }
+                })
+                .collect();
+            ctx.insert("bands", &bands);
+            ctx.insert("phase_scale", &lit(e.scale));
+            ("banded", e.k())
+        }
+    };
+    ctx.insert("phase", phase);
+    ctx.insert("k", &k);
+    // Rust imports: exactly what the kernel uses.
+    let mut math = vec!["atan2", "exp", "exprel", "sin_cos", "sqrt", "HUGE"];
+    let expsum = spec.backscatter;
+    if expsum {
+        math.push("phi");
+        if !iso {
+            math.push("atan");
+        }
+    }
+    if spec.backscatter && sp.ratio.is_some() {
+        math.push("ln");
+    }
+    math.sort_by_key(|s| s.to_lowercase());
+    ctx.insert("math_imports", &math.join(", "));
+    let mut consts = Vec::new();
+    if spec.backscatter && sp.ratio.is_some() {
+        consts.push("FRAC_PI_2");
+    }
+    if !iso {
+        consts.push("PI");
+    }
+    ctx.insert("const_imports", &consts.join(", "));
+    let (ph_param, ph_arg) = match (iso, lang) {
+        (true, _) => (String::new(), String::new()),
+        (false, Target::Rust) => (", ph: &Phase".to_string(), ", &ph".to_string()),
+        (false, Target::Wgsl) => {
+            (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string())
+        }
+        (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
+    };
+    ctx.insert("ph_param", &ph_param);
+    ctx.insert("ph_arg", &ph_arg);
 }
 
 /// What a kernel was specialised to, in words.
