@@ -447,10 +447,7 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
 fn split_context(ctx: &mut tera::Context, spec: &KernelSpec, sp: &Split, m: &ModelFile, out: &KernelOutput) {
     let (lang, ident, iso) = (out.target, spec.ident(), spec.phase == KernelPhase::Isotropic);
     let a = &m.model;
-    ctx.insert(
-        "summary",
-        &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)),
-    );
+    ctx.insert("summary", &format!("the `{}` model ({}), specialised: {}.", a.name, a.summary, specialisations(spec)));
     // Segments in α = π/2 − θ', increasing in α.
     let s = &sp.forward;
     let segs: Vec<Seg> = (0..s.n())
@@ -540,9 +537,7 @@ fn split_context(ctx: &mut tera::Context, spec: &KernelSpec, sp: &Split, m: &Mod
     let (ph_param, ph_arg) = match (iso, lang) {
         (true, _) => (String::new(), String::new()),
         (false, Target::Rust) => (", ph: &Phase".to_string(), ", &ph".to_string()),
-        (false, Target::Wgsl) => {
-            (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string())
-        }
+        (false, Target::Wgsl) => (format!(", ph: {}Phase", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
         (false, _) => (format!(", {}Phase ph", out.prefix.replace("{ident}", &ident)), ", ph".to_string()),
     };
     ctx.insert("ph_param", &ph_param);

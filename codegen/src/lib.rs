@@ -75,13 +75,7 @@ pub fn read_renders(generated: &std::path::Path) -> std::io::Result<Vec<Output>>
 /// through by `generate`, which never reruns the self-check).
 pub fn read_selfcheck(generated: &std::path::Path) -> Result<SelfCheck, airlight_fit::tomlfile::FieldError> {
     let path = generated.join(airlight_fit::selfcheck::FILE);
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(&path).map_err(|e| airlight_fit::tomlfile::FieldError {
-        file: name.clone(),
-        line: 1,
-        field: "(file)".into(),
-        message: format!("cannot read: {e} (run `airlight regenerate`)"),
-    })?;
+    let (name, text) = airlight_fit::tomlfile::read(&path, " (run `airlight regenerate`)")?;
     SelfCheck::from_toml(&name, &text)
 }
 

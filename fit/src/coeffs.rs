@@ -279,8 +279,7 @@ pub fn load_dir(dir: &Path) -> Result<Vec<ModelFile>, CoeffError> {
     paths
         .iter()
         .map(|path| {
-            let name = path.display().to_string();
-            let text = std::fs::read_to_string(path).map_err(|e| io_err(name.clone(), e))?;
+            let (name, text) = crate::tomlfile::read(path, "")?;
             let f = parse(&name, &text)?;
             let stem = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
             if stem != f.model.name {

@@ -31,6 +31,18 @@ pub fn parse_table(file: &str, text: &str) -> Result<toml::Table, FieldError> {
     from_str(file, text, "(syntax)")
 }
 
+/// The text of `path` and its name for messages; a file that cannot be read is a
+/// one-line error naming it, with `hint` (what to run) appended.
+pub fn read(path: &std::path::Path, hint: &str) -> Result<(String, String), FieldError> {
+    let name = path.display().to_string();
+    match std::fs::read_to_string(path) {
+        Ok(text) => Ok((name, text)),
+        Err(e) => {
+            Err(FieldError { file: name, line: 1, field: "(file)".into(), message: format!("cannot read: {e}{hint}") })
+        }
+    }
+}
+
 /// Deserialises `text` (serde); an error names the file, the line of its span and `field`.
 pub fn from_str<T: serde::de::DeserializeOwned>(file: &str, text: &str, field: &str) -> Result<T, FieldError> {
     toml::from_str(text).map_err(|e: toml::de::Error| FieldError {

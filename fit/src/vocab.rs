@@ -325,14 +325,7 @@ impl Index {
 
     /// Reads `generated/kernels.toml` under `generated`.
     pub fn load(generated: &std::path::Path) -> Result<Index, crate::tomlfile::FieldError> {
-        let path = generated.join(INDEX_FILE);
-        let name = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| crate::tomlfile::FieldError {
-            file: name.clone(),
-            line: 1,
-            field: "(file)".into(),
-            message: format!("cannot read: {e} (run `airlight generate`)"),
-        })?;
+        let (name, text) = crate::tomlfile::read(&generated.join(INDEX_FILE), " (run `airlight generate`)")?;
         Index::parse(&name, &text)
     }
 
