@@ -222,8 +222,10 @@ pub fn airlight_detailed(p: Point) -> Result<Evaluation, ParamError> {
         let x_end = if geo.ub <= 1.0 { geo.delta } else { 1.0 - geo.ua };
         let mut bps = vec![0.0, x_end];
         add_scales(&mut bps, x_end, &[1.0 / t_ext]);
-        // The forward HG peak at u = 0 is algebraic: powers of 4 up to the end.
-        let mut x = 0.5 * width / 16.0;
+        // The forward HG peak at u = 0 is algebraic: powers of 4 up to the end
+        // (from where a breakpoint is still distinct from 0 at the end's scale,
+        // so the loop is bounded however small the width).
+        let mut x = (0.5 * width / 16.0).max(x_end * f64::EPSILON);
         while x < x_end {
             bps.push(x);
             x *= 4.0;
@@ -268,7 +270,9 @@ pub fn airlight_detailed(p: Point) -> Result<Evaluation, ParamError> {
         // subinterval well away from that structure.
         for s in [t_ext, 0.5 * width] {
             if s.is_finite() && s > 0.0 {
-                let mut v = s / 16.0;
+                // Bounded: `v0 − v` rounds to `v0` below `v0·ε`, and `s / 16`
+                // underflows to 0 when `T` is subnormal (it never grew then).
+                let mut v = (s / 16.0).max(v0 * f64::EPSILON);
                 while v < v0 {
                     if v > geo.vb {
                         bps.push(v0 - v);
@@ -481,6 +485,23 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A subnormal optical depth once made a breakpoint loop spin forever; the
+    /// value is then `A` at τ = 0 (to the reference's tolerance).
+    #[test]
+    fn vanishing_optical_depth_returns_and_is_continuous() {
+        for &(tau, gamma, rho, g) in &[
+            (5e-324, 1.0, f64::INFINITY, 0.0),
+            (4e-323, 1.0, 2.0, 0.0),
+            (1e-310, 0.5, f64::INFINITY, 0.9),
+            (1e-300, 2.5, 3.0, -0.7),
+            (5e-324, 3.0, f64::INFINITY, 0.5),
+        ] {
+            let at = |tau| airlight(Point { tau, gamma, rho, g }).unwrap();
+            let (a, a0) = (at(tau), at(0.0));
+            assert!((a - a0).abs() <= 1e-11 * a0, "τ = {tau:e}, γ {gamma}, ρ {rho}, g {g}: {a} vs {a0} at τ = 0");
         }
     }
 
