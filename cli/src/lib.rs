@@ -88,7 +88,9 @@ enum Command {
         /// CSV file of points.
         #[arg(long, short)]
         input: PathBuf,
-        /// Where to write the result (replaced atomically); standard output if omitted.
+        /// Where to write the result: replaced atomically (a symbolic link is written
+        /// through, its target keeps its permissions; a directory, FIFO or device is
+        /// refused); `-` or omitted: standard output.
         #[arg(long, short)]
         output: Option<PathBuf>,
         /// f64: the model as fitted (fit/); f32: the generated Rust kernel of the
@@ -414,14 +416,24 @@ fn eval_gpu(
     write_csv(output, &points_csv::render(&rows, &values))
 }
 
-/// Writes a CSV to `output` (atomically) or standard output.
+/// Writes a CSV to `output` (atomically, through a symbolic link; `-` or none:
+/// standard output, where a closed pipe ends the run quietly).
 fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure> {
     match output {
-        Some(path) => airlight_fit::io::write_atomic(path, csv.as_bytes())
-            .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display()))),
-        None => {
-            print!("{csv}");
-            Ok(())
+        Some(path) if path != Path::new("-") => airlight_fit::io::write_atomic(path, csv.as_bytes()).map_err(|e| {
+            // A special file named as the output is a usage error (2); a failing write, a runtime one (1).
+            let code = if e.kind() == std::io::ErrorKind::InvalidInput { 2 } else { 1 };
+            Failure(code, format!("{}: cannot write: {e}", path.display()))
+        }),
+        _ => {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            match out.write_all(csv.as_bytes()).and_then(|()| out.flush()) {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    Err(Failure(1, format!("standard output: cannot write: {e}")))
+                }
+                _ => Ok(()),
+            }
         }
     }
 }

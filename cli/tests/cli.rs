@@ -39,6 +39,41 @@ fn eval_reference_to_stdout_and_file() {
     let o = airlight(&["eval", "-i", input.to_str().unwrap(), "-o", output.to_str().unwrap()]);
     assert!(o.status.success());
     assert_eq!(std::fs::read_to_string(&output).unwrap(), out);
+    // `-o -` is standard output, not a file named `-`.
+    let o = Command::new(env!("CARGO_BIN_EXE_airlight"))
+        .args(["eval", "-i", input.to_str().unwrap(), "-o", "-"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success() && String::from_utf8_lossy(&o.stdout) == out, "{}", stderr(&o));
+    assert!(!dir.join("-").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A FIFO named as the output is refused (exit 2, the FIFO stays), and a reader
+/// that closes the pipe early ends the run quietly.
+#[cfg(unix)]
+#[test]
+fn special_outputs_are_refused_and_a_closed_pipe_is_quiet() {
+    let dir = scratch("pipe");
+    let input = dir.join("points.csv");
+    let rows: String = (0..20_000).map(|i| format!("{},1,inf,0\n", 1e-3 * f64::from(i))).collect();
+    std::fs::write(&input, format!("tau,gamma,rho,g\n{rows}")).unwrap();
+    let fifo = dir.join("fifo");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let o = airlight(&["eval", "-i", input.to_str().unwrap(), "-o", fifo.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_airlight"))
+        .args(["eval", "-i", input.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before the first byte
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "exit {:?}: {}", o.status, stderr(&o));
+    assert!(o.stderr.is_empty(), "quiet: {}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

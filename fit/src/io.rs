@@ -3,9 +3,42 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// The file a write to `path` lands in: `path` itself, or what its symbolic
+/// links point to (followed to the end, even if that file does not exist yet).
+fn resolve(path: &Path) -> std::io::Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let target = std::fs::read_link(&p)?;
+                p = match p.parent() {
+                    Some(dir) if target.is_relative() => dir.join(target),
+                    _ => target,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
 /// Writes `contents` to a temporary file beside `path`, syncs it, then renames it
-/// over `path`. On error nothing at `path` has changed.
+/// over `path`. On error nothing at `path` has changed. A symbolic link is written
+/// through (its target is replaced, the link stays); an existing file keeps its
+/// permissions; anything but a regular file (a directory, a FIFO, a device) is
+/// refused rather than replaced.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let path = &resolve(path)?;
+    let existing = match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file (a directory, FIFO or device): refusing to replace it",
+            ))
+        }
+        Ok(m) => Some(m.permissions()),
+        Err(_) => None,
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -16,6 +49,9 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(contents)?;
         f.sync_all()?;
+        if let Some(perm) = existing {
+            std::fs::set_permissions(&tmp, perm)?;
+        }
         std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
@@ -39,6 +75,35 @@ mod tests {
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
         // A directory that does not exist: an error, and nothing created.
         assert!(write_atomic(&dir.join("missing/out.csv"), b"x").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writes_through_links_keeps_the_mode_and_refuses_special_files() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("airlight-io-links-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("target.csv");
+        std::fs::write(&target, "old").unwrap();
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let link = dir.join("link.csv");
+        std::os::unix::fs::symlink("target.csv", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(std::fs::metadata(&target).unwrap().permissions().mode() & 0o777, 0o640);
+        // A dangling link: its target is created.
+        std::os::unix::fs::symlink("later.csv", dir.join("dangling.csv")).unwrap();
+        write_atomic(&dir.join("dangling.csv"), b"x").unwrap();
+        assert_eq!(std::fs::read_to_string(dir.join("later.csv")).unwrap(), "x");
+        // A FIFO and a directory are refused and left as they are.
+        let fifo = dir.join("fifo");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let e = write_atomic(&fifo, b"x").unwrap_err();
+        assert!(e.to_string().contains("not a regular file"), "{e}");
+        assert!(!std::fs::metadata(&fifo).unwrap().is_file());
+        assert!(write_atomic(&dir, b"x").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
