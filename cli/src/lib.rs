@@ -822,8 +822,7 @@ fn generated_dir(root: Option<PathBuf>) -> Result<PathBuf, Failure> {
 
 /// Writes the outputs, returning the files that changed.
 fn write_outputs(generated: &Path, outputs: &[airlight_codegen::Output]) -> Result<Vec<PathBuf>, Failure> {
-    airlight_codegen::write_all(generated, outputs)
-        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))
+    airlight_codegen::write_all(generated, outputs).map_err(|e| Failure(1, e.to_string()))
 }
 
 fn generate(root: Option<PathBuf>, check_only: bool) -> Result<(), Failure> {

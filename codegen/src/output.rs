@@ -42,22 +42,17 @@ impl fmt::Display for Difference {
     }
 }
 
-/// Writes every output under `root`, creating directories; each file is
-/// replaced atomically, and files whose contents are unchanged are not touched.
-pub fn write_all(root: &Path, outputs: &[Output]) -> std::io::Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    for o in outputs {
-        let path = root.join(&o.path);
-        if std::fs::read(&path).ok().as_deref() == Some(&o.contents[..]) {
-            continue;
-        }
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)?;
-        }
-        airlight_fit::io::write_atomic(&path, &o.contents)?;
-        written.push(path);
-    }
-    Ok(written)
+/// Writes every output under `root` that differs from what is there, all of them
+/// or none ([`airlight_fit::io::write_all_or_none`]): a failure leaves every file
+/// as it was and names the file that failed. Returns the files written.
+pub fn write_all(root: &Path, outputs: &[Output]) -> Result<Vec<PathBuf>, airlight_fit::io::WriteError> {
+    let changed: Vec<(PathBuf, &[u8])> = outputs
+        .iter()
+        .map(|o| (root.join(&o.path), &o.contents[..]))
+        .filter(|(path, contents)| std::fs::read(path).ok().as_deref() != Some(*contents))
+        .collect();
+    airlight_fit::io::write_all_or_none(&changed)?;
+    Ok(changed.into_iter().map(|(p, _)| p).collect())
 }
 
 /// Every file under `dir`, recursively, sorted.
