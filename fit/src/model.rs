@@ -27,7 +27,7 @@ pub trait Model: Sync {
         p.validate()?;
         let (lo, hi) = self.g_range();
         if p.g < lo || p.g > hi {
-            return Err(ParamError { param: Param::G, value: p.g });
+            return Err(ParamError { param: Param::G, value: p.g, allowed: Some((lo, hi)) });
         }
         Ok(())
     }

@@ -151,8 +151,13 @@ mod tests {
         assert!(e("tau,gamma,rho,g\n1,4,1,0\n").starts_with("in.csv:2: column 'gamma'"));
         assert!(e("tau,gamma,rho,g\n1,1,0,0\n").starts_with("in.csv:2: column 'rho'"));
         assert!(e("tau,gamma,rho,g\n1,1,1,nan\n").starts_with("in.csv:2: column 'g'"));
-        let isotropic =
-            |p: &Point| if p.g == 0.0 { Ok(()) } else { Err(ParamError { param: crate::Param::G, value: p.g }) };
+        let isotropic = |p: &Point| {
+            if p.g == 0.0 {
+                Ok(())
+            } else {
+                Err(ParamError { param: crate::Param::G, value: p.g, allowed: Some((0.0, 0.0)) })
+            }
+        };
         let narrow = parse("in.csv", "tau,gamma,rho,g\n1,1,1,0.5\n", isotropic);
         assert!(narrow.unwrap_err().to_string().starts_with("in.csv:2: column 'g': g = 0.5"));
     }

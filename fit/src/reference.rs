@@ -72,21 +72,42 @@ pub struct ParamError {
     pub param: Param,
     /// Its value.
     pub value: f64,
+    /// The `g` range of the model that refused it, when narrower than `(−1, 1)`.
+    pub allowed: Option<(f64, f64)>,
+}
+
+impl ParamError {
+    /// `param = value` outside the domain of `A` itself.
+    pub fn new(param: Param, value: f64) -> ParamError {
+        ParamError { param, value, allowed: None }
+    }
 }
 
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let need = match self.param {
-            Param::Tau => "a finite number ≥ 0",
-            Param::Gamma => "an angle in [0, π] radians",
-            Param::Rho => "a number > 0, or inf for no surface",
-            Param::G => "in (−1, 1)",
+        let need = match (self.param, self.allowed) {
+            (Param::Tau, _) => "a finite number ≥ 0".to_string(),
+            (Param::Gamma, _) => "an angle in [0, π] radians".to_string(),
+            (Param::Rho, _) => "a number > 0, or inf for no surface".to_string(),
+            (Param::G, Some((lo, hi))) if lo == hi => format!("{}: this model takes only g = {}", num(lo), num(lo)),
+            (Param::G, Some((lo, hi))) => format!("in [{}, {}], this model's range", num(lo), num(hi)),
+            (Param::G, None) => "in (−1, 1)".to_string(),
         };
-        write!(f, "{} = {} is out of range: it must be {}", self.param.name(), self.value, need)
+        write!(f, "{} = {} is out of range: it must be {need}", self.param.name(), num(self.value))
     }
 }
 
 impl std::error::Error for ParamError {}
+
+/// A float for a message: exact and short (`-2`, `0.5`, `1e300`; never 301 digits).
+fn num(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 20 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
 
 impl Point {
     /// A point; see [`Point::validate`].
@@ -96,7 +117,7 @@ impl Point {
 
     /// Checks the domain: `τ ∈ [0, ∞)`, `γ ∈ [0, π]`, `ρ ∈ (0, ∞]`, `|g| < 1`, no NaN.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let err = |param, value| Err(ParamError { param, value });
+        let err = |param, value| Err(ParamError::new(param, value));
         if !self.tau.is_finite() || self.tau < 0.0 {
             return err(Param::Tau, self.tau);
         }
@@ -412,7 +433,7 @@ pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
 pub fn airlight_e1(p: Point) -> Result<(f64, f64), ParamError> {
     p.validate()?;
     if p.g != 0.0 {
-        return Err(ParamError { param: Param::G, value: p.g });
+        return Err(ParamError::new(Param::G, p.g));
     }
     if let Some(v) = on_axis(p, Phase::Isotropic) {
         return Ok((v, 1.0));
@@ -486,6 +507,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn messages_name_the_range_that_refused_and_print_numbers_short() {
+        let iso = ParamError { param: Param::G, value: 0.5, allowed: Some((0.0, 0.0)) };
+        assert_eq!(iso.to_string(), "g = 0.5 is out of range: it must be 0: this model takes only g = 0");
+        let hg = ParamError { param: Param::G, value: 0.995, allowed: Some((-0.99, 0.99)) };
+        assert_eq!(hg.to_string(), "g = 0.995 is out of range: it must be in [-0.99, 0.99], this model's range");
+        assert_eq!(
+            ParamError::new(Param::Tau, -1e300).to_string(),
+            "tau = -1e300 is out of range: it must be a finite number ≥ 0"
+        );
+        assert_eq!(
+            ParamError::new(Param::Rho, 0.0).to_string(),
+            "rho = 0 is out of range: it must be a number > 0, or inf for no surface"
+        );
     }
 
     /// A subnormal optical depth once made a breakpoint loop spin forever; the
