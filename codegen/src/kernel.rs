@@ -750,6 +750,11 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
             },
         ),
     };
+    let expected = if plan.ignored_extinction > 0.0 {
+        format!("{expected}; ignoring extinction adds up to {} (measured)", fmt(plan.ignored_extinction))
+    } else {
+        expected
+    };
     ctx.insert("model", &model);
     ctx.insert("why", &why);
     ctx.insert("expected", &expected);

@@ -63,6 +63,7 @@ impl Scene {
         let (table, key) = match e {
             PlanError::OutsideDomains { .. } => ("lights", "max_distance"),
             PlanError::NoBackscatter { .. } => ("ray", "backscatter"),
+            PlanError::IgnoredExtinction { .. } => ("medium", "extinction"),
             PlanError::Budget { best: None, .. } => ("medium", "phase"),
             PlanError::Budget { .. } => ("accuracy", "max_rel_error"),
         };
@@ -242,6 +243,11 @@ pub struct Plan {
     pub tau_max: f64,
     /// Error domains the bound was taken over.
     pub domains: Vec<Domain>,
+    /// With `extinction = false`: the largest relative error of ignoring it at
+    /// `σt·D` up to the scene's largest (measured, [`NoExtinction`'s grid]); 0 otherwise.
+    ///
+    /// [`NoExtinction`'s grid]: airlight_fit::family::closed::extinction_error
+    pub ignored_extinction: f64,
 }
 
 /// Why a scene has no model.
@@ -255,6 +261,16 @@ pub enum PlanError {
     /// `backscatter = false` drops the backward part, which is all of `A` when
     /// looking away from a light: only a budget of at least 100% allows it.
     NoBackscatter {
+        /// The scene's budget.
+        budget: f64,
+    },
+    /// `extinction = false`, but at the scene's optical distances ignoring
+    /// extinction is off by more than the budget.
+    IgnoredExtinction {
+        /// σt_max · max_distance.
+        tau_max: f64,
+        /// The measured error of ignoring extinction there.
+        error: f64,
         /// The scene's budget.
         budget: f64,
     },
@@ -283,6 +299,14 @@ impl fmt::Display for PlanError {
                 "backscatter = false leaves out the backward part, which is 100% of A looking away from a light; \
                  max_rel_error = {budget} cannot hold (it needs >= 1)"
             ),
+            PlanError::IgnoredExtinction { tau_max, error, budget } => write!(
+                f,
+                "extinction = false, but at σt·D up to {} ignoring extinction is off by up to {} (measured), \
+                 beyond max_rel_error = {budget}: set extinction = true, or a budget of at least {}",
+                airlight_fit::tomlfile::short(*tau_max),
+                airlight_fit::tomlfile::short(*error),
+                airlight_fit::tomlfile::short(*error)
+            ),
             PlanError::Budget { budget, best: None } => {
                 write!(f, "no model covers this scene's phase function (budget {budget})")
             }
@@ -304,8 +328,26 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
     if !scene.backscatter && scene.max_rel_error < 1.0 {
         return Err(PlanError::NoBackscatter { budget: scene.max_rel_error });
     }
+    // Ignoring extinction is a choice with an error of its own: measured, and
+    // refused beyond the budget (the kernels then take τ = 0).
+    let ignored_extinction = if scene.extinction {
+        0.0
+    } else {
+        let (g_lo, g_hi) = scene.phase.g_range();
+        let gs: Vec<f64> = if g_lo == g_hi { vec![g_lo] } else { vec![g_lo, 0.0f64.clamp(g_lo, g_hi), g_hi] };
+        let error = airlight_fit::family::closed::extinction_error(tau_max, scene.surfaces, &gs);
+        if error > scene.max_rel_error {
+            return Err(PlanError::IgnoredExtinction { tau_max, error, budget: scene.max_rel_error });
+        }
+        error
+    };
     if !scene.extinction && scene.phase == ScenePhase::Isotropic {
-        return Ok(Plan { choice: Choice::NoExtinction, tau_max: 0.0, domains: vec![Domain::Thin] });
+        return Ok(Plan {
+            choice: Choice::NoExtinction,
+            tau_max: 0.0,
+            domains: vec![Domain::Thin],
+            ignored_extinction,
+        });
     }
     let tau_max = if scene.extinction { tau_max } else { 0.0 };
     if tau_max > TAU_DENSE_MAX {
@@ -335,6 +377,7 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
             choice: Choice::Model { name: m.model.name.clone(), bound: *bound, cost: m.model.cost() },
             tau_max,
             domains,
+            ignored_extinction,
         }),
         None => Err(PlanError::Budget {
             budget: scene.max_rel_error,
@@ -397,6 +440,27 @@ mod tests {
         let mut hg = scene("fog-street.toml");
         hg.phase = ScenePhase::Fixed(0.9);
         assert!(matches!(plan(&hg, &models).unwrap_err(), PlanError::Budget { best: Some(_), .. }));
+    }
+
+    /// `extinction = false` is a modelling error of its own: measured at the
+    /// scene's optical distances and refused beyond the budget, naming the field.
+    #[test]
+    fn ignoring_extinction_must_fit_the_budget() {
+        let models = models();
+        let mut s = scene("haze-sky.toml");
+        assert_eq!(plan(&s, &models).unwrap().ignored_extinction, 0.0, "σt = 0: exact");
+        // Fog at 2 km: σt·D = 2, where dropping extinction is off by orders of magnitude.
+        s.sigma_t = (0.0, 1e-3);
+        let e = plan(&s, &models).unwrap_err();
+        let PlanError::IgnoredExtinction { tau_max, error, .. } = e else { panic!("{e:?}") };
+        assert!(tau_max == 2.0 && error > 1.0, "{error}");
+        let msg = s.plan_error(&e).to_string();
+        assert!(msg.contains("field 'medium.extinction'") && msg.contains("set extinction = true"), "{msg}");
+        assert_eq!(s.plan_error(&e).line, s.text.lines().position(|l| l.starts_with("extinction")).unwrap() + 1);
+        // Clear air: σt·D = 2e-6 costs a little, which the plan states.
+        s.sigma_t = (0.0, 1e-9);
+        let p = plan(&s, &models).unwrap();
+        assert!(p.ignored_extinction > 0.0 && p.ignored_extinction < s.max_rel_error, "{}", p.ignored_extinction);
     }
 
     #[test]
