@@ -115,8 +115,6 @@ pub struct KernelSpec {
     pub name: String,
     /// The model, or `None` for the no-extinction closed form.
     pub model: Option<ModelFile>,
-    /// The family values the kernel evaluates (the model's, or the closed form's).
-    pub body: Body,
     /// Phase handling.
     pub phase: KernelPhase,
     /// Whether rays can end on a surface.
@@ -154,7 +152,6 @@ impl KernelSpec {
             Some(PhaseModel::Exp(e)) => KernelPhase::Banded((0..e.bands.len()).collect()),
         };
         KernelSpec {
-            body: m.model.body.clone(),
             name: m.model.name.clone(),
             bound: format!("max relative error of A (f64 model): {}", domain_bound(m, &[Domain::Thin, Domain::Dense])),
             model: Some(m.clone()),
@@ -174,7 +171,6 @@ impl KernelSpec {
         let name = format!("scene-{}", scene.name);
         let common = |model: Option<ModelFile>, phase: KernelPhase, bound: String| KernelSpec {
             name: name.clone(),
-            body: model.as_ref().map_or(Body::NoExtinction(NoExtinction), |m| m.model.body.clone()),
             model,
             phase,
             surfaces: scene.surfaces,
@@ -272,12 +268,15 @@ impl KernelSpec {
         self.args(Entry::Radiance)
     }
 
+    /// The family values it evaluates: its model's, or the closed form's.
+    pub fn body(&self) -> &Body {
+        static CLOSED: Body = Body::NoExtinction(NoExtinction);
+        self.model.as_ref().map_or(&CLOSED, |m| &m.model.body)
+    }
+
     /// The split family of its model, if that is what it evaluates.
     fn split(&self) -> Option<&Split> {
-        match &self.body {
-            Body::Split(s) => Some(s),
-            Body::NoExtinction(_) => None,
-        }
+        self.model.as_ref()?.model.split()
     }
 
     fn exp_phase(&self) -> Option<&ExpPhase> {
@@ -291,7 +290,7 @@ impl KernelSpec {
     pub fn shape(&self) -> Shape {
         let phase = match self.phase {
             KernelPhase::Isotropic => PhaseShape::Isotropic,
-            _ => self.body.phase_shape(),
+            _ => self.body().phase_shape(),
         };
         Shape { phase, backscatter: self.backscatter, surfaces: self.surfaces }
     }
@@ -299,7 +298,7 @@ impl KernelSpec {
     /// Worst-case operation count of one evaluation of this f32 kernel (the
     /// canonical entry), from its family ([`Body::ops`]).
     pub fn op_count(&self) -> Cost {
-        self.body.ops(self.shape())
+        self.body().ops(self.shape())
     }
 }
 
@@ -370,7 +369,7 @@ fn comment(lines: &[String], marker: &str) -> String {
 /// Renders one kernel for one table row.
 fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Result<Output, tera::Error> {
     let ident = spec.ident();
-    let kind = spec.body.kind();
+    let kind = spec.body().kind();
     let template = out.templates.get(kind).ok_or_else(|| {
         tera::Error::msg(format!("codegen/outputs.toml: no {} template for the family '{kind}'", out.target))
     })?;
@@ -430,7 +429,7 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     ctx.insert("radiance_params", &rad);
 
     // The family's own data for its templates: one arm per family.
-    match (&spec.body, &spec.model) {
+    match (spec.body(), &spec.model) {
         (Body::Split(sp), Some(m)) => split_context(&mut ctx, spec, sp, m, out),
         (Body::NoExtinction(_), _) => ctx.insert("summary", "isotropic scattering without extinction, exact."),
         (Body::Split(_), None) => unreachable!("a split kernel comes from a model"),
