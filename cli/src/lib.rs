@@ -36,7 +36,9 @@ tau   = sigma_t * D, the optical distance from the viewer to the light (D = view
 gamma = angle between the view ray and the direction to the light, radians in [0, pi]\n  \
 rho   = distance to the first surface along the ray divided by D (inf: no surface)\n  \
 g     = Henyey-Greenstein asymmetry in (-1, 1); 0 is isotropic scattering\n\n\
-It fits fast approximations against a high-precision reference and reports their measured error."
+It fits fast approximations against a high-precision reference and reports their measured error.",
+    after_help = "Exit status: 0 on success; 2 for bad input or usage (a one-line message naming the file, \
+line and field or column; nothing is written); 1 when a check fails, a file cannot be written or the GPU fails."
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -358,7 +360,7 @@ fn eval(
     kernels: Option<&[CompiledKernel]>,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
-    let (reg, _) = registry(root)?;
+    let (reg, _) = registry(root.clone())?;
     let kernel = match kernels {
         None => None,
         Some(ks) => Some(ks.iter().find(|k| k.name == model).ok_or_else(|| {
@@ -366,27 +368,32 @@ fn eval(
             bad_input(format!("no generated f32 kernel '{model}'; kernels: {}", known.join(", ")))
         })?),
     };
-    // The f64 model checks the points (g range); scene kernels take any valid point.
-    let checker: Option<&dyn model::Model> = match (reg.get(model), kernel) {
-        (Ok(m), _) => Some(m),
-        (Err(_), Some(_)) => None,
-        (Err(e), None) => return Err(bad_input(e)),
+    let m = match kernel {
+        // A generated kernel checks the points against what it takes (its index entry).
+        Some(k) => {
+            let index = gate::load_index(&generated_dir(root)?).map_err(|e| bad_input(e.to_string()))?;
+            let entry = index.get(model).map_err(bad_input)?;
+            let rows = read_points(input, &|p| entry.check(p))?;
+            let values: Vec<f64> = rows.iter().map(|r| f32_value(k, r.point)).collect();
+            return write_csv(output, &points_csv::render(&rows, &values));
+        }
+        None => reg.get(model).map_err(bad_input)?,
     };
-    let rows = read_points(input, checker)?;
-    let values = match (kernel, checker) {
-        (Some(k), _) => rows.iter().map(|r| f32_value(k, r.point)).collect(),
-        (None, Some(m)) => airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {}),
-        (None, None) => unreachable!("f64 needs a model"),
-    };
+    // The f64 model checks the points (its g range).
+    let rows = read_points(input, &|p| m.check(p))?;
+    let values = airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {});
     write_csv(output, &points_csv::render(&rows, &values))
 }
 
-/// The points of an `eval` CSV, checked against `checker`'s domain (the f64
-/// model's `g` range) when there is one.
-fn read_points(input: &Path, checker: Option<&dyn model::Model>) -> Result<Vec<points_csv::Row>, Failure> {
+/// The points of an `eval` CSV, each checked by `check` (the f64 model's domain,
+/// or what a generated kernel takes).
+fn read_points(
+    input: &Path,
+    check: &dyn Fn(&airlight_fit::reference::Point) -> Result<(), airlight_fit::ParamError>,
+) -> Result<Vec<points_csv::Row>, Failure> {
     let name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
-    points_csv::parse(&name, &text, |p| checker.map_or(Ok(()), |m| m.check(p))).map_err(bad_input)
+    points_csv::parse(&name, &text, check).map_err(bad_input)
 }
 
 /// `eval --target wgsl|glsl`: the generated shader kernel on the GPU adapter.
@@ -404,9 +411,7 @@ fn eval_gpu(
     let path = generated.join(file);
     let source =
         std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
-    let (reg, _) = registry(root)?;
-    let checker = k.model.as_ref().and_then(|m| reg.get(m).ok());
-    let rows = read_points(input, checker)?;
+    let rows = read_points(input, &|p| k.check(p))?;
     let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
     eprintln!("adapter: {}", gpu.adapter());
     let src = KernelSource::of(k, language, &source);

@@ -395,3 +395,22 @@ fn a_damaged_coefficient_file_stops_every_command_and_writes_nothing() {
     assert_eq!(std::fs::read_dir(root.join("generated")).unwrap().count(), before, "generate wrote nothing");
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// A scene kernel was specialised away from some arguments: a point that needs
+/// them is refused (naming the column), not silently evaluated elsewhere.
+#[test]
+fn scene_kernels_refuse_points_they_were_specialised_away_from() {
+    let dir = scratch("specialised");
+    let input = dir.join("p.csv");
+    for (kernel, point, column) in [
+        ("scene-haze-sky", "1,1,inf,0", "column 'tau': tau = 1 is out of range: it must be 0"),
+        ("scene-harbour-fog", "1,1,2,0", "column 'rho': rho = 2 is out of range: it must be inf"),
+        ("segments-8", "1,1,2,0.5", "column 'g': g = 0.5 is out of range: it must be 0"),
+    ] {
+        std::fs::write(&input, format!("tau,gamma,rho,g\n{point}\n")).unwrap();
+        let o = airlight(&["eval", "--model", kernel, "--precision", "f32", "-i", input.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{kernel}: {}", stderr(&o));
+        assert!(stderr(&o).contains(column), "{kernel}: {}", stderr(&o));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

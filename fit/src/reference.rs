@@ -85,12 +85,15 @@ impl ParamError {
 
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let name = self.param.name();
         let need = match (self.param, self.allowed) {
-            (Param::Tau, _) => "a finite number ≥ 0".to_string(),
-            (Param::Gamma, _) => "an angle in [0, π] radians".to_string(),
-            (Param::Rho, _) => "a number > 0, or inf for no surface".to_string(),
-            (Param::G, Some((lo, hi))) if lo == hi => format!("{}: this model takes only g = {}", num(lo), num(lo)),
-            (Param::G, Some((lo, hi))) => format!("in [{}, {}], this model's range", num(lo), num(hi)),
+            (_, Some((lo, hi))) if lo == hi => {
+                format!("{}: the model or kernel takes only {name} = {}", num(lo), num(lo))
+            }
+            (_, Some((lo, hi))) => format!("in [{}, {}], the range of the model or kernel", num(lo), num(hi)),
+            (Param::Tau, None) => "a finite number ≥ 0".to_string(),
+            (Param::Gamma, None) => "an angle in [0, π] radians".to_string(),
+            (Param::Rho, None) => "a number > 0, or inf for no surface".to_string(),
             (Param::G, None) => "in (−1, 1)".to_string(),
         };
         write!(f, "{} = {} is out of range: it must be {need}", self.param.name(), num(self.value))
@@ -512,9 +515,12 @@ mod tests {
     #[test]
     fn messages_name_the_range_that_refused_and_print_numbers_short() {
         let iso = ParamError { param: Param::G, value: 0.5, allowed: Some((0.0, 0.0)) };
-        assert_eq!(iso.to_string(), "g = 0.5 is out of range: it must be 0: this model takes only g = 0");
+        assert_eq!(iso.to_string(), "g = 0.5 is out of range: it must be 0: the model or kernel takes only g = 0");
         let hg = ParamError { param: Param::G, value: 0.995, allowed: Some((-0.99, 0.99)) };
-        assert_eq!(hg.to_string(), "g = 0.995 is out of range: it must be in [-0.99, 0.99], this model's range");
+        assert_eq!(
+            hg.to_string(),
+            "g = 0.995 is out of range: it must be in [-0.99, 0.99], the range of the model or kernel"
+        );
         assert_eq!(
             ParamError::new(Param::Tau, -1e300).to_string(),
             "tau = -1e300 is out of range: it must be a finite number ≥ 0"

@@ -291,6 +291,26 @@ pub struct IndexEntry {
 }
 
 impl IndexEntry {
+    /// Whether the kernel can evaluate `p` as it is: `p` in the domain of `A`, and
+    /// nothing the kernel was specialised away from (extinction: only `τ = 0`;
+    /// surfaces: only `ρ = ∞`; its `g`, or its `g` range) — a kernel would otherwise
+    /// evaluate another point than the one asked for, silently.
+    pub fn check(&self, p: &crate::reference::Point) -> Result<(), crate::reference::ParamError> {
+        use crate::reference::{Param, ParamError};
+        p.validate()?;
+        let only = |param, value, v: f64| Err(ParamError { param, value, allowed: Some((v, v)) });
+        if !self.extinction && p.tau != 0.0 {
+            return only(Param::Tau, p.tau, 0.0);
+        }
+        if !self.surfaces && p.rho.is_finite() {
+            return only(Param::Rho, p.rho, f64::INFINITY);
+        }
+        if p.g < self.g[0] || p.g > self.g[1] {
+            return Err(ParamError { param: Param::G, value: p.g, allowed: Some((self.g[0], self.g[1])) });
+        }
+        Ok(())
+    }
+
     /// The arguments of `entry`.
     pub fn args(&self, entry: Entry) -> &[Arg] {
         match entry {
