@@ -14,9 +14,12 @@ use airlight_shaders::gate::project;
 use airlight_shaders::{KernelSource, Target};
 use std::path::Path;
 
+/// A scene file; without extinction the medium is clear (σt = 0), the only one
+/// where ignoring extinction meets a budget.
 fn scene_text(phase: &str, extinction: bool, surfaces: bool, backscatter: bool, budget: f64) -> String {
+    let sigma_t = if extinction { 0.5 } else { 0.0 };
     format!(
-        "[medium]\nsigma_t = [0.0, 0.5]\n{phase}\nextinction = {extinction}\n\n[lights]\nkind = \"point\"\nmax_distance = 30.0\n\n\
+        "[medium]\nsigma_t = [0.0, {sigma_t:?}]\n{phase}\nextinction = {extinction}\n\n[lights]\nkind = \"point\"\nmax_distance = 30.0\n\n\
          [ray]\nsurfaces = {surfaces}\nbackscatter = {backscatter}\n\n[accuracy]\nmax_rel_error = {budget}\n\n[output]\ntargets = [\"wgsl\", \"glsl\"]\n"
     )
 }

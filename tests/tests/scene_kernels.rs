@@ -8,9 +8,12 @@ use airlight_fit::reference::{airlight, Point};
 use airlight_tests::{committed_models, generated_dir, repo_root};
 use std::f64::consts::PI;
 
+/// A scene file; without extinction the medium is clear (σt = 0), the only one
+/// where ignoring extinction meets a budget.
 fn scene_text(phase: &str, extinction: bool, surfaces: bool, budget: f64) -> String {
+    let sigma_t = if extinction { 0.05 } else { 0.0 };
     format!(
-        "[medium]\nsigma_t = [0.0, 0.05]\n{phase}\nextinction = {extinction}\n\n[lights]\nkind = \"point\"\nmax_distance = 30.0\n\n\
+        "[medium]\nsigma_t = [0.0, {sigma_t:?}]\n{phase}\nextinction = {extinction}\n\n[lights]\nkind = \"point\"\nmax_distance = 30.0\n\n\
          [ray]\nsurfaces = {surfaces}\nbackscatter = true\n\n[accuracy]\nmax_rel_error = {budget}\n\n[output]\ntargets = [\"wgsl\", \"glsl\", \"rust\"]\n"
     )
 }
