@@ -76,7 +76,6 @@ pub type CoeffError = FieldError;
 
 /// Shortest text that reads back as the same f64 (TOML spells infinity `inf`).
 pub fn dec(x: f64) -> String {
-    // Shortest text that reads back as the same f64; TOML spells infinity `inf`.
     if x.is_infinite() {
         if x > 0.0 {
             "inf".into()
@@ -161,10 +160,7 @@ pub fn render(f: &ModelFile) -> String {
 pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let doc: Table = parse_table(file, text)?;
     let p = Reader { file, text };
-    let kind = match doc.get("model").and_then(|m| m.get("kind")).and_then(Value::as_str) {
-        Some(k) => k.to_string(),
-        None => p.string(p.table(&doc, "model")?, "model", "kind")?,
-    };
+    let kind = p.string(p.table(&doc, "model")?, "model", "kind")?;
     let tables = Body::tables(&kind).ok_or_else(|| {
         p.err("model", "kind", &format!("unknown family '{kind}' (known: {})", Body::KINDS.join(", ")))
     })?;
@@ -207,39 +203,34 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     p.deny(err, "error", &names)?;
     for d in Domain::ALL {
         let (domain, sec) = (d.name(), format!("error.{}", d.name()));
-        {
-            let t = err.get(domain).ok_or_else(|| CoeffError {
-                file: file.into(),
-                line: 1,
-                field: sec.clone(),
-                message: format!(
-                    "missing table [{sec}]: every model declares its measured error on {}",
-                    names.join(", ")
-                ),
-            })?;
-            let t = t.as_table().ok_or_else(|| p.err(&sec, domain, "must be a table"))?;
-            p.deny(t, &sec, &["points", "max_rel", "p99_rel", "worst", "non_finite", "negative"])?;
-            let w = p.table(t, "worst").map_err(|_| p.err(&sec, "worst", "missing"))?;
-            p.deny(w, &sec, &["tau", "gamma", "rho", "g"])?;
-            let pf = |k: &str| p.float(w, &sec, k);
-            let bound = |k: &str| -> Result<f64, CoeffError> {
-                let x = p.float(t, &sec, k)?;
-                if x.is_finite() && x >= 0.0 {
-                    Ok(x)
-                } else {
-                    Err(p.err(&sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
-                }
-            };
-            errors.push(DomainErrors {
-                domain: d,
-                points: p.uint(t, &sec, "points")?,
-                max_rel: bound("max_rel")?,
-                p99_rel: bound("p99_rel")?,
-                worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
-                non_finite: p.uint(t, &sec, "non_finite")?,
-                negative: p.uint(t, &sec, "negative")?,
-            });
-        }
+        let t = err.get(domain).ok_or_else(|| CoeffError {
+            file: file.into(),
+            line: 1,
+            field: sec.clone(),
+            message: format!("missing table [{sec}]: every model declares its measured error on {}", names.join(", ")),
+        })?;
+        let t = t.as_table().ok_or_else(|| p.err(&sec, domain, "must be a table"))?;
+        p.deny(t, &sec, &["points", "max_rel", "p99_rel", "worst", "non_finite", "negative"])?;
+        let w = p.table(t, "worst").map_err(|_| p.err(&sec, "worst", "missing"))?;
+        p.deny(w, &sec, &["tau", "gamma", "rho", "g"])?;
+        let pf = |k: &str| p.float(w, &sec, k);
+        let bound = |k: &str| -> Result<f64, CoeffError> {
+            let x = p.float(t, &sec, k)?;
+            if x.is_finite() && x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(p.err(&sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
+            }
+        };
+        errors.push(DomainErrors {
+            domain: d,
+            points: p.uint(t, &sec, "points")?,
+            max_rel: bound("max_rel")?,
+            p99_rel: bound("p99_rel")?,
+            worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
+            non_finite: p.uint(t, &sec, "non_finite")?,
+            negative: p.uint(t, &sec, "negative")?,
+        });
     }
 
     let body = Body::parse_toml(&kind, &p, &doc, &g_range)?;

@@ -54,10 +54,14 @@ pub fn from_str<T: serde::de::DeserializeOwned>(file: &str, text: &str, field: &
 }
 
 /// The line of `key = …` inside `[section]` or `[[section]]` (the last component
-/// of a dotted `key`), else the section header's line, else 1.
+/// of a dotted `key`), else the section header's line, else 1. With `section`
+/// empty: a top-level `key = …`, or the header of the table `key`.
 pub fn locate(text: &str, section: &str, key: &str) -> usize {
+    if section.is_empty() {
+        return locate_top(text, key);
+    }
     let header = format!("[{section}]");
-    let mut in_section = section.is_empty();
+    let mut in_section = false;
     let mut section_line = 1;
     let leaf = key.rsplit('.').next().unwrap_or(key);
     for (i, line) in text.lines().enumerate() {
@@ -101,7 +105,7 @@ pub fn deny_unknown(
         Some(k) => {
             let what = if table.get(k).is_some_and(toml::Value::is_table) { "table" } else { "key" };
             let field = if section.is_empty() { k.clone() } else { format!("{section}.{k}") };
-            let line = if section.is_empty() { locate_top(text, k) } else { locate(text, section, k) };
+            let line = locate(text, section, k);
             Err(FieldError {
                 file: file.into(),
                 line,

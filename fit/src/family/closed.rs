@@ -14,6 +14,9 @@ use std::f64::consts::PI;
 pub struct NoExtinction;
 
 impl NoExtinction {
+    /// Its kind ([`crate::family::Body::kind`]).
+    pub const KIND: &'static str = "no-extinction";
+
     /// `A(0, γ, ρ)` whatever `τ` and `g` the point has.
     pub fn eval(&self, p: Point) -> f64 {
         let (h, c) = (p.gamma.sin(), p.gamma.cos());

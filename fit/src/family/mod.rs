@@ -30,14 +30,14 @@ pub enum Body {
 
 impl Body {
     /// Every kind, in the order of the variants.
-    pub const KINDS: [&'static str; 2] = ["split", "no-extinction"];
+    pub const KINDS: [&'static str; 2] = [split::Split::KIND, closed::NoExtinction::KIND];
 
-    /// The family's name: the `kind` key of coefficient files and the stem of
-    /// its kernel templates (`codegen/templates/kernels/<kind>.<target>.tera`).
+    /// The family's name: the `kind` key of coefficient files and the key of its
+    /// templates in `codegen/outputs.toml`.
     pub fn kind(&self) -> &'static str {
         match self {
-            Body::Split(_) => "split",
-            Body::NoExtinction(_) => "no-extinction",
+            Body::Split(_) => split::Split::KIND,
+            Body::NoExtinction(_) => closed::NoExtinction::KIND,
         }
     }
 
@@ -70,8 +70,8 @@ impl Body {
     /// `[model]`, `[error.*]` and `[provenance]`); `None` for an unknown kind.
     pub fn tables(kind: &str) -> Option<&'static [&'static str]> {
         match kind {
-            "split" => Some(split::Split::TABLES),
-            "no-extinction" => Some(&[]),
+            split::Split::KIND => Some(split::Split::TABLES),
+            closed::NoExtinction::KIND => Some(&[]),
             _ => None,
         }
     }
@@ -88,8 +88,8 @@ impl Body {
     /// Reads the tables of a coefficient file of family `kind` (checked by [`Body::tables`]).
     pub fn parse_toml(kind: &str, r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Body, FieldError> {
         Ok(match kind {
-            "split" => Body::Split(split::Split::parse_toml(r, doc, g_range)?),
-            "no-extinction" => Body::NoExtinction(closed::NoExtinction),
+            split::Split::KIND => Body::Split(split::Split::parse_toml(r, doc, g_range)?),
+            closed::NoExtinction::KIND => Body::NoExtinction(closed::NoExtinction),
             other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
         })
     }

@@ -189,6 +189,9 @@ impl Split {
 }
 
 impl Split {
+    /// Its kind ([`crate::family::Body::kind`]).
+    pub const KIND: &'static str = "split";
+
     /// The top-level tables of its coefficient file.
     pub const TABLES: &'static [&'static str] = &["forward", "phase", "backscatter"];
 
