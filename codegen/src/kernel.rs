@@ -512,7 +512,13 @@ fn split_context(ctx: &mut tera::Context, spec: &KernelSpec, sp: &Split, m: &Mod
     ctx.insert("phase", phase);
     ctx.insert("k", &k);
     // Rust imports: exactly what the kernel uses.
-    let mut math = vec!["atan2", "exp", "exprel", "sin_cos", "sqrt", "HUGE"];
+    let mut math = vec!["atan2", "exp", "exprel", "ray_geometry", "scaled", "sin_cos", "HUGE", "TAU_MAX"];
+    if spec.surfaces {
+        math.push("RHO_OPEN");
+        if spec.backscatter {
+            math.push("sqrt");
+        }
+    }
     let expsum = spec.backscatter;
     if expsum {
         math.push("phi");

@@ -42,7 +42,7 @@ pub struct PhysicalRay {
     pub intensity: f64,
     /// Extinction coefficient σt, 1/world unit.
     pub sigma_t: f64,
-    /// Scattering coefficient σs ≤ σt, 1/world unit.
+    /// Scattering coefficient σs, 1/world unit (physically ≤ σt).
     pub sigma_s: f64,
 }
 
@@ -64,7 +64,7 @@ pub enum GeometryError {
     Direction,
     /// The light sits at the viewer (D = 0) or a position is not finite.
     LightAtViewer,
-    /// σt < 0, σs < 0, σs > σt, or a NaN.
+    /// σt or σs negative, infinite or NaN.
     Medium,
     /// The surface distance is not > 0.
     Surface,
@@ -77,7 +77,7 @@ impl fmt::Display for GeometryError {
         f.write_str(match self {
             GeometryError::Direction => "ray direction must be finite and non-zero",
             GeometryError::LightAtViewer => "light and viewer positions must be finite and distinct",
-            GeometryError::Medium => "medium needs 0 ≤ sigma_s ≤ sigma_t < ∞",
+            GeometryError::Medium => "medium needs finite sigma_t ≥ 0 and sigma_s ≥ 0",
             GeometryError::Surface => "surface distance must be > 0",
             GeometryError::Intensity => "light intensity must be ≥ 0",
         })
@@ -98,7 +98,9 @@ impl PhysicalRay {
         if !(distance > 0.0 && distance.is_finite()) {
             return Err(GeometryError::LightAtViewer);
         }
-        if !(self.sigma_t.is_finite() && self.sigma_s >= 0.0 && self.sigma_s <= self.sigma_t) {
+        // σs > σt is unphysical (a medium scatters no more than it extinguishes),
+        // but the radiance is still σs·I/D·A: kernels take it, so the reference does.
+        if !(self.sigma_t.is_finite() && self.sigma_t >= 0.0 && self.sigma_s.is_finite() && self.sigma_s >= 0.0) {
             return Err(GeometryError::Medium);
         }
         if self.intensity.is_nan() || self.intensity < 0.0 {
@@ -117,6 +119,37 @@ impl PhysicalRay {
             distance,
             scale: self.sigma_s * self.intensity / distance,
         })
+    }
+
+    /// The in-scattered radiance `σs·I/D·A` over every input the kernels' physical
+    /// entry takes, `a` evaluating `A` at a canonical point (the reference or a
+    /// model): 0 without scattering or light, or with a surface at the viewer;
+    /// `+∞` with the light at the viewer or on the ray ahead (`A` diverges).
+    /// Errors only for what defines no ray: a zero or non-finite direction,
+    /// non-finite positions, a negative or non-finite medium or intensity.
+    pub fn radiance(&self, g: f64, a: &dyn Fn(Point) -> f64) -> Result<f64, GeometryError> {
+        let dir_len = norm(self.direction);
+        if !(dir_len > 0.0 && dir_len.is_finite()) {
+            return Err(GeometryError::Direction);
+        }
+        if !(self.origin.iter().chain(&self.light).all(|x| x.is_finite())) {
+            return Err(GeometryError::LightAtViewer);
+        }
+        if !(self.sigma_t.is_finite() && self.sigma_t >= 0.0 && self.sigma_s.is_finite() && self.sigma_s >= 0.0) {
+            return Err(GeometryError::Medium);
+        }
+        if !(self.intensity.is_finite() && self.intensity >= 0.0) {
+            return Err(GeometryError::Intensity);
+        }
+        if self.sigma_s == 0.0 || self.intensity == 0.0 || self.surface_distance == Some(0.0) {
+            return Ok(0.0);
+        }
+        if norm(sub(self.light, self.origin)) == 0.0 {
+            return Ok(f64::INFINITY);
+        }
+        let c = self.to_canonical(g)?;
+        let v = a(c.point);
+        Ok(if v.is_infinite() { v } else { c.scale * v })
     }
 
     /// A physical ray realising the canonical point at viewer–light distance
@@ -189,8 +222,21 @@ mod tests {
         r.light = r.origin;
         assert_eq!(r.to_canonical(0.0), Err(GeometryError::LightAtViewer));
         let mut r = good;
-        r.sigma_s = 2.0;
+        r.sigma_s = -2.0;
         assert_eq!(r.to_canonical(0.0), Err(GeometryError::Medium));
+        // σs > σt is unphysical but defined.
+        r.sigma_s = 2.0;
+        assert!(r.to_canonical(0.0).is_ok());
+        // The edges of the physical entry: the light at the viewer, a surface at it.
+        let one = |_: Point| 1.0;
+        let mut r = good;
+        r.light = r.origin;
+        assert_eq!(r.radiance(0.0, &one), Ok(f64::INFINITY));
+        r.sigma_s = 0.0;
+        assert_eq!(r.radiance(0.0, &one), Ok(0.0));
+        let mut r = good;
+        r.surface_distance = Some(0.0);
+        assert_eq!(r.radiance(0.0, &one), Ok(0.0));
         let mut r = good;
         r.surface_distance = Some(0.0);
         assert_eq!(r.to_canonical(0.0), Err(GeometryError::Surface));

@@ -1,7 +1,12 @@
-//! The points file: CSV with a header naming `tau,gamma,rho,g` (any order, other
-//! columns ignored), one point per line, `rho` may be `inf`. Errors name the
-//! file, the line and the column.
+//! The input files of `eval`: CSV with a header naming the columns (any order,
+//! other columns ignored), one item per line. Errors name the file, the line and
+//! the column.
+//!
+//! - Points of the canonical entry: `tau,gamma,rho,g`, `rho` may be `inf`.
+//! - Rays of the physical entry ([`RAY_COLUMNS`]): viewer, direction, surface
+//!   distance (negative or `inf`: none), light, intensity, σt, σs, g.
 
+use crate::geometry::PhysicalRay;
 use crate::reference::{ParamError, Point};
 use std::fmt;
 
@@ -110,6 +115,114 @@ pub fn render(rows: &[Row], values: &[f64]) -> String {
     out
 }
 
+/// Columns of a rays file, in output order.
+pub const RAY_COLUMNS: [&str; 14] =
+    ["ox", "oy", "oz", "dx", "dy", "dz", "surface", "lx", "ly", "lz", "intensity", "sigma_t", "sigma_s", "g"];
+
+/// A check of a parsed ray and its `g`: `Err((column, message))` refuses it.
+pub type RayCheck<'a> = dyn Fn(&PhysicalRay, f64) -> Result<(), (&'static str, String)> + 'a;
+
+/// One parsed row of a rays file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RayRow {
+    /// 1-based line number in the file.
+    pub line: usize,
+    /// The ray, light and medium.
+    pub ray: PhysicalRay,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f64,
+    /// The [`RAY_COLUMNS`] as written (trimmed).
+    pub text: Vec<String>,
+}
+
+/// Parses a rays file. Every row is validated — finite positions and a non-zero
+/// finite direction, finite σt, σs and intensity ≥ 0, `|g| < 1` — and then by
+/// `check` (a model's g range, or what a generated kernel takes), which names
+/// the column it refuses.
+pub fn parse_rays(
+    file: &str,
+    contents: &str,
+    check: impl Fn(&PhysicalRay, f64) -> Result<(), (&'static str, String)>,
+) -> Result<Vec<RayRow>, CsvError> {
+    let err = |line: usize, column: Option<&str>, message: String| CsvError {
+        file: file.to_string(),
+        line,
+        column: column.map(str::to_string),
+        message,
+    };
+    let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
+    let (header_line, header) =
+        lines.next().ok_or_else(|| err(1, None, format!("empty file: expected a header {}", RAY_COLUMNS.join(","))))?;
+    let names: Vec<String> =
+        header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
+    let mut index = [0usize; 14];
+    for (k, col) in RAY_COLUMNS.iter().enumerate() {
+        index[k] = names.iter().position(|n| n == col).ok_or_else(|| {
+            err(header_line, Some(col), format!("missing from the header (need {})", RAY_COLUMNS.join(",")))
+        })?;
+    }
+    let mut rows = Vec::new();
+    for (line, text) in lines {
+        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        let mut v = [0.0; 14];
+        let mut raw = Vec::with_capacity(14);
+        for k in 0..14 {
+            let col = RAY_COLUMNS[k];
+            let f = fields.get(index[k]).ok_or_else(|| {
+                err(
+                    line,
+                    Some(col),
+                    format!("missing value (the row has {} fields, the header {})", fields.len(), names.len()),
+                )
+            })?;
+            let x = parse_number(f).ok_or_else(|| err(line, Some(col), format!("'{f}' is not a number")))?;
+            let ok = match col {
+                "surface" => !x.is_nan(),
+                "intensity" | "sigma_t" | "sigma_s" => x.is_finite() && x >= 0.0,
+                "g" => x.abs() < 1.0,
+                _ => x.is_finite(),
+            };
+            if !ok {
+                let need = match col {
+                    "surface" => "a distance ≥ 0, or negative or inf for none",
+                    "intensity" | "sigma_t" | "sigma_s" => "a finite number ≥ 0",
+                    "g" => "in (−1, 1)",
+                    _ => "a finite number",
+                };
+                return Err(err(line, Some(col), format!("{col} = {f} is out of range: it must be {need}")));
+            }
+            v[k] = x;
+            raw.push(f.to_string());
+        }
+        let ray = PhysicalRay {
+            origin: [v[0], v[1], v[2]],
+            direction: [v[3], v[4], v[5]],
+            surface_distance: (v[6] >= 0.0 && v[6].is_finite()).then_some(v[6]),
+            light: [v[7], v[8], v[9]],
+            intensity: v[10],
+            sigma_t: v[11],
+            sigma_s: v[12],
+        };
+        if ray.direction.iter().all(|&x| x == 0.0) {
+            return Err(err(line, Some("dx"), "the direction (dx, dy, dz) is zero".into()));
+        }
+        check(&ray, v[13]).map_err(|(col, m)| err(line, Some(col), m))?;
+        rows.push(RayRow { line, ray, g: v[13], text: raw });
+    }
+    Ok(rows)
+}
+
+/// Writes ray rows with their values: the input columns as written plus
+/// `radiance`, printed so that it round-trips (`inf` if infinite).
+pub fn render_rays(rows: &[RayRow], values: &[f64]) -> String {
+    let mut out = RAY_COLUMNS.join(",");
+    out.push_str(",radiance\n");
+    for (row, v) in rows.iter().zip(values) {
+        out.push_str(&format!("{},{v:?}\n", row.text.join(",")));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,5 +273,31 @@ mod tests {
         };
         let narrow = parse("in.csv", "tau,gamma,rho,g\n1,1,1,0.5\n", isotropic);
         assert!(narrow.unwrap_err().to_string().starts_with("in.csv:2: column 'g': g = 0.5"));
+    }
+
+    #[test]
+    fn rays_parse_and_refuse_with_their_column() {
+        let head = RAY_COLUMNS.join(",");
+        let ok = |_: &PhysicalRay, _: f64| Ok(());
+        let rows = parse_rays(
+            "r.csv",
+            &format!("{head}\n0,0,0,1,0,0,-1,2,1,0,10,0.1,0.05,0.5\n0,0,0,0,0,3,inf,0,0,1,1,0,0,0\n"),
+            ok,
+        )
+        .unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].ray.surface_distance, None);
+        assert_eq!(rows[1].ray.surface_distance, None);
+        assert_eq!(rows[0].g, 0.5);
+        let out = render_rays(&rows, &[0.25, f64::INFINITY]);
+        assert!(out.starts_with(&format!("{head},radiance\n0,0,0,1,0,0,-1,2,1,0,10,0.1,0.05,0.5,0.25\n")), "{out}");
+        let e = |body: &str| parse_rays("r.csv", &format!("{head}\n{body}\n"), ok).unwrap_err().to_string();
+        assert_eq!(e("0,0,0,0,0,0,1,1,1,1,1,1,1,0"), "r.csv:2: column 'dx': the direction (dx, dy, dz) is zero");
+        assert!(
+            e("0,0,0,1,0,0,1,1,1,1,1,-1,1,0").starts_with("r.csv:2: column 'sigma_t': sigma_t = -1 is out of range")
+        );
+        assert!(e("0,0,0,1,0,0,nan,1,1,1,1,1,1,0").starts_with("r.csv:2: column 'surface'"));
+        assert!(e("0,0,0,1,0,0,1,inf,1,1,1,1,1,0").starts_with("r.csv:2: column 'lx'"));
+        assert!(e("0,0,0,1,0,0,1,1,1,1,1,1,1").starts_with("r.csv:2: column 'g': missing value"));
     }
 }

@@ -209,8 +209,10 @@ impl Geometry {
         let r = offset_from_foot(rho, c, one_minus_c);
         let t = r.hypot(h);
         let q = s_minus_c_plus_t(r, t, h);
-        // u(ρ) − ua = (ρ + t − 1)/h = 2ρ q / ((ρ + t + 1) h)
-        let delta = 2.0 * rho * q / ((rho + t + 1.0) * h);
+        // u(ρ) − ua = (ρ + t − 1)/h = 2ρ q / ((ρ + t + 1) h); for r < 0, q = h²/(t − r)
+        // and the h cancels first, so nothing underflows as γ → 0.
+        let delta =
+            if r >= 0.0 { 2.0 * rho * q / ((rho + t + 1.0) * h) } else { 2.0 * rho * (h / (t - r)) / (rho + t + 1.0) };
         // ub = q/h; 1/ub = h/q, written so that neither over- nor underflows early.
         let (ub, vb) = if r >= 0.0 { (q / h, h / q) } else { (h / (t - r), (t - r) / h) };
         Geometry { h, one_minus_c, ua, ub, vb, delta }

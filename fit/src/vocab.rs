@@ -311,6 +311,26 @@ impl IndexEntry {
         Ok(())
     }
 
+    /// The physical entry's [`IndexEntry::check`]: a ray with `g` that this kernel's
+    /// `radiance` evaluates as given — σt = 0 without extinction, no surface
+    /// without surfaces, `g` in its range. The error names the column.
+    pub fn check_ray(&self, ray: &crate::geometry::PhysicalRay, g: f64) -> Result<(), (&'static str, String)> {
+        if !self.extinction && ray.sigma_t != 0.0 {
+            return Err(("sigma_t", format!("kernel {} ignores extinction: it takes only sigma_t = 0", self.name)));
+        }
+        if !self.surfaces && ray.surface_distance.is_some() {
+            return Err((
+                "surface",
+                format!("kernel {} has no surfaces: it takes only surface = inf or < 0", self.name),
+            ));
+        }
+        if g < self.g[0] || g > self.g[1] {
+            let p = crate::reference::Point { tau: 0.0, gamma: 0.0, rho: f64::INFINITY, g };
+            return Err(("g", self.check(&p).err().map(|e| e.to_string()).unwrap_or_default()));
+        }
+        Ok(())
+    }
+
     /// The arguments of `entry`.
     pub fn args(&self, entry: Entry) -> &[Arg] {
         match entry {

@@ -11,15 +11,17 @@
 // * float airlight_hg_exp3_radiance(vec3 origin, vec3 dir, float surface, vec3 light, float intensity, float sigma_t, float sigma_s, float g)
 //   The in-scattered radiance along a view ray, sigma_s * I / D * A. `origin` and
 //   `dir` are the ray (`dir` need not be normalised), `surface` the distance to the
-//   first surface along it (negative: none), `light` the light's position, `intensity`
+//   first surface along it (negative or +inf: none), `light` the light's position, `intensity`
 //   its radiant intensity (W/sr gives W/(m^2 sr)), `sigma_t` the extinction
 //   coefficient, `sigma_s` the scattering coefficient, `g` the Henyey-Greenstein
 //   asymmetry.
 // * float airlight_hg_exp3_airlight(float tau, float gamma, float rho, float g)
 //   The canonical A(τ, γ, ρ; g) of MATH.md section 2: tau = sigma_t * D, gamma in
-//   radians, rho = Dp / D (negative: no surface).
+//   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
-// Both return airlight_hg_exp3_HUGE (the largest float) on the ray through the light, where A diverges.
+// Both are finite and >= 0 for every finite input: airlight_hg_exp3_HUGE (the largest float) on the
+// ray through the light, where A diverges (and where the value passes float's range),
+// 0 where it underflows; tau beyond airlight_hg_exp3_TAU_MAX gives 0.
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -31,8 +33,129 @@ precision highp int;
 
 const float airlight_hg_exp3_PI = 3.14159274e0;
 const float airlight_hg_exp3_FRAC_PI_2 = 1.57079637e0;
-// The largest finite float, returned where A diverges (the ray through the light).
+// The largest finite float, returned where A diverges (the ray through the light)
+// and where a radiance passes float's range.
 const float airlight_hg_exp3_HUGE = 3.40282347e38;
+// Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
+const float airlight_hg_exp3_RHO_OPEN = 4294967296.0;
+// Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
+// can hold: tau is taken as this, so inf * 0 never forms.
+const float airlight_hg_exp3_TAU_MAX = 1e4;
+
+float airlight_hg_exp3_max_abs(vec3 v) {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+// a = hi + lo with hi holding the upper 12 bits of the significand, by masking
+// (no arithmetic a compiler could contract into an FMA).
+vec2 airlight_hg_exp3_halves(float a) {
+    float hi = intBitsToFloat(floatBitsToInt(a) & -4096);
+    return vec2(hi, a - hi);
+}
+
+// a * b = p + e exactly (Dekker), for |a|, |b| <= 1: (p, e).
+vec2 airlight_hg_exp3_two_product(float a, float b) {
+    float p = a * b;
+    vec2 x = airlight_hg_exp3_halves(a);
+    vec2 y = airlight_hg_exp3_halves(b);
+    return vec2(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+// a * b - c * d to a few ulps however much it cancels, for arguments in [-1, 1].
+float airlight_hg_exp3_diff_of_products(float a, float b, float c, float d) {
+    vec2 u = airlight_hg_exp3_two_product(a, b);
+    vec2 v = airlight_hg_exp3_two_product(c, d);
+    return (u.x - v.x) + (u.y - v.y);
+}
+
+// The mantissa of x = m 2^e, m in [0.5, 1), for finite x > 0 (subnormals too);
+// `e` its exponent. By the bits, as GLSL ES 3.00 has no frexp.
+float airlight_hg_exp3_split(float x, out int e) {
+    int bias = 0;
+    if (x < 1.17549435e-38) {
+        x *= 16777216.0;
+        bias = 24;
+    }
+    int b = floatBitsToInt(x);
+    e = ((b >> 23) & 255) - 126 - bias;
+    return intBitsToFloat((b & -2139095041) | 1056964608); // & 0x807fffff | 0x3f000000
+}
+
+// v * 2^k, exactly (two normal powers of 2), for |k| <= 252.
+vec3 airlight_hg_exp3_scale2(vec3 v, int k) {
+    int h = k / 2;
+    return v * intBitsToFloat((h + 127) << 23) * intBitsToFloat((k - h + 127) << 23);
+}
+
+// The canonical geometry of a view ray from `origin` along `dir` and a light at
+// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
+// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
+// light beyond float's range. Exact where it matters: light - origin is kept as
+// an unrounded pair (two-sum), both vectors are scaled by powers of 2, and a
+// cross product that cancels is formed from exact products, so a light off the
+// ray by any amount float positions can express is off it here too; nothing
+// over- or underflows for finite input. D saturates at HUGE.
+vec3 airlight_hg_exp3_ray_geometry(vec3 origin, vec3 dir, vec3 light) {
+    vec3 l = light - origin;
+    vec3 bb = l - light;
+    vec3 lo = (light - (l - bb)) + (-origin - bb);
+    float ml = airlight_hg_exp3_max_abs(l);
+    float md = airlight_hg_exp3_max_abs(dir);
+    if (ml == 0.0) {
+        return vec3(0.0, 0.0, 1.0);
+    }
+    if (!(ml <= airlight_hg_exp3_HUGE && md > 0.0 && md <= airlight_hg_exp3_HUGE)) {
+        return vec3(airlight_hg_exp3_HUGE, 0.0, 0.0);
+    }
+    int kl, kd;
+    airlight_hg_exp3_split(ml, kl);
+    airlight_hg_exp3_split(md, kd);
+    l = airlight_hg_exp3_scale2(l, -kl);
+    lo = airlight_hg_exp3_scale2(lo, -kl);
+    vec3 d = airlight_hg_exp3_scale2(dir, -kd);
+    vec3 c = cross(d, l);
+    if (airlight_hg_exp3_max_abs(c) < 1e-3) {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of light - origin.
+        c = vec3(airlight_hg_exp3_diff_of_products(d.y, l.z, d.z, l.y),
+                 airlight_hg_exp3_diff_of_products(d.z, l.x, d.x, l.z),
+                 airlight_hg_exp3_diff_of_products(d.x, l.y, d.y, l.x)) + cross(d, lo);
+    }
+    float mc = airlight_hg_exp3_max_abs(c);
+    float h = 0.0;
+    if (mc > 0.0) {
+        vec3 cs = c / mc;
+        h = mc * sqrt(dot(cs, cs));
+    }
+    float x0 = dot(d, l) + dot(d, lo);
+    float n = sqrt(h * h + x0 * x0);
+    return vec3(min(airlight_hg_exp3_scale2(vec3(sqrt(dot(l, l))), kl).x, airlight_hg_exp3_HUGE), h / n, x0 / n);
+}
+
+// sigma_s * I / D * A without overflow, underflow of a partial product or
+// 0 * inf: the mantissas are multiplied and the exponents added, and the result
+// rounded once. 0 without scattering or light or below float's range; HUGE where
+// A diverges (a >= HUGE) or the radiance passes float's range.
+float airlight_hg_exp3_scaled(float sigma_s, float intensity, float d, float a) {
+    if (!(sigma_s > 0.0 && intensity > 0.0 && a > 0.0)) {
+        return 0.0;
+    }
+    if (a >= airlight_hg_exp3_HUGE) {
+        return airlight_hg_exp3_HUGE;
+    }
+    int es, ei, ea, ed, e;
+    float m = airlight_hg_exp3_split(airlight_hg_exp3_split(sigma_s, es) * airlight_hg_exp3_split(intensity, ei) * airlight_hg_exp3_split(a, ea) / airlight_hg_exp3_split(d, ed), e);
+    e += es + ei + ea - ed;
+    if (e > 128) {
+        return airlight_hg_exp3_HUGE;
+    }
+    if (e < -149) {
+        return 0.0;
+    }
+    // 2^e in two normal powers of 2; one rounding, at the end.
+    int h = e / 2;
+    return m * intBitsToFloat((h + 127) << 23) * intBitsToFloat((e - h + 127) << 23);
+}
 
 float airlight_hg_exp3_arctan(float x) {
     float a = abs(x);
@@ -168,20 +291,20 @@ airlight_hg_exp3_Phase airlight_hg_exp3_phase(float g) {
         ph.b[2] = (-3.97299147e0 * x + 5.40594697e-1) * x + -4.29268450e-1;
     } else if (ga <= 8.99999976e-1) {
         float x = ga - 8.50000024e-1;
-        ph.c[0] = 1.00000000e0 * ((9.11740906e2 * x + 1.01698013e2) * x + 8.40871048e0);
-        ph.c[1] = 1.00000000e0 * ((-7.60730457e0 * x + 4.57963169e-1) * x + 4.00363147e-1);
-        ph.c[2] = 1.00000000e0 * ((-2.62713313e-1 * x + -3.95881757e-3) * x + 6.58084825e-3);
-        ph.b[0] = (2.76596771e2 * x + 4.55034180e1) * x + 8.98964024e0;
-        ph.b[1] = (5.31548405e0 * x + 8.02121639e0) * x + 2.78390670e0;
-        ph.b[2] = (-4.54915762e0 * x + 2.35007739e0) * x + 2.22696111e-1;
+        ph.c[0] = 1.00000000e0 * ((9.11753906e2 * x + 1.01706299e2) * x + 8.40894318e0);
+        ph.c[1] = 1.00000000e0 * ((-7.59636784e0 * x + 4.56155241e-1) * x + 4.00328934e-1);
+        ph.c[2] = 1.00000000e0 * ((-2.62796164e-1 * x + -4.00847150e-3) * x + 6.58082915e-3);
+        ph.b[0] = (2.76621185e2 * x + 4.55023613e1) * x + 8.98964787e0;
+        ph.b[1] = (5.32913446e0 * x + 8.01550198e0) * x + 2.78382754e0;
+        ph.b[2] = (-4.56183720e0 * x + 2.34736228e0) * x + 2.22700924e-1;
     } else if (ga <= 9.49999988e-1) {
         float x = ga - 9.25000012e-1;
-        ph.c[0] = 1.00000000e0 * ((2.60177070e4 * x + 8.33828552e2) * x + 2.37825966e1);
-        ph.c[1] = 1.00000000e0 * ((2.36329300e2 * x + 5.21984386e0) * x + 4.33846951e-1);
-        ph.c[2] = 1.00000000e0 * ((1.87237310e0 * x + 1.57777518e-2) * x + 5.37290797e-3);
-        ph.b[0] = (4.97738672e3 * x + 2.07602188e2) * x + 1.45251236e1;
-        ph.b[1] = (7.23554199e2 * x + 2.90937977e1) * x + 3.60303450e0;
-        ph.b[2] = (1.60989273e2 * x + 6.24602461e0) * x + 4.13365901e-1;
+        ph.c[0] = 1.00000000e0 * ((2.38837188e4 * x + 8.22651367e2) * x + 2.41643333e1);
+        ph.c[1] = 1.00000000e0 * ((2.03210831e2 * x + 5.25574446e0) * x + 4.41920131e-1);
+        ph.c[2] = 1.00000000e0 * ((1.66359401e0 * x + 1.61105264e-2) * x + 5.43454196e-3);
+        ph.b[0] = (4.48891650e3 * x + 2.06361313e2) * x + 1.46239567e1;
+        ph.b[1] = (6.47806519e2 * x + 2.92158718e1) * x + 3.62322259e0;
+        ph.b[2] = (1.48544846e2 * x + 6.26313877e0) * x + 4.17184174e-1;
     } else {
         float x = ga - 9.70000029e-1;
         ph.c[0] = 1.00000000e0 * ((6.49589922e4 * x + 2.67119019e3) * x + 4.86791992e1);
@@ -254,18 +377,25 @@ float airlight_hg_exp3_backward_u(float tau, float t, float h, float x0, float r
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
-    float ub = airlight_hg_exp3_HUGE;
+    // The length ub - u0, never as a difference when it is short: for gamma > pi/2
+    // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    float span = airlight_hg_exp3_HUGE;
     if (!open) {
         float d = rho - x0;
-        ub = (d + sqrt(d * d + h * h)) / h;
-        if (ub <= u0) {
-            return 0.0;
-        }
+        float r = sqrt(d * d + h * h);
+        span = x0 < 0.0 ? 2.0 * rho * (d + r) / ((rho + r + 1.0) * h) : (d + r) / h - u0;
     }
+    if (!(span > 0.0)) {
+        return 0.0;
+    }
+    // Past u0 + 1e30 the rest of the ray adds below float's resolution.
+    bool endless = open || span >= 1e30;
+    float ub = u0 + span;
     float base = -tau - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
-        float len = min(ub, 1.60000000e1) - u0;
+        float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
         {
             float lam = t + 2.49735657e-2;
             float mean = u0 + len / (2.0 + lam * len);
@@ -287,11 +417,11 @@ float airlight_hg_exp3_backward_u(float tau, float t, float h, float x0, float r
             sum += 1.19296360e0 * exp(base - 1.42937565e0 * u0) * len * airlight_hg_exp3_exprel(-lam * len) * airlight_hg_exp3_phase_u(ph, mean);
         }
     }
-    if (open || ub > 1.60000000e1) {
+    if (endless || ub > 1.60000000e1) {
         float a = max(u0, 1.60000000e1);
         float shift = base - t * (a - u0);
-        if (!open && ub <= 2.00000000e0 * a) {
-            float len = ub / a - 1.0;
+        if (!endless && ub <= 2.00000000e0 * a) {
+            float len = a == u0 ? span / a : ub / a - 1.0;
             float ta = t * a;
             float part = 0.0;
             {
@@ -317,8 +447,8 @@ float airlight_hg_exp3_backward_u(float tau, float t, float h, float x0, float r
             float lam = t + 2.0 / a;
             float g = airlight_hg_exp3_phi(t * a) / a;
             float u = a + 1.0 / lam;
-            if (!open) {
-                float len = ub - a;
+            if (!endless) {
+                float len = a == u0 ? span : ub - a;
                 g -= exp(-t * len) * airlight_hg_exp3_phi(t * ub) / ub;
                 u = a + len / (2.0 + lam * len);
             }
@@ -330,9 +460,10 @@ float airlight_hg_exp3_backward_u(float tau, float t, float h, float x0, float r
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_hg_exp3_airlight_geometry(float tau, float h_in, float x0, float rho, float g) {
+float airlight_hg_exp3_airlight_geometry(float tau_in, float h_in, float x0, float rho, float g) {
     airlight_hg_exp3_Phase ph = airlight_hg_exp3_phase(g);
-    bool open = !(rho >= 0.0 && rho < airlight_hg_exp3_HUGE);
+    bool open = !(rho >= 0.0 && rho < airlight_hg_exp3_RHO_OPEN);
+    float tau = min(tau_in, airlight_hg_exp3_TAU_MAX);
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
@@ -365,18 +496,20 @@ float airlight_hg_exp3_airlight(float tau, float gamma, float rho, float g) {
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
+// Any finite input gives a finite value >= 0: 0 without a ray, scattering or
+// light (and where the value underflows), HUGE where A diverges or the radiance
+// passes float's range.
 float airlight_hg_exp3_radiance(vec3 origin, vec3 dir, float surface, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
-    vec3 l = light - origin;
-    float dd = length(l);
-    if (dd <= 0.0) {
-        return airlight_hg_exp3_HUGE;
+    vec3 geo = airlight_hg_exp3_ray_geometry(origin, dir, light);
+    if (geo.x <= 0.0) {
+        // The viewer at the light: A diverges.
+        return airlight_hg_exp3_scaled(sigma_s, intensity, 1.0, airlight_hg_exp3_HUGE);
     }
-    float h = length(cross(dir, l));
-    float x0 = dot(dir, l);
-    float n = sqrt(h * h + x0 * x0);
-    if (n <= 0.0) {
+    if (geo.y <= 0.0 && geo.z == 0.0) {
         return 0.0;
     }
-    float rho = surface < 0.0 ? -1.0 : surface / dd;
-    return sigma_s * intensity / dd * airlight_hg_exp3_airlight_geometry(sigma_t * dd, h / n, x0 / n, rho, g);
+    // Negative or NaN: no surface; an infinite rho is none too.
+    float rho = surface >= 0.0 ? surface / geo.x : -1.0;
+    float a = airlight_hg_exp3_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g);
+    return airlight_hg_exp3_scaled(sigma_s, intensity, geo.x, a);
 }

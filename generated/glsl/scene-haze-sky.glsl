@@ -22,7 +22,9 @@
 // * float airlight_scene_haze_sky_airlight(float gamma)
 //   The canonical A(γ) of MATH.md section 2.
 //
-// Both return airlight_scene_haze_sky_HUGE (the largest float) on the ray through the light, where A diverges.
+// Both are finite and >= 0 for every finite input: airlight_scene_haze_sky_HUGE (the largest float) on the
+// ray through the light, where A diverges (and where the value passes float's range),
+// 0 where it underflows.
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -34,8 +36,129 @@ precision highp int;
 
 const float airlight_scene_haze_sky_PI = 3.14159274e0;
 const float airlight_scene_haze_sky_FRAC_PI_2 = 1.57079637e0;
-// The largest finite float, returned where A diverges (the ray through the light).
+// The largest finite float, returned where A diverges (the ray through the light)
+// and where a radiance passes float's range.
 const float airlight_scene_haze_sky_HUGE = 3.40282347e38;
+// Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
+const float airlight_scene_haze_sky_RHO_OPEN = 4294967296.0;
+// Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
+// can hold: tau is taken as this, so inf * 0 never forms.
+const float airlight_scene_haze_sky_TAU_MAX = 1e4;
+
+float airlight_scene_haze_sky_max_abs(vec3 v) {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+// a = hi + lo with hi holding the upper 12 bits of the significand, by masking
+// (no arithmetic a compiler could contract into an FMA).
+vec2 airlight_scene_haze_sky_halves(float a) {
+    float hi = intBitsToFloat(floatBitsToInt(a) & -4096);
+    return vec2(hi, a - hi);
+}
+
+// a * b = p + e exactly (Dekker), for |a|, |b| <= 1: (p, e).
+vec2 airlight_scene_haze_sky_two_product(float a, float b) {
+    float p = a * b;
+    vec2 x = airlight_scene_haze_sky_halves(a);
+    vec2 y = airlight_scene_haze_sky_halves(b);
+    return vec2(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+// a * b - c * d to a few ulps however much it cancels, for arguments in [-1, 1].
+float airlight_scene_haze_sky_diff_of_products(float a, float b, float c, float d) {
+    vec2 u = airlight_scene_haze_sky_two_product(a, b);
+    vec2 v = airlight_scene_haze_sky_two_product(c, d);
+    return (u.x - v.x) + (u.y - v.y);
+}
+
+// The mantissa of x = m 2^e, m in [0.5, 1), for finite x > 0 (subnormals too);
+// `e` its exponent. By the bits, as GLSL ES 3.00 has no frexp.
+float airlight_scene_haze_sky_split(float x, out int e) {
+    int bias = 0;
+    if (x < 1.17549435e-38) {
+        x *= 16777216.0;
+        bias = 24;
+    }
+    int b = floatBitsToInt(x);
+    e = ((b >> 23) & 255) - 126 - bias;
+    return intBitsToFloat((b & -2139095041) | 1056964608); // & 0x807fffff | 0x3f000000
+}
+
+// v * 2^k, exactly (two normal powers of 2), for |k| <= 252.
+vec3 airlight_scene_haze_sky_scale2(vec3 v, int k) {
+    int h = k / 2;
+    return v * intBitsToFloat((h + 127) << 23) * intBitsToFloat((k - h + 127) << 23);
+}
+
+// The canonical geometry of a view ray from `origin` along `dir` and a light at
+// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
+// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
+// light beyond float's range. Exact where it matters: light - origin is kept as
+// an unrounded pair (two-sum), both vectors are scaled by powers of 2, and a
+// cross product that cancels is formed from exact products, so a light off the
+// ray by any amount float positions can express is off it here too; nothing
+// over- or underflows for finite input. D saturates at HUGE.
+vec3 airlight_scene_haze_sky_ray_geometry(vec3 origin, vec3 dir, vec3 light) {
+    vec3 l = light - origin;
+    vec3 bb = l - light;
+    vec3 lo = (light - (l - bb)) + (-origin - bb);
+    float ml = airlight_scene_haze_sky_max_abs(l);
+    float md = airlight_scene_haze_sky_max_abs(dir);
+    if (ml == 0.0) {
+        return vec3(0.0, 0.0, 1.0);
+    }
+    if (!(ml <= airlight_scene_haze_sky_HUGE && md > 0.0 && md <= airlight_scene_haze_sky_HUGE)) {
+        return vec3(airlight_scene_haze_sky_HUGE, 0.0, 0.0);
+    }
+    int kl, kd;
+    airlight_scene_haze_sky_split(ml, kl);
+    airlight_scene_haze_sky_split(md, kd);
+    l = airlight_scene_haze_sky_scale2(l, -kl);
+    lo = airlight_scene_haze_sky_scale2(lo, -kl);
+    vec3 d = airlight_scene_haze_sky_scale2(dir, -kd);
+    vec3 c = cross(d, l);
+    if (airlight_scene_haze_sky_max_abs(c) < 1e-3) {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of light - origin.
+        c = vec3(airlight_scene_haze_sky_diff_of_products(d.y, l.z, d.z, l.y),
+                 airlight_scene_haze_sky_diff_of_products(d.z, l.x, d.x, l.z),
+                 airlight_scene_haze_sky_diff_of_products(d.x, l.y, d.y, l.x)) + cross(d, lo);
+    }
+    float mc = airlight_scene_haze_sky_max_abs(c);
+    float h = 0.0;
+    if (mc > 0.0) {
+        vec3 cs = c / mc;
+        h = mc * sqrt(dot(cs, cs));
+    }
+    float x0 = dot(d, l) + dot(d, lo);
+    float n = sqrt(h * h + x0 * x0);
+    return vec3(min(airlight_scene_haze_sky_scale2(vec3(sqrt(dot(l, l))), kl).x, airlight_scene_haze_sky_HUGE), h / n, x0 / n);
+}
+
+// sigma_s * I / D * A without overflow, underflow of a partial product or
+// 0 * inf: the mantissas are multiplied and the exponents added, and the result
+// rounded once. 0 without scattering or light or below float's range; HUGE where
+// A diverges (a >= HUGE) or the radiance passes float's range.
+float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d, float a) {
+    if (!(sigma_s > 0.0 && intensity > 0.0 && a > 0.0)) {
+        return 0.0;
+    }
+    if (a >= airlight_scene_haze_sky_HUGE) {
+        return airlight_scene_haze_sky_HUGE;
+    }
+    int es, ei, ea, ed, e;
+    float m = airlight_scene_haze_sky_split(airlight_scene_haze_sky_split(sigma_s, es) * airlight_scene_haze_sky_split(intensity, ei) * airlight_scene_haze_sky_split(a, ea) / airlight_scene_haze_sky_split(d, ed), e);
+    e += es + ei + ea - ed;
+    if (e > 128) {
+        return airlight_scene_haze_sky_HUGE;
+    }
+    if (e < -149) {
+        return 0.0;
+    }
+    // 2^e in two normal powers of 2; one rounding, at the end.
+    int h = e / 2;
+    return m * intBitsToFloat((h + 127) << 23) * intBitsToFloat((e - h + 127) << 23);
+}
 
 float airlight_scene_haze_sky_arctan(float x) {
     float a = abs(x);
@@ -113,17 +236,17 @@ float airlight_scene_haze_sky_airlight(float gamma) {
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
+// Any finite input gives a finite value >= 0: 0 without a ray, scattering or
+// light (and where the value underflows), HUGE where A diverges or the radiance
+// passes float's range.
 float airlight_scene_haze_sky_radiance(vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_s) {
-    vec3 l = light - origin;
-    float dd = length(l);
-    if (dd <= 0.0) {
-        return airlight_scene_haze_sky_HUGE;
+    vec3 geo = airlight_scene_haze_sky_ray_geometry(origin, dir, light);
+    if (geo.x <= 0.0) {
+        // The viewer at the light: A diverges.
+        return airlight_scene_haze_sky_scaled(sigma_s, intensity, 1.0, airlight_scene_haze_sky_HUGE);
     }
-    float h = length(cross(dir, l));
-    float x0 = dot(dir, l);
-    float n = sqrt(h * h + x0 * x0);
-    if (n <= 0.0) {
+    if (geo.y <= 0.0 && geo.z == 0.0) {
         return 0.0;
     }
-    return sigma_s * intensity / dd * airlight_scene_haze_sky_airlight_geometry(h / n, x0 / n);
+    return airlight_scene_haze_sky_scaled(sigma_s, intensity, geo.x, airlight_scene_haze_sky_airlight_geometry(geo.y, geo.z));
 }

@@ -11,14 +11,16 @@
 // * float airlight_segments_8_radiance(vec3 origin, vec3 dir, float surface, vec3 light, float intensity, float sigma_t, float sigma_s)
 //   The in-scattered radiance along a view ray, sigma_s * I / D * A. `origin` and
 //   `dir` are the ray (`dir` need not be normalised), `surface` the distance to the
-//   first surface along it (negative: none), `light` the light's position, `intensity`
+//   first surface along it (negative or +inf: none), `light` the light's position, `intensity`
 //   its radiant intensity (W/sr gives W/(m^2 sr)), `sigma_t` the extinction
 //   coefficient, `sigma_s` the scattering coefficient.
 // * float airlight_segments_8_airlight(float tau, float gamma, float rho)
 //   The canonical A(τ, γ, ρ) of MATH.md section 2: tau = sigma_t * D, gamma in
-//   radians, rho = Dp / D (negative: no surface).
+//   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
-// Both return airlight_segments_8_HUGE (the largest float) on the ray through the light, where A diverges.
+// Both are finite and >= 0 for every finite input: airlight_segments_8_HUGE (the largest float) on the
+// ray through the light, where A diverges (and where the value passes float's range),
+// 0 where it underflows; tau beyond airlight_segments_8_TAU_MAX gives 0.
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -30,8 +32,129 @@ precision highp int;
 
 const float airlight_segments_8_PI = 3.14159274e0;
 const float airlight_segments_8_FRAC_PI_2 = 1.57079637e0;
-// The largest finite float, returned where A diverges (the ray through the light).
+// The largest finite float, returned where A diverges (the ray through the light)
+// and where a radiance passes float's range.
 const float airlight_segments_8_HUGE = 3.40282347e38;
+// Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
+const float airlight_segments_8_RHO_OPEN = 4294967296.0;
+// Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
+// can hold: tau is taken as this, so inf * 0 never forms.
+const float airlight_segments_8_TAU_MAX = 1e4;
+
+float airlight_segments_8_max_abs(vec3 v) {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+// a = hi + lo with hi holding the upper 12 bits of the significand, by masking
+// (no arithmetic a compiler could contract into an FMA).
+vec2 airlight_segments_8_halves(float a) {
+    float hi = intBitsToFloat(floatBitsToInt(a) & -4096);
+    return vec2(hi, a - hi);
+}
+
+// a * b = p + e exactly (Dekker), for |a|, |b| <= 1: (p, e).
+vec2 airlight_segments_8_two_product(float a, float b) {
+    float p = a * b;
+    vec2 x = airlight_segments_8_halves(a);
+    vec2 y = airlight_segments_8_halves(b);
+    return vec2(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+// a * b - c * d to a few ulps however much it cancels, for arguments in [-1, 1].
+float airlight_segments_8_diff_of_products(float a, float b, float c, float d) {
+    vec2 u = airlight_segments_8_two_product(a, b);
+    vec2 v = airlight_segments_8_two_product(c, d);
+    return (u.x - v.x) + (u.y - v.y);
+}
+
+// The mantissa of x = m 2^e, m in [0.5, 1), for finite x > 0 (subnormals too);
+// `e` its exponent. By the bits, as GLSL ES 3.00 has no frexp.
+float airlight_segments_8_split(float x, out int e) {
+    int bias = 0;
+    if (x < 1.17549435e-38) {
+        x *= 16777216.0;
+        bias = 24;
+    }
+    int b = floatBitsToInt(x);
+    e = ((b >> 23) & 255) - 126 - bias;
+    return intBitsToFloat((b & -2139095041) | 1056964608); // & 0x807fffff | 0x3f000000
+}
+
+// v * 2^k, exactly (two normal powers of 2), for |k| <= 252.
+vec3 airlight_segments_8_scale2(vec3 v, int k) {
+    int h = k / 2;
+    return v * intBitsToFloat((h + 127) << 23) * intBitsToFloat((k - h + 127) << 23);
+}
+
+// The canonical geometry of a view ray from `origin` along `dir` and a light at
+// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
+// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
+// light beyond float's range. Exact where it matters: light - origin is kept as
+// an unrounded pair (two-sum), both vectors are scaled by powers of 2, and a
+// cross product that cancels is formed from exact products, so a light off the
+// ray by any amount float positions can express is off it here too; nothing
+// over- or underflows for finite input. D saturates at HUGE.
+vec3 airlight_segments_8_ray_geometry(vec3 origin, vec3 dir, vec3 light) {
+    vec3 l = light - origin;
+    vec3 bb = l - light;
+    vec3 lo = (light - (l - bb)) + (-origin - bb);
+    float ml = airlight_segments_8_max_abs(l);
+    float md = airlight_segments_8_max_abs(dir);
+    if (ml == 0.0) {
+        return vec3(0.0, 0.0, 1.0);
+    }
+    if (!(ml <= airlight_segments_8_HUGE && md > 0.0 && md <= airlight_segments_8_HUGE)) {
+        return vec3(airlight_segments_8_HUGE, 0.0, 0.0);
+    }
+    int kl, kd;
+    airlight_segments_8_split(ml, kl);
+    airlight_segments_8_split(md, kd);
+    l = airlight_segments_8_scale2(l, -kl);
+    lo = airlight_segments_8_scale2(lo, -kl);
+    vec3 d = airlight_segments_8_scale2(dir, -kd);
+    vec3 c = cross(d, l);
+    if (airlight_segments_8_max_abs(c) < 1e-3) {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of light - origin.
+        c = vec3(airlight_segments_8_diff_of_products(d.y, l.z, d.z, l.y),
+                 airlight_segments_8_diff_of_products(d.z, l.x, d.x, l.z),
+                 airlight_segments_8_diff_of_products(d.x, l.y, d.y, l.x)) + cross(d, lo);
+    }
+    float mc = airlight_segments_8_max_abs(c);
+    float h = 0.0;
+    if (mc > 0.0) {
+        vec3 cs = c / mc;
+        h = mc * sqrt(dot(cs, cs));
+    }
+    float x0 = dot(d, l) + dot(d, lo);
+    float n = sqrt(h * h + x0 * x0);
+    return vec3(min(airlight_segments_8_scale2(vec3(sqrt(dot(l, l))), kl).x, airlight_segments_8_HUGE), h / n, x0 / n);
+}
+
+// sigma_s * I / D * A without overflow, underflow of a partial product or
+// 0 * inf: the mantissas are multiplied and the exponents added, and the result
+// rounded once. 0 without scattering or light or below float's range; HUGE where
+// A diverges (a >= HUGE) or the radiance passes float's range.
+float airlight_segments_8_scaled(float sigma_s, float intensity, float d, float a) {
+    if (!(sigma_s > 0.0 && intensity > 0.0 && a > 0.0)) {
+        return 0.0;
+    }
+    if (a >= airlight_segments_8_HUGE) {
+        return airlight_segments_8_HUGE;
+    }
+    int es, ei, ea, ed, e;
+    float m = airlight_segments_8_split(airlight_segments_8_split(sigma_s, es) * airlight_segments_8_split(intensity, ei) * airlight_segments_8_split(a, ea) / airlight_segments_8_split(d, ed), e);
+    e += es + ei + ea - ed;
+    if (e > 128) {
+        return airlight_segments_8_HUGE;
+    }
+    if (e < -149) {
+        return 0.0;
+    }
+    // 2^e in two normal powers of 2; one rounding, at the end.
+    int h = e / 2;
+    return m * intBitsToFloat((h + 127) << 23) * intBitsToFloat((e - h + 127) << 23);
+}
 
 float airlight_segments_8_arctan(float x) {
     float a = abs(x);
@@ -168,18 +291,25 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
-    float ub = airlight_segments_8_HUGE;
+    // The length ub - u0, never as a difference when it is short: for gamma > pi/2
+    // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    float span = airlight_segments_8_HUGE;
     if (!open) {
         float d = rho - x0;
-        ub = (d + sqrt(d * d + h * h)) / h;
-        if (ub <= u0) {
-            return 0.0;
-        }
+        float r = sqrt(d * d + h * h);
+        span = x0 < 0.0 ? 2.0 * rho * (d + r) / ((rho + r + 1.0) * h) : (d + r) / h - u0;
     }
+    if (!(span > 0.0)) {
+        return 0.0;
+    }
+    // Past u0 + 1e30 the rest of the ray adds below float's resolution.
+    bool endless = open || span >= 1e30;
+    float ub = u0 + span;
     float base = -tau - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
-        float len = min(ub, 1.60000000e1) - u0;
+        float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
         {
             float lam = t + 2.49735657e-2;
             sum += 2.45746155e-3 * exp(base - 2.49735657e-2 * u0) * len * airlight_segments_8_exprel(-lam * len) * airlight_segments_8_P_ISO;
@@ -197,11 +327,11 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
             sum += 1.19296360e0 * exp(base - 1.42937565e0 * u0) * len * airlight_segments_8_exprel(-lam * len) * airlight_segments_8_P_ISO;
         }
     }
-    if (open || ub > 1.60000000e1) {
+    if (endless || ub > 1.60000000e1) {
         float a = max(u0, 1.60000000e1);
         float shift = base - t * (a - u0);
-        if (!open && ub <= 2.00000000e0 * a) {
-            float len = ub / a - 1.0;
+        if (!endless && ub <= 2.00000000e0 * a) {
+            float len = a == u0 ? span / a : ub / a - 1.0;
             float ta = t * a;
             float part = 0.0;
             {
@@ -227,8 +357,8 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
             float lam = t + 2.0 / a;
             float g = airlight_segments_8_phi(t * a) / a;
             float u = a + 1.0 / lam;
-            if (!open) {
-                float len = ub - a;
+            if (!endless) {
+                float len = a == u0 ? span : ub - a;
                 g -= exp(-t * len) * airlight_segments_8_phi(t * ub) / ub;
                 u = a + len / (2.0 + lam * len);
             }
@@ -240,8 +370,9 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_segments_8_airlight_geometry(float tau, float h_in, float x0, float rho) {
-    bool open = !(rho >= 0.0 && rho < airlight_segments_8_HUGE);
+float airlight_segments_8_airlight_geometry(float tau_in, float h_in, float x0, float rho) {
+    bool open = !(rho >= 0.0 && rho < airlight_segments_8_RHO_OPEN);
+    float tau = min(tau_in, airlight_segments_8_TAU_MAX);
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
@@ -274,18 +405,20 @@ float airlight_segments_8_airlight(float tau, float gamma, float rho) {
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
+// Any finite input gives a finite value >= 0: 0 without a ray, scattering or
+// light (and where the value underflows), HUGE where A diverges or the radiance
+// passes float's range.
 float airlight_segments_8_radiance(vec3 origin, vec3 dir, float surface, vec3 light, float intensity, float sigma_t, float sigma_s) {
-    vec3 l = light - origin;
-    float dd = length(l);
-    if (dd <= 0.0) {
-        return airlight_segments_8_HUGE;
+    vec3 geo = airlight_segments_8_ray_geometry(origin, dir, light);
+    if (geo.x <= 0.0) {
+        // The viewer at the light: A diverges.
+        return airlight_segments_8_scaled(sigma_s, intensity, 1.0, airlight_segments_8_HUGE);
     }
-    float h = length(cross(dir, l));
-    float x0 = dot(dir, l);
-    float n = sqrt(h * h + x0 * x0);
-    if (n <= 0.0) {
+    if (geo.y <= 0.0 && geo.z == 0.0) {
         return 0.0;
     }
-    float rho = surface < 0.0 ? -1.0 : surface / dd;
-    return sigma_s * intensity / dd * airlight_segments_8_airlight_geometry(sigma_t * dd, h / n, x0 / n, rho);
+    // Negative or NaN: no surface; an infinite rho is none too.
+    float rho = surface >= 0.0 ? surface / geo.x : -1.0;
+    float a = airlight_segments_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho);
+    return airlight_segments_8_scaled(sigma_s, intensity, geo.x, a);
 }

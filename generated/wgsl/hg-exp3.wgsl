@@ -11,15 +11,17 @@
 // * airlight_hg_exp3_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32
 //   The in-scattered radiance along a view ray, sigma_s * I / D * A. `origin` and
 //   `dir` are the ray (`dir` need not be normalised), `surface` the distance to the
-//   first surface along it (negative: none), `light` the light's position, `intensity`
+//   first surface along it (negative or +inf: none), `light` the light's position, `intensity`
 //   its radiant intensity (W/sr gives W/(m^2 sr)), `sigma_t` the extinction
 //   coefficient, `sigma_s` the scattering coefficient, `g` the Henyey-Greenstein
 //   asymmetry.
 // * airlight_hg_exp3_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
 //   The canonical A(τ, γ, ρ; g) of MATH.md section 2: tau = sigma_t * D, gamma in
-//   radians, rho = Dp / D (negative: no surface).
+//   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
-// Both return airlight_hg_exp3_HUGE (the largest f32) on the ray through the light, where A diverges.
+// Both are finite and >= 0 for every finite input: airlight_hg_exp3_HUGE (the largest f32) on the
+// ray through the light, where A diverges (and where the value passes f32's range),
+// 0 where it underflows; tau beyond airlight_hg_exp3_TAU_MAX gives 0.
 
 // --- f32 helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -28,8 +30,122 @@
 
 const airlight_hg_exp3_PI: f32 = 3.14159274e0;
 const airlight_hg_exp3_FRAC_PI_2: f32 = 1.57079637e0;
-/// The largest finite f32, returned where A diverges (the ray through the light).
+/// The largest finite f32, returned where A diverges (the ray through the light)
+/// and where a radiance passes f32's range.
 const airlight_hg_exp3_HUGE: f32 = 3.40282347e38;
+/// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
+const airlight_hg_exp3_RHO_OPEN: f32 = 4294967296.0;
+/// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
+/// hold: tau is taken as this, so inf * 0 never forms.
+const airlight_hg_exp3_TAU_MAX: f32 = 1e4;
+
+fn airlight_hg_exp3_max_abs(v: vec3<f32>) -> f32 {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+/// a = hi + lo with hi holding the upper 12 bits of the significand, by masking
+/// (no arithmetic a compiler could contract into an FMA).
+fn airlight_hg_exp3_halves(a: f32) -> vec2<f32> {
+    let hi = bitcast<f32>(bitcast<u32>(a) & 0xfffff000u);
+    return vec2<f32>(hi, a - hi);
+}
+
+/// a * b = p + e exactly (Dekker), for |a|, |b| <= 1: (p, e).
+fn airlight_hg_exp3_two_product(a: f32, b: f32) -> vec2<f32> {
+    let p = a * b;
+    let x = airlight_hg_exp3_halves(a);
+    let y = airlight_hg_exp3_halves(b);
+    return vec2<f32>(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+/// a * b - c * d to a few ulps however much it cancels, for arguments in [-1, 1].
+fn airlight_hg_exp3_diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let u = airlight_hg_exp3_two_product(a, b);
+    let v = airlight_hg_exp3_two_product(c, d);
+    return (u.x - v.x) + (u.y - v.y);
+}
+
+/// a + b = s + e exactly (Knuth's two-sum): (s, e).
+fn airlight_hg_exp3_two_sum(a: vec3<f32>, b: vec3<f32>) -> array<vec3<f32>, 2> {
+    let s = a + b;
+    let bb = s - a;
+    return array<vec3<f32>, 2>(s, (a - (s - bb)) + (b - bb));
+}
+
+/// v * 2^k, exactly (two steps, each within ldexp's range), for |k| <= 252.
+fn airlight_hg_exp3_scale2(v: vec3<f32>, k: i32) -> vec3<f32> {
+    return ldexp(ldexp(v, vec3<i32>(k / 2)), vec3<i32>(k - k / 2));
+}
+
+/// The canonical geometry of a view ray from `origin` along `dir` and a light at
+/// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
+/// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
+/// light beyond f32's range. Exact where it matters: light - origin is kept as an
+/// unrounded pair (two-sum), both vectors are scaled by powers of 2, and a cross
+/// product that cancels is formed from exact products, so a light off the ray by
+/// any amount f32 positions can express is off it here too; nothing over- or
+/// underflows for finite input. D saturates at HUGE.
+fn airlight_hg_exp3_ray_geometry(origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>) -> vec3<f32> {
+    let sum = airlight_hg_exp3_two_sum(light, -origin);
+    let ml = airlight_hg_exp3_max_abs(sum[0]);
+    let md = airlight_hg_exp3_max_abs(dir);
+    if ml == 0.0 {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    if !(ml <= airlight_hg_exp3_HUGE && md > 0.0 && md <= airlight_hg_exp3_HUGE) {
+        return vec3<f32>(airlight_hg_exp3_HUGE, 0.0, 0.0);
+    }
+    let kl = frexp(ml).exp;
+    let l = airlight_hg_exp3_scale2(sum[0], -kl);
+    let lo = airlight_hg_exp3_scale2(sum[1], -kl);
+    let d = airlight_hg_exp3_scale2(dir, -frexp(md).exp);
+    var c = cross(d, l);
+    if airlight_hg_exp3_max_abs(c) < 1e-3 {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of light - origin.
+        c = vec3<f32>(
+            airlight_hg_exp3_diff_of_products(d.y, l.z, d.z, l.y),
+            airlight_hg_exp3_diff_of_products(d.z, l.x, d.x, l.z),
+            airlight_hg_exp3_diff_of_products(d.x, l.y, d.y, l.x),
+        ) + cross(d, lo);
+    }
+    let mc = airlight_hg_exp3_max_abs(c);
+    var h = 0.0;
+    if mc > 0.0 {
+        let cs = c / mc;
+        h = mc * sqrt(dot(cs, cs));
+    }
+    let x0 = dot(d, l) + dot(d, lo);
+    let n = sqrt(h * h + x0 * x0);
+    let dist = airlight_hg_exp3_scale2(vec3<f32>(sqrt(dot(l, l))), kl).x;
+    return vec3<f32>(min(dist, airlight_hg_exp3_HUGE), h / n, x0 / n);
+}
+
+/// sigma_s * I / D * A without overflow, underflow of a partial product or
+/// 0 * inf: the mantissas are multiplied and the exponents added, and the result
+/// rounded once. 0 without scattering or light or below f32's range; HUGE where
+/// A diverges (a >= HUGE) or the radiance passes f32's range.
+fn airlight_hg_exp3_scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
+    if !(sigma_s > 0.0 && intensity > 0.0 && a > 0.0) {
+        return 0.0;
+    }
+    if a >= airlight_hg_exp3_HUGE {
+        return airlight_hg_exp3_HUGE;
+    }
+    let s = frexp(sigma_s);
+    let i = frexp(intensity);
+    let q = frexp(a);
+    let r = frexp(d);
+    let m = frexp(s.fract * i.fract * q.fract / r.fract);
+    let e = m.exp + s.exp + i.exp + q.exp - r.exp;
+    if e > 128 {
+        return airlight_hg_exp3_HUGE;
+    }
+    if e < -149 {
+        return 0.0;
+    }
+    return ldexp(m.fract, e);
+}
 
 fn airlight_hg_exp3_arctan(x: f32) -> f32 {
     let a = abs(x);
@@ -162,20 +278,20 @@ fn airlight_hg_exp3_phase(g: f32) -> airlight_hg_exp3_Phase {
         ph.b[2] = (-3.97299147e0 * x + 5.40594697e-1) * x + -4.29268450e-1;
     } else if ga <= 8.99999976e-1 {
         let x = ga - 8.50000024e-1;
-        ph.c[0] = 1.00000000e0 * ((9.11740906e2 * x + 1.01698013e2) * x + 8.40871048e0);
-        ph.c[1] = 1.00000000e0 * ((-7.60730457e0 * x + 4.57963169e-1) * x + 4.00363147e-1);
-        ph.c[2] = 1.00000000e0 * ((-2.62713313e-1 * x + -3.95881757e-3) * x + 6.58084825e-3);
-        ph.b[0] = (2.76596771e2 * x + 4.55034180e1) * x + 8.98964024e0;
-        ph.b[1] = (5.31548405e0 * x + 8.02121639e0) * x + 2.78390670e0;
-        ph.b[2] = (-4.54915762e0 * x + 2.35007739e0) * x + 2.22696111e-1;
+        ph.c[0] = 1.00000000e0 * ((9.11753906e2 * x + 1.01706299e2) * x + 8.40894318e0);
+        ph.c[1] = 1.00000000e0 * ((-7.59636784e0 * x + 4.56155241e-1) * x + 4.00328934e-1);
+        ph.c[2] = 1.00000000e0 * ((-2.62796164e-1 * x + -4.00847150e-3) * x + 6.58082915e-3);
+        ph.b[0] = (2.76621185e2 * x + 4.55023613e1) * x + 8.98964787e0;
+        ph.b[1] = (5.32913446e0 * x + 8.01550198e0) * x + 2.78382754e0;
+        ph.b[2] = (-4.56183720e0 * x + 2.34736228e0) * x + 2.22700924e-1;
     } else if ga <= 9.49999988e-1 {
         let x = ga - 9.25000012e-1;
-        ph.c[0] = 1.00000000e0 * ((2.60177070e4 * x + 8.33828552e2) * x + 2.37825966e1);
-        ph.c[1] = 1.00000000e0 * ((2.36329300e2 * x + 5.21984386e0) * x + 4.33846951e-1);
-        ph.c[2] = 1.00000000e0 * ((1.87237310e0 * x + 1.57777518e-2) * x + 5.37290797e-3);
-        ph.b[0] = (4.97738672e3 * x + 2.07602188e2) * x + 1.45251236e1;
-        ph.b[1] = (7.23554199e2 * x + 2.90937977e1) * x + 3.60303450e0;
-        ph.b[2] = (1.60989273e2 * x + 6.24602461e0) * x + 4.13365901e-1;
+        ph.c[0] = 1.00000000e0 * ((2.38837188e4 * x + 8.22651367e2) * x + 2.41643333e1);
+        ph.c[1] = 1.00000000e0 * ((2.03210831e2 * x + 5.25574446e0) * x + 4.41920131e-1);
+        ph.c[2] = 1.00000000e0 * ((1.66359401e0 * x + 1.61105264e-2) * x + 5.43454196e-3);
+        ph.b[0] = (4.48891650e3 * x + 2.06361313e2) * x + 1.46239567e1;
+        ph.b[1] = (6.47806519e2 * x + 2.92158718e1) * x + 3.62322259e0;
+        ph.b[2] = (1.48544846e2 * x + 6.26313877e0) * x + 4.17184174e-1;
     } else {
         let x = ga - 9.70000029e-1;
         ph.c[0] = 1.00000000e0 * ((6.49589922e4 * x + 2.67119019e3) * x + 4.86791992e1);
@@ -248,18 +364,25 @@ fn airlight_hg_exp3_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
-    var ub = airlight_hg_exp3_HUGE;
+    // The length ub - u0, never as a difference when it is short: for gamma > pi/2
+    // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    var span = airlight_hg_exp3_HUGE;
     if !open {
         let d = rho - x0;
-        ub = (d + sqrt(d * d + h * h)) / h;
-        if ub <= u0 {
-            return 0.0;
-        }
+        let r = sqrt(d * d + h * h);
+        span = select((d + r) / h - u0, 2.0 * rho * (d + r) / ((rho + r + 1.0) * h), x0 < 0.0);
     }
+    if !(span > 0.0) {
+        return 0.0;
+    }
+    // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
+    let endless = open || span >= 1e30;
+    let ub = u0 + span;
     let base = -tau - t * (u0 - ua);
     var sum = 0.0;
     if u0 < 1.60000000e1 {
-        let len = min(ub, 1.60000000e1) - u0;
+        let len = select(1.60000000e1 - u0, span, ub <= 1.60000000e1);
         {
             let lam = t + 2.49735657e-2;
             let mean = u0 + len / (2.0 + lam * len);
@@ -281,11 +404,11 @@ fn airlight_hg_exp3_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open
             sum += 1.19296360e0 * exp(base - 1.42937565e0 * u0) * len * airlight_hg_exp3_exprel(-lam * len) * airlight_hg_exp3_phase_u(ph, mean);
         }
     }
-    if open || ub > 1.60000000e1 {
+    if endless || ub > 1.60000000e1 {
         let a = max(u0, 1.60000000e1);
         let shift = base - t * (a - u0);
-        if !open && ub <= 2.00000000e0 * a {
-            let len = ub / a - 1.0;
+        if !endless && ub <= 2.00000000e0 * a {
+            let len = select(ub / a - 1.0, span / a, a == u0);
             let ta = t * a;
             var part = 0.0;
             {
@@ -311,8 +434,8 @@ fn airlight_hg_exp3_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open
             let lam = t + 2.0 / a;
             var g = airlight_hg_exp3_phi(t * a) / a;
             var u = a + 1.0 / lam;
-            if !open {
-                let len = ub - a;
+            if !endless {
+                let len = select(ub - a, span, a == u0);
                 g -= exp(-t * len) * airlight_hg_exp3_phi(t * ub) / ub;
                 u = a + len / (2.0 + lam * len);
             }
@@ -324,9 +447,10 @@ fn airlight_hg_exp3_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_hg_exp3_airlight_geometry(tau: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
+fn airlight_hg_exp3_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
     let ph = airlight_hg_exp3_phase(g);
-    let open = !(rho >= 0.0 && rho < airlight_hg_exp3_HUGE);
+    let open = !(rho >= 0.0 && rho < airlight_hg_exp3_RHO_OPEN);
+    let tau = min(tau_in, airlight_hg_exp3_TAU_MAX);
     if h_in <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if open || rho >= 1.0 {
@@ -359,18 +483,20 @@ fn airlight_hg_exp3_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
+/// Any finite input gives a finite value >= 0: 0 without a ray, scattering or
+/// light (and where the value underflows), HUGE where A diverges or the radiance
+/// passes f32's range.
 fn airlight_hg_exp3_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
-    let l = light - origin;
-    let dd = length(l);
-    if dd <= 0.0 {
-        return airlight_hg_exp3_HUGE;
+    let geo = airlight_hg_exp3_ray_geometry(origin, dir, light);
+    if geo.x <= 0.0 {
+        // The viewer at the light: A diverges.
+        return airlight_hg_exp3_scaled(sigma_s, intensity, 1.0, airlight_hg_exp3_HUGE);
     }
-    let h = length(cross(dir, l));
-    let x0 = dot(dir, l);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if geo.y <= 0.0 && geo.z == 0.0 {
         return 0.0;
     }
-    let rho = select(surface / dd, -1.0, surface < 0.0);
-    return sigma_s * intensity / dd * airlight_hg_exp3_airlight_geometry(sigma_t * dd, h / n, x0 / n, rho, g);
+    // Negative or NaN: no surface; an infinite rho is none too.
+    let rho = select(-1.0, surface / geo.x, surface >= 0.0);
+    let a = airlight_hg_exp3_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g);
+    return airlight_hg_exp3_scaled(sigma_s, intensity, geo.x, a);
 }

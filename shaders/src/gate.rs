@@ -20,11 +20,13 @@ use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
-/// The gate's label of a target: where and in what precision it runs.
-pub fn target_label(t: Target) -> &'static str {
+/// The gate's label of a target: where and in what precision it runs (`None`:
+/// the kernel's f64 model, the column every f32 target is compared with).
+pub fn target_label(t: Option<Target>) -> &'static str {
     match t {
-        Target::Rust => "rust-f32",
-        t => t.name(),
+        None => "f64",
+        Some(Target::Rust) => "rust-f32",
+        Some(t) => t.name(),
     }
 }
 
@@ -33,9 +35,10 @@ pub fn target_label(t: Target) -> &'static str {
 pub struct Row {
     /// Kernel name.
     pub kernel: String,
-    /// Where it ran.
-    pub target: Target,
-    /// `thin`, `dense` or `extreme`.
+    /// Where it ran; `None`: the f64 model (reported, never failing the gate).
+    pub target: Option<Target>,
+    /// `thin`, `dense`, `extreme` (canonical entry), `physical` or
+    /// `phys-extreme` (physical entry).
     pub domain: &'static str,
     /// Points with `A` in f32's range (the error statistics' population).
     pub points: usize,
@@ -47,10 +50,11 @@ pub struct Row {
     pub declared: f64,
     /// Where the largest error occurs.
     pub worst: Option<Point>,
-    /// NaN, ∞ or negative results where `A` is finite.
+    /// NaN, ∞ or negative results where the value is finite (the kernels' `HUGE`
+    /// counts as ∞ unless the exact value is beyond f32's checked range).
     pub bad: usize,
-    /// The first such point.
-    pub first_bad: Option<(Point, f32)>,
+    /// The first such point and value.
+    pub first_bad: Option<(Point, f64)>,
 }
 
 impl Row {
@@ -58,9 +62,11 @@ impl Row {
     pub fn limit(&self) -> f64 {
         f32_limit(self.declared)
     }
-    /// Whether this row passes.
+    /// Whether this row passes: no bad value and, for an f32 target, the error
+    /// within [`Row::limit`]. The f64 rows hold the model's own error and only
+    /// need to be free of bad values (their bounds are the fit's business).
     pub fn passes(&self) -> bool {
-        self.bad == 0 && self.max <= self.limit()
+        self.bad == 0 && (self.target.is_none() || self.max <= self.limit())
     }
 }
 
@@ -199,18 +205,164 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
     Ok(out)
 }
 
+/// The physical extreme set's label.
+pub const PHYS_EXTREME: &str = "phys-extreme";
+
+/// The hull of a kernel's declared domains: τ up to the end of its sampled
+/// domains (`tau_max`), γ and ρ as far as `extreme` reaches (MATH.md §5: γ ∈
+/// [1e-4, π − 1e-4], ρ ∈ [1e-4, 1e4] ∪ {∞}): where a physical extreme ray's error
+/// is held to the declared bound. Outside it (grazing lights at 1e-30, surfaces
+/// at 1e-6 D, τ past the kernel's domains) only the value's sanity is checked.
+pub fn in_declared_hull(p: &Point, tau_max: f64) -> bool {
+    p.tau <= tau_max
+        && (1e-4..=std::f64::consts::PI - 1e-4).contains(&p.gamma)
+        && (p.rho.is_infinite() || (1e-4..=1e4).contains(&p.rho))
+}
+
+/// The physical extreme set of kernel `k` (issue: "kernels over the whole f32
+/// range"): viewer–light distances 1e-4 … 1e30; the light on the ray, off it by
+/// 1e-30 … 1e-3 relative (axis-aligned rays from the origin, where f32 holds such
+/// offsets exactly), across, behind, and at the viewer; surfaces none, 0,
+/// 1e-6 D, D/2, D, 1e3 D, 1e30, `f32::MAX` and `+∞`; unit, tiny (1e-30) and huge
+/// (1e20) directions, axis-aligned (so that the tiny offsets survive f32) or not;
+/// σt = 0, σs > σt, dense media; projected onto what `k` takes. Deterministic.
+/// Returns the rays with the canonical point of their f32 inputs (computed in
+/// f64; `ρ = 0`, `γ = 0` for a light at the viewer) and the reference radiance.
+pub fn physical_extremes(k: &IndexEntry) -> Result<Vec<(crate::Ray, Point, f64)>, GateError> {
+    use std::f64::consts::PI;
+    let scales = [1e-4, 1e-2, 1.0, 1e3, 1e6, 1e12, 1e20, 1e30];
+    // γ, or the relative offset of the light from the ray (as `ε`, γ ≈ ε).
+    let angles: [f64; 11] = [0.0, 1e-30, 1e-20, 1e-10, 1e-6, 1e-3, 1.0, PI / 2.0, 2.5, PI - 1e-3, PI];
+    // A ray in a general direction from a general viewer: its positions round in
+    // f32, so the light's offset from it is known only to that rounding, ~1e-7
+    // relative (the Rust kernel resolves what the rounded inputs say exactly; a
+    // shader compiler may reassociate the error-free sums that do it): its
+    // angles stay where the f32 inputs determine the value.
+    let general: [f64; 11] = [1e-3, 1e-2, 0.1, 0.5, 1.0, PI / 2.0, 2.0, 2.5, 3.0, PI - 1e-2, PI - 1e-3];
+    let surfaces: [&dyn Fn(f64) -> f64; 9] = [
+        &|_| -1.0,
+        &|_| 0.0,
+        &|d| 1e-6 * d,
+        &|d| 0.5 * d,
+        &|d| d,
+        &|d| 1e3 * d,
+        &|_| 1e30,
+        &|_| f64::from(f32::MAX),
+        &|_| f64::INFINITY,
+    ];
+    // (σt·D, σs·D): clear with scattering, thin, σs > σt, dense.
+    let media = [(0.0, 1.0), (1e-3, 1e-3), (0.5, 0.4), (2.0, 3.0), (20.0, 16.0)];
+    let gs: Vec<f64> = if k.g[0] == k.g[1] { vec![k.g[0]] } else { vec![k.g[0], 0.5 * (k.g[0] + k.g[1]), k.g[1]] };
+    let mut rays = Vec::new();
+    let mut i = 0usize;
+    for &d in &scales {
+        for (&a_axis, &a_general) in angles.iter().zip(&general) {
+            for surface in &surfaces {
+                i += 1;
+                let axis = i.is_multiple_of(2);
+                let a = if axis { a_axis } else { a_general };
+                let (dir, perp): ([f64; 3], [f64; 3]) =
+                    if axis { ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]) } else { ([0.6, 0.64, 0.48], [0.8, -0.48, -0.36]) };
+                let dscale = [1.0, 1e-30, 1e20][i % 3];
+                let (st, ss) = media[i % media.len()];
+                let g = gs[i % gs.len()];
+                let origin = if axis { [0.0; 3] } else { [3.0 * d, -5.0 * d, 0.25 * d] };
+                let (c, sn) = (a.cos(), a.sin());
+                let light: [f64; 3] = std::array::from_fn(|j| origin[j] + d * (c * dir[j] + sn * perp[j]));
+                let ray = crate::Ray {
+                    origin: origin.map(|x| x as f32),
+                    dir: dir.map(|x| (x * dscale) as f32),
+                    surface: if k.surfaces { surface(d) as f32 } else { -1.0 },
+                    light: light.map(|x| x as f32),
+                    intensity: 100.0,
+                    sigma_t: if k.extinction { (st / d) as f32 } else { 0.0 },
+                    sigma_s: (ss / d) as f32,
+                    g: g as f32,
+                };
+                rays.push(ray);
+            }
+        }
+    }
+    // The light at the viewer, with and without scattering.
+    for (j, &d) in scales.iter().enumerate() {
+        let o = [d as f32, -(d as f32), 0.5 * d as f32];
+        let sigma_s = if j.is_multiple_of(2) { (1.0 / d) as f32 } else { 0.0 };
+        rays.push(crate::Ray {
+            origin: o,
+            dir: [0.0, 0.0, 1.0],
+            surface: -1.0,
+            light: o,
+            intensity: 100.0,
+            sigma_t: if k.extinction { (1.0 / d) as f32 } else { 0.0 },
+            sigma_s,
+            g: gs[0] as f32,
+        });
+    }
+    let expected = airlight_fit::parallel::map(
+        &rays,
+        |r| {
+            let phys = r.physical();
+            let v = phys.radiance(f64::from(r.g), &|p| reference::airlight(p).unwrap_or(f64::NAN));
+            let point = phys.to_canonical(f64::from(r.g)).map(|c| c.point).unwrap_or(Point {
+                tau: 0.0,
+                gamma: 0.0,
+                rho: 0.0,
+                g: f64::from(r.g),
+            });
+            v.map(|v| (point, v))
+        },
+        &|_, _| {},
+    );
+    rays.into_iter()
+        .zip(expected)
+        .map(|(r, e)| {
+            let (p, v) = e.map_err(|e| GateError::Input(format!("{}: physical extreme set: {e}", k.name)))?;
+            if v.is_nan() {
+                return Err(GateError::Input(format!("{}: the reference failed at {p:?}", k.name)));
+            }
+            Ok((r, p, v))
+        })
+        .collect()
+}
+
+/// The f64 model of kernel `k` at a canonical point: its fitted model, or the
+/// closed form for a kernel without one (the no-extinction family is exact
+/// there, the reference's own value).
+fn f64_model<'m>(k: &IndexEntry, models: &'m [ModelFile]) -> Result<Box<dyn Fn(Point) -> f64 + Sync + 'm>, GateError> {
+    match &k.model {
+        Some(name) => {
+            let m = models
+                .iter()
+                .find(|m| &m.model.name == name)
+                .ok_or_else(|| GateError::Input(format!("kernel {}: no coefficient file for model {name}", k.name)))?;
+            Ok(Box::new(move |p| airlight_fit::model::Model::eval_unchecked(&m.model, p)))
+        }
+        None => Ok(Box::new(|p| airlight_fit::family::closed::NoExtinction.eval(p))),
+    }
+}
+
 /// Statistics of one kernel's values against the reference.
-fn row(k: &IndexEntry, target: Target, domain: &'static str, pts: &[(Point, f64)], got: &[f32], declared: f64) -> Row {
+fn row(
+    k: &IndexEntry,
+    target: Option<Target>,
+    domain: &'static str,
+    pts: &[(Point, f64)],
+    got: &[f64],
+    declared: f64,
+) -> Row {
+    let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
     let mut errs = Vec::with_capacity(pts.len());
     let (mut bad, mut first_bad) = (0, None);
-    for (&(p, exact), &v) in pts.iter().zip(got) {
-        let v64 = crate::from_kernel(v);
-        if exact.is_finite() && !(v64.is_finite() && v64 >= 0.0) {
+    for (&(p, exact), &v64) in pts.iter().zip(got) {
+        // An f32 kernel's HUGE (read as ∞) is right where the value is ∞ or
+        // beyond f32's checked range (it saturates there); anywhere else it is bad.
+        let saturated = target.is_some() && v64 == f64::INFINITY && exact > F32_RANGE.1;
+        if !saturated && exact.is_finite() && !(v64.is_finite() && v64 >= 0.0) {
             bad += 1;
-            first_bad.get_or_insert((p, v));
+            first_bad.get_or_insert((p, v64));
             continue;
         }
-        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) {
+        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) && (domain != PHYS_EXTREME || in_declared_hull(&p, tau_max)) {
             errs.push((p, (v64 - exact).abs() / exact));
         }
     }
@@ -285,50 +437,73 @@ pub fn run(
             })?),
             _ => None,
         };
+        let model = f64_model(k, &models)?;
+        let rust_f32 = |r: &crate::Ray, rk: &CompiledKernel| {
+            crate::from_kernel((rk.radiance)(
+                r.origin,
+                r.dir,
+                r.surface,
+                r.light,
+                r.intensity,
+                r.sigma_t,
+                r.sigma_s,
+                r.g,
+            ))
+        };
         for (domain, pts) in &sets {
             let bound = declared(k, &models, *domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
+            let f64s = airlight_fit::parallel::map(pts, |(p, _)| model(*p), &|_, _| {});
+            rows.push(row(k, None, domain.name(), pts, &f64s, bound));
             if let Some(rk) = compiled {
-                let got: Vec<f32> = raw
+                let got: Vec<f64> = raw
                     .iter()
-                    .map(|p| (rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
+                    .map(|p| {
+                        crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
+                    })
                     .collect();
-                rows.push(row(k, Target::Rust, domain.name(), pts, &got, bound));
+                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound));
             }
             let Some(gpu) = gpu else { continue };
             for (target, src) in &shaders {
                 let got = gpu
                     .airlight(src, &raw)
                     .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                rows.push(row(k, *target, domain.name(), pts, &got, bound));
+                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound));
             }
         }
-        // The physical entry: random placements at world scales 1e-3 … 1e4.
-        let rays = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
-        let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
-        let bound = k
-            .domains
-            .iter()
-            .map(|&d| declared(k, &models, d))
-            .collect::<Result<Vec<_>, _>>()?
-            .into_iter()
-            .fold(0.0, f64::max);
-        if let Some(rk) = compiled {
-            let got: Vec<f32> = rays
-                .iter()
-                .map(|(r, _, _)| {
-                    (rk.radiance)(r.origin, r.dir, r.surface, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
-                })
-                .collect();
-            rows.push(row(k, Target::Rust, "physical", &expected, &got, bound));
-        }
-        if let Some(gpu) = gpu {
-            let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
-            for (target, src) in &shaders {
-                let got = gpu
-                    .radiance(src, &plain)
-                    .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                rows.push(row(k, *target, "physical", &expected, &got, bound));
+        // The physical entry: random placements at world scales 1e-3 … 1e4, and
+        // the physical extreme set; both bounded by the largest declared bound
+        // (the extreme set where its canonical point lies in the declared hull).
+        let bound_over = |ds: &mut dyn Iterator<Item = Domain>| -> Result<f64, GateError> {
+            ds.map(|d| declared(k, &models, d)).try_fold(0.0, |a, b| b.map(|b| f64::max(a, b)))
+        };
+        let sampled = bound_over(&mut k.domains.iter().copied())?;
+        let hull = bound_over(&mut k.domains.iter().copied().chain([Domain::Extreme]))?;
+        let physical = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
+        let extremes = physical_extremes(k)?;
+        for (label, rays, bound) in [("physical", &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
+            let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
+            let f64s = airlight_fit::parallel::map(
+                rays,
+                |(r, _, _)| r.physical().radiance(f64::from(r.g), &|p| model(p)).unwrap_or(f64::NAN),
+                &|_, _| {},
+            );
+            rows.push(row(k, None, label, &expected, &f64s, bound));
+            if let Some(rk) = compiled {
+                let got: Vec<f64> = rays.iter().map(|(r, _, _)| rust_f32(r, rk)).collect();
+                rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound));
+            }
+            if let Some(gpu) = gpu {
+                let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
+                for (target, src) in &shaders {
+                    let got = gpu
+                        .radiance(src, &plain)
+                        .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
+                    let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                    rows.push(row(k, Some(*target), label, &expected, &got, bound));
+                }
             }
         }
     }

@@ -6,8 +6,9 @@
 //! rays, and reads the f32 results back. Generated kernels are wrapped by the
 //! arguments they take ([`KernelSource`]); a hand-written WGSL function can be run
 //! with the ABI `fn NAME(tau: f32, gamma: f32, rho: f32, g: f32) -> f32` ([`Gpu::eval`]).
-//! `rho = NO_SURFACE` (−1) stands for `ρ = ∞`: kernels may assume no infinities,
-//! so none is ever passed to a shader.
+//! `rho = NO_SURFACE` (−1) stands for `ρ = ∞` in the canonical entry; the gate's
+//! physical extreme set also passes `+∞` and `f32::MAX` surfaces, which every
+//! kernel takes as none.
 
 #![warn(missing_docs)]
 

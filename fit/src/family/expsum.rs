@@ -70,14 +70,13 @@ impl ExpSum {
         self.c.iter().zip(&self.s).map(|(c, s)| c * (-s * u).exp()).sum()
     }
 
-    /// `e^{base} ∫_{u0}^{u1} e^{− T (u − u0)} ŵ(u) p(u) du` for `1 ≤ u0 ≤ u1 ≤ ∞`, with
-    /// the slowly varying factor `p` taken at each term's mean point. Each term is
-    /// `c e^{base − s u0} (1 − e^{−λ L}) / λ · p(ū)` with `λ = T + s`, `L = u1 − u0` and
+    /// `e^{base} ∫_{u0}^{u0 + L} e^{− T (u − u0)} ŵ(u) p(u) du` for `u0 ≥ 1`, `L ≥ 0`
+    /// (possibly ∞), with the slowly varying factor `p` taken at each term's mean
+    /// point. Each term is `c e^{base − s u0} (1 − e^{−λ L}) / λ · p(ū)` with `λ = T + s` and
     /// `ū = u0 + L / (2 + λ L)` (`u0 + 1/λ` when `L = ∞`), the mean of `e^{−λ(u − u0)}`
     /// on the interval up to second order — exact for uniform and for fast decay.
-    pub fn integrate(&self, u0: f64, u1: f64, t: f64, base: f64, p: impl Fn(f64) -> f64) -> f64 {
-        let len = u1 - u0;
-        if len <= 0.0 {
+    pub fn integrate(&self, u0: f64, len: f64, t: f64, base: f64, p: impl Fn(f64) -> f64) -> f64 {
+        if len.is_nan() || len <= 0.0 {
             return 0.0;
         }
         self.c
@@ -151,25 +150,30 @@ pub struct Backward {
 }
 
 impl Backward {
-    /// `e^{base} ∫_{u0}^{u1} e^{−T (u − u0)} w(u) p(u) du` for `1 ≤ u0 < u1 ≤ ∞`, `p`
-    /// slowly varying (taken at each term's or part's mean point). Every part is positive.
-    pub fn integrate(&self, u0: f64, u1: f64, t: f64, base: f64, p: impl Fn(f64) -> f64) -> f64 {
+    /// `e^{base} ∫_{u0}^{u0 + L} e^{−T (u − u0)} w(u) p(u) du` for `u0 ≥ 1`, `L ≥ 0`
+    /// (∞: no surface), `p` slowly varying (taken at each term's or part's mean
+    /// point). Every part is positive. The length is given, not the end, so that a
+    /// short interval far out keeps its precision.
+    pub fn integrate(&self, u0: f64, len: f64, t: f64, base: f64, p: impl Fn(f64) -> f64) -> f64 {
         let mut sum = 0.0;
+        let u1 = u0 + len;
         if u0 < SPLIT {
-            sum += self.near.integrate(u0, u1.min(SPLIT), t, base, &p);
+            sum += self.near.integrate(u0, if u1 <= SPLIT { len } else { SPLIT - u0 }, t, base, &p);
         }
         if u1 > SPLIT {
             let a = u0.max(SPLIT);
             let shift = base - t * (a - u0);
             let q = |u: f64| u * u / (1.0 + u * u);
             if u1 <= LOCAL_RATIO * a {
-                sum += self.local.integrate(1.0, u1 / a, t * a, shift, |y| q(a * y) * p(a * y)) / a;
+                // y = u/a ∈ [1, u1/a]; its length from `len` when the part starts at u0.
+                let ylen = if a == u0 { len / a } else { u1 / a - 1.0 };
+                sum += self.local.integrate(1.0, ylen, t * a, shift, |y| q(a * y) * p(a * y)) / a;
             } else {
                 let lambda = t + 2.0 / a;
                 let (g, mean) = if u1.is_infinite() {
                     (phi(t * a) / a, a + 1.0 / lambda)
                 } else {
-                    let len = u1 - a;
+                    let len = if a == u0 { len } else { u1 - a };
                     (phi(t * a) / a - (-t * len).exp() * phi(t * u1) / u1, a + len / (2.0 + lambda * len))
                 };
                 sum += shift.exp() * g * q(mean) * p(mean);
@@ -245,7 +249,7 @@ mod tests {
         let e = ExpSum { c: vec![0.3, 0.1], s: vec![0.5, 0.01] };
         for (u0, u1, t) in [(1.0, 3.0, 0.0), (2.0, 50.0, 0.7), (1.0, 1.0 + 1e-9, 5.0)] {
             let exact = gauss_kronrod(|u| (-t * (u - u0)).exp() * e.eval(u), &[u0, u1], 1e-14, 200).value;
-            assert!((e.integrate(u0, u1, t, 0.0, |_| 1.0) / exact - 1.0).abs() < 1e-12);
+            assert!((e.integrate(u0, u1 - u0, t, 0.0, |_| 1.0) / exact - 1.0).abs() < 1e-12);
         }
         let inf = e.integrate(1.0, f64::INFINITY, 0.3, 0.0, |_| 1.0);
         let exact: f64 = e.c.iter().zip(&e.s).map(|(c, s)| c * (-s).exp() / (0.3 + s)).sum();
@@ -276,7 +280,7 @@ mod tests {
                 [u0, 16.0, 32.0, 320.0, 3200.0, 1e5, 1e8, cut].into_iter().filter(|&x| x >= u0 && x <= cut).collect();
             let exact = gauss_kronrod(|u| (-t * (u - u0)).exp() * weight(u), &pts, 1e-12, 500).value
                 + if u1.is_infinite() { 1e-12 } else { 0.0 };
-            let got = b.integrate(u0, u1, t, 0.0, |_| 1.0);
+            let got = b.integrate(u0, u1 - u0, t, 0.0, |_| 1.0);
             assert!((got / exact - 1.0).abs() < 3e-3, "{u0} {u1} {t}: {got} vs {exact}");
         }
     }

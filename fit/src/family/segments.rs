@@ -94,18 +94,36 @@ impl Segments {
     /// `e^{max end} · L · exprel(−|λ| L)`: never 0/0, no cancellation, no overflow
     /// beyond the larger endpoint value.
     pub fn integrate(&self, lo: f64, hi: f64, t: f64, base: f64, slope: f64) -> f64 {
+        self.integrate_span(lo, hi, hi - lo, t, base, slope)
+    }
+
+    /// [`Segments::integrate`] with the interval's length `len = hi − lo` given
+    /// separately, to full precision: a short interval near π/2 (a surface just
+    /// before the viewer, or γ → 0 with a surface before the light) has ends that
+    /// agree in most of their digits, and its length must not be their difference.
+    pub fn integrate_span(&self, lo: f64, hi: f64, len: f64, t: f64, base: f64, slope: f64) -> f64 {
+        let piece = |j: usize, a: f64, len: f64| {
+            let lambda = slope - t * self.slopes[j];
+            let e0 = base - t * self.intercepts[j];
+            let (ea, eb) = (e0 + lambda * a, e0 + lambda * (a + len));
+            ea.max(eb).exp() * len * exprel(-lambda.abs() * len)
+        };
+        if len.is_nan() || len <= 0.0 {
+            return 0.0;
+        }
+        // Inside one segment: one piece, of the given length.
+        if let Some(j) = (0..self.n()).find(|&j| lo >= self.breakpoints[j] && hi <= self.breakpoints[j + 1]) {
+            return piece(j, lo, len);
+        }
+        // Across breakpoints each piece's length is a difference of its ends; an
+        // error there is relative to the whole interval, not to the piece.
         let mut sum = 0.0;
         for j in 0..self.n() {
             let a = lo.max(self.breakpoints[j]);
             let b = hi.min(self.breakpoints[j + 1]);
-            if b <= a {
-                continue;
+            if b > a {
+                sum += piece(j, a, b - a);
             }
-            let lambda = slope - t * self.slopes[j];
-            let e0 = base - t * self.intercepts[j];
-            let (ea, eb) = (e0 + lambda * a, e0 + lambda * b);
-            let len = b - a;
-            sum += ea.max(eb).exp() * len * exprel(-lambda.abs() * len);
         }
         sum
     }

@@ -94,18 +94,24 @@ impl Split {
         let theta_a = gamma - FRAC_PI_2;
         let theta_b = if p.rho.is_infinite() { FRAC_PI_2 } else { (p.rho - x0).atan2(h) };
         let mut forward = 0.0;
-        if theta_a < 0.0 && theta_b > theta_a {
+        if theta_a < 0.0 {
             let (lo, hi) = ((-theta_b).max(0.0), -theta_a);
+            // The length as an angle between vectors (at the light: from the
+            // viewer to the surface, or to the foot point), never as `hi − lo`,
+            // which cancels when γ → 0 or ρ → 0.
+            let len = if theta_b < 0.0 { (h * p.rho).atan2(1.0 - x0 * p.rho) } else { x0.atan2(h) };
             let att = if self.forward_attenuation { -p.tau * x0 } else { 0.0 };
             let dir = if terms.mirrored { -1.0 } else { 1.0 };
             for &(c, beta) in &terms.terms {
-                forward += c * self.forward.integrate(lo, hi, t, att - beta * FRAC_PI_2, dir * beta);
+                forward += c * self.forward.integrate_span(lo, hi, len, t, att - beta * FRAC_PI_2, dir * beta);
             }
             forward /= h;
         }
         let mut backward = 0.0;
         let theta_lo = theta_a.max(0.0);
-        if theta_b > theta_lo {
+        // Past the foot point (γ > π/2: any surface; else one beyond it), decided on
+        // ρ itself: the angles agree to the last digit as ρ → 0.
+        if if x0 < 0.0 { p.rho > 0.0 } else { p.rho > x0 } {
             backward = match (&self.ratio, theta_a <= 0.0) {
                 (Some(ratio), true) => {
                     let r = ratio.eval(theta_b, t);
@@ -171,19 +177,28 @@ impl Split {
         let t = tau * h;
         // u = tan(γ/2), written without cancellation on either side of π/2.
         let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
-        let ub = if rho.is_infinite() {
+        let u0 = ua.max(1.0);
+        // The length `ub − u0`, formed without cancellation: for γ > π/2 the
+        // interval starts at `ua` and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)` with
+        // `d = ρ − cos γ > 0`, `r = √(d² + h²)` (MATH.md §3), which stays exact
+        // as ρ → 0.
+        let len = if rho.is_infinite() {
             f64::INFINITY
         } else {
             let d = rho - x0; // ≥ 0 here: the surface is past the foot point
-            (d + d.hypot(h)) / h
+            let r = d.hypot(h);
+            if x0 < 0.0 {
+                2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
+            } else {
+                (d + r) / h - u0
+            }
         };
-        let u0 = ua.max(1.0);
-        if ub <= u0 {
+        if len.is_nan() || len <= 0.0 {
             return 0.0;
         }
         // The phase varies slowly against each term's exponential: taken at the
         // term's mean point, α = 2 atan u.
-        let e = self.expsum.integrate(u0, ub, t, -tau - t * (u0 - ua), |u| terms.eval(2.0 * u.atan()));
+        let e = self.expsum.integrate(u0, len, t, -tau - t * (u0 - ua), |u| terms.eval(2.0 * u.atan()));
         2.0 / h * e
     }
 }

@@ -9,16 +9,18 @@
 //!
 //! * [`radiance`]: the in-scattered radiance along a view ray, `σs·I/D·A`. `origin`
 //!   and `dir` are the ray (`dir` need not be normalised), `surface` the distance
-//!   to the first surface along it (negative: none), `light` the light's position,
+//!   to the first surface along it (negative or +∞: none), `light` the light's position,
 //!   `intensity` its radiant intensity (W/sr gives W/(m²·sr)), `sigma_t` the
 //!   extinction coefficient, `sigma_s` the scattering coefficient, `g` the
 //!   Henyey–Greenstein asymmetry.
 //! * [`airlight`]: the canonical `A(τ, γ, ρ; g)` of MATH.md §2: τ = σt·D, γ in
-//!   radians, ρ = Dp/D (negative or infinite: no surface).
+//!   radians, ρ = Dp/D (negative, NaN or ≥ 2^32: no surface).
 //!
-//! Both return [`HUGE`] on the ray through the light, where `A` diverges.
+//! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
+//! light, where `A` diverges (and where the value passes f32's range), 0 where it
+//! underflows; τ beyond [`TAU_MAX`] gives 0 (`A` is below f32's range there).
 
-use crate::math::{atan, atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use crate::math::{atan, atan2, exp, exprel, HUGE, phi, ray_geometry, RHO_OPEN, scaled, sin_cos, sqrt, TAU_MAX};
 use core::f32::consts::{PI};
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
@@ -63,9 +65,9 @@ fn phase(g: f32) -> Phase {
     } else if ga <= 8.00000012e-1 {
         (6.99999988e-1, [[5.18941498e1, 1.37595186e1, 1.98299229e0], [-3.53137940e-1, 3.48808229e-1, 1.23950571e-1], [-2.38901339e-2, -1.75880326e-3, 1.55005907e-3]], [[2.80551815e1, 1.43201027e1, 4.24927950e0], [1.58286941e0, 3.63830376e0, 1.27979958e0], [-3.97299147e0, 5.40594697e-1, -4.29268450e-1]])
     } else if ga <= 8.99999976e-1 {
-        (8.50000024e-1, [[9.11740906e2, 1.01698013e2, 8.40871048e0], [-7.60730457e0, 4.57963169e-1, 4.00363147e-1], [-2.62713313e-1, -3.95881757e-3, 6.58084825e-3]], [[2.76596771e2, 4.55034180e1, 8.98964024e0], [5.31548405e0, 8.02121639e0, 2.78390670e0], [-4.54915762e0, 2.35007739e0, 2.22696111e-1]])
+        (8.50000024e-1, [[9.11753906e2, 1.01706299e2, 8.40894318e0], [-7.59636784e0, 4.56155241e-1, 4.00328934e-1], [-2.62796164e-1, -4.00847150e-3, 6.58082915e-3]], [[2.76621185e2, 4.55023613e1, 8.98964787e0], [5.32913446e0, 8.01550198e0, 2.78382754e0], [-4.56183720e0, 2.34736228e0, 2.22700924e-1]])
     } else if ga <= 9.49999988e-1 {
-        (9.25000012e-1, [[2.60177070e4, 8.33828552e2, 2.37825966e1], [2.36329300e2, 5.21984386e0, 4.33846951e-1], [1.87237310e0, 1.57777518e-2, 5.37290797e-3]], [[4.97738672e3, 2.07602188e2, 1.45251236e1], [7.23554199e2, 2.90937977e1, 3.60303450e0], [1.60989273e2, 6.24602461e0, 4.13365901e-1]])
+        (9.25000012e-1, [[2.38837188e4, 8.22651367e2, 2.41643333e1], [2.03210831e2, 5.25574446e0, 4.41920131e-1], [1.66359401e0, 1.61105264e-2, 5.43454196e-3]], [[4.48891650e3, 2.06361313e2, 1.46239567e1], [6.47806519e2, 2.92158718e1, 3.62322259e0], [1.48544846e2, 6.26313877e0, 4.17184174e-1]])
     } else {
         (9.70000029e-1, [[6.49589922e4, 2.67119019e3, 4.86791992e1], [-3.32164001e2, -8.90376329e-1, 3.60775888e-1], [-2.06092000e0, -4.89828922e-2, 3.29885166e-3]], [[9.94216797e3, 6.31546997e2, 2.32403450e1], [-3.83905518e2, 4.46711540e1, 4.54627466e0], [-4.86505089e1, 7.47930479e0, 5.85158765e-1]])
     };
@@ -133,19 +135,30 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
     // u = tan(α/2), written without cancellation on either side of the foot point.
     let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
     let u0 = ua.max(1.0);
-    let ub = if open {
+    // The length `ub − u0`, never as a difference when it is short: for γ > π/2 the
+    // part starts at ua and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)`, `d = ρ − cos γ`,
+    // `r = √(d² + h²)`, exact as ρ → 0 (MATH.md §3).
+    let span = if open {
         HUGE
     } else {
         let d = rho - x0;
-        (d + sqrt(d * d + h * h)) / h
+        let r = sqrt(d * d + h * h);
+        if x0 < 0.0 {
+            2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
+        } else {
+            (d + r) / h - u0
+        }
     };
-    if ub <= u0 {
+    if span.is_nan() || span <= 0.0 {
         return 0.0;
     }
+    // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
+    let open = open || span >= 1e30;
+    let ub = u0 + span;
     let base = -tau - t * (u0 - ua);
     let mut sum = 0.0;
     if u0 < SPLIT {
-        let len = ub.min(SPLIT) - u0;
+        let len = if ub <= SPLIT { span } else { SPLIT - u0 };
         for k in 0..4 {
             let lam = t + NEAR_S[k];
             let mean = u0 + len / (2.0 + lam * len);
@@ -158,7 +171,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
         let shift = base - t * (a - u0);
         if !open && ub <= LOCAL_RATIO * a {
             // A short far part: 1/y² as a sum on y = u/a ∈ [1, ub/a].
-            let len = ub / a - 1.0;
+            let len = if a == u0 { span / a } else { ub / a - 1.0 };
             let ta = t * a;
             let mut part = 0.0;
             for k in 0..3 {
@@ -174,7 +187,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
             let (g, u) = if open {
                 (phi(t * a) / a, a + 1.0 / lam)
             } else {
-                let len = ub - a;
+                let len = if a == u0 { span } else { ub - a };
                 (phi(t * a) / a - exp(-t * len) * phi(t * ub) / ub, a + len / (2.0 + lam * len))
             };
             let q = 1.0 / (1.0 + 1.0 / (u * u));
@@ -188,7 +201,8 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
 /// infinite: no surface).
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
     let ph = phase(g);
-    let open = !(0.0..HUGE).contains(&rho);
+    let open = !(0.0..RHO_OPEN).contains(&rho);
+    let tau = tau.min(TAU_MAX);
     if h <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and α = 0 all along.
         if open || rho >= 1.0 {
@@ -218,19 +232,21 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
+/// Any finite input gives a finite value ≥ 0: 0 without a ray, scattering or light
+/// (and where the value underflows), [`HUGE`] where `A` diverges or the radiance
+/// passes f32's range.
 #[allow(clippy::too_many_arguments)]
 pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
-    let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
-    let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    let [dd, h, x0] = ray_geometry(origin, dir, light);
     if dd <= 0.0 {
-        return HUGE;
+        // The viewer at the light: A diverges.
+        return scaled(sigma_s, intensity, 1.0, HUGE);
     }
-    let x = [dir[1] * l[2] - dir[2] * l[1], dir[2] * l[0] - dir[0] * l[2], dir[0] * l[1] - dir[1] * l[0]];
-    let (h, x0) = (sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), dir[0] * l[0] + dir[1] * l[1] + dir[2] * l[2]);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if h <= 0.0 && x0 == 0.0 {
         return 0.0;
     }
-    let rho = if surface < 0.0 { -1.0 } else { surface / dd };
-    sigma_s * intensity / dd * airlight_geometry(sigma_t * dd, h / n, x0 / n, rho, g)
+    // Negative or NaN: no surface; an infinite ρ is none too.
+    let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
+    let a = airlight_geometry(sigma_t * dd, h, x0, rho, g);
+    scaled(sigma_s, intensity, dd, a)
 }

@@ -88,8 +88,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "paper-as-printed",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.38880639768081e0,
-        dense_max_rel: 4.850012655751017e8,
+        thin_max_rel: 6.3888063976782465e0,
+        dense_max_rel: 4.8500126557493323e8,
         airlight: |tau, gamma, rho, _g| paper_as_printed::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -99,7 +99,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "paper",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 9.205391512184692e-1,
+        thin_max_rel: 9.205391512184754e-1,
         dense_max_rel: 9.435195391294986e2,
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -111,7 +111,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.0783576966613195e-1,
-        dense_max_rel: 3.0834444569942114e0,
+        dense_max_rel: 3.083444456994213e0,
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -133,7 +133,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99991573777365e-1,
-        dense_max_rel: 4.350156466700988e0,
+        dense_max_rel: 4.350156466700981e0,
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -177,7 +177,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.5885333914572e-3,
-        dense_max_rel: 3.647654045780987e-2,
+        dense_max_rel: 3.647654045780973e-2,
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -188,7 +188,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9640270794631727e-3,
-        dense_max_rel: 1.9815525489107873e-2,
+        dense_max_rel: 1.9815525489108008e-2,
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -198,7 +198,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-12",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104097117751e-3,
+        thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 1.1751982685251208e-2,
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -209,7 +209,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "segments-16",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.4981104097117751e-3,
+        thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 9.35346948019298e-3,
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -231,8 +231,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "hg-exp2",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.996600215501069e-1,
-        dense_max_rel: 9.99461121698095e-1,
+        thin_max_rel: 9.99660042706722e-1,
+        dense_max_rel: 9.994611551207985e-1,
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -242,8 +242,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "hg-exp3",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.624572025648099e-1,
-        dense_max_rel: 8.70680724285913e-1,
+        thin_max_rel: 9.624572025648898e-1,
+        dense_max_rel: 8.706807242861917e-1,
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -265,7 +265,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: true,
         params: &["tau", "gamma"],
         thin_max_rel: 3.5885333914572e-3,
-        dense_max_rel: 3.647654045780987e-2,
+        dense_max_rel: 3.647654045780973e-2,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -287,7 +287,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: true,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9640270794631727e-3,
-        dense_max_rel: 1.9815525489107873e-2,
+        dense_max_rel: 1.9815525489108008e-2,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

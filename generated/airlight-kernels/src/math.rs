@@ -7,8 +7,16 @@
 #![allow(clippy::excessive_precision)]
 
 /// The largest finite f32: what kernels return where `A` diverges (the ray
-/// through the light).
+/// through the light), and where a radiance passes f32's range.
 pub const HUGE: f32 = f32::MAX;
+
+/// Beyond `ρ = 2^32` the rest of the ray adds less than f32's resolution to `A`
+/// (the part past ρ is below `P(π)/ρ`, `A` above `P(π)`): no surface.
+pub const RHO_OPEN: f32 = 4_294_967_296.0;
+
+/// Beyond `τ = 10⁴`, `A ≤ e^{−τ} P_max π/h` is below f32's smallest subnormal for
+/// every geometry f32 can hold: τ is taken as this, so `∞·0` never forms.
+pub const TAU_MAX: f32 = 1e4;
 
 const LOG2E: f32 = 1.442_695_04;
 const LN2_HI: f32 = 0.693_359_375;
@@ -107,21 +115,26 @@ pub fn ln(x: f32) -> f32 {
     m + y + LN2_HI * ef
 }
 
-/// `√x` for `x ≥ 0`: a bit-level first guess and three Newton steps.
+/// `√x` for `x ≥ 0` (0 below, `+∞` at `+∞`): a bit-level first guess and three
+/// Newton steps, after one exact scaling by a power of 2 at either end of the range.
 pub fn sqrt(x: f32) -> f32 {
     if x <= 0.0 {
         return 0.0;
     }
-    if x < 1e-30 {
-        return sqrt(x * 1.152_921_5e18) * 9.313_226e-10; // 2^60, 2^-30
+    if x > HUGE {
+        return x;
     }
-    if x > 1e30 {
-        return sqrt(x * 8.673_617e-19) * 1_073_741_824.0; // 2^-60, 2^30
-    }
+    let (x, k) = if x < 1e-30 {
+        (x * 1.152_921_5e18, 9.313_226e-10) // 2^60, 2^-30
+    } else if x > 1e30 {
+        (x * 8.673_617e-19, 1_073_741_824.0) // 2^-60, 2^30
+    } else {
+        (x, 1.0)
+    };
     let mut y = f32::from_bits(0x1fbd_1df5 + (x.to_bits() >> 1));
     y = 0.5 * (y + x / y);
     y = 0.5 * (y + x / y);
-    0.5 * (y + x / y)
+    k * (0.5 * (y + x / y))
 }
 
 /// `atan x`.
@@ -179,6 +192,121 @@ pub fn sin_cos(x: f32) -> (f32, f32) {
         1 => (c, -s),
         2 => (-s, -c),
         _ => (-c, s),
+    }
+}
+
+/// Largest absolute component.
+fn max_abs(v: [f32; 3]) -> f32 {
+    v[0].abs().max(v[1].abs()).max(v[2].abs())
+}
+
+/// `a = hi + lo` with `hi` holding the upper 12 bits of the significand, by
+/// masking (no arithmetic a compiler could contract into an FMA).
+fn halves(a: f32) -> (f32, f32) {
+    let hi = f32::from_bits(a.to_bits() & 0xffff_f000);
+    (hi, a - hi)
+}
+
+/// `a·b = p + e` exactly (Dekker), for `|a|, |b| ≤ 1` (no underflow in the parts).
+fn two_product(a: f32, b: f32) -> (f32, f32) {
+    let p = a * b;
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+/// `a·b − c·d` to a few ulps however much it cancels, for arguments in [−1, 1].
+fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let ((p, e), (q, f)) = (two_product(a, b), two_product(c, d));
+    (p - q) + (e - f)
+}
+
+/// `a + b = s + e` exactly (Knuth's two-sum): `(s, e)`.
+fn two_sum(a: f32, b: f32) -> (f32, f32) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `v · 2^k`, exactly (two normal powers of 2), for `|k| ≤ 252`.
+fn scale2(v: f32, k: i32) -> f32 {
+    v * pow2i(k / 2) * pow2i(k - k / 2)
+}
+
+/// The canonical geometry of a view ray from `origin` along `dir` and a light at
+/// `light`: `[D, sin γ, cos γ]`, `D` the viewer–light distance. `D = 0`: the light is
+/// at the viewer. `[_, 0, 0]`: no ray (a zero or non-finite direction) or a light
+/// beyond f32's range. Exact where it matters: `light − origin` is kept as an
+/// unrounded pair (two-sum), both vectors are scaled by powers of 2, and a cross
+/// product that cancels is formed from exact products, so a light off the ray by
+/// any amount f32 positions can express is off it here too; nothing over- or
+/// underflows for finite input. `D` saturates at [`HUGE`].
+pub fn ray_geometry(origin: [f32; 3], dir: [f32; 3], light: [f32; 3]) -> [f32; 3] {
+    let (l0, e0) = two_sum(light[0], -origin[0]);
+    let (l1, e1) = two_sum(light[1], -origin[1]);
+    let (l2, e2) = two_sum(light[2], -origin[2]);
+    let (ml, md) = (max_abs([l0, l1, l2]), max_abs(dir));
+    if ml == 0.0 {
+        return [0.0, 0.0, 1.0];
+    }
+    if !(ml <= HUGE && md > 0.0 && md <= HUGE) {
+        return [HUGE, 0.0, 0.0];
+    }
+    let (kl, kd) = (split(ml).1, split(md).1);
+    let l = [scale2(l0, -kl), scale2(l1, -kl), scale2(l2, -kl)];
+    let lo = [scale2(e0, -kl), scale2(e1, -kl), scale2(e2, -kl)];
+    let d = [scale2(dir[0], -kd), scale2(dir[1], -kd), scale2(dir[2], -kd)];
+    let mut c = [d[1] * l[2] - d[2] * l[1], d[2] * l[0] - d[0] * l[2], d[0] * l[1] - d[1] * l[0]];
+    if max_abs(c) < 1e-3 {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of `light − origin`.
+        c = [
+            diff_of_products(d[1], l[2], d[2], l[1]) + (d[1] * lo[2] - d[2] * lo[1]),
+            diff_of_products(d[2], l[0], d[0], l[2]) + (d[2] * lo[0] - d[0] * lo[2]),
+            diff_of_products(d[0], l[1], d[1], l[0]) + (d[0] * lo[1] - d[1] * lo[0]),
+        ];
+    }
+    let mc = max_abs(c);
+    let h = if mc > 0.0 {
+        let c = [c[0] / mc, c[1] / mc, c[2] / mc];
+        mc * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+    } else {
+        0.0
+    };
+    let x0 = (d[0] * l[0] + d[1] * l[1] + d[2] * l[2]) + (d[0] * lo[0] + d[1] * lo[1] + d[2] * lo[2]);
+    let n = sqrt(h * h + x0 * x0);
+    let dist = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    [scale2(dist, kl).min(HUGE), h / n, x0 / n]
+}
+
+/// `x = m·2^e` with `m ∈ [0.5, 1)`, for finite `x > 0` (subnormals too).
+fn split(x: f32) -> (f32, i32) {
+    let (x, bias) = if x < 1.175_494_4e-38 { (x * 16_777_216.0, 24) } else { (x, 0) };
+    let b = x.to_bits();
+    (f32::from_bits((b & 0x807f_ffff) | 0x3f00_0000), ((b >> 23) & 0xff) as i32 - 126 - bias)
+}
+
+/// `σs · I / D · A` without overflow, underflow of a partial product or `0·∞`:
+/// the mantissas are multiplied and the exponents added, and the result rounded
+/// once, so it is exact to f32 wherever f32 can hold it. 0 without scattering or
+/// light or below f32's range; [`HUGE`] where `A` diverges (`a ≥ HUGE`) or the
+/// radiance passes f32's range.
+pub fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
+    if !(sigma_s > 0.0 && intensity > 0.0 && a > 0.0) {
+        return 0.0;
+    }
+    if a >= HUGE {
+        return HUGE;
+    }
+    let ((ms, es), (mi, ei), (ma, ea), (md, ed)) = (split(sigma_s), split(intensity), split(a), split(d));
+    let (m, e) = split(ms * mi * ma / md);
+    let e = e + es + ei + ea - ed;
+    if e > 128 {
+        HUGE
+    } else if e < -149 {
+        0.0
+    } else {
+        // 2^e in two normal powers of 2; one rounding, at the end.
+        scale2(m, e)
     }
 }
 

@@ -15,9 +15,11 @@
 //! * [`airlight`]: the canonical `A(τ, γ)` of MATH.md §2: τ = σt·D, γ in
 //!   radians.
 //!
-//! Both return [`HUGE`] on the ray through the light, where `A` diverges.
+//! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
+//! light, where `A` diverges (and where the value passes f32's range), 0 where it
+//! underflows; τ beyond [`TAU_MAX`] gives 0 (`A` is below f32's range there).
 
-use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use crate::math::{atan2, exp, exprel, HUGE, phi, ray_geometry, scaled, sin_cos, TAU_MAX};
 
 /// Isotropic scattering: `P = 1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
@@ -90,6 +92,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32) -> f32 {
 
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`.
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32) -> f32 {
+    let tau = tau.min(TAU_MAX);
     if h <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and α = 0 all along.
         return HUGE;
@@ -116,18 +119,19 @@ pub fn airlight(tau: f32, gamma: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
+/// Any finite input gives a finite value ≥ 0: 0 without a ray, scattering or light
+/// (and where the value underflows), [`HUGE`] where `A` diverges or the radiance
+/// passes f32's range.
 #[allow(clippy::too_many_arguments)]
 pub fn radiance(origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
-    let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
-    let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    let [dd, h, x0] = ray_geometry(origin, dir, light);
     if dd <= 0.0 {
-        return HUGE;
+        // The viewer at the light: A diverges.
+        return scaled(sigma_s, intensity, 1.0, HUGE);
     }
-    let x = [dir[1] * l[2] - dir[2] * l[1], dir[2] * l[0] - dir[0] * l[2], dir[0] * l[1] - dir[1] * l[0]];
-    let (h, x0) = (sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), dir[0] * l[0] + dir[1] * l[1] + dir[2] * l[2]);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if h <= 0.0 && x0 == 0.0 {
         return 0.0;
     }
-    sigma_s * intensity / dd * airlight_geometry(sigma_t * dd, h / n, x0 / n)
+    let a = airlight_geometry(sigma_t * dd, h, x0);
+    scaled(sigma_s, intensity, dd, a)
 }

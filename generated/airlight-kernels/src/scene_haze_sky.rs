@@ -18,9 +18,11 @@
 //!   radiant intensity (W/sr gives W/(m²·sr)), `sigma_s` the scattering coefficient.
 //! * [`airlight`]: the canonical `A(γ)` of MATH.md §2.
 //!
-//! Both return [`HUGE`] on the ray through the light, where `A` diverges.
+//! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
+//! light, where `A` diverges (and where the value passes f32's range), 0 where it
+//! underflows.
 
-use crate::math::{atan2, sin_cos, sqrt, HUGE};
+use crate::math::{atan2, ray_geometry, scaled, sin_cos, HUGE};
 
 /// `1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
@@ -42,17 +44,17 @@ pub fn airlight(gamma: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
+/// Any finite input gives a finite value ≥ 0: 0 without a ray, scattering or light
+/// (and where the value underflows), [`HUGE`] where `A` diverges or the radiance
+/// passes f32's range.
 pub fn radiance(origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_s: f32) -> f32 {
-    let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
-    let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    let [dd, h, x0] = ray_geometry(origin, dir, light);
     if dd <= 0.0 {
-        return HUGE;
+        // The viewer at the light: A diverges.
+        return scaled(sigma_s, intensity, 1.0, HUGE);
     }
-    let x = [dir[1] * l[2] - dir[2] * l[1], dir[2] * l[0] - dir[0] * l[2], dir[0] * l[1] - dir[1] * l[0]];
-    let (h, x0) = (sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), dir[0] * l[0] + dir[1] * l[1] + dir[2] * l[2]);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if h <= 0.0 && x0 == 0.0 {
         return 0.0;
     }
-    sigma_s * intensity / dd * airlight_geometry(h / n, x0 / n)
+    scaled(sigma_s, intensity, dd, airlight_geometry(h, x0))
 }

@@ -9,15 +9,17 @@
 //!
 //! * [`radiance`]: the in-scattered radiance along a view ray, `σs·I/D·A`. `origin`
 //!   and `dir` are the ray (`dir` need not be normalised), `surface` the distance
-//!   to the first surface along it (negative: none), `light` the light's position,
+//!   to the first surface along it (negative or +∞: none), `light` the light's position,
 //!   `intensity` its radiant intensity (W/sr gives W/(m²·sr)), `sigma_t` the
 //!   extinction coefficient, `sigma_s` the scattering coefficient.
 //! * [`airlight`]: the canonical `A(τ, γ, ρ)` of MATH.md §2: τ = σt·D, γ in
-//!   radians, ρ = Dp/D (negative or infinite: no surface).
+//!   radians, ρ = Dp/D (negative, NaN or ≥ 2^32: no surface).
 //!
-//! Both return [`HUGE`] on the ray through the light, where `A` diverges.
+//! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
+//! light, where `A` diverges (and where the value passes f32's range), 0 where it
+//! underflows; τ beyond [`TAU_MAX`] gives 0 (`A` is below f32's range there).
 
-use crate::math::{atan2, exp, exprel, HUGE, phi, sin_cos, sqrt};
+use crate::math::{atan2, exp, exprel, HUGE, phi, ray_geometry, RHO_OPEN, scaled, sin_cos, sqrt, TAU_MAX};
 
 /// Isotropic scattering: `P = 1/(4π)`.
 const P_ISO: f32 = 7.95774683e-2;
@@ -70,19 +72,30 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
     // u = tan(α/2), written without cancellation on either side of the foot point.
     let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
     let u0 = ua.max(1.0);
-    let ub = if open {
+    // The length `ub − u0`, never as a difference when it is short: for γ > π/2 the
+    // part starts at ua and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)`, `d = ρ − cos γ`,
+    // `r = √(d² + h²)`, exact as ρ → 0 (MATH.md §3).
+    let span = if open {
         HUGE
     } else {
         let d = rho - x0;
-        (d + sqrt(d * d + h * h)) / h
+        let r = sqrt(d * d + h * h);
+        if x0 < 0.0 {
+            2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
+        } else {
+            (d + r) / h - u0
+        }
     };
-    if ub <= u0 {
+    if span.is_nan() || span <= 0.0 {
         return 0.0;
     }
+    // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
+    let open = open || span >= 1e30;
+    let ub = u0 + span;
     let base = -tau - t * (u0 - ua);
     let mut sum = 0.0;
     if u0 < SPLIT {
-        let len = ub.min(SPLIT) - u0;
+        let len = if ub <= SPLIT { span } else { SPLIT - u0 };
         for k in 0..4 {
             let lam = t + NEAR_S[k];
             sum += NEAR_C[k] * exp(base - NEAR_S[k] * u0) * len * exprel(-lam * len) * P_ISO;
@@ -94,7 +107,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
         let shift = base - t * (a - u0);
         if !open && ub <= LOCAL_RATIO * a {
             // A short far part: 1/y² as a sum on y = u/a ∈ [1, ub/a].
-            let len = ub / a - 1.0;
+            let len = if a == u0 { span / a } else { ub / a - 1.0 };
             let ta = t * a;
             let mut part = 0.0;
             for k in 0..3 {
@@ -110,7 +123,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
             let (g, u) = if open {
                 (phi(t * a) / a, a + 1.0 / lam)
             } else {
-                let len = ub - a;
+                let len = if a == u0 { span } else { ub - a };
                 (phi(t * a) / a - exp(-t * len) * phi(t * ub) / ub, a + len / (2.0 + lam * len))
             };
             let q = 1.0 / (1.0 + 1.0 / (u * u));
@@ -123,7 +136,8 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `rho` (negative or
 /// infinite: no surface).
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
-    let open = !(0.0..HUGE).contains(&rho);
+    let open = !(0.0..RHO_OPEN).contains(&rho);
+    let tau = tau.min(TAU_MAX);
     if h <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and α = 0 all along.
         if open || rho >= 1.0 {
@@ -153,19 +167,21 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
+/// Any finite input gives a finite value ≥ 0: 0 without a ray, scattering or light
+/// (and where the value underflows), [`HUGE`] where `A` diverges or the radiance
+/// passes f32's range.
 #[allow(clippy::too_many_arguments)]
 pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
-    let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
-    let dd = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    let [dd, h, x0] = ray_geometry(origin, dir, light);
     if dd <= 0.0 {
-        return HUGE;
+        // The viewer at the light: A diverges.
+        return scaled(sigma_s, intensity, 1.0, HUGE);
     }
-    let x = [dir[1] * l[2] - dir[2] * l[1], dir[2] * l[0] - dir[0] * l[2], dir[0] * l[1] - dir[1] * l[0]];
-    let (h, x0) = (sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), dir[0] * l[0] + dir[1] * l[1] + dir[2] * l[2]);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if h <= 0.0 && x0 == 0.0 {
         return 0.0;
     }
-    let rho = if surface < 0.0 { -1.0 } else { surface / dd };
-    sigma_s * intensity / dd * airlight_geometry(sigma_t * dd, h / n, x0 / n, rho)
+    // Negative or NaN: no surface; an infinite ρ is none too.
+    let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
+    let a = airlight_geometry(sigma_t * dd, h, x0, rho);
+    scaled(sigma_s, intensity, dd, a)
 }

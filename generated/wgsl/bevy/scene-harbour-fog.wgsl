@@ -20,7 +20,9 @@
 //   The canonical A(τ, γ) of MATH.md section 2: tau = sigma_t * D, gamma in
 //   radians.
 //
-// Both return HUGE (the largest f32) on the ray through the light, where A diverges.
+// Both are finite and >= 0 for every finite input: HUGE (the largest f32) on the
+// ray through the light, where A diverges (and where the value passes f32's range),
+// 0 where it underflows; tau beyond TAU_MAX gives 0.
 
 // --- f32 helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -29,8 +31,122 @@
 
 const PI: f32 = 3.14159274e0;
 const FRAC_PI_2: f32 = 1.57079637e0;
-/// The largest finite f32, returned where A diverges (the ray through the light).
+/// The largest finite f32, returned where A diverges (the ray through the light)
+/// and where a radiance passes f32's range.
 const HUGE: f32 = 3.40282347e38;
+/// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
+const RHO_OPEN: f32 = 4294967296.0;
+/// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
+/// hold: tau is taken as this, so inf * 0 never forms.
+const TAU_MAX: f32 = 1e4;
+
+fn max_abs(v: vec3<f32>) -> f32 {
+    return max(max(abs(v.x), abs(v.y)), abs(v.z));
+}
+
+/// a = hi + lo with hi holding the upper 12 bits of the significand, by masking
+/// (no arithmetic a compiler could contract into an FMA).
+fn halves(a: f32) -> vec2<f32> {
+    let hi = bitcast<f32>(bitcast<u32>(a) & 0xfffff000u);
+    return vec2<f32>(hi, a - hi);
+}
+
+/// a * b = p + e exactly (Dekker), for |a|, |b| <= 1: (p, e).
+fn two_product(a: f32, b: f32) -> vec2<f32> {
+    let p = a * b;
+    let x = halves(a);
+    let y = halves(b);
+    return vec2<f32>(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+/// a * b - c * d to a few ulps however much it cancels, for arguments in [-1, 1].
+fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let u = two_product(a, b);
+    let v = two_product(c, d);
+    return (u.x - v.x) + (u.y - v.y);
+}
+
+/// a + b = s + e exactly (Knuth's two-sum): (s, e).
+fn two_sum(a: vec3<f32>, b: vec3<f32>) -> array<vec3<f32>, 2> {
+    let s = a + b;
+    let bb = s - a;
+    return array<vec3<f32>, 2>(s, (a - (s - bb)) + (b - bb));
+}
+
+/// v * 2^k, exactly (two steps, each within ldexp's range), for |k| <= 252.
+fn scale2(v: vec3<f32>, k: i32) -> vec3<f32> {
+    return ldexp(ldexp(v, vec3<i32>(k / 2)), vec3<i32>(k - k / 2));
+}
+
+/// The canonical geometry of a view ray from `origin` along `dir` and a light at
+/// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
+/// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
+/// light beyond f32's range. Exact where it matters: light - origin is kept as an
+/// unrounded pair (two-sum), both vectors are scaled by powers of 2, and a cross
+/// product that cancels is formed from exact products, so a light off the ray by
+/// any amount f32 positions can express is off it here too; nothing over- or
+/// underflows for finite input. D saturates at HUGE.
+fn ray_geometry(origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>) -> vec3<f32> {
+    let sum = two_sum(light, -origin);
+    let ml = max_abs(sum[0]);
+    let md = max_abs(dir);
+    if ml == 0.0 {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    if !(ml <= HUGE && md > 0.0 && md <= HUGE) {
+        return vec3<f32>(HUGE, 0.0, 0.0);
+    }
+    let kl = frexp(ml).exp;
+    let l = scale2(sum[0], -kl);
+    let lo = scale2(sum[1], -kl);
+    let d = scale2(dir, -frexp(md).exp);
+    var c = cross(d, l);
+    if max_abs(c) < 1e-3 {
+        // Nearly parallel: each component cancels, so it is formed from exact
+        // products, with the low part of light - origin.
+        c = vec3<f32>(
+            diff_of_products(d.y, l.z, d.z, l.y),
+            diff_of_products(d.z, l.x, d.x, l.z),
+            diff_of_products(d.x, l.y, d.y, l.x),
+        ) + cross(d, lo);
+    }
+    let mc = max_abs(c);
+    var h = 0.0;
+    if mc > 0.0 {
+        let cs = c / mc;
+        h = mc * sqrt(dot(cs, cs));
+    }
+    let x0 = dot(d, l) + dot(d, lo);
+    let n = sqrt(h * h + x0 * x0);
+    let dist = scale2(vec3<f32>(sqrt(dot(l, l))), kl).x;
+    return vec3<f32>(min(dist, HUGE), h / n, x0 / n);
+}
+
+/// sigma_s * I / D * A without overflow, underflow of a partial product or
+/// 0 * inf: the mantissas are multiplied and the exponents added, and the result
+/// rounded once. 0 without scattering or light or below f32's range; HUGE where
+/// A diverges (a >= HUGE) or the radiance passes f32's range.
+fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
+    if !(sigma_s > 0.0 && intensity > 0.0 && a > 0.0) {
+        return 0.0;
+    }
+    if a >= HUGE {
+        return HUGE;
+    }
+    let s = frexp(sigma_s);
+    let i = frexp(intensity);
+    let q = frexp(a);
+    let r = frexp(d);
+    let m = frexp(s.fract * i.fract * q.fract / r.fract);
+    let e = m.exp + s.exp + i.exp + q.exp - r.exp;
+    if e > 128 {
+        return HUGE;
+    }
+    if e < -149 {
+        return 0.0;
+    }
+    return ldexp(m.fract, e);
+}
 
 fn arctan(x: f32) -> f32 {
     let a = abs(x);
@@ -194,7 +310,8 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma).
-fn airlight_geometry(tau: f32, h_in: f32, x0: f32) -> f32 {
+fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32) -> f32 {
+    let tau = min(tau_in, TAU_MAX);
     if h_in <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         return HUGE;
@@ -221,17 +338,18 @@ fn airlight(tau: f32, gamma: f32) -> f32 {
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
+/// Any finite input gives a finite value >= 0: 0 without a ray, scattering or
+/// light (and where the value underflows), HUGE where A diverges or the radiance
+/// passes f32's range.
 fn radiance(origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
-    let l = light - origin;
-    let dd = length(l);
-    if dd <= 0.0 {
-        return HUGE;
+    let geo = ray_geometry(origin, dir, light);
+    if geo.x <= 0.0 {
+        // The viewer at the light: A diverges.
+        return scaled(sigma_s, intensity, 1.0, HUGE);
     }
-    let h = length(cross(dir, l));
-    let x0 = dot(dir, l);
-    let n = sqrt(h * h + x0 * x0);
-    if n <= 0.0 {
+    if geo.y <= 0.0 && geo.z == 0.0 {
         return 0.0;
     }
-    return sigma_s * intensity / dd * airlight_geometry(sigma_t * dd, h / n, x0 / n);
+    let a = airlight_geometry(sigma_t * geo.x, geo.y, geo.z);
+    return scaled(sigma_s, intensity, geo.x, a);
 }
