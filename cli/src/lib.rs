@@ -189,6 +189,11 @@ enum Command {
         /// Print every row, not just the summary and failures.
         #[arg(long)]
         all: bool,
+        /// Also write every row, with the adapter, to generated/gate.toml, which
+        /// REPORT.md quotes after `airlight generate` (all kernels only; not done by
+        /// `regenerate`, whose output must not depend on the machine's GPU).
+        #[arg(long)]
+        record: bool,
         /// Repository root (the directory holding generated/); found from the
         /// current directory if omitted.
         #[arg(long)]
@@ -288,8 +293,8 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
         Command::Check { root, .. } | Command::Render { root, .. } | Command::Bench { root } if linked.is_none() => {
             delegate(root, None)
         }
-        Command::Check { require_gpu, kernel, all, root } => {
-            check(root, require_gpu, &kernel, all, linked.unwrap_or_default())
+        Command::Check { require_gpu, kernel, all, record, root } => {
+            check(root, require_gpu, &kernel, all, record, linked.unwrap_or_default())
         }
         Command::Render { scene, output, report, width, height, root } => {
             render_scene(&scene, output.as_deref(), report, width, height, root, linked.unwrap_or_default())
@@ -563,6 +568,7 @@ fn run_gate(
     rust: &[CompiledKernel],
     only: &[String],
     all: bool,
+    record: bool,
 ) -> Result<(), Failure> {
     let spinner = indicatif::ProgressBar::new_spinner();
     let rows =
@@ -594,6 +600,13 @@ fn run_gate(
         gate::F32_ALLOWANCE,
         100.0 * worst
     );
+    if record {
+        let adapter = gpu.map_or("none: the GPU targets were not run".to_string(), |g| g.adapter().to_string());
+        let path = generated.join(airlight_fit::record::FILE);
+        airlight_fit::io::write_atomic(&path, gate_record(generated, &rows, adapter)?.to_toml().as_bytes())
+            .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
+        println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());
+    }
     if failures.is_empty() {
         println!("check: every kernel within its declared bound");
         Ok(())
@@ -609,16 +622,58 @@ fn run_gate(
     }
 }
 
+/// The gate's rows as `generated/gate.toml` holds them, tied by digest to the
+/// kernel sources under `generated` that were measured.
+fn gate_record(
+    generated: &Path,
+    rows: &[gate::Row],
+    adapter: String,
+) -> Result<airlight_fit::record::GateRecord, Failure> {
+    let mut files = Vec::new();
+    for dir in ["wgsl", "wgsl/bevy", "glsl", "airlight-kernels/src"] {
+        let entries = std::fs::read_dir(generated.join(dir))
+            .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join(dir).display())))?;
+        for e in entries.flatten() {
+            if e.path().is_file() {
+                let bytes = std::fs::read(e.path())
+                    .map_err(|err| Failure(1, format!("{}: cannot read: {err}", e.path().display())))?;
+                files.push((format!("{dir}/{}", e.file_name().to_string_lossy()), bytes));
+            }
+        }
+    }
+    Ok(airlight_fit::record::GateRecord {
+        adapter,
+        kernels_digest: airlight_fit::record::digest(&files),
+        rows: rows
+            .iter()
+            .map(|r| airlight_fit::record::GateRow {
+                kernel: r.kernel.clone(),
+                target: gate::target_label(r.target).to_string(),
+                domain: r.domain.to_string(),
+                points: r.points,
+                max_rel: r.max,
+                p99_rel: r.p99,
+                limit: r.limit(),
+                bad: r.bad,
+            })
+            .collect(),
+    })
+}
+
 fn check(
     root: Option<PathBuf>,
     require_gpu: bool,
     only: &[String],
     all: bool,
+    record: bool,
     kernels: &[CompiledKernel],
 ) -> Result<(), Failure> {
+    if record && !only.is_empty() {
+        return Err(bad_input("--record needs every kernel: drop --kernel"));
+    }
     let generated = generated_dir(root)?;
     let gpu = gate_gpu(require_gpu || airlight_shaders::gpu_required())?;
-    run_gate(&generated, gpu.as_ref(), kernels, only, all)
+    run_gate(&generated, gpu.as_ref(), kernels, only, all, record)
 }
 
 fn render_scene(
@@ -870,10 +925,23 @@ fn render(
         .map_err(|e| Failure(2, e.to_string()))?;
     let renders = airlight_codegen::read_renders(generated)
         .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join("render").display())))?;
-    airlight_codegen::render_all(check, models, bench.as_ref(), &scenes, &renders).map_err(|e| match e {
+    let record = read_record(generated)?;
+    airlight_codegen::render_all(check, models, bench.as_ref(), record.as_ref(), &scenes, &renders).map_err(|e| match e
+    {
         airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
         _ => Failure(1, format!("rendering generated/: {e}")),
     })
+}
+
+/// `generated/gate.toml` if present.
+fn read_record(generated: &Path) -> Result<Option<airlight_fit::record::GateRecord>, Failure> {
+    let path = generated.join(airlight_fit::record::FILE);
+    match std::fs::read_to_string(&path) {
+        Err(_) => Ok(None),
+        Ok(text) => {
+            airlight_fit::record::GateRecord::from_toml(&path.display().to_string(), &text).map(Some).map_err(bad_input)
+        }
+    }
 }
 
 /// `generated/bench.json` if present.
@@ -1012,7 +1080,7 @@ fn regenerate(root: Option<PathBuf>, kernels: Option<&[CompiledKernel]>) -> Resu
                 println!("the Rust kernels changed: run `airlight check` to gate the rebuilt ones too");
             }
             let gpu = gate_gpu(airlight_shaders::gpu_required())?;
-            run_gate(&generated, gpu.as_ref(), if changed { &[] } else { k }, &[], false)
+            run_gate(&generated, gpu.as_ref(), if changed { &[] } else { k }, &[], false, false)
         }
     }
 }

@@ -92,6 +92,7 @@ pub fn render_all(
     check: &SelfCheck,
     models: &[ModelFile],
     bench: Option<&Bench>,
+    record: Option<&airlight_fit::record::GateRecord>,
     scenes: &[scene::Scene],
     renders: &[Output],
 ) -> Result<Vec<Output>, RenderError> {
@@ -103,18 +104,28 @@ pub fn render_all(
         plans.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
         specs.push(spec);
     }
-    let mut out = vec![report::render(check, models, bench, &specs, renders).map_err(RenderError::Template)?];
+    let kernels = kernel::render(&specs).map_err(RenderError::Template)?;
+    // Whether the recorded gate measured these kernels.
+    let current = record.map(|r| {
+        let files: Vec<(String, Vec<u8>)> = kernels.iter().map(|o| (o.path.clone(), o.contents.clone())).collect();
+        airlight_fit::record::digest(&files) == r.kernels_digest
+    });
+    let gate = record.zip(current);
+    let mut out = vec![report::render(check, models, bench, gate, &specs, renders).map_err(RenderError::Template)?];
     out.extend(renders.iter().cloned());
     out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
+    }
+    if let Some(r) = record {
+        out.push(Output::text(airlight_fit::record::FILE, r.to_toml()));
     }
     for m in models {
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
     }
     out.extend(plots::render(models).map_err(RenderError::Plot)?);
     out.extend(plans);
-    out.extend(kernel::render(&specs).map_err(RenderError::Template)?);
+    out.extend(kernels);
     out.push(kernel::render_index(&specs));
     Ok(out)
 }

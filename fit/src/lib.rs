@@ -27,6 +27,7 @@ pub mod parallel;
 pub mod phase;
 pub mod points_csv;
 pub mod quad;
+pub mod record;
 pub mod reference;
 pub mod selfcheck;
 pub mod stats;

@@ -39,8 +39,6 @@ const float airlight_scene_haze_sky_FRAC_PI_2 = 1.57079637e0;
 // The largest finite float, returned where A diverges (the ray through the light)
 // and where a radiance passes float's range.
 const float airlight_scene_haze_sky_HUGE = 3.40282347e38;
-// Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
-const float airlight_scene_haze_sky_RHO_OPEN = 4294967296.0;
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_scene_haze_sky_TAU_MAX = 1e4;

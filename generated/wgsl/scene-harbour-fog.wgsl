@@ -32,8 +32,6 @@ const airlight_scene_harbour_fog_FRAC_PI_2: f32 = 1.57079637e0;
 /// The largest finite f32, returned where A diverges (the ray through the light)
 /// and where a radiance passes f32's range.
 const airlight_scene_harbour_fog_HUGE: f32 = 3.40282347e38;
-/// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
-const airlight_scene_harbour_fog_RHO_OPEN: f32 = 4294967296.0;
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_scene_harbour_fog_TAU_MAX: f32 = 1e4;

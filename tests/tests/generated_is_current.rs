@@ -16,7 +16,11 @@ fn generated_matches_a_fresh_rendering() {
         airlight_codegen::scene::load_dir(&airlight_tests::repo_root().join("codegen/scenes"), "codegen/scenes")
             .expect("scenes parse");
     let renders = airlight_codegen::read_renders(&generated_dir()).expect("generated/render/ reads");
-    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), &scenes, &renders).expect("renders");
+    let record = std::fs::read_to_string(generated_dir().join(airlight_fit::record::FILE))
+        .ok()
+        .map(|t| airlight_fit::record::GateRecord::from_toml("gate.toml", &t).expect("gate.toml parses"));
+    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), record.as_ref(), &scenes, &renders)
+        .expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),

@@ -1,0 +1,109 @@
+//! `generated/gate.toml`: the error gate's figures as `airlight check --record`
+//! measured them on one machine — every kernel × target × domain row, and the
+//! adapter. Like `bench.json` it is an input the report quotes, never written by
+//! `regenerate` (a GPU's rounding differs between adapters, and regenerating
+//! must stay byte-identical on any machine). It carries a digest of the kernel
+//! sources it was measured on, so the report can say when it is stale.
+
+use serde::{Deserialize, Serialize};
+
+/// The file's name under `generated/`.
+pub const FILE: &str = "gate.toml";
+
+/// One kernel × target × domain row of the gate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GateRow {
+    /// Kernel name.
+    pub kernel: String,
+    /// `f64` (the kernel's model), `rust-f32`, `wgsl` or `glsl`.
+    pub target: String,
+    /// `thin`, `dense`, `extreme`, `physical` or `phys-extreme`.
+    pub domain: String,
+    /// Points in the error statistics (value within f32's checked range).
+    pub points: usize,
+    /// Largest relative error against the reference.
+    pub max_rel: f64,
+    /// 99th-percentile relative error.
+    pub p99_rel: f64,
+    /// The limit the gate held it to (f32 targets).
+    pub limit: f64,
+    /// NaN, negative or spurious infinite values.
+    pub bad: usize,
+}
+
+/// Everything `airlight check --record` writes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GateRecord {
+    /// The GPU adapter the WGSL and GLSL rows ran on, or why there were none.
+    pub adapter: String,
+    /// [`digest`] of the kernel sources measured.
+    pub kernels_digest: String,
+    /// Every row.
+    pub rows: Vec<GateRow>,
+}
+
+impl GateRecord {
+    /// The file's text: deterministic for a value.
+    pub fn to_toml(&self) -> String {
+        let mut out =
+            String::from("# Written by `airlight check --record`; quoted by REPORT.md (`airlight generate`).\n");
+        out.push_str(&toml::to_string(self).expect("plain data serialises"));
+        out
+    }
+
+    /// Reads the file's text; `file` names it in the error.
+    pub fn from_toml(file: &str, text: &str) -> Result<GateRecord, crate::tomlfile::FieldError> {
+        crate::tomlfile::from_str(file, text, "rows")
+    }
+}
+
+/// Whether a generated file is a kernel source the gate measures.
+pub fn is_kernel_source(path: &str) -> bool {
+    (path.starts_with("wgsl/") || path.starts_with("glsl/") || path.starts_with("airlight-kernels/src/"))
+        && !path.ends_with("lib.rs")
+}
+
+/// FNV-1a (64-bit) over the kernel sources' paths and bytes, in path order: what
+/// ties a record to the kernels it measured.
+pub fn digest(files: &[(String, Vec<u8>)]) -> String {
+    let mut sorted: Vec<&(String, Vec<u8>)> = files.iter().filter(|(p, _)| is_kernel_source(p)).collect();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for (path, bytes) in sorted {
+        for &b in path.as_bytes().iter().chain([0u8].iter()).chain(bytes.iter()) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    format!("{h:016x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_and_digests() {
+        let r = GateRecord {
+            adapter: "llvmpipe".into(),
+            kernels_digest: "00".into(),
+            rows: vec![GateRow {
+                kernel: "segments-8".into(),
+                target: "wgsl".into(),
+                domain: "thin".into(),
+                points: 10,
+                max_rel: 1e-3,
+                p99_rel: 5e-4,
+                limit: 2e-3,
+                bad: 0,
+            }],
+        };
+        assert_eq!(GateRecord::from_toml("g.toml", &r.to_toml()).unwrap(), r);
+        let a = digest(&[("wgsl/a.wgsl".into(), b"x".to_vec()), ("REPORT.md".into(), b"y".to_vec())]);
+        let b = digest(&[("wgsl/a.wgsl".into(), b"x".to_vec())]);
+        assert_eq!(a, b, "only kernel sources count");
+        assert_ne!(b, digest(&[("wgsl/a.wgsl".into(), b"z".to_vec())]));
+    }
+}
