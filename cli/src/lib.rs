@@ -98,9 +98,9 @@ enum Command {
     /// With --entry radiance the input is rays instead, columns
     /// ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g (surface
     /// negative or inf: none), and the output adds `radiance` = sigma_s * I / D * A
-    /// (`inf` where A diverges: the light on the ray ahead, or at the viewer; a
-    /// generated kernel's saturated value, the largest finite f32, reads as `inf`
-    /// too).
+    /// (f64: `inf` where A diverges, the light on the ray ahead or at the viewer;
+    /// a generated f32 kernel's value as it returns it: the largest finite f32,
+    /// 3.4028234663852886e38, where A diverges or the radiance passes f32's range).
     Eval {
         /// Model to evaluate; `airlight models` lists them.
         #[arg(long, default_value = "reference")]
@@ -409,7 +409,7 @@ fn eval(
                     .iter()
                     .map(|r| {
                         let a = kernel_ray(r);
-                        airlight_shaders::from_kernel((k.radiance)(
+                        f64::from((k.radiance)(
                             a.origin,
                             a.dir,
                             a.surface,
@@ -509,7 +509,7 @@ fn eval_gpu(
         eprintln!("adapter: {}", gpu.adapter());
         let plain: Vec<airlight_shaders::Ray> = rows.iter().map(kernel_ray).collect();
         let got = gpu.radiance(&src, &plain).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
-        let values: Vec<f64> = got.iter().map(|&v| airlight_shaders::from_kernel(v)).collect();
+        let values: Vec<f64> = got.iter().map(|&v| f64::from(v)).collect();
         return write_csv(output, &points_csv::render_rays(&rows, &values));
     }
     let rows = read_points(input, &|p| k.check(p))?;
@@ -926,11 +926,12 @@ fn render(
     let renders = airlight_codegen::read_renders(generated)
         .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join("render").display())))?;
     let record = read_record(generated)?;
-    airlight_codegen::render_all(check, models, bench.as_ref(), record.as_ref(), &scenes, &renders).map_err(|e| match e
-    {
-        airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
-        _ => Failure(1, format!("rendering generated/: {e}")),
-    })
+    let fuzz = read_fuzz(generated)?;
+    airlight_codegen::render_all(check, models, bench.as_ref(), record.as_ref(), fuzz.as_ref(), &scenes, &renders)
+        .map_err(|e| match e {
+            airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
+            _ => Failure(1, format!("rendering generated/: {e}")),
+        })
 }
 
 /// `generated/gate.toml` if present.
@@ -940,6 +941,17 @@ fn read_record(generated: &Path) -> Result<Option<airlight_fit::record::GateReco
         Err(_) => Ok(None),
         Ok(text) => {
             airlight_fit::record::GateRecord::from_toml(&path.display().to_string(), &text).map(Some).map_err(bad_input)
+        }
+    }
+}
+
+/// `generated/fuzz.toml` if present.
+fn read_fuzz(generated: &Path) -> Result<Option<airlight_fit::record::FuzzRecord>, Failure> {
+    let path = generated.join(airlight_fit::record::FUZZ_FILE);
+    match std::fs::read_to_string(&path) {
+        Err(_) => Ok(None),
+        Ok(text) => {
+            airlight_fit::record::FuzzRecord::from_toml(&path.display().to_string(), &text).map(Some).map_err(bad_input)
         }
     }
 }

@@ -414,3 +414,77 @@ fn scene_kernels_refuse_points_they_were_specialised_away_from() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `eval --entry radiance`: the physical entry through the f64 model, the Rust
+/// kernel and both shaders agree, including where the value saturates or
+/// vanishes; kernels refuse rays they were specialised away from.
+#[test]
+fn eval_radiance_feeds_the_physical_entry_on_every_target() {
+    let dir = scratch("radiance");
+    let input = dir.join("rays.csv");
+    let head = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g";
+    std::fs::write(
+        &input,
+        format!(
+            "{head}\n0,0,0,1,0,0,-1,10,1,0,100,0.1,0.08,0\n0,0,0,1,0,0,3.4028235e38,10,1,0,100,0.1,0.08,0\n\
+             0,0,0,1,0,0,inf,10,1,0,100,0.1,0.08,0\n0,0,0,1e-30,0,0,-1,1e30,1,0,100,1e-30,1e-30,0\n\
+             0,0,0,1,0,0,0,10,1,0,100,0.1,0.08,0\n0,0,0,1,0,0,-1,10,0,0,100,0.1,0.08,0\n"
+        ),
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let mut all = vec!["eval", "--entry", "radiance", "--model", "segments-8", "-i", input.to_str().unwrap()];
+        all.extend(args);
+        airlight(&all)
+    };
+    let values = |o: &Output| -> Vec<f64> {
+        String::from_utf8(o.stdout.clone())
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let f64s = run(&[]);
+    assert!(f64s.status.success(), "{}", stderr(&f64s));
+    let want = values(&f64s);
+    assert_eq!(want.len(), 6);
+    assert_eq!(want[1], want[0], "a far plane of f32::MAX is no surface");
+    assert_eq!(want[2], want[0], "a surface at +inf is none");
+    assert!(want[3] > 0.0 && want[3] < 1e-20, "a light at 1e30 units: {}", want[3]);
+    assert_eq!(want[4], 0.0, "a surface at the viewer");
+    assert_eq!(want[5], f64::INFINITY, "the ray through the light");
+    let mut targets = vec![("cpu f32", run(&["--precision", "f32"]))];
+    for t in ["wgsl", "glsl"] {
+        targets.push((t, run(&["--target", t])));
+    }
+    for (what, o) in &targets {
+        if !o.status.success() && !gpu_required() && stderr(o).contains("no GPU adapter") {
+            eprintln!("SKIPPED eval --entry radiance {what}: {}", stderr(o));
+            continue;
+        }
+        assert!(o.status.success(), "{what}: {}", stderr(o));
+        for (i, (&w, g)) in want.iter().zip(values(o)).enumerate() {
+            if w.is_infinite() {
+                assert_eq!(g, f64::from(f32::MAX), "{what}: row {i} saturates at the largest f32");
+            } else {
+                assert!(g.is_finite() && (g - w).abs() <= 2e-2 * w, "{what}: row {i}: {g} vs {w}");
+            }
+        }
+    }
+    // A kernel without surfaces refuses a ray that has one, naming the column.
+    let o = airlight(&[
+        "eval",
+        "--entry",
+        "radiance",
+        "--model",
+        "scene-harbour-fog",
+        "--precision",
+        "f32",
+        "-i",
+        input.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("rays.csv:3: column 'surface'"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

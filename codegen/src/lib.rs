@@ -93,6 +93,7 @@ pub fn render_all(
     models: &[ModelFile],
     bench: Option<&Bench>,
     record: Option<&airlight_fit::record::GateRecord>,
+    fuzz: Option<&airlight_fit::record::FuzzRecord>,
     scenes: &[scene::Scene],
     renders: &[Output],
 ) -> Result<Vec<Output>, RenderError> {
@@ -111,7 +112,8 @@ pub fn render_all(
         airlight_fit::record::digest(&files) == r.kernels_digest
     });
     let gate = record.zip(current);
-    let mut out = vec![report::render(check, models, bench, gate, &specs, renders).map_err(RenderError::Template)?];
+    let mut out =
+        vec![report::render(check, models, bench, gate, fuzz, &specs, renders).map_err(RenderError::Template)?];
     out.extend(renders.iter().cloned());
     out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {
@@ -119,6 +121,9 @@ pub fn render_all(
     }
     if let Some(r) = record {
         out.push(Output::text(airlight_fit::record::FILE, r.to_toml()));
+    }
+    if let Some(f) = fuzz {
+        out.push(Output::text(airlight_fit::record::FUZZ_FILE, f.to_toml()));
     }
     for m in models {
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));

@@ -80,6 +80,54 @@ pub fn digest(files: &[(String, Vec<u8>)]) -> String {
     format!("{h:016x}")
 }
 
+/// `generated/fuzz.toml`: what `fuzz/run` did (libFuzzer's own figures), which
+/// the report quotes. Written by that script, re-rendered by `generate`.
+pub const FUZZ_FILE: &str = "fuzz.toml";
+
+/// One fuzz target's run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FuzzRun {
+    /// The cargo-fuzz target.
+    pub target: String,
+    /// Seconds it ran.
+    pub seconds: u64,
+    /// Inputs executed.
+    pub runs: u64,
+    /// Coverage points (libFuzzer's `cov`) at the end.
+    pub coverage: u64,
+    /// Inputs in the committed corpus afterwards.
+    pub corpus: u64,
+    /// Crashes, panics and sanitizer reports.
+    pub crashes: u64,
+    /// The fuzzer's exit status (0: ran out its time).
+    pub exit: i64,
+}
+
+/// Everything `fuzz/run` records.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FuzzRecord {
+    /// `rustc +nightly --version` of the run.
+    pub toolchain: String,
+    /// One per target.
+    pub runs: Vec<FuzzRun>,
+}
+
+impl FuzzRecord {
+    /// The file's text: deterministic for a value.
+    pub fn to_toml(&self) -> String {
+        let mut out = String::from("# Written by fuzz/run; quoted by REPORT.md (`airlight generate`).\n");
+        out.push_str(&toml::to_string(self).expect("plain data serialises"));
+        out
+    }
+
+    /// Reads the file's text; `file` names it in the error.
+    pub fn from_toml(file: &str, text: &str) -> Result<FuzzRecord, crate::tomlfile::FieldError> {
+        crate::tomlfile::from_str(file, text, "runs")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

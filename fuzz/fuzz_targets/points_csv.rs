@@ -13,7 +13,8 @@ fuzz_target!(|data: &[u8]| {
         }
         Err(e) => assert!(e.to_string().starts_with("in.csv:"), "{e}"),
     }
-    match points_csv::parse_rays("in.csv", text, &|_, _| Ok(())) {
+    let any = |_: &airlight_fit::geometry::PhysicalRay, _: f64| Ok(());
+    match points_csv::parse_rays("in.csv", text, &any) {
         Ok(rows) => {
             for r in &rows {
                 // The f64 physical entry on whatever parsed: a value or a typed error.

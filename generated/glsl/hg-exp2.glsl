@@ -306,13 +306,17 @@ airlight_hg_exp2_Phase airlight_hg_exp2_phase(float g) {
 // P at the scattering angle alpha.
 float airlight_hg_exp2_phase_at(airlight_hg_exp2_Phase ph, float alpha) {
     float a = ph.mirrored ? airlight_hg_exp2_PI - alpha : alpha;
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a), 0.0);
 }
 
 // P at alpha = 2 atan(u) (u form), without cancellation on either side.
 float airlight_hg_exp2_phase_u(airlight_hg_exp2_Phase ph, float u) {
     float a = ph.mirrored ? 2.0 * airlight_hg_exp2_arctan(1.0 / u) : 2.0 * airlight_hg_exp2_arctan(u);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a), 0.0);
 }
 
 // One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -348,8 +352,10 @@ float airlight_hg_exp2_segments(float a, float len, float t, float att, float be
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_hg_exp2_forward(float a, float len, float t, float att, airlight_hg_exp2_Phase ph) {
-    return ph.c[0] * airlight_hg_exp2_segments(a, len, t, att, ph.b[0], ph.mirrored)
-        + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_hg_exp2_segments(a, len, t, att, ph.b[0], ph.mirrored)
+        + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored), 0.0);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of

@@ -320,13 +320,17 @@ airlight_hg_exp3_Phase airlight_hg_exp3_phase(float g) {
 // P at the scattering angle alpha.
 float airlight_hg_exp3_phase_at(airlight_hg_exp3_Phase ph, float alpha) {
     float a = ph.mirrored ? airlight_hg_exp3_PI - alpha : alpha;
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a), 0.0);
 }
 
 // P at alpha = 2 atan(u) (u form), without cancellation on either side.
 float airlight_hg_exp3_phase_u(airlight_hg_exp3_Phase ph, float u) {
     float a = ph.mirrored ? 2.0 * airlight_hg_exp3_arctan(1.0 / u) : 2.0 * airlight_hg_exp3_arctan(u);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a), 0.0);
 }
 
 // One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -362,9 +366,11 @@ float airlight_hg_exp3_segments(float a, float len, float t, float att, float be
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_hg_exp3_forward(float a, float len, float t, float att, airlight_hg_exp3_Phase ph) {
-    return ph.c[0] * airlight_hg_exp3_segments(a, len, t, att, ph.b[0], ph.mirrored)
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_hg_exp3_segments(a, len, t, att, ph.b[0], ph.mirrored)
         + ph.c[1] * airlight_hg_exp3_segments(a, len, t, att, ph.b[1], ph.mirrored)
-        + ph.c[2] * airlight_hg_exp3_segments(a, len, t, att, ph.b[2], ph.mirrored);
+        + ph.c[2] * airlight_hg_exp3_segments(a, len, t, att, ph.b[2], ph.mirrored), 0.0);
 }
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of

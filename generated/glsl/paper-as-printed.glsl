@@ -389,7 +389,7 @@ float airlight_paper_as_printed_airlight_geometry(float tau_in, float h_in, floa
         if (open || rho >= 1.0) {
             return airlight_paper_as_printed_HUGE;
         }
-        return airlight_paper_as_printed_P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return airlight_paper_as_printed_P_ISO * 1.0 * rho / (1.0 - rho);
     }
     // A is flat in gamma within 1e-7 of pi.
     float h = x0 < 0.0 ? max(h_in, 1e-7) : h_in;

@@ -292,13 +292,17 @@ airlight_paper_refit_hg_Phase airlight_paper_refit_hg_phase(float g) {
 // P at the scattering angle alpha.
 float airlight_paper_refit_hg_phase_at(airlight_paper_refit_hg_Phase ph, float alpha) {
     float a = ph.mirrored ? airlight_paper_refit_hg_PI - alpha : alpha;
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 // P at alpha = 2 atan(u) (u form), without cancellation on either side.
 float airlight_paper_refit_hg_phase_u(airlight_paper_refit_hg_Phase ph, float u) {
     float a = ph.mirrored ? 2.0 * airlight_paper_refit_hg_arctan(1.0 / u) : 2.0 * airlight_paper_refit_hg_arctan(u);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 // One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -329,7 +333,9 @@ float airlight_paper_refit_hg_segments(float a, float len, float t, float att, f
 
 // The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 float airlight_paper_refit_hg_forward(float a, float len, float t, float att, airlight_paper_refit_hg_Phase ph) {
-    return ph.c[0] * airlight_paper_refit_hg_segments(a, len, t, att, ph.b[0], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_paper_refit_hg_segments(a, len, t, att, ph.b[0], ph.mirrored), 0.0);
 }
 
 float airlight_paper_refit_hg_cubic(float c0, float c1, float c2, float c3, float x) {

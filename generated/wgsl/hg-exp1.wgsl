@@ -279,13 +279,17 @@ fn airlight_hg_exp1_phase(g: f32) -> airlight_hg_exp1_Phase {
 /// P at the scattering angle alpha.
 fn airlight_hg_exp1_phase_at(ph: airlight_hg_exp1_Phase, alpha: f32) -> f32 {
     let a = select(alpha, airlight_hg_exp1_PI - alpha, ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// P at alpha = 2 atan(u) (u form), without cancellation on either side.
 fn airlight_hg_exp1_phase_u(ph: airlight_hg_exp1_Phase, u: f32) -> f32 {
     let a = select(2.0 * airlight_hg_exp1_arctan(u), 2.0 * airlight_hg_exp1_arctan(1.0 / u), ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -321,7 +325,9 @@ fn airlight_hg_exp1_segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirr
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_hg_exp1_forward(a: f32, len: f32, t: f32, att: f32, ph: airlight_hg_exp1_Phase) -> f32 {
-    return ph.c[0] * airlight_hg_exp1_segments(a, len, t, att, ph.b[0], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_hg_exp1_segments(a, len, t, att, ph.b[0], ph.mirrored), 0.0);
 }
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of

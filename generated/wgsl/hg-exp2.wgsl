@@ -293,13 +293,17 @@ fn airlight_hg_exp2_phase(g: f32) -> airlight_hg_exp2_Phase {
 /// P at the scattering angle alpha.
 fn airlight_hg_exp2_phase_at(ph: airlight_hg_exp2_Phase, alpha: f32) -> f32 {
     let a = select(alpha, airlight_hg_exp2_PI - alpha, ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a), 0.0);
 }
 
 /// P at alpha = 2 atan(u) (u form), without cancellation on either side.
 fn airlight_hg_exp2_phase_u(ph: airlight_hg_exp2_Phase, u: f32) -> f32 {
     let a = select(2.0 * airlight_hg_exp2_arctan(u), 2.0 * airlight_hg_exp2_arctan(1.0 / u), ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a), 0.0);
 }
 
 /// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -335,8 +339,10 @@ fn airlight_hg_exp2_segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirr
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_hg_exp2_forward(a: f32, len: f32, t: f32, att: f32, ph: airlight_hg_exp2_Phase) -> f32 {
-    return ph.c[0] * airlight_hg_exp2_segments(a, len, t, att, ph.b[0], ph.mirrored)
-        + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_hg_exp2_segments(a, len, t, att, ph.b[0], ph.mirrored)
+        + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored), 0.0);
 }
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of

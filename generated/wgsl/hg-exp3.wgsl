@@ -307,13 +307,17 @@ fn airlight_hg_exp3_phase(g: f32) -> airlight_hg_exp3_Phase {
 /// P at the scattering angle alpha.
 fn airlight_hg_exp3_phase_at(ph: airlight_hg_exp3_Phase, alpha: f32) -> f32 {
     let a = select(alpha, airlight_hg_exp3_PI - alpha, ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a), 0.0);
 }
 
 /// P at alpha = 2 atan(u) (u form), without cancellation on either side.
 fn airlight_hg_exp3_phase_u(ph: airlight_hg_exp3_Phase, u: f32) -> f32 {
     let a = select(2.0 * airlight_hg_exp3_arctan(u), 2.0 * airlight_hg_exp3_arctan(1.0 / u), ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a) + ph.c[1] * exp(-ph.b[1] * a) + ph.c[2] * exp(-ph.b[2] * a), 0.0);
 }
 
 /// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -349,9 +353,11 @@ fn airlight_hg_exp3_segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirr
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_hg_exp3_forward(a: f32, len: f32, t: f32, att: f32, ph: airlight_hg_exp3_Phase) -> f32 {
-    return ph.c[0] * airlight_hg_exp3_segments(a, len, t, att, ph.b[0], ph.mirrored)
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_hg_exp3_segments(a, len, t, att, ph.b[0], ph.mirrored)
         + ph.c[1] * airlight_hg_exp3_segments(a, len, t, att, ph.b[1], ph.mirrored)
-        + ph.c[2] * airlight_hg_exp3_segments(a, len, t, att, ph.b[2], ph.mirrored);
+        + ph.c[2] * airlight_hg_exp3_segments(a, len, t, att, ph.b[2], ph.mirrored), 0.0);
 }
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of

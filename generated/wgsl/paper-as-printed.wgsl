@@ -376,7 +376,7 @@ fn airlight_paper_as_printed_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, 
         if open || rho >= 1.0 {
             return airlight_paper_as_printed_HUGE;
         }
-        return airlight_paper_as_printed_P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return airlight_paper_as_printed_P_ISO * 1.0 * rho / (1.0 - rho);
     }
     // A is flat in gamma within 1e-7 of pi.
     let h = select(h_in, max(h_in, 1e-7), x0 < 0.0);

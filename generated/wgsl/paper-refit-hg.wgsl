@@ -279,13 +279,17 @@ fn airlight_paper_refit_hg_phase(g: f32) -> airlight_paper_refit_hg_Phase {
 /// P at the scattering angle alpha.
 fn airlight_paper_refit_hg_phase_at(ph: airlight_paper_refit_hg_Phase, alpha: f32) -> f32 {
     let a = select(alpha, airlight_paper_refit_hg_PI - alpha, ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// P at alpha = 2 atan(u) (u form), without cancellation on either side.
 fn airlight_paper_refit_hg_phase_u(ph: airlight_paper_refit_hg_Phase, u: f32) -> f32 {
     let a = select(2.0 * airlight_paper_refit_hg_arctan(u), 2.0 * airlight_paper_refit_hg_arctan(1.0 / u), ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -316,7 +320,9 @@ fn airlight_paper_refit_hg_segments(a: f32, len: f32, t: f32, att: f32, beta: f3
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn airlight_paper_refit_hg_forward(a: f32, len: f32, t: f32, att: f32, ph: airlight_paper_refit_hg_Phase) -> f32 {
-    return ph.c[0] * airlight_paper_refit_hg_segments(a, len, t, att, ph.b[0], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * airlight_paper_refit_hg_segments(a, len, t, att, ph.b[0], ph.mirrored), 0.0);
 }
 
 fn airlight_paper_refit_hg_cubic(c0: f32, c1: f32, c2: f32, c3: f32, x: f32) -> f32 {

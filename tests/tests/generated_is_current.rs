@@ -19,8 +19,19 @@ fn generated_matches_a_fresh_rendering() {
     let record = std::fs::read_to_string(generated_dir().join(airlight_fit::record::FILE))
         .ok()
         .map(|t| airlight_fit::record::GateRecord::from_toml("gate.toml", &t).expect("gate.toml parses"));
-    let outputs = airlight_codegen::render_all(&check, &models, bench.as_ref(), record.as_ref(), &scenes, &renders)
-        .expect("renders");
+    let fuzz = std::fs::read_to_string(generated_dir().join(airlight_fit::record::FUZZ_FILE))
+        .ok()
+        .map(|t| airlight_fit::record::FuzzRecord::from_toml("fuzz.toml", &t).expect("fuzz.toml parses"));
+    let outputs = airlight_codegen::render_all(
+        &check,
+        &models,
+        bench.as_ref(),
+        record.as_ref(),
+        fuzz.as_ref(),
+        &scenes,
+        &renders,
+    )
+    .expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),

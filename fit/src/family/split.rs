@@ -86,7 +86,10 @@ impl Split {
         let terms = self.phase.terms(p.g);
         if gamma == 0.0 {
             // On the axis towards the light: s + t = 1, α = 0.
-            let v = if p.rho >= 1.0 { f64::INFINITY } else { terms.eval(0.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho) };
+            // The limit γ → 0 of the model itself: its forward part carries
+            // e^{−τ cos γ} → e^{−τ} only where it has the attenuation.
+            let att = if self.forward_attenuation { (-p.tau).exp() } else { 1.0 };
+            let v = if p.rho >= 1.0 { f64::INFINITY } else { terms.eval(0.0) * att * p.rho / (1.0 - p.rho) };
             return (v, 0.0);
         }
         let (h, x0) = (gamma.sin(), gamma.cos());
@@ -105,7 +108,8 @@ impl Split {
             for &(c, beta) in &terms.terms {
                 forward += c * self.forward.integrate_span(lo, hi, len, t, att - beta * FRAC_PI_2, dir * beta);
             }
-            forward /= h;
+            // The terms of a phase that is ≥ 0 can only cancel below rounding.
+            forward = forward.max(0.0) / h;
         }
         let mut backward = 0.0;
         let theta_lo = theta_a.max(0.0);

@@ -86,7 +86,9 @@ fn phase_at(ph: &Phase, alpha: f32) -> f32 {
     for k in 0..3 {
         p += ph.c[k] * exp(-ph.b[k] * a);
     }
-    p
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    p.max(0.0)
 }
 
 /// `P` at `α = 2 atan u` (u form), without cancellation on either side.
@@ -96,7 +98,9 @@ fn phase_u(ph: &Phase, u: f32) -> f32 {
     for k in 0..3 {
         p += ph.c[k] * exp(-ph.b[k] * a);
     }
-    p
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    p.max(0.0)
 }
 
 /// `∫ e^{att − T k̂(α) − β α'} dα` over `α ∈ [a, a + len]`, exact per segment: each
@@ -125,7 +129,9 @@ fn forward(a: f32, len: f32, t: f32, att: f32, ph: &Phase) -> f32 {
     for k in 0..3 {
         sum += ph.c[k] * segments(a, len, t, att, ph.b[k], ph.mirrored);
     }
-    sum
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    sum.max(0.0)
 }
 
 /// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`

@@ -162,7 +162,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
         if open || rho >= 1.0 {
             return HUGE;
         }
-        return P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return P_ISO * 1.0 * rho / (1.0 - rho);
     }
     // A is flat in γ within 1e-7 of π.
     let h = if x0 < 0.0 { h.max(1e-7) } else { h };

@@ -95,7 +95,9 @@ fn phase_at(ph: &Phase, alpha: f32) -> f32 {
     for k in 0..1 {
         p += ph.c[k] * exp(-ph.b[k] * a);
     }
-    p
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    p.max(0.0)
 }
 
 /// `P` at `α = 2 atan u` (u form), without cancellation on either side.
@@ -105,7 +107,9 @@ fn phase_u(ph: &Phase, u: f32) -> f32 {
     for k in 0..1 {
         p += ph.c[k] * exp(-ph.b[k] * a);
     }
-    p
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    p.max(0.0)
 }
 
 /// `∫ e^{att − T k̂(α) − β α'} dα` over `α ∈ [a, a + len]`, exact per segment: each
@@ -134,7 +138,9 @@ fn forward(a: f32, len: f32, t: f32, att: f32, ph: &Phase) -> f32 {
     for k in 0..1 {
         sum += ph.c[k] * segments(a, len, t, att, ph.b[k], ph.mirrored);
     }
-    sum
+    // The terms of a phase that is ≥ 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    sum.max(0.0)
 }
 
 /// The backward part from the foot point (γ ≤ π/2) by the paper's ratio, times `h`:

@@ -378,7 +378,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32) -> f32 {
         if open || rho >= 1.0 {
             return HUGE;
         }
-        return P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return P_ISO * 1.0 * rho / (1.0 - rho);
     }
     // A is flat in gamma within 1e-7 of pi.
     let h = select(h_in, max(h_in, 1e-7), x0 < 0.0);

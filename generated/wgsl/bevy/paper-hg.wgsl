@@ -281,13 +281,17 @@ fn phase(g: f32) -> Phase {
 /// P at the scattering angle alpha.
 fn phase_at(ph: Phase, alpha: f32) -> f32 {
     let a = select(alpha, PI - alpha, ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// P at alpha = 2 atan(u) (u form), without cancellation on either side.
 fn phase_u(ph: Phase, u: f32) -> f32 {
     let a = select(2.0 * arctan(u), 2.0 * arctan(1.0 / u), ph.mirrored);
-    return ph.c[0] * exp(-ph.b[0] * a);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * exp(-ph.b[0] * a), 0.0);
 }
 
 /// One segment's part of the integral of e^(att - T k(alpha) - beta alpha') over
@@ -318,7 +322,9 @@ fn segments(a: f32, len: f32, t: f32, att: f32, beta: f32, mirrored: bool) -> f3
 
 /// The forward part (alpha in [gamma, gamma + len], before the foot point), times h.
 fn forward(a: f32, len: f32, t: f32, att: f32, ph: Phase) -> f32 {
-    return ph.c[0] * segments(a, len, t, att, ph.b[0], ph.mirrored);
+    // The terms of a phase that is >= 0 can only cancel below rounding (where the
+    // value underflows): that is 0, never a negative number.
+    return max(ph.c[0] * segments(a, len, t, att, ph.b[0], ph.mirrored), 0.0);
 }
 
 fn cubic(c0: f32, c1: f32, c2: f32, c3: f32, x: f32) -> f32 {
