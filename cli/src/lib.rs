@@ -11,7 +11,6 @@
 //!   builds first through cargo: when the kernels do not compile, that is one
 //!   line naming the first error, and exit 1.
 
-use airlight_fit::bench::Bench;
 use airlight_fit::catalog::{self, Family, Fits};
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
@@ -405,22 +404,7 @@ fn eval(
             let entry = index.get(model).map_err(bad_input)?;
             if rays {
                 let rows = read_rays(input, &|r, g| entry.check_ray(r, g))?;
-                let values: Vec<f64> = rows
-                    .iter()
-                    .map(|r| {
-                        let a = kernel_ray(r);
-                        f64::from((k.radiance)(
-                            a.origin,
-                            a.dir,
-                            a.surface,
-                            a.light,
-                            a.intensity,
-                            a.sigma_t,
-                            a.sigma_s,
-                            a.g,
-                        ))
-                    })
-                    .collect();
+                let values: Vec<f64> = rows.iter().map(|r| f64::from(kernel_ray(r).radiance_of(k))).collect();
                 return write_csv(output, &points_csv::render_rays(&rows, &values));
             }
             let rows = read_points(input, &|p| entry.check(p))?;
@@ -919,50 +903,16 @@ fn render(
     models: &[ModelFile],
     generated: &Path,
 ) -> Result<Vec<airlight_codegen::Output>, Failure> {
-    let bench = read_bench(generated)?;
     let root = generated.parent().unwrap_or(Path::new("."));
     let scenes = airlight_codegen::scene::load_dir(&root.join("codegen/scenes"), "codegen/scenes")
         .map_err(|e| Failure(2, e.to_string()))?;
     let renders = airlight_codegen::read_renders(generated)
         .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join("render").display())))?;
-    let record = read_record(generated)?;
-    let fuzz = read_fuzz(generated)?;
-    airlight_codegen::render_all(check, models, bench.as_ref(), record.as_ref(), fuzz.as_ref(), &scenes, &renders)
-        .map_err(|e| match e {
-            airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
-            _ => Failure(1, format!("rendering generated/: {e}")),
-        })
-}
-
-/// `generated/gate.toml` if present.
-fn read_record(generated: &Path) -> Result<Option<airlight_fit::record::GateRecord>, Failure> {
-    let path = generated.join(airlight_fit::record::FILE);
-    match std::fs::read_to_string(&path) {
-        Err(_) => Ok(None),
-        Ok(text) => {
-            airlight_fit::record::GateRecord::from_toml(&path.display().to_string(), &text).map(Some).map_err(bad_input)
-        }
-    }
-}
-
-/// `generated/fuzz.toml` if present.
-fn read_fuzz(generated: &Path) -> Result<Option<airlight_fit::record::FuzzRecord>, Failure> {
-    let path = generated.join(airlight_fit::record::FUZZ_FILE);
-    match std::fs::read_to_string(&path) {
-        Err(_) => Ok(None),
-        Ok(text) => {
-            airlight_fit::record::FuzzRecord::from_toml(&path.display().to_string(), &text).map(Some).map_err(bad_input)
-        }
-    }
-}
-
-/// `generated/bench.json` if present.
-fn read_bench(generated: &Path) -> Result<Option<Bench>, Failure> {
-    let path = generated.join("bench.json");
-    match std::fs::read_to_string(&path) {
-        Err(_) => Ok(None),
-        Ok(text) => Bench::from_json(&text).map(Some).map_err(|e| bad_input(format!("{}:{e}", path.display()))),
-    }
+    let recorded = airlight_codegen::read_recorded(generated).map_err(bad_input)?;
+    airlight_codegen::render_all(check, models, &recorded, &scenes, &renders).map_err(|e| match e {
+        airlight_codegen::RenderError::Scene(..) => Failure(2, e.to_string()),
+        _ => Failure(1, format!("rendering generated/: {e}")),
+    })
 }
 
 fn bench(root: Option<PathBuf>, kernels: &[CompiledKernel]) -> Result<(), Failure> {

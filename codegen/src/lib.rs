@@ -79,21 +79,53 @@ pub fn read_selfcheck(generated: &std::path::Path) -> Result<SelfCheck, airlight
     SelfCheck::from_toml(&name, &text)
 }
 
+/// What other commands measured on some machine and `generate` passes through
+/// for the report to quote (each absent until first written): `bench.json`
+/// (`airlight bench`), `gate.toml` (`airlight check --record`) and `fuzz.toml`
+/// (`fuzz/run`).
+#[derive(Debug, Clone, Default)]
+pub struct Recorded {
+    /// `generated/bench.json`.
+    pub bench: Option<Bench>,
+    /// `generated/gate.toml`.
+    pub gate: Option<airlight_fit::record::GateRecord>,
+    /// `generated/fuzz.toml`.
+    pub fuzz: Option<airlight_fit::record::FuzzRecord>,
+}
+
+/// Reads [`Recorded`] from `generated`: a missing file is `None`, a damaged one
+/// an error naming it (and its line).
+pub fn read_recorded(generated: &std::path::Path) -> Result<Recorded, String> {
+    let text = |name: &str| {
+        let path = generated.join(name);
+        std::fs::read_to_string(&path).ok().map(|t| (path.display().to_string(), t))
+    };
+    Ok(Recorded {
+        bench: text("bench.json")
+            .map(|(path, t)| Bench::from_json(&t).map_err(|e| format!("{path}:{e}")))
+            .transpose()?,
+        gate: text(airlight_fit::record::FILE)
+            .map(|(path, t)| airlight_fit::record::GateRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
+            .transpose()?,
+        fuzz: text(airlight_fit::record::FUZZ_FILE)
+            .map(|(path, t)| airlight_fit::record::FuzzRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
+            .transpose()?,
+    })
+}
+
 /// Every file under `generated/`, rendered from the reference self-check and the
 /// coefficient files (which are re-rendered too, so a hand edit shows as stale).
 /// This list is the generator's table of outputs: a file not in it is orphaned.
 ///
-/// `bench` is `generated/bench.json` as measured by `airlight bench` (an input the
-/// report quotes; it is passed through unchanged so it is never orphaned).
+/// `recorded` holds the measurements other commands wrote ([`read_recorded`]): the
+/// report quotes them, and they are passed through so they are never orphaned.
 /// `scenes` are the scene files (`codegen/scenes/`); each gets its own kernels and plan.
 /// `renders` are the files `airlight render --report` wrote under `generated/render/`
 /// (a GPU's output, like `bench.json`: passed through, and quoted by the report).
 pub fn render_all(
     check: &SelfCheck,
     models: &[ModelFile],
-    bench: Option<&Bench>,
-    record: Option<&airlight_fit::record::GateRecord>,
-    fuzz: Option<&airlight_fit::record::FuzzRecord>,
+    recorded: &Recorded,
     scenes: &[scene::Scene],
     renders: &[Output],
 ) -> Result<Vec<Output>, RenderError> {
@@ -105,6 +137,7 @@ pub fn render_all(
         plans.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
         specs.push(spec);
     }
+    let (bench, record, fuzz) = (recorded.bench.as_ref(), recorded.gate.as_ref(), recorded.fuzz.as_ref());
     let kernels = kernel::render(&specs).map_err(RenderError::Template)?;
     // Whether the recorded gate measured these kernels.
     let current = record.map(|r| {

@@ -65,42 +65,64 @@ pub fn parse(
     contents: &str,
     check: impl Fn(&Point) -> Result<(), ParamError>,
 ) -> Result<Vec<Row>, CsvError> {
-    let err = |line: usize, column: Option<&str>, message: String| CsvError {
-        file: file.to_string(),
-        line,
-        column: column.map(str::to_string),
-        message,
-    };
+    let mut rows = Vec::new();
+    for (line, vals, raw) in read_table(file, contents, &COLUMNS)? {
+        let point = Point::new(vals[0], vals[1], vals[2], vals[3]);
+        point
+            .validate()
+            .and_then(|_| check(&point))
+            .map_err(|e| located(file, line, Some(e.param.name()), e.to_string()))?;
+        rows.push(Row { line, point, text: raw });
+    }
+    Ok(rows)
+}
+
+fn located(file: &str, line: usize, column: Option<&str>, message: String) -> CsvError {
+    CsvError { file: file.to_string(), line, column: column.map(str::to_string), message }
+}
+
+/// A row of [`read_table`]: its line, numbers and fields as written.
+type TableRow<const N: usize> = (usize, [f64; N], [String; N]);
+
+/// The rows of a CSV whose header names `columns` (any order, other columns
+/// ignored, blank lines skipped): each row's 1-based line, its numbers in the
+/// order of `columns`, and those fields as written. The shared reader of both
+/// file kinds; errors name the file, the line and the column.
+fn read_table<const N: usize>(
+    file: &str,
+    contents: &str,
+    columns: &[&str; N],
+) -> Result<Vec<TableRow<N>>, CsvError> {
+    let err = |line: usize, column: Option<&str>, message: String| located(file, line, column, message);
+    let need = columns.join(",");
     let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
     let (header_line, header) =
-        lines.next().ok_or_else(|| err(1, None, "empty file: expected a header tau,gamma,rho,g".into()))?;
+        lines.next().ok_or_else(|| err(1, None, format!("empty file: expected a header {need}")))?;
     let names: Vec<String> =
         header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
-    let mut index = [0usize; 4];
-    for (k, col) in COLUMNS.iter().enumerate() {
+    let mut index = [0usize; N];
+    for (k, col) in columns.iter().enumerate() {
         index[k] = names.iter().position(|n| n == col).ok_or_else(|| {
-            err(header_line, Some(col), format!("missing from the header '{}' (need tau,gamma,rho,g)", header.trim()))
+            err(header_line, Some(col), format!("missing from the header '{}' (need {need})", header.trim()))
         })?;
     }
     let mut rows = Vec::new();
     for (line, text) in lines {
         let fields: Vec<&str> = text.split(',').map(str::trim).collect();
-        let mut vals = [0.0; 4];
-        let mut raw: [String; 4] = Default::default();
-        for k in 0..4 {
+        let mut vals = [0.0; N];
+        let mut raw: [String; N] = std::array::from_fn(|_| String::new());
+        for k in 0..N {
             let f = fields.get(index[k]).ok_or_else(|| {
                 err(
                     line,
-                    Some(COLUMNS[k]),
+                    Some(columns[k]),
                     format!("missing value (the row has {} fields, the header {})", fields.len(), names.len()),
                 )
             })?;
-            vals[k] = parse_number(f).ok_or_else(|| err(line, Some(COLUMNS[k]), format!("'{f}' is not a number")))?;
+            vals[k] = parse_number(f).ok_or_else(|| err(line, Some(columns[k]), format!("'{f}' is not a number")))?;
             raw[k] = f.to_string();
         }
-        let point = Point::new(vals[0], vals[1], vals[2], vals[3]);
-        point.validate().and_then(|_| check(&point)).map_err(|e| err(line, Some(e.param.name()), e.to_string()))?;
-        rows.push(Row { line, point, text: raw });
+        rows.push((line, vals, raw));
     }
     Ok(rows)
 }
@@ -144,38 +166,9 @@ pub fn parse_rays(
     contents: &str,
     check: impl Fn(&PhysicalRay, f64) -> Result<(), (&'static str, String)>,
 ) -> Result<Vec<RayRow>, CsvError> {
-    let err = |line: usize, column: Option<&str>, message: String| CsvError {
-        file: file.to_string(),
-        line,
-        column: column.map(str::to_string),
-        message,
-    };
-    let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
-    let (header_line, header) =
-        lines.next().ok_or_else(|| err(1, None, format!("empty file: expected a header {}", RAY_COLUMNS.join(","))))?;
-    let names: Vec<String> =
-        header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
-    let mut index = [0usize; 14];
-    for (k, col) in RAY_COLUMNS.iter().enumerate() {
-        index[k] = names.iter().position(|n| n == col).ok_or_else(|| {
-            err(header_line, Some(col), format!("missing from the header (need {})", RAY_COLUMNS.join(",")))
-        })?;
-    }
     let mut rows = Vec::new();
-    for (line, text) in lines {
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
-        let mut v = [0.0; 14];
-        let mut raw = Vec::with_capacity(14);
-        for k in 0..14 {
-            let col = RAY_COLUMNS[k];
-            let f = fields.get(index[k]).ok_or_else(|| {
-                err(
-                    line,
-                    Some(col),
-                    format!("missing value (the row has {} fields, the header {})", fields.len(), names.len()),
-                )
-            })?;
-            let x = parse_number(f).ok_or_else(|| err(line, Some(col), format!("'{f}' is not a number")))?;
+    for (line, v, raw) in read_table(file, contents, &RAY_COLUMNS)? {
+        for (k, (&col, &x)) in RAY_COLUMNS.iter().zip(&v).enumerate() {
             let ok = match col {
                 "surface" => !x.is_nan(),
                 "intensity" | "sigma_t" | "sigma_s" => x.is_finite() && x >= 0.0,
@@ -189,10 +182,9 @@ pub fn parse_rays(
                     "g" => "in (−1, 1)",
                     _ => "a finite number",
                 };
-                return Err(err(line, Some(col), format!("{col} = {f} is out of range: it must be {need}")));
+                let message = format!("{col} = {} is out of range: it must be {need}", raw[k]);
+                return Err(located(file, line, Some(col), message));
             }
-            v[k] = x;
-            raw.push(f.to_string());
         }
         let ray = PhysicalRay {
             origin: [v[0], v[1], v[2]],
@@ -204,10 +196,10 @@ pub fn parse_rays(
             sigma_s: v[12],
         };
         if ray.direction.iter().all(|&x| x == 0.0) {
-            return Err(err(line, Some("dx"), "the direction (dx, dy, dz) is zero".into()));
+            return Err(located(file, line, Some("dx"), "the direction (dx, dy, dz) is zero".into()));
         }
-        check(&ray, v[13]).map_err(|(col, m)| err(line, Some(col), m))?;
-        rows.push(RayRow { line, ray, g: v[13], text: raw });
+        check(&ray, v[13]).map_err(|(col, m)| located(file, line, Some(col), m))?;
+        rows.push(RayRow { line, ray, g: v[13], text: raw.to_vec() });
     }
     Ok(rows)
 }

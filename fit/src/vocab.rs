@@ -222,6 +222,19 @@ pub const F32_REL_ALLOWANCE: f64 = 1e-4;
 /// precision: only finiteness and sign are checked there.
 pub const F32_RANGE: (f64, f64) = (1e-30, 1e30);
 
+/// The value of `rho` that means "no surface" (`ρ = ∞`) in every kernel's
+/// canonical entry.
+pub const NO_SURFACE: f32 = -1.0;
+
+/// `ρ` as every kernel's canonical entry takes it: [`NO_SURFACE`] for `ρ = ∞`.
+pub fn rho_arg(rho: f64) -> f32 {
+    if rho.is_infinite() {
+        NO_SURFACE
+    } else {
+        rho as f32
+    }
+}
+
 /// The largest relative error an f32 kernel (any target) may show where its f64
 /// model declares `declared`: the one rule of the gate and of the tests.
 pub fn f32_limit(declared: f64) -> f64 {

@@ -329,16 +329,21 @@ pub fn physical_extremes(k: &IndexEntry) -> Result<Vec<(crate::Ray, Point, f64)>
 /// closed form for a kernel without one (the no-extinction family is exact
 /// there, the reference's own value).
 fn f64_model<'m>(k: &IndexEntry, models: &'m [ModelFile]) -> Result<Box<dyn Fn(Point) -> f64 + Sync + 'm>, GateError> {
-    match &k.model {
-        Some(name) => {
-            let m = models
-                .iter()
-                .find(|m| &m.model.name == name)
-                .ok_or_else(|| GateError::Input(format!("kernel {}: no coefficient file for model {name}", k.name)))?;
-            Ok(Box::new(move |p| airlight_fit::model::Model::eval_unchecked(&m.model, p)))
-        }
-        None => Ok(Box::new(|p| airlight_fit::family::closed::NoExtinction.eval(p))),
-    }
+    Ok(match model_file(k, models)? {
+        Some(m) => Box::new(move |p| airlight_fit::model::Model::eval_unchecked(&m.model, p)),
+        None => Box::new(|p| airlight_fit::family::closed::NoExtinction.eval(p)),
+    })
+}
+
+/// The coefficient file of kernel `k`'s model (`None`: the closed form, which
+/// has none).
+fn model_file<'m>(k: &IndexEntry, models: &'m [ModelFile]) -> Result<Option<&'m ModelFile>, GateError> {
+    let Some(name) = &k.model else { return Ok(None) };
+    models
+        .iter()
+        .find(|m| &m.model.name == name)
+        .map(Some)
+        .ok_or_else(|| GateError::Input(format!("kernel {}: no coefficient file for model {name}", k.name)))
 }
 
 /// Statistics of one kernel's values against the reference.
@@ -383,14 +388,10 @@ fn row(
 
 /// The declared bound of `k` on `domain`: its model's, 0 for the closed form.
 fn declared(k: &IndexEntry, models: &[ModelFile], domain: Domain) -> Result<f64, GateError> {
-    let Some(name) = &k.model else { return Ok(0.0) };
-    let m = models
-        .iter()
-        .find(|m| &m.model.name == name)
-        .ok_or_else(|| GateError::Input(format!("kernel {}: no coefficient file for model {name}", k.name)))?;
+    let Some(m) = model_file(k, models)? else { return Ok(0.0) };
     m.error(domain)
         .map(|e| e.max_rel)
-        .ok_or_else(|| GateError::Input(format!("model {name}: no declared error on {domain}")))
+        .ok_or_else(|| GateError::Input(format!("model {}: no declared error on {domain}", m.model.name)))
 }
 
 /// Runs the gate over the kernels under `generated` (all, or those in `only`):
@@ -438,18 +439,6 @@ pub fn run(
             _ => None,
         };
         let model = f64_model(k, &models)?;
-        let rust_f32 = |r: &crate::Ray, rk: &CompiledKernel| {
-            crate::from_kernel((rk.radiance)(
-                r.origin,
-                r.dir,
-                r.surface,
-                r.light,
-                r.intensity,
-                r.sigma_t,
-                r.sigma_s,
-                r.g,
-            ))
-        };
         for (domain, pts) in &sets {
             let bound = declared(k, &models, *domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
@@ -492,7 +481,7 @@ pub fn run(
             );
             rows.push(row(k, None, label, &expected, &f64s, bound));
             if let Some(rk) = compiled {
-                let got: Vec<f64> = rays.iter().map(|(r, _, _)| rust_f32(r, rk)).collect();
+                let got: Vec<f64> = rays.iter().map(|(r, _, _)| crate::from_kernel(r.radiance_of(rk))).collect();
                 rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound));
             }
             if let Some(gpu) = gpu {

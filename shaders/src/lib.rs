@@ -20,8 +20,7 @@ use airlight_fit::vocab::{ArgType, IndexEntry};
 use std::fmt;
 use wgpu::util::DeviceExt;
 
-/// The value of `rho` that means "no surface" (`ρ = ∞`) in every kernel.
-pub const NO_SURFACE: f32 = -1.0;
+pub use airlight_fit::vocab::{rho_arg, NO_SURFACE};
 
 /// Environment variable that makes a missing adapter an error instead of a skip.
 pub const REQUIRE_GPU_ENV: &str = "AIRLIGHT_REQUIRE_GPU";
@@ -257,15 +256,6 @@ fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
     points.iter().flat_map(|p| [p[0] as f32, p[1] as f32, rho_arg(p[2]), p[3] as f32]).collect()
 }
 
-/// `ρ` as every kernel takes it: [`NO_SURFACE`] for `ρ = ∞`.
-pub fn rho_arg(rho: f64) -> f32 {
-    if rho.is_infinite() {
-        NO_SURFACE
-    } else {
-        rho as f32
-    }
-}
-
 /// A kernel's result as `A`: kernels saturate at `f32::MAX` where `A` diverges
 /// (the ray through the light), which is ∞ here.
 pub fn from_kernel(v: f32) -> f64 {
@@ -357,6 +347,20 @@ impl Ray {
             sigma_t: f64::from(self.sigma_t),
             sigma_s: f64::from(self.sigma_s),
         }
+    }
+
+    /// A compiled Rust kernel's physical entry on this ray.
+    pub fn radiance_of(&self, k: &airlight_fit::vocab::CompiledKernel) -> f32 {
+        (k.radiance)(
+            self.origin,
+            self.dir,
+            self.surface,
+            self.light,
+            self.intensity,
+            self.sigma_t,
+            self.sigma_s,
+            self.g,
+        )
     }
 
     /// The arguments in their packing slots ([`Arg::slot`]).

@@ -9,29 +9,12 @@ fn generated_matches_a_fresh_rendering() {
     let check = airlight_codegen::read_selfcheck(&generated_dir()).expect("generated/selfcheck.toml reads");
     let models = committed_models();
     assert_eq!(models.len(), airlight_fit::catalog::CATALOG.len(), "one coefficient file per catalog model");
-    let bench = std::fs::read_to_string(generated_dir().join("bench.json"))
-        .ok()
-        .map(|t| airlight_fit::bench::Bench::from_json(&t).expect("bench.json parses"));
     let scenes =
         airlight_codegen::scene::load_dir(&airlight_tests::repo_root().join("codegen/scenes"), "codegen/scenes")
             .expect("scenes parse");
     let renders = airlight_codegen::read_renders(&generated_dir()).expect("generated/render/ reads");
-    let record = std::fs::read_to_string(generated_dir().join(airlight_fit::record::FILE))
-        .ok()
-        .map(|t| airlight_fit::record::GateRecord::from_toml("gate.toml", &t).expect("gate.toml parses"));
-    let fuzz = std::fs::read_to_string(generated_dir().join(airlight_fit::record::FUZZ_FILE))
-        .ok()
-        .map(|t| airlight_fit::record::FuzzRecord::from_toml("fuzz.toml", &t).expect("fuzz.toml parses"));
-    let outputs = airlight_codegen::render_all(
-        &check,
-        &models,
-        bench.as_ref(),
-        record.as_ref(),
-        fuzz.as_ref(),
-        &scenes,
-        &renders,
-    )
-    .expect("renders");
+    let recorded = airlight_codegen::read_recorded(&generated_dir()).expect("recorded measurements parse");
+    let outputs = airlight_codegen::render_all(&check, &models, &recorded, &scenes, &renders).expect("renders");
     let diffs = airlight_codegen::check(&generated_dir(), &outputs);
     assert!(
         diffs.is_empty(),

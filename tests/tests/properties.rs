@@ -291,7 +291,7 @@ proptest! {
             for g in [g, -g] {
                 let p = Point { tau, gamma, rho: r, g };
                 let want = m.model.eval_unchecked(p);
-                let got = f64::from((k.airlight)(tau as f32, gamma as f32, airlight_shaders_rho(r), g as f32));
+                let got = f64::from((k.airlight)(tau as f32, gamma as f32, airlight_fit::vocab::rho_arg(r), g as f32));
                 // The f32 inputs move A by their rounding: compare at the model's
                 // own value of the rounded point.
                 let p32 = Point { tau: f64::from(tau as f32), gamma: f64::from(gamma as f32), rho: r, g: f64::from(g as f32) };
@@ -300,15 +300,6 @@ proptest! {
                 prop_assert!(rel <= airlight_fit::vocab::F32_ALLOWANCE, "{}: g {g}: f32 {got:e} vs f64 {want32:e} ({want:e} unrounded), {rel:.2e} at {p:?}", k.name);
             }
         }
-    }
-}
-
-/// `ρ` as the canonical entry takes it (−1: none).
-fn airlight_shaders_rho(rho: f64) -> f32 {
-    if rho.is_infinite() {
-        -1.0
-    } else {
-        rho as f32
     }
 }
 
