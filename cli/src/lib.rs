@@ -164,9 +164,24 @@ enum Command {
         #[arg(long)]
         root: Option<PathBuf>,
     },
-    /// Time the fits and every model's evaluation; writes generated/bench.json,
-    /// which REPORT.md quotes (timings never enter `regenerate`'s own output).
+    /// The speed/accuracy trade: every model's f32 kernel (airlight's and the
+    /// baselines) on the same seeded points — errors per g against the reference,
+    /// CPU ns/eval (thread CPU time), naga IR operations, GPU throughput; writes
+    /// generated/bench.json, which REPORT.md quotes (timings never enter
+    /// `regenerate`'s own output).
     Bench {
+        /// Points per (g, domain) for the errors.
+        #[arg(long, default_value_t = airlight_fit::bench::ERROR_POINTS)]
+        points: usize,
+        /// Points in the timing batch.
+        #[arg(long, default_value_t = airlight_fit::bench::COST_BATCH)]
+        batch: usize,
+        /// Interleaved timing repeats (the median is quoted).
+        #[arg(long, default_value_t = airlight_fit::bench::REPEATS)]
+        repeats: usize,
+        /// Where to write the JSON (default generated/bench.json).
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Repository root; found from the current directory if omitted.
         #[arg(long)]
         root: Option<PathBuf>,
@@ -289,7 +304,9 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
                 (None, Precision::F64, _) => eval(&model, &input, output.as_deref(), None, rays, root),
             }
         }
-        Command::Check { root, .. } | Command::Render { root, .. } | Command::Bench { root } if linked.is_none() => {
+        Command::Check { root, .. } | Command::Render { root, .. } | Command::Bench { root, .. }
+            if linked.is_none() =>
+        {
             delegate(root, None)
         }
         Command::Check { require_gpu, kernel, all, record, root } => {
@@ -298,7 +315,9 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
         Command::Render { scene, output, report, width, height, root } => {
             render_scene(&scene, output.as_deref(), report, width, height, root, linked.unwrap_or_default())
         }
-        Command::Bench { root } => bench(root, linked.unwrap_or_default()),
+        Command::Bench { points, batch, repeats, out, root } => {
+            bench(root, linked.unwrap_or_default(), BenchSize { points, batch, repeats }, out)
+        }
         Command::Models { root } => models(root),
         Command::Fit { family, root } => fit(family.as_deref(), root),
         Command::Generate { check, root } => generate(root, check),
@@ -915,33 +934,149 @@ fn render(
     })
 }
 
-fn bench(root: Option<PathBuf>, kernels: &[CompiledKernel]) -> Result<(), Failure> {
+/// How much `airlight bench` measures.
+struct BenchSize {
+    points: usize,
+    batch: usize,
+    repeats: usize,
+}
+
+/// The CPU's model name (`/proc/cpuinfo`), or the architecture.
+fn cpu_name() -> String {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let name = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    format!("{name} ({cores} cores visible; one thread timed)")
+}
+
+fn bench(
+    root: Option<PathBuf>,
+    kernels: &[CompiledKernel],
+    size: BenchSize,
+    out: Option<PathBuf>,
+) -> Result<(), Failure> {
+    use airlight_fit::bench::{self, BenchModel};
     let generated = generated_dir(root)?;
-    let spinner = indicatif::ProgressBar::new_spinner();
-    let (mut b, files) =
-        airlight_fit::bench::run(&|what| spinner.set_message(format!("bench: {what}"))).map_err(|e| Failure(1, e))?;
-    // The generated f32 kernels, on the same points (in their model's g range).
-    for k in kernels {
-        spinner.set_message(format!("bench: {} (f32)", k.name));
-        let g = files.iter().find(|f| f.model.name == k.name).map_or((0.0, 0.0), |f| f.model.g_range);
-        let speed = |d| airlight_fit::bench::throughput_of(|p| f32_value(k, p), g, d);
-        b.kernels.push(airlight_fit::bench::ModelSpeed {
-            model: k.name.to_string(),
-            thin_per_s: speed(airlight_fit::domains::Domain::Thin),
-            dense_per_s: speed(airlight_fit::domains::Domain::Dense),
+    let files = catalog::load(&generated.join("coefficients")).map_err(bad_input)?;
+    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    if size.points == 0 || size.batch == 0 || size.repeats == 0 {
+        return Err(Failure(2, "bench: --points, --batch and --repeats must be at least 1".into()));
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_message("bench: reference values");
+    let sets = bench::error_sets(size.points, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    let batch = bench::cost_batch(size.batch);
+    let batch64: Vec<[f64; 4]> = batch
+        .iter()
+        .map(|a| {
+            [
+                f64::from(a[0]),
+                f64::from(a[1]),
+                if a[2] < 0.0 { f64::INFINITY } else { f64::from(a[2]) },
+                f64::from(a[3]),
+            ]
+        })
+        .collect();
+    let gpu = Gpu::open();
+    let adapter = match &gpu {
+        Ok(g) => {
+            let a = g.adapter();
+            let emulated = a.device_type == "Cpu" || a.name.contains("llvmpipe");
+            format!("{a}{}", if emulated { " — CPU emulation (lavapipe), not a GPU" } else { "" })
+        }
+        Err(e) => format!("none ({e})"),
+    };
+    let mut rows = Vec::new();
+    let mut fns = Vec::new();
+    for f in &files {
+        let name = &f.model.name;
+        let k = kernels.iter().find(|k| k.name == name.as_str()).ok_or_else(|| {
+            Failure(1, format!("bench: no compiled kernel '{name}': run `airlight generate` and rebuild"))
+        })?;
+        bar.set_message(format!("bench: {name} errors"));
+        let errors = bench::errors(&|p| f32_value(k, p), f.model.g_range, &sets);
+        let entry = index.get(name).map_err(bad_input)?;
+        let wgsl = entry.file(Target::Wgsl).ok_or_else(|| bad_input(format!("kernel '{name}' has no WGSL file")))?;
+        let path = generated.join(wgsl);
+        let source =
+            std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
+        let cost = airlight_shaders::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix))
+            .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
+        bar.set_message(format!("bench: {name} on the GPU"));
+        let gpu_evals_per_s = match &gpu {
+            Ok(g) => g
+                .throughput(&KernelSource::of(entry, Target::Wgsl, &source), &batch64, size.repeats)
+                .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?
+                .unwrap_or(0.0),
+            Err(_) => 0.0,
+        };
+        rows.push(BenchModel {
+            name: name.clone(),
+            kind: if f.model.body.is_baseline() { "baseline" } else { "airlight" }.into(),
+            g_range: [f.model.g_range.0, f.model.g_range.1],
+            errors,
+            cpu_ns_per_eval: 0.0,
+            cpu_ns_range: [0.0, 0.0],
+            ops: cost.ops,
+            transcendentals: cost.transcendentals,
+            gpu_evals_per_s,
+            bytes: 0,
         });
+        fns.push(k.airlight);
     }
-    spinner.finish_and_clear();
-    println!("fit {:.1} s, measure {:.1} s on {} cores", b.fit_s, b.measure_s, b.cores);
+    bar.set_length(size.repeats as u64);
+    bar.set_position(0);
+    bar.set_message("bench: CPU time (interleaved repeats)");
+    let times = bench::time_kernels(&fns, &batch, size.repeats, &|r| bar.set_position(r as u64));
+    for (row, (median, lo, hi)) in rows.iter_mut().zip(times) {
+        row.cpu_ns_per_eval = median;
+        row.cpu_ns_range = [lo, hi];
+    }
+    bar.finish_and_clear();
+    let b = bench::Bench {
+        adapter,
+        cpu: cpu_name(),
+        error_points: size.points,
+        cost_batch: size.batch,
+        repeats: size.repeats,
+        models: rows,
+    };
+    println!("adapter: {}\ncpu: {}", b.adapter, b.cpu);
+    println!(
+        "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>6} {:>5} {:>12}",
+        "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ops", "tr", "GPU evals/s"
+    );
     for m in &b.models {
-        println!("{:<18} f64 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
+        let e = m.errors.first();
+        let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+        println!(
+            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
+            m.name,
+            f(e.map(|e| e.max_rel.thin)),
+            f(e.map(|e| e.max_rel.dense)),
+            f(e.map(|e| e.p50_rel.thin)),
+            f(e.map(|e| e.p50_rel.dense)),
+            m.cpu_ns_per_eval,
+            m.ops,
+            m.transcendentals,
+            m.gpu_evals_per_s,
+            e.map_or(0.0, |e| e.g)
+        );
     }
-    for m in &b.kernels {
-        println!("{:<18} f32 thin {:>12.0}/s  dense {:>12.0}/s", m.model, m.thin_per_s, m.dense_per_s);
-    }
-    airlight_fit::io::write_atomic(&generated.join("bench.json"), b.to_json().as_bytes())
-        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", generated.display())))?;
-    println!("wrote {}; `airlight generate` puts it into REPORT.md", generated.join("bench.json").display());
+    let path = out.unwrap_or_else(|| generated.join("bench.json"));
+    airlight_fit::io::write_atomic(&path, b.to_json().as_bytes())
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
+    println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());
     Ok(())
 }
 

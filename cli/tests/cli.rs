@@ -488,3 +488,44 @@ fn eval_radiance_feeds_the_physical_entry_on_every_target() {
     assert!(stderr(&o).contains("rays.csv:3: column 'surface'"), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `airlight bench` on a small batch: every model gets a row with finite,
+/// positive figures (speed itself lives in the benchmark, not here).
+#[test]
+fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
+    let dir = scratch("bench");
+    let out = dir.join("bench.json");
+    let o = airlight(&["bench", "--points", "60", "--batch", "300", "--repeats", "3", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let b = airlight_fit::bench::Bench::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let models = airlight_fit::catalog::load(&airlight_tests_root().join("generated/coefficients")).unwrap();
+    assert_eq!(b.models.len(), models.len());
+    for (m, f) in b.models.iter().zip(&models) {
+        assert_eq!(m.name, f.model.name);
+        assert_eq!(m.kind, if f.model.body.is_baseline() { "baseline" } else { "airlight" });
+        assert!(!m.errors.is_empty(), "{}", m.name);
+        for e in &m.errors {
+            for x in [e.max_rel, e.p99_rel, e.p50_rel] {
+                assert!(
+                    x.thin.is_finite() && x.thin > 0.0 && x.dense.is_finite() && x.dense > 0.0,
+                    "{}: {e:?}",
+                    m.name
+                );
+            }
+            assert!(e.p50_rel.max() <= e.p99_rel.max() && e.p99_rel.max() <= e.max_rel.max(), "{}: {e:?}", m.name);
+        }
+        assert!(m.cpu_ns_per_eval.is_finite() && m.cpu_ns_per_eval > 0.0, "{}", m.name);
+        assert!(m.cpu_ns_range[0] <= m.cpu_ns_per_eval && m.cpu_ns_per_eval <= m.cpu_ns_range[1]);
+        assert!(m.ops > 0 && m.transcendentals <= m.ops, "{}", m.name);
+        if gpu_required() {
+            assert!(m.gpu_evals_per_s.is_finite() && m.gpu_evals_per_s > 0.0, "{}: no GPU figure", m.name);
+        }
+    }
+    // The march's IR cost grows with its steps (loops counted by trip count).
+    let ops = |n: &str| b.model(n).unwrap().ops;
+    assert!(ops("raymarch-1024") > 10 * ops("raymarch-8"));
+}
+
+fn airlight_tests_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}

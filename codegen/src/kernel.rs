@@ -13,6 +13,7 @@ use crate::scene::{Choice, Plan, Scene, ScenePhase};
 use airlight_fit::approx::{Body, PhaseModel, Split};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::cost::{Cost, PhaseShape, Shape};
+use airlight_fit::family::baseline::{FAR_PLANE, MARCH_CUTOFF};
 use airlight_fit::family::closed::NoExtinction;
 use airlight_fit::family::expsum::{LOCAL_RATIO, SPLIT};
 use airlight_fit::family::phase_exp::ExpPhase;
@@ -25,7 +26,13 @@ use std::f64::consts::{FRAC_PI_2, PI};
 pub const OUTPUT_TABLE: &str = include_str!("../outputs.toml");
 
 /// Templates, by file name.
-pub const TEMPLATES: [(&str, &str); 12] = [
+pub const TEMPLATES: [(&str, &str); 18] = [
+    ("march.rs.tera", include_str!("../templates/kernels/march.rs.tera")),
+    ("march.wgsl.tera", include_str!("../templates/kernels/march.wgsl.tera")),
+    ("march.glsl.tera", include_str!("../templates/kernels/march.glsl.tera")),
+    ("equiangular.rs.tera", include_str!("../templates/kernels/equiangular.rs.tera")),
+    ("equiangular.wgsl.tera", include_str!("../templates/kernels/equiangular.wgsl.tera")),
+    ("equiangular.glsl.tera", include_str!("../templates/kernels/equiangular.glsl.tera")),
     ("plan.md.tera", include_str!("../templates/kernels/plan.md.tera")),
     ("kernel.rs.tera", include_str!("../templates/kernels/kernel.rs.tera")),
     ("closed.rs.tera", include_str!("../templates/kernels/closed.rs.tera")),
@@ -106,6 +113,8 @@ pub enum KernelPhase {
     Fixed(f64),
     /// `g` at run time, over these bands of `|g|` (a band search).
     Banded(Vec<usize>),
+    /// `g` at run time, Henyey–Greenstein evaluated exactly (the baselines).
+    Exact,
 }
 
 /// Everything that shapes one kernel.
@@ -148,6 +157,7 @@ impl KernelSpec {
     /// The general kernel of a model: surfaces, extinction, backscatter, and its whole `g` range.
     pub fn for_model(m: &ModelFile) -> KernelSpec {
         let phase = match m.model.split().map(|s| &s.phase) {
+            None if m.model.g_range != (0.0, 0.0) => KernelPhase::Exact,
             None | Some(PhaseModel::Isotropic) => KernelPhase::Isotropic,
             Some(PhaseModel::Exp(e)) => KernelPhase::Banded((0..e.bands.len()).collect()),
         };
@@ -188,8 +198,12 @@ impl KernelSpec {
             }
             Choice::Model { name: model, .. } => {
                 let m = models.iter().find(|m| &m.model.name == model).expect("the plan names a loaded model").clone();
+                let exact = m.model.split().is_none() && m.model.g_range != (0.0, 0.0);
                 let phase = match (m.model.split().map(|s| &s.phase), &scene.phase) {
-                    (None | Some(PhaseModel::Isotropic), _) | (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
+                    (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
+                    (None, ScenePhase::Fixed(g)) if exact => KernelPhase::Fixed(*g),
+                    (None, ScenePhase::Range(..)) if exact => KernelPhase::Exact,
+                    (None | Some(PhaseModel::Isotropic), _) => KernelPhase::Isotropic,
                     (Some(PhaseModel::Exp(_)), ScenePhase::Fixed(g)) => KernelPhase::Fixed(*g),
                     (Some(PhaseModel::Exp(e)), ScenePhase::Range(lo, hi)) => {
                         let (alo, ahi) = if *lo <= 0.0 && *hi >= 0.0 {
@@ -234,12 +248,12 @@ impl KernelSpec {
 
     /// Whether `g` is a run-time parameter.
     pub fn g_param(&self) -> bool {
-        matches!(self.phase, KernelPhase::Banded(_))
+        matches!(self.phase, KernelPhase::Banded(_) | KernelPhase::Exact)
     }
 
     /// Whether τ (and σt) are arguments: extinction modelled by a fitted model.
     fn takes_tau(&self) -> bool {
-        self.extinction && self.model.is_some()
+        self.extinction && self.body().extinction()
     }
 
     /// Arguments of the canonical entry `airlight`, in order.
@@ -390,8 +404,9 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     ctx.insert("p_iso", &lit(1.0 / (4.0 * PI)));
     let iso = spec.phase == KernelPhase::Isotropic;
     ctx.insert("iso", &iso);
-    ctx.insert("uses_phi", &(spec.model.is_some() && spec.backscatter));
-    ctx.insert("closed", &spec.model.is_none());
+    let split = matches!(spec.body(), Body::Split(_));
+    ctx.insert("uses_phi", &(split && spec.backscatter));
+    ctx.insert("closed", &!split);
 
     // Signatures, per language.
     let (f, v3) = match lang {
@@ -431,14 +446,46 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     // The family's own data for its templates: one arm per family.
     match (spec.body(), &spec.model) {
         (Body::Split(sp), Some(m)) => split_context(&mut ctx, spec, sp, m, out),
-        (Body::NoExtinction(_), _) => ctx.insert("summary", "isotropic scattering without extinction, exact."),
-        (Body::Split(_), None) => unreachable!("a split kernel comes from a model"),
+        (Body::NoExtinction(_), None) => ctx.insert("summary", "isotropic scattering without extinction, exact."),
+        (Body::NoExtinction(_), Some(m)) => {
+            ctx.insert("summary", &format!("{} ({}).", m.model.summary, specialisations(spec)))
+        }
+        (Body::RayMarch(r), Some(m)) => {
+            baseline_context(&mut ctx, spec, m);
+            ctx.insert("steps", &r.steps);
+            ctx.insert("far", &lit(FAR_PLANE));
+            ctx.insert("far_doc", &FAR_PLANE);
+            ctx.insert("ln_cutoff", &lit((1.0 / MARCH_CUTOFF).ln()));
+            ctx.insert("cutoff_doc", &format!("{MARCH_CUTOFF:e}"));
+        }
+        (Body::Equiangular(q), Some(m)) => {
+            baseline_context(&mut ctx, spec, m);
+            ctx.insert("nodes", &lits(&q.x));
+            ctx.insert("weights", &lits(&q.w));
+        }
+        (Body::Split(_) | Body::RayMarch(_) | Body::Equiangular(_), None) => {
+            unreachable!("a fitted or baseline kernel comes from a model")
+        }
     }
     let mut text = tera.render(template, &ctx)?;
     if !text.ends_with('\n') {
         text.push('\n');
     }
     Ok(Output::text(out.path.replace("{name}", &spec.name).replace("{ident}", &ident), text))
+}
+
+/// What the baselines' templates share: the summary and how the phase is taken.
+fn baseline_context(ctx: &mut tera::Context, spec: &KernelSpec, m: &ModelFile) {
+    ctx.insert("summary", &format!("{} ({}).", m.model.summary, specialisations(spec)));
+    ctx.insert("phase_iso", &(spec.phase == KernelPhase::Isotropic));
+    ctx.insert("phase_exact", &(spec.phase == KernelPhase::Exact));
+    let fixed = match spec.phase {
+        KernelPhase::Fixed(g) => Some(g),
+        _ => None,
+    };
+    ctx.insert("phase_fixed", &fixed.is_some());
+    ctx.insert("fixed_g", &fixed.map_or(String::new(), |g| format!("{g}")));
+    ctx.insert("fixed_g_lit", &fixed.map_or(String::new(), lit));
 }
 
 /// What the split family's templates need: segments re-expressed in α, the
@@ -472,7 +519,7 @@ fn split_context(ctx: &mut tera::Context, spec: &KernelSpec, sp: &Split, m: &Mod
     let ratio = sp.ratio.as_ref().map(|r| RatioCtx { f: lits(&r.f), g: lits(&r.g), h: lits(&r.h) });
     ctx.insert("ratio", &ratio);
     let (phase, k) = match (&spec.phase, spec.exp_phase()) {
-        (KernelPhase::Isotropic, _) | (_, None) => ("isotropic", 1),
+        (KernelPhase::Isotropic | KernelPhase::Exact, _) | (_, None) => ("isotropic", 1),
         (KernelPhase::Fixed(g), Some(e)) => {
             let t = e.terms(*g);
             ctx.insert(
@@ -556,6 +603,7 @@ pub fn specialisations(spec: &KernelSpec) -> String {
         KernelPhase::Isotropic => "isotropic, P = 1/(4π) folded into constants".to_string(),
         KernelPhase::Fixed(g) => format!("Henyey–Greenstein at g = {g} baked in"),
         KernelPhase::Banded(b) => format!("g at run time ({} band{})", b.len(), if b.len() == 1 { "" } else { "s" }),
+        KernelPhase::Exact => "g at run time, Henyey–Greenstein exact".to_string(),
     });
     s.push(if spec.surfaces { "rays may end early (ρ argument)".into() } else { "rays run to infinity".into() });
     if !spec.extinction {
@@ -688,7 +736,7 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     let g = match &spec.phase {
         KernelPhase::Isotropic => [0.0, 0.0],
         KernelPhase::Fixed(g) => [*g, *g],
-        KernelPhase::Banded(_) => [spec.g_range.0, spec.g_range.1],
+        KernelPhase::Banded(_) | KernelPhase::Exact => [spec.g_range.0, spec.g_range.1],
     };
     IndexEntry {
         name: spec.name.clone(),

@@ -8,6 +8,7 @@
 
 #![warn(missing_docs)]
 
+pub mod front;
 pub mod kernel;
 pub mod output;
 pub mod plots;
@@ -151,6 +152,7 @@ pub fn render_all(
     out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {
         out.push(Output::text("bench.json", b.to_json()));
+        out.extend(plots::pareto(b).map_err(RenderError::Plot)?);
     }
     if let Some(r) = record {
         out.push(Output::text(airlight_fit::record::FILE, r.to_toml()));

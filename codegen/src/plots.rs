@@ -340,3 +340,112 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     }));
     Ok(out)
 }
+
+/// One panel of a pareto figure: error (by `measure`) against ns/eval, log-log.
+fn pareto_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    ms: &[crate::front::Method],
+    measure: &dyn Fn(&crate::front::Method) -> f64,
+    dominated: &dyn Fn(&crate::front::Method) -> bool,
+) -> Result<(), PlotError> {
+    let finite = |m: &&crate::front::Method| measure(m).is_finite() && measure(m) > 0.0 && m.ns > 0.0;
+    let shown: Vec<&crate::front::Method> = ms.iter().filter(finite).collect();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
+    for m in &shown {
+        x0 = x0.min(m.ns);
+        x1 = x1.max(m.ns);
+        y0 = y0.min(measure(m));
+        y1 = y1.max(measure(m));
+    }
+    if shown.is_empty() {
+        (x0, x1, y0, y1) = (1.0, 10.0, 1e-6, 1.0);
+    }
+    let (x0, x1) = (x0 / 1.6, x1 * 1.6);
+    let (y0, y1) = ((y0 / 4.0).max(1e-12), (y1 * 4.0).min(1e12));
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("CPU ns per evaluation (f32 Rust kernel, median)")
+        .y_desc("relative error")
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .draw()
+        .map_err(err)?;
+    let grey = RGBColor(185, 185, 185);
+    let blue = COLOURS[2];
+    let orange = COLOURS[5];
+    // Airlight's front as a line.
+    let front = crate::front::airlight_front(ms, measure);
+    chart
+        .draw_series(LineSeries::new(
+            front.iter().filter(|m| finite(m)).map(|m| (m.ns, measure(m))),
+            blue.stroke_width(2),
+        ))
+        .map_err(err)?
+        .label("airlight's front")
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2)));
+    for m in &shown {
+        let p = (m.ns, measure(m));
+        let colour = if dominated(m) {
+            grey
+        } else if m.baseline {
+            orange
+        } else {
+            blue
+        };
+        if m.baseline {
+            chart.draw_series(std::iter::once(TriangleMarker::new(p, 7, colour.filled()))).map_err(err)?;
+        } else {
+            chart.draw_series(std::iter::once(Circle::new(p, 5, colour.filled()))).map_err(err)?;
+        }
+        // Baselines always labelled; airlight's models where not dominated.
+        if m.baseline || !dominated(m) {
+            let style = ("sans-serif", 12).into_font().color(if dominated(m) { &grey } else { &BLACK });
+            chart.draw_series(std::iter::once(Text::new(m.name.clone(), p, style))).map_err(err)?;
+        }
+    }
+    chart
+        .draw_series(std::iter::once(Circle::new((x0, y0), 0, blue.filled())))
+        .map_err(err)?
+        .label("airlight model (circle), baseline (triangle); grey: dominated")
+        .legend(move |(x, y)| Circle::new((x + 10, y), 5, blue.filled()));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+/// `plots/pareto-<g>.{svg,png}` for every `g` of the bench: max error (left) and
+/// median error (right) against CPU ns/eval.
+pub fn pareto(b: &airlight_fit::bench::Bench) -> Result<Vec<Output>, PlotError> {
+    register_font()?;
+    let mut out = Vec::new();
+    for g in crate::front::gs(b) {
+        let ms = crate::front::methods(b, g);
+        let label = crate::front::g_label(g);
+        let phase = if g == 0.0 { "isotropic".to_string() } else { format!("Henyey-Greenstein g = {label}") };
+        out.extend(both!(&format!("pareto-{label}"), |root| {
+            let areas = root.split_evenly((1, 2));
+            pareto_panel(&areas[0], &format!("{phase}: max error, thin ∪ dense"), &ms, &|m| m.max, &|m| {
+                m.dominated_max
+            })
+            .and_then(|_| {
+                pareto_panel(&areas[1], &format!("{phase}: median error (larger domain)"), &ms, &|m| m.median, &|m| {
+                    m.dominated_median
+                })
+            })
+        }));
+    }
+    Ok(out)
+}

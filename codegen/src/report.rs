@@ -374,21 +374,6 @@ pub fn render(
     ctx.insert("local_error", &es.map_or("—".into(), |m| prov_f(m, t, "local_max_rel")));
     ctx.insert("split", &airlight_fit::family::expsum::SPLIT);
     #[derive(Serialize)]
-    struct SpeedRow {
-        model: String,
-        thin: String,
-        dense: String,
-        thin32: String,
-        dense32: String,
-    }
-    let per_s = |x: f64| {
-        if x >= 1e6 {
-            format!("{:.1} M/s", x / 1e6)
-        } else {
-            format!("{:.0} k/s", x / 1e3)
-        }
-    };
-    #[derive(Serialize)]
     struct FactRow {
         model: String,
         cells: Vec<String>,
@@ -429,31 +414,7 @@ pub fn render(
     ctx.insert("facts", &facts);
     ctx.insert("bench", &bench.is_some());
     if let Some(b) = bench {
-        ctx.insert("bench_cores", &b.cores);
-        ctx.insert("bench_fit", &format!("{:.0}", b.fit_s));
-        ctx.insert("bench_measure", &format!("{:.1}", b.measure_s));
-        let f32_of = |name: &str, f: fn(&airlight_fit::bench::ModelSpeed) -> f64| {
-            b.kernels.iter().find(|k| k.model == name).map_or("—".to_string(), |k| per_s(f(k)))
-        };
-        let mut rows: Vec<SpeedRow> = b
-            .models
-            .iter()
-            .map(|m| SpeedRow {
-                model: m.model.clone(),
-                thin: per_s(m.thin_per_s),
-                dense: per_s(m.dense_per_s),
-                thin32: f32_of(&m.model, |k| k.thin_per_s),
-                dense32: f32_of(&m.model, |k| k.dense_per_s),
-            })
-            .collect();
-        rows.extend(b.kernels.iter().filter(|k| !b.models.iter().any(|m| m.model == k.model)).map(|k| SpeedRow {
-            model: k.model.clone(),
-            thin: "—".into(),
-            dense: "—".into(),
-            thin32: per_s(k.thin_per_s),
-            dense32: per_s(k.dense_per_s),
-        }));
-        ctx.insert("speeds", &rows);
+        trade_context(&mut ctx, b);
     }
     ctx.insert("gate", &gate.is_some());
     if let Some((r, current)) = gate {
@@ -545,6 +506,166 @@ fn regime_rows(r: &GateRecord) -> (Vec<RegimeRow>, String, String) {
         })
         .collect();
     (rows, iso.to_string(), hg.to_string())
+}
+
+/// ns/eval as written in tables.
+fn ns(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.1}")
+    }
+}
+
+/// The speed/accuracy section: per g, the headline ratios at every error level,
+/// the smallest raymarch error; the no-extinction comparison; every model's row.
+fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
+    use crate::front::{self, Method};
+    #[derive(Serialize)]
+    struct Level {
+        measure: &'static str,
+        level: String,
+        airlight: String,
+        baseline: String,
+        ratio: String,
+        verdict: &'static str,
+    }
+    #[derive(Serialize)]
+    struct GSection {
+        g: String,
+        title: String,
+        plot: String,
+        levels: Vec<Level>,
+        march_best: String,
+        losses: Vec<String>,
+    }
+    #[derive(Serialize)]
+    struct TradeRow {
+        name: String,
+        kind: String,
+        thin_max: String,
+        dense_max: String,
+        thin_p50: String,
+        dense_p50: String,
+        ns: String,
+        ops: usize,
+        transcendentals: usize,
+        gpu: String,
+    }
+    let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
+    let mut sections = Vec::new();
+    for g in front::gs(b) {
+        let ms = front::methods(b, g);
+        let label = front::g_label(g);
+        let hs = front::headlines(&ms);
+        let mut losses = Vec::new();
+        let levels = hs
+            .iter()
+            .map(|h| {
+                if h.verdict() == "baseline" || h.verdict().starts_with("baseline (") {
+                    losses.push(format!(
+                        "{} error {}: {}",
+                        h.measure,
+                        fmt_err(h.level),
+                        match (&h.airlight, &h.baseline) {
+                            (Some(a), Some(bl)) => format!(
+                                "`{}` ({} ns) is {:.2}× faster than airlight's fastest, `{}` ({} ns)",
+                                bl.name,
+                                ns(bl.ns),
+                                a.ns / bl.ns,
+                                a.name,
+                                ns(a.ns)
+                            ),
+                            (None, Some(bl)) =>
+                                format!("only baselines reach it; the fastest is `{}` ({} ns)", bl.name, ns(bl.ns)),
+                            _ => String::new(),
+                        }
+                    ));
+                }
+                Level {
+                    measure: h.measure,
+                    level: fmt_err(h.level),
+                    airlight: who(&h.airlight),
+                    baseline: who(&h.baseline),
+                    ratio: h.speedup().map_or("—".into(), |r| format!("{r:.2}×")),
+                    verdict: h.verdict(),
+                }
+            })
+            .collect();
+        let march_best = ms
+            .iter()
+            .filter(|m| m.name.starts_with("raymarch-"))
+            .min_by(|a, b| a.max.total_cmp(&b.max))
+            .map_or("no raymarch measured".into(), |m| format!("{} (`{}`, {} ns)", fmt_err(m.max), m.name, ns(m.ns)));
+        sections.push(GSection {
+            title: if g == 0.0 { "isotropic (g = 0)".into() } else { format!("Henyey–Greenstein, g = {label}") },
+            plot: format!("plots/pareto-{label}"),
+            g: label,
+            levels,
+            march_best,
+            losses,
+        });
+    }
+    ctx.insert("trade", &sections);
+    let rows: Vec<TradeRow> = b
+        .models
+        .iter()
+        .map(|m| {
+            let e = m.at(0.0).or(m.errors.first());
+            let f = |x: Option<f64>| x.map_or("—".to_string(), fmt_err);
+            TradeRow {
+                name: m.name.clone(),
+                kind: m.kind.clone(),
+                thin_max: f(e.map(|e| e.max_rel.thin)),
+                dense_max: f(e.map(|e| e.max_rel.dense)),
+                thin_p50: f(e.map(|e| e.p50_rel.thin)),
+                dense_p50: f(e.map(|e| e.p50_rel.dense)),
+                ns: format!("{} ({}–{})", ns(m.cpu_ns_per_eval), ns(m.cpu_ns_range[0]), ns(m.cpu_ns_range[1])),
+                ops: m.ops,
+                transcendentals: m.transcendentals,
+                gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
+            }
+        })
+        .collect();
+    ctx.insert("trade_rows", &rows);
+    ctx.insert("bench_adapter", &b.adapter);
+    ctx.insert("bench_cpu", &b.cpu);
+    ctx.insert("bench_points", &b.error_points);
+    ctx.insert("bench_batch", &b.cost_batch);
+    ctx.insert("bench_repeats", &b.repeats);
+    ctx.insert("bench_gs", &front::gs(b).iter().map(|g| front::g_label(*g)).collect::<Vec<_>>().join(", "));
+    // No extinction: its error at a few optical distances (measured here with the
+    // reference), and what modelling extinction costs over it.
+    let floor = b.model("no-extinction");
+    let iso: Vec<Method> = front::methods(b, 0.0);
+    #[derive(Serialize)]
+    struct NoExt {
+        tau: f64,
+        error: String,
+        fastest: String,
+        cost: String,
+    }
+    let noext: Vec<NoExt> = [0.1, 1.0, 5.0]
+        .iter()
+        .map(|&tau| {
+            let e = airlight_fit::family::closed::extinction_error(tau, true, &[0.0]);
+            let better =
+                iso.iter().filter(|m| m.name != "no-extinction" && m.max < e).min_by(|a, b| a.ns.total_cmp(&b.ns));
+            NoExt {
+                tau,
+                error: fmt_err(e),
+                fastest: better.map_or("—".into(), |m| {
+                    format!("`{}` ({} max over thin ∪ dense, {} ns)", m.name, fmt_err(m.max), ns(m.ns))
+                }),
+                cost: match (better, floor) {
+                    (Some(m), Some(f)) if f.cpu_ns_per_eval > 0.0 => format!("{:.1}×", m.ns / f.cpu_ns_per_eval),
+                    _ => "—".into(),
+                },
+            }
+        })
+        .collect();
+    ctx.insert("noext", &noext);
+    ctx.insert("noext_ns", &floor.map_or("—".into(), |f| ns(f.cpu_ns_per_eval)));
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ impl Approximation {
     pub fn split(&self) -> Option<&Split> {
         match &self.body {
             Body::Split(s) => Some(s),
-            Body::NoExtinction(_) => None,
+            _ => None,
         }
     }
 

@@ -1,41 +1,97 @@
-//! `generated/bench.json`: how long the fits take and how fast each model
-//! evaluates, measured by `airlight bench` (timings never enter the tests; the
-//! report quotes this file, so regenerating stays byte-identical).
+//! The speed/accuracy trade (`airlight bench`, `generated/bench.json`): every
+//! shipped model — airlight's and the baselines — measured in one run on the same
+//! seeded points: the generated f32 Rust kernel's relative error against the
+//! reference per `g` and domain, its CPU cost in thread CPU time, and (from the
+//! callers that have them) the operations of its WGSL in naga's IR and its GPU
+//! throughput. Timings never enter the tests; the report quotes this file, so
+//! regenerating stays byte-identical.
 
-use crate::catalog;
-use crate::coeffs::ModelFile;
 use crate::domains::{Domain, VALIDATION_SEED};
-use crate::model::Model;
 use crate::reference::Point;
+use crate::vocab::CanonicalFn;
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
-use std::time::Instant;
 
-/// One model's single-core throughput.
+/// The `g` values errors are measured at: isotropic, then the HG media of the issue.
+pub const BENCH_GS: [f64; 6] = [0.0, -0.95, -0.5, 0.5, 0.9, 0.95];
+/// Points per `(g, domain)` for the errors.
+pub const ERROR_POINTS: usize = 20_000;
+/// Points of the fixed timing batch.
+pub const COST_BATCH: usize = 100_000;
+/// Interleaved timing repeats (the median is quoted).
+pub const REPEATS: usize = 7;
+/// Seed of the bench's points (not the validation's nor any fit's).
+pub const BENCH_SEED: u64 = VALIDATION_SEED ^ 0xBE7C_0000_0000_0000;
+
+/// A figure on each of the two sampled domains.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PerDomain {
+    /// On `thin`.
+    pub thin: f64,
+    /// On `dense`.
+    pub dense: f64,
+}
+
+impl PerDomain {
+    /// The larger of the two.
+    pub fn max(&self) -> f64 {
+        self.thin.max(self.dense)
+    }
+}
+
+/// Errors of one kernel at one `g`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModelSpeed {
+pub struct GErrors {
+    /// The asymmetry.
+    pub g: f64,
+    /// Largest relative error over the sampled points.
+    pub max_rel: PerDomain,
+    /// 99th percentile.
+    pub p99_rel: PerDomain,
+    /// Median.
+    pub p50_rel: PerDomain,
+}
+
+/// One model's row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BenchModel {
     /// Model name.
-    pub model: String,
-    /// Evaluations per second on the thin validation-like set, one core.
-    pub thin_per_s: f64,
-    /// Same on dense.
-    pub dense_per_s: f64,
+    pub name: String,
+    /// `airlight` or `baseline`.
+    pub kind: String,
+    /// Supported `g`.
+    pub g_range: [f64; 2],
+    /// Errors of the f32 Rust kernel at each bench `g` in its range.
+    pub errors: Vec<GErrors>,
+    /// Median thread CPU time per evaluation of the f32 Rust kernel, ns.
+    pub cpu_ns_per_eval: f64,
+    /// Fastest and slowest of the repeats, ns.
+    pub cpu_ns_range: [f64; 2],
+    /// Operations in the naga IR of its WGSL `airlight` (worst path, loops counted by trip count).
+    pub ops: usize,
+    /// Of those, calls of transcendental built-ins (exp, log, sqrt, pow, trigonometry).
+    pub transcendentals: usize,
+    /// GPU evaluations per second (timestamp queries), 0 where not measured.
+    pub gpu_evals_per_s: f64,
+    /// Bytes of tables it needs (0: none).
+    pub bytes: usize,
 }
 
 /// Everything `airlight bench` measures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Bench {
-    /// Cores the fits could use.
-    pub cores: usize,
-    /// Wall-clock seconds to fit every family.
-    pub fit_s: f64,
-    /// Wall-clock seconds to assemble and measure every model.
-    pub measure_s: f64,
-    /// Per-model f64 throughput (the reference first).
-    pub models: Vec<ModelSpeed>,
-    /// Per-kernel throughput of the generated f32 Rust kernels (`airlight-kernels`).
-    #[serde(default)]
-    pub kernels: Vec<ModelSpeed>,
+    /// The GPU adapter the throughputs come from (lavapipe is labelled CPU emulation).
+    pub adapter: String,
+    /// The CPU the kernels were timed on.
+    pub cpu: String,
+    /// Points per `(g, domain)` for the errors.
+    pub error_points: usize,
+    /// Points in the timing batch.
+    pub cost_batch: usize,
+    /// Timing repeats.
+    pub repeats: usize,
+    /// One row per model, in catalog order.
+    pub models: Vec<BenchModel>,
 }
 
 impl Bench {
@@ -47,52 +103,159 @@ impl Bench {
     pub fn from_json(text: &str) -> Result<Bench, String> {
         serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))
     }
+    /// The row of `name`.
+    pub fn model(&self, name: &str) -> Option<&BenchModel> {
+        self.models.iter().find(|m| m.name == name)
+    }
 }
 
-fn throughput(model: &dyn Model, domain: Domain) -> f64 {
-    throughput_of(|p| model.eval_unchecked(p), model.g_range(), domain)
+impl BenchModel {
+    /// Its errors at `g`, if measured.
+    pub fn at(&self, g: f64) -> Option<&GErrors> {
+        self.errors.iter().find(|e| e.g == g)
+    }
 }
 
-/// Single-core evaluations per second of `eval` on 20,000 points of `domain` with
-/// `g` in `g_range` (best of three passes): the same points for every model and
-/// kernel, so their figures compare.
-pub fn throughput_of<T>(eval: impl Fn(Point) -> T, g_range: (f64, f64), domain: Domain) -> f64 {
-    // The reference takes every g in (−1, 1); time it on the public data's range.
-    let (lo, hi) = g_range;
-    let pts = domain.validation_set((lo.max(-0.9), hi.min(0.95)), 20_000, VALIDATION_SEED ^ 0xBE7C);
-    let mut best = 0.0f64;
-    for _ in 0..3 {
-        let t = Instant::now();
-        for &p in &pts {
-            black_box(eval(black_box(p)));
+/// One domain's bench points with their reference `A`.
+pub type DomainSet = (Domain, Vec<(Point, f64)>);
+
+/// The points errors are measured on, with their reference values: per bench `g`,
+/// per domain (thin, dense).
+pub struct ErrorSets {
+    /// `(g, [thin, dense])`.
+    pub sets: Vec<(f64, Vec<DomainSet>)>,
+}
+
+/// Draws `n` points per `(g, domain)` and evaluates the reference at each (in
+/// parallel); `progress(done, total)` counts reference evaluations.
+pub fn error_sets(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> ErrorSets {
+    let domains = [Domain::Thin, Domain::Dense];
+    let mut pts = Vec::new();
+    for (i, &g) in BENCH_GS.iter().enumerate() {
+        for (j, d) in domains.iter().enumerate() {
+            pts.push(d.validation_set((g, g), n, BENCH_SEED ^ ((i * 2 + j) as u64)));
         }
-        best = best.max(pts.len() as f64 / t.elapsed().as_secs_f64());
     }
-    best
+    let all: Vec<Point> = pts.iter().flatten().copied().collect();
+    let values =
+        crate::parallel::map(&all, |p| crate::reference::airlight(*p).expect("bench points are valid"), progress);
+    let mut it = values.into_iter();
+    let mut sets = Vec::new();
+    let mut pts = pts.into_iter();
+    for &g in &BENCH_GS {
+        let mut per = Vec::new();
+        for d in domains {
+            let p = pts.next().expect("one set per (g, domain)");
+            per.push((d, p.into_iter().map(|p| (p, it.next().expect("one value per point"))).collect()));
+        }
+        sets.push((g, per));
+    }
+    ErrorSets { sets }
 }
 
-/// Times the fit and measurement pipeline once and each model's evaluation.
-pub fn run(progress: &(dyn Fn(&str) + Sync)) -> Result<(Bench, Vec<ModelFile>), String> {
-    progress("fitting");
-    let t = Instant::now();
-    let fits = catalog::fit(None, &|_, _| {});
-    let fit_s = t.elapsed().as_secs_f64();
-    progress("measuring");
-    let t = Instant::now();
-    let files = catalog::build(&fits, &|_, _| {})?;
-    let measure_s = t.elapsed().as_secs_f64();
-    let mut models = Vec::new();
-    let reference = crate::model::Reference;
-    let all: Vec<&dyn Model> =
-        std::iter::once(&reference as &dyn Model).chain(files.iter().map(|f| &f.model as &dyn Model)).collect();
-    for m in all {
-        progress(m.name());
-        models.push(ModelSpeed {
-            model: m.name().to_string(),
-            thin_per_s: throughput(m, Domain::Thin),
-            dense_per_s: throughput(m, Domain::Dense),
-        });
+/// The `q`-quantile of sorted values.
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
     }
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    Ok((Bench { cores, fit_s, measure_s, models, kernels: Vec::new() }, files))
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// Errors of `eval` (`A` at a point, ∞ for a kernel's saturated value) at every
+/// bench `g` inside `g_range`.
+pub fn errors(eval: &dyn Fn(Point) -> f64, g_range: (f64, f64), sets: &ErrorSets) -> Vec<GErrors> {
+    let mut out = Vec::new();
+    for (g, per) in &sets.sets {
+        if *g < g_range.0 || *g > g_range.1 {
+            continue;
+        }
+        let mut stats = [[0.0; 3]; 2];
+        for (k, (_, pts)) in per.iter().enumerate() {
+            let mut e: Vec<f64> = pts.iter().map(|&(p, exact)| crate::stats::rel_error(eval(p), exact)).collect();
+            e.sort_by(f64::total_cmp);
+            stats[k] = [e.last().copied().unwrap_or(f64::NAN), quantile(&e, 0.99), quantile(&e, 0.5)];
+        }
+        let pd = |i: usize| PerDomain { thin: stats[0][i], dense: stats[1][i] };
+        out.push(GErrors { g: *g, max_rel: pd(0), p99_rel: pd(1), p50_rel: pd(2) });
+    }
+    out
+}
+
+/// The fixed timing batch: `n` canonical f32 arguments `(τ, γ, ρ, g)`, thin and
+/// dense alternating, `g` cycling through [`BENCH_GS`] (kernels without `g`
+/// ignore it): the same points for every kernel.
+pub fn cost_batch(n: usize) -> Vec<[f32; 4]> {
+    let thin = Domain::Thin.validation_set((-0.95, 0.95), n.div_ceil(2), BENCH_SEED ^ 0xC057);
+    let dense = Domain::Dense.validation_set((-0.95, 0.95), n / 2, BENCH_SEED ^ 0xC058);
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = if i % 2 == 0 { thin[i / 2] } else { dense[i / 2] };
+        out.push([p.tau as f32, p.gamma as f32, crate::vocab::rho_arg(p.rho), BENCH_GS[i % BENCH_GS.len()] as f32]);
+    }
+    out
+}
+
+/// CPU time of the calling thread, in seconds (wall time where the platform has no thread clock).
+pub fn thread_cpu_s() -> f64 {
+    #[cfg(unix)]
+    {
+        let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+        // SAFETY: clock_gettime writes one timespec through a valid pointer.
+        if unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0 {
+            return t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9;
+        }
+    }
+    use std::sync::OnceLock;
+    static START: OnceLock<std::time::Instant> = OnceLock::new();
+    START.get_or_init(std::time::Instant::now).elapsed().as_secs_f64()
+}
+
+/// Thread CPU time per evaluation of each kernel over `batch`, in ns: `repeats`
+/// rounds, each timing every kernel once in turn (interleaved, so drifts of the
+/// machine spread over all), inputs and outputs through `black_box`. Returns
+/// `(median, fastest, slowest)` per kernel; `progress(round)` after each round.
+pub fn time_kernels(
+    kernels: &[CanonicalFn],
+    batch: &[[f32; 4]],
+    repeats: usize,
+    progress: &dyn Fn(usize),
+) -> Vec<(f64, f64, f64)> {
+    let mut times = vec![Vec::with_capacity(repeats); kernels.len()];
+    let mut out = vec![0.0f32; batch.len()];
+    for round in 0..repeats {
+        for (k, f) in kernels.iter().enumerate() {
+            let t = thread_cpu_s();
+            for (o, a) in out.iter_mut().zip(black_box(batch)) {
+                *o = f(a[0], a[1], a[2], a[3]);
+            }
+            black_box(&out);
+            times[k].push((thread_cpu_s() - t) * 1e9 / batch.len() as f64);
+        }
+        progress(round + 1);
+    }
+    times
+        .into_iter()
+        .map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            (v[v.len() / 2], v[0], v[v.len() - 1])
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_bench_runs_on_a_small_batch() {
+        let sets = error_sets(50, &|_, _| {});
+        let e = errors(&|p| crate::family::closed::NoExtinction.eval(p), (0.0, 0.0), &sets);
+        assert_eq!(e.len(), 1);
+        assert!(e[0].max_rel.thin.is_finite() && e[0].max_rel.thin > 0.0 && e[0].p50_rel.dense > 0.0);
+        fn k(tau: f32, gamma: f32, _rho: f32, _g: f32) -> f32 {
+            (-tau).exp() * gamma
+        }
+        let t = time_kernels(&[k as CanonicalFn], &cost_batch(1000), 3, &|_| {});
+        assert!(t[0].0.is_finite() && t[0].0 > 0.0 && t[0].1 <= t[0].0 && t[0].0 <= t[0].2);
+    }
 }

@@ -72,97 +72,141 @@ pub enum BackChoice {
     ExpSum,
 }
 
-/// One shipped model: which families, which range.
+/// How a shipped model is built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Recipe {
+    /// A forward + backward composition of fitted families.
+    Split {
+        /// Forward kernel.
+        forward: ForwardChoice,
+        /// Phase.
+        phase: PhaseChoice,
+        /// Backward part.
+        backward: BackChoice,
+        /// Whether the forward part keeps `e^{−τ cos γ}` (false only as printed).
+        forward_attenuation: bool,
+    },
+    /// A baseline: what a user would pick instead (nothing fitted).
+    Baseline(Baseline),
+}
+
+/// The baselines airlight measures itself against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Baseline {
+    /// Seed 003's closed form without extinction: the cost floor.
+    NoExtinction,
+    /// Uniform midpoint ray marching with this many steps.
+    RayMarch(usize),
+    /// Gauss–Legendre in the equiangular angle with this many nodes.
+    Equiangular(usize),
+}
+
+/// One shipped model: its name, its `g` range and how it is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModelSpec {
     /// Name.
     pub name: &'static str,
     /// One line for tables.
     pub summary: &'static str,
-    /// Forward kernel.
-    pub forward: ForwardChoice,
-    /// Phase.
-    pub phase: PhaseChoice,
-    /// Backward part.
-    pub backward: BackChoice,
     /// Supported `g`.
     pub g_range: (f64, f64),
-    /// Whether the forward part keeps `e^{−τ cos γ}` (false only as printed).
-    pub forward_attenuation: bool,
+    /// How it is built.
+    pub recipe: Recipe,
+}
+
+impl ModelSpec {
+    /// Whether it is a baseline.
+    pub fn is_baseline(&self) -> bool {
+        matches!(self.recipe, Recipe::Baseline(_))
+    }
+}
+
+const fn split(
+    name: &'static str,
+    summary: &'static str,
+    g_range: (f64, f64),
+    forward: ForwardChoice,
+    phase: PhaseChoice,
+    backward: BackChoice,
+    forward_attenuation: bool,
+) -> ModelSpec {
+    ModelSpec { name, summary, g_range, recipe: Recipe::Split { forward, phase, backward, forward_attenuation } }
 }
 
 const fn seg(name: &'static str, summary: &'static str, n: usize) -> ModelSpec {
-    ModelSpec {
-        name,
-        summary,
-        forward: ForwardChoice::Refit(n),
-        phase: PhaseChoice::Isotropic,
-        backward: BackChoice::ExpSum,
-        g_range: (0.0, 0.0),
-        forward_attenuation: true,
-    }
+    split(name, summary, (0.0, 0.0), ForwardChoice::Refit(n), PhaseChoice::Isotropic, BackChoice::ExpSum, true)
 }
 
 const fn hg(name: &'static str, summary: &'static str, k: usize) -> ModelSpec {
+    split(name, summary, MIRRORED_G, ForwardChoice::Refit(8), PhaseChoice::Refit(k), BackChoice::ExpSum, true)
+}
+
+const fn march(name: &'static str, n: usize) -> ModelSpec {
     ModelSpec {
         name,
-        summary,
-        forward: ForwardChoice::Refit(8),
-        phase: PhaseChoice::Refit(k),
-        backward: BackChoice::ExpSum,
+        summary: "baseline; uniform midpoint ray march (the engines' method), exact HG per step, g at run time",
         g_range: MIRRORED_G,
-        forward_attenuation: true,
+        recipe: Recipe::Baseline(Baseline::RayMarch(n)),
     }
 }
 
-/// Every fitted model, in table order.
-pub const CATALOG: [ModelSpec; 15] = [
+const fn equiangular(name: &'static str, n: usize) -> ModelSpec {
     ModelSpec {
-        name: "paper-as-printed",
+        name,
         summary:
-            "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
-        forward: ForwardChoice::Paper,
-        phase: PhaseChoice::Isotropic,
-        backward: BackChoice::PaperRatio,
-        g_range: (0.0, 0.0),
-        forward_attenuation: false,
-    },
-    ModelSpec {
-        name: "paper",
-        summary: "isotropic; Pradhan & Kumar's published segments and backscatter ratio, e^(-beta d1) restored",
-        forward: ForwardChoice::Paper,
-        phase: PhaseChoice::Isotropic,
-        backward: BackChoice::PaperRatio,
-        g_range: (0.0, 0.0),
-        forward_attenuation: true,
-    },
-    ModelSpec {
-        name: "paper-refit",
-        summary: "isotropic; the paper's 3-segment and ratio forms refit by least squares",
-        forward: ForwardChoice::Refit(3),
-        phase: PhaseChoice::Isotropic,
-        backward: BackChoice::RefitRatio,
-        g_range: (0.0, 0.0),
-        forward_attenuation: true,
-    },
-    ModelSpec {
-        name: "paper-hg",
-        summary: "HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)",
-        forward: ForwardChoice::Paper,
-        phase: PhaseChoice::Paper,
-        backward: BackChoice::PaperRatio,
-        g_range: PAPER_G,
-        forward_attenuation: true,
-    },
-    ModelSpec {
-        name: "paper-refit-hg",
-        summary: "HG g in [0, 0.99]; paper-refit with the one-exponential table refit on the error of A",
-        forward: ForwardChoice::Refit(3),
-        phase: PhaseChoice::Refit(1),
-        backward: BackChoice::RefitRatio,
-        g_range: PAPER_G,
-        forward_attenuation: true,
-    },
+            "baseline; Gauss-Legendre in the equiangular angle (Kulla & Fajardo 2012, deterministic), exact HG per node",
+        g_range: MIRRORED_G,
+        recipe: Recipe::Baseline(Baseline::Equiangular(n)),
+    }
+}
+
+/// Every shipped model, in table order: airlight's models, then the baselines.
+pub const CATALOG: [ModelSpec; 28] = [
+    split(
+        "paper-as-printed",
+        "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
+        (0.0, 0.0),
+        ForwardChoice::Paper,
+        PhaseChoice::Isotropic,
+        BackChoice::PaperRatio,
+        false,
+    ),
+    split(
+        "paper",
+        "isotropic; Pradhan & Kumar's published segments and backscatter ratio, e^(-beta d1) restored",
+        (0.0, 0.0),
+        ForwardChoice::Paper,
+        PhaseChoice::Isotropic,
+        BackChoice::PaperRatio,
+        true,
+    ),
+    split(
+        "paper-refit",
+        "isotropic; the paper's 3-segment and ratio forms refit by least squares",
+        (0.0, 0.0),
+        ForwardChoice::Refit(3),
+        PhaseChoice::Isotropic,
+        BackChoice::RefitRatio,
+        true,
+    ),
+    split(
+        "paper-hg",
+        "HG g in [0, 0.99]; the paper's model with its appendix table a e^(-b alpha)",
+        PAPER_G,
+        ForwardChoice::Paper,
+        PhaseChoice::Paper,
+        BackChoice::PaperRatio,
+        true,
+    ),
+    split(
+        "paper-refit-hg",
+        "HG g in [0, 0.99]; paper-refit with the one-exponential table refit on the error of A",
+        PAPER_G,
+        ForwardChoice::Refit(3),
+        PhaseChoice::Refit(1),
+        BackChoice::RefitRatio,
+        true,
+    ),
     seg("segments-2", "isotropic; 2-segment forward kernel, 4+3-term backward sums and E1", 2),
     seg("segments-3", "isotropic; 3-segment forward kernel, 4+3-term backward sums and E1", 3),
     seg("segments-4", "isotropic; 4-segment forward kernel, 4+3-term backward sums and E1", 4),
@@ -185,6 +229,24 @@ pub const CATALOG: [ModelSpec; 15] = [
         "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1",
         3,
     ),
+    ModelSpec {
+        name: "no-extinction",
+        summary: "baseline; seed 003's exact closed form without extinction (atan2 of the cross product), isotropic, any tau: the cost floor",
+        g_range: (0.0, 0.0),
+        recipe: Recipe::Baseline(Baseline::NoExtinction),
+    },
+    march("raymarch-8", 8),
+    march("raymarch-16", 16),
+    march("raymarch-32", 32),
+    march("raymarch-64", 64),
+    march("raymarch-128", 128),
+    march("raymarch-256", 256),
+    march("raymarch-1024", 1024),
+    equiangular("equiangular-2", 2),
+    equiangular("equiangular-4", 4),
+    equiangular("equiangular-8", 8),
+    equiangular("equiangular-16", 16),
+    equiangular("equiangular-32", 32),
 ];
 
 /// A family that `airlight fit --family` can name.
@@ -349,9 +411,15 @@ fn hex_seed(seed: u64) -> Value {
 
 /// Builds the model `spec` from `fits` (errors not yet measured).
 pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
+    let (forward_choice, phase_choice, backward_choice, forward_attenuation) = match spec.recipe {
+        Recipe::Split { forward, phase, backward, forward_attenuation } => {
+            (forward, phase, backward, forward_attenuation)
+        }
+        Recipe::Baseline(b) => return Ok(assemble_baseline(spec, b)),
+    };
     let mut prov: Vec<Provenance> = Vec::new();
     let mut families = Vec::new();
-    let forward = match spec.forward {
+    let forward = match forward_choice {
         ForwardChoice::Paper => {
             families.push("segments-3 (paper, §3.1)".to_string());
             let (kmax, kat) = Segments::paper().kernel_error();
@@ -396,7 +464,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             fit.segments.clone()
         }
     };
-    let phase = match spec.phase {
+    let phase = match phase_choice {
         PhaseChoice::Isotropic => {
             families.push("isotropic".into());
             PhaseModel::Isotropic
@@ -444,7 +512,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             PhaseModel::Exp(ExpPhase { bands: bands.iter().map(|b| b.band.clone()).collect::<Vec<Band>>(), scale: 1.0 })
         }
     };
-    let ratio = match spec.backward {
+    let ratio = match backward_choice {
         BackChoice::RefitRatio => {
             let fit = fits.ratio.as_ref().ok_or("the backscatter ratio was not fitted")?;
             families.push("backscatter-ratio (refit; γ ≤ π/2)".into());
@@ -506,17 +574,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             ("local_max_rel_at_y", f(far.max_rel.1)),
         ]),
     ));
-    prov.push((
-        "provenance".into(),
-        kv(vec![
-            ("crate", s(concat!("airlight-fit ", env!("CARGO_PKG_VERSION")))),
-            ("reference", s("adaptive Gauss-Kronrod on the u form (fit/src/reference.rs)")),
-            ("reference_rel_tol", f(REFERENCE_REL_TOL)),
-            ("validation_seed", hex_seed(VALIDATION_SEED)),
-            ("validation_points_per_domain", i(VALIDATION_POINTS)),
-            ("validation_extra", s("domain corners at the ends of g_range; 48x48 grids on the faces rho = 0.01, rho = inf, tau = min and tau = max; local Nelder-Mead searches inside the domain from the 8 largest over- and 8 largest underestimates (a tenth of the domain apart) and from the 16 largest face errors (3% apart) raise max_rel where they find more")),
-        ]),
-    ));
+    prov.push(provenance_table(vec![]));
     Ok(ModelFile {
         model: Approximation {
             name: spec.name.into(),
@@ -527,13 +585,61 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
                 phase,
                 ratio,
                 expsum: Backward { near: near.sum.clone(), local: far.sum.clone() },
-                forward_attenuation: spec.forward_attenuation,
+                forward_attenuation,
             }),
         },
         families,
         errors: vec![],
         provenance: prov,
     })
+}
+
+/// A baseline's coefficient file (errors not yet measured): its parameters are
+/// the method's, nothing is fitted.
+fn assemble_baseline(spec: &ModelSpec, b: Baseline) -> ModelFile {
+    use crate::family::baseline::{Equiangular, RayMarch, FAR_PLANE, MARCH_CUTOFF};
+    let (body, family, method) = match b {
+        Baseline::NoExtinction => (
+            Body::NoExtinction(crate::family::closed::NoExtinction),
+            "no-extinction (seed 003)".to_string(),
+            "A(0, γ, ρ) = atan2(h ρ, 1 − ρ cos γ)/(4π h) whatever τ: exact at τ = 0, error growing with τ".to_string(),
+        ),
+        Baseline::RayMarch(n) => (
+            Body::RayMarch(RayMarch { steps: n }),
+            format!("raymarch-{n} (midpoint)"),
+            format!(
+                "{n} uniform midpoint samples of P e^(-τ(s + t))/t² over [0, ρ]; no surface: to the relative two-leg transmittance {MARCH_CUTOFF}, capped at {FAR_PLANE} light distances"
+            ),
+        ),
+        Baseline::Equiangular(n) => (
+            Body::Equiangular(Equiangular::new(n)),
+            format!("equiangular-{n} (Gauss-Legendre)"),
+            format!("{n}-point Gauss-Legendre in θ, s = cos γ + sin γ tan θ (ds/t² = dθ/h), nodes by Newton on P_n in f64"),
+        ),
+    };
+    ModelFile {
+        model: Approximation { name: spec.name.into(), summary: spec.summary.into(), g_range: spec.g_range, body },
+        families: vec![family, if spec.g_range == (0.0, 0.0) { "isotropic".into() } else { "HG exact".into() }],
+        errors: vec![],
+        provenance: vec![provenance_table(vec![
+            ("baseline", s(&method)),
+            ("fitted", s("nothing: the method's own parameters")),
+        ])],
+    }
+}
+
+/// The `[provenance]` table every file ends with, after `extra`.
+fn provenance_table(extra: Vec<(&str, Value)>) -> Provenance {
+    let mut v = extra;
+    v.extend([
+            ("crate", s(concat!("airlight-fit ", env!("CARGO_PKG_VERSION")))),
+            ("reference", s("adaptive Gauss-Kronrod on the u form (fit/src/reference.rs)")),
+            ("reference_rel_tol", f(REFERENCE_REL_TOL)),
+            ("validation_seed", hex_seed(VALIDATION_SEED)),
+            ("validation_points_per_domain", i(VALIDATION_POINTS)),
+            ("validation_extra", s("domain corners at the ends of g_range; 48x48 grids on the faces rho = 0.01, rho = inf, tau = min and tau = max; local Nelder-Mead searches inside the domain from the 8 largest over- and 8 largest underestimates (a tenth of the domain apart) and from the 16 largest face errors (3% apart) raise max_rel where they find more")),
+    ]);
+    ("provenance".into(), kv(v))
 }
 
 /// The validation points of one domain and `g` range with their reference values.
@@ -768,7 +874,7 @@ mod tests {
         assert_eq!(names.len(), CATALOG.len());
         for m in CATALOG {
             assert!(m.g_range.0 <= m.g_range.1 && m.g_range.1 < 1.0);
-            if m.phase == PhaseChoice::Isotropic {
+            if let Recipe::Split { phase: PhaseChoice::Isotropic, .. } = m.recipe {
                 assert_eq!(m.g_range, (0.0, 0.0));
             }
         }

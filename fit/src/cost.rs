@@ -73,6 +73,8 @@ pub enum PhaseShape {
         /// Terms per band.
         terms: usize,
     },
+    /// Henyey–Greenstein evaluated exactly where it is needed (`g` at run time).
+    Exact,
 }
 
 impl Shape {

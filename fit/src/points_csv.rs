@@ -88,11 +88,7 @@ type TableRow<const N: usize> = (usize, [f64; N], [String; N]);
 /// ignored, blank lines skipped): each row's 1-based line, its numbers in the
 /// order of `columns`, and those fields as written. The shared reader of both
 /// file kinds; errors name the file, the line and the column.
-fn read_table<const N: usize>(
-    file: &str,
-    contents: &str,
-    columns: &[&str; N],
-) -> Result<Vec<TableRow<N>>, CsvError> {
+fn read_table<const N: usize>(file: &str, contents: &str, columns: &[&str; N]) -> Result<Vec<TableRow<N>>, CsvError> {
     let err = |line: usize, column: Option<&str>, message: String| located(file, line, column, message);
     let need = columns.join(",");
     let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());

@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod gate;
+pub mod ircost;
 pub mod render;
 
 pub use airlight_fit::vocab::{Arg, Entry, Target};
@@ -116,9 +117,12 @@ impl Gpu {
             driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
             device_type: format!("{:?}", info.device_type),
         };
+        // Timestamps where the adapter has them (the bench's GPU throughput).
+        let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("airlight harness"),
+                required_features,
                 required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
                 ..Default::default()
             })
@@ -154,6 +158,110 @@ impl Gpu {
         let source = wrap(k, Entry::Radiance)?;
         let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
         self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len())
+    }
+
+    /// GPU evaluations per second of a kernel's canonical entry over `points`:
+    /// the median of `repeats` dispatches, each timed by timestamp queries at the
+    /// pass's start and end. `None` where the adapter has no timestamps.
+    pub fn throughput(&self, k: &KernelSource, points: &[[f64; 4]], repeats: usize) -> Result<Option<f64>, GpuError> {
+        if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || points.is_empty() {
+            return Ok(None);
+        }
+        let source = wrap(k, Entry::Canonical)?;
+        let data = pack_points(points);
+        let n = points.len();
+        let groups = (n as u64).div_ceil(WORKGROUP as u64);
+        if groups > MAX_GROUPS_X as u64 {
+            return Err(GpuError::TooLarge(n));
+        }
+        let d = &self.device;
+        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module =
+            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(k.prefix), source: k.shader(&source) });
+        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(k.prefix),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(e.to_string()));
+        }
+        let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("inputs"),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("results"),
+            size: (n * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+            ],
+        });
+        let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("bench"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size: 16,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps staging"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let period = f64::from(self.queue.get_timestamp_period());
+        let mut times = Vec::with_capacity(repeats + 1);
+        // One warm-up dispatch, then the timed ones.
+        for _ in 0..=repeats {
+            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: None,
+                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+                        query_set: &queries,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }),
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(groups as u32, 1, 1);
+            }
+            enc.resolve_query_set(&queries, 0..2, &resolve, 0);
+            enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, 16);
+            self.queue.submit([enc.finish()]);
+            let (tx, rx) = std::sync::mpsc::channel();
+            staging.map_async(wgpu::MapMode::Read, .., move |r| {
+                let _ = tx.send(r);
+            });
+            d.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Readback(e.to_string()))?;
+            rx.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
+            let view = staging.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
+            let t: Vec<u64> = bytemuck::cast_slice(&view).to_vec();
+            drop(view);
+            staging.unmap();
+            times.push(t[1].saturating_sub(t[0]) as f64 * period * 1e-9);
+        }
+        let mut timed = times.split_off(1);
+        timed.sort_by(f64::total_cmp);
+        let median = timed[timed.len() / 2];
+        Ok((median > 0.0).then(|| n as f64 / median))
     }
 
     /// Runs a compute shader with entry `main` over `n` items of `stride` vec4s

@@ -1,6 +1,8 @@
 //! Throughput of the generated f32 Rust kernels (`airlight-kernels`, one core)
 //! next to the f64 models they come from, on the same points: what f32 and the
-//! code generator buy on the CPU. `cargo bench -p airlight-tests --bench kernels`.
+//! code generator buy on the CPU, for airlight's models and the baselines
+//! (`airlight bench` measures every model, errors beside cost, in one run).
+//! `cargo bench -p airlight-tests --bench kernels`.
 
 use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::model::Model;
@@ -10,7 +12,19 @@ use std::hint::black_box;
 fn bench(c: &mut Criterion) {
     let models = airlight_tests::committed_models();
     let mut group = c.benchmark_group("kernels");
-    for name in ["segments-2", "segments-8", "segments-16", "paper", "hg-exp1", "hg-exp3"] {
+    for name in [
+        "segments-2",
+        "segments-8",
+        "segments-16",
+        "paper",
+        "hg-exp1",
+        "hg-exp3",
+        "no-extinction",
+        "raymarch-64",
+        "equiangular-4",
+        "equiangular-8",
+        "equiangular-16",
+    ] {
         let m = models.iter().find(|m| m.model.name == name).expect("committed model");
         let k = airlight_kernels::kernel(name).expect("generated kernel");
         for domain in [Domain::Thin, Domain::Dense] {

@@ -34,7 +34,9 @@ proptest! {
             let p = Point { tau, gamma, rho, g: lo + (hi - lo) * u };
             let a = m.model.eval_unchecked(p);
             prop_assert!(a.is_finite() && a >= 0.0, "{}: A = {a} at {p:?}", m.model.name);
-            if a == 0.0 {
+            // A baseline may return 0 where A is not (a march whose samples all
+            // miss the light): the method's answer, measured by its error.
+            if a == 0.0 && !m.model.body.is_baseline() {
                 let exact = airlight(p).unwrap();
                 prop_assert!(exact == 0.0, "{}: 0 where A = {exact} at {p:?}", m.model.name);
             }

@@ -61,7 +61,14 @@ fn g_of(range: (f64, f64), u: f64) -> f64 {
 fn monotone_slack(m: &ModelFile) -> f64 {
     use airlight_fit::family::expsum::Target;
     let isotropic = m.model.g_range == (0.0, 0.0);
-    let Body::Split(s) = &m.model.body else { return 1e-6 };
+    let s = match &m.model.body {
+        Body::Split(s) => s,
+        // Exact, and monotone: τ only dropped, ρ an angle growing with it.
+        Body::NoExtinction(_) => return 1e-6,
+        // Quadrature rules move their nodes with τ and ρ (a march also its
+        // cut-off and step): nothing is promised.
+        _ => return f64::INFINITY,
+    };
     if isotropic && s.ratio.is_none() {
         2.0 * s.expsum.near.error(Target::Near).0.max(s.expsum.local.error(Target::Local).0) + 1e-6
     } else {
@@ -296,6 +303,9 @@ proptest! {
                 // own value of the rounded point.
                 let p32 = Point { tau: f64::from(tau as f32), gamma: f64::from(gamma as f32), rho: r, g: f64::from(g as f32) };
                 let want32 = m.model.eval_unchecked(p32);
+                if !(1e-30..1e30).contains(&want32) {
+                    continue; // beyond f32's range
+                }
                 let rel = (got - want32).abs() / want32;
                 prop_assert!(rel <= airlight_fit::vocab::F32_ALLOWANCE, "{}: g {g}: f32 {got:e} vs f64 {want32:e} ({want:e} unrounded), {rel:.2e} at {p:?}", k.name);
             }

@@ -19,8 +19,11 @@ fn scene_text(phase: &str, extinction: bool, surfaces: bool, budget: f64) -> Str
 }
 
 /// The scene's kernels as rendered in memory: (path, text).
+/// The scene's kernel planned among airlight's own models: these tests are about
+/// how the split family specialises (baselines, which the planner may pick where
+/// they are cheaper, are planned and rendered in `scene_variants`).
 fn render(text: &str) -> (KernelSpec, Vec<(String, String)>) {
-    let models = committed_models();
+    let models: Vec<_> = committed_models().into_iter().filter(|m| !m.model.body.is_baseline()).collect();
     let s = scene::parse("test.toml", text).unwrap();
     let plan = scene::plan(&s, &models).unwrap();
     let spec = KernelSpec::for_scene(&s, &plan, &models, "test.toml");

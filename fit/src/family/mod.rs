@@ -5,6 +5,7 @@
 //! Adding a family: a module here, a variant of [`Body`] and its arms below, its
 //! kernel templates and the catalog entries that use it (README, "Adding a family").
 
+pub mod baseline;
 pub mod closed;
 pub mod expsum;
 pub mod phase_exp;
@@ -26,11 +27,16 @@ pub enum Body {
     Split(split::Split),
     /// The whole integral without extinction, in closed form (exact at `τ = 0`).
     NoExtinction(closed::NoExtinction),
+    /// Uniform midpoint ray marching (a baseline).
+    RayMarch(baseline::RayMarch),
+    /// Gauss–Legendre in the equiangular angle (a baseline).
+    Equiangular(baseline::Equiangular),
 }
 
 impl Body {
     /// Every kind, in the order of the variants.
-    pub const KINDS: [&'static str; 2] = [split::Split::KIND, closed::NoExtinction::KIND];
+    pub const KINDS: [&'static str; 4] =
+        [split::Split::KIND, closed::NoExtinction::KIND, baseline::RayMarch::KIND, baseline::Equiangular::KIND];
 
     /// The family's name: the `kind` key of coefficient files and the key of its
     /// templates in `codegen/outputs.toml`.
@@ -38,7 +44,20 @@ impl Body {
         match self {
             Body::Split(_) => split::Split::KIND,
             Body::NoExtinction(_) => closed::NoExtinction::KIND,
+            Body::RayMarch(_) => baseline::RayMarch::KIND,
+            Body::Equiangular(_) => baseline::Equiangular::KIND,
         }
+    }
+
+    /// Whether it is a baseline — what a user would pick instead of a fitted
+    /// model — rather than one of airlight's own models.
+    pub fn is_baseline(&self) -> bool {
+        !matches!(self, Body::Split(_))
+    }
+
+    /// Whether it models extinction (takes τ).
+    pub fn extinction(&self) -> bool {
+        !matches!(self, Body::NoExtinction(_))
     }
 
     /// `A` at a valid point.
@@ -46,6 +65,8 @@ impl Body {
         match self {
             Body::Split(s) => s.eval(p),
             Body::NoExtinction(c) => c.eval(p),
+            Body::RayMarch(m) => m.eval(p),
+            Body::Equiangular(q) => q.eval(p),
         }
     }
 
@@ -54,6 +75,7 @@ impl Body {
         match self {
             Body::Split(s) => s.phase_shape(),
             Body::NoExtinction(_) => PhaseShape::Isotropic,
+            Body::RayMarch(_) | Body::Equiangular(_) => baseline::phase_shape(),
         }
     }
 
@@ -63,6 +85,8 @@ impl Body {
         match self {
             Body::Split(s) => s.ops(shape),
             Body::NoExtinction(c) => c.ops(shape),
+            Body::RayMarch(m) => m.ops(shape),
+            Body::Equiangular(q) => q.ops(shape),
         }
     }
 
@@ -72,6 +96,8 @@ impl Body {
         match kind {
             split::Split::KIND => Some(split::Split::TABLES),
             closed::NoExtinction::KIND => Some(&[]),
+            baseline::RayMarch::KIND => Some(baseline::RayMarch::TABLES),
+            baseline::Equiangular::KIND => Some(baseline::Equiangular::TABLES),
             _ => None,
         }
     }
@@ -82,6 +108,8 @@ impl Body {
         match self {
             Body::Split(s) => s.render_toml(g_range, out, prov),
             Body::NoExtinction(_) => {}
+            Body::RayMarch(m) => m.render_toml(out),
+            Body::Equiangular(q) => q.render_toml(out),
         }
     }
 
@@ -90,6 +118,8 @@ impl Body {
         Ok(match kind {
             split::Split::KIND => Body::Split(split::Split::parse_toml(r, doc, g_range)?),
             closed::NoExtinction::KIND => Body::NoExtinction(closed::NoExtinction),
+            baseline::RayMarch::KIND => Body::RayMarch(baseline::RayMarch::parse_toml(r, doc)?),
+            baseline::Equiangular::KIND => Body::Equiangular(baseline::Equiangular::parse_toml(r, doc)?),
             other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
         })
     }

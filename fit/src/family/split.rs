@@ -147,6 +147,7 @@ impl Split {
         let (k, phase_evals) = match shape.phase {
             PhaseShape::Isotropic => (1, 0),
             PhaseShape::Exp { terms } => (terms, terms),
+            PhaseShape::Exact => (1, 1),
         };
         let n = self.forward.n();
         // Forward: at most two segments' exp + exprel per term, but the loop is over all N.

@@ -46,6 +46,32 @@ pub mod hg_exp2;
 #[rustfmt::skip]
 pub mod hg_exp3;
 #[rustfmt::skip]
+pub mod no_extinction;
+#[rustfmt::skip]
+pub mod raymarch_8;
+#[rustfmt::skip]
+pub mod raymarch_16;
+#[rustfmt::skip]
+pub mod raymarch_32;
+#[rustfmt::skip]
+pub mod raymarch_64;
+#[rustfmt::skip]
+pub mod raymarch_128;
+#[rustfmt::skip]
+pub mod raymarch_256;
+#[rustfmt::skip]
+pub mod raymarch_1024;
+#[rustfmt::skip]
+pub mod equiangular_2;
+#[rustfmt::skip]
+pub mod equiangular_4;
+#[rustfmt::skip]
+pub mod equiangular_8;
+#[rustfmt::skip]
+pub mod equiangular_16;
+#[rustfmt::skip]
+pub mod equiangular_32;
+#[rustfmt::skip]
 pub mod scene_fog_street;
 #[rustfmt::skip]
 pub mod scene_harbour_fog;
@@ -247,6 +273,149 @@ pub const KERNELS: &[Kernel] = &[
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "no-extinction",
+        scene: false,
+        params: &["gamma", "rho"],
+        thin_max_rel: 4.13153718893016e1,
+        dense_max_rel: 2.0354650194914993e10,
+        airlight: |_tau, gamma, rho, _g| no_extinction::airlight(gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, _sigma_t, sigma_s, _g| {
+            no_extinction::radiance(origin, dir, surface, light, intensity, sigma_s)
+        },
+    },
+    Kernel {
+        name: "raymarch-8",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 6.543286023888243e1,
+        dense_max_rel: 7.48776599924585e1,
+        airlight: |tau, gamma, rho, g| raymarch_8::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-16",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 6.543286023888226e1,
+        dense_max_rel: 7.487765999245829e1,
+        airlight: |tau, gamma, rho, g| raymarch_16::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-32",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 6.543286023888243e1,
+        dense_max_rel: 7.48776599924587e1,
+        airlight: |tau, gamma, rho, g| raymarch_32::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-64",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 6.296811482479926e1,
+        dense_max_rel: 2.429653202635111e1,
+        airlight: |tau, gamma, rho, g| raymarch_64::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-128",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 2.114920538402527e1,
+        dense_max_rel: 2.4296749591779253e1,
+        airlight: |tau, gamma, rho, g| raymarch_128::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-256",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 8.509408392410128e0,
+        dense_max_rel: 9.85305472844469e0,
+        airlight: |tau, gamma, rho, g| raymarch_256::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "raymarch-1024",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 2.2463495652750334e0,
+        dense_max_rel: 2.6616967237723244e0,
+        airlight: |tau, gamma, rho, g| raymarch_1024::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            raymarch_1024::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "equiangular-2",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 9.994002332413402e-1,
+        dense_max_rel: 9.995354512042692e-1,
+        airlight: |tau, gamma, rho, g| equiangular_2::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "equiangular-4",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 9.945000713325793e-1,
+        dense_max_rel: 9.840315142543387e-1,
+        airlight: |tau, gamma, rho, g| equiangular_4::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            equiangular_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "equiangular-8",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 9.3460488951836e-1,
+        dense_max_rel: 8.563665429746622e-1,
+        airlight: |tau, gamma, rho, g| equiangular_8::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            equiangular_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "equiangular-16",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 5.97474944748581e-1,
+        dense_max_rel: 4.0460361730914685e-1,
+        airlight: |tau, gamma, rho, g| equiangular_16::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "equiangular-32",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 1.6987679325665814e-1,
+        dense_max_rel: 4.8566207483916206e-2,
+        airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
     },
     Kernel {

@@ -1,0 +1,163 @@
+//! A deterministic cost of a kernel: the operations in the naga IR of its WGSL
+//! function, on its worst path. Every arithmetic, comparison, conversion, select
+//! and built-in call counts one; calls count their callee's cost; `if` and
+//! `switch` count their costliest branch; a loop counts its body times its trip
+//! count where that is a constant bound (`for (var i = 0u; i < N; i++)`), once
+//! otherwise. Transcendental built-ins (exp, log, sqrt, pow, trigonometry) are
+//! also counted apart: the polynomial `sin_cos` and `atan` the kernels carry count
+//! as the arithmetic they are.
+
+use naga::{Block, Expression, Function, Handle, MathFunction, Module, Statement};
+use std::collections::HashMap;
+
+/// Operation counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IrCost {
+    /// Every operation.
+    pub ops: usize,
+    /// Of those, transcendental built-ins.
+    pub transcendentals: usize,
+}
+
+impl IrCost {
+    fn add(self, o: IrCost) -> IrCost {
+        IrCost { ops: self.ops + o.ops, transcendentals: self.transcendentals + o.transcendentals }
+    }
+    fn times(self, n: usize) -> IrCost {
+        IrCost { ops: self.ops * n, transcendentals: self.transcendentals * n }
+    }
+    fn worse(self, o: IrCost) -> IrCost {
+        if o.ops > self.ops {
+            o
+        } else {
+            self
+        }
+    }
+}
+
+fn transcendental(f: MathFunction) -> bool {
+    use MathFunction as M;
+    matches!(
+        f,
+        M::Exp
+            | M::Exp2
+            | M::Log
+            | M::Log2
+            | M::Pow
+            | M::Sqrt
+            | M::InverseSqrt
+            | M::Sin
+            | M::Cos
+            | M::Tan
+            | M::Asin
+            | M::Acos
+            | M::Atan
+            | M::Atan2
+            | M::Sinh
+            | M::Cosh
+            | M::Tanh
+    )
+}
+
+fn expr_cost(e: &Expression) -> IrCost {
+    match e {
+        Expression::Math { fun, .. } => IrCost { ops: 1, transcendentals: usize::from(transcendental(*fun)) },
+        Expression::Binary { .. }
+        | Expression::Unary { .. }
+        | Expression::Select { .. }
+        | Expression::As { .. }
+        | Expression::Relational { .. } => IrCost { ops: 1, transcendentals: 0 },
+        _ => IrCost::default(),
+    }
+}
+
+struct Walker<'m> {
+    module: &'m Module,
+    memo: HashMap<Handle<Function>, IrCost>,
+}
+
+impl Walker<'_> {
+    fn function(&mut self, h: Handle<Function>) -> IrCost {
+        if let Some(c) = self.memo.get(&h) {
+            return *c;
+        }
+        let f = &self.module.functions[h];
+        let c = self.block(f, &f.body);
+        self.memo.insert(h, c);
+        c
+    }
+
+    /// The constant `N` of a loop that starts `if !(i < N) { break; }`.
+    fn trip_count(&self, f: &Function, body: &Block) -> Option<usize> {
+        let Some(Statement::If { condition, accept, reject }) = body.iter().find(|s| !matches!(s, Statement::Emit(_)))
+        else {
+            return None;
+        };
+        if !(accept.is_empty() && matches!(reject.first(), Some(Statement::Break))) {
+            return None;
+        }
+        let Expression::Binary { op: naga::BinaryOperator::Less, right, .. } = f.expressions[*condition] else {
+            return None;
+        };
+        let literal = |e: &Expression| match e {
+            Expression::Literal(naga::Literal::U32(n)) => Some(*n as usize),
+            Expression::Literal(naga::Literal::I32(n)) => usize::try_from(*n).ok(),
+            _ => None,
+        };
+        match &f.expressions[right] {
+            Expression::Constant(c) => literal(&self.module.global_expressions[self.module.constants[*c].init]),
+            e => literal(e),
+        }
+    }
+
+    fn block(&mut self, f: &Function, b: &Block) -> IrCost {
+        let mut c = IrCost::default();
+        for s in b.iter() {
+            c = c.add(match s {
+                Statement::Emit(range) => {
+                    range.clone().map(|h| expr_cost(&f.expressions[h])).fold(IrCost::default(), IrCost::add)
+                }
+                Statement::Block(inner) => self.block(f, inner),
+                Statement::If { accept, reject, .. } => self.block(f, accept).worse(self.block(f, reject)),
+                Statement::Switch { cases, .. } => {
+                    cases.iter().map(|k| self.block(f, &k.body)).fold(IrCost::default(), IrCost::worse)
+                }
+                Statement::Loop { body, continuing, .. } => {
+                    let n = self.trip_count(f, body).unwrap_or(1);
+                    self.block(f, body).add(self.block(f, continuing)).times(n)
+                }
+                Statement::Call { function, .. } => self.function(*function),
+                _ => IrCost::default(),
+            });
+        }
+        c
+    }
+}
+
+/// The cost of `function` in the WGSL `source`.
+pub fn ir_cost(source: &str, function: &str) -> Result<IrCost, String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    let (h, _) = module
+        .functions
+        .iter()
+        .find(|(_, f)| f.name.as_deref() == Some(function))
+        .ok_or_else(|| format!("no function '{function}'"))?;
+    let mut w = Walker { module: &module, memo: HashMap::new() };
+    Ok(w.function(h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_loops_by_their_trip_count_and_branches_by_the_worse() {
+        let src = "const N: u32 = 10u;\n\
+            fn f(x: f32) -> f32 { var s = 0.0; for (var i = 0u; i < N; i++) { s += exp(x * f32(i)); } \
+            if x > 0.0 { return s + 1.0; } else { return sqrt(s) * 2.0 + 1.0; } }";
+        let c = ir_cost(src, "f").unwrap();
+        // per trip: <, f32(i), *, exp, += and i++ (6); the else branch: sqrt, *, + (3); the test x > 0 (1).
+        assert_eq!(c.transcendentals, 11);
+        assert_eq!(c.ops, 6 * 10 + 3 + 1);
+    }
+}
