@@ -697,6 +697,7 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
         ];
         ctx.insert("header", &comment(&lines, marker));
         ctx.insert("exp2_table", &exp2_table());
+        ctx.insert("ln_table", &ln_table());
         ctx.insert("kernels", &kernels);
         ctx.insert("version", env!("CARGO_PKG_VERSION"));
         out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));
@@ -719,6 +720,30 @@ fn exp2_table() -> Vec<String> {
             let s = format!("0x{:016x}", v.to_bits());
             v *= root;
             s
+        })
+        .collect()
+}
+
+/// `[1/c, ln c]` as f64 bit patterns for the Rust kernels' `ln`, for the 64
+/// pieces of `[0.75, 1.5)` equal in bit pattern (from `0x3f400000` in steps of
+/// `2^17`): `c` the end of the piece nearer 1 (so the two pieces around 1 have
+/// `c = 1` and `ln c = 0` exactly). `ln c = 2 atanh((c − 1)/(c + 1))` summed in f64
+/// until the terms vanish: only IEEE arithmetic, the same bits on every machine.
+fn ln_table() -> Vec<String> {
+    (0u32..64)
+        .map(|j| {
+            let end = |j: u32| f64::from(f32::from_bits(0x3f40_0000 + (j << 17)));
+            let (lo, hi) = (end(j), end(j + 1));
+            let c = if hi <= 1.0 { hi } else { lo };
+            let s = (c - 1.0) / (c + 1.0);
+            let (mut term, mut sum, mut k) = (s, 0.0f64, 1.0f64);
+            let s2 = s * s;
+            while term != 0.0 && (term / k).abs() > 1e-30 {
+                sum += term / k;
+                term *= s2;
+                k += 2.0;
+            }
+            format!("[0x{:016x}, 0x{:016x}]", (1.0 / c).to_bits(), (2.0 * sum).to_bits())
         })
         .collect()
 }

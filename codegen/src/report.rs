@@ -149,12 +149,24 @@ fn advice(models: &[ModelFile]) -> Vec<String> {
     let p99 = |m: &ModelFile| {
         [Domain::Thin, Domain::Dense].iter().filter_map(|&d| m.error(d)).map(|e| e.p99_rel).fold(0.0, f64::max)
     };
-    if let Some(m) = models.iter().filter(|m| m.model.g_range != (0.0, 0.0)).min_by(|a, b| p99(a).total_cmp(&p99(b))) {
+    if let Some(m) = models
+        .iter()
+        .filter(|m| m.model.g_range != (0.0, 0.0) && !m.model.body.is_baseline())
+        .min_by(|a, b| p99(a).total_cmp(&p99(b)))
+    {
         out.push(format!(
             "Henyey–Greenstein media are the weak spot of the paper's forms: the best here, `{}`, still has p99 {} and max {} over thin and dense. Sums of one to three exponentials in α cannot follow HG's peak (see the phase section); use these models only knowing that.",
             m.model.name,
             fmt_err(p99(m)),
             fmt_err(worst_of(m))
+        ));
+    }
+    let baselines: Vec<String> =
+        models.iter().filter(|m| m.model.body.is_baseline()).map(|m| format!("`{}`", m.model.name)).collect();
+    if !baselines.is_empty() {
+        out.push(format!(
+            "The baselines ({}) are what a renderer would use instead, listed for comparison. The march and the equiangular rules take g at run time, so their bounds here hold over g ∈ [−0.99, 0.99] at once: their figures per g, and every model's cost in ns, are in \"Speed and accuracy: the trade\" below, which says where they beat airlight's models.",
+            baselines.join(", ")
         ));
     }
     for budget in [0.1, 0.03, 0.01] {

@@ -39,6 +39,22 @@ fn bench(c: &mut Criterion) {
             });
         }
     }
+    // The kernels need both: one sin_cos against std's sin and cos.
+    for (who, f) in [
+        ("airlight", (|x: f32| math::sin_cos(x)) as fn(f32) -> (f32, f32)),
+        ("std", (|x: f32| (x.sin(), x.cos())) as fn(f32) -> (f32, f32)),
+    ] {
+        let xs = grid(n, 0.0, 3.2);
+        let mut out2 = vec![(0.0f32, 0.0f32); n];
+        group.bench_function(format!("sin_cos/{who}"), |b| {
+            b.iter(|| {
+                for (o, &x) in out2.iter_mut().zip(black_box(&xs)) {
+                    *o = f(x);
+                }
+                black_box(&mut out2);
+            })
+        });
+    }
     group.finish();
 }
 

@@ -104,42 +104,106 @@ pub fn exprel(x: f32) -> f32 {
     }
 }
 
-/// Natural logarithm for `x > 0` (−[`HUGE`] at 0).
+/// `1/c` and `ln c` as f64 bits for the 64 pieces [`ln`] reduces to: the bit
+/// patterns of `[0.75, 1.5)` in 64 equal steps (32 below 1, 32 above; generated:
+/// `c` is the end of the piece nearer 1, so the pieces around 1 have `c = 1`
+/// exactly; `ln c` by its atanh series in f64, the same bits on every machine).
+const LN_TABLE: [[u64; 2]; 64] = [
+    [0x3ff51d07eae2f815, 0xbfd1bf99635a6b96],
+    [0x3ff4e5e0a72f0539, 0xbfd1178e8227e47d],
+    [0x3ff4afd6a052bf5b, 0xbfd07138604d5862],
+    [0x3ff47ae147ae147b, 0xbfcf991c6cb3b379],
+    [0x3ff446f86562d9fb, 0xbfce530effe71011],
+    [0x3ff4141414141414, 0xbfcd1037f2655e7b],
+    [0x3ff3e22cbce4a902, 0xbfcbd087383bd8ae],
+    [0x3ff3b13b13b13b14, 0xbfca93ed3c8ad9e3],
+    [0x3ff3813813813814, 0xbfc95a5adcf70180],
+    [0x3ff3521cfb2b78c1, 0xbfc823c16551a3c2],
+    [0x3ff323e34a2b10bf, 0xbfc6f0128b756abc],
+    [0x3ff2f684bda12f68, 0xbfc5bf406b543db1],
+    [0x3ff2c9fb4d812ca0, 0xbfc4913d8333b561],
+    [0x3ff29e4129e4129e, 0xbfc365fcb0159015],
+    [0x3ff27350b8812735, 0xbfc23d712a49c202],
+    [0x3ff2492492492492, 0xbfc1178e8227e47b],
+    [0x3ff21fb78121fb78, 0xbfbfe89139dbd565],
+    [0x3ff1f7047dc11f70, 0xbfbda727638446a2],
+    [0x3ff1cf06ada2811d, 0xbfbb6ac88dad5b1c],
+    [0x3ff1a7b9611a7b96, 0xbfb9335e5d594988],
+    [0x3ff1811811811812, 0xbfb700d30aeac0e1],
+    [0x3ff15b1e5f75270d, 0xbfb4d3115d207eac],
+    [0x3ff135c81135c811, 0xbfb2aa04a44717a4],
+    [0x3ff1111111111111, 0xbfb08598b59e3a07],
+    [0x3ff0ecf56be69c90, 0xbfaccb73cdddb2cb],
+    [0x3ff0c9714fbcda3b, 0xbfa894aa149fb343],
+    [0x3ff0a6810a6810a7, 0xbfa466aed42de3ea],
+    [0x3ff0842108421084, 0xbfa0415d89e74444],
+    [0x3ff0624dd2f1a9fc, 0xbf98492528c8cabd],
+    [0x3ff0410410410410, 0xbf90205658935848],
+    [0x3ff0204081020408, 0xbf8010157588de71],
+    [0x3ff0000000000000, 0x0000000000000000],
+    [0x3ff0000000000000, 0x0000000000000000],
+    [0x3fef81f81f81f820, 0x3f8fc0a8b0fc03e3],
+    [0x3fef07c1f07c1f08, 0x3f9f829b0e783301],
+    [0x3fee9131abf0b767, 0x3fa77458f632dcfc],
+    [0x3fee1e1e1e1e1e1e, 0x3faf0a30c01162a7],
+    [0x3fedae6076b981db, 0x3fb341d7961bd1d1],
+    [0x3fed41d41d41d41d, 0x3fb6f0d28ae56b4c],
+    [0x3fecd85689039b0b, 0x3fba926d3a4ad562],
+    [0x3fec71c71c71c71c, 0x3fbe27076e2af2e6],
+    [0x3fec0e070381c0e0, 0x3fc0d77e7cd08e59],
+    [0x3febacf914c1bad0, 0x3fc29552f81ff522],
+    [0x3feb4e81b4e81b4f, 0x3fc44d2b6ccb7d1e],
+    [0x3feaf286bca1af28, 0x3fc5ff3070a793d4],
+    [0x3fea98ef606a63be, 0x3fc7ab890210d908],
+    [0x3fea41a41a41a41a, 0x3fc9525a9cf456b4],
+    [0x3fe9ec8e951033d9, 0x3fcaf3c94e80bff3],
+    [0x3fe999999999999a, 0x3fcc8ff7c79a9a21],
+    [0x3fe948b0fcd6e9e0, 0x3fce27076e2af2e7],
+    [0x3fe8f9c18f9c18fa, 0x3fcfb9186d5e3e29],
+    [0x3fe8acb90f6bf3aa, 0x3fd0a324e27390e5],
+    [0x3fe8618618618618, 0x3fd1675cababa60f],
+    [0x3fe8181818181818, 0x3fd22941fbcf7965],
+    [0x3fe7d05f417d05f4, 0x3fd2e8e2bae11d30],
+    [0x3fe78a4c8178a4c8, 0x3fd3a64c556945ea],
+    [0x3fe745d1745d1746, 0x3fd4618bc21c5ec2],
+    [0x3fe702e05c0b8170, 0x3fd51aad872df82e],
+    [0x3fe6c16c16c16c17, 0x3fd5d1bdbf5809cb],
+    [0x3fe6816816816817, 0x3fd686c81e9b14af],
+    [0x3fe642c8590b2164, 0x3fd739d7f6bbd007],
+    [0x3fe6058160581606, 0x3fd7eaf83b82afc4],
+    [0x3fe5c9882b931057, 0x3fd89a3386c1425b],
+    [0x3fe58ed2308158ed, 0x3fd947941c2116fb],
+];
+
+/// Natural logarithm for `x > 0` (−[`HUGE`] at 0 and below, [`HUGE`] at +∞). In f64
+/// inside, as the C libraries' `logf`: `x = 2^k·z`, `z ∈ [0.75, 1.5)` split off the
+/// bits with integer arithmetic; `ln x = k ln 2 + ln c + ln(1 + r)`, `r = z/c − 1`
+/// (`|r| < 1/48`, exact around 1), `ln(1 + r)` by its degree-6 Taylor polynomial in
+/// Estrin's scheme (error below 2e-11 relative), then one rounding.
 pub fn ln(x: f32) -> f32 {
-    if x <= 0.0 {
-        return -HUGE;
+    const OFF: u32 = 0x3f40_0000; // 0.75
+    let mut bits = x.to_bits();
+    let mut k0 = 0i32;
+    // Not a positive normal finite number: the rare paths.
+    if bits.wrapping_sub(0x0080_0000) >= 0x7f00_0000 {
+        if x <= 0.0 || x.is_nan() {
+            return -HUGE;
+        }
+        if x == f32::INFINITY {
+            return HUGE;
+        }
+        bits = (x * 8_388_608.0).to_bits(); // subnormal: scaled into the normal range (exact)
+        k0 = -23;
     }
-    let (mut bits, mut e) = (x.to_bits(), 0i32);
-    if bits < 0x0080_0000 {
-        // subnormal: scale into the normal range
-        bits = (x * 8_388_608.0).to_bits();
-        e = -23;
-    }
-    e += ((bits >> 23) & 0xff) as i32 - 126;
-    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f00_0000); // [0.5, 1)
-    if m < core::f32::consts::FRAC_1_SQRT_2 {
-        e -= 1;
-        m = m + m - 1.0;
-    } else {
-        m -= 1.0;
-    }
-    let z = m * m;
-    let mut y = ((((((((7.037_683_6e-2 * m - 1.151_461e-1) * m + 1.167_699_9e-1) * m - 1.242_014_1e-1) * m
-        + 1.424_932_3e-1)
-        * m
-        - 1.666_805_8e-1)
-        * m
-        + 2.000_071_5e-1)
-        * m
-        - 2.499_999_4e-1)
-        * m
-        + 3.333_333_1e-1)
-        * m
-        * z;
-    let ef = e as f32;
-    y += LN2_LO * ef;
-    y -= 0.5 * z;
-    m + y + LN2_HI * ef
+    let tmp = bits.wrapping_sub(OFF);
+    let i = ((tmp >> 17) & 63) as usize;
+    let k = (tmp as i32 >> 23) + k0;
+    let z = f64::from(f32::from_bits(bits.wrapping_sub(tmp & 0xff80_0000)));
+    let [invc, logc] = LN_TABLE[i];
+    let r = z * f64::from_bits(invc) - 1.0;
+    let r2 = r * r;
+    let p = r + r2 * ((-0.5 + r * (1.0 / 3.0)) + r2 * ((-0.25 + r * 0.2) + r2 * (-1.0 / 6.0)));
+    (f64::from(k) * core::f64::consts::LN_2 + f64::from_bits(logc) + p) as f32
 }
 
 /// `√x` for `x ≥ 0` (0 below, `+∞` at `+∞`), correctly rounded: the `sqrtss`
@@ -230,23 +294,31 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     }
 }
 
-/// `(sin x, cos x)` for `0 ≤ x ≤ 2^20`, reduced by π/4 in three parts.
+/// `(sin x, cos x)` for `|x| ≤ 2^20`. In f64 inside, as the C libraries' `sincosf`:
+/// `x = k π/2 + r` with `π/2` in two parts (the first 33 bits, so `k·π/2` is exact),
+/// `|r| ≤ π/4`; sine and cosine of `r` by their Taylor polynomials to `r¹¹` and `r¹²`
+/// (error below 3e-11), the quadrant by selects (no branch), one rounding each.
 pub fn sin_cos(x: f32) -> (f32, f32) {
-    let mut j = (x * core::f32::consts::FRAC_2_PI * 2.0) as i32; // ⌊x/(π/4)⌋
-    if j & 1 == 1 {
-        j += 1;
-    }
-    let y = j as f32;
-    let r = ((x - y * 0.785_156_25) - y * 2.418_756_5e-4) - y * 3.774_895e-8;
+    const PIO2_HI: f64 = 1.570_796_326_734_125_6; // 0x3FF921FB54400000
+    const PIO2_LO: f64 = 6.077_100_506_506_192e-11;
+    const SHIFT: f64 = 6_755_399_441_055_744.0; // 1.5·2^52: rounds to an integer
+    let xd = f64::from(x);
+    let kd = (xd * core::f64::consts::FRAC_2_PI + SHIFT) - SHIFT;
+    let k = kd as i64;
+    let r = (xd - kd * PIO2_HI) - kd * PIO2_LO;
     let z = r * r;
-    let s = ((-1.951_529_6e-4 * z + 8.332_160_9e-3) * z - 1.666_665_5e-1) * z * r + r;
-    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
-    match (j >> 1) & 3 {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
-    }
+    let s = r
+        + r * z
+            * (-1.0 / 6.0
+                + z * (1.0 / 120.0 + z * (-1.0 / 5040.0 + z * (1.0 / 362_880.0 + z * (-1.0 / 39_916_800.0)))));
+    let c = 1.0
+        + z * (-0.5
+            + z * (1.0 / 24.0
+                + z * (-1.0 / 720.0 + z * (1.0 / 40_320.0 + z * (-1.0 / 3_628_800.0 + z * (1.0 / 479_001_600.0))))));
+    let (a, b) = if k & 1 == 0 { (s, c) } else { (c, s) };
+    let sin = if k & 2 == 0 { a } else { -a };
+    let cos = if (k + 1) & 2 == 0 { b } else { -b };
+    (sin as f32, cos as f32)
 }
 
 /// Largest absolute component.
@@ -452,11 +524,15 @@ mod tests {
             ("exp", ulps(exp, f64::exp, -103.0, 88.7)),
             ("ln", ulps(ln, f64::ln, 1e-30, 1e30)),
             ("ln near 1", ulps(ln, f64::ln, 0.5, 2.0)),
+            ("ln around 1", ulps(ln, f64::ln, 0.999, 1.001)),
+            ("ln small", ulps(ln, f64::ln, 1e-45, 1e-36)),
             ("sqrt", ulps(sqrt, f64::sqrt, 1e-38, 3e38)),
             ("sqrt_newton", ulps(sqrt_newton, f64::sqrt, 1e-6, 1e6)),
             ("atan", ulps(atan, f64::atan, -50.0, 50.0)),
             ("sin", ulps(|x| sin_cos(x).0, f64::sin, 0.0, 3.2)),
             ("cos", ulps(|x| sin_cos(x).1, f64::cos, 0.0, 1.5)),
+            ("sin, negative and wide", ulps(|x| sin_cos(x).0, f64::sin, -100.0, 100.0)),
+            ("cos, wide", ulps(|x| sin_cos(x).1, f64::cos, 1.5, 100.0)),
         ];
         for (name, u) in checks {
             std::println!("{name}: {u:.2} ulp");
