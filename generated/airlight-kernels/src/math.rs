@@ -22,8 +22,6 @@ pub const RHO_OPEN: f32 = 4_294_967_296.0;
 /// every geometry f32 can hold: τ is taken as this, so `∞·0` never forms.
 pub const TAU_MAX: f32 = 1e4;
 
-const LN2_HI: f32 = 0.693_359_375;
-const LN2_LO: f32 = -2.121_944_4e-4;
 
 /// `2^k` for `-126 ≤ k ≤ 127`.
 fn pow2i(k: i32) -> f32 {
