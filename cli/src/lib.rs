@@ -505,7 +505,8 @@ fn eval_gpu(
     let path = generated.join(file);
     let source =
         std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
-    let src = KernelSource::of(k, language, &source);
+    let table = airlight_shaders::load_table(&generated, k).map_err(|e| Failure(1, e.to_string()))?;
+    let src = KernelSource::of(k, language, &source).with_table(table.as_ref());
     if rays {
         let rows = read_rays(input, &|r, g| k.check_ray(r, g))?;
         let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
@@ -1015,7 +1016,15 @@ fn bench(
         bar.set_message(format!("bench: {name} on the GPU"));
         let gpu_evals_per_s = match &gpu {
             Ok(g) => g
-                .throughput(&KernelSource::of(entry, Target::Wgsl, &source), &batch64, size.repeats)
+                .throughput(
+                    &KernelSource::of(entry, Target::Wgsl, &source).with_table(
+                        airlight_shaders::load_table(&generated, entry)
+                            .map_err(|e| Failure(1, e.to_string()))?
+                            .as_ref(),
+                    ),
+                    &batch64,
+                    size.repeats,
+                )
                 .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?
                 .unwrap_or(0.0),
             Err(_) => 0.0,
@@ -1030,7 +1039,7 @@ fn bench(
             ops: cost.ops,
             transcendentals: cost.transcendentals,
             gpu_evals_per_s,
-            bytes: 0,
+            bytes: f.model.body.table().map_or(0, |t| t.bytes()),
         });
         fns.push(k.airlight);
     }

@@ -26,7 +26,10 @@ use std::f64::consts::{FRAC_PI_2, PI};
 pub const OUTPUT_TABLE: &str = include_str!("../outputs.toml");
 
 /// Templates, by file name.
-pub const TEMPLATES: [(&str, &str); 18] = [
+pub const TEMPLATES: [(&str, &str); 21] = [
+    ("sun.rs.tera", include_str!("../templates/kernels/sun.rs.tera")),
+    ("sun.wgsl.tera", include_str!("../templates/kernels/sun.wgsl.tera")),
+    ("sun.glsl.tera", include_str!("../templates/kernels/sun.glsl.tera")),
     ("march.rs.tera", include_str!("../templates/kernels/march.rs.tera")),
     ("march.wgsl.tera", include_str!("../templates/kernels/march.wgsl.tera")),
     ("march.glsl.tera", include_str!("../templates/kernels/march.glsl.tera")),
@@ -463,7 +466,19 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
             ctx.insert("nodes", &lits(&q.x));
             ctx.insert("weights", &lits(&q.w));
         }
-        (Body::Split(_) | Body::RayMarch(_) | Body::Equiangular(_), None) => {
+        (Body::Sun2005(t), Some(m)) => {
+            baseline_context(&mut ctx, spec, m);
+            use airlight_fit::family::sun::{U_MAX, V_MAX};
+            let n = (t.res - 1) as f64;
+            ctx.insert("res", &t.res);
+            ctx.insert("res_m1", &(t.res - 1));
+            ctx.insert("bytes", &t.bytes());
+            ctx.insert("table_path", &table_path(&m.model.name));
+            ctx.insert("u_scale", &lit(n / U_MAX));
+            ctx.insert("v_scale", &lit(n / V_MAX));
+            ctx.insert("u_max_doc", &U_MAX);
+        }
+        (Body::Split(_) | Body::RayMarch(_) | Body::Equiangular(_) | Body::Sun2005(_), None) => {
             unreachable!("a fitted or baseline kernel comes from a model")
         }
     }
@@ -472,6 +487,11 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         text.push('\n');
     }
     Ok(Output::text(out.path.replace("{name}", &spec.name).replace("{ident}", &ident), text))
+}
+
+/// Where a model's table lives under `generated/`.
+pub fn table_path(model: &str) -> String {
+    format!("tables/{model}.f32")
 }
 
 /// What the baselines' templates share: the summary and how the phase is taken.
@@ -669,6 +689,15 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
             }
         }
     }
+    // Tables (the texture of a table-driven kernel), once per model.
+    for spec in specs {
+        if let (Some(t), Some(m)) = (spec.body().table(), &spec.model) {
+            let path = table_path(&m.model.name);
+            if !out.iter().any(|o: &Output| o.path == path) {
+                out.push(Output { path, contents: t.to_le_bytes() });
+            }
+        }
+    }
     let kernels: Vec<CrateKernel> = specs
         .iter()
         .filter(|s| s.targets.contains(&Target::Rust))
@@ -779,6 +808,9 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         glsl: path(Target::Glsl, false),
         rust: path(Target::Rust, false),
         prefix: format!("airlight_{ident}_"),
+        table: spec.model.as_ref().and_then(|m| {
+            m.model.body.table().map(|t| airlight_fit::vocab::TableRef { path: table_path(&m.model.name), size: t.res })
+        }),
     }
 }
 

@@ -99,6 +99,8 @@ pub enum Baseline {
     RayMarch(usize),
     /// Gauss–Legendre in the equiangular angle with this many nodes.
     Equiangular(usize),
+    /// Sun et al.'s F(u, v) table at this resolution.
+    Sun2005(usize),
 }
 
 /// One shipped model: its name, its `g` range and how it is built.
@@ -160,8 +162,17 @@ const fn equiangular(name: &'static str, n: usize) -> ModelSpec {
     }
 }
 
+const fn sun(name: &'static str, res: usize) -> ModelSpec {
+    ModelSpec {
+        name,
+        summary: "baseline; Sun et al. 2005 F(u, v) table (seed 004), bilinear, a texture in shaders; isotropic",
+        g_range: (0.0, 0.0),
+        recipe: Recipe::Baseline(Baseline::Sun2005(res)),
+    }
+}
+
 /// Every shipped model, in table order: airlight's models, then the baselines.
-pub const CATALOG: [ModelSpec; 28] = [
+pub const CATALOG: [ModelSpec; 32] = [
     split(
         "paper-as-printed",
         "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
@@ -247,6 +258,10 @@ pub const CATALOG: [ModelSpec; 28] = [
     equiangular("equiangular-8", 8),
     equiangular("equiangular-16", 16),
     equiangular("equiangular-32", 32),
+    sun("sun2005-64", 64),
+    sun("sun2005-128", 128),
+    sun("sun2005-256", 256),
+    sun("sun2005-512", 512),
 ];
 
 /// A family that `airlight fit --family` can name.
@@ -610,6 +625,11 @@ fn assemble_baseline(spec: &ModelSpec, b: Baseline) -> ModelFile {
             format!(
                 "{n} uniform midpoint samples of P e^(-τ(s + t))/t² over [0, ρ]; no surface: to the relative two-leg transmittance {MARCH_CUTOFF}, capped at {FAR_PLANE} light distances"
             ),
+        ),
+        Baseline::Sun2005(r) => (
+            Body::Sun2005(crate::family::sun::SunTable::build(r)),
+            format!("sun2005-{r} (F(u, v) table, {r}x{r} f32)"),
+            format!("A = e^(-τ cos γ)/(2π sin γ) [F(τ sin γ, ξb) - F(τ sin γ, γ/2)], F bilinear from a {r}x{r} table over u ≤ {}, v ≤ π/2 (Sun et al. 2005; Wyman & Ramsey 2008)", crate::family::sun::U_MAX),
         ),
         Baseline::Equiangular(n) => (
             Body::Equiangular(Equiangular::new(n)),

@@ -265,6 +265,16 @@ pub struct CompiledKernel {
 /// The path of the kernel index under `generated/`.
 pub const INDEX_FILE: &str = "kernels.toml";
 
+/// A table a kernel reads (a texture in the shaders).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableRef {
+    /// Path under `generated/`: `size × size` little-endian f32, row-major.
+    pub path: String,
+    /// Texels per side.
+    pub size: usize,
+}
+
 /// One kernel of the index `generated/kernels.toml`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -301,6 +311,9 @@ pub struct IndexEntry {
     pub rust: Option<String>,
     /// Prefix of every item in the plain WGSL and GLSL files.
     pub prefix: String,
+    /// The table it reads (bound as a texture in the shaders), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<TableRef>,
 }
 
 impl IndexEntry {

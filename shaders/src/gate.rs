@@ -430,8 +430,11 @@ pub fn run(
                 texts.push((target, text));
             }
         }
-        let shaders: Vec<(Target, KernelSource)> =
-            texts.iter().map(|(target, text)| (*target, KernelSource::of(k, *target, text))).collect();
+        let table = crate::load_table(generated, k).map_err(|e| GateError::Input(e.to_string()))?;
+        let shaders: Vec<(Target, KernelSource)> = texts
+            .iter()
+            .map(|(target, text)| (*target, KernelSource::of(k, *target, text).with_table(table.as_ref())))
+            .collect();
         let compiled = match (rust.is_empty(), &k.rust) {
             (false, Some(_)) => Some(rust.iter().find(|r| r.name == k.name).ok_or_else(|| {
                 GateError::Input(format!("kernel {} is not in the compiled airlight-kernels (rebuild)", k.name))

@@ -141,7 +141,7 @@ impl Gpu {
     /// [`NO_SURFACE`]. Returns one f32 per point, in order.
     pub fn eval(&self, kernel: &str, function: &str, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
         let source = wrap_kernel(kernel, function);
-        self.dispatch(wgpu::ShaderSource::Wgsl(source.into()), function, &pack_points(points), 1, points.len())
+        self.dispatch(wgpu::ShaderSource::Wgsl(source.into()), function, &pack_points(points), 1, points.len(), None)
     }
 
     /// Evaluates a generated kernel's canonical entry (`<prefix>airlight`) at every
@@ -149,7 +149,7 @@ impl Gpu {
     /// [`NO_SURFACE`]. One f32 per point, in order.
     pub fn airlight(&self, k: &KernelSource, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
         let source = wrap(k, Entry::Canonical)?;
-        self.dispatch(k.shader(&source), k.prefix, &pack_points(points), 1, points.len())
+        self.dispatch(k.shader(&source), k.prefix, &pack_points(points), 1, points.len(), k.table)
     }
 
     /// Evaluates a generated kernel's physical entry (`<prefix>radiance`) for every
@@ -157,7 +157,7 @@ impl Gpu {
     pub fn radiance(&self, k: &KernelSource, rays: &[Ray]) -> Result<Vec<f32>, GpuError> {
         let source = wrap(k, Entry::Radiance)?;
         let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
-        self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len())
+        self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len(), k.table)
     }
 
     /// GPU evaluations per second of a kernel's canonical entry over `points`:
@@ -200,14 +200,7 @@ impl Gpu {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-            ],
-        });
+        let bind = self.bind(&pipeline, &input, &output, k.table)?;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("bench"),
             ty: wgpu::QueryType::Timestamp,
@@ -264,6 +257,71 @@ impl Gpu {
         Ok((median > 0.0).then(|| n as f64 / median))
     }
 
+    /// The bind group of a harness pipeline: inputs (0), results (1) and, for a
+    /// table-driven kernel, its table as an r32float texture (2) and, where the
+    /// shader declares one (GLSL's separate sampler), a nearest sampler (3).
+    fn bind(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        input: &wgpu::Buffer,
+        output: &wgpu::Buffer,
+        table: Option<&Table>,
+    ) -> Result<wgpu::BindGroup, GpuError> {
+        let d = &self.device;
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+        ];
+        let view;
+        let sampler;
+        if let Some(t) = table {
+            let size = wgpu::Extent3d { width: t.size as u32, height: t.size as u32, depth_or_array_layers: 1 };
+            let texture = d.create_texture(&wgpu::TextureDescriptor {
+                label: Some("table"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            self.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(&t.texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * t.size as u32),
+                    rows_per_image: Some(t.size as u32),
+                },
+                size,
+            );
+            view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            entries.push(wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view) });
+            sampler = d.create_sampler(&wgpu::SamplerDescriptor::default());
+            entries.push(wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) });
+        }
+        let layout = pipeline.get_bind_group_layout(0);
+        let attempt = |entries: &[wgpu::BindGroupEntry]| {
+            let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
+            let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries });
+            match pollster::block_on(scope.pop()) {
+                None => Ok(bind),
+                Some(e) => Err(GpuError::Shader(e.to_string())),
+            }
+        };
+        match attempt(&entries) {
+            // A shader without the sampler (WGSL; GLSL where naga drops an unused one): bind without it.
+            Err(_) if entries.len() == 4 => attempt(&entries[..3]),
+            other => other,
+        }
+    }
+
     /// Runs a compute shader with entry `main` over `n` items of `stride` vec4s
     /// each (binding 0) into one f32 per item (binding 1).
     fn dispatch(
@@ -273,6 +331,7 @@ impl Gpu {
         data: &[f32],
         stride: usize,
         n: usize,
+        table: Option<&Table>,
     ) -> Result<Vec<f32>, GpuError> {
         if n == 0 {
             return Ok(Vec::new());
@@ -319,14 +378,7 @@ impl Gpu {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-            ],
-        });
+        let bind = self.bind(&pipeline, &input, &output, table)?;
         let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
@@ -388,9 +440,43 @@ pub struct KernelSource<'a> {
     pub params: &'a [Arg],
     /// Arguments of `<prefix>radiance`.
     pub radiance_params: &'a [Arg],
+    /// The table it reads, bound as a texture (binding 2; GLSL: a sampler at 3).
+    pub table: Option<&'a Table>,
+}
+
+/// A kernel's table: `size × size` f32 texels, row-major.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// Texels per side.
+    pub size: usize,
+    /// The texels.
+    pub texels: Vec<f32>,
+}
+
+/// The table `entry` reads (`generated/<path>`), if it has one.
+pub fn load_table(generated: &std::path::Path, entry: &IndexEntry) -> Result<Option<Table>, GpuError> {
+    let Some(t) = &entry.table else { return Ok(None) };
+    let path = generated.join(&t.path);
+    let bytes = std::fs::read(&path).map_err(|e| GpuError::Shader(format!("{}: cannot read: {e}", path.display())))?;
+    if bytes.len() != 4 * t.size * t.size {
+        return Err(GpuError::Shader(format!(
+            "{}: {} bytes, but kernels.toml says {}x{} f32 texels",
+            path.display(),
+            bytes.len(),
+            t.size,
+            t.size
+        )));
+    }
+    let texels = bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+    Ok(Some(Table { size: t.size, texels }))
 }
 
 impl<'a> KernelSource<'a> {
+    /// The same kernel with its table.
+    pub fn with_table(self, table: Option<&'a Table>) -> KernelSource<'a> {
+        KernelSource { table, ..self }
+    }
+
     /// The kernel `entry` of `generated/kernels.toml`, its `language` file's text being `source`.
     pub fn of(entry: &'a IndexEntry, language: Target, source: &'a str) -> KernelSource<'a> {
         KernelSource {
@@ -399,6 +485,7 @@ impl<'a> KernelSource<'a> {
             prefix: &entry.prefix,
             params: &entry.params,
             radiance_params: &entry.radiance_params,
+            table: None,
         }
     }
 
@@ -407,7 +494,7 @@ impl<'a> KernelSource<'a> {
             Target::Glsl => wgpu::ShaderSource::Glsl {
                 shader: wrapped.into(),
                 stage: wgpu::naga::ShaderStage::Compute,
-                defines: &[],
+                defines: &[("AIRLIGHT_SEPARATE_SAMPLERS", "1")],
             },
             _ => wgpu::ShaderSource::Wgsl(wrapped.into()),
         }

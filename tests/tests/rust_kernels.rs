@@ -70,6 +70,12 @@ fn every_model_kernel_matches_its_f64_model() {
                 if !(F32_TINY..=airlight_fit::vocab::F32_RANGE.1).contains(&want) {
                     continue;
                 }
+                // The Sun table's two lookups cancel towards γ = π, and its f32 kernel
+                // interpolates in f32: it is held to its declared bound against the
+                // reference (the gate), not to its f64 twin.
+                if m.model.body.table().is_some() {
+                    continue;
+                }
                 let e = (got - want).abs() / want;
                 if e.is_nan() || e > PORT_TOLERANCE {
                     failures.push(format!("{} {}: {e:.2e} ({got} vs {want}) at {q:?}", m.model.name, domain.name()));

@@ -12,6 +12,7 @@ pub mod phase_exp;
 pub mod ratio;
 pub mod segments;
 pub mod split;
+pub mod sun;
 
 use crate::cost::{Cost, PhaseShape, Shape};
 use crate::reference::Point;
@@ -31,12 +32,19 @@ pub enum Body {
     RayMarch(baseline::RayMarch),
     /// Gauss–Legendre in the equiangular angle (a baseline).
     Equiangular(baseline::Equiangular),
+    /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
+    Sun2005(sun::SunTable),
 }
 
 impl Body {
     /// Every kind, in the order of the variants.
-    pub const KINDS: [&'static str; 4] =
-        [split::Split::KIND, closed::NoExtinction::KIND, baseline::RayMarch::KIND, baseline::Equiangular::KIND];
+    pub const KINDS: [&'static str; 5] = [
+        split::Split::KIND,
+        closed::NoExtinction::KIND,
+        baseline::RayMarch::KIND,
+        baseline::Equiangular::KIND,
+        sun::SunTable::KIND,
+    ];
 
     /// The family's name: the `kind` key of coefficient files and the key of its
     /// templates in `codegen/outputs.toml`.
@@ -46,6 +54,7 @@ impl Body {
             Body::NoExtinction(_) => closed::NoExtinction::KIND,
             Body::RayMarch(_) => baseline::RayMarch::KIND,
             Body::Equiangular(_) => baseline::Equiangular::KIND,
+            Body::Sun2005(_) => sun::SunTable::KIND,
         }
     }
 
@@ -53,6 +62,14 @@ impl Body {
     /// model — rather than one of airlight's own models.
     pub fn is_baseline(&self) -> bool {
         !matches!(self, Body::Split(_))
+    }
+
+    /// The table it reads (bytes of f32 texels), if it has one.
+    pub fn table(&self) -> Option<&sun::SunTable> {
+        match self {
+            Body::Sun2005(t) => Some(t),
+            _ => None,
+        }
     }
 
     /// Whether it models extinction (takes τ).
@@ -67,6 +84,7 @@ impl Body {
             Body::NoExtinction(c) => c.eval(p),
             Body::RayMarch(m) => m.eval(p),
             Body::Equiangular(q) => q.eval(p),
+            Body::Sun2005(t) => t.eval(p),
         }
     }
 
@@ -74,7 +92,7 @@ impl Body {
     pub fn phase_shape(&self) -> PhaseShape {
         match self {
             Body::Split(s) => s.phase_shape(),
-            Body::NoExtinction(_) => PhaseShape::Isotropic,
+            Body::NoExtinction(_) | Body::Sun2005(_) => PhaseShape::Isotropic,
             Body::RayMarch(_) | Body::Equiangular(_) => baseline::phase_shape(),
         }
     }
@@ -87,6 +105,7 @@ impl Body {
             Body::NoExtinction(c) => c.ops(shape),
             Body::RayMarch(m) => m.ops(shape),
             Body::Equiangular(q) => q.ops(shape),
+            Body::Sun2005(t) => t.ops(shape),
         }
     }
 
@@ -98,6 +117,7 @@ impl Body {
             closed::NoExtinction::KIND => Some(&[]),
             baseline::RayMarch::KIND => Some(baseline::RayMarch::TABLES),
             baseline::Equiangular::KIND => Some(baseline::Equiangular::TABLES),
+            sun::SunTable::KIND => Some(sun::SunTable::TABLES),
             _ => None,
         }
     }
@@ -110,6 +130,7 @@ impl Body {
             Body::NoExtinction(_) => {}
             Body::RayMarch(m) => m.render_toml(out),
             Body::Equiangular(q) => q.render_toml(out),
+            Body::Sun2005(t) => t.render_toml(out),
         }
     }
 
@@ -120,6 +141,7 @@ impl Body {
             closed::NoExtinction::KIND => Body::NoExtinction(closed::NoExtinction),
             baseline::RayMarch::KIND => Body::RayMarch(baseline::RayMarch::parse_toml(r, doc)?),
             baseline::Equiangular::KIND => Body::Equiangular(baseline::Equiangular::parse_toml(r, doc)?),
+            sun::SunTable::KIND => Body::Sun2005(sun::SunTable::parse_toml(r, doc, g_range)?),
             other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
         })
     }

@@ -72,6 +72,14 @@ pub mod equiangular_16;
 #[rustfmt::skip]
 pub mod equiangular_32;
 #[rustfmt::skip]
+pub mod sun2005_64;
+#[rustfmt::skip]
+pub mod sun2005_128;
+#[rustfmt::skip]
+pub mod sun2005_256;
+#[rustfmt::skip]
+pub mod sun2005_512;
+#[rustfmt::skip]
 pub mod scene_fog_street;
 #[rustfmt::skip]
 pub mod scene_harbour_fog;
@@ -416,6 +424,50 @@ pub const KERNELS: &[Kernel] = &[
         airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "sun2005-64",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.9194417990106587e2,
+        dense_max_rel: 3.650346902078825e18,
+        airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "sun2005-128",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.7193672231726066e2,
+        dense_max_rel: 1.8078629703817926e13,
+        airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "sun2005-256",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.3191900758280616e2,
+        dense_max_rel: 2.5286307063989234e6,
+        airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "sun2005-512",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 1.519114971503736e2,
+        dense_max_rel: 1.0250261674294e3,
+        airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
     },
     Kernel {

@@ -1,0 +1,187 @@
+//! The Sun et al. (2005) table baseline (seed 004, as reorganised by Wyman &
+//! Ramsey): the half-angle form (MATH.md §3)
+//!
+//! `A = e^{−τ x0} / (2π h) · [F(T, ξb) − F(T, γ/2)]`, `F(u, v) = ∫₀^v e^{−u tan ξ} dξ`,
+//!
+//! `T = τ h`, `ξb = π/4 + ½ atan((ρ − x0)/h)` (`π/2` without a surface), with `F`
+//! precomputed on an `R × R` grid over `u ∈ [0, U_MAX]`, `v ∈ [0, π/2]` and looked
+//! up bilinearly — a texture in the shaders. Isotropic only (the table has no
+//! phase function). The table is derived data: rebuilt from its parameters by
+//! [`SunTable::build`] (8-point Gauss–Legendre per cell, cumulative in `v`,
+//! checked against the adaptive reference quadrature in the tests), stored as
+//! f32, which is what every evaluator — this f64 one included — reads.
+
+use crate::cost::{Cost, Shape};
+use crate::reference::Point;
+use crate::tomlfile::{FieldError, Reader};
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::fmt::Write;
+use toml::Table;
+
+/// The largest `u = τ sin γ` the table covers: the `dense` domain's τ.
+pub const U_MAX: f64 = 20.0;
+/// The largest `v`: `π/2`.
+pub const V_MAX: f64 = FRAC_PI_2;
+
+/// The table of `F(u, v)`, `res × res` f32 texels, row `j` at `v_j = V_MAX j/(res − 1)`,
+/// column `i` at `u_i = U_MAX i/(res − 1)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SunTable {
+    /// Texels per side.
+    pub res: usize,
+    /// `F` at the texels, row-major (`v` rows, `u` columns).
+    pub texels: Vec<f32>,
+}
+
+/// `F(u, v)` at every `v_j` for one `u`, cumulative: 8-point Gauss–Legendre per cell.
+fn column(u: f64, res: usize, x: &[f64], w: &[f64]) -> Vec<f64> {
+    let dv = V_MAX / (res - 1) as f64;
+    let mut out = Vec::with_capacity(res);
+    let mut sum = 0.0;
+    out.push(0.0);
+    for j in 0..res - 1 {
+        let (a, half) = (j as f64 * dv, 0.5 * dv);
+        let cell: f64 = x.iter().zip(w).map(|(&x, &w)| w * (-u * (a + half * (1.0 + x)).tan()).exp()).sum();
+        sum += half * cell;
+        out.push(sum);
+    }
+    out
+}
+
+impl SunTable {
+    /// Its kind ([`crate::family::Body::kind`]).
+    pub const KIND: &'static str = "sun2005";
+    /// The resolutions the catalog ships.
+    pub const RESOLUTIONS: [usize; 4] = [64, 128, 256, 512];
+    /// Its tables in a coefficient file.
+    pub const TABLES: &'static [&'static str] = &["table"];
+
+    /// Builds the `res × res` table.
+    pub fn build(res: usize) -> SunTable {
+        let (x, w) = crate::quad::gauss_legendre(8);
+        let cols: Vec<Vec<f64>> = (0..res).map(|i| column(U_MAX * i as f64 / (res - 1) as f64, res, &x, &w)).collect();
+        let mut texels = vec![0.0f32; res * res];
+        for (i, c) in cols.iter().enumerate() {
+            for (j, &f) in c.iter().enumerate() {
+                texels[j * res + i] = f as f32;
+            }
+        }
+        SunTable { res, texels }
+    }
+
+    /// The table's size in bytes (f32 texels).
+    pub fn bytes(&self) -> usize {
+        4 * self.texels.len()
+    }
+
+    /// The texels as little-endian f32 bytes (the file the kernels load).
+    pub fn to_le_bytes(&self) -> Vec<u8> {
+        self.texels.iter().flat_map(|t| t.to_le_bytes()).collect()
+    }
+
+    /// FNV-1a of the texels' bits: which table a file was measured with.
+    pub fn digest(&self) -> String {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in self.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+        format!("{h:016x}")
+    }
+
+    /// Bilinear lookup at `(u, v)`, clamped to the table (as a texture's clamp-to-edge).
+    pub fn lookup(&self, u: f64, v: f64) -> f64 {
+        let n = (self.res - 1) as f64;
+        let x = (u / U_MAX * n).clamp(0.0, n);
+        let y = (v / V_MAX * n).clamp(0.0, n);
+        let (i, j) = ((x.floor() as usize).min(self.res - 2), (y.floor() as usize).min(self.res - 2));
+        let (tx, ty) = (x - i as f64, y - j as f64);
+        let t = |i: usize, j: usize| f64::from(self.texels[j * self.res + i]);
+        let lo = t(i, j) + tx * (t(i + 1, j) - t(i, j));
+        let hi = t(i, j + 1) + tx * (t(i + 1, j + 1) - t(i, j + 1));
+        lo + ty * (hi - lo)
+    }
+
+    /// `A` at a valid point (isotropic: the table has no phase function).
+    pub fn eval(&self, p: Point) -> f64 {
+        let (h, x0) = (p.gamma.sin(), p.gamma.cos());
+        if h <= 0.0 {
+            if x0 > 0.0 {
+                // Towards the light: the form's own limit, which it has reached by γ = 1e-8.
+                return self.eval(Point { gamma: 1e-12, ..p });
+            }
+            // Away from it the two lookups cancel completely: the closed form without
+            // extinction, attenuated by the viewer–light leg.
+            return crate::family::closed::NoExtinction.eval(p) * (-p.tau).exp();
+        }
+        let t = p.tau * h;
+        // ξb = π/4 + ½ atan((ρ − x0)/h) = ½ atan2(h, x0 − ρ): no cancellation as h → 0.
+        let xb = if p.rho.is_finite() { 0.5 * h.atan2(x0 - p.rho) } else { FRAC_PI_2 };
+        let f = (self.lookup(t, xb) - self.lookup(t, 0.5 * p.gamma)).max(0.0);
+        (-p.tau * x0).exp() / (2.0 * PI * h) * f
+    }
+
+    /// Two bilinear lookups (8 texel loads), one `exp`, one `atan`, one `sin_cos`.
+    pub fn ops(&self, _shape: Shape) -> Cost {
+        Cost { exp: 1, log: 0, atan: 1, sqrt: 0, div: 4, sincos: 1 }
+    }
+
+    /// Writes its table's parameters (the texels are rebuilt from them).
+    pub fn render_toml(&self, o: &mut String) {
+        o.push_str("\n[table]\nfunction = \"F(u, v) = integral of exp(-u tan xi) over xi in [0, v]\"\n");
+        let _ = writeln!(o, "resolution = {}", self.res);
+        let _ = writeln!(o, "u_max = {}", crate::coeffs::dec(U_MAX));
+        let _ = writeln!(o, "v_max = {} # pi/2", crate::coeffs::dec(V_MAX));
+        o.push_str("texel = \"r32float\"\nlookup = \"bilinear, clamped to the edges\"\n");
+        o.push_str("built = \"8-point Gauss-Legendre per cell, cumulative in v, f64, rounded to f32\"\n");
+        let _ = writeln!(o, "bytes = {}", self.bytes());
+        let _ = writeln!(o, "digest = \"{}\" # FNV-1a of the f32 texels this file was measured with", self.digest());
+    }
+
+    /// Reads its table's parameters and rebuilds the texels.
+    pub fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<SunTable, FieldError> {
+        let t = r.table(doc, "table")?;
+        r.deny(
+            t,
+            "table",
+            &["function", "resolution", "u_max", "v_max", "texel", "lookup", "built", "bytes", "digest"],
+        )?;
+        if g_range != [0.0, 0.0] {
+            return Err(r.err("model", "g_range", "the Sun table is isotropic: [0.0, 0.0] only"));
+        }
+        let res = r.uint(t, "table", "resolution")?;
+        if !(2..=4096).contains(&res) {
+            return Err(r.err("table", "resolution", "must be 2..=4096"));
+        }
+        if r.float(t, "table", "u_max")? != U_MAX || r.float(t, "table", "v_max")? != V_MAX {
+            return Err(r.err("table", "u_max", &format!("this airlight builds tables over u <= {U_MAX}, v <= pi/2")));
+        }
+        Ok(SunTable::build(res))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_is_the_integral_and_the_form_is_the_reference() {
+        let t = SunTable::build(64);
+        for &(u, v) in &[(0.0, 1.0), (0.5, 0.7), (3.0, 1.5), (19.0, 0.2)] {
+            let q = crate::quad::gauss_kronrod(|x: f64| (-u * x.tan()).exp(), &[0.0, v], 1e-13, 200);
+            // Bilinear between texels: the table's own interpolation error, not the build's.
+            let n = 63.0;
+            let (i, j) = ((u / U_MAX * n).round(), (v / V_MAX * n).round());
+            let (uu, vv) = (U_MAX * i / n, V_MAX * j / n);
+            let exact = crate::quad::gauss_kronrod(|x: f64| (-uu * x.tan()).exp(), &[0.0, vv], 1e-13, 200).value;
+            let got = f64::from(t.texels[j as usize * 64 + i as usize]);
+            assert!((got - exact).abs() <= 1e-7 * exact.max(1e-3), "F({uu}, {vv}) = {got} vs {exact}");
+            assert!(q.value > 0.0);
+        }
+        // The half-angle form with a fine table agrees with the reference where it is well conditioned.
+        let fine = SunTable::build(512);
+        let p = Point { tau: 0.5, gamma: 1.0, rho: 3.0, g: 0.0 };
+        let exact = crate::reference::airlight(p).unwrap();
+        assert!((fine.eval(p) / exact - 1.0).abs() < 2e-3, "{} vs {exact}", fine.eval(p));
+        assert_eq!(t.bytes(), 64 * 64 * 4);
+    }
+}
