@@ -563,6 +563,7 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
         ops: usize,
         transcendentals: usize,
         gpu: String,
+        bytes: String,
     }
     let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
     let mut sections = Vec::new();
@@ -636,6 +637,7 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
                 ops: m.ops,
                 transcendentals: m.transcendentals,
                 gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
+                bytes: if m.bytes > 0 { format!("{} KiB", m.bytes / 1024) } else { "—".into() },
             }
         })
         .collect();
