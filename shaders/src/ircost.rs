@@ -66,7 +66,9 @@ fn expr_cost(e: &Expression) -> IrCost {
         | Expression::Unary { .. }
         | Expression::Select { .. }
         | Expression::As { .. }
-        | Expression::Relational { .. } => IrCost { ops: 1, transcendentals: 0 },
+        | Expression::Relational { .. }
+        | Expression::ImageLoad { .. }
+        | Expression::ImageSample { .. } => IrCost { ops: 1, transcendentals: 0 },
         _ => IrCost::default(),
     }
 }

@@ -12,19 +12,9 @@ use std::hint::black_box;
 fn bench(c: &mut Criterion) {
     let models = airlight_tests::committed_models();
     let mut group = c.benchmark_group("kernels");
-    for name in [
-        "segments-2",
-        "segments-8",
-        "segments-16",
-        "paper",
-        "hg-exp1",
-        "hg-exp3",
-        "no-extinction",
-        "raymarch-64",
-        "equiangular-4",
-        "equiangular-8",
-        "equiangular-16",
-    ] {
+    // Every shipped model: airlight's and the baselines.
+    let names: Vec<String> = models.iter().map(|m| m.model.name.clone()).collect();
+    for name in names.iter().map(String::as_str) {
         let m = models.iter().find(|m| m.model.name == name).expect("committed model");
         let k = airlight_kernels::kernel(name).expect("generated kernel");
         for domain in [Domain::Thin, Domain::Dense] {
