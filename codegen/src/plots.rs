@@ -405,8 +405,8 @@ fn pareto_panel<DB: DrawingBackend>(
         } else {
             chart.draw_series(std::iter::once(Circle::new(p, 5, colour.filled()))).map_err(err)?;
         }
-        // Baselines always labelled; airlight's models where not dominated.
-        if m.baseline || !dominated(m) {
+        // Baselines always labelled; airlight's models where on its own front.
+        if m.baseline || front.iter().any(|f| f.name == m.name) {
             let style = ("sans-serif", 12).into_font().color(if dominated(m) { &grey } else { &BLACK });
             chart.draw_series(std::iter::once(Text::new(m.name.clone(), p, style))).map_err(err)?;
         }
