@@ -976,18 +976,9 @@ fn bench(
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     });
-    let batch = bench::cost_batch(size.batch);
-    let batch64: Vec<[f64; 4]> = batch
-        .iter()
-        .map(|a| {
-            [
-                f64::from(a[0]),
-                f64::from(a[1]),
-                if a[2] < 0.0 { f64::INFINITY } else { f64::from(a[2]) },
-                f64::from(a[3]),
-            ]
-        })
-        .collect();
+    let points = bench::cost_batch(size.batch);
+    let batch = bench::canonical_args(&points);
+    let batch64: Vec<[f64; 4]> = points.iter().map(|p| [p.tau, p.gamma, p.rho, p.g]).collect();
     let gpu = Gpu::open();
     let adapter = match &gpu {
         Ok(g) => {

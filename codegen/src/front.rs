@@ -64,15 +64,17 @@ pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
     out
 }
 
+/// Whether `o` is at least as fast and as accurate as `m` on the measure `f`, and
+/// strictly better in one (a method never dominates itself).
+fn dominates(o: &Method, m: &Method, f: &dyn Fn(&Method) -> f64) -> bool {
+    o.ns <= m.ns && f(o) <= f(m) && (o.ns < m.ns || f(o) < f(m))
+}
+
 /// Airlight's own front on a measure: its models no other airlight model beats
 /// in both cost and error, by increasing cost.
 pub fn airlight_front<'a>(ms: &'a [Method], f: &dyn Fn(&Method) -> f64) -> Vec<&'a Method> {
     let own: Vec<&Method> = ms.iter().filter(|m| !m.baseline).collect();
-    let mut front: Vec<&Method> = own
-        .iter()
-        .filter(|m| !own.iter().any(|o| o.ns <= m.ns && f(o) <= f(m) && (o.ns < m.ns || f(o) < f(m))))
-        .copied()
-        .collect();
+    let mut front: Vec<&Method> = own.iter().filter(|m| !own.iter().any(|o| dominates(o, m, f))).copied().collect();
     front.sort_by(|a, b| a.ns.total_cmp(&b.ns));
     front
 }

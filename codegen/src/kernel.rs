@@ -148,6 +148,12 @@ pub struct KernelSpec {
     pub targets: Vec<Target>,
 }
 
+/// Whether the model evaluates Henyey–Greenstein exactly with `g` at run time
+/// (the baselines that take `g`), rather than through fitted phase terms.
+fn exact_phase(m: &ModelFile) -> bool {
+    m.model.split().is_none() && m.model.g_range != (0.0, 0.0)
+}
+
 fn domain_bound(m: &ModelFile, domains: &[Domain]) -> String {
     domains
         .iter()
@@ -160,7 +166,7 @@ impl KernelSpec {
     /// The general kernel of a model: surfaces, extinction, backscatter, and its whole `g` range.
     pub fn for_model(m: &ModelFile) -> KernelSpec {
         let phase = match m.model.split().map(|s| &s.phase) {
-            None if m.model.g_range != (0.0, 0.0) => KernelPhase::Exact,
+            None if exact_phase(m) => KernelPhase::Exact,
             None | Some(PhaseModel::Isotropic) => KernelPhase::Isotropic,
             Some(PhaseModel::Exp(e)) => KernelPhase::Banded((0..e.bands.len()).collect()),
         };
@@ -201,7 +207,7 @@ impl KernelSpec {
             }
             Choice::Model { name: model, .. } => {
                 let m = models.iter().find(|m| &m.model.name == model).expect("the plan names a loaded model").clone();
-                let exact = m.model.split().is_none() && m.model.g_range != (0.0, 0.0);
+                let exact = exact_phase(&m);
                 let phase = match (m.model.split().map(|s| &s.phase), &scene.phase) {
                     (_, ScenePhase::Isotropic) => KernelPhase::Isotropic,
                     (None, ScenePhase::Fixed(g)) if exact => KernelPhase::Fixed(*g),

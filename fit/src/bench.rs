@@ -153,14 +153,6 @@ pub fn error_sets(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> ErrorSe
     ErrorSets { sets }
 }
 
-/// The `q`-quantile of sorted values.
-fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
 /// Errors of `eval` (`A` at a point, ∞ for a kernel's saturated value) at every
 /// bench `g` inside `g_range`.
 pub fn errors(eval: &dyn Fn(Point) -> f64, g_range: (f64, f64), sets: &ErrorSets) -> Vec<GErrors> {
@@ -173,7 +165,8 @@ pub fn errors(eval: &dyn Fn(Point) -> f64, g_range: (f64, f64), sets: &ErrorSets
         for (k, (_, pts)) in per.iter().enumerate() {
             let mut e: Vec<f64> = pts.iter().map(|&(p, exact)| crate::stats::rel_error(eval(p), exact)).collect();
             e.sort_by(f64::total_cmp);
-            stats[k] = [e.last().copied().unwrap_or(f64::NAN), quantile(&e, 0.99), quantile(&e, 0.5)];
+            let rank = |q| crate::stats::nearest_rank(&e, q);
+            stats[k] = [rank(1.0), rank(0.99), rank(0.5)];
         }
         let pd = |i: usize| PerDomain { thin: stats[0][i], dense: stats[1][i] };
         out.push(GErrors { g: *g, max_rel: pd(0), p99_rel: pd(1), p50_rel: pd(2) });
@@ -181,18 +174,26 @@ pub fn errors(eval: &dyn Fn(Point) -> f64, g_range: (f64, f64), sets: &ErrorSets
     out
 }
 
-/// The fixed timing batch: `n` canonical f32 arguments `(τ, γ, ρ, g)`, thin and
-/// dense alternating, `g` cycling through [`BENCH_GS`] (kernels without `g`
-/// ignore it): the same points for every kernel.
-pub fn cost_batch(n: usize) -> Vec<[f32; 4]> {
+/// The fixed timing batch: `n` points, thin and dense alternating, `g` cycling
+/// through [`BENCH_GS`] (kernels without `g` ignore it), each coordinate already
+/// an f32 value so that the CPU and GPU kernels see the same inputs: the same
+/// points for every kernel.
+pub fn cost_batch(n: usize) -> Vec<Point> {
     let thin = Domain::Thin.validation_set((-0.95, 0.95), n.div_ceil(2), BENCH_SEED ^ 0xC057);
     let dense = Domain::Dense.validation_set((-0.95, 0.95), n / 2, BENCH_SEED ^ 0xC058);
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let p = if i % 2 == 0 { thin[i / 2] } else { dense[i / 2] };
-        out.push([p.tau as f32, p.gamma as f32, crate::vocab::rho_arg(p.rho), BENCH_GS[i % BENCH_GS.len()] as f32]);
-    }
-    out
+    let f = |x: f64| f64::from(x as f32);
+    (0..n)
+        .map(|i| {
+            let p = if i % 2 == 0 { thin[i / 2] } else { dense[i / 2] };
+            Point { tau: f(p.tau), gamma: f(p.gamma), rho: f(p.rho), g: f(BENCH_GS[i % BENCH_GS.len()]) }
+        })
+        .collect()
+}
+
+/// Points as every kernel's canonical entry takes them: `(τ, γ, ρ, g)` in f32,
+/// `ρ = ∞` as [`crate::vocab::NO_SURFACE`].
+pub fn canonical_args(points: &[Point]) -> Vec<[f32; 4]> {
+    points.iter().map(|p| [p.tau as f32, p.gamma as f32, crate::vocab::rho_arg(p.rho), p.g as f32]).collect()
 }
 
 /// CPU time of the calling thread, in seconds (wall time where the platform has no thread clock).
@@ -255,7 +256,7 @@ mod tests {
         fn k(tau: f32, gamma: f32, _rho: f32, _g: f32) -> f32 {
             (-tau).exp() * gamma
         }
-        let t = time_kernels(&[k as CanonicalFn], &cost_batch(1000), 3, &|_| {});
+        let t = time_kernels(&[k as CanonicalFn], &canonical_args(&cost_batch(1000)), 3, &|_| {});
         assert!(t[0].0.is_finite() && t[0].0 > 0.0 && t[0].1 <= t[0].0 && t[0].0 <= t[0].2);
     }
 }

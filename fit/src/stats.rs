@@ -28,15 +28,25 @@ impl ErrorStats {
         if count == 0 {
             return ErrorStats { count, max: 0.0, p99: 0.0, worst: None, non_finite };
         }
-        let rank = ((0.99 * count as f64).ceil() as usize).clamp(1, count);
+        let sorted: Vec<f64> = all.iter().map(|e| key(e.1)).collect();
         ErrorStats {
             count,
             max: key(all[count - 1].1),
-            p99: key(all[rank - 1].1),
+            p99: nearest_rank(&sorted, 0.99),
             worst: Some(all[count - 1].0),
             non_finite,
         }
     }
+}
+
+/// The nearest-rank `q`-quantile of ascending `sorted` values (`q = 1`: the
+/// largest; NaN when empty).
+pub fn nearest_rank(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[rank - 1]
 }
 
 /// Root-mean-square and largest magnitude of signed relative errors (0, 0 when empty).

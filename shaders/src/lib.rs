@@ -168,39 +168,10 @@ impl Gpu {
             return Ok(None);
         }
         let source = wrap(k, Entry::Canonical)?;
-        let data = pack_points(points);
         let n = points.len();
-        let groups = (n as u64).div_ceil(WORKGROUP as u64);
-        if groups > MAX_GROUPS_X as u64 {
-            return Err(GpuError::TooLarge(n));
-        }
+        let (gx, gy) = workgroups(n)?;
+        let run = self.prepare(k.shader(&source), k.prefix, &pack_points(points), n, k.table)?;
         let d = &self.device;
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module =
-            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(k.prefix), source: k.shader(&source) });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(k.prefix),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(e.to_string()));
-        }
-        let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("inputs"),
-            contents: bytemuck::cast_slice(&data),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let output = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("results"),
-            size: (n * 4) as u64,
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let bind = self.bind(&pipeline, &input, &output, k.table)?;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("bench"),
             ty: wgpu::QueryType::Timestamp,
@@ -232,23 +203,14 @@ impl Gpu {
                         end_of_pass_write_index: Some(1),
                     }),
                 });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(groups as u32, 1, 1);
+                pass.set_pipeline(&run.pipeline);
+                pass.set_bind_group(0, &run.bind, &[]);
+                pass.dispatch_workgroups(gx, gy, 1);
             }
             enc.resolve_query_set(&queries, 0..2, &resolve, 0);
             enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, 16);
             self.queue.submit([enc.finish()]);
-            let (tx, rx) = std::sync::mpsc::channel();
-            staging.map_async(wgpu::MapMode::Read, .., move |r| {
-                let _ = tx.send(r);
-            });
-            d.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Readback(e.to_string()))?;
-            rx.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
-            let view = staging.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
-            let t: Vec<u64> = bytemuck::cast_slice(&view).to_vec();
-            drop(view);
-            staging.unmap();
+            let t: Vec<u64> = bytemuck::cast_slice(&self.read_back(&staging)?).to_vec();
             times.push(t[1].saturating_sub(t[0]) as f64 * period * 1e-9);
         }
         let mut timed = times.split_off(1);
@@ -336,16 +298,38 @@ impl Gpu {
         if n == 0 {
             return Ok(Vec::new());
         }
-        let groups = (n as u64).div_ceil(WORKGROUP as u64);
-        if groups > MAX_GROUPS_X as u64 * MAX_GROUPS_X as u64 {
-            return Err(GpuError::TooLarge(n));
-        }
-        let (gx, gy) = if groups <= MAX_GROUPS_X as u64 {
-            (groups as u32, 1)
-        } else {
-            (MAX_GROUPS_X, groups.div_ceil(MAX_GROUPS_X as u64) as u32)
-        };
+        let (gx, gy) = workgroups(n)?;
         debug_assert_eq!(data.len(), n * stride * 4);
+        let run = self.prepare(shader, label, data, n, table)?;
+        let bytes = (n * 4) as u64;
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("staging"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+            pass.set_pipeline(&run.pipeline);
+            pass.set_bind_group(0, &run.bind, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        enc.copy_buffer_to_buffer(&run.output, 0, &staging, 0, bytes);
+        self.queue.submit([enc.finish()]);
+        Ok(bytemuck::cast_slice(&self.read_back(&staging)?).to_vec())
+    }
+
+    /// Compiles a harness shader (entry `main`) and binds `data` as its inputs, a
+    /// results buffer of `n` f32, and the kernel's table if it has one.
+    fn prepare(
+        &self,
+        shader: wgpu::ShaderSource,
+        label: &str,
+        data: &[f32],
+        n: usize,
+        table: Option<&Table>,
+    ) -> Result<Prepared, GpuError> {
         let d = &self.device;
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: shader });
@@ -365,37 +349,26 @@ impl Gpu {
             contents: bytemuck::cast_slice(data),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let bytes = (n * 4) as u64;
         let output = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("results"),
-            size: bytes,
+            size: (n * 4) as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let staging = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("staging"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let bind = self.bind(&pipeline, &input, &output, table)?;
-        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
-        enc.copy_buffer_to_buffer(&output, 0, &staging, 0, bytes);
-        self.queue.submit([enc.finish()]);
+        Ok(Prepared { pipeline, bind, output })
+    }
+
+    /// Maps `staging` after the submitted work, and copies its bytes out.
+    fn read_back(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
         });
-        d.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Readback(e.to_string()))?;
         rx.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
         let view = staging.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
-        let out: Vec<f32> = bytemuck::cast_slice(&view).to_vec();
+        let out = view.to_vec();
         drop(view);
         staging.unmap();
         Ok(out)
@@ -410,6 +383,28 @@ impl Gpu {
     pub fn queue(&self) -> &wgpu::Queue {
         &self.queue
     }
+}
+
+/// A compiled harness pipeline and its bindings (the bind group keeps the input
+/// buffer and the table alive).
+struct Prepared {
+    pipeline: wgpu::ComputePipeline,
+    bind: wgpu::BindGroup,
+    output: wgpu::Buffer,
+}
+
+/// The dispatch for `n` items: one invocation each, in workgroups of
+/// [`WORKGROUP`], 2-D beyond 65,535 workgroups.
+fn workgroups(n: usize) -> Result<(u32, u32), GpuError> {
+    let groups = (n as u64).div_ceil(WORKGROUP as u64);
+    if groups > MAX_GROUPS_X as u64 * MAX_GROUPS_X as u64 {
+        return Err(GpuError::TooLarge(n));
+    }
+    Ok(if groups <= MAX_GROUPS_X as u64 {
+        (groups as u32, 1)
+    } else {
+        (MAX_GROUPS_X, groups.div_ceil(MAX_GROUPS_X as u64) as u32)
+    })
 }
 
 fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
