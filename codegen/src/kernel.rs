@@ -26,7 +26,10 @@ use std::f64::consts::{FRAC_PI_2, PI};
 pub const OUTPUT_TABLE: &str = include_str!("../outputs.toml");
 
 /// Templates, by file name.
-pub const TEMPLATES: [(&str, &str); 21] = [
+pub const TEMPLATES: [(&str, &str); 24] = [
+    ("phi.rs.tera", include_str!("../templates/kernels/phi.rs.tera")),
+    ("phi.wgsl.tera", include_str!("../templates/kernels/phi.wgsl.tera")),
+    ("phi.glsl.tera", include_str!("../templates/kernels/phi.glsl.tera")),
     ("sun.rs.tera", include_str!("../templates/kernels/sun.rs.tera")),
     ("sun.wgsl.tera", include_str!("../templates/kernels/sun.wgsl.tera")),
     ("sun.glsl.tera", include_str!("../templates/kernels/sun.glsl.tera")),
@@ -326,6 +329,12 @@ impl KernelSpec {
 }
 
 #[derive(Serialize)]
+struct E2Term {
+    p: String,
+    q: String,
+}
+
+#[derive(Serialize)]
 struct Seg {
     lo: String,
     hi: String,
@@ -484,7 +493,30 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
             ctx.insert("v_scale", &lit(n / V_MAX));
             ctx.insert("u_max_doc", &U_MAX);
         }
-        (Body::Split(_) | Body::RayMarch(_) | Body::Equiangular(_) | Body::Sun2005(_), None) => {
+        (Body::Phi(r), Some(m)) => {
+            baseline_context(&mut ctx, spec, m);
+            ctx.insert("head_x", &lits(&r.head.x));
+            ctx.insert("head_w", &lits(&r.head.w));
+            ctx.insert("far_x", &lits(&r.far.x));
+            ctx.insert("far_w", &lits(&r.far.w));
+            ctx.insert("tail_x", &lits(&r.tail.x));
+            ctx.insert("tail_w", &lits(&r.tail.w));
+            ctx.insert("cut", &lit(r.cut));
+            ctx.insert("cut_doc", &r.cut);
+            ctx.insert("exp_neg_cut", &lit((-r.cut).exp()));
+            ctx.insert("far_cut", &lit(r.far_cut));
+            ctx.insert("far_tmax", &lit(r.far_tmax));
+            ctx.insert("short", &lit(r.short));
+            ctx.insert("far_from", &lit(r.far_from));
+            ctx.insert("euler", &lit(airlight_fit::family::phi::EULER_GAMMA));
+            ctx.insert("ein", &lits(&r.e2.ein));
+            ctx.insert("e2p", &lits(&r.e2.p));
+            ctx.insert("e2q", &lits(&r.e2.q));
+            let rev: Vec<E2Term> =
+                r.e2.p.iter().zip(&r.e2.q).rev().map(|(&p, &q)| E2Term { p: lit(p), q: lit(q) }).collect();
+            ctx.insert("e2_rev", &rev);
+        }
+        (Body::Split(_) | Body::RayMarch(_) | Body::Equiangular(_) | Body::Sun2005(_) | Body::Phi(_), None) => {
             unreachable!("a fitted or baseline kernel comes from a model")
         }
     }
@@ -500,7 +532,8 @@ pub fn table_path(model: &str) -> String {
     format!("tables/{model}.f32")
 }
 
-/// What the baselines' templates share: the summary and how the phase is taken.
+/// What the quadrature families' templates share (the baselines' and φ's): the
+/// summary and how the phase is taken.
 fn baseline_context(ctx: &mut tera::Context, spec: &KernelSpec, m: &ModelFile) {
     ctx.insert("summary", &format!("{} ({}).", m.model.summary, specialisations(spec)));
     ctx.insert("phase_iso", &(spec.phase == KernelPhase::Isotropic));

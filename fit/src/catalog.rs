@@ -88,6 +88,23 @@ pub enum Recipe {
     },
     /// A baseline: what a user would pick instead (nothing fitted).
     Baseline(Baseline),
+    /// A member of the φ family (whole-A composite rule).
+    Phi(PhiTier),
+}
+
+/// The parameters of one member of the φ family (`family/phi.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhiTier {
+    /// Head nodes (Gauss–Legendre in φ).
+    pub head: usize,
+    /// Far-correction nodes (Gauss–Legendre in `v = 1/u`).
+    pub far: usize,
+    /// Tail nodes (Gauss–Laguerre).
+    pub tail: usize,
+    /// `L`: the head's transmittance cut.
+    pub cut: f64,
+    /// The far correction's transmittance cut.
+    pub far_cut: f64,
 }
 
 /// The baselines airlight measures itself against.
@@ -171,8 +188,16 @@ const fn sun(name: &'static str, res: usize) -> ModelSpec {
     }
 }
 
+const fn phi(name: &'static str, summary: &'static str, g_range: (f64, f64), t: PhiTier) -> ModelSpec {
+    ModelSpec { name, summary, g_range, recipe: Recipe::Phi(t) }
+}
+
+const PHI_4: PhiTier = PhiTier { head: 4, far: 2, tail: 3, cut: 3.5, far_cut: 5.0 };
+const PHI_6: PhiTier = PhiTier { head: 6, far: 4, tail: 3, cut: 4.0, far_cut: 6.0 };
+const PHI_8: PhiTier = PhiTier { head: 8, far: 4, tail: 3, cut: 5.0, far_cut: 8.0 };
+
 /// Every shipped model, in table order: airlight's models, then the baselines.
-pub const CATALOG: [ModelSpec; 32] = [
+pub const CATALOG: [ModelSpec; 38] = [
     split(
         "paper-as-printed",
         "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
@@ -240,6 +265,12 @@ pub const CATALOG: [ModelSpec; 32] = [
         "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1",
         3,
     ),
+    phi("phi-iso-4", "isotropic; whole A: 4 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_4),
+    phi("phi-iso-6", "isotropic; whole A: 6 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_6),
+    phi("phi-iso-8", "isotropic; whole A: 8 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_8),
+    phi("phi-4", "HG, g at run time in [-0.99, 0.99]; whole A: 4 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part", MIRRORED_G, PHI_4),
+    phi("phi-6", "HG, g at run time in [-0.99, 0.99]; whole A: 6 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part", MIRRORED_G, PHI_6),
+    phi("phi-8", "HG, g at run time in [-0.99, 0.99]; whole A: 8 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part", MIRRORED_G, PHI_8),
     ModelSpec {
         name: "no-extinction",
         summary: "baseline; seed 003's exact closed form without extinction (atan2 of the cross product), isotropic, any tau: the cost floor",
@@ -273,17 +304,20 @@ pub enum Family {
     Phase,
     /// The backscatter ratio.
     Backscatter,
+    /// The φ family's fitted `eˣE₂`.
+    Phi,
 }
 
 impl Family {
     /// All families.
-    pub const ALL: [Family; 3] = [Family::Segments, Family::Phase, Family::Backscatter];
+    pub const ALL: [Family; 4] = [Family::Segments, Family::Phase, Family::Backscatter, Family::Phi];
     /// Name on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Family::Segments => "segments",
             Family::Phase => "phase",
             Family::Backscatter => "backscatter",
+            Family::Phi => "phi",
         }
     }
     /// Parses a command-line name.
@@ -311,6 +345,8 @@ pub struct Fits {
     pub expsum: Option<(ExpSumFit, ExpSumFit)>,
     /// RMS and max relative error of the paper's ratio on the same targets.
     pub paper_ratio: Option<(f64, f64)>,
+    /// The φ family's `eˣE₂`.
+    pub e2: Option<crate::family::phi::E2Fit>,
 }
 
 enum Job {
@@ -405,6 +441,9 @@ pub fn fit(only: Option<Family>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fi
         let (rms, max) = rms_max(&ratio::backward_errors(&Ratio::paper(), &ratio_samples));
         fits.paper_ratio = Some((rms, max));
     }
+    if want(Family::Phi) {
+        fits.e2 = Some(crate::family::phi::ExpE2::fit());
+    }
     fits
 }
 
@@ -431,6 +470,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
             (forward, phase, backward, forward_attenuation)
         }
         Recipe::Baseline(b) => return Ok(assemble_baseline(spec, b)),
+        Recipe::Phi(t) => return assemble_phi(spec, t, fits),
     };
     let mut prov: Vec<Provenance> = Vec::new();
     let mut families = Vec::new();
@@ -603,6 +643,47 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
                 forward_attenuation,
             }),
         },
+        families,
+        errors: vec![],
+        provenance: prov,
+    })
+}
+
+/// A member of the φ family (errors not yet measured): the rules are Gauss's, the
+/// splits the tier's, `eˣE₂` fitted.
+fn assemble_phi(spec: &ModelSpec, t: PhiTier, fits: &Fits) -> Result<ModelFile, String> {
+    use crate::family::phi::{PhiRule, EIN_TERMS, E2_DEGREE};
+    let fit = fits.e2.as_ref().ok_or("the phi family's e^x E2 was not fitted")?;
+    let rule = PhiRule::new(t.head, t.far, t.tail, t.cut, t.far_cut, fit.e2.clone());
+    let iso = spec.g_range == (0.0, 0.0);
+    let families = vec![
+        format!("phi-{} ({}-point Gauss-Legendre head, {}-point far correction, {}-point Gauss-Laguerre tail)", t.head, t.head, t.far, t.tail),
+        if iso { "isotropic".into() } else { "HG exact".into() },
+    ];
+    let prov = vec![
+        (
+            "e2.fit".into(),
+            kv(vec![
+                ("source", s("this project: e^x E2(x) = 1 - x e^x E1(x); Ein's Taylor series below x = 1, a rational in t = 1/x beyond")),
+                ("target", s("e^x E2(x), x >= 1, through the reference complex E1 (fit/src/e1.rs, about 1e-15)")),
+                ("form", s(&format!("t P(t)/Q(t), P, Q of degree {E2_DEGREE} with unit constant terms; Ein to x^{EIN_TERMS}"))),
+                ("objective", s("relative error, linearised (Sanathanan-Koerner): each step linear least squares by SVD (nalgebra 0.34), weighted by the previous denominator")),
+                ("points", i(fit.points)),
+                ("points_from", s("Chebyshev points of t = 1/x in (0, 1]")),
+                ("iterations", i(fit.iterations)),
+                ("max_rel", f(fit.max_rel.0)),
+                ("max_rel_at_x", f(fit.max_rel.1)),
+                ("series_max_rel", f(fit.series_max_rel.0)),
+                ("series_max_rel_at_x", f(fit.series_max_rel.1)),
+            ]),
+        ),
+        provenance_table(vec![
+            ("method", s("whole A in the u form: Gauss-Legendre head in the HG variable phi (u past X or on short intervals) to the transmittance cut e^-L, Gauss-Laguerre tail from both ends; for small T X, C/u^2 exactly through e^x E2 and the rest by Gauss-Legendre in v = 1/u (fit/src/family/phi.rs)")),
+            ("fitted", s("e^x E2's rational (see [e2.fit]); node counts and splits are the tier's")),
+        ]),
+    ];
+    Ok(ModelFile {
+        model: Approximation { name: spec.name.into(), summary: spec.summary.into(), g_range: spec.g_range, body: Body::Phi(rule) },
         families,
         errors: vec![],
         provenance: prov,

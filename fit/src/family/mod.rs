@@ -8,6 +8,7 @@
 pub mod baseline;
 pub mod closed;
 pub mod expsum;
+pub mod phi;
 pub mod phase_exp;
 pub mod ratio;
 pub mod segments;
@@ -34,16 +35,19 @@ pub enum Body {
     Equiangular(baseline::Equiangular),
     /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
     Sun2005(sun::SunTable),
+    /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
+    Phi(phi::PhiRule),
 }
 
 impl Body {
     /// Every kind, in the order of the variants.
-    pub const KINDS: [&'static str; 5] = [
+    pub const KINDS: [&'static str; 6] = [
         split::Split::KIND,
         closed::NoExtinction::KIND,
         baseline::RayMarch::KIND,
         baseline::Equiangular::KIND,
         sun::SunTable::KIND,
+        phi::PhiRule::KIND,
     ];
 
     /// The family's name: the `kind` key of coefficient files and the key of its
@@ -55,13 +59,14 @@ impl Body {
             Body::RayMarch(_) => baseline::RayMarch::KIND,
             Body::Equiangular(_) => baseline::Equiangular::KIND,
             Body::Sun2005(_) => sun::SunTable::KIND,
+            Body::Phi(_) => phi::PhiRule::KIND,
         }
     }
 
     /// Whether it is a baseline — what a user would pick instead of a fitted
     /// model — rather than one of airlight's own models.
     pub fn is_baseline(&self) -> bool {
-        !matches!(self, Body::Split(_))
+        !matches!(self, Body::Split(_) | Body::Phi(_))
     }
 
     /// The table it reads (bytes of f32 texels), if it has one.
@@ -85,6 +90,7 @@ impl Body {
             Body::RayMarch(m) => m.eval(p),
             Body::Equiangular(q) => q.eval(p),
             Body::Sun2005(t) => t.eval(p),
+            Body::Phi(r) => r.eval(p),
         }
     }
 
@@ -93,7 +99,7 @@ impl Body {
         match self {
             Body::Split(s) => s.phase_shape(),
             Body::NoExtinction(_) | Body::Sun2005(_) => PhaseShape::Isotropic,
-            Body::RayMarch(_) | Body::Equiangular(_) => baseline::phase_shape(),
+            Body::RayMarch(_) | Body::Equiangular(_) | Body::Phi(_) => baseline::phase_shape(),
         }
     }
 
@@ -106,6 +112,7 @@ impl Body {
             Body::RayMarch(m) => m.ops(shape),
             Body::Equiangular(q) => q.ops(shape),
             Body::Sun2005(t) => t.ops(shape),
+            Body::Phi(r) => r.ops(shape),
         }
     }
 
@@ -118,6 +125,7 @@ impl Body {
             baseline::RayMarch::KIND => Some(baseline::RayMarch::TABLES),
             baseline::Equiangular::KIND => Some(baseline::Equiangular::TABLES),
             sun::SunTable::KIND => Some(sun::SunTable::TABLES),
+            phi::PhiRule::KIND => Some(phi::PhiRule::TABLES),
             _ => None,
         }
     }
@@ -131,6 +139,7 @@ impl Body {
             Body::RayMarch(m) => m.render_toml(out),
             Body::Equiangular(q) => q.render_toml(out),
             Body::Sun2005(t) => t.render_toml(out),
+            Body::Phi(r) => r.render_toml(out, prov),
         }
     }
 
@@ -142,6 +151,7 @@ impl Body {
             baseline::RayMarch::KIND => Body::RayMarch(baseline::RayMarch::parse_toml(r, doc)?),
             baseline::Equiangular::KIND => Body::Equiangular(baseline::Equiangular::parse_toml(r, doc)?),
             sun::SunTable::KIND => Body::Sun2005(sun::SunTable::parse_toml(r, doc, g_range)?),
+            phi::PhiRule::KIND => Body::Phi(phi::PhiRule::parse_toml(r, doc)?),
             other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
         })
     }

@@ -46,6 +46,18 @@ pub mod hg_exp2;
 #[rustfmt::skip]
 pub mod hg_exp3;
 #[rustfmt::skip]
+pub mod phi_iso_4;
+#[rustfmt::skip]
+pub mod phi_iso_6;
+#[rustfmt::skip]
+pub mod phi_iso_8;
+#[rustfmt::skip]
+pub mod phi_4;
+#[rustfmt::skip]
+pub mod phi_6;
+#[rustfmt::skip]
+pub mod phi_8;
+#[rustfmt::skip]
 pub mod no_extinction;
 #[rustfmt::skip]
 pub mod raymarch_8;
@@ -281,6 +293,72 @@ pub const KERNELS: &[Kernel] = &[
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "phi-iso-4",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 6.623071267969755e-4,
+        dense_max_rel: 5.693310587663081e-4,
+        airlight: |tau, gamma, rho, _g| phi_iso_4::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "phi-iso-6",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 5.4283691066172515e-6,
+        dense_max_rel: 7.38223234433147e-6,
+        airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "phi-iso-8",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 6.449329305279864e-6,
+        dense_max_rel: 1.6010448461722652e-6,
+        airlight: |tau, gamma, rho, _g| phi_iso_8::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
+        name: "phi-4",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 2.2437287975784993e-3,
+        dense_max_rel: 2.252252212285347e-3,
+        airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "phi-6",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 3.337011155819172e-5,
+        dense_max_rel: 3.392442578518972e-5,
+        airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+    },
+    Kernel {
+        name: "phi-8",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 9.813399735032934e-6,
+        dense_max_rel: 2.800894409363082e-6,
+        airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
     },
     Kernel {
