@@ -2,7 +2,7 @@
 //! `g` range and a [`Body`]: the family values it evaluates `A` with (see
 //! [`crate::family`], one module per family).
 
-use crate::cost::{Cost, Shape};
+use crate::cost::{Cost, PhaseShape, Shape};
 pub use crate::family::split::{PhaseModel, Split};
 pub use crate::family::Body;
 use crate::model::Model;
@@ -30,9 +30,11 @@ impl Approximation {
         }
     }
 
-    /// Operation counts of its general kernel (every part, surfaces, `g` at run time).
+    /// Operation counts of its general kernel (every part, surfaces, `g` at run
+    /// time; no phase code for an isotropic model).
     pub fn ops(&self) -> Cost {
-        self.body.ops(Shape::general(self.body.phase_shape()))
+        let phase = if self.g_range == (0.0, 0.0) { PhaseShape::Isotropic } else { self.body.phase_shape() };
+        self.body.ops(Shape::general(phase))
     }
 
     /// The planner's and the report's cost: transcendental calls of [`Approximation::ops`].

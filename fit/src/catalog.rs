@@ -192,7 +192,7 @@ const fn phi(name: &'static str, summary: &'static str, g_range: (f64, f64), t: 
     ModelSpec { name, summary, g_range, recipe: Recipe::Phi(t) }
 }
 
-const PHI_4: PhiTier = PhiTier { head: 4, far: 2, tail: 3, cut: 3.5, far_cut: 5.0 };
+const PHI_4: PhiTier = PhiTier { head: 4, far: 2, tail: 2, cut: 3.5, far_cut: 5.0 };
 const PHI_6: PhiTier = PhiTier { head: 6, far: 4, tail: 3, cut: 4.0, far_cut: 6.0 };
 const PHI_8: PhiTier = PhiTier { head: 8, far: 4, tail: 3, cut: 5.0, far_cut: 8.0 };
 

@@ -193,6 +193,14 @@ float airlight_phi_iso_6_arctan2(float y, float x) {
     return 0.0;
 }
 
+// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+vec2 airlight_phi_iso_6_sin_cos_octant(float x) {
+    float z = x * x;
+    float s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    float c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2(s, c);
+}
+
 // (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 vec2 airlight_phi_iso_6_sin_cos(float x) {
     int j = int(x * 1.27323954);
@@ -335,7 +343,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             vec2 uw;
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 9.32469487e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 9.32469487e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }
@@ -343,7 +351,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             sum += 1.71324492e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 6.61209404e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 6.61209404e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }
@@ -351,7 +359,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             sum += 3.60761583e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 2.38619193e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 2.38619193e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }
@@ -359,7 +367,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             sum += 4.67913926e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -2.38619193e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -2.38619193e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }
@@ -367,7 +375,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             sum += 4.67913926e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -6.61209404e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -6.61209404e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }
@@ -375,7 +383,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0, f
             sum += 3.60761583e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -9.32469487e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -9.32469487e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if (beta > co) {
                 sc = sc.yx;
             }

@@ -190,6 +190,14 @@ float airlight_scene_haze_sky_arctan2(float y, float x) {
     return 0.0;
 }
 
+// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+vec2 airlight_scene_haze_sky_sin_cos_octant(float x) {
+    float z = x * x;
+    float s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    float c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2(s, c);
+}
+
 // (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 vec2 airlight_scene_haze_sky_sin_cos(float x) {
     int j = int(x * 1.27323954);

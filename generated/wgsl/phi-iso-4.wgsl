@@ -11,7 +11,7 @@
 // A = (2 e^(-tau) / h) * integral over [ua, ub] of w(u) e^(-T (u - ua)) du, T = tau h:
 // a head of 4 Gauss-Legendre nodes in the HG variable phi (in u itself past every
 // HG feature or on short intervals) up to where the transmittance has fallen by
-// e^(-3.5), then 3 Gauss-Laguerre nodes from both ends; or, when T X is small,
+// e^(-3.5), then 2 Gauss-Laguerre nodes from both ends; or, when T X is small,
 // C / u^2 exactly through a fitted e^x E2(x) and the rest by 2 Gauss-Legendre
 // nodes in v = 1/u beyond X.
 // Isotropic: phi is the scattering angle, u = tan(phi / 2).
@@ -183,6 +183,14 @@ fn airlight_phi_iso_4_arctan2(y: f32, x: f32) -> f32 {
     return 0.0;
 }
 
+/// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+fn airlight_phi_iso_4_sin_cos_octant(x: f32) -> vec2<f32> {
+    let z = x * x;
+    let s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    let c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2<f32>(s, c);
+}
+
 /// (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 fn airlight_phi_iso_4_sin_cos(x: f32) -> vec2<f32> {
     var j = i32(x * 1.27323954);
@@ -321,7 +329,7 @@ fn airlight_phi_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             var uw: vec2<f32>;
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 8.61136317e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 8.61136317e-1);
-            sc = airlight_phi_iso_4_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_4_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -329,7 +337,7 @@ fn airlight_phi_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 3.47854853e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 3.39981049e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 3.39981049e-1);
-            sc = airlight_phi_iso_4_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_4_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -337,7 +345,7 @@ fn airlight_phi_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 6.52145147e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -3.39981049e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -3.39981049e-1);
-            sc = airlight_phi_iso_4_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_4_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -345,7 +353,7 @@ fn airlight_phi_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 6.52145147e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -8.61136317e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -8.61136317e-1);
-            sc = airlight_phi_iso_4_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_4_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -374,14 +382,12 @@ fn airlight_phi_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
         // The tail beyond the cut, Gauss-Laguerre from both ends.
         let ue = ua + lcut;
         var s = 0.0;
-        s += 7.11093009e-1 * airlight_phi_iso_4_w_u(ue + 4.15774554e-1 / t, md);
-        s += 2.78517723e-1 * airlight_phi_iso_4_w_u(ue + 2.29428029e0 / t, md);
-        s += 1.03892563e-2 * airlight_phi_iso_4_w_u(ue + 6.28994513e0 / t, md);
+        s += 8.53553414e-1 * airlight_phi_iso_4_w_u(ue + 5.85786462e-1 / t, md);
+        s += 1.46446615e-1 * airlight_phi_iso_4_w_u(ue + 3.41421366e0 / t, md);
         if !open {
             var sb = 0.0;
-            sb += 7.11093009e-1 * airlight_phi_iso_4_w_u(ub + 4.15774554e-1 / t, md);
-            sb += 2.78517723e-1 * airlight_phi_iso_4_w_u(ub + 2.29428029e0 / t, md);
-            sb += 1.03892563e-2 * airlight_phi_iso_4_w_u(ub + 6.28994513e0 / t, md);
+            sb += 8.53553414e-1 * airlight_phi_iso_4_w_u(ub + 5.85786462e-1 / t, md);
+            sb += 1.46446615e-1 * airlight_phi_iso_4_w_u(ub + 3.41421366e0 / t, md);
             s -= exp(-t * (du - lcut)) * sb;
         }
         sum += 3.01973838e-2 / t * max(s, 0.0);

@@ -183,6 +183,14 @@ fn airlight_phi_iso_6_arctan2(y: f32, x: f32) -> f32 {
     return 0.0;
 }
 
+/// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+fn airlight_phi_iso_6_sin_cos_octant(x: f32) -> vec2<f32> {
+    let z = x * x;
+    let s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    let c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2<f32>(s, c);
+}
+
 /// (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 fn airlight_phi_iso_6_sin_cos(x: f32) -> vec2<f32> {
     var j = i32(x * 1.27323954);
@@ -325,7 +333,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             var uw: vec2<f32>;
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 9.32469487e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 9.32469487e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -333,7 +341,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 1.71324492e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 6.61209404e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 6.61209404e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -341,7 +349,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 3.60761583e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 2.38619193e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 2.38619193e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -349,7 +357,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 4.67913926e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -2.38619193e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -2.38619193e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -357,7 +365,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 4.67913926e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -6.61209404e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -6.61209404e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -365,7 +373,7 @@ fn airlight_phi_iso_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f3
             sum += 3.60761583e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -9.32469487e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -9.32469487e-1);
-            sc = airlight_phi_iso_6_sin_cos(max(min(beta, co), 0.0));
+            sc = airlight_phi_iso_6_sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }

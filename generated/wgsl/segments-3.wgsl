@@ -178,6 +178,14 @@ fn airlight_segments_3_arctan2(y: f32, x: f32) -> f32 {
     return 0.0;
 }
 
+/// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+fn airlight_segments_3_sin_cos_octant(x: f32) -> vec2<f32> {
+    let z = x * x;
+    let s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    let c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2<f32>(s, c);
+}
+
 /// (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 fn airlight_segments_3_sin_cos(x: f32) -> vec2<f32> {
     var j = i32(x * 1.27323954);

@@ -340,28 +340,49 @@ impl PhiRule {
         2.0 * (-p.tau).exp() * sum / h
     }
 
-    /// Operations on the worst path (the far branch with a head in φ, or the
-    /// head plus tail), counted from the f32 kernel.
+    /// Operations on the worst path, counted from the f32 kernel: the geometry,
+    /// then the worse head (in φ or in u) and the worse of the far part and the
+    /// tail. `sin_cos` counts the canonical entry's and the head's octant ones.
     pub fn ops(&self, shape: Shape) -> Cost {
         let (n, nf, nt) = (self.head.x.len(), self.far.x.len(), self.tail.x.len());
-        let iso = shape.phase == PhaseShape::Isotropic;
-        // Geometry: sin_cos(γ), one sqrt (the surface's distance), 3 divisions.
-        let geo = Cost { exp: 1, log: 0, atan: 0, sqrt: usize::from(shape.surfaces), div: 4, sincos: 1 };
-        // Head in φ: endpoints (2 sqrt + atan each; one for the isotropic ψ = u),
-        // per node sin_cos, exp, and for HG two sqrt and three divisions.
-        let head = Cost {
-            exp: n,
-            log: 0,
-            atan: 2,
-            sqrt: if iso { 0 } else { 4 + 2 * n },
-            div: if iso { n + 1 } else { 3 * n + 4 },
-            sincos: n,
+        let hg = usize::from(shape.phase != PhaseShape::Isotropic);
+        let c = |exp: usize, log: usize, atan: usize, sqrt: usize, div: usize, sincos: usize| Cost {
+            exp,
+            log,
+            atan,
+            sqrt,
+            div,
+            sincos,
         };
-        // Far: two e^x E2 (exp + log below 1), per node an exp, two sqrt, two divisions.
-        let far = Cost { exp: 2 + nf + 2, log: 2, atan: 0, sqrt: 2 * nf, div: 2 * nf + 8, sincos: 0 };
-        // Tail: per node a w (sqrt and a division for HG), one exp.
-        let tail = Cost { exp: 1, log: 0, atan: 0, sqrt: if iso { 0 } else { 2 * nt }, div: 2 * nt + 2, sincos: 0 };
-        geo.add(&head.add(&far.max(&tail)))
+        // sin_cos(γ); ua, κ, L/T; the surface: one sqrt, two divisions; e^{−τ}, /h.
+        let s = usize::from(shape.surfaces);
+        let geo = c(1, 0, 0, s, 3 + 2 * s + 1 + hg, 1);
+        // w(u): a division for the isotropic weight, two sqrt and two for HG.
+        let w = c(0, 0, 0, 2 * hg, 1 + hg, 0);
+        // Head in φ: per end (ψ: two sqrt and two divisions for HG) an atan of ψ
+        // or 1/ψ; per node sin_cos, exp, s2/c2 (HG: one sqrt, two more divisions).
+        let end = c(0, 0, 1, 2 * hg, 1 + 2 * hg, 0);
+        let node = c(1, 0, 0, hg, 1 + 2 * hg, 1);
+        let mut head_phi = end.add(&end);
+        for _ in 0..n {
+            head_phi = head_phi.add(&node);
+        }
+        let mut head_u = Cost::default();
+        for _ in 0..n {
+            head_u = head_u.add(&w).add(&c(1, 0, 0, 0, 0, 0));
+        }
+        // Far: two e^x E2 (exp and log below 1), their exp and divisions, the cut;
+        // per node r(v) (HG: two sqrt), 1/v and an exp.
+        let mut far = c(2 + 2, 2, 0, 0, 6, 0);
+        for _ in 0..nf {
+            far = far.add(&c(1, 0, 0, 2 * hg, 2, 0));
+        }
+        // Tail: w at both ends per node, one exp, L/T.
+        let mut tail = c(1, 0, 0, 0, 1, 0);
+        for _ in 0..2 * nt {
+            tail = tail.add(&w);
+        }
+        geo.add(&head_phi.max(&head_u)).add(&far.max(&tail))
     }
 
     /// Writes its tables.

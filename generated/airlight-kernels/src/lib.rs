@@ -332,8 +332,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-4",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 2.2437287975784993e-3,
-        dense_max_rel: 2.252252212285347e-3,
+        thin_max_rel: 2.2437287989487383e-3,
+        dense_max_rel: 2.251841604925979e-3,
         airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -344,7 +344,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.337011155819172e-5,
-        dense_max_rel: 3.392442578518972e-5,
+        dense_max_rel: 3.392442578504508e-5,
         airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -355,7 +355,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.813399735032934e-6,
-        dense_max_rel: 2.800894409363082e-6,
+        dense_max_rel: 2.8008944091557076e-6,
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -552,8 +552,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.9418108715113507e-2,
-        dense_max_rel: 2.1207152633140497e-1,
+        thin_max_rel: 6.623071267969755e-4,
+        dense_max_rel: 5.693310587663081e-4,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -563,8 +563,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-harbour-fog",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 3.5885333914572e-3,
-        dense_max_rel: 3.647654045780973e-2,
+        thin_max_rel: 6.623071267969755e-4,
+        dense_max_rel: 5.693310587663081e-4,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -585,8 +585,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.9640270794631727e-3,
-        dense_max_rel: 1.9815525489108008e-2,
+        thin_max_rel: 6.623071267969755e-4,
+        dense_max_rel: 5.693310587663081e-4,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

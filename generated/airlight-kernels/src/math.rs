@@ -296,6 +296,16 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     }
 }
 
+/// `(sin x, cos x)` for `0 ≤ x ≤ π/4`: [`sin_cos`]'s polynomials without its
+/// reduction or quadrant branch, for callers that fold their angle into the first
+/// octant themselves.
+pub fn sin_cos_octant(x: f32) -> (f32, f32) {
+    let z = x * x;
+    let s = ((-1.951_529_6e-4 * z + 8.332_160_9e-3) * z - 1.666_665_5e-1) * z * x + x;
+    let c = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    (s, c)
+}
+
 /// `(sin x, cos x)` for `0 ≤ x ≤ 2^20`, reduced by π/4 in three parts.
 pub fn sin_cos(x: f32) -> (f32, f32) {
     let mut j = (x * core::f32::consts::FRAC_2_PI * 2.0) as i32; // ⌊x/(π/4)⌋
@@ -525,6 +535,8 @@ mod tests {
             ("atan", ulps(atan, f64::atan, -50.0, 50.0)),
             ("sin", ulps(|x| sin_cos(x).0, f64::sin, 0.0, 3.2)),
             ("cos", ulps(|x| sin_cos(x).1, f64::cos, 0.0, 1.5)),
+            ("sin, octant", ulps(|x| sin_cos_octant(x).0, f64::sin, 0.0, core::f64::consts::FRAC_PI_4)),
+            ("cos, octant", ulps(|x| sin_cos_octant(x).1, f64::cos, 0.0, core::f64::consts::FRAC_PI_4)),
             ("sin, wide", ulps(|x| sin_cos(x).0, f64::sin, 3.2, 100.0)),
             ("cos, wide", ulps(|x| sin_cos(x).1, f64::cos, 1.5, 100.0)),
         ];

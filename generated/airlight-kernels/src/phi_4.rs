@@ -10,7 +10,7 @@
 //! `A = (2 e^{−τ}/h) ∫_{ua}^{ub} w(u) e^{−T(u − ua)} du`, `T = τ h`:
 //! a head of 4 Gauss–Legendre nodes in the HG variable φ (in `u` itself
 //! past every HG feature or on short intervals) up to where the transmittance has
-//! fallen by `e^{−3.5}`, then 3 Gauss–Laguerre nodes from both ends; or, when
+//! fallen by `e^{−3.5}`, then 2 Gauss–Laguerre nodes from both ends; or, when
 //! `T X` is small, `C/u²` exactly through a fitted `eˣE₂(x)` and the rest by
 //! 2 Gauss–Legendre nodes in `v = 1/u` beyond `X`.
 //! Henyey–Greenstein, `g` at run time.
@@ -28,7 +28,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sqrt, HUGE, RHO_OPEN, TAU_MAX};
+use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sin_cos_octant, sqrt, HUGE, RHO_OPEN, TAU_MAX};
 use core::f32::consts::PI;
 
 /// Head: Gauss–Legendre nodes on `[−1, 1]` and weights.
@@ -38,8 +38,8 @@ const HW: [f32; 4] = [3.47854853e-1, 6.52145147e-1, 6.52145147e-1, 3.47854853e-1
 const FX: [f32; 2] = [5.77350259e-1, -5.77350259e-1];
 const FW: [f32; 2] = [1.00000000e0, 1.00000000e0];
 /// Tail: Gauss–Laguerre nodes and weights.
-const LX: [f32; 3] = [4.15774554e-1, 2.29428029e0, 6.28994513e0];
-const LW: [f32; 3] = [7.11093009e-1, 2.78517723e-1, 1.03892563e-2];
+const LX: [f32; 2] = [5.85786462e-1, 3.41421366e0];
+const LW: [f32; 2] = [8.53553414e-1, 1.46446615e-1];
 /// `L`, `e^{−L}`, the far correction's cut, the far region's `T X` limit, the
 /// short-interval ratio, `X / max(1, κ)`.
 const CUT: f32 = 3.50000000e0;
@@ -187,7 +187,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
             for i in 0..HX.len() {
                 let beta = 0.5 * pa + 0.5 * hl * (1.0 + HX[i]);
                 let co = 0.5 * ca - 0.5 * hl * (1.0 + HX[i]);
-                let (sn, cs) = sin_cos(beta.min(co).max(0.0));
+                let (sn, cs) = sin_cos_octant(beta.min(co).max(0.0));
                 let (s2, c2) = if beta <= co { (sn, cs) } else { (cs, sn) };
                 let (u, wp) = u_and_weight(s2, c2, md);
                 sum += HW[i] * wp * exp(-t * (u - ua));

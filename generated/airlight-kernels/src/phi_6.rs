@@ -28,7 +28,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sqrt, HUGE, RHO_OPEN, TAU_MAX};
+use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sin_cos_octant, sqrt, HUGE, RHO_OPEN, TAU_MAX};
 use core::f32::consts::PI;
 
 /// Head: Gauss–Legendre nodes on `[−1, 1]` and weights.
@@ -187,7 +187,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
             for i in 0..HX.len() {
                 let beta = 0.5 * pa + 0.5 * hl * (1.0 + HX[i]);
                 let co = 0.5 * ca - 0.5 * hl * (1.0 + HX[i]);
-                let (sn, cs) = sin_cos(beta.min(co).max(0.0));
+                let (sn, cs) = sin_cos_octant(beta.min(co).max(0.0));
                 let (s2, c2) = if beta <= co { (sn, cs) } else { (cs, sn) };
                 let (u, wp) = u_and_weight(s2, c2, md);
                 sum += HW[i] * wp * exp(-t * (u - ua));

@@ -185,6 +185,14 @@ fn arctan2(y: f32, x: f32) -> f32 {
     return 0.0;
 }
 
+/// (sin x, cos x) for 0 <= x <= pi/4: sin_cos's polynomials without its reduction.
+fn sin_cos_octant(x: f32) -> vec2<f32> {
+    let z = x * x;
+    let s = ((-1.95152959e-4 * z + 8.33216087e-3) * z - 1.66666546e-1) * z * x + x;
+    let c = ((2.44331571e-5 * z - 1.38873163e-3) * z + 4.16666457e-2) * z * z - 0.5 * z + 1.0;
+    return vec2<f32>(s, c);
+}
+
 /// (sin x, cos x) for 0 <= x <= 2^20, reduced by pi/4 in three parts.
 fn sin_cos(x: f32) -> vec2<f32> {
     var j = i32(x * 1.27323954);
@@ -351,7 +359,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             var uw: vec2<f32>;
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 9.60289836e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 9.60289836e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -359,7 +367,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 1.01228535e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 7.96666503e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 7.96666503e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -367,7 +375,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 2.22381040e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 5.25532424e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 5.25532424e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -375,7 +383,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 3.13706636e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + 1.83434635e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + 1.83434635e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -383,7 +391,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 3.62683773e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -1.83434635e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -1.83434635e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -391,7 +399,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 3.62683773e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -5.25532424e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -5.25532424e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -399,7 +407,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 3.13706636e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -7.96666503e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -7.96666503e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
@@ -407,7 +415,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
             sum += 2.22381040e-1 * uw.y * exp(-t * (uw.x - ua));
             beta = 0.5 * ea.x + 0.5 * hl * (1.0 + -9.60289836e-1);
             co = 0.5 * ea.y - 0.5 * hl * (1.0 + -9.60289836e-1);
-            sc = sin_cos(max(min(beta, co), 0.0));
+            sc = sin_cos_octant(max(min(beta, co), 0.0));
             if beta > co {
                 sc = sc.yx;
             }
