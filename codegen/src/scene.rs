@@ -405,7 +405,7 @@ mod tests {
     fn example_scenes_get_the_cheapest_model_meeting_their_budget() {
         let models = models();
         for (file, want) in
-            [("fog-street.toml", "segments-2"), ("smoke-room.toml", "segments-8"), ("harbour-fog.toml", "segments-6")]
+            [("fog-street.toml", "phi-iso-4"), ("smoke-room.toml", "phi-iso-4"), ("harbour-fog.toml", "phi-iso-4")]
         {
             let s = scene(file);
             let p = plan(&s, &models).unwrap();
@@ -427,18 +427,19 @@ mod tests {
     fn impossible_scenes_say_why_and_name_the_best_bound() {
         let models = models();
         let mut s = scene("smoke-room.toml");
-        s.max_rel_error = 1e-4;
+        s.max_rel_error = 1e-6;
         let e = plan(&s, &models).unwrap_err();
         let msg = e.to_string();
         assert!(
-            msg.starts_with("no model meets max_rel_error = 0.0001; the best achievable for this scene is"),
+            msg.starts_with("no model meets max_rel_error = 0.000001; the best achievable for this scene is"),
             "{msg}"
         );
-        assert!(msg.contains("segments-16"), "{msg}");
+        assert!(msg.contains("phi-iso-8"), "{msg}");
         s.max_distance = 100.0;
         assert_eq!(plan(&s, &models).unwrap_err(), PlanError::OutsideDomains { tau_max: 50.0 });
         let mut hg = scene("fog-street.toml");
         hg.phase = ScenePhase::Fixed(0.9);
+        hg.max_rel_error = 1e-6;
         assert!(matches!(plan(&hg, &models).unwrap_err(), PlanError::Budget { best: Some(_), .. }));
     }
 

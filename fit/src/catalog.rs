@@ -652,12 +652,15 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
 /// A member of the φ family (errors not yet measured): the rules are Gauss's, the
 /// splits the tier's, `eˣE₂` fitted.
 fn assemble_phi(spec: &ModelSpec, t: PhiTier, fits: &Fits) -> Result<ModelFile, String> {
-    use crate::family::phi::{PhiRule, EIN_TERMS, E2_DEGREE};
+    use crate::family::phi::{PhiRule, E2_DEGREE, EIN_TERMS};
     let fit = fits.e2.as_ref().ok_or("the phi family's e^x E2 was not fitted")?;
     let rule = PhiRule::new(t.head, t.far, t.tail, t.cut, t.far_cut, fit.e2.clone());
     let iso = spec.g_range == (0.0, 0.0);
     let families = vec![
-        format!("phi-{} ({}-point Gauss-Legendre head, {}-point far correction, {}-point Gauss-Laguerre tail)", t.head, t.head, t.far, t.tail),
+        format!(
+            "phi-{} ({}-point Gauss-Legendre head, {}-point far correction, {}-point Gauss-Laguerre tail)",
+            t.head, t.head, t.far, t.tail
+        ),
         if iso { "isotropic".into() } else { "HG exact".into() },
     ];
     let prov = vec![
@@ -683,7 +686,12 @@ fn assemble_phi(spec: &ModelSpec, t: PhiTier, fits: &Fits) -> Result<ModelFile, 
         ]),
     ];
     Ok(ModelFile {
-        model: Approximation { name: spec.name.into(), summary: spec.summary.into(), g_range: spec.g_range, body: Body::Phi(rule) },
+        model: Approximation {
+            name: spec.name.into(),
+            summary: spec.summary.into(),
+            g_range: spec.g_range,
+            body: Body::Phi(rule),
+        },
         families,
         errors: vec![],
         provenance: prov,

@@ -19,11 +19,12 @@ fn scene_text(phase: &str, extinction: bool, surfaces: bool, budget: f64) -> Str
 }
 
 /// The scene's kernels as rendered in memory: (path, text).
-/// The scene's kernel planned among airlight's own models: these tests are about
-/// how the split family specialises (baselines, which the planner may pick where
-/// they are cheaper, are planned and rendered in `scene_variants`).
+/// The scene's kernel planned among the split family's models: these tests are
+/// about how that family specialises (the baselines and the φ family, which the
+/// planner picks where they are cheaper, are planned and rendered in
+/// `scene_variants`).
 fn render(text: &str) -> (KernelSpec, Vec<(String, String)>) {
-    let models: Vec<_> = committed_models().into_iter().filter(|m| !m.model.body.is_baseline()).collect();
+    let models: Vec<_> = committed_models().into_iter().filter(|m| m.model.split().is_some()).collect();
     let s = scene::parse("test.toml", text).unwrap();
     let plan = scene::plan(&s, &models).unwrap();
     let spec = KernelSpec::for_scene(&s, &plan, &models, "test.toml");
@@ -78,7 +79,7 @@ fn isotropic_without_surfaces_has_no_phase_or_surface_code() {
         }
     }
     // The general kernel of the same model has both.
-    let general = std::fs::read_to_string(generated_dir().join("wgsl/segments-6.wgsl")).unwrap();
+    let general = std::fs::read_to_string(generated_dir().join("wgsl/phi-iso-4.wgsl")).unwrap();
     assert!(general.contains("rho") && general.contains("surface"));
     let hg = std::fs::read_to_string(generated_dir().join("wgsl/hg-exp2.wgsl")).unwrap();
     assert!(hg.contains("fn airlight_hg_exp2_phase(g: f32)"));
@@ -121,7 +122,7 @@ fn hg_without_extinction_drops_tau() {
 #[test]
 fn scene_kernels_compute_their_model_or_the_exact_closed_form() {
     let models = committed_models();
-    let seg6 = models.iter().find(|m| m.model.name == "segments-6").unwrap();
+    let planned = models.iter().find(|m| m.model.name == "phi-iso-4").unwrap();
     let harbour = airlight_kernels::kernel("scene-harbour-fog").unwrap();
     assert_eq!(harbour.params, ["tau", "gamma"]);
     let haze = airlight_kernels::kernel("scene-haze-sky").unwrap();
@@ -132,14 +133,14 @@ fn scene_kernels_compute_their_model_or_the_exact_closed_form() {
         let gamma = 0.01 + (PI - 0.02) * (i as f64 + 0.5) / 400.0;
         let tau = 12.0 * ((i * 37) % 400) as f64 / 400.0;
         let q = Point { tau: tau as f32 as f64, gamma: gamma as f32 as f64, rho: f64::INFINITY, g: 0.0 };
-        let want = seg6.model.eval_unchecked(q);
+        let want = planned.model.eval_unchecked(q);
         let got = (harbour.airlight)(tau as f32, gamma as f32, -1.0, 0.0) as f64;
         worst_model = worst_model.max((got - want).abs() / want);
         let exact = airlight(Point { tau: 0.0, ..q }).unwrap();
         let got = (haze.airlight)(0.0, gamma as f32, -1.0, 0.0) as f64;
         worst_exact = worst_exact.max((got - exact).abs() / exact);
     }
-    assert!(worst_model < 1e-4, "harbour-fog vs segments-6: {worst_model:.2e}");
+    assert!(worst_model < 1e-4, "harbour-fog vs phi-iso-4: {worst_model:.2e}");
     assert!(worst_exact < 1e-5, "haze-sky vs the reference: {worst_exact:.2e}");
     // Physical entry: σs·I/D·A with A from the canonical form of the same geometry.
     let (origin, dir, light) = ([1.0f32, 2.0, 3.0], [0.0f32, 0.6, 0.8], [4.0f32, 10.0, 3.0]);
@@ -148,7 +149,7 @@ fn scene_kernels_compute_their_model_or_the_exact_closed_form() {
     let gamma = ((0.6 * l[1] + 0.8 * l[2]) / d).acos();
     let (sigma_t, sigma_s, intensity) = (0.02f64, 0.015f64, 50.0f64);
     let want = sigma_s * intensity / d
-        * seg6.model.eval_unchecked(Point { tau: sigma_t * d, gamma, rho: f64::INFINITY, g: 0.0 });
+        * planned.model.eval_unchecked(Point { tau: sigma_t * d, gamma, rho: f64::INFINITY, g: 0.0 });
     let got = airlight_kernels::scene_harbour_fog::radiance(
         origin,
         dir,

@@ -8,8 +8,8 @@
 pub mod baseline;
 pub mod closed;
 pub mod expsum;
-pub mod phi;
 pub mod phase_exp;
+pub mod phi;
 pub mod ratio;
 pub mod segments;
 pub mod split;

@@ -272,7 +272,11 @@ impl PhiRule {
         let (h, ua, du, ub) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
             // On the axis: the limits (MATH.md §5).
-            return if p.gamma < 1.0 && p.rho > 1.0 { f64::INFINITY } else { self.eval(Point { gamma: p.gamma.clamp(1e-12, PI - 1e-12), ..p }) };
+            return if p.gamma < 1.0 && p.rho > 1.0 {
+                f64::INFINITY
+            } else {
+                self.eval(Point { gamma: p.gamma.clamp(1e-12, PI - 1e-12), ..p })
+            };
         }
         let t = p.tau * h;
         let (a, b) = (1.0 - g, 1.0 + g);
@@ -330,7 +334,8 @@ impl PhiRule {
         } else if du > lcut {
             // The tail beyond the cut, Gauss–Laguerre from both ends.
             let ue = ua + lcut;
-            let lag = |u0: f64| -> f64 { self.tail.x.iter().zip(&self.tail.w).map(|(y, wt)| wt * w_u(u0 + y / t, g)).sum() };
+            let lag =
+                |u0: f64| -> f64 { self.tail.x.iter().zip(&self.tail.w).map(|(y, wt)| wt * w_u(u0 + y / t, g)).sum() };
             let mut s = lag(ue);
             if ub.is_finite() {
                 s -= (-t * (du - lcut)).exp() * lag(ub);

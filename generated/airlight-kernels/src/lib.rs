@@ -92,11 +92,15 @@ pub mod sun2005_256;
 #[rustfmt::skip]
 pub mod sun2005_512;
 #[rustfmt::skip]
+pub mod scene_backscatter_aerosol;
+#[rustfmt::skip]
 pub mod scene_fog_street;
 #[rustfmt::skip]
 pub mod scene_harbour_fog;
 #[rustfmt::skip]
 pub mod scene_haze_sky;
+#[rustfmt::skip]
+pub mod scene_hg_fog;
 #[rustfmt::skip]
 pub mod scene_smoke_room;
 
@@ -549,6 +553,17 @@ pub const KERNELS: &[Kernel] = &[
         },
     },
     Kernel {
+        name: "scene-backscatter-aerosol",
+        scene: true,
+        params: &["tau", "gamma"],
+        thin_max_rel: 3.337011155819172e-5,
+        dense_max_rel: 3.392442578504508e-5,
+        airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
+        radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
+        },
+    },
+    Kernel {
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
@@ -579,6 +594,17 @@ pub const KERNELS: &[Kernel] = &[
         airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
         radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
             scene_haze_sky::radiance(origin, dir, light, intensity, sigma_s)
+        },
+    },
+    Kernel {
+        name: "scene-hg-fog",
+        scene: true,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.2437287989487383e-3,
+        dense_max_rel: 2.251841604925979e-3,
+        airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
     },
     Kernel {

@@ -27,7 +27,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sin_cos_octant, sqrt, HUGE, TAU_MAX};
+use crate::math::{atan, exp, ln, ray_geometry, scaled, sin_cos, sin_cos_octant, HUGE, TAU_MAX};
 use core::f32::consts::PI;
 
 /// Head: Gauss–Legendre nodes on `[−1, 1]` and weights.
