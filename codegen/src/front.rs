@@ -51,9 +51,7 @@ pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
         })
         .collect();
     let dominated = |i: usize, f: &dyn Fn(&Method) -> f64, ms: &[Method]| {
-        ms.iter()
-            .enumerate()
-            .any(|(j, o)| j != i && o.ns <= ms[i].ns && f(o) <= f(&ms[i]) && (o.ns < ms[i].ns || f(o) < f(&ms[i])))
+        ms.iter().enumerate().any(|(j, o)| j != i && dominates(o, &ms[i], f))
     };
     let flags: Vec<(bool, bool)> =
         (0..out.len()).map(|i| (dominated(i, &|m| m.max, &out), dominated(i, &|m| m.median, &out))).collect();
@@ -67,7 +65,13 @@ pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
 /// Whether `o` is at least as fast and as accurate as `m` on the measure `f`, and
 /// strictly better in one (a method never dominates itself).
 fn dominates(o: &Method, m: &Method, f: &dyn Fn(&Method) -> f64) -> bool {
-    o.ns <= m.ns && f(o) <= f(m) && (o.ns < m.ns || f(o) < f(m))
+    beats((o.ns, f(o)), (m.ns, f(m)))
+}
+
+/// Whether `(cost, error)` pair `o` is at most `m` in both and below it in one:
+/// the one dominance test of the front and of the report's recommendations.
+pub fn beats(o: (f64, f64), m: (f64, f64)) -> bool {
+    o.0 <= m.0 && o.1 <= m.1 && (o.0 < m.0 || o.1 < m.1)
 }
 
 /// Airlight's own front on a measure: its models no other airlight model beats

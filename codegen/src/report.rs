@@ -164,9 +164,7 @@ fn advice(models: &[ModelFile], bench: Option<&Bench>) -> Vec<String> {
     let dominator = |m: &ModelFile, iso: bool| -> Option<&ModelFile> {
         own.iter()
             .filter(|o| o.model.name != m.model.name && serves(o, iso))
-            .find(|o| {
-                speed(o) <= speed(m) && worst_of(o) <= worst_of(m) && (speed(o) < speed(m) || worst_of(o) < worst_of(m))
-            })
+            .find(|o| crate::front::beats((speed(o), worst_of(o)), (speed(m), worst_of(m))))
             .copied()
     };
     for (label, iso) in [("isotropic media", true), ("Henyey–Greenstein media (g at run time, −0.99 … 0.99)", false)]
@@ -206,9 +204,7 @@ fn advice(models: &[ModelFile], bench: Option<&Bench>) -> Vec<String> {
                     o.model.name != m.model.name
                         && o.model.g_range.0 <= m.model.g_range.0
                         && o.model.g_range.1 >= m.model.g_range.1
-                        && speed(o) <= speed(m)
-                        && worst_of(o) <= worst_of(m)
-                        && (speed(o) < speed(m) || worst_of(o) < worst_of(m))
+                        && crate::front::beats((speed(o), worst_of(o)), (speed(m), worst_of(m)))
                 })
                 .min_by(|a, b| speed(a).total_cmp(&speed(b)))
                 .map(|d| format!("`{}` (by `{}`)", m.model.name, d.model.name))
@@ -511,7 +507,7 @@ fn phi_context(ctx: &mut tera::Context, models: &[ModelFile], bench: Option<&Ben
         f32_by_g: String,
     }
     let closed = bench.and_then(|b| b.models.iter().find(|m| m.name == "no-extinction")).map(|m| m.cpu_ns_per_eval);
-    let mut rows = Vec::new();
+    let (mut rows, mut ratios) = (Vec::new(), Vec::new());
     for m in models {
         let Body::Phi(r) = &m.model.body else { continue };
         let iso = m.model.g_range == (0.0, 0.0);
@@ -530,6 +526,7 @@ fn phi_context(ctx: &mut tera::Context, models: &[ModelFile], bench: Option<&Ben
             .map_or("—".into(), |(_, d, p)| format!("{d} at {}", fmt_point(&p)));
         let limit = if iso { 3.0 } else { 5.0 };
         let ratio = bm.zip(closed).map(|(b, c)| b.cpu_ns_per_eval / c);
+        ratios.extend(ratio);
         rows.push(PhiRow {
             name: m.model.name.clone(),
             medium: if iso { "isotropic" } else { "HG, g at run time" },
@@ -555,7 +552,6 @@ fn phi_context(ctx: &mut tera::Context, models: &[ModelFile], bench: Option<&Ben
             }),
         });
     }
-    let ratios: Vec<f64> = rows.iter().filter_map(|r| r.ratio.trim_end_matches('×').parse().ok()).collect();
     if !ratios.is_empty() {
         let (lo, hi) = ratios.iter().fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
         ctx.insert("phi_ratio_range", &format!("{lo:.1}–{hi:.1}×"));

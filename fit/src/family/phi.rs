@@ -499,11 +499,6 @@ pub fn phi_and_complement(u: f64, g: f64) -> (f64, f64) {
     }
 }
 
-/// `φ(u)`.
-pub fn phi_of_u(u: f64, g: f64) -> f64 {
-    phi_and_complement(u, g).0
-}
-
 /// `u(φ)` and the head's weight `(1 + g c)² / √((2 + g c)² − g²)` (`c = cos φ`)
 /// from `s2 = sin(φ/2)`, `c2 = cos(φ/2)`, every factor in a form that does not
 /// cancel: `2 ± g + g c = 2(1 + g c2²), 2(a + g c2²)` for `g ≥ 0`, `2(b − g s2²),
@@ -538,7 +533,7 @@ mod tests {
     fn the_variable_and_its_inverse_agree() {
         for g in [-0.95, -0.3, 0.0, 0.5, 0.95] {
             for u in [0.001, 0.03, 0.5, 1.0, 4.0, 100.0] {
-                let (s2, c2) = (0.5 * phi_of_u(u, g)).sin_cos();
+                let (s2, c2) = (0.5 * phi_and_complement(u, g).0).sin_cos();
                 let (back, _) = u_and_weight(s2, c2, g);
                 assert!((back / u - 1.0).abs() < 1e-12, "g {g} u {u}: {back}");
             }
