@@ -14,6 +14,7 @@ pub mod output;
 pub mod plots;
 pub mod report;
 pub mod scene;
+pub mod translate;
 
 pub use output::{check, write_all, Difference, Output};
 

@@ -386,6 +386,11 @@ fn row(
     }
 }
 
+/// The largest declared bound of `k` over its domains (0 for the closed form).
+pub fn declared_max(k: &IndexEntry, models: &[ModelFile]) -> Result<f64, GateError> {
+    k.domains.iter().try_fold(0.0f64, |m, &d| Ok(m.max(declared(k, models, d)?)))
+}
+
 /// The declared bound of `k` on `domain`: its model's, 0 for the closed form.
 fn declared(k: &IndexEntry, models: &[ModelFile], domain: Domain) -> Result<f64, GateError> {
     let Some(m) = model_file(k, models)? else { return Ok(0.0) };

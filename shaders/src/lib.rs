@@ -12,6 +12,7 @@
 
 #![warn(missing_docs)]
 
+pub mod browser;
 pub mod gate;
 pub mod ircost;
 pub mod render;

@@ -1,8 +1,12 @@
 //! Every generated shader validates: WGSL through naga's front end and
-//! Validator (the Bevy variant composed through naga_oil), GLSL through
-//! `glslangValidator` as GLSL ES 3.00 (fragment) and GLSL 4.50 (compute). Each
-//! is wrapped with an entry point that calls both of its entry points, with the
-//! arguments its header documents.
+//! Validator; the Bevy 0.19 variant composed by naga_oil 0.22 and validated by
+//! naga 29 (what Bevy 0.19 runs); the WESL module for Bevy main compiled by the
+//! `wesl` crate the way `bevy_shader` does (package import, escape mangler) and
+//! validated by naga 30; GLSL through `glslangValidator` as GLSL ES 3.00
+//! (fragment) and GLSL 4.50 (compute); the HLSL through glslangValidator's HLSL
+//! front end (`-D`, fragment); the MSL for its entry points (no Metal compiler
+//! exists here). Each is wrapped with an entry point that calls both of its entry
+//! points, with the arguments its header documents.
 
 use airlight_tests::generated_dir;
 use std::path::{Path, PathBuf};
@@ -42,6 +46,39 @@ fn params(text: &str, name: &str) -> Vec<String> {
         .collect()
 }
 
+/// The WGSL kernel a translation was made from.
+fn wgsl_of(path: &Path) -> String {
+    let name = path.with_extension("wgsl");
+    std::fs::read_to_string(generated_dir().join("wgsl").join(name.file_name().unwrap())).unwrap()
+}
+
+/// The parameters of `NAME(...)` in `text`, split at top-level commas (MSL types
+/// such as `texture2d<float, access::sample>` hold commas).
+fn top_level_params(text: &str, name: &str) -> Vec<String> {
+    let at = text.find(&format!(" {name}(")).unwrap_or_else(|| panic!("no function {name}"));
+    let rest = &text[at + name.len() + 2..];
+    let (mut depth, mut cur, mut out) = (0i32, String::new(), Vec::new());
+    for c in rest.chars() {
+        match c {
+            '<' | '(' => depth += 1,
+            '>' => depth -= 1,
+            ')' if depth == 0 => break,
+            ')' => depth -= 1,
+            ',' if depth == 0 => {
+                out.push(cur.trim().to_string());
+                cur.clear();
+                continue;
+            }
+            _ => {}
+        }
+        cur.push(c);
+    }
+    if !cur.trim().is_empty() {
+        out.push(cur.trim().to_string());
+    }
+    out
+}
+
 /// Arguments for a call, by parameter name; `vec3` is the vector constructor.
 fn args(names: &[String], vec3: &str) -> String {
     names
@@ -66,6 +103,12 @@ fn args(names: &[String], vec3: &str) -> String {
 
 fn validate(module: &naga::Module, what: &str) {
     naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        .validate(module)
+        .unwrap_or_else(|e| panic!("{what}: {e:?}"));
+}
+
+fn validate29(module: &naga29::Module, what: &str) {
+    naga29::valid::Validator::new(naga29::valid::ValidationFlags::all(), naga29::valid::Capabilities::empty())
         .validate(module)
         .unwrap_or_else(|e| panic!("{what}: {e:?}"));
 }
@@ -117,7 +160,102 @@ fn every_bevy_variant_composes_through_naga_oil() {
         let module = composer
             .make_naga_module(NagaModuleDescriptor { source: &user, file_path: "user.wgsl", ..Default::default() })
             .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
+        validate29(&module, &path.display().to_string());
+    }
+}
+
+#[test]
+fn every_wesl_module_compiles_with_wesl_as_bevy_main_does() {
+    use wesl::syntax::{ModulePath, PathOrigin};
+    let dir = generated_dir().join("wesl/airlight");
+    let modules = files(&dir, "wesl");
+    assert_eq!(modules.len(), files(&generated_dir().join("wgsl"), "wgsl").len(), "one WESL module per WGSL kernel");
+    for path in &modules {
+        let text = std::fs::read_to_string(path).unwrap();
+        assert!(!text.contains("#define_import_path") && !text.contains("#import"), "{}", path.display());
+        let ident = path.file_stem().unwrap().to_string_lossy().to_string();
+        // Bevy main: a library loaded as `embedded://airlight/<ident>.wesl` is the
+        // package `airlight`, module `<ident>`; a user shader imports its functions.
+        let lib = ModulePath { origin: PathOrigin::Package("airlight".into()), components: vec![ident.clone()] };
+        let root = ModulePath { origin: PathOrigin::Absolute, components: vec!["user".into()] };
+        let user = format!("import airlight::{ident}::{{airlight, radiance}};\n{}", wgsl_entry(&text, "", ""));
+        let mut resolver = wesl::VirtualResolver::new();
+        resolver.add_module(lib, text.clone().into());
+        resolver.add_module(root.clone(), user.into());
+        let options = wesl::CompileOptions { imports: true, condcomp: true, ..Default::default() };
+        let compiled = wesl::compile_sourcemap(&root, &resolver, &wesl::EscapeMangler, &options)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let wgsl = compiled.to_string();
+        let module = naga::front::wgsl::parse_str(&wgsl)
+            .unwrap_or_else(|e| panic!("{} (as wesl compiled it): {}", path.display(), e.emit_to_string(&wgsl)));
         validate(&module, &path.display().to_string());
+    }
+}
+
+#[test]
+fn every_hlsl_kernel_compiles_in_glslang_hlsl_front_end() {
+    let tool = glslang();
+    let hlsl = files(&generated_dir().join("hlsl"), "hlsl");
+    assert_eq!(hlsl.len(), files(&generated_dir().join("wgsl"), "wgsl").len(), "one HLSL include per WGSL kernel");
+    let dir = std::env::temp_dir().join(format!("airlight-hlsl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for path in &hlsl {
+        let text = std::fs::read_to_string(path).unwrap();
+        let p = prefix(path);
+        // naga's namer renames parameters (`origin_1`); the order is the WGSL's.
+        let wgsl = wgsl_of(path);
+        let a = args(&params(&wgsl, &format!("{p}airlight")), "float3");
+        let r = args(&params(&wgsl, &format!("{p}radiance")), "float3");
+        for f in ["airlight", "radiance"] {
+            assert_eq!(
+                top_level_params(&text, &format!("{p}{f}")).len(),
+                params(&wgsl, &format!("{p}{f}")).len(),
+                "{}: {p}{f}",
+                path.display()
+            );
+        }
+        let stem = path.file_stem().unwrap().to_string_lossy().to_string();
+        let src = format!(
+            "{text}\nfloat4 airlight_test_main() : SV_Target {{\n    return float4({p}airlight({a}), {p}radiance({r}), 0.0, 1.0);\n}}\n"
+        );
+        let file = dir.join(format!("{stem}.frag.hlsl"));
+        std::fs::write(&file, src).unwrap();
+        let out = Command::new(tool)
+            .args(["-D", "-S", "frag", "-e", "airlight_test_main", "-V"])
+            .arg(&file)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{} as HLSL:\n{}{}",
+            path.display(),
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn every_msl_kernel_keeps_both_entry_points() {
+    let msl = files(&generated_dir().join("msl"), "metal");
+    assert_eq!(msl.len(), files(&generated_dir().join("wgsl"), "wgsl").len(), "one MSL include per WGSL kernel");
+    for path in &msl {
+        let text = std::fs::read_to_string(path).unwrap();
+        assert!(text.contains("#include <metal_stdlib>"), "{}", path.display());
+        let p = prefix(path);
+        let wgsl = wgsl_of(path);
+        let table = wgsl.contains("texture_2d");
+        for f in ["airlight", "radiance"] {
+            let got = top_level_params(&text, &format!("{p}{f}"));
+            let want = params(&wgsl, &format!("{p}{f}")).len();
+            // naga's MSL passes a module's resources as arguments: a table kernel
+            // takes its texture last.
+            assert_eq!(got.len(), want + usize::from(table), "{}: {p}{f}: {got:?}", path.display());
+            if table {
+                assert!(got.last().unwrap().contains("texture2d"), "{}: {got:?}", path.display());
+            }
+        }
     }
 }
 
