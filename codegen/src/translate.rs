@@ -70,3 +70,29 @@ pub fn translate(wgsl: &str, backend: Backend, functions: &[String]) -> Result<S
     }
     Ok(text)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LIB: &str = "fn k_airlight(tau: f32) -> f32 { return exp(-tau); }\nfn k_radiance(x: vec3<f32>) -> f32 { return k_airlight(x.x); }\n";
+
+    #[test]
+    fn both_back_ends_keep_the_entry_points() {
+        let names = ["k_airlight".to_string(), "k_radiance".to_string()];
+        for b in [Backend::Hlsl, Backend::Msl] {
+            let text = translate(LIB, b, &names).unwrap();
+            assert!(text.contains(" k_radiance("), "{text}");
+        }
+    }
+
+    #[test]
+    fn invalid_wgsl_and_renamed_entry_points_are_errors() {
+        // naga's namer appends `_` to a name ending in a digit.
+        let digits = "fn k_airlight2(tau: f32) -> f32 { return tau; }\n";
+        let e = translate(digits, Backend::Hlsl, &["k_airlight2".to_string()]).unwrap_err();
+        assert!(e.0.contains("renamed"), "{e}");
+        let bad = "fn k(tau: f32) -> f32 { return tau + 1u; }\n";
+        assert!(translate(bad, Backend::Msl, &[]).is_err());
+    }
+}
