@@ -6,8 +6,8 @@
 //! server started here (no network beyond 127.0.0.1) and prints the DOM, which
 //! carries the pixels; they are compared with the f64 reference render.
 
-use crate::render::{View, ALBEDO, FOV_Y, GROUND_Y};
-use airlight_fit::vocab::{Arg, IndexEntry};
+use crate::render::{View, FOV_Y, GROUND_Y};
+use airlight_fit::vocab::IndexEntry;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
@@ -30,21 +30,7 @@ pub fn tone(radiance: f64, exposure: f64) -> f64 {
 /// The page's fragment shader: the GLSL include `kernel` of `k`, the view's rays
 /// (the arithmetic of [`View::ray`], rows from the top), every light summed.
 pub fn fragment_shader(k: &IndexEntry, kernel: &str, view: &View, exposure: f64) -> String {
-    let args: Vec<String> = k
-        .radiance_params
-        .iter()
-        .map(|p| match p {
-            Arg::Origin => "vec3(0.0)".to_string(),
-            Arg::Dir => "dir".into(),
-            Arg::Surface => "surface".into(),
-            Arg::Light => "LIGHTS[i].xyz".into(),
-            Arg::Intensity => "LIGHTS[i].w".into(),
-            Arg::SigmaT => "sigma_t".into(),
-            Arg::SigmaS => format!("{ALBEDO:?} * sigma_t"),
-            Arg::G => format!("{:?}", view.g),
-            Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
-        })
-        .collect();
+    let args = crate::render::radiance_args(k, view, "vec3(0.0)", "LIGHTS[i].xyz", "LIGHTS[i].w");
     let lights: Vec<String> =
         view.lights().iter().map(|(p, i)| format!("vec4({:?}, {:?}, {:?}, {:?})", p[0], p[1], p[2], i)).collect();
     let sigmas: Vec<String> = view.sigma_t.iter().map(|s| format!("{s:?}")).collect();

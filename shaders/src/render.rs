@@ -89,23 +89,29 @@ impl View {
     }
 }
 
-/// The fragment shader around the kernel, as a user's renderer would write it.
-pub fn shader(k: &IndexEntry, kernel: &str, view: &View) -> String {
-    let args: Vec<String> = k
-        .radiance_params
+/// The arguments of the kernel's physical entry in a fragment shader of the
+/// view: a viewer at `origin`, the light's position and intensity as written
+/// (the shader's locals `dir`, `surface` and `sigma_t`).
+pub(crate) fn radiance_args(k: &IndexEntry, view: &View, origin: &str, light: &str, intensity: &str) -> Vec<String> {
+    k.radiance_params
         .iter()
         .map(|p| match p {
-            Arg::Origin => "vec3<f32>(0.0)".to_string(),
+            Arg::Origin => origin.to_string(),
             Arg::Dir => "dir".into(),
             Arg::Surface => "surface".into(),
-            Arg::Light => "light.xyz".into(),
-            Arg::Intensity => "light.w".into(),
+            Arg::Light => light.into(),
+            Arg::Intensity => intensity.into(),
             Arg::SigmaT => "sigma_t".into(),
             Arg::SigmaS => format!("{ALBEDO:?} * sigma_t"),
             Arg::G => format!("{:?}", view.g),
             Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
         })
-        .collect();
+        .collect()
+}
+
+/// The fragment shader around the kernel, as a user's renderer would write it.
+pub fn shader(k: &IndexEntry, kernel: &str, view: &View) -> String {
+    let args = radiance_args(k, view, "vec3<f32>(0.0)", "light.xyz", "light.w");
     let lights: Vec<String> =
         view.lights().iter().map(|(p, i)| format!("vec4<f32>({:?}, {:?}, {:?}, {:?})", p[0], p[1], p[2], i)).collect();
     let sigmas: Vec<String> = view.sigma_t.iter().map(|s| format!("{s:?}")).collect();
