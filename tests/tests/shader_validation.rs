@@ -220,8 +220,10 @@ fn every_hlsl_kernel_compiles_in_glslang_hlsl_front_end() {
         );
         let file = dir.join(format!("{stem}.frag.hlsl"));
         std::fs::write(&file, src).unwrap();
+        // -V compiles to SPIR-V; -o keeps it out of the working directory.
         let out = Command::new(tool)
-            .args(["-D", "-S", "frag", "-e", "airlight_test_main", "-V"])
+            .args(["-D", "-S", "frag", "-e", "airlight_test_main", "-V", "-o"])
+            .arg(dir.join(format!("{stem}.spv")))
             .arg(&file)
             .output()
             .unwrap();
