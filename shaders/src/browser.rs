@@ -17,16 +17,6 @@ use std::time::{Duration, Instant};
 /// The vendored three.js.
 pub const THREE_VERSION: &str = "0.181.0";
 
-/// The tone map of the page, in f64: `x/(1 + x)` of the exposed radiance, gamma 2.2.
-pub fn tone(radiance: f64, exposure: f64) -> f64 {
-    let x = (radiance * exposure).max(0.0);
-    if x.is_finite() {
-        (x / (1.0 + x)).powf(1.0 / 2.2)
-    } else {
-        1.0
-    }
-}
-
 /// The page's fragment shader: the GLSL include `kernel` of `k`, the view's rays
 /// (the arithmetic of [`View::ray`], rows from the top), every light summed.
 pub fn fragment_shader(k: &IndexEntry, kernel: &str, view: &View, exposure: f64) -> String {
@@ -58,6 +48,7 @@ void main() {{
     for (int i = 0; i < {nl}; i++) {{
         sum += {prefix}radiance({args});
     }}
+    // render::tone, in f32.
     float x = max(sum * {exposure:?}, 0.0);
     float c = pow(x / (1.0 + x), 1.0 / 2.2);
     airlight_color = vec4(c, c, c, 1.0);
@@ -283,28 +274,39 @@ pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u3
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| BrowserError(format!("{}: {e}", chrome.display())))?;
+    // The DOM (the page's source and the pixels) can pass a pipe's buffer: read
+    // both pipes while Chromium runs, or it blocks writing and never exits.
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_string(&mut text);
+            }
+            text
+        })
+    };
+    let out = drain(child.stdout.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
+    let errs = drain(child.stderr.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
     // Chromium has no timeout of its own for a page that never settles.
     let start = Instant::now();
     let status = loop {
-        if let Some(s) = child.try_wait().map_err(err)? {
-            break s;
+        match child.try_wait() {
+            Ok(Some(s)) => break Ok(s),
+            Err(e) => break Err(err(e)),
+            Ok(None) if start.elapsed() > Duration::from_secs(240) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break Err(BrowserError("chromium did not finish within 240 s".into()));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(50)),
         }
-        if start.elapsed() > Duration::from_secs(240) {
-            let _ = child.kill();
-            let _ = child.wait();
-            done.store(true, std::sync::atomic::Ordering::Relaxed);
-            let _ = server.join();
-            return Err(BrowserError("chromium did not finish within 240 s".into()));
-        }
-        std::thread::sleep(Duration::from_millis(50));
     };
     done.store(true, std::sync::atomic::Ordering::Relaxed);
     let _ = server.join();
-    let mut dom = String::new();
-    child.stdout.take().map(|mut o| o.read_to_string(&mut dom));
-    let mut log = String::new();
-    child.stderr.take().map(|mut o| o.read_to_string(&mut log));
+    let dom = out.join().unwrap_or_default();
+    let log = errs.join().unwrap_or_default();
     std::fs::remove_dir_all(&profile).ok();
+    let status = status?;
     if let Some(e) = between(&dom, "error") {
         return Err(BrowserError(format!("the page failed: {e}")));
     }

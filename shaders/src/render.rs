@@ -335,11 +335,21 @@ pub fn tone_map(image: &[f64], exposure: f64) -> Vec<[u8; 3]> {
     image
         .iter()
         .map(|&l| {
-            let x = (l * exposure).max(0.0);
-            let v = if x.is_finite() { (x / (1.0 + x)).powf(1.0 / 2.2) } else { 1.0 };
+            let v = tone(l, exposure);
             [(255.0 * v).round() as u8, (255.0 * v * 0.82).round() as u8, (255.0 * v * 0.6).round() as u8]
         })
         .collect()
+}
+
+/// The tone curve of [`tone_map`] (and of the three.js page), in [0, 1]:
+/// `x/(1 + x)` of the exposed radiance, gamma 2.2; 1 where it is infinite.
+pub fn tone(radiance: f64, exposure: f64) -> f64 {
+    let x = (radiance * exposure).max(0.0);
+    if x.is_finite() {
+        (x / (1.0 + x)).powf(1.0 / 2.2)
+    } else {
+        1.0
+    }
 }
 
 /// The exposure that maps the reference's 99th-percentile radiance to 0.6 (before `x/(1 + x)`).

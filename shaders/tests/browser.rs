@@ -41,9 +41,9 @@ fn harbour_fog_in_three_js_matches_the_reference_render() {
     let mut worst = (0.0f64, 0usize);
     let mut lit = 0;
     for (i, (&got, &r)) in drawn.pixels.iter().zip(&reference).enumerate() {
-        let want = 255.0 * browser::tone(r, exposure);
-        let lo = 255.0 * browser::tone(r * (1.0 - bound), exposure) - 1.0;
-        let hi = 255.0 * browser::tone(r * (1.0 + bound), exposure) + 1.0;
+        let want = 255.0 * render::tone(r, exposure);
+        let lo = 255.0 * render::tone(r * (1.0 - bound), exposure) - 1.0;
+        let hi = 255.0 * render::tone(r * (1.0 + bound), exposure) + 1.0;
         let g = f64::from(got);
         assert!(
             (lo..=hi).contains(&g),
