@@ -274,6 +274,11 @@ impl KernelSpec {
         self.name.replace('-', "_")
     }
 
+    /// The prefix of every item in the plain WGSL and GLSL kernels (the index's).
+    pub fn prefix(&self) -> String {
+        format!("airlight_{}_", self.ident())
+    }
+
     /// Whether `g` is a run-time parameter.
     pub fn g_param(&self) -> bool {
         matches!(self.phase, KernelPhase::Banded(_) | KernelPhase::Exact)
@@ -747,8 +752,7 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     // naga's translations of the validated WGSL.
     for spec in specs {
         let name = |p: &str| p.replace("{name}", &spec.name).replace("{ident}", &spec.ident());
-        let prefix = format!("airlight_{}_", spec.ident());
-        let functions = [format!("{prefix}airlight"), format!("{prefix}radiance")];
+        let functions = [Entry::Canonical, Entry::Radiance].map(|e| format!("{}{}", spec.prefix(), e.function()));
         for row in &table.translation {
             let from = name(&row.from);
             let Some(src) = out.iter().find(|o| o.path == from) else { continue };
@@ -883,7 +887,7 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         wgsl_bevy: path(Target::Wgsl, true),
         glsl: path(Target::Glsl, false),
         rust: path(Target::Rust, false),
-        prefix: format!("airlight_{ident}_"),
+        prefix: spec.prefix(),
         table: spec.model.as_ref().and_then(|m| {
             m.model.body.table().map(|t| airlight_fit::vocab::TableRef { path: table_path(&m.model.name), size: t.res })
         }),

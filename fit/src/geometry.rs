@@ -281,9 +281,23 @@ impl PhysicalRay {
             return hard(cone.cos_outer);
         }
         let ci = cone.cos_inner.min(1.0);
-        hard(cone.cos_outer)?;
-        let q = crate::quad::gauss_kronrod(|c| hard(c).unwrap_or(f64::NAN), &[cone.cos_outer, ci], 1e-10, 400);
-        Ok(q.value / (cone.cos_inner - cone.cos_outer))
+        // The first error of any hard cone is the error (they share the ray).
+        let failed = std::cell::Cell::new(None);
+        let q = crate::quad::gauss_kronrod(
+            |c| {
+                hard(c).unwrap_or_else(|e| {
+                    failed.set(Some(e));
+                    f64::NAN
+                })
+            },
+            &[cone.cos_outer, ci],
+            1e-10,
+            400,
+        );
+        match failed.get() {
+            Some(e) => Err(e),
+            None => Ok(q.value / (cone.cos_inner - cone.cos_outer)),
+        }
     }
 }
 
