@@ -22,11 +22,18 @@ pub use airlight_fit::vocab::{Index, IndexEntry};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
+/// Gauss–Legendre nodes per penumbra stretch of a soft-edged spot light (the
+/// spot entry's only approximation beyond its family's).
+pub const SPOT_EDGE_NODES: usize = 8;
+
 /// The output table (`codegen/outputs.toml`).
 pub const OUTPUT_TABLE: &str = include_str!("../outputs.toml");
 
 /// Templates, by file name.
-pub const TEMPLATES: [(&str, &str); 24] = [
+pub const TEMPLATES: [(&str, &str); 27] = [
+    ("spot.rs.tera", include_str!("../templates/kernels/spot.rs.tera")),
+    ("spot.wgsl.tera", include_str!("../templates/kernels/spot.wgsl.tera")),
+    ("spot.glsl.tera", include_str!("../templates/kernels/spot.glsl.tera")),
     ("phi.rs.tera", include_str!("../templates/kernels/phi.rs.tera")),
     ("phi.wgsl.tera", include_str!("../templates/kernels/phi.wgsl.tera")),
     ("phi.glsl.tera", include_str!("../templates/kernels/phi.glsl.tera")),
@@ -150,6 +157,9 @@ pub struct KernelSpec {
     pub phase: KernelPhase,
     /// Whether rays can end on a surface.
     pub surfaces: bool,
+    /// Whether it has the spot entry (spot lights, RGB media); needs `surfaces`,
+    /// since a cone ends the lit stretch.
+    pub spot: bool,
     /// Whether extinction is modelled (false: τ = 0).
     pub extinction: bool,
     /// Whether the backward part (beyond the foot point) is kept.
@@ -195,6 +205,7 @@ impl KernelSpec {
             model: Some(m.clone()),
             phase,
             surfaces: true,
+            spot: true,
             extinction: true,
             backscatter: true,
             scene: None,
@@ -212,6 +223,7 @@ impl KernelSpec {
             model,
             phase,
             surfaces: scene.surfaces,
+            spot: scene.spot,
             extinction: scene.extinction,
             backscatter: scene.backscatter,
             bound,
@@ -285,7 +297,7 @@ impl KernelSpec {
     }
 
     /// Whether τ (and σt) are arguments: extinction modelled by a fitted model.
-    fn takes_tau(&self) -> bool {
+    pub fn takes_tau(&self) -> bool {
         self.extinction && self.body().extinction()
     }
 
@@ -297,12 +309,15 @@ impl KernelSpec {
     /// Arguments of `entry`, in order: the entry's arguments less those this
     /// kernel was specialised away from.
     pub fn args(&self, entry: Entry) -> Vec<Arg> {
+        if entry == Entry::Spot && !self.spot {
+            return Vec::new();
+        }
         entry
             .all_args()
             .iter()
             .copied()
             .filter(|a| match a {
-                Arg::Tau | Arg::SigmaT => self.takes_tau(),
+                Arg::Tau | Arg::SigmaT | Arg::SigmaTRgb => self.takes_tau(),
                 Arg::Rho | Arg::Surface => self.surfaces,
                 Arg::G => self.g_param(),
                 _ => true,
@@ -448,7 +463,7 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     ctx.insert("closed", &!split);
 
     // Signatures, per language.
-    let (f, v3) = match lang {
+    let (f, v3_ty) = match lang {
         Target::Rust => ("f32", "[f32; 3]"),
         Target::Wgsl => ("f32", "vec3<f32>"),
         Target::Glsl => ("float", "vec3"),
@@ -459,7 +474,7 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     };
     let typed = |args: Vec<Arg>| -> String {
         args.into_iter()
-            .map(|a| param(a.name(), if a.ty() == ArgType::Vec3 { v3 } else { f }))
+            .map(|a| param(a.name(), if a.ty() == ArgType::Vec3 { v3_ty } else { f }))
             .collect::<Vec<_>>()
             .join(", ")
     };
@@ -481,6 +496,27 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
     ctx.insert("canonical_args", &args);
     let rad = typed(spec.radiance_params());
     ctx.insert("radiance_params", &rad);
+    // The spot entry (shared by every family through its `along`).
+    ctx.insert("spot", &spec.spot);
+    let v3 = |a: Arg| a.ty() == ArgType::Vec3;
+    let spot_params = spec
+        .args(Entry::Spot)
+        .into_iter()
+        .map(|a| param(a.name(), if v3(a) { v3_ty } else { f }))
+        .collect::<Vec<_>>()
+        .join(", ");
+    ctx.insert("spot_params", &spot_params);
+    ctx.insert("takes_tau", &spec.takes_tau());
+    ctx.insert(
+        "spot_g",
+        &match spec.phase {
+            KernelPhase::Fixed(g) => lit(g),
+            _ => lit(0.0),
+        },
+    );
+    let (ex, ew) = airlight_fit::quad::gauss_legendre(SPOT_EDGE_NODES);
+    ctx.insert("edge_x", &lits(&ex));
+    ctx.insert("edge_w", &lits(&ew));
 
     // The family's own data for its templates: one arm per family.
     match (spec.body(), &spec.model) {
@@ -713,6 +749,8 @@ struct CrateKernel {
     closure: String,
     radiance_params: Vec<&'static str>,
     radiance_closure: String,
+    spot_params: Vec<&'static str>,
+    spot_closure: String,
 }
 
 /// Closure parameters of a uniform signature `all`, those the kernel does not
@@ -752,7 +790,11 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     // naga's translations of the validated WGSL.
     for spec in specs {
         let name = |p: &str| p.replace("{name}", &spec.name).replace("{ident}", &spec.ident());
-        let functions = [Entry::Canonical, Entry::Radiance].map(|e| format!("{}{}", spec.prefix(), e.function()));
+        let functions: Vec<String> = Entry::ALL
+            .into_iter()
+            .filter(|&e| !spec.args(e).is_empty())
+            .map(|e| format!("{}{}", spec.prefix(), e.function()))
+            .collect();
         for row in &table.translation {
             let from = name(&row.from);
             let Some(src) = out.iter().find(|o| o.path == from) else { continue };
@@ -791,6 +833,8 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
                 dense: format!("{:e}", err(Domain::Dense)),
                 scene: s.scene.is_some(),
                 radiance_closure: closure(Entry::Radiance, &radiance_params),
+                spot_closure: closure(Entry::Spot, &s.args(Entry::Spot)),
+                spot_params: names(&s.args(Entry::Spot)),
                 closure: closure(Entry::Canonical, &params),
                 radiance_params: names(&radiance_params),
                 params: names(&params),
@@ -879,6 +923,7 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         domains: spec.domains.clone(),
         params: spec.params(),
         radiance_params: spec.radiance_params(),
+        spot_params: spec.args(Entry::Spot),
         g,
         surfaces: spec.surfaces,
         extinction: spec.extinction,

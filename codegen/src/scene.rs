@@ -46,6 +46,9 @@ pub struct Scene {
     pub max_distance: f64,
     /// Whether surfaces bound the view rays.
     pub surfaces: bool,
+    /// Whether the lights are spot lights (`kind = "spot"`): the kernel gets the
+    /// spot entry, with RGB `sigma_t` and `sigma_s`.
+    pub spot: bool,
     /// Whether light scattered from beyond the foot point matters.
     pub backscatter: bool,
     /// Accuracy budget: largest relative error of the airlight.
@@ -147,9 +150,18 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         _ => return Err(err("medium", "phase", "must be \"isotropic\" or \"hg\"".into())),
     };
     let extinction = boolean("medium", "extinction")?;
-    match get("lights", "kind")?.as_str() {
-        Some("point") => {}
-        _ => return Err(err("lights", "kind", "only \"point\" lights exist so far".into())),
+    let spot = match get("lights", "kind")?.as_str() {
+        Some("point") => false,
+        Some("spot") => true,
+        _ => return Err(err("lights", "kind", "must be \"point\" or \"spot\"".into())),
+    };
+    let surfaces = boolean("ray", "surfaces")?;
+    if spot && !surfaces {
+        return Err(err(
+            "ray",
+            "surfaces",
+            "a spot light's cone ends the lit stretch like a surface: kind = \"spot\" needs surfaces = true".into(),
+        ));
     }
     let max_distance = num("lights", "max_distance")?;
     if !(max_distance > 0.0 && max_distance.is_finite()) {
@@ -183,7 +195,8 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         phase,
         extinction,
         max_distance,
-        surfaces: boolean("ray", "surfaces")?,
+        surfaces,
+        spot,
         backscatter: boolean("ray", "backscatter")?,
         max_rel_error,
         targets,
@@ -471,7 +484,7 @@ mod tests {
         let cases = [
             ("phase = \"isotropic\"", "phase = \"mie\"", "field 'medium.phase'"),
             ("max_rel_error = 0.02", "max_rel_error = -1", "field 'accuracy.max_rel_error'"),
-            ("kind = \"point\"", "kind = \"spot\"", "field 'lights.kind'"),
+            ("kind = \"point\"", "kind = \"area\"", "field 'lights.kind'"),
             ("targets = [\"wgsl\", \"glsl\", \"rust\"]", "targets = [\"hlsl\"]", "field 'output.targets'"),
             ("sigma_t = [0.0, 0.04]", "sigma_t = [0.04, 0.0]", "field 'medium.sigma_t'"),
         ];

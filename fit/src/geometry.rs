@@ -215,8 +215,11 @@ impl Cone {
         // a2 t² + 2 b t + c0 with t p + k ≥ 0.
         let f = |t: f64| t * p + k - c * t.hypot(h);
         let (a2, b, c0) = (p * p - c * c, p * k, k * k - c * c * h * h);
-        let disc = (c * c * (k * k + a2 * h * h)).max(0.0);
-        let mut roots: Vec<f64> = if a2 == 0.0 {
+        let disc = c * c * (k * k + a2 * h * h);
+        // No real root: f keeps one sign (clamping disc to 0 would invent two).
+        let mut roots: Vec<f64> = if disc < 0.0 {
+            vec![]
+        } else if a2 == 0.0 {
             if b == 0.0 {
                 vec![]
             } else {

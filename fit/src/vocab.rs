@@ -86,6 +86,10 @@ pub enum Entry {
     Canonical,
     /// `radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)`.
     Radiance,
+    /// `spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity,
+    /// sigma_t, sigma_s, g) -> vec3`: a spot light (`cos_outer <= -1`: a point
+    /// light) in a medium with RGB `sigma_t`, `sigma_s`.
+    Spot,
 }
 
 impl Entry {
@@ -94,6 +98,27 @@ impl Entry {
         match self {
             Entry::Canonical => "airlight",
             Entry::Radiance => "radiance",
+            Entry::Spot => "spot",
+        }
+    }
+
+    /// Every entry, in the order the index lists them.
+    pub const ALL: [Entry; 3] = [Entry::Canonical, Entry::Radiance, Entry::Spot];
+
+    /// As written on the command line (`eval --entry`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Entry::Canonical => "canonical",
+            Entry::Radiance => "radiance",
+            Entry::Spot => "spot",
+        }
+    }
+
+    /// f32 values it returns per item: 1, or 3 (RGB) for [`Entry::Spot`].
+    pub fn outputs(self) -> usize {
+        match self {
+            Entry::Spot => 3,
+            _ => 1,
         }
     }
 
@@ -105,6 +130,19 @@ impl Entry {
             Entry::Radiance => {
                 &[Arg::Origin, Arg::Dir, Arg::Surface, Arg::Light, Arg::Intensity, Arg::SigmaT, Arg::SigmaS, Arg::G]
             }
+            Entry::Spot => &[
+                Arg::Origin,
+                Arg::Dir,
+                Arg::Surface,
+                Arg::Light,
+                Arg::Axis,
+                Arg::CosOuter,
+                Arg::CosInner,
+                Arg::Intensity,
+                Arg::SigmaTRgb,
+                Arg::SigmaSRgb,
+                Arg::G,
+            ],
         }
     }
 
@@ -113,6 +151,7 @@ impl Entry {
         match self {
             Entry::Canonical => 1,
             Entry::Radiance => 4,
+            Entry::Spot => 6,
         }
     }
 }
@@ -152,6 +191,16 @@ pub enum Arg {
     SigmaT,
     /// Scattering coefficient.
     SigmaS,
+    /// A spot light's axis, from the light (any non-zero length).
+    Axis,
+    /// Cosine of a spot light's outer half-angle (weight 0 beyond; `<= -1`: a point light).
+    CosOuter,
+    /// Cosine of its inner half-angle (weight 1 within; `<= cos_outer`: a hard edge).
+    CosInner,
+    /// Extinction coefficient per colour channel (RGB).
+    SigmaTRgb,
+    /// Scattering coefficient per colour channel (RGB).
+    SigmaSRgb,
 }
 
 impl Arg {
@@ -167,15 +216,18 @@ impl Arg {
             Arg::Surface => "surface",
             Arg::Light => "light",
             Arg::Intensity => "intensity",
-            Arg::SigmaT => "sigma_t",
-            Arg::SigmaS => "sigma_s",
+            Arg::SigmaT | Arg::SigmaTRgb => "sigma_t",
+            Arg::SigmaS | Arg::SigmaSRgb => "sigma_s",
+            Arg::Axis => "axis",
+            Arg::CosOuter => "cos_outer",
+            Arg::CosInner => "cos_inner",
         }
     }
 
     /// Scalar or vec3.
     pub fn ty(self) -> ArgType {
         match self {
-            Arg::Origin | Arg::Dir | Arg::Light => ArgType::Vec3,
+            Arg::Origin | Arg::Dir | Arg::Light | Arg::Axis | Arg::SigmaTRgb | Arg::SigmaSRgb => ArgType::Vec3,
             _ => ArgType::Scalar,
         }
     }
@@ -196,6 +248,17 @@ impl Arg {
             (Entry::Radiance, Arg::SigmaT) => (2, 3),
             (Entry::Radiance, Arg::SigmaS) => (3, 0),
             (Entry::Radiance, Arg::G) => (3, 1),
+            (Entry::Spot, Arg::Origin) => (0, 0),
+            (Entry::Spot, Arg::Surface) => (0, 3),
+            (Entry::Spot, Arg::Dir) => (1, 0),
+            (Entry::Spot, Arg::Intensity) => (1, 3),
+            (Entry::Spot, Arg::Light) => (2, 0),
+            (Entry::Spot, Arg::CosOuter) => (2, 3),
+            (Entry::Spot, Arg::Axis) => (3, 0),
+            (Entry::Spot, Arg::CosInner) => (3, 3),
+            (Entry::Spot, Arg::SigmaTRgb) => (4, 0),
+            (Entry::Spot, Arg::G) => (4, 3),
+            (Entry::Spot, Arg::SigmaSRgb) => (5, 0),
             _ => return None,
         })
     }
@@ -249,6 +312,11 @@ pub type CanonicalFn = fn(f32, f32, f32, f32) -> f32;
 /// surface, light, intensity, sigma_t, sigma_s, g)` (`airlight_kernels::Radiance`).
 pub type RadianceFn = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) -> f32;
 
+/// A compiled Rust kernel's spot entry, uniform signature `(origin, dir, surface,
+/// light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)` with RGB
+/// `sigma_t`, `sigma_s` and result (`airlight_kernels::Spot`).
+pub type SpotFn = fn([f32; 3], [f32; 3], f32, [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
+
 /// A generated Rust kernel as compiled into some binary: the gate and the render
 /// take these from whoever links `airlight-kernels` (the `airlight-run` binary),
 /// so that nothing else has to compile the generator's output.
@@ -260,6 +328,8 @@ pub struct CompiledKernel {
     pub airlight: CanonicalFn,
     /// The physical entry.
     pub radiance: RadianceFn,
+    /// The spot (RGB) entry, where the kernel has one.
+    pub spot: Option<SpotFn>,
 }
 
 /// The path of the kernel index under `generated/`.
@@ -293,6 +363,9 @@ pub struct IndexEntry {
     pub params: Vec<Arg>,
     /// Arguments of the physical entry `<prefix>radiance`, in order.
     pub radiance_params: Vec<Arg>,
+    /// Arguments of the spot entry `<prefix>spot`, in order; empty: it has none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub spot_params: Vec<Arg>,
     /// `g` the kernel takes at run time (both ends equal when baked in).
     pub g: [f64; 2],
     /// Whether rays may end on a surface (else ρ = ∞).
@@ -362,7 +435,13 @@ impl IndexEntry {
         match entry {
             Entry::Canonical => &self.params,
             Entry::Radiance => &self.radiance_params,
+            Entry::Spot => &self.spot_params,
         }
+    }
+
+    /// Whether it has `entry` (every kernel has the canonical and physical ones).
+    pub fn has(&self, entry: Entry) -> bool {
+        entry != Entry::Spot || !self.spot_params.is_empty()
     }
 
     /// The file of `target` under `generated/` (the plain WGSL for [`Target::Wgsl`]).
@@ -415,7 +494,7 @@ mod tests {
         }
         let e = "hlsl".parse::<Target>().unwrap_err().to_string();
         assert_eq!(e, "unknown target 'hlsl' (known: wgsl, glsl, rust)");
-        for entry in [Entry::Canonical, Entry::Radiance] {
+        for entry in Entry::ALL {
             let mut used = Vec::new();
             for a in entry.all_args() {
                 let (v, lane) = a.slot(entry).expect("every argument of an entry has a slot");

@@ -527,3 +527,221 @@ float airlight_hg_exp3_radiance(vec3 origin, vec3 dir, float surface, vec3 light
     float a = airlight_hg_exp3_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g);
     return airlight_hg_exp3_scaled(sigma_s, intensity, geo.x, a);
 }
+
+// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+float airlight_hg_exp3_along(float tau, float h, float x0, float rho, float g) {
+    return airlight_hg_exp3_airlight_geometry(tau, h, x0, rho, g);
+}
+
+// ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
+//
+// Along the ray, omega is the angle at the point between the ray and the direction
+// to the light: omega = gamma at the viewer, pi at infinity, and ds / t^2 = domega / h.
+// The cosine of the angle between the cone's axis and the direction from the light
+// is A sin(omega) - k cos(omega) = R sin(omega - psi), so a cone of cut-off cosine
+// c >= 0 lights omega in [psi + delta, psi + pi - delta], delta = asin(c / R): one
+// interval, found without solving a quadratic. A lit stretch [wa, wb] is the
+// family's own A for a viewer moved to wa (gamma' = wa, rho' = sin(wb - wa) / sin(wb),
+// tau' = tau t0), times e^(-tau s0) / t0: never a difference of two integrals.
+// A smooth edge (the weight linear in that cosine) is integrated over the penumbra's
+// stretches by 8-point Gauss-Legendre in omega, where the integrand
+// is smooth; the fully lit stretch between is the family's exact limit.
+
+// asin(x / r) for 0 <= x <= r, as an angle between vectors.
+float airlight_hg_exp3_spot_asin(float x, float r) {
+    return airlight_hg_exp3_arctan2(x, sqrt(max((r - x) * (r + x), 0.0)));
+}
+
+// The family's A over the stretch [wa, wb] of omega, for each channel's tau: the
+// viewer moved to wa; cut_a, cut_b: whether the cone (not the viewer or the
+// surface) ends the stretch there.
+vec3 airlight_hg_exp3_spot_core(vec3 tau, float h, float x0, float rho, float gam, float wa, float wb, bool cut_a, bool cut_b, float g) {
+    float h1 = h;
+    float x1 = x0;
+    float t0 = 1.0;
+    float s0 = 0.0;
+    float rho1 = rho;
+    vec2 sa = airlight_hg_exp3_sin_cos(wa);
+    if (cut_a) {
+        h1 = sa.x;
+        x1 = sa.y;
+        t0 = h / max(sa.x, 1e-30);
+        s0 = airlight_hg_exp3_sin_cos(wa - gam).x / max(sa.x, 1e-30);
+    }
+    if (cut_b) {
+        rho1 = airlight_hg_exp3_sin_cos(wb - wa).x / max(airlight_hg_exp3_sin_cos(wb).x, 1e-30);
+    } else if (cut_a && rho >= 0.0) {
+        rho1 = max((rho - s0) / t0, 0.0);
+    }
+    vec3 res;
+    for (int c = 0; c < 3; c++) {
+        float a = airlight_hg_exp3_along(tau[c] * t0, h1, x1, rho1, g);
+        res[c] = a >= airlight_hg_exp3_HUGE ? a : a * exp(-tau[c] * s0) / t0;
+    }
+    return res;
+}
+
+// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
+// (ci - co) times the canonical integrand, by Gauss-Legendre; everything but the
+// transmittance is shared by the channels.
+vec3 airlight_hg_exp3_spot_edge(vec3 tau, float h, float x0, float u, float v_in, float ca, float k, float co, float ci, float g) {
+    float v = v_in;
+    if (!(v > u)) {
+        return vec3(0.0);
+    }
+    float half_len = 0.5 * (v - u);
+    float mid = 0.5 * (v + u);
+    float gm = (1.0 - g) * (1.0 - g);
+    float gp = (1.0 + g) * (1.0 + g);
+    vec3 sum = vec3(0.0);
+    float w;
+    vec2 sc;
+    vec2 sb;
+    float d;
+    float st;
+    w = mid + half_len * 9.60289836e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * 7.96666503e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * 5.25532424e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * 1.83434635e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * -1.83434635e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * -5.25532424e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * -7.96666503e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half_len * -9.60289836e-1;
+    sc = airlight_hg_exp3_sin_cos(w);
+    sb = airlight_hg_exp3_sin_cos(0.5 * w);
+    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * half_len / max(h, 1e-30) * sum, vec3(airlight_hg_exp3_HUGE));
+}
+
+// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+// outer one, linear in c between.
+float airlight_hg_exp3_spot_weight(float c, float co, float ci) {
+    if (ci > co) {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return c >= co ? 1.0 : 0.0;
+}
+
+// In-scattered RGB radiance from a spot light at `light` shining along `axis`:
+// lit where the direction from the light makes a cosine of at least `cos_outer`
+// with the axis (half-angles up to 90 degrees: a negative cos_outer is taken as 0;
+// cos_outer <= -1: a point light), fully from `cos_inner` on, the weight linear in
+// the cosine between (cos_inner <= cos_outer: a hard edge). sigma_t and sigma_s per
+// channel; the geometry, the cone and the phase function are shared by them.
+vec3 airlight_hg_exp3_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    vec3 geo = airlight_hg_exp3_ray_geometry(origin, dir, light);
+    bool point = cos_outer <= -1.0;
+    float co = clamp(cos_outer, 0.0, 1.0);
+    float ci = cos_inner;
+    float md = airlight_hg_exp3_max_abs(dir);
+    float ma = airlight_hg_exp3_max_abs(axis);
+    if (!point && !(ma > 0.0 && ma <= airlight_hg_exp3_HUGE)) {
+        return vec3(0.0);
+    }
+    vec3 ax = vec3(0.0, 0.0, 1.0);
+    vec3 n = ax;
+    if (!point) {
+        ax = normalize(axis / ma);
+    }
+    if (md > 0.0 && md <= airlight_hg_exp3_HUGE) {
+        n = normalize(dir / md);
+    }
+    float k = dot(ax, n);
+    float scale = 1.0;
+    if (geo.x <= 0.0) {
+        // The viewer at the light: A diverges where the ray leaves it lit.
+        scale = point ? 1.0 : airlight_hg_exp3_spot_weight(k, co, ci);
+        return vec3(airlight_hg_exp3_scaled(sigma_s.x, intensity * scale, 1.0, airlight_hg_exp3_HUGE), airlight_hg_exp3_scaled(sigma_s.y, intensity * scale, 1.0, airlight_hg_exp3_HUGE), airlight_hg_exp3_scaled(sigma_s.z, intensity * scale, 1.0, airlight_hg_exp3_HUGE));
+    }
+    if (geo.y <= 0.0 && geo.z == 0.0) {
+        return vec3(0.0);
+    }
+    float d = geo.x;
+    float h = geo.y;
+    float x0 = geo.z;
+    bool has_end = surface >= 0.0 && surface / d < airlight_hg_exp3_RHO_OPEN;
+    float rho = has_end ? surface / d : -1.0;
+    vec3 tau = min(max(sigma_t * d, vec3(0.0)), vec3(airlight_hg_exp3_TAU_MAX));
+    float gg = clamp(g, -0.999, 0.999);
+    vec3 a = vec3(0.0);
+    if (point || h <= 0.0) {
+        // A point light, or a ray on the line through the light (the direction
+        // from the light is -n before it and n beyond).
+        if (!point) {
+            float before = airlight_hg_exp3_spot_weight(-k, co, ci);
+            float beyond = airlight_hg_exp3_spot_weight(k, co, ci);
+            scale = x0 < 0.0 ? beyond : ((has_end && rho < 1.0) ? before : max(before, beyond));
+        }
+        for (int c = 0; c < 3; c++) {
+            a[c] = airlight_hg_exp3_along(tau[c], h, x0, rho, gg);
+        }
+    } else {
+        vec3 l = light - origin;
+        float ml = airlight_hg_exp3_max_abs(l);
+        vec3 cr = cross(l / ml, n);
+        float ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
+        float r = sqrt(ca * ca + k * k);
+        float psi = airlight_hg_exp3_arctan2(k, ca);
+        float gam = airlight_hg_exp3_arctan2(h, x0);
+        float om_e = has_end ? airlight_hg_exp3_arctan2(h, x0 - rho) : airlight_hg_exp3_PI;
+        if (co < r) {
+            float dlo = airlight_hg_exp3_spot_asin(co, r);
+            float lo = max(gam, psi + dlo);
+            float hi = min(om_e, psi + airlight_hg_exp3_PI - dlo);
+            if (lo < hi) {
+                if (ci <= co) {
+                    a = airlight_hg_exp3_spot_core(tau, h, x0, rho, gam, lo, hi, lo > gam, hi < om_e, gg);
+                } else if (ci < r) {
+                    float dli = airlight_hg_exp3_spot_asin(ci, r);
+                    float li = max(gam, psi + dli);
+                    float hj = min(om_e, psi + airlight_hg_exp3_PI - dli);
+                    if (li < hj) {
+                        a = airlight_hg_exp3_spot_core(tau, h, x0, rho, gam, li, hj, li > gam, hj < om_e, gg);
+                    }
+                    a += airlight_hg_exp3_spot_edge(tau, h, x0, lo, min(hi, psi + dli), ca, k, co, ci, gg);
+                    a += airlight_hg_exp3_spot_edge(tau, h, x0, max(lo, psi + airlight_hg_exp3_PI - dli), hi, ca, k, co, ci, gg);
+                } else {
+                    a = airlight_hg_exp3_spot_edge(tau, h, x0, lo, hi, ca, k, co, ci, gg);
+                }
+            }
+        }
+    }
+    return vec3(airlight_hg_exp3_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_hg_exp3_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_hg_exp3_scaled(sigma_s.z, intensity * scale, d, a.z));
+}

@@ -128,14 +128,14 @@ float3 airlight_hg_exp1_ray_geometry(float3 origin, float3 dir, float3 light)
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_2 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n = sqrt(((_e84 * _e85) + (x0_2 * x0_2)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
     const float3 _e93 = airlight_hg_exp1_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_hg_exp1_HUGE), (_e97 / n), (x0_2 / n));
+    return float3(min(dist, airlight_hg_exp1_HUGE), (_e97 / n_1), (x0_5 / n_1));
 }
 
 float airlight_hg_exp1_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -164,9 +164,9 @@ float airlight_hg_exp1_scaled(float sigma_s, float intensity, float d_1, float a
     _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
     _frexp_result_f32_ i = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i.fract) * q.fract) / r_1.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_1.exp_));
+    _frexp_result_f32_ r_2 = naga_frexp(d_1);
+    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_hg_exp1_HUGE;
     }
@@ -181,15 +181,15 @@ float airlight_hg_exp1_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_8 = abs(x);
-    r = a_8;
-    if ((a_8 > 2.4142137)) {
+    float a_9 = abs(x);
+    r = a_9;
+    if ((a_9 > 2.4142137)) {
         y0_ = airlight_hg_exp1_FRAC_PI_2_;
-        r = (-1.0 / a_8);
+        r = (-1.0 / a_9);
     } else {
-        if ((a_8 > 0.41421357)) {
+        if ((a_9 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_8 - 1.0) / (a_8 + 1.0));
+            r = ((a_9 - 1.0) / (a_9 + 1.0));
         }
     }
     float _e18 = r;
@@ -225,8 +225,8 @@ float2 airlight_hg_exp1_sin_cos_octant(float x_2)
 {
     float z_2 = (x_2 * x_2);
     float s_2 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
-    float c_2 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
-    return float2(s_2, c_2);
+    float c_5 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
+    return float2(s_2, c_5);
 }
 
 int naga_f2i32(float value) {
@@ -245,23 +245,23 @@ float2 airlight_hg_exp1_sin_cos(float x_3)
     }
     int _e13 = j;
     float y_2 = float(_e13);
-    float r_2 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
-    float z_3 = (r_2 * r_2);
-    float s_3 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_2) + r_2);
-    float c_3 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
+    float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
+    float z_3 = (r_3 * r_3);
+    float s_3 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3);
+    float c_6 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_3);
+            return float2(s_3, c_6);
         }
         case 1: {
-            return float2(c_3, -(s_3));
+            return float2(c_6, -(s_3));
         }
         case 2: {
-            return float2(-(s_3), -(c_3));
+            return float2(-(s_3), -(c_6));
         }
         default: {
-            return float2(-(c_3), s_3);
+            return float2(-(c_6), s_3);
         }
     }
 }
@@ -284,12 +284,12 @@ float airlight_hg_exp1_phi(float z)
         return (1.0 - ((z * exp(z)) * e1_));
     }
     if ((z > 500.0)) {
-        float r_3 = (1.0 / z);
-        return (r_3 * (1.0 + (r_3 * (-2.0 + (r_3 * (6.0 + (r_3 * (-24.0 + (r_3 * 120.0)))))))));
+        float r_4 = (1.0 / z);
+        return (r_4 * (1.0 + (r_4 * (-2.0 + (r_4 * (6.0 + (r_4 * (-24.0 + (r_4 * 120.0)))))))));
     }
-    float d_2 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
-    float n_1 = ((((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232);
-    return (n_1 / d_2);
+    float d_3 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
+    float n_2 = ((((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232);
+    return (n_2 / d_3);
 }
 
 airlight_hg_exp1_Phase airlight_hg_exp1_phase(float g)
@@ -299,38 +299,38 @@ airlight_hg_exp1_Phase airlight_hg_exp1_phase(float g)
     float ga = abs(g);
     ph.mirrored = (g < 0.0);
     if ((ga <= 0.2)) {
-        float x_5 = (ga - 0.1);
-        ph.c[0] = (1.0 * ((((0.5361069 * x_5) + 0.38494492) * x_5) + 0.11318726));
-        ph.b[0] = ((((0.34831282 * x_5) + 2.319885) * x_5) + 0.23155904);
+        float x_6 = (ga - 0.1);
+        ph.c[0] = (1.0 * ((((0.5361069 * x_6) + 0.38494492) * x_6) + 0.11318726));
+        ph.b[0] = ((((0.34831282 * x_6) + 2.319885) * x_6) + 0.23155904);
     } else {
         if ((ga <= 0.4)) {
-            float x_6 = (ga - 0.3);
-            ph.c[0] = (1.0 * ((((1.0985914 * x_6) + 0.54915017) * x_6) + 0.20507541));
-            ph.b[0] = ((((2.4925041 * x_6) + 2.273289) * x_6) + 0.6805079);
+            float x_7 = (ga - 0.3);
+            ph.c[0] = (1.0 * ((((1.0985914 * x_7) + 0.54915017) * x_7) + 0.20507541));
+            ph.b[0] = ((((2.4925041 * x_7) + 2.273289) * x_7) + 0.6805079);
         } else {
             if ((ga <= 0.6)) {
-                float x_7 = (ga - 0.5);
-                ph.c[0] = (1.0 * ((((1.2486316 * x_7) + 0.2809171) * x_7) + 0.29128978));
-                ph.b[0] = ((((4.454095 * x_7) + 1.9369203) * x_7) + 1.0854028);
+                float x_8 = (ga - 0.5);
+                ph.c[0] = (1.0 * ((((1.2486316 * x_8) + 0.2809171) * x_8) + 0.29128978));
+                ph.b[0] = ((((4.454095 * x_8) + 1.9369203) * x_8) + 1.0854028);
             } else {
                 if ((ga <= 0.8)) {
-                    float x_8 = (ga - 0.7);
-                    ph.c[0] = (1.0 * ((((0.025986418 * x_8) + -0.92021084) * x_8) + 0.2253287));
-                    ph.b[0] = ((((-0.7867828 * x_8) + 0.09384193) * x_8) + 1.3022827);
+                    float x_9 = (ga - 0.7);
+                    ph.c[0] = (1.0 * ((((0.025986418 * x_9) + -0.92021084) * x_9) + 0.2253287));
+                    ph.b[0] = ((((-0.7867828 * x_9) + 0.09384193) * x_9) + 1.3022827);
                 } else {
                     if ((ga <= 0.9)) {
-                        float x_9 = (ga - 0.85);
-                        ph.c[0] = (1.0 * ((((1.4669759 * x_9) + -0.9021356) * x_9) + 0.09565704));
-                        ph.b[0] = ((((-1.9686183 * x_9) + -0.854187) * x_9) + 1.2925959);
+                        float x_10 = (ga - 0.85);
+                        ph.c[0] = (1.0 * ((((1.4669759 * x_10) + -0.9021356) * x_10) + 0.09565704));
+                        ph.b[0] = ((((-1.9686183 * x_10) + -0.854187) * x_10) + 1.2925959);
                     } else {
                         if ((ga <= 0.95)) {
-                            float x_10 = (ga - 0.925);
-                            ph.c[0] = (1.0 * ((((1.171292 * x_10) + -0.7304413) * x_10) + 0.04286589));
-                            ph.b[0] = ((((-9.168337 * x_10) + -1.3063678) * x_10) + 1.2751302);
+                            float x_11 = (ga - 0.925);
+                            ph.c[0] = (1.0 * ((((1.171292 * x_11) + -0.7304413) * x_11) + 0.04286589));
+                            ph.b[0] = ((((-9.168337 * x_11) + -1.3063678) * x_11) + 1.2751302);
                         } else {
-                            float x_11 = (ga - 0.97);
-                            ph.c[0] = (1.0 * ((((1.4205978 * x_11) + -0.6015322) * x_11) + 0.016238907));
-                            ph.b[0] = ((((-23.83982 * x_11) + -1.4431134) * x_11) + 1.2710083);
+                            float x_12 = (ga - 0.97);
+                            ph.c[0] = (1.0 * ((((1.4205978 * x_12) + -0.6015322) * x_12) + 0.016238907));
+                            ph.b[0] = ((((-23.83982 * x_12) + -1.4431134) * x_12) + 1.2710083);
                         }
                     }
                 }
@@ -344,16 +344,16 @@ airlight_hg_exp1_Phase airlight_hg_exp1_phase(float g)
 
 float airlight_hg_exp1_phase_at(airlight_hg_exp1_Phase ph_1, float alpha)
 {
-    float a_9 = (ph_1.mirrored ? (airlight_hg_exp1_PI - alpha) : alpha);
-    return max((ph_1.c[0] * exp((-(ph_1.b[0]) * a_9))), 0.0);
+    float a_10 = (ph_1.mirrored ? (airlight_hg_exp1_PI - alpha) : alpha);
+    return max((ph_1.c[0] * exp((-(ph_1.b[0]) * a_10))), 0.0);
 }
 
 float airlight_hg_exp1_phase_u(airlight_hg_exp1_Phase ph_2, float u)
 {
     const float _e2 = airlight_hg_exp1_arctan(u);
     const float _e7 = airlight_hg_exp1_arctan((1.0 / u));
-    float a_10 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
-    return max((ph_2.c[0] * exp((-(ph_2.b[0]) * a_10))), 0.0);
+    float a_11 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
+    return max((ph_2.c[0] * exp((-(ph_2.b[0]) * a_11))), 0.0);
 }
 
 float airlight_hg_exp1_piece(float a_5, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored)
@@ -413,9 +413,9 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
-        float d_3 = (rho - x0_);
-        float r_4 = sqrt(((d_3 * d_3) + (h_1 * h_1)));
-        span = ((x0_ < 0.0) ? (((2.0 * rho) * (d_3 + r_4)) / (((rho + r_4) + 1.0) * h_1)) : (((d_3 + r_4) / h_1) - u0_));
+        float d_4 = (rho - x0_);
+        float r_5 = sqrt(((d_4 * d_4) + (h_1 * h_1)));
+        span = ((x0_ < 0.0) ? (((2.0 * rho) * (d_4 + r_5)) / (((rho + r_5) + 1.0) * h_1)) : (((d_4 + r_5) / h_1) - u0_));
     }
     float _e41 = span;
     if (!((_e41 > 0.0))) {
@@ -474,60 +474,60 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
     }
     bool _e164 = local_6;
     if (_e164) {
-        float a_11 = max(u0_, 16.0);
-        float shift = (base - (t_3 * (a_11 - u0_)));
+        float a_12 = max(u0_, 16.0);
+        float shift = (base - (t_3 * (a_12 - u0_)));
         if (!(endless)) {
-            local_7 = (ub <= (2.0 * a_11));
+            local_7 = (ub <= (2.0 * a_12));
         } else {
             local_7 = false;
         }
         bool _e177 = local_7;
         if (_e177) {
             float _e181 = span;
-            float len_5 = ((a_11 == u0_) ? (_e181 / a_11) : ((ub / a_11) - 1.0));
-            float ta = (t_3 * a_11);
+            float len_5 = ((a_12 == u0_) ? (_e181 / a_12) : ((ub / a_12) - 1.0));
+            float ta = (t_3 * a_12);
             {
                 float lam_5 = (ta + 0.26840276);
-                float u_2 = (a_11 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
-                float q_1 = (1.0 / (1.0 + (1.0 / (u_2 * u_2))));
+                float u_3 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
+                float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
                 float _e204 = part;
                 const float _e213 = airlight_hg_exp1_exprel((-(lam_5) * len_5));
-                const float _e216 = airlight_hg_exp1_phase_u(ph_4, u_2);
+                const float _e216 = airlight_hg_exp1_phase_u(ph_4, u_3);
                 part = (_e204 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e213) * q_1) * _e216));
             }
             {
                 float lam_6 = (ta + 1.5659415);
-                float u_3 = (a_11 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
-                float q_2 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
+                float u_4 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
+                float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
                 float _e235 = part;
                 const float _e244 = airlight_hg_exp1_exprel((-(lam_6) * len_5));
-                const float _e247 = airlight_hg_exp1_phase_u(ph_4, u_3);
+                const float _e247 = airlight_hg_exp1_phase_u(ph_4, u_4);
                 part = (_e235 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e244) * q_2) * _e247));
             }
             {
                 float lam_7 = (ta + 4.449333);
-                float u_4 = (a_11 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
-                float q_3 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
+                float u_5 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
+                float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
                 float _e266 = part;
                 const float _e275 = airlight_hg_exp1_exprel((-(lam_7) * len_5));
-                const float _e278 = airlight_hg_exp1_phase_u(ph_4, u_4);
+                const float _e278 = airlight_hg_exp1_phase_u(ph_4, u_5);
                 part = (_e266 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e275) * q_3) * _e278));
             }
             float _e281 = sum;
             float _e282 = part;
-            sum = (_e281 + (_e282 / a_11));
+            sum = (_e281 + (_e282 / a_12));
         } else {
-            float lam_8 = (t_3 + (2.0 / a_11));
-            const float _e289 = airlight_hg_exp1_phi((t_3 * a_11));
-            g_1 = (_e289 / a_11);
-            u_1 = (a_11 + (1.0 / lam_8));
+            float lam_8 = (t_3 + (2.0 / a_12));
+            const float _e289 = airlight_hg_exp1_phi((t_3 * a_12));
+            g_1 = (_e289 / a_12);
+            u_1 = (a_12 + (1.0 / lam_8));
             if (!(endless)) {
                 float _e298 = span;
-                float len_6 = ((a_11 == u0_) ? _e298 : (ub - a_11));
+                float len_6 = ((a_12 == u0_) ? _e298 : (ub - a_12));
                 float _e301 = g_1;
                 const float _e306 = airlight_hg_exp1_phi((t_3 * ub));
                 g_1 = (_e301 - ((exp((-(t_3) * len_6)) * _e306) / ub));
-                u_1 = (a_11 + (len_6 / (2.0 + (lam_8 * len_6))));
+                u_1 = (a_12 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
             float _e315 = u_1;
             float _e316 = u_1;
@@ -560,7 +560,7 @@ float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_1, f
     }
     bool _e13 = local_8;
     bool open_1 = !(_e13);
-    float tau_2 = min(tau_in, airlight_hg_exp1_TAU_MAX);
+    float tau_5 = min(tau_in, airlight_hg_exp1_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_1 > 0.0);
     } else {
@@ -578,12 +578,12 @@ float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_1, f
             return airlight_hg_exp1_HUGE;
         }
         const float _e34 = airlight_hg_exp1_phase_at(_e5, 0.0);
-        return (((_e34 * exp(-(tau_2))) * rho_1) / (1.0 - rho_1));
+        return (((_e34 * exp(-(tau_5))) * rho_1) / (1.0 - rho_1));
     }
-    float h_2 = ((x0_1 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_2 * h_2);
+    float h_5 = ((x0_1 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_4 = (tau_5 * h_5);
     if ((x0_1 > 0.0)) {
-        const float _e52 = airlight_hg_exp1_arctan2_(x0_1, h_2);
+        const float _e52 = airlight_hg_exp1_arctan2_(x0_1, h_5);
         len_3 = _e52;
         if (!(open_1)) {
             local_11 = (rho_1 < x0_1);
@@ -592,20 +592,20 @@ float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_1, f
         }
         bool _e59 = local_11;
         if (_e59) {
-            const float _e64 = airlight_hg_exp1_arctan2_((h_2 * rho_1), (1.0 - (x0_1 * rho_1)));
+            const float _e64 = airlight_hg_exp1_arctan2_((h_5 * rho_1), (1.0 - (x0_1 * rho_1)));
             len_3 = _e64;
         }
         float _e65 = sum_1;
-        const float _e66 = airlight_hg_exp1_arctan2_(h_2, x0_1);
+        const float _e66 = airlight_hg_exp1_arctan2_(h_5, x0_1);
         float _e67 = len_3;
-        const float _e70 = airlight_hg_exp1_forward(_e66, _e67, t_4, (-(tau_2) * x0_1), _e5);
+        const float _e70 = airlight_hg_exp1_forward(_e66, _e67, t_4, (-(tau_5) * x0_1), _e5);
         sum_1 = (_e65 + _e70);
     }
     float _e72 = sum_1;
-    const float _e73 = airlight_hg_exp1_backward_u(tau_2, t_4, h_2, x0_1, rho_1, open_1, _e5);
+    const float _e73 = airlight_hg_exp1_backward_u(tau_5, t_4, h_5, x0_1, rho_1, open_1, _e5);
     sum_1 = (_e72 + _e73);
     float _e75 = sum_1;
-    return min((_e75 / h_2), airlight_hg_exp1_HUGE);
+    return min((_e75 / h_5), airlight_hg_exp1_HUGE);
 }
 
 float airlight_hg_exp1_airlight(float tau_1, float gamma, float rho_2, float g_3)
@@ -633,9 +633,477 @@ float airlight_hg_exp1_radiance(float3 origin_1, float3 dir_1, float surface, fl
     if (_e24) {
         return 0.0;
     }
-    float rho_3 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e36 = airlight_hg_exp1_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_3, g_4);
+    float rho_5 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e36 = airlight_hg_exp1_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_5, g_4);
     const float _e38 = airlight_hg_exp1_scaled(sigma_s_1, intensity_1, _e8.x, _e36);
     return _e38;
+}
+
+float airlight_hg_exp1_along(float tau_2, float h_2, float x0_2, float rho_3, float g_5)
+{
+    const float _e5 = airlight_hg_exp1_airlight_geometry(tau_2, h_2, x0_2, rho_3, g_5);
+    return _e5;
+}
+
+float airlight_hg_exp1_spot_asin(float x_5, float r_1)
+{
+    const float _e8 = airlight_hg_exp1_arctan2_(x_5, sqrt(max(((r_1 - x_5) * (r_1 + x_5)), 0.0)));
+    return _e8;
+}
+
+float3 airlight_hg_exp1_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_6)
+{
+    float h1_ = (float)0;
+    float x1_ = (float)0;
+    float t0_ = 1.0;
+    float s0_ = 0.0;
+    float rho1_ = (float)0;
+    bool local_13 = (bool)0;
+    float3 res = (float3)0;
+    int c_2 = int(0);
+
+    h1_ = h_3;
+    x1_ = x0_3;
+    rho1_ = rho_4;
+    const float2 _e17 = airlight_hg_exp1_sin_cos(wa);
+    if (cut_a) {
+        h1_ = _e17.x;
+        x1_ = _e17.y;
+        t0_ = (h_3 / max(_e17.x, 1e-30));
+        const float2 _e25 = airlight_hg_exp1_sin_cos((wa - gam));
+        s0_ = (_e25.x / max(_e17.x, 1e-30));
+    }
+    if (cut_b) {
+        const float2 _e32 = airlight_hg_exp1_sin_cos((wb - wa));
+        const float2 _e34 = airlight_hg_exp1_sin_cos(wb);
+        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+    } else {
+        if (cut_a) {
+            local_13 = (rho_4 >= 0.0);
+        } else {
+            local_13 = false;
+        }
+        bool _e44 = local_13;
+        if (_e44) {
+            float _e45 = s0_;
+            float _e47 = t0_;
+            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+        }
+    }
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e80 = c_2;
+            c_2 = asint(asuint(_e80) + asuint(int(1)));
+        }
+        loop_init = false;
+        int _e54 = c_2;
+        if ((_e54 < int(3))) {
+        } else {
+            break;
+        }
+        {
+            int _e57 = c_2;
+            float _e59 = t0_;
+            float _e61 = h1_;
+            float _e62 = x1_;
+            float _e63 = rho1_;
+            const float _e64 = airlight_hg_exp1_along((tau_3[min(uint(_e57), 2u)] * _e59), _e61, _e62, _e63, g_6);
+            int _e65 = c_2;
+            int _e67 = c_2;
+            float _e70 = s0_;
+            float _e74 = t0_;
+            res[min(uint(_e65), 2u)] = ((_e64 >= airlight_hg_exp1_HUGE) ? _e64 : ((_e64 * exp((-(tau_3[min(uint(_e67), 2u)]) * _e70))) / _e74));
+        }
+    }
+    float3 _e82 = res;
+    return _e82;
+}
+
+float3 airlight_hg_exp1_spot_edge(float3 tau_4, float h_4, float x0_4, float u_2, float v_in, float ca, float k_1, float co, float ci, float g_7)
+{
+    float3 sum_2 = (0.0).xxx;
+    float w = (float)0;
+    float2 sc = (float2)0;
+    float2 sb = (float2)0;
+    float d_2 = (float)0;
+    float st = (float)0;
+
+    if (!((v_in > u_2))) {
+        return (0.0).xxx;
+    }
+    float half_ = (0.5 * (v_in - u_2));
+    float mid = (0.5 * (v_in + u_2));
+    float gm = ((1.0 - g_7) * (1.0 - g_7));
+    float gp = ((1.0 + g_7) * (1.0 + g_7));
+    w = (mid + (half_ * 0.96028984));
+    float _e41 = w;
+    const float2 _e42 = airlight_hg_exp1_sin_cos(_e41);
+    sc = _e42;
+    float _e43 = w;
+    const float2 _e46 = airlight_hg_exp1_sin_cos((0.5 * _e43));
+    sb = _e46;
+    float _e50 = sb.y;
+    float _e53 = sb.y;
+    float _e59 = sb.x;
+    float _e62 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e59) * _e62)) : (gp - (((4.0 * g_7) * _e50) * _e53)));
+    float _e69 = sb.x;
+    float _e72 = sb.y;
+    st = max((x0_4 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
+    float3 _e79 = sum_2;
+    float _e81 = sc.x;
+    float _e84 = sc.y;
+    float _e95 = d_2;
+    float _e96 = d_2;
+    float _e101 = st;
+    sum_2 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_4) * _e101))));
+    w = (mid + (half_ * 0.7966665));
+    float _e109 = w;
+    const float2 _e110 = airlight_hg_exp1_sin_cos(_e109);
+    sc = _e110;
+    float _e111 = w;
+    const float2 _e114 = airlight_hg_exp1_sin_cos((0.5 * _e111));
+    sb = _e114;
+    float _e118 = sb.y;
+    float _e121 = sb.y;
+    float _e127 = sb.x;
+    float _e130 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e127) * _e130)) : (gp - (((4.0 * g_7) * _e118) * _e121)));
+    float _e137 = sb.x;
+    float _e140 = sb.y;
+    st = max((x0_4 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
+    float3 _e147 = sum_2;
+    float _e149 = sc.x;
+    float _e152 = sc.y;
+    float _e163 = d_2;
+    float _e164 = d_2;
+    float _e169 = st;
+    sum_2 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+    w = (mid + (half_ * 0.5255324));
+    float _e177 = w;
+    const float2 _e178 = airlight_hg_exp1_sin_cos(_e177);
+    sc = _e178;
+    float _e179 = w;
+    const float2 _e182 = airlight_hg_exp1_sin_cos((0.5 * _e179));
+    sb = _e182;
+    float _e186 = sb.y;
+    float _e189 = sb.y;
+    float _e195 = sb.x;
+    float _e198 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e195) * _e198)) : (gp - (((4.0 * g_7) * _e186) * _e189)));
+    float _e205 = sb.x;
+    float _e208 = sb.y;
+    st = max((x0_4 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
+    float3 _e215 = sum_2;
+    float _e217 = sc.x;
+    float _e220 = sc.y;
+    float _e231 = d_2;
+    float _e232 = d_2;
+    float _e237 = st;
+    sum_2 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_4) * _e237))));
+    w = (mid + (half_ * 0.18343464));
+    float _e245 = w;
+    const float2 _e246 = airlight_hg_exp1_sin_cos(_e245);
+    sc = _e246;
+    float _e247 = w;
+    const float2 _e250 = airlight_hg_exp1_sin_cos((0.5 * _e247));
+    sb = _e250;
+    float _e254 = sb.y;
+    float _e257 = sb.y;
+    float _e263 = sb.x;
+    float _e266 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e263) * _e266)) : (gp - (((4.0 * g_7) * _e254) * _e257)));
+    float _e273 = sb.x;
+    float _e276 = sb.y;
+    st = max((x0_4 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
+    float3 _e283 = sum_2;
+    float _e285 = sc.x;
+    float _e288 = sc.y;
+    float _e299 = d_2;
+    float _e300 = d_2;
+    float _e305 = st;
+    sum_2 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_4) * _e305))));
+    w = (mid + (half_ * -0.18343464));
+    float _e313 = w;
+    const float2 _e314 = airlight_hg_exp1_sin_cos(_e313);
+    sc = _e314;
+    float _e315 = w;
+    const float2 _e318 = airlight_hg_exp1_sin_cos((0.5 * _e315));
+    sb = _e318;
+    float _e322 = sb.y;
+    float _e325 = sb.y;
+    float _e331 = sb.x;
+    float _e334 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e331) * _e334)) : (gp - (((4.0 * g_7) * _e322) * _e325)));
+    float _e341 = sb.x;
+    float _e344 = sb.y;
+    st = max((x0_4 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
+    float3 _e351 = sum_2;
+    float _e353 = sc.x;
+    float _e356 = sc.y;
+    float _e367 = d_2;
+    float _e368 = d_2;
+    float _e373 = st;
+    sum_2 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
+    w = (mid + (half_ * -0.5255324));
+    float _e381 = w;
+    const float2 _e382 = airlight_hg_exp1_sin_cos(_e381);
+    sc = _e382;
+    float _e383 = w;
+    const float2 _e386 = airlight_hg_exp1_sin_cos((0.5 * _e383));
+    sb = _e386;
+    float _e390 = sb.y;
+    float _e393 = sb.y;
+    float _e399 = sb.x;
+    float _e402 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e399) * _e402)) : (gp - (((4.0 * g_7) * _e390) * _e393)));
+    float _e409 = sb.x;
+    float _e412 = sb.y;
+    st = max((x0_4 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
+    float3 _e419 = sum_2;
+    float _e421 = sc.x;
+    float _e424 = sc.y;
+    float _e435 = d_2;
+    float _e436 = d_2;
+    float _e441 = st;
+    sum_2 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_4) * _e441))));
+    w = (mid + (half_ * -0.7966665));
+    float _e449 = w;
+    const float2 _e450 = airlight_hg_exp1_sin_cos(_e449);
+    sc = _e450;
+    float _e451 = w;
+    const float2 _e454 = airlight_hg_exp1_sin_cos((0.5 * _e451));
+    sb = _e454;
+    float _e458 = sb.y;
+    float _e461 = sb.y;
+    float _e467 = sb.x;
+    float _e470 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e467) * _e470)) : (gp - (((4.0 * g_7) * _e458) * _e461)));
+    float _e477 = sb.x;
+    float _e480 = sb.y;
+    st = max((x0_4 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
+    float3 _e487 = sum_2;
+    float _e489 = sc.x;
+    float _e492 = sc.y;
+    float _e503 = d_2;
+    float _e504 = d_2;
+    float _e509 = st;
+    sum_2 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_4) * _e509))));
+    w = (mid + (half_ * -0.96028984));
+    float _e517 = w;
+    const float2 _e518 = airlight_hg_exp1_sin_cos(_e517);
+    sc = _e518;
+    float _e519 = w;
+    const float2 _e522 = airlight_hg_exp1_sin_cos((0.5 * _e519));
+    sb = _e522;
+    float _e526 = sb.y;
+    float _e529 = sb.y;
+    float _e535 = sb.x;
+    float _e538 = sb.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e535) * _e538)) : (gp - (((4.0 * g_7) * _e526) * _e529)));
+    float _e545 = sb.x;
+    float _e548 = sb.y;
+    st = max((x0_4 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
+    float3 _e555 = sum_2;
+    float _e557 = sc.x;
+    float _e560 = sc.y;
+    float _e571 = d_2;
+    float _e572 = d_2;
+    float _e577 = st;
+    sum_2 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_4) * _e577))));
+    float3 _e593 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * half_) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+}
+
+float airlight_hg_exp1_spot_weight(float c_3, float co_1, float ci_1)
+{
+    if ((ci_1 > co_1)) {
+        return clamp(((c_3 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
+    }
+    return ((c_3 >= co_1) ? 1.0 : 0.0);
+}
+
+float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_8)
+{
+    bool local_14 = (bool)0;
+    bool local_15 = (bool)0;
+    float3 ax = float3(0.0, 0.0, 1.0);
+    float3 n = (float3)0;
+    bool local_16 = (bool)0;
+    float scale = 1.0;
+    bool local_17 = (bool)0;
+    bool local_18 = (bool)0;
+    float3 a_8 = (0.0).xxx;
+    bool local_19 = (bool)0;
+    bool local_20 = (bool)0;
+    int c_4 = int(0);
+
+    const float3 _e11 = airlight_hg_exp1_ray_geometry(origin_2, dir_2, light_2);
+    bool point_ = (cos_outer <= -1.0);
+    float co_2 = clamp(cos_outer, 0.0, 1.0);
+    const float _e17 = airlight_hg_exp1_max_abs(dir_2);
+    const float _e18 = airlight_hg_exp1_max_abs(axis);
+    if (!(point_)) {
+        if ((_e18 > 0.0)) {
+            local_15 = (_e18 <= airlight_hg_exp1_HUGE);
+        } else {
+            local_15 = false;
+        }
+        bool _e29 = local_15;
+        local_14 = !(_e29);
+    } else {
+        local_14 = false;
+    }
+    bool _e32 = local_14;
+    if (_e32) {
+        return (0.0).xxx;
+    }
+    float3 _e40 = ax;
+    n = _e40;
+    if (!(point_)) {
+        ax = normalize((axis / (_e18).xxx));
+    }
+    if ((_e17 > 0.0)) {
+        local_16 = (_e17 <= airlight_hg_exp1_HUGE);
+    } else {
+        local_16 = false;
+    }
+    bool _e53 = local_16;
+    if (_e53) {
+        n = normalize((dir_2 / (_e17).xxx));
+    }
+    float3 _e57 = ax;
+    float3 _e58 = n;
+    float k_2 = dot(_e57, _e58);
+    if ((_e11.x <= 0.0)) {
+        const float _e65 = airlight_hg_exp1_spot_weight(k_2, co_2, cos_inner);
+        scale = (point_ ? 1.0 : _e65);
+        float _e69 = scale;
+        const float _e73 = airlight_hg_exp1_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_hg_exp1_HUGE);
+        float _e75 = scale;
+        const float _e79 = airlight_hg_exp1_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_hg_exp1_HUGE);
+        float _e81 = scale;
+        const float _e85 = airlight_hg_exp1_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_hg_exp1_HUGE);
+        return float3(_e73, _e79, _e85);
+    }
+    if ((_e11.y <= 0.0)) {
+        local_17 = (_e11.z == 0.0);
+    } else {
+        local_17 = false;
+    }
+    bool _e96 = local_17;
+    if (_e96) {
+        return (0.0).xxx;
+    }
+    float d_5 = _e11.x;
+    float h_6 = _e11.y;
+    float x0_6 = _e11.z;
+    if ((surface_1 >= 0.0)) {
+        local_18 = ((surface_1 / d_5) < airlight_hg_exp1_RHO_OPEN);
+    } else {
+        local_18 = false;
+    }
+    bool has_end = local_18;
+    float rho_6 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_6 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float gg = clamp(g_8, -0.999, 0.999);
+    if (!(point_)) {
+        local_19 = (h_6 <= 0.0);
+    } else {
+        local_19 = true;
+    }
+    bool _e133 = local_19;
+    if (_e133) {
+        if (!(point_)) {
+            const float _e136 = airlight_hg_exp1_spot_weight(-(k_2), co_2, cos_inner);
+            const float _e137 = airlight_hg_exp1_spot_weight(k_2, co_2, cos_inner);
+            if (has_end) {
+                local_20 = (rho_6 < 1.0);
+            } else {
+                local_20 = false;
+            }
+            bool _e144 = local_20;
+            scale = ((x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
+        }
+        uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
+        bool loop_init_1 = true;
+        while(true) {
+            if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
+            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+            if (!loop_init_1) {
+                int _e160 = c_4;
+                c_4 = asint(asuint(_e160) + asuint(int(1)));
+            }
+            loop_init_1 = false;
+            int _e151 = c_4;
+            if ((_e151 < int(3))) {
+            } else {
+                break;
+            }
+            {
+                int _e154 = c_4;
+                int _e156 = c_4;
+                const float _e158 = airlight_hg_exp1_along(tau_6[min(uint(_e156), 2u)], h_6, x0_6, rho_6, gg);
+                a_8[min(uint(_e154), 2u)] = _e158;
+            }
+        }
+    } else {
+        float3 l_1 = (light_2 - origin_2);
+        const float _e163 = airlight_hg_exp1_max_abs(l_1);
+        float3 _e166 = n;
+        float3 cr = cross((l_1 / (_e163).xxx), _e166);
+        float3 _e168 = n;
+        float3 _e169 = ax;
+        float ca_1 = (dot(cr, cross(_e168, _e169)) / max(length(cr), 1e-30));
+        float r_6 = sqrt(((ca_1 * ca_1) + (k_2 * k_2)));
+        const float _e180 = airlight_hg_exp1_arctan2_(k_2, ca_1);
+        const float _e181 = airlight_hg_exp1_arctan2_(h_6, x0_6);
+        const float _e184 = airlight_hg_exp1_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e184 : airlight_hg_exp1_PI);
+        if ((co_2 < r_6)) {
+            const float _e187 = airlight_hg_exp1_spot_asin(co_2, r_6);
+            float lo_1 = max(_e181, (_e180 + _e187));
+            float hi_2 = min(om_e, ((_e180 + airlight_hg_exp1_PI) - _e187));
+            if ((lo_1 < hi_2)) {
+                if ((cos_inner <= co_2)) {
+                    const float3 _e198 = airlight_hg_exp1_spot_core(tau_6, h_6, x0_6, rho_6, _e181, lo_1, hi_2, (lo_1 > _e181), (hi_2 < om_e), gg);
+                    a_8 = _e198;
+                } else {
+                    if ((cos_inner < r_6)) {
+                        const float _e200 = airlight_hg_exp1_spot_asin(cos_inner, r_6);
+                        float li = max(_e181, (_e180 + _e200));
+                        float hj = min(om_e, ((_e180 + airlight_hg_exp1_PI) - _e200));
+                        if ((li < hj)) {
+                            const float3 _e210 = airlight_hg_exp1_spot_core(tau_6, h_6, x0_6, rho_6, _e181, li, hj, (li > _e181), (hj < om_e), gg);
+                            a_8 = _e210;
+                        }
+                        float3 _e211 = a_8;
+                        const float3 _e214 = airlight_hg_exp1_spot_edge(tau_6, h_6, x0_6, lo_1, min(hi_2, (_e180 + _e200)), ca_1, k_2, co_2, cos_inner, gg);
+                        a_8 = (_e211 + _e214);
+                        float3 _e216 = a_8;
+                        const float3 _e221 = airlight_hg_exp1_spot_edge(tau_6, h_6, x0_6, max(lo_1, ((_e180 + airlight_hg_exp1_PI) - _e200)), hi_2, ca_1, k_2, co_2, cos_inner, gg);
+                        a_8 = (_e216 + _e221);
+                    } else {
+                        const float3 _e223 = airlight_hg_exp1_spot_edge(tau_6, h_6, x0_6, lo_1, hi_2, ca_1, k_2, co_2, cos_inner, gg);
+                        a_8 = _e223;
+                    }
+                }
+            }
+        }
+    }
+    float _e225 = scale;
+    float _e228 = a_8.x;
+    const float _e229 = airlight_hg_exp1_scaled(sigma_s_2.x, (intensity_2 * _e225), d_5, _e228);
+    float _e231 = scale;
+    float _e234 = a_8.y;
+    const float _e235 = airlight_hg_exp1_scaled(sigma_s_2.y, (intensity_2 * _e231), d_5, _e234);
+    float _e237 = scale;
+    float _e240 = a_8.z;
+    const float _e241 = airlight_hg_exp1_scaled(sigma_s_2.z, (intensity_2 * _e237), d_5, _e240);
+    return float3(_e229, _e235, _e241);
 }
 

@@ -135,14 +135,14 @@ metal::float3 airlight_phi_6_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_1 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_4 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h;
     float _e85 = h;
-    float n = metal::sqrt((_e84 * _e85) + (x0_1 * x0_1));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_4 * x0_4));
     metal::float3 _e93 = airlight_phi_6_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_phi_6_HUGE), _e97 / n, x0_1 / n);
+    return metal::float3(metal::min(dist, airlight_phi_6_HUGE), _e97 / n_1, x0_4 / n_1);
 }
 
 float airlight_phi_6_scaled(
@@ -174,9 +174,9 @@ float airlight_phi_6_scaled(
     _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
     _frexp_result_f32_ i = naga_frexp(intensity);
     _frexp_result_f32_ q_1 = naga_frexp(a_4);
-    _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_1.exp));
+    _frexp_result_f32_ r_2 = naga_frexp(d_1);
+    _frexp_result_f32_ m = naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_phi_6_HUGE;
     }
@@ -191,15 +191,15 @@ float airlight_phi_6_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_5 = metal::abs(x);
-    r = a_5;
-    if (a_5 > 2.4142137) {
+    float a_6 = metal::abs(x);
+    r = a_6;
+    if (a_6 > 2.4142137) {
         y0_ = airlight_phi_6_FRAC_PI_2_;
-        r = -1.0 / a_5;
+        r = -1.0 / a_6;
     } else {
-        if (a_5 > 0.41421357) {
+        if (a_6 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_5 - 1.0) / (a_5 + 1.0);
+            r = (a_6 - 1.0) / (a_6 + 1.0);
         }
     }
     float _e18 = r;
@@ -238,8 +238,8 @@ metal::float2 airlight_phi_6_sin_cos_octant(
 ) {
     float z_1 = x_2 * x_2;
     float s_4 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
-    float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_4, c_2);
+    float c_5 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
+    return metal::float2(s_4, c_5);
 }
 
 int naga_f2i32(float value) {
@@ -258,23 +258,23 @@ metal::float2 airlight_phi_6_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_2 = r_2 * r_2;
-    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2;
-    float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
+    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_3 * r_3;
+    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float c_6 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_5, c_3);
+            return metal::float2(s_5, c_6);
         }
         case 1: {
-            return metal::float2(c_3, -(s_5));
+            return metal::float2(c_6, -(s_5));
         }
         case 2: {
-            return metal::float2(-(s_5), -(c_3));
+            return metal::float2(-(s_5), -(c_6));
         }
         default: {
-            return metal::float2(-(c_3), s_5);
+            return metal::float2(-(c_6), s_5);
         }
     }
 }
@@ -335,31 +335,31 @@ float airlight_phi_6_w_u(
     float u,
     metal::float4 md
 ) {
-    float k_1 = (0.07957747 * (1.0 - md.x)) * (1.0 + md.x);
+    float k_2 = (0.07957747 * (1.0 - md.x)) * (1.0 + md.x);
     if (u > 1.0) {
         float v_4 = 1.0 / u;
-        float d_3 = (((md.y * md.y) * v_4) * v_4) + (md.z * md.z);
-        return (((k_1 * v_4) * v_4) * metal::sqrt(1.0 + (v_4 * v_4))) / (d_3 * metal::sqrt(d_3));
+        float d_4 = (((md.y * md.y) * v_4) * v_4) + (md.z * md.z);
+        return (((k_2 * v_4) * v_4) * metal::sqrt(1.0 + (v_4 * v_4))) / (d_4 * metal::sqrt(d_4));
     }
-    float d_4 = (md.y * md.y) + (((md.z * md.z) * u) * u);
-    return (k_1 * metal::sqrt(1.0 + (u * u))) / (d_4 * metal::sqrt(d_4));
+    float d_5 = (md.y * md.y) + (((md.z * md.z) * u) * u);
+    return (k_2 * metal::sqrt(1.0 + (u * u))) / (d_5 * metal::sqrt(d_5));
 }
 
 metal::float2 airlight_phi_6_phi_and_complement(
     float u_1,
     metal::float4 md_1
 ) {
-    float d_5 = ((md_1.z * u_1) * u_1) - md_1.y;
-    float r_3 = metal::sqrt((d_5 * d_5) + ((4.0 * u_1) * u_1));
-    float psi = metal::sqrt((d_5 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_5 + r_3)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_3 - d_5))));
+    float d_6 = ((md_1.z * u_1) * u_1) - md_1.y;
+    float r_4 = metal::sqrt((d_6 * d_6) + ((4.0 * u_1) * u_1));
+    float psi = metal::sqrt((d_6 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_6 + r_4)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_4 - d_6))));
     if (psi <= 1.0) {
         float _e35 = airlight_phi_6_arctan(psi);
         float p_2 = 2.0 * _e35;
         return metal::float2(p_2, airlight_phi_6_PI - p_2);
     }
     float _e43 = airlight_phi_6_arctan(1.0 / psi);
-    float c_4 = 2.0 * _e43;
-    return metal::float2(airlight_phi_6_PI - c_4, c_4);
+    float c_7 = 2.0 * _e43;
+    return metal::float2(airlight_phi_6_PI - c_7, c_7);
 }
 
 metal::float2 airlight_phi_6_u_and_weight(
@@ -367,13 +367,13 @@ metal::float2 airlight_phi_6_u_and_weight(
     float c2_,
     metal::float4 md_2
 ) {
-    float g_2 = md_2.x;
-    bool pos = g_2 >= 0.0;
-    float num = pos ? (1.0 + ((g_2 * c2_) * c2_)) : (md_2.z - ((g_2 * s2_) * s2_));
-    float den = pos ? (md_2.y + ((g_2 * c2_) * c2_)) : (1.0 - ((g_2 * s2_) * s2_));
-    float q_2 = pos ? (md_2.y + (((2.0 * g_2) * c2_) * c2_)) : (md_2.z - (((2.0 * g_2) * s2_) * s2_));
-    float r_4 = metal::sqrt(num * den);
-    return metal::float2(((md_2.y / md_2.z) * (s2_ / c2_)) * (r_4 / den), (q_2 * q_2) / (2.0 * r_4));
+    float g_6 = md_2.x;
+    bool pos = g_6 >= 0.0;
+    float num = pos ? (1.0 + ((g_6 * c2_) * c2_)) : (md_2.z - ((g_6 * s2_) * s2_));
+    float den = pos ? (md_2.y + ((g_6 * c2_) * c2_)) : (1.0 - ((g_6 * s2_) * s2_));
+    float q_2 = pos ? (md_2.y + (((2.0 * g_6) * c2_) * c2_)) : (md_2.z - (((2.0 * g_6) * s2_) * s2_));
+    float r_5 = metal::sqrt(num * den);
+    return metal::float2(((md_2.y / md_2.z) * (s2_ / c2_)) * (r_5 / den), (q_2 * q_2) / (2.0 * r_5));
 }
 
 float airlight_phi_6_r_of_v(
@@ -415,9 +415,9 @@ float airlight_phi_6_airlight_geometry(
     float v_3 = {};
     float s_1 = 0.0;
     float sb = 0.0;
-    float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
-    float g_3 = metal::clamp(g_in, -0.999, 0.999);
-    metal::float4 md_4 = metal::float4(g_3, 1.0 - g_3, 1.0 + g_3, (1.0 - g_3) / (1.0 + g_3));
+    float tau_4 = metal::min(metal::max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
+    float g_7 = metal::clamp(g_in, -0.999, 0.999);
+    metal::float4 md_4 = metal::float4(g_7, 1.0 - g_7, 1.0 + g_7, (1.0 - g_7) / (1.0 + g_7));
     if (h_in <= 0.0) {
         local_4 = x0_ > 0.0;
     } else {
@@ -439,9 +439,9 @@ float airlight_phi_6_airlight_geometry(
     if (_e42) {
         return airlight_phi_6_HUGE;
     }
-    float h_1 = metal::max(h_in, 0.0000000000009094947);
-    float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
-    float one_minus = (x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_);
+    float h_4 = metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_ >= 0.0) ? (h_4 / (1.0 + x0_)) : ((1.0 - x0_) / h_4);
+    float one_minus = (x0_ >= 0.0) ? ((h_4 * h_4) / (1.0 + x0_)) : (1.0 - x0_);
     if (rho >= 0.0) {
         local_7 = rho < airlight_phi_6_RHO_OPEN;
     } else {
@@ -452,14 +452,14 @@ float airlight_phi_6_airlight_geometry(
     if (!(open)) {
         float tr = metal::sqrt(((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus));
         if (rho >= x0_) {
-            du = (rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_1);
+            du = (rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_4);
         } else {
-            du = ((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * ((tr + x0_) - rho));
+            du = ((2.0 * rho) * h_4) / (((1.0 + rho) + tr) * ((tr + x0_) - rho));
         }
     }
     float _e105 = du;
     float ub = ua + _e105;
-    float t_1 = tau_1 * h_1;
+    float t_1 = tau_4 * h_4;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (4.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_6_HUGE;
     float m_1 = metal::max(ua, xf);
@@ -661,7 +661,7 @@ float airlight_phi_6_airlight_geometry(
         }
     }
     if (use_far) {
-        float c_5 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
+        float c_8 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
         float _e566 = airlight_phi_6_exp_e2_(t_1 * m_1);
         f = _e566 / m_1;
         if (!(open)) {
@@ -699,7 +699,7 @@ float airlight_phi_6_airlight_geometry(
         float _e668 = sum;
         float _e674 = f;
         float _e675 = s;
-        sum = _e668 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e674 + (_e675 * hl_2)));
+        sum = _e668 + ((c_8 * metal::exp(-(t_1) * (m_1 - ua))) * (_e674 + (_e675 * hl_2)));
     } else {
         float _e680 = du;
         if (_e680 > lcut) {
@@ -734,7 +734,7 @@ float airlight_phi_6_airlight_geometry(
         }
     }
     float _e757 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e757 / h_1), 0.0), airlight_phi_6_HUGE);
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_4))) * (_e757 / h_4), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(
@@ -773,8 +773,514 @@ float airlight_phi_6_radiance(
     if (_e24) {
         return 0.0;
     }
-    float rho_2 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
-    float _e37 = airlight_phi_6_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_2, g_1);
+    float rho_4 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float _e37 = airlight_phi_6_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_4, g_1);
     float _e38 = airlight_phi_6_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
     return _e38;
+}
+
+float airlight_phi_6_along(
+    float tau_1,
+    float h_1,
+    float x0_1,
+    float rho_2,
+    float g_2
+) {
+    float _e5 = airlight_phi_6_airlight_geometry(tau_1, h_1, x0_1, rho_2, g_2);
+    return _e5;
+}
+
+float airlight_phi_6_spot_asin(
+    float x_5,
+    float r_1
+) {
+    float _e8 = airlight_phi_6_arctan2_(x_5, metal::sqrt(metal::max((r_1 - x_5) * (r_1 + x_5), 0.0)));
+    return _e8;
+}
+
+metal::float3 airlight_phi_6_spot_core(
+    metal::float3 tau_2,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float gam,
+    float wa,
+    float wb,
+    bool cut_a,
+    bool cut_b,
+    float g_3
+) {
+    float h1_ = {};
+    float x1_ = {};
+    float t0_ = 1.0;
+    float s0_ = 0.0;
+    float rho1_ = {};
+    bool local_13 = {};
+    metal::float3 res = {};
+    int c_2 = 0;
+    h1_ = h_2;
+    x1_ = x0_2;
+    rho1_ = rho_3;
+    metal::float2 _e17 = airlight_phi_6_sin_cos(wa);
+    if (cut_a) {
+        h1_ = _e17.x;
+        x1_ = _e17.y;
+        t0_ = h_2 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        metal::float2 _e25 = airlight_phi_6_sin_cos(wa - gam);
+        s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
+    }
+    if (cut_b) {
+        metal::float2 _e32 = airlight_phi_6_sin_cos(wb - wa);
+        metal::float2 _e34 = airlight_phi_6_sin_cos(wb);
+        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+    } else {
+        if (cut_a) {
+            local_13 = rho_3 >= 0.0;
+        } else {
+            local_13 = false;
+        }
+        bool _e44 = local_13;
+        if (_e44) {
+            float _e45 = s0_;
+            float _e47 = t0_;
+            rho1_ = metal::max((rho_3 - _e45) / _e47, 0.0);
+        }
+    }
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e80 = c_2;
+            c_2 = as_type<int>(as_type<uint>(_e80) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e54 = c_2;
+        if (_e54 < 3) {
+        } else {
+            break;
+        }
+        {
+            int _e57 = c_2;
+            float _e59 = t0_;
+            float _e61 = h1_;
+            float _e62 = x1_;
+            float _e63 = rho1_;
+            float _e64 = airlight_phi_6_along(tau_2[_e57] * _e59, _e61, _e62, _e63, g_3);
+            int _e65 = c_2;
+            int _e67 = c_2;
+            float _e70 = s0_;
+            float _e74 = t0_;
+            res[_e65] = (_e64 >= airlight_phi_6_HUGE) ? _e64 : ((_e64 * metal::exp(-(tau_2[_e67]) * _e70)) / _e74);
+        }
+    }
+    metal::float3 _e82 = res;
+    return _e82;
+}
+
+metal::float3 airlight_phi_6_spot_edge(
+    metal::float3 tau_3,
+    float h_3,
+    float x0_3,
+    float u_2,
+    float v_in,
+    float ca,
+    float k_1,
+    float co_1,
+    float ci,
+    float g_4
+) {
+    metal::float3 sum_1 = metal::float3(0.0);
+    float w = {};
+    metal::float2 sc_1 = {};
+    metal::float2 sb_1 = {};
+    float d_3 = {};
+    float st = {};
+    if (!((v_in > u_2))) {
+        return metal::float3(0.0);
+    }
+    float half_ = 0.5 * (v_in - u_2);
+    float mid = 0.5 * (v_in + u_2);
+    float gm = (1.0 - g_4) * (1.0 - g_4);
+    float gp = (1.0 + g_4) * (1.0 + g_4);
+    w = mid + (half_ * 0.96028984);
+    float _e41 = w;
+    metal::float2 _e42 = airlight_phi_6_sin_cos(_e41);
+    sc_1 = _e42;
+    float _e43 = w;
+    metal::float2 _e46 = airlight_phi_6_sin_cos(0.5 * _e43);
+    sb_1 = _e46;
+    float _e50 = sb_1.y;
+    float _e53 = sb_1.y;
+    float _e59 = sb_1.x;
+    float _e62 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e59) * _e62)) : (gp - (((4.0 * g_4) * _e50) * _e53));
+    float _e69 = sb_1.x;
+    float _e72 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e79 = sum_1;
+    float _e81 = sc_1.x;
+    float _e84 = sc_1.y;
+    float _e95 = d_3;
+    float _e96 = d_3;
+    float _e101 = st;
+    sum_1 = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_3) * _e101));
+    w = mid + (half_ * 0.7966665);
+    float _e109 = w;
+    metal::float2 _e110 = airlight_phi_6_sin_cos(_e109);
+    sc_1 = _e110;
+    float _e111 = w;
+    metal::float2 _e114 = airlight_phi_6_sin_cos(0.5 * _e111);
+    sb_1 = _e114;
+    float _e118 = sb_1.y;
+    float _e121 = sb_1.y;
+    float _e127 = sb_1.x;
+    float _e130 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e127) * _e130)) : (gp - (((4.0 * g_4) * _e118) * _e121));
+    float _e137 = sb_1.x;
+    float _e140 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e147 = sum_1;
+    float _e149 = sc_1.x;
+    float _e152 = sc_1.y;
+    float _e163 = d_3;
+    float _e164 = d_3;
+    float _e169 = st;
+    sum_1 = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
+    w = mid + (half_ * 0.5255324);
+    float _e177 = w;
+    metal::float2 _e178 = airlight_phi_6_sin_cos(_e177);
+    sc_1 = _e178;
+    float _e179 = w;
+    metal::float2 _e182 = airlight_phi_6_sin_cos(0.5 * _e179);
+    sb_1 = _e182;
+    float _e186 = sb_1.y;
+    float _e189 = sb_1.y;
+    float _e195 = sb_1.x;
+    float _e198 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e195) * _e198)) : (gp - (((4.0 * g_4) * _e186) * _e189));
+    float _e205 = sb_1.x;
+    float _e208 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e215 = sum_1;
+    float _e217 = sc_1.x;
+    float _e220 = sc_1.y;
+    float _e231 = d_3;
+    float _e232 = d_3;
+    float _e237 = st;
+    sum_1 = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_3) * _e237));
+    w = mid + (half_ * 0.18343464);
+    float _e245 = w;
+    metal::float2 _e246 = airlight_phi_6_sin_cos(_e245);
+    sc_1 = _e246;
+    float _e247 = w;
+    metal::float2 _e250 = airlight_phi_6_sin_cos(0.5 * _e247);
+    sb_1 = _e250;
+    float _e254 = sb_1.y;
+    float _e257 = sb_1.y;
+    float _e263 = sb_1.x;
+    float _e266 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e263) * _e266)) : (gp - (((4.0 * g_4) * _e254) * _e257));
+    float _e273 = sb_1.x;
+    float _e276 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e283 = sum_1;
+    float _e285 = sc_1.x;
+    float _e288 = sc_1.y;
+    float _e299 = d_3;
+    float _e300 = d_3;
+    float _e305 = st;
+    sum_1 = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_3) * _e305));
+    w = mid + (half_ * -0.18343464);
+    float _e313 = w;
+    metal::float2 _e314 = airlight_phi_6_sin_cos(_e313);
+    sc_1 = _e314;
+    float _e315 = w;
+    metal::float2 _e318 = airlight_phi_6_sin_cos(0.5 * _e315);
+    sb_1 = _e318;
+    float _e322 = sb_1.y;
+    float _e325 = sb_1.y;
+    float _e331 = sb_1.x;
+    float _e334 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e331) * _e334)) : (gp - (((4.0 * g_4) * _e322) * _e325));
+    float _e341 = sb_1.x;
+    float _e344 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e351 = sum_1;
+    float _e353 = sc_1.x;
+    float _e356 = sc_1.y;
+    float _e367 = d_3;
+    float _e368 = d_3;
+    float _e373 = st;
+    sum_1 = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
+    w = mid + (half_ * -0.5255324);
+    float _e381 = w;
+    metal::float2 _e382 = airlight_phi_6_sin_cos(_e381);
+    sc_1 = _e382;
+    float _e383 = w;
+    metal::float2 _e386 = airlight_phi_6_sin_cos(0.5 * _e383);
+    sb_1 = _e386;
+    float _e390 = sb_1.y;
+    float _e393 = sb_1.y;
+    float _e399 = sb_1.x;
+    float _e402 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e399) * _e402)) : (gp - (((4.0 * g_4) * _e390) * _e393));
+    float _e409 = sb_1.x;
+    float _e412 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e419 = sum_1;
+    float _e421 = sc_1.x;
+    float _e424 = sc_1.y;
+    float _e435 = d_3;
+    float _e436 = d_3;
+    float _e441 = st;
+    sum_1 = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_3) * _e441));
+    w = mid + (half_ * -0.7966665);
+    float _e449 = w;
+    metal::float2 _e450 = airlight_phi_6_sin_cos(_e449);
+    sc_1 = _e450;
+    float _e451 = w;
+    metal::float2 _e454 = airlight_phi_6_sin_cos(0.5 * _e451);
+    sb_1 = _e454;
+    float _e458 = sb_1.y;
+    float _e461 = sb_1.y;
+    float _e467 = sb_1.x;
+    float _e470 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e467) * _e470)) : (gp - (((4.0 * g_4) * _e458) * _e461));
+    float _e477 = sb_1.x;
+    float _e480 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e487 = sum_1;
+    float _e489 = sc_1.x;
+    float _e492 = sc_1.y;
+    float _e503 = d_3;
+    float _e504 = d_3;
+    float _e509 = st;
+    sum_1 = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_3) * _e509));
+    w = mid + (half_ * -0.96028984);
+    float _e517 = w;
+    metal::float2 _e518 = airlight_phi_6_sin_cos(_e517);
+    sc_1 = _e518;
+    float _e519 = w;
+    metal::float2 _e522 = airlight_phi_6_sin_cos(0.5 * _e519);
+    sb_1 = _e522;
+    float _e526 = sb_1.y;
+    float _e529 = sb_1.y;
+    float _e535 = sb_1.x;
+    float _e538 = sb_1.x;
+    d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e535) * _e538)) : (gp - (((4.0 * g_4) * _e526) * _e529));
+    float _e545 = sb_1.x;
+    float _e548 = sb_1.y;
+    st = metal::max(x0_3 + ((h_3 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e555 = sum_1;
+    float _e557 = sc_1.x;
+    float _e560 = sc_1.y;
+    float _e571 = d_3;
+    float _e572 = d_3;
+    float _e577 = st;
+    sum_1 = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_3) * _e577));
+    metal::float3 _e593 = sum_1;
+    return metal::min(((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_) / metal::max(h_3, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
+}
+
+float airlight_phi_6_spot_weight(
+    float c_3,
+    float co_2,
+    float ci_1
+) {
+    if (ci_1 > co_2) {
+        return metal::clamp((c_3 - co_2) / (ci_1 - co_2), 0.0, 1.0);
+    }
+    return (c_3 >= co_2) ? 1.0 : 0.0;
+}
+
+metal::float3 airlight_phi_6_spot(
+    metal::float3 origin_2,
+    metal::float3 dir_2,
+    float surface_1,
+    metal::float3 light_2,
+    metal::float3 axis,
+    float cos_outer,
+    float cos_inner,
+    float intensity_2,
+    metal::float3 sigma_t_1,
+    metal::float3 sigma_s_2,
+    float g_5
+) {
+    bool local_14 = {};
+    bool local_15 = {};
+    metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
+    metal::float3 n = {};
+    bool local_16 = {};
+    float scale = 1.0;
+    bool local_17 = {};
+    bool local_18 = {};
+    metal::float3 a_5 = metal::float3(0.0);
+    bool local_19 = {};
+    bool local_20 = {};
+    int c_4 = 0;
+    metal::float3 _e11 = airlight_phi_6_ray_geometry(origin_2, dir_2, light_2);
+    bool point = cos_outer <= -1.0;
+    float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
+    float _e17 = airlight_phi_6_max_abs(dir_2);
+    float _e18 = airlight_phi_6_max_abs(axis);
+    if (!(point)) {
+        if (_e18 > 0.0) {
+            local_15 = _e18 <= airlight_phi_6_HUGE;
+        } else {
+            local_15 = false;
+        }
+        bool _e29 = local_15;
+        local_14 = !(_e29);
+    } else {
+        local_14 = false;
+    }
+    bool _e32 = local_14;
+    if (_e32) {
+        return metal::float3(0.0);
+    }
+    metal::float3 _e40 = ax;
+    n = _e40;
+    if (!(point)) {
+        ax = metal::normalize(axis / metal::float3(_e18));
+    }
+    if (_e17 > 0.0) {
+        local_16 = _e17 <= airlight_phi_6_HUGE;
+    } else {
+        local_16 = false;
+    }
+    bool _e53 = local_16;
+    if (_e53) {
+        n = metal::normalize(dir_2 / metal::float3(_e17));
+    }
+    metal::float3 _e57 = ax;
+    metal::float3 _e58 = n;
+    float k_3 = metal::dot(_e57, _e58);
+    if (_e11.x <= 0.0) {
+        float _e65 = airlight_phi_6_spot_weight(k_3, co_3, cos_inner);
+        scale = point ? 1.0 : _e65;
+        float _e69 = scale;
+        float _e73 = airlight_phi_6_scaled(sigma_s_2.x, intensity_2 * _e69, 1.0, airlight_phi_6_HUGE);
+        float _e75 = scale;
+        float _e79 = airlight_phi_6_scaled(sigma_s_2.y, intensity_2 * _e75, 1.0, airlight_phi_6_HUGE);
+        float _e81 = scale;
+        float _e85 = airlight_phi_6_scaled(sigma_s_2.z, intensity_2 * _e81, 1.0, airlight_phi_6_HUGE);
+        return metal::float3(_e73, _e79, _e85);
+    }
+    if (_e11.y <= 0.0) {
+        local_17 = _e11.z == 0.0;
+    } else {
+        local_17 = false;
+    }
+    bool _e96 = local_17;
+    if (_e96) {
+        return metal::float3(0.0);
+    }
+    float d_7 = _e11.x;
+    float h_5 = _e11.y;
+    float x0_5 = _e11.z;
+    if (surface_1 >= 0.0) {
+        local_18 = (surface_1 / d_7) < airlight_phi_6_RHO_OPEN;
+    } else {
+        local_18 = false;
+    }
+    bool has_end = local_18;
+    float rho_5 = has_end ? (surface_1 / d_7) : -1.0;
+    metal::float3 tau_5 = metal::min(metal::max(sigma_t_1 * d_7, metal::float3(0.0)), metal::float3(10000.0));
+    float gg = metal::clamp(g_5, -0.999, 0.999);
+    if (!(point)) {
+        local_19 = h_5 <= 0.0;
+    } else {
+        local_19 = true;
+    }
+    bool _e133 = local_19;
+    if (_e133) {
+        if (!(point)) {
+            float _e136 = airlight_phi_6_spot_weight(-(k_3), co_3, cos_inner);
+            float _e137 = airlight_phi_6_spot_weight(k_3, co_3, cos_inner);
+            if (has_end) {
+                local_20 = rho_5 < 1.0;
+            } else {
+                local_20 = false;
+            }
+            bool _e144 = local_20;
+            scale = (x0_5 < 0.0) ? _e137 : (_e144 ? _e136 : metal::max(_e136, _e137));
+        }
+        uint2 loop_bound_1 = uint2(4294967295u);
+        bool loop_init_1 = true;
+        while(true) {
+            if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+            if (!loop_init_1) {
+                int _e160 = c_4;
+                c_4 = as_type<int>(as_type<uint>(_e160) + as_type<uint>(1));
+            }
+            loop_init_1 = false;
+            int _e151 = c_4;
+            if (_e151 < 3) {
+            } else {
+                break;
+            }
+            {
+                int _e154 = c_4;
+                int _e156 = c_4;
+                float _e158 = airlight_phi_6_along(tau_5[_e156], h_5, x0_5, rho_5, gg);
+                a_5[_e154] = _e158;
+            }
+        }
+    } else {
+        metal::float3 l = light_2 - origin_2;
+        float _e163 = airlight_phi_6_max_abs(l);
+        metal::float3 _e166 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e163), _e166);
+        metal::float3 _e168 = n;
+        metal::float3 _e169 = ax;
+        float ca_1 = metal::dot(cr, metal::cross(_e168, _e169)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float r_6 = metal::sqrt((ca_1 * ca_1) + (k_3 * k_3));
+        float _e180 = airlight_phi_6_arctan2_(k_3, ca_1);
+        float _e181 = airlight_phi_6_arctan2_(h_5, x0_5);
+        float _e184 = airlight_phi_6_arctan2_(h_5, x0_5 - rho_5);
+        float om_e = has_end ? _e184 : airlight_phi_6_PI;
+        if (co_3 < r_6) {
+            float _e187 = airlight_phi_6_spot_asin(co_3, r_6);
+            float lo = metal::max(_e181, _e180 + _e187);
+            float hi_1 = metal::min(om_e, (_e180 + airlight_phi_6_PI) - _e187);
+            if (lo < hi_1) {
+                if (cos_inner <= co_3) {
+                    metal::float3 _e198 = airlight_phi_6_spot_core(tau_5, h_5, x0_5, rho_5, _e181, lo, hi_1, lo > _e181, hi_1 < om_e, gg);
+                    a_5 = _e198;
+                } else {
+                    if (cos_inner < r_6) {
+                        float _e200 = airlight_phi_6_spot_asin(cos_inner, r_6);
+                        float li = metal::max(_e181, _e180 + _e200);
+                        float hj = metal::min(om_e, (_e180 + airlight_phi_6_PI) - _e200);
+                        if (li < hj) {
+                            metal::float3 _e210 = airlight_phi_6_spot_core(tau_5, h_5, x0_5, rho_5, _e181, li, hj, li > _e181, hj < om_e, gg);
+                            a_5 = _e210;
+                        }
+                        metal::float3 _e211 = a_5;
+                        metal::float3 _e214 = airlight_phi_6_spot_edge(tau_5, h_5, x0_5, lo, metal::min(hi_1, _e180 + _e200), ca_1, k_3, co_3, cos_inner, gg);
+                        a_5 = _e211 + _e214;
+                        metal::float3 _e216 = a_5;
+                        metal::float3 _e221 = airlight_phi_6_spot_edge(tau_5, h_5, x0_5, metal::max(lo, (_e180 + airlight_phi_6_PI) - _e200), hi_1, ca_1, k_3, co_3, cos_inner, gg);
+                        a_5 = _e216 + _e221;
+                    } else {
+                        metal::float3 _e223 = airlight_phi_6_spot_edge(tau_5, h_5, x0_5, lo, hi_1, ca_1, k_3, co_3, cos_inner, gg);
+                        a_5 = _e223;
+                    }
+                }
+            }
+        }
+    }
+    float _e225 = scale;
+    float _e228 = a_5.x;
+    float _e229 = airlight_phi_6_scaled(sigma_s_2.x, intensity_2 * _e225, d_7, _e228);
+    float _e231 = scale;
+    float _e234 = a_5.y;
+    float _e235 = airlight_phi_6_scaled(sigma_s_2.y, intensity_2 * _e231, d_7, _e234);
+    float _e237 = scale;
+    float _e240 = a_5.z;
+    float _e241 = airlight_phi_6_scaled(sigma_s_2.z, intensity_2 * _e237, d_7, _e240);
+    return metal::float3(_e229, _e235, _e241);
 }

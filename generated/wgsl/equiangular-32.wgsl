@@ -574,3 +574,221 @@ fn airlight_equiangular_32_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: 
     let comp = airlight_equiangular_32_arctan2(geo.y, -geo.z);
     return airlight_equiangular_32_scaled(sigma_s, intensity, geo.x, airlight_equiangular_32_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
 }
+
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn airlight_equiangular_32_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+    return airlight_equiangular_32_airlight_geometry(tau, h, x0, airlight_equiangular_32_arctan2(h, x0), airlight_equiangular_32_arctan2(h, -x0), rho, g);
+}
+
+// ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
+//
+// Along the ray, omega is the angle at the point between the ray and the direction
+// to the light: omega = gamma at the viewer, pi at infinity, and ds / t^2 = domega / h.
+// The cosine of the angle between the cone's axis and the direction from the light
+// is A sin(omega) - k cos(omega) = R sin(omega - psi), so a cone of cut-off cosine
+// c >= 0 lights omega in [psi + delta, psi + pi - delta], delta = asin(c / R): one
+// interval, found without solving a quadratic. A lit stretch [wa, wb] is the
+// family's own A for a viewer moved to wa (gamma' = wa, rho' = sin(wb - wa) / sin(wb),
+// tau' = tau t0), times e^(-tau s0) / t0: never a difference of two integrals.
+// A smooth edge (the weight linear in that cosine) is integrated over the penumbra's
+// stretches by 8-point Gauss-Legendre in omega, where the integrand
+// is smooth; the fully lit stretch between is the family's exact limit.
+
+/// asin(x / r) for 0 <= x <= r, as an angle between vectors.
+fn airlight_equiangular_32_spot_asin(x: f32, r: f32) -> f32 {
+    return airlight_equiangular_32_arctan2(x, sqrt(max((r - x) * (r + x), 0.0)));
+}
+
+/// The family's A over the stretch [wa, wb] of omega, for each channel's tau:
+/// the viewer moved to wa; cut_a, cut_b: whether the cone (not the viewer or the
+/// surface) ends the stretch there.
+fn airlight_equiangular_32_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f32, cut_a: bool, cut_b: bool, g: f32) -> vec3<f32> {
+    var h1 = h;
+    var x1 = x0;
+    var t0 = 1.0;
+    var s0 = 0.0;
+    var rho1 = rho;
+    let sa = airlight_equiangular_32_sin_cos(wa);
+    if cut_a {
+        h1 = sa.x;
+        x1 = sa.y;
+        t0 = h / max(sa.x, 1e-30);
+        s0 = airlight_equiangular_32_sin_cos(wa - gam).x / max(sa.x, 1e-30);
+    }
+    if cut_b {
+        rho1 = airlight_equiangular_32_sin_cos(wb - wa).x / max(airlight_equiangular_32_sin_cos(wb).x, 1e-30);
+    } else if cut_a && rho >= 0.0 {
+        rho1 = max((rho - s0) / t0, 0.0);
+    }
+    var res: vec3<f32>;
+    for (var c = 0; c < 3; c++) {
+        let a = airlight_equiangular_32_along(tau[c] * t0, h1, x1, rho1, g);
+        res[c] = select(a * exp(-tau[c] * s0) / t0, a, a >= airlight_equiangular_32_HUGE);
+    }
+    return res;
+}
+
+/// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
+/// (ci - co) times the canonical integrand, by Gauss-Legendre; everything but the
+/// transmittance is shared by the channels.
+fn airlight_equiangular_32_spot_edge(tau: vec3<f32>, h: f32, x0: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
+    let v = v_in;
+    if !(v > u) {
+        return vec3<f32>(0.0);
+    }
+    let half = 0.5 * (v - u);
+    let mid = 0.5 * (v + u);
+    let gm = (1.0 - g) * (1.0 - g);
+    let gp = (1.0 + g) * (1.0 + g);
+    var sum = vec3<f32>(0.0);
+    var w: f32;
+    var sc: vec2<f32>;
+    var sb: vec2<f32>;
+    var d: f32;
+    var st: f32;
+    w = mid + half * 9.60289836e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * 7.96666503e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * 5.25532424e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * 1.83434635e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * -1.83434635e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * -5.25532424e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * -7.96666503e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    w = mid + half * -9.60289836e-1;
+    sc = airlight_equiangular_32_sin_cos(w);
+    sb = airlight_equiangular_32_sin_cos(0.5 * w);
+    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * half / max(h, 1e-30) * sum, vec3<f32>(airlight_equiangular_32_HUGE));
+}
+
+/// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+/// outer one, linear in c between.
+fn airlight_equiangular_32_spot_weight(c: f32, co: f32, ci: f32) -> f32 {
+    if ci > co {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return select(0.0, 1.0, c >= co);
+}
+
+/// In-scattered RGB radiance from a spot light at `light` shining along `axis`:
+/// lit where the direction from the light makes a cosine of at least `cos_outer`
+/// with the axis (half-angles up to 90 degrees: a negative cos_outer is taken as 0;
+/// cos_outer <= -1: a point light), fully from `cos_inner` on, the weight linear in
+/// the cosine between (cos_inner <= cos_outer: a hard edge). sigma_t and sigma_s per
+/// channel; the geometry, the cone and the phase function are shared by them.
+fn airlight_equiangular_32_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) -> vec3<f32> {
+    let geo = airlight_equiangular_32_ray_geometry(origin, dir, light);
+    let point = cos_outer <= -1.0;
+    let co = clamp(cos_outer, 0.0, 1.0);
+    let ci = cos_inner;
+    let md = airlight_equiangular_32_max_abs(dir);
+    let ma = airlight_equiangular_32_max_abs(axis);
+    if !point && !(ma > 0.0 && ma <= airlight_equiangular_32_HUGE) {
+        return vec3<f32>(0.0);
+    }
+    var ax = vec3<f32>(0.0, 0.0, 1.0);
+    var n = ax;
+    if !point {
+        ax = normalize(axis / ma);
+    }
+    if md > 0.0 && md <= airlight_equiangular_32_HUGE {
+        n = normalize(dir / md);
+    }
+    let k = dot(ax, n);
+    var scale = 1.0;
+    if geo.x <= 0.0 {
+        // The viewer at the light: A diverges where the ray leaves it lit.
+        scale = select(airlight_equiangular_32_spot_weight(k, co, ci), 1.0, point);
+        return vec3<f32>(airlight_equiangular_32_scaled(sigma_s.x, intensity * scale, 1.0, airlight_equiangular_32_HUGE), airlight_equiangular_32_scaled(sigma_s.y, intensity * scale, 1.0, airlight_equiangular_32_HUGE), airlight_equiangular_32_scaled(sigma_s.z, intensity * scale, 1.0, airlight_equiangular_32_HUGE));
+    }
+    if geo.y <= 0.0 && geo.z == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let d = geo.x;
+    let h = geo.y;
+    let x0 = geo.z;
+    let has_end = surface >= 0.0 && surface / d < airlight_equiangular_32_RHO_OPEN;
+    let rho = select(-1.0, surface / d, has_end);
+    let tau = min(max(sigma_t * d, vec3<f32>(0.0)), vec3<f32>(airlight_equiangular_32_TAU_MAX));
+    let gg = clamp(g, -0.999, 0.999);
+    var a = vec3<f32>(0.0);
+    if point || h <= 0.0 {
+        // A point light, or a ray on the line through the light (the direction
+        // from the light is -n before it and n beyond).
+        if !point {
+            let before = airlight_equiangular_32_spot_weight(-k, co, ci);
+            let beyond = airlight_equiangular_32_spot_weight(k, co, ci);
+            scale = select(select(max(before, beyond), before, has_end && rho < 1.0), beyond, x0 < 0.0);
+        }
+        for (var c = 0; c < 3; c++) {
+            a[c] = airlight_equiangular_32_along(tau[c], h, x0, rho, gg);
+        }
+    } else {
+        let l = light - origin;
+        let ml = airlight_equiangular_32_max_abs(l);
+        let cr = cross(l / ml, n);
+        let ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
+        let r = sqrt(ca * ca + k * k);
+        let psi = airlight_equiangular_32_arctan2(k, ca);
+        let gam = airlight_equiangular_32_arctan2(h, x0);
+        let om_e = select(airlight_equiangular_32_PI, airlight_equiangular_32_arctan2(h, x0 - rho), has_end);
+        if co < r {
+            let dlo = airlight_equiangular_32_spot_asin(co, r);
+            let lo = max(gam, psi + dlo);
+            let hi = min(om_e, psi + airlight_equiangular_32_PI - dlo);
+            if lo < hi {
+                if ci <= co {
+                    a = airlight_equiangular_32_spot_core(tau, h, x0, rho, gam, lo, hi, lo > gam, hi < om_e, gg);
+                } else if ci < r {
+                    let dli = airlight_equiangular_32_spot_asin(ci, r);
+                    let li = max(gam, psi + dli);
+                    let hj = min(om_e, psi + airlight_equiangular_32_PI - dli);
+                    if li < hj {
+                        a = airlight_equiangular_32_spot_core(tau, h, x0, rho, gam, li, hj, li > gam, hj < om_e, gg);
+                    }
+                    a += airlight_equiangular_32_spot_edge(tau, h, x0, lo, min(hi, psi + dli), ca, k, co, ci, gg);
+                    a += airlight_equiangular_32_spot_edge(tau, h, x0, max(lo, psi + airlight_equiangular_32_PI - dli), hi, ca, k, co, ci, gg);
+                } else {
+                    a = airlight_equiangular_32_spot_edge(tau, h, x0, lo, hi, ca, k, co, ci, gg);
+                }
+            }
+        }
+    }
+    return vec3<f32>(airlight_equiangular_32_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_equiangular_32_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_equiangular_32_scaled(sigma_s.z, intensity * scale, d, a.z));
+}

@@ -16,7 +16,7 @@ use airlight_fit::coeffs::ModelFile;
 use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use airlight_fit::reference::{self, Point};
 pub use airlight_fit::vocab::{f32_limit, Target, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE};
-use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry};
+use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
@@ -205,6 +205,132 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
     Ok(out)
 }
 
+/// One spot ray of the gate.
+#[derive(Debug, Clone, Copy)]
+pub struct SpotCase {
+    /// The ray, light and medium.
+    pub ray: crate::SpotRay,
+    /// The canonical point its error is held at (the lit stretch's).
+    pub point: Point,
+    /// The reference RGB radiance.
+    pub reference: [f64; 3],
+    /// The relative change of the reference when the cone's cosines move by one
+    /// f32 ulp: how much of the answer the f32 inputs alone leave undetermined.
+    pub ulp_change: f64,
+}
+
+/// Spot rays whose answer changes by more than this when the cone's cosines move
+/// by one f32 ulp (rays grazing a narrow cone's edge) are ill-conditioned in f32:
+/// there only the value's sanity is checked, as outside the declared hull.
+pub const SPOT_ULP_CHANGE: f64 = 1e-5;
+
+/// Spot rays per kernel with a spot entry.
+pub const SPOT_RAYS: usize = 160;
+
+/// The spot set's label.
+pub const SPOT: &str = "spot";
+
+/// Spot-light rays for kernel `k`'s spot entry: the placements of
+/// [`physical_rays`], each light made a spot light aimed at a random point of the
+/// ray (or beside it), outer half-angle 2°…80° log-uniform, every other one with a
+/// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
+/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1. Returns
+/// the rays with the canonical point of their unclipped red channel and the
+/// reference RGB radiance (through [`crate::SpotRay::reference`]).
+pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
+    let base = physical_rays(k, n, seed)?;
+    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x5907);
+    let mut rays = Vec::with_capacity(n);
+    for (i, (r, p, _)) in base.iter().enumerate() {
+        let o = r.origin.map(f64::from);
+        let l = r.light.map(f64::from);
+        let dn = {
+            let d = r.dir.map(f64::from);
+            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            d.map(|x| x / m)
+        };
+        let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
+        let s = 2.0 * dist * rng.next_f64();
+        let jitter = 0.3 * dist * rng.next_f64();
+        let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
+        let axis: [f64; 3] = std::array::from_fn(|j| o[j] + s * dn[j] + jitter * u[j] - l[j]);
+        let outer = (2.0f64 * 40f64.powf(rng.next_f64())).to_radians();
+        let inner = outer * (0.2 + 0.75 * rng.next_f64());
+        let (cos_outer, cos_inner) = if i % 16 == 15 {
+            (-1.0, -1.0)
+        } else if i % 2 == 0 {
+            (outer.cos(), inner.cos())
+        } else {
+            (outer.cos(), outer.cos())
+        };
+        let f = [1.0, 0.4 + 0.6 * rng.next_f64(), 0.4 + 0.6 * rng.next_f64()];
+        // A kernel that does not take σt (no extinction) is checked in a medium without it:
+        // ignoring the transmittance to a stretch is not bounded by its bound on A.
+        let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+        let sigma_t = if takes_sigma_t { f.map(|x| (x * f64::from(r.sigma_t)) as f32) } else { [0.0; 3] };
+        let sigma_s = f.map(|x| (x * f64::from(r.sigma_s)) as f32);
+        rays.push((
+            crate::SpotRay {
+                origin: r.origin,
+                dir: r.dir,
+                surface: r.surface,
+                light: r.light,
+                axis: axis.map(|x| x as f32),
+                cos_outer: cos_outer as f32,
+                cos_inner: cos_inner as f32,
+                intensity: r.intensity,
+                sigma_t,
+                sigma_s,
+                g: r.g,
+            },
+            *p,
+        ));
+    }
+    // The canonical point each error is held at: the lit stretch's own (the
+    // viewer moved to where the outer cone begins), where the family's bound applies.
+    for (r, p) in rays.iter_mut() {
+        let Some(cone) = r.cone() else { continue };
+        let ray = r.physical(0);
+        if let Some((s0, s1)) = cone.lit(&ray, cone.cos_outer) {
+            if let Ok(c) = ray.stretch(s0, s1).0.to_canonical(f64::from(r.g)) {
+                *p = project(k, c.point);
+            }
+        }
+    }
+    let refs = airlight_fit::parallel::map(
+        &rays,
+        |(r, _)| -> Result<([f64; 3], f64), String> {
+            let a = |q: Point| reference::airlight(project(k, q)).unwrap_or(f64::NAN);
+            let mut out = [0.0; 3];
+            for (c, v) in out.iter_mut().enumerate() {
+                *v = r.reference(c, &a).map_err(|e| e.to_string())?;
+            }
+            // The problem's own f32 conditioning: the change when the cone's
+            // cosines move by one f32 ulp either way.
+            let mut change = 0.0;
+            if r.cone().is_some() {
+                for step in [-1.0f32, 1.0] {
+                    let mut q = *r;
+                    let ulp = |x: f32| x + step * x.abs().max(f32::MIN_POSITIVE) * f32::EPSILON;
+                    q.cos_outer = ulp(r.cos_outer);
+                    q.cos_inner = ulp(r.cos_inner);
+                    let v = q.reference(0, &a).map_err(|e| e.to_string())?;
+                    change = f64::max(change, (v - out[0]).abs() / out[0].max(f64::MIN_POSITIVE));
+                }
+            }
+            Ok((out, change))
+        },
+        &|_, _| {},
+    );
+    rays.into_iter()
+        .zip(refs)
+        .map(|((ray, point), v)| {
+            v.map(|(reference, change)| SpotCase { ray, point, reference, ulp_change: change })
+                .map_err(|e| GateError::Input(format!("{}: spot ray: {e}", k.name)))
+        })
+        .collect()
+}
+
 /// The physical extreme set's label.
 pub const PHYS_EXTREME: &str = "phys-extreme";
 
@@ -354,11 +480,12 @@ fn row(
     pts: &[(Point, f64)],
     got: &[f64],
     declared: f64,
+    held: Option<&[bool]>,
 ) -> Row {
     let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
     let mut errs = Vec::with_capacity(pts.len());
     let (mut bad, mut first_bad) = (0, None);
-    for (&(p, exact), &v64) in pts.iter().zip(got) {
+    for (i, (&(p, exact), &v64)) in pts.iter().zip(got).enumerate() {
         // An f32 kernel's HUGE (read as ∞) is right where the value is ∞ or
         // beyond f32's checked range (it saturates there); anywhere else it is bad.
         let saturated = target.is_some() && v64 == f64::INFINITY && exact > F32_RANGE.1;
@@ -367,7 +494,9 @@ fn row(
             first_bad.get_or_insert((p, v64));
             continue;
         }
-        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) && (domain != PHYS_EXTREME || in_declared_hull(&p, tau_max)) {
+        let hull = domain != PHYS_EXTREME && domain != SPOT;
+        let conditioned = held.is_none_or(|h| h[i]);
+        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) && (hull || in_declared_hull(&p, tau_max)) && conditioned {
             errs.push((p, (v64 - exact).abs() / exact));
         }
     }
@@ -451,7 +580,7 @@ pub fn run(
             let bound = declared(k, &models, *domain)?;
             let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
             let f64s = airlight_fit::parallel::map(pts, |(p, _)| model(*p), &|_, _| {});
-            rows.push(row(k, None, domain.name(), pts, &f64s, bound));
+            rows.push(row(k, None, domain.name(), pts, &f64s, bound, None));
             if let Some(rk) = compiled {
                 let got: Vec<f64> = raw
                     .iter()
@@ -459,7 +588,7 @@ pub fn run(
                         crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
                     })
                     .collect();
-                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound));
+                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound, None));
             }
             let Some(gpu) = gpu else { continue };
             for (target, src) in &shaders {
@@ -467,7 +596,7 @@ pub fn run(
                     .airlight(src, &raw)
                     .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
                 let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound));
+                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound, None));
             }
         }
         // The physical entry: random placements at world scales 1e-3 … 1e4, and
@@ -487,10 +616,10 @@ pub fn run(
                 |(r, _, _)| r.physical().radiance(f64::from(r.g), &|p| model(p)).unwrap_or(f64::NAN),
                 &|_, _| {},
             );
-            rows.push(row(k, None, label, &expected, &f64s, bound));
+            rows.push(row(k, None, label, &expected, &f64s, bound, None));
             if let Some(rk) = compiled {
                 let got: Vec<f64> = rays.iter().map(|(r, _, _)| crate::from_kernel(r.radiance_of(rk))).collect();
-                rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound));
+                rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound, None));
             }
             if let Some(gpu) = gpu {
                 let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
@@ -499,7 +628,40 @@ pub fn run(
                         .radiance(src, &plain)
                         .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
                     let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                    rows.push(row(k, Some(*target), label, &expected, &got, bound));
+                    rows.push(row(k, Some(*target), label, &expected, &got, bound, None));
+                }
+            }
+        }
+        // The spot entry: spot lights and RGB media, bounded like the physical entry.
+        if k.has(Entry::Spot) {
+            let cases = spot_rays(k, SPOT_RAYS, VALIDATION_SEED ^ 0x5B07)?;
+            let expected: Vec<(Point, f64)> = cases.iter().flat_map(|c| c.reference.map(|v| (c.point, v))).collect();
+            let held: Vec<bool> = cases.iter().flat_map(|c| [c.ulp_change <= SPOT_ULP_CHANGE; 3]).collect();
+            let f64s: Vec<f64> = airlight_fit::parallel::map(
+                &cases,
+                |c| [0, 1, 2].map(|ch| c.ray.reference(ch, &|p| model(p)).unwrap_or(f64::NAN)),
+                &|_, _| {},
+            )
+            .into_iter()
+            .flatten()
+            .collect();
+            rows.push(row(k, None, SPOT, &expected, &f64s, sampled, Some(&held)));
+            if let Some(rk) = compiled {
+                let got: Vec<f64> = cases
+                    .iter()
+                    .flat_map(|c| c.ray.spot_of(rk).unwrap_or([f32::NAN; 3]))
+                    .map(crate::from_kernel)
+                    .collect();
+                rows.push(row(k, Some(Target::Rust), SPOT, &expected, &got, sampled, Some(&held)));
+            }
+            if let Some(gpu) = gpu {
+                let plain: Vec<crate::SpotRay> = cases.iter().map(|c| c.ray).collect();
+                for (target, src) in &shaders {
+                    let got = gpu
+                        .spot(src, &plain)
+                        .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
+                    let got: Vec<f64> = got.into_iter().flatten().map(crate::from_kernel).collect();
+                    rows.push(row(k, Some(*target), SPOT, &expected, &got, sampled, Some(&held)));
                 }
             }
         }

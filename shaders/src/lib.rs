@@ -142,7 +142,7 @@ impl Gpu {
     /// [`NO_SURFACE`]. Returns one f32 per point, in order.
     pub fn eval(&self, kernel: &str, function: &str, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
         let source = wrap_kernel(kernel, function);
-        self.dispatch(wgpu::ShaderSource::Wgsl(source.into()), function, &pack_points(points), 1, points.len(), None)
+        self.dispatch(wgpu::ShaderSource::Wgsl(source.into()), function, &pack_points(points), 1, points.len(), 1, None)
     }
 
     /// Evaluates a generated kernel's canonical entry (`<prefix>airlight`) at every
@@ -150,7 +150,7 @@ impl Gpu {
     /// [`NO_SURFACE`]. One f32 per point, in order.
     pub fn airlight(&self, k: &KernelSource, points: &[[f64; 4]]) -> Result<Vec<f32>, GpuError> {
         let source = wrap(k, Entry::Canonical)?;
-        self.dispatch(k.shader(&source), k.prefix, &pack_points(points), 1, points.len(), k.table)
+        self.dispatch(k.shader(&source), k.prefix, &pack_points(points), 1, points.len(), 1, k.table)
     }
 
     /// Evaluates a generated kernel's physical entry (`<prefix>radiance`) for every
@@ -158,7 +158,17 @@ impl Gpu {
     pub fn radiance(&self, k: &KernelSource, rays: &[Ray]) -> Result<Vec<f32>, GpuError> {
         let source = wrap(k, Entry::Radiance)?;
         let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
-        self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len(), k.table)
+        self.dispatch(k.shader(&source), k.prefix, &data, Entry::Radiance.packed_vec4s(), rays.len(), 1, k.table)
+    }
+
+    /// Evaluates a generated kernel's spot entry (`<prefix>spot`) for every ray:
+    /// RGB per ray, in order.
+    pub fn spot(&self, k: &KernelSource, rays: &[SpotRay]) -> Result<Vec<[f32; 3]>, GpuError> {
+        let source = wrap(k, Entry::Spot)?;
+        let data: Vec<f32> = rays.iter().flat_map(SpotRay::pack).collect();
+        let out =
+            self.dispatch(k.shader(&source), k.prefix, &data, Entry::Spot.packed_vec4s(), rays.len(), 3, k.table)?;
+        Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
     }
 
     /// GPU evaluations per second of a kernel's canonical entry over `points`:
@@ -286,7 +296,8 @@ impl Gpu {
     }
 
     /// Runs a compute shader with entry `main` over `n` items of `stride` vec4s
-    /// each (binding 0) into one f32 per item (binding 1).
+    /// each (binding 0) into `outputs` f32 per item (binding 1).
+    #[allow(clippy::too_many_arguments)]
     fn dispatch(
         &self,
         shader: wgpu::ShaderSource,
@@ -294,6 +305,7 @@ impl Gpu {
         data: &[f32],
         stride: usize,
         n: usize,
+        outputs: usize,
         table: Option<&Table>,
     ) -> Result<Vec<f32>, GpuError> {
         if n == 0 {
@@ -301,8 +313,8 @@ impl Gpu {
         }
         let (gx, gy) = workgroups(n)?;
         debug_assert_eq!(data.len(), n * stride * 4);
-        let run = self.prepare(shader, label, data, n, table)?;
-        let bytes = (n * 4) as u64;
+        let run = self.prepare(shader, label, data, n * outputs, table)?;
+        let bytes = (n * outputs * 4) as u64;
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging"),
             size: bytes,
@@ -436,6 +448,8 @@ pub struct KernelSource<'a> {
     pub params: &'a [Arg],
     /// Arguments of `<prefix>radiance`.
     pub radiance_params: &'a [Arg],
+    /// Arguments of `<prefix>spot` (empty: it has none).
+    pub spot_params: &'a [Arg],
     /// The table it reads, bound as a texture (binding 2; GLSL: a sampler at 3).
     pub table: Option<&'a Table>,
 }
@@ -481,6 +495,7 @@ impl<'a> KernelSource<'a> {
             prefix: &entry.prefix,
             params: &entry.params,
             radiance_params: &entry.radiance_params,
+            spot_params: &entry.spot_params,
             table: None,
         }
     }
@@ -500,6 +515,7 @@ impl<'a> KernelSource<'a> {
         match entry {
             Entry::Canonical => self.params,
             Entry::Radiance => self.radiance_params,
+            Entry::Spot => self.spot_params,
         }
     }
 }
@@ -568,7 +584,118 @@ impl Ray {
                 Arg::SigmaT => &[self.sigma_t],
                 Arg::SigmaS => &[self.sigma_s],
                 Arg::G => &[self.g],
-                Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
+                other => unreachable!("{other} is not an argument of radiance"),
+            };
+            out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
+        }
+        out
+    }
+}
+
+/// One view ray with a spot light and an RGB medium, for the spot entry point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotRay {
+    /// Ray origin (the viewer).
+    pub origin: [f32; 3],
+    /// Ray direction (need not be normalised).
+    pub dir: [f32; 3],
+    /// Distance to the first surface along the ray; negative: none.
+    pub surface: f32,
+    /// Light position.
+    pub light: [f32; 3],
+    /// The cone's axis, from the light.
+    pub axis: [f32; 3],
+    /// Cosine of the outer half-angle (`<= -1`: a point light).
+    pub cos_outer: f32,
+    /// Cosine of the inner half-angle (`<= cos_outer`: a hard edge).
+    pub cos_inner: f32,
+    /// Radiant intensity.
+    pub intensity: f32,
+    /// Extinction coefficient per channel.
+    pub sigma_t: [f32; 3],
+    /// Scattering coefficient per channel.
+    pub sigma_s: [f32; 3],
+    /// Henyey–Greenstein asymmetry.
+    pub g: f32,
+}
+
+impl SpotRay {
+    /// Channel `c` of the ray in f64, as a point-light ray (`surface < 0`: none).
+    pub fn physical(&self, c: usize) -> airlight_fit::geometry::PhysicalRay {
+        let ray = Ray {
+            origin: self.origin,
+            dir: self.dir,
+            surface: self.surface,
+            light: self.light,
+            intensity: self.intensity,
+            sigma_t: self.sigma_t[c],
+            sigma_s: self.sigma_s[c],
+            g: self.g,
+        };
+        ray.physical()
+    }
+
+    /// The cone in f64; `None` for a point light (`cos_outer <= -1`).
+    pub fn cone(&self) -> Option<airlight_fit::geometry::Cone> {
+        (self.cos_outer > -1.0).then(|| airlight_fit::geometry::Cone {
+            axis: self.axis.map(f64::from),
+            cos_outer: f64::from(self.cos_outer),
+            cos_inner: f64::from(self.cos_inner),
+        })
+    }
+
+    /// The reference radiance of channel `c`, `A` by `a` (the f64 reference or a
+    /// model): through the cone's lit stretch, or the whole ray for a point light.
+    pub fn reference(
+        &self,
+        c: usize,
+        a: &dyn Fn(airlight_fit::reference::Point) -> f64,
+    ) -> Result<f64, airlight_fit::geometry::GeometryError> {
+        let ray = self.physical(c);
+        let g = f64::from(self.g);
+        match self.cone() {
+            Some(cone) => ray.spot_radiance(&cone, g, a),
+            None => ray.radiance(g, a),
+        }
+    }
+
+    /// A compiled Rust kernel's spot entry on this ray, where it has one.
+    pub fn spot_of(&self, k: &airlight_fit::vocab::CompiledKernel) -> Option<[f32; 3]> {
+        k.spot.map(|f| {
+            f(
+                self.origin,
+                self.dir,
+                self.surface,
+                self.light,
+                self.axis,
+                self.cos_outer,
+                self.cos_inner,
+                self.intensity,
+                self.sigma_t,
+                self.sigma_s,
+                self.g,
+            )
+        })
+    }
+
+    /// The arguments in their packing slots ([`Arg::slot`]).
+    fn pack(&self) -> [f32; 24] {
+        let mut out = [0.0; 24];
+        for &a in Entry::Spot.all_args() {
+            let (v, lane) = a.slot(Entry::Spot).expect("every spot argument has a slot");
+            let values: &[f32] = match a {
+                Arg::Origin => &self.origin,
+                Arg::Dir => &self.dir,
+                Arg::Light => &self.light,
+                Arg::Axis => &self.axis,
+                Arg::SigmaTRgb => &self.sigma_t,
+                Arg::SigmaSRgb => &self.sigma_s,
+                Arg::Surface => &[self.surface],
+                Arg::CosOuter => &[self.cos_outer],
+                Arg::CosInner => &[self.cos_inner],
+                Arg::Intensity => &[self.intensity],
+                Arg::G => &[self.g],
+                other => unreachable!("{other} is not an argument of spot"),
             };
             out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
         }
@@ -594,6 +721,16 @@ fn wrap(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
         })
     };
     let stride = entry.packed_vec4s();
+    let outputs = entry.outputs();
+    let store = if outputs == 1 {
+        "airlight_results[i] = r;".to_string()
+    } else {
+        let lanes = ["x", "y", "z", "w"];
+        (0..outputs)
+            .map(|j| format!("airlight_results[i * {outputs}u + {j}u] = r.{};", lanes[j]))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     let args = k.args(entry).iter().map(|&p| arg(p)).collect::<Result<Vec<_>, _>>()?.join(", ");
     let call = format!("{}{}({args})", k.prefix, entry.function());
     Ok(if glsl {
@@ -605,16 +742,18 @@ layout(std430, set = 0, binding = 0) readonly buffer AirlightInputs {{ vec4 airl
 layout(std430, set = 0, binding = 1) buffer AirlightResults {{ float airlight_results[]; }};\n\
 void main() {{\n\
     uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * {WORKGROUP}u;\n\
-    if (i >= uint(airlight_results.length())) {{\n\
+    if (i >= uint(airlight_results.length()) / {outputs}u) {{\n\
         return;\n\
     }}\n\
     vec4 x[{stride}];\n\
     for (uint j = 0u; j < {stride}u; j++) {{\n\
         x[j] = airlight_inputs[i * {stride}u + j];\n\
     }}\n\
-    airlight_results[i] = {call};\n\
+    {ty} r = {call};\n\
+    {store}\n\
 }}\n",
-            src = k.source
+            src = k.source,
+            ty = if outputs == 1 { "float" } else { "vec3" }
         )
     } else {
         format!(
@@ -626,14 +765,15 @@ void main() {{\n\
 @compute @workgroup_size({WORKGROUP})\n\
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
     let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
-    if (i >= arrayLength(&airlight_results)) {{\n\
+    if (i >= arrayLength(&airlight_results) / {outputs}u) {{\n\
         return;\n\
     }}\n\
     var x: array<vec4<f32>, {stride}>;\n\
     for (var j = 0u; j < {stride}u; j++) {{\n\
         x[j] = airlight_inputs[i * {stride}u + j];\n\
     }}\n\
-    airlight_results[i] = {call};\n\
+    let r = {call};\n\
+    {store}\n\
 }}\n",
             src = k.source
         )

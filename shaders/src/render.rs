@@ -104,7 +104,7 @@ pub(crate) fn radiance_args(k: &IndexEntry, view: &View, origin: &str, light: &s
             Arg::SigmaT => "sigma_t".into(),
             Arg::SigmaS => format!("{ALBEDO:?} * sigma_t"),
             Arg::G => format!("{:?}", view.g),
-            Arg::Tau | Arg::Gamma | Arg::Rho => unreachable!("not an argument of radiance"),
+            other => unreachable!("{other} is not an argument of radiance"),
         })
         .collect()
 }

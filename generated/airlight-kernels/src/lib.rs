@@ -113,6 +113,11 @@ pub type Canonical = fn(f32, f32, f32, f32) -> f32;
 /// the kernel does not take are ignored.
 pub type Radiance = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) -> f32;
 
+/// A kernel's spot entry with the uniform signature `(origin, dir, surface, light,
+/// axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)`, RGB `sigma_t`,
+/// `sigma_s` and result; arguments the kernel does not take are ignored.
+pub type Spot = fn([f32; 3], [f32; 3], f32, [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
+
 /// One generated kernel.
 #[derive(Debug, Clone, Copy)]
 pub struct Kernel {
@@ -130,6 +135,8 @@ pub struct Kernel {
     pub airlight: Canonical,
     /// The physical entry, uniform signature.
     pub radiance: Radiance,
+    /// The spot (RGB) entry, uniform signature, where the kernel has one.
+    pub spot: Option<Spot>,
 }
 
 /// Every kernel in this crate.
@@ -144,6 +151,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            paper_as_printed::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper",
@@ -155,6 +165,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            paper::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper-refit",
@@ -166,6 +179,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            paper_refit::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper-hg",
@@ -177,6 +193,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            paper_hg::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "paper-refit-hg",
@@ -188,6 +207,11 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            paper_refit_hg::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
+        }),
     },
     Kernel {
         name: "segments-2",
@@ -199,6 +223,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-3",
@@ -210,6 +237,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-4",
@@ -221,6 +251,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-6",
@@ -232,6 +265,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-8",
@@ -243,6 +279,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-12",
@@ -254,6 +293,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_12::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-16",
@@ -265,6 +307,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            segments_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "hg-exp1",
@@ -276,6 +321,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            hg_exp1::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "hg-exp2",
@@ -287,6 +335,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            hg_exp2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "hg-exp3",
@@ -298,6 +349,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            hg_exp3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-iso-4",
@@ -309,6 +363,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-iso-6",
@@ -320,6 +377,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-iso-8",
@@ -331,6 +391,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            phi_iso_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-4",
@@ -342,6 +405,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            phi_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-6",
@@ -353,6 +419,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            phi_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-8",
@@ -364,6 +433,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            phi_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "no-extinction",
@@ -375,6 +447,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::radiance(origin, dir, surface, light, intensity, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
+            no_extinction::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_s)
+        }),
     },
     Kernel {
         name: "raymarch-8",
@@ -386,6 +461,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-16",
@@ -397,6 +475,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-32",
@@ -408,6 +489,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_32::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-64",
@@ -419,6 +503,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-128",
@@ -430,6 +517,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-256",
@@ -441,6 +531,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-1024",
@@ -452,6 +545,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            raymarch_1024::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-2",
@@ -463,6 +559,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            equiangular_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-4",
@@ -474,6 +573,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            equiangular_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-8",
@@ -485,6 +587,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            equiangular_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-16",
@@ -496,6 +601,11 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            equiangular_16::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
+        }),
     },
     Kernel {
         name: "equiangular-32",
@@ -507,6 +617,11 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            equiangular_32::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
+        }),
     },
     Kernel {
         name: "sun2005-64",
@@ -518,6 +633,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            sun2005_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-128",
@@ -529,6 +647,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            sun2005_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-256",
@@ -540,6 +661,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            sun2005_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-512",
@@ -551,6 +675,9 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            sun2005_512::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "scene-backscatter-aerosol",
@@ -562,6 +689,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
         },
+        spot: None,
     },
     Kernel {
         name: "scene-fog-street",
@@ -573,6 +701,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: None,
     },
     Kernel {
         name: "scene-harbour-fog",
@@ -584,6 +713,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
         },
+        spot: None,
     },
     Kernel {
         name: "scene-haze-sky",
@@ -595,6 +725,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
             scene_haze_sky::radiance(origin, dir, light, intensity, sigma_s)
         },
+        spot: None,
     },
     Kernel {
         name: "scene-hg-fog",
@@ -606,6 +737,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: None,
     },
     Kernel {
         name: "scene-smoke-room",
@@ -617,6 +749,7 @@ pub const KERNELS: &[Kernel] = &[
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
+        spot: None,
     },
 ];
 

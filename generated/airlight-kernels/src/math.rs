@@ -326,7 +326,7 @@ pub fn sin_cos(x: f32) -> (f32, f32) {
 }
 
 /// Largest absolute component.
-fn max_abs(v: [f32; 3]) -> f32 {
+pub fn max_abs(v: [f32; 3]) -> f32 {
     v[0].abs().max(v[1].abs()).max(v[2].abs())
 }
 
