@@ -62,6 +62,11 @@ enum EvalEntry {
     /// The physical entry, radiance = sigma_s * I / D * A: columns
     /// ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g.
     Radiance,
+    /// The spot entry, RGB radiance from a spot light (cos_outer = -1: a point
+    /// light) in an RGB medium: columns ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,ax,ay,az,
+    /// cos_outer,cos_inner,intensity,sigma_t_r,sigma_t_g,sigma_t_b,sigma_s_r,
+    /// sigma_s_g,sigma_s_b,g; output columns r,g_out,b.
+    Spot,
 }
 
 /// Where `eval` runs: `cpu`, or a generated shader's language.
@@ -122,7 +127,8 @@ enum Command {
         /// ignored. Prints the adapter on standard error.
         #[arg(long, default_value = "cpu")]
         target: EvalTarget,
-        /// airlight: the canonical entry (points); radiance: the physical entry (rays).
+        /// airlight: the canonical entry (points); radiance: the physical entry
+        /// (rays); spot: the spot entry (spot rays, RGB).
         #[arg(long, value_enum, default_value_t = EvalEntry::Airlight)]
         entry: EvalEntry,
         /// Repository root (the directory holding generated/coefficients/); found
@@ -296,7 +302,7 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
     };
     match command {
         Command::Eval { model, input, output, precision, target, entry, root } => {
-            let rays = entry == EvalEntry::Radiance;
+            let rays = entry;
             match (target.0, precision, linked) {
                 (Some(target), _, _) => eval_gpu(&model, &input, output.as_deref(), target, rays, root),
                 (None, Precision::F32, None) => delegate(root, None),
@@ -405,9 +411,10 @@ fn eval(
     input: &Path,
     output: Option<&Path>,
     kernels: Option<&[CompiledKernel]>,
-    rays: bool,
+    entry_kind: EvalEntry,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
+    let rays = entry_kind == EvalEntry::Radiance;
     let (reg, _) = registry(root.clone())?;
     let kernel = match kernels {
         None => None,
@@ -421,6 +428,19 @@ fn eval(
         Some(k) => {
             let index = gate::load_index(&generated_dir(root)?).map_err(|e| bad_input(e.to_string()))?;
             let entry = index.get(model).map_err(bad_input)?;
+            if entry_kind == EvalEntry::Spot {
+                let f = k.spot.ok_or_else(|| bad_input(format!("kernel '{model}' has no spot entry")))?;
+                let rows = read_spots(input, &|r, g| entry.check_ray(r, g))?;
+                let values: Vec<[f64; 3]> = rows
+                    .iter()
+                    .map(|r| {
+                        let s = kernel_spot(r);
+                        f(s.origin, s.dir, s.surface, s.light, s.axis, s.cos_outer, s.cos_inner, s.intensity, s.sigma_t, s.sigma_s, s.g)
+                            .map(f64::from)
+                    })
+                    .collect();
+                return write_csv(output, &points_csv::render_spots(&rows, &values));
+            }
             if rays {
                 let rows = read_rays(input, &|r, g| entry.check_ray(r, g))?;
                 let values: Vec<f64> = rows.iter().map(|r| f64::from(kernel_ray(r).radiance_of(k))).collect();
@@ -432,12 +452,21 @@ fn eval(
         }
         None => reg.get(model).map_err(bad_input)?,
     };
+    let g_ok = |_: &airlight_fit::geometry::PhysicalRay, g: f64| {
+        m.check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
+            .map_err(|e| ("g", e.to_string()))
+    };
+    if entry_kind == EvalEntry::Spot {
+        let rows = read_spots(input, &g_ok)?;
+        let values = airlight_fit::parallel::map(&rows, |r| r.radiance(&|p| m.eval_unchecked(p)), &|_, _| {});
+        let mut out = Vec::with_capacity(rows.len());
+        for (r, v) in rows.iter().zip(values) {
+            out.push(v.map_err(|e| bad_input(format!("{}:{}: {e}", input.display(), r.line)))?);
+        }
+        return write_csv(output, &points_csv::render_spots(&rows, &out));
+    }
     if rays {
         // The f64 model's g range, on the ray's g.
-        let g_ok = |_: &airlight_fit::geometry::PhysicalRay, g: f64| {
-            m.check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
-                .map_err(|e| ("g", e.to_string()))
-        };
         let rows = read_rays(input, &g_ok)?;
         let values = airlight_fit::parallel::map(
             &rows,
@@ -474,6 +503,36 @@ fn read_rays(input: &Path, check: &points_csv::RayCheck) -> Result<Vec<points_cs
     points_csv::parse_rays(&name, &text, check).map_err(bad_input)
 }
 
+/// The rays of an `eval --entry spot` CSV, each channel checked by `check`.
+fn read_spots(input: &Path, check: &points_csv::RayCheck) -> Result<Vec<points_csv::SpotRow>, Failure> {
+    let name = input.display().to_string();
+    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    points_csv::parse_spots(&name, &text, check).map_err(bad_input)
+}
+
+/// A spot row as a kernel's spot entry takes it (f32; no surface: −1; a point light: cos_outer −1).
+fn kernel_spot(r: &points_csv::SpotRow) -> airlight_shaders::SpotRay {
+    let f = |v: [f64; 3]| v.map(|x| x as f32);
+    let ray = &r.rays[0];
+    let (axis, co, ci) = match &r.cone {
+        Some(c) => (f(c.axis), c.cos_outer as f32, c.cos_inner as f32),
+        None => ([0.0, 0.0, 1.0], -1.0, -1.0),
+    };
+    airlight_shaders::SpotRay {
+        origin: f(ray.origin),
+        dir: f(ray.direction),
+        surface: ray.surface_distance.map_or(-1.0, |s| s as f32),
+        light: f(ray.light),
+        axis,
+        cos_outer: co,
+        cos_inner: ci,
+        intensity: ray.intensity as f32,
+        sigma_t: r.rays.each_ref().map(|x| x.sigma_t as f32),
+        sigma_s: r.rays.each_ref().map(|x| x.sigma_s as f32),
+        g: r.g as f32,
+    }
+}
+
 /// A ray as a kernel's physical entry takes it (f32; no surface: −1).
 fn kernel_ray(r: &points_csv::RayRow) -> airlight_shaders::Ray {
     let f = |v: [f64; 3]| v.map(|x| x as f32);
@@ -495,9 +554,10 @@ fn eval_gpu(
     input: &Path,
     output: Option<&Path>,
     language: Target,
-    rays: bool,
+    entry_kind: EvalEntry,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
+    let rays = entry_kind == EvalEntry::Radiance;
     let generated = generated_dir(root.clone())?;
     let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
     let k = index.get(name).map_err(bad_input)?;
@@ -507,6 +567,18 @@ fn eval_gpu(
         std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
     let table = airlight_shaders::load_table(&generated, k).map_err(|e| Failure(1, e.to_string()))?;
     let src = KernelSource::of(k, language, &source).with_table(table.as_ref());
+    if entry_kind == EvalEntry::Spot {
+        if !k.has(airlight_fit::vocab::Entry::Spot) {
+            return Err(bad_input(format!("kernel '{name}' has no spot entry")));
+        }
+        let rows = read_spots(input, &|r, g| k.check_ray(r, g))?;
+        let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
+        eprintln!("adapter: {}", gpu.adapter());
+        let plain: Vec<airlight_shaders::SpotRay> = rows.iter().map(kernel_spot).collect();
+        let got = gpu.spot(&src, &plain).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
+        let values: Vec<[f64; 3]> = got.iter().map(|v| v.map(f64::from)).collect();
+        return write_csv(output, &points_csv::render_spots(&rows, &values));
+    }
     if rays {
         let rows = read_rays(input, &|r, g| k.check_ray(r, g))?;
         let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;

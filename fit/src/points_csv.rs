@@ -5,8 +5,10 @@
 //! - Points of the canonical entry: `tau,gamma,rho,g`, `rho` may be `inf`.
 //! - Rays of the physical entry ([`RAY_COLUMNS`]): viewer, direction, surface
 //!   distance (negative or `inf`: none), light, intensity, σt, σs, g.
+//! - Rays of the spot entry ([`SPOT_COLUMNS`]): the same with the cone's axis and
+//!   cosines, and σt, σs per colour channel.
 
-use crate::geometry::PhysicalRay;
+use crate::geometry::{Cone, PhysicalRay};
 use crate::reference::{ParamError, Point};
 use std::fmt;
 
@@ -207,6 +209,131 @@ pub fn render_rays(rows: &[RayRow], values: &[f64]) -> String {
     out.push_str(",radiance\n");
     for (row, v) in rows.iter().zip(values) {
         out.push_str(&format!("{},{v:?}\n", row.text.join(",")));
+    }
+    out
+}
+
+/// Columns a spot rays file must have, in output order.
+pub const SPOT_COLUMNS: [&str; 23] = [
+    "ox",
+    "oy",
+    "oz",
+    "dx",
+    "dy",
+    "dz",
+    "surface",
+    "lx",
+    "ly",
+    "lz",
+    "ax",
+    "ay",
+    "az",
+    "cos_outer",
+    "cos_inner",
+    "intensity",
+    "sigma_t_r",
+    "sigma_t_g",
+    "sigma_t_b",
+    "sigma_s_r",
+    "sigma_s_g",
+    "sigma_s_b",
+    "g",
+];
+
+/// One parsed row of a spot rays file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpotRow {
+    /// 1-based line number in the file.
+    pub line: usize,
+    /// The ray per colour channel (its σt and σs).
+    pub rays: [PhysicalRay; 3],
+    /// The cone; `None` for a point light (`cos_outer = −1`).
+    pub cone: Option<Cone>,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f64,
+    /// The [`SPOT_COLUMNS`] as written (trimmed).
+    pub text: Vec<String>,
+}
+
+impl SpotRow {
+    /// The f64 radiance of each channel, `A` by `a`.
+    pub fn radiance(&self, a: &dyn Fn(Point) -> f64) -> Result<[f64; 3], crate::geometry::GeometryError> {
+        let mut out = [0.0; 3];
+        for (o, ray) in out.iter_mut().zip(&self.rays) {
+            *o = match &self.cone {
+                Some(c) => ray.spot_radiance(c, self.g, a)?,
+                None => ray.radiance(self.g, a)?,
+            };
+        }
+        Ok(out)
+    }
+}
+
+/// Parses a spot rays file: every column as [`parse_rays`] checks it, a non-zero
+/// axis, `0 < cos_outer ≤ 1` (half-angles below 90°) or `cos_outer = −1` for a point
+/// light, `cos_inner ≤ 1`; then each channel's ray by `check`.
+pub fn parse_spots(
+    file: &str,
+    contents: &str,
+    check: impl Fn(&PhysicalRay, f64) -> Result<(), (&'static str, String)>,
+) -> Result<Vec<SpotRow>, CsvError> {
+    let mut rows = Vec::new();
+    for (line, v, raw) in read_table(file, contents, &SPOT_COLUMNS)? {
+        for (k, (&col, &x)) in SPOT_COLUMNS.iter().zip(&v).enumerate() {
+            let (ok, need) = match col {
+                "surface" => (!x.is_nan(), "a distance ≥ 0, or negative or inf for none"),
+                "intensity" | "sigma_t_r" | "sigma_t_g" | "sigma_t_b" | "sigma_s_r" | "sigma_s_g" | "sigma_s_b" => {
+                    (x.is_finite() && x >= 0.0, "a finite number ≥ 0")
+                }
+                "g" => (x.abs() < 1.0, "in (−1, 1)"),
+                "cos_outer" => (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light"),
+                "cos_inner" => (x.is_finite() && x <= 1.0, "a finite number ≤ 1"),
+                _ => (x.is_finite(), "a finite number"),
+            };
+            if !ok {
+                let message = format!("{col} = {} is out of range: it must be {need}", raw[k]);
+                return Err(located(file, line, Some(col), message));
+            }
+        }
+        let ray = |c: usize| PhysicalRay {
+            origin: [v[0], v[1], v[2]],
+            direction: [v[3], v[4], v[5]],
+            surface_distance: (v[6] >= 0.0 && v[6].is_finite()).then_some(v[6]),
+            light: [v[7], v[8], v[9]],
+            intensity: v[15],
+            sigma_t: v[16 + c],
+            sigma_s: v[19 + c],
+        };
+        let rays = [ray(0), ray(1), ray(2)];
+        if rays[0].direction.iter().all(|&x| x == 0.0) {
+            return Err(located(file, line, Some("dx"), "the direction (dx, dy, dz) is zero".into()));
+        }
+        let cone = (v[13] > -1.0).then_some(Cone { axis: [v[10], v[11], v[12]], cos_outer: v[13], cos_inner: v[14] });
+        if cone.is_some() && v[10..13].iter().all(|&x| x == 0.0) {
+            return Err(located(file, line, Some("ax"), "the cone's axis (ax, ay, az) is zero".into()));
+        }
+        for r in &rays {
+            check(r, v[22]).map_err(|(col, m)| {
+                let col = match col {
+                    "sigma_t" => "sigma_t_r",
+                    "sigma_s" => "sigma_s_r",
+                    c => c,
+                };
+                located(file, line, Some(col), m)
+            })?;
+        }
+        rows.push(SpotRow { line, rays, cone, g: v[22], text: raw.to_vec() });
+    }
+    Ok(rows)
+}
+
+/// Writes spot rows with their values: the input columns as written plus `r`,
+/// `g_out`, `b` (printed so that they round-trip).
+pub fn render_spots(rows: &[SpotRow], values: &[[f64; 3]]) -> String {
+    let mut out = SPOT_COLUMNS.join(",");
+    out.push_str(",r,g_out,b\n");
+    for (row, v) in rows.iter().zip(values) {
+        out.push_str(&format!("{},{:?},{:?},{:?}\n", row.text.join(","), v[0], v[1], v[2]));
     }
     out
 }
