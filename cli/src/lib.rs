@@ -786,10 +786,47 @@ fn render_scene(
     let gpu = Gpu::open().map_err(|e| Failure(1, e.to_string()))?;
     println!("adapter: {}", gpu.adapter());
     let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
-    let image = gpu.render(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
-    let reference = render::render_reference(k, &view);
-    let rust = kernels.iter().find(|rk| rk.name == name).map(|rk| render::render_rust(rk, &view));
-    let exposure = render::exposure(&reference);
+    // The images, tone-mapped, and their errors against the reference: one
+    // channel (point lights), or RGB (spot lights in a coloured medium).
+    struct Images {
+        gpu: Vec<[u8; 3]>,
+        reference: Vec<[u8; 3]>,
+        diff: Vec<[u8; 3]>,
+        gpu_err: (f64, f64),
+        rust: Option<(Vec<[u8; 3]>, (f64, f64))>,
+    }
+    let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+    let rk = kernels.iter().find(|rk| rk.name == name);
+    let images = if scene.spot {
+        let image = gpu.render_spot(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+        let reference = render::render_spot_reference(k, &view);
+        let flat = render::channels(&reference);
+        let exposure = render::exposure(&flat);
+        let rgb64 = |v: &[[f32; 3]]| v.iter().map(|p| p.map(f64::from)).collect::<Vec<_>>();
+        Images {
+            gpu: render::tone_map_rgb(&rgb64(&image), exposure),
+            reference: render::tone_map_rgb(&reference, exposure),
+            diff: render::difference_rgb(&image, &reference),
+            gpu_err: render::compare(&render::channels(&image), &flat),
+            rust: rk.and_then(|rk| render::render_spot_rust(rk, &view)).map(|r| {
+                (render::tone_map_rgb(&rgb64(&r), exposure), render::compare(&render::channels(&r), &flat))
+            }),
+        }
+    } else {
+        let image = gpu.render(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+        let reference = render::render_reference(k, &view);
+        let exposure = render::exposure(&reference);
+        Images {
+            gpu: render::tone_map(&as64(&image), exposure),
+            reference: render::tone_map(&reference, exposure),
+            diff: render::difference(&image, &reference),
+            gpu_err: render::compare(&image, &reference),
+            rust: rk.map(|rk| {
+                let r = render::render_rust(rk, &view);
+                (render::tone_map(&as64(&r), exposure), render::compare(&r, &reference))
+            }),
+        }
+    };
     let w = view.width();
     std::fs::create_dir_all(&dir).map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
     let png = |suffix: &str, pixels: &[[u8; 3]]| -> Result<PathBuf, Failure> {
@@ -797,11 +834,10 @@ fn render_scene(
         render::write_png(&path, w, height, pixels).map_err(|e| Failure(1, e))?;
         Ok(path)
     };
-    let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
-    let gpu_png = png(if report { "-gpu" } else { "" }, &render::tone_map(&as64(&image), exposure))?;
-    png("-reference", &render::tone_map(&reference, exposure))?;
-    png("-diff", &render::difference(&image, &reference))?;
-    let (gmax, gmean) = render::compare(&image, &reference);
+    let gpu_png = png(if report { "-gpu" } else { "" }, &images.gpu)?;
+    png("-reference", &images.reference)?;
+    png("-diff", &images.diff)?;
+    let (gmax, gmean) = images.gpu_err;
     println!("{}: {w}×{height}, σt = {:?}", gpu_png.display(), view.sigma_t);
     println!("GPU (WGSL) vs reference: max relative error {gmax:.2e}, mean {gmean:.2e}");
     let mut summary = vec![
@@ -809,9 +845,8 @@ fn render_scene(
         ("gpu_max_rel".into(), format!("{gmax:e}")),
         ("gpu_mean_rel".into(), format!("{gmean:e}")),
     ];
-    if let Some(r) = &rust {
-        png("-rust", &render::tone_map(&as64(r), exposure))?;
-        let (rmax, rmean) = render::compare(r, &reference);
+    if let Some((pixels, (rmax, rmean))) = &images.rust {
+        png("-rust", pixels)?;
         println!("Rust kernel (CPU) vs reference: max relative error {rmax:.2e}, mean {rmean:.2e}");
         summary.push(("rust_max_rel".into(), format!("{rmax:e}")));
         summary.push(("rust_mean_rel".into(), format!("{rmean:e}")));

@@ -391,3 +391,115 @@ pub fn write_png(path: &std::path::Path, width: u32, height: u32, pixels: &[[u8;
     }
     std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
 }
+
+/// Spot lights of a `kind = "spot"` scene: the street lamps of [`LIGHTS`] as
+/// lamps that shine down and a little towards the viewer, outer half-angle
+/// [`SPOT_OUTER_DEG`], fully lit within [`SPOT_INNER_DEG`].
+pub const SPOT_AXIS: [f32; 3] = [0.0, -1.0, -0.25];
+/// Outer half-angle of the render's spot lights, degrees.
+pub const SPOT_OUTER_DEG: f32 = 32.0;
+/// Inner half-angle of the render's spot lights, degrees (the smooth edge between).
+pub const SPOT_INNER_DEG: f32 = 22.0;
+/// σt per colour channel relative to the panel's σt: a coloured fog (water-laden
+/// air over a harbour: red extinguished most).
+pub const RGB_EXTINCTION: [f32; 3] = [1.0, 0.7, 0.45];
+/// σs / σt per channel.
+pub const RGB_ALBEDO: [f32; 3] = [0.6, 0.75, 0.9];
+
+impl View {
+    /// The spot rays of pixel `(x, y)`, one per light (the view's lights with the
+    /// spot cone and the RGB medium above).
+    pub fn spot_rays(&self, x: u32, y: u32) -> Vec<crate::SpotRay> {
+        let (sigma_t, dir, surface) = self.ray(x, y);
+        let (co, ci) = (SPOT_OUTER_DEG.to_radians().cos(), SPOT_INNER_DEG.to_radians().cos());
+        self.lights()
+            .into_iter()
+            .map(|(light, intensity)| crate::SpotRay {
+                origin: [0.0; 3],
+                dir,
+                surface,
+                light,
+                axis: SPOT_AXIS,
+                cos_outer: co,
+                cos_inner: ci,
+                intensity,
+                sigma_t: RGB_EXTINCTION.map(|f| f * sigma_t),
+                sigma_s: [0, 1, 2].map(|c| RGB_ALBEDO[c] * RGB_EXTINCTION[c] * sigma_t),
+                g: self.g,
+            })
+            .collect()
+    }
+
+    fn all_spot_rays(&self) -> Vec<crate::SpotRay> {
+        (0..self.height).flat_map(|y| (0..self.width()).flat_map(move |x| self.spot_rays(x, y))).collect()
+    }
+}
+
+/// Sums the lights of each pixel.
+fn per_pixel<T: Copy>(view: &View, values: &[[T; 3]], zero: T, add: impl Fn(T, T) -> T) -> Vec<[T; 3]> {
+    let n = view.lights().len();
+    values
+        .chunks(n)
+        .map(|c| c.iter().fold([zero; 3], |a, v| [add(a[0], v[0]), add(a[1], v[1]), add(a[2], v[2])]))
+        .collect()
+}
+
+impl Gpu {
+    /// The spot render of `view` on the GPU: the kernel's spot entry (WGSL, from
+    /// `kernel`, its index entry `k`) for every pixel and light, RGB per pixel.
+    pub fn render_spot(&self, k: &IndexEntry, kernel: &str, view: &View) -> Result<Vec<[f32; 3]>, GpuError> {
+        let src = crate::KernelSource::of(k, airlight_fit::vocab::Target::Wgsl, kernel);
+        let got = self.spot(&src, &view.all_spot_rays())?;
+        Ok(per_pixel(view, &got, 0.0, |a, b| a + b))
+    }
+}
+
+/// The spot render from the Rust kernel on the CPU (`None`: it has no spot entry).
+pub fn render_spot_rust(k: &CompiledKernel, view: &View) -> Option<Vec<[f32; 3]>> {
+    let got: Option<Vec<[f32; 3]>> = view.all_spot_rays().iter().map(|r| r.spot_of(k)).collect();
+    Some(per_pixel(view, &got?, 0.0, |a, b| a + b))
+}
+
+/// The spot render from the reference (f64).
+pub fn render_spot_reference(k: &IndexEntry, view: &View) -> Vec<[f64; 3]> {
+    let rays = view.all_spot_rays();
+    let got = airlight_fit::parallel::map(
+        &rays,
+        |r| {
+            let a = |p| reference::airlight(crate::gate::project(k, p)).unwrap_or(f64::INFINITY);
+            [0, 1, 2].map(|c| r.reference(c, &a).unwrap_or(f64::NAN))
+        },
+        &|_, _| {},
+    );
+    per_pixel(view, &got, 0.0, |a, b| a + b)
+}
+
+/// 8-bit RGB of an RGB radiance image: [`tone`] per channel.
+pub fn tone_map_rgb(image: &[[f64; 3]], exposure: f64) -> Vec<[u8; 3]> {
+    image.iter().map(|p| p.map(|l| (255.0 * tone(l, exposure)).round() as u8)).collect()
+}
+
+/// An RGB image as its channels in a row (for [`compare`], [`exposure`] and
+/// [`difference`], which take one value per sample).
+pub fn channels<T: Copy>(image: &[[T; 3]]) -> Vec<T> {
+    image.iter().flat_map(|p| *p).collect()
+}
+
+/// [`difference`] of RGB images: the largest channel's relative error per pixel.
+pub fn difference_rgb(image: &[[f32; 3]], reference: &[[f64; 3]]) -> Vec<[u8; 3]> {
+    let worst: Vec<(f32, f64)> = image
+        .iter()
+        .zip(reference)
+        .map(|(v, r)| {
+            (0..3)
+                .map(|c| (v[c], r[c]))
+                .max_by(|a, b| {
+                    let e = |(v, r): (f32, f64)| if r > 0.0 && r.is_finite() { (f64::from(v) - r).abs() / r } else { 0.0 };
+                    e(*a).total_cmp(&e(*b))
+                })
+                .expect("three channels")
+        })
+        .collect();
+    let (v, r): (Vec<f32>, Vec<f64>) = worst.into_iter().unzip();
+    difference(&v, &r)
+}

@@ -103,6 +103,8 @@ pub mod scene_haze_sky;
 pub mod scene_hg_fog;
 #[rustfmt::skip]
 pub mod scene_smoke_room;
+#[rustfmt::skip]
+pub mod scene_spot_harbour;
 
 /// A kernel's canonical entry with the uniform signature `(tau, gamma, rho, g)`:
 /// `rho < 0` means no surface; arguments the kernel does not take are ignored.
@@ -208,9 +210,7 @@ pub const KERNELS: &[Kernel] = &[
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            paper_refit_hg::spot(
-                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
-            )
+            paper_refit_hg::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
     },
     Kernel {
@@ -602,9 +602,7 @@ pub const KERNELS: &[Kernel] = &[
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            equiangular_16::spot(
-                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
-            )
+            equiangular_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
     },
     Kernel {
@@ -618,9 +616,7 @@ pub const KERNELS: &[Kernel] = &[
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            equiangular_32::spot(
-                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
-            )
+            equiangular_32::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
     },
     Kernel {
@@ -750,6 +746,20 @@ pub const KERNELS: &[Kernel] = &[
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+    },
+    Kernel {
+        name: "scene-spot-harbour",
+        scene: true,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.2437287989487383e-3,
+        dense_max_rel: 2.251841604925979e-3,
+        airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            scene_spot_harbour::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
 ];
 
