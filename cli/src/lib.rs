@@ -435,8 +435,20 @@ fn eval(
                     .iter()
                     .map(|r| {
                         let s = kernel_spot(r);
-                        f(s.origin, s.dir, s.surface, s.light, s.axis, s.cos_outer, s.cos_inner, s.intensity, s.sigma_t, s.sigma_s, s.g)
-                            .map(f64::from)
+                        f(
+                            s.origin,
+                            s.dir,
+                            s.surface,
+                            s.light,
+                            s.axis,
+                            s.cos_outer,
+                            s.cos_inner,
+                            s.intensity,
+                            s.sigma_t,
+                            s.sigma_s,
+                            s.g,
+                        )
+                        .map(f64::from)
                     })
                     .collect();
                 return write_csv(output, &points_csv::render_spots(&rows, &values));
@@ -788,12 +800,13 @@ fn render_scene(
     let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
     // The images, tone-mapped, and their errors against the reference: one
     // channel (point lights), or RGB (spot lights in a coloured medium).
+    type Pixels = Vec<[u8; 3]>;
     struct Images {
-        gpu: Vec<[u8; 3]>,
-        reference: Vec<[u8; 3]>,
-        diff: Vec<[u8; 3]>,
+        gpu: Pixels,
+        reference: Pixels,
+        diff: Pixels,
         gpu_err: (f64, f64),
-        rust: Option<(Vec<[u8; 3]>, (f64, f64))>,
+        rust: Option<(Pixels, (f64, f64))>,
     }
     let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
     let rk = kernels.iter().find(|rk| rk.name == name);
@@ -808,9 +821,9 @@ fn render_scene(
             reference: render::tone_map_rgb(&reference, exposure),
             diff: render::difference_rgb(&image, &reference),
             gpu_err: render::compare(&render::channels(&image), &flat),
-            rust: rk.and_then(|rk| render::render_spot_rust(rk, &view)).map(|r| {
-                (render::tone_map_rgb(&rgb64(&r), exposure), render::compare(&render::channels(&r), &flat))
-            }),
+            rust: rk
+                .and_then(|rk| render::render_spot_rust(rk, &view))
+                .map(|r| (render::tone_map_rgb(&rgb64(&r), exposure), render::compare(&render::channels(&r), &flat))),
         }
     } else {
         let image = gpu.render(k, &kernel, &view).map_err(|e| Failure(1, format!("{name}: {e}")))?;
@@ -1149,6 +1162,30 @@ fn bench(
         row.cpu_ns_per_eval = median;
         row.cpu_ns_range = [lo, hi];
     }
+    // RGB: the spot entry against three scalar calls, on the same rays.
+    bar.set_message("bench: RGB against three scalar calls");
+    let rgb_rays = bench::rgb_rays(size.batch);
+    let mut rgb = Vec::new();
+    for f in &files {
+        let Some(k) = kernels.iter().find(|k| k.name == f.model.name.as_str()) else { continue };
+        let Some(spot) = k.spot else { continue };
+        const ST: [f32; 3] = [0.03, 0.05, 0.08];
+        let radiance = k.radiance;
+        let three = |r: &[[f32; 3]; 3]| -> f32 {
+            ST.iter().map(|&st| radiance([0.0; 3], r[0], -1.0, r[1], 100.0, st, 0.8 * st, 0.5)).sum()
+        };
+        let one = |r: &[[f32; 3]; 3], co: f32, ci: f32| -> f32 {
+            spot([0.0; 3], r[0], -1.0, r[1], r[2], co, ci, 100.0, ST, ST.map(|x| 0.8 * x), 0.5).iter().sum()
+        };
+        let [t3, tp, th, ts] = bench::time_rgb(&three, &one, &rgb_rays, size.repeats);
+        rgb.push(bench::RgbCost {
+            name: f.model.name.clone(),
+            three_scalar_ns: t3,
+            rgb_point_ns: tp,
+            rgb_hard_cone_ns: th,
+            rgb_soft_cone_ns: ts,
+        });
+    }
     bar.finish_and_clear();
     let b = bench::Bench {
         adapter,
@@ -1157,6 +1194,7 @@ fn bench(
         cost_batch: size.batch,
         repeats: size.repeats,
         models: rows,
+        rgb,
     };
     println!("adapter: {}\ncpu: {}", b.adapter, b.cpu);
     println!(
@@ -1178,6 +1216,22 @@ fn bench(
             m.transcendentals,
             m.gpu_evals_per_s,
             e.map_or(0.0, |e| e.g)
+        );
+    }
+    println!("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call");
+    println!(
+        "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10}",
+        "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone"
+    );
+    for r in &b.rgb {
+        println!(
+            "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1}",
+            r.name,
+            r.three_scalar_ns,
+            r.rgb_point_ns,
+            r.rgb_point_ns / r.three_scalar_ns,
+            r.rgb_hard_cone_ns,
+            r.rgb_soft_cone_ns
         );
     }
     let path = out.unwrap_or_else(|| generated.join("bench.json"));

@@ -489,6 +489,90 @@ fn eval_radiance_feeds_the_physical_entry_on_every_target() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `eval --entry spot`: RGB from a spot light, through the f64 model, the Rust
+/// kernel and both shaders; a point light (`cos_outer = -1`) is the physical
+/// entry per channel; a bad cone is one line naming the column.
+#[test]
+fn eval_spot_feeds_the_spot_entry_on_every_target() {
+    let dir = scratch("spot");
+    let input = dir.join("spots.csv");
+    let head = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,ax,ay,az,cos_outer,cos_inner,intensity,\
+                sigma_t_r,sigma_t_g,sigma_t_b,sigma_s_r,sigma_s_g,sigma_s_b,g";
+    std::fs::write(
+        &input,
+        format!(
+            "{head}\n0,0,0,1,0,0,-1,10,1,0,0,-1,0,0.866,0.95,100,0.1,0.05,0.02,0.08,0.04,0.016,0.6\n\
+             0,0,0,1,0,0,-1,10,1,0,0,-1,0,-1,-1,100,0.1,0.05,0.02,0.08,0.04,0.016,0.6\n\
+             0,0,0,1,0,0,30,10,1,0,0,1,0,0.9,0.9,100,0.1,0.05,0.02,0.08,0.04,0.016,0.6\n"
+        ),
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let mut all = vec!["eval", "--entry", "spot", "--model", "phi-8", "-i", input.to_str().unwrap()];
+        all.extend(args);
+        airlight(&all)
+    };
+    let values = |o: &Output| -> Vec<[f64; 3]> {
+        String::from_utf8(o.stdout.clone())
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let v: Vec<f64> = l.rsplit(',').take(3).map(|x| x.parse().unwrap()).collect();
+                [v[2], v[1], v[0]]
+            })
+            .collect()
+    };
+    let f64s = run(&[]);
+    assert!(f64s.status.success(), "{}", stderr(&f64s));
+    let want = values(&f64s);
+    assert_eq!(want.len(), 3);
+    assert!(want[0][0] > want[0][1] && want[0][1] > want[0][2] && want[0][2] > 0.0, "{:?}", want[0]);
+    assert!(want[1][0] > want[0][0], "the point light lights the whole ray: {:?}", want[1]);
+    assert_eq!(want[2], [0.0; 3], "a cone pointing away from the ray");
+    // The point light is the physical entry per channel.
+    let rays = dir.join("rays.csv");
+    let rows: String = [(0.1, 0.08), (0.05, 0.04), (0.02, 0.016)]
+        .iter()
+        .map(|(t, s)| format!("0,0,0,1,0,0,-1,10,1,0,100,{t},{s},0.6\n"))
+        .collect();
+    std::fs::write(&rays, format!("ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g\n{rows}")).unwrap();
+    let o = airlight(&["eval", "--entry", "radiance", "--model", "phi-8", "-i", rays.to_str().unwrap()]);
+    let scalar: Vec<f64> = String::from_utf8(o.stdout)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(scalar, want[1].to_vec());
+    let mut targets = vec![("cpu f32", run(&["--precision", "f32"]))];
+    for t in ["wgsl", "glsl"] {
+        targets.push((t, run(&["--target", t])));
+    }
+    for (what, o) in &targets {
+        if !o.status.success() && !gpu_required() && stderr(o).contains("no GPU adapter") {
+            eprintln!("SKIPPED eval --entry spot {what}: {}", stderr(o));
+            continue;
+        }
+        assert!(o.status.success(), "{what}: {}", stderr(o));
+        for (i, (w, g)) in want.iter().zip(values(o)).enumerate() {
+            for c in 0..3 {
+                assert!((g[c] - w[c]).abs() <= 1e-3 * w[c], "{what}: row {i} channel {c}: {} vs {}", g[c], w[c]);
+            }
+        }
+    }
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        format!("{head}\n0,0,0,1,0,0,-1,10,1,0,0,-1,0,1.5,0.95,100,0.1,0.05,0.02,0.08,0.04,0.016,0.6\n"),
+    )
+    .unwrap();
+    let o = airlight(&["eval", "--entry", "spot", "--model", "phi-8", "-i", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("bad.csv:2: column 'cos_outer'") && stderr(&o).lines().count() == 1, "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `airlight bench` on a small batch: every model gets a row with finite,
 /// positive figures (speed itself lives in the benchmark, not here).
 #[test]
@@ -519,6 +603,13 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
         assert!(m.ops > 0 && m.transcendentals <= m.ops, "{}", m.name);
         if gpu_required() {
             assert!(m.gpu_evals_per_s.is_finite() && m.gpu_evals_per_s > 0.0, "{}: no GPU figure", m.name);
+        }
+    }
+    // RGB: a row per model with a spot entry, finite and positive.
+    assert_eq!(b.rgb.len(), b.models.len());
+    for r in &b.rgb {
+        for x in [r.three_scalar_ns, r.rgb_point_ns, r.rgb_hard_cone_ns, r.rgb_soft_cone_ns] {
+            assert!(x.is_finite() && x > 0.0, "{}: {r:?}", r.name);
         }
     }
     // The march's IR cost grows with its steps (loops counted by trip count).

@@ -751,6 +751,8 @@ struct CrateKernel {
     radiance_closure: String,
     spot_params: Vec<&'static str>,
     spot_closure: String,
+    /// The spot call as rustfmt lays it out (one line where it fits).
+    spot_call: String,
 }
 
 /// Closure parameters of a uniform signature `all`, those the kernel does not
@@ -835,6 +837,15 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
                 radiance_closure: closure(Entry::Radiance, &radiance_params),
                 spot_closure: closure(Entry::Spot, &s.args(Entry::Spot)),
                 spot_params: names(&s.args(Entry::Spot)),
+                spot_call: {
+                    let args = names(&s.args(Entry::Spot)).join(", ");
+                    let one = format!("{}::spot({args})", s.ident());
+                    if 12 + one.len() <= 120 {
+                        one
+                    } else {
+                        format!("{}::spot(\n                {args},\n            )", s.ident())
+                    }
+                },
                 closure: closure(Entry::Canonical, &params),
                 radiance_params: names(&radiance_params),
                 params: names(&params),

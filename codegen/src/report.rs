@@ -757,6 +757,29 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
         })
         .collect();
     ctx.insert("trade_rows", &rows);
+    #[derive(Serialize)]
+    struct RgbRow {
+        name: String,
+        three: String,
+        point: String,
+        ratio: String,
+        hard: String,
+        soft: String,
+    }
+    let rgb: Vec<RgbRow> = b
+        .rgb
+        .iter()
+        .map(|r| RgbRow {
+            name: r.name.clone(),
+            three: ns(r.three_scalar_ns),
+            point: ns(r.rgb_point_ns),
+            ratio: format!("{:.2}", r.rgb_point_ns / r.three_scalar_ns),
+            hard: ns(r.rgb_hard_cone_ns),
+            soft: ns(r.rgb_soft_cone_ns),
+        })
+        .collect();
+    ctx.insert("rgb_rows", &rgb);
+    ctx.insert("spot_edge_nodes", &crate::kernel::SPOT_EDGE_NODES);
     ctx.insert("bench_adapter", &b.adapter);
     ctx.insert("bench_cpu", &b.cpu);
     ctx.insert("bench_points", &b.error_points);

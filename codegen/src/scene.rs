@@ -495,6 +495,13 @@ mod tests {
             let e = parse("s.toml", &text).unwrap_err().to_string();
             assert!(e.starts_with(&format!("s.toml:{line}: {want}")), "{e}");
         }
+        // A spot scene needs surfaces (its cone ends the lit stretch).
+        let spot = good.replacen("kind = \"point\"", "kind = \"spot\"", 1);
+        assert!(parse("s.toml", &spot).unwrap().spot);
+        let text = spot.replacen("surfaces = true", "surfaces = false", 1);
+        let line = text.lines().position(|l| l.starts_with("surfaces")).unwrap() + 1;
+        let e = parse("s.toml", &text).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("s.toml:{line}: field 'ray.surfaces'")), "{e}");
         let e = parse("s.toml", "[medium\n").unwrap_err().to_string();
         assert!(e.starts_with("s.toml:1: field '(syntax)'"), "{e}");
     }

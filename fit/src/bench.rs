@@ -92,6 +92,89 @@ pub struct Bench {
     pub repeats: usize,
     /// One row per model, in catalog order.
     pub models: Vec<BenchModel>,
+    /// The RGB (spot) entry against three scalar calls, per model with a spot entry.
+    #[serde(default)]
+    pub rgb: Vec<RgbCost>,
+}
+
+/// What RGB costs: a model's spot entry (one call, three channels) against its
+/// physical entry called once per channel, on the same rays; CPU ns per ray
+/// (median of interleaved repeats).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RgbCost {
+    /// Model name.
+    pub name: String,
+    /// `radiance` three times (R, G, B) per ray.
+    pub three_scalar_ns: f64,
+    /// `spot` with a point light (`cos_outer = −1`): the RGB price alone.
+    pub rgb_point_ns: f64,
+    /// `spot` with a hard-edged cone.
+    pub rgb_hard_cone_ns: f64,
+    /// `spot` with a smooth-edged cone.
+    pub rgb_soft_cone_ns: f64,
+}
+
+/// Rays for the RGB timing: `n` view rays from the origin, lights 1…100 units
+/// away in random directions, a cone aimed near the ray (its axis from the light
+/// to a point of the ray, 30° outer, 20° inner half-angle), σt = (0.03, 0.05,
+/// 0.08), σs = 0.8 σt, g = 0.5; deterministic. Items: (dir, light, axis).
+pub fn rgb_rays(n: usize) -> Vec<RgbRay> {
+    let mut rng = crate::domains::SplitMix64(0xB0B5);
+    let mut unit = move || loop {
+        let v = [2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0];
+        let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if r > 0.1 && r <= 1.0 {
+            return ([v[0] / r, v[1] / r, v[2] / r], rng.next_f64());
+        }
+    };
+    (0..n)
+        .map(|_| {
+            let (d, a) = unit();
+            let (l, b) = unit();
+            let dist = 100f64.powf(a);
+            let light = l.map(|x| x * dist);
+            let s = 2.0 * dist * b;
+            let axis: [f64; 3] = std::array::from_fn(|j| s * d[j] - light[j]);
+            [d.map(|x| x as f32), light.map(|x| x as f32), axis.map(|x| x as f32)]
+        })
+        .collect()
+}
+
+/// A timing ray of [`rgb_rays`]: direction, light, axis.
+pub type RgbRay = [[f32; 3]; 3];
+
+/// Times `three` (one ray, three scalar calls) and `rgb` at `cos_outer` −1, and a
+/// hard and a soft 30° cone, interleaved, `repeats` times over `rays`: medians
+/// of ns per ray, in that order.
+pub fn time_rgb(
+    three: &dyn Fn(&RgbRay) -> f32,
+    rgb: &dyn Fn(&RgbRay, f32, f32) -> f32,
+    rays: &[RgbRay],
+    repeats: usize,
+) -> [f64; 4] {
+    let (c30, c20) = (30f32.to_radians().cos(), 20f32.to_radians().cos());
+    let mut times: Vec<Vec<f64>> = (0..4).map(|_| Vec::with_capacity(repeats)).collect();
+    for _ in 0..repeats {
+        for (k, t) in times.iter_mut().enumerate() {
+            let start = thread_cpu_s();
+            let mut acc = 0.0f32;
+            for r in black_box(rays) {
+                acc += match k {
+                    0 => three(r),
+                    1 => rgb(r, -1.0, -1.0),
+                    2 => rgb(r, c30, c30),
+                    _ => rgb(r, c30, c20),
+                };
+            }
+            black_box(acc);
+            t.push((thread_cpu_s() - start) * 1e9 / rays.len() as f64);
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    [median(&mut times[0]), median(&mut times[1]), median(&mut times[2]), median(&mut times[3])]
 }
 
 impl Bench {

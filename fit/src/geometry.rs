@@ -440,5 +440,26 @@ mod tests {
         };
         let up = Cone { axis: [0.0, 1.0, 0.0], cos_outer: 0.9, cos_inner: 0.95 };
         assert_eq!(ray.spot_radiance(&up, 0.0, &a).unwrap(), 0.0);
+        // A narrow cone the ray passes beside (the gate found it): the squared
+        // equation has no real root, and clamping its discriminant to 0 invented
+        // a lit stretch. No point of the ray is within the cone.
+        let ray = PhysicalRay {
+            origin: [0.080497354, 1.7816542, -1.5254824],
+            direction: [0.8506645, 0.16470253, 0.4992424],
+            surface_distance: Some(2.635322),
+            light: [0.54826003, 1.9187979, -1.1982974],
+            intensity: 261.76,
+            sigma_t: 13.379121,
+            sigma_s: 10.703297,
+        };
+        let narrow = Cone { axis: [-0.41114482, -0.15633109, -0.27928278], cos_outer: 0.9987269, cos_inner: 0.9987269 };
+        let d = ray.direction.map(|x| x / norm(ray.direction));
+        let lit = (0..=10_000).any(|i| {
+            let s = 2.635322 * f64::from(i) / 1e4;
+            narrow.weight(sub([0, 1, 2].map(|j| ray.origin[j] + s * d[j]), ray.light)) > 0.0
+        });
+        assert!(!lit);
+        assert_eq!(narrow.lit(&ray, narrow.cos_outer), None);
+        assert_eq!(ray.spot_radiance(&narrow, 0.0, &a).unwrap(), 0.0);
     }
 }

@@ -286,7 +286,9 @@ pub fn parse_spots(
                     (x.is_finite() && x >= 0.0, "a finite number ≥ 0")
                 }
                 "g" => (x.abs() < 1.0, "in (−1, 1)"),
-                "cos_outer" => (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light"),
+                "cos_outer" => {
+                    (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light")
+                }
                 "cos_inner" => (x.is_finite() && x <= 1.0, "a finite number ≤ 1"),
                 _ => (x.is_finite(), "a finite number"),
             };
@@ -344,6 +346,26 @@ mod tests {
 
     fn ok(_: &Point) -> Result<(), ParamError> {
         Ok(())
+    }
+
+    #[test]
+    fn spot_rows_parse_and_bad_cones_are_located() {
+        let head = SPOT_COLUMNS.join(",");
+        let row = "0,0,0,1,0,0,-1,5,1,0,0,-1,0,0.866,0.95,1,0.1,0.05,0.02,0.08,0.04,0.016,0.6";
+        let point = "0,0,0,1,0,0,20,5,1,0,0,0,0,-1,-1,1,0.1,0.05,0.02,0.08,0.04,0.016,0.6";
+        let rows = parse_spots("s.csv", &format!("{head}\n{row}\n{point}\n"), |_, _| Ok(())).unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].cone, Some(Cone { axis: [0.0, -1.0, 0.0], cos_outer: 0.866, cos_inner: 0.95 }));
+        assert_eq!([rows[0].rays[1].sigma_t, rows[0].rays[2].sigma_s], [0.05, 0.016]);
+        assert_eq!((rows[1].cone, rows[1].rays[0].surface_distance), (None, Some(20.0)));
+        let v = rows[0].radiance(&|p| crate::reference::airlight(p).unwrap()).unwrap();
+        assert!(v[0] > v[1] && v[1] > v[2] && v[2] > 0.0, "{v:?}");
+        let out = render_spots(&rows, &[v, [0.0; 3]]);
+        assert!(out.starts_with(&format!("{head},r,g_out,b\n{row},")));
+        for (bad, col) in [(row.replace(",0.866,", ",0,"), "cos_outer"), (row.replace(",0,-1,0,", ",0,0,0,"), "ax")] {
+            let e = parse_spots("s.csv", &format!("{head}\n{bad}\n"), |_, _| Ok(())).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("s.csv:2: column '{col}'")), "{e}");
+        }
     }
 
     #[test]

@@ -494,7 +494,8 @@ pub fn difference_rgb(image: &[[f32; 3]], reference: &[[f64; 3]]) -> Vec<[u8; 3]
             (0..3)
                 .map(|c| (v[c], r[c]))
                 .max_by(|a, b| {
-                    let e = |(v, r): (f32, f64)| if r > 0.0 && r.is_finite() { (f64::from(v) - r).abs() / r } else { 0.0 };
+                    let e =
+                        |(v, r): (f32, f64)| if r > 0.0 && r.is_finite() { (f64::from(v) - r).abs() / r } else { 0.0 };
                     e(*a).total_cmp(&e(*b))
                 })
                 .expect("three channels")

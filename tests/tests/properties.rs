@@ -150,6 +150,41 @@ proptest! {
     }
 }
 
+/// A σ from none through tiny to huge.
+fn sigma() -> impl Strategy<Value = f32> {
+    prop_oneof![Just(0.0f32), 1e-30f32..1e3, Just(1e30f32)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 600, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The spot entry of every kernel that has one: finite and ≥ 0 in every
+    /// channel for any input — any axis (zero too), cosines from a point light
+    /// (−1) through cones past 90° to degenerate ones (inner below outer, above 1).
+    #[test]
+    fn spot_entries_are_finite_and_non_negative(
+        origin in vec3(), dir in vec3(), light in vec3(), axis in vec3(),
+        surface in prop_oneof![Just(-1.0f32), Just(0.0f32), 0.0f32..1e3, 1e3f32..f32::MAX, Just(f32::INFINITY)],
+        cos_outer in prop_oneof![Just(-1.0f32), -1.0f32..0.0, 0.0f32..1.0, 0.999f32..1.0, Just(1.0f32)],
+        cos_inner in prop_oneof![Just(-1.0f32), 0.0f32..1.0, 0.999f32..1.0, Just(1.0f32), Just(2.0f32)],
+        intensity in prop_oneof![Just(0.0f32), 1e-3f32..1e6, Just(1e30f32)],
+        sigma_t in [sigma(), sigma(), sigma()],
+        sigma_s in [sigma(), sigma(), sigma()],
+        u in 0.0..1.0f64,
+    ) {
+        for (k, e) in kernels() {
+            let Some(spot) = k.spot else { continue };
+            let g = g_of((e.g[0], e.g[1]), u) as f32;
+            let r = spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            prop_assert!(
+                r.iter().all(|v| v.is_finite() && *v >= 0.0),
+                "{}: spot({origin:?}, {dir:?}, {surface}, {light:?}, {axis:?}, {cos_outer}, {cos_inner}, {intensity}, {sigma_t:?}, {sigma_s:?}, {g}) = {r:?}",
+                k.name
+            );
+        }
+    }
+}
+
 fn geometry() -> impl Strategy<Value = (f64, f64, f64)> {
     (
         prop_oneof![1e-6..1e-2f64, 1e-2..PI - 1e-2, (1e-6..1e-2f64).prop_map(|d| PI - d)],

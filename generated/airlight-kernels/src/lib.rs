@@ -210,7 +210,9 @@ pub const KERNELS: &[Kernel] = &[
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            paper_refit_hg::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            paper_refit_hg::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
         }),
     },
     Kernel {
@@ -602,7 +604,9 @@ pub const KERNELS: &[Kernel] = &[
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            equiangular_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            equiangular_16::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
         }),
     },
     Kernel {
@@ -616,7 +620,9 @@ pub const KERNELS: &[Kernel] = &[
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            equiangular_32::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            equiangular_32::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
+            )
         }),
     },
     Kernel {
@@ -758,7 +764,9 @@ pub const KERNELS: &[Kernel] = &[
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            scene_spot_harbour::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            scene_spot_harbour::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s,
+            )
         }),
     },
 ];

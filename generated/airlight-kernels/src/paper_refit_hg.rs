@@ -343,7 +343,7 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
 #[allow(clippy::too_many_arguments)]
 fn spot_edge(tau: [f32; 3], h: f32, x0: f32, u: f32, v: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> [f32; 3] {
     use crate::math::{exp, sin_cos, sqrt, HUGE};
-    if !(v > u) {
+    if v.is_nan() || u.is_nan() || v <= u {
         return [0.0; 3];
     }
     const X: [f32; 8] = [9.60289836e-1, 7.96666503e-1, 5.25532424e-1, 1.83434635e-1, -1.83434635e-1, -5.25532424e-1, -7.96666503e-1, -9.60289836e-1];
@@ -384,7 +384,7 @@ fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
 /// in the cosine between (`cos_inner ≤ cos_outer`: a hard edge). `sigma_t` and
 /// `sigma_s` per channel; the geometry, the cone and the phase function are shared
 /// by them. Finite and ≥ 0 for every finite input, like [`radiance`].
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::manual_clamp)]
 pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) -> [f32; 3] {
     use crate::math::{atan2, max_abs, ray_geometry, scaled, sqrt, HUGE, RHO_OPEN, TAU_MAX};
     use core::f32::consts::PI;
@@ -400,7 +400,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     let co = cos_outer.clamp(0.0, 1.0);
     let ci = cos_inner;
     let (md, ma) = (max_abs(dir), max_abs(axis));
-    if !point && !(ma > 0.0 && ma <= HUGE) {
+    if !(point || (ma > 0.0 && ma <= HUGE)) {
         return [0.0; 3];
     }
     let ax = if point { [0.0, 0.0, 1.0] } else { unit(axis, ma) };
