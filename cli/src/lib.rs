@@ -128,7 +128,8 @@ enum Command {
         #[arg(long, default_value = "cpu")]
         target: EvalTarget,
         /// airlight: the canonical entry (points); radiance: the physical entry
-        /// (rays); spot: the spot entry (spot rays, RGB).
+        /// (rays; a file whose header names cos_outer goes to the spot entry);
+        /// spot: the spot entry (spot rays, RGB).
         #[arg(long, value_enum, default_value_t = EvalEntry::Airlight)]
         entry: EvalEntry,
         /// Repository root (the directory holding generated/coefficients/); found
@@ -302,7 +303,11 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
     };
     match command {
         Command::Eval { model, input, output, precision, target, entry, root } => {
-            let rays = entry;
+            // A rays file with a cone's columns is the spot entry's.
+            let rays = match entry {
+                EvalEntry::Radiance if names_spot_columns(&input) => EvalEntry::Spot,
+                e => e,
+            };
             match (target.0, precision, linked) {
                 (Some(target), _, _) => eval_gpu(&model, &input, output.as_deref(), target, rays, root),
                 (None, Precision::F32, None) => delegate(root, None),
@@ -513,6 +518,15 @@ fn read_rays(input: &Path, check: &points_csv::RayCheck) -> Result<Vec<points_cs
     let name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
     points_csv::parse_rays(&name, &text, check).map_err(bad_input)
+}
+
+/// Whether the header of `input` names the spot entry's cone (`cos_outer`): such
+/// a file given to `--entry radiance` goes to the spot entry.
+fn names_spot_columns(input: &Path) -> bool {
+    std::fs::read_to_string(input)
+        .ok()
+        .and_then(|t| t.lines().find(|l| !l.trim().is_empty()).map(|h| h.split(',').any(|c| c.trim() == "cos_outer")))
+        .unwrap_or(false)
 }
 
 /// The rays of an `eval --entry spot` CSV, each channel checked by `check`.

@@ -545,6 +545,9 @@ fn eval_spot_feeds_the_spot_entry_on_every_target() {
         .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
         .collect();
     assert_eq!(scalar, want[1].to_vec());
+    // The same file given to --entry radiance goes to the spot entry (its header names a cone).
+    let o = airlight(&["eval", "--entry", "radiance", "--model", "phi-8", "-i", input.to_str().unwrap()]);
+    assert_eq!(values(&o), want);
     let mut targets = vec![("cpu f32", run(&["--precision", "f32"]))];
     for t in ["wgsl", "glsl"] {
         targets.push((t, run(&["--target", t])));

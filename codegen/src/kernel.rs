@@ -507,6 +507,11 @@ fn render_kernel(tera: &tera::Tera, spec: &KernelSpec, out: &KernelOutput) -> Re
         .join(", ");
     ctx.insert("spot_params", &spot_params);
     ctx.insert("takes_tau", &spec.takes_tau());
+    // Families whose core shares its nodes across channels (τ enters only the
+    // transmittances) emit an RGB variant of it for the spot entry.
+    let shared_rgb = spec.spot && matches!(spec.body(), Body::Equiangular(_));
+    ctx.insert("shared_rgb", &shared_rgb);
+    ctx.insert("geometry_variants", &if shared_rgb { vec![false, true] } else { vec![false] });
     ctx.insert(
         "spot_g",
         &match spec.phase {

@@ -323,6 +323,108 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, 
     return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / max(h, 1e-30), airlight_equiangular_8_HUGE);
 }
 
+// The same for three channels' tau at once (the spot entry): the nodes, their
+// geometry and phase values are shared; each channel pays its transmittances.
+vec3 airlight_equiangular_8_airlight_geometry_rgb(vec3 tau_in, float h, float x0, float gamma, float comp, float rho, float g_in) {
+    vec3 tau = min(max(tau_in, vec3(0.0)), vec3(airlight_equiangular_8_TAU_MAX));
+    float g = clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g) * (1.0 - g);
+    float gp = (1.0 + g) * (1.0 + g);
+    float span = comp;
+    if (rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN) {
+        span = airlight_equiangular_8_arctan2(h * rho, 1.0 - x0 * rho);
+    }
+    float half_span = 0.5 * span;
+    vec3 sum = vec3(0.0);
+    vec2 sc;
+    float b;
+    float co;
+    float st;
+    float d;
+    // Node 1: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + 9.60289836e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + 9.60289836e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 1.01228535e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 2: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + 7.96666503e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + 7.96666503e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 2.22381040e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 3: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + 5.25532424e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + 5.25532424e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 3.13706636e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 4: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + 1.83434635e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + 1.83434635e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 3.62683773e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 5: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + -1.83434635e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + -1.83434635e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 3.62683773e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 6: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + -5.25532424e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + -5.25532424e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 3.13706636e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 7: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + -7.96666503e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + -7.96666503e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 2.22381040e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 8: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half_span * (1.0 + -9.60289836e-1);
+    co = 0.5 * comp - 0.5 * half_span * (1.0 + -9.60289836e-1);
+    sc = airlight_equiangular_8_sin_cos(max(min(b, co), 0.0));
+    if (b > co) {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
+    sum += 1.01228535e-1 * exp(-tau * st) / (d * sqrt(d));
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / max(h, 1e-30), vec3(airlight_equiangular_8_HUGE));
+}
+
+
 // The canonical A(τ, γ, ρ; g) (MATH.md section 2).
 float airlight_equiangular_8_airlight(float tau, float gamma, float rho, float g) {
     float gc = clamp(gamma, 0.0, airlight_equiangular_8_PI);
@@ -348,9 +450,10 @@ float airlight_equiangular_8_radiance(vec3 origin, vec3 dir, float surface, vec3
     return airlight_equiangular_8_scaled(sigma_s, intensity, geo.x, airlight_equiangular_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
 }
 
-// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_equiangular_8_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_equiangular_8_airlight_geometry(tau, h, x0, airlight_equiangular_8_arctan2(h, x0), airlight_equiangular_8_arctan2(h, -x0), rho, g);
+// A from the unit geometry (h = sin(gamma) >= 0, x0 = cos(gamma), rho negative: none) for
+// three channels' tau, its nodes shared: the core the spot entry calls.
+vec3 airlight_equiangular_8_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
+    return airlight_equiangular_8_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_8_arctan2(h, x0), airlight_equiangular_8_arctan2(h, -x0), rho, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -393,12 +496,8 @@ vec3 airlight_equiangular_8_spot_core(vec3 tau, float h, float x0, float rho, fl
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
     }
-    vec3 res;
-    for (int c = 0; c < 3; c++) {
-        float a = airlight_equiangular_8_along(tau[c] * t0, h1, x1, rho1, g);
-        res[c] = a >= airlight_equiangular_8_HUGE ? a : a * exp(-tau[c] * s0) / t0;
-    }
-    return res;
+    vec3 a = airlight_equiangular_8_along_rgb(tau * t0, h1, x1, rho1, g);
+    return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_equiangular_8_HUGE)));
 }
 
 // The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
@@ -529,9 +628,7 @@ vec3 airlight_equiangular_8_spot(vec3 origin, vec3 dir, float surface, vec3 ligh
             float beyond = airlight_equiangular_8_spot_weight(k, co, ci);
             scale = x0 < 0.0 ? beyond : ((has_end && rho < 1.0) ? before : max(before, beyond));
         }
-        for (int c = 0; c < 3; c++) {
-            a[c] = airlight_equiangular_8_along(tau[c], h, x0, rho, gg);
-        }
+        a = airlight_equiangular_8_along_rgb(tau, h, x0, rho, gg);
     } else {
         vec3 l = light - origin;
         float ml = airlight_equiangular_8_max_abs(l);

@@ -517,6 +517,12 @@ float airlight_hg_exp1_along(float tau, float h, float x0, float rho, float g) {
 // stretches by 8-point Gauss-Legendre in omega, where the integrand
 // is smooth; the fully lit stretch between is the family's exact limit.
 
+// along for three channels' tau: this family's core depends on tau throughout, so
+// it runs once per channel.
+vec3 airlight_hg_exp1_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
+    return vec3(airlight_hg_exp1_along(tau.x, h, x0, rho, g), airlight_hg_exp1_along(tau.y, h, x0, rho, g), airlight_hg_exp1_along(tau.z, h, x0, rho, g));
+}
+
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
 float airlight_hg_exp1_spot_asin(float x, float r) {
     return airlight_hg_exp1_arctan2(x, sqrt(max((r - x) * (r + x), 0.0)));
@@ -543,12 +549,8 @@ vec3 airlight_hg_exp1_spot_core(vec3 tau, float h, float x0, float rho, float ga
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
     }
-    vec3 res;
-    for (int c = 0; c < 3; c++) {
-        float a = airlight_hg_exp1_along(tau[c] * t0, h1, x1, rho1, g);
-        res[c] = a >= airlight_hg_exp1_HUGE ? a : a * exp(-tau[c] * s0) / t0;
-    }
-    return res;
+    vec3 a = airlight_hg_exp1_along_rgb(tau * t0, h1, x1, rho1, g);
+    return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_hg_exp1_HUGE)));
 }
 
 // The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
@@ -679,9 +681,7 @@ vec3 airlight_hg_exp1_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec
             float beyond = airlight_hg_exp1_spot_weight(k, co, ci);
             scale = x0 < 0.0 ? beyond : ((has_end && rho < 1.0) ? before : max(before, beyond));
         }
-        for (int c = 0; c < 3; c++) {
-            a[c] = airlight_hg_exp1_along(tau[c], h, x0, rho, gg);
-        }
+        a = airlight_hg_exp1_along_rgb(tau, h, x0, rho, gg);
     } else {
         vec3 l = light - origin;
         float ml = airlight_hg_exp1_max_abs(l);

@@ -471,6 +471,12 @@ float airlight_paper_refit_along(float tau, float h, float x0, float rho, float 
 // stretches by 8-point Gauss-Legendre in omega, where the integrand
 // is smooth; the fully lit stretch between is the family's exact limit.
 
+// along for three channels' tau: this family's core depends on tau throughout, so
+// it runs once per channel.
+vec3 airlight_paper_refit_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
+    return vec3(airlight_paper_refit_along(tau.x, h, x0, rho, g), airlight_paper_refit_along(tau.y, h, x0, rho, g), airlight_paper_refit_along(tau.z, h, x0, rho, g));
+}
+
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
 float airlight_paper_refit_spot_asin(float x, float r) {
     return airlight_paper_refit_arctan2(x, sqrt(max((r - x) * (r + x), 0.0)));
@@ -497,12 +503,8 @@ vec3 airlight_paper_refit_spot_core(vec3 tau, float h, float x0, float rho, floa
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
     }
-    vec3 res;
-    for (int c = 0; c < 3; c++) {
-        float a = airlight_paper_refit_along(tau[c] * t0, h1, x1, rho1, g);
-        res[c] = a >= airlight_paper_refit_HUGE ? a : a * exp(-tau[c] * s0) / t0;
-    }
-    return res;
+    vec3 a = airlight_paper_refit_along_rgb(tau * t0, h1, x1, rho1, g);
+    return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_paper_refit_HUGE)));
 }
 
 // The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
@@ -633,9 +635,7 @@ vec3 airlight_paper_refit_spot(vec3 origin, vec3 dir, float surface, vec3 light,
             float beyond = airlight_paper_refit_spot_weight(k, co, ci);
             scale = x0 < 0.0 ? beyond : ((has_end && rho < 1.0) ? before : max(before, beyond));
         }
-        for (int c = 0; c < 3; c++) {
-            a[c] = airlight_paper_refit_along(tau[c], h, x0, rho, gg);
-        }
+        a = airlight_paper_refit_along_rgb(tau, h, x0, rho, gg);
     } else {
         vec3 l = light - origin;
         float ml = airlight_paper_refit_max_abs(l);

@@ -122,14 +122,14 @@ float3 airlight_equiangular_32_ray_geometry(float3 origin, float3 dir, float3 li
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_4 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_4 * x0_4)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
     const float3 _e93 = airlight_equiangular_32_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_equiangular_32_HUGE), (_e97 / n_1), (x0_4 / n_1));
+    return float3(min(dist, airlight_equiangular_32_HUGE), (_e97 / n_1), (x0_5 / n_1));
 }
 
 float airlight_equiangular_32_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -219,8 +219,8 @@ float2 airlight_equiangular_32_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
     float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
-    float c_5 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_5);
+    float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
+    return float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -242,20 +242,20 @@ float2 airlight_equiangular_32_sin_cos(float x_3)
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
     float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
-    float c_6 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
+    float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_6);
+            return float2(s_3, c_4);
         }
         case 1: {
-            return float2(c_6, -(s_3));
+            return float2(c_4, -(s_3));
         }
         case 2: {
-            return float2(-(s_3), -(c_6));
+            return float2(-(s_3), -(c_4));
         }
         default: {
-            return float2(-(c_6), s_3);
+            return float2(-(c_4), s_3);
         }
     }
 }
@@ -1092,18 +1092,850 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_1, float x
     return min((((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e2295) * half_) / max(h_1, 1e-30)), airlight_equiangular_32_HUGE);
 }
 
-float airlight_equiangular_32_airlight(float tau, float gamma_1, float rho_1, float g)
+float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_1, float gamma_1, float comp_1, float rho_1, float g_in_1)
 {
-    float gc = clamp(gamma_1, 0.0, airlight_equiangular_32_PI);
+    float span_1 = (float)0;
+    bool local_5 = (bool)0;
+    float3 sum_1 = (0.0).xxx;
+    float2 sc_1 = (float2)0;
+    float b_4 = (float)0;
+    float co_1 = (float)0;
+    float st_1 = (float)0;
+    float d_3 = (float)0;
+
+    float3 tau_5 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float g_7 = clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = ((1.0 - g_7) * (1.0 - g_7));
+    float gp_1 = ((1.0 + g_7) * (1.0 + g_7));
+    span_1 = comp_1;
+    if ((rho_1 >= 0.0)) {
+        local_5 = (rho_1 < airlight_equiangular_32_RHO_OPEN);
+    } else {
+        local_5 = false;
+    }
+    bool _e34 = local_5;
+    if (_e34) {
+        const float _e39 = airlight_equiangular_32_arctan2_((h_2 * rho_1), (1.0 - (x0_1 * rho_1)));
+        span_1 = _e39;
+    }
+    float _e40 = span_1;
+    float half_1 = (0.5 * _e40);
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.9972639));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.9972639));
+    float _e65 = b_4;
+    float _e66 = co_1;
+    const float2 _e70 = airlight_equiangular_32_sin_cos(max(min(_e65, _e66), 0.0));
+    sc_1 = _e70;
+    float _e71 = b_4;
+    float _e72 = co_1;
+    if ((_e71 > _e72)) {
+        float2 _e74 = sc_1;
+        sc_1 = _e74.yx;
+    }
+    float _e77 = sc_1.x;
+    float _e80 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e77) / max(_e80, 1e-30))), 1.0);
+    float _e90 = sc_1.y;
+    float _e93 = sc_1.y;
+    float _e99 = sc_1.x;
+    float _e102 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93)));
+    float3 _e108 = sum_1;
+    float _e110 = st_1;
+    float _e115 = d_3;
+    float _e116 = d_3;
+    sum_1 = (_e108 + ((0.00701861 * exp((-(tau_5) * _e110))) / ((_e115 * sqrt(_e116))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.9856114));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.9856114));
+    float _e136 = b_4;
+    float _e137 = co_1;
+    const float2 _e141 = airlight_equiangular_32_sin_cos(max(min(_e136, _e137), 0.0));
+    sc_1 = _e141;
+    float _e142 = b_4;
+    float _e143 = co_1;
+    if ((_e142 > _e143)) {
+        float2 _e145 = sc_1;
+        sc_1 = _e145.yx;
+    }
+    float _e148 = sc_1.x;
+    float _e151 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e148) / max(_e151, 1e-30))), 1.0);
+    float _e161 = sc_1.y;
+    float _e164 = sc_1.y;
+    float _e170 = sc_1.x;
+    float _e173 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164)));
+    float3 _e179 = sum_1;
+    float _e181 = st_1;
+    float _e186 = d_3;
+    float _e187 = d_3;
+    sum_1 = (_e179 + ((0.016274394 * exp((-(tau_5) * _e181))) / ((_e186 * sqrt(_e187))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.9647622));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.9647622));
+    float _e207 = b_4;
+    float _e208 = co_1;
+    const float2 _e212 = airlight_equiangular_32_sin_cos(max(min(_e207, _e208), 0.0));
+    sc_1 = _e212;
+    float _e213 = b_4;
+    float _e214 = co_1;
+    if ((_e213 > _e214)) {
+        float2 _e216 = sc_1;
+        sc_1 = _e216.yx;
+    }
+    float _e219 = sc_1.x;
+    float _e222 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e219) / max(_e222, 1e-30))), 1.0);
+    float _e232 = sc_1.y;
+    float _e235 = sc_1.y;
+    float _e241 = sc_1.x;
+    float _e244 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e241) * _e244)) : (gp_1 - (((4.0 * g_7) * _e232) * _e235)));
+    float3 _e250 = sum_1;
+    float _e252 = st_1;
+    float _e257 = d_3;
+    float _e258 = d_3;
+    sum_1 = (_e250 + ((0.025392065 * exp((-(tau_5) * _e252))) / ((_e257 * sqrt(_e258))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.934906));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.934906));
+    float _e278 = b_4;
+    float _e279 = co_1;
+    const float2 _e283 = airlight_equiangular_32_sin_cos(max(min(_e278, _e279), 0.0));
+    sc_1 = _e283;
+    float _e284 = b_4;
+    float _e285 = co_1;
+    if ((_e284 > _e285)) {
+        float2 _e287 = sc_1;
+        sc_1 = _e287.yx;
+    }
+    float _e290 = sc_1.x;
+    float _e293 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e290) / max(_e293, 1e-30))), 1.0);
+    float _e303 = sc_1.y;
+    float _e306 = sc_1.y;
+    float _e312 = sc_1.x;
+    float _e315 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e312) * _e315)) : (gp_1 - (((4.0 * g_7) * _e303) * _e306)));
+    float3 _e321 = sum_1;
+    float _e323 = st_1;
+    float _e328 = d_3;
+    float _e329 = d_3;
+    sum_1 = (_e321 + ((0.034273863 * exp((-(tau_5) * _e323))) / ((_e328 * sqrt(_e329))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.8963212));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.8963212));
+    float _e349 = b_4;
+    float _e350 = co_1;
+    const float2 _e354 = airlight_equiangular_32_sin_cos(max(min(_e349, _e350), 0.0));
+    sc_1 = _e354;
+    float _e355 = b_4;
+    float _e356 = co_1;
+    if ((_e355 > _e356)) {
+        float2 _e358 = sc_1;
+        sc_1 = _e358.yx;
+    }
+    float _e361 = sc_1.x;
+    float _e364 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e361) / max(_e364, 1e-30))), 1.0);
+    float _e374 = sc_1.y;
+    float _e377 = sc_1.y;
+    float _e383 = sc_1.x;
+    float _e386 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e383) * _e386)) : (gp_1 - (((4.0 * g_7) * _e374) * _e377)));
+    float3 _e392 = sum_1;
+    float _e394 = st_1;
+    float _e399 = d_3;
+    float _e400 = d_3;
+    sum_1 = (_e392 + ((0.0428359 * exp((-(tau_5) * _e394))) / ((_e399 * sqrt(_e400))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.8493676));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.8493676));
+    float _e420 = b_4;
+    float _e421 = co_1;
+    const float2 _e425 = airlight_equiangular_32_sin_cos(max(min(_e420, _e421), 0.0));
+    sc_1 = _e425;
+    float _e426 = b_4;
+    float _e427 = co_1;
+    if ((_e426 > _e427)) {
+        float2 _e429 = sc_1;
+        sc_1 = _e429.yx;
+    }
+    float _e432 = sc_1.x;
+    float _e435 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e432) / max(_e435, 1e-30))), 1.0);
+    float _e445 = sc_1.y;
+    float _e448 = sc_1.y;
+    float _e454 = sc_1.x;
+    float _e457 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e454) * _e457)) : (gp_1 - (((4.0 * g_7) * _e445) * _e448)));
+    float3 _e463 = sum_1;
+    float _e465 = st_1;
+    float _e470 = d_3;
+    float _e471 = d_3;
+    sum_1 = (_e463 + ((0.05099806 * exp((-(tau_5) * _e465))) / ((_e470 * sqrt(_e471))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.7944838));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.7944838));
+    float _e491 = b_4;
+    float _e492 = co_1;
+    const float2 _e496 = airlight_equiangular_32_sin_cos(max(min(_e491, _e492), 0.0));
+    sc_1 = _e496;
+    float _e497 = b_4;
+    float _e498 = co_1;
+    if ((_e497 > _e498)) {
+        float2 _e500 = sc_1;
+        sc_1 = _e500.yx;
+    }
+    float _e503 = sc_1.x;
+    float _e506 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e503) / max(_e506, 1e-30))), 1.0);
+    float _e516 = sc_1.y;
+    float _e519 = sc_1.y;
+    float _e525 = sc_1.x;
+    float _e528 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e525) * _e528)) : (gp_1 - (((4.0 * g_7) * _e516) * _e519)));
+    float3 _e534 = sum_1;
+    float _e536 = st_1;
+    float _e541 = d_3;
+    float _e542 = d_3;
+    sum_1 = (_e534 + ((0.058684092 * exp((-(tau_5) * _e536))) / ((_e541 * sqrt(_e542))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.7321821));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.7321821));
+    float _e562 = b_4;
+    float _e563 = co_1;
+    const float2 _e567 = airlight_equiangular_32_sin_cos(max(min(_e562, _e563), 0.0));
+    sc_1 = _e567;
+    float _e568 = b_4;
+    float _e569 = co_1;
+    if ((_e568 > _e569)) {
+        float2 _e571 = sc_1;
+        sc_1 = _e571.yx;
+    }
+    float _e574 = sc_1.x;
+    float _e577 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e574) / max(_e577, 1e-30))), 1.0);
+    float _e587 = sc_1.y;
+    float _e590 = sc_1.y;
+    float _e596 = sc_1.x;
+    float _e599 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e596) * _e599)) : (gp_1 - (((4.0 * g_7) * _e587) * _e590)));
+    float3 _e605 = sum_1;
+    float _e607 = st_1;
+    float _e612 = d_3;
+    float _e613 = d_3;
+    sum_1 = (_e605 + ((0.06582222 * exp((-(tau_5) * _e607))) / ((_e612 * sqrt(_e613))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.6630443));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.6630443));
+    float _e633 = b_4;
+    float _e634 = co_1;
+    const float2 _e638 = airlight_equiangular_32_sin_cos(max(min(_e633, _e634), 0.0));
+    sc_1 = _e638;
+    float _e639 = b_4;
+    float _e640 = co_1;
+    if ((_e639 > _e640)) {
+        float2 _e642 = sc_1;
+        sc_1 = _e642.yx;
+    }
+    float _e645 = sc_1.x;
+    float _e648 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e645) / max(_e648, 1e-30))), 1.0);
+    float _e658 = sc_1.y;
+    float _e661 = sc_1.y;
+    float _e667 = sc_1.x;
+    float _e670 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e667) * _e670)) : (gp_1 - (((4.0 * g_7) * _e658) * _e661)));
+    float3 _e676 = sum_1;
+    float _e678 = st_1;
+    float _e683 = d_3;
+    float _e684 = d_3;
+    sum_1 = (_e676 + ((0.07234579 * exp((-(tau_5) * _e678))) / ((_e683 * sqrt(_e684))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.5877157));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.5877157));
+    float _e704 = b_4;
+    float _e705 = co_1;
+    const float2 _e709 = airlight_equiangular_32_sin_cos(max(min(_e704, _e705), 0.0));
+    sc_1 = _e709;
+    float _e710 = b_4;
+    float _e711 = co_1;
+    if ((_e710 > _e711)) {
+        float2 _e713 = sc_1;
+        sc_1 = _e713.yx;
+    }
+    float _e716 = sc_1.x;
+    float _e719 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e716) / max(_e719, 1e-30))), 1.0);
+    float _e729 = sc_1.y;
+    float _e732 = sc_1.y;
+    float _e738 = sc_1.x;
+    float _e741 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e738) * _e741)) : (gp_1 - (((4.0 * g_7) * _e729) * _e732)));
+    float3 _e747 = sum_1;
+    float _e749 = st_1;
+    float _e754 = d_3;
+    float _e755 = d_3;
+    sum_1 = (_e747 + ((0.078193896 * exp((-(tau_5) * _e749))) / ((_e754 * sqrt(_e755))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.5068998));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.5068998));
+    float _e775 = b_4;
+    float _e776 = co_1;
+    const float2 _e780 = airlight_equiangular_32_sin_cos(max(min(_e775, _e776), 0.0));
+    sc_1 = _e780;
+    float _e781 = b_4;
+    float _e782 = co_1;
+    if ((_e781 > _e782)) {
+        float2 _e784 = sc_1;
+        sc_1 = _e784.yx;
+    }
+    float _e787 = sc_1.x;
+    float _e790 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e787) / max(_e790, 1e-30))), 1.0);
+    float _e800 = sc_1.y;
+    float _e803 = sc_1.y;
+    float _e809 = sc_1.x;
+    float _e812 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e809) * _e812)) : (gp_1 - (((4.0 * g_7) * _e800) * _e803)));
+    float3 _e818 = sum_1;
+    float _e820 = st_1;
+    float _e825 = d_3;
+    float _e826 = d_3;
+    sum_1 = (_e818 + ((0.08331192 * exp((-(tau_5) * _e820))) / ((_e825 * sqrt(_e826))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.4213513));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.4213513));
+    float _e846 = b_4;
+    float _e847 = co_1;
+    const float2 _e851 = airlight_equiangular_32_sin_cos(max(min(_e846, _e847), 0.0));
+    sc_1 = _e851;
+    float _e852 = b_4;
+    float _e853 = co_1;
+    if ((_e852 > _e853)) {
+        float2 _e855 = sc_1;
+        sc_1 = _e855.yx;
+    }
+    float _e858 = sc_1.x;
+    float _e861 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e858) / max(_e861, 1e-30))), 1.0);
+    float _e871 = sc_1.y;
+    float _e874 = sc_1.y;
+    float _e880 = sc_1.x;
+    float _e883 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e880) * _e883)) : (gp_1 - (((4.0 * g_7) * _e871) * _e874)));
+    float3 _e889 = sum_1;
+    float _e891 = st_1;
+    float _e896 = d_3;
+    float _e897 = d_3;
+    sum_1 = (_e889 + ((0.087652095 * exp((-(tau_5) * _e891))) / ((_e896 * sqrt(_e897))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.3318686));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.3318686));
+    float _e917 = b_4;
+    float _e918 = co_1;
+    const float2 _e922 = airlight_equiangular_32_sin_cos(max(min(_e917, _e918), 0.0));
+    sc_1 = _e922;
+    float _e923 = b_4;
+    float _e924 = co_1;
+    if ((_e923 > _e924)) {
+        float2 _e926 = sc_1;
+        sc_1 = _e926.yx;
+    }
+    float _e929 = sc_1.x;
+    float _e932 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e929) / max(_e932, 1e-30))), 1.0);
+    float _e942 = sc_1.y;
+    float _e945 = sc_1.y;
+    float _e951 = sc_1.x;
+    float _e954 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e951) * _e954)) : (gp_1 - (((4.0 * g_7) * _e942) * _e945)));
+    float3 _e960 = sum_1;
+    float _e962 = st_1;
+    float _e967 = d_3;
+    float _e968 = d_3;
+    sum_1 = (_e960 + ((0.09117388 * exp((-(tau_5) * _e962))) / ((_e967 * sqrt(_e968))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.2392874));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.2392874));
+    float _e988 = b_4;
+    float _e989 = co_1;
+    const float2 _e993 = airlight_equiangular_32_sin_cos(max(min(_e988, _e989), 0.0));
+    sc_1 = _e993;
+    float _e994 = b_4;
+    float _e995 = co_1;
+    if ((_e994 > _e995)) {
+        float2 _e997 = sc_1;
+        sc_1 = _e997.yx;
+    }
+    float _e1000 = sc_1.x;
+    float _e1003 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1000) / max(_e1003, 1e-30))), 1.0);
+    float _e1013 = sc_1.y;
+    float _e1016 = sc_1.y;
+    float _e1022 = sc_1.x;
+    float _e1025 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1022) * _e1025)) : (gp_1 - (((4.0 * g_7) * _e1013) * _e1016)));
+    float3 _e1031 = sum_1;
+    float _e1033 = st_1;
+    float _e1038 = d_3;
+    float _e1039 = d_3;
+    sum_1 = (_e1031 + ((0.0938444 * exp((-(tau_5) * _e1033))) / ((_e1038 * sqrt(_e1039))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.144472));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.144472));
+    float _e1059 = b_4;
+    float _e1060 = co_1;
+    const float2 _e1064 = airlight_equiangular_32_sin_cos(max(min(_e1059, _e1060), 0.0));
+    sc_1 = _e1064;
+    float _e1065 = b_4;
+    float _e1066 = co_1;
+    if ((_e1065 > _e1066)) {
+        float2 _e1068 = sc_1;
+        sc_1 = _e1068.yx;
+    }
+    float _e1071 = sc_1.x;
+    float _e1074 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1071) / max(_e1074, 1e-30))), 1.0);
+    float _e1084 = sc_1.y;
+    float _e1087 = sc_1.y;
+    float _e1093 = sc_1.x;
+    float _e1096 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1093) * _e1096)) : (gp_1 - (((4.0 * g_7) * _e1084) * _e1087)));
+    float3 _e1102 = sum_1;
+    float _e1104 = st_1;
+    float _e1109 = d_3;
+    float _e1110 = d_3;
+    sum_1 = (_e1102 + ((0.09563872 * exp((-(tau_5) * _e1104))) / ((_e1109 * sqrt(_e1110))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.0483077));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.0483077));
+    float _e1130 = b_4;
+    float _e1131 = co_1;
+    const float2 _e1135 = airlight_equiangular_32_sin_cos(max(min(_e1130, _e1131), 0.0));
+    sc_1 = _e1135;
+    float _e1136 = b_4;
+    float _e1137 = co_1;
+    if ((_e1136 > _e1137)) {
+        float2 _e1139 = sc_1;
+        sc_1 = _e1139.yx;
+    }
+    float _e1142 = sc_1.x;
+    float _e1145 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1142) / max(_e1145, 1e-30))), 1.0);
+    float _e1155 = sc_1.y;
+    float _e1158 = sc_1.y;
+    float _e1164 = sc_1.x;
+    float _e1167 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1164) * _e1167)) : (gp_1 - (((4.0 * g_7) * _e1155) * _e1158)));
+    float3 _e1173 = sum_1;
+    float _e1175 = st_1;
+    float _e1180 = d_3;
+    float _e1181 = d_3;
+    sum_1 = (_e1173 + ((0.096540086 * exp((-(tau_5) * _e1175))) / ((_e1180 * sqrt(_e1181))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.95169234));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.95169234));
+    float _e1201 = b_4;
+    float _e1202 = co_1;
+    const float2 _e1206 = airlight_equiangular_32_sin_cos(max(min(_e1201, _e1202), 0.0));
+    sc_1 = _e1206;
+    float _e1207 = b_4;
+    float _e1208 = co_1;
+    if ((_e1207 > _e1208)) {
+        float2 _e1210 = sc_1;
+        sc_1 = _e1210.yx;
+    }
+    float _e1213 = sc_1.x;
+    float _e1216 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1213) / max(_e1216, 1e-30))), 1.0);
+    float _e1226 = sc_1.y;
+    float _e1229 = sc_1.y;
+    float _e1235 = sc_1.x;
+    float _e1238 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1235) * _e1238)) : (gp_1 - (((4.0 * g_7) * _e1226) * _e1229)));
+    float3 _e1244 = sum_1;
+    float _e1246 = st_1;
+    float _e1251 = d_3;
+    float _e1252 = d_3;
+    sum_1 = (_e1244 + ((0.096540086 * exp((-(tau_5) * _e1246))) / ((_e1251 * sqrt(_e1252))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.85552806));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.85552806));
+    float _e1272 = b_4;
+    float _e1273 = co_1;
+    const float2 _e1277 = airlight_equiangular_32_sin_cos(max(min(_e1272, _e1273), 0.0));
+    sc_1 = _e1277;
+    float _e1278 = b_4;
+    float _e1279 = co_1;
+    if ((_e1278 > _e1279)) {
+        float2 _e1281 = sc_1;
+        sc_1 = _e1281.yx;
+    }
+    float _e1284 = sc_1.x;
+    float _e1287 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1284) / max(_e1287, 1e-30))), 1.0);
+    float _e1297 = sc_1.y;
+    float _e1300 = sc_1.y;
+    float _e1306 = sc_1.x;
+    float _e1309 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1306) * _e1309)) : (gp_1 - (((4.0 * g_7) * _e1297) * _e1300)));
+    float3 _e1315 = sum_1;
+    float _e1317 = st_1;
+    float _e1322 = d_3;
+    float _e1323 = d_3;
+    sum_1 = (_e1315 + ((0.09563872 * exp((-(tau_5) * _e1317))) / ((_e1322 * sqrt(_e1323))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.7607126));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.7607126));
+    float _e1343 = b_4;
+    float _e1344 = co_1;
+    const float2 _e1348 = airlight_equiangular_32_sin_cos(max(min(_e1343, _e1344), 0.0));
+    sc_1 = _e1348;
+    float _e1349 = b_4;
+    float _e1350 = co_1;
+    if ((_e1349 > _e1350)) {
+        float2 _e1352 = sc_1;
+        sc_1 = _e1352.yx;
+    }
+    float _e1355 = sc_1.x;
+    float _e1358 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1355) / max(_e1358, 1e-30))), 1.0);
+    float _e1368 = sc_1.y;
+    float _e1371 = sc_1.y;
+    float _e1377 = sc_1.x;
+    float _e1380 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1377) * _e1380)) : (gp_1 - (((4.0 * g_7) * _e1368) * _e1371)));
+    float3 _e1386 = sum_1;
+    float _e1388 = st_1;
+    float _e1393 = d_3;
+    float _e1394 = d_3;
+    sum_1 = (_e1386 + ((0.0938444 * exp((-(tau_5) * _e1388))) / ((_e1393 * sqrt(_e1394))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.6681314));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.6681314));
+    float _e1414 = b_4;
+    float _e1415 = co_1;
+    const float2 _e1419 = airlight_equiangular_32_sin_cos(max(min(_e1414, _e1415), 0.0));
+    sc_1 = _e1419;
+    float _e1420 = b_4;
+    float _e1421 = co_1;
+    if ((_e1420 > _e1421)) {
+        float2 _e1423 = sc_1;
+        sc_1 = _e1423.yx;
+    }
+    float _e1426 = sc_1.x;
+    float _e1429 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1426) / max(_e1429, 1e-30))), 1.0);
+    float _e1439 = sc_1.y;
+    float _e1442 = sc_1.y;
+    float _e1448 = sc_1.x;
+    float _e1451 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1448) * _e1451)) : (gp_1 - (((4.0 * g_7) * _e1439) * _e1442)));
+    float3 _e1457 = sum_1;
+    float _e1459 = st_1;
+    float _e1464 = d_3;
+    float _e1465 = d_3;
+    sum_1 = (_e1457 + ((0.09117388 * exp((-(tau_5) * _e1459))) / ((_e1464 * sqrt(_e1465))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.5786487));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.5786487));
+    float _e1485 = b_4;
+    float _e1486 = co_1;
+    const float2 _e1490 = airlight_equiangular_32_sin_cos(max(min(_e1485, _e1486), 0.0));
+    sc_1 = _e1490;
+    float _e1491 = b_4;
+    float _e1492 = co_1;
+    if ((_e1491 > _e1492)) {
+        float2 _e1494 = sc_1;
+        sc_1 = _e1494.yx;
+    }
+    float _e1497 = sc_1.x;
+    float _e1500 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1497) / max(_e1500, 1e-30))), 1.0);
+    float _e1510 = sc_1.y;
+    float _e1513 = sc_1.y;
+    float _e1519 = sc_1.x;
+    float _e1522 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1519) * _e1522)) : (gp_1 - (((4.0 * g_7) * _e1510) * _e1513)));
+    float3 _e1528 = sum_1;
+    float _e1530 = st_1;
+    float _e1535 = d_3;
+    float _e1536 = d_3;
+    sum_1 = (_e1528 + ((0.087652095 * exp((-(tau_5) * _e1530))) / ((_e1535 * sqrt(_e1536))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.4931001));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.4931001));
+    float _e1556 = b_4;
+    float _e1557 = co_1;
+    const float2 _e1561 = airlight_equiangular_32_sin_cos(max(min(_e1556, _e1557), 0.0));
+    sc_1 = _e1561;
+    float _e1562 = b_4;
+    float _e1563 = co_1;
+    if ((_e1562 > _e1563)) {
+        float2 _e1565 = sc_1;
+        sc_1 = _e1565.yx;
+    }
+    float _e1568 = sc_1.x;
+    float _e1571 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1568) / max(_e1571, 1e-30))), 1.0);
+    float _e1581 = sc_1.y;
+    float _e1584 = sc_1.y;
+    float _e1590 = sc_1.x;
+    float _e1593 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1590) * _e1593)) : (gp_1 - (((4.0 * g_7) * _e1581) * _e1584)));
+    float3 _e1599 = sum_1;
+    float _e1601 = st_1;
+    float _e1606 = d_3;
+    float _e1607 = d_3;
+    sum_1 = (_e1599 + ((0.08331192 * exp((-(tau_5) * _e1601))) / ((_e1606 * sqrt(_e1607))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.41228426));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.41228426));
+    float _e1627 = b_4;
+    float _e1628 = co_1;
+    const float2 _e1632 = airlight_equiangular_32_sin_cos(max(min(_e1627, _e1628), 0.0));
+    sc_1 = _e1632;
+    float _e1633 = b_4;
+    float _e1634 = co_1;
+    if ((_e1633 > _e1634)) {
+        float2 _e1636 = sc_1;
+        sc_1 = _e1636.yx;
+    }
+    float _e1639 = sc_1.x;
+    float _e1642 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1639) / max(_e1642, 1e-30))), 1.0);
+    float _e1652 = sc_1.y;
+    float _e1655 = sc_1.y;
+    float _e1661 = sc_1.x;
+    float _e1664 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1661) * _e1664)) : (gp_1 - (((4.0 * g_7) * _e1652) * _e1655)));
+    float3 _e1670 = sum_1;
+    float _e1672 = st_1;
+    float _e1677 = d_3;
+    float _e1678 = d_3;
+    sum_1 = (_e1670 + ((0.078193896 * exp((-(tau_5) * _e1672))) / ((_e1677 * sqrt(_e1678))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.33695573));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.33695573));
+    float _e1698 = b_4;
+    float _e1699 = co_1;
+    const float2 _e1703 = airlight_equiangular_32_sin_cos(max(min(_e1698, _e1699), 0.0));
+    sc_1 = _e1703;
+    float _e1704 = b_4;
+    float _e1705 = co_1;
+    if ((_e1704 > _e1705)) {
+        float2 _e1707 = sc_1;
+        sc_1 = _e1707.yx;
+    }
+    float _e1710 = sc_1.x;
+    float _e1713 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1710) / max(_e1713, 1e-30))), 1.0);
+    float _e1723 = sc_1.y;
+    float _e1726 = sc_1.y;
+    float _e1732 = sc_1.x;
+    float _e1735 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1732) * _e1735)) : (gp_1 - (((4.0 * g_7) * _e1723) * _e1726)));
+    float3 _e1741 = sum_1;
+    float _e1743 = st_1;
+    float _e1748 = d_3;
+    float _e1749 = d_3;
+    sum_1 = (_e1741 + ((0.07234579 * exp((-(tau_5) * _e1743))) / ((_e1748 * sqrt(_e1749))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.26781785));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.26781785));
+    float _e1769 = b_4;
+    float _e1770 = co_1;
+    const float2 _e1774 = airlight_equiangular_32_sin_cos(max(min(_e1769, _e1770), 0.0));
+    sc_1 = _e1774;
+    float _e1775 = b_4;
+    float _e1776 = co_1;
+    if ((_e1775 > _e1776)) {
+        float2 _e1778 = sc_1;
+        sc_1 = _e1778.yx;
+    }
+    float _e1781 = sc_1.x;
+    float _e1784 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1781) / max(_e1784, 1e-30))), 1.0);
+    float _e1794 = sc_1.y;
+    float _e1797 = sc_1.y;
+    float _e1803 = sc_1.x;
+    float _e1806 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1803) * _e1806)) : (gp_1 - (((4.0 * g_7) * _e1794) * _e1797)));
+    float3 _e1812 = sum_1;
+    float _e1814 = st_1;
+    float _e1819 = d_3;
+    float _e1820 = d_3;
+    sum_1 = (_e1812 + ((0.06582222 * exp((-(tau_5) * _e1814))) / ((_e1819 * sqrt(_e1820))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.20551622));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.20551622));
+    float _e1840 = b_4;
+    float _e1841 = co_1;
+    const float2 _e1845 = airlight_equiangular_32_sin_cos(max(min(_e1840, _e1841), 0.0));
+    sc_1 = _e1845;
+    float _e1846 = b_4;
+    float _e1847 = co_1;
+    if ((_e1846 > _e1847)) {
+        float2 _e1849 = sc_1;
+        sc_1 = _e1849.yx;
+    }
+    float _e1852 = sc_1.x;
+    float _e1855 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1852) / max(_e1855, 1e-30))), 1.0);
+    float _e1865 = sc_1.y;
+    float _e1868 = sc_1.y;
+    float _e1874 = sc_1.x;
+    float _e1877 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1874) * _e1877)) : (gp_1 - (((4.0 * g_7) * _e1865) * _e1868)));
+    float3 _e1883 = sum_1;
+    float _e1885 = st_1;
+    float _e1890 = d_3;
+    float _e1891 = d_3;
+    sum_1 = (_e1883 + ((0.058684092 * exp((-(tau_5) * _e1885))) / ((_e1890 * sqrt(_e1891))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.15063238));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.15063238));
+    float _e1911 = b_4;
+    float _e1912 = co_1;
+    const float2 _e1916 = airlight_equiangular_32_sin_cos(max(min(_e1911, _e1912), 0.0));
+    sc_1 = _e1916;
+    float _e1917 = b_4;
+    float _e1918 = co_1;
+    if ((_e1917 > _e1918)) {
+        float2 _e1920 = sc_1;
+        sc_1 = _e1920.yx;
+    }
+    float _e1923 = sc_1.x;
+    float _e1926 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1923) / max(_e1926, 1e-30))), 1.0);
+    float _e1936 = sc_1.y;
+    float _e1939 = sc_1.y;
+    float _e1945 = sc_1.x;
+    float _e1948 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1945) * _e1948)) : (gp_1 - (((4.0 * g_7) * _e1936) * _e1939)));
+    float3 _e1954 = sum_1;
+    float _e1956 = st_1;
+    float _e1961 = d_3;
+    float _e1962 = d_3;
+    sum_1 = (_e1954 + ((0.05099806 * exp((-(tau_5) * _e1956))) / ((_e1961 * sqrt(_e1962))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.10367882));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.10367882));
+    float _e1982 = b_4;
+    float _e1983 = co_1;
+    const float2 _e1987 = airlight_equiangular_32_sin_cos(max(min(_e1982, _e1983), 0.0));
+    sc_1 = _e1987;
+    float _e1988 = b_4;
+    float _e1989 = co_1;
+    if ((_e1988 > _e1989)) {
+        float2 _e1991 = sc_1;
+        sc_1 = _e1991.yx;
+    }
+    float _e1994 = sc_1.x;
+    float _e1997 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e1994) / max(_e1997, 1e-30))), 1.0);
+    float _e2007 = sc_1.y;
+    float _e2010 = sc_1.y;
+    float _e2016 = sc_1.x;
+    float _e2019 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e2016) * _e2019)) : (gp_1 - (((4.0 * g_7) * _e2007) * _e2010)));
+    float3 _e2025 = sum_1;
+    float _e2027 = st_1;
+    float _e2032 = d_3;
+    float _e2033 = d_3;
+    sum_1 = (_e2025 + ((0.0428359 * exp((-(tau_5) * _e2027))) / ((_e2032 * sqrt(_e2033))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.065093935));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.065093935));
+    float _e2053 = b_4;
+    float _e2054 = co_1;
+    const float2 _e2058 = airlight_equiangular_32_sin_cos(max(min(_e2053, _e2054), 0.0));
+    sc_1 = _e2058;
+    float _e2059 = b_4;
+    float _e2060 = co_1;
+    if ((_e2059 > _e2060)) {
+        float2 _e2062 = sc_1;
+        sc_1 = _e2062.yx;
+    }
+    float _e2065 = sc_1.x;
+    float _e2068 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e2065) / max(_e2068, 1e-30))), 1.0);
+    float _e2078 = sc_1.y;
+    float _e2081 = sc_1.y;
+    float _e2087 = sc_1.x;
+    float _e2090 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e2087) * _e2090)) : (gp_1 - (((4.0 * g_7) * _e2078) * _e2081)));
+    float3 _e2096 = sum_1;
+    float _e2098 = st_1;
+    float _e2103 = d_3;
+    float _e2104 = d_3;
+    sum_1 = (_e2096 + ((0.034273863 * exp((-(tau_5) * _e2098))) / ((_e2103 * sqrt(_e2104))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.03523773));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.03523773));
+    float _e2124 = b_4;
+    float _e2125 = co_1;
+    const float2 _e2129 = airlight_equiangular_32_sin_cos(max(min(_e2124, _e2125), 0.0));
+    sc_1 = _e2129;
+    float _e2130 = b_4;
+    float _e2131 = co_1;
+    if ((_e2130 > _e2131)) {
+        float2 _e2133 = sc_1;
+        sc_1 = _e2133.yx;
+    }
+    float _e2136 = sc_1.x;
+    float _e2139 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e2136) / max(_e2139, 1e-30))), 1.0);
+    float _e2149 = sc_1.y;
+    float _e2152 = sc_1.y;
+    float _e2158 = sc_1.x;
+    float _e2161 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e2158) * _e2161)) : (gp_1 - (((4.0 * g_7) * _e2149) * _e2152)));
+    float3 _e2167 = sum_1;
+    float _e2169 = st_1;
+    float _e2174 = d_3;
+    float _e2175 = d_3;
+    sum_1 = (_e2167 + ((0.025392065 * exp((-(tau_5) * _e2169))) / ((_e2174 * sqrt(_e2175))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.014388502));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.014388502));
+    float _e2195 = b_4;
+    float _e2196 = co_1;
+    const float2 _e2200 = airlight_equiangular_32_sin_cos(max(min(_e2195, _e2196), 0.0));
+    sc_1 = _e2200;
+    float _e2201 = b_4;
+    float _e2202 = co_1;
+    if ((_e2201 > _e2202)) {
+        float2 _e2204 = sc_1;
+        sc_1 = _e2204.yx;
+    }
+    float _e2207 = sc_1.x;
+    float _e2210 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e2207) / max(_e2210, 1e-30))), 1.0);
+    float _e2220 = sc_1.y;
+    float _e2223 = sc_1.y;
+    float _e2229 = sc_1.x;
+    float _e2232 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e2229) * _e2232)) : (gp_1 - (((4.0 * g_7) * _e2220) * _e2223)));
+    float3 _e2238 = sum_1;
+    float _e2240 = st_1;
+    float _e2245 = d_3;
+    float _e2246 = d_3;
+    sum_1 = (_e2238 + ((0.016274394 * exp((-(tau_5) * _e2240))) / ((_e2245 * sqrt(_e2246))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.002736151));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.002736151));
+    float _e2266 = b_4;
+    float _e2267 = co_1;
+    const float2 _e2271 = airlight_equiangular_32_sin_cos(max(min(_e2266, _e2267), 0.0));
+    sc_1 = _e2271;
+    float _e2272 = b_4;
+    float _e2273 = co_1;
+    if ((_e2272 > _e2273)) {
+        float2 _e2275 = sc_1;
+        sc_1 = _e2275.yx;
+    }
+    float _e2278 = sc_1.x;
+    float _e2281 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e2278) / max(_e2281, 1e-30))), 1.0);
+    float _e2291 = sc_1.y;
+    float _e2294 = sc_1.y;
+    float _e2300 = sc_1.x;
+    float _e2303 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e2300) * _e2303)) : (gp_1 - (((4.0 * g_7) * _e2291) * _e2294)));
+    float3 _e2309 = sum_1;
+    float _e2311 = st_1;
+    float _e2316 = d_3;
+    float _e2317 = d_3;
+    sum_1 = (_e2309 + ((0.00701861 * exp((-(tau_5) * _e2311))) / ((_e2316 * sqrt(_e2317))).xxx));
+    float3 _e2330 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2330) * half_1) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+}
+
+float airlight_equiangular_32_airlight(float tau, float gamma_2, float rho_2, float g)
+{
+    float gc = clamp(gamma_2, 0.0, airlight_equiangular_32_PI);
     const float2 _e7 = airlight_equiangular_32_sin_cos(gc);
-    float comp_1 = max(((airlight_equiangular_32_PI - gc) - 8.742278e-8), 0.0);
-    const float _e17 = airlight_equiangular_32_airlight_geometry(tau, abs(_e7.x), _e7.y, gc, comp_1, rho_1, g);
+    float comp_2 = max(((airlight_equiangular_32_PI - gc) - 8.742278e-8), 0.0);
+    const float _e17 = airlight_equiangular_32_airlight_geometry(tau, abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
     return _e17;
 }
 
 float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
 {
-    bool local_5 = (bool)0;
+    bool local_6 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_32_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -1111,27 +1943,27 @@ float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surf
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_5 = (_e8.z == 0.0);
+        local_6 = (_e8.z == 0.0);
     } else {
-        local_5 = false;
+        local_6 = false;
     }
-    bool _e24 = local_5;
+    bool _e24 = local_6;
     if (_e24) {
         return 0.0;
     }
-    float rho_4 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    float rho_5 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e34 = airlight_equiangular_32_arctan2_(_e8.y, _e8.z);
     const float _e38 = airlight_equiangular_32_arctan2_(_e8.y, -(_e8.z));
-    const float _e44 = airlight_equiangular_32_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_4, g_1);
+    const float _e44 = airlight_equiangular_32_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_5, g_1);
     const float _e45 = airlight_equiangular_32_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
-float airlight_equiangular_32_along(float tau_1, float h_2, float x0_1, float rho_2, float g_2)
+float3 airlight_equiangular_32_along_rgb(float3 tau_1, float h_3, float x0_2, float rho_3, float g_2)
 {
-    const float _e5 = airlight_equiangular_32_arctan2_(h_2, x0_1);
-    const float _e7 = airlight_equiangular_32_arctan2_(h_2, -(x0_1));
-    const float _e8 = airlight_equiangular_32_airlight_geometry(tau_1, h_2, x0_1, _e5, _e7, rho_2, g_2);
+    const float _e5 = airlight_equiangular_32_arctan2_(h_3, x0_2);
+    const float _e7 = airlight_equiangular_32_arctan2_(h_3, -(x0_2));
+    const float3 _e8 = airlight_equiangular_32_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
     return _e8;
 }
 
@@ -1141,25 +1973,23 @@ float airlight_equiangular_32_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_32_spot_core(float3 tau_2, float h_3, float x0_2, float rho_3, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_equiangular_32_spot_core(float3 tau_2, float h_4, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_6 = (bool)0;
-    float3 res = (float3)0;
-    int c_2 = int(0);
+    bool local_7 = (bool)0;
 
-    h1_ = h_3;
-    x1_ = x0_2;
-    rho1_ = rho_3;
+    h1_ = h_4;
+    x1_ = x0_3;
+    rho1_ = rho_4;
     const float2 _e17 = airlight_equiangular_32_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_equiangular_32_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
@@ -1169,70 +1999,47 @@ float3 airlight_equiangular_32_spot_core(float3 tau_2, float h_3, float x0_2, fl
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_6 = (rho_3 >= 0.0);
+            local_7 = (rho_4 >= 0.0);
         } else {
-            local_6 = false;
+            local_7 = false;
         }
-        bool _e44 = local_6;
+        bool _e44 = local_7;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = max(((rho_3 - _e45) / _e47), 0.0);
+            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
         }
     }
-    uint2 loop_bound = uint2(4294967295u, 4294967295u);
-    bool loop_init = true;
-    while(true) {
-        if (all(loop_bound == uint2(0u, 0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e80 = c_2;
-            c_2 = asint(asuint(_e80) + asuint(int(1)));
-        }
-        loop_init = false;
-        int _e54 = c_2;
-        if ((_e54 < int(3))) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            const float _e64 = airlight_equiangular_32_along((tau_2[min(uint(_e57), 2u)] * _e59), _e61, _e62, _e63, g_3);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[min(uint(_e65), 2u)] = ((_e64 >= airlight_equiangular_32_HUGE) ? _e64 : ((_e64 * exp((-(tau_2[min(uint(_e67), 2u)]) * _e70))) / _e74));
-        }
-    }
-    float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    const float3 _e56 = airlight_equiangular_32_along_rgb((tau_2 * _e51), _e53, _e54, _e55, g_3);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_2) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, float u, float v_in, float ca, float k_1, float co_1, float ci, float g_4)
+float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_5, float x0_4, float u, float v_in, float ca, float k_1, float co_2, float ci, float g_4)
 {
-    float3 sum_1 = (0.0).xxx;
+    float3 sum_2 = (0.0).xxx;
     float w = (float)0;
-    float2 sc_1 = (float2)0;
+    float2 sc_2 = (float2)0;
     float2 sb = (float2)0;
-    float d_3 = (float)0;
-    float st_1 = (float)0;
+    float d_4 = (float)0;
+    float st_2 = (float)0;
 
     if (!((v_in > u))) {
         return (0.0).xxx;
     }
-    float half_1 = (0.5 * (v_in - u));
+    float half_2 = (0.5 * (v_in - u));
     float mid = (0.5 * (v_in + u));
-    float gm_1 = ((1.0 - g_4) * (1.0 - g_4));
-    float gp_1 = ((1.0 + g_4) * (1.0 + g_4));
-    w = (mid + (half_1 * 0.96028984));
+    float gm_2 = ((1.0 - g_4) * (1.0 - g_4));
+    float gp_2 = ((1.0 + g_4) * (1.0 + g_4));
+    w = (mid + (half_2 * 0.96028984));
     float _e41 = w;
     const float2 _e42 = airlight_equiangular_32_sin_cos(_e41);
-    sc_1 = _e42;
+    sc_2 = _e42;
     float _e43 = w;
     const float2 _e46 = airlight_equiangular_32_sin_cos((0.5 * _e43));
     sb = _e46;
@@ -1240,21 +2047,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e59) * _e62)) : (gp_1 - (((4.0 * g_4) * _e50) * _e53)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e59) * _e62)) : (gp_2 - (((4.0 * g_4) * _e50) * _e53)));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
-    float3 _e79 = sum_1;
-    float _e81 = sc_1.x;
-    float _e84 = sc_1.y;
-    float _e95 = d_3;
-    float _e96 = d_3;
-    float _e101 = st_1;
-    sum_1 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_3) * _e101))));
-    w = (mid + (half_1 * 0.7966665));
+    st_2 = max((x0_4 + ((h_5 * _e69) / max(_e72, 1e-30))), 1.0);
+    float3 _e79 = sum_2;
+    float _e81 = sc_2.x;
+    float _e84 = sc_2.y;
+    float _e95 = d_4;
+    float _e96 = d_4;
+    float _e101 = st_2;
+    sum_2 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_3) * _e101))));
+    w = (mid + (half_2 * 0.7966665));
     float _e109 = w;
     const float2 _e110 = airlight_equiangular_32_sin_cos(_e109);
-    sc_1 = _e110;
+    sc_2 = _e110;
     float _e111 = w;
     const float2 _e114 = airlight_equiangular_32_sin_cos((0.5 * _e111));
     sb = _e114;
@@ -1262,21 +2069,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e127) * _e130)) : (gp_1 - (((4.0 * g_4) * _e118) * _e121)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e127) * _e130)) : (gp_2 - (((4.0 * g_4) * _e118) * _e121)));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
-    float3 _e147 = sum_1;
-    float _e149 = sc_1.x;
-    float _e152 = sc_1.y;
-    float _e163 = d_3;
-    float _e164 = d_3;
-    float _e169 = st_1;
-    sum_1 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_3) * _e169))));
-    w = (mid + (half_1 * 0.5255324));
+    st_2 = max((x0_4 + ((h_5 * _e137) / max(_e140, 1e-30))), 1.0);
+    float3 _e147 = sum_2;
+    float _e149 = sc_2.x;
+    float _e152 = sc_2.y;
+    float _e163 = d_4;
+    float _e164 = d_4;
+    float _e169 = st_2;
+    sum_2 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_3) * _e169))));
+    w = (mid + (half_2 * 0.5255324));
     float _e177 = w;
     const float2 _e178 = airlight_equiangular_32_sin_cos(_e177);
-    sc_1 = _e178;
+    sc_2 = _e178;
     float _e179 = w;
     const float2 _e182 = airlight_equiangular_32_sin_cos((0.5 * _e179));
     sb = _e182;
@@ -1284,21 +2091,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e195) * _e198)) : (gp_1 - (((4.0 * g_4) * _e186) * _e189)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e195) * _e198)) : (gp_2 - (((4.0 * g_4) * _e186) * _e189)));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
-    float3 _e215 = sum_1;
-    float _e217 = sc_1.x;
-    float _e220 = sc_1.y;
-    float _e231 = d_3;
-    float _e232 = d_3;
-    float _e237 = st_1;
-    sum_1 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_3) * _e237))));
-    w = (mid + (half_1 * 0.18343464));
+    st_2 = max((x0_4 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+    float3 _e215 = sum_2;
+    float _e217 = sc_2.x;
+    float _e220 = sc_2.y;
+    float _e231 = d_4;
+    float _e232 = d_4;
+    float _e237 = st_2;
+    sum_2 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_3) * _e237))));
+    w = (mid + (half_2 * 0.18343464));
     float _e245 = w;
     const float2 _e246 = airlight_equiangular_32_sin_cos(_e245);
-    sc_1 = _e246;
+    sc_2 = _e246;
     float _e247 = w;
     const float2 _e250 = airlight_equiangular_32_sin_cos((0.5 * _e247));
     sb = _e250;
@@ -1306,21 +2113,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e263) * _e266)) : (gp_1 - (((4.0 * g_4) * _e254) * _e257)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e263) * _e266)) : (gp_2 - (((4.0 * g_4) * _e254) * _e257)));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
-    float3 _e283 = sum_1;
-    float _e285 = sc_1.x;
-    float _e288 = sc_1.y;
-    float _e299 = d_3;
-    float _e300 = d_3;
-    float _e305 = st_1;
-    sum_1 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_3) * _e305))));
-    w = (mid + (half_1 * -0.18343464));
+    st_2 = max((x0_4 + ((h_5 * _e273) / max(_e276, 1e-30))), 1.0);
+    float3 _e283 = sum_2;
+    float _e285 = sc_2.x;
+    float _e288 = sc_2.y;
+    float _e299 = d_4;
+    float _e300 = d_4;
+    float _e305 = st_2;
+    sum_2 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_3) * _e305))));
+    w = (mid + (half_2 * -0.18343464));
     float _e313 = w;
     const float2 _e314 = airlight_equiangular_32_sin_cos(_e313);
-    sc_1 = _e314;
+    sc_2 = _e314;
     float _e315 = w;
     const float2 _e318 = airlight_equiangular_32_sin_cos((0.5 * _e315));
     sb = _e318;
@@ -1328,21 +2135,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e331) * _e334)) : (gp_1 - (((4.0 * g_4) * _e322) * _e325)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e331) * _e334)) : (gp_2 - (((4.0 * g_4) * _e322) * _e325)));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
-    float3 _e351 = sum_1;
-    float _e353 = sc_1.x;
-    float _e356 = sc_1.y;
-    float _e367 = d_3;
-    float _e368 = d_3;
-    float _e373 = st_1;
-    sum_1 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
-    w = (mid + (half_1 * -0.5255324));
+    st_2 = max((x0_4 + ((h_5 * _e341) / max(_e344, 1e-30))), 1.0);
+    float3 _e351 = sum_2;
+    float _e353 = sc_2.x;
+    float _e356 = sc_2.y;
+    float _e367 = d_4;
+    float _e368 = d_4;
+    float _e373 = st_2;
+    sum_2 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
+    w = (mid + (half_2 * -0.5255324));
     float _e381 = w;
     const float2 _e382 = airlight_equiangular_32_sin_cos(_e381);
-    sc_1 = _e382;
+    sc_2 = _e382;
     float _e383 = w;
     const float2 _e386 = airlight_equiangular_32_sin_cos((0.5 * _e383));
     sb = _e386;
@@ -1350,21 +2157,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e399) * _e402)) : (gp_1 - (((4.0 * g_4) * _e390) * _e393)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e399) * _e402)) : (gp_2 - (((4.0 * g_4) * _e390) * _e393)));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
-    float3 _e419 = sum_1;
-    float _e421 = sc_1.x;
-    float _e424 = sc_1.y;
-    float _e435 = d_3;
-    float _e436 = d_3;
-    float _e441 = st_1;
-    sum_1 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_3) * _e441))));
-    w = (mid + (half_1 * -0.7966665));
+    st_2 = max((x0_4 + ((h_5 * _e409) / max(_e412, 1e-30))), 1.0);
+    float3 _e419 = sum_2;
+    float _e421 = sc_2.x;
+    float _e424 = sc_2.y;
+    float _e435 = d_4;
+    float _e436 = d_4;
+    float _e441 = st_2;
+    sum_2 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_3) * _e441))));
+    w = (mid + (half_2 * -0.7966665));
     float _e449 = w;
     const float2 _e450 = airlight_equiangular_32_sin_cos(_e449);
-    sc_1 = _e450;
+    sc_2 = _e450;
     float _e451 = w;
     const float2 _e454 = airlight_equiangular_32_sin_cos((0.5 * _e451));
     sb = _e454;
@@ -1372,21 +2179,21 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e467) * _e470)) : (gp_1 - (((4.0 * g_4) * _e458) * _e461)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e467) * _e470)) : (gp_2 - (((4.0 * g_4) * _e458) * _e461)));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
-    float3 _e487 = sum_1;
-    float _e489 = sc_1.x;
-    float _e492 = sc_1.y;
-    float _e503 = d_3;
-    float _e504 = d_3;
-    float _e509 = st_1;
-    sum_1 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_3) * _e509))));
-    w = (mid + (half_1 * -0.96028984));
+    st_2 = max((x0_4 + ((h_5 * _e477) / max(_e480, 1e-30))), 1.0);
+    float3 _e487 = sum_2;
+    float _e489 = sc_2.x;
+    float _e492 = sc_2.y;
+    float _e503 = d_4;
+    float _e504 = d_4;
+    float _e509 = st_2;
+    sum_2 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_3) * _e509))));
+    w = (mid + (half_2 * -0.96028984));
     float _e517 = w;
     const float2 _e518 = airlight_equiangular_32_sin_cos(_e517);
-    sc_1 = _e518;
+    sc_2 = _e518;
     float _e519 = w;
     const float2 _e522 = airlight_equiangular_32_sin_cos((0.5 * _e519));
     sb = _e522;
@@ -1394,61 +2201,60 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_3, float h_4, float x0_3, fl
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e535) * _e538)) : (gp_1 - (((4.0 * g_4) * _e526) * _e529)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e535) * _e538)) : (gp_2 - (((4.0 * g_4) * _e526) * _e529)));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
-    float3 _e555 = sum_1;
-    float _e557 = sc_1.x;
-    float _e560 = sc_1.y;
-    float _e571 = d_3;
-    float _e572 = d_3;
-    float _e577 = st_1;
-    sum_1 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_3) * _e577))));
-    float3 _e593 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_1) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+    st_2 = max((x0_4 + ((h_5 * _e545) / max(_e548, 1e-30))), 1.0);
+    float3 _e555 = sum_2;
+    float _e557 = sc_2.x;
+    float _e560 = sc_2.y;
+    float _e571 = d_4;
+    float _e572 = d_4;
+    float _e577 = st_2;
+    sum_2 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_3) * _e577))));
+    float3 _e593 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_2) / max(h_5, 1e-30)) * _e593), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_32_spot_weight(float c_3, float co_2, float ci_1)
+float airlight_equiangular_32_spot_weight(float c_2, float co_3, float ci_1)
 {
-    if ((ci_1 > co_2)) {
-        return clamp(((c_3 - co_2) / (ci_1 - co_2)), 0.0, 1.0);
+    if ((ci_1 > co_3)) {
+        return clamp(((c_2 - co_3) / (ci_1 - co_3)), 0.0, 1.0);
     }
-    return ((c_3 >= co_2) ? 1.0 : 0.0);
+    return ((c_2 >= co_3) ? 1.0 : 0.0);
 }
 
 float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_5)
 {
-    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
+    bool local_9 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_9 = (bool)0;
-    float scale = 1.0;
     bool local_10 = (bool)0;
+    float scale = 1.0;
     bool local_11 = (bool)0;
-    float3 a_5 = (0.0).xxx;
     bool local_12 = (bool)0;
+    float3 a_5 = (0.0).xxx;
     bool local_13 = (bool)0;
-    int c_4 = int(0);
+    bool local_14 = (bool)0;
 
     const float3 _e11 = airlight_equiangular_32_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_3 = clamp(cos_outer, 0.0, 1.0);
+    float co_4 = clamp(cos_outer, 0.0, 1.0);
     const float _e17 = airlight_equiangular_32_max_abs(dir_2);
     const float _e18 = airlight_equiangular_32_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_8 = (_e18 <= airlight_equiangular_32_HUGE);
+            local_9 = (_e18 <= airlight_equiangular_32_HUGE);
         } else {
-            local_8 = false;
+            local_9 = false;
         }
-        bool _e29 = local_8;
-        local_7 = !(_e29);
+        bool _e29 = local_9;
+        local_8 = !(_e29);
     } else {
-        local_7 = false;
+        local_8 = false;
     }
-    bool _e32 = local_7;
+    bool _e32 = local_8;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -1458,11 +2264,11 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_9 = (_e17 <= airlight_equiangular_32_HUGE);
+        local_10 = (_e17 <= airlight_equiangular_32_HUGE);
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e53 = local_9;
+    bool _e53 = local_10;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -1470,7 +2276,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     float3 _e58 = n;
     float k_2 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_equiangular_32_spot_weight(k_2, co_3, cos_inner);
+        const float _e65 = airlight_equiangular_32_spot_weight(k_2, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
         const float _e73 = airlight_equiangular_32_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_equiangular_32_HUGE);
@@ -1481,119 +2287,99 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_10 = (_e11.z == 0.0);
-    } else {
-        local_10 = false;
-    }
-    bool _e96 = local_10;
-    if (_e96) {
-        return (0.0).xxx;
-    }
-    float d_4 = _e11.x;
-    float h_5 = _e11.y;
-    float x0_5 = _e11.z;
-    if ((surface_1 >= 0.0)) {
-        local_11 = ((surface_1 / d_4) < airlight_equiangular_32_RHO_OPEN);
+        local_11 = (_e11.z == 0.0);
     } else {
         local_11 = false;
     }
-    bool has_end = local_11;
-    float rho_5 = (has_end ? (surface_1 / d_4) : -1.0);
-    float3 tau_5 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
+    bool _e96 = local_11;
+    if (_e96) {
+        return (0.0).xxx;
+    }
+    float d_5 = _e11.x;
+    float h_6 = _e11.y;
+    float x0_6 = _e11.z;
+    if ((surface_1 >= 0.0)) {
+        local_12 = ((surface_1 / d_5) < airlight_equiangular_32_RHO_OPEN);
+    } else {
+        local_12 = false;
+    }
+    bool has_end = local_12;
+    float rho_6 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_6 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_5, -0.999, 0.999);
     if (!(point_)) {
-        local_12 = (h_5 <= 0.0);
+        local_13 = (h_6 <= 0.0);
     } else {
-        local_12 = true;
+        local_13 = true;
     }
-    bool _e133 = local_12;
+    bool _e133 = local_13;
     if (_e133) {
         if (!(point_)) {
-            const float _e136 = airlight_equiangular_32_spot_weight(-(k_2), co_3, cos_inner);
-            const float _e137 = airlight_equiangular_32_spot_weight(k_2, co_3, cos_inner);
+            const float _e136 = airlight_equiangular_32_spot_weight(-(k_2), co_4, cos_inner);
+            const float _e137 = airlight_equiangular_32_spot_weight(k_2, co_4, cos_inner);
             if (has_end) {
-                local_13 = (rho_5 < 1.0);
+                local_14 = (rho_6 < 1.0);
             } else {
-                local_13 = false;
+                local_14 = false;
             }
-            bool _e144 = local_13;
-            scale = ((x0_5 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
+            bool _e144 = local_14;
+            scale = ((x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
         }
-        uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
-        bool loop_init_1 = true;
-        while(true) {
-            if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
-            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-            if (!loop_init_1) {
-                int _e160 = c_4;
-                c_4 = asint(asuint(_e160) + asuint(int(1)));
-            }
-            loop_init_1 = false;
-            int _e151 = c_4;
-            if ((_e151 < int(3))) {
-            } else {
-                break;
-            }
-            {
-                int _e154 = c_4;
-                int _e156 = c_4;
-                const float _e158 = airlight_equiangular_32_along(tau_5[min(uint(_e156), 2u)], h_5, x0_5, rho_5, gg);
-                a_5[min(uint(_e154), 2u)] = _e158;
-            }
-        }
+        const float3 _e149 = airlight_equiangular_32_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
+        a_5 = _e149;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e163 = airlight_equiangular_32_max_abs(l);
-        float3 _e166 = n;
-        float3 cr = cross((l / (_e163).xxx), _e166);
-        float3 _e168 = n;
-        float3 _e169 = ax;
-        float ca_1 = (dot(cr, cross(_e168, _e169)) / max(length(cr), 1e-30));
+        const float _e151 = airlight_equiangular_32_max_abs(l);
+        float3 _e154 = n;
+        float3 cr = cross((l / (_e151).xxx), _e154);
+        float3 _e156 = n;
+        float3 _e157 = ax;
+        float ca_1 = (dot(cr, cross(_e156, _e157)) / max(length(cr), 1e-30));
         float r_4 = sqrt(((ca_1 * ca_1) + (k_2 * k_2)));
-        const float _e180 = airlight_equiangular_32_arctan2_(k_2, ca_1);
-        const float _e181 = airlight_equiangular_32_arctan2_(h_5, x0_5);
-        const float _e184 = airlight_equiangular_32_arctan2_(h_5, (x0_5 - rho_5));
-        float om_e = (has_end ? _e184 : airlight_equiangular_32_PI);
-        if ((co_3 < r_4)) {
-            const float _e187 = airlight_equiangular_32_spot_asin(co_3, r_4);
-            float lo = max(_e181, (_e180 + _e187));
-            float hi_1 = min(om_e, ((_e180 + airlight_equiangular_32_PI) - _e187));
+        const float _e168 = airlight_equiangular_32_arctan2_(k_2, ca_1);
+        const float _e169 = airlight_equiangular_32_arctan2_(h_6, x0_6);
+        const float _e172 = airlight_equiangular_32_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e172 : airlight_equiangular_32_PI);
+        if ((co_4 < r_4)) {
+            const float _e175 = airlight_equiangular_32_spot_asin(co_4, r_4);
+            float lo = max(_e169, (_e168 + _e175));
+            float hi_1 = min(om_e, ((_e168 + airlight_equiangular_32_PI) - _e175));
             if ((lo < hi_1)) {
-                if ((cos_inner <= co_3)) {
-                    const float3 _e198 = airlight_equiangular_32_spot_core(tau_5, h_5, x0_5, rho_5, _e181, lo, hi_1, (lo > _e181), (hi_1 < om_e), gg);
-                    a_5 = _e198;
+                if ((cos_inner <= co_4)) {
+                    const float3 _e186 = airlight_equiangular_32_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, (lo > _e169), (hi_1 < om_e), gg);
+                    a_5 = _e186;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e200 = airlight_equiangular_32_spot_asin(cos_inner, r_4);
-                        float li = max(_e181, (_e180 + _e200));
-                        float hj = min(om_e, ((_e180 + airlight_equiangular_32_PI) - _e200));
+                        const float _e188 = airlight_equiangular_32_spot_asin(cos_inner, r_4);
+                        float li = max(_e169, (_e168 + _e188));
+                        float hj = min(om_e, ((_e168 + airlight_equiangular_32_PI) - _e188));
                         if ((li < hj)) {
-                            const float3 _e210 = airlight_equiangular_32_spot_core(tau_5, h_5, x0_5, rho_5, _e181, li, hj, (li > _e181), (hj < om_e), gg);
-                            a_5 = _e210;
+                            const float3 _e198 = airlight_equiangular_32_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, (li > _e169), (hj < om_e), gg);
+                            a_5 = _e198;
                         }
-                        float3 _e211 = a_5;
-                        const float3 _e214 = airlight_equiangular_32_spot_edge(tau_5, h_5, x0_5, lo, min(hi_1, (_e180 + _e200)), ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = (_e211 + _e214);
-                        float3 _e216 = a_5;
-                        const float3 _e221 = airlight_equiangular_32_spot_edge(tau_5, h_5, x0_5, max(lo, ((_e180 + airlight_equiangular_32_PI) - _e200)), hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = (_e216 + _e221);
+                        float3 _e199 = a_5;
+                        const float3 _e202 = airlight_equiangular_32_spot_edge(tau_6, h_6, x0_6, lo, min(hi_1, (_e168 + _e188)), ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = (_e199 + _e202);
+                        float3 _e204 = a_5;
+                        const float3 _e209 = airlight_equiangular_32_spot_edge(tau_6, h_6, x0_6, max(lo, ((_e168 + airlight_equiangular_32_PI) - _e188)), hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = (_e204 + _e209);
                     } else {
-                        const float3 _e223 = airlight_equiangular_32_spot_edge(tau_5, h_5, x0_5, lo, hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = _e223;
+                        const float3 _e211 = airlight_equiangular_32_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = _e211;
                     }
                 }
             }
         }
     }
+    float _e213 = scale;
+    float _e216 = a_5.x;
+    const float _e217 = airlight_equiangular_32_scaled(sigma_s_2.x, (intensity_2 * _e213), d_5, _e216);
+    float _e219 = scale;
+    float _e222 = a_5.y;
+    const float _e223 = airlight_equiangular_32_scaled(sigma_s_2.y, (intensity_2 * _e219), d_5, _e222);
     float _e225 = scale;
-    float _e228 = a_5.x;
-    const float _e229 = airlight_equiangular_32_scaled(sigma_s_2.x, (intensity_2 * _e225), d_4, _e228);
-    float _e231 = scale;
-    float _e234 = a_5.y;
-    const float _e235 = airlight_equiangular_32_scaled(sigma_s_2.y, (intensity_2 * _e231), d_4, _e234);
-    float _e237 = scale;
-    float _e240 = a_5.z;
-    const float _e241 = airlight_equiangular_32_scaled(sigma_s_2.z, (intensity_2 * _e237), d_4, _e240);
-    return float3(_e229, _e235, _e241);
+    float _e228 = a_5.z;
+    const float _e229 = airlight_equiangular_32_scaled(sigma_s_2.z, (intensity_2 * _e225), d_5, _e228);
+    return float3(_e217, _e223, _e229);
 }
 

@@ -122,14 +122,14 @@ float3 airlight_equiangular_8_ray_geometry(float3 origin, float3 dir, float3 lig
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_4 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_4 * x0_4)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
     const float3 _e93 = airlight_equiangular_8_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_equiangular_8_HUGE), (_e97 / n_1), (x0_4 / n_1));
+    return float3(min(dist, airlight_equiangular_8_HUGE), (_e97 / n_1), (x0_5 / n_1));
 }
 
 float airlight_equiangular_8_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -219,8 +219,8 @@ float2 airlight_equiangular_8_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
     float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
-    float c_5 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_5);
+    float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
+    return float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -242,20 +242,20 @@ float2 airlight_equiangular_8_sin_cos(float x_3)
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
     float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
-    float c_6 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
+    float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_6);
+            return float2(s_3, c_4);
         }
         case 1: {
-            return float2(c_6, -(s_3));
+            return float2(c_4, -(s_3));
         }
         case 2: {
-            return float2(-(s_3), -(c_6));
+            return float2(-(s_3), -(c_4));
         }
         default: {
-            return float2(-(c_6), s_3);
+            return float2(-(c_4), s_3);
         }
     }
 }
@@ -492,18 +492,250 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_1, float x0
     return min((((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e615) * half_) / max(h_1, 1e-30)), airlight_equiangular_8_HUGE);
 }
 
-float airlight_equiangular_8_airlight(float tau, float gamma_1, float rho_1, float g)
+float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_1, float gamma_1, float comp_1, float rho_1, float g_in_1)
 {
-    float gc = clamp(gamma_1, 0.0, airlight_equiangular_8_PI);
+    float span_1 = (float)0;
+    bool local_5 = (bool)0;
+    float3 sum_1 = (0.0).xxx;
+    float2 sc_1 = (float2)0;
+    float b_4 = (float)0;
+    float co_1 = (float)0;
+    float st_1 = (float)0;
+    float d_3 = (float)0;
+
+    float3 tau_5 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float g_7 = clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = ((1.0 - g_7) * (1.0 - g_7));
+    float gp_1 = ((1.0 + g_7) * (1.0 + g_7));
+    span_1 = comp_1;
+    if ((rho_1 >= 0.0)) {
+        local_5 = (rho_1 < airlight_equiangular_8_RHO_OPEN);
+    } else {
+        local_5 = false;
+    }
+    bool _e34 = local_5;
+    if (_e34) {
+        const float _e39 = airlight_equiangular_8_arctan2_((h_2 * rho_1), (1.0 - (x0_1 * rho_1)));
+        span_1 = _e39;
+    }
+    float _e40 = span_1;
+    float half_1 = (0.5 * _e40);
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.9602898));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.9602898));
+    float _e65 = b_4;
+    float _e66 = co_1;
+    const float2 _e70 = airlight_equiangular_8_sin_cos(max(min(_e65, _e66), 0.0));
+    sc_1 = _e70;
+    float _e71 = b_4;
+    float _e72 = co_1;
+    if ((_e71 > _e72)) {
+        float2 _e74 = sc_1;
+        sc_1 = _e74.yx;
+    }
+    float _e77 = sc_1.x;
+    float _e80 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e77) / max(_e80, 1e-30))), 1.0);
+    float _e90 = sc_1.y;
+    float _e93 = sc_1.y;
+    float _e99 = sc_1.x;
+    float _e102 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93)));
+    float3 _e108 = sum_1;
+    float _e110 = st_1;
+    float _e115 = d_3;
+    float _e116 = d_3;
+    sum_1 = (_e108 + ((0.101228535 * exp((-(tau_5) * _e110))) / ((_e115 * sqrt(_e116))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.7966665));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.7966665));
+    float _e136 = b_4;
+    float _e137 = co_1;
+    const float2 _e141 = airlight_equiangular_8_sin_cos(max(min(_e136, _e137), 0.0));
+    sc_1 = _e141;
+    float _e142 = b_4;
+    float _e143 = co_1;
+    if ((_e142 > _e143)) {
+        float2 _e145 = sc_1;
+        sc_1 = _e145.yx;
+    }
+    float _e148 = sc_1.x;
+    float _e151 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e148) / max(_e151, 1e-30))), 1.0);
+    float _e161 = sc_1.y;
+    float _e164 = sc_1.y;
+    float _e170 = sc_1.x;
+    float _e173 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164)));
+    float3 _e179 = sum_1;
+    float _e181 = st_1;
+    float _e186 = d_3;
+    float _e187 = d_3;
+    sum_1 = (_e179 + ((0.22238104 * exp((-(tau_5) * _e181))) / ((_e186 * sqrt(_e187))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.5255324));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.5255324));
+    float _e207 = b_4;
+    float _e208 = co_1;
+    const float2 _e212 = airlight_equiangular_8_sin_cos(max(min(_e207, _e208), 0.0));
+    sc_1 = _e212;
+    float _e213 = b_4;
+    float _e214 = co_1;
+    if ((_e213 > _e214)) {
+        float2 _e216 = sc_1;
+        sc_1 = _e216.yx;
+    }
+    float _e219 = sc_1.x;
+    float _e222 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e219) / max(_e222, 1e-30))), 1.0);
+    float _e232 = sc_1.y;
+    float _e235 = sc_1.y;
+    float _e241 = sc_1.x;
+    float _e244 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e241) * _e244)) : (gp_1 - (((4.0 * g_7) * _e232) * _e235)));
+    float3 _e250 = sum_1;
+    float _e252 = st_1;
+    float _e257 = d_3;
+    float _e258 = d_3;
+    sum_1 = (_e250 + ((0.31370664 * exp((-(tau_5) * _e252))) / ((_e257 * sqrt(_e258))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.1834346));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.1834346));
+    float _e278 = b_4;
+    float _e279 = co_1;
+    const float2 _e283 = airlight_equiangular_8_sin_cos(max(min(_e278, _e279), 0.0));
+    sc_1 = _e283;
+    float _e284 = b_4;
+    float _e285 = co_1;
+    if ((_e284 > _e285)) {
+        float2 _e287 = sc_1;
+        sc_1 = _e287.yx;
+    }
+    float _e290 = sc_1.x;
+    float _e293 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e290) / max(_e293, 1e-30))), 1.0);
+    float _e303 = sc_1.y;
+    float _e306 = sc_1.y;
+    float _e312 = sc_1.x;
+    float _e315 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e312) * _e315)) : (gp_1 - (((4.0 * g_7) * _e303) * _e306)));
+    float3 _e321 = sum_1;
+    float _e323 = st_1;
+    float _e328 = d_3;
+    float _e329 = d_3;
+    sum_1 = (_e321 + ((0.36268377 * exp((-(tau_5) * _e323))) / ((_e328 * sqrt(_e329))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.8165654));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.8165654));
+    float _e349 = b_4;
+    float _e350 = co_1;
+    const float2 _e354 = airlight_equiangular_8_sin_cos(max(min(_e349, _e350), 0.0));
+    sc_1 = _e354;
+    float _e355 = b_4;
+    float _e356 = co_1;
+    if ((_e355 > _e356)) {
+        float2 _e358 = sc_1;
+        sc_1 = _e358.yx;
+    }
+    float _e361 = sc_1.x;
+    float _e364 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e361) / max(_e364, 1e-30))), 1.0);
+    float _e374 = sc_1.y;
+    float _e377 = sc_1.y;
+    float _e383 = sc_1.x;
+    float _e386 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e383) * _e386)) : (gp_1 - (((4.0 * g_7) * _e374) * _e377)));
+    float3 _e392 = sum_1;
+    float _e394 = st_1;
+    float _e399 = d_3;
+    float _e400 = d_3;
+    sum_1 = (_e392 + ((0.36268377 * exp((-(tau_5) * _e394))) / ((_e399 * sqrt(_e400))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.47446758));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.47446758));
+    float _e420 = b_4;
+    float _e421 = co_1;
+    const float2 _e425 = airlight_equiangular_8_sin_cos(max(min(_e420, _e421), 0.0));
+    sc_1 = _e425;
+    float _e426 = b_4;
+    float _e427 = co_1;
+    if ((_e426 > _e427)) {
+        float2 _e429 = sc_1;
+        sc_1 = _e429.yx;
+    }
+    float _e432 = sc_1.x;
+    float _e435 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e432) / max(_e435, 1e-30))), 1.0);
+    float _e445 = sc_1.y;
+    float _e448 = sc_1.y;
+    float _e454 = sc_1.x;
+    float _e457 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e454) * _e457)) : (gp_1 - (((4.0 * g_7) * _e445) * _e448)));
+    float3 _e463 = sum_1;
+    float _e465 = st_1;
+    float _e470 = d_3;
+    float _e471 = d_3;
+    sum_1 = (_e463 + ((0.31370664 * exp((-(tau_5) * _e465))) / ((_e470 * sqrt(_e471))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.2033335));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.2033335));
+    float _e491 = b_4;
+    float _e492 = co_1;
+    const float2 _e496 = airlight_equiangular_8_sin_cos(max(min(_e491, _e492), 0.0));
+    sc_1 = _e496;
+    float _e497 = b_4;
+    float _e498 = co_1;
+    if ((_e497 > _e498)) {
+        float2 _e500 = sc_1;
+        sc_1 = _e500.yx;
+    }
+    float _e503 = sc_1.x;
+    float _e506 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e503) / max(_e506, 1e-30))), 1.0);
+    float _e516 = sc_1.y;
+    float _e519 = sc_1.y;
+    float _e525 = sc_1.x;
+    float _e528 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e525) * _e528)) : (gp_1 - (((4.0 * g_7) * _e516) * _e519)));
+    float3 _e534 = sum_1;
+    float _e536 = st_1;
+    float _e541 = d_3;
+    float _e542 = d_3;
+    sum_1 = (_e534 + ((0.22238104 * exp((-(tau_5) * _e536))) / ((_e541 * sqrt(_e542))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.039710164));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.039710164));
+    float _e562 = b_4;
+    float _e563 = co_1;
+    const float2 _e567 = airlight_equiangular_8_sin_cos(max(min(_e562, _e563), 0.0));
+    sc_1 = _e567;
+    float _e568 = b_4;
+    float _e569 = co_1;
+    if ((_e568 > _e569)) {
+        float2 _e571 = sc_1;
+        sc_1 = _e571.yx;
+    }
+    float _e574 = sc_1.x;
+    float _e577 = sc_1.y;
+    st_1 = max((x0_1 + ((h_2 * _e574) / max(_e577, 1e-30))), 1.0);
+    float _e587 = sc_1.y;
+    float _e590 = sc_1.y;
+    float _e596 = sc_1.x;
+    float _e599 = sc_1.x;
+    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e596) * _e599)) : (gp_1 - (((4.0 * g_7) * _e587) * _e590)));
+    float3 _e605 = sum_1;
+    float _e607 = st_1;
+    float _e612 = d_3;
+    float _e613 = d_3;
+    sum_1 = (_e605 + ((0.101228535 * exp((-(tau_5) * _e607))) / ((_e612 * sqrt(_e613))).xxx));
+    float3 _e626 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e626) * half_1) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+}
+
+float airlight_equiangular_8_airlight(float tau, float gamma_2, float rho_2, float g)
+{
+    float gc = clamp(gamma_2, 0.0, airlight_equiangular_8_PI);
     const float2 _e7 = airlight_equiangular_8_sin_cos(gc);
-    float comp_1 = max(((airlight_equiangular_8_PI - gc) - 8.742278e-8), 0.0);
-    const float _e17 = airlight_equiangular_8_airlight_geometry(tau, abs(_e7.x), _e7.y, gc, comp_1, rho_1, g);
+    float comp_2 = max(((airlight_equiangular_8_PI - gc) - 8.742278e-8), 0.0);
+    const float _e17 = airlight_equiangular_8_airlight_geometry(tau, abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
     return _e17;
 }
 
 float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
 {
-    bool local_5 = (bool)0;
+    bool local_6 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_8_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -511,27 +743,27 @@ float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surfa
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_5 = (_e8.z == 0.0);
+        local_6 = (_e8.z == 0.0);
     } else {
-        local_5 = false;
+        local_6 = false;
     }
-    bool _e24 = local_5;
+    bool _e24 = local_6;
     if (_e24) {
         return 0.0;
     }
-    float rho_4 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    float rho_5 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e34 = airlight_equiangular_8_arctan2_(_e8.y, _e8.z);
     const float _e38 = airlight_equiangular_8_arctan2_(_e8.y, -(_e8.z));
-    const float _e44 = airlight_equiangular_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_4, g_1);
+    const float _e44 = airlight_equiangular_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_5, g_1);
     const float _e45 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
-float airlight_equiangular_8_along(float tau_1, float h_2, float x0_1, float rho_2, float g_2)
+float3 airlight_equiangular_8_along_rgb(float3 tau_1, float h_3, float x0_2, float rho_3, float g_2)
 {
-    const float _e5 = airlight_equiangular_8_arctan2_(h_2, x0_1);
-    const float _e7 = airlight_equiangular_8_arctan2_(h_2, -(x0_1));
-    const float _e8 = airlight_equiangular_8_airlight_geometry(tau_1, h_2, x0_1, _e5, _e7, rho_2, g_2);
+    const float _e5 = airlight_equiangular_8_arctan2_(h_3, x0_2);
+    const float _e7 = airlight_equiangular_8_arctan2_(h_3, -(x0_2));
+    const float3 _e8 = airlight_equiangular_8_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
     return _e8;
 }
 
@@ -541,25 +773,23 @@ float airlight_equiangular_8_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_8_spot_core(float3 tau_2, float h_3, float x0_2, float rho_3, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_equiangular_8_spot_core(float3 tau_2, float h_4, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_6 = (bool)0;
-    float3 res = (float3)0;
-    int c_2 = int(0);
+    bool local_7 = (bool)0;
 
-    h1_ = h_3;
-    x1_ = x0_2;
-    rho1_ = rho_3;
+    h1_ = h_4;
+    x1_ = x0_3;
+    rho1_ = rho_4;
     const float2 _e17 = airlight_equiangular_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_equiangular_8_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
@@ -569,70 +799,47 @@ float3 airlight_equiangular_8_spot_core(float3 tau_2, float h_3, float x0_2, flo
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_6 = (rho_3 >= 0.0);
+            local_7 = (rho_4 >= 0.0);
         } else {
-            local_6 = false;
+            local_7 = false;
         }
-        bool _e44 = local_6;
+        bool _e44 = local_7;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = max(((rho_3 - _e45) / _e47), 0.0);
+            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
         }
     }
-    uint2 loop_bound = uint2(4294967295u, 4294967295u);
-    bool loop_init = true;
-    while(true) {
-        if (all(loop_bound == uint2(0u, 0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e80 = c_2;
-            c_2 = asint(asuint(_e80) + asuint(int(1)));
-        }
-        loop_init = false;
-        int _e54 = c_2;
-        if ((_e54 < int(3))) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            const float _e64 = airlight_equiangular_8_along((tau_2[min(uint(_e57), 2u)] * _e59), _e61, _e62, _e63, g_3);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[min(uint(_e65), 2u)] = ((_e64 >= airlight_equiangular_8_HUGE) ? _e64 : ((_e64 * exp((-(tau_2[min(uint(_e67), 2u)]) * _e70))) / _e74));
-        }
-    }
-    float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    const float3 _e56 = airlight_equiangular_8_along_rgb((tau_2 * _e51), _e53, _e54, _e55, g_3);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_2) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, float u, float v_in, float ca, float k_1, float co_1, float ci, float g_4)
+float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_5, float x0_4, float u, float v_in, float ca, float k_1, float co_2, float ci, float g_4)
 {
-    float3 sum_1 = (0.0).xxx;
+    float3 sum_2 = (0.0).xxx;
     float w = (float)0;
-    float2 sc_1 = (float2)0;
+    float2 sc_2 = (float2)0;
     float2 sb = (float2)0;
-    float d_3 = (float)0;
-    float st_1 = (float)0;
+    float d_4 = (float)0;
+    float st_2 = (float)0;
 
     if (!((v_in > u))) {
         return (0.0).xxx;
     }
-    float half_1 = (0.5 * (v_in - u));
+    float half_2 = (0.5 * (v_in - u));
     float mid = (0.5 * (v_in + u));
-    float gm_1 = ((1.0 - g_4) * (1.0 - g_4));
-    float gp_1 = ((1.0 + g_4) * (1.0 + g_4));
-    w = (mid + (half_1 * 0.96028984));
+    float gm_2 = ((1.0 - g_4) * (1.0 - g_4));
+    float gp_2 = ((1.0 + g_4) * (1.0 + g_4));
+    w = (mid + (half_2 * 0.96028984));
     float _e41 = w;
     const float2 _e42 = airlight_equiangular_8_sin_cos(_e41);
-    sc_1 = _e42;
+    sc_2 = _e42;
     float _e43 = w;
     const float2 _e46 = airlight_equiangular_8_sin_cos((0.5 * _e43));
     sb = _e46;
@@ -640,21 +847,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e59) * _e62)) : (gp_1 - (((4.0 * g_4) * _e50) * _e53)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e59) * _e62)) : (gp_2 - (((4.0 * g_4) * _e50) * _e53)));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
-    float3 _e79 = sum_1;
-    float _e81 = sc_1.x;
-    float _e84 = sc_1.y;
-    float _e95 = d_3;
-    float _e96 = d_3;
-    float _e101 = st_1;
-    sum_1 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_3) * _e101))));
-    w = (mid + (half_1 * 0.7966665));
+    st_2 = max((x0_4 + ((h_5 * _e69) / max(_e72, 1e-30))), 1.0);
+    float3 _e79 = sum_2;
+    float _e81 = sc_2.x;
+    float _e84 = sc_2.y;
+    float _e95 = d_4;
+    float _e96 = d_4;
+    float _e101 = st_2;
+    sum_2 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_3) * _e101))));
+    w = (mid + (half_2 * 0.7966665));
     float _e109 = w;
     const float2 _e110 = airlight_equiangular_8_sin_cos(_e109);
-    sc_1 = _e110;
+    sc_2 = _e110;
     float _e111 = w;
     const float2 _e114 = airlight_equiangular_8_sin_cos((0.5 * _e111));
     sb = _e114;
@@ -662,21 +869,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e127) * _e130)) : (gp_1 - (((4.0 * g_4) * _e118) * _e121)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e127) * _e130)) : (gp_2 - (((4.0 * g_4) * _e118) * _e121)));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
-    float3 _e147 = sum_1;
-    float _e149 = sc_1.x;
-    float _e152 = sc_1.y;
-    float _e163 = d_3;
-    float _e164 = d_3;
-    float _e169 = st_1;
-    sum_1 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_3) * _e169))));
-    w = (mid + (half_1 * 0.5255324));
+    st_2 = max((x0_4 + ((h_5 * _e137) / max(_e140, 1e-30))), 1.0);
+    float3 _e147 = sum_2;
+    float _e149 = sc_2.x;
+    float _e152 = sc_2.y;
+    float _e163 = d_4;
+    float _e164 = d_4;
+    float _e169 = st_2;
+    sum_2 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_3) * _e169))));
+    w = (mid + (half_2 * 0.5255324));
     float _e177 = w;
     const float2 _e178 = airlight_equiangular_8_sin_cos(_e177);
-    sc_1 = _e178;
+    sc_2 = _e178;
     float _e179 = w;
     const float2 _e182 = airlight_equiangular_8_sin_cos((0.5 * _e179));
     sb = _e182;
@@ -684,21 +891,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e195) * _e198)) : (gp_1 - (((4.0 * g_4) * _e186) * _e189)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e195) * _e198)) : (gp_2 - (((4.0 * g_4) * _e186) * _e189)));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
-    float3 _e215 = sum_1;
-    float _e217 = sc_1.x;
-    float _e220 = sc_1.y;
-    float _e231 = d_3;
-    float _e232 = d_3;
-    float _e237 = st_1;
-    sum_1 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_3) * _e237))));
-    w = (mid + (half_1 * 0.18343464));
+    st_2 = max((x0_4 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+    float3 _e215 = sum_2;
+    float _e217 = sc_2.x;
+    float _e220 = sc_2.y;
+    float _e231 = d_4;
+    float _e232 = d_4;
+    float _e237 = st_2;
+    sum_2 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_3) * _e237))));
+    w = (mid + (half_2 * 0.18343464));
     float _e245 = w;
     const float2 _e246 = airlight_equiangular_8_sin_cos(_e245);
-    sc_1 = _e246;
+    sc_2 = _e246;
     float _e247 = w;
     const float2 _e250 = airlight_equiangular_8_sin_cos((0.5 * _e247));
     sb = _e250;
@@ -706,21 +913,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e263) * _e266)) : (gp_1 - (((4.0 * g_4) * _e254) * _e257)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e263) * _e266)) : (gp_2 - (((4.0 * g_4) * _e254) * _e257)));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
-    float3 _e283 = sum_1;
-    float _e285 = sc_1.x;
-    float _e288 = sc_1.y;
-    float _e299 = d_3;
-    float _e300 = d_3;
-    float _e305 = st_1;
-    sum_1 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_3) * _e305))));
-    w = (mid + (half_1 * -0.18343464));
+    st_2 = max((x0_4 + ((h_5 * _e273) / max(_e276, 1e-30))), 1.0);
+    float3 _e283 = sum_2;
+    float _e285 = sc_2.x;
+    float _e288 = sc_2.y;
+    float _e299 = d_4;
+    float _e300 = d_4;
+    float _e305 = st_2;
+    sum_2 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_3) * _e305))));
+    w = (mid + (half_2 * -0.18343464));
     float _e313 = w;
     const float2 _e314 = airlight_equiangular_8_sin_cos(_e313);
-    sc_1 = _e314;
+    sc_2 = _e314;
     float _e315 = w;
     const float2 _e318 = airlight_equiangular_8_sin_cos((0.5 * _e315));
     sb = _e318;
@@ -728,21 +935,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e331) * _e334)) : (gp_1 - (((4.0 * g_4) * _e322) * _e325)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e331) * _e334)) : (gp_2 - (((4.0 * g_4) * _e322) * _e325)));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
-    float3 _e351 = sum_1;
-    float _e353 = sc_1.x;
-    float _e356 = sc_1.y;
-    float _e367 = d_3;
-    float _e368 = d_3;
-    float _e373 = st_1;
-    sum_1 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
-    w = (mid + (half_1 * -0.5255324));
+    st_2 = max((x0_4 + ((h_5 * _e341) / max(_e344, 1e-30))), 1.0);
+    float3 _e351 = sum_2;
+    float _e353 = sc_2.x;
+    float _e356 = sc_2.y;
+    float _e367 = d_4;
+    float _e368 = d_4;
+    float _e373 = st_2;
+    sum_2 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
+    w = (mid + (half_2 * -0.5255324));
     float _e381 = w;
     const float2 _e382 = airlight_equiangular_8_sin_cos(_e381);
-    sc_1 = _e382;
+    sc_2 = _e382;
     float _e383 = w;
     const float2 _e386 = airlight_equiangular_8_sin_cos((0.5 * _e383));
     sb = _e386;
@@ -750,21 +957,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e399) * _e402)) : (gp_1 - (((4.0 * g_4) * _e390) * _e393)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e399) * _e402)) : (gp_2 - (((4.0 * g_4) * _e390) * _e393)));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
-    float3 _e419 = sum_1;
-    float _e421 = sc_1.x;
-    float _e424 = sc_1.y;
-    float _e435 = d_3;
-    float _e436 = d_3;
-    float _e441 = st_1;
-    sum_1 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_3) * _e441))));
-    w = (mid + (half_1 * -0.7966665));
+    st_2 = max((x0_4 + ((h_5 * _e409) / max(_e412, 1e-30))), 1.0);
+    float3 _e419 = sum_2;
+    float _e421 = sc_2.x;
+    float _e424 = sc_2.y;
+    float _e435 = d_4;
+    float _e436 = d_4;
+    float _e441 = st_2;
+    sum_2 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_3) * _e441))));
+    w = (mid + (half_2 * -0.7966665));
     float _e449 = w;
     const float2 _e450 = airlight_equiangular_8_sin_cos(_e449);
-    sc_1 = _e450;
+    sc_2 = _e450;
     float _e451 = w;
     const float2 _e454 = airlight_equiangular_8_sin_cos((0.5 * _e451));
     sb = _e454;
@@ -772,21 +979,21 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e467) * _e470)) : (gp_1 - (((4.0 * g_4) * _e458) * _e461)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e467) * _e470)) : (gp_2 - (((4.0 * g_4) * _e458) * _e461)));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
-    float3 _e487 = sum_1;
-    float _e489 = sc_1.x;
-    float _e492 = sc_1.y;
-    float _e503 = d_3;
-    float _e504 = d_3;
-    float _e509 = st_1;
-    sum_1 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_3) * _e509))));
-    w = (mid + (half_1 * -0.96028984));
+    st_2 = max((x0_4 + ((h_5 * _e477) / max(_e480, 1e-30))), 1.0);
+    float3 _e487 = sum_2;
+    float _e489 = sc_2.x;
+    float _e492 = sc_2.y;
+    float _e503 = d_4;
+    float _e504 = d_4;
+    float _e509 = st_2;
+    sum_2 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_3) * _e509))));
+    w = (mid + (half_2 * -0.96028984));
     float _e517 = w;
     const float2 _e518 = airlight_equiangular_8_sin_cos(_e517);
-    sc_1 = _e518;
+    sc_2 = _e518;
     float _e519 = w;
     const float2 _e522 = airlight_equiangular_8_sin_cos((0.5 * _e519));
     sb = _e522;
@@ -794,61 +1001,60 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_3, float h_4, float x0_3, flo
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_3 = ((g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e535) * _e538)) : (gp_1 - (((4.0 * g_4) * _e526) * _e529)));
+    d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e535) * _e538)) : (gp_2 - (((4.0 * g_4) * _e526) * _e529)));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st_1 = max((x0_3 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
-    float3 _e555 = sum_1;
-    float _e557 = sc_1.x;
-    float _e560 = sc_1.y;
-    float _e571 = d_3;
-    float _e572 = d_3;
-    float _e577 = st_1;
-    sum_1 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_3) * _e577))));
-    float3 _e593 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_1) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+    st_2 = max((x0_4 + ((h_5 * _e545) / max(_e548, 1e-30))), 1.0);
+    float3 _e555 = sum_2;
+    float _e557 = sc_2.x;
+    float _e560 = sc_2.y;
+    float _e571 = d_4;
+    float _e572 = d_4;
+    float _e577 = st_2;
+    sum_2 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co_2) / (ci - co_2)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_3) * _e577))));
+    float3 _e593 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_2) / max(h_5, 1e-30)) * _e593), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_8_spot_weight(float c_3, float co_2, float ci_1)
+float airlight_equiangular_8_spot_weight(float c_2, float co_3, float ci_1)
 {
-    if ((ci_1 > co_2)) {
-        return clamp(((c_3 - co_2) / (ci_1 - co_2)), 0.0, 1.0);
+    if ((ci_1 > co_3)) {
+        return clamp(((c_2 - co_3) / (ci_1 - co_3)), 0.0, 1.0);
     }
-    return ((c_3 >= co_2) ? 1.0 : 0.0);
+    return ((c_2 >= co_3) ? 1.0 : 0.0);
 }
 
 float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_5)
 {
-    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
+    bool local_9 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_9 = (bool)0;
-    float scale = 1.0;
     bool local_10 = (bool)0;
+    float scale = 1.0;
     bool local_11 = (bool)0;
-    float3 a_5 = (0.0).xxx;
     bool local_12 = (bool)0;
+    float3 a_5 = (0.0).xxx;
     bool local_13 = (bool)0;
-    int c_4 = int(0);
+    bool local_14 = (bool)0;
 
     const float3 _e11 = airlight_equiangular_8_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_3 = clamp(cos_outer, 0.0, 1.0);
+    float co_4 = clamp(cos_outer, 0.0, 1.0);
     const float _e17 = airlight_equiangular_8_max_abs(dir_2);
     const float _e18 = airlight_equiangular_8_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_8 = (_e18 <= airlight_equiangular_8_HUGE);
+            local_9 = (_e18 <= airlight_equiangular_8_HUGE);
         } else {
-            local_8 = false;
+            local_9 = false;
         }
-        bool _e29 = local_8;
-        local_7 = !(_e29);
+        bool _e29 = local_9;
+        local_8 = !(_e29);
     } else {
-        local_7 = false;
+        local_8 = false;
     }
-    bool _e32 = local_7;
+    bool _e32 = local_8;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -858,11 +1064,11 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_9 = (_e17 <= airlight_equiangular_8_HUGE);
+        local_10 = (_e17 <= airlight_equiangular_8_HUGE);
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e53 = local_9;
+    bool _e53 = local_10;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -870,7 +1076,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     float3 _e58 = n;
     float k_2 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_equiangular_8_spot_weight(k_2, co_3, cos_inner);
+        const float _e65 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
         const float _e73 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_equiangular_8_HUGE);
@@ -881,119 +1087,99 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_10 = (_e11.z == 0.0);
-    } else {
-        local_10 = false;
-    }
-    bool _e96 = local_10;
-    if (_e96) {
-        return (0.0).xxx;
-    }
-    float d_4 = _e11.x;
-    float h_5 = _e11.y;
-    float x0_5 = _e11.z;
-    if ((surface_1 >= 0.0)) {
-        local_11 = ((surface_1 / d_4) < airlight_equiangular_8_RHO_OPEN);
+        local_11 = (_e11.z == 0.0);
     } else {
         local_11 = false;
     }
-    bool has_end = local_11;
-    float rho_5 = (has_end ? (surface_1 / d_4) : -1.0);
-    float3 tau_5 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
+    bool _e96 = local_11;
+    if (_e96) {
+        return (0.0).xxx;
+    }
+    float d_5 = _e11.x;
+    float h_6 = _e11.y;
+    float x0_6 = _e11.z;
+    if ((surface_1 >= 0.0)) {
+        local_12 = ((surface_1 / d_5) < airlight_equiangular_8_RHO_OPEN);
+    } else {
+        local_12 = false;
+    }
+    bool has_end = local_12;
+    float rho_6 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_6 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_5, -0.999, 0.999);
     if (!(point_)) {
-        local_12 = (h_5 <= 0.0);
+        local_13 = (h_6 <= 0.0);
     } else {
-        local_12 = true;
+        local_13 = true;
     }
-    bool _e133 = local_12;
+    bool _e133 = local_13;
     if (_e133) {
         if (!(point_)) {
-            const float _e136 = airlight_equiangular_8_spot_weight(-(k_2), co_3, cos_inner);
-            const float _e137 = airlight_equiangular_8_spot_weight(k_2, co_3, cos_inner);
+            const float _e136 = airlight_equiangular_8_spot_weight(-(k_2), co_4, cos_inner);
+            const float _e137 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
             if (has_end) {
-                local_13 = (rho_5 < 1.0);
+                local_14 = (rho_6 < 1.0);
             } else {
-                local_13 = false;
+                local_14 = false;
             }
-            bool _e144 = local_13;
-            scale = ((x0_5 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
+            bool _e144 = local_14;
+            scale = ((x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
         }
-        uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
-        bool loop_init_1 = true;
-        while(true) {
-            if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
-            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-            if (!loop_init_1) {
-                int _e160 = c_4;
-                c_4 = asint(asuint(_e160) + asuint(int(1)));
-            }
-            loop_init_1 = false;
-            int _e151 = c_4;
-            if ((_e151 < int(3))) {
-            } else {
-                break;
-            }
-            {
-                int _e154 = c_4;
-                int _e156 = c_4;
-                const float _e158 = airlight_equiangular_8_along(tau_5[min(uint(_e156), 2u)], h_5, x0_5, rho_5, gg);
-                a_5[min(uint(_e154), 2u)] = _e158;
-            }
-        }
+        const float3 _e149 = airlight_equiangular_8_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
+        a_5 = _e149;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e163 = airlight_equiangular_8_max_abs(l);
-        float3 _e166 = n;
-        float3 cr = cross((l / (_e163).xxx), _e166);
-        float3 _e168 = n;
-        float3 _e169 = ax;
-        float ca_1 = (dot(cr, cross(_e168, _e169)) / max(length(cr), 1e-30));
+        const float _e151 = airlight_equiangular_8_max_abs(l);
+        float3 _e154 = n;
+        float3 cr = cross((l / (_e151).xxx), _e154);
+        float3 _e156 = n;
+        float3 _e157 = ax;
+        float ca_1 = (dot(cr, cross(_e156, _e157)) / max(length(cr), 1e-30));
         float r_4 = sqrt(((ca_1 * ca_1) + (k_2 * k_2)));
-        const float _e180 = airlight_equiangular_8_arctan2_(k_2, ca_1);
-        const float _e181 = airlight_equiangular_8_arctan2_(h_5, x0_5);
-        const float _e184 = airlight_equiangular_8_arctan2_(h_5, (x0_5 - rho_5));
-        float om_e = (has_end ? _e184 : airlight_equiangular_8_PI);
-        if ((co_3 < r_4)) {
-            const float _e187 = airlight_equiangular_8_spot_asin(co_3, r_4);
-            float lo = max(_e181, (_e180 + _e187));
-            float hi_1 = min(om_e, ((_e180 + airlight_equiangular_8_PI) - _e187));
+        const float _e168 = airlight_equiangular_8_arctan2_(k_2, ca_1);
+        const float _e169 = airlight_equiangular_8_arctan2_(h_6, x0_6);
+        const float _e172 = airlight_equiangular_8_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e172 : airlight_equiangular_8_PI);
+        if ((co_4 < r_4)) {
+            const float _e175 = airlight_equiangular_8_spot_asin(co_4, r_4);
+            float lo = max(_e169, (_e168 + _e175));
+            float hi_1 = min(om_e, ((_e168 + airlight_equiangular_8_PI) - _e175));
             if ((lo < hi_1)) {
-                if ((cos_inner <= co_3)) {
-                    const float3 _e198 = airlight_equiangular_8_spot_core(tau_5, h_5, x0_5, rho_5, _e181, lo, hi_1, (lo > _e181), (hi_1 < om_e), gg);
-                    a_5 = _e198;
+                if ((cos_inner <= co_4)) {
+                    const float3 _e186 = airlight_equiangular_8_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, (lo > _e169), (hi_1 < om_e), gg);
+                    a_5 = _e186;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e200 = airlight_equiangular_8_spot_asin(cos_inner, r_4);
-                        float li = max(_e181, (_e180 + _e200));
-                        float hj = min(om_e, ((_e180 + airlight_equiangular_8_PI) - _e200));
+                        const float _e188 = airlight_equiangular_8_spot_asin(cos_inner, r_4);
+                        float li = max(_e169, (_e168 + _e188));
+                        float hj = min(om_e, ((_e168 + airlight_equiangular_8_PI) - _e188));
                         if ((li < hj)) {
-                            const float3 _e210 = airlight_equiangular_8_spot_core(tau_5, h_5, x0_5, rho_5, _e181, li, hj, (li > _e181), (hj < om_e), gg);
-                            a_5 = _e210;
+                            const float3 _e198 = airlight_equiangular_8_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, (li > _e169), (hj < om_e), gg);
+                            a_5 = _e198;
                         }
-                        float3 _e211 = a_5;
-                        const float3 _e214 = airlight_equiangular_8_spot_edge(tau_5, h_5, x0_5, lo, min(hi_1, (_e180 + _e200)), ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = (_e211 + _e214);
-                        float3 _e216 = a_5;
-                        const float3 _e221 = airlight_equiangular_8_spot_edge(tau_5, h_5, x0_5, max(lo, ((_e180 + airlight_equiangular_8_PI) - _e200)), hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = (_e216 + _e221);
+                        float3 _e199 = a_5;
+                        const float3 _e202 = airlight_equiangular_8_spot_edge(tau_6, h_6, x0_6, lo, min(hi_1, (_e168 + _e188)), ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = (_e199 + _e202);
+                        float3 _e204 = a_5;
+                        const float3 _e209 = airlight_equiangular_8_spot_edge(tau_6, h_6, x0_6, max(lo, ((_e168 + airlight_equiangular_8_PI) - _e188)), hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = (_e204 + _e209);
                     } else {
-                        const float3 _e223 = airlight_equiangular_8_spot_edge(tau_5, h_5, x0_5, lo, hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = _e223;
+                        const float3 _e211 = airlight_equiangular_8_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = _e211;
                     }
                 }
             }
         }
     }
+    float _e213 = scale;
+    float _e216 = a_5.x;
+    const float _e217 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e213), d_5, _e216);
+    float _e219 = scale;
+    float _e222 = a_5.y;
+    const float _e223 = airlight_equiangular_8_scaled(sigma_s_2.y, (intensity_2 * _e219), d_5, _e222);
     float _e225 = scale;
-    float _e228 = a_5.x;
-    const float _e229 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e225), d_4, _e228);
-    float _e231 = scale;
-    float _e234 = a_5.y;
-    const float _e235 = airlight_equiangular_8_scaled(sigma_s_2.y, (intensity_2 * _e231), d_4, _e234);
-    float _e237 = scale;
-    float _e240 = a_5.z;
-    const float _e241 = airlight_equiangular_8_scaled(sigma_s_2.z, (intensity_2 * _e237), d_4, _e240);
-    return float3(_e229, _e235, _e241);
+    float _e228 = a_5.z;
+    const float _e229 = airlight_equiangular_8_scaled(sigma_s_2.z, (intensity_2 * _e225), d_5, _e228);
+    return float3(_e217, _e223, _e229);
 }
 

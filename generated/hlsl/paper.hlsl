@@ -123,14 +123,14 @@ float3 airlight_paper_ray_geometry(float3 origin, float3 dir, float3 light)
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
     const float3 _e93 = airlight_paper_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_paper_HUGE), (_e97 / n_1), (x0_6 / n_1));
+    return float3(min(dist, airlight_paper_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
 float airlight_paper_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -220,8 +220,8 @@ float2 airlight_paper_sin_cos_octant(float x_2)
 {
     float z_2 = (x_2 * x_2);
     float s_2 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
-    float c_5 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
-    return float2(s_2, c_5);
+    float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
+    return float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -243,20 +243,20 @@ float2 airlight_paper_sin_cos(float x_3)
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_3 = (r_3 * r_3);
     float s_3 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3);
-    float c_6 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
+    float c_4 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_6);
+            return float2(s_3, c_4);
         }
         case 1: {
-            return float2(c_6, -(s_3));
+            return float2(c_4, -(s_3));
         }
         case 2: {
-            return float2(-(s_3), -(c_6));
+            return float2(-(s_3), -(c_4));
         }
         default: {
-            return float2(-(c_6), s_3);
+            return float2(-(c_4), s_3);
         }
     }
 }
@@ -494,7 +494,7 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_2, flo
     }
     bool _e11 = local_8;
     bool open_1 = !(_e11);
-    float tau_6 = min(tau_in, airlight_paper_TAU_MAX);
+    float tau_7 = min(tau_in, airlight_paper_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_2 > 0.0);
     } else {
@@ -511,12 +511,12 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_2, flo
         if (_e29) {
             return airlight_paper_HUGE;
         }
-        return (((airlight_paper_P_ISO * exp(-(tau_6))) * rho_1) / (1.0 - rho_1));
+        return (((airlight_paper_P_ISO * exp(-(tau_7))) * rho_1) / (1.0 - rho_1));
     }
-    float h_5 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_5 = (tau_6 * h_5);
+    float h_6 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_5 = (tau_7 * h_6);
     if ((x0_2 > 0.0)) {
-        const float _e49 = airlight_paper_arctan2_(x0_2, h_5);
+        const float _e49 = airlight_paper_arctan2_(x0_2, h_6);
         len_3 = _e49;
         if (!(open_1)) {
             local_11 = (rho_1 < x0_2);
@@ -525,13 +525,13 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_2, flo
         }
         bool _e56 = local_11;
         if (_e56) {
-            const float _e61 = airlight_paper_arctan2_((h_5 * rho_1), (1.0 - (x0_2 * rho_1)));
+            const float _e61 = airlight_paper_arctan2_((h_6 * rho_1), (1.0 - (x0_2 * rho_1)));
             len_3 = _e61;
         }
         float _e62 = sum_1;
-        const float _e63 = airlight_paper_arctan2_(h_5, x0_2);
+        const float _e63 = airlight_paper_arctan2_(h_6, x0_2);
         float _e64 = len_3;
-        const float _e67 = airlight_paper_forward(_e63, _e64, t_5, (-(tau_6) * x0_2));
+        const float _e67 = airlight_paper_forward(_e63, _e64, t_5, (-(tau_7) * x0_2));
         sum_1 = (_e62 + _e67);
     }
     if ((x0_2 >= 0.0)) {
@@ -543,21 +543,21 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_2, flo
         bool _e76 = local_12;
         if (_e76) {
             if (!(open_1)) {
-                const float _e81 = airlight_paper_arctan2_((rho_1 - x0_2), h_5);
+                const float _e81 = airlight_paper_arctan2_((rho_1 - x0_2), h_6);
                 theta_b_1 = _e81;
             }
             float _e82 = sum_1;
             float _e83 = theta_b_1;
-            const float _e84 = airlight_paper_backward_ratio(tau_6, t_5, x0_2, _e83);
+            const float _e84 = airlight_paper_backward_ratio(tau_7, t_5, x0_2, _e83);
             sum_1 = (_e82 + _e84);
         }
     } else {
         float _e86 = sum_1;
-        const float _e87 = airlight_paper_backward_u(tau_6, t_5, h_5, x0_2, rho_1, open_1);
+        const float _e87 = airlight_paper_backward_u(tau_7, t_5, h_6, x0_2, rho_1, open_1);
         sum_1 = (_e86 + _e87);
     }
     float _e89 = sum_1;
-    return min((_e89 / h_5), airlight_paper_HUGE);
+    return min((_e89 / h_6), airlight_paper_HUGE);
 }
 
 float airlight_paper_airlight(float tau_2, float gamma, float rho_2)
@@ -585,8 +585,8 @@ float airlight_paper_radiance(float3 origin_1, float3 dir_1, float surface, floa
     if (_e23) {
         return 0.0;
     }
-    float rho_5 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e35 = airlight_paper_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_5);
+    float rho_6 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e35 = airlight_paper_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_6);
     const float _e37 = airlight_paper_scaled(sigma_s_1, intensity_1, _e7.x, _e35);
     return _e37;
 }
@@ -597,13 +597,21 @@ float airlight_paper_along(float tau_3, float h_2, float x0_3, float rho_3, floa
     return _e5;
 }
 
+float3 airlight_paper_along_rgb(float3 tau_4, float h_3, float x0_4, float rho_4, float g_2)
+{
+    const float _e6 = airlight_paper_along(tau_4.x, h_3, x0_4, rho_4, g_2);
+    const float _e8 = airlight_paper_along(tau_4.y, h_3, x0_4, rho_4, g_2);
+    const float _e10 = airlight_paper_along(tau_4.z, h_3, x0_4, rho_4, g_2);
+    return float3(_e6, _e8, _e10);
+}
+
 float airlight_paper_spot_asin(float x_6, float r_1)
 {
     const float _e8 = airlight_paper_arctan2_(x_6, sqrt(max(((r_1 - x_6) * (r_1 + x_6)), 0.0)));
     return _e8;
 }
 
-float3 airlight_paper_spot_core(float3 tau_4, float h_3, float x0_4, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
+float3 airlight_paper_spot_core(float3 tau_5, float h_4, float x0_5, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -611,17 +619,15 @@ float3 airlight_paper_spot_core(float3 tau_4, float h_3, float x0_4, float rho_4
     float s0_ = 0.0;
     float rho1_ = (float)0;
     bool local_14 = (bool)0;
-    float3 res = (float3)0;
-    int c_2 = int(0);
 
-    h1_ = h_3;
-    x1_ = x0_4;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_5;
+    rho1_ = rho_5;
     const float2 _e17 = airlight_paper_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_paper_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
@@ -631,7 +637,7 @@ float3 airlight_paper_spot_core(float3 tau_4, float h_3, float x0_4, float rho_4
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_14 = (rho_4 >= 0.0);
+            local_14 = (rho_5 >= 0.0);
         } else {
             local_14 = false;
         }
@@ -639,43 +645,20 @@ float3 airlight_paper_spot_core(float3 tau_4, float h_3, float x0_4, float rho_4
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+            rho1_ = max(((rho_5 - _e45) / _e47), 0.0);
         }
     }
-    uint2 loop_bound = uint2(4294967295u, 4294967295u);
-    bool loop_init = true;
-    while(true) {
-        if (all(loop_bound == uint2(0u, 0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e80 = c_2;
-            c_2 = asint(asuint(_e80) + asuint(int(1)));
-        }
-        loop_init = false;
-        int _e54 = c_2;
-        if ((_e54 < int(3))) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            const float _e64 = airlight_paper_along((tau_4[min(uint(_e57), 2u)] * _e59), _e61, _e62, _e63, g_2);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[min(uint(_e65), 2u)] = ((_e64 >= airlight_paper_HUGE) ? _e64 : ((_e64 * exp((-(tau_4[min(uint(_e67), 2u)]) * _e70))) / _e74));
-        }
-    }
-    float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    const float3 _e56 = airlight_paper_along_rgb((tau_5 * _e51), _e53, _e54, _e55, g_3);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_5) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, float v_in, float ca, float k_1, float co, float ci, float g_3)
+float3 airlight_paper_spot_edge(float3 tau_6, float h_5, float x0_6, float u_1, float v_in, float ca, float k_1, float co, float ci, float g_4)
 {
     float3 sum_2 = (0.0).xxx;
     float w = (float)0;
@@ -689,8 +672,8 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     }
     float half_ = (0.5 * (v_in - u_1));
     float mid = (0.5 * (v_in + u_1));
-    float gm = ((1.0 - g_3) * (1.0 - g_3));
-    float gp = ((1.0 + g_3) * (1.0 + g_3));
+    float gm = ((1.0 - g_4) * (1.0 - g_4));
+    float gp = ((1.0 + g_4) * (1.0 + g_4));
     w = (mid + (half_ * 0.96028984));
     float _e41 = w;
     const float2 _e42 = airlight_paper_sin_cos(_e41);
@@ -702,17 +685,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e59) * _e62)) : (gp - (((4.0 * g_3) * _e50) * _e53)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e59) * _e62)) : (gp - (((4.0 * g_4) * _e50) * _e53)));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st = max((x0_5 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e69) / max(_e72, 1e-30))), 1.0);
     float3 _e79 = sum_2;
     float _e81 = sc.x;
     float _e84 = sc.y;
     float _e95 = d_2;
     float _e96 = d_2;
     float _e101 = st;
-    sum_2 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_5) * _e101))));
+    sum_2 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_6) * _e101))));
     w = (mid + (half_ * 0.7966665));
     float _e109 = w;
     const float2 _e110 = airlight_paper_sin_cos(_e109);
@@ -724,17 +707,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e127) * _e130)) : (gp - (((4.0 * g_3) * _e118) * _e121)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e127) * _e130)) : (gp - (((4.0 * g_4) * _e118) * _e121)));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st = max((x0_5 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e137) / max(_e140, 1e-30))), 1.0);
     float3 _e147 = sum_2;
     float _e149 = sc.x;
     float _e152 = sc.y;
     float _e163 = d_2;
     float _e164 = d_2;
     float _e169 = st;
-    sum_2 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_5) * _e169))));
+    sum_2 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_6) * _e169))));
     w = (mid + (half_ * 0.5255324));
     float _e177 = w;
     const float2 _e178 = airlight_paper_sin_cos(_e177);
@@ -746,17 +729,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e195) * _e198)) : (gp - (((4.0 * g_4) * _e186) * _e189)));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st = max((x0_5 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
     float3 _e215 = sum_2;
     float _e217 = sc.x;
     float _e220 = sc.y;
     float _e231 = d_2;
     float _e232 = d_2;
     float _e237 = st;
-    sum_2 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_5) * _e237))));
+    sum_2 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_6) * _e237))));
     w = (mid + (half_ * 0.18343464));
     float _e245 = w;
     const float2 _e246 = airlight_paper_sin_cos(_e245);
@@ -768,17 +751,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e263) * _e266)) : (gp - (((4.0 * g_3) * _e254) * _e257)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e263) * _e266)) : (gp - (((4.0 * g_4) * _e254) * _e257)));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st = max((x0_5 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e273) / max(_e276, 1e-30))), 1.0);
     float3 _e283 = sum_2;
     float _e285 = sc.x;
     float _e288 = sc.y;
     float _e299 = d_2;
     float _e300 = d_2;
     float _e305 = st;
-    sum_2 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_5) * _e305))));
+    sum_2 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_6) * _e305))));
     w = (mid + (half_ * -0.18343464));
     float _e313 = w;
     const float2 _e314 = airlight_paper_sin_cos(_e313);
@@ -790,17 +773,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e331) * _e334)) : (gp - (((4.0 * g_3) * _e322) * _e325)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e331) * _e334)) : (gp - (((4.0 * g_4) * _e322) * _e325)));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st = max((x0_5 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e341) / max(_e344, 1e-30))), 1.0);
     float3 _e351 = sum_2;
     float _e353 = sc.x;
     float _e356 = sc.y;
     float _e367 = d_2;
     float _e368 = d_2;
     float _e373 = st;
-    sum_2 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_5) * _e373))));
+    sum_2 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_6) * _e373))));
     w = (mid + (half_ * -0.5255324));
     float _e381 = w;
     const float2 _e382 = airlight_paper_sin_cos(_e381);
@@ -812,17 +795,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e399) * _e402)) : (gp - (((4.0 * g_3) * _e390) * _e393)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e399) * _e402)) : (gp - (((4.0 * g_4) * _e390) * _e393)));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st = max((x0_5 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e409) / max(_e412, 1e-30))), 1.0);
     float3 _e419 = sum_2;
     float _e421 = sc.x;
     float _e424 = sc.y;
     float _e435 = d_2;
     float _e436 = d_2;
     float _e441 = st;
-    sum_2 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_5) * _e441))));
+    sum_2 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_6) * _e441))));
     w = (mid + (half_ * -0.7966665));
     float _e449 = w;
     const float2 _e450 = airlight_paper_sin_cos(_e449);
@@ -834,17 +817,17 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e467) * _e470)) : (gp - (((4.0 * g_3) * _e458) * _e461)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e467) * _e470)) : (gp - (((4.0 * g_4) * _e458) * _e461)));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st = max((x0_5 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e477) / max(_e480, 1e-30))), 1.0);
     float3 _e487 = sum_2;
     float _e489 = sc.x;
     float _e492 = sc.y;
     float _e503 = d_2;
     float _e504 = d_2;
     float _e509 = st;
-    sum_2 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_5) * _e509))));
+    sum_2 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_6) * _e509))));
     w = (mid + (half_ * -0.96028984));
     float _e517 = w;
     const float2 _e518 = airlight_paper_sin_cos(_e517);
@@ -856,27 +839,27 @@ float3 airlight_paper_spot_edge(float3 tau_5, float h_4, float x0_5, float u_1, 
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e535) * _e538)) : (gp - (((4.0 * g_3) * _e526) * _e529)));
+    d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e535) * _e538)) : (gp - (((4.0 * g_4) * _e526) * _e529)));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st = max((x0_5 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
+    st = max((x0_6 + ((h_5 * _e545) / max(_e548, 1e-30))), 1.0);
     float3 _e555 = sum_2;
     float _e557 = sc.x;
     float _e560 = sc.y;
     float _e571 = d_2;
     float _e572 = d_2;
     float _e577 = st;
-    sum_2 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_5) * _e577))));
+    sum_2 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_6) * _e577))));
     float3 _e593 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * half_) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_) / max(h_5, 1e-30)) * _e593), (3.4028235e38).xxx);
 }
 
-float airlight_paper_spot_weight(float c_3, float co_1, float ci_1)
+float airlight_paper_spot_weight(float c_2, float co_1, float ci_1)
 {
     if ((ci_1 > co_1)) {
-        return clamp(((c_3 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
+        return clamp(((c_2 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
     }
-    return ((c_3 >= co_1) ? 1.0 : 0.0);
+    return ((c_2 >= co_1) ? 1.0 : 0.0);
 }
 
 float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
@@ -892,7 +875,6 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float3 a_8 = (0.0).xxx;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
-    int c_4 = int(0);
 
     const float3 _e10 = airlight_paper_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
@@ -952,18 +934,18 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
         return (0.0).xxx;
     }
     float d_5 = _e10.x;
-    float h_6 = _e10.y;
-    float x0_7 = _e10.z;
+    float h_7 = _e10.y;
+    float x0_8 = _e10.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_5) < airlight_paper_RHO_OPEN);
     } else {
         local_19 = false;
     }
     bool has_end = local_19;
-    float rho_6 = (has_end ? (surface_1 / d_5) : -1.0);
-    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float rho_7 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_8 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_20 = (h_7 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -973,88 +955,68 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
             const float _e133 = airlight_paper_spot_weight(-(k_2), co_2, cos_inner);
             const float _e134 = airlight_paper_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_21 = (rho_6 < 1.0);
+                local_21 = (rho_7 < 1.0);
             } else {
                 local_21 = false;
             }
             bool _e141 = local_21;
-            scale = ((x0_7 < 0.0) ? _e134 : (_e141 ? _e133 : max(_e133, _e134)));
+            scale = ((x0_8 < 0.0) ? _e134 : (_e141 ? _e133 : max(_e133, _e134)));
         }
-        uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
-        bool loop_init_1 = true;
-        while(true) {
-            if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
-            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-            if (!loop_init_1) {
-                int _e157 = c_4;
-                c_4 = asint(asuint(_e157) + asuint(int(1)));
-            }
-            loop_init_1 = false;
-            int _e148 = c_4;
-            if ((_e148 < int(3))) {
-            } else {
-                break;
-            }
-            {
-                int _e151 = c_4;
-                int _e153 = c_4;
-                const float _e155 = airlight_paper_along(tau_7[min(uint(_e153), 2u)], h_6, x0_7, rho_6, 0.0);
-                a_8[min(uint(_e151), 2u)] = _e155;
-            }
-        }
+        const float3 _e146 = airlight_paper_along_rgb(tau_8, h_7, x0_8, rho_7, 0.0);
+        a_8 = _e146;
     } else {
         float3 l_1 = (light_2 - origin_2);
-        const float _e160 = airlight_paper_max_abs(l_1);
-        float3 _e163 = n;
-        float3 cr = cross((l_1 / (_e160).xxx), _e163);
-        float3 _e165 = n;
-        float3 _e166 = ax;
-        float ca_1 = (dot(cr, cross(_e165, _e166)) / max(length(cr), 1e-30));
+        const float _e148 = airlight_paper_max_abs(l_1);
+        float3 _e151 = n;
+        float3 cr = cross((l_1 / (_e148).xxx), _e151);
+        float3 _e153 = n;
+        float3 _e154 = ax;
+        float ca_1 = (dot(cr, cross(_e153, _e154)) / max(length(cr), 1e-30));
         float r_7 = sqrt(((ca_1 * ca_1) + (k_2 * k_2)));
-        const float _e177 = airlight_paper_arctan2_(k_2, ca_1);
-        const float _e178 = airlight_paper_arctan2_(h_6, x0_7);
-        const float _e181 = airlight_paper_arctan2_(h_6, (x0_7 - rho_6));
-        float om_e = (has_end ? _e181 : airlight_paper_PI);
+        const float _e165 = airlight_paper_arctan2_(k_2, ca_1);
+        const float _e166 = airlight_paper_arctan2_(h_7, x0_8);
+        const float _e169 = airlight_paper_arctan2_(h_7, (x0_8 - rho_7));
+        float om_e = (has_end ? _e169 : airlight_paper_PI);
         if ((co_2 < r_7)) {
-            const float _e184 = airlight_paper_spot_asin(co_2, r_7);
-            float lo_1 = max(_e178, (_e177 + _e184));
-            float hi_2 = min(om_e, ((_e177 + airlight_paper_PI) - _e184));
+            const float _e172 = airlight_paper_spot_asin(co_2, r_7);
+            float lo_1 = max(_e166, (_e165 + _e172));
+            float hi_2 = min(om_e, ((_e165 + airlight_paper_PI) - _e172));
             if ((lo_1 < hi_2)) {
                 if ((cos_inner <= co_2)) {
-                    const float3 _e195 = airlight_paper_spot_core(tau_7, h_6, x0_7, rho_6, _e178, lo_1, hi_2, (lo_1 > _e178), (hi_2 < om_e), 0.0);
-                    a_8 = _e195;
+                    const float3 _e183 = airlight_paper_spot_core(tau_8, h_7, x0_8, rho_7, _e166, lo_1, hi_2, (lo_1 > _e166), (hi_2 < om_e), 0.0);
+                    a_8 = _e183;
                 } else {
                     if ((cos_inner < r_7)) {
-                        const float _e197 = airlight_paper_spot_asin(cos_inner, r_7);
-                        float li = max(_e178, (_e177 + _e197));
-                        float hj = min(om_e, ((_e177 + airlight_paper_PI) - _e197));
+                        const float _e185 = airlight_paper_spot_asin(cos_inner, r_7);
+                        float li = max(_e166, (_e165 + _e185));
+                        float hj = min(om_e, ((_e165 + airlight_paper_PI) - _e185));
                         if ((li < hj)) {
-                            const float3 _e207 = airlight_paper_spot_core(tau_7, h_6, x0_7, rho_6, _e178, li, hj, (li > _e178), (hj < om_e), 0.0);
-                            a_8 = _e207;
+                            const float3 _e195 = airlight_paper_spot_core(tau_8, h_7, x0_8, rho_7, _e166, li, hj, (li > _e166), (hj < om_e), 0.0);
+                            a_8 = _e195;
                         }
-                        float3 _e208 = a_8;
-                        const float3 _e211 = airlight_paper_spot_edge(tau_7, h_6, x0_7, lo_1, min(hi_2, (_e177 + _e197)), ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = (_e208 + _e211);
-                        float3 _e213 = a_8;
-                        const float3 _e218 = airlight_paper_spot_edge(tau_7, h_6, x0_7, max(lo_1, ((_e177 + airlight_paper_PI) - _e197)), hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = (_e213 + _e218);
+                        float3 _e196 = a_8;
+                        const float3 _e199 = airlight_paper_spot_edge(tau_8, h_7, x0_8, lo_1, min(hi_2, (_e165 + _e185)), ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_8 = (_e196 + _e199);
+                        float3 _e201 = a_8;
+                        const float3 _e206 = airlight_paper_spot_edge(tau_8, h_7, x0_8, max(lo_1, ((_e165 + airlight_paper_PI) - _e185)), hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_8 = (_e201 + _e206);
                     } else {
-                        const float3 _e220 = airlight_paper_spot_edge(tau_7, h_6, x0_7, lo_1, hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = _e220;
+                        const float3 _e208 = airlight_paper_spot_edge(tau_8, h_7, x0_8, lo_1, hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_8 = _e208;
                     }
                 }
             }
         }
     }
+    float _e210 = scale;
+    float _e213 = a_8.x;
+    const float _e214 = airlight_paper_scaled(sigma_s_2.x, (intensity_2 * _e210), d_5, _e213);
+    float _e216 = scale;
+    float _e219 = a_8.y;
+    const float _e220 = airlight_paper_scaled(sigma_s_2.y, (intensity_2 * _e216), d_5, _e219);
     float _e222 = scale;
-    float _e225 = a_8.x;
-    const float _e226 = airlight_paper_scaled(sigma_s_2.x, (intensity_2 * _e222), d_5, _e225);
-    float _e228 = scale;
-    float _e231 = a_8.y;
-    const float _e232 = airlight_paper_scaled(sigma_s_2.y, (intensity_2 * _e228), d_5, _e231);
-    float _e234 = scale;
-    float _e237 = a_8.z;
-    const float _e238 = airlight_paper_scaled(sigma_s_2.z, (intensity_2 * _e234), d_5, _e237);
-    return float3(_e226, _e232, _e238);
+    float _e225 = a_8.z;
+    const float _e226 = airlight_paper_scaled(sigma_s_2.z, (intensity_2 * _e222), d_5, _e225);
+    return float3(_e214, _e220, _e226);
 }
 

@@ -125,14 +125,14 @@ float3 airlight_raymarch_256_ray_geometry(float3 origin, float3 dir, float3 ligh
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_4 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_4 * x0_4)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
     const float3 _e93 = airlight_raymarch_256_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_raymarch_256_HUGE), (_e97 / n_1), (x0_4 / n_1));
+    return float3(min(dist, airlight_raymarch_256_HUGE), (_e97 / n_1), (x0_5 / n_1));
 }
 
 float airlight_raymarch_256_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -222,8 +222,8 @@ float2 airlight_raymarch_256_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
     float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
-    float c_5 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_5);
+    float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
+    return float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -245,20 +245,20 @@ float2 airlight_raymarch_256_sin_cos(float x_3)
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
     float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
-    float c_6 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
+    float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_6);
+            return float2(s_3, c_4);
         }
         case 1: {
-            return float2(c_6, -(s_3));
+            return float2(c_4, -(s_3));
         }
         case 2: {
-            return float2(-(s_3), -(c_6));
+            return float2(-(s_3), -(c_4));
         }
         default: {
-            return float2(-(c_6), s_3);
+            return float2(-(c_4), s_3);
         }
     }
 }
@@ -276,10 +276,10 @@ float airlight_raymarch_256_airlight_geometry(float tau_in, float h_1, float x0_
     float sum = 0.0;
     uint i = 0u;
 
-    float tau_4 = min(max(tau_in, 0.0), airlight_raymarch_256_TAU_MAX);
-    float g_7 = clamp(g_in, -0.999, 0.999);
-    if ((tau_4 > 0.0046051703)) {
-        float k_2 = (1.0 + (airlight_raymarch_256_LN_CUTOFF / tau_4));
+    float tau_5 = min(max(tau_in, 0.0), airlight_raymarch_256_TAU_MAX);
+    float g_8 = clamp(g_in, -0.999, 0.999);
+    if ((tau_5 > 0.0046051703)) {
+        float k_2 = (1.0 + (airlight_raymarch_256_LN_CUTOFF / tau_5));
         len = min((((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_))), airlight_raymarch_256_FAR);
     }
     if ((rho >= 0.0)) {
@@ -318,8 +318,8 @@ float airlight_raymarch_256_airlight_geometry(float tau_in, float h_1, float x0_
             float om_1 = ((x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5));
             float op_1 = ((x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5)));
             float _e73 = sum;
-            const float _e76 = airlight_raymarch_256_hg(g_7, (om_1 / t), (op_1 / t));
-            sum = (_e73 + ((_e76 * exp((-(tau_4) * (s_4 + t)))) / t2_));
+            const float _e76 = airlight_raymarch_256_hg(g_8, (om_1 / t), (op_1 / t));
+            sum = (_e73 + ((_e76 * exp((-(tau_5) * (s_4 + t)))) / t2_));
         }
     }
     float _e87 = sum;
@@ -351,8 +351,8 @@ float airlight_raymarch_256_radiance(float3 origin_1, float3 dir_1, float surfac
     if (_e24) {
         return 0.0;
     }
-    float rho_4 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e37 = airlight_raymarch_256_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_4, g_2);
+    float rho_5 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e37 = airlight_raymarch_256_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_5, g_2);
     const float _e38 = airlight_raymarch_256_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
     return _e38;
 }
@@ -363,13 +363,21 @@ float airlight_raymarch_256_along(float tau_1, float h_2, float x0_1, float rho_
     return _e5;
 }
 
+float3 airlight_raymarch_256_along_rgb(float3 tau_2, float h_3, float x0_2, float rho_3, float g_4)
+{
+    const float _e6 = airlight_raymarch_256_along(tau_2.x, h_3, x0_2, rho_3, g_4);
+    const float _e8 = airlight_raymarch_256_along(tau_2.y, h_3, x0_2, rho_3, g_4);
+    const float _e10 = airlight_raymarch_256_along(tau_2.z, h_3, x0_2, rho_3, g_4);
+    return float3(_e6, _e8, _e10);
+}
+
 float airlight_raymarch_256_spot_asin(float x_4, float r_1)
 {
     const float _e8 = airlight_raymarch_256_arctan2_(x_4, sqrt(max(((r_1 - x_4) * (r_1 + x_4)), 0.0)));
     return _e8;
 }
 
-float3 airlight_raymarch_256_spot_core(float3 tau_2, float h_3, float x0_2, float rho_3, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_raymarch_256_spot_core(float3 tau_3, float h_4, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_5)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -377,17 +385,15 @@ float3 airlight_raymarch_256_spot_core(float3 tau_2, float h_3, float x0_2, floa
     float s0_ = 0.0;
     float rho1_ = (float)0;
     bool local_6 = (bool)0;
-    float3 res = (float3)0;
-    int c_2 = int(0);
 
-    h1_ = h_3;
-    x1_ = x0_2;
-    rho1_ = rho_3;
+    h1_ = h_4;
+    x1_ = x0_3;
+    rho1_ = rho_4;
     const float2 _e17 = airlight_raymarch_256_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_raymarch_256_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
@@ -397,7 +403,7 @@ float3 airlight_raymarch_256_spot_core(float3 tau_2, float h_3, float x0_2, floa
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_6 = (rho_3 >= 0.0);
+            local_6 = (rho_4 >= 0.0);
         } else {
             local_6 = false;
         }
@@ -405,43 +411,20 @@ float3 airlight_raymarch_256_spot_core(float3 tau_2, float h_3, float x0_2, floa
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = max(((rho_3 - _e45) / _e47), 0.0);
+            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
         }
     }
-    uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
-    bool loop_init_1 = true;
-    while(true) {
-        if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
-        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-        if (!loop_init_1) {
-            int _e80 = c_2;
-            c_2 = asint(asuint(_e80) + asuint(int(1)));
-        }
-        loop_init_1 = false;
-        int _e54 = c_2;
-        if ((_e54 < int(3))) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            const float _e64 = airlight_raymarch_256_along((tau_2[min(uint(_e57), 2u)] * _e59), _e61, _e62, _e63, g_4);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[min(uint(_e65), 2u)] = ((_e64 >= airlight_raymarch_256_HUGE) ? _e64 : ((_e64 * exp((-(tau_2[min(uint(_e67), 2u)]) * _e70))) / _e74));
-        }
-    }
-    float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    const float3 _e56 = airlight_raymarch_256_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_5);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, float u, float v_in, float ca, float k_1, float co, float ci, float g_5)
+float3 airlight_raymarch_256_spot_edge(float3 tau_4, float h_5, float x0_4, float u, float v_in, float ca, float k_1, float co, float ci, float g_6)
 {
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
@@ -455,8 +438,8 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     }
     float half_ = (0.5 * (v_in - u));
     float mid = (0.5 * (v_in + u));
-    float gm = ((1.0 - g_5) * (1.0 - g_5));
-    float gp = ((1.0 + g_5) * (1.0 + g_5));
+    float gm = ((1.0 - g_6) * (1.0 - g_6));
+    float gp = ((1.0 + g_6) * (1.0 + g_6));
     w = (mid + (half_ * 0.96028984));
     float _e41 = w;
     const float2 _e42 = airlight_raymarch_256_sin_cos(_e41);
@@ -468,17 +451,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e59) * _e62)) : (gp - (((4.0 * g_5) * _e50) * _e53)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e59) * _e62)) : (gp - (((4.0 * g_6) * _e50) * _e53)));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st = max((x0_3 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e69) / max(_e72, 1e-30))), 1.0);
     float3 _e79 = sum_1;
     float _e81 = sc.x;
     float _e84 = sc.y;
     float _e95 = d_2;
     float _e96 = d_2;
     float _e101 = st;
-    sum_1 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_3) * _e101))));
+    sum_1 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_4) * _e101))));
     w = (mid + (half_ * 0.7966665));
     float _e109 = w;
     const float2 _e110 = airlight_raymarch_256_sin_cos(_e109);
@@ -490,17 +473,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e127) * _e130)) : (gp - (((4.0 * g_5) * _e118) * _e121)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e127) * _e130)) : (gp - (((4.0 * g_6) * _e118) * _e121)));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st = max((x0_3 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e137) / max(_e140, 1e-30))), 1.0);
     float3 _e147 = sum_1;
     float _e149 = sc.x;
     float _e152 = sc.y;
     float _e163 = d_2;
     float _e164 = d_2;
     float _e169 = st;
-    sum_1 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_3) * _e169))));
+    sum_1 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
     w = (mid + (half_ * 0.5255324));
     float _e177 = w;
     const float2 _e178 = airlight_raymarch_256_sin_cos(_e177);
@@ -512,17 +495,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e195) * _e198)) : (gp - (((4.0 * g_6) * _e186) * _e189)));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st = max((x0_3 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
     float3 _e215 = sum_1;
     float _e217 = sc.x;
     float _e220 = sc.y;
     float _e231 = d_2;
     float _e232 = d_2;
     float _e237 = st;
-    sum_1 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_3) * _e237))));
+    sum_1 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_4) * _e237))));
     w = (mid + (half_ * 0.18343464));
     float _e245 = w;
     const float2 _e246 = airlight_raymarch_256_sin_cos(_e245);
@@ -534,17 +517,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e263) * _e266)) : (gp - (((4.0 * g_5) * _e254) * _e257)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e263) * _e266)) : (gp - (((4.0 * g_6) * _e254) * _e257)));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st = max((x0_3 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e273) / max(_e276, 1e-30))), 1.0);
     float3 _e283 = sum_1;
     float _e285 = sc.x;
     float _e288 = sc.y;
     float _e299 = d_2;
     float _e300 = d_2;
     float _e305 = st;
-    sum_1 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_3) * _e305))));
+    sum_1 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_4) * _e305))));
     w = (mid + (half_ * -0.18343464));
     float _e313 = w;
     const float2 _e314 = airlight_raymarch_256_sin_cos(_e313);
@@ -556,17 +539,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e331) * _e334)) : (gp - (((4.0 * g_5) * _e322) * _e325)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e331) * _e334)) : (gp - (((4.0 * g_6) * _e322) * _e325)));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st = max((x0_3 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e341) / max(_e344, 1e-30))), 1.0);
     float3 _e351 = sum_1;
     float _e353 = sc.x;
     float _e356 = sc.y;
     float _e367 = d_2;
     float _e368 = d_2;
     float _e373 = st;
-    sum_1 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
+    sum_1 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
     w = (mid + (half_ * -0.5255324));
     float _e381 = w;
     const float2 _e382 = airlight_raymarch_256_sin_cos(_e381);
@@ -578,17 +561,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e399) * _e402)) : (gp - (((4.0 * g_5) * _e390) * _e393)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e399) * _e402)) : (gp - (((4.0 * g_6) * _e390) * _e393)));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st = max((x0_3 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e409) / max(_e412, 1e-30))), 1.0);
     float3 _e419 = sum_1;
     float _e421 = sc.x;
     float _e424 = sc.y;
     float _e435 = d_2;
     float _e436 = d_2;
     float _e441 = st;
-    sum_1 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_3) * _e441))));
+    sum_1 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_4) * _e441))));
     w = (mid + (half_ * -0.7966665));
     float _e449 = w;
     const float2 _e450 = airlight_raymarch_256_sin_cos(_e449);
@@ -600,17 +583,17 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e467) * _e470)) : (gp - (((4.0 * g_5) * _e458) * _e461)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e467) * _e470)) : (gp - (((4.0 * g_6) * _e458) * _e461)));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st = max((x0_3 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e477) / max(_e480, 1e-30))), 1.0);
     float3 _e487 = sum_1;
     float _e489 = sc.x;
     float _e492 = sc.y;
     float _e503 = d_2;
     float _e504 = d_2;
     float _e509 = st;
-    sum_1 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_3) * _e509))));
+    sum_1 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_4) * _e509))));
     w = (mid + (half_ * -0.96028984));
     float _e517 = w;
     const float2 _e518 = airlight_raymarch_256_sin_cos(_e517);
@@ -622,30 +605,30 @@ float3 airlight_raymarch_256_spot_edge(float3 tau_3, float h_4, float x0_3, floa
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_2 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e535) * _e538)) : (gp - (((4.0 * g_5) * _e526) * _e529)));
+    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e535) * _e538)) : (gp - (((4.0 * g_6) * _e526) * _e529)));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st = max((x0_3 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
+    st = max((x0_4 + ((h_5 * _e545) / max(_e548, 1e-30))), 1.0);
     float3 _e555 = sum_1;
     float _e557 = sc.x;
     float _e560 = sc.y;
     float _e571 = d_2;
     float _e572 = d_2;
     float _e577 = st;
-    sum_1 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_3) * _e577))));
+    sum_1 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_4) * _e577))));
     float3 _e593 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * half_) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * half_) / max(h_5, 1e-30)) * _e593), (3.4028235e38).xxx);
 }
 
-float airlight_raymarch_256_spot_weight(float c_3, float co_1, float ci_1)
+float airlight_raymarch_256_spot_weight(float c_2, float co_1, float ci_1)
 {
     if ((ci_1 > co_1)) {
-        return clamp(((c_3 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
+        return clamp(((c_2 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
     }
-    return ((c_3 >= co_1) ? 1.0 : 0.0);
+    return ((c_2 >= co_1) ? 1.0 : 0.0);
 }
 
-float3 airlight_raymarch_256_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
+float3 airlight_raymarch_256_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_7)
 {
     bool local_7 = (bool)0;
     bool local_8 = (bool)0;
@@ -658,7 +641,6 @@ float3 airlight_raymarch_256_spot(float3 origin_2, float3 dir_2, float surface_1
     float3 a_5 = (0.0).xxx;
     bool local_12 = (bool)0;
     bool local_13 = (bool)0;
-    int c_4 = int(0);
 
     const float3 _e11 = airlight_raymarch_256_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
@@ -718,19 +700,19 @@ float3 airlight_raymarch_256_spot(float3 origin_2, float3 dir_2, float surface_1
         return (0.0).xxx;
     }
     float d_4 = _e11.x;
-    float h_5 = _e11.y;
-    float x0_5 = _e11.z;
+    float h_6 = _e11.y;
+    float x0_6 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_11 = ((surface_1 / d_4) < airlight_raymarch_256_RHO_OPEN);
     } else {
         local_11 = false;
     }
     bool has_end = local_11;
-    float rho_5 = (has_end ? (surface_1 / d_4) : -1.0);
-    float3 tau_5 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
-    float gg = clamp(g_6, -0.999, 0.999);
+    float rho_6 = (has_end ? (surface_1 / d_4) : -1.0);
+    float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
+    float gg = clamp(g_7, -0.999, 0.999);
     if (!(point_)) {
-        local_12 = (h_5 <= 0.0);
+        local_12 = (h_6 <= 0.0);
     } else {
         local_12 = true;
     }
@@ -740,88 +722,68 @@ float3 airlight_raymarch_256_spot(float3 origin_2, float3 dir_2, float surface_1
             const float _e136 = airlight_raymarch_256_spot_weight(-(k_3), co_2, cos_inner);
             const float _e137 = airlight_raymarch_256_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_13 = (rho_5 < 1.0);
+                local_13 = (rho_6 < 1.0);
             } else {
                 local_13 = false;
             }
             bool _e144 = local_13;
-            scale = ((x0_5 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
+            scale = ((x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
         }
-        uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
-        bool loop_init_2 = true;
-        while(true) {
-            if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
-            loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
-            if (!loop_init_2) {
-                int _e160 = c_4;
-                c_4 = asint(asuint(_e160) + asuint(int(1)));
-            }
-            loop_init_2 = false;
-            int _e151 = c_4;
-            if ((_e151 < int(3))) {
-            } else {
-                break;
-            }
-            {
-                int _e154 = c_4;
-                int _e156 = c_4;
-                const float _e158 = airlight_raymarch_256_along(tau_5[min(uint(_e156), 2u)], h_5, x0_5, rho_5, gg);
-                a_5[min(uint(_e154), 2u)] = _e158;
-            }
-        }
+        const float3 _e149 = airlight_raymarch_256_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
+        a_5 = _e149;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e163 = airlight_raymarch_256_max_abs(l);
-        float3 _e166 = n;
-        float3 cr = cross((l / (_e163).xxx), _e166);
-        float3 _e168 = n;
-        float3 _e169 = ax;
-        float ca_1 = (dot(cr, cross(_e168, _e169)) / max(length(cr), 1e-30));
+        const float _e151 = airlight_raymarch_256_max_abs(l);
+        float3 _e154 = n;
+        float3 cr = cross((l / (_e151).xxx), _e154);
+        float3 _e156 = n;
+        float3 _e157 = ax;
+        float ca_1 = (dot(cr, cross(_e156, _e157)) / max(length(cr), 1e-30));
         float r_4 = sqrt(((ca_1 * ca_1) + (k_3 * k_3)));
-        const float _e180 = airlight_raymarch_256_arctan2_(k_3, ca_1);
-        const float _e181 = airlight_raymarch_256_arctan2_(h_5, x0_5);
-        const float _e184 = airlight_raymarch_256_arctan2_(h_5, (x0_5 - rho_5));
-        float om_e = (has_end ? _e184 : airlight_raymarch_256_PI);
+        const float _e168 = airlight_raymarch_256_arctan2_(k_3, ca_1);
+        const float _e169 = airlight_raymarch_256_arctan2_(h_6, x0_6);
+        const float _e172 = airlight_raymarch_256_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e172 : airlight_raymarch_256_PI);
         if ((co_2 < r_4)) {
-            const float _e187 = airlight_raymarch_256_spot_asin(co_2, r_4);
-            float lo = max(_e181, (_e180 + _e187));
-            float hi_1 = min(om_e, ((_e180 + airlight_raymarch_256_PI) - _e187));
+            const float _e175 = airlight_raymarch_256_spot_asin(co_2, r_4);
+            float lo = max(_e169, (_e168 + _e175));
+            float hi_1 = min(om_e, ((_e168 + airlight_raymarch_256_PI) - _e175));
             if ((lo < hi_1)) {
                 if ((cos_inner <= co_2)) {
-                    const float3 _e198 = airlight_raymarch_256_spot_core(tau_5, h_5, x0_5, rho_5, _e181, lo, hi_1, (lo > _e181), (hi_1 < om_e), gg);
-                    a_5 = _e198;
+                    const float3 _e186 = airlight_raymarch_256_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, (lo > _e169), (hi_1 < om_e), gg);
+                    a_5 = _e186;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e200 = airlight_raymarch_256_spot_asin(cos_inner, r_4);
-                        float li = max(_e181, (_e180 + _e200));
-                        float hj = min(om_e, ((_e180 + airlight_raymarch_256_PI) - _e200));
+                        const float _e188 = airlight_raymarch_256_spot_asin(cos_inner, r_4);
+                        float li = max(_e169, (_e168 + _e188));
+                        float hj = min(om_e, ((_e168 + airlight_raymarch_256_PI) - _e188));
                         if ((li < hj)) {
-                            const float3 _e210 = airlight_raymarch_256_spot_core(tau_5, h_5, x0_5, rho_5, _e181, li, hj, (li > _e181), (hj < om_e), gg);
-                            a_5 = _e210;
+                            const float3 _e198 = airlight_raymarch_256_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, (li > _e169), (hj < om_e), gg);
+                            a_5 = _e198;
                         }
-                        float3 _e211 = a_5;
-                        const float3 _e214 = airlight_raymarch_256_spot_edge(tau_5, h_5, x0_5, lo, min(hi_1, (_e180 + _e200)), ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = (_e211 + _e214);
-                        float3 _e216 = a_5;
-                        const float3 _e221 = airlight_raymarch_256_spot_edge(tau_5, h_5, x0_5, max(lo, ((_e180 + airlight_raymarch_256_PI) - _e200)), hi_1, ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = (_e216 + _e221);
+                        float3 _e199 = a_5;
+                        const float3 _e202 = airlight_raymarch_256_spot_edge(tau_6, h_6, x0_6, lo, min(hi_1, (_e168 + _e188)), ca_1, k_3, co_2, cos_inner, gg);
+                        a_5 = (_e199 + _e202);
+                        float3 _e204 = a_5;
+                        const float3 _e209 = airlight_raymarch_256_spot_edge(tau_6, h_6, x0_6, max(lo, ((_e168 + airlight_raymarch_256_PI) - _e188)), hi_1, ca_1, k_3, co_2, cos_inner, gg);
+                        a_5 = (_e204 + _e209);
                     } else {
-                        const float3 _e223 = airlight_raymarch_256_spot_edge(tau_5, h_5, x0_5, lo, hi_1, ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = _e223;
+                        const float3 _e211 = airlight_raymarch_256_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_3, co_2, cos_inner, gg);
+                        a_5 = _e211;
                     }
                 }
             }
         }
     }
+    float _e213 = scale;
+    float _e216 = a_5.x;
+    const float _e217 = airlight_raymarch_256_scaled(sigma_s_2.x, (intensity_2 * _e213), d_4, _e216);
+    float _e219 = scale;
+    float _e222 = a_5.y;
+    const float _e223 = airlight_raymarch_256_scaled(sigma_s_2.y, (intensity_2 * _e219), d_4, _e222);
     float _e225 = scale;
-    float _e228 = a_5.x;
-    const float _e229 = airlight_raymarch_256_scaled(sigma_s_2.x, (intensity_2 * _e225), d_4, _e228);
-    float _e231 = scale;
-    float _e234 = a_5.y;
-    const float _e235 = airlight_raymarch_256_scaled(sigma_s_2.y, (intensity_2 * _e231), d_4, _e234);
-    float _e237 = scale;
-    float _e240 = a_5.z;
-    const float _e241 = airlight_raymarch_256_scaled(sigma_s_2.z, (intensity_2 * _e237), d_4, _e240);
-    return float3(_e229, _e235, _e241);
+    float _e228 = a_5.z;
+    const float _e229 = airlight_raymarch_256_scaled(sigma_s_2.z, (intensity_2 * _e225), d_4, _e228);
+    return float3(_e217, _e223, _e229);
 }
 

@@ -135,14 +135,14 @@ metal::float3 airlight_equiangular_16_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_4 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h;
     float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_4 * x0_4));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
     metal::float3 _e93 = airlight_equiangular_16_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_equiangular_16_HUGE), _e97 / n_1, x0_4 / n_1);
+    return metal::float3(metal::min(dist, airlight_equiangular_16_HUGE), _e97 / n_1, x0_5 / n_1);
 }
 
 float airlight_equiangular_16_scaled(
@@ -238,8 +238,8 @@ metal::float2 airlight_equiangular_16_sin_cos_octant(
 ) {
     float z_1 = x_2 * x_2;
     float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
-    float c_5 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_5);
+    float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
+    return metal::float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -261,20 +261,20 @@ metal::float2 airlight_equiangular_16_sin_cos(
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
     float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
-    float c_6 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
+    float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_6);
+            return metal::float2(s_3, c_4);
         }
         case 1: {
-            return metal::float2(c_6, -(s_3));
+            return metal::float2(c_4, -(s_3));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_6));
+            return metal::float2(-(s_3), -(c_4));
         }
         default: {
-            return metal::float2(-(c_6), s_3);
+            return metal::float2(-(c_4), s_3);
         }
     }
 }
@@ -717,16 +717,454 @@ float airlight_equiangular_16_airlight_geometry(
     return metal::min(((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e1175) * half_) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_16_HUGE);
 }
 
+metal::float3 airlight_equiangular_16_airlight_geometry_rgb(
+    metal::float3 tau_in_1,
+    float h_2,
+    float x0_1,
+    float gamma_1,
+    float comp_1,
+    float rho_1,
+    float g_in_1
+) {
+    float span_1 = {};
+    bool local_5 = {};
+    metal::float3 sum_1 = metal::float3(0.0);
+    metal::float2 sc_1 = {};
+    float b_4 = {};
+    float co_1 = {};
+    float st_1 = {};
+    float d_3 = {};
+    metal::float3 tau_5 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
+    float g_7 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_7) * (1.0 - g_7);
+    float gp_1 = (1.0 + g_7) * (1.0 + g_7);
+    span_1 = comp_1;
+    if (rho_1 >= 0.0) {
+        local_5 = rho_1 < airlight_equiangular_16_RHO_OPEN;
+    } else {
+        local_5 = false;
+    }
+    bool _e34 = local_5;
+    if (_e34) {
+        float _e39 = airlight_equiangular_16_arctan2_(h_2 * rho_1, 1.0 - (x0_1 * rho_1));
+        span_1 = _e39;
+    }
+    float _e40 = span_1;
+    float half_1 = 0.5 * _e40;
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.9894009);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.9894009);
+    float _e65 = b_4;
+    float _e66 = co_1;
+    metal::float2 _e70 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
+    sc_1 = _e70;
+    float _e71 = b_4;
+    float _e72 = co_1;
+    if (_e71 > _e72) {
+        metal::float2 _e74 = sc_1;
+        sc_1 = _e74.yx;
+    }
+    float _e77 = sc_1.x;
+    float _e80 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
+    float _e90 = sc_1.y;
+    float _e93 = sc_1.y;
+    float _e99 = sc_1.x;
+    float _e102 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93));
+    metal::float3 _e108 = sum_1;
+    float _e110 = st_1;
+    float _e115 = d_3;
+    float _e116 = d_3;
+    sum_1 = _e108 + ((0.02715246 * metal::exp(-(tau_5) * _e110)) / metal::float3(_e115 * metal::sqrt(_e116)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.9445751);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.9445751);
+    float _e136 = b_4;
+    float _e137 = co_1;
+    metal::float2 _e141 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e136, _e137), 0.0));
+    sc_1 = _e141;
+    float _e142 = b_4;
+    float _e143 = co_1;
+    if (_e142 > _e143) {
+        metal::float2 _e145 = sc_1;
+        sc_1 = _e145.yx;
+    }
+    float _e148 = sc_1.x;
+    float _e151 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e148) / metal::max(_e151, 0.000000000000000000000000000001)), 1.0);
+    float _e161 = sc_1.y;
+    float _e164 = sc_1.y;
+    float _e170 = sc_1.x;
+    float _e173 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164));
+    metal::float3 _e179 = sum_1;
+    float _e181 = st_1;
+    float _e186 = d_3;
+    float _e187 = d_3;
+    sum_1 = _e179 + ((0.062253524 * metal::exp(-(tau_5) * _e181)) / metal::float3(_e186 * metal::sqrt(_e187)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.8656312);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.8656312);
+    float _e207 = b_4;
+    float _e208 = co_1;
+    metal::float2 _e212 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e207, _e208), 0.0));
+    sc_1 = _e212;
+    float _e213 = b_4;
+    float _e214 = co_1;
+    if (_e213 > _e214) {
+        metal::float2 _e216 = sc_1;
+        sc_1 = _e216.yx;
+    }
+    float _e219 = sc_1.x;
+    float _e222 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e219) / metal::max(_e222, 0.000000000000000000000000000001)), 1.0);
+    float _e232 = sc_1.y;
+    float _e235 = sc_1.y;
+    float _e241 = sc_1.x;
+    float _e244 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e241) * _e244)) : (gp_1 - (((4.0 * g_7) * _e232) * _e235));
+    metal::float3 _e250 = sum_1;
+    float _e252 = st_1;
+    float _e257 = d_3;
+    float _e258 = d_3;
+    sum_1 = _e250 + ((0.09515851 * metal::exp(-(tau_5) * _e252)) / metal::float3(_e257 * metal::sqrt(_e258)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.7554045);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.7554045);
+    float _e278 = b_4;
+    float _e279 = co_1;
+    metal::float2 _e283 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e278, _e279), 0.0));
+    sc_1 = _e283;
+    float _e284 = b_4;
+    float _e285 = co_1;
+    if (_e284 > _e285) {
+        metal::float2 _e287 = sc_1;
+        sc_1 = _e287.yx;
+    }
+    float _e290 = sc_1.x;
+    float _e293 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e290) / metal::max(_e293, 0.000000000000000000000000000001)), 1.0);
+    float _e303 = sc_1.y;
+    float _e306 = sc_1.y;
+    float _e312 = sc_1.x;
+    float _e315 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e312) * _e315)) : (gp_1 - (((4.0 * g_7) * _e303) * _e306));
+    metal::float3 _e321 = sum_1;
+    float _e323 = st_1;
+    float _e328 = d_3;
+    float _e329 = d_3;
+    sum_1 = _e321 + ((0.12462897 * metal::exp(-(tau_5) * _e323)) / metal::float3(_e328 * metal::sqrt(_e329)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.6178763);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.6178763);
+    float _e349 = b_4;
+    float _e350 = co_1;
+    metal::float2 _e354 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e349, _e350), 0.0));
+    sc_1 = _e354;
+    float _e355 = b_4;
+    float _e356 = co_1;
+    if (_e355 > _e356) {
+        metal::float2 _e358 = sc_1;
+        sc_1 = _e358.yx;
+    }
+    float _e361 = sc_1.x;
+    float _e364 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e361) / metal::max(_e364, 0.000000000000000000000000000001)), 1.0);
+    float _e374 = sc_1.y;
+    float _e377 = sc_1.y;
+    float _e383 = sc_1.x;
+    float _e386 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e383) * _e386)) : (gp_1 - (((4.0 * g_7) * _e374) * _e377));
+    metal::float3 _e392 = sum_1;
+    float _e394 = st_1;
+    float _e399 = d_3;
+    float _e400 = d_3;
+    sum_1 = _e392 + ((0.14959599 * metal::exp(-(tau_5) * _e394)) / metal::float3(_e399 * metal::sqrt(_e400)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.4580168);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.4580168);
+    float _e420 = b_4;
+    float _e421 = co_1;
+    metal::float2 _e425 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e420, _e421), 0.0));
+    sc_1 = _e425;
+    float _e426 = b_4;
+    float _e427 = co_1;
+    if (_e426 > _e427) {
+        metal::float2 _e429 = sc_1;
+        sc_1 = _e429.yx;
+    }
+    float _e432 = sc_1.x;
+    float _e435 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e432) / metal::max(_e435, 0.000000000000000000000000000001)), 1.0);
+    float _e445 = sc_1.y;
+    float _e448 = sc_1.y;
+    float _e454 = sc_1.x;
+    float _e457 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e454) * _e457)) : (gp_1 - (((4.0 * g_7) * _e445) * _e448));
+    metal::float3 _e463 = sum_1;
+    float _e465 = st_1;
+    float _e470 = d_3;
+    float _e471 = d_3;
+    sum_1 = _e463 + ((0.16915652 * metal::exp(-(tau_5) * _e465)) / metal::float3(_e470 * metal::sqrt(_e471)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.2816036);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.2816036);
+    float _e491 = b_4;
+    float _e492 = co_1;
+    metal::float2 _e496 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e491, _e492), 0.0));
+    sc_1 = _e496;
+    float _e497 = b_4;
+    float _e498 = co_1;
+    if (_e497 > _e498) {
+        metal::float2 _e500 = sc_1;
+        sc_1 = _e500.yx;
+    }
+    float _e503 = sc_1.x;
+    float _e506 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e503) / metal::max(_e506, 0.000000000000000000000000000001)), 1.0);
+    float _e516 = sc_1.y;
+    float _e519 = sc_1.y;
+    float _e525 = sc_1.x;
+    float _e528 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e525) * _e528)) : (gp_1 - (((4.0 * g_7) * _e516) * _e519));
+    metal::float3 _e534 = sum_1;
+    float _e536 = st_1;
+    float _e541 = d_3;
+    float _e542 = d_3;
+    sum_1 = _e534 + ((0.18260342 * metal::exp(-(tau_5) * _e536)) / metal::float3(_e541 * metal::sqrt(_e542)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.0950125);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.0950125);
+    float _e562 = b_4;
+    float _e563 = co_1;
+    metal::float2 _e567 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e562, _e563), 0.0));
+    sc_1 = _e567;
+    float _e568 = b_4;
+    float _e569 = co_1;
+    if (_e568 > _e569) {
+        metal::float2 _e571 = sc_1;
+        sc_1 = _e571.yx;
+    }
+    float _e574 = sc_1.x;
+    float _e577 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e574) / metal::max(_e577, 0.000000000000000000000000000001)), 1.0);
+    float _e587 = sc_1.y;
+    float _e590 = sc_1.y;
+    float _e596 = sc_1.x;
+    float _e599 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e596) * _e599)) : (gp_1 - (((4.0 * g_7) * _e587) * _e590));
+    metal::float3 _e605 = sum_1;
+    float _e607 = st_1;
+    float _e612 = d_3;
+    float _e613 = d_3;
+    sum_1 = _e605 + ((0.1894506 * metal::exp(-(tau_5) * _e607)) / metal::float3(_e612 * metal::sqrt(_e613)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.9049875);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.9049875);
+    float _e633 = b_4;
+    float _e634 = co_1;
+    metal::float2 _e638 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e633, _e634), 0.0));
+    sc_1 = _e638;
+    float _e639 = b_4;
+    float _e640 = co_1;
+    if (_e639 > _e640) {
+        metal::float2 _e642 = sc_1;
+        sc_1 = _e642.yx;
+    }
+    float _e645 = sc_1.x;
+    float _e648 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e645) / metal::max(_e648, 0.000000000000000000000000000001)), 1.0);
+    float _e658 = sc_1.y;
+    float _e661 = sc_1.y;
+    float _e667 = sc_1.x;
+    float _e670 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e667) * _e670)) : (gp_1 - (((4.0 * g_7) * _e658) * _e661));
+    metal::float3 _e676 = sum_1;
+    float _e678 = st_1;
+    float _e683 = d_3;
+    float _e684 = d_3;
+    sum_1 = _e676 + ((0.1894506 * metal::exp(-(tau_5) * _e678)) / metal::float3(_e683 * metal::sqrt(_e684)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.7183964);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.7183964);
+    float _e704 = b_4;
+    float _e705 = co_1;
+    metal::float2 _e709 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e704, _e705), 0.0));
+    sc_1 = _e709;
+    float _e710 = b_4;
+    float _e711 = co_1;
+    if (_e710 > _e711) {
+        metal::float2 _e713 = sc_1;
+        sc_1 = _e713.yx;
+    }
+    float _e716 = sc_1.x;
+    float _e719 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e716) / metal::max(_e719, 0.000000000000000000000000000001)), 1.0);
+    float _e729 = sc_1.y;
+    float _e732 = sc_1.y;
+    float _e738 = sc_1.x;
+    float _e741 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e738) * _e741)) : (gp_1 - (((4.0 * g_7) * _e729) * _e732));
+    metal::float3 _e747 = sum_1;
+    float _e749 = st_1;
+    float _e754 = d_3;
+    float _e755 = d_3;
+    sum_1 = _e747 + ((0.18260342 * metal::exp(-(tau_5) * _e749)) / metal::float3(_e754 * metal::sqrt(_e755)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.5419832);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.5419832);
+    float _e775 = b_4;
+    float _e776 = co_1;
+    metal::float2 _e780 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e775, _e776), 0.0));
+    sc_1 = _e780;
+    float _e781 = b_4;
+    float _e782 = co_1;
+    if (_e781 > _e782) {
+        metal::float2 _e784 = sc_1;
+        sc_1 = _e784.yx;
+    }
+    float _e787 = sc_1.x;
+    float _e790 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e787) / metal::max(_e790, 0.000000000000000000000000000001)), 1.0);
+    float _e800 = sc_1.y;
+    float _e803 = sc_1.y;
+    float _e809 = sc_1.x;
+    float _e812 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e809) * _e812)) : (gp_1 - (((4.0 * g_7) * _e800) * _e803));
+    metal::float3 _e818 = sum_1;
+    float _e820 = st_1;
+    float _e825 = d_3;
+    float _e826 = d_3;
+    sum_1 = _e818 + ((0.16915652 * metal::exp(-(tau_5) * _e820)) / metal::float3(_e825 * metal::sqrt(_e826)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.38212377);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.38212377);
+    float _e846 = b_4;
+    float _e847 = co_1;
+    metal::float2 _e851 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e846, _e847), 0.0));
+    sc_1 = _e851;
+    float _e852 = b_4;
+    float _e853 = co_1;
+    if (_e852 > _e853) {
+        metal::float2 _e855 = sc_1;
+        sc_1 = _e855.yx;
+    }
+    float _e858 = sc_1.x;
+    float _e861 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e858) / metal::max(_e861, 0.000000000000000000000000000001)), 1.0);
+    float _e871 = sc_1.y;
+    float _e874 = sc_1.y;
+    float _e880 = sc_1.x;
+    float _e883 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e880) * _e883)) : (gp_1 - (((4.0 * g_7) * _e871) * _e874));
+    metal::float3 _e889 = sum_1;
+    float _e891 = st_1;
+    float _e896 = d_3;
+    float _e897 = d_3;
+    sum_1 = _e889 + ((0.14959599 * metal::exp(-(tau_5) * _e891)) / metal::float3(_e896 * metal::sqrt(_e897)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.24459559);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.24459559);
+    float _e917 = b_4;
+    float _e918 = co_1;
+    metal::float2 _e922 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e917, _e918), 0.0));
+    sc_1 = _e922;
+    float _e923 = b_4;
+    float _e924 = co_1;
+    if (_e923 > _e924) {
+        metal::float2 _e926 = sc_1;
+        sc_1 = _e926.yx;
+    }
+    float _e929 = sc_1.x;
+    float _e932 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e929) / metal::max(_e932, 0.000000000000000000000000000001)), 1.0);
+    float _e942 = sc_1.y;
+    float _e945 = sc_1.y;
+    float _e951 = sc_1.x;
+    float _e954 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e951) * _e954)) : (gp_1 - (((4.0 * g_7) * _e942) * _e945));
+    metal::float3 _e960 = sum_1;
+    float _e962 = st_1;
+    float _e967 = d_3;
+    float _e968 = d_3;
+    sum_1 = _e960 + ((0.12462897 * metal::exp(-(tau_5) * _e962)) / metal::float3(_e967 * metal::sqrt(_e968)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.13436878);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.13436878);
+    float _e988 = b_4;
+    float _e989 = co_1;
+    metal::float2 _e993 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e988, _e989), 0.0));
+    sc_1 = _e993;
+    float _e994 = b_4;
+    float _e995 = co_1;
+    if (_e994 > _e995) {
+        metal::float2 _e997 = sc_1;
+        sc_1 = _e997.yx;
+    }
+    float _e1000 = sc_1.x;
+    float _e1003 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e1000) / metal::max(_e1003, 0.000000000000000000000000000001)), 1.0);
+    float _e1013 = sc_1.y;
+    float _e1016 = sc_1.y;
+    float _e1022 = sc_1.x;
+    float _e1025 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1022) * _e1025)) : (gp_1 - (((4.0 * g_7) * _e1013) * _e1016));
+    metal::float3 _e1031 = sum_1;
+    float _e1033 = st_1;
+    float _e1038 = d_3;
+    float _e1039 = d_3;
+    sum_1 = _e1031 + ((0.09515851 * metal::exp(-(tau_5) * _e1033)) / metal::float3(_e1038 * metal::sqrt(_e1039)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.05542499);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.05542499);
+    float _e1059 = b_4;
+    float _e1060 = co_1;
+    metal::float2 _e1064 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1059, _e1060), 0.0));
+    sc_1 = _e1064;
+    float _e1065 = b_4;
+    float _e1066 = co_1;
+    if (_e1065 > _e1066) {
+        metal::float2 _e1068 = sc_1;
+        sc_1 = _e1068.yx;
+    }
+    float _e1071 = sc_1.x;
+    float _e1074 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e1071) / metal::max(_e1074, 0.000000000000000000000000000001)), 1.0);
+    float _e1084 = sc_1.y;
+    float _e1087 = sc_1.y;
+    float _e1093 = sc_1.x;
+    float _e1096 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1093) * _e1096)) : (gp_1 - (((4.0 * g_7) * _e1084) * _e1087));
+    metal::float3 _e1102 = sum_1;
+    float _e1104 = st_1;
+    float _e1109 = d_3;
+    float _e1110 = d_3;
+    sum_1 = _e1102 + ((0.062253524 * metal::exp(-(tau_5) * _e1104)) / metal::float3(_e1109 * metal::sqrt(_e1110)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.010599077);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.010599077);
+    float _e1130 = b_4;
+    float _e1131 = co_1;
+    metal::float2 _e1135 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1130, _e1131), 0.0));
+    sc_1 = _e1135;
+    float _e1136 = b_4;
+    float _e1137 = co_1;
+    if (_e1136 > _e1137) {
+        metal::float2 _e1139 = sc_1;
+        sc_1 = _e1139.yx;
+    }
+    float _e1142 = sc_1.x;
+    float _e1145 = sc_1.y;
+    st_1 = metal::max(x0_1 + ((h_2 * _e1142) / metal::max(_e1145, 0.000000000000000000000000000001)), 1.0);
+    float _e1155 = sc_1.y;
+    float _e1158 = sc_1.y;
+    float _e1164 = sc_1.x;
+    float _e1167 = sc_1.x;
+    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1164) * _e1167)) : (gp_1 - (((4.0 * g_7) * _e1155) * _e1158));
+    metal::float3 _e1173 = sum_1;
+    float _e1175 = st_1;
+    float _e1180 = d_3;
+    float _e1181 = d_3;
+    sum_1 = _e1173 + ((0.02715246 * metal::exp(-(tau_5) * _e1175)) / metal::float3(_e1180 * metal::sqrt(_e1181)));
+    metal::float3 _e1194 = sum_1;
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1194) * half_1) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+}
+
 float airlight_equiangular_16_airlight(
     float tau,
-    float gamma_1,
-    float rho_1,
+    float gamma_2,
+    float rho_2,
     float g
 ) {
-    float gc = metal::clamp(gamma_1, 0.0, airlight_equiangular_16_PI);
+    float gc = metal::clamp(gamma_2, 0.0, airlight_equiangular_16_PI);
     metal::float2 _e7 = airlight_equiangular_16_sin_cos(gc);
-    float comp_1 = metal::max((airlight_equiangular_16_PI - gc) - 0.00000008742278, 0.0);
-    float _e17 = airlight_equiangular_16_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, gc, comp_1, rho_1, g);
+    float comp_2 = metal::max((airlight_equiangular_16_PI - gc) - 0.00000008742278, 0.0);
+    float _e17 = airlight_equiangular_16_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
     return _e17;
 }
 
@@ -740,39 +1178,39 @@ float airlight_equiangular_16_radiance(
     float sigma_s_1,
     float g_1
 ) {
-    bool local_5 = {};
+    bool local_6 = {};
     metal::float3 _e8 = airlight_equiangular_16_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
         float _e14 = airlight_equiangular_16_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_16_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
-        local_5 = _e8.z == 0.0;
+        local_6 = _e8.z == 0.0;
     } else {
-        local_5 = false;
+        local_6 = false;
     }
-    bool _e24 = local_5;
+    bool _e24 = local_6;
     if (_e24) {
         return 0.0;
     }
-    float rho_4 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float rho_5 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
     float _e34 = airlight_equiangular_16_arctan2_(_e8.y, _e8.z);
     float _e38 = airlight_equiangular_16_arctan2_(_e8.y, -(_e8.z));
-    float _e44 = airlight_equiangular_16_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_4, g_1);
+    float _e44 = airlight_equiangular_16_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_5, g_1);
     float _e45 = airlight_equiangular_16_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
-float airlight_equiangular_16_along(
-    float tau_1,
-    float h_2,
-    float x0_1,
-    float rho_2,
+metal::float3 airlight_equiangular_16_along_rgb(
+    metal::float3 tau_1,
+    float h_3,
+    float x0_2,
+    float rho_3,
     float g_2
 ) {
-    float _e5 = airlight_equiangular_16_arctan2_(h_2, x0_1);
-    float _e7 = airlight_equiangular_16_arctan2_(h_2, -(x0_1));
-    float _e8 = airlight_equiangular_16_airlight_geometry(tau_1, h_2, x0_1, _e5, _e7, rho_2, g_2);
+    float _e5 = airlight_equiangular_16_arctan2_(h_3, x0_2);
+    float _e7 = airlight_equiangular_16_arctan2_(h_3, -(x0_2));
+    metal::float3 _e8 = airlight_equiangular_16_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
     return _e8;
 }
 
@@ -786,9 +1224,9 @@ float airlight_equiangular_16_spot_asin(
 
 metal::float3 airlight_equiangular_16_spot_core(
     metal::float3 tau_2,
-    float h_3,
-    float x0_2,
-    float rho_3,
+    float h_4,
+    float x0_3,
+    float rho_4,
     float gam,
     float wa,
     float wb,
@@ -801,17 +1239,15 @@ metal::float3 airlight_equiangular_16_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
-    bool local_6 = {};
-    metal::float3 res = {};
-    int c_2 = 0;
-    h1_ = h_3;
-    x1_ = x0_2;
-    rho1_ = rho_3;
+    bool local_7 = {};
+    h1_ = h_4;
+    x1_ = x0_3;
+    rho1_ = rho_4;
     metal::float2 _e17 = airlight_equiangular_16_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_equiangular_16_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
@@ -821,79 +1257,56 @@ metal::float3 airlight_equiangular_16_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_6 = rho_3 >= 0.0;
+            local_7 = rho_4 >= 0.0;
         } else {
-            local_6 = false;
+            local_7 = false;
         }
-        bool _e44 = local_6;
+        bool _e44 = local_7;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = metal::max((rho_3 - _e45) / _e47, 0.0);
+            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
         }
     }
-    uint2 loop_bound = uint2(4294967295u);
-    bool loop_init = true;
-    while(true) {
-        if (metal::all(loop_bound == uint2(0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e80 = c_2;
-            c_2 = as_type<int>(as_type<uint>(_e80) + as_type<uint>(1));
-        }
-        loop_init = false;
-        int _e54 = c_2;
-        if (_e54 < 3) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            float _e64 = airlight_equiangular_16_along(tau_2[_e57] * _e59, _e61, _e62, _e63, g_3);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[_e65] = (_e64 >= airlight_equiangular_16_HUGE) ? _e64 : ((_e64 * metal::exp(-(tau_2[_e67]) * _e70)) / _e74);
-        }
-    }
-    metal::float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    metal::float3 _e56 = airlight_equiangular_16_along_rgb(tau_2 * _e51, _e53, _e54, _e55, g_3);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return metal::select((_e56 * metal::exp(-(tau_2) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_equiangular_16_spot_edge(
     metal::float3 tau_3,
-    float h_4,
-    float x0_3,
+    float h_5,
+    float x0_4,
     float u,
     float v_in,
     float ca,
     float k_1,
-    float co_1,
+    float co_2,
     float ci,
     float g_4
 ) {
-    metal::float3 sum_1 = metal::float3(0.0);
+    metal::float3 sum_2 = metal::float3(0.0);
     float w = {};
-    metal::float2 sc_1 = {};
+    metal::float2 sc_2 = {};
     metal::float2 sb = {};
-    float d_3 = {};
-    float st_1 = {};
+    float d_4 = {};
+    float st_2 = {};
     if (!((v_in > u))) {
         return metal::float3(0.0);
     }
-    float half_1 = 0.5 * (v_in - u);
+    float half_2 = 0.5 * (v_in - u);
     float mid = 0.5 * (v_in + u);
-    float gm_1 = (1.0 - g_4) * (1.0 - g_4);
-    float gp_1 = (1.0 + g_4) * (1.0 + g_4);
-    w = mid + (half_1 * 0.96028984);
+    float gm_2 = (1.0 - g_4) * (1.0 - g_4);
+    float gp_2 = (1.0 + g_4) * (1.0 + g_4);
+    w = mid + (half_2 * 0.96028984);
     float _e41 = w;
     metal::float2 _e42 = airlight_equiangular_16_sin_cos(_e41);
-    sc_1 = _e42;
+    sc_2 = _e42;
     float _e43 = w;
     metal::float2 _e46 = airlight_equiangular_16_sin_cos(0.5 * _e43);
     sb = _e46;
@@ -901,21 +1314,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e59) * _e62)) : (gp_1 - (((4.0 * g_4) * _e50) * _e53));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e59) * _e62)) : (gp_2 - (((4.0 * g_4) * _e50) * _e53));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e79 = sum_1;
-    float _e81 = sc_1.x;
-    float _e84 = sc_1.y;
-    float _e95 = d_3;
-    float _e96 = d_3;
-    float _e101 = st_1;
-    sum_1 = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_3) * _e101));
-    w = mid + (half_1 * 0.7966665);
+    st_2 = metal::max(x0_4 + ((h_5 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e79 = sum_2;
+    float _e81 = sc_2.x;
+    float _e84 = sc_2.y;
+    float _e95 = d_4;
+    float _e96 = d_4;
+    float _e101 = st_2;
+    sum_2 = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_3) * _e101));
+    w = mid + (half_2 * 0.7966665);
     float _e109 = w;
     metal::float2 _e110 = airlight_equiangular_16_sin_cos(_e109);
-    sc_1 = _e110;
+    sc_2 = _e110;
     float _e111 = w;
     metal::float2 _e114 = airlight_equiangular_16_sin_cos(0.5 * _e111);
     sb = _e114;
@@ -923,21 +1336,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e127) * _e130)) : (gp_1 - (((4.0 * g_4) * _e118) * _e121));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e127) * _e130)) : (gp_2 - (((4.0 * g_4) * _e118) * _e121));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e147 = sum_1;
-    float _e149 = sc_1.x;
-    float _e152 = sc_1.y;
-    float _e163 = d_3;
-    float _e164 = d_3;
-    float _e169 = st_1;
-    sum_1 = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
-    w = mid + (half_1 * 0.5255324);
+    st_2 = metal::max(x0_4 + ((h_5 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e147 = sum_2;
+    float _e149 = sc_2.x;
+    float _e152 = sc_2.y;
+    float _e163 = d_4;
+    float _e164 = d_4;
+    float _e169 = st_2;
+    sum_2 = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
+    w = mid + (half_2 * 0.5255324);
     float _e177 = w;
     metal::float2 _e178 = airlight_equiangular_16_sin_cos(_e177);
-    sc_1 = _e178;
+    sc_2 = _e178;
     float _e179 = w;
     metal::float2 _e182 = airlight_equiangular_16_sin_cos(0.5 * _e179);
     sb = _e182;
@@ -945,21 +1358,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e195) * _e198)) : (gp_1 - (((4.0 * g_4) * _e186) * _e189));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e195) * _e198)) : (gp_2 - (((4.0 * g_4) * _e186) * _e189));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e215 = sum_1;
-    float _e217 = sc_1.x;
-    float _e220 = sc_1.y;
-    float _e231 = d_3;
-    float _e232 = d_3;
-    float _e237 = st_1;
-    sum_1 = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_3) * _e237));
-    w = mid + (half_1 * 0.18343464);
+    st_2 = metal::max(x0_4 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e215 = sum_2;
+    float _e217 = sc_2.x;
+    float _e220 = sc_2.y;
+    float _e231 = d_4;
+    float _e232 = d_4;
+    float _e237 = st_2;
+    sum_2 = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_3) * _e237));
+    w = mid + (half_2 * 0.18343464);
     float _e245 = w;
     metal::float2 _e246 = airlight_equiangular_16_sin_cos(_e245);
-    sc_1 = _e246;
+    sc_2 = _e246;
     float _e247 = w;
     metal::float2 _e250 = airlight_equiangular_16_sin_cos(0.5 * _e247);
     sb = _e250;
@@ -967,21 +1380,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e263) * _e266)) : (gp_1 - (((4.0 * g_4) * _e254) * _e257));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e263) * _e266)) : (gp_2 - (((4.0 * g_4) * _e254) * _e257));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e283 = sum_1;
-    float _e285 = sc_1.x;
-    float _e288 = sc_1.y;
-    float _e299 = d_3;
-    float _e300 = d_3;
-    float _e305 = st_1;
-    sum_1 = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_3) * _e305));
-    w = mid + (half_1 * -0.18343464);
+    st_2 = metal::max(x0_4 + ((h_5 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e283 = sum_2;
+    float _e285 = sc_2.x;
+    float _e288 = sc_2.y;
+    float _e299 = d_4;
+    float _e300 = d_4;
+    float _e305 = st_2;
+    sum_2 = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_3) * _e305));
+    w = mid + (half_2 * -0.18343464);
     float _e313 = w;
     metal::float2 _e314 = airlight_equiangular_16_sin_cos(_e313);
-    sc_1 = _e314;
+    sc_2 = _e314;
     float _e315 = w;
     metal::float2 _e318 = airlight_equiangular_16_sin_cos(0.5 * _e315);
     sb = _e318;
@@ -989,21 +1402,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e331) * _e334)) : (gp_1 - (((4.0 * g_4) * _e322) * _e325));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e331) * _e334)) : (gp_2 - (((4.0 * g_4) * _e322) * _e325));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e351 = sum_1;
-    float _e353 = sc_1.x;
-    float _e356 = sc_1.y;
-    float _e367 = d_3;
-    float _e368 = d_3;
-    float _e373 = st_1;
-    sum_1 = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
-    w = mid + (half_1 * -0.5255324);
+    st_2 = metal::max(x0_4 + ((h_5 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e351 = sum_2;
+    float _e353 = sc_2.x;
+    float _e356 = sc_2.y;
+    float _e367 = d_4;
+    float _e368 = d_4;
+    float _e373 = st_2;
+    sum_2 = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
+    w = mid + (half_2 * -0.5255324);
     float _e381 = w;
     metal::float2 _e382 = airlight_equiangular_16_sin_cos(_e381);
-    sc_1 = _e382;
+    sc_2 = _e382;
     float _e383 = w;
     metal::float2 _e386 = airlight_equiangular_16_sin_cos(0.5 * _e383);
     sb = _e386;
@@ -1011,21 +1424,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e399) * _e402)) : (gp_1 - (((4.0 * g_4) * _e390) * _e393));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e399) * _e402)) : (gp_2 - (((4.0 * g_4) * _e390) * _e393));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e419 = sum_1;
-    float _e421 = sc_1.x;
-    float _e424 = sc_1.y;
-    float _e435 = d_3;
-    float _e436 = d_3;
-    float _e441 = st_1;
-    sum_1 = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_3) * _e441));
-    w = mid + (half_1 * -0.7966665);
+    st_2 = metal::max(x0_4 + ((h_5 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e419 = sum_2;
+    float _e421 = sc_2.x;
+    float _e424 = sc_2.y;
+    float _e435 = d_4;
+    float _e436 = d_4;
+    float _e441 = st_2;
+    sum_2 = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_3) * _e441));
+    w = mid + (half_2 * -0.7966665);
     float _e449 = w;
     metal::float2 _e450 = airlight_equiangular_16_sin_cos(_e449);
-    sc_1 = _e450;
+    sc_2 = _e450;
     float _e451 = w;
     metal::float2 _e454 = airlight_equiangular_16_sin_cos(0.5 * _e451);
     sb = _e454;
@@ -1033,21 +1446,21 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e467) * _e470)) : (gp_1 - (((4.0 * g_4) * _e458) * _e461));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e467) * _e470)) : (gp_2 - (((4.0 * g_4) * _e458) * _e461));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e487 = sum_1;
-    float _e489 = sc_1.x;
-    float _e492 = sc_1.y;
-    float _e503 = d_3;
-    float _e504 = d_3;
-    float _e509 = st_1;
-    sum_1 = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_3) * _e509));
-    w = mid + (half_1 * -0.96028984);
+    st_2 = metal::max(x0_4 + ((h_5 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e487 = sum_2;
+    float _e489 = sc_2.x;
+    float _e492 = sc_2.y;
+    float _e503 = d_4;
+    float _e504 = d_4;
+    float _e509 = st_2;
+    sum_2 = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_3) * _e509));
+    w = mid + (half_2 * -0.96028984);
     float _e517 = w;
     metal::float2 _e518 = airlight_equiangular_16_sin_cos(_e517);
-    sc_1 = _e518;
+    sc_2 = _e518;
     float _e519 = w;
     metal::float2 _e522 = airlight_equiangular_16_sin_cos(0.5 * _e519);
     sb = _e522;
@@ -1055,30 +1468,30 @@ metal::float3 airlight_equiangular_16_spot_edge(
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_3 = (g_4 >= 0.0) ? (gm_1 + (((4.0 * g_4) * _e535) * _e538)) : (gp_1 - (((4.0 * g_4) * _e526) * _e529));
+    d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e535) * _e538)) : (gp_2 - (((4.0 * g_4) * _e526) * _e529));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st_1 = metal::max(x0_3 + ((h_4 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e555 = sum_1;
-    float _e557 = sc_1.x;
-    float _e560 = sc_1.y;
-    float _e571 = d_3;
-    float _e572 = d_3;
-    float _e577 = st_1;
-    sum_1 = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_3) * _e577));
-    metal::float3 _e593 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_1) / metal::max(h_4, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
+    st_2 = metal::max(x0_4 + ((h_5 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
+    metal::float3 _e555 = sum_2;
+    float _e557 = sc_2.x;
+    float _e560 = sc_2.y;
+    float _e571 = d_4;
+    float _e572 = d_4;
+    float _e577 = st_2;
+    sum_2 = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co_2) / (ci - co_2), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_3) * _e577));
+    metal::float3 _e593 = sum_2;
+    return metal::min(((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * half_2) / metal::max(h_5, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_spot_weight(
-    float c_3,
-    float co_2,
+    float c_2,
+    float co_3,
     float ci_1
 ) {
-    if (ci_1 > co_2) {
-        return metal::clamp((c_3 - co_2) / (ci_1 - co_2), 0.0, 1.0);
+    if (ci_1 > co_3) {
+        return metal::clamp((c_2 - co_3) / (ci_1 - co_3), 0.0, 1.0);
     }
-    return (c_3 >= co_2) ? 1.0 : 0.0;
+    return (c_2 >= co_3) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_equiangular_16_spot(
@@ -1094,35 +1507,34 @@ metal::float3 airlight_equiangular_16_spot(
     metal::float3 sigma_s_2,
     float g_5
 ) {
-    bool local_7 = {};
     bool local_8 = {};
+    bool local_9 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_9 = {};
-    float scale = 1.0;
     bool local_10 = {};
+    float scale = 1.0;
     bool local_11 = {};
-    metal::float3 a_5 = metal::float3(0.0);
     bool local_12 = {};
+    metal::float3 a_5 = metal::float3(0.0);
     bool local_13 = {};
-    int c_4 = 0;
+    bool local_14 = {};
     metal::float3 _e11 = airlight_equiangular_16_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
-    float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
+    float co_4 = metal::clamp(cos_outer, 0.0, 1.0);
     float _e17 = airlight_equiangular_16_max_abs(dir_2);
     float _e18 = airlight_equiangular_16_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_8 = _e18 <= airlight_equiangular_16_HUGE;
+            local_9 = _e18 <= airlight_equiangular_16_HUGE;
         } else {
-            local_8 = false;
+            local_9 = false;
         }
-        bool _e29 = local_8;
-        local_7 = !(_e29);
+        bool _e29 = local_9;
+        local_8 = !(_e29);
     } else {
-        local_7 = false;
+        local_8 = false;
     }
-    bool _e32 = local_7;
+    bool _e32 = local_8;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1132,11 +1544,11 @@ metal::float3 airlight_equiangular_16_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_9 = _e17 <= airlight_equiangular_16_HUGE;
+        local_10 = _e17 <= airlight_equiangular_16_HUGE;
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e53 = local_9;
+    bool _e53 = local_10;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1144,7 +1556,7 @@ metal::float3 airlight_equiangular_16_spot(
     metal::float3 _e58 = n;
     float k_2 = metal::dot(_e57, _e58);
     if (_e11.x <= 0.0) {
-        float _e65 = airlight_equiangular_16_spot_weight(k_2, co_3, cos_inner);
+        float _e65 = airlight_equiangular_16_spot_weight(k_2, co_4, cos_inner);
         scale = point ? 1.0 : _e65;
         float _e69 = scale;
         float _e73 = airlight_equiangular_16_scaled(sigma_s_2.x, intensity_2 * _e69, 1.0, airlight_equiangular_16_HUGE);
@@ -1155,118 +1567,98 @@ metal::float3 airlight_equiangular_16_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_10 = _e11.z == 0.0;
-    } else {
-        local_10 = false;
-    }
-    bool _e96 = local_10;
-    if (_e96) {
-        return metal::float3(0.0);
-    }
-    float d_4 = _e11.x;
-    float h_5 = _e11.y;
-    float x0_5 = _e11.z;
-    if (surface_1 >= 0.0) {
-        local_11 = (surface_1 / d_4) < airlight_equiangular_16_RHO_OPEN;
+        local_11 = _e11.z == 0.0;
     } else {
         local_11 = false;
     }
-    bool has_end = local_11;
-    float rho_5 = has_end ? (surface_1 / d_4) : -1.0;
-    metal::float3 tau_5 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
+    bool _e96 = local_11;
+    if (_e96) {
+        return metal::float3(0.0);
+    }
+    float d_5 = _e11.x;
+    float h_6 = _e11.y;
+    float x0_6 = _e11.z;
+    if (surface_1 >= 0.0) {
+        local_12 = (surface_1 / d_5) < airlight_equiangular_16_RHO_OPEN;
+    } else {
+        local_12 = false;
+    }
+    bool has_end = local_12;
+    float rho_6 = has_end ? (surface_1 / d_5) : -1.0;
+    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_5, -0.999, 0.999);
     if (!(point)) {
-        local_12 = h_5 <= 0.0;
+        local_13 = h_6 <= 0.0;
     } else {
-        local_12 = true;
+        local_13 = true;
     }
-    bool _e133 = local_12;
+    bool _e133 = local_13;
     if (_e133) {
         if (!(point)) {
-            float _e136 = airlight_equiangular_16_spot_weight(-(k_2), co_3, cos_inner);
-            float _e137 = airlight_equiangular_16_spot_weight(k_2, co_3, cos_inner);
+            float _e136 = airlight_equiangular_16_spot_weight(-(k_2), co_4, cos_inner);
+            float _e137 = airlight_equiangular_16_spot_weight(k_2, co_4, cos_inner);
             if (has_end) {
-                local_13 = rho_5 < 1.0;
+                local_14 = rho_6 < 1.0;
             } else {
-                local_13 = false;
+                local_14 = false;
             }
-            bool _e144 = local_13;
-            scale = (x0_5 < 0.0) ? _e137 : (_e144 ? _e136 : metal::max(_e136, _e137));
+            bool _e144 = local_14;
+            scale = (x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : metal::max(_e136, _e137));
         }
-        uint2 loop_bound_1 = uint2(4294967295u);
-        bool loop_init_1 = true;
-        while(true) {
-            if (metal::all(loop_bound_1 == uint2(0u))) { break; }
-            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-            if (!loop_init_1) {
-                int _e160 = c_4;
-                c_4 = as_type<int>(as_type<uint>(_e160) + as_type<uint>(1));
-            }
-            loop_init_1 = false;
-            int _e151 = c_4;
-            if (_e151 < 3) {
-            } else {
-                break;
-            }
-            {
-                int _e154 = c_4;
-                int _e156 = c_4;
-                float _e158 = airlight_equiangular_16_along(tau_5[_e156], h_5, x0_5, rho_5, gg);
-                a_5[_e154] = _e158;
-            }
-        }
+        metal::float3 _e149 = airlight_equiangular_16_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
+        a_5 = _e149;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e163 = airlight_equiangular_16_max_abs(l);
-        metal::float3 _e166 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e163), _e166);
-        metal::float3 _e168 = n;
-        metal::float3 _e169 = ax;
-        float ca_1 = metal::dot(cr, metal::cross(_e168, _e169)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e151 = airlight_equiangular_16_max_abs(l);
+        metal::float3 _e154 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e151), _e154);
+        metal::float3 _e156 = n;
+        metal::float3 _e157 = ax;
+        float ca_1 = metal::dot(cr, metal::cross(_e156, _e157)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float r_4 = metal::sqrt((ca_1 * ca_1) + (k_2 * k_2));
-        float _e180 = airlight_equiangular_16_arctan2_(k_2, ca_1);
-        float _e181 = airlight_equiangular_16_arctan2_(h_5, x0_5);
-        float _e184 = airlight_equiangular_16_arctan2_(h_5, x0_5 - rho_5);
-        float om_e = has_end ? _e184 : airlight_equiangular_16_PI;
-        if (co_3 < r_4) {
-            float _e187 = airlight_equiangular_16_spot_asin(co_3, r_4);
-            float lo = metal::max(_e181, _e180 + _e187);
-            float hi_1 = metal::min(om_e, (_e180 + airlight_equiangular_16_PI) - _e187);
+        float _e168 = airlight_equiangular_16_arctan2_(k_2, ca_1);
+        float _e169 = airlight_equiangular_16_arctan2_(h_6, x0_6);
+        float _e172 = airlight_equiangular_16_arctan2_(h_6, x0_6 - rho_6);
+        float om_e = has_end ? _e172 : airlight_equiangular_16_PI;
+        if (co_4 < r_4) {
+            float _e175 = airlight_equiangular_16_spot_asin(co_4, r_4);
+            float lo = metal::max(_e169, _e168 + _e175);
+            float hi_1 = metal::min(om_e, (_e168 + airlight_equiangular_16_PI) - _e175);
             if (lo < hi_1) {
-                if (cos_inner <= co_3) {
-                    metal::float3 _e198 = airlight_equiangular_16_spot_core(tau_5, h_5, x0_5, rho_5, _e181, lo, hi_1, lo > _e181, hi_1 < om_e, gg);
-                    a_5 = _e198;
+                if (cos_inner <= co_4) {
+                    metal::float3 _e186 = airlight_equiangular_16_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, lo > _e169, hi_1 < om_e, gg);
+                    a_5 = _e186;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e200 = airlight_equiangular_16_spot_asin(cos_inner, r_4);
-                        float li = metal::max(_e181, _e180 + _e200);
-                        float hj = metal::min(om_e, (_e180 + airlight_equiangular_16_PI) - _e200);
+                        float _e188 = airlight_equiangular_16_spot_asin(cos_inner, r_4);
+                        float li = metal::max(_e169, _e168 + _e188);
+                        float hj = metal::min(om_e, (_e168 + airlight_equiangular_16_PI) - _e188);
                         if (li < hj) {
-                            metal::float3 _e210 = airlight_equiangular_16_spot_core(tau_5, h_5, x0_5, rho_5, _e181, li, hj, li > _e181, hj < om_e, gg);
-                            a_5 = _e210;
+                            metal::float3 _e198 = airlight_equiangular_16_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, li > _e169, hj < om_e, gg);
+                            a_5 = _e198;
                         }
-                        metal::float3 _e211 = a_5;
-                        metal::float3 _e214 = airlight_equiangular_16_spot_edge(tau_5, h_5, x0_5, lo, metal::min(hi_1, _e180 + _e200), ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = _e211 + _e214;
-                        metal::float3 _e216 = a_5;
-                        metal::float3 _e221 = airlight_equiangular_16_spot_edge(tau_5, h_5, x0_5, metal::max(lo, (_e180 + airlight_equiangular_16_PI) - _e200), hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = _e216 + _e221;
+                        metal::float3 _e199 = a_5;
+                        metal::float3 _e202 = airlight_equiangular_16_spot_edge(tau_6, h_6, x0_6, lo, metal::min(hi_1, _e168 + _e188), ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = _e199 + _e202;
+                        metal::float3 _e204 = a_5;
+                        metal::float3 _e209 = airlight_equiangular_16_spot_edge(tau_6, h_6, x0_6, metal::max(lo, (_e168 + airlight_equiangular_16_PI) - _e188), hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = _e204 + _e209;
                     } else {
-                        metal::float3 _e223 = airlight_equiangular_16_spot_edge(tau_5, h_5, x0_5, lo, hi_1, ca_1, k_2, co_3, cos_inner, gg);
-                        a_5 = _e223;
+                        metal::float3 _e211 = airlight_equiangular_16_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_2, co_4, cos_inner, gg);
+                        a_5 = _e211;
                     }
                 }
             }
         }
     }
+    float _e213 = scale;
+    float _e216 = a_5.x;
+    float _e217 = airlight_equiangular_16_scaled(sigma_s_2.x, intensity_2 * _e213, d_5, _e216);
+    float _e219 = scale;
+    float _e222 = a_5.y;
+    float _e223 = airlight_equiangular_16_scaled(sigma_s_2.y, intensity_2 * _e219, d_5, _e222);
     float _e225 = scale;
-    float _e228 = a_5.x;
-    float _e229 = airlight_equiangular_16_scaled(sigma_s_2.x, intensity_2 * _e225, d_4, _e228);
-    float _e231 = scale;
-    float _e234 = a_5.y;
-    float _e235 = airlight_equiangular_16_scaled(sigma_s_2.y, intensity_2 * _e231, d_4, _e234);
-    float _e237 = scale;
-    float _e240 = a_5.z;
-    float _e241 = airlight_equiangular_16_scaled(sigma_s_2.z, intensity_2 * _e237, d_4, _e240);
-    return metal::float3(_e229, _e235, _e241);
+    float _e228 = a_5.z;
+    float _e229 = airlight_equiangular_16_scaled(sigma_s_2.z, intensity_2 * _e225, d_5, _e228);
+    return metal::float3(_e217, _e223, _e229);
 }

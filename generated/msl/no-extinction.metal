@@ -136,14 +136,14 @@ metal::float3 airlight_no_extinction_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_4 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h;
     float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_4 * x0_4));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
     metal::float3 _e93 = airlight_no_extinction_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_no_extinction_HUGE), _e97 / n_1, x0_4 / n_1);
+    return metal::float3(metal::min(dist, airlight_no_extinction_HUGE), _e97 / n_1, x0_5 / n_1);
 }
 
 float airlight_no_extinction_scaled(
@@ -239,8 +239,8 @@ metal::float2 airlight_no_extinction_sin_cos_octant(
 ) {
     float z_1 = x_2 * x_2;
     float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
-    float c_5 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_5);
+    float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
+    return metal::float2(s_2, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -262,20 +262,20 @@ metal::float2 airlight_no_extinction_sin_cos(
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
     float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
-    float c_6 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
+    float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_6);
+            return metal::float2(s_3, c_4);
         }
         case 1: {
-            return metal::float2(c_6, -(s_3));
+            return metal::float2(c_4, -(s_3));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_6));
+            return metal::float2(-(s_3), -(c_4));
         }
         default: {
-            return metal::float2(-(c_6), s_3);
+            return metal::float2(-(c_4), s_3);
         }
     }
 }
@@ -356,8 +356,8 @@ float airlight_no_extinction_radiance(
     if (_e22) {
         return 0.0;
     }
-    float rho_4 = (surface >= 0.0) ? (surface / _e6.x) : -1.0;
-    float _e33 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_4);
+    float rho_5 = (surface >= 0.0) ? (surface / _e6.x) : -1.0;
+    float _e33 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_5);
     float _e34 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, _e6.x, _e33);
     return _e34;
 }
@@ -373,6 +373,19 @@ float airlight_no_extinction_along(
     return _e5;
 }
 
+metal::float3 airlight_no_extinction_along_rgb(
+    metal::float3 tau_1,
+    float h_3,
+    float x0_2,
+    float rho_3,
+    float g_1
+) {
+    float _e6 = airlight_no_extinction_along(tau_1.x, h_3, x0_2, rho_3, g_1);
+    float _e8 = airlight_no_extinction_along(tau_1.y, h_3, x0_2, rho_3, g_1);
+    float _e10 = airlight_no_extinction_along(tau_1.z, h_3, x0_2, rho_3, g_1);
+    return metal::float3(_e6, _e8, _e10);
+}
+
 float airlight_no_extinction_spot_asin(
     float x_4,
     float r_1
@@ -382,16 +395,16 @@ float airlight_no_extinction_spot_asin(
 }
 
 metal::float3 airlight_no_extinction_spot_core(
-    metal::float3 tau_1,
-    float h_3,
-    float x0_2,
-    float rho_3,
+    metal::float3 tau_2,
+    float h_4,
+    float x0_3,
+    float rho_4,
     float gam,
     float wa,
     float wb,
     bool cut_a,
     bool cut_b,
-    float g_1
+    float g_2
 ) {
     float h1_ = {};
     float x1_ = {};
@@ -399,16 +412,14 @@ metal::float3 airlight_no_extinction_spot_core(
     float s0_ = 0.0;
     float rho1_ = {};
     bool local_8 = {};
-    metal::float3 res = {};
-    int c_2 = 0;
-    h1_ = h_3;
-    x1_ = x0_2;
-    rho1_ = rho_3;
+    h1_ = h_4;
+    x1_ = x0_3;
+    rho1_ = rho_4;
     metal::float2 _e17 = airlight_no_extinction_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_no_extinction_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
@@ -418,7 +429,7 @@ metal::float3 airlight_no_extinction_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_8 = rho_3 >= 0.0;
+            local_8 = rho_4 >= 0.0;
         } else {
             local_8 = false;
         }
@@ -426,53 +437,30 @@ metal::float3 airlight_no_extinction_spot_core(
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = metal::max((rho_3 - _e45) / _e47, 0.0);
+            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
         }
     }
-    uint2 loop_bound = uint2(4294967295u);
-    bool loop_init = true;
-    while(true) {
-        if (metal::all(loop_bound == uint2(0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e80 = c_2;
-            c_2 = as_type<int>(as_type<uint>(_e80) + as_type<uint>(1));
-        }
-        loop_init = false;
-        int _e54 = c_2;
-        if (_e54 < 3) {
-        } else {
-            break;
-        }
-        {
-            int _e57 = c_2;
-            float _e59 = t0_;
-            float _e61 = h1_;
-            float _e62 = x1_;
-            float _e63 = rho1_;
-            float _e64 = airlight_no_extinction_along(tau_1[_e57] * _e59, _e61, _e62, _e63, g_1);
-            int _e65 = c_2;
-            int _e67 = c_2;
-            float _e70 = s0_;
-            float _e74 = t0_;
-            res[_e65] = (_e64 >= airlight_no_extinction_HUGE) ? _e64 : ((_e64 * metal::exp(-(tau_1[_e67]) * _e70)) / _e74);
-        }
-    }
-    metal::float3 _e82 = res;
-    return _e82;
+    float _e51 = t0_;
+    float _e53 = h1_;
+    float _e54 = x1_;
+    float _e55 = rho1_;
+    metal::float3 _e56 = airlight_no_extinction_along_rgb(tau_2 * _e51, _e53, _e54, _e55, g_2);
+    float _e58 = s0_;
+    float _e62 = t0_;
+    return metal::select((_e56 * metal::exp(-(tau_2) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_no_extinction_spot_edge(
-    metal::float3 tau_2,
-    float h_4,
-    float x0_3,
+    metal::float3 tau_3,
+    float h_5,
+    float x0_4,
     float u,
     float v_in,
     float ca,
     float k_1,
     float co,
     float ci,
-    float g_2
+    float g_3
 ) {
     metal::float3 sum = metal::float3(0.0);
     float w = {};
@@ -485,8 +473,8 @@ metal::float3 airlight_no_extinction_spot_edge(
     }
     float half_ = 0.5 * (v_in - u);
     float mid = 0.5 * (v_in + u);
-    float gm = (1.0 - g_2) * (1.0 - g_2);
-    float gp = (1.0 + g_2) * (1.0 + g_2);
+    float gm = (1.0 - g_3) * (1.0 - g_3);
+    float gp = (1.0 + g_3) * (1.0 + g_3);
     w = mid + (half_ * 0.96028984);
     float _e41 = w;
     metal::float2 _e42 = airlight_no_extinction_sin_cos(_e41);
@@ -498,17 +486,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e53 = sb.y;
     float _e59 = sb.x;
     float _e62 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e59) * _e62)) : (gp - (((4.0 * g_2) * _e50) * _e53));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e59) * _e62)) : (gp - (((4.0 * g_3) * _e50) * _e53));
     float _e69 = sb.x;
     float _e72 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e79 = sum;
     float _e81 = sc.x;
     float _e84 = sc.y;
     float _e95 = d_2;
     float _e96 = d_2;
     float _e101 = st;
-    sum = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_2) * _e101));
+    sum = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_3) * _e101));
     w = mid + (half_ * 0.7966665);
     float _e109 = w;
     metal::float2 _e110 = airlight_no_extinction_sin_cos(_e109);
@@ -520,17 +508,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e121 = sb.y;
     float _e127 = sb.x;
     float _e130 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e127) * _e130)) : (gp - (((4.0 * g_2) * _e118) * _e121));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e127) * _e130)) : (gp - (((4.0 * g_3) * _e118) * _e121));
     float _e137 = sb.x;
     float _e140 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e147 = sum;
     float _e149 = sc.x;
     float _e152 = sc.y;
     float _e163 = d_2;
     float _e164 = d_2;
     float _e169 = st;
-    sum = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_2) * _e169));
+    sum = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
     w = mid + (half_ * 0.5255324);
     float _e177 = w;
     metal::float2 _e178 = airlight_no_extinction_sin_cos(_e177);
@@ -542,17 +530,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e189 = sb.y;
     float _e195 = sb.x;
     float _e198 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e195) * _e198)) : (gp - (((4.0 * g_2) * _e186) * _e189));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
     float _e205 = sb.x;
     float _e208 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e215 = sum;
     float _e217 = sc.x;
     float _e220 = sc.y;
     float _e231 = d_2;
     float _e232 = d_2;
     float _e237 = st;
-    sum = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_2) * _e237));
+    sum = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_3) * _e237));
     w = mid + (half_ * 0.18343464);
     float _e245 = w;
     metal::float2 _e246 = airlight_no_extinction_sin_cos(_e245);
@@ -564,17 +552,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e257 = sb.y;
     float _e263 = sb.x;
     float _e266 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e263) * _e266)) : (gp - (((4.0 * g_2) * _e254) * _e257));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e263) * _e266)) : (gp - (((4.0 * g_3) * _e254) * _e257));
     float _e273 = sb.x;
     float _e276 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e283 = sum;
     float _e285 = sc.x;
     float _e288 = sc.y;
     float _e299 = d_2;
     float _e300 = d_2;
     float _e305 = st;
-    sum = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_2) * _e305));
+    sum = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_3) * _e305));
     w = mid + (half_ * -0.18343464);
     float _e313 = w;
     metal::float2 _e314 = airlight_no_extinction_sin_cos(_e313);
@@ -586,17 +574,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e325 = sb.y;
     float _e331 = sb.x;
     float _e334 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e331) * _e334)) : (gp - (((4.0 * g_2) * _e322) * _e325));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e331) * _e334)) : (gp - (((4.0 * g_3) * _e322) * _e325));
     float _e341 = sb.x;
     float _e344 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e351 = sum;
     float _e353 = sc.x;
     float _e356 = sc.y;
     float _e367 = d_2;
     float _e368 = d_2;
     float _e373 = st;
-    sum = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_2) * _e373));
+    sum = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
     w = mid + (half_ * -0.5255324);
     float _e381 = w;
     metal::float2 _e382 = airlight_no_extinction_sin_cos(_e381);
@@ -608,17 +596,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e393 = sb.y;
     float _e399 = sb.x;
     float _e402 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e399) * _e402)) : (gp - (((4.0 * g_2) * _e390) * _e393));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e399) * _e402)) : (gp - (((4.0 * g_3) * _e390) * _e393));
     float _e409 = sb.x;
     float _e412 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e419 = sum;
     float _e421 = sc.x;
     float _e424 = sc.y;
     float _e435 = d_2;
     float _e436 = d_2;
     float _e441 = st;
-    sum = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_2) * _e441));
+    sum = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_3) * _e441));
     w = mid + (half_ * -0.7966665);
     float _e449 = w;
     metal::float2 _e450 = airlight_no_extinction_sin_cos(_e449);
@@ -630,17 +618,17 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e461 = sb.y;
     float _e467 = sb.x;
     float _e470 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e467) * _e470)) : (gp - (((4.0 * g_2) * _e458) * _e461));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e467) * _e470)) : (gp - (((4.0 * g_3) * _e458) * _e461));
     float _e477 = sb.x;
     float _e480 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e487 = sum;
     float _e489 = sc.x;
     float _e492 = sc.y;
     float _e503 = d_2;
     float _e504 = d_2;
     float _e509 = st;
-    sum = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_2) * _e509));
+    sum = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_3) * _e509));
     w = mid + (half_ * -0.96028984);
     float _e517 = w;
     metal::float2 _e518 = airlight_no_extinction_sin_cos(_e517);
@@ -652,30 +640,30 @@ metal::float3 airlight_no_extinction_spot_edge(
     float _e529 = sb.y;
     float _e535 = sb.x;
     float _e538 = sb.x;
-    d_2 = (g_2 >= 0.0) ? (gm + (((4.0 * g_2) * _e535) * _e538)) : (gp - (((4.0 * g_2) * _e526) * _e529));
+    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e535) * _e538)) : (gp - (((4.0 * g_3) * _e526) * _e529));
     float _e545 = sb.x;
     float _e548 = sb.y;
-    st = metal::max(x0_3 + ((h_4 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
+    st = metal::max(x0_4 + ((h_5 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
     metal::float3 _e555 = sum;
     float _e557 = sc.x;
     float _e560 = sc.y;
     float _e571 = d_2;
     float _e572 = d_2;
     float _e577 = st;
-    sum = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_2) * _e577));
+    sum = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_3) * _e577));
     metal::float3 _e593 = sum;
-    return metal::min(((((0.07957747 * (1.0 - g_2)) * (1.0 + g_2)) * half_) / metal::max(h_4, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * half_) / metal::max(h_5, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_no_extinction_spot_weight(
-    float c_3,
+    float c_2,
     float co_1,
     float ci_1
 ) {
     if (ci_1 > co_1) {
-        return metal::clamp((c_3 - co_1) / (ci_1 - co_1), 0.0, 1.0);
+        return metal::clamp((c_2 - co_1) / (ci_1 - co_1), 0.0, 1.0);
     }
-    return (c_3 >= co_1) ? 1.0 : 0.0;
+    return (c_2 >= co_1) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_no_extinction_spot(
@@ -700,7 +688,6 @@ metal::float3 airlight_no_extinction_spot(
     metal::float3 a_5 = metal::float3(0.0);
     bool local_14 = {};
     bool local_15 = {};
-    int c_4 = 0;
     metal::float3 _e9 = airlight_no_extinction_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
     float co_2 = metal::clamp(cos_outer, 0.0, 1.0);
@@ -759,18 +746,18 @@ metal::float3 airlight_no_extinction_spot(
         return metal::float3(0.0);
     }
     float d_3 = _e9.x;
-    float h_5 = _e9.y;
-    float x0_5 = _e9.z;
+    float h_6 = _e9.y;
+    float x0_6 = _e9.z;
     if (surface_1 >= 0.0) {
         local_13 = (surface_1 / d_3) < airlight_no_extinction_RHO_OPEN;
     } else {
         local_13 = false;
     }
     bool has_end = local_13;
-    float rho_5 = has_end ? (surface_1 / d_3) : -1.0;
-    metal::float3 tau_3 = metal::float3(0.0);
+    float rho_6 = has_end ? (surface_1 / d_3) : -1.0;
+    metal::float3 tau_4 = metal::float3(0.0);
     if (!(point)) {
-        local_14 = h_5 <= 0.0;
+        local_14 = h_6 <= 0.0;
     } else {
         local_14 = true;
     }
@@ -780,87 +767,67 @@ metal::float3 airlight_no_extinction_spot(
             float _e127 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
             float _e128 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_15 = rho_5 < 1.0;
+                local_15 = rho_6 < 1.0;
             } else {
                 local_15 = false;
             }
             bool _e135 = local_15;
-            scale = (x0_5 < 0.0) ? _e128 : (_e135 ? _e127 : metal::max(_e127, _e128));
+            scale = (x0_6 < 0.0) ? _e128 : (_e135 ? _e127 : metal::max(_e127, _e128));
         }
-        uint2 loop_bound_1 = uint2(4294967295u);
-        bool loop_init_1 = true;
-        while(true) {
-            if (metal::all(loop_bound_1 == uint2(0u))) { break; }
-            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-            if (!loop_init_1) {
-                int _e151 = c_4;
-                c_4 = as_type<int>(as_type<uint>(_e151) + as_type<uint>(1));
-            }
-            loop_init_1 = false;
-            int _e142 = c_4;
-            if (_e142 < 3) {
-            } else {
-                break;
-            }
-            {
-                int _e145 = c_4;
-                int _e147 = c_4;
-                float _e149 = airlight_no_extinction_along(tau_3[_e147], h_5, x0_5, rho_5, 0.0);
-                a_5[_e145] = _e149;
-            }
-        }
+        metal::float3 _e140 = airlight_no_extinction_along_rgb(tau_4, h_6, x0_6, rho_6, 0.0);
+        a_5 = _e140;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e154 = airlight_no_extinction_max_abs(l);
-        metal::float3 _e157 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e154), _e157);
-        metal::float3 _e159 = n;
-        metal::float3 _e160 = ax;
-        float ca_1 = metal::dot(cr, metal::cross(_e159, _e160)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e142 = airlight_no_extinction_max_abs(l);
+        metal::float3 _e145 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e142), _e145);
+        metal::float3 _e147 = n;
+        metal::float3 _e148 = ax;
+        float ca_1 = metal::dot(cr, metal::cross(_e147, _e148)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float r_4 = metal::sqrt((ca_1 * ca_1) + (k_2 * k_2));
-        float _e171 = airlight_no_extinction_arctan2_(k_2, ca_1);
-        float _e172 = airlight_no_extinction_arctan2_(h_5, x0_5);
-        float _e175 = airlight_no_extinction_arctan2_(h_5, x0_5 - rho_5);
-        float om_e = has_end ? _e175 : airlight_no_extinction_PI;
+        float _e159 = airlight_no_extinction_arctan2_(k_2, ca_1);
+        float _e160 = airlight_no_extinction_arctan2_(h_6, x0_6);
+        float _e163 = airlight_no_extinction_arctan2_(h_6, x0_6 - rho_6);
+        float om_e = has_end ? _e163 : airlight_no_extinction_PI;
         if (co_2 < r_4) {
-            float _e178 = airlight_no_extinction_spot_asin(co_2, r_4);
-            float lo = metal::max(_e172, _e171 + _e178);
-            float hi_1 = metal::min(om_e, (_e171 + airlight_no_extinction_PI) - _e178);
+            float _e166 = airlight_no_extinction_spot_asin(co_2, r_4);
+            float lo = metal::max(_e160, _e159 + _e166);
+            float hi_1 = metal::min(om_e, (_e159 + airlight_no_extinction_PI) - _e166);
             if (lo < hi_1) {
                 if (cos_inner <= co_2) {
-                    metal::float3 _e189 = airlight_no_extinction_spot_core(tau_3, h_5, x0_5, rho_5, _e172, lo, hi_1, lo > _e172, hi_1 < om_e, 0.0);
-                    a_5 = _e189;
+                    metal::float3 _e177 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, lo, hi_1, lo > _e160, hi_1 < om_e, 0.0);
+                    a_5 = _e177;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e191 = airlight_no_extinction_spot_asin(cos_inner, r_4);
-                        float li = metal::max(_e172, _e171 + _e191);
-                        float hj = metal::min(om_e, (_e171 + airlight_no_extinction_PI) - _e191);
+                        float _e179 = airlight_no_extinction_spot_asin(cos_inner, r_4);
+                        float li = metal::max(_e160, _e159 + _e179);
+                        float hj = metal::min(om_e, (_e159 + airlight_no_extinction_PI) - _e179);
                         if (li < hj) {
-                            metal::float3 _e201 = airlight_no_extinction_spot_core(tau_3, h_5, x0_5, rho_5, _e172, li, hj, li > _e172, hj < om_e, 0.0);
-                            a_5 = _e201;
+                            metal::float3 _e189 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, li, hj, li > _e160, hj < om_e, 0.0);
+                            a_5 = _e189;
                         }
-                        metal::float3 _e202 = a_5;
-                        metal::float3 _e205 = airlight_no_extinction_spot_edge(tau_3, h_5, x0_5, lo, metal::min(hi_1, _e171 + _e191), ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e202 + _e205;
-                        metal::float3 _e207 = a_5;
-                        metal::float3 _e212 = airlight_no_extinction_spot_edge(tau_3, h_5, x0_5, metal::max(lo, (_e171 + airlight_no_extinction_PI) - _e191), hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e207 + _e212;
+                        metal::float3 _e190 = a_5;
+                        metal::float3 _e193 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, metal::min(hi_1, _e159 + _e179), ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_5 = _e190 + _e193;
+                        metal::float3 _e195 = a_5;
+                        metal::float3 _e200 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, metal::max(lo, (_e159 + airlight_no_extinction_PI) - _e179), hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_5 = _e195 + _e200;
                     } else {
-                        metal::float3 _e214 = airlight_no_extinction_spot_edge(tau_3, h_5, x0_5, lo, hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e214;
+                        metal::float3 _e202 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
+                        a_5 = _e202;
                     }
                 }
             }
         }
     }
+    float _e204 = scale;
+    float _e207 = a_5.x;
+    float _e208 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e204, d_3, _e207);
+    float _e210 = scale;
+    float _e213 = a_5.y;
+    float _e214 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e210, d_3, _e213);
     float _e216 = scale;
-    float _e219 = a_5.x;
-    float _e220 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e216, d_3, _e219);
-    float _e222 = scale;
-    float _e225 = a_5.y;
-    float _e226 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e222, d_3, _e225);
-    float _e228 = scale;
-    float _e231 = a_5.z;
-    float _e232 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e228, d_3, _e231);
-    return metal::float3(_e220, _e226, _e232);
+    float _e219 = a_5.z;
+    float _e220 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e216, d_3, _e219);
+    return metal::float3(_e208, _e214, _e220);
 }

@@ -270,6 +270,68 @@ fn airlight_equiangular_4_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma:
     return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / max(h, 1e-30), airlight_equiangular_4_HUGE);
 }
 
+/// The same for three channels' tau at once (the spot entry): the nodes, their
+/// geometry and phase values are shared; each channel pays its transmittances.
+fn airlight_equiangular_4_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> vec3<f32> {
+    let tau = min(max(tau_in, vec3<f32>(0.0)), vec3<f32>(airlight_equiangular_4_TAU_MAX));
+    let g = clamp(g_in, -0.999, 0.999);
+    let gm = (1.0 - g) * (1.0 - g);
+    let gp = (1.0 + g) * (1.0 + g);
+    var span = comp;
+    if rho >= 0.0 && rho < airlight_equiangular_4_RHO_OPEN {
+        span = airlight_equiangular_4_arctan2(h * rho, 1.0 - x0 * rho);
+    }
+    let half = 0.5 * span;
+    var sum = vec3<f32>(0.0);
+    var sc: vec2<f32>;
+    var b: f32;
+    var co: f32;
+    var st: f32;
+    var d: f32;
+    // Node 1: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half * (1.0 + 8.61136317e-1);
+    co = 0.5 * comp - 0.5 * half * (1.0 + 8.61136317e-1);
+    sc = airlight_equiangular_4_sin_cos(max(min(b, co), 0.0));
+    if b > co {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
+    sum += 3.47854853e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 2: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half * (1.0 + 3.39981049e-1);
+    co = 0.5 * comp - 0.5 * half * (1.0 + 3.39981049e-1);
+    sc = airlight_equiangular_4_sin_cos(max(min(b, co), 0.0));
+    if b > co {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
+    sum += 6.52145147e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 3: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half * (1.0 + -3.39981049e-1);
+    co = 0.5 * comp - 0.5 * half * (1.0 + -3.39981049e-1);
+    sc = airlight_equiangular_4_sin_cos(max(min(b, co), 0.0));
+    if b > co {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
+    sum += 6.52145147e-1 * exp(-tau * st) / (d * sqrt(d));
+    // Node 4: beta = alpha / 2; s + t >= 1 keeps rounding from raising the transmittance.
+    b = 0.5 * gamma + 0.5 * half * (1.0 + -8.61136317e-1);
+    co = 0.5 * comp - 0.5 * half * (1.0 + -8.61136317e-1);
+    sc = airlight_equiangular_4_sin_cos(max(min(b, co), 0.0));
+    if b > co {
+        sc = sc.yx;
+    }
+    st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
+    d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
+    sum += 3.47854853e-1 * exp(-tau * st) / (d * sqrt(d));
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / max(h, 1e-30), vec3<f32>(airlight_equiangular_4_HUGE));
+}
+
+
 /// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
 fn airlight_equiangular_4_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let gc = clamp(gamma, 0.0, airlight_equiangular_4_PI);
@@ -295,9 +357,10 @@ fn airlight_equiangular_4_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f
     return airlight_equiangular_4_scaled(sigma_s, intensity, geo.x, airlight_equiangular_4_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn airlight_equiangular_4_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_equiangular_4_airlight_geometry(tau, h, x0, airlight_equiangular_4_arctan2(h, x0), airlight_equiangular_4_arctan2(h, -x0), rho, g);
+/// A from the unit geometry (h = sin(gamma) >= 0, x0 = cos(gamma), rho negative: none) for
+/// three channels' tau, its nodes shared: the core the spot entry calls.
+fn airlight_equiangular_4_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
+    return airlight_equiangular_4_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_4_arctan2(h, x0), airlight_equiangular_4_arctan2(h, -x0), rho, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -340,12 +403,8 @@ fn airlight_equiangular_4_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
     }
-    var res: vec3<f32>;
-    for (var c = 0; c < 3; c++) {
-        let a = airlight_equiangular_4_along(tau[c] * t0, h1, x1, rho1, g);
-        res[c] = select(a * exp(-tau[c] * s0) / t0, a, a >= airlight_equiangular_4_HUGE);
-    }
-    return res;
+    let a = airlight_equiangular_4_along_rgb(tau * t0, h1, x1, rho1, g);
+    return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_equiangular_4_HUGE));
 }
 
 /// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
@@ -476,9 +535,7 @@ fn airlight_equiangular_4_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
             let beyond = airlight_equiangular_4_spot_weight(k, co, ci);
             scale = select(select(max(before, beyond), before, has_end && rho < 1.0), beyond, x0 < 0.0);
         }
-        for (var c = 0; c < 3; c++) {
-            a[c] = airlight_equiangular_4_along(tau[c], h, x0, rho, gg);
-        }
+        a = airlight_equiangular_4_along_rgb(tau, h, x0, rho, gg);
     } else {
         let l = light - origin;
         let ml = airlight_equiangular_4_max_abs(l);

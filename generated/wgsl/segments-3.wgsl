@@ -432,6 +432,12 @@ fn airlight_segments_3_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32
 // stretches by 8-point Gauss-Legendre in omega, where the integrand
 // is smooth; the fully lit stretch between is the family's exact limit.
 
+/// along for three channels' tau: this family's core depends on tau throughout, so
+/// it runs once per channel.
+fn airlight_segments_3_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(airlight_segments_3_along(tau.x, h, x0, rho, g), airlight_segments_3_along(tau.y, h, x0, rho, g), airlight_segments_3_along(tau.z, h, x0, rho, g));
+}
+
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
 fn airlight_segments_3_spot_asin(x: f32, r: f32) -> f32 {
     return airlight_segments_3_arctan2(x, sqrt(max((r - x) * (r + x), 0.0)));
@@ -458,12 +464,8 @@ fn airlight_segments_3_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam:
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
     }
-    var res: vec3<f32>;
-    for (var c = 0; c < 3; c++) {
-        let a = airlight_segments_3_along(tau[c] * t0, h1, x1, rho1, g);
-        res[c] = select(a * exp(-tau[c] * s0) / t0, a, a >= airlight_segments_3_HUGE);
-    }
-    return res;
+    let a = airlight_segments_3_along_rgb(tau * t0, h1, x1, rho1, g);
+    return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_segments_3_HUGE));
 }
 
 /// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
@@ -594,9 +596,7 @@ fn airlight_segments_3_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, lig
             let beyond = airlight_segments_3_spot_weight(k, co, ci);
             scale = select(select(max(before, beyond), before, has_end && rho < 1.0), beyond, x0 < 0.0);
         }
-        for (var c = 0; c < 3; c++) {
-            a[c] = airlight_segments_3_along(tau[c], h, x0, rho, gg);
-        }
+        a = airlight_segments_3_along_rgb(tau, h, x0, rho, gg);
     } else {
         let l = light - origin;
         let ml = airlight_segments_3_max_abs(l);

@@ -41,9 +41,9 @@ fn the_committed_kernels_pass_on_the_cpu() {
             .unwrap();
     assert_eq!(
         rows.len(),
-        2 * (5 + 4),
-        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, physical, phys-extreme) and of the \
-         closed form (thin, extreme, physical, phys-extreme)"
+        2 * (6 + 4),
+        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, physical, phys-extreme, spot) and of the \
+         closed form (thin, extreme, physical, phys-extreme; its scene has point lights, no spot entry)"
     );
     assert!(rows.iter().all(|r| r.passes()), "{}", gate::table(&rows, true));
 }
@@ -84,5 +84,33 @@ fn a_wrong_coefficient_in_the_shaders_fails_on_the_gpu() {
         assert!(failed.iter().any(|r| r.target == Some(target) && r.domain == "thin"), "{}", gate::table(&rows, false));
     }
     assert!(failed.iter().all(|r| r.target != Some(Target::Rust)), "the compiled Rust kernel is untouched");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_wrong_cone_in_the_shaders_fails_the_spot_rows() {
+    let Some(gpu) = common::open_or_skip("a_wrong_cone_in_the_shaders_fails_the_spot_rows") else { return };
+    let dir = copy("cone");
+    // The cone's axis turned by 0.01 rad about the ray's normal: only the spot entry reads it.
+    let (from, to) =
+        ("let psi = airlight_segments_8_arctan2(k, ca);", "let psi = airlight_segments_8_arctan2(k, ca) + 0.01;");
+    replace_in(&dir.join("wgsl/segments-8.wgsl"), from, to);
+    let (from, to) =
+        ("float psi = airlight_segments_8_arctan2(k, ca);", "float psi = airlight_segments_8_arctan2(k, ca) + 0.01;");
+    replace_in(&dir.join("glsl/segments-8.glsl"), from, to);
+    let rows = gate::run(&dir, Some(&gpu), &common::compiled(), &["segments-8".into()], &|_| {}).unwrap();
+    let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
+    for target in [Target::Wgsl, Target::Glsl] {
+        assert!(
+            failed.iter().any(|r| r.target == Some(target) && r.domain == gate::SPOT),
+            "{}",
+            gate::table(&rows, false)
+        );
+    }
+    assert!(
+        failed.iter().all(|r| r.domain == gate::SPOT && r.target != Some(Target::Rust)),
+        "{}",
+        gate::table(&rows, true)
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

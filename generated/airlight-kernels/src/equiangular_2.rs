@@ -58,6 +58,35 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
     (7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / h.max(1e-30)).min(HUGE)
 }
 
+/// The same for three channels' τ at once (the spot entry): the nodes, their
+/// geometry and phase values are shared; each channel pays its transmittances.
+#[allow(clippy::manual_clamp)]
+pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g: f32) -> [f32; 3] {
+    let tau = tau.map(|t| t.max(0.0).min(TAU_MAX));
+    let g = g.max(-0.999).min(0.999);
+    let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
+    let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
+    let half = 0.5 * span;
+    let mut sum = [0.0f32; 3];
+    for i in 0..X.len() {
+        // β = α/2 at the node, and π/2 − β; the smaller of the two goes to
+        // sin_cos, so that sin β and cos β both keep their relative precision.
+        let beta = 0.5 * gamma + 0.5 * half * (1.0 + X[i]);
+        let co = 0.5 * comp - 0.5 * half * (1.0 + X[i]);
+        let (s, c) = sin_cos(beta.min(co).max(0.0));
+        let (sb, cb) = if beta <= co { (s, c) } else { (c, s) };
+        // s + t ≥ 1: the bound keeps rounding from raising the transmittance.
+        let st = (x0 + h * sb / cb.max(1e-30)).max(1.0);
+        let d = if g >= 0.0 { gm + 4.0 * g * sb * sb } else { gp - 4.0 * g * cb * cb };
+        let f = W[i] / (d * sqrt(d));
+        for (sum, tau) in sum.iter_mut().zip(tau) {
+            *sum += f * exp(-tau * st);
+        }
+    }
+    sum.map(|s| (7.95774683e-2 * (1.0 - g) * (1.0 + g) * s * half / h.max(1e-30)).min(HUGE))
+}
+
+
 /// The canonical `A(τ, γ, ρ; g)` (MATH.md §2).
 #[allow(clippy::manual_clamp)]
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
@@ -84,10 +113,11 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
     scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, gamma, comp, rho, g))
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+/// `A` from the unit geometry (`h = sin γ ≥ 0`, `x0 = cos γ`, `rho` negative: none) for three
+/// channels' τ, its nodes shared: the core the spot entry calls.
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
     let _ = (tau, g);
-    airlight_geometry(tau, h, x0, crate::math::atan2(h, x0), crate::math::atan2(h, -x0), rho, g)
+    airlight_geometry_rgb(tau, h, x0, crate::math::atan2(h, x0), crate::math::atan2(h, -x0), rho, g)
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.rs.tera) ----
@@ -128,14 +158,8 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
     }
-    tau.map(|t| {
-        let a = along(t * t0, h1, x1, rho1, g);
-        if a >= HUGE {
-            a
-        } else {
-            a * exp(-t * s0) / t0
-        }
-    })
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 
 /// The penumbra over `[u, v]` of ω: the weight `(A sin ω − k cos ω − co)/(ci − co)`
@@ -234,7 +258,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
                 before.max(beyond)
             };
         }
-        a = tau.map(|t| along(t, h, x0, rho, gg));
+        a = along_rgb(tau, h, x0, rho, gg);
     } else {
         let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
         let ml = max_abs(l);

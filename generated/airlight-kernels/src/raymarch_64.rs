@@ -109,6 +109,12 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 // where the integrand is smooth; the fully lit stretch between is the family's
 // exact limit.
 
+/// [`along`] for three channels' τ: this family's core depends on τ throughout,
+/// so it runs once per channel.
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
+    tau.map(|t| along(t, h, x0, rho, g))
+}
+
 /// `asin(x/r)` for `0 ≤ x ≤ r`, as an angle between vectors.
 fn spot_asin(x: f32, r: f32) -> f32 {
     crate::math::atan2(x, crate::math::sqrt(((r - x) * (r + x)).max(0.0)))
@@ -133,14 +139,8 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
     }
-    tau.map(|t| {
-        let a = along(t * t0, h1, x1, rho1, g);
-        if a >= HUGE {
-            a
-        } else {
-            a * exp(-t * s0) / t0
-        }
-    })
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 
 /// The penumbra over `[u, v]` of ω: the weight `(A sin ω − k cos ω − co)/(ci − co)`
@@ -239,7 +239,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
                 before.max(beyond)
             };
         }
-        a = tau.map(|t| along(t, h, x0, rho, gg));
+        a = along_rgb(tau, h, x0, rho, gg);
     } else {
         let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
         let ml = max_abs(l);
