@@ -566,12 +566,13 @@ fn phi_context(ctx: &mut tera::Context, models: &[ModelFile], bench: Option<&Ben
 /// The gate's targets, in the report's column order.
 const GATE_TARGETS: [&str; 4] = ["f64", "rust-f32", "wgsl", "glsl"];
 /// The gate's regimes, in row order.
-const GATE_REGIMES: [(&str, &str); 5] = [
+const GATE_REGIMES: [(&str, &str); 6] = [
     ("thin", "canonical, `thin`"),
     ("dense", "canonical, `dense`"),
     ("extreme", "canonical, `extreme` corners"),
     ("physical", "physical entry, random rays at 1e-3 … 1e4 units"),
     ("phys-extreme", "physical entry, extreme rays (1e-4 … 1e30 units, grazing, far planes, ∞)"),
+    ("spot", "spot entry, spot lights (2°–80°, hard and smooth edges) in RGB media, per channel"),
 ];
 
 /// One regime × target cell of the robustness table.
