@@ -220,9 +220,14 @@ pub struct SpotCase {
 }
 
 /// Spot rays whose answer changes by more than this when the cone's cosines move
-/// by one f32 ulp (rays grazing a narrow cone's edge) are ill-conditioned in f32:
-/// there only the value's sanity is checked, as outside the declared hull.
+/// by one f32 ulp (narrow cones, rays grazing an edge) are ill-conditioned in f32
+/// itself: there an f32 kernel is held to its limit plus [`SPOT_ULP_FACTOR`] times
+/// that change, and its error enters the row's statistics only if it breaks that.
 pub const SPOT_ULP_CHANGE: f64 = 1e-5;
+
+/// How many one-ulp changes of the cone's cosines an f32 kernel's spot error may
+/// add on ill-conditioned rays (measured: at most 20 on 4,500 rays of three kernels).
+pub const SPOT_ULP_FACTOR: f64 = 32.0;
 
 /// Spot rays per kernel with a spot entry.
 pub const SPOT_RAYS: usize = 160;
@@ -480,7 +485,7 @@ fn row(
     pts: &[(Point, f64)],
     got: &[f64],
     declared: f64,
-    held: Option<&[bool]>,
+    ulp_change: Option<&[f64]>,
 ) -> Row {
     let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
     let mut errs = Vec::with_capacity(pts.len());
@@ -495,9 +500,13 @@ fn row(
             continue;
         }
         let hull = domain != PHYS_EXTREME && domain != SPOT;
-        let conditioned = held.is_none_or(|h| h[i]);
-        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) && (hull || in_declared_hull(&p, tau_max)) && conditioned {
-            errs.push((p, (v64 - exact).abs() / exact));
+        if (F32_RANGE.0..=F32_RANGE.1).contains(&exact) && (hull || in_declared_hull(&p, tau_max)) {
+            let err = (v64 - exact).abs() / exact;
+            // An item ill-conditioned in f32 counts only where it breaks its widened limit.
+            let change = ulp_change.map_or(0.0, |u| u[i]);
+            if change <= SPOT_ULP_CHANGE || (target.is_some() && err > f32_limit(declared) + SPOT_ULP_FACTOR * change) {
+                errs.push((p, err));
+            }
         }
     }
     let stats = airlight_fit::stats::ErrorStats::from_errors(errs);
@@ -636,7 +645,7 @@ pub fn run(
         if k.has(Entry::Spot) {
             let cases = spot_rays(k, SPOT_RAYS, VALIDATION_SEED ^ 0x5B07)?;
             let expected: Vec<(Point, f64)> = cases.iter().flat_map(|c| c.reference.map(|v| (c.point, v))).collect();
-            let held: Vec<bool> = cases.iter().flat_map(|c| [c.ulp_change <= SPOT_ULP_CHANGE; 3]).collect();
+            let held: Vec<f64> = cases.iter().flat_map(|c| [c.ulp_change; 3]).collect();
             let f64s: Vec<f64> = airlight_fit::parallel::map(
                 &cases,
                 |c| [0, 1, 2].map(|ch| c.ray.reference(ch, &|p| model(p)).unwrap_or(f64::NAN)),
