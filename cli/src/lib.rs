@@ -1192,12 +1192,58 @@ fn bench(
             spot([0.0; 3], r[0], -1.0, r[1], r[2], co, ci, 100.0, ST, ST.map(|x| 0.8 * x), 0.5).iter().sum()
         };
         let [t3, tp, th, ts] = bench::time_rgb(&three, &one, &rgb_rays, size.repeats);
+        // On the GPU: the physical entry's rate over three, against the spot entry with a point light.
+        let (mut g3, mut gp) = (0.0, 0.0);
+        if let Ok(g) = &gpu {
+            let entry = index.get(&f.model.name).map_err(bad_input)?;
+            if let Some(wgsl) = entry.file(Target::Wgsl) {
+                let path = generated.join(wgsl);
+                let source = std::fs::read_to_string(&path)
+                    .map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
+                let table = airlight_shaders::load_table(&generated, entry).map_err(|e| Failure(1, e.to_string()))?;
+                let src = KernelSource::of(entry, Target::Wgsl, &source).with_table(table.as_ref());
+                let scalar: Vec<airlight_shaders::Ray> = rgb_rays
+                    .iter()
+                    .map(|r| airlight_shaders::Ray {
+                        origin: [0.0; 3],
+                        dir: r[0],
+                        surface: -1.0,
+                        light: r[1],
+                        intensity: 100.0,
+                        sigma_t: ST[0],
+                        sigma_s: 0.8 * ST[0],
+                        g: 0.5,
+                    })
+                    .collect();
+                let spots: Vec<airlight_shaders::SpotRay> = rgb_rays
+                    .iter()
+                    .map(|r| airlight_shaders::SpotRay {
+                        origin: [0.0; 3],
+                        dir: r[0],
+                        surface: -1.0,
+                        light: r[1],
+                        axis: r[2],
+                        cos_outer: -1.0,
+                        cos_inner: -1.0,
+                        intensity: 100.0,
+                        sigma_t: ST,
+                        sigma_s: ST.map(|x| 0.8 * x),
+                        g: 0.5,
+                    })
+                    .collect();
+                let err = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", path.display()));
+                g3 = g.radiance_throughput(&src, &scalar, size.repeats).map_err(err)?.unwrap_or(0.0) / 3.0;
+                gp = g.spot_throughput(&src, &spots, size.repeats).map_err(err)?.unwrap_or(0.0);
+            }
+        }
         rgb.push(bench::RgbCost {
             name: f.model.name.clone(),
             three_scalar_ns: t3,
             rgb_point_ns: tp,
             rgb_hard_cone_ns: th,
             rgb_soft_cone_ns: ts,
+            gpu_three_scalar_rays_per_s: g3,
+            gpu_rgb_point_rays_per_s: gp,
         });
     }
     bar.finish_and_clear();
@@ -1234,18 +1280,20 @@ fn bench(
     }
     println!("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call");
     println!(
-        "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10}",
-        "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone"
+        "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10} {:>12} {:>12}",
+        "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone", "GPU 3 scalar", "GPU RGB"
     );
     for r in &b.rgb {
         println!(
-            "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1}",
+            "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>12.3e} {:>12.3e}",
             r.name,
             r.three_scalar_ns,
             r.rgb_point_ns,
             r.rgb_point_ns / r.three_scalar_ns,
             r.rgb_hard_cone_ns,
-            r.rgb_soft_cone_ns
+            r.rgb_soft_cone_ns,
+            r.gpu_three_scalar_rays_per_s,
+            r.gpu_rgb_point_rays_per_s
         );
     }
     let path = out.unwrap_or_else(|| generated.join("bench.json"));

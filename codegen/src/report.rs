@@ -766,7 +766,11 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
         ratio: String,
         hard: String,
         soft: String,
+        gpu_three: String,
+        gpu_point: String,
+        gpu_ratio: String,
     }
+    let rate = |x: f64| if x > 0.0 { format!("{x:.3e}") } else { "—".into() };
     let rgb: Vec<RgbRow> = b
         .rgb
         .iter()
@@ -777,6 +781,14 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
             ratio: format!("{:.2}", r.rgb_point_ns / r.three_scalar_ns),
             hard: ns(r.rgb_hard_cone_ns),
             soft: ns(r.rgb_soft_cone_ns),
+            gpu_three: rate(r.gpu_three_scalar_rays_per_s),
+            gpu_point: rate(r.gpu_rgb_point_rays_per_s),
+            // Time per RGB ray, spot over three scalar calls (as the CPU ratio).
+            gpu_ratio: if r.gpu_three_scalar_rays_per_s > 0.0 && r.gpu_rgb_point_rays_per_s > 0.0 {
+                format!("{:.2}", r.gpu_three_scalar_rays_per_s / r.gpu_rgb_point_rays_per_s)
+            } else {
+                "—".into()
+            },
         })
         .collect();
     ctx.insert("rgb_rows", &rgb);

@@ -112,6 +112,13 @@ pub struct RgbCost {
     pub rgb_hard_cone_ns: f64,
     /// `spot` with a smooth-edged cone.
     pub rgb_soft_cone_ns: f64,
+    /// GPU rays per second (RGB each) by three `radiance` dispatches: a third of
+    /// the physical entry's rate; 0 without timestamps.
+    #[serde(default)]
+    pub gpu_three_scalar_rays_per_s: f64,
+    /// GPU rays per second of `spot` with a point light; 0 without timestamps.
+    #[serde(default)]
+    pub gpu_rgb_point_rays_per_s: f64,
 }
 
 /// Rays for the RGB timing: `n` view rays from the origin, lights 1…100 units

@@ -476,7 +476,16 @@ vec3 airlight_sun2005_256_spot(vec3 origin, vec3 dir, float surface, vec3 light,
     float rho = has_end ? surface / d : -1.0;
     vec3 tau = min(max(sigma_t * d, vec3(0.0)), vec3(airlight_sun2005_256_TAU_MAX));
     float gg = 0.0;
-    vec3 a = vec3(0.0);
+    // One call of the family's core (and of the penumbra rule) whatever the branch,
+    // so that the shader holds each once.
+    bool core = false;
+    float gam = 0.0;
+    float wa = 0.0;
+    float wb = 0.0;
+    bool cut_a = false;
+    bool cut_b = false;
+    vec4 pen = vec4(0.0);
+    float ca = 0.0;
     if (point || h <= 0.0) {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
@@ -485,36 +494,48 @@ vec3 airlight_sun2005_256_spot(vec3 origin, vec3 dir, float surface, vec3 light,
             float beyond = airlight_sun2005_256_spot_weight(k, co, ci);
             scale = x0 < 0.0 ? beyond : ((has_end && rho < 1.0) ? before : max(before, beyond));
         }
-        a = airlight_sun2005_256_along_rgb(tau, h, x0, rho, gg);
+        core = true;
     } else {
         vec3 l = light - origin;
         float ml = airlight_sun2005_256_max_abs(l);
         vec3 cr = cross(l / ml, n);
-        float ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
+        ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         float r = sqrt(ca * ca + k * k);
         float psi = airlight_sun2005_256_arctan2(k, ca);
-        float gam = airlight_sun2005_256_arctan2(h, x0);
+        gam = airlight_sun2005_256_arctan2(h, x0);
         float om_e = has_end ? airlight_sun2005_256_arctan2(h, x0 - rho) : airlight_sun2005_256_PI;
         if (co < r) {
             float dlo = airlight_sun2005_256_spot_asin(co, r);
             float lo = max(gam, psi + dlo);
             float hi = min(om_e, psi + airlight_sun2005_256_PI - dlo);
+            wa = lo;
+            wb = hi;
             if (lo < hi) {
                 if (ci <= co) {
-                    a = airlight_sun2005_256_spot_core(tau, h, x0, rho, gam, lo, hi, lo > gam, hi < om_e, gg);
+                    core = true;
                 } else if (ci < r) {
+                    // Fully lit between the inner cone's ends, the penumbra on either side.
                     float dli = airlight_sun2005_256_spot_asin(ci, r);
-                    float li = max(gam, psi + dli);
-                    float hj = min(om_e, psi + airlight_sun2005_256_PI - dli);
-                    if (li < hj) {
-                        a = airlight_sun2005_256_spot_core(tau, h, x0, rho, gam, li, hj, li > gam, hj < om_e, gg);
-                    }
-                    a += airlight_sun2005_256_spot_edge(tau, h, x0, lo, min(hi, psi + dli), ca, k, co, ci, gg);
-                    a += airlight_sun2005_256_spot_edge(tau, h, x0, max(lo, psi + airlight_sun2005_256_PI - dli), hi, ca, k, co, ci, gg);
+                    wa = max(gam, psi + dli);
+                    wb = min(om_e, psi + airlight_sun2005_256_PI - dli);
+                    core = wa < wb;
+                    pen = vec4(lo, min(hi, psi + dli), max(lo, psi + airlight_sun2005_256_PI - dli), hi);
                 } else {
-                    a = airlight_sun2005_256_spot_edge(tau, h, x0, lo, hi, ca, k, co, ci, gg);
+                    pen = vec4(lo, hi, 0.0, 0.0);
                 }
             }
+            cut_a = wa > gam;
+            cut_b = wb < om_e;
+        }
+    }
+    vec3 a = vec3(0.0);
+    if (core) {
+        a = airlight_sun2005_256_spot_core(tau, h, x0, rho, gam, wa, wb, cut_a, cut_b, gg);
+    }
+    for (int j = 0; j < 2; j++) {
+        vec2 piece = j == 1 ? pen.zw : pen.xy;
+        if (piece.y > piece.x) {
+            a += airlight_sun2005_256_spot_edge(tau, h, x0, piece.x, piece.y, ca, k, co, ci, gg);
         }
     }
     return vec3(airlight_sun2005_256_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_sun2005_256_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_sun2005_256_scaled(sigma_s.z, intensity * scale, d, a.z));

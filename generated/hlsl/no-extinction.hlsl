@@ -615,9 +615,18 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
     float scale = 1.0;
     bool local_12 = (bool)0;
     bool local_13 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    bool core = false;
+    float gam_1 = 0.0;
+    float wa_1 = 0.0;
+    float wb_1 = 0.0;
+    bool cut_a_1 = false;
+    bool cut_b_1 = false;
+    float4 pen = (0.0).xxxx;
+    float ca_1 = 0.0;
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
+    float3 a_5 = (0.0).xxx;
+    int j_1 = int(0);
 
     const float3 _e9 = airlight_no_extinction_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
@@ -692,74 +701,116 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
     } else {
         local_14 = true;
     }
-    bool _e124 = local_14;
-    if (_e124) {
+    bool _e138 = local_14;
+    if (_e138) {
         if (!(point_)) {
-            const float _e127 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e128 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+            const float _e141 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
+            const float _e142 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
                 local_15 = (rho_6 < 1.0);
             } else {
                 local_15 = false;
             }
-            bool _e135 = local_15;
-            scale = ((x0_6 < 0.0) ? _e128 : (_e135 ? _e127 : max(_e127, _e128)));
+            bool _e149 = local_15;
+            scale = ((x0_6 < 0.0) ? _e142 : (_e149 ? _e141 : max(_e141, _e142)));
         }
-        const float3 _e140 = airlight_no_extinction_along_rgb(tau_4, h_6, x0_6, rho_6, 0.0);
-        a_5 = _e140;
+        core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e142 = airlight_no_extinction_max_abs(l);
-        float3 _e145 = n;
-        float3 cr = cross((l / (_e142).xxx), _e145);
-        float3 _e147 = n;
-        float3 _e148 = ax;
-        float ca_1 = (dot(cr, cross(_e147, _e148)) / max(length(cr), 1e-30));
-        float r_4 = sqrt(((ca_1 * ca_1) + (k_2 * k_2)));
-        const float _e159 = airlight_no_extinction_arctan2_(k_2, ca_1);
-        const float _e160 = airlight_no_extinction_arctan2_(h_6, x0_6);
-        const float _e163 = airlight_no_extinction_arctan2_(h_6, (x0_6 - rho_6));
-        float om_e = (has_end ? _e163 : airlight_no_extinction_PI);
+        const float _e156 = airlight_no_extinction_max_abs(l);
+        float3 _e159 = n;
+        float3 cr = cross((l / (_e156).xxx), _e159);
+        float3 _e161 = n;
+        float3 _e162 = ax;
+        ca_1 = (dot(cr, cross(_e161, _e162)) / max(length(cr), 1e-30));
+        float _e169 = ca_1;
+        float _e170 = ca_1;
+        float r_4 = sqrt(((_e169 * _e170) + (k_2 * k_2)));
+        float _e175 = ca_1;
+        const float _e176 = airlight_no_extinction_arctan2_(k_2, _e175);
+        const float _e177 = airlight_no_extinction_arctan2_(h_6, x0_6);
+        gam_1 = _e177;
+        const float _e180 = airlight_no_extinction_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e180 : airlight_no_extinction_PI);
         if ((co_2 < r_4)) {
-            const float _e166 = airlight_no_extinction_spot_asin(co_2, r_4);
-            float lo = max(_e160, (_e159 + _e166));
-            float hi_1 = min(om_e, ((_e159 + airlight_no_extinction_PI) - _e166));
+            const float _e183 = airlight_no_extinction_spot_asin(co_2, r_4);
+            float _e184 = gam_1;
+            float lo = max(_e184, (_e176 + _e183));
+            float hi_1 = min(om_e, ((_e176 + airlight_no_extinction_PI) - _e183));
+            wa_1 = lo;
+            wb_1 = hi_1;
             if ((lo < hi_1)) {
                 if ((cos_inner <= co_2)) {
-                    const float3 _e177 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, lo, hi_1, (lo > _e160), (hi_1 < om_e), 0.0);
-                    a_5 = _e177;
+                    core = true;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e179 = airlight_no_extinction_spot_asin(cos_inner, r_4);
-                        float li = max(_e160, (_e159 + _e179));
-                        float hj = min(om_e, ((_e159 + airlight_no_extinction_PI) - _e179));
-                        if ((li < hj)) {
-                            const float3 _e189 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, li, hj, (li > _e160), (hj < om_e), 0.0);
-                            a_5 = _e189;
-                        }
-                        float3 _e190 = a_5;
-                        const float3 _e193 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, min(hi_1, (_e159 + _e179)), ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = (_e190 + _e193);
-                        float3 _e195 = a_5;
-                        const float3 _e200 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, max(lo, ((_e159 + airlight_no_extinction_PI) - _e179)), hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = (_e195 + _e200);
+                        const float _e195 = airlight_no_extinction_spot_asin(cos_inner, r_4);
+                        float _e196 = gam_1;
+                        wa_1 = max(_e196, (_e176 + _e195));
+                        wb_1 = min(om_e, ((_e176 + airlight_no_extinction_PI) - _e195));
+                        float _e203 = wa_1;
+                        float _e204 = wb_1;
+                        core = (_e203 < _e204);
+                        pen = float4(lo, min(hi_1, (_e176 + _e195)), max(lo, ((_e176 + airlight_no_extinction_PI) - _e195)), hi_1);
                     } else {
-                        const float3 _e202 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e202;
+                        pen = float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
+            float _e216 = wa_1;
+            float _e217 = gam_1;
+            cut_a_1 = (_e216 > _e217);
+            float _e219 = wb_1;
+            cut_b_1 = (_e219 < om_e);
         }
     }
-    float _e204 = scale;
-    float _e207 = a_5.x;
-    const float _e208 = airlight_no_extinction_scaled(sigma_s_2.x, (intensity_2 * _e204), d_3, _e207);
-    float _e210 = scale;
-    float _e213 = a_5.y;
-    const float _e214 = airlight_no_extinction_scaled(sigma_s_2.y, (intensity_2 * _e210), d_3, _e213);
-    float _e216 = scale;
-    float _e219 = a_5.z;
-    const float _e220 = airlight_no_extinction_scaled(sigma_s_2.z, (intensity_2 * _e216), d_3, _e219);
-    return float3(_e208, _e214, _e220);
+    bool _e224 = core;
+    if (_e224) {
+        float _e225 = gam_1;
+        float _e226 = wa_1;
+        float _e227 = wb_1;
+        bool _e228 = cut_a_1;
+        bool _e229 = cut_b_1;
+        const float3 _e230 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e225, _e226, _e227, _e228, _e229, 0.0);
+        a_5 = _e230;
+    }
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e254 = j_1;
+            j_1 = asint(asuint(_e254) + asuint(int(1)));
+        }
+        loop_init = false;
+        int _e233 = j_1;
+        if ((_e233 < int(2))) {
+        } else {
+            break;
+        }
+        {
+            float4 _e236 = pen;
+            float4 _e238 = pen;
+            int _e240 = j_1;
+            float2 piece = ((_e240 == int(1)) ? _e238.zw : _e236.xy);
+            if ((piece.y > piece.x)) {
+                float3 _e247 = a_5;
+                float _e250 = ca_1;
+                const float3 _e251 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, piece.x, piece.y, _e250, k_2, co_2, cos_inner, 0.0);
+                a_5 = (_e247 + _e251);
+            }
+        }
+    }
+    float _e257 = scale;
+    float _e260 = a_5.x;
+    const float _e261 = airlight_no_extinction_scaled(sigma_s_2.x, (intensity_2 * _e257), d_3, _e260);
+    float _e263 = scale;
+    float _e266 = a_5.y;
+    const float _e267 = airlight_no_extinction_scaled(sigma_s_2.y, (intensity_2 * _e263), d_3, _e266);
+    float _e269 = scale;
+    float _e272 = a_5.z;
+    const float _e273 = airlight_no_extinction_scaled(sigma_s_2.z, (intensity_2 * _e269), d_3, _e272);
+    return float3(_e261, _e267, _e273);
 }
 

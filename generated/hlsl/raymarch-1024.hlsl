@@ -638,9 +638,18 @@ float3 airlight_raymarch_1024_spot(float3 origin_2, float3 dir_2, float surface_
     float scale = 1.0;
     bool local_10 = (bool)0;
     bool local_11 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    bool core = false;
+    float gam_1 = 0.0;
+    float wa_1 = 0.0;
+    float wb_1 = 0.0;
+    bool cut_a_1 = false;
+    bool cut_b_1 = false;
+    float4 pen = (0.0).xxxx;
+    float ca_1 = 0.0;
     bool local_12 = (bool)0;
     bool local_13 = (bool)0;
+    float3 a_5 = (0.0).xxx;
+    int j_1 = int(0);
 
     const float3 _e11 = airlight_raymarch_1024_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
@@ -716,74 +725,116 @@ float3 airlight_raymarch_1024_spot(float3 origin_2, float3 dir_2, float surface_
     } else {
         local_12 = true;
     }
-    bool _e133 = local_12;
-    if (_e133) {
+    bool _e147 = local_12;
+    if (_e147) {
         if (!(point_)) {
-            const float _e136 = airlight_raymarch_1024_spot_weight(-(k_3), co_2, cos_inner);
-            const float _e137 = airlight_raymarch_1024_spot_weight(k_3, co_2, cos_inner);
+            const float _e150 = airlight_raymarch_1024_spot_weight(-(k_3), co_2, cos_inner);
+            const float _e151 = airlight_raymarch_1024_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
                 local_13 = (rho_6 < 1.0);
             } else {
                 local_13 = false;
             }
-            bool _e144 = local_13;
-            scale = ((x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : max(_e136, _e137)));
+            bool _e158 = local_13;
+            scale = ((x0_6 < 0.0) ? _e151 : (_e158 ? _e150 : max(_e150, _e151)));
         }
-        const float3 _e149 = airlight_raymarch_1024_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
-        a_5 = _e149;
+        core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e151 = airlight_raymarch_1024_max_abs(l);
-        float3 _e154 = n;
-        float3 cr = cross((l / (_e151).xxx), _e154);
-        float3 _e156 = n;
-        float3 _e157 = ax;
-        float ca_1 = (dot(cr, cross(_e156, _e157)) / max(length(cr), 1e-30));
-        float r_4 = sqrt(((ca_1 * ca_1) + (k_3 * k_3)));
-        const float _e168 = airlight_raymarch_1024_arctan2_(k_3, ca_1);
-        const float _e169 = airlight_raymarch_1024_arctan2_(h_6, x0_6);
-        const float _e172 = airlight_raymarch_1024_arctan2_(h_6, (x0_6 - rho_6));
-        float om_e = (has_end ? _e172 : airlight_raymarch_1024_PI);
+        const float _e165 = airlight_raymarch_1024_max_abs(l);
+        float3 _e168 = n;
+        float3 cr = cross((l / (_e165).xxx), _e168);
+        float3 _e170 = n;
+        float3 _e171 = ax;
+        ca_1 = (dot(cr, cross(_e170, _e171)) / max(length(cr), 1e-30));
+        float _e178 = ca_1;
+        float _e179 = ca_1;
+        float r_4 = sqrt(((_e178 * _e179) + (k_3 * k_3)));
+        float _e184 = ca_1;
+        const float _e185 = airlight_raymarch_1024_arctan2_(k_3, _e184);
+        const float _e186 = airlight_raymarch_1024_arctan2_(h_6, x0_6);
+        gam_1 = _e186;
+        const float _e189 = airlight_raymarch_1024_arctan2_(h_6, (x0_6 - rho_6));
+        float om_e = (has_end ? _e189 : airlight_raymarch_1024_PI);
         if ((co_2 < r_4)) {
-            const float _e175 = airlight_raymarch_1024_spot_asin(co_2, r_4);
-            float lo = max(_e169, (_e168 + _e175));
-            float hi_1 = min(om_e, ((_e168 + airlight_raymarch_1024_PI) - _e175));
+            const float _e192 = airlight_raymarch_1024_spot_asin(co_2, r_4);
+            float _e193 = gam_1;
+            float lo = max(_e193, (_e185 + _e192));
+            float hi_1 = min(om_e, ((_e185 + airlight_raymarch_1024_PI) - _e192));
+            wa_1 = lo;
+            wb_1 = hi_1;
             if ((lo < hi_1)) {
                 if ((cos_inner <= co_2)) {
-                    const float3 _e186 = airlight_raymarch_1024_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, (lo > _e169), (hi_1 < om_e), gg);
-                    a_5 = _e186;
+                    core = true;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e188 = airlight_raymarch_1024_spot_asin(cos_inner, r_4);
-                        float li = max(_e169, (_e168 + _e188));
-                        float hj = min(om_e, ((_e168 + airlight_raymarch_1024_PI) - _e188));
-                        if ((li < hj)) {
-                            const float3 _e198 = airlight_raymarch_1024_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, (li > _e169), (hj < om_e), gg);
-                            a_5 = _e198;
-                        }
-                        float3 _e199 = a_5;
-                        const float3 _e202 = airlight_raymarch_1024_spot_edge(tau_6, h_6, x0_6, lo, min(hi_1, (_e168 + _e188)), ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = (_e199 + _e202);
-                        float3 _e204 = a_5;
-                        const float3 _e209 = airlight_raymarch_1024_spot_edge(tau_6, h_6, x0_6, max(lo, ((_e168 + airlight_raymarch_1024_PI) - _e188)), hi_1, ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = (_e204 + _e209);
+                        const float _e204 = airlight_raymarch_1024_spot_asin(cos_inner, r_4);
+                        float _e205 = gam_1;
+                        wa_1 = max(_e205, (_e185 + _e204));
+                        wb_1 = min(om_e, ((_e185 + airlight_raymarch_1024_PI) - _e204));
+                        float _e212 = wa_1;
+                        float _e213 = wb_1;
+                        core = (_e212 < _e213);
+                        pen = float4(lo, min(hi_1, (_e185 + _e204)), max(lo, ((_e185 + airlight_raymarch_1024_PI) - _e204)), hi_1);
                     } else {
-                        const float3 _e211 = airlight_raymarch_1024_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_3, co_2, cos_inner, gg);
-                        a_5 = _e211;
+                        pen = float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
+            float _e225 = wa_1;
+            float _e226 = gam_1;
+            cut_a_1 = (_e225 > _e226);
+            float _e228 = wb_1;
+            cut_b_1 = (_e228 < om_e);
         }
     }
-    float _e213 = scale;
-    float _e216 = a_5.x;
-    const float _e217 = airlight_raymarch_1024_scaled(sigma_s_2.x, (intensity_2 * _e213), d_4, _e216);
-    float _e219 = scale;
-    float _e222 = a_5.y;
-    const float _e223 = airlight_raymarch_1024_scaled(sigma_s_2.y, (intensity_2 * _e219), d_4, _e222);
-    float _e225 = scale;
-    float _e228 = a_5.z;
-    const float _e229 = airlight_raymarch_1024_scaled(sigma_s_2.z, (intensity_2 * _e225), d_4, _e228);
-    return float3(_e217, _e223, _e229);
+    bool _e233 = core;
+    if (_e233) {
+        float _e234 = gam_1;
+        float _e235 = wa_1;
+        float _e236 = wb_1;
+        bool _e237 = cut_a_1;
+        bool _e238 = cut_b_1;
+        const float3 _e239 = airlight_raymarch_1024_spot_core(tau_6, h_6, x0_6, rho_6, _e234, _e235, _e236, _e237, _e238, gg);
+        a_5 = _e239;
+    }
+    uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
+    bool loop_init_1 = true;
+    while(true) {
+        if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            int _e263 = j_1;
+            j_1 = asint(asuint(_e263) + asuint(int(1)));
+        }
+        loop_init_1 = false;
+        int _e242 = j_1;
+        if ((_e242 < int(2))) {
+        } else {
+            break;
+        }
+        {
+            float4 _e245 = pen;
+            float4 _e247 = pen;
+            int _e249 = j_1;
+            float2 piece = ((_e249 == int(1)) ? _e247.zw : _e245.xy);
+            if ((piece.y > piece.x)) {
+                float3 _e256 = a_5;
+                float _e259 = ca_1;
+                const float3 _e260 = airlight_raymarch_1024_spot_edge(tau_6, h_6, x0_6, piece.x, piece.y, _e259, k_3, co_2, cos_inner, gg);
+                a_5 = (_e256 + _e260);
+            }
+        }
+    }
+    float _e266 = scale;
+    float _e269 = a_5.x;
+    const float _e270 = airlight_raymarch_1024_scaled(sigma_s_2.x, (intensity_2 * _e266), d_4, _e269);
+    float _e272 = scale;
+    float _e275 = a_5.y;
+    const float _e276 = airlight_raymarch_1024_scaled(sigma_s_2.y, (intensity_2 * _e272), d_4, _e275);
+    float _e278 = scale;
+    float _e281 = a_5.z;
+    const float _e282 = airlight_raymarch_1024_scaled(sigma_s_2.z, (intensity_2 * _e278), d_4, _e281);
+    return float3(_e270, _e276, _e282);
 }
 

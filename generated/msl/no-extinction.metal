@@ -685,9 +685,18 @@ metal::float3 airlight_no_extinction_spot(
     float scale = 1.0;
     bool local_12 = {};
     bool local_13 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    bool core = false;
+    float gam_1 = 0.0;
+    float wa_1 = 0.0;
+    float wb_1 = 0.0;
+    bool cut_a_1 = false;
+    bool cut_b_1 = false;
+    metal::float4 pen = metal::float4(0.0);
+    float ca_1 = 0.0;
     bool local_14 = {};
     bool local_15 = {};
+    metal::float3 a_5 = metal::float3(0.0);
+    int j_1 = 0;
     metal::float3 _e9 = airlight_no_extinction_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
     float co_2 = metal::clamp(cos_outer, 0.0, 1.0);
@@ -761,73 +770,115 @@ metal::float3 airlight_no_extinction_spot(
     } else {
         local_14 = true;
     }
-    bool _e124 = local_14;
-    if (_e124) {
+    bool _e138 = local_14;
+    if (_e138) {
         if (!(point)) {
-            float _e127 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
-            float _e128 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+            float _e141 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
+            float _e142 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
                 local_15 = rho_6 < 1.0;
             } else {
                 local_15 = false;
             }
-            bool _e135 = local_15;
-            scale = (x0_6 < 0.0) ? _e128 : (_e135 ? _e127 : metal::max(_e127, _e128));
+            bool _e149 = local_15;
+            scale = (x0_6 < 0.0) ? _e142 : (_e149 ? _e141 : metal::max(_e141, _e142));
         }
-        metal::float3 _e140 = airlight_no_extinction_along_rgb(tau_4, h_6, x0_6, rho_6, 0.0);
-        a_5 = _e140;
+        core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e142 = airlight_no_extinction_max_abs(l);
-        metal::float3 _e145 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e142), _e145);
-        metal::float3 _e147 = n;
-        metal::float3 _e148 = ax;
-        float ca_1 = metal::dot(cr, metal::cross(_e147, _e148)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float r_4 = metal::sqrt((ca_1 * ca_1) + (k_2 * k_2));
-        float _e159 = airlight_no_extinction_arctan2_(k_2, ca_1);
-        float _e160 = airlight_no_extinction_arctan2_(h_6, x0_6);
-        float _e163 = airlight_no_extinction_arctan2_(h_6, x0_6 - rho_6);
-        float om_e = has_end ? _e163 : airlight_no_extinction_PI;
+        float _e156 = airlight_no_extinction_max_abs(l);
+        metal::float3 _e159 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e156), _e159);
+        metal::float3 _e161 = n;
+        metal::float3 _e162 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e161, _e162)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e169 = ca_1;
+        float _e170 = ca_1;
+        float r_4 = metal::sqrt((_e169 * _e170) + (k_2 * k_2));
+        float _e175 = ca_1;
+        float _e176 = airlight_no_extinction_arctan2_(k_2, _e175);
+        float _e177 = airlight_no_extinction_arctan2_(h_6, x0_6);
+        gam_1 = _e177;
+        float _e180 = airlight_no_extinction_arctan2_(h_6, x0_6 - rho_6);
+        float om_e = has_end ? _e180 : airlight_no_extinction_PI;
         if (co_2 < r_4) {
-            float _e166 = airlight_no_extinction_spot_asin(co_2, r_4);
-            float lo = metal::max(_e160, _e159 + _e166);
-            float hi_1 = metal::min(om_e, (_e159 + airlight_no_extinction_PI) - _e166);
+            float _e183 = airlight_no_extinction_spot_asin(co_2, r_4);
+            float _e184 = gam_1;
+            float lo = metal::max(_e184, _e176 + _e183);
+            float hi_1 = metal::min(om_e, (_e176 + airlight_no_extinction_PI) - _e183);
+            wa_1 = lo;
+            wb_1 = hi_1;
             if (lo < hi_1) {
                 if (cos_inner <= co_2) {
-                    metal::float3 _e177 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, lo, hi_1, lo > _e160, hi_1 < om_e, 0.0);
-                    a_5 = _e177;
+                    core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e179 = airlight_no_extinction_spot_asin(cos_inner, r_4);
-                        float li = metal::max(_e160, _e159 + _e179);
-                        float hj = metal::min(om_e, (_e159 + airlight_no_extinction_PI) - _e179);
-                        if (li < hj) {
-                            metal::float3 _e189 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e160, li, hj, li > _e160, hj < om_e, 0.0);
-                            a_5 = _e189;
-                        }
-                        metal::float3 _e190 = a_5;
-                        metal::float3 _e193 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, metal::min(hi_1, _e159 + _e179), ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e190 + _e193;
-                        metal::float3 _e195 = a_5;
-                        metal::float3 _e200 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, metal::max(lo, (_e159 + airlight_no_extinction_PI) - _e179), hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e195 + _e200;
+                        float _e195 = airlight_no_extinction_spot_asin(cos_inner, r_4);
+                        float _e196 = gam_1;
+                        wa_1 = metal::max(_e196, _e176 + _e195);
+                        wb_1 = metal::min(om_e, (_e176 + airlight_no_extinction_PI) - _e195);
+                        float _e203 = wa_1;
+                        float _e204 = wb_1;
+                        core = _e203 < _e204;
+                        pen = metal::float4(lo, metal::min(hi_1, _e176 + _e195), metal::max(lo, (_e176 + airlight_no_extinction_PI) - _e195), hi_1);
                     } else {
-                        metal::float3 _e202 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, lo, hi_1, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_5 = _e202;
+                        pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
+            float _e216 = wa_1;
+            float _e217 = gam_1;
+            cut_a_1 = _e216 > _e217;
+            float _e219 = wb_1;
+            cut_b_1 = _e219 < om_e;
         }
     }
-    float _e204 = scale;
-    float _e207 = a_5.x;
-    float _e208 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e204, d_3, _e207);
-    float _e210 = scale;
-    float _e213 = a_5.y;
-    float _e214 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e210, d_3, _e213);
-    float _e216 = scale;
-    float _e219 = a_5.z;
-    float _e220 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e216, d_3, _e219);
-    return metal::float3(_e208, _e214, _e220);
+    bool _e224 = core;
+    if (_e224) {
+        float _e225 = gam_1;
+        float _e226 = wa_1;
+        float _e227 = wb_1;
+        bool _e228 = cut_a_1;
+        bool _e229 = cut_b_1;
+        metal::float3 _e230 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e225, _e226, _e227, _e228, _e229, 0.0);
+        a_5 = _e230;
+    }
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e254 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e254) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e233 = j_1;
+        if (_e233 < 2) {
+        } else {
+            break;
+        }
+        {
+            metal::float4 _e236 = pen;
+            metal::float4 _e238 = pen;
+            int _e240 = j_1;
+            metal::float2 piece = (_e240 == 1) ? _e238.zw : _e236.xy;
+            if (piece.y > piece.x) {
+                metal::float3 _e247 = a_5;
+                float _e250 = ca_1;
+                metal::float3 _e251 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, piece.x, piece.y, _e250, k_2, co_2, cos_inner, 0.0);
+                a_5 = _e247 + _e251;
+            }
+        }
+    }
+    float _e257 = scale;
+    float _e260 = a_5.x;
+    float _e261 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e257, d_3, _e260);
+    float _e263 = scale;
+    float _e266 = a_5.y;
+    float _e267 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e263, d_3, _e266);
+    float _e269 = scale;
+    float _e272 = a_5.z;
+    float _e273 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e269, d_3, _e272);
+    return metal::float3(_e261, _e267, _e273);
 }

@@ -1156,9 +1156,18 @@ metal::float3 airlight_phi_8_spot(
     float scale = 1.0;
     bool local_17 = {};
     bool local_18 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    bool core = false;
+    float gam_1 = 0.0;
+    float wa_1 = 0.0;
+    float wb_1 = 0.0;
+    bool cut_a_1 = false;
+    bool cut_b_1 = false;
+    metal::float4 pen = metal::float4(0.0);
+    float ca_1 = 0.0;
     bool local_19 = {};
     bool local_20 = {};
+    metal::float3 a_5 = metal::float3(0.0);
+    int j_1 = 0;
     metal::float3 _e11 = airlight_phi_8_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
     float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
@@ -1233,73 +1242,115 @@ metal::float3 airlight_phi_8_spot(
     } else {
         local_19 = true;
     }
-    bool _e133 = local_19;
-    if (_e133) {
+    bool _e147 = local_19;
+    if (_e147) {
         if (!(point)) {
-            float _e136 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
-            float _e137 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
+            float _e150 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
+            float _e151 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
                 local_20 = rho_6 < 1.0;
             } else {
                 local_20 = false;
             }
-            bool _e144 = local_20;
-            scale = (x0_6 < 0.0) ? _e137 : (_e144 ? _e136 : metal::max(_e136, _e137));
+            bool _e158 = local_20;
+            scale = (x0_6 < 0.0) ? _e151 : (_e158 ? _e150 : metal::max(_e150, _e151));
         }
-        metal::float3 _e149 = airlight_phi_8_along_rgb(tau_6, h_6, x0_6, rho_6, gg);
-        a_5 = _e149;
+        core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e151 = airlight_phi_8_max_abs(l);
-        metal::float3 _e154 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e151), _e154);
-        metal::float3 _e156 = n;
-        metal::float3 _e157 = ax;
-        float ca_1 = metal::dot(cr, metal::cross(_e156, _e157)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float r_6 = metal::sqrt((ca_1 * ca_1) + (k_3 * k_3));
-        float _e168 = airlight_phi_8_arctan2_(k_3, ca_1);
-        float _e169 = airlight_phi_8_arctan2_(h_6, x0_6);
-        float _e172 = airlight_phi_8_arctan2_(h_6, x0_6 - rho_6);
-        float om_e = has_end ? _e172 : airlight_phi_8_PI;
+        float _e165 = airlight_phi_8_max_abs(l);
+        metal::float3 _e168 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e165), _e168);
+        metal::float3 _e170 = n;
+        metal::float3 _e171 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e170, _e171)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e178 = ca_1;
+        float _e179 = ca_1;
+        float r_6 = metal::sqrt((_e178 * _e179) + (k_3 * k_3));
+        float _e184 = ca_1;
+        float _e185 = airlight_phi_8_arctan2_(k_3, _e184);
+        float _e186 = airlight_phi_8_arctan2_(h_6, x0_6);
+        gam_1 = _e186;
+        float _e189 = airlight_phi_8_arctan2_(h_6, x0_6 - rho_6);
+        float om_e = has_end ? _e189 : airlight_phi_8_PI;
         if (co_3 < r_6) {
-            float _e175 = airlight_phi_8_spot_asin(co_3, r_6);
-            float lo = metal::max(_e169, _e168 + _e175);
-            float hi_1 = metal::min(om_e, (_e168 + airlight_phi_8_PI) - _e175);
+            float _e192 = airlight_phi_8_spot_asin(co_3, r_6);
+            float _e193 = gam_1;
+            float lo = metal::max(_e193, _e185 + _e192);
+            float hi_1 = metal::min(om_e, (_e185 + airlight_phi_8_PI) - _e192);
+            wa_1 = lo;
+            wb_1 = hi_1;
             if (lo < hi_1) {
                 if (cos_inner <= co_3) {
-                    metal::float3 _e186 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_6, _e169, lo, hi_1, lo > _e169, hi_1 < om_e, gg);
-                    a_5 = _e186;
+                    core = true;
                 } else {
                     if (cos_inner < r_6) {
-                        float _e188 = airlight_phi_8_spot_asin(cos_inner, r_6);
-                        float li = metal::max(_e169, _e168 + _e188);
-                        float hj = metal::min(om_e, (_e168 + airlight_phi_8_PI) - _e188);
-                        if (li < hj) {
-                            metal::float3 _e198 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_6, _e169, li, hj, li > _e169, hj < om_e, gg);
-                            a_5 = _e198;
-                        }
-                        metal::float3 _e199 = a_5;
-                        metal::float3 _e202 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, lo, metal::min(hi_1, _e168 + _e188), ca_1, k_3, co_3, cos_inner, gg);
-                        a_5 = _e199 + _e202;
-                        metal::float3 _e204 = a_5;
-                        metal::float3 _e209 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, metal::max(lo, (_e168 + airlight_phi_8_PI) - _e188), hi_1, ca_1, k_3, co_3, cos_inner, gg);
-                        a_5 = _e204 + _e209;
+                        float _e204 = airlight_phi_8_spot_asin(cos_inner, r_6);
+                        float _e205 = gam_1;
+                        wa_1 = metal::max(_e205, _e185 + _e204);
+                        wb_1 = metal::min(om_e, (_e185 + airlight_phi_8_PI) - _e204);
+                        float _e212 = wa_1;
+                        float _e213 = wb_1;
+                        core = _e212 < _e213;
+                        pen = metal::float4(lo, metal::min(hi_1, _e185 + _e204), metal::max(lo, (_e185 + airlight_phi_8_PI) - _e204), hi_1);
                     } else {
-                        metal::float3 _e211 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, lo, hi_1, ca_1, k_3, co_3, cos_inner, gg);
-                        a_5 = _e211;
+                        pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
+            float _e225 = wa_1;
+            float _e226 = gam_1;
+            cut_a_1 = _e225 > _e226;
+            float _e228 = wb_1;
+            cut_b_1 = _e228 < om_e;
         }
     }
-    float _e213 = scale;
-    float _e216 = a_5.x;
-    float _e217 = airlight_phi_8_scaled(sigma_s_2.x, intensity_2 * _e213, d_7, _e216);
-    float _e219 = scale;
-    float _e222 = a_5.y;
-    float _e223 = airlight_phi_8_scaled(sigma_s_2.y, intensity_2 * _e219, d_7, _e222);
-    float _e225 = scale;
-    float _e228 = a_5.z;
-    float _e229 = airlight_phi_8_scaled(sigma_s_2.z, intensity_2 * _e225, d_7, _e228);
-    return metal::float3(_e217, _e223, _e229);
+    bool _e233 = core;
+    if (_e233) {
+        float _e234 = gam_1;
+        float _e235 = wa_1;
+        float _e236 = wb_1;
+        bool _e237 = cut_a_1;
+        bool _e238 = cut_b_1;
+        metal::float3 _e239 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_6, _e234, _e235, _e236, _e237, _e238, gg);
+        a_5 = _e239;
+    }
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e263 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e263) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e242 = j_1;
+        if (_e242 < 2) {
+        } else {
+            break;
+        }
+        {
+            metal::float4 _e245 = pen;
+            metal::float4 _e247 = pen;
+            int _e249 = j_1;
+            metal::float2 piece = (_e249 == 1) ? _e247.zw : _e245.xy;
+            if (piece.y > piece.x) {
+                metal::float3 _e256 = a_5;
+                float _e259 = ca_1;
+                metal::float3 _e260 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, piece.x, piece.y, _e259, k_3, co_3, cos_inner, gg);
+                a_5 = _e256 + _e260;
+            }
+        }
+    }
+    float _e266 = scale;
+    float _e269 = a_5.x;
+    float _e270 = airlight_phi_8_scaled(sigma_s_2.x, intensity_2 * _e266, d_7, _e269);
+    float _e272 = scale;
+    float _e275 = a_5.y;
+    float _e276 = airlight_phi_8_scaled(sigma_s_2.y, intensity_2 * _e272, d_7, _e275);
+    float _e278 = scale;
+    float _e281 = a_5.z;
+    float _e282 = airlight_phi_8_scaled(sigma_s_2.z, intensity_2 * _e278, d_7, _e281);
+    return metal::float3(_e270, _e276, _e282);
 }

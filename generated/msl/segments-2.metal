@@ -926,9 +926,18 @@ metal::float3 airlight_segments_2_spot(
     float scale = 1.0;
     bool local_17 = {};
     bool local_18 = {};
-    metal::float3 a_8 = metal::float3(0.0);
+    bool core = false;
+    float gam_1 = 0.0;
+    float wa_1 = 0.0;
+    float wb_1 = 0.0;
+    bool cut_a_1 = false;
+    bool cut_b_1 = false;
+    metal::float4 pen = metal::float4(0.0);
+    float ca_1 = 0.0;
     bool local_19 = {};
     bool local_20 = {};
+    metal::float3 a_8 = metal::float3(0.0);
+    int j_1 = 0;
     metal::float3 _e10 = airlight_segments_2_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
     float co_2 = metal::clamp(cos_outer, 0.0, 1.0);
@@ -1002,73 +1011,115 @@ metal::float3 airlight_segments_2_spot(
     } else {
         local_19 = true;
     }
-    bool _e130 = local_19;
-    if (_e130) {
+    bool _e144 = local_19;
+    if (_e144) {
         if (!(point)) {
-            float _e133 = airlight_segments_2_spot_weight(-(k_2), co_2, cos_inner);
-            float _e134 = airlight_segments_2_spot_weight(k_2, co_2, cos_inner);
+            float _e147 = airlight_segments_2_spot_weight(-(k_2), co_2, cos_inner);
+            float _e148 = airlight_segments_2_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
                 local_20 = rho_7 < 1.0;
             } else {
                 local_20 = false;
             }
-            bool _e141 = local_20;
-            scale = (x0_7 < 0.0) ? _e134 : (_e141 ? _e133 : metal::max(_e133, _e134));
+            bool _e155 = local_20;
+            scale = (x0_7 < 0.0) ? _e148 : (_e155 ? _e147 : metal::max(_e147, _e148));
         }
-        metal::float3 _e146 = airlight_segments_2_along_rgb(tau_7, h_7, x0_7, rho_7, 0.0);
-        a_8 = _e146;
+        core = true;
     } else {
         metal::float3 l_1 = light_2 - origin_2;
-        float _e148 = airlight_segments_2_max_abs(l_1);
-        metal::float3 _e151 = n;
-        metal::float3 cr = metal::cross(l_1 / metal::float3(_e148), _e151);
-        metal::float3 _e153 = n;
-        metal::float3 _e154 = ax;
-        float ca_1 = metal::dot(cr, metal::cross(_e153, _e154)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float r_6 = metal::sqrt((ca_1 * ca_1) + (k_2 * k_2));
-        float _e165 = airlight_segments_2_arctan2_(k_2, ca_1);
-        float _e166 = airlight_segments_2_arctan2_(h_7, x0_7);
-        float _e169 = airlight_segments_2_arctan2_(h_7, x0_7 - rho_7);
-        float om_e = has_end ? _e169 : airlight_segments_2_PI;
+        float _e162 = airlight_segments_2_max_abs(l_1);
+        metal::float3 _e165 = n;
+        metal::float3 cr = metal::cross(l_1 / metal::float3(_e162), _e165);
+        metal::float3 _e167 = n;
+        metal::float3 _e168 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e167, _e168)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e175 = ca_1;
+        float _e176 = ca_1;
+        float r_6 = metal::sqrt((_e175 * _e176) + (k_2 * k_2));
+        float _e181 = ca_1;
+        float _e182 = airlight_segments_2_arctan2_(k_2, _e181);
+        float _e183 = airlight_segments_2_arctan2_(h_7, x0_7);
+        gam_1 = _e183;
+        float _e186 = airlight_segments_2_arctan2_(h_7, x0_7 - rho_7);
+        float om_e = has_end ? _e186 : airlight_segments_2_PI;
         if (co_2 < r_6) {
-            float _e172 = airlight_segments_2_spot_asin(co_2, r_6);
-            float lo_1 = metal::max(_e166, _e165 + _e172);
-            float hi_2 = metal::min(om_e, (_e165 + airlight_segments_2_PI) - _e172);
+            float _e189 = airlight_segments_2_spot_asin(co_2, r_6);
+            float _e190 = gam_1;
+            float lo_1 = metal::max(_e190, _e182 + _e189);
+            float hi_2 = metal::min(om_e, (_e182 + airlight_segments_2_PI) - _e189);
+            wa_1 = lo_1;
+            wb_1 = hi_2;
             if (lo_1 < hi_2) {
                 if (cos_inner <= co_2) {
-                    metal::float3 _e183 = airlight_segments_2_spot_core(tau_7, h_7, x0_7, rho_7, _e166, lo_1, hi_2, lo_1 > _e166, hi_2 < om_e, 0.0);
-                    a_8 = _e183;
+                    core = true;
                 } else {
                     if (cos_inner < r_6) {
-                        float _e185 = airlight_segments_2_spot_asin(cos_inner, r_6);
-                        float li = metal::max(_e166, _e165 + _e185);
-                        float hj = metal::min(om_e, (_e165 + airlight_segments_2_PI) - _e185);
-                        if (li < hj) {
-                            metal::float3 _e195 = airlight_segments_2_spot_core(tau_7, h_7, x0_7, rho_7, _e166, li, hj, li > _e166, hj < om_e, 0.0);
-                            a_8 = _e195;
-                        }
-                        metal::float3 _e196 = a_8;
-                        metal::float3 _e199 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, lo_1, metal::min(hi_2, _e165 + _e185), ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = _e196 + _e199;
-                        metal::float3 _e201 = a_8;
-                        metal::float3 _e206 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, metal::max(lo_1, (_e165 + airlight_segments_2_PI) - _e185), hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = _e201 + _e206;
+                        float _e201 = airlight_segments_2_spot_asin(cos_inner, r_6);
+                        float _e202 = gam_1;
+                        wa_1 = metal::max(_e202, _e182 + _e201);
+                        wb_1 = metal::min(om_e, (_e182 + airlight_segments_2_PI) - _e201);
+                        float _e209 = wa_1;
+                        float _e210 = wb_1;
+                        core = _e209 < _e210;
+                        pen = metal::float4(lo_1, metal::min(hi_2, _e182 + _e201), metal::max(lo_1, (_e182 + airlight_segments_2_PI) - _e201), hi_2);
                     } else {
-                        metal::float3 _e208 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, lo_1, hi_2, ca_1, k_2, co_2, cos_inner, 0.0);
-                        a_8 = _e208;
+                        pen = metal::float4(lo_1, hi_2, 0.0, 0.0);
                     }
                 }
             }
+            float _e222 = wa_1;
+            float _e223 = gam_1;
+            cut_a_1 = _e222 > _e223;
+            float _e225 = wb_1;
+            cut_b_1 = _e225 < om_e;
         }
     }
-    float _e210 = scale;
-    float _e213 = a_8.x;
-    float _e214 = airlight_segments_2_scaled(sigma_s_2.x, intensity_2 * _e210, d_5, _e213);
-    float _e216 = scale;
-    float _e219 = a_8.y;
-    float _e220 = airlight_segments_2_scaled(sigma_s_2.y, intensity_2 * _e216, d_5, _e219);
-    float _e222 = scale;
-    float _e225 = a_8.z;
-    float _e226 = airlight_segments_2_scaled(sigma_s_2.z, intensity_2 * _e222, d_5, _e225);
-    return metal::float3(_e214, _e220, _e226);
+    bool _e230 = core;
+    if (_e230) {
+        float _e231 = gam_1;
+        float _e232 = wa_1;
+        float _e233 = wb_1;
+        bool _e234 = cut_a_1;
+        bool _e235 = cut_b_1;
+        metal::float3 _e236 = airlight_segments_2_spot_core(tau_7, h_7, x0_7, rho_7, _e231, _e232, _e233, _e234, _e235, 0.0);
+        a_8 = _e236;
+    }
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e260 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e260) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e239 = j_1;
+        if (_e239 < 2) {
+        } else {
+            break;
+        }
+        {
+            metal::float4 _e242 = pen;
+            metal::float4 _e244 = pen;
+            int _e246 = j_1;
+            metal::float2 piece = (_e246 == 1) ? _e244.zw : _e242.xy;
+            if (piece.y > piece.x) {
+                metal::float3 _e253 = a_8;
+                float _e256 = ca_1;
+                metal::float3 _e257 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, piece.x, piece.y, _e256, k_2, co_2, cos_inner, 0.0);
+                a_8 = _e253 + _e257;
+            }
+        }
+    }
+    float _e263 = scale;
+    float _e266 = a_8.x;
+    float _e267 = airlight_segments_2_scaled(sigma_s_2.x, intensity_2 * _e263, d_5, _e266);
+    float _e269 = scale;
+    float _e272 = a_8.y;
+    float _e273 = airlight_segments_2_scaled(sigma_s_2.y, intensity_2 * _e269, d_5, _e272);
+    float _e275 = scale;
+    float _e278 = a_8.z;
+    float _e279 = airlight_segments_2_scaled(sigma_s_2.z, intensity_2 * _e275, d_5, _e278);
+    return metal::float3(_e267, _e273, _e279);
 }

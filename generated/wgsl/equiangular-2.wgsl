@@ -486,7 +486,16 @@ fn airlight_equiangular_2_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
     let rho = select(-1.0, surface / d, has_end);
     let tau = min(max(sigma_t * d, vec3<f32>(0.0)), vec3<f32>(airlight_equiangular_2_TAU_MAX));
     let gg = clamp(g, -0.999, 0.999);
-    var a = vec3<f32>(0.0);
+    // One call of the family's core (and of the penumbra rule) whatever the branch,
+    // so that the shader holds each once.
+    var core = false;
+    var gam = 0.0;
+    var wa = 0.0;
+    var wb = 0.0;
+    var cut_a = false;
+    var cut_b = false;
+    var pen = vec4<f32>(0.0);
+    var ca = 0.0;
     if point || h <= 0.0 {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
@@ -495,36 +504,48 @@ fn airlight_equiangular_2_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
             let beyond = airlight_equiangular_2_spot_weight(k, co, ci);
             scale = select(select(max(before, beyond), before, has_end && rho < 1.0), beyond, x0 < 0.0);
         }
-        a = airlight_equiangular_2_along_rgb(tau, h, x0, rho, gg);
+        core = true;
     } else {
         let l = light - origin;
         let ml = airlight_equiangular_2_max_abs(l);
         let cr = cross(l / ml, n);
-        let ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
+        ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = airlight_equiangular_2_arctan2(k, ca);
-        let gam = airlight_equiangular_2_arctan2(h, x0);
+        gam = airlight_equiangular_2_arctan2(h, x0);
         let om_e = select(airlight_equiangular_2_PI, airlight_equiangular_2_arctan2(h, x0 - rho), has_end);
         if co < r {
             let dlo = airlight_equiangular_2_spot_asin(co, r);
             let lo = max(gam, psi + dlo);
             let hi = min(om_e, psi + airlight_equiangular_2_PI - dlo);
+            wa = lo;
+            wb = hi;
             if lo < hi {
                 if ci <= co {
-                    a = airlight_equiangular_2_spot_core(tau, h, x0, rho, gam, lo, hi, lo > gam, hi < om_e, gg);
+                    core = true;
                 } else if ci < r {
+                    // Fully lit between the inner cone's ends, the penumbra on either side.
                     let dli = airlight_equiangular_2_spot_asin(ci, r);
-                    let li = max(gam, psi + dli);
-                    let hj = min(om_e, psi + airlight_equiangular_2_PI - dli);
-                    if li < hj {
-                        a = airlight_equiangular_2_spot_core(tau, h, x0, rho, gam, li, hj, li > gam, hj < om_e, gg);
-                    }
-                    a += airlight_equiangular_2_spot_edge(tau, h, x0, lo, min(hi, psi + dli), ca, k, co, ci, gg);
-                    a += airlight_equiangular_2_spot_edge(tau, h, x0, max(lo, psi + airlight_equiangular_2_PI - dli), hi, ca, k, co, ci, gg);
+                    wa = max(gam, psi + dli);
+                    wb = min(om_e, psi + airlight_equiangular_2_PI - dli);
+                    core = wa < wb;
+                    pen = vec4<f32>(lo, min(hi, psi + dli), max(lo, psi + airlight_equiangular_2_PI - dli), hi);
                 } else {
-                    a = airlight_equiangular_2_spot_edge(tau, h, x0, lo, hi, ca, k, co, ci, gg);
+                    pen = vec4<f32>(lo, hi, 0.0, 0.0);
                 }
             }
+            cut_a = wa > gam;
+            cut_b = wb < om_e;
+        }
+    }
+    var a = vec3<f32>(0.0);
+    if core {
+        a = airlight_equiangular_2_spot_core(tau, h, x0, rho, gam, wa, wb, cut_a, cut_b, gg);
+    }
+    for (var j = 0; j < 2; j++) {
+        let piece = select(pen.xy, pen.zw, j == 1);
+        if piece.y > piece.x {
+            a += airlight_equiangular_2_spot_edge(tau, h, x0, piece.x, piece.y, ca, k, co, ci, gg);
         }
     }
     return vec3<f32>(airlight_equiangular_2_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_equiangular_2_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_equiangular_2_scaled(sigma_s.z, intensity * scale, d, a.z));

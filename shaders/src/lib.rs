@@ -175,13 +175,37 @@ impl Gpu {
     /// the median of `repeats` dispatches, each timed by timestamp queries at the
     /// pass's start and end. `None` where the adapter has no timestamps.
     pub fn throughput(&self, k: &KernelSource, points: &[[f64; 4]], repeats: usize) -> Result<Option<f64>, GpuError> {
-        if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || points.is_empty() {
+        self.timed(k, Entry::Canonical, &pack_points(points), points.len(), repeats)
+    }
+
+    /// Rays per second through a kernel's physical entry, as [`Gpu::throughput`].
+    pub fn radiance_throughput(&self, k: &KernelSource, rays: &[Ray], repeats: usize) -> Result<Option<f64>, GpuError> {
+        let data: Vec<f32> = rays.iter().flat_map(Ray::pack).collect();
+        self.timed(k, Entry::Radiance, &data, rays.len(), repeats)
+    }
+
+    /// Rays per second (RGB each) through a kernel's spot entry, as [`Gpu::throughput`].
+    pub fn spot_throughput(&self, k: &KernelSource, rays: &[SpotRay], repeats: usize) -> Result<Option<f64>, GpuError> {
+        let data: Vec<f32> = rays.iter().flat_map(SpotRay::pack).collect();
+        self.timed(k, Entry::Spot, &data, rays.len(), repeats)
+    }
+
+    /// Items per second of `entry` over `n` packed items: the median of `repeats`
+    /// dispatches timed by timestamp queries; `None` without timestamps.
+    fn timed(
+        &self,
+        k: &KernelSource,
+        entry: Entry,
+        data: &[f32],
+        n: usize,
+        repeats: usize,
+    ) -> Result<Option<f64>, GpuError> {
+        if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || n == 0 {
             return Ok(None);
         }
-        let source = wrap(k, Entry::Canonical)?;
-        let n = points.len();
+        let source = wrap(k, entry)?;
         let (gx, gy) = workgroups(n)?;
-        let run = self.prepare(k.shader(&source), k.prefix, &pack_points(points), n, k.table)?;
+        let run = self.prepare(k.shader(&source), k.prefix, data, n * entry.outputs(), k.table)?;
         let d = &self.device;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("bench"),

@@ -237,7 +237,10 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     let rho = if has_end { surface / d } else { -1.0 };
     let tau = sigma_t.map(|s| (s * d).max(0.0).min(TAU_MAX));
     let gg: f32 = 0.0;
-    let mut a = [0.0f32; 3];
+    // One call of the family's core (and of the penumbra rule) whatever the branch,
+    // as in the shaders.
+    let (mut core, mut gam, mut wa, mut wb, mut cut_a, mut cut_b) = (false, 0.0, 0.0, 0.0, false, false);
+    let (mut pen, mut ca) = ([[0.0f32; 2]; 2], 0.0);
     if point || h <= 0.0 {
         // A point light, or a ray on the line through the light (the direction
         // from the light is −n before it and n beyond).
@@ -251,36 +254,42 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
                 before.max(beyond)
             };
         }
-        a = along_rgb(tau, h, x0, rho, gg);
+        core = true;
     } else {
         let l = [light[0] - origin[0], light[1] - origin[1], light[2] - origin[2]];
         let ml = max_abs(l);
         let cr = cross(l.map(|x| x / ml), n);
-        let ca = dot(cr, cross(n, ax)) / sqrt(dot(cr, cr)).max(1e-30);
+        ca = dot(cr, cross(n, ax)) / sqrt(dot(cr, cr)).max(1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = atan2(k, ca);
-        let gam = atan2(h, x0);
+        gam = atan2(h, x0);
         let om_e = if has_end { atan2(h, x0 - rho) } else { PI };
         if co < r {
             let dlo = spot_asin(co, r);
             let lo = gam.max(psi + dlo);
             let hi = om_e.min(psi + PI - dlo);
+            (wa, wb) = (lo, hi);
             if lo < hi {
-                let add = |a: [f32; 3], b: [f32; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
                 if ci <= co {
-                    a = spot_core(tau, h, x0, rho, gam, lo, hi, lo > gam, hi < om_e, gg);
+                    core = true;
                 } else if ci < r {
+                    // Fully lit between the inner cone's ends, the penumbra on either side.
                     let dli = spot_asin(ci, r);
-                    let (li, hj) = (gam.max(psi + dli), om_e.min(psi + PI - dli));
-                    if li < hj {
-                        a = spot_core(tau, h, x0, rho, gam, li, hj, li > gam, hj < om_e, gg);
-                    }
-                    a = add(a, spot_edge(tau, h, x0, lo, hi.min(psi + dli), ca, k, co, ci, gg));
-                    a = add(a, spot_edge(tau, h, x0, lo.max(psi + PI - dli), hi, ca, k, co, ci, gg));
+                    (wa, wb) = (gam.max(psi + dli), om_e.min(psi + PI - dli));
+                    core = wa < wb;
+                    pen = [[lo, hi.min(psi + dli)], [lo.max(psi + PI - dli), hi]];
                 } else {
-                    a = spot_edge(tau, h, x0, lo, hi, ca, k, co, ci, gg);
+                    pen = [[lo, hi], [0.0, 0.0]];
                 }
             }
+            (cut_a, cut_b) = (wa > gam, wb < om_e);
+        }
+    }
+    let mut a = if core { spot_core(tau, h, x0, rho, gam, wa, wb, cut_a, cut_b, gg) } else { [0.0f32; 3] };
+    for [u, v] in pen {
+        if v > u {
+            let e = spot_edge(tau, h, x0, u, v, ca, k, co, ci, gg);
+            a = [a[0] + e[0], a[1] + e[1], a[2] + e[2]];
         }
     }
     [0, 1, 2].map(|c| scaled(sigma_s[c], intensity * scale, d, a[c]))
