@@ -101,6 +101,27 @@ fn args(names: &[String], vec3: &str) -> String {
         .join(", ")
 }
 
+/// A call of the kernel's spot entry `{p}spot` with plausible arguments (RGB
+/// media, a smooth-edged cone), where `text` has one.
+fn spot_call(text: &str, p: &str, call_prefix: &str, vec3: &str) -> Option<String> {
+    let name = format!("{p}spot");
+    if !text.contains(&format!("fn {name}(")) && !text.contains(&format!(" {name}(")) {
+        return None;
+    }
+    let list: Vec<String> = params(text, &name)
+        .iter()
+        .map(|n| match n.as_str() {
+            "axis" => format!("{vec3}(0.0, -1.0, 0.2)"),
+            "cos_outer" => "0.8".to_string(),
+            "cos_inner" => "0.9".to_string(),
+            "sigma_t" => format!("{vec3}(0.05, 0.04, 0.03)"),
+            "sigma_s" => format!("{vec3}(0.04, 0.03, 0.02)"),
+            other => args(&[other.to_string()], vec3),
+        })
+        .collect();
+    Some(format!("{call_prefix}spot({})", list.join(", ")))
+}
+
 fn validate(module: &naga::Module, what: &str) {
     naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
         .validate(module)
@@ -116,10 +137,12 @@ fn validate29(module: &naga29::Module, what: &str) {
 fn wgsl_entry(text: &str, p: &str, call_prefix: &str) -> String {
     let a = args(&params(text, &format!("{p}airlight")), "vec3<f32>");
     let r = args(&params(text, &format!("{p}radiance")), "vec3<f32>");
+    // The spot entry's name is unprefixed in the modules (p = ""), prefixed in the plain file.
+    let spot = spot_call(text, p, call_prefix, "vec3<f32>").map_or(String::new(), |c| format!("    out[2] = {c}.x;\n"));
     format!(
         "@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\
          @compute @workgroup_size(1)\n\
-         fn main() {{\n    out[0] = {call_prefix}airlight({a});\n    out[1] = {call_prefix}radiance({r});\n}}\n"
+         fn main() {{\n    out[0] = {call_prefix}airlight({a});\n    out[1] = {call_prefix}radiance({r});\n{spot}}}\n"
     )
 }
 
@@ -178,7 +201,8 @@ fn every_wesl_module_compiles_with_wesl_as_bevy_main_does() {
         // package `airlight`, module `<ident>`; a user shader imports its functions.
         let lib = ModulePath { origin: PathOrigin::Package("airlight".into()), components: vec![ident.clone()] };
         let root = ModulePath { origin: PathOrigin::Absolute, components: vec!["user".into()] };
-        let user = format!("import airlight::{ident}::{{airlight, radiance}};\n{}", wgsl_entry(&text, "", ""));
+        let spot = if text.contains("fn spot(") { ", spot" } else { "" };
+        let user = format!("import airlight::{ident}::{{airlight, radiance{spot}}};\n{}", wgsl_entry(&text, "", ""));
         let mut resolver = wesl::VirtualResolver::new();
         resolver.add_module(lib, text.clone().into());
         resolver.add_module(root.clone(), user.into());
@@ -206,7 +230,10 @@ fn every_hlsl_kernel_compiles_in_glslang_hlsl_front_end() {
         let wgsl = wgsl_of(path);
         let a = args(&params(&wgsl, &format!("{p}airlight")), "float3");
         let r = args(&params(&wgsl, &format!("{p}radiance")), "float3");
-        for f in ["airlight", "radiance"] {
+        let spot = spot_call(&wgsl, &p, &p, "float3");
+        let entries: &[&str] =
+            if spot.is_some() { &["airlight", "radiance", "spot"] } else { &["airlight", "radiance"] };
+        for f in entries {
             assert_eq!(
                 top_level_params(&text, &format!("{p}{f}")).len(),
                 params(&wgsl, &format!("{p}{f}")).len(),
@@ -216,7 +243,8 @@ fn every_hlsl_kernel_compiles_in_glslang_hlsl_front_end() {
         }
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
         let src = format!(
-            "{text}\nfloat4 airlight_test_main() : SV_Target {{\n    return float4({p}airlight({a}), {p}radiance({r}), 0.0, 1.0);\n}}\n"
+            "{text}\nfloat4 airlight_test_main() : SV_Target {{\n    return float4({p}airlight({a}), {p}radiance({r}), {}, 1.0);\n}}\n",
+            spot.map_or("0.0".to_string(), |c| format!("{c}.x"))
         );
         let file = dir.join(format!("{stem}.frag.hlsl"));
         std::fs::write(&file, src).unwrap();
@@ -239,7 +267,7 @@ fn every_hlsl_kernel_compiles_in_glslang_hlsl_front_end() {
 }
 
 #[test]
-fn every_msl_kernel_keeps_both_entry_points() {
+fn every_msl_kernel_keeps_its_entry_points() {
     let msl = files(&generated_dir().join("msl"), "metal");
     assert_eq!(msl.len(), files(&generated_dir().join("wgsl"), "wgsl").len(), "one MSL include per WGSL kernel");
     for path in &msl {
@@ -248,7 +276,12 @@ fn every_msl_kernel_keeps_both_entry_points() {
         let p = prefix(path);
         let wgsl = wgsl_of(path);
         let table = wgsl.contains("texture_2d");
-        for f in ["airlight", "radiance"] {
+        let entries: &[&str] = if wgsl.contains(&format!("fn {p}spot(")) {
+            &["airlight", "radiance", "spot"]
+        } else {
+            &["airlight", "radiance"]
+        };
+        for f in entries {
             let got = top_level_params(&text, &format!("{p}{f}"));
             let want = params(&wgsl, &format!("{p}{f}")).len();
             // naga's MSL passes a module's resources as arguments: a table kernel
@@ -285,12 +318,13 @@ fn every_glsl_kernel_compiles_as_es_300_and_450() {
         let a = args(&params(&text, &format!("{p}airlight")), "vec3");
         let r = args(&params(&text, &format!("{p}radiance")), "vec3");
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
+        let spot = spot_call(&text, &p, &p, "vec3").map_or("0.0".to_string(), |c| format!("{c}.x"));
         let frag = format!(
-            "#version 300 es\n{text}\nout highp vec4 color;\nvoid main() {{\n    color = vec4({p}airlight({a}), {p}radiance({r}), 0.0, 1.0);\n}}\n"
+            "#version 300 es\n{text}\nout highp vec4 color;\nvoid main() {{\n    color = vec4({p}airlight({a}), {p}radiance({r}), {spot}, 1.0);\n}}\n"
         );
         let comp = format!(
             "#version 450\n{text}\nlayout(local_size_x = 1) in;\nlayout(std430, binding = 0) buffer Out {{ float v[]; }} o;\n\
-             void main() {{\n    o.v[0] = {p}airlight({a});\n    o.v[1] = {p}radiance({r});\n}}\n"
+             void main() {{\n    o.v[0] = {p}airlight({a});\n    o.v[1] = {p}radiance({r});\n    o.v[2] = {spot};\n}}\n"
         );
         for (ext, src) in [("frag", frag), ("comp", comp)] {
             let file = dir.join(format!("{stem}.{ext}"));
