@@ -1122,6 +1122,39 @@ fn bench(
         }
         Err(e) => format!("none ({e})"),
     };
+    // The RGB timing's rays, for the spot entry against three scalar calls.
+    const ST: [f32; 3] = [0.03, 0.05, 0.08];
+    let rgb_rays = bench::rgb_rays(size.batch);
+    let rgb_scalar: Vec<airlight_shaders::Ray> = rgb_rays
+        .iter()
+        .map(|r| airlight_shaders::Ray {
+            origin: [0.0; 3],
+            dir: r[0],
+            surface: -1.0,
+            light: r[1],
+            intensity: 100.0,
+            sigma_t: ST[0],
+            sigma_s: 0.8 * ST[0],
+            g: 0.5,
+        })
+        .collect();
+    let rgb_spots: Vec<airlight_shaders::SpotRay> = rgb_rays
+        .iter()
+        .map(|r| airlight_shaders::SpotRay {
+            origin: [0.0; 3],
+            dir: r[0],
+            surface: -1.0,
+            light: r[1],
+            axis: r[2],
+            cos_outer: -1.0,
+            cos_inner: -1.0,
+            intensity: 100.0,
+            sigma_t: ST,
+            sigma_s: ST.map(|x| 0.8 * x),
+            g: 0.5,
+        })
+        .collect();
+    let mut gpu_rgb_rates = Vec::new();
     let mut rows = Vec::new();
     let mut fns = Vec::new();
     for f in &files {
@@ -1139,21 +1172,21 @@ fn bench(
         let cost = airlight_shaders::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix))
             .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
         bar.set_message(format!("bench: {name} on the GPU"));
-        let gpu_evals_per_s = match &gpu {
-            Ok(g) => g
-                .throughput(
-                    &KernelSource::of(entry, Target::Wgsl, &source).with_table(
-                        airlight_shaders::load_table(&generated, entry)
-                            .map_err(|e| Failure(1, e.to_string()))?
-                            .as_ref(),
-                    ),
-                    &batch64,
-                    size.repeats,
-                )
-                .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?
-                .unwrap_or(0.0),
-            Err(_) => 0.0,
-        };
+        let (mut gpu_evals_per_s, mut gpu_rgb) = (0.0, (0.0, 0.0));
+        if let Ok(g) = &gpu {
+            let table = airlight_shaders::load_table(&generated, entry).map_err(|e| Failure(1, e.to_string()))?;
+            let src = KernelSource::of(entry, Target::Wgsl, &source).with_table(table.as_ref());
+            let err = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", path.display()));
+            gpu_evals_per_s = g.throughput(&src, &batch64, size.repeats).map_err(err)?.unwrap_or(0.0);
+            // RGB: the physical entry's rate over three, against the spot entry with a point light.
+            if k.spot.is_some() {
+                gpu_rgb = (
+                    g.radiance_throughput(&src, &rgb_scalar, size.repeats).map_err(err)?.unwrap_or(0.0) / 3.0,
+                    g.spot_throughput(&src, &rgb_spots, size.repeats).map_err(err)?.unwrap_or(0.0),
+                );
+            }
+        }
+        gpu_rgb_rates.push(gpu_rgb);
         rows.push(BenchModel {
             name: name.clone(),
             kind: if f.model.body.is_baseline() { "baseline" } else { "airlight" }.into(),
@@ -1178,12 +1211,10 @@ fn bench(
     }
     // RGB: the spot entry against three scalar calls, on the same rays.
     bar.set_message("bench: RGB against three scalar calls");
-    let rgb_rays = bench::rgb_rays(size.batch);
     let mut rgb = Vec::new();
-    for f in &files {
+    for (f, &(g3, gp)) in files.iter().zip(&gpu_rgb_rates) {
         let Some(k) = kernels.iter().find(|k| k.name == f.model.name.as_str()) else { continue };
         let Some(spot) = k.spot else { continue };
-        const ST: [f32; 3] = [0.03, 0.05, 0.08];
         let radiance = k.radiance;
         let three = |r: &[[f32; 3]; 3]| -> f32 {
             ST.iter().map(|&st| radiance([0.0; 3], r[0], -1.0, r[1], 100.0, st, 0.8 * st, 0.5)).sum()
@@ -1192,50 +1223,6 @@ fn bench(
             spot([0.0; 3], r[0], -1.0, r[1], r[2], co, ci, 100.0, ST, ST.map(|x| 0.8 * x), 0.5).iter().sum()
         };
         let [t3, tp, th, ts] = bench::time_rgb(&three, &one, &rgb_rays, size.repeats);
-        // On the GPU: the physical entry's rate over three, against the spot entry with a point light.
-        let (mut g3, mut gp) = (0.0, 0.0);
-        if let Ok(g) = &gpu {
-            let entry = index.get(&f.model.name).map_err(bad_input)?;
-            if let Some(wgsl) = entry.file(Target::Wgsl) {
-                let path = generated.join(wgsl);
-                let source = std::fs::read_to_string(&path)
-                    .map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
-                let table = airlight_shaders::load_table(&generated, entry).map_err(|e| Failure(1, e.to_string()))?;
-                let src = KernelSource::of(entry, Target::Wgsl, &source).with_table(table.as_ref());
-                let scalar: Vec<airlight_shaders::Ray> = rgb_rays
-                    .iter()
-                    .map(|r| airlight_shaders::Ray {
-                        origin: [0.0; 3],
-                        dir: r[0],
-                        surface: -1.0,
-                        light: r[1],
-                        intensity: 100.0,
-                        sigma_t: ST[0],
-                        sigma_s: 0.8 * ST[0],
-                        g: 0.5,
-                    })
-                    .collect();
-                let spots: Vec<airlight_shaders::SpotRay> = rgb_rays
-                    .iter()
-                    .map(|r| airlight_shaders::SpotRay {
-                        origin: [0.0; 3],
-                        dir: r[0],
-                        surface: -1.0,
-                        light: r[1],
-                        axis: r[2],
-                        cos_outer: -1.0,
-                        cos_inner: -1.0,
-                        intensity: 100.0,
-                        sigma_t: ST,
-                        sigma_s: ST.map(|x| 0.8 * x),
-                        g: 0.5,
-                    })
-                    .collect();
-                let err = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", path.display()));
-                g3 = g.radiance_throughput(&src, &scalar, size.repeats).map_err(err)?.unwrap_or(0.0) / 3.0;
-                gp = g.spot_throughput(&src, &spots, size.repeats).map_err(err)?.unwrap_or(0.0);
-            }
-        }
         rgb.push(bench::RgbCost {
             name: f.model.name.clone(),
             three_scalar_ns: t3,

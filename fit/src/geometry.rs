@@ -263,6 +263,15 @@ impl PhysicalRay {
         (PhysicalRay { origin, surface_distance, ..*self }, (-self.sigma_t * s0).exp())
     }
 
+    /// The radiance from a spot light of cone `cone`, or from a point light (`None`):
+    /// [`PhysicalRay::spot_radiance`] or [`PhysicalRay::radiance`].
+    pub fn light_radiance(&self, cone: Option<&Cone>, g: f64, a: &dyn Fn(Point) -> f64) -> Result<f64, GeometryError> {
+        match cone {
+            Some(c) => self.spot_radiance(c, g, a),
+            None => self.radiance(g, a),
+        }
+    }
+
     /// The radiance from a spot light of cone `cone`: the lit stretch through
     /// [`Cone::lit`] and [`PhysicalRay::stretch`]; a smooth edge as the mean of hard
     /// cones over the cut-off cosine (the linear weight is exactly that mean),

@@ -166,24 +166,7 @@ pub fn parse_rays(
 ) -> Result<Vec<RayRow>, CsvError> {
     let mut rows = Vec::new();
     for (line, v, raw) in read_table(file, contents, &RAY_COLUMNS)? {
-        for (k, (&col, &x)) in RAY_COLUMNS.iter().zip(&v).enumerate() {
-            let ok = match col {
-                "surface" => !x.is_nan(),
-                "intensity" | "sigma_t" | "sigma_s" => x.is_finite() && x >= 0.0,
-                "g" => x.abs() < 1.0,
-                _ => x.is_finite(),
-            };
-            if !ok {
-                let need = match col {
-                    "surface" => "a distance ≥ 0, or negative or inf for none",
-                    "intensity" | "sigma_t" | "sigma_s" => "a finite number ≥ 0",
-                    "g" => "in (−1, 1)",
-                    _ => "a finite number",
-                };
-                let message = format!("{col} = {} is out of range: it must be {need}", raw[k]);
-                return Err(located(file, line, Some(col), message));
-            }
-        }
+        check_columns(file, line, &RAY_COLUMNS, &v, &raw)?;
         let ray = PhysicalRay {
             origin: [v[0], v[1], v[2]],
             direction: [v[3], v[4], v[5]],
@@ -211,6 +194,31 @@ pub fn render_rays(rows: &[RayRow], values: &[f64]) -> String {
         out.push_str(&format!("{},{v:?}\n", row.text.join(",")));
     }
     out
+}
+
+/// Checks each column of a rays or spot rays row: finite positions and
+/// directions, a surface that is not NaN, intensity and σ finite ≥ 0, `|g| < 1`,
+/// a cone's `0 < cos_outer ≤ 1` (or −1) and `cos_inner ≤ 1`; the first column out
+/// of range is the error.
+fn check_columns(file: &str, line: usize, columns: &[&'static str], v: &[f64], raw: &[String]) -> Result<(), CsvError> {
+    for (k, (&col, &x)) in columns.iter().zip(v).enumerate() {
+        let (ok, need) = match col {
+            "surface" => (!x.is_nan(), "a distance ≥ 0, or negative or inf for none"),
+            "intensity" | "sigma_t" | "sigma_s" | "sigma_t_r" | "sigma_t_g" | "sigma_t_b" | "sigma_s_r"
+            | "sigma_s_g" | "sigma_s_b" => (x.is_finite() && x >= 0.0, "a finite number ≥ 0"),
+            "g" => (x.abs() < 1.0, "in (−1, 1)"),
+            "cos_outer" => {
+                (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light")
+            }
+            "cos_inner" => (x.is_finite() && x <= 1.0, "a finite number ≤ 1"),
+            _ => (x.is_finite(), "a finite number"),
+        };
+        if !ok {
+            let message = format!("{col} = {} is out of range: it must be {need}", raw[k]);
+            return Err(located(file, line, Some(col), message));
+        }
+    }
+    Ok(())
 }
 
 /// Columns a spot rays file must have, in output order.
@@ -260,10 +268,7 @@ impl SpotRow {
     pub fn radiance(&self, a: &dyn Fn(Point) -> f64) -> Result<[f64; 3], crate::geometry::GeometryError> {
         let mut out = [0.0; 3];
         for (o, ray) in out.iter_mut().zip(&self.rays) {
-            *o = match &self.cone {
-                Some(c) => ray.spot_radiance(c, self.g, a)?,
-                None => ray.radiance(self.g, a)?,
-            };
+            *o = ray.light_radiance(self.cone.as_ref(), self.g, a)?;
         }
         Ok(out)
     }
@@ -279,24 +284,7 @@ pub fn parse_spots(
 ) -> Result<Vec<SpotRow>, CsvError> {
     let mut rows = Vec::new();
     for (line, v, raw) in read_table(file, contents, &SPOT_COLUMNS)? {
-        for (k, (&col, &x)) in SPOT_COLUMNS.iter().zip(&v).enumerate() {
-            let (ok, need) = match col {
-                "surface" => (!x.is_nan(), "a distance ≥ 0, or negative or inf for none"),
-                "intensity" | "sigma_t_r" | "sigma_t_g" | "sigma_t_b" | "sigma_s_r" | "sigma_s_g" | "sigma_s_b" => {
-                    (x.is_finite() && x >= 0.0, "a finite number ≥ 0")
-                }
-                "g" => (x.abs() < 1.0, "in (−1, 1)"),
-                "cos_outer" => {
-                    (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light")
-                }
-                "cos_inner" => (x.is_finite() && x <= 1.0, "a finite number ≤ 1"),
-                _ => (x.is_finite(), "a finite number"),
-            };
-            if !ok {
-                let message = format!("{col} = {} is out of range: it must be {need}", raw[k]);
-                return Err(located(file, line, Some(col), message));
-            }
-        }
+        check_columns(file, line, &SPOT_COLUMNS, &v, &raw)?;
         let ray = |c: usize| PhysicalRay {
             origin: [v[0], v[1], v[2]],
             direction: [v[3], v[4], v[5]],

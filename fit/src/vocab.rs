@@ -105,15 +105,6 @@ impl Entry {
     /// Every entry, in the order the index lists them.
     pub const ALL: [Entry; 3] = [Entry::Canonical, Entry::Radiance, Entry::Spot];
 
-    /// As written on the command line (`eval --entry`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Entry::Canonical => "canonical",
-            Entry::Radiance => "radiance",
-            Entry::Spot => "spot",
-        }
-    }
-
     /// f32 values it returns per item: 1, or 3 (RGB) for [`Entry::Spot`].
     pub fn outputs(self) -> usize {
         match self {

@@ -147,6 +147,18 @@ pub const PHYSICAL_RAYS: usize = 2000;
 /// medium. Returns the rays with the canonical point of their f32 inputs (computed
 /// in f64) and the expected radiance `σs·I/D·A` from the reference.
 pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::Ray, Point, f64)>, GateError> {
+    placements(k, n, seed)?
+        .into_iter()
+        .map(|(ray, real, scale)| {
+            let a = reference::airlight(real).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
+            Ok((ray, real, scale * a))
+        })
+        .collect()
+}
+
+/// The rays of [`physical_rays`] with the canonical point of their f32 inputs
+/// (projected onto what `k` takes) and the scale `σs·I/D` of their radiance.
+fn placements(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::Ray, Point, f64)>, GateError> {
     let mut rng = airlight_fit::domains::SplitMix64(seed);
     let unit = |rng: &mut airlight_fit::domains::SplitMix64| loop {
         let v = [2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0];
@@ -197,10 +209,7 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
         // The canonical point of the f32 inputs, in f64.
         let c =
             ray.physical().to_canonical(f64::from(ray.g)).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
-        let real = project(k, c.point);
-        let a = reference::airlight(real).map_err(|e| GateError::Input(format!("{}: {e}", k.name)))?;
-        let expected = c.scale * a;
-        out.push((ray, real, expected));
+        out.push((ray, project(k, c.point), c.scale));
     }
     Ok(out)
 }
@@ -243,7 +252,7 @@ pub const SPOT: &str = "spot";
 /// the rays with the canonical point of their unclipped red channel and the
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
-    let base = physical_rays(k, n, seed)?;
+    let base = placements(k, n, seed)?;
     let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x5907);
     let mut rays = Vec::with_capacity(n);
     for (i, (r, p, _)) in base.iter().enumerate() {

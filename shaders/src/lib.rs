@@ -596,23 +596,17 @@ impl Ray {
 
     /// The arguments in their packing slots ([`Arg::slot`]).
     fn pack(&self) -> [f32; 16] {
-        let mut out = [0.0; 16];
-        for &a in Entry::Radiance.all_args() {
-            let (v, lane) = a.slot(Entry::Radiance).expect("every radiance argument has a slot");
-            let values: &[f32] = match a {
-                Arg::Origin => &self.origin,
-                Arg::Dir => &self.dir,
-                Arg::Light => &self.light,
-                Arg::Surface => &[self.surface],
-                Arg::Intensity => &[self.intensity],
-                Arg::SigmaT => &[self.sigma_t],
-                Arg::SigmaS => &[self.sigma_s],
-                Arg::G => &[self.g],
-                other => unreachable!("{other} is not an argument of radiance"),
-            };
-            out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
-        }
-        out
+        pack_slots(Entry::Radiance, |a| match a {
+            Arg::Origin => &self.origin,
+            Arg::Dir => &self.dir,
+            Arg::Light => &self.light,
+            Arg::Surface => std::slice::from_ref(&self.surface),
+            Arg::Intensity => std::slice::from_ref(&self.intensity),
+            Arg::SigmaT => std::slice::from_ref(&self.sigma_t),
+            Arg::SigmaS => std::slice::from_ref(&self.sigma_s),
+            Arg::G => std::slice::from_ref(&self.g),
+            other => unreachable!("{other} is not an argument of radiance"),
+        })
     }
 }
 
@@ -675,12 +669,7 @@ impl SpotRay {
         c: usize,
         a: &dyn Fn(airlight_fit::reference::Point) -> f64,
     ) -> Result<f64, airlight_fit::geometry::GeometryError> {
-        let ray = self.physical(c);
-        let g = f64::from(self.g);
-        match self.cone() {
-            Some(cone) => ray.spot_radiance(&cone, g, a),
-            None => ray.radiance(g, a),
-        }
+        self.physical(c).light_radiance(self.cone().as_ref(), f64::from(self.g), a)
     }
 
     /// A compiled Rust kernel's spot entry on this ray, where it has one.
@@ -704,27 +693,34 @@ impl SpotRay {
 
     /// The arguments in their packing slots ([`Arg::slot`]).
     fn pack(&self) -> [f32; 24] {
-        let mut out = [0.0; 24];
-        for &a in Entry::Spot.all_args() {
-            let (v, lane) = a.slot(Entry::Spot).expect("every spot argument has a slot");
-            let values: &[f32] = match a {
-                Arg::Origin => &self.origin,
-                Arg::Dir => &self.dir,
-                Arg::Light => &self.light,
-                Arg::Axis => &self.axis,
-                Arg::SigmaTRgb => &self.sigma_t,
-                Arg::SigmaSRgb => &self.sigma_s,
-                Arg::Surface => &[self.surface],
-                Arg::CosOuter => &[self.cos_outer],
-                Arg::CosInner => &[self.cos_inner],
-                Arg::Intensity => &[self.intensity],
-                Arg::G => &[self.g],
-                other => unreachable!("{other} is not an argument of spot"),
-            };
-            out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
-        }
-        out
+        pack_slots(Entry::Spot, |a| match a {
+            Arg::Origin => &self.origin,
+            Arg::Dir => &self.dir,
+            Arg::Light => &self.light,
+            Arg::Axis => &self.axis,
+            Arg::SigmaTRgb => &self.sigma_t,
+            Arg::SigmaSRgb => &self.sigma_s,
+            Arg::Surface => std::slice::from_ref(&self.surface),
+            Arg::CosOuter => std::slice::from_ref(&self.cos_outer),
+            Arg::CosInner => std::slice::from_ref(&self.cos_inner),
+            Arg::Intensity => std::slice::from_ref(&self.intensity),
+            Arg::G => std::slice::from_ref(&self.g),
+            other => unreachable!("{other} is not an argument of spot"),
+        })
     }
+}
+
+/// `entry`'s arguments in their packing slots ([`Arg::slot`]), `N` = 4 ×
+/// [`Entry::packed_vec4s`]; `value` gives each argument's lanes.
+fn pack_slots<'a, const N: usize>(entry: Entry, value: impl Fn(Arg) -> &'a [f32]) -> [f32; N] {
+    debug_assert_eq!(N, 4 * entry.packed_vec4s());
+    let mut out = [0.0; N];
+    for &a in entry.all_args() {
+        let (v, lane) = a.slot(entry).expect("every argument of an entry has a slot");
+        let values = value(a);
+        out[4 * v + lane..4 * v + lane + values.len()].copy_from_slice(values);
+    }
+    out
 }
 
 /// The compute shader around one of a generated kernel's entry points: one

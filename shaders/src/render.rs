@@ -435,12 +435,11 @@ impl View {
     }
 }
 
-/// Sums the lights of each pixel.
-fn per_pixel<T: Copy>(view: &View, values: &[[T; 3]], zero: T, add: impl Fn(T, T) -> T) -> Vec<[T; 3]> {
-    let n = view.lights().len();
+/// Sums the lights of each pixel (the values are pixel by pixel, light by light).
+fn per_pixel<T: Copy + Default + std::ops::Add<Output = T>>(view: &View, values: &[[T; 3]]) -> Vec<[T; 3]> {
     values
-        .chunks(n)
-        .map(|c| c.iter().fold([zero; 3], |a, v| [add(a[0], v[0]), add(a[1], v[1]), add(a[2], v[2])]))
+        .chunks(view.lights().len())
+        .map(|c| c.iter().fold([T::default(); 3], |a, v| [a[0] + v[0], a[1] + v[1], a[2] + v[2]]))
         .collect()
 }
 
@@ -450,14 +449,14 @@ impl Gpu {
     pub fn render_spot(&self, k: &IndexEntry, kernel: &str, view: &View) -> Result<Vec<[f32; 3]>, GpuError> {
         let src = crate::KernelSource::of(k, airlight_fit::vocab::Target::Wgsl, kernel);
         let got = self.spot(&src, &view.all_spot_rays())?;
-        Ok(per_pixel(view, &got, 0.0, |a, b| a + b))
+        Ok(per_pixel(view, &got))
     }
 }
 
 /// The spot render from the Rust kernel on the CPU (`None`: it has no spot entry).
 pub fn render_spot_rust(k: &CompiledKernel, view: &View) -> Option<Vec<[f32; 3]>> {
     let got: Option<Vec<[f32; 3]>> = view.all_spot_rays().iter().map(|r| r.spot_of(k)).collect();
-    Some(per_pixel(view, &got?, 0.0, |a, b| a + b))
+    Some(per_pixel(view, &got?))
 }
 
 /// The spot render from the reference (f64).
@@ -471,7 +470,7 @@ pub fn render_spot_reference(k: &IndexEntry, view: &View) -> Vec<[f64; 3]> {
         },
         &|_, _| {},
     );
-    per_pixel(view, &got, 0.0, |a, b| a + b)
+    per_pixel(view, &got)
 }
 
 /// 8-bit RGB of an RGB radiance image: [`tone`] per channel.
