@@ -11,7 +11,8 @@
 //!   builds first through cargo: when the kernels do not compile, that is one
 //!   line naming the first error, and exit 1.
 
-use airlight_fit::catalog::{self, Family, Fits};
+use airlight_fit::catalog;
+use airlight_fit::family::Fits;
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::model;
 use airlight_fit::vocab::{CompiledKernel, Domain, Target};
@@ -150,7 +151,8 @@ enum Command {
     /// With --family, fit only that family and print its figures; nothing is
     /// written (a model needs all of its families).
     Fit {
-        /// segments, phase or backscatter.
+        /// The family part to fit: segments, phase or backscatter (the split
+        /// family's parts) or phi.
         #[arg(long)]
         family: Option<String>,
         /// Repository root; found from the current directory if omitted.
@@ -911,7 +913,7 @@ fn models(root: Option<PathBuf>) -> Result<(), Failure> {
         "model", "g range", "thin max", "thin p99", "dense max", "dense p99"
     );
     for m in reg.iter() {
-        let e = |d: Domain, f: fn(&coeffs::DomainErrors) -> f64| {
+        let e = |d: Domain, f: fn(&airlight_fit::domains::DomainErrors) -> f64| {
             files
                 .iter()
                 .find(|f| f.model.name == m.name())
@@ -932,60 +934,27 @@ fn models(root: Option<PathBuf>) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Fits (all families, or one) with a progress bar.
-fn run_fits(only: Option<Family>) -> Fits {
-    with_progress("fitting families", |progress| catalog::fit(only, progress))
+/// Fits (every family, or the one part named) with a progress bar.
+fn run_fits(only: Option<&str>) -> Fits {
+    with_progress("fitting families", |progress| Fits::fit(only, progress))
 }
 
-/// Assembles and measures every model with a progress bar.
+/// Assembles and measures every shipped model from the fits (progress bar).
 fn build_models(fits: &Fits) -> Result<Vec<ModelFile>, Failure> {
     with_progress("measuring models", |progress| catalog::build(fits, progress)).map_err(|e| Failure(1, e))
 }
 
 fn print_fits(fits: &Fits) {
-    if let Some((rms, max, n)) = fits.paper_segments {
-        println!("segments paper (3): forward integral rms {rms:.1e} max {max:.1e} on {n} targets");
-    }
-    for (n, f) in &fits.segments {
-        println!(
-            "segments refit ({n}): forward integral rms {:.1e} max {:.1e}; kernel max |error| {:.1e}; {} iterations, {}",
-            f.rms_rel,
-            f.max_rel,
-            f.segments.kernel_error().0,
-            f.outcome.iterations,
-            f.outcome.termination
-        );
-    }
-    for (k, bands) in &fits.phase {
-        let cells: Vec<String> = bands.iter().map(|b| format!("{:.1e}/{:.1e}", b.rms_rel, b.max_rel)).collect();
-        println!("phase {k} exponential(s), A rms/max per band: {}", cells.join(" "));
-    }
-    if !fits.paper_phase.is_empty() {
-        let cells: Vec<String> = fits.paper_phase.iter().map(|(r, m)| format!("{r:.1e}/{m:.1e}")).collect();
-        println!("phase paper table, A rms/max per band: {}", cells.join(" "));
-    }
-    if let (Some(r), Some((prms, pmax))) = (&fits.ratio, fits.paper_ratio) {
-        println!(
-            "backscatter ratio: refit rms {:.1e} max {:.1e} ({} iterations, {}); paper rms {prms:.1e} max {pmax:.1e}",
-            r.rms_rel, r.max_rel, r.outcome.iterations, r.outcome.termination
-        );
-    }
-    if let Some((n, f)) = &fits.expsum {
-        println!(
-            "backward sums: near {} terms max weight error {:.1e}; local {} terms max error {:.1e}",
-            n.sum.c.len(),
-            n.max_rel.0,
-            f.sum.c.len(),
-            f.max_rel.0
-        );
+    for line in fits.summary() {
+        println!("{line}");
     }
 }
 
 fn fit(family: Option<&str>, root: Option<PathBuf>) -> Result<(), Failure> {
     let only = match family {
         None => None,
-        Some(name) => Some(Family::from_name(name).ok_or_else(|| {
-            let known: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+        Some(name) => Some(airlight_fit::family::fit_parts().into_iter().find(|p| *p == name).ok_or_else(|| {
+            let known = airlight_fit::family::fit_parts();
             bad_input(format!("unknown family '{name}'; known families: {}", known.join(", ")))
         })?),
     };
@@ -1197,7 +1166,7 @@ fn bench(
             ops: cost.ops,
             transcendentals: cost.transcendentals,
             gpu_evals_per_s,
-            bytes: f.model.body.table().map_or(0, |t| t.bytes()),
+            bytes: f.model.body.texture().map_or(0, |t| t.bytes()),
         });
         fns.push(k.airlight);
     }

@@ -5,8 +5,8 @@ use crate::output::Output;
 use airlight_fit::analysis::{forward_error_grid, linspace, logspace, ratio_error_grid};
 use airlight_fit::approx::{PhaseModel, Split};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::family::ratio::Ratio;
-use airlight_fit::family::segments::Segments;
+use airlight_fit::family::split::ratio::Ratio;
+use airlight_fit::family::split::segments::Segments;
 use airlight_fit::vocab::Domain;
 use airlight_fit::Phase;
 use plotters::coord::Shift;
@@ -305,7 +305,7 @@ pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
         .filter_map(|m| m.model.name.strip_prefix("segments-").and_then(|n| n.parse().ok()).map(|n| (n, m)))
         .collect();
     pts.sort_by_key(|p| p.0);
-    let get = |d: Domain, f: &dyn Fn(&airlight_fit::coeffs::DomainErrors) -> f64| -> Vec<(f64, f64)> {
+    let get = |d: Domain, f: &dyn Fn(&airlight_fit::domains::DomainErrors) -> f64| -> Vec<(f64, f64)> {
         pts.iter().filter_map(|(n, m)| m.error(d).map(|e| (*n as f64, f(e)))).collect()
     };
     let fwd: Vec<(f64, f64)> = pts

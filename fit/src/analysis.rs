@@ -1,8 +1,8 @@
 //! Error surfaces behind the report's figures: each family's own error over its
 //! own variables, against exact quadrature.
 
-use crate::family::ratio::{exact_backward, Ratio};
-use crate::family::segments::{exact_forward, Segments};
+use crate::family::split::ratio::{exact_backward, Ratio};
+use crate::family::split::segments::{exact_forward, Segments};
 use std::f64::consts::FRAC_PI_2;
 
 /// Relative error of `∫₀^θ e^{−T k̂}` over the grid `ts × thetas` (row per T),

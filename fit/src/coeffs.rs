@@ -8,10 +8,10 @@
 //! byte-identical.
 
 use crate::approx::{Approximation, Body};
-use crate::domains::Domain;
-use crate::hexf;
+use crate::family::Member;
+use crate::domains::{Domain, DomainErrors};
 use crate::reference::Point;
-use crate::tomlfile::{locate, parse_table, short, FieldError, Reader};
+use crate::tomlfile::{dec, locate, parse_table, short, FieldError, Provenance, Reader};
 use std::fmt::Write;
 use std::path::Path;
 use toml::{Table, Value};
@@ -19,28 +19,6 @@ use toml::{Table, Value};
 /// The version of the file layout [`render`] writes and [`parse`] reads; a file
 /// with another `format_version` (or none) is refused.
 pub const FORMAT_VERSION: i64 = 1;
-
-/// Errors measured on one domain's validation set.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DomainErrors {
-    /// The domain.
-    pub domain: Domain,
-    /// Points measured.
-    pub points: usize,
-    /// Largest relative error of `A`.
-    pub max_rel: f64,
-    /// 99th percentile.
-    pub p99_rel: f64,
-    /// Where the largest error occurs.
-    pub worst: Point,
-    /// NaN or ∞ where `A` is finite.
-    pub non_finite: usize,
-    /// Negative values.
-    pub negative: usize,
-}
-
-/// A free-form provenance table: `(table name, ordered key/values)`.
-pub type Provenance = (String, Vec<(String, Value)>);
 
 /// One coefficient file.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +34,18 @@ pub struct ModelFile {
 }
 
 impl ModelFile {
+    /// What its family's report section sees of it, with its bench row.
+    pub fn member<'a>(&'a self, bench: Option<&'a crate::bench::BenchModel>) -> Member<'a, Body> {
+        Member {
+            name: &self.model.name,
+            g_range: self.model.g_range,
+            body: &self.model.body,
+            errors: &self.errors,
+            provenance: &self.provenance,
+            bench,
+        }
+    }
+
     /// The errors on `domain`, if measured.
     pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
         self.errors.iter().find(|e| e.domain == domain)
@@ -74,45 +64,6 @@ impl ModelFile {
 /// A coefficient file that cannot be used (file, line, field, message).
 pub type CoeffError = FieldError;
 
-/// Shortest text that reads back as the same f64 (TOML spells infinity `inf`).
-pub fn dec(x: f64) -> String {
-    if x.is_infinite() {
-        if x > 0.0 {
-            "inf".into()
-        } else {
-            "-inf".into()
-        }
-    } else {
-        format!("{x:?}")
-    }
-}
-
-/// `key = [ "hex", # decimal ... ]`.
-pub fn hex_list(out: &mut String, key: &str, xs: &[f64]) {
-    let _ = writeln!(out, "{key} = [");
-    for x in xs {
-        let _ = writeln!(out, "  \"{}\", # {}", hexf::format(*x), dec(*x));
-    }
-    out.push_str("]\n");
-}
-
-/// Rows of quadratics in g as hexadecimal floats.
-pub fn quad_rows(out: &mut String, key: &str, rows: &[[f64; 3]]) {
-    let _ = writeln!(out, "{key} = [");
-    for r in rows {
-        let _ = writeln!(
-            out,
-            "  [\"{}\", \"{}\", \"{}\"], # {} g² + {} g + {}",
-            hexf::format(r[0]),
-            hexf::format(r[1]),
-            hexf::format(r[2]),
-            dec(r[0]),
-            dec(r[1]),
-            dec(r[2])
-        );
-    }
-    out.push_str("]\n");
-}
 
 fn point_inline(p: &Point) -> String {
     format!("{{ tau = {}, gamma = {}, rho = {}, g = {} }}", dec(p.tau), dec(p.gamma), dec(p.rho), dec(p.g))

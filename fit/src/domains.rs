@@ -181,6 +181,25 @@ impl SplitMix64 {
     }
 }
 
+/// Errors measured on one domain's validation set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DomainErrors {
+    /// The domain.
+    pub domain: Domain,
+    /// Points measured.
+    pub points: usize,
+    /// Largest relative error of `A`.
+    pub max_rel: f64,
+    /// 99th percentile.
+    pub p99_rel: f64,
+    /// Where the largest error occurs.
+    pub worst: Point,
+    /// NaN or ∞ where `A` is finite.
+    pub non_finite: usize,
+    /// Negative values.
+    pub negative: usize,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

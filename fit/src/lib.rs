@@ -31,6 +31,7 @@ pub mod record;
 pub mod reference;
 pub mod selfcheck;
 pub mod stats;
+pub mod template;
 pub mod tomlfile;
 pub mod vocab;
 

@@ -7,6 +7,23 @@
 
 use std::f64::consts::PI;
 
+/// `1 − cos α` and `1 + cos α` from `cos α = x / t` with `t² = x² + h²`, each
+/// formed without cancellation (`t ≥ |x|`).
+#[inline]
+pub fn one_minus_plus_cos(x: f64, h: f64, t: f64) -> (f64, f64) {
+    let (a, b) = if x > 0.0 { (h * h / (t + x), t + x) } else { (t - x, h * h / (t - x)) };
+    (a / t, b / t)
+}
+
+/// Henyey–Greenstein from `1 − cos α` and `1 + cos α`, written around the peak so
+/// that it never cancels (`g = 0`: `1/(4π)`).
+#[inline]
+pub fn hg(g: f64, one_minus: f64, one_plus: f64) -> f64 {
+    let d =
+        if g >= 0.0 { (1.0 - g) * (1.0 - g) + 2.0 * g * one_minus } else { (1.0 + g) * (1.0 + g) - 2.0 * g * one_plus };
+    (1.0 - g) * (1.0 + g) / (4.0 * PI * d * d.sqrt())
+}
+
 /// A phase function `P(α)`, `α = 0` forward scattering.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Phase {

@@ -67,6 +67,25 @@ pub fn rel_error(approx: f64, exact: f64) -> f64 {
     }
 }
 
+/// A relative error with two significant digits (`0` when exactly zero).
+pub fn fmt_err(e: f64) -> String {
+    if e == 0.0 {
+        "0".into()
+    } else if e.is_finite() {
+        format!("{e:.1e}")
+    } else {
+        "∞".into()
+    }
+}
+
+/// A point, compactly, for tables.
+pub fn fmt_point(p: &Point) -> String {
+    let rho = if p.rho.is_infinite() { "∞".to_string() } else { format!("{:.6}", p.rho) };
+    format!("τ = {:.6}, γ = {:.6}, ρ = {}, g = {:.4}", p.tau, p.gamma, rho, p.g)
+        .replace(".000000,", ",")
+        .replace("g = 0.0000", "g = 0")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

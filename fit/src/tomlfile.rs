@@ -3,7 +3,11 @@
 
 use crate::hexf;
 use std::fmt;
+use std::fmt::Write as _;
 use toml::{Table, Value};
+
+/// A free-form provenance table: `(table name, ordered key/values)`.
+pub type Provenance = (String, Vec<(String, Value)>);
 
 /// A TOML file that cannot be used: `file:line: field 'x': message`.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -260,6 +264,74 @@ impl Reader<'_> {
             }
         }
         a.iter().map(|v| self.hex_value(v, sec, key)).collect()
+    }
+}
+
+// ---- writing: the counterparts of the readers above ----
+
+/// Shortest text that reads back as the same f64 (TOML spells infinity `inf`).
+pub fn dec(x: f64) -> String {
+    if x.is_infinite() {
+        if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        }
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// `key = [ "hex", # decimal ... ]`.
+pub fn hex_list(out: &mut String, key: &str, xs: &[f64]) {
+    let _ = writeln!(out, "{key} = [");
+    for x in xs {
+        let _ = writeln!(out, "  \"{}\", # {}", hexf::format(*x), dec(*x));
+    }
+    out.push_str("]\n");
+}
+
+/// Rows of quadratics in g as hexadecimal floats.
+pub fn quad_rows(out: &mut String, key: &str, rows: &[[f64; 3]]) {
+    let _ = writeln!(out, "{key} = [");
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "  [\"{}\", \"{}\", \"{}\"], # {} g² + {} g + {}",
+            hexf::format(r[0]),
+            hexf::format(r[1]),
+            hexf::format(r[2]),
+            dec(r[0]),
+            dec(r[1]),
+            dec(r[2])
+        );
+    }
+    out.push_str("]\n");
+}
+
+/// Short constructors of provenance values (the coefficient files' `[*.fit]` tables).
+pub mod value {
+    use toml::Value;
+
+    /// A string.
+    pub fn s(v: &str) -> Value {
+        Value::String(v.to_string())
+    }
+    /// An integer (saturating).
+    pub fn i(v: impl TryInto<i64>) -> Value {
+        Value::Integer(v.try_into().unwrap_or(i64::MAX))
+    }
+    /// A float.
+    pub fn f(v: f64) -> Value {
+        Value::Float(v)
+    }
+    /// Owned keys.
+    pub fn kv(pairs: Vec<(&str, Value)>) -> Vec<(String, Value)> {
+        pairs.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+    }
+    /// A seed as `0x…` (16 hex digits).
+    pub fn hex_seed(seed: u64) -> Value {
+        s(&format!("{seed:#018x}"))
     }
 }
 

@@ -471,7 +471,7 @@ pub fn physical_extremes(k: &IndexEntry) -> Result<Vec<(crate::Ray, Point, f64)>
 fn f64_model<'m>(k: &IndexEntry, models: &'m [ModelFile]) -> Result<Box<dyn Fn(Point) -> f64 + Sync + 'm>, GateError> {
     Ok(match model_file(k, models)? {
         Some(m) => Box::new(move |p| airlight_fit::model::Model::eval_unchecked(&m.model, p)),
-        None => Box::new(|p| airlight_fit::family::closed::NoExtinction.eval(p)),
+        None => Box::new(|p| airlight_fit::family::CLOSED_FORM.eval(p)),
     })
 }
 

@@ -1,158 +1,452 @@
-//! The approximation families, one module each: its representation, f64
-//! evaluation, fit, coefficient schema and cost. A model's [`Body`] is the family
-//! values it is evaluated with (see [`crate::approx`]).
+//! The approximation families, one folder each (`fit/src/family/<name>/`): its
+//! f64 evaluator, its fit and the summary `airlight fit --family` prints, its
+//! coefficient schema, its cost, its kernel-template context and its core
+//! templates per language (`core.wgsl.tera`, `core.glsl.tera`, `core.rs.tera`),
+//! and, if it has one, its report section. Each implements [`Family`].
 //!
-//! Adding a family: a module here, a variant of [`Body`] and its arms below, its
-//! kernel templates and the catalog entries that use it (README, "Adding a family").
+//! Every dispatch over families — [`Body`] (what a model evaluates), [`Recipe`]
+//! (how the catalog builds one), [`Fits`] (every family's fit) — is generated
+//! by [`families!`] from the one list at the end of this file: matching is
+//! exhaustive, and a family's kind appears only in its own `Family::KIND`.
+//!
+//! Adding a family: its folder, one line in that list, and its catalog rows
+//! (README, "Adding a family").
 
-pub mod baseline;
 pub mod closed;
-pub mod expsum;
-pub mod phase_exp;
+pub mod equiangular;
 pub mod phi;
-pub mod ratio;
-pub mod segments;
+pub mod raymarch;
 pub mod split;
 pub mod sun;
 
+use crate::bench::BenchModel;
 use crate::cost::{Cost, PhaseShape, Shape};
+use crate::domains::{Domain, DomainErrors};
 use crate::reference::Point;
-use crate::tomlfile::{FieldError, Reader};
-use toml::Table;
+use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
+use crate::tomlfile::{FieldError, Provenance, Reader};
+use toml::{Table, Value};
 
-/// What a model evaluates `A` with. (Bodies are few and long-lived: the size
-/// difference between variants costs nothing.)
-#[derive(Debug, Clone, PartialEq)]
-#[allow(clippy::large_enum_variant)]
-pub enum Body {
-    /// A forward part plus a backward part: the paper's three families and their refits.
-    Split(split::Split),
-    /// The whole integral without extinction, in closed form (exact at `τ = 0`).
-    NoExtinction(closed::NoExtinction),
-    /// Uniform midpoint ray marching (a baseline).
-    RayMarch(baseline::RayMarch),
-    /// Gauss–Legendre in the equiangular angle (a baseline).
-    Equiangular(baseline::Equiangular),
-    /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
-    Sun2005(sun::SunTable),
-    /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
-    Phi(phi::PhiRule),
+/// Whose a family is: airlight's own, or what a user would pick instead.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// One of airlight's models (fitted or derived here).
+    Airlight,
+    /// A baseline: what a rendering engineer would use instead.
+    Baseline,
 }
 
-impl Body {
-    /// Every kind, in the order of the variants.
-    pub const KINDS: [&'static str; 6] = [
-        split::Split::KIND,
-        closed::NoExtinction::KIND,
-        baseline::RayMarch::KIND,
-        baseline::Equiangular::KIND,
-        sun::SunTable::KIND,
-        phi::PhiRule::KIND,
-    ];
+/// A family's member built from its recipe and fit (errors not yet measured).
+#[derive(Debug, Clone)]
+pub struct Assembled<F> {
+    /// The evaluator.
+    pub body: F,
+    /// The parts it is assembled from, as labels.
+    pub families: Vec<String>,
+    /// Provenance tables of its fitted parts.
+    pub provenance: Vec<Provenance>,
+    /// Keys that open the final `[provenance]` table (the method, what is fitted).
+    pub method: Vec<(String, Value)>,
+}
 
-    /// The family's name: the `kind` key of coefficient files and the key of its
-    /// templates in `codegen/outputs.toml`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Body::Split(_) => split::Split::KIND,
-            Body::NoExtinction(_) => closed::NoExtinction::KIND,
-            Body::RayMarch(_) => baseline::RayMarch::KIND,
-            Body::Equiangular(_) => baseline::Equiangular::KIND,
-            Body::Sun2005(_) => sun::SunTable::KIND,
-            Body::Phi(_) => phi::PhiRule::KIND,
-        }
+/// The label of how a member takes the phase: `isotropic` or `HG exact`.
+pub fn phase_label(g_range: (f64, f64)) -> String {
+    if g_range == (0.0, 0.0) { "isotropic" } else { "HG exact" }.to_string()
+}
+
+/// A baseline's provenance keys: its method, and that nothing is fitted.
+pub fn baseline_method(method: &str) -> Vec<(String, Value)> {
+    use crate::tomlfile::value::s;
+    vec![("baseline".into(), s(method)), ("fitted".into(), s("nothing: the method's own parameters"))]
+}
+
+/// A texture a family's kernels read (f32 texels, square).
+#[derive(Debug, Clone, Copy)]
+pub struct Texture<'a> {
+    /// Texels per side.
+    pub res: usize,
+    /// Row-major texels.
+    pub texels: &'a [f32],
+}
+
+impl Texture<'_> {
+    /// The texels as little-endian bytes (the file under `generated/tables/`).
+    pub fn to_le_bytes(&self) -> Vec<u8> {
+        self.texels.iter().flat_map(|t| t.to_le_bytes()).collect()
     }
 
-    /// Whether it is a baseline — what a user would pick instead of a fitted
-    /// model — rather than one of airlight's own models.
-    pub fn is_baseline(&self) -> bool {
-        !matches!(self, Body::Split(_) | Body::Phi(_))
+    /// Its size in bytes.
+    pub fn bytes(&self) -> usize {
+        4 * self.texels.len()
+    }
+}
+
+/// What a family's report section is computed from, per member model.
+#[derive(Debug, Clone)]
+pub struct Member<'a, F> {
+    /// The model's name.
+    pub name: &'a str,
+    /// Its `g` range.
+    pub g_range: (f64, f64),
+    /// Its family values.
+    pub body: &'a F,
+    /// Its declared errors per domain.
+    pub errors: &'a [DomainErrors],
+    /// Its provenance tables.
+    pub provenance: &'a [Provenance],
+    /// Its bench row, if benched.
+    pub bench: Option<&'a BenchModel>,
+}
+
+impl<F> Member<'_, F> {
+    /// The declared errors on `domain`.
+    pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
+        self.errors.iter().find(|e| e.domain == domain)
     }
 
-    /// The table it reads (bytes of f32 texels), if it has one.
-    pub fn table(&self) -> Option<&sun::SunTable> {
-        match self {
-            Body::Sun2005(t) => Some(t),
-            _ => None,
-        }
+    /// A provenance value, by table and key.
+    pub fn provenance_value(&self, table: &str, key: &str) -> Option<&Value> {
+        self.provenance.iter().find(|(t, _)| t == table).and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key)).map(|(_, v)| v)
     }
+}
 
+/// Everything the report's family sections share: the cost floor's bench time.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ReportFloor {
+    /// CPU ns per evaluation of the cost-floor family's kernel, if benched.
+    pub cpu_ns: Option<f64>,
+}
+
+/// A family's report section: its template and the context it fills.
+#[derive(Debug, Clone)]
+pub struct Section {
+    /// Name of its template (`<dir>/report.md.tera`).
+    pub template_name: String,
+    /// Its template.
+    pub template: &'static str,
+    /// Its values.
+    pub context: Context,
+}
+
+/// One approximation family. Everything the pipeline does with a family goes
+/// through this trait; dispatch over the list is generated by [`families!`].
+pub trait Family: Sized + Clone + PartialEq + std::fmt::Debug {
+    /// Its name: the `kind` of coefficient files.
+    const KIND: &'static str;
+    /// Its folder under `fit/src/family/`.
+    const DIR: &'static str;
+    /// Airlight's own, or a baseline.
+    const ROLE: Role;
+    /// The top-level tables of its coefficient files (besides `[model]`,
+    /// `[error.*]` and `[provenance]`).
+    const TABLES: &'static [&'static str];
+    /// Its core templates (`core.*.tera` in its folder).
+    const TEMPLATES: Templates;
     /// Whether it models extinction (takes τ).
-    pub fn extinction(&self) -> bool {
-        !matches!(self, Body::NoExtinction(_))
+    const EXTINCTION: bool = true;
+    /// Whether its core has an RGB variant sharing its nodes across channels
+    /// (τ enters only the transmittances), which the spot entry then calls.
+    const SHARES_RGB_NODES: bool = false;
+    /// Whether it is the cost floor the report's ratios are taken against.
+    const COST_FLOOR: bool = false;
+    /// Its report section's template, if it has one (`report.md.tera` in its folder).
+    const REPORT: Option<&'static str> = None;
+    /// The parts `airlight fit --family` can name (none: nothing is fitted).
+    const FIT_PARTS: &'static [&'static str] = &[];
+
+    /// How the catalog describes one member (its parameters).
+    type Recipe: Copy + PartialEq + std::fmt::Debug;
+    /// What its fit produces (shared by all its members).
+    type Fit: Default + Clone + std::fmt::Debug;
+
+    /// Fits the named parts (a subset of [`Family::FIT_PARTS`]); `progress(done, total)`.
+    fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Self::Fit {
+        Self::Fit::default()
     }
+
+    /// What `airlight fit --family` prints of a fit, one line each.
+    fn fit_summary(_fit: &Self::Fit) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// Builds a member from its recipe and the family's fit.
+    fn assemble(recipe: Self::Recipe, g_range: (f64, f64), fit: &Self::Fit) -> Result<Assembled<Self>, String>;
 
     /// `A` at a valid point.
-    pub fn eval(&self, p: Point) -> f64 {
-        match self {
-            Body::Split(s) => s.eval(p),
-            Body::NoExtinction(c) => c.eval(p),
-            Body::RayMarch(m) => m.eval(p),
-            Body::Equiangular(q) => q.eval(p),
-            Body::Sun2005(t) => t.eval(p),
-            Body::Phi(r) => r.eval(p),
-        }
-    }
-
-    /// How its phase function costs.
-    pub fn phase_shape(&self) -> PhaseShape {
-        match self {
-            Body::Split(s) => s.phase_shape(),
-            Body::NoExtinction(_) | Body::Sun2005(_) => PhaseShape::Isotropic,
-            Body::RayMarch(_) | Body::Equiangular(_) | Body::Phi(_) => baseline::phase_shape(),
-        }
-    }
+    fn eval(&self, p: Point) -> f64;
 
     /// Operation counts of one f32 kernel evaluation in `shape`: the one source
     /// of cost for the planner, the plans and the report.
-    pub fn ops(&self, shape: Shape) -> Cost {
-        match self {
-            Body::Split(s) => s.ops(shape),
-            Body::NoExtinction(c) => c.ops(shape),
-            Body::RayMarch(m) => m.ops(shape),
-            Body::Equiangular(q) => q.ops(shape),
-            Body::Sun2005(t) => t.ops(shape),
-            Body::Phi(r) => r.ops(shape),
+    fn ops(&self, shape: Shape) -> Cost;
+
+    /// How its phase function costs.
+    fn phase_shape(&self) -> PhaseShape;
+
+    /// How a kernel of a member with `g_range` takes the phase when `want` is
+    /// asked for. By default: isotropic members fold `1/(4π)` in; the others
+    /// evaluate Henyey–Greenstein exactly, `g` baked in or at run time.
+    fn kernel_phase(&self, g_range: (f64, f64), want: WantPhase) -> KernelPhase {
+        match want {
+            _ if g_range == (0.0, 0.0) => KernelPhase::Isotropic,
+            WantPhase::Isotropic => KernelPhase::Isotropic,
+            WantPhase::Fixed(g) => KernelPhase::Fixed(g),
+            WantPhase::General | WantPhase::Range(..) => KernelPhase::Exact,
         }
     }
 
-    /// The top-level tables a coefficient file of family `kind` has (besides
-    /// `[model]`, `[error.*]` and `[provenance]`); `None` for an unknown kind.
-    pub fn tables(kind: &str) -> Option<&'static [&'static str]> {
-        match kind {
-            split::Split::KIND => Some(split::Split::TABLES),
-            closed::NoExtinction::KIND => Some(&[]),
-            baseline::RayMarch::KIND => Some(baseline::RayMarch::TABLES),
-            baseline::Equiangular::KIND => Some(baseline::Equiangular::TABLES),
-            sun::SunTable::KIND => Some(sun::SunTable::TABLES),
-            phi::PhiRule::KIND => Some(phi::PhiRule::TABLES),
-            _ => None,
-        }
+    /// The texture its kernels read, if any.
+    fn texture(&self) -> Option<Texture<'_>> {
+        None
     }
 
-    /// Writes the family's tables of a coefficient file; `prov(out, table)` writes
-    /// the provenance table `table` where it belongs.
-    pub fn render_toml(&self, g_range: (f64, f64), out: &mut String, prov: &dyn Fn(&mut String, &str)) {
-        match self {
-            Body::Split(s) => s.render_toml(g_range, out, prov),
-            Body::NoExtinction(_) => {}
-            Body::RayMarch(m) => m.render_toml(out),
-            Body::Equiangular(q) => q.render_toml(out),
-            Body::Sun2005(t) => t.render_toml(out),
-            Body::Phi(r) => r.render_toml(out, prov),
-        }
-    }
+    /// Writes its tables of a coefficient file; `prov(out, table)` writes the
+    /// provenance table `table` where it belongs.
+    fn render_toml(&self, g_range: (f64, f64), out: &mut String, prov: &dyn Fn(&mut String, &str));
 
-    /// Reads the tables of a coefficient file of family `kind` (checked by [`Body::tables`]).
-    pub fn parse_toml(kind: &str, r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Body, FieldError> {
-        Ok(match kind {
-            split::Split::KIND => Body::Split(split::Split::parse_toml(r, doc, g_range)?),
-            closed::NoExtinction::KIND => Body::NoExtinction(closed::NoExtinction),
-            baseline::RayMarch::KIND => Body::RayMarch(baseline::RayMarch::parse_toml(r, doc)?),
-            baseline::Equiangular::KIND => Body::Equiangular(baseline::Equiangular::parse_toml(r, doc)?),
-            sun::SunTable::KIND => Body::Sun2005(sun::SunTable::parse_toml(r, doc, g_range)?),
-            phi::PhiRule::KIND => Body::Phi(phi::PhiRule::parse_toml(r, doc)?),
-            other => return Err(r.err("model", "kind", &format!("unknown family '{other}'"))),
-        })
+    /// Reads its tables of a coefficient file (their names checked against [`Family::TABLES`]).
+    fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Self, FieldError>;
+
+    /// What its core templates need for the kernel `k`.
+    fn kernel_context(&self, k: &KernelView) -> Context;
+
+    /// Its report section's values, from its members (`None`: no section).
+    fn report(_members: &[Member<'_, Self>], _floor: ReportFloor) -> Option<Context> {
+        None
+    }
+}
+
+/// Generates, from one list of `Variant(Type) as field`, the enums [`Body`] and
+/// [`Recipe`], the struct [`Fits`] and every dispatch over families.
+macro_rules! families {
+    ($($(#[doc = $doc:expr])* $variant:ident($ty:ty) as $field:ident,)+) => {
+        /// What a model evaluates `A` with: one variant per family.
+        #[derive(Debug, Clone, PartialEq)]
+        #[allow(clippy::large_enum_variant)]
+        pub enum Body {
+            $($(#[doc = $doc])* $variant($ty),)+
+        }
+
+        /// How the catalog builds a model: one variant per family, its parameters.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub enum Recipe {
+            $($(#[doc = $doc])* $variant(<$ty as Family>::Recipe),)+
+        }
+
+        /// Every family's fit.
+        #[derive(Debug, Clone, Default)]
+        pub struct Fits {
+            $($(#[doc = $doc])* pub $field: <$ty as Family>::Fit,)+
+        }
+
+        impl Body {
+            /// Every kind, in list order.
+            pub const KINDS: &'static [&'static str] = &[$(<$ty as Family>::KIND,)+];
+
+            /// The family's name: the `kind` of coefficient files.
+            pub fn kind(&self) -> &'static str {
+                match self { $(Body::$variant(_) => <$ty as Family>::KIND,)+ }
+            }
+
+            /// The family's folder under `fit/src/family/`.
+            pub fn dir(&self) -> &'static str {
+                match self { $(Body::$variant(_) => <$ty as Family>::DIR,)+ }
+            }
+
+            /// Airlight's own, or a baseline.
+            pub fn role(&self) -> Role {
+                match self { $(Body::$variant(_) => <$ty as Family>::ROLE,)+ }
+            }
+
+            /// Whether it models extinction (takes τ).
+            pub fn extinction(&self) -> bool {
+                match self { $(Body::$variant(_) => <$ty as Family>::EXTINCTION,)+ }
+            }
+
+            /// Whether its core shares its nodes across the spot entry's channels.
+            pub fn shares_rgb_nodes(&self) -> bool {
+                match self { $(Body::$variant(_) => <$ty as Family>::SHARES_RGB_NODES,)+ }
+            }
+
+            /// Whether it is the cost floor.
+            pub fn is_cost_floor(&self) -> bool {
+                match self { $(Body::$variant(_) => <$ty as Family>::COST_FLOOR,)+ }
+            }
+
+            /// Its core templates.
+            pub fn templates(&self) -> Templates {
+                match self { $(Body::$variant(_) => <$ty as Family>::TEMPLATES,)+ }
+            }
+
+            /// `A` at a valid point.
+            pub fn eval(&self, p: Point) -> f64 {
+                match self { $(Body::$variant(f) => f.eval(p),)+ }
+            }
+
+            /// Operation counts of one f32 kernel evaluation in `shape`.
+            pub fn ops(&self, shape: Shape) -> Cost {
+                match self { $(Body::$variant(f) => f.ops(shape),)+ }
+            }
+
+            /// How its phase function costs.
+            pub fn phase_shape(&self) -> PhaseShape {
+                match self { $(Body::$variant(f) => f.phase_shape(),)+ }
+            }
+
+            /// How a kernel takes the phase ([`Family::kernel_phase`]).
+            pub fn kernel_phase(&self, g_range: (f64, f64), want: WantPhase) -> KernelPhase {
+                match self { $(Body::$variant(f) => f.kernel_phase(g_range, want),)+ }
+            }
+
+            /// The texture its kernels read, if any.
+            pub fn texture(&self) -> Option<Texture<'_>> {
+                match self { $(Body::$variant(f) => f.texture(),)+ }
+            }
+
+            /// What its core templates need for the kernel `k`.
+            pub fn kernel_context(&self, k: &KernelView) -> Context {
+                match self { $(Body::$variant(f) => f.kernel_context(k),)+ }
+            }
+
+            /// The tables of a coefficient file of family `kind`; `None` for an unknown kind.
+            pub fn tables(kind: &str) -> Option<&'static [&'static str]> {
+                $(if kind == <$ty as Family>::KIND { return Some(<$ty as Family>::TABLES); })+
+                None
+            }
+
+            /// Writes the family's tables of a coefficient file.
+            pub fn render_toml(&self, g_range: (f64, f64), out: &mut String, prov: &dyn Fn(&mut String, &str)) {
+                match self { $(Body::$variant(f) => f.render_toml(g_range, out, prov),)+ }
+            }
+
+            /// Reads the tables of a coefficient file of family `kind` (checked by [`Body::tables`]).
+            pub fn parse_toml(kind: &str, r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Body, FieldError> {
+                $(if kind == <$ty as Family>::KIND {
+                    return Ok(Body::$variant(<$ty as Family>::parse_toml(r, doc, g_range)?));
+                })+
+                Err(r.err("model", "kind", &format!("unknown family '{kind}'")))
+            }
+
+        }
+
+        /// Every family's folder and core templates, in list order.
+        pub fn all_templates() -> Vec<(&'static str, Templates)> {
+            vec![$((<$ty as Family>::DIR, <$ty as Family>::TEMPLATES),)+]
+        }
+
+        /// Each family's report section, in list order, from every model's
+        /// (name, `g` range, body, errors, provenance, bench row).
+        pub fn report_sections(models: &[Member<'_, Body>]) -> Vec<Section> {
+            let floor = ReportFloor {
+                cpu_ns: models.iter().find(|m| m.body.is_cost_floor()).and_then(|m| m.bench).map(|b| b.cpu_ns_per_eval),
+            };
+            let mut out = Vec::new();
+            $(if let Some(template) = <$ty as Family>::REPORT {
+                let members: Vec<Member<'_, $ty>> = models
+                    .iter()
+                    .filter_map(|m| match m.body {
+                        Body::$variant(f) => Some(Member {
+                            name: m.name,
+                            g_range: m.g_range,
+                            body: f,
+                            errors: m.errors,
+                            provenance: m.provenance,
+                            bench: m.bench,
+                        }),
+                        #[allow(unreachable_patterns)]
+                        _ => None,
+                    })
+                    .collect();
+                if let Some(context) = <$ty as Family>::report(&members, floor) {
+                    out.push(Section {
+                        template_name: format!("{}/report.md.tera", <$ty as Family>::DIR),
+                        template,
+                        context,
+                    });
+                }
+            })+
+            out
+        }
+
+        impl Recipe {
+            /// The family it builds.
+            pub fn kind(&self) -> &'static str {
+                match self { $(Recipe::$variant(_) => <$ty as Family>::KIND,)+ }
+            }
+
+            /// Airlight's own, or a baseline.
+            pub fn role(&self) -> Role {
+                match self { $(Recipe::$variant(_) => <$ty as Family>::ROLE,)+ }
+            }
+
+            /// Builds the member from the fits.
+            pub fn assemble(&self, g_range: (f64, f64), fits: &Fits) -> Result<Assembled<Body>, String> {
+                match *self {
+                    $(Recipe::$variant(r) => {
+                        let a = <$ty as Family>::assemble(r, g_range, &fits.$field)?;
+                        Ok(Assembled { body: Body::$variant(a.body), families: a.families, provenance: a.provenance, method: a.method })
+                    })+
+                }
+            }
+        }
+
+        impl Fits {
+            /// Every part `airlight fit --family` can name, in list order.
+            pub const PARTS: &'static [&'static [&'static str]] = &[$(<$ty as Family>::FIT_PARTS,)+];
+
+            /// Fits every family (`only`: just the families owning that part, just
+            /// that part). `progress(done, total)` counts each family's fit jobs.
+            pub fn fit(only: Option<&str>, progress: &(dyn Fn(usize, usize) + Sync)) -> Fits {
+                let mut fits = Fits::default();
+                $({
+                    let parts: Vec<&str> = <$ty as Family>::FIT_PARTS
+                        .iter()
+                        .copied()
+                        .filter(|p| only.is_none_or(|o| o == *p))
+                        .collect();
+                    if !parts.is_empty() {
+                        fits.$field = <$ty as Family>::fit(&parts, progress);
+                    }
+                })+
+                fits
+            }
+
+            /// What `airlight fit --family` prints, every family's lines in list order.
+            pub fn summary(&self) -> Vec<String> {
+                let mut out = Vec::new();
+                $(out.extend(<$ty as Family>::fit_summary(&self.$field));)+
+                out
+            }
+        }
+    };
+}
+
+families! {
+    /// A forward part plus a backward part: the paper's three families and their refits.
+    Split(split::Split) as split,
+    /// The whole integral without extinction, in closed form (exact at `τ = 0`).
+    NoExtinction(closed::NoExtinction) as closed,
+    /// Uniform midpoint ray marching (a baseline).
+    RayMarch(raymarch::RayMarch) as raymarch,
+    /// Gauss–Legendre in the equiangular angle (a baseline).
+    Equiangular(equiangular::Equiangular) as equiangular,
+    /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
+    Sun2005(sun::SunTable) as sun,
+    /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
+    Phi(phi::PhiRule) as phi,
+}
+
+/// Every part `airlight fit --family` can name.
+pub fn fit_parts() -> Vec<&'static str> {
+    Fits::PARTS.iter().flat_map(|p| p.iter().copied()).collect()
+}
+
+/// The exact closed form without extinction: what a scene's plan evaluates when
+/// extinction does not matter (no model file behind it).
+pub static CLOSED_FORM: Body = Body::NoExtinction(closed::NoExtinction);
+
+impl Body {
+    /// Whether it is a baseline (its family's [`Family::ROLE`]).
+    pub fn is_baseline(&self) -> bool {
+        self.role() == Role::Baseline
     }
 }

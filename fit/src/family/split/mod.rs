@@ -16,7 +16,7 @@
 //!     cancels catastrophically (measured: relative errors up to 1e17 in `dense`),
 //!     so models that use it switch to the exponential sum there;
 //!   - the exponential sum of the backward weight in the u form
-//!     ([`crate::family::expsum`]): positive terms, no differences, any geometry.
+//!     ([`expsum`]): positive terms, no differences, any geometry.
 //!
 //!   The phase enters the backward part at a mean angle: of the whole part for the
 //!   ratio (mean offset `L/(2 + κ L)` from its start, `κ` the decay rate there), of
@@ -26,14 +26,21 @@
 //! `γ = 0` uses the exact on-axis value; `γ` within 1e-7 of π is evaluated at
 //! `π − 1e-7` (A is flat in γ there).
 
-use crate::coeffs::{dec, hex_list, quad_rows};
+use crate::tomlfile::{dec, hex_list, quad_rows};
 use crate::cost::{Cost, PhaseShape, Shape};
-use crate::family::expsum::Backward;
-use crate::family::expsum::ExpSum;
-use crate::family::phase_exp::Band;
-use crate::family::phase_exp::{sec_plus_tan, ExpPhase, Terms};
-use crate::family::ratio::Ratio;
-use crate::family::segments::Segments;
+pub mod expsum;
+pub mod fit;
+mod kernel;
+pub mod phase_exp;
+pub mod ratio;
+pub mod segments;
+
+use crate::family::{Assembled, Family, Role};
+use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
+use expsum::{Backward, ExpSum};
+use phase_exp::{sec_plus_tan, Band, ExpPhase, Terms};
+use ratio::Ratio;
+use segments::Segments;
 use crate::hexf;
 use crate::reference::Point;
 use crate::tomlfile::{FieldError, Reader};
@@ -133,8 +140,68 @@ impl Split {
 }
 
 impl Split {
+    /// The backward part from the exponential sum (u form, MATH.md §3).
+    fn backward_expsum(&self, tau: f64, h: f64, x0: f64, rho: f64, terms: &Terms) -> f64 {
+        let t = tau * h;
+        // u = tan(γ/2), written without cancellation on either side of π/2.
+        let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
+        let u0 = ua.max(1.0);
+        // The length `ub − u0`, formed without cancellation: for γ > π/2 the
+        // interval starts at `ua` and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)` with
+        // `d = ρ − cos γ > 0`, `r = √(d² + h²)` (MATH.md §3), which stays exact
+        // as ρ → 0.
+        let len = if rho.is_infinite() {
+            f64::INFINITY
+        } else {
+            let d = rho - x0; // ≥ 0 here: the surface is past the foot point
+            let r = d.hypot(h);
+            if x0 < 0.0 {
+                2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
+            } else {
+                (d + r) / h - u0
+            }
+        };
+        if len.is_nan() || len <= 0.0 {
+            return 0.0;
+        }
+        // The phase varies slowly against each term's exponential: taken at the
+        // term's mean point, α = 2 atan u.
+        let e = self.expsum.integrate(u0, len, t, -tau - t * (u0 - ua), |u| terms.eval(2.0 * u.atan()));
+        2.0 / h * e
+    }
+}
+
+impl Family for Split {
+    const KIND: &'static str = "split";
+    const DIR: &'static str = "split";
+    const ROLE: Role = Role::Airlight;
+    const TABLES: &'static [&'static str] = &["forward", "phase", "backscatter"];
+    const TEMPLATES: Templates = crate::core_templates!();
+    const FIT_PARTS: &'static [&'static str] = &[fit::SEGMENTS, fit::PHASE, fit::BACKSCATTER];
+    type Recipe = fit::Recipe;
+    type Fit = fit::SplitFits;
+
+    fn fit(parts: &[&str], progress: &(dyn Fn(usize, usize) + Sync)) -> fit::SplitFits {
+        fit::fit(parts, progress)
+    }
+
+    fn fit_summary(fits: &fit::SplitFits) -> Vec<String> {
+        fit::summary(fits)
+    }
+
+    fn assemble(r: fit::Recipe, g_range: (f64, f64), fits: &fit::SplitFits) -> Result<Assembled<Split>, String> {
+        fit::assemble(r, g_range, fits)
+    }
+
+    fn kernel_phase(&self, _g_range: (f64, f64), want: WantPhase) -> KernelPhase {
+        kernel::kernel_phase(self, want)
+    }
+
+    fn kernel_context(&self, k: &KernelView) -> Context {
+        kernel::context(self, k)
+    }
     /// How the phase function costs: isotropic, or `k` exponentials per band.
-    pub fn phase_shape(&self) -> PhaseShape {
+    fn phase_shape(&self) -> PhaseShape {
         match &self.phase {
             PhaseModel::Isotropic => PhaseShape::Isotropic,
             PhaseModel::Exp(e) => PhaseShape::Exp { terms: e.k() },
@@ -143,7 +210,7 @@ impl Split {
 
     /// Worst-case operation count of one f32 kernel evaluation of this family in
     /// `shape` (the generated kernels' loops: all N segments, every term).
-    pub fn ops(&self, shape: Shape) -> Cost {
+    fn ops(&self, shape: Shape) -> Cost {
         let (k, phase_evals) = match shape.phase {
             PhaseShape::Isotropic => (1, 0),
             PhaseShape::Exp { terms } => (terms, terms),
@@ -177,47 +244,10 @@ impl Split {
         c
     }
 
-    /// The backward part from the exponential sum (u form, MATH.md §3).
-    fn backward_expsum(&self, tau: f64, h: f64, x0: f64, rho: f64, terms: &Terms) -> f64 {
-        let t = tau * h;
-        // u = tan(γ/2), written without cancellation on either side of π/2.
-        let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
-        let u0 = ua.max(1.0);
-        // The length `ub − u0`, formed without cancellation: for γ > π/2 the
-        // interval starts at `ua` and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)` with
-        // `d = ρ − cos γ > 0`, `r = √(d² + h²)` (MATH.md §3), which stays exact
-        // as ρ → 0.
-        let len = if rho.is_infinite() {
-            f64::INFINITY
-        } else {
-            let d = rho - x0; // ≥ 0 here: the surface is past the foot point
-            let r = d.hypot(h);
-            if x0 < 0.0 {
-                2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
-            } else {
-                (d + r) / h - u0
-            }
-        };
-        if len.is_nan() || len <= 0.0 {
-            return 0.0;
-        }
-        // The phase varies slowly against each term's exponential: taken at the
-        // term's mean point, α = 2 atan u.
-        let e = self.expsum.integrate(u0, len, t, -tau - t * (u0 - ua), |u| terms.eval(2.0 * u.atan()));
-        2.0 / h * e
-    }
-}
-
-impl Split {
-    /// Its kind ([`crate::family::Body::kind`]).
-    pub const KIND: &'static str = "split";
-
-    /// The top-level tables of its coefficient file.
-    pub const TABLES: &'static [&'static str] = &["forward", "phase", "backscatter"];
 
     /// Its tables of a coefficient file ([`crate::coeffs::render`]); `prov(out,
     /// table)` writes the provenance table `table` where it belongs.
-    pub fn render_toml(&self, g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
+    fn render_toml(&self, g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[forward]\nfamily = \"segments\"\n");
         let _ = writeln!(o, "attenuation = {}", self.forward_attenuation);
         let _ = writeln!(o, "n = {}", self.forward.n());
@@ -268,7 +298,7 @@ impl Split {
     }
 
     /// Reads its tables of a coefficient file (`g_range` from `[model]`).
-    pub fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Split, FieldError> {
+    fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<Split, FieldError> {
         let fwd = r.table(doc, "forward")?;
         r.deny(fwd, "forward", &["family", "attenuation", "n", "breakpoints", "slopes", "intercepts", "fit"])?;
         r.expect_str(fwd, "forward", "family", "segments")?;
@@ -367,8 +397,7 @@ impl Split {
         Ok(Split { forward, phase, ratio, expsum, forward_attenuation })
     }
 
-    /// `A` at a valid point.
-    pub fn eval(&self, p: Point) -> f64 {
+    fn eval(&self, p: Point) -> f64 {
         let (f, b) = self.parts(p);
         f + b
     }

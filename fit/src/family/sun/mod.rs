@@ -11,8 +11,10 @@
 //! checked against the adaptive reference quadrature in the tests), stored as
 //! f32, which is what every evaluator — this f64 one included — reads.
 
-use crate::cost::{Cost, Shape};
+use crate::cost::{Cost, PhaseShape, Shape};
+use crate::family::{baseline_method, phase_label, Assembled, Family, Role, Texture};
 use crate::reference::Point;
+use crate::template::{lit, Context, KernelView, Templates};
 use crate::tomlfile::{FieldError, Reader};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write;
@@ -49,13 +51,6 @@ fn column(u: f64, res: usize, x: &[f64], w: &[f64]) -> Vec<f64> {
 }
 
 impl SunTable {
-    /// Its kind ([`crate::family::Body::kind`]).
-    pub const KIND: &'static str = "sun2005";
-    /// The resolutions the catalog ships.
-    pub const RESOLUTIONS: [usize; 4] = [64, 128, 256, 512];
-    /// Its tables in a coefficient file.
-    pub const TABLES: &'static [&'static str] = &["table"];
-
     /// Builds the `res × res` table.
     pub fn build(res: usize) -> SunTable {
         let (x, w) = crate::quad::gauss_legendre(8);
@@ -100,9 +95,49 @@ impl SunTable {
         let hi = t(i, j + 1) + tx * (t(i + 1, j + 1) - t(i, j + 1));
         lo + ty * (hi - lo)
     }
+}
+
+impl Family for SunTable {
+    const KIND: &'static str = "sun2005";
+    const DIR: &'static str = "sun";
+    const ROLE: Role = Role::Baseline;
+    const TABLES: &'static [&'static str] = &["table"];
+    const TEMPLATES: Templates = crate::core_templates!();
+    /// The table's resolution.
+    type Recipe = usize;
+    type Fit = ();
+
+    fn assemble(r: usize, g_range: (f64, f64), _: &()) -> Result<Assembled<SunTable>, String> {
+        Ok(Assembled {
+            body: SunTable::build(r),
+            families: vec![format!("sun2005-{r} (F(u, v) table, {r}x{r} f32)"), phase_label(g_range)],
+            provenance: Vec::new(),
+            method: baseline_method(&format!("A = e^(-τ cos γ)/(2π sin γ) [F(τ sin γ, ξb) - F(τ sin γ, γ/2)], F bilinear from a {r}x{r} table over u ≤ {U_MAX}, v ≤ π/2 (Sun et al. 2005; Wyman & Ramsey 2008)")),
+        })
+    }
+
+    fn phase_shape(&self) -> PhaseShape {
+        PhaseShape::Isotropic
+    }
+
+    fn texture(&self) -> Option<Texture<'_>> {
+        Some(Texture { res: self.res, texels: &self.texels })
+    }
+
+    fn kernel_context(&self, k: &KernelView) -> Context {
+        let mut ctx = Context::quadrature(k);
+        let n = (self.res - 1) as f64;
+        ctx.insert("res", &self.res);
+        ctx.insert("res_m1", &(self.res - 1));
+        ctx.insert("bytes", &self.bytes());
+        ctx.insert("u_scale", &lit(n / U_MAX));
+        ctx.insert("v_scale", &lit(n / V_MAX));
+        ctx.insert("u_max_doc", &U_MAX);
+        ctx
+    }
 
     /// `A` at a valid point (isotropic: the table has no phase function).
-    pub fn eval(&self, p: Point) -> f64 {
+    fn eval(&self, p: Point) -> f64 {
         let (h, x0) = (p.gamma.sin(), p.gamma.cos());
         if h <= 0.0 {
             if x0 > 0.0 {
@@ -121,16 +156,16 @@ impl SunTable {
     }
 
     /// Two bilinear lookups (8 texel loads), one `exp`, one `atan`, one `sin_cos`.
-    pub fn ops(&self, _shape: Shape) -> Cost {
+    fn ops(&self, _shape: Shape) -> Cost {
         Cost { exp: 1, log: 0, atan: 1, sqrt: 0, div: 4, sincos: 1 }
     }
 
     /// Writes its table's parameters (the texels are rebuilt from them).
-    pub fn render_toml(&self, o: &mut String) {
+    fn render_toml(&self, _g_range: (f64, f64), o: &mut String, _prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[table]\nfunction = \"F(u, v) = integral of exp(-u tan xi) over xi in [0, v]\"\n");
         let _ = writeln!(o, "resolution = {}", self.res);
-        let _ = writeln!(o, "u_max = {}", crate::coeffs::dec(U_MAX));
-        let _ = writeln!(o, "v_max = {} # pi/2", crate::coeffs::dec(V_MAX));
+        let _ = writeln!(o, "u_max = {}", crate::tomlfile::dec(U_MAX));
+        let _ = writeln!(o, "v_max = {} # pi/2", crate::tomlfile::dec(V_MAX));
         o.push_str("texel = \"r32float\"\nlookup = \"bilinear, clamped to the edges\"\n");
         o.push_str("built = \"8-point Gauss-Legendre per cell, cumulative in v, f64, rounded to f32\"\n");
         let _ = writeln!(o, "bytes = {}", self.bytes());
@@ -138,7 +173,7 @@ impl SunTable {
     }
 
     /// Reads its table's parameters and rebuilds the texels.
-    pub fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<SunTable, FieldError> {
+    fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<SunTable, FieldError> {
         let t = r.table(doc, "table")?;
         r.deny(
             t,

@@ -5,20 +5,42 @@
 //! `A(0, γ, ρ) = atan2(h ρ, 1 − ρ cos γ) / (4π h)`, `h = sin γ` (`ρ = ∞`:
 //! `(π − γ) / (4π h)`); on the axis (`h = 0`) `ρ / (4π (1 − ρ))` before the light.
 
-use crate::cost::{Cost, Shape};
+use crate::cost::{Cost, PhaseShape, Shape};
+use crate::family::{baseline_method, phase_label, Assembled, Family, Role};
 use crate::reference::Point;
+use crate::template::{Context, KernelView, Templates};
+use crate::tomlfile::{FieldError, Reader};
 use std::f64::consts::PI;
+use toml::Table;
 
 /// The closed form (isotropic, extinction ignored).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct NoExtinction;
 
-impl NoExtinction {
-    /// Its kind ([`crate::family::Body::kind`]).
-    pub const KIND: &'static str = "no-extinction";
+impl Family for NoExtinction {
+    const KIND: &'static str = "no-extinction";
+    const DIR: &'static str = "closed";
+    const ROLE: Role = Role::Baseline;
+    const TABLES: &'static [&'static str] = &[];
+    const TEMPLATES: Templates = crate::core_templates!();
+    const EXTINCTION: bool = false;
+    const COST_FLOOR: bool = true;
+    type Recipe = ();
+    type Fit = ();
+
+    fn assemble(_: (), g_range: (f64, f64), _: &()) -> Result<Assembled<NoExtinction>, String> {
+        Ok(Assembled {
+            body: NoExtinction,
+            families: vec!["no-extinction (seed 003)".to_string(), phase_label(g_range)],
+            provenance: Vec::new(),
+            method: baseline_method(
+                "A(0, γ, ρ) = atan2(h ρ, 1 − ρ cos γ)/(4π h) whatever τ: exact at τ = 0, error growing with τ",
+            ),
+        })
+    }
 
     /// `A(0, γ, ρ)` whatever `τ` and `g` the point has.
-    pub fn eval(&self, p: Point) -> f64 {
+    fn eval(&self, p: Point) -> f64 {
         let (h, c) = (p.gamma.sin(), p.gamma.cos());
         if h == 0.0 {
             return if c > 0.0 && p.rho >= 1.0 {
@@ -36,8 +58,28 @@ impl NoExtinction {
     }
 
     /// One `atan2`, one `sin_cos`, two divisions, whatever the shape.
-    pub fn ops(&self, _shape: Shape) -> Cost {
+    fn ops(&self, _shape: Shape) -> Cost {
         Cost { exp: 0, log: 0, atan: 1, sqrt: 0, div: 2, sincos: 1 }
+    }
+
+    fn phase_shape(&self) -> PhaseShape {
+        PhaseShape::Isotropic
+    }
+
+    fn render_toml(&self, _g_range: (f64, f64), _out: &mut String, _prov: &dyn Fn(&mut String, &str)) {}
+
+    fn parse_toml(_r: &Reader, _doc: &Table, _g_range: &[f64]) -> Result<NoExtinction, FieldError> {
+        Ok(NoExtinction)
+    }
+
+    fn kernel_context(&self, k: &KernelView) -> Context {
+        let mut ctx = Context::new();
+        let summary = match k.model_summary {
+            Some(_) => k.summary_line(),
+            None => "isotropic scattering without extinction, exact.".to_string(),
+        };
+        ctx.insert("summary", &summary);
+        ctx
     }
 }
 

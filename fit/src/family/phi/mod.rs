@@ -23,8 +23,14 @@
 //! The f32 kernels (`codegen/templates/kernels/phi.*.tera`) are this function line
 //! for line.
 
+pub mod fit;
+mod report;
+
 use crate::cost::{Cost, PhaseShape, Shape};
+use crate::family::{Assembled, Family, Member, ReportFloor, Role};
 use crate::lsq;
+use crate::template::{lit, lits, Context, KernelView, Templates};
+use serde::Serialize;
 use crate::reference::Point;
 use crate::tomlfile::{FieldError, Reader};
 use std::f64::consts::PI;
@@ -244,11 +250,6 @@ pub fn u_geometry(gamma: f64, rho: f64) -> (f64, f64, f64, f64) {
 }
 
 impl PhiRule {
-    /// The family's name.
-    pub const KIND: &'static str = "phi";
-    /// Its tables in a coefficient file.
-    pub const TABLES: &'static [&'static str] = &["head", "split", "far", "tail", "e2"];
-
     /// The member with `n` head nodes, `nf` far nodes, `nt` tail nodes and these splits.
     pub fn new(n: usize, nf: usize, nt: usize, cut: f64, far_cut: f64, e2: ExpE2) -> PhiRule {
         let (x, w) = crate::quad::gauss_legendre(n);
@@ -266,8 +267,46 @@ impl PhiRule {
         }
     }
 
+}
+
+impl Family for PhiRule {
+    const KIND: &'static str = "phi";
+    const DIR: &'static str = "phi";
+    const ROLE: Role = Role::Airlight;
+    const TABLES: &'static [&'static str] = &["head", "split", "far", "tail", "e2"];
+    const TEMPLATES: Templates = crate::core_templates!();
+    const REPORT: Option<&'static str> = Some(include_str!("report.md.tera"));
+    const FIT_PARTS: &'static [&'static str] = &[fit::PART];
+    type Recipe = fit::PhiTier;
+    type Fit = Option<E2Fit>;
+
+    fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Option<E2Fit> {
+        Some(ExpE2::fit())
+    }
+
+    fn fit_summary(fit: &Option<E2Fit>) -> Vec<String> {
+        fit.iter().map(fit::summary).collect()
+    }
+
+    fn assemble(t: fit::PhiTier, g_range: (f64, f64), fit: &Option<E2Fit>) -> Result<Assembled<PhiRule>, String> {
+        fit::assemble(t, g_range, fit.as_ref())
+    }
+
+    /// `g` at run time, exact at each node.
+    fn phase_shape(&self) -> PhaseShape {
+        PhaseShape::Exact
+    }
+
+    fn kernel_context(&self, k: &KernelView) -> Context {
+        kernel_context(self, k)
+    }
+
+    fn report(members: &[Member<'_, PhiRule>], floor: ReportFloor) -> Option<Context> {
+        report::context(members, floor)
+    }
+
     /// `A` at a valid point.
-    pub fn eval(&self, p: Point) -> f64 {
+    fn eval(&self, p: Point) -> f64 {
         let g = p.g.clamp(-0.999, 0.999);
         let (h, ua, du, ub) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
@@ -348,7 +387,7 @@ impl PhiRule {
     /// Operations on the worst path, counted from the f32 kernel: the geometry,
     /// then the worse head (in φ or in u) and the worse of the far part and the
     /// tail. `sin_cos` counts the canonical entry's and the head's octant ones.
-    pub fn ops(&self, shape: Shape) -> Cost {
+    fn ops(&self, shape: Shape) -> Cost {
         let (n, nf, nt) = (self.head.x.len(), self.far.x.len(), self.tail.x.len());
         let hg = usize::from(shape.phase != PhaseShape::Isotropic);
         let c = |exp: usize, log: usize, atan: usize, sqrt: usize, div: usize, sincos: usize| Cost {
@@ -391,12 +430,12 @@ impl PhiRule {
     }
 
     /// Writes its tables.
-    pub fn render_toml(&self, o: &mut String, prov: &dyn Fn(&mut String, &str)) {
+    fn render_toml(&self, _g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[head]\nrule = \"gauss-legendre\"\n");
         o.push_str("variable = \"φ: η = (1 + g cos φ)/(1 − g²), η the HG variable (1 + g² − 2g cos α)^(-1/2); u itself past X or on short intervals\"\n");
         let _ = writeln!(o, "nodes = {}", self.head.x.len());
-        crate::coeffs::hex_list(o, "x", &self.head.x);
-        crate::coeffs::hex_list(o, "w", &self.head.w);
+        crate::tomlfile::hex_list(o, "x", &self.head.x);
+        crate::tomlfile::hex_list(o, "w", &self.head.w);
         o.push_str("\n[split]\n");
         let _ = writeln!(o, "cut = {:?}", self.cut);
         let _ = writeln!(o, "far_from = {:?}", self.far_from);
@@ -405,21 +444,21 @@ impl PhiRule {
         let _ = writeln!(o, "short = {:?}", self.short);
         o.push_str("\n[far]\nrule = \"gauss-legendre\"\nvariable = \"v = 1/u\"\n");
         let _ = writeln!(o, "nodes = {}", self.far.x.len());
-        crate::coeffs::hex_list(o, "x", &self.far.x);
-        crate::coeffs::hex_list(o, "w", &self.far.w);
+        crate::tomlfile::hex_list(o, "x", &self.far.x);
+        crate::tomlfile::hex_list(o, "w", &self.far.w);
         o.push_str("\n[tail]\nrule = \"gauss-laguerre\"\n");
         let _ = writeln!(o, "nodes = {}", self.tail.x.len());
-        crate::coeffs::hex_list(o, "x", &self.tail.x);
-        crate::coeffs::hex_list(o, "w", &self.tail.w);
+        crate::tomlfile::hex_list(o, "x", &self.tail.x);
+        crate::tomlfile::hex_list(o, "w", &self.tail.w);
         o.push_str("\n[e2]\nform = \"e^x E2(x): 1 + x e^x (ln x + Euler gamma - Ein(x)) for x < 1, Ein(x) = sum ein_k x^k; t P(t)/Q(t), t = 1/x, P = 1 + sum p_k t^k, Q = 1 + sum q_k t^k beyond\"\n");
-        crate::coeffs::hex_list(o, "ein", &self.e2.ein);
-        crate::coeffs::hex_list(o, "p", &self.e2.p);
-        crate::coeffs::hex_list(o, "q", &self.e2.q);
+        crate::tomlfile::hex_list(o, "ein", &self.e2.ein);
+        crate::tomlfile::hex_list(o, "p", &self.e2.p);
+        crate::tomlfile::hex_list(o, "q", &self.e2.q);
         prov(o, "e2.fit");
     }
 
     /// Reads its tables; the rules must be the Gauss rules they name.
-    pub fn parse_toml(r: &Reader, doc: &Table) -> Result<PhiRule, FieldError> {
+    fn parse_toml(r: &Reader, doc: &Table, _g_range: &[f64]) -> Result<PhiRule, FieldError> {
         let rule = |sec: &str, kind: &str, laguerre: bool| -> Result<Rule, FieldError> {
             let t = r.table(doc, sec)?;
             r.deny(t, sec, &["rule", "variable", "nodes", "x", "w"])?;
@@ -523,6 +562,38 @@ pub fn r_of_v(v: f64, kappa: f64) -> f64 {
     let q = (1.0 + v2).sqrt();
     v2 * (1.0 - 3.0 * k2 - k2 * k2 * v2 * (3.0 + k2 * v2)) / ((q + pp) * pp)
 }
+
+#[derive(Serialize)]
+struct E2Term {
+    p: String,
+    q: String,
+}
+
+/// What the φ family's core templates need: its rules, splits and `eˣE₂`.
+fn kernel_context(r: &PhiRule, k: &KernelView) -> Context {
+    let mut ctx = Context::quadrature(k);
+    ctx.insert("head_x", &lits(&r.head.x));
+    ctx.insert("head_w", &lits(&r.head.w));
+    ctx.insert("far_x", &lits(&r.far.x));
+    ctx.insert("far_w", &lits(&r.far.w));
+    ctx.insert("tail_x", &lits(&r.tail.x));
+    ctx.insert("tail_w", &lits(&r.tail.w));
+    ctx.insert("cut", &lit(r.cut));
+    ctx.insert("cut_doc", &r.cut);
+    ctx.insert("exp_neg_cut", &lit((-r.cut).exp()));
+    ctx.insert("far_cut", &lit(r.far_cut));
+    ctx.insert("far_tmax", &lit(r.far_tmax));
+    ctx.insert("short", &lit(r.short));
+    ctx.insert("far_from", &lit(r.far_from));
+    ctx.insert("euler", &lit(EULER_GAMMA));
+    ctx.insert("ein", &lits(&r.e2.ein));
+    ctx.insert("e2p", &lits(&r.e2.p));
+    ctx.insert("e2q", &lits(&r.e2.q));
+    let rev: Vec<E2Term> = r.e2.p.iter().zip(&r.e2.q).rev().map(|(&p, &q)| E2Term { p: lit(p), q: lit(q) }).collect();
+    ctx.insert("e2_rev", &rev);
+    ctx
+}
+
 
 #[cfg(test)]
 mod tests {

@@ -12,8 +12,8 @@
 //! problem (SVD); `g, h` are moved by Nelder–Mead, starting from the paper's values.
 
 use crate::domains::Domain;
-use crate::family::phase_exp::sec_plus_tan;
-use crate::family::segments::exact_forward;
+use super::phase_exp::sec_plus_tan;
+use super::segments::exact_forward;
 use crate::lsq::{self, Outcome};
 use crate::quad::gauss_kronrod;
 use nalgebra::{DMatrix, DVector};

@@ -1,0 +1,91 @@
+//! The output table (`codegen/outputs.toml`): which files each kernel gets,
+//! where they go and how their items are prefixed. It names targets, paths and
+//! prefixes only: which templates render a kernel follows from its family and
+//! the target ([`super::templates`]).
+
+use airlight_fit::vocab::Target;
+use serde::Deserialize;
+
+/// The output table (`codegen/outputs.toml`).
+pub const OUTPUT_TABLE: &str = include_str!("../../outputs.toml");
+
+/// One row of the kernel table.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KernelOutput {
+    /// The language.
+    pub target: Target,
+    /// Output path pattern.
+    pub path: String,
+    /// Prefix of every item (pattern).
+    pub prefix: String,
+    /// `#define_import_path` (pattern), for naga_oil modules.
+    #[serde(default)]
+    pub import_path: Option<String>,
+    /// What this variant is.
+    pub variant: String,
+}
+
+/// A file rendered once.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileOutput {
+    /// Template.
+    pub template: String,
+    /// Output path (pattern, for plans).
+    pub path: String,
+}
+
+/// The whole table.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputTable {
+    /// Per-kernel outputs.
+    pub kernel: Vec<KernelOutput>,
+    /// Files of the Rust crate.
+    pub crate_file: Vec<FileOutput>,
+    /// Per-scene plan.
+    pub plan: Vec<FileOutput>,
+    /// Per-kernel translations of a rendered kernel by naga.
+    pub translation: Vec<Translation>,
+}
+
+/// A kernel file translated from another by one of naga's back ends.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Translation {
+    /// The rendered file it translates (pattern).
+    pub from: String,
+    /// naga's back end.
+    pub backend: crate::translate::Backend,
+    /// Output path pattern.
+    pub path: String,
+    /// What this variant is (pattern).
+    pub variant: String,
+}
+
+impl OutputTable {
+    /// The committed table.
+    pub fn standard() -> OutputTable {
+        toml::from_str(OUTPUT_TABLE).expect("codegen/outputs.toml parses (checked by a test)")
+    }
+}
+
+/// `{name}` and `{ident}` of an output pattern, for the kernel `name`.
+pub fn expand(pattern: &str, name: &str) -> String {
+    pattern.replace("{name}", name).replace("{ident}", &name.replace('-', "_"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_parses_and_names_only_targets_paths_and_prefixes() {
+        let t = OutputTable::standard();
+        assert!(!t.kernel.is_empty() && !t.crate_file.is_empty() && !t.plan.is_empty());
+        for family in airlight_fit::family::all_templates().iter().map(|(dir, _)| *dir) {
+            assert!(!OUTPUT_TABLE.contains(family), "outputs.toml names the family {family}");
+        }
+    }
+}
