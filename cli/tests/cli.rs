@@ -589,7 +589,7 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
     assert_eq!(b.models.len(), models.len());
     for (m, f) in b.models.iter().zip(&models) {
         assert_eq!(m.name, f.model.name);
-        assert_eq!(m.kind, if f.model.body.is_baseline() { "baseline" } else { "airlight" });
+        assert_eq!(m.kind, f.model.body.role());
         assert!(!m.errors.is_empty(), "{}", m.name);
         for e in &m.errors {
             for x in [e.max_rel, e.p99_rel, e.p50_rel] {

@@ -41,7 +41,7 @@ pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
             let e = m.at(g)?;
             Some(Method {
                 name: m.name.clone(),
-                baseline: m.kind == "baseline",
+                baseline: m.kind == airlight_fit::vocab::Role::Baseline,
                 ns: m.cpu_ns_per_eval,
                 max: e.max_rel.max(),
                 median: e.p50_rel.max(),

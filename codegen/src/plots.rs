@@ -1,17 +1,12 @@
-//! The report's figures (`generated/plots/*.{svg,png}`), drawn with plotters from
-//! the coefficient files and the analysis functions of airlight-fit.
+//! The report's figures (`generated/plots/*.{svg,png}`), drawn with plotters:
+//! each family's figures (`airlight_fit::figure`, computed by the family from
+//! its coefficient files) and the bench's Pareto fronts.
 
 use crate::output::Output;
-use airlight_fit::analysis::{forward_error_grid, linspace, logspace, ratio_error_grid};
-use airlight_fit::approx::{PhaseModel, Split};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::family::split::ratio::Ratio;
-use airlight_fit::family::split::segments::Segments;
-use airlight_fit::vocab::Domain;
-use airlight_fit::Phase;
+use airlight_fit::figure::{Figure, Heatmap, Lines, Panel};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::f64::consts::{FRAC_PI_2, PI};
 
 /// A figure failed to draw (a plotters backend error).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -98,77 +93,53 @@ fn heat(v: f64, lo: f64, hi: f64) -> RGBColor {
     RGBColor(200, 30, 30)
 }
 
-/// Forward-kernel error over `(T, θ)`: the paper's Fig. 4, paper vs refit.
-fn forward_heatmaps<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    panels: &[(String, Vec<Vec<f64>>)],
-    ts: &[f64],
-    thetas: &[f64],
-) -> Result<(), PlotError> {
-    let (lo, hi) = (-6.0, 0.0);
-    let areas = root.split_evenly((1, panels.len()));
-    for (area, (title, grid)) in areas.iter().zip(panels) {
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, ("sans-serif", 20))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(0.0..FRAC_PI_2, 0.0..20.0)
-            .map_err(err)?;
-        chart.configure_mesh().x_desc("θ = π/2 − γ (rad)").y_desc("T = τ sin γ").disable_mesh().draw().map_err(err)?;
-        let (dt, dth) = (ts[1] - ts[0], thetas[1] - thetas[0]);
-        chart
-            .draw_series(grid.iter().enumerate().flat_map(|(i, row)| {
-                row.iter().enumerate().map(move |(j, e)| {
-                    let (t, th) = (ts[i], thetas[j]);
-                    let v = if *e > 0.0 { e.log10() } else { lo };
-                    Rectangle::new(
-                        [(th - 0.5 * dth, t - 0.5 * dt), (th + 0.5 * dth, t + 0.5 * dt)],
-                        heat(v, lo, hi).filled(),
-                    )
-                })
-            }))
-            .map_err(err)?;
-    }
+/// A heat map of `log10` of its values.
+fn heatmap<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, h: &Heatmap) -> Result<(), PlotError> {
+    let (lo, hi) = h.log10_range;
+    let mut chart = ChartBuilder::on(area)
+        .caption(&h.title, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(h.x_range.0..h.x_range.1, h.y_range.0..h.y_range.1)
+        .map_err(err)?;
+    chart.configure_mesh().x_desc(&h.x_desc).y_desc(&h.y_desc).disable_mesh().draw().map_err(err)?;
+    let (dy, dx) = (h.y[1] - h.y[0], h.x[1] - h.x[0]);
+    chart
+        .draw_series(h.values.iter().enumerate().flat_map(|(i, row)| {
+            row.iter().enumerate().map(move |(j, e)| {
+                let (y, x) = (h.y[i], h.x[j]);
+                let v = if *e > 0.0 { e.log10() } else { lo };
+                Rectangle::new([(x - 0.5 * dx, y - 0.5 * dy), (x + 0.5 * dx, y + 0.5 * dy)], heat(v, lo, hi).filled())
+            })
+        }))
+        .map_err(err)?;
     Ok(())
 }
 
-/// A named line and its colour.
-type Series = (String, Vec<(f64, f64)>, RGBColor);
-
-/// Log-scale line chart of named series.
-#[allow(clippy::too_many_arguments)]
-fn lines<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    title: &str,
-    x_desc: &str,
-    y_desc: &str,
-    x_range: (f64, f64),
-    y_range: (f64, f64),
-    x_log: bool,
-    series: &[Series],
-) -> Result<(), PlotError> {
+/// A chart of named lines, `y` logarithmic (and `x` where asked).
+fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, l: &Lines) -> Result<(), PlotError> {
     let mut builder = ChartBuilder::on(area);
-    builder.caption(title, ("sans-serif", 20)).margin(10).x_label_area_size(40).y_label_area_size(60);
+    builder.caption(&l.title, ("sans-serif", 20)).margin(10).x_label_area_size(40).y_label_area_size(60);
     macro_rules! body {
         ($chart:expr) => {{
             let mut chart = $chart;
             chart
                 .configure_mesh()
-                .x_desc(x_desc)
-                .y_desc(y_desc)
+                .x_desc(&l.x_desc)
+                .y_desc(&l.y_desc)
                 .y_label_formatter(&|y| format!("{y:.0e}"))
                 .draw()
                 .map_err(err)?;
-            for (name, pts, colour) in series {
-                let c = *colour;
+            for line in &l.series {
+                let c = COLOURS[line.colour % COLOURS.len()];
                 chart
                     .draw_series(LineSeries::new(
-                        pts.iter().copied().filter(|p| p.1 > 0.0 && p.1.is_finite()),
+                        line.points.iter().copied().filter(|p| p.1 > 0.0 && p.1.is_finite()),
                         c.stroke_width(2),
                     ))
                     .map_err(err)?
-                    .label(name.as_str())
+                    .label(line.name.as_str())
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
             }
             chart
@@ -180,16 +151,16 @@ fn lines<DB: DrawingBackend>(
                 .map_err(err)?;
         }};
     }
-    if x_log {
-        body!(builder
-            .build_cartesian_2d((x_range.0..x_range.1).log_scale(), (y_range.0..y_range.1).log_scale())
-            .map_err(err)?);
+    let (x, y) = (l.x_range, l.y_range);
+    if l.x_log {
+        body!(builder.build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale()).map_err(err)?);
     } else {
-        body!(builder.build_cartesian_2d(x_range.0..x_range.1, (y_range.0..y_range.1).log_scale()).map_err(err)?);
+        body!(builder.build_cartesian_2d(x.0..x.1, (y.0..y.1).log_scale()).map_err(err)?);
     }
     Ok(())
 }
 
+/// The palette [`Line::colour`](airlight_fit::figure::Line) indexes.
 const COLOURS: [RGBColor; 6] = [
     RGBColor(0, 0, 0),
     RGBColor(200, 40, 40),
@@ -199,145 +170,30 @@ const COLOURS: [RGBColor; 6] = [
     RGBColor(230, 140, 20),
 ];
 
-/// The split family of the model `name`, if it is among `models`: a figure about
-/// a model that is not there is not drawn.
-fn split_of<'a>(models: &'a [ModelFile], name: &str) -> Option<&'a Split> {
-    models.iter().find(|m| m.model.name == name)?.model.split()
+fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), PlotError> {
+    match p {
+        Panel::Heatmap(h) => heatmap(area, h),
+        Panel::Lines(l) => lines(area, l),
+    }
 }
 
-/// Every figure, from the coefficient files.
+/// A figure's panels side by side (one panel: the whole figure).
+fn figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure) -> Result<(), PlotError> {
+    if let [only] = f.panels.as_slice() {
+        return panel(root, only);
+    }
+    let areas = root.split_evenly((1, f.panels.len()));
+    areas.iter().zip(&f.panels).try_for_each(|(area, p)| panel(area, p))
+}
+
+/// Every family's figures (`airlight_fit::family::figures`), from the coefficient files.
 pub fn render(models: &[ModelFile]) -> Result<Vec<Output>, PlotError> {
     register_font()?;
+    let members: Vec<_> = models.iter().map(|m| m.member(None)).collect();
     let mut out = Vec::new();
-
-    // 1. Forward kernel error over (T, θ): paper vs refit (Fig. 4).
-    let ts = linspace(0.25, 19.75, 40);
-    let thetas = linspace(FRAC_PI_2 / 80.0, FRAC_PI_2 * 79.0 / 80.0, 40);
-    if let (Some(refit), Some(s16)) = (split_of(models, "paper-refit"), split_of(models, "segments-16")) {
-        let panels = vec![
-            ("paper, 3 segments: log10 |error|".to_string(), forward_error_grid(&Segments::paper(), &ts, &thetas)),
-            ("refit, 3 segments".to_string(), forward_error_grid(&refit.forward, &ts, &thetas)),
-            ("refit, 16 segments".to_string(), forward_error_grid(&s16.forward, &ts, &thetas)),
-        ];
-        out.extend(both!("forward-error", |root| forward_heatmaps(&root, &panels, &ts, &thetas)));
+    for f in airlight_fit::family::figures(&members) {
+        out.extend(both!(&f.file, |root| figure(&root, &f)));
     }
-
-    // 2. HG vs its approximations (Figs. 6–8).
-    let gs = [0.1, 0.7, 0.97];
-    let alphas = linspace(0.0, PI, 181);
-    let paper_hg = match split_of(models, "paper-hg").map(|s| &s.phase) {
-        Some(PhaseModel::Exp(e)) => Some(e.clone()),
-        _ => None,
-    };
-    let mut fits = Vec::new();
-    for k in 1..=3 {
-        if let Some(PhaseModel::Exp(e)) = split_of(models, &format!("hg-exp{k}")).map(|s| &s.phase) {
-            fits.push((format!("refit, {k} exp"), e.clone()));
-        }
-    }
-    let phase_series: Vec<Vec<Series>> = gs
-        .iter()
-        .map(|&g| {
-            let mut s = vec![(
-                "Henyey-Greenstein".to_string(),
-                alphas.iter().map(|&a| (a, Phase::from_g(g).eval(a))).collect(),
-                COLOURS[0],
-            )];
-            if let Some(paper_hg) = &paper_hg {
-                s.push((
-                    "paper table".into(),
-                    alphas.iter().map(|&a| (a, paper_hg.terms(g).eval(a))).collect(),
-                    COLOURS[1],
-                ));
-            }
-            for (i, (name, e)) in fits.iter().enumerate() {
-                s.push((name.clone(), alphas.iter().map(|&a| (a, e.terms(g).eval(a))).collect(), COLOURS[2 + i]));
-            }
-            s
-        })
-        .collect();
-    out.extend(both!("phase", |root| {
-        let mut r: Result<(), PlotError> = Ok(());
-        for ((area, &g), s) in root.split_evenly((1, 3)).iter().zip(&gs).zip(&phase_series) {
-            let ymax = s[0].1.iter().map(|p| p.1).fold(0.0, f64::max) * 3.0;
-            let ymin = s[0].1.iter().map(|p| p.1).fold(f64::INFINITY, f64::min) / 10.0;
-            r = r.and_then(|_| {
-                lines(area, &format!("g = {g}"), "α (rad)", "P(α) (1/sr)", (0.0, PI), (ymin, ymax), false, s)
-            });
-        }
-        r
-    }));
-
-    // 3. Backscatter ratio error (Fig. 11): paper vs refit.
-    let kappas = logspace(0.01, 20.0, 60);
-    let theta1s = [0.2, 0.8, FRAC_PI_2];
-    let refit_ratio = split_of(models, "paper-refit").and_then(|s| s.ratio.clone());
-    let mut series = Vec::new();
-    let ratios =
-        std::iter::once(("paper", Ratio::paper(), [1, 3, 4])).chain(refit_ratio.map(|r| ("refit", r, [2, 5, 0])));
-    for (label, r, palette) in ratios {
-        let grid = ratio_error_grid(&r, &theta1s, &kappas);
-        for (i, row) in grid.iter().enumerate() {
-            let colour = COLOURS[palette[i]];
-            series.push((
-                format!("{label}, θ1 = {:.2}", theta1s[i]),
-                kappas.iter().copied().zip(row.iter().copied()).collect::<Vec<_>>(),
-                colour,
-            ));
-        }
-    }
-    out.extend(both!("backscatter-error", |root| {
-        lines(
-            &root,
-            "backward integral: |relative error| of the ratio form",
-            "κ = T",
-            "|error|",
-            (0.01, 20.0),
-            (1e-4, 1e3),
-            true,
-            &series,
-        )
-    }));
-
-    // 4. Error of A vs N for segments-N.
-    let mut pts: Vec<(usize, &ModelFile)> = models
-        .iter()
-        .filter_map(|m| m.model.name.strip_prefix("segments-").and_then(|n| n.parse().ok()).map(|n| (n, m)))
-        .collect();
-    pts.sort_by_key(|p| p.0);
-    let get = |d: Domain, f: &dyn Fn(&airlight_fit::domains::DomainErrors) -> f64| -> Vec<(f64, f64)> {
-        pts.iter().filter_map(|(n, m)| m.error(d).map(|e| (*n as f64, f(e)))).collect()
-    };
-    let fwd: Vec<(f64, f64)> = pts
-        .iter()
-        .filter_map(|(n, m)| {
-            m.provenance_value("forward.fit", "forward_integral_max_rel")
-                .and_then(|v| v.as_float())
-                .map(|v| (*n as f64, v))
-        })
-        .collect();
-    let series = vec![
-        ("A, thin: max".to_string(), get(Domain::Thin, &|e| e.max_rel), COLOURS[2]),
-        ("A, thin: p99".to_string(), get(Domain::Thin, &|e| e.p99_rel), COLOURS[3]),
-        ("A, dense: max".to_string(), get(Domain::Dense, &|e| e.max_rel), COLOURS[1]),
-        ("A, dense: p99".to_string(), get(Domain::Dense, &|e| e.p99_rel), COLOURS[5]),
-        ("forward integral alone: max (fit targets)".to_string(), fwd, COLOURS[0]),
-    ];
-    if pts.len() < 2 {
-        return Ok(out);
-    }
-    out.extend(both!("error-vs-n", |root| {
-        lines(
-            &root,
-            "segments-N: relative error vs number of segments",
-            "N",
-            "relative error",
-            (2.0, 16.0),
-            (1e-4, 1.0),
-            false,
-            &series,
-        )
-    }));
     Ok(out)
 }
 

@@ -6,7 +6,6 @@ use crate::output::Output;
 use airlight_fit::bench::Bench;
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::domains::DomainErrors;
-use airlight_fit::family::split::segments::Segments;
 use airlight_fit::record::{FuzzRecord, GateRecord};
 use airlight_fit::selfcheck::SelfCheck;
 use airlight_fit::stats::{fmt_err, fmt_point, ErrorStats};
@@ -68,40 +67,6 @@ struct ModelRow {
     dense_worst: String,
     cost: usize,
     families: String,
-}
-
-#[derive(Serialize)]
-struct KernelRow {
-    name: String,
-    kernel: String,
-    rms: String,
-    max: String,
-    iterations: String,
-    termination: String,
-}
-
-#[derive(Serialize)]
-struct BandRow {
-    band: String,
-    paper: String,
-    k1: String,
-    k2: String,
-    k3: String,
-}
-
-fn prov_f(m: &ModelFile, table: &str, key: &str) -> String {
-    m.provenance_value(table, key).and_then(toml::Value::as_float).map_or("—".into(), fmt_err)
-}
-
-fn prov_s(m: &ModelFile, table: &str, key: &str) -> String {
-    m.provenance_value(table, key).map_or("—".into(), |v| v.as_str().map_or_else(|| v.to_string(), str::to_string))
-}
-
-fn by_band(m: &ModelFile, key: &str) -> Vec<f64> {
-    m.provenance_value("phase.fit", key)
-        .and_then(toml::Value::as_array)
-        .map(|a| a.iter().filter_map(toml::Value::as_float).collect())
-        .unwrap_or_default()
 }
 
 fn err_cell(e: Option<&DomainErrors>, f: impl Fn(&DomainErrors) -> f64) -> String {
@@ -335,89 +300,6 @@ pub fn render(
     ctx.insert("models", &rows);
     ctx.insert("advice", &advice(models, bench));
     ctx.insert("family_sections", &family_sections(models, bench)?);
-    let get = |n: &str| models.iter().find(|m| m.model.name == n);
-    let mut kernels = Vec::new();
-    let kernel_row = |name: String, m: &ModelFile| KernelRow {
-        name,
-        kernel: prov_f(m, "forward.fit", "kernel_max_abs_error"),
-        rms: prov_f(m, "forward.fit", "forward_integral_rms_rel"),
-        max: prov_f(m, "forward.fit", "forward_integral_max_rel"),
-        iterations: prov_s(m, "forward.fit", "iterations"),
-        termination: prov_s(m, "forward.fit", "termination"),
-    };
-    if let Some(m) = get("paper") {
-        kernels.push(kernel_row("paper (3)".into(), m));
-        ctx.insert("forward_targets", &prov_s(m, "forward.fit", "targets"));
-    } else {
-        ctx.insert("forward_targets", "—");
-    }
-    for m in models.iter().filter(|m| m.model.name.starts_with("segments-")) {
-        if let Some(s) = m.model.split() {
-            kernels.push(kernel_row(format!("refit ({})", s.forward.n()), m));
-        }
-    }
-    ctx.insert("kernels", &kernels);
-    ctx.insert("paper_end", &format!("{:.4}", Segments::paper().eval(std::f64::consts::FRAC_PI_2)));
-    let paper_rms = get("paper-hg").map(|m| by_band(m, "a_rms_rel_by_band")).unwrap_or_default();
-    let paper_max = get("paper-hg").map(|m| by_band(m, "a_max_rel_by_band")).unwrap_or_default();
-    let k = |n: usize| -> (Vec<f64>, Vec<f64>) {
-        get(&format!("hg-exp{n}"))
-            .map(|m| (by_band(m, "a_rms_rel_by_band"), by_band(m, "a_max_rel_by_band")))
-            .unwrap_or_default()
-    };
-    let (k1, k2, k3) = (k(1), k(2), k(3));
-    let cell = |v: &(Vec<f64>, Vec<f64>), i: usize| match (v.0.get(i), v.1.get(i)) {
-        (Some(a), Some(b)) => format!("{} / {}", fmt_err(*a), fmt_err(*b)),
-        _ => "—".into(),
-    };
-    let bands: Vec<BandRow> = airlight_fit::family::split::phase_exp::PAPER_BANDS
-        .iter()
-        .enumerate()
-        .map(|(i, (lo, hi))| BandRow {
-            band: format!("[{lo}, {hi}]"),
-            paper: cell(&(paper_rms.clone(), paper_max.clone()), i),
-            k1: cell(&k1, i),
-            k2: cell(&k2, i),
-            k3: cell(&k3, i),
-        })
-        .collect();
-    ctx.insert("bands", &bands);
-    let hg = get("hg-exp1");
-    ctx.insert("phase_points", &hg.map_or("—".into(), |m| prov_s(m, "phase.fit", "targets_per_band")));
-    ctx.insert("node_rule", "162");
-    ctx.insert("node_error", &hg.map_or("—".into(), |m| prov_f(m, "phase.fit", "node_rule_max_rel_error")));
-    let (pp, pr) = (get("paper"), get("paper-refit"));
-    ctx.insert("ratio_targets", &pr.map_or("—".into(), |m| prov_s(m, "backscatter.fit", "targets")));
-    for (name, m, key) in [
-        ("ratio_paper_rms", pp, "backward_integral_rms_rel"),
-        ("ratio_paper_max", pp, "backward_integral_max_rel"),
-        ("ratio_refit_rms", pr, "backward_integral_rms_rel"),
-        ("ratio_refit_max", pr, "backward_integral_max_rel"),
-    ] {
-        ctx.insert(name, &m.map_or("—".into(), |m| prov_f(m, "backscatter.fit", key)));
-    }
-    let es = models.iter().find(|m| m.model.split().is_some());
-    let t = "backscatter.expsum_fit";
-    let sums = es.and_then(|m| m.model.split()).map(|s| &s.expsum);
-    ctx.insert("near_terms", &sums.map_or(0, |e| e.near.c.len()));
-    ctx.insert("local_terms", &sums.map_or(0, |e| e.local.c.len()));
-    ctx.insert("near_error", &es.map_or("—".into(), |m| prov_f(m, t, "near_max_rel")));
-    ctx.insert("local_error", &es.map_or("—".into(), |m| prov_f(m, t, "local_max_rel")));
-    ctx.insert("split", &airlight_fit::family::split::expsum::SPLIT);
-    #[derive(Serialize)]
-    struct FactRow {
-        model: String,
-        cells: Vec<String>,
-    }
-    let fact_taus = [0.5, 1.0, 2.0, 5.0, 10.0];
-    let facts: Vec<FactRow> = ["paper-as-printed", "paper", "paper-refit", "segments-3", "segments-8"]
-        .iter()
-        .filter_map(|n| get(n))
-        .map(|m| FactRow {
-            model: m.model.name.clone(),
-            cells: fact_taus.iter().map(|&t| fmt_err(airlight_fit::analysis::math_grid_error(&m.model, t))).collect(),
-        })
-        .collect();
     let generated: Vec<GeneratedKernel> = specs
         .iter()
         .map(|k| {
@@ -441,8 +323,6 @@ pub fn render(
         .collect();
     ctx.insert("generated_kernels", &generated);
     ctx.insert("renders", &render_rows(renders));
-    ctx.insert("fact_taus", &fact_taus);
-    ctx.insert("facts", &facts);
     ctx.insert("bench", &bench.is_some());
     if let Some(b) = bench {
         trade_context(&mut ctx, b);
@@ -589,7 +469,7 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
     #[derive(Serialize)]
     struct TradeRow {
         name: String,
-        kind: String,
+        kind: airlight_fit::vocab::Role,
         thin_max: String,
         dense_max: String,
         thin_p50: String,
@@ -663,7 +543,7 @@ fn trade_context(ctx: &mut tera::Context, b: &airlight_fit::bench::Bench) {
             let f = |x: Option<f64>| x.map_or("—".to_string(), fmt_err);
             TradeRow {
                 name: m.name.clone(),
-                kind: m.kind.clone(),
+                kind: m.kind,
                 thin_max: f(e.map(|e| e.max_rel.thin)),
                 dense_max: f(e.map(|e| e.max_rel.dense)),
                 thin_p50: f(e.map(|e| e.p50_rel.thin)),
@@ -765,14 +645,5 @@ mod tests {
         assert!(text.contains("| thin | isotropic | 32 |"), "{text}");
         assert!(text.contains("`airlight_public.csv` | 200 |"));
         assert!(!text.contains("{{"));
-    }
-
-    #[test]
-    fn number_formats() {
-        assert_eq!(fmt_err(0.0), "0");
-        assert_eq!(fmt_err(3.25e-15), "3.2e-15");
-        assert_eq!(fmt_err(f64::INFINITY), "∞");
-        let p = Point::new(2.0, 0.5, f64::INFINITY, 0.0);
-        assert_eq!(fmt_point(&p), "τ = 2, γ = 0.500000, ρ = ∞, g = 0");
     }
 }

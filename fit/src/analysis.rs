@@ -44,7 +44,7 @@ pub fn logspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
     (0..n).map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64)).collect()
 }
 
-/// MATH.md §4's grid: isotropic, γ ∈ [0.05, 1.5] (61 values), ρ ∈ {1.5, 3, ∞}.
+/// docs/MATH.md §4's grid: isotropic, γ ∈ [0.05, 1.5] (61 values), ρ ∈ {1.5, 3, ∞}.
 pub fn math_grid(tau: f64) -> Vec<crate::reference::Point> {
     (0..=60)
         .flat_map(|i| {
@@ -54,10 +54,10 @@ pub fn math_grid(tau: f64) -> Vec<crate::reference::Point> {
         .collect()
 }
 
-/// Largest relative error of `model` on [`math_grid`]`(tau)`.
-pub fn math_grid_error(model: &dyn crate::model::Model, tau: f64) -> f64 {
+/// Largest relative error of `model` (an evaluator of `A`) on [`math_grid`]`(tau)`.
+pub fn math_grid_error(model: &dyn Fn(crate::reference::Point) -> f64, tau: f64) -> f64 {
     math_grid(tau)
         .into_iter()
-        .map(|p| crate::stats::rel_error(model.eval_unchecked(p), crate::reference::airlight(p).expect("valid")))
+        .map(|p| crate::stats::rel_error(model(p), crate::reference::airlight(p).expect("valid")))
         .fold(0.0, f64::max)
 }

@@ -58,7 +58,7 @@ pub struct BenchModel {
     /// Model name.
     pub name: String,
     /// `airlight` or `baseline`.
-    pub kind: String,
+    pub kind: crate::vocab::Role,
     /// Supported `g`.
     pub g_range: [f64; 2],
     /// Errors of the f32 Rust kernel at each bench `g` in its range.
@@ -333,6 +333,71 @@ pub fn time_kernels(
         .collect()
 }
 
+/// The CPU's model name (`/proc/cpuinfo`), or the architecture.
+pub fn cpu_name() -> String {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let name = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    format!("{name} ({cores} cores visible; one thread timed)")
+}
+
+
+impl Bench {
+    /// The table `airlight bench` prints: the adapter and CPU, every model's
+    /// errors, time, IR cost and GPU rate, and the RGB costs.
+    pub fn table(&self) -> String {
+        let mut lines = Vec::new();
+    lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
+    lines.push(format!(
+        "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>6} {:>5} {:>12}",
+        "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ops", "tr", "GPU evals/s"
+    ));
+    for m in &self.models {
+        let e = m.errors.first();
+        let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+        lines.push(format!(
+            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
+            m.name,
+            f(e.map(|e| e.max_rel.thin)),
+            f(e.map(|e| e.max_rel.dense)),
+            f(e.map(|e| e.p50_rel.thin)),
+            f(e.map(|e| e.p50_rel.dense)),
+            m.cpu_ns_per_eval,
+            m.ops,
+            m.transcendentals,
+            m.gpu_evals_per_s,
+            e.map_or(0.0, |e| e.g)
+        ));
+    }
+    lines.push("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call".to_string());
+    lines.push(format!(
+        "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10} {:>12} {:>12}",
+        "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone", "GPU 3 scalar", "GPU RGB"
+    ));
+    for r in &self.rgb {
+        lines.push(format!(
+            "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>12.3e} {:>12.3e}",
+            r.name,
+            r.three_scalar_ns,
+            r.rgb_point_ns,
+            r.rgb_point_ns / r.three_scalar_ns,
+            r.rgb_hard_cone_ns,
+            r.rgb_soft_cone_ns,
+            r.gpu_three_scalar_rays_per_s,
+            r.gpu_rgb_point_rays_per_s
+        ));
+    }
+        lines.join("\n")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -340,7 +405,7 @@ mod tests {
     #[test]
     fn the_bench_runs_on_a_small_batch() {
         let sets = error_sets(50, &|_, _| {});
-        let e = errors(&|p| crate::family::closed::NoExtinction.eval(p), (0.0, 0.0), &sets);
+        let e = errors(&|p| crate::family::CLOSED_FORM.eval(p), (0.0, 0.0), &sets);
         assert_eq!(e.len(), 1);
         assert!(e[0].max_rel.thin.is_finite() && e[0].max_rel.thin > 0.0 && e[0].p50_rel.dense > 0.0);
         fn k(tau: f32, gamma: f32, _rho: f32, _g: f32) -> f32 {

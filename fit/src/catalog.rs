@@ -457,7 +457,7 @@ mod tests {
         assert_eq!(names.len(), CATALOG.len());
         for m in CATALOG {
             assert!(m.g_range.0 <= m.g_range.1 && m.g_range.1 < 1.0);
-            if let Recipe::Split { phase: PhaseChoice::Isotropic, .. } = m.recipe {
+            if let Recipe::Split(split::fit::Recipe { phase: PhaseChoice::Isotropic, .. }) = m.recipe {
                 assert_eq!(m.g_range, (0.0, 0.0));
             }
         }

@@ -1,4 +1,4 @@
-//! The named error domains of MATH.md §5 and their seeded, low-discrepancy
+//! The named error domains of docs/MATH.md §5 and their seeded, low-discrepancy
 //! validation sets.
 //!
 //! Points come from a Halton sequence (bases 2, 3, 5, 7) under a Cranley–Patterson
@@ -9,7 +9,7 @@
 use crate::reference::Point;
 use std::f64::consts::PI;
 
-/// A named error domain (MATH.md §5).
+/// A named error domain (docs/MATH.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Domain {

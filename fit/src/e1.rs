@@ -1,5 +1,5 @@
 //! The exponential integral of complex argument, scaled: `e^z · E1(z)` for
-//! `Re z ≥ 0`, and the exact isotropic airlight built on it (MATH.md §3).
+//! `Re z ≥ 0`, and the exact isotropic airlight built on it (docs/MATH.md §3).
 //!
 //! Power series for `|z| ≤ 2`, the even continued fraction (modified Lentz)
 //! beyond, as in Pegoraro & Slusallek, "On the Evaluation of the Complex-Valued

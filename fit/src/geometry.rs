@@ -1,5 +1,5 @@
 //! From a physical description of a view ray, a point light and a homogeneous
-//! medium to the canonical `(τ, γ, ρ)` of MATH.md §2 and back.
+//! medium to the canonical `(τ, γ, ρ)` of docs/MATH.md §2 and back.
 //!
 //! `La = (σs · I / D) · A(τ, γ, ρ)`, with `D` the viewer–light distance. The angle
 //! γ is taken from `atan2(|d × L|, d · L)`: the cross product keeps the distance

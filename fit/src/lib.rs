@@ -2,7 +2,7 @@
 //! that maps a scene onto it, the models that approximate it, and the error
 //! analysis that measures them.
 //!
-//! Everything here is f64 and follows `MATH.md`: `A(τ, γ, ρ; P)` is the canonical,
+//! Everything here is f64 and follows `docs/MATH.md`: `A(τ, γ, ρ; P)` is the canonical,
 //! dimensionless airlight, and every error figure is a relative error of `A`.
 //! Nothing here prints or exits; errors are values.
 
@@ -17,6 +17,7 @@ pub mod cost;
 pub mod domains;
 pub mod e1;
 pub mod family;
+pub mod figure;
 pub mod fixtures;
 pub mod geometry;
 pub mod hexf;

@@ -139,6 +139,12 @@ pub fn render(rows: &[Row], values: &[f64]) -> String {
 pub const RAY_COLUMNS: [&str; 14] =
     ["ox", "oy", "oz", "dx", "dy", "dz", "surface", "lx", "ly", "lz", "intensity", "sigma_t", "sigma_s", "g"];
 
+/// Whether a CSV's header names the spot entry's cone (`cos_outer`): such a file
+/// given to `--entry radiance` goes to the spot entry.
+pub fn names_spot_columns(text: &str) -> bool {
+    text.lines().find(|l| !l.trim().is_empty()).is_some_and(|h| h.split(',').any(|c| c.trim() == "cos_outer"))
+}
+
 /// A check of a parsed ray and its `g`: `Err((column, message))` refuses it.
 pub type RayCheck<'a> = dyn Fn(&PhysicalRay, f64) -> Result<(), (&'static str, String)> + 'a;
 

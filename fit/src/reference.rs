@@ -1,7 +1,7 @@
-//! The reference airlight `A(τ, γ, ρ; P)` of MATH.md §2, in f64, to ≤ 1e-12
+//! The reference airlight `A(τ, γ, ρ; P)` of docs/MATH.md §2, in f64, to ≤ 1e-12
 //! relative.
 //!
-//! Primary path: the u form of MATH.md §3 split at the foot of the perpendicular
+//! Primary path: the u form of docs/MATH.md §3 split at the foot of the perpendicular
 //! (`u = 1`). The forward half is integrated in `x = u − ua`, the backward half in
 //! `v = 1/u` (the substitution maps `du/(1+u²)` to `dv/(1+v²)`, so the infinite
 //! range `ρ = ∞` becomes `v → 0`). Every quantity that could cancel — `ub − ua`,
@@ -156,7 +156,7 @@ pub struct Evaluation {
     pub converged: bool,
 }
 
-/// Quantities of the u form shared by every path (MATH.md §3).
+/// Quantities of the u form shared by every path (docs/MATH.md §3).
 #[derive(Debug, Clone, Copy)]
 struct Geometry {
     /// `sin γ`
@@ -361,7 +361,7 @@ fn finish(mut bps: Vec<f64>) -> Vec<f64> {
     bps
 }
 
-/// Independent path: tanh–sinh quadrature of the s form (MATH.md §2), split
+/// Independent path: tanh–sinh quadrature of the s form (docs/MATH.md §2), split
 /// geometrically around the foot of the perpendicular and at the extinction
 /// length; the tail to `ρ = ∞` is mapped by `s = S/w`. Every breakpoint is kept as
 /// the pair `(s, r = s − cos γ)`, and each node is placed from its nearer
@@ -433,7 +433,7 @@ pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
 }
 
 /// Independent path for isotropic media: the exact complex-E1 closed form of
-/// MATH.md §3. Returns the value and the condition number of its final
+/// docs/MATH.md §3. Returns the value and the condition number of its final
 /// subtraction (digits lost ≈ log10 of it). `g` must be 0.
 pub fn airlight_e1(p: Point) -> Result<(f64, f64), ParamError> {
     p.validate()?;

@@ -112,4 +112,13 @@ mod tests {
         assert_eq!(rel_error(f64::NAN, 1.0), f64::INFINITY);
         assert!((rel_error(1.1, 1.0) - 0.1).abs() < 1e-15);
     }
+
+    #[test]
+    fn number_formats() {
+        assert_eq!(fmt_err(0.0), "0");
+        assert_eq!(fmt_err(3.25e-15), "3.2e-15");
+        assert_eq!(fmt_err(f64::INFINITY), "∞");
+        let p = Point::new(2.0, 0.5, f64::INFINITY, 0.0);
+        assert_eq!(fmt_point(&p), "τ = 2, γ = 0.500000, ρ = ∞, g = 0");
+    }
 }

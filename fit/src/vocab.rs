@@ -12,6 +12,17 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
+/// Whose a family (or a model) is: airlight's own, or what a user would pick
+/// instead. Serialised as `airlight` / `baseline` (bench.json's `kind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Role {
+    /// One of airlight's models (fitted or derived here).
+    Airlight,
+    /// A baseline: what a rendering engineer would use instead.
+    Baseline,
+}
+
 /// A language the generator emits kernels in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]

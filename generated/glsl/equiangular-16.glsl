@@ -20,7 +20,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * float airlight_equiangular_16_airlight(float tau, float gamma, float rho, float g)
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_equiangular_16_HUGE where the value passes
 // float's range, 0 where it underflows.
@@ -585,7 +585,7 @@ vec3 airlight_equiangular_16_airlight_geometry_rgb(vec3 tau_in, float h, float x
 }
 
 
-// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_equiangular_16_airlight(float tau, float gamma, float rho, float g) {
     float gc = clamp(gamma, 0.0, airlight_equiangular_16_PI);
     vec2 sc = airlight_equiangular_16_sin_cos(gc);

@@ -7,7 +7,7 @@
 // `no-extinction`: baseline; seed 003's exact closed form without extinction (atan2 of the cross product), isotropic, any tau: the cost floor (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
 // Isotropic scattering without extinction has an exact closed form (seed 003,
-// MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
+// docs/MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
 // of the ray subtends at the light over 4 pi times the light's distance from the
 // ray. The angle is taken between the two vectors from the light,
 // atan2(h rho, 1 - rho cos(gamma)) (atan2(h, -cos(gamma)) without a surface),
@@ -20,7 +20,7 @@
 //   first surface (negative or +inf: none), `light` the light's position, `intensity` its
 //   radiant intensity (W/sr gives W/(m^2 sr)), `sigma_s` the scattering coefficient.
 // * float airlight_no_extinction_airlight(float gamma, float rho)
-//   The canonical A(γ, ρ) of MATH.md section 2.
+//   The canonical A(γ, ρ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_no_extinction_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
@@ -244,7 +244,7 @@ float airlight_no_extinction_airlight_geometry(float h, float x0, float rho) {
     return min(airlight_no_extinction_P_ISO * angle / h, airlight_no_extinction_HUGE);
 }
 
-// The canonical A(γ, ρ) (MATH.md section 2).
+// The canonical A(γ, ρ) (docs/MATH.md section 2).
 float airlight_no_extinction_airlight(float gamma, float rho) {
     vec2 sc = airlight_no_extinction_sin_cos(gamma);
     return airlight_no_extinction_airlight_geometry(abs(sc.x), sc.y, rho);

@@ -16,7 +16,7 @@
 //   coefficient, `sigma_s` the scattering coefficient, `g` the Henyey-Greenstein
 //   asymmetry.
 // * float airlight_paper_hg_airlight(float tau, float gamma, float rho, float g)
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2: tau = sigma_t * D, gamma in
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2: tau = sigma_t * D, gamma in
 //   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
 // Both are finite and >= 0 for every finite input: airlight_paper_hg_HUGE (the largest float) on the
@@ -365,7 +365,7 @@ float airlight_paper_hg_backward_ratio(float tau, float t, float x0, float theta
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
-// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
+// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
@@ -375,7 +375,7 @@ float airlight_paper_hg_backward_u(float tau, float t, float h, float x0, float 
     float u0 = max(ua, 1.0);
     // The length ub - u0, never as a difference when it is short: for gamma > pi/2
     // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
-    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     float span = airlight_paper_hg_HUGE;
     if (!open) {
         float d = rho - x0;
@@ -495,7 +495,7 @@ float airlight_paper_hg_airlight_geometry(float tau_in, float h_in, float x0, fl
     return min(sum / h, airlight_paper_hg_HUGE);
 }
 
-// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_paper_hg_airlight(float tau, float gamma, float rho, float g) {
     vec2 sc = airlight_paper_hg_sin_cos(gamma);
     return airlight_paper_hg_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

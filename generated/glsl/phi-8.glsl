@@ -7,7 +7,7 @@
 // `phi-8`: HG, g at run time in [-0.99, 0.99]; whole A: 8 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part (g at run time, Henyey–Greenstein exact, rays may end early (ρ argument)).
 //
 // The whole of A with an error that does not grow with optical depth
-// (fit/src/family/phi.rs, REPORT.md "The phi family"). In the u form
+// (fit/src/family/phi/, REPORT.md "The phi family"). In the u form
 // A = (2 e^(-tau) / h) * integral over [ua, ub] of w(u) e^(-T (u - ua)) du, T = tau h:
 // a head of 8 Gauss-Legendre nodes in the HG variable phi (in u itself past every
 // HG feature or on short intervals) up to where the transmittance has fallen by
@@ -22,7 +22,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * float airlight_phi_8_airlight(float tau, float gamma, float rho, float g)
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_phi_8_HUGE where the value passes
 // float's range, 0 where it underflows.
@@ -471,7 +471,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0, float
     return min(max(2.0 * exp(-tau) * (sum / h), 0.0), airlight_phi_8_HUGE);
 }
 
-// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_phi_8_airlight(float tau, float gamma, float rho, float g) {
     vec2 sc = airlight_phi_8_sin_cos(clamp(gamma, 0.0, airlight_phi_8_PI));
     return airlight_phi_8_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

@@ -18,7 +18,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * float airlight_raymarch_16_airlight(float tau, float gamma, float rho, float g)
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_raymarch_16_HUGE where the value passes
 // float's range, 0 where it underflows.
@@ -259,7 +259,7 @@ float airlight_raymarch_16_airlight_geometry(float tau_in, float h, float x0, fl
     return min(sum * dt, airlight_raymarch_16_HUGE);
 }
 
-// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_raymarch_16_airlight(float tau, float gamma, float rho, float g) {
     vec2 sc = airlight_raymarch_16_sin_cos(gamma);
     return airlight_raymarch_16_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

@@ -15,7 +15,7 @@
 //   its radiant intensity (W/sr gives W/(m^2 sr)), `sigma_t` the extinction
 //   coefficient, `sigma_s` the scattering coefficient.
 // * float airlight_segments_6_airlight(float tau, float gamma, float rho)
-//   The canonical A(τ, γ, ρ) of MATH.md section 2: tau = sigma_t * D, gamma in
+//   The canonical A(τ, γ, ρ) of docs/MATH.md section 2: tau = sigma_t * D, gamma in
 //   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
 // Both are finite and >= 0 for every finite input: airlight_segments_6_HUGE (the largest float) on the
@@ -289,7 +289,7 @@ float airlight_segments_6_forward(float a, float len, float t, float att) {
 
 // The backward part in the u form, times h: 2 e^(-tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
-// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
+// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
@@ -299,7 +299,7 @@ float airlight_segments_6_backward_u(float tau, float t, float h, float x0, floa
     float u0 = max(ua, 1.0);
     // The length ub - u0, never as a difference when it is short: for gamma > pi/2
     // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
-    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     float span = airlight_segments_6_HUGE;
     if (!open) {
         float d = rho - x0;
@@ -404,7 +404,7 @@ float airlight_segments_6_airlight_geometry(float tau_in, float h_in, float x0, 
     return min(sum / h, airlight_segments_6_HUGE);
 }
 
-// The canonical A(τ, γ, ρ) (MATH.md section 2).
+// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 float airlight_segments_6_airlight(float tau, float gamma, float rho) {
     vec2 sc = airlight_segments_6_sin_cos(gamma);
     return airlight_segments_6_airlight_geometry(tau, abs(sc.x), sc.y, rho);

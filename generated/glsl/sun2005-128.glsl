@@ -7,7 +7,7 @@
 // `sun2005-128`: baseline; Sun et al. 2005 F(u, v) table (seed 004), bilinear, a texture in shaders; isotropic (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
 // A baseline, not an airlight model: Sun et al. (2005), seed 004. In the
-// half-angle form (MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
+// half-angle form (docs/MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
 // T = tau h, xi_b = pi/4 + atan((rho - x0)/h)/2 (pi/2 without a surface), with
 // F(u, v) = integral of e^(-u tan(xi)) over [0, v] read from a 128 x 128 r32float texture
 // over u <= 20, v <= pi/2 (65536 bytes, generated/tables/sun2005-128.f32: texel (i, j) at
@@ -24,7 +24,7 @@
 //
 // * float airlight_sun2005_128_radiance(vec3 origin, vec3 dir, float surface, vec3 light, float intensity, float sigma_t, float sigma_s)
 // * float airlight_sun2005_128_airlight(float tau, float gamma, float rho)
-//   The canonical A(τ, γ, ρ) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_sun2005_128_HUGE where the value passes
 // float's range, 0 where it underflows.
@@ -280,7 +280,7 @@ float airlight_sun2005_128_airlight_geometry(float tau_in, float h, float x0, fl
     return min(exp(min(-tau * x0, 88.0)) * f / (2.0 * airlight_sun2005_128_PI * h), airlight_sun2005_128_HUGE);
 }
 
-// The canonical A(τ, γ, ρ) (MATH.md section 2).
+// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 float airlight_sun2005_128_airlight(float tau, float gamma, float rho) {
     float gc = clamp(gamma, 0.0, airlight_sun2005_128_PI);
     vec2 sc = airlight_sun2005_128_sin_cos(gc);

@@ -20,7 +20,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * airlight_equiangular_16_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_equiangular_16_HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -572,7 +572,7 @@ fn airlight_equiangular_16_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: 
 }
 
 
-/// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight_equiangular_16_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let gc = clamp(gamma, 0.0, airlight_equiangular_16_PI);
     let sc = airlight_equiangular_16_sin_cos(gc);

@@ -7,7 +7,7 @@
 // `phi-4`: HG, g at run time in [-0.99, 0.99]; whole A: 4 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part (g at run time, Henyey–Greenstein exact, rays may end early (ρ argument)).
 //
 // The whole of A with an error that does not grow with optical depth
-// (fit/src/family/phi.rs, REPORT.md "The phi family"). In the u form
+// (fit/src/family/phi/, REPORT.md "The phi family"). In the u form
 // A = (2 e^(-tau) / h) * integral over [ua, ub] of w(u) e^(-T (u - ua)) du, T = tau h:
 // a head of 4 Gauss-Legendre nodes in the HG variable phi (in u itself past every
 // HG feature or on short intervals) up to where the transmittance has fallen by
@@ -22,7 +22,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * airlight_phi_4_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_phi_4_HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -415,7 +415,7 @@ fn airlight_phi_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g
     return min(max(2.0 * exp(-tau) * (sum / h), 0.0), airlight_phi_4_HUGE);
 }
 
-/// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight_phi_4_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = airlight_phi_4_sin_cos(clamp(gamma, 0.0, airlight_phi_4_PI));
     return airlight_phi_4_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

@@ -18,7 +18,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * airlight_raymarch_1024_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_raymarch_1024_HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -246,7 +246,7 @@ fn airlight_raymarch_1024_airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f
     return min(sum * dt, airlight_raymarch_1024_HUGE);
 }
 
-/// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight_raymarch_1024_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = airlight_raymarch_1024_sin_cos(gamma);
     return airlight_raymarch_1024_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

@@ -8,7 +8,7 @@
 // `scene-backscatter-aerosol`: HG, g at run time in [-0.99, 0.99]; whole A: 6 nodes in the HG variable phi, Gauss-Laguerre tail, exact e^x E2 far part (Henyey–Greenstein at g = -0.3 baked in, rays run to infinity).
 //
 // The whole of A with an error that does not grow with optical depth
-// (fit/src/family/phi.rs, REPORT.md "The phi family"). In the u form
+// (fit/src/family/phi/, REPORT.md "The phi family"). In the u form
 // A = (2 e^(-tau) / h) * integral over [ua, ub] of w(u) e^(-T (u - ua)) du, T = tau h:
 // a head of 6 Gauss-Legendre nodes in the HG variable phi (in u itself past every
 // HG feature or on short intervals) up to where the transmittance has fallen by
@@ -22,7 +22,7 @@
 // * airlight_scene_backscatter_aerosol_radiance(origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32
 //   sigma_s * I / D * A along the ray origin + s dir.
 // * airlight_scene_backscatter_aerosol_airlight(tau: f32, gamma: f32) -> f32
-//   The canonical A(τ, γ) of MATH.md section 2.
+//   The canonical A(τ, γ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_backscatter_aerosol_HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -430,7 +430,7 @@ fn airlight_scene_backscatter_aerosol_airlight_geometry(tau_in: f32, h_in: f32, 
     return min(max(2.0 * exp(-tau) * (sum / h), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
-/// The canonical A(τ, γ) (MATH.md section 2).
+/// The canonical A(τ, γ) (docs/MATH.md section 2).
 fn airlight_scene_backscatter_aerosol_airlight(tau: f32, gamma: f32) -> f32 {
     let sc = airlight_scene_backscatter_aerosol_sin_cos(clamp(gamma, 0.0, airlight_scene_backscatter_aerosol_PI));
     return airlight_scene_backscatter_aerosol_airlight_geometry(tau, abs(sc.x), sc.y);

@@ -8,7 +8,7 @@
 // `scene-haze-sky`: isotropic scattering without extinction, exact.
 //
 // Isotropic scattering without extinction has an exact closed form (seed 003,
-// MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
+// docs/MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
 // of the ray subtends at the light over 4 pi times the light's distance from the
 // ray. The angle is taken between the two vectors from the light,
 // atan2(h rho, 1 - rho cos(gamma)); no surfaces: atan2(h, -cos(gamma)) = pi - gamma,
@@ -20,7 +20,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `light` the light's position, `intensity` its
 //   radiant intensity (W/sr gives W/(m^2 sr)), `sigma_s` the scattering coefficient.
 // * airlight_scene_haze_sky_airlight(gamma: f32) -> f32
-//   The canonical A(γ) of MATH.md section 2.
+//   The canonical A(γ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_haze_sky_HUGE (the largest f32) on the
 // ray through the light, where A diverges (and where the value passes f32's range),
@@ -222,7 +222,7 @@ fn airlight_scene_haze_sky_airlight_geometry(h: f32, x0: f32) -> f32 {
     return min(airlight_scene_haze_sky_P_ISO * angle / h, airlight_scene_haze_sky_HUGE);
 }
 
-/// The canonical A(γ) (MATH.md section 2).
+/// The canonical A(γ) (docs/MATH.md section 2).
 fn airlight_scene_haze_sky_airlight(gamma: f32) -> f32 {
     let sc = airlight_scene_haze_sky_sin_cos(gamma);
     return airlight_scene_haze_sky_airlight_geometry(abs(sc.x), sc.y);

@@ -15,7 +15,7 @@
 //   its radiant intensity (W/sr gives W/(m^2 sr)), `sigma_t` the extinction
 //   coefficient, `sigma_s` the scattering coefficient.
 // * airlight_segments_8_airlight(tau: f32, gamma: f32, rho: f32) -> f32
-//   The canonical A(τ, γ, ρ) of MATH.md section 2: tau = sigma_t * D, gamma in
+//   The canonical A(τ, γ, ρ) of docs/MATH.md section 2: tau = sigma_t * D, gamma in
 //   radians, rho = Dp / D (negative, NaN or >= 2^32: no surface).
 //
 // Both are finite and >= 0 for every finite input: airlight_segments_8_HUGE (the largest f32) on the
@@ -278,7 +278,7 @@ fn airlight_segments_8_forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
 
 /// The backward part in the u form, times h: 2 e^(-tau) times the integral of
 /// e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
-/// (MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
+/// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
@@ -288,7 +288,7 @@ fn airlight_segments_8_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, o
     let u0 = max(ua, 1.0);
     // The length ub - u0, never as a difference when it is short: for gamma > pi/2
     // the part starts at ua and ub - ua = 2 rho (d + r)/((rho + r + 1) h),
-    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (MATH.md section 3).
+    // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     var span = airlight_segments_8_HUGE;
     if !open {
         let d = rho - x0;
@@ -393,7 +393,7 @@ fn airlight_segments_8_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f
     return min(sum / h, airlight_segments_8_HUGE);
 }
 
-/// The canonical A(τ, γ, ρ) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 fn airlight_segments_8_airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let sc = airlight_segments_8_sin_cos(gamma);
     return airlight_segments_8_airlight_geometry(tau, abs(sc.x), sc.y, rho);

@@ -7,7 +7,7 @@
 // `sun2005-256`: baseline; Sun et al. 2005 F(u, v) table (seed 004), bilinear, a texture in shaders; isotropic (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
 // A baseline, not an airlight model: Sun et al. (2005), seed 004. In the
-// half-angle form (MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
+// half-angle form (docs/MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
 // T = tau h, xi_b = pi/4 + atan((rho - x0)/h)/2 (pi/2 without a surface), with
 // F(u, v) = integral of e^(-u tan(xi)) over [0, v] read from a 256 x 256 r32float texture
 // over u <= 20, v <= pi/2 (262144 bytes, generated/tables/sun2005-256.f32: texel (i, j) at
@@ -22,7 +22,7 @@
 //
 // * airlight_sun2005_256_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32
 // * airlight_sun2005_256_airlight(tau: f32, gamma: f32, rho: f32) -> f32
-//   The canonical A(τ, γ, ρ) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: airlight_sun2005_256_HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -259,7 +259,7 @@ fn airlight_sun2005_256_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f
     return min(exp(min(-tau * x0, 88.0)) * f / (2.0 * airlight_sun2005_256_PI * h), airlight_sun2005_256_HUGE);
 }
 
-/// The canonical A(τ, γ, ρ) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 fn airlight_sun2005_256_airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let gc = clamp(gamma, 0.0, airlight_sun2005_256_PI);
     let sc = airlight_sun2005_256_sin_cos(gc);

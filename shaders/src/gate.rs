@@ -2,7 +2,7 @@
 //! target — the Rust f32 kernel on the CPU, the WGSL and the GLSL kernel on the
 //! GPU adapter — against the reference on the validation sets of its domains
 //! (the points its model's declared bounds were measured on) and on the extreme
-//! set of MATH.md §5. A kernel fails when its error exceeds the declared bound
+//! set of docs/MATH.md §5. A kernel fails when its error exceeds the declared bound
 //! plus the f32 allowance ([`Row::limit`]), or when it returns NaN, ∞ or a
 //! negative value where `A` is finite.
 //!
@@ -349,7 +349,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
 pub const PHYS_EXTREME: &str = "phys-extreme";
 
 /// The hull of a kernel's declared domains: τ up to the end of its sampled
-/// domains (`tau_max`), γ and ρ as far as `extreme` reaches (MATH.md §5: γ ∈
+/// domains (`tau_max`), γ and ρ as far as `extreme` reaches (docs/MATH.md §5: γ ∈
 /// [1e-4, π − 1e-4], ρ ∈ [1e-4, 1e4] ∪ {∞}): where a physical extreme ray's error
 /// is held to the declared bound. Outside it (grazing lights at 1e-30, surfaces
 /// at 1e-6 D, τ past the kernel's domains) only the value's sanity is checked.
@@ -546,6 +546,133 @@ fn declared(k: &IndexEntry, models: &[ModelFile], domain: Domain) -> Result<f64,
         .ok_or_else(|| GateError::Input(format!("model {}: no declared error on {domain}", m.model.name)))
 }
 
+/// One kernel under the gate: its index entry, its f64 model, its compiled Rust
+/// kernel (if the Rust target is checked) and its shader sources (if a GPU is).
+struct Subject<'a> {
+    k: &'a IndexEntry,
+    model: Box<dyn Fn(Point) -> f64 + Sync + 'a>,
+    compiled: Option<&'a CompiledKernel>,
+    shaders: Vec<(Target, KernelSource<'a>)>,
+    gpu: Option<&'a Gpu>,
+}
+
+impl Subject<'_> {
+    /// A GPU failure of this kernel on `target`.
+    fn gpu_error(&self, target: Target) -> impl Fn(GpuError) -> GateError + '_ {
+        move |e| GateError::Gpu(format!("{} ({})", self.k.name, target.name()), e)
+    }
+
+    /// The canonical entry on each domain's point set.
+    fn canonical_rows(&self, sets: &[(Domain, Checked)], models: &[ModelFile]) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        for (domain, pts) in sets {
+            let bound = declared(k, models, *domain)?;
+            let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
+            let f64s = airlight_fit::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
+            rows.push(row(k, None, domain.name(), pts, &f64s, bound, None));
+            if let Some(rk) = self.compiled {
+                let got: Vec<f64> = raw
+                    .iter()
+                    .map(|p| {
+                        crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
+                    })
+                    .collect();
+                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound, None));
+            }
+            let Some(gpu) = self.gpu else { continue };
+            for (target, src) in &self.shaders {
+                let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
+                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound, None));
+            }
+        }
+        Ok(rows)
+    }
+
+    /// The physical entry: random placements at world scales 1e-3 … 1e4, and the
+    /// physical extreme set; both bounded by the largest declared bound (the
+    /// extreme set where its canonical point lies in the declared hull).
+    fn physical_rows(&self, sampled: f64, hull: f64) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        let physical = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
+        let extremes = physical_extremes(k)?;
+        for (label, rays, bound) in [("physical", &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
+            let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
+            let f64s = airlight_fit::parallel::map(
+                rays,
+                |(r, _, _)| r.physical().radiance(f64::from(r.g), &|p| (self.model)(p)).unwrap_or(f64::NAN),
+                &|_, _| {},
+            );
+            rows.push(row(k, None, label, &expected, &f64s, bound, None));
+            if let Some(rk) = self.compiled {
+                let got: Vec<f64> = rays.iter().map(|(r, _, _)| crate::from_kernel(r.radiance_of(rk))).collect();
+                rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound, None));
+            }
+            let Some(gpu) = self.gpu else { continue };
+            let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
+            for (target, src) in &self.shaders {
+                let got = gpu.radiance(src, &plain).map_err(self.gpu_error(*target))?;
+                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                rows.push(row(k, Some(*target), label, &expected, &got, bound, None));
+            }
+        }
+        Ok(rows)
+    }
+
+    /// The spot entry: spot lights and RGB media, bounded like the physical entry.
+    fn spot_rows(&self, sampled: f64) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        let cases = spot_rays(k, SPOT_RAYS, VALIDATION_SEED ^ 0x5B07)?;
+        let expected: Vec<(Point, f64)> = cases.iter().flat_map(|c| c.reference.map(|v| (c.point, v))).collect();
+        let held: Vec<f64> = cases.iter().flat_map(|c| [c.ulp_change; 3]).collect();
+        let f64s: Vec<f64> = airlight_fit::parallel::map(
+            &cases,
+            |c| [0, 1, 2].map(|ch| c.ray.reference(ch, &|p| (self.model)(p)).unwrap_or(f64::NAN)),
+            &|_, _| {},
+        )
+        .into_iter()
+        .flatten()
+        .collect();
+        rows.push(row(k, None, SPOT, &expected, &f64s, sampled, Some(&held)));
+        if let Some(rk) = self.compiled {
+            let got: Vec<f64> =
+                cases.iter().flat_map(|c| c.ray.spot_of(rk).unwrap_or([f32::NAN; 3])).map(crate::from_kernel).collect();
+            rows.push(row(k, Some(Target::Rust), SPOT, &expected, &got, sampled, Some(&held)));
+        }
+        if let Some(gpu) = self.gpu {
+            let plain: Vec<crate::SpotRay> = cases.iter().map(|c| c.ray).collect();
+            for (target, src) in &self.shaders {
+                let got = gpu.spot(src, &plain).map_err(self.gpu_error(*target))?;
+                let got: Vec<f64> = got.into_iter().flatten().map(crate::from_kernel).collect();
+                rows.push(row(k, Some(*target), SPOT, &expected, &got, sampled, Some(&held)));
+            }
+        }
+        Ok(rows)
+    }
+}
+
+/// The shader files of `k` under `generated` that a GPU runs (WGSL, GLSL).
+fn shader_texts(generated: &Path, k: &IndexEntry) -> Result<Vec<(Target, String)>, GateError> {
+    let mut texts = Vec::new();
+    for target in Target::ALL.into_iter().filter(|t| t.is_shader()) {
+        if let Some(f) = k.file(target) {
+            let path = generated.join(f);
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| GateError::Input(format!("{}: cannot read: {e}", path.display())))?;
+            texts.push((target, text));
+        }
+    }
+    Ok(texts)
+}
+
+/// The kernels of the index the gate runs (all, or those in `only`).
+fn selected<'i>(index: &'i Index, only: &[String], generated: &Path) -> Result<Vec<&'i IndexEntry>, GateError> {
+    if let Some(missing) = only.iter().find(|n| !index.kernel.iter().any(|k| &&k.name == n)) {
+        return Err(GateError::Input(format!("no kernel '{missing}' in {}/kernels.toml", generated.display())));
+    }
+    Ok(index.kernel.iter().filter(|k| only.is_empty() || only.iter().any(|n| n == &k.name)).collect())
+}
+
 /// Runs the gate over the kernels under `generated` (all, or those in `only`):
 /// the compiled Rust kernels in `rust` (they must be the ones under `generated`;
 /// empty: the Rust target is not checked), the WGSL and GLSL files when `gpu` is
@@ -559,11 +686,7 @@ pub fn run(
 ) -> Result<Vec<Row>, GateError> {
     let index = load_index(generated)?;
     let models = catalog::load(&generated.join("coefficients")).map_err(|e| GateError::Input(e.to_string()))?;
-    let kernels: Vec<&IndexEntry> =
-        index.kernel.iter().filter(|k| only.is_empty() || only.iter().any(|n| n == &k.name)).collect();
-    if let Some(missing) = only.iter().find(|n| !index.kernel.iter().any(|k| &&k.name == n)) {
-        return Err(GateError::Input(format!("no kernel '{missing}' in {}/kernels.toml", generated.display())));
-    }
+    let kernels = selected(&index, only, generated)?;
     let mut ranges: Vec<(f64, f64)> = kernels.iter().filter(|k| k.scene.is_none()).map(|k| (k.g[0], k.g[1])).collect();
     ranges.sort_by(|a, b| a.partial_cmp(b).expect("no NaN"));
     ranges.dedup();
@@ -572,119 +695,88 @@ pub fn run(
     let mut rows = Vec::new();
     for k in kernels {
         progress(&k.name);
-        let sets = point_sets(k, &validations)?;
-        let mut texts = Vec::new();
-        for target in Target::ALL.into_iter().filter(|t| t.is_shader()) {
-            if let Some(f) = k.file(target) {
-                let path = generated.join(f);
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|e| GateError::Input(format!("{}: cannot read: {e}", path.display())))?;
-                texts.push((target, text));
-            }
-        }
+        let texts = shader_texts(generated, k)?;
         let table = crate::load_table(generated, k).map_err(|e| GateError::Input(e.to_string()))?;
-        let shaders: Vec<(Target, KernelSource)> = texts
-            .iter()
-            .map(|(target, text)| (*target, KernelSource::of(k, *target, text).with_table(table.as_ref())))
-            .collect();
         let compiled = match (rust.is_empty(), &k.rust) {
             (false, Some(_)) => Some(rust.iter().find(|r| r.name == k.name).ok_or_else(|| {
                 GateError::Input(format!("kernel {} is not in the compiled airlight-kernels (rebuild)", k.name))
             })?),
             _ => None,
         };
-        let model = f64_model(k, &models)?;
-        for (domain, pts) in &sets {
-            let bound = declared(k, &models, *domain)?;
-            let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
-            let f64s = airlight_fit::parallel::map(pts, |(p, _)| model(*p), &|_, _| {});
-            rows.push(row(k, None, domain.name(), pts, &f64s, bound, None));
-            if let Some(rk) = compiled {
-                let got: Vec<f64> = raw
-                    .iter()
-                    .map(|p| {
-                        crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
-                    })
-                    .collect();
-                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound, None));
-            }
-            let Some(gpu) = gpu else { continue };
-            for (target, src) in &shaders {
-                let got = gpu
-                    .airlight(src, &raw)
-                    .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound, None));
-            }
-        }
-        // The physical entry: random placements at world scales 1e-3 … 1e4, and
-        // the physical extreme set; both bounded by the largest declared bound
-        // (the extreme set where its canonical point lies in the declared hull).
+        let subject = Subject {
+            k,
+            model: f64_model(k, &models)?,
+            compiled,
+            shaders: texts.iter().map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref()))).collect(),
+            gpu,
+        };
+        rows.extend(subject.canonical_rows(&point_sets(k, &validations)?, &models)?);
         let bound_over = |ds: &mut dyn Iterator<Item = Domain>| -> Result<f64, GateError> {
             ds.map(|d| declared(k, &models, d)).try_fold(0.0, |a, b| b.map(|b| f64::max(a, b)))
         };
         let sampled = bound_over(&mut k.domains.iter().copied())?;
         let hull = bound_over(&mut k.domains.iter().copied().chain([Domain::Extreme]))?;
-        let physical = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
-        let extremes = physical_extremes(k)?;
-        for (label, rays, bound) in [("physical", &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
-            let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
-            let f64s = airlight_fit::parallel::map(
-                rays,
-                |(r, _, _)| r.physical().radiance(f64::from(r.g), &|p| model(p)).unwrap_or(f64::NAN),
-                &|_, _| {},
-            );
-            rows.push(row(k, None, label, &expected, &f64s, bound, None));
-            if let Some(rk) = compiled {
-                let got: Vec<f64> = rays.iter().map(|(r, _, _)| crate::from_kernel(r.radiance_of(rk))).collect();
-                rows.push(row(k, Some(Target::Rust), label, &expected, &got, bound, None));
-            }
-            if let Some(gpu) = gpu {
-                let plain: Vec<crate::Ray> = rays.iter().map(|r| r.0).collect();
-                for (target, src) in &shaders {
-                    let got = gpu
-                        .radiance(src, &plain)
-                        .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                    let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                    rows.push(row(k, Some(*target), label, &expected, &got, bound, None));
-                }
-            }
-        }
-        // The spot entry: spot lights and RGB media, bounded like the physical entry.
+        rows.extend(subject.physical_rows(sampled, hull)?);
         if k.has(Entry::Spot) {
-            let cases = spot_rays(k, SPOT_RAYS, VALIDATION_SEED ^ 0x5B07)?;
-            let expected: Vec<(Point, f64)> = cases.iter().flat_map(|c| c.reference.map(|v| (c.point, v))).collect();
-            let held: Vec<f64> = cases.iter().flat_map(|c| [c.ulp_change; 3]).collect();
-            let f64s: Vec<f64> = airlight_fit::parallel::map(
-                &cases,
-                |c| [0, 1, 2].map(|ch| c.ray.reference(ch, &|p| model(p)).unwrap_or(f64::NAN)),
-                &|_, _| {},
-            )
-            .into_iter()
-            .flatten()
-            .collect();
-            rows.push(row(k, None, SPOT, &expected, &f64s, sampled, Some(&held)));
-            if let Some(rk) = compiled {
-                let got: Vec<f64> = cases
-                    .iter()
-                    .flat_map(|c| c.ray.spot_of(rk).unwrap_or([f32::NAN; 3]))
-                    .map(crate::from_kernel)
-                    .collect();
-                rows.push(row(k, Some(Target::Rust), SPOT, &expected, &got, sampled, Some(&held)));
-            }
-            if let Some(gpu) = gpu {
-                let plain: Vec<crate::SpotRay> = cases.iter().map(|c| c.ray).collect();
-                for (target, src) in &shaders {
-                    let got = gpu
-                        .spot(src, &plain)
-                        .map_err(|e| GateError::Gpu(format!("{} ({})", k.name, target.name()), e))?;
-                    let got: Vec<f64> = got.into_iter().flatten().map(crate::from_kernel).collect();
-                    rows.push(row(k, Some(*target), SPOT, &expected, &got, sampled, Some(&held)));
-                }
-            }
+            rows.extend(subject.spot_rows(sampled)?);
         }
     }
     Ok(rows)
+}
+
+/// The gate's rows as `generated/gate.toml` holds them, tied by digest to the
+/// kernel sources under `generated` that were measured.
+pub fn record(generated: &Path, rows: &[Row], adapter: String) -> Result<airlight_fit::record::GateRecord, String> {
+    let mut files = Vec::new();
+    for dir in ["wgsl", "wgsl/bevy", "glsl", "airlight-kernels/src"] {
+        let entries =
+            std::fs::read_dir(generated.join(dir)).map_err(|e| format!("{}: cannot read: {e}", generated.join(dir).display()))?;
+        for e in entries.flatten() {
+            if e.path().is_file() {
+                let bytes = std::fs::read(e.path()).map_err(|err| format!("{}: cannot read: {err}", e.path().display()))?;
+                files.push((format!("{dir}/{}", e.file_name().to_string_lossy()), bytes));
+            }
+        }
+    }
+    Ok(airlight_fit::record::GateRecord {
+        adapter,
+        kernels_digest: airlight_fit::record::digest(&files),
+        rows: rows
+            .iter()
+            .map(|r| airlight_fit::record::GateRow {
+                kernel: r.kernel.clone(),
+                target: target_label(r.target).to_string(),
+                domain: r.domain.to_string(),
+                points: r.points,
+                max_rel: r.max,
+                p99_rel: r.p99,
+                limit: r.limit(),
+                bad: r.bad,
+            })
+            .collect(),
+    })
+}
+
+/// The line `airlight check` prints after its rows: kernels, targets, rows, the
+/// limit, and how much of the f32 allowance the worst row uses (negative: within
+/// the f64 bound).
+pub fn summary(rows: &[Row]) -> String {
+    let kernels: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.kernel.as_str()).collect();
+    let targets: std::collections::BTreeSet<&str> = rows.iter().map(|r| target_label(r.target)).collect();
+    let worst = rows
+        .iter()
+        .filter(|r| r.target.is_some())
+        .map(|r| (r.max - r.declared) / (r.limit() - r.declared))
+        .fold(f64::NEG_INFINITY, f64::max);
+    format!(
+        "check: {} kernels × {{{}}} × domains = {} rows; limit = declared × (1 + {:.0e}) + {:.0e}; the worst row uses {:.1}% of that allowance",
+        kernels.len(),
+        targets.into_iter().collect::<Vec<_>>().join(", "),
+        rows.len(),
+        F32_REL_ALLOWANCE,
+        F32_ALLOWANCE,
+        100.0 * worst
+    )
 }
 
 /// The table `airlight check` prints: every row, or only failures.

@@ -12,6 +12,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod browser;
 pub mod gate;
 pub mod ircost;
@@ -566,6 +567,21 @@ pub struct Ray {
 }
 
 impl Ray {
+    /// An `eval` CSV row as the physical entry takes it (f32; no surface: −1).
+    pub fn from_row(r: &airlight_fit::points_csv::RayRow) -> Ray {
+        let f = |v: [f64; 3]| v.map(|x| x as f32);
+        Ray {
+            origin: f(r.ray.origin),
+            dir: f(r.ray.direction),
+            surface: r.ray.surface_distance.map_or(-1.0, |s| s as f32),
+            light: f(r.ray.light),
+            intensity: r.ray.intensity as f32,
+            sigma_t: r.ray.sigma_t as f32,
+            sigma_s: r.ray.sigma_s as f32,
+            g: r.g as f32,
+        }
+    }
+
     /// The same ray in f64, for the reference (`surface < 0`: none).
     pub fn physical(&self) -> airlight_fit::geometry::PhysicalRay {
         let f = |v: [f32; 3]| v.map(f64::from);
@@ -638,6 +654,30 @@ pub struct SpotRay {
 }
 
 impl SpotRay {
+    /// An `eval` CSV row as the spot entry takes it (f32; no surface: −1; a point
+    /// light: `cos_outer` −1).
+    pub fn from_row(r: &airlight_fit::points_csv::SpotRow) -> SpotRay {
+        let f = |v: [f64; 3]| v.map(|x| x as f32);
+        let ray = &r.rays[0];
+        let (axis, co, ci) = match &r.cone {
+            Some(c) => (f(c.axis), c.cos_outer as f32, c.cos_inner as f32),
+            None => ([0.0, 0.0, 1.0], -1.0, -1.0),
+        };
+        SpotRay {
+            origin: f(ray.origin),
+            dir: f(ray.direction),
+            surface: ray.surface_distance.map_or(-1.0, |s| s as f32),
+            light: f(ray.light),
+            axis,
+            cos_outer: co,
+            cos_inner: ci,
+            intensity: ray.intensity as f32,
+            sigma_t: r.rays.each_ref().map(|x| x.sigma_t as f32),
+            sigma_s: r.rays.each_ref().map(|x| x.sigma_s as f32),
+            g: r.g as f32,
+        }
+    }
+
     /// Channel `c` of the ray in f64, as a point-light ray (`surface < 0`: none).
     pub fn physical(&self, c: usize) -> airlight_fit::geometry::PhysicalRay {
         let ray = Ray {
@@ -819,4 +859,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     airlight_results[i] = {function}(p.x, p.y, p.z, p.w);\n\
 }}\n"
     )
+}/// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32,
+/// `ρ = ∞` passed as −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
+pub fn f32_value(k: &airlight_fit::vocab::CompiledKernel, p: airlight_fit::reference::Point) -> f64 {
+    from_kernel((k.airlight)(p.tau as f32, p.gamma as f32, rho_arg(p.rho), p.g as f32))
 }
+
+

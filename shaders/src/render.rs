@@ -502,4 +502,67 @@ pub fn difference_rgb(image: &[[f32; 3]], reference: &[[f64; 3]]) -> Vec<[u8; 3]
         .collect();
     let (v, r): (Vec<f32>, Vec<f64>) = worst.into_iter().unzip();
     difference(&v, &r)
+}/// Tone-mapped 8-bit pixels.
+pub type Pixels = Vec<[u8; 3]>;
+
+/// A scene's images, tone-mapped with the reference's exposure, and their
+/// errors against the reference (max, mean relative): one channel (point
+/// lights), or RGB (spot lights in a coloured medium).
+pub struct Images {
+    /// The GPU kernel's image.
+    pub gpu: Pixels,
+    /// The reference's.
+    pub reference: Pixels,
+    /// The GPU's relative difference from the reference.
+    pub diff: Pixels,
+    /// The GPU's error.
+    pub gpu_err: (f64, f64),
+    /// The compiled Rust kernel's image and error, where it is given.
+    pub rust: Option<(Pixels, (f64, f64))>,
 }
+
+impl Images {
+    /// Draws the scene kernel `k` (WGSL source `kernel`) on `gpu`, the reference
+    /// and, when given, the compiled Rust kernel `rk`; `spot`: the spot entry in RGB.
+    pub fn draw(
+        gpu: &Gpu,
+        k: &IndexEntry,
+        kernel: &str,
+        view: &View,
+        spot: bool,
+        rk: Option<&CompiledKernel>,
+    ) -> Result<Images, GpuError> {
+        let as64 = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+        if spot {
+            let image = gpu.render_spot(k, kernel, view)?;
+            let reference = render_spot_reference(k, view);
+            let flat = channels(&reference);
+            let exposure = exposure(&flat);
+            let rgb64 = |v: &[[f32; 3]]| v.iter().map(|p| p.map(f64::from)).collect::<Vec<_>>();
+            return Ok(Images {
+                gpu: tone_map_rgb(&rgb64(&image), exposure),
+                reference: tone_map_rgb(&reference, exposure),
+                diff: difference_rgb(&image, &reference),
+                gpu_err: compare(&channels(&image), &flat),
+                rust: rk
+                    .and_then(|rk| render_spot_rust(rk, view))
+                    .map(|r| (tone_map_rgb(&rgb64(&r), exposure), compare(&channels(&r), &flat))),
+            });
+        }
+        let image = gpu.render(k, kernel, view)?;
+        let reference = render_reference(k, view);
+        let exposure = exposure(&reference);
+        Ok(Images {
+            gpu: tone_map(&as64(&image), exposure),
+            reference: tone_map(&reference, exposure),
+            diff: difference(&image, &reference),
+            gpu_err: compare(&image, &reference),
+            rust: rk.map(|rk| {
+                let r = render_rust(rk, view);
+                (tone_map(&as64(&r), exposure), compare(&r, &reference))
+            }),
+        })
+    }
+}
+
+

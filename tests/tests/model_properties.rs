@@ -98,7 +98,7 @@ fn continuous_into_gamma_zero_and_rho_zero() {
                 if g < lo || g > hi {
                     continue;
                 }
-                if m.model.body.table().is_some() {
+                if m.model.body.texture().is_some() {
                     // Sun et al.'s method is a difference of two table lookups, which
                     // cancel as the lit stretch shrinks: the baseline as published.
                     continue;

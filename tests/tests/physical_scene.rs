@@ -1,5 +1,5 @@
 //! A scene in world units, from viewer/light/ray placement to radiance, against
-//! a direct quadrature of the physical integral of MATH.md §1 — no canonical
+//! a direct quadrature of the physical integral of docs/MATH.md §1 — no canonical
 //! form involved — at scales from 1e-3 to 1e4 units.
 
 use airlight_fit::domains::SplitMix64;

@@ -59,7 +59,7 @@ fn g_of(range: (f64, f64), u: f64) -> f64 {
 /// implies holds: two values each within `b` of a monotone `A` are ordered up to
 /// `(1 + b)/(1 − b)` (hg-exp1 steps 0.27% at τ = 21.5, γ = 2.19).
 fn monotone_slack(m: &ModelFile) -> f64 {
-    use airlight_fit::family::expsum::Target;
+    use airlight_fit::family::split::expsum::Target;
     let isotropic = m.model.g_range == (0.0, 0.0);
     let s = match &m.model.body {
         Body::Split(s) => s,
@@ -261,7 +261,7 @@ fn boundaries(m: &ModelFile, p: Point) -> Vec<(&'static str, Point, Point)> {
         }
         // The u-split of the backward weight: a surface at u = 16 behind the foot point.
         let (h, x0) = (p.gamma.sin(), p.gamma.cos());
-        let u = airlight_fit::family::expsum::SPLIT;
+        let u = airlight_fit::family::split::expsum::SPLIT;
         let rho = x0 + h * (u * u - 1.0) / (2.0 * u);
         if rho > 0.0 {
             out.push(("u = SPLIT", Point { rho: rho * (1.0 - d), ..p }, Point { rho: rho * (1.0 + d), ..p }));

@@ -22,19 +22,12 @@ pub mod sun;
 use crate::bench::BenchModel;
 use crate::cost::{Cost, PhaseShape, Shape};
 use crate::domains::{Domain, DomainErrors};
+use crate::figure::Figure;
 use crate::reference::Point;
 use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
 use crate::tomlfile::{FieldError, Provenance, Reader};
+pub use crate::vocab::Role;
 use toml::{Table, Value};
-
-/// Whose a family is: airlight's own, or what a user would pick instead.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Role {
-    /// One of airlight's models (fitted or derived here).
-    Airlight,
-    /// A baseline: what a rendering engineer would use instead.
-    Baseline,
-}
 
 /// A family's member built from its recipe and fit (errors not yet measured).
 #[derive(Debug, Clone)]
@@ -98,7 +91,19 @@ pub struct Member<'a, F> {
     pub bench: Option<&'a BenchModel>,
 }
 
-impl<F> Member<'_, F> {
+impl<'a, F> Member<'a, F> {
+    /// The same model seen through its family's own type.
+    pub fn with_body<G>(&self, body: &'a G) -> Member<'a, G> {
+        Member {
+            name: self.name,
+            g_range: self.g_range,
+            body,
+            errors: self.errors,
+            provenance: self.provenance,
+            bench: self.bench,
+        }
+    }
+
     /// The declared errors on `domain`.
     pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
         self.errors.iter().find(|e| e.domain == domain)
@@ -212,6 +217,11 @@ pub trait Family: Sized + Clone + PartialEq + std::fmt::Debug {
     /// Its report section's values, from its members (`None`: no section).
     fn report(_members: &[Member<'_, Self>], _floor: ReportFloor) -> Option<Context> {
         None
+    }
+
+    /// The report's figures about it, from its members.
+    fn figures(_members: &[Member<'_, Self>]) -> Vec<Figure> {
+        Vec::new()
     }
 }
 
@@ -333,8 +343,9 @@ macro_rules! families {
             vec![$((<$ty as Family>::DIR, <$ty as Family>::TEMPLATES),)+]
         }
 
-        /// Each family's report section, in list order, from every model's
-        /// (name, `g` range, body, errors, provenance, bench row).
+        /// Each family's report section, in list order (the order of the report's
+        /// family sections), from every model's name, body, errors, provenance and
+        /// bench row.
         pub fn report_sections(models: &[Member<'_, Body>]) -> Vec<Section> {
             let floor = ReportFloor {
                 cpu_ns: models.iter().find(|m| m.body.is_cost_floor()).and_then(|m| m.bench).map(|b| b.cpu_ns_per_eval),
@@ -344,14 +355,7 @@ macro_rules! families {
                 let members: Vec<Member<'_, $ty>> = models
                     .iter()
                     .filter_map(|m| match m.body {
-                        Body::$variant(f) => Some(Member {
-                            name: m.name,
-                            g_range: m.g_range,
-                            body: f,
-                            errors: m.errors,
-                            provenance: m.provenance,
-                            bench: m.bench,
-                        }),
+                        Body::$variant(f) => Some(m.with_body(f)),
                         #[allow(unreachable_patterns)]
                         _ => None,
                     })
@@ -363,6 +367,23 @@ macro_rules! families {
                         context,
                     });
                 }
+            })+
+            out
+        }
+
+        /// Every family's figures, in list order.
+        pub fn figures(models: &[Member<'_, Body>]) -> Vec<Figure> {
+            let mut out = Vec::new();
+            $({
+                let members: Vec<Member<'_, $ty>> = models
+                    .iter()
+                    .filter_map(|m| match m.body {
+                        Body::$variant(f) => Some(m.with_body(f)),
+                        #[allow(unreachable_patterns)]
+                        _ => None,
+                    })
+                    .collect();
+                out.extend(<$ty as Family>::figures(&members));
             })+
             out
         }
@@ -421,6 +442,8 @@ macro_rules! families {
 }
 
 families! {
+    /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
+    Phi(phi::PhiRule) as phi,
     /// A forward part plus a backward part: the paper's three families and their refits.
     Split(split::Split) as split,
     /// The whole integral without extinction, in closed form (exact at `τ = 0`).
@@ -431,8 +454,6 @@ families! {
     Equiangular(equiangular::Equiangular) as equiangular,
     /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
     Sun2005(sun::SunTable) as sun,
-    /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
-    Phi(phi::PhiRule) as phi,
 }
 
 /// Every part `airlight fit --family` can name.

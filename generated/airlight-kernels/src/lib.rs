@@ -6,7 +6,7 @@
 //! plus `math.rs`, into a renderer.
 //!
 //! Each module has `radiance` (physical: ray, light, medium) and `airlight`
-//! (canonical `A(τ, γ, ρ; g)`, MATH.md §2). Model modules take every argument;
+//! (canonical `A(τ, γ, ρ; g)`, docs/MATH.md §2). Model modules take every argument;
 //! scene modules only what their scene needs (see each module's header).
 
 #![no_std]

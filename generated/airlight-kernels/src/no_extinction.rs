@@ -6,7 +6,7 @@
 //! `no-extinction`: baseline; seed 003's exact closed form without extinction (atan2 of the cross product), isotropic, any tau: the cost floor (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //!
 //! Isotropic scattering without extinction has an exact closed form (seed 003,
-//! MATH.md §3): `A = (θb − θa) / (4π h)`, the angle the lit stretch of the ray
+//! docs/MATH.md §3): `A = (θb − θa) / (4π h)`, the angle the lit stretch of the ray
 //! subtends at the light over `4π` times the light's distance from the ray. The
 //! angle is taken between the two vectors from the light, `atan2(h ρ, 1 − ρ cos γ)`
 //! (`atan2(h, −cos γ)` without a surface), so it never cancels.
@@ -16,7 +16,7 @@
 //! * [`radiance`]: `σs·I/D·A` along the ray `origin + s·dir`, `surface` the distance to
 //!   the first surface (negative or +∞: none), `light` the light's position, `intensity` its
 //!   radiant intensity (W/sr gives W/(m²·sr)), `sigma_s` the scattering coefficient.
-//! * [`airlight`]: the canonical `A(γ, ρ)` of MATH.md §2.
+//! * [`airlight`]: the canonical `A(γ, ρ)` of docs/MATH.md §2.
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
 //! light, where `A` diverges (and where the value passes f32's range), 0 where it
@@ -42,7 +42,7 @@ pub fn airlight_geometry(h: f32, x0: f32, rho: f32) -> f32 {
     (P_ISO * angle / h).min(HUGE)
 }
 
-/// The canonical `A(γ, ρ)` (MATH.md §2).
+/// The canonical `A(γ, ρ)` (docs/MATH.md §2).
 pub fn airlight(gamma: f32, rho: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
     airlight_geometry(s.abs(), c, rho)

@@ -13,7 +13,7 @@
 //!   `intensity` its radiant intensity (W/sr gives W/(m²·sr)), `sigma_t` the
 //!   extinction coefficient, `sigma_s` the scattering coefficient, `g` the
 //!   Henyey–Greenstein asymmetry.
-//! * [`airlight`]: the canonical `A(τ, γ, ρ; g)` of MATH.md §2: τ = σt·D, γ in
+//! * [`airlight`]: the canonical `A(τ, γ, ρ; g)` of docs/MATH.md §2: τ = σt·D, γ in
 //!   radians, ρ = Dp/D (negative, NaN or ≥ 2^32: no surface).
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
@@ -154,7 +154,7 @@ fn backward_ratio(tau: f32, t: f32, x0: f32, theta_b: f32, ph: &Phase) -> f32 {
 }
 
 /// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`
-/// over `u ∈ [max(ua, 1), ub]` as positive exponential terms (MATH.md §3);
+/// over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
 /// `open`: no surface (`ub = ∞`).
 fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phase) -> f32 {
     // u = tan(α/2), written without cancellation on either side of the foot point.
@@ -162,7 +162,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
     let u0 = ua.max(1.0);
     // The length `ub − u0`, never as a difference when it is short: for γ > π/2 the
     // part starts at ua and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)`, `d = ρ − cos γ`,
-    // `r = √(d² + h²)`, exact as ρ → 0 (MATH.md §3).
+    // `r = √(d² + h²)`, exact as ρ → 0 (docs/MATH.md §3).
     let span = if open {
         HUGE
     } else {
@@ -257,7 +257,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
     (sum / h).min(HUGE)
 }
 
-/// The canonical `A(τ, γ, ρ; g)` (MATH.md §2).
+/// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
     airlight_geometry(tau, s.abs(), c, rho, g)

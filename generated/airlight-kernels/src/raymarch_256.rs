@@ -17,7 +17,7 @@
 //!   to the first surface (negative or +∞: none), `light` the light's position,
 //!   `intensity` its radiant intensity, `sigma_t`, `sigma_s` the medium, `g` the
 //!   Henyey–Greenstein asymmetry.
-//! * [`airlight`]: the canonical `A(τ, γ, ρ; g)` of MATH.md §2.
+//! * [`airlight`]: the canonical `A(τ, γ, ρ; g)` of docs/MATH.md §2.
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] where the value passes
 //! f32's range, 0 where it underflows.
@@ -68,7 +68,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
     (sum * dt).min(HUGE)
 }
 
-/// The canonical `A(τ, γ, ρ; g)` (MATH.md §2).
+/// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
     airlight_geometry(tau, s.abs(), c, rho, g)

@@ -7,7 +7,7 @@
 //! `scene-haze-sky`: isotropic scattering without extinction, exact.
 //!
 //! Isotropic scattering without extinction has an exact closed form (seed 003,
-//! MATH.md §3): `A = (θb − θa) / (4π h)`, the angle the lit stretch of the ray
+//! docs/MATH.md §3): `A = (θb − θa) / (4π h)`, the angle the lit stretch of the ray
 //! subtends at the light over `4π` times the light's distance from the ray. The
 //! angle is taken between the two vectors from the light, `atan2(h ρ, 1 − ρ cos γ)`
 //! (no surfaces: `atan2(h, −cos γ) = π − γ`), so it never cancels.
@@ -16,7 +16,7 @@
 //!
 //! * [`radiance`]: `σs·I/D·A` along the ray `origin + s·dir`, `light` the light's position, `intensity` its
 //!   radiant intensity (W/sr gives W/(m²·sr)), `sigma_s` the scattering coefficient.
-//! * [`airlight`]: the canonical `A(γ)` of MATH.md §2.
+//! * [`airlight`]: the canonical `A(γ)` of docs/MATH.md §2.
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] on the ray through the
 //! light, where `A` diverges (and where the value passes f32's range), 0 where it
@@ -37,7 +37,7 @@ pub fn airlight_geometry(h: f32, x0: f32) -> f32 {
     (P_ISO * angle / h).min(HUGE)
 }
 
-/// The canonical `A(γ)` (MATH.md §2).
+/// The canonical `A(γ)` (docs/MATH.md §2).
 pub fn airlight(gamma: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
     airlight_geometry(s.abs(), c)

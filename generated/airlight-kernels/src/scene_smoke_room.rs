@@ -7,7 +7,7 @@
 //! `scene-smoke-room`: isotropic; whole A: 4 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //!
 //! The whole of `A` with an error that does not grow with optical depth
-//! (`fit/src/family/phi.rs`, REPORT.md "The φ family"). In the u form
+//! (`fit/src/family/phi/`, REPORT.md "The φ family"). In the u form
 //! `A = (2 e^{−τ}/h) ∫_{ua}^{ub} w(u) e^{−T(u − ua)} du`, `T = τ h`:
 //! a head of 4 Gauss–Legendre nodes in the HG variable φ (in `u` itself
 //! past every HG feature or on short intervals) up to where the transmittance has
@@ -21,7 +21,7 @@
 //! * [`radiance`]: `σs·I/D·A` along the ray `origin + s·dir`, `surface` the distance
 //!   to the first surface (negative or +∞: none), `light` the light's position,
 //!   `intensity` its radiant intensity, `sigma_t`, `sigma_s` the medium.
-//! * [`airlight`]: the canonical `A(τ, γ, ρ)` of MATH.md §2.
+//! * [`airlight`]: the canonical `A(τ, γ, ρ)` of docs/MATH.md §2.
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] where the value passes
 //! f32's range, 0 where it underflows.
@@ -205,7 +205,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     (2.0 * exp(-tau) * (sum / h)).max(0.0).min(HUGE)
 }
 
-/// The canonical `A(τ, γ, ρ)` (MATH.md §2).
+/// The canonical `A(τ, γ, ρ)` (docs/MATH.md §2).
 #[allow(clippy::manual_clamp)]
 pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let gamma = gamma.max(0.0).min(PI);

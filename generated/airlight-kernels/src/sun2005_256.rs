@@ -6,7 +6,7 @@
 //! `sun2005-256`: baseline; Sun et al. 2005 F(u, v) table (seed 004), bilinear, a texture in shaders; isotropic (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //!
 //! A baseline, not an airlight model: Sun et al. (2005), seed 004. In the
-//! half-angle form (MATH.md §3) `A = e^{−τ x0}/(2π h) · [F(T, ξb) − F(T, γ/2)]`,
+//! half-angle form (docs/MATH.md §3) `A = e^{−τ x0}/(2π h) · [F(T, ξb) − F(T, γ/2)]`,
 //! `T = τ h`, `ξb = π/4 + ½ atan((ρ − x0)/h)` (`π/2` without a surface), with
 //! `F(u, v) = ∫₀^v e^{−u tan ξ} dξ` looked up bilinearly in a 256 × 256 f32 table
 //! over `u ≤ 20`, `v ≤ π/2` (262144 bytes, `generated/tables/sun2005-256.f32`, row `j` at
@@ -19,7 +19,7 @@
 //! * [`radiance`]: `σs·I/D·A` along the ray `origin + s·dir`, `surface` the distance
 //!   to the first surface (negative or +∞: none), `light` the light's position,
 //!   `intensity` its radiant intensity, `sigma_t`, `sigma_s` the medium.
-//! * [`airlight`]: the canonical `A(τ, γ, ρ)` of MATH.md §2.
+//! * [`airlight`]: the canonical `A(τ, γ, ρ)` of docs/MATH.md §2.
 //!
 //! Both are finite and ≥ 0 for every finite input: [`HUGE`] where the value passes
 //! f32's range, 0 where it underflows.
@@ -77,7 +77,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, rho: f32) -> f32
     (exp(-tau * x0) * f / (2.0 * PI * h)).min(HUGE)
 }
 
-/// The canonical `A(τ, γ, ρ)` (MATH.md §2).
+/// The canonical `A(τ, γ, ρ)` (docs/MATH.md §2).
 #[allow(clippy::manual_clamp)]
 pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let gamma = gamma.max(0.0).min(PI);

@@ -22,7 +22,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -574,7 +574,7 @@ fn airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f
 }
 
 
-/// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let gc = clamp(gamma, 0.0, PI);
     let sc = sin_cos(gc);

@@ -9,7 +9,7 @@
 // `no-extinction`: baseline; seed 003's exact closed form without extinction (atan2 of the cross product), isotropic, any tau: the cost floor (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
 // Isotropic scattering without extinction has an exact closed form (seed 003,
-// MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
+// docs/MATH.md section 3): A = (theta_b - theta_a) / (4 pi h), the angle the lit stretch
 // of the ray subtends at the light over 4 pi times the light's distance from the
 // ray. The angle is taken between the two vectors from the light,
 // atan2(h rho, 1 - rho cos(gamma)) (atan2(h, -cos(gamma)) without a surface),
@@ -22,7 +22,7 @@
 //   first surface (negative or +inf: none), `light` the light's position, `intensity` its
 //   radiant intensity (W/sr gives W/(m^2 sr)), `sigma_s` the scattering coefficient.
 // * airlight(gamma: f32, rho: f32) -> f32
-//   The canonical A(γ, ρ) of MATH.md section 2.
+//   The canonical A(γ, ρ) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: HUGE (the largest f32) on the
 // ray through the light, where A diverges (and where the value passes f32's range),
@@ -233,7 +233,7 @@ fn airlight_geometry(h: f32, x0: f32, rho: f32) -> f32 {
     return min(P_ISO * angle / h, HUGE);
 }
 
-/// The canonical A(γ, ρ) (MATH.md section 2).
+/// The canonical A(γ, ρ) (docs/MATH.md section 2).
 fn airlight(gamma: f32, rho: f32) -> f32 {
     let sc = sin_cos(gamma);
     return airlight_geometry(abs(sc.x), sc.y, rho);

@@ -20,7 +20,7 @@
 //   sigma_s * I / D * A along the ray origin + s dir, `surface` the distance to the
 //   first surface (negative or +inf: none).
 // * airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32
-//   The canonical A(τ, γ, ρ; g) of MATH.md section 2.
+//   The canonical A(τ, γ, ρ; g) of docs/MATH.md section 2.
 //
 // Both are finite and >= 0 for every finite input: HUGE where the value passes
 // f32's range, 0 where it underflows.
@@ -248,7 +248,7 @@ fn airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, g_in: f32) -> f32 {
     return min(sum * dt, HUGE);
 }
 
-/// The canonical A(τ, γ, ρ; g) (MATH.md section 2).
+/// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = sin_cos(gamma);
     return airlight_geometry(tau, abs(sc.x), sc.y, rho, g);

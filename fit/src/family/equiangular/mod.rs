@@ -70,7 +70,7 @@ impl Family for Equiangular {
         ctx
     }
 
-    /// `A = (1/h) ∫ P e^{−τ(s + t)} dθ` over `θ ∈ [γ − π/2, θb]` (MATH.md §3), taken
+    /// `A = (1/h) ∫ P e^{−τ(s + t)} dθ` over `θ ∈ [γ − π/2, θb]` (docs/MATH.md §3), taken
     /// in `β = (θ + π/2)/2 = α/2`: `s + t = x0 + h tan β`, `1 − cos α = 2 sin² β`,
     /// `1 + cos α = 2 cos² β` (no cancellation anywhere), and the interval's length
     /// the angle at the light between viewer and surface (`atan2(h ρ, 1 − ρ x0)`,

@@ -8,7 +8,7 @@ use crate::tomlfile::value::{f, i, kv, s};
 /// The part `airlight fit --family phi` names.
 pub const PART: &str = "phi";
 
-/// The parameters of one member of the φ family (`family/phi.rs`).
+/// The parameters of one member of the φ family (`fit/src/family/phi/`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PhiTier {
     /// Head nodes (Gauss–Legendre in φ).
@@ -58,7 +58,7 @@ pub fn assemble(t: PhiTier, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<
         families,
         provenance,
         method: kv(vec![
-            ("method", s("whole A in the u form: Gauss-Legendre head in the HG variable phi (u past X or on short intervals) to the transmittance cut e^-L, Gauss-Laguerre tail from both ends; for small T X, C/u^2 exactly through e^x E2 and the rest by Gauss-Legendre in v = 1/u (fit/src/family/phi.rs)")),
+            ("method", s("whole A in the u form: Gauss-Legendre head in the HG variable phi (u past X or on short intervals) to the transmittance cut e^-L, Gauss-Laguerre tail from both ends; for small T X, C/u^2 exactly through e^x E2 and the rest by Gauss-Legendre in v = 1/u (fit/src/family/phi/)")),
             ("fitted", s("e^x E2's rational (see [e2.fit]); node counts and splits are the tier's")),
         ]),
     })

@@ -1,13 +1,13 @@
 //! The φ family: the whole of `A` for isotropic and Henyey–Greenstein media,
 //! `g` a run-time argument, with an error that does not grow with optical depth.
 //!
-//! In the u form (MATH.md §3), `A = (2 e^{−τ}/h) I`, `I = ∫_{ua}^{ub} w(u) e^{−T(u−ua)} du`,
+//! In the u form (docs/MATH.md §3), `A = (2 e^{−τ}/h) I`, `I = ∫_{ua}^{ub} w(u) e^{−T(u−ua)} du`,
 //! `w = (1 − g²) √(1 + u²) / (4π (a² + b² u²)^{3/2})`, `a = 1 − g`, `b = 1 + g`, `κ = a/b`.
-//! Each of the integral's scales (KERNELS.md §2) goes to the piece that takes it
+//! Each of the integral's scales (docs/MATH.md §6.6) goes to the piece that takes it
 //! exactly:
 //!
 //! * **head** `[ua, ua + ℓ]`: Gauss–Legendre in the HG variable `φ`
-//!   (`η = (1 + g cos φ)/(1 − g²)`, KERNELS.md §3), where `w du` is a smooth bounded
+//!   (`η = (1 + g cos φ)/(1 − g²)`, docs/MATH.md §6.6), where `w du` is a smooth bounded
 //!   weight times `dφ` for every `g`; `ℓ` ends where the transmittance has fallen by
 //!   `e^{−L}` (`L = cut`), at the far region, or at the surface. Past every HG
 //!   feature (`ua ≥ X`) or on a short interval the nodes are taken in `u` itself, so
@@ -310,7 +310,7 @@ impl Family for PhiRule {
         let g = p.g.clamp(-0.999, 0.999);
         let (h, ua, du, ub) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
-            // On the axis: the limits (MATH.md §5).
+            // On the axis: the limits (docs/MATH.md §5).
             return if p.gamma < 1.0 && p.rho > 1.0 {
                 f64::INFINITY
             } else {

@@ -1,5 +1,5 @@
 //! Backward weight family (this project's, not the paper's): in the u form of
-//! MATH.md §3 the backward part is
+//! docs/MATH.md §3 the backward part is
 //!
 //!   `(2 e^{−τ} / h) ∫_{max(ua, 1)}^{ub} e^{−T (u − ua)} w(u) du`,  `w(u) = 1 / (1 + u²)`,
 //!
@@ -7,7 +7,7 @@
 //! exponentials, `w(u) ≈ Σ_k c_k e^{−s_k u}` on `u ∈ [1, U]`, makes every term an
 //! elementary, positive integral — no differences, so no cancellation for any
 //! geometry (γ > π/2 included) — and a relative error `ε` of `w` is a relative
-//! error of at most `ε` of the backward part, for every `τ` (MATH.md §3). Beyond
+//! error of at most `ε` of the backward part, for every `τ` (docs/MATH.md §3). Beyond
 //! `U` the sum decays faster than `w`; the share of `A` lost there is at most
 //! `max(ua, 1) / U` at τ = 0 and smaller for τ > 0.
 //!

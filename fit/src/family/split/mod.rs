@@ -3,7 +3,7 @@
 //! generalised to every geometry of the domains.
 //!
 //! With `θa = γ − π/2`, `θb = atan((ρ − cos γ)/sin γ)` and `T = τ sin γ`
-//! (MATH.md §3, angle form):
+//! (docs/MATH.md §3, angle form):
 //!
 //! * **forward part** (`θ < 0`, written `θ' = −θ ∈ [max(0, −θb), −θa]`): the
 //!   piecewise-linear kernel makes `P(π/2 − θ') e^{−τ cos γ − T k̂(θ')}` a sum of
@@ -33,9 +33,11 @@ pub mod fit;
 mod kernel;
 pub mod phase_exp;
 pub mod ratio;
+mod report;
 pub mod segments;
 
-use crate::family::{Assembled, Family, Role};
+use crate::family::{Assembled, Family, Member, ReportFloor, Role};
+use crate::figure::Figure;
 use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
 use expsum::{Backward, ExpSum};
 use phase_exp::{sec_plus_tan, Band, ExpPhase, Terms};
@@ -140,7 +142,7 @@ impl Split {
 }
 
 impl Split {
-    /// The backward part from the exponential sum (u form, MATH.md §3).
+    /// The backward part from the exponential sum (u form, docs/MATH.md §3).
     fn backward_expsum(&self, tau: f64, h: f64, x0: f64, rho: f64, terms: &Terms) -> f64 {
         let t = tau * h;
         // u = tan(γ/2), written without cancellation on either side of π/2.
@@ -148,7 +150,7 @@ impl Split {
         let u0 = ua.max(1.0);
         // The length `ub − u0`, formed without cancellation: for γ > π/2 the
         // interval starts at `ua` and `ub − ua = 2ρ(d + r)/((ρ + r + 1) h)` with
-        // `d = ρ − cos γ > 0`, `r = √(d² + h²)` (MATH.md §3), which stays exact
+        // `d = ρ − cos γ > 0`, `r = √(d² + h²)` (docs/MATH.md §3), which stays exact
         // as ρ → 0.
         let len = if rho.is_infinite() {
             f64::INFINITY
@@ -178,6 +180,7 @@ impl Family for Split {
     const TABLES: &'static [&'static str] = &["forward", "phase", "backscatter"];
     const TEMPLATES: Templates = crate::core_templates!();
     const FIT_PARTS: &'static [&'static str] = &[fit::SEGMENTS, fit::PHASE, fit::BACKSCATTER];
+    const REPORT: Option<&'static str> = Some(include_str!("report.md.tera"));
     type Recipe = fit::Recipe;
     type Fit = fit::SplitFits;
 
@@ -199,6 +202,14 @@ impl Family for Split {
 
     fn kernel_context(&self, k: &KernelView) -> Context {
         kernel::context(self, k)
+    }
+
+    fn report(members: &[Member<'_, Split>], _floor: ReportFloor) -> Option<Context> {
+        report::context(members)
+    }
+
+    fn figures(members: &[Member<'_, Split>]) -> Vec<Figure> {
+        report::figures(members)
     }
     /// How the phase function costs: isotropic, or `k` exponentials per band.
     fn phase_shape(&self) -> PhaseShape {

@@ -1,6 +1,6 @@
 //! Phase family: Henyey–Greenstein approximated by a sum of `K` exponentials in
 //! the scattering angle, `P_g(α) ≈ Σ_k a_k(g) e^{−b_k(g) α}` (α in radians, `P`
-//! normalised over the sphere as in MATH.md), with `a_k` and `b_k` quadratic in `g`
+//! normalised over the sphere as in docs/MATH.md), with `a_k` and `b_k` quadratic in `g`
 //! inside each band of `g`. `K = 1` is the paper's form (appendix table, seven bands
 //! over `[0, 0.99]`).
 //!

@@ -1,5 +1,5 @@
 //! The Sun et al. (2005) table baseline (seed 004, as reorganised by Wyman &
-//! Ramsey): the half-angle form (MATH.md §3)
+//! Ramsey): the half-angle form (docs/MATH.md §3)
 //!
 //! `A = e^{−τ x0} / (2π h) · [F(T, ξb) − F(T, γ/2)]`, `F(u, v) = ∫₀^v e^{−u tan ξ} dξ`,
 //!

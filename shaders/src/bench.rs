@@ -1,0 +1,233 @@
+//! What `airlight bench` measures, in one run: for every shipped model, the
+//! errors of its compiled f32 Rust kernel at each bench `g`, its CPU time per
+//! evaluation (interleaved repeats, median), the operations in the naga IR of its
+//! WGSL, its GPU throughput (timestamp queries) where an adapter is present, and
+//! for the kernels with a spot entry the cost of one RGB `spot` call against
+//! three scalar `radiance` calls, on the CPU and the GPU.
+
+use crate::{Gpu, GpuError, KernelSource, Ray, SpotRay};
+use airlight_fit::bench::{self, Bench, BenchModel, RgbCost, RgbRay};
+use airlight_fit::coeffs::ModelFile;
+use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry, Target};
+use std::path::Path;
+
+/// How much is measured.
+#[derive(Debug, Clone, Copy)]
+pub struct BenchSize {
+    /// Points per `(g, domain)` for the errors.
+    pub points: usize,
+    /// Points (and rays) in the timing batch.
+    pub batch: usize,
+    /// Timing repeats.
+    pub repeats: usize,
+}
+
+/// Why the bench could not run: bad input (exit 2), or a failure (exit 1).
+#[derive(Debug)]
+pub enum BenchError {
+    /// A size of zero, a missing kernel or file entry.
+    Input(String),
+    /// A file that cannot be read, a GPU failure.
+    Failed(String),
+}
+
+/// Where the bench is, for a progress display: what, done, of how many.
+pub type Progress<'a> = dyn Fn(&str, usize, usize) + Sync + 'a;
+
+/// σt of the RGB timing's three channels (σs is 0.8 σt).
+const ST: [f32; 3] = [0.03, 0.05, 0.08];
+
+/// The adapter the GPU figures come from, lavapipe labelled as CPU emulation.
+fn adapter_label(gpu: &Result<Gpu, GpuError>) -> String {
+    match gpu {
+        Ok(g) => {
+            let a = g.adapter();
+            let emulated = a.device_type == "Cpu" || a.name.contains("llvmpipe");
+            format!("{a}{}", if emulated { " — CPU emulation (lavapipe), not a GPU" } else { "" })
+        }
+        Err(e) => format!("none ({e})"),
+    }
+}
+
+/// The RGB timing's rays: the physical entry's (red channel's σt) and the spot
+/// entry's with a point light.
+fn rgb_inputs(rays: &[RgbRay]) -> (Vec<Ray>, Vec<SpotRay>) {
+    let scalar = rays
+        .iter()
+        .map(|r| Ray {
+            origin: [0.0; 3],
+            dir: r[0],
+            surface: -1.0,
+            light: r[1],
+            intensity: 100.0,
+            sigma_t: ST[0],
+            sigma_s: 0.8 * ST[0],
+            g: 0.5,
+        })
+        .collect();
+    let spots = rays
+        .iter()
+        .map(|r| SpotRay {
+            origin: [0.0; 3],
+            dir: r[0],
+            surface: -1.0,
+            light: r[1],
+            axis: r[2],
+            cos_outer: -1.0,
+            cos_inner: -1.0,
+            intensity: 100.0,
+            sigma_t: ST,
+            sigma_s: ST.map(|x| 0.8 * x),
+            g: 0.5,
+        })
+        .collect();
+    (scalar, spots)
+}
+
+/// Everything one model's row needs that the loop shares.
+struct Inputs<'a> {
+    generated: &'a Path,
+    index: &'a Index,
+    gpu: Option<&'a Gpu>,
+    batch64: Vec<[f64; 4]>,
+    rgb_scalar: Vec<Ray>,
+    rgb_spots: Vec<SpotRay>,
+    repeats: usize,
+}
+
+/// A model's WGSL kernel: its index entry and source.
+fn wgsl_of<'i>(inputs: &Inputs<'i>, name: &str) -> Result<(&'i IndexEntry, std::path::PathBuf, String), BenchError> {
+    let entry = inputs.index.get(name).map_err(BenchError::Input)?;
+    let wgsl =
+        entry.file(Target::Wgsl).ok_or_else(|| BenchError::Input(format!("kernel '{name}' has no WGSL file")))?;
+    let path = inputs.generated.join(wgsl);
+    let source = std::fs::read_to_string(&path)
+        .map_err(|e| BenchError::Failed(format!("{}: cannot read: {e}", path.display())))?;
+    Ok((entry, path, source))
+}
+
+/// A model's row (CPU time still 0) and its GPU RGB rates (three scalar calls'
+/// rays/s over three, the spot entry's), from its kernels.
+fn model_row(
+    inputs: &Inputs,
+    f: &ModelFile,
+    k: &CompiledKernel,
+    errors: Vec<bench::GErrors>,
+) -> Result<(BenchModel, (f64, f64)), BenchError> {
+    let name = &f.model.name;
+    let (entry, path, source) = wgsl_of(inputs, name)?;
+    let fail = |e: String| BenchError::Failed(format!("{}: {e}", path.display()));
+    let cost = crate::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix)).map_err(|e| fail(e.to_string()))?;
+    let (mut gpu_evals_per_s, mut gpu_rgb) = (0.0, (0.0, 0.0));
+    if let Some(g) = inputs.gpu {
+        let table = crate::load_table(inputs.generated, entry).map_err(|e| BenchError::Failed(e.to_string()))?;
+        let src = KernelSource::of(entry, Target::Wgsl, &source).with_table(table.as_ref());
+        let err = |e: GpuError| fail(e.to_string());
+        gpu_evals_per_s = g.throughput(&src, &inputs.batch64, inputs.repeats).map_err(err)?.unwrap_or(0.0);
+        // RGB: the physical entry's rate over three, against the spot entry with a point light.
+        if k.spot.is_some() {
+            gpu_rgb = (
+                g.radiance_throughput(&src, &inputs.rgb_scalar, inputs.repeats).map_err(err)?.unwrap_or(0.0) / 3.0,
+                g.spot_throughput(&src, &inputs.rgb_spots, inputs.repeats).map_err(err)?.unwrap_or(0.0),
+            );
+        }
+    }
+    let row = BenchModel {
+        name: name.clone(),
+        kind: f.model.body.role(),
+        g_range: [f.model.g_range.0, f.model.g_range.1],
+        errors,
+        cpu_ns_per_eval: 0.0,
+        cpu_ns_range: [0.0, 0.0],
+        ops: cost.ops,
+        transcendentals: cost.transcendentals,
+        gpu_evals_per_s,
+        bytes: f.model.body.texture().map_or(0, |t| t.bytes()),
+    };
+    Ok((row, gpu_rgb))
+}
+
+/// The CPU cost of one RGB `spot` call (point light, hard and soft cones)
+/// against three scalar `radiance` calls on the same rays, with the GPU rates.
+fn rgb_cost(k: &CompiledKernel, rays: &[RgbRay], repeats: usize, gpu: (f64, f64)) -> Option<RgbCost> {
+    let spot = k.spot?;
+    let radiance = k.radiance;
+    let three = |r: &RgbRay| -> f32 {
+        ST.iter().map(|&st| radiance([0.0; 3], r[0], -1.0, r[1], 100.0, st, 0.8 * st, 0.5)).sum()
+    };
+    let one = |r: &RgbRay, co: f32, ci: f32| -> f32 {
+        spot([0.0; 3], r[0], -1.0, r[1], r[2], co, ci, 100.0, ST, ST.map(|x| 0.8 * x), 0.5).iter().sum()
+    };
+    let [t3, tp, th, ts] = bench::time_rgb(&three, &one, rays, repeats);
+    Some(RgbCost {
+        name: k.name.to_string(),
+        three_scalar_ns: t3,
+        rgb_point_ns: tp,
+        rgb_hard_cone_ns: th,
+        rgb_soft_cone_ns: ts,
+        gpu_three_scalar_rays_per_s: gpu.0,
+        gpu_rgb_point_rays_per_s: gpu.1,
+    })
+}
+
+/// Measures every model in `files` with its compiled kernel from `kernels` and
+/// the generated files under `generated` (the GPU figures where an adapter opens).
+pub fn measure(
+    generated: &Path,
+    files: &[ModelFile],
+    kernels: &[CompiledKernel],
+    size: BenchSize,
+    progress: &Progress,
+) -> Result<Bench, BenchError> {
+    if size.points == 0 || size.batch == 0 || size.repeats == 0 {
+        return Err(BenchError::Input("bench: --points, --batch and --repeats must be at least 1".into()));
+    }
+    let index = crate::gate::load_index(generated).map_err(|e| BenchError::Input(e.to_string()))?;
+    let sets = bench::error_sets(size.points, &|done, total| progress("bench: reference values", done, total));
+    let points = bench::cost_batch(size.batch);
+    let gpu = Gpu::open();
+    let rgb_rays = bench::rgb_rays(size.batch);
+    let (rgb_scalar, rgb_spots) = rgb_inputs(&rgb_rays);
+    let inputs = Inputs {
+        generated,
+        index: &index,
+        gpu: gpu.as_ref().ok(),
+        batch64: points.iter().map(|p| [p.tau, p.gamma, p.rho, p.g]).collect(),
+        rgb_scalar,
+        rgb_spots,
+        repeats: size.repeats,
+    };
+    let (mut rows, mut fns, mut compiled, mut gpu_rgb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (i, f) in files.iter().enumerate() {
+        let name = &f.model.name;
+        let k = kernels.iter().find(|k| k.name == name.as_str()).ok_or_else(|| {
+            BenchError::Failed(format!("bench: no compiled kernel '{name}': run `airlight generate` and rebuild"))
+        })?;
+        progress(&format!("bench: {name}"), i, files.len());
+        let errors = bench::errors(&|p| crate::f32_value(k, p), f.model.g_range, &sets);
+        let (row, rates) = model_row(&inputs, f, k, errors)?;
+        rows.push(row);
+        gpu_rgb.push(rates);
+        fns.push(k.airlight);
+        compiled.push(k);
+    }
+    let batch = bench::canonical_args(&points);
+    let times = bench::time_kernels(&fns, &batch, size.repeats, &|r| {
+        progress("bench: CPU time (interleaved repeats)", r, size.repeats)
+    });
+    for (row, (median, lo, hi)) in rows.iter_mut().zip(times) {
+        row.cpu_ns_per_eval = median;
+        row.cpu_ns_range = [lo, hi];
+    }
+    progress("bench: RGB against three scalar calls", 0, 1);
+    let rgb = compiled.iter().zip(&gpu_rgb).filter_map(|(k, &g)| rgb_cost(k, &rgb_rays, size.repeats, g)).collect();
+    Ok(Bench {
+        adapter: adapter_label(&gpu),
+        cpu: bench::cpu_name(),
+        error_points: size.points,
+        cost_batch: size.batch,
+        repeats: size.repeats,
+        models: rows,
+        rgb,
+    })
+}
