@@ -107,20 +107,48 @@ impl Headline {
     pub fn speedup(&self) -> Option<f64> {
         Some(self.baseline.as_ref()?.ns / self.airlight.as_ref()?.ns)
     }
-    /// Who wins: `airlight`, `baseline`, or `nobody` / the only one that reaches it.
-    pub fn verdict(&self) -> &'static str {
+    /// Who wins the level.
+    pub fn verdict(&self) -> Verdict {
         match (&self.airlight, &self.baseline) {
-            (None, None) => "none reaches it",
-            (Some(_), None) => "airlight (no baseline reaches it)",
-            (None, Some(_)) => "baseline (no airlight kernel reaches it)",
-            (Some(a), Some(b)) => {
-                if a.ns < b.ns {
-                    "airlight"
-                } else {
-                    "baseline"
-                }
-            }
+            (None, None) => Verdict::Nobody,
+            (Some(_), None) => Verdict::AirlightOnly,
+            (None, Some(_)) => Verdict::BaselineOnly,
+            (Some(a), Some(b)) if a.ns < b.ns => Verdict::Airlight,
+            (Some(_), Some(_)) => Verdict::Baseline,
         }
+    }
+}
+
+/// Who wins a level of the headline table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// Neither airlight nor a baseline reaches it.
+    Nobody,
+    /// Only airlight reaches it.
+    AirlightOnly,
+    /// Only a baseline reaches it.
+    BaselineOnly,
+    /// Both reach it; airlight's fastest is faster.
+    Airlight,
+    /// Both reach it; a baseline is at least as fast.
+    Baseline,
+}
+
+impl Verdict {
+    /// As the report's table writes it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Nobody => "none reaches it",
+            Verdict::AirlightOnly => "airlight (no baseline reaches it)",
+            Verdict::BaselineOnly => "baseline (no airlight kernel reaches it)",
+            Verdict::Airlight => "airlight",
+            Verdict::Baseline => "baseline",
+        }
+    }
+
+    /// Whether airlight loses the level (a baseline is faster, or alone reaches it).
+    pub fn airlight_loses(self) -> bool {
+        matches!(self, Verdict::Baseline | Verdict::BaselineOnly)
     }
 }
 
@@ -198,9 +226,9 @@ mod tests {
         let h = headlines(&ms);
         assert_eq!(h[0].airlight.as_ref().unwrap().name, "a1");
         assert_eq!(h[0].baseline.as_ref().unwrap().name, "b1");
-        assert_eq!(h[0].verdict(), "baseline");
+        assert_eq!(h[0].verdict(), Verdict::Baseline);
         assert_eq!(h[2].baseline.as_ref().unwrap().name, "b2");
         assert!((h[2].speedup().unwrap() - 0.75).abs() < 1e-12);
-        assert_eq!(h[3].verdict(), "none reaches it");
+        assert_eq!(h[3].verdict(), Verdict::Nobody);
     }
 }

@@ -259,7 +259,7 @@ pub struct Plan {
     /// With `extinction = false`: the largest relative error of ignoring it at
     /// `σt·D` up to the scene's largest (measured, [`NoExtinction`'s grid]); 0 otherwise.
     ///
-    /// [`NoExtinction`'s grid]: airlight_fit::family::closed::extinction_error
+    /// [`NoExtinction`'s grid]: airlight_fit::analysis::extinction_error
     pub ignored_extinction: f64,
 }
 
@@ -348,7 +348,7 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
     } else {
         let (g_lo, g_hi) = scene.phase.g_range();
         let gs: Vec<f64> = if g_lo == g_hi { vec![g_lo] } else { vec![g_lo, 0.0f64.clamp(g_lo, g_hi), g_hi] };
-        let error = airlight_fit::family::closed::extinction_error(tau_max, scene.surfaces, &gs);
+        let error = airlight_fit::analysis::extinction_error(tau_max, scene.surfaces, &gs);
         if error > scene.max_rel_error {
             return Err(PlanError::IgnoredExtinction { tau_max, error, budget: scene.max_rel_error });
         }

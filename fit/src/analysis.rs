@@ -1,38 +1,9 @@
-//! Error surfaces behind the report's figures: each family's own error over its
-//! own variables, against exact quadrature.
+//! Measurements against the reference that are not any one family's: grids,
+//! docs/MATH.md §4's grid and a model's error on it, and the cost of ignoring
+//! extinction (what the planner weighs against the closed form).
 
-use crate::family::split::ratio::{exact_backward, Ratio};
-use crate::family::split::segments::{exact_forward, Segments};
-use std::f64::consts::FRAC_PI_2;
-
-/// Relative error of `∫₀^θ e^{−T k̂}` over the grid `ts × thetas` (row per T),
-/// as in the paper's Fig. 4 (its `θ` is `π/2 − γ`).
-pub fn forward_error_grid(seg: &Segments, ts: &[f64], thetas: &[f64]) -> Vec<Vec<f64>> {
-    let cells: Vec<(f64, f64)> = ts.iter().flat_map(|&t| thetas.iter().map(move |&th| (t, th))).collect();
-    let errs = crate::parallel::map(
-        &cells,
-        |&(t, th)| (seg.integrate(0.0, th, t, 0.0, 0.0) / exact_forward(t, 0.0, th) - 1.0).abs(),
-        &|_, _| {},
-    );
-    errs.chunks(thetas.len()).map(<[f64]>::to_vec).collect()
-}
-
-/// Relative error of the backward integral `ratio(θ1, κ) · ∫₀^{π/2} e^{−κ(sec − tan)}`
-/// against `∫₀^{θ1} e^{−κ(sec + tan)}`, per `θ1` (rows) and `κ` (columns).
-pub fn ratio_error_grid(r: &Ratio, theta1s: &[f64], kappas: &[f64]) -> Vec<Vec<f64>> {
-    theta1s
-        .iter()
-        .map(|&th| {
-            kappas
-                .iter()
-                .map(|&k| {
-                    let approx = r.eval(th, k) * exact_forward(k, 0.0, FRAC_PI_2);
-                    (approx / exact_backward(k, 0.0, th) - 1.0).abs()
-                })
-                .collect()
-        })
-        .collect()
-}
+use crate::reference::Point;
+use std::f64::consts::PI;
 
 /// `n` points from `lo` to `hi`, evenly spaced.
 pub fn linspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
@@ -60,4 +31,31 @@ pub fn math_grid_error(model: &dyn Fn(crate::reference::Point) -> f64, tau: f64)
         .into_iter()
         .map(|p| crate::stats::rel_error(model(p), crate::reference::airlight(p).expect("valid")))
         .fold(0.0, f64::max)
+}
+
+/// The largest relative error of dropping extinction (`A(0)` for `A(τ)`) at
+/// optical distance `tau` over `γ ∈ [0.01, π − 0.01]`, `ρ = ∞` and, with `surfaces`,
+/// `ρ ∈ [0.01, 100]`, and the given `g`: measured with the reference on a grid (41
+/// angles × 9 surface distances and ∞). The error only grows with `τ` (`A` falls
+/// with it while `A(0)` stays), so this bounds every scene up to `tau`.
+pub fn extinction_error(tau: f64, surfaces: bool, gs: &[f64]) -> f64 {
+    if tau <= 0.0 {
+        return 0.0;
+    }
+    let mut rhos = vec![f64::INFINITY];
+    if surfaces {
+        rhos.extend((0..9).map(|i| 0.01 * 10f64.powf(0.5 * f64::from(i))));
+    }
+    let mut worst = 0.0f64;
+    for &g in gs {
+        for &rho in &rhos {
+            for i in 0..41 {
+                let gamma = 0.01 + (PI - 0.02) * f64::from(i) / 40.0;
+                let at = |tau| crate::reference::airlight(Point { tau, gamma, rho, g }).unwrap_or(f64::NAN);
+                let (a, a0) = (at(tau), at(0.0));
+                worst = worst.max(crate::stats::rel_error(a0, a));
+            }
+        }
+    }
+    worst
 }

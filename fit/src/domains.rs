@@ -43,7 +43,7 @@ impl Domain {
     pub const ALL: [Domain; 3] = [Domain::Thin, Domain::Dense, Domain::Extreme];
 
     /// Lower-case name used in files and tables.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Domain::Thin => "thin",
             Domain::Dense => "dense",

@@ -5,10 +5,37 @@
 //! must stay byte-identical on any machine). It carries a digest of the kernel
 //! sources it was measured on, so the report can say when it is stale.
 
+use crate::vocab::{Domain, Target};
 use serde::{Deserialize, Serialize};
 
 /// The file's name under `generated/`.
 pub const FILE: &str = "gate.toml";
+
+/// The gate's targets, in the order its tables list them: the kernel's f64
+/// model (`None`, the column every f32 target is compared with), then the f32
+/// targets.
+pub const TARGETS: [Option<Target>; 4] = [None, Some(Target::Rust), Some(Target::Wgsl), Some(Target::Glsl)];
+
+/// The gate's label of a target: where and in what precision it runs.
+pub fn target_label(t: Option<Target>) -> &'static str {
+    match t {
+        None => "f64",
+        Some(Target::Rust) => "rust-f32",
+        Some(t) => t.name(),
+    }
+}
+
+/// The physical entry's rows on random placements.
+pub const PHYSICAL: &str = "physical";
+/// The physical entry's rows on the extreme set.
+pub const PHYS_EXTREME: &str = "phys-extreme";
+/// The spot entry's rows.
+pub const SPOT: &str = "spot";
+
+/// The gate's regimes, in the order its tables list them: the canonical entry's
+/// domains, then the physical and spot entries' sets.
+pub const REGIMES: [&str; 6] =
+    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), PHYSICAL, PHYS_EXTREME, SPOT];
 
 /// One kernel × target × domain row of the gate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -30,6 +57,13 @@ pub struct GateRow {
     pub limit: f64,
     /// NaN, negative or spurious infinite values.
     pub bad: usize,
+}
+
+impl GateRow {
+    /// Whether it is the row of `target` on `regime` (one of [`REGIMES`]).
+    pub fn is(&self, target: Option<Target>, regime: &str) -> bool {
+        self.target == target_label(target) && self.domain == regime
+    }
 }
 
 /// Everything `airlight check --record` writes.

@@ -20,15 +20,7 @@ use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
-/// The gate's label of a target: where and in what precision it runs (`None`:
-/// the kernel's f64 model, the column every f32 target is compared with).
-pub fn target_label(t: Option<Target>) -> &'static str {
-    match t {
-        None => "f64",
-        Some(Target::Rust) => "rust-f32",
-        Some(t) => t.name(),
-    }
-}
+pub use airlight_fit::record::{target_label, PHYSICAL, PHYS_EXTREME, SPOT};
 
 /// One kernel × target × domain.
 #[derive(Debug, Clone, PartialEq)]
@@ -241,8 +233,6 @@ pub const SPOT_ULP_FACTOR: f64 = 32.0;
 /// Spot rays per kernel with a spot entry.
 pub const SPOT_RAYS: usize = 160;
 
-/// The spot set's label.
-pub const SPOT: &str = "spot";
 
 /// Spot-light rays for kernel `k`'s spot entry: the placements of
 /// [`physical_rays`], each light made a spot light aimed at a random point of the
@@ -345,8 +335,6 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         .collect()
 }
 
-/// The physical extreme set's label.
-pub const PHYS_EXTREME: &str = "phys-extreme";
 
 /// The hull of a kernel's declared domains: τ up to the end of its sampled
 /// domains (`tau_max`), γ and ρ as far as `extreme` reaches (docs/MATH.md §5: γ ∈
@@ -596,7 +584,7 @@ impl Subject<'_> {
         let (k, mut rows) = (self.k, Vec::new());
         let physical = physical_rays(k, PHYSICAL_RAYS, VALIDATION_SEED ^ 0x9A15)?;
         let extremes = physical_extremes(k)?;
-        for (label, rays, bound) in [("physical", &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
+        for (label, rays, bound) in [(PHYSICAL, &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
             let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
             let f64s = airlight_fit::parallel::map(
                 rays,

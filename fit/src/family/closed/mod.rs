@@ -83,33 +83,6 @@ impl Family for NoExtinction {
     }
 }
 
-/// The largest relative error of dropping extinction (`A(0)` for `A(τ)`) at
-/// optical distance `tau` over `γ ∈ [0.01, π − 0.01]`, `ρ = ∞` and, with `surfaces`,
-/// `ρ ∈ [0.01, 100]`, and the given `g`: measured with the reference on a grid (41
-/// angles × 9 surface distances and ∞). The error only grows with `τ` (`A` falls
-/// with it while `A(0)` stays), so this bounds every scene up to `tau`.
-pub fn extinction_error(tau: f64, surfaces: bool, gs: &[f64]) -> f64 {
-    if tau <= 0.0 {
-        return 0.0;
-    }
-    let mut rhos = vec![f64::INFINITY];
-    if surfaces {
-        rhos.extend((0..9).map(|i| 0.01 * 10f64.powf(0.5 * f64::from(i))));
-    }
-    let mut worst = 0.0f64;
-    for &g in gs {
-        for &rho in &rhos {
-            for i in 0..41 {
-                let gamma = 0.01 + (PI - 0.02) * f64::from(i) / 40.0;
-                let at = |tau| crate::reference::airlight(Point { tau, gamma, rho, g }).unwrap_or(f64::NAN);
-                let (a, a0) = (at(tau), at(0.0));
-                worst = worst.max(crate::stats::rel_error(a0, a));
-            }
-        }
-    }
-    worst
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

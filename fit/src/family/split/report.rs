@@ -10,7 +10,9 @@ use super::phase_exp::PAPER_BANDS;
 use super::ratio::Ratio;
 use super::segments::Segments;
 use super::{expsum, PhaseModel, Split};
-use crate::analysis::{forward_error_grid, linspace, logspace, math_grid_error, ratio_error_grid};
+use super::ratio::exact_backward;
+use super::segments::exact_forward;
+use crate::analysis::{linspace, logspace, math_grid_error};
 use crate::domains::Domain;
 use crate::family::{Family, Member};
 use crate::figure::{Figure, Heatmap, Line, Lines, Panel};
@@ -157,6 +159,35 @@ pub(super) fn context(members: &[Member<'_, Split>]) -> Option<Context> {
     phase(&mut ctx, members);
     backward(&mut ctx, members);
     Some(ctx)
+}
+
+/// Relative error of `∫₀^θ e^{−T k̂}` over the grid `ts × thetas` (row per T),
+/// as in the paper's Fig. 4 (its `θ` is `π/2 − γ`).
+pub fn forward_error_grid(seg: &Segments, ts: &[f64], thetas: &[f64]) -> Vec<Vec<f64>> {
+    let cells: Vec<(f64, f64)> = ts.iter().flat_map(|&t| thetas.iter().map(move |&th| (t, th))).collect();
+    let errs = crate::parallel::map(
+        &cells,
+        |&(t, th)| (seg.integrate(0.0, th, t, 0.0, 0.0) / exact_forward(t, 0.0, th) - 1.0).abs(),
+        &|_, _| {},
+    );
+    errs.chunks(thetas.len()).map(<[f64]>::to_vec).collect()
+}
+
+/// Relative error of the backward integral `ratio(θ1, κ) · ∫₀^{π/2} e^{−κ(sec − tan)}`
+/// against `∫₀^{θ1} e^{−κ(sec + tan)}`, per `θ1` (rows) and `κ` (columns).
+pub fn ratio_error_grid(r: &Ratio, theta1s: &[f64], kappas: &[f64]) -> Vec<Vec<f64>> {
+    theta1s
+        .iter()
+        .map(|&th| {
+            kappas
+                .iter()
+                .map(|&k| {
+                    let approx = r.eval(th, k) * exact_forward(k, 0.0, FRAC_PI_2);
+                    (approx / exact_backward(k, 0.0, th) - 1.0).abs()
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// Forward-kernel error over `(T, θ)`: the paper's Fig. 4, paper against refit.

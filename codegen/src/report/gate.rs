@@ -1,0 +1,86 @@
+//! The report's robustness table from the recorded gate (`generated/gate.toml`):
+//! per regime and target, the largest error of the most accurate isotropic and
+//! Henyey–Greenstein model kernels, and the bad values over every kernel.
+
+use airlight_fit::record::{self, GateRecord};
+use airlight_fit::vocab::Domain;
+use serde::Serialize;
+
+/// What each regime of the gate checks, in words, in [`record::REGIMES`]' order.
+const WHAT: [&str; 6] = [
+    "canonical, `thin`",
+    "canonical, `dense`",
+    "canonical, `extreme` corners",
+    "physical entry, random rays at 1e-3 … 1e4 units",
+    "physical entry, extreme rays (1e-4 … 1e30 units, grazing, far planes, ∞)",
+    "spot entry, spot lights (2°–80°, hard and smooth edges) in RGB media, per channel",
+];
+
+/// The model kernels the table follows, by name prefix: the most accurate of
+/// the `segments-N` (isotropic) and of the `hg-expN` (Henyey–Greenstein) kernels
+/// on `thin` in f64.
+const FOLLOWED: [&str; 2] = ["segments-", "hg-"];
+
+/// One regime × target cell of the robustness table.
+#[derive(Serialize)]
+struct RegimeCell {
+    /// Largest relative error of the most accurate isotropic model kernel ("—"
+    /// when the target did not run).
+    iso: String,
+    /// The same for the most accurate Henyey–Greenstein model kernel.
+    hg: String,
+    /// NaN / negative / spurious ∞ values over every kernel.
+    bad: usize,
+    /// Points checked over every kernel.
+    points: usize,
+}
+
+#[derive(Serialize)]
+pub(super) struct RegimeRow {
+    regime: &'static str,
+    what: &'static str,
+    cells: Vec<RegimeCell>,
+}
+
+/// The model kernel (not a scene's) whose name starts with `prefix` and whose
+/// f64 model is most accurate on `thin`.
+fn best_kernel<'r>(r: &'r GateRecord, prefix: &str) -> Option<&'r str> {
+    r.rows
+        .iter()
+        .filter(|x| x.is(None, Domain::Thin.name()) && x.kernel.starts_with(prefix))
+        .min_by(|a, b| a.max_rel.total_cmp(&b.max_rel))
+        .map(|x| x.kernel.as_str())
+}
+
+/// The table's rows, and the isotropic and HG kernels it follows.
+pub(super) fn regime_rows(r: &GateRecord) -> (Vec<RegimeRow>, String, String) {
+    let iso = best_kernel(r, FOLLOWED[0]).unwrap_or("—");
+    let hg = best_kernel(r, FOLLOWED[1]).unwrap_or("—");
+    let rows = record::REGIMES
+        .iter()
+        .zip(WHAT)
+        .map(|(&regime, what)| RegimeRow {
+            regime,
+            what,
+            cells: record::TARGETS
+                .iter()
+                .map(|&t| {
+                    let rows: Vec<_> = r.rows.iter().filter(|x| x.is(t, regime)).collect();
+                    let of = |name: &str| {
+                        rows.iter()
+                            .find(|x| x.kernel == name)
+                            .map_or("—".to_string(), |x| format!("{:.2e}", x.max_rel))
+                    };
+                    RegimeCell {
+                        iso: of(iso),
+                        hg: of(hg),
+                        bad: rows.iter().map(|x| x.bad).sum(),
+                        points: rows.iter().map(|x| x.points).sum(),
+                    }
+                })
+                .collect(),
+        })
+        .collect();
+    (rows, iso.to_string(), hg.to_string())
+}
+

@@ -1,0 +1,211 @@
+//! The report's speed/accuracy section from the bench (`generated/bench.json`):
+//! per `g` the headline ratios at every error level and where airlight loses,
+//! the smallest ray-march error, what modelling extinction costs over the
+//! closed form, every model's row, and the RGB entry against three scalar calls.
+
+use crate::front::{self, Method};
+use airlight_fit::bench::{Bench, BenchModel};
+use airlight_fit::coeffs::ModelFile;
+use airlight_fit::stats::fmt_err;
+use serde::Serialize;
+
+/// ns/eval as written in tables.
+fn ns(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.1}")
+    }
+}
+
+#[derive(Serialize)]
+struct Level {
+    measure: &'static str,
+    level: String,
+    airlight: String,
+    baseline: String,
+    ratio: String,
+    verdict: &'static str,
+}
+
+#[derive(Serialize)]
+struct GSection {
+    g: String,
+    title: String,
+    plot: String,
+    levels: Vec<Level>,
+    march_best: String,
+    losses: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct TradeRow {
+    name: String,
+    kind: airlight_fit::vocab::Role,
+    thin_max: String,
+    dense_max: String,
+    thin_p50: String,
+    dense_p50: String,
+    ns: String,
+    ops: usize,
+    transcendentals: usize,
+    gpu: String,
+    bytes: String,
+}
+
+#[derive(Serialize)]
+struct RgbRow {
+    name: String,
+    three: String,
+    point: String,
+    ratio: String,
+    hard: String,
+    soft: String,
+    gpu_three: String,
+    gpu_point: String,
+    gpu_ratio: String,
+}
+
+#[derive(Serialize)]
+struct NoExt {
+    tau: f64,
+    error: String,
+    fastest: String,
+    cost: String,
+}
+
+/// Where airlight loses a level, in words.
+fn loss(h: &front::Headline) -> String {
+    let who = match (&h.airlight, &h.baseline) {
+        (Some(a), Some(bl)) => format!(
+            "`{}` ({} ns) is {:.2}× faster than airlight's fastest, `{}` ({} ns)",
+            bl.name,
+            ns(bl.ns),
+            a.ns / bl.ns,
+            a.name,
+            ns(a.ns)
+        ),
+        (None, Some(bl)) => format!("only baselines reach it; the fastest is `{}` ({} ns)", bl.name, ns(bl.ns)),
+        _ => String::new(),
+    };
+    format!("{} error {}: {who}", h.measure, fmt_err(h.level))
+}
+
+/// One `g`'s headline table, losses and best ray march.
+fn g_section(b: &Bench, g: f64) -> GSection {
+    let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
+    let ms = front::methods(b, g);
+    let label = front::g_label(g);
+    let hs = front::headlines(&ms);
+    let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(loss).collect();
+    let levels = hs
+        .iter()
+        .map(|h| Level {
+            measure: h.measure,
+            level: fmt_err(h.level),
+            airlight: who(&h.airlight),
+            baseline: who(&h.baseline),
+            ratio: h.speedup().map_or("—".into(), |r| format!("{r:.2}×")),
+            verdict: h.verdict().label(),
+        })
+        .collect();
+    let march_best = ms
+        .iter()
+        .filter(|m| m.name.starts_with("raymarch-"))
+        .min_by(|a, b| a.max.total_cmp(&b.max))
+        .map_or("no raymarch measured".into(), |m| format!("{} (`{}`, {} ns)", fmt_err(m.max), m.name, ns(m.ns)));
+    GSection {
+        title: if g == 0.0 { "isotropic (g = 0)".into() } else { format!("Henyey–Greenstein, g = {label}") },
+        plot: format!("plots/pareto-{label}"),
+        g: label,
+        levels,
+        march_best,
+        losses,
+    }
+}
+
+/// Every model's row of the bench.
+fn trade_row(m: &BenchModel) -> TradeRow {
+    let e = m.at(0.0).or(m.errors.first());
+    let f = |x: Option<f64>| x.map_or("—".to_string(), fmt_err);
+    TradeRow {
+        name: m.name.clone(),
+        kind: m.kind,
+        thin_max: f(e.map(|e| e.max_rel.thin)),
+        dense_max: f(e.map(|e| e.max_rel.dense)),
+        thin_p50: f(e.map(|e| e.p50_rel.thin)),
+        dense_p50: f(e.map(|e| e.p50_rel.dense)),
+        ns: format!("{} ({}–{})", ns(m.cpu_ns_per_eval), ns(m.cpu_ns_range[0]), ns(m.cpu_ns_range[1])),
+        ops: m.ops,
+        transcendentals: m.transcendentals,
+        gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
+        bytes: if m.bytes > 0 { format!("{} KiB", m.bytes / 1024) } else { "—".into() },
+    }
+}
+
+/// One model's RGB row: one `spot` call against three `radiance` calls.
+fn rgb_row(r: &airlight_fit::bench::RgbCost) -> RgbRow {
+    let rate = |x: f64| if x > 0.0 { format!("{x:.3e}") } else { "—".into() };
+    RgbRow {
+        name: r.name.clone(),
+        three: ns(r.three_scalar_ns),
+        point: ns(r.rgb_point_ns),
+        ratio: format!("{:.2}", r.rgb_point_ns / r.three_scalar_ns),
+        hard: ns(r.rgb_hard_cone_ns),
+        soft: ns(r.rgb_soft_cone_ns),
+        gpu_three: rate(r.gpu_three_scalar_rays_per_s),
+        gpu_point: rate(r.gpu_rgb_point_rays_per_s),
+        // Time per RGB ray, spot over three scalar calls (as the CPU ratio).
+        gpu_ratio: if r.gpu_three_scalar_rays_per_s > 0.0 && r.gpu_rgb_point_rays_per_s > 0.0 {
+            format!("{:.2}", r.gpu_three_scalar_rays_per_s / r.gpu_rgb_point_rays_per_s)
+        } else {
+            "—".into()
+        },
+    }
+}
+
+/// The cost floor (the closed form without extinction): its error at a few
+/// optical distances (measured here with the reference), and what modelling
+/// extinction costs over it.
+fn no_extinction(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
+    let floor_name = models.iter().find(|m| m.model.body.is_cost_floor()).map(|m| m.model.name.as_str());
+    let floor = floor_name.and_then(|n| b.model(n));
+    let iso: Vec<Method> = front::methods(b, 0.0);
+    let noext: Vec<NoExt> = [0.1, 1.0, 5.0]
+        .iter()
+        .map(|&tau| {
+            let e = airlight_fit::analysis::extinction_error(tau, true, &[0.0]);
+            let better =
+                iso.iter().filter(|m| Some(m.name.as_str()) != floor_name && m.max < e).min_by(|a, b| a.ns.total_cmp(&b.ns));
+            NoExt {
+                tau,
+                error: fmt_err(e),
+                fastest: better.map_or("—".into(), |m| {
+                    format!("`{}` ({} max over thin ∪ dense, {} ns)", m.name, fmt_err(m.max), ns(m.ns))
+                }),
+                cost: match (better, floor) {
+                    (Some(m), Some(f)) if f.cpu_ns_per_eval > 0.0 => format!("{:.1}×", m.ns / f.cpu_ns_per_eval),
+                    _ => "—".into(),
+                },
+            }
+        })
+        .collect();
+    ctx.insert("noext", &noext);
+    ctx.insert("noext_ns", &floor.map_or("—".into(), |f| ns(f.cpu_ns_per_eval)));
+}
+
+/// The speed/accuracy section's values.
+pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
+    let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g)).collect();
+    ctx.insert("trade", &sections);
+    ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
+    ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
+    ctx.insert("spot_edge_nodes", &crate::kernel::SPOT_EDGE_NODES);
+    ctx.insert("bench_adapter", &b.adapter);
+    ctx.insert("bench_cpu", &b.cpu);
+    ctx.insert("bench_points", &b.error_points);
+    ctx.insert("bench_batch", &b.cost_batch);
+    ctx.insert("bench_repeats", &b.repeats);
+    ctx.insert("bench_gs", &front::gs(b).iter().map(|g| front::g_label(*g)).collect::<Vec<_>>().join(", "));
+    no_extinction(ctx, b, models);
+}
