@@ -77,9 +77,119 @@ impl Scene {
 /// A scene file that cannot be used (file, line, field, message).
 pub type SceneError = FieldError;
 
+/// The tables of a scene file, read with one-line errors naming file, line and field.
+struct Fields<'a> {
+    file: &'a str,
+    text: &'a str,
+    doc: toml::Table,
+}
+
+impl Fields<'_> {
+    fn err(&self, table: &str, key: &str, msg: String) -> SceneError {
+        field_error(self.file, self.text, table, key, msg)
+    }
+
+    fn table(&self, name: &str) -> Result<&toml::Table, SceneError> {
+        self.doc.get(name).and_then(toml::Value::as_table).ok_or_else(|| SceneError {
+            file: self.file.into(),
+            line: 1,
+            field: name.into(),
+            message: "missing table".into(),
+        })
+    }
+
+    fn get(&self, t: &str, k: &str) -> Result<&toml::Value, SceneError> {
+        self.table(t)?.get(k).ok_or_else(|| self.err(t, k, "missing".into()))
+    }
+
+    fn num(&self, t: &str, k: &str) -> Result<f64, SceneError> {
+        let v = self.get(t, k)?;
+        v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| self.err(t, k, "must be a number".into()))
+    }
+
+    fn boolean(&self, t: &str, k: &str) -> Result<bool, SceneError> {
+        self.get(t, k)?.as_bool().ok_or_else(|| self.err(t, k, "must be true or false".into()))
+    }
+
+    fn pair(&self, t: &str, k: &str) -> Result<(f64, f64), SceneError> {
+        let a =
+            self.get(t, k)?.as_array().filter(|a| a.len() == 2).ok_or_else(|| self.err(t, k, "must be [lo, hi]".into()))?;
+        let f = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+        match (f(&a[0]), f(&a[1])) {
+            (Some(lo), Some(hi)) if lo <= hi => Ok((lo, hi)),
+            _ => Err(self.err(t, k, "must be [lo, hi] with lo <= hi".into())),
+        }
+    }
+
+    /// `[medium] phase`, with `g` or `g_range` for `"hg"`.
+    fn phase(&self) -> Result<ScenePhase, SceneError> {
+        Ok(match self.get("medium", "phase")?.as_str() {
+            Some("isotropic") => ScenePhase::Isotropic,
+            Some("hg") => {
+                let m = self.table("medium")?;
+                match (m.get("g"), m.get("g_range")) {
+                    (Some(_), None) => {
+                        let g = self.num("medium", "g")?;
+                        if !(g > -1.0 && g < 1.0) {
+                            return Err(self.err("medium", "g", format!("g = {g} is outside (-1, 1)")));
+                        }
+                        ScenePhase::Fixed(g)
+                    }
+                    (None, Some(_)) => {
+                        let (lo, hi) = self.pair("medium", "g_range")?;
+                        if !(lo > -1.0 && hi < 1.0) {
+                            return Err(self.err("medium", "g_range", "must lie inside (-1, 1)".into()));
+                        }
+                        ScenePhase::Range(lo, hi)
+                    }
+                    _ => return Err(self.err("medium", "phase", "\"hg\" needs exactly one of g or g_range".into())),
+                }
+            }
+            _ => return Err(self.err("medium", "phase", "must be \"isotropic\" or \"hg\"".into())),
+        })
+    }
+
+    /// `[lights] kind` (whether spot) and `[ray] surfaces`, which a spot light needs.
+    fn spot_and_surfaces(&self) -> Result<(bool, bool), SceneError> {
+        let spot = match self.get("lights", "kind")?.as_str() {
+            Some("point") => false,
+            Some("spot") => true,
+            _ => return Err(self.err("lights", "kind", "must be \"point\" or \"spot\"".into())),
+        };
+        let surfaces = self.boolean("ray", "surfaces")?;
+        if spot && !surfaces {
+            return Err(self.err(
+                "ray",
+                "surfaces",
+                "a spot light's cone ends the lit stretch like a surface: kind = \"spot\" needs surfaces = true".into(),
+            ));
+        }
+        Ok((spot, surfaces))
+    }
+
+    /// `[output] targets`: at least one.
+    fn targets(&self) -> Result<Vec<Target>, SceneError> {
+        let targets = self
+            .get("output", "targets")?
+            .as_array()
+            .ok_or_else(|| self.err("output", "targets", "must be a list".into()))?
+            .iter()
+            .map(|v| {
+                v.as_str()
+                    .ok_or_else(|| "entries are strings".to_string())
+                    .and_then(|t| t.parse::<Target>().map_err(|e| e.to_string()))
+                    .map_err(|e| self.err("output", "targets", e))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if targets.is_empty() {
+            return Err(self.err("output", "targets", "name at least one target".into()));
+        }
+        Ok(targets)
+    }
+}
+
 /// Parses a scene file.
 pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
-    let err = |table: &str, key: &str, msg: String| field_error(file, text, table, key, msg);
     let doc = parse_table(file, text)?;
     // Every key the planner reads; anything else is a misspelling, not a comment.
     const KEYS: [(&str, &[&str]); 5] = [
@@ -95,96 +205,23 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
             deny_unknown(file, text, t2, t, keys)?;
         }
     }
-    let table = |name: &str| {
-        doc.get(name).and_then(toml::Value::as_table).ok_or_else(|| SceneError {
-            file: file.into(),
-            line: 1,
-            field: name.into(),
-            message: "missing table".into(),
-        })
-    };
-    let get = |t: &str, k: &str| -> Result<&toml::Value, SceneError> {
-        table(t)?.get(k).ok_or_else(|| err(t, k, "missing".into()))
-    };
-    let num = |t: &str, k: &str| -> Result<f64, SceneError> {
-        let v = get(t, k)?;
-        v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| err(t, k, "must be a number".into()))
-    };
-    let boolean = |t: &str, k: &str| -> Result<bool, SceneError> {
-        get(t, k)?.as_bool().ok_or_else(|| err(t, k, "must be true or false".into()))
-    };
-    let pair = |t: &str, k: &str| -> Result<(f64, f64), SceneError> {
-        let a = get(t, k)?.as_array().filter(|a| a.len() == 2).ok_or_else(|| err(t, k, "must be [lo, hi]".into()))?;
-        let f = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
-        match (f(&a[0]), f(&a[1])) {
-            (Some(lo), Some(hi)) if lo <= hi => Ok((lo, hi)),
-            _ => Err(err(t, k, "must be [lo, hi] with lo <= hi".into())),
-        }
-    };
-    let sigma_t = pair("medium", "sigma_t")?;
+    let f = Fields { file, text, doc };
+    let sigma_t = f.pair("medium", "sigma_t")?;
     if sigma_t.0 < 0.0 || !sigma_t.1.is_finite() {
-        return Err(err("medium", "sigma_t", "must be finite and non-negative".into()));
+        return Err(f.err("medium", "sigma_t", "must be finite and non-negative".into()));
     }
-    let phase = match get("medium", "phase")?.as_str() {
-        Some("isotropic") => ScenePhase::Isotropic,
-        Some("hg") => {
-            let m = table("medium")?;
-            match (m.get("g"), m.get("g_range")) {
-                (Some(_), None) => {
-                    let g = num("medium", "g")?;
-                    if !(g > -1.0 && g < 1.0) {
-                        return Err(err("medium", "g", format!("g = {g} is outside (-1, 1)")));
-                    }
-                    ScenePhase::Fixed(g)
-                }
-                (None, Some(_)) => {
-                    let (lo, hi) = pair("medium", "g_range")?;
-                    if !(lo > -1.0 && hi < 1.0) {
-                        return Err(err("medium", "g_range", "must lie inside (-1, 1)".into()));
-                    }
-                    ScenePhase::Range(lo, hi)
-                }
-                _ => return Err(err("medium", "phase", "\"hg\" needs exactly one of g or g_range".into())),
-            }
-        }
-        _ => return Err(err("medium", "phase", "must be \"isotropic\" or \"hg\"".into())),
-    };
-    let extinction = boolean("medium", "extinction")?;
-    let spot = match get("lights", "kind")?.as_str() {
-        Some("point") => false,
-        Some("spot") => true,
-        _ => return Err(err("lights", "kind", "must be \"point\" or \"spot\"".into())),
-    };
-    let surfaces = boolean("ray", "surfaces")?;
-    if spot && !surfaces {
-        return Err(err(
-            "ray",
-            "surfaces",
-            "a spot light's cone ends the lit stretch like a surface: kind = \"spot\" needs surfaces = true".into(),
-        ));
-    }
-    let max_distance = num("lights", "max_distance")?;
+    let phase = f.phase()?;
+    let extinction = f.boolean("medium", "extinction")?;
+    let (spot, surfaces) = f.spot_and_surfaces()?;
+    let max_distance = f.num("lights", "max_distance")?;
     if !(max_distance > 0.0 && max_distance.is_finite()) {
-        return Err(err("lights", "max_distance", "must be a positive distance".into()));
+        return Err(f.err("lights", "max_distance", "must be a positive distance".into()));
     }
-    let max_rel_error = num("accuracy", "max_rel_error")?;
+    let max_rel_error = f.num("accuracy", "max_rel_error")?;
     if max_rel_error.is_nan() || max_rel_error <= 0.0 {
-        return Err(err("accuracy", "max_rel_error", "must be positive".into()));
+        return Err(f.err("accuracy", "max_rel_error", "must be positive".into()));
     }
-    let targets = get("output", "targets")?
-        .as_array()
-        .ok_or_else(|| err("output", "targets", "must be a list".into()))?
-        .iter()
-        .map(|v| {
-            v.as_str()
-                .ok_or_else(|| "entries are strings".to_string())
-                .and_then(|t| t.parse::<Target>().map_err(|e| e.to_string()))
-                .map_err(|e| err("output", "targets", e))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    if targets.is_empty() {
-        return Err(err("output", "targets", "name at least one target".into()));
-    }
+    let targets = f.targets()?;
     let name =
         std::path::Path::new(file).file_stem().map_or_else(|| file.to_string(), |s| s.to_string_lossy().into_owned());
     Ok(Scene {
@@ -197,7 +234,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         max_distance,
         surfaces,
         spot,
-        backscatter: boolean("ray", "backscatter")?,
+        backscatter: f.boolean("ray", "backscatter")?,
         max_rel_error,
         targets,
     })

@@ -15,7 +15,7 @@
 
 use crate::e1::isotropic_kernel_integral;
 use crate::phase::Phase;
-use crate::quad::{gauss_kronrod, tanh_sinh};
+use crate::quad::{gauss_kronrod, tanh_sinh, Quadrature};
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -228,6 +228,87 @@ pub fn airlight(p: Point) -> Result<f64, ParamError> {
     airlight_detailed(p).map(|e| e.value)
 }
 
+/// The forward half of the u form, `u = ua + x`, `x ∈ [0, min(ub, 1) − ua]`
+/// (only when `ua < 1`, `γ < π/2`).
+fn forward_half(geo: &Geometry, phase: Phase, t_ext: f64, width: f64) -> Quadrature {
+    let x_end = if geo.ub <= 1.0 { geo.delta } else { 1.0 - geo.ua };
+    let mut bps = vec![0.0, x_end];
+    add_scales(&mut bps, x_end, &[1.0 / t_ext]);
+    // The forward HG peak at u = 0 is algebraic: powers of 4 up to the end
+    // (from where a breakpoint is still distinct from 0 at the end's scale,
+    // so the loop is bounded however small the width).
+    let mut x = (0.5 * width / 16.0).max(x_end * f64::EPSILON);
+    while x < x_end {
+        bps.push(x);
+        x *= 4.0;
+    }
+    let q = gauss_kronrod(
+        |x| {
+            let u = geo.ua + x;
+            let w = 1.0 / (1.0 + u * u);
+            phase.eval_half(u * u * w, w) * w * (-t_ext * x).exp()
+        },
+        &finish(bps),
+        REFERENCE_REL_TOL,
+        MAX_INTERVALS,
+    );
+    q
+}
+
+/// The backward half of the u form, `v = 1/u = v0 − y` from `v0 = min(1, 1/ua)`
+/// down to `vb` (only when `ub > 1`).
+fn backward_half(geo: &Geometry, tau: f64, phase: Phase, t_ext: f64, width: f64) -> Quadrature {
+    let (v0, k0, e0) = if geo.ua < 1.0 {
+        // T(1/v − ua) = T·y/v + T(1 − ua)
+        (1.0, t_ext, t_ext * (1.0 - geo.ua))
+    } else {
+        // T/va = τ (1 − cos γ); T(1/v − ua) = τ(1 − c) y / v
+        (1.0 / geo.ua, tau * geo.one_minus_c, 0.0)
+    };
+    let y_end = if geo.ua < 1.0 {
+        1.0 - geo.vb
+    } else if geo.ub.is_infinite() {
+        v0
+    } else {
+        geo.delta / (geo.ua * geo.ub)
+    };
+    let mut bps = vec![0.0, y_end];
+    // Near y = 0 the decay scale is v0²/k0 (T large).
+    add_scales(&mut bps, y_end, &[v0 * v0 / k0]);
+    // Towards v = 0: the cut-off e^{−T/v} at v ~ T, whose 1 − e^{−T/v} ≈ T/v
+    // tail reaches every scale up to v0, and the backward HG peak, algebraic
+    // on the same terms. Breakpoints at every power of 4 keep each
+    // subinterval well away from that structure.
+    for s in [t_ext, 0.5 * width] {
+        if s.is_finite() && s > 0.0 {
+            // Bounded: `v0 − v` rounds to `v0` below `v0·ε`, and `s / 16`
+            // underflows to 0 when `T` is subnormal (it never grew then).
+            let mut v = (s / 16.0).max(v0 * f64::EPSILON);
+            while v < v0 {
+                if v > geo.vb {
+                    bps.push(v0 - v);
+                }
+                v *= 4.0;
+            }
+        }
+    }
+    let q = gauss_kronrod(
+        |y| {
+            let v = v0 - y;
+            if v <= 0.0 {
+                return 0.0;
+            }
+            let w = 1.0 / (1.0 + v * v);
+            let e = if k0 == 0.0 { e0 } else { k0 * (y / v) + e0 };
+            phase.eval_half(w, v * v * w) * w * (-e).exp()
+        },
+        &finish(bps),
+        REFERENCE_REL_TOL,
+        MAX_INTERVALS,
+    );
+    q
+}
+
 /// [`airlight`] with the quadrature's diagnostics.
 pub fn airlight_detailed(p: Point) -> Result<Evaluation, ParamError> {
     p.validate()?;
@@ -242,85 +323,11 @@ pub fn airlight_detailed(p: Point) -> Result<Evaluation, ParamError> {
     let mut err = 0.0;
     let mut total = 0.0;
     let mut converged = true;
-
-    // Forward half: u = ua + x, x ∈ [0, min(ub, 1) − ua], only when ua < 1 (γ < π/2).
-    if geo.ua < 1.0 {
-        let x_end = if geo.ub <= 1.0 { geo.delta } else { 1.0 - geo.ua };
-        let mut bps = vec![0.0, x_end];
-        add_scales(&mut bps, x_end, &[1.0 / t_ext]);
-        // The forward HG peak at u = 0 is algebraic: powers of 4 up to the end
-        // (from where a breakpoint is still distinct from 0 at the end's scale,
-        // so the loop is bounded however small the width).
-        let mut x = (0.5 * width / 16.0).max(x_end * f64::EPSILON);
-        while x < x_end {
-            bps.push(x);
-            x *= 4.0;
-        }
-        let q = gauss_kronrod(
-            |x| {
-                let u = geo.ua + x;
-                let w = 1.0 / (1.0 + u * u);
-                phase.eval_half(u * u * w, w) * w * (-t_ext * x).exp()
-            },
-            &finish(bps),
-            REFERENCE_REL_TOL,
-            MAX_INTERVALS,
-        );
-        total += q.value;
-        err += q.error;
-        evaluations += q.evaluations;
-        converged &= q.converged;
-    }
-    // Backward half: v = 1/u = v0 − y from v0 = min(1, 1/ua) down to vb.
-    if geo.ub > 1.0 {
-        let (v0, k0, e0) = if geo.ua < 1.0 {
-            // T(1/v − ua) = T·y/v + T(1 − ua)
-            (1.0, t_ext, t_ext * (1.0 - geo.ua))
-        } else {
-            // T/va = τ (1 − cos γ); T(1/v − ua) = τ(1 − c) y / v
-            (1.0 / geo.ua, p.tau * geo.one_minus_c, 0.0)
-        };
-        let y_end = if geo.ua < 1.0 {
-            1.0 - geo.vb
-        } else if geo.ub.is_infinite() {
-            v0
-        } else {
-            geo.delta / (geo.ua * geo.ub)
-        };
-        let mut bps = vec![0.0, y_end];
-        // Near y = 0 the decay scale is v0²/k0 (T large).
-        add_scales(&mut bps, y_end, &[v0 * v0 / k0]);
-        // Towards v = 0: the cut-off e^{−T/v} at v ~ T, whose 1 − e^{−T/v} ≈ T/v
-        // tail reaches every scale up to v0, and the backward HG peak, algebraic
-        // on the same terms. Breakpoints at every power of 4 keep each
-        // subinterval well away from that structure.
-        for s in [t_ext, 0.5 * width] {
-            if s.is_finite() && s > 0.0 {
-                // Bounded: `v0 − v` rounds to `v0` below `v0·ε`, and `s / 16`
-                // underflows to 0 when `T` is subnormal (it never grew then).
-                let mut v = (s / 16.0).max(v0 * f64::EPSILON);
-                while v < v0 {
-                    if v > geo.vb {
-                        bps.push(v0 - v);
-                    }
-                    v *= 4.0;
-                }
-            }
-        }
-        let q = gauss_kronrod(
-            |y| {
-                let v = v0 - y;
-                if v <= 0.0 {
-                    return 0.0;
-                }
-                let w = 1.0 / (1.0 + v * v);
-                let e = if k0 == 0.0 { e0 } else { k0 * (y / v) + e0 };
-                phase.eval_half(w, v * v * w) * w * (-e).exp()
-            },
-            &finish(bps),
-            REFERENCE_REL_TOL,
-            MAX_INTERVALS,
-        );
+    let halves = [
+        (geo.ua < 1.0).then(|| forward_half(&geo, phase, t_ext, width)),
+        (geo.ub > 1.0).then(|| backward_half(&geo, p.tau, phase, t_ext, width)),
+    ];
+    for q in halves.into_iter().flatten() {
         total += q.value;
         err += q.error;
         evaluations += q.evaluations;

@@ -198,58 +198,85 @@ fn between<'a>(dom: &'a str, id: &str) -> Option<&'a str> {
     Some(&dom[at..at + end])
 }
 
-/// Serves `files` (name → contents) on 127.0.0.1 and loads `index.html` in
-/// headless `chrome`; the page's pixels, rows from the top.
-pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u32) -> Result<Drawn, BrowserError> {
-    let err = |e: std::io::Error| BrowserError(e.to_string());
-    let listener = TcpListener::bind("127.0.0.1:0").map_err(err)?;
-    let port = listener.local_addr().map_err(err)?.port();
-    listener.set_nonblocking(true).map_err(err)?;
-    let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let stop = done.clone();
-    let server = std::thread::spawn(move || {
-        while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-            let Ok((mut s, _)) = listener.accept() else {
-                std::thread::sleep(Duration::from_millis(5));
-                continue;
-            };
-            let _ = s.set_nonblocking(false);
-            let mut line = String::new();
-            let mut reader = BufReader::new(match s.try_clone() {
-                Ok(c) => c,
-                Err(_) => continue,
-            });
-            if reader.read_line(&mut line).is_err() {
-                continue;
-            }
-            // Drain the headers.
-            let mut h = String::new();
-            while reader.read_line(&mut h).is_ok_and(|n| n > 2) {
-                h.clear();
-            }
-            let path = line.split_whitespace().nth(1).unwrap_or("/").trim_start_matches('/');
-            let path = if path.is_empty() { "index.html" } else { path };
-            let reply = match files.iter().find(|(n, _)| n == path) {
-                Some((n, body)) => {
-                    let ty = if n.ends_with(".js") { "text/javascript" } else { "text/html; charset=utf-8" };
-                    let mut r = format!(
-                        "HTTP/1.1 200 OK\r\nContent-Type: {ty}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
-                        body.len()
-                    )
-                    .into_bytes();
-                    r.extend_from_slice(body);
-                    r
-                }
-                None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
-            };
-            let _ = s.write_all(&reply);
-            let _ = s.flush();
-            let mut sink = [0u8; 1];
-            let _ = s.set_read_timeout(Some(Duration::from_millis(1)));
-            let _ = s.read(&mut sink);
-        }
+/// Answers one HTTP request on `s` from `files` (`/`: `index.html`).
+fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)]) {
+    let _ = s.set_nonblocking(false);
+    let mut line = String::new();
+    let mut reader = BufReader::new(match s.try_clone() {
+        Ok(c) => c,
+        Err(_) => return,
     });
-    let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{port}", std::process::id()));
+    if reader.read_line(&mut line).is_err() {
+        return;
+    }
+    // Drain the headers.
+    let mut h = String::new();
+    while reader.read_line(&mut h).is_ok_and(|n| n > 2) {
+        h.clear();
+    }
+    let path = line.split_whitespace().nth(1).unwrap_or("/").trim_start_matches('/');
+    let path = if path.is_empty() { "index.html" } else { path };
+    let reply = match files.iter().find(|(n, _)| n == path) {
+        Some((n, body)) => {
+            let ty = if n.ends_with(".js") { "text/javascript" } else { "text/html; charset=utf-8" };
+            let mut r = format!(
+                "HTTP/1.1 200 OK\r\nContent-Type: {ty}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+                body.len()
+            )
+            .into_bytes();
+            r.extend_from_slice(body);
+            r
+        }
+        None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+    };
+    let _ = s.write_all(&reply);
+    let _ = s.flush();
+    let mut sink = [0u8; 1];
+    let _ = s.set_read_timeout(Some(Duration::from_millis(1)));
+    let _ = s.read(&mut sink);
+}
+
+/// A loopback HTTP server of `files` until [`Server::stop`].
+struct Server {
+    port: u16,
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    thread: std::thread::JoinHandle<()>,
+}
+
+impl Server {
+    fn start(files: Vec<(String, Vec<u8>)>) -> Result<Server, BrowserError> {
+        let err = |e: std::io::Error| BrowserError(e.to_string());
+        let listener = TcpListener::bind("127.0.0.1:0").map_err(err)?;
+        let port = listener.local_addr().map_err(err)?.port();
+        listener.set_nonblocking(true).map_err(err)?;
+        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let stop = done.clone();
+        let thread = std::thread::spawn(move || {
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                match listener.accept() {
+                    Ok((s, _)) => serve_one(s, &files),
+                    Err(_) => std::thread::sleep(Duration::from_millis(5)),
+                }
+            }
+        });
+        Ok(Server { port, done, thread })
+    }
+
+    fn stop(self) {
+        self.done.store(true, std::sync::atomic::Ordering::Relaxed);
+        let _ = self.thread.join();
+    }
+}
+
+/// Runs headless `chrome` on `url` with a fresh profile, reading both pipes
+/// while it runs (the dumped DOM can pass a pipe's buffer): its exit status, the
+/// DOM and its log. A page that never settles is killed after 240 s.
+fn run_chromium(
+    chrome: &Path,
+    url: &str,
+    profile: &Path,
+    (width, height): (u32, u32),
+) -> Result<(std::process::ExitStatus, String, String), BrowserError> {
     let mut child = Command::new(chrome)
         .args([
             "--headless",
@@ -269,13 +296,11 @@ pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u3
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
         .arg(format!("--window-size={width},{height}"))
-        .arg(format!("http://127.0.0.1:{port}/index.html"))
+        .arg(url)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| BrowserError(format!("{}: {e}", chrome.display())))?;
-    // The DOM (the page's source and the pixels) can pass a pipe's buffer: read
-    // both pipes while Chromium runs, or it blocks writing and never exits.
     let drain = |pipe: Option<Box<dyn Read + Send>>| {
         std::thread::spawn(move || {
             let mut text = String::new();
@@ -287,12 +312,11 @@ pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u3
     };
     let out = drain(child.stdout.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
     let errs = drain(child.stderr.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
-    // Chromium has no timeout of its own for a page that never settles.
     let start = Instant::now();
     let status = loop {
         match child.try_wait() {
             Ok(Some(s)) => break Ok(s),
-            Err(e) => break Err(err(e)),
+            Err(e) => break Err(BrowserError(e.to_string())),
             Ok(None) if start.elapsed() > Duration::from_secs(240) => {
                 let _ = child.kill();
                 let _ = child.wait();
@@ -301,12 +325,20 @@ pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u3
             Ok(None) => std::thread::sleep(Duration::from_millis(50)),
         }
     };
-    done.store(true, std::sync::atomic::Ordering::Relaxed);
-    let _ = server.join();
-    let dom = out.join().unwrap_or_default();
-    let log = errs.join().unwrap_or_default();
+    let (dom, log) = (out.join().unwrap_or_default(), errs.join().unwrap_or_default());
+    Ok((status?, dom, log))
+}
+
+/// Serves `files` (name → contents) on 127.0.0.1 and loads `index.html` in
+/// headless `chrome`; the page's pixels, rows from the top.
+pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u32) -> Result<Drawn, BrowserError> {
+    let server = Server::start(files)?;
+    let url = format!("http://127.0.0.1:{}/index.html", server.port);
+    let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{}", std::process::id(), server.port));
+    let ran = run_chromium(chrome, &url, &profile, (width, height));
+    server.stop();
     std::fs::remove_dir_all(&profile).ok();
-    let status = status?;
+    let (status, dom, log) = ran?;
     if let Some(e) = between(&dom, "error") {
         return Err(BrowserError(format!("the page failed: {e}")));
     }
