@@ -59,3 +59,15 @@ pub fn extinction_error(tau: f64, surfaces: bool, gs: &[f64]) -> f64 {
     }
     worst
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ignoring_extinction_costs_more_with_depth() {
+        assert_eq!(extinction_error(0.0, true, &[0.0]), 0.0);
+        let (a, b) = (extinction_error(1e-4, false, &[0.0]), extinction_error(0.1, true, &[0.0]));
+        assert!(a > 0.0 && a < 1e-2 && b > a, "{a:e} {b:e}");
+    }
+}

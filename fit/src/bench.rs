@@ -414,4 +414,44 @@ mod tests {
         let t = time_kernels(&[k as CanonicalFn], &canonical_args(&cost_batch(1000)), 3, &|_| {});
         assert!(t[0].0.is_finite() && t[0].0 > 0.0 && t[0].1 <= t[0].0 && t[0].0 <= t[0].2);
     }
+
+    #[test]
+    fn the_table_has_a_row_per_model_and_per_rgb_cost() {
+        let sets = error_sets(20, &|_, _| {});
+        let b = Bench {
+            adapter: "none".into(),
+            cpu: cpu_name(),
+            error_points: 20,
+            cost_batch: 1,
+            repeats: 1,
+            models: vec![BenchModel {
+                name: "closed".into(),
+                kind: crate::vocab::Role::Baseline,
+                g_range: [0.0, 0.0],
+                errors: errors(&|p| crate::family::CLOSED_FORM.eval(p), (0.0, 0.0), &sets),
+                cpu_ns_per_eval: 12.5,
+                cpu_ns_range: [12.0, 13.0],
+                ops: 7,
+                transcendentals: 2,
+                gpu_evals_per_s: 0.0,
+                bytes: 0,
+            }],
+            rgb: vec![RgbCost {
+                name: "closed".into(),
+                three_scalar_ns: 30.0,
+                rgb_point_ns: 15.0,
+                rgb_hard_cone_ns: 20.0,
+                rgb_soft_cone_ns: 40.0,
+                gpu_three_scalar_rays_per_s: 0.0,
+                gpu_rgb_point_rays_per_s: 0.0,
+            }],
+        };
+        let t = b.table();
+        assert!(t.starts_with("adapter: none\ncpu: "), "{t}");
+        let closed: Vec<&str> = t.lines().filter(|l| l.starts_with("closed ")).collect();
+        assert_eq!(closed.len(), 2, "{t}");
+        assert!(closed[0].contains("12.5") && closed[0].ends_with("(g = 0)"), "{t}");
+        assert!(closed[1].contains(" 0.50 "), "{t}");
+        assert_eq!(Bench::from_json(&b.to_json()).unwrap(), b);
+    }
 }

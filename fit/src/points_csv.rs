@@ -431,4 +431,12 @@ mod tests {
         assert!(e("0,0,0,1,0,0,1,inf,1,1,1,1,1,0").starts_with("r.csv:2: column 'lx'"));
         assert!(e("0,0,0,1,0,0,1,1,1,1,1,1,1").starts_with("r.csv:2: column 'g': missing value"));
     }
+
+    #[test]
+    fn a_header_naming_the_cone_is_the_spot_entry() {
+        assert!(names_spot_columns("\n ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,ax,ay,az, cos_outer ,cos_inner\n1,2"));
+        assert!(!names_spot_columns("ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g\n"));
+        assert!(!names_spot_columns("tau,gamma,rho,g\ncos_outer\n"));
+        assert!(!names_spot_columns(""));
+    }
 }

@@ -123,8 +123,8 @@ fn signatures(ctx: &mut tera::Context, spec: &KernelSpec, lang: Target) {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let params = spec.params();
-    let mut args = params
+    let mut args = spec
+        .params()
         .iter()
         .filter_map(|p| match p {
             Arg::Tau => Some("τ"),
@@ -137,10 +137,11 @@ fn signatures(ctx: &mut tera::Context, spec: &KernelSpec, lang: Target) {
     if spec.g_param() {
         args.push_str("; g");
     }
-    ctx.insert("canonical_params", &typed(params));
     ctx.insert("canonical_args", &args);
-    ctx.insert("radiance_params", &typed(spec.radiance_params()));
-    ctx.insert("spot_params", &typed(spec.args(Entry::Spot)));
+    // `<entry>_params` for every entry point (empty where the kernel has none).
+    for entry in Entry::ALL {
+        ctx.insert(format!("{}_params", entry.function()), &typed(spec.args(entry)));
+    }
 }
 
 /// What the shared kernel template needs, whatever the family.

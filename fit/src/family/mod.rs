@@ -12,13 +12,6 @@
 //! Adding a family: its folder, one line in that list, and its catalog rows
 //! (README, "Adding a family").
 
-pub mod closed;
-pub mod equiangular;
-pub mod phi;
-pub mod raymarch;
-pub mod split;
-pub mod sun;
-
 use crate::bench::BenchModel;
 use crate::cost::{Cost, PhaseShape, Shape};
 use crate::domains::{Domain, DomainErrors};
@@ -225,10 +218,26 @@ pub trait Family: Sized + Clone + PartialEq + std::fmt::Debug {
     }
 }
 
-/// Generates, from one list of `Variant(Type) as field`, the enums [`Body`] and
-/// [`Recipe`], the struct [`Fits`] and every dispatch over families.
+/// A family's values inside a [`Body`].
+trait Variant: Sized {
+    /// The family's values, if `body` is of this family.
+    fn of(body: &Body) -> Option<&Self>;
+}
+
+/// The models of family `F` among `models`, seen through its own type.
+fn members<'a, F: Variant>(models: &[Member<'a, Body>]) -> Vec<Member<'a, F>> {
+    models.iter().filter_map(|m| F::of(m.body).map(|f| m.with_body(f))).collect()
+}
+
+/// Generates, from one list of `Variant(module::Type)`, the family modules, the
+/// enums [`Body`] and [`Recipe`], the struct [`Fits`] (a field per module) and
+/// every dispatch over families.
 macro_rules! families {
-    ($($(#[doc = $doc:expr])* $variant:ident($ty:ty) as $field:ident,)+) => {
+    ($($(#[doc = $doc:expr])* $variant:ident($module:ident :: $name:ident),)+) => {
+        $(pub mod $module;)+
+        families!(@each $($(#[doc = $doc])* $variant($module::$name) as $module,)+);
+    };
+    (@each $($(#[doc = $doc:expr])* $variant:ident($ty:ty) as $field:ident,)+) => {
         /// What a model evaluates `A` with: one variant per family.
         #[derive(Debug, Clone, PartialEq)]
         #[allow(clippy::large_enum_variant)]
@@ -352,15 +361,7 @@ macro_rules! families {
             };
             let mut out = Vec::new();
             $(if let Some(template) = <$ty as Family>::REPORT {
-                let members: Vec<Member<'_, $ty>> = models
-                    .iter()
-                    .filter_map(|m| match m.body {
-                        Body::$variant(f) => Some(m.with_body(f)),
-                        #[allow(unreachable_patterns)]
-                        _ => None,
-                    })
-                    .collect();
-                if let Some(context) = <$ty as Family>::report(&members, floor) {
+                if let Some(context) = <$ty as Family>::report(&members::<$ty>(models), floor) {
                     out.push(Section {
                         template_name: format!("{}/report.md.tera", <$ty as Family>::DIR),
                         template,
@@ -374,19 +375,19 @@ macro_rules! families {
         /// Every family's figures, in list order.
         pub fn figures(models: &[Member<'_, Body>]) -> Vec<Figure> {
             let mut out = Vec::new();
-            $({
-                let members: Vec<Member<'_, $ty>> = models
-                    .iter()
-                    .filter_map(|m| match m.body {
-                        Body::$variant(f) => Some(m.with_body(f)),
-                        #[allow(unreachable_patterns)]
-                        _ => None,
-                    })
-                    .collect();
-                out.extend(<$ty as Family>::figures(&members));
-            })+
+            $(out.extend(<$ty as Family>::figures(&members::<$ty>(models)));)+
             out
         }
+
+        $(impl Variant for $ty {
+            fn of(body: &Body) -> Option<&Self> {
+                match body {
+                    Body::$variant(f) => Some(f),
+                    #[allow(unreachable_patterns)]
+                    _ => None,
+                }
+            }
+        })+
 
         impl Recipe {
             /// The family it builds.
@@ -441,19 +442,21 @@ macro_rules! families {
     };
 }
 
+// The one list of families. Its order is the order of their report sections
+// and figures, of `Body::KINDS` and of `airlight fit`'s output.
 families! {
     /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
-    Phi(phi::PhiRule) as phi,
+    Phi(phi::PhiRule),
     /// A forward part plus a backward part: the paper's three families and their refits.
-    Split(split::Split) as split,
+    Split(split::Split),
     /// The whole integral without extinction, in closed form (exact at `τ = 0`).
-    NoExtinction(closed::NoExtinction) as closed,
+    NoExtinction(closed::NoExtinction),
     /// Uniform midpoint ray marching (a baseline).
-    RayMarch(raymarch::RayMarch) as raymarch,
+    RayMarch(raymarch::RayMarch),
     /// Gauss–Legendre in the equiangular angle (a baseline).
-    Equiangular(equiangular::Equiangular) as equiangular,
+    Equiangular(equiangular::Equiangular),
     /// Sun et al.'s table of `F(u, v)`, bilinear (a baseline).
-    Sun2005(sun::SunTable) as sun,
+    Sun2005(sun::SunTable),
 }
 
 /// Every part `airlight fit --family` can name.

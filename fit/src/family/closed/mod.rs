@@ -88,13 +88,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ignoring_extinction_costs_more_with_depth() {
-        assert_eq!(extinction_error(0.0, true, &[0.0]), 0.0);
-        let (a, b) = (extinction_error(1e-4, false, &[0.0]), extinction_error(0.1, true, &[0.0]));
-        assert!(a > 0.0 && a < 1e-2 && b > a, "{a:e} {b:e}");
-    }
-
-    #[test]
     fn agrees_with_the_reference_without_extinction() {
         for &(gamma, rho) in &[(0.3, 0.5), (1.0, 2.0), (2.5, f64::INFINITY), (3.1, 100.0), (0.0, 0.5), (PI, 3.0)] {
             let p = Point { tau: 0.0, gamma, rho, g: 0.0 };
