@@ -47,10 +47,8 @@ fn eval_compiled(
                 return Err(bad_input(format!("kernel '{}' has no spot entry", k.name)));
             }
             let rows = read_spots(input, &|r, g| entry.check_ray(r, g))?;
-            let values: Vec<[f64; 3]> = rows
-                .iter()
-                .map(|r| SpotRay::from_row(r).spot_of(k).unwrap_or([f32::NAN; 3]).map(f64::from))
-                .collect();
+            let values: Vec<[f64; 3]> =
+                rows.iter().map(|r| SpotRay::from_row(r).spot_of(k).unwrap_or([f32::NAN; 3]).map(f64::from)).collect();
             write_csv(output, &points_csv::render_spots(&rows, &values))
         }
         EvalEntry::Radiance => {
@@ -215,4 +213,3 @@ pub(crate) fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure>
         }
     }
 }
-

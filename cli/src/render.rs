@@ -42,8 +42,8 @@ pub(crate) fn render_scene(
     println!("adapter: {}", gpu.adapter());
     let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
     let rk = kernels.iter().find(|rk| rk.name == name);
-    let images =
-        render::Images::draw(&gpu, k, &kernel, &view, scene.spot, rk).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+    let images = render::Images::draw(&gpu, k, &kernel, &view, scene.spot, rk)
+        .map_err(|e| Failure(1, format!("{name}: {e}")))?;
     let w = view.width();
     std::fs::create_dir_all(&dir).map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
     let png = |suffix: &str, pixels: &[[u8; 3]]| -> Result<PathBuf, Failure> {

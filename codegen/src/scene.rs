@@ -104,7 +104,9 @@ impl Fields<'_> {
 
     fn num(&self, t: &str, k: &str) -> Result<f64, SceneError> {
         let v = self.get(t, k)?;
-        v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| self.err(t, k, "must be a number".into()))
+        v.as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .ok_or_else(|| self.err(t, k, "must be a number".into()))
     }
 
     fn boolean(&self, t: &str, k: &str) -> Result<bool, SceneError> {
@@ -112,8 +114,11 @@ impl Fields<'_> {
     }
 
     fn pair(&self, t: &str, k: &str) -> Result<(f64, f64), SceneError> {
-        let a =
-            self.get(t, k)?.as_array().filter(|a| a.len() == 2).ok_or_else(|| self.err(t, k, "must be [lo, hi]".into()))?;
+        let a = self
+            .get(t, k)?
+            .as_array()
+            .filter(|a| a.len() == 2)
+            .ok_or_else(|| self.err(t, k, "must be [lo, hi]".into()))?;
         let f = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
         match (f(&a[0]), f(&a[1])) {
             (Some(lo), Some(hi)) if lo <= hi => Ok((lo, hi)),

@@ -348,52 +348,51 @@ pub fn cpu_name() -> String {
     format!("{name} ({cores} cores visible; one thread timed)")
 }
 
-
 impl Bench {
     /// The table `airlight bench` prints: the adapter and CPU, every model's
     /// errors, time, IR cost and GPU rate, and the RGB costs.
     pub fn table(&self) -> String {
         let mut lines = Vec::new();
-    lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
-    lines.push(format!(
-        "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>6} {:>5} {:>12}",
-        "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ops", "tr", "GPU evals/s"
-    ));
-    for m in &self.models {
-        let e = m.errors.first();
-        let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+        lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
         lines.push(format!(
-            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
-            m.name,
-            f(e.map(|e| e.max_rel.thin)),
-            f(e.map(|e| e.max_rel.dense)),
-            f(e.map(|e| e.p50_rel.thin)),
-            f(e.map(|e| e.p50_rel.dense)),
-            m.cpu_ns_per_eval,
-            m.ops,
-            m.transcendentals,
-            m.gpu_evals_per_s,
-            e.map_or(0.0, |e| e.g)
+            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>6} {:>5} {:>12}",
+            "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ops", "tr", "GPU evals/s"
         ));
-    }
-    lines.push("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call".to_string());
-    lines.push(format!(
-        "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10} {:>12} {:>12}",
-        "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone", "GPU 3 scalar", "GPU RGB"
-    ));
-    for r in &self.rgb {
+        for m in &self.models {
+            let e = m.errors.first();
+            let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+            lines.push(format!(
+                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
+                m.name,
+                f(e.map(|e| e.max_rel.thin)),
+                f(e.map(|e| e.max_rel.dense)),
+                f(e.map(|e| e.p50_rel.thin)),
+                f(e.map(|e| e.p50_rel.dense)),
+                m.cpu_ns_per_eval,
+                m.ops,
+                m.transcendentals,
+                m.gpu_evals_per_s,
+                e.map_or(0.0, |e| e.g)
+            ));
+        }
+        lines.push("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call".to_string());
         lines.push(format!(
-            "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>12.3e} {:>12.3e}",
-            r.name,
-            r.three_scalar_ns,
-            r.rgb_point_ns,
-            r.rgb_point_ns / r.three_scalar_ns,
-            r.rgb_hard_cone_ns,
-            r.rgb_soft_cone_ns,
-            r.gpu_three_scalar_rays_per_s,
-            r.gpu_rgb_point_rays_per_s
+            "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10} {:>12} {:>12}",
+            "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone", "GPU 3 scalar", "GPU RGB"
         ));
-    }
+        for r in &self.rgb {
+            lines.push(format!(
+                "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>12.3e} {:>12.3e}",
+                r.name,
+                r.three_scalar_ns,
+                r.rgb_point_ns,
+                r.rgb_point_ns / r.three_scalar_ns,
+                r.rgb_hard_cone_ns,
+                r.rgb_soft_cone_ns,
+                r.gpu_three_scalar_rays_per_s,
+                r.gpu_rgb_point_rays_per_s
+            ));
+        }
         lines.join("\n")
     }
 }

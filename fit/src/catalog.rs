@@ -47,7 +47,12 @@ const fn split(
     backward: BackChoice,
     forward_attenuation: bool,
 ) -> ModelSpec {
-    ModelSpec { name, summary, g_range, recipe: Recipe::Split(split::fit::Recipe { forward, phase, backward, forward_attenuation }) }
+    ModelSpec {
+        name,
+        summary,
+        g_range,
+        recipe: Recipe::Split(split::fit::Recipe { forward, phase, backward, forward_attenuation }),
+    }
 }
 
 const fn seg(name: &'static str, summary: &'static str, n: usize) -> ModelSpec {

@@ -242,7 +242,7 @@ fn forward_half(geo: &Geometry, phase: Phase, t_ext: f64, width: f64) -> Quadrat
         bps.push(x);
         x *= 4.0;
     }
-    let q = gauss_kronrod(
+    gauss_kronrod(
         |x| {
             let u = geo.ua + x;
             let w = 1.0 / (1.0 + u * u);
@@ -251,8 +251,7 @@ fn forward_half(geo: &Geometry, phase: Phase, t_ext: f64, width: f64) -> Quadrat
         &finish(bps),
         REFERENCE_REL_TOL,
         MAX_INTERVALS,
-    );
-    q
+    )
 }
 
 /// The backward half of the u form, `v = 1/u = v0 − y` from `v0 = min(1, 1/ua)`
@@ -292,7 +291,7 @@ fn backward_half(geo: &Geometry, tau: f64, phase: Phase, t_ext: f64, width: f64)
             }
         }
     }
-    let q = gauss_kronrod(
+    gauss_kronrod(
         |y| {
             let v = v0 - y;
             if v <= 0.0 {
@@ -305,8 +304,7 @@ fn backward_half(geo: &Geometry, tau: f64, phase: Phase, t_ext: f64, width: f64)
         &finish(bps),
         REFERENCE_REL_TOL,
         MAX_INTERVALS,
-    );
-    q
+    )
 }
 
 /// [`airlight`] with the quadrature's diagnostics.

@@ -233,7 +233,6 @@ pub const SPOT_ULP_FACTOR: f64 = 32.0;
 /// Spot rays per kernel with a spot entry.
 pub const SPOT_RAYS: usize = 160;
 
-
 /// Spot-light rays for kernel `k`'s spot entry: the placements of
 /// [`physical_rays`], each light made a spot light aimed at a random point of the
 /// ray (or beside it), outer half-angle 2°…80° log-uniform, every other one with a
@@ -334,7 +333,6 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         })
         .collect()
 }
-
 
 /// The hull of a kernel's declared domains: τ up to the end of its sampled
 /// domains (`tau_max`), γ and ρ as far as `extreme` reaches (docs/MATH.md §5: γ ∈
@@ -695,7 +693,10 @@ pub fn run(
             k,
             model: f64_model(k, &models)?,
             compiled,
-            shaders: texts.iter().map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref()))).collect(),
+            shaders: texts
+                .iter()
+                .map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref())))
+                .collect(),
             gpu,
         };
         rows.extend(subject.canonical_rows(&point_sets(k, &validations)?, &models)?);
@@ -717,11 +718,12 @@ pub fn run(
 pub fn record(generated: &Path, rows: &[Row], adapter: String) -> Result<airlight_fit::record::GateRecord, String> {
     let mut files = Vec::new();
     for dir in ["wgsl", "wgsl/bevy", "glsl", "airlight-kernels/src"] {
-        let entries =
-            std::fs::read_dir(generated.join(dir)).map_err(|e| format!("{}: cannot read: {e}", generated.join(dir).display()))?;
+        let entries = std::fs::read_dir(generated.join(dir))
+            .map_err(|e| format!("{}: cannot read: {e}", generated.join(dir).display()))?;
         for e in entries.flatten() {
             if e.path().is_file() {
-                let bytes = std::fs::read(e.path()).map_err(|err| format!("{}: cannot read: {err}", e.path().display()))?;
+                let bytes =
+                    std::fs::read(e.path()).map_err(|err| format!("{}: cannot read: {err}", e.path().display()))?;
                 files.push((format!("{dir}/{}", e.file_name().to_string_lossy()), bytes));
             }
         }

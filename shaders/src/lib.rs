@@ -859,10 +859,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     airlight_results[i] = {function}(p.x, p.y, p.z, p.w);\n\
 }}\n"
     )
-}/// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32,
+}
+/// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32,
 /// `ρ = ∞` passed as −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
 pub fn f32_value(k: &airlight_fit::vocab::CompiledKernel, p: airlight_fit::reference::Point) -> f64 {
     from_kernel((k.airlight)(p.tau as f32, p.gamma as f32, rho_arg(p.rho), p.g as f32))
 }
-
-

@@ -502,7 +502,8 @@ pub fn difference_rgb(image: &[[f32; 3]], reference: &[[f64; 3]]) -> Vec<[u8; 3]
         .collect();
     let (v, r): (Vec<f32>, Vec<f64>) = worst.into_iter().unzip();
     difference(&v, &r)
-}/// Tone-mapped 8-bit pixels.
+}
+/// Tone-mapped 8-bit pixels.
 pub type Pixels = Vec<[u8; 3]>;
 
 /// A scene's images, tone-mapped with the reference's exposure, and their
@@ -564,5 +565,3 @@ impl Images {
         })
     }
 }
-
-

@@ -40,7 +40,10 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         rust: path(Target::Rust, false),
         prefix: spec.prefix(),
         table: spec.model.as_ref().and_then(|m| {
-            m.model.body.texture().map(|t| airlight_fit::vocab::TableRef { path: table_path(&m.model.name), size: t.res })
+            m.model
+                .body
+                .texture()
+                .map(|t| airlight_fit::vocab::TableRef { path: table_path(&m.model.name), size: t.res })
         }),
     }
 }
@@ -59,4 +62,3 @@ pub fn render_index(specs: &[KernelSpec]) -> Output {
         ),
     )
 }
-

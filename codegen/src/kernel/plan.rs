@@ -109,4 +109,3 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
     let text = tera.render(&row.template, &ctx)?;
     Ok(Output::text(row.path.replace("{name}", &spec.name), text))
 }
-

@@ -138,4 +138,3 @@ fn ln_table() -> Vec<String> {
         })
         .collect()
 }
-

@@ -215,4 +215,3 @@ pub fn specialisations(spec: &KernelSpec) -> String {
 pub fn join_domains(domains: &[Domain]) -> String {
     domains.iter().map(|d| d.name()).collect::<Vec<_>>().join(" and ")
 }
-

@@ -83,4 +83,3 @@ pub(super) fn regime_rows(r: &GateRecord) -> (Vec<RegimeRow>, String, String) {
         .collect();
     (rows, iso.to_string(), hg.to_string())
 }
-

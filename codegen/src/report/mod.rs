@@ -273,7 +273,8 @@ fn selfcheck_context(ctx: &mut tera::Context, check: &SelfCheck) {
 
 /// The model table's row of `m`.
 fn model_row(m: &ModelFile) -> ModelRow {
-    let worst = |d: Domain| m.error(d).map_or("—".into(), |e| format!("{} at {}", fmt_err(e.max_rel), fmt_point(&e.worst)));
+    let worst =
+        |d: Domain| m.error(d).map_or("—".into(), |e| format!("{} at {}", fmt_err(e.max_rel), fmt_point(&e.worst)));
     ModelRow {
         name: m.model.name.clone(),
         g_range: format!("[{}, {}]", m.model.g_range.0, m.model.g_range.1),

@@ -175,8 +175,10 @@ fn no_extinction(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
         .iter()
         .map(|&tau| {
             let e = airlight_fit::analysis::extinction_error(tau, true, &[0.0]);
-            let better =
-                iso.iter().filter(|m| Some(m.name.as_str()) != floor_name && m.max < e).min_by(|a, b| a.ns.total_cmp(&b.ns));
+            let better = iso
+                .iter()
+                .filter(|m| Some(m.name.as_str()) != floor_name && m.max < e)
+                .min_by(|a, b| a.ns.total_cmp(&b.ns));
             NoExt {
                 tau,
                 error: fmt_err(e),

@@ -104,7 +104,11 @@ impl<'a, F> Member<'a, F> {
 
     /// A provenance value, by table and key.
     pub fn provenance_value(&self, table: &str, key: &str) -> Option<&Value> {
-        self.provenance.iter().find(|(t, _)| t == table).and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key)).map(|(_, v)| v)
+        self.provenance
+            .iter()
+            .find(|(t, _)| t == table)
+            .and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key))
+            .map(|(_, v)| v)
     }
 }
 
