@@ -48,16 +48,12 @@ impl ModelFile {
 
     /// The errors on `domain`, if measured.
     pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
-        self.errors.iter().find(|e| e.domain == domain)
+        self.member(None).error(domain)
     }
 
     /// The provenance value `key` of table `table` (e.g. `forward.fit`), if present.
     pub fn provenance_value(&self, table: &str, key: &str) -> Option<&Value> {
-        self.provenance
-            .iter()
-            .find(|(t, _)| t == table)
-            .and_then(|(_, kv)| kv.iter().find(|(k, _)| k == key))
-            .map(|(_, v)| v)
+        self.member(None).provenance_value(table, key)
     }
 }
 

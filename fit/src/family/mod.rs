@@ -98,12 +98,12 @@ impl<'a, F> Member<'a, F> {
     }
 
     /// The declared errors on `domain`.
-    pub fn error(&self, domain: Domain) -> Option<&DomainErrors> {
+    pub fn error(&self, domain: Domain) -> Option<&'a DomainErrors> {
         self.errors.iter().find(|e| e.domain == domain)
     }
 
     /// A provenance value, by table and key.
-    pub fn provenance_value(&self, table: &str, key: &str) -> Option<&Value> {
+    pub fn provenance_value(&self, table: &str, key: &str) -> Option<&'a Value> {
         self.provenance
             .iter()
             .find(|(t, _)| t == table)

@@ -64,20 +64,20 @@ impl SunTable {
         SunTable { res, texels }
     }
 
-    /// The table's size in bytes (f32 texels).
-    pub fn bytes(&self) -> usize {
-        4 * self.texels.len()
+    /// The table as the texture its kernels read.
+    pub fn as_texture(&self) -> Texture<'_> {
+        Texture { res: self.res, texels: &self.texels }
     }
 
-    /// The texels as little-endian f32 bytes (the file the kernels load).
-    pub fn to_le_bytes(&self) -> Vec<u8> {
-        self.texels.iter().flat_map(|t| t.to_le_bytes()).collect()
+    /// The table's size in bytes (f32 texels).
+    pub fn bytes(&self) -> usize {
+        self.as_texture().bytes()
     }
 
     /// FNV-1a of the texels' bits: which table a file was measured with.
     pub fn digest(&self) -> String {
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for b in self.to_le_bytes() {
+        for b in self.as_texture().to_le_bytes() {
             h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
         }
         format!("{h:016x}")
@@ -121,7 +121,7 @@ impl Family for SunTable {
     }
 
     fn texture(&self) -> Option<Texture<'_>> {
-        Some(Texture { res: self.res, texels: &self.texels })
+        Some(self.as_texture())
     }
 
     fn kernel_context(&self, k: &KernelView) -> Context {
