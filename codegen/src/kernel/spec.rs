@@ -186,7 +186,7 @@ impl KernelSpec {
     }
 
     /// Worst-case operation count of one evaluation of this f32 kernel (the
-    /// canonical entry), from its family ([`Body::ops`]).
+    /// canonical entry), from its family (`ops` of its `Family`).
     pub fn op_count(&self) -> Cost {
         self.body().ops(self.shape())
     }
