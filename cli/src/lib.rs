@@ -10,6 +10,11 @@
 //! - `airlight-run` (`run/`, the crate that links `airlight-kernels`), which it
 //!   builds first through cargo: when the kernels do not compile, that is one
 //!   line naming the first error, and exit 1.
+//!
+//! One module per command (`eval`, `check`, `render`, `models`, `fit`, `bench`,
+//! `generate`), and `workspace` for where they work; what they compute lives in
+//! the libraries (the gate and the bench in `airlight-shaders`, CSVs and fits in
+//! `airlight-fit`, rendering `generated/` in `airlight-codegen`).
 
 mod bench;
 mod check;

@@ -5,6 +5,12 @@
 //! Templates are compiled into the binary (`include_str!`), so the generator
 //! works from any directory; each text output names its source (template or
 //! fitter) in its header.
+//!
+//! The generator names no family: a kernel's core template and what it is
+//! given, a report section and a figure all come from the kernel's family
+//! through `airlight_fit::family`; what is here is shared by every family (the
+//! kernel templates with the entry points, the output table, the report's
+//! frame, the drawing).
 
 #![warn(missing_docs)]
 
