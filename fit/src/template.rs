@@ -24,6 +24,16 @@ pub enum KernelPhase {
     Exact,
 }
 
+impl KernelPhase {
+    /// The baked `g`, if the phase is [`KernelPhase::Fixed`].
+    pub fn fixed_g(&self) -> Option<f64> {
+        match self {
+            KernelPhase::Fixed(g) => Some(*g),
+            _ => None,
+        }
+    }
+}
+
 /// The phase a kernel is asked for: a model's general kernel, or a scene's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WantPhase {
@@ -99,20 +109,9 @@ pub struct KernelView<'a> {
 }
 
 impl KernelView<'_> {
-    /// `"{summary} ({specialisations})."`: the quadrature families' summary line.
+    /// `"{summary} ({specialisations})."`: the summary line of a kernel of a model.
     pub fn summary_line(&self) -> String {
-        match self.model_summary {
-            Some(s) => format!("{s} ({}).", self.specialisations),
-            None => format!("({}).", self.specialisations),
-        }
-    }
-
-    /// The fixed `g`, if the phase is baked.
-    pub fn fixed_g(&self) -> Option<f64> {
-        match self.phase {
-            KernelPhase::Fixed(g) => Some(*g),
-            _ => None,
-        }
+        format!("{} ({}).", self.model_summary.unwrap_or_default(), self.specialisations)
     }
 }
 
@@ -133,11 +132,6 @@ impl Context {
         self.0.insert(key.to_string(), v);
     }
 
-    /// Every value, by name.
-    pub fn values(&self) -> impl Iterator<Item = (&str, &serde_json::Value)> {
-        self.0.iter().map(|(k, v)| (k.as_str(), v))
-    }
-
     /// The context of the quadrature families' templates (the baselines' and
     /// φ's): the summary and how the phase is taken.
     pub fn quadrature(k: &KernelView) -> Context {
@@ -145,7 +139,7 @@ impl Context {
         ctx.insert("summary", &k.summary_line());
         ctx.insert("phase_iso", &(*k.phase == KernelPhase::Isotropic));
         ctx.insert("phase_exact", &(*k.phase == KernelPhase::Exact));
-        let fixed = k.fixed_g();
+        let fixed = k.phase.fixed_g();
         ctx.insert("phase_fixed", &fixed.is_some());
         ctx.insert("fixed_g", &fixed.map_or(String::new(), |g| format!("{g}")));
         ctx.insert("fixed_g_lit", &fixed.map_or(String::new(), lit));

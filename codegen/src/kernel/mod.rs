@@ -173,11 +173,7 @@ fn shared_context(spec: &KernelSpec, out: &KernelOutput) -> tera::Context {
     let shared_rgb = spec.spot && spec.body().shares_rgb_nodes();
     ctx.insert("shared_rgb", &shared_rgb);
     ctx.insert("geometry_variants", &if shared_rgb { vec![false, true] } else { vec![false] });
-    let fixed_g = match spec.phase {
-        KernelPhase::Fixed(g) => g,
-        _ => 0.0,
-    };
-    ctx.insert("spot_g", &lit(fixed_g));
+    ctx.insert("spot_g", &lit(spec.phase.fixed_g().unwrap_or(0.0)));
     let (ex, ew) = airlight_fit::quad::gauss_legendre(SPOT_EDGE_NODES);
     ctx.insert("edge_x", &lits(&ex));
     ctx.insert("edge_w", &lits(&ew));

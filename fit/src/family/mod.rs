@@ -295,11 +295,6 @@ macro_rules! families {
                 match self { $(Body::$variant(_) => <$ty as Family>::COST_FLOOR,)+ }
             }
 
-            /// Its core templates.
-            pub fn templates(&self) -> Templates {
-                match self { $(Body::$variant(_) => <$ty as Family>::TEMPLATES,)+ }
-            }
-
             /// `A` at a valid point.
             pub fn eval(&self, p: Point) -> f64 {
                 match self { $(Body::$variant(f) => f.eval(p),)+ }
@@ -394,11 +389,6 @@ macro_rules! families {
         })+
 
         impl Recipe {
-            /// The family it builds.
-            pub fn kind(&self) -> &'static str {
-                match self { $(Recipe::$variant(_) => <$ty as Family>::KIND,)+ }
-            }
-
             /// Airlight's own, or a baseline.
             pub fn role(&self) -> Role {
                 match self { $(Recipe::$variant(_) => <$ty as Family>::ROLE,)+ }

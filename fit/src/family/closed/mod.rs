@@ -74,6 +74,7 @@ impl Family for NoExtinction {
 
     fn kernel_context(&self, k: &KernelView) -> Context {
         let mut ctx = Context::new();
+        // A scene's plan may pick the closed form itself, with no model behind it.
         let summary = match k.model_summary {
             Some(_) => k.summary_line(),
             None => "isotropic scattering without extinction, exact.".to_string(),
