@@ -47,7 +47,8 @@ pub struct KernelSpec {
     pub targets: Vec<Target>,
 }
 
-fn domain_bound(m: &ModelFile, domains: &[Domain]) -> String {
+/// The declared max of `m` on each of `domains`, as `thin 9.8e-6, dense 2.8e-6`.
+pub fn domain_bound(m: &ModelFile, domains: &[Domain]) -> String {
     domains
         .iter()
         .filter_map(|&d| m.error(d).map(|e| format!("{d} {}", fmt_err(e.max_rel))))

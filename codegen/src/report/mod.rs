@@ -299,11 +299,7 @@ fn generated_kernel(k: &KernelSpec) -> GeneratedKernel {
         targets: k.targets.iter().map(|t| t.name()).collect::<Vec<_>>().join(", "),
         specialised: crate::kernel::specialisations(k),
         ops: format!("{} / {} / {} / {}", o.exp, o.log, o.atan, o.div),
-        bound: k.model.as_ref().map_or("exact".into(), |m| {
-            let dom: Vec<String> =
-                k.domains().iter().filter_map(|&d| m.error(d).map(|e| format!("{d} {}", fmt_err(e.max_rel)))).collect();
-            dom.join(", ")
-        }),
+        bound: k.model.as_ref().map_or("exact".into(), |m| crate::kernel::spec::domain_bound(m, k.domains())),
     }
 }
 
