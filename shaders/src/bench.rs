@@ -198,7 +198,7 @@ pub fn measure(
         rgb_spots,
         repeats: size.repeats,
     };
-    let (mut rows, mut fns, mut compiled, mut gpu_rgb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut rows, mut compiled, mut gpu_rgb) = (Vec::new(), Vec::new(), Vec::new());
     for (i, f) in files.iter().enumerate() {
         let name = &f.model.name;
         let k = kernels.iter().find(|k| k.name == name.as_str()).ok_or_else(|| {
@@ -209,10 +209,10 @@ pub fn measure(
         let (row, rates) = model_row(&inputs, f, k, errors)?;
         rows.push(row);
         gpu_rgb.push(rates);
-        fns.push(k.airlight);
         compiled.push(k);
     }
     let batch = bench::canonical_args(&points);
+    let fns: Vec<_> = compiled.iter().map(|k| k.airlight).collect();
     let times = bench::time_kernels(&fns, &batch, size.repeats, &|r| {
         progress("bench: CPU time (interleaved repeats)", r, size.repeats)
     });
