@@ -317,9 +317,10 @@ float airlight_sun2005_512_along(float tau, float h, float x0, float rho, float 
 // interval, found without solving a quadratic. A lit stretch [wa, wb] is the
 // family's own A for a viewer moved to wa (gamma' = wa, rho' = sin(wb - wa) / sin(wb),
 // tau' = tau t0), times e^(-tau s0) / t0: never a difference of two integrals.
-// A smooth edge (the weight linear in that cosine) is integrated over the penumbra's
-// stretches by 8-point Gauss-Legendre in omega, where the integrand
-// is smooth; the fully lit stretch between is the family's exact limit.
+// A smooth edge (the weight linear in that cosine) over a penumbra stretch is the
+// weight at one end times the family's exact A there, plus the rest by graded
+// Gauss-Legendre in omega (spot_edge); the fully lit stretch between is the
+// family's exact limit.
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
@@ -357,73 +358,86 @@ vec3 airlight_sun2005_512_spot_core(vec3 tau, float h, float x0, float rho, floa
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_sun2005_512_HUGE)));
 }
 
-// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
-// (ci - co) times the canonical integrand, by Gauss-Legendre; everything but the
-// transmittance is shared by the channels.
-vec3 airlight_sun2005_512_spot_edge(vec3 tau, float h, float x0, float u, float v_in, float ca, float k, float co, float ci, float g) {
+// The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
+// (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
+// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
+// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
+// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
+// forward peak). Everything but the transmittance is shared by the channels.
+float airlight_sun2005_512_spot_weight_at(float w, float ca, float k, float co, float ci) {
+    vec2 sc = airlight_sun2005_512_sin_cos(w);
+    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
+}
+
+vec3 airlight_sun2005_512_spot_edge(vec3 tau, float h, float x0, float rho, float gam, float om_e, float u, float v_in, float ca, float k, float co, float ci, float g) {
     float v = v_in;
     if (!(v > u)) {
         return vec3(0.0);
     }
-    float half_len = 0.5 * (v - u);
-    float mid = 0.5 * (v + u);
+    float e = (g < 0.0 || v > 3.0) ? v : u;
+    float we = airlight_sun2005_512_spot_weight_at(e, ca, k, co, ci);
+    vec3 exact = vec3(0.0);
+    if (we > 0.0) {
+        exact = airlight_sun2005_512_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
+        if (any(greaterThanEqual(exact, vec3(airlight_sun2005_512_HUGE)))) {
+            return vec3(airlight_sun2005_512_HUGE);
+        }
+    }
+    const float pieces[6] = float[6](0.0, 3.12500000e-2, 2.50000000e-1, 7.50000000e-1, 9.68750000e-1, 1.00000000e0);
     float gm = (1.0 - g) * (1.0 - g);
     float gp = (1.0 + g) * (1.0 + g);
     vec3 sum = vec3(0.0);
     float w;
-    vec2 sc;
     vec2 sb;
     float d;
     float st;
-    w = mid + half_len * 9.60289836e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * 7.96666503e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * 5.25532424e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * 1.83434635e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * -1.83434635e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * -5.25532424e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * -7.96666503e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half_len * -9.60289836e-1;
-    sc = airlight_sun2005_512_sin_cos(w);
-    sb = airlight_sun2005_512_sin_cos(0.5 * w);
-    d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * half_len / max(h, 1e-30) * sum, vec3(airlight_sun2005_512_HUGE));
+    for (int i = 0; i < 5; i++) {
+        float a = u + (v - u) * pieces[i];
+        float b = u + (v - u) * pieces[i + 1];
+        float half_len = 0.5 * (b - a);
+        float mid = 0.5 * (b + a);
+        w = mid + half_len * 9.60289836e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 1.01228535e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * 7.96666503e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 2.22381040e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * 5.25532424e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 3.13706636e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * 1.83434635e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 3.62683773e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * -1.83434635e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 3.62683773e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * -5.25532424e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 3.13706636e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * -7.96666503e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 2.22381040e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half_len * -9.60289836e-1;
+        sb = airlight_sun2005_512_sin_cos(0.5 * w);
+        d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half_len * 1.01228535e-1 * (airlight_sun2005_512_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+    }
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3(0.0), vec3(airlight_sun2005_512_HUGE));
 }
 
 // The weight of the direction cosine c: 1 within the inner cone, 0 outside the
@@ -486,6 +500,7 @@ vec3 airlight_sun2005_512_spot(vec3 origin, vec3 dir, float surface, vec3 light,
     bool cut_b = false;
     vec4 pen = vec4(0.0);
     float ca = 0.0;
+    float om_e = airlight_sun2005_512_PI;
     if (point || h <= 0.0) {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
@@ -503,7 +518,7 @@ vec3 airlight_sun2005_512_spot(vec3 origin, vec3 dir, float surface, vec3 light,
         float r = sqrt(ca * ca + k * k);
         float psi = airlight_sun2005_512_arctan2(k, ca);
         gam = airlight_sun2005_512_arctan2(h, x0);
-        float om_e = has_end ? airlight_sun2005_512_arctan2(h, x0 - rho) : airlight_sun2005_512_PI;
+        om_e = has_end ? airlight_sun2005_512_arctan2(h, x0 - rho) : airlight_sun2005_512_PI;
         if (co < r) {
             float dlo = airlight_sun2005_512_spot_asin(co, r);
             float lo = max(gam, psi + dlo);
@@ -535,7 +550,7 @@ vec3 airlight_sun2005_512_spot(vec3 origin, vec3 dir, float surface, vec3 light,
     for (int j = 0; j < 2; j++) {
         vec2 piece = j == 1 ? pen.zw : pen.xy;
         if (piece.y > piece.x) {
-            a += airlight_sun2005_512_spot_edge(tau, h, x0, piece.x, piece.y, ca, k, co, ci, gg);
+            a += airlight_sun2005_512_spot_edge(tau, h, x0, rho, gam, om_e, piece.x, piece.y, ca, k, co, ci, gg);
         }
     }
     return vec3(airlight_sun2005_512_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_sun2005_512_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_sun2005_512_scaled(sigma_s.z, intensity * scale, d, a.z));

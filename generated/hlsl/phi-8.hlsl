@@ -156,11 +156,11 @@ float airlight_phi_8_scaled(float sigma_s, float intensity, float d_1, float a_4
         return airlight_phi_8_HUGE;
     }
     _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
+    _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q_1 = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_3.fract * i.fract) * q_1.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_3.fract * i_1.fract) * q_1.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_phi_8_HUGE;
     }
@@ -314,14 +314,14 @@ float airlight_phi_8_exp_e2_(float x_4)
 
 float airlight_phi_8_w_u(float u, float4 md)
 {
-    float k_2 = ((0.07957747 * (1.0 - md.x)) * (1.0 + md.x));
+    float k_3 = ((0.07957747 * (1.0 - md.x)) * (1.0 + md.x));
     if ((u > 1.0)) {
         float v_4 = (1.0 / u);
         float d_4 = ((((md.y * md.y) * v_4) * v_4) + (md.z * md.z));
-        return ((((k_2 * v_4) * v_4) * sqrt((1.0 + (v_4 * v_4)))) / (d_4 * sqrt(d_4)));
+        return ((((k_3 * v_4) * v_4) * sqrt((1.0 + (v_4 * v_4)))) / (d_4 * sqrt(d_4)));
     }
     float d_5 = ((md.y * md.y) + (((md.z * md.z) * u) * u));
-    return ((k_2 * sqrt((1.0 + (u * u)))) / (d_5 * sqrt(d_5)));
+    return ((k_3 * sqrt((1.0 + (u * u)))) / (d_5 * sqrt(d_5)));
 }
 
 float2 airlight_phi_8_phi_and_complement(float u_1, float4 md_1)
@@ -782,8 +782,8 @@ float airlight_phi_8_radiance(float3 origin_1, float3 dir_1, float surface, floa
     if (_e24) {
         return 0.0;
     }
-    float rho_5 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e37 = airlight_phi_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_5, g_1);
+    float rho_6 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e37 = airlight_phi_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_6, g_1);
     const float _e38 = airlight_phi_8_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
     return _e38;
 }
@@ -855,250 +855,283 @@ float3 airlight_phi_8_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4
     return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_phi_8_spot_edge(float3 tau_4, float h_4, float x0_4, float u_2, float v_in, float ca, float k_1, float co_1, float ci, float g_5)
+float airlight_phi_8_spot_weight_at(float w, float ca, float k_1, float co_1, float ci)
 {
+    const float2 _e5 = airlight_phi_8_sin_cos(w);
+    return clamp(((((ca * _e5.x) - (k_1 * _e5.y)) - co_1) / (ci - co_1)), 0.0, 1.0);
+}
+
+typedef float ret_Constructarray6_float_[6];
+ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
+    float ret[6] = { arg0, arg1, arg2, arg3, arg4, arg5 };
+    return ret;
+}
+
+float3 airlight_phi_8_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_5)
+{
+    bool local_14 = (bool)0;
+    float3 exact = (0.0).xxx;
+    float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
-    float w = (float)0;
-    float2 sc_1 = (float2)0;
+    float w_1 = (float)0;
     float2 sb_1 = (float2)0;
     float d_3 = (float)0;
     float st = (float)0;
+    int i = int(0);
 
     if (!((v_in > u_2))) {
         return (0.0).xxx;
     }
-    float half_ = (0.5 * (v_in - u_2));
-    float mid = (0.5 * (v_in + u_2));
+    if (!((g_5 < 0.0))) {
+        local_14 = (v_in > 3.0);
+    } else {
+        local_14 = true;
+    }
+    bool _e25 = local_14;
+    float e_1 = (_e25 ? v_in : u_2);
+    const float _e27 = airlight_phi_8_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
+    if ((_e27 > 0.0)) {
+        const float3 _e35 = airlight_phi_8_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_5);
+        exact = _e35;
+        float3 _e36 = exact;
+        if (any((_e36 >= (3.4028235e38).xxx))) {
+            return (3.4028235e38).xxx;
+        }
+    }
     float gm = ((1.0 - g_5) * (1.0 - g_5));
     float gp = ((1.0 + g_5) * (1.0 + g_5));
-    w = (mid + (half_ * 0.96028984));
-    float _e41 = w;
-    const float2 _e42 = airlight_phi_8_sin_cos(_e41);
-    sc_1 = _e42;
-    float _e43 = w;
-    const float2 _e46 = airlight_phi_8_sin_cos((0.5 * _e43));
-    sb_1 = _e46;
-    float _e50 = sb_1.y;
-    float _e53 = sb_1.y;
-    float _e59 = sb_1.x;
-    float _e62 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e59) * _e62)) : (gp - (((4.0 * g_5) * _e50) * _e53)));
-    float _e69 = sb_1.x;
-    float _e72 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e69) / max(_e72, 1e-30))), 1.0);
-    float3 _e79 = sum_1;
-    float _e81 = sc_1.x;
-    float _e84 = sc_1.y;
-    float _e95 = d_3;
-    float _e96 = d_3;
-    float _e101 = st;
-    sum_1 = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_4) * _e101))));
-    w = (mid + (half_ * 0.7966665));
-    float _e109 = w;
-    const float2 _e110 = airlight_phi_8_sin_cos(_e109);
-    sc_1 = _e110;
-    float _e111 = w;
-    const float2 _e114 = airlight_phi_8_sin_cos((0.5 * _e111));
-    sb_1 = _e114;
-    float _e118 = sb_1.y;
-    float _e121 = sb_1.y;
-    float _e127 = sb_1.x;
-    float _e130 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e127) * _e130)) : (gp - (((4.0 * g_5) * _e118) * _e121)));
-    float _e137 = sb_1.x;
-    float _e140 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e137) / max(_e140, 1e-30))), 1.0);
-    float3 _e147 = sum_1;
-    float _e149 = sc_1.x;
-    float _e152 = sc_1.y;
-    float _e163 = d_3;
-    float _e164 = d_3;
-    float _e169 = st;
-    sum_1 = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
-    w = (mid + (half_ * 0.5255324));
-    float _e177 = w;
-    const float2 _e178 = airlight_phi_8_sin_cos(_e177);
-    sc_1 = _e178;
-    float _e179 = w;
-    const float2 _e182 = airlight_phi_8_sin_cos((0.5 * _e179));
-    sb_1 = _e182;
-    float _e186 = sb_1.y;
-    float _e189 = sb_1.y;
-    float _e195 = sb_1.x;
-    float _e198 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189)));
-    float _e205 = sb_1.x;
-    float _e208 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
-    float3 _e215 = sum_1;
-    float _e217 = sc_1.x;
-    float _e220 = sc_1.y;
-    float _e231 = d_3;
-    float _e232 = d_3;
-    float _e237 = st;
-    sum_1 = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_4) * _e237))));
-    w = (mid + (half_ * 0.18343464));
-    float _e245 = w;
-    const float2 _e246 = airlight_phi_8_sin_cos(_e245);
-    sc_1 = _e246;
-    float _e247 = w;
-    const float2 _e250 = airlight_phi_8_sin_cos((0.5 * _e247));
-    sb_1 = _e250;
-    float _e254 = sb_1.y;
-    float _e257 = sb_1.y;
-    float _e263 = sb_1.x;
-    float _e266 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e263) * _e266)) : (gp - (((4.0 * g_5) * _e254) * _e257)));
-    float _e273 = sb_1.x;
-    float _e276 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e273) / max(_e276, 1e-30))), 1.0);
-    float3 _e283 = sum_1;
-    float _e285 = sc_1.x;
-    float _e288 = sc_1.y;
-    float _e299 = d_3;
-    float _e300 = d_3;
-    float _e305 = st;
-    sum_1 = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_4) * _e305))));
-    w = (mid + (half_ * -0.18343464));
-    float _e313 = w;
-    const float2 _e314 = airlight_phi_8_sin_cos(_e313);
-    sc_1 = _e314;
-    float _e315 = w;
-    const float2 _e318 = airlight_phi_8_sin_cos((0.5 * _e315));
-    sb_1 = _e318;
-    float _e322 = sb_1.y;
-    float _e325 = sb_1.y;
-    float _e331 = sb_1.x;
-    float _e334 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e331) * _e334)) : (gp - (((4.0 * g_5) * _e322) * _e325)));
-    float _e341 = sb_1.x;
-    float _e344 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e341) / max(_e344, 1e-30))), 1.0);
-    float3 _e351 = sum_1;
-    float _e353 = sc_1.x;
-    float _e356 = sc_1.y;
-    float _e367 = d_3;
-    float _e368 = d_3;
-    float _e373 = st;
-    sum_1 = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
-    w = (mid + (half_ * -0.5255324));
-    float _e381 = w;
-    const float2 _e382 = airlight_phi_8_sin_cos(_e381);
-    sc_1 = _e382;
-    float _e383 = w;
-    const float2 _e386 = airlight_phi_8_sin_cos((0.5 * _e383));
-    sb_1 = _e386;
-    float _e390 = sb_1.y;
-    float _e393 = sb_1.y;
-    float _e399 = sb_1.x;
-    float _e402 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e399) * _e402)) : (gp - (((4.0 * g_5) * _e390) * _e393)));
-    float _e409 = sb_1.x;
-    float _e412 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e409) / max(_e412, 1e-30))), 1.0);
-    float3 _e419 = sum_1;
-    float _e421 = sc_1.x;
-    float _e424 = sc_1.y;
-    float _e435 = d_3;
-    float _e436 = d_3;
-    float _e441 = st;
-    sum_1 = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_4) * _e441))));
-    w = (mid + (half_ * -0.7966665));
-    float _e449 = w;
-    const float2 _e450 = airlight_phi_8_sin_cos(_e449);
-    sc_1 = _e450;
-    float _e451 = w;
-    const float2 _e454 = airlight_phi_8_sin_cos((0.5 * _e451));
-    sb_1 = _e454;
-    float _e458 = sb_1.y;
-    float _e461 = sb_1.y;
-    float _e467 = sb_1.x;
-    float _e470 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e467) * _e470)) : (gp - (((4.0 * g_5) * _e458) * _e461)));
-    float _e477 = sb_1.x;
-    float _e480 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e477) / max(_e480, 1e-30))), 1.0);
-    float3 _e487 = sum_1;
-    float _e489 = sc_1.x;
-    float _e492 = sc_1.y;
-    float _e503 = d_3;
-    float _e504 = d_3;
-    float _e509 = st;
-    sum_1 = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_4) * _e509))));
-    w = (mid + (half_ * -0.96028984));
-    float _e517 = w;
-    const float2 _e518 = airlight_phi_8_sin_cos(_e517);
-    sc_1 = _e518;
-    float _e519 = w;
-    const float2 _e522 = airlight_phi_8_sin_cos((0.5 * _e519));
-    sb_1 = _e522;
-    float _e526 = sb_1.y;
-    float _e529 = sb_1.y;
-    float _e535 = sb_1.x;
-    float _e538 = sb_1.x;
-    d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e535) * _e538)) : (gp - (((4.0 * g_5) * _e526) * _e529)));
-    float _e545 = sb_1.x;
-    float _e548 = sb_1.y;
-    st = max((x0_4 + ((h_4 * _e545) / max(_e548, 1e-30))), 1.0);
-    float3 _e555 = sum_1;
-    float _e557 = sc_1.x;
-    float _e560 = sc_1.y;
-    float _e571 = d_3;
-    float _e572 = d_3;
-    float _e577 = st;
-    sum_1 = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_4) * _e577))));
-    float3 _e593 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * half_) / max(h_4, 1e-30)) * _e593), (3.4028235e38).xxx);
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e550 = i;
+            i = asint(asuint(_e550) + asuint(int(1)));
+        }
+        loop_init = false;
+        int _e70 = i;
+        if ((_e70 < int(5))) {
+        } else {
+            break;
+        }
+        {
+            int _e74 = i;
+            float _e76 = pieces[min(uint(_e74), 5u)];
+            float a_7 = (u_2 + ((v_in - u_2) * _e76));
+            int _e80 = i;
+            float _e84 = pieces[min(uint(asint(asuint(_e80) + asuint(int(1)))), 5u)];
+            float b_3 = (u_2 + ((v_in - u_2) * _e84));
+            float half_ = (0.5 * (b_3 - a_7));
+            float mid = (0.5 * (b_3 + a_7));
+            w_1 = (mid + (half_ * 0.96028984));
+            float _e96 = w_1;
+            const float2 _e99 = airlight_phi_8_sin_cos((0.5 * _e96));
+            sb_1 = _e99;
+            float _e103 = sb_1.y;
+            float _e106 = sb_1.y;
+            float _e112 = sb_1.x;
+            float _e115 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e112) * _e115)) : (gp - (((4.0 * g_5) * _e103) * _e106)));
+            float _e122 = sb_1.x;
+            float _e125 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e122) / max(_e125, 1e-30))), 1.0);
+            float3 _e132 = sum_1;
+            float _e135 = w_1;
+            const float _e136 = airlight_phi_8_spot_weight_at(_e135, ca_1, k_2, co_2, ci_1);
+            float _e139 = d_3;
+            float _e140 = d_3;
+            float _e145 = st;
+            sum_1 = (_e132 + ((((half_ * 0.101228535) * (_e136 - _e27)) / (_e139 * sqrt(_e140))) * exp((-(tau_4) * _e145))));
+            w_1 = (mid + (half_ * 0.7966665));
+            float _e153 = w_1;
+            const float2 _e156 = airlight_phi_8_sin_cos((0.5 * _e153));
+            sb_1 = _e156;
+            float _e160 = sb_1.y;
+            float _e163 = sb_1.y;
+            float _e169 = sb_1.x;
+            float _e172 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e169) * _e172)) : (gp - (((4.0 * g_5) * _e160) * _e163)));
+            float _e179 = sb_1.x;
+            float _e182 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e179) / max(_e182, 1e-30))), 1.0);
+            float3 _e189 = sum_1;
+            float _e192 = w_1;
+            const float _e193 = airlight_phi_8_spot_weight_at(_e192, ca_1, k_2, co_2, ci_1);
+            float _e196 = d_3;
+            float _e197 = d_3;
+            float _e202 = st;
+            sum_1 = (_e189 + ((((half_ * 0.22238104) * (_e193 - _e27)) / (_e196 * sqrt(_e197))) * exp((-(tau_4) * _e202))));
+            w_1 = (mid + (half_ * 0.5255324));
+            float _e210 = w_1;
+            const float2 _e213 = airlight_phi_8_sin_cos((0.5 * _e210));
+            sb_1 = _e213;
+            float _e217 = sb_1.y;
+            float _e220 = sb_1.y;
+            float _e226 = sb_1.x;
+            float _e229 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e226) * _e229)) : (gp - (((4.0 * g_5) * _e217) * _e220)));
+            float _e236 = sb_1.x;
+            float _e239 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e236) / max(_e239, 1e-30))), 1.0);
+            float3 _e246 = sum_1;
+            float _e249 = w_1;
+            const float _e250 = airlight_phi_8_spot_weight_at(_e249, ca_1, k_2, co_2, ci_1);
+            float _e253 = d_3;
+            float _e254 = d_3;
+            float _e259 = st;
+            sum_1 = (_e246 + ((((half_ * 0.31370664) * (_e250 - _e27)) / (_e253 * sqrt(_e254))) * exp((-(tau_4) * _e259))));
+            w_1 = (mid + (half_ * 0.18343464));
+            float _e267 = w_1;
+            const float2 _e270 = airlight_phi_8_sin_cos((0.5 * _e267));
+            sb_1 = _e270;
+            float _e274 = sb_1.y;
+            float _e277 = sb_1.y;
+            float _e283 = sb_1.x;
+            float _e286 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e283) * _e286)) : (gp - (((4.0 * g_5) * _e274) * _e277)));
+            float _e293 = sb_1.x;
+            float _e296 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e293) / max(_e296, 1e-30))), 1.0);
+            float3 _e303 = sum_1;
+            float _e306 = w_1;
+            const float _e307 = airlight_phi_8_spot_weight_at(_e306, ca_1, k_2, co_2, ci_1);
+            float _e310 = d_3;
+            float _e311 = d_3;
+            float _e316 = st;
+            sum_1 = (_e303 + ((((half_ * 0.36268377) * (_e307 - _e27)) / (_e310 * sqrt(_e311))) * exp((-(tau_4) * _e316))));
+            w_1 = (mid + (half_ * -0.18343464));
+            float _e324 = w_1;
+            const float2 _e327 = airlight_phi_8_sin_cos((0.5 * _e324));
+            sb_1 = _e327;
+            float _e331 = sb_1.y;
+            float _e334 = sb_1.y;
+            float _e340 = sb_1.x;
+            float _e343 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e340) * _e343)) : (gp - (((4.0 * g_5) * _e331) * _e334)));
+            float _e350 = sb_1.x;
+            float _e353 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e350) / max(_e353, 1e-30))), 1.0);
+            float3 _e360 = sum_1;
+            float _e363 = w_1;
+            const float _e364 = airlight_phi_8_spot_weight_at(_e363, ca_1, k_2, co_2, ci_1);
+            float _e367 = d_3;
+            float _e368 = d_3;
+            float _e373 = st;
+            sum_1 = (_e360 + ((((half_ * 0.36268377) * (_e364 - _e27)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
+            w_1 = (mid + (half_ * -0.5255324));
+            float _e381 = w_1;
+            const float2 _e384 = airlight_phi_8_sin_cos((0.5 * _e381));
+            sb_1 = _e384;
+            float _e388 = sb_1.y;
+            float _e391 = sb_1.y;
+            float _e397 = sb_1.x;
+            float _e400 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e397) * _e400)) : (gp - (((4.0 * g_5) * _e388) * _e391)));
+            float _e407 = sb_1.x;
+            float _e410 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e407) / max(_e410, 1e-30))), 1.0);
+            float3 _e417 = sum_1;
+            float _e420 = w_1;
+            const float _e421 = airlight_phi_8_spot_weight_at(_e420, ca_1, k_2, co_2, ci_1);
+            float _e424 = d_3;
+            float _e425 = d_3;
+            float _e430 = st;
+            sum_1 = (_e417 + ((((half_ * 0.31370664) * (_e421 - _e27)) / (_e424 * sqrt(_e425))) * exp((-(tau_4) * _e430))));
+            w_1 = (mid + (half_ * -0.7966665));
+            float _e438 = w_1;
+            const float2 _e441 = airlight_phi_8_sin_cos((0.5 * _e438));
+            sb_1 = _e441;
+            float _e445 = sb_1.y;
+            float _e448 = sb_1.y;
+            float _e454 = sb_1.x;
+            float _e457 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e454) * _e457)) : (gp - (((4.0 * g_5) * _e445) * _e448)));
+            float _e464 = sb_1.x;
+            float _e467 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e464) / max(_e467, 1e-30))), 1.0);
+            float3 _e474 = sum_1;
+            float _e477 = w_1;
+            const float _e478 = airlight_phi_8_spot_weight_at(_e477, ca_1, k_2, co_2, ci_1);
+            float _e481 = d_3;
+            float _e482 = d_3;
+            float _e487 = st;
+            sum_1 = (_e474 + ((((half_ * 0.22238104) * (_e478 - _e27)) / (_e481 * sqrt(_e482))) * exp((-(tau_4) * _e487))));
+            w_1 = (mid + (half_ * -0.96028984));
+            float _e495 = w_1;
+            const float2 _e498 = airlight_phi_8_sin_cos((0.5 * _e495));
+            sb_1 = _e498;
+            float _e502 = sb_1.y;
+            float _e505 = sb_1.y;
+            float _e511 = sb_1.x;
+            float _e514 = sb_1.x;
+            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e511) * _e514)) : (gp - (((4.0 * g_5) * _e502) * _e505)));
+            float _e521 = sb_1.x;
+            float _e524 = sb_1.y;
+            st = max((x0_4 + ((h_4 * _e521) / max(_e524, 1e-30))), 1.0);
+            float3 _e531 = sum_1;
+            float _e534 = w_1;
+            const float _e535 = airlight_phi_8_spot_weight_at(_e534, ca_1, k_2, co_2, ci_1);
+            float _e538 = d_3;
+            float _e539 = d_3;
+            float _e544 = st;
+            sum_1 = (_e531 + ((((half_ * 0.101228535) * (_e535 - _e27)) / (_e538 * sqrt(_e539))) * exp((-(tau_4) * _e544))));
+        }
+    }
+    float3 _e552 = exact;
+    float3 _e564 = sum_1;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_4, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float airlight_phi_8_spot_weight(float c_2, float co_2, float ci_1)
+float airlight_phi_8_spot_weight(float c_2, float co_3, float ci_2)
 {
-    if ((ci_1 > co_2)) {
-        return clamp(((c_2 - co_2) / (ci_1 - co_2)), 0.0, 1.0);
+    if ((ci_2 > co_3)) {
+        return clamp(((c_2 - co_3) / (ci_2 - co_3)), 0.0, 1.0);
     }
-    return ((c_2 >= co_2) ? 1.0 : 0.0);
+    return ((c_2 >= co_3) ? 1.0 : 0.0);
 }
 
 float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
 {
-    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_16 = (bool)0;
-    float scale = 1.0;
     bool local_17 = (bool)0;
+    float scale = 1.0;
     bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
     bool core = false;
-    float gam_1 = 0.0;
+    float gam_2 = 0.0;
     float wa_1 = 0.0;
     float wb_1 = 0.0;
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     float4 pen = (0.0).xxxx;
-    float ca_1 = 0.0;
-    bool local_19 = (bool)0;
+    float ca_2 = 0.0;
+    float om_e_1 = airlight_phi_8_PI;
     bool local_20 = (bool)0;
+    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_phi_8_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_3 = clamp(cos_outer, 0.0, 1.0);
+    float co_4 = clamp(cos_outer, 0.0, 1.0);
     const float _e17 = airlight_phi_8_max_abs(dir_2);
     const float _e18 = airlight_phi_8_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_15 = (_e18 <= airlight_phi_8_HUGE);
+            local_16 = (_e18 <= airlight_phi_8_HUGE);
         } else {
-            local_15 = false;
+            local_16 = false;
         }
-        bool _e29 = local_15;
-        local_14 = !(_e29);
+        bool _e29 = local_16;
+        local_15 = !(_e29);
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e32 = local_14;
+    bool _e32 = local_15;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -1108,19 +1141,19 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_16 = (_e17 <= airlight_phi_8_HUGE);
+        local_17 = (_e17 <= airlight_phi_8_HUGE);
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e53 = local_16;
+    bool _e53 = local_17;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_3 = dot(_e57, _e58);
+    float k_4 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
+        const float _e65 = airlight_phi_8_spot_weight(k_4, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
         const float _e73 = airlight_phi_8_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_phi_8_HUGE);
@@ -1131,11 +1164,11 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_17 = (_e11.z == 0.0);
+        local_18 = (_e11.z == 0.0);
     } else {
-        local_17 = false;
+        local_18 = false;
     }
-    bool _e96 = local_17;
+    bool _e96 = local_18;
     if (_e96) {
         return (0.0).xxx;
     }
@@ -1143,129 +1176,134 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float h_6 = _e11.y;
     float x0_6 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_18 = ((surface_1 / d_7) < airlight_phi_8_RHO_OPEN);
+        local_19 = ((surface_1 / d_7) < airlight_phi_8_RHO_OPEN);
     } else {
-        local_18 = false;
+        local_19 = false;
     }
-    bool has_end = local_18;
-    float rho_6 = (has_end ? (surface_1 / d_7) : -1.0);
+    bool has_end = local_19;
+    float rho_7 = (has_end ? (surface_1 / d_7) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     if (!(point_)) {
-        local_19 = (h_6 <= 0.0);
+        local_20 = (h_6 <= 0.0);
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e147 = local_19;
-    if (_e147) {
+    bool _e149 = local_20;
+    if (_e149) {
         if (!(point_)) {
-            const float _e150 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
-            const float _e151 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
+            const float _e152 = airlight_phi_8_spot_weight(-(k_4), co_4, cos_inner);
+            const float _e153 = airlight_phi_8_spot_weight(k_4, co_4, cos_inner);
             if (has_end) {
-                local_20 = (rho_6 < 1.0);
+                local_21 = (rho_7 < 1.0);
             } else {
-                local_20 = false;
+                local_21 = false;
             }
-            bool _e158 = local_20;
-            scale = ((x0_6 < 0.0) ? _e151 : (_e158 ? _e150 : max(_e150, _e151)));
+            bool _e160 = local_21;
+            scale = ((x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
         }
         core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e165 = airlight_phi_8_max_abs(l);
-        float3 _e168 = n;
-        float3 cr = cross((l / (_e165).xxx), _e168);
+        const float _e167 = airlight_phi_8_max_abs(l);
         float3 _e170 = n;
-        float3 _e171 = ax;
-        ca_1 = (dot(cr, cross(_e170, _e171)) / max(length(cr), 1e-30));
-        float _e178 = ca_1;
-        float _e179 = ca_1;
-        float r_6 = sqrt(((_e178 * _e179) + (k_3 * k_3)));
-        float _e184 = ca_1;
-        const float _e185 = airlight_phi_8_arctan2_(k_3, _e184);
-        const float _e186 = airlight_phi_8_arctan2_(h_6, x0_6);
-        gam_1 = _e186;
-        const float _e189 = airlight_phi_8_arctan2_(h_6, (x0_6 - rho_6));
-        float om_e = (has_end ? _e189 : airlight_phi_8_PI);
-        if ((co_3 < r_6)) {
-            const float _e192 = airlight_phi_8_spot_asin(co_3, r_6);
-            float _e193 = gam_1;
-            float lo = max(_e193, (_e185 + _e192));
-            float hi_1 = min(om_e, ((_e185 + airlight_phi_8_PI) - _e192));
+        float3 cr = cross((l / (_e167).xxx), _e170);
+        float3 _e172 = n;
+        float3 _e173 = ax;
+        ca_2 = (dot(cr, cross(_e172, _e173)) / max(length(cr), 1e-30));
+        float _e180 = ca_2;
+        float _e181 = ca_2;
+        float r_6 = sqrt(((_e180 * _e181) + (k_4 * k_4)));
+        float _e186 = ca_2;
+        const float _e187 = airlight_phi_8_arctan2_(k_4, _e186);
+        const float _e188 = airlight_phi_8_arctan2_(h_6, x0_6);
+        gam_2 = _e188;
+        const float _e191 = airlight_phi_8_arctan2_(h_6, (x0_6 - rho_7));
+        om_e_1 = (has_end ? _e191 : airlight_phi_8_PI);
+        if ((co_4 < r_6)) {
+            const float _e194 = airlight_phi_8_spot_asin(co_4, r_6);
+            float _e195 = gam_2;
+            float lo = max(_e195, (_e187 + _e194));
+            float _e198 = om_e_1;
+            float hi_1 = min(_e198, ((_e187 + airlight_phi_8_PI) - _e194));
             wa_1 = lo;
             wb_1 = hi_1;
             if ((lo < hi_1)) {
-                if ((cos_inner <= co_3)) {
+                if ((cos_inner <= co_4)) {
                     core = true;
                 } else {
                     if ((cos_inner < r_6)) {
-                        const float _e204 = airlight_phi_8_spot_asin(cos_inner, r_6);
-                        float _e205 = gam_1;
-                        wa_1 = max(_e205, (_e185 + _e204));
-                        wb_1 = min(om_e, ((_e185 + airlight_phi_8_PI) - _e204));
-                        float _e212 = wa_1;
-                        float _e213 = wb_1;
-                        core = (_e212 < _e213);
-                        pen = float4(lo, min(hi_1, (_e185 + _e204)), max(lo, ((_e185 + airlight_phi_8_PI) - _e204)), hi_1);
+                        const float _e207 = airlight_phi_8_spot_asin(cos_inner, r_6);
+                        float _e208 = gam_2;
+                        wa_1 = max(_e208, (_e187 + _e207));
+                        float _e211 = om_e_1;
+                        wb_1 = min(_e211, ((_e187 + airlight_phi_8_PI) - _e207));
+                        float _e216 = wa_1;
+                        float _e217 = wb_1;
+                        core = (_e216 < _e217);
+                        pen = float4(lo, min(hi_1, (_e187 + _e207)), max(lo, ((_e187 + airlight_phi_8_PI) - _e207)), hi_1);
                     } else {
                         pen = float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e225 = wa_1;
-            float _e226 = gam_1;
-            cut_a_1 = (_e225 > _e226);
-            float _e228 = wb_1;
-            cut_b_1 = (_e228 < om_e);
+            float _e229 = wa_1;
+            float _e230 = gam_2;
+            cut_a_1 = (_e229 > _e230);
+            float _e232 = wb_1;
+            float _e233 = om_e_1;
+            cut_b_1 = (_e232 < _e233);
         }
     }
-    bool _e233 = core;
-    if (_e233) {
-        float _e234 = gam_1;
-        float _e235 = wa_1;
-        float _e236 = wb_1;
-        bool _e237 = cut_a_1;
-        bool _e238 = cut_b_1;
-        const float3 _e239 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_6, _e234, _e235, _e236, _e237, _e238, gg);
-        a_5 = _e239;
+    bool _e238 = core;
+    if (_e238) {
+        float _e239 = gam_2;
+        float _e240 = wa_1;
+        float _e241 = wb_1;
+        bool _e242 = cut_a_1;
+        bool _e243 = cut_b_1;
+        const float3 _e244 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_7, _e239, _e240, _e241, _e242, _e243, gg);
+        a_5 = _e244;
     }
-    uint2 loop_bound = uint2(4294967295u, 4294967295u);
-    bool loop_init = true;
+    uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
+    bool loop_init_1 = true;
     while(true) {
-        if (all(loop_bound == uint2(0u, 0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e263 = j_1;
-            j_1 = asint(asuint(_e263) + asuint(int(1)));
+        if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            int _e270 = j_1;
+            j_1 = asint(asuint(_e270) + asuint(int(1)));
         }
-        loop_init = false;
-        int _e242 = j_1;
-        if ((_e242 < int(2))) {
+        loop_init_1 = false;
+        int _e247 = j_1;
+        if ((_e247 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e245 = pen;
-            float4 _e247 = pen;
-            int _e249 = j_1;
-            float2 piece = ((_e249 == int(1)) ? _e247.zw : _e245.xy);
+            float4 _e250 = pen;
+            float4 _e252 = pen;
+            int _e254 = j_1;
+            float2 piece = ((_e254 == int(1)) ? _e252.zw : _e250.xy);
             if ((piece.y > piece.x)) {
-                float3 _e256 = a_5;
-                float _e259 = ca_1;
-                const float3 _e260 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, piece.x, piece.y, _e259, k_3, co_3, cos_inner, gg);
-                a_5 = (_e256 + _e260);
+                float3 _e261 = a_5;
+                float _e262 = gam_2;
+                float _e263 = om_e_1;
+                float _e266 = ca_2;
+                const float3 _e267 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_4, co_4, cos_inner, gg);
+                a_5 = (_e261 + _e267);
             }
         }
     }
-    float _e266 = scale;
-    float _e269 = a_5.x;
-    const float _e270 = airlight_phi_8_scaled(sigma_s_2.x, (intensity_2 * _e266), d_7, _e269);
-    float _e272 = scale;
-    float _e275 = a_5.y;
-    const float _e276 = airlight_phi_8_scaled(sigma_s_2.y, (intensity_2 * _e272), d_7, _e275);
-    float _e278 = scale;
-    float _e281 = a_5.z;
-    const float _e282 = airlight_phi_8_scaled(sigma_s_2.z, (intensity_2 * _e278), d_7, _e281);
-    return float3(_e270, _e276, _e282);
+    float _e273 = scale;
+    float _e276 = a_5.x;
+    const float _e277 = airlight_phi_8_scaled(sigma_s_2.x, (intensity_2 * _e273), d_7, _e276);
+    float _e279 = scale;
+    float _e282 = a_5.y;
+    const float _e283 = airlight_phi_8_scaled(sigma_s_2.y, (intensity_2 * _e279), d_7, _e282);
+    float _e285 = scale;
+    float _e288 = a_5.z;
+    const float _e289 = airlight_phi_8_scaled(sigma_s_2.z, (intensity_2 * _e285), d_7, _e288);
+    return float3(_e277, _e283, _e289);
 }
 

@@ -162,11 +162,11 @@ float airlight_sun2005_128_scaled(float sigma_s, float intensity, float d_1, flo
         return airlight_sun2005_128_HUGE;
     }
     _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
+    _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i_1.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_sun2005_128_HUGE;
     }
@@ -270,17 +270,17 @@ float airlight_sun2005_128_lookup(float u, float v_2)
 {
     float x_5 = clamp((u * airlight_sun2005_128_U_SCALE), 0.0, 127.0);
     float y_3 = clamp((v_2 * airlight_sun2005_128_V_SCALE), 0.0, 127.0);
-    int i_1 = min(naga_f2i32(x_5), int(126));
+    int i_2 = min(naga_f2i32(x_5), int(126));
     int j_2 = min(naga_f2i32(y_3), int(126));
-    float tx = (x_5 - float(i_1));
+    float tx = (x_5 - float(i_2));
     float ty = (y_3 - float(j_2));
-    float4 _e24 = airlight_sun2005_128_F.Load(int3(int2(i_1, j_2), int(0)));
+    float4 _e24 = airlight_sun2005_128_F.Load(int3(int2(i_2, j_2), int(0)));
     float a_7 = _e24.x;
-    float4 _e31 = airlight_sun2005_128_F.Load(int3(int2(asint(asuint(i_1) + asuint(int(1))), j_2), int(0)));
+    float4 _e31 = airlight_sun2005_128_F.Load(int3(int2(asint(asuint(i_2) + asuint(int(1))), j_2), int(0)));
     float b_3 = _e31.x;
-    float4 _e38 = airlight_sun2005_128_F.Load(int3(int2(i_1, asint(asuint(j_2) + asuint(int(1)))), int(0)));
+    float4 _e38 = airlight_sun2005_128_F.Load(int3(int2(i_2, asint(asuint(j_2) + asuint(int(1)))), int(0)));
     float c_5 = _e38.x;
-    float4 _e47 = airlight_sun2005_128_F.Load(int3(int2(asint(asuint(i_1) + asuint(int(1))), asint(asuint(j_2) + asuint(int(1)))), int(0)));
+    float4 _e47 = airlight_sun2005_128_F.Load(int3(int2(asint(asuint(i_2) + asuint(int(1))), asint(asuint(j_2) + asuint(int(1)))), int(0)));
     float d_3 = _e47.x;
     float lo = (a_7 + (tx * (b_3 - a_7)));
     float hi_1 = (c_5 + (tx * (d_3 - c_5)));
@@ -359,9 +359,9 @@ float airlight_sun2005_128_radiance(float3 origin_1, float3 dir_1, float surface
     if (_e23) {
         return 0.0;
     }
-    float rho_5 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    float rho_6 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
     const float _e33 = airlight_sun2005_128_arctan2_(_e7.y, _e7.z);
-    const float _e39 = airlight_sun2005_128_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, _e33, rho_5);
+    const float _e39 = airlight_sun2005_128_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, _e33, rho_6);
     const float _e40 = airlight_sun2005_128_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
     return _e40;
 }
@@ -434,250 +434,283 @@ float3 airlight_sun2005_128_spot_core(float3 tau_3, float h_4, float x0_3, float
     return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
 }
 
-float3 airlight_sun2005_128_spot_edge(float3 tau_4, float h_5, float x0_4, float u_1, float v_in, float ca, float k_1, float co, float ci, float g_3)
+float airlight_sun2005_128_spot_weight_at(float w, float ca, float k_1, float co, float ci)
 {
+    const float2 _e5 = airlight_sun2005_128_sin_cos(w);
+    return clamp(((((ca * _e5.x) - (k_1 * _e5.y)) - co) / (ci - co)), 0.0, 1.0);
+}
+
+typedef float ret_Constructarray6_float_[6];
+ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
+    float ret[6] = { arg0, arg1, arg2, arg3, arg4, arg5 };
+    return ret;
+}
+
+float3 airlight_sun2005_128_spot_edge(float3 tau_4, float h_5, float x0_4, float rho_5, float gam_1, float om_e, float u_1, float v_in, float ca_1, float k_2, float co_1, float ci_1, float g_3)
+{
+    bool local_9 = (bool)0;
+    float3 exact = (0.0).xxx;
+    float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum = (0.0).xxx;
-    float w = (float)0;
-    float2 sc = (float2)0;
+    float w_1 = (float)0;
     float2 sb = (float2)0;
     float d_2 = (float)0;
     float st = (float)0;
+    int i = int(0);
 
     if (!((v_in > u_1))) {
         return (0.0).xxx;
     }
-    float half_ = (0.5 * (v_in - u_1));
-    float mid = (0.5 * (v_in + u_1));
+    if (!((g_3 < 0.0))) {
+        local_9 = (v_in > 3.0);
+    } else {
+        local_9 = true;
+    }
+    bool _e25 = local_9;
+    float e_1 = (_e25 ? v_in : u_1);
+    const float _e27 = airlight_sun2005_128_spot_weight_at(e_1, ca_1, k_2, co_1, ci_1);
+    if ((_e27 > 0.0)) {
+        const float3 _e35 = airlight_sun2005_128_spot_core(tau_4, h_5, x0_4, rho_5, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_3);
+        exact = _e35;
+        float3 _e36 = exact;
+        if (any((_e36 >= (3.4028235e38).xxx))) {
+            return (3.4028235e38).xxx;
+        }
+    }
     float gm = ((1.0 - g_3) * (1.0 - g_3));
     float gp = ((1.0 + g_3) * (1.0 + g_3));
-    w = (mid + (half_ * 0.96028984));
-    float _e41 = w;
-    const float2 _e42 = airlight_sun2005_128_sin_cos(_e41);
-    sc = _e42;
-    float _e43 = w;
-    const float2 _e46 = airlight_sun2005_128_sin_cos((0.5 * _e43));
-    sb = _e46;
-    float _e50 = sb.y;
-    float _e53 = sb.y;
-    float _e59 = sb.x;
-    float _e62 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e59) * _e62)) : (gp - (((4.0 * g_3) * _e50) * _e53)));
-    float _e69 = sb.x;
-    float _e72 = sb.y;
-    st = max((x0_4 + ((h_5 * _e69) / max(_e72, 1e-30))), 1.0);
-    float3 _e79 = sum;
-    float _e81 = sc.x;
-    float _e84 = sc.y;
-    float _e95 = d_2;
-    float _e96 = d_2;
-    float _e101 = st;
-    sum = (_e79 + (((0.101228535 * clamp(((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co)), 0.0, 1.0)) / (_e95 * sqrt(_e96))) * exp((-(tau_4) * _e101))));
-    w = (mid + (half_ * 0.7966665));
-    float _e109 = w;
-    const float2 _e110 = airlight_sun2005_128_sin_cos(_e109);
-    sc = _e110;
-    float _e111 = w;
-    const float2 _e114 = airlight_sun2005_128_sin_cos((0.5 * _e111));
-    sb = _e114;
-    float _e118 = sb.y;
-    float _e121 = sb.y;
-    float _e127 = sb.x;
-    float _e130 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e127) * _e130)) : (gp - (((4.0 * g_3) * _e118) * _e121)));
-    float _e137 = sb.x;
-    float _e140 = sb.y;
-    st = max((x0_4 + ((h_5 * _e137) / max(_e140, 1e-30))), 1.0);
-    float3 _e147 = sum;
-    float _e149 = sc.x;
-    float _e152 = sc.y;
-    float _e163 = d_2;
-    float _e164 = d_2;
-    float _e169 = st;
-    sum = (_e147 + (((0.22238104 * clamp(((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co)), 0.0, 1.0)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
-    w = (mid + (half_ * 0.5255324));
-    float _e177 = w;
-    const float2 _e178 = airlight_sun2005_128_sin_cos(_e177);
-    sc = _e178;
-    float _e179 = w;
-    const float2 _e182 = airlight_sun2005_128_sin_cos((0.5 * _e179));
-    sb = _e182;
-    float _e186 = sb.y;
-    float _e189 = sb.y;
-    float _e195 = sb.x;
-    float _e198 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
-    float _e205 = sb.x;
-    float _e208 = sb.y;
-    st = max((x0_4 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
-    float3 _e215 = sum;
-    float _e217 = sc.x;
-    float _e220 = sc.y;
-    float _e231 = d_2;
-    float _e232 = d_2;
-    float _e237 = st;
-    sum = (_e215 + (((0.31370664 * clamp(((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co)), 0.0, 1.0)) / (_e231 * sqrt(_e232))) * exp((-(tau_4) * _e237))));
-    w = (mid + (half_ * 0.18343464));
-    float _e245 = w;
-    const float2 _e246 = airlight_sun2005_128_sin_cos(_e245);
-    sc = _e246;
-    float _e247 = w;
-    const float2 _e250 = airlight_sun2005_128_sin_cos((0.5 * _e247));
-    sb = _e250;
-    float _e254 = sb.y;
-    float _e257 = sb.y;
-    float _e263 = sb.x;
-    float _e266 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e263) * _e266)) : (gp - (((4.0 * g_3) * _e254) * _e257)));
-    float _e273 = sb.x;
-    float _e276 = sb.y;
-    st = max((x0_4 + ((h_5 * _e273) / max(_e276, 1e-30))), 1.0);
-    float3 _e283 = sum;
-    float _e285 = sc.x;
-    float _e288 = sc.y;
-    float _e299 = d_2;
-    float _e300 = d_2;
-    float _e305 = st;
-    sum = (_e283 + (((0.36268377 * clamp(((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co)), 0.0, 1.0)) / (_e299 * sqrt(_e300))) * exp((-(tau_4) * _e305))));
-    w = (mid + (half_ * -0.18343464));
-    float _e313 = w;
-    const float2 _e314 = airlight_sun2005_128_sin_cos(_e313);
-    sc = _e314;
-    float _e315 = w;
-    const float2 _e318 = airlight_sun2005_128_sin_cos((0.5 * _e315));
-    sb = _e318;
-    float _e322 = sb.y;
-    float _e325 = sb.y;
-    float _e331 = sb.x;
-    float _e334 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e331) * _e334)) : (gp - (((4.0 * g_3) * _e322) * _e325)));
-    float _e341 = sb.x;
-    float _e344 = sb.y;
-    st = max((x0_4 + ((h_5 * _e341) / max(_e344, 1e-30))), 1.0);
-    float3 _e351 = sum;
-    float _e353 = sc.x;
-    float _e356 = sc.y;
-    float _e367 = d_2;
-    float _e368 = d_2;
-    float _e373 = st;
-    sum = (_e351 + (((0.36268377 * clamp(((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co)), 0.0, 1.0)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
-    w = (mid + (half_ * -0.5255324));
-    float _e381 = w;
-    const float2 _e382 = airlight_sun2005_128_sin_cos(_e381);
-    sc = _e382;
-    float _e383 = w;
-    const float2 _e386 = airlight_sun2005_128_sin_cos((0.5 * _e383));
-    sb = _e386;
-    float _e390 = sb.y;
-    float _e393 = sb.y;
-    float _e399 = sb.x;
-    float _e402 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e399) * _e402)) : (gp - (((4.0 * g_3) * _e390) * _e393)));
-    float _e409 = sb.x;
-    float _e412 = sb.y;
-    st = max((x0_4 + ((h_5 * _e409) / max(_e412, 1e-30))), 1.0);
-    float3 _e419 = sum;
-    float _e421 = sc.x;
-    float _e424 = sc.y;
-    float _e435 = d_2;
-    float _e436 = d_2;
-    float _e441 = st;
-    sum = (_e419 + (((0.31370664 * clamp(((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co)), 0.0, 1.0)) / (_e435 * sqrt(_e436))) * exp((-(tau_4) * _e441))));
-    w = (mid + (half_ * -0.7966665));
-    float _e449 = w;
-    const float2 _e450 = airlight_sun2005_128_sin_cos(_e449);
-    sc = _e450;
-    float _e451 = w;
-    const float2 _e454 = airlight_sun2005_128_sin_cos((0.5 * _e451));
-    sb = _e454;
-    float _e458 = sb.y;
-    float _e461 = sb.y;
-    float _e467 = sb.x;
-    float _e470 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e467) * _e470)) : (gp - (((4.0 * g_3) * _e458) * _e461)));
-    float _e477 = sb.x;
-    float _e480 = sb.y;
-    st = max((x0_4 + ((h_5 * _e477) / max(_e480, 1e-30))), 1.0);
-    float3 _e487 = sum;
-    float _e489 = sc.x;
-    float _e492 = sc.y;
-    float _e503 = d_2;
-    float _e504 = d_2;
-    float _e509 = st;
-    sum = (_e487 + (((0.22238104 * clamp(((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co)), 0.0, 1.0)) / (_e503 * sqrt(_e504))) * exp((-(tau_4) * _e509))));
-    w = (mid + (half_ * -0.96028984));
-    float _e517 = w;
-    const float2 _e518 = airlight_sun2005_128_sin_cos(_e517);
-    sc = _e518;
-    float _e519 = w;
-    const float2 _e522 = airlight_sun2005_128_sin_cos((0.5 * _e519));
-    sb = _e522;
-    float _e526 = sb.y;
-    float _e529 = sb.y;
-    float _e535 = sb.x;
-    float _e538 = sb.x;
-    d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e535) * _e538)) : (gp - (((4.0 * g_3) * _e526) * _e529)));
-    float _e545 = sb.x;
-    float _e548 = sb.y;
-    st = max((x0_4 + ((h_5 * _e545) / max(_e548, 1e-30))), 1.0);
-    float3 _e555 = sum;
-    float _e557 = sc.x;
-    float _e560 = sc.y;
-    float _e571 = d_2;
-    float _e572 = d_2;
-    float _e577 = st;
-    sum = (_e555 + (((0.101228535 * clamp(((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co)), 0.0, 1.0)) / (_e571 * sqrt(_e572))) * exp((-(tau_4) * _e577))));
-    float3 _e593 = sum;
-    return min((((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * half_) / max(h_5, 1e-30)) * _e593), (3.4028235e38).xxx);
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e550 = i;
+            i = asint(asuint(_e550) + asuint(int(1)));
+        }
+        loop_init = false;
+        int _e70 = i;
+        if ((_e70 < int(5))) {
+        } else {
+            break;
+        }
+        {
+            int _e74 = i;
+            float _e76 = pieces[min(uint(_e74), 5u)];
+            float a_9 = (u_1 + ((v_in - u_1) * _e76));
+            int _e80 = i;
+            float _e84 = pieces[min(uint(asint(asuint(_e80) + asuint(int(1)))), 5u)];
+            float b_4 = (u_1 + ((v_in - u_1) * _e84));
+            float half_ = (0.5 * (b_4 - a_9));
+            float mid = (0.5 * (b_4 + a_9));
+            w_1 = (mid + (half_ * 0.96028984));
+            float _e96 = w_1;
+            const float2 _e99 = airlight_sun2005_128_sin_cos((0.5 * _e96));
+            sb = _e99;
+            float _e103 = sb.y;
+            float _e106 = sb.y;
+            float _e112 = sb.x;
+            float _e115 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e112) * _e115)) : (gp - (((4.0 * g_3) * _e103) * _e106)));
+            float _e122 = sb.x;
+            float _e125 = sb.y;
+            st = max((x0_4 + ((h_5 * _e122) / max(_e125, 1e-30))), 1.0);
+            float3 _e132 = sum;
+            float _e135 = w_1;
+            const float _e136 = airlight_sun2005_128_spot_weight_at(_e135, ca_1, k_2, co_1, ci_1);
+            float _e139 = d_2;
+            float _e140 = d_2;
+            float _e145 = st;
+            sum = (_e132 + ((((half_ * 0.101228535) * (_e136 - _e27)) / (_e139 * sqrt(_e140))) * exp((-(tau_4) * _e145))));
+            w_1 = (mid + (half_ * 0.7966665));
+            float _e153 = w_1;
+            const float2 _e156 = airlight_sun2005_128_sin_cos((0.5 * _e153));
+            sb = _e156;
+            float _e160 = sb.y;
+            float _e163 = sb.y;
+            float _e169 = sb.x;
+            float _e172 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e169) * _e172)) : (gp - (((4.0 * g_3) * _e160) * _e163)));
+            float _e179 = sb.x;
+            float _e182 = sb.y;
+            st = max((x0_4 + ((h_5 * _e179) / max(_e182, 1e-30))), 1.0);
+            float3 _e189 = sum;
+            float _e192 = w_1;
+            const float _e193 = airlight_sun2005_128_spot_weight_at(_e192, ca_1, k_2, co_1, ci_1);
+            float _e196 = d_2;
+            float _e197 = d_2;
+            float _e202 = st;
+            sum = (_e189 + ((((half_ * 0.22238104) * (_e193 - _e27)) / (_e196 * sqrt(_e197))) * exp((-(tau_4) * _e202))));
+            w_1 = (mid + (half_ * 0.5255324));
+            float _e210 = w_1;
+            const float2 _e213 = airlight_sun2005_128_sin_cos((0.5 * _e210));
+            sb = _e213;
+            float _e217 = sb.y;
+            float _e220 = sb.y;
+            float _e226 = sb.x;
+            float _e229 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e226) * _e229)) : (gp - (((4.0 * g_3) * _e217) * _e220)));
+            float _e236 = sb.x;
+            float _e239 = sb.y;
+            st = max((x0_4 + ((h_5 * _e236) / max(_e239, 1e-30))), 1.0);
+            float3 _e246 = sum;
+            float _e249 = w_1;
+            const float _e250 = airlight_sun2005_128_spot_weight_at(_e249, ca_1, k_2, co_1, ci_1);
+            float _e253 = d_2;
+            float _e254 = d_2;
+            float _e259 = st;
+            sum = (_e246 + ((((half_ * 0.31370664) * (_e250 - _e27)) / (_e253 * sqrt(_e254))) * exp((-(tau_4) * _e259))));
+            w_1 = (mid + (half_ * 0.18343464));
+            float _e267 = w_1;
+            const float2 _e270 = airlight_sun2005_128_sin_cos((0.5 * _e267));
+            sb = _e270;
+            float _e274 = sb.y;
+            float _e277 = sb.y;
+            float _e283 = sb.x;
+            float _e286 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e283) * _e286)) : (gp - (((4.0 * g_3) * _e274) * _e277)));
+            float _e293 = sb.x;
+            float _e296 = sb.y;
+            st = max((x0_4 + ((h_5 * _e293) / max(_e296, 1e-30))), 1.0);
+            float3 _e303 = sum;
+            float _e306 = w_1;
+            const float _e307 = airlight_sun2005_128_spot_weight_at(_e306, ca_1, k_2, co_1, ci_1);
+            float _e310 = d_2;
+            float _e311 = d_2;
+            float _e316 = st;
+            sum = (_e303 + ((((half_ * 0.36268377) * (_e307 - _e27)) / (_e310 * sqrt(_e311))) * exp((-(tau_4) * _e316))));
+            w_1 = (mid + (half_ * -0.18343464));
+            float _e324 = w_1;
+            const float2 _e327 = airlight_sun2005_128_sin_cos((0.5 * _e324));
+            sb = _e327;
+            float _e331 = sb.y;
+            float _e334 = sb.y;
+            float _e340 = sb.x;
+            float _e343 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e340) * _e343)) : (gp - (((4.0 * g_3) * _e331) * _e334)));
+            float _e350 = sb.x;
+            float _e353 = sb.y;
+            st = max((x0_4 + ((h_5 * _e350) / max(_e353, 1e-30))), 1.0);
+            float3 _e360 = sum;
+            float _e363 = w_1;
+            const float _e364 = airlight_sun2005_128_spot_weight_at(_e363, ca_1, k_2, co_1, ci_1);
+            float _e367 = d_2;
+            float _e368 = d_2;
+            float _e373 = st;
+            sum = (_e360 + ((((half_ * 0.36268377) * (_e364 - _e27)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
+            w_1 = (mid + (half_ * -0.5255324));
+            float _e381 = w_1;
+            const float2 _e384 = airlight_sun2005_128_sin_cos((0.5 * _e381));
+            sb = _e384;
+            float _e388 = sb.y;
+            float _e391 = sb.y;
+            float _e397 = sb.x;
+            float _e400 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e397) * _e400)) : (gp - (((4.0 * g_3) * _e388) * _e391)));
+            float _e407 = sb.x;
+            float _e410 = sb.y;
+            st = max((x0_4 + ((h_5 * _e407) / max(_e410, 1e-30))), 1.0);
+            float3 _e417 = sum;
+            float _e420 = w_1;
+            const float _e421 = airlight_sun2005_128_spot_weight_at(_e420, ca_1, k_2, co_1, ci_1);
+            float _e424 = d_2;
+            float _e425 = d_2;
+            float _e430 = st;
+            sum = (_e417 + ((((half_ * 0.31370664) * (_e421 - _e27)) / (_e424 * sqrt(_e425))) * exp((-(tau_4) * _e430))));
+            w_1 = (mid + (half_ * -0.7966665));
+            float _e438 = w_1;
+            const float2 _e441 = airlight_sun2005_128_sin_cos((0.5 * _e438));
+            sb = _e441;
+            float _e445 = sb.y;
+            float _e448 = sb.y;
+            float _e454 = sb.x;
+            float _e457 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e454) * _e457)) : (gp - (((4.0 * g_3) * _e445) * _e448)));
+            float _e464 = sb.x;
+            float _e467 = sb.y;
+            st = max((x0_4 + ((h_5 * _e464) / max(_e467, 1e-30))), 1.0);
+            float3 _e474 = sum;
+            float _e477 = w_1;
+            const float _e478 = airlight_sun2005_128_spot_weight_at(_e477, ca_1, k_2, co_1, ci_1);
+            float _e481 = d_2;
+            float _e482 = d_2;
+            float _e487 = st;
+            sum = (_e474 + ((((half_ * 0.22238104) * (_e478 - _e27)) / (_e481 * sqrt(_e482))) * exp((-(tau_4) * _e487))));
+            w_1 = (mid + (half_ * -0.96028984));
+            float _e495 = w_1;
+            const float2 _e498 = airlight_sun2005_128_sin_cos((0.5 * _e495));
+            sb = _e498;
+            float _e502 = sb.y;
+            float _e505 = sb.y;
+            float _e511 = sb.x;
+            float _e514 = sb.x;
+            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e511) * _e514)) : (gp - (((4.0 * g_3) * _e502) * _e505)));
+            float _e521 = sb.x;
+            float _e524 = sb.y;
+            st = max((x0_4 + ((h_5 * _e521) / max(_e524, 1e-30))), 1.0);
+            float3 _e531 = sum;
+            float _e534 = w_1;
+            const float _e535 = airlight_sun2005_128_spot_weight_at(_e534, ca_1, k_2, co_1, ci_1);
+            float _e538 = d_2;
+            float _e539 = d_2;
+            float _e544 = st;
+            sum = (_e531 + ((((half_ * 0.101228535) * (_e535 - _e27)) / (_e538 * sqrt(_e539))) * exp((-(tau_4) * _e544))));
+        }
+    }
+    float3 _e552 = exact;
+    float3 _e564 = sum;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float airlight_sun2005_128_spot_weight(float c_2, float co_1, float ci_1)
+float airlight_sun2005_128_spot_weight(float c_2, float co_2, float ci_2)
 {
-    if ((ci_1 > co_1)) {
-        return clamp(((c_2 - co_1) / (ci_1 - co_1)), 0.0, 1.0);
+    if ((ci_2 > co_2)) {
+        return clamp(((c_2 - co_2) / (ci_2 - co_2)), 0.0, 1.0);
     }
-    return ((c_2 >= co_1) ? 1.0 : 0.0);
+    return ((c_2 >= co_2) ? 1.0 : 0.0);
 }
 
 float3 airlight_sun2005_128_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
 {
-    bool local_9 = (bool)0;
     bool local_10 = (bool)0;
+    bool local_11 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_11 = (bool)0;
-    float scale = 1.0;
     bool local_12 = (bool)0;
+    float scale = 1.0;
     bool local_13 = (bool)0;
+    bool local_14 = (bool)0;
     bool core = false;
-    float gam_1 = 0.0;
+    float gam_2 = 0.0;
     float wa_1 = 0.0;
     float wb_1 = 0.0;
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     float4 pen = (0.0).xxxx;
-    float ca_1 = 0.0;
-    bool local_14 = (bool)0;
+    float ca_2 = 0.0;
+    float om_e_1 = airlight_sun2005_128_PI;
     bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e10 = airlight_sun2005_128_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_2 = clamp(cos_outer, 0.0, 1.0);
+    float co_3 = clamp(cos_outer, 0.0, 1.0);
     const float _e16 = airlight_sun2005_128_max_abs(dir_2);
     const float _e17 = airlight_sun2005_128_max_abs(axis);
     if (!(point_)) {
         if ((_e17 > 0.0)) {
-            local_10 = (_e17 <= airlight_sun2005_128_HUGE);
+            local_11 = (_e17 <= airlight_sun2005_128_HUGE);
         } else {
-            local_10 = false;
+            local_11 = false;
         }
-        bool _e28 = local_10;
-        local_9 = !(_e28);
+        bool _e28 = local_11;
+        local_10 = !(_e28);
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e31 = local_9;
+    bool _e31 = local_10;
     if (_e31) {
         return (0.0).xxx;
     }
@@ -687,19 +720,19 @@ float3 airlight_sun2005_128_spot(float3 origin_2, float3 dir_2, float surface_1,
         ax = normalize((axis / (_e17).xxx));
     }
     if ((_e16 > 0.0)) {
-        local_11 = (_e16 <= airlight_sun2005_128_HUGE);
+        local_12 = (_e16 <= airlight_sun2005_128_HUGE);
     } else {
-        local_11 = false;
+        local_12 = false;
     }
-    bool _e52 = local_11;
+    bool _e52 = local_12;
     if (_e52) {
         n = normalize((dir_2 / (_e16).xxx));
     }
     float3 _e56 = ax;
     float3 _e57 = n;
-    float k_2 = dot(_e56, _e57);
+    float k_3 = dot(_e56, _e57);
     if ((_e10.x <= 0.0)) {
-        const float _e64 = airlight_sun2005_128_spot_weight(k_2, co_2, cos_inner);
+        const float _e64 = airlight_sun2005_128_spot_weight(k_3, co_3, cos_inner);
         scale = (point_ ? 1.0 : _e64);
         float _e68 = scale;
         const float _e72 = airlight_sun2005_128_scaled(sigma_s_2.x, (intensity_2 * _e68), 1.0, airlight_sun2005_128_HUGE);
@@ -710,11 +743,11 @@ float3 airlight_sun2005_128_spot(float3 origin_2, float3 dir_2, float surface_1,
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
-        local_12 = (_e10.z == 0.0);
+        local_13 = (_e10.z == 0.0);
     } else {
-        local_12 = false;
+        local_13 = false;
     }
-    bool _e95 = local_12;
+    bool _e95 = local_13;
     if (_e95) {
         return (0.0).xxx;
     }
@@ -722,128 +755,133 @@ float3 airlight_sun2005_128_spot(float3 origin_2, float3 dir_2, float surface_1,
     float h_6 = _e10.y;
     float x0_6 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_13 = ((surface_1 / d_4) < airlight_sun2005_128_RHO_OPEN);
+        local_14 = ((surface_1 / d_4) < airlight_sun2005_128_RHO_OPEN);
     } else {
-        local_13 = false;
+        local_14 = false;
     }
-    bool has_end = local_13;
-    float rho_6 = (has_end ? (surface_1 / d_4) : -1.0);
+    bool has_end = local_14;
+    float rho_7 = (has_end ? (surface_1 / d_4) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
     if (!(point_)) {
-        local_14 = (h_6 <= 0.0);
+        local_15 = (h_6 <= 0.0);
     } else {
-        local_14 = true;
+        local_15 = true;
     }
-    bool _e144 = local_14;
-    if (_e144) {
+    bool _e146 = local_15;
+    if (_e146) {
         if (!(point_)) {
-            const float _e147 = airlight_sun2005_128_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e148 = airlight_sun2005_128_spot_weight(k_2, co_2, cos_inner);
+            const float _e149 = airlight_sun2005_128_spot_weight(-(k_3), co_3, cos_inner);
+            const float _e150 = airlight_sun2005_128_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_15 = (rho_6 < 1.0);
+                local_16 = (rho_7 < 1.0);
             } else {
-                local_15 = false;
+                local_16 = false;
             }
-            bool _e155 = local_15;
-            scale = ((x0_6 < 0.0) ? _e148 : (_e155 ? _e147 : max(_e147, _e148)));
+            bool _e157 = local_16;
+            scale = ((x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : max(_e149, _e150)));
         }
         core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e162 = airlight_sun2005_128_max_abs(l);
-        float3 _e165 = n;
-        float3 cr = cross((l / (_e162).xxx), _e165);
+        const float _e164 = airlight_sun2005_128_max_abs(l);
         float3 _e167 = n;
-        float3 _e168 = ax;
-        ca_1 = (dot(cr, cross(_e167, _e168)) / max(length(cr), 1e-30));
-        float _e175 = ca_1;
-        float _e176 = ca_1;
-        float r_4 = sqrt(((_e175 * _e176) + (k_2 * k_2)));
-        float _e181 = ca_1;
-        const float _e182 = airlight_sun2005_128_arctan2_(k_2, _e181);
-        const float _e183 = airlight_sun2005_128_arctan2_(h_6, x0_6);
-        gam_1 = _e183;
-        const float _e186 = airlight_sun2005_128_arctan2_(h_6, (x0_6 - rho_6));
-        float om_e = (has_end ? _e186 : airlight_sun2005_128_PI);
-        if ((co_2 < r_4)) {
-            const float _e189 = airlight_sun2005_128_spot_asin(co_2, r_4);
-            float _e190 = gam_1;
-            float lo_1 = max(_e190, (_e182 + _e189));
-            float hi_2 = min(om_e, ((_e182 + airlight_sun2005_128_PI) - _e189));
+        float3 cr = cross((l / (_e164).xxx), _e167);
+        float3 _e169 = n;
+        float3 _e170 = ax;
+        ca_2 = (dot(cr, cross(_e169, _e170)) / max(length(cr), 1e-30));
+        float _e177 = ca_2;
+        float _e178 = ca_2;
+        float r_4 = sqrt(((_e177 * _e178) + (k_3 * k_3)));
+        float _e183 = ca_2;
+        const float _e184 = airlight_sun2005_128_arctan2_(k_3, _e183);
+        const float _e185 = airlight_sun2005_128_arctan2_(h_6, x0_6);
+        gam_2 = _e185;
+        const float _e188 = airlight_sun2005_128_arctan2_(h_6, (x0_6 - rho_7));
+        om_e_1 = (has_end ? _e188 : airlight_sun2005_128_PI);
+        if ((co_3 < r_4)) {
+            const float _e191 = airlight_sun2005_128_spot_asin(co_3, r_4);
+            float _e192 = gam_2;
+            float lo_1 = max(_e192, (_e184 + _e191));
+            float _e195 = om_e_1;
+            float hi_2 = min(_e195, ((_e184 + airlight_sun2005_128_PI) - _e191));
             wa_1 = lo_1;
             wb_1 = hi_2;
             if ((lo_1 < hi_2)) {
-                if ((cos_inner <= co_2)) {
+                if ((cos_inner <= co_3)) {
                     core = true;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e201 = airlight_sun2005_128_spot_asin(cos_inner, r_4);
-                        float _e202 = gam_1;
-                        wa_1 = max(_e202, (_e182 + _e201));
-                        wb_1 = min(om_e, ((_e182 + airlight_sun2005_128_PI) - _e201));
-                        float _e209 = wa_1;
-                        float _e210 = wb_1;
-                        core = (_e209 < _e210);
-                        pen = float4(lo_1, min(hi_2, (_e182 + _e201)), max(lo_1, ((_e182 + airlight_sun2005_128_PI) - _e201)), hi_2);
+                        const float _e204 = airlight_sun2005_128_spot_asin(cos_inner, r_4);
+                        float _e205 = gam_2;
+                        wa_1 = max(_e205, (_e184 + _e204));
+                        float _e208 = om_e_1;
+                        wb_1 = min(_e208, ((_e184 + airlight_sun2005_128_PI) - _e204));
+                        float _e213 = wa_1;
+                        float _e214 = wb_1;
+                        core = (_e213 < _e214);
+                        pen = float4(lo_1, min(hi_2, (_e184 + _e204)), max(lo_1, ((_e184 + airlight_sun2005_128_PI) - _e204)), hi_2);
                     } else {
                         pen = float4(lo_1, hi_2, 0.0, 0.0);
                     }
                 }
             }
-            float _e222 = wa_1;
-            float _e223 = gam_1;
-            cut_a_1 = (_e222 > _e223);
-            float _e225 = wb_1;
-            cut_b_1 = (_e225 < om_e);
+            float _e226 = wa_1;
+            float _e227 = gam_2;
+            cut_a_1 = (_e226 > _e227);
+            float _e229 = wb_1;
+            float _e230 = om_e_1;
+            cut_b_1 = (_e229 < _e230);
         }
     }
-    bool _e230 = core;
-    if (_e230) {
-        float _e231 = gam_1;
-        float _e232 = wa_1;
-        float _e233 = wb_1;
-        bool _e234 = cut_a_1;
-        bool _e235 = cut_b_1;
-        const float3 _e236 = airlight_sun2005_128_spot_core(tau_6, h_6, x0_6, rho_6, _e231, _e232, _e233, _e234, _e235, 0.0);
-        a_5 = _e236;
+    bool _e235 = core;
+    if (_e235) {
+        float _e236 = gam_2;
+        float _e237 = wa_1;
+        float _e238 = wb_1;
+        bool _e239 = cut_a_1;
+        bool _e240 = cut_b_1;
+        const float3 _e241 = airlight_sun2005_128_spot_core(tau_6, h_6, x0_6, rho_7, _e236, _e237, _e238, _e239, _e240, 0.0);
+        a_5 = _e241;
     }
-    uint2 loop_bound = uint2(4294967295u, 4294967295u);
-    bool loop_init = true;
+    uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
+    bool loop_init_1 = true;
     while(true) {
-        if (all(loop_bound == uint2(0u, 0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e260 = j_1;
-            j_1 = asint(asuint(_e260) + asuint(int(1)));
+        if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            int _e267 = j_1;
+            j_1 = asint(asuint(_e267) + asuint(int(1)));
         }
-        loop_init = false;
-        int _e239 = j_1;
-        if ((_e239 < int(2))) {
+        loop_init_1 = false;
+        int _e244 = j_1;
+        if ((_e244 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e242 = pen;
-            float4 _e244 = pen;
-            int _e246 = j_1;
-            float2 piece = ((_e246 == int(1)) ? _e244.zw : _e242.xy);
+            float4 _e247 = pen;
+            float4 _e249 = pen;
+            int _e251 = j_1;
+            float2 piece = ((_e251 == int(1)) ? _e249.zw : _e247.xy);
             if ((piece.y > piece.x)) {
-                float3 _e253 = a_5;
-                float _e256 = ca_1;
-                const float3 _e257 = airlight_sun2005_128_spot_edge(tau_6, h_6, x0_6, piece.x, piece.y, _e256, k_2, co_2, cos_inner, 0.0);
-                a_5 = (_e253 + _e257);
+                float3 _e258 = a_5;
+                float _e259 = gam_2;
+                float _e260 = om_e_1;
+                float _e263 = ca_2;
+                const float3 _e264 = airlight_sun2005_128_spot_edge(tau_6, h_6, x0_6, rho_7, _e259, _e260, piece.x, piece.y, _e263, k_3, co_3, cos_inner, 0.0);
+                a_5 = (_e258 + _e264);
             }
         }
     }
-    float _e263 = scale;
-    float _e266 = a_5.x;
-    const float _e267 = airlight_sun2005_128_scaled(sigma_s_2.x, (intensity_2 * _e263), d_4, _e266);
-    float _e269 = scale;
-    float _e272 = a_5.y;
-    const float _e273 = airlight_sun2005_128_scaled(sigma_s_2.y, (intensity_2 * _e269), d_4, _e272);
-    float _e275 = scale;
-    float _e278 = a_5.z;
-    const float _e279 = airlight_sun2005_128_scaled(sigma_s_2.z, (intensity_2 * _e275), d_4, _e278);
-    return float3(_e267, _e273, _e279);
+    float _e270 = scale;
+    float _e273 = a_5.x;
+    const float _e274 = airlight_sun2005_128_scaled(sigma_s_2.x, (intensity_2 * _e270), d_4, _e273);
+    float _e276 = scale;
+    float _e279 = a_5.y;
+    const float _e280 = airlight_sun2005_128_scaled(sigma_s_2.y, (intensity_2 * _e276), d_4, _e279);
+    float _e282 = scale;
+    float _e285 = a_5.z;
+    const float _e286 = airlight_sun2005_128_scaled(sigma_s_2.z, (intensity_2 * _e282), d_4, _e285);
+    return float3(_e274, _e280, _e286);
 }
 

@@ -15,6 +15,9 @@ struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
+struct type_6 {
+    float inner[6];
+};
 
 _frexp_result_f32_ naga_frexp(float arg) {
     int other;
@@ -173,11 +176,11 @@ float airlight_no_extinction_scaled(
         return airlight_no_extinction_HUGE;
     }
     _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
+    _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_no_extinction_HUGE;
     }
@@ -356,8 +359,8 @@ float airlight_no_extinction_radiance(
     if (_e22) {
         return 0.0;
     }
-    float rho_5 = (surface >= 0.0) ? (surface / _e6.x) : -1.0;
-    float _e33 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_5);
+    float rho_6 = (surface >= 0.0) ? (surface / _e6.x) : -1.0;
+    float _e33 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_6);
     float _e34 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, _e6.x, _e33);
     return _e34;
 }
@@ -450,220 +453,254 @@ metal::float3 airlight_no_extinction_spot_core(
     return metal::select((_e56 * metal::exp(-(tau_2) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
+float airlight_no_extinction_spot_weight_at(
+    float w,
+    float ca,
+    float k_1,
+    float co,
+    float ci
+) {
+    metal::float2 _e5 = airlight_no_extinction_sin_cos(w);
+    return metal::clamp((((ca * _e5.x) - (k_1 * _e5.y)) - co) / (ci - co), 0.0, 1.0);
+}
+
 metal::float3 airlight_no_extinction_spot_edge(
     metal::float3 tau_3,
     float h_5,
     float x0_4,
+    float rho_5,
+    float gam_1,
+    float om_e,
     float u,
     float v_in,
-    float ca,
-    float k_1,
-    float co,
-    float ci,
+    float ca_1,
+    float k_2,
+    float co_1,
+    float ci_1,
     float g_3
 ) {
+    bool local_9 = {};
+    metal::float3 exact = metal::float3(0.0);
+    type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum = metal::float3(0.0);
-    float w = {};
-    metal::float2 sc = {};
+    float w_1 = {};
     metal::float2 sb = {};
     float d_2 = {};
     float st = {};
+    int i = 0;
     if (!((v_in > u))) {
         return metal::float3(0.0);
     }
-    float half_ = 0.5 * (v_in - u);
-    float mid = 0.5 * (v_in + u);
+    if (!((g_3 < 0.0))) {
+        local_9 = v_in > 3.0;
+    } else {
+        local_9 = true;
+    }
+    bool _e25 = local_9;
+    float e_1 = _e25 ? v_in : u;
+    float _e27 = airlight_no_extinction_spot_weight_at(e_1, ca_1, k_2, co_1, ci_1);
+    if (_e27 > 0.0) {
+        metal::float3 _e35 = airlight_no_extinction_spot_core(tau_3, h_5, x0_4, rho_5, gam_1, u, v_in, u > gam_1, v_in < om_e, g_3);
+        exact = _e35;
+        metal::float3 _e36 = exact;
+        if (metal::any(_e36 >= metal::float3(340282350000000000000000000000000000000.0))) {
+            return metal::float3(340282350000000000000000000000000000000.0);
+        }
+    }
     float gm = (1.0 - g_3) * (1.0 - g_3);
     float gp = (1.0 + g_3) * (1.0 + g_3);
-    w = mid + (half_ * 0.96028984);
-    float _e41 = w;
-    metal::float2 _e42 = airlight_no_extinction_sin_cos(_e41);
-    sc = _e42;
-    float _e43 = w;
-    metal::float2 _e46 = airlight_no_extinction_sin_cos(0.5 * _e43);
-    sb = _e46;
-    float _e50 = sb.y;
-    float _e53 = sb.y;
-    float _e59 = sb.x;
-    float _e62 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e59) * _e62)) : (gp - (((4.0 * g_3) * _e50) * _e53));
-    float _e69 = sb.x;
-    float _e72 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e79 = sum;
-    float _e81 = sc.x;
-    float _e84 = sc.y;
-    float _e95 = d_2;
-    float _e96 = d_2;
-    float _e101 = st;
-    sum = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co) / (ci - co), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_3) * _e101));
-    w = mid + (half_ * 0.7966665);
-    float _e109 = w;
-    metal::float2 _e110 = airlight_no_extinction_sin_cos(_e109);
-    sc = _e110;
-    float _e111 = w;
-    metal::float2 _e114 = airlight_no_extinction_sin_cos(0.5 * _e111);
-    sb = _e114;
-    float _e118 = sb.y;
-    float _e121 = sb.y;
-    float _e127 = sb.x;
-    float _e130 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e127) * _e130)) : (gp - (((4.0 * g_3) * _e118) * _e121));
-    float _e137 = sb.x;
-    float _e140 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e147 = sum;
-    float _e149 = sc.x;
-    float _e152 = sc.y;
-    float _e163 = d_2;
-    float _e164 = d_2;
-    float _e169 = st;
-    sum = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co) / (ci - co), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
-    w = mid + (half_ * 0.5255324);
-    float _e177 = w;
-    metal::float2 _e178 = airlight_no_extinction_sin_cos(_e177);
-    sc = _e178;
-    float _e179 = w;
-    metal::float2 _e182 = airlight_no_extinction_sin_cos(0.5 * _e179);
-    sb = _e182;
-    float _e186 = sb.y;
-    float _e189 = sb.y;
-    float _e195 = sb.x;
-    float _e198 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
-    float _e205 = sb.x;
-    float _e208 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e215 = sum;
-    float _e217 = sc.x;
-    float _e220 = sc.y;
-    float _e231 = d_2;
-    float _e232 = d_2;
-    float _e237 = st;
-    sum = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co) / (ci - co), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_3) * _e237));
-    w = mid + (half_ * 0.18343464);
-    float _e245 = w;
-    metal::float2 _e246 = airlight_no_extinction_sin_cos(_e245);
-    sc = _e246;
-    float _e247 = w;
-    metal::float2 _e250 = airlight_no_extinction_sin_cos(0.5 * _e247);
-    sb = _e250;
-    float _e254 = sb.y;
-    float _e257 = sb.y;
-    float _e263 = sb.x;
-    float _e266 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e263) * _e266)) : (gp - (((4.0 * g_3) * _e254) * _e257));
-    float _e273 = sb.x;
-    float _e276 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e283 = sum;
-    float _e285 = sc.x;
-    float _e288 = sc.y;
-    float _e299 = d_2;
-    float _e300 = d_2;
-    float _e305 = st;
-    sum = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co) / (ci - co), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_3) * _e305));
-    w = mid + (half_ * -0.18343464);
-    float _e313 = w;
-    metal::float2 _e314 = airlight_no_extinction_sin_cos(_e313);
-    sc = _e314;
-    float _e315 = w;
-    metal::float2 _e318 = airlight_no_extinction_sin_cos(0.5 * _e315);
-    sb = _e318;
-    float _e322 = sb.y;
-    float _e325 = sb.y;
-    float _e331 = sb.x;
-    float _e334 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e331) * _e334)) : (gp - (((4.0 * g_3) * _e322) * _e325));
-    float _e341 = sb.x;
-    float _e344 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e351 = sum;
-    float _e353 = sc.x;
-    float _e356 = sc.y;
-    float _e367 = d_2;
-    float _e368 = d_2;
-    float _e373 = st;
-    sum = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co) / (ci - co), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
-    w = mid + (half_ * -0.5255324);
-    float _e381 = w;
-    metal::float2 _e382 = airlight_no_extinction_sin_cos(_e381);
-    sc = _e382;
-    float _e383 = w;
-    metal::float2 _e386 = airlight_no_extinction_sin_cos(0.5 * _e383);
-    sb = _e386;
-    float _e390 = sb.y;
-    float _e393 = sb.y;
-    float _e399 = sb.x;
-    float _e402 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e399) * _e402)) : (gp - (((4.0 * g_3) * _e390) * _e393));
-    float _e409 = sb.x;
-    float _e412 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e419 = sum;
-    float _e421 = sc.x;
-    float _e424 = sc.y;
-    float _e435 = d_2;
-    float _e436 = d_2;
-    float _e441 = st;
-    sum = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co) / (ci - co), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_3) * _e441));
-    w = mid + (half_ * -0.7966665);
-    float _e449 = w;
-    metal::float2 _e450 = airlight_no_extinction_sin_cos(_e449);
-    sc = _e450;
-    float _e451 = w;
-    metal::float2 _e454 = airlight_no_extinction_sin_cos(0.5 * _e451);
-    sb = _e454;
-    float _e458 = sb.y;
-    float _e461 = sb.y;
-    float _e467 = sb.x;
-    float _e470 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e467) * _e470)) : (gp - (((4.0 * g_3) * _e458) * _e461));
-    float _e477 = sb.x;
-    float _e480 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e487 = sum;
-    float _e489 = sc.x;
-    float _e492 = sc.y;
-    float _e503 = d_2;
-    float _e504 = d_2;
-    float _e509 = st;
-    sum = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co) / (ci - co), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_3) * _e509));
-    w = mid + (half_ * -0.96028984);
-    float _e517 = w;
-    metal::float2 _e518 = airlight_no_extinction_sin_cos(_e517);
-    sc = _e518;
-    float _e519 = w;
-    metal::float2 _e522 = airlight_no_extinction_sin_cos(0.5 * _e519);
-    sb = _e522;
-    float _e526 = sb.y;
-    float _e529 = sb.y;
-    float _e535 = sb.x;
-    float _e538 = sb.x;
-    d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e535) * _e538)) : (gp - (((4.0 * g_3) * _e526) * _e529));
-    float _e545 = sb.x;
-    float _e548 = sb.y;
-    st = metal::max(x0_4 + ((h_5 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e555 = sum;
-    float _e557 = sc.x;
-    float _e560 = sc.y;
-    float _e571 = d_2;
-    float _e572 = d_2;
-    float _e577 = st;
-    sum = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co) / (ci - co), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_3) * _e577));
-    metal::float3 _e593 = sum;
-    return metal::min(((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * half_) / metal::max(h_5, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e550 = i;
+            i = as_type<int>(as_type<uint>(_e550) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e70 = i;
+        if (_e70 < 5) {
+        } else {
+            break;
+        }
+        {
+            int _e74 = i;
+            float _e76 = pieces.inner[_e74];
+            float a_7 = u + ((v_in - u) * _e76);
+            int _e80 = i;
+            float _e84 = pieces.inner[as_type<int>(as_type<uint>(_e80) + as_type<uint>(1))];
+            float b_3 = u + ((v_in - u) * _e84);
+            float half_ = 0.5 * (b_3 - a_7);
+            float mid = 0.5 * (b_3 + a_7);
+            w_1 = mid + (half_ * 0.96028984);
+            float _e96 = w_1;
+            metal::float2 _e99 = airlight_no_extinction_sin_cos(0.5 * _e96);
+            sb = _e99;
+            float _e103 = sb.y;
+            float _e106 = sb.y;
+            float _e112 = sb.x;
+            float _e115 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e112) * _e115)) : (gp - (((4.0 * g_3) * _e103) * _e106));
+            float _e122 = sb.x;
+            float _e125 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e132 = sum;
+            float _e135 = w_1;
+            float _e136 = airlight_no_extinction_spot_weight_at(_e135, ca_1, k_2, co_1, ci_1);
+            float _e139 = d_2;
+            float _e140 = d_2;
+            float _e145 = st;
+            sum = _e132 + ((((half_ * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_3) * _e145));
+            w_1 = mid + (half_ * 0.7966665);
+            float _e153 = w_1;
+            metal::float2 _e156 = airlight_no_extinction_sin_cos(0.5 * _e153);
+            sb = _e156;
+            float _e160 = sb.y;
+            float _e163 = sb.y;
+            float _e169 = sb.x;
+            float _e172 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e169) * _e172)) : (gp - (((4.0 * g_3) * _e160) * _e163));
+            float _e179 = sb.x;
+            float _e182 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e189 = sum;
+            float _e192 = w_1;
+            float _e193 = airlight_no_extinction_spot_weight_at(_e192, ca_1, k_2, co_1, ci_1);
+            float _e196 = d_2;
+            float _e197 = d_2;
+            float _e202 = st;
+            sum = _e189 + ((((half_ * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_3) * _e202));
+            w_1 = mid + (half_ * 0.5255324);
+            float _e210 = w_1;
+            metal::float2 _e213 = airlight_no_extinction_sin_cos(0.5 * _e210);
+            sb = _e213;
+            float _e217 = sb.y;
+            float _e220 = sb.y;
+            float _e226 = sb.x;
+            float _e229 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e226) * _e229)) : (gp - (((4.0 * g_3) * _e217) * _e220));
+            float _e236 = sb.x;
+            float _e239 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e246 = sum;
+            float _e249 = w_1;
+            float _e250 = airlight_no_extinction_spot_weight_at(_e249, ca_1, k_2, co_1, ci_1);
+            float _e253 = d_2;
+            float _e254 = d_2;
+            float _e259 = st;
+            sum = _e246 + ((((half_ * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_3) * _e259));
+            w_1 = mid + (half_ * 0.18343464);
+            float _e267 = w_1;
+            metal::float2 _e270 = airlight_no_extinction_sin_cos(0.5 * _e267);
+            sb = _e270;
+            float _e274 = sb.y;
+            float _e277 = sb.y;
+            float _e283 = sb.x;
+            float _e286 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e283) * _e286)) : (gp - (((4.0 * g_3) * _e274) * _e277));
+            float _e293 = sb.x;
+            float _e296 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e303 = sum;
+            float _e306 = w_1;
+            float _e307 = airlight_no_extinction_spot_weight_at(_e306, ca_1, k_2, co_1, ci_1);
+            float _e310 = d_2;
+            float _e311 = d_2;
+            float _e316 = st;
+            sum = _e303 + ((((half_ * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_3) * _e316));
+            w_1 = mid + (half_ * -0.18343464);
+            float _e324 = w_1;
+            metal::float2 _e327 = airlight_no_extinction_sin_cos(0.5 * _e324);
+            sb = _e327;
+            float _e331 = sb.y;
+            float _e334 = sb.y;
+            float _e340 = sb.x;
+            float _e343 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e340) * _e343)) : (gp - (((4.0 * g_3) * _e331) * _e334));
+            float _e350 = sb.x;
+            float _e353 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e360 = sum;
+            float _e363 = w_1;
+            float _e364 = airlight_no_extinction_spot_weight_at(_e363, ca_1, k_2, co_1, ci_1);
+            float _e367 = d_2;
+            float _e368 = d_2;
+            float _e373 = st;
+            sum = _e360 + ((((half_ * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
+            w_1 = mid + (half_ * -0.5255324);
+            float _e381 = w_1;
+            metal::float2 _e384 = airlight_no_extinction_sin_cos(0.5 * _e381);
+            sb = _e384;
+            float _e388 = sb.y;
+            float _e391 = sb.y;
+            float _e397 = sb.x;
+            float _e400 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e397) * _e400)) : (gp - (((4.0 * g_3) * _e388) * _e391));
+            float _e407 = sb.x;
+            float _e410 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e417 = sum;
+            float _e420 = w_1;
+            float _e421 = airlight_no_extinction_spot_weight_at(_e420, ca_1, k_2, co_1, ci_1);
+            float _e424 = d_2;
+            float _e425 = d_2;
+            float _e430 = st;
+            sum = _e417 + ((((half_ * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_3) * _e430));
+            w_1 = mid + (half_ * -0.7966665);
+            float _e438 = w_1;
+            metal::float2 _e441 = airlight_no_extinction_sin_cos(0.5 * _e438);
+            sb = _e441;
+            float _e445 = sb.y;
+            float _e448 = sb.y;
+            float _e454 = sb.x;
+            float _e457 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e454) * _e457)) : (gp - (((4.0 * g_3) * _e445) * _e448));
+            float _e464 = sb.x;
+            float _e467 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e474 = sum;
+            float _e477 = w_1;
+            float _e478 = airlight_no_extinction_spot_weight_at(_e477, ca_1, k_2, co_1, ci_1);
+            float _e481 = d_2;
+            float _e482 = d_2;
+            float _e487 = st;
+            sum = _e474 + ((((half_ * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_3) * _e487));
+            w_1 = mid + (half_ * -0.96028984);
+            float _e495 = w_1;
+            metal::float2 _e498 = airlight_no_extinction_sin_cos(0.5 * _e495);
+            sb = _e498;
+            float _e502 = sb.y;
+            float _e505 = sb.y;
+            float _e511 = sb.x;
+            float _e514 = sb.x;
+            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e511) * _e514)) : (gp - (((4.0 * g_3) * _e502) * _e505));
+            float _e521 = sb.x;
+            float _e524 = sb.y;
+            st = metal::max(x0_4 + ((h_5 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e531 = sum;
+            float _e534 = w_1;
+            float _e535 = airlight_no_extinction_spot_weight_at(_e534, ca_1, k_2, co_1, ci_1);
+            float _e538 = d_2;
+            float _e539 = d_2;
+            float _e544 = st;
+            sum = _e531 + ((((half_ * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_3) * _e544));
+        }
+    }
+    metal::float3 _e552 = exact;
+    metal::float3 _e564 = sum;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_no_extinction_spot_weight(
     float c_2,
-    float co_1,
-    float ci_1
+    float co_2,
+    float ci_2
 ) {
-    if (ci_1 > co_1) {
-        return metal::clamp((c_2 - co_1) / (ci_1 - co_1), 0.0, 1.0);
+    if (ci_2 > co_2) {
+        return metal::clamp((c_2 - co_2) / (ci_2 - co_2), 0.0, 1.0);
     }
-    return (c_2 >= co_1) ? 1.0 : 0.0;
+    return (c_2 >= co_2) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_no_extinction_spot(
@@ -677,43 +714,44 @@ metal::float3 airlight_no_extinction_spot(
     float intensity_2,
     metal::float3 sigma_s_2
 ) {
-    bool local_9 = {};
     bool local_10 = {};
+    bool local_11 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_11 = {};
-    float scale = 1.0;
     bool local_12 = {};
+    float scale = 1.0;
     bool local_13 = {};
+    bool local_14 = {};
     bool core = false;
-    float gam_1 = 0.0;
+    float gam_2 = 0.0;
     float wa_1 = 0.0;
     float wb_1 = 0.0;
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     metal::float4 pen = metal::float4(0.0);
-    float ca_1 = 0.0;
-    bool local_14 = {};
+    float ca_2 = 0.0;
+    float om_e_1 = airlight_no_extinction_PI;
     bool local_15 = {};
+    bool local_16 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e9 = airlight_no_extinction_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
-    float co_2 = metal::clamp(cos_outer, 0.0, 1.0);
+    float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
     float _e15 = airlight_no_extinction_max_abs(dir_2);
     float _e16 = airlight_no_extinction_max_abs(axis);
     if (!(point)) {
         if (_e16 > 0.0) {
-            local_10 = _e16 <= airlight_no_extinction_HUGE;
+            local_11 = _e16 <= airlight_no_extinction_HUGE;
         } else {
-            local_10 = false;
+            local_11 = false;
         }
-        bool _e27 = local_10;
-        local_9 = !(_e27);
+        bool _e27 = local_11;
+        local_10 = !(_e27);
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e30 = local_9;
+    bool _e30 = local_10;
     if (_e30) {
         return metal::float3(0.0);
     }
@@ -723,19 +761,19 @@ metal::float3 airlight_no_extinction_spot(
         ax = metal::normalize(axis / metal::float3(_e16));
     }
     if (_e15 > 0.0) {
-        local_11 = _e15 <= airlight_no_extinction_HUGE;
+        local_12 = _e15 <= airlight_no_extinction_HUGE;
     } else {
-        local_11 = false;
+        local_12 = false;
     }
-    bool _e51 = local_11;
+    bool _e51 = local_12;
     if (_e51) {
         n = metal::normalize(dir_2 / metal::float3(_e15));
     }
     metal::float3 _e55 = ax;
     metal::float3 _e56 = n;
-    float k_2 = metal::dot(_e55, _e56);
+    float k_3 = metal::dot(_e55, _e56);
     if (_e9.x <= 0.0) {
-        float _e63 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+        float _e63 = airlight_no_extinction_spot_weight(k_3, co_3, cos_inner);
         scale = point ? 1.0 : _e63;
         float _e67 = scale;
         float _e71 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e67, 1.0, airlight_no_extinction_HUGE);
@@ -746,11 +784,11 @@ metal::float3 airlight_no_extinction_spot(
         return metal::float3(_e71, _e77, _e83);
     }
     if (_e9.y <= 0.0) {
-        local_12 = _e9.z == 0.0;
+        local_13 = _e9.z == 0.0;
     } else {
-        local_12 = false;
+        local_13 = false;
     }
-    bool _e94 = local_12;
+    bool _e94 = local_13;
     if (_e94) {
         return metal::float3(0.0);
     }
@@ -758,127 +796,132 @@ metal::float3 airlight_no_extinction_spot(
     float h_6 = _e9.y;
     float x0_6 = _e9.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_3) < airlight_no_extinction_RHO_OPEN;
+        local_14 = (surface_1 / d_3) < airlight_no_extinction_RHO_OPEN;
     } else {
-        local_13 = false;
+        local_14 = false;
     }
-    bool has_end = local_13;
-    float rho_6 = has_end ? (surface_1 / d_3) : -1.0;
+    bool has_end = local_14;
+    float rho_7 = has_end ? (surface_1 / d_3) : -1.0;
     metal::float3 tau_4 = metal::float3(0.0);
     if (!(point)) {
-        local_14 = h_6 <= 0.0;
+        local_15 = h_6 <= 0.0;
     } else {
-        local_14 = true;
+        local_15 = true;
     }
-    bool _e138 = local_14;
-    if (_e138) {
+    bool _e140 = local_15;
+    if (_e140) {
         if (!(point)) {
-            float _e141 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
-            float _e142 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+            float _e143 = airlight_no_extinction_spot_weight(-(k_3), co_3, cos_inner);
+            float _e144 = airlight_no_extinction_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_15 = rho_6 < 1.0;
+                local_16 = rho_7 < 1.0;
             } else {
-                local_15 = false;
+                local_16 = false;
             }
-            bool _e149 = local_15;
-            scale = (x0_6 < 0.0) ? _e142 : (_e149 ? _e141 : metal::max(_e141, _e142));
+            bool _e151 = local_16;
+            scale = (x0_6 < 0.0) ? _e144 : (_e151 ? _e143 : metal::max(_e143, _e144));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e156 = airlight_no_extinction_max_abs(l);
-        metal::float3 _e159 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e156), _e159);
+        float _e158 = airlight_no_extinction_max_abs(l);
         metal::float3 _e161 = n;
-        metal::float3 _e162 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e161, _e162)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e169 = ca_1;
-        float _e170 = ca_1;
-        float r_4 = metal::sqrt((_e169 * _e170) + (k_2 * k_2));
-        float _e175 = ca_1;
-        float _e176 = airlight_no_extinction_arctan2_(k_2, _e175);
-        float _e177 = airlight_no_extinction_arctan2_(h_6, x0_6);
-        gam_1 = _e177;
-        float _e180 = airlight_no_extinction_arctan2_(h_6, x0_6 - rho_6);
-        float om_e = has_end ? _e180 : airlight_no_extinction_PI;
-        if (co_2 < r_4) {
-            float _e183 = airlight_no_extinction_spot_asin(co_2, r_4);
-            float _e184 = gam_1;
-            float lo = metal::max(_e184, _e176 + _e183);
-            float hi_1 = metal::min(om_e, (_e176 + airlight_no_extinction_PI) - _e183);
+        metal::float3 cr = metal::cross(l / metal::float3(_e158), _e161);
+        metal::float3 _e163 = n;
+        metal::float3 _e164 = ax;
+        ca_2 = metal::dot(cr, metal::cross(_e163, _e164)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e171 = ca_2;
+        float _e172 = ca_2;
+        float r_4 = metal::sqrt((_e171 * _e172) + (k_3 * k_3));
+        float _e177 = ca_2;
+        float _e178 = airlight_no_extinction_arctan2_(k_3, _e177);
+        float _e179 = airlight_no_extinction_arctan2_(h_6, x0_6);
+        gam_2 = _e179;
+        float _e182 = airlight_no_extinction_arctan2_(h_6, x0_6 - rho_7);
+        om_e_1 = has_end ? _e182 : airlight_no_extinction_PI;
+        if (co_3 < r_4) {
+            float _e185 = airlight_no_extinction_spot_asin(co_3, r_4);
+            float _e186 = gam_2;
+            float lo = metal::max(_e186, _e178 + _e185);
+            float _e189 = om_e_1;
+            float hi_1 = metal::min(_e189, (_e178 + airlight_no_extinction_PI) - _e185);
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
-                if (cos_inner <= co_2) {
+                if (cos_inner <= co_3) {
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e195 = airlight_no_extinction_spot_asin(cos_inner, r_4);
-                        float _e196 = gam_1;
-                        wa_1 = metal::max(_e196, _e176 + _e195);
-                        wb_1 = metal::min(om_e, (_e176 + airlight_no_extinction_PI) - _e195);
-                        float _e203 = wa_1;
-                        float _e204 = wb_1;
-                        core = _e203 < _e204;
-                        pen = metal::float4(lo, metal::min(hi_1, _e176 + _e195), metal::max(lo, (_e176 + airlight_no_extinction_PI) - _e195), hi_1);
+                        float _e198 = airlight_no_extinction_spot_asin(cos_inner, r_4);
+                        float _e199 = gam_2;
+                        wa_1 = metal::max(_e199, _e178 + _e198);
+                        float _e202 = om_e_1;
+                        wb_1 = metal::min(_e202, (_e178 + airlight_no_extinction_PI) - _e198);
+                        float _e207 = wa_1;
+                        float _e208 = wb_1;
+                        core = _e207 < _e208;
+                        pen = metal::float4(lo, metal::min(hi_1, _e178 + _e198), metal::max(lo, (_e178 + airlight_no_extinction_PI) - _e198), hi_1);
                     } else {
                         pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e216 = wa_1;
-            float _e217 = gam_1;
-            cut_a_1 = _e216 > _e217;
-            float _e219 = wb_1;
-            cut_b_1 = _e219 < om_e;
+            float _e220 = wa_1;
+            float _e221 = gam_2;
+            cut_a_1 = _e220 > _e221;
+            float _e223 = wb_1;
+            float _e224 = om_e_1;
+            cut_b_1 = _e223 < _e224;
         }
     }
-    bool _e224 = core;
-    if (_e224) {
-        float _e225 = gam_1;
-        float _e226 = wa_1;
-        float _e227 = wb_1;
-        bool _e228 = cut_a_1;
-        bool _e229 = cut_b_1;
-        metal::float3 _e230 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_6, _e225, _e226, _e227, _e228, _e229, 0.0);
-        a_5 = _e230;
+    bool _e229 = core;
+    if (_e229) {
+        float _e230 = gam_2;
+        float _e231 = wa_1;
+        float _e232 = wb_1;
+        bool _e233 = cut_a_1;
+        bool _e234 = cut_b_1;
+        metal::float3 _e235 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_7, _e230, _e231, _e232, _e233, _e234, 0.0);
+        a_5 = _e235;
     }
-    uint2 loop_bound = uint2(4294967295u);
-    bool loop_init = true;
+    uint2 loop_bound_1 = uint2(4294967295u);
+    bool loop_init_1 = true;
     while(true) {
-        if (metal::all(loop_bound == uint2(0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e254 = j_1;
-            j_1 = as_type<int>(as_type<uint>(_e254) + as_type<uint>(1));
+        if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            int _e261 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e261) + as_type<uint>(1));
         }
-        loop_init = false;
-        int _e233 = j_1;
-        if (_e233 < 2) {
+        loop_init_1 = false;
+        int _e238 = j_1;
+        if (_e238 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e236 = pen;
-            metal::float4 _e238 = pen;
-            int _e240 = j_1;
-            metal::float2 piece = (_e240 == 1) ? _e238.zw : _e236.xy;
+            metal::float4 _e241 = pen;
+            metal::float4 _e243 = pen;
+            int _e245 = j_1;
+            metal::float2 piece = (_e245 == 1) ? _e243.zw : _e241.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e247 = a_5;
-                float _e250 = ca_1;
-                metal::float3 _e251 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, piece.x, piece.y, _e250, k_2, co_2, cos_inner, 0.0);
-                a_5 = _e247 + _e251;
+                metal::float3 _e252 = a_5;
+                float _e253 = gam_2;
+                float _e254 = om_e_1;
+                float _e257 = ca_2;
+                metal::float3 _e258 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, rho_7, _e253, _e254, piece.x, piece.y, _e257, k_3, co_3, cos_inner, 0.0);
+                a_5 = _e252 + _e258;
             }
         }
     }
-    float _e257 = scale;
-    float _e260 = a_5.x;
-    float _e261 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e257, d_3, _e260);
-    float _e263 = scale;
-    float _e266 = a_5.y;
-    float _e267 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e263, d_3, _e266);
-    float _e269 = scale;
-    float _e272 = a_5.z;
-    float _e273 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e269, d_3, _e272);
-    return metal::float3(_e261, _e267, _e273);
+    float _e264 = scale;
+    float _e267 = a_5.x;
+    float _e268 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e264, d_3, _e267);
+    float _e270 = scale;
+    float _e273 = a_5.y;
+    float _e274 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e270, d_3, _e273);
+    float _e276 = scale;
+    float _e279 = a_5.z;
+    float _e280 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e276, d_3, _e279);
+    return metal::float3(_e268, _e274, _e280);
 }

@@ -15,6 +15,9 @@ struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
+struct type_7 {
+    float inner[6];
+};
 
 _frexp_result_f32_ naga_frexp(float arg) {
     int other;
@@ -172,11 +175,11 @@ float airlight_phi_iso_6_scaled(
         return airlight_phi_iso_6_HUGE;
     }
     _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
+    _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q_1 = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_3.fract * i_1.fract) * q_1.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_phi_iso_6_HUGE;
     }
@@ -748,8 +751,8 @@ float airlight_phi_iso_6_radiance(
     if (_e23) {
         return 0.0;
     }
-    float rho_5 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e36 = airlight_phi_iso_6_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_5);
+    float rho_6 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e36 = airlight_phi_iso_6_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_6);
     float _e37 = airlight_phi_iso_6_scaled(sigma_s_1, intensity_1, _e7.x, _e36);
     return _e37;
 }
@@ -842,220 +845,254 @@ metal::float3 airlight_phi_iso_6_spot_core(
     return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
+float airlight_phi_iso_6_spot_weight_at(
+    float w,
+    float ca,
+    float k_1,
+    float co_1,
+    float ci
+) {
+    metal::float2 _e5 = airlight_phi_iso_6_sin_cos(w);
+    return metal::clamp((((ca * _e5.x) - (k_1 * _e5.y)) - co_1) / (ci - co_1), 0.0, 1.0);
+}
+
 metal::float3 airlight_phi_iso_6_spot_edge(
     metal::float3 tau_4,
     float h_4,
     float x0_4,
+    float rho_5,
+    float gam_1,
+    float om_e,
     float u_2,
     float v_in,
-    float ca,
-    float k_1,
-    float co_1,
-    float ci,
+    float ca_1,
+    float k_2,
+    float co_2,
+    float ci_1,
     float g_3
 ) {
+    bool local_14 = {};
+    metal::float3 exact = metal::float3(0.0);
+    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_1 = metal::float3(0.0);
-    float w = {};
-    metal::float2 sc_1 = {};
+    float w_1 = {};
     metal::float2 sb_1 = {};
     float d_3 = {};
     float st = {};
+    int i = 0;
     if (!((v_in > u_2))) {
         return metal::float3(0.0);
     }
-    float half_ = 0.5 * (v_in - u_2);
-    float mid = 0.5 * (v_in + u_2);
+    if (!((g_3 < 0.0))) {
+        local_14 = v_in > 3.0;
+    } else {
+        local_14 = true;
+    }
+    bool _e25 = local_14;
+    float e_1 = _e25 ? v_in : u_2;
+    float _e27 = airlight_phi_iso_6_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
+    if (_e27 > 0.0) {
+        metal::float3 _e35 = airlight_phi_iso_6_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_3);
+        exact = _e35;
+        metal::float3 _e36 = exact;
+        if (metal::any(_e36 >= metal::float3(340282350000000000000000000000000000000.0))) {
+            return metal::float3(340282350000000000000000000000000000000.0);
+        }
+    }
     float gm = (1.0 - g_3) * (1.0 - g_3);
     float gp = (1.0 + g_3) * (1.0 + g_3);
-    w = mid + (half_ * 0.96028984);
-    float _e41 = w;
-    metal::float2 _e42 = airlight_phi_iso_6_sin_cos(_e41);
-    sc_1 = _e42;
-    float _e43 = w;
-    metal::float2 _e46 = airlight_phi_iso_6_sin_cos(0.5 * _e43);
-    sb_1 = _e46;
-    float _e50 = sb_1.y;
-    float _e53 = sb_1.y;
-    float _e59 = sb_1.x;
-    float _e62 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e59) * _e62)) : (gp - (((4.0 * g_3) * _e50) * _e53));
-    float _e69 = sb_1.x;
-    float _e72 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e69) / metal::max(_e72, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e79 = sum_1;
-    float _e81 = sc_1.x;
-    float _e84 = sc_1.y;
-    float _e95 = d_3;
-    float _e96 = d_3;
-    float _e101 = st;
-    sum_1 = _e79 + (((0.101228535 * metal::clamp((((ca * _e81) - (k_1 * _e84)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e95 * metal::sqrt(_e96))) * metal::exp(-(tau_4) * _e101));
-    w = mid + (half_ * 0.7966665);
-    float _e109 = w;
-    metal::float2 _e110 = airlight_phi_iso_6_sin_cos(_e109);
-    sc_1 = _e110;
-    float _e111 = w;
-    metal::float2 _e114 = airlight_phi_iso_6_sin_cos(0.5 * _e111);
-    sb_1 = _e114;
-    float _e118 = sb_1.y;
-    float _e121 = sb_1.y;
-    float _e127 = sb_1.x;
-    float _e130 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e127) * _e130)) : (gp - (((4.0 * g_3) * _e118) * _e121));
-    float _e137 = sb_1.x;
-    float _e140 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e137) / metal::max(_e140, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e147 = sum_1;
-    float _e149 = sc_1.x;
-    float _e152 = sc_1.y;
-    float _e163 = d_3;
-    float _e164 = d_3;
-    float _e169 = st;
-    sum_1 = _e147 + (((0.22238104 * metal::clamp((((ca * _e149) - (k_1 * _e152)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
-    w = mid + (half_ * 0.5255324);
-    float _e177 = w;
-    metal::float2 _e178 = airlight_phi_iso_6_sin_cos(_e177);
-    sc_1 = _e178;
-    float _e179 = w;
-    metal::float2 _e182 = airlight_phi_iso_6_sin_cos(0.5 * _e179);
-    sb_1 = _e182;
-    float _e186 = sb_1.y;
-    float _e189 = sb_1.y;
-    float _e195 = sb_1.x;
-    float _e198 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
-    float _e205 = sb_1.x;
-    float _e208 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e215 = sum_1;
-    float _e217 = sc_1.x;
-    float _e220 = sc_1.y;
-    float _e231 = d_3;
-    float _e232 = d_3;
-    float _e237 = st;
-    sum_1 = _e215 + (((0.31370664 * metal::clamp((((ca * _e217) - (k_1 * _e220)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e231 * metal::sqrt(_e232))) * metal::exp(-(tau_4) * _e237));
-    w = mid + (half_ * 0.18343464);
-    float _e245 = w;
-    metal::float2 _e246 = airlight_phi_iso_6_sin_cos(_e245);
-    sc_1 = _e246;
-    float _e247 = w;
-    metal::float2 _e250 = airlight_phi_iso_6_sin_cos(0.5 * _e247);
-    sb_1 = _e250;
-    float _e254 = sb_1.y;
-    float _e257 = sb_1.y;
-    float _e263 = sb_1.x;
-    float _e266 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e263) * _e266)) : (gp - (((4.0 * g_3) * _e254) * _e257));
-    float _e273 = sb_1.x;
-    float _e276 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e273) / metal::max(_e276, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e283 = sum_1;
-    float _e285 = sc_1.x;
-    float _e288 = sc_1.y;
-    float _e299 = d_3;
-    float _e300 = d_3;
-    float _e305 = st;
-    sum_1 = _e283 + (((0.36268377 * metal::clamp((((ca * _e285) - (k_1 * _e288)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e299 * metal::sqrt(_e300))) * metal::exp(-(tau_4) * _e305));
-    w = mid + (half_ * -0.18343464);
-    float _e313 = w;
-    metal::float2 _e314 = airlight_phi_iso_6_sin_cos(_e313);
-    sc_1 = _e314;
-    float _e315 = w;
-    metal::float2 _e318 = airlight_phi_iso_6_sin_cos(0.5 * _e315);
-    sb_1 = _e318;
-    float _e322 = sb_1.y;
-    float _e325 = sb_1.y;
-    float _e331 = sb_1.x;
-    float _e334 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e331) * _e334)) : (gp - (((4.0 * g_3) * _e322) * _e325));
-    float _e341 = sb_1.x;
-    float _e344 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e341) / metal::max(_e344, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e351 = sum_1;
-    float _e353 = sc_1.x;
-    float _e356 = sc_1.y;
-    float _e367 = d_3;
-    float _e368 = d_3;
-    float _e373 = st;
-    sum_1 = _e351 + (((0.36268377 * metal::clamp((((ca * _e353) - (k_1 * _e356)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_4) * _e373));
-    w = mid + (half_ * -0.5255324);
-    float _e381 = w;
-    metal::float2 _e382 = airlight_phi_iso_6_sin_cos(_e381);
-    sc_1 = _e382;
-    float _e383 = w;
-    metal::float2 _e386 = airlight_phi_iso_6_sin_cos(0.5 * _e383);
-    sb_1 = _e386;
-    float _e390 = sb_1.y;
-    float _e393 = sb_1.y;
-    float _e399 = sb_1.x;
-    float _e402 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e399) * _e402)) : (gp - (((4.0 * g_3) * _e390) * _e393));
-    float _e409 = sb_1.x;
-    float _e412 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e409) / metal::max(_e412, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e419 = sum_1;
-    float _e421 = sc_1.x;
-    float _e424 = sc_1.y;
-    float _e435 = d_3;
-    float _e436 = d_3;
-    float _e441 = st;
-    sum_1 = _e419 + (((0.31370664 * metal::clamp((((ca * _e421) - (k_1 * _e424)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e435 * metal::sqrt(_e436))) * metal::exp(-(tau_4) * _e441));
-    w = mid + (half_ * -0.7966665);
-    float _e449 = w;
-    metal::float2 _e450 = airlight_phi_iso_6_sin_cos(_e449);
-    sc_1 = _e450;
-    float _e451 = w;
-    metal::float2 _e454 = airlight_phi_iso_6_sin_cos(0.5 * _e451);
-    sb_1 = _e454;
-    float _e458 = sb_1.y;
-    float _e461 = sb_1.y;
-    float _e467 = sb_1.x;
-    float _e470 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e467) * _e470)) : (gp - (((4.0 * g_3) * _e458) * _e461));
-    float _e477 = sb_1.x;
-    float _e480 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e477) / metal::max(_e480, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e487 = sum_1;
-    float _e489 = sc_1.x;
-    float _e492 = sc_1.y;
-    float _e503 = d_3;
-    float _e504 = d_3;
-    float _e509 = st;
-    sum_1 = _e487 + (((0.22238104 * metal::clamp((((ca * _e489) - (k_1 * _e492)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e503 * metal::sqrt(_e504))) * metal::exp(-(tau_4) * _e509));
-    w = mid + (half_ * -0.96028984);
-    float _e517 = w;
-    metal::float2 _e518 = airlight_phi_iso_6_sin_cos(_e517);
-    sc_1 = _e518;
-    float _e519 = w;
-    metal::float2 _e522 = airlight_phi_iso_6_sin_cos(0.5 * _e519);
-    sb_1 = _e522;
-    float _e526 = sb_1.y;
-    float _e529 = sb_1.y;
-    float _e535 = sb_1.x;
-    float _e538 = sb_1.x;
-    d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e535) * _e538)) : (gp - (((4.0 * g_3) * _e526) * _e529));
-    float _e545 = sb_1.x;
-    float _e548 = sb_1.y;
-    st = metal::max(x0_4 + ((h_4 * _e545) / metal::max(_e548, 0.000000000000000000000000000001)), 1.0);
-    metal::float3 _e555 = sum_1;
-    float _e557 = sc_1.x;
-    float _e560 = sc_1.y;
-    float _e571 = d_3;
-    float _e572 = d_3;
-    float _e577 = st;
-    sum_1 = _e555 + (((0.101228535 * metal::clamp((((ca * _e557) - (k_1 * _e560)) - co_1) / (ci - co_1), 0.0, 1.0)) / (_e571 * metal::sqrt(_e572))) * metal::exp(-(tau_4) * _e577));
-    metal::float3 _e593 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * half_) / metal::max(h_4, 0.000000000000000000000000000001)) * _e593, metal::float3(340282350000000000000000000000000000000.0));
+    uint2 loop_bound = uint2(4294967295u);
+    bool loop_init = true;
+    while(true) {
+        if (metal::all(loop_bound == uint2(0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        if (!loop_init) {
+            int _e550 = i;
+            i = as_type<int>(as_type<uint>(_e550) + as_type<uint>(1));
+        }
+        loop_init = false;
+        int _e70 = i;
+        if (_e70 < 5) {
+        } else {
+            break;
+        }
+        {
+            int _e74 = i;
+            float _e76 = pieces.inner[_e74];
+            float a_7 = u_2 + ((v_in - u_2) * _e76);
+            int _e80 = i;
+            float _e84 = pieces.inner[as_type<int>(as_type<uint>(_e80) + as_type<uint>(1))];
+            float b_3 = u_2 + ((v_in - u_2) * _e84);
+            float half_ = 0.5 * (b_3 - a_7);
+            float mid = 0.5 * (b_3 + a_7);
+            w_1 = mid + (half_ * 0.96028984);
+            float _e96 = w_1;
+            metal::float2 _e99 = airlight_phi_iso_6_sin_cos(0.5 * _e96);
+            sb_1 = _e99;
+            float _e103 = sb_1.y;
+            float _e106 = sb_1.y;
+            float _e112 = sb_1.x;
+            float _e115 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e112) * _e115)) : (gp - (((4.0 * g_3) * _e103) * _e106));
+            float _e122 = sb_1.x;
+            float _e125 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e132 = sum_1;
+            float _e135 = w_1;
+            float _e136 = airlight_phi_iso_6_spot_weight_at(_e135, ca_1, k_2, co_2, ci_1);
+            float _e139 = d_3;
+            float _e140 = d_3;
+            float _e145 = st;
+            sum_1 = _e132 + ((((half_ * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_4) * _e145));
+            w_1 = mid + (half_ * 0.7966665);
+            float _e153 = w_1;
+            metal::float2 _e156 = airlight_phi_iso_6_sin_cos(0.5 * _e153);
+            sb_1 = _e156;
+            float _e160 = sb_1.y;
+            float _e163 = sb_1.y;
+            float _e169 = sb_1.x;
+            float _e172 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e169) * _e172)) : (gp - (((4.0 * g_3) * _e160) * _e163));
+            float _e179 = sb_1.x;
+            float _e182 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e189 = sum_1;
+            float _e192 = w_1;
+            float _e193 = airlight_phi_iso_6_spot_weight_at(_e192, ca_1, k_2, co_2, ci_1);
+            float _e196 = d_3;
+            float _e197 = d_3;
+            float _e202 = st;
+            sum_1 = _e189 + ((((half_ * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_4) * _e202));
+            w_1 = mid + (half_ * 0.5255324);
+            float _e210 = w_1;
+            metal::float2 _e213 = airlight_phi_iso_6_sin_cos(0.5 * _e210);
+            sb_1 = _e213;
+            float _e217 = sb_1.y;
+            float _e220 = sb_1.y;
+            float _e226 = sb_1.x;
+            float _e229 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e226) * _e229)) : (gp - (((4.0 * g_3) * _e217) * _e220));
+            float _e236 = sb_1.x;
+            float _e239 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e246 = sum_1;
+            float _e249 = w_1;
+            float _e250 = airlight_phi_iso_6_spot_weight_at(_e249, ca_1, k_2, co_2, ci_1);
+            float _e253 = d_3;
+            float _e254 = d_3;
+            float _e259 = st;
+            sum_1 = _e246 + ((((half_ * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_4) * _e259));
+            w_1 = mid + (half_ * 0.18343464);
+            float _e267 = w_1;
+            metal::float2 _e270 = airlight_phi_iso_6_sin_cos(0.5 * _e267);
+            sb_1 = _e270;
+            float _e274 = sb_1.y;
+            float _e277 = sb_1.y;
+            float _e283 = sb_1.x;
+            float _e286 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e283) * _e286)) : (gp - (((4.0 * g_3) * _e274) * _e277));
+            float _e293 = sb_1.x;
+            float _e296 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e303 = sum_1;
+            float _e306 = w_1;
+            float _e307 = airlight_phi_iso_6_spot_weight_at(_e306, ca_1, k_2, co_2, ci_1);
+            float _e310 = d_3;
+            float _e311 = d_3;
+            float _e316 = st;
+            sum_1 = _e303 + ((((half_ * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_4) * _e316));
+            w_1 = mid + (half_ * -0.18343464);
+            float _e324 = w_1;
+            metal::float2 _e327 = airlight_phi_iso_6_sin_cos(0.5 * _e324);
+            sb_1 = _e327;
+            float _e331 = sb_1.y;
+            float _e334 = sb_1.y;
+            float _e340 = sb_1.x;
+            float _e343 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e340) * _e343)) : (gp - (((4.0 * g_3) * _e331) * _e334));
+            float _e350 = sb_1.x;
+            float _e353 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e360 = sum_1;
+            float _e363 = w_1;
+            float _e364 = airlight_phi_iso_6_spot_weight_at(_e363, ca_1, k_2, co_2, ci_1);
+            float _e367 = d_3;
+            float _e368 = d_3;
+            float _e373 = st;
+            sum_1 = _e360 + ((((half_ * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_4) * _e373));
+            w_1 = mid + (half_ * -0.5255324);
+            float _e381 = w_1;
+            metal::float2 _e384 = airlight_phi_iso_6_sin_cos(0.5 * _e381);
+            sb_1 = _e384;
+            float _e388 = sb_1.y;
+            float _e391 = sb_1.y;
+            float _e397 = sb_1.x;
+            float _e400 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e397) * _e400)) : (gp - (((4.0 * g_3) * _e388) * _e391));
+            float _e407 = sb_1.x;
+            float _e410 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e417 = sum_1;
+            float _e420 = w_1;
+            float _e421 = airlight_phi_iso_6_spot_weight_at(_e420, ca_1, k_2, co_2, ci_1);
+            float _e424 = d_3;
+            float _e425 = d_3;
+            float _e430 = st;
+            sum_1 = _e417 + ((((half_ * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_4) * _e430));
+            w_1 = mid + (half_ * -0.7966665);
+            float _e438 = w_1;
+            metal::float2 _e441 = airlight_phi_iso_6_sin_cos(0.5 * _e438);
+            sb_1 = _e441;
+            float _e445 = sb_1.y;
+            float _e448 = sb_1.y;
+            float _e454 = sb_1.x;
+            float _e457 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e454) * _e457)) : (gp - (((4.0 * g_3) * _e445) * _e448));
+            float _e464 = sb_1.x;
+            float _e467 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e474 = sum_1;
+            float _e477 = w_1;
+            float _e478 = airlight_phi_iso_6_spot_weight_at(_e477, ca_1, k_2, co_2, ci_1);
+            float _e481 = d_3;
+            float _e482 = d_3;
+            float _e487 = st;
+            sum_1 = _e474 + ((((half_ * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_4) * _e487));
+            w_1 = mid + (half_ * -0.96028984);
+            float _e495 = w_1;
+            metal::float2 _e498 = airlight_phi_iso_6_sin_cos(0.5 * _e495);
+            sb_1 = _e498;
+            float _e502 = sb_1.y;
+            float _e505 = sb_1.y;
+            float _e511 = sb_1.x;
+            float _e514 = sb_1.x;
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e511) * _e514)) : (gp - (((4.0 * g_3) * _e502) * _e505));
+            float _e521 = sb_1.x;
+            float _e524 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e531 = sum_1;
+            float _e534 = w_1;
+            float _e535 = airlight_phi_iso_6_spot_weight_at(_e534, ca_1, k_2, co_2, ci_1);
+            float _e538 = d_3;
+            float _e539 = d_3;
+            float _e544 = st;
+            sum_1 = _e531 + ((((half_ * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_4) * _e544));
+        }
+    }
+    metal::float3 _e552 = exact;
+    metal::float3 _e564 = sum_1;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / metal::max(h_4, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_iso_6_spot_weight(
     float c_2,
-    float co_2,
-    float ci_1
+    float co_3,
+    float ci_2
 ) {
-    if (ci_1 > co_2) {
-        return metal::clamp((c_2 - co_2) / (ci_1 - co_2), 0.0, 1.0);
+    if (ci_2 > co_3) {
+        return metal::clamp((c_2 - co_3) / (ci_2 - co_3), 0.0, 1.0);
     }
-    return (c_2 >= co_2) ? 1.0 : 0.0;
+    return (c_2 >= co_3) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_phi_iso_6_spot(
@@ -1070,43 +1107,44 @@ metal::float3 airlight_phi_iso_6_spot(
     metal::float3 sigma_t_1,
     metal::float3 sigma_s_2
 ) {
-    bool local_14 = {};
     bool local_15 = {};
+    bool local_16 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_16 = {};
-    float scale = 1.0;
     bool local_17 = {};
+    float scale = 1.0;
     bool local_18 = {};
+    bool local_19 = {};
     bool core = false;
-    float gam_1 = 0.0;
+    float gam_2 = 0.0;
     float wa_1 = 0.0;
     float wb_1 = 0.0;
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     metal::float4 pen = metal::float4(0.0);
-    float ca_1 = 0.0;
-    bool local_19 = {};
+    float ca_2 = 0.0;
+    float om_e_1 = airlight_phi_iso_6_PI;
     bool local_20 = {};
+    bool local_21 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_phi_iso_6_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
-    float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
+    float co_4 = metal::clamp(cos_outer, 0.0, 1.0);
     float _e16 = airlight_phi_iso_6_max_abs(dir_2);
     float _e17 = airlight_phi_iso_6_max_abs(axis);
     if (!(point)) {
         if (_e17 > 0.0) {
-            local_15 = _e17 <= airlight_phi_iso_6_HUGE;
+            local_16 = _e17 <= airlight_phi_iso_6_HUGE;
         } else {
-            local_15 = false;
+            local_16 = false;
         }
-        bool _e28 = local_15;
-        local_14 = !(_e28);
+        bool _e28 = local_16;
+        local_15 = !(_e28);
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e31 = local_14;
+    bool _e31 = local_15;
     if (_e31) {
         return metal::float3(0.0);
     }
@@ -1116,19 +1154,19 @@ metal::float3 airlight_phi_iso_6_spot(
         ax = metal::normalize(axis / metal::float3(_e17));
     }
     if (_e16 > 0.0) {
-        local_16 = _e16 <= airlight_phi_iso_6_HUGE;
+        local_17 = _e16 <= airlight_phi_iso_6_HUGE;
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e52 = local_16;
+    bool _e52 = local_17;
     if (_e52) {
         n = metal::normalize(dir_2 / metal::float3(_e16));
     }
     metal::float3 _e56 = ax;
     metal::float3 _e57 = n;
-    float k_2 = metal::dot(_e56, _e57);
+    float k_3 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_phi_iso_6_spot_weight(k_2, co_3, cos_inner);
+        float _e64 = airlight_phi_iso_6_spot_weight(k_3, co_4, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
         float _e72 = airlight_phi_iso_6_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_phi_iso_6_HUGE);
@@ -1139,11 +1177,11 @@ metal::float3 airlight_phi_iso_6_spot(
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
-        local_17 = _e10.z == 0.0;
+        local_18 = _e10.z == 0.0;
     } else {
-        local_17 = false;
+        local_18 = false;
     }
-    bool _e95 = local_17;
+    bool _e95 = local_18;
     if (_e95) {
         return metal::float3(0.0);
     }
@@ -1151,127 +1189,132 @@ metal::float3 airlight_phi_iso_6_spot(
     float h_6 = _e10.y;
     float x0_6 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_18 = (surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN;
+        local_19 = (surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN;
     } else {
-        local_18 = false;
+        local_19 = false;
     }
-    bool has_end = local_18;
-    float rho_6 = has_end ? (surface_1 / d_4) : -1.0;
+    bool has_end = local_19;
+    float rho_7 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     if (!(point)) {
-        local_19 = h_6 <= 0.0;
+        local_20 = h_6 <= 0.0;
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e144 = local_19;
-    if (_e144) {
+    bool _e146 = local_20;
+    if (_e146) {
         if (!(point)) {
-            float _e147 = airlight_phi_iso_6_spot_weight(-(k_2), co_3, cos_inner);
-            float _e148 = airlight_phi_iso_6_spot_weight(k_2, co_3, cos_inner);
+            float _e149 = airlight_phi_iso_6_spot_weight(-(k_3), co_4, cos_inner);
+            float _e150 = airlight_phi_iso_6_spot_weight(k_3, co_4, cos_inner);
             if (has_end) {
-                local_20 = rho_6 < 1.0;
+                local_21 = rho_7 < 1.0;
             } else {
-                local_20 = false;
+                local_21 = false;
             }
-            bool _e155 = local_20;
-            scale = (x0_6 < 0.0) ? _e148 : (_e155 ? _e147 : metal::max(_e147, _e148));
+            bool _e157 = local_21;
+            scale = (x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : metal::max(_e149, _e150));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e162 = airlight_phi_iso_6_max_abs(l);
-        metal::float3 _e165 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e162), _e165);
+        float _e164 = airlight_phi_iso_6_max_abs(l);
         metal::float3 _e167 = n;
-        metal::float3 _e168 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e167, _e168)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e175 = ca_1;
-        float _e176 = ca_1;
-        float r_4 = metal::sqrt((_e175 * _e176) + (k_2 * k_2));
-        float _e181 = ca_1;
-        float _e182 = airlight_phi_iso_6_arctan2_(k_2, _e181);
-        float _e183 = airlight_phi_iso_6_arctan2_(h_6, x0_6);
-        gam_1 = _e183;
-        float _e186 = airlight_phi_iso_6_arctan2_(h_6, x0_6 - rho_6);
-        float om_e = has_end ? _e186 : airlight_phi_iso_6_PI;
-        if (co_3 < r_4) {
-            float _e189 = airlight_phi_iso_6_spot_asin(co_3, r_4);
-            float _e190 = gam_1;
-            float lo = metal::max(_e190, _e182 + _e189);
-            float hi_1 = metal::min(om_e, (_e182 + airlight_phi_iso_6_PI) - _e189);
+        metal::float3 cr = metal::cross(l / metal::float3(_e164), _e167);
+        metal::float3 _e169 = n;
+        metal::float3 _e170 = ax;
+        ca_2 = metal::dot(cr, metal::cross(_e169, _e170)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e177 = ca_2;
+        float _e178 = ca_2;
+        float r_4 = metal::sqrt((_e177 * _e178) + (k_3 * k_3));
+        float _e183 = ca_2;
+        float _e184 = airlight_phi_iso_6_arctan2_(k_3, _e183);
+        float _e185 = airlight_phi_iso_6_arctan2_(h_6, x0_6);
+        gam_2 = _e185;
+        float _e188 = airlight_phi_iso_6_arctan2_(h_6, x0_6 - rho_7);
+        om_e_1 = has_end ? _e188 : airlight_phi_iso_6_PI;
+        if (co_4 < r_4) {
+            float _e191 = airlight_phi_iso_6_spot_asin(co_4, r_4);
+            float _e192 = gam_2;
+            float lo = metal::max(_e192, _e184 + _e191);
+            float _e195 = om_e_1;
+            float hi_1 = metal::min(_e195, (_e184 + airlight_phi_iso_6_PI) - _e191);
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
-                if (cos_inner <= co_3) {
+                if (cos_inner <= co_4) {
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e201 = airlight_phi_iso_6_spot_asin(cos_inner, r_4);
-                        float _e202 = gam_1;
-                        wa_1 = metal::max(_e202, _e182 + _e201);
-                        wb_1 = metal::min(om_e, (_e182 + airlight_phi_iso_6_PI) - _e201);
-                        float _e209 = wa_1;
-                        float _e210 = wb_1;
-                        core = _e209 < _e210;
-                        pen = metal::float4(lo, metal::min(hi_1, _e182 + _e201), metal::max(lo, (_e182 + airlight_phi_iso_6_PI) - _e201), hi_1);
+                        float _e204 = airlight_phi_iso_6_spot_asin(cos_inner, r_4);
+                        float _e205 = gam_2;
+                        wa_1 = metal::max(_e205, _e184 + _e204);
+                        float _e208 = om_e_1;
+                        wb_1 = metal::min(_e208, (_e184 + airlight_phi_iso_6_PI) - _e204);
+                        float _e213 = wa_1;
+                        float _e214 = wb_1;
+                        core = _e213 < _e214;
+                        pen = metal::float4(lo, metal::min(hi_1, _e184 + _e204), metal::max(lo, (_e184 + airlight_phi_iso_6_PI) - _e204), hi_1);
                     } else {
                         pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e222 = wa_1;
-            float _e223 = gam_1;
-            cut_a_1 = _e222 > _e223;
-            float _e225 = wb_1;
-            cut_b_1 = _e225 < om_e;
+            float _e226 = wa_1;
+            float _e227 = gam_2;
+            cut_a_1 = _e226 > _e227;
+            float _e229 = wb_1;
+            float _e230 = om_e_1;
+            cut_b_1 = _e229 < _e230;
         }
     }
-    bool _e230 = core;
-    if (_e230) {
-        float _e231 = gam_1;
-        float _e232 = wa_1;
-        float _e233 = wb_1;
-        bool _e234 = cut_a_1;
-        bool _e235 = cut_b_1;
-        metal::float3 _e236 = airlight_phi_iso_6_spot_core(tau_6, h_6, x0_6, rho_6, _e231, _e232, _e233, _e234, _e235, 0.0);
-        a_5 = _e236;
+    bool _e235 = core;
+    if (_e235) {
+        float _e236 = gam_2;
+        float _e237 = wa_1;
+        float _e238 = wb_1;
+        bool _e239 = cut_a_1;
+        bool _e240 = cut_b_1;
+        metal::float3 _e241 = airlight_phi_iso_6_spot_core(tau_6, h_6, x0_6, rho_7, _e236, _e237, _e238, _e239, _e240, 0.0);
+        a_5 = _e241;
     }
-    uint2 loop_bound = uint2(4294967295u);
-    bool loop_init = true;
+    uint2 loop_bound_1 = uint2(4294967295u);
+    bool loop_init_1 = true;
     while(true) {
-        if (metal::all(loop_bound == uint2(0u))) { break; }
-        loop_bound -= uint2(loop_bound.y == 0u, 1u);
-        if (!loop_init) {
-            int _e260 = j_1;
-            j_1 = as_type<int>(as_type<uint>(_e260) + as_type<uint>(1));
+        if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+        loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+        if (!loop_init_1) {
+            int _e267 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e267) + as_type<uint>(1));
         }
-        loop_init = false;
-        int _e239 = j_1;
-        if (_e239 < 2) {
+        loop_init_1 = false;
+        int _e244 = j_1;
+        if (_e244 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e242 = pen;
-            metal::float4 _e244 = pen;
-            int _e246 = j_1;
-            metal::float2 piece = (_e246 == 1) ? _e244.zw : _e242.xy;
+            metal::float4 _e247 = pen;
+            metal::float4 _e249 = pen;
+            int _e251 = j_1;
+            metal::float2 piece = (_e251 == 1) ? _e249.zw : _e247.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e253 = a_5;
-                float _e256 = ca_1;
-                metal::float3 _e257 = airlight_phi_iso_6_spot_edge(tau_6, h_6, x0_6, piece.x, piece.y, _e256, k_2, co_3, cos_inner, 0.0);
-                a_5 = _e253 + _e257;
+                metal::float3 _e258 = a_5;
+                float _e259 = gam_2;
+                float _e260 = om_e_1;
+                float _e263 = ca_2;
+                metal::float3 _e264 = airlight_phi_iso_6_spot_edge(tau_6, h_6, x0_6, rho_7, _e259, _e260, piece.x, piece.y, _e263, k_3, co_4, cos_inner, 0.0);
+                a_5 = _e258 + _e264;
             }
         }
     }
-    float _e263 = scale;
-    float _e266 = a_5.x;
-    float _e267 = airlight_phi_iso_6_scaled(sigma_s_2.x, intensity_2 * _e263, d_4, _e266);
-    float _e269 = scale;
-    float _e272 = a_5.y;
-    float _e273 = airlight_phi_iso_6_scaled(sigma_s_2.y, intensity_2 * _e269, d_4, _e272);
-    float _e275 = scale;
-    float _e278 = a_5.z;
-    float _e279 = airlight_phi_iso_6_scaled(sigma_s_2.z, intensity_2 * _e275, d_4, _e278);
-    return metal::float3(_e267, _e273, _e279);
+    float _e270 = scale;
+    float _e273 = a_5.x;
+    float _e274 = airlight_phi_iso_6_scaled(sigma_s_2.x, intensity_2 * _e270, d_4, _e273);
+    float _e276 = scale;
+    float _e279 = a_5.y;
+    float _e280 = airlight_phi_iso_6_scaled(sigma_s_2.y, intensity_2 * _e276, d_4, _e279);
+    float _e282 = scale;
+    float _e285 = a_5.z;
+    float _e286 = airlight_phi_iso_6_scaled(sigma_s_2.z, intensity_2 * _e282, d_4, _e285);
+    return metal::float3(_e274, _e280, _e286);
 }

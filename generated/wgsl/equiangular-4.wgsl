@@ -373,9 +373,10 @@ fn airlight_equiangular_4_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g
 // interval, found without solving a quadratic. A lit stretch [wa, wb] is the
 // family's own A for a viewer moved to wa (gamma' = wa, rho' = sin(wb - wa) / sin(wb),
 // tau' = tau t0), times e^(-tau s0) / t0: never a difference of two integrals.
-// A smooth edge (the weight linear in that cosine) is integrated over the penumbra's
-// stretches by 8-point Gauss-Legendre in omega, where the integrand
-// is smooth; the fully lit stretch between is the family's exact limit.
+// A smooth edge (the weight linear in that cosine) over a penumbra stretch is the
+// weight at one end times the family's exact A there, plus the rest by graded
+// Gauss-Legendre in omega (spot_edge); the fully lit stretch between is the
+// family's exact limit.
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
 fn airlight_equiangular_4_spot_asin(x: f32, r: f32) -> f32 {
@@ -407,73 +408,86 @@ fn airlight_equiangular_4_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_equiangular_4_HUGE));
 }
 
-/// The penumbra over [u, v] of omega: the weight (A sin(omega) - k cos(omega) - co) /
-/// (ci - co) times the canonical integrand, by Gauss-Legendre; everything but the
-/// transmittance is shared by the channels.
-fn airlight_equiangular_4_spot_edge(tau: vec3<f32>, h: f32, x0: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
+/// The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
+/// (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
+/// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
+/// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
+/// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
+/// forward peak). Everything but the transmittance is shared by the channels.
+fn airlight_equiangular_4_spot_weight_at(w: f32, ca: f32, k: f32, co: f32, ci: f32) -> f32 {
+    let sc = airlight_equiangular_4_sin_cos(w);
+    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
+}
+
+fn airlight_equiangular_4_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
     let v = v_in;
     if !(v > u) {
         return vec3<f32>(0.0);
     }
-    let half = 0.5 * (v - u);
-    let mid = 0.5 * (v + u);
+    let e = select(u, v, g < 0.0 || v > 3.0);
+    let we = airlight_equiangular_4_spot_weight_at(e, ca, k, co, ci);
+    var exact = vec3<f32>(0.0);
+    if we > 0.0 {
+        exact = airlight_equiangular_4_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
+        if any(exact >= vec3<f32>(airlight_equiangular_4_HUGE)) {
+            return vec3<f32>(airlight_equiangular_4_HUGE);
+        }
+    }
+    var pieces = array<f32, 6>(0.0, 3.12500000e-2, 2.50000000e-1, 7.50000000e-1, 9.68750000e-1, 1.00000000e0);
     let gm = (1.0 - g) * (1.0 - g);
     let gp = (1.0 + g) * (1.0 + g);
     var sum = vec3<f32>(0.0);
     var w: f32;
-    var sc: vec2<f32>;
     var sb: vec2<f32>;
     var d: f32;
     var st: f32;
-    w = mid + half * 9.60289836e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * 7.96666503e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * 5.25532424e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * 1.83434635e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * -1.83434635e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.62683773e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * -5.25532424e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 3.13706636e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * -7.96666503e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 2.22381040e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    w = mid + half * -9.60289836e-1;
-    sc = airlight_equiangular_4_sin_cos(w);
-    sb = airlight_equiangular_4_sin_cos(0.5 * w);
-    d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
-    st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-    sum += 1.01228535e-1 * clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0) / (d * sqrt(d)) * exp(-tau * st);
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * half / max(h, 1e-30) * sum, vec3<f32>(airlight_equiangular_4_HUGE));
+    for (var i = 0; i < 5; i++) {
+        let a = u + (v - u) * pieces[i];
+        let b = u + (v - u) * pieces[i + 1];
+        let half = 0.5 * (b - a);
+        let mid = 0.5 * (b + a);
+        w = mid + half * 9.60289836e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 1.01228535e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * 7.96666503e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 2.22381040e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * 5.25532424e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 3.13706636e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * 1.83434635e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 3.62683773e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * -1.83434635e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 3.62683773e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * -5.25532424e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 3.13706636e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * -7.96666503e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 2.22381040e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        w = mid + half * -9.60289836e-1;
+        sb = airlight_equiangular_4_sin_cos(0.5 * w);
+        d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
+        st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
+        sum += half * 1.01228535e-1 * (airlight_equiangular_4_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+    }
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3<f32>(0.0), vec3<f32>(airlight_equiangular_4_HUGE));
 }
 
 /// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
@@ -536,6 +550,7 @@ fn airlight_equiangular_4_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
     var cut_b = false;
     var pen = vec4<f32>(0.0);
     var ca = 0.0;
+    var om_e = airlight_equiangular_4_PI;
     if point || h <= 0.0 {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
@@ -553,7 +568,7 @@ fn airlight_equiangular_4_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
         let r = sqrt(ca * ca + k * k);
         let psi = airlight_equiangular_4_arctan2(k, ca);
         gam = airlight_equiangular_4_arctan2(h, x0);
-        let om_e = select(airlight_equiangular_4_PI, airlight_equiangular_4_arctan2(h, x0 - rho), has_end);
+        om_e = select(airlight_equiangular_4_PI, airlight_equiangular_4_arctan2(h, x0 - rho), has_end);
         if co < r {
             let dlo = airlight_equiangular_4_spot_asin(co, r);
             let lo = max(gam, psi + dlo);
@@ -585,7 +600,7 @@ fn airlight_equiangular_4_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
     for (var j = 0; j < 2; j++) {
         let piece = select(pen.xy, pen.zw, j == 1);
         if piece.y > piece.x {
-            a += airlight_equiangular_4_spot_edge(tau, h, x0, piece.x, piece.y, ca, k, co, ci, gg);
+            a += airlight_equiangular_4_spot_edge(tau, h, x0, rho, gam, om_e, piece.x, piece.y, ca, k, co, ci, gg);
         }
     }
     return vec3<f32>(airlight_equiangular_4_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_equiangular_4_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_equiangular_4_scaled(sigma_s.z, intensity * scale, d, a.z));

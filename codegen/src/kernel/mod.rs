@@ -17,7 +17,7 @@ pub mod spec;
 pub use index::render_index;
 pub use outputs::{FileOutput, KernelOutput, OutputTable, Translation, OUTPUT_TABLE};
 pub use plan::render_plan;
-pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, SPOT_EDGE_NODES};
+pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, SPOT_EDGE_NODES, SPOT_EDGE_PIECES};
 
 use crate::output::Output;
 use airlight_fit::template::{lit, lits, KernelView};
@@ -177,6 +177,7 @@ fn shared_context(spec: &KernelSpec, out: &KernelOutput) -> tera::Context {
     let (ex, ew) = airlight_fit::quad::gauss_legendre(SPOT_EDGE_NODES);
     ctx.insert("edge_x", &lits(&ex));
     ctx.insert("edge_w", &lits(&ew));
+    ctx.insert("edge_pieces", &lits(&SPOT_EDGE_PIECES));
     if let (Some(_), Some(m)) = (spec.body().texture(), &spec.model) {
         ctx.insert("table_path", &table_path(&m.model.name));
     }

@@ -12,9 +12,18 @@ pub use airlight_fit::template::KernelPhase;
 use airlight_fit::template::WantPhase;
 use airlight_fit::vocab::{Arg, Domain, Entry, Target};
 
-/// Gauss–Legendre nodes per penumbra stretch of a soft-edged spot light (the
-/// spot entry's only approximation beyond its family's).
+/// Gauss–Legendre nodes per piece of a penumbra stretch of a soft-edged spot
+/// light (the spot entry's only approximation beyond its family's).
 pub const SPOT_EDGE_NODES: usize = 8;
+
+/// The pieces of a penumbra stretch, as fractions of it: graded towards both
+/// ends, where the integrand gathers (the phase peaks, the transmittance's tail
+/// to infinity, its fast decay in dense media). With the control variate of the
+/// spot entry (the weight at one end times the family's exact `A`), measured in
+/// f64 on 16,882 random stretches (γ down to 1e-4, |g| to 0.999, τ to 20): median
+/// 1.3e-14, p99 1.4e-8, max 7.9e-6 of the stretch's own integral; the single
+/// 8-point rule it replaces reached 100% there (issue 23).
+pub const SPOT_EDGE_PIECES: [f64; 6] = [0.0, 1.0 / 32.0, 0.25, 0.75, 31.0 / 32.0, 1.0];
 
 /// Everything that shapes one kernel.
 #[derive(Debug, Clone)]

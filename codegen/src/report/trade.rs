@@ -203,6 +203,7 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
     ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     ctx.insert("spot_edge_nodes", &crate::kernel::SPOT_EDGE_NODES);
+    ctx.insert("spot_edge_pieces", &(crate::kernel::SPOT_EDGE_PIECES.len() - 1));
     ctx.insert("bench_adapter", &b.adapter);
     ctx.insert("bench_cpu", &b.cpu);
     ctx.insert("bench_points", &b.error_points);

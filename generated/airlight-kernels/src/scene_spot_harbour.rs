@@ -267,9 +267,9 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 // quadratic. A lit stretch `[wa, wb]` is the family's own `A` for a viewer moved to
 // `wa` (`γ' = wa`, `ρ' = sin(wb − wa)/sin wb`, `τ' = τ t0`), times `e^(−τ s0)/t0`: never
 // a difference of two integrals. A smooth edge (the weight linear in that cosine)
-// is integrated over the penumbra's stretches by 8-point Gauss–Legendre in ω,
-// where the integrand is smooth; the fully lit stretch between is the family's
-// exact limit.
+// over a penumbra stretch is the weight at one end times the family's exact `A`
+// there, plus the rest by graded Gauss–Legendre in ω (`spot_edge`); the fully lit
+// stretch between is the family's exact limit.
 
 /// [`along`] for three channels' τ: this family's core depends on τ throughout,
 /// so it runs once per channel.
@@ -305,32 +305,46 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 
-/// The penumbra over `[u, v]` of ω: the weight `(A sin ω − k cos ω − co)/(ci − co)`
-/// times the canonical integrand, by Gauss–Legendre; everything but the
-/// transmittance is shared by the channels.
+/// The penumbra over `[u, v]` of ω: the weight `W = (A sin ω − k cos ω − co)/(ci − co)`
+/// times the canonical integrand `f`. `W(e)` times the family's exact `A` over the
+/// stretch, plus `(W − W(e)) f` by 8-point Gauss–Legendre on 5 pieces graded
+/// towards both ends; `e` is the end where `f` gathers (the far one for g < 0, the
+/// backscatter peak, or a stretch reaching within 0.14 of π, the tail; else the near
+/// one, the forward peak), so that the factor `W − W(e)` vanishes there. Everything
+/// but the transmittance is shared by the channels.
 #[allow(clippy::too_many_arguments)]
-fn spot_edge(tau: [f32; 3], h: f32, x0: f32, u: f32, v: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> [f32; 3] {
+fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> [f32; 3] {
     use crate::math::{exp, sin_cos, sqrt, HUGE};
     if v.is_nan() || u.is_nan() || v <= u {
         return [0.0; 3];
     }
     const X: [f32; 8] = [9.60289836e-1, 7.96666503e-1, 5.25532424e-1, 1.83434635e-1, -1.83434635e-1, -5.25532424e-1, -7.96666503e-1, -9.60289836e-1];
     const W: [f32; 8] = [1.01228535e-1, 2.22381040e-1, 3.13706636e-1, 3.62683773e-1, 3.62683773e-1, 3.13706636e-1, 2.22381040e-1, 1.01228535e-1];
-    let (half, mid) = (0.5 * (v - u), 0.5 * (v + u));
+    const F: [f32; 6] = [0.0, 3.12500000e-2, 2.50000000e-1, 7.50000000e-1, 9.68750000e-1, 1.00000000e0];
+    let weight = |w: f32| ((ca * sin_cos(w).0 - k * sin_cos(w).1 - co) / (ci - co)).clamp(0.0, 1.0);
+    let e = if g < 0.0 || v > 3.0 { v } else { u };
+    let we = weight(e);
+    let exact = if we > 0.0 { spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g) } else { [0.0; 3] };
+    if exact.iter().any(|&x| x >= HUGE) {
+        return [HUGE; 3];
+    }
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
     let mut sum = [0.0f32; 3];
-    for j in 0..X.len() {
-        let w = mid + half * X[j];
-        let sc = sin_cos(w);
-        let sb = sin_cos(0.5 * w);
-        let d = if g >= 0.0 { gm + 4.0 * g * sb.0 * sb.0 } else { gp - 4.0 * g * sb.1 * sb.1 };
-        let st = (x0 + h * sb.0 / sb.1.max(1e-30)).max(1.0);
-        let f = W[j] * ((ca * sc.0 - k * sc.1 - co) / (ci - co)).clamp(0.0, 1.0) / (d * sqrt(d));
-        for c in 0..3 {
-            sum[c] += f * exp(-tau[c] * st);
+    for p in 0..F.len() - 1 {
+        let (a, b) = (u + (v - u) * F[p], u + (v - u) * F[p + 1]);
+        let (half, mid) = (0.5 * (b - a), 0.5 * (b + a));
+        for j in 0..X.len() {
+            let w = mid + half * X[j];
+            let sb = sin_cos(0.5 * w);
+            let d = if g >= 0.0 { gm + 4.0 * g * sb.0 * sb.0 } else { gp - 4.0 * g * sb.1 * sb.1 };
+            let st = (x0 + h * sb.0 / sb.1.max(1e-30)).max(1.0);
+            let f = half * W[j] * (weight(w) - we) / (d * sqrt(d));
+            for c in 0..3 {
+                sum[c] += f * exp(-tau[c] * st);
+            }
         }
     }
-    sum.map(|s| (7.95774683e-2 * (1.0 - g) * (1.0 + g) * half / h.max(1e-30) * s).min(HUGE))
+    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / h.max(1e-30) * sum[c]).clamp(0.0, HUGE))
 }
 
 /// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the
@@ -390,7 +404,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     // One call of the family's core (and of the penumbra rule) whatever the branch,
     // as in the shaders.
     let (mut core, mut gam, mut wa, mut wb, mut cut_a, mut cut_b) = (false, 0.0, 0.0, 0.0, false, false);
-    let (mut pen, mut ca) = ([[0.0f32; 2]; 2], 0.0);
+    let (mut pen, mut ca, mut om_e) = ([[0.0f32; 2]; 2], 0.0, PI);
     if point || h <= 0.0 {
         // A point light, or a ray on the line through the light (the direction
         // from the light is −n before it and n beyond).
@@ -413,7 +427,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
         let r = sqrt(ca * ca + k * k);
         let psi = atan2(k, ca);
         gam = atan2(h, x0);
-        let om_e = if has_end { atan2(h, x0 - rho) } else { PI };
+        om_e = if has_end { atan2(h, x0 - rho) } else { PI };
         if co < r {
             let dlo = spot_asin(co, r);
             let lo = gam.max(psi + dlo);
@@ -438,7 +452,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     let mut a = if core { spot_core(tau, h, x0, rho, gam, wa, wb, cut_a, cut_b, gg) } else { [0.0f32; 3] };
     for [u, v] in pen {
         if v > u {
-            let e = spot_edge(tau, h, x0, u, v, ca, k, co, ci, gg);
+            let e = spot_edge(tau, h, x0, rho, gam, om_e, u, v, ca, k, co, ci, gg);
             a = [a[0] + e[0], a[1] + e[1], a[2] + e[2]];
         }
     }
