@@ -223,12 +223,50 @@ vec2 airlight_equiangular_8_sin_cos(float x) {
 
 
 
+// A on the axis (h = 0), the rule's own limit: the light ahead (x0 > 0),
+// P(0) e^(-tau) rho / (1 - rho) before it and the largest float through it; behind, the
+// equiangular measure dtheta / h becomes ds / t^2 = -du, u = 1 / t = 1 / (1 + s), so
+// A = P(pi) e^(-tau) * integral of e^(-2 tau (1/u - 1)) du over [1 / (1 + rho), 1], same nodes.
+float airlight_equiangular_8_airlight_axis(float tau, float x0, float rho, float g) {
+    bool has_end = rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN;
+    if (x0 > 0.0) {
+        if (!(has_end && rho < 1.0)) {
+            return airlight_equiangular_8_HUGE;
+        }
+        return min(7.95774683e-2 * (1.0 + g) / ((1.0 - g) * (1.0 - g)) * exp(-tau) * rho / (1.0 - rho), airlight_equiangular_8_HUGE);
+    }
+    float lo = has_end ? 1.0 / (1.0 + rho) : 0.0;
+    float half_len = 0.5 * (1.0 - lo);
+    float sum = 0.0;
+    float u;
+    u = lo + half_len * (1.0 + 9.60289836e-1);
+    sum += 1.01228535e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + 7.96666503e-1);
+    sum += 2.22381040e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + 5.25532424e-1);
+    sum += 3.13706636e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + 1.83434635e-1);
+    sum += 3.62683773e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + -1.83434635e-1);
+    sum += 3.62683773e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + -5.25532424e-1);
+    sum += 3.13706636e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + -7.96666503e-1);
+    sum += 2.22381040e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half_len * (1.0 + -9.60289836e-1);
+    sum += 1.01228535e-1 * exp(-2.0 * tau * ((1.0 - u) / u));
+    return 7.95774683e-2 * (1.0 - g) / ((1.0 + g) * (1.0 + g)) * exp(-tau) * half_len * sum;
+}
+
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself and comp = pi - gamma, rho (negative: no surface).
 float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, float gamma, float comp, float rho, float g_in) {
     float tau = min(max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
     float gp = (1.0 + g) * (1.0 + g);
+    if (h <= 0.0) {
+        return airlight_equiangular_8_airlight_axis(tau, x0, rho, g);
+    }
     float span = comp;
     if (rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN) {
         span = airlight_equiangular_8_arctan2(h * rho, 1.0 - x0 * rho);
@@ -330,6 +368,9 @@ vec3 airlight_equiangular_8_airlight_geometry_rgb(vec3 tau_in, float h, float x0
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
     float gp = (1.0 + g) * (1.0 + g);
+    if (h <= 0.0) {
+        return vec3(airlight_equiangular_8_airlight_axis(tau.x, x0, rho, g), airlight_equiangular_8_airlight_axis(tau.y, x0, rho, g), airlight_equiangular_8_airlight_axis(tau.z, x0, rho, g));
+    }
     float span = comp;
     if (rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN) {
         span = airlight_equiangular_8_arctan2(h * rho, 1.0 - x0 * rho);
@@ -431,7 +472,10 @@ float airlight_equiangular_8_airlight(float tau, float gamma, float rho, float g
     vec2 sc = airlight_equiangular_8_sin_cos(gc);
     // pi - gamma in two parts (float's pi is 8.7e-8 above pi), exact for gamma near pi.
     float comp = max((airlight_equiangular_8_PI - gc) - 8.742278e-8, 0.0);
-    return airlight_equiangular_8_airlight_geometry(tau, abs(sc.x), sc.y, gc, comp, rho, g);
+    // sin(gamma) from the smaller of gamma and pi - gamma: 0 on the axis behind (gamma at
+    // float's pi, which lies beyond pi), exact near it.
+    float h = gc > comp ? airlight_equiangular_8_sin_cos(comp).x : abs(sc.x);
+    return airlight_equiangular_8_airlight_geometry(tau, h, sc.y, gc, comp, rho, g);
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).

@@ -122,14 +122,14 @@ float3 airlight_equiangular_2_ray_geometry(float3 origin, float3 dir, float3 lig
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
     const float3 _e93 = airlight_equiangular_2_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_equiangular_2_HUGE), (_e97 / n_1), (x0_5 / n_1));
+    return float3(min(dist, airlight_equiangular_2_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
 float airlight_equiangular_2_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -260,182 +260,235 @@ float2 airlight_equiangular_2_sin_cos(float x_3)
     }
 }
 
-float airlight_equiangular_2_airlight_geometry(float tau_in, float h_1, float x0_, float gamma, float comp, float rho, float g_in)
+float airlight_equiangular_2_airlight_axis(float tau, float x0_, float rho, float g)
+{
+    bool local_4 = (bool)0;
+    bool local_5 = (bool)0;
+    float sum = 0.0;
+    float u = (float)0;
+
+    if ((rho >= 0.0)) {
+        local_4 = (rho < airlight_equiangular_2_RHO_OPEN);
+    } else {
+        local_4 = false;
+    }
+    bool has_end = local_4;
+    if ((x0_ > 0.0)) {
+        if (has_end) {
+            local_5 = (rho < 1.0);
+        } else {
+            local_5 = false;
+        }
+        bool _e19 = local_5;
+        if (!(_e19)) {
+            return airlight_equiangular_2_HUGE;
+        }
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho) / (1.0 - rho)), airlight_equiangular_2_HUGE);
+    }
+    float lo = (has_end ? (1.0 / (1.0 + rho)) : 0.0);
+    float half_ = (0.5 * (1.0 - lo));
+    u = (lo + (half_ * 1.5773503));
+    float _e57 = sum;
+    float _e60 = u;
+    float _e63 = u;
+    sum = (_e57 + (1.0 * exp(((-2.0 * tau) * ((1.0 - _e60) / _e63)))));
+    u = (lo + (half_ * 0.42264974));
+    float _e73 = sum;
+    float _e76 = u;
+    float _e79 = u;
+    sum = (_e73 + (1.0 * exp(((-2.0 * tau) * ((1.0 - _e76) / _e79)))));
+    float _e100 = sum;
+    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e100);
+}
+
+float airlight_equiangular_2_airlight_geometry(float tau_in, float h_1, float x0_1, float gamma, float comp, float rho_1, float g_in)
 {
     float span = (float)0;
-    bool local_4 = (bool)0;
-    float sum = 0.0;
+    bool local_6 = (bool)0;
+    float sum_1 = 0.0;
     float2 sc = (float2)0;
     float b_3 = (float)0;
     float co = (float)0;
     float st = (float)0;
     float d_2 = (float)0;
 
-    float tau_4 = min(max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
-    float g_6 = clamp(g_in, -0.999, 0.999);
-    float gm = ((1.0 - g_6) * (1.0 - g_6));
-    float gp = ((1.0 + g_6) * (1.0 + g_6));
+    float tau_5 = min(max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
+    float g_7 = clamp(g_in, -0.999, 0.999);
+    float gm = ((1.0 - g_7) * (1.0 - g_7));
+    float gp = ((1.0 + g_7) * (1.0 + g_7));
+    if ((h_1 <= 0.0)) {
+        const float _e26 = airlight_equiangular_2_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        return _e26;
+    }
     span = comp;
-    if ((rho >= 0.0)) {
-        local_4 = (rho < airlight_equiangular_2_RHO_OPEN);
+    if ((rho_1 >= 0.0)) {
+        local_6 = (rho_1 < airlight_equiangular_2_RHO_OPEN);
     } else {
-        local_4 = false;
+        local_6 = false;
     }
-    bool _e32 = local_4;
-    if (_e32) {
-        const float _e37 = airlight_equiangular_2_arctan2_((h_1 * rho), (1.0 - (x0_ * rho)));
-        span = _e37;
+    bool _e35 = local_6;
+    if (_e35) {
+        const float _e40 = airlight_equiangular_2_arctan2_((h_1 * rho_1), (1.0 - (x0_1 * rho_1)));
+        span = _e40;
     }
-    float _e38 = span;
-    float half_ = (0.5 * _e38);
-    b_3 = ((0.5 * gamma) + ((0.5 * half_) * 1.5773503));
-    co = ((0.5 * comp) - ((0.5 * half_) * 1.5773503));
-    float _e62 = b_3;
-    float _e63 = co;
-    const float2 _e67 = airlight_equiangular_2_sin_cos(max(min(_e62, _e63), 0.0));
-    sc = _e67;
-    float _e68 = b_3;
-    float _e69 = co;
-    if ((_e68 > _e69)) {
-        float2 _e71 = sc;
-        sc = _e71.yx;
+    float _e41 = span;
+    float half_1 = (0.5 * _e41);
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5773503));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 1.5773503));
+    float _e65 = b_3;
+    float _e66 = co;
+    const float2 _e70 = airlight_equiangular_2_sin_cos(max(min(_e65, _e66), 0.0));
+    sc = _e70;
+    float _e71 = b_3;
+    float _e72 = co;
+    if ((_e71 > _e72)) {
+        float2 _e74 = sc;
+        sc = _e74.yx;
     }
-    float _e74 = sc.x;
-    float _e77 = sc.y;
-    st = max((x0_ + ((h_1 * _e74) / max(_e77, 1e-30))), 1.0);
-    float _e87 = sc.y;
+    float _e77 = sc.x;
+    float _e80 = sc.y;
+    st = max((x0_1 + ((h_1 * _e77) / max(_e80, 1e-30))), 1.0);
     float _e90 = sc.y;
-    float _e96 = sc.x;
+    float _e93 = sc.y;
     float _e99 = sc.x;
-    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e96) * _e99)) : (gp - (((4.0 * g_6) * _e87) * _e90)));
-    float _e105 = sum;
-    float _e107 = st;
-    float _e112 = d_2;
-    float _e113 = d_2;
-    sum = (_e105 + ((1.0 * exp((-(tau_4) * _e107))) / (_e112 * sqrt(_e113))));
-    b_3 = ((0.5 * gamma) + ((0.5 * half_) * 0.42264974));
-    co = ((0.5 * comp) - ((0.5 * half_) * 0.42264974));
-    float _e132 = b_3;
-    float _e133 = co;
-    const float2 _e137 = airlight_equiangular_2_sin_cos(max(min(_e132, _e133), 0.0));
-    sc = _e137;
-    float _e138 = b_3;
-    float _e139 = co;
-    if ((_e138 > _e139)) {
-        float2 _e141 = sc;
-        sc = _e141.yx;
+    float _e102 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e99) * _e102)) : (gp - (((4.0 * g_7) * _e90) * _e93)));
+    float _e108 = sum_1;
+    float _e110 = st;
+    float _e115 = d_2;
+    float _e116 = d_2;
+    sum_1 = (_e108 + ((1.0 * exp((-(tau_5) * _e110))) / (_e115 * sqrt(_e116))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.42264974));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 0.42264974));
+    float _e135 = b_3;
+    float _e136 = co;
+    const float2 _e140 = airlight_equiangular_2_sin_cos(max(min(_e135, _e136), 0.0));
+    sc = _e140;
+    float _e141 = b_3;
+    float _e142 = co;
+    if ((_e141 > _e142)) {
+        float2 _e144 = sc;
+        sc = _e144.yx;
     }
-    float _e144 = sc.x;
-    float _e147 = sc.y;
-    st = max((x0_ + ((h_1 * _e144) / max(_e147, 1e-30))), 1.0);
-    float _e157 = sc.y;
+    float _e147 = sc.x;
+    float _e150 = sc.y;
+    st = max((x0_1 + ((h_1 * _e147) / max(_e150, 1e-30))), 1.0);
     float _e160 = sc.y;
-    float _e166 = sc.x;
+    float _e163 = sc.y;
     float _e169 = sc.x;
-    d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e166) * _e169)) : (gp - (((4.0 * g_6) * _e157) * _e160)));
-    float _e175 = sum;
-    float _e177 = st;
-    float _e182 = d_2;
-    float _e183 = d_2;
-    sum = (_e175 + ((1.0 * exp((-(tau_4) * _e177))) / (_e182 * sqrt(_e183))));
-    float _e195 = sum;
-    return min((((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e195) * half_) / max(h_1, 1e-30)), airlight_equiangular_2_HUGE);
+    float _e172 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e169) * _e172)) : (gp - (((4.0 * g_7) * _e160) * _e163)));
+    float _e178 = sum_1;
+    float _e180 = st;
+    float _e185 = d_2;
+    float _e186 = d_2;
+    sum_1 = (_e178 + ((1.0 * exp((-(tau_5) * _e180))) / (_e185 * sqrt(_e186))));
+    float _e198 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e198) * half_1) / max(h_1, 1e-30)), airlight_equiangular_2_HUGE);
 }
 
-float3 airlight_equiangular_2_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_1, float gamma_1, float comp_1, float rho_1, float g_in_1)
+float3 airlight_equiangular_2_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
 {
     float span_1 = (float)0;
-    bool local_5 = (bool)0;
-    float3 sum_1 = (0.0).xxx;
+    bool local_7 = (bool)0;
+    float3 sum_2 = (0.0).xxx;
     float2 sc_1 = (float2)0;
     float b_4 = (float)0;
     float co_1 = (float)0;
     float st_1 = (float)0;
     float d_3 = (float)0;
 
-    float3 tau_5 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
-    float g_7 = clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = ((1.0 - g_7) * (1.0 - g_7));
-    float gp_1 = ((1.0 + g_7) * (1.0 + g_7));
+    float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float g_8 = clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = ((1.0 - g_8) * (1.0 - g_8));
+    float gp_1 = ((1.0 + g_8) * (1.0 + g_8));
+    if ((h_2 <= 0.0)) {
+        const float _e29 = airlight_equiangular_2_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
+        const float _e31 = airlight_equiangular_2_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
+        const float _e33 = airlight_equiangular_2_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        return float3(_e29, _e31, _e33);
+    }
     span_1 = comp_1;
-    if ((rho_1 >= 0.0)) {
-        local_5 = (rho_1 < airlight_equiangular_2_RHO_OPEN);
+    if ((rho_2 >= 0.0)) {
+        local_7 = (rho_2 < airlight_equiangular_2_RHO_OPEN);
     } else {
-        local_5 = false;
+        local_7 = false;
     }
-    bool _e34 = local_5;
-    if (_e34) {
-        const float _e39 = airlight_equiangular_2_arctan2_((h_2 * rho_1), (1.0 - (x0_1 * rho_1)));
-        span_1 = _e39;
+    bool _e43 = local_7;
+    if (_e43) {
+        const float _e48 = airlight_equiangular_2_arctan2_((h_2 * rho_2), (1.0 - (x0_2 * rho_2)));
+        span_1 = _e48;
     }
-    float _e40 = span_1;
-    float half_1 = (0.5 * _e40);
-    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 1.5773503));
-    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 1.5773503));
-    float _e65 = b_4;
-    float _e66 = co_1;
-    const float2 _e70 = airlight_equiangular_2_sin_cos(max(min(_e65, _e66), 0.0));
-    sc_1 = _e70;
-    float _e71 = b_4;
-    float _e72 = co_1;
-    if ((_e71 > _e72)) {
-        float2 _e74 = sc_1;
-        sc_1 = _e74.yx;
+    float _e49 = span_1;
+    float half_2 = (0.5 * _e49);
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5773503));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5773503));
+    float _e74 = b_4;
+    float _e75 = co_1;
+    const float2 _e79 = airlight_equiangular_2_sin_cos(max(min(_e74, _e75), 0.0));
+    sc_1 = _e79;
+    float _e80 = b_4;
+    float _e81 = co_1;
+    if ((_e80 > _e81)) {
+        float2 _e83 = sc_1;
+        sc_1 = _e83.yx;
     }
-    float _e77 = sc_1.x;
-    float _e80 = sc_1.y;
-    st_1 = max((x0_1 + ((h_2 * _e77) / max(_e80, 1e-30))), 1.0);
-    float _e90 = sc_1.y;
-    float _e93 = sc_1.y;
-    float _e99 = sc_1.x;
-    float _e102 = sc_1.x;
-    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93)));
-    float3 _e108 = sum_1;
-    float _e110 = st_1;
-    float _e115 = d_3;
-    float _e116 = d_3;
-    sum_1 = (_e108 + ((1.0 * exp((-(tau_5) * _e110))) / ((_e115 * sqrt(_e116))).xxx));
-    b_4 = ((0.5 * gamma_1) + ((0.5 * half_1) * 0.42264974));
-    co_1 = ((0.5 * comp_1) - ((0.5 * half_1) * 0.42264974));
-    float _e136 = b_4;
-    float _e137 = co_1;
-    const float2 _e141 = airlight_equiangular_2_sin_cos(max(min(_e136, _e137), 0.0));
-    sc_1 = _e141;
-    float _e142 = b_4;
-    float _e143 = co_1;
-    if ((_e142 > _e143)) {
-        float2 _e145 = sc_1;
-        sc_1 = _e145.yx;
+    float _e86 = sc_1.x;
+    float _e89 = sc_1.y;
+    st_1 = max((x0_2 + ((h_2 * _e86) / max(_e89, 1e-30))), 1.0);
+    float _e99 = sc_1.y;
+    float _e102 = sc_1.y;
+    float _e108 = sc_1.x;
+    float _e111 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e108) * _e111)) : (gp_1 - (((4.0 * g_8) * _e99) * _e102)));
+    float3 _e117 = sum_2;
+    float _e119 = st_1;
+    float _e124 = d_3;
+    float _e125 = d_3;
+    sum_2 = (_e117 + ((1.0 * exp((-(tau_6) * _e119))) / ((_e124 * sqrt(_e125))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.42264974));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.42264974));
+    float _e145 = b_4;
+    float _e146 = co_1;
+    const float2 _e150 = airlight_equiangular_2_sin_cos(max(min(_e145, _e146), 0.0));
+    sc_1 = _e150;
+    float _e151 = b_4;
+    float _e152 = co_1;
+    if ((_e151 > _e152)) {
+        float2 _e154 = sc_1;
+        sc_1 = _e154.yx;
     }
-    float _e148 = sc_1.x;
-    float _e151 = sc_1.y;
-    st_1 = max((x0_1 + ((h_2 * _e148) / max(_e151, 1e-30))), 1.0);
-    float _e161 = sc_1.y;
-    float _e164 = sc_1.y;
-    float _e170 = sc_1.x;
-    float _e173 = sc_1.x;
-    d_3 = ((g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164)));
-    float3 _e179 = sum_1;
-    float _e181 = st_1;
-    float _e186 = d_3;
-    float _e187 = d_3;
-    sum_1 = (_e179 + ((1.0 * exp((-(tau_5) * _e181))) / ((_e186 * sqrt(_e187))).xxx));
-    float3 _e200 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e200) * half_1) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+    float _e157 = sc_1.x;
+    float _e160 = sc_1.y;
+    st_1 = max((x0_2 + ((h_2 * _e157) / max(_e160, 1e-30))), 1.0);
+    float _e170 = sc_1.y;
+    float _e173 = sc_1.y;
+    float _e179 = sc_1.x;
+    float _e182 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e179) * _e182)) : (gp_1 - (((4.0 * g_8) * _e170) * _e173)));
+    float3 _e188 = sum_2;
+    float _e190 = st_1;
+    float _e195 = d_3;
+    float _e196 = d_3;
+    sum_2 = (_e188 + ((1.0 * exp((-(tau_6) * _e190))) / ((_e195 * sqrt(_e196))).xxx));
+    float3 _e209 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e209) * half_2) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_2_airlight(float tau, float gamma_2, float rho_2, float g)
+float airlight_equiangular_2_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
 {
     float gc = clamp(gamma_2, 0.0, airlight_equiangular_2_PI);
     const float2 _e7 = airlight_equiangular_2_sin_cos(gc);
     float comp_2 = max(((airlight_equiangular_2_PI - gc) - 8.742278e-8), 0.0);
-    const float _e17 = airlight_equiangular_2_airlight_geometry(tau, abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
-    return _e17;
+    const float2 _e16 = airlight_equiangular_2_sin_cos(comp_2);
+    float h_6 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
+    const float _e21 = airlight_equiangular_2_airlight_geometry(tau_1, h_6, _e7.y, gc, comp_2, rho_3, g_1);
+    return _e21;
 }
 
-float airlight_equiangular_2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
+float airlight_equiangular_2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
 {
-    bool local_6 = (bool)0;
+    bool local_8 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_2_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -443,27 +496,27 @@ float airlight_equiangular_2_radiance(float3 origin_1, float3 dir_1, float surfa
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_6 = (_e8.z == 0.0);
+        local_8 = (_e8.z == 0.0);
     } else {
-        local_6 = false;
+        local_8 = false;
     }
-    bool _e24 = local_6;
+    bool _e24 = local_8;
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e34 = airlight_equiangular_2_arctan2_(_e8.y, _e8.z);
     const float _e38 = airlight_equiangular_2_arctan2_(_e8.y, -(_e8.z));
-    const float _e44 = airlight_equiangular_2_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_6, g_1);
+    const float _e44 = airlight_equiangular_2_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_7, g_2);
     const float _e45 = airlight_equiangular_2_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
-float3 airlight_equiangular_2_along_rgb(float3 tau_1, float h_3, float x0_2, float rho_3, float g_2)
+float3 airlight_equiangular_2_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float g_3)
 {
-    const float _e5 = airlight_equiangular_2_arctan2_(h_3, x0_2);
-    const float _e7 = airlight_equiangular_2_arctan2_(h_3, -(x0_2));
-    const float3 _e8 = airlight_equiangular_2_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
+    const float _e5 = airlight_equiangular_2_arctan2_(h_3, x0_3);
+    const float _e7 = airlight_equiangular_2_arctan2_(h_3, -(x0_3));
+    const float3 _e8 = airlight_equiangular_2_airlight_geometry_rgb(tau_2, h_3, x0_3, _e5, _e7, rho_4, g_3);
     return _e8;
 }
 
@@ -473,18 +526,18 @@ float airlight_equiangular_2_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_2_spot_core(float3 tau_2, float h_4, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_equiangular_2_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_7 = (bool)0;
+    bool local_9 = (bool)0;
 
     h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     const float2 _e17 = airlight_equiangular_2_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
@@ -499,25 +552,25 @@ float3 airlight_equiangular_2_spot_core(float3 tau_2, float h_4, float x0_3, flo
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_7 = (rho_4 >= 0.0);
+            local_9 = (rho_5 >= 0.0);
         } else {
-            local_7 = false;
+            local_9 = false;
         }
-        bool _e44 = local_7;
+        bool _e44 = local_9;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+            rho1_ = max(((rho_5 - _e45) / _e47), 0.0);
         }
     }
     float _e51 = t0_;
     float _e53 = h1_;
     float _e54 = x1_;
     float _e55 = rho1_;
-    const float3 _e56 = airlight_equiangular_2_along_rgb((tau_2 * _e51), _e53, _e54, _e55, g_3);
+    const float3 _e56 = airlight_equiangular_2_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_4);
     float _e58 = s0_;
     float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_2) * _e58))) / (_e62).xxx));
+    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
 }
 
 float airlight_equiangular_2_spot_weight_at(float w, float ca, float k_1, float co_2, float ci)
@@ -532,39 +585,39 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, float rho_5, float gam_1, float om_e, float u, float v_in, float ca_1, float k_2, float co_3, float ci_1, float g_4)
+float3 airlight_equiangular_2_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca_1, float k_2, float co_3, float ci_1, float g_5)
 {
-    bool local_8 = (bool)0;
+    bool local_10 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
-    float3 sum_2 = (0.0).xxx;
+    float3 sum_3 = (0.0).xxx;
     float w_1 = (float)0;
     float2 sb = (float2)0;
     float d_4 = (float)0;
     float st_2 = (float)0;
     int i = int(0);
 
-    if (!((v_in > u))) {
+    if (!((v_in > u_1))) {
         return (0.0).xxx;
     }
-    if (!((g_4 < 0.0))) {
-        local_8 = (v_in > 3.0);
+    if (!((g_5 < 0.0))) {
+        local_10 = (v_in > 3.0);
     } else {
-        local_8 = true;
+        local_10 = true;
     }
-    bool _e25 = local_8;
-    float e_1 = (_e25 ? v_in : u);
+    bool _e25 = local_10;
+    float e_1 = (_e25 ? v_in : u_1);
     const float _e27 = airlight_equiangular_2_spot_weight_at(e_1, ca_1, k_2, co_3, ci_1);
     if ((_e27 > 0.0)) {
-        const float3 _e35 = airlight_equiangular_2_spot_core(tau_3, h_5, x0_4, rho_5, gam_1, u, v_in, (u > gam_1), (v_in < om_e), g_4);
+        const float3 _e35 = airlight_equiangular_2_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
         exact = _e35;
         float3 _e36 = exact;
         if (any((_e36 >= (3.4028235e38).xxx))) {
             return (3.4028235e38).xxx;
         }
     }
-    float gm_2 = ((1.0 - g_4) * (1.0 - g_4));
-    float gp_2 = ((1.0 + g_4) * (1.0 + g_4));
+    float gm_2 = ((1.0 - g_5) * (1.0 - g_5));
+    float gp_2 = ((1.0 + g_5) * (1.0 + g_5));
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
@@ -583,13 +636,13 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
         {
             int _e74 = i;
             float _e76 = pieces[min(uint(_e74), 5u)];
-            float a_7 = (u + ((v_in - u) * _e76));
+            float a_7 = (u_1 + ((v_in - u_1) * _e76));
             int _e80 = i;
             float _e84 = pieces[min(uint(asint(asuint(_e80) + asuint(int(1)))), 5u)];
-            float b_5 = (u + ((v_in - u) * _e84));
-            float half_2 = (0.5 * (b_5 - a_7));
+            float b_5 = (u_1 + ((v_in - u_1) * _e84));
+            float half_3 = (0.5 * (b_5 - a_7));
             float mid = (0.5 * (b_5 + a_7));
-            w_1 = (mid + (half_2 * 0.96028984));
+            w_1 = (mid + (half_3 * 0.96028984));
             float _e96 = w_1;
             const float2 _e99 = airlight_equiangular_2_sin_cos((0.5 * _e96));
             sb = _e99;
@@ -597,18 +650,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e106 = sb.y;
             float _e112 = sb.x;
             float _e115 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e112) * _e115)) : (gp_2 - (((4.0 * g_4) * _e103) * _e106)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e112) * _e115)) : (gp_2 - (((4.0 * g_5) * _e103) * _e106)));
             float _e122 = sb.x;
             float _e125 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e122) / max(_e125, 1e-30))), 1.0);
-            float3 _e132 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e122) / max(_e125, 1e-30))), 1.0);
+            float3 _e132 = sum_3;
             float _e135 = w_1;
             const float _e136 = airlight_equiangular_2_spot_weight_at(_e135, ca_1, k_2, co_3, ci_1);
             float _e139 = d_4;
             float _e140 = d_4;
             float _e145 = st_2;
-            sum_2 = (_e132 + ((((half_2 * 0.101228535) * (_e136 - _e27)) / (_e139 * sqrt(_e140))) * exp((-(tau_3) * _e145))));
-            w_1 = (mid + (half_2 * 0.7966665));
+            sum_3 = (_e132 + ((((half_3 * 0.101228535) * (_e136 - _e27)) / (_e139 * sqrt(_e140))) * exp((-(tau_4) * _e145))));
+            w_1 = (mid + (half_3 * 0.7966665));
             float _e153 = w_1;
             const float2 _e156 = airlight_equiangular_2_sin_cos((0.5 * _e153));
             sb = _e156;
@@ -616,18 +669,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e163 = sb.y;
             float _e169 = sb.x;
             float _e172 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e169) * _e172)) : (gp_2 - (((4.0 * g_4) * _e160) * _e163)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e169) * _e172)) : (gp_2 - (((4.0 * g_5) * _e160) * _e163)));
             float _e179 = sb.x;
             float _e182 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e179) / max(_e182, 1e-30))), 1.0);
-            float3 _e189 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e179) / max(_e182, 1e-30))), 1.0);
+            float3 _e189 = sum_3;
             float _e192 = w_1;
             const float _e193 = airlight_equiangular_2_spot_weight_at(_e192, ca_1, k_2, co_3, ci_1);
             float _e196 = d_4;
             float _e197 = d_4;
             float _e202 = st_2;
-            sum_2 = (_e189 + ((((half_2 * 0.22238104) * (_e193 - _e27)) / (_e196 * sqrt(_e197))) * exp((-(tau_3) * _e202))));
-            w_1 = (mid + (half_2 * 0.5255324));
+            sum_3 = (_e189 + ((((half_3 * 0.22238104) * (_e193 - _e27)) / (_e196 * sqrt(_e197))) * exp((-(tau_4) * _e202))));
+            w_1 = (mid + (half_3 * 0.5255324));
             float _e210 = w_1;
             const float2 _e213 = airlight_equiangular_2_sin_cos((0.5 * _e210));
             sb = _e213;
@@ -635,18 +688,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e220 = sb.y;
             float _e226 = sb.x;
             float _e229 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e226) * _e229)) : (gp_2 - (((4.0 * g_4) * _e217) * _e220)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e226) * _e229)) : (gp_2 - (((4.0 * g_5) * _e217) * _e220)));
             float _e236 = sb.x;
             float _e239 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e236) / max(_e239, 1e-30))), 1.0);
-            float3 _e246 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e236) / max(_e239, 1e-30))), 1.0);
+            float3 _e246 = sum_3;
             float _e249 = w_1;
             const float _e250 = airlight_equiangular_2_spot_weight_at(_e249, ca_1, k_2, co_3, ci_1);
             float _e253 = d_4;
             float _e254 = d_4;
             float _e259 = st_2;
-            sum_2 = (_e246 + ((((half_2 * 0.31370664) * (_e250 - _e27)) / (_e253 * sqrt(_e254))) * exp((-(tau_3) * _e259))));
-            w_1 = (mid + (half_2 * 0.18343464));
+            sum_3 = (_e246 + ((((half_3 * 0.31370664) * (_e250 - _e27)) / (_e253 * sqrt(_e254))) * exp((-(tau_4) * _e259))));
+            w_1 = (mid + (half_3 * 0.18343464));
             float _e267 = w_1;
             const float2 _e270 = airlight_equiangular_2_sin_cos((0.5 * _e267));
             sb = _e270;
@@ -654,18 +707,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e277 = sb.y;
             float _e283 = sb.x;
             float _e286 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e283) * _e286)) : (gp_2 - (((4.0 * g_4) * _e274) * _e277)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e283) * _e286)) : (gp_2 - (((4.0 * g_5) * _e274) * _e277)));
             float _e293 = sb.x;
             float _e296 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e293) / max(_e296, 1e-30))), 1.0);
-            float3 _e303 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e293) / max(_e296, 1e-30))), 1.0);
+            float3 _e303 = sum_3;
             float _e306 = w_1;
             const float _e307 = airlight_equiangular_2_spot_weight_at(_e306, ca_1, k_2, co_3, ci_1);
             float _e310 = d_4;
             float _e311 = d_4;
             float _e316 = st_2;
-            sum_2 = (_e303 + ((((half_2 * 0.36268377) * (_e307 - _e27)) / (_e310 * sqrt(_e311))) * exp((-(tau_3) * _e316))));
-            w_1 = (mid + (half_2 * -0.18343464));
+            sum_3 = (_e303 + ((((half_3 * 0.36268377) * (_e307 - _e27)) / (_e310 * sqrt(_e311))) * exp((-(tau_4) * _e316))));
+            w_1 = (mid + (half_3 * -0.18343464));
             float _e324 = w_1;
             const float2 _e327 = airlight_equiangular_2_sin_cos((0.5 * _e324));
             sb = _e327;
@@ -673,18 +726,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e334 = sb.y;
             float _e340 = sb.x;
             float _e343 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e340) * _e343)) : (gp_2 - (((4.0 * g_4) * _e331) * _e334)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e340) * _e343)) : (gp_2 - (((4.0 * g_5) * _e331) * _e334)));
             float _e350 = sb.x;
             float _e353 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e350) / max(_e353, 1e-30))), 1.0);
-            float3 _e360 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e350) / max(_e353, 1e-30))), 1.0);
+            float3 _e360 = sum_3;
             float _e363 = w_1;
             const float _e364 = airlight_equiangular_2_spot_weight_at(_e363, ca_1, k_2, co_3, ci_1);
             float _e367 = d_4;
             float _e368 = d_4;
             float _e373 = st_2;
-            sum_2 = (_e360 + ((((half_2 * 0.36268377) * (_e364 - _e27)) / (_e367 * sqrt(_e368))) * exp((-(tau_3) * _e373))));
-            w_1 = (mid + (half_2 * -0.5255324));
+            sum_3 = (_e360 + ((((half_3 * 0.36268377) * (_e364 - _e27)) / (_e367 * sqrt(_e368))) * exp((-(tau_4) * _e373))));
+            w_1 = (mid + (half_3 * -0.5255324));
             float _e381 = w_1;
             const float2 _e384 = airlight_equiangular_2_sin_cos((0.5 * _e381));
             sb = _e384;
@@ -692,18 +745,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e391 = sb.y;
             float _e397 = sb.x;
             float _e400 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e397) * _e400)) : (gp_2 - (((4.0 * g_4) * _e388) * _e391)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e397) * _e400)) : (gp_2 - (((4.0 * g_5) * _e388) * _e391)));
             float _e407 = sb.x;
             float _e410 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e407) / max(_e410, 1e-30))), 1.0);
-            float3 _e417 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e407) / max(_e410, 1e-30))), 1.0);
+            float3 _e417 = sum_3;
             float _e420 = w_1;
             const float _e421 = airlight_equiangular_2_spot_weight_at(_e420, ca_1, k_2, co_3, ci_1);
             float _e424 = d_4;
             float _e425 = d_4;
             float _e430 = st_2;
-            sum_2 = (_e417 + ((((half_2 * 0.31370664) * (_e421 - _e27)) / (_e424 * sqrt(_e425))) * exp((-(tau_3) * _e430))));
-            w_1 = (mid + (half_2 * -0.7966665));
+            sum_3 = (_e417 + ((((half_3 * 0.31370664) * (_e421 - _e27)) / (_e424 * sqrt(_e425))) * exp((-(tau_4) * _e430))));
+            w_1 = (mid + (half_3 * -0.7966665));
             float _e438 = w_1;
             const float2 _e441 = airlight_equiangular_2_sin_cos((0.5 * _e438));
             sb = _e441;
@@ -711,18 +764,18 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e448 = sb.y;
             float _e454 = sb.x;
             float _e457 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e454) * _e457)) : (gp_2 - (((4.0 * g_4) * _e445) * _e448)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e454) * _e457)) : (gp_2 - (((4.0 * g_5) * _e445) * _e448)));
             float _e464 = sb.x;
             float _e467 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e464) / max(_e467, 1e-30))), 1.0);
-            float3 _e474 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e464) / max(_e467, 1e-30))), 1.0);
+            float3 _e474 = sum_3;
             float _e477 = w_1;
             const float _e478 = airlight_equiangular_2_spot_weight_at(_e477, ca_1, k_2, co_3, ci_1);
             float _e481 = d_4;
             float _e482 = d_4;
             float _e487 = st_2;
-            sum_2 = (_e474 + ((((half_2 * 0.22238104) * (_e478 - _e27)) / (_e481 * sqrt(_e482))) * exp((-(tau_3) * _e487))));
-            w_1 = (mid + (half_2 * -0.96028984));
+            sum_3 = (_e474 + ((((half_3 * 0.22238104) * (_e478 - _e27)) / (_e481 * sqrt(_e482))) * exp((-(tau_4) * _e487))));
+            w_1 = (mid + (half_3 * -0.96028984));
             float _e495 = w_1;
             const float2 _e498 = airlight_equiangular_2_sin_cos((0.5 * _e495));
             sb = _e498;
@@ -730,22 +783,22 @@ float3 airlight_equiangular_2_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             float _e505 = sb.y;
             float _e511 = sb.x;
             float _e514 = sb.x;
-            d_4 = ((g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e511) * _e514)) : (gp_2 - (((4.0 * g_4) * _e502) * _e505)));
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e511) * _e514)) : (gp_2 - (((4.0 * g_5) * _e502) * _e505)));
             float _e521 = sb.x;
             float _e524 = sb.y;
-            st_2 = max((x0_4 + ((h_5 * _e521) / max(_e524, 1e-30))), 1.0);
-            float3 _e531 = sum_2;
+            st_2 = max((x0_5 + ((h_5 * _e521) / max(_e524, 1e-30))), 1.0);
+            float3 _e531 = sum_3;
             float _e534 = w_1;
             const float _e535 = airlight_equiangular_2_spot_weight_at(_e534, ca_1, k_2, co_3, ci_1);
             float _e538 = d_4;
             float _e539 = d_4;
             float _e544 = st_2;
-            sum_2 = (_e531 + ((((half_2 * 0.101228535) * (_e535 - _e27)) / (_e538 * sqrt(_e539))) * exp((-(tau_3) * _e544))));
+            sum_3 = (_e531 + ((((half_3 * 0.101228535) * (_e535 - _e27)) / (_e538 * sqrt(_e539))) * exp((-(tau_4) * _e544))));
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_2;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e564 = sum_3;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_2_spot_weight(float c_2, float co_4, float ci_2)
@@ -756,16 +809,16 @@ float airlight_equiangular_2_spot_weight(float c_2, float co_4, float ci_2)
     return ((c_2 >= co_4) ? 1.0 : 0.0);
 }
 
-float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_5)
+float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
 {
-    bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
+    bool local_11 = (bool)0;
+    bool local_12 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_11 = (bool)0;
-    float scale = 1.0;
-    bool local_12 = (bool)0;
     bool local_13 = (bool)0;
+    float scale = 1.0;
+    bool local_14 = (bool)0;
+    bool local_15 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -775,8 +828,8 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_equiangular_2_PI;
-    bool local_14 = (bool)0;
-    bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
+    bool local_17 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -787,16 +840,16 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
     const float _e18 = airlight_equiangular_2_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_10 = (_e18 <= airlight_equiangular_2_HUGE);
+            local_12 = (_e18 <= airlight_equiangular_2_HUGE);
         } else {
-            local_10 = false;
+            local_12 = false;
         }
-        bool _e29 = local_10;
-        local_9 = !(_e29);
+        bool _e29 = local_12;
+        local_11 = !(_e29);
     } else {
-        local_9 = false;
+        local_11 = false;
     }
-    bool _e32 = local_9;
+    bool _e32 = local_11;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -806,11 +859,11 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_11 = (_e17 <= airlight_equiangular_2_HUGE);
+        local_13 = (_e17 <= airlight_equiangular_2_HUGE);
     } else {
-        local_11 = false;
+        local_13 = false;
     }
-    bool _e53 = local_11;
+    bool _e53 = local_13;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -829,43 +882,43 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_12 = (_e11.z == 0.0);
+        local_14 = (_e11.z == 0.0);
     } else {
-        local_12 = false;
+        local_14 = false;
     }
-    bool _e96 = local_12;
+    bool _e96 = local_14;
     if (_e96) {
         return (0.0).xxx;
     }
     float d_5 = _e11.x;
-    float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float h_7 = _e11.y;
+    float x0_7 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_13 = ((surface_1 / d_5) < airlight_equiangular_2_RHO_OPEN);
+        local_15 = ((surface_1 / d_5) < airlight_equiangular_2_RHO_OPEN);
     } else {
-        local_13 = false;
+        local_15 = false;
     }
-    bool has_end = local_13;
-    float rho_7 = (has_end ? (surface_1 / d_5) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
-    float gg = clamp(g_5, -0.999, 0.999);
+    bool has_end_1 = local_15;
+    float rho_8 = (has_end_1 ? (surface_1 / d_5) : -1.0);
+    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float gg = clamp(g_6, -0.999, 0.999);
     if (!(point_)) {
-        local_14 = (h_6 <= 0.0);
+        local_16 = (h_7 <= 0.0);
     } else {
-        local_14 = true;
+        local_16 = true;
     }
-    bool _e149 = local_14;
+    bool _e149 = local_16;
     if (_e149) {
         if (!(point_)) {
             const float _e152 = airlight_equiangular_2_spot_weight(-(k_3), co_5, cos_inner);
             const float _e153 = airlight_equiangular_2_spot_weight(k_3, co_5, cos_inner);
-            if (has_end) {
-                local_15 = (rho_7 < 1.0);
+            if (has_end_1) {
+                local_17 = (rho_8 < 1.0);
             } else {
-                local_15 = false;
+                local_17 = false;
             }
-            bool _e160 = local_15;
-            scale = ((x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
+            bool _e160 = local_17;
+            scale = ((x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
         }
         core = true;
     } else {
@@ -881,19 +934,19 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
         float r_4 = sqrt(((_e180 * _e181) + (k_3 * k_3)));
         float _e186 = ca_2;
         const float _e187 = airlight_equiangular_2_arctan2_(k_3, _e186);
-        const float _e188 = airlight_equiangular_2_arctan2_(h_6, x0_6);
+        const float _e188 = airlight_equiangular_2_arctan2_(h_7, x0_7);
         gam_2 = _e188;
-        const float _e191 = airlight_equiangular_2_arctan2_(h_6, (x0_6 - rho_7));
-        om_e_1 = (has_end ? _e191 : airlight_equiangular_2_PI);
+        const float _e191 = airlight_equiangular_2_arctan2_(h_7, (x0_7 - rho_8));
+        om_e_1 = (has_end_1 ? _e191 : airlight_equiangular_2_PI);
         if ((co_5 < r_4)) {
             const float _e194 = airlight_equiangular_2_spot_asin(co_5, r_4);
             float _e195 = gam_2;
-            float lo = max(_e195, (_e187 + _e194));
+            float lo_1 = max(_e195, (_e187 + _e194));
             float _e198 = om_e_1;
             float hi_1 = min(_e198, ((_e187 + airlight_equiangular_2_PI) - _e194));
-            wa_1 = lo;
+            wa_1 = lo_1;
             wb_1 = hi_1;
-            if ((lo < hi_1)) {
+            if ((lo_1 < hi_1)) {
                 if ((cos_inner <= co_5)) {
                     core = true;
                 } else {
@@ -906,9 +959,9 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
                         float _e216 = wa_1;
                         float _e217 = wb_1;
                         core = (_e216 < _e217);
-                        pen = float4(lo, min(hi_1, (_e187 + _e207)), max(lo, ((_e187 + airlight_equiangular_2_PI) - _e207)), hi_1);
+                        pen = float4(lo_1, min(hi_1, (_e187 + _e207)), max(lo_1, ((_e187 + airlight_equiangular_2_PI) - _e207)), hi_1);
                     } else {
-                        pen = float4(lo, hi_1, 0.0, 0.0);
+                        pen = float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
@@ -927,7 +980,7 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
         float _e241 = wb_1;
         bool _e242 = cut_a_1;
         bool _e243 = cut_b_1;
-        const float3 _e244 = airlight_equiangular_2_spot_core(tau_6, h_6, x0_6, rho_7, _e239, _e240, _e241, _e242, _e243, gg);
+        const float3 _e244 = airlight_equiangular_2_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
         a_5 = _e244;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -955,7 +1008,7 @@ float3 airlight_equiangular_2_spot(float3 origin_2, float3 dir_2, float surface_
                 float _e262 = gam_2;
                 float _e263 = om_e_1;
                 float _e266 = ca_2;
-                const float3 _e267 = airlight_equiangular_2_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
+                const float3 _e267 = airlight_equiangular_2_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
                 a_5 = (_e261 + _e267);
             }
         }

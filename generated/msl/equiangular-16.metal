@@ -138,14 +138,14 @@ metal::float3 airlight_equiangular_16_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h;
     float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_equiangular_16_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_equiangular_16_HUGE), _e97 / n_1, x0_5 / n_1);
+    return metal::float3(metal::min(dist, airlight_equiangular_16_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_equiangular_16_scaled(
@@ -282,893 +282,1019 @@ metal::float2 airlight_equiangular_16_sin_cos(
     }
 }
 
-float airlight_equiangular_16_airlight_geometry(
-    float tau_in,
-    float h_1,
+float airlight_equiangular_16_airlight_axis(
+    float tau,
     float x0_,
-    float gamma,
-    float comp,
     float rho,
-    float g_in
+    float g
 ) {
-    float span = {};
     bool local_4 = {};
+    bool local_5 = {};
     float sum = 0.0;
-    metal::float2 sc = {};
-    float b_3 = {};
-    float co = {};
-    float st = {};
-    float d_2 = {};
-    float tau_4 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_16_TAU_MAX);
-    float g_6 = metal::clamp(g_in, -0.999, 0.999);
-    float gm = (1.0 - g_6) * (1.0 - g_6);
-    float gp = (1.0 + g_6) * (1.0 + g_6);
-    span = comp;
+    float u = {};
     if (rho >= 0.0) {
         local_4 = rho < airlight_equiangular_16_RHO_OPEN;
     } else {
         local_4 = false;
     }
-    bool _e32 = local_4;
-    if (_e32) {
-        float _e37 = airlight_equiangular_16_arctan2_(h_1 * rho, 1.0 - (x0_ * rho));
-        span = _e37;
+    bool has_end = local_4;
+    if (x0_ > 0.0) {
+        if (has_end) {
+            local_5 = rho < 1.0;
+        } else {
+            local_5 = false;
+        }
+        bool _e19 = local_5;
+        if (!(_e19)) {
+            return airlight_equiangular_16_HUGE;
+        }
+        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau))) * rho) / (1.0 - rho), airlight_equiangular_16_HUGE);
     }
-    float _e38 = span;
-    float half_ = 0.5 * _e38;
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.9894009);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.9894009);
-    float _e62 = b_3;
-    float _e63 = co;
-    metal::float2 _e67 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e62, _e63), 0.0));
-    sc = _e67;
-    float _e68 = b_3;
-    float _e69 = co;
-    if (_e68 > _e69) {
-        metal::float2 _e71 = sc;
-        sc = _e71.yx;
-    }
-    float _e74 = sc.x;
-    float _e77 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e74) / metal::max(_e77, 0.000000000000000000000000000001)), 1.0);
-    float _e87 = sc.y;
-    float _e90 = sc.y;
-    float _e96 = sc.x;
-    float _e99 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e96) * _e99)) : (gp - (((4.0 * g_6) * _e87) * _e90));
+    float lo = has_end ? (1.0 / (1.0 + rho)) : 0.0;
+    float half_ = 0.5 * (1.0 - lo);
+    u = lo + (half_ * 1.9894009);
+    float _e57 = sum;
+    float _e60 = u;
+    float _e63 = u;
+    sum = _e57 + (0.02715246 * metal::exp((-2.0 * tau) * ((1.0 - _e60) / _e63)));
+    u = lo + (half_ * 1.9445751);
+    float _e73 = sum;
+    float _e76 = u;
+    float _e79 = u;
+    sum = _e73 + (0.062253524 * metal::exp((-2.0 * tau) * ((1.0 - _e76) / _e79)));
+    u = lo + (half_ * 1.8656312);
+    float _e89 = sum;
+    float _e92 = u;
+    float _e95 = u;
+    sum = _e89 + (0.09515851 * metal::exp((-2.0 * tau) * ((1.0 - _e92) / _e95)));
+    u = lo + (half_ * 1.7554045);
     float _e105 = sum;
-    float _e107 = st;
-    float _e112 = d_2;
-    float _e113 = d_2;
-    sum = _e105 + ((0.02715246 * metal::exp(-(tau_4) * _e107)) / (_e112 * metal::sqrt(_e113)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.9445751);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.9445751);
-    float _e132 = b_3;
-    float _e133 = co;
-    metal::float2 _e137 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e132, _e133), 0.0));
-    sc = _e137;
-    float _e138 = b_3;
-    float _e139 = co;
-    if (_e138 > _e139) {
-        metal::float2 _e141 = sc;
-        sc = _e141.yx;
+    float _e108 = u;
+    float _e111 = u;
+    sum = _e105 + (0.12462897 * metal::exp((-2.0 * tau) * ((1.0 - _e108) / _e111)));
+    u = lo + (half_ * 1.6178763);
+    float _e121 = sum;
+    float _e124 = u;
+    float _e127 = u;
+    sum = _e121 + (0.14959599 * metal::exp((-2.0 * tau) * ((1.0 - _e124) / _e127)));
+    u = lo + (half_ * 1.4580168);
+    float _e137 = sum;
+    float _e140 = u;
+    float _e143 = u;
+    sum = _e137 + (0.16915652 * metal::exp((-2.0 * tau) * ((1.0 - _e140) / _e143)));
+    u = lo + (half_ * 1.2816036);
+    float _e153 = sum;
+    float _e156 = u;
+    float _e159 = u;
+    sum = _e153 + (0.18260342 * metal::exp((-2.0 * tau) * ((1.0 - _e156) / _e159)));
+    u = lo + (half_ * 1.0950125);
+    float _e169 = sum;
+    float _e172 = u;
+    float _e175 = u;
+    sum = _e169 + (0.1894506 * metal::exp((-2.0 * tau) * ((1.0 - _e172) / _e175)));
+    u = lo + (half_ * 0.9049875);
+    float _e185 = sum;
+    float _e188 = u;
+    float _e191 = u;
+    sum = _e185 + (0.1894506 * metal::exp((-2.0 * tau) * ((1.0 - _e188) / _e191)));
+    u = lo + (half_ * 0.7183964);
+    float _e201 = sum;
+    float _e204 = u;
+    float _e207 = u;
+    sum = _e201 + (0.18260342 * metal::exp((-2.0 * tau) * ((1.0 - _e204) / _e207)));
+    u = lo + (half_ * 0.5419832);
+    float _e217 = sum;
+    float _e220 = u;
+    float _e223 = u;
+    sum = _e217 + (0.16915652 * metal::exp((-2.0 * tau) * ((1.0 - _e220) / _e223)));
+    u = lo + (half_ * 0.38212377);
+    float _e233 = sum;
+    float _e236 = u;
+    float _e239 = u;
+    sum = _e233 + (0.14959599 * metal::exp((-2.0 * tau) * ((1.0 - _e236) / _e239)));
+    u = lo + (half_ * 0.24459559);
+    float _e249 = sum;
+    float _e252 = u;
+    float _e255 = u;
+    sum = _e249 + (0.12462897 * metal::exp((-2.0 * tau) * ((1.0 - _e252) / _e255)));
+    u = lo + (half_ * 0.13436878);
+    float _e265 = sum;
+    float _e268 = u;
+    float _e271 = u;
+    sum = _e265 + (0.09515851 * metal::exp((-2.0 * tau) * ((1.0 - _e268) / _e271)));
+    u = lo + (half_ * 0.05542499);
+    float _e281 = sum;
+    float _e284 = u;
+    float _e287 = u;
+    sum = _e281 + (0.062253524 * metal::exp((-2.0 * tau) * ((1.0 - _e284) / _e287)));
+    u = lo + (half_ * 0.010599077);
+    float _e297 = sum;
+    float _e300 = u;
+    float _e303 = u;
+    sum = _e297 + (0.02715246 * metal::exp((-2.0 * tau) * ((1.0 - _e300) / _e303)));
+    float _e324 = sum;
+    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau))) * half_) * _e324;
+}
+
+float airlight_equiangular_16_airlight_geometry(
+    float tau_in,
+    float h_1,
+    float x0_1,
+    float gamma,
+    float comp,
+    float rho_1,
+    float g_in
+) {
+    float span = {};
+    bool local_6 = {};
+    float sum_1 = 0.0;
+    metal::float2 sc = {};
+    float b_3 = {};
+    float co = {};
+    float st = {};
+    float d_2 = {};
+    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_16_TAU_MAX);
+    float g_7 = metal::clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g_7) * (1.0 - g_7);
+    float gp = (1.0 + g_7) * (1.0 + g_7);
+    if (h_1 <= 0.0) {
+        float _e26 = airlight_equiangular_16_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        return _e26;
     }
-    float _e144 = sc.x;
-    float _e147 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e144) / metal::max(_e147, 0.000000000000000000000000000001)), 1.0);
-    float _e157 = sc.y;
+    span = comp;
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_equiangular_16_RHO_OPEN;
+    } else {
+        local_6 = false;
+    }
+    bool _e35 = local_6;
+    if (_e35) {
+        float _e40 = airlight_equiangular_16_arctan2_(h_1 * rho_1, 1.0 - (x0_1 * rho_1));
+        span = _e40;
+    }
+    float _e41 = span;
+    float half_1 = 0.5 * _e41;
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9894009);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.9894009);
+    float _e65 = b_3;
+    float _e66 = co;
+    metal::float2 _e70 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
+    sc = _e70;
+    float _e71 = b_3;
+    float _e72 = co;
+    if (_e71 > _e72) {
+        metal::float2 _e74 = sc;
+        sc = _e74.yx;
+    }
+    float _e77 = sc.x;
+    float _e80 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
+    float _e90 = sc.y;
+    float _e93 = sc.y;
+    float _e99 = sc.x;
+    float _e102 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e99) * _e102)) : (gp - (((4.0 * g_7) * _e90) * _e93));
+    float _e108 = sum_1;
+    float _e110 = st;
+    float _e115 = d_2;
+    float _e116 = d_2;
+    sum_1 = _e108 + ((0.02715246 * metal::exp(-(tau_5) * _e110)) / (_e115 * metal::sqrt(_e116)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9445751);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.9445751);
+    float _e135 = b_3;
+    float _e136 = co;
+    metal::float2 _e140 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e135, _e136), 0.0));
+    sc = _e140;
+    float _e141 = b_3;
+    float _e142 = co;
+    if (_e141 > _e142) {
+        metal::float2 _e144 = sc;
+        sc = _e144.yx;
+    }
+    float _e147 = sc.x;
+    float _e150 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e147) / metal::max(_e150, 0.000000000000000000000000000001)), 1.0);
     float _e160 = sc.y;
-    float _e166 = sc.x;
+    float _e163 = sc.y;
     float _e169 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e166) * _e169)) : (gp - (((4.0 * g_6) * _e157) * _e160));
-    float _e175 = sum;
-    float _e177 = st;
-    float _e182 = d_2;
-    float _e183 = d_2;
-    sum = _e175 + ((0.062253524 * metal::exp(-(tau_4) * _e177)) / (_e182 * metal::sqrt(_e183)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.8656312);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.8656312);
-    float _e202 = b_3;
-    float _e203 = co;
-    metal::float2 _e207 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e202, _e203), 0.0));
-    sc = _e207;
-    float _e208 = b_3;
-    float _e209 = co;
-    if (_e208 > _e209) {
-        metal::float2 _e211 = sc;
-        sc = _e211.yx;
+    float _e172 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e169) * _e172)) : (gp - (((4.0 * g_7) * _e160) * _e163));
+    float _e178 = sum_1;
+    float _e180 = st;
+    float _e185 = d_2;
+    float _e186 = d_2;
+    sum_1 = _e178 + ((0.062253524 * metal::exp(-(tau_5) * _e180)) / (_e185 * metal::sqrt(_e186)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.8656312);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.8656312);
+    float _e205 = b_3;
+    float _e206 = co;
+    metal::float2 _e210 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e205, _e206), 0.0));
+    sc = _e210;
+    float _e211 = b_3;
+    float _e212 = co;
+    if (_e211 > _e212) {
+        metal::float2 _e214 = sc;
+        sc = _e214.yx;
     }
-    float _e214 = sc.x;
-    float _e217 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e214) / metal::max(_e217, 0.000000000000000000000000000001)), 1.0);
-    float _e227 = sc.y;
+    float _e217 = sc.x;
+    float _e220 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e217) / metal::max(_e220, 0.000000000000000000000000000001)), 1.0);
     float _e230 = sc.y;
-    float _e236 = sc.x;
+    float _e233 = sc.y;
     float _e239 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e236) * _e239)) : (gp - (((4.0 * g_6) * _e227) * _e230));
-    float _e245 = sum;
-    float _e247 = st;
-    float _e252 = d_2;
-    float _e253 = d_2;
-    sum = _e245 + ((0.09515851 * metal::exp(-(tau_4) * _e247)) / (_e252 * metal::sqrt(_e253)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.7554045);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.7554045);
-    float _e272 = b_3;
-    float _e273 = co;
-    metal::float2 _e277 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e272, _e273), 0.0));
-    sc = _e277;
-    float _e278 = b_3;
-    float _e279 = co;
-    if (_e278 > _e279) {
-        metal::float2 _e281 = sc;
-        sc = _e281.yx;
+    float _e242 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e239) * _e242)) : (gp - (((4.0 * g_7) * _e230) * _e233));
+    float _e248 = sum_1;
+    float _e250 = st;
+    float _e255 = d_2;
+    float _e256 = d_2;
+    sum_1 = _e248 + ((0.09515851 * metal::exp(-(tau_5) * _e250)) / (_e255 * metal::sqrt(_e256)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.7554045);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.7554045);
+    float _e275 = b_3;
+    float _e276 = co;
+    metal::float2 _e280 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e275, _e276), 0.0));
+    sc = _e280;
+    float _e281 = b_3;
+    float _e282 = co;
+    if (_e281 > _e282) {
+        metal::float2 _e284 = sc;
+        sc = _e284.yx;
     }
-    float _e284 = sc.x;
-    float _e287 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e284) / metal::max(_e287, 0.000000000000000000000000000001)), 1.0);
-    float _e297 = sc.y;
+    float _e287 = sc.x;
+    float _e290 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e287) / metal::max(_e290, 0.000000000000000000000000000001)), 1.0);
     float _e300 = sc.y;
-    float _e306 = sc.x;
+    float _e303 = sc.y;
     float _e309 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e306) * _e309)) : (gp - (((4.0 * g_6) * _e297) * _e300));
-    float _e315 = sum;
-    float _e317 = st;
-    float _e322 = d_2;
-    float _e323 = d_2;
-    sum = _e315 + ((0.12462897 * metal::exp(-(tau_4) * _e317)) / (_e322 * metal::sqrt(_e323)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.6178763);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.6178763);
-    float _e342 = b_3;
-    float _e343 = co;
-    metal::float2 _e347 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e342, _e343), 0.0));
-    sc = _e347;
-    float _e348 = b_3;
-    float _e349 = co;
-    if (_e348 > _e349) {
-        metal::float2 _e351 = sc;
-        sc = _e351.yx;
+    float _e312 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e309) * _e312)) : (gp - (((4.0 * g_7) * _e300) * _e303));
+    float _e318 = sum_1;
+    float _e320 = st;
+    float _e325 = d_2;
+    float _e326 = d_2;
+    sum_1 = _e318 + ((0.12462897 * metal::exp(-(tau_5) * _e320)) / (_e325 * metal::sqrt(_e326)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.6178763);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.6178763);
+    float _e345 = b_3;
+    float _e346 = co;
+    metal::float2 _e350 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e345, _e346), 0.0));
+    sc = _e350;
+    float _e351 = b_3;
+    float _e352 = co;
+    if (_e351 > _e352) {
+        metal::float2 _e354 = sc;
+        sc = _e354.yx;
     }
-    float _e354 = sc.x;
-    float _e357 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e354) / metal::max(_e357, 0.000000000000000000000000000001)), 1.0);
-    float _e367 = sc.y;
+    float _e357 = sc.x;
+    float _e360 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
     float _e370 = sc.y;
-    float _e376 = sc.x;
+    float _e373 = sc.y;
     float _e379 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e376) * _e379)) : (gp - (((4.0 * g_6) * _e367) * _e370));
-    float _e385 = sum;
-    float _e387 = st;
-    float _e392 = d_2;
-    float _e393 = d_2;
-    sum = _e385 + ((0.14959599 * metal::exp(-(tau_4) * _e387)) / (_e392 * metal::sqrt(_e393)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.4580168);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.4580168);
-    float _e412 = b_3;
-    float _e413 = co;
-    metal::float2 _e417 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e412, _e413), 0.0));
-    sc = _e417;
-    float _e418 = b_3;
-    float _e419 = co;
-    if (_e418 > _e419) {
-        metal::float2 _e421 = sc;
-        sc = _e421.yx;
+    float _e382 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e379) * _e382)) : (gp - (((4.0 * g_7) * _e370) * _e373));
+    float _e388 = sum_1;
+    float _e390 = st;
+    float _e395 = d_2;
+    float _e396 = d_2;
+    sum_1 = _e388 + ((0.14959599 * metal::exp(-(tau_5) * _e390)) / (_e395 * metal::sqrt(_e396)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.4580168);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.4580168);
+    float _e415 = b_3;
+    float _e416 = co;
+    metal::float2 _e420 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e415, _e416), 0.0));
+    sc = _e420;
+    float _e421 = b_3;
+    float _e422 = co;
+    if (_e421 > _e422) {
+        metal::float2 _e424 = sc;
+        sc = _e424.yx;
     }
-    float _e424 = sc.x;
-    float _e427 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e424) / metal::max(_e427, 0.000000000000000000000000000001)), 1.0);
-    float _e437 = sc.y;
+    float _e427 = sc.x;
+    float _e430 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e427) / metal::max(_e430, 0.000000000000000000000000000001)), 1.0);
     float _e440 = sc.y;
-    float _e446 = sc.x;
+    float _e443 = sc.y;
     float _e449 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e446) * _e449)) : (gp - (((4.0 * g_6) * _e437) * _e440));
-    float _e455 = sum;
-    float _e457 = st;
-    float _e462 = d_2;
-    float _e463 = d_2;
-    sum = _e455 + ((0.16915652 * metal::exp(-(tau_4) * _e457)) / (_e462 * metal::sqrt(_e463)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.2816036);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.2816036);
-    float _e482 = b_3;
-    float _e483 = co;
-    metal::float2 _e487 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e482, _e483), 0.0));
-    sc = _e487;
-    float _e488 = b_3;
-    float _e489 = co;
-    if (_e488 > _e489) {
-        metal::float2 _e491 = sc;
-        sc = _e491.yx;
+    float _e452 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e449) * _e452)) : (gp - (((4.0 * g_7) * _e440) * _e443));
+    float _e458 = sum_1;
+    float _e460 = st;
+    float _e465 = d_2;
+    float _e466 = d_2;
+    sum_1 = _e458 + ((0.16915652 * metal::exp(-(tau_5) * _e460)) / (_e465 * metal::sqrt(_e466)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.2816036);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.2816036);
+    float _e485 = b_3;
+    float _e486 = co;
+    metal::float2 _e490 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e485, _e486), 0.0));
+    sc = _e490;
+    float _e491 = b_3;
+    float _e492 = co;
+    if (_e491 > _e492) {
+        metal::float2 _e494 = sc;
+        sc = _e494.yx;
     }
-    float _e494 = sc.x;
-    float _e497 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e494) / metal::max(_e497, 0.000000000000000000000000000001)), 1.0);
-    float _e507 = sc.y;
+    float _e497 = sc.x;
+    float _e500 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e497) / metal::max(_e500, 0.000000000000000000000000000001)), 1.0);
     float _e510 = sc.y;
-    float _e516 = sc.x;
+    float _e513 = sc.y;
     float _e519 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e516) * _e519)) : (gp - (((4.0 * g_6) * _e507) * _e510));
-    float _e525 = sum;
-    float _e527 = st;
-    float _e532 = d_2;
-    float _e533 = d_2;
-    sum = _e525 + ((0.18260342 * metal::exp(-(tau_4) * _e527)) / (_e532 * metal::sqrt(_e533)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.0950125);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.0950125);
-    float _e552 = b_3;
-    float _e553 = co;
-    metal::float2 _e557 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e552, _e553), 0.0));
-    sc = _e557;
-    float _e558 = b_3;
-    float _e559 = co;
-    if (_e558 > _e559) {
-        metal::float2 _e561 = sc;
-        sc = _e561.yx;
+    float _e522 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e519) * _e522)) : (gp - (((4.0 * g_7) * _e510) * _e513));
+    float _e528 = sum_1;
+    float _e530 = st;
+    float _e535 = d_2;
+    float _e536 = d_2;
+    sum_1 = _e528 + ((0.18260342 * metal::exp(-(tau_5) * _e530)) / (_e535 * metal::sqrt(_e536)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.0950125);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.0950125);
+    float _e555 = b_3;
+    float _e556 = co;
+    metal::float2 _e560 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e555, _e556), 0.0));
+    sc = _e560;
+    float _e561 = b_3;
+    float _e562 = co;
+    if (_e561 > _e562) {
+        metal::float2 _e564 = sc;
+        sc = _e564.yx;
     }
-    float _e564 = sc.x;
-    float _e567 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e564) / metal::max(_e567, 0.000000000000000000000000000001)), 1.0);
-    float _e577 = sc.y;
+    float _e567 = sc.x;
+    float _e570 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e567) / metal::max(_e570, 0.000000000000000000000000000001)), 1.0);
     float _e580 = sc.y;
-    float _e586 = sc.x;
+    float _e583 = sc.y;
     float _e589 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e586) * _e589)) : (gp - (((4.0 * g_6) * _e577) * _e580));
-    float _e595 = sum;
-    float _e597 = st;
-    float _e602 = d_2;
-    float _e603 = d_2;
-    sum = _e595 + ((0.1894506 * metal::exp(-(tau_4) * _e597)) / (_e602 * metal::sqrt(_e603)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.9049875);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.9049875);
-    float _e622 = b_3;
-    float _e623 = co;
-    metal::float2 _e627 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e622, _e623), 0.0));
-    sc = _e627;
-    float _e628 = b_3;
-    float _e629 = co;
-    if (_e628 > _e629) {
-        metal::float2 _e631 = sc;
-        sc = _e631.yx;
+    float _e592 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e589) * _e592)) : (gp - (((4.0 * g_7) * _e580) * _e583));
+    float _e598 = sum_1;
+    float _e600 = st;
+    float _e605 = d_2;
+    float _e606 = d_2;
+    sum_1 = _e598 + ((0.1894506 * metal::exp(-(tau_5) * _e600)) / (_e605 * metal::sqrt(_e606)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.9049875);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.9049875);
+    float _e625 = b_3;
+    float _e626 = co;
+    metal::float2 _e630 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e625, _e626), 0.0));
+    sc = _e630;
+    float _e631 = b_3;
+    float _e632 = co;
+    if (_e631 > _e632) {
+        metal::float2 _e634 = sc;
+        sc = _e634.yx;
     }
-    float _e634 = sc.x;
-    float _e637 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e634) / metal::max(_e637, 0.000000000000000000000000000001)), 1.0);
-    float _e647 = sc.y;
+    float _e637 = sc.x;
+    float _e640 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e637) / metal::max(_e640, 0.000000000000000000000000000001)), 1.0);
     float _e650 = sc.y;
-    float _e656 = sc.x;
+    float _e653 = sc.y;
     float _e659 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e656) * _e659)) : (gp - (((4.0 * g_6) * _e647) * _e650));
-    float _e665 = sum;
-    float _e667 = st;
-    float _e672 = d_2;
-    float _e673 = d_2;
-    sum = _e665 + ((0.1894506 * metal::exp(-(tau_4) * _e667)) / (_e672 * metal::sqrt(_e673)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.7183964);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.7183964);
-    float _e692 = b_3;
-    float _e693 = co;
-    metal::float2 _e697 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e692, _e693), 0.0));
-    sc = _e697;
-    float _e698 = b_3;
-    float _e699 = co;
-    if (_e698 > _e699) {
-        metal::float2 _e701 = sc;
-        sc = _e701.yx;
+    float _e662 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e659) * _e662)) : (gp - (((4.0 * g_7) * _e650) * _e653));
+    float _e668 = sum_1;
+    float _e670 = st;
+    float _e675 = d_2;
+    float _e676 = d_2;
+    sum_1 = _e668 + ((0.1894506 * metal::exp(-(tau_5) * _e670)) / (_e675 * metal::sqrt(_e676)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.7183964);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.7183964);
+    float _e695 = b_3;
+    float _e696 = co;
+    metal::float2 _e700 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e695, _e696), 0.0));
+    sc = _e700;
+    float _e701 = b_3;
+    float _e702 = co;
+    if (_e701 > _e702) {
+        metal::float2 _e704 = sc;
+        sc = _e704.yx;
     }
-    float _e704 = sc.x;
-    float _e707 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e704) / metal::max(_e707, 0.000000000000000000000000000001)), 1.0);
-    float _e717 = sc.y;
+    float _e707 = sc.x;
+    float _e710 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e707) / metal::max(_e710, 0.000000000000000000000000000001)), 1.0);
     float _e720 = sc.y;
-    float _e726 = sc.x;
+    float _e723 = sc.y;
     float _e729 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e726) * _e729)) : (gp - (((4.0 * g_6) * _e717) * _e720));
-    float _e735 = sum;
-    float _e737 = st;
-    float _e742 = d_2;
-    float _e743 = d_2;
-    sum = _e735 + ((0.18260342 * metal::exp(-(tau_4) * _e737)) / (_e742 * metal::sqrt(_e743)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.5419832);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.5419832);
-    float _e762 = b_3;
-    float _e763 = co;
-    metal::float2 _e767 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e762, _e763), 0.0));
-    sc = _e767;
-    float _e768 = b_3;
-    float _e769 = co;
-    if (_e768 > _e769) {
-        metal::float2 _e771 = sc;
-        sc = _e771.yx;
+    float _e732 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e729) * _e732)) : (gp - (((4.0 * g_7) * _e720) * _e723));
+    float _e738 = sum_1;
+    float _e740 = st;
+    float _e745 = d_2;
+    float _e746 = d_2;
+    sum_1 = _e738 + ((0.18260342 * metal::exp(-(tau_5) * _e740)) / (_e745 * metal::sqrt(_e746)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.5419832);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.5419832);
+    float _e765 = b_3;
+    float _e766 = co;
+    metal::float2 _e770 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e765, _e766), 0.0));
+    sc = _e770;
+    float _e771 = b_3;
+    float _e772 = co;
+    if (_e771 > _e772) {
+        metal::float2 _e774 = sc;
+        sc = _e774.yx;
     }
-    float _e774 = sc.x;
-    float _e777 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e774) / metal::max(_e777, 0.000000000000000000000000000001)), 1.0);
-    float _e787 = sc.y;
+    float _e777 = sc.x;
+    float _e780 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e777) / metal::max(_e780, 0.000000000000000000000000000001)), 1.0);
     float _e790 = sc.y;
-    float _e796 = sc.x;
+    float _e793 = sc.y;
     float _e799 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e796) * _e799)) : (gp - (((4.0 * g_6) * _e787) * _e790));
-    float _e805 = sum;
-    float _e807 = st;
-    float _e812 = d_2;
-    float _e813 = d_2;
-    sum = _e805 + ((0.16915652 * metal::exp(-(tau_4) * _e807)) / (_e812 * metal::sqrt(_e813)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.38212377);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.38212377);
-    float _e832 = b_3;
-    float _e833 = co;
-    metal::float2 _e837 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e832, _e833), 0.0));
-    sc = _e837;
-    float _e838 = b_3;
-    float _e839 = co;
-    if (_e838 > _e839) {
-        metal::float2 _e841 = sc;
-        sc = _e841.yx;
+    float _e802 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e799) * _e802)) : (gp - (((4.0 * g_7) * _e790) * _e793));
+    float _e808 = sum_1;
+    float _e810 = st;
+    float _e815 = d_2;
+    float _e816 = d_2;
+    sum_1 = _e808 + ((0.16915652 * metal::exp(-(tau_5) * _e810)) / (_e815 * metal::sqrt(_e816)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.38212377);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.38212377);
+    float _e835 = b_3;
+    float _e836 = co;
+    metal::float2 _e840 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e835, _e836), 0.0));
+    sc = _e840;
+    float _e841 = b_3;
+    float _e842 = co;
+    if (_e841 > _e842) {
+        metal::float2 _e844 = sc;
+        sc = _e844.yx;
     }
-    float _e844 = sc.x;
-    float _e847 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e844) / metal::max(_e847, 0.000000000000000000000000000001)), 1.0);
-    float _e857 = sc.y;
+    float _e847 = sc.x;
+    float _e850 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e847) / metal::max(_e850, 0.000000000000000000000000000001)), 1.0);
     float _e860 = sc.y;
-    float _e866 = sc.x;
+    float _e863 = sc.y;
     float _e869 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e866) * _e869)) : (gp - (((4.0 * g_6) * _e857) * _e860));
-    float _e875 = sum;
-    float _e877 = st;
-    float _e882 = d_2;
-    float _e883 = d_2;
-    sum = _e875 + ((0.14959599 * metal::exp(-(tau_4) * _e877)) / (_e882 * metal::sqrt(_e883)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.24459559);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.24459559);
-    float _e902 = b_3;
-    float _e903 = co;
-    metal::float2 _e907 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e902, _e903), 0.0));
-    sc = _e907;
-    float _e908 = b_3;
-    float _e909 = co;
-    if (_e908 > _e909) {
-        metal::float2 _e911 = sc;
-        sc = _e911.yx;
+    float _e872 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e869) * _e872)) : (gp - (((4.0 * g_7) * _e860) * _e863));
+    float _e878 = sum_1;
+    float _e880 = st;
+    float _e885 = d_2;
+    float _e886 = d_2;
+    sum_1 = _e878 + ((0.14959599 * metal::exp(-(tau_5) * _e880)) / (_e885 * metal::sqrt(_e886)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.24459559);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.24459559);
+    float _e905 = b_3;
+    float _e906 = co;
+    metal::float2 _e910 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e905, _e906), 0.0));
+    sc = _e910;
+    float _e911 = b_3;
+    float _e912 = co;
+    if (_e911 > _e912) {
+        metal::float2 _e914 = sc;
+        sc = _e914.yx;
     }
-    float _e914 = sc.x;
-    float _e917 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e914) / metal::max(_e917, 0.000000000000000000000000000001)), 1.0);
-    float _e927 = sc.y;
+    float _e917 = sc.x;
+    float _e920 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e917) / metal::max(_e920, 0.000000000000000000000000000001)), 1.0);
     float _e930 = sc.y;
-    float _e936 = sc.x;
+    float _e933 = sc.y;
     float _e939 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e936) * _e939)) : (gp - (((4.0 * g_6) * _e927) * _e930));
-    float _e945 = sum;
-    float _e947 = st;
-    float _e952 = d_2;
-    float _e953 = d_2;
-    sum = _e945 + ((0.12462897 * metal::exp(-(tau_4) * _e947)) / (_e952 * metal::sqrt(_e953)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.13436878);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.13436878);
-    float _e972 = b_3;
-    float _e973 = co;
-    metal::float2 _e977 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e972, _e973), 0.0));
-    sc = _e977;
-    float _e978 = b_3;
-    float _e979 = co;
-    if (_e978 > _e979) {
-        metal::float2 _e981 = sc;
-        sc = _e981.yx;
+    float _e942 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e939) * _e942)) : (gp - (((4.0 * g_7) * _e930) * _e933));
+    float _e948 = sum_1;
+    float _e950 = st;
+    float _e955 = d_2;
+    float _e956 = d_2;
+    sum_1 = _e948 + ((0.12462897 * metal::exp(-(tau_5) * _e950)) / (_e955 * metal::sqrt(_e956)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.13436878);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.13436878);
+    float _e975 = b_3;
+    float _e976 = co;
+    metal::float2 _e980 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e975, _e976), 0.0));
+    sc = _e980;
+    float _e981 = b_3;
+    float _e982 = co;
+    if (_e981 > _e982) {
+        metal::float2 _e984 = sc;
+        sc = _e984.yx;
     }
-    float _e984 = sc.x;
-    float _e987 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e984) / metal::max(_e987, 0.000000000000000000000000000001)), 1.0);
-    float _e997 = sc.y;
+    float _e987 = sc.x;
+    float _e990 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e987) / metal::max(_e990, 0.000000000000000000000000000001)), 1.0);
     float _e1000 = sc.y;
-    float _e1006 = sc.x;
+    float _e1003 = sc.y;
     float _e1009 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e1006) * _e1009)) : (gp - (((4.0 * g_6) * _e997) * _e1000));
-    float _e1015 = sum;
-    float _e1017 = st;
-    float _e1022 = d_2;
-    float _e1023 = d_2;
-    sum = _e1015 + ((0.09515851 * metal::exp(-(tau_4) * _e1017)) / (_e1022 * metal::sqrt(_e1023)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.05542499);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.05542499);
-    float _e1042 = b_3;
-    float _e1043 = co;
-    metal::float2 _e1047 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1042, _e1043), 0.0));
-    sc = _e1047;
-    float _e1048 = b_3;
-    float _e1049 = co;
-    if (_e1048 > _e1049) {
-        metal::float2 _e1051 = sc;
-        sc = _e1051.yx;
+    float _e1012 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1009) * _e1012)) : (gp - (((4.0 * g_7) * _e1000) * _e1003));
+    float _e1018 = sum_1;
+    float _e1020 = st;
+    float _e1025 = d_2;
+    float _e1026 = d_2;
+    sum_1 = _e1018 + ((0.09515851 * metal::exp(-(tau_5) * _e1020)) / (_e1025 * metal::sqrt(_e1026)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.05542499);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.05542499);
+    float _e1045 = b_3;
+    float _e1046 = co;
+    metal::float2 _e1050 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1045, _e1046), 0.0));
+    sc = _e1050;
+    float _e1051 = b_3;
+    float _e1052 = co;
+    if (_e1051 > _e1052) {
+        metal::float2 _e1054 = sc;
+        sc = _e1054.yx;
     }
-    float _e1054 = sc.x;
-    float _e1057 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e1054) / metal::max(_e1057, 0.000000000000000000000000000001)), 1.0);
-    float _e1067 = sc.y;
+    float _e1057 = sc.x;
+    float _e1060 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e1057) / metal::max(_e1060, 0.000000000000000000000000000001)), 1.0);
     float _e1070 = sc.y;
-    float _e1076 = sc.x;
+    float _e1073 = sc.y;
     float _e1079 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e1076) * _e1079)) : (gp - (((4.0 * g_6) * _e1067) * _e1070));
-    float _e1085 = sum;
-    float _e1087 = st;
-    float _e1092 = d_2;
-    float _e1093 = d_2;
-    sum = _e1085 + ((0.062253524 * metal::exp(-(tau_4) * _e1087)) / (_e1092 * metal::sqrt(_e1093)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.010599077);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.010599077);
-    float _e1112 = b_3;
-    float _e1113 = co;
-    metal::float2 _e1117 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1112, _e1113), 0.0));
-    sc = _e1117;
-    float _e1118 = b_3;
-    float _e1119 = co;
-    if (_e1118 > _e1119) {
-        metal::float2 _e1121 = sc;
-        sc = _e1121.yx;
+    float _e1082 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1079) * _e1082)) : (gp - (((4.0 * g_7) * _e1070) * _e1073));
+    float _e1088 = sum_1;
+    float _e1090 = st;
+    float _e1095 = d_2;
+    float _e1096 = d_2;
+    sum_1 = _e1088 + ((0.062253524 * metal::exp(-(tau_5) * _e1090)) / (_e1095 * metal::sqrt(_e1096)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.010599077);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.010599077);
+    float _e1115 = b_3;
+    float _e1116 = co;
+    metal::float2 _e1120 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1115, _e1116), 0.0));
+    sc = _e1120;
+    float _e1121 = b_3;
+    float _e1122 = co;
+    if (_e1121 > _e1122) {
+        metal::float2 _e1124 = sc;
+        sc = _e1124.yx;
     }
-    float _e1124 = sc.x;
-    float _e1127 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e1124) / metal::max(_e1127, 0.000000000000000000000000000001)), 1.0);
-    float _e1137 = sc.y;
+    float _e1127 = sc.x;
+    float _e1130 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e1127) / metal::max(_e1130, 0.000000000000000000000000000001)), 1.0);
     float _e1140 = sc.y;
-    float _e1146 = sc.x;
+    float _e1143 = sc.y;
     float _e1149 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e1146) * _e1149)) : (gp - (((4.0 * g_6) * _e1137) * _e1140));
-    float _e1155 = sum;
-    float _e1157 = st;
-    float _e1162 = d_2;
-    float _e1163 = d_2;
-    sum = _e1155 + ((0.02715246 * metal::exp(-(tau_4) * _e1157)) / (_e1162 * metal::sqrt(_e1163)));
-    float _e1175 = sum;
-    return metal::min(((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e1175) * half_) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_16_HUGE);
+    float _e1152 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1149) * _e1152)) : (gp - (((4.0 * g_7) * _e1140) * _e1143));
+    float _e1158 = sum_1;
+    float _e1160 = st;
+    float _e1165 = d_2;
+    float _e1166 = d_2;
+    sum_1 = _e1158 + ((0.02715246 * metal::exp(-(tau_5) * _e1160)) / (_e1165 * metal::sqrt(_e1166)));
+    float _e1178 = sum_1;
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_16_HUGE);
 }
 
 metal::float3 airlight_equiangular_16_airlight_geometry_rgb(
     metal::float3 tau_in_1,
     float h_2,
-    float x0_1,
+    float x0_2,
     float gamma_1,
     float comp_1,
-    float rho_1,
+    float rho_2,
     float g_in_1
 ) {
     float span_1 = {};
-    bool local_5 = {};
-    metal::float3 sum_1 = metal::float3(0.0);
+    bool local_7 = {};
+    metal::float3 sum_2 = metal::float3(0.0);
     metal::float2 sc_1 = {};
     float b_4 = {};
     float co_1 = {};
     float st_1 = {};
     float d_3 = {};
-    metal::float3 tau_5 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float g_7 = metal::clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = (1.0 - g_7) * (1.0 - g_7);
-    float gp_1 = (1.0 + g_7) * (1.0 + g_7);
+    metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
+    float g_8 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_8) * (1.0 - g_8);
+    float gp_1 = (1.0 + g_8) * (1.0 + g_8);
+    if (h_2 <= 0.0) {
+        float _e29 = airlight_equiangular_16_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
+        float _e31 = airlight_equiangular_16_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
+        float _e33 = airlight_equiangular_16_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        return metal::float3(_e29, _e31, _e33);
+    }
     span_1 = comp_1;
-    if (rho_1 >= 0.0) {
-        local_5 = rho_1 < airlight_equiangular_16_RHO_OPEN;
+    if (rho_2 >= 0.0) {
+        local_7 = rho_2 < airlight_equiangular_16_RHO_OPEN;
     } else {
-        local_5 = false;
+        local_7 = false;
     }
-    bool _e34 = local_5;
-    if (_e34) {
-        float _e39 = airlight_equiangular_16_arctan2_(h_2 * rho_1, 1.0 - (x0_1 * rho_1));
-        span_1 = _e39;
+    bool _e43 = local_7;
+    if (_e43) {
+        float _e48 = airlight_equiangular_16_arctan2_(h_2 * rho_2, 1.0 - (x0_2 * rho_2));
+        span_1 = _e48;
     }
-    float _e40 = span_1;
-    float half_1 = 0.5 * _e40;
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.9894009);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.9894009);
-    float _e65 = b_4;
-    float _e66 = co_1;
-    metal::float2 _e70 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
-    sc_1 = _e70;
-    float _e71 = b_4;
-    float _e72 = co_1;
-    if (_e71 > _e72) {
-        metal::float2 _e74 = sc_1;
-        sc_1 = _e74.yx;
+    float _e49 = span_1;
+    float half_2 = 0.5 * _e49;
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.9894009);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.9894009);
+    float _e74 = b_4;
+    float _e75 = co_1;
+    metal::float2 _e79 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e74, _e75), 0.0));
+    sc_1 = _e79;
+    float _e80 = b_4;
+    float _e81 = co_1;
+    if (_e80 > _e81) {
+        metal::float2 _e83 = sc_1;
+        sc_1 = _e83.yx;
     }
-    float _e77 = sc_1.x;
-    float _e80 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
-    float _e90 = sc_1.y;
-    float _e93 = sc_1.y;
-    float _e99 = sc_1.x;
-    float _e102 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93));
-    metal::float3 _e108 = sum_1;
-    float _e110 = st_1;
-    float _e115 = d_3;
-    float _e116 = d_3;
-    sum_1 = _e108 + ((0.02715246 * metal::exp(-(tau_5) * _e110)) / metal::float3(_e115 * metal::sqrt(_e116)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.9445751);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.9445751);
-    float _e136 = b_4;
-    float _e137 = co_1;
-    metal::float2 _e141 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e136, _e137), 0.0));
-    sc_1 = _e141;
-    float _e142 = b_4;
-    float _e143 = co_1;
-    if (_e142 > _e143) {
-        metal::float2 _e145 = sc_1;
-        sc_1 = _e145.yx;
+    float _e86 = sc_1.x;
+    float _e89 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e86) / metal::max(_e89, 0.000000000000000000000000000001)), 1.0);
+    float _e99 = sc_1.y;
+    float _e102 = sc_1.y;
+    float _e108 = sc_1.x;
+    float _e111 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e108) * _e111)) : (gp_1 - (((4.0 * g_8) * _e99) * _e102));
+    metal::float3 _e117 = sum_2;
+    float _e119 = st_1;
+    float _e124 = d_3;
+    float _e125 = d_3;
+    sum_2 = _e117 + ((0.02715246 * metal::exp(-(tau_6) * _e119)) / metal::float3(_e124 * metal::sqrt(_e125)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.9445751);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.9445751);
+    float _e145 = b_4;
+    float _e146 = co_1;
+    metal::float2 _e150 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e145, _e146), 0.0));
+    sc_1 = _e150;
+    float _e151 = b_4;
+    float _e152 = co_1;
+    if (_e151 > _e152) {
+        metal::float2 _e154 = sc_1;
+        sc_1 = _e154.yx;
     }
-    float _e148 = sc_1.x;
-    float _e151 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e148) / metal::max(_e151, 0.000000000000000000000000000001)), 1.0);
-    float _e161 = sc_1.y;
-    float _e164 = sc_1.y;
-    float _e170 = sc_1.x;
-    float _e173 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164));
-    metal::float3 _e179 = sum_1;
-    float _e181 = st_1;
-    float _e186 = d_3;
-    float _e187 = d_3;
-    sum_1 = _e179 + ((0.062253524 * metal::exp(-(tau_5) * _e181)) / metal::float3(_e186 * metal::sqrt(_e187)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.8656312);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.8656312);
-    float _e207 = b_4;
-    float _e208 = co_1;
-    metal::float2 _e212 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e207, _e208), 0.0));
-    sc_1 = _e212;
-    float _e213 = b_4;
-    float _e214 = co_1;
-    if (_e213 > _e214) {
-        metal::float2 _e216 = sc_1;
-        sc_1 = _e216.yx;
+    float _e157 = sc_1.x;
+    float _e160 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e157) / metal::max(_e160, 0.000000000000000000000000000001)), 1.0);
+    float _e170 = sc_1.y;
+    float _e173 = sc_1.y;
+    float _e179 = sc_1.x;
+    float _e182 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e179) * _e182)) : (gp_1 - (((4.0 * g_8) * _e170) * _e173));
+    metal::float3 _e188 = sum_2;
+    float _e190 = st_1;
+    float _e195 = d_3;
+    float _e196 = d_3;
+    sum_2 = _e188 + ((0.062253524 * metal::exp(-(tau_6) * _e190)) / metal::float3(_e195 * metal::sqrt(_e196)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.8656312);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.8656312);
+    float _e216 = b_4;
+    float _e217 = co_1;
+    metal::float2 _e221 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e216, _e217), 0.0));
+    sc_1 = _e221;
+    float _e222 = b_4;
+    float _e223 = co_1;
+    if (_e222 > _e223) {
+        metal::float2 _e225 = sc_1;
+        sc_1 = _e225.yx;
     }
-    float _e219 = sc_1.x;
-    float _e222 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e219) / metal::max(_e222, 0.000000000000000000000000000001)), 1.0);
-    float _e232 = sc_1.y;
-    float _e235 = sc_1.y;
-    float _e241 = sc_1.x;
-    float _e244 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e241) * _e244)) : (gp_1 - (((4.0 * g_7) * _e232) * _e235));
-    metal::float3 _e250 = sum_1;
-    float _e252 = st_1;
-    float _e257 = d_3;
-    float _e258 = d_3;
-    sum_1 = _e250 + ((0.09515851 * metal::exp(-(tau_5) * _e252)) / metal::float3(_e257 * metal::sqrt(_e258)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.7554045);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.7554045);
-    float _e278 = b_4;
-    float _e279 = co_1;
-    metal::float2 _e283 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e278, _e279), 0.0));
-    sc_1 = _e283;
-    float _e284 = b_4;
-    float _e285 = co_1;
-    if (_e284 > _e285) {
-        metal::float2 _e287 = sc_1;
-        sc_1 = _e287.yx;
+    float _e228 = sc_1.x;
+    float _e231 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e228) / metal::max(_e231, 0.000000000000000000000000000001)), 1.0);
+    float _e241 = sc_1.y;
+    float _e244 = sc_1.y;
+    float _e250 = sc_1.x;
+    float _e253 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e250) * _e253)) : (gp_1 - (((4.0 * g_8) * _e241) * _e244));
+    metal::float3 _e259 = sum_2;
+    float _e261 = st_1;
+    float _e266 = d_3;
+    float _e267 = d_3;
+    sum_2 = _e259 + ((0.09515851 * metal::exp(-(tau_6) * _e261)) / metal::float3(_e266 * metal::sqrt(_e267)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.7554045);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.7554045);
+    float _e287 = b_4;
+    float _e288 = co_1;
+    metal::float2 _e292 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e287, _e288), 0.0));
+    sc_1 = _e292;
+    float _e293 = b_4;
+    float _e294 = co_1;
+    if (_e293 > _e294) {
+        metal::float2 _e296 = sc_1;
+        sc_1 = _e296.yx;
     }
-    float _e290 = sc_1.x;
-    float _e293 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e290) / metal::max(_e293, 0.000000000000000000000000000001)), 1.0);
-    float _e303 = sc_1.y;
-    float _e306 = sc_1.y;
-    float _e312 = sc_1.x;
-    float _e315 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e312) * _e315)) : (gp_1 - (((4.0 * g_7) * _e303) * _e306));
-    metal::float3 _e321 = sum_1;
-    float _e323 = st_1;
-    float _e328 = d_3;
-    float _e329 = d_3;
-    sum_1 = _e321 + ((0.12462897 * metal::exp(-(tau_5) * _e323)) / metal::float3(_e328 * metal::sqrt(_e329)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.6178763);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.6178763);
-    float _e349 = b_4;
-    float _e350 = co_1;
-    metal::float2 _e354 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e349, _e350), 0.0));
-    sc_1 = _e354;
-    float _e355 = b_4;
-    float _e356 = co_1;
-    if (_e355 > _e356) {
-        metal::float2 _e358 = sc_1;
-        sc_1 = _e358.yx;
+    float _e299 = sc_1.x;
+    float _e302 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e299) / metal::max(_e302, 0.000000000000000000000000000001)), 1.0);
+    float _e312 = sc_1.y;
+    float _e315 = sc_1.y;
+    float _e321 = sc_1.x;
+    float _e324 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e321) * _e324)) : (gp_1 - (((4.0 * g_8) * _e312) * _e315));
+    metal::float3 _e330 = sum_2;
+    float _e332 = st_1;
+    float _e337 = d_3;
+    float _e338 = d_3;
+    sum_2 = _e330 + ((0.12462897 * metal::exp(-(tau_6) * _e332)) / metal::float3(_e337 * metal::sqrt(_e338)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.6178763);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.6178763);
+    float _e358 = b_4;
+    float _e359 = co_1;
+    metal::float2 _e363 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e358, _e359), 0.0));
+    sc_1 = _e363;
+    float _e364 = b_4;
+    float _e365 = co_1;
+    if (_e364 > _e365) {
+        metal::float2 _e367 = sc_1;
+        sc_1 = _e367.yx;
     }
-    float _e361 = sc_1.x;
-    float _e364 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e361) / metal::max(_e364, 0.000000000000000000000000000001)), 1.0);
-    float _e374 = sc_1.y;
-    float _e377 = sc_1.y;
-    float _e383 = sc_1.x;
-    float _e386 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e383) * _e386)) : (gp_1 - (((4.0 * g_7) * _e374) * _e377));
-    metal::float3 _e392 = sum_1;
-    float _e394 = st_1;
-    float _e399 = d_3;
-    float _e400 = d_3;
-    sum_1 = _e392 + ((0.14959599 * metal::exp(-(tau_5) * _e394)) / metal::float3(_e399 * metal::sqrt(_e400)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.4580168);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.4580168);
-    float _e420 = b_4;
-    float _e421 = co_1;
-    metal::float2 _e425 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e420, _e421), 0.0));
-    sc_1 = _e425;
-    float _e426 = b_4;
-    float _e427 = co_1;
-    if (_e426 > _e427) {
-        metal::float2 _e429 = sc_1;
-        sc_1 = _e429.yx;
+    float _e370 = sc_1.x;
+    float _e373 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e370) / metal::max(_e373, 0.000000000000000000000000000001)), 1.0);
+    float _e383 = sc_1.y;
+    float _e386 = sc_1.y;
+    float _e392 = sc_1.x;
+    float _e395 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e392) * _e395)) : (gp_1 - (((4.0 * g_8) * _e383) * _e386));
+    metal::float3 _e401 = sum_2;
+    float _e403 = st_1;
+    float _e408 = d_3;
+    float _e409 = d_3;
+    sum_2 = _e401 + ((0.14959599 * metal::exp(-(tau_6) * _e403)) / metal::float3(_e408 * metal::sqrt(_e409)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.4580168);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.4580168);
+    float _e429 = b_4;
+    float _e430 = co_1;
+    metal::float2 _e434 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e429, _e430), 0.0));
+    sc_1 = _e434;
+    float _e435 = b_4;
+    float _e436 = co_1;
+    if (_e435 > _e436) {
+        metal::float2 _e438 = sc_1;
+        sc_1 = _e438.yx;
     }
-    float _e432 = sc_1.x;
-    float _e435 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e432) / metal::max(_e435, 0.000000000000000000000000000001)), 1.0);
-    float _e445 = sc_1.y;
-    float _e448 = sc_1.y;
-    float _e454 = sc_1.x;
-    float _e457 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e454) * _e457)) : (gp_1 - (((4.0 * g_7) * _e445) * _e448));
-    metal::float3 _e463 = sum_1;
-    float _e465 = st_1;
-    float _e470 = d_3;
-    float _e471 = d_3;
-    sum_1 = _e463 + ((0.16915652 * metal::exp(-(tau_5) * _e465)) / metal::float3(_e470 * metal::sqrt(_e471)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.2816036);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.2816036);
-    float _e491 = b_4;
-    float _e492 = co_1;
-    metal::float2 _e496 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e491, _e492), 0.0));
-    sc_1 = _e496;
-    float _e497 = b_4;
-    float _e498 = co_1;
-    if (_e497 > _e498) {
-        metal::float2 _e500 = sc_1;
-        sc_1 = _e500.yx;
+    float _e441 = sc_1.x;
+    float _e444 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e441) / metal::max(_e444, 0.000000000000000000000000000001)), 1.0);
+    float _e454 = sc_1.y;
+    float _e457 = sc_1.y;
+    float _e463 = sc_1.x;
+    float _e466 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e463) * _e466)) : (gp_1 - (((4.0 * g_8) * _e454) * _e457));
+    metal::float3 _e472 = sum_2;
+    float _e474 = st_1;
+    float _e479 = d_3;
+    float _e480 = d_3;
+    sum_2 = _e472 + ((0.16915652 * metal::exp(-(tau_6) * _e474)) / metal::float3(_e479 * metal::sqrt(_e480)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.2816036);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.2816036);
+    float _e500 = b_4;
+    float _e501 = co_1;
+    metal::float2 _e505 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e500, _e501), 0.0));
+    sc_1 = _e505;
+    float _e506 = b_4;
+    float _e507 = co_1;
+    if (_e506 > _e507) {
+        metal::float2 _e509 = sc_1;
+        sc_1 = _e509.yx;
     }
-    float _e503 = sc_1.x;
-    float _e506 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e503) / metal::max(_e506, 0.000000000000000000000000000001)), 1.0);
-    float _e516 = sc_1.y;
-    float _e519 = sc_1.y;
-    float _e525 = sc_1.x;
-    float _e528 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e525) * _e528)) : (gp_1 - (((4.0 * g_7) * _e516) * _e519));
-    metal::float3 _e534 = sum_1;
-    float _e536 = st_1;
-    float _e541 = d_3;
-    float _e542 = d_3;
-    sum_1 = _e534 + ((0.18260342 * metal::exp(-(tau_5) * _e536)) / metal::float3(_e541 * metal::sqrt(_e542)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.0950125);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.0950125);
-    float _e562 = b_4;
-    float _e563 = co_1;
-    metal::float2 _e567 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e562, _e563), 0.0));
-    sc_1 = _e567;
-    float _e568 = b_4;
-    float _e569 = co_1;
-    if (_e568 > _e569) {
-        metal::float2 _e571 = sc_1;
-        sc_1 = _e571.yx;
+    float _e512 = sc_1.x;
+    float _e515 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e512) / metal::max(_e515, 0.000000000000000000000000000001)), 1.0);
+    float _e525 = sc_1.y;
+    float _e528 = sc_1.y;
+    float _e534 = sc_1.x;
+    float _e537 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e534) * _e537)) : (gp_1 - (((4.0 * g_8) * _e525) * _e528));
+    metal::float3 _e543 = sum_2;
+    float _e545 = st_1;
+    float _e550 = d_3;
+    float _e551 = d_3;
+    sum_2 = _e543 + ((0.18260342 * metal::exp(-(tau_6) * _e545)) / metal::float3(_e550 * metal::sqrt(_e551)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.0950125);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.0950125);
+    float _e571 = b_4;
+    float _e572 = co_1;
+    metal::float2 _e576 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e571, _e572), 0.0));
+    sc_1 = _e576;
+    float _e577 = b_4;
+    float _e578 = co_1;
+    if (_e577 > _e578) {
+        metal::float2 _e580 = sc_1;
+        sc_1 = _e580.yx;
     }
-    float _e574 = sc_1.x;
-    float _e577 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e574) / metal::max(_e577, 0.000000000000000000000000000001)), 1.0);
-    float _e587 = sc_1.y;
-    float _e590 = sc_1.y;
-    float _e596 = sc_1.x;
-    float _e599 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e596) * _e599)) : (gp_1 - (((4.0 * g_7) * _e587) * _e590));
-    metal::float3 _e605 = sum_1;
-    float _e607 = st_1;
-    float _e612 = d_3;
-    float _e613 = d_3;
-    sum_1 = _e605 + ((0.1894506 * metal::exp(-(tau_5) * _e607)) / metal::float3(_e612 * metal::sqrt(_e613)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.9049875);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.9049875);
-    float _e633 = b_4;
-    float _e634 = co_1;
-    metal::float2 _e638 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e633, _e634), 0.0));
-    sc_1 = _e638;
-    float _e639 = b_4;
-    float _e640 = co_1;
-    if (_e639 > _e640) {
-        metal::float2 _e642 = sc_1;
-        sc_1 = _e642.yx;
+    float _e583 = sc_1.x;
+    float _e586 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e583) / metal::max(_e586, 0.000000000000000000000000000001)), 1.0);
+    float _e596 = sc_1.y;
+    float _e599 = sc_1.y;
+    float _e605 = sc_1.x;
+    float _e608 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e605) * _e608)) : (gp_1 - (((4.0 * g_8) * _e596) * _e599));
+    metal::float3 _e614 = sum_2;
+    float _e616 = st_1;
+    float _e621 = d_3;
+    float _e622 = d_3;
+    sum_2 = _e614 + ((0.1894506 * metal::exp(-(tau_6) * _e616)) / metal::float3(_e621 * metal::sqrt(_e622)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.9049875);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.9049875);
+    float _e642 = b_4;
+    float _e643 = co_1;
+    metal::float2 _e647 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e642, _e643), 0.0));
+    sc_1 = _e647;
+    float _e648 = b_4;
+    float _e649 = co_1;
+    if (_e648 > _e649) {
+        metal::float2 _e651 = sc_1;
+        sc_1 = _e651.yx;
     }
-    float _e645 = sc_1.x;
-    float _e648 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e645) / metal::max(_e648, 0.000000000000000000000000000001)), 1.0);
-    float _e658 = sc_1.y;
-    float _e661 = sc_1.y;
-    float _e667 = sc_1.x;
-    float _e670 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e667) * _e670)) : (gp_1 - (((4.0 * g_7) * _e658) * _e661));
-    metal::float3 _e676 = sum_1;
-    float _e678 = st_1;
-    float _e683 = d_3;
-    float _e684 = d_3;
-    sum_1 = _e676 + ((0.1894506 * metal::exp(-(tau_5) * _e678)) / metal::float3(_e683 * metal::sqrt(_e684)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.7183964);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.7183964);
-    float _e704 = b_4;
-    float _e705 = co_1;
-    metal::float2 _e709 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e704, _e705), 0.0));
-    sc_1 = _e709;
-    float _e710 = b_4;
-    float _e711 = co_1;
-    if (_e710 > _e711) {
-        metal::float2 _e713 = sc_1;
-        sc_1 = _e713.yx;
+    float _e654 = sc_1.x;
+    float _e657 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e654) / metal::max(_e657, 0.000000000000000000000000000001)), 1.0);
+    float _e667 = sc_1.y;
+    float _e670 = sc_1.y;
+    float _e676 = sc_1.x;
+    float _e679 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e676) * _e679)) : (gp_1 - (((4.0 * g_8) * _e667) * _e670));
+    metal::float3 _e685 = sum_2;
+    float _e687 = st_1;
+    float _e692 = d_3;
+    float _e693 = d_3;
+    sum_2 = _e685 + ((0.1894506 * metal::exp(-(tau_6) * _e687)) / metal::float3(_e692 * metal::sqrt(_e693)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.7183964);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.7183964);
+    float _e713 = b_4;
+    float _e714 = co_1;
+    metal::float2 _e718 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e713, _e714), 0.0));
+    sc_1 = _e718;
+    float _e719 = b_4;
+    float _e720 = co_1;
+    if (_e719 > _e720) {
+        metal::float2 _e722 = sc_1;
+        sc_1 = _e722.yx;
     }
-    float _e716 = sc_1.x;
-    float _e719 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e716) / metal::max(_e719, 0.000000000000000000000000000001)), 1.0);
-    float _e729 = sc_1.y;
-    float _e732 = sc_1.y;
-    float _e738 = sc_1.x;
-    float _e741 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e738) * _e741)) : (gp_1 - (((4.0 * g_7) * _e729) * _e732));
-    metal::float3 _e747 = sum_1;
-    float _e749 = st_1;
-    float _e754 = d_3;
-    float _e755 = d_3;
-    sum_1 = _e747 + ((0.18260342 * metal::exp(-(tau_5) * _e749)) / metal::float3(_e754 * metal::sqrt(_e755)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.5419832);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.5419832);
-    float _e775 = b_4;
-    float _e776 = co_1;
-    metal::float2 _e780 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e775, _e776), 0.0));
-    sc_1 = _e780;
-    float _e781 = b_4;
-    float _e782 = co_1;
-    if (_e781 > _e782) {
-        metal::float2 _e784 = sc_1;
-        sc_1 = _e784.yx;
+    float _e725 = sc_1.x;
+    float _e728 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e725) / metal::max(_e728, 0.000000000000000000000000000001)), 1.0);
+    float _e738 = sc_1.y;
+    float _e741 = sc_1.y;
+    float _e747 = sc_1.x;
+    float _e750 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e747) * _e750)) : (gp_1 - (((4.0 * g_8) * _e738) * _e741));
+    metal::float3 _e756 = sum_2;
+    float _e758 = st_1;
+    float _e763 = d_3;
+    float _e764 = d_3;
+    sum_2 = _e756 + ((0.18260342 * metal::exp(-(tau_6) * _e758)) / metal::float3(_e763 * metal::sqrt(_e764)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.5419832);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.5419832);
+    float _e784 = b_4;
+    float _e785 = co_1;
+    metal::float2 _e789 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e784, _e785), 0.0));
+    sc_1 = _e789;
+    float _e790 = b_4;
+    float _e791 = co_1;
+    if (_e790 > _e791) {
+        metal::float2 _e793 = sc_1;
+        sc_1 = _e793.yx;
     }
-    float _e787 = sc_1.x;
-    float _e790 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e787) / metal::max(_e790, 0.000000000000000000000000000001)), 1.0);
-    float _e800 = sc_1.y;
-    float _e803 = sc_1.y;
-    float _e809 = sc_1.x;
-    float _e812 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e809) * _e812)) : (gp_1 - (((4.0 * g_7) * _e800) * _e803));
-    metal::float3 _e818 = sum_1;
-    float _e820 = st_1;
-    float _e825 = d_3;
-    float _e826 = d_3;
-    sum_1 = _e818 + ((0.16915652 * metal::exp(-(tau_5) * _e820)) / metal::float3(_e825 * metal::sqrt(_e826)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.38212377);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.38212377);
-    float _e846 = b_4;
-    float _e847 = co_1;
-    metal::float2 _e851 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e846, _e847), 0.0));
-    sc_1 = _e851;
-    float _e852 = b_4;
-    float _e853 = co_1;
-    if (_e852 > _e853) {
-        metal::float2 _e855 = sc_1;
-        sc_1 = _e855.yx;
+    float _e796 = sc_1.x;
+    float _e799 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e796) / metal::max(_e799, 0.000000000000000000000000000001)), 1.0);
+    float _e809 = sc_1.y;
+    float _e812 = sc_1.y;
+    float _e818 = sc_1.x;
+    float _e821 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e818) * _e821)) : (gp_1 - (((4.0 * g_8) * _e809) * _e812));
+    metal::float3 _e827 = sum_2;
+    float _e829 = st_1;
+    float _e834 = d_3;
+    float _e835 = d_3;
+    sum_2 = _e827 + ((0.16915652 * metal::exp(-(tau_6) * _e829)) / metal::float3(_e834 * metal::sqrt(_e835)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.38212377);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.38212377);
+    float _e855 = b_4;
+    float _e856 = co_1;
+    metal::float2 _e860 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e855, _e856), 0.0));
+    sc_1 = _e860;
+    float _e861 = b_4;
+    float _e862 = co_1;
+    if (_e861 > _e862) {
+        metal::float2 _e864 = sc_1;
+        sc_1 = _e864.yx;
     }
-    float _e858 = sc_1.x;
-    float _e861 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e858) / metal::max(_e861, 0.000000000000000000000000000001)), 1.0);
-    float _e871 = sc_1.y;
-    float _e874 = sc_1.y;
-    float _e880 = sc_1.x;
-    float _e883 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e880) * _e883)) : (gp_1 - (((4.0 * g_7) * _e871) * _e874));
-    metal::float3 _e889 = sum_1;
-    float _e891 = st_1;
-    float _e896 = d_3;
-    float _e897 = d_3;
-    sum_1 = _e889 + ((0.14959599 * metal::exp(-(tau_5) * _e891)) / metal::float3(_e896 * metal::sqrt(_e897)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.24459559);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.24459559);
-    float _e917 = b_4;
-    float _e918 = co_1;
-    metal::float2 _e922 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e917, _e918), 0.0));
-    sc_1 = _e922;
-    float _e923 = b_4;
-    float _e924 = co_1;
-    if (_e923 > _e924) {
-        metal::float2 _e926 = sc_1;
-        sc_1 = _e926.yx;
+    float _e867 = sc_1.x;
+    float _e870 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e867) / metal::max(_e870, 0.000000000000000000000000000001)), 1.0);
+    float _e880 = sc_1.y;
+    float _e883 = sc_1.y;
+    float _e889 = sc_1.x;
+    float _e892 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e889) * _e892)) : (gp_1 - (((4.0 * g_8) * _e880) * _e883));
+    metal::float3 _e898 = sum_2;
+    float _e900 = st_1;
+    float _e905 = d_3;
+    float _e906 = d_3;
+    sum_2 = _e898 + ((0.14959599 * metal::exp(-(tau_6) * _e900)) / metal::float3(_e905 * metal::sqrt(_e906)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.24459559);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.24459559);
+    float _e926 = b_4;
+    float _e927 = co_1;
+    metal::float2 _e931 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e926, _e927), 0.0));
+    sc_1 = _e931;
+    float _e932 = b_4;
+    float _e933 = co_1;
+    if (_e932 > _e933) {
+        metal::float2 _e935 = sc_1;
+        sc_1 = _e935.yx;
     }
-    float _e929 = sc_1.x;
-    float _e932 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e929) / metal::max(_e932, 0.000000000000000000000000000001)), 1.0);
-    float _e942 = sc_1.y;
-    float _e945 = sc_1.y;
-    float _e951 = sc_1.x;
-    float _e954 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e951) * _e954)) : (gp_1 - (((4.0 * g_7) * _e942) * _e945));
-    metal::float3 _e960 = sum_1;
-    float _e962 = st_1;
-    float _e967 = d_3;
-    float _e968 = d_3;
-    sum_1 = _e960 + ((0.12462897 * metal::exp(-(tau_5) * _e962)) / metal::float3(_e967 * metal::sqrt(_e968)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.13436878);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.13436878);
-    float _e988 = b_4;
-    float _e989 = co_1;
-    metal::float2 _e993 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e988, _e989), 0.0));
-    sc_1 = _e993;
-    float _e994 = b_4;
-    float _e995 = co_1;
-    if (_e994 > _e995) {
-        metal::float2 _e997 = sc_1;
-        sc_1 = _e997.yx;
+    float _e938 = sc_1.x;
+    float _e941 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e938) / metal::max(_e941, 0.000000000000000000000000000001)), 1.0);
+    float _e951 = sc_1.y;
+    float _e954 = sc_1.y;
+    float _e960 = sc_1.x;
+    float _e963 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e960) * _e963)) : (gp_1 - (((4.0 * g_8) * _e951) * _e954));
+    metal::float3 _e969 = sum_2;
+    float _e971 = st_1;
+    float _e976 = d_3;
+    float _e977 = d_3;
+    sum_2 = _e969 + ((0.12462897 * metal::exp(-(tau_6) * _e971)) / metal::float3(_e976 * metal::sqrt(_e977)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.13436878);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.13436878);
+    float _e997 = b_4;
+    float _e998 = co_1;
+    metal::float2 _e1002 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e997, _e998), 0.0));
+    sc_1 = _e1002;
+    float _e1003 = b_4;
+    float _e1004 = co_1;
+    if (_e1003 > _e1004) {
+        metal::float2 _e1006 = sc_1;
+        sc_1 = _e1006.yx;
     }
-    float _e1000 = sc_1.x;
-    float _e1003 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e1000) / metal::max(_e1003, 0.000000000000000000000000000001)), 1.0);
-    float _e1013 = sc_1.y;
-    float _e1016 = sc_1.y;
-    float _e1022 = sc_1.x;
-    float _e1025 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1022) * _e1025)) : (gp_1 - (((4.0 * g_7) * _e1013) * _e1016));
-    metal::float3 _e1031 = sum_1;
-    float _e1033 = st_1;
-    float _e1038 = d_3;
-    float _e1039 = d_3;
-    sum_1 = _e1031 + ((0.09515851 * metal::exp(-(tau_5) * _e1033)) / metal::float3(_e1038 * metal::sqrt(_e1039)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.05542499);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.05542499);
-    float _e1059 = b_4;
-    float _e1060 = co_1;
-    metal::float2 _e1064 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1059, _e1060), 0.0));
-    sc_1 = _e1064;
-    float _e1065 = b_4;
-    float _e1066 = co_1;
-    if (_e1065 > _e1066) {
-        metal::float2 _e1068 = sc_1;
-        sc_1 = _e1068.yx;
+    float _e1009 = sc_1.x;
+    float _e1012 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e1009) / metal::max(_e1012, 0.000000000000000000000000000001)), 1.0);
+    float _e1022 = sc_1.y;
+    float _e1025 = sc_1.y;
+    float _e1031 = sc_1.x;
+    float _e1034 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1031) * _e1034)) : (gp_1 - (((4.0 * g_8) * _e1022) * _e1025));
+    metal::float3 _e1040 = sum_2;
+    float _e1042 = st_1;
+    float _e1047 = d_3;
+    float _e1048 = d_3;
+    sum_2 = _e1040 + ((0.09515851 * metal::exp(-(tau_6) * _e1042)) / metal::float3(_e1047 * metal::sqrt(_e1048)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.05542499);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.05542499);
+    float _e1068 = b_4;
+    float _e1069 = co_1;
+    metal::float2 _e1073 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1068, _e1069), 0.0));
+    sc_1 = _e1073;
+    float _e1074 = b_4;
+    float _e1075 = co_1;
+    if (_e1074 > _e1075) {
+        metal::float2 _e1077 = sc_1;
+        sc_1 = _e1077.yx;
     }
-    float _e1071 = sc_1.x;
-    float _e1074 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e1071) / metal::max(_e1074, 0.000000000000000000000000000001)), 1.0);
-    float _e1084 = sc_1.y;
-    float _e1087 = sc_1.y;
-    float _e1093 = sc_1.x;
-    float _e1096 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1093) * _e1096)) : (gp_1 - (((4.0 * g_7) * _e1084) * _e1087));
-    metal::float3 _e1102 = sum_1;
-    float _e1104 = st_1;
-    float _e1109 = d_3;
-    float _e1110 = d_3;
-    sum_1 = _e1102 + ((0.062253524 * metal::exp(-(tau_5) * _e1104)) / metal::float3(_e1109 * metal::sqrt(_e1110)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.010599077);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.010599077);
-    float _e1130 = b_4;
-    float _e1131 = co_1;
-    metal::float2 _e1135 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1130, _e1131), 0.0));
-    sc_1 = _e1135;
-    float _e1136 = b_4;
-    float _e1137 = co_1;
-    if (_e1136 > _e1137) {
-        metal::float2 _e1139 = sc_1;
-        sc_1 = _e1139.yx;
+    float _e1080 = sc_1.x;
+    float _e1083 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e1080) / metal::max(_e1083, 0.000000000000000000000000000001)), 1.0);
+    float _e1093 = sc_1.y;
+    float _e1096 = sc_1.y;
+    float _e1102 = sc_1.x;
+    float _e1105 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1102) * _e1105)) : (gp_1 - (((4.0 * g_8) * _e1093) * _e1096));
+    metal::float3 _e1111 = sum_2;
+    float _e1113 = st_1;
+    float _e1118 = d_3;
+    float _e1119 = d_3;
+    sum_2 = _e1111 + ((0.062253524 * metal::exp(-(tau_6) * _e1113)) / metal::float3(_e1118 * metal::sqrt(_e1119)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.010599077);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.010599077);
+    float _e1139 = b_4;
+    float _e1140 = co_1;
+    metal::float2 _e1144 = airlight_equiangular_16_sin_cos(metal::max(metal::min(_e1139, _e1140), 0.0));
+    sc_1 = _e1144;
+    float _e1145 = b_4;
+    float _e1146 = co_1;
+    if (_e1145 > _e1146) {
+        metal::float2 _e1148 = sc_1;
+        sc_1 = _e1148.yx;
     }
-    float _e1142 = sc_1.x;
-    float _e1145 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e1142) / metal::max(_e1145, 0.000000000000000000000000000001)), 1.0);
-    float _e1155 = sc_1.y;
-    float _e1158 = sc_1.y;
-    float _e1164 = sc_1.x;
-    float _e1167 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e1164) * _e1167)) : (gp_1 - (((4.0 * g_7) * _e1155) * _e1158));
-    metal::float3 _e1173 = sum_1;
-    float _e1175 = st_1;
-    float _e1180 = d_3;
-    float _e1181 = d_3;
-    sum_1 = _e1173 + ((0.02715246 * metal::exp(-(tau_5) * _e1175)) / metal::float3(_e1180 * metal::sqrt(_e1181)));
-    metal::float3 _e1194 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1194) * half_1) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    float _e1151 = sc_1.x;
+    float _e1154 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e1151) / metal::max(_e1154, 0.000000000000000000000000000001)), 1.0);
+    float _e1164 = sc_1.y;
+    float _e1167 = sc_1.y;
+    float _e1173 = sc_1.x;
+    float _e1176 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1173) * _e1176)) : (gp_1 - (((4.0 * g_8) * _e1164) * _e1167));
+    metal::float3 _e1182 = sum_2;
+    float _e1184 = st_1;
+    float _e1189 = d_3;
+    float _e1190 = d_3;
+    sum_2 = _e1182 + ((0.02715246 * metal::exp(-(tau_6) * _e1184)) / metal::float3(_e1189 * metal::sqrt(_e1190)));
+    metal::float3 _e1203 = sum_2;
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_airlight(
-    float tau,
+    float tau_1,
     float gamma_2,
-    float rho_2,
-    float g
+    float rho_3,
+    float g_1
 ) {
     float gc = metal::clamp(gamma_2, 0.0, airlight_equiangular_16_PI);
     metal::float2 _e7 = airlight_equiangular_16_sin_cos(gc);
     float comp_2 = metal::max((airlight_equiangular_16_PI - gc) - 0.00000008742278, 0.0);
-    float _e17 = airlight_equiangular_16_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
-    return _e17;
+    metal::float2 _e16 = airlight_equiangular_16_sin_cos(comp_2);
+    float h_6 = (gc > comp_2) ? _e16.x : metal::abs(_e7.x);
+    float _e21 = airlight_equiangular_16_airlight_geometry(tau_1, h_6, _e7.y, gc, comp_2, rho_3, g_1);
+    return _e21;
 }
 
 float airlight_equiangular_16_radiance(
@@ -1179,41 +1305,41 @@ float airlight_equiangular_16_radiance(
     float intensity_1,
     float sigma_t,
     float sigma_s_1,
-    float g_1
+    float g_2
 ) {
-    bool local_6 = {};
+    bool local_8 = {};
     metal::float3 _e8 = airlight_equiangular_16_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
         float _e14 = airlight_equiangular_16_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_16_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
-        local_6 = _e8.z == 0.0;
+        local_8 = _e8.z == 0.0;
     } else {
-        local_6 = false;
+        local_8 = false;
     }
-    bool _e24 = local_6;
+    bool _e24 = local_8;
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float rho_7 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
     float _e34 = airlight_equiangular_16_arctan2_(_e8.y, _e8.z);
     float _e38 = airlight_equiangular_16_arctan2_(_e8.y, -(_e8.z));
-    float _e44 = airlight_equiangular_16_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_6, g_1);
+    float _e44 = airlight_equiangular_16_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_7, g_2);
     float _e45 = airlight_equiangular_16_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
 metal::float3 airlight_equiangular_16_along_rgb(
-    metal::float3 tau_1,
+    metal::float3 tau_2,
     float h_3,
-    float x0_2,
-    float rho_3,
-    float g_2
+    float x0_3,
+    float rho_4,
+    float g_3
 ) {
-    float _e5 = airlight_equiangular_16_arctan2_(h_3, x0_2);
-    float _e7 = airlight_equiangular_16_arctan2_(h_3, -(x0_2));
-    metal::float3 _e8 = airlight_equiangular_16_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
+    float _e5 = airlight_equiangular_16_arctan2_(h_3, x0_3);
+    float _e7 = airlight_equiangular_16_arctan2_(h_3, -(x0_3));
+    metal::float3 _e8 = airlight_equiangular_16_airlight_geometry_rgb(tau_2, h_3, x0_3, _e5, _e7, rho_4, g_3);
     return _e8;
 }
 
@@ -1226,26 +1352,26 @@ float airlight_equiangular_16_spot_asin(
 }
 
 metal::float3 airlight_equiangular_16_spot_core(
-    metal::float3 tau_2,
+    metal::float3 tau_3,
     float h_4,
-    float x0_3,
-    float rho_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
     bool cut_a,
     bool cut_b,
-    float g_3
+    float g_4
 ) {
     float h1_ = {};
     float x1_ = {};
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
-    bool local_7 = {};
+    bool local_9 = {};
     h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_equiangular_16_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
@@ -1260,25 +1386,25 @@ metal::float3 airlight_equiangular_16_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_7 = rho_4 >= 0.0;
+            local_9 = rho_5 >= 0.0;
         } else {
-            local_7 = false;
+            local_9 = false;
         }
-        bool _e44 = local_7;
+        bool _e44 = local_9;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+            rho1_ = metal::max((rho_5 - _e45) / _e47, 0.0);
         }
     }
     float _e51 = t0_;
     float _e53 = h1_;
     float _e54 = x1_;
     float _e55 = rho1_;
-    metal::float3 _e56 = airlight_equiangular_16_along_rgb(tau_2 * _e51, _e53, _e54, _e55, g_3);
+    metal::float3 _e56 = airlight_equiangular_16_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_4);
     float _e58 = s0_;
     float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_2) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_spot_weight_at(
@@ -1293,50 +1419,50 @@ float airlight_equiangular_16_spot_weight_at(
 }
 
 metal::float3 airlight_equiangular_16_spot_edge(
-    metal::float3 tau_3,
+    metal::float3 tau_4,
     float h_5,
-    float x0_4,
-    float rho_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
-    float u,
+    float u_1,
     float v_in,
     float ca_1,
     float k_2,
     float co_3,
     float ci_1,
-    float g_4
+    float g_5
 ) {
-    bool local_8 = {};
+    bool local_10 = {};
     metal::float3 exact = metal::float3(0.0);
     type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
-    metal::float3 sum_2 = metal::float3(0.0);
+    metal::float3 sum_3 = metal::float3(0.0);
     float w_1 = {};
     metal::float2 sb = {};
     float d_4 = {};
     float st_2 = {};
     int i = 0;
-    if (!((v_in > u))) {
+    if (!((v_in > u_1))) {
         return metal::float3(0.0);
     }
-    if (!((g_4 < 0.0))) {
-        local_8 = v_in > 3.0;
+    if (!((g_5 < 0.0))) {
+        local_10 = v_in > 3.0;
     } else {
-        local_8 = true;
+        local_10 = true;
     }
-    bool _e25 = local_8;
-    float e_1 = _e25 ? v_in : u;
+    bool _e25 = local_10;
+    float e_1 = _e25 ? v_in : u_1;
     float _e27 = airlight_equiangular_16_spot_weight_at(e_1, ca_1, k_2, co_3, ci_1);
     if (_e27 > 0.0) {
-        metal::float3 _e35 = airlight_equiangular_16_spot_core(tau_3, h_5, x0_4, rho_5, gam_1, u, v_in, u > gam_1, v_in < om_e, g_4);
+        metal::float3 _e35 = airlight_equiangular_16_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_5);
         exact = _e35;
         metal::float3 _e36 = exact;
         if (metal::any(_e36 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
-    float gm_2 = (1.0 - g_4) * (1.0 - g_4);
-    float gp_2 = (1.0 + g_4) * (1.0 + g_4);
+    float gm_2 = (1.0 - g_5) * (1.0 - g_5);
+    float gp_2 = (1.0 + g_5) * (1.0 + g_5);
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
@@ -1355,13 +1481,13 @@ metal::float3 airlight_equiangular_16_spot_edge(
         {
             int _e74 = i;
             float _e76 = pieces.inner[_e74];
-            float a_7 = u + ((v_in - u) * _e76);
+            float a_7 = u_1 + ((v_in - u_1) * _e76);
             int _e80 = i;
             float _e84 = pieces.inner[as_type<int>(as_type<uint>(_e80) + as_type<uint>(1))];
-            float b_5 = u + ((v_in - u) * _e84);
-            float half_2 = 0.5 * (b_5 - a_7);
+            float b_5 = u_1 + ((v_in - u_1) * _e84);
+            float half_3 = 0.5 * (b_5 - a_7);
             float mid = 0.5 * (b_5 + a_7);
-            w_1 = mid + (half_2 * 0.96028984);
+            w_1 = mid + (half_3 * 0.96028984);
             float _e96 = w_1;
             metal::float2 _e99 = airlight_equiangular_16_sin_cos(0.5 * _e96);
             sb = _e99;
@@ -1369,18 +1495,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e106 = sb.y;
             float _e112 = sb.x;
             float _e115 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e112) * _e115)) : (gp_2 - (((4.0 * g_4) * _e103) * _e106));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e112) * _e115)) : (gp_2 - (((4.0 * g_5) * _e103) * _e106));
             float _e122 = sb.x;
             float _e125 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e132 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e132 = sum_3;
             float _e135 = w_1;
             float _e136 = airlight_equiangular_16_spot_weight_at(_e135, ca_1, k_2, co_3, ci_1);
             float _e139 = d_4;
             float _e140 = d_4;
             float _e145 = st_2;
-            sum_2 = _e132 + ((((half_2 * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_3) * _e145));
-            w_1 = mid + (half_2 * 0.7966665);
+            sum_3 = _e132 + ((((half_3 * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_4) * _e145));
+            w_1 = mid + (half_3 * 0.7966665);
             float _e153 = w_1;
             metal::float2 _e156 = airlight_equiangular_16_sin_cos(0.5 * _e153);
             sb = _e156;
@@ -1388,18 +1514,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e163 = sb.y;
             float _e169 = sb.x;
             float _e172 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e169) * _e172)) : (gp_2 - (((4.0 * g_4) * _e160) * _e163));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e169) * _e172)) : (gp_2 - (((4.0 * g_5) * _e160) * _e163));
             float _e179 = sb.x;
             float _e182 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e189 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e189 = sum_3;
             float _e192 = w_1;
             float _e193 = airlight_equiangular_16_spot_weight_at(_e192, ca_1, k_2, co_3, ci_1);
             float _e196 = d_4;
             float _e197 = d_4;
             float _e202 = st_2;
-            sum_2 = _e189 + ((((half_2 * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_3) * _e202));
-            w_1 = mid + (half_2 * 0.5255324);
+            sum_3 = _e189 + ((((half_3 * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_4) * _e202));
+            w_1 = mid + (half_3 * 0.5255324);
             float _e210 = w_1;
             metal::float2 _e213 = airlight_equiangular_16_sin_cos(0.5 * _e210);
             sb = _e213;
@@ -1407,18 +1533,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e220 = sb.y;
             float _e226 = sb.x;
             float _e229 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e226) * _e229)) : (gp_2 - (((4.0 * g_4) * _e217) * _e220));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e226) * _e229)) : (gp_2 - (((4.0 * g_5) * _e217) * _e220));
             float _e236 = sb.x;
             float _e239 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e246 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e246 = sum_3;
             float _e249 = w_1;
             float _e250 = airlight_equiangular_16_spot_weight_at(_e249, ca_1, k_2, co_3, ci_1);
             float _e253 = d_4;
             float _e254 = d_4;
             float _e259 = st_2;
-            sum_2 = _e246 + ((((half_2 * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_3) * _e259));
-            w_1 = mid + (half_2 * 0.18343464);
+            sum_3 = _e246 + ((((half_3 * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_4) * _e259));
+            w_1 = mid + (half_3 * 0.18343464);
             float _e267 = w_1;
             metal::float2 _e270 = airlight_equiangular_16_sin_cos(0.5 * _e267);
             sb = _e270;
@@ -1426,18 +1552,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e277 = sb.y;
             float _e283 = sb.x;
             float _e286 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e283) * _e286)) : (gp_2 - (((4.0 * g_4) * _e274) * _e277));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e283) * _e286)) : (gp_2 - (((4.0 * g_5) * _e274) * _e277));
             float _e293 = sb.x;
             float _e296 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e303 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e303 = sum_3;
             float _e306 = w_1;
             float _e307 = airlight_equiangular_16_spot_weight_at(_e306, ca_1, k_2, co_3, ci_1);
             float _e310 = d_4;
             float _e311 = d_4;
             float _e316 = st_2;
-            sum_2 = _e303 + ((((half_2 * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_3) * _e316));
-            w_1 = mid + (half_2 * -0.18343464);
+            sum_3 = _e303 + ((((half_3 * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_4) * _e316));
+            w_1 = mid + (half_3 * -0.18343464);
             float _e324 = w_1;
             metal::float2 _e327 = airlight_equiangular_16_sin_cos(0.5 * _e324);
             sb = _e327;
@@ -1445,18 +1571,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e334 = sb.y;
             float _e340 = sb.x;
             float _e343 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e340) * _e343)) : (gp_2 - (((4.0 * g_4) * _e331) * _e334));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e340) * _e343)) : (gp_2 - (((4.0 * g_5) * _e331) * _e334));
             float _e350 = sb.x;
             float _e353 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e360 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e360 = sum_3;
             float _e363 = w_1;
             float _e364 = airlight_equiangular_16_spot_weight_at(_e363, ca_1, k_2, co_3, ci_1);
             float _e367 = d_4;
             float _e368 = d_4;
             float _e373 = st_2;
-            sum_2 = _e360 + ((((half_2 * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
-            w_1 = mid + (half_2 * -0.5255324);
+            sum_3 = _e360 + ((((half_3 * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_4) * _e373));
+            w_1 = mid + (half_3 * -0.5255324);
             float _e381 = w_1;
             metal::float2 _e384 = airlight_equiangular_16_sin_cos(0.5 * _e381);
             sb = _e384;
@@ -1464,18 +1590,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e391 = sb.y;
             float _e397 = sb.x;
             float _e400 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e397) * _e400)) : (gp_2 - (((4.0 * g_4) * _e388) * _e391));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e397) * _e400)) : (gp_2 - (((4.0 * g_5) * _e388) * _e391));
             float _e407 = sb.x;
             float _e410 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e417 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e417 = sum_3;
             float _e420 = w_1;
             float _e421 = airlight_equiangular_16_spot_weight_at(_e420, ca_1, k_2, co_3, ci_1);
             float _e424 = d_4;
             float _e425 = d_4;
             float _e430 = st_2;
-            sum_2 = _e417 + ((((half_2 * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_3) * _e430));
-            w_1 = mid + (half_2 * -0.7966665);
+            sum_3 = _e417 + ((((half_3 * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_4) * _e430));
+            w_1 = mid + (half_3 * -0.7966665);
             float _e438 = w_1;
             metal::float2 _e441 = airlight_equiangular_16_sin_cos(0.5 * _e438);
             sb = _e441;
@@ -1483,18 +1609,18 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e448 = sb.y;
             float _e454 = sb.x;
             float _e457 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e454) * _e457)) : (gp_2 - (((4.0 * g_4) * _e445) * _e448));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e454) * _e457)) : (gp_2 - (((4.0 * g_5) * _e445) * _e448));
             float _e464 = sb.x;
             float _e467 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e474 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e474 = sum_3;
             float _e477 = w_1;
             float _e478 = airlight_equiangular_16_spot_weight_at(_e477, ca_1, k_2, co_3, ci_1);
             float _e481 = d_4;
             float _e482 = d_4;
             float _e487 = st_2;
-            sum_2 = _e474 + ((((half_2 * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_3) * _e487));
-            w_1 = mid + (half_2 * -0.96028984);
+            sum_3 = _e474 + ((((half_3 * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_4) * _e487));
+            w_1 = mid + (half_3 * -0.96028984);
             float _e495 = w_1;
             metal::float2 _e498 = airlight_equiangular_16_sin_cos(0.5 * _e495);
             sb = _e498;
@@ -1502,22 +1628,22 @@ metal::float3 airlight_equiangular_16_spot_edge(
             float _e505 = sb.y;
             float _e511 = sb.x;
             float _e514 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e511) * _e514)) : (gp_2 - (((4.0 * g_4) * _e502) * _e505));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e511) * _e514)) : (gp_2 - (((4.0 * g_5) * _e502) * _e505));
             float _e521 = sb.x;
             float _e524 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e531 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e531 = sum_3;
             float _e534 = w_1;
             float _e535 = airlight_equiangular_16_spot_weight_at(_e534, ca_1, k_2, co_3, ci_1);
             float _e538 = d_4;
             float _e539 = d_4;
             float _e544 = st_2;
-            sum_2 = _e531 + ((((half_2 * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_3) * _e544));
+            sum_3 = _e531 + ((((half_3 * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_4) * _e544));
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_2;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e564 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_spot_weight(
@@ -1542,16 +1668,16 @@ metal::float3 airlight_equiangular_16_spot(
     float intensity_2,
     metal::float3 sigma_t_1,
     metal::float3 sigma_s_2,
-    float g_5
+    float g_6
 ) {
-    bool local_9 = {};
-    bool local_10 = {};
+    bool local_11 = {};
+    bool local_12 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_11 = {};
-    float scale = 1.0;
-    bool local_12 = {};
     bool local_13 = {};
+    float scale = 1.0;
+    bool local_14 = {};
+    bool local_15 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1561,8 +1687,8 @@ metal::float3 airlight_equiangular_16_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_2 = 0.0;
     float om_e_1 = airlight_equiangular_16_PI;
-    bool local_14 = {};
-    bool local_15 = {};
+    bool local_16 = {};
+    bool local_17 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_equiangular_16_ray_geometry(origin_2, dir_2, light_2);
@@ -1572,16 +1698,16 @@ metal::float3 airlight_equiangular_16_spot(
     float _e18 = airlight_equiangular_16_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_10 = _e18 <= airlight_equiangular_16_HUGE;
+            local_12 = _e18 <= airlight_equiangular_16_HUGE;
         } else {
-            local_10 = false;
+            local_12 = false;
         }
-        bool _e29 = local_10;
-        local_9 = !(_e29);
+        bool _e29 = local_12;
+        local_11 = !(_e29);
     } else {
-        local_9 = false;
+        local_11 = false;
     }
-    bool _e32 = local_9;
+    bool _e32 = local_11;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1591,11 +1717,11 @@ metal::float3 airlight_equiangular_16_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_11 = _e17 <= airlight_equiangular_16_HUGE;
+        local_13 = _e17 <= airlight_equiangular_16_HUGE;
     } else {
-        local_11 = false;
+        local_13 = false;
     }
-    bool _e53 = local_11;
+    bool _e53 = local_13;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1614,43 +1740,43 @@ metal::float3 airlight_equiangular_16_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_12 = _e11.z == 0.0;
+        local_14 = _e11.z == 0.0;
     } else {
-        local_12 = false;
+        local_14 = false;
     }
-    bool _e96 = local_12;
+    bool _e96 = local_14;
     if (_e96) {
         return metal::float3(0.0);
     }
     float d_5 = _e11.x;
-    float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float h_7 = _e11.y;
+    float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_5) < airlight_equiangular_16_RHO_OPEN;
+        local_15 = (surface_1 / d_5) < airlight_equiangular_16_RHO_OPEN;
     } else {
-        local_13 = false;
+        local_15 = false;
     }
-    bool has_end = local_13;
-    float rho_7 = has_end ? (surface_1 / d_5) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
-    float gg = metal::clamp(g_5, -0.999, 0.999);
+    bool has_end_1 = local_15;
+    float rho_8 = has_end_1 ? (surface_1 / d_5) : -1.0;
+    metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
+    float gg = metal::clamp(g_6, -0.999, 0.999);
     if (!(point)) {
-        local_14 = h_6 <= 0.0;
+        local_16 = h_7 <= 0.0;
     } else {
-        local_14 = true;
+        local_16 = true;
     }
-    bool _e149 = local_14;
+    bool _e149 = local_16;
     if (_e149) {
         if (!(point)) {
             float _e152 = airlight_equiangular_16_spot_weight(-(k_3), co_5, cos_inner);
             float _e153 = airlight_equiangular_16_spot_weight(k_3, co_5, cos_inner);
-            if (has_end) {
-                local_15 = rho_7 < 1.0;
+            if (has_end_1) {
+                local_17 = rho_8 < 1.0;
             } else {
-                local_15 = false;
+                local_17 = false;
             }
-            bool _e160 = local_15;
-            scale = (x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
+            bool _e160 = local_17;
+            scale = (x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
         }
         core = true;
     } else {
@@ -1666,19 +1792,19 @@ metal::float3 airlight_equiangular_16_spot(
         float r_4 = metal::sqrt((_e180 * _e181) + (k_3 * k_3));
         float _e186 = ca_2;
         float _e187 = airlight_equiangular_16_arctan2_(k_3, _e186);
-        float _e188 = airlight_equiangular_16_arctan2_(h_6, x0_6);
+        float _e188 = airlight_equiangular_16_arctan2_(h_7, x0_7);
         gam_2 = _e188;
-        float _e191 = airlight_equiangular_16_arctan2_(h_6, x0_6 - rho_7);
-        om_e_1 = has_end ? _e191 : airlight_equiangular_16_PI;
+        float _e191 = airlight_equiangular_16_arctan2_(h_7, x0_7 - rho_8);
+        om_e_1 = has_end_1 ? _e191 : airlight_equiangular_16_PI;
         if (co_5 < r_4) {
             float _e194 = airlight_equiangular_16_spot_asin(co_5, r_4);
             float _e195 = gam_2;
-            float lo = metal::max(_e195, _e187 + _e194);
+            float lo_1 = metal::max(_e195, _e187 + _e194);
             float _e198 = om_e_1;
             float hi_1 = metal::min(_e198, (_e187 + airlight_equiangular_16_PI) - _e194);
-            wa_1 = lo;
+            wa_1 = lo_1;
             wb_1 = hi_1;
-            if (lo < hi_1) {
+            if (lo_1 < hi_1) {
                 if (cos_inner <= co_5) {
                     core = true;
                 } else {
@@ -1691,9 +1817,9 @@ metal::float3 airlight_equiangular_16_spot(
                         float _e216 = wa_1;
                         float _e217 = wb_1;
                         core = _e216 < _e217;
-                        pen = metal::float4(lo, metal::min(hi_1, _e187 + _e207), metal::max(lo, (_e187 + airlight_equiangular_16_PI) - _e207), hi_1);
+                        pen = metal::float4(lo_1, metal::min(hi_1, _e187 + _e207), metal::max(lo_1, (_e187 + airlight_equiangular_16_PI) - _e207), hi_1);
                     } else {
-                        pen = metal::float4(lo, hi_1, 0.0, 0.0);
+                        pen = metal::float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
@@ -1712,7 +1838,7 @@ metal::float3 airlight_equiangular_16_spot(
         float _e241 = wb_1;
         bool _e242 = cut_a_1;
         bool _e243 = cut_b_1;
-        metal::float3 _e244 = airlight_equiangular_16_spot_core(tau_6, h_6, x0_6, rho_7, _e239, _e240, _e241, _e242, _e243, gg);
+        metal::float3 _e244 = airlight_equiangular_16_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
         a_5 = _e244;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1740,7 +1866,7 @@ metal::float3 airlight_equiangular_16_spot(
                 float _e262 = gam_2;
                 float _e263 = om_e_1;
                 float _e266 = ca_2;
-                metal::float3 _e267 = airlight_equiangular_16_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
+                metal::float3 _e267 = airlight_equiangular_16_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
                 a_5 = _e261 + _e267;
             }
         }

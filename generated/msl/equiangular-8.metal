@@ -138,14 +138,14 @@ metal::float3 airlight_equiangular_8_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h;
     float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_equiangular_8_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_equiangular_8_HUGE), _e97 / n_1, x0_5 / n_1);
+    return metal::float3(metal::min(dist, airlight_equiangular_8_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_equiangular_8_scaled(
@@ -282,493 +282,579 @@ metal::float2 airlight_equiangular_8_sin_cos(
     }
 }
 
-float airlight_equiangular_8_airlight_geometry(
-    float tau_in,
-    float h_1,
+float airlight_equiangular_8_airlight_axis(
+    float tau,
     float x0_,
-    float gamma,
-    float comp,
     float rho,
-    float g_in
+    float g
 ) {
-    float span = {};
     bool local_4 = {};
+    bool local_5 = {};
     float sum = 0.0;
-    metal::float2 sc = {};
-    float b_3 = {};
-    float co = {};
-    float st = {};
-    float d_2 = {};
-    float tau_4 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
-    float g_6 = metal::clamp(g_in, -0.999, 0.999);
-    float gm = (1.0 - g_6) * (1.0 - g_6);
-    float gp = (1.0 + g_6) * (1.0 + g_6);
-    span = comp;
+    float u = {};
     if (rho >= 0.0) {
         local_4 = rho < airlight_equiangular_8_RHO_OPEN;
     } else {
         local_4 = false;
     }
-    bool _e32 = local_4;
-    if (_e32) {
-        float _e37 = airlight_equiangular_8_arctan2_(h_1 * rho, 1.0 - (x0_ * rho));
-        span = _e37;
+    bool has_end = local_4;
+    if (x0_ > 0.0) {
+        if (has_end) {
+            local_5 = rho < 1.0;
+        } else {
+            local_5 = false;
+        }
+        bool _e19 = local_5;
+        if (!(_e19)) {
+            return airlight_equiangular_8_HUGE;
+        }
+        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau))) * rho) / (1.0 - rho), airlight_equiangular_8_HUGE);
     }
-    float _e38 = span;
-    float half_ = 0.5 * _e38;
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.9602898);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.9602898);
-    float _e62 = b_3;
-    float _e63 = co;
-    metal::float2 _e67 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e62, _e63), 0.0));
-    sc = _e67;
-    float _e68 = b_3;
-    float _e69 = co;
-    if (_e68 > _e69) {
-        metal::float2 _e71 = sc;
-        sc = _e71.yx;
-    }
-    float _e74 = sc.x;
-    float _e77 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e74) / metal::max(_e77, 0.000000000000000000000000000001)), 1.0);
-    float _e87 = sc.y;
-    float _e90 = sc.y;
-    float _e96 = sc.x;
-    float _e99 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e96) * _e99)) : (gp - (((4.0 * g_6) * _e87) * _e90));
+    float lo = has_end ? (1.0 / (1.0 + rho)) : 0.0;
+    float half_ = 0.5 * (1.0 - lo);
+    u = lo + (half_ * 1.9602898);
+    float _e57 = sum;
+    float _e60 = u;
+    float _e63 = u;
+    sum = _e57 + (0.101228535 * metal::exp((-2.0 * tau) * ((1.0 - _e60) / _e63)));
+    u = lo + (half_ * 1.7966665);
+    float _e73 = sum;
+    float _e76 = u;
+    float _e79 = u;
+    sum = _e73 + (0.22238104 * metal::exp((-2.0 * tau) * ((1.0 - _e76) / _e79)));
+    u = lo + (half_ * 1.5255324);
+    float _e89 = sum;
+    float _e92 = u;
+    float _e95 = u;
+    sum = _e89 + (0.31370664 * metal::exp((-2.0 * tau) * ((1.0 - _e92) / _e95)));
+    u = lo + (half_ * 1.1834346);
     float _e105 = sum;
-    float _e107 = st;
-    float _e112 = d_2;
-    float _e113 = d_2;
-    sum = _e105 + ((0.101228535 * metal::exp(-(tau_4) * _e107)) / (_e112 * metal::sqrt(_e113)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.7966665);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.7966665);
-    float _e132 = b_3;
-    float _e133 = co;
-    metal::float2 _e137 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e132, _e133), 0.0));
-    sc = _e137;
-    float _e138 = b_3;
-    float _e139 = co;
-    if (_e138 > _e139) {
-        metal::float2 _e141 = sc;
-        sc = _e141.yx;
+    float _e108 = u;
+    float _e111 = u;
+    sum = _e105 + (0.36268377 * metal::exp((-2.0 * tau) * ((1.0 - _e108) / _e111)));
+    u = lo + (half_ * 0.8165654);
+    float _e121 = sum;
+    float _e124 = u;
+    float _e127 = u;
+    sum = _e121 + (0.36268377 * metal::exp((-2.0 * tau) * ((1.0 - _e124) / _e127)));
+    u = lo + (half_ * 0.47446758);
+    float _e137 = sum;
+    float _e140 = u;
+    float _e143 = u;
+    sum = _e137 + (0.31370664 * metal::exp((-2.0 * tau) * ((1.0 - _e140) / _e143)));
+    u = lo + (half_ * 0.2033335);
+    float _e153 = sum;
+    float _e156 = u;
+    float _e159 = u;
+    sum = _e153 + (0.22238104 * metal::exp((-2.0 * tau) * ((1.0 - _e156) / _e159)));
+    u = lo + (half_ * 0.039710164);
+    float _e169 = sum;
+    float _e172 = u;
+    float _e175 = u;
+    sum = _e169 + (0.101228535 * metal::exp((-2.0 * tau) * ((1.0 - _e172) / _e175)));
+    float _e196 = sum;
+    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau))) * half_) * _e196;
+}
+
+float airlight_equiangular_8_airlight_geometry(
+    float tau_in,
+    float h_1,
+    float x0_1,
+    float gamma,
+    float comp,
+    float rho_1,
+    float g_in
+) {
+    float span = {};
+    bool local_6 = {};
+    float sum_1 = 0.0;
+    metal::float2 sc = {};
+    float b_3 = {};
+    float co = {};
+    float st = {};
+    float d_2 = {};
+    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
+    float g_7 = metal::clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g_7) * (1.0 - g_7);
+    float gp = (1.0 + g_7) * (1.0 + g_7);
+    if (h_1 <= 0.0) {
+        float _e26 = airlight_equiangular_8_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        return _e26;
     }
-    float _e144 = sc.x;
-    float _e147 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e144) / metal::max(_e147, 0.000000000000000000000000000001)), 1.0);
-    float _e157 = sc.y;
+    span = comp;
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_equiangular_8_RHO_OPEN;
+    } else {
+        local_6 = false;
+    }
+    bool _e35 = local_6;
+    if (_e35) {
+        float _e40 = airlight_equiangular_8_arctan2_(h_1 * rho_1, 1.0 - (x0_1 * rho_1));
+        span = _e40;
+    }
+    float _e41 = span;
+    float half_1 = 0.5 * _e41;
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9602898);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.9602898);
+    float _e65 = b_3;
+    float _e66 = co;
+    metal::float2 _e70 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
+    sc = _e70;
+    float _e71 = b_3;
+    float _e72 = co;
+    if (_e71 > _e72) {
+        metal::float2 _e74 = sc;
+        sc = _e74.yx;
+    }
+    float _e77 = sc.x;
+    float _e80 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
+    float _e90 = sc.y;
+    float _e93 = sc.y;
+    float _e99 = sc.x;
+    float _e102 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e99) * _e102)) : (gp - (((4.0 * g_7) * _e90) * _e93));
+    float _e108 = sum_1;
+    float _e110 = st;
+    float _e115 = d_2;
+    float _e116 = d_2;
+    sum_1 = _e108 + ((0.101228535 * metal::exp(-(tau_5) * _e110)) / (_e115 * metal::sqrt(_e116)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.7966665);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.7966665);
+    float _e135 = b_3;
+    float _e136 = co;
+    metal::float2 _e140 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e135, _e136), 0.0));
+    sc = _e140;
+    float _e141 = b_3;
+    float _e142 = co;
+    if (_e141 > _e142) {
+        metal::float2 _e144 = sc;
+        sc = _e144.yx;
+    }
+    float _e147 = sc.x;
+    float _e150 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e147) / metal::max(_e150, 0.000000000000000000000000000001)), 1.0);
     float _e160 = sc.y;
-    float _e166 = sc.x;
+    float _e163 = sc.y;
     float _e169 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e166) * _e169)) : (gp - (((4.0 * g_6) * _e157) * _e160));
-    float _e175 = sum;
-    float _e177 = st;
-    float _e182 = d_2;
-    float _e183 = d_2;
-    sum = _e175 + ((0.22238104 * metal::exp(-(tau_4) * _e177)) / (_e182 * metal::sqrt(_e183)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.5255324);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.5255324);
-    float _e202 = b_3;
-    float _e203 = co;
-    metal::float2 _e207 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e202, _e203), 0.0));
-    sc = _e207;
-    float _e208 = b_3;
-    float _e209 = co;
-    if (_e208 > _e209) {
-        metal::float2 _e211 = sc;
-        sc = _e211.yx;
+    float _e172 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e169) * _e172)) : (gp - (((4.0 * g_7) * _e160) * _e163));
+    float _e178 = sum_1;
+    float _e180 = st;
+    float _e185 = d_2;
+    float _e186 = d_2;
+    sum_1 = _e178 + ((0.22238104 * metal::exp(-(tau_5) * _e180)) / (_e185 * metal::sqrt(_e186)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.5255324);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.5255324);
+    float _e205 = b_3;
+    float _e206 = co;
+    metal::float2 _e210 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e205, _e206), 0.0));
+    sc = _e210;
+    float _e211 = b_3;
+    float _e212 = co;
+    if (_e211 > _e212) {
+        metal::float2 _e214 = sc;
+        sc = _e214.yx;
     }
-    float _e214 = sc.x;
-    float _e217 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e214) / metal::max(_e217, 0.000000000000000000000000000001)), 1.0);
-    float _e227 = sc.y;
+    float _e217 = sc.x;
+    float _e220 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e217) / metal::max(_e220, 0.000000000000000000000000000001)), 1.0);
     float _e230 = sc.y;
-    float _e236 = sc.x;
+    float _e233 = sc.y;
     float _e239 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e236) * _e239)) : (gp - (((4.0 * g_6) * _e227) * _e230));
-    float _e245 = sum;
-    float _e247 = st;
-    float _e252 = d_2;
-    float _e253 = d_2;
-    sum = _e245 + ((0.31370664 * metal::exp(-(tau_4) * _e247)) / (_e252 * metal::sqrt(_e253)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 1.1834346);
-    co = (0.5 * comp) - ((0.5 * half_) * 1.1834346);
-    float _e272 = b_3;
-    float _e273 = co;
-    metal::float2 _e277 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e272, _e273), 0.0));
-    sc = _e277;
-    float _e278 = b_3;
-    float _e279 = co;
-    if (_e278 > _e279) {
-        metal::float2 _e281 = sc;
-        sc = _e281.yx;
+    float _e242 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e239) * _e242)) : (gp - (((4.0 * g_7) * _e230) * _e233));
+    float _e248 = sum_1;
+    float _e250 = st;
+    float _e255 = d_2;
+    float _e256 = d_2;
+    sum_1 = _e248 + ((0.31370664 * metal::exp(-(tau_5) * _e250)) / (_e255 * metal::sqrt(_e256)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.1834346);
+    co = (0.5 * comp) - ((0.5 * half_1) * 1.1834346);
+    float _e275 = b_3;
+    float _e276 = co;
+    metal::float2 _e280 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e275, _e276), 0.0));
+    sc = _e280;
+    float _e281 = b_3;
+    float _e282 = co;
+    if (_e281 > _e282) {
+        metal::float2 _e284 = sc;
+        sc = _e284.yx;
     }
-    float _e284 = sc.x;
-    float _e287 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e284) / metal::max(_e287, 0.000000000000000000000000000001)), 1.0);
-    float _e297 = sc.y;
+    float _e287 = sc.x;
+    float _e290 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e287) / metal::max(_e290, 0.000000000000000000000000000001)), 1.0);
     float _e300 = sc.y;
-    float _e306 = sc.x;
+    float _e303 = sc.y;
     float _e309 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e306) * _e309)) : (gp - (((4.0 * g_6) * _e297) * _e300));
-    float _e315 = sum;
-    float _e317 = st;
-    float _e322 = d_2;
-    float _e323 = d_2;
-    sum = _e315 + ((0.36268377 * metal::exp(-(tau_4) * _e317)) / (_e322 * metal::sqrt(_e323)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.8165654);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.8165654);
-    float _e342 = b_3;
-    float _e343 = co;
-    metal::float2 _e347 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e342, _e343), 0.0));
-    sc = _e347;
-    float _e348 = b_3;
-    float _e349 = co;
-    if (_e348 > _e349) {
-        metal::float2 _e351 = sc;
-        sc = _e351.yx;
+    float _e312 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e309) * _e312)) : (gp - (((4.0 * g_7) * _e300) * _e303));
+    float _e318 = sum_1;
+    float _e320 = st;
+    float _e325 = d_2;
+    float _e326 = d_2;
+    sum_1 = _e318 + ((0.36268377 * metal::exp(-(tau_5) * _e320)) / (_e325 * metal::sqrt(_e326)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.8165654);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.8165654);
+    float _e345 = b_3;
+    float _e346 = co;
+    metal::float2 _e350 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e345, _e346), 0.0));
+    sc = _e350;
+    float _e351 = b_3;
+    float _e352 = co;
+    if (_e351 > _e352) {
+        metal::float2 _e354 = sc;
+        sc = _e354.yx;
     }
-    float _e354 = sc.x;
-    float _e357 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e354) / metal::max(_e357, 0.000000000000000000000000000001)), 1.0);
-    float _e367 = sc.y;
+    float _e357 = sc.x;
+    float _e360 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
     float _e370 = sc.y;
-    float _e376 = sc.x;
+    float _e373 = sc.y;
     float _e379 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e376) * _e379)) : (gp - (((4.0 * g_6) * _e367) * _e370));
-    float _e385 = sum;
-    float _e387 = st;
-    float _e392 = d_2;
-    float _e393 = d_2;
-    sum = _e385 + ((0.36268377 * metal::exp(-(tau_4) * _e387)) / (_e392 * metal::sqrt(_e393)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.47446758);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.47446758);
-    float _e412 = b_3;
-    float _e413 = co;
-    metal::float2 _e417 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e412, _e413), 0.0));
-    sc = _e417;
-    float _e418 = b_3;
-    float _e419 = co;
-    if (_e418 > _e419) {
-        metal::float2 _e421 = sc;
-        sc = _e421.yx;
+    float _e382 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e379) * _e382)) : (gp - (((4.0 * g_7) * _e370) * _e373));
+    float _e388 = sum_1;
+    float _e390 = st;
+    float _e395 = d_2;
+    float _e396 = d_2;
+    sum_1 = _e388 + ((0.36268377 * metal::exp(-(tau_5) * _e390)) / (_e395 * metal::sqrt(_e396)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.47446758);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.47446758);
+    float _e415 = b_3;
+    float _e416 = co;
+    metal::float2 _e420 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e415, _e416), 0.0));
+    sc = _e420;
+    float _e421 = b_3;
+    float _e422 = co;
+    if (_e421 > _e422) {
+        metal::float2 _e424 = sc;
+        sc = _e424.yx;
     }
-    float _e424 = sc.x;
-    float _e427 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e424) / metal::max(_e427, 0.000000000000000000000000000001)), 1.0);
-    float _e437 = sc.y;
+    float _e427 = sc.x;
+    float _e430 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e427) / metal::max(_e430, 0.000000000000000000000000000001)), 1.0);
     float _e440 = sc.y;
-    float _e446 = sc.x;
+    float _e443 = sc.y;
     float _e449 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e446) * _e449)) : (gp - (((4.0 * g_6) * _e437) * _e440));
-    float _e455 = sum;
-    float _e457 = st;
-    float _e462 = d_2;
-    float _e463 = d_2;
-    sum = _e455 + ((0.31370664 * metal::exp(-(tau_4) * _e457)) / (_e462 * metal::sqrt(_e463)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.2033335);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.2033335);
-    float _e482 = b_3;
-    float _e483 = co;
-    metal::float2 _e487 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e482, _e483), 0.0));
-    sc = _e487;
-    float _e488 = b_3;
-    float _e489 = co;
-    if (_e488 > _e489) {
-        metal::float2 _e491 = sc;
-        sc = _e491.yx;
+    float _e452 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e449) * _e452)) : (gp - (((4.0 * g_7) * _e440) * _e443));
+    float _e458 = sum_1;
+    float _e460 = st;
+    float _e465 = d_2;
+    float _e466 = d_2;
+    sum_1 = _e458 + ((0.31370664 * metal::exp(-(tau_5) * _e460)) / (_e465 * metal::sqrt(_e466)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.2033335);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.2033335);
+    float _e485 = b_3;
+    float _e486 = co;
+    metal::float2 _e490 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e485, _e486), 0.0));
+    sc = _e490;
+    float _e491 = b_3;
+    float _e492 = co;
+    if (_e491 > _e492) {
+        metal::float2 _e494 = sc;
+        sc = _e494.yx;
     }
-    float _e494 = sc.x;
-    float _e497 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e494) / metal::max(_e497, 0.000000000000000000000000000001)), 1.0);
-    float _e507 = sc.y;
+    float _e497 = sc.x;
+    float _e500 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e497) / metal::max(_e500, 0.000000000000000000000000000001)), 1.0);
     float _e510 = sc.y;
-    float _e516 = sc.x;
+    float _e513 = sc.y;
     float _e519 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e516) * _e519)) : (gp - (((4.0 * g_6) * _e507) * _e510));
-    float _e525 = sum;
-    float _e527 = st;
-    float _e532 = d_2;
-    float _e533 = d_2;
-    sum = _e525 + ((0.22238104 * metal::exp(-(tau_4) * _e527)) / (_e532 * metal::sqrt(_e533)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_) * 0.039710164);
-    co = (0.5 * comp) - ((0.5 * half_) * 0.039710164);
-    float _e552 = b_3;
-    float _e553 = co;
-    metal::float2 _e557 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e552, _e553), 0.0));
-    sc = _e557;
-    float _e558 = b_3;
-    float _e559 = co;
-    if (_e558 > _e559) {
-        metal::float2 _e561 = sc;
-        sc = _e561.yx;
+    float _e522 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e519) * _e522)) : (gp - (((4.0 * g_7) * _e510) * _e513));
+    float _e528 = sum_1;
+    float _e530 = st;
+    float _e535 = d_2;
+    float _e536 = d_2;
+    sum_1 = _e528 + ((0.22238104 * metal::exp(-(tau_5) * _e530)) / (_e535 * metal::sqrt(_e536)));
+    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.039710164);
+    co = (0.5 * comp) - ((0.5 * half_1) * 0.039710164);
+    float _e555 = b_3;
+    float _e556 = co;
+    metal::float2 _e560 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e555, _e556), 0.0));
+    sc = _e560;
+    float _e561 = b_3;
+    float _e562 = co;
+    if (_e561 > _e562) {
+        metal::float2 _e564 = sc;
+        sc = _e564.yx;
     }
-    float _e564 = sc.x;
-    float _e567 = sc.y;
-    st = metal::max(x0_ + ((h_1 * _e564) / metal::max(_e567, 0.000000000000000000000000000001)), 1.0);
-    float _e577 = sc.y;
+    float _e567 = sc.x;
+    float _e570 = sc.y;
+    st = metal::max(x0_1 + ((h_1 * _e567) / metal::max(_e570, 0.000000000000000000000000000001)), 1.0);
     float _e580 = sc.y;
-    float _e586 = sc.x;
+    float _e583 = sc.y;
     float _e589 = sc.x;
-    d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e586) * _e589)) : (gp - (((4.0 * g_6) * _e577) * _e580));
-    float _e595 = sum;
-    float _e597 = st;
-    float _e602 = d_2;
-    float _e603 = d_2;
-    sum = _e595 + ((0.101228535 * metal::exp(-(tau_4) * _e597)) / (_e602 * metal::sqrt(_e603)));
-    float _e615 = sum;
-    return metal::min(((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e615) * half_) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_8_HUGE);
+    float _e592 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e589) * _e592)) : (gp - (((4.0 * g_7) * _e580) * _e583));
+    float _e598 = sum_1;
+    float _e600 = st;
+    float _e605 = d_2;
+    float _e606 = d_2;
+    sum_1 = _e598 + ((0.101228535 * metal::exp(-(tau_5) * _e600)) / (_e605 * metal::sqrt(_e606)));
+    float _e618 = sum_1;
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e618) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_8_HUGE);
 }
 
 metal::float3 airlight_equiangular_8_airlight_geometry_rgb(
     metal::float3 tau_in_1,
     float h_2,
-    float x0_1,
+    float x0_2,
     float gamma_1,
     float comp_1,
-    float rho_1,
+    float rho_2,
     float g_in_1
 ) {
     float span_1 = {};
-    bool local_5 = {};
-    metal::float3 sum_1 = metal::float3(0.0);
+    bool local_7 = {};
+    metal::float3 sum_2 = metal::float3(0.0);
     metal::float2 sc_1 = {};
     float b_4 = {};
     float co_1 = {};
     float st_1 = {};
     float d_3 = {};
-    metal::float3 tau_5 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float g_7 = metal::clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = (1.0 - g_7) * (1.0 - g_7);
-    float gp_1 = (1.0 + g_7) * (1.0 + g_7);
+    metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
+    float g_8 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_8) * (1.0 - g_8);
+    float gp_1 = (1.0 + g_8) * (1.0 + g_8);
+    if (h_2 <= 0.0) {
+        float _e29 = airlight_equiangular_8_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
+        float _e31 = airlight_equiangular_8_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
+        float _e33 = airlight_equiangular_8_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        return metal::float3(_e29, _e31, _e33);
+    }
     span_1 = comp_1;
-    if (rho_1 >= 0.0) {
-        local_5 = rho_1 < airlight_equiangular_8_RHO_OPEN;
+    if (rho_2 >= 0.0) {
+        local_7 = rho_2 < airlight_equiangular_8_RHO_OPEN;
     } else {
-        local_5 = false;
+        local_7 = false;
     }
-    bool _e34 = local_5;
-    if (_e34) {
-        float _e39 = airlight_equiangular_8_arctan2_(h_2 * rho_1, 1.0 - (x0_1 * rho_1));
-        span_1 = _e39;
+    bool _e43 = local_7;
+    if (_e43) {
+        float _e48 = airlight_equiangular_8_arctan2_(h_2 * rho_2, 1.0 - (x0_2 * rho_2));
+        span_1 = _e48;
     }
-    float _e40 = span_1;
-    float half_1 = 0.5 * _e40;
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.9602898);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.9602898);
-    float _e65 = b_4;
-    float _e66 = co_1;
-    metal::float2 _e70 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
-    sc_1 = _e70;
-    float _e71 = b_4;
-    float _e72 = co_1;
-    if (_e71 > _e72) {
-        metal::float2 _e74 = sc_1;
-        sc_1 = _e74.yx;
+    float _e49 = span_1;
+    float half_2 = 0.5 * _e49;
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.9602898);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.9602898);
+    float _e74 = b_4;
+    float _e75 = co_1;
+    metal::float2 _e79 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e74, _e75), 0.0));
+    sc_1 = _e79;
+    float _e80 = b_4;
+    float _e81 = co_1;
+    if (_e80 > _e81) {
+        metal::float2 _e83 = sc_1;
+        sc_1 = _e83.yx;
     }
-    float _e77 = sc_1.x;
-    float _e80 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
-    float _e90 = sc_1.y;
-    float _e93 = sc_1.y;
-    float _e99 = sc_1.x;
-    float _e102 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e99) * _e102)) : (gp_1 - (((4.0 * g_7) * _e90) * _e93));
-    metal::float3 _e108 = sum_1;
-    float _e110 = st_1;
-    float _e115 = d_3;
-    float _e116 = d_3;
-    sum_1 = _e108 + ((0.101228535 * metal::exp(-(tau_5) * _e110)) / metal::float3(_e115 * metal::sqrt(_e116)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.7966665);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.7966665);
-    float _e136 = b_4;
-    float _e137 = co_1;
-    metal::float2 _e141 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e136, _e137), 0.0));
-    sc_1 = _e141;
-    float _e142 = b_4;
-    float _e143 = co_1;
-    if (_e142 > _e143) {
-        metal::float2 _e145 = sc_1;
-        sc_1 = _e145.yx;
+    float _e86 = sc_1.x;
+    float _e89 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e86) / metal::max(_e89, 0.000000000000000000000000000001)), 1.0);
+    float _e99 = sc_1.y;
+    float _e102 = sc_1.y;
+    float _e108 = sc_1.x;
+    float _e111 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e108) * _e111)) : (gp_1 - (((4.0 * g_8) * _e99) * _e102));
+    metal::float3 _e117 = sum_2;
+    float _e119 = st_1;
+    float _e124 = d_3;
+    float _e125 = d_3;
+    sum_2 = _e117 + ((0.101228535 * metal::exp(-(tau_6) * _e119)) / metal::float3(_e124 * metal::sqrt(_e125)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.7966665);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.7966665);
+    float _e145 = b_4;
+    float _e146 = co_1;
+    metal::float2 _e150 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e145, _e146), 0.0));
+    sc_1 = _e150;
+    float _e151 = b_4;
+    float _e152 = co_1;
+    if (_e151 > _e152) {
+        metal::float2 _e154 = sc_1;
+        sc_1 = _e154.yx;
     }
-    float _e148 = sc_1.x;
-    float _e151 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e148) / metal::max(_e151, 0.000000000000000000000000000001)), 1.0);
-    float _e161 = sc_1.y;
-    float _e164 = sc_1.y;
-    float _e170 = sc_1.x;
-    float _e173 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e170) * _e173)) : (gp_1 - (((4.0 * g_7) * _e161) * _e164));
-    metal::float3 _e179 = sum_1;
-    float _e181 = st_1;
-    float _e186 = d_3;
-    float _e187 = d_3;
-    sum_1 = _e179 + ((0.22238104 * metal::exp(-(tau_5) * _e181)) / metal::float3(_e186 * metal::sqrt(_e187)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.5255324);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.5255324);
-    float _e207 = b_4;
-    float _e208 = co_1;
-    metal::float2 _e212 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e207, _e208), 0.0));
-    sc_1 = _e212;
-    float _e213 = b_4;
-    float _e214 = co_1;
-    if (_e213 > _e214) {
-        metal::float2 _e216 = sc_1;
-        sc_1 = _e216.yx;
+    float _e157 = sc_1.x;
+    float _e160 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e157) / metal::max(_e160, 0.000000000000000000000000000001)), 1.0);
+    float _e170 = sc_1.y;
+    float _e173 = sc_1.y;
+    float _e179 = sc_1.x;
+    float _e182 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e179) * _e182)) : (gp_1 - (((4.0 * g_8) * _e170) * _e173));
+    metal::float3 _e188 = sum_2;
+    float _e190 = st_1;
+    float _e195 = d_3;
+    float _e196 = d_3;
+    sum_2 = _e188 + ((0.22238104 * metal::exp(-(tau_6) * _e190)) / metal::float3(_e195 * metal::sqrt(_e196)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.5255324);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.5255324);
+    float _e216 = b_4;
+    float _e217 = co_1;
+    metal::float2 _e221 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e216, _e217), 0.0));
+    sc_1 = _e221;
+    float _e222 = b_4;
+    float _e223 = co_1;
+    if (_e222 > _e223) {
+        metal::float2 _e225 = sc_1;
+        sc_1 = _e225.yx;
     }
-    float _e219 = sc_1.x;
-    float _e222 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e219) / metal::max(_e222, 0.000000000000000000000000000001)), 1.0);
-    float _e232 = sc_1.y;
-    float _e235 = sc_1.y;
-    float _e241 = sc_1.x;
-    float _e244 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e241) * _e244)) : (gp_1 - (((4.0 * g_7) * _e232) * _e235));
-    metal::float3 _e250 = sum_1;
-    float _e252 = st_1;
-    float _e257 = d_3;
-    float _e258 = d_3;
-    sum_1 = _e250 + ((0.31370664 * metal::exp(-(tau_5) * _e252)) / metal::float3(_e257 * metal::sqrt(_e258)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 1.1834346);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 1.1834346);
-    float _e278 = b_4;
-    float _e279 = co_1;
-    metal::float2 _e283 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e278, _e279), 0.0));
-    sc_1 = _e283;
-    float _e284 = b_4;
-    float _e285 = co_1;
-    if (_e284 > _e285) {
-        metal::float2 _e287 = sc_1;
-        sc_1 = _e287.yx;
+    float _e228 = sc_1.x;
+    float _e231 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e228) / metal::max(_e231, 0.000000000000000000000000000001)), 1.0);
+    float _e241 = sc_1.y;
+    float _e244 = sc_1.y;
+    float _e250 = sc_1.x;
+    float _e253 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e250) * _e253)) : (gp_1 - (((4.0 * g_8) * _e241) * _e244));
+    metal::float3 _e259 = sum_2;
+    float _e261 = st_1;
+    float _e266 = d_3;
+    float _e267 = d_3;
+    sum_2 = _e259 + ((0.31370664 * metal::exp(-(tau_6) * _e261)) / metal::float3(_e266 * metal::sqrt(_e267)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.1834346);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.1834346);
+    float _e287 = b_4;
+    float _e288 = co_1;
+    metal::float2 _e292 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e287, _e288), 0.0));
+    sc_1 = _e292;
+    float _e293 = b_4;
+    float _e294 = co_1;
+    if (_e293 > _e294) {
+        metal::float2 _e296 = sc_1;
+        sc_1 = _e296.yx;
     }
-    float _e290 = sc_1.x;
-    float _e293 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e290) / metal::max(_e293, 0.000000000000000000000000000001)), 1.0);
-    float _e303 = sc_1.y;
-    float _e306 = sc_1.y;
-    float _e312 = sc_1.x;
-    float _e315 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e312) * _e315)) : (gp_1 - (((4.0 * g_7) * _e303) * _e306));
-    metal::float3 _e321 = sum_1;
-    float _e323 = st_1;
-    float _e328 = d_3;
-    float _e329 = d_3;
-    sum_1 = _e321 + ((0.36268377 * metal::exp(-(tau_5) * _e323)) / metal::float3(_e328 * metal::sqrt(_e329)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.8165654);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.8165654);
-    float _e349 = b_4;
-    float _e350 = co_1;
-    metal::float2 _e354 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e349, _e350), 0.0));
-    sc_1 = _e354;
-    float _e355 = b_4;
-    float _e356 = co_1;
-    if (_e355 > _e356) {
-        metal::float2 _e358 = sc_1;
-        sc_1 = _e358.yx;
+    float _e299 = sc_1.x;
+    float _e302 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e299) / metal::max(_e302, 0.000000000000000000000000000001)), 1.0);
+    float _e312 = sc_1.y;
+    float _e315 = sc_1.y;
+    float _e321 = sc_1.x;
+    float _e324 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e321) * _e324)) : (gp_1 - (((4.0 * g_8) * _e312) * _e315));
+    metal::float3 _e330 = sum_2;
+    float _e332 = st_1;
+    float _e337 = d_3;
+    float _e338 = d_3;
+    sum_2 = _e330 + ((0.36268377 * metal::exp(-(tau_6) * _e332)) / metal::float3(_e337 * metal::sqrt(_e338)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.8165654);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.8165654);
+    float _e358 = b_4;
+    float _e359 = co_1;
+    metal::float2 _e363 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e358, _e359), 0.0));
+    sc_1 = _e363;
+    float _e364 = b_4;
+    float _e365 = co_1;
+    if (_e364 > _e365) {
+        metal::float2 _e367 = sc_1;
+        sc_1 = _e367.yx;
     }
-    float _e361 = sc_1.x;
-    float _e364 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e361) / metal::max(_e364, 0.000000000000000000000000000001)), 1.0);
-    float _e374 = sc_1.y;
-    float _e377 = sc_1.y;
-    float _e383 = sc_1.x;
-    float _e386 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e383) * _e386)) : (gp_1 - (((4.0 * g_7) * _e374) * _e377));
-    metal::float3 _e392 = sum_1;
-    float _e394 = st_1;
-    float _e399 = d_3;
-    float _e400 = d_3;
-    sum_1 = _e392 + ((0.36268377 * metal::exp(-(tau_5) * _e394)) / metal::float3(_e399 * metal::sqrt(_e400)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.47446758);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.47446758);
-    float _e420 = b_4;
-    float _e421 = co_1;
-    metal::float2 _e425 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e420, _e421), 0.0));
-    sc_1 = _e425;
-    float _e426 = b_4;
-    float _e427 = co_1;
-    if (_e426 > _e427) {
-        metal::float2 _e429 = sc_1;
-        sc_1 = _e429.yx;
+    float _e370 = sc_1.x;
+    float _e373 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e370) / metal::max(_e373, 0.000000000000000000000000000001)), 1.0);
+    float _e383 = sc_1.y;
+    float _e386 = sc_1.y;
+    float _e392 = sc_1.x;
+    float _e395 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e392) * _e395)) : (gp_1 - (((4.0 * g_8) * _e383) * _e386));
+    metal::float3 _e401 = sum_2;
+    float _e403 = st_1;
+    float _e408 = d_3;
+    float _e409 = d_3;
+    sum_2 = _e401 + ((0.36268377 * metal::exp(-(tau_6) * _e403)) / metal::float3(_e408 * metal::sqrt(_e409)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.47446758);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.47446758);
+    float _e429 = b_4;
+    float _e430 = co_1;
+    metal::float2 _e434 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e429, _e430), 0.0));
+    sc_1 = _e434;
+    float _e435 = b_4;
+    float _e436 = co_1;
+    if (_e435 > _e436) {
+        metal::float2 _e438 = sc_1;
+        sc_1 = _e438.yx;
     }
-    float _e432 = sc_1.x;
-    float _e435 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e432) / metal::max(_e435, 0.000000000000000000000000000001)), 1.0);
-    float _e445 = sc_1.y;
-    float _e448 = sc_1.y;
-    float _e454 = sc_1.x;
-    float _e457 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e454) * _e457)) : (gp_1 - (((4.0 * g_7) * _e445) * _e448));
-    metal::float3 _e463 = sum_1;
-    float _e465 = st_1;
-    float _e470 = d_3;
-    float _e471 = d_3;
-    sum_1 = _e463 + ((0.31370664 * metal::exp(-(tau_5) * _e465)) / metal::float3(_e470 * metal::sqrt(_e471)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.2033335);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.2033335);
-    float _e491 = b_4;
-    float _e492 = co_1;
-    metal::float2 _e496 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e491, _e492), 0.0));
-    sc_1 = _e496;
-    float _e497 = b_4;
-    float _e498 = co_1;
-    if (_e497 > _e498) {
-        metal::float2 _e500 = sc_1;
-        sc_1 = _e500.yx;
+    float _e441 = sc_1.x;
+    float _e444 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e441) / metal::max(_e444, 0.000000000000000000000000000001)), 1.0);
+    float _e454 = sc_1.y;
+    float _e457 = sc_1.y;
+    float _e463 = sc_1.x;
+    float _e466 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e463) * _e466)) : (gp_1 - (((4.0 * g_8) * _e454) * _e457));
+    metal::float3 _e472 = sum_2;
+    float _e474 = st_1;
+    float _e479 = d_3;
+    float _e480 = d_3;
+    sum_2 = _e472 + ((0.31370664 * metal::exp(-(tau_6) * _e474)) / metal::float3(_e479 * metal::sqrt(_e480)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.2033335);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.2033335);
+    float _e500 = b_4;
+    float _e501 = co_1;
+    metal::float2 _e505 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e500, _e501), 0.0));
+    sc_1 = _e505;
+    float _e506 = b_4;
+    float _e507 = co_1;
+    if (_e506 > _e507) {
+        metal::float2 _e509 = sc_1;
+        sc_1 = _e509.yx;
     }
-    float _e503 = sc_1.x;
-    float _e506 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e503) / metal::max(_e506, 0.000000000000000000000000000001)), 1.0);
-    float _e516 = sc_1.y;
-    float _e519 = sc_1.y;
-    float _e525 = sc_1.x;
-    float _e528 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e525) * _e528)) : (gp_1 - (((4.0 * g_7) * _e516) * _e519));
-    metal::float3 _e534 = sum_1;
-    float _e536 = st_1;
-    float _e541 = d_3;
-    float _e542 = d_3;
-    sum_1 = _e534 + ((0.22238104 * metal::exp(-(tau_5) * _e536)) / metal::float3(_e541 * metal::sqrt(_e542)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_1) * 0.039710164);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_1) * 0.039710164);
-    float _e562 = b_4;
-    float _e563 = co_1;
-    metal::float2 _e567 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e562, _e563), 0.0));
-    sc_1 = _e567;
-    float _e568 = b_4;
-    float _e569 = co_1;
-    if (_e568 > _e569) {
-        metal::float2 _e571 = sc_1;
-        sc_1 = _e571.yx;
+    float _e512 = sc_1.x;
+    float _e515 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e512) / metal::max(_e515, 0.000000000000000000000000000001)), 1.0);
+    float _e525 = sc_1.y;
+    float _e528 = sc_1.y;
+    float _e534 = sc_1.x;
+    float _e537 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e534) * _e537)) : (gp_1 - (((4.0 * g_8) * _e525) * _e528));
+    metal::float3 _e543 = sum_2;
+    float _e545 = st_1;
+    float _e550 = d_3;
+    float _e551 = d_3;
+    sum_2 = _e543 + ((0.22238104 * metal::exp(-(tau_6) * _e545)) / metal::float3(_e550 * metal::sqrt(_e551)));
+    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.039710164);
+    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.039710164);
+    float _e571 = b_4;
+    float _e572 = co_1;
+    metal::float2 _e576 = airlight_equiangular_8_sin_cos(metal::max(metal::min(_e571, _e572), 0.0));
+    sc_1 = _e576;
+    float _e577 = b_4;
+    float _e578 = co_1;
+    if (_e577 > _e578) {
+        metal::float2 _e580 = sc_1;
+        sc_1 = _e580.yx;
     }
-    float _e574 = sc_1.x;
-    float _e577 = sc_1.y;
-    st_1 = metal::max(x0_1 + ((h_2 * _e574) / metal::max(_e577, 0.000000000000000000000000000001)), 1.0);
-    float _e587 = sc_1.y;
-    float _e590 = sc_1.y;
-    float _e596 = sc_1.x;
-    float _e599 = sc_1.x;
-    d_3 = (g_7 >= 0.0) ? (gm_1 + (((4.0 * g_7) * _e596) * _e599)) : (gp_1 - (((4.0 * g_7) * _e587) * _e590));
-    metal::float3 _e605 = sum_1;
-    float _e607 = st_1;
-    float _e612 = d_3;
-    float _e613 = d_3;
-    sum_1 = _e605 + ((0.101228535 * metal::exp(-(tau_5) * _e607)) / metal::float3(_e612 * metal::sqrt(_e613)));
-    metal::float3 _e626 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e626) * half_1) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    float _e583 = sc_1.x;
+    float _e586 = sc_1.y;
+    st_1 = metal::max(x0_2 + ((h_2 * _e583) / metal::max(_e586, 0.000000000000000000000000000001)), 1.0);
+    float _e596 = sc_1.y;
+    float _e599 = sc_1.y;
+    float _e605 = sc_1.x;
+    float _e608 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e605) * _e608)) : (gp_1 - (((4.0 * g_8) * _e596) * _e599));
+    metal::float3 _e614 = sum_2;
+    float _e616 = st_1;
+    float _e621 = d_3;
+    float _e622 = d_3;
+    sum_2 = _e614 + ((0.101228535 * metal::exp(-(tau_6) * _e616)) / metal::float3(_e621 * metal::sqrt(_e622)));
+    metal::float3 _e635 = sum_2;
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e635) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_8_airlight(
-    float tau,
+    float tau_1,
     float gamma_2,
-    float rho_2,
-    float g
+    float rho_3,
+    float g_1
 ) {
     float gc = metal::clamp(gamma_2, 0.0, airlight_equiangular_8_PI);
     metal::float2 _e7 = airlight_equiangular_8_sin_cos(gc);
     float comp_2 = metal::max((airlight_equiangular_8_PI - gc) - 0.00000008742278, 0.0);
-    float _e17 = airlight_equiangular_8_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, gc, comp_2, rho_2, g);
-    return _e17;
+    metal::float2 _e16 = airlight_equiangular_8_sin_cos(comp_2);
+    float h_6 = (gc > comp_2) ? _e16.x : metal::abs(_e7.x);
+    float _e21 = airlight_equiangular_8_airlight_geometry(tau_1, h_6, _e7.y, gc, comp_2, rho_3, g_1);
+    return _e21;
 }
 
 float airlight_equiangular_8_radiance(
@@ -779,41 +865,41 @@ float airlight_equiangular_8_radiance(
     float intensity_1,
     float sigma_t,
     float sigma_s_1,
-    float g_1
+    float g_2
 ) {
-    bool local_6 = {};
+    bool local_8 = {};
     metal::float3 _e8 = airlight_equiangular_8_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
         float _e14 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_8_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
-        local_6 = _e8.z == 0.0;
+        local_8 = _e8.z == 0.0;
     } else {
-        local_6 = false;
+        local_8 = false;
     }
-    bool _e24 = local_6;
+    bool _e24 = local_8;
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float rho_7 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
     float _e34 = airlight_equiangular_8_arctan2_(_e8.y, _e8.z);
     float _e38 = airlight_equiangular_8_arctan2_(_e8.y, -(_e8.z));
-    float _e44 = airlight_equiangular_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_6, g_1);
+    float _e44 = airlight_equiangular_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_7, g_2);
     float _e45 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
     return _e45;
 }
 
 metal::float3 airlight_equiangular_8_along_rgb(
-    metal::float3 tau_1,
+    metal::float3 tau_2,
     float h_3,
-    float x0_2,
-    float rho_3,
-    float g_2
+    float x0_3,
+    float rho_4,
+    float g_3
 ) {
-    float _e5 = airlight_equiangular_8_arctan2_(h_3, x0_2);
-    float _e7 = airlight_equiangular_8_arctan2_(h_3, -(x0_2));
-    metal::float3 _e8 = airlight_equiangular_8_airlight_geometry_rgb(tau_1, h_3, x0_2, _e5, _e7, rho_3, g_2);
+    float _e5 = airlight_equiangular_8_arctan2_(h_3, x0_3);
+    float _e7 = airlight_equiangular_8_arctan2_(h_3, -(x0_3));
+    metal::float3 _e8 = airlight_equiangular_8_airlight_geometry_rgb(tau_2, h_3, x0_3, _e5, _e7, rho_4, g_3);
     return _e8;
 }
 
@@ -826,26 +912,26 @@ float airlight_equiangular_8_spot_asin(
 }
 
 metal::float3 airlight_equiangular_8_spot_core(
-    metal::float3 tau_2,
+    metal::float3 tau_3,
     float h_4,
-    float x0_3,
-    float rho_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
     bool cut_a,
     bool cut_b,
-    float g_3
+    float g_4
 ) {
     float h1_ = {};
     float x1_ = {};
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
-    bool local_7 = {};
+    bool local_9 = {};
     h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_equiangular_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
@@ -860,25 +946,25 @@ metal::float3 airlight_equiangular_8_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_7 = rho_4 >= 0.0;
+            local_9 = rho_5 >= 0.0;
         } else {
-            local_7 = false;
+            local_9 = false;
         }
-        bool _e44 = local_7;
+        bool _e44 = local_9;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+            rho1_ = metal::max((rho_5 - _e45) / _e47, 0.0);
         }
     }
     float _e51 = t0_;
     float _e53 = h1_;
     float _e54 = x1_;
     float _e55 = rho1_;
-    metal::float3 _e56 = airlight_equiangular_8_along_rgb(tau_2 * _e51, _e53, _e54, _e55, g_3);
+    metal::float3 _e56 = airlight_equiangular_8_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_4);
     float _e58 = s0_;
     float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_2) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_8_spot_weight_at(
@@ -893,50 +979,50 @@ float airlight_equiangular_8_spot_weight_at(
 }
 
 metal::float3 airlight_equiangular_8_spot_edge(
-    metal::float3 tau_3,
+    metal::float3 tau_4,
     float h_5,
-    float x0_4,
-    float rho_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
-    float u,
+    float u_1,
     float v_in,
     float ca_1,
     float k_2,
     float co_3,
     float ci_1,
-    float g_4
+    float g_5
 ) {
-    bool local_8 = {};
+    bool local_10 = {};
     metal::float3 exact = metal::float3(0.0);
     type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
-    metal::float3 sum_2 = metal::float3(0.0);
+    metal::float3 sum_3 = metal::float3(0.0);
     float w_1 = {};
     metal::float2 sb = {};
     float d_4 = {};
     float st_2 = {};
     int i = 0;
-    if (!((v_in > u))) {
+    if (!((v_in > u_1))) {
         return metal::float3(0.0);
     }
-    if (!((g_4 < 0.0))) {
-        local_8 = v_in > 3.0;
+    if (!((g_5 < 0.0))) {
+        local_10 = v_in > 3.0;
     } else {
-        local_8 = true;
+        local_10 = true;
     }
-    bool _e25 = local_8;
-    float e_1 = _e25 ? v_in : u;
+    bool _e25 = local_10;
+    float e_1 = _e25 ? v_in : u_1;
     float _e27 = airlight_equiangular_8_spot_weight_at(e_1, ca_1, k_2, co_3, ci_1);
     if (_e27 > 0.0) {
-        metal::float3 _e35 = airlight_equiangular_8_spot_core(tau_3, h_5, x0_4, rho_5, gam_1, u, v_in, u > gam_1, v_in < om_e, g_4);
+        metal::float3 _e35 = airlight_equiangular_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_5);
         exact = _e35;
         metal::float3 _e36 = exact;
         if (metal::any(_e36 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
-    float gm_2 = (1.0 - g_4) * (1.0 - g_4);
-    float gp_2 = (1.0 + g_4) * (1.0 + g_4);
+    float gm_2 = (1.0 - g_5) * (1.0 - g_5);
+    float gp_2 = (1.0 + g_5) * (1.0 + g_5);
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
@@ -955,13 +1041,13 @@ metal::float3 airlight_equiangular_8_spot_edge(
         {
             int _e74 = i;
             float _e76 = pieces.inner[_e74];
-            float a_7 = u + ((v_in - u) * _e76);
+            float a_7 = u_1 + ((v_in - u_1) * _e76);
             int _e80 = i;
             float _e84 = pieces.inner[as_type<int>(as_type<uint>(_e80) + as_type<uint>(1))];
-            float b_5 = u + ((v_in - u) * _e84);
-            float half_2 = 0.5 * (b_5 - a_7);
+            float b_5 = u_1 + ((v_in - u_1) * _e84);
+            float half_3 = 0.5 * (b_5 - a_7);
             float mid = 0.5 * (b_5 + a_7);
-            w_1 = mid + (half_2 * 0.96028984);
+            w_1 = mid + (half_3 * 0.96028984);
             float _e96 = w_1;
             metal::float2 _e99 = airlight_equiangular_8_sin_cos(0.5 * _e96);
             sb = _e99;
@@ -969,18 +1055,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e106 = sb.y;
             float _e112 = sb.x;
             float _e115 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e112) * _e115)) : (gp_2 - (((4.0 * g_4) * _e103) * _e106));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e112) * _e115)) : (gp_2 - (((4.0 * g_5) * _e103) * _e106));
             float _e122 = sb.x;
             float _e125 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e132 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e132 = sum_3;
             float _e135 = w_1;
             float _e136 = airlight_equiangular_8_spot_weight_at(_e135, ca_1, k_2, co_3, ci_1);
             float _e139 = d_4;
             float _e140 = d_4;
             float _e145 = st_2;
-            sum_2 = _e132 + ((((half_2 * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_3) * _e145));
-            w_1 = mid + (half_2 * 0.7966665);
+            sum_3 = _e132 + ((((half_3 * 0.101228535) * (_e136 - _e27)) / (_e139 * metal::sqrt(_e140))) * metal::exp(-(tau_4) * _e145));
+            w_1 = mid + (half_3 * 0.7966665);
             float _e153 = w_1;
             metal::float2 _e156 = airlight_equiangular_8_sin_cos(0.5 * _e153);
             sb = _e156;
@@ -988,18 +1074,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e163 = sb.y;
             float _e169 = sb.x;
             float _e172 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e169) * _e172)) : (gp_2 - (((4.0 * g_4) * _e160) * _e163));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e169) * _e172)) : (gp_2 - (((4.0 * g_5) * _e160) * _e163));
             float _e179 = sb.x;
             float _e182 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e189 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e179) / metal::max(_e182, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e189 = sum_3;
             float _e192 = w_1;
             float _e193 = airlight_equiangular_8_spot_weight_at(_e192, ca_1, k_2, co_3, ci_1);
             float _e196 = d_4;
             float _e197 = d_4;
             float _e202 = st_2;
-            sum_2 = _e189 + ((((half_2 * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_3) * _e202));
-            w_1 = mid + (half_2 * 0.5255324);
+            sum_3 = _e189 + ((((half_3 * 0.22238104) * (_e193 - _e27)) / (_e196 * metal::sqrt(_e197))) * metal::exp(-(tau_4) * _e202));
+            w_1 = mid + (half_3 * 0.5255324);
             float _e210 = w_1;
             metal::float2 _e213 = airlight_equiangular_8_sin_cos(0.5 * _e210);
             sb = _e213;
@@ -1007,18 +1093,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e220 = sb.y;
             float _e226 = sb.x;
             float _e229 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e226) * _e229)) : (gp_2 - (((4.0 * g_4) * _e217) * _e220));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e226) * _e229)) : (gp_2 - (((4.0 * g_5) * _e217) * _e220));
             float _e236 = sb.x;
             float _e239 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e246 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e236) / metal::max(_e239, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e246 = sum_3;
             float _e249 = w_1;
             float _e250 = airlight_equiangular_8_spot_weight_at(_e249, ca_1, k_2, co_3, ci_1);
             float _e253 = d_4;
             float _e254 = d_4;
             float _e259 = st_2;
-            sum_2 = _e246 + ((((half_2 * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_3) * _e259));
-            w_1 = mid + (half_2 * 0.18343464);
+            sum_3 = _e246 + ((((half_3 * 0.31370664) * (_e250 - _e27)) / (_e253 * metal::sqrt(_e254))) * metal::exp(-(tau_4) * _e259));
+            w_1 = mid + (half_3 * 0.18343464);
             float _e267 = w_1;
             metal::float2 _e270 = airlight_equiangular_8_sin_cos(0.5 * _e267);
             sb = _e270;
@@ -1026,18 +1112,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e277 = sb.y;
             float _e283 = sb.x;
             float _e286 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e283) * _e286)) : (gp_2 - (((4.0 * g_4) * _e274) * _e277));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e283) * _e286)) : (gp_2 - (((4.0 * g_5) * _e274) * _e277));
             float _e293 = sb.x;
             float _e296 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e303 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e293) / metal::max(_e296, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e303 = sum_3;
             float _e306 = w_1;
             float _e307 = airlight_equiangular_8_spot_weight_at(_e306, ca_1, k_2, co_3, ci_1);
             float _e310 = d_4;
             float _e311 = d_4;
             float _e316 = st_2;
-            sum_2 = _e303 + ((((half_2 * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_3) * _e316));
-            w_1 = mid + (half_2 * -0.18343464);
+            sum_3 = _e303 + ((((half_3 * 0.36268377) * (_e307 - _e27)) / (_e310 * metal::sqrt(_e311))) * metal::exp(-(tau_4) * _e316));
+            w_1 = mid + (half_3 * -0.18343464);
             float _e324 = w_1;
             metal::float2 _e327 = airlight_equiangular_8_sin_cos(0.5 * _e324);
             sb = _e327;
@@ -1045,18 +1131,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e334 = sb.y;
             float _e340 = sb.x;
             float _e343 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e340) * _e343)) : (gp_2 - (((4.0 * g_4) * _e331) * _e334));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e340) * _e343)) : (gp_2 - (((4.0 * g_5) * _e331) * _e334));
             float _e350 = sb.x;
             float _e353 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e360 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e350) / metal::max(_e353, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e360 = sum_3;
             float _e363 = w_1;
             float _e364 = airlight_equiangular_8_spot_weight_at(_e363, ca_1, k_2, co_3, ci_1);
             float _e367 = d_4;
             float _e368 = d_4;
             float _e373 = st_2;
-            sum_2 = _e360 + ((((half_2 * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_3) * _e373));
-            w_1 = mid + (half_2 * -0.5255324);
+            sum_3 = _e360 + ((((half_3 * 0.36268377) * (_e364 - _e27)) / (_e367 * metal::sqrt(_e368))) * metal::exp(-(tau_4) * _e373));
+            w_1 = mid + (half_3 * -0.5255324);
             float _e381 = w_1;
             metal::float2 _e384 = airlight_equiangular_8_sin_cos(0.5 * _e381);
             sb = _e384;
@@ -1064,18 +1150,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e391 = sb.y;
             float _e397 = sb.x;
             float _e400 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e397) * _e400)) : (gp_2 - (((4.0 * g_4) * _e388) * _e391));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e397) * _e400)) : (gp_2 - (((4.0 * g_5) * _e388) * _e391));
             float _e407 = sb.x;
             float _e410 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e417 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e407) / metal::max(_e410, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e417 = sum_3;
             float _e420 = w_1;
             float _e421 = airlight_equiangular_8_spot_weight_at(_e420, ca_1, k_2, co_3, ci_1);
             float _e424 = d_4;
             float _e425 = d_4;
             float _e430 = st_2;
-            sum_2 = _e417 + ((((half_2 * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_3) * _e430));
-            w_1 = mid + (half_2 * -0.7966665);
+            sum_3 = _e417 + ((((half_3 * 0.31370664) * (_e421 - _e27)) / (_e424 * metal::sqrt(_e425))) * metal::exp(-(tau_4) * _e430));
+            w_1 = mid + (half_3 * -0.7966665);
             float _e438 = w_1;
             metal::float2 _e441 = airlight_equiangular_8_sin_cos(0.5 * _e438);
             sb = _e441;
@@ -1083,18 +1169,18 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e448 = sb.y;
             float _e454 = sb.x;
             float _e457 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e454) * _e457)) : (gp_2 - (((4.0 * g_4) * _e445) * _e448));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e454) * _e457)) : (gp_2 - (((4.0 * g_5) * _e445) * _e448));
             float _e464 = sb.x;
             float _e467 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e474 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e464) / metal::max(_e467, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e474 = sum_3;
             float _e477 = w_1;
             float _e478 = airlight_equiangular_8_spot_weight_at(_e477, ca_1, k_2, co_3, ci_1);
             float _e481 = d_4;
             float _e482 = d_4;
             float _e487 = st_2;
-            sum_2 = _e474 + ((((half_2 * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_3) * _e487));
-            w_1 = mid + (half_2 * -0.96028984);
+            sum_3 = _e474 + ((((half_3 * 0.22238104) * (_e478 - _e27)) / (_e481 * metal::sqrt(_e482))) * metal::exp(-(tau_4) * _e487));
+            w_1 = mid + (half_3 * -0.96028984);
             float _e495 = w_1;
             metal::float2 _e498 = airlight_equiangular_8_sin_cos(0.5 * _e495);
             sb = _e498;
@@ -1102,22 +1188,22 @@ metal::float3 airlight_equiangular_8_spot_edge(
             float _e505 = sb.y;
             float _e511 = sb.x;
             float _e514 = sb.x;
-            d_4 = (g_4 >= 0.0) ? (gm_2 + (((4.0 * g_4) * _e511) * _e514)) : (gp_2 - (((4.0 * g_4) * _e502) * _e505));
+            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e511) * _e514)) : (gp_2 - (((4.0 * g_5) * _e502) * _e505));
             float _e521 = sb.x;
             float _e524 = sb.y;
-            st_2 = metal::max(x0_4 + ((h_5 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e531 = sum_2;
+            st_2 = metal::max(x0_5 + ((h_5 * _e521) / metal::max(_e524, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e531 = sum_3;
             float _e534 = w_1;
             float _e535 = airlight_equiangular_8_spot_weight_at(_e534, ca_1, k_2, co_3, ci_1);
             float _e538 = d_4;
             float _e539 = d_4;
             float _e544 = st_2;
-            sum_2 = _e531 + ((((half_2 * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_3) * _e544));
+            sum_3 = _e531 + ((((half_3 * 0.101228535) * (_e535 - _e27)) / (_e538 * metal::sqrt(_e539))) * metal::exp(-(tau_4) * _e544));
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_2;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e564 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_8_spot_weight(
@@ -1142,16 +1228,16 @@ metal::float3 airlight_equiangular_8_spot(
     float intensity_2,
     metal::float3 sigma_t_1,
     metal::float3 sigma_s_2,
-    float g_5
+    float g_6
 ) {
-    bool local_9 = {};
-    bool local_10 = {};
+    bool local_11 = {};
+    bool local_12 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_11 = {};
-    float scale = 1.0;
-    bool local_12 = {};
     bool local_13 = {};
+    float scale = 1.0;
+    bool local_14 = {};
+    bool local_15 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1161,8 +1247,8 @@ metal::float3 airlight_equiangular_8_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_2 = 0.0;
     float om_e_1 = airlight_equiangular_8_PI;
-    bool local_14 = {};
-    bool local_15 = {};
+    bool local_16 = {};
+    bool local_17 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_equiangular_8_ray_geometry(origin_2, dir_2, light_2);
@@ -1172,16 +1258,16 @@ metal::float3 airlight_equiangular_8_spot(
     float _e18 = airlight_equiangular_8_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_10 = _e18 <= airlight_equiangular_8_HUGE;
+            local_12 = _e18 <= airlight_equiangular_8_HUGE;
         } else {
-            local_10 = false;
+            local_12 = false;
         }
-        bool _e29 = local_10;
-        local_9 = !(_e29);
+        bool _e29 = local_12;
+        local_11 = !(_e29);
     } else {
-        local_9 = false;
+        local_11 = false;
     }
-    bool _e32 = local_9;
+    bool _e32 = local_11;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1191,11 +1277,11 @@ metal::float3 airlight_equiangular_8_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_11 = _e17 <= airlight_equiangular_8_HUGE;
+        local_13 = _e17 <= airlight_equiangular_8_HUGE;
     } else {
-        local_11 = false;
+        local_13 = false;
     }
-    bool _e53 = local_11;
+    bool _e53 = local_13;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1214,43 +1300,43 @@ metal::float3 airlight_equiangular_8_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_12 = _e11.z == 0.0;
+        local_14 = _e11.z == 0.0;
     } else {
-        local_12 = false;
+        local_14 = false;
     }
-    bool _e96 = local_12;
+    bool _e96 = local_14;
     if (_e96) {
         return metal::float3(0.0);
     }
     float d_5 = _e11.x;
-    float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float h_7 = _e11.y;
+    float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_5) < airlight_equiangular_8_RHO_OPEN;
+        local_15 = (surface_1 / d_5) < airlight_equiangular_8_RHO_OPEN;
     } else {
-        local_13 = false;
+        local_15 = false;
     }
-    bool has_end = local_13;
-    float rho_7 = has_end ? (surface_1 / d_5) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
-    float gg = metal::clamp(g_5, -0.999, 0.999);
+    bool has_end_1 = local_15;
+    float rho_8 = has_end_1 ? (surface_1 / d_5) : -1.0;
+    metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
+    float gg = metal::clamp(g_6, -0.999, 0.999);
     if (!(point)) {
-        local_14 = h_6 <= 0.0;
+        local_16 = h_7 <= 0.0;
     } else {
-        local_14 = true;
+        local_16 = true;
     }
-    bool _e149 = local_14;
+    bool _e149 = local_16;
     if (_e149) {
         if (!(point)) {
             float _e152 = airlight_equiangular_8_spot_weight(-(k_3), co_5, cos_inner);
             float _e153 = airlight_equiangular_8_spot_weight(k_3, co_5, cos_inner);
-            if (has_end) {
-                local_15 = rho_7 < 1.0;
+            if (has_end_1) {
+                local_17 = rho_8 < 1.0;
             } else {
-                local_15 = false;
+                local_17 = false;
             }
-            bool _e160 = local_15;
-            scale = (x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
+            bool _e160 = local_17;
+            scale = (x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
         }
         core = true;
     } else {
@@ -1266,19 +1352,19 @@ metal::float3 airlight_equiangular_8_spot(
         float r_4 = metal::sqrt((_e180 * _e181) + (k_3 * k_3));
         float _e186 = ca_2;
         float _e187 = airlight_equiangular_8_arctan2_(k_3, _e186);
-        float _e188 = airlight_equiangular_8_arctan2_(h_6, x0_6);
+        float _e188 = airlight_equiangular_8_arctan2_(h_7, x0_7);
         gam_2 = _e188;
-        float _e191 = airlight_equiangular_8_arctan2_(h_6, x0_6 - rho_7);
-        om_e_1 = has_end ? _e191 : airlight_equiangular_8_PI;
+        float _e191 = airlight_equiangular_8_arctan2_(h_7, x0_7 - rho_8);
+        om_e_1 = has_end_1 ? _e191 : airlight_equiangular_8_PI;
         if (co_5 < r_4) {
             float _e194 = airlight_equiangular_8_spot_asin(co_5, r_4);
             float _e195 = gam_2;
-            float lo = metal::max(_e195, _e187 + _e194);
+            float lo_1 = metal::max(_e195, _e187 + _e194);
             float _e198 = om_e_1;
             float hi_1 = metal::min(_e198, (_e187 + airlight_equiangular_8_PI) - _e194);
-            wa_1 = lo;
+            wa_1 = lo_1;
             wb_1 = hi_1;
-            if (lo < hi_1) {
+            if (lo_1 < hi_1) {
                 if (cos_inner <= co_5) {
                     core = true;
                 } else {
@@ -1291,9 +1377,9 @@ metal::float3 airlight_equiangular_8_spot(
                         float _e216 = wa_1;
                         float _e217 = wb_1;
                         core = _e216 < _e217;
-                        pen = metal::float4(lo, metal::min(hi_1, _e187 + _e207), metal::max(lo, (_e187 + airlight_equiangular_8_PI) - _e207), hi_1);
+                        pen = metal::float4(lo_1, metal::min(hi_1, _e187 + _e207), metal::max(lo_1, (_e187 + airlight_equiangular_8_PI) - _e207), hi_1);
                     } else {
-                        pen = metal::float4(lo, hi_1, 0.0, 0.0);
+                        pen = metal::float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
@@ -1312,7 +1398,7 @@ metal::float3 airlight_equiangular_8_spot(
         float _e241 = wb_1;
         bool _e242 = cut_a_1;
         bool _e243 = cut_b_1;
-        metal::float3 _e244 = airlight_equiangular_8_spot_core(tau_6, h_6, x0_6, rho_7, _e239, _e240, _e241, _e242, _e243, gg);
+        metal::float3 _e244 = airlight_equiangular_8_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
         a_5 = _e244;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1340,7 +1426,7 @@ metal::float3 airlight_equiangular_8_spot(
                 float _e262 = gam_2;
                 float _e263 = om_e_1;
                 float _e266 = ca_2;
-                metal::float3 _e267 = airlight_equiangular_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
+                metal::float3 _e267 = airlight_equiangular_8_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
                 a_5 = _e261 + _e267;
             }
         }

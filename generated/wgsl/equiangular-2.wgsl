@@ -210,12 +210,38 @@ fn airlight_equiangular_2_sin_cos(x: f32) -> vec2<f32> {
 
 
 
+/// A on the axis (h = 0), the rule's own limit: the light ahead (x0 > 0),
+/// P(0) e^(-tau) rho / (1 - rho) before it and the largest f32 through it; behind, the
+/// equiangular measure dtheta / h becomes ds / t^2 = -du, u = 1 / t = 1 / (1 + s), so
+/// A = P(pi) e^(-tau) * integral of e^(-2 tau (1/u - 1)) du over [1 / (1 + rho), 1], same nodes.
+fn airlight_equiangular_2_airlight_axis(tau: f32, x0: f32, rho: f32, g: f32) -> f32 {
+    let has_end = rho >= 0.0 && rho < airlight_equiangular_2_RHO_OPEN;
+    if x0 > 0.0 {
+        if !(has_end && rho < 1.0) {
+            return airlight_equiangular_2_HUGE;
+        }
+        return min(7.95774683e-2 * (1.0 + g) / ((1.0 - g) * (1.0 - g)) * exp(-tau) * rho / (1.0 - rho), airlight_equiangular_2_HUGE);
+    }
+    let lo = select(0.0, 1.0 / (1.0 + rho), has_end);
+    let half = 0.5 * (1.0 - lo);
+    var sum = 0.0;
+    var u: f32;
+    u = lo + half * (1.0 + 5.77350259e-1);
+    sum += 1.00000000e0 * exp(-2.0 * tau * ((1.0 - u) / u));
+    u = lo + half * (1.0 + -5.77350259e-1);
+    sum += 1.00000000e0 * exp(-2.0 * tau * ((1.0 - u) / u));
+    return 7.95774683e-2 * (1.0 - g) / ((1.0 + g) * (1.0 + g)) * exp(-tau) * half * sum;
+}
+
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself and comp = pi - gamma, rho (negative: no surface).
 fn airlight_equiangular_2_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
     let gp = (1.0 + g) * (1.0 + g);
+    if h <= 0.0 {
+        return airlight_equiangular_2_airlight_axis(tau, x0, rho, g);
+    }
     var span = comp;
     if rho >= 0.0 && rho < airlight_equiangular_2_RHO_OPEN {
         span = airlight_equiangular_2_arctan2(h * rho, 1.0 - x0 * rho);
@@ -257,6 +283,9 @@ fn airlight_equiangular_2_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
     let gp = (1.0 + g) * (1.0 + g);
+    if h <= 0.0 {
+        return vec3<f32>(airlight_equiangular_2_airlight_axis(tau.x, x0, rho, g), airlight_equiangular_2_airlight_axis(tau.y, x0, rho, g), airlight_equiangular_2_airlight_axis(tau.z, x0, rho, g));
+    }
     var span = comp;
     if rho >= 0.0 && rho < airlight_equiangular_2_RHO_OPEN {
         span = airlight_equiangular_2_arctan2(h * rho, 1.0 - x0 * rho);
@@ -298,7 +327,10 @@ fn airlight_equiangular_2_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f3
     let sc = airlight_equiangular_2_sin_cos(gc);
     // pi - gamma in two parts (f32's pi is 8.7e-8 above pi), exact for gamma near pi.
     let comp = max((airlight_equiangular_2_PI - gc) - 8.742278e-8, 0.0);
-    return airlight_equiangular_2_airlight_geometry(tau, abs(sc.x), sc.y, gc, comp, rho, g);
+    // sin(gamma) from the smaller of gamma and pi - gamma: 0 on the axis behind (gamma at
+    // f32's pi, which lies beyond pi), exact near it.
+    let h = select(abs(sc.x), airlight_equiangular_2_sin_cos(comp).x, gc > comp);
+    return airlight_equiangular_2_airlight_geometry(tau, h, sc.y, gc, comp, rho, g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).

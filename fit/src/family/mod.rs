@@ -295,8 +295,10 @@ macro_rules! families {
                 match self { $(Body::$variant(_) => <$ty as Family>::COST_FLOOR,)+ }
             }
 
-            /// `A` at a valid point.
+            /// `A` at a valid point (a surface beyond
+            /// [`crate::reference::RHO_OPEN`] is none, as for the reference).
             pub fn eval(&self, p: Point) -> f64 {
+                let p = p.open_far();
                 match self { $(Body::$variant(f) => f.eval(p),)+ }
             }
 

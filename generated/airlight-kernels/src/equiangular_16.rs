@@ -32,6 +32,28 @@ const X: [f32; 16] = [9.89400923e-1, 9.44575012e-1, 8.65631223e-1, 7.55404413e-1
 /// Their weights.
 const W: [f32; 16] = [2.71524601e-2, 6.22535236e-2, 9.51585099e-2, 1.24628969e-1, 1.49595991e-1, 1.69156522e-1, 1.82603419e-1, 1.89450607e-1, 1.89450607e-1, 1.82603419e-1, 1.69156522e-1, 1.49595991e-1, 1.24628969e-1, 9.51585099e-2, 6.22535236e-2, 2.71524601e-2];
 
+/// `A` on the axis (`h = 0`), the rule's own limit: the light ahead (`x0 > 0`),
+/// `P(0) e^{−τ} ρ/(1 − ρ)` before it and the largest f32 through it; behind, the
+/// equiangular measure `dθ/h` becomes `ds/t² = −du`, `u = 1/t = 1/(1 + s)`, so
+/// `A = P(π) e^{−τ} ∫ e^{−2τ(1/u − 1)} du` over `u ∈ [1/(1 + ρ), 1]` by the same nodes.
+fn airlight_axis(tau: f32, x0: f32, rho: f32, g: f32) -> f32 {
+    let has_end = (0.0..RHO_OPEN).contains(&rho);
+    if x0 > 0.0 {
+        if !(has_end && rho < 1.0) {
+            return HUGE;
+        }
+        return (7.95774683e-2 * (1.0 + g) / ((1.0 - g) * (1.0 - g)) * exp(-tau) * rho / (1.0 - rho)).min(HUGE);
+    }
+    let lo = if has_end { 1.0 / (1.0 + rho) } else { 0.0 };
+    let half = 0.5 * (1.0 - lo);
+    let mut sum = 0.0f32;
+    for i in 0..X.len() {
+        let u = lo + half * (1.0 + X[i]);
+        sum += W[i] * exp(-2.0 * tau * ((1.0 - u) / u));
+    }
+    7.95774683e-2 * (1.0 - g) / ((1.0 + g) * (1.0 + g)) * exp(-tau) * half * sum
+}
+
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `gamma` itself and `comp = π − γ`, `rho` (negative,
 /// NaN or ≥ 2^32: no surface).
 // `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
@@ -40,6 +62,9 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
     let tau = tau.max(0.0).min(TAU_MAX);
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
+    if h <= 0.0 {
+        return airlight_axis(tau, x0, rho, g);
+    }
     let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
     let half = 0.5 * span;
     let mut sum = 0.0f32;
@@ -65,6 +90,9 @@ pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f
     let tau = tau.map(|t| t.max(0.0).min(TAU_MAX));
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
+    if h <= 0.0 {
+        return tau.map(|t| airlight_axis(t, x0, rho, g));
+    }
     let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
     let half = 0.5 * span;
     let mut sum = [0.0f32; 3];
@@ -94,7 +122,10 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
     // π − γ in two parts (f32's π is 8.7e-8 above π), exact for γ near π.
     let comp = ((PI - gamma) - 8.742_278e-8).max(0.0);
-    airlight_geometry(tau, s.abs(), c, gamma, comp, rho, g)
+    // sin γ from the smaller of γ and π − γ: 0 on the axis behind (γ at f32's π,
+    // which lies beyond π), exact near it.
+    let h = if gamma <= comp { s.abs() } else { sin_cos(comp).0 };
+    airlight_geometry(tau, h, c, gamma, comp, rho, g)
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).

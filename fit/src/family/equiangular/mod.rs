@@ -77,23 +77,28 @@ impl Family for Equiangular {
     /// `π − γ` without one), so that it never cancels either.
     fn eval(&self, p: Point) -> f64 {
         let (h, x0) = (p.gamma.sin(), p.gamma.cos());
-        let span = if p.rho.is_finite() { (h * p.rho).atan2(1.0 - p.rho * x0) } else { PI - p.gamma };
+        // π − γ to full precision (f64's π is 1.2e-16 below π), so that the interval
+        // and each node's distance from β = π/2 keep their digits near the axis behind.
+        let comp = (PI - p.gamma) + 1.224_646_799_147_353_2e-16;
+        let span = if p.rho.is_finite() { (h * p.rho).atan2(1.0 - p.rho * x0) } else { comp };
         let half = 0.5 * span;
-        // span/h, with its limit on the axis (h = 0).
+        // span/h, with its limit on the axis (h = 0: γ = 0, the light ahead).
         let ratio = if h > 0.0 {
             half / h
-        } else if x0 > 0.0 && (p.rho.is_infinite() || p.rho >= 1.0) {
+        } else if p.rho.is_infinite() || p.rho >= 1.0 {
             f64::INFINITY
-        } else if p.rho.is_infinite() {
-            0.5
         } else {
             0.5 * p.rho / (1.0 - p.rho * x0)
         };
         let g = p.g;
         let mut sum = 0.0;
         for (&x, &w) in self.x.iter().zip(&self.w) {
+            // β = α/2 and π/2 − β; the smaller goes to sin_cos, so that sin β and
+            // cos β both keep their relative precision.
             let beta = 0.5 * p.gamma + 0.5 * half * (1.0 + x);
-            let (sb, cb) = beta.sin_cos();
+            let co = 0.5 * comp - 0.5 * half * (1.0 + x);
+            let (s, c) = beta.min(co).max(0.0).sin_cos();
+            let (sb, cb) = if beta <= co { (s, c) } else { (c, s) };
             let st = (x0 + h * sb / cb).max(1.0);
             let d = if g >= 0.0 {
                 (1.0 - g) * (1.0 - g) + 4.0 * g * sb * sb
