@@ -287,11 +287,17 @@ float airlight_phi_iso_4_r_of_v(float v, vec4 md) {
 float airlight_phi_iso_4_airlight_geometry(float tau_in, float h_in, float x0, float rho) {
     float tau = min(max(tau_in, 0.0), airlight_phi_iso_4_TAU_MAX);
     vec4 md = vec4(0.0, 1.0, 1.0, 1.0);
-    // On the axis A diverges through the light; elsewhere it is taken 2^-40 off it.
-    if (h_in <= 0.0 && x0 > 0.0 && !(rho >= 0.0 && rho <= 1.0)) {
+    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
+    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal h, and A ~ 1/h saturates only past float's range.
+    if (h_in <= 0.0 && x0 > 0.0) {
+        if (rho >= 0.0 && rho < 1.0) {
+            return min(7.95774683e-2 * exp(-tau) * rho / (1.0 - rho), airlight_phi_iso_4_HUGE);
+        }
         return airlight_phi_iso_4_HUGE;
     }
-    float h = max(h_in, 9.094947e-13);
+    float h = x0 > 0.0 ? h_in : max(h_in, 9.094947e-13);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float one_minus = x0 >= 0.0 ? h * h / (1.0 + x0) : 1.0 - x0;
@@ -299,9 +305,16 @@ float airlight_phi_iso_4_airlight_geometry(float tau_in, float h_in, float x0, f
     bool open = !(rho >= 0.0 && rho < airlight_phi_iso_4_RHO_OPEN);
     float du = airlight_phi_iso_4_HUGE;
     if (!open) {
-        float tr = sqrt((rho - 1.0) * (rho - 1.0) + 2.0 * rho * one_minus);
-        du = rho >= x0 ? rho * (tr + (rho - x0) + one_minus) / ((tr + 1.0) * h)
-                       : 2.0 * rho * h / ((1.0 + rho + tr) * (tr + x0 - rho));
+        // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
+        // so that h^2 never underflows.
+        float ta = abs(rho - 1.0);
+        float tb = x0 >= 0.0 ? h * sqrt(2.0 * rho / (1.0 + x0)) : sqrt(2.0 * rho * one_minus);
+        float tm = max(ta, tb);
+        float tr = tm > 0.0 ? tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) : 0.0;
+        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
+        float xr = x0 >= 0.0 ? (1.0 - rho) - one_minus : x0 - rho;
+        du = xr <= 0.0 ? rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
+                       : 2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr));
     }
     float ub = ua + du;
     float t = tau * h;

@@ -285,11 +285,14 @@ float airlight_scene_harbour_fog_r_of_v(float v, vec4 md) {
 float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, float x0) {
     float tau = min(max(tau_in, 0.0), airlight_scene_harbour_fog_TAU_MAX);
     vec4 md = vec4(0.0, 1.0, 1.0, 1.0);
-    // On the axis A diverges through the light; elsewhere it is taken 2^-40 off it.
+    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
+    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal h, and A ~ 1/h saturates only past float's range.
     if (h_in <= 0.0 && x0 > 0.0) {
         return airlight_scene_harbour_fog_HUGE;
     }
-    float h = max(h_in, 9.094947e-13);
+    float h = x0 > 0.0 ? h_in : max(h_in, 9.094947e-13);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float one_minus = x0 >= 0.0 ? h * h / (1.0 + x0) : 1.0 - x0;

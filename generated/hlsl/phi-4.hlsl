@@ -365,13 +365,12 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_, floa
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_phi_4_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -394,245 +393,246 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_, floa
     bool _e29 = local_4;
     if (_e29) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e39 = local_6;
-        local_5 = !(_e39);
-    } else {
-        local_5 = false;
-    }
-    bool _e42 = local_5;
-    if (_e42) {
+        bool _e37 = local_5;
+        if (_e37) {
+            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_4_HUGE);
+        }
         return airlight_phi_4_HUGE;
     }
-    float h_5 = max(h_in, 9.094947e-13);
+    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
     float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_phi_4_RHO_OPEN);
+        local_6 = (rho < airlight_phi_4_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e71 = local_7;
-    bool open = !(_e71);
+    bool _e85 = local_6;
+    bool open = !(_e85);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e105 = du;
-    float ub = (ua + _e105);
+    float _e146 = du;
+    float ub = (ua + _e146);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_phi_4_HUGE);
     float m_1 = max(ua, xf);
-    float _e122 = du;
-    bool is_short = (_e122 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e163 = du;
+    bool is_short = (_e163 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e176 = local_7;
+    if (_e176) {
+        local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e135 = local_8;
-    if (_e135) {
-        local_9 = ((t_1 * (m_1 - ua)) < 3.5);
+    bool _e184 = local_8;
+    if (_e184) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e143 = local_9;
-    if (_e143) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e151 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e151, lcut));
+    bool use_far = local_9;
+    float _e192 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e192, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e171 = local_11;
-        if (_e171) {
+        bool _e212 = local_10;
+        if (_e212) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e177 = sum;
-            float _e178 = d_2;
-            const float _e180 = airlight_phi_4_w_u((ua + _e178), md_4);
-            float _e184 = d_2;
-            sum = (_e177 + ((0.34785485 * _e180) * exp((-(t_1) * _e184))));
+            float _e218 = sum;
+            float _e219 = d_2;
+            const float _e221 = airlight_phi_4_w_u((ua + _e219), md_4);
+            float _e225 = d_2;
+            sum = (_e218 + ((0.34785485 * _e221) * exp((-(t_1) * _e225))));
             d_2 = (hl * 1.3399811);
-            float _e191 = sum;
-            float _e192 = d_2;
-            const float _e194 = airlight_phi_4_w_u((ua + _e192), md_4);
-            float _e198 = d_2;
-            sum = (_e191 + ((0.65214515 * _e194) * exp((-(t_1) * _e198))));
+            float _e232 = sum;
+            float _e233 = d_2;
+            const float _e235 = airlight_phi_4_w_u((ua + _e233), md_4);
+            float _e239 = d_2;
+            sum = (_e232 + ((0.65214515 * _e235) * exp((-(t_1) * _e239))));
             d_2 = (hl * 0.660019);
-            float _e205 = sum;
-            float _e206 = d_2;
-            const float _e208 = airlight_phi_4_w_u((ua + _e206), md_4);
-            float _e212 = d_2;
-            sum = (_e205 + ((0.65214515 * _e208) * exp((-(t_1) * _e212))));
+            float _e246 = sum;
+            float _e247 = d_2;
+            const float _e249 = airlight_phi_4_w_u((ua + _e247), md_4);
+            float _e253 = d_2;
+            sum = (_e246 + ((0.65214515 * _e249) * exp((-(t_1) * _e253))));
             d_2 = (hl * 0.13886368);
-            float _e219 = sum;
-            float _e220 = d_2;
-            const float _e222 = airlight_phi_4_w_u((ua + _e220), md_4);
-            float _e226 = d_2;
-            sum = (_e219 + ((0.34785485 * _e222) * exp((-(t_1) * _e226))));
-            float _e231 = sum;
-            sum = (_e231 * hl);
+            float _e260 = sum;
+            float _e261 = d_2;
+            const float _e263 = airlight_phi_4_w_u((ua + _e261), md_4);
+            float _e267 = d_2;
+            sum = (_e260 + ((0.34785485 * _e263) * exp((-(t_1) * _e267))));
+            float _e272 = sum;
+            sum = (_e272 * hl);
         } else {
-            const float2 _e233 = airlight_phi_4_phi_and_complement(ua, md_4);
-            const float2 _e235 = airlight_phi_4_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e233.y < 1.5707964) ? (_e233.y - _e235.y) : (_e235.x - _e233.x)));
-            beta = ((0.5 * _e233.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e233.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e268 = beta;
-            float _e269 = co;
-            const float2 _e273 = airlight_phi_4_sin_cos_octant(max(min(_e268, _e269), 0.0));
-            sc = _e273;
-            float _e274 = beta;
-            float _e275 = co;
-            if ((_e274 > _e275)) {
-                float2 _e277 = sc;
-                sc = _e277.yx;
+            const float2 _e274 = airlight_phi_4_phi_and_complement(ua, md_4);
+            const float2 _e276 = airlight_phi_4_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e274.y < 1.5707964) ? (_e274.y - _e276.y) : (_e276.x - _e274.x)));
+            beta = ((0.5 * _e274.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e274.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e309 = beta;
+            float _e310 = co;
+            const float2 _e314 = airlight_phi_4_sin_cos_octant(max(min(_e309, _e310), 0.0));
+            sc = _e314;
+            float _e315 = beta;
+            float _e316 = co;
+            if ((_e315 > _e316)) {
+                float2 _e318 = sc;
+                sc = _e318.yx;
             }
-            float _e280 = sc.x;
-            float _e282 = sc.y;
-            const float2 _e283 = airlight_phi_4_u_and_weight(_e280, _e282, md_4);
-            uw = _e283;
-            float _e284 = sum;
-            float _e286 = uw.y;
-            float _e291 = uw.x;
-            sum = (_e284 + ((0.34785485 * _e286) * exp((-(t_1) * (_e291 - ua)))));
-            beta = ((0.5 * _e233.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e233.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e313 = beta;
-            float _e314 = co;
-            const float2 _e318 = airlight_phi_4_sin_cos_octant(max(min(_e313, _e314), 0.0));
-            sc = _e318;
-            float _e319 = beta;
-            float _e320 = co;
-            if ((_e319 > _e320)) {
-                float2 _e322 = sc;
-                sc = _e322.yx;
+            float _e321 = sc.x;
+            float _e323 = sc.y;
+            const float2 _e324 = airlight_phi_4_u_and_weight(_e321, _e323, md_4);
+            uw = _e324;
+            float _e325 = sum;
+            float _e327 = uw.y;
+            float _e332 = uw.x;
+            sum = (_e325 + ((0.34785485 * _e327) * exp((-(t_1) * (_e332 - ua)))));
+            beta = ((0.5 * _e274.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e274.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e354 = beta;
+            float _e355 = co;
+            const float2 _e359 = airlight_phi_4_sin_cos_octant(max(min(_e354, _e355), 0.0));
+            sc = _e359;
+            float _e360 = beta;
+            float _e361 = co;
+            if ((_e360 > _e361)) {
+                float2 _e363 = sc;
+                sc = _e363.yx;
             }
-            float _e325 = sc.x;
-            float _e327 = sc.y;
-            const float2 _e328 = airlight_phi_4_u_and_weight(_e325, _e327, md_4);
-            uw = _e328;
-            float _e329 = sum;
-            float _e331 = uw.y;
-            float _e336 = uw.x;
-            sum = (_e329 + ((0.65214515 * _e331) * exp((-(t_1) * (_e336 - ua)))));
-            beta = ((0.5 * _e233.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e233.y) - ((0.5 * hl_1) * 0.660019));
-            float _e358 = beta;
-            float _e359 = co;
-            const float2 _e363 = airlight_phi_4_sin_cos_octant(max(min(_e358, _e359), 0.0));
-            sc = _e363;
-            float _e364 = beta;
-            float _e365 = co;
-            if ((_e364 > _e365)) {
-                float2 _e367 = sc;
-                sc = _e367.yx;
+            float _e366 = sc.x;
+            float _e368 = sc.y;
+            const float2 _e369 = airlight_phi_4_u_and_weight(_e366, _e368, md_4);
+            uw = _e369;
+            float _e370 = sum;
+            float _e372 = uw.y;
+            float _e377 = uw.x;
+            sum = (_e370 + ((0.65214515 * _e372) * exp((-(t_1) * (_e377 - ua)))));
+            beta = ((0.5 * _e274.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e274.y) - ((0.5 * hl_1) * 0.660019));
+            float _e399 = beta;
+            float _e400 = co;
+            const float2 _e404 = airlight_phi_4_sin_cos_octant(max(min(_e399, _e400), 0.0));
+            sc = _e404;
+            float _e405 = beta;
+            float _e406 = co;
+            if ((_e405 > _e406)) {
+                float2 _e408 = sc;
+                sc = _e408.yx;
             }
-            float _e370 = sc.x;
-            float _e372 = sc.y;
-            const float2 _e373 = airlight_phi_4_u_and_weight(_e370, _e372, md_4);
-            uw = _e373;
-            float _e374 = sum;
-            float _e376 = uw.y;
-            float _e381 = uw.x;
-            sum = (_e374 + ((0.65214515 * _e376) * exp((-(t_1) * (_e381 - ua)))));
-            beta = ((0.5 * _e233.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e233.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e403 = beta;
-            float _e404 = co;
-            const float2 _e408 = airlight_phi_4_sin_cos_octant(max(min(_e403, _e404), 0.0));
-            sc = _e408;
-            float _e409 = beta;
-            float _e410 = co;
-            if ((_e409 > _e410)) {
-                float2 _e412 = sc;
-                sc = _e412.yx;
+            float _e411 = sc.x;
+            float _e413 = sc.y;
+            const float2 _e414 = airlight_phi_4_u_and_weight(_e411, _e413, md_4);
+            uw = _e414;
+            float _e415 = sum;
+            float _e417 = uw.y;
+            float _e422 = uw.x;
+            sum = (_e415 + ((0.65214515 * _e417) * exp((-(t_1) * (_e422 - ua)))));
+            beta = ((0.5 * _e274.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e274.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e444 = beta;
+            float _e445 = co;
+            const float2 _e449 = airlight_phi_4_sin_cos_octant(max(min(_e444, _e445), 0.0));
+            sc = _e449;
+            float _e450 = beta;
+            float _e451 = co;
+            if ((_e450 > _e451)) {
+                float2 _e453 = sc;
+                sc = _e453.yx;
             }
-            float _e415 = sc.x;
-            float _e417 = sc.y;
-            const float2 _e418 = airlight_phi_4_u_and_weight(_e415, _e417, md_4);
-            uw = _e418;
-            float _e419 = sum;
-            float _e421 = uw.y;
-            float _e426 = uw.x;
-            sum = (_e419 + ((0.34785485 * _e421) * exp((-(t_1) * (_e426 - ua)))));
-            float _e432 = sum;
-            sum = (_e432 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e456 = sc.x;
+            float _e458 = sc.y;
+            const float2 _e459 = airlight_phi_4_u_and_weight(_e456, _e458, md_4);
+            uw = _e459;
+            float _e460 = sum;
+            float _e462 = uw.y;
+            float _e467 = uw.x;
+            sum = (_e460 + ((0.34785485 * _e462) * exp((-(t_1) * (_e467 - ua)))));
+            float _e473 = sum;
+            sum = (_e473 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e448 = airlight_phi_4_exp_e2_((t_1 * m_1));
-        f = (_e448 / m_1);
+        const float _e489 = airlight_phi_4_exp_e2_((t_1 * m_1));
+        f = (_e489 / m_1);
         if (!(open)) {
-            float _e452 = f;
-            const float _e458 = airlight_phi_4_exp_e2_((t_1 * ub));
-            f = (_e452 - ((exp((-(t_1) * (ub - m_1))) * _e458) / ub));
+            float _e493 = f;
+            const float _e499 = airlight_phi_4_exp_e2_((t_1 * ub));
+            f = (_e493 - ((exp((-(t_1) * (ub - m_1))) * _e499) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_phi_4_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e485 = s;
-        float _e486 = v_3;
-        const float _e487 = airlight_phi_4_r_of_v(_e486, md_4);
-        float _e491 = v_3;
-        s = (_e485 + ((1.0 * _e487) * exp((-(t_1) * ((1.0 / _e491) - m_1)))));
+        float _e526 = s;
+        float _e527 = v_3;
+        const float _e528 = airlight_phi_4_r_of_v(_e527, md_4);
+        float _e532 = v_3;
+        s = (_e526 + ((1.0 * _e528) * exp((-(t_1) * ((1.0 / _e532) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e502 = s;
-        float _e503 = v_3;
-        const float _e504 = airlight_phi_4_r_of_v(_e503, md_4);
-        float _e508 = v_3;
-        s = (_e502 + ((1.0 * _e504) * exp((-(t_1) * ((1.0 / _e508) - m_1)))));
-        float _e516 = sum;
-        float _e522 = f;
-        float _e523 = s;
-        sum = (_e516 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e522 + (_e523 * hl_2))));
+        float _e543 = s;
+        float _e544 = v_3;
+        const float _e545 = airlight_phi_4_r_of_v(_e544, md_4);
+        float _e549 = v_3;
+        s = (_e543 + ((1.0 * _e545) * exp((-(t_1) * ((1.0 / _e549) - m_1)))));
+        float _e557 = sum;
+        float _e563 = f;
+        float _e564 = s;
+        sum = (_e557 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e563 + (_e564 * hl_2))));
     } else {
-        float _e528 = du;
-        if ((_e528 > lcut)) {
+        float _e569 = du;
+        if ((_e569 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e533 = s_1;
-            const float _e537 = airlight_phi_4_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e533 + (0.8535534 * _e537));
-            float _e541 = s_1;
-            const float _e545 = airlight_phi_4_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e541 + (0.14644662 * _e545));
+            float _e574 = s_1;
+            const float _e578 = airlight_phi_4_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e574 + (0.8535534 * _e578));
+            float _e582 = s_1;
+            const float _e586 = airlight_phi_4_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e582 + (0.14644662 * _e586));
             if (!(open)) {
-                float _e552 = sb;
-                const float _e556 = airlight_phi_4_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e552 + (0.8535534 * _e556));
-                float _e560 = sb;
-                const float _e564 = airlight_phi_4_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e560 + (0.14644662 * _e564));
-                float _e568 = s_1;
-                float _e570 = du;
-                float _e574 = sb;
-                s_1 = (_e568 - (exp((-(t_1) * (_e570 - lcut))) * _e574));
+                float _e593 = sb;
+                const float _e597 = airlight_phi_4_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e593 + (0.8535534 * _e597));
+                float _e601 = sb;
+                const float _e605 = airlight_phi_4_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e601 + (0.14644662 * _e605));
+                float _e609 = s_1;
+                float _e611 = du;
+                float _e615 = sb;
+                s_1 = (_e609 - (exp((-(t_1) * (_e611 - lcut))) * _e615));
             }
-            float _e577 = sum;
-            float _e580 = s_1;
-            sum = (_e577 + ((0.030197384 / t_1) * max(_e580, 0.0)));
+            float _e618 = sum;
+            float _e621 = s_1;
+            sum = (_e618 + ((0.030197384 / t_1) * max(_e621, 0.0)));
         }
     }
-    float _e589 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e589 / h_5)), 0.0), airlight_phi_4_HUGE);
+    float _e630 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e630 / h_5)), 0.0), airlight_phi_4_HUGE);
 }
 
 float airlight_phi_4_airlight(float tau, float gamma, float rho_1, float g)
@@ -644,7 +644,7 @@ float airlight_phi_4_airlight(float tau, float gamma, float rho_1, float g)
 
 float airlight_phi_4_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e8 = airlight_phi_4_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -652,11 +652,11 @@ float airlight_phi_4_radiance(float3 origin_1, float3 dir_1, float surface, floa
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_12 = (_e8.z == 0.0);
+        local_11 = (_e8.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e24 = local_12;
+    bool _e24 = local_11;
     if (_e24) {
         return 0.0;
     }
@@ -693,7 +693,7 @@ float3 airlight_phi_4_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_13 = (bool)0;
+    bool local_12 = (bool)0;
 
     h1_ = h_3;
     x1_ = x0_3;
@@ -712,11 +712,11 @@ float3 airlight_phi_4_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_4 >= 0.0);
+            local_12 = (rho_4 >= 0.0);
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -747,7 +747,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_5)
 {
-    bool local_14 = (bool)0;
+    bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
@@ -761,11 +761,11 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
         return (0.0).xxx;
     }
     if (!((g_5 < 0.0))) {
-        local_14 = (v_in > 3.0);
+        local_13 = (v_in > 3.0);
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = (_e25 ? v_in : u_2);
     const float _e27 = airlight_phi_4_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if ((_e27 > 0.0)) {
@@ -971,14 +971,14 @@ float airlight_phi_4_spot_weight(float c_2, float co_3, float ci_2)
 
 float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
 {
+    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
-    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_16 = (bool)0;
     float scale = 1.0;
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -988,8 +988,8 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_phi_4_PI;
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1000,16 +1000,16 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
     const float _e18 = airlight_phi_4_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_16 = (_e18 <= airlight_phi_4_HUGE);
+            local_15 = (_e18 <= airlight_phi_4_HUGE);
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e29 = local_16;
-        local_15 = !(_e29);
+        bool _e29 = local_15;
+        local_14 = !(_e29);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e32 = local_15;
+    bool _e32 = local_14;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -1019,11 +1019,11 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_17 = (_e17 <= airlight_phi_4_HUGE);
+        local_16 = (_e17 <= airlight_phi_4_HUGE);
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e53 = local_17;
+    bool _e53 = local_16;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -1042,11 +1042,11 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_18 = (_e11.z == 0.0);
+        local_17 = (_e11.z == 0.0);
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e96 = local_18;
+    bool _e96 = local_17;
     if (_e96) {
         return (0.0).xxx;
     }
@@ -1054,30 +1054,30 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float h_6 = _e11.y;
     float x0_6 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_7) < airlight_phi_4_RHO_OPEN);
+        local_18 = ((surface_1 / d_7) < airlight_phi_4_RHO_OPEN);
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = (has_end ? (surface_1 / d_7) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_19 = (h_6 <= 0.0);
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e149 = local_20;
+    bool _e149 = local_19;
     if (_e149) {
         if (!(point_)) {
             const float _e152 = airlight_phi_4_spot_weight(-(k_4), co_4, cos_inner);
             const float _e153 = airlight_phi_4_spot_weight(k_4, co_4, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_20 = (rho_7 < 1.0);
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e160 = local_21;
+            bool _e160 = local_20;
             scale = ((x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
         }
         core = true;

@@ -365,13 +365,12 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_phi_6_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -394,315 +393,316 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
     bool _e29 = local_4;
     if (_e29) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e39 = local_6;
-        local_5 = !(_e39);
-    } else {
-        local_5 = false;
-    }
-    bool _e42 = local_5;
-    if (_e42) {
+        bool _e37 = local_5;
+        if (_e37) {
+            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_6_HUGE);
+        }
         return airlight_phi_6_HUGE;
     }
-    float h_5 = max(h_in, 9.094947e-13);
+    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
     float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_phi_6_RHO_OPEN);
+        local_6 = (rho < airlight_phi_6_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e71 = local_7;
-    bool open = !(_e71);
+    bool _e85 = local_6;
+    bool open = !(_e85);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e105 = du;
-    float ub = (ua + _e105);
+    float _e146 = du;
+    float ub = (ua + _e146);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.0 / max(t_1, 1e-30)) : airlight_phi_6_HUGE);
     float m_1 = max(ua, xf);
-    float _e122 = du;
-    bool is_short = (_e122 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e163 = du;
+    bool is_short = (_e163 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e176 = local_7;
+    if (_e176) {
+        local_8 = ((t_1 * (m_1 - ua)) < 4.0);
     } else {
         local_8 = false;
     }
-    bool _e135 = local_8;
-    if (_e135) {
-        local_9 = ((t_1 * (m_1 - ua)) < 4.0);
+    bool _e184 = local_8;
+    if (_e184) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e143 = local_9;
-    if (_e143) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e151 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e151, lcut));
+    bool use_far = local_9;
+    float _e192 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e192, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e171 = local_11;
-        if (_e171) {
+        bool _e212 = local_10;
+        if (_e212) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9324695);
-            float _e177 = sum;
-            float _e178 = d_2;
-            const float _e180 = airlight_phi_6_w_u((ua + _e178), md_4);
-            float _e184 = d_2;
-            sum = (_e177 + ((0.17132449 * _e180) * exp((-(t_1) * _e184))));
+            float _e218 = sum;
+            float _e219 = d_2;
+            const float _e221 = airlight_phi_6_w_u((ua + _e219), md_4);
+            float _e225 = d_2;
+            sum = (_e218 + ((0.17132449 * _e221) * exp((-(t_1) * _e225))));
             d_2 = (hl * 1.6612093);
-            float _e191 = sum;
-            float _e192 = d_2;
-            const float _e194 = airlight_phi_6_w_u((ua + _e192), md_4);
-            float _e198 = d_2;
-            sum = (_e191 + ((0.36076158 * _e194) * exp((-(t_1) * _e198))));
+            float _e232 = sum;
+            float _e233 = d_2;
+            const float _e235 = airlight_phi_6_w_u((ua + _e233), md_4);
+            float _e239 = d_2;
+            sum = (_e232 + ((0.36076158 * _e235) * exp((-(t_1) * _e239))));
             d_2 = (hl * 1.2386192);
-            float _e205 = sum;
-            float _e206 = d_2;
-            const float _e208 = airlight_phi_6_w_u((ua + _e206), md_4);
-            float _e212 = d_2;
-            sum = (_e205 + ((0.46791393 * _e208) * exp((-(t_1) * _e212))));
+            float _e246 = sum;
+            float _e247 = d_2;
+            const float _e249 = airlight_phi_6_w_u((ua + _e247), md_4);
+            float _e253 = d_2;
+            sum = (_e246 + ((0.46791393 * _e249) * exp((-(t_1) * _e253))));
             d_2 = (hl * 0.7613808);
-            float _e219 = sum;
-            float _e220 = d_2;
-            const float _e222 = airlight_phi_6_w_u((ua + _e220), md_4);
-            float _e226 = d_2;
-            sum = (_e219 + ((0.46791393 * _e222) * exp((-(t_1) * _e226))));
+            float _e260 = sum;
+            float _e261 = d_2;
+            const float _e263 = airlight_phi_6_w_u((ua + _e261), md_4);
+            float _e267 = d_2;
+            sum = (_e260 + ((0.46791393 * _e263) * exp((-(t_1) * _e267))));
             d_2 = (hl * 0.3387906);
-            float _e233 = sum;
-            float _e234 = d_2;
-            const float _e236 = airlight_phi_6_w_u((ua + _e234), md_4);
-            float _e240 = d_2;
-            sum = (_e233 + ((0.36076158 * _e236) * exp((-(t_1) * _e240))));
+            float _e274 = sum;
+            float _e275 = d_2;
+            const float _e277 = airlight_phi_6_w_u((ua + _e275), md_4);
+            float _e281 = d_2;
+            sum = (_e274 + ((0.36076158 * _e277) * exp((-(t_1) * _e281))));
             d_2 = (hl * 0.06753051);
-            float _e247 = sum;
-            float _e248 = d_2;
-            const float _e250 = airlight_phi_6_w_u((ua + _e248), md_4);
-            float _e254 = d_2;
-            sum = (_e247 + ((0.17132449 * _e250) * exp((-(t_1) * _e254))));
-            float _e259 = sum;
-            sum = (_e259 * hl);
+            float _e288 = sum;
+            float _e289 = d_2;
+            const float _e291 = airlight_phi_6_w_u((ua + _e289), md_4);
+            float _e295 = d_2;
+            sum = (_e288 + ((0.17132449 * _e291) * exp((-(t_1) * _e295))));
+            float _e300 = sum;
+            sum = (_e300 * hl);
         } else {
-            const float2 _e261 = airlight_phi_6_phi_and_complement(ua, md_4);
-            const float2 _e263 = airlight_phi_6_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e261.y < 1.5707964) ? (_e261.y - _e263.y) : (_e263.x - _e261.x)));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.9324695));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.9324695));
-            float _e296 = beta;
-            float _e297 = co;
-            const float2 _e301 = airlight_phi_6_sin_cos_octant(max(min(_e296, _e297), 0.0));
-            sc = _e301;
-            float _e302 = beta;
-            float _e303 = co;
-            if ((_e302 > _e303)) {
-                float2 _e305 = sc;
-                sc = _e305.yx;
+            const float2 _e302 = airlight_phi_6_phi_and_complement(ua, md_4);
+            const float2 _e304 = airlight_phi_6_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e302.y < 1.5707964) ? (_e302.y - _e304.y) : (_e304.x - _e302.x)));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e337 = beta;
+            float _e338 = co;
+            const float2 _e342 = airlight_phi_6_sin_cos_octant(max(min(_e337, _e338), 0.0));
+            sc = _e342;
+            float _e343 = beta;
+            float _e344 = co;
+            if ((_e343 > _e344)) {
+                float2 _e346 = sc;
+                sc = _e346.yx;
             }
-            float _e308 = sc.x;
-            float _e310 = sc.y;
-            const float2 _e311 = airlight_phi_6_u_and_weight(_e308, _e310, md_4);
-            uw = _e311;
-            float _e312 = sum;
-            float _e314 = uw.y;
-            float _e319 = uw.x;
-            sum = (_e312 + ((0.17132449 * _e314) * exp((-(t_1) * (_e319 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.6612093));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.6612093));
-            float _e341 = beta;
-            float _e342 = co;
-            const float2 _e346 = airlight_phi_6_sin_cos_octant(max(min(_e341, _e342), 0.0));
-            sc = _e346;
-            float _e347 = beta;
-            float _e348 = co;
-            if ((_e347 > _e348)) {
-                float2 _e350 = sc;
-                sc = _e350.yx;
+            float _e349 = sc.x;
+            float _e351 = sc.y;
+            const float2 _e352 = airlight_phi_6_u_and_weight(_e349, _e351, md_4);
+            uw = _e352;
+            float _e353 = sum;
+            float _e355 = uw.y;
+            float _e360 = uw.x;
+            sum = (_e353 + ((0.17132449 * _e355) * exp((-(t_1) * (_e360 - ua)))));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e382 = beta;
+            float _e383 = co;
+            const float2 _e387 = airlight_phi_6_sin_cos_octant(max(min(_e382, _e383), 0.0));
+            sc = _e387;
+            float _e388 = beta;
+            float _e389 = co;
+            if ((_e388 > _e389)) {
+                float2 _e391 = sc;
+                sc = _e391.yx;
             }
-            float _e353 = sc.x;
-            float _e355 = sc.y;
-            const float2 _e356 = airlight_phi_6_u_and_weight(_e353, _e355, md_4);
-            uw = _e356;
-            float _e357 = sum;
-            float _e359 = uw.y;
-            float _e364 = uw.x;
-            sum = (_e357 + ((0.36076158 * _e359) * exp((-(t_1) * (_e364 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.2386192));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.2386192));
-            float _e386 = beta;
-            float _e387 = co;
-            const float2 _e391 = airlight_phi_6_sin_cos_octant(max(min(_e386, _e387), 0.0));
-            sc = _e391;
-            float _e392 = beta;
-            float _e393 = co;
-            if ((_e392 > _e393)) {
-                float2 _e395 = sc;
-                sc = _e395.yx;
+            float _e394 = sc.x;
+            float _e396 = sc.y;
+            const float2 _e397 = airlight_phi_6_u_and_weight(_e394, _e396, md_4);
+            uw = _e397;
+            float _e398 = sum;
+            float _e400 = uw.y;
+            float _e405 = uw.x;
+            sum = (_e398 + ((0.36076158 * _e400) * exp((-(t_1) * (_e405 - ua)))));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e427 = beta;
+            float _e428 = co;
+            const float2 _e432 = airlight_phi_6_sin_cos_octant(max(min(_e427, _e428), 0.0));
+            sc = _e432;
+            float _e433 = beta;
+            float _e434 = co;
+            if ((_e433 > _e434)) {
+                float2 _e436 = sc;
+                sc = _e436.yx;
             }
-            float _e398 = sc.x;
-            float _e400 = sc.y;
-            const float2 _e401 = airlight_phi_6_u_and_weight(_e398, _e400, md_4);
-            uw = _e401;
-            float _e402 = sum;
-            float _e404 = uw.y;
-            float _e409 = uw.x;
-            sum = (_e402 + ((0.46791393 * _e404) * exp((-(t_1) * (_e409 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.7613808));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.7613808));
-            float _e431 = beta;
-            float _e432 = co;
-            const float2 _e436 = airlight_phi_6_sin_cos_octant(max(min(_e431, _e432), 0.0));
-            sc = _e436;
-            float _e437 = beta;
-            float _e438 = co;
-            if ((_e437 > _e438)) {
-                float2 _e440 = sc;
-                sc = _e440.yx;
+            float _e439 = sc.x;
+            float _e441 = sc.y;
+            const float2 _e442 = airlight_phi_6_u_and_weight(_e439, _e441, md_4);
+            uw = _e442;
+            float _e443 = sum;
+            float _e445 = uw.y;
+            float _e450 = uw.x;
+            sum = (_e443 + ((0.46791393 * _e445) * exp((-(t_1) * (_e450 - ua)))));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e472 = beta;
+            float _e473 = co;
+            const float2 _e477 = airlight_phi_6_sin_cos_octant(max(min(_e472, _e473), 0.0));
+            sc = _e477;
+            float _e478 = beta;
+            float _e479 = co;
+            if ((_e478 > _e479)) {
+                float2 _e481 = sc;
+                sc = _e481.yx;
             }
-            float _e443 = sc.x;
-            float _e445 = sc.y;
-            const float2 _e446 = airlight_phi_6_u_and_weight(_e443, _e445, md_4);
-            uw = _e446;
-            float _e447 = sum;
-            float _e449 = uw.y;
-            float _e454 = uw.x;
-            sum = (_e447 + ((0.46791393 * _e449) * exp((-(t_1) * (_e454 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.3387906));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.3387906));
-            float _e476 = beta;
-            float _e477 = co;
-            const float2 _e481 = airlight_phi_6_sin_cos_octant(max(min(_e476, _e477), 0.0));
-            sc = _e481;
-            float _e482 = beta;
-            float _e483 = co;
-            if ((_e482 > _e483)) {
-                float2 _e485 = sc;
-                sc = _e485.yx;
+            float _e484 = sc.x;
+            float _e486 = sc.y;
+            const float2 _e487 = airlight_phi_6_u_and_weight(_e484, _e486, md_4);
+            uw = _e487;
+            float _e488 = sum;
+            float _e490 = uw.y;
+            float _e495 = uw.x;
+            sum = (_e488 + ((0.46791393 * _e490) * exp((-(t_1) * (_e495 - ua)))));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e517 = beta;
+            float _e518 = co;
+            const float2 _e522 = airlight_phi_6_sin_cos_octant(max(min(_e517, _e518), 0.0));
+            sc = _e522;
+            float _e523 = beta;
+            float _e524 = co;
+            if ((_e523 > _e524)) {
+                float2 _e526 = sc;
+                sc = _e526.yx;
             }
-            float _e488 = sc.x;
-            float _e490 = sc.y;
-            const float2 _e491 = airlight_phi_6_u_and_weight(_e488, _e490, md_4);
-            uw = _e491;
-            float _e492 = sum;
-            float _e494 = uw.y;
-            float _e499 = uw.x;
-            sum = (_e492 + ((0.36076158 * _e494) * exp((-(t_1) * (_e499 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.06753051));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.06753051));
-            float _e521 = beta;
-            float _e522 = co;
-            const float2 _e526 = airlight_phi_6_sin_cos_octant(max(min(_e521, _e522), 0.0));
-            sc = _e526;
-            float _e527 = beta;
-            float _e528 = co;
-            if ((_e527 > _e528)) {
-                float2 _e530 = sc;
-                sc = _e530.yx;
+            float _e529 = sc.x;
+            float _e531 = sc.y;
+            const float2 _e532 = airlight_phi_6_u_and_weight(_e529, _e531, md_4);
+            uw = _e532;
+            float _e533 = sum;
+            float _e535 = uw.y;
+            float _e540 = uw.x;
+            sum = (_e533 + ((0.36076158 * _e535) * exp((-(t_1) * (_e540 - ua)))));
+            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e562 = beta;
+            float _e563 = co;
+            const float2 _e567 = airlight_phi_6_sin_cos_octant(max(min(_e562, _e563), 0.0));
+            sc = _e567;
+            float _e568 = beta;
+            float _e569 = co;
+            if ((_e568 > _e569)) {
+                float2 _e571 = sc;
+                sc = _e571.yx;
             }
-            float _e533 = sc.x;
-            float _e535 = sc.y;
-            const float2 _e536 = airlight_phi_6_u_and_weight(_e533, _e535, md_4);
-            uw = _e536;
-            float _e537 = sum;
-            float _e539 = uw.y;
-            float _e544 = uw.x;
-            sum = (_e537 + ((0.17132449 * _e539) * exp((-(t_1) * (_e544 - ua)))));
-            float _e550 = sum;
-            sum = (_e550 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e574 = sc.x;
+            float _e576 = sc.y;
+            const float2 _e577 = airlight_phi_6_u_and_weight(_e574, _e576, md_4);
+            uw = _e577;
+            float _e578 = sum;
+            float _e580 = uw.y;
+            float _e585 = uw.x;
+            sum = (_e578 + ((0.17132449 * _e580) * exp((-(t_1) * (_e585 - ua)))));
+            float _e591 = sum;
+            sum = (_e591 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e566 = airlight_phi_6_exp_e2_((t_1 * m_1));
-        f = (_e566 / m_1);
+        const float _e607 = airlight_phi_6_exp_e2_((t_1 * m_1));
+        f = (_e607 / m_1);
         if (!(open)) {
-            float _e570 = f;
-            const float _e576 = airlight_phi_6_exp_e2_((t_1 * ub));
-            f = (_e570 - ((exp((-(t_1) * (ub - m_1))) * _e576) / ub));
+            float _e611 = f;
+            const float _e617 = airlight_phi_6_exp_e2_((t_1 * ub));
+            f = (_e611 - ((exp((-(t_1) * (ub - m_1))) * _e617) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (6.0 / max(t_1, 1e-30))) : airlight_phi_6_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e603 = s;
-        float _e604 = v_3;
-        const float _e605 = airlight_phi_6_r_of_v(_e604, md_4);
-        float _e609 = v_3;
-        s = (_e603 + ((0.34785485 * _e605) * exp((-(t_1) * ((1.0 / _e609) - m_1)))));
+        float _e644 = s;
+        float _e645 = v_3;
+        const float _e646 = airlight_phi_6_r_of_v(_e645, md_4);
+        float _e650 = v_3;
+        s = (_e644 + ((0.34785485 * _e646) * exp((-(t_1) * ((1.0 / _e650) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e620 = s;
-        float _e621 = v_3;
-        const float _e622 = airlight_phi_6_r_of_v(_e621, md_4);
-        float _e626 = v_3;
-        s = (_e620 + ((0.65214515 * _e622) * exp((-(t_1) * ((1.0 / _e626) - m_1)))));
+        float _e661 = s;
+        float _e662 = v_3;
+        const float _e663 = airlight_phi_6_r_of_v(_e662, md_4);
+        float _e667 = v_3;
+        s = (_e661 + ((0.65214515 * _e663) * exp((-(t_1) * ((1.0 / _e667) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e637 = s;
-        float _e638 = v_3;
-        const float _e639 = airlight_phi_6_r_of_v(_e638, md_4);
-        float _e643 = v_3;
-        s = (_e637 + ((0.65214515 * _e639) * exp((-(t_1) * ((1.0 / _e643) - m_1)))));
+        float _e678 = s;
+        float _e679 = v_3;
+        const float _e680 = airlight_phi_6_r_of_v(_e679, md_4);
+        float _e684 = v_3;
+        s = (_e678 + ((0.65214515 * _e680) * exp((-(t_1) * ((1.0 / _e684) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e654 = s;
-        float _e655 = v_3;
-        const float _e656 = airlight_phi_6_r_of_v(_e655, md_4);
-        float _e660 = v_3;
-        s = (_e654 + ((0.34785485 * _e656) * exp((-(t_1) * ((1.0 / _e660) - m_1)))));
-        float _e668 = sum;
-        float _e674 = f;
-        float _e675 = s;
-        sum = (_e668 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e674 + (_e675 * hl_2))));
+        float _e695 = s;
+        float _e696 = v_3;
+        const float _e697 = airlight_phi_6_r_of_v(_e696, md_4);
+        float _e701 = v_3;
+        s = (_e695 + ((0.34785485 * _e697) * exp((-(t_1) * ((1.0 / _e701) - m_1)))));
+        float _e709 = sum;
+        float _e715 = f;
+        float _e716 = s;
+        sum = (_e709 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e715 + (_e716 * hl_2))));
     } else {
-        float _e680 = du;
-        if ((_e680 > lcut)) {
+        float _e721 = du;
+        if ((_e721 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e685 = s_1;
-            const float _e689 = airlight_phi_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e685 + (0.711093 * _e689));
-            float _e693 = s_1;
-            const float _e697 = airlight_phi_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e693 + (0.27851772 * _e697));
-            float _e701 = s_1;
-            const float _e705 = airlight_phi_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e701 + (0.010389256 * _e705));
+            float _e726 = s_1;
+            const float _e730 = airlight_phi_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e726 + (0.711093 * _e730));
+            float _e734 = s_1;
+            const float _e738 = airlight_phi_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e734 + (0.27851772 * _e738));
+            float _e742 = s_1;
+            const float _e746 = airlight_phi_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e742 + (0.010389256 * _e746));
             if (!(open)) {
-                float _e712 = sb;
-                const float _e716 = airlight_phi_6_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e712 + (0.711093 * _e716));
-                float _e720 = sb;
-                const float _e724 = airlight_phi_6_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e720 + (0.27851772 * _e724));
-                float _e728 = sb;
-                const float _e732 = airlight_phi_6_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e728 + (0.010389256 * _e732));
-                float _e736 = s_1;
-                float _e738 = du;
-                float _e742 = sb;
-                s_1 = (_e736 - (exp((-(t_1) * (_e738 - lcut))) * _e742));
+                float _e753 = sb;
+                const float _e757 = airlight_phi_6_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e753 + (0.711093 * _e757));
+                float _e761 = sb;
+                const float _e765 = airlight_phi_6_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e761 + (0.27851772 * _e765));
+                float _e769 = sb;
+                const float _e773 = airlight_phi_6_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e769 + (0.010389256 * _e773));
+                float _e777 = s_1;
+                float _e779 = du;
+                float _e783 = sb;
+                s_1 = (_e777 - (exp((-(t_1) * (_e779 - lcut))) * _e783));
             }
-            float _e745 = sum;
-            float _e748 = s_1;
-            sum = (_e745 + ((0.01831564 / t_1) * max(_e748, 0.0)));
+            float _e786 = sum;
+            float _e789 = s_1;
+            sum = (_e786 + ((0.01831564 / t_1) * max(_e789, 0.0)));
         }
     }
-    float _e757 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e757 / h_5)), 0.0), airlight_phi_6_HUGE);
+    float _e798 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e798 / h_5)), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(float tau, float gamma, float rho_1, float g)
@@ -714,7 +714,7 @@ float airlight_phi_6_airlight(float tau, float gamma, float rho_1, float g)
 
 float airlight_phi_6_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e8 = airlight_phi_6_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -722,11 +722,11 @@ float airlight_phi_6_radiance(float3 origin_1, float3 dir_1, float surface, floa
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_12 = (_e8.z == 0.0);
+        local_11 = (_e8.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e24 = local_12;
+    bool _e24 = local_11;
     if (_e24) {
         return 0.0;
     }
@@ -763,7 +763,7 @@ float3 airlight_phi_6_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_13 = (bool)0;
+    bool local_12 = (bool)0;
 
     h1_ = h_3;
     x1_ = x0_3;
@@ -782,11 +782,11 @@ float3 airlight_phi_6_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_4 >= 0.0);
+            local_12 = (rho_4 >= 0.0);
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -817,7 +817,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_phi_6_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_5)
 {
-    bool local_14 = (bool)0;
+    bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
@@ -831,11 +831,11 @@ float3 airlight_phi_6_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
         return (0.0).xxx;
     }
     if (!((g_5 < 0.0))) {
-        local_14 = (v_in > 3.0);
+        local_13 = (v_in > 3.0);
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = (_e25 ? v_in : u_2);
     const float _e27 = airlight_phi_6_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if ((_e27 > 0.0)) {
@@ -1041,14 +1041,14 @@ float airlight_phi_6_spot_weight(float c_2, float co_3, float ci_2)
 
 float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
 {
+    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
-    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_16 = (bool)0;
     float scale = 1.0;
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1058,8 +1058,8 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_phi_6_PI;
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1070,16 +1070,16 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
     const float _e18 = airlight_phi_6_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_16 = (_e18 <= airlight_phi_6_HUGE);
+            local_15 = (_e18 <= airlight_phi_6_HUGE);
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e29 = local_16;
-        local_15 = !(_e29);
+        bool _e29 = local_15;
+        local_14 = !(_e29);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e32 = local_15;
+    bool _e32 = local_14;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -1089,11 +1089,11 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_17 = (_e17 <= airlight_phi_6_HUGE);
+        local_16 = (_e17 <= airlight_phi_6_HUGE);
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e53 = local_17;
+    bool _e53 = local_16;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -1112,11 +1112,11 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_18 = (_e11.z == 0.0);
+        local_17 = (_e11.z == 0.0);
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e96 = local_18;
+    bool _e96 = local_17;
     if (_e96) {
         return (0.0).xxx;
     }
@@ -1124,30 +1124,30 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
     float h_6 = _e11.y;
     float x0_6 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_7) < airlight_phi_6_RHO_OPEN);
+        local_18 = ((surface_1 / d_7) < airlight_phi_6_RHO_OPEN);
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = (has_end ? (surface_1 / d_7) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_19 = (h_6 <= 0.0);
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e149 = local_20;
+    bool _e149 = local_19;
     if (_e149) {
         if (!(point_)) {
             const float _e152 = airlight_phi_6_spot_weight(-(k_4), co_4, cos_inner);
             const float _e153 = airlight_phi_6_spot_weight(k_4, co_4, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_20 = (rho_7 < 1.0);
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e160 = local_21;
+            bool _e160 = local_20;
             scale = ((x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
         }
         core = true;

@@ -345,13 +345,12 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_, 
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_phi_iso_6_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -373,314 +372,315 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_, 
     bool _e20 = local_4;
     if (_e20) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e30 = local_6;
-        local_5 = !(_e30);
-    } else {
-        local_5 = false;
-    }
-    bool _e33 = local_5;
-    if (_e33) {
+        bool _e28 = local_5;
+        if (_e28) {
+            return min((((0.07957747 * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_iso_6_HUGE);
+        }
         return airlight_phi_iso_6_HUGE;
     }
-    float h_5 = max(h_in, 9.094947e-13);
+    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
     float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_phi_iso_6_RHO_OPEN);
+        local_6 = (rho < airlight_phi_iso_6_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e62 = local_7;
-    bool open = !(_e62);
+    bool _e70 = local_6;
+    bool open = !(_e70);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e96 = du;
-    float ub = (ua + _e96);
+    float _e131 = du;
+    float ub = (ua + _e131);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.0 / max(t_1, 1e-30)) : airlight_phi_iso_6_HUGE);
     float m_1 = max(ua, xf);
-    float _e113 = du;
-    bool is_short = (_e113 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e148 = du;
+    bool is_short = (_e148 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e161 = local_7;
+    if (_e161) {
+        local_8 = ((t_1 * (m_1 - ua)) < 4.0);
     } else {
         local_8 = false;
     }
-    bool _e126 = local_8;
-    if (_e126) {
-        local_9 = ((t_1 * (m_1 - ua)) < 4.0);
+    bool _e169 = local_8;
+    if (_e169) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e134 = local_9;
-    if (_e134) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e142 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e142, lcut));
+    bool use_far = local_9;
+    float _e177 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e177, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e162 = local_11;
-        if (_e162) {
+        bool _e197 = local_10;
+        if (_e197) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9324695);
-            float _e168 = sum;
-            float _e169 = d_2;
-            const float _e171 = airlight_phi_iso_6_w_u((ua + _e169), md_4);
-            float _e175 = d_2;
-            sum = (_e168 + ((0.17132449 * _e171) * exp((-(t_1) * _e175))));
+            float _e203 = sum;
+            float _e204 = d_2;
+            const float _e206 = airlight_phi_iso_6_w_u((ua + _e204), md_4);
+            float _e210 = d_2;
+            sum = (_e203 + ((0.17132449 * _e206) * exp((-(t_1) * _e210))));
             d_2 = (hl * 1.6612093);
-            float _e182 = sum;
-            float _e183 = d_2;
-            const float _e185 = airlight_phi_iso_6_w_u((ua + _e183), md_4);
-            float _e189 = d_2;
-            sum = (_e182 + ((0.36076158 * _e185) * exp((-(t_1) * _e189))));
+            float _e217 = sum;
+            float _e218 = d_2;
+            const float _e220 = airlight_phi_iso_6_w_u((ua + _e218), md_4);
+            float _e224 = d_2;
+            sum = (_e217 + ((0.36076158 * _e220) * exp((-(t_1) * _e224))));
             d_2 = (hl * 1.2386192);
-            float _e196 = sum;
-            float _e197 = d_2;
-            const float _e199 = airlight_phi_iso_6_w_u((ua + _e197), md_4);
-            float _e203 = d_2;
-            sum = (_e196 + ((0.46791393 * _e199) * exp((-(t_1) * _e203))));
+            float _e231 = sum;
+            float _e232 = d_2;
+            const float _e234 = airlight_phi_iso_6_w_u((ua + _e232), md_4);
+            float _e238 = d_2;
+            sum = (_e231 + ((0.46791393 * _e234) * exp((-(t_1) * _e238))));
             d_2 = (hl * 0.7613808);
-            float _e210 = sum;
-            float _e211 = d_2;
-            const float _e213 = airlight_phi_iso_6_w_u((ua + _e211), md_4);
-            float _e217 = d_2;
-            sum = (_e210 + ((0.46791393 * _e213) * exp((-(t_1) * _e217))));
+            float _e245 = sum;
+            float _e246 = d_2;
+            const float _e248 = airlight_phi_iso_6_w_u((ua + _e246), md_4);
+            float _e252 = d_2;
+            sum = (_e245 + ((0.46791393 * _e248) * exp((-(t_1) * _e252))));
             d_2 = (hl * 0.3387906);
-            float _e224 = sum;
-            float _e225 = d_2;
-            const float _e227 = airlight_phi_iso_6_w_u((ua + _e225), md_4);
-            float _e231 = d_2;
-            sum = (_e224 + ((0.36076158 * _e227) * exp((-(t_1) * _e231))));
+            float _e259 = sum;
+            float _e260 = d_2;
+            const float _e262 = airlight_phi_iso_6_w_u((ua + _e260), md_4);
+            float _e266 = d_2;
+            sum = (_e259 + ((0.36076158 * _e262) * exp((-(t_1) * _e266))));
             d_2 = (hl * 0.06753051);
-            float _e238 = sum;
-            float _e239 = d_2;
-            const float _e241 = airlight_phi_iso_6_w_u((ua + _e239), md_4);
-            float _e245 = d_2;
-            sum = (_e238 + ((0.17132449 * _e241) * exp((-(t_1) * _e245))));
-            float _e250 = sum;
-            sum = (_e250 * hl);
+            float _e273 = sum;
+            float _e274 = d_2;
+            const float _e276 = airlight_phi_iso_6_w_u((ua + _e274), md_4);
+            float _e280 = d_2;
+            sum = (_e273 + ((0.17132449 * _e276) * exp((-(t_1) * _e280))));
+            float _e285 = sum;
+            sum = (_e285 * hl);
         } else {
-            const float2 _e252 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
-            const float2 _e254 = airlight_phi_iso_6_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e252.y < 1.5707964) ? (_e252.y - _e254.y) : (_e254.x - _e252.x)));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 1.9324695));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 1.9324695));
-            float _e287 = beta;
-            float _e288 = co;
-            const float2 _e292 = airlight_phi_iso_6_sin_cos_octant(max(min(_e287, _e288), 0.0));
-            sc = _e292;
-            float _e293 = beta;
-            float _e294 = co;
-            if ((_e293 > _e294)) {
-                float2 _e296 = sc;
-                sc = _e296.yx;
+            const float2 _e287 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
+            const float2 _e289 = airlight_phi_iso_6_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e287.y < 1.5707964) ? (_e287.y - _e289.y) : (_e289.x - _e287.x)));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e322 = beta;
+            float _e323 = co;
+            const float2 _e327 = airlight_phi_iso_6_sin_cos_octant(max(min(_e322, _e323), 0.0));
+            sc = _e327;
+            float _e328 = beta;
+            float _e329 = co;
+            if ((_e328 > _e329)) {
+                float2 _e331 = sc;
+                sc = _e331.yx;
             }
-            float _e299 = sc.x;
-            float _e301 = sc.y;
-            const float2 _e302 = airlight_phi_iso_6_u_and_weight(_e299, _e301, md_4);
-            uw = _e302;
-            float _e303 = sum;
-            float _e305 = uw.y;
-            float _e310 = uw.x;
-            sum = (_e303 + ((0.17132449 * _e305) * exp((-(t_1) * (_e310 - ua)))));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 1.6612093));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 1.6612093));
-            float _e332 = beta;
-            float _e333 = co;
-            const float2 _e337 = airlight_phi_iso_6_sin_cos_octant(max(min(_e332, _e333), 0.0));
-            sc = _e337;
-            float _e338 = beta;
-            float _e339 = co;
-            if ((_e338 > _e339)) {
-                float2 _e341 = sc;
-                sc = _e341.yx;
+            float _e334 = sc.x;
+            float _e336 = sc.y;
+            const float2 _e337 = airlight_phi_iso_6_u_and_weight(_e334, _e336, md_4);
+            uw = _e337;
+            float _e338 = sum;
+            float _e340 = uw.y;
+            float _e345 = uw.x;
+            sum = (_e338 + ((0.17132449 * _e340) * exp((-(t_1) * (_e345 - ua)))));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e367 = beta;
+            float _e368 = co;
+            const float2 _e372 = airlight_phi_iso_6_sin_cos_octant(max(min(_e367, _e368), 0.0));
+            sc = _e372;
+            float _e373 = beta;
+            float _e374 = co;
+            if ((_e373 > _e374)) {
+                float2 _e376 = sc;
+                sc = _e376.yx;
             }
-            float _e344 = sc.x;
-            float _e346 = sc.y;
-            const float2 _e347 = airlight_phi_iso_6_u_and_weight(_e344, _e346, md_4);
-            uw = _e347;
-            float _e348 = sum;
-            float _e350 = uw.y;
-            float _e355 = uw.x;
-            sum = (_e348 + ((0.36076158 * _e350) * exp((-(t_1) * (_e355 - ua)))));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 1.2386192));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 1.2386192));
-            float _e377 = beta;
-            float _e378 = co;
-            const float2 _e382 = airlight_phi_iso_6_sin_cos_octant(max(min(_e377, _e378), 0.0));
-            sc = _e382;
-            float _e383 = beta;
-            float _e384 = co;
-            if ((_e383 > _e384)) {
-                float2 _e386 = sc;
-                sc = _e386.yx;
+            float _e379 = sc.x;
+            float _e381 = sc.y;
+            const float2 _e382 = airlight_phi_iso_6_u_and_weight(_e379, _e381, md_4);
+            uw = _e382;
+            float _e383 = sum;
+            float _e385 = uw.y;
+            float _e390 = uw.x;
+            sum = (_e383 + ((0.36076158 * _e385) * exp((-(t_1) * (_e390 - ua)))));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e412 = beta;
+            float _e413 = co;
+            const float2 _e417 = airlight_phi_iso_6_sin_cos_octant(max(min(_e412, _e413), 0.0));
+            sc = _e417;
+            float _e418 = beta;
+            float _e419 = co;
+            if ((_e418 > _e419)) {
+                float2 _e421 = sc;
+                sc = _e421.yx;
             }
-            float _e389 = sc.x;
-            float _e391 = sc.y;
-            const float2 _e392 = airlight_phi_iso_6_u_and_weight(_e389, _e391, md_4);
-            uw = _e392;
-            float _e393 = sum;
-            float _e395 = uw.y;
-            float _e400 = uw.x;
-            sum = (_e393 + ((0.46791393 * _e395) * exp((-(t_1) * (_e400 - ua)))));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 0.7613808));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 0.7613808));
-            float _e422 = beta;
-            float _e423 = co;
-            const float2 _e427 = airlight_phi_iso_6_sin_cos_octant(max(min(_e422, _e423), 0.0));
-            sc = _e427;
-            float _e428 = beta;
-            float _e429 = co;
-            if ((_e428 > _e429)) {
-                float2 _e431 = sc;
-                sc = _e431.yx;
+            float _e424 = sc.x;
+            float _e426 = sc.y;
+            const float2 _e427 = airlight_phi_iso_6_u_and_weight(_e424, _e426, md_4);
+            uw = _e427;
+            float _e428 = sum;
+            float _e430 = uw.y;
+            float _e435 = uw.x;
+            sum = (_e428 + ((0.46791393 * _e430) * exp((-(t_1) * (_e435 - ua)))));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e457 = beta;
+            float _e458 = co;
+            const float2 _e462 = airlight_phi_iso_6_sin_cos_octant(max(min(_e457, _e458), 0.0));
+            sc = _e462;
+            float _e463 = beta;
+            float _e464 = co;
+            if ((_e463 > _e464)) {
+                float2 _e466 = sc;
+                sc = _e466.yx;
             }
-            float _e434 = sc.x;
-            float _e436 = sc.y;
-            const float2 _e437 = airlight_phi_iso_6_u_and_weight(_e434, _e436, md_4);
-            uw = _e437;
-            float _e438 = sum;
-            float _e440 = uw.y;
-            float _e445 = uw.x;
-            sum = (_e438 + ((0.46791393 * _e440) * exp((-(t_1) * (_e445 - ua)))));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 0.3387906));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 0.3387906));
-            float _e467 = beta;
-            float _e468 = co;
-            const float2 _e472 = airlight_phi_iso_6_sin_cos_octant(max(min(_e467, _e468), 0.0));
-            sc = _e472;
-            float _e473 = beta;
-            float _e474 = co;
-            if ((_e473 > _e474)) {
-                float2 _e476 = sc;
-                sc = _e476.yx;
+            float _e469 = sc.x;
+            float _e471 = sc.y;
+            const float2 _e472 = airlight_phi_iso_6_u_and_weight(_e469, _e471, md_4);
+            uw = _e472;
+            float _e473 = sum;
+            float _e475 = uw.y;
+            float _e480 = uw.x;
+            sum = (_e473 + ((0.46791393 * _e475) * exp((-(t_1) * (_e480 - ua)))));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e502 = beta;
+            float _e503 = co;
+            const float2 _e507 = airlight_phi_iso_6_sin_cos_octant(max(min(_e502, _e503), 0.0));
+            sc = _e507;
+            float _e508 = beta;
+            float _e509 = co;
+            if ((_e508 > _e509)) {
+                float2 _e511 = sc;
+                sc = _e511.yx;
             }
-            float _e479 = sc.x;
-            float _e481 = sc.y;
-            const float2 _e482 = airlight_phi_iso_6_u_and_weight(_e479, _e481, md_4);
-            uw = _e482;
-            float _e483 = sum;
-            float _e485 = uw.y;
-            float _e490 = uw.x;
-            sum = (_e483 + ((0.36076158 * _e485) * exp((-(t_1) * (_e490 - ua)))));
-            beta = ((0.5 * _e252.x) + ((0.5 * hl_1) * 0.06753051));
-            co = ((0.5 * _e252.y) - ((0.5 * hl_1) * 0.06753051));
-            float _e512 = beta;
-            float _e513 = co;
-            const float2 _e517 = airlight_phi_iso_6_sin_cos_octant(max(min(_e512, _e513), 0.0));
-            sc = _e517;
-            float _e518 = beta;
-            float _e519 = co;
-            if ((_e518 > _e519)) {
-                float2 _e521 = sc;
-                sc = _e521.yx;
+            float _e514 = sc.x;
+            float _e516 = sc.y;
+            const float2 _e517 = airlight_phi_iso_6_u_and_weight(_e514, _e516, md_4);
+            uw = _e517;
+            float _e518 = sum;
+            float _e520 = uw.y;
+            float _e525 = uw.x;
+            sum = (_e518 + ((0.36076158 * _e520) * exp((-(t_1) * (_e525 - ua)))));
+            beta = ((0.5 * _e287.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e287.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e547 = beta;
+            float _e548 = co;
+            const float2 _e552 = airlight_phi_iso_6_sin_cos_octant(max(min(_e547, _e548), 0.0));
+            sc = _e552;
+            float _e553 = beta;
+            float _e554 = co;
+            if ((_e553 > _e554)) {
+                float2 _e556 = sc;
+                sc = _e556.yx;
             }
-            float _e524 = sc.x;
-            float _e526 = sc.y;
-            const float2 _e527 = airlight_phi_iso_6_u_and_weight(_e524, _e526, md_4);
-            uw = _e527;
-            float _e528 = sum;
-            float _e530 = uw.y;
-            float _e535 = uw.x;
-            sum = (_e528 + ((0.17132449 * _e530) * exp((-(t_1) * (_e535 - ua)))));
-            float _e541 = sum;
-            sum = (_e541 * (hl_1 * 0.07957747));
+            float _e559 = sc.x;
+            float _e561 = sc.y;
+            const float2 _e562 = airlight_phi_iso_6_u_and_weight(_e559, _e561, md_4);
+            uw = _e562;
+            float _e563 = sum;
+            float _e565 = uw.y;
+            float _e570 = uw.x;
+            sum = (_e563 + ((0.17132449 * _e565) * exp((-(t_1) * (_e570 - ua)))));
+            float _e576 = sum;
+            sum = (_e576 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e547 = airlight_phi_iso_6_exp_e2_((t_1 * m_1));
-        f = (_e547 / m_1);
+        const float _e582 = airlight_phi_iso_6_exp_e2_((t_1 * m_1));
+        f = (_e582 / m_1);
         if (!(open)) {
-            float _e551 = f;
-            const float _e557 = airlight_phi_iso_6_exp_e2_((t_1 * ub));
-            f = (_e551 - ((exp((-(t_1) * (ub - m_1))) * _e557) / ub));
+            float _e586 = f;
+            const float _e592 = airlight_phi_iso_6_exp_e2_((t_1 * ub));
+            f = (_e586 - ((exp((-(t_1) * (ub - m_1))) * _e592) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (6.0 / max(t_1, 1e-30))) : airlight_phi_iso_6_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e584 = s;
-        float _e585 = v_3;
-        const float _e586 = airlight_phi_iso_6_r_of_v(_e585, md_4);
-        float _e590 = v_3;
-        s = (_e584 + ((0.34785485 * _e586) * exp((-(t_1) * ((1.0 / _e590) - m_1)))));
+        float _e619 = s;
+        float _e620 = v_3;
+        const float _e621 = airlight_phi_iso_6_r_of_v(_e620, md_4);
+        float _e625 = v_3;
+        s = (_e619 + ((0.34785485 * _e621) * exp((-(t_1) * ((1.0 / _e625) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e601 = s;
-        float _e602 = v_3;
-        const float _e603 = airlight_phi_iso_6_r_of_v(_e602, md_4);
-        float _e607 = v_3;
-        s = (_e601 + ((0.65214515 * _e603) * exp((-(t_1) * ((1.0 / _e607) - m_1)))));
+        float _e636 = s;
+        float _e637 = v_3;
+        const float _e638 = airlight_phi_iso_6_r_of_v(_e637, md_4);
+        float _e642 = v_3;
+        s = (_e636 + ((0.65214515 * _e638) * exp((-(t_1) * ((1.0 / _e642) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e618 = s;
-        float _e619 = v_3;
-        const float _e620 = airlight_phi_iso_6_r_of_v(_e619, md_4);
-        float _e624 = v_3;
-        s = (_e618 + ((0.65214515 * _e620) * exp((-(t_1) * ((1.0 / _e624) - m_1)))));
+        float _e653 = s;
+        float _e654 = v_3;
+        const float _e655 = airlight_phi_iso_6_r_of_v(_e654, md_4);
+        float _e659 = v_3;
+        s = (_e653 + ((0.65214515 * _e655) * exp((-(t_1) * ((1.0 / _e659) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e635 = s;
-        float _e636 = v_3;
-        const float _e637 = airlight_phi_iso_6_r_of_v(_e636, md_4);
-        float _e641 = v_3;
-        s = (_e635 + ((0.34785485 * _e637) * exp((-(t_1) * ((1.0 / _e641) - m_1)))));
-        float _e649 = sum;
-        float _e655 = f;
-        float _e656 = s;
-        sum = (_e649 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e655 + (_e656 * hl_2))));
+        float _e670 = s;
+        float _e671 = v_3;
+        const float _e672 = airlight_phi_iso_6_r_of_v(_e671, md_4);
+        float _e676 = v_3;
+        s = (_e670 + ((0.34785485 * _e672) * exp((-(t_1) * ((1.0 / _e676) - m_1)))));
+        float _e684 = sum;
+        float _e690 = f;
+        float _e691 = s;
+        sum = (_e684 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e690 + (_e691 * hl_2))));
     } else {
-        float _e661 = du;
-        if ((_e661 > lcut)) {
+        float _e696 = du;
+        if ((_e696 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e666 = s_1;
-            const float _e670 = airlight_phi_iso_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e666 + (0.711093 * _e670));
-            float _e674 = s_1;
-            const float _e678 = airlight_phi_iso_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e674 + (0.27851772 * _e678));
-            float _e682 = s_1;
-            const float _e686 = airlight_phi_iso_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e682 + (0.010389256 * _e686));
+            float _e701 = s_1;
+            const float _e705 = airlight_phi_iso_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e701 + (0.711093 * _e705));
+            float _e709 = s_1;
+            const float _e713 = airlight_phi_iso_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e709 + (0.27851772 * _e713));
+            float _e717 = s_1;
+            const float _e721 = airlight_phi_iso_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e717 + (0.010389256 * _e721));
             if (!(open)) {
-                float _e693 = sb;
-                const float _e697 = airlight_phi_iso_6_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e693 + (0.711093 * _e697));
-                float _e701 = sb;
-                const float _e705 = airlight_phi_iso_6_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e701 + (0.27851772 * _e705));
-                float _e709 = sb;
-                const float _e713 = airlight_phi_iso_6_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e709 + (0.010389256 * _e713));
-                float _e717 = s_1;
-                float _e719 = du;
-                float _e723 = sb;
-                s_1 = (_e717 - (exp((-(t_1) * (_e719 - lcut))) * _e723));
+                float _e728 = sb;
+                const float _e732 = airlight_phi_iso_6_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e728 + (0.711093 * _e732));
+                float _e736 = sb;
+                const float _e740 = airlight_phi_iso_6_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e736 + (0.27851772 * _e740));
+                float _e744 = sb;
+                const float _e748 = airlight_phi_iso_6_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e744 + (0.010389256 * _e748));
+                float _e752 = s_1;
+                float _e754 = du;
+                float _e758 = sb;
+                s_1 = (_e752 - (exp((-(t_1) * (_e754 - lcut))) * _e758));
             }
-            float _e726 = sum;
-            float _e729 = s_1;
-            sum = (_e726 + ((0.01831564 / t_1) * max(_e729, 0.0)));
+            float _e761 = sum;
+            float _e764 = s_1;
+            sum = (_e761 + ((0.01831564 / t_1) * max(_e764, 0.0)));
         }
     }
-    float _e738 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e738 / h_5)), 0.0), airlight_phi_iso_6_HUGE);
+    float _e773 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e773 / h_5)), 0.0), airlight_phi_iso_6_HUGE);
 }
 
 float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_1)
@@ -692,7 +692,7 @@ float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_1)
 
 float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e7 = airlight_phi_iso_6_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -700,11 +700,11 @@ float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, 
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_12 = (_e7.z == 0.0);
+        local_11 = (_e7.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_11;
     if (_e23) {
         return 0.0;
     }
@@ -741,7 +741,7 @@ float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_3, float x0_3, float r
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_13 = (bool)0;
+    bool local_12 = (bool)0;
 
     h1_ = h_3;
     x1_ = x0_3;
@@ -760,11 +760,11 @@ float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_3, float x0_3, float r
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_4 >= 0.0);
+            local_12 = (rho_4 >= 0.0);
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -795,7 +795,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_3)
 {
-    bool local_14 = (bool)0;
+    bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
@@ -809,11 +809,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
         return (0.0).xxx;
     }
     if (!((g_3 < 0.0))) {
-        local_14 = (v_in > 3.0);
+        local_13 = (v_in > 3.0);
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = (_e25 ? v_in : u_2);
     const float _e27 = airlight_phi_iso_6_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if ((_e27 > 0.0)) {
@@ -1019,14 +1019,14 @@ float airlight_phi_iso_6_spot_weight(float c_2, float co_3, float ci_2)
 
 float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
 {
+    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
-    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_16 = (bool)0;
     float scale = 1.0;
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1036,8 +1036,8 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_phi_iso_6_PI;
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1048,16 +1048,16 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     const float _e17 = airlight_phi_iso_6_max_abs(axis);
     if (!(point_)) {
         if ((_e17 > 0.0)) {
-            local_16 = (_e17 <= airlight_phi_iso_6_HUGE);
+            local_15 = (_e17 <= airlight_phi_iso_6_HUGE);
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e28 = local_16;
-        local_15 = !(_e28);
+        bool _e28 = local_15;
+        local_14 = !(_e28);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e31 = local_15;
+    bool _e31 = local_14;
     if (_e31) {
         return (0.0).xxx;
     }
@@ -1067,11 +1067,11 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         ax = normalize((axis / (_e17).xxx));
     }
     if ((_e16 > 0.0)) {
-        local_17 = (_e16 <= airlight_phi_iso_6_HUGE);
+        local_16 = (_e16 <= airlight_phi_iso_6_HUGE);
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e52 = local_17;
+    bool _e52 = local_16;
     if (_e52) {
         n = normalize((dir_2 / (_e16).xxx));
     }
@@ -1090,11 +1090,11 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
-        local_18 = (_e10.z == 0.0);
+        local_17 = (_e10.z == 0.0);
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e95 = local_18;
+    bool _e95 = local_17;
     if (_e95) {
         return (0.0).xxx;
     }
@@ -1102,29 +1102,29 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     float h_6 = _e10.y;
     float x0_6 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN);
+        local_18 = ((surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN);
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = (has_end ? (surface_1 / d_4) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_19 = (h_6 <= 0.0);
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e146 = local_20;
+    bool _e146 = local_19;
     if (_e146) {
         if (!(point_)) {
             const float _e149 = airlight_phi_iso_6_spot_weight(-(k_3), co_4, cos_inner);
             const float _e150 = airlight_phi_iso_6_spot_weight(k_3, co_4, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_20 = (rho_7 < 1.0);
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e157 = local_21;
+            bool _e157 = local_20;
             scale = ((x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : max(_e149, _e150)));
         }
         core = true;

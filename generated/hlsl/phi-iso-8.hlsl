@@ -345,13 +345,12 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_phi_iso_8_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -373,366 +372,367 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
     bool _e20 = local_4;
     if (_e20) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e30 = local_6;
-        local_5 = !(_e30);
-    } else {
-        local_5 = false;
-    }
-    bool _e33 = local_5;
-    if (_e33) {
+        bool _e28 = local_5;
+        if (_e28) {
+            return min((((0.07957747 * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_iso_8_HUGE);
+        }
         return airlight_phi_iso_8_HUGE;
     }
-    float h_5 = max(h_in, 9.094947e-13);
+    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
     float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_phi_iso_8_RHO_OPEN);
+        local_6 = (rho < airlight_phi_iso_8_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e62 = local_7;
-    bool open = !(_e62);
+    bool _e70 = local_6;
+    bool open = !(_e70);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e96 = du;
-    float ub = (ua + _e96);
+    float _e131 = du;
+    float ub = (ua + _e131);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (5.0 / max(t_1, 1e-30)) : airlight_phi_iso_8_HUGE);
     float m_1 = max(ua, xf);
-    float _e113 = du;
-    bool is_short = (_e113 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e148 = du;
+    bool is_short = (_e148 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e161 = local_7;
+    if (_e161) {
+        local_8 = ((t_1 * (m_1 - ua)) < 5.0);
     } else {
         local_8 = false;
     }
-    bool _e126 = local_8;
-    if (_e126) {
-        local_9 = ((t_1 * (m_1 - ua)) < 5.0);
+    bool _e169 = local_8;
+    if (_e169) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e134 = local_9;
-    if (_e134) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e142 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e142, lcut));
+    bool use_far = local_9;
+    float _e177 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e177, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e162 = local_11;
-        if (_e162) {
+        bool _e197 = local_10;
+        if (_e197) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9602898);
-            float _e168 = sum;
-            float _e169 = d_2;
-            const float _e171 = airlight_phi_iso_8_w_u((ua + _e169), md_4);
-            float _e175 = d_2;
-            sum = (_e168 + ((0.101228535 * _e171) * exp((-(t_1) * _e175))));
+            float _e203 = sum;
+            float _e204 = d_2;
+            const float _e206 = airlight_phi_iso_8_w_u((ua + _e204), md_4);
+            float _e210 = d_2;
+            sum = (_e203 + ((0.101228535 * _e206) * exp((-(t_1) * _e210))));
             d_2 = (hl * 1.7966665);
-            float _e182 = sum;
-            float _e183 = d_2;
-            const float _e185 = airlight_phi_iso_8_w_u((ua + _e183), md_4);
-            float _e189 = d_2;
-            sum = (_e182 + ((0.22238104 * _e185) * exp((-(t_1) * _e189))));
+            float _e217 = sum;
+            float _e218 = d_2;
+            const float _e220 = airlight_phi_iso_8_w_u((ua + _e218), md_4);
+            float _e224 = d_2;
+            sum = (_e217 + ((0.22238104 * _e220) * exp((-(t_1) * _e224))));
             d_2 = (hl * 1.5255324);
-            float _e196 = sum;
-            float _e197 = d_2;
-            const float _e199 = airlight_phi_iso_8_w_u((ua + _e197), md_4);
-            float _e203 = d_2;
-            sum = (_e196 + ((0.31370664 * _e199) * exp((-(t_1) * _e203))));
+            float _e231 = sum;
+            float _e232 = d_2;
+            const float _e234 = airlight_phi_iso_8_w_u((ua + _e232), md_4);
+            float _e238 = d_2;
+            sum = (_e231 + ((0.31370664 * _e234) * exp((-(t_1) * _e238))));
             d_2 = (hl * 1.1834346);
-            float _e210 = sum;
-            float _e211 = d_2;
-            const float _e213 = airlight_phi_iso_8_w_u((ua + _e211), md_4);
-            float _e217 = d_2;
-            sum = (_e210 + ((0.36268377 * _e213) * exp((-(t_1) * _e217))));
+            float _e245 = sum;
+            float _e246 = d_2;
+            const float _e248 = airlight_phi_iso_8_w_u((ua + _e246), md_4);
+            float _e252 = d_2;
+            sum = (_e245 + ((0.36268377 * _e248) * exp((-(t_1) * _e252))));
             d_2 = (hl * 0.8165654);
-            float _e224 = sum;
-            float _e225 = d_2;
-            const float _e227 = airlight_phi_iso_8_w_u((ua + _e225), md_4);
-            float _e231 = d_2;
-            sum = (_e224 + ((0.36268377 * _e227) * exp((-(t_1) * _e231))));
+            float _e259 = sum;
+            float _e260 = d_2;
+            const float _e262 = airlight_phi_iso_8_w_u((ua + _e260), md_4);
+            float _e266 = d_2;
+            sum = (_e259 + ((0.36268377 * _e262) * exp((-(t_1) * _e266))));
             d_2 = (hl * 0.47446758);
-            float _e238 = sum;
-            float _e239 = d_2;
-            const float _e241 = airlight_phi_iso_8_w_u((ua + _e239), md_4);
-            float _e245 = d_2;
-            sum = (_e238 + ((0.31370664 * _e241) * exp((-(t_1) * _e245))));
+            float _e273 = sum;
+            float _e274 = d_2;
+            const float _e276 = airlight_phi_iso_8_w_u((ua + _e274), md_4);
+            float _e280 = d_2;
+            sum = (_e273 + ((0.31370664 * _e276) * exp((-(t_1) * _e280))));
             d_2 = (hl * 0.2033335);
-            float _e252 = sum;
-            float _e253 = d_2;
-            const float _e255 = airlight_phi_iso_8_w_u((ua + _e253), md_4);
-            float _e259 = d_2;
-            sum = (_e252 + ((0.22238104 * _e255) * exp((-(t_1) * _e259))));
+            float _e287 = sum;
+            float _e288 = d_2;
+            const float _e290 = airlight_phi_iso_8_w_u((ua + _e288), md_4);
+            float _e294 = d_2;
+            sum = (_e287 + ((0.22238104 * _e290) * exp((-(t_1) * _e294))));
             d_2 = (hl * 0.039710164);
-            float _e266 = sum;
-            float _e267 = d_2;
-            const float _e269 = airlight_phi_iso_8_w_u((ua + _e267), md_4);
-            float _e273 = d_2;
-            sum = (_e266 + ((0.101228535 * _e269) * exp((-(t_1) * _e273))));
-            float _e278 = sum;
-            sum = (_e278 * hl);
+            float _e301 = sum;
+            float _e302 = d_2;
+            const float _e304 = airlight_phi_iso_8_w_u((ua + _e302), md_4);
+            float _e308 = d_2;
+            sum = (_e301 + ((0.101228535 * _e304) * exp((-(t_1) * _e308))));
+            float _e313 = sum;
+            sum = (_e313 * hl);
         } else {
-            const float2 _e280 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
-            const float2 _e282 = airlight_phi_iso_8_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e280.y < 1.5707964) ? (_e280.y - _e282.y) : (_e282.x - _e280.x)));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 1.9602898));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 1.9602898));
-            float _e315 = beta;
-            float _e316 = co;
-            const float2 _e320 = airlight_phi_iso_8_sin_cos_octant(max(min(_e315, _e316), 0.0));
-            sc = _e320;
-            float _e321 = beta;
-            float _e322 = co;
-            if ((_e321 > _e322)) {
-                float2 _e324 = sc;
-                sc = _e324.yx;
+            const float2 _e315 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
+            const float2 _e317 = airlight_phi_iso_8_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e315.y < 1.5707964) ? (_e315.y - _e317.y) : (_e317.x - _e315.x)));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.9602898));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.9602898));
+            float _e350 = beta;
+            float _e351 = co;
+            const float2 _e355 = airlight_phi_iso_8_sin_cos_octant(max(min(_e350, _e351), 0.0));
+            sc = _e355;
+            float _e356 = beta;
+            float _e357 = co;
+            if ((_e356 > _e357)) {
+                float2 _e359 = sc;
+                sc = _e359.yx;
             }
-            float _e327 = sc.x;
-            float _e329 = sc.y;
-            const float2 _e330 = airlight_phi_iso_8_u_and_weight(_e327, _e329, md_4);
-            uw = _e330;
-            float _e331 = sum;
-            float _e333 = uw.y;
-            float _e338 = uw.x;
-            sum = (_e331 + ((0.101228535 * _e333) * exp((-(t_1) * (_e338 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 1.7966665));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 1.7966665));
-            float _e360 = beta;
-            float _e361 = co;
-            const float2 _e365 = airlight_phi_iso_8_sin_cos_octant(max(min(_e360, _e361), 0.0));
-            sc = _e365;
-            float _e366 = beta;
-            float _e367 = co;
-            if ((_e366 > _e367)) {
-                float2 _e369 = sc;
-                sc = _e369.yx;
+            float _e362 = sc.x;
+            float _e364 = sc.y;
+            const float2 _e365 = airlight_phi_iso_8_u_and_weight(_e362, _e364, md_4);
+            uw = _e365;
+            float _e366 = sum;
+            float _e368 = uw.y;
+            float _e373 = uw.x;
+            sum = (_e366 + ((0.101228535 * _e368) * exp((-(t_1) * (_e373 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.7966665));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.7966665));
+            float _e395 = beta;
+            float _e396 = co;
+            const float2 _e400 = airlight_phi_iso_8_sin_cos_octant(max(min(_e395, _e396), 0.0));
+            sc = _e400;
+            float _e401 = beta;
+            float _e402 = co;
+            if ((_e401 > _e402)) {
+                float2 _e404 = sc;
+                sc = _e404.yx;
             }
-            float _e372 = sc.x;
-            float _e374 = sc.y;
-            const float2 _e375 = airlight_phi_iso_8_u_and_weight(_e372, _e374, md_4);
-            uw = _e375;
-            float _e376 = sum;
-            float _e378 = uw.y;
-            float _e383 = uw.x;
-            sum = (_e376 + ((0.22238104 * _e378) * exp((-(t_1) * (_e383 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 1.5255324));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 1.5255324));
-            float _e405 = beta;
-            float _e406 = co;
-            const float2 _e410 = airlight_phi_iso_8_sin_cos_octant(max(min(_e405, _e406), 0.0));
-            sc = _e410;
-            float _e411 = beta;
-            float _e412 = co;
-            if ((_e411 > _e412)) {
-                float2 _e414 = sc;
-                sc = _e414.yx;
+            float _e407 = sc.x;
+            float _e409 = sc.y;
+            const float2 _e410 = airlight_phi_iso_8_u_and_weight(_e407, _e409, md_4);
+            uw = _e410;
+            float _e411 = sum;
+            float _e413 = uw.y;
+            float _e418 = uw.x;
+            sum = (_e411 + ((0.22238104 * _e413) * exp((-(t_1) * (_e418 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.5255324));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.5255324));
+            float _e440 = beta;
+            float _e441 = co;
+            const float2 _e445 = airlight_phi_iso_8_sin_cos_octant(max(min(_e440, _e441), 0.0));
+            sc = _e445;
+            float _e446 = beta;
+            float _e447 = co;
+            if ((_e446 > _e447)) {
+                float2 _e449 = sc;
+                sc = _e449.yx;
             }
-            float _e417 = sc.x;
-            float _e419 = sc.y;
-            const float2 _e420 = airlight_phi_iso_8_u_and_weight(_e417, _e419, md_4);
-            uw = _e420;
-            float _e421 = sum;
-            float _e423 = uw.y;
-            float _e428 = uw.x;
-            sum = (_e421 + ((0.31370664 * _e423) * exp((-(t_1) * (_e428 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 1.1834346));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 1.1834346));
-            float _e450 = beta;
-            float _e451 = co;
-            const float2 _e455 = airlight_phi_iso_8_sin_cos_octant(max(min(_e450, _e451), 0.0));
-            sc = _e455;
-            float _e456 = beta;
-            float _e457 = co;
-            if ((_e456 > _e457)) {
-                float2 _e459 = sc;
-                sc = _e459.yx;
+            float _e452 = sc.x;
+            float _e454 = sc.y;
+            const float2 _e455 = airlight_phi_iso_8_u_and_weight(_e452, _e454, md_4);
+            uw = _e455;
+            float _e456 = sum;
+            float _e458 = uw.y;
+            float _e463 = uw.x;
+            sum = (_e456 + ((0.31370664 * _e458) * exp((-(t_1) * (_e463 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.1834346));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.1834346));
+            float _e485 = beta;
+            float _e486 = co;
+            const float2 _e490 = airlight_phi_iso_8_sin_cos_octant(max(min(_e485, _e486), 0.0));
+            sc = _e490;
+            float _e491 = beta;
+            float _e492 = co;
+            if ((_e491 > _e492)) {
+                float2 _e494 = sc;
+                sc = _e494.yx;
             }
-            float _e462 = sc.x;
-            float _e464 = sc.y;
-            const float2 _e465 = airlight_phi_iso_8_u_and_weight(_e462, _e464, md_4);
-            uw = _e465;
-            float _e466 = sum;
-            float _e468 = uw.y;
-            float _e473 = uw.x;
-            sum = (_e466 + ((0.36268377 * _e468) * exp((-(t_1) * (_e473 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 0.8165654));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 0.8165654));
-            float _e495 = beta;
-            float _e496 = co;
-            const float2 _e500 = airlight_phi_iso_8_sin_cos_octant(max(min(_e495, _e496), 0.0));
-            sc = _e500;
-            float _e501 = beta;
-            float _e502 = co;
-            if ((_e501 > _e502)) {
-                float2 _e504 = sc;
-                sc = _e504.yx;
+            float _e497 = sc.x;
+            float _e499 = sc.y;
+            const float2 _e500 = airlight_phi_iso_8_u_and_weight(_e497, _e499, md_4);
+            uw = _e500;
+            float _e501 = sum;
+            float _e503 = uw.y;
+            float _e508 = uw.x;
+            sum = (_e501 + ((0.36268377 * _e503) * exp((-(t_1) * (_e508 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.8165654));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.8165654));
+            float _e530 = beta;
+            float _e531 = co;
+            const float2 _e535 = airlight_phi_iso_8_sin_cos_octant(max(min(_e530, _e531), 0.0));
+            sc = _e535;
+            float _e536 = beta;
+            float _e537 = co;
+            if ((_e536 > _e537)) {
+                float2 _e539 = sc;
+                sc = _e539.yx;
             }
-            float _e507 = sc.x;
-            float _e509 = sc.y;
-            const float2 _e510 = airlight_phi_iso_8_u_and_weight(_e507, _e509, md_4);
-            uw = _e510;
-            float _e511 = sum;
-            float _e513 = uw.y;
-            float _e518 = uw.x;
-            sum = (_e511 + ((0.36268377 * _e513) * exp((-(t_1) * (_e518 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 0.47446758));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 0.47446758));
-            float _e540 = beta;
-            float _e541 = co;
-            const float2 _e545 = airlight_phi_iso_8_sin_cos_octant(max(min(_e540, _e541), 0.0));
-            sc = _e545;
-            float _e546 = beta;
-            float _e547 = co;
-            if ((_e546 > _e547)) {
-                float2 _e549 = sc;
-                sc = _e549.yx;
+            float _e542 = sc.x;
+            float _e544 = sc.y;
+            const float2 _e545 = airlight_phi_iso_8_u_and_weight(_e542, _e544, md_4);
+            uw = _e545;
+            float _e546 = sum;
+            float _e548 = uw.y;
+            float _e553 = uw.x;
+            sum = (_e546 + ((0.36268377 * _e548) * exp((-(t_1) * (_e553 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.47446758));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.47446758));
+            float _e575 = beta;
+            float _e576 = co;
+            const float2 _e580 = airlight_phi_iso_8_sin_cos_octant(max(min(_e575, _e576), 0.0));
+            sc = _e580;
+            float _e581 = beta;
+            float _e582 = co;
+            if ((_e581 > _e582)) {
+                float2 _e584 = sc;
+                sc = _e584.yx;
             }
-            float _e552 = sc.x;
-            float _e554 = sc.y;
-            const float2 _e555 = airlight_phi_iso_8_u_and_weight(_e552, _e554, md_4);
-            uw = _e555;
-            float _e556 = sum;
-            float _e558 = uw.y;
-            float _e563 = uw.x;
-            sum = (_e556 + ((0.31370664 * _e558) * exp((-(t_1) * (_e563 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 0.2033335));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 0.2033335));
-            float _e585 = beta;
-            float _e586 = co;
-            const float2 _e590 = airlight_phi_iso_8_sin_cos_octant(max(min(_e585, _e586), 0.0));
-            sc = _e590;
-            float _e591 = beta;
-            float _e592 = co;
-            if ((_e591 > _e592)) {
-                float2 _e594 = sc;
-                sc = _e594.yx;
+            float _e587 = sc.x;
+            float _e589 = sc.y;
+            const float2 _e590 = airlight_phi_iso_8_u_and_weight(_e587, _e589, md_4);
+            uw = _e590;
+            float _e591 = sum;
+            float _e593 = uw.y;
+            float _e598 = uw.x;
+            sum = (_e591 + ((0.31370664 * _e593) * exp((-(t_1) * (_e598 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.2033335));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.2033335));
+            float _e620 = beta;
+            float _e621 = co;
+            const float2 _e625 = airlight_phi_iso_8_sin_cos_octant(max(min(_e620, _e621), 0.0));
+            sc = _e625;
+            float _e626 = beta;
+            float _e627 = co;
+            if ((_e626 > _e627)) {
+                float2 _e629 = sc;
+                sc = _e629.yx;
             }
-            float _e597 = sc.x;
-            float _e599 = sc.y;
-            const float2 _e600 = airlight_phi_iso_8_u_and_weight(_e597, _e599, md_4);
-            uw = _e600;
-            float _e601 = sum;
-            float _e603 = uw.y;
-            float _e608 = uw.x;
-            sum = (_e601 + ((0.22238104 * _e603) * exp((-(t_1) * (_e608 - ua)))));
-            beta = ((0.5 * _e280.x) + ((0.5 * hl_1) * 0.039710164));
-            co = ((0.5 * _e280.y) - ((0.5 * hl_1) * 0.039710164));
-            float _e630 = beta;
-            float _e631 = co;
-            const float2 _e635 = airlight_phi_iso_8_sin_cos_octant(max(min(_e630, _e631), 0.0));
-            sc = _e635;
-            float _e636 = beta;
-            float _e637 = co;
-            if ((_e636 > _e637)) {
-                float2 _e639 = sc;
-                sc = _e639.yx;
+            float _e632 = sc.x;
+            float _e634 = sc.y;
+            const float2 _e635 = airlight_phi_iso_8_u_and_weight(_e632, _e634, md_4);
+            uw = _e635;
+            float _e636 = sum;
+            float _e638 = uw.y;
+            float _e643 = uw.x;
+            sum = (_e636 + ((0.22238104 * _e638) * exp((-(t_1) * (_e643 - ua)))));
+            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.039710164));
+            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.039710164));
+            float _e665 = beta;
+            float _e666 = co;
+            const float2 _e670 = airlight_phi_iso_8_sin_cos_octant(max(min(_e665, _e666), 0.0));
+            sc = _e670;
+            float _e671 = beta;
+            float _e672 = co;
+            if ((_e671 > _e672)) {
+                float2 _e674 = sc;
+                sc = _e674.yx;
             }
-            float _e642 = sc.x;
-            float _e644 = sc.y;
-            const float2 _e645 = airlight_phi_iso_8_u_and_weight(_e642, _e644, md_4);
-            uw = _e645;
-            float _e646 = sum;
-            float _e648 = uw.y;
-            float _e653 = uw.x;
-            sum = (_e646 + ((0.101228535 * _e648) * exp((-(t_1) * (_e653 - ua)))));
-            float _e659 = sum;
-            sum = (_e659 * (hl_1 * 0.07957747));
+            float _e677 = sc.x;
+            float _e679 = sc.y;
+            const float2 _e680 = airlight_phi_iso_8_u_and_weight(_e677, _e679, md_4);
+            uw = _e680;
+            float _e681 = sum;
+            float _e683 = uw.y;
+            float _e688 = uw.x;
+            sum = (_e681 + ((0.101228535 * _e683) * exp((-(t_1) * (_e688 - ua)))));
+            float _e694 = sum;
+            sum = (_e694 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e665 = airlight_phi_iso_8_exp_e2_((t_1 * m_1));
-        f = (_e665 / m_1);
+        const float _e700 = airlight_phi_iso_8_exp_e2_((t_1 * m_1));
+        f = (_e700 / m_1);
         if (!(open)) {
-            float _e669 = f;
-            const float _e675 = airlight_phi_iso_8_exp_e2_((t_1 * ub));
-            f = (_e669 - ((exp((-(t_1) * (ub - m_1))) * _e675) / ub));
+            float _e704 = f;
+            const float _e710 = airlight_phi_iso_8_exp_e2_((t_1 * ub));
+            f = (_e704 - ((exp((-(t_1) * (ub - m_1))) * _e710) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (8.0 / max(t_1, 1e-30))) : airlight_phi_iso_8_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e702 = s;
-        float _e703 = v_3;
-        const float _e704 = airlight_phi_iso_8_r_of_v(_e703, md_4);
-        float _e708 = v_3;
-        s = (_e702 + ((0.34785485 * _e704) * exp((-(t_1) * ((1.0 / _e708) - m_1)))));
+        float _e737 = s;
+        float _e738 = v_3;
+        const float _e739 = airlight_phi_iso_8_r_of_v(_e738, md_4);
+        float _e743 = v_3;
+        s = (_e737 + ((0.34785485 * _e739) * exp((-(t_1) * ((1.0 / _e743) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e719 = s;
-        float _e720 = v_3;
-        const float _e721 = airlight_phi_iso_8_r_of_v(_e720, md_4);
-        float _e725 = v_3;
-        s = (_e719 + ((0.65214515 * _e721) * exp((-(t_1) * ((1.0 / _e725) - m_1)))));
+        float _e754 = s;
+        float _e755 = v_3;
+        const float _e756 = airlight_phi_iso_8_r_of_v(_e755, md_4);
+        float _e760 = v_3;
+        s = (_e754 + ((0.65214515 * _e756) * exp((-(t_1) * ((1.0 / _e760) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e736 = s;
-        float _e737 = v_3;
-        const float _e738 = airlight_phi_iso_8_r_of_v(_e737, md_4);
-        float _e742 = v_3;
-        s = (_e736 + ((0.65214515 * _e738) * exp((-(t_1) * ((1.0 / _e742) - m_1)))));
+        float _e771 = s;
+        float _e772 = v_3;
+        const float _e773 = airlight_phi_iso_8_r_of_v(_e772, md_4);
+        float _e777 = v_3;
+        s = (_e771 + ((0.65214515 * _e773) * exp((-(t_1) * ((1.0 / _e777) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e753 = s;
-        float _e754 = v_3;
-        const float _e755 = airlight_phi_iso_8_r_of_v(_e754, md_4);
-        float _e759 = v_3;
-        s = (_e753 + ((0.34785485 * _e755) * exp((-(t_1) * ((1.0 / _e759) - m_1)))));
-        float _e767 = sum;
-        float _e773 = f;
-        float _e774 = s;
-        sum = (_e767 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e773 + (_e774 * hl_2))));
+        float _e788 = s;
+        float _e789 = v_3;
+        const float _e790 = airlight_phi_iso_8_r_of_v(_e789, md_4);
+        float _e794 = v_3;
+        s = (_e788 + ((0.34785485 * _e790) * exp((-(t_1) * ((1.0 / _e794) - m_1)))));
+        float _e802 = sum;
+        float _e808 = f;
+        float _e809 = s;
+        sum = (_e802 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e808 + (_e809 * hl_2))));
     } else {
-        float _e779 = du;
-        if ((_e779 > lcut)) {
+        float _e814 = du;
+        if ((_e814 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e784 = s_1;
-            const float _e788 = airlight_phi_iso_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e784 + (0.711093 * _e788));
-            float _e792 = s_1;
-            const float _e796 = airlight_phi_iso_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e792 + (0.27851772 * _e796));
-            float _e800 = s_1;
-            const float _e804 = airlight_phi_iso_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e800 + (0.010389256 * _e804));
+            float _e819 = s_1;
+            const float _e823 = airlight_phi_iso_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e819 + (0.711093 * _e823));
+            float _e827 = s_1;
+            const float _e831 = airlight_phi_iso_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e827 + (0.27851772 * _e831));
+            float _e835 = s_1;
+            const float _e839 = airlight_phi_iso_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e835 + (0.010389256 * _e839));
             if (!(open)) {
-                float _e811 = sb;
-                const float _e815 = airlight_phi_iso_8_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e811 + (0.711093 * _e815));
-                float _e819 = sb;
-                const float _e823 = airlight_phi_iso_8_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e819 + (0.27851772 * _e823));
-                float _e827 = sb;
-                const float _e831 = airlight_phi_iso_8_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e827 + (0.010389256 * _e831));
-                float _e835 = s_1;
-                float _e837 = du;
-                float _e841 = sb;
-                s_1 = (_e835 - (exp((-(t_1) * (_e837 - lcut))) * _e841));
+                float _e846 = sb;
+                const float _e850 = airlight_phi_iso_8_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e846 + (0.711093 * _e850));
+                float _e854 = sb;
+                const float _e858 = airlight_phi_iso_8_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e854 + (0.27851772 * _e858));
+                float _e862 = sb;
+                const float _e866 = airlight_phi_iso_8_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e862 + (0.010389256 * _e866));
+                float _e870 = s_1;
+                float _e872 = du;
+                float _e876 = sb;
+                s_1 = (_e870 - (exp((-(t_1) * (_e872 - lcut))) * _e876));
             }
-            float _e844 = sum;
-            float _e847 = s_1;
-            sum = (_e844 + ((0.006737947 / t_1) * max(_e847, 0.0)));
+            float _e879 = sum;
+            float _e882 = s_1;
+            sum = (_e879 + ((0.006737947 / t_1) * max(_e882, 0.0)));
         }
     }
-    float _e856 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e856 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
+    float _e891 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e891 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(float tau, float gamma, float rho_1)
@@ -744,7 +744,7 @@ float airlight_phi_iso_8_airlight(float tau, float gamma, float rho_1)
 
 float airlight_phi_iso_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e7 = airlight_phi_iso_8_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -752,11 +752,11 @@ float airlight_phi_iso_8_radiance(float3 origin_1, float3 dir_1, float surface, 
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_12 = (_e7.z == 0.0);
+        local_11 = (_e7.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_11;
     if (_e23) {
         return 0.0;
     }
@@ -793,7 +793,7 @@ float3 airlight_phi_iso_8_spot_core(float3 tau_3, float h_3, float x0_3, float r
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_13 = (bool)0;
+    bool local_12 = (bool)0;
 
     h1_ = h_3;
     x1_ = x0_3;
@@ -812,11 +812,11 @@ float3 airlight_phi_iso_8_spot_core(float3 tau_3, float h_3, float x0_3, float r
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_4 >= 0.0);
+            local_12 = (rho_4 >= 0.0);
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -847,7 +847,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_phi_iso_8_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_3)
 {
-    bool local_14 = (bool)0;
+    bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
@@ -861,11 +861,11 @@ float3 airlight_phi_iso_8_spot_edge(float3 tau_4, float h_4, float x0_4, float r
         return (0.0).xxx;
     }
     if (!((g_3 < 0.0))) {
-        local_14 = (v_in > 3.0);
+        local_13 = (v_in > 3.0);
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = (_e25 ? v_in : u_2);
     const float _e27 = airlight_phi_iso_8_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if ((_e27 > 0.0)) {
@@ -1071,14 +1071,14 @@ float airlight_phi_iso_8_spot_weight(float c_2, float co_3, float ci_2)
 
 float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
 {
+    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
-    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_16 = (bool)0;
     float scale = 1.0;
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1088,8 +1088,8 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_phi_iso_8_PI;
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1100,16 +1100,16 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
     const float _e17 = airlight_phi_iso_8_max_abs(axis);
     if (!(point_)) {
         if ((_e17 > 0.0)) {
-            local_16 = (_e17 <= airlight_phi_iso_8_HUGE);
+            local_15 = (_e17 <= airlight_phi_iso_8_HUGE);
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e28 = local_16;
-        local_15 = !(_e28);
+        bool _e28 = local_15;
+        local_14 = !(_e28);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e31 = local_15;
+    bool _e31 = local_14;
     if (_e31) {
         return (0.0).xxx;
     }
@@ -1119,11 +1119,11 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
         ax = normalize((axis / (_e17).xxx));
     }
     if ((_e16 > 0.0)) {
-        local_17 = (_e16 <= airlight_phi_iso_8_HUGE);
+        local_16 = (_e16 <= airlight_phi_iso_8_HUGE);
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e52 = local_17;
+    bool _e52 = local_16;
     if (_e52) {
         n = normalize((dir_2 / (_e16).xxx));
     }
@@ -1142,11 +1142,11 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
-        local_18 = (_e10.z == 0.0);
+        local_17 = (_e10.z == 0.0);
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e95 = local_18;
+    bool _e95 = local_17;
     if (_e95) {
         return (0.0).xxx;
     }
@@ -1154,29 +1154,29 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
     float h_6 = _e10.y;
     float x0_6 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_4) < airlight_phi_iso_8_RHO_OPEN);
+        local_18 = ((surface_1 / d_4) < airlight_phi_iso_8_RHO_OPEN);
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = (has_end ? (surface_1 / d_4) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_19 = (h_6 <= 0.0);
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e146 = local_20;
+    bool _e146 = local_19;
     if (_e146) {
         if (!(point_)) {
             const float _e149 = airlight_phi_iso_8_spot_weight(-(k_3), co_4, cos_inner);
             const float _e150 = airlight_phi_iso_8_spot_weight(k_3, co_4, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_20 = (rho_7 < 1.0);
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e157 = local_21;
+            bool _e157 = local_20;
             scale = ((x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : max(_e149, _e150)));
         }
         core = true;

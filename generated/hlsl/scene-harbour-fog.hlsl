@@ -369,7 +369,7 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     if (_e19) {
         return airlight_scene_harbour_fog_HUGE;
     }
-    float h_1 = max(h_in, 9.094947e-13);
+    float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
     float one_minus = ((x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_));
     float ub = (ua + airlight_scene_harbour_fog_HUGE);
@@ -383,14 +383,14 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     } else {
         local_5 = false;
     }
-    bool _e71 = local_5;
-    if (_e71) {
+    bool _e74 = local_5;
+    if (_e74) {
         local_6 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_6 = false;
     }
-    bool _e79 = local_6;
-    if (_e79) {
+    bool _e82 = local_6;
+    if (_e82) {
         local_7 = ((t_1 * m_1) < 4.0);
     } else {
         local_7 = false;
@@ -403,177 +403,177 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
         } else {
             local_8 = true;
         }
-        bool _e106 = local_8;
-        if (_e106) {
+        bool _e109 = local_8;
+        if (_e109) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e112 = sum;
-            float _e113 = d_2;
-            const float _e115 = airlight_scene_harbour_fog_w_u((ua + _e113), md_4);
-            float _e119 = d_2;
-            sum = (_e112 + ((0.34785485 * _e115) * exp((-(t_1) * _e119))));
+            float _e115 = sum;
+            float _e116 = d_2;
+            const float _e118 = airlight_scene_harbour_fog_w_u((ua + _e116), md_4);
+            float _e122 = d_2;
+            sum = (_e115 + ((0.34785485 * _e118) * exp((-(t_1) * _e122))));
             d_2 = (hl * 1.3399811);
-            float _e126 = sum;
-            float _e127 = d_2;
-            const float _e129 = airlight_scene_harbour_fog_w_u((ua + _e127), md_4);
-            float _e133 = d_2;
-            sum = (_e126 + ((0.65214515 * _e129) * exp((-(t_1) * _e133))));
+            float _e129 = sum;
+            float _e130 = d_2;
+            const float _e132 = airlight_scene_harbour_fog_w_u((ua + _e130), md_4);
+            float _e136 = d_2;
+            sum = (_e129 + ((0.65214515 * _e132) * exp((-(t_1) * _e136))));
             d_2 = (hl * 0.660019);
-            float _e140 = sum;
-            float _e141 = d_2;
-            const float _e143 = airlight_scene_harbour_fog_w_u((ua + _e141), md_4);
-            float _e147 = d_2;
-            sum = (_e140 + ((0.65214515 * _e143) * exp((-(t_1) * _e147))));
+            float _e143 = sum;
+            float _e144 = d_2;
+            const float _e146 = airlight_scene_harbour_fog_w_u((ua + _e144), md_4);
+            float _e150 = d_2;
+            sum = (_e143 + ((0.65214515 * _e146) * exp((-(t_1) * _e150))));
             d_2 = (hl * 0.13886368);
-            float _e154 = sum;
-            float _e155 = d_2;
-            const float _e157 = airlight_scene_harbour_fog_w_u((ua + _e155), md_4);
-            float _e161 = d_2;
-            sum = (_e154 + ((0.34785485 * _e157) * exp((-(t_1) * _e161))));
-            float _e166 = sum;
-            sum = (_e166 * hl);
+            float _e157 = sum;
+            float _e158 = d_2;
+            const float _e160 = airlight_scene_harbour_fog_w_u((ua + _e158), md_4);
+            float _e164 = d_2;
+            sum = (_e157 + ((0.34785485 * _e160) * exp((-(t_1) * _e164))));
+            float _e169 = sum;
+            sum = (_e169 * hl);
         } else {
-            const float2 _e168 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
-            const float2 _e170 = airlight_scene_harbour_fog_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e168.y < 1.5707964) ? (_e168.y - _e170.y) : (_e170.x - _e168.x)));
-            beta = ((0.5 * _e168.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e168.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e203 = beta;
-            float _e204 = co;
-            const float2 _e208 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e203, _e204), 0.0));
-            sc = _e208;
-            float _e209 = beta;
-            float _e210 = co;
-            if ((_e209 > _e210)) {
-                float2 _e212 = sc;
-                sc = _e212.yx;
+            const float2 _e171 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
+            const float2 _e173 = airlight_scene_harbour_fog_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e171.y < 1.5707964) ? (_e171.y - _e173.y) : (_e173.x - _e171.x)));
+            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e206 = beta;
+            float _e207 = co;
+            const float2 _e211 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e206, _e207), 0.0));
+            sc = _e211;
+            float _e212 = beta;
+            float _e213 = co;
+            if ((_e212 > _e213)) {
+                float2 _e215 = sc;
+                sc = _e215.yx;
             }
-            float _e215 = sc.x;
-            float _e217 = sc.y;
-            const float2 _e218 = airlight_scene_harbour_fog_u_and_weight(_e215, _e217, md_4);
-            uw = _e218;
-            float _e219 = sum;
-            float _e221 = uw.y;
-            float _e226 = uw.x;
-            sum = (_e219 + ((0.34785485 * _e221) * exp((-(t_1) * (_e226 - ua)))));
-            beta = ((0.5 * _e168.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e168.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e248 = beta;
-            float _e249 = co;
-            const float2 _e253 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e248, _e249), 0.0));
-            sc = _e253;
-            float _e254 = beta;
-            float _e255 = co;
-            if ((_e254 > _e255)) {
-                float2 _e257 = sc;
-                sc = _e257.yx;
+            float _e218 = sc.x;
+            float _e220 = sc.y;
+            const float2 _e221 = airlight_scene_harbour_fog_u_and_weight(_e218, _e220, md_4);
+            uw = _e221;
+            float _e222 = sum;
+            float _e224 = uw.y;
+            float _e229 = uw.x;
+            sum = (_e222 + ((0.34785485 * _e224) * exp((-(t_1) * (_e229 - ua)))));
+            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e251 = beta;
+            float _e252 = co;
+            const float2 _e256 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e251, _e252), 0.0));
+            sc = _e256;
+            float _e257 = beta;
+            float _e258 = co;
+            if ((_e257 > _e258)) {
+                float2 _e260 = sc;
+                sc = _e260.yx;
             }
-            float _e260 = sc.x;
-            float _e262 = sc.y;
-            const float2 _e263 = airlight_scene_harbour_fog_u_and_weight(_e260, _e262, md_4);
-            uw = _e263;
-            float _e264 = sum;
-            float _e266 = uw.y;
-            float _e271 = uw.x;
-            sum = (_e264 + ((0.65214515 * _e266) * exp((-(t_1) * (_e271 - ua)))));
-            beta = ((0.5 * _e168.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e168.y) - ((0.5 * hl_1) * 0.660019));
-            float _e293 = beta;
-            float _e294 = co;
-            const float2 _e298 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e293, _e294), 0.0));
-            sc = _e298;
-            float _e299 = beta;
-            float _e300 = co;
-            if ((_e299 > _e300)) {
-                float2 _e302 = sc;
-                sc = _e302.yx;
+            float _e263 = sc.x;
+            float _e265 = sc.y;
+            const float2 _e266 = airlight_scene_harbour_fog_u_and_weight(_e263, _e265, md_4);
+            uw = _e266;
+            float _e267 = sum;
+            float _e269 = uw.y;
+            float _e274 = uw.x;
+            sum = (_e267 + ((0.65214515 * _e269) * exp((-(t_1) * (_e274 - ua)))));
+            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 0.660019));
+            float _e296 = beta;
+            float _e297 = co;
+            const float2 _e301 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e296, _e297), 0.0));
+            sc = _e301;
+            float _e302 = beta;
+            float _e303 = co;
+            if ((_e302 > _e303)) {
+                float2 _e305 = sc;
+                sc = _e305.yx;
             }
-            float _e305 = sc.x;
-            float _e307 = sc.y;
-            const float2 _e308 = airlight_scene_harbour_fog_u_and_weight(_e305, _e307, md_4);
-            uw = _e308;
-            float _e309 = sum;
-            float _e311 = uw.y;
-            float _e316 = uw.x;
-            sum = (_e309 + ((0.65214515 * _e311) * exp((-(t_1) * (_e316 - ua)))));
-            beta = ((0.5 * _e168.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e168.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e338 = beta;
-            float _e339 = co;
-            const float2 _e343 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e338, _e339), 0.0));
-            sc = _e343;
-            float _e344 = beta;
-            float _e345 = co;
-            if ((_e344 > _e345)) {
-                float2 _e347 = sc;
-                sc = _e347.yx;
+            float _e308 = sc.x;
+            float _e310 = sc.y;
+            const float2 _e311 = airlight_scene_harbour_fog_u_and_weight(_e308, _e310, md_4);
+            uw = _e311;
+            float _e312 = sum;
+            float _e314 = uw.y;
+            float _e319 = uw.x;
+            sum = (_e312 + ((0.65214515 * _e314) * exp((-(t_1) * (_e319 - ua)))));
+            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e341 = beta;
+            float _e342 = co;
+            const float2 _e346 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e341, _e342), 0.0));
+            sc = _e346;
+            float _e347 = beta;
+            float _e348 = co;
+            if ((_e347 > _e348)) {
+                float2 _e350 = sc;
+                sc = _e350.yx;
             }
-            float _e350 = sc.x;
-            float _e352 = sc.y;
-            const float2 _e353 = airlight_scene_harbour_fog_u_and_weight(_e350, _e352, md_4);
-            uw = _e353;
-            float _e354 = sum;
-            float _e356 = uw.y;
-            float _e361 = uw.x;
-            sum = (_e354 + ((0.34785485 * _e356) * exp((-(t_1) * (_e361 - ua)))));
-            float _e367 = sum;
-            sum = (_e367 * (hl_1 * 0.07957747));
+            float _e353 = sc.x;
+            float _e355 = sc.y;
+            const float2 _e356 = airlight_scene_harbour_fog_u_and_weight(_e353, _e355, md_4);
+            uw = _e356;
+            float _e357 = sum;
+            float _e359 = uw.y;
+            float _e364 = uw.x;
+            sum = (_e357 + ((0.34785485 * _e359) * exp((-(t_1) * (_e364 - ua)))));
+            float _e370 = sum;
+            sum = (_e370 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e373 = airlight_scene_harbour_fog_exp_e2_((t_1 * m_1));
-        f = (_e373 / m_1);
+        const float _e376 = airlight_scene_harbour_fog_exp_e2_((t_1 * m_1));
+        f = (_e376 / m_1);
         if (!(true)) {
-            float _e377 = f;
-            const float _e383 = airlight_scene_harbour_fog_exp_e2_((t_1 * ub));
-            f = (_e377 - ((exp((-(t_1) * (ub - m_1))) * _e383) / ub));
+            float _e380 = f;
+            const float _e386 = airlight_scene_harbour_fog_exp_e2_((t_1 * ub));
+            f = (_e380 - ((exp((-(t_1) * (ub - m_1))) * _e386) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_harbour_fog_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e410 = s;
-        float _e411 = v_3;
-        const float _e412 = airlight_scene_harbour_fog_r_of_v(_e411, md_4);
-        float _e416 = v_3;
-        s = (_e410 + ((1.0 * _e412) * exp((-(t_1) * ((1.0 / _e416) - m_1)))));
+        float _e413 = s;
+        float _e414 = v_3;
+        const float _e415 = airlight_scene_harbour_fog_r_of_v(_e414, md_4);
+        float _e419 = v_3;
+        s = (_e413 + ((1.0 * _e415) * exp((-(t_1) * ((1.0 / _e419) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e427 = s;
-        float _e428 = v_3;
-        const float _e429 = airlight_scene_harbour_fog_r_of_v(_e428, md_4);
-        float _e433 = v_3;
-        s = (_e427 + ((1.0 * _e429) * exp((-(t_1) * ((1.0 / _e433) - m_1)))));
-        float _e441 = sum;
-        float _e447 = f;
-        float _e448 = s;
-        sum = (_e441 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e447 + (_e448 * hl_2))));
+        float _e430 = s;
+        float _e431 = v_3;
+        const float _e432 = airlight_scene_harbour_fog_r_of_v(_e431, md_4);
+        float _e436 = v_3;
+        s = (_e430 + ((1.0 * _e432) * exp((-(t_1) * ((1.0 / _e436) - m_1)))));
+        float _e444 = sum;
+        float _e450 = f;
+        float _e451 = s;
+        sum = (_e444 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e450 + (_e451 * hl_2))));
     } else {
         if ((airlight_scene_harbour_fog_HUGE > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e457 = s_1;
-            const float _e461 = airlight_scene_harbour_fog_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e457 + (0.8535534 * _e461));
-            float _e465 = s_1;
-            const float _e469 = airlight_scene_harbour_fog_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e465 + (0.14644662 * _e469));
+            float _e460 = s_1;
+            const float _e464 = airlight_scene_harbour_fog_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e460 + (0.8535534 * _e464));
+            float _e468 = s_1;
+            const float _e472 = airlight_scene_harbour_fog_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e468 + (0.14644662 * _e472));
             if (!(true)) {
-                float _e476 = sb;
-                const float _e480 = airlight_scene_harbour_fog_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e476 + (0.8535534 * _e480));
-                float _e484 = sb;
-                const float _e488 = airlight_scene_harbour_fog_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e484 + (0.14644662 * _e488));
-                float _e492 = s_1;
-                float _e497 = sb;
-                s_1 = (_e492 - (exp((-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut))) * _e497));
+                float _e479 = sb;
+                const float _e483 = airlight_scene_harbour_fog_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e479 + (0.8535534 * _e483));
+                float _e487 = sb;
+                const float _e491 = airlight_scene_harbour_fog_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e487 + (0.14644662 * _e491));
+                float _e495 = s_1;
+                float _e500 = sb;
+                s_1 = (_e495 - (exp((-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut))) * _e500));
             }
-            float _e500 = sum;
-            float _e503 = s_1;
-            sum = (_e500 + ((0.030197384 / t_1) * max(_e503, 0.0)));
+            float _e503 = sum;
+            float _e506 = s_1;
+            sum = (_e503 + ((0.030197384 / t_1) * max(_e506, 0.0)));
         }
     }
-    float _e512 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e512 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
+    float _e515 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e515 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(float tau, float gamma)

@@ -345,13 +345,12 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_scene_smoke_room_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -373,244 +372,245 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     bool _e20 = local_4;
     if (_e20) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e30 = local_6;
-        local_5 = !(_e30);
-    } else {
-        local_5 = false;
-    }
-    bool _e33 = local_5;
-    if (_e33) {
+        bool _e28 = local_5;
+        if (_e28) {
+            return min((((0.07957747 * exp(-(tau_1))) * rho) / (1.0 - rho)), airlight_scene_smoke_room_HUGE);
+        }
         return airlight_scene_smoke_room_HUGE;
     }
-    float h_1 = max(h_in, 9.094947e-13);
+    float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
     float one_minus = ((x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_scene_smoke_room_RHO_OPEN);
+        local_6 = (rho < airlight_scene_smoke_room_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e62 = local_7;
-    bool open = !(_e62);
+    bool _e70 = local_6;
+    bool open = !(_e70);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_1));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_1 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_1));
         } else {
-            du = (((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e96 = du;
-    float ub = (ua + _e96);
+    float _e131 = du;
+    float ub = (ua + _e131);
     float t_1 = (tau_1 * h_1);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_scene_smoke_room_HUGE);
     float m_1 = max(ua, xf);
-    float _e113 = du;
-    bool is_short = (_e113 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e148 = du;
+    bool is_short = (_e148 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e161 = local_7;
+    if (_e161) {
+        local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e126 = local_8;
-    if (_e126) {
-        local_9 = ((t_1 * (m_1 - ua)) < 3.5);
+    bool _e169 = local_8;
+    if (_e169) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e134 = local_9;
-    if (_e134) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e142 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e142, lcut));
+    bool use_far = local_9;
+    float _e177 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e177, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e162 = local_11;
-        if (_e162) {
+        bool _e197 = local_10;
+        if (_e197) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e168 = sum;
-            float _e169 = d_2;
-            const float _e171 = airlight_scene_smoke_room_w_u((ua + _e169), md_4);
-            float _e175 = d_2;
-            sum = (_e168 + ((0.34785485 * _e171) * exp((-(t_1) * _e175))));
+            float _e203 = sum;
+            float _e204 = d_2;
+            const float _e206 = airlight_scene_smoke_room_w_u((ua + _e204), md_4);
+            float _e210 = d_2;
+            sum = (_e203 + ((0.34785485 * _e206) * exp((-(t_1) * _e210))));
             d_2 = (hl * 1.3399811);
-            float _e182 = sum;
-            float _e183 = d_2;
-            const float _e185 = airlight_scene_smoke_room_w_u((ua + _e183), md_4);
-            float _e189 = d_2;
-            sum = (_e182 + ((0.65214515 * _e185) * exp((-(t_1) * _e189))));
+            float _e217 = sum;
+            float _e218 = d_2;
+            const float _e220 = airlight_scene_smoke_room_w_u((ua + _e218), md_4);
+            float _e224 = d_2;
+            sum = (_e217 + ((0.65214515 * _e220) * exp((-(t_1) * _e224))));
             d_2 = (hl * 0.660019);
-            float _e196 = sum;
-            float _e197 = d_2;
-            const float _e199 = airlight_scene_smoke_room_w_u((ua + _e197), md_4);
-            float _e203 = d_2;
-            sum = (_e196 + ((0.65214515 * _e199) * exp((-(t_1) * _e203))));
+            float _e231 = sum;
+            float _e232 = d_2;
+            const float _e234 = airlight_scene_smoke_room_w_u((ua + _e232), md_4);
+            float _e238 = d_2;
+            sum = (_e231 + ((0.65214515 * _e234) * exp((-(t_1) * _e238))));
             d_2 = (hl * 0.13886368);
-            float _e210 = sum;
-            float _e211 = d_2;
-            const float _e213 = airlight_scene_smoke_room_w_u((ua + _e211), md_4);
-            float _e217 = d_2;
-            sum = (_e210 + ((0.34785485 * _e213) * exp((-(t_1) * _e217))));
-            float _e222 = sum;
-            sum = (_e222 * hl);
+            float _e245 = sum;
+            float _e246 = d_2;
+            const float _e248 = airlight_scene_smoke_room_w_u((ua + _e246), md_4);
+            float _e252 = d_2;
+            sum = (_e245 + ((0.34785485 * _e248) * exp((-(t_1) * _e252))));
+            float _e257 = sum;
+            sum = (_e257 * hl);
         } else {
-            const float2 _e224 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
-            const float2 _e226 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e224.y < 1.5707964) ? (_e224.y - _e226.y) : (_e226.x - _e224.x)));
-            beta = ((0.5 * _e224.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e224.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e259 = beta;
-            float _e260 = co;
-            const float2 _e264 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e259, _e260), 0.0));
-            sc = _e264;
-            float _e265 = beta;
-            float _e266 = co;
-            if ((_e265 > _e266)) {
-                float2 _e268 = sc;
-                sc = _e268.yx;
+            const float2 _e259 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
+            const float2 _e261 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e259.y < 1.5707964) ? (_e259.y - _e261.y) : (_e261.x - _e259.x)));
+            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e294 = beta;
+            float _e295 = co;
+            const float2 _e299 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e294, _e295), 0.0));
+            sc = _e299;
+            float _e300 = beta;
+            float _e301 = co;
+            if ((_e300 > _e301)) {
+                float2 _e303 = sc;
+                sc = _e303.yx;
             }
-            float _e271 = sc.x;
-            float _e273 = sc.y;
-            const float2 _e274 = airlight_scene_smoke_room_u_and_weight(_e271, _e273, md_4);
-            uw = _e274;
-            float _e275 = sum;
-            float _e277 = uw.y;
-            float _e282 = uw.x;
-            sum = (_e275 + ((0.34785485 * _e277) * exp((-(t_1) * (_e282 - ua)))));
-            beta = ((0.5 * _e224.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e224.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e304 = beta;
-            float _e305 = co;
-            const float2 _e309 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e304, _e305), 0.0));
-            sc = _e309;
-            float _e310 = beta;
-            float _e311 = co;
-            if ((_e310 > _e311)) {
-                float2 _e313 = sc;
-                sc = _e313.yx;
+            float _e306 = sc.x;
+            float _e308 = sc.y;
+            const float2 _e309 = airlight_scene_smoke_room_u_and_weight(_e306, _e308, md_4);
+            uw = _e309;
+            float _e310 = sum;
+            float _e312 = uw.y;
+            float _e317 = uw.x;
+            sum = (_e310 + ((0.34785485 * _e312) * exp((-(t_1) * (_e317 - ua)))));
+            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e339 = beta;
+            float _e340 = co;
+            const float2 _e344 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e339, _e340), 0.0));
+            sc = _e344;
+            float _e345 = beta;
+            float _e346 = co;
+            if ((_e345 > _e346)) {
+                float2 _e348 = sc;
+                sc = _e348.yx;
             }
-            float _e316 = sc.x;
-            float _e318 = sc.y;
-            const float2 _e319 = airlight_scene_smoke_room_u_and_weight(_e316, _e318, md_4);
-            uw = _e319;
-            float _e320 = sum;
-            float _e322 = uw.y;
-            float _e327 = uw.x;
-            sum = (_e320 + ((0.65214515 * _e322) * exp((-(t_1) * (_e327 - ua)))));
-            beta = ((0.5 * _e224.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e224.y) - ((0.5 * hl_1) * 0.660019));
-            float _e349 = beta;
-            float _e350 = co;
-            const float2 _e354 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e349, _e350), 0.0));
-            sc = _e354;
-            float _e355 = beta;
-            float _e356 = co;
-            if ((_e355 > _e356)) {
-                float2 _e358 = sc;
-                sc = _e358.yx;
+            float _e351 = sc.x;
+            float _e353 = sc.y;
+            const float2 _e354 = airlight_scene_smoke_room_u_and_weight(_e351, _e353, md_4);
+            uw = _e354;
+            float _e355 = sum;
+            float _e357 = uw.y;
+            float _e362 = uw.x;
+            sum = (_e355 + ((0.65214515 * _e357) * exp((-(t_1) * (_e362 - ua)))));
+            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 0.660019));
+            float _e384 = beta;
+            float _e385 = co;
+            const float2 _e389 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e384, _e385), 0.0));
+            sc = _e389;
+            float _e390 = beta;
+            float _e391 = co;
+            if ((_e390 > _e391)) {
+                float2 _e393 = sc;
+                sc = _e393.yx;
             }
-            float _e361 = sc.x;
-            float _e363 = sc.y;
-            const float2 _e364 = airlight_scene_smoke_room_u_and_weight(_e361, _e363, md_4);
-            uw = _e364;
-            float _e365 = sum;
-            float _e367 = uw.y;
-            float _e372 = uw.x;
-            sum = (_e365 + ((0.65214515 * _e367) * exp((-(t_1) * (_e372 - ua)))));
-            beta = ((0.5 * _e224.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e224.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e394 = beta;
-            float _e395 = co;
-            const float2 _e399 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e394, _e395), 0.0));
-            sc = _e399;
-            float _e400 = beta;
-            float _e401 = co;
-            if ((_e400 > _e401)) {
-                float2 _e403 = sc;
-                sc = _e403.yx;
+            float _e396 = sc.x;
+            float _e398 = sc.y;
+            const float2 _e399 = airlight_scene_smoke_room_u_and_weight(_e396, _e398, md_4);
+            uw = _e399;
+            float _e400 = sum;
+            float _e402 = uw.y;
+            float _e407 = uw.x;
+            sum = (_e400 + ((0.65214515 * _e402) * exp((-(t_1) * (_e407 - ua)))));
+            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e429 = beta;
+            float _e430 = co;
+            const float2 _e434 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e429, _e430), 0.0));
+            sc = _e434;
+            float _e435 = beta;
+            float _e436 = co;
+            if ((_e435 > _e436)) {
+                float2 _e438 = sc;
+                sc = _e438.yx;
             }
-            float _e406 = sc.x;
-            float _e408 = sc.y;
-            const float2 _e409 = airlight_scene_smoke_room_u_and_weight(_e406, _e408, md_4);
-            uw = _e409;
-            float _e410 = sum;
-            float _e412 = uw.y;
-            float _e417 = uw.x;
-            sum = (_e410 + ((0.34785485 * _e412) * exp((-(t_1) * (_e417 - ua)))));
-            float _e423 = sum;
-            sum = (_e423 * (hl_1 * 0.07957747));
+            float _e441 = sc.x;
+            float _e443 = sc.y;
+            const float2 _e444 = airlight_scene_smoke_room_u_and_weight(_e441, _e443, md_4);
+            uw = _e444;
+            float _e445 = sum;
+            float _e447 = uw.y;
+            float _e452 = uw.x;
+            sum = (_e445 + ((0.34785485 * _e447) * exp((-(t_1) * (_e452 - ua)))));
+            float _e458 = sum;
+            sum = (_e458 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e429 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
-        f = (_e429 / m_1);
+        const float _e464 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
+        f = (_e464 / m_1);
         if (!(open)) {
-            float _e433 = f;
-            const float _e439 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
-            f = (_e433 - ((exp((-(t_1) * (ub - m_1))) * _e439) / ub));
+            float _e468 = f;
+            const float _e474 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
+            f = (_e468 - ((exp((-(t_1) * (ub - m_1))) * _e474) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_smoke_room_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e466 = s;
-        float _e467 = v_3;
-        const float _e468 = airlight_scene_smoke_room_r_of_v(_e467, md_4);
-        float _e472 = v_3;
-        s = (_e466 + ((1.0 * _e468) * exp((-(t_1) * ((1.0 / _e472) - m_1)))));
+        float _e501 = s;
+        float _e502 = v_3;
+        const float _e503 = airlight_scene_smoke_room_r_of_v(_e502, md_4);
+        float _e507 = v_3;
+        s = (_e501 + ((1.0 * _e503) * exp((-(t_1) * ((1.0 / _e507) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e483 = s;
-        float _e484 = v_3;
-        const float _e485 = airlight_scene_smoke_room_r_of_v(_e484, md_4);
-        float _e489 = v_3;
-        s = (_e483 + ((1.0 * _e485) * exp((-(t_1) * ((1.0 / _e489) - m_1)))));
-        float _e497 = sum;
-        float _e503 = f;
-        float _e504 = s;
-        sum = (_e497 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e503 + (_e504 * hl_2))));
+        float _e518 = s;
+        float _e519 = v_3;
+        const float _e520 = airlight_scene_smoke_room_r_of_v(_e519, md_4);
+        float _e524 = v_3;
+        s = (_e518 + ((1.0 * _e520) * exp((-(t_1) * ((1.0 / _e524) - m_1)))));
+        float _e532 = sum;
+        float _e538 = f;
+        float _e539 = s;
+        sum = (_e532 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e538 + (_e539 * hl_2))));
     } else {
-        float _e509 = du;
-        if ((_e509 > lcut)) {
+        float _e544 = du;
+        if ((_e544 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e514 = s_1;
-            const float _e518 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e514 + (0.8535534 * _e518));
-            float _e522 = s_1;
-            const float _e526 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e522 + (0.14644662 * _e526));
+            float _e549 = s_1;
+            const float _e553 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e549 + (0.8535534 * _e553));
+            float _e557 = s_1;
+            const float _e561 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e557 + (0.14644662 * _e561));
             if (!(open)) {
-                float _e533 = sb;
-                const float _e537 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e533 + (0.8535534 * _e537));
-                float _e541 = sb;
-                const float _e545 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e541 + (0.14644662 * _e545));
-                float _e549 = s_1;
-                float _e551 = du;
-                float _e555 = sb;
-                s_1 = (_e549 - (exp((-(t_1) * (_e551 - lcut))) * _e555));
+                float _e568 = sb;
+                const float _e572 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e568 + (0.8535534 * _e572));
+                float _e576 = sb;
+                const float _e580 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e576 + (0.14644662 * _e580));
+                float _e584 = s_1;
+                float _e586 = du;
+                float _e590 = sb;
+                s_1 = (_e584 - (exp((-(t_1) * (_e586 - lcut))) * _e590));
             }
-            float _e558 = sum;
-            float _e561 = s_1;
-            sum = (_e558 + ((0.030197384 / t_1) * max(_e561, 0.0)));
+            float _e593 = sum;
+            float _e596 = s_1;
+            sum = (_e593 + ((0.030197384 / t_1) * max(_e596, 0.0)));
         }
     }
-    float _e570 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e570 / h_1)), 0.0), airlight_scene_smoke_room_HUGE);
+    float _e605 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e605 / h_1)), 0.0), airlight_scene_smoke_room_HUGE);
 }
 
 float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_1)
@@ -622,7 +622,7 @@ float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_1)
 
 float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e7 = airlight_scene_smoke_room_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -630,11 +630,11 @@ float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float su
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_12 = (_e7.z == 0.0);
+        local_11 = (_e7.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_11;
     if (_e23) {
         return 0.0;
     }

@@ -365,13 +365,12 @@ float airlight_scene_spot_harbour_airlight_geometry(float tau_in, float h_in, fl
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
-    bool local_7 = (bool)0;
     float du = airlight_scene_spot_harbour_HUGE;
+    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
     float sum = 0.0;
-    bool local_11 = (bool)0;
+    bool local_10 = (bool)0;
     float d_2 = (float)0;
     float beta = (float)0;
     float co = (float)0;
@@ -393,245 +392,246 @@ float airlight_scene_spot_harbour_airlight_geometry(float tau_in, float h_in, fl
     bool _e26 = local_4;
     if (_e26) {
         if ((rho >= 0.0)) {
-            local_6 = (rho <= 1.0);
+            local_5 = (rho < 1.0);
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e36 = local_6;
-        local_5 = !(_e36);
-    } else {
-        local_5 = false;
-    }
-    bool _e39 = local_5;
-    if (_e39) {
+        bool _e34 = local_5;
+        if (_e34) {
+            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_scene_spot_harbour_HUGE);
+        }
         return airlight_scene_spot_harbour_HUGE;
     }
-    float h_5 = max(h_in, 9.094947e-13);
+    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
     float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
     if ((rho >= 0.0)) {
-        local_7 = (rho < airlight_scene_spot_harbour_RHO_OPEN);
+        local_6 = (rho < airlight_scene_spot_harbour_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e68 = local_7;
-    bool open = !(_e68);
+    bool _e82 = local_6;
+    bool open = !(_e82);
     if (!(open)) {
-        float tr = sqrt((((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus)));
-        if ((rho >= x0_)) {
-            du = ((rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5));
+        float ta = abs((rho - 1.0));
+        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float tm = max(ta, tb);
+        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
+        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
+        if ((xr <= 0.0)) {
+            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho)));
+            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e102 = du;
-    float ub = (ua + _e102);
+    float _e143 = du;
+    float ub = (ua + _e143);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_scene_spot_harbour_HUGE);
     float m_1 = max(ua, xf);
-    float _e119 = du;
-    bool is_short = (_e119 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e160 = du;
+    bool is_short = (_e160 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
-        local_8 = (ub > m_1);
+        local_7 = (ub > m_1);
+    } else {
+        local_7 = false;
+    }
+    bool _e173 = local_7;
+    if (_e173) {
+        local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e132 = local_8;
-    if (_e132) {
-        local_9 = ((t_1 * (m_1 - ua)) < 3.5);
+    bool _e181 = local_8;
+    if (_e181) {
+        local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
-    bool _e140 = local_9;
-    if (_e140) {
-        local_10 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e148 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e148, lcut));
+    bool use_far = local_9;
+    float _e189 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e189, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_11 = (ua >= xf);
+            local_10 = (ua >= xf);
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e168 = local_11;
-        if (_e168) {
+        bool _e209 = local_10;
+        if (_e209) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e174 = sum;
-            float _e175 = d_2;
-            const float _e177 = airlight_scene_spot_harbour_w_u((ua + _e175), md_4);
-            float _e181 = d_2;
-            sum = (_e174 + ((0.34785485 * _e177) * exp((-(t_1) * _e181))));
+            float _e215 = sum;
+            float _e216 = d_2;
+            const float _e218 = airlight_scene_spot_harbour_w_u((ua + _e216), md_4);
+            float _e222 = d_2;
+            sum = (_e215 + ((0.34785485 * _e218) * exp((-(t_1) * _e222))));
             d_2 = (hl * 1.3399811);
-            float _e188 = sum;
-            float _e189 = d_2;
-            const float _e191 = airlight_scene_spot_harbour_w_u((ua + _e189), md_4);
-            float _e195 = d_2;
-            sum = (_e188 + ((0.65214515 * _e191) * exp((-(t_1) * _e195))));
+            float _e229 = sum;
+            float _e230 = d_2;
+            const float _e232 = airlight_scene_spot_harbour_w_u((ua + _e230), md_4);
+            float _e236 = d_2;
+            sum = (_e229 + ((0.65214515 * _e232) * exp((-(t_1) * _e236))));
             d_2 = (hl * 0.660019);
-            float _e202 = sum;
-            float _e203 = d_2;
-            const float _e205 = airlight_scene_spot_harbour_w_u((ua + _e203), md_4);
-            float _e209 = d_2;
-            sum = (_e202 + ((0.65214515 * _e205) * exp((-(t_1) * _e209))));
+            float _e243 = sum;
+            float _e244 = d_2;
+            const float _e246 = airlight_scene_spot_harbour_w_u((ua + _e244), md_4);
+            float _e250 = d_2;
+            sum = (_e243 + ((0.65214515 * _e246) * exp((-(t_1) * _e250))));
             d_2 = (hl * 0.13886368);
-            float _e216 = sum;
-            float _e217 = d_2;
-            const float _e219 = airlight_scene_spot_harbour_w_u((ua + _e217), md_4);
-            float _e223 = d_2;
-            sum = (_e216 + ((0.34785485 * _e219) * exp((-(t_1) * _e223))));
-            float _e228 = sum;
-            sum = (_e228 * hl);
+            float _e257 = sum;
+            float _e258 = d_2;
+            const float _e260 = airlight_scene_spot_harbour_w_u((ua + _e258), md_4);
+            float _e264 = d_2;
+            sum = (_e257 + ((0.34785485 * _e260) * exp((-(t_1) * _e264))));
+            float _e269 = sum;
+            sum = (_e269 * hl);
         } else {
-            const float2 _e230 = airlight_scene_spot_harbour_phi_and_complement(ua, md_4);
-            const float2 _e232 = airlight_scene_spot_harbour_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e230.y < 1.5707964) ? (_e230.y - _e232.y) : (_e232.x - _e230.x)));
-            beta = ((0.5 * _e230.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e230.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e265 = beta;
-            float _e266 = co;
-            const float2 _e270 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e265, _e266), 0.0));
-            sc = _e270;
-            float _e271 = beta;
-            float _e272 = co;
-            if ((_e271 > _e272)) {
-                float2 _e274 = sc;
-                sc = _e274.yx;
+            const float2 _e271 = airlight_scene_spot_harbour_phi_and_complement(ua, md_4);
+            const float2 _e273 = airlight_scene_spot_harbour_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e271.y < 1.5707964) ? (_e271.y - _e273.y) : (_e273.x - _e271.x)));
+            beta = ((0.5 * _e271.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e271.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e306 = beta;
+            float _e307 = co;
+            const float2 _e311 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e306, _e307), 0.0));
+            sc = _e311;
+            float _e312 = beta;
+            float _e313 = co;
+            if ((_e312 > _e313)) {
+                float2 _e315 = sc;
+                sc = _e315.yx;
             }
-            float _e277 = sc.x;
-            float _e279 = sc.y;
-            const float2 _e280 = airlight_scene_spot_harbour_u_and_weight(_e277, _e279, md_4);
-            uw = _e280;
-            float _e281 = sum;
-            float _e283 = uw.y;
-            float _e288 = uw.x;
-            sum = (_e281 + ((0.34785485 * _e283) * exp((-(t_1) * (_e288 - ua)))));
-            beta = ((0.5 * _e230.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e230.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e310 = beta;
-            float _e311 = co;
-            const float2 _e315 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e310, _e311), 0.0));
-            sc = _e315;
-            float _e316 = beta;
-            float _e317 = co;
-            if ((_e316 > _e317)) {
-                float2 _e319 = sc;
-                sc = _e319.yx;
+            float _e318 = sc.x;
+            float _e320 = sc.y;
+            const float2 _e321 = airlight_scene_spot_harbour_u_and_weight(_e318, _e320, md_4);
+            uw = _e321;
+            float _e322 = sum;
+            float _e324 = uw.y;
+            float _e329 = uw.x;
+            sum = (_e322 + ((0.34785485 * _e324) * exp((-(t_1) * (_e329 - ua)))));
+            beta = ((0.5 * _e271.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e271.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e351 = beta;
+            float _e352 = co;
+            const float2 _e356 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e351, _e352), 0.0));
+            sc = _e356;
+            float _e357 = beta;
+            float _e358 = co;
+            if ((_e357 > _e358)) {
+                float2 _e360 = sc;
+                sc = _e360.yx;
             }
-            float _e322 = sc.x;
-            float _e324 = sc.y;
-            const float2 _e325 = airlight_scene_spot_harbour_u_and_weight(_e322, _e324, md_4);
-            uw = _e325;
-            float _e326 = sum;
-            float _e328 = uw.y;
-            float _e333 = uw.x;
-            sum = (_e326 + ((0.65214515 * _e328) * exp((-(t_1) * (_e333 - ua)))));
-            beta = ((0.5 * _e230.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e230.y) - ((0.5 * hl_1) * 0.660019));
-            float _e355 = beta;
-            float _e356 = co;
-            const float2 _e360 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e355, _e356), 0.0));
-            sc = _e360;
-            float _e361 = beta;
-            float _e362 = co;
-            if ((_e361 > _e362)) {
-                float2 _e364 = sc;
-                sc = _e364.yx;
+            float _e363 = sc.x;
+            float _e365 = sc.y;
+            const float2 _e366 = airlight_scene_spot_harbour_u_and_weight(_e363, _e365, md_4);
+            uw = _e366;
+            float _e367 = sum;
+            float _e369 = uw.y;
+            float _e374 = uw.x;
+            sum = (_e367 + ((0.65214515 * _e369) * exp((-(t_1) * (_e374 - ua)))));
+            beta = ((0.5 * _e271.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e271.y) - ((0.5 * hl_1) * 0.660019));
+            float _e396 = beta;
+            float _e397 = co;
+            const float2 _e401 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e396, _e397), 0.0));
+            sc = _e401;
+            float _e402 = beta;
+            float _e403 = co;
+            if ((_e402 > _e403)) {
+                float2 _e405 = sc;
+                sc = _e405.yx;
             }
-            float _e367 = sc.x;
-            float _e369 = sc.y;
-            const float2 _e370 = airlight_scene_spot_harbour_u_and_weight(_e367, _e369, md_4);
-            uw = _e370;
-            float _e371 = sum;
-            float _e373 = uw.y;
-            float _e378 = uw.x;
-            sum = (_e371 + ((0.65214515 * _e373) * exp((-(t_1) * (_e378 - ua)))));
-            beta = ((0.5 * _e230.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e230.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e400 = beta;
-            float _e401 = co;
-            const float2 _e405 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e400, _e401), 0.0));
-            sc = _e405;
-            float _e406 = beta;
-            float _e407 = co;
-            if ((_e406 > _e407)) {
-                float2 _e409 = sc;
-                sc = _e409.yx;
+            float _e408 = sc.x;
+            float _e410 = sc.y;
+            const float2 _e411 = airlight_scene_spot_harbour_u_and_weight(_e408, _e410, md_4);
+            uw = _e411;
+            float _e412 = sum;
+            float _e414 = uw.y;
+            float _e419 = uw.x;
+            sum = (_e412 + ((0.65214515 * _e414) * exp((-(t_1) * (_e419 - ua)))));
+            beta = ((0.5 * _e271.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e271.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e441 = beta;
+            float _e442 = co;
+            const float2 _e446 = airlight_scene_spot_harbour_sin_cos_octant(max(min(_e441, _e442), 0.0));
+            sc = _e446;
+            float _e447 = beta;
+            float _e448 = co;
+            if ((_e447 > _e448)) {
+                float2 _e450 = sc;
+                sc = _e450.yx;
             }
-            float _e412 = sc.x;
-            float _e414 = sc.y;
-            const float2 _e415 = airlight_scene_spot_harbour_u_and_weight(_e412, _e414, md_4);
-            uw = _e415;
-            float _e416 = sum;
-            float _e418 = uw.y;
-            float _e423 = uw.x;
-            sum = (_e416 + ((0.34785485 * _e418) * exp((-(t_1) * (_e423 - ua)))));
-            float _e429 = sum;
-            sum = (_e429 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e453 = sc.x;
+            float _e455 = sc.y;
+            const float2 _e456 = airlight_scene_spot_harbour_u_and_weight(_e453, _e455, md_4);
+            uw = _e456;
+            float _e457 = sum;
+            float _e459 = uw.y;
+            float _e464 = uw.x;
+            sum = (_e457 + ((0.34785485 * _e459) * exp((-(t_1) * (_e464 - ua)))));
+            float _e470 = sum;
+            sum = (_e470 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e445 = airlight_scene_spot_harbour_exp_e2_((t_1 * m_1));
-        f = (_e445 / m_1);
+        const float _e486 = airlight_scene_spot_harbour_exp_e2_((t_1 * m_1));
+        f = (_e486 / m_1);
         if (!(open)) {
-            float _e449 = f;
-            const float _e455 = airlight_scene_spot_harbour_exp_e2_((t_1 * ub));
-            f = (_e449 - ((exp((-(t_1) * (ub - m_1))) * _e455) / ub));
+            float _e490 = f;
+            const float _e496 = airlight_scene_spot_harbour_exp_e2_((t_1 * ub));
+            f = (_e490 - ((exp((-(t_1) * (ub - m_1))) * _e496) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_spot_harbour_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e482 = s;
-        float _e483 = v_3;
-        const float _e484 = airlight_scene_spot_harbour_r_of_v(_e483, md_4);
-        float _e488 = v_3;
-        s = (_e482 + ((1.0 * _e484) * exp((-(t_1) * ((1.0 / _e488) - m_1)))));
+        float _e523 = s;
+        float _e524 = v_3;
+        const float _e525 = airlight_scene_spot_harbour_r_of_v(_e524, md_4);
+        float _e529 = v_3;
+        s = (_e523 + ((1.0 * _e525) * exp((-(t_1) * ((1.0 / _e529) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e499 = s;
-        float _e500 = v_3;
-        const float _e501 = airlight_scene_spot_harbour_r_of_v(_e500, md_4);
-        float _e505 = v_3;
-        s = (_e499 + ((1.0 * _e501) * exp((-(t_1) * ((1.0 / _e505) - m_1)))));
-        float _e513 = sum;
-        float _e519 = f;
-        float _e520 = s;
-        sum = (_e513 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e519 + (_e520 * hl_2))));
+        float _e540 = s;
+        float _e541 = v_3;
+        const float _e542 = airlight_scene_spot_harbour_r_of_v(_e541, md_4);
+        float _e546 = v_3;
+        s = (_e540 + ((1.0 * _e542) * exp((-(t_1) * ((1.0 / _e546) - m_1)))));
+        float _e554 = sum;
+        float _e560 = f;
+        float _e561 = s;
+        sum = (_e554 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e560 + (_e561 * hl_2))));
     } else {
-        float _e525 = du;
-        if ((_e525 > lcut)) {
+        float _e566 = du;
+        if ((_e566 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e530 = s_1;
-            const float _e534 = airlight_scene_spot_harbour_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e530 + (0.8535534 * _e534));
-            float _e538 = s_1;
-            const float _e542 = airlight_scene_spot_harbour_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e538 + (0.14644662 * _e542));
+            float _e571 = s_1;
+            const float _e575 = airlight_scene_spot_harbour_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e571 + (0.8535534 * _e575));
+            float _e579 = s_1;
+            const float _e583 = airlight_scene_spot_harbour_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e579 + (0.14644662 * _e583));
             if (!(open)) {
-                float _e549 = sb;
-                const float _e553 = airlight_scene_spot_harbour_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e549 + (0.8535534 * _e553));
-                float _e557 = sb;
-                const float _e561 = airlight_scene_spot_harbour_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e557 + (0.14644662 * _e561));
-                float _e565 = s_1;
-                float _e567 = du;
-                float _e571 = sb;
-                s_1 = (_e565 - (exp((-(t_1) * (_e567 - lcut))) * _e571));
+                float _e590 = sb;
+                const float _e594 = airlight_scene_spot_harbour_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e590 + (0.8535534 * _e594));
+                float _e598 = sb;
+                const float _e602 = airlight_scene_spot_harbour_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e598 + (0.14644662 * _e602));
+                float _e606 = s_1;
+                float _e608 = du;
+                float _e612 = sb;
+                s_1 = (_e606 - (exp((-(t_1) * (_e608 - lcut))) * _e612));
             }
-            float _e574 = sum;
-            float _e577 = s_1;
-            sum = (_e574 + ((0.030197384 / t_1) * max(_e577, 0.0)));
+            float _e615 = sum;
+            float _e618 = s_1;
+            sum = (_e615 + ((0.030197384 / t_1) * max(_e618, 0.0)));
         }
     }
-    float _e586 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e586 / h_5)), 0.0), airlight_scene_spot_harbour_HUGE);
+    float _e627 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e627 / h_5)), 0.0), airlight_scene_spot_harbour_HUGE);
 }
 
 float airlight_scene_spot_harbour_airlight(float tau, float gamma, float rho_1)
@@ -643,7 +643,7 @@ float airlight_scene_spot_harbour_airlight(float tau, float gamma, float rho_1)
 
 float airlight_scene_spot_harbour_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_12 = (bool)0;
+    bool local_11 = (bool)0;
 
     const float3 _e7 = airlight_scene_spot_harbour_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -651,11 +651,11 @@ float airlight_scene_spot_harbour_radiance(float3 origin_1, float3 dir_1, float 
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_12 = (_e7.z == 0.0);
+        local_11 = (_e7.z == 0.0);
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_11;
     if (_e23) {
         return 0.0;
     }
@@ -692,7 +692,7 @@ float3 airlight_scene_spot_harbour_spot_core(float3 tau_3, float h_3, float x0_3
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_13 = (bool)0;
+    bool local_12 = (bool)0;
 
     h1_ = h_3;
     x1_ = x0_3;
@@ -711,11 +711,11 @@ float3 airlight_scene_spot_harbour_spot_core(float3 tau_3, float h_3, float x0_3
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_4 >= 0.0);
+            local_12 = (rho_4 >= 0.0);
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -746,7 +746,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_scene_spot_harbour_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca_1, float k_2, float co_2, float ci_1, float g_3)
 {
-    bool local_14 = (bool)0;
+    bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
@@ -760,11 +760,11 @@ float3 airlight_scene_spot_harbour_spot_edge(float3 tau_4, float h_4, float x0_4
         return (0.0).xxx;
     }
     if (!((g_3 < 0.0))) {
-        local_14 = (v_in > 3.0);
+        local_13 = (v_in > 3.0);
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = (_e25 ? v_in : u_2);
     const float _e27 = airlight_scene_spot_harbour_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if ((_e27 > 0.0)) {
@@ -970,14 +970,14 @@ float airlight_scene_spot_harbour_spot_weight(float c_2, float co_3, float ci_2)
 
 float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
 {
+    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
-    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_17 = (bool)0;
+    bool local_16 = (bool)0;
     float scale = 1.0;
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -987,8 +987,8 @@ float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float sur
     float4 pen = (0.0).xxxx;
     float ca_2 = 0.0;
     float om_e_1 = airlight_scene_spot_harbour_PI;
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -999,16 +999,16 @@ float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float sur
     const float _e17 = airlight_scene_spot_harbour_max_abs(axis);
     if (!(point_)) {
         if ((_e17 > 0.0)) {
-            local_16 = (_e17 <= airlight_scene_spot_harbour_HUGE);
+            local_15 = (_e17 <= airlight_scene_spot_harbour_HUGE);
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e28 = local_16;
-        local_15 = !(_e28);
+        bool _e28 = local_15;
+        local_14 = !(_e28);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e31 = local_15;
+    bool _e31 = local_14;
     if (_e31) {
         return (0.0).xxx;
     }
@@ -1018,11 +1018,11 @@ float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float sur
         ax = normalize((axis / (_e17).xxx));
     }
     if ((_e16 > 0.0)) {
-        local_17 = (_e16 <= airlight_scene_spot_harbour_HUGE);
+        local_16 = (_e16 <= airlight_scene_spot_harbour_HUGE);
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e52 = local_17;
+    bool _e52 = local_16;
     if (_e52) {
         n = normalize((dir_2 / (_e16).xxx));
     }
@@ -1041,11 +1041,11 @@ float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float sur
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
-        local_18 = (_e10.z == 0.0);
+        local_17 = (_e10.z == 0.0);
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e95 = local_18;
+    bool _e95 = local_17;
     if (_e95) {
         return (0.0).xxx;
     }
@@ -1053,29 +1053,29 @@ float3 airlight_scene_spot_harbour_spot(float3 origin_2, float3 dir_2, float sur
     float h_6 = _e10.y;
     float x0_6 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_7) < airlight_scene_spot_harbour_RHO_OPEN);
+        local_18 = ((surface_1 / d_7) < airlight_scene_spot_harbour_RHO_OPEN);
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = (has_end ? (surface_1 / d_7) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
     if (!(point_)) {
-        local_20 = (h_6 <= 0.0);
+        local_19 = (h_6 <= 0.0);
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e146 = local_20;
+    bool _e146 = local_19;
     if (_e146) {
         if (!(point_)) {
             const float _e149 = airlight_scene_spot_harbour_spot_weight(-(k_4), co_4, cos_inner);
             const float _e150 = airlight_scene_spot_harbour_spot_weight(k_4, co_4, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_20 = (rho_7 < 1.0);
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e157 = local_21;
+            bool _e157 = local_20;
             scale = ((x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : max(_e149, _e150)));
         }
         core = true;

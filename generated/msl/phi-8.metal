@@ -401,13 +401,12 @@ float airlight_phi_8_airlight_geometry(
     bool local_4 = {};
     bool local_5 = {};
     bool local_6 = {};
-    bool local_7 = {};
     float du = airlight_phi_8_HUGE;
+    bool local_7 = {};
     bool local_8 = {};
     bool local_9 = {};
-    bool local_10 = {};
     float sum = 0.0;
-    bool local_11 = {};
+    bool local_10 = {};
     float d_2 = {};
     float beta = {};
     float co = {};
@@ -429,367 +428,368 @@ float airlight_phi_8_airlight_geometry(
     bool _e29 = local_4;
     if (_e29) {
         if (rho >= 0.0) {
-            local_6 = rho <= 1.0;
+            local_5 = rho < 1.0;
         } else {
-            local_6 = false;
+            local_5 = false;
         }
-        bool _e39 = local_6;
-        local_5 = !(_e39);
-    } else {
-        local_5 = false;
-    }
-    bool _e42 = local_5;
-    if (_e42) {
+        bool _e37 = local_5;
+        if (_e37) {
+            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_8_HUGE);
+        }
         return airlight_phi_8_HUGE;
     }
-    float h_5 = metal::max(h_in, 0.0000000000009094947);
+    float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
     float one_minus = (x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_);
     if (rho >= 0.0) {
-        local_7 = rho < airlight_phi_8_RHO_OPEN;
+        local_6 = rho < airlight_phi_8_RHO_OPEN;
     } else {
-        local_7 = false;
+        local_6 = false;
     }
-    bool _e71 = local_7;
-    bool open = !(_e71);
+    bool _e85 = local_6;
+    bool open = !(_e85);
     if (!(open)) {
-        float tr = metal::sqrt(((rho - 1.0) * (rho - 1.0)) + ((2.0 * rho) * one_minus));
-        if (rho >= x0_) {
-            du = (rho * ((tr + (rho - x0_)) + one_minus)) / ((tr + 1.0) * h_5);
+        float ta = metal::abs(rho - 1.0);
+        float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
+        float tm = metal::max(ta, tb);
+        float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
+        float xr = (x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho);
+        if (xr <= 0.0) {
+            du = (rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5);
         } else {
-            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * ((tr + x0_) - rho));
+            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
         }
     }
-    float _e105 = du;
-    float ub = ua + _e105;
+    float _e146 = du;
+    float ub = ua + _e146;
     float t_1 = tau_5 * h_5;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (5.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_8_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e122 = du;
-    bool is_short = _e122 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e163 = du;
+    bool is_short = _e163 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
-        local_8 = ub > m_1;
+        local_7 = ub > m_1;
+    } else {
+        local_7 = false;
+    }
+    bool _e176 = local_7;
+    if (_e176) {
+        local_8 = (t_1 * (m_1 - ua)) < 5.0;
     } else {
         local_8 = false;
     }
-    bool _e135 = local_8;
-    if (_e135) {
-        local_9 = (t_1 * (m_1 - ua)) < 5.0;
+    bool _e184 = local_8;
+    if (_e184) {
+        local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
-    bool _e143 = local_9;
-    if (_e143) {
-        local_10 = (t_1 * m_1) < 4.0;
-    } else {
-        local_10 = false;
-    }
-    bool use_far = local_10;
-    float _e151 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e151, lcut);
+    bool use_far = local_9;
+    float _e192 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e192, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
-            local_11 = ua >= xf;
+            local_10 = ua >= xf;
         } else {
-            local_11 = true;
+            local_10 = true;
         }
-        bool _e171 = local_11;
-        if (_e171) {
+        bool _e212 = local_10;
+        if (_e212) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9602898;
-            float _e177 = sum;
-            float _e178 = d_2;
-            float _e180 = airlight_phi_8_w_u(ua + _e178, md_4);
-            float _e184 = d_2;
-            sum = _e177 + ((0.101228535 * _e180) * metal::exp(-(t_1) * _e184));
+            float _e218 = sum;
+            float _e219 = d_2;
+            float _e221 = airlight_phi_8_w_u(ua + _e219, md_4);
+            float _e225 = d_2;
+            sum = _e218 + ((0.101228535 * _e221) * metal::exp(-(t_1) * _e225));
             d_2 = hl * 1.7966665;
-            float _e191 = sum;
-            float _e192 = d_2;
-            float _e194 = airlight_phi_8_w_u(ua + _e192, md_4);
-            float _e198 = d_2;
-            sum = _e191 + ((0.22238104 * _e194) * metal::exp(-(t_1) * _e198));
+            float _e232 = sum;
+            float _e233 = d_2;
+            float _e235 = airlight_phi_8_w_u(ua + _e233, md_4);
+            float _e239 = d_2;
+            sum = _e232 + ((0.22238104 * _e235) * metal::exp(-(t_1) * _e239));
             d_2 = hl * 1.5255324;
-            float _e205 = sum;
-            float _e206 = d_2;
-            float _e208 = airlight_phi_8_w_u(ua + _e206, md_4);
-            float _e212 = d_2;
-            sum = _e205 + ((0.31370664 * _e208) * metal::exp(-(t_1) * _e212));
+            float _e246 = sum;
+            float _e247 = d_2;
+            float _e249 = airlight_phi_8_w_u(ua + _e247, md_4);
+            float _e253 = d_2;
+            sum = _e246 + ((0.31370664 * _e249) * metal::exp(-(t_1) * _e253));
             d_2 = hl * 1.1834346;
-            float _e219 = sum;
-            float _e220 = d_2;
-            float _e222 = airlight_phi_8_w_u(ua + _e220, md_4);
-            float _e226 = d_2;
-            sum = _e219 + ((0.36268377 * _e222) * metal::exp(-(t_1) * _e226));
+            float _e260 = sum;
+            float _e261 = d_2;
+            float _e263 = airlight_phi_8_w_u(ua + _e261, md_4);
+            float _e267 = d_2;
+            sum = _e260 + ((0.36268377 * _e263) * metal::exp(-(t_1) * _e267));
             d_2 = hl * 0.8165654;
-            float _e233 = sum;
-            float _e234 = d_2;
-            float _e236 = airlight_phi_8_w_u(ua + _e234, md_4);
-            float _e240 = d_2;
-            sum = _e233 + ((0.36268377 * _e236) * metal::exp(-(t_1) * _e240));
+            float _e274 = sum;
+            float _e275 = d_2;
+            float _e277 = airlight_phi_8_w_u(ua + _e275, md_4);
+            float _e281 = d_2;
+            sum = _e274 + ((0.36268377 * _e277) * metal::exp(-(t_1) * _e281));
             d_2 = hl * 0.47446758;
-            float _e247 = sum;
-            float _e248 = d_2;
-            float _e250 = airlight_phi_8_w_u(ua + _e248, md_4);
-            float _e254 = d_2;
-            sum = _e247 + ((0.31370664 * _e250) * metal::exp(-(t_1) * _e254));
+            float _e288 = sum;
+            float _e289 = d_2;
+            float _e291 = airlight_phi_8_w_u(ua + _e289, md_4);
+            float _e295 = d_2;
+            sum = _e288 + ((0.31370664 * _e291) * metal::exp(-(t_1) * _e295));
             d_2 = hl * 0.2033335;
-            float _e261 = sum;
-            float _e262 = d_2;
-            float _e264 = airlight_phi_8_w_u(ua + _e262, md_4);
-            float _e268 = d_2;
-            sum = _e261 + ((0.22238104 * _e264) * metal::exp(-(t_1) * _e268));
+            float _e302 = sum;
+            float _e303 = d_2;
+            float _e305 = airlight_phi_8_w_u(ua + _e303, md_4);
+            float _e309 = d_2;
+            sum = _e302 + ((0.22238104 * _e305) * metal::exp(-(t_1) * _e309));
             d_2 = hl * 0.039710164;
-            float _e275 = sum;
-            float _e276 = d_2;
-            float _e278 = airlight_phi_8_w_u(ua + _e276, md_4);
-            float _e282 = d_2;
-            sum = _e275 + ((0.101228535 * _e278) * metal::exp(-(t_1) * _e282));
-            float _e287 = sum;
-            sum = _e287 * hl;
+            float _e316 = sum;
+            float _e317 = d_2;
+            float _e319 = airlight_phi_8_w_u(ua + _e317, md_4);
+            float _e323 = d_2;
+            sum = _e316 + ((0.101228535 * _e319) * metal::exp(-(t_1) * _e323));
+            float _e328 = sum;
+            sum = _e328 * hl;
         } else {
-            metal::float2 _e289 = airlight_phi_8_phi_and_complement(ua, md_4);
-            metal::float2 _e291 = airlight_phi_8_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e289.y < 1.5707964) ? (_e289.y - _e291.y) : (_e291.x - _e289.x));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.9602898);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.9602898);
-            float _e324 = beta;
-            float _e325 = co;
-            metal::float2 _e329 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e324, _e325), 0.0));
-            sc = _e329;
-            float _e330 = beta;
-            float _e331 = co;
-            if (_e330 > _e331) {
-                metal::float2 _e333 = sc;
-                sc = _e333.yx;
+            metal::float2 _e330 = airlight_phi_8_phi_and_complement(ua, md_4);
+            metal::float2 _e332 = airlight_phi_8_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e330.y < 1.5707964) ? (_e330.y - _e332.y) : (_e332.x - _e330.x));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 1.9602898);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 1.9602898);
+            float _e365 = beta;
+            float _e366 = co;
+            metal::float2 _e370 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e365, _e366), 0.0));
+            sc = _e370;
+            float _e371 = beta;
+            float _e372 = co;
+            if (_e371 > _e372) {
+                metal::float2 _e374 = sc;
+                sc = _e374.yx;
             }
-            float _e336 = sc.x;
-            float _e338 = sc.y;
-            metal::float2 _e339 = airlight_phi_8_u_and_weight(_e336, _e338, md_4);
-            uw = _e339;
-            float _e340 = sum;
-            float _e342 = uw.y;
-            float _e347 = uw.x;
-            sum = _e340 + ((0.101228535 * _e342) * metal::exp(-(t_1) * (_e347 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.7966665);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.7966665);
-            float _e369 = beta;
-            float _e370 = co;
-            metal::float2 _e374 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e369, _e370), 0.0));
-            sc = _e374;
-            float _e375 = beta;
-            float _e376 = co;
-            if (_e375 > _e376) {
-                metal::float2 _e378 = sc;
-                sc = _e378.yx;
+            float _e377 = sc.x;
+            float _e379 = sc.y;
+            metal::float2 _e380 = airlight_phi_8_u_and_weight(_e377, _e379, md_4);
+            uw = _e380;
+            float _e381 = sum;
+            float _e383 = uw.y;
+            float _e388 = uw.x;
+            sum = _e381 + ((0.101228535 * _e383) * metal::exp(-(t_1) * (_e388 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 1.7966665);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 1.7966665);
+            float _e410 = beta;
+            float _e411 = co;
+            metal::float2 _e415 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e410, _e411), 0.0));
+            sc = _e415;
+            float _e416 = beta;
+            float _e417 = co;
+            if (_e416 > _e417) {
+                metal::float2 _e419 = sc;
+                sc = _e419.yx;
             }
-            float _e381 = sc.x;
-            float _e383 = sc.y;
-            metal::float2 _e384 = airlight_phi_8_u_and_weight(_e381, _e383, md_4);
-            uw = _e384;
-            float _e385 = sum;
-            float _e387 = uw.y;
-            float _e392 = uw.x;
-            sum = _e385 + ((0.22238104 * _e387) * metal::exp(-(t_1) * (_e392 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.5255324);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.5255324);
-            float _e414 = beta;
-            float _e415 = co;
-            metal::float2 _e419 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e414, _e415), 0.0));
-            sc = _e419;
-            float _e420 = beta;
-            float _e421 = co;
-            if (_e420 > _e421) {
-                metal::float2 _e423 = sc;
-                sc = _e423.yx;
+            float _e422 = sc.x;
+            float _e424 = sc.y;
+            metal::float2 _e425 = airlight_phi_8_u_and_weight(_e422, _e424, md_4);
+            uw = _e425;
+            float _e426 = sum;
+            float _e428 = uw.y;
+            float _e433 = uw.x;
+            sum = _e426 + ((0.22238104 * _e428) * metal::exp(-(t_1) * (_e433 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 1.5255324);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 1.5255324);
+            float _e455 = beta;
+            float _e456 = co;
+            metal::float2 _e460 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e455, _e456), 0.0));
+            sc = _e460;
+            float _e461 = beta;
+            float _e462 = co;
+            if (_e461 > _e462) {
+                metal::float2 _e464 = sc;
+                sc = _e464.yx;
             }
-            float _e426 = sc.x;
-            float _e428 = sc.y;
-            metal::float2 _e429 = airlight_phi_8_u_and_weight(_e426, _e428, md_4);
-            uw = _e429;
-            float _e430 = sum;
-            float _e432 = uw.y;
-            float _e437 = uw.x;
-            sum = _e430 + ((0.31370664 * _e432) * metal::exp(-(t_1) * (_e437 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.1834346);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.1834346);
-            float _e459 = beta;
-            float _e460 = co;
-            metal::float2 _e464 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e459, _e460), 0.0));
-            sc = _e464;
-            float _e465 = beta;
-            float _e466 = co;
-            if (_e465 > _e466) {
-                metal::float2 _e468 = sc;
-                sc = _e468.yx;
+            float _e467 = sc.x;
+            float _e469 = sc.y;
+            metal::float2 _e470 = airlight_phi_8_u_and_weight(_e467, _e469, md_4);
+            uw = _e470;
+            float _e471 = sum;
+            float _e473 = uw.y;
+            float _e478 = uw.x;
+            sum = _e471 + ((0.31370664 * _e473) * metal::exp(-(t_1) * (_e478 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 1.1834346);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 1.1834346);
+            float _e500 = beta;
+            float _e501 = co;
+            metal::float2 _e505 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e500, _e501), 0.0));
+            sc = _e505;
+            float _e506 = beta;
+            float _e507 = co;
+            if (_e506 > _e507) {
+                metal::float2 _e509 = sc;
+                sc = _e509.yx;
             }
-            float _e471 = sc.x;
-            float _e473 = sc.y;
-            metal::float2 _e474 = airlight_phi_8_u_and_weight(_e471, _e473, md_4);
-            uw = _e474;
-            float _e475 = sum;
-            float _e477 = uw.y;
-            float _e482 = uw.x;
-            sum = _e475 + ((0.36268377 * _e477) * metal::exp(-(t_1) * (_e482 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.8165654);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.8165654);
-            float _e504 = beta;
-            float _e505 = co;
-            metal::float2 _e509 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e504, _e505), 0.0));
-            sc = _e509;
-            float _e510 = beta;
-            float _e511 = co;
-            if (_e510 > _e511) {
-                metal::float2 _e513 = sc;
-                sc = _e513.yx;
+            float _e512 = sc.x;
+            float _e514 = sc.y;
+            metal::float2 _e515 = airlight_phi_8_u_and_weight(_e512, _e514, md_4);
+            uw = _e515;
+            float _e516 = sum;
+            float _e518 = uw.y;
+            float _e523 = uw.x;
+            sum = _e516 + ((0.36268377 * _e518) * metal::exp(-(t_1) * (_e523 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 0.8165654);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 0.8165654);
+            float _e545 = beta;
+            float _e546 = co;
+            metal::float2 _e550 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e545, _e546), 0.0));
+            sc = _e550;
+            float _e551 = beta;
+            float _e552 = co;
+            if (_e551 > _e552) {
+                metal::float2 _e554 = sc;
+                sc = _e554.yx;
             }
-            float _e516 = sc.x;
-            float _e518 = sc.y;
-            metal::float2 _e519 = airlight_phi_8_u_and_weight(_e516, _e518, md_4);
-            uw = _e519;
-            float _e520 = sum;
-            float _e522 = uw.y;
-            float _e527 = uw.x;
-            sum = _e520 + ((0.36268377 * _e522) * metal::exp(-(t_1) * (_e527 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.47446758);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.47446758);
-            float _e549 = beta;
-            float _e550 = co;
-            metal::float2 _e554 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e549, _e550), 0.0));
-            sc = _e554;
-            float _e555 = beta;
-            float _e556 = co;
-            if (_e555 > _e556) {
-                metal::float2 _e558 = sc;
-                sc = _e558.yx;
+            float _e557 = sc.x;
+            float _e559 = sc.y;
+            metal::float2 _e560 = airlight_phi_8_u_and_weight(_e557, _e559, md_4);
+            uw = _e560;
+            float _e561 = sum;
+            float _e563 = uw.y;
+            float _e568 = uw.x;
+            sum = _e561 + ((0.36268377 * _e563) * metal::exp(-(t_1) * (_e568 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 0.47446758);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 0.47446758);
+            float _e590 = beta;
+            float _e591 = co;
+            metal::float2 _e595 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e590, _e591), 0.0));
+            sc = _e595;
+            float _e596 = beta;
+            float _e597 = co;
+            if (_e596 > _e597) {
+                metal::float2 _e599 = sc;
+                sc = _e599.yx;
             }
-            float _e561 = sc.x;
-            float _e563 = sc.y;
-            metal::float2 _e564 = airlight_phi_8_u_and_weight(_e561, _e563, md_4);
-            uw = _e564;
-            float _e565 = sum;
-            float _e567 = uw.y;
-            float _e572 = uw.x;
-            sum = _e565 + ((0.31370664 * _e567) * metal::exp(-(t_1) * (_e572 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.2033335);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.2033335);
-            float _e594 = beta;
-            float _e595 = co;
-            metal::float2 _e599 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e594, _e595), 0.0));
-            sc = _e599;
-            float _e600 = beta;
-            float _e601 = co;
-            if (_e600 > _e601) {
-                metal::float2 _e603 = sc;
-                sc = _e603.yx;
+            float _e602 = sc.x;
+            float _e604 = sc.y;
+            metal::float2 _e605 = airlight_phi_8_u_and_weight(_e602, _e604, md_4);
+            uw = _e605;
+            float _e606 = sum;
+            float _e608 = uw.y;
+            float _e613 = uw.x;
+            sum = _e606 + ((0.31370664 * _e608) * metal::exp(-(t_1) * (_e613 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 0.2033335);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 0.2033335);
+            float _e635 = beta;
+            float _e636 = co;
+            metal::float2 _e640 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e635, _e636), 0.0));
+            sc = _e640;
+            float _e641 = beta;
+            float _e642 = co;
+            if (_e641 > _e642) {
+                metal::float2 _e644 = sc;
+                sc = _e644.yx;
             }
-            float _e606 = sc.x;
-            float _e608 = sc.y;
-            metal::float2 _e609 = airlight_phi_8_u_and_weight(_e606, _e608, md_4);
-            uw = _e609;
-            float _e610 = sum;
-            float _e612 = uw.y;
-            float _e617 = uw.x;
-            sum = _e610 + ((0.22238104 * _e612) * metal::exp(-(t_1) * (_e617 - ua)));
-            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.039710164);
-            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.039710164);
-            float _e639 = beta;
-            float _e640 = co;
-            metal::float2 _e644 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e639, _e640), 0.0));
-            sc = _e644;
-            float _e645 = beta;
-            float _e646 = co;
-            if (_e645 > _e646) {
-                metal::float2 _e648 = sc;
-                sc = _e648.yx;
+            float _e647 = sc.x;
+            float _e649 = sc.y;
+            metal::float2 _e650 = airlight_phi_8_u_and_weight(_e647, _e649, md_4);
+            uw = _e650;
+            float _e651 = sum;
+            float _e653 = uw.y;
+            float _e658 = uw.x;
+            sum = _e651 + ((0.22238104 * _e653) * metal::exp(-(t_1) * (_e658 - ua)));
+            beta = (0.5 * _e330.x) + ((0.5 * hl_1) * 0.039710164);
+            co = (0.5 * _e330.y) - ((0.5 * hl_1) * 0.039710164);
+            float _e680 = beta;
+            float _e681 = co;
+            metal::float2 _e685 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e680, _e681), 0.0));
+            sc = _e685;
+            float _e686 = beta;
+            float _e687 = co;
+            if (_e686 > _e687) {
+                metal::float2 _e689 = sc;
+                sc = _e689.yx;
             }
-            float _e651 = sc.x;
-            float _e653 = sc.y;
-            metal::float2 _e654 = airlight_phi_8_u_and_weight(_e651, _e653, md_4);
-            uw = _e654;
-            float _e655 = sum;
-            float _e657 = uw.y;
-            float _e662 = uw.x;
-            sum = _e655 + ((0.101228535 * _e657) * metal::exp(-(t_1) * (_e662 - ua)));
-            float _e668 = sum;
-            sum = _e668 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e692 = sc.x;
+            float _e694 = sc.y;
+            metal::float2 _e695 = airlight_phi_8_u_and_weight(_e692, _e694, md_4);
+            uw = _e695;
+            float _e696 = sum;
+            float _e698 = uw.y;
+            float _e703 = uw.x;
+            sum = _e696 + ((0.101228535 * _e698) * metal::exp(-(t_1) * (_e703 - ua)));
+            float _e709 = sum;
+            sum = _e709 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_6 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e684 = airlight_phi_8_exp_e2_(t_1 * m_1);
-        f = _e684 / m_1;
+        float _e725 = airlight_phi_8_exp_e2_(t_1 * m_1);
+        f = _e725 / m_1;
         if (!(open)) {
-            float _e688 = f;
-            float _e694 = airlight_phi_8_exp_e2_(t_1 * ub);
-            f = _e688 - ((metal::exp(-(t_1) * (ub - m_1)) * _e694) / ub);
+            float _e729 = f;
+            float _e735 = airlight_phi_8_exp_e2_(t_1 * ub);
+            f = _e729 - ((metal::exp(-(t_1) * (ub - m_1)) * _e735) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (8.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_8_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e721 = s;
-        float _e722 = v_3;
-        float _e723 = airlight_phi_8_r_of_v(_e722, md_4);
-        float _e727 = v_3;
-        s = _e721 + ((0.34785485 * _e723) * metal::exp(-(t_1) * ((1.0 / _e727) - m_1)));
+        float _e762 = s;
+        float _e763 = v_3;
+        float _e764 = airlight_phi_8_r_of_v(_e763, md_4);
+        float _e768 = v_3;
+        s = _e762 + ((0.34785485 * _e764) * metal::exp(-(t_1) * ((1.0 / _e768) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e738 = s;
-        float _e739 = v_3;
-        float _e740 = airlight_phi_8_r_of_v(_e739, md_4);
-        float _e744 = v_3;
-        s = _e738 + ((0.65214515 * _e740) * metal::exp(-(t_1) * ((1.0 / _e744) - m_1)));
+        float _e779 = s;
+        float _e780 = v_3;
+        float _e781 = airlight_phi_8_r_of_v(_e780, md_4);
+        float _e785 = v_3;
+        s = _e779 + ((0.65214515 * _e781) * metal::exp(-(t_1) * ((1.0 / _e785) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e755 = s;
-        float _e756 = v_3;
-        float _e757 = airlight_phi_8_r_of_v(_e756, md_4);
-        float _e761 = v_3;
-        s = _e755 + ((0.65214515 * _e757) * metal::exp(-(t_1) * ((1.0 / _e761) - m_1)));
+        float _e796 = s;
+        float _e797 = v_3;
+        float _e798 = airlight_phi_8_r_of_v(_e797, md_4);
+        float _e802 = v_3;
+        s = _e796 + ((0.65214515 * _e798) * metal::exp(-(t_1) * ((1.0 / _e802) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e772 = s;
-        float _e773 = v_3;
-        float _e774 = airlight_phi_8_r_of_v(_e773, md_4);
-        float _e778 = v_3;
-        s = _e772 + ((0.34785485 * _e774) * metal::exp(-(t_1) * ((1.0 / _e778) - m_1)));
-        float _e786 = sum;
-        float _e792 = f;
-        float _e793 = s;
-        sum = _e786 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e792 + (_e793 * hl_2)));
+        float _e813 = s;
+        float _e814 = v_3;
+        float _e815 = airlight_phi_8_r_of_v(_e814, md_4);
+        float _e819 = v_3;
+        s = _e813 + ((0.34785485 * _e815) * metal::exp(-(t_1) * ((1.0 / _e819) - m_1)));
+        float _e827 = sum;
+        float _e833 = f;
+        float _e834 = s;
+        sum = _e827 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e833 + (_e834 * hl_2)));
     } else {
-        float _e798 = du;
-        if (_e798 > lcut) {
+        float _e839 = du;
+        if (_e839 > lcut) {
             float ue_1 = ua + lcut;
-            float _e803 = s_1;
-            float _e807 = airlight_phi_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e803 + (0.711093 * _e807);
-            float _e811 = s_1;
-            float _e815 = airlight_phi_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e811 + (0.27851772 * _e815);
-            float _e819 = s_1;
-            float _e823 = airlight_phi_8_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e819 + (0.010389256 * _e823);
+            float _e844 = s_1;
+            float _e848 = airlight_phi_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e844 + (0.711093 * _e848);
+            float _e852 = s_1;
+            float _e856 = airlight_phi_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e852 + (0.27851772 * _e856);
+            float _e860 = s_1;
+            float _e864 = airlight_phi_8_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e860 + (0.010389256 * _e864);
             if (!(open)) {
-                float _e830 = sb;
-                float _e834 = airlight_phi_8_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e830 + (0.711093 * _e834);
-                float _e838 = sb;
-                float _e842 = airlight_phi_8_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e838 + (0.27851772 * _e842);
-                float _e846 = sb;
-                float _e850 = airlight_phi_8_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e846 + (0.010389256 * _e850);
-                float _e854 = s_1;
-                float _e856 = du;
-                float _e860 = sb;
-                s_1 = _e854 - (metal::exp(-(t_1) * (_e856 - lcut)) * _e860);
+                float _e871 = sb;
+                float _e875 = airlight_phi_8_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e871 + (0.711093 * _e875);
+                float _e879 = sb;
+                float _e883 = airlight_phi_8_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e879 + (0.27851772 * _e883);
+                float _e887 = sb;
+                float _e891 = airlight_phi_8_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e887 + (0.010389256 * _e891);
+                float _e895 = s_1;
+                float _e897 = du;
+                float _e901 = sb;
+                s_1 = _e895 - (metal::exp(-(t_1) * (_e897 - lcut)) * _e901);
             }
-            float _e863 = sum;
-            float _e866 = s_1;
-            sum = _e863 + ((0.006737947 / t_1) * metal::max(_e866, 0.0));
+            float _e904 = sum;
+            float _e907 = s_1;
+            sum = _e904 + ((0.006737947 / t_1) * metal::max(_e907, 0.0));
         }
     }
-    float _e875 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e875 / h_5), 0.0), airlight_phi_8_HUGE);
+    float _e916 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e916 / h_5), 0.0), airlight_phi_8_HUGE);
 }
 
 float airlight_phi_8_airlight(
@@ -813,18 +813,18 @@ float airlight_phi_8_radiance(
     float sigma_s_1,
     float g_1
 ) {
-    bool local_12 = {};
+    bool local_11 = {};
     metal::float3 _e8 = airlight_phi_8_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
         float _e14 = airlight_phi_8_scaled(sigma_s_1, intensity_1, 1.0, airlight_phi_8_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
-        local_12 = _e8.z == 0.0;
+        local_11 = _e8.z == 0.0;
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e24 = local_12;
+    bool _e24 = local_11;
     if (_e24) {
         return 0.0;
     }
@@ -883,7 +883,7 @@ metal::float3 airlight_phi_8_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
-    bool local_13 = {};
+    bool local_12 = {};
     h1_ = h_3;
     x1_ = x0_3;
     rho1_ = rho_4;
@@ -901,11 +901,11 @@ metal::float3 airlight_phi_8_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_13 = rho_4 >= 0.0;
+            local_12 = rho_4 >= 0.0;
         } else {
-            local_13 = false;
+            local_12 = false;
         }
-        bool _e44 = local_13;
+        bool _e44 = local_12;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -948,7 +948,7 @@ metal::float3 airlight_phi_8_spot_edge(
     float ci_1,
     float g_5
 ) {
-    bool local_14 = {};
+    bool local_13 = {};
     metal::float3 exact = metal::float3(0.0);
     type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_1 = metal::float3(0.0);
@@ -961,11 +961,11 @@ metal::float3 airlight_phi_8_spot_edge(
         return metal::float3(0.0);
     }
     if (!((g_5 < 0.0))) {
-        local_14 = v_in > 3.0;
+        local_13 = v_in > 3.0;
     } else {
-        local_14 = true;
+        local_13 = true;
     }
-    bool _e25 = local_14;
+    bool _e25 = local_13;
     float e_1 = _e25 ? v_in : u_2;
     float _e27 = airlight_phi_8_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
     if (_e27 > 0.0) {
@@ -1185,14 +1185,14 @@ metal::float3 airlight_phi_8_spot(
     metal::float3 sigma_s_2,
     float g_6
 ) {
+    bool local_14 = {};
     bool local_15 = {};
-    bool local_16 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_17 = {};
+    bool local_16 = {};
     float scale = 1.0;
+    bool local_17 = {};
     bool local_18 = {};
-    bool local_19 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1202,8 +1202,8 @@ metal::float3 airlight_phi_8_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_2 = 0.0;
     float om_e_1 = airlight_phi_8_PI;
+    bool local_19 = {};
     bool local_20 = {};
-    bool local_21 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_phi_8_ray_geometry(origin_2, dir_2, light_2);
@@ -1213,16 +1213,16 @@ metal::float3 airlight_phi_8_spot(
     float _e18 = airlight_phi_8_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_16 = _e18 <= airlight_phi_8_HUGE;
+            local_15 = _e18 <= airlight_phi_8_HUGE;
         } else {
-            local_16 = false;
+            local_15 = false;
         }
-        bool _e29 = local_16;
-        local_15 = !(_e29);
+        bool _e29 = local_15;
+        local_14 = !(_e29);
     } else {
-        local_15 = false;
+        local_14 = false;
     }
-    bool _e32 = local_15;
+    bool _e32 = local_14;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1232,11 +1232,11 @@ metal::float3 airlight_phi_8_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_17 = _e17 <= airlight_phi_8_HUGE;
+        local_16 = _e17 <= airlight_phi_8_HUGE;
     } else {
-        local_17 = false;
+        local_16 = false;
     }
-    bool _e53 = local_17;
+    bool _e53 = local_16;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1255,11 +1255,11 @@ metal::float3 airlight_phi_8_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_18 = _e11.z == 0.0;
+        local_17 = _e11.z == 0.0;
     } else {
-        local_18 = false;
+        local_17 = false;
     }
-    bool _e96 = local_18;
+    bool _e96 = local_17;
     if (_e96) {
         return metal::float3(0.0);
     }
@@ -1267,30 +1267,30 @@ metal::float3 airlight_phi_8_spot(
     float h_6 = _e11.y;
     float x0_6 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_19 = (surface_1 / d_7) < airlight_phi_8_RHO_OPEN;
+        local_18 = (surface_1 / d_7) < airlight_phi_8_RHO_OPEN;
     } else {
-        local_19 = false;
+        local_18 = false;
     }
-    bool has_end = local_19;
+    bool has_end = local_18;
     float rho_7 = has_end ? (surface_1 / d_7) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_7, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_6, -0.999, 0.999);
     if (!(point)) {
-        local_20 = h_6 <= 0.0;
+        local_19 = h_6 <= 0.0;
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e149 = local_20;
+    bool _e149 = local_19;
     if (_e149) {
         if (!(point)) {
             float _e152 = airlight_phi_8_spot_weight(-(k_4), co_4, cos_inner);
             float _e153 = airlight_phi_8_spot_weight(k_4, co_4, cos_inner);
             if (has_end) {
-                local_21 = rho_7 < 1.0;
+                local_20 = rho_7 < 1.0;
             } else {
-                local_21 = false;
+                local_20 = false;
             }
-            bool _e160 = local_21;
+            bool _e160 = local_20;
             scale = (x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
         }
         core = true;

@@ -419,7 +419,7 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     if (_e25) {
         return airlight_scene_backscatter_aerosol_HUGE;
     }
-    float h_1 = metal::max(h_in, 0.0000000000009094947);
+    float h_1 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
     float one_minus = (x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_);
     float ub = ua + airlight_scene_backscatter_aerosol_HUGE;
@@ -433,14 +433,14 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     } else {
         local_5 = false;
     }
-    bool _e77 = local_5;
-    if (_e77) {
+    bool _e80 = local_5;
+    if (_e80) {
         local_6 = (t_1 * (m_1 - ua)) < 4.0;
     } else {
         local_6 = false;
     }
-    bool _e85 = local_6;
-    if (_e85) {
+    bool _e88 = local_6;
+    if (_e88) {
         local_7 = (t_1 * m_1) < 4.0;
     } else {
         local_7 = false;
@@ -453,248 +453,248 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
         } else {
             local_8 = true;
         }
-        bool _e112 = local_8;
-        if (_e112) {
+        bool _e115 = local_8;
+        if (_e115) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9324695;
-            float _e118 = sum;
-            float _e119 = d_2;
-            float _e121 = airlight_scene_backscatter_aerosol_w_u(ua + _e119, md_4);
-            float _e125 = d_2;
-            sum = _e118 + ((0.17132449 * _e121) * metal::exp(-(t_1) * _e125));
+            float _e121 = sum;
+            float _e122 = d_2;
+            float _e124 = airlight_scene_backscatter_aerosol_w_u(ua + _e122, md_4);
+            float _e128 = d_2;
+            sum = _e121 + ((0.17132449 * _e124) * metal::exp(-(t_1) * _e128));
             d_2 = hl * 1.6612093;
-            float _e132 = sum;
-            float _e133 = d_2;
-            float _e135 = airlight_scene_backscatter_aerosol_w_u(ua + _e133, md_4);
-            float _e139 = d_2;
-            sum = _e132 + ((0.36076158 * _e135) * metal::exp(-(t_1) * _e139));
+            float _e135 = sum;
+            float _e136 = d_2;
+            float _e138 = airlight_scene_backscatter_aerosol_w_u(ua + _e136, md_4);
+            float _e142 = d_2;
+            sum = _e135 + ((0.36076158 * _e138) * metal::exp(-(t_1) * _e142));
             d_2 = hl * 1.2386192;
-            float _e146 = sum;
-            float _e147 = d_2;
-            float _e149 = airlight_scene_backscatter_aerosol_w_u(ua + _e147, md_4);
-            float _e153 = d_2;
-            sum = _e146 + ((0.46791393 * _e149) * metal::exp(-(t_1) * _e153));
+            float _e149 = sum;
+            float _e150 = d_2;
+            float _e152 = airlight_scene_backscatter_aerosol_w_u(ua + _e150, md_4);
+            float _e156 = d_2;
+            sum = _e149 + ((0.46791393 * _e152) * metal::exp(-(t_1) * _e156));
             d_2 = hl * 0.7613808;
-            float _e160 = sum;
-            float _e161 = d_2;
-            float _e163 = airlight_scene_backscatter_aerosol_w_u(ua + _e161, md_4);
-            float _e167 = d_2;
-            sum = _e160 + ((0.46791393 * _e163) * metal::exp(-(t_1) * _e167));
+            float _e163 = sum;
+            float _e164 = d_2;
+            float _e166 = airlight_scene_backscatter_aerosol_w_u(ua + _e164, md_4);
+            float _e170 = d_2;
+            sum = _e163 + ((0.46791393 * _e166) * metal::exp(-(t_1) * _e170));
             d_2 = hl * 0.3387906;
-            float _e174 = sum;
-            float _e175 = d_2;
-            float _e177 = airlight_scene_backscatter_aerosol_w_u(ua + _e175, md_4);
-            float _e181 = d_2;
-            sum = _e174 + ((0.36076158 * _e177) * metal::exp(-(t_1) * _e181));
+            float _e177 = sum;
+            float _e178 = d_2;
+            float _e180 = airlight_scene_backscatter_aerosol_w_u(ua + _e178, md_4);
+            float _e184 = d_2;
+            sum = _e177 + ((0.36076158 * _e180) * metal::exp(-(t_1) * _e184));
             d_2 = hl * 0.06753051;
-            float _e188 = sum;
-            float _e189 = d_2;
-            float _e191 = airlight_scene_backscatter_aerosol_w_u(ua + _e189, md_4);
-            float _e195 = d_2;
-            sum = _e188 + ((0.17132449 * _e191) * metal::exp(-(t_1) * _e195));
-            float _e200 = sum;
-            sum = _e200 * hl;
+            float _e191 = sum;
+            float _e192 = d_2;
+            float _e194 = airlight_scene_backscatter_aerosol_w_u(ua + _e192, md_4);
+            float _e198 = d_2;
+            sum = _e191 + ((0.17132449 * _e194) * metal::exp(-(t_1) * _e198));
+            float _e203 = sum;
+            sum = _e203 * hl;
         } else {
-            metal::float2 _e202 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
-            metal::float2 _e204 = airlight_scene_backscatter_aerosol_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e202.y < 1.5707964) ? (_e202.y - _e204.y) : (_e204.x - _e202.x));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e237 = beta;
-            float _e238 = co;
-            metal::float2 _e242 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e237, _e238), 0.0));
-            sc = _e242;
-            float _e243 = beta;
-            float _e244 = co;
-            if (_e243 > _e244) {
-                metal::float2 _e246 = sc;
-                sc = _e246.yx;
+            metal::float2 _e205 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
+            metal::float2 _e207 = airlight_scene_backscatter_aerosol_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e205.y < 1.5707964) ? (_e205.y - _e207.y) : (_e207.x - _e205.x));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.9324695);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.9324695);
+            float _e240 = beta;
+            float _e241 = co;
+            metal::float2 _e245 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e240, _e241), 0.0));
+            sc = _e245;
+            float _e246 = beta;
+            float _e247 = co;
+            if (_e246 > _e247) {
+                metal::float2 _e249 = sc;
+                sc = _e249.yx;
             }
-            float _e249 = sc.x;
-            float _e251 = sc.y;
-            metal::float2 _e252 = airlight_scene_backscatter_aerosol_u_and_weight(_e249, _e251, md_4);
-            uw = _e252;
-            float _e253 = sum;
-            float _e255 = uw.y;
-            float _e260 = uw.x;
-            sum = _e253 + ((0.17132449 * _e255) * metal::exp(-(t_1) * (_e260 - ua)));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e282 = beta;
-            float _e283 = co;
-            metal::float2 _e287 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e282, _e283), 0.0));
-            sc = _e287;
-            float _e288 = beta;
-            float _e289 = co;
-            if (_e288 > _e289) {
-                metal::float2 _e291 = sc;
-                sc = _e291.yx;
+            float _e252 = sc.x;
+            float _e254 = sc.y;
+            metal::float2 _e255 = airlight_scene_backscatter_aerosol_u_and_weight(_e252, _e254, md_4);
+            uw = _e255;
+            float _e256 = sum;
+            float _e258 = uw.y;
+            float _e263 = uw.x;
+            sum = _e256 + ((0.17132449 * _e258) * metal::exp(-(t_1) * (_e263 - ua)));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.6612093);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.6612093);
+            float _e285 = beta;
+            float _e286 = co;
+            metal::float2 _e290 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e285, _e286), 0.0));
+            sc = _e290;
+            float _e291 = beta;
+            float _e292 = co;
+            if (_e291 > _e292) {
+                metal::float2 _e294 = sc;
+                sc = _e294.yx;
             }
-            float _e294 = sc.x;
-            float _e296 = sc.y;
-            metal::float2 _e297 = airlight_scene_backscatter_aerosol_u_and_weight(_e294, _e296, md_4);
-            uw = _e297;
-            float _e298 = sum;
-            float _e300 = uw.y;
-            float _e305 = uw.x;
-            sum = _e298 + ((0.36076158 * _e300) * metal::exp(-(t_1) * (_e305 - ua)));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e327 = beta;
-            float _e328 = co;
-            metal::float2 _e332 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e327, _e328), 0.0));
-            sc = _e332;
-            float _e333 = beta;
-            float _e334 = co;
-            if (_e333 > _e334) {
-                metal::float2 _e336 = sc;
-                sc = _e336.yx;
+            float _e297 = sc.x;
+            float _e299 = sc.y;
+            metal::float2 _e300 = airlight_scene_backscatter_aerosol_u_and_weight(_e297, _e299, md_4);
+            uw = _e300;
+            float _e301 = sum;
+            float _e303 = uw.y;
+            float _e308 = uw.x;
+            sum = _e301 + ((0.36076158 * _e303) * metal::exp(-(t_1) * (_e308 - ua)));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.2386192);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.2386192);
+            float _e330 = beta;
+            float _e331 = co;
+            metal::float2 _e335 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e330, _e331), 0.0));
+            sc = _e335;
+            float _e336 = beta;
+            float _e337 = co;
+            if (_e336 > _e337) {
+                metal::float2 _e339 = sc;
+                sc = _e339.yx;
             }
-            float _e339 = sc.x;
-            float _e341 = sc.y;
-            metal::float2 _e342 = airlight_scene_backscatter_aerosol_u_and_weight(_e339, _e341, md_4);
-            uw = _e342;
-            float _e343 = sum;
-            float _e345 = uw.y;
-            float _e350 = uw.x;
-            sum = _e343 + ((0.46791393 * _e345) * metal::exp(-(t_1) * (_e350 - ua)));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e372 = beta;
-            float _e373 = co;
-            metal::float2 _e377 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e372, _e373), 0.0));
-            sc = _e377;
-            float _e378 = beta;
-            float _e379 = co;
-            if (_e378 > _e379) {
-                metal::float2 _e381 = sc;
-                sc = _e381.yx;
+            float _e342 = sc.x;
+            float _e344 = sc.y;
+            metal::float2 _e345 = airlight_scene_backscatter_aerosol_u_and_weight(_e342, _e344, md_4);
+            uw = _e345;
+            float _e346 = sum;
+            float _e348 = uw.y;
+            float _e353 = uw.x;
+            sum = _e346 + ((0.46791393 * _e348) * metal::exp(-(t_1) * (_e353 - ua)));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.7613808);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.7613808);
+            float _e375 = beta;
+            float _e376 = co;
+            metal::float2 _e380 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e375, _e376), 0.0));
+            sc = _e380;
+            float _e381 = beta;
+            float _e382 = co;
+            if (_e381 > _e382) {
+                metal::float2 _e384 = sc;
+                sc = _e384.yx;
             }
-            float _e384 = sc.x;
-            float _e386 = sc.y;
-            metal::float2 _e387 = airlight_scene_backscatter_aerosol_u_and_weight(_e384, _e386, md_4);
-            uw = _e387;
-            float _e388 = sum;
-            float _e390 = uw.y;
-            float _e395 = uw.x;
-            sum = _e388 + ((0.46791393 * _e390) * metal::exp(-(t_1) * (_e395 - ua)));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e417 = beta;
-            float _e418 = co;
-            metal::float2 _e422 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e417, _e418), 0.0));
-            sc = _e422;
-            float _e423 = beta;
-            float _e424 = co;
-            if (_e423 > _e424) {
-                metal::float2 _e426 = sc;
-                sc = _e426.yx;
+            float _e387 = sc.x;
+            float _e389 = sc.y;
+            metal::float2 _e390 = airlight_scene_backscatter_aerosol_u_and_weight(_e387, _e389, md_4);
+            uw = _e390;
+            float _e391 = sum;
+            float _e393 = uw.y;
+            float _e398 = uw.x;
+            sum = _e391 + ((0.46791393 * _e393) * metal::exp(-(t_1) * (_e398 - ua)));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.3387906);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.3387906);
+            float _e420 = beta;
+            float _e421 = co;
+            metal::float2 _e425 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e420, _e421), 0.0));
+            sc = _e425;
+            float _e426 = beta;
+            float _e427 = co;
+            if (_e426 > _e427) {
+                metal::float2 _e429 = sc;
+                sc = _e429.yx;
             }
-            float _e429 = sc.x;
-            float _e431 = sc.y;
-            metal::float2 _e432 = airlight_scene_backscatter_aerosol_u_and_weight(_e429, _e431, md_4);
-            uw = _e432;
-            float _e433 = sum;
-            float _e435 = uw.y;
-            float _e440 = uw.x;
-            sum = _e433 + ((0.36076158 * _e435) * metal::exp(-(t_1) * (_e440 - ua)));
-            beta = (0.5 * _e202.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e202.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e462 = beta;
-            float _e463 = co;
-            metal::float2 _e467 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e462, _e463), 0.0));
-            sc = _e467;
-            float _e468 = beta;
-            float _e469 = co;
-            if (_e468 > _e469) {
-                metal::float2 _e471 = sc;
-                sc = _e471.yx;
+            float _e432 = sc.x;
+            float _e434 = sc.y;
+            metal::float2 _e435 = airlight_scene_backscatter_aerosol_u_and_weight(_e432, _e434, md_4);
+            uw = _e435;
+            float _e436 = sum;
+            float _e438 = uw.y;
+            float _e443 = uw.x;
+            sum = _e436 + ((0.36076158 * _e438) * metal::exp(-(t_1) * (_e443 - ua)));
+            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.06753051);
+            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.06753051);
+            float _e465 = beta;
+            float _e466 = co;
+            metal::float2 _e470 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e465, _e466), 0.0));
+            sc = _e470;
+            float _e471 = beta;
+            float _e472 = co;
+            if (_e471 > _e472) {
+                metal::float2 _e474 = sc;
+                sc = _e474.yx;
             }
-            float _e474 = sc.x;
-            float _e476 = sc.y;
-            metal::float2 _e477 = airlight_scene_backscatter_aerosol_u_and_weight(_e474, _e476, md_4);
-            uw = _e477;
-            float _e478 = sum;
-            float _e480 = uw.y;
-            float _e485 = uw.x;
-            sum = _e478 + ((0.17132449 * _e480) * metal::exp(-(t_1) * (_e485 - ua)));
-            float _e491 = sum;
-            sum = _e491 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e477 = sc.x;
+            float _e479 = sc.y;
+            metal::float2 _e480 = airlight_scene_backscatter_aerosol_u_and_weight(_e477, _e479, md_4);
+            uw = _e480;
+            float _e481 = sum;
+            float _e483 = uw.y;
+            float _e488 = uw.x;
+            sum = _e481 + ((0.17132449 * _e483) * metal::exp(-(t_1) * (_e488 - ua)));
+            float _e494 = sum;
+            sum = _e494 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_5 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e507 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * m_1);
-        f = _e507 / m_1;
+        float _e510 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * m_1);
+        f = _e510 / m_1;
         if (!(true)) {
-            float _e511 = f;
-            float _e517 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * ub);
-            f = _e511 - ((metal::exp(-(t_1) * (ub - m_1)) * _e517) / ub);
+            float _e514 = f;
+            float _e520 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * ub);
+            f = _e514 - ((metal::exp(-(t_1) * (ub - m_1)) * _e520) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (6.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_backscatter_aerosol_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e544 = s;
-        float _e545 = v_3;
-        float _e546 = airlight_scene_backscatter_aerosol_r_of_v(_e545, md_4);
-        float _e550 = v_3;
-        s = _e544 + ((0.34785485 * _e546) * metal::exp(-(t_1) * ((1.0 / _e550) - m_1)));
+        float _e547 = s;
+        float _e548 = v_3;
+        float _e549 = airlight_scene_backscatter_aerosol_r_of_v(_e548, md_4);
+        float _e553 = v_3;
+        s = _e547 + ((0.34785485 * _e549) * metal::exp(-(t_1) * ((1.0 / _e553) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e561 = s;
-        float _e562 = v_3;
-        float _e563 = airlight_scene_backscatter_aerosol_r_of_v(_e562, md_4);
-        float _e567 = v_3;
-        s = _e561 + ((0.65214515 * _e563) * metal::exp(-(t_1) * ((1.0 / _e567) - m_1)));
+        float _e564 = s;
+        float _e565 = v_3;
+        float _e566 = airlight_scene_backscatter_aerosol_r_of_v(_e565, md_4);
+        float _e570 = v_3;
+        s = _e564 + ((0.65214515 * _e566) * metal::exp(-(t_1) * ((1.0 / _e570) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e578 = s;
-        float _e579 = v_3;
-        float _e580 = airlight_scene_backscatter_aerosol_r_of_v(_e579, md_4);
-        float _e584 = v_3;
-        s = _e578 + ((0.65214515 * _e580) * metal::exp(-(t_1) * ((1.0 / _e584) - m_1)));
+        float _e581 = s;
+        float _e582 = v_3;
+        float _e583 = airlight_scene_backscatter_aerosol_r_of_v(_e582, md_4);
+        float _e587 = v_3;
+        s = _e581 + ((0.65214515 * _e583) * metal::exp(-(t_1) * ((1.0 / _e587) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e595 = s;
-        float _e596 = v_3;
-        float _e597 = airlight_scene_backscatter_aerosol_r_of_v(_e596, md_4);
-        float _e601 = v_3;
-        s = _e595 + ((0.34785485 * _e597) * metal::exp(-(t_1) * ((1.0 / _e601) - m_1)));
-        float _e609 = sum;
-        float _e615 = f;
-        float _e616 = s;
-        sum = _e609 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e615 + (_e616 * hl_2)));
+        float _e598 = s;
+        float _e599 = v_3;
+        float _e600 = airlight_scene_backscatter_aerosol_r_of_v(_e599, md_4);
+        float _e604 = v_3;
+        s = _e598 + ((0.34785485 * _e600) * metal::exp(-(t_1) * ((1.0 / _e604) - m_1)));
+        float _e612 = sum;
+        float _e618 = f;
+        float _e619 = s;
+        sum = _e612 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e618 + (_e619 * hl_2)));
     } else {
         if (airlight_scene_backscatter_aerosol_HUGE > lcut) {
             float ue_1 = ua + lcut;
-            float _e625 = s_1;
-            float _e629 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e625 + (0.711093 * _e629);
-            float _e633 = s_1;
-            float _e637 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e633 + (0.27851772 * _e637);
-            float _e641 = s_1;
-            float _e645 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e641 + (0.010389256 * _e645);
+            float _e628 = s_1;
+            float _e632 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e628 + (0.711093 * _e632);
+            float _e636 = s_1;
+            float _e640 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e636 + (0.27851772 * _e640);
+            float _e644 = s_1;
+            float _e648 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e644 + (0.010389256 * _e648);
             if (!(true)) {
-                float _e652 = sb;
-                float _e656 = airlight_scene_backscatter_aerosol_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e652 + (0.711093 * _e656);
-                float _e660 = sb;
-                float _e664 = airlight_scene_backscatter_aerosol_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e660 + (0.27851772 * _e664);
-                float _e668 = sb;
-                float _e672 = airlight_scene_backscatter_aerosol_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e668 + (0.010389256 * _e672);
-                float _e676 = s_1;
-                float _e681 = sb;
-                s_1 = _e676 - (metal::exp(-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut)) * _e681);
+                float _e655 = sb;
+                float _e659 = airlight_scene_backscatter_aerosol_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e655 + (0.711093 * _e659);
+                float _e663 = sb;
+                float _e667 = airlight_scene_backscatter_aerosol_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e663 + (0.27851772 * _e667);
+                float _e671 = sb;
+                float _e675 = airlight_scene_backscatter_aerosol_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e671 + (0.010389256 * _e675);
+                float _e679 = s_1;
+                float _e684 = sb;
+                s_1 = _e679 - (metal::exp(-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut)) * _e684);
             }
-            float _e684 = sum;
-            float _e687 = s_1;
-            sum = _e684 + ((0.01831564 / t_1) * metal::max(_e687, 0.0));
+            float _e687 = sum;
+            float _e690 = s_1;
+            sum = _e687 + ((0.01831564 / t_1) * metal::max(_e690, 0.0));
         }
     }
-    float _e696 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e696 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    float _e699 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e699 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(

@@ -294,11 +294,17 @@ fn airlight_phi_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g
     let tau = min(max(tau_in, 0.0), airlight_phi_4_TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     let md = vec4<f32>(g, 1.0 - g, 1.0 + g, (1.0 - g) / (1.0 + g));
-    // On the axis A diverges through the light; elsewhere it is taken 2^-40 off it.
-    if h_in <= 0.0 && x0 > 0.0 && !(rho >= 0.0 && rho <= 1.0) {
+    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
+    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal h, and A ~ 1/h saturates only past f32.
+    if h_in <= 0.0 && x0 > 0.0 {
+        if rho >= 0.0 && rho < 1.0 {
+            return min(7.95774683e-2 * md.z / (md.y * md.y) * exp(-tau) * rho / (1.0 - rho), airlight_phi_4_HUGE);
+        }
         return airlight_phi_4_HUGE;
     }
-    let h = max(h_in, 9.094947e-13);
+    let h = select(max(h_in, 9.094947e-13), h_in, x0 > 0.0);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let one_minus = select(1.0 - x0, h * h / (1.0 + x0), x0 >= 0.0);
@@ -306,11 +312,18 @@ fn airlight_phi_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g
     let open = !(rho >= 0.0 && rho < airlight_phi_4_RHO_OPEN);
     var du = airlight_phi_4_HUGE;
     if !open {
-        let tr = sqrt((rho - 1.0) * (rho - 1.0) + 2.0 * rho * one_minus);
-        if rho >= x0 {
-            du = rho * (tr + (rho - x0) + one_minus) / ((tr + 1.0) * h);
+        // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
+        // so that h^2 never underflows.
+        let ta = abs(rho - 1.0);
+        let tb = select(sqrt(2.0 * rho * one_minus), h * sqrt(2.0 * rho / (1.0 + x0)), x0 >= 0.0);
+        let tm = max(ta, tb);
+        let tr = select(0.0, tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)), tm > 0.0);
+        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
+        let xr = select(x0 - rho, (1.0 - rho) - one_minus, x0 >= 0.0);
+        if xr <= 0.0 {
+            du = rho * (tr - xr + one_minus) / ((tr + 1.0) * h);
         } else {
-            du = 2.0 * rho * h / ((1.0 + rho + tr) * (tr + x0 - rho));
+            du = 2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr));
         }
     }
     let ub = ua + du;

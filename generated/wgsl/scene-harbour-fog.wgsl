@@ -272,11 +272,14 @@ fn airlight_scene_harbour_fog_r_of_v(v: f32, md: vec4<f32>) -> f32 {
 fn airlight_scene_harbour_fog_airlight_geometry(tau_in: f32, h_in: f32, x0: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_scene_harbour_fog_TAU_MAX);
     let md = vec4<f32>(0.0, 1.0, 1.0, 1.0);
-    // On the axis A diverges through the light; elsewhere it is taken 2^-40 off it.
+    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
+    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal h, and A ~ 1/h saturates only past f32.
     if h_in <= 0.0 && x0 > 0.0 {
         return airlight_scene_harbour_fog_HUGE;
     }
-    let h = max(h_in, 9.094947e-13);
+    let h = select(max(h_in, 9.094947e-13), h_in, x0 > 0.0);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let one_minus = select(1.0 - x0, h * h / (1.0 + x0), x0 >= 0.0);

@@ -117,11 +117,17 @@ fn r_of_v(v: f32, md: Medium) -> f32 {
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
     let md = Medium { kappa: 1.0 };
-    // On the axis A diverges through the light; elsewhere it is taken 2^−40 off it.
-    if h <= 0.0 && x0 > 0.0 && !(0.0..=1.0).contains(&rho) {
+    // On the axis with the light ahead: `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent
+    // through it (ρ ≥ 1). Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
+    // off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal `h`, and `A ~ 1/h` saturates only past f32.
+    if h <= 0.0 && x0 > 0.0 {
+        if (0.0..1.0).contains(&rho) {
+            return (7.95774683e-2 * exp(-tau) * rho / (1.0 - rho)).min(HUGE);
+        }
         return HUGE;
     }
-    let h = h.max(9.094_947e-13);
+    let h = if x0 > 0.0 { h } else { h.max(9.094_947e-13) };
     // ua = tan(γ/2) and 1 − cos γ without cancellation.
     let (ua, one_minus) = if x0 >= 0.0 { (h / (1.0 + x0), h * h / (1.0 + x0)) } else { ((1.0 - x0) / h, 1.0 - x0) };
     // du = ub − ua from distances, exact in every direction.
@@ -129,11 +135,17 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     let du = if open {
         HUGE
     } else {
-        let tr = sqrt((rho - 1.0) * (rho - 1.0) + 2.0 * rho * one_minus);
-        if rho >= x0 {
-            rho * (tr + (rho - x0) + one_minus) / ((tr + 1.0) * h)
+        // |s − light| at the surface, `hypot(ρ − 1, √(2ρ(1 − cos γ)))` scaled so
+        // that `h²` never underflows.
+        let (ta, tb) = ((rho - 1.0).abs(), if x0 >= 0.0 { h * sqrt(2.0 * rho / (1.0 + x0)) } else { sqrt(2.0 * rho * one_minus) });
+        let tm = ta.max(tb);
+        let tr = if tm > 0.0 { tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) } else { 0.0 };
+        // x0 − ρ from 1 − ρ (exact near 1) where cos γ rounds to 1.
+        let xr = if x0 >= 0.0 { (1.0 - rho) - one_minus } else { x0 - rho };
+        if xr <= 0.0 {
+            rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
         } else {
-            2.0 * rho * h / ((1.0 + rho + tr) * (tr + x0 - rho))
+            2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr))
         }
     };
     let ub = ua + du;

@@ -139,11 +139,14 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32) -> f32 {
     let g: f32 = -3.00000012e-1;
     let (a, b) = (1.0 - g, 1.0 + g);
     let md = Medium { g, a, b, kappa: a / b };
-    // On the axis A diverges through the light; elsewhere it is taken 2^−40 off it.
+    // On the axis with the light ahead: `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent
+    // through it (ρ ≥ 1). Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
+    // off the axis there. Ahead nothing is clamped: every term below stays finite
+    // down to the smallest subnormal `h`, and `A ~ 1/h` saturates only past f32.
     if h <= 0.0 && x0 > 0.0 {
         return HUGE;
     }
-    let h = h.max(9.094_947e-13);
+    let h = if x0 > 0.0 { h } else { h.max(9.094_947e-13) };
     // ua = tan(γ/2) and 1 − cos γ without cancellation.
     let (ua, one_minus) = if x0 >= 0.0 { (h / (1.0 + x0), h * h / (1.0 + x0)) } else { ((1.0 - x0) / h, 1.0 - x0) };
     let _ = one_minus;

@@ -240,11 +240,13 @@ pub fn u_geometry(gamma: f64, rho: f64) -> (f64, f64, f64, f64) {
     if rho.is_infinite() {
         return (h, ua, f64::INFINITY, f64::INFINITY);
     }
-    let tr = ((rho - 1.0) * (rho - 1.0) + 2.0 * rho * one_minus).sqrt();
-    let du = if rho >= x0 {
-        rho * (tr + (rho - x0) + one_minus) / ((tr + 1.0) * h)
+    let tr = (rho - 1.0).hypot((2.0 * rho * one_minus).sqrt());
+    // x0 − ρ from 1 − ρ (exact near 1) where cos γ rounds towards 1.
+    let xr = if x0 >= 0.0 { (1.0 - rho) - one_minus } else { x0 - rho };
+    let du = if xr <= 0.0 {
+        rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
     } else {
-        2.0 * rho * h / ((1.0 + rho + tr) * (tr + x0 - rho))
+        2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr))
     };
     (h, ua, du, ua + du)
 }
@@ -310,11 +312,14 @@ impl Family for PhiRule {
         let g = p.g.clamp(-0.999, 0.999);
         let (h, ua, du, ub) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
-            // On the axis: the limits (docs/MATH.md §5).
-            return if p.gamma < 1.0 && p.rho > 1.0 {
-                f64::INFINITY
+            // On the axis (docs/MATH.md §5): the light ahead, `P(0) e^{−τ} ρ/(1 − ρ)`
+            // before it, divergent through it; behind, `A` is flat in `h` to O(h²).
+            return if p.gamma >= 1.0 {
+                self.eval(Point { gamma: PI - 1e-12, ..p })
+            } else if p.rho < 1.0 {
+                crate::phase::hg(g, 0.0, 2.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho)
             } else {
-                self.eval(Point { gamma: p.gamma.clamp(1e-12, PI - 1e-12), ..p })
+                f64::INFINITY
             };
         }
         let t = p.tau * h;
