@@ -461,6 +461,11 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0, f
         }
         sum += 6.73794700e-3 / t * max(s, 0.0);
     }
+    if (h < 8.673617e-19) {
+        // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A
+        // does not; the product is formed from mantissas and exponents.
+        return airlight_phi_iso_8_scaled(2.0 * max(sum, 0.0), exp(-tau), h, 1.0);
+    }
     return min(max(2.0 * exp(-tau) * (sum / h), 0.0), airlight_phi_iso_8_HUGE);
 }
 

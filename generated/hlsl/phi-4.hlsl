@@ -631,8 +631,13 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_, floa
             sum = (_e618 + ((0.030197384 / t_1) * max(_e621, 0.0)));
         }
     }
-    float _e630 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e630 / h_5)), 0.0), airlight_phi_4_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e628 = sum;
+        const float _e636 = airlight_phi_4_scaled((2.0 * max(_e628, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e636;
+    }
+    float _e641 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e641 / h_5)), 0.0), airlight_phi_4_HUGE);
 }
 
 float airlight_phi_4_airlight(float tau, float gamma, float rho_1, float g)

@@ -701,8 +701,13 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
             sum = (_e786 + ((0.01831564 / t_1) * max(_e789, 0.0)));
         }
     }
-    float _e798 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e798 / h_5)), 0.0), airlight_phi_6_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e796 = sum;
+        const float _e804 = airlight_phi_6_scaled((2.0 * max(_e796, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e804;
+    }
+    float _e809 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e809 / h_5)), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(float tau, float gamma, float rho_1, float g)

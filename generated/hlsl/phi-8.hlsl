@@ -753,8 +753,13 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_, floa
             sum = (_e904 + ((0.006737947 / t_1) * max(_e907, 0.0)));
         }
     }
-    float _e916 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e916 / h_5)), 0.0), airlight_phi_8_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e914 = sum;
+        const float _e922 = airlight_phi_8_scaled((2.0 * max(_e914, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e922;
+    }
+    float _e927 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e927 / h_5)), 0.0), airlight_phi_8_HUGE);
 }
 
 float airlight_phi_8_airlight(float tau, float gamma, float rho_1, float g)

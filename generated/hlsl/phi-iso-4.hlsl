@@ -609,8 +609,13 @@ float airlight_phi_iso_4_airlight_geometry(float tau_in, float h_in, float x0_, 
             sum = (_e593 + ((0.030197384 / t_1) * max(_e596, 0.0)));
         }
     }
-    float _e605 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e605 / h_5)), 0.0), airlight_phi_iso_4_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e603 = sum;
+        const float _e611 = airlight_phi_iso_4_scaled((2.0 * max(_e603, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e611;
+    }
+    float _e616 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e616 / h_5)), 0.0), airlight_phi_iso_4_HUGE);
 }
 
 float airlight_phi_iso_4_airlight(float tau, float gamma, float rho_1)

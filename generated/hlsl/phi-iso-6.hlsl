@@ -679,8 +679,13 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_, 
             sum = (_e761 + ((0.01831564 / t_1) * max(_e764, 0.0)));
         }
     }
-    float _e773 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e773 / h_5)), 0.0), airlight_phi_iso_6_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e771 = sum;
+        const float _e779 = airlight_phi_iso_6_scaled((2.0 * max(_e771, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e779;
+    }
+    float _e784 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e784 / h_5)), 0.0), airlight_phi_iso_6_HUGE);
 }
 
 float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_1)

@@ -731,8 +731,13 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
             sum = (_e879 + ((0.006737947 / t_1) * max(_e882, 0.0)));
         }
     }
-    float _e891 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e891 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
+    if ((h_5 < 8.673617e-19)) {
+        float _e889 = sum;
+        const float _e897 = airlight_phi_iso_8_scaled((2.0 * max(_e889, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e897;
+    }
+    float _e902 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e902 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(float tau, float gamma, float rho_1)

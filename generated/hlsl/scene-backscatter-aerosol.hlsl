@@ -663,8 +663,13 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
             sum = (_e687 + ((0.01831564 / t_1) * max(_e690, 0.0)));
         }
     }
-    float _e699 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e699 / h_1)), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    if ((h_1 < 8.673617e-19)) {
+        float _e697 = sum;
+        const float _e705 = airlight_scene_backscatter_aerosol_scaled((2.0 * max(_e697, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e705;
+    }
+    float _e710 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e710 / h_1)), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(float tau, float gamma)

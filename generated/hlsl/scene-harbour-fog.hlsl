@@ -572,8 +572,13 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
             sum = (_e503 + ((0.030197384 / t_1) * max(_e506, 0.0)));
         }
     }
-    float _e515 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e515 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
+    if ((h_1 < 8.673617e-19)) {
+        float _e513 = sum;
+        const float _e521 = airlight_scene_harbour_fog_scaled((2.0 * max(_e513, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e521;
+    }
+    float _e526 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e526 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(float tau, float gamma)

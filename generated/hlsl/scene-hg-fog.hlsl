@@ -630,8 +630,13 @@ float airlight_scene_hg_fog_airlight_geometry(float tau_in, float h_in, float x0
             sum = (_e615 + ((0.030197384 / t_1) * max(_e618, 0.0)));
         }
     }
-    float _e627 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e627 / h_1)), 0.0), airlight_scene_hg_fog_HUGE);
+    if ((h_1 < 8.673617e-19)) {
+        float _e625 = sum;
+        const float _e633 = airlight_scene_hg_fog_scaled((2.0 * max(_e625, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e633;
+    }
+    float _e638 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e638 / h_1)), 0.0), airlight_scene_hg_fog_HUGE);
 }
 
 float airlight_scene_hg_fog_airlight(float tau, float gamma, float rho_1)

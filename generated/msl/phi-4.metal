@@ -666,8 +666,13 @@ float airlight_phi_4_airlight_geometry(
             sum = _e618 + ((0.030197384 / t_1) * metal::max(_e621, 0.0));
         }
     }
-    float _e630 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e630 / h_5), 0.0), airlight_phi_4_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e628 = sum;
+        float _e636 = airlight_phi_4_scaled(2.0 * metal::max(_e628, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e636;
+    }
+    float _e641 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e641 / h_5), 0.0), airlight_phi_4_HUGE);
 }
 
 float airlight_phi_4_airlight(

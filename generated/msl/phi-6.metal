@@ -736,8 +736,13 @@ float airlight_phi_6_airlight_geometry(
             sum = _e786 + ((0.01831564 / t_1) * metal::max(_e789, 0.0));
         }
     }
-    float _e798 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e798 / h_5), 0.0), airlight_phi_6_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e796 = sum;
+        float _e804 = airlight_phi_6_scaled(2.0 * metal::max(_e796, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e804;
+    }
+    float _e809 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e809 / h_5), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(

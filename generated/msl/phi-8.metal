@@ -788,8 +788,13 @@ float airlight_phi_8_airlight_geometry(
             sum = _e904 + ((0.006737947 / t_1) * metal::max(_e907, 0.0));
         }
     }
-    float _e916 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e916 / h_5), 0.0), airlight_phi_8_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e914 = sum;
+        float _e922 = airlight_phi_8_scaled(2.0 * metal::max(_e914, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e922;
+    }
+    float _e927 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e927 / h_5), 0.0), airlight_phi_8_HUGE);
 }
 
 float airlight_phi_8_airlight(

@@ -643,8 +643,13 @@ float airlight_phi_iso_4_airlight_geometry(
             sum = _e593 + ((0.030197384 / t_1) * metal::max(_e596, 0.0));
         }
     }
-    float _e605 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e605 / h_5), 0.0), airlight_phi_iso_4_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e603 = sum;
+        float _e611 = airlight_phi_iso_4_scaled(2.0 * metal::max(_e603, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e611;
+    }
+    float _e616 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e616 / h_5), 0.0), airlight_phi_iso_4_HUGE);
 }
 
 float airlight_phi_iso_4_airlight(

@@ -713,8 +713,13 @@ float airlight_phi_iso_6_airlight_geometry(
             sum = _e761 + ((0.01831564 / t_1) * metal::max(_e764, 0.0));
         }
     }
-    float _e773 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e773 / h_5), 0.0), airlight_phi_iso_6_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e771 = sum;
+        float _e779 = airlight_phi_iso_6_scaled(2.0 * metal::max(_e771, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e779;
+    }
+    float _e784 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e784 / h_5), 0.0), airlight_phi_iso_6_HUGE);
 }
 
 float airlight_phi_iso_6_airlight(

@@ -765,8 +765,13 @@ float airlight_phi_iso_8_airlight_geometry(
             sum = _e879 + ((0.006737947 / t_1) * metal::max(_e882, 0.0));
         }
     }
-    float _e891 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e891 / h_5), 0.0), airlight_phi_iso_8_HUGE);
+    if (h_5 < 0.0000000000000000008673617) {
+        float _e889 = sum;
+        float _e897 = airlight_phi_iso_8_scaled(2.0 * metal::max(_e889, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e897;
+    }
+    float _e902 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e902 / h_5), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(

@@ -693,8 +693,13 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
             sum = _e687 + ((0.01831564 / t_1) * metal::max(_e690, 0.0));
         }
     }
-    float _e699 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e699 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    if (h_1 < 0.0000000000000000008673617) {
+        float _e697 = sum;
+        float _e705 = airlight_scene_backscatter_aerosol_scaled(2.0 * metal::max(_e697, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e705;
+    }
+    float _e710 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e710 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(

@@ -640,8 +640,13 @@ float airlight_scene_fog_street_airlight_geometry(
             sum = _e593 + ((0.030197384 / t_1) * metal::max(_e596, 0.0));
         }
     }
-    float _e605 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e605 / h_1), 0.0), airlight_scene_fog_street_HUGE);
+    if (h_1 < 0.0000000000000000008673617) {
+        float _e603 = sum;
+        float _e611 = airlight_scene_fog_street_scaled(2.0 * metal::max(_e603, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e611;
+    }
+    float _e616 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e616 / h_1), 0.0), airlight_scene_fog_street_HUGE);
 }
 
 float airlight_scene_fog_street_airlight(

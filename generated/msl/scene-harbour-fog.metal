@@ -602,8 +602,13 @@ float airlight_scene_harbour_fog_airlight_geometry(
             sum = _e503 + ((0.030197384 / t_1) * metal::max(_e506, 0.0));
         }
     }
-    float _e515 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e515 / h_1), 0.0), airlight_scene_harbour_fog_HUGE);
+    if (h_1 < 0.0000000000000000008673617) {
+        float _e513 = sum;
+        float _e521 = airlight_scene_harbour_fog_scaled(2.0 * metal::max(_e513, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e521;
+    }
+    float _e526 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e526 / h_1), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(

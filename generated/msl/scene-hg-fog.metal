@@ -661,8 +661,13 @@ float airlight_scene_hg_fog_airlight_geometry(
             sum = _e615 + ((0.030197384 / t_1) * metal::max(_e618, 0.0));
         }
     }
-    float _e627 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e627 / h_1), 0.0), airlight_scene_hg_fog_HUGE);
+    if (h_1 < 0.0000000000000000008673617) {
+        float _e625 = sum;
+        float _e633 = airlight_scene_hg_fog_scaled(2.0 * metal::max(_e625, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e633;
+    }
+    float _e638 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e638 / h_1), 0.0), airlight_scene_hg_fog_HUGE);
 }
 
 float airlight_scene_hg_fog_airlight(

@@ -237,6 +237,11 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
         }
         sum += EXP_NEG_CUT / t * s.max(0.0);
     }
+    if h < 8.673_617e-19 {
+        // A light within 2^−60 of the ray: `1/h` alone may pass f32's range where
+        // `A` does not; the product is formed from mantissas and exponents.
+        return crate::math::scaled(2.0 * sum.max(0.0), exp(-tau), h, 1.0);
+    }
     (2.0 * exp(-tau) * (sum / h)).max(0.0).min(HUGE)
 }
 

@@ -432,6 +432,11 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32) -> f32 {
         }
         sum += 1.83156393e-2 / t * max(s, 0.0);
     }
+    if h < 8.673617e-19 {
+        // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A
+        // does not; the product is formed from mantissas and exponents.
+        return scaled(2.0 * max(sum, 0.0), exp(-tau), h, 1.0);
+    }
     return min(max(2.0 * exp(-tau) * (sum / h), 0.0), HUGE);
 }
 

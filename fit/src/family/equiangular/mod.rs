@@ -90,6 +90,9 @@ impl Family for Equiangular {
         } else {
             0.5 * p.rho / (1.0 - p.rho * x0)
         };
+        if ratio.is_infinite() {
+            return f64::INFINITY;
+        }
         let g = p.g;
         let mut sum = 0.0;
         for (&x, &w) in self.x.iter().zip(&self.w) {

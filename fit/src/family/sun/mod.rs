@@ -140,19 +140,25 @@ impl Family for SunTable {
     fn eval(&self, p: Point) -> f64 {
         let (h, x0) = (p.gamma.sin(), p.gamma.cos());
         if h <= 0.0 {
-            if x0 > 0.0 {
-                // Towards the light: the form's own limit, which it has reached by γ = 1e-8.
-                return self.eval(Point { gamma: 1e-12, ..p });
+            // On the axis the half-angle form degenerates, as in its kernels: the
+            // closed form without extinction, attenuated by the viewer–light leg;
+            // divergent where the ray reaches the light.
+            if x0 > 0.0 && p.rho * x0 >= 1.0 {
+                return f64::INFINITY;
             }
-            // Away from it the two lookups cancel completely: the closed form without
-            // extinction, attenuated by the viewer–light leg.
             return crate::family::closed::NoExtinction.eval(p) * (-p.tau).exp();
         }
         let t = p.tau * h;
         // ξb = π/4 + ½ atan((ρ − x0)/h) = ½ atan2(h, x0 − ρ): no cancellation as h → 0.
         let xb = if p.rho.is_finite() { 0.5 * h.atan2(x0 - p.rho) } else { FRAC_PI_2 };
         let f = (self.lookup(t, xb) - self.lookup(t, 0.5 * p.gamma)).max(0.0);
-        (-p.tau * x0).exp() / (2.0 * PI * h) * f
+        if f == 0.0 {
+            return 0.0;
+        }
+        // `e^{−τ x0}` passes f64's range behind the viewer in dense media (τ |x0| > 709)
+        // where the table's difference is its rounding: in logarithms, and like the
+        // kernels' saturating `exp`, never beyond the largest finite value.
+        ((f.ln() - p.tau * x0).exp() / (2.0 * PI * h)).min(f64::MAX)
     }
 
     /// Two bilinear lookups (8 texel loads), one `exp`, one `atan`, one `sin_cos`.
