@@ -47,6 +47,7 @@ fn eval_compiled(
                 return Err(bad_input(format!("kernel '{}' has no spot entry", k.name)));
             }
             let rows = read_spots(input, &|r, g| entry.check_ray(r, g))?;
+            points_csv::check_axes_f32(&input.display().to_string(), &rows).map_err(bad_input)?;
             let values: Vec<[f64; 3]> =
                 rows.iter().map(|r| SpotRay::from_row(r).spot_of(k).unwrap_or([f32::NAN; 3]).map(f64::from)).collect();
             write_csv(output, &points_csv::render_spots(&rows, &values))
@@ -73,8 +74,15 @@ fn eval_model(
     entry_kind: EvalEntry,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
+    let found = root.clone().or_else(|| crate::workspace::find_root().ok());
     let (reg, _) = registry(root)?;
-    let m = reg.get(model).map_err(bad_input)?;
+    let m = reg.get(model).map_err(|e| match &found {
+        // Outside the repository only the reference is known: say why first.
+        None if model != "reference" => bad_input(format!(
+            "no generated/coefficients found above the current directory (run inside the repository or pass --root), so {e}"
+        )),
+        _ => bad_input(e),
+    })?;
     let g_ok = |_: &airlight_fit::geometry::PhysicalRay, g: f64| {
         m.check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
             .map_err(|e| ("g", e.to_string()))
@@ -119,15 +127,23 @@ pub(crate) fn read_points(
     check: &dyn Fn(&airlight_fit::reference::Point) -> Result<(), airlight_fit::ParamError>,
 ) -> Result<Vec<points_csv::Row>, Failure> {
     let name = input.display().to_string();
-    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    let text = read_text(input)?;
     points_csv::parse(&name, &text, check).map_err(bad_input)
 }
 
 /// The rays of an `eval --entry radiance` CSV, each checked by `check`.
 pub(crate) fn read_rays(input: &Path, check: &points_csv::RayCheck) -> Result<Vec<points_csv::RayRow>, Failure> {
     let name = input.display().to_string();
-    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    let text = read_text(input)?;
     points_csv::parse_rays(&name, &text, check).map_err(bad_input)
+}
+
+/// The text of an `eval` input: UTF-8, or an error naming the line of the first
+/// byte that is not.
+fn read_text(input: &Path) -> Result<String, Failure> {
+    let name = input.display().to_string();
+    let bytes = std::fs::read(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    points_csv::decode(&name, bytes).map_err(bad_input)
 }
 
 /// Whether the header of `input` names the spot entry's cone (`cos_outer`): such
@@ -139,7 +155,7 @@ pub(crate) fn names_spot_columns(input: &Path) -> bool {
 /// The rays of an `eval --entry spot` CSV, each channel checked by `check`.
 pub(crate) fn read_spots(input: &Path, check: &points_csv::RayCheck) -> Result<Vec<points_csv::SpotRow>, Failure> {
     let name = input.display().to_string();
-    let text = std::fs::read_to_string(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
+    let text = read_text(input)?;
     points_csv::parse_spots(&name, &text, check).map_err(bad_input)
 }
 
@@ -167,6 +183,7 @@ pub(crate) fn eval_gpu(
             return Err(bad_input(format!("kernel '{name}' has no spot entry")));
         }
         let rows = read_spots(input, &|r, g| k.check_ray(r, g))?;
+        points_csv::check_axes_f32(&input.display().to_string(), &rows).map_err(bad_input)?;
         let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
         eprintln!("adapter: {}", gpu.adapter());
         let plain: Vec<airlight_shaders::SpotRay> = rows.iter().map(SpotRay::from_row).collect();

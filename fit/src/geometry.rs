@@ -70,7 +70,7 @@ pub enum GeometryError {
     Surface,
     /// The intensity is negative or NaN.
     Intensity,
-    /// A spot cone's axis is zero or its outer cosine is not in (0, 1].
+    /// A spot cone's axis is zero or its outer cosine is not in [0, 1].
     Cone,
 }
 
@@ -82,7 +82,7 @@ impl fmt::Display for GeometryError {
             GeometryError::Medium => "medium needs finite sigma_t ≥ 0 and sigma_s ≥ 0",
             GeometryError::Surface => "surface distance must be > 0",
             GeometryError::Intensity => "light intensity must be ≥ 0",
-            GeometryError::Cone => "spot cone needs a non-zero axis and an outer half-angle below 90°",
+            GeometryError::Cone => "spot cone needs a non-zero axis and an outer half-angle up to 90°",
         })
     }
 }
@@ -174,7 +174,7 @@ impl PhysicalRay {
 /// A spot light's cone: lit where the direction from the light makes an angle
 /// with `axis` whose cosine is at least `cos_outer`; fully lit from `cos_inner`
 /// on, with the weight linear in that cosine between (`cos_inner <= cos_outer`:
-/// a hard edge). Half-angles below 90°: `0 < cos_outer ≤ 1`.
+/// a hard edge). Half-angles up to 90°: `0 ≤ cos_outer ≤ 1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cone {
     /// The cone's axis, from the light; any non-zero length.
@@ -199,8 +199,8 @@ impl Cone {
     /// may be `∞`) inside the cone of cut-off cosine `c` and before the surface;
     /// `None` where the ray misses it. Solved about the ray's closest point to the
     /// light, so that the coefficients scale with the light's distance `h` from the
-    /// ray and nothing cancels near it; the cone is convex (`c > 0`), so the lit
-    /// set is one interval.
+    /// ray and nothing cancels near it; the cone is convex (`c ≥ 0`; at `c = 0` a
+    /// half-space), so the lit set is one interval.
     pub fn lit(&self, ray: &PhysicalRay, c: f64) -> Option<(f64, f64)> {
         let d = ray.direction.map(|x| x / norm(ray.direction));
         let n = self.axis.map(|x| x / norm(self.axis));
@@ -286,7 +286,7 @@ impl PhysicalRay {
                 }
             }
         };
-        if !(cone.cos_outer > 0.0 && cone.cos_outer <= 1.0 && norm(cone.axis) > 0.0) {
+        if !(cone.cos_outer >= 0.0 && cone.cos_outer <= 1.0 && norm(cone.axis) > 0.0) {
             return Err(GeometryError::Cone);
         }
         if cone.cos_inner <= cone.cos_outer {

@@ -83,6 +83,42 @@ fn located(file: &str, line: usize, column: Option<&str>, message: String) -> Cs
     CsvError { file: file.to_string(), line, column: column.map(str::to_string), message }
 }
 
+/// Why an f32 kernel cannot take `x` as column `col` (beyond f32's range, or
+/// not zero but below its smallest subnormal, so that it would become ∞ or 0),
+/// or `None` where it can.
+pub fn beyond_f32(col: &str, x: f64) -> Option<String> {
+    let y = x as f32;
+    (x.is_finite() && (y.is_infinite() || (y == 0.0 && x != 0.0))).then(|| {
+        format!("{col} = {x:e} is outside what an f32 kernel can take (|x| in [1.4e-45, 3.4e38], or 0)")
+    })
+}
+
+/// [`beyond_f32`] for the cone's axis of each spot row: the first such component
+/// is the error.
+pub fn check_axes_f32(file: &str, rows: &[SpotRow]) -> Result<(), CsvError> {
+    for r in rows {
+        if let Some(c) = &r.cone {
+            for (col, x) in ["ax", "ay", "az"].into_iter().zip(c.axis) {
+                if let Some(m) = beyond_f32(col, x) {
+                    return Err(located(file, r.line, Some(col), m));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The bytes of a CSV as text: UTF-8 (a BOM is kept for the header reader to
+/// drop), or an error naming the line and byte of the first invalid sequence.
+pub fn decode(file: &str, bytes: Vec<u8>) -> Result<String, CsvError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let b = e.as_bytes();
+        let line = 1 + b[..at].iter().filter(|&&c| c == b'\n').count();
+        located(file, line, None, format!("not UTF-8 text (byte {} of the file, 0x{:02x})", at + 1, b[at]))
+    })
+}
+
 /// A row of [`read_table`]: its line, numbers and fields as written.
 type TableRow<const N: usize> = (usize, [f64; N], [String; N]);
 
@@ -93,11 +129,18 @@ type TableRow<const N: usize> = (usize, [f64; N], [String; N]);
 fn read_table<const N: usize>(file: &str, contents: &str, columns: &[&str; N]) -> Result<Vec<TableRow<N>>, CsvError> {
     let err = |line: usize, column: Option<&str>, message: String| located(file, line, column, message);
     let need = columns.join(",");
+    // Lines end in LF, CRLF or a bare CR (classic Mac OS).
+    let contents = if contents.contains('\r') { contents.replace("\r\n", "\n").replace('\r', "\n") } else { contents.to_string() };
     let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
     let (header_line, header) =
         lines.next().ok_or_else(|| err(1, None, format!("empty file: expected a header {need}")))?;
     let names: Vec<String> =
         header.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_ascii_lowercase()).collect();
+    for (i, n) in names.iter().enumerate() {
+        if !n.is_empty() && names[..i].contains(n) {
+            return Err(err(header_line, Some(n), format!("appears twice in the header '{}'", header.trim())));
+        }
+    }
     let mut index = [0usize; N];
     for (k, col) in columns.iter().enumerate() {
         index[k] = names.iter().position(|n| n == col).ok_or_else(|| {
@@ -107,6 +150,10 @@ fn read_table<const N: usize>(file: &str, contents: &str, columns: &[&str; N]) -
     let mut rows = Vec::new();
     for (line, text) in lines {
         let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        if fields.len() > names.len() {
+            let message = format!("the row has {} fields, the header {}", fields.len(), names.len());
+            return Err(err(line, None, message));
+        }
         let mut vals = [0.0; N];
         let mut raw: [String; N] = std::array::from_fn(|_| String::new());
         for k in 0..N {
@@ -204,7 +251,7 @@ pub fn render_rays(rows: &[RayRow], values: &[f64]) -> String {
 
 /// Checks each column of a rays or spot rays row: finite positions and
 /// directions, a surface that is not NaN, intensity and σ finite ≥ 0, `|g| < 1`,
-/// a cone's `0 < cos_outer ≤ 1` (or −1) and `cos_inner ≤ 1`; the first column out
+/// a cone's `0 ≤ cos_outer ≤ 1` (or −1) and `cos_inner ≤ 1`; the first column out
 /// of range is the error.
 fn check_columns(file: &str, line: usize, columns: &[&'static str], v: &[f64], raw: &[String]) -> Result<(), CsvError> {
     for (k, (&col, &x)) in columns.iter().zip(v).enumerate() {
@@ -214,7 +261,7 @@ fn check_columns(file: &str, line: usize, columns: &[&'static str], v: &[f64], r
             | "sigma_s_g" | "sigma_s_b" => (x.is_finite() && x >= 0.0, "a finite number ≥ 0"),
             "g" => (x.abs() < 1.0, "in (−1, 1)"),
             "cos_outer" => {
-                (x == -1.0 || (x > 0.0 && x <= 1.0), "in (0, 1] (half-angles below 90°), or -1 for a point light")
+                (x == -1.0 || (0.0..=1.0).contains(&x), "in [0, 1] (half-angles up to 90°), or -1 for a point light")
             }
             "cos_inner" => (x.is_finite() && x <= 1.0, "a finite number ≤ 1"),
             _ => (x.is_finite(), "a finite number"),
@@ -281,7 +328,7 @@ impl SpotRow {
 }
 
 /// Parses a spot rays file: every column as [`parse_rays`] checks it, a non-zero
-/// axis, `0 < cos_outer ≤ 1` (half-angles below 90°) or `cos_outer = −1` for a point
+/// axis, `0 ≤ cos_outer ≤ 1` (half-angles up to 90°) or `cos_outer = −1` for a point
 /// light, `cos_inner ≤ 1`; then each channel's ray by `check`.
 pub fn parse_spots(
     file: &str,

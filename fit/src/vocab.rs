@@ -416,6 +416,28 @@ impl IndexEntry {
     /// `radiance` evaluates as given — σt = 0 without extinction, no surface
     /// without surfaces, `g` in its range. The error names the column.
     pub fn check_ray(&self, ray: &crate::geometry::PhysicalRay, g: f64) -> Result<(), (&'static str, String)> {
+        // The f32 contract: what an f32 argument cannot hold is refused. A surface or
+        // σt past f32's range is handled exactly instead (no surface; no light
+        // through), and so is one below it (0 and e^0 = 1 to f32).
+        let (o, d, l) = (ray.origin, ray.direction, ray.light);
+        let named = [
+            ("ox", o[0]),
+            ("oy", o[1]),
+            ("oz", o[2]),
+            ("dx", d[0]),
+            ("dy", d[1]),
+            ("dz", d[2]),
+            ("lx", l[0]),
+            ("ly", l[1]),
+            ("lz", l[2]),
+            ("intensity", ray.intensity),
+            ("sigma_s", ray.sigma_s),
+        ];
+        for (col, x) in named {
+            if let Some(m) = crate::points_csv::beyond_f32(col, x) {
+                return Err((col, m));
+            }
+        }
         if !self.extinction && ray.sigma_t != 0.0 {
             return Err(("sigma_t", format!("kernel {} ignores extinction: it takes only sigma_t = 0", self.name)));
         }
