@@ -31,11 +31,14 @@ pub const PHYSICAL: &str = "physical";
 pub const PHYS_EXTREME: &str = "phys-extreme";
 /// The spot entry's rows.
 pub const SPOT: &str = "spot";
+/// The canonical entry's rows at its edges: the exact axis, tiny angles, far and
+/// touching surfaces.
+pub const EDGE: &str = "edge";
 
 /// The gate's regimes, in the order its tables list them: the canonical entry's
 /// domains, then the physical and spot entries' sets.
-pub const REGIMES: [&str; 6] =
-    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), PHYSICAL, PHYS_EXTREME, SPOT];
+pub const REGIMES: [&str; 7] =
+    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), EDGE, PHYSICAL, PHYS_EXTREME, SPOT];
 
 /// One kernel × target × domain row of the gate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -20,7 +20,7 @@ use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
-pub use airlight_fit::record::{target_label, PHYSICAL, PHYS_EXTREME, SPOT};
+pub use airlight_fit::record::{target_label, EDGE, PHYSICAL, PHYS_EXTREME, SPOT};
 
 /// One kernel × target × domain.
 #[derive(Debug, Clone, PartialEq)]
@@ -130,6 +130,36 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
     Ok(out)
 }
 
+/// The canonical edge set of kernel `k` (issue 23): the exact axis (γ = 0, and π
+/// as f64 and f32 round it), γ from 1e-30 up, γ within 1e-6 of π, surfaces just
+/// before, at and beyond the light and out to 1e300 and ∞, at three optical
+/// depths and the ends of its `g` range; projected onto what `k` takes. Errors
+/// count wherever the value is within f32's range and `τ` within its domains;
+/// the ray through the light must give ∞ (f32: `HUGE`).
+pub fn edge_points(k: &IndexEntry) -> Result<Vec<(Point, f64)>, GateError> {
+    use std::f64::consts::PI;
+    let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
+    let gammas = [0.0, 1e-30, 1e-20, 1e-10, 1e-6, 1e-3, 1.0, PI / 2.0, PI - 1e-3, PI - 1e-6, 3.141_592_653_589_79, PI];
+    let rhos = [0.5, 1.0 - 1.0 / 1_048_576.0, 1.0, 2.0, 1e4, 1e30, 1e300, f64::INFINITY];
+    let mut pts = Vec::new();
+    for tau in [0.0, 0.5, tau_max.min(5.0)] {
+        for &gamma in &gammas {
+            for &rho in &rhos {
+                for g in [k.g[0], k.g[1]] {
+                    pts.push(project(k, Point { tau, gamma, rho, g }));
+                }
+            }
+        }
+    }
+    pts.sort_by(|a, b| (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN"));
+    pts.dedup();
+    let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
+    pts.into_iter()
+        .zip(values)
+        .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
+        .collect()
+}
+
 /// Rays realising canonical points at world scales from 1e-3 to 1e4 units.
 pub const PHYSICAL_RAYS: usize = 2000;
 
@@ -231,11 +261,20 @@ pub const SPOT_ULP_CHANGE: f64 = 1e-5;
 pub const SPOT_ULP_FACTOR: f64 = 32.0;
 
 /// Spot rays per kernel with a spot entry.
-pub const SPOT_RAYS: usize = 160;
+pub const SPOT_RAYS: usize = 224;
+
+/// The outer half-angles (degrees) of the gate's grid of cones (issue 23: the
+/// cones renderers use).
+pub const SPOT_GRID_OUTER: [f64; 7] = [5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 80.0];
+
+/// The inner half-angles of the grid, as shares of the outer: from a hard edge
+/// (equal) to a quarter.
+pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 
 /// Spot-light rays for kernel `k`'s spot entry: the placements of
 /// [`physical_rays`], each light made a spot light aimed at a random point of the
-/// ray (or beside it), outer half-angle 2°…80° log-uniform, every other one with a
+/// ray (or beside it): every fourth the next cone of the grid [`SPOT_GRID_OUTER`] ×
+/// [`SPOT_GRID_INNER`], the others outer half-angle 2°…80° log-uniform, every other one with a
 /// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
 /// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1. Returns
 /// the rays with the canonical point of their unclipped red channel and the
@@ -259,8 +298,16 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         let axis: [f64; 3] = std::array::from_fn(|j| o[j] + s * dn[j] + jitter * u[j] - l[j]);
         let outer = (2.0f64 * 40f64.powf(rng.next_f64())).to_radians();
         let inner = outer * (0.2 + 0.75 * rng.next_f64());
+        // Every fourth ray: the next cone of the grid renderers use.
+        let (grid_outer, grid_inner) = {
+            let j = i / 4;
+            let o = SPOT_GRID_OUTER[j % SPOT_GRID_OUTER.len()];
+            (o.to_radians(), (o * SPOT_GRID_INNER[(j / SPOT_GRID_OUTER.len()) % SPOT_GRID_INNER.len()]).to_radians())
+        };
         let (cos_outer, cos_inner) = if i % 16 == 15 {
             (-1.0, -1.0)
+        } else if i % 4 == 0 {
+            (grid_outer.cos(), grid_inner.cos())
         } else if i % 2 == 0 {
             (outer.cos(), inner.cos())
         } else {
@@ -489,7 +536,9 @@ fn row(
         // An f32 kernel's HUGE (read as ∞) is right where the value is ∞ or
         // beyond f32's checked range (it saturates there); anywhere else it is bad.
         let saturated = target.is_some() && v64 == f64::INFINITY && exact > F32_RANGE.1;
-        if !saturated && exact.is_finite() && !(v64.is_finite() && v64 >= 0.0) {
+        // On the edge set the ray through the light must give ∞ too.
+        let missed = domain == EDGE && exact.is_infinite() && v64 != f64::INFINITY;
+        if missed || (!saturated && exact.is_finite() && !(v64.is_finite() && v64 >= 0.0)) {
             bad += 1;
             first_bad.get_or_insert((p, v64));
             continue;
@@ -540,6 +589,9 @@ struct Subject<'a> {
     compiled: Option<&'a CompiledKernel>,
     shaders: Vec<(Target, KernelSource<'a>)>,
     gpu: Option<&'a Gpu>,
+    /// Whether it is the uniform ray march (the engines' method), which cannot
+    /// see the divergence on the ray through the light.
+    marches: bool,
 }
 
 impl Subject<'_> {
@@ -570,6 +622,35 @@ impl Subject<'_> {
                 let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
                 let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
                 rows.push(row(k, Some(*target), domain.name(), pts, &got, bound, None));
+            }
+        }
+        Ok(rows)
+    }
+
+    /// The canonical entry on the edge set ([`edge_points`]), held to `hull`.
+    fn edge_rows(&self, hull: f64) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        let mut pts = edge_points(k)?;
+        if self.marches {
+            // A uniform march's midpoints never land on the light: its finite value
+            // on the ray through it is the engines' method, tolerated and stated.
+            pts.retain(|(_, a)| a.is_finite());
+        }
+        let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
+        let f64s = airlight_fit::parallel::map(&pts, |(p, _)| (self.model)(*p), &|_, _| {});
+        rows.push(row(k, None, EDGE, &pts, &f64s, hull, None));
+        if let Some(rk) = self.compiled {
+            let got: Vec<f64> = raw
+                .iter()
+                .map(|p| crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32)))
+                .collect();
+            rows.push(row(k, Some(Target::Rust), EDGE, &pts, &got, hull, None));
+        }
+        if let Some(gpu) = self.gpu {
+            for (target, src) in &self.shaders {
+                let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
+                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                rows.push(row(k, Some(*target), EDGE, &pts, &got, hull, None));
             }
         }
         Ok(rows)
@@ -698,6 +779,7 @@ pub fn run(
                 .map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref())))
                 .collect(),
             gpu,
+            marches: model_file(k, &models)?.is_some_and(|m| m.model.body.kind() == "raymarch"),
         };
         rows.extend(subject.canonical_rows(&point_sets(k, &validations)?, &models)?);
         let bound_over = |ds: &mut dyn Iterator<Item = Domain>| -> Result<f64, GateError> {
@@ -705,6 +787,7 @@ pub fn run(
         };
         let sampled = bound_over(&mut k.domains.iter().copied())?;
         let hull = bound_over(&mut k.domains.iter().copied().chain([Domain::Extreme]))?;
+        rows.extend(subject.edge_rows(hull)?);
         rows.extend(subject.physical_rows(sampled, hull)?);
         if k.has(Entry::Spot) {
             rows.extend(subject.spot_rows(sampled)?);
