@@ -248,7 +248,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.868806092532688e-3,
-        dense_max_rel: 6.026991285385562e-2,
+        dense_max_rel: 6.0269912854425886e-2,
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -373,7 +373,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-iso-6",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 5.4283691066172515e-6,
+        thin_max_rel: 5.428369174091819e-6,
         dense_max_rel: 7.38223234433147e-6,
         airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -429,7 +429,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-8",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.813399735032934e-6,
+        thin_max_rel: 9.877231146706908e-6,
         dense_max_rel: 2.8008944091557076e-6,
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
@@ -500,7 +500,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.296811482479926e1,
-        dense_max_rel: 2.429653202635111e1,
+        dense_max_rel: 2.429674959177883e1,
         airlight: |tau, gamma, rho, g| raymarch_64::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -513,7 +513,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "raymarch-128",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 2.114920538402527e1,
+        thin_max_rel: 2.1149205384025283e1,
         dense_max_rel: 2.4296749591779253e1,
         airlight: |tau, gamma, rho, g| raymarch_128::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
@@ -556,7 +556,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.994002332413402e-1,
-        dense_max_rel: 9.995354512042692e-1,
+        dense_max_rel: 9.995354512042686e-1,
         airlight: |tau, gamma, rho, g| equiangular_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -583,7 +583,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "equiangular-8",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.3460488951836e-1,
+        thin_max_rel: 9.346048895183597e-1,
         dense_max_rel: 8.563665429746622e-1,
         airlight: |tau, gamma, rho, g| equiangular_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
@@ -597,8 +597,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "equiangular-16",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 5.97474944748581e-1,
-        dense_max_rel: 4.0460361730914685e-1,
+        thin_max_rel: 5.97474944748591e-1,
+        dense_max_rel: 4.0460361730914707e-1,
         airlight: |tau, gamma, rho, g| equiangular_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -613,8 +613,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "equiangular-32",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 1.6987679325665814e-1,
-        dense_max_rel: 4.8566207483916206e-2,
+        thin_max_rel: 1.6987679325666438e-1,
+        dense_max_rel: 4.856620748391694e-2,
         airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -629,8 +629,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-64",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.9194417990106587e2,
-        dense_max_rel: 3.650346902078825e18,
+        thin_max_rel: 2.9194417990106604e2,
+        dense_max_rel: 3.650346902078828e18,
         airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -644,7 +644,7 @@ pub const KERNELS: &[Kernel] = &[
         scene: false,
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.7193672231726066e2,
-        dense_max_rel: 1.8078629703817926e13,
+        dense_max_rel: 1.8078629703817914e13,
         airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -657,7 +657,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-256",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.3191900758280616e2,
+        thin_max_rel: 2.3191900758280622e2,
         dense_max_rel: 2.5286307063989234e6,
         airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -671,8 +671,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-512",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.519114971503736e2,
-        dense_max_rel: 1.0250261674294e3,
+        thin_max_rel: 1.5191149715037346e2,
+        dense_max_rel: 1.0250261674293997e3,
         airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
