@@ -88,9 +88,8 @@ fn located(file: &str, line: usize, column: Option<&str>, message: String) -> Cs
 /// or `None` where it can.
 pub fn beyond_f32(col: &str, x: f64) -> Option<String> {
     let y = x as f32;
-    (x.is_finite() && (y.is_infinite() || (y == 0.0 && x != 0.0))).then(|| {
-        format!("{col} = {x:e} is outside what an f32 kernel can take (|x| in [1.4e-45, 3.4e38], or 0)")
-    })
+    (x.is_finite() && (y.is_infinite() || (y == 0.0 && x != 0.0)))
+        .then(|| format!("{col} = {x:e} is outside what an f32 kernel can take (|x| in [1.4e-45, 3.4e38], or 0)"))
 }
 
 /// [`beyond_f32`] for the cone's axis of each spot row: the first such component
@@ -130,7 +129,8 @@ fn read_table<const N: usize>(file: &str, contents: &str, columns: &[&str; N]) -
     let err = |line: usize, column: Option<&str>, message: String| located(file, line, column, message);
     let need = columns.join(",");
     // Lines end in LF, CRLF or a bare CR (classic Mac OS).
-    let contents = if contents.contains('\r') { contents.replace("\r\n", "\n").replace('\r', "\n") } else { contents.to_string() };
+    let contents =
+        if contents.contains('\r') { contents.replace("\r\n", "\n").replace('\r', "\n") } else { contents.to_string() };
     let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
     let (header_line, header) =
         lines.next().ok_or_else(|| err(1, None, format!("empty file: expected a header {need}")))?;
