@@ -403,7 +403,7 @@ mod tests {
         assert!(v[0] > v[1] && v[1] > v[2] && v[2] > 0.0, "{v:?}");
         let out = render_spots(&rows, &[v, [0.0; 3]]);
         assert!(out.starts_with(&format!("{head},r,g_out,b\n{row},")));
-        for (bad, col) in [(row.replace(",0.866,", ",0,"), "cos_outer"), (row.replace(",0,-1,0,", ",0,0,0,"), "ax")] {
+        for (bad, col) in [(row.replace(",0.866,", ",1.5,"), "cos_outer"), (row.replace(",0,-1,0,", ",0,0,0,"), "ax")] {
             let e = parse_spots("s.csv", &format!("{head}\n{bad}\n"), |_, _| Ok(())).unwrap_err().to_string();
             assert!(e.starts_with(&format!("s.csv:2: column '{col}'")), "{e}");
         }

@@ -305,8 +305,7 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
     float tau = min(max(tau_in, 0.0), airlight_scene_backscatter_aerosol_TAU_MAX);
     float g = -3.00000012e-1;
     vec4 md = vec4(g, 1.0 - g, 1.0 + g, (1.0 - g) / (1.0 + g));
-    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
-    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // On the axis with the light ahead the ray passes through it: divergent. Behind the viewer A is flat in h to O(h^2): taken
     // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal h, and A ~ 1/h saturates only past float's range.
     if (h_in <= 0.0 && x0 > 0.0) {

@@ -116,8 +116,7 @@ fn r_of_v(v: f32, md: Medium) -> f32 {
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
     let md = Medium { kappa: 1.0 };
-    // On the axis with the light ahead: `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent
-    // through it (ρ ≥ 1). Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
+    // On the axis with the light ahead the ray passes through it: divergent. Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
     // off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal `h`, and `A ~ 1/h` saturates only past f32.
     if h <= 0.0 && x0 > 0.0 {

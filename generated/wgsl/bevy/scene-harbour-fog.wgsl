@@ -274,8 +274,7 @@ fn r_of_v(v: f32, md: vec4<f32>) -> f32 {
 fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), TAU_MAX);
     let md = vec4<f32>(0.0, 1.0, 1.0, 1.0);
-    // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
-    // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
+    // On the axis with the light ahead the ray passes through it: divergent. Behind the viewer A is flat in h to O(h^2): taken
     // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal h, and A ~ 1/h saturates only past f32.
     if h_in <= 0.0 && x0 > 0.0 {

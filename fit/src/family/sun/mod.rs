@@ -140,11 +140,12 @@ impl Family for SunTable {
     fn eval(&self, p: Point) -> f64 {
         let (h, x0) = (p.gamma.sin(), p.gamma.cos());
         if h <= 0.0 {
-            // On the axis the half-angle form degenerates, as in its kernels: the
-            // closed form without extinction, attenuated by the viewer–light leg;
-            // divergent where the ray reaches the light.
-            if x0 > 0.0 && p.rho * x0 >= 1.0 {
-                return f64::INFINITY;
+            // On the axis behind, the half-angle form degenerates, as in its kernels:
+            // the closed form without extinction, attenuated by the viewer–light leg.
+            if x0 > 0.0 {
+                // Towards the light: divergent through it; before it the form's own
+                // limit, which it has reached by γ = 1e-8.
+                return if p.rho * x0 >= 1.0 { f64::INFINITY } else { self.eval(Point { gamma: 1e-12, ..p }) };
             }
             return crate::family::closed::NoExtinction.eval(p) * (-p.tau).exp();
         }
