@@ -59,6 +59,7 @@ fn eval_compiled(
         }
         EvalEntry::Airlight => {
             let rows = read_points(input, &|p| entry.check(p))?;
+            points_csv::check_gamma_f32(&input.display().to_string(), &rows).map_err(bad_input)?;
             let values: Vec<f64> = rows.iter().map(|r| airlight_shaders::f32_value(k, r.point)).collect();
             write_csv(output, &points_csv::render(&rows, &values))
         }
@@ -201,6 +202,7 @@ pub(crate) fn eval_gpu(
         return write_csv(output, &points_csv::render_rays(&rows, &values));
     }
     let rows = read_points(input, &|p| k.check(p))?;
+    points_csv::check_gamma_f32(&input.display().to_string(), &rows).map_err(bad_input)?;
     let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
     eprintln!("adapter: {}", gpu.adapter());
     let raw: Vec<[f64; 4]> = rows.iter().map(|r| [r.point.tau, r.point.gamma, r.point.rho, r.point.g]).collect();

@@ -84,12 +84,24 @@ fn located(file: &str, line: usize, column: Option<&str>, message: String) -> Cs
 }
 
 /// Why an f32 kernel cannot take `x` as column `col` (beyond f32's range, or
-/// not zero but below its smallest subnormal, so that it would become ∞ or 0),
-/// or `None` where it can.
+/// not zero but below its smallest normal number, so that it would become ∞, lose
+/// its digits or be flushed to 0), or `None` where it can.
 pub fn beyond_f32(col: &str, x: f64) -> Option<String> {
-    let y = x as f32;
-    (x.is_finite() && (y.is_infinite() || (y == 0.0 && x != 0.0)))
-        .then(|| format!("{col} = {x:e} is outside what an f32 kernel can take (|x| in [1.4e-45, 3.4e38], or 0)"))
+    // Subnormals too: they carry few digits, and GPUs may flush them to 0.
+    let range = f64::from(f32::MIN_POSITIVE)..=f64::from(f32::MAX);
+    (x.is_finite() && x != 0.0 && !range.contains(&x.abs()))
+        .then(|| format!("{col} = {x:e} is outside what an f32 kernel can take (|x| in [1.2e-38, 3.4e38], or 0)"))
+}
+
+/// [`beyond_f32`] for the γ of each point (τ and ρ beyond f32 are exact: no
+/// light through, no surface; below it, 0 and a surface at the viewer).
+pub fn check_gamma_f32(file: &str, rows: &[Row]) -> Result<(), CsvError> {
+    for r in rows {
+        if let Some(m) = beyond_f32("gamma", r.point.gamma) {
+            return Err(located(file, r.line, Some("gamma"), m));
+        }
+    }
+    Ok(())
 }
 
 /// [`beyond_f32`] for the cone's axis of each spot row: the first such component

@@ -646,7 +646,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h, float x0,
     st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
     d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
     sum += 7.01860990e-3 * exp(-tau * st) / (d * sqrt(d));
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / max(h, 1e-30), airlight_equiangular_32_HUGE);
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / h, airlight_equiangular_32_HUGE);
 }
 
 // The same for three channels' tau at once (the spot entry): the nodes, their
@@ -990,7 +990,7 @@ vec3 airlight_equiangular_32_airlight_geometry_rgb(vec3 tau_in, float h, float x
     st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
     d = g >= 0.0 ? gm + 4.0 * g * sc.x * sc.x : gp - 4.0 * g * sc.y * sc.y;
     sum += 7.01860990e-3 * exp(-tau * st) / (d * sqrt(d));
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / max(h, 1e-30), vec3(airlight_equiangular_32_HUGE));
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half_span / h, vec3(airlight_equiangular_32_HUGE));
 }
 
 
@@ -1152,7 +1152,7 @@ vec3 airlight_equiangular_32_spot_edge(vec3 tau, float h, float x0, float rho, f
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half_len * 1.01228535e-1 * (airlight_equiangular_32_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3(0.0), vec3(airlight_equiangular_32_HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_equiangular_32_HUGE));
 }
 
 // The weight of the direction cosine c: 1 within the inner cone, 0 outside the

@@ -414,7 +414,7 @@ vec3 airlight_raymarch_8_spot_edge(vec3 tau, float h, float x0, float rho, float
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half_len * 1.01228535e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3(0.0), vec3(airlight_raymarch_8_HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_raymarch_8_HUGE));
 }
 
 // The weight of the direction cosine c: 1 within the inner cone, 0 outside the

@@ -312,11 +312,16 @@ float airlight_scene_spot_harbour_airlight_geometry(float tau_in, float h_in, fl
     // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
     // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal h, and A ~ 1/h saturates only past float's range.
-    if (h_in <= 0.0 && x0 > 0.0) {
+    // Within 2^-60 of the axis before the light the limit is A to float: there
+    // t >= 1 - rho >= 2^-24 along the ray, so h moves it by (h/t)^2 < 1e-21, and the
+    // integral below would pass through subnormal numbers a GPU may flush.
+    if (x0 > 0.0 && h_in < 8.673617e-19) {
         if (rho >= 0.0 && rho < 1.0) {
             return min(7.95774683e-2 * md.z / (md.y * md.y) * exp(-tau) * rho / (1.0 - rho), airlight_scene_spot_harbour_HUGE);
         }
-        return airlight_scene_spot_harbour_HUGE;
+        if (h_in <= 0.0) {
+            return airlight_scene_spot_harbour_HUGE;
+        }
     }
     float h = x0 > 0.0 ? h_in : max(h_in, 9.094947e-13);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
@@ -599,7 +604,7 @@ vec3 airlight_scene_spot_harbour_spot_edge(vec3 tau, float h, float x0, float rh
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half_len * 1.01228535e-1 * (airlight_scene_spot_harbour_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3(0.0), vec3(airlight_scene_spot_harbour_HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_scene_spot_harbour_HUGE));
 }
 
 // The weight of the direction cosine c: 1 within the inner cone, 0 outside the

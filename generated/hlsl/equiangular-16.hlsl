@@ -804,7 +804,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e1166 = d_2;
     sum_1 = (_e1158 + ((0.02715246 * exp((-(tau_5) * _e1160))) / (_e1165 * sqrt(_e1166))));
     float _e1178 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / max(h_1, 1e-30)), airlight_equiangular_16_HUGE);
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / h_1), airlight_equiangular_16_HUGE);
 }
 
 float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
@@ -1242,7 +1242,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e1190 = d_3;
     sum_2 = (_e1182 + ((0.02715246 * exp((-(tau_6) * _e1184))) / ((_e1189 * sqrt(_e1190))).xxx));
     float3 _e1203 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_16_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -1567,8 +1567,8 @@ float3 airlight_equiangular_16_spot_edge(float3 tau_4, float h_5, float x0_5, fl
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_3;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_3;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_16_spot_weight(float c_2, float co_4, float ci_2)

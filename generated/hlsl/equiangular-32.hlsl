@@ -1284,7 +1284,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_1, float x
     float _e2286 = d_2;
     sum_1 = (_e2278 + ((0.00701861 * exp((-(tau_5) * _e2280))) / (_e2285 * sqrt(_e2286))));
     float _e2298 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2298) * half_1) / max(h_1, 1e-30)), airlight_equiangular_32_HUGE);
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2298) * half_1) / h_1), airlight_equiangular_32_HUGE);
 }
 
 float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
@@ -2122,7 +2122,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e2326 = d_3;
     sum_2 = (_e2318 + ((0.00701861 * exp((-(tau_6) * _e2320))) / ((_e2325 * sqrt(_e2326))).xxx));
     float3 _e2339 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e2339) * half_2) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e2339) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -2447,8 +2447,8 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_3;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_3;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_32_spot_weight(float c_2, float co_4, float ci_2)

@@ -444,7 +444,7 @@ float airlight_equiangular_4_airlight_geometry(float tau_in, float h_1, float x0
     float _e326 = d_2;
     sum_1 = (_e318 + ((0.34785485 * exp((-(tau_5) * _e320))) / (_e325 * sqrt(_e326))));
     float _e338 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e338) * half_1) / max(h_1, 1e-30)), airlight_equiangular_4_HUGE);
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e338) * half_1) / h_1), airlight_equiangular_4_HUGE);
 }
 
 float3 airlight_equiangular_4_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
@@ -582,7 +582,7 @@ float3 airlight_equiangular_4_airlight_geometry_rgb(float3 tau_in_1, float h_2, 
     float _e338 = d_3;
     sum_2 = (_e330 + ((0.34785485 * exp((-(tau_6) * _e332))) / ((_e337 * sqrt(_e338))).xxx));
     float3 _e351 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e351) * half_2) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e351) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_4_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -907,8 +907,8 @@ float3 airlight_equiangular_4_spot_edge(float3 tau_4, float h_5, float x0_5, flo
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_3;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_3;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_4_spot_weight(float c_2, float co_4, float ci_2)

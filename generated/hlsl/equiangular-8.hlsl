@@ -564,7 +564,7 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_1, float x0
     float _e606 = d_2;
     sum_1 = (_e598 + ((0.101228535 * exp((-(tau_5) * _e600))) / (_e605 * sqrt(_e606))));
     float _e618 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e618) * half_1) / max(h_1, 1e-30)), airlight_equiangular_8_HUGE);
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e618) * half_1) / h_1), airlight_equiangular_8_HUGE);
 }
 
 float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
@@ -802,7 +802,7 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_2, 
     float _e622 = d_3;
     sum_2 = (_e614 + ((0.101228535 * exp((-(tau_6) * _e616))) / ((_e621 * sqrt(_e622))).xxx));
     float3 _e635 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e635) * half_2) / (max(h_2, 1e-30)).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e635) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_8_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -1127,8 +1127,8 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_3;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_3;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_8_spot_weight(float c_2, float co_4, float ci_2)

@@ -385,8 +385,8 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
     float g_8 = clamp(g_in, -0.999, 0.999);
     float4 md_4 = float4(g_8, (1.0 - g_8), (1.0 + g_8), ((1.0 - g_8) / (1.0 + g_8)));
-    if ((h_in <= 0.0)) {
-        local_4 = (x0_ > 0.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
@@ -401,7 +401,9 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
         if (_e37) {
             return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_6_HUGE);
         }
-        return airlight_phi_6_HUGE;
+        if ((h_in <= 0.0)) {
+            return airlight_phi_6_HUGE;
+        }
     }
     float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
@@ -411,8 +413,8 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
     } else {
         local_6 = false;
     }
-    bool _e85 = local_6;
-    bool open = !(_e85);
+    bool _e87 = local_6;
+    bool open = !(_e87);
     if (!(open)) {
         float ta = abs((rho - 1.0));
         float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
@@ -425,289 +427,289 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_, floa
             du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e146 = du;
-    float ub = (ua + _e146);
+    float _e148 = du;
+    float ub = (ua + _e148);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.0 / max(t_1, 1e-30)) : airlight_phi_6_HUGE);
     float m_1 = max(ua, xf);
-    float _e163 = du;
-    bool is_short = (_e163 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e165 = du;
+    bool is_short = (_e165 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e176 = local_7;
-    if (_e176) {
+    bool _e178 = local_7;
+    if (_e178) {
         local_8 = ((t_1 * (m_1 - ua)) < 4.0);
     } else {
         local_8 = false;
     }
-    bool _e184 = local_8;
-    if (_e184) {
+    bool _e186 = local_8;
+    if (_e186) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e192 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e192, lcut));
+    float _e194 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e194, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e212 = local_10;
-        if (_e212) {
+        bool _e214 = local_10;
+        if (_e214) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9324695);
-            float _e218 = sum;
-            float _e219 = d_2;
-            const float _e221 = airlight_phi_6_w_u((ua + _e219), md_4);
-            float _e225 = d_2;
-            sum = (_e218 + ((0.17132449 * _e221) * exp((-(t_1) * _e225))));
+            float _e220 = sum;
+            float _e221 = d_2;
+            const float _e223 = airlight_phi_6_w_u((ua + _e221), md_4);
+            float _e227 = d_2;
+            sum = (_e220 + ((0.17132449 * _e223) * exp((-(t_1) * _e227))));
             d_2 = (hl * 1.6612093);
-            float _e232 = sum;
-            float _e233 = d_2;
-            const float _e235 = airlight_phi_6_w_u((ua + _e233), md_4);
-            float _e239 = d_2;
-            sum = (_e232 + ((0.36076158 * _e235) * exp((-(t_1) * _e239))));
+            float _e234 = sum;
+            float _e235 = d_2;
+            const float _e237 = airlight_phi_6_w_u((ua + _e235), md_4);
+            float _e241 = d_2;
+            sum = (_e234 + ((0.36076158 * _e237) * exp((-(t_1) * _e241))));
             d_2 = (hl * 1.2386192);
-            float _e246 = sum;
-            float _e247 = d_2;
-            const float _e249 = airlight_phi_6_w_u((ua + _e247), md_4);
-            float _e253 = d_2;
-            sum = (_e246 + ((0.46791393 * _e249) * exp((-(t_1) * _e253))));
+            float _e248 = sum;
+            float _e249 = d_2;
+            const float _e251 = airlight_phi_6_w_u((ua + _e249), md_4);
+            float _e255 = d_2;
+            sum = (_e248 + ((0.46791393 * _e251) * exp((-(t_1) * _e255))));
             d_2 = (hl * 0.7613808);
-            float _e260 = sum;
-            float _e261 = d_2;
-            const float _e263 = airlight_phi_6_w_u((ua + _e261), md_4);
-            float _e267 = d_2;
-            sum = (_e260 + ((0.46791393 * _e263) * exp((-(t_1) * _e267))));
+            float _e262 = sum;
+            float _e263 = d_2;
+            const float _e265 = airlight_phi_6_w_u((ua + _e263), md_4);
+            float _e269 = d_2;
+            sum = (_e262 + ((0.46791393 * _e265) * exp((-(t_1) * _e269))));
             d_2 = (hl * 0.3387906);
-            float _e274 = sum;
-            float _e275 = d_2;
-            const float _e277 = airlight_phi_6_w_u((ua + _e275), md_4);
-            float _e281 = d_2;
-            sum = (_e274 + ((0.36076158 * _e277) * exp((-(t_1) * _e281))));
+            float _e276 = sum;
+            float _e277 = d_2;
+            const float _e279 = airlight_phi_6_w_u((ua + _e277), md_4);
+            float _e283 = d_2;
+            sum = (_e276 + ((0.36076158 * _e279) * exp((-(t_1) * _e283))));
             d_2 = (hl * 0.06753051);
-            float _e288 = sum;
-            float _e289 = d_2;
-            const float _e291 = airlight_phi_6_w_u((ua + _e289), md_4);
-            float _e295 = d_2;
-            sum = (_e288 + ((0.17132449 * _e291) * exp((-(t_1) * _e295))));
-            float _e300 = sum;
-            sum = (_e300 * hl);
+            float _e290 = sum;
+            float _e291 = d_2;
+            const float _e293 = airlight_phi_6_w_u((ua + _e291), md_4);
+            float _e297 = d_2;
+            sum = (_e290 + ((0.17132449 * _e293) * exp((-(t_1) * _e297))));
+            float _e302 = sum;
+            sum = (_e302 * hl);
         } else {
-            const float2 _e302 = airlight_phi_6_phi_and_complement(ua, md_4);
-            const float2 _e304 = airlight_phi_6_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e302.y < 1.5707964) ? (_e302.y - _e304.y) : (_e304.x - _e302.x)));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.9324695));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.9324695));
-            float _e337 = beta;
-            float _e338 = co;
-            const float2 _e342 = airlight_phi_6_sin_cos_octant(max(min(_e337, _e338), 0.0));
-            sc = _e342;
-            float _e343 = beta;
-            float _e344 = co;
-            if ((_e343 > _e344)) {
-                float2 _e346 = sc;
-                sc = _e346.yx;
+            const float2 _e304 = airlight_phi_6_phi_and_complement(ua, md_4);
+            const float2 _e306 = airlight_phi_6_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e304.y < 1.5707964) ? (_e304.y - _e306.y) : (_e306.x - _e304.x)));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e339 = beta;
+            float _e340 = co;
+            const float2 _e344 = airlight_phi_6_sin_cos_octant(max(min(_e339, _e340), 0.0));
+            sc = _e344;
+            float _e345 = beta;
+            float _e346 = co;
+            if ((_e345 > _e346)) {
+                float2 _e348 = sc;
+                sc = _e348.yx;
             }
-            float _e349 = sc.x;
-            float _e351 = sc.y;
-            const float2 _e352 = airlight_phi_6_u_and_weight(_e349, _e351, md_4);
-            uw = _e352;
-            float _e353 = sum;
-            float _e355 = uw.y;
-            float _e360 = uw.x;
-            sum = (_e353 + ((0.17132449 * _e355) * exp((-(t_1) * (_e360 - ua)))));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.6612093));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.6612093));
-            float _e382 = beta;
-            float _e383 = co;
-            const float2 _e387 = airlight_phi_6_sin_cos_octant(max(min(_e382, _e383), 0.0));
-            sc = _e387;
-            float _e388 = beta;
-            float _e389 = co;
-            if ((_e388 > _e389)) {
-                float2 _e391 = sc;
-                sc = _e391.yx;
+            float _e351 = sc.x;
+            float _e353 = sc.y;
+            const float2 _e354 = airlight_phi_6_u_and_weight(_e351, _e353, md_4);
+            uw = _e354;
+            float _e355 = sum;
+            float _e357 = uw.y;
+            float _e362 = uw.x;
+            sum = (_e355 + ((0.17132449 * _e357) * exp((-(t_1) * (_e362 - ua)))));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e384 = beta;
+            float _e385 = co;
+            const float2 _e389 = airlight_phi_6_sin_cos_octant(max(min(_e384, _e385), 0.0));
+            sc = _e389;
+            float _e390 = beta;
+            float _e391 = co;
+            if ((_e390 > _e391)) {
+                float2 _e393 = sc;
+                sc = _e393.yx;
             }
-            float _e394 = sc.x;
-            float _e396 = sc.y;
-            const float2 _e397 = airlight_phi_6_u_and_weight(_e394, _e396, md_4);
-            uw = _e397;
-            float _e398 = sum;
-            float _e400 = uw.y;
-            float _e405 = uw.x;
-            sum = (_e398 + ((0.36076158 * _e400) * exp((-(t_1) * (_e405 - ua)))));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 1.2386192));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 1.2386192));
-            float _e427 = beta;
-            float _e428 = co;
-            const float2 _e432 = airlight_phi_6_sin_cos_octant(max(min(_e427, _e428), 0.0));
-            sc = _e432;
-            float _e433 = beta;
-            float _e434 = co;
-            if ((_e433 > _e434)) {
-                float2 _e436 = sc;
-                sc = _e436.yx;
+            float _e396 = sc.x;
+            float _e398 = sc.y;
+            const float2 _e399 = airlight_phi_6_u_and_weight(_e396, _e398, md_4);
+            uw = _e399;
+            float _e400 = sum;
+            float _e402 = uw.y;
+            float _e407 = uw.x;
+            sum = (_e400 + ((0.36076158 * _e402) * exp((-(t_1) * (_e407 - ua)))));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e429 = beta;
+            float _e430 = co;
+            const float2 _e434 = airlight_phi_6_sin_cos_octant(max(min(_e429, _e430), 0.0));
+            sc = _e434;
+            float _e435 = beta;
+            float _e436 = co;
+            if ((_e435 > _e436)) {
+                float2 _e438 = sc;
+                sc = _e438.yx;
             }
-            float _e439 = sc.x;
-            float _e441 = sc.y;
-            const float2 _e442 = airlight_phi_6_u_and_weight(_e439, _e441, md_4);
-            uw = _e442;
-            float _e443 = sum;
-            float _e445 = uw.y;
-            float _e450 = uw.x;
-            sum = (_e443 + ((0.46791393 * _e445) * exp((-(t_1) * (_e450 - ua)))));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.7613808));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.7613808));
-            float _e472 = beta;
-            float _e473 = co;
-            const float2 _e477 = airlight_phi_6_sin_cos_octant(max(min(_e472, _e473), 0.0));
-            sc = _e477;
-            float _e478 = beta;
-            float _e479 = co;
-            if ((_e478 > _e479)) {
-                float2 _e481 = sc;
-                sc = _e481.yx;
+            float _e441 = sc.x;
+            float _e443 = sc.y;
+            const float2 _e444 = airlight_phi_6_u_and_weight(_e441, _e443, md_4);
+            uw = _e444;
+            float _e445 = sum;
+            float _e447 = uw.y;
+            float _e452 = uw.x;
+            sum = (_e445 + ((0.46791393 * _e447) * exp((-(t_1) * (_e452 - ua)))));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e474 = beta;
+            float _e475 = co;
+            const float2 _e479 = airlight_phi_6_sin_cos_octant(max(min(_e474, _e475), 0.0));
+            sc = _e479;
+            float _e480 = beta;
+            float _e481 = co;
+            if ((_e480 > _e481)) {
+                float2 _e483 = sc;
+                sc = _e483.yx;
             }
-            float _e484 = sc.x;
-            float _e486 = sc.y;
-            const float2 _e487 = airlight_phi_6_u_and_weight(_e484, _e486, md_4);
-            uw = _e487;
-            float _e488 = sum;
-            float _e490 = uw.y;
-            float _e495 = uw.x;
-            sum = (_e488 + ((0.46791393 * _e490) * exp((-(t_1) * (_e495 - ua)))));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.3387906));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.3387906));
-            float _e517 = beta;
-            float _e518 = co;
-            const float2 _e522 = airlight_phi_6_sin_cos_octant(max(min(_e517, _e518), 0.0));
-            sc = _e522;
-            float _e523 = beta;
-            float _e524 = co;
-            if ((_e523 > _e524)) {
-                float2 _e526 = sc;
-                sc = _e526.yx;
+            float _e486 = sc.x;
+            float _e488 = sc.y;
+            const float2 _e489 = airlight_phi_6_u_and_weight(_e486, _e488, md_4);
+            uw = _e489;
+            float _e490 = sum;
+            float _e492 = uw.y;
+            float _e497 = uw.x;
+            sum = (_e490 + ((0.46791393 * _e492) * exp((-(t_1) * (_e497 - ua)))));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e519 = beta;
+            float _e520 = co;
+            const float2 _e524 = airlight_phi_6_sin_cos_octant(max(min(_e519, _e520), 0.0));
+            sc = _e524;
+            float _e525 = beta;
+            float _e526 = co;
+            if ((_e525 > _e526)) {
+                float2 _e528 = sc;
+                sc = _e528.yx;
             }
-            float _e529 = sc.x;
-            float _e531 = sc.y;
-            const float2 _e532 = airlight_phi_6_u_and_weight(_e529, _e531, md_4);
-            uw = _e532;
-            float _e533 = sum;
-            float _e535 = uw.y;
-            float _e540 = uw.x;
-            sum = (_e533 + ((0.36076158 * _e535) * exp((-(t_1) * (_e540 - ua)))));
-            beta = ((0.5 * _e302.x) + ((0.5 * hl_1) * 0.06753051));
-            co = ((0.5 * _e302.y) - ((0.5 * hl_1) * 0.06753051));
-            float _e562 = beta;
-            float _e563 = co;
-            const float2 _e567 = airlight_phi_6_sin_cos_octant(max(min(_e562, _e563), 0.0));
-            sc = _e567;
-            float _e568 = beta;
-            float _e569 = co;
-            if ((_e568 > _e569)) {
-                float2 _e571 = sc;
-                sc = _e571.yx;
+            float _e531 = sc.x;
+            float _e533 = sc.y;
+            const float2 _e534 = airlight_phi_6_u_and_weight(_e531, _e533, md_4);
+            uw = _e534;
+            float _e535 = sum;
+            float _e537 = uw.y;
+            float _e542 = uw.x;
+            sum = (_e535 + ((0.36076158 * _e537) * exp((-(t_1) * (_e542 - ua)))));
+            beta = ((0.5 * _e304.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e304.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e564 = beta;
+            float _e565 = co;
+            const float2 _e569 = airlight_phi_6_sin_cos_octant(max(min(_e564, _e565), 0.0));
+            sc = _e569;
+            float _e570 = beta;
+            float _e571 = co;
+            if ((_e570 > _e571)) {
+                float2 _e573 = sc;
+                sc = _e573.yx;
             }
-            float _e574 = sc.x;
-            float _e576 = sc.y;
-            const float2 _e577 = airlight_phi_6_u_and_weight(_e574, _e576, md_4);
-            uw = _e577;
-            float _e578 = sum;
-            float _e580 = uw.y;
-            float _e585 = uw.x;
-            sum = (_e578 + ((0.17132449 * _e580) * exp((-(t_1) * (_e585 - ua)))));
-            float _e591 = sum;
-            sum = (_e591 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e576 = sc.x;
+            float _e578 = sc.y;
+            const float2 _e579 = airlight_phi_6_u_and_weight(_e576, _e578, md_4);
+            uw = _e579;
+            float _e580 = sum;
+            float _e582 = uw.y;
+            float _e587 = uw.x;
+            sum = (_e580 + ((0.17132449 * _e582) * exp((-(t_1) * (_e587 - ua)))));
+            float _e593 = sum;
+            sum = (_e593 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e607 = airlight_phi_6_exp_e2_((t_1 * m_1));
-        f = (_e607 / m_1);
+        const float _e609 = airlight_phi_6_exp_e2_((t_1 * m_1));
+        f = (_e609 / m_1);
         if (!(open)) {
-            float _e611 = f;
-            const float _e617 = airlight_phi_6_exp_e2_((t_1 * ub));
-            f = (_e611 - ((exp((-(t_1) * (ub - m_1))) * _e617) / ub));
+            float _e613 = f;
+            const float _e619 = airlight_phi_6_exp_e2_((t_1 * ub));
+            f = (_e613 - ((exp((-(t_1) * (ub - m_1))) * _e619) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (6.0 / max(t_1, 1e-30))) : airlight_phi_6_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e644 = s;
-        float _e645 = v_3;
-        const float _e646 = airlight_phi_6_r_of_v(_e645, md_4);
-        float _e650 = v_3;
-        s = (_e644 + ((0.34785485 * _e646) * exp((-(t_1) * ((1.0 / _e650) - m_1)))));
+        float _e646 = s;
+        float _e647 = v_3;
+        const float _e648 = airlight_phi_6_r_of_v(_e647, md_4);
+        float _e652 = v_3;
+        s = (_e646 + ((0.34785485 * _e648) * exp((-(t_1) * ((1.0 / _e652) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e661 = s;
-        float _e662 = v_3;
-        const float _e663 = airlight_phi_6_r_of_v(_e662, md_4);
-        float _e667 = v_3;
-        s = (_e661 + ((0.65214515 * _e663) * exp((-(t_1) * ((1.0 / _e667) - m_1)))));
+        float _e663 = s;
+        float _e664 = v_3;
+        const float _e665 = airlight_phi_6_r_of_v(_e664, md_4);
+        float _e669 = v_3;
+        s = (_e663 + ((0.65214515 * _e665) * exp((-(t_1) * ((1.0 / _e669) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e678 = s;
-        float _e679 = v_3;
-        const float _e680 = airlight_phi_6_r_of_v(_e679, md_4);
-        float _e684 = v_3;
-        s = (_e678 + ((0.65214515 * _e680) * exp((-(t_1) * ((1.0 / _e684) - m_1)))));
+        float _e680 = s;
+        float _e681 = v_3;
+        const float _e682 = airlight_phi_6_r_of_v(_e681, md_4);
+        float _e686 = v_3;
+        s = (_e680 + ((0.65214515 * _e682) * exp((-(t_1) * ((1.0 / _e686) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e695 = s;
-        float _e696 = v_3;
-        const float _e697 = airlight_phi_6_r_of_v(_e696, md_4);
-        float _e701 = v_3;
-        s = (_e695 + ((0.34785485 * _e697) * exp((-(t_1) * ((1.0 / _e701) - m_1)))));
-        float _e709 = sum;
-        float _e715 = f;
-        float _e716 = s;
-        sum = (_e709 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e715 + (_e716 * hl_2))));
+        float _e697 = s;
+        float _e698 = v_3;
+        const float _e699 = airlight_phi_6_r_of_v(_e698, md_4);
+        float _e703 = v_3;
+        s = (_e697 + ((0.34785485 * _e699) * exp((-(t_1) * ((1.0 / _e703) - m_1)))));
+        float _e711 = sum;
+        float _e717 = f;
+        float _e718 = s;
+        sum = (_e711 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e717 + (_e718 * hl_2))));
     } else {
-        float _e721 = du;
-        if ((_e721 > lcut)) {
+        float _e723 = du;
+        if ((_e723 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e726 = s_1;
-            const float _e730 = airlight_phi_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e726 + (0.711093 * _e730));
-            float _e734 = s_1;
-            const float _e738 = airlight_phi_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e734 + (0.27851772 * _e738));
-            float _e742 = s_1;
-            const float _e746 = airlight_phi_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e742 + (0.010389256 * _e746));
+            float _e728 = s_1;
+            const float _e732 = airlight_phi_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e728 + (0.711093 * _e732));
+            float _e736 = s_1;
+            const float _e740 = airlight_phi_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e736 + (0.27851772 * _e740));
+            float _e744 = s_1;
+            const float _e748 = airlight_phi_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e744 + (0.010389256 * _e748));
             if (!(open)) {
-                float _e753 = sb;
-                const float _e757 = airlight_phi_6_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e753 + (0.711093 * _e757));
-                float _e761 = sb;
-                const float _e765 = airlight_phi_6_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e761 + (0.27851772 * _e765));
-                float _e769 = sb;
-                const float _e773 = airlight_phi_6_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e769 + (0.010389256 * _e773));
-                float _e777 = s_1;
-                float _e779 = du;
-                float _e783 = sb;
-                s_1 = (_e777 - (exp((-(t_1) * (_e779 - lcut))) * _e783));
+                float _e755 = sb;
+                const float _e759 = airlight_phi_6_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e755 + (0.711093 * _e759));
+                float _e763 = sb;
+                const float _e767 = airlight_phi_6_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e763 + (0.27851772 * _e767));
+                float _e771 = sb;
+                const float _e775 = airlight_phi_6_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e771 + (0.010389256 * _e775));
+                float _e779 = s_1;
+                float _e781 = du;
+                float _e785 = sb;
+                s_1 = (_e779 - (exp((-(t_1) * (_e781 - lcut))) * _e785));
             }
-            float _e786 = sum;
-            float _e789 = s_1;
-            sum = (_e786 + ((0.01831564 / t_1) * max(_e789, 0.0)));
+            float _e788 = sum;
+            float _e791 = s_1;
+            sum = (_e788 + ((0.01831564 / t_1) * max(_e791, 0.0)));
         }
     }
     if ((h_5 < 8.673617e-19)) {
-        float _e796 = sum;
-        const float _e804 = airlight_phi_6_scaled((2.0 * max(_e796, 0.0)), exp(-(tau_5)), h_5, 1.0);
-        return _e804;
+        float _e798 = sum;
+        const float _e806 = airlight_phi_6_scaled((2.0 * max(_e798, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e806;
     }
-    float _e809 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e809 / h_5)), 0.0), airlight_phi_6_HUGE);
+    float _e811 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e811 / h_5)), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(float tau, float gamma, float rho_1, float g)
@@ -1032,8 +1034,8 @@ float3 airlight_phi_6_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_1;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_4, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_1;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_4).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_phi_6_spot_weight(float c_2, float co_3, float ci_2)

@@ -385,8 +385,8 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_, floa
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_8_TAU_MAX);
     float g_8 = clamp(g_in, -0.999, 0.999);
     float4 md_4 = float4(g_8, (1.0 - g_8), (1.0 + g_8), ((1.0 - g_8) / (1.0 + g_8)));
-    if ((h_in <= 0.0)) {
-        local_4 = (x0_ > 0.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
@@ -401,7 +401,9 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_, floa
         if (_e37) {
             return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_8_HUGE);
         }
-        return airlight_phi_8_HUGE;
+        if ((h_in <= 0.0)) {
+            return airlight_phi_8_HUGE;
+        }
     }
     float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
@@ -411,8 +413,8 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_, floa
     } else {
         local_6 = false;
     }
-    bool _e85 = local_6;
-    bool open = !(_e85);
+    bool _e87 = local_6;
+    bool open = !(_e87);
     if (!(open)) {
         float ta = abs((rho - 1.0));
         float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
@@ -425,341 +427,341 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_, floa
             du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e146 = du;
-    float ub = (ua + _e146);
+    float _e148 = du;
+    float ub = (ua + _e148);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (5.0 / max(t_1, 1e-30)) : airlight_phi_8_HUGE);
     float m_1 = max(ua, xf);
-    float _e163 = du;
-    bool is_short = (_e163 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e165 = du;
+    bool is_short = (_e165 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e176 = local_7;
-    if (_e176) {
+    bool _e178 = local_7;
+    if (_e178) {
         local_8 = ((t_1 * (m_1 - ua)) < 5.0);
     } else {
         local_8 = false;
     }
-    bool _e184 = local_8;
-    if (_e184) {
+    bool _e186 = local_8;
+    if (_e186) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e192 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e192, lcut));
+    float _e194 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e194, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e212 = local_10;
-        if (_e212) {
+        bool _e214 = local_10;
+        if (_e214) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9602898);
-            float _e218 = sum;
-            float _e219 = d_2;
-            const float _e221 = airlight_phi_8_w_u((ua + _e219), md_4);
-            float _e225 = d_2;
-            sum = (_e218 + ((0.101228535 * _e221) * exp((-(t_1) * _e225))));
+            float _e220 = sum;
+            float _e221 = d_2;
+            const float _e223 = airlight_phi_8_w_u((ua + _e221), md_4);
+            float _e227 = d_2;
+            sum = (_e220 + ((0.101228535 * _e223) * exp((-(t_1) * _e227))));
             d_2 = (hl * 1.7966665);
-            float _e232 = sum;
-            float _e233 = d_2;
-            const float _e235 = airlight_phi_8_w_u((ua + _e233), md_4);
-            float _e239 = d_2;
-            sum = (_e232 + ((0.22238104 * _e235) * exp((-(t_1) * _e239))));
+            float _e234 = sum;
+            float _e235 = d_2;
+            const float _e237 = airlight_phi_8_w_u((ua + _e235), md_4);
+            float _e241 = d_2;
+            sum = (_e234 + ((0.22238104 * _e237) * exp((-(t_1) * _e241))));
             d_2 = (hl * 1.5255324);
-            float _e246 = sum;
-            float _e247 = d_2;
-            const float _e249 = airlight_phi_8_w_u((ua + _e247), md_4);
-            float _e253 = d_2;
-            sum = (_e246 + ((0.31370664 * _e249) * exp((-(t_1) * _e253))));
+            float _e248 = sum;
+            float _e249 = d_2;
+            const float _e251 = airlight_phi_8_w_u((ua + _e249), md_4);
+            float _e255 = d_2;
+            sum = (_e248 + ((0.31370664 * _e251) * exp((-(t_1) * _e255))));
             d_2 = (hl * 1.1834346);
-            float _e260 = sum;
-            float _e261 = d_2;
-            const float _e263 = airlight_phi_8_w_u((ua + _e261), md_4);
-            float _e267 = d_2;
-            sum = (_e260 + ((0.36268377 * _e263) * exp((-(t_1) * _e267))));
+            float _e262 = sum;
+            float _e263 = d_2;
+            const float _e265 = airlight_phi_8_w_u((ua + _e263), md_4);
+            float _e269 = d_2;
+            sum = (_e262 + ((0.36268377 * _e265) * exp((-(t_1) * _e269))));
             d_2 = (hl * 0.8165654);
-            float _e274 = sum;
-            float _e275 = d_2;
-            const float _e277 = airlight_phi_8_w_u((ua + _e275), md_4);
-            float _e281 = d_2;
-            sum = (_e274 + ((0.36268377 * _e277) * exp((-(t_1) * _e281))));
+            float _e276 = sum;
+            float _e277 = d_2;
+            const float _e279 = airlight_phi_8_w_u((ua + _e277), md_4);
+            float _e283 = d_2;
+            sum = (_e276 + ((0.36268377 * _e279) * exp((-(t_1) * _e283))));
             d_2 = (hl * 0.47446758);
-            float _e288 = sum;
-            float _e289 = d_2;
-            const float _e291 = airlight_phi_8_w_u((ua + _e289), md_4);
-            float _e295 = d_2;
-            sum = (_e288 + ((0.31370664 * _e291) * exp((-(t_1) * _e295))));
+            float _e290 = sum;
+            float _e291 = d_2;
+            const float _e293 = airlight_phi_8_w_u((ua + _e291), md_4);
+            float _e297 = d_2;
+            sum = (_e290 + ((0.31370664 * _e293) * exp((-(t_1) * _e297))));
             d_2 = (hl * 0.2033335);
-            float _e302 = sum;
-            float _e303 = d_2;
-            const float _e305 = airlight_phi_8_w_u((ua + _e303), md_4);
-            float _e309 = d_2;
-            sum = (_e302 + ((0.22238104 * _e305) * exp((-(t_1) * _e309))));
+            float _e304 = sum;
+            float _e305 = d_2;
+            const float _e307 = airlight_phi_8_w_u((ua + _e305), md_4);
+            float _e311 = d_2;
+            sum = (_e304 + ((0.22238104 * _e307) * exp((-(t_1) * _e311))));
             d_2 = (hl * 0.039710164);
-            float _e316 = sum;
-            float _e317 = d_2;
-            const float _e319 = airlight_phi_8_w_u((ua + _e317), md_4);
-            float _e323 = d_2;
-            sum = (_e316 + ((0.101228535 * _e319) * exp((-(t_1) * _e323))));
-            float _e328 = sum;
-            sum = (_e328 * hl);
+            float _e318 = sum;
+            float _e319 = d_2;
+            const float _e321 = airlight_phi_8_w_u((ua + _e319), md_4);
+            float _e325 = d_2;
+            sum = (_e318 + ((0.101228535 * _e321) * exp((-(t_1) * _e325))));
+            float _e330 = sum;
+            sum = (_e330 * hl);
         } else {
-            const float2 _e330 = airlight_phi_8_phi_and_complement(ua, md_4);
-            const float2 _e332 = airlight_phi_8_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e330.y < 1.5707964) ? (_e330.y - _e332.y) : (_e332.x - _e330.x)));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 1.9602898));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 1.9602898));
-            float _e365 = beta;
-            float _e366 = co;
-            const float2 _e370 = airlight_phi_8_sin_cos_octant(max(min(_e365, _e366), 0.0));
-            sc = _e370;
-            float _e371 = beta;
-            float _e372 = co;
-            if ((_e371 > _e372)) {
-                float2 _e374 = sc;
-                sc = _e374.yx;
+            const float2 _e332 = airlight_phi_8_phi_and_complement(ua, md_4);
+            const float2 _e334 = airlight_phi_8_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e332.y < 1.5707964) ? (_e332.y - _e334.y) : (_e334.x - _e332.x)));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 1.9602898));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 1.9602898));
+            float _e367 = beta;
+            float _e368 = co;
+            const float2 _e372 = airlight_phi_8_sin_cos_octant(max(min(_e367, _e368), 0.0));
+            sc = _e372;
+            float _e373 = beta;
+            float _e374 = co;
+            if ((_e373 > _e374)) {
+                float2 _e376 = sc;
+                sc = _e376.yx;
             }
-            float _e377 = sc.x;
-            float _e379 = sc.y;
-            const float2 _e380 = airlight_phi_8_u_and_weight(_e377, _e379, md_4);
-            uw = _e380;
-            float _e381 = sum;
-            float _e383 = uw.y;
-            float _e388 = uw.x;
-            sum = (_e381 + ((0.101228535 * _e383) * exp((-(t_1) * (_e388 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 1.7966665));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 1.7966665));
-            float _e410 = beta;
-            float _e411 = co;
-            const float2 _e415 = airlight_phi_8_sin_cos_octant(max(min(_e410, _e411), 0.0));
-            sc = _e415;
-            float _e416 = beta;
-            float _e417 = co;
-            if ((_e416 > _e417)) {
-                float2 _e419 = sc;
-                sc = _e419.yx;
+            float _e379 = sc.x;
+            float _e381 = sc.y;
+            const float2 _e382 = airlight_phi_8_u_and_weight(_e379, _e381, md_4);
+            uw = _e382;
+            float _e383 = sum;
+            float _e385 = uw.y;
+            float _e390 = uw.x;
+            sum = (_e383 + ((0.101228535 * _e385) * exp((-(t_1) * (_e390 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 1.7966665));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 1.7966665));
+            float _e412 = beta;
+            float _e413 = co;
+            const float2 _e417 = airlight_phi_8_sin_cos_octant(max(min(_e412, _e413), 0.0));
+            sc = _e417;
+            float _e418 = beta;
+            float _e419 = co;
+            if ((_e418 > _e419)) {
+                float2 _e421 = sc;
+                sc = _e421.yx;
             }
-            float _e422 = sc.x;
-            float _e424 = sc.y;
-            const float2 _e425 = airlight_phi_8_u_and_weight(_e422, _e424, md_4);
-            uw = _e425;
-            float _e426 = sum;
-            float _e428 = uw.y;
-            float _e433 = uw.x;
-            sum = (_e426 + ((0.22238104 * _e428) * exp((-(t_1) * (_e433 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 1.5255324));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 1.5255324));
-            float _e455 = beta;
-            float _e456 = co;
-            const float2 _e460 = airlight_phi_8_sin_cos_octant(max(min(_e455, _e456), 0.0));
-            sc = _e460;
-            float _e461 = beta;
-            float _e462 = co;
-            if ((_e461 > _e462)) {
-                float2 _e464 = sc;
-                sc = _e464.yx;
+            float _e424 = sc.x;
+            float _e426 = sc.y;
+            const float2 _e427 = airlight_phi_8_u_and_weight(_e424, _e426, md_4);
+            uw = _e427;
+            float _e428 = sum;
+            float _e430 = uw.y;
+            float _e435 = uw.x;
+            sum = (_e428 + ((0.22238104 * _e430) * exp((-(t_1) * (_e435 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 1.5255324));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 1.5255324));
+            float _e457 = beta;
+            float _e458 = co;
+            const float2 _e462 = airlight_phi_8_sin_cos_octant(max(min(_e457, _e458), 0.0));
+            sc = _e462;
+            float _e463 = beta;
+            float _e464 = co;
+            if ((_e463 > _e464)) {
+                float2 _e466 = sc;
+                sc = _e466.yx;
             }
-            float _e467 = sc.x;
-            float _e469 = sc.y;
-            const float2 _e470 = airlight_phi_8_u_and_weight(_e467, _e469, md_4);
-            uw = _e470;
-            float _e471 = sum;
-            float _e473 = uw.y;
-            float _e478 = uw.x;
-            sum = (_e471 + ((0.31370664 * _e473) * exp((-(t_1) * (_e478 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 1.1834346));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 1.1834346));
-            float _e500 = beta;
-            float _e501 = co;
-            const float2 _e505 = airlight_phi_8_sin_cos_octant(max(min(_e500, _e501), 0.0));
-            sc = _e505;
-            float _e506 = beta;
-            float _e507 = co;
-            if ((_e506 > _e507)) {
-                float2 _e509 = sc;
-                sc = _e509.yx;
+            float _e469 = sc.x;
+            float _e471 = sc.y;
+            const float2 _e472 = airlight_phi_8_u_and_weight(_e469, _e471, md_4);
+            uw = _e472;
+            float _e473 = sum;
+            float _e475 = uw.y;
+            float _e480 = uw.x;
+            sum = (_e473 + ((0.31370664 * _e475) * exp((-(t_1) * (_e480 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 1.1834346));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 1.1834346));
+            float _e502 = beta;
+            float _e503 = co;
+            const float2 _e507 = airlight_phi_8_sin_cos_octant(max(min(_e502, _e503), 0.0));
+            sc = _e507;
+            float _e508 = beta;
+            float _e509 = co;
+            if ((_e508 > _e509)) {
+                float2 _e511 = sc;
+                sc = _e511.yx;
             }
-            float _e512 = sc.x;
-            float _e514 = sc.y;
-            const float2 _e515 = airlight_phi_8_u_and_weight(_e512, _e514, md_4);
-            uw = _e515;
-            float _e516 = sum;
-            float _e518 = uw.y;
-            float _e523 = uw.x;
-            sum = (_e516 + ((0.36268377 * _e518) * exp((-(t_1) * (_e523 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 0.8165654));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 0.8165654));
-            float _e545 = beta;
-            float _e546 = co;
-            const float2 _e550 = airlight_phi_8_sin_cos_octant(max(min(_e545, _e546), 0.0));
-            sc = _e550;
-            float _e551 = beta;
-            float _e552 = co;
-            if ((_e551 > _e552)) {
-                float2 _e554 = sc;
-                sc = _e554.yx;
+            float _e514 = sc.x;
+            float _e516 = sc.y;
+            const float2 _e517 = airlight_phi_8_u_and_weight(_e514, _e516, md_4);
+            uw = _e517;
+            float _e518 = sum;
+            float _e520 = uw.y;
+            float _e525 = uw.x;
+            sum = (_e518 + ((0.36268377 * _e520) * exp((-(t_1) * (_e525 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 0.8165654));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 0.8165654));
+            float _e547 = beta;
+            float _e548 = co;
+            const float2 _e552 = airlight_phi_8_sin_cos_octant(max(min(_e547, _e548), 0.0));
+            sc = _e552;
+            float _e553 = beta;
+            float _e554 = co;
+            if ((_e553 > _e554)) {
+                float2 _e556 = sc;
+                sc = _e556.yx;
             }
-            float _e557 = sc.x;
-            float _e559 = sc.y;
-            const float2 _e560 = airlight_phi_8_u_and_weight(_e557, _e559, md_4);
-            uw = _e560;
-            float _e561 = sum;
-            float _e563 = uw.y;
-            float _e568 = uw.x;
-            sum = (_e561 + ((0.36268377 * _e563) * exp((-(t_1) * (_e568 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 0.47446758));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 0.47446758));
-            float _e590 = beta;
-            float _e591 = co;
-            const float2 _e595 = airlight_phi_8_sin_cos_octant(max(min(_e590, _e591), 0.0));
-            sc = _e595;
-            float _e596 = beta;
-            float _e597 = co;
-            if ((_e596 > _e597)) {
-                float2 _e599 = sc;
-                sc = _e599.yx;
+            float _e559 = sc.x;
+            float _e561 = sc.y;
+            const float2 _e562 = airlight_phi_8_u_and_weight(_e559, _e561, md_4);
+            uw = _e562;
+            float _e563 = sum;
+            float _e565 = uw.y;
+            float _e570 = uw.x;
+            sum = (_e563 + ((0.36268377 * _e565) * exp((-(t_1) * (_e570 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 0.47446758));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 0.47446758));
+            float _e592 = beta;
+            float _e593 = co;
+            const float2 _e597 = airlight_phi_8_sin_cos_octant(max(min(_e592, _e593), 0.0));
+            sc = _e597;
+            float _e598 = beta;
+            float _e599 = co;
+            if ((_e598 > _e599)) {
+                float2 _e601 = sc;
+                sc = _e601.yx;
             }
-            float _e602 = sc.x;
-            float _e604 = sc.y;
-            const float2 _e605 = airlight_phi_8_u_and_weight(_e602, _e604, md_4);
-            uw = _e605;
-            float _e606 = sum;
-            float _e608 = uw.y;
-            float _e613 = uw.x;
-            sum = (_e606 + ((0.31370664 * _e608) * exp((-(t_1) * (_e613 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 0.2033335));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 0.2033335));
-            float _e635 = beta;
-            float _e636 = co;
-            const float2 _e640 = airlight_phi_8_sin_cos_octant(max(min(_e635, _e636), 0.0));
-            sc = _e640;
-            float _e641 = beta;
-            float _e642 = co;
-            if ((_e641 > _e642)) {
-                float2 _e644 = sc;
-                sc = _e644.yx;
+            float _e604 = sc.x;
+            float _e606 = sc.y;
+            const float2 _e607 = airlight_phi_8_u_and_weight(_e604, _e606, md_4);
+            uw = _e607;
+            float _e608 = sum;
+            float _e610 = uw.y;
+            float _e615 = uw.x;
+            sum = (_e608 + ((0.31370664 * _e610) * exp((-(t_1) * (_e615 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 0.2033335));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 0.2033335));
+            float _e637 = beta;
+            float _e638 = co;
+            const float2 _e642 = airlight_phi_8_sin_cos_octant(max(min(_e637, _e638), 0.0));
+            sc = _e642;
+            float _e643 = beta;
+            float _e644 = co;
+            if ((_e643 > _e644)) {
+                float2 _e646 = sc;
+                sc = _e646.yx;
             }
-            float _e647 = sc.x;
-            float _e649 = sc.y;
-            const float2 _e650 = airlight_phi_8_u_and_weight(_e647, _e649, md_4);
-            uw = _e650;
-            float _e651 = sum;
-            float _e653 = uw.y;
-            float _e658 = uw.x;
-            sum = (_e651 + ((0.22238104 * _e653) * exp((-(t_1) * (_e658 - ua)))));
-            beta = ((0.5 * _e330.x) + ((0.5 * hl_1) * 0.039710164));
-            co = ((0.5 * _e330.y) - ((0.5 * hl_1) * 0.039710164));
-            float _e680 = beta;
-            float _e681 = co;
-            const float2 _e685 = airlight_phi_8_sin_cos_octant(max(min(_e680, _e681), 0.0));
-            sc = _e685;
-            float _e686 = beta;
-            float _e687 = co;
-            if ((_e686 > _e687)) {
-                float2 _e689 = sc;
-                sc = _e689.yx;
+            float _e649 = sc.x;
+            float _e651 = sc.y;
+            const float2 _e652 = airlight_phi_8_u_and_weight(_e649, _e651, md_4);
+            uw = _e652;
+            float _e653 = sum;
+            float _e655 = uw.y;
+            float _e660 = uw.x;
+            sum = (_e653 + ((0.22238104 * _e655) * exp((-(t_1) * (_e660 - ua)))));
+            beta = ((0.5 * _e332.x) + ((0.5 * hl_1) * 0.039710164));
+            co = ((0.5 * _e332.y) - ((0.5 * hl_1) * 0.039710164));
+            float _e682 = beta;
+            float _e683 = co;
+            const float2 _e687 = airlight_phi_8_sin_cos_octant(max(min(_e682, _e683), 0.0));
+            sc = _e687;
+            float _e688 = beta;
+            float _e689 = co;
+            if ((_e688 > _e689)) {
+                float2 _e691 = sc;
+                sc = _e691.yx;
             }
-            float _e692 = sc.x;
-            float _e694 = sc.y;
-            const float2 _e695 = airlight_phi_8_u_and_weight(_e692, _e694, md_4);
-            uw = _e695;
-            float _e696 = sum;
-            float _e698 = uw.y;
-            float _e703 = uw.x;
-            sum = (_e696 + ((0.101228535 * _e698) * exp((-(t_1) * (_e703 - ua)))));
-            float _e709 = sum;
-            sum = (_e709 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e694 = sc.x;
+            float _e696 = sc.y;
+            const float2 _e697 = airlight_phi_8_u_and_weight(_e694, _e696, md_4);
+            uw = _e697;
+            float _e698 = sum;
+            float _e700 = uw.y;
+            float _e705 = uw.x;
+            sum = (_e698 + ((0.101228535 * _e700) * exp((-(t_1) * (_e705 - ua)))));
+            float _e711 = sum;
+            sum = (_e711 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e725 = airlight_phi_8_exp_e2_((t_1 * m_1));
-        f = (_e725 / m_1);
+        const float _e727 = airlight_phi_8_exp_e2_((t_1 * m_1));
+        f = (_e727 / m_1);
         if (!(open)) {
-            float _e729 = f;
-            const float _e735 = airlight_phi_8_exp_e2_((t_1 * ub));
-            f = (_e729 - ((exp((-(t_1) * (ub - m_1))) * _e735) / ub));
+            float _e731 = f;
+            const float _e737 = airlight_phi_8_exp_e2_((t_1 * ub));
+            f = (_e731 - ((exp((-(t_1) * (ub - m_1))) * _e737) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (8.0 / max(t_1, 1e-30))) : airlight_phi_8_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e762 = s;
-        float _e763 = v_3;
-        const float _e764 = airlight_phi_8_r_of_v(_e763, md_4);
-        float _e768 = v_3;
-        s = (_e762 + ((0.34785485 * _e764) * exp((-(t_1) * ((1.0 / _e768) - m_1)))));
+        float _e764 = s;
+        float _e765 = v_3;
+        const float _e766 = airlight_phi_8_r_of_v(_e765, md_4);
+        float _e770 = v_3;
+        s = (_e764 + ((0.34785485 * _e766) * exp((-(t_1) * ((1.0 / _e770) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e779 = s;
-        float _e780 = v_3;
-        const float _e781 = airlight_phi_8_r_of_v(_e780, md_4);
-        float _e785 = v_3;
-        s = (_e779 + ((0.65214515 * _e781) * exp((-(t_1) * ((1.0 / _e785) - m_1)))));
+        float _e781 = s;
+        float _e782 = v_3;
+        const float _e783 = airlight_phi_8_r_of_v(_e782, md_4);
+        float _e787 = v_3;
+        s = (_e781 + ((0.65214515 * _e783) * exp((-(t_1) * ((1.0 / _e787) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e796 = s;
-        float _e797 = v_3;
-        const float _e798 = airlight_phi_8_r_of_v(_e797, md_4);
-        float _e802 = v_3;
-        s = (_e796 + ((0.65214515 * _e798) * exp((-(t_1) * ((1.0 / _e802) - m_1)))));
+        float _e798 = s;
+        float _e799 = v_3;
+        const float _e800 = airlight_phi_8_r_of_v(_e799, md_4);
+        float _e804 = v_3;
+        s = (_e798 + ((0.65214515 * _e800) * exp((-(t_1) * ((1.0 / _e804) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e813 = s;
-        float _e814 = v_3;
-        const float _e815 = airlight_phi_8_r_of_v(_e814, md_4);
-        float _e819 = v_3;
-        s = (_e813 + ((0.34785485 * _e815) * exp((-(t_1) * ((1.0 / _e819) - m_1)))));
-        float _e827 = sum;
-        float _e833 = f;
-        float _e834 = s;
-        sum = (_e827 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e833 + (_e834 * hl_2))));
+        float _e815 = s;
+        float _e816 = v_3;
+        const float _e817 = airlight_phi_8_r_of_v(_e816, md_4);
+        float _e821 = v_3;
+        s = (_e815 + ((0.34785485 * _e817) * exp((-(t_1) * ((1.0 / _e821) - m_1)))));
+        float _e829 = sum;
+        float _e835 = f;
+        float _e836 = s;
+        sum = (_e829 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e835 + (_e836 * hl_2))));
     } else {
-        float _e839 = du;
-        if ((_e839 > lcut)) {
+        float _e841 = du;
+        if ((_e841 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e844 = s_1;
-            const float _e848 = airlight_phi_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e844 + (0.711093 * _e848));
-            float _e852 = s_1;
-            const float _e856 = airlight_phi_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e852 + (0.27851772 * _e856));
-            float _e860 = s_1;
-            const float _e864 = airlight_phi_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e860 + (0.010389256 * _e864));
+            float _e846 = s_1;
+            const float _e850 = airlight_phi_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e846 + (0.711093 * _e850));
+            float _e854 = s_1;
+            const float _e858 = airlight_phi_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e854 + (0.27851772 * _e858));
+            float _e862 = s_1;
+            const float _e866 = airlight_phi_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e862 + (0.010389256 * _e866));
             if (!(open)) {
-                float _e871 = sb;
-                const float _e875 = airlight_phi_8_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e871 + (0.711093 * _e875));
-                float _e879 = sb;
-                const float _e883 = airlight_phi_8_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e879 + (0.27851772 * _e883));
-                float _e887 = sb;
-                const float _e891 = airlight_phi_8_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e887 + (0.010389256 * _e891));
-                float _e895 = s_1;
-                float _e897 = du;
-                float _e901 = sb;
-                s_1 = (_e895 - (exp((-(t_1) * (_e897 - lcut))) * _e901));
+                float _e873 = sb;
+                const float _e877 = airlight_phi_8_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e873 + (0.711093 * _e877));
+                float _e881 = sb;
+                const float _e885 = airlight_phi_8_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e881 + (0.27851772 * _e885));
+                float _e889 = sb;
+                const float _e893 = airlight_phi_8_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e889 + (0.010389256 * _e893));
+                float _e897 = s_1;
+                float _e899 = du;
+                float _e903 = sb;
+                s_1 = (_e897 - (exp((-(t_1) * (_e899 - lcut))) * _e903));
             }
-            float _e904 = sum;
-            float _e907 = s_1;
-            sum = (_e904 + ((0.006737947 / t_1) * max(_e907, 0.0)));
+            float _e906 = sum;
+            float _e909 = s_1;
+            sum = (_e906 + ((0.006737947 / t_1) * max(_e909, 0.0)));
         }
     }
     if ((h_5 < 8.673617e-19)) {
-        float _e914 = sum;
-        const float _e922 = airlight_phi_8_scaled((2.0 * max(_e914, 0.0)), exp(-(tau_5)), h_5, 1.0);
-        return _e922;
+        float _e916 = sum;
+        const float _e924 = airlight_phi_8_scaled((2.0 * max(_e916, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e924;
     }
-    float _e927 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e927 / h_5)), 0.0), airlight_phi_8_HUGE);
+    float _e929 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e929 / h_5)), 0.0), airlight_phi_8_HUGE);
 }
 
 float airlight_phi_8_airlight(float tau, float gamma, float rho_1, float g)
@@ -1084,8 +1086,8 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_1;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / max(h_4, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_1;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / (h_4).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_phi_8_spot_weight(float c_2, float co_3, float ci_2)

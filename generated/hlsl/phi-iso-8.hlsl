@@ -364,8 +364,8 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
 
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_iso_8_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
-    if ((h_in <= 0.0)) {
-        local_4 = (x0_ > 0.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
@@ -380,7 +380,9 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
         if (_e28) {
             return min((((0.07957747 * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_iso_8_HUGE);
         }
-        return airlight_phi_iso_8_HUGE;
+        if ((h_in <= 0.0)) {
+            return airlight_phi_iso_8_HUGE;
+        }
     }
     float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
@@ -390,8 +392,8 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
     } else {
         local_6 = false;
     }
-    bool _e70 = local_6;
-    bool open = !(_e70);
+    bool _e72 = local_6;
+    bool open = !(_e72);
     if (!(open)) {
         float ta = abs((rho - 1.0));
         float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
@@ -404,340 +406,340 @@ float airlight_phi_iso_8_airlight_geometry(float tau_in, float h_in, float x0_, 
             du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e131 = du;
-    float ub = (ua + _e131);
+    float _e133 = du;
+    float ub = (ua + _e133);
     float t_1 = (tau_5 * h_5);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (5.0 / max(t_1, 1e-30)) : airlight_phi_iso_8_HUGE);
     float m_1 = max(ua, xf);
-    float _e148 = du;
-    bool is_short = (_e148 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e150 = du;
+    bool is_short = (_e150 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e161 = local_7;
-    if (_e161) {
+    bool _e163 = local_7;
+    if (_e163) {
         local_8 = ((t_1 * (m_1 - ua)) < 5.0);
     } else {
         local_8 = false;
     }
-    bool _e169 = local_8;
-    if (_e169) {
+    bool _e171 = local_8;
+    if (_e171) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e177 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e177, lcut));
+    float _e179 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e179, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e197 = local_10;
-        if (_e197) {
+        bool _e199 = local_10;
+        if (_e199) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9602898);
-            float _e203 = sum;
-            float _e204 = d_2;
-            const float _e206 = airlight_phi_iso_8_w_u((ua + _e204), md_4);
-            float _e210 = d_2;
-            sum = (_e203 + ((0.101228535 * _e206) * exp((-(t_1) * _e210))));
+            float _e205 = sum;
+            float _e206 = d_2;
+            const float _e208 = airlight_phi_iso_8_w_u((ua + _e206), md_4);
+            float _e212 = d_2;
+            sum = (_e205 + ((0.101228535 * _e208) * exp((-(t_1) * _e212))));
             d_2 = (hl * 1.7966665);
-            float _e217 = sum;
-            float _e218 = d_2;
-            const float _e220 = airlight_phi_iso_8_w_u((ua + _e218), md_4);
-            float _e224 = d_2;
-            sum = (_e217 + ((0.22238104 * _e220) * exp((-(t_1) * _e224))));
+            float _e219 = sum;
+            float _e220 = d_2;
+            const float _e222 = airlight_phi_iso_8_w_u((ua + _e220), md_4);
+            float _e226 = d_2;
+            sum = (_e219 + ((0.22238104 * _e222) * exp((-(t_1) * _e226))));
             d_2 = (hl * 1.5255324);
-            float _e231 = sum;
-            float _e232 = d_2;
-            const float _e234 = airlight_phi_iso_8_w_u((ua + _e232), md_4);
-            float _e238 = d_2;
-            sum = (_e231 + ((0.31370664 * _e234) * exp((-(t_1) * _e238))));
+            float _e233 = sum;
+            float _e234 = d_2;
+            const float _e236 = airlight_phi_iso_8_w_u((ua + _e234), md_4);
+            float _e240 = d_2;
+            sum = (_e233 + ((0.31370664 * _e236) * exp((-(t_1) * _e240))));
             d_2 = (hl * 1.1834346);
-            float _e245 = sum;
-            float _e246 = d_2;
-            const float _e248 = airlight_phi_iso_8_w_u((ua + _e246), md_4);
-            float _e252 = d_2;
-            sum = (_e245 + ((0.36268377 * _e248) * exp((-(t_1) * _e252))));
+            float _e247 = sum;
+            float _e248 = d_2;
+            const float _e250 = airlight_phi_iso_8_w_u((ua + _e248), md_4);
+            float _e254 = d_2;
+            sum = (_e247 + ((0.36268377 * _e250) * exp((-(t_1) * _e254))));
             d_2 = (hl * 0.8165654);
-            float _e259 = sum;
-            float _e260 = d_2;
-            const float _e262 = airlight_phi_iso_8_w_u((ua + _e260), md_4);
-            float _e266 = d_2;
-            sum = (_e259 + ((0.36268377 * _e262) * exp((-(t_1) * _e266))));
+            float _e261 = sum;
+            float _e262 = d_2;
+            const float _e264 = airlight_phi_iso_8_w_u((ua + _e262), md_4);
+            float _e268 = d_2;
+            sum = (_e261 + ((0.36268377 * _e264) * exp((-(t_1) * _e268))));
             d_2 = (hl * 0.47446758);
-            float _e273 = sum;
-            float _e274 = d_2;
-            const float _e276 = airlight_phi_iso_8_w_u((ua + _e274), md_4);
-            float _e280 = d_2;
-            sum = (_e273 + ((0.31370664 * _e276) * exp((-(t_1) * _e280))));
+            float _e275 = sum;
+            float _e276 = d_2;
+            const float _e278 = airlight_phi_iso_8_w_u((ua + _e276), md_4);
+            float _e282 = d_2;
+            sum = (_e275 + ((0.31370664 * _e278) * exp((-(t_1) * _e282))));
             d_2 = (hl * 0.2033335);
-            float _e287 = sum;
-            float _e288 = d_2;
-            const float _e290 = airlight_phi_iso_8_w_u((ua + _e288), md_4);
-            float _e294 = d_2;
-            sum = (_e287 + ((0.22238104 * _e290) * exp((-(t_1) * _e294))));
+            float _e289 = sum;
+            float _e290 = d_2;
+            const float _e292 = airlight_phi_iso_8_w_u((ua + _e290), md_4);
+            float _e296 = d_2;
+            sum = (_e289 + ((0.22238104 * _e292) * exp((-(t_1) * _e296))));
             d_2 = (hl * 0.039710164);
-            float _e301 = sum;
-            float _e302 = d_2;
-            const float _e304 = airlight_phi_iso_8_w_u((ua + _e302), md_4);
-            float _e308 = d_2;
-            sum = (_e301 + ((0.101228535 * _e304) * exp((-(t_1) * _e308))));
-            float _e313 = sum;
-            sum = (_e313 * hl);
+            float _e303 = sum;
+            float _e304 = d_2;
+            const float _e306 = airlight_phi_iso_8_w_u((ua + _e304), md_4);
+            float _e310 = d_2;
+            sum = (_e303 + ((0.101228535 * _e306) * exp((-(t_1) * _e310))));
+            float _e315 = sum;
+            sum = (_e315 * hl);
         } else {
-            const float2 _e315 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
-            const float2 _e317 = airlight_phi_iso_8_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e315.y < 1.5707964) ? (_e315.y - _e317.y) : (_e317.x - _e315.x)));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.9602898));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.9602898));
-            float _e350 = beta;
-            float _e351 = co;
-            const float2 _e355 = airlight_phi_iso_8_sin_cos_octant(max(min(_e350, _e351), 0.0));
-            sc = _e355;
-            float _e356 = beta;
-            float _e357 = co;
-            if ((_e356 > _e357)) {
-                float2 _e359 = sc;
-                sc = _e359.yx;
+            const float2 _e317 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
+            const float2 _e319 = airlight_phi_iso_8_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e317.y < 1.5707964) ? (_e317.y - _e319.y) : (_e319.x - _e317.x)));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 1.9602898));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 1.9602898));
+            float _e352 = beta;
+            float _e353 = co;
+            const float2 _e357 = airlight_phi_iso_8_sin_cos_octant(max(min(_e352, _e353), 0.0));
+            sc = _e357;
+            float _e358 = beta;
+            float _e359 = co;
+            if ((_e358 > _e359)) {
+                float2 _e361 = sc;
+                sc = _e361.yx;
             }
-            float _e362 = sc.x;
-            float _e364 = sc.y;
-            const float2 _e365 = airlight_phi_iso_8_u_and_weight(_e362, _e364, md_4);
-            uw = _e365;
-            float _e366 = sum;
-            float _e368 = uw.y;
-            float _e373 = uw.x;
-            sum = (_e366 + ((0.101228535 * _e368) * exp((-(t_1) * (_e373 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.7966665));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.7966665));
-            float _e395 = beta;
-            float _e396 = co;
-            const float2 _e400 = airlight_phi_iso_8_sin_cos_octant(max(min(_e395, _e396), 0.0));
-            sc = _e400;
-            float _e401 = beta;
-            float _e402 = co;
-            if ((_e401 > _e402)) {
-                float2 _e404 = sc;
-                sc = _e404.yx;
+            float _e364 = sc.x;
+            float _e366 = sc.y;
+            const float2 _e367 = airlight_phi_iso_8_u_and_weight(_e364, _e366, md_4);
+            uw = _e367;
+            float _e368 = sum;
+            float _e370 = uw.y;
+            float _e375 = uw.x;
+            sum = (_e368 + ((0.101228535 * _e370) * exp((-(t_1) * (_e375 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 1.7966665));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 1.7966665));
+            float _e397 = beta;
+            float _e398 = co;
+            const float2 _e402 = airlight_phi_iso_8_sin_cos_octant(max(min(_e397, _e398), 0.0));
+            sc = _e402;
+            float _e403 = beta;
+            float _e404 = co;
+            if ((_e403 > _e404)) {
+                float2 _e406 = sc;
+                sc = _e406.yx;
             }
-            float _e407 = sc.x;
-            float _e409 = sc.y;
-            const float2 _e410 = airlight_phi_iso_8_u_and_weight(_e407, _e409, md_4);
-            uw = _e410;
-            float _e411 = sum;
-            float _e413 = uw.y;
-            float _e418 = uw.x;
-            sum = (_e411 + ((0.22238104 * _e413) * exp((-(t_1) * (_e418 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.5255324));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.5255324));
-            float _e440 = beta;
-            float _e441 = co;
-            const float2 _e445 = airlight_phi_iso_8_sin_cos_octant(max(min(_e440, _e441), 0.0));
-            sc = _e445;
-            float _e446 = beta;
-            float _e447 = co;
-            if ((_e446 > _e447)) {
-                float2 _e449 = sc;
-                sc = _e449.yx;
+            float _e409 = sc.x;
+            float _e411 = sc.y;
+            const float2 _e412 = airlight_phi_iso_8_u_and_weight(_e409, _e411, md_4);
+            uw = _e412;
+            float _e413 = sum;
+            float _e415 = uw.y;
+            float _e420 = uw.x;
+            sum = (_e413 + ((0.22238104 * _e415) * exp((-(t_1) * (_e420 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 1.5255324));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 1.5255324));
+            float _e442 = beta;
+            float _e443 = co;
+            const float2 _e447 = airlight_phi_iso_8_sin_cos_octant(max(min(_e442, _e443), 0.0));
+            sc = _e447;
+            float _e448 = beta;
+            float _e449 = co;
+            if ((_e448 > _e449)) {
+                float2 _e451 = sc;
+                sc = _e451.yx;
             }
-            float _e452 = sc.x;
-            float _e454 = sc.y;
-            const float2 _e455 = airlight_phi_iso_8_u_and_weight(_e452, _e454, md_4);
-            uw = _e455;
-            float _e456 = sum;
-            float _e458 = uw.y;
-            float _e463 = uw.x;
-            sum = (_e456 + ((0.31370664 * _e458) * exp((-(t_1) * (_e463 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 1.1834346));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 1.1834346));
-            float _e485 = beta;
-            float _e486 = co;
-            const float2 _e490 = airlight_phi_iso_8_sin_cos_octant(max(min(_e485, _e486), 0.0));
-            sc = _e490;
-            float _e491 = beta;
-            float _e492 = co;
-            if ((_e491 > _e492)) {
-                float2 _e494 = sc;
-                sc = _e494.yx;
+            float _e454 = sc.x;
+            float _e456 = sc.y;
+            const float2 _e457 = airlight_phi_iso_8_u_and_weight(_e454, _e456, md_4);
+            uw = _e457;
+            float _e458 = sum;
+            float _e460 = uw.y;
+            float _e465 = uw.x;
+            sum = (_e458 + ((0.31370664 * _e460) * exp((-(t_1) * (_e465 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 1.1834346));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 1.1834346));
+            float _e487 = beta;
+            float _e488 = co;
+            const float2 _e492 = airlight_phi_iso_8_sin_cos_octant(max(min(_e487, _e488), 0.0));
+            sc = _e492;
+            float _e493 = beta;
+            float _e494 = co;
+            if ((_e493 > _e494)) {
+                float2 _e496 = sc;
+                sc = _e496.yx;
             }
-            float _e497 = sc.x;
-            float _e499 = sc.y;
-            const float2 _e500 = airlight_phi_iso_8_u_and_weight(_e497, _e499, md_4);
-            uw = _e500;
-            float _e501 = sum;
-            float _e503 = uw.y;
-            float _e508 = uw.x;
-            sum = (_e501 + ((0.36268377 * _e503) * exp((-(t_1) * (_e508 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.8165654));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.8165654));
-            float _e530 = beta;
-            float _e531 = co;
-            const float2 _e535 = airlight_phi_iso_8_sin_cos_octant(max(min(_e530, _e531), 0.0));
-            sc = _e535;
-            float _e536 = beta;
-            float _e537 = co;
-            if ((_e536 > _e537)) {
-                float2 _e539 = sc;
-                sc = _e539.yx;
+            float _e499 = sc.x;
+            float _e501 = sc.y;
+            const float2 _e502 = airlight_phi_iso_8_u_and_weight(_e499, _e501, md_4);
+            uw = _e502;
+            float _e503 = sum;
+            float _e505 = uw.y;
+            float _e510 = uw.x;
+            sum = (_e503 + ((0.36268377 * _e505) * exp((-(t_1) * (_e510 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 0.8165654));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 0.8165654));
+            float _e532 = beta;
+            float _e533 = co;
+            const float2 _e537 = airlight_phi_iso_8_sin_cos_octant(max(min(_e532, _e533), 0.0));
+            sc = _e537;
+            float _e538 = beta;
+            float _e539 = co;
+            if ((_e538 > _e539)) {
+                float2 _e541 = sc;
+                sc = _e541.yx;
             }
-            float _e542 = sc.x;
-            float _e544 = sc.y;
-            const float2 _e545 = airlight_phi_iso_8_u_and_weight(_e542, _e544, md_4);
-            uw = _e545;
-            float _e546 = sum;
-            float _e548 = uw.y;
-            float _e553 = uw.x;
-            sum = (_e546 + ((0.36268377 * _e548) * exp((-(t_1) * (_e553 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.47446758));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.47446758));
-            float _e575 = beta;
-            float _e576 = co;
-            const float2 _e580 = airlight_phi_iso_8_sin_cos_octant(max(min(_e575, _e576), 0.0));
-            sc = _e580;
-            float _e581 = beta;
-            float _e582 = co;
-            if ((_e581 > _e582)) {
-                float2 _e584 = sc;
-                sc = _e584.yx;
+            float _e544 = sc.x;
+            float _e546 = sc.y;
+            const float2 _e547 = airlight_phi_iso_8_u_and_weight(_e544, _e546, md_4);
+            uw = _e547;
+            float _e548 = sum;
+            float _e550 = uw.y;
+            float _e555 = uw.x;
+            sum = (_e548 + ((0.36268377 * _e550) * exp((-(t_1) * (_e555 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 0.47446758));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 0.47446758));
+            float _e577 = beta;
+            float _e578 = co;
+            const float2 _e582 = airlight_phi_iso_8_sin_cos_octant(max(min(_e577, _e578), 0.0));
+            sc = _e582;
+            float _e583 = beta;
+            float _e584 = co;
+            if ((_e583 > _e584)) {
+                float2 _e586 = sc;
+                sc = _e586.yx;
             }
-            float _e587 = sc.x;
-            float _e589 = sc.y;
-            const float2 _e590 = airlight_phi_iso_8_u_and_weight(_e587, _e589, md_4);
-            uw = _e590;
-            float _e591 = sum;
-            float _e593 = uw.y;
-            float _e598 = uw.x;
-            sum = (_e591 + ((0.31370664 * _e593) * exp((-(t_1) * (_e598 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.2033335));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.2033335));
-            float _e620 = beta;
-            float _e621 = co;
-            const float2 _e625 = airlight_phi_iso_8_sin_cos_octant(max(min(_e620, _e621), 0.0));
-            sc = _e625;
-            float _e626 = beta;
-            float _e627 = co;
-            if ((_e626 > _e627)) {
-                float2 _e629 = sc;
-                sc = _e629.yx;
+            float _e589 = sc.x;
+            float _e591 = sc.y;
+            const float2 _e592 = airlight_phi_iso_8_u_and_weight(_e589, _e591, md_4);
+            uw = _e592;
+            float _e593 = sum;
+            float _e595 = uw.y;
+            float _e600 = uw.x;
+            sum = (_e593 + ((0.31370664 * _e595) * exp((-(t_1) * (_e600 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 0.2033335));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 0.2033335));
+            float _e622 = beta;
+            float _e623 = co;
+            const float2 _e627 = airlight_phi_iso_8_sin_cos_octant(max(min(_e622, _e623), 0.0));
+            sc = _e627;
+            float _e628 = beta;
+            float _e629 = co;
+            if ((_e628 > _e629)) {
+                float2 _e631 = sc;
+                sc = _e631.yx;
             }
-            float _e632 = sc.x;
-            float _e634 = sc.y;
-            const float2 _e635 = airlight_phi_iso_8_u_and_weight(_e632, _e634, md_4);
-            uw = _e635;
-            float _e636 = sum;
-            float _e638 = uw.y;
-            float _e643 = uw.x;
-            sum = (_e636 + ((0.22238104 * _e638) * exp((-(t_1) * (_e643 - ua)))));
-            beta = ((0.5 * _e315.x) + ((0.5 * hl_1) * 0.039710164));
-            co = ((0.5 * _e315.y) - ((0.5 * hl_1) * 0.039710164));
-            float _e665 = beta;
-            float _e666 = co;
-            const float2 _e670 = airlight_phi_iso_8_sin_cos_octant(max(min(_e665, _e666), 0.0));
-            sc = _e670;
-            float _e671 = beta;
-            float _e672 = co;
-            if ((_e671 > _e672)) {
-                float2 _e674 = sc;
-                sc = _e674.yx;
+            float _e634 = sc.x;
+            float _e636 = sc.y;
+            const float2 _e637 = airlight_phi_iso_8_u_and_weight(_e634, _e636, md_4);
+            uw = _e637;
+            float _e638 = sum;
+            float _e640 = uw.y;
+            float _e645 = uw.x;
+            sum = (_e638 + ((0.22238104 * _e640) * exp((-(t_1) * (_e645 - ua)))));
+            beta = ((0.5 * _e317.x) + ((0.5 * hl_1) * 0.039710164));
+            co = ((0.5 * _e317.y) - ((0.5 * hl_1) * 0.039710164));
+            float _e667 = beta;
+            float _e668 = co;
+            const float2 _e672 = airlight_phi_iso_8_sin_cos_octant(max(min(_e667, _e668), 0.0));
+            sc = _e672;
+            float _e673 = beta;
+            float _e674 = co;
+            if ((_e673 > _e674)) {
+                float2 _e676 = sc;
+                sc = _e676.yx;
             }
-            float _e677 = sc.x;
-            float _e679 = sc.y;
-            const float2 _e680 = airlight_phi_iso_8_u_and_weight(_e677, _e679, md_4);
-            uw = _e680;
-            float _e681 = sum;
-            float _e683 = uw.y;
-            float _e688 = uw.x;
-            sum = (_e681 + ((0.101228535 * _e683) * exp((-(t_1) * (_e688 - ua)))));
-            float _e694 = sum;
-            sum = (_e694 * (hl_1 * 0.07957747));
+            float _e679 = sc.x;
+            float _e681 = sc.y;
+            const float2 _e682 = airlight_phi_iso_8_u_and_weight(_e679, _e681, md_4);
+            uw = _e682;
+            float _e683 = sum;
+            float _e685 = uw.y;
+            float _e690 = uw.x;
+            sum = (_e683 + ((0.101228535 * _e685) * exp((-(t_1) * (_e690 - ua)))));
+            float _e696 = sum;
+            sum = (_e696 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e700 = airlight_phi_iso_8_exp_e2_((t_1 * m_1));
-        f = (_e700 / m_1);
+        const float _e702 = airlight_phi_iso_8_exp_e2_((t_1 * m_1));
+        f = (_e702 / m_1);
         if (!(open)) {
-            float _e704 = f;
-            const float _e710 = airlight_phi_iso_8_exp_e2_((t_1 * ub));
-            f = (_e704 - ((exp((-(t_1) * (ub - m_1))) * _e710) / ub));
+            float _e706 = f;
+            const float _e712 = airlight_phi_iso_8_exp_e2_((t_1 * ub));
+            f = (_e706 - ((exp((-(t_1) * (ub - m_1))) * _e712) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (8.0 / max(t_1, 1e-30))) : airlight_phi_iso_8_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e737 = s;
-        float _e738 = v_3;
-        const float _e739 = airlight_phi_iso_8_r_of_v(_e738, md_4);
-        float _e743 = v_3;
-        s = (_e737 + ((0.34785485 * _e739) * exp((-(t_1) * ((1.0 / _e743) - m_1)))));
+        float _e739 = s;
+        float _e740 = v_3;
+        const float _e741 = airlight_phi_iso_8_r_of_v(_e740, md_4);
+        float _e745 = v_3;
+        s = (_e739 + ((0.34785485 * _e741) * exp((-(t_1) * ((1.0 / _e745) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e754 = s;
-        float _e755 = v_3;
-        const float _e756 = airlight_phi_iso_8_r_of_v(_e755, md_4);
-        float _e760 = v_3;
-        s = (_e754 + ((0.65214515 * _e756) * exp((-(t_1) * ((1.0 / _e760) - m_1)))));
+        float _e756 = s;
+        float _e757 = v_3;
+        const float _e758 = airlight_phi_iso_8_r_of_v(_e757, md_4);
+        float _e762 = v_3;
+        s = (_e756 + ((0.65214515 * _e758) * exp((-(t_1) * ((1.0 / _e762) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e771 = s;
-        float _e772 = v_3;
-        const float _e773 = airlight_phi_iso_8_r_of_v(_e772, md_4);
-        float _e777 = v_3;
-        s = (_e771 + ((0.65214515 * _e773) * exp((-(t_1) * ((1.0 / _e777) - m_1)))));
+        float _e773 = s;
+        float _e774 = v_3;
+        const float _e775 = airlight_phi_iso_8_r_of_v(_e774, md_4);
+        float _e779 = v_3;
+        s = (_e773 + ((0.65214515 * _e775) * exp((-(t_1) * ((1.0 / _e779) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e788 = s;
-        float _e789 = v_3;
-        const float _e790 = airlight_phi_iso_8_r_of_v(_e789, md_4);
-        float _e794 = v_3;
-        s = (_e788 + ((0.34785485 * _e790) * exp((-(t_1) * ((1.0 / _e794) - m_1)))));
-        float _e802 = sum;
-        float _e808 = f;
-        float _e809 = s;
-        sum = (_e802 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e808 + (_e809 * hl_2))));
+        float _e790 = s;
+        float _e791 = v_3;
+        const float _e792 = airlight_phi_iso_8_r_of_v(_e791, md_4);
+        float _e796 = v_3;
+        s = (_e790 + ((0.34785485 * _e792) * exp((-(t_1) * ((1.0 / _e796) - m_1)))));
+        float _e804 = sum;
+        float _e810 = f;
+        float _e811 = s;
+        sum = (_e804 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e810 + (_e811 * hl_2))));
     } else {
-        float _e814 = du;
-        if ((_e814 > lcut)) {
+        float _e816 = du;
+        if ((_e816 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e819 = s_1;
-            const float _e823 = airlight_phi_iso_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e819 + (0.711093 * _e823));
-            float _e827 = s_1;
-            const float _e831 = airlight_phi_iso_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e827 + (0.27851772 * _e831));
-            float _e835 = s_1;
-            const float _e839 = airlight_phi_iso_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e835 + (0.010389256 * _e839));
+            float _e821 = s_1;
+            const float _e825 = airlight_phi_iso_8_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e821 + (0.711093 * _e825));
+            float _e829 = s_1;
+            const float _e833 = airlight_phi_iso_8_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e829 + (0.27851772 * _e833));
+            float _e837 = s_1;
+            const float _e841 = airlight_phi_iso_8_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e837 + (0.010389256 * _e841));
             if (!(open)) {
-                float _e846 = sb;
-                const float _e850 = airlight_phi_iso_8_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e846 + (0.711093 * _e850));
-                float _e854 = sb;
-                const float _e858 = airlight_phi_iso_8_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e854 + (0.27851772 * _e858));
-                float _e862 = sb;
-                const float _e866 = airlight_phi_iso_8_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e862 + (0.010389256 * _e866));
-                float _e870 = s_1;
-                float _e872 = du;
-                float _e876 = sb;
-                s_1 = (_e870 - (exp((-(t_1) * (_e872 - lcut))) * _e876));
+                float _e848 = sb;
+                const float _e852 = airlight_phi_iso_8_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e848 + (0.711093 * _e852));
+                float _e856 = sb;
+                const float _e860 = airlight_phi_iso_8_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e856 + (0.27851772 * _e860));
+                float _e864 = sb;
+                const float _e868 = airlight_phi_iso_8_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e864 + (0.010389256 * _e868));
+                float _e872 = s_1;
+                float _e874 = du;
+                float _e878 = sb;
+                s_1 = (_e872 - (exp((-(t_1) * (_e874 - lcut))) * _e878));
             }
-            float _e879 = sum;
-            float _e882 = s_1;
-            sum = (_e879 + ((0.006737947 / t_1) * max(_e882, 0.0)));
+            float _e881 = sum;
+            float _e884 = s_1;
+            sum = (_e881 + ((0.006737947 / t_1) * max(_e884, 0.0)));
         }
     }
     if ((h_5 < 8.673617e-19)) {
-        float _e889 = sum;
-        const float _e897 = airlight_phi_iso_8_scaled((2.0 * max(_e889, 0.0)), exp(-(tau_5)), h_5, 1.0);
-        return _e897;
+        float _e891 = sum;
+        const float _e899 = airlight_phi_iso_8_scaled((2.0 * max(_e891, 0.0)), exp(-(tau_5)), h_5, 1.0);
+        return _e899;
     }
-    float _e902 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e902 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
+    float _e904 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e904 / h_5)), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(float tau, float gamma, float rho_1)
@@ -1062,8 +1064,8 @@ float3 airlight_phi_iso_8_spot_edge(float3 tau_4, float h_4, float x0_4, float r
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_1;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / max(h_4, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_1;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e561) / (h_4).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_phi_iso_8_spot_weight(float c_2, float co_3, float ci_2)

@@ -648,8 +648,8 @@ float3 airlight_raymarch_8_spot_edge(float3 tau_4, float h_5, float x0_4, float 
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_1;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_1;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_raymarch_8_spot_weight(float c_2, float co_2, float ci_2)

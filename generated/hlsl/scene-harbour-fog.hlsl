@@ -360,14 +360,16 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
 
     float tau_1 = min(max(tau_in, 0.0), airlight_scene_harbour_fog_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
-    if ((h_in <= 0.0)) {
-        local_4 = (x0_ > 0.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
     bool _e19 = local_4;
     if (_e19) {
-        return airlight_scene_harbour_fog_HUGE;
+        if ((h_in <= 0.0)) {
+            return airlight_scene_harbour_fog_HUGE;
+        }
     }
     float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
@@ -383,14 +385,14 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     } else {
         local_5 = false;
     }
-    bool _e74 = local_5;
-    if (_e74) {
+    bool _e76 = local_5;
+    if (_e76) {
         local_6 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_6 = false;
     }
-    bool _e82 = local_6;
-    if (_e82) {
+    bool _e84 = local_6;
+    if (_e84) {
         local_7 = ((t_1 * m_1) < 4.0);
     } else {
         local_7 = false;
@@ -403,182 +405,182 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
         } else {
             local_8 = true;
         }
-        bool _e109 = local_8;
-        if (_e109) {
+        bool _e111 = local_8;
+        if (_e111) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e115 = sum;
-            float _e116 = d_2;
-            const float _e118 = airlight_scene_harbour_fog_w_u((ua + _e116), md_4);
-            float _e122 = d_2;
-            sum = (_e115 + ((0.34785485 * _e118) * exp((-(t_1) * _e122))));
+            float _e117 = sum;
+            float _e118 = d_2;
+            const float _e120 = airlight_scene_harbour_fog_w_u((ua + _e118), md_4);
+            float _e124 = d_2;
+            sum = (_e117 + ((0.34785485 * _e120) * exp((-(t_1) * _e124))));
             d_2 = (hl * 1.3399811);
-            float _e129 = sum;
-            float _e130 = d_2;
-            const float _e132 = airlight_scene_harbour_fog_w_u((ua + _e130), md_4);
-            float _e136 = d_2;
-            sum = (_e129 + ((0.65214515 * _e132) * exp((-(t_1) * _e136))));
+            float _e131 = sum;
+            float _e132 = d_2;
+            const float _e134 = airlight_scene_harbour_fog_w_u((ua + _e132), md_4);
+            float _e138 = d_2;
+            sum = (_e131 + ((0.65214515 * _e134) * exp((-(t_1) * _e138))));
             d_2 = (hl * 0.660019);
-            float _e143 = sum;
-            float _e144 = d_2;
-            const float _e146 = airlight_scene_harbour_fog_w_u((ua + _e144), md_4);
-            float _e150 = d_2;
-            sum = (_e143 + ((0.65214515 * _e146) * exp((-(t_1) * _e150))));
+            float _e145 = sum;
+            float _e146 = d_2;
+            const float _e148 = airlight_scene_harbour_fog_w_u((ua + _e146), md_4);
+            float _e152 = d_2;
+            sum = (_e145 + ((0.65214515 * _e148) * exp((-(t_1) * _e152))));
             d_2 = (hl * 0.13886368);
-            float _e157 = sum;
-            float _e158 = d_2;
-            const float _e160 = airlight_scene_harbour_fog_w_u((ua + _e158), md_4);
-            float _e164 = d_2;
-            sum = (_e157 + ((0.34785485 * _e160) * exp((-(t_1) * _e164))));
-            float _e169 = sum;
-            sum = (_e169 * hl);
+            float _e159 = sum;
+            float _e160 = d_2;
+            const float _e162 = airlight_scene_harbour_fog_w_u((ua + _e160), md_4);
+            float _e166 = d_2;
+            sum = (_e159 + ((0.34785485 * _e162) * exp((-(t_1) * _e166))));
+            float _e171 = sum;
+            sum = (_e171 * hl);
         } else {
-            const float2 _e171 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
-            const float2 _e173 = airlight_scene_harbour_fog_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e171.y < 1.5707964) ? (_e171.y - _e173.y) : (_e173.x - _e171.x)));
-            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e206 = beta;
-            float _e207 = co;
-            const float2 _e211 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e206, _e207), 0.0));
-            sc = _e211;
-            float _e212 = beta;
-            float _e213 = co;
-            if ((_e212 > _e213)) {
-                float2 _e215 = sc;
-                sc = _e215.yx;
+            const float2 _e173 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
+            const float2 _e175 = airlight_scene_harbour_fog_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e173.y < 1.5707964) ? (_e173.y - _e175.y) : (_e175.x - _e173.x)));
+            beta = ((0.5 * _e173.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e173.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e208 = beta;
+            float _e209 = co;
+            const float2 _e213 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e208, _e209), 0.0));
+            sc = _e213;
+            float _e214 = beta;
+            float _e215 = co;
+            if ((_e214 > _e215)) {
+                float2 _e217 = sc;
+                sc = _e217.yx;
             }
-            float _e218 = sc.x;
-            float _e220 = sc.y;
-            const float2 _e221 = airlight_scene_harbour_fog_u_and_weight(_e218, _e220, md_4);
-            uw = _e221;
-            float _e222 = sum;
-            float _e224 = uw.y;
-            float _e229 = uw.x;
-            sum = (_e222 + ((0.34785485 * _e224) * exp((-(t_1) * (_e229 - ua)))));
-            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e251 = beta;
-            float _e252 = co;
-            const float2 _e256 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e251, _e252), 0.0));
-            sc = _e256;
-            float _e257 = beta;
-            float _e258 = co;
-            if ((_e257 > _e258)) {
-                float2 _e260 = sc;
-                sc = _e260.yx;
+            float _e220 = sc.x;
+            float _e222 = sc.y;
+            const float2 _e223 = airlight_scene_harbour_fog_u_and_weight(_e220, _e222, md_4);
+            uw = _e223;
+            float _e224 = sum;
+            float _e226 = uw.y;
+            float _e231 = uw.x;
+            sum = (_e224 + ((0.34785485 * _e226) * exp((-(t_1) * (_e231 - ua)))));
+            beta = ((0.5 * _e173.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e173.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e253 = beta;
+            float _e254 = co;
+            const float2 _e258 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e253, _e254), 0.0));
+            sc = _e258;
+            float _e259 = beta;
+            float _e260 = co;
+            if ((_e259 > _e260)) {
+                float2 _e262 = sc;
+                sc = _e262.yx;
             }
-            float _e263 = sc.x;
-            float _e265 = sc.y;
-            const float2 _e266 = airlight_scene_harbour_fog_u_and_weight(_e263, _e265, md_4);
-            uw = _e266;
-            float _e267 = sum;
-            float _e269 = uw.y;
-            float _e274 = uw.x;
-            sum = (_e267 + ((0.65214515 * _e269) * exp((-(t_1) * (_e274 - ua)))));
-            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 0.660019));
-            float _e296 = beta;
-            float _e297 = co;
-            const float2 _e301 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e296, _e297), 0.0));
-            sc = _e301;
-            float _e302 = beta;
-            float _e303 = co;
-            if ((_e302 > _e303)) {
-                float2 _e305 = sc;
-                sc = _e305.yx;
+            float _e265 = sc.x;
+            float _e267 = sc.y;
+            const float2 _e268 = airlight_scene_harbour_fog_u_and_weight(_e265, _e267, md_4);
+            uw = _e268;
+            float _e269 = sum;
+            float _e271 = uw.y;
+            float _e276 = uw.x;
+            sum = (_e269 + ((0.65214515 * _e271) * exp((-(t_1) * (_e276 - ua)))));
+            beta = ((0.5 * _e173.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e173.y) - ((0.5 * hl_1) * 0.660019));
+            float _e298 = beta;
+            float _e299 = co;
+            const float2 _e303 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e298, _e299), 0.0));
+            sc = _e303;
+            float _e304 = beta;
+            float _e305 = co;
+            if ((_e304 > _e305)) {
+                float2 _e307 = sc;
+                sc = _e307.yx;
             }
-            float _e308 = sc.x;
-            float _e310 = sc.y;
-            const float2 _e311 = airlight_scene_harbour_fog_u_and_weight(_e308, _e310, md_4);
-            uw = _e311;
-            float _e312 = sum;
-            float _e314 = uw.y;
-            float _e319 = uw.x;
-            sum = (_e312 + ((0.65214515 * _e314) * exp((-(t_1) * (_e319 - ua)))));
-            beta = ((0.5 * _e171.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e171.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e341 = beta;
-            float _e342 = co;
-            const float2 _e346 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e341, _e342), 0.0));
-            sc = _e346;
-            float _e347 = beta;
-            float _e348 = co;
-            if ((_e347 > _e348)) {
-                float2 _e350 = sc;
-                sc = _e350.yx;
+            float _e310 = sc.x;
+            float _e312 = sc.y;
+            const float2 _e313 = airlight_scene_harbour_fog_u_and_weight(_e310, _e312, md_4);
+            uw = _e313;
+            float _e314 = sum;
+            float _e316 = uw.y;
+            float _e321 = uw.x;
+            sum = (_e314 + ((0.65214515 * _e316) * exp((-(t_1) * (_e321 - ua)))));
+            beta = ((0.5 * _e173.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e173.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e343 = beta;
+            float _e344 = co;
+            const float2 _e348 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e343, _e344), 0.0));
+            sc = _e348;
+            float _e349 = beta;
+            float _e350 = co;
+            if ((_e349 > _e350)) {
+                float2 _e352 = sc;
+                sc = _e352.yx;
             }
-            float _e353 = sc.x;
-            float _e355 = sc.y;
-            const float2 _e356 = airlight_scene_harbour_fog_u_and_weight(_e353, _e355, md_4);
-            uw = _e356;
-            float _e357 = sum;
-            float _e359 = uw.y;
-            float _e364 = uw.x;
-            sum = (_e357 + ((0.34785485 * _e359) * exp((-(t_1) * (_e364 - ua)))));
-            float _e370 = sum;
-            sum = (_e370 * (hl_1 * 0.07957747));
+            float _e355 = sc.x;
+            float _e357 = sc.y;
+            const float2 _e358 = airlight_scene_harbour_fog_u_and_weight(_e355, _e357, md_4);
+            uw = _e358;
+            float _e359 = sum;
+            float _e361 = uw.y;
+            float _e366 = uw.x;
+            sum = (_e359 + ((0.34785485 * _e361) * exp((-(t_1) * (_e366 - ua)))));
+            float _e372 = sum;
+            sum = (_e372 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e376 = airlight_scene_harbour_fog_exp_e2_((t_1 * m_1));
-        f = (_e376 / m_1);
+        const float _e378 = airlight_scene_harbour_fog_exp_e2_((t_1 * m_1));
+        f = (_e378 / m_1);
         if (!(true)) {
-            float _e380 = f;
-            const float _e386 = airlight_scene_harbour_fog_exp_e2_((t_1 * ub));
-            f = (_e380 - ((exp((-(t_1) * (ub - m_1))) * _e386) / ub));
+            float _e382 = f;
+            const float _e388 = airlight_scene_harbour_fog_exp_e2_((t_1 * ub));
+            f = (_e382 - ((exp((-(t_1) * (ub - m_1))) * _e388) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_harbour_fog_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e413 = s;
-        float _e414 = v_3;
-        const float _e415 = airlight_scene_harbour_fog_r_of_v(_e414, md_4);
-        float _e419 = v_3;
-        s = (_e413 + ((1.0 * _e415) * exp((-(t_1) * ((1.0 / _e419) - m_1)))));
+        float _e415 = s;
+        float _e416 = v_3;
+        const float _e417 = airlight_scene_harbour_fog_r_of_v(_e416, md_4);
+        float _e421 = v_3;
+        s = (_e415 + ((1.0 * _e417) * exp((-(t_1) * ((1.0 / _e421) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e430 = s;
-        float _e431 = v_3;
-        const float _e432 = airlight_scene_harbour_fog_r_of_v(_e431, md_4);
-        float _e436 = v_3;
-        s = (_e430 + ((1.0 * _e432) * exp((-(t_1) * ((1.0 / _e436) - m_1)))));
-        float _e444 = sum;
-        float _e450 = f;
-        float _e451 = s;
-        sum = (_e444 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e450 + (_e451 * hl_2))));
+        float _e432 = s;
+        float _e433 = v_3;
+        const float _e434 = airlight_scene_harbour_fog_r_of_v(_e433, md_4);
+        float _e438 = v_3;
+        s = (_e432 + ((1.0 * _e434) * exp((-(t_1) * ((1.0 / _e438) - m_1)))));
+        float _e446 = sum;
+        float _e452 = f;
+        float _e453 = s;
+        sum = (_e446 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e452 + (_e453 * hl_2))));
     } else {
         if ((airlight_scene_harbour_fog_HUGE > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e460 = s_1;
-            const float _e464 = airlight_scene_harbour_fog_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e460 + (0.8535534 * _e464));
-            float _e468 = s_1;
-            const float _e472 = airlight_scene_harbour_fog_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e468 + (0.14644662 * _e472));
+            float _e462 = s_1;
+            const float _e466 = airlight_scene_harbour_fog_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e462 + (0.8535534 * _e466));
+            float _e470 = s_1;
+            const float _e474 = airlight_scene_harbour_fog_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e470 + (0.14644662 * _e474));
             if (!(true)) {
-                float _e479 = sb;
-                const float _e483 = airlight_scene_harbour_fog_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e479 + (0.8535534 * _e483));
-                float _e487 = sb;
-                const float _e491 = airlight_scene_harbour_fog_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e487 + (0.14644662 * _e491));
-                float _e495 = s_1;
-                float _e500 = sb;
-                s_1 = (_e495 - (exp((-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut))) * _e500));
+                float _e481 = sb;
+                const float _e485 = airlight_scene_harbour_fog_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e481 + (0.8535534 * _e485));
+                float _e489 = sb;
+                const float _e493 = airlight_scene_harbour_fog_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e489 + (0.14644662 * _e493));
+                float _e497 = s_1;
+                float _e502 = sb;
+                s_1 = (_e497 - (exp((-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut))) * _e502));
             }
-            float _e503 = sum;
-            float _e506 = s_1;
-            sum = (_e503 + ((0.030197384 / t_1) * max(_e506, 0.0)));
+            float _e505 = sum;
+            float _e508 = s_1;
+            sum = (_e505 + ((0.030197384 / t_1) * max(_e508, 0.0)));
         }
     }
     if ((h_1 < 8.673617e-19)) {
-        float _e513 = sum;
-        const float _e521 = airlight_scene_harbour_fog_scaled((2.0 * max(_e513, 0.0)), exp(-(tau_1)), h_1, 1.0);
-        return _e521;
+        float _e515 = sum;
+        const float _e523 = airlight_scene_harbour_fog_scaled((2.0 * max(_e515, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e523;
     }
-    float _e526 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e526 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
+    float _e528 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e528 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(float tau, float gamma)

@@ -364,8 +364,8 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
 
     float tau_1 = min(max(tau_in, 0.0), airlight_scene_smoke_room_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
-    if ((h_in <= 0.0)) {
-        local_4 = (x0_ > 0.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
@@ -380,7 +380,9 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
         if (_e28) {
             return min((((0.07957747 * exp(-(tau_1))) * rho) / (1.0 - rho)), airlight_scene_smoke_room_HUGE);
         }
-        return airlight_scene_smoke_room_HUGE;
+        if ((h_in <= 0.0)) {
+            return airlight_scene_smoke_room_HUGE;
+        }
     }
     float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
@@ -390,8 +392,8 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     } else {
         local_6 = false;
     }
-    bool _e70 = local_6;
-    bool open = !(_e70);
+    bool _e72 = local_6;
+    bool open = !(_e72);
     if (!(open)) {
         float ta = abs((rho - 1.0));
         float tb = ((x0_ >= 0.0) ? (h_1 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
@@ -404,218 +406,218 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
             du = (((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * (tr + xr)));
         }
     }
-    float _e131 = du;
-    float ub = (ua + _e131);
+    float _e133 = du;
+    float ub = (ua + _e133);
     float t_1 = (tau_1 * h_1);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_scene_smoke_room_HUGE);
     float m_1 = max(ua, xf);
-    float _e148 = du;
-    bool is_short = (_e148 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e150 = du;
+    bool is_short = (_e150 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e161 = local_7;
-    if (_e161) {
+    bool _e163 = local_7;
+    if (_e163) {
         local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e169 = local_8;
-    if (_e169) {
+    bool _e171 = local_8;
+    if (_e171) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e177 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e177, lcut));
+    float _e179 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e179, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e197 = local_10;
-        if (_e197) {
+        bool _e199 = local_10;
+        if (_e199) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e203 = sum;
-            float _e204 = d_2;
-            const float _e206 = airlight_scene_smoke_room_w_u((ua + _e204), md_4);
-            float _e210 = d_2;
-            sum = (_e203 + ((0.34785485 * _e206) * exp((-(t_1) * _e210))));
+            float _e205 = sum;
+            float _e206 = d_2;
+            const float _e208 = airlight_scene_smoke_room_w_u((ua + _e206), md_4);
+            float _e212 = d_2;
+            sum = (_e205 + ((0.34785485 * _e208) * exp((-(t_1) * _e212))));
             d_2 = (hl * 1.3399811);
-            float _e217 = sum;
-            float _e218 = d_2;
-            const float _e220 = airlight_scene_smoke_room_w_u((ua + _e218), md_4);
-            float _e224 = d_2;
-            sum = (_e217 + ((0.65214515 * _e220) * exp((-(t_1) * _e224))));
+            float _e219 = sum;
+            float _e220 = d_2;
+            const float _e222 = airlight_scene_smoke_room_w_u((ua + _e220), md_4);
+            float _e226 = d_2;
+            sum = (_e219 + ((0.65214515 * _e222) * exp((-(t_1) * _e226))));
             d_2 = (hl * 0.660019);
-            float _e231 = sum;
-            float _e232 = d_2;
-            const float _e234 = airlight_scene_smoke_room_w_u((ua + _e232), md_4);
-            float _e238 = d_2;
-            sum = (_e231 + ((0.65214515 * _e234) * exp((-(t_1) * _e238))));
+            float _e233 = sum;
+            float _e234 = d_2;
+            const float _e236 = airlight_scene_smoke_room_w_u((ua + _e234), md_4);
+            float _e240 = d_2;
+            sum = (_e233 + ((0.65214515 * _e236) * exp((-(t_1) * _e240))));
             d_2 = (hl * 0.13886368);
-            float _e245 = sum;
-            float _e246 = d_2;
-            const float _e248 = airlight_scene_smoke_room_w_u((ua + _e246), md_4);
-            float _e252 = d_2;
-            sum = (_e245 + ((0.34785485 * _e248) * exp((-(t_1) * _e252))));
-            float _e257 = sum;
-            sum = (_e257 * hl);
+            float _e247 = sum;
+            float _e248 = d_2;
+            const float _e250 = airlight_scene_smoke_room_w_u((ua + _e248), md_4);
+            float _e254 = d_2;
+            sum = (_e247 + ((0.34785485 * _e250) * exp((-(t_1) * _e254))));
+            float _e259 = sum;
+            sum = (_e259 * hl);
         } else {
-            const float2 _e259 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
-            const float2 _e261 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e259.y < 1.5707964) ? (_e259.y - _e261.y) : (_e261.x - _e259.x)));
-            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e294 = beta;
-            float _e295 = co;
-            const float2 _e299 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e294, _e295), 0.0));
-            sc = _e299;
-            float _e300 = beta;
-            float _e301 = co;
-            if ((_e300 > _e301)) {
-                float2 _e303 = sc;
-                sc = _e303.yx;
+            const float2 _e261 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
+            const float2 _e263 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e261.y < 1.5707964) ? (_e261.y - _e263.y) : (_e263.x - _e261.x)));
+            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e296 = beta;
+            float _e297 = co;
+            const float2 _e301 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e296, _e297), 0.0));
+            sc = _e301;
+            float _e302 = beta;
+            float _e303 = co;
+            if ((_e302 > _e303)) {
+                float2 _e305 = sc;
+                sc = _e305.yx;
             }
-            float _e306 = sc.x;
-            float _e308 = sc.y;
-            const float2 _e309 = airlight_scene_smoke_room_u_and_weight(_e306, _e308, md_4);
-            uw = _e309;
-            float _e310 = sum;
-            float _e312 = uw.y;
-            float _e317 = uw.x;
-            sum = (_e310 + ((0.34785485 * _e312) * exp((-(t_1) * (_e317 - ua)))));
-            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e339 = beta;
-            float _e340 = co;
-            const float2 _e344 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e339, _e340), 0.0));
-            sc = _e344;
-            float _e345 = beta;
-            float _e346 = co;
-            if ((_e345 > _e346)) {
-                float2 _e348 = sc;
-                sc = _e348.yx;
+            float _e308 = sc.x;
+            float _e310 = sc.y;
+            const float2 _e311 = airlight_scene_smoke_room_u_and_weight(_e308, _e310, md_4);
+            uw = _e311;
+            float _e312 = sum;
+            float _e314 = uw.y;
+            float _e319 = uw.x;
+            sum = (_e312 + ((0.34785485 * _e314) * exp((-(t_1) * (_e319 - ua)))));
+            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e341 = beta;
+            float _e342 = co;
+            const float2 _e346 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e341, _e342), 0.0));
+            sc = _e346;
+            float _e347 = beta;
+            float _e348 = co;
+            if ((_e347 > _e348)) {
+                float2 _e350 = sc;
+                sc = _e350.yx;
             }
-            float _e351 = sc.x;
-            float _e353 = sc.y;
-            const float2 _e354 = airlight_scene_smoke_room_u_and_weight(_e351, _e353, md_4);
-            uw = _e354;
-            float _e355 = sum;
-            float _e357 = uw.y;
-            float _e362 = uw.x;
-            sum = (_e355 + ((0.65214515 * _e357) * exp((-(t_1) * (_e362 - ua)))));
-            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 0.660019));
-            float _e384 = beta;
-            float _e385 = co;
-            const float2 _e389 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e384, _e385), 0.0));
-            sc = _e389;
-            float _e390 = beta;
-            float _e391 = co;
-            if ((_e390 > _e391)) {
-                float2 _e393 = sc;
-                sc = _e393.yx;
+            float _e353 = sc.x;
+            float _e355 = sc.y;
+            const float2 _e356 = airlight_scene_smoke_room_u_and_weight(_e353, _e355, md_4);
+            uw = _e356;
+            float _e357 = sum;
+            float _e359 = uw.y;
+            float _e364 = uw.x;
+            sum = (_e357 + ((0.65214515 * _e359) * exp((-(t_1) * (_e364 - ua)))));
+            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.660019));
+            float _e386 = beta;
+            float _e387 = co;
+            const float2 _e391 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e386, _e387), 0.0));
+            sc = _e391;
+            float _e392 = beta;
+            float _e393 = co;
+            if ((_e392 > _e393)) {
+                float2 _e395 = sc;
+                sc = _e395.yx;
             }
-            float _e396 = sc.x;
-            float _e398 = sc.y;
-            const float2 _e399 = airlight_scene_smoke_room_u_and_weight(_e396, _e398, md_4);
-            uw = _e399;
-            float _e400 = sum;
-            float _e402 = uw.y;
-            float _e407 = uw.x;
-            sum = (_e400 + ((0.65214515 * _e402) * exp((-(t_1) * (_e407 - ua)))));
-            beta = ((0.5 * _e259.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e259.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e429 = beta;
-            float _e430 = co;
-            const float2 _e434 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e429, _e430), 0.0));
-            sc = _e434;
-            float _e435 = beta;
-            float _e436 = co;
-            if ((_e435 > _e436)) {
-                float2 _e438 = sc;
-                sc = _e438.yx;
+            float _e398 = sc.x;
+            float _e400 = sc.y;
+            const float2 _e401 = airlight_scene_smoke_room_u_and_weight(_e398, _e400, md_4);
+            uw = _e401;
+            float _e402 = sum;
+            float _e404 = uw.y;
+            float _e409 = uw.x;
+            sum = (_e402 + ((0.65214515 * _e404) * exp((-(t_1) * (_e409 - ua)))));
+            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e431 = beta;
+            float _e432 = co;
+            const float2 _e436 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e431, _e432), 0.0));
+            sc = _e436;
+            float _e437 = beta;
+            float _e438 = co;
+            if ((_e437 > _e438)) {
+                float2 _e440 = sc;
+                sc = _e440.yx;
             }
-            float _e441 = sc.x;
-            float _e443 = sc.y;
-            const float2 _e444 = airlight_scene_smoke_room_u_and_weight(_e441, _e443, md_4);
-            uw = _e444;
-            float _e445 = sum;
-            float _e447 = uw.y;
-            float _e452 = uw.x;
-            sum = (_e445 + ((0.34785485 * _e447) * exp((-(t_1) * (_e452 - ua)))));
-            float _e458 = sum;
-            sum = (_e458 * (hl_1 * 0.07957747));
+            float _e443 = sc.x;
+            float _e445 = sc.y;
+            const float2 _e446 = airlight_scene_smoke_room_u_and_weight(_e443, _e445, md_4);
+            uw = _e446;
+            float _e447 = sum;
+            float _e449 = uw.y;
+            float _e454 = uw.x;
+            sum = (_e447 + ((0.34785485 * _e449) * exp((-(t_1) * (_e454 - ua)))));
+            float _e460 = sum;
+            sum = (_e460 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e464 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
-        f = (_e464 / m_1);
+        const float _e466 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
+        f = (_e466 / m_1);
         if (!(open)) {
-            float _e468 = f;
-            const float _e474 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
-            f = (_e468 - ((exp((-(t_1) * (ub - m_1))) * _e474) / ub));
+            float _e470 = f;
+            const float _e476 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
+            f = (_e470 - ((exp((-(t_1) * (ub - m_1))) * _e476) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_smoke_room_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e501 = s;
-        float _e502 = v_3;
-        const float _e503 = airlight_scene_smoke_room_r_of_v(_e502, md_4);
-        float _e507 = v_3;
-        s = (_e501 + ((1.0 * _e503) * exp((-(t_1) * ((1.0 / _e507) - m_1)))));
+        float _e503 = s;
+        float _e504 = v_3;
+        const float _e505 = airlight_scene_smoke_room_r_of_v(_e504, md_4);
+        float _e509 = v_3;
+        s = (_e503 + ((1.0 * _e505) * exp((-(t_1) * ((1.0 / _e509) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e518 = s;
-        float _e519 = v_3;
-        const float _e520 = airlight_scene_smoke_room_r_of_v(_e519, md_4);
-        float _e524 = v_3;
-        s = (_e518 + ((1.0 * _e520) * exp((-(t_1) * ((1.0 / _e524) - m_1)))));
-        float _e532 = sum;
-        float _e538 = f;
-        float _e539 = s;
-        sum = (_e532 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e538 + (_e539 * hl_2))));
+        float _e520 = s;
+        float _e521 = v_3;
+        const float _e522 = airlight_scene_smoke_room_r_of_v(_e521, md_4);
+        float _e526 = v_3;
+        s = (_e520 + ((1.0 * _e522) * exp((-(t_1) * ((1.0 / _e526) - m_1)))));
+        float _e534 = sum;
+        float _e540 = f;
+        float _e541 = s;
+        sum = (_e534 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e540 + (_e541 * hl_2))));
     } else {
-        float _e544 = du;
-        if ((_e544 > lcut)) {
+        float _e546 = du;
+        if ((_e546 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e549 = s_1;
-            const float _e553 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e549 + (0.8535534 * _e553));
-            float _e557 = s_1;
-            const float _e561 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e557 + (0.14644662 * _e561));
+            float _e551 = s_1;
+            const float _e555 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e551 + (0.8535534 * _e555));
+            float _e559 = s_1;
+            const float _e563 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e559 + (0.14644662 * _e563));
             if (!(open)) {
-                float _e568 = sb;
-                const float _e572 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e568 + (0.8535534 * _e572));
-                float _e576 = sb;
-                const float _e580 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e576 + (0.14644662 * _e580));
-                float _e584 = s_1;
-                float _e586 = du;
-                float _e590 = sb;
-                s_1 = (_e584 - (exp((-(t_1) * (_e586 - lcut))) * _e590));
+                float _e570 = sb;
+                const float _e574 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e570 + (0.8535534 * _e574));
+                float _e578 = sb;
+                const float _e582 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e578 + (0.14644662 * _e582));
+                float _e586 = s_1;
+                float _e588 = du;
+                float _e592 = sb;
+                s_1 = (_e586 - (exp((-(t_1) * (_e588 - lcut))) * _e592));
             }
-            float _e593 = sum;
-            float _e596 = s_1;
-            sum = (_e593 + ((0.030197384 / t_1) * max(_e596, 0.0)));
+            float _e595 = sum;
+            float _e598 = s_1;
+            sum = (_e595 + ((0.030197384 / t_1) * max(_e598, 0.0)));
         }
     }
     if ((h_1 < 8.673617e-19)) {
-        float _e603 = sum;
-        const float _e611 = airlight_scene_smoke_room_scaled((2.0 * max(_e603, 0.0)), exp(-(tau_1)), h_1, 1.0);
-        return _e611;
+        float _e605 = sum;
+        const float _e613 = airlight_scene_smoke_room_scaled((2.0 * max(_e605, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e613;
     }
-    float _e616 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e616 / h_1)), 0.0), airlight_scene_smoke_room_HUGE);
+    float _e618 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e618 / h_1)), 0.0), airlight_scene_smoke_room_HUGE);
 }
 
 float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_1)

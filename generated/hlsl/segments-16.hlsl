@@ -853,8 +853,8 @@ float3 airlight_segments_16_spot_edge(float3 tau_5, float h_5, float x0_5, float
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum_2;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum_2;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_segments_16_spot_weight(float c_2, float co_2, float ci_2)

@@ -658,8 +658,8 @@ float3 airlight_sun2005_64_spot_edge(float3 tau_4, float h_5, float x0_4, float 
         }
     }
     float3 _e552 = exact;
-    float3 _e564 = sum;
-    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / max(h_5, 1e-30)) * _e564)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e561 = sum;
+    return clamp(((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e561) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float airlight_sun2005_64_spot_weight(float c_2, float co_2, float ci_2)

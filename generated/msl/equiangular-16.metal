@@ -835,7 +835,7 @@ float airlight_equiangular_16_airlight_geometry(
     float _e1166 = d_2;
     sum_1 = _e1158 + ((0.02715246 * metal::exp(-(tau_5) * _e1160)) / (_e1165 * metal::sqrt(_e1166)));
     float _e1178 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_16_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / h_1, airlight_equiangular_16_HUGE);
 }
 
 metal::float3 airlight_equiangular_16_airlight_geometry_rgb(
@@ -1279,7 +1279,7 @@ metal::float3 airlight_equiangular_16_airlight_geometry_rgb(
     float _e1190 = d_3;
     sum_2 = _e1182 + ((0.02715246 * metal::exp(-(tau_6) * _e1184)) / metal::float3(_e1189 * metal::sqrt(_e1190)));
     metal::float3 _e1203 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_airlight(
@@ -1642,8 +1642,8 @@ metal::float3 airlight_equiangular_16_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_3;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_16_spot_weight(

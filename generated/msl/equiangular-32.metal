@@ -1315,7 +1315,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e2286 = d_2;
     sum_1 = _e2278 + ((0.00701861 * metal::exp(-(tau_5) * _e2280)) / (_e2285 * metal::sqrt(_e2286)));
     float _e2298 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2298) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_32_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2298) * half_1) / h_1, airlight_equiangular_32_HUGE);
 }
 
 metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
@@ -2159,7 +2159,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2326 = d_3;
     sum_2 = _e2318 + ((0.00701861 * metal::exp(-(tau_6) * _e2320)) / metal::float3(_e2325 * metal::sqrt(_e2326)));
     metal::float3 _e2339 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e2339) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e2339) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_32_airlight(
@@ -2522,8 +2522,8 @@ metal::float3 airlight_equiangular_32_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_3;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_32_spot_weight(

@@ -475,7 +475,7 @@ float airlight_equiangular_4_airlight_geometry(
     float _e326 = d_2;
     sum_1 = _e318 + ((0.34785485 * metal::exp(-(tau_5) * _e320)) / (_e325 * metal::sqrt(_e326)));
     float _e338 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e338) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_4_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e338) * half_1) / h_1, airlight_equiangular_4_HUGE);
 }
 
 metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
@@ -619,7 +619,7 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float _e338 = d_3;
     sum_2 = _e330 + ((0.34785485 * metal::exp(-(tau_6) * _e332)) / metal::float3(_e337 * metal::sqrt(_e338)));
     metal::float3 _e351 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e351) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e351) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_4_airlight(
@@ -982,8 +982,8 @@ metal::float3 airlight_equiangular_4_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_3;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_4_spot_weight(

@@ -595,7 +595,7 @@ float airlight_equiangular_8_airlight_geometry(
     float _e606 = d_2;
     sum_1 = _e598 + ((0.101228535 * metal::exp(-(tau_5) * _e600)) / (_e605 * metal::sqrt(_e606)));
     float _e618 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e618) * half_1) / metal::max(h_1, 0.000000000000000000000000000001), airlight_equiangular_8_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e618) * half_1) / h_1, airlight_equiangular_8_HUGE);
 }
 
 metal::float3 airlight_equiangular_8_airlight_geometry_rgb(
@@ -839,7 +839,7 @@ metal::float3 airlight_equiangular_8_airlight_geometry_rgb(
     float _e622 = d_3;
     sum_2 = _e614 + ((0.101228535 * metal::exp(-(tau_6) * _e616)) / metal::float3(_e621 * metal::sqrt(_e622)));
     metal::float3 _e635 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e635) * half_2) / metal::float3(metal::max(h_2, 0.000000000000000000000000000001)), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e635) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_8_airlight(
@@ -1202,8 +1202,8 @@ metal::float3 airlight_equiangular_8_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_3;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_3;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_8_spot_weight(

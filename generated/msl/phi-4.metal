@@ -420,8 +420,8 @@ float airlight_phi_4_airlight_geometry(
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_phi_4_TAU_MAX);
     float g_8 = metal::clamp(g_in, -0.999, 0.999);
     metal::float4 md_4 = metal::float4(g_8, 1.0 - g_8, 1.0 + g_8, (1.0 - g_8) / (1.0 + g_8));
-    if (h_in <= 0.0) {
-        local_4 = x0_ > 0.0;
+    if (x0_ > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
@@ -436,7 +436,9 @@ float airlight_phi_4_airlight_geometry(
         if (_e37) {
             return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_4_HUGE);
         }
-        return airlight_phi_4_HUGE;
+        if (h_in <= 0.0) {
+            return airlight_phi_4_HUGE;
+        }
     }
     float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
@@ -446,8 +448,8 @@ float airlight_phi_4_airlight_geometry(
     } else {
         local_6 = false;
     }
-    bool _e85 = local_6;
-    bool open = !(_e85);
+    bool _e87 = local_6;
+    bool open = !(_e87);
     if (!(open)) {
         float ta = metal::abs(rho - 1.0);
         float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
@@ -460,219 +462,219 @@ float airlight_phi_4_airlight_geometry(
             du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
         }
     }
-    float _e146 = du;
-    float ub = ua + _e146;
+    float _e148 = du;
+    float ub = ua + _e148;
     float t_1 = tau_5 * h_5;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (3.5 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_4_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e163 = du;
-    bool is_short = _e163 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e165 = du;
+    bool is_short = _e165 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e176 = local_7;
-    if (_e176) {
+    bool _e178 = local_7;
+    if (_e178) {
         local_8 = (t_1 * (m_1 - ua)) < 3.5;
     } else {
         local_8 = false;
     }
-    bool _e184 = local_8;
-    if (_e184) {
+    bool _e186 = local_8;
+    if (_e186) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e192 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e192, lcut);
+    float _e194 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e194, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e212 = local_10;
-        if (_e212) {
+        bool _e214 = local_10;
+        if (_e214) {
             float hl = 0.5 * len;
             d_2 = hl * 1.8611363;
-            float _e218 = sum;
-            float _e219 = d_2;
-            float _e221 = airlight_phi_4_w_u(ua + _e219, md_4);
-            float _e225 = d_2;
-            sum = _e218 + ((0.34785485 * _e221) * metal::exp(-(t_1) * _e225));
+            float _e220 = sum;
+            float _e221 = d_2;
+            float _e223 = airlight_phi_4_w_u(ua + _e221, md_4);
+            float _e227 = d_2;
+            sum = _e220 + ((0.34785485 * _e223) * metal::exp(-(t_1) * _e227));
             d_2 = hl * 1.3399811;
-            float _e232 = sum;
-            float _e233 = d_2;
-            float _e235 = airlight_phi_4_w_u(ua + _e233, md_4);
-            float _e239 = d_2;
-            sum = _e232 + ((0.65214515 * _e235) * metal::exp(-(t_1) * _e239));
+            float _e234 = sum;
+            float _e235 = d_2;
+            float _e237 = airlight_phi_4_w_u(ua + _e235, md_4);
+            float _e241 = d_2;
+            sum = _e234 + ((0.65214515 * _e237) * metal::exp(-(t_1) * _e241));
             d_2 = hl * 0.660019;
-            float _e246 = sum;
-            float _e247 = d_2;
-            float _e249 = airlight_phi_4_w_u(ua + _e247, md_4);
-            float _e253 = d_2;
-            sum = _e246 + ((0.65214515 * _e249) * metal::exp(-(t_1) * _e253));
+            float _e248 = sum;
+            float _e249 = d_2;
+            float _e251 = airlight_phi_4_w_u(ua + _e249, md_4);
+            float _e255 = d_2;
+            sum = _e248 + ((0.65214515 * _e251) * metal::exp(-(t_1) * _e255));
             d_2 = hl * 0.13886368;
-            float _e260 = sum;
-            float _e261 = d_2;
-            float _e263 = airlight_phi_4_w_u(ua + _e261, md_4);
-            float _e267 = d_2;
-            sum = _e260 + ((0.34785485 * _e263) * metal::exp(-(t_1) * _e267));
-            float _e272 = sum;
-            sum = _e272 * hl;
+            float _e262 = sum;
+            float _e263 = d_2;
+            float _e265 = airlight_phi_4_w_u(ua + _e263, md_4);
+            float _e269 = d_2;
+            sum = _e262 + ((0.34785485 * _e265) * metal::exp(-(t_1) * _e269));
+            float _e274 = sum;
+            sum = _e274 * hl;
         } else {
-            metal::float2 _e274 = airlight_phi_4_phi_and_complement(ua, md_4);
-            metal::float2 _e276 = airlight_phi_4_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e274.y < 1.5707964) ? (_e274.y - _e276.y) : (_e276.x - _e274.x));
-            beta = (0.5 * _e274.x) + ((0.5 * hl_1) * 1.8611363);
-            co = (0.5 * _e274.y) - ((0.5 * hl_1) * 1.8611363);
-            float _e309 = beta;
-            float _e310 = co;
-            metal::float2 _e314 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e309, _e310), 0.0));
-            sc = _e314;
-            float _e315 = beta;
-            float _e316 = co;
-            if (_e315 > _e316) {
-                metal::float2 _e318 = sc;
-                sc = _e318.yx;
+            metal::float2 _e276 = airlight_phi_4_phi_and_complement(ua, md_4);
+            metal::float2 _e278 = airlight_phi_4_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e276.y < 1.5707964) ? (_e276.y - _e278.y) : (_e278.x - _e276.x));
+            beta = (0.5 * _e276.x) + ((0.5 * hl_1) * 1.8611363);
+            co = (0.5 * _e276.y) - ((0.5 * hl_1) * 1.8611363);
+            float _e311 = beta;
+            float _e312 = co;
+            metal::float2 _e316 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e311, _e312), 0.0));
+            sc = _e316;
+            float _e317 = beta;
+            float _e318 = co;
+            if (_e317 > _e318) {
+                metal::float2 _e320 = sc;
+                sc = _e320.yx;
             }
-            float _e321 = sc.x;
-            float _e323 = sc.y;
-            metal::float2 _e324 = airlight_phi_4_u_and_weight(_e321, _e323, md_4);
-            uw = _e324;
-            float _e325 = sum;
-            float _e327 = uw.y;
-            float _e332 = uw.x;
-            sum = _e325 + ((0.34785485 * _e327) * metal::exp(-(t_1) * (_e332 - ua)));
-            beta = (0.5 * _e274.x) + ((0.5 * hl_1) * 1.3399811);
-            co = (0.5 * _e274.y) - ((0.5 * hl_1) * 1.3399811);
-            float _e354 = beta;
-            float _e355 = co;
-            metal::float2 _e359 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e354, _e355), 0.0));
-            sc = _e359;
-            float _e360 = beta;
-            float _e361 = co;
-            if (_e360 > _e361) {
-                metal::float2 _e363 = sc;
-                sc = _e363.yx;
+            float _e323 = sc.x;
+            float _e325 = sc.y;
+            metal::float2 _e326 = airlight_phi_4_u_and_weight(_e323, _e325, md_4);
+            uw = _e326;
+            float _e327 = sum;
+            float _e329 = uw.y;
+            float _e334 = uw.x;
+            sum = _e327 + ((0.34785485 * _e329) * metal::exp(-(t_1) * (_e334 - ua)));
+            beta = (0.5 * _e276.x) + ((0.5 * hl_1) * 1.3399811);
+            co = (0.5 * _e276.y) - ((0.5 * hl_1) * 1.3399811);
+            float _e356 = beta;
+            float _e357 = co;
+            metal::float2 _e361 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e356, _e357), 0.0));
+            sc = _e361;
+            float _e362 = beta;
+            float _e363 = co;
+            if (_e362 > _e363) {
+                metal::float2 _e365 = sc;
+                sc = _e365.yx;
             }
-            float _e366 = sc.x;
-            float _e368 = sc.y;
-            metal::float2 _e369 = airlight_phi_4_u_and_weight(_e366, _e368, md_4);
-            uw = _e369;
-            float _e370 = sum;
-            float _e372 = uw.y;
-            float _e377 = uw.x;
-            sum = _e370 + ((0.65214515 * _e372) * metal::exp(-(t_1) * (_e377 - ua)));
-            beta = (0.5 * _e274.x) + ((0.5 * hl_1) * 0.660019);
-            co = (0.5 * _e274.y) - ((0.5 * hl_1) * 0.660019);
-            float _e399 = beta;
-            float _e400 = co;
-            metal::float2 _e404 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e399, _e400), 0.0));
-            sc = _e404;
-            float _e405 = beta;
-            float _e406 = co;
-            if (_e405 > _e406) {
-                metal::float2 _e408 = sc;
-                sc = _e408.yx;
+            float _e368 = sc.x;
+            float _e370 = sc.y;
+            metal::float2 _e371 = airlight_phi_4_u_and_weight(_e368, _e370, md_4);
+            uw = _e371;
+            float _e372 = sum;
+            float _e374 = uw.y;
+            float _e379 = uw.x;
+            sum = _e372 + ((0.65214515 * _e374) * metal::exp(-(t_1) * (_e379 - ua)));
+            beta = (0.5 * _e276.x) + ((0.5 * hl_1) * 0.660019);
+            co = (0.5 * _e276.y) - ((0.5 * hl_1) * 0.660019);
+            float _e401 = beta;
+            float _e402 = co;
+            metal::float2 _e406 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e401, _e402), 0.0));
+            sc = _e406;
+            float _e407 = beta;
+            float _e408 = co;
+            if (_e407 > _e408) {
+                metal::float2 _e410 = sc;
+                sc = _e410.yx;
             }
-            float _e411 = sc.x;
-            float _e413 = sc.y;
-            metal::float2 _e414 = airlight_phi_4_u_and_weight(_e411, _e413, md_4);
-            uw = _e414;
-            float _e415 = sum;
-            float _e417 = uw.y;
-            float _e422 = uw.x;
-            sum = _e415 + ((0.65214515 * _e417) * metal::exp(-(t_1) * (_e422 - ua)));
-            beta = (0.5 * _e274.x) + ((0.5 * hl_1) * 0.13886368);
-            co = (0.5 * _e274.y) - ((0.5 * hl_1) * 0.13886368);
-            float _e444 = beta;
-            float _e445 = co;
-            metal::float2 _e449 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e444, _e445), 0.0));
-            sc = _e449;
-            float _e450 = beta;
-            float _e451 = co;
-            if (_e450 > _e451) {
-                metal::float2 _e453 = sc;
-                sc = _e453.yx;
+            float _e413 = sc.x;
+            float _e415 = sc.y;
+            metal::float2 _e416 = airlight_phi_4_u_and_weight(_e413, _e415, md_4);
+            uw = _e416;
+            float _e417 = sum;
+            float _e419 = uw.y;
+            float _e424 = uw.x;
+            sum = _e417 + ((0.65214515 * _e419) * metal::exp(-(t_1) * (_e424 - ua)));
+            beta = (0.5 * _e276.x) + ((0.5 * hl_1) * 0.13886368);
+            co = (0.5 * _e276.y) - ((0.5 * hl_1) * 0.13886368);
+            float _e446 = beta;
+            float _e447 = co;
+            metal::float2 _e451 = airlight_phi_4_sin_cos_octant(metal::max(metal::min(_e446, _e447), 0.0));
+            sc = _e451;
+            float _e452 = beta;
+            float _e453 = co;
+            if (_e452 > _e453) {
+                metal::float2 _e455 = sc;
+                sc = _e455.yx;
             }
-            float _e456 = sc.x;
-            float _e458 = sc.y;
-            metal::float2 _e459 = airlight_phi_4_u_and_weight(_e456, _e458, md_4);
-            uw = _e459;
-            float _e460 = sum;
-            float _e462 = uw.y;
-            float _e467 = uw.x;
-            sum = _e460 + ((0.34785485 * _e462) * metal::exp(-(t_1) * (_e467 - ua)));
-            float _e473 = sum;
-            sum = _e473 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e458 = sc.x;
+            float _e460 = sc.y;
+            metal::float2 _e461 = airlight_phi_4_u_and_weight(_e458, _e460, md_4);
+            uw = _e461;
+            float _e462 = sum;
+            float _e464 = uw.y;
+            float _e469 = uw.x;
+            sum = _e462 + ((0.34785485 * _e464) * metal::exp(-(t_1) * (_e469 - ua)));
+            float _e475 = sum;
+            sum = _e475 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_6 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e489 = airlight_phi_4_exp_e2_(t_1 * m_1);
-        f = _e489 / m_1;
+        float _e491 = airlight_phi_4_exp_e2_(t_1 * m_1);
+        f = _e491 / m_1;
         if (!(open)) {
-            float _e493 = f;
-            float _e499 = airlight_phi_4_exp_e2_(t_1 * ub);
-            f = _e493 - ((metal::exp(-(t_1) * (ub - m_1)) * _e499) / ub);
+            float _e495 = f;
+            float _e501 = airlight_phi_4_exp_e2_(t_1 * ub);
+            f = _e495 - ((metal::exp(-(t_1) * (ub - m_1)) * _e501) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (5.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_4_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.5773503);
-        float _e526 = s;
-        float _e527 = v_3;
-        float _e528 = airlight_phi_4_r_of_v(_e527, md_4);
-        float _e532 = v_3;
-        s = _e526 + ((1.0 * _e528) * metal::exp(-(t_1) * ((1.0 / _e532) - m_1)));
+        float _e528 = s;
+        float _e529 = v_3;
+        float _e530 = airlight_phi_4_r_of_v(_e529, md_4);
+        float _e534 = v_3;
+        s = _e528 + ((1.0 * _e530) * metal::exp(-(t_1) * ((1.0 / _e534) - m_1)));
         v_3 = va + (hl_2 * 0.42264974);
-        float _e543 = s;
-        float _e544 = v_3;
-        float _e545 = airlight_phi_4_r_of_v(_e544, md_4);
-        float _e549 = v_3;
-        s = _e543 + ((1.0 * _e545) * metal::exp(-(t_1) * ((1.0 / _e549) - m_1)));
-        float _e557 = sum;
-        float _e563 = f;
-        float _e564 = s;
-        sum = _e557 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e563 + (_e564 * hl_2)));
+        float _e545 = s;
+        float _e546 = v_3;
+        float _e547 = airlight_phi_4_r_of_v(_e546, md_4);
+        float _e551 = v_3;
+        s = _e545 + ((1.0 * _e547) * metal::exp(-(t_1) * ((1.0 / _e551) - m_1)));
+        float _e559 = sum;
+        float _e565 = f;
+        float _e566 = s;
+        sum = _e559 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e565 + (_e566 * hl_2)));
     } else {
-        float _e569 = du;
-        if (_e569 > lcut) {
+        float _e571 = du;
+        if (_e571 > lcut) {
             float ue_1 = ua + lcut;
-            float _e574 = s_1;
-            float _e578 = airlight_phi_4_w_u(ue_1 + (0.58578646 / t_1), md_4);
-            s_1 = _e574 + (0.8535534 * _e578);
-            float _e582 = s_1;
-            float _e586 = airlight_phi_4_w_u(ue_1 + (3.4142137 / t_1), md_4);
-            s_1 = _e582 + (0.14644662 * _e586);
+            float _e576 = s_1;
+            float _e580 = airlight_phi_4_w_u(ue_1 + (0.58578646 / t_1), md_4);
+            s_1 = _e576 + (0.8535534 * _e580);
+            float _e584 = s_1;
+            float _e588 = airlight_phi_4_w_u(ue_1 + (3.4142137 / t_1), md_4);
+            s_1 = _e584 + (0.14644662 * _e588);
             if (!(open)) {
-                float _e593 = sb;
-                float _e597 = airlight_phi_4_w_u(ub + (0.58578646 / t_1), md_4);
-                sb = _e593 + (0.8535534 * _e597);
-                float _e601 = sb;
-                float _e605 = airlight_phi_4_w_u(ub + (3.4142137 / t_1), md_4);
-                sb = _e601 + (0.14644662 * _e605);
-                float _e609 = s_1;
-                float _e611 = du;
-                float _e615 = sb;
-                s_1 = _e609 - (metal::exp(-(t_1) * (_e611 - lcut)) * _e615);
+                float _e595 = sb;
+                float _e599 = airlight_phi_4_w_u(ub + (0.58578646 / t_1), md_4);
+                sb = _e595 + (0.8535534 * _e599);
+                float _e603 = sb;
+                float _e607 = airlight_phi_4_w_u(ub + (3.4142137 / t_1), md_4);
+                sb = _e603 + (0.14644662 * _e607);
+                float _e611 = s_1;
+                float _e613 = du;
+                float _e617 = sb;
+                s_1 = _e611 - (metal::exp(-(t_1) * (_e613 - lcut)) * _e617);
             }
-            float _e618 = sum;
-            float _e621 = s_1;
-            sum = _e618 + ((0.030197384 / t_1) * metal::max(_e621, 0.0));
+            float _e620 = sum;
+            float _e623 = s_1;
+            sum = _e620 + ((0.030197384 / t_1) * metal::max(_e623, 0.0));
         }
     }
     if (h_5 < 0.0000000000000000008673617) {
-        float _e628 = sum;
-        float _e636 = airlight_phi_4_scaled(2.0 * metal::max(_e628, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e636;
+        float _e630 = sum;
+        float _e638 = airlight_phi_4_scaled(2.0 * metal::max(_e630, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e638;
     }
-    float _e641 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e641 / h_5), 0.0), airlight_phi_4_HUGE);
+    float _e643 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e643 / h_5), 0.0), airlight_phi_4_HUGE);
 }
 
 float airlight_phi_4_airlight(
@@ -1040,8 +1042,8 @@ metal::float3 airlight_phi_4_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_1;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) / metal::max(h_4, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_1;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e561) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_4_spot_weight(

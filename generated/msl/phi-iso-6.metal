@@ -398,8 +398,8 @@ float airlight_phi_iso_6_airlight_geometry(
     float sb = 0.0;
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_phi_iso_6_TAU_MAX);
     metal::float4 md_4 = metal::float4(0.0, 1.0, 1.0, 1.0);
-    if (h_in <= 0.0) {
-        local_4 = x0_ > 0.0;
+    if (x0_ > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
@@ -414,7 +414,9 @@ float airlight_phi_iso_6_airlight_geometry(
         if (_e28) {
             return metal::min(((0.07957747 * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_iso_6_HUGE);
         }
-        return airlight_phi_iso_6_HUGE;
+        if (h_in <= 0.0) {
+            return airlight_phi_iso_6_HUGE;
+        }
     }
     float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
@@ -424,8 +426,8 @@ float airlight_phi_iso_6_airlight_geometry(
     } else {
         local_6 = false;
     }
-    bool _e70 = local_6;
-    bool open = !(_e70);
+    bool _e72 = local_6;
+    bool open = !(_e72);
     if (!(open)) {
         float ta = metal::abs(rho - 1.0);
         float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
@@ -438,288 +440,288 @@ float airlight_phi_iso_6_airlight_geometry(
             du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
         }
     }
-    float _e131 = du;
-    float ub = ua + _e131;
+    float _e133 = du;
+    float ub = ua + _e133;
     float t_1 = tau_5 * h_5;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (4.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_6_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e148 = du;
-    bool is_short = _e148 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e150 = du;
+    bool is_short = _e150 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e161 = local_7;
-    if (_e161) {
+    bool _e163 = local_7;
+    if (_e163) {
         local_8 = (t_1 * (m_1 - ua)) < 4.0;
     } else {
         local_8 = false;
     }
-    bool _e169 = local_8;
-    if (_e169) {
+    bool _e171 = local_8;
+    if (_e171) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e177 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e177, lcut);
+    float _e179 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e179, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e197 = local_10;
-        if (_e197) {
+        bool _e199 = local_10;
+        if (_e199) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9324695;
-            float _e203 = sum;
-            float _e204 = d_2;
-            float _e206 = airlight_phi_iso_6_w_u(ua + _e204, md_4);
-            float _e210 = d_2;
-            sum = _e203 + ((0.17132449 * _e206) * metal::exp(-(t_1) * _e210));
+            float _e205 = sum;
+            float _e206 = d_2;
+            float _e208 = airlight_phi_iso_6_w_u(ua + _e206, md_4);
+            float _e212 = d_2;
+            sum = _e205 + ((0.17132449 * _e208) * metal::exp(-(t_1) * _e212));
             d_2 = hl * 1.6612093;
-            float _e217 = sum;
-            float _e218 = d_2;
-            float _e220 = airlight_phi_iso_6_w_u(ua + _e218, md_4);
-            float _e224 = d_2;
-            sum = _e217 + ((0.36076158 * _e220) * metal::exp(-(t_1) * _e224));
+            float _e219 = sum;
+            float _e220 = d_2;
+            float _e222 = airlight_phi_iso_6_w_u(ua + _e220, md_4);
+            float _e226 = d_2;
+            sum = _e219 + ((0.36076158 * _e222) * metal::exp(-(t_1) * _e226));
             d_2 = hl * 1.2386192;
-            float _e231 = sum;
-            float _e232 = d_2;
-            float _e234 = airlight_phi_iso_6_w_u(ua + _e232, md_4);
-            float _e238 = d_2;
-            sum = _e231 + ((0.46791393 * _e234) * metal::exp(-(t_1) * _e238));
+            float _e233 = sum;
+            float _e234 = d_2;
+            float _e236 = airlight_phi_iso_6_w_u(ua + _e234, md_4);
+            float _e240 = d_2;
+            sum = _e233 + ((0.46791393 * _e236) * metal::exp(-(t_1) * _e240));
             d_2 = hl * 0.7613808;
-            float _e245 = sum;
-            float _e246 = d_2;
-            float _e248 = airlight_phi_iso_6_w_u(ua + _e246, md_4);
-            float _e252 = d_2;
-            sum = _e245 + ((0.46791393 * _e248) * metal::exp(-(t_1) * _e252));
+            float _e247 = sum;
+            float _e248 = d_2;
+            float _e250 = airlight_phi_iso_6_w_u(ua + _e248, md_4);
+            float _e254 = d_2;
+            sum = _e247 + ((0.46791393 * _e250) * metal::exp(-(t_1) * _e254));
             d_2 = hl * 0.3387906;
-            float _e259 = sum;
-            float _e260 = d_2;
-            float _e262 = airlight_phi_iso_6_w_u(ua + _e260, md_4);
-            float _e266 = d_2;
-            sum = _e259 + ((0.36076158 * _e262) * metal::exp(-(t_1) * _e266));
+            float _e261 = sum;
+            float _e262 = d_2;
+            float _e264 = airlight_phi_iso_6_w_u(ua + _e262, md_4);
+            float _e268 = d_2;
+            sum = _e261 + ((0.36076158 * _e264) * metal::exp(-(t_1) * _e268));
             d_2 = hl * 0.06753051;
-            float _e273 = sum;
-            float _e274 = d_2;
-            float _e276 = airlight_phi_iso_6_w_u(ua + _e274, md_4);
-            float _e280 = d_2;
-            sum = _e273 + ((0.17132449 * _e276) * metal::exp(-(t_1) * _e280));
-            float _e285 = sum;
-            sum = _e285 * hl;
+            float _e275 = sum;
+            float _e276 = d_2;
+            float _e278 = airlight_phi_iso_6_w_u(ua + _e276, md_4);
+            float _e282 = d_2;
+            sum = _e275 + ((0.17132449 * _e278) * metal::exp(-(t_1) * _e282));
+            float _e287 = sum;
+            sum = _e287 * hl;
         } else {
-            metal::float2 _e287 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
-            metal::float2 _e289 = airlight_phi_iso_6_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e287.y < 1.5707964) ? (_e287.y - _e289.y) : (_e289.x - _e287.x));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e322 = beta;
-            float _e323 = co;
-            metal::float2 _e327 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e322, _e323), 0.0));
-            sc = _e327;
-            float _e328 = beta;
-            float _e329 = co;
-            if (_e328 > _e329) {
-                metal::float2 _e331 = sc;
-                sc = _e331.yx;
+            metal::float2 _e289 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
+            metal::float2 _e291 = airlight_phi_iso_6_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e289.y < 1.5707964) ? (_e289.y - _e291.y) : (_e291.x - _e289.x));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.9324695);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.9324695);
+            float _e324 = beta;
+            float _e325 = co;
+            metal::float2 _e329 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e324, _e325), 0.0));
+            sc = _e329;
+            float _e330 = beta;
+            float _e331 = co;
+            if (_e330 > _e331) {
+                metal::float2 _e333 = sc;
+                sc = _e333.yx;
             }
-            float _e334 = sc.x;
-            float _e336 = sc.y;
-            metal::float2 _e337 = airlight_phi_iso_6_u_and_weight(_e334, _e336, md_4);
-            uw = _e337;
-            float _e338 = sum;
-            float _e340 = uw.y;
-            float _e345 = uw.x;
-            sum = _e338 + ((0.17132449 * _e340) * metal::exp(-(t_1) * (_e345 - ua)));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e367 = beta;
-            float _e368 = co;
-            metal::float2 _e372 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e367, _e368), 0.0));
-            sc = _e372;
-            float _e373 = beta;
-            float _e374 = co;
-            if (_e373 > _e374) {
-                metal::float2 _e376 = sc;
-                sc = _e376.yx;
+            float _e336 = sc.x;
+            float _e338 = sc.y;
+            metal::float2 _e339 = airlight_phi_iso_6_u_and_weight(_e336, _e338, md_4);
+            uw = _e339;
+            float _e340 = sum;
+            float _e342 = uw.y;
+            float _e347 = uw.x;
+            sum = _e340 + ((0.17132449 * _e342) * metal::exp(-(t_1) * (_e347 - ua)));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.6612093);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.6612093);
+            float _e369 = beta;
+            float _e370 = co;
+            metal::float2 _e374 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e369, _e370), 0.0));
+            sc = _e374;
+            float _e375 = beta;
+            float _e376 = co;
+            if (_e375 > _e376) {
+                metal::float2 _e378 = sc;
+                sc = _e378.yx;
             }
-            float _e379 = sc.x;
-            float _e381 = sc.y;
-            metal::float2 _e382 = airlight_phi_iso_6_u_and_weight(_e379, _e381, md_4);
-            uw = _e382;
-            float _e383 = sum;
-            float _e385 = uw.y;
-            float _e390 = uw.x;
-            sum = _e383 + ((0.36076158 * _e385) * metal::exp(-(t_1) * (_e390 - ua)));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e412 = beta;
-            float _e413 = co;
-            metal::float2 _e417 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e412, _e413), 0.0));
-            sc = _e417;
-            float _e418 = beta;
-            float _e419 = co;
-            if (_e418 > _e419) {
-                metal::float2 _e421 = sc;
-                sc = _e421.yx;
+            float _e381 = sc.x;
+            float _e383 = sc.y;
+            metal::float2 _e384 = airlight_phi_iso_6_u_and_weight(_e381, _e383, md_4);
+            uw = _e384;
+            float _e385 = sum;
+            float _e387 = uw.y;
+            float _e392 = uw.x;
+            sum = _e385 + ((0.36076158 * _e387) * metal::exp(-(t_1) * (_e392 - ua)));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 1.2386192);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 1.2386192);
+            float _e414 = beta;
+            float _e415 = co;
+            metal::float2 _e419 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e414, _e415), 0.0));
+            sc = _e419;
+            float _e420 = beta;
+            float _e421 = co;
+            if (_e420 > _e421) {
+                metal::float2 _e423 = sc;
+                sc = _e423.yx;
             }
-            float _e424 = sc.x;
-            float _e426 = sc.y;
-            metal::float2 _e427 = airlight_phi_iso_6_u_and_weight(_e424, _e426, md_4);
-            uw = _e427;
-            float _e428 = sum;
-            float _e430 = uw.y;
-            float _e435 = uw.x;
-            sum = _e428 + ((0.46791393 * _e430) * metal::exp(-(t_1) * (_e435 - ua)));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e457 = beta;
-            float _e458 = co;
-            metal::float2 _e462 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e457, _e458), 0.0));
-            sc = _e462;
-            float _e463 = beta;
-            float _e464 = co;
-            if (_e463 > _e464) {
-                metal::float2 _e466 = sc;
-                sc = _e466.yx;
+            float _e426 = sc.x;
+            float _e428 = sc.y;
+            metal::float2 _e429 = airlight_phi_iso_6_u_and_weight(_e426, _e428, md_4);
+            uw = _e429;
+            float _e430 = sum;
+            float _e432 = uw.y;
+            float _e437 = uw.x;
+            sum = _e430 + ((0.46791393 * _e432) * metal::exp(-(t_1) * (_e437 - ua)));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.7613808);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.7613808);
+            float _e459 = beta;
+            float _e460 = co;
+            metal::float2 _e464 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e459, _e460), 0.0));
+            sc = _e464;
+            float _e465 = beta;
+            float _e466 = co;
+            if (_e465 > _e466) {
+                metal::float2 _e468 = sc;
+                sc = _e468.yx;
             }
-            float _e469 = sc.x;
-            float _e471 = sc.y;
-            metal::float2 _e472 = airlight_phi_iso_6_u_and_weight(_e469, _e471, md_4);
-            uw = _e472;
-            float _e473 = sum;
-            float _e475 = uw.y;
-            float _e480 = uw.x;
-            sum = _e473 + ((0.46791393 * _e475) * metal::exp(-(t_1) * (_e480 - ua)));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e502 = beta;
-            float _e503 = co;
-            metal::float2 _e507 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e502, _e503), 0.0));
-            sc = _e507;
-            float _e508 = beta;
-            float _e509 = co;
-            if (_e508 > _e509) {
-                metal::float2 _e511 = sc;
-                sc = _e511.yx;
+            float _e471 = sc.x;
+            float _e473 = sc.y;
+            metal::float2 _e474 = airlight_phi_iso_6_u_and_weight(_e471, _e473, md_4);
+            uw = _e474;
+            float _e475 = sum;
+            float _e477 = uw.y;
+            float _e482 = uw.x;
+            sum = _e475 + ((0.46791393 * _e477) * metal::exp(-(t_1) * (_e482 - ua)));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.3387906);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.3387906);
+            float _e504 = beta;
+            float _e505 = co;
+            metal::float2 _e509 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e504, _e505), 0.0));
+            sc = _e509;
+            float _e510 = beta;
+            float _e511 = co;
+            if (_e510 > _e511) {
+                metal::float2 _e513 = sc;
+                sc = _e513.yx;
             }
-            float _e514 = sc.x;
-            float _e516 = sc.y;
-            metal::float2 _e517 = airlight_phi_iso_6_u_and_weight(_e514, _e516, md_4);
-            uw = _e517;
-            float _e518 = sum;
-            float _e520 = uw.y;
-            float _e525 = uw.x;
-            sum = _e518 + ((0.36076158 * _e520) * metal::exp(-(t_1) * (_e525 - ua)));
-            beta = (0.5 * _e287.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e287.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e547 = beta;
-            float _e548 = co;
-            metal::float2 _e552 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e547, _e548), 0.0));
-            sc = _e552;
-            float _e553 = beta;
-            float _e554 = co;
-            if (_e553 > _e554) {
-                metal::float2 _e556 = sc;
-                sc = _e556.yx;
+            float _e516 = sc.x;
+            float _e518 = sc.y;
+            metal::float2 _e519 = airlight_phi_iso_6_u_and_weight(_e516, _e518, md_4);
+            uw = _e519;
+            float _e520 = sum;
+            float _e522 = uw.y;
+            float _e527 = uw.x;
+            sum = _e520 + ((0.36076158 * _e522) * metal::exp(-(t_1) * (_e527 - ua)));
+            beta = (0.5 * _e289.x) + ((0.5 * hl_1) * 0.06753051);
+            co = (0.5 * _e289.y) - ((0.5 * hl_1) * 0.06753051);
+            float _e549 = beta;
+            float _e550 = co;
+            metal::float2 _e554 = airlight_phi_iso_6_sin_cos_octant(metal::max(metal::min(_e549, _e550), 0.0));
+            sc = _e554;
+            float _e555 = beta;
+            float _e556 = co;
+            if (_e555 > _e556) {
+                metal::float2 _e558 = sc;
+                sc = _e558.yx;
             }
-            float _e559 = sc.x;
-            float _e561 = sc.y;
-            metal::float2 _e562 = airlight_phi_iso_6_u_and_weight(_e559, _e561, md_4);
-            uw = _e562;
-            float _e563 = sum;
-            float _e565 = uw.y;
-            float _e570 = uw.x;
-            sum = _e563 + ((0.17132449 * _e565) * metal::exp(-(t_1) * (_e570 - ua)));
-            float _e576 = sum;
-            sum = _e576 * (hl_1 * 0.07957747);
+            float _e561 = sc.x;
+            float _e563 = sc.y;
+            metal::float2 _e564 = airlight_phi_iso_6_u_and_weight(_e561, _e563, md_4);
+            uw = _e564;
+            float _e565 = sum;
+            float _e567 = uw.y;
+            float _e572 = uw.x;
+            sum = _e565 + ((0.17132449 * _e567) * metal::exp(-(t_1) * (_e572 - ua)));
+            float _e578 = sum;
+            sum = _e578 * (hl_1 * 0.07957747);
         }
     }
     if (use_far) {
-        float _e582 = airlight_phi_iso_6_exp_e2_(t_1 * m_1);
-        f = _e582 / m_1;
+        float _e584 = airlight_phi_iso_6_exp_e2_(t_1 * m_1);
+        f = _e584 / m_1;
         if (!(open)) {
-            float _e586 = f;
-            float _e592 = airlight_phi_iso_6_exp_e2_(t_1 * ub);
-            f = _e586 - ((metal::exp(-(t_1) * (ub - m_1)) * _e592) / ub);
+            float _e588 = f;
+            float _e594 = airlight_phi_iso_6_exp_e2_(t_1 * ub);
+            f = _e588 - ((metal::exp(-(t_1) * (ub - m_1)) * _e594) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (6.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_6_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e619 = s;
-        float _e620 = v_3;
-        float _e621 = airlight_phi_iso_6_r_of_v(_e620, md_4);
-        float _e625 = v_3;
-        s = _e619 + ((0.34785485 * _e621) * metal::exp(-(t_1) * ((1.0 / _e625) - m_1)));
+        float _e621 = s;
+        float _e622 = v_3;
+        float _e623 = airlight_phi_iso_6_r_of_v(_e622, md_4);
+        float _e627 = v_3;
+        s = _e621 + ((0.34785485 * _e623) * metal::exp(-(t_1) * ((1.0 / _e627) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e636 = s;
-        float _e637 = v_3;
-        float _e638 = airlight_phi_iso_6_r_of_v(_e637, md_4);
-        float _e642 = v_3;
-        s = _e636 + ((0.65214515 * _e638) * metal::exp(-(t_1) * ((1.0 / _e642) - m_1)));
+        float _e638 = s;
+        float _e639 = v_3;
+        float _e640 = airlight_phi_iso_6_r_of_v(_e639, md_4);
+        float _e644 = v_3;
+        s = _e638 + ((0.65214515 * _e640) * metal::exp(-(t_1) * ((1.0 / _e644) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e653 = s;
-        float _e654 = v_3;
-        float _e655 = airlight_phi_iso_6_r_of_v(_e654, md_4);
-        float _e659 = v_3;
-        s = _e653 + ((0.65214515 * _e655) * metal::exp(-(t_1) * ((1.0 / _e659) - m_1)));
+        float _e655 = s;
+        float _e656 = v_3;
+        float _e657 = airlight_phi_iso_6_r_of_v(_e656, md_4);
+        float _e661 = v_3;
+        s = _e655 + ((0.65214515 * _e657) * metal::exp(-(t_1) * ((1.0 / _e661) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e670 = s;
-        float _e671 = v_3;
-        float _e672 = airlight_phi_iso_6_r_of_v(_e671, md_4);
-        float _e676 = v_3;
-        s = _e670 + ((0.34785485 * _e672) * metal::exp(-(t_1) * ((1.0 / _e676) - m_1)));
-        float _e684 = sum;
-        float _e690 = f;
-        float _e691 = s;
-        sum = _e684 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e690 + (_e691 * hl_2)));
+        float _e672 = s;
+        float _e673 = v_3;
+        float _e674 = airlight_phi_iso_6_r_of_v(_e673, md_4);
+        float _e678 = v_3;
+        s = _e672 + ((0.34785485 * _e674) * metal::exp(-(t_1) * ((1.0 / _e678) - m_1)));
+        float _e686 = sum;
+        float _e692 = f;
+        float _e693 = s;
+        sum = _e686 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e692 + (_e693 * hl_2)));
     } else {
-        float _e696 = du;
-        if (_e696 > lcut) {
+        float _e698 = du;
+        if (_e698 > lcut) {
             float ue_1 = ua + lcut;
-            float _e701 = s_1;
-            float _e705 = airlight_phi_iso_6_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e701 + (0.711093 * _e705);
-            float _e709 = s_1;
-            float _e713 = airlight_phi_iso_6_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e709 + (0.27851772 * _e713);
-            float _e717 = s_1;
-            float _e721 = airlight_phi_iso_6_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e717 + (0.010389256 * _e721);
+            float _e703 = s_1;
+            float _e707 = airlight_phi_iso_6_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e703 + (0.711093 * _e707);
+            float _e711 = s_1;
+            float _e715 = airlight_phi_iso_6_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e711 + (0.27851772 * _e715);
+            float _e719 = s_1;
+            float _e723 = airlight_phi_iso_6_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e719 + (0.010389256 * _e723);
             if (!(open)) {
-                float _e728 = sb;
-                float _e732 = airlight_phi_iso_6_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e728 + (0.711093 * _e732);
-                float _e736 = sb;
-                float _e740 = airlight_phi_iso_6_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e736 + (0.27851772 * _e740);
-                float _e744 = sb;
-                float _e748 = airlight_phi_iso_6_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e744 + (0.010389256 * _e748);
-                float _e752 = s_1;
-                float _e754 = du;
-                float _e758 = sb;
-                s_1 = _e752 - (metal::exp(-(t_1) * (_e754 - lcut)) * _e758);
+                float _e730 = sb;
+                float _e734 = airlight_phi_iso_6_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e730 + (0.711093 * _e734);
+                float _e738 = sb;
+                float _e742 = airlight_phi_iso_6_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e738 + (0.27851772 * _e742);
+                float _e746 = sb;
+                float _e750 = airlight_phi_iso_6_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e746 + (0.010389256 * _e750);
+                float _e754 = s_1;
+                float _e756 = du;
+                float _e760 = sb;
+                s_1 = _e754 - (metal::exp(-(t_1) * (_e756 - lcut)) * _e760);
             }
-            float _e761 = sum;
-            float _e764 = s_1;
-            sum = _e761 + ((0.01831564 / t_1) * metal::max(_e764, 0.0));
+            float _e763 = sum;
+            float _e766 = s_1;
+            sum = _e763 + ((0.01831564 / t_1) * metal::max(_e766, 0.0));
         }
     }
     if (h_5 < 0.0000000000000000008673617) {
-        float _e771 = sum;
-        float _e779 = airlight_phi_iso_6_scaled(2.0 * metal::max(_e771, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e779;
+        float _e773 = sum;
+        float _e781 = airlight_phi_iso_6_scaled(2.0 * metal::max(_e773, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
+        return _e781;
     }
-    float _e784 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e784 / h_5), 0.0), airlight_phi_iso_6_HUGE);
+    float _e786 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e786 / h_5), 0.0), airlight_phi_iso_6_HUGE);
 }
 
 float airlight_phi_iso_6_airlight(
@@ -1085,8 +1087,8 @@ metal::float3 airlight_phi_iso_6_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_1;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) / metal::max(h_4, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_1;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e561) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_iso_6_spot_weight(

@@ -410,14 +410,16 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     float sb = 0.0;
     float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_backscatter_aerosol_TAU_MAX);
     metal::float4 md_4 = metal::float4(-0.3, 1.0 - -0.3, 1.0 + -0.3, (1.0 - -0.3) / (1.0 + -0.3));
-    if (h_in <= 0.0) {
-        local_4 = x0_ > 0.0;
+    if (x0_ > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
     bool _e25 = local_4;
     if (_e25) {
-        return airlight_scene_backscatter_aerosol_HUGE;
+        if (h_in <= 0.0) {
+            return airlight_scene_backscatter_aerosol_HUGE;
+        }
     }
     float h_1 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
@@ -433,14 +435,14 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     } else {
         local_5 = false;
     }
-    bool _e80 = local_5;
-    if (_e80) {
+    bool _e82 = local_5;
+    if (_e82) {
         local_6 = (t_1 * (m_1 - ua)) < 4.0;
     } else {
         local_6 = false;
     }
-    bool _e88 = local_6;
-    if (_e88) {
+    bool _e90 = local_6;
+    if (_e90) {
         local_7 = (t_1 * m_1) < 4.0;
     } else {
         local_7 = false;
@@ -453,253 +455,253 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
         } else {
             local_8 = true;
         }
-        bool _e115 = local_8;
-        if (_e115) {
+        bool _e117 = local_8;
+        if (_e117) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9324695;
-            float _e121 = sum;
-            float _e122 = d_2;
-            float _e124 = airlight_scene_backscatter_aerosol_w_u(ua + _e122, md_4);
-            float _e128 = d_2;
-            sum = _e121 + ((0.17132449 * _e124) * metal::exp(-(t_1) * _e128));
+            float _e123 = sum;
+            float _e124 = d_2;
+            float _e126 = airlight_scene_backscatter_aerosol_w_u(ua + _e124, md_4);
+            float _e130 = d_2;
+            sum = _e123 + ((0.17132449 * _e126) * metal::exp(-(t_1) * _e130));
             d_2 = hl * 1.6612093;
-            float _e135 = sum;
-            float _e136 = d_2;
-            float _e138 = airlight_scene_backscatter_aerosol_w_u(ua + _e136, md_4);
-            float _e142 = d_2;
-            sum = _e135 + ((0.36076158 * _e138) * metal::exp(-(t_1) * _e142));
+            float _e137 = sum;
+            float _e138 = d_2;
+            float _e140 = airlight_scene_backscatter_aerosol_w_u(ua + _e138, md_4);
+            float _e144 = d_2;
+            sum = _e137 + ((0.36076158 * _e140) * metal::exp(-(t_1) * _e144));
             d_2 = hl * 1.2386192;
-            float _e149 = sum;
-            float _e150 = d_2;
-            float _e152 = airlight_scene_backscatter_aerosol_w_u(ua + _e150, md_4);
-            float _e156 = d_2;
-            sum = _e149 + ((0.46791393 * _e152) * metal::exp(-(t_1) * _e156));
+            float _e151 = sum;
+            float _e152 = d_2;
+            float _e154 = airlight_scene_backscatter_aerosol_w_u(ua + _e152, md_4);
+            float _e158 = d_2;
+            sum = _e151 + ((0.46791393 * _e154) * metal::exp(-(t_1) * _e158));
             d_2 = hl * 0.7613808;
-            float _e163 = sum;
-            float _e164 = d_2;
-            float _e166 = airlight_scene_backscatter_aerosol_w_u(ua + _e164, md_4);
-            float _e170 = d_2;
-            sum = _e163 + ((0.46791393 * _e166) * metal::exp(-(t_1) * _e170));
+            float _e165 = sum;
+            float _e166 = d_2;
+            float _e168 = airlight_scene_backscatter_aerosol_w_u(ua + _e166, md_4);
+            float _e172 = d_2;
+            sum = _e165 + ((0.46791393 * _e168) * metal::exp(-(t_1) * _e172));
             d_2 = hl * 0.3387906;
-            float _e177 = sum;
-            float _e178 = d_2;
-            float _e180 = airlight_scene_backscatter_aerosol_w_u(ua + _e178, md_4);
-            float _e184 = d_2;
-            sum = _e177 + ((0.36076158 * _e180) * metal::exp(-(t_1) * _e184));
+            float _e179 = sum;
+            float _e180 = d_2;
+            float _e182 = airlight_scene_backscatter_aerosol_w_u(ua + _e180, md_4);
+            float _e186 = d_2;
+            sum = _e179 + ((0.36076158 * _e182) * metal::exp(-(t_1) * _e186));
             d_2 = hl * 0.06753051;
-            float _e191 = sum;
-            float _e192 = d_2;
-            float _e194 = airlight_scene_backscatter_aerosol_w_u(ua + _e192, md_4);
-            float _e198 = d_2;
-            sum = _e191 + ((0.17132449 * _e194) * metal::exp(-(t_1) * _e198));
-            float _e203 = sum;
-            sum = _e203 * hl;
+            float _e193 = sum;
+            float _e194 = d_2;
+            float _e196 = airlight_scene_backscatter_aerosol_w_u(ua + _e194, md_4);
+            float _e200 = d_2;
+            sum = _e193 + ((0.17132449 * _e196) * metal::exp(-(t_1) * _e200));
+            float _e205 = sum;
+            sum = _e205 * hl;
         } else {
-            metal::float2 _e205 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
-            metal::float2 _e207 = airlight_scene_backscatter_aerosol_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e205.y < 1.5707964) ? (_e205.y - _e207.y) : (_e207.x - _e205.x));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e240 = beta;
-            float _e241 = co;
-            metal::float2 _e245 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e240, _e241), 0.0));
-            sc = _e245;
-            float _e246 = beta;
-            float _e247 = co;
-            if (_e246 > _e247) {
-                metal::float2 _e249 = sc;
-                sc = _e249.yx;
+            metal::float2 _e207 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
+            metal::float2 _e209 = airlight_scene_backscatter_aerosol_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e207.y < 1.5707964) ? (_e207.y - _e209.y) : (_e209.x - _e207.x));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.9324695);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.9324695);
+            float _e242 = beta;
+            float _e243 = co;
+            metal::float2 _e247 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e242, _e243), 0.0));
+            sc = _e247;
+            float _e248 = beta;
+            float _e249 = co;
+            if (_e248 > _e249) {
+                metal::float2 _e251 = sc;
+                sc = _e251.yx;
             }
-            float _e252 = sc.x;
-            float _e254 = sc.y;
-            metal::float2 _e255 = airlight_scene_backscatter_aerosol_u_and_weight(_e252, _e254, md_4);
-            uw = _e255;
-            float _e256 = sum;
-            float _e258 = uw.y;
-            float _e263 = uw.x;
-            sum = _e256 + ((0.17132449 * _e258) * metal::exp(-(t_1) * (_e263 - ua)));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e285 = beta;
-            float _e286 = co;
-            metal::float2 _e290 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e285, _e286), 0.0));
-            sc = _e290;
-            float _e291 = beta;
-            float _e292 = co;
-            if (_e291 > _e292) {
-                metal::float2 _e294 = sc;
-                sc = _e294.yx;
+            float _e254 = sc.x;
+            float _e256 = sc.y;
+            metal::float2 _e257 = airlight_scene_backscatter_aerosol_u_and_weight(_e254, _e256, md_4);
+            uw = _e257;
+            float _e258 = sum;
+            float _e260 = uw.y;
+            float _e265 = uw.x;
+            sum = _e258 + ((0.17132449 * _e260) * metal::exp(-(t_1) * (_e265 - ua)));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.6612093);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.6612093);
+            float _e287 = beta;
+            float _e288 = co;
+            metal::float2 _e292 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e287, _e288), 0.0));
+            sc = _e292;
+            float _e293 = beta;
+            float _e294 = co;
+            if (_e293 > _e294) {
+                metal::float2 _e296 = sc;
+                sc = _e296.yx;
             }
-            float _e297 = sc.x;
-            float _e299 = sc.y;
-            metal::float2 _e300 = airlight_scene_backscatter_aerosol_u_and_weight(_e297, _e299, md_4);
-            uw = _e300;
-            float _e301 = sum;
-            float _e303 = uw.y;
-            float _e308 = uw.x;
-            sum = _e301 + ((0.36076158 * _e303) * metal::exp(-(t_1) * (_e308 - ua)));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e330 = beta;
-            float _e331 = co;
-            metal::float2 _e335 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e330, _e331), 0.0));
-            sc = _e335;
-            float _e336 = beta;
-            float _e337 = co;
-            if (_e336 > _e337) {
-                metal::float2 _e339 = sc;
-                sc = _e339.yx;
+            float _e299 = sc.x;
+            float _e301 = sc.y;
+            metal::float2 _e302 = airlight_scene_backscatter_aerosol_u_and_weight(_e299, _e301, md_4);
+            uw = _e302;
+            float _e303 = sum;
+            float _e305 = uw.y;
+            float _e310 = uw.x;
+            sum = _e303 + ((0.36076158 * _e305) * metal::exp(-(t_1) * (_e310 - ua)));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.2386192);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.2386192);
+            float _e332 = beta;
+            float _e333 = co;
+            metal::float2 _e337 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e332, _e333), 0.0));
+            sc = _e337;
+            float _e338 = beta;
+            float _e339 = co;
+            if (_e338 > _e339) {
+                metal::float2 _e341 = sc;
+                sc = _e341.yx;
             }
-            float _e342 = sc.x;
-            float _e344 = sc.y;
-            metal::float2 _e345 = airlight_scene_backscatter_aerosol_u_and_weight(_e342, _e344, md_4);
-            uw = _e345;
-            float _e346 = sum;
-            float _e348 = uw.y;
-            float _e353 = uw.x;
-            sum = _e346 + ((0.46791393 * _e348) * metal::exp(-(t_1) * (_e353 - ua)));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e375 = beta;
-            float _e376 = co;
-            metal::float2 _e380 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e375, _e376), 0.0));
-            sc = _e380;
-            float _e381 = beta;
-            float _e382 = co;
-            if (_e381 > _e382) {
-                metal::float2 _e384 = sc;
-                sc = _e384.yx;
+            float _e344 = sc.x;
+            float _e346 = sc.y;
+            metal::float2 _e347 = airlight_scene_backscatter_aerosol_u_and_weight(_e344, _e346, md_4);
+            uw = _e347;
+            float _e348 = sum;
+            float _e350 = uw.y;
+            float _e355 = uw.x;
+            sum = _e348 + ((0.46791393 * _e350) * metal::exp(-(t_1) * (_e355 - ua)));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.7613808);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.7613808);
+            float _e377 = beta;
+            float _e378 = co;
+            metal::float2 _e382 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e377, _e378), 0.0));
+            sc = _e382;
+            float _e383 = beta;
+            float _e384 = co;
+            if (_e383 > _e384) {
+                metal::float2 _e386 = sc;
+                sc = _e386.yx;
             }
-            float _e387 = sc.x;
-            float _e389 = sc.y;
-            metal::float2 _e390 = airlight_scene_backscatter_aerosol_u_and_weight(_e387, _e389, md_4);
-            uw = _e390;
-            float _e391 = sum;
-            float _e393 = uw.y;
-            float _e398 = uw.x;
-            sum = _e391 + ((0.46791393 * _e393) * metal::exp(-(t_1) * (_e398 - ua)));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e420 = beta;
-            float _e421 = co;
-            metal::float2 _e425 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e420, _e421), 0.0));
-            sc = _e425;
-            float _e426 = beta;
-            float _e427 = co;
-            if (_e426 > _e427) {
-                metal::float2 _e429 = sc;
-                sc = _e429.yx;
+            float _e389 = sc.x;
+            float _e391 = sc.y;
+            metal::float2 _e392 = airlight_scene_backscatter_aerosol_u_and_weight(_e389, _e391, md_4);
+            uw = _e392;
+            float _e393 = sum;
+            float _e395 = uw.y;
+            float _e400 = uw.x;
+            sum = _e393 + ((0.46791393 * _e395) * metal::exp(-(t_1) * (_e400 - ua)));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.3387906);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.3387906);
+            float _e422 = beta;
+            float _e423 = co;
+            metal::float2 _e427 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e422, _e423), 0.0));
+            sc = _e427;
+            float _e428 = beta;
+            float _e429 = co;
+            if (_e428 > _e429) {
+                metal::float2 _e431 = sc;
+                sc = _e431.yx;
             }
-            float _e432 = sc.x;
-            float _e434 = sc.y;
-            metal::float2 _e435 = airlight_scene_backscatter_aerosol_u_and_weight(_e432, _e434, md_4);
-            uw = _e435;
-            float _e436 = sum;
-            float _e438 = uw.y;
-            float _e443 = uw.x;
-            sum = _e436 + ((0.36076158 * _e438) * metal::exp(-(t_1) * (_e443 - ua)));
-            beta = (0.5 * _e205.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e205.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e465 = beta;
-            float _e466 = co;
-            metal::float2 _e470 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e465, _e466), 0.0));
-            sc = _e470;
-            float _e471 = beta;
-            float _e472 = co;
-            if (_e471 > _e472) {
-                metal::float2 _e474 = sc;
-                sc = _e474.yx;
+            float _e434 = sc.x;
+            float _e436 = sc.y;
+            metal::float2 _e437 = airlight_scene_backscatter_aerosol_u_and_weight(_e434, _e436, md_4);
+            uw = _e437;
+            float _e438 = sum;
+            float _e440 = uw.y;
+            float _e445 = uw.x;
+            sum = _e438 + ((0.36076158 * _e440) * metal::exp(-(t_1) * (_e445 - ua)));
+            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.06753051);
+            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.06753051);
+            float _e467 = beta;
+            float _e468 = co;
+            metal::float2 _e472 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e467, _e468), 0.0));
+            sc = _e472;
+            float _e473 = beta;
+            float _e474 = co;
+            if (_e473 > _e474) {
+                metal::float2 _e476 = sc;
+                sc = _e476.yx;
             }
-            float _e477 = sc.x;
-            float _e479 = sc.y;
-            metal::float2 _e480 = airlight_scene_backscatter_aerosol_u_and_weight(_e477, _e479, md_4);
-            uw = _e480;
-            float _e481 = sum;
-            float _e483 = uw.y;
-            float _e488 = uw.x;
-            sum = _e481 + ((0.17132449 * _e483) * metal::exp(-(t_1) * (_e488 - ua)));
-            float _e494 = sum;
-            sum = _e494 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e479 = sc.x;
+            float _e481 = sc.y;
+            metal::float2 _e482 = airlight_scene_backscatter_aerosol_u_and_weight(_e479, _e481, md_4);
+            uw = _e482;
+            float _e483 = sum;
+            float _e485 = uw.y;
+            float _e490 = uw.x;
+            sum = _e483 + ((0.17132449 * _e485) * metal::exp(-(t_1) * (_e490 - ua)));
+            float _e496 = sum;
+            sum = _e496 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_5 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e510 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * m_1);
-        f = _e510 / m_1;
+        float _e512 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * m_1);
+        f = _e512 / m_1;
         if (!(true)) {
-            float _e514 = f;
-            float _e520 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * ub);
-            f = _e514 - ((metal::exp(-(t_1) * (ub - m_1)) * _e520) / ub);
+            float _e516 = f;
+            float _e522 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * ub);
+            f = _e516 - ((metal::exp(-(t_1) * (ub - m_1)) * _e522) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (6.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_backscatter_aerosol_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e547 = s;
-        float _e548 = v_3;
-        float _e549 = airlight_scene_backscatter_aerosol_r_of_v(_e548, md_4);
-        float _e553 = v_3;
-        s = _e547 + ((0.34785485 * _e549) * metal::exp(-(t_1) * ((1.0 / _e553) - m_1)));
+        float _e549 = s;
+        float _e550 = v_3;
+        float _e551 = airlight_scene_backscatter_aerosol_r_of_v(_e550, md_4);
+        float _e555 = v_3;
+        s = _e549 + ((0.34785485 * _e551) * metal::exp(-(t_1) * ((1.0 / _e555) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e564 = s;
-        float _e565 = v_3;
-        float _e566 = airlight_scene_backscatter_aerosol_r_of_v(_e565, md_4);
-        float _e570 = v_3;
-        s = _e564 + ((0.65214515 * _e566) * metal::exp(-(t_1) * ((1.0 / _e570) - m_1)));
+        float _e566 = s;
+        float _e567 = v_3;
+        float _e568 = airlight_scene_backscatter_aerosol_r_of_v(_e567, md_4);
+        float _e572 = v_3;
+        s = _e566 + ((0.65214515 * _e568) * metal::exp(-(t_1) * ((1.0 / _e572) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e581 = s;
-        float _e582 = v_3;
-        float _e583 = airlight_scene_backscatter_aerosol_r_of_v(_e582, md_4);
-        float _e587 = v_3;
-        s = _e581 + ((0.65214515 * _e583) * metal::exp(-(t_1) * ((1.0 / _e587) - m_1)));
+        float _e583 = s;
+        float _e584 = v_3;
+        float _e585 = airlight_scene_backscatter_aerosol_r_of_v(_e584, md_4);
+        float _e589 = v_3;
+        s = _e583 + ((0.65214515 * _e585) * metal::exp(-(t_1) * ((1.0 / _e589) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e598 = s;
-        float _e599 = v_3;
-        float _e600 = airlight_scene_backscatter_aerosol_r_of_v(_e599, md_4);
-        float _e604 = v_3;
-        s = _e598 + ((0.34785485 * _e600) * metal::exp(-(t_1) * ((1.0 / _e604) - m_1)));
-        float _e612 = sum;
-        float _e618 = f;
-        float _e619 = s;
-        sum = _e612 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e618 + (_e619 * hl_2)));
+        float _e600 = s;
+        float _e601 = v_3;
+        float _e602 = airlight_scene_backscatter_aerosol_r_of_v(_e601, md_4);
+        float _e606 = v_3;
+        s = _e600 + ((0.34785485 * _e602) * metal::exp(-(t_1) * ((1.0 / _e606) - m_1)));
+        float _e614 = sum;
+        float _e620 = f;
+        float _e621 = s;
+        sum = _e614 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e620 + (_e621 * hl_2)));
     } else {
         if (airlight_scene_backscatter_aerosol_HUGE > lcut) {
             float ue_1 = ua + lcut;
-            float _e628 = s_1;
-            float _e632 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e628 + (0.711093 * _e632);
-            float _e636 = s_1;
-            float _e640 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e636 + (0.27851772 * _e640);
-            float _e644 = s_1;
-            float _e648 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e644 + (0.010389256 * _e648);
+            float _e630 = s_1;
+            float _e634 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e630 + (0.711093 * _e634);
+            float _e638 = s_1;
+            float _e642 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e638 + (0.27851772 * _e642);
+            float _e646 = s_1;
+            float _e650 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e646 + (0.010389256 * _e650);
             if (!(true)) {
-                float _e655 = sb;
-                float _e659 = airlight_scene_backscatter_aerosol_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e655 + (0.711093 * _e659);
-                float _e663 = sb;
-                float _e667 = airlight_scene_backscatter_aerosol_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e663 + (0.27851772 * _e667);
-                float _e671 = sb;
-                float _e675 = airlight_scene_backscatter_aerosol_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e671 + (0.010389256 * _e675);
-                float _e679 = s_1;
-                float _e684 = sb;
-                s_1 = _e679 - (metal::exp(-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut)) * _e684);
+                float _e657 = sb;
+                float _e661 = airlight_scene_backscatter_aerosol_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e657 + (0.711093 * _e661);
+                float _e665 = sb;
+                float _e669 = airlight_scene_backscatter_aerosol_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e665 + (0.27851772 * _e669);
+                float _e673 = sb;
+                float _e677 = airlight_scene_backscatter_aerosol_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e673 + (0.010389256 * _e677);
+                float _e681 = s_1;
+                float _e686 = sb;
+                s_1 = _e681 - (metal::exp(-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut)) * _e686);
             }
-            float _e687 = sum;
-            float _e690 = s_1;
-            sum = _e687 + ((0.01831564 / t_1) * metal::max(_e690, 0.0));
+            float _e689 = sum;
+            float _e692 = s_1;
+            sum = _e689 + ((0.01831564 / t_1) * metal::max(_e692, 0.0));
         }
     }
     if (h_1 < 0.0000000000000000008673617) {
-        float _e697 = sum;
-        float _e705 = airlight_scene_backscatter_aerosol_scaled(2.0 * metal::max(_e697, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
-        return _e705;
+        float _e699 = sum;
+        float _e707 = airlight_scene_backscatter_aerosol_scaled(2.0 * metal::max(_e699, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e707;
     }
-    float _e710 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e710 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    float _e712 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e712 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(

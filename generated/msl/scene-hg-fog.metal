@@ -415,8 +415,8 @@ float airlight_scene_hg_fog_airlight_geometry(
     float sb = 0.0;
     float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_hg_fog_TAU_MAX);
     metal::float4 md_4 = metal::float4(0.8, 1.0 - 0.8, 1.0 + 0.8, (1.0 - 0.8) / (1.0 + 0.8));
-    if (h_in <= 0.0) {
-        local_4 = x0_ > 0.0;
+    if (x0_ > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
@@ -431,7 +431,9 @@ float airlight_scene_hg_fog_airlight_geometry(
         if (_e34) {
             return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_1))) * rho) / (1.0 - rho), airlight_scene_hg_fog_HUGE);
         }
-        return airlight_scene_hg_fog_HUGE;
+        if (h_in <= 0.0) {
+            return airlight_scene_hg_fog_HUGE;
+        }
     }
     float h_1 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
@@ -441,8 +443,8 @@ float airlight_scene_hg_fog_airlight_geometry(
     } else {
         local_6 = false;
     }
-    bool _e82 = local_6;
-    bool open = !(_e82);
+    bool _e84 = local_6;
+    bool open = !(_e84);
     if (!(open)) {
         float ta = metal::abs(rho - 1.0);
         float tb = (x0_ >= 0.0) ? (h_1 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
@@ -455,219 +457,219 @@ float airlight_scene_hg_fog_airlight_geometry(
             du = ((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * (tr + xr));
         }
     }
-    float _e143 = du;
-    float ub = ua + _e143;
+    float _e145 = du;
+    float ub = ua + _e145;
     float t_1 = tau_1 * h_1;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (3.5 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_scene_hg_fog_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e160 = du;
-    bool is_short = _e160 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e162 = du;
+    bool is_short = _e162 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e173 = local_7;
-    if (_e173) {
+    bool _e175 = local_7;
+    if (_e175) {
         local_8 = (t_1 * (m_1 - ua)) < 3.5;
     } else {
         local_8 = false;
     }
-    bool _e181 = local_8;
-    if (_e181) {
+    bool _e183 = local_8;
+    if (_e183) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e189 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e189, lcut);
+    float _e191 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e191, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e209 = local_10;
-        if (_e209) {
+        bool _e211 = local_10;
+        if (_e211) {
             float hl = 0.5 * len;
             d_2 = hl * 1.8611363;
-            float _e215 = sum;
-            float _e216 = d_2;
-            float _e218 = airlight_scene_hg_fog_w_u(ua + _e216, md_4);
-            float _e222 = d_2;
-            sum = _e215 + ((0.34785485 * _e218) * metal::exp(-(t_1) * _e222));
+            float _e217 = sum;
+            float _e218 = d_2;
+            float _e220 = airlight_scene_hg_fog_w_u(ua + _e218, md_4);
+            float _e224 = d_2;
+            sum = _e217 + ((0.34785485 * _e220) * metal::exp(-(t_1) * _e224));
             d_2 = hl * 1.3399811;
-            float _e229 = sum;
-            float _e230 = d_2;
-            float _e232 = airlight_scene_hg_fog_w_u(ua + _e230, md_4);
-            float _e236 = d_2;
-            sum = _e229 + ((0.65214515 * _e232) * metal::exp(-(t_1) * _e236));
+            float _e231 = sum;
+            float _e232 = d_2;
+            float _e234 = airlight_scene_hg_fog_w_u(ua + _e232, md_4);
+            float _e238 = d_2;
+            sum = _e231 + ((0.65214515 * _e234) * metal::exp(-(t_1) * _e238));
             d_2 = hl * 0.660019;
-            float _e243 = sum;
-            float _e244 = d_2;
-            float _e246 = airlight_scene_hg_fog_w_u(ua + _e244, md_4);
-            float _e250 = d_2;
-            sum = _e243 + ((0.65214515 * _e246) * metal::exp(-(t_1) * _e250));
+            float _e245 = sum;
+            float _e246 = d_2;
+            float _e248 = airlight_scene_hg_fog_w_u(ua + _e246, md_4);
+            float _e252 = d_2;
+            sum = _e245 + ((0.65214515 * _e248) * metal::exp(-(t_1) * _e252));
             d_2 = hl * 0.13886368;
-            float _e257 = sum;
-            float _e258 = d_2;
-            float _e260 = airlight_scene_hg_fog_w_u(ua + _e258, md_4);
-            float _e264 = d_2;
-            sum = _e257 + ((0.34785485 * _e260) * metal::exp(-(t_1) * _e264));
-            float _e269 = sum;
-            sum = _e269 * hl;
+            float _e259 = sum;
+            float _e260 = d_2;
+            float _e262 = airlight_scene_hg_fog_w_u(ua + _e260, md_4);
+            float _e266 = d_2;
+            sum = _e259 + ((0.34785485 * _e262) * metal::exp(-(t_1) * _e266));
+            float _e271 = sum;
+            sum = _e271 * hl;
         } else {
-            metal::float2 _e271 = airlight_scene_hg_fog_phi_and_complement(ua, md_4);
-            metal::float2 _e273 = airlight_scene_hg_fog_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e271.y < 1.5707964) ? (_e271.y - _e273.y) : (_e273.x - _e271.x));
-            beta = (0.5 * _e271.x) + ((0.5 * hl_1) * 1.8611363);
-            co = (0.5 * _e271.y) - ((0.5 * hl_1) * 1.8611363);
-            float _e306 = beta;
-            float _e307 = co;
-            metal::float2 _e311 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e306, _e307), 0.0));
-            sc = _e311;
-            float _e312 = beta;
-            float _e313 = co;
-            if (_e312 > _e313) {
-                metal::float2 _e315 = sc;
-                sc = _e315.yx;
+            metal::float2 _e273 = airlight_scene_hg_fog_phi_and_complement(ua, md_4);
+            metal::float2 _e275 = airlight_scene_hg_fog_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e273.y < 1.5707964) ? (_e273.y - _e275.y) : (_e275.x - _e273.x));
+            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 1.8611363);
+            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 1.8611363);
+            float _e308 = beta;
+            float _e309 = co;
+            metal::float2 _e313 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e308, _e309), 0.0));
+            sc = _e313;
+            float _e314 = beta;
+            float _e315 = co;
+            if (_e314 > _e315) {
+                metal::float2 _e317 = sc;
+                sc = _e317.yx;
             }
-            float _e318 = sc.x;
-            float _e320 = sc.y;
-            metal::float2 _e321 = airlight_scene_hg_fog_u_and_weight(_e318, _e320, md_4);
-            uw = _e321;
-            float _e322 = sum;
-            float _e324 = uw.y;
-            float _e329 = uw.x;
-            sum = _e322 + ((0.34785485 * _e324) * metal::exp(-(t_1) * (_e329 - ua)));
-            beta = (0.5 * _e271.x) + ((0.5 * hl_1) * 1.3399811);
-            co = (0.5 * _e271.y) - ((0.5 * hl_1) * 1.3399811);
-            float _e351 = beta;
-            float _e352 = co;
-            metal::float2 _e356 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e351, _e352), 0.0));
-            sc = _e356;
-            float _e357 = beta;
-            float _e358 = co;
-            if (_e357 > _e358) {
-                metal::float2 _e360 = sc;
-                sc = _e360.yx;
+            float _e320 = sc.x;
+            float _e322 = sc.y;
+            metal::float2 _e323 = airlight_scene_hg_fog_u_and_weight(_e320, _e322, md_4);
+            uw = _e323;
+            float _e324 = sum;
+            float _e326 = uw.y;
+            float _e331 = uw.x;
+            sum = _e324 + ((0.34785485 * _e326) * metal::exp(-(t_1) * (_e331 - ua)));
+            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 1.3399811);
+            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 1.3399811);
+            float _e353 = beta;
+            float _e354 = co;
+            metal::float2 _e358 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e353, _e354), 0.0));
+            sc = _e358;
+            float _e359 = beta;
+            float _e360 = co;
+            if (_e359 > _e360) {
+                metal::float2 _e362 = sc;
+                sc = _e362.yx;
             }
-            float _e363 = sc.x;
-            float _e365 = sc.y;
-            metal::float2 _e366 = airlight_scene_hg_fog_u_and_weight(_e363, _e365, md_4);
-            uw = _e366;
-            float _e367 = sum;
-            float _e369 = uw.y;
-            float _e374 = uw.x;
-            sum = _e367 + ((0.65214515 * _e369) * metal::exp(-(t_1) * (_e374 - ua)));
-            beta = (0.5 * _e271.x) + ((0.5 * hl_1) * 0.660019);
-            co = (0.5 * _e271.y) - ((0.5 * hl_1) * 0.660019);
-            float _e396 = beta;
-            float _e397 = co;
-            metal::float2 _e401 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e396, _e397), 0.0));
-            sc = _e401;
-            float _e402 = beta;
-            float _e403 = co;
-            if (_e402 > _e403) {
-                metal::float2 _e405 = sc;
-                sc = _e405.yx;
+            float _e365 = sc.x;
+            float _e367 = sc.y;
+            metal::float2 _e368 = airlight_scene_hg_fog_u_and_weight(_e365, _e367, md_4);
+            uw = _e368;
+            float _e369 = sum;
+            float _e371 = uw.y;
+            float _e376 = uw.x;
+            sum = _e369 + ((0.65214515 * _e371) * metal::exp(-(t_1) * (_e376 - ua)));
+            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 0.660019);
+            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 0.660019);
+            float _e398 = beta;
+            float _e399 = co;
+            metal::float2 _e403 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e398, _e399), 0.0));
+            sc = _e403;
+            float _e404 = beta;
+            float _e405 = co;
+            if (_e404 > _e405) {
+                metal::float2 _e407 = sc;
+                sc = _e407.yx;
             }
-            float _e408 = sc.x;
-            float _e410 = sc.y;
-            metal::float2 _e411 = airlight_scene_hg_fog_u_and_weight(_e408, _e410, md_4);
-            uw = _e411;
-            float _e412 = sum;
-            float _e414 = uw.y;
-            float _e419 = uw.x;
-            sum = _e412 + ((0.65214515 * _e414) * metal::exp(-(t_1) * (_e419 - ua)));
-            beta = (0.5 * _e271.x) + ((0.5 * hl_1) * 0.13886368);
-            co = (0.5 * _e271.y) - ((0.5 * hl_1) * 0.13886368);
-            float _e441 = beta;
-            float _e442 = co;
-            metal::float2 _e446 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e441, _e442), 0.0));
-            sc = _e446;
-            float _e447 = beta;
-            float _e448 = co;
-            if (_e447 > _e448) {
-                metal::float2 _e450 = sc;
-                sc = _e450.yx;
+            float _e410 = sc.x;
+            float _e412 = sc.y;
+            metal::float2 _e413 = airlight_scene_hg_fog_u_and_weight(_e410, _e412, md_4);
+            uw = _e413;
+            float _e414 = sum;
+            float _e416 = uw.y;
+            float _e421 = uw.x;
+            sum = _e414 + ((0.65214515 * _e416) * metal::exp(-(t_1) * (_e421 - ua)));
+            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 0.13886368);
+            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 0.13886368);
+            float _e443 = beta;
+            float _e444 = co;
+            metal::float2 _e448 = airlight_scene_hg_fog_sin_cos_octant(metal::max(metal::min(_e443, _e444), 0.0));
+            sc = _e448;
+            float _e449 = beta;
+            float _e450 = co;
+            if (_e449 > _e450) {
+                metal::float2 _e452 = sc;
+                sc = _e452.yx;
             }
-            float _e453 = sc.x;
-            float _e455 = sc.y;
-            metal::float2 _e456 = airlight_scene_hg_fog_u_and_weight(_e453, _e455, md_4);
-            uw = _e456;
-            float _e457 = sum;
-            float _e459 = uw.y;
-            float _e464 = uw.x;
-            sum = _e457 + ((0.34785485 * _e459) * metal::exp(-(t_1) * (_e464 - ua)));
-            float _e470 = sum;
-            sum = _e470 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e455 = sc.x;
+            float _e457 = sc.y;
+            metal::float2 _e458 = airlight_scene_hg_fog_u_and_weight(_e455, _e457, md_4);
+            uw = _e458;
+            float _e459 = sum;
+            float _e461 = uw.y;
+            float _e466 = uw.x;
+            sum = _e459 + ((0.34785485 * _e461) * metal::exp(-(t_1) * (_e466 - ua)));
+            float _e472 = sum;
+            sum = _e472 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_5 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e486 = airlight_scene_hg_fog_exp_e2_(t_1 * m_1);
-        f = _e486 / m_1;
+        float _e488 = airlight_scene_hg_fog_exp_e2_(t_1 * m_1);
+        f = _e488 / m_1;
         if (!(open)) {
-            float _e490 = f;
-            float _e496 = airlight_scene_hg_fog_exp_e2_(t_1 * ub);
-            f = _e490 - ((metal::exp(-(t_1) * (ub - m_1)) * _e496) / ub);
+            float _e492 = f;
+            float _e498 = airlight_scene_hg_fog_exp_e2_(t_1 * ub);
+            f = _e492 - ((metal::exp(-(t_1) * (ub - m_1)) * _e498) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (5.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_hg_fog_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.5773503);
-        float _e523 = s;
-        float _e524 = v_3;
-        float _e525 = airlight_scene_hg_fog_r_of_v(_e524, md_4);
-        float _e529 = v_3;
-        s = _e523 + ((1.0 * _e525) * metal::exp(-(t_1) * ((1.0 / _e529) - m_1)));
+        float _e525 = s;
+        float _e526 = v_3;
+        float _e527 = airlight_scene_hg_fog_r_of_v(_e526, md_4);
+        float _e531 = v_3;
+        s = _e525 + ((1.0 * _e527) * metal::exp(-(t_1) * ((1.0 / _e531) - m_1)));
         v_3 = va + (hl_2 * 0.42264974);
-        float _e540 = s;
-        float _e541 = v_3;
-        float _e542 = airlight_scene_hg_fog_r_of_v(_e541, md_4);
-        float _e546 = v_3;
-        s = _e540 + ((1.0 * _e542) * metal::exp(-(t_1) * ((1.0 / _e546) - m_1)));
-        float _e554 = sum;
-        float _e560 = f;
-        float _e561 = s;
-        sum = _e554 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e560 + (_e561 * hl_2)));
+        float _e542 = s;
+        float _e543 = v_3;
+        float _e544 = airlight_scene_hg_fog_r_of_v(_e543, md_4);
+        float _e548 = v_3;
+        s = _e542 + ((1.0 * _e544) * metal::exp(-(t_1) * ((1.0 / _e548) - m_1)));
+        float _e556 = sum;
+        float _e562 = f;
+        float _e563 = s;
+        sum = _e556 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e562 + (_e563 * hl_2)));
     } else {
-        float _e566 = du;
-        if (_e566 > lcut) {
+        float _e568 = du;
+        if (_e568 > lcut) {
             float ue_1 = ua + lcut;
-            float _e571 = s_1;
-            float _e575 = airlight_scene_hg_fog_w_u(ue_1 + (0.58578646 / t_1), md_4);
-            s_1 = _e571 + (0.8535534 * _e575);
-            float _e579 = s_1;
-            float _e583 = airlight_scene_hg_fog_w_u(ue_1 + (3.4142137 / t_1), md_4);
-            s_1 = _e579 + (0.14644662 * _e583);
+            float _e573 = s_1;
+            float _e577 = airlight_scene_hg_fog_w_u(ue_1 + (0.58578646 / t_1), md_4);
+            s_1 = _e573 + (0.8535534 * _e577);
+            float _e581 = s_1;
+            float _e585 = airlight_scene_hg_fog_w_u(ue_1 + (3.4142137 / t_1), md_4);
+            s_1 = _e581 + (0.14644662 * _e585);
             if (!(open)) {
-                float _e590 = sb;
-                float _e594 = airlight_scene_hg_fog_w_u(ub + (0.58578646 / t_1), md_4);
-                sb = _e590 + (0.8535534 * _e594);
-                float _e598 = sb;
-                float _e602 = airlight_scene_hg_fog_w_u(ub + (3.4142137 / t_1), md_4);
-                sb = _e598 + (0.14644662 * _e602);
-                float _e606 = s_1;
-                float _e608 = du;
-                float _e612 = sb;
-                s_1 = _e606 - (metal::exp(-(t_1) * (_e608 - lcut)) * _e612);
+                float _e592 = sb;
+                float _e596 = airlight_scene_hg_fog_w_u(ub + (0.58578646 / t_1), md_4);
+                sb = _e592 + (0.8535534 * _e596);
+                float _e600 = sb;
+                float _e604 = airlight_scene_hg_fog_w_u(ub + (3.4142137 / t_1), md_4);
+                sb = _e600 + (0.14644662 * _e604);
+                float _e608 = s_1;
+                float _e610 = du;
+                float _e614 = sb;
+                s_1 = _e608 - (metal::exp(-(t_1) * (_e610 - lcut)) * _e614);
             }
-            float _e615 = sum;
-            float _e618 = s_1;
-            sum = _e615 + ((0.030197384 / t_1) * metal::max(_e618, 0.0));
+            float _e617 = sum;
+            float _e620 = s_1;
+            sum = _e617 + ((0.030197384 / t_1) * metal::max(_e620, 0.0));
         }
     }
     if (h_1 < 0.0000000000000000008673617) {
-        float _e625 = sum;
-        float _e633 = airlight_scene_hg_fog_scaled(2.0 * metal::max(_e625, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
-        return _e633;
+        float _e627 = sum;
+        float _e635 = airlight_scene_hg_fog_scaled(2.0 * metal::max(_e627, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e635;
     }
-    float _e638 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e638 / h_1), 0.0), airlight_scene_hg_fog_HUGE);
+    float _e640 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e640 / h_1), 0.0), airlight_scene_hg_fog_HUGE);
 }
 
 float airlight_scene_hg_fog_airlight(

@@ -930,8 +930,8 @@ metal::float3 airlight_segments_4_spot_edge(
         }
     }
     metal::float3 _e552 = exact;
-    metal::float3 _e564 = sum_2;
-    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) / metal::max(h_5, 0.000000000000000000000000000001)) * _e564), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e561 = sum_2;
+    return metal::clamp((_e27 * _e552) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e561) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_segments_4_spot_weight(

@@ -441,7 +441,7 @@ fn airlight_equiangular_16_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma
     st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
     d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
     sum += 2.71524601e-2 * exp(-tau * st) / (d * sqrt(d));
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / max(h, 1e-30), airlight_equiangular_16_HUGE);
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / h, airlight_equiangular_16_HUGE);
 }
 
 /// The same for three channels' tau at once (the spot entry): the nodes, their
@@ -625,7 +625,7 @@ fn airlight_equiangular_16_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: 
     st = max(x0 + h * sc.x / max(sc.y, 1e-30), 1.0);
     d = select(gp - 4.0 * g * sc.y * sc.y, gm + 4.0 * g * sc.x * sc.x, g >= 0.0);
     sum += 2.71524601e-2 * exp(-tau * st) / (d * sqrt(d));
-    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / max(h, 1e-30), vec3<f32>(airlight_equiangular_16_HUGE));
+    return min(7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / h, vec3<f32>(airlight_equiangular_16_HUGE));
 }
 
 
@@ -787,7 +787,7 @@ fn airlight_equiangular_16_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, 
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half * 1.01228535e-1 * (airlight_equiangular_16_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3<f32>(0.0), vec3<f32>(airlight_equiangular_16_HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(airlight_equiangular_16_HUGE));
 }
 
 /// The weight of the direction cosine c: 1 within the inner cone, 0 outside the

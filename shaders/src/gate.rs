@@ -131,7 +131,8 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
 }
 
 /// The canonical edge set of kernel `k` (issue 23): the exact axis (γ = 0, and π
-/// as f64 and f32 round it), γ from 1e-30 up, γ within 1e-6 of π, surfaces just
+/// as f64 and f32 round it), γ from 1e-37 (near f32's smallest normal number; the f32
+/// contract ends there) up, γ within 1e-6 of π, surfaces just
 /// before, at and beyond the light and out to 1e300 and ∞, at three optical
 /// depths and the ends of its `g` range; projected onto what `k` takes. Errors
 /// count wherever the value is within f32's range and `τ` within its domains;
@@ -141,7 +142,22 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
 pub fn edge_points(k: &IndexEntry) -> Result<Vec<(Point, f64)>, GateError> {
     use std::f64::consts::PI;
     let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
-    let gammas = [0.0, 1e-30, 1e-20, 1e-10, 1e-6, 1e-3, 1.0, PI / 2.0, PI - 1e-3, PI - 1e-6, 3.141_592_653_589_79, PI];
+    let gammas = [
+        0.0,
+        1e-37,
+        1e-33,
+        1e-30,
+        1e-20,
+        1e-10,
+        1e-6,
+        1e-3,
+        1.0,
+        PI / 2.0,
+        PI - 1e-3,
+        PI - 1e-6,
+        3.141_592_653_589_79,
+        PI,
+    ];
     let rhos = [0.5, 1.0 - 1.0 / 1_048_576.0, 1.0, 2.0, 1e4, 1e30, 1e300, f64::INFINITY];
     let mut pts = Vec::new();
     for tau in [0.0, 0.5, tau_max.min(5.0)] {
@@ -276,7 +292,8 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// Spot-light rays for kernel `k`'s spot entry: the placements of
 /// [`physical_rays`], each light made a spot light aimed at a random point of the
 /// ray (or beside it): every fourth the next cone of the grid [`SPOT_GRID_OUTER`] ×
-/// [`SPOT_GRID_INNER`], the others outer half-angle 2°…80° log-uniform, every other one with a
+/// [`SPOT_GRID_INNER`] (every eighth turned so that the ray leaves through its
+/// penumbra), the others outer half-angle 2°…80° log-uniform, every other one with a
 /// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
 /// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1. Returns
 /// the rays with the canonical point of their unclipped red channel and the
@@ -297,7 +314,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         let s = 2.0 * dist * rng.next_f64();
         let jitter = 0.3 * dist * rng.next_f64();
         let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
-        let axis: [f64; 3] = std::array::from_fn(|j| o[j] + s * dn[j] + jitter * u[j] - l[j]);
+        let mut axis: [f64; 3] = std::array::from_fn(|j| o[j] + s * dn[j] + jitter * u[j] - l[j]);
         let outer = (2.0f64 * 40f64.powf(rng.next_f64())).to_radians();
         let inner = outer * (0.2 + 0.75 * rng.next_f64());
         // Every fourth ray: the next cone of the grid renderers use.
@@ -306,6 +323,20 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             let o = SPOT_GRID_OUTER[j % SPOT_GRID_OUTER.len()];
             (o.to_radians(), (o * SPOT_GRID_INNER[(j / SPOT_GRID_OUTER.len()) % SPOT_GRID_INNER.len()]).to_radians())
         };
+        if i % 8 == 0 {
+            // Every other grid ray leaves through the penumbra: the axis turned from
+            // the ray's direction by an angle between the inner and outer half-angles,
+            // so that the far end of the ray (ω → π, the backscatter peak and the
+            // tail) lies in the smooth edge.
+            let frac = 0.2 + 0.6 * rng.next_f64();
+            let a = grid_inner + frac * (grid_outer - grid_inner);
+            let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
+            let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
+            let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+            if qn > 0.0 {
+                axis = std::array::from_fn(|j| a.cos() * dn[j] + a.sin() * q[j] / qn);
+            }
+        }
         let (cos_outer, cos_inner) = if i % 16 == 15 {
             (-1.0, -1.0)
         } else if i % 4 == 0 {

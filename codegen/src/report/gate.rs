@@ -11,10 +11,10 @@ const WHAT: [&str; 7] = [
     "canonical, `thin`",
     "canonical, `dense`",
     "canonical, `extreme` corners",
-    "canonical, edges: the exact axis (γ = 0, π), γ down to 1e-30, surfaces at the light and out to 1e300",
+    "canonical, edges: the exact axis (γ = 0, π), γ down to 1e-37, surfaces at the light and out to 1e300",
     "physical entry, random rays at 1e-3 … 1e4 units",
     "physical entry, extreme rays (1e-4 … 1e30 units, grazing, far planes, ∞)",
-    "spot entry, spot lights (2°–80°, and a grid of 5°–80° cones with inner half-angles from equal to a quarter) in RGB media, per channel",
+    "spot entry, spot lights (2°–80°, and a grid of 5°–80° cones with inner half-angles from equal to a quarter, half of them turned so that the ray leaves through the penumbra) in RGB media, per channel",
 ];
 
 /// The model kernels the table follows, by name prefix: the most accurate of

@@ -80,7 +80,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
         let d = if g >= 0.0 { gm + 4.0 * g * sb * sb } else { gp - 4.0 * g * cb * cb };
         sum += W[i] * exp(-tau * st) / (d * sqrt(d));
     }
-    (7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / h.max(1e-30)).min(HUGE)
+    (7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum * half / h).min(HUGE)
 }
 
 /// The same for three channels' τ at once (the spot entry): the nodes, their
@@ -111,7 +111,7 @@ pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f
             *sum += f * exp(-tau * st);
         }
     }
-    sum.map(|s| (7.95774683e-2 * (1.0 - g) * (1.0 + g) * s * half / h.max(1e-30)).min(HUGE))
+    sum.map(|s| (7.95774683e-2 * (1.0 - g) * (1.0 + g) * s * half / h).min(HUGE))
 }
 
 
@@ -232,7 +232,7 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
             }
         }
     }
-    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / h.max(1e-30) * sum[c]).clamp(0.0, HUGE))
+    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum[c] / h).clamp(0.0, HUGE))
 }
 
 /// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the

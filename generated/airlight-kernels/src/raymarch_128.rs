@@ -182,7 +182,7 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
             }
         }
     }
-    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / h.max(1e-30) * sum[c]).clamp(0.0, HUGE))
+    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum[c] / h).clamp(0.0, HUGE))
 }
 
 /// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the

@@ -145,11 +145,16 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     // through it (ρ ≥ 1). Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
     // off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal `h`, and `A ~ 1/h` saturates only past f32.
-    if h <= 0.0 && x0 > 0.0 {
+    // Within 2^−60 of the axis before the light the limit is `A` to f32: there
+    // `t ≥ 1 − ρ ≥ 2^−24` along the ray, so `h` moves it by `(h/t)² < 1e-21`, and
+    // the integral below would pass through subnormal numbers a GPU may flush.
+    if x0 > 0.0 && h < 8.673_617e-19 {
         if (0.0..1.0).contains(&rho) {
             return (7.95774683e-2 * md.b / (md.a * md.a) * exp(-tau) * rho / (1.0 - rho)).min(HUGE);
         }
-        return HUGE;
+        if h <= 0.0 {
+            return HUGE;
+        }
     }
     let h = if x0 > 0.0 { h } else { h.max(9.094_947e-13) };
     // ua = tan(γ/2) and 1 − cos γ without cancellation.
@@ -361,7 +366,7 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
             }
         }
     }
-    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / h.max(1e-30) * sum[c]).clamp(0.0, HUGE))
+    [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum[c] / h).clamp(0.0, HUGE))
 }
 
 /// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the

@@ -300,11 +300,16 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f3
     // divergent through it (rho >= 1). Behind the viewer A is flat in h to O(h^2): taken
     // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal h, and A ~ 1/h saturates only past f32.
-    if h_in <= 0.0 && x0 > 0.0 {
+    // Within 2^-60 of the axis before the light the limit is A to f32: there
+    // t >= 1 - rho >= 2^-24 along the ray, so h moves it by (h/t)^2 < 1e-21, and the
+    // integral below would pass through subnormal numbers a GPU may flush.
+    if x0 > 0.0 && h_in < 8.673617e-19 {
         if rho >= 0.0 && rho < 1.0 {
             return min(7.95774683e-2 * md.z / (md.y * md.y) * exp(-tau) * rho / (1.0 - rho), HUGE);
         }
-        return HUGE;
+        if h_in <= 0.0 {
+            return HUGE;
+        }
     }
     let h = select(max(h_in, 9.094947e-13), h_in, x0 > 0.0);
     // ua = tan(gamma / 2) and 1 - cos(gamma) without cancellation.
@@ -616,7 +621,7 @@ fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: 
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half * 1.01228535e-1 * (spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3<f32>(0.0), vec3<f32>(HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(HUGE));
 }
 
 /// The weight of the direction cosine c: 1 within the inner cone, 0 outside the

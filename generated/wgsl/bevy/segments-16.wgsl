@@ -563,7 +563,7 @@ fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: 
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
         sum += half * 1.01228535e-1 * (spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
-    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) / max(h, 1e-30) * sum, vec3<f32>(0.0), vec3<f32>(HUGE));
+    return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(HUGE));
 }
 
 /// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
