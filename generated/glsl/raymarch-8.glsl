@@ -368,6 +368,7 @@ vec3 airlight_raymarch_8_spot_edge(vec3 tau, float h, float x0, float rho, float
     vec2 sb;
     float d;
     float st;
+    // Per node one sin_cos, of omega / 2; sin(omega) and cos(omega) follow from it.
     for (int i = 0; i < 5; i++) {
         float a = u + (v - u) * pieces[i];
         float b = u + (v - u) * pieces[i + 1];
@@ -377,42 +378,42 @@ vec3 airlight_raymarch_8_spot_edge(vec3 tau, float h, float x0, float rho, float
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 7.96666503e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 5.25532424e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 1.83434635e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -1.83434635e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -5.25532424e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -7.96666503e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -9.60289836e-1;
         sb = airlight_raymarch_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (airlight_raymarch_8_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_raymarch_8_HUGE));
 }

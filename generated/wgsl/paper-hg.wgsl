@@ -596,6 +596,7 @@ fn airlight_paper_hg_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f
     var sb: vec2<f32>;
     var d: f32;
     var st: f32;
+    // Per node one sin_cos, of omega / 2; sin(omega) and cos(omega) follow from it.
     for (var i = 0; i < 5; i++) {
         let a = u + (v - u) * pieces[i];
         let b = u + (v - u) * pieces[i + 1];
@@ -605,42 +606,42 @@ fn airlight_paper_hg_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 7.96666503e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 5.25532424e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 1.83434635e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -1.83434635e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -5.25532424e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -7.96666503e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -9.60289836e-1;
         sb = airlight_paper_hg_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (airlight_paper_hg_spot_weight_at(w, ca, k, co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(airlight_paper_hg_HUGE));
 }

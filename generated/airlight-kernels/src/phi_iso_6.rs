@@ -319,9 +319,11 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
     const X: [f32; 8] = [9.60289836e-1, 7.96666503e-1, 5.25532424e-1, 1.83434635e-1, -1.83434635e-1, -5.25532424e-1, -7.96666503e-1, -9.60289836e-1];
     const W: [f32; 8] = [1.01228535e-1, 2.22381040e-1, 3.13706636e-1, 3.62683773e-1, 3.62683773e-1, 3.13706636e-1, 2.22381040e-1, 1.01228535e-1];
     const F: [f32; 6] = [0.0, 3.12500000e-2, 2.50000000e-1, 7.50000000e-1, 9.68750000e-1, 1.00000000e0];
-    let weight = |w: f32| ((ca * sin_cos(w).0 - k * sin_cos(w).1 - co) / (ci - co)).clamp(0.0, 1.0);
+    // The weight from sin ω and cos ω.
+    let weight = |sn: f32, cs: f32| ((ca * sn - k * cs - co) / (ci - co)).clamp(0.0, 1.0);
     let e = if g < 0.0 || v > 3.0 { v } else { u };
-    let we = weight(e);
+    let se = sin_cos(e);
+    let we = weight(se.0, se.1);
     let exact = if we > 0.0 { spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g) } else { [0.0; 3] };
     if exact.iter().any(|&x| x >= HUGE) {
         return [HUGE; 3];
@@ -336,7 +338,9 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
             let sb = sin_cos(0.5 * w);
             let d = if g >= 0.0 { gm + 4.0 * g * sb.0 * sb.0 } else { gp - 4.0 * g * sb.1 * sb.1 };
             let st = (x0 + h * sb.0 / sb.1.max(1e-30)).max(1.0);
-            let f = half * W[j] * (weight(w) - we) / (d * sqrt(d));
+            // sin ω and cos ω from the half angle's: one sin_cos per node.
+            let (sn, cs) = (2.0 * sb.0 * sb.1, (sb.1 - sb.0) * (sb.1 + sb.0));
+            let f = half * W[j] * (weight(sn, cs) - we) / (d * sqrt(d));
             for c in 0..3 {
                 sum[c] += f * exp(-tau[c] * st);
             }
