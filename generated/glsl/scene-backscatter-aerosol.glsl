@@ -308,9 +308,6 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
     // On the axis with the light ahead the ray passes through it: divergent. Behind the viewer A is flat in h to O(h^2): taken
     // 2^-40 off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal h, and A ~ 1/h saturates only past float's range.
-    // Within 2^-60 of the axis before the light the limit is A to float: there
-    // t >= 1 - rho >= 2^-24 along the ray, so h moves it by (h/t)^2 < 1e-21, and the
-    // integral below would pass through subnormal numbers a GPU may flush.
     if (x0 > 0.0 && h_in < 8.673617e-19) {
         if (h_in <= 0.0) {
             return airlight_scene_backscatter_aerosol_HUGE;
