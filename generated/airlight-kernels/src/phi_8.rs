@@ -156,6 +156,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
             return HUGE;
         }
     }
+
     let h = if x0 > 0.0 { h } else { h.max(9.094_947e-13) };
     // ua = tan(γ/2) and 1 − cos γ without cancellation.
     let (ua, one_minus) = if x0 >= 0.0 { (h / (1.0 + x0), h * h / (1.0 + x0)) } else { ((1.0 - x0) / h, 1.0 - x0) };

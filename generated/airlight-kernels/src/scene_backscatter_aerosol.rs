@@ -142,11 +142,10 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32) -> f32 {
     // On the axis with the light ahead the ray passes through it: divergent. Behind the viewer `A` is flat in `h` to O(h²): taken 2^−40
     // off the axis there. Ahead nothing is clamped: every term below stays finite
     // down to the smallest subnormal `h`, and `A ~ 1/h` saturates only past f32.
-    if x0 > 0.0 && h < 8.673_617e-19 {
-        if h <= 0.0 {
-            return HUGE;
-        }
+    if x0 > 0.0 && h <= 0.0 {
+        return HUGE;
     }
+
     let h = if x0 > 0.0 { h } else { h.max(9.094_947e-13) };
     // ua = tan(γ/2) and 1 − cos γ without cancellation.
     let (ua, one_minus) = if x0 >= 0.0 { (h / (1.0 + x0), h * h / (1.0 + x0)) } else { ((1.0 - x0) / h, 1.0 - x0) };
