@@ -367,9 +367,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         // Starts are spread out: a model's error often plateaus at one level over a
         // large region (the backward sum's floor), and the largest errors all sit
         // there while a narrow peak elsewhere (a domain edge) goes unvisited.
-        signed.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let mut starts = diverse(v.domain, signed.iter().map(|s| s.0), REFINE_STARTS, 0.1);
-        starts.extend(diverse(v.domain, signed.iter().rev().map(|s| s.0), REFINE_STARTS, 0.1));
+        let mut starts = extremes(v.domain, &mut signed, REFINE_STARTS);
         // The face grids: their largest errors count, and start searches too.
         let mut faces: Vec<(Point, f64)> =
             v.faces.iter().map(|&(p, exact)| (p, rel_error(model.eval_unchecked(p), exact))).collect();
@@ -395,13 +393,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
                 starts.push(p);
             }
         }
-        for start in starts {
-            let (found, e) = refine(model, v.domain, v.g_range, start);
-            if e > max {
-                max = e;
-                worst = found;
-            }
-        }
+        search(model, v, &starts, &mut max, &mut worst);
         // Held-out rounds: each a fresh seeded set, its largest over- and
         // underestimates searched from; the first round that raises nothing ends it.
         for set in &v.held_out {
@@ -417,15 +409,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
                     signed.push((p, a / exact - 1.0));
                 }
             }
-            signed.sort_by(|a, b| b.1.total_cmp(&a.1));
-            let mut starts = diverse(v.domain, signed.iter().map(|s| s.0), REFINE_STARTS / 2, 0.1);
-            starts.extend(diverse(v.domain, signed.iter().rev().map(|s| s.0), REFINE_STARTS / 2, 0.1));
-            for start in starts {
-                let (found, e) = refine(model, v.domain, v.g_range, start);
-                if e > max {
-                    (max, worst) = (e, found);
-                }
-            }
+            search(model, v, &extremes(v.domain, &mut signed, REFINE_STARTS / 2), &mut max, &mut worst);
             if max <= before {
                 break;
             }
@@ -439,6 +423,27 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
         worst,
         non_finite,
         negative,
+    }
+}
+
+/// Up to `n` of the largest over- and `n` of the largest underestimates among
+/// `signed` (point, signed relative error), a tenth of the domain apart; sorts
+/// `signed` by the error, largest first.
+fn extremes(domain: Domain, signed: &mut [(Point, f64)], n: usize) -> Vec<Point> {
+    signed.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut starts = diverse(domain, signed.iter().map(|s| s.0), n, 0.1);
+    starts.extend(diverse(domain, signed.iter().rev().map(|s| s.0), n, 0.1));
+    starts
+}
+
+/// A local search from each of `starts`, raising `max` (and moving `worst`)
+/// wherever one finds more.
+fn search(model: &dyn Model, v: &Validation, starts: &[Point], max: &mut f64, worst: &mut Point) {
+    for &start in starts {
+        let (found, e) = refine(model, v.domain, v.g_range, start);
+        if e > *max {
+            (*max, *worst) = (e, found);
+        }
     }
 }
 

@@ -14,6 +14,7 @@ use crate::{Gpu, GpuError, KernelSource};
 use airlight_fit::catalog::{self, Validation};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
+use airlight_fit::family::Body;
 use airlight_fit::reference::{self, Point};
 pub use airlight_fit::vocab::{f32_limit, Target, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE};
 use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
@@ -113,21 +114,28 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
             (Some(p), false) => p,
             _ => {
                 let base = d.validation_set((k.g[0], k.g[1]), VALIDATION_POINTS, VALIDATION_SEED);
-                let mut pts: Vec<Point> = base.into_iter().map(|p| project(k, p)).collect();
-                pts.sort_by(|a, b| {
-                    (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN")
-                });
-                pts.dedup();
-                let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
-                pts.into_iter()
-                    .zip(values)
-                    .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
-                    .collect::<Result<_, _>>()?
+                with_reference(k, base.into_iter().map(|p| project(k, p)).collect())?
             }
         };
         out.push((d, pts));
     }
     Ok(out)
+}
+
+/// `pts` sorted, without repeats, each with its reference `A` (for kernel `k`'s errors).
+fn with_reference(k: &IndexEntry, mut pts: Vec<Point>) -> Result<Checked, GateError> {
+    pts.sort_by(|a, b| (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN"));
+    pts.dedup();
+    let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
+    pts.into_iter()
+        .zip(values)
+        .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
+        .collect()
+}
+
+/// The end of kernel `k`'s sampled domains in τ.
+fn tau_max(k: &IndexEntry) -> f64 {
+    k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max)
 }
 
 /// The canonical edge set of kernel `k` (issue 23): the exact axis (γ = 0, and π
@@ -141,7 +149,6 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
 #[allow(clippy::approx_constant)]
 pub fn edge_points(k: &IndexEntry) -> Result<Vec<(Point, f64)>, GateError> {
     use std::f64::consts::PI;
-    let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
     let gammas = [
         0.0,
         1e-37,
@@ -160,7 +167,7 @@ pub fn edge_points(k: &IndexEntry) -> Result<Vec<(Point, f64)>, GateError> {
     ];
     let rhos = [0.5, 1.0 - 1.0 / 1_048_576.0, 1.0, 2.0, 1e4, 1e30, 1e300, f64::INFINITY];
     let mut pts = Vec::new();
-    for tau in [0.0, 0.5, tau_max.min(5.0)] {
+    for tau in [0.0, 0.5, tau_max(k).min(5.0)] {
         for &gamma in &gammas {
             for &rho in &rhos {
                 for g in [k.g[0], k.g[1]] {
@@ -169,13 +176,7 @@ pub fn edge_points(k: &IndexEntry) -> Result<Vec<(Point, f64)>, GateError> {
             }
         }
     }
-    pts.sort_by(|a, b| (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN"));
-    pts.dedup();
-    let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
-    pts.into_iter()
-        .zip(values)
-        .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
-        .collect()
+    with_reference(k, pts)
 }
 
 /// Rays realising canonical points at world scales from 1e-3 to 1e4 units.
@@ -562,7 +563,7 @@ fn row(
     declared: f64,
     ulp_change: Option<&[f64]>,
 ) -> Row {
-    let tau_max = k.domains.iter().filter(|&&d| d != Domain::Extreme).map(|d| d.tau_range().1).fold(0.0, f64::max);
+    let tau_max = tau_max(k);
     let mut errs = Vec::with_capacity(pts.len());
     let (mut bad, mut first_bad) = (0, None);
     for (i, (&(p, exact), &v64)) in pts.iter().zip(got).enumerate() {
@@ -635,26 +636,32 @@ impl Subject<'_> {
 
     /// The canonical entry on each domain's point set.
     fn canonical_rows(&self, sets: &[(Domain, Checked)], models: &[ModelFile]) -> Result<Vec<Row>, GateError> {
-        let (k, mut rows) = (self.k, Vec::new());
+        let mut rows = Vec::new();
         for (domain, pts) in sets {
-            let bound = declared(k, models, *domain)?;
-            let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
-            let f64s = airlight_fit::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
-            rows.push(row(k, None, domain.name(), pts, &f64s, bound, None));
-            if let Some(rk) = self.compiled {
-                let got: Vec<f64> = raw
-                    .iter()
-                    .map(|p| {
-                        crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32))
-                    })
-                    .collect();
-                rows.push(row(k, Some(Target::Rust), domain.name(), pts, &got, bound, None));
-            }
-            let Some(gpu) = self.gpu else { continue };
+            rows.extend(self.point_rows(domain.name(), pts, declared(self.k, models, *domain)?)?);
+        }
+        Ok(rows)
+    }
+
+    /// The canonical entry on `pts`, one row per target (the f64 model, the Rust
+    /// kernel, each shader), labelled `label` and held to `bound`.
+    fn point_rows(&self, label: &'static str, pts: &Checked, bound: f64) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
+        let f64s = airlight_fit::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
+        rows.push(row(k, None, label, pts, &f64s, bound, None));
+        if let Some(rk) = self.compiled {
+            let got: Vec<f64> = raw
+                .iter()
+                .map(|p| crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32)))
+                .collect();
+            rows.push(row(k, Some(Target::Rust), label, pts, &got, bound, None));
+        }
+        if let Some(gpu) = self.gpu {
             for (target, src) in &self.shaders {
                 let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
                 let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                rows.push(row(k, Some(*target), domain.name(), pts, &got, bound, None));
+                rows.push(row(k, Some(*target), label, pts, &got, bound, None));
             }
         }
         Ok(rows)
@@ -662,31 +669,13 @@ impl Subject<'_> {
 
     /// The canonical entry on the edge set ([`edge_points`]), held to `hull`.
     fn edge_rows(&self, hull: f64) -> Result<Vec<Row>, GateError> {
-        let (k, mut rows) = (self.k, Vec::new());
-        let mut pts = edge_points(k)?;
+        let mut pts = edge_points(self.k)?;
         if self.marches {
             // A uniform march's midpoints never land on the light: its finite value
             // on the ray through it is the engines' method, tolerated and stated.
             pts.retain(|(_, a)| a.is_finite());
         }
-        let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
-        let f64s = airlight_fit::parallel::map(&pts, |(p, _)| (self.model)(*p), &|_, _| {});
-        rows.push(row(k, None, EDGE, &pts, &f64s, hull, None));
-        if let Some(rk) = self.compiled {
-            let got: Vec<f64> = raw
-                .iter()
-                .map(|p| crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32)))
-                .collect();
-            rows.push(row(k, Some(Target::Rust), EDGE, &pts, &got, hull, None));
-        }
-        if let Some(gpu) = self.gpu {
-            for (target, src) in &self.shaders {
-                let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
-                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                rows.push(row(k, Some(*target), EDGE, &pts, &got, hull, None));
-            }
-        }
-        Ok(rows)
+        self.point_rows(EDGE, &pts, hull)
     }
 
     /// The physical entry: random placements at world scales 1e-3 … 1e4, and the
@@ -812,7 +801,7 @@ pub fn run(
                 .map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref())))
                 .collect(),
             gpu,
-            marches: model_file(k, &models)?.is_some_and(|m| m.model.body.kind() == "raymarch"),
+            marches: model_file(k, &models)?.is_some_and(|m| matches!(m.model.body, Body::RayMarch(_))),
         };
         rows.extend(subject.canonical_rows(&point_sets(k, &validations)?, &models)?);
         let bound_over = |ds: &mut dyn Iterator<Item = Domain>| -> Result<f64, GateError> {
