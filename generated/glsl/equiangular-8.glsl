@@ -545,24 +545,29 @@ vec3 airlight_equiangular_8_spot_core(vec3 tau, float h, float x0, float rho, fl
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_equiangular_8_HUGE)));
 }
 
+// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+// outer one, linear in c between.
+float airlight_equiangular_8_spot_weight(float c, float co, float ci) {
+    if (ci > co) {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return c >= co ? 1.0 : 0.0;
+}
+
 // The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
 // (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
 // stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
 // both ends; e is the end where f gathers (the far one for g < 0, the backscatter
 // peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
 // forward peak). Everything but the transmittance is shared by the channels.
-float airlight_equiangular_8_spot_weight_at(float w, float ca, float k, float co, float ci) {
-    vec2 sc = airlight_equiangular_8_sin_cos(w);
-    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
-}
-
 vec3 airlight_equiangular_8_spot_edge(vec3 tau, float h, float x0, float rho, float gam, float om_e, float u, float v_in, float ca, float k, float co, float ci, float g) {
     float v = v_in;
     if (!(v > u)) {
         return vec3(0.0);
     }
     float e = (g < 0.0 || v > 3.0) ? v : u;
-    float we = airlight_equiangular_8_spot_weight_at(e, ca, k, co, ci);
+    vec2 se = airlight_equiangular_8_sin_cos(e);
+    float we = airlight_equiangular_8_spot_weight(ca * se.x - k * se.y, co, ci);
     vec3 exact = vec3(0.0);
     if (we > 0.0) {
         exact = airlight_equiangular_8_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
@@ -588,53 +593,44 @@ vec3 airlight_equiangular_8_spot_edge(vec3 tau, float h, float x0, float rho, fl
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 7.96666503e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 5.25532424e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 1.83434635e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -1.83434635e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -5.25532424e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -7.96666503e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -9.60289836e-1;
         sb = airlight_equiangular_8_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (airlight_equiangular_8_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_equiangular_8_HUGE));
-}
-
-// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
-// outer one, linear in c between.
-float airlight_equiangular_8_spot_weight(float c, float co, float ci) {
-    if (ci > co) {
-        return clamp((c - co) / (ci - co), 0.0, 1.0);
-    }
-    return c >= co ? 1.0 : 0.0;
 }
 
 // In-scattered RGB radiance from a spot light at `light` shining along `axis`:

@@ -239,22 +239,29 @@ const float airlight_sun2005_64_U_SCALE = 3.15000010e0;
 const float airlight_sun2005_64_V_SCALE = 4.01070442e1;
 const float airlight_sun2005_64_P_ISO = 7.95774683e-2;
 
-// F(u, v), bilinear, clamped to the table's edges.
-float airlight_sun2005_64_lookup(float u, float v) {
+// F(u, b) - F(u, a) on the bilinear surface, formed from texel differences:
+// [F(b) - row(jb)] + [row(jb) - row(ja+1)] + [row(ja+1) - F(a)], each bracket a difference
+// of texels in one column pair, so two lookups in the same or neighbouring cells do not
+// cancel (gamma -> pi). Clamped to the table's edges; 8 texel loads.
+float airlight_sun2005_64_rows(int i, int j, int k, float tx) {
+    float d0 = texelFetch(airlight_sun2005_64_F, ivec2(i, j), 0).x - texelFetch(airlight_sun2005_64_F, ivec2(i, k), 0).x;
+    float d1 = texelFetch(airlight_sun2005_64_F, ivec2(i + 1, j), 0).x - texelFetch(airlight_sun2005_64_F, ivec2(i + 1, k), 0).x;
+    return d0 + tx * (d1 - d0);
+}
+
+float airlight_sun2005_64_lookup_diff(float u, float a, float b) {
     float last = float(airlight_sun2005_64_RES - 1);
     float x = clamp(u * airlight_sun2005_64_U_SCALE, 0.0, last);
-    float y = clamp(v * airlight_sun2005_64_V_SCALE, 0.0, last);
+    float ya = clamp(a * airlight_sun2005_64_V_SCALE, 0.0, last);
+    float yb = clamp(b * airlight_sun2005_64_V_SCALE, 0.0, last);
     int i = min(int(x), airlight_sun2005_64_RES - 2);
-    int j = min(int(y), airlight_sun2005_64_RES - 2);
+    int ja = min(int(ya), airlight_sun2005_64_RES - 2);
+    int jb = min(int(yb), airlight_sun2005_64_RES - 2);
     float tx = x - float(i);
-    float ty = y - float(j);
-    float a = texelFetch(airlight_sun2005_64_F, ivec2(i, j), 0).x;
-    float b = texelFetch(airlight_sun2005_64_F, ivec2(i + 1, j), 0).x;
-    float c = texelFetch(airlight_sun2005_64_F, ivec2(i, j + 1), 0).x;
-    float d = texelFetch(airlight_sun2005_64_F, ivec2(i + 1, j + 1), 0).x;
-    float lo = a + tx * (b - a);
-    float hi = c + tx * (d - c);
-    return lo + ty * (hi - lo);
+    if (ja == jb) {
+        return (yb - ya) * airlight_sun2005_64_rows(i, ja + 1, ja, tx);
+    }
+    return (yb - float(jb)) * airlight_sun2005_64_rows(i, jb + 1, jb, tx) + airlight_sun2005_64_rows(i, jb, ja + 1, tx) + (float(ja + 1) - ya) * airlight_sun2005_64_rows(i, ja + 1, ja, tx);
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself, rho (negative: no surface).
@@ -275,7 +282,7 @@ float airlight_sun2005_64_airlight_geometry(float tau_in, float h, float x0, flo
         // pi/4 + atan((rho - x0)/h)/2 = atan2(h, x0 - rho)/2: no cancellation as h -> 0.
         xb = 0.5 * airlight_sun2005_64_arctan2(h, x0 - rho);
     }
-    float f = max(airlight_sun2005_64_lookup(t, xb) - airlight_sun2005_64_lookup(t, 0.5 * gamma), 0.0);
+    float f = max(airlight_sun2005_64_lookup_diff(t, 0.5 * gamma, xb), 0.0);
     // e^(-tau x0) is bounded where it can overflow (x0 < 0): the product saturates instead.
     return min(exp(min(-tau * x0, 88.0)) * f / (2.0 * airlight_sun2005_64_PI * h), airlight_sun2005_64_HUGE);
 }
@@ -358,24 +365,29 @@ vec3 airlight_sun2005_64_spot_core(vec3 tau, float h, float x0, float rho, float
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_sun2005_64_HUGE)));
 }
 
+// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+// outer one, linear in c between.
+float airlight_sun2005_64_spot_weight(float c, float co, float ci) {
+    if (ci > co) {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return c >= co ? 1.0 : 0.0;
+}
+
 // The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
 // (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
 // stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
 // both ends; e is the end where f gathers (the far one for g < 0, the backscatter
 // peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
 // forward peak). Everything but the transmittance is shared by the channels.
-float airlight_sun2005_64_spot_weight_at(float w, float ca, float k, float co, float ci) {
-    vec2 sc = airlight_sun2005_64_sin_cos(w);
-    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
-}
-
 vec3 airlight_sun2005_64_spot_edge(vec3 tau, float h, float x0, float rho, float gam, float om_e, float u, float v_in, float ca, float k, float co, float ci, float g) {
     float v = v_in;
     if (!(v > u)) {
         return vec3(0.0);
     }
     float e = (g < 0.0 || v > 3.0) ? v : u;
-    float we = airlight_sun2005_64_spot_weight_at(e, ca, k, co, ci);
+    vec2 se = airlight_sun2005_64_sin_cos(e);
+    float we = airlight_sun2005_64_spot_weight(ca * se.x - k * se.y, co, ci);
     vec3 exact = vec3(0.0);
     if (we > 0.0) {
         exact = airlight_sun2005_64_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
@@ -401,53 +413,44 @@ vec3 airlight_sun2005_64_spot_edge(vec3 tau, float h, float x0, float rho, float
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 7.96666503e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 5.25532424e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * 1.83434635e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -1.83434635e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.62683773e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -5.25532424e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 3.13706636e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -7.96666503e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 2.22381040e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half_len * -9.60289836e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = g >= 0.0 ? gm + 4.0 * g * sb.x * sb.x : gp - 4.0 * g * sb.y * sb.y;
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half_len * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half_len * 1.01228535e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3(0.0), vec3(airlight_sun2005_64_HUGE));
-}
-
-// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
-// outer one, linear in c between.
-float airlight_sun2005_64_spot_weight(float c, float co, float ci) {
-    if (ci > co) {
-        return clamp((c - co) / (ci - co), 0.0, 1.0);
-    }
-    return c >= co ? 1.0 : 0.0;
 }
 
 // In-scattered RGB radiance from a spot light at `light` shining along `axis`:

@@ -903,10 +903,12 @@ float3 airlight_equiangular_8_spot_core(float3 tau_3, float h_4, float x0_4, flo
     return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
 }
 
-float airlight_equiangular_8_spot_weight_at(float w, float ca, float k_1, float co_2, float ci)
+float airlight_equiangular_8_spot_weight(float c_2, float co_2, float ci)
 {
-    const float2 _e5 = airlight_equiangular_8_sin_cos(w);
-    return clamp(((((ca * _e5.x) - (k_1 * _e5.y)) - co_2) / (ci - co_2)), 0.0, 1.0);
+    if ((ci > co_2)) {
+        return clamp(((c_2 - co_2) / (ci - co_2)), 0.0, 1.0);
+    }
+    return ((c_2 >= co_2) ? 1.0 : 0.0);
 }
 
 typedef float ret_Constructarray6_float_[6];
@@ -915,13 +917,13 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca_1, float k_2, float co_3, float ci_1, float g_5)
+float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
 {
     bool local_10 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_3 = (0.0).xxx;
-    float w_1 = (float)0;
+    float w = (float)0;
     float2 sb = (float2)0;
     float d_4 = (float)0;
     float st_2 = (float)0;
@@ -937,12 +939,13 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
     }
     bool _e25 = local_10;
     float e_1 = (_e25 ? v_in : u_1);
-    const float _e27 = airlight_equiangular_8_spot_weight_at(e_1, ca_1, k_2, co_3, ci_1);
-    if ((_e27 > 0.0)) {
-        const float3 _e35 = airlight_equiangular_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
-        exact = _e35;
-        float3 _e36 = exact;
-        if (any((_e36 >= (3.4028235e38).xxx))) {
+    const float2 _e27 = airlight_equiangular_8_sin_cos(e_1);
+    const float _e33 = airlight_equiangular_8_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_3, ci_1);
+    if ((_e33 > 0.0)) {
+        const float3 _e41 = airlight_equiangular_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
+        exact = _e41;
+        float3 _e42 = exact;
+        if (any((_e42 >= (3.4028235e38).xxx))) {
             return (3.4028235e38).xxx;
         }
     }
@@ -954,221 +957,221 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
         if (all(loop_bound == uint2(0u, 0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            int _e750 = i;
-            i = asint(asuint(_e750) + asuint(int(1)));
+            int _e716 = i;
+            i = asint(asuint(_e716) + asuint(int(1)));
         }
         loop_init = false;
-        int _e70 = i;
-        if ((_e70 < int(5))) {
+        int _e76 = i;
+        if ((_e76 < int(5))) {
         } else {
             break;
         }
         {
-            int _e74 = i;
-            float _e76 = pieces[min(uint(_e74), 5u)];
-            float a_7 = (u_1 + ((v_in - u_1) * _e76));
             int _e80 = i;
-            float _e84 = pieces[min(uint(asint(asuint(_e80) + asuint(int(1)))), 5u)];
-            float b_5 = (u_1 + ((v_in - u_1) * _e84));
+            float _e82 = pieces[min(uint(_e80), 5u)];
+            float a_7 = (u_1 + ((v_in - u_1) * _e82));
+            int _e86 = i;
+            float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
+            float b_5 = (u_1 + ((v_in - u_1) * _e90));
             float half_3 = (0.5 * (b_5 - a_7));
             float mid = (0.5 * (b_5 + a_7));
-            w_1 = (mid + (half_3 * 0.96028984));
-            float _e96 = w_1;
-            const float2 _e99 = airlight_equiangular_8_sin_cos((0.5 * _e96));
-            sb = _e99;
-            float _e103 = sb.y;
-            float _e106 = sb.y;
-            float _e112 = sb.x;
-            float _e115 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e112) * _e115)) : (gp_2 - (((4.0 * g_5) * _e103) * _e106)));
-            float _e122 = sb.x;
-            float _e125 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e122) / max(_e125, 1e-30))), 1.0);
-            float3 _e132 = sum_3;
-            float _e138 = sb.x;
-            float _e141 = sb.y;
-            float _e144 = sb.y;
-            float _e146 = sb.x;
+            w = (mid + (half_3 * 0.96028984));
+            float _e102 = w;
+            const float2 _e105 = airlight_equiangular_8_sin_cos((0.5 * _e102));
+            sb = _e105;
+            float _e109 = sb.y;
+            float _e112 = sb.y;
+            float _e118 = sb.x;
+            float _e121 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e118) * _e121)) : (gp_2 - (((4.0 * g_5) * _e109) * _e112)));
+            float _e128 = sb.x;
+            float _e131 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
+            float3 _e138 = sum_3;
+            float _e144 = sb.x;
+            float _e147 = sb.y;
             float _e150 = sb.y;
             float _e152 = sb.x;
-            float _e164 = d_4;
+            float _e156 = sb.y;
+            float _e158 = sb.x;
+            const float _e162 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158))), co_3, ci_1);
             float _e165 = d_4;
-            float _e170 = st_2;
-            sum_3 = (_e132 + ((((half_3 * 0.101228535) * (clamp(((((((ca_1 * 2.0) * _e138) * _e141) - ((k_2 * (_e144 - _e146)) * (_e150 + _e152))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e164 * sqrt(_e165))) * exp((-(tau_4) * _e170))));
-            w_1 = (mid + (half_3 * 0.7966665));
-            float _e178 = w_1;
-            const float2 _e181 = airlight_equiangular_8_sin_cos((0.5 * _e178));
-            sb = _e181;
-            float _e185 = sb.y;
-            float _e188 = sb.y;
-            float _e194 = sb.x;
-            float _e197 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e194) * _e197)) : (gp_2 - (((4.0 * g_5) * _e185) * _e188)));
-            float _e204 = sb.x;
-            float _e207 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e204) / max(_e207, 1e-30))), 1.0);
-            float3 _e214 = sum_3;
-            float _e220 = sb.x;
-            float _e223 = sb.y;
-            float _e226 = sb.y;
-            float _e228 = sb.x;
-            float _e232 = sb.y;
-            float _e234 = sb.x;
-            float _e246 = d_4;
-            float _e247 = d_4;
-            float _e252 = st_2;
-            sum_3 = (_e214 + ((((half_3 * 0.22238104) * (clamp(((((((ca_1 * 2.0) * _e220) * _e223) - ((k_2 * (_e226 - _e228)) * (_e232 + _e234))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e246 * sqrt(_e247))) * exp((-(tau_4) * _e252))));
-            w_1 = (mid + (half_3 * 0.5255324));
-            float _e260 = w_1;
-            const float2 _e263 = airlight_equiangular_8_sin_cos((0.5 * _e260));
-            sb = _e263;
-            float _e267 = sb.y;
-            float _e270 = sb.y;
-            float _e276 = sb.x;
-            float _e279 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e276) * _e279)) : (gp_2 - (((4.0 * g_5) * _e267) * _e270)));
-            float _e286 = sb.x;
-            float _e289 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e286) / max(_e289, 1e-30))), 1.0);
-            float3 _e296 = sum_3;
-            float _e302 = sb.x;
-            float _e305 = sb.y;
-            float _e308 = sb.y;
-            float _e310 = sb.x;
-            float _e314 = sb.y;
-            float _e316 = sb.x;
-            float _e328 = d_4;
-            float _e329 = d_4;
-            float _e334 = st_2;
-            sum_3 = (_e296 + ((((half_3 * 0.31370664) * (clamp(((((((ca_1 * 2.0) * _e302) * _e305) - ((k_2 * (_e308 - _e310)) * (_e314 + _e316))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e328 * sqrt(_e329))) * exp((-(tau_4) * _e334))));
-            w_1 = (mid + (half_3 * 0.18343464));
-            float _e342 = w_1;
-            const float2 _e345 = airlight_equiangular_8_sin_cos((0.5 * _e342));
-            sb = _e345;
-            float _e349 = sb.y;
-            float _e352 = sb.y;
-            float _e358 = sb.x;
-            float _e361 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e358) * _e361)) : (gp_2 - (((4.0 * g_5) * _e349) * _e352)));
-            float _e368 = sb.x;
-            float _e371 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e368) / max(_e371, 1e-30))), 1.0);
-            float3 _e378 = sum_3;
-            float _e384 = sb.x;
+            float _e166 = d_4;
+            float _e171 = st_2;
+            sum_3 = (_e138 + ((((half_3 * 0.101228535) * (_e162 - _e33)) / (_e165 * sqrt(_e166))) * exp((-(tau_4) * _e171))));
+            w = (mid + (half_3 * 0.7966665));
+            float _e179 = w;
+            const float2 _e182 = airlight_equiangular_8_sin_cos((0.5 * _e179));
+            sb = _e182;
+            float _e186 = sb.y;
+            float _e189 = sb.y;
+            float _e195 = sb.x;
+            float _e198 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e195) * _e198)) : (gp_2 - (((4.0 * g_5) * _e186) * _e189)));
+            float _e205 = sb.x;
+            float _e208 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+            float3 _e215 = sum_3;
+            float _e221 = sb.x;
+            float _e224 = sb.y;
+            float _e227 = sb.y;
+            float _e229 = sb.x;
+            float _e233 = sb.y;
+            float _e235 = sb.x;
+            const float _e239 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235))), co_3, ci_1);
+            float _e242 = d_4;
+            float _e243 = d_4;
+            float _e248 = st_2;
+            sum_3 = (_e215 + ((((half_3 * 0.22238104) * (_e239 - _e33)) / (_e242 * sqrt(_e243))) * exp((-(tau_4) * _e248))));
+            w = (mid + (half_3 * 0.5255324));
+            float _e256 = w;
+            const float2 _e259 = airlight_equiangular_8_sin_cos((0.5 * _e256));
+            sb = _e259;
+            float _e263 = sb.y;
+            float _e266 = sb.y;
+            float _e272 = sb.x;
+            float _e275 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e272) * _e275)) : (gp_2 - (((4.0 * g_5) * _e263) * _e266)));
+            float _e282 = sb.x;
+            float _e285 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
+            float3 _e292 = sum_3;
+            float _e298 = sb.x;
+            float _e301 = sb.y;
+            float _e304 = sb.y;
+            float _e306 = sb.x;
+            float _e310 = sb.y;
+            float _e312 = sb.x;
+            const float _e316 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312))), co_3, ci_1);
+            float _e319 = d_4;
+            float _e320 = d_4;
+            float _e325 = st_2;
+            sum_3 = (_e292 + ((((half_3 * 0.31370664) * (_e316 - _e33)) / (_e319 * sqrt(_e320))) * exp((-(tau_4) * _e325))));
+            w = (mid + (half_3 * 0.18343464));
+            float _e333 = w;
+            const float2 _e336 = airlight_equiangular_8_sin_cos((0.5 * _e333));
+            sb = _e336;
+            float _e340 = sb.y;
+            float _e343 = sb.y;
+            float _e349 = sb.x;
+            float _e352 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e349) * _e352)) : (gp_2 - (((4.0 * g_5) * _e340) * _e343)));
+            float _e359 = sb.x;
+            float _e362 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
+            float3 _e369 = sum_3;
+            float _e375 = sb.x;
+            float _e378 = sb.y;
+            float _e381 = sb.y;
+            float _e383 = sb.x;
             float _e387 = sb.y;
-            float _e390 = sb.y;
-            float _e392 = sb.x;
-            float _e396 = sb.y;
-            float _e398 = sb.x;
-            float _e410 = d_4;
-            float _e411 = d_4;
-            float _e416 = st_2;
-            sum_3 = (_e378 + ((((half_3 * 0.36268377) * (clamp(((((((ca_1 * 2.0) * _e384) * _e387) - ((k_2 * (_e390 - _e392)) * (_e396 + _e398))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e410 * sqrt(_e411))) * exp((-(tau_4) * _e416))));
-            w_1 = (mid + (half_3 * -0.18343464));
-            float _e424 = w_1;
-            const float2 _e427 = airlight_equiangular_8_sin_cos((0.5 * _e424));
-            sb = _e427;
-            float _e431 = sb.y;
-            float _e434 = sb.y;
-            float _e440 = sb.x;
-            float _e443 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e440) * _e443)) : (gp_2 - (((4.0 * g_5) * _e431) * _e434)));
-            float _e450 = sb.x;
-            float _e453 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e450) / max(_e453, 1e-30))), 1.0);
-            float3 _e460 = sum_3;
+            float _e389 = sb.x;
+            const float _e393 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389))), co_3, ci_1);
+            float _e396 = d_4;
+            float _e397 = d_4;
+            float _e402 = st_2;
+            sum_3 = (_e369 + ((((half_3 * 0.36268377) * (_e393 - _e33)) / (_e396 * sqrt(_e397))) * exp((-(tau_4) * _e402))));
+            w = (mid + (half_3 * -0.18343464));
+            float _e410 = w;
+            const float2 _e413 = airlight_equiangular_8_sin_cos((0.5 * _e410));
+            sb = _e413;
+            float _e417 = sb.y;
+            float _e420 = sb.y;
+            float _e426 = sb.x;
+            float _e429 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e426) * _e429)) : (gp_2 - (((4.0 * g_5) * _e417) * _e420)));
+            float _e436 = sb.x;
+            float _e439 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
+            float3 _e446 = sum_3;
+            float _e452 = sb.x;
+            float _e455 = sb.y;
+            float _e458 = sb.y;
+            float _e460 = sb.x;
+            float _e464 = sb.y;
             float _e466 = sb.x;
-            float _e469 = sb.y;
-            float _e472 = sb.y;
-            float _e474 = sb.x;
-            float _e478 = sb.y;
-            float _e480 = sb.x;
-            float _e492 = d_4;
-            float _e493 = d_4;
-            float _e498 = st_2;
-            sum_3 = (_e460 + ((((half_3 * 0.36268377) * (clamp(((((((ca_1 * 2.0) * _e466) * _e469) - ((k_2 * (_e472 - _e474)) * (_e478 + _e480))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e492 * sqrt(_e493))) * exp((-(tau_4) * _e498))));
-            w_1 = (mid + (half_3 * -0.5255324));
-            float _e506 = w_1;
-            const float2 _e509 = airlight_equiangular_8_sin_cos((0.5 * _e506));
-            sb = _e509;
-            float _e513 = sb.y;
+            const float _e470 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466))), co_3, ci_1);
+            float _e473 = d_4;
+            float _e474 = d_4;
+            float _e479 = st_2;
+            sum_3 = (_e446 + ((((half_3 * 0.36268377) * (_e470 - _e33)) / (_e473 * sqrt(_e474))) * exp((-(tau_4) * _e479))));
+            w = (mid + (half_3 * -0.5255324));
+            float _e487 = w;
+            const float2 _e490 = airlight_equiangular_8_sin_cos((0.5 * _e487));
+            sb = _e490;
+            float _e494 = sb.y;
+            float _e497 = sb.y;
+            float _e503 = sb.x;
+            float _e506 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e503) * _e506)) : (gp_2 - (((4.0 * g_5) * _e494) * _e497)));
+            float _e513 = sb.x;
             float _e516 = sb.y;
-            float _e522 = sb.x;
-            float _e525 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e522) * _e525)) : (gp_2 - (((4.0 * g_5) * _e513) * _e516)));
-            float _e532 = sb.x;
+            st_2 = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
+            float3 _e523 = sum_3;
+            float _e529 = sb.x;
+            float _e532 = sb.y;
             float _e535 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e532) / max(_e535, 1e-30))), 1.0);
-            float3 _e542 = sum_3;
-            float _e548 = sb.x;
-            float _e551 = sb.y;
-            float _e554 = sb.y;
-            float _e556 = sb.x;
-            float _e560 = sb.y;
-            float _e562 = sb.x;
-            float _e574 = d_4;
-            float _e575 = d_4;
-            float _e580 = st_2;
-            sum_3 = (_e542 + ((((half_3 * 0.31370664) * (clamp(((((((ca_1 * 2.0) * _e548) * _e551) - ((k_2 * (_e554 - _e556)) * (_e560 + _e562))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e574 * sqrt(_e575))) * exp((-(tau_4) * _e580))));
-            w_1 = (mid + (half_3 * -0.7966665));
-            float _e588 = w_1;
-            const float2 _e591 = airlight_equiangular_8_sin_cos((0.5 * _e588));
-            sb = _e591;
-            float _e595 = sb.y;
-            float _e598 = sb.y;
-            float _e604 = sb.x;
-            float _e607 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e604) * _e607)) : (gp_2 - (((4.0 * g_5) * _e595) * _e598)));
+            float _e537 = sb.x;
+            float _e541 = sb.y;
+            float _e543 = sb.x;
+            const float _e547 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543))), co_3, ci_1);
+            float _e550 = d_4;
+            float _e551 = d_4;
+            float _e556 = st_2;
+            sum_3 = (_e523 + ((((half_3 * 0.31370664) * (_e547 - _e33)) / (_e550 * sqrt(_e551))) * exp((-(tau_4) * _e556))));
+            w = (mid + (half_3 * -0.7966665));
+            float _e564 = w;
+            const float2 _e567 = airlight_equiangular_8_sin_cos((0.5 * _e564));
+            sb = _e567;
+            float _e571 = sb.y;
+            float _e574 = sb.y;
+            float _e580 = sb.x;
+            float _e583 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e580) * _e583)) : (gp_2 - (((4.0 * g_5) * _e571) * _e574)));
+            float _e590 = sb.x;
+            float _e593 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
+            float3 _e600 = sum_3;
+            float _e606 = sb.x;
+            float _e609 = sb.y;
+            float _e612 = sb.y;
             float _e614 = sb.x;
-            float _e617 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e614) / max(_e617, 1e-30))), 1.0);
-            float3 _e624 = sum_3;
-            float _e630 = sb.x;
-            float _e633 = sb.y;
-            float _e636 = sb.y;
-            float _e638 = sb.x;
-            float _e642 = sb.y;
-            float _e644 = sb.x;
-            float _e656 = d_4;
-            float _e657 = d_4;
-            float _e662 = st_2;
-            sum_3 = (_e624 + ((((half_3 * 0.22238104) * (clamp(((((((ca_1 * 2.0) * _e630) * _e633) - ((k_2 * (_e636 - _e638)) * (_e642 + _e644))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e656 * sqrt(_e657))) * exp((-(tau_4) * _e662))));
-            w_1 = (mid + (half_3 * -0.96028984));
-            float _e670 = w_1;
-            const float2 _e673 = airlight_equiangular_8_sin_cos((0.5 * _e670));
-            sb = _e673;
-            float _e677 = sb.y;
-            float _e680 = sb.y;
-            float _e686 = sb.x;
-            float _e689 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e686) * _e689)) : (gp_2 - (((4.0 * g_5) * _e677) * _e680)));
-            float _e696 = sb.x;
-            float _e699 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e696) / max(_e699, 1e-30))), 1.0);
-            float3 _e706 = sum_3;
-            float _e712 = sb.x;
-            float _e715 = sb.y;
-            float _e718 = sb.y;
-            float _e720 = sb.x;
-            float _e724 = sb.y;
-            float _e726 = sb.x;
-            float _e738 = d_4;
-            float _e739 = d_4;
-            float _e744 = st_2;
-            sum_3 = (_e706 + ((((half_3 * 0.101228535) * (clamp(((((((ca_1 * 2.0) * _e712) * _e715) - ((k_2 * (_e718 - _e720)) * (_e724 + _e726))) - co_3) / (ci_1 - co_3)), 0.0, 1.0) - _e27)) / (_e738 * sqrt(_e739))) * exp((-(tau_4) * _e744))));
+            float _e618 = sb.y;
+            float _e620 = sb.x;
+            const float _e624 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620))), co_3, ci_1);
+            float _e627 = d_4;
+            float _e628 = d_4;
+            float _e633 = st_2;
+            sum_3 = (_e600 + ((((half_3 * 0.22238104) * (_e624 - _e33)) / (_e627 * sqrt(_e628))) * exp((-(tau_4) * _e633))));
+            w = (mid + (half_3 * -0.96028984));
+            float _e641 = w;
+            const float2 _e644 = airlight_equiangular_8_sin_cos((0.5 * _e641));
+            sb = _e644;
+            float _e648 = sb.y;
+            float _e651 = sb.y;
+            float _e657 = sb.x;
+            float _e660 = sb.x;
+            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e657) * _e660)) : (gp_2 - (((4.0 * g_5) * _e648) * _e651)));
+            float _e667 = sb.x;
+            float _e670 = sb.y;
+            st_2 = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
+            float3 _e677 = sum_3;
+            float _e683 = sb.x;
+            float _e686 = sb.y;
+            float _e689 = sb.y;
+            float _e691 = sb.x;
+            float _e695 = sb.y;
+            float _e697 = sb.x;
+            const float _e701 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697))), co_3, ci_1);
+            float _e704 = d_4;
+            float _e705 = d_4;
+            float _e710 = st_2;
+            sum_3 = (_e677 + ((((half_3 * 0.101228535) * (_e701 - _e33)) / (_e704 * sqrt(_e705))) * exp((-(tau_4) * _e710))));
         }
     }
-    float3 _e752 = exact;
-    float3 _e761 = sum_3;
-    return clamp(((_e27 * _e752) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e761) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
-}
-
-float airlight_equiangular_8_spot_weight(float c_2, float co_4, float ci_2)
-{
-    if ((ci_2 > co_4)) {
-        return clamp(((c_2 - co_4) / (ci_2 - co_4)), 0.0, 1.0);
-    }
-    return ((c_2 >= co_4) ? 1.0 : 0.0);
+    float3 _e718 = exact;
+    float3 _e727 = sum_3;
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
@@ -1188,7 +1191,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     float4 pen = (0.0).xxxx;
-    float ca_2 = 0.0;
+    float ca_1 = 0.0;
     float om_e_1 = airlight_equiangular_8_PI;
     bool local_16 = (bool)0;
     bool local_17 = (bool)0;
@@ -1197,7 +1200,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
 
     const float3 _e11 = airlight_equiangular_8_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_5 = clamp(cos_outer, 0.0, 1.0);
+    float co_4 = clamp(cos_outer, 0.0, 1.0);
     const float _e17 = airlight_equiangular_8_max_abs(dir_2);
     const float _e18 = airlight_equiangular_8_max_abs(axis);
     if (!(point_)) {
@@ -1231,9 +1234,9 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_3 = dot(_e57, _e58);
+    float k_2 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_equiangular_8_spot_weight(k_3, co_5, cos_inner);
+        const float _e65 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
         const float _e73 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_equiangular_8_HUGE);
@@ -1272,8 +1275,8 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     bool _e149 = local_16;
     if (_e149) {
         if (!(point_)) {
-            const float _e152 = airlight_equiangular_8_spot_weight(-(k_3), co_5, cos_inner);
-            const float _e153 = airlight_equiangular_8_spot_weight(k_3, co_5, cos_inner);
+            const float _e152 = airlight_equiangular_8_spot_weight(-(k_2), co_4, cos_inner);
+            const float _e153 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
             if (has_end_1) {
                 local_17 = (rho_8 < 1.0);
             } else {
@@ -1290,18 +1293,18 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         float3 cr = cross((l / (_e167).xxx), _e170);
         float3 _e172 = n;
         float3 _e173 = ax;
-        ca_2 = (dot(cr, cross(_e172, _e173)) / max(length(cr), 1e-30));
-        float _e180 = ca_2;
-        float _e181 = ca_2;
-        float r_4 = sqrt(((_e180 * _e181) + (k_3 * k_3)));
-        float _e186 = ca_2;
-        const float _e187 = airlight_equiangular_8_arctan2_(k_3, _e186);
+        ca_1 = (dot(cr, cross(_e172, _e173)) / max(length(cr), 1e-30));
+        float _e180 = ca_1;
+        float _e181 = ca_1;
+        float r_4 = sqrt(((_e180 * _e181) + (k_2 * k_2)));
+        float _e186 = ca_1;
+        const float _e187 = airlight_equiangular_8_arctan2_(k_2, _e186);
         const float _e188 = airlight_equiangular_8_arctan2_(h_7, x0_7);
         gam_2 = _e188;
         const float _e191 = airlight_equiangular_8_arctan2_(h_7, (x0_7 - rho_8));
         om_e_1 = (has_end_1 ? _e191 : airlight_equiangular_8_PI);
-        if ((co_5 < r_4)) {
-            const float _e194 = airlight_equiangular_8_spot_asin(co_5, r_4);
+        if ((co_4 < r_4)) {
+            const float _e194 = airlight_equiangular_8_spot_asin(co_4, r_4);
             float _e195 = gam_2;
             float lo_1 = max(_e195, (_e187 + _e194));
             float _e198 = om_e_1;
@@ -1309,7 +1312,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
             wa_1 = lo_1;
             wb_1 = hi_1;
             if ((lo_1 < hi_1)) {
-                if ((cos_inner <= co_5)) {
+                if ((cos_inner <= co_4)) {
                     core = true;
                 } else {
                     if ((cos_inner < r_4)) {
@@ -1369,8 +1372,8 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
                 float3 _e261 = a_5;
                 float _e262 = gam_2;
                 float _e263 = om_e_1;
-                float _e266 = ca_2;
-                const float3 _e267 = airlight_equiangular_8_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_3, co_5, cos_inner, gg);
+                float _e266 = ca_1;
+                const float3 _e267 = airlight_equiangular_8_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_2, co_4, cos_inner, gg);
                 a_5 = (_e261 + _e267);
             }
         }

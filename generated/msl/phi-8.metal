@@ -338,14 +338,14 @@ float airlight_phi_8_w_u(
     float u,
     metal::float4 md
 ) {
-    float k_3 = (0.07957747 * (1.0 - md.x)) * (1.0 + md.x);
+    float k_2 = (0.07957747 * (1.0 - md.x)) * (1.0 + md.x);
     if (u > 1.0) {
         float v_4 = 1.0 / u;
         float d_4 = (((md.y * md.y) * v_4) * v_4) + (md.z * md.z);
-        return (((k_3 * v_4) * v_4) * metal::sqrt(1.0 + (v_4 * v_4))) / (d_4 * metal::sqrt(d_4));
+        return (((k_2 * v_4) * v_4) * metal::sqrt(1.0 + (v_4 * v_4))) / (d_4 * metal::sqrt(d_4));
     }
     float d_5 = (md.y * md.y) + (((md.z * md.z) * u) * u);
-    return (k_3 * metal::sqrt(1.0 + (u * u))) / (d_5 * metal::sqrt(d_5));
+    return (k_2 * metal::sqrt(1.0 + (u * u))) / (d_5 * metal::sqrt(d_5));
 }
 
 metal::float2 airlight_phi_8_phi_and_complement(
@@ -929,15 +929,15 @@ metal::float3 airlight_phi_8_spot_core(
     return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
-float airlight_phi_8_spot_weight_at(
-    float w,
-    float ca,
-    float k_1,
+float airlight_phi_8_spot_weight(
+    float c_2,
     float co_1,
     float ci
 ) {
-    metal::float2 _e5 = airlight_phi_8_sin_cos(w);
-    return metal::clamp((((ca * _e5.x) - (k_1 * _e5.y)) - co_1) / (ci - co_1), 0.0, 1.0);
+    if (ci > co_1) {
+        return metal::clamp((c_2 - co_1) / (ci - co_1), 0.0, 1.0);
+    }
+    return (c_2 >= co_1) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_phi_8_spot_edge(
@@ -949,8 +949,8 @@ metal::float3 airlight_phi_8_spot_edge(
     float om_e,
     float u_2,
     float v_in,
-    float ca_1,
-    float k_2,
+    float ca,
+    float k_1,
     float co_2,
     float ci_1,
     float g_5
@@ -959,7 +959,7 @@ metal::float3 airlight_phi_8_spot_edge(
     metal::float3 exact = metal::float3(0.0);
     type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_1 = metal::float3(0.0);
-    float w_1 = {};
+    float w = {};
     metal::float2 sb_1 = {};
     float d_3 = {};
     float st = {};
@@ -974,12 +974,13 @@ metal::float3 airlight_phi_8_spot_edge(
     }
     bool _e25 = local_13;
     float e_1 = _e25 ? v_in : u_2;
-    float _e27 = airlight_phi_8_spot_weight_at(e_1, ca_1, k_2, co_2, ci_1);
-    if (_e27 > 0.0) {
-        metal::float3 _e35 = airlight_phi_8_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
-        exact = _e35;
-        metal::float3 _e36 = exact;
-        if (metal::any(_e36 >= metal::float3(340282350000000000000000000000000000000.0))) {
+    metal::float2 _e27 = airlight_phi_8_sin_cos(e_1);
+    float _e33 = airlight_phi_8_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_2, ci_1);
+    if (_e33 > 0.0) {
+        metal::float3 _e41 = airlight_phi_8_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
+        exact = _e41;
+        metal::float3 _e42 = exact;
+        if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
@@ -991,224 +992,221 @@ metal::float3 airlight_phi_8_spot_edge(
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            int _e750 = i;
-            i = as_type<int>(as_type<uint>(_e750) + as_type<uint>(1));
+            int _e716 = i;
+            i = as_type<int>(as_type<uint>(_e716) + as_type<uint>(1));
         }
         loop_init = false;
-        int _e70 = i;
-        if (_e70 < 5) {
+        int _e76 = i;
+        if (_e76 < 5) {
         } else {
             break;
         }
         {
-            int _e74 = i;
-            float _e76 = pieces.inner[_e74];
-            float a_7 = u_2 + ((v_in - u_2) * _e76);
             int _e80 = i;
-            float _e84 = pieces.inner[as_type<int>(as_type<uint>(_e80) + as_type<uint>(1))];
-            float b_3 = u_2 + ((v_in - u_2) * _e84);
+            float _e82 = pieces.inner[_e80];
+            float a_7 = u_2 + ((v_in - u_2) * _e82);
+            int _e86 = i;
+            float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
+            float b_3 = u_2 + ((v_in - u_2) * _e90);
             float half_ = 0.5 * (b_3 - a_7);
             float mid = 0.5 * (b_3 + a_7);
-            w_1 = mid + (half_ * 0.96028984);
-            float _e96 = w_1;
-            metal::float2 _e99 = airlight_phi_8_sin_cos(0.5 * _e96);
-            sb_1 = _e99;
-            float _e103 = sb_1.y;
-            float _e106 = sb_1.y;
-            float _e112 = sb_1.x;
-            float _e115 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e112) * _e115)) : (gp - (((4.0 * g_5) * _e103) * _e106));
-            float _e122 = sb_1.x;
-            float _e125 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e122) / metal::max(_e125, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e132 = sum_1;
-            float _e138 = sb_1.x;
-            float _e141 = sb_1.y;
-            float _e144 = sb_1.y;
-            float _e146 = sb_1.x;
+            w = mid + (half_ * 0.96028984);
+            float _e102 = w;
+            metal::float2 _e105 = airlight_phi_8_sin_cos(0.5 * _e102);
+            sb_1 = _e105;
+            float _e109 = sb_1.y;
+            float _e112 = sb_1.y;
+            float _e118 = sb_1.x;
+            float _e121 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e118) * _e121)) : (gp - (((4.0 * g_5) * _e109) * _e112));
+            float _e128 = sb_1.x;
+            float _e131 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e138 = sum_1;
+            float _e144 = sb_1.x;
+            float _e147 = sb_1.y;
             float _e150 = sb_1.y;
             float _e152 = sb_1.x;
-            float _e164 = d_3;
+            float _e156 = sb_1.y;
+            float _e158 = sb_1.x;
+            float _e162 = airlight_phi_8_spot_weight((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158)), co_2, ci_1);
             float _e165 = d_3;
-            float _e170 = st;
-            sum_1 = _e132 + ((((half_ * 0.101228535) * (metal::clamp((((((ca_1 * 2.0) * _e138) * _e141) - ((k_2 * (_e144 - _e146)) * (_e150 + _e152))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e164 * metal::sqrt(_e165))) * metal::exp(-(tau_4) * _e170));
-            w_1 = mid + (half_ * 0.7966665);
-            float _e178 = w_1;
-            metal::float2 _e181 = airlight_phi_8_sin_cos(0.5 * _e178);
-            sb_1 = _e181;
-            float _e185 = sb_1.y;
-            float _e188 = sb_1.y;
-            float _e194 = sb_1.x;
-            float _e197 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e194) * _e197)) : (gp - (((4.0 * g_5) * _e185) * _e188));
-            float _e204 = sb_1.x;
-            float _e207 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e204) / metal::max(_e207, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e214 = sum_1;
-            float _e220 = sb_1.x;
-            float _e223 = sb_1.y;
-            float _e226 = sb_1.y;
-            float _e228 = sb_1.x;
-            float _e232 = sb_1.y;
-            float _e234 = sb_1.x;
-            float _e246 = d_3;
-            float _e247 = d_3;
-            float _e252 = st;
-            sum_1 = _e214 + ((((half_ * 0.22238104) * (metal::clamp((((((ca_1 * 2.0) * _e220) * _e223) - ((k_2 * (_e226 - _e228)) * (_e232 + _e234))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e246 * metal::sqrt(_e247))) * metal::exp(-(tau_4) * _e252));
-            w_1 = mid + (half_ * 0.5255324);
-            float _e260 = w_1;
-            metal::float2 _e263 = airlight_phi_8_sin_cos(0.5 * _e260);
-            sb_1 = _e263;
-            float _e267 = sb_1.y;
-            float _e270 = sb_1.y;
-            float _e276 = sb_1.x;
-            float _e279 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e276) * _e279)) : (gp - (((4.0 * g_5) * _e267) * _e270));
-            float _e286 = sb_1.x;
-            float _e289 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e286) / metal::max(_e289, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e296 = sum_1;
-            float _e302 = sb_1.x;
-            float _e305 = sb_1.y;
-            float _e308 = sb_1.y;
-            float _e310 = sb_1.x;
-            float _e314 = sb_1.y;
-            float _e316 = sb_1.x;
-            float _e328 = d_3;
-            float _e329 = d_3;
-            float _e334 = st;
-            sum_1 = _e296 + ((((half_ * 0.31370664) * (metal::clamp((((((ca_1 * 2.0) * _e302) * _e305) - ((k_2 * (_e308 - _e310)) * (_e314 + _e316))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e328 * metal::sqrt(_e329))) * metal::exp(-(tau_4) * _e334));
-            w_1 = mid + (half_ * 0.18343464);
-            float _e342 = w_1;
-            metal::float2 _e345 = airlight_phi_8_sin_cos(0.5 * _e342);
-            sb_1 = _e345;
-            float _e349 = sb_1.y;
-            float _e352 = sb_1.y;
-            float _e358 = sb_1.x;
-            float _e361 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e358) * _e361)) : (gp - (((4.0 * g_5) * _e349) * _e352));
-            float _e368 = sb_1.x;
-            float _e371 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e368) / metal::max(_e371, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e378 = sum_1;
-            float _e384 = sb_1.x;
+            float _e166 = d_3;
+            float _e171 = st;
+            sum_1 = _e138 + ((((half_ * 0.101228535) * (_e162 - _e33)) / (_e165 * metal::sqrt(_e166))) * metal::exp(-(tau_4) * _e171));
+            w = mid + (half_ * 0.7966665);
+            float _e179 = w;
+            metal::float2 _e182 = airlight_phi_8_sin_cos(0.5 * _e179);
+            sb_1 = _e182;
+            float _e186 = sb_1.y;
+            float _e189 = sb_1.y;
+            float _e195 = sb_1.x;
+            float _e198 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189));
+            float _e205 = sb_1.x;
+            float _e208 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e215 = sum_1;
+            float _e221 = sb_1.x;
+            float _e224 = sb_1.y;
+            float _e227 = sb_1.y;
+            float _e229 = sb_1.x;
+            float _e233 = sb_1.y;
+            float _e235 = sb_1.x;
+            float _e239 = airlight_phi_8_spot_weight((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235)), co_2, ci_1);
+            float _e242 = d_3;
+            float _e243 = d_3;
+            float _e248 = st;
+            sum_1 = _e215 + ((((half_ * 0.22238104) * (_e239 - _e33)) / (_e242 * metal::sqrt(_e243))) * metal::exp(-(tau_4) * _e248));
+            w = mid + (half_ * 0.5255324);
+            float _e256 = w;
+            metal::float2 _e259 = airlight_phi_8_sin_cos(0.5 * _e256);
+            sb_1 = _e259;
+            float _e263 = sb_1.y;
+            float _e266 = sb_1.y;
+            float _e272 = sb_1.x;
+            float _e275 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e272) * _e275)) : (gp - (((4.0 * g_5) * _e263) * _e266));
+            float _e282 = sb_1.x;
+            float _e285 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e292 = sum_1;
+            float _e298 = sb_1.x;
+            float _e301 = sb_1.y;
+            float _e304 = sb_1.y;
+            float _e306 = sb_1.x;
+            float _e310 = sb_1.y;
+            float _e312 = sb_1.x;
+            float _e316 = airlight_phi_8_spot_weight((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312)), co_2, ci_1);
+            float _e319 = d_3;
+            float _e320 = d_3;
+            float _e325 = st;
+            sum_1 = _e292 + ((((half_ * 0.31370664) * (_e316 - _e33)) / (_e319 * metal::sqrt(_e320))) * metal::exp(-(tau_4) * _e325));
+            w = mid + (half_ * 0.18343464);
+            float _e333 = w;
+            metal::float2 _e336 = airlight_phi_8_sin_cos(0.5 * _e333);
+            sb_1 = _e336;
+            float _e340 = sb_1.y;
+            float _e343 = sb_1.y;
+            float _e349 = sb_1.x;
+            float _e352 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e349) * _e352)) : (gp - (((4.0 * g_5) * _e340) * _e343));
+            float _e359 = sb_1.x;
+            float _e362 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e369 = sum_1;
+            float _e375 = sb_1.x;
+            float _e378 = sb_1.y;
+            float _e381 = sb_1.y;
+            float _e383 = sb_1.x;
             float _e387 = sb_1.y;
-            float _e390 = sb_1.y;
-            float _e392 = sb_1.x;
-            float _e396 = sb_1.y;
-            float _e398 = sb_1.x;
-            float _e410 = d_3;
-            float _e411 = d_3;
-            float _e416 = st;
-            sum_1 = _e378 + ((((half_ * 0.36268377) * (metal::clamp((((((ca_1 * 2.0) * _e384) * _e387) - ((k_2 * (_e390 - _e392)) * (_e396 + _e398))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e410 * metal::sqrt(_e411))) * metal::exp(-(tau_4) * _e416));
-            w_1 = mid + (half_ * -0.18343464);
-            float _e424 = w_1;
-            metal::float2 _e427 = airlight_phi_8_sin_cos(0.5 * _e424);
-            sb_1 = _e427;
-            float _e431 = sb_1.y;
-            float _e434 = sb_1.y;
-            float _e440 = sb_1.x;
-            float _e443 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e440) * _e443)) : (gp - (((4.0 * g_5) * _e431) * _e434));
-            float _e450 = sb_1.x;
-            float _e453 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e450) / metal::max(_e453, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e460 = sum_1;
+            float _e389 = sb_1.x;
+            float _e393 = airlight_phi_8_spot_weight((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389)), co_2, ci_1);
+            float _e396 = d_3;
+            float _e397 = d_3;
+            float _e402 = st;
+            sum_1 = _e369 + ((((half_ * 0.36268377) * (_e393 - _e33)) / (_e396 * metal::sqrt(_e397))) * metal::exp(-(tau_4) * _e402));
+            w = mid + (half_ * -0.18343464);
+            float _e410 = w;
+            metal::float2 _e413 = airlight_phi_8_sin_cos(0.5 * _e410);
+            sb_1 = _e413;
+            float _e417 = sb_1.y;
+            float _e420 = sb_1.y;
+            float _e426 = sb_1.x;
+            float _e429 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e426) * _e429)) : (gp - (((4.0 * g_5) * _e417) * _e420));
+            float _e436 = sb_1.x;
+            float _e439 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e446 = sum_1;
+            float _e452 = sb_1.x;
+            float _e455 = sb_1.y;
+            float _e458 = sb_1.y;
+            float _e460 = sb_1.x;
+            float _e464 = sb_1.y;
             float _e466 = sb_1.x;
-            float _e469 = sb_1.y;
-            float _e472 = sb_1.y;
-            float _e474 = sb_1.x;
-            float _e478 = sb_1.y;
-            float _e480 = sb_1.x;
-            float _e492 = d_3;
-            float _e493 = d_3;
-            float _e498 = st;
-            sum_1 = _e460 + ((((half_ * 0.36268377) * (metal::clamp((((((ca_1 * 2.0) * _e466) * _e469) - ((k_2 * (_e472 - _e474)) * (_e478 + _e480))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e492 * metal::sqrt(_e493))) * metal::exp(-(tau_4) * _e498));
-            w_1 = mid + (half_ * -0.5255324);
-            float _e506 = w_1;
-            metal::float2 _e509 = airlight_phi_8_sin_cos(0.5 * _e506);
-            sb_1 = _e509;
-            float _e513 = sb_1.y;
+            float _e470 = airlight_phi_8_spot_weight((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466)), co_2, ci_1);
+            float _e473 = d_3;
+            float _e474 = d_3;
+            float _e479 = st;
+            sum_1 = _e446 + ((((half_ * 0.36268377) * (_e470 - _e33)) / (_e473 * metal::sqrt(_e474))) * metal::exp(-(tau_4) * _e479));
+            w = mid + (half_ * -0.5255324);
+            float _e487 = w;
+            metal::float2 _e490 = airlight_phi_8_sin_cos(0.5 * _e487);
+            sb_1 = _e490;
+            float _e494 = sb_1.y;
+            float _e497 = sb_1.y;
+            float _e503 = sb_1.x;
+            float _e506 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e503) * _e506)) : (gp - (((4.0 * g_5) * _e494) * _e497));
+            float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            float _e522 = sb_1.x;
-            float _e525 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e522) * _e525)) : (gp - (((4.0 * g_5) * _e513) * _e516));
-            float _e532 = sb_1.x;
+            st = metal::max(x0_4 + ((h_4 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e523 = sum_1;
+            float _e529 = sb_1.x;
+            float _e532 = sb_1.y;
             float _e535 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e532) / metal::max(_e535, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e542 = sum_1;
-            float _e548 = sb_1.x;
-            float _e551 = sb_1.y;
-            float _e554 = sb_1.y;
-            float _e556 = sb_1.x;
-            float _e560 = sb_1.y;
-            float _e562 = sb_1.x;
-            float _e574 = d_3;
-            float _e575 = d_3;
-            float _e580 = st;
-            sum_1 = _e542 + ((((half_ * 0.31370664) * (metal::clamp((((((ca_1 * 2.0) * _e548) * _e551) - ((k_2 * (_e554 - _e556)) * (_e560 + _e562))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e574 * metal::sqrt(_e575))) * metal::exp(-(tau_4) * _e580));
-            w_1 = mid + (half_ * -0.7966665);
-            float _e588 = w_1;
-            metal::float2 _e591 = airlight_phi_8_sin_cos(0.5 * _e588);
-            sb_1 = _e591;
-            float _e595 = sb_1.y;
-            float _e598 = sb_1.y;
-            float _e604 = sb_1.x;
-            float _e607 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e604) * _e607)) : (gp - (((4.0 * g_5) * _e595) * _e598));
+            float _e537 = sb_1.x;
+            float _e541 = sb_1.y;
+            float _e543 = sb_1.x;
+            float _e547 = airlight_phi_8_spot_weight((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543)), co_2, ci_1);
+            float _e550 = d_3;
+            float _e551 = d_3;
+            float _e556 = st;
+            sum_1 = _e523 + ((((half_ * 0.31370664) * (_e547 - _e33)) / (_e550 * metal::sqrt(_e551))) * metal::exp(-(tau_4) * _e556));
+            w = mid + (half_ * -0.7966665);
+            float _e564 = w;
+            metal::float2 _e567 = airlight_phi_8_sin_cos(0.5 * _e564);
+            sb_1 = _e567;
+            float _e571 = sb_1.y;
+            float _e574 = sb_1.y;
+            float _e580 = sb_1.x;
+            float _e583 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e580) * _e583)) : (gp - (((4.0 * g_5) * _e571) * _e574));
+            float _e590 = sb_1.x;
+            float _e593 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e600 = sum_1;
+            float _e606 = sb_1.x;
+            float _e609 = sb_1.y;
+            float _e612 = sb_1.y;
             float _e614 = sb_1.x;
-            float _e617 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e614) / metal::max(_e617, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e624 = sum_1;
-            float _e630 = sb_1.x;
-            float _e633 = sb_1.y;
-            float _e636 = sb_1.y;
-            float _e638 = sb_1.x;
-            float _e642 = sb_1.y;
-            float _e644 = sb_1.x;
-            float _e656 = d_3;
-            float _e657 = d_3;
-            float _e662 = st;
-            sum_1 = _e624 + ((((half_ * 0.22238104) * (metal::clamp((((((ca_1 * 2.0) * _e630) * _e633) - ((k_2 * (_e636 - _e638)) * (_e642 + _e644))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e656 * metal::sqrt(_e657))) * metal::exp(-(tau_4) * _e662));
-            w_1 = mid + (half_ * -0.96028984);
-            float _e670 = w_1;
-            metal::float2 _e673 = airlight_phi_8_sin_cos(0.5 * _e670);
-            sb_1 = _e673;
-            float _e677 = sb_1.y;
-            float _e680 = sb_1.y;
-            float _e686 = sb_1.x;
-            float _e689 = sb_1.x;
-            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e686) * _e689)) : (gp - (((4.0 * g_5) * _e677) * _e680));
-            float _e696 = sb_1.x;
-            float _e699 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e696) / metal::max(_e699, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e706 = sum_1;
-            float _e712 = sb_1.x;
-            float _e715 = sb_1.y;
-            float _e718 = sb_1.y;
-            float _e720 = sb_1.x;
-            float _e724 = sb_1.y;
-            float _e726 = sb_1.x;
-            float _e738 = d_3;
-            float _e739 = d_3;
-            float _e744 = st;
-            sum_1 = _e706 + ((((half_ * 0.101228535) * (metal::clamp((((((ca_1 * 2.0) * _e712) * _e715) - ((k_2 * (_e718 - _e720)) * (_e724 + _e726))) - co_2) / (ci_1 - co_2), 0.0, 1.0) - _e27)) / (_e738 * metal::sqrt(_e739))) * metal::exp(-(tau_4) * _e744));
+            float _e618 = sb_1.y;
+            float _e620 = sb_1.x;
+            float _e624 = airlight_phi_8_spot_weight((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620)), co_2, ci_1);
+            float _e627 = d_3;
+            float _e628 = d_3;
+            float _e633 = st;
+            sum_1 = _e600 + ((((half_ * 0.22238104) * (_e624 - _e33)) / (_e627 * metal::sqrt(_e628))) * metal::exp(-(tau_4) * _e633));
+            w = mid + (half_ * -0.96028984);
+            float _e641 = w;
+            metal::float2 _e644 = airlight_phi_8_sin_cos(0.5 * _e641);
+            sb_1 = _e644;
+            float _e648 = sb_1.y;
+            float _e651 = sb_1.y;
+            float _e657 = sb_1.x;
+            float _e660 = sb_1.x;
+            d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e657) * _e660)) : (gp - (((4.0 * g_5) * _e648) * _e651));
+            float _e667 = sb_1.x;
+            float _e670 = sb_1.y;
+            st = metal::max(x0_4 + ((h_4 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e677 = sum_1;
+            float _e683 = sb_1.x;
+            float _e686 = sb_1.y;
+            float _e689 = sb_1.y;
+            float _e691 = sb_1.x;
+            float _e695 = sb_1.y;
+            float _e697 = sb_1.x;
+            float _e701 = airlight_phi_8_spot_weight((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697)), co_2, ci_1);
+            float _e704 = d_3;
+            float _e705 = d_3;
+            float _e710 = st;
+            sum_1 = _e677 + ((((half_ * 0.101228535) * (_e701 - _e33)) / (_e704 * metal::sqrt(_e705))) * metal::exp(-(tau_4) * _e710));
         }
     }
-    metal::float3 _e752 = exact;
-    metal::float3 _e761 = sum_1;
-    return metal::clamp((_e27 * _e752) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e761) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
-}
-
-float airlight_phi_8_spot_weight(
-    float c_2,
-    float co_3,
-    float ci_2
-) {
-    if (ci_2 > co_3) {
-        return metal::clamp((c_2 - co_3) / (ci_2 - co_3), 0.0, 1.0);
-    }
-    return (c_2 >= co_3) ? 1.0 : 0.0;
+    metal::float3 _e718 = exact;
+    metal::float3 _e727 = sum_1;
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_phi_8_spot(
@@ -1239,7 +1237,7 @@ metal::float3 airlight_phi_8_spot(
     bool cut_a_1 = false;
     bool cut_b_1 = false;
     metal::float4 pen = metal::float4(0.0);
-    float ca_2 = 0.0;
+    float ca_1 = 0.0;
     float om_e_1 = airlight_phi_8_PI;
     bool local_19 = {};
     bool local_20 = {};
@@ -1247,7 +1245,7 @@ metal::float3 airlight_phi_8_spot(
     int j_1 = 0;
     metal::float3 _e11 = airlight_phi_8_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
-    float co_4 = metal::clamp(cos_outer, 0.0, 1.0);
+    float co_3 = metal::clamp(cos_outer, 0.0, 1.0);
     float _e17 = airlight_phi_8_max_abs(dir_2);
     float _e18 = airlight_phi_8_max_abs(axis);
     if (!(point)) {
@@ -1281,9 +1279,9 @@ metal::float3 airlight_phi_8_spot(
     }
     metal::float3 _e57 = ax;
     metal::float3 _e58 = n;
-    float k_4 = metal::dot(_e57, _e58);
+    float k_3 = metal::dot(_e57, _e58);
     if (_e11.x <= 0.0) {
-        float _e65 = airlight_phi_8_spot_weight(k_4, co_4, cos_inner);
+        float _e65 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
         scale = point ? 1.0 : _e65;
         float _e69 = scale;
         float _e73 = airlight_phi_8_scaled(sigma_s_2.x, intensity_2 * _e69, 1.0, airlight_phi_8_HUGE);
@@ -1322,8 +1320,8 @@ metal::float3 airlight_phi_8_spot(
     bool _e149 = local_19;
     if (_e149) {
         if (!(point)) {
-            float _e152 = airlight_phi_8_spot_weight(-(k_4), co_4, cos_inner);
-            float _e153 = airlight_phi_8_spot_weight(k_4, co_4, cos_inner);
+            float _e152 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
+            float _e153 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
                 local_20 = rho_7 < 1.0;
             } else {
@@ -1340,18 +1338,18 @@ metal::float3 airlight_phi_8_spot(
         metal::float3 cr = metal::cross(l / metal::float3(_e167), _e170);
         metal::float3 _e172 = n;
         metal::float3 _e173 = ax;
-        ca_2 = metal::dot(cr, metal::cross(_e172, _e173)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e180 = ca_2;
-        float _e181 = ca_2;
-        float r_6 = metal::sqrt((_e180 * _e181) + (k_4 * k_4));
-        float _e186 = ca_2;
-        float _e187 = airlight_phi_8_arctan2_(k_4, _e186);
+        ca_1 = metal::dot(cr, metal::cross(_e172, _e173)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e180 = ca_1;
+        float _e181 = ca_1;
+        float r_6 = metal::sqrt((_e180 * _e181) + (k_3 * k_3));
+        float _e186 = ca_1;
+        float _e187 = airlight_phi_8_arctan2_(k_3, _e186);
         float _e188 = airlight_phi_8_arctan2_(h_6, x0_6);
         gam_2 = _e188;
         float _e191 = airlight_phi_8_arctan2_(h_6, x0_6 - rho_7);
         om_e_1 = has_end ? _e191 : airlight_phi_8_PI;
-        if (co_4 < r_6) {
-            float _e194 = airlight_phi_8_spot_asin(co_4, r_6);
+        if (co_3 < r_6) {
+            float _e194 = airlight_phi_8_spot_asin(co_3, r_6);
             float _e195 = gam_2;
             float lo = metal::max(_e195, _e187 + _e194);
             float _e198 = om_e_1;
@@ -1359,7 +1357,7 @@ metal::float3 airlight_phi_8_spot(
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
-                if (cos_inner <= co_4) {
+                if (cos_inner <= co_3) {
                     core = true;
                 } else {
                     if (cos_inner < r_6) {
@@ -1419,8 +1417,8 @@ metal::float3 airlight_phi_8_spot(
                 metal::float3 _e261 = a_5;
                 float _e262 = gam_2;
                 float _e263 = om_e_1;
-                float _e266 = ca_2;
-                metal::float3 _e267 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_4, co_4, cos_inner, gg);
+                float _e266 = ca_1;
+                metal::float3 _e267 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_3, co_3, cos_inner, gg);
                 a_5 = _e261 + _e267;
             }
         }

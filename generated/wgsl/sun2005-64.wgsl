@@ -218,22 +218,29 @@ const airlight_sun2005_64_U_SCALE: f32 = 3.15000010e0;
 const airlight_sun2005_64_V_SCALE: f32 = 4.01070442e1;
 const airlight_sun2005_64_P_ISO: f32 = 7.95774683e-2;
 
-/// F(u, v), bilinear, clamped to the table's edges.
-fn airlight_sun2005_64_lookup(u: f32, v: f32) -> f32 {
+/// F(u, b) - F(u, a) on the bilinear surface, formed from texel differences:
+/// [F(b) - row(jb)] + [row(jb) - row(ja+1)] + [row(ja+1) - F(a)], each bracket a difference
+/// of texels in one column pair, so two lookups in the same or neighbouring cells do not
+/// cancel (gamma -> pi). Clamped to the table's edges; 8 texel loads.
+fn airlight_sun2005_64_rows(i: i32, j: i32, k: i32, tx: f32) -> f32 {
+    let d0 = textureLoad(airlight_sun2005_64_F, vec2<i32>(i, j), 0).x - textureLoad(airlight_sun2005_64_F, vec2<i32>(i, k), 0).x;
+    let d1 = textureLoad(airlight_sun2005_64_F, vec2<i32>(i + 1, j), 0).x - textureLoad(airlight_sun2005_64_F, vec2<i32>(i + 1, k), 0).x;
+    return d0 + tx * (d1 - d0);
+}
+
+fn airlight_sun2005_64_lookup_diff(u: f32, a: f32, b: f32) -> f32 {
     let last = f32(airlight_sun2005_64_RES - 1);
     let x = clamp(u * airlight_sun2005_64_U_SCALE, 0.0, last);
-    let y = clamp(v * airlight_sun2005_64_V_SCALE, 0.0, last);
+    let ya = clamp(a * airlight_sun2005_64_V_SCALE, 0.0, last);
+    let yb = clamp(b * airlight_sun2005_64_V_SCALE, 0.0, last);
     let i = min(i32(x), airlight_sun2005_64_RES - 2);
-    let j = min(i32(y), airlight_sun2005_64_RES - 2);
+    let ja = min(i32(ya), airlight_sun2005_64_RES - 2);
+    let jb = min(i32(yb), airlight_sun2005_64_RES - 2);
     let tx = x - f32(i);
-    let ty = y - f32(j);
-    let a = textureLoad(airlight_sun2005_64_F, vec2<i32>(i, j), 0).x;
-    let b = textureLoad(airlight_sun2005_64_F, vec2<i32>(i + 1, j), 0).x;
-    let c = textureLoad(airlight_sun2005_64_F, vec2<i32>(i, j + 1), 0).x;
-    let d = textureLoad(airlight_sun2005_64_F, vec2<i32>(i + 1, j + 1), 0).x;
-    let lo = a + tx * (b - a);
-    let hi = c + tx * (d - c);
-    return lo + ty * (hi - lo);
+    if ja == jb {
+        return (yb - ya) * airlight_sun2005_64_rows(i, ja + 1, ja, tx);
+    }
+    return (yb - f32(jb)) * airlight_sun2005_64_rows(i, jb + 1, jb, tx) + airlight_sun2005_64_rows(i, jb, ja + 1, tx) + (f32(ja + 1) - ya) * airlight_sun2005_64_rows(i, ja + 1, ja, tx);
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself, rho (negative: no surface).
@@ -254,7 +261,7 @@ fn airlight_sun2005_64_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f3
         // pi/4 + atan((rho - x0)/h)/2 = atan2(h, x0 - rho)/2: no cancellation as h -> 0.
         xb = 0.5 * airlight_sun2005_64_arctan2(h, x0 - rho);
     }
-    let f = max(airlight_sun2005_64_lookup(t, xb) - airlight_sun2005_64_lookup(t, 0.5 * gamma), 0.0);
+    let f = max(airlight_sun2005_64_lookup_diff(t, 0.5 * gamma, xb), 0.0);
     // e^(-tau x0) is bounded where it can overflow (x0 < 0): the product saturates instead.
     return min(exp(min(-tau * x0, 88.0)) * f / (2.0 * airlight_sun2005_64_PI * h), airlight_sun2005_64_HUGE);
 }
@@ -337,24 +344,29 @@ fn airlight_sun2005_64_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam:
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_sun2005_64_HUGE));
 }
 
+/// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+/// outer one, linear in c between.
+fn airlight_sun2005_64_spot_weight(c: f32, co: f32, ci: f32) -> f32 {
+    if ci > co {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return select(0.0, 1.0, c >= co);
+}
+
 /// The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
 /// (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
 /// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
 /// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
 /// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
 /// forward peak). Everything but the transmittance is shared by the channels.
-fn airlight_sun2005_64_spot_weight_at(w: f32, ca: f32, k: f32, co: f32, ci: f32) -> f32 {
-    let sc = airlight_sun2005_64_sin_cos(w);
-    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
-}
-
 fn airlight_sun2005_64_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
     let v = v_in;
     if !(v > u) {
         return vec3<f32>(0.0);
     }
     let e = select(u, v, g < 0.0 || v > 3.0);
-    let we = airlight_sun2005_64_spot_weight_at(e, ca, k, co, ci);
+    let se = airlight_sun2005_64_sin_cos(e);
+    let we = airlight_sun2005_64_spot_weight(ca * se.x - k * se.y, co, ci);
     var exact = vec3<f32>(0.0);
     if we > 0.0 {
         exact = airlight_sun2005_64_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
@@ -380,53 +392,44 @@ fn airlight_sun2005_64_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam:
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 7.96666503e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 5.25532424e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 1.83434635e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -1.83434635e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -5.25532424e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -7.96666503e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -9.60289836e-1;
         sb = airlight_sun2005_64_sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (airlight_sun2005_64_spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(airlight_sun2005_64_HUGE));
-}
-
-/// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
-/// outer one, linear in c between.
-fn airlight_sun2005_64_spot_weight(c: f32, co: f32, ci: f32) -> f32 {
-    if ci > co {
-        return clamp((c - co) / (ci - co), 0.0, 1.0);
-    }
-    return select(0.0, 1.0, c >= co);
 }
 
 /// In-scattered RGB radiance from a spot light at `light` shining along `axis`:

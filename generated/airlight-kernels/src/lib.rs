@@ -629,8 +629,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-64",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.9194417990106604e2,
-        dense_max_rel: 3.650346902078828e18,
+        thin_max_rel: 2.919441799010673e2,
+        dense_max_rel: 3.650346902078789e18,
         airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -643,8 +643,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-128",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.7193672231726066e2,
-        dense_max_rel: 1.8078629703817914e13,
+        thin_max_rel: 2.7193672231725265e2,
+        dense_max_rel: 1.8078629703794867e13,
         airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -657,8 +657,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-256",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.3191900758280622e2,
-        dense_max_rel: 2.5286307063989234e6,
+        thin_max_rel: 2.319190075828035e2,
+        dense_max_rel: 2.528630706396565e6,
         airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -671,8 +671,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "sun2005-512",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.5191149715037346e2,
-        dense_max_rel: 1.0250261674293997e3,
+        thin_max_rel: 1.5191149715037238e2,
+        dense_max_rel: 1.025026167428919e3,
         airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

@@ -328,6 +328,18 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 
+/// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the
+/// outer one, linear in `c` between.
+fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
+    if ci > co {
+        ((c - co) / (ci - co)).clamp(0.0, 1.0)
+    } else if c >= co {
+        1.0
+    } else {
+        0.0
+    }
+}
+
 /// The penumbra over `[u, v]` of ω: the weight `W = (A sin ω − k cos ω − co)/(ci − co)`
 /// times the canonical integrand `f`. `W(e)` times the family's exact `A` over the
 /// stretch, plus `(W − W(e)) f` by 8-point Gauss–Legendre on 5 pieces graded
@@ -344,11 +356,9 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
     const X: [f32; 8] = [9.60289836e-1, 7.96666503e-1, 5.25532424e-1, 1.83434635e-1, -1.83434635e-1, -5.25532424e-1, -7.96666503e-1, -9.60289836e-1];
     const W: [f32; 8] = [1.01228535e-1, 2.22381040e-1, 3.13706636e-1, 3.62683773e-1, 3.62683773e-1, 3.13706636e-1, 2.22381040e-1, 1.01228535e-1];
     const F: [f32; 6] = [0.0, 3.12500000e-2, 2.50000000e-1, 7.50000000e-1, 9.68750000e-1, 1.00000000e0];
-    // The weight from sin ω and cos ω.
-    let weight = |sn: f32, cs: f32| ((ca * sn - k * cs - co) / (ci - co)).clamp(0.0, 1.0);
     let e = if g < 0.0 || v > 3.0 { v } else { u };
     let se = sin_cos(e);
-    let we = weight(se.0, se.1);
+    let we = spot_weight(ca * se.0 - k * se.1, co, ci);
     let exact = if we > 0.0 { spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g) } else { [0.0; 3] };
     if exact.iter().any(|&x| x >= HUGE) {
         return [HUGE; 3];
@@ -365,25 +375,13 @@ fn spot_edge(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f
             let st = (x0 + h * sb.0 / sb.1.max(1e-30)).max(1.0);
             // sin ω and cos ω from the half angle's: one sin_cos per node.
             let (sn, cs) = (2.0 * sb.0 * sb.1, (sb.1 - sb.0) * (sb.1 + sb.0));
-            let f = half * W[j] * (weight(sn, cs) - we) / (d * sqrt(d));
+            let f = half * W[j] * (spot_weight(ca * sn - k * cs, co, ci) - we) / (d * sqrt(d));
             for c in 0..3 {
                 sum[c] += f * exp(-tau[c] * st);
             }
         }
     }
     [0, 1, 2].map(|c| (we * exact[c] + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum[c] / h).clamp(0.0, HUGE))
-}
-
-/// The weight of the direction cosine `c`: 1 within the inner cone, 0 outside the
-/// outer one, linear in `c` between.
-fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
-    if ci > co {
-        ((c - co) / (ci - co)).clamp(0.0, 1.0)
-    } else if c >= co {
-        1.0
-    } else {
-        0.0
-    }
 }
 
 /// In-scattered RGB radiance from a spot light at `light` shining along `axis`: lit

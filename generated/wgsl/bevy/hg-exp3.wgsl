@@ -573,24 +573,29 @@ fn spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(HUGE));
 }
 
+/// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
+/// outer one, linear in c between.
+fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
+    if ci > co {
+        return clamp((c - co) / (ci - co), 0.0, 1.0);
+    }
+    return select(0.0, 1.0, c >= co);
+}
+
 /// The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
 /// (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
 /// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
 /// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
 /// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
 /// forward peak). Everything but the transmittance is shared by the channels.
-fn spot_weight_at(w: f32, ca: f32, k: f32, co: f32, ci: f32) -> f32 {
-    let sc = sin_cos(w);
-    return clamp((ca * sc.x - k * sc.y - co) / (ci - co), 0.0, 1.0);
-}
-
 fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
     let v = v_in;
     if !(v > u) {
         return vec3<f32>(0.0);
     }
     let e = select(u, v, g < 0.0 || v > 3.0);
-    let we = spot_weight_at(e, ca, k, co, ci);
+    let se = sin_cos(e);
+    let we = spot_weight(ca * se.x - k * se.y, co, ci);
     var exact = vec3<f32>(0.0);
     if we > 0.0 {
         exact = spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);
@@ -616,53 +621,44 @@ fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: 
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 7.96666503e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 5.25532424e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * 1.83434635e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -1.83434635e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.62683773e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.62683773e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -5.25532424e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 3.13706636e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 3.13706636e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -7.96666503e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 2.22381040e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 2.22381040e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
         w = mid + half * -9.60289836e-1;
         sb = sin_cos(0.5 * w);
         d = select(gp - 4.0 * g * sb.y * sb.y, gm + 4.0 * g * sb.x * sb.x, g >= 0.0);
         st = max(x0 + h * sb.x / max(sb.y, 1e-30), 1.0);
-        sum += half * 1.01228535e-1 * (clamp((ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x) - co) / (ci - co), 0.0, 1.0) - we) / (d * sqrt(d)) * exp(-tau * st);
+        sum += half * 1.01228535e-1 * (spot_weight(ca * 2.0 * sb.x * sb.y - k * (sb.y - sb.x) * (sb.y + sb.x), co, ci) - we) / (d * sqrt(d)) * exp(-tau * st);
     }
     return clamp(we * exact + 7.95774683e-2 * (1.0 - g) * (1.0 + g) * sum / h, vec3<f32>(0.0), vec3<f32>(HUGE));
-}
-
-/// The weight of the direction cosine c: 1 within the inner cone, 0 outside the
-/// outer one, linear in c between.
-fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
-    if ci > co {
-        return clamp((c - co) / (ci - co), 0.0, 1.0);
-    }
-    return select(0.0, 1.0, c >= co);
 }
 
 /// In-scattered RGB radiance from a spot light at `light` shining along `axis`:

@@ -95,6 +95,29 @@ impl SunTable {
         let hi = t(i, j + 1) + tx * (t(i + 1, j + 1) - t(i, j + 1));
         lo + ty * (hi - lo)
     }
+
+    /// `F(u, b) − F(u, a)` on the same bilinear surface as two [`lookup`](Self::lookup)s,
+    /// formed as the kernels form it, from texel differences in one column pair:
+    /// `[F(b) − row(jb)] + [row(jb) − row(ja+1)] + [row(ja+1) − F(a)]`. Two lookups in the
+    /// same or neighbouring cells (γ → π) then do not cancel.
+    pub fn lookup_diff(&self, u: f64, a: f64, b: f64) -> f64 {
+        let n = (self.res - 1) as f64;
+        let x = (u / U_MAX * n).clamp(0.0, n);
+        let ya = (a / V_MAX * n).clamp(0.0, n);
+        let yb = (b / V_MAX * n).clamp(0.0, n);
+        let i = (x.floor() as usize).min(self.res - 2);
+        let (ja, jb) = ((ya.floor() as usize).min(self.res - 2), (yb.floor() as usize).min(self.res - 2));
+        let tx = x - i as f64;
+        let t = |i: usize, j: usize| f64::from(self.texels[j * self.res + i]);
+        let rows = |j: usize, k: usize| {
+            let d0 = t(i, j) - t(i, k);
+            d0 + tx * ((t(i + 1, j) - t(i + 1, k)) - d0)
+        };
+        if ja == jb {
+            return (yb - ya) * rows(ja + 1, ja);
+        }
+        (yb - jb as f64) * rows(jb + 1, jb) + rows(jb, ja + 1) + ((ja + 1) as f64 - ya) * rows(ja + 1, ja)
+    }
 }
 
 impl Family for SunTable {
@@ -152,7 +175,7 @@ impl Family for SunTable {
         let t = p.tau * h;
         // ξb = π/4 + ½ atan((ρ − x0)/h) = ½ atan2(h, x0 − ρ): no cancellation as h → 0.
         let xb = if p.rho.is_finite() { 0.5 * h.atan2(x0 - p.rho) } else { FRAC_PI_2 };
-        let f = (self.lookup(t, xb) - self.lookup(t, 0.5 * p.gamma)).max(0.0);
+        let f = self.lookup_diff(t, 0.5 * p.gamma, xb).max(0.0);
         if f == 0.0 {
             return 0.0;
         }
@@ -225,5 +248,26 @@ mod tests {
         let exact = crate::reference::airlight(p).unwrap();
         assert!((fine.eval(p) / exact - 1.0).abs() < 2e-3, "{} vs {exact}", fine.eval(p));
         assert_eq!(t.bytes(), 64 * 64 * 4);
+    }
+
+    #[test]
+    fn the_difference_lookup_is_the_difference_of_two_lookups() {
+        let t = SunTable::build(64);
+        let cell = V_MAX / 63.0;
+        let cases = [
+            (0.3, 1.0, 1.0 + 0.2 * cell),
+            (0.3, 1.0 + 0.2 * cell, 1.0),
+            (2.0, 0.5, 0.5 + 1.5 * cell),
+            (7.0, 0.1, 1.5),
+            (19.9, 1.5, 0.01),
+            (25.0, 1.56, V_MAX),
+            (0.074, V_MAX - 0.005, V_MAX - 0.0025),
+            (-1.0, -0.2, 2.0),
+        ];
+        for &(u, a, b) in &cases {
+            let want = t.lookup(u, b) - t.lookup(u, a);
+            let got = t.lookup_diff(u, a, b);
+            assert!((got - want).abs() <= 1e-12, "F({u}, {b}) - F({u}, {a}): {got} vs {want}");
+        }
     }
 }
