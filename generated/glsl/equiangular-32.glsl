@@ -312,7 +312,9 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h, float x0,
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
     float gp = (1.0 + g) * (1.0 + g);
-    if (h <= 0.0) {
+    // Behind the viewer A is flat in h to O(h^2): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if (h <= 0.0 || (x0 < 0.0 && h < 8.673617e-19)) {
         return airlight_equiangular_32_airlight_axis(tau, x0, rho, g);
     }
     float span = comp;
@@ -656,7 +658,9 @@ vec3 airlight_equiangular_32_airlight_geometry_rgb(vec3 tau_in, float h, float x
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
     float gp = (1.0 + g) * (1.0 + g);
-    if (h <= 0.0) {
+    // Behind the viewer A is flat in h to O(h^2): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if (h <= 0.0 || (x0 < 0.0 && h < 8.673617e-19)) {
         return vec3(airlight_equiangular_32_airlight_axis(tau.x, x0, rho, g), airlight_equiangular_32_airlight_axis(tau.y, x0, rho, g), airlight_equiangular_32_airlight_axis(tau.z, x0, rho, g));
     }
     float span = comp;
@@ -1213,7 +1217,10 @@ vec3 airlight_equiangular_32_spot(vec3 origin, vec3 dir, float surface, vec3 lig
     vec4 pen = vec4(0.0);
     float ca = 0.0;
     float om_e = airlight_equiangular_32_PI;
-    if (point || h <= 0.0) {
+    // gamma as f32: it rounds to pi where the light lies behind within 1.2e-7 rad of
+    // the ray's line, and the lit range [gamma, pi] would vanish; the line's weights hold.
+    float g0 = airlight_equiangular_32_arctan2(h, x0);
+    if (point || h <= 0.0 || g0 >= airlight_equiangular_32_PI) {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
         if (!point) {
@@ -1229,7 +1236,7 @@ vec3 airlight_equiangular_32_spot(vec3 origin, vec3 dir, float surface, vec3 lig
         ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         float r = sqrt(ca * ca + k * k);
         float psi = airlight_equiangular_32_arctan2(k, ca);
-        gam = airlight_equiangular_32_arctan2(h, x0);
+        gam = g0;
         om_e = has_end ? airlight_equiangular_32_arctan2(h, x0 - rho) : airlight_equiangular_32_PI;
         if (co < r) {
             float dlo = airlight_equiangular_32_spot_asin(co, r);

@@ -664,7 +664,10 @@ vec3 airlight_phi_4_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec3 
     vec4 pen = vec4(0.0);
     float ca = 0.0;
     float om_e = airlight_phi_4_PI;
-    if (point || h <= 0.0) {
+    // gamma as f32: it rounds to pi where the light lies behind within 1.2e-7 rad of
+    // the ray's line, and the lit range [gamma, pi] would vanish; the line's weights hold.
+    float g0 = airlight_phi_4_arctan2(h, x0);
+    if (point || h <= 0.0 || g0 >= airlight_phi_4_PI) {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
         if (!point) {
@@ -680,7 +683,7 @@ vec3 airlight_phi_4_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec3 
         ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         float r = sqrt(ca * ca + k * k);
         float psi = airlight_phi_4_arctan2(k, ca);
-        gam = airlight_phi_4_arctan2(h, x0);
+        gam = g0;
         om_e = has_end ? airlight_phi_4_arctan2(h, x0 - rho) : airlight_phi_4_PI;
         if (co < r) {
             float dlo = airlight_phi_4_spot_asin(co, r);

@@ -373,8 +373,10 @@ float airlight_equiangular_16_airlight_axis(float tau, float x0_, float rho, flo
 
 float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x0_1, float gamma, float comp, float rho_1, float g_in)
 {
-    float span = (float)0;
     bool local_6 = (bool)0;
+    bool local_7 = (bool)0;
+    float span = (float)0;
+    bool local_8 = (bool)0;
     float sum_1 = 0.0;
     float2 sc = (float2)0;
     float b_3 = (float)0;
@@ -386,431 +388,445 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float g_7 = clamp(g_in, -0.999, 0.999);
     float gm = ((1.0 - g_7) * (1.0 - g_7));
     float gp = ((1.0 + g_7) * (1.0 + g_7));
-    if ((h_1 <= 0.0)) {
-        const float _e26 = airlight_equiangular_16_airlight_axis(tau_5, x0_1, rho_1, g_7);
-        return _e26;
+    if (!((h_1 <= 0.0))) {
+        if ((x0_1 < 0.0)) {
+            local_7 = (h_1 < 8.673617e-19);
+        } else {
+            local_7 = false;
+        }
+        bool _e36 = local_7;
+        local_6 = _e36;
+    } else {
+        local_6 = true;
+    }
+    bool _e38 = local_6;
+    if (_e38) {
+        const float _e39 = airlight_equiangular_16_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        return _e39;
     }
     span = comp;
     if ((rho_1 >= 0.0)) {
-        local_6 = (rho_1 < airlight_equiangular_16_RHO_OPEN);
+        local_8 = (rho_1 < airlight_equiangular_16_RHO_OPEN);
     } else {
-        local_6 = false;
+        local_8 = false;
     }
-    bool _e35 = local_6;
-    if (_e35) {
-        const float _e40 = airlight_equiangular_16_arctan2_((h_1 * rho_1), (1.0 - (x0_1 * rho_1)));
-        span = _e40;
+    bool _e48 = local_8;
+    if (_e48) {
+        const float _e53 = airlight_equiangular_16_arctan2_((h_1 * rho_1), (1.0 - (x0_1 * rho_1)));
+        span = _e53;
     }
-    float _e41 = span;
-    float half_1 = (0.5 * _e41);
+    float _e54 = span;
+    float half_1 = (0.5 * _e54);
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9894009));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9894009));
-    float _e65 = b_3;
-    float _e66 = co;
-    const float2 _e70 = airlight_equiangular_16_sin_cos(max(min(_e65, _e66), 0.0));
-    sc = _e70;
-    float _e71 = b_3;
-    float _e72 = co;
-    if ((_e71 > _e72)) {
-        float2 _e74 = sc;
-        sc = _e74.yx;
+    float _e78 = b_3;
+    float _e79 = co;
+    const float2 _e83 = airlight_equiangular_16_sin_cos(max(min(_e78, _e79), 0.0));
+    sc = _e83;
+    float _e84 = b_3;
+    float _e85 = co;
+    if ((_e84 > _e85)) {
+        float2 _e87 = sc;
+        sc = _e87.yx;
     }
-    float _e77 = sc.x;
-    float _e80 = sc.y;
-    st = max((x0_1 + ((h_1 * _e77) / max(_e80, 1e-30))), 1.0);
-    float _e90 = sc.y;
+    float _e90 = sc.x;
     float _e93 = sc.y;
-    float _e99 = sc.x;
-    float _e102 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e99) * _e102)) : (gp - (((4.0 * g_7) * _e90) * _e93)));
-    float _e108 = sum_1;
-    float _e110 = st;
-    float _e115 = d_2;
-    float _e116 = d_2;
-    sum_1 = (_e108 + ((0.02715246 * exp((-(tau_5) * _e110))) / (_e115 * sqrt(_e116))));
+    st = max((x0_1 + ((h_1 * _e90) / max(_e93, 1e-30))), 1.0);
+    float _e103 = sc.y;
+    float _e106 = sc.y;
+    float _e112 = sc.x;
+    float _e115 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e112) * _e115)) : (gp - (((4.0 * g_7) * _e103) * _e106)));
+    float _e121 = sum_1;
+    float _e123 = st;
+    float _e128 = d_2;
+    float _e129 = d_2;
+    sum_1 = (_e121 + ((0.02715246 * exp((-(tau_5) * _e123))) / (_e128 * sqrt(_e129))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9445751));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9445751));
-    float _e135 = b_3;
-    float _e136 = co;
-    const float2 _e140 = airlight_equiangular_16_sin_cos(max(min(_e135, _e136), 0.0));
-    sc = _e140;
-    float _e141 = b_3;
-    float _e142 = co;
-    if ((_e141 > _e142)) {
-        float2 _e144 = sc;
-        sc = _e144.yx;
+    float _e148 = b_3;
+    float _e149 = co;
+    const float2 _e153 = airlight_equiangular_16_sin_cos(max(min(_e148, _e149), 0.0));
+    sc = _e153;
+    float _e154 = b_3;
+    float _e155 = co;
+    if ((_e154 > _e155)) {
+        float2 _e157 = sc;
+        sc = _e157.yx;
     }
-    float _e147 = sc.x;
-    float _e150 = sc.y;
-    st = max((x0_1 + ((h_1 * _e147) / max(_e150, 1e-30))), 1.0);
-    float _e160 = sc.y;
+    float _e160 = sc.x;
     float _e163 = sc.y;
-    float _e169 = sc.x;
-    float _e172 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e169) * _e172)) : (gp - (((4.0 * g_7) * _e160) * _e163)));
-    float _e178 = sum_1;
-    float _e180 = st;
-    float _e185 = d_2;
-    float _e186 = d_2;
-    sum_1 = (_e178 + ((0.062253524 * exp((-(tau_5) * _e180))) / (_e185 * sqrt(_e186))));
+    st = max((x0_1 + ((h_1 * _e160) / max(_e163, 1e-30))), 1.0);
+    float _e173 = sc.y;
+    float _e176 = sc.y;
+    float _e182 = sc.x;
+    float _e185 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e182) * _e185)) : (gp - (((4.0 * g_7) * _e173) * _e176)));
+    float _e191 = sum_1;
+    float _e193 = st;
+    float _e198 = d_2;
+    float _e199 = d_2;
+    sum_1 = (_e191 + ((0.062253524 * exp((-(tau_5) * _e193))) / (_e198 * sqrt(_e199))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.8656312));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.8656312));
-    float _e205 = b_3;
-    float _e206 = co;
-    const float2 _e210 = airlight_equiangular_16_sin_cos(max(min(_e205, _e206), 0.0));
-    sc = _e210;
-    float _e211 = b_3;
-    float _e212 = co;
-    if ((_e211 > _e212)) {
-        float2 _e214 = sc;
-        sc = _e214.yx;
+    float _e218 = b_3;
+    float _e219 = co;
+    const float2 _e223 = airlight_equiangular_16_sin_cos(max(min(_e218, _e219), 0.0));
+    sc = _e223;
+    float _e224 = b_3;
+    float _e225 = co;
+    if ((_e224 > _e225)) {
+        float2 _e227 = sc;
+        sc = _e227.yx;
     }
-    float _e217 = sc.x;
-    float _e220 = sc.y;
-    st = max((x0_1 + ((h_1 * _e217) / max(_e220, 1e-30))), 1.0);
-    float _e230 = sc.y;
+    float _e230 = sc.x;
     float _e233 = sc.y;
-    float _e239 = sc.x;
-    float _e242 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e239) * _e242)) : (gp - (((4.0 * g_7) * _e230) * _e233)));
-    float _e248 = sum_1;
-    float _e250 = st;
-    float _e255 = d_2;
-    float _e256 = d_2;
-    sum_1 = (_e248 + ((0.09515851 * exp((-(tau_5) * _e250))) / (_e255 * sqrt(_e256))));
+    st = max((x0_1 + ((h_1 * _e230) / max(_e233, 1e-30))), 1.0);
+    float _e243 = sc.y;
+    float _e246 = sc.y;
+    float _e252 = sc.x;
+    float _e255 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e252) * _e255)) : (gp - (((4.0 * g_7) * _e243) * _e246)));
+    float _e261 = sum_1;
+    float _e263 = st;
+    float _e268 = d_2;
+    float _e269 = d_2;
+    sum_1 = (_e261 + ((0.09515851 * exp((-(tau_5) * _e263))) / (_e268 * sqrt(_e269))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7554045));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7554045));
-    float _e275 = b_3;
-    float _e276 = co;
-    const float2 _e280 = airlight_equiangular_16_sin_cos(max(min(_e275, _e276), 0.0));
-    sc = _e280;
-    float _e281 = b_3;
-    float _e282 = co;
-    if ((_e281 > _e282)) {
-        float2 _e284 = sc;
-        sc = _e284.yx;
+    float _e288 = b_3;
+    float _e289 = co;
+    const float2 _e293 = airlight_equiangular_16_sin_cos(max(min(_e288, _e289), 0.0));
+    sc = _e293;
+    float _e294 = b_3;
+    float _e295 = co;
+    if ((_e294 > _e295)) {
+        float2 _e297 = sc;
+        sc = _e297.yx;
     }
-    float _e287 = sc.x;
-    float _e290 = sc.y;
-    st = max((x0_1 + ((h_1 * _e287) / max(_e290, 1e-30))), 1.0);
-    float _e300 = sc.y;
+    float _e300 = sc.x;
     float _e303 = sc.y;
-    float _e309 = sc.x;
-    float _e312 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e309) * _e312)) : (gp - (((4.0 * g_7) * _e300) * _e303)));
-    float _e318 = sum_1;
-    float _e320 = st;
-    float _e325 = d_2;
-    float _e326 = d_2;
-    sum_1 = (_e318 + ((0.12462897 * exp((-(tau_5) * _e320))) / (_e325 * sqrt(_e326))));
+    st = max((x0_1 + ((h_1 * _e300) / max(_e303, 1e-30))), 1.0);
+    float _e313 = sc.y;
+    float _e316 = sc.y;
+    float _e322 = sc.x;
+    float _e325 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e322) * _e325)) : (gp - (((4.0 * g_7) * _e313) * _e316)));
+    float _e331 = sum_1;
+    float _e333 = st;
+    float _e338 = d_2;
+    float _e339 = d_2;
+    sum_1 = (_e331 + ((0.12462897 * exp((-(tau_5) * _e333))) / (_e338 * sqrt(_e339))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.6178763));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.6178763));
-    float _e345 = b_3;
-    float _e346 = co;
-    const float2 _e350 = airlight_equiangular_16_sin_cos(max(min(_e345, _e346), 0.0));
-    sc = _e350;
-    float _e351 = b_3;
-    float _e352 = co;
-    if ((_e351 > _e352)) {
-        float2 _e354 = sc;
-        sc = _e354.yx;
+    float _e358 = b_3;
+    float _e359 = co;
+    const float2 _e363 = airlight_equiangular_16_sin_cos(max(min(_e358, _e359), 0.0));
+    sc = _e363;
+    float _e364 = b_3;
+    float _e365 = co;
+    if ((_e364 > _e365)) {
+        float2 _e367 = sc;
+        sc = _e367.yx;
     }
-    float _e357 = sc.x;
-    float _e360 = sc.y;
-    st = max((x0_1 + ((h_1 * _e357) / max(_e360, 1e-30))), 1.0);
-    float _e370 = sc.y;
+    float _e370 = sc.x;
     float _e373 = sc.y;
-    float _e379 = sc.x;
-    float _e382 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e379) * _e382)) : (gp - (((4.0 * g_7) * _e370) * _e373)));
-    float _e388 = sum_1;
-    float _e390 = st;
-    float _e395 = d_2;
-    float _e396 = d_2;
-    sum_1 = (_e388 + ((0.14959599 * exp((-(tau_5) * _e390))) / (_e395 * sqrt(_e396))));
+    st = max((x0_1 + ((h_1 * _e370) / max(_e373, 1e-30))), 1.0);
+    float _e383 = sc.y;
+    float _e386 = sc.y;
+    float _e392 = sc.x;
+    float _e395 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e392) * _e395)) : (gp - (((4.0 * g_7) * _e383) * _e386)));
+    float _e401 = sum_1;
+    float _e403 = st;
+    float _e408 = d_2;
+    float _e409 = d_2;
+    sum_1 = (_e401 + ((0.14959599 * exp((-(tau_5) * _e403))) / (_e408 * sqrt(_e409))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.4580168));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.4580168));
-    float _e415 = b_3;
-    float _e416 = co;
-    const float2 _e420 = airlight_equiangular_16_sin_cos(max(min(_e415, _e416), 0.0));
-    sc = _e420;
-    float _e421 = b_3;
-    float _e422 = co;
-    if ((_e421 > _e422)) {
-        float2 _e424 = sc;
-        sc = _e424.yx;
+    float _e428 = b_3;
+    float _e429 = co;
+    const float2 _e433 = airlight_equiangular_16_sin_cos(max(min(_e428, _e429), 0.0));
+    sc = _e433;
+    float _e434 = b_3;
+    float _e435 = co;
+    if ((_e434 > _e435)) {
+        float2 _e437 = sc;
+        sc = _e437.yx;
     }
-    float _e427 = sc.x;
-    float _e430 = sc.y;
-    st = max((x0_1 + ((h_1 * _e427) / max(_e430, 1e-30))), 1.0);
-    float _e440 = sc.y;
+    float _e440 = sc.x;
     float _e443 = sc.y;
-    float _e449 = sc.x;
-    float _e452 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e449) * _e452)) : (gp - (((4.0 * g_7) * _e440) * _e443)));
-    float _e458 = sum_1;
-    float _e460 = st;
-    float _e465 = d_2;
-    float _e466 = d_2;
-    sum_1 = (_e458 + ((0.16915652 * exp((-(tau_5) * _e460))) / (_e465 * sqrt(_e466))));
+    st = max((x0_1 + ((h_1 * _e440) / max(_e443, 1e-30))), 1.0);
+    float _e453 = sc.y;
+    float _e456 = sc.y;
+    float _e462 = sc.x;
+    float _e465 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e462) * _e465)) : (gp - (((4.0 * g_7) * _e453) * _e456)));
+    float _e471 = sum_1;
+    float _e473 = st;
+    float _e478 = d_2;
+    float _e479 = d_2;
+    sum_1 = (_e471 + ((0.16915652 * exp((-(tau_5) * _e473))) / (_e478 * sqrt(_e479))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.2816036));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.2816036));
-    float _e485 = b_3;
-    float _e486 = co;
-    const float2 _e490 = airlight_equiangular_16_sin_cos(max(min(_e485, _e486), 0.0));
-    sc = _e490;
-    float _e491 = b_3;
-    float _e492 = co;
-    if ((_e491 > _e492)) {
-        float2 _e494 = sc;
-        sc = _e494.yx;
+    float _e498 = b_3;
+    float _e499 = co;
+    const float2 _e503 = airlight_equiangular_16_sin_cos(max(min(_e498, _e499), 0.0));
+    sc = _e503;
+    float _e504 = b_3;
+    float _e505 = co;
+    if ((_e504 > _e505)) {
+        float2 _e507 = sc;
+        sc = _e507.yx;
     }
-    float _e497 = sc.x;
-    float _e500 = sc.y;
-    st = max((x0_1 + ((h_1 * _e497) / max(_e500, 1e-30))), 1.0);
-    float _e510 = sc.y;
+    float _e510 = sc.x;
     float _e513 = sc.y;
-    float _e519 = sc.x;
-    float _e522 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e519) * _e522)) : (gp - (((4.0 * g_7) * _e510) * _e513)));
-    float _e528 = sum_1;
-    float _e530 = st;
-    float _e535 = d_2;
-    float _e536 = d_2;
-    sum_1 = (_e528 + ((0.18260342 * exp((-(tau_5) * _e530))) / (_e535 * sqrt(_e536))));
+    st = max((x0_1 + ((h_1 * _e510) / max(_e513, 1e-30))), 1.0);
+    float _e523 = sc.y;
+    float _e526 = sc.y;
+    float _e532 = sc.x;
+    float _e535 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e532) * _e535)) : (gp - (((4.0 * g_7) * _e523) * _e526)));
+    float _e541 = sum_1;
+    float _e543 = st;
+    float _e548 = d_2;
+    float _e549 = d_2;
+    sum_1 = (_e541 + ((0.18260342 * exp((-(tau_5) * _e543))) / (_e548 * sqrt(_e549))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.0950125));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.0950125));
-    float _e555 = b_3;
-    float _e556 = co;
-    const float2 _e560 = airlight_equiangular_16_sin_cos(max(min(_e555, _e556), 0.0));
-    sc = _e560;
-    float _e561 = b_3;
-    float _e562 = co;
-    if ((_e561 > _e562)) {
-        float2 _e564 = sc;
-        sc = _e564.yx;
+    float _e568 = b_3;
+    float _e569 = co;
+    const float2 _e573 = airlight_equiangular_16_sin_cos(max(min(_e568, _e569), 0.0));
+    sc = _e573;
+    float _e574 = b_3;
+    float _e575 = co;
+    if ((_e574 > _e575)) {
+        float2 _e577 = sc;
+        sc = _e577.yx;
     }
-    float _e567 = sc.x;
-    float _e570 = sc.y;
-    st = max((x0_1 + ((h_1 * _e567) / max(_e570, 1e-30))), 1.0);
-    float _e580 = sc.y;
+    float _e580 = sc.x;
     float _e583 = sc.y;
-    float _e589 = sc.x;
-    float _e592 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e589) * _e592)) : (gp - (((4.0 * g_7) * _e580) * _e583)));
-    float _e598 = sum_1;
-    float _e600 = st;
-    float _e605 = d_2;
-    float _e606 = d_2;
-    sum_1 = (_e598 + ((0.1894506 * exp((-(tau_5) * _e600))) / (_e605 * sqrt(_e606))));
+    st = max((x0_1 + ((h_1 * _e580) / max(_e583, 1e-30))), 1.0);
+    float _e593 = sc.y;
+    float _e596 = sc.y;
+    float _e602 = sc.x;
+    float _e605 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e602) * _e605)) : (gp - (((4.0 * g_7) * _e593) * _e596)));
+    float _e611 = sum_1;
+    float _e613 = st;
+    float _e618 = d_2;
+    float _e619 = d_2;
+    sum_1 = (_e611 + ((0.1894506 * exp((-(tau_5) * _e613))) / (_e618 * sqrt(_e619))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.9049875));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.9049875));
-    float _e625 = b_3;
-    float _e626 = co;
-    const float2 _e630 = airlight_equiangular_16_sin_cos(max(min(_e625, _e626), 0.0));
-    sc = _e630;
-    float _e631 = b_3;
-    float _e632 = co;
-    if ((_e631 > _e632)) {
-        float2 _e634 = sc;
-        sc = _e634.yx;
+    float _e638 = b_3;
+    float _e639 = co;
+    const float2 _e643 = airlight_equiangular_16_sin_cos(max(min(_e638, _e639), 0.0));
+    sc = _e643;
+    float _e644 = b_3;
+    float _e645 = co;
+    if ((_e644 > _e645)) {
+        float2 _e647 = sc;
+        sc = _e647.yx;
     }
-    float _e637 = sc.x;
-    float _e640 = sc.y;
-    st = max((x0_1 + ((h_1 * _e637) / max(_e640, 1e-30))), 1.0);
-    float _e650 = sc.y;
+    float _e650 = sc.x;
     float _e653 = sc.y;
-    float _e659 = sc.x;
-    float _e662 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e659) * _e662)) : (gp - (((4.0 * g_7) * _e650) * _e653)));
-    float _e668 = sum_1;
-    float _e670 = st;
-    float _e675 = d_2;
-    float _e676 = d_2;
-    sum_1 = (_e668 + ((0.1894506 * exp((-(tau_5) * _e670))) / (_e675 * sqrt(_e676))));
+    st = max((x0_1 + ((h_1 * _e650) / max(_e653, 1e-30))), 1.0);
+    float _e663 = sc.y;
+    float _e666 = sc.y;
+    float _e672 = sc.x;
+    float _e675 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e672) * _e675)) : (gp - (((4.0 * g_7) * _e663) * _e666)));
+    float _e681 = sum_1;
+    float _e683 = st;
+    float _e688 = d_2;
+    float _e689 = d_2;
+    sum_1 = (_e681 + ((0.1894506 * exp((-(tau_5) * _e683))) / (_e688 * sqrt(_e689))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.7183964));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.7183964));
-    float _e695 = b_3;
-    float _e696 = co;
-    const float2 _e700 = airlight_equiangular_16_sin_cos(max(min(_e695, _e696), 0.0));
-    sc = _e700;
-    float _e701 = b_3;
-    float _e702 = co;
-    if ((_e701 > _e702)) {
-        float2 _e704 = sc;
-        sc = _e704.yx;
+    float _e708 = b_3;
+    float _e709 = co;
+    const float2 _e713 = airlight_equiangular_16_sin_cos(max(min(_e708, _e709), 0.0));
+    sc = _e713;
+    float _e714 = b_3;
+    float _e715 = co;
+    if ((_e714 > _e715)) {
+        float2 _e717 = sc;
+        sc = _e717.yx;
     }
-    float _e707 = sc.x;
-    float _e710 = sc.y;
-    st = max((x0_1 + ((h_1 * _e707) / max(_e710, 1e-30))), 1.0);
-    float _e720 = sc.y;
+    float _e720 = sc.x;
     float _e723 = sc.y;
-    float _e729 = sc.x;
-    float _e732 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e729) * _e732)) : (gp - (((4.0 * g_7) * _e720) * _e723)));
-    float _e738 = sum_1;
-    float _e740 = st;
-    float _e745 = d_2;
-    float _e746 = d_2;
-    sum_1 = (_e738 + ((0.18260342 * exp((-(tau_5) * _e740))) / (_e745 * sqrt(_e746))));
+    st = max((x0_1 + ((h_1 * _e720) / max(_e723, 1e-30))), 1.0);
+    float _e733 = sc.y;
+    float _e736 = sc.y;
+    float _e742 = sc.x;
+    float _e745 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e742) * _e745)) : (gp - (((4.0 * g_7) * _e733) * _e736)));
+    float _e751 = sum_1;
+    float _e753 = st;
+    float _e758 = d_2;
+    float _e759 = d_2;
+    sum_1 = (_e751 + ((0.18260342 * exp((-(tau_5) * _e753))) / (_e758 * sqrt(_e759))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.5419832));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.5419832));
-    float _e765 = b_3;
-    float _e766 = co;
-    const float2 _e770 = airlight_equiangular_16_sin_cos(max(min(_e765, _e766), 0.0));
-    sc = _e770;
-    float _e771 = b_3;
-    float _e772 = co;
-    if ((_e771 > _e772)) {
-        float2 _e774 = sc;
-        sc = _e774.yx;
+    float _e778 = b_3;
+    float _e779 = co;
+    const float2 _e783 = airlight_equiangular_16_sin_cos(max(min(_e778, _e779), 0.0));
+    sc = _e783;
+    float _e784 = b_3;
+    float _e785 = co;
+    if ((_e784 > _e785)) {
+        float2 _e787 = sc;
+        sc = _e787.yx;
     }
-    float _e777 = sc.x;
-    float _e780 = sc.y;
-    st = max((x0_1 + ((h_1 * _e777) / max(_e780, 1e-30))), 1.0);
-    float _e790 = sc.y;
+    float _e790 = sc.x;
     float _e793 = sc.y;
-    float _e799 = sc.x;
-    float _e802 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e799) * _e802)) : (gp - (((4.0 * g_7) * _e790) * _e793)));
-    float _e808 = sum_1;
-    float _e810 = st;
-    float _e815 = d_2;
-    float _e816 = d_2;
-    sum_1 = (_e808 + ((0.16915652 * exp((-(tau_5) * _e810))) / (_e815 * sqrt(_e816))));
+    st = max((x0_1 + ((h_1 * _e790) / max(_e793, 1e-30))), 1.0);
+    float _e803 = sc.y;
+    float _e806 = sc.y;
+    float _e812 = sc.x;
+    float _e815 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e812) * _e815)) : (gp - (((4.0 * g_7) * _e803) * _e806)));
+    float _e821 = sum_1;
+    float _e823 = st;
+    float _e828 = d_2;
+    float _e829 = d_2;
+    sum_1 = (_e821 + ((0.16915652 * exp((-(tau_5) * _e823))) / (_e828 * sqrt(_e829))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.38212377));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.38212377));
-    float _e835 = b_3;
-    float _e836 = co;
-    const float2 _e840 = airlight_equiangular_16_sin_cos(max(min(_e835, _e836), 0.0));
-    sc = _e840;
-    float _e841 = b_3;
-    float _e842 = co;
-    if ((_e841 > _e842)) {
-        float2 _e844 = sc;
-        sc = _e844.yx;
+    float _e848 = b_3;
+    float _e849 = co;
+    const float2 _e853 = airlight_equiangular_16_sin_cos(max(min(_e848, _e849), 0.0));
+    sc = _e853;
+    float _e854 = b_3;
+    float _e855 = co;
+    if ((_e854 > _e855)) {
+        float2 _e857 = sc;
+        sc = _e857.yx;
     }
-    float _e847 = sc.x;
-    float _e850 = sc.y;
-    st = max((x0_1 + ((h_1 * _e847) / max(_e850, 1e-30))), 1.0);
-    float _e860 = sc.y;
+    float _e860 = sc.x;
     float _e863 = sc.y;
-    float _e869 = sc.x;
-    float _e872 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e869) * _e872)) : (gp - (((4.0 * g_7) * _e860) * _e863)));
-    float _e878 = sum_1;
-    float _e880 = st;
-    float _e885 = d_2;
-    float _e886 = d_2;
-    sum_1 = (_e878 + ((0.14959599 * exp((-(tau_5) * _e880))) / (_e885 * sqrt(_e886))));
+    st = max((x0_1 + ((h_1 * _e860) / max(_e863, 1e-30))), 1.0);
+    float _e873 = sc.y;
+    float _e876 = sc.y;
+    float _e882 = sc.x;
+    float _e885 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e882) * _e885)) : (gp - (((4.0 * g_7) * _e873) * _e876)));
+    float _e891 = sum_1;
+    float _e893 = st;
+    float _e898 = d_2;
+    float _e899 = d_2;
+    sum_1 = (_e891 + ((0.14959599 * exp((-(tau_5) * _e893))) / (_e898 * sqrt(_e899))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.24459559));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.24459559));
-    float _e905 = b_3;
-    float _e906 = co;
-    const float2 _e910 = airlight_equiangular_16_sin_cos(max(min(_e905, _e906), 0.0));
-    sc = _e910;
-    float _e911 = b_3;
-    float _e912 = co;
-    if ((_e911 > _e912)) {
-        float2 _e914 = sc;
-        sc = _e914.yx;
+    float _e918 = b_3;
+    float _e919 = co;
+    const float2 _e923 = airlight_equiangular_16_sin_cos(max(min(_e918, _e919), 0.0));
+    sc = _e923;
+    float _e924 = b_3;
+    float _e925 = co;
+    if ((_e924 > _e925)) {
+        float2 _e927 = sc;
+        sc = _e927.yx;
     }
-    float _e917 = sc.x;
-    float _e920 = sc.y;
-    st = max((x0_1 + ((h_1 * _e917) / max(_e920, 1e-30))), 1.0);
-    float _e930 = sc.y;
+    float _e930 = sc.x;
     float _e933 = sc.y;
-    float _e939 = sc.x;
-    float _e942 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e939) * _e942)) : (gp - (((4.0 * g_7) * _e930) * _e933)));
-    float _e948 = sum_1;
-    float _e950 = st;
-    float _e955 = d_2;
-    float _e956 = d_2;
-    sum_1 = (_e948 + ((0.12462897 * exp((-(tau_5) * _e950))) / (_e955 * sqrt(_e956))));
+    st = max((x0_1 + ((h_1 * _e930) / max(_e933, 1e-30))), 1.0);
+    float _e943 = sc.y;
+    float _e946 = sc.y;
+    float _e952 = sc.x;
+    float _e955 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e952) * _e955)) : (gp - (((4.0 * g_7) * _e943) * _e946)));
+    float _e961 = sum_1;
+    float _e963 = st;
+    float _e968 = d_2;
+    float _e969 = d_2;
+    sum_1 = (_e961 + ((0.12462897 * exp((-(tau_5) * _e963))) / (_e968 * sqrt(_e969))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.13436878));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.13436878));
-    float _e975 = b_3;
-    float _e976 = co;
-    const float2 _e980 = airlight_equiangular_16_sin_cos(max(min(_e975, _e976), 0.0));
-    sc = _e980;
-    float _e981 = b_3;
-    float _e982 = co;
-    if ((_e981 > _e982)) {
-        float2 _e984 = sc;
-        sc = _e984.yx;
+    float _e988 = b_3;
+    float _e989 = co;
+    const float2 _e993 = airlight_equiangular_16_sin_cos(max(min(_e988, _e989), 0.0));
+    sc = _e993;
+    float _e994 = b_3;
+    float _e995 = co;
+    if ((_e994 > _e995)) {
+        float2 _e997 = sc;
+        sc = _e997.yx;
     }
-    float _e987 = sc.x;
-    float _e990 = sc.y;
-    st = max((x0_1 + ((h_1 * _e987) / max(_e990, 1e-30))), 1.0);
-    float _e1000 = sc.y;
+    float _e1000 = sc.x;
     float _e1003 = sc.y;
-    float _e1009 = sc.x;
-    float _e1012 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1009) * _e1012)) : (gp - (((4.0 * g_7) * _e1000) * _e1003)));
-    float _e1018 = sum_1;
-    float _e1020 = st;
-    float _e1025 = d_2;
-    float _e1026 = d_2;
-    sum_1 = (_e1018 + ((0.09515851 * exp((-(tau_5) * _e1020))) / (_e1025 * sqrt(_e1026))));
+    st = max((x0_1 + ((h_1 * _e1000) / max(_e1003, 1e-30))), 1.0);
+    float _e1013 = sc.y;
+    float _e1016 = sc.y;
+    float _e1022 = sc.x;
+    float _e1025 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1022) * _e1025)) : (gp - (((4.0 * g_7) * _e1013) * _e1016)));
+    float _e1031 = sum_1;
+    float _e1033 = st;
+    float _e1038 = d_2;
+    float _e1039 = d_2;
+    sum_1 = (_e1031 + ((0.09515851 * exp((-(tau_5) * _e1033))) / (_e1038 * sqrt(_e1039))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.05542499));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.05542499));
-    float _e1045 = b_3;
-    float _e1046 = co;
-    const float2 _e1050 = airlight_equiangular_16_sin_cos(max(min(_e1045, _e1046), 0.0));
-    sc = _e1050;
-    float _e1051 = b_3;
-    float _e1052 = co;
-    if ((_e1051 > _e1052)) {
-        float2 _e1054 = sc;
-        sc = _e1054.yx;
+    float _e1058 = b_3;
+    float _e1059 = co;
+    const float2 _e1063 = airlight_equiangular_16_sin_cos(max(min(_e1058, _e1059), 0.0));
+    sc = _e1063;
+    float _e1064 = b_3;
+    float _e1065 = co;
+    if ((_e1064 > _e1065)) {
+        float2 _e1067 = sc;
+        sc = _e1067.yx;
     }
-    float _e1057 = sc.x;
-    float _e1060 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1057) / max(_e1060, 1e-30))), 1.0);
-    float _e1070 = sc.y;
+    float _e1070 = sc.x;
     float _e1073 = sc.y;
-    float _e1079 = sc.x;
-    float _e1082 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1079) * _e1082)) : (gp - (((4.0 * g_7) * _e1070) * _e1073)));
-    float _e1088 = sum_1;
-    float _e1090 = st;
-    float _e1095 = d_2;
-    float _e1096 = d_2;
-    sum_1 = (_e1088 + ((0.062253524 * exp((-(tau_5) * _e1090))) / (_e1095 * sqrt(_e1096))));
+    st = max((x0_1 + ((h_1 * _e1070) / max(_e1073, 1e-30))), 1.0);
+    float _e1083 = sc.y;
+    float _e1086 = sc.y;
+    float _e1092 = sc.x;
+    float _e1095 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1092) * _e1095)) : (gp - (((4.0 * g_7) * _e1083) * _e1086)));
+    float _e1101 = sum_1;
+    float _e1103 = st;
+    float _e1108 = d_2;
+    float _e1109 = d_2;
+    sum_1 = (_e1101 + ((0.062253524 * exp((-(tau_5) * _e1103))) / (_e1108 * sqrt(_e1109))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.010599077));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.010599077));
-    float _e1115 = b_3;
-    float _e1116 = co;
-    const float2 _e1120 = airlight_equiangular_16_sin_cos(max(min(_e1115, _e1116), 0.0));
-    sc = _e1120;
-    float _e1121 = b_3;
-    float _e1122 = co;
-    if ((_e1121 > _e1122)) {
-        float2 _e1124 = sc;
-        sc = _e1124.yx;
+    float _e1128 = b_3;
+    float _e1129 = co;
+    const float2 _e1133 = airlight_equiangular_16_sin_cos(max(min(_e1128, _e1129), 0.0));
+    sc = _e1133;
+    float _e1134 = b_3;
+    float _e1135 = co;
+    if ((_e1134 > _e1135)) {
+        float2 _e1137 = sc;
+        sc = _e1137.yx;
     }
-    float _e1127 = sc.x;
-    float _e1130 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1127) / max(_e1130, 1e-30))), 1.0);
-    float _e1140 = sc.y;
+    float _e1140 = sc.x;
     float _e1143 = sc.y;
-    float _e1149 = sc.x;
-    float _e1152 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1149) * _e1152)) : (gp - (((4.0 * g_7) * _e1140) * _e1143)));
-    float _e1158 = sum_1;
-    float _e1160 = st;
-    float _e1165 = d_2;
-    float _e1166 = d_2;
-    sum_1 = (_e1158 + ((0.02715246 * exp((-(tau_5) * _e1160))) / (_e1165 * sqrt(_e1166))));
-    float _e1178 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1178) * half_1) / h_1), airlight_equiangular_16_HUGE);
+    st = max((x0_1 + ((h_1 * _e1140) / max(_e1143, 1e-30))), 1.0);
+    float _e1153 = sc.y;
+    float _e1156 = sc.y;
+    float _e1162 = sc.x;
+    float _e1165 = sc.x;
+    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1162) * _e1165)) : (gp - (((4.0 * g_7) * _e1153) * _e1156)));
+    float _e1171 = sum_1;
+    float _e1173 = st;
+    float _e1178 = d_2;
+    float _e1179 = d_2;
+    sum_1 = (_e1171 + ((0.02715246 * exp((-(tau_5) * _e1173))) / (_e1178 * sqrt(_e1179))));
+    float _e1191 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1191) * half_1) / h_1), airlight_equiangular_16_HUGE);
 }
 
 float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
 {
+    bool local_9 = (bool)0;
+    bool local_10 = (bool)0;
     float span_1 = (float)0;
-    bool local_7 = (bool)0;
+    bool local_11 = (bool)0;
     float3 sum_2 = (0.0).xxx;
     float2 sc_1 = (float2)0;
     float b_4 = (float)0;
@@ -822,427 +838,439 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float g_8 = clamp(g_in_1, -0.999, 0.999);
     float gm_1 = ((1.0 - g_8) * (1.0 - g_8));
     float gp_1 = ((1.0 + g_8) * (1.0 + g_8));
-    if ((h_2 <= 0.0)) {
-        const float _e29 = airlight_equiangular_16_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
-        const float _e31 = airlight_equiangular_16_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
-        const float _e33 = airlight_equiangular_16_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
-        return float3(_e29, _e31, _e33);
+    if (!((h_2 <= 0.0))) {
+        if ((x0_2 < 0.0)) {
+            local_10 = (h_2 < 8.673617e-19);
+        } else {
+            local_10 = false;
+        }
+        bool _e38 = local_10;
+        local_9 = _e38;
+    } else {
+        local_9 = true;
+    }
+    bool _e40 = local_9;
+    if (_e40) {
+        const float _e42 = airlight_equiangular_16_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
+        const float _e44 = airlight_equiangular_16_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
+        const float _e46 = airlight_equiangular_16_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        return float3(_e42, _e44, _e46);
     }
     span_1 = comp_1;
     if ((rho_2 >= 0.0)) {
-        local_7 = (rho_2 < airlight_equiangular_16_RHO_OPEN);
+        local_11 = (rho_2 < airlight_equiangular_16_RHO_OPEN);
     } else {
-        local_7 = false;
+        local_11 = false;
     }
-    bool _e43 = local_7;
-    if (_e43) {
-        const float _e48 = airlight_equiangular_16_arctan2_((h_2 * rho_2), (1.0 - (x0_2 * rho_2)));
-        span_1 = _e48;
+    bool _e56 = local_11;
+    if (_e56) {
+        const float _e61 = airlight_equiangular_16_arctan2_((h_2 * rho_2), (1.0 - (x0_2 * rho_2)));
+        span_1 = _e61;
     }
-    float _e49 = span_1;
-    float half_2 = (0.5 * _e49);
+    float _e62 = span_1;
+    float half_2 = (0.5 * _e62);
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9894009));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9894009));
-    float _e74 = b_4;
-    float _e75 = co_1;
-    const float2 _e79 = airlight_equiangular_16_sin_cos(max(min(_e74, _e75), 0.0));
-    sc_1 = _e79;
-    float _e80 = b_4;
-    float _e81 = co_1;
-    if ((_e80 > _e81)) {
-        float2 _e83 = sc_1;
-        sc_1 = _e83.yx;
+    float _e87 = b_4;
+    float _e88 = co_1;
+    const float2 _e92 = airlight_equiangular_16_sin_cos(max(min(_e87, _e88), 0.0));
+    sc_1 = _e92;
+    float _e93 = b_4;
+    float _e94 = co_1;
+    if ((_e93 > _e94)) {
+        float2 _e96 = sc_1;
+        sc_1 = _e96.yx;
     }
-    float _e86 = sc_1.x;
-    float _e89 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e86) / max(_e89, 1e-30))), 1.0);
-    float _e99 = sc_1.y;
+    float _e99 = sc_1.x;
     float _e102 = sc_1.y;
-    float _e108 = sc_1.x;
-    float _e111 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e108) * _e111)) : (gp_1 - (((4.0 * g_8) * _e99) * _e102)));
-    float3 _e117 = sum_2;
-    float _e119 = st_1;
-    float _e124 = d_3;
-    float _e125 = d_3;
-    sum_2 = (_e117 + ((0.02715246 * exp((-(tau_6) * _e119))) / ((_e124 * sqrt(_e125))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e99) / max(_e102, 1e-30))), 1.0);
+    float _e112 = sc_1.y;
+    float _e115 = sc_1.y;
+    float _e121 = sc_1.x;
+    float _e124 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e121) * _e124)) : (gp_1 - (((4.0 * g_8) * _e112) * _e115)));
+    float3 _e130 = sum_2;
+    float _e132 = st_1;
+    float _e137 = d_3;
+    float _e138 = d_3;
+    sum_2 = (_e130 + ((0.02715246 * exp((-(tau_6) * _e132))) / ((_e137 * sqrt(_e138))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9445751));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9445751));
-    float _e145 = b_4;
-    float _e146 = co_1;
-    const float2 _e150 = airlight_equiangular_16_sin_cos(max(min(_e145, _e146), 0.0));
-    sc_1 = _e150;
-    float _e151 = b_4;
-    float _e152 = co_1;
-    if ((_e151 > _e152)) {
-        float2 _e154 = sc_1;
-        sc_1 = _e154.yx;
+    float _e158 = b_4;
+    float _e159 = co_1;
+    const float2 _e163 = airlight_equiangular_16_sin_cos(max(min(_e158, _e159), 0.0));
+    sc_1 = _e163;
+    float _e164 = b_4;
+    float _e165 = co_1;
+    if ((_e164 > _e165)) {
+        float2 _e167 = sc_1;
+        sc_1 = _e167.yx;
     }
-    float _e157 = sc_1.x;
-    float _e160 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e157) / max(_e160, 1e-30))), 1.0);
-    float _e170 = sc_1.y;
+    float _e170 = sc_1.x;
     float _e173 = sc_1.y;
-    float _e179 = sc_1.x;
-    float _e182 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e179) * _e182)) : (gp_1 - (((4.0 * g_8) * _e170) * _e173)));
-    float3 _e188 = sum_2;
-    float _e190 = st_1;
-    float _e195 = d_3;
-    float _e196 = d_3;
-    sum_2 = (_e188 + ((0.062253524 * exp((-(tau_6) * _e190))) / ((_e195 * sqrt(_e196))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e170) / max(_e173, 1e-30))), 1.0);
+    float _e183 = sc_1.y;
+    float _e186 = sc_1.y;
+    float _e192 = sc_1.x;
+    float _e195 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e192) * _e195)) : (gp_1 - (((4.0 * g_8) * _e183) * _e186)));
+    float3 _e201 = sum_2;
+    float _e203 = st_1;
+    float _e208 = d_3;
+    float _e209 = d_3;
+    sum_2 = (_e201 + ((0.062253524 * exp((-(tau_6) * _e203))) / ((_e208 * sqrt(_e209))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.8656312));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.8656312));
-    float _e216 = b_4;
-    float _e217 = co_1;
-    const float2 _e221 = airlight_equiangular_16_sin_cos(max(min(_e216, _e217), 0.0));
-    sc_1 = _e221;
-    float _e222 = b_4;
-    float _e223 = co_1;
-    if ((_e222 > _e223)) {
-        float2 _e225 = sc_1;
-        sc_1 = _e225.yx;
+    float _e229 = b_4;
+    float _e230 = co_1;
+    const float2 _e234 = airlight_equiangular_16_sin_cos(max(min(_e229, _e230), 0.0));
+    sc_1 = _e234;
+    float _e235 = b_4;
+    float _e236 = co_1;
+    if ((_e235 > _e236)) {
+        float2 _e238 = sc_1;
+        sc_1 = _e238.yx;
     }
-    float _e228 = sc_1.x;
-    float _e231 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e228) / max(_e231, 1e-30))), 1.0);
-    float _e241 = sc_1.y;
+    float _e241 = sc_1.x;
     float _e244 = sc_1.y;
-    float _e250 = sc_1.x;
-    float _e253 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e250) * _e253)) : (gp_1 - (((4.0 * g_8) * _e241) * _e244)));
-    float3 _e259 = sum_2;
-    float _e261 = st_1;
-    float _e266 = d_3;
-    float _e267 = d_3;
-    sum_2 = (_e259 + ((0.09515851 * exp((-(tau_6) * _e261))) / ((_e266 * sqrt(_e267))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e241) / max(_e244, 1e-30))), 1.0);
+    float _e254 = sc_1.y;
+    float _e257 = sc_1.y;
+    float _e263 = sc_1.x;
+    float _e266 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e263) * _e266)) : (gp_1 - (((4.0 * g_8) * _e254) * _e257)));
+    float3 _e272 = sum_2;
+    float _e274 = st_1;
+    float _e279 = d_3;
+    float _e280 = d_3;
+    sum_2 = (_e272 + ((0.09515851 * exp((-(tau_6) * _e274))) / ((_e279 * sqrt(_e280))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7554045));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7554045));
-    float _e287 = b_4;
-    float _e288 = co_1;
-    const float2 _e292 = airlight_equiangular_16_sin_cos(max(min(_e287, _e288), 0.0));
-    sc_1 = _e292;
-    float _e293 = b_4;
-    float _e294 = co_1;
-    if ((_e293 > _e294)) {
-        float2 _e296 = sc_1;
-        sc_1 = _e296.yx;
+    float _e300 = b_4;
+    float _e301 = co_1;
+    const float2 _e305 = airlight_equiangular_16_sin_cos(max(min(_e300, _e301), 0.0));
+    sc_1 = _e305;
+    float _e306 = b_4;
+    float _e307 = co_1;
+    if ((_e306 > _e307)) {
+        float2 _e309 = sc_1;
+        sc_1 = _e309.yx;
     }
-    float _e299 = sc_1.x;
-    float _e302 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e299) / max(_e302, 1e-30))), 1.0);
-    float _e312 = sc_1.y;
+    float _e312 = sc_1.x;
     float _e315 = sc_1.y;
-    float _e321 = sc_1.x;
-    float _e324 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e321) * _e324)) : (gp_1 - (((4.0 * g_8) * _e312) * _e315)));
-    float3 _e330 = sum_2;
-    float _e332 = st_1;
-    float _e337 = d_3;
-    float _e338 = d_3;
-    sum_2 = (_e330 + ((0.12462897 * exp((-(tau_6) * _e332))) / ((_e337 * sqrt(_e338))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e312) / max(_e315, 1e-30))), 1.0);
+    float _e325 = sc_1.y;
+    float _e328 = sc_1.y;
+    float _e334 = sc_1.x;
+    float _e337 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e334) * _e337)) : (gp_1 - (((4.0 * g_8) * _e325) * _e328)));
+    float3 _e343 = sum_2;
+    float _e345 = st_1;
+    float _e350 = d_3;
+    float _e351 = d_3;
+    sum_2 = (_e343 + ((0.12462897 * exp((-(tau_6) * _e345))) / ((_e350 * sqrt(_e351))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.6178763));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.6178763));
-    float _e358 = b_4;
-    float _e359 = co_1;
-    const float2 _e363 = airlight_equiangular_16_sin_cos(max(min(_e358, _e359), 0.0));
-    sc_1 = _e363;
-    float _e364 = b_4;
-    float _e365 = co_1;
-    if ((_e364 > _e365)) {
-        float2 _e367 = sc_1;
-        sc_1 = _e367.yx;
+    float _e371 = b_4;
+    float _e372 = co_1;
+    const float2 _e376 = airlight_equiangular_16_sin_cos(max(min(_e371, _e372), 0.0));
+    sc_1 = _e376;
+    float _e377 = b_4;
+    float _e378 = co_1;
+    if ((_e377 > _e378)) {
+        float2 _e380 = sc_1;
+        sc_1 = _e380.yx;
     }
-    float _e370 = sc_1.x;
-    float _e373 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e370) / max(_e373, 1e-30))), 1.0);
-    float _e383 = sc_1.y;
+    float _e383 = sc_1.x;
     float _e386 = sc_1.y;
-    float _e392 = sc_1.x;
-    float _e395 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e392) * _e395)) : (gp_1 - (((4.0 * g_8) * _e383) * _e386)));
-    float3 _e401 = sum_2;
-    float _e403 = st_1;
-    float _e408 = d_3;
-    float _e409 = d_3;
-    sum_2 = (_e401 + ((0.14959599 * exp((-(tau_6) * _e403))) / ((_e408 * sqrt(_e409))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e383) / max(_e386, 1e-30))), 1.0);
+    float _e396 = sc_1.y;
+    float _e399 = sc_1.y;
+    float _e405 = sc_1.x;
+    float _e408 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e405) * _e408)) : (gp_1 - (((4.0 * g_8) * _e396) * _e399)));
+    float3 _e414 = sum_2;
+    float _e416 = st_1;
+    float _e421 = d_3;
+    float _e422 = d_3;
+    sum_2 = (_e414 + ((0.14959599 * exp((-(tau_6) * _e416))) / ((_e421 * sqrt(_e422))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.4580168));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.4580168));
-    float _e429 = b_4;
-    float _e430 = co_1;
-    const float2 _e434 = airlight_equiangular_16_sin_cos(max(min(_e429, _e430), 0.0));
-    sc_1 = _e434;
-    float _e435 = b_4;
-    float _e436 = co_1;
-    if ((_e435 > _e436)) {
-        float2 _e438 = sc_1;
-        sc_1 = _e438.yx;
+    float _e442 = b_4;
+    float _e443 = co_1;
+    const float2 _e447 = airlight_equiangular_16_sin_cos(max(min(_e442, _e443), 0.0));
+    sc_1 = _e447;
+    float _e448 = b_4;
+    float _e449 = co_1;
+    if ((_e448 > _e449)) {
+        float2 _e451 = sc_1;
+        sc_1 = _e451.yx;
     }
-    float _e441 = sc_1.x;
-    float _e444 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e441) / max(_e444, 1e-30))), 1.0);
-    float _e454 = sc_1.y;
+    float _e454 = sc_1.x;
     float _e457 = sc_1.y;
-    float _e463 = sc_1.x;
-    float _e466 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e463) * _e466)) : (gp_1 - (((4.0 * g_8) * _e454) * _e457)));
-    float3 _e472 = sum_2;
-    float _e474 = st_1;
-    float _e479 = d_3;
-    float _e480 = d_3;
-    sum_2 = (_e472 + ((0.16915652 * exp((-(tau_6) * _e474))) / ((_e479 * sqrt(_e480))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e454) / max(_e457, 1e-30))), 1.0);
+    float _e467 = sc_1.y;
+    float _e470 = sc_1.y;
+    float _e476 = sc_1.x;
+    float _e479 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e476) * _e479)) : (gp_1 - (((4.0 * g_8) * _e467) * _e470)));
+    float3 _e485 = sum_2;
+    float _e487 = st_1;
+    float _e492 = d_3;
+    float _e493 = d_3;
+    sum_2 = (_e485 + ((0.16915652 * exp((-(tau_6) * _e487))) / ((_e492 * sqrt(_e493))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.2816036));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.2816036));
-    float _e500 = b_4;
-    float _e501 = co_1;
-    const float2 _e505 = airlight_equiangular_16_sin_cos(max(min(_e500, _e501), 0.0));
-    sc_1 = _e505;
-    float _e506 = b_4;
-    float _e507 = co_1;
-    if ((_e506 > _e507)) {
-        float2 _e509 = sc_1;
-        sc_1 = _e509.yx;
+    float _e513 = b_4;
+    float _e514 = co_1;
+    const float2 _e518 = airlight_equiangular_16_sin_cos(max(min(_e513, _e514), 0.0));
+    sc_1 = _e518;
+    float _e519 = b_4;
+    float _e520 = co_1;
+    if ((_e519 > _e520)) {
+        float2 _e522 = sc_1;
+        sc_1 = _e522.yx;
     }
-    float _e512 = sc_1.x;
-    float _e515 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e512) / max(_e515, 1e-30))), 1.0);
-    float _e525 = sc_1.y;
+    float _e525 = sc_1.x;
     float _e528 = sc_1.y;
-    float _e534 = sc_1.x;
-    float _e537 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e534) * _e537)) : (gp_1 - (((4.0 * g_8) * _e525) * _e528)));
-    float3 _e543 = sum_2;
-    float _e545 = st_1;
-    float _e550 = d_3;
-    float _e551 = d_3;
-    sum_2 = (_e543 + ((0.18260342 * exp((-(tau_6) * _e545))) / ((_e550 * sqrt(_e551))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e525) / max(_e528, 1e-30))), 1.0);
+    float _e538 = sc_1.y;
+    float _e541 = sc_1.y;
+    float _e547 = sc_1.x;
+    float _e550 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e547) * _e550)) : (gp_1 - (((4.0 * g_8) * _e538) * _e541)));
+    float3 _e556 = sum_2;
+    float _e558 = st_1;
+    float _e563 = d_3;
+    float _e564 = d_3;
+    sum_2 = (_e556 + ((0.18260342 * exp((-(tau_6) * _e558))) / ((_e563 * sqrt(_e564))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.0950125));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.0950125));
-    float _e571 = b_4;
-    float _e572 = co_1;
-    const float2 _e576 = airlight_equiangular_16_sin_cos(max(min(_e571, _e572), 0.0));
-    sc_1 = _e576;
-    float _e577 = b_4;
-    float _e578 = co_1;
-    if ((_e577 > _e578)) {
-        float2 _e580 = sc_1;
-        sc_1 = _e580.yx;
+    float _e584 = b_4;
+    float _e585 = co_1;
+    const float2 _e589 = airlight_equiangular_16_sin_cos(max(min(_e584, _e585), 0.0));
+    sc_1 = _e589;
+    float _e590 = b_4;
+    float _e591 = co_1;
+    if ((_e590 > _e591)) {
+        float2 _e593 = sc_1;
+        sc_1 = _e593.yx;
     }
-    float _e583 = sc_1.x;
-    float _e586 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e583) / max(_e586, 1e-30))), 1.0);
-    float _e596 = sc_1.y;
+    float _e596 = sc_1.x;
     float _e599 = sc_1.y;
-    float _e605 = sc_1.x;
-    float _e608 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e605) * _e608)) : (gp_1 - (((4.0 * g_8) * _e596) * _e599)));
-    float3 _e614 = sum_2;
-    float _e616 = st_1;
-    float _e621 = d_3;
-    float _e622 = d_3;
-    sum_2 = (_e614 + ((0.1894506 * exp((-(tau_6) * _e616))) / ((_e621 * sqrt(_e622))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e596) / max(_e599, 1e-30))), 1.0);
+    float _e609 = sc_1.y;
+    float _e612 = sc_1.y;
+    float _e618 = sc_1.x;
+    float _e621 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e618) * _e621)) : (gp_1 - (((4.0 * g_8) * _e609) * _e612)));
+    float3 _e627 = sum_2;
+    float _e629 = st_1;
+    float _e634 = d_3;
+    float _e635 = d_3;
+    sum_2 = (_e627 + ((0.1894506 * exp((-(tau_6) * _e629))) / ((_e634 * sqrt(_e635))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.9049875));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.9049875));
-    float _e642 = b_4;
-    float _e643 = co_1;
-    const float2 _e647 = airlight_equiangular_16_sin_cos(max(min(_e642, _e643), 0.0));
-    sc_1 = _e647;
-    float _e648 = b_4;
-    float _e649 = co_1;
-    if ((_e648 > _e649)) {
-        float2 _e651 = sc_1;
-        sc_1 = _e651.yx;
+    float _e655 = b_4;
+    float _e656 = co_1;
+    const float2 _e660 = airlight_equiangular_16_sin_cos(max(min(_e655, _e656), 0.0));
+    sc_1 = _e660;
+    float _e661 = b_4;
+    float _e662 = co_1;
+    if ((_e661 > _e662)) {
+        float2 _e664 = sc_1;
+        sc_1 = _e664.yx;
     }
-    float _e654 = sc_1.x;
-    float _e657 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e654) / max(_e657, 1e-30))), 1.0);
-    float _e667 = sc_1.y;
+    float _e667 = sc_1.x;
     float _e670 = sc_1.y;
-    float _e676 = sc_1.x;
-    float _e679 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e676) * _e679)) : (gp_1 - (((4.0 * g_8) * _e667) * _e670)));
-    float3 _e685 = sum_2;
-    float _e687 = st_1;
-    float _e692 = d_3;
-    float _e693 = d_3;
-    sum_2 = (_e685 + ((0.1894506 * exp((-(tau_6) * _e687))) / ((_e692 * sqrt(_e693))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e667) / max(_e670, 1e-30))), 1.0);
+    float _e680 = sc_1.y;
+    float _e683 = sc_1.y;
+    float _e689 = sc_1.x;
+    float _e692 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e689) * _e692)) : (gp_1 - (((4.0 * g_8) * _e680) * _e683)));
+    float3 _e698 = sum_2;
+    float _e700 = st_1;
+    float _e705 = d_3;
+    float _e706 = d_3;
+    sum_2 = (_e698 + ((0.1894506 * exp((-(tau_6) * _e700))) / ((_e705 * sqrt(_e706))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.7183964));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.7183964));
-    float _e713 = b_4;
-    float _e714 = co_1;
-    const float2 _e718 = airlight_equiangular_16_sin_cos(max(min(_e713, _e714), 0.0));
-    sc_1 = _e718;
-    float _e719 = b_4;
-    float _e720 = co_1;
-    if ((_e719 > _e720)) {
-        float2 _e722 = sc_1;
-        sc_1 = _e722.yx;
+    float _e726 = b_4;
+    float _e727 = co_1;
+    const float2 _e731 = airlight_equiangular_16_sin_cos(max(min(_e726, _e727), 0.0));
+    sc_1 = _e731;
+    float _e732 = b_4;
+    float _e733 = co_1;
+    if ((_e732 > _e733)) {
+        float2 _e735 = sc_1;
+        sc_1 = _e735.yx;
     }
-    float _e725 = sc_1.x;
-    float _e728 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e725) / max(_e728, 1e-30))), 1.0);
-    float _e738 = sc_1.y;
+    float _e738 = sc_1.x;
     float _e741 = sc_1.y;
-    float _e747 = sc_1.x;
-    float _e750 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e747) * _e750)) : (gp_1 - (((4.0 * g_8) * _e738) * _e741)));
-    float3 _e756 = sum_2;
-    float _e758 = st_1;
-    float _e763 = d_3;
-    float _e764 = d_3;
-    sum_2 = (_e756 + ((0.18260342 * exp((-(tau_6) * _e758))) / ((_e763 * sqrt(_e764))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e738) / max(_e741, 1e-30))), 1.0);
+    float _e751 = sc_1.y;
+    float _e754 = sc_1.y;
+    float _e760 = sc_1.x;
+    float _e763 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e760) * _e763)) : (gp_1 - (((4.0 * g_8) * _e751) * _e754)));
+    float3 _e769 = sum_2;
+    float _e771 = st_1;
+    float _e776 = d_3;
+    float _e777 = d_3;
+    sum_2 = (_e769 + ((0.18260342 * exp((-(tau_6) * _e771))) / ((_e776 * sqrt(_e777))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.5419832));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.5419832));
-    float _e784 = b_4;
-    float _e785 = co_1;
-    const float2 _e789 = airlight_equiangular_16_sin_cos(max(min(_e784, _e785), 0.0));
-    sc_1 = _e789;
-    float _e790 = b_4;
-    float _e791 = co_1;
-    if ((_e790 > _e791)) {
-        float2 _e793 = sc_1;
-        sc_1 = _e793.yx;
+    float _e797 = b_4;
+    float _e798 = co_1;
+    const float2 _e802 = airlight_equiangular_16_sin_cos(max(min(_e797, _e798), 0.0));
+    sc_1 = _e802;
+    float _e803 = b_4;
+    float _e804 = co_1;
+    if ((_e803 > _e804)) {
+        float2 _e806 = sc_1;
+        sc_1 = _e806.yx;
     }
-    float _e796 = sc_1.x;
-    float _e799 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e796) / max(_e799, 1e-30))), 1.0);
-    float _e809 = sc_1.y;
+    float _e809 = sc_1.x;
     float _e812 = sc_1.y;
-    float _e818 = sc_1.x;
-    float _e821 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e818) * _e821)) : (gp_1 - (((4.0 * g_8) * _e809) * _e812)));
-    float3 _e827 = sum_2;
-    float _e829 = st_1;
-    float _e834 = d_3;
-    float _e835 = d_3;
-    sum_2 = (_e827 + ((0.16915652 * exp((-(tau_6) * _e829))) / ((_e834 * sqrt(_e835))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e809) / max(_e812, 1e-30))), 1.0);
+    float _e822 = sc_1.y;
+    float _e825 = sc_1.y;
+    float _e831 = sc_1.x;
+    float _e834 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e831) * _e834)) : (gp_1 - (((4.0 * g_8) * _e822) * _e825)));
+    float3 _e840 = sum_2;
+    float _e842 = st_1;
+    float _e847 = d_3;
+    float _e848 = d_3;
+    sum_2 = (_e840 + ((0.16915652 * exp((-(tau_6) * _e842))) / ((_e847 * sqrt(_e848))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.38212377));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.38212377));
-    float _e855 = b_4;
-    float _e856 = co_1;
-    const float2 _e860 = airlight_equiangular_16_sin_cos(max(min(_e855, _e856), 0.0));
-    sc_1 = _e860;
-    float _e861 = b_4;
-    float _e862 = co_1;
-    if ((_e861 > _e862)) {
-        float2 _e864 = sc_1;
-        sc_1 = _e864.yx;
+    float _e868 = b_4;
+    float _e869 = co_1;
+    const float2 _e873 = airlight_equiangular_16_sin_cos(max(min(_e868, _e869), 0.0));
+    sc_1 = _e873;
+    float _e874 = b_4;
+    float _e875 = co_1;
+    if ((_e874 > _e875)) {
+        float2 _e877 = sc_1;
+        sc_1 = _e877.yx;
     }
-    float _e867 = sc_1.x;
-    float _e870 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e867) / max(_e870, 1e-30))), 1.0);
-    float _e880 = sc_1.y;
+    float _e880 = sc_1.x;
     float _e883 = sc_1.y;
-    float _e889 = sc_1.x;
-    float _e892 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e889) * _e892)) : (gp_1 - (((4.0 * g_8) * _e880) * _e883)));
-    float3 _e898 = sum_2;
-    float _e900 = st_1;
-    float _e905 = d_3;
-    float _e906 = d_3;
-    sum_2 = (_e898 + ((0.14959599 * exp((-(tau_6) * _e900))) / ((_e905 * sqrt(_e906))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e880) / max(_e883, 1e-30))), 1.0);
+    float _e893 = sc_1.y;
+    float _e896 = sc_1.y;
+    float _e902 = sc_1.x;
+    float _e905 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e902) * _e905)) : (gp_1 - (((4.0 * g_8) * _e893) * _e896)));
+    float3 _e911 = sum_2;
+    float _e913 = st_1;
+    float _e918 = d_3;
+    float _e919 = d_3;
+    sum_2 = (_e911 + ((0.14959599 * exp((-(tau_6) * _e913))) / ((_e918 * sqrt(_e919))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.24459559));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.24459559));
-    float _e926 = b_4;
-    float _e927 = co_1;
-    const float2 _e931 = airlight_equiangular_16_sin_cos(max(min(_e926, _e927), 0.0));
-    sc_1 = _e931;
-    float _e932 = b_4;
-    float _e933 = co_1;
-    if ((_e932 > _e933)) {
-        float2 _e935 = sc_1;
-        sc_1 = _e935.yx;
+    float _e939 = b_4;
+    float _e940 = co_1;
+    const float2 _e944 = airlight_equiangular_16_sin_cos(max(min(_e939, _e940), 0.0));
+    sc_1 = _e944;
+    float _e945 = b_4;
+    float _e946 = co_1;
+    if ((_e945 > _e946)) {
+        float2 _e948 = sc_1;
+        sc_1 = _e948.yx;
     }
-    float _e938 = sc_1.x;
-    float _e941 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e938) / max(_e941, 1e-30))), 1.0);
-    float _e951 = sc_1.y;
+    float _e951 = sc_1.x;
     float _e954 = sc_1.y;
-    float _e960 = sc_1.x;
-    float _e963 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e960) * _e963)) : (gp_1 - (((4.0 * g_8) * _e951) * _e954)));
-    float3 _e969 = sum_2;
-    float _e971 = st_1;
-    float _e976 = d_3;
-    float _e977 = d_3;
-    sum_2 = (_e969 + ((0.12462897 * exp((-(tau_6) * _e971))) / ((_e976 * sqrt(_e977))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e951) / max(_e954, 1e-30))), 1.0);
+    float _e964 = sc_1.y;
+    float _e967 = sc_1.y;
+    float _e973 = sc_1.x;
+    float _e976 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e973) * _e976)) : (gp_1 - (((4.0 * g_8) * _e964) * _e967)));
+    float3 _e982 = sum_2;
+    float _e984 = st_1;
+    float _e989 = d_3;
+    float _e990 = d_3;
+    sum_2 = (_e982 + ((0.12462897 * exp((-(tau_6) * _e984))) / ((_e989 * sqrt(_e990))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.13436878));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.13436878));
-    float _e997 = b_4;
-    float _e998 = co_1;
-    const float2 _e1002 = airlight_equiangular_16_sin_cos(max(min(_e997, _e998), 0.0));
-    sc_1 = _e1002;
-    float _e1003 = b_4;
-    float _e1004 = co_1;
-    if ((_e1003 > _e1004)) {
-        float2 _e1006 = sc_1;
-        sc_1 = _e1006.yx;
+    float _e1010 = b_4;
+    float _e1011 = co_1;
+    const float2 _e1015 = airlight_equiangular_16_sin_cos(max(min(_e1010, _e1011), 0.0));
+    sc_1 = _e1015;
+    float _e1016 = b_4;
+    float _e1017 = co_1;
+    if ((_e1016 > _e1017)) {
+        float2 _e1019 = sc_1;
+        sc_1 = _e1019.yx;
     }
-    float _e1009 = sc_1.x;
-    float _e1012 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1009) / max(_e1012, 1e-30))), 1.0);
-    float _e1022 = sc_1.y;
+    float _e1022 = sc_1.x;
     float _e1025 = sc_1.y;
-    float _e1031 = sc_1.x;
-    float _e1034 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1031) * _e1034)) : (gp_1 - (((4.0 * g_8) * _e1022) * _e1025)));
-    float3 _e1040 = sum_2;
-    float _e1042 = st_1;
-    float _e1047 = d_3;
-    float _e1048 = d_3;
-    sum_2 = (_e1040 + ((0.09515851 * exp((-(tau_6) * _e1042))) / ((_e1047 * sqrt(_e1048))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e1022) / max(_e1025, 1e-30))), 1.0);
+    float _e1035 = sc_1.y;
+    float _e1038 = sc_1.y;
+    float _e1044 = sc_1.x;
+    float _e1047 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_8) * _e1035) * _e1038)));
+    float3 _e1053 = sum_2;
+    float _e1055 = st_1;
+    float _e1060 = d_3;
+    float _e1061 = d_3;
+    sum_2 = (_e1053 + ((0.09515851 * exp((-(tau_6) * _e1055))) / ((_e1060 * sqrt(_e1061))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.05542499));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.05542499));
-    float _e1068 = b_4;
-    float _e1069 = co_1;
-    const float2 _e1073 = airlight_equiangular_16_sin_cos(max(min(_e1068, _e1069), 0.0));
-    sc_1 = _e1073;
-    float _e1074 = b_4;
-    float _e1075 = co_1;
-    if ((_e1074 > _e1075)) {
-        float2 _e1077 = sc_1;
-        sc_1 = _e1077.yx;
+    float _e1081 = b_4;
+    float _e1082 = co_1;
+    const float2 _e1086 = airlight_equiangular_16_sin_cos(max(min(_e1081, _e1082), 0.0));
+    sc_1 = _e1086;
+    float _e1087 = b_4;
+    float _e1088 = co_1;
+    if ((_e1087 > _e1088)) {
+        float2 _e1090 = sc_1;
+        sc_1 = _e1090.yx;
     }
-    float _e1080 = sc_1.x;
-    float _e1083 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1080) / max(_e1083, 1e-30))), 1.0);
-    float _e1093 = sc_1.y;
+    float _e1093 = sc_1.x;
     float _e1096 = sc_1.y;
-    float _e1102 = sc_1.x;
-    float _e1105 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1102) * _e1105)) : (gp_1 - (((4.0 * g_8) * _e1093) * _e1096)));
-    float3 _e1111 = sum_2;
-    float _e1113 = st_1;
-    float _e1118 = d_3;
-    float _e1119 = d_3;
-    sum_2 = (_e1111 + ((0.062253524 * exp((-(tau_6) * _e1113))) / ((_e1118 * sqrt(_e1119))).xxx));
+    st_1 = max((x0_2 + ((h_2 * _e1093) / max(_e1096, 1e-30))), 1.0);
+    float _e1106 = sc_1.y;
+    float _e1109 = sc_1.y;
+    float _e1115 = sc_1.x;
+    float _e1118 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_8) * _e1106) * _e1109)));
+    float3 _e1124 = sum_2;
+    float _e1126 = st_1;
+    float _e1131 = d_3;
+    float _e1132 = d_3;
+    sum_2 = (_e1124 + ((0.062253524 * exp((-(tau_6) * _e1126))) / ((_e1131 * sqrt(_e1132))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.010599077));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.010599077));
-    float _e1139 = b_4;
-    float _e1140 = co_1;
-    const float2 _e1144 = airlight_equiangular_16_sin_cos(max(min(_e1139, _e1140), 0.0));
-    sc_1 = _e1144;
-    float _e1145 = b_4;
-    float _e1146 = co_1;
-    if ((_e1145 > _e1146)) {
-        float2 _e1148 = sc_1;
-        sc_1 = _e1148.yx;
+    float _e1152 = b_4;
+    float _e1153 = co_1;
+    const float2 _e1157 = airlight_equiangular_16_sin_cos(max(min(_e1152, _e1153), 0.0));
+    sc_1 = _e1157;
+    float _e1158 = b_4;
+    float _e1159 = co_1;
+    if ((_e1158 > _e1159)) {
+        float2 _e1161 = sc_1;
+        sc_1 = _e1161.yx;
     }
-    float _e1151 = sc_1.x;
-    float _e1154 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1151) / max(_e1154, 1e-30))), 1.0);
-    float _e1164 = sc_1.y;
+    float _e1164 = sc_1.x;
     float _e1167 = sc_1.y;
-    float _e1173 = sc_1.x;
-    float _e1176 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1173) * _e1176)) : (gp_1 - (((4.0 * g_8) * _e1164) * _e1167)));
-    float3 _e1182 = sum_2;
-    float _e1184 = st_1;
-    float _e1189 = d_3;
-    float _e1190 = d_3;
-    sum_2 = (_e1182 + ((0.02715246 * exp((-(tau_6) * _e1184))) / ((_e1189 * sqrt(_e1190))).xxx));
-    float3 _e1203 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1203) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
+    st_1 = max((x0_2 + ((h_2 * _e1164) / max(_e1167, 1e-30))), 1.0);
+    float _e1177 = sc_1.y;
+    float _e1180 = sc_1.y;
+    float _e1186 = sc_1.x;
+    float _e1189 = sc_1.x;
+    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_8) * _e1177) * _e1180)));
+    float3 _e1195 = sum_2;
+    float _e1197 = st_1;
+    float _e1202 = d_3;
+    float _e1203 = d_3;
+    sum_2 = (_e1195 + ((0.02715246 * exp((-(tau_6) * _e1197))) / ((_e1202 * sqrt(_e1203))).xxx));
+    float3 _e1216 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1216) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_16_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -1258,7 +1286,7 @@ float airlight_equiangular_16_airlight(float tau_1, float gamma_2, float rho_3, 
 
 float airlight_equiangular_16_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
 {
-    bool local_8 = (bool)0;
+    bool local_12 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_16_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
@@ -1266,11 +1294,11 @@ float airlight_equiangular_16_radiance(float3 origin_1, float3 dir_1, float surf
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
-        local_8 = (_e8.z == 0.0);
+        local_12 = (_e8.z == 0.0);
     } else {
-        local_8 = false;
+        local_12 = false;
     }
-    bool _e24 = local_8;
+    bool _e24 = local_12;
     if (_e24) {
         return 0.0;
     }
@@ -1303,7 +1331,7 @@ float3 airlight_equiangular_16_spot_core(float3 tau_3, float h_4, float x0_4, fl
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
-    bool local_9 = (bool)0;
+    bool local_13 = (bool)0;
 
     h1_ = h_4;
     x1_ = x0_4;
@@ -1322,11 +1350,11 @@ float3 airlight_equiangular_16_spot_core(float3 tau_3, float h_4, float x0_4, fl
         rho1_ = (_e32.x / max(_e34.x, 1e-30));
     } else {
         if (cut_a) {
-            local_9 = (rho_5 >= 0.0);
+            local_13 = (rho_5 >= 0.0);
         } else {
-            local_9 = false;
+            local_13 = false;
         }
-        bool _e44 = local_9;
+        bool _e44 = local_13;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -1359,7 +1387,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
 
 float3 airlight_equiangular_16_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
 {
-    bool local_10 = (bool)0;
+    bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_3 = (0.0).xxx;
@@ -1373,11 +1401,11 @@ float3 airlight_equiangular_16_spot_edge(float3 tau_4, float h_5, float x0_5, fl
         return (0.0).xxx;
     }
     if (!((g_5 < 0.0))) {
-        local_10 = (v_in > 3.0);
+        local_14 = (v_in > 3.0);
     } else {
-        local_10 = true;
+        local_14 = true;
     }
-    bool _e25 = local_10;
+    bool _e25 = local_14;
     float e_1 = (_e25 ? v_in : u_1);
     const float2 _e27 = airlight_equiangular_16_sin_cos(e_1);
     const float _e33 = airlight_equiangular_16_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_3, ci_1);
@@ -1616,14 +1644,14 @@ float3 airlight_equiangular_16_spot_edge(float3 tau_4, float h_5, float x0_5, fl
 
 float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
 {
-    bool local_11 = (bool)0;
-    bool local_12 = (bool)0;
+    bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_13 = (bool)0;
+    bool local_17 = (bool)0;
     float scale = 1.0;
-    bool local_14 = (bool)0;
-    bool local_15 = (bool)0;
+    bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1633,8 +1661,9 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
     float4 pen = (0.0).xxxx;
     float ca_1 = 0.0;
     float om_e_1 = airlight_equiangular_16_PI;
-    bool local_16 = (bool)0;
-    bool local_17 = (bool)0;
+    bool local_20 = (bool)0;
+    bool local_21 = (bool)0;
+    bool local_22 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1645,16 +1674,16 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
     const float _e18 = airlight_equiangular_16_max_abs(axis);
     if (!(point_)) {
         if ((_e18 > 0.0)) {
-            local_12 = (_e18 <= airlight_equiangular_16_HUGE);
+            local_16 = (_e18 <= airlight_equiangular_16_HUGE);
         } else {
-            local_12 = false;
+            local_16 = false;
         }
-        bool _e29 = local_12;
-        local_11 = !(_e29);
+        bool _e29 = local_16;
+        local_15 = !(_e29);
     } else {
-        local_11 = false;
+        local_15 = false;
     }
-    bool _e32 = local_11;
+    bool _e32 = local_15;
     if (_e32) {
         return (0.0).xxx;
     }
@@ -1664,11 +1693,11 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
         ax = normalize((axis / (_e18).xxx));
     }
     if ((_e17 > 0.0)) {
-        local_13 = (_e17 <= airlight_equiangular_16_HUGE);
+        local_17 = (_e17 <= airlight_equiangular_16_HUGE);
     } else {
-        local_13 = false;
+        local_17 = false;
     }
-    bool _e53 = local_13;
+    bool _e53 = local_17;
     if (_e53) {
         n = normalize((dir_2 / (_e17).xxx));
     }
@@ -1687,11 +1716,11 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
-        local_14 = (_e11.z == 0.0);
+        local_18 = (_e11.z == 0.0);
     } else {
-        local_14 = false;
+        local_18 = false;
     }
-    bool _e96 = local_14;
+    bool _e96 = local_18;
     if (_e96) {
         return (0.0).xxx;
     }
@@ -1699,56 +1728,62 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
     float h_7 = _e11.y;
     float x0_7 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_15 = ((surface_1 / d_5) < airlight_equiangular_16_RHO_OPEN);
+        local_19 = ((surface_1 / d_5) < airlight_equiangular_16_RHO_OPEN);
     } else {
-        local_15 = false;
+        local_19 = false;
     }
-    bool has_end_1 = local_15;
+    bool has_end_1 = local_19;
     float rho_8 = (has_end_1 ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
+    const float _e143 = airlight_equiangular_16_arctan2_(h_7, x0_7);
     if (!(point_)) {
-        local_16 = (h_7 <= 0.0);
+        local_20 = (h_7 <= 0.0);
     } else {
-        local_16 = true;
+        local_20 = true;
     }
-    bool _e149 = local_16;
-    if (_e149) {
+    bool _e150 = local_20;
+    if (!(_e150)) {
+        local_21 = (_e143 >= airlight_equiangular_16_PI);
+    } else {
+        local_21 = true;
+    }
+    bool _e157 = local_21;
+    if (_e157) {
         if (!(point_)) {
-            const float _e152 = airlight_equiangular_16_spot_weight(-(k_2), co_4, cos_inner);
-            const float _e153 = airlight_equiangular_16_spot_weight(k_2, co_4, cos_inner);
+            const float _e160 = airlight_equiangular_16_spot_weight(-(k_2), co_4, cos_inner);
+            const float _e161 = airlight_equiangular_16_spot_weight(k_2, co_4, cos_inner);
             if (has_end_1) {
-                local_17 = (rho_8 < 1.0);
+                local_22 = (rho_8 < 1.0);
             } else {
-                local_17 = false;
+                local_22 = false;
             }
-            bool _e160 = local_17;
-            scale = ((x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
+            bool _e168 = local_22;
+            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e167 = airlight_equiangular_16_max_abs(l);
-        float3 _e170 = n;
-        float3 cr = cross((l / (_e167).xxx), _e170);
-        float3 _e172 = n;
-        float3 _e173 = ax;
-        ca_1 = (dot(cr, cross(_e172, _e173)) / max(length(cr), 1e-30));
-        float _e180 = ca_1;
-        float _e181 = ca_1;
-        float r_4 = sqrt(((_e180 * _e181) + (k_2 * k_2)));
-        float _e186 = ca_1;
-        const float _e187 = airlight_equiangular_16_arctan2_(k_2, _e186);
-        const float _e188 = airlight_equiangular_16_arctan2_(h_7, x0_7);
-        gam_2 = _e188;
-        const float _e191 = airlight_equiangular_16_arctan2_(h_7, (x0_7 - rho_8));
-        om_e_1 = (has_end_1 ? _e191 : airlight_equiangular_16_PI);
+        const float _e175 = airlight_equiangular_16_max_abs(l);
+        float3 _e178 = n;
+        float3 cr = cross((l / (_e175).xxx), _e178);
+        float3 _e180 = n;
+        float3 _e181 = ax;
+        ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
+        float _e188 = ca_1;
+        float _e189 = ca_1;
+        float r_4 = sqrt(((_e188 * _e189) + (k_2 * k_2)));
+        float _e194 = ca_1;
+        const float _e195 = airlight_equiangular_16_arctan2_(k_2, _e194);
+        gam_2 = _e143;
+        const float _e198 = airlight_equiangular_16_arctan2_(h_7, (x0_7 - rho_8));
+        om_e_1 = (has_end_1 ? _e198 : airlight_equiangular_16_PI);
         if ((co_4 < r_4)) {
-            const float _e194 = airlight_equiangular_16_spot_asin(co_4, r_4);
-            float _e195 = gam_2;
-            float lo_1 = max(_e195, (_e187 + _e194));
-            float _e198 = om_e_1;
-            float hi_1 = min(_e198, ((_e187 + airlight_equiangular_16_PI) - _e194));
+            const float _e201 = airlight_equiangular_16_spot_asin(co_4, r_4);
+            float _e202 = gam_2;
+            float lo_1 = max(_e202, (_e195 + _e201));
+            float _e205 = om_e_1;
+            float hi_1 = min(_e205, ((_e195 + airlight_equiangular_16_PI) - _e201));
             wa_1 = lo_1;
             wb_1 = hi_1;
             if ((lo_1 < hi_1)) {
@@ -1756,37 +1791,37 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
                     core = true;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e207 = airlight_equiangular_16_spot_asin(cos_inner, r_4);
-                        float _e208 = gam_2;
-                        wa_1 = max(_e208, (_e187 + _e207));
-                        float _e211 = om_e_1;
-                        wb_1 = min(_e211, ((_e187 + airlight_equiangular_16_PI) - _e207));
-                        float _e216 = wa_1;
-                        float _e217 = wb_1;
-                        core = (_e216 < _e217);
-                        pen = float4(lo_1, min(hi_1, (_e187 + _e207)), max(lo_1, ((_e187 + airlight_equiangular_16_PI) - _e207)), hi_1);
+                        const float _e214 = airlight_equiangular_16_spot_asin(cos_inner, r_4);
+                        float _e215 = gam_2;
+                        wa_1 = max(_e215, (_e195 + _e214));
+                        float _e218 = om_e_1;
+                        wb_1 = min(_e218, ((_e195 + airlight_equiangular_16_PI) - _e214));
+                        float _e223 = wa_1;
+                        float _e224 = wb_1;
+                        core = (_e223 < _e224);
+                        pen = float4(lo_1, min(hi_1, (_e195 + _e214)), max(lo_1, ((_e195 + airlight_equiangular_16_PI) - _e214)), hi_1);
                     } else {
                         pen = float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e229 = wa_1;
-            float _e230 = gam_2;
-            cut_a_1 = (_e229 > _e230);
-            float _e232 = wb_1;
-            float _e233 = om_e_1;
-            cut_b_1 = (_e232 < _e233);
+            float _e236 = wa_1;
+            float _e237 = gam_2;
+            cut_a_1 = (_e236 > _e237);
+            float _e239 = wb_1;
+            float _e240 = om_e_1;
+            cut_b_1 = (_e239 < _e240);
         }
     }
-    bool _e238 = core;
-    if (_e238) {
-        float _e239 = gam_2;
-        float _e240 = wa_1;
-        float _e241 = wb_1;
-        bool _e242 = cut_a_1;
-        bool _e243 = cut_b_1;
-        const float3 _e244 = airlight_equiangular_16_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
-        a_5 = _e244;
+    bool _e245 = core;
+    if (_e245) {
+        float _e246 = gam_2;
+        float _e247 = wa_1;
+        float _e248 = wb_1;
+        bool _e249 = cut_a_1;
+        bool _e250 = cut_b_1;
+        const float3 _e251 = airlight_equiangular_16_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1794,39 +1829,39 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e270 = j_1;
-            j_1 = asint(asuint(_e270) + asuint(int(1)));
+            int _e277 = j_1;
+            j_1 = asint(asuint(_e277) + asuint(int(1)));
         }
         loop_init_1 = false;
-        int _e247 = j_1;
-        if ((_e247 < int(2))) {
+        int _e254 = j_1;
+        if ((_e254 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e250 = pen;
-            float4 _e252 = pen;
-            int _e254 = j_1;
-            float2 piece = ((_e254 == int(1)) ? _e252.zw : _e250.xy);
+            float4 _e257 = pen;
+            float4 _e259 = pen;
+            int _e261 = j_1;
+            float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e261 = a_5;
-                float _e262 = gam_2;
-                float _e263 = om_e_1;
-                float _e266 = ca_1;
-                const float3 _e267 = airlight_equiangular_16_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_2, co_4, cos_inner, gg);
-                a_5 = (_e261 + _e267);
+                float3 _e268 = a_5;
+                float _e269 = gam_2;
+                float _e270 = om_e_1;
+                float _e273 = ca_1;
+                const float3 _e274 = airlight_equiangular_16_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
+                a_5 = (_e268 + _e274);
             }
         }
     }
-    float _e273 = scale;
-    float _e276 = a_5.x;
-    const float _e277 = airlight_equiangular_16_scaled(sigma_s_2.x, (intensity_2 * _e273), d_5, _e276);
-    float _e279 = scale;
-    float _e282 = a_5.y;
-    const float _e283 = airlight_equiangular_16_scaled(sigma_s_2.y, (intensity_2 * _e279), d_5, _e282);
-    float _e285 = scale;
-    float _e288 = a_5.z;
-    const float _e289 = airlight_equiangular_16_scaled(sigma_s_2.z, (intensity_2 * _e285), d_5, _e288);
-    return float3(_e277, _e283, _e289);
+    float _e280 = scale;
+    float _e283 = a_5.x;
+    const float _e284 = airlight_equiangular_16_scaled(sigma_s_2.x, (intensity_2 * _e280), d_5, _e283);
+    float _e286 = scale;
+    float _e289 = a_5.y;
+    const float _e290 = airlight_equiangular_16_scaled(sigma_s_2.y, (intensity_2 * _e286), d_5, _e289);
+    float _e292 = scale;
+    float _e295 = a_5.z;
+    const float _e296 = airlight_equiangular_16_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
+    return float3(_e284, _e290, _e296);
 }
 

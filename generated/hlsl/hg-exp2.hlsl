@@ -1013,6 +1013,7 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     float om_e_1 = airlight_hg_exp2_PI;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
+    bool local_22 = (bool)0;
     float3 a_8 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -1085,48 +1086,54 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     float rho_8 = (has_end ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_9, -0.999, 0.999);
+    const float _e143 = airlight_hg_exp2_arctan2_(h_7, x0_7);
     if (!(point_)) {
         local_20 = (h_7 <= 0.0);
     } else {
         local_20 = true;
     }
-    bool _e149 = local_20;
-    if (_e149) {
+    bool _e150 = local_20;
+    if (!(_e150)) {
+        local_21 = (_e143 >= airlight_hg_exp2_PI);
+    } else {
+        local_21 = true;
+    }
+    bool _e157 = local_21;
+    if (_e157) {
         if (!(point_)) {
-            const float _e152 = airlight_hg_exp2_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e153 = airlight_hg_exp2_spot_weight(k_2, co_2, cos_inner);
+            const float _e160 = airlight_hg_exp2_spot_weight(-(k_2), co_2, cos_inner);
+            const float _e161 = airlight_hg_exp2_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_21 = (rho_8 < 1.0);
+                local_22 = (rho_8 < 1.0);
             } else {
-                local_21 = false;
+                local_22 = false;
             }
-            bool _e160 = local_21;
-            scale = ((x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : max(_e152, _e153)));
+            bool _e168 = local_22;
+            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
         float3 l_1 = (light_2 - origin_2);
-        const float _e167 = airlight_hg_exp2_max_abs(l_1);
-        float3 _e170 = n;
-        float3 cr = cross((l_1 / (_e167).xxx), _e170);
-        float3 _e172 = n;
-        float3 _e173 = ax;
-        ca_1 = (dot(cr, cross(_e172, _e173)) / max(length(cr), 1e-30));
-        float _e180 = ca_1;
-        float _e181 = ca_1;
-        float r_6 = sqrt(((_e180 * _e181) + (k_2 * k_2)));
-        float _e186 = ca_1;
-        const float _e187 = airlight_hg_exp2_arctan2_(k_2, _e186);
-        const float _e188 = airlight_hg_exp2_arctan2_(h_7, x0_7);
-        gam_2 = _e188;
-        const float _e191 = airlight_hg_exp2_arctan2_(h_7, (x0_7 - rho_8));
-        om_e_1 = (has_end ? _e191 : airlight_hg_exp2_PI);
+        const float _e175 = airlight_hg_exp2_max_abs(l_1);
+        float3 _e178 = n;
+        float3 cr = cross((l_1 / (_e175).xxx), _e178);
+        float3 _e180 = n;
+        float3 _e181 = ax;
+        ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
+        float _e188 = ca_1;
+        float _e189 = ca_1;
+        float r_6 = sqrt(((_e188 * _e189) + (k_2 * k_2)));
+        float _e194 = ca_1;
+        const float _e195 = airlight_hg_exp2_arctan2_(k_2, _e194);
+        gam_2 = _e143;
+        const float _e198 = airlight_hg_exp2_arctan2_(h_7, (x0_7 - rho_8));
+        om_e_1 = (has_end ? _e198 : airlight_hg_exp2_PI);
         if ((co_2 < r_6)) {
-            const float _e194 = airlight_hg_exp2_spot_asin(co_2, r_6);
-            float _e195 = gam_2;
-            float lo_1 = max(_e195, (_e187 + _e194));
-            float _e198 = om_e_1;
-            float hi_2 = min(_e198, ((_e187 + airlight_hg_exp2_PI) - _e194));
+            const float _e201 = airlight_hg_exp2_spot_asin(co_2, r_6);
+            float _e202 = gam_2;
+            float lo_1 = max(_e202, (_e195 + _e201));
+            float _e205 = om_e_1;
+            float hi_2 = min(_e205, ((_e195 + airlight_hg_exp2_PI) - _e201));
             wa_1 = lo_1;
             wb_1 = hi_2;
             if ((lo_1 < hi_2)) {
@@ -1134,37 +1141,37 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
                     core = true;
                 } else {
                     if ((cos_inner < r_6)) {
-                        const float _e207 = airlight_hg_exp2_spot_asin(cos_inner, r_6);
-                        float _e208 = gam_2;
-                        wa_1 = max(_e208, (_e187 + _e207));
-                        float _e211 = om_e_1;
-                        wb_1 = min(_e211, ((_e187 + airlight_hg_exp2_PI) - _e207));
-                        float _e216 = wa_1;
-                        float _e217 = wb_1;
-                        core = (_e216 < _e217);
-                        pen = float4(lo_1, min(hi_2, (_e187 + _e207)), max(lo_1, ((_e187 + airlight_hg_exp2_PI) - _e207)), hi_2);
+                        const float _e214 = airlight_hg_exp2_spot_asin(cos_inner, r_6);
+                        float _e215 = gam_2;
+                        wa_1 = max(_e215, (_e195 + _e214));
+                        float _e218 = om_e_1;
+                        wb_1 = min(_e218, ((_e195 + airlight_hg_exp2_PI) - _e214));
+                        float _e223 = wa_1;
+                        float _e224 = wb_1;
+                        core = (_e223 < _e224);
+                        pen = float4(lo_1, min(hi_2, (_e195 + _e214)), max(lo_1, ((_e195 + airlight_hg_exp2_PI) - _e214)), hi_2);
                     } else {
                         pen = float4(lo_1, hi_2, 0.0, 0.0);
                     }
                 }
             }
-            float _e229 = wa_1;
-            float _e230 = gam_2;
-            cut_a_1 = (_e229 > _e230);
-            float _e232 = wb_1;
-            float _e233 = om_e_1;
-            cut_b_1 = (_e232 < _e233);
+            float _e236 = wa_1;
+            float _e237 = gam_2;
+            cut_a_1 = (_e236 > _e237);
+            float _e239 = wb_1;
+            float _e240 = om_e_1;
+            cut_b_1 = (_e239 < _e240);
         }
     }
-    bool _e238 = core;
-    if (_e238) {
-        float _e239 = gam_2;
-        float _e240 = wa_1;
-        float _e241 = wb_1;
-        bool _e242 = cut_a_1;
-        bool _e243 = cut_b_1;
-        const float3 _e244 = airlight_hg_exp2_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
-        a_8 = _e244;
+    bool _e245 = core;
+    if (_e245) {
+        float _e246 = gam_2;
+        float _e247 = wa_1;
+        float _e248 = wb_1;
+        bool _e249 = cut_a_1;
+        bool _e250 = cut_b_1;
+        const float3 _e251 = airlight_hg_exp2_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        a_8 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1172,39 +1179,39 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e270 = j_1;
-            j_1 = asint(asuint(_e270) + asuint(int(1)));
+            int _e277 = j_1;
+            j_1 = asint(asuint(_e277) + asuint(int(1)));
         }
         loop_init_1 = false;
-        int _e247 = j_1;
-        if ((_e247 < int(2))) {
+        int _e254 = j_1;
+        if ((_e254 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e250 = pen;
-            float4 _e252 = pen;
-            int _e254 = j_1;
-            float2 piece = ((_e254 == int(1)) ? _e252.zw : _e250.xy);
+            float4 _e257 = pen;
+            float4 _e259 = pen;
+            int _e261 = j_1;
+            float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e261 = a_8;
-                float _e262 = gam_2;
-                float _e263 = om_e_1;
-                float _e266 = ca_1;
-                const float3 _e267 = airlight_hg_exp2_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_2, co_2, cos_inner, gg);
-                a_8 = (_e261 + _e267);
+                float3 _e268 = a_8;
+                float _e269 = gam_2;
+                float _e270 = om_e_1;
+                float _e273 = ca_1;
+                const float3 _e274 = airlight_hg_exp2_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_2, cos_inner, gg);
+                a_8 = (_e268 + _e274);
             }
         }
     }
-    float _e273 = scale;
-    float _e276 = a_8.x;
-    const float _e277 = airlight_hg_exp2_scaled(sigma_s_2.x, (intensity_2 * _e273), d_5, _e276);
-    float _e279 = scale;
-    float _e282 = a_8.y;
-    const float _e283 = airlight_hg_exp2_scaled(sigma_s_2.y, (intensity_2 * _e279), d_5, _e282);
-    float _e285 = scale;
-    float _e288 = a_8.z;
-    const float _e289 = airlight_hg_exp2_scaled(sigma_s_2.z, (intensity_2 * _e285), d_5, _e288);
-    return float3(_e277, _e283, _e289);
+    float _e280 = scale;
+    float _e283 = a_8.x;
+    const float _e284 = airlight_hg_exp2_scaled(sigma_s_2.x, (intensity_2 * _e280), d_5, _e283);
+    float _e286 = scale;
+    float _e289 = a_8.y;
+    const float _e290 = airlight_hg_exp2_scaled(sigma_s_2.y, (intensity_2 * _e286), d_5, _e289);
+    float _e292 = scale;
+    float _e295 = a_8.z;
+    const float _e296 = airlight_hg_exp2_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
+    return float3(_e284, _e290, _e296);
 }
 

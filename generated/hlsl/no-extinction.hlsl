@@ -693,6 +693,7 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
     float om_e_1 = airlight_no_extinction_PI;
     bool local_15 = (bool)0;
     bool local_16 = (bool)0;
+    bool local_17 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -764,48 +765,54 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
     bool has_end = local_14;
     float rho_7 = (has_end ? (surface_1 / d_3) : -1.0);
     float3 tau_4 = (0.0).xxx;
+    const float _e134 = airlight_no_extinction_arctan2_(h_6, x0_6);
     if (!(point_)) {
         local_15 = (h_6 <= 0.0);
     } else {
         local_15 = true;
     }
-    bool _e140 = local_15;
-    if (_e140) {
+    bool _e141 = local_15;
+    if (!(_e141)) {
+        local_16 = (_e134 >= airlight_no_extinction_PI);
+    } else {
+        local_16 = true;
+    }
+    bool _e148 = local_16;
+    if (_e148) {
         if (!(point_)) {
-            const float _e143 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e144 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+            const float _e151 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
+            const float _e152 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_16 = (rho_7 < 1.0);
+                local_17 = (rho_7 < 1.0);
             } else {
-                local_16 = false;
+                local_17 = false;
             }
-            bool _e151 = local_16;
-            scale = ((x0_6 < 0.0) ? _e144 : (_e151 ? _e143 : max(_e143, _e144)));
+            bool _e159 = local_17;
+            scale = ((x0_6 < 0.0) ? _e152 : (_e159 ? _e151 : max(_e151, _e152)));
         }
         core = true;
     } else {
         float3 l = (light_2 - origin_2);
-        const float _e158 = airlight_no_extinction_max_abs(l);
-        float3 _e161 = n;
-        float3 cr = cross((l / (_e158).xxx), _e161);
-        float3 _e163 = n;
-        float3 _e164 = ax;
-        ca_1 = (dot(cr, cross(_e163, _e164)) / max(length(cr), 1e-30));
-        float _e171 = ca_1;
-        float _e172 = ca_1;
-        float r_4 = sqrt(((_e171 * _e172) + (k_2 * k_2)));
-        float _e177 = ca_1;
-        const float _e178 = airlight_no_extinction_arctan2_(k_2, _e177);
-        const float _e179 = airlight_no_extinction_arctan2_(h_6, x0_6);
-        gam_2 = _e179;
-        const float _e182 = airlight_no_extinction_arctan2_(h_6, (x0_6 - rho_7));
-        om_e_1 = (has_end ? _e182 : airlight_no_extinction_PI);
+        const float _e166 = airlight_no_extinction_max_abs(l);
+        float3 _e169 = n;
+        float3 cr = cross((l / (_e166).xxx), _e169);
+        float3 _e171 = n;
+        float3 _e172 = ax;
+        ca_1 = (dot(cr, cross(_e171, _e172)) / max(length(cr), 1e-30));
+        float _e179 = ca_1;
+        float _e180 = ca_1;
+        float r_4 = sqrt(((_e179 * _e180) + (k_2 * k_2)));
+        float _e185 = ca_1;
+        const float _e186 = airlight_no_extinction_arctan2_(k_2, _e185);
+        gam_2 = _e134;
+        const float _e189 = airlight_no_extinction_arctan2_(h_6, (x0_6 - rho_7));
+        om_e_1 = (has_end ? _e189 : airlight_no_extinction_PI);
         if ((co_2 < r_4)) {
-            const float _e185 = airlight_no_extinction_spot_asin(co_2, r_4);
-            float _e186 = gam_2;
-            float lo = max(_e186, (_e178 + _e185));
-            float _e189 = om_e_1;
-            float hi_1 = min(_e189, ((_e178 + airlight_no_extinction_PI) - _e185));
+            const float _e192 = airlight_no_extinction_spot_asin(co_2, r_4);
+            float _e193 = gam_2;
+            float lo = max(_e193, (_e186 + _e192));
+            float _e196 = om_e_1;
+            float hi_1 = min(_e196, ((_e186 + airlight_no_extinction_PI) - _e192));
             wa_1 = lo;
             wb_1 = hi_1;
             if ((lo < hi_1)) {
@@ -813,37 +820,37 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
                     core = true;
                 } else {
                     if ((cos_inner < r_4)) {
-                        const float _e198 = airlight_no_extinction_spot_asin(cos_inner, r_4);
-                        float _e199 = gam_2;
-                        wa_1 = max(_e199, (_e178 + _e198));
-                        float _e202 = om_e_1;
-                        wb_1 = min(_e202, ((_e178 + airlight_no_extinction_PI) - _e198));
-                        float _e207 = wa_1;
-                        float _e208 = wb_1;
-                        core = (_e207 < _e208);
-                        pen = float4(lo, min(hi_1, (_e178 + _e198)), max(lo, ((_e178 + airlight_no_extinction_PI) - _e198)), hi_1);
+                        const float _e205 = airlight_no_extinction_spot_asin(cos_inner, r_4);
+                        float _e206 = gam_2;
+                        wa_1 = max(_e206, (_e186 + _e205));
+                        float _e209 = om_e_1;
+                        wb_1 = min(_e209, ((_e186 + airlight_no_extinction_PI) - _e205));
+                        float _e214 = wa_1;
+                        float _e215 = wb_1;
+                        core = (_e214 < _e215);
+                        pen = float4(lo, min(hi_1, (_e186 + _e205)), max(lo, ((_e186 + airlight_no_extinction_PI) - _e205)), hi_1);
                     } else {
                         pen = float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e220 = wa_1;
-            float _e221 = gam_2;
-            cut_a_1 = (_e220 > _e221);
-            float _e223 = wb_1;
-            float _e224 = om_e_1;
-            cut_b_1 = (_e223 < _e224);
+            float _e227 = wa_1;
+            float _e228 = gam_2;
+            cut_a_1 = (_e227 > _e228);
+            float _e230 = wb_1;
+            float _e231 = om_e_1;
+            cut_b_1 = (_e230 < _e231);
         }
     }
-    bool _e229 = core;
-    if (_e229) {
-        float _e230 = gam_2;
-        float _e231 = wa_1;
-        float _e232 = wb_1;
-        bool _e233 = cut_a_1;
-        bool _e234 = cut_b_1;
-        const float3 _e235 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_7, _e230, _e231, _e232, _e233, _e234, 0.0);
-        a_5 = _e235;
+    bool _e236 = core;
+    if (_e236) {
+        float _e237 = gam_2;
+        float _e238 = wa_1;
+        float _e239 = wb_1;
+        bool _e240 = cut_a_1;
+        bool _e241 = cut_b_1;
+        const float3 _e242 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_7, _e237, _e238, _e239, _e240, _e241, 0.0);
+        a_5 = _e242;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -851,39 +858,39 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e261 = j_1;
-            j_1 = asint(asuint(_e261) + asuint(int(1)));
+            int _e268 = j_1;
+            j_1 = asint(asuint(_e268) + asuint(int(1)));
         }
         loop_init_1 = false;
-        int _e238 = j_1;
-        if ((_e238 < int(2))) {
+        int _e245 = j_1;
+        if ((_e245 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e241 = pen;
-            float4 _e243 = pen;
-            int _e245 = j_1;
-            float2 piece = ((_e245 == int(1)) ? _e243.zw : _e241.xy);
+            float4 _e248 = pen;
+            float4 _e250 = pen;
+            int _e252 = j_1;
+            float2 piece = ((_e252 == int(1)) ? _e250.zw : _e248.xy);
             if ((piece.y > piece.x)) {
-                float3 _e252 = a_5;
-                float _e253 = gam_2;
-                float _e254 = om_e_1;
-                float _e257 = ca_1;
-                const float3 _e258 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, rho_7, _e253, _e254, piece.x, piece.y, _e257, k_2, co_2, cos_inner, 0.0);
-                a_5 = (_e252 + _e258);
+                float3 _e259 = a_5;
+                float _e260 = gam_2;
+                float _e261 = om_e_1;
+                float _e264 = ca_1;
+                const float3 _e265 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, rho_7, _e260, _e261, piece.x, piece.y, _e264, k_2, co_2, cos_inner, 0.0);
+                a_5 = (_e259 + _e265);
             }
         }
     }
-    float _e264 = scale;
-    float _e267 = a_5.x;
-    const float _e268 = airlight_no_extinction_scaled(sigma_s_2.x, (intensity_2 * _e264), d_3, _e267);
-    float _e270 = scale;
-    float _e273 = a_5.y;
-    const float _e274 = airlight_no_extinction_scaled(sigma_s_2.y, (intensity_2 * _e270), d_3, _e273);
-    float _e276 = scale;
-    float _e279 = a_5.z;
-    const float _e280 = airlight_no_extinction_scaled(sigma_s_2.z, (intensity_2 * _e276), d_3, _e279);
-    return float3(_e268, _e274, _e280);
+    float _e271 = scale;
+    float _e274 = a_5.x;
+    const float _e275 = airlight_no_extinction_scaled(sigma_s_2.x, (intensity_2 * _e271), d_3, _e274);
+    float _e277 = scale;
+    float _e280 = a_5.y;
+    const float _e281 = airlight_no_extinction_scaled(sigma_s_2.y, (intensity_2 * _e277), d_3, _e280);
+    float _e283 = scale;
+    float _e286 = a_5.z;
+    const float _e287 = airlight_no_extinction_scaled(sigma_s_2.z, (intensity_2 * _e283), d_3, _e286);
+    return float3(_e275, _e281, _e287);
 }
 

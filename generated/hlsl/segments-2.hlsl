@@ -907,6 +907,7 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
     float om_e_1 = airlight_segments_2_PI;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
+    bool local_22 = (bool)0;
     float3 a_8 = (0.0).xxx;
     int j_1 = int(0);
 
@@ -978,48 +979,54 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
     bool has_end = local_19;
     float rho_8 = (has_end ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    const float _e140 = airlight_segments_2_arctan2_(h_7, x0_7);
     if (!(point_)) {
         local_20 = (h_7 <= 0.0);
     } else {
         local_20 = true;
     }
-    bool _e146 = local_20;
-    if (_e146) {
+    bool _e147 = local_20;
+    if (!(_e147)) {
+        local_21 = (_e140 >= airlight_segments_2_PI);
+    } else {
+        local_21 = true;
+    }
+    bool _e154 = local_21;
+    if (_e154) {
         if (!(point_)) {
-            const float _e149 = airlight_segments_2_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e150 = airlight_segments_2_spot_weight(k_2, co_2, cos_inner);
+            const float _e157 = airlight_segments_2_spot_weight(-(k_2), co_2, cos_inner);
+            const float _e158 = airlight_segments_2_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_21 = (rho_8 < 1.0);
+                local_22 = (rho_8 < 1.0);
             } else {
-                local_21 = false;
+                local_22 = false;
             }
-            bool _e157 = local_21;
-            scale = ((x0_7 < 0.0) ? _e150 : (_e157 ? _e149 : max(_e149, _e150)));
+            bool _e165 = local_22;
+            scale = ((x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
         }
         core = true;
     } else {
         float3 l_1 = (light_2 - origin_2);
-        const float _e164 = airlight_segments_2_max_abs(l_1);
-        float3 _e167 = n;
-        float3 cr = cross((l_1 / (_e164).xxx), _e167);
-        float3 _e169 = n;
-        float3 _e170 = ax;
-        ca_1 = (dot(cr, cross(_e169, _e170)) / max(length(cr), 1e-30));
-        float _e177 = ca_1;
-        float _e178 = ca_1;
-        float r_6 = sqrt(((_e177 * _e178) + (k_2 * k_2)));
-        float _e183 = ca_1;
-        const float _e184 = airlight_segments_2_arctan2_(k_2, _e183);
-        const float _e185 = airlight_segments_2_arctan2_(h_7, x0_7);
-        gam_2 = _e185;
-        const float _e188 = airlight_segments_2_arctan2_(h_7, (x0_7 - rho_8));
-        om_e_1 = (has_end ? _e188 : airlight_segments_2_PI);
+        const float _e172 = airlight_segments_2_max_abs(l_1);
+        float3 _e175 = n;
+        float3 cr = cross((l_1 / (_e172).xxx), _e175);
+        float3 _e177 = n;
+        float3 _e178 = ax;
+        ca_1 = (dot(cr, cross(_e177, _e178)) / max(length(cr), 1e-30));
+        float _e185 = ca_1;
+        float _e186 = ca_1;
+        float r_6 = sqrt(((_e185 * _e186) + (k_2 * k_2)));
+        float _e191 = ca_1;
+        const float _e192 = airlight_segments_2_arctan2_(k_2, _e191);
+        gam_2 = _e140;
+        const float _e195 = airlight_segments_2_arctan2_(h_7, (x0_7 - rho_8));
+        om_e_1 = (has_end ? _e195 : airlight_segments_2_PI);
         if ((co_2 < r_6)) {
-            const float _e191 = airlight_segments_2_spot_asin(co_2, r_6);
-            float _e192 = gam_2;
-            float lo_1 = max(_e192, (_e184 + _e191));
-            float _e195 = om_e_1;
-            float hi_2 = min(_e195, ((_e184 + airlight_segments_2_PI) - _e191));
+            const float _e198 = airlight_segments_2_spot_asin(co_2, r_6);
+            float _e199 = gam_2;
+            float lo_1 = max(_e199, (_e192 + _e198));
+            float _e202 = om_e_1;
+            float hi_2 = min(_e202, ((_e192 + airlight_segments_2_PI) - _e198));
             wa_1 = lo_1;
             wb_1 = hi_2;
             if ((lo_1 < hi_2)) {
@@ -1027,37 +1034,37 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
                     core = true;
                 } else {
                     if ((cos_inner < r_6)) {
-                        const float _e204 = airlight_segments_2_spot_asin(cos_inner, r_6);
-                        float _e205 = gam_2;
-                        wa_1 = max(_e205, (_e184 + _e204));
-                        float _e208 = om_e_1;
-                        wb_1 = min(_e208, ((_e184 + airlight_segments_2_PI) - _e204));
-                        float _e213 = wa_1;
-                        float _e214 = wb_1;
-                        core = (_e213 < _e214);
-                        pen = float4(lo_1, min(hi_2, (_e184 + _e204)), max(lo_1, ((_e184 + airlight_segments_2_PI) - _e204)), hi_2);
+                        const float _e211 = airlight_segments_2_spot_asin(cos_inner, r_6);
+                        float _e212 = gam_2;
+                        wa_1 = max(_e212, (_e192 + _e211));
+                        float _e215 = om_e_1;
+                        wb_1 = min(_e215, ((_e192 + airlight_segments_2_PI) - _e211));
+                        float _e220 = wa_1;
+                        float _e221 = wb_1;
+                        core = (_e220 < _e221);
+                        pen = float4(lo_1, min(hi_2, (_e192 + _e211)), max(lo_1, ((_e192 + airlight_segments_2_PI) - _e211)), hi_2);
                     } else {
                         pen = float4(lo_1, hi_2, 0.0, 0.0);
                     }
                 }
             }
-            float _e226 = wa_1;
-            float _e227 = gam_2;
-            cut_a_1 = (_e226 > _e227);
-            float _e229 = wb_1;
-            float _e230 = om_e_1;
-            cut_b_1 = (_e229 < _e230);
+            float _e233 = wa_1;
+            float _e234 = gam_2;
+            cut_a_1 = (_e233 > _e234);
+            float _e236 = wb_1;
+            float _e237 = om_e_1;
+            cut_b_1 = (_e236 < _e237);
         }
     }
-    bool _e235 = core;
-    if (_e235) {
-        float _e236 = gam_2;
-        float _e237 = wa_1;
-        float _e238 = wb_1;
-        bool _e239 = cut_a_1;
-        bool _e240 = cut_b_1;
-        const float3 _e241 = airlight_segments_2_spot_core(tau_7, h_7, x0_7, rho_8, _e236, _e237, _e238, _e239, _e240, 0.0);
-        a_8 = _e241;
+    bool _e242 = core;
+    if (_e242) {
+        float _e243 = gam_2;
+        float _e244 = wa_1;
+        float _e245 = wb_1;
+        bool _e246 = cut_a_1;
+        bool _e247 = cut_b_1;
+        const float3 _e248 = airlight_segments_2_spot_core(tau_7, h_7, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_8 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1065,39 +1072,39 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e267 = j_1;
-            j_1 = asint(asuint(_e267) + asuint(int(1)));
+            int _e274 = j_1;
+            j_1 = asint(asuint(_e274) + asuint(int(1)));
         }
         loop_init_1 = false;
-        int _e244 = j_1;
-        if ((_e244 < int(2))) {
+        int _e251 = j_1;
+        if ((_e251 < int(2))) {
         } else {
             break;
         }
         {
-            float4 _e247 = pen;
-            float4 _e249 = pen;
-            int _e251 = j_1;
-            float2 piece = ((_e251 == int(1)) ? _e249.zw : _e247.xy);
+            float4 _e254 = pen;
+            float4 _e256 = pen;
+            int _e258 = j_1;
+            float2 piece = ((_e258 == int(1)) ? _e256.zw : _e254.xy);
             if ((piece.y > piece.x)) {
-                float3 _e258 = a_8;
-                float _e259 = gam_2;
-                float _e260 = om_e_1;
-                float _e263 = ca_1;
-                const float3 _e264 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, rho_8, _e259, _e260, piece.x, piece.y, _e263, k_2, co_2, cos_inner, 0.0);
-                a_8 = (_e258 + _e264);
+                float3 _e265 = a_8;
+                float _e266 = gam_2;
+                float _e267 = om_e_1;
+                float _e270 = ca_1;
+                const float3 _e271 = airlight_segments_2_spot_edge(tau_7, h_7, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
+                a_8 = (_e265 + _e271);
             }
         }
     }
-    float _e270 = scale;
-    float _e273 = a_8.x;
-    const float _e274 = airlight_segments_2_scaled(sigma_s_2.x, (intensity_2 * _e270), d_5, _e273);
-    float _e276 = scale;
-    float _e279 = a_8.y;
-    const float _e280 = airlight_segments_2_scaled(sigma_s_2.y, (intensity_2 * _e276), d_5, _e279);
-    float _e282 = scale;
-    float _e285 = a_8.z;
-    const float _e286 = airlight_segments_2_scaled(sigma_s_2.z, (intensity_2 * _e282), d_5, _e285);
-    return float3(_e274, _e280, _e286);
+    float _e277 = scale;
+    float _e280 = a_8.x;
+    const float _e281 = airlight_segments_2_scaled(sigma_s_2.x, (intensity_2 * _e277), d_5, _e280);
+    float _e283 = scale;
+    float _e286 = a_8.y;
+    const float _e287 = airlight_segments_2_scaled(sigma_s_2.y, (intensity_2 * _e283), d_5, _e286);
+    float _e289 = scale;
+    float _e292 = a_8.z;
+    const float _e293 = airlight_segments_2_scaled(sigma_s_2.z, (intensity_2 * _e289), d_5, _e292);
+    return float3(_e281, _e287, _e293);
 }
 

@@ -345,8 +345,10 @@ float airlight_equiangular_4_airlight_geometry(
     float rho_1,
     float g_in
 ) {
-    float span = {};
     bool local_6 = {};
+    bool local_7 = {};
+    float span = {};
+    bool local_8 = {};
     float sum_1 = 0.0;
     metal::float2 sc = {};
     float b_3 = {};
@@ -357,125 +359,137 @@ float airlight_equiangular_4_airlight_geometry(
     float g_7 = metal::clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g_7) * (1.0 - g_7);
     float gp = (1.0 + g_7) * (1.0 + g_7);
-    if (h_1 <= 0.0) {
-        float _e26 = airlight_equiangular_4_airlight_axis(tau_5, x0_1, rho_1, g_7);
-        return _e26;
+    if (!((h_1 <= 0.0))) {
+        if (x0_1 < 0.0) {
+            local_7 = h_1 < 0.0000000000000000008673617;
+        } else {
+            local_7 = false;
+        }
+        bool _e36 = local_7;
+        local_6 = _e36;
+    } else {
+        local_6 = true;
+    }
+    bool _e38 = local_6;
+    if (_e38) {
+        float _e39 = airlight_equiangular_4_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        return _e39;
     }
     span = comp;
     if (rho_1 >= 0.0) {
-        local_6 = rho_1 < airlight_equiangular_4_RHO_OPEN;
+        local_8 = rho_1 < airlight_equiangular_4_RHO_OPEN;
     } else {
-        local_6 = false;
+        local_8 = false;
     }
-    bool _e35 = local_6;
-    if (_e35) {
-        float _e40 = airlight_equiangular_4_arctan2_(h_1 * rho_1, 1.0 - (x0_1 * rho_1));
-        span = _e40;
+    bool _e48 = local_8;
+    if (_e48) {
+        float _e53 = airlight_equiangular_4_arctan2_(h_1 * rho_1, 1.0 - (x0_1 * rho_1));
+        span = _e53;
     }
-    float _e41 = span;
-    float half_1 = 0.5 * _e41;
+    float _e54 = span;
+    float half_1 = 0.5 * _e54;
     b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.8611363);
     co = (0.5 * comp) - ((0.5 * half_1) * 1.8611363);
-    float _e65 = b_3;
-    float _e66 = co;
-    metal::float2 _e70 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e65, _e66), 0.0));
-    sc = _e70;
-    float _e71 = b_3;
-    float _e72 = co;
-    if (_e71 > _e72) {
-        metal::float2 _e74 = sc;
-        sc = _e74.yx;
+    float _e78 = b_3;
+    float _e79 = co;
+    metal::float2 _e83 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e78, _e79), 0.0));
+    sc = _e83;
+    float _e84 = b_3;
+    float _e85 = co;
+    if (_e84 > _e85) {
+        metal::float2 _e87 = sc;
+        sc = _e87.yx;
     }
-    float _e77 = sc.x;
-    float _e80 = sc.y;
-    st = metal::max(x0_1 + ((h_1 * _e77) / metal::max(_e80, 0.000000000000000000000000000001)), 1.0);
-    float _e90 = sc.y;
+    float _e90 = sc.x;
     float _e93 = sc.y;
-    float _e99 = sc.x;
-    float _e102 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e99) * _e102)) : (gp - (((4.0 * g_7) * _e90) * _e93));
-    float _e108 = sum_1;
-    float _e110 = st;
-    float _e115 = d_2;
-    float _e116 = d_2;
-    sum_1 = _e108 + ((0.34785485 * metal::exp(-(tau_5) * _e110)) / (_e115 * metal::sqrt(_e116)));
+    st = metal::max(x0_1 + ((h_1 * _e90) / metal::max(_e93, 0.000000000000000000000000000001)), 1.0);
+    float _e103 = sc.y;
+    float _e106 = sc.y;
+    float _e112 = sc.x;
+    float _e115 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e112) * _e115)) : (gp - (((4.0 * g_7) * _e103) * _e106));
+    float _e121 = sum_1;
+    float _e123 = st;
+    float _e128 = d_2;
+    float _e129 = d_2;
+    sum_1 = _e121 + ((0.34785485 * metal::exp(-(tau_5) * _e123)) / (_e128 * metal::sqrt(_e129)));
     b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.3399811);
     co = (0.5 * comp) - ((0.5 * half_1) * 1.3399811);
-    float _e135 = b_3;
-    float _e136 = co;
-    metal::float2 _e140 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e135, _e136), 0.0));
-    sc = _e140;
-    float _e141 = b_3;
-    float _e142 = co;
-    if (_e141 > _e142) {
-        metal::float2 _e144 = sc;
-        sc = _e144.yx;
+    float _e148 = b_3;
+    float _e149 = co;
+    metal::float2 _e153 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e148, _e149), 0.0));
+    sc = _e153;
+    float _e154 = b_3;
+    float _e155 = co;
+    if (_e154 > _e155) {
+        metal::float2 _e157 = sc;
+        sc = _e157.yx;
     }
-    float _e147 = sc.x;
-    float _e150 = sc.y;
-    st = metal::max(x0_1 + ((h_1 * _e147) / metal::max(_e150, 0.000000000000000000000000000001)), 1.0);
-    float _e160 = sc.y;
+    float _e160 = sc.x;
     float _e163 = sc.y;
-    float _e169 = sc.x;
-    float _e172 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e169) * _e172)) : (gp - (((4.0 * g_7) * _e160) * _e163));
-    float _e178 = sum_1;
-    float _e180 = st;
-    float _e185 = d_2;
-    float _e186 = d_2;
-    sum_1 = _e178 + ((0.65214515 * metal::exp(-(tau_5) * _e180)) / (_e185 * metal::sqrt(_e186)));
+    st = metal::max(x0_1 + ((h_1 * _e160) / metal::max(_e163, 0.000000000000000000000000000001)), 1.0);
+    float _e173 = sc.y;
+    float _e176 = sc.y;
+    float _e182 = sc.x;
+    float _e185 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e182) * _e185)) : (gp - (((4.0 * g_7) * _e173) * _e176));
+    float _e191 = sum_1;
+    float _e193 = st;
+    float _e198 = d_2;
+    float _e199 = d_2;
+    sum_1 = _e191 + ((0.65214515 * metal::exp(-(tau_5) * _e193)) / (_e198 * metal::sqrt(_e199)));
     b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.660019);
     co = (0.5 * comp) - ((0.5 * half_1) * 0.660019);
-    float _e205 = b_3;
-    float _e206 = co;
-    metal::float2 _e210 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e205, _e206), 0.0));
-    sc = _e210;
-    float _e211 = b_3;
-    float _e212 = co;
-    if (_e211 > _e212) {
-        metal::float2 _e214 = sc;
-        sc = _e214.yx;
+    float _e218 = b_3;
+    float _e219 = co;
+    metal::float2 _e223 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e218, _e219), 0.0));
+    sc = _e223;
+    float _e224 = b_3;
+    float _e225 = co;
+    if (_e224 > _e225) {
+        metal::float2 _e227 = sc;
+        sc = _e227.yx;
     }
-    float _e217 = sc.x;
-    float _e220 = sc.y;
-    st = metal::max(x0_1 + ((h_1 * _e217) / metal::max(_e220, 0.000000000000000000000000000001)), 1.0);
-    float _e230 = sc.y;
+    float _e230 = sc.x;
     float _e233 = sc.y;
-    float _e239 = sc.x;
-    float _e242 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e239) * _e242)) : (gp - (((4.0 * g_7) * _e230) * _e233));
-    float _e248 = sum_1;
-    float _e250 = st;
-    float _e255 = d_2;
-    float _e256 = d_2;
-    sum_1 = _e248 + ((0.65214515 * metal::exp(-(tau_5) * _e250)) / (_e255 * metal::sqrt(_e256)));
+    st = metal::max(x0_1 + ((h_1 * _e230) / metal::max(_e233, 0.000000000000000000000000000001)), 1.0);
+    float _e243 = sc.y;
+    float _e246 = sc.y;
+    float _e252 = sc.x;
+    float _e255 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e252) * _e255)) : (gp - (((4.0 * g_7) * _e243) * _e246));
+    float _e261 = sum_1;
+    float _e263 = st;
+    float _e268 = d_2;
+    float _e269 = d_2;
+    sum_1 = _e261 + ((0.65214515 * metal::exp(-(tau_5) * _e263)) / (_e268 * metal::sqrt(_e269)));
     b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.13886368);
     co = (0.5 * comp) - ((0.5 * half_1) * 0.13886368);
-    float _e275 = b_3;
-    float _e276 = co;
-    metal::float2 _e280 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e275, _e276), 0.0));
-    sc = _e280;
-    float _e281 = b_3;
-    float _e282 = co;
-    if (_e281 > _e282) {
-        metal::float2 _e284 = sc;
-        sc = _e284.yx;
+    float _e288 = b_3;
+    float _e289 = co;
+    metal::float2 _e293 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e288, _e289), 0.0));
+    sc = _e293;
+    float _e294 = b_3;
+    float _e295 = co;
+    if (_e294 > _e295) {
+        metal::float2 _e297 = sc;
+        sc = _e297.yx;
     }
-    float _e287 = sc.x;
-    float _e290 = sc.y;
-    st = metal::max(x0_1 + ((h_1 * _e287) / metal::max(_e290, 0.000000000000000000000000000001)), 1.0);
-    float _e300 = sc.y;
+    float _e300 = sc.x;
     float _e303 = sc.y;
-    float _e309 = sc.x;
-    float _e312 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e309) * _e312)) : (gp - (((4.0 * g_7) * _e300) * _e303));
-    float _e318 = sum_1;
-    float _e320 = st;
-    float _e325 = d_2;
-    float _e326 = d_2;
-    sum_1 = _e318 + ((0.34785485 * metal::exp(-(tau_5) * _e320)) / (_e325 * metal::sqrt(_e326)));
-    float _e338 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e338) * half_1) / h_1, airlight_equiangular_4_HUGE);
+    st = metal::max(x0_1 + ((h_1 * _e300) / metal::max(_e303, 0.000000000000000000000000000001)), 1.0);
+    float _e313 = sc.y;
+    float _e316 = sc.y;
+    float _e322 = sc.x;
+    float _e325 = sc.x;
+    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e322) * _e325)) : (gp - (((4.0 * g_7) * _e313) * _e316));
+    float _e331 = sum_1;
+    float _e333 = st;
+    float _e338 = d_2;
+    float _e339 = d_2;
+    sum_1 = _e331 + ((0.34785485 * metal::exp(-(tau_5) * _e333)) / (_e338 * metal::sqrt(_e339)));
+    float _e351 = sum_1;
+    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e351) * half_1) / h_1, airlight_equiangular_4_HUGE);
 }
 
 metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
@@ -487,8 +501,10 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float rho_2,
     float g_in_1
 ) {
+    bool local_9 = {};
+    bool local_10 = {};
     float span_1 = {};
-    bool local_7 = {};
+    bool local_11 = {};
     metal::float3 sum_2 = metal::float3(0.0);
     metal::float2 sc_1 = {};
     float b_4 = {};
@@ -499,127 +515,139 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float g_8 = metal::clamp(g_in_1, -0.999, 0.999);
     float gm_1 = (1.0 - g_8) * (1.0 - g_8);
     float gp_1 = (1.0 + g_8) * (1.0 + g_8);
-    if (h_2 <= 0.0) {
-        float _e29 = airlight_equiangular_4_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
-        float _e31 = airlight_equiangular_4_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
-        float _e33 = airlight_equiangular_4_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
-        return metal::float3(_e29, _e31, _e33);
+    if (!((h_2 <= 0.0))) {
+        if (x0_2 < 0.0) {
+            local_10 = h_2 < 0.0000000000000000008673617;
+        } else {
+            local_10 = false;
+        }
+        bool _e38 = local_10;
+        local_9 = _e38;
+    } else {
+        local_9 = true;
+    }
+    bool _e40 = local_9;
+    if (_e40) {
+        float _e42 = airlight_equiangular_4_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
+        float _e44 = airlight_equiangular_4_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
+        float _e46 = airlight_equiangular_4_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        return metal::float3(_e42, _e44, _e46);
     }
     span_1 = comp_1;
     if (rho_2 >= 0.0) {
-        local_7 = rho_2 < airlight_equiangular_4_RHO_OPEN;
+        local_11 = rho_2 < airlight_equiangular_4_RHO_OPEN;
     } else {
-        local_7 = false;
+        local_11 = false;
     }
-    bool _e43 = local_7;
-    if (_e43) {
-        float _e48 = airlight_equiangular_4_arctan2_(h_2 * rho_2, 1.0 - (x0_2 * rho_2));
-        span_1 = _e48;
+    bool _e56 = local_11;
+    if (_e56) {
+        float _e61 = airlight_equiangular_4_arctan2_(h_2 * rho_2, 1.0 - (x0_2 * rho_2));
+        span_1 = _e61;
     }
-    float _e49 = span_1;
-    float half_2 = 0.5 * _e49;
+    float _e62 = span_1;
+    float half_2 = 0.5 * _e62;
     b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.8611363);
     co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.8611363);
-    float _e74 = b_4;
-    float _e75 = co_1;
-    metal::float2 _e79 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e74, _e75), 0.0));
-    sc_1 = _e79;
-    float _e80 = b_4;
-    float _e81 = co_1;
-    if (_e80 > _e81) {
-        metal::float2 _e83 = sc_1;
-        sc_1 = _e83.yx;
+    float _e87 = b_4;
+    float _e88 = co_1;
+    metal::float2 _e92 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e87, _e88), 0.0));
+    sc_1 = _e92;
+    float _e93 = b_4;
+    float _e94 = co_1;
+    if (_e93 > _e94) {
+        metal::float2 _e96 = sc_1;
+        sc_1 = _e96.yx;
     }
-    float _e86 = sc_1.x;
-    float _e89 = sc_1.y;
-    st_1 = metal::max(x0_2 + ((h_2 * _e86) / metal::max(_e89, 0.000000000000000000000000000001)), 1.0);
-    float _e99 = sc_1.y;
+    float _e99 = sc_1.x;
     float _e102 = sc_1.y;
-    float _e108 = sc_1.x;
-    float _e111 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e108) * _e111)) : (gp_1 - (((4.0 * g_8) * _e99) * _e102));
-    metal::float3 _e117 = sum_2;
-    float _e119 = st_1;
-    float _e124 = d_3;
-    float _e125 = d_3;
-    sum_2 = _e117 + ((0.34785485 * metal::exp(-(tau_6) * _e119)) / metal::float3(_e124 * metal::sqrt(_e125)));
+    st_1 = metal::max(x0_2 + ((h_2 * _e99) / metal::max(_e102, 0.000000000000000000000000000001)), 1.0);
+    float _e112 = sc_1.y;
+    float _e115 = sc_1.y;
+    float _e121 = sc_1.x;
+    float _e124 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e121) * _e124)) : (gp_1 - (((4.0 * g_8) * _e112) * _e115));
+    metal::float3 _e130 = sum_2;
+    float _e132 = st_1;
+    float _e137 = d_3;
+    float _e138 = d_3;
+    sum_2 = _e130 + ((0.34785485 * metal::exp(-(tau_6) * _e132)) / metal::float3(_e137 * metal::sqrt(_e138)));
     b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.3399811);
     co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.3399811);
-    float _e145 = b_4;
-    float _e146 = co_1;
-    metal::float2 _e150 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e145, _e146), 0.0));
-    sc_1 = _e150;
-    float _e151 = b_4;
-    float _e152 = co_1;
-    if (_e151 > _e152) {
-        metal::float2 _e154 = sc_1;
-        sc_1 = _e154.yx;
+    float _e158 = b_4;
+    float _e159 = co_1;
+    metal::float2 _e163 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e158, _e159), 0.0));
+    sc_1 = _e163;
+    float _e164 = b_4;
+    float _e165 = co_1;
+    if (_e164 > _e165) {
+        metal::float2 _e167 = sc_1;
+        sc_1 = _e167.yx;
     }
-    float _e157 = sc_1.x;
-    float _e160 = sc_1.y;
-    st_1 = metal::max(x0_2 + ((h_2 * _e157) / metal::max(_e160, 0.000000000000000000000000000001)), 1.0);
-    float _e170 = sc_1.y;
+    float _e170 = sc_1.x;
     float _e173 = sc_1.y;
-    float _e179 = sc_1.x;
-    float _e182 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e179) * _e182)) : (gp_1 - (((4.0 * g_8) * _e170) * _e173));
-    metal::float3 _e188 = sum_2;
-    float _e190 = st_1;
-    float _e195 = d_3;
-    float _e196 = d_3;
-    sum_2 = _e188 + ((0.65214515 * metal::exp(-(tau_6) * _e190)) / metal::float3(_e195 * metal::sqrt(_e196)));
+    st_1 = metal::max(x0_2 + ((h_2 * _e170) / metal::max(_e173, 0.000000000000000000000000000001)), 1.0);
+    float _e183 = sc_1.y;
+    float _e186 = sc_1.y;
+    float _e192 = sc_1.x;
+    float _e195 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e192) * _e195)) : (gp_1 - (((4.0 * g_8) * _e183) * _e186));
+    metal::float3 _e201 = sum_2;
+    float _e203 = st_1;
+    float _e208 = d_3;
+    float _e209 = d_3;
+    sum_2 = _e201 + ((0.65214515 * metal::exp(-(tau_6) * _e203)) / metal::float3(_e208 * metal::sqrt(_e209)));
     b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.660019);
     co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.660019);
-    float _e216 = b_4;
-    float _e217 = co_1;
-    metal::float2 _e221 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e216, _e217), 0.0));
-    sc_1 = _e221;
-    float _e222 = b_4;
-    float _e223 = co_1;
-    if (_e222 > _e223) {
-        metal::float2 _e225 = sc_1;
-        sc_1 = _e225.yx;
+    float _e229 = b_4;
+    float _e230 = co_1;
+    metal::float2 _e234 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e229, _e230), 0.0));
+    sc_1 = _e234;
+    float _e235 = b_4;
+    float _e236 = co_1;
+    if (_e235 > _e236) {
+        metal::float2 _e238 = sc_1;
+        sc_1 = _e238.yx;
     }
-    float _e228 = sc_1.x;
-    float _e231 = sc_1.y;
-    st_1 = metal::max(x0_2 + ((h_2 * _e228) / metal::max(_e231, 0.000000000000000000000000000001)), 1.0);
-    float _e241 = sc_1.y;
+    float _e241 = sc_1.x;
     float _e244 = sc_1.y;
-    float _e250 = sc_1.x;
-    float _e253 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e250) * _e253)) : (gp_1 - (((4.0 * g_8) * _e241) * _e244));
-    metal::float3 _e259 = sum_2;
-    float _e261 = st_1;
-    float _e266 = d_3;
-    float _e267 = d_3;
-    sum_2 = _e259 + ((0.65214515 * metal::exp(-(tau_6) * _e261)) / metal::float3(_e266 * metal::sqrt(_e267)));
+    st_1 = metal::max(x0_2 + ((h_2 * _e241) / metal::max(_e244, 0.000000000000000000000000000001)), 1.0);
+    float _e254 = sc_1.y;
+    float _e257 = sc_1.y;
+    float _e263 = sc_1.x;
+    float _e266 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e263) * _e266)) : (gp_1 - (((4.0 * g_8) * _e254) * _e257));
+    metal::float3 _e272 = sum_2;
+    float _e274 = st_1;
+    float _e279 = d_3;
+    float _e280 = d_3;
+    sum_2 = _e272 + ((0.65214515 * metal::exp(-(tau_6) * _e274)) / metal::float3(_e279 * metal::sqrt(_e280)));
     b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.13886368);
     co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.13886368);
-    float _e287 = b_4;
-    float _e288 = co_1;
-    metal::float2 _e292 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e287, _e288), 0.0));
-    sc_1 = _e292;
-    float _e293 = b_4;
-    float _e294 = co_1;
-    if (_e293 > _e294) {
-        metal::float2 _e296 = sc_1;
-        sc_1 = _e296.yx;
+    float _e300 = b_4;
+    float _e301 = co_1;
+    metal::float2 _e305 = airlight_equiangular_4_sin_cos(metal::max(metal::min(_e300, _e301), 0.0));
+    sc_1 = _e305;
+    float _e306 = b_4;
+    float _e307 = co_1;
+    if (_e306 > _e307) {
+        metal::float2 _e309 = sc_1;
+        sc_1 = _e309.yx;
     }
-    float _e299 = sc_1.x;
-    float _e302 = sc_1.y;
-    st_1 = metal::max(x0_2 + ((h_2 * _e299) / metal::max(_e302, 0.000000000000000000000000000001)), 1.0);
-    float _e312 = sc_1.y;
+    float _e312 = sc_1.x;
     float _e315 = sc_1.y;
-    float _e321 = sc_1.x;
-    float _e324 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e321) * _e324)) : (gp_1 - (((4.0 * g_8) * _e312) * _e315));
-    metal::float3 _e330 = sum_2;
-    float _e332 = st_1;
-    float _e337 = d_3;
-    float _e338 = d_3;
-    sum_2 = _e330 + ((0.34785485 * metal::exp(-(tau_6) * _e332)) / metal::float3(_e337 * metal::sqrt(_e338)));
-    metal::float3 _e351 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e351) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
+    st_1 = metal::max(x0_2 + ((h_2 * _e312) / metal::max(_e315, 0.000000000000000000000000000001)), 1.0);
+    float _e325 = sc_1.y;
+    float _e328 = sc_1.y;
+    float _e334 = sc_1.x;
+    float _e337 = sc_1.x;
+    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e334) * _e337)) : (gp_1 - (((4.0 * g_8) * _e325) * _e328));
+    metal::float3 _e343 = sum_2;
+    float _e345 = st_1;
+    float _e350 = d_3;
+    float _e351 = d_3;
+    sum_2 = _e343 + ((0.34785485 * metal::exp(-(tau_6) * _e345)) / metal::float3(_e350 * metal::sqrt(_e351)));
+    metal::float3 _e364 = sum_2;
+    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e364) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_4_airlight(
@@ -647,18 +675,18 @@ float airlight_equiangular_4_radiance(
     float sigma_s_1,
     float g_2
 ) {
-    bool local_8 = {};
+    bool local_12 = {};
     metal::float3 _e8 = airlight_equiangular_4_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
         float _e14 = airlight_equiangular_4_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_4_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
-        local_8 = _e8.z == 0.0;
+        local_12 = _e8.z == 0.0;
     } else {
-        local_8 = false;
+        local_12 = false;
     }
-    bool _e24 = local_8;
+    bool _e24 = local_12;
     if (_e24) {
         return 0.0;
     }
@@ -708,7 +736,7 @@ metal::float3 airlight_equiangular_4_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
-    bool local_9 = {};
+    bool local_13 = {};
     h1_ = h_4;
     x1_ = x0_4;
     rho1_ = rho_5;
@@ -726,11 +754,11 @@ metal::float3 airlight_equiangular_4_spot_core(
         rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_9 = rho_5 >= 0.0;
+            local_13 = rho_5 >= 0.0;
         } else {
-            local_9 = false;
+            local_13 = false;
         }
-        bool _e44 = local_9;
+        bool _e44 = local_13;
         if (_e44) {
             float _e45 = s0_;
             float _e47 = t0_;
@@ -773,7 +801,7 @@ metal::float3 airlight_equiangular_4_spot_edge(
     float ci_1,
     float g_5
 ) {
-    bool local_10 = {};
+    bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
     type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_3 = metal::float3(0.0);
@@ -786,11 +814,11 @@ metal::float3 airlight_equiangular_4_spot_edge(
         return metal::float3(0.0);
     }
     if (!((g_5 < 0.0))) {
-        local_10 = v_in > 3.0;
+        local_14 = v_in > 3.0;
     } else {
-        local_10 = true;
+        local_14 = true;
     }
-    bool _e25 = local_10;
+    bool _e25 = local_14;
     float e_1 = _e25 ? v_in : u_1;
     metal::float2 _e27 = airlight_equiangular_4_sin_cos(e_1);
     float _e33 = airlight_equiangular_4_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_3, ci_1);
@@ -1040,14 +1068,14 @@ metal::float3 airlight_equiangular_4_spot(
     metal::float3 sigma_s_2,
     float g_6
 ) {
-    bool local_11 = {};
-    bool local_12 = {};
+    bool local_15 = {};
+    bool local_16 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_13 = {};
+    bool local_17 = {};
     float scale = 1.0;
-    bool local_14 = {};
-    bool local_15 = {};
+    bool local_18 = {};
+    bool local_19 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1057,8 +1085,9 @@ metal::float3 airlight_equiangular_4_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_1 = 0.0;
     float om_e_1 = airlight_equiangular_4_PI;
-    bool local_16 = {};
-    bool local_17 = {};
+    bool local_20 = {};
+    bool local_21 = {};
+    bool local_22 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_equiangular_4_ray_geometry(origin_2, dir_2, light_2);
@@ -1068,16 +1097,16 @@ metal::float3 airlight_equiangular_4_spot(
     float _e18 = airlight_equiangular_4_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_12 = _e18 <= airlight_equiangular_4_HUGE;
+            local_16 = _e18 <= airlight_equiangular_4_HUGE;
         } else {
-            local_12 = false;
+            local_16 = false;
         }
-        bool _e29 = local_12;
-        local_11 = !(_e29);
+        bool _e29 = local_16;
+        local_15 = !(_e29);
     } else {
-        local_11 = false;
+        local_15 = false;
     }
-    bool _e32 = local_11;
+    bool _e32 = local_15;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1087,11 +1116,11 @@ metal::float3 airlight_equiangular_4_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_13 = _e17 <= airlight_equiangular_4_HUGE;
+        local_17 = _e17 <= airlight_equiangular_4_HUGE;
     } else {
-        local_13 = false;
+        local_17 = false;
     }
-    bool _e53 = local_13;
+    bool _e53 = local_17;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1110,11 +1139,11 @@ metal::float3 airlight_equiangular_4_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_14 = _e11.z == 0.0;
+        local_18 = _e11.z == 0.0;
     } else {
-        local_14 = false;
+        local_18 = false;
     }
-    bool _e96 = local_14;
+    bool _e96 = local_18;
     if (_e96) {
         return metal::float3(0.0);
     }
@@ -1122,56 +1151,62 @@ metal::float3 airlight_equiangular_4_spot(
     float h_7 = _e11.y;
     float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_15 = (surface_1 / d_5) < airlight_equiangular_4_RHO_OPEN;
+        local_19 = (surface_1 / d_5) < airlight_equiangular_4_RHO_OPEN;
     } else {
-        local_15 = false;
+        local_19 = false;
     }
-    bool has_end_1 = local_15;
+    bool has_end_1 = local_19;
     float rho_8 = has_end_1 ? (surface_1 / d_5) : -1.0;
     metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_6, -0.999, 0.999);
+    float _e143 = airlight_equiangular_4_arctan2_(h_7, x0_7);
     if (!(point)) {
-        local_16 = h_7 <= 0.0;
+        local_20 = h_7 <= 0.0;
     } else {
-        local_16 = true;
+        local_20 = true;
     }
-    bool _e149 = local_16;
-    if (_e149) {
+    bool _e150 = local_20;
+    if (!(_e150)) {
+        local_21 = _e143 >= airlight_equiangular_4_PI;
+    } else {
+        local_21 = true;
+    }
+    bool _e157 = local_21;
+    if (_e157) {
         if (!(point)) {
-            float _e152 = airlight_equiangular_4_spot_weight(-(k_2), co_4, cos_inner);
-            float _e153 = airlight_equiangular_4_spot_weight(k_2, co_4, cos_inner);
+            float _e160 = airlight_equiangular_4_spot_weight(-(k_2), co_4, cos_inner);
+            float _e161 = airlight_equiangular_4_spot_weight(k_2, co_4, cos_inner);
             if (has_end_1) {
-                local_17 = rho_8 < 1.0;
+                local_22 = rho_8 < 1.0;
             } else {
-                local_17 = false;
+                local_22 = false;
             }
-            bool _e160 = local_17;
-            scale = (x0_7 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
+            bool _e168 = local_22;
+            scale = (x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e167 = airlight_equiangular_4_max_abs(l);
-        metal::float3 _e170 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e167), _e170);
-        metal::float3 _e172 = n;
-        metal::float3 _e173 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e172, _e173)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e180 = ca_1;
-        float _e181 = ca_1;
-        float r_4 = metal::sqrt((_e180 * _e181) + (k_2 * k_2));
-        float _e186 = ca_1;
-        float _e187 = airlight_equiangular_4_arctan2_(k_2, _e186);
-        float _e188 = airlight_equiangular_4_arctan2_(h_7, x0_7);
-        gam_2 = _e188;
-        float _e191 = airlight_equiangular_4_arctan2_(h_7, x0_7 - rho_8);
-        om_e_1 = has_end_1 ? _e191 : airlight_equiangular_4_PI;
+        float _e175 = airlight_equiangular_4_max_abs(l);
+        metal::float3 _e178 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e175), _e178);
+        metal::float3 _e180 = n;
+        metal::float3 _e181 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e180, _e181)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e188 = ca_1;
+        float _e189 = ca_1;
+        float r_4 = metal::sqrt((_e188 * _e189) + (k_2 * k_2));
+        float _e194 = ca_1;
+        float _e195 = airlight_equiangular_4_arctan2_(k_2, _e194);
+        gam_2 = _e143;
+        float _e198 = airlight_equiangular_4_arctan2_(h_7, x0_7 - rho_8);
+        om_e_1 = has_end_1 ? _e198 : airlight_equiangular_4_PI;
         if (co_4 < r_4) {
-            float _e194 = airlight_equiangular_4_spot_asin(co_4, r_4);
-            float _e195 = gam_2;
-            float lo_1 = metal::max(_e195, _e187 + _e194);
-            float _e198 = om_e_1;
-            float hi_1 = metal::min(_e198, (_e187 + airlight_equiangular_4_PI) - _e194);
+            float _e201 = airlight_equiangular_4_spot_asin(co_4, r_4);
+            float _e202 = gam_2;
+            float lo_1 = metal::max(_e202, _e195 + _e201);
+            float _e205 = om_e_1;
+            float hi_1 = metal::min(_e205, (_e195 + airlight_equiangular_4_PI) - _e201);
             wa_1 = lo_1;
             wb_1 = hi_1;
             if (lo_1 < hi_1) {
@@ -1179,37 +1214,37 @@ metal::float3 airlight_equiangular_4_spot(
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e207 = airlight_equiangular_4_spot_asin(cos_inner, r_4);
-                        float _e208 = gam_2;
-                        wa_1 = metal::max(_e208, _e187 + _e207);
-                        float _e211 = om_e_1;
-                        wb_1 = metal::min(_e211, (_e187 + airlight_equiangular_4_PI) - _e207);
-                        float _e216 = wa_1;
-                        float _e217 = wb_1;
-                        core = _e216 < _e217;
-                        pen = metal::float4(lo_1, metal::min(hi_1, _e187 + _e207), metal::max(lo_1, (_e187 + airlight_equiangular_4_PI) - _e207), hi_1);
+                        float _e214 = airlight_equiangular_4_spot_asin(cos_inner, r_4);
+                        float _e215 = gam_2;
+                        wa_1 = metal::max(_e215, _e195 + _e214);
+                        float _e218 = om_e_1;
+                        wb_1 = metal::min(_e218, (_e195 + airlight_equiangular_4_PI) - _e214);
+                        float _e223 = wa_1;
+                        float _e224 = wb_1;
+                        core = _e223 < _e224;
+                        pen = metal::float4(lo_1, metal::min(hi_1, _e195 + _e214), metal::max(lo_1, (_e195 + airlight_equiangular_4_PI) - _e214), hi_1);
                     } else {
                         pen = metal::float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e229 = wa_1;
-            float _e230 = gam_2;
-            cut_a_1 = _e229 > _e230;
-            float _e232 = wb_1;
-            float _e233 = om_e_1;
-            cut_b_1 = _e232 < _e233;
+            float _e236 = wa_1;
+            float _e237 = gam_2;
+            cut_a_1 = _e236 > _e237;
+            float _e239 = wb_1;
+            float _e240 = om_e_1;
+            cut_b_1 = _e239 < _e240;
         }
     }
-    bool _e238 = core;
-    if (_e238) {
-        float _e239 = gam_2;
-        float _e240 = wa_1;
-        float _e241 = wb_1;
-        bool _e242 = cut_a_1;
-        bool _e243 = cut_b_1;
-        metal::float3 _e244 = airlight_equiangular_4_spot_core(tau_7, h_7, x0_7, rho_8, _e239, _e240, _e241, _e242, _e243, gg);
-        a_5 = _e244;
+    bool _e245 = core;
+    if (_e245) {
+        float _e246 = gam_2;
+        float _e247 = wa_1;
+        float _e248 = wb_1;
+        bool _e249 = cut_a_1;
+        bool _e250 = cut_b_1;
+        metal::float3 _e251 = airlight_equiangular_4_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1217,38 +1252,38 @@ metal::float3 airlight_equiangular_4_spot(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e270 = j_1;
-            j_1 = as_type<int>(as_type<uint>(_e270) + as_type<uint>(1));
+            int _e277 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e277) + as_type<uint>(1));
         }
         loop_init_1 = false;
-        int _e247 = j_1;
-        if (_e247 < 2) {
+        int _e254 = j_1;
+        if (_e254 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e250 = pen;
-            metal::float4 _e252 = pen;
-            int _e254 = j_1;
-            metal::float2 piece = (_e254 == 1) ? _e252.zw : _e250.xy;
+            metal::float4 _e257 = pen;
+            metal::float4 _e259 = pen;
+            int _e261 = j_1;
+            metal::float2 piece = (_e261 == 1) ? _e259.zw : _e257.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e261 = a_5;
-                float _e262 = gam_2;
-                float _e263 = om_e_1;
-                float _e266 = ca_1;
-                metal::float3 _e267 = airlight_equiangular_4_spot_edge(tau_7, h_7, x0_7, rho_8, _e262, _e263, piece.x, piece.y, _e266, k_2, co_4, cos_inner, gg);
-                a_5 = _e261 + _e267;
+                metal::float3 _e268 = a_5;
+                float _e269 = gam_2;
+                float _e270 = om_e_1;
+                float _e273 = ca_1;
+                metal::float3 _e274 = airlight_equiangular_4_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
+                a_5 = _e268 + _e274;
             }
         }
     }
-    float _e273 = scale;
-    float _e276 = a_5.x;
-    float _e277 = airlight_equiangular_4_scaled(sigma_s_2.x, intensity_2 * _e273, d_5, _e276);
-    float _e279 = scale;
-    float _e282 = a_5.y;
-    float _e283 = airlight_equiangular_4_scaled(sigma_s_2.y, intensity_2 * _e279, d_5, _e282);
-    float _e285 = scale;
-    float _e288 = a_5.z;
-    float _e289 = airlight_equiangular_4_scaled(sigma_s_2.z, intensity_2 * _e285, d_5, _e288);
-    return metal::float3(_e277, _e283, _e289);
+    float _e280 = scale;
+    float _e283 = a_5.x;
+    float _e284 = airlight_equiangular_4_scaled(sigma_s_2.x, intensity_2 * _e280, d_5, _e283);
+    float _e286 = scale;
+    float _e289 = a_5.y;
+    float _e290 = airlight_equiangular_4_scaled(sigma_s_2.y, intensity_2 * _e286, d_5, _e289);
+    float _e292 = scale;
+    float _e295 = a_5.z;
+    float _e296 = airlight_equiangular_4_scaled(sigma_s_2.z, intensity_2 * _e292, d_5, _e295);
+    return metal::float3(_e284, _e290, _e296);
 }

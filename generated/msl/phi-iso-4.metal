@@ -1093,6 +1093,7 @@ metal::float3 airlight_phi_iso_4_spot(
     float om_e_1 = airlight_phi_iso_4_PI;
     bool local_19 = {};
     bool local_20 = {};
+    bool local_21 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_phi_iso_4_ray_geometry(origin_2, dir_2, light_2);
@@ -1163,48 +1164,54 @@ metal::float3 airlight_phi_iso_4_spot(
     bool has_end = local_18;
     float rho_7 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
+    float _e140 = airlight_phi_iso_4_arctan2_(h_6, x0_6);
     if (!(point)) {
         local_19 = h_6 <= 0.0;
     } else {
         local_19 = true;
     }
-    bool _e146 = local_19;
-    if (_e146) {
+    bool _e147 = local_19;
+    if (!(_e147)) {
+        local_20 = _e140 >= airlight_phi_iso_4_PI;
+    } else {
+        local_20 = true;
+    }
+    bool _e154 = local_20;
+    if (_e154) {
         if (!(point)) {
-            float _e149 = airlight_phi_iso_4_spot_weight(-(k_2), co_3, cos_inner);
-            float _e150 = airlight_phi_iso_4_spot_weight(k_2, co_3, cos_inner);
+            float _e157 = airlight_phi_iso_4_spot_weight(-(k_2), co_3, cos_inner);
+            float _e158 = airlight_phi_iso_4_spot_weight(k_2, co_3, cos_inner);
             if (has_end) {
-                local_20 = rho_7 < 1.0;
+                local_21 = rho_7 < 1.0;
             } else {
-                local_20 = false;
+                local_21 = false;
             }
-            bool _e157 = local_20;
-            scale = (x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : metal::max(_e149, _e150));
+            bool _e165 = local_21;
+            scale = (x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e164 = airlight_phi_iso_4_max_abs(l);
-        metal::float3 _e167 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e164), _e167);
-        metal::float3 _e169 = n;
-        metal::float3 _e170 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e169, _e170)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e177 = ca_1;
-        float _e178 = ca_1;
-        float r_4 = metal::sqrt((_e177 * _e178) + (k_2 * k_2));
-        float _e183 = ca_1;
-        float _e184 = airlight_phi_iso_4_arctan2_(k_2, _e183);
-        float _e185 = airlight_phi_iso_4_arctan2_(h_6, x0_6);
-        gam_2 = _e185;
-        float _e188 = airlight_phi_iso_4_arctan2_(h_6, x0_6 - rho_7);
-        om_e_1 = has_end ? _e188 : airlight_phi_iso_4_PI;
+        float _e172 = airlight_phi_iso_4_max_abs(l);
+        metal::float3 _e175 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e172), _e175);
+        metal::float3 _e177 = n;
+        metal::float3 _e178 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e185 = ca_1;
+        float _e186 = ca_1;
+        float r_4 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
+        float _e191 = ca_1;
+        float _e192 = airlight_phi_iso_4_arctan2_(k_2, _e191);
+        gam_2 = _e140;
+        float _e195 = airlight_phi_iso_4_arctan2_(h_6, x0_6 - rho_7);
+        om_e_1 = has_end ? _e195 : airlight_phi_iso_4_PI;
         if (co_3 < r_4) {
-            float _e191 = airlight_phi_iso_4_spot_asin(co_3, r_4);
-            float _e192 = gam_2;
-            float lo = metal::max(_e192, _e184 + _e191);
-            float _e195 = om_e_1;
-            float hi_1 = metal::min(_e195, (_e184 + airlight_phi_iso_4_PI) - _e191);
+            float _e198 = airlight_phi_iso_4_spot_asin(co_3, r_4);
+            float _e199 = gam_2;
+            float lo = metal::max(_e199, _e192 + _e198);
+            float _e202 = om_e_1;
+            float hi_1 = metal::min(_e202, (_e192 + airlight_phi_iso_4_PI) - _e198);
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
@@ -1212,37 +1219,37 @@ metal::float3 airlight_phi_iso_4_spot(
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e204 = airlight_phi_iso_4_spot_asin(cos_inner, r_4);
-                        float _e205 = gam_2;
-                        wa_1 = metal::max(_e205, _e184 + _e204);
-                        float _e208 = om_e_1;
-                        wb_1 = metal::min(_e208, (_e184 + airlight_phi_iso_4_PI) - _e204);
-                        float _e213 = wa_1;
-                        float _e214 = wb_1;
-                        core = _e213 < _e214;
-                        pen = metal::float4(lo, metal::min(hi_1, _e184 + _e204), metal::max(lo, (_e184 + airlight_phi_iso_4_PI) - _e204), hi_1);
+                        float _e211 = airlight_phi_iso_4_spot_asin(cos_inner, r_4);
+                        float _e212 = gam_2;
+                        wa_1 = metal::max(_e212, _e192 + _e211);
+                        float _e215 = om_e_1;
+                        wb_1 = metal::min(_e215, (_e192 + airlight_phi_iso_4_PI) - _e211);
+                        float _e220 = wa_1;
+                        float _e221 = wb_1;
+                        core = _e220 < _e221;
+                        pen = metal::float4(lo, metal::min(hi_1, _e192 + _e211), metal::max(lo, (_e192 + airlight_phi_iso_4_PI) - _e211), hi_1);
                     } else {
                         pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e226 = wa_1;
-            float _e227 = gam_2;
-            cut_a_1 = _e226 > _e227;
-            float _e229 = wb_1;
-            float _e230 = om_e_1;
-            cut_b_1 = _e229 < _e230;
+            float _e233 = wa_1;
+            float _e234 = gam_2;
+            cut_a_1 = _e233 > _e234;
+            float _e236 = wb_1;
+            float _e237 = om_e_1;
+            cut_b_1 = _e236 < _e237;
         }
     }
-    bool _e235 = core;
-    if (_e235) {
-        float _e236 = gam_2;
-        float _e237 = wa_1;
-        float _e238 = wb_1;
-        bool _e239 = cut_a_1;
-        bool _e240 = cut_b_1;
-        metal::float3 _e241 = airlight_phi_iso_4_spot_core(tau_6, h_6, x0_6, rho_7, _e236, _e237, _e238, _e239, _e240, 0.0);
-        a_5 = _e241;
+    bool _e242 = core;
+    if (_e242) {
+        float _e243 = gam_2;
+        float _e244 = wa_1;
+        float _e245 = wb_1;
+        bool _e246 = cut_a_1;
+        bool _e247 = cut_b_1;
+        metal::float3 _e248 = airlight_phi_iso_4_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1250,38 +1257,38 @@ metal::float3 airlight_phi_iso_4_spot(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e267 = j_1;
-            j_1 = as_type<int>(as_type<uint>(_e267) + as_type<uint>(1));
+            int _e274 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e274) + as_type<uint>(1));
         }
         loop_init_1 = false;
-        int _e244 = j_1;
-        if (_e244 < 2) {
+        int _e251 = j_1;
+        if (_e251 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e247 = pen;
-            metal::float4 _e249 = pen;
-            int _e251 = j_1;
-            metal::float2 piece = (_e251 == 1) ? _e249.zw : _e247.xy;
+            metal::float4 _e254 = pen;
+            metal::float4 _e256 = pen;
+            int _e258 = j_1;
+            metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e258 = a_5;
-                float _e259 = gam_2;
-                float _e260 = om_e_1;
-                float _e263 = ca_1;
-                metal::float3 _e264 = airlight_phi_iso_4_spot_edge(tau_6, h_6, x0_6, rho_7, _e259, _e260, piece.x, piece.y, _e263, k_2, co_3, cos_inner, 0.0);
-                a_5 = _e258 + _e264;
+                metal::float3 _e265 = a_5;
+                float _e266 = gam_2;
+                float _e267 = om_e_1;
+                float _e270 = ca_1;
+                metal::float3 _e271 = airlight_phi_iso_4_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
+                a_5 = _e265 + _e271;
             }
         }
     }
-    float _e270 = scale;
-    float _e273 = a_5.x;
-    float _e274 = airlight_phi_iso_4_scaled(sigma_s_2.x, intensity_2 * _e270, d_4, _e273);
-    float _e276 = scale;
-    float _e279 = a_5.y;
-    float _e280 = airlight_phi_iso_4_scaled(sigma_s_2.y, intensity_2 * _e276, d_4, _e279);
-    float _e282 = scale;
-    float _e285 = a_5.z;
-    float _e286 = airlight_phi_iso_4_scaled(sigma_s_2.z, intensity_2 * _e282, d_4, _e285);
-    return metal::float3(_e274, _e280, _e286);
+    float _e277 = scale;
+    float _e280 = a_5.x;
+    float _e281 = airlight_phi_iso_4_scaled(sigma_s_2.x, intensity_2 * _e277, d_4, _e280);
+    float _e283 = scale;
+    float _e286 = a_5.y;
+    float _e287 = airlight_phi_iso_4_scaled(sigma_s_2.y, intensity_2 * _e283, d_4, _e286);
+    float _e289 = scale;
+    float _e292 = a_5.z;
+    float _e293 = airlight_phi_iso_4_scaled(sigma_s_2.z, intensity_2 * _e289, d_4, _e292);
+    return metal::float3(_e281, _e287, _e293);
 }

@@ -797,6 +797,7 @@ metal::float3 airlight_raymarch_64_spot(
     float om_e_1 = airlight_raymarch_64_PI;
     bool local_13 = {};
     bool local_14 = {};
+    bool local_15 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_raymarch_64_ray_geometry(origin_2, dir_2, light_2);
@@ -868,48 +869,54 @@ metal::float3 airlight_raymarch_64_spot(
     float rho_7 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_7, -0.999, 0.999);
+    float _e143 = airlight_raymarch_64_arctan2_(h_6, x0_6);
     if (!(point)) {
         local_13 = h_6 <= 0.0;
     } else {
         local_13 = true;
     }
-    bool _e149 = local_13;
-    if (_e149) {
+    bool _e150 = local_13;
+    if (!(_e150)) {
+        local_14 = _e143 >= airlight_raymarch_64_PI;
+    } else {
+        local_14 = true;
+    }
+    bool _e157 = local_14;
+    if (_e157) {
         if (!(point)) {
-            float _e152 = airlight_raymarch_64_spot_weight(-(k_3), co_2, cos_inner);
-            float _e153 = airlight_raymarch_64_spot_weight(k_3, co_2, cos_inner);
+            float _e160 = airlight_raymarch_64_spot_weight(-(k_3), co_2, cos_inner);
+            float _e161 = airlight_raymarch_64_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_14 = rho_7 < 1.0;
+                local_15 = rho_7 < 1.0;
             } else {
-                local_14 = false;
+                local_15 = false;
             }
-            bool _e160 = local_14;
-            scale = (x0_6 < 0.0) ? _e153 : (_e160 ? _e152 : metal::max(_e152, _e153));
+            bool _e168 = local_15;
+            scale = (x0_6 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e167 = airlight_raymarch_64_max_abs(l);
-        metal::float3 _e170 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e167), _e170);
-        metal::float3 _e172 = n;
-        metal::float3 _e173 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e172, _e173)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e180 = ca_1;
-        float _e181 = ca_1;
-        float r_4 = metal::sqrt((_e180 * _e181) + (k_3 * k_3));
-        float _e186 = ca_1;
-        float _e187 = airlight_raymarch_64_arctan2_(k_3, _e186);
-        float _e188 = airlight_raymarch_64_arctan2_(h_6, x0_6);
-        gam_2 = _e188;
-        float _e191 = airlight_raymarch_64_arctan2_(h_6, x0_6 - rho_7);
-        om_e_1 = has_end ? _e191 : airlight_raymarch_64_PI;
+        float _e175 = airlight_raymarch_64_max_abs(l);
+        metal::float3 _e178 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e175), _e178);
+        metal::float3 _e180 = n;
+        metal::float3 _e181 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e180, _e181)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e188 = ca_1;
+        float _e189 = ca_1;
+        float r_4 = metal::sqrt((_e188 * _e189) + (k_3 * k_3));
+        float _e194 = ca_1;
+        float _e195 = airlight_raymarch_64_arctan2_(k_3, _e194);
+        gam_2 = _e143;
+        float _e198 = airlight_raymarch_64_arctan2_(h_6, x0_6 - rho_7);
+        om_e_1 = has_end ? _e198 : airlight_raymarch_64_PI;
         if (co_2 < r_4) {
-            float _e194 = airlight_raymarch_64_spot_asin(co_2, r_4);
-            float _e195 = gam_2;
-            float lo = metal::max(_e195, _e187 + _e194);
-            float _e198 = om_e_1;
-            float hi_1 = metal::min(_e198, (_e187 + airlight_raymarch_64_PI) - _e194);
+            float _e201 = airlight_raymarch_64_spot_asin(co_2, r_4);
+            float _e202 = gam_2;
+            float lo = metal::max(_e202, _e195 + _e201);
+            float _e205 = om_e_1;
+            float hi_1 = metal::min(_e205, (_e195 + airlight_raymarch_64_PI) - _e201);
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
@@ -917,37 +924,37 @@ metal::float3 airlight_raymarch_64_spot(
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e207 = airlight_raymarch_64_spot_asin(cos_inner, r_4);
-                        float _e208 = gam_2;
-                        wa_1 = metal::max(_e208, _e187 + _e207);
-                        float _e211 = om_e_1;
-                        wb_1 = metal::min(_e211, (_e187 + airlight_raymarch_64_PI) - _e207);
-                        float _e216 = wa_1;
-                        float _e217 = wb_1;
-                        core = _e216 < _e217;
-                        pen = metal::float4(lo, metal::min(hi_1, _e187 + _e207), metal::max(lo, (_e187 + airlight_raymarch_64_PI) - _e207), hi_1);
+                        float _e214 = airlight_raymarch_64_spot_asin(cos_inner, r_4);
+                        float _e215 = gam_2;
+                        wa_1 = metal::max(_e215, _e195 + _e214);
+                        float _e218 = om_e_1;
+                        wb_1 = metal::min(_e218, (_e195 + airlight_raymarch_64_PI) - _e214);
+                        float _e223 = wa_1;
+                        float _e224 = wb_1;
+                        core = _e223 < _e224;
+                        pen = metal::float4(lo, metal::min(hi_1, _e195 + _e214), metal::max(lo, (_e195 + airlight_raymarch_64_PI) - _e214), hi_1);
                     } else {
                         pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e229 = wa_1;
-            float _e230 = gam_2;
-            cut_a_1 = _e229 > _e230;
-            float _e232 = wb_1;
-            float _e233 = om_e_1;
-            cut_b_1 = _e232 < _e233;
+            float _e236 = wa_1;
+            float _e237 = gam_2;
+            cut_a_1 = _e236 > _e237;
+            float _e239 = wb_1;
+            float _e240 = om_e_1;
+            cut_b_1 = _e239 < _e240;
         }
     }
-    bool _e238 = core;
-    if (_e238) {
-        float _e239 = gam_2;
-        float _e240 = wa_1;
-        float _e241 = wb_1;
-        bool _e242 = cut_a_1;
-        bool _e243 = cut_b_1;
-        metal::float3 _e244 = airlight_raymarch_64_spot_core(tau_6, h_6, x0_6, rho_7, _e239, _e240, _e241, _e242, _e243, gg);
-        a_5 = _e244;
+    bool _e245 = core;
+    if (_e245) {
+        float _e246 = gam_2;
+        float _e247 = wa_1;
+        float _e248 = wb_1;
+        bool _e249 = cut_a_1;
+        bool _e250 = cut_b_1;
+        metal::float3 _e251 = airlight_raymarch_64_spot_core(tau_6, h_6, x0_6, rho_7, _e246, _e247, _e248, _e249, _e250, gg);
+        a_5 = _e251;
     }
     uint2 loop_bound_2 = uint2(4294967295u);
     bool loop_init_2 = true;
@@ -955,38 +962,38 @@ metal::float3 airlight_raymarch_64_spot(
         if (metal::all(loop_bound_2 == uint2(0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_2) {
-            int _e270 = j_1;
-            j_1 = as_type<int>(as_type<uint>(_e270) + as_type<uint>(1));
+            int _e277 = j_1;
+            j_1 = as_type<int>(as_type<uint>(_e277) + as_type<uint>(1));
         }
         loop_init_2 = false;
-        int _e247 = j_1;
-        if (_e247 < 2) {
+        int _e254 = j_1;
+        if (_e254 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e250 = pen;
-            metal::float4 _e252 = pen;
-            int _e254 = j_1;
-            metal::float2 piece = (_e254 == 1) ? _e252.zw : _e250.xy;
+            metal::float4 _e257 = pen;
+            metal::float4 _e259 = pen;
+            int _e261 = j_1;
+            metal::float2 piece = (_e261 == 1) ? _e259.zw : _e257.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e261 = a_5;
-                float _e262 = gam_2;
-                float _e263 = om_e_1;
-                float _e266 = ca_1;
-                metal::float3 _e267 = airlight_raymarch_64_spot_edge(tau_6, h_6, x0_6, rho_7, _e262, _e263, piece.x, piece.y, _e266, k_3, co_2, cos_inner, gg);
-                a_5 = _e261 + _e267;
+                metal::float3 _e268 = a_5;
+                float _e269 = gam_2;
+                float _e270 = om_e_1;
+                float _e273 = ca_1;
+                metal::float3 _e274 = airlight_raymarch_64_spot_edge(tau_6, h_6, x0_6, rho_7, _e269, _e270, piece.x, piece.y, _e273, k_3, co_2, cos_inner, gg);
+                a_5 = _e268 + _e274;
             }
         }
     }
-    float _e273 = scale;
-    float _e276 = a_5.x;
-    float _e277 = airlight_raymarch_64_scaled(sigma_s_2.x, intensity_2 * _e273, d_4, _e276);
-    float _e279 = scale;
-    float _e282 = a_5.y;
-    float _e283 = airlight_raymarch_64_scaled(sigma_s_2.y, intensity_2 * _e279, d_4, _e282);
-    float _e285 = scale;
-    float _e288 = a_5.z;
-    float _e289 = airlight_raymarch_64_scaled(sigma_s_2.z, intensity_2 * _e285, d_4, _e288);
-    return metal::float3(_e277, _e283, _e289);
+    float _e280 = scale;
+    float _e283 = a_5.x;
+    float _e284 = airlight_raymarch_64_scaled(sigma_s_2.x, intensity_2 * _e280, d_4, _e283);
+    float _e286 = scale;
+    float _e289 = a_5.y;
+    float _e290 = airlight_raymarch_64_scaled(sigma_s_2.y, intensity_2 * _e286, d_4, _e289);
+    float _e292 = scale;
+    float _e295 = a_5.z;
+    float _e296 = airlight_raymarch_64_scaled(sigma_s_2.z, intensity_2 * _e292, d_4, _e295);
+    return metal::float3(_e284, _e290, _e296);
 }

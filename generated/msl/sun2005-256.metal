@@ -824,6 +824,7 @@ metal::float3 airlight_sun2005_256_spot(
     float om_e_1 = airlight_sun2005_256_PI;
     bool local_15 = {};
     bool local_16 = {};
+    bool local_17 = {};
     metal::float3 a_6 = metal::float3(0.0);
     int j_2 = 0;
     metal::float3 _e10 = airlight_sun2005_256_ray_geometry(origin_2, dir_2, light_2);
@@ -894,48 +895,54 @@ metal::float3 airlight_sun2005_256_spot(
     bool has_end = local_14;
     float rho_7 = has_end ? (surface_1 / d_3) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_3, metal::float3(0.0)), metal::float3(10000.0));
+    float _e140 = airlight_sun2005_256_arctan2_(h_6, x0_6);
     if (!(point)) {
         local_15 = h_6 <= 0.0;
     } else {
         local_15 = true;
     }
-    bool _e146 = local_15;
-    if (_e146) {
+    bool _e147 = local_15;
+    if (!(_e147)) {
+        local_16 = _e140 >= airlight_sun2005_256_PI;
+    } else {
+        local_16 = true;
+    }
+    bool _e154 = local_16;
+    if (_e154) {
         if (!(point)) {
-            float _e149 = airlight_sun2005_256_spot_weight(-(k_3), co_2, cos_inner);
-            float _e150 = airlight_sun2005_256_spot_weight(k_3, co_2, cos_inner);
+            float _e157 = airlight_sun2005_256_spot_weight(-(k_3), co_2, cos_inner);
+            float _e158 = airlight_sun2005_256_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_16 = rho_7 < 1.0;
+                local_17 = rho_7 < 1.0;
             } else {
-                local_16 = false;
+                local_17 = false;
             }
-            bool _e157 = local_16;
-            scale = (x0_6 < 0.0) ? _e150 : (_e157 ? _e149 : metal::max(_e149, _e150));
+            bool _e165 = local_17;
+            scale = (x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
         metal::float3 l = light_2 - origin_2;
-        float _e164 = airlight_sun2005_256_max_abs(l);
-        metal::float3 _e167 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e164), _e167);
-        metal::float3 _e169 = n;
-        metal::float3 _e170 = ax;
-        ca_1 = metal::dot(cr, metal::cross(_e169, _e170)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
-        float _e177 = ca_1;
-        float _e178 = ca_1;
-        float r_4 = metal::sqrt((_e177 * _e178) + (k_3 * k_3));
-        float _e183 = ca_1;
-        float _e184 = airlight_sun2005_256_arctan2_(k_3, _e183);
-        float _e185 = airlight_sun2005_256_arctan2_(h_6, x0_6);
-        gam_2 = _e185;
-        float _e188 = airlight_sun2005_256_arctan2_(h_6, x0_6 - rho_7);
-        om_e_1 = has_end ? _e188 : airlight_sun2005_256_PI;
+        float _e172 = airlight_sun2005_256_max_abs(l);
+        metal::float3 _e175 = n;
+        metal::float3 cr = metal::cross(l / metal::float3(_e172), _e175);
+        metal::float3 _e177 = n;
+        metal::float3 _e178 = ax;
+        ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
+        float _e185 = ca_1;
+        float _e186 = ca_1;
+        float r_4 = metal::sqrt((_e185 * _e186) + (k_3 * k_3));
+        float _e191 = ca_1;
+        float _e192 = airlight_sun2005_256_arctan2_(k_3, _e191);
+        gam_2 = _e140;
+        float _e195 = airlight_sun2005_256_arctan2_(h_6, x0_6 - rho_7);
+        om_e_1 = has_end ? _e195 : airlight_sun2005_256_PI;
         if (co_2 < r_4) {
-            float _e191 = airlight_sun2005_256_spot_asin(co_2, r_4);
-            float _e192 = gam_2;
-            float lo = metal::max(_e192, _e184 + _e191);
-            float _e195 = om_e_1;
-            float hi_1 = metal::min(_e195, (_e184 + airlight_sun2005_256_PI) - _e191);
+            float _e198 = airlight_sun2005_256_spot_asin(co_2, r_4);
+            float _e199 = gam_2;
+            float lo = metal::max(_e199, _e192 + _e198);
+            float _e202 = om_e_1;
+            float hi_1 = metal::min(_e202, (_e192 + airlight_sun2005_256_PI) - _e198);
             wa_1 = lo;
             wb_1 = hi_1;
             if (lo < hi_1) {
@@ -943,37 +950,37 @@ metal::float3 airlight_sun2005_256_spot(
                     core = true;
                 } else {
                     if (cos_inner < r_4) {
-                        float _e204 = airlight_sun2005_256_spot_asin(cos_inner, r_4);
-                        float _e205 = gam_2;
-                        wa_1 = metal::max(_e205, _e184 + _e204);
-                        float _e208 = om_e_1;
-                        wb_1 = metal::min(_e208, (_e184 + airlight_sun2005_256_PI) - _e204);
-                        float _e213 = wa_1;
-                        float _e214 = wb_1;
-                        core = _e213 < _e214;
-                        pen = metal::float4(lo, metal::min(hi_1, _e184 + _e204), metal::max(lo, (_e184 + airlight_sun2005_256_PI) - _e204), hi_1);
+                        float _e211 = airlight_sun2005_256_spot_asin(cos_inner, r_4);
+                        float _e212 = gam_2;
+                        wa_1 = metal::max(_e212, _e192 + _e211);
+                        float _e215 = om_e_1;
+                        wb_1 = metal::min(_e215, (_e192 + airlight_sun2005_256_PI) - _e211);
+                        float _e220 = wa_1;
+                        float _e221 = wb_1;
+                        core = _e220 < _e221;
+                        pen = metal::float4(lo, metal::min(hi_1, _e192 + _e211), metal::max(lo, (_e192 + airlight_sun2005_256_PI) - _e211), hi_1);
                     } else {
                         pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
-            float _e226 = wa_1;
-            float _e227 = gam_2;
-            cut_a_1 = _e226 > _e227;
-            float _e229 = wb_1;
-            float _e230 = om_e_1;
-            cut_b_1 = _e229 < _e230;
+            float _e233 = wa_1;
+            float _e234 = gam_2;
+            cut_a_1 = _e233 > _e234;
+            float _e236 = wb_1;
+            float _e237 = om_e_1;
+            cut_b_1 = _e236 < _e237;
         }
     }
-    bool _e235 = core;
-    if (_e235) {
-        float _e236 = gam_2;
-        float _e237 = wa_1;
-        float _e238 = wb_1;
-        bool _e239 = cut_a_1;
-        bool _e240 = cut_b_1;
-        metal::float3 _e241 = airlight_sun2005_256_spot_core(tau_6, h_6, x0_6, rho_7, _e236, _e237, _e238, _e239, _e240, 0.0, airlight_sun2005_256_F);
-        a_6 = _e241;
+    bool _e242 = core;
+    if (_e242) {
+        float _e243 = gam_2;
+        float _e244 = wa_1;
+        float _e245 = wb_1;
+        bool _e246 = cut_a_1;
+        bool _e247 = cut_b_1;
+        metal::float3 _e248 = airlight_sun2005_256_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.0, airlight_sun2005_256_F);
+        a_6 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -981,38 +988,38 @@ metal::float3 airlight_sun2005_256_spot(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e267 = j_2;
-            j_2 = as_type<int>(as_type<uint>(_e267) + as_type<uint>(1));
+            int _e274 = j_2;
+            j_2 = as_type<int>(as_type<uint>(_e274) + as_type<uint>(1));
         }
         loop_init_1 = false;
-        int _e244 = j_2;
-        if (_e244 < 2) {
+        int _e251 = j_2;
+        if (_e251 < 2) {
         } else {
             break;
         }
         {
-            metal::float4 _e247 = pen;
-            metal::float4 _e249 = pen;
-            int _e251 = j_2;
-            metal::float2 piece = (_e251 == 1) ? _e249.zw : _e247.xy;
+            metal::float4 _e254 = pen;
+            metal::float4 _e256 = pen;
+            int _e258 = j_2;
+            metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e258 = a_6;
-                float _e259 = gam_2;
-                float _e260 = om_e_1;
-                float _e263 = ca_1;
-                metal::float3 _e264 = airlight_sun2005_256_spot_edge(tau_6, h_6, x0_6, rho_7, _e259, _e260, piece.x, piece.y, _e263, k_3, co_2, cos_inner, 0.0, airlight_sun2005_256_F);
-                a_6 = _e258 + _e264;
+                metal::float3 _e265 = a_6;
+                float _e266 = gam_2;
+                float _e267 = om_e_1;
+                float _e270 = ca_1;
+                metal::float3 _e271 = airlight_sun2005_256_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_3, co_2, cos_inner, 0.0, airlight_sun2005_256_F);
+                a_6 = _e265 + _e271;
             }
         }
     }
-    float _e270 = scale;
-    float _e273 = a_6.x;
-    float _e274 = airlight_sun2005_256_scaled(sigma_s_2.x, intensity_2 * _e270, d_3, _e273);
-    float _e276 = scale;
-    float _e279 = a_6.y;
-    float _e280 = airlight_sun2005_256_scaled(sigma_s_2.y, intensity_2 * _e276, d_3, _e279);
-    float _e282 = scale;
-    float _e285 = a_6.z;
-    float _e286 = airlight_sun2005_256_scaled(sigma_s_2.z, intensity_2 * _e282, d_3, _e285);
-    return metal::float3(_e274, _e280, _e286);
+    float _e277 = scale;
+    float _e280 = a_6.x;
+    float _e281 = airlight_sun2005_256_scaled(sigma_s_2.x, intensity_2 * _e277, d_3, _e280);
+    float _e283 = scale;
+    float _e286 = a_6.y;
+    float _e287 = airlight_sun2005_256_scaled(sigma_s_2.y, intensity_2 * _e283, d_3, _e286);
+    float _e289 = scale;
+    float _e292 = a_6.z;
+    float _e293 = airlight_sun2005_256_scaled(sigma_s_2.z, intensity_2 * _e289, d_3, _e292);
+    return metal::float3(_e281, _e287, _e293);
 }

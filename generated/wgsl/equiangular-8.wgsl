@@ -251,7 +251,9 @@ fn airlight_equiangular_8_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma:
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
     let gp = (1.0 + g) * (1.0 + g);
-    if h <= 0.0 {
+    // Behind the viewer A is flat in h to O(h^2): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if h <= 0.0 || (x0 < 0.0 && h < 8.673617e-19) {
         return airlight_equiangular_8_airlight_axis(tau, x0, rho, g);
     }
     var span = comp;
@@ -355,7 +357,9 @@ fn airlight_equiangular_8_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
     let gp = (1.0 + g) * (1.0 + g);
-    if h <= 0.0 {
+    // Behind the viewer A is flat in h to O(h^2): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if h <= 0.0 || (x0 < 0.0 && h < 8.673617e-19) {
         return vec3<f32>(airlight_equiangular_8_airlight_axis(tau.x, x0, rho, g), airlight_equiangular_8_airlight_axis(tau.y, x0, rho, g), airlight_equiangular_8_airlight_axis(tau.z, x0, rho, g));
     }
     var span = comp;
@@ -672,7 +676,10 @@ fn airlight_equiangular_8_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
     var pen = vec4<f32>(0.0);
     var ca = 0.0;
     var om_e = airlight_equiangular_8_PI;
-    if point || h <= 0.0 {
+    // gamma as f32: it rounds to pi where the light lies behind within 1.2e-7 rad of
+    // the ray's line, and the lit range [gamma, pi] would vanish; the line's weights hold.
+    let g0 = airlight_equiangular_8_arctan2(h, x0);
+    if point || h <= 0.0 || g0 >= airlight_equiangular_8_PI {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
         if !point {
@@ -688,7 +695,7 @@ fn airlight_equiangular_8_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, 
         ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = airlight_equiangular_8_arctan2(k, ca);
-        gam = airlight_equiangular_8_arctan2(h, x0);
+        gam = g0;
         om_e = select(airlight_equiangular_8_PI, airlight_equiangular_8_arctan2(h, x0 - rho), has_end);
         if co < r {
             let dlo = airlight_equiangular_8_spot_asin(co, r);

@@ -703,7 +703,10 @@ fn airlight_paper_hg_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light
     var pen = vec4<f32>(0.0);
     var ca = 0.0;
     var om_e = airlight_paper_hg_PI;
-    if point || h <= 0.0 {
+    // gamma as f32: it rounds to pi where the light lies behind within 1.2e-7 rad of
+    // the ray's line, and the lit range [gamma, pi] would vanish; the line's weights hold.
+    let g0 = airlight_paper_hg_arctan2(h, x0);
+    if point || h <= 0.0 || g0 >= airlight_paper_hg_PI {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
         if !point {
@@ -719,7 +722,7 @@ fn airlight_paper_hg_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light
         ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = airlight_paper_hg_arctan2(k, ca);
-        gam = airlight_paper_hg_arctan2(h, x0);
+        gam = g0;
         om_e = select(airlight_paper_hg_PI, airlight_paper_hg_arctan2(h, x0 - rho), has_end);
         if co < r {
             let dlo = airlight_paper_hg_spot_asin(co, r);

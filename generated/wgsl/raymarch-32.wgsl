@@ -462,7 +462,10 @@ fn airlight_raymarch_32_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, li
     var pen = vec4<f32>(0.0);
     var ca = 0.0;
     var om_e = airlight_raymarch_32_PI;
-    if point || h <= 0.0 {
+    // gamma as f32: it rounds to pi where the light lies behind within 1.2e-7 rad of
+    // the ray's line, and the lit range [gamma, pi] would vanish; the line's weights hold.
+    let g0 = airlight_raymarch_32_arctan2(h, x0);
+    if point || h <= 0.0 || g0 >= airlight_raymarch_32_PI {
         // A point light, or a ray on the line through the light (the direction
         // from the light is -n before it and n beyond).
         if !point {
@@ -478,7 +481,7 @@ fn airlight_raymarch_32_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, li
         ca = dot(cr, cross(n, ax)) / max(length(cr), 1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = airlight_raymarch_32_arctan2(k, ca);
-        gam = airlight_raymarch_32_arctan2(h, x0);
+        gam = g0;
         om_e = select(airlight_raymarch_32_PI, airlight_raymarch_32_arctan2(h, x0 - rho), has_end);
         if co < r {
             let dlo = airlight_raymarch_32_spot_asin(co, r);

@@ -296,7 +296,8 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// [`SPOT_GRID_INNER`] (every eighth turned so that the ray leaves through its
 /// penumbra), the others outer half-angle 2°…80° log-uniform, every other one with a
 /// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
-/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1. Returns
+/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then 20
+/// rays on the line through the light and beside it behind the viewer. Returns
 /// the rays with the canonical point of their unclipped red channel and the
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
@@ -370,6 +371,51 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             *p,
         ));
     }
+    // The line through the light (issue 23): the light on the ray's line ahead,
+    // and behind on it and off it by 1e-30 … 1e-7 of its distance, a smooth
+    // 30°/20° and a hard 30° cone aimed along the line either way, surfaces before
+    // the light and none. On the line the value is the point light's times the
+    // line's weight, and the edge regime holds the point light to the bound at
+    // γ = 0 and π exactly: these are held at γ brought into the sampled hull. (A
+    // light ahead a little off the line is not here: see docs/MATH.md §7.)
+    let mut line = Vec::new();
+    let mut cases = Vec::new();
+    for smooth in [true, false] {
+        for toward in [true, false] {
+            cases.push((true, 0.0, smooth, toward, toward));
+            for off in [0.0, 1e-30, 1e-12, 1e-7] {
+                cases.push((false, off, smooth, toward, false));
+            }
+        }
+    }
+    for (i, &(ahead, off, smooth, toward, with_surface)) in cases.iter().enumerate() {
+        let (r, p, _) = &base[i % base.len()];
+        let dist = {
+            let (o, l) = (r.origin.map(f64::from), r.light.map(f64::from));
+            ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt()
+        };
+        let side = if ahead { 1.0 } else { -1.0 };
+        let co = 30f64.to_radians().cos();
+        let ci = if smooth { 20f64.to_radians().cos() } else { co };
+        let surface = if with_surface { (0.5 * dist) as f32 } else { -1.0 };
+        let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+        let sigma_t = if takes_sigma_t { [r.sigma_t, 0.7 * r.sigma_t, 0.4 * r.sigma_t] } else { [0.0; 3] };
+        let ray = crate::SpotRay {
+            origin: [0.0; 3],
+            dir: [1.0, 0.0, 0.0],
+            surface,
+            light: [(side * dist) as f32, (off * dist) as f32, 0.0],
+            axis: [if toward { -side as f32 } else { side as f32 }, 0.0, 0.0],
+            cos_outer: co as f32,
+            cos_inner: ci as f32,
+            intensity: r.intensity,
+            sigma_t,
+            sigma_s: [r.sigma_s, 0.8 * r.sigma_s, 0.6 * r.sigma_s],
+            g: r.g,
+        };
+        let q = Point { gamma: if ahead { 1e-4 } else { std::f64::consts::PI - 1e-4 }, ..*p };
+        line.push((ray, q));
+    }
     // The canonical point each error is held at: the lit stretch's own (the
     // viewer moved to where the outer cone begins), where the family's bound applies.
     for (r, p) in rays.iter_mut() {
@@ -381,6 +427,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             }
         }
     }
+    rays.extend(line);
     let refs = airlight_fit::parallel::map(
         &rays,
         |(r, _)| -> Result<([f64; 3], f64), String> {

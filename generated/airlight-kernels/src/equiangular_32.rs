@@ -62,7 +62,9 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
     let tau = tau.max(0.0).min(TAU_MAX);
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
-    if h <= 0.0 {
+    // Behind the viewer A is flat in h to O(h²): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if h <= 0.0 || (x0 < 0.0 && h < 8.673_617e-19) {
         return airlight_axis(tau, x0, rho, g);
     }
     let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
@@ -90,7 +92,9 @@ pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f
     let tau = tau.map(|t| t.max(0.0).min(TAU_MAX));
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
-    if h <= 0.0 {
+    // Behind the viewer A is flat in h to O(h²): within 2^-60 of the axis it is the
+    // axis limit (the nodes' cos(beta) ~ h would reach f32's subnormals).
+    if h <= 0.0 || (x0 < 0.0 && h < 8.673_617e-19) {
         return tau.map(|t| airlight_axis(t, x0, rho, g));
     }
     let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
@@ -295,7 +299,10 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     // as in the shaders.
     let (mut core, mut gam, mut wa, mut wb, mut cut_a, mut cut_b) = (false, 0.0, 0.0, 0.0, false, false);
     let (mut pen, mut ca, mut om_e) = ([[0.0f32; 2]; 2], 0.0, PI);
-    if point || h <= 0.0 {
+    // γ as f32: it rounds to π where the light lies behind within 1.2e-7 rad of the
+    // ray's line, and the lit range [γ, π] would vanish; the line's weights hold.
+    let g0 = atan2(h, x0);
+    if point || h <= 0.0 || g0 >= PI {
         // A point light, or a ray on the line through the light (the direction
         // from the light is −n before it and n beyond).
         if !point {
@@ -316,7 +323,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
         ca = dot(cr, cross(n, ax)) / sqrt(dot(cr, cr)).max(1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = atan2(k, ca);
-        gam = atan2(h, x0);
+        gam = g0;
         om_e = if has_end { atan2(h, x0 - rho) } else { PI };
         if co < r {
             let dlo = spot_asin(co, r);

@@ -342,7 +342,10 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     // as in the shaders.
     let (mut core, mut gam, mut wa, mut wb, mut cut_a, mut cut_b) = (false, 0.0, 0.0, 0.0, false, false);
     let (mut pen, mut ca, mut om_e) = ([[0.0f32; 2]; 2], 0.0, PI);
-    if point || h <= 0.0 {
+    // γ as f32: it rounds to π where the light lies behind within 1.2e-7 rad of the
+    // ray's line, and the lit range [γ, π] would vanish; the line's weights hold.
+    let g0 = atan2(h, x0);
+    if point || h <= 0.0 || g0 >= PI {
         // A point light, or a ray on the line through the light (the direction
         // from the light is −n before it and n beyond).
         if !point {
@@ -363,7 +366,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
         ca = dot(cr, cross(n, ax)) / sqrt(dot(cr, cr)).max(1e-30);
         let r = sqrt(ca * ca + k * k);
         let psi = atan2(k, ca);
-        gam = atan2(h, x0);
+        gam = g0;
         om_e = if has_end { atan2(h, x0 - rho) } else { PI };
         if co < r {
             let dlo = spot_asin(co, r);
