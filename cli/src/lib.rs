@@ -77,6 +77,12 @@ pub(crate) enum EvalEntry {
     /// cos_outer,cos_inner,intensity,sigma_t_r,sigma_t_g,sigma_t_b,sigma_s_r,
     /// sigma_s_g,sigma_s_b,g; output columns r,g_out,b.
     Spot,
+    /// Light shafts: the radiance (or spot) entry's columns plus `spheres`, the
+    /// occluders as `cx cy cz r` quadruples separated by `;` (empty: none), the
+    /// view ray ending at `surface`; the shafts accumulator fed the exact lit
+    /// intervals, or with --samples N a shadow map's N look-ups. Output column
+    /// radiance (r,g_out,b for a spot file).
+    Shadowed,
 }
 
 /// Where `eval` runs: `cpu`, or a generated shader's language.
@@ -142,6 +148,13 @@ enum Command {
         /// spot: the spot entry (spot rays, RGB).
         #[arg(long, value_enum, default_value_t = EvalEntry::Airlight)]
         entry: EvalEntry,
+        /// With --entry shadowed: feed the accumulator N visibility samples, taken
+        /// where raymarch-N takes its steps (midpoints of N equal steps to the
+        /// surface, or to the march's cut-off on an open ray), instead of the
+        /// exact lit intervals. A raymarch-N model always looks visibility up at
+        /// its own N steps (the engines' march).
+        #[arg(long, value_name = "N")]
+        samples: Option<usize>,
         /// Repository root (the directory holding generated/coefficients/); found
         /// from the current directory if omitted. Only the reference works without it.
         #[arg(long)]
@@ -313,7 +326,19 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
         Kernels::Elsewhere => None,
     };
     match command {
-        Command::Eval { model, input, output, precision, target, entry, root } => {
+        Command::Eval { model, input, output, precision, target, entry, samples, root } => {
+            if samples.is_some() && entry != EvalEntry::Shadowed {
+                return Err(bad_input("--samples goes with --entry shadowed"));
+            }
+            if entry == EvalEntry::Shadowed {
+                let on = match (target.0, precision, linked) {
+                    (Some(t), _, _) => eval::Runner::Gpu(t),
+                    (None, Precision::F32, None) => return workspace::delegate(root, None),
+                    (None, Precision::F32, Some(k)) => eval::Runner::F32(k),
+                    (None, Precision::F64, _) => eval::Runner::F64,
+                };
+                return eval::eval_shadowed(&model, &input, output.as_deref(), on, samples, root);
+            }
             // A rays file with a cone's columns is the spot entry's.
             let rays = match entry {
                 EvalEntry::Radiance if eval::names_spot_columns(&input) => EvalEntry::Spot,

@@ -49,6 +49,9 @@ pub struct Scene {
     /// Whether the lights are spot lights (`kind = "spot"`): the kernel gets the
     /// spot entry, with RGB `sigma_t` and `sigma_s`.
     pub spot: bool,
+    /// Whether occluders shadow the lights (`[lights] shadows`, default false):
+    /// the kernel gets the shafts accumulator. Needs surfaces.
+    pub shadows: bool,
     /// Whether light scattered from beyond the foot point matters.
     pub backscatter: bool,
     /// Accuracy budget: largest relative error of the airlight.
@@ -199,7 +202,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
     // Every key the planner reads; anything else is a misspelling, not a comment.
     const KEYS: [(&str, &[&str]); 5] = [
         ("medium", &["sigma_t", "phase", "g", "g_range", "extinction"]),
-        ("lights", &["kind", "max_distance"]),
+        ("lights", &["kind", "max_distance", "shadows"]),
         ("ray", &["surfaces", "backscatter"]),
         ("accuracy", &["max_rel_error"]),
         ("output", &["targets"]),
@@ -218,6 +221,18 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
     let phase = f.phase()?;
     let extinction = f.boolean("medium", "extinction")?;
     let (spot, surfaces) = f.spot_and_surfaces()?;
+    let shadows = match f.table("lights")?.get("shadows") {
+        None => false,
+        Some(_) => f.boolean("lights", "shadows")?,
+    };
+    if shadows && !surfaces {
+        return Err(f.err(
+            "lights",
+            "shadows",
+            "shafts are summed run by run up to each run's end like a surface: shadows = true needs [ray] surfaces = true"
+                .into(),
+        ));
+    }
     let max_distance = f.num("lights", "max_distance")?;
     if !(max_distance > 0.0 && max_distance.is_finite()) {
         return Err(f.err("lights", "max_distance", "must be a positive distance".into()));
@@ -239,6 +254,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scene, SceneError> {
         max_distance,
         surfaces,
         spot,
+        shadows,
         backscatter: f.boolean("ray", "backscatter")?,
         max_rel_error,
         targets,

@@ -56,4 +56,10 @@ impl Model for Approximation {
     fn eval_unchecked(&self, p: Point) -> f64 {
         self.body.eval(p)
     }
+    fn march_steps(&self) -> Option<usize> {
+        match &self.body {
+            crate::family::Body::RayMarch(m) => Some(m.steps),
+            _ => None,
+        }
+    }
 }

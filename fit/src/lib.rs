@@ -31,6 +31,7 @@ pub mod quad;
 pub mod record;
 pub mod reference;
 pub mod selfcheck;
+pub mod shafts;
 pub mod stats;
 pub mod template;
 pub mod tomlfile;

@@ -22,6 +22,11 @@ pub trait Model: Sync {
     }
     /// `A` at a point that passed [`Model::check`].
     fn eval_unchecked(&self, p: Point) -> f64;
+    /// The steps of a uniform ray march (the engines' baseline), which looks the
+    /// shadow map up at each of its own steps (docs/MATH.md §8); `None` otherwise.
+    fn march_steps(&self) -> Option<usize> {
+        None
+    }
     /// Whether `p` is in the domain of `A` and in this model's g range.
     fn check(&self, p: &Point) -> Result<(), ParamError> {
         p.validate()?;

@@ -7,6 +7,8 @@
 //!   distance (negative or `inf`: none), light, intensity, σt, σs, g.
 //! - Rays of the spot entry ([`SPOT_COLUMNS`]): the same with the cone's axis and
 //!   cosines, and σt, σs per colour channel.
+//! - Shadowed rays (`eval --entry shadowed`): either of the last two plus
+//!   `spheres`, the occluders as `cx cy cz r` quadruples separated by `;`.
 
 use crate::geometry::{Cone, PhysicalRay};
 use crate::reference::{ParamError, Point};
@@ -380,6 +382,39 @@ pub fn parse_spots(
         rows.push(SpotRow { line, rays, cone, g: v[22], text: raw.to_vec() });
     }
     Ok(rows)
+}
+
+/// The `spheres` column of a shadowed rays file: for each data line (1-based),
+/// its occluders and the field as written. Errors name the file, the line and
+/// the column.
+pub fn parse_spheres_column(
+    file: &str,
+    contents: &str,
+) -> Result<Vec<(usize, Vec<crate::shafts::Occluder>, String)>, CsvError> {
+    let contents =
+        if contents.contains('\r') { contents.replace("\r\n", "\n").replace('\r', "\n") } else { contents.to_string() };
+    let mut lines = contents.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
+    let Some((header_line, header)) = lines.next() else {
+        return Err(located(file, 1, None, "empty file: expected a header".into()));
+    };
+    let col = header
+        .split(',')
+        .position(|c| c.trim().trim_start_matches('\u{feff}').eq_ignore_ascii_case("spheres"))
+        .ok_or_else(|| {
+        located(
+            file,
+            header_line,
+            Some("spheres"),
+            format!("missing from the header '{}' (the occluders: cx cy cz r; …, empty for none)", header.trim()),
+        )
+    })?;
+    let mut out = Vec::new();
+    for (line, text) in lines {
+        let field = text.split(',').nth(col).map(str::trim).unwrap_or("");
+        let occ = crate::shafts::parse_spheres(field).map_err(|m| located(file, line, Some("spheres"), m))?;
+        out.push((line, occ, field.to_string()));
+    }
+    Ok(out)
 }
 
 /// Writes spot rows with their values: the input columns as written plus `r`,

@@ -319,6 +319,16 @@ pub type RadianceFn = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) 
 /// `sigma_t`, `sigma_s` and result (`airlight_kernels::Spot`).
 pub type SpotFn = fn([f32; 3], [f32; 3], f32, [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
 
+/// A compiled Rust kernel's shafts accumulator over its physical entry, uniform
+/// signature `(samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g)`
+/// (`airlight_kernels::Shadowed`): the `[s, v]` visibility samples in order, then
+/// the shadowed radiance to the surface at `end` (negative: none).
+pub type ShadowedFn = fn(&[[f32; 2]], f32, [f32; 3], [f32; 3], [f32; 3], f32, f32, f32, f32) -> f32;
+
+/// The same over the spot entry (`airlight_kernels::SpotShadowed`).
+pub type SpotShadowedFn =
+    fn(&[[f32; 2]], f32, [f32; 3], [f32; 3], [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
+
 /// A generated Rust kernel as compiled into some binary: the gate and the render
 /// take these from whoever links `airlight-kernels` (the `airlight-run` binary),
 /// so that nothing else has to compile the generator's output.
@@ -332,6 +342,10 @@ pub struct CompiledKernel {
     pub radiance: RadianceFn,
     /// The spot (RGB) entry, where the kernel has one.
     pub spot: Option<SpotFn>,
+    /// The shafts accumulator over `radiance`, where the kernel has one.
+    pub shadowed: Option<ShadowedFn>,
+    /// The shafts accumulator over `spot`, where the kernel has both.
+    pub spot_shadowed: Option<SpotShadowedFn>,
 }
 
 /// The path of the kernel index under `generated/`.

@@ -922,3 +922,170 @@ vec3 airlight_equiangular_16_spot(vec3 origin, vec3 dir, float surface, vec3 lig
     }
     return vec3(airlight_equiangular_16_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_equiangular_16_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_equiangular_16_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
+
+// ---- Light shafts (codegen/templates/kernels/shafts.glsl.tera) ----
+//
+// The shadowed in-scattering of a ray whose visibility v the caller samples (its
+// shadow map): constant between changes, each change placed between the samples
+// that straddle it (their midpoint, or where the caller's bisection puts it), so
+// the integral is the sum over runs of constant visibility of v times the run's
+// own in-scattering: the entry itself with the viewer moved to the run's start and
+// a surface at its end, times exp(-sigma_t start). Never a difference of two
+// integrals; dark runs cost nothing; the error is the family's bound times the
+// unshadowed value (docs/MATH.md section 8).
+//
+// Use:
+//   airlight_equiangular_16_Shafts acc = airlight_equiangular_16_shafts_begin();
+//   for (int i = 0; i < n; i++) {
+//       float s = (float(i) + 0.5) * step;
+//       airlight_equiangular_16_shafts_push(acc, s, my_visibility(s), <the entry's arguments but surface>);
+//       // optional: place the change just seen by bisection
+//       for (int k = 0; k < 4 && airlight_equiangular_16_shafts_probe(acc) >= 0.0; k++) {
+//           airlight_equiangular_16_shafts_refine(acc, my_visibility(airlight_equiangular_16_shafts_probe(acc)));
+//       }
+//   }
+//   float l = airlight_equiangular_16_shafts_finish(acc, surface, <the same arguments>);  // surface < 0: open ray
+// The spot entry: airlight_equiangular_16_shafts_push_spot and airlight_equiangular_16_shafts_finish_spot (RGB).
+
+struct airlight_equiangular_16_Shafts {
+    // Start of the current run of constant visibility, and its visibility
+    // (negative before the first sample).
+    float start;
+    float v;
+    // The last sample's distance.
+    float s;
+    // A change waiting to be placed, in [lo, hi], from `before` to `after`.
+    bool pending;
+    float lo;
+    float hi;
+    float before;
+    float after;
+    // The runs' sum (RGB; a point light's in x), and the kernel evaluations.
+    vec3 sum;
+    uint calls;
+};
+
+airlight_equiangular_16_Shafts airlight_equiangular_16_shafts_begin() {
+    return airlight_equiangular_16_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3(0.0), 0u);
+}
+
+// Where to look visibility up to halve the pending change's bracket; negative
+// when no change is pending.
+float airlight_equiangular_16_shafts_probe(airlight_equiangular_16_Shafts acc) {
+    return acc.pending ? 0.5 * (acc.lo + acc.hi) : -1.0;
+}
+
+// Halves the pending change's bracket by the visibility v at the probe: the
+// change lies on the side whose visibility differs more from v.
+void airlight_equiangular_16_shafts_refine(inout airlight_equiangular_16_Shafts acc, float v) {
+    if (acc.pending) {
+        float m = 0.5 * (acc.lo + acc.hi);
+        if (abs(v - acc.before) <= abs(v - acc.after)) {
+            acc.lo = m;
+        } else {
+            acc.hi = m;
+        }
+    }
+}
+
+// Places a pending change at its bracket's midpoint; returns the run it closes
+// as (start, end, visibility), visibility 0 if none.
+vec3 airlight_equiangular_16_shafts_place(inout airlight_equiangular_16_Shafts acc) {
+    if (!acc.pending) {
+        return vec3(0.0);
+    }
+    acc.pending = false;
+    float m = 0.5 * (acc.lo + acc.hi);
+    vec3 run = vec3(acc.start, m, acc.before);
+    acc.start = m;
+    acc.v = acc.after;
+    return run;
+}
+
+// Records the sample (s, v); returns the run a change placed now closes.
+vec3 airlight_equiangular_16_shafts_step(inout airlight_equiangular_16_Shafts acc, float s, float v) {
+    vec3 run = airlight_equiangular_16_shafts_place(acc);
+    if (acc.v < 0.0) {
+        acc.v = v;
+    } else if (v != acc.v) {
+        acc.pending = true;
+        acc.lo = acc.s;
+        acc.hi = s;
+        acc.before = acc.v;
+        acc.after = v;
+    }
+    acc.s = s;
+    return run;
+}
+
+// The viewer moved a along the unit direction of dir (xyz) and the stretch's
+// length to b (w; negative: none).
+vec4 airlight_equiangular_16_shafts_moved(float a, float b, vec3 origin, vec3 dir) {
+    vec3 u = dir / airlight_equiangular_16_max_abs(dir);
+    return vec4(origin + a * (u / length(u)), b >= 0.0 ? max(b - a, 0.0) : -1.0);
+}
+
+// A run [a, b] of visibility w: w exp(-sigma_t a) times the entry's value with
+// the viewer moved to a and the surface at b.
+float airlight_equiangular_16_shafts_run(float a, float b, float w, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+    if (!(w > 0.0) || (b >= 0.0 && b <= a)) {
+        return 0.0;
+    }
+    vec4 m = airlight_equiangular_16_shafts_moved(a, b, origin, dir);
+    vec3 o = m.xyz;
+    float len = m.w;
+    float c = airlight_equiangular_16_radiance(o, dir, len, light, intensity, sigma_t, sigma_s, g);
+    if (c >= airlight_equiangular_16_HUGE) {
+        return c;
+    }
+    return w * exp(-sigma_t * a) * c;
+}
+
+// Pushes the visibility v (0 ... 1) of the light at distance s along the ray, for
+// airlight_equiangular_16_radiance's ray, light and medium.
+void airlight_equiangular_16_shafts_push(inout airlight_equiangular_16_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+    vec3 run = airlight_equiangular_16_shafts_step(acc, s, v);
+    if (run.z > 0.0) {
+        acc.sum.x = min(acc.sum.x + airlight_equiangular_16_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s, g), airlight_equiangular_16_HUGE);
+        acc.calls += 1u;
+    }
+}
+
+// The shadowed in-scattering of airlight_equiangular_16_radiance's ray to the surface at `end`
+// (negative: none, the last visibility holding to infinity).
+float airlight_equiangular_16_shafts_finish(airlight_equiangular_16_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+    vec3 run = airlight_equiangular_16_shafts_place(acc);
+    float sum = min(acc.sum.x + airlight_equiangular_16_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s, g), airlight_equiangular_16_HUGE);
+    float w = acc.v < 0.0 ? 1.0 : acc.v;
+    return min(sum + airlight_equiangular_16_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s, g), airlight_equiangular_16_HUGE);
+}
+
+// airlight_equiangular_16_shafts_run for the spot entry, per channel.
+vec3 airlight_equiangular_16_shafts_run_spot(float a, float b, float w, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    if (!(w > 0.0) || (b >= 0.0 && b <= a)) {
+        return vec3(0.0);
+    }
+    vec4 m = airlight_equiangular_16_shafts_moved(a, b, origin, dir);
+    vec3 o = m.xyz;
+    float len = m.w;
+    vec3 c = airlight_equiangular_16_spot(o, dir, len, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+    return mix(w * exp(-sigma_t * a) * c, c, greaterThanEqual(c, vec3(airlight_equiangular_16_HUGE)));
+}
+
+// airlight_equiangular_16_shafts_push for airlight_equiangular_16_spot's ray, cone and RGB medium.
+void airlight_equiangular_16_shafts_push_spot(inout airlight_equiangular_16_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    vec3 run = airlight_equiangular_16_shafts_step(acc, s, v);
+    if (run.z > 0.0) {
+        acc.sum = min(acc.sum + airlight_equiangular_16_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g), vec3(airlight_equiangular_16_HUGE));
+        acc.calls += 1u;
+    }
+}
+
+// airlight_equiangular_16_shafts_finish for airlight_equiangular_16_spot's ray, cone and RGB medium.
+vec3 airlight_equiangular_16_shafts_finish_spot(airlight_equiangular_16_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    vec3 run = airlight_equiangular_16_shafts_place(acc);
+    vec3 sum = min(acc.sum + airlight_equiangular_16_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g), vec3(airlight_equiangular_16_HUGE));
+    float w = acc.v < 0.0 ? 1.0 : acc.v;
+    return min(sum + airlight_equiangular_16_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g), vec3(airlight_equiangular_16_HUGE));
+}
+

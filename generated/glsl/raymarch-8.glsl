@@ -532,3 +532,96 @@ vec3 airlight_raymarch_8_spot(vec3 origin, vec3 dir, float surface, vec3 light, 
     }
     return vec3(airlight_raymarch_8_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_raymarch_8_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_raymarch_8_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
+
+// ---- Light shafts, the engines' way (fit/src/family/raymarch/core.glsl.tera) ----
+//
+// The march with visibility: each pushed sample (s, v) is the midpoint of its own
+// step (from where the previous step ended to as far past s), and adds v f(s) ds,
+// f the single-scattering integrand there: the engines' march, looking the shadow
+// map up at each of its steps. Nothing is placed or refined (probe is negative).
+
+struct airlight_raymarch_8_Shafts {
+    // Where the last step ended; the sum (RGB; a point light's in x); evaluations.
+    float end;
+    vec3 sum;
+    uint calls;
+};
+
+airlight_raymarch_8_Shafts airlight_raymarch_8_shafts_begin() {
+    return airlight_raymarch_8_Shafts(0.0, vec3(0.0), 0u);
+}
+
+float airlight_raymarch_8_shafts_probe(airlight_raymarch_8_Shafts acc) {
+    return -1.0;
+}
+
+void airlight_raymarch_8_shafts_refine(inout airlight_raymarch_8_Shafts acc, float v) {
+}
+
+// The step around s: from where the last one ended to as far past s.
+float airlight_raymarch_8_shafts_step(inout airlight_raymarch_8_Shafts acc, float s) {
+    float step = max(2.0 * (s - acc.end), 0.0);
+    acc.end += step;
+    return step;
+}
+
+// f(s) ds / (sigma_s I) for each channel's sigma_t, as airlight_geometry sums it
+// (in units of the light distance, divided by it once more).
+vec3 airlight_raymarch_8_march_at(float s, float step, vec3 sigma_t, vec3 origin, vec3 dir, vec3 light, float g_in) {
+    vec3 geo = airlight_raymarch_8_ray_geometry(origin, dir, light);
+    if (!(geo.x > 0.0)) {
+        return vec3(airlight_raymarch_8_HUGE);
+    }
+    float g = clamp(g_in, -0.999, 0.999);
+    float sc = s / geo.x;
+    float dt = step / geo.x;
+    float x = geo.z - sc;
+    float h2 = geo.y * geo.y;
+    float t2 = max(x * x + h2, 1e-37);
+    float t = sqrt(t2);
+    float om = x > 0.0 ? h2 / (t + x) : t - x;
+    float op = x > 0.0 ? t + x : h2 / (t - x);
+    float p = airlight_raymarch_8_hg(g, om / t, op / t);
+    vec3 tau = min(max(sigma_t * geo.x, vec3(0.0)), vec3(airlight_raymarch_8_TAU_MAX));
+    return min(p * exp(-tau * (sc + t)) / t2 * dt / geo.x, vec3(airlight_raymarch_8_HUGE));
+}
+
+// Adds the step whose midpoint is s, the light's visibility there v.
+void airlight_raymarch_8_shafts_push(inout airlight_raymarch_8_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+    float step = airlight_raymarch_8_shafts_step(acc, s);
+    if (v > 0.0) {
+        vec3 f = airlight_raymarch_8_march_at(s, step, vec3(sigma_t), origin, dir, light, g);
+        acc.sum.x = min(acc.sum.x + v * airlight_raymarch_8_scaled(sigma_s, intensity, 1.0, f.x), airlight_raymarch_8_HUGE);
+        acc.calls += 1u;
+    }
+}
+
+// The march's sum (end is where the steps ended; not used).
+float airlight_raymarch_8_shafts_finish(airlight_raymarch_8_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+    return acc.sum.x;
+}
+
+// airlight_raymarch_8_shafts_push for a spot light: the cone's weight at the sample too.
+void airlight_raymarch_8_shafts_push_spot(inout airlight_raymarch_8_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    float step = airlight_raymarch_8_shafts_step(acc, s);
+    if (v > 0.0) {
+        vec3 u = dir / airlight_raymarch_8_max_abs(dir);
+        vec3 r = origin + s * (u / length(u)) - light;
+        float w = 1.0;
+        if (cos_outer > -1.0) {
+            vec3 a = axis / airlight_raymarch_8_max_abs(axis);
+            float rr = length(r);
+            w = airlight_raymarch_8_spot_weight(rr > 0.0 ? dot(r, a) / (rr * length(a)) : 1.0, max(cos_outer, 0.0), cos_inner);
+        }
+        if (w > 0.0) {
+            vec3 f = airlight_raymarch_8_march_at(s, step, sigma_t, origin, dir, light, g);
+            vec3 add = vec3(airlight_raymarch_8_scaled(sigma_s.x, intensity * w, 1.0, f.x), airlight_raymarch_8_scaled(sigma_s.y, intensity * w, 1.0, f.y), airlight_raymarch_8_scaled(sigma_s.z, intensity * w, 1.0, f.z));
+            acc.sum = min(acc.sum + v * add, vec3(airlight_raymarch_8_HUGE));
+        }
+        acc.calls += 1u;
+    }
+}
+
+vec3 airlight_raymarch_8_shafts_finish_spot(airlight_raymarch_8_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+    return acc.sum;
+}

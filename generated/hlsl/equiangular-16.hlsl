@@ -7,6 +7,19 @@ struct _frexp_result_f32_ {
     int exp_;
 };
 
+struct airlight_equiangular_16_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    float lo;
+    float hi;
+    float before;
+    float after;
+    float3 sum;
+    uint calls;
+};
+
 _frexp_result_f32_ naga_frexp(float arg) {
     float other;
     _frexp_result_f32_ result;
@@ -56,9 +69,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_equiangular_16_two_sum[2];
 ret_airlight_equiangular_16_two_sum airlight_equiangular_16_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s = (a_3 + b_2);
-    float3 bb = (s - a_3);
-    return Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
+    float3 s_3 = (a_3 + b_2);
+    float3 bb = (s_3 - a_3);
+    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -155,12 +168,12 @@ float airlight_equiangular_16_scaled(float sigma_s, float intensity, float d_1, 
     if ((a_4 >= airlight_equiangular_16_HUGE)) {
         return airlight_equiangular_16_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_equiangular_16_HUGE;
     }
@@ -175,15 +188,15 @@ float airlight_equiangular_16_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_6 = abs(x);
-    r = a_6;
-    if ((a_6 > 2.4142137)) {
+    float a_9 = abs(x);
+    r = a_9;
+    if ((a_9 > 2.4142137)) {
         y0_ = airlight_equiangular_16_FRAC_PI_2_;
-        r = (-1.0 / a_6);
+        r = (-1.0 / a_9);
     } else {
-        if ((a_6 > 0.41421357)) {
+        if ((a_9 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_6 - 1.0) / (a_6 + 1.0));
+            r = ((a_9 - 1.0) / (a_9 + 1.0));
         }
     }
     float _e18 = r;
@@ -218,9 +231,9 @@ float airlight_equiangular_16_arctan2_(float y, float x_1)
 float2 airlight_equiangular_16_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_5 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_3);
+    return float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -241,21 +254,21 @@ float2 airlight_equiangular_16_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
-    float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
+    float s_6 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_4);
+            return float2(s_6, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_3));
+            return float2(c_4, -(s_6));
         }
         case 2: {
-            return float2(-(s_3), -(c_4));
+            return float2(-(s_6), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_3);
+            return float2(-(c_4), s_6);
         }
     }
 }
@@ -385,9 +398,9 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float d_2 = (float)0;
 
     float tau_5 = min(max(tau_in, 0.0), airlight_equiangular_16_TAU_MAX);
-    float g_7 = clamp(g_in, -0.999, 0.999);
-    float gm = ((1.0 - g_7) * (1.0 - g_7));
-    float gp = ((1.0 + g_7) * (1.0 + g_7));
+    float g_13 = clamp(g_in, -0.999, 0.999);
+    float gm = ((1.0 - g_13) * (1.0 - g_13));
+    float gp = ((1.0 + g_13) * (1.0 + g_13));
     if (!((h_1 <= 0.0))) {
         if ((x0_1 < 0.0)) {
             local_7 = (h_1 < 8.673617e-19);
@@ -401,7 +414,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     }
     bool _e38 = local_6;
     if (_e38) {
-        const float _e39 = airlight_equiangular_16_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        const float _e39 = airlight_equiangular_16_airlight_axis(tau_5, x0_1, rho_1, g_13);
         return _e39;
     }
     span = comp;
@@ -436,7 +449,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e106 = sc.y;
     float _e112 = sc.x;
     float _e115 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e112) * _e115)) : (gp - (((4.0 * g_7) * _e103) * _e106)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e112) * _e115)) : (gp - (((4.0 * g_13) * _e103) * _e106)));
     float _e121 = sum_1;
     float _e123 = st;
     float _e128 = d_2;
@@ -461,7 +474,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e176 = sc.y;
     float _e182 = sc.x;
     float _e185 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e182) * _e185)) : (gp - (((4.0 * g_7) * _e173) * _e176)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e182) * _e185)) : (gp - (((4.0 * g_13) * _e173) * _e176)));
     float _e191 = sum_1;
     float _e193 = st;
     float _e198 = d_2;
@@ -486,7 +499,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e246 = sc.y;
     float _e252 = sc.x;
     float _e255 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e252) * _e255)) : (gp - (((4.0 * g_7) * _e243) * _e246)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e252) * _e255)) : (gp - (((4.0 * g_13) * _e243) * _e246)));
     float _e261 = sum_1;
     float _e263 = st;
     float _e268 = d_2;
@@ -511,7 +524,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e316 = sc.y;
     float _e322 = sc.x;
     float _e325 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e322) * _e325)) : (gp - (((4.0 * g_7) * _e313) * _e316)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e322) * _e325)) : (gp - (((4.0 * g_13) * _e313) * _e316)));
     float _e331 = sum_1;
     float _e333 = st;
     float _e338 = d_2;
@@ -536,7 +549,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e386 = sc.y;
     float _e392 = sc.x;
     float _e395 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e392) * _e395)) : (gp - (((4.0 * g_7) * _e383) * _e386)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e392) * _e395)) : (gp - (((4.0 * g_13) * _e383) * _e386)));
     float _e401 = sum_1;
     float _e403 = st;
     float _e408 = d_2;
@@ -561,7 +574,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e456 = sc.y;
     float _e462 = sc.x;
     float _e465 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e462) * _e465)) : (gp - (((4.0 * g_7) * _e453) * _e456)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e462) * _e465)) : (gp - (((4.0 * g_13) * _e453) * _e456)));
     float _e471 = sum_1;
     float _e473 = st;
     float _e478 = d_2;
@@ -586,7 +599,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e526 = sc.y;
     float _e532 = sc.x;
     float _e535 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e532) * _e535)) : (gp - (((4.0 * g_7) * _e523) * _e526)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e532) * _e535)) : (gp - (((4.0 * g_13) * _e523) * _e526)));
     float _e541 = sum_1;
     float _e543 = st;
     float _e548 = d_2;
@@ -611,7 +624,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e596 = sc.y;
     float _e602 = sc.x;
     float _e605 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e602) * _e605)) : (gp - (((4.0 * g_7) * _e593) * _e596)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e602) * _e605)) : (gp - (((4.0 * g_13) * _e593) * _e596)));
     float _e611 = sum_1;
     float _e613 = st;
     float _e618 = d_2;
@@ -636,7 +649,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e666 = sc.y;
     float _e672 = sc.x;
     float _e675 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e672) * _e675)) : (gp - (((4.0 * g_7) * _e663) * _e666)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e672) * _e675)) : (gp - (((4.0 * g_13) * _e663) * _e666)));
     float _e681 = sum_1;
     float _e683 = st;
     float _e688 = d_2;
@@ -661,7 +674,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e736 = sc.y;
     float _e742 = sc.x;
     float _e745 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e742) * _e745)) : (gp - (((4.0 * g_7) * _e733) * _e736)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e742) * _e745)) : (gp - (((4.0 * g_13) * _e733) * _e736)));
     float _e751 = sum_1;
     float _e753 = st;
     float _e758 = d_2;
@@ -686,7 +699,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e806 = sc.y;
     float _e812 = sc.x;
     float _e815 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e812) * _e815)) : (gp - (((4.0 * g_7) * _e803) * _e806)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e812) * _e815)) : (gp - (((4.0 * g_13) * _e803) * _e806)));
     float _e821 = sum_1;
     float _e823 = st;
     float _e828 = d_2;
@@ -711,7 +724,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e876 = sc.y;
     float _e882 = sc.x;
     float _e885 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e882) * _e885)) : (gp - (((4.0 * g_7) * _e873) * _e876)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e882) * _e885)) : (gp - (((4.0 * g_13) * _e873) * _e876)));
     float _e891 = sum_1;
     float _e893 = st;
     float _e898 = d_2;
@@ -736,7 +749,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e946 = sc.y;
     float _e952 = sc.x;
     float _e955 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e952) * _e955)) : (gp - (((4.0 * g_7) * _e943) * _e946)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e952) * _e955)) : (gp - (((4.0 * g_13) * _e943) * _e946)));
     float _e961 = sum_1;
     float _e963 = st;
     float _e968 = d_2;
@@ -761,7 +774,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e1016 = sc.y;
     float _e1022 = sc.x;
     float _e1025 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1022) * _e1025)) : (gp - (((4.0 * g_7) * _e1013) * _e1016)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1022) * _e1025)) : (gp - (((4.0 * g_13) * _e1013) * _e1016)));
     float _e1031 = sum_1;
     float _e1033 = st;
     float _e1038 = d_2;
@@ -786,7 +799,7 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e1086 = sc.y;
     float _e1092 = sc.x;
     float _e1095 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1092) * _e1095)) : (gp - (((4.0 * g_7) * _e1083) * _e1086)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1092) * _e1095)) : (gp - (((4.0 * g_13) * _e1083) * _e1086)));
     float _e1101 = sum_1;
     float _e1103 = st;
     float _e1108 = d_2;
@@ -811,14 +824,14 @@ float airlight_equiangular_16_airlight_geometry(float tau_in, float h_1, float x
     float _e1156 = sc.y;
     float _e1162 = sc.x;
     float _e1165 = sc.x;
-    d_2 = ((g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1162) * _e1165)) : (gp - (((4.0 * g_7) * _e1153) * _e1156)));
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1162) * _e1165)) : (gp - (((4.0 * g_13) * _e1153) * _e1156)));
     float _e1171 = sum_1;
     float _e1173 = st;
     float _e1178 = d_2;
     float _e1179 = d_2;
     sum_1 = (_e1171 + ((0.02715246 * exp((-(tau_5) * _e1173))) / (_e1178 * sqrt(_e1179))));
     float _e1191 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e1191) * half_1) / h_1), airlight_equiangular_16_HUGE);
+    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e1191) * half_1) / h_1), airlight_equiangular_16_HUGE);
 }
 
 float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
@@ -835,9 +848,9 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float d_3 = (float)0;
 
     float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
-    float g_8 = clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = ((1.0 - g_8) * (1.0 - g_8));
-    float gp_1 = ((1.0 + g_8) * (1.0 + g_8));
+    float g_14 = clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = ((1.0 - g_14) * (1.0 - g_14));
+    float gp_1 = ((1.0 + g_14) * (1.0 + g_14));
     if (!((h_2 <= 0.0))) {
         if ((x0_2 < 0.0)) {
             local_10 = (h_2 < 8.673617e-19);
@@ -851,9 +864,9 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     }
     bool _e40 = local_9;
     if (_e40) {
-        const float _e42 = airlight_equiangular_16_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
-        const float _e44 = airlight_equiangular_16_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
-        const float _e46 = airlight_equiangular_16_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        const float _e42 = airlight_equiangular_16_airlight_axis(tau_6.x, x0_2, rho_2, g_14);
+        const float _e44 = airlight_equiangular_16_airlight_axis(tau_6.y, x0_2, rho_2, g_14);
+        const float _e46 = airlight_equiangular_16_airlight_axis(tau_6.z, x0_2, rho_2, g_14);
         return float3(_e42, _e44, _e46);
     }
     span_1 = comp_1;
@@ -888,7 +901,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e115 = sc_1.y;
     float _e121 = sc_1.x;
     float _e124 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e121) * _e124)) : (gp_1 - (((4.0 * g_8) * _e112) * _e115)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e121) * _e124)) : (gp_1 - (((4.0 * g_14) * _e112) * _e115)));
     float3 _e130 = sum_2;
     float _e132 = st_1;
     float _e137 = d_3;
@@ -913,7 +926,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e186 = sc_1.y;
     float _e192 = sc_1.x;
     float _e195 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e192) * _e195)) : (gp_1 - (((4.0 * g_8) * _e183) * _e186)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e192) * _e195)) : (gp_1 - (((4.0 * g_14) * _e183) * _e186)));
     float3 _e201 = sum_2;
     float _e203 = st_1;
     float _e208 = d_3;
@@ -938,7 +951,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e257 = sc_1.y;
     float _e263 = sc_1.x;
     float _e266 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e263) * _e266)) : (gp_1 - (((4.0 * g_8) * _e254) * _e257)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e263) * _e266)) : (gp_1 - (((4.0 * g_14) * _e254) * _e257)));
     float3 _e272 = sum_2;
     float _e274 = st_1;
     float _e279 = d_3;
@@ -963,7 +976,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e328 = sc_1.y;
     float _e334 = sc_1.x;
     float _e337 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e334) * _e337)) : (gp_1 - (((4.0 * g_8) * _e325) * _e328)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e334) * _e337)) : (gp_1 - (((4.0 * g_14) * _e325) * _e328)));
     float3 _e343 = sum_2;
     float _e345 = st_1;
     float _e350 = d_3;
@@ -988,7 +1001,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e399 = sc_1.y;
     float _e405 = sc_1.x;
     float _e408 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e405) * _e408)) : (gp_1 - (((4.0 * g_8) * _e396) * _e399)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e405) * _e408)) : (gp_1 - (((4.0 * g_14) * _e396) * _e399)));
     float3 _e414 = sum_2;
     float _e416 = st_1;
     float _e421 = d_3;
@@ -1013,7 +1026,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e470 = sc_1.y;
     float _e476 = sc_1.x;
     float _e479 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e476) * _e479)) : (gp_1 - (((4.0 * g_8) * _e467) * _e470)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e476) * _e479)) : (gp_1 - (((4.0 * g_14) * _e467) * _e470)));
     float3 _e485 = sum_2;
     float _e487 = st_1;
     float _e492 = d_3;
@@ -1038,7 +1051,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e541 = sc_1.y;
     float _e547 = sc_1.x;
     float _e550 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e547) * _e550)) : (gp_1 - (((4.0 * g_8) * _e538) * _e541)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e547) * _e550)) : (gp_1 - (((4.0 * g_14) * _e538) * _e541)));
     float3 _e556 = sum_2;
     float _e558 = st_1;
     float _e563 = d_3;
@@ -1063,7 +1076,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e612 = sc_1.y;
     float _e618 = sc_1.x;
     float _e621 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e618) * _e621)) : (gp_1 - (((4.0 * g_8) * _e609) * _e612)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e618) * _e621)) : (gp_1 - (((4.0 * g_14) * _e609) * _e612)));
     float3 _e627 = sum_2;
     float _e629 = st_1;
     float _e634 = d_3;
@@ -1088,7 +1101,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e683 = sc_1.y;
     float _e689 = sc_1.x;
     float _e692 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e689) * _e692)) : (gp_1 - (((4.0 * g_8) * _e680) * _e683)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e689) * _e692)) : (gp_1 - (((4.0 * g_14) * _e680) * _e683)));
     float3 _e698 = sum_2;
     float _e700 = st_1;
     float _e705 = d_3;
@@ -1113,7 +1126,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e754 = sc_1.y;
     float _e760 = sc_1.x;
     float _e763 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e760) * _e763)) : (gp_1 - (((4.0 * g_8) * _e751) * _e754)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e760) * _e763)) : (gp_1 - (((4.0 * g_14) * _e751) * _e754)));
     float3 _e769 = sum_2;
     float _e771 = st_1;
     float _e776 = d_3;
@@ -1138,7 +1151,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e825 = sc_1.y;
     float _e831 = sc_1.x;
     float _e834 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e831) * _e834)) : (gp_1 - (((4.0 * g_8) * _e822) * _e825)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e831) * _e834)) : (gp_1 - (((4.0 * g_14) * _e822) * _e825)));
     float3 _e840 = sum_2;
     float _e842 = st_1;
     float _e847 = d_3;
@@ -1163,7 +1176,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e896 = sc_1.y;
     float _e902 = sc_1.x;
     float _e905 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e902) * _e905)) : (gp_1 - (((4.0 * g_8) * _e893) * _e896)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e902) * _e905)) : (gp_1 - (((4.0 * g_14) * _e893) * _e896)));
     float3 _e911 = sum_2;
     float _e913 = st_1;
     float _e918 = d_3;
@@ -1188,7 +1201,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e967 = sc_1.y;
     float _e973 = sc_1.x;
     float _e976 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e973) * _e976)) : (gp_1 - (((4.0 * g_8) * _e964) * _e967)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e973) * _e976)) : (gp_1 - (((4.0 * g_14) * _e964) * _e967)));
     float3 _e982 = sum_2;
     float _e984 = st_1;
     float _e989 = d_3;
@@ -1213,7 +1226,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e1038 = sc_1.y;
     float _e1044 = sc_1.x;
     float _e1047 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_8) * _e1035) * _e1038)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_14) * _e1035) * _e1038)));
     float3 _e1053 = sum_2;
     float _e1055 = st_1;
     float _e1060 = d_3;
@@ -1238,7 +1251,7 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e1109 = sc_1.y;
     float _e1115 = sc_1.x;
     float _e1118 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_8) * _e1106) * _e1109)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_14) * _e1106) * _e1109)));
     float3 _e1124 = sum_2;
     float _e1126 = st_1;
     float _e1131 = d_3;
@@ -1263,14 +1276,14 @@ float3 airlight_equiangular_16_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float _e1180 = sc_1.y;
     float _e1186 = sc_1.x;
     float _e1189 = sc_1.x;
-    d_3 = ((g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_8) * _e1177) * _e1180)));
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_14) * _e1177) * _e1180)));
     float3 _e1195 = sum_2;
     float _e1197 = st_1;
     float _e1202 = d_3;
     float _e1203 = d_3;
     sum_2 = (_e1195 + ((0.02715246 * exp((-(tau_6) * _e1197))) / ((_e1202 * sqrt(_e1203))).xxx));
     float3 _e1216 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e1216) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e1216) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_16_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
@@ -1437,12 +1450,12 @@ float3 airlight_equiangular_16_spot_edge(float3 tau_4, float h_5, float x0_5, fl
         {
             int _e80 = i;
             float _e82 = pieces[min(uint(_e80), 5u)];
-            float a_7 = (u_1 + ((v_in - u_1) * _e82));
+            float a_10 = (u_1 + ((v_in - u_1) * _e82));
             int _e86 = i;
             float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
-            float b_5 = (u_1 + ((v_in - u_1) * _e90));
-            float half_3 = (0.5 * (b_5 - a_7));
-            float mid = (0.5 * (b_5 + a_7));
+            float b_8 = (u_1 + ((v_in - u_1) * _e90));
+            float half_3 = (0.5 * (b_8 - a_10));
+            float mid = (0.5 * (b_8 + a_10));
             w = (mid + (half_3 * 0.96028984));
             float _e102 = w;
             const float2 _e105 = airlight_equiangular_16_sin_cos((0.5 * _e102));
@@ -1863,5 +1876,221 @@ float3 airlight_equiangular_16_spot(float3 origin_2, float3 dir_2, float surface
     float _e295 = a_5.z;
     const float _e296 = airlight_equiangular_16_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
     return float3(_e284, _e290, _e296);
+}
+
+airlight_equiangular_16_Shafts Constructairlight_equiangular_16_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+    airlight_equiangular_16_Shafts ret = (airlight_equiangular_16_Shafts)0;
+    ret.start = arg0;
+    ret.v = arg1;
+    ret.s = arg2;
+    ret.pending = arg3;
+    ret.lo = arg4;
+    ret.hi = arg5;
+    ret.before = arg6;
+    ret.after = arg7;
+    ret.sum = arg8;
+    ret.calls = arg9;
+    return ret;
+}
+
+airlight_equiangular_16_Shafts airlight_equiangular_16_shafts_begin()
+{
+    const airlight_equiangular_16_Shafts airlight_equiangular_16_shafts = Constructairlight_equiangular_16_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    return airlight_equiangular_16_shafts;
+}
+
+float airlight_equiangular_16_shafts_probe(airlight_equiangular_16_Shafts acc)
+{
+    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+}
+
+void airlight_equiangular_16_shafts_refine(inout airlight_equiangular_16_Shafts acc_1, float v_2)
+{
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = (0.5 * (_e5 + _e7));
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+float3 airlight_equiangular_16_shafts_place(inout airlight_equiangular_16_Shafts acc_2)
+{
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return (0.0).xxx;
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = (0.5 * (_e9 + _e11));
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    float3 run = float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+float3 airlight_equiangular_16_shafts_step(inout airlight_equiangular_16_Shafts acc_3, float s, float v_3)
+{
+    const float3 _e3 = airlight_equiangular_16_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if ((_e5 < 0.0)) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if ((v_3 != _e10)) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+float4 airlight_equiangular_16_shafts_moved(float a_6, float b_5, float3 origin_3, float3 dir_3)
+{
+    const float _e4 = airlight_equiangular_16_max_abs(dir_3);
+    float3 u_2 = (dir_3 / (_e4).xxx);
+    return float4((origin_3 + (a_6 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_6), 0.0) : -1.0));
+}
+
+float airlight_equiangular_16_shafts_run(float a_7, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_7)
+{
+    bool local_23 = (bool)0;
+    bool local_24 = (bool)0;
+
+    if (!(!((w_1 > 0.0)))) {
+        if ((b_6 >= 0.0)) {
+            local_24 = (b_6 <= a_7);
+        } else {
+            local_24 = false;
+        }
+        bool _e22 = local_24;
+        local_23 = _e22;
+    } else {
+        local_23 = true;
+    }
+    bool _e24 = local_23;
+    if (_e24) {
+        return 0.0;
+    }
+    const float4 _e26 = airlight_equiangular_16_shafts_moved(a_7, b_6, origin_4, dir_4);
+    float3 o = _e26.xyz;
+    float len = _e26.w;
+    const float _e29 = airlight_equiangular_16_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    if ((_e29 >= airlight_equiangular_16_HUGE)) {
+        return _e29;
+    }
+    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
+}
+
+void airlight_equiangular_16_shafts_push(inout airlight_equiangular_16_Shafts acc_4, float s_1, float v_4, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+{
+    const float3 _e10 = airlight_equiangular_16_shafts_step(acc_4, s_1, v_4);
+    if ((_e10.z > 0.0)) {
+        float _e18 = acc_4.sum.x;
+        const float _e22 = airlight_equiangular_16_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+        acc_4.sum.x = min((_e18 + _e22), airlight_equiangular_16_HUGE);
+        uint _e27 = acc_4.calls;
+        acc_4.calls = (_e27 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_equiangular_16_shafts_finish(airlight_equiangular_16_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+{
+    airlight_equiangular_16_Shafts acc_5 = (airlight_equiangular_16_Shafts)0;
+
+    acc_5 = acc_in;
+    const float3 _e10 = airlight_equiangular_16_shafts_place(acc_5);
+    float _e13 = acc_5.sum.x;
+    const float _e17 = airlight_equiangular_16_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    float sum_4 = min((_e13 + _e17), airlight_equiangular_16_HUGE);
+    float _e22 = acc_5.v;
+    float _e24 = acc_5.v;
+    float w_3 = ((_e24 < 0.0) ? 1.0 : _e22);
+    float _e30 = acc_5.start;
+    const float _e31 = airlight_equiangular_16_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    return min((sum_4 + _e31), airlight_equiangular_16_HUGE);
+}
+
+float3 airlight_equiangular_16_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_10)
+{
+    bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
+
+    if (!(!((w_2 > 0.0)))) {
+        if ((b_7 >= 0.0)) {
+            local_26 = (b_7 <= a_8);
+        } else {
+            local_26 = false;
+        }
+        bool _e25 = local_26;
+        local_25 = _e25;
+    } else {
+        local_25 = true;
+    }
+    bool _e27 = local_25;
+    if (_e27) {
+        return (0.0).xxx;
+    }
+    const float4 _e30 = airlight_equiangular_16_shafts_moved(a_8, b_7, origin_7, dir_7);
+    float3 o_1 = _e30.xyz;
+    float len_1 = _e30.w;
+    const float3 _e33 = airlight_equiangular_16_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_5) * a_8))) * _e33));
+}
+
+void airlight_equiangular_16_shafts_push_spot(inout airlight_equiangular_16_Shafts acc_6, float s_2, float v_5, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+{
+    const float3 _e13 = airlight_equiangular_16_shafts_step(acc_6, s_2, v_5);
+    if ((_e13.z > 0.0)) {
+        float3 _e19 = acc_6.sum;
+        const float3 _e23 = airlight_equiangular_16_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
+        acc_6.sum = min((_e19 + _e23), (3.4028235e38).xxx);
+        uint _e29 = acc_6.calls;
+        acc_6.calls = (_e29 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float3 airlight_equiangular_16_shafts_finish_spot(airlight_equiangular_16_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+{
+    airlight_equiangular_16_Shafts acc_7 = (airlight_equiangular_16_Shafts)0;
+
+    acc_7 = acc_in_1;
+    const float3 _e13 = airlight_equiangular_16_shafts_place(acc_7);
+    float3 _e15 = acc_7.sum;
+    const float3 _e19 = airlight_equiangular_16_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    float3 sum_5 = min((_e15 + _e19), (3.4028235e38).xxx);
+    float _e25 = acc_7.v;
+    float _e27 = acc_7.v;
+    float w_4 = ((_e27 < 0.0) ? 1.0 : _e25);
+    float _e33 = acc_7.start;
+    const float3 _e34 = airlight_equiangular_16_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    return min((sum_5 + _e34), (3.4028235e38).xxx);
 }
 

@@ -13,6 +13,19 @@ struct airlight_hg_exp1_Phase {
     bool mirrored;
 };
 
+struct airlight_hg_exp1_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    float lo;
+    float hi;
+    float before;
+    float after;
+    float3 sum;
+    uint calls;
+};
+
 _frexp_result_f32_ naga_frexp(float arg) {
     float other;
     _frexp_result_f32_ result;
@@ -62,9 +75,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_hg_exp1_two_sum[2];
 ret_airlight_hg_exp1_two_sum airlight_hg_exp1_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s = (a_3 + b_2);
-    float3 bb = (s - a_3);
-    return Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
+    float3 s_3 = (a_3 + b_2);
+    float3 bb = (s_3 - a_3);
+    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -161,12 +174,12 @@ float airlight_hg_exp1_scaled(float sigma_s, float intensity, float d_1, float a
     if ((a_4 >= airlight_hg_exp1_HUGE)) {
         return airlight_hg_exp1_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_hg_exp1_HUGE;
     }
@@ -181,15 +194,15 @@ float airlight_hg_exp1_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_9 = abs(x);
-    r = a_9;
-    if ((a_9 > 2.4142137)) {
+    float a_12 = abs(x);
+    r = a_12;
+    if ((a_12 > 2.4142137)) {
         y0_ = airlight_hg_exp1_FRAC_PI_2_;
-        r = (-1.0 / a_9);
+        r = (-1.0 / a_12);
     } else {
-        if ((a_9 > 0.41421357)) {
+        if ((a_12 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_9 - 1.0) / (a_9 + 1.0));
+            r = ((a_12 - 1.0) / (a_12 + 1.0));
         }
     }
     float _e18 = r;
@@ -224,9 +237,9 @@ float airlight_hg_exp1_arctan2_(float y, float x_1)
 float2 airlight_hg_exp1_sin_cos_octant(float x_2)
 {
     float z_2 = (x_2 * x_2);
-    float s_2 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
+    float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
-    return float2(s_2, c_3);
+    return float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -247,21 +260,21 @@ float2 airlight_hg_exp1_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_3 = (r_3 * r_3);
-    float s_3 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3);
+    float s_6 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_4);
+            return float2(s_6, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_3));
+            return float2(c_4, -(s_6));
         }
         case 2: {
-            return float2(-(s_3), -(c_4));
+            return float2(-(s_6), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_3);
+            return float2(-(c_4), s_6);
         }
     }
 }
@@ -344,16 +357,16 @@ airlight_hg_exp1_Phase airlight_hg_exp1_phase(float g)
 
 float airlight_hg_exp1_phase_at(airlight_hg_exp1_Phase ph_1, float alpha)
 {
-    float a_10 = (ph_1.mirrored ? (airlight_hg_exp1_PI - alpha) : alpha);
-    return max((ph_1.c[0] * exp((-(ph_1.b[0]) * a_10))), 0.0);
+    float a_13 = (ph_1.mirrored ? (airlight_hg_exp1_PI - alpha) : alpha);
+    return max((ph_1.c[0] * exp((-(ph_1.b[0]) * a_13))), 0.0);
 }
 
 float airlight_hg_exp1_phase_u(airlight_hg_exp1_Phase ph_2, float u)
 {
     const float _e2 = airlight_hg_exp1_arctan(u);
     const float _e7 = airlight_hg_exp1_arctan((1.0 / u));
-    float a_11 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
-    return max((ph_2.c[0] * exp((-(ph_2.b[0]) * a_11))), 0.0);
+    float a_14 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
+    return max((ph_2.c[0] * exp((-(ph_2.b[0]) * a_14))), 0.0);
 }
 
 float airlight_hg_exp1_piece(float a_5, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored)
@@ -381,15 +394,15 @@ float airlight_hg_exp1_piece(float a_5, float b_3, float len, float lo_j, float 
 
 float airlight_hg_exp1_segments(float a_6, float len_1, float t_1, float att_1, float beta_1, bool mirrored_1)
 {
-    float b_4 = (a_6 + len_1);
-    const float _e11 = airlight_hg_exp1_piece(a_6, b_4, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1, beta_1, mirrored_1);
-    const float _e16 = airlight_hg_exp1_piece(a_6, b_4, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1, beta_1, mirrored_1);
-    const float _e22 = airlight_hg_exp1_piece(a_6, b_4, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1, beta_1, mirrored_1);
-    const float _e28 = airlight_hg_exp1_piece(a_6, b_4, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1, beta_1, mirrored_1);
-    const float _e34 = airlight_hg_exp1_piece(a_6, b_4, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1, beta_1, mirrored_1);
-    const float _e40 = airlight_hg_exp1_piece(a_6, b_4, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1, beta_1, mirrored_1);
-    const float _e46 = airlight_hg_exp1_piece(a_6, b_4, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1, beta_1, mirrored_1);
-    const float _e52 = airlight_hg_exp1_piece(a_6, b_4, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1, beta_1, mirrored_1);
+    float b_7 = (a_6 + len_1);
+    const float _e11 = airlight_hg_exp1_piece(a_6, b_7, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1, beta_1, mirrored_1);
+    const float _e16 = airlight_hg_exp1_piece(a_6, b_7, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1, beta_1, mirrored_1);
+    const float _e22 = airlight_hg_exp1_piece(a_6, b_7, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1, beta_1, mirrored_1);
+    const float _e28 = airlight_hg_exp1_piece(a_6, b_7, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1, beta_1, mirrored_1);
+    const float _e34 = airlight_hg_exp1_piece(a_6, b_7, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1, beta_1, mirrored_1);
+    const float _e40 = airlight_hg_exp1_piece(a_6, b_7, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1, beta_1, mirrored_1);
+    const float _e46 = airlight_hg_exp1_piece(a_6, b_7, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1, beta_1, mirrored_1);
+    const float _e52 = airlight_hg_exp1_piece(a_6, b_7, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1, beta_1, mirrored_1);
     return (((((((_e11 + _e16) + _e22) + _e28) + _e34) + _e40) + _e46) + _e52);
 }
 
@@ -474,21 +487,21 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
     }
     bool _e164 = local_6;
     if (_e164) {
-        float a_12 = max(u0_, 16.0);
-        float shift = (base - (t_3 * (a_12 - u0_)));
+        float a_15 = max(u0_, 16.0);
+        float shift = (base - (t_3 * (a_15 - u0_)));
         if (!(endless)) {
-            local_7 = (ub <= (2.0 * a_12));
+            local_7 = (ub <= (2.0 * a_15));
         } else {
             local_7 = false;
         }
         bool _e177 = local_7;
         if (_e177) {
             float _e181 = span;
-            float len_5 = ((a_12 == u0_) ? (_e181 / a_12) : ((ub / a_12) - 1.0));
-            float ta = (t_3 * a_12);
+            float len_5 = ((a_15 == u0_) ? (_e181 / a_15) : ((ub / a_15) - 1.0));
+            float ta = (t_3 * a_15);
             {
                 float lam_5 = (ta + 0.26840276);
-                float u_3 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
+                float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
                 float _e204 = part;
                 const float _e213 = airlight_hg_exp1_exprel((-(lam_5) * len_5));
@@ -497,7 +510,7 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
             }
             {
                 float lam_6 = (ta + 1.5659415);
-                float u_4 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
+                float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
                 float _e235 = part;
                 const float _e244 = airlight_hg_exp1_exprel((-(lam_6) * len_5));
@@ -506,7 +519,7 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
             }
             {
                 float lam_7 = (ta + 4.449333);
-                float u_5 = (a_12 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
+                float u_5 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
                 float _e266 = part;
                 const float _e275 = airlight_hg_exp1_exprel((-(lam_7) * len_5));
@@ -515,19 +528,19 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
             }
             float _e281 = sum;
             float _e282 = part;
-            sum = (_e281 + (_e282 / a_12));
+            sum = (_e281 + (_e282 / a_15));
         } else {
-            float lam_8 = (t_3 + (2.0 / a_12));
-            const float _e289 = airlight_hg_exp1_phi((t_3 * a_12));
-            g_1 = (_e289 / a_12);
-            u_1 = (a_12 + (1.0 / lam_8));
+            float lam_8 = (t_3 + (2.0 / a_15));
+            const float _e289 = airlight_hg_exp1_phi((t_3 * a_15));
+            g_1 = (_e289 / a_15);
+            u_1 = (a_15 + (1.0 / lam_8));
             if (!(endless)) {
                 float _e298 = span;
-                float len_6 = ((a_12 == u0_) ? _e298 : (ub - a_12));
+                float len_6 = ((a_15 == u0_) ? _e298 : (ub - a_15));
                 float _e301 = g_1;
                 const float _e306 = airlight_hg_exp1_phi((t_3 * ub));
                 g_1 = (_e301 - ((exp((-(t_3) * len_6)) * _e306) / ub));
-                u_1 = (a_12 + (len_6 / (2.0 + (lam_8 * len_6))));
+                u_1 = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
             float _e315 = u_1;
             float _e316 = u_1;
@@ -772,12 +785,12 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
         {
             int _e80 = i;
             float _e82 = pieces[min(uint(_e80), 5u)];
-            float a_13 = (u_2 + ((v_in - u_2) * _e82));
+            float a_16 = (u_2 + ((v_in - u_2) * _e82));
             int _e86 = i;
             float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
-            float b_5 = (u_2 + ((v_in - u_2) * _e90));
-            float half_ = (0.5 * (b_5 - a_13));
-            float mid = (0.5 * (b_5 + a_13));
+            float b_8 = (u_2 + ((v_in - u_2) * _e90));
+            float half_ = (0.5 * (b_8 - a_16));
+            float mid = (0.5 * (b_8 + a_16));
             w = (mid + (half_ * 0.96028984));
             float _e102 = w;
             const float2 _e105 = airlight_hg_exp1_sin_cos((0.5 * _e102));
@@ -1198,5 +1211,221 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     float _e295 = a_8.z;
     const float _e296 = airlight_hg_exp1_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
     return float3(_e284, _e290, _e296);
+}
+
+airlight_hg_exp1_Shafts Constructairlight_hg_exp1_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+    airlight_hg_exp1_Shafts ret = (airlight_hg_exp1_Shafts)0;
+    ret.start = arg0;
+    ret.v = arg1;
+    ret.s = arg2;
+    ret.pending = arg3;
+    ret.lo = arg4;
+    ret.hi = arg5;
+    ret.before = arg6;
+    ret.after = arg7;
+    ret.sum = arg8;
+    ret.calls = arg9;
+    return ret;
+}
+
+airlight_hg_exp1_Shafts airlight_hg_exp1_shafts_begin()
+{
+    const airlight_hg_exp1_Shafts airlight_hg_exp1_shafts = Constructairlight_hg_exp1_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    return airlight_hg_exp1_shafts;
+}
+
+float airlight_hg_exp1_shafts_probe(airlight_hg_exp1_Shafts acc)
+{
+    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+}
+
+void airlight_hg_exp1_shafts_refine(inout airlight_hg_exp1_Shafts acc_1, float v_2)
+{
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = (0.5 * (_e5 + _e7));
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+float3 airlight_hg_exp1_shafts_place(inout airlight_hg_exp1_Shafts acc_2)
+{
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return (0.0).xxx;
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = (0.5 * (_e9 + _e11));
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    float3 run = float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+float3 airlight_hg_exp1_shafts_step(inout airlight_hg_exp1_Shafts acc_3, float s, float v_3)
+{
+    const float3 _e3 = airlight_hg_exp1_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if ((_e5 < 0.0)) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if ((v_3 != _e10)) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+float4 airlight_hg_exp1_shafts_moved(float a_9, float b_4, float3 origin_3, float3 dir_3)
+{
+    const float _e4 = airlight_hg_exp1_max_abs(dir_3);
+    float3 u_6 = (dir_3 / (_e4).xxx);
+    return float4((origin_3 + (a_9 * (u_6 / (length(u_6)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_9), 0.0) : -1.0));
+}
+
+float airlight_hg_exp1_shafts_run(float a_10, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_10)
+{
+    bool local_23 = (bool)0;
+    bool local_24 = (bool)0;
+
+    if (!(!((w_1 > 0.0)))) {
+        if ((b_5 >= 0.0)) {
+            local_24 = (b_5 <= a_10);
+        } else {
+            local_24 = false;
+        }
+        bool _e22 = local_24;
+        local_23 = _e22;
+    } else {
+        local_23 = true;
+    }
+    bool _e24 = local_23;
+    if (_e24) {
+        return 0.0;
+    }
+    const float4 _e26 = airlight_hg_exp1_shafts_moved(a_10, b_5, origin_4, dir_4);
+    float3 o = _e26.xyz;
+    float len_7 = _e26.w;
+    const float _e29 = airlight_hg_exp1_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
+    if ((_e29 >= airlight_hg_exp1_HUGE)) {
+        return _e29;
+    }
+    return ((w_1 * exp((-(sigma_t_2) * a_10))) * _e29);
+}
+
+void airlight_hg_exp1_shafts_push(inout airlight_hg_exp1_Shafts acc_4, float s_1, float v_4, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_11)
+{
+    const float3 _e10 = airlight_hg_exp1_shafts_step(acc_4, s_1, v_4);
+    if ((_e10.z > 0.0)) {
+        float _e18 = acc_4.sum.x;
+        const float _e22 = airlight_hg_exp1_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_11);
+        acc_4.sum.x = min((_e18 + _e22), airlight_hg_exp1_HUGE);
+        uint _e27 = acc_4.calls;
+        acc_4.calls = (_e27 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_hg_exp1_shafts_finish(airlight_hg_exp1_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_12)
+{
+    airlight_hg_exp1_Shafts acc_5 = (airlight_hg_exp1_Shafts)0;
+
+    acc_5 = acc_in;
+    const float3 _e10 = airlight_hg_exp1_shafts_place(acc_5);
+    float _e13 = acc_5.sum.x;
+    const float _e17 = airlight_hg_exp1_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+    float sum_3 = min((_e13 + _e17), airlight_hg_exp1_HUGE);
+    float _e22 = acc_5.v;
+    float _e24 = acc_5.v;
+    float w_3 = ((_e24 < 0.0) ? 1.0 : _e22);
+    float _e30 = acc_5.start;
+    const float _e31 = airlight_hg_exp1_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+    return min((sum_3 + _e31), airlight_hg_exp1_HUGE);
+}
+
+float3 airlight_hg_exp1_shafts_run_spot(float a_11, float b_6, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_13)
+{
+    bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
+
+    if (!(!((w_2 > 0.0)))) {
+        if ((b_6 >= 0.0)) {
+            local_26 = (b_6 <= a_11);
+        } else {
+            local_26 = false;
+        }
+        bool _e25 = local_26;
+        local_25 = _e25;
+    } else {
+        local_25 = true;
+    }
+    bool _e27 = local_25;
+    if (_e27) {
+        return (0.0).xxx;
+    }
+    const float4 _e30 = airlight_hg_exp1_shafts_moved(a_11, b_6, origin_7, dir_7);
+    float3 o_1 = _e30.xyz;
+    float len_8 = _e30.w;
+    const float3 _e33 = airlight_hg_exp1_spot(o_1, dir_7, len_8, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_5) * a_11))) * _e33));
+}
+
+void airlight_hg_exp1_shafts_push_spot(inout airlight_hg_exp1_Shafts acc_6, float s_2, float v_5, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_14)
+{
+    const float3 _e13 = airlight_hg_exp1_shafts_step(acc_6, s_2, v_5);
+    if ((_e13.z > 0.0)) {
+        float3 _e19 = acc_6.sum;
+        const float3 _e23 = airlight_hg_exp1_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_14);
+        acc_6.sum = min((_e19 + _e23), (3.4028235e38).xxx);
+        uint _e29 = acc_6.calls;
+        acc_6.calls = (_e29 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float3 airlight_hg_exp1_shafts_finish_spot(airlight_hg_exp1_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_15)
+{
+    airlight_hg_exp1_Shafts acc_7 = (airlight_hg_exp1_Shafts)0;
+
+    acc_7 = acc_in_1;
+    const float3 _e13 = airlight_hg_exp1_shafts_place(acc_7);
+    float3 _e15 = acc_7.sum;
+    const float3 _e19 = airlight_hg_exp1_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
+    float3 sum_4 = min((_e15 + _e19), (3.4028235e38).xxx);
+    float _e25 = acc_7.v;
+    float _e27 = acc_7.v;
+    float w_4 = ((_e27 < 0.0) ? 1.0 : _e25);
+    float _e33 = acc_7.start;
+    const float3 _e34 = airlight_hg_exp1_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
+    return min((sum_4 + _e34), (3.4028235e38).xxx);
 }
 

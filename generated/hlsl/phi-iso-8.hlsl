@@ -7,6 +7,19 @@ struct _frexp_result_f32_ {
     int exp_;
 };
 
+struct airlight_phi_iso_8_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    float lo;
+    float hi;
+    float before;
+    float after;
+    float3 sum;
+    uint calls;
+};
+
 _frexp_result_f32_ naga_frexp(float arg) {
     float other;
     _frexp_result_f32_ result;
@@ -56,9 +69,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_phi_iso_8_two_sum[2];
 ret_airlight_phi_iso_8_two_sum airlight_phi_iso_8_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s_2 = (a_3 + b_2);
-    float3 bb = (s_2 - a_3);
-    return Constructarray2_float3_(s_2, ((a_3 - (s_2 - bb)) + (b_2 - bb)));
+    float3 s_5 = (a_3 + b_2);
+    float3 bb = (s_5 - a_3);
+    return Constructarray2_float3_(s_5, ((a_3 - (s_5 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -155,12 +168,12 @@ float airlight_phi_iso_8_scaled(float sigma_s, float intensity, float d_1, float
     if ((a_4 >= airlight_phi_iso_8_HUGE)) {
         return airlight_phi_iso_8_HUGE;
     }
-    _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_6 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q_1 = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_3.fract * i_1.fract) * q_1.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_phi_iso_8_HUGE;
     }
@@ -175,15 +188,15 @@ float airlight_phi_iso_8_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_6 = abs(x);
-    r = a_6;
-    if ((a_6 > 2.4142137)) {
+    float a_9 = abs(x);
+    r = a_9;
+    if ((a_9 > 2.4142137)) {
         y0_ = airlight_phi_iso_8_FRAC_PI_2_;
-        r = (-1.0 / a_6);
+        r = (-1.0 / a_9);
     } else {
-        if ((a_6 > 0.41421357)) {
+        if ((a_9 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_6 - 1.0) / (a_6 + 1.0));
+            r = ((a_9 - 1.0) / (a_9 + 1.0));
         }
     }
     float _e18 = r;
@@ -218,9 +231,9 @@ float airlight_phi_iso_8_arctan2_(float y, float x_1)
 float2 airlight_phi_iso_8_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_4 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_7 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_4, c_3);
+    return float2(s_7, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -241,21 +254,21 @@ float2 airlight_phi_iso_8_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
-    float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
+    float s_8 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_5, c_4);
+            return float2(s_8, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_5));
+            return float2(c_4, -(s_8));
         }
         case 2: {
-            return float2(-(s_5), -(c_4));
+            return float2(-(s_8), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_5);
+            return float2(-(c_4), s_8);
         }
     }
 }
@@ -314,8 +327,8 @@ float airlight_phi_iso_8_exp_e2_(float x_4)
 
 float airlight_phi_iso_8_w_u(float u, float4 md)
 {
-    float v_4 = (1.0 / u);
-    return ((u > 1.0) ? (((0.07957747 * v_4) * v_4) / (1.0 + (v_4 * v_4))) : (0.07957747 / (1.0 + (u * u))));
+    float v_8 = (1.0 / u);
+    return ((u > 1.0) ? (((0.07957747 * v_8) * v_8) / (1.0 + (v_8 * v_8))) : (0.07957747 / (1.0 + (u * u))));
 }
 
 float2 airlight_phi_iso_8_phi_and_complement(float u_1, float4 md_1)
@@ -906,12 +919,12 @@ float3 airlight_phi_iso_8_spot_edge(float3 tau_4, float h_4, float x0_4, float r
         {
             int _e80 = i;
             float _e82 = pieces[min(uint(_e80), 5u)];
-            float a_7 = (u_2 + ((v_in - u_2) * _e82));
+            float a_10 = (u_2 + ((v_in - u_2) * _e82));
             int _e86 = i;
             float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
-            float b_3 = (u_2 + ((v_in - u_2) * _e90));
-            float half_ = (0.5 * (b_3 - a_7));
-            float mid = (0.5 * (b_3 + a_7));
+            float b_6 = (u_2 + ((v_in - u_2) * _e90));
+            float half_ = (0.5 * (b_6 - a_10));
+            float mid = (0.5 * (b_6 + a_10));
             w = (mid + (half_ * 0.96028984));
             float _e102 = w;
             const float2 _e105 = airlight_phi_iso_8_sin_cos((0.5 * _e102));
@@ -1331,5 +1344,221 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
     float _e292 = a_5.z;
     const float _e293 = airlight_phi_iso_8_scaled(sigma_s_2.z, (intensity_2 * _e289), d_4, _e292);
     return float3(_e281, _e287, _e293);
+}
+
+airlight_phi_iso_8_Shafts Constructairlight_phi_iso_8_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+    airlight_phi_iso_8_Shafts ret = (airlight_phi_iso_8_Shafts)0;
+    ret.start = arg0;
+    ret.v = arg1;
+    ret.s = arg2;
+    ret.pending = arg3;
+    ret.lo = arg4;
+    ret.hi = arg5;
+    ret.before = arg6;
+    ret.after = arg7;
+    ret.sum = arg8;
+    ret.calls = arg9;
+    return ret;
+}
+
+airlight_phi_iso_8_Shafts airlight_phi_iso_8_shafts_begin()
+{
+    const airlight_phi_iso_8_Shafts airlight_phi_iso_8_shafts = Constructairlight_phi_iso_8_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    return airlight_phi_iso_8_shafts;
+}
+
+float airlight_phi_iso_8_shafts_probe(airlight_phi_iso_8_Shafts acc)
+{
+    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+}
+
+void airlight_phi_iso_8_shafts_refine(inout airlight_phi_iso_8_Shafts acc_1, float v_4)
+{
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_2 = (0.5 * (_e5 + _e7));
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if ((abs((v_4 - _e12)) <= abs((v_4 - _e16)))) {
+            acc_1.lo = m_2;
+            return;
+        } else {
+            acc_1.hi = m_2;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+float3 airlight_phi_iso_8_shafts_place(inout airlight_phi_iso_8_Shafts acc_2)
+{
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return (0.0).xxx;
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_3 = (0.5 * (_e9 + _e11));
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    float3 run = float3(_e16, m_3, _e18);
+    acc_2.start = m_3;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+float3 airlight_phi_iso_8_shafts_step(inout airlight_phi_iso_8_Shafts acc_3, float s_2, float v_5)
+{
+    const float3 _e3 = airlight_phi_iso_8_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if ((_e5 < 0.0)) {
+        acc_3.v = v_5;
+    } else {
+        float _e10 = acc_3.v;
+        if ((v_5 != _e10)) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s_2;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_5;
+        }
+    }
+    acc_3.s = s_2;
+    return _e3;
+}
+
+float4 airlight_phi_iso_8_shafts_moved(float a_6, float b_3, float3 origin_3, float3 dir_3)
+{
+    const float _e4 = airlight_phi_iso_8_max_abs(dir_3);
+    float3 u_3 = (dir_3 / (_e4).xxx);
+    return float4((origin_3 + (a_6 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_6), 0.0) : -1.0));
+}
+
+float airlight_phi_iso_8_shafts_run(float a_7, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
+{
+    bool local_22 = (bool)0;
+    bool local_23 = (bool)0;
+
+    if (!(!((w_1 > 0.0)))) {
+        if ((b_4 >= 0.0)) {
+            local_23 = (b_4 <= a_7);
+        } else {
+            local_23 = false;
+        }
+        bool _e21 = local_23;
+        local_22 = _e21;
+    } else {
+        local_22 = true;
+    }
+    bool _e23 = local_22;
+    if (_e23) {
+        return 0.0;
+    }
+    const float4 _e25 = airlight_phi_iso_8_shafts_moved(a_7, b_4, origin_4, dir_4);
+    float3 o = _e25.xyz;
+    float len_1 = _e25.w;
+    const float _e28 = airlight_phi_iso_8_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    if ((_e28 >= airlight_phi_iso_8_HUGE)) {
+        return _e28;
+    }
+    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e28);
+}
+
+void airlight_phi_iso_8_shafts_push(inout airlight_phi_iso_8_Shafts acc_4, float s_3, float v_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
+{
+    const float3 _e9 = airlight_phi_iso_8_shafts_step(acc_4, s_3, v_6);
+    if ((_e9.z > 0.0)) {
+        float _e17 = acc_4.sum.x;
+        const float _e21 = airlight_phi_iso_8_shafts_run(_e9.x, _e9.y, _e9.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+        acc_4.sum.x = min((_e17 + _e21), airlight_phi_iso_8_HUGE);
+        uint _e26 = acc_4.calls;
+        acc_4.calls = (_e26 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_phi_iso_8_shafts_finish(airlight_phi_iso_8_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+{
+    airlight_phi_iso_8_Shafts acc_5 = (airlight_phi_iso_8_Shafts)0;
+
+    acc_5 = acc_in;
+    const float3 _e9 = airlight_phi_iso_8_shafts_place(acc_5);
+    float _e12 = acc_5.sum.x;
+    const float _e16 = airlight_phi_iso_8_shafts_run(_e9.x, _e9.y, _e9.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    float sum_2 = min((_e12 + _e16), airlight_phi_iso_8_HUGE);
+    float _e21 = acc_5.v;
+    float _e23 = acc_5.v;
+    float w_3 = ((_e23 < 0.0) ? 1.0 : _e21);
+    float _e29 = acc_5.start;
+    const float _e30 = airlight_phi_iso_8_shafts_run(_e29, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    return min((sum_2 + _e30), airlight_phi_iso_8_HUGE);
+}
+
+float3 airlight_phi_iso_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6)
+{
+    bool local_24 = (bool)0;
+    bool local_25 = (bool)0;
+
+    if (!(!((w_2 > 0.0)))) {
+        if ((b_5 >= 0.0)) {
+            local_25 = (b_5 <= a_8);
+        } else {
+            local_25 = false;
+        }
+        bool _e24 = local_25;
+        local_24 = _e24;
+    } else {
+        local_24 = true;
+    }
+    bool _e26 = local_24;
+    if (_e26) {
+        return (0.0).xxx;
+    }
+    const float4 _e29 = airlight_phi_iso_8_shafts_moved(a_8, b_5, origin_7, dir_7);
+    float3 o_1 = _e29.xyz;
+    float len_2 = _e29.w;
+    const float3 _e32 = airlight_phi_iso_8_spot(o_1, dir_7, len_2, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6);
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_5) * a_8))) * _e32));
+}
+
+void airlight_phi_iso_8_shafts_push_spot(inout airlight_phi_iso_8_Shafts acc_6, float s_4, float v_7, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+{
+    const float3 _e12 = airlight_phi_iso_8_shafts_step(acc_6, s_4, v_7);
+    if ((_e12.z > 0.0)) {
+        float3 _e18 = acc_6.sum;
+        const float3 _e22 = airlight_phi_iso_8_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7);
+        acc_6.sum = min((_e18 + _e22), (3.4028235e38).xxx);
+        uint _e28 = acc_6.calls;
+        acc_6.calls = (_e28 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float3 airlight_phi_iso_8_shafts_finish_spot(airlight_phi_iso_8_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
+{
+    airlight_phi_iso_8_Shafts acc_7 = (airlight_phi_iso_8_Shafts)0;
+
+    acc_7 = acc_in_1;
+    const float3 _e12 = airlight_phi_iso_8_shafts_place(acc_7);
+    float3 _e14 = acc_7.sum;
+    const float3 _e18 = airlight_phi_iso_8_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    float3 sum_3 = min((_e14 + _e18), (3.4028235e38).xxx);
+    float _e24 = acc_7.v;
+    float _e26 = acc_7.v;
+    float w_4 = ((_e26 < 0.0) ? 1.0 : _e24);
+    float _e32 = acc_7.start;
+    const float3 _e33 = airlight_phi_iso_8_shafts_run_spot(_e32, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    return min((sum_3 + _e33), (3.4028235e38).xxx);
 }
 

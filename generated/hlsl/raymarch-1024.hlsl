@@ -7,6 +7,15 @@ struct _frexp_result_f32_ {
     int exp_;
 };
 
+struct airlight_raymarch_1024_Shafts {
+    float end;
+    int _pad1_0;
+    int _pad1_1;
+    int _pad1_2;
+    float3 sum;
+    uint calls;
+};
+
 _frexp_result_f32_ naga_frexp(float arg) {
     float other;
     _frexp_result_f32_ result;
@@ -59,9 +68,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_raymarch_1024_two_sum[2];
 ret_airlight_raymarch_1024_two_sum airlight_raymarch_1024_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s = (a_3 + b_2);
-    float3 bb = (s - a_3);
-    return Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
+    float3 s_4 = (a_3 + b_2);
+    float3 bb = (s_4 - a_3);
+    return Constructarray2_float3_(s_4, ((a_3 - (s_4 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -158,12 +167,12 @@ float airlight_raymarch_1024_scaled(float sigma_s, float intensity, float d_1, f
     if ((a_4 >= airlight_raymarch_1024_HUGE)) {
         return airlight_raymarch_1024_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_5 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_2 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i_2.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_5.fract * i_2.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_5.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_raymarch_1024_HUGE;
     }
@@ -221,9 +230,9 @@ float airlight_raymarch_1024_arctan2_(float y, float x_1)
 float2 airlight_raymarch_1024_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_6 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_3);
+    return float2(s_6, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -244,21 +253,21 @@ float2 airlight_raymarch_1024_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
-    float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
+    float s_7 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_4);
+            return float2(s_7, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_3));
+            return float2(c_4, -(s_7));
         }
         case 2: {
-            return float2(-(s_3), -(c_4));
+            return float2(-(s_7), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_3);
+            return float2(-(c_4), s_7);
         }
     }
 }
@@ -277,7 +286,7 @@ float airlight_raymarch_1024_airlight_geometry(float tau_in, float h_1, float x0
     uint i = 0u;
 
     float tau_5 = min(max(tau_in, 0.0), airlight_raymarch_1024_TAU_MAX);
-    float g_8 = clamp(g_in, -0.999, 0.999);
+    float g_12 = clamp(g_in, -0.999, 0.999);
     if ((tau_5 > 0.0046051703)) {
         float k_2 = (1.0 + (airlight_raymarch_1024_LN_CUTOFF / tau_5));
         len = min((((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_))), airlight_raymarch_1024_FAR);
@@ -311,15 +320,15 @@ float airlight_raymarch_1024_airlight_geometry(float tau_in, float h_1, float x0
         }
         {
             uint _e50 = i;
-            float s_4 = ((float(_e50) + 0.5) * dt);
-            float x_5 = (x0_ - s_4);
+            float s_8 = ((float(_e50) + 0.5) * dt);
+            float x_5 = (x0_ - s_8);
             float t2_ = max(((x_5 * x_5) + h2_), 1e-37);
             float t = sqrt(t2_);
             float om_1 = ((x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5));
             float op_1 = ((x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5)));
             float _e73 = sum;
-            const float _e76 = airlight_raymarch_1024_hg(g_8, (om_1 / t), (op_1 / t));
-            sum = (_e73 + ((_e76 * exp((-(tau_5) * (s_4 + t)))) / t2_));
+            const float _e76 = airlight_raymarch_1024_hg(g_12, (om_1 / t), (op_1 / t));
+            sum = (_e73 + ((_e76 * exp((-(tau_5) * (s_8 + t)))) / t2_));
         }
     }
     float _e87 = sum;
@@ -916,5 +925,121 @@ float3 airlight_raymarch_1024_spot(float3 origin_2, float3 dir_2, float surface_
     float _e295 = a_5.z;
     const float _e296 = airlight_raymarch_1024_scaled(sigma_s_2.z, (intensity_2 * _e292), d_4, _e295);
     return float3(_e284, _e290, _e296);
+}
+
+airlight_raymarch_1024_Shafts Constructairlight_raymarch_1024_Shafts(float arg0, float3 arg1, uint arg2) {
+    airlight_raymarch_1024_Shafts ret = (airlight_raymarch_1024_Shafts)0;
+    ret.end = arg0;
+    ret.sum = arg1;
+    ret.calls = arg2;
+    return ret;
+}
+
+airlight_raymarch_1024_Shafts airlight_raymarch_1024_shafts_begin()
+{
+    const airlight_raymarch_1024_Shafts airlight_raymarch_1024_shafts = Constructairlight_raymarch_1024_Shafts(0.0, (0.0).xxx, 0u);
+    return airlight_raymarch_1024_shafts;
+}
+
+float airlight_raymarch_1024_shafts_probe(airlight_raymarch_1024_Shafts acc)
+{
+    return -1.0;
+}
+
+void airlight_raymarch_1024_shafts_refine(inout airlight_raymarch_1024_Shafts acc_1, float v_2)
+{
+    return;
+}
+
+float airlight_raymarch_1024_shafts_step(inout airlight_raymarch_1024_Shafts acc_2, float s)
+{
+    float _e3 = acc_2.end;
+    float step_1 = max((2.0 * (s - _e3)), 0.0);
+    float _e10 = acc_2.end;
+    acc_2.end = (_e10 + step_1);
+    return step_1;
+}
+
+float3 airlight_raymarch_1024_march_at(float s_1, float step_, float3 sigma_t_2, float3 origin_3, float3 dir_3, float3 light_3, float g_in_1)
+{
+    const float3 _e7 = airlight_raymarch_1024_ray_geometry(origin_3, dir_3, light_3);
+    if (!((_e7.x > 0.0))) {
+        return (3.4028235e38).xxx;
+    }
+    float g_13 = clamp(g_in_1, -0.999, 0.999);
+    float sc = (s_1 / _e7.x);
+    float dt_1 = (step_ / _e7.x);
+    float x_6 = (_e7.z - sc);
+    float h2_1 = (_e7.y * _e7.y);
+    float t2_1 = max(((x_6 * x_6) + h2_1), 1e-37);
+    float t_1 = sqrt(t2_1);
+    float om_2 = ((x_6 > 0.0) ? (h2_1 / (t_1 + x_6)) : (t_1 - x_6));
+    float op_2 = ((x_6 > 0.0) ? (t_1 + x_6) : (h2_1 / (t_1 - x_6)));
+    const float _e45 = airlight_raymarch_1024_hg(g_13, (om_2 / t_1), (op_2 / t_1));
+    float3 tau_7 = min(max((sigma_t_2 * _e7.x), (0.0).xxx), (10000.0).xxx);
+    return min(((((_e45 * exp((-(tau_7) * (sc + t_1)))) / (t2_1).xxx) * dt_1) / (_e7.x).xxx), (3.4028235e38).xxx);
+}
+
+void airlight_raymarch_1024_shafts_push(inout airlight_raymarch_1024_Shafts acc_3, float s_2, float v_3, float3 origin_4, float3 dir_4, float3 light_4, float intensity_3, float sigma_t_3, float sigma_s_3, float g_8)
+{
+    const float _e10 = airlight_raymarch_1024_shafts_step(acc_3, s_2);
+    if ((v_3 > 0.0)) {
+        const float3 _e14 = airlight_raymarch_1024_march_at(s_2, _e10, (sigma_t_3).xxx, origin_4, dir_4, light_4, g_8);
+        float _e19 = acc_3.sum.x;
+        const float _e22 = airlight_raymarch_1024_scaled(sigma_s_3, intensity_3, 1.0, _e14.x);
+        acc_3.sum.x = min((_e19 + (v_3 * _e22)), airlight_raymarch_1024_HUGE);
+        uint _e28 = acc_3.calls;
+        acc_3.calls = (_e28 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_raymarch_1024_shafts_finish(airlight_raymarch_1024_Shafts acc_4, float end, float3 origin_5, float3 dir_5, float3 light_5, float intensity_4, float sigma_t_4, float sigma_s_4, float g_9)
+{
+    return acc_4.sum.x;
+}
+
+void airlight_raymarch_1024_shafts_push_spot(inout airlight_raymarch_1024_Shafts acc_5, float s_3, float v_4, float3 origin_6, float3 dir_6, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_5, float3 sigma_t_5, float3 sigma_s_5, float g_10)
+{
+    float w_1 = 1.0;
+
+    const float _e13 = airlight_raymarch_1024_shafts_step(acc_5, s_3);
+    if ((v_4 > 0.0)) {
+        const float _e16 = airlight_raymarch_1024_max_abs(dir_6);
+        float3 u_1 = (dir_6 / (_e16).xxx);
+        float3 r_5 = ((origin_6 + (s_3 * (u_1 / (length(u_1)).xxx))) - light_6);
+        if ((cos_outer_1 > -1.0)) {
+            const float _e29 = airlight_raymarch_1024_max_abs(axis_1);
+            float3 a_8 = (axis_1 / (_e29).xxx);
+            float rr = length(r_5);
+            const float _e43 = airlight_raymarch_1024_spot_weight(((rr > 0.0) ? (dot(r_5, a_8) / (rr * length(a_8))) : 1.0), max(cos_outer_1, 0.0), cos_inner_1);
+            w_1 = _e43;
+        }
+        float _e44 = w_1;
+        if ((_e44 > 0.0)) {
+            const float3 _e47 = airlight_raymarch_1024_march_at(s_3, _e13, sigma_t_5, origin_6, dir_6, light_6, g_10);
+            float _e49 = w_1;
+            const float _e53 = airlight_raymarch_1024_scaled(sigma_s_5.x, (intensity_5 * _e49), 1.0, _e47.x);
+            float _e55 = w_1;
+            const float _e59 = airlight_raymarch_1024_scaled(sigma_s_5.y, (intensity_5 * _e55), 1.0, _e47.y);
+            float _e61 = w_1;
+            const float _e65 = airlight_raymarch_1024_scaled(sigma_s_5.z, (intensity_5 * _e61), 1.0, _e47.z);
+            float3 add = float3(_e53, _e59, _e65);
+            float3 _e69 = acc_5.sum;
+            acc_5.sum = min((_e69 + (v_4 * add)), (3.4028235e38).xxx);
+        }
+        uint _e76 = acc_5.calls;
+        acc_5.calls = (_e76 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float3 airlight_raymarch_1024_shafts_finish_spot(airlight_raymarch_1024_Shafts acc_6, float end_1, float3 origin_7, float3 dir_7, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_6, float3 sigma_t_6, float3 sigma_s_6, float g_11)
+{
+    return acc_6.sum;
 }
 

@@ -7,6 +7,19 @@ struct _frexp_result_f32_ {
     int exp_;
 };
 
+struct airlight_sun2005_512_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    float lo;
+    float hi;
+    float before;
+    float after;
+    float3 sum;
+    uint calls;
+};
+
 _frexp_result_f32_ naga_frexp(float arg) {
     float other;
     _frexp_result_f32_ result;
@@ -62,9 +75,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_sun2005_512_two_sum[2];
 ret_airlight_sun2005_512_two_sum airlight_sun2005_512_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s = (a_3 + b_2);
-    float3 bb = (s - a_3);
-    return Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
+    float3 s_3 = (a_3 + b_2);
+    float3 bb = (s_3 - a_3);
+    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -161,12 +174,12 @@ float airlight_sun2005_512_scaled(float sigma_s, float intensity, float d_1, flo
     if ((a_4 >= airlight_sun2005_512_HUGE)) {
         return airlight_sun2005_512_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_2 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i_2.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_2.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_sun2005_512_HUGE;
     }
@@ -181,15 +194,15 @@ float airlight_sun2005_512_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_7 = abs(x);
-    r = a_7;
-    if ((a_7 > 2.4142137)) {
+    float a_10 = abs(x);
+    r = a_10;
+    if ((a_10 > 2.4142137)) {
         y0_ = airlight_sun2005_512_FRAC_PI_2_;
-        r = (-1.0 / a_7);
+        r = (-1.0 / a_10);
     } else {
-        if ((a_7 > 0.41421357)) {
+        if ((a_10 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_7 - 1.0) / (a_7 + 1.0));
+            r = ((a_10 - 1.0) / (a_10 + 1.0));
         }
     }
     float _e18 = r;
@@ -224,9 +237,9 @@ float airlight_sun2005_512_arctan2_(float y, float x_1)
 float2 airlight_sun2005_512_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_5 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_2, c_3);
+    return float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -247,21 +260,21 @@ float2 airlight_sun2005_512_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
-    float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
+    float s_6 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_4);
+            return float2(s_6, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_3));
+            return float2(c_4, -(s_6));
         }
         case 2: {
-            return float2(-(s_3), -(c_4));
+            return float2(-(s_6), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_3);
+            return float2(-(c_4), s_6);
         }
     }
 }
@@ -327,8 +340,8 @@ float airlight_sun2005_512_airlight_geometry(float tau_in, float h_1, float x0_,
         if (_e33) {
             return airlight_sun2005_512_HUGE;
         }
-        float a_8 = (open ? airlight_sun2005_512_P_ISO : ((airlight_sun2005_512_P_ISO * rho) / (1.0 - (x0_ * rho))));
-        return (a_8 * exp(-(tau_5)));
+        float a_11 = (open ? airlight_sun2005_512_P_ISO : ((airlight_sun2005_512_P_ISO * rho) / (1.0 - (x0_ * rho))));
+        return (a_11 * exp(-(tau_5)));
     }
     float t = (tau_5 * h_1);
     if (!(open)) {
@@ -508,12 +521,12 @@ float3 airlight_sun2005_512_spot_edge(float3 tau_4, float h_5, float x0_4, float
         {
             int _e80 = i_1;
             float _e82 = pieces[min(uint(_e80), 5u)];
-            float a_9 = (u_1 + ((v_in - u_1) * _e82));
+            float a_12 = (u_1 + ((v_in - u_1) * _e82));
             int _e86 = i_1;
             float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
-            float b_4 = (u_1 + ((v_in - u_1) * _e90));
-            float half_ = (0.5 * (b_4 - a_9));
-            float mid = (0.5 * (b_4 + a_9));
+            float b_7 = (u_1 + ((v_in - u_1) * _e90));
+            float half_ = (0.5 * (b_7 - a_12));
+            float mid = (0.5 * (b_7 + a_12));
             w = (mid + (half_ * 0.96028984));
             float _e102 = w;
             const float2 _e105 = airlight_sun2005_512_sin_cos((0.5 * _e102));
@@ -933,5 +946,221 @@ float3 airlight_sun2005_512_spot(float3 origin_2, float3 dir_2, float surface_1,
     float _e292 = a_6.z;
     const float _e293 = airlight_sun2005_512_scaled(sigma_s_2.z, (intensity_2 * _e289), d_3, _e292);
     return float3(_e281, _e287, _e293);
+}
+
+airlight_sun2005_512_Shafts Constructairlight_sun2005_512_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+    airlight_sun2005_512_Shafts ret = (airlight_sun2005_512_Shafts)0;
+    ret.start = arg0;
+    ret.v = arg1;
+    ret.s = arg2;
+    ret.pending = arg3;
+    ret.lo = arg4;
+    ret.hi = arg5;
+    ret.before = arg6;
+    ret.after = arg7;
+    ret.sum = arg8;
+    ret.calls = arg9;
+    return ret;
+}
+
+airlight_sun2005_512_Shafts airlight_sun2005_512_shafts_begin()
+{
+    const airlight_sun2005_512_Shafts airlight_sun2005_512_shafts = Constructairlight_sun2005_512_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    return airlight_sun2005_512_shafts;
+}
+
+float airlight_sun2005_512_shafts_probe(airlight_sun2005_512_Shafts acc)
+{
+    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+}
+
+void airlight_sun2005_512_shafts_refine(inout airlight_sun2005_512_Shafts acc_1, float v_2)
+{
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = (0.5 * (_e5 + _e7));
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+float3 airlight_sun2005_512_shafts_place(inout airlight_sun2005_512_Shafts acc_2)
+{
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return (0.0).xxx;
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = (0.5 * (_e9 + _e11));
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    float3 run = float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+float3 airlight_sun2005_512_shafts_step(inout airlight_sun2005_512_Shafts acc_3, float s, float v_3)
+{
+    const float3 _e3 = airlight_sun2005_512_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if ((_e5 < 0.0)) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if ((v_3 != _e10)) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+float4 airlight_sun2005_512_shafts_moved(float a_7, float b_4, float3 origin_3, float3 dir_3)
+{
+    const float _e4 = airlight_sun2005_512_max_abs(dir_3);
+    float3 u_2 = (dir_3 / (_e4).xxx);
+    return float4((origin_3 + (a_7 * (u_2 / (length(u_2)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_7), 0.0) : -1.0));
+}
+
+float airlight_sun2005_512_shafts_run(float a_8, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
+{
+    bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
+
+    if (!(!((w_1 > 0.0)))) {
+        if ((b_5 >= 0.0)) {
+            local_19 = (b_5 <= a_8);
+        } else {
+            local_19 = false;
+        }
+        bool _e21 = local_19;
+        local_18 = _e21;
+    } else {
+        local_18 = true;
+    }
+    bool _e23 = local_18;
+    if (_e23) {
+        return 0.0;
+    }
+    const float4 _e25 = airlight_sun2005_512_shafts_moved(a_8, b_5, origin_4, dir_4);
+    float3 o = _e25.xyz;
+    float len = _e25.w;
+    const float _e28 = airlight_sun2005_512_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    if ((_e28 >= airlight_sun2005_512_HUGE)) {
+        return _e28;
+    }
+    return ((w_1 * exp((-(sigma_t_2) * a_8))) * _e28);
+}
+
+void airlight_sun2005_512_shafts_push(inout airlight_sun2005_512_Shafts acc_4, float s_1, float v_4, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
+{
+    const float3 _e9 = airlight_sun2005_512_shafts_step(acc_4, s_1, v_4);
+    if ((_e9.z > 0.0)) {
+        float _e17 = acc_4.sum.x;
+        const float _e21 = airlight_sun2005_512_shafts_run(_e9.x, _e9.y, _e9.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+        acc_4.sum.x = min((_e17 + _e21), airlight_sun2005_512_HUGE);
+        uint _e26 = acc_4.calls;
+        acc_4.calls = (_e26 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_sun2005_512_shafts_finish(airlight_sun2005_512_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+{
+    airlight_sun2005_512_Shafts acc_5 = (airlight_sun2005_512_Shafts)0;
+
+    acc_5 = acc_in;
+    const float3 _e9 = airlight_sun2005_512_shafts_place(acc_5);
+    float _e12 = acc_5.sum.x;
+    const float _e16 = airlight_sun2005_512_shafts_run(_e9.x, _e9.y, _e9.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    float sum_1 = min((_e12 + _e16), airlight_sun2005_512_HUGE);
+    float _e21 = acc_5.v;
+    float _e23 = acc_5.v;
+    float w_3 = ((_e23 < 0.0) ? 1.0 : _e21);
+    float _e29 = acc_5.start;
+    const float _e30 = airlight_sun2005_512_shafts_run(_e29, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    return min((sum_1 + _e30), airlight_sun2005_512_HUGE);
+}
+
+float3 airlight_sun2005_512_shafts_run_spot(float a_9, float b_6, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6)
+{
+    bool local_20 = (bool)0;
+    bool local_21 = (bool)0;
+
+    if (!(!((w_2 > 0.0)))) {
+        if ((b_6 >= 0.0)) {
+            local_21 = (b_6 <= a_9);
+        } else {
+            local_21 = false;
+        }
+        bool _e24 = local_21;
+        local_20 = _e24;
+    } else {
+        local_20 = true;
+    }
+    bool _e26 = local_20;
+    if (_e26) {
+        return (0.0).xxx;
+    }
+    const float4 _e29 = airlight_sun2005_512_shafts_moved(a_9, b_6, origin_7, dir_7);
+    float3 o_1 = _e29.xyz;
+    float len_1 = _e29.w;
+    const float3 _e32 = airlight_sun2005_512_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6);
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_5) * a_9))) * _e32));
+}
+
+void airlight_sun2005_512_shafts_push_spot(inout airlight_sun2005_512_Shafts acc_6, float s_2, float v_5, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+{
+    const float3 _e12 = airlight_sun2005_512_shafts_step(acc_6, s_2, v_5);
+    if ((_e12.z > 0.0)) {
+        float3 _e18 = acc_6.sum;
+        const float3 _e22 = airlight_sun2005_512_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7);
+        acc_6.sum = min((_e18 + _e22), (3.4028235e38).xxx);
+        uint _e28 = acc_6.calls;
+        acc_6.calls = (_e28 + 1u);
+        return;
+    } else {
+        return;
+    }
+}
+
+float3 airlight_sun2005_512_shafts_finish_spot(airlight_sun2005_512_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
+{
+    airlight_sun2005_512_Shafts acc_7 = (airlight_sun2005_512_Shafts)0;
+
+    acc_7 = acc_in_1;
+    const float3 _e12 = airlight_sun2005_512_shafts_place(acc_7);
+    float3 _e14 = acc_7.sum;
+    const float3 _e18 = airlight_sun2005_512_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    float3 sum_2 = min((_e14 + _e18), (3.4028235e38).xxx);
+    float _e24 = acc_7.v;
+    float _e26 = acc_7.v;
+    float w_4 = ((_e26 < 0.0) ? 1.0 : _e24);
+    float _e32 = acc_7.start;
+    const float3 _e33 = airlight_sun2005_512_shafts_run_spot(_e32, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    return min((sum_2 + _e33), (3.4028235e38).xxx);
 }
 

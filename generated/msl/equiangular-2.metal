@@ -8,15 +8,28 @@
 
 using metal::uint;
 
-struct type_3 {
+struct type_4 {
     metal::float3 inner[2];
 };
 struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_6 {
+struct type_7 {
     float inner[6];
+};
+struct airlight_equiangular_2_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    char _pad4[3];
+    float lo;
+    float hi;
+    float before;
+    float after;
+    metal::packed_float3 sum;
+    uint calls;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -64,13 +77,13 @@ float airlight_equiangular_2_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_equiangular_2_two_sum(
+type_4 airlight_equiangular_2_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_3 = a_3 + b_2;
+    metal::float3 bb = s_3 - a_3;
+    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -97,7 +110,7 @@ metal::float3 airlight_equiangular_2_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_equiangular_2_two_sum(light, -(origin));
+    type_4 _e4 = airlight_equiangular_2_two_sum(light, -(origin));
     float _e6 = airlight_equiangular_2_max_abs(_e4.inner[0]);
     float _e7 = airlight_equiangular_2_max_abs(dir);
     if (_e6 == 0.0) {
@@ -174,12 +187,12 @@ float airlight_equiangular_2_scaled(
     if (a_4 >= airlight_equiangular_2_HUGE) {
         return airlight_equiangular_2_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_equiangular_2_HUGE;
     }
@@ -194,15 +207,15 @@ float airlight_equiangular_2_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_6 = metal::abs(x);
-    r = a_6;
-    if (a_6 > 2.4142137) {
+    float a_9 = metal::abs(x);
+    r = a_9;
+    if (a_9 > 2.4142137) {
         y0_ = airlight_equiangular_2_FRAC_PI_2_;
-        r = -1.0 / a_6;
+        r = -1.0 / a_9;
     } else {
-        if (a_6 > 0.41421357) {
+        if (a_9 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_6 - 1.0) / (a_6 + 1.0);
+            r = (a_9 - 1.0) / (a_9 + 1.0);
         }
     }
     float _e18 = r;
@@ -240,9 +253,9 @@ metal::float2 airlight_equiangular_2_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_5 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -263,21 +276,21 @@ metal::float2 airlight_equiangular_2_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float s_6 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_6, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_6));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_6), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_6);
         }
     }
 }
@@ -346,9 +359,9 @@ float airlight_equiangular_2_airlight_geometry(
     float st = {};
     float d_2 = {};
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
-    float g_7 = metal::clamp(g_in, -0.999, 0.999);
-    float gm = (1.0 - g_7) * (1.0 - g_7);
-    float gp = (1.0 + g_7) * (1.0 + g_7);
+    float g_13 = metal::clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g_13) * (1.0 - g_13);
+    float gp = (1.0 + g_13) * (1.0 + g_13);
     if (!((h_1 <= 0.0))) {
         if (x0_1 < 0.0) {
             local_7 = h_1 < 0.0000000000000000008673617;
@@ -362,7 +375,7 @@ float airlight_equiangular_2_airlight_geometry(
     }
     bool _e38 = local_6;
     if (_e38) {
-        float _e39 = airlight_equiangular_2_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        float _e39 = airlight_equiangular_2_airlight_axis(tau_5, x0_1, rho_1, g_13);
         return _e39;
     }
     span = comp;
@@ -397,7 +410,7 @@ float airlight_equiangular_2_airlight_geometry(
     float _e106 = sc.y;
     float _e112 = sc.x;
     float _e115 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e112) * _e115)) : (gp - (((4.0 * g_7) * _e103) * _e106));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e112) * _e115)) : (gp - (((4.0 * g_13) * _e103) * _e106));
     float _e121 = sum_1;
     float _e123 = st;
     float _e128 = d_2;
@@ -422,14 +435,14 @@ float airlight_equiangular_2_airlight_geometry(
     float _e176 = sc.y;
     float _e182 = sc.x;
     float _e185 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e182) * _e185)) : (gp - (((4.0 * g_7) * _e173) * _e176));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e182) * _e185)) : (gp - (((4.0 * g_13) * _e173) * _e176));
     float _e191 = sum_1;
     float _e193 = st;
     float _e198 = d_2;
     float _e199 = d_2;
     sum_1 = _e191 + ((1.0 * metal::exp(-(tau_5) * _e193)) / (_e198 * metal::sqrt(_e199)));
     float _e211 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e211) * half_1) / h_1, airlight_equiangular_2_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e211) * half_1) / h_1, airlight_equiangular_2_HUGE);
 }
 
 metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
@@ -452,9 +465,9 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float st_1 = {};
     float d_3 = {};
     metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float g_8 = metal::clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = (1.0 - g_8) * (1.0 - g_8);
-    float gp_1 = (1.0 + g_8) * (1.0 + g_8);
+    float g_14 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_14) * (1.0 - g_14);
+    float gp_1 = (1.0 + g_14) * (1.0 + g_14);
     if (!((h_2 <= 0.0))) {
         if (x0_2 < 0.0) {
             local_10 = h_2 < 0.0000000000000000008673617;
@@ -468,9 +481,9 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     }
     bool _e40 = local_9;
     if (_e40) {
-        float _e42 = airlight_equiangular_2_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
-        float _e44 = airlight_equiangular_2_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
-        float _e46 = airlight_equiangular_2_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        float _e42 = airlight_equiangular_2_airlight_axis(tau_6.x, x0_2, rho_2, g_14);
+        float _e44 = airlight_equiangular_2_airlight_axis(tau_6.y, x0_2, rho_2, g_14);
+        float _e46 = airlight_equiangular_2_airlight_axis(tau_6.z, x0_2, rho_2, g_14);
         return metal::float3(_e42, _e44, _e46);
     }
     span_1 = comp_1;
@@ -505,7 +518,7 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float _e115 = sc_1.y;
     float _e121 = sc_1.x;
     float _e124 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e121) * _e124)) : (gp_1 - (((4.0 * g_8) * _e112) * _e115));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e121) * _e124)) : (gp_1 - (((4.0 * g_14) * _e112) * _e115));
     metal::float3 _e130 = sum_2;
     float _e132 = st_1;
     float _e137 = d_3;
@@ -530,14 +543,14 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float _e186 = sc_1.y;
     float _e192 = sc_1.x;
     float _e195 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e192) * _e195)) : (gp_1 - (((4.0 * g_8) * _e183) * _e186));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e192) * _e195)) : (gp_1 - (((4.0 * g_14) * _e183) * _e186));
     metal::float3 _e201 = sum_2;
     float _e203 = st_1;
     float _e208 = d_3;
     float _e209 = d_3;
     sum_2 = _e201 + ((1.0 * metal::exp(-(tau_6) * _e203)) / metal::float3(_e208 * metal::sqrt(_e209)));
     metal::float3 _e222 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e222) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e222) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_2_airlight(
@@ -693,7 +706,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
 ) {
     bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_3 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -740,12 +753,12 @@ metal::float3 airlight_equiangular_2_spot_edge(
         {
             int _e80 = i;
             float _e82 = pieces.inner[_e80];
-            float a_7 = u_1 + ((v_in - u_1) * _e82);
+            float a_10 = u_1 + ((v_in - u_1) * _e82);
             int _e86 = i;
             float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_5 = u_1 + ((v_in - u_1) * _e90);
-            float half_3 = 0.5 * (b_5 - a_7);
-            float mid = 0.5 * (b_5 + a_7);
+            float b_8 = u_1 + ((v_in - u_1) * _e90);
+            float half_3 = 0.5 * (b_8 - a_10);
+            float mid = 0.5 * (b_8 + a_10);
             w = mid + (half_3 * 0.96028984);
             float _e102 = w;
             metal::float2 _e105 = airlight_equiangular_2_sin_cos(0.5 * _e102);
@@ -1176,4 +1189,278 @@ metal::float3 airlight_equiangular_2_spot(
     float _e295 = a_5.z;
     float _e296 = airlight_equiangular_2_scaled(sigma_s_2.z, intensity_2 * _e292, d_5, _e295);
     return metal::float3(_e284, _e290, _e296);
+}
+
+airlight_equiangular_2_Shafts airlight_equiangular_2_shafts_begin(
+) {
+    return airlight_equiangular_2_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+}
+
+float airlight_equiangular_2_shafts_probe(
+    airlight_equiangular_2_Shafts acc
+) {
+    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+}
+
+void airlight_equiangular_2_shafts_refine(
+    thread airlight_equiangular_2_Shafts& acc_1,
+    float v_2
+) {
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = 0.5 * (_e5 + _e7);
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_equiangular_2_shafts_place(
+    thread airlight_equiangular_2_Shafts& acc_2
+) {
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return metal::float3(0.0);
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = 0.5 * (_e9 + _e11);
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    metal::float3 run = metal::float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+metal::float3 airlight_equiangular_2_shafts_step(
+    thread airlight_equiangular_2_Shafts& acc_3,
+    float s,
+    float v_3
+) {
+    metal::float3 _e3 = airlight_equiangular_2_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if (_e5 < 0.0) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if (v_3 != _e10) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+metal::float4 airlight_equiangular_2_shafts_moved(
+    float a_6,
+    float b_5,
+    metal::float3 origin_3,
+    metal::float3 dir_3
+) {
+    float _e4 = airlight_equiangular_2_max_abs(dir_3);
+    metal::float3 u_2 = dir_3 / metal::float3(_e4);
+    return metal::float4(origin_3 + (a_6 * (u_2 / metal::float3(metal::length(u_2)))), (b_5 >= 0.0) ? metal::max(b_5 - a_6, 0.0) : -1.0);
+}
+
+float airlight_equiangular_2_shafts_run(
+    float a_7,
+    float b_6,
+    float w_1,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_3,
+    float intensity_3,
+    float sigma_t_2,
+    float sigma_s_3,
+    float g_7
+) {
+    bool local_23 = {};
+    bool local_24 = {};
+    if (!(!((w_1 > 0.0)))) {
+        if (b_6 >= 0.0) {
+            local_24 = b_6 <= a_7;
+        } else {
+            local_24 = false;
+        }
+        bool _e22 = local_24;
+        local_23 = _e22;
+    } else {
+        local_23 = true;
+    }
+    bool _e24 = local_23;
+    if (_e24) {
+        return 0.0;
+    }
+    metal::float4 _e26 = airlight_equiangular_2_shafts_moved(a_7, b_6, origin_4, dir_4);
+    metal::float3 o = _e26.xyz;
+    float len = _e26.w;
+    float _e29 = airlight_equiangular_2_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    if (_e29 >= airlight_equiangular_2_HUGE) {
+        return _e29;
+    }
+    return (w_1 * metal::exp(-(sigma_t_2) * a_7)) * _e29;
+}
+
+void airlight_equiangular_2_shafts_push(
+    thread airlight_equiangular_2_Shafts& acc_4,
+    float s_1,
+    float v_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_4,
+    float intensity_4,
+    float sigma_t_3,
+    float sigma_s_4,
+    float g_8
+) {
+    metal::float3 _e10 = airlight_equiangular_2_shafts_step(acc_4, s_1, v_4);
+    if (_e10.z > 0.0) {
+        float _e18 = acc_4.sum[0];
+        float _e22 = airlight_equiangular_2_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+        acc_4.sum[0] = metal::min(_e18 + _e22, airlight_equiangular_2_HUGE);
+        uint _e27 = acc_4.calls;
+        acc_4.calls = _e27 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_equiangular_2_shafts_finish(
+    airlight_equiangular_2_Shafts acc_in,
+    float end,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_5,
+    float intensity_5,
+    float sigma_t_4,
+    float sigma_s_5,
+    float g_9
+) {
+    airlight_equiangular_2_Shafts acc_5 = {};
+    acc_5 = acc_in;
+    metal::float3 _e10 = airlight_equiangular_2_shafts_place(acc_5);
+    float _e13 = acc_5.sum[0];
+    float _e17 = airlight_equiangular_2_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    float sum_4 = metal::min(_e13 + _e17, airlight_equiangular_2_HUGE);
+    float _e22 = acc_5.v;
+    float _e24 = acc_5.v;
+    float w_3 = (_e24 < 0.0) ? 1.0 : _e22;
+    float _e30 = acc_5.start;
+    float _e31 = airlight_equiangular_2_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    return metal::min(sum_4 + _e31, airlight_equiangular_2_HUGE);
+}
+
+metal::float3 airlight_equiangular_2_shafts_run_spot(
+    float a_8,
+    float b_7,
+    float w_2,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_6,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_6,
+    float g_10
+) {
+    bool local_25 = {};
+    bool local_26 = {};
+    if (!(!((w_2 > 0.0)))) {
+        if (b_7 >= 0.0) {
+            local_26 = b_7 <= a_8;
+        } else {
+            local_26 = false;
+        }
+        bool _e25 = local_26;
+        local_25 = _e25;
+    } else {
+        local_25 = true;
+    }
+    bool _e27 = local_25;
+    if (_e27) {
+        return metal::float3(0.0);
+    }
+    metal::float4 _e30 = airlight_equiangular_2_shafts_moved(a_8, b_7, origin_7, dir_7);
+    metal::float3 o_1 = _e30.xyz;
+    float len_1 = _e30.w;
+    metal::float3 _e33 = airlight_equiangular_2_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_8)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_equiangular_2_shafts_push_spot(
+    thread airlight_equiangular_2_Shafts& acc_6,
+    float s_2,
+    float v_5,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    float g_11
+) {
+    metal::float3 _e13 = airlight_equiangular_2_shafts_step(acc_6, s_2, v_5);
+    if (_e13.z > 0.0) {
+        metal::float3 _e19 = acc_6.sum;
+        metal::float3 _e23 = airlight_equiangular_2_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
+        acc_6.sum = metal::min(_e19 + _e23, metal::float3(340282350000000000000000000000000000000.0));
+        uint _e29 = acc_6.calls;
+        acc_6.calls = _e29 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_equiangular_2_shafts_finish_spot(
+    airlight_equiangular_2_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_8,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8,
+    float g_12
+) {
+    airlight_equiangular_2_Shafts acc_7 = {};
+    acc_7 = acc_in_1;
+    metal::float3 _e13 = airlight_equiangular_2_shafts_place(acc_7);
+    metal::float3 _e15 = acc_7.sum;
+    metal::float3 _e19 = airlight_equiangular_2_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    metal::float3 sum_5 = metal::min(_e15 + _e19, metal::float3(340282350000000000000000000000000000000.0));
+    float _e25 = acc_7.v;
+    float _e27 = acc_7.v;
+    float w_4 = (_e27 < 0.0) ? 1.0 : _e25;
+    float _e33 = acc_7.start;
+    metal::float3 _e34 = airlight_equiangular_2_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    return metal::min(sum_5 + _e34, metal::float3(340282350000000000000000000000000000000.0));
 }

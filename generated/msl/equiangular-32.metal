@@ -8,15 +8,28 @@
 
 using metal::uint;
 
-struct type_3 {
+struct type_4 {
     metal::float3 inner[2];
 };
 struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_6 {
+struct type_7 {
     float inner[6];
+};
+struct airlight_equiangular_32_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    char _pad4[3];
+    float lo;
+    float hi;
+    float before;
+    float after;
+    metal::packed_float3 sum;
+    uint calls;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -64,13 +77,13 @@ float airlight_equiangular_32_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_equiangular_32_two_sum(
+type_4 airlight_equiangular_32_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_3 = a_3 + b_2;
+    metal::float3 bb = s_3 - a_3;
+    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -97,7 +110,7 @@ metal::float3 airlight_equiangular_32_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_equiangular_32_two_sum(light, -(origin));
+    type_4 _e4 = airlight_equiangular_32_two_sum(light, -(origin));
     float _e6 = airlight_equiangular_32_max_abs(_e4.inner[0]);
     float _e7 = airlight_equiangular_32_max_abs(dir);
     if (_e6 == 0.0) {
@@ -174,12 +187,12 @@ float airlight_equiangular_32_scaled(
     if (a_4 >= airlight_equiangular_32_HUGE) {
         return airlight_equiangular_32_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_equiangular_32_HUGE;
     }
@@ -194,15 +207,15 @@ float airlight_equiangular_32_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_6 = metal::abs(x);
-    r = a_6;
-    if (a_6 > 2.4142137) {
+    float a_9 = metal::abs(x);
+    r = a_9;
+    if (a_9 > 2.4142137) {
         y0_ = airlight_equiangular_32_FRAC_PI_2_;
-        r = -1.0 / a_6;
+        r = -1.0 / a_9;
     } else {
-        if (a_6 > 0.41421357) {
+        if (a_9 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_6 - 1.0) / (a_6 + 1.0);
+            r = (a_9 - 1.0) / (a_9 + 1.0);
         }
     }
     float _e18 = r;
@@ -240,9 +253,9 @@ metal::float2 airlight_equiangular_32_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_5 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -263,21 +276,21 @@ metal::float2 airlight_equiangular_32_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float s_6 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_6, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_6));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_6), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_6);
         }
     }
 }
@@ -496,9 +509,9 @@ float airlight_equiangular_32_airlight_geometry(
     float st = {};
     float d_2 = {};
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_32_TAU_MAX);
-    float g_7 = metal::clamp(g_in, -0.999, 0.999);
-    float gm = (1.0 - g_7) * (1.0 - g_7);
-    float gp = (1.0 + g_7) * (1.0 + g_7);
+    float g_13 = metal::clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g_13) * (1.0 - g_13);
+    float gp = (1.0 + g_13) * (1.0 + g_13);
     if (!((h_1 <= 0.0))) {
         if (x0_1 < 0.0) {
             local_7 = h_1 < 0.0000000000000000008673617;
@@ -512,7 +525,7 @@ float airlight_equiangular_32_airlight_geometry(
     }
     bool _e38 = local_6;
     if (_e38) {
-        float _e39 = airlight_equiangular_32_airlight_axis(tau_5, x0_1, rho_1, g_7);
+        float _e39 = airlight_equiangular_32_airlight_axis(tau_5, x0_1, rho_1, g_13);
         return _e39;
     }
     span = comp;
@@ -547,7 +560,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e106 = sc.y;
     float _e112 = sc.x;
     float _e115 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e112) * _e115)) : (gp - (((4.0 * g_7) * _e103) * _e106));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e112) * _e115)) : (gp - (((4.0 * g_13) * _e103) * _e106));
     float _e121 = sum_1;
     float _e123 = st;
     float _e128 = d_2;
@@ -572,7 +585,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e176 = sc.y;
     float _e182 = sc.x;
     float _e185 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e182) * _e185)) : (gp - (((4.0 * g_7) * _e173) * _e176));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e182) * _e185)) : (gp - (((4.0 * g_13) * _e173) * _e176));
     float _e191 = sum_1;
     float _e193 = st;
     float _e198 = d_2;
@@ -597,7 +610,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e246 = sc.y;
     float _e252 = sc.x;
     float _e255 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e252) * _e255)) : (gp - (((4.0 * g_7) * _e243) * _e246));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e252) * _e255)) : (gp - (((4.0 * g_13) * _e243) * _e246));
     float _e261 = sum_1;
     float _e263 = st;
     float _e268 = d_2;
@@ -622,7 +635,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e316 = sc.y;
     float _e322 = sc.x;
     float _e325 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e322) * _e325)) : (gp - (((4.0 * g_7) * _e313) * _e316));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e322) * _e325)) : (gp - (((4.0 * g_13) * _e313) * _e316));
     float _e331 = sum_1;
     float _e333 = st;
     float _e338 = d_2;
@@ -647,7 +660,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e386 = sc.y;
     float _e392 = sc.x;
     float _e395 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e392) * _e395)) : (gp - (((4.0 * g_7) * _e383) * _e386));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e392) * _e395)) : (gp - (((4.0 * g_13) * _e383) * _e386));
     float _e401 = sum_1;
     float _e403 = st;
     float _e408 = d_2;
@@ -672,7 +685,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e456 = sc.y;
     float _e462 = sc.x;
     float _e465 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e462) * _e465)) : (gp - (((4.0 * g_7) * _e453) * _e456));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e462) * _e465)) : (gp - (((4.0 * g_13) * _e453) * _e456));
     float _e471 = sum_1;
     float _e473 = st;
     float _e478 = d_2;
@@ -697,7 +710,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e526 = sc.y;
     float _e532 = sc.x;
     float _e535 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e532) * _e535)) : (gp - (((4.0 * g_7) * _e523) * _e526));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e532) * _e535)) : (gp - (((4.0 * g_13) * _e523) * _e526));
     float _e541 = sum_1;
     float _e543 = st;
     float _e548 = d_2;
@@ -722,7 +735,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e596 = sc.y;
     float _e602 = sc.x;
     float _e605 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e602) * _e605)) : (gp - (((4.0 * g_7) * _e593) * _e596));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e602) * _e605)) : (gp - (((4.0 * g_13) * _e593) * _e596));
     float _e611 = sum_1;
     float _e613 = st;
     float _e618 = d_2;
@@ -747,7 +760,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e666 = sc.y;
     float _e672 = sc.x;
     float _e675 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e672) * _e675)) : (gp - (((4.0 * g_7) * _e663) * _e666));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e672) * _e675)) : (gp - (((4.0 * g_13) * _e663) * _e666));
     float _e681 = sum_1;
     float _e683 = st;
     float _e688 = d_2;
@@ -772,7 +785,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e736 = sc.y;
     float _e742 = sc.x;
     float _e745 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e742) * _e745)) : (gp - (((4.0 * g_7) * _e733) * _e736));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e742) * _e745)) : (gp - (((4.0 * g_13) * _e733) * _e736));
     float _e751 = sum_1;
     float _e753 = st;
     float _e758 = d_2;
@@ -797,7 +810,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e806 = sc.y;
     float _e812 = sc.x;
     float _e815 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e812) * _e815)) : (gp - (((4.0 * g_7) * _e803) * _e806));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e812) * _e815)) : (gp - (((4.0 * g_13) * _e803) * _e806));
     float _e821 = sum_1;
     float _e823 = st;
     float _e828 = d_2;
@@ -822,7 +835,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e876 = sc.y;
     float _e882 = sc.x;
     float _e885 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e882) * _e885)) : (gp - (((4.0 * g_7) * _e873) * _e876));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e882) * _e885)) : (gp - (((4.0 * g_13) * _e873) * _e876));
     float _e891 = sum_1;
     float _e893 = st;
     float _e898 = d_2;
@@ -847,7 +860,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e946 = sc.y;
     float _e952 = sc.x;
     float _e955 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e952) * _e955)) : (gp - (((4.0 * g_7) * _e943) * _e946));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e952) * _e955)) : (gp - (((4.0 * g_13) * _e943) * _e946));
     float _e961 = sum_1;
     float _e963 = st;
     float _e968 = d_2;
@@ -872,7 +885,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1016 = sc.y;
     float _e1022 = sc.x;
     float _e1025 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1022) * _e1025)) : (gp - (((4.0 * g_7) * _e1013) * _e1016));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1022) * _e1025)) : (gp - (((4.0 * g_13) * _e1013) * _e1016));
     float _e1031 = sum_1;
     float _e1033 = st;
     float _e1038 = d_2;
@@ -897,7 +910,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1086 = sc.y;
     float _e1092 = sc.x;
     float _e1095 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1092) * _e1095)) : (gp - (((4.0 * g_7) * _e1083) * _e1086));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1092) * _e1095)) : (gp - (((4.0 * g_13) * _e1083) * _e1086));
     float _e1101 = sum_1;
     float _e1103 = st;
     float _e1108 = d_2;
@@ -922,7 +935,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1156 = sc.y;
     float _e1162 = sc.x;
     float _e1165 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1162) * _e1165)) : (gp - (((4.0 * g_7) * _e1153) * _e1156));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1162) * _e1165)) : (gp - (((4.0 * g_13) * _e1153) * _e1156));
     float _e1171 = sum_1;
     float _e1173 = st;
     float _e1178 = d_2;
@@ -947,7 +960,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1226 = sc.y;
     float _e1232 = sc.x;
     float _e1235 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1232) * _e1235)) : (gp - (((4.0 * g_7) * _e1223) * _e1226));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1232) * _e1235)) : (gp - (((4.0 * g_13) * _e1223) * _e1226));
     float _e1241 = sum_1;
     float _e1243 = st;
     float _e1248 = d_2;
@@ -972,7 +985,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1296 = sc.y;
     float _e1302 = sc.x;
     float _e1305 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1302) * _e1305)) : (gp - (((4.0 * g_7) * _e1293) * _e1296));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1302) * _e1305)) : (gp - (((4.0 * g_13) * _e1293) * _e1296));
     float _e1311 = sum_1;
     float _e1313 = st;
     float _e1318 = d_2;
@@ -997,7 +1010,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1366 = sc.y;
     float _e1372 = sc.x;
     float _e1375 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1372) * _e1375)) : (gp - (((4.0 * g_7) * _e1363) * _e1366));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1372) * _e1375)) : (gp - (((4.0 * g_13) * _e1363) * _e1366));
     float _e1381 = sum_1;
     float _e1383 = st;
     float _e1388 = d_2;
@@ -1022,7 +1035,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1436 = sc.y;
     float _e1442 = sc.x;
     float _e1445 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1442) * _e1445)) : (gp - (((4.0 * g_7) * _e1433) * _e1436));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1442) * _e1445)) : (gp - (((4.0 * g_13) * _e1433) * _e1436));
     float _e1451 = sum_1;
     float _e1453 = st;
     float _e1458 = d_2;
@@ -1047,7 +1060,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1506 = sc.y;
     float _e1512 = sc.x;
     float _e1515 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1512) * _e1515)) : (gp - (((4.0 * g_7) * _e1503) * _e1506));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1512) * _e1515)) : (gp - (((4.0 * g_13) * _e1503) * _e1506));
     float _e1521 = sum_1;
     float _e1523 = st;
     float _e1528 = d_2;
@@ -1072,7 +1085,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1576 = sc.y;
     float _e1582 = sc.x;
     float _e1585 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1582) * _e1585)) : (gp - (((4.0 * g_7) * _e1573) * _e1576));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1582) * _e1585)) : (gp - (((4.0 * g_13) * _e1573) * _e1576));
     float _e1591 = sum_1;
     float _e1593 = st;
     float _e1598 = d_2;
@@ -1097,7 +1110,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1646 = sc.y;
     float _e1652 = sc.x;
     float _e1655 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1652) * _e1655)) : (gp - (((4.0 * g_7) * _e1643) * _e1646));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1652) * _e1655)) : (gp - (((4.0 * g_13) * _e1643) * _e1646));
     float _e1661 = sum_1;
     float _e1663 = st;
     float _e1668 = d_2;
@@ -1122,7 +1135,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1716 = sc.y;
     float _e1722 = sc.x;
     float _e1725 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1722) * _e1725)) : (gp - (((4.0 * g_7) * _e1713) * _e1716));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1722) * _e1725)) : (gp - (((4.0 * g_13) * _e1713) * _e1716));
     float _e1731 = sum_1;
     float _e1733 = st;
     float _e1738 = d_2;
@@ -1147,7 +1160,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1786 = sc.y;
     float _e1792 = sc.x;
     float _e1795 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1792) * _e1795)) : (gp - (((4.0 * g_7) * _e1783) * _e1786));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1792) * _e1795)) : (gp - (((4.0 * g_13) * _e1783) * _e1786));
     float _e1801 = sum_1;
     float _e1803 = st;
     float _e1808 = d_2;
@@ -1172,7 +1185,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1856 = sc.y;
     float _e1862 = sc.x;
     float _e1865 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1862) * _e1865)) : (gp - (((4.0 * g_7) * _e1853) * _e1856));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1862) * _e1865)) : (gp - (((4.0 * g_13) * _e1853) * _e1856));
     float _e1871 = sum_1;
     float _e1873 = st;
     float _e1878 = d_2;
@@ -1197,7 +1210,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1926 = sc.y;
     float _e1932 = sc.x;
     float _e1935 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e1932) * _e1935)) : (gp - (((4.0 * g_7) * _e1923) * _e1926));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1932) * _e1935)) : (gp - (((4.0 * g_13) * _e1923) * _e1926));
     float _e1941 = sum_1;
     float _e1943 = st;
     float _e1948 = d_2;
@@ -1222,7 +1235,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e1996 = sc.y;
     float _e2002 = sc.x;
     float _e2005 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e2002) * _e2005)) : (gp - (((4.0 * g_7) * _e1993) * _e1996));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2002) * _e2005)) : (gp - (((4.0 * g_13) * _e1993) * _e1996));
     float _e2011 = sum_1;
     float _e2013 = st;
     float _e2018 = d_2;
@@ -1247,7 +1260,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e2066 = sc.y;
     float _e2072 = sc.x;
     float _e2075 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e2072) * _e2075)) : (gp - (((4.0 * g_7) * _e2063) * _e2066));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2072) * _e2075)) : (gp - (((4.0 * g_13) * _e2063) * _e2066));
     float _e2081 = sum_1;
     float _e2083 = st;
     float _e2088 = d_2;
@@ -1272,7 +1285,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e2136 = sc.y;
     float _e2142 = sc.x;
     float _e2145 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e2142) * _e2145)) : (gp - (((4.0 * g_7) * _e2133) * _e2136));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2142) * _e2145)) : (gp - (((4.0 * g_13) * _e2133) * _e2136));
     float _e2151 = sum_1;
     float _e2153 = st;
     float _e2158 = d_2;
@@ -1297,7 +1310,7 @@ float airlight_equiangular_32_airlight_geometry(
     float _e2206 = sc.y;
     float _e2212 = sc.x;
     float _e2215 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e2212) * _e2215)) : (gp - (((4.0 * g_7) * _e2203) * _e2206));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2212) * _e2215)) : (gp - (((4.0 * g_13) * _e2203) * _e2206));
     float _e2221 = sum_1;
     float _e2223 = st;
     float _e2228 = d_2;
@@ -1322,14 +1335,14 @@ float airlight_equiangular_32_airlight_geometry(
     float _e2276 = sc.y;
     float _e2282 = sc.x;
     float _e2285 = sc.x;
-    d_2 = (g_7 >= 0.0) ? (gm + (((4.0 * g_7) * _e2282) * _e2285)) : (gp - (((4.0 * g_7) * _e2273) * _e2276));
+    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2282) * _e2285)) : (gp - (((4.0 * g_13) * _e2273) * _e2276));
     float _e2291 = sum_1;
     float _e2293 = st;
     float _e2298 = d_2;
     float _e2299 = d_2;
     sum_1 = _e2291 + ((0.00701861 * metal::exp(-(tau_5) * _e2293)) / (_e2298 * metal::sqrt(_e2299)));
     float _e2311 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_7)) * (1.0 + g_7)) * _e2311) * half_1) / h_1, airlight_equiangular_32_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e2311) * half_1) / h_1, airlight_equiangular_32_HUGE);
 }
 
 metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
@@ -1352,9 +1365,9 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float st_1 = {};
     float d_3 = {};
     metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float g_8 = metal::clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = (1.0 - g_8) * (1.0 - g_8);
-    float gp_1 = (1.0 + g_8) * (1.0 + g_8);
+    float g_14 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_14) * (1.0 - g_14);
+    float gp_1 = (1.0 + g_14) * (1.0 + g_14);
     if (!((h_2 <= 0.0))) {
         if (x0_2 < 0.0) {
             local_10 = h_2 < 0.0000000000000000008673617;
@@ -1368,9 +1381,9 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     }
     bool _e40 = local_9;
     if (_e40) {
-        float _e42 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_2, rho_2, g_8);
-        float _e44 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_2, rho_2, g_8);
-        float _e46 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_2, rho_2, g_8);
+        float _e42 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_2, rho_2, g_14);
+        float _e44 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_2, rho_2, g_14);
+        float _e46 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_2, rho_2, g_14);
         return metal::float3(_e42, _e44, _e46);
     }
     span_1 = comp_1;
@@ -1405,7 +1418,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e115 = sc_1.y;
     float _e121 = sc_1.x;
     float _e124 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e121) * _e124)) : (gp_1 - (((4.0 * g_8) * _e112) * _e115));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e121) * _e124)) : (gp_1 - (((4.0 * g_14) * _e112) * _e115));
     metal::float3 _e130 = sum_2;
     float _e132 = st_1;
     float _e137 = d_3;
@@ -1430,7 +1443,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e186 = sc_1.y;
     float _e192 = sc_1.x;
     float _e195 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e192) * _e195)) : (gp_1 - (((4.0 * g_8) * _e183) * _e186));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e192) * _e195)) : (gp_1 - (((4.0 * g_14) * _e183) * _e186));
     metal::float3 _e201 = sum_2;
     float _e203 = st_1;
     float _e208 = d_3;
@@ -1455,7 +1468,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e257 = sc_1.y;
     float _e263 = sc_1.x;
     float _e266 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e263) * _e266)) : (gp_1 - (((4.0 * g_8) * _e254) * _e257));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e263) * _e266)) : (gp_1 - (((4.0 * g_14) * _e254) * _e257));
     metal::float3 _e272 = sum_2;
     float _e274 = st_1;
     float _e279 = d_3;
@@ -1480,7 +1493,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e328 = sc_1.y;
     float _e334 = sc_1.x;
     float _e337 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e334) * _e337)) : (gp_1 - (((4.0 * g_8) * _e325) * _e328));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e334) * _e337)) : (gp_1 - (((4.0 * g_14) * _e325) * _e328));
     metal::float3 _e343 = sum_2;
     float _e345 = st_1;
     float _e350 = d_3;
@@ -1505,7 +1518,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e399 = sc_1.y;
     float _e405 = sc_1.x;
     float _e408 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e405) * _e408)) : (gp_1 - (((4.0 * g_8) * _e396) * _e399));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e405) * _e408)) : (gp_1 - (((4.0 * g_14) * _e396) * _e399));
     metal::float3 _e414 = sum_2;
     float _e416 = st_1;
     float _e421 = d_3;
@@ -1530,7 +1543,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e470 = sc_1.y;
     float _e476 = sc_1.x;
     float _e479 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e476) * _e479)) : (gp_1 - (((4.0 * g_8) * _e467) * _e470));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e476) * _e479)) : (gp_1 - (((4.0 * g_14) * _e467) * _e470));
     metal::float3 _e485 = sum_2;
     float _e487 = st_1;
     float _e492 = d_3;
@@ -1555,7 +1568,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e541 = sc_1.y;
     float _e547 = sc_1.x;
     float _e550 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e547) * _e550)) : (gp_1 - (((4.0 * g_8) * _e538) * _e541));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e547) * _e550)) : (gp_1 - (((4.0 * g_14) * _e538) * _e541));
     metal::float3 _e556 = sum_2;
     float _e558 = st_1;
     float _e563 = d_3;
@@ -1580,7 +1593,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e612 = sc_1.y;
     float _e618 = sc_1.x;
     float _e621 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e618) * _e621)) : (gp_1 - (((4.0 * g_8) * _e609) * _e612));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e618) * _e621)) : (gp_1 - (((4.0 * g_14) * _e609) * _e612));
     metal::float3 _e627 = sum_2;
     float _e629 = st_1;
     float _e634 = d_3;
@@ -1605,7 +1618,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e683 = sc_1.y;
     float _e689 = sc_1.x;
     float _e692 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e689) * _e692)) : (gp_1 - (((4.0 * g_8) * _e680) * _e683));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e689) * _e692)) : (gp_1 - (((4.0 * g_14) * _e680) * _e683));
     metal::float3 _e698 = sum_2;
     float _e700 = st_1;
     float _e705 = d_3;
@@ -1630,7 +1643,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e754 = sc_1.y;
     float _e760 = sc_1.x;
     float _e763 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e760) * _e763)) : (gp_1 - (((4.0 * g_8) * _e751) * _e754));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e760) * _e763)) : (gp_1 - (((4.0 * g_14) * _e751) * _e754));
     metal::float3 _e769 = sum_2;
     float _e771 = st_1;
     float _e776 = d_3;
@@ -1655,7 +1668,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e825 = sc_1.y;
     float _e831 = sc_1.x;
     float _e834 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e831) * _e834)) : (gp_1 - (((4.0 * g_8) * _e822) * _e825));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e831) * _e834)) : (gp_1 - (((4.0 * g_14) * _e822) * _e825));
     metal::float3 _e840 = sum_2;
     float _e842 = st_1;
     float _e847 = d_3;
@@ -1680,7 +1693,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e896 = sc_1.y;
     float _e902 = sc_1.x;
     float _e905 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e902) * _e905)) : (gp_1 - (((4.0 * g_8) * _e893) * _e896));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e902) * _e905)) : (gp_1 - (((4.0 * g_14) * _e893) * _e896));
     metal::float3 _e911 = sum_2;
     float _e913 = st_1;
     float _e918 = d_3;
@@ -1705,7 +1718,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e967 = sc_1.y;
     float _e973 = sc_1.x;
     float _e976 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e973) * _e976)) : (gp_1 - (((4.0 * g_8) * _e964) * _e967));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e973) * _e976)) : (gp_1 - (((4.0 * g_14) * _e964) * _e967));
     metal::float3 _e982 = sum_2;
     float _e984 = st_1;
     float _e989 = d_3;
@@ -1730,7 +1743,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1038 = sc_1.y;
     float _e1044 = sc_1.x;
     float _e1047 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_8) * _e1035) * _e1038));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_14) * _e1035) * _e1038));
     metal::float3 _e1053 = sum_2;
     float _e1055 = st_1;
     float _e1060 = d_3;
@@ -1755,7 +1768,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1109 = sc_1.y;
     float _e1115 = sc_1.x;
     float _e1118 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_8) * _e1106) * _e1109));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_14) * _e1106) * _e1109));
     metal::float3 _e1124 = sum_2;
     float _e1126 = st_1;
     float _e1131 = d_3;
@@ -1780,7 +1793,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1180 = sc_1.y;
     float _e1186 = sc_1.x;
     float _e1189 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_8) * _e1177) * _e1180));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_14) * _e1177) * _e1180));
     metal::float3 _e1195 = sum_2;
     float _e1197 = st_1;
     float _e1202 = d_3;
@@ -1805,7 +1818,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1251 = sc_1.y;
     float _e1257 = sc_1.x;
     float _e1260 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1257) * _e1260)) : (gp_1 - (((4.0 * g_8) * _e1248) * _e1251));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1257) * _e1260)) : (gp_1 - (((4.0 * g_14) * _e1248) * _e1251));
     metal::float3 _e1266 = sum_2;
     float _e1268 = st_1;
     float _e1273 = d_3;
@@ -1830,7 +1843,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1322 = sc_1.y;
     float _e1328 = sc_1.x;
     float _e1331 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1328) * _e1331)) : (gp_1 - (((4.0 * g_8) * _e1319) * _e1322));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1328) * _e1331)) : (gp_1 - (((4.0 * g_14) * _e1319) * _e1322));
     metal::float3 _e1337 = sum_2;
     float _e1339 = st_1;
     float _e1344 = d_3;
@@ -1855,7 +1868,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1393 = sc_1.y;
     float _e1399 = sc_1.x;
     float _e1402 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1399) * _e1402)) : (gp_1 - (((4.0 * g_8) * _e1390) * _e1393));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1399) * _e1402)) : (gp_1 - (((4.0 * g_14) * _e1390) * _e1393));
     metal::float3 _e1408 = sum_2;
     float _e1410 = st_1;
     float _e1415 = d_3;
@@ -1880,7 +1893,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1464 = sc_1.y;
     float _e1470 = sc_1.x;
     float _e1473 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1470) * _e1473)) : (gp_1 - (((4.0 * g_8) * _e1461) * _e1464));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1470) * _e1473)) : (gp_1 - (((4.0 * g_14) * _e1461) * _e1464));
     metal::float3 _e1479 = sum_2;
     float _e1481 = st_1;
     float _e1486 = d_3;
@@ -1905,7 +1918,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1535 = sc_1.y;
     float _e1541 = sc_1.x;
     float _e1544 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1541) * _e1544)) : (gp_1 - (((4.0 * g_8) * _e1532) * _e1535));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1541) * _e1544)) : (gp_1 - (((4.0 * g_14) * _e1532) * _e1535));
     metal::float3 _e1550 = sum_2;
     float _e1552 = st_1;
     float _e1557 = d_3;
@@ -1930,7 +1943,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1606 = sc_1.y;
     float _e1612 = sc_1.x;
     float _e1615 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1612) * _e1615)) : (gp_1 - (((4.0 * g_8) * _e1603) * _e1606));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1612) * _e1615)) : (gp_1 - (((4.0 * g_14) * _e1603) * _e1606));
     metal::float3 _e1621 = sum_2;
     float _e1623 = st_1;
     float _e1628 = d_3;
@@ -1955,7 +1968,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1677 = sc_1.y;
     float _e1683 = sc_1.x;
     float _e1686 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1683) * _e1686)) : (gp_1 - (((4.0 * g_8) * _e1674) * _e1677));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1683) * _e1686)) : (gp_1 - (((4.0 * g_14) * _e1674) * _e1677));
     metal::float3 _e1692 = sum_2;
     float _e1694 = st_1;
     float _e1699 = d_3;
@@ -1980,7 +1993,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1748 = sc_1.y;
     float _e1754 = sc_1.x;
     float _e1757 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1754) * _e1757)) : (gp_1 - (((4.0 * g_8) * _e1745) * _e1748));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1754) * _e1757)) : (gp_1 - (((4.0 * g_14) * _e1745) * _e1748));
     metal::float3 _e1763 = sum_2;
     float _e1765 = st_1;
     float _e1770 = d_3;
@@ -2005,7 +2018,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1819 = sc_1.y;
     float _e1825 = sc_1.x;
     float _e1828 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1825) * _e1828)) : (gp_1 - (((4.0 * g_8) * _e1816) * _e1819));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1825) * _e1828)) : (gp_1 - (((4.0 * g_14) * _e1816) * _e1819));
     metal::float3 _e1834 = sum_2;
     float _e1836 = st_1;
     float _e1841 = d_3;
@@ -2030,7 +2043,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1890 = sc_1.y;
     float _e1896 = sc_1.x;
     float _e1899 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1896) * _e1899)) : (gp_1 - (((4.0 * g_8) * _e1887) * _e1890));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1896) * _e1899)) : (gp_1 - (((4.0 * g_14) * _e1887) * _e1890));
     metal::float3 _e1905 = sum_2;
     float _e1907 = st_1;
     float _e1912 = d_3;
@@ -2055,7 +2068,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e1961 = sc_1.y;
     float _e1967 = sc_1.x;
     float _e1970 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e1967) * _e1970)) : (gp_1 - (((4.0 * g_8) * _e1958) * _e1961));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1967) * _e1970)) : (gp_1 - (((4.0 * g_14) * _e1958) * _e1961));
     metal::float3 _e1976 = sum_2;
     float _e1978 = st_1;
     float _e1983 = d_3;
@@ -2080,7 +2093,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2032 = sc_1.y;
     float _e2038 = sc_1.x;
     float _e2041 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e2038) * _e2041)) : (gp_1 - (((4.0 * g_8) * _e2029) * _e2032));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2038) * _e2041)) : (gp_1 - (((4.0 * g_14) * _e2029) * _e2032));
     metal::float3 _e2047 = sum_2;
     float _e2049 = st_1;
     float _e2054 = d_3;
@@ -2105,7 +2118,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2103 = sc_1.y;
     float _e2109 = sc_1.x;
     float _e2112 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e2109) * _e2112)) : (gp_1 - (((4.0 * g_8) * _e2100) * _e2103));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2109) * _e2112)) : (gp_1 - (((4.0 * g_14) * _e2100) * _e2103));
     metal::float3 _e2118 = sum_2;
     float _e2120 = st_1;
     float _e2125 = d_3;
@@ -2130,7 +2143,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2174 = sc_1.y;
     float _e2180 = sc_1.x;
     float _e2183 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e2180) * _e2183)) : (gp_1 - (((4.0 * g_8) * _e2171) * _e2174));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2180) * _e2183)) : (gp_1 - (((4.0 * g_14) * _e2171) * _e2174));
     metal::float3 _e2189 = sum_2;
     float _e2191 = st_1;
     float _e2196 = d_3;
@@ -2155,7 +2168,7 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2245 = sc_1.y;
     float _e2251 = sc_1.x;
     float _e2254 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e2251) * _e2254)) : (gp_1 - (((4.0 * g_8) * _e2242) * _e2245));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2251) * _e2254)) : (gp_1 - (((4.0 * g_14) * _e2242) * _e2245));
     metal::float3 _e2260 = sum_2;
     float _e2262 = st_1;
     float _e2267 = d_3;
@@ -2180,14 +2193,14 @@ metal::float3 airlight_equiangular_32_airlight_geometry_rgb(
     float _e2316 = sc_1.y;
     float _e2322 = sc_1.x;
     float _e2325 = sc_1.x;
-    d_3 = (g_8 >= 0.0) ? (gm_1 + (((4.0 * g_8) * _e2322) * _e2325)) : (gp_1 - (((4.0 * g_8) * _e2313) * _e2316));
+    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2322) * _e2325)) : (gp_1 - (((4.0 * g_14) * _e2313) * _e2316));
     metal::float3 _e2331 = sum_2;
     float _e2333 = st_1;
     float _e2338 = d_3;
     float _e2339 = d_3;
     sum_2 = _e2331 + ((0.00701861 * metal::exp(-(tau_6) * _e2333)) / metal::float3(_e2338 * metal::sqrt(_e2339)));
     metal::float3 _e2352 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e2352) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e2352) * half_2) / metal::float3(h_2), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_32_airlight(
@@ -2343,7 +2356,7 @@ metal::float3 airlight_equiangular_32_spot_edge(
 ) {
     bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_3 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -2390,12 +2403,12 @@ metal::float3 airlight_equiangular_32_spot_edge(
         {
             int _e80 = i;
             float _e82 = pieces.inner[_e80];
-            float a_7 = u_1 + ((v_in - u_1) * _e82);
+            float a_10 = u_1 + ((v_in - u_1) * _e82);
             int _e86 = i;
             float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_5 = u_1 + ((v_in - u_1) * _e90);
-            float half_3 = 0.5 * (b_5 - a_7);
-            float mid = 0.5 * (b_5 + a_7);
+            float b_8 = u_1 + ((v_in - u_1) * _e90);
+            float half_3 = 0.5 * (b_8 - a_10);
+            float mid = 0.5 * (b_8 + a_10);
             w = mid + (half_3 * 0.96028984);
             float _e102 = w;
             metal::float2 _e105 = airlight_equiangular_32_sin_cos(0.5 * _e102);
@@ -2826,4 +2839,278 @@ metal::float3 airlight_equiangular_32_spot(
     float _e295 = a_5.z;
     float _e296 = airlight_equiangular_32_scaled(sigma_s_2.z, intensity_2 * _e292, d_5, _e295);
     return metal::float3(_e284, _e290, _e296);
+}
+
+airlight_equiangular_32_Shafts airlight_equiangular_32_shafts_begin(
+) {
+    return airlight_equiangular_32_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+}
+
+float airlight_equiangular_32_shafts_probe(
+    airlight_equiangular_32_Shafts acc
+) {
+    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+}
+
+void airlight_equiangular_32_shafts_refine(
+    thread airlight_equiangular_32_Shafts& acc_1,
+    float v_2
+) {
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = 0.5 * (_e5 + _e7);
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_equiangular_32_shafts_place(
+    thread airlight_equiangular_32_Shafts& acc_2
+) {
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return metal::float3(0.0);
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = 0.5 * (_e9 + _e11);
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    metal::float3 run = metal::float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+metal::float3 airlight_equiangular_32_shafts_step(
+    thread airlight_equiangular_32_Shafts& acc_3,
+    float s,
+    float v_3
+) {
+    metal::float3 _e3 = airlight_equiangular_32_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if (_e5 < 0.0) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if (v_3 != _e10) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+metal::float4 airlight_equiangular_32_shafts_moved(
+    float a_6,
+    float b_5,
+    metal::float3 origin_3,
+    metal::float3 dir_3
+) {
+    float _e4 = airlight_equiangular_32_max_abs(dir_3);
+    metal::float3 u_2 = dir_3 / metal::float3(_e4);
+    return metal::float4(origin_3 + (a_6 * (u_2 / metal::float3(metal::length(u_2)))), (b_5 >= 0.0) ? metal::max(b_5 - a_6, 0.0) : -1.0);
+}
+
+float airlight_equiangular_32_shafts_run(
+    float a_7,
+    float b_6,
+    float w_1,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_3,
+    float intensity_3,
+    float sigma_t_2,
+    float sigma_s_3,
+    float g_7
+) {
+    bool local_23 = {};
+    bool local_24 = {};
+    if (!(!((w_1 > 0.0)))) {
+        if (b_6 >= 0.0) {
+            local_24 = b_6 <= a_7;
+        } else {
+            local_24 = false;
+        }
+        bool _e22 = local_24;
+        local_23 = _e22;
+    } else {
+        local_23 = true;
+    }
+    bool _e24 = local_23;
+    if (_e24) {
+        return 0.0;
+    }
+    metal::float4 _e26 = airlight_equiangular_32_shafts_moved(a_7, b_6, origin_4, dir_4);
+    metal::float3 o = _e26.xyz;
+    float len = _e26.w;
+    float _e29 = airlight_equiangular_32_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    if (_e29 >= airlight_equiangular_32_HUGE) {
+        return _e29;
+    }
+    return (w_1 * metal::exp(-(sigma_t_2) * a_7)) * _e29;
+}
+
+void airlight_equiangular_32_shafts_push(
+    thread airlight_equiangular_32_Shafts& acc_4,
+    float s_1,
+    float v_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_4,
+    float intensity_4,
+    float sigma_t_3,
+    float sigma_s_4,
+    float g_8
+) {
+    metal::float3 _e10 = airlight_equiangular_32_shafts_step(acc_4, s_1, v_4);
+    if (_e10.z > 0.0) {
+        float _e18 = acc_4.sum[0];
+        float _e22 = airlight_equiangular_32_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+        acc_4.sum[0] = metal::min(_e18 + _e22, airlight_equiangular_32_HUGE);
+        uint _e27 = acc_4.calls;
+        acc_4.calls = _e27 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_equiangular_32_shafts_finish(
+    airlight_equiangular_32_Shafts acc_in,
+    float end,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_5,
+    float intensity_5,
+    float sigma_t_4,
+    float sigma_s_5,
+    float g_9
+) {
+    airlight_equiangular_32_Shafts acc_5 = {};
+    acc_5 = acc_in;
+    metal::float3 _e10 = airlight_equiangular_32_shafts_place(acc_5);
+    float _e13 = acc_5.sum[0];
+    float _e17 = airlight_equiangular_32_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    float sum_4 = metal::min(_e13 + _e17, airlight_equiangular_32_HUGE);
+    float _e22 = acc_5.v;
+    float _e24 = acc_5.v;
+    float w_3 = (_e24 < 0.0) ? 1.0 : _e22;
+    float _e30 = acc_5.start;
+    float _e31 = airlight_equiangular_32_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+    return metal::min(sum_4 + _e31, airlight_equiangular_32_HUGE);
+}
+
+metal::float3 airlight_equiangular_32_shafts_run_spot(
+    float a_8,
+    float b_7,
+    float w_2,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_6,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_6,
+    float g_10
+) {
+    bool local_25 = {};
+    bool local_26 = {};
+    if (!(!((w_2 > 0.0)))) {
+        if (b_7 >= 0.0) {
+            local_26 = b_7 <= a_8;
+        } else {
+            local_26 = false;
+        }
+        bool _e25 = local_26;
+        local_25 = _e25;
+    } else {
+        local_25 = true;
+    }
+    bool _e27 = local_25;
+    if (_e27) {
+        return metal::float3(0.0);
+    }
+    metal::float4 _e30 = airlight_equiangular_32_shafts_moved(a_8, b_7, origin_7, dir_7);
+    metal::float3 o_1 = _e30.xyz;
+    float len_1 = _e30.w;
+    metal::float3 _e33 = airlight_equiangular_32_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_8)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_equiangular_32_shafts_push_spot(
+    thread airlight_equiangular_32_Shafts& acc_6,
+    float s_2,
+    float v_5,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    float g_11
+) {
+    metal::float3 _e13 = airlight_equiangular_32_shafts_step(acc_6, s_2, v_5);
+    if (_e13.z > 0.0) {
+        metal::float3 _e19 = acc_6.sum;
+        metal::float3 _e23 = airlight_equiangular_32_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
+        acc_6.sum = metal::min(_e19 + _e23, metal::float3(340282350000000000000000000000000000000.0));
+        uint _e29 = acc_6.calls;
+        acc_6.calls = _e29 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_equiangular_32_shafts_finish_spot(
+    airlight_equiangular_32_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_8,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8,
+    float g_12
+) {
+    airlight_equiangular_32_Shafts acc_7 = {};
+    acc_7 = acc_in_1;
+    metal::float3 _e13 = airlight_equiangular_32_shafts_place(acc_7);
+    metal::float3 _e15 = acc_7.sum;
+    metal::float3 _e19 = airlight_equiangular_32_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    metal::float3 sum_5 = metal::min(_e15 + _e19, metal::float3(340282350000000000000000000000000000000.0));
+    float _e25 = acc_7.v;
+    float _e27 = acc_7.v;
+    float w_4 = (_e27 < 0.0) ? 1.0 : _e25;
+    float _e33 = acc_7.start;
+    metal::float3 _e34 = airlight_equiangular_32_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
+    return metal::min(sum_5 + _e34, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -8,24 +8,37 @@
 
 using metal::uint;
 
-struct type_3 {
+struct type_4 {
     metal::float3 inner[2];
 };
 struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_6 {
+struct type_7 {
     float inner[1];
 };
 struct airlight_paper_refit_hg_Phase {
-    type_6 c;
-    type_6 b;
+    type_7 c;
+    type_7 b;
     bool mirrored;
     char _pad3[3];
 };
-struct type_7 {
+struct type_8 {
     float inner[6];
+};
+struct airlight_paper_refit_hg_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    char _pad4[3];
+    float lo;
+    float hi;
+    float before;
+    float after;
+    metal::packed_float3 sum;
+    uint calls;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -73,13 +86,13 @@ float airlight_paper_refit_hg_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_paper_refit_hg_two_sum(
+type_4 airlight_paper_refit_hg_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_3 = a_3 + b_2;
+    metal::float3 bb = s_3 - a_3;
+    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -106,7 +119,7 @@ metal::float3 airlight_paper_refit_hg_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_paper_refit_hg_two_sum(light, -(origin));
+    type_4 _e4 = airlight_paper_refit_hg_two_sum(light, -(origin));
     float _e6 = airlight_paper_refit_hg_max_abs(_e4.inner[0]);
     float _e7 = airlight_paper_refit_hg_max_abs(dir);
     if (_e6 == 0.0) {
@@ -183,12 +196,12 @@ float airlight_paper_refit_hg_scaled(
     if (a_4 >= airlight_paper_refit_hg_HUGE) {
         return airlight_paper_refit_hg_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_paper_refit_hg_HUGE;
     }
@@ -203,15 +216,15 @@ float airlight_paper_refit_hg_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_9 = metal::abs(x);
-    r = a_9;
-    if (a_9 > 2.4142137) {
+    float a_12 = metal::abs(x);
+    r = a_12;
+    if (a_12 > 2.4142137) {
         y0_ = airlight_paper_refit_hg_FRAC_PI_2_;
-        r = -1.0 / a_9;
+        r = -1.0 / a_12;
     } else {
-        if (a_9 > 0.41421357) {
+        if (a_12 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_9 - 1.0) / (a_9 + 1.0);
+            r = (a_12 - 1.0) / (a_12 + 1.0);
         }
     }
     float _e18 = r;
@@ -249,9 +262,9 @@ metal::float2 airlight_paper_refit_hg_sin_cos_octant(
     float x_2
 ) {
     float z_2 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
+    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -272,21 +285,21 @@ metal::float2 airlight_paper_refit_hg_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_3 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3;
+    float s_6 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_6, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_6));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_6), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_6);
         }
     }
 }
@@ -372,8 +385,8 @@ float airlight_paper_refit_hg_phase_at(
     airlight_paper_refit_hg_Phase ph_1,
     float alpha
 ) {
-    float a_10 = ph_1.mirrored ? (airlight_paper_refit_hg_PI - alpha) : alpha;
-    return metal::max(ph_1.c.inner[0] * metal::exp(-(ph_1.b.inner[0]) * a_10), 0.0);
+    float a_13 = ph_1.mirrored ? (airlight_paper_refit_hg_PI - alpha) : alpha;
+    return metal::max(ph_1.c.inner[0] * metal::exp(-(ph_1.b.inner[0]) * a_13), 0.0);
 }
 
 float airlight_paper_refit_hg_phase_u(
@@ -382,8 +395,8 @@ float airlight_paper_refit_hg_phase_u(
 ) {
     float _e2 = airlight_paper_refit_hg_arctan(u);
     float _e7 = airlight_paper_refit_hg_arctan(1.0 / u);
-    float a_11 = ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2);
-    return metal::max(ph_2.c.inner[0] * metal::exp(-(ph_2.b.inner[0]) * a_11), 0.0);
+    float a_14 = ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2);
+    return metal::max(ph_2.c.inner[0] * metal::exp(-(ph_2.b.inner[0]) * a_14), 0.0);
 }
 
 float airlight_paper_refit_hg_piece(
@@ -427,10 +440,10 @@ float airlight_paper_refit_hg_segments(
     float beta_1,
     bool mirrored_1
 ) {
-    float b_4 = a_6 + len_1;
-    float _e11 = airlight_paper_refit_hg_piece(a_6, b_4, len_1, 0.0, 0.95316166, 0.56068134, -0.023911763, t_1, att_1, beta_1, mirrored_1);
-    float _e16 = airlight_paper_refit_hg_piece(a_6, b_4, len_1, 0.95316166, 1.3244272, 0.7112775, -0.16745423, t_1, att_1, beta_1, mirrored_1);
-    float _e22 = airlight_paper_refit_hg_piece(a_6, b_4, len_1, 1.3244272, 1.5707964, 0.9041022, -0.42283654, t_1, att_1, beta_1, mirrored_1);
+    float b_7 = a_6 + len_1;
+    float _e11 = airlight_paper_refit_hg_piece(a_6, b_7, len_1, 0.0, 0.95316166, 0.56068134, -0.023911763, t_1, att_1, beta_1, mirrored_1);
+    float _e16 = airlight_paper_refit_hg_piece(a_6, b_7, len_1, 0.95316166, 1.3244272, 0.7112775, -0.16745423, t_1, att_1, beta_1, mirrored_1);
+    float _e22 = airlight_paper_refit_hg_piece(a_6, b_7, len_1, 1.3244272, 1.5707964, 0.9041022, -0.42283654, t_1, att_1, beta_1, mirrored_1);
     return (_e11 + _e16) + _e22;
 }
 
@@ -558,21 +571,21 @@ float airlight_paper_refit_hg_backward_u(
     }
     bool _e164 = local_6;
     if (_e164) {
-        float a_12 = metal::max(u0_, 16.0);
-        float shift = base - (t_4 * (a_12 - u0_));
+        float a_15 = metal::max(u0_, 16.0);
+        float shift = base - (t_4 * (a_15 - u0_));
         if (!(endless)) {
-            local_7 = ub <= (2.0 * a_12);
+            local_7 = ub <= (2.0 * a_15);
         } else {
             local_7 = false;
         }
         bool _e177 = local_7;
         if (_e177) {
             float _e181 = span;
-            float len_5 = (a_12 == u0_) ? (_e181 / a_12) : ((ub / a_12) - 1.0);
-            float ta = t_4 * a_12;
+            float len_5 = (a_15 == u0_) ? (_e181 / a_15) : ((ub / a_15) - 1.0);
+            float ta = t_4 * a_15;
             {
                 float lam_5 = ta + 0.26840276;
-                float u_3 = a_12 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
+                float u_3 = a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
                 float q_1 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
                 float _e204 = part;
                 float _e213 = airlight_paper_refit_hg_exprel(-(lam_5) * len_5);
@@ -581,7 +594,7 @@ float airlight_paper_refit_hg_backward_u(
             }
             {
                 float lam_6 = ta + 1.5659415;
-                float u_4 = a_12 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
+                float u_4 = a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
                 float q_2 = 1.0 / (1.0 + (1.0 / (u_4 * u_4)));
                 float _e235 = part;
                 float _e244 = airlight_paper_refit_hg_exprel(-(lam_6) * len_5);
@@ -590,7 +603,7 @@ float airlight_paper_refit_hg_backward_u(
             }
             {
                 float lam_7 = ta + 4.449333;
-                float u_5 = a_12 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
+                float u_5 = a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
                 float q_3 = 1.0 / (1.0 + (1.0 / (u_5 * u_5)));
                 float _e266 = part;
                 float _e275 = airlight_paper_refit_hg_exprel(-(lam_7) * len_5);
@@ -599,19 +612,19 @@ float airlight_paper_refit_hg_backward_u(
             }
             float _e281 = sum;
             float _e282 = part;
-            sum = _e281 + (_e282 / a_12);
+            sum = _e281 + (_e282 / a_15);
         } else {
-            float lam_8 = t_4 + (2.0 / a_12);
-            float _e289 = airlight_paper_refit_hg_phi(t_4 * a_12);
-            g_1 = _e289 / a_12;
-            u_1 = a_12 + (1.0 / lam_8);
+            float lam_8 = t_4 + (2.0 / a_15);
+            float _e289 = airlight_paper_refit_hg_phi(t_4 * a_15);
+            g_1 = _e289 / a_15;
+            u_1 = a_15 + (1.0 / lam_8);
             if (!(endless)) {
                 float _e298 = span;
-                float len_6 = (a_12 == u0_) ? _e298 : (ub - a_12);
+                float len_6 = (a_15 == u0_) ? _e298 : (ub - a_15);
                 float _e301 = g_1;
                 float _e306 = airlight_paper_refit_hg_phi(t_4 * ub);
                 g_1 = _e301 - ((metal::exp(-(t_4) * len_6) * _e306) / ub);
-                u_1 = a_12 + (len_6 / (2.0 + (lam_8 * len_6)));
+                u_1 = a_15 + (len_6 / (2.0 + (lam_8 * len_6)));
             }
             float _e315 = u_1;
             float _e316 = u_1;
@@ -875,7 +888,7 @@ metal::float3 airlight_paper_refit_hg_spot_edge(
 ) {
     bool local_15 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    type_8 pieces = type_8 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_2 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -922,12 +935,12 @@ metal::float3 airlight_paper_refit_hg_spot_edge(
         {
             int _e80 = i;
             float _e82 = pieces.inner[_e80];
-            float a_13 = u_2 + ((v_in - u_2) * _e82);
+            float a_16 = u_2 + ((v_in - u_2) * _e82);
             int _e86 = i;
             float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_5 = u_2 + ((v_in - u_2) * _e90);
-            float half_ = 0.5 * (b_5 - a_13);
-            float mid = 0.5 * (b_5 + a_13);
+            float b_8 = u_2 + ((v_in - u_2) * _e90);
+            float half_ = 0.5 * (b_8 - a_16);
+            float mid = 0.5 * (b_8 + a_16);
             w = mid + (half_ * 0.96028984);
             float _e102 = w;
             metal::float2 _e105 = airlight_paper_refit_hg_sin_cos(0.5 * _e102);
@@ -1358,4 +1371,278 @@ metal::float3 airlight_paper_refit_hg_spot(
     float _e295 = a_8.z;
     float _e296 = airlight_paper_refit_hg_scaled(sigma_s_2.z, intensity_2 * _e292, d_5, _e295);
     return metal::float3(_e284, _e290, _e296);
+}
+
+airlight_paper_refit_hg_Shafts airlight_paper_refit_hg_shafts_begin(
+) {
+    return airlight_paper_refit_hg_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+}
+
+float airlight_paper_refit_hg_shafts_probe(
+    airlight_paper_refit_hg_Shafts acc
+) {
+    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+}
+
+void airlight_paper_refit_hg_shafts_refine(
+    thread airlight_paper_refit_hg_Shafts& acc_1,
+    float v_2
+) {
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = 0.5 * (_e5 + _e7);
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_paper_refit_hg_shafts_place(
+    thread airlight_paper_refit_hg_Shafts& acc_2
+) {
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return metal::float3(0.0);
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = 0.5 * (_e9 + _e11);
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    metal::float3 run = metal::float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+metal::float3 airlight_paper_refit_hg_shafts_step(
+    thread airlight_paper_refit_hg_Shafts& acc_3,
+    float s,
+    float v_3
+) {
+    metal::float3 _e3 = airlight_paper_refit_hg_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if (_e5 < 0.0) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if (v_3 != _e10) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+metal::float4 airlight_paper_refit_hg_shafts_moved(
+    float a_9,
+    float b_4,
+    metal::float3 origin_3,
+    metal::float3 dir_3
+) {
+    float _e4 = airlight_paper_refit_hg_max_abs(dir_3);
+    metal::float3 u_6 = dir_3 / metal::float3(_e4);
+    return metal::float4(origin_3 + (a_9 * (u_6 / metal::float3(metal::length(u_6)))), (b_4 >= 0.0) ? metal::max(b_4 - a_9, 0.0) : -1.0);
+}
+
+float airlight_paper_refit_hg_shafts_run(
+    float a_10,
+    float b_5,
+    float w_1,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_3,
+    float intensity_3,
+    float sigma_t_2,
+    float sigma_s_3,
+    float g_10
+) {
+    bool local_24 = {};
+    bool local_25 = {};
+    if (!(!((w_1 > 0.0)))) {
+        if (b_5 >= 0.0) {
+            local_25 = b_5 <= a_10;
+        } else {
+            local_25 = false;
+        }
+        bool _e22 = local_25;
+        local_24 = _e22;
+    } else {
+        local_24 = true;
+    }
+    bool _e24 = local_24;
+    if (_e24) {
+        return 0.0;
+    }
+    metal::float4 _e26 = airlight_paper_refit_hg_shafts_moved(a_10, b_5, origin_4, dir_4);
+    metal::float3 o = _e26.xyz;
+    float len_7 = _e26.w;
+    float _e29 = airlight_paper_refit_hg_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
+    if (_e29 >= airlight_paper_refit_hg_HUGE) {
+        return _e29;
+    }
+    return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e29;
+}
+
+void airlight_paper_refit_hg_shafts_push(
+    thread airlight_paper_refit_hg_Shafts& acc_4,
+    float s_1,
+    float v_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_4,
+    float intensity_4,
+    float sigma_t_3,
+    float sigma_s_4,
+    float g_11
+) {
+    metal::float3 _e10 = airlight_paper_refit_hg_shafts_step(acc_4, s_1, v_4);
+    if (_e10.z > 0.0) {
+        float _e18 = acc_4.sum[0];
+        float _e22 = airlight_paper_refit_hg_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_11);
+        acc_4.sum[0] = metal::min(_e18 + _e22, airlight_paper_refit_hg_HUGE);
+        uint _e27 = acc_4.calls;
+        acc_4.calls = _e27 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_paper_refit_hg_shafts_finish(
+    airlight_paper_refit_hg_Shafts acc_in,
+    float end,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_5,
+    float intensity_5,
+    float sigma_t_4,
+    float sigma_s_5,
+    float g_12
+) {
+    airlight_paper_refit_hg_Shafts acc_5 = {};
+    acc_5 = acc_in;
+    metal::float3 _e10 = airlight_paper_refit_hg_shafts_place(acc_5);
+    float _e13 = acc_5.sum[0];
+    float _e17 = airlight_paper_refit_hg_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+    float sum_3 = metal::min(_e13 + _e17, airlight_paper_refit_hg_HUGE);
+    float _e22 = acc_5.v;
+    float _e24 = acc_5.v;
+    float w_3 = (_e24 < 0.0) ? 1.0 : _e22;
+    float _e30 = acc_5.start;
+    float _e31 = airlight_paper_refit_hg_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+    return metal::min(sum_3 + _e31, airlight_paper_refit_hg_HUGE);
+}
+
+metal::float3 airlight_paper_refit_hg_shafts_run_spot(
+    float a_11,
+    float b_6,
+    float w_2,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_6,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_6,
+    float g_13
+) {
+    bool local_26 = {};
+    bool local_27 = {};
+    if (!(!((w_2 > 0.0)))) {
+        if (b_6 >= 0.0) {
+            local_27 = b_6 <= a_11;
+        } else {
+            local_27 = false;
+        }
+        bool _e25 = local_27;
+        local_26 = _e25;
+    } else {
+        local_26 = true;
+    }
+    bool _e27 = local_26;
+    if (_e27) {
+        return metal::float3(0.0);
+    }
+    metal::float4 _e30 = airlight_paper_refit_hg_shafts_moved(a_11, b_6, origin_7, dir_7);
+    metal::float3 o_1 = _e30.xyz;
+    float len_8 = _e30.w;
+    metal::float3 _e33 = airlight_paper_refit_hg_spot(o_1, dir_7, len_8, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_11)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_paper_refit_hg_shafts_push_spot(
+    thread airlight_paper_refit_hg_Shafts& acc_6,
+    float s_2,
+    float v_5,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    float g_14
+) {
+    metal::float3 _e13 = airlight_paper_refit_hg_shafts_step(acc_6, s_2, v_5);
+    if (_e13.z > 0.0) {
+        metal::float3 _e19 = acc_6.sum;
+        metal::float3 _e23 = airlight_paper_refit_hg_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_14);
+        acc_6.sum = metal::min(_e19 + _e23, metal::float3(340282350000000000000000000000000000000.0));
+        uint _e29 = acc_6.calls;
+        acc_6.calls = _e29 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_paper_refit_hg_shafts_finish_spot(
+    airlight_paper_refit_hg_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_8,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8,
+    float g_15
+) {
+    airlight_paper_refit_hg_Shafts acc_7 = {};
+    acc_7 = acc_in_1;
+    metal::float3 _e13 = airlight_paper_refit_hg_shafts_place(acc_7);
+    metal::float3 _e15 = acc_7.sum;
+    metal::float3 _e19 = airlight_paper_refit_hg_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
+    metal::float3 sum_4 = metal::min(_e15 + _e19, metal::float3(340282350000000000000000000000000000000.0));
+    float _e25 = acc_7.v;
+    float _e27 = acc_7.v;
+    float w_4 = (_e27 < 0.0) ? 1.0 : _e25;
+    float _e33 = acc_7.start;
+    metal::float3 _e34 = airlight_paper_refit_hg_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
+    return metal::min(sum_4 + _e34, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -18,6 +18,12 @@ struct _frexp_result_f32_ {
 struct type_7 {
     float inner[6];
 };
+struct airlight_raymarch_16_Shafts {
+    float end;
+    char _pad1[12];
+    metal::packed_float3 sum;
+    uint calls;
+};
 
 _frexp_result_f32_ naga_frexp(float arg) {
     int other;
@@ -71,9 +77,9 @@ type_4 airlight_raymarch_16_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_4 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_4 = a_3 + b_2;
+    metal::float3 bb = s_4 - a_3;
+    return type_4 {{s_4, (a_3 - (s_4 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -177,12 +183,12 @@ float airlight_raymarch_16_scaled(
     if (a_4 >= airlight_raymarch_16_HUGE) {
         return airlight_raymarch_16_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_5 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_2 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_2.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_5.fract * i_2.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_5.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_raymarch_16_HUGE;
     }
@@ -243,9 +249,9 @@ metal::float2 airlight_raymarch_16_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_6 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_6, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -266,21 +272,21 @@ metal::float2 airlight_raymarch_16_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float s_7 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_7, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_7));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_7), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_7);
         }
     }
 }
@@ -306,7 +312,7 @@ float airlight_raymarch_16_airlight_geometry(
     float sum = 0.0;
     uint i = 0u;
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_raymarch_16_TAU_MAX);
-    float g_8 = metal::clamp(g_in, -0.999, 0.999);
+    float g_12 = metal::clamp(g_in, -0.999, 0.999);
     if (tau_5 > 0.0046051703) {
         float k_2 = 1.0 + (airlight_raymarch_16_LN_CUTOFF / tau_5);
         len = metal::min(((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_)), airlight_raymarch_16_FAR);
@@ -340,15 +346,15 @@ float airlight_raymarch_16_airlight_geometry(
         }
         {
             uint _e50 = i;
-            float s_4 = (static_cast<float>(_e50) + 0.5) * dt;
-            float x_5 = x0_ - s_4;
+            float s_8 = (static_cast<float>(_e50) + 0.5) * dt;
+            float x_5 = x0_ - s_8;
             float t2_ = metal::max((x_5 * x_5) + h2_, 0.0000000000000000000000000000000000001);
             float t = metal::sqrt(t2_);
             float om_1 = (x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5);
             float op_1 = (x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5));
             float _e73 = sum;
-            float _e76 = airlight_raymarch_16_hg(g_8, om_1 / t, op_1 / t);
-            sum = _e73 + ((_e76 * metal::exp(-(tau_5) * (s_4 + t))) / t2_);
+            float _e76 = airlight_raymarch_16_hg(g_12, om_1 / t, op_1 / t);
+            sum = _e73 + ((_e76 * metal::exp(-(tau_5) * (s_8 + t))) / t2_);
         }
     }
     float _e87 = sum;
@@ -996,4 +1002,166 @@ metal::float3 airlight_raymarch_16_spot(
     float _e295 = a_5.z;
     float _e296 = airlight_raymarch_16_scaled(sigma_s_2.z, intensity_2 * _e292, d_4, _e295);
     return metal::float3(_e284, _e290, _e296);
+}
+
+airlight_raymarch_16_Shafts airlight_raymarch_16_shafts_begin(
+) {
+    return airlight_raymarch_16_Shafts {0.0, {}, metal::float3(0.0), 0u};
+}
+
+float airlight_raymarch_16_shafts_probe(
+    airlight_raymarch_16_Shafts acc
+) {
+    return -1.0;
+}
+
+void airlight_raymarch_16_shafts_refine(
+    thread airlight_raymarch_16_Shafts& acc_1,
+    float v_2
+) {
+    return;
+}
+
+float airlight_raymarch_16_shafts_step(
+    thread airlight_raymarch_16_Shafts& acc_2,
+    float s
+) {
+    float _e3 = acc_2.end;
+    float step_1 = metal::max(2.0 * (s - _e3), 0.0);
+    float _e10 = acc_2.end;
+    acc_2.end = _e10 + step_1;
+    return step_1;
+}
+
+metal::float3 airlight_raymarch_16_march_at(
+    float s_1,
+    float step,
+    metal::float3 sigma_t_2,
+    metal::float3 origin_3,
+    metal::float3 dir_3,
+    metal::float3 light_3,
+    float g_in_1
+) {
+    metal::float3 _e7 = airlight_raymarch_16_ray_geometry(origin_3, dir_3, light_3);
+    if (!((_e7.x > 0.0))) {
+        return metal::float3(340282350000000000000000000000000000000.0);
+    }
+    float g_13 = metal::clamp(g_in_1, -0.999, 0.999);
+    float sc = s_1 / _e7.x;
+    float dt_1 = step / _e7.x;
+    float x_6 = _e7.z - sc;
+    float h2_1 = _e7.y * _e7.y;
+    float t2_1 = metal::max((x_6 * x_6) + h2_1, 0.0000000000000000000000000000000000001);
+    float t_1 = metal::sqrt(t2_1);
+    float om_2 = (x_6 > 0.0) ? (h2_1 / (t_1 + x_6)) : (t_1 - x_6);
+    float op_2 = (x_6 > 0.0) ? (t_1 + x_6) : (h2_1 / (t_1 - x_6));
+    float _e45 = airlight_raymarch_16_hg(g_13, om_2 / t_1, op_2 / t_1);
+    metal::float3 tau_7 = metal::min(metal::max(sigma_t_2 * _e7.x, metal::float3(0.0)), metal::float3(10000.0));
+    return metal::min((((_e45 * metal::exp(-(tau_7) * (sc + t_1))) / metal::float3(t2_1)) * dt_1) / metal::float3(_e7.x), metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_raymarch_16_shafts_push(
+    thread airlight_raymarch_16_Shafts& acc_3,
+    float s_2,
+    float v_3,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_4,
+    float intensity_3,
+    float sigma_t_3,
+    float sigma_s_3,
+    float g_8
+) {
+    float _e10 = airlight_raymarch_16_shafts_step(acc_3, s_2);
+    if (v_3 > 0.0) {
+        metal::float3 _e14 = airlight_raymarch_16_march_at(s_2, _e10, metal::float3(sigma_t_3), origin_4, dir_4, light_4, g_8);
+        float _e19 = acc_3.sum[0];
+        float _e22 = airlight_raymarch_16_scaled(sigma_s_3, intensity_3, 1.0, _e14.x);
+        acc_3.sum[0] = metal::min(_e19 + (v_3 * _e22), airlight_raymarch_16_HUGE);
+        uint _e28 = acc_3.calls;
+        acc_3.calls = _e28 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_raymarch_16_shafts_finish(
+    airlight_raymarch_16_Shafts acc_4,
+    float end,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_5,
+    float intensity_4,
+    float sigma_t_4,
+    float sigma_s_4,
+    float g_9
+) {
+    return acc_4.sum[0];
+}
+
+void airlight_raymarch_16_shafts_push_spot(
+    thread airlight_raymarch_16_Shafts& acc_5,
+    float s_3,
+    float v_4,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_5,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_5,
+    float g_10
+) {
+    float w_1 = 1.0;
+    float _e13 = airlight_raymarch_16_shafts_step(acc_5, s_3);
+    if (v_4 > 0.0) {
+        float _e16 = airlight_raymarch_16_max_abs(dir_6);
+        metal::float3 u_1 = dir_6 / metal::float3(_e16);
+        metal::float3 r_5 = (origin_6 + (s_3 * (u_1 / metal::float3(metal::length(u_1))))) - light_6;
+        if (cos_outer_1 > -1.0) {
+            float _e29 = airlight_raymarch_16_max_abs(axis_1);
+            metal::float3 a_8 = axis_1 / metal::float3(_e29);
+            float rr = metal::length(r_5);
+            float _e43 = airlight_raymarch_16_spot_weight((rr > 0.0) ? (metal::dot(r_5, a_8) / (rr * metal::length(a_8))) : 1.0, metal::max(cos_outer_1, 0.0), cos_inner_1);
+            w_1 = _e43;
+        }
+        float _e44 = w_1;
+        if (_e44 > 0.0) {
+            metal::float3 _e47 = airlight_raymarch_16_march_at(s_3, _e13, sigma_t_5, origin_6, dir_6, light_6, g_10);
+            float _e49 = w_1;
+            float _e53 = airlight_raymarch_16_scaled(sigma_s_5.x, intensity_5 * _e49, 1.0, _e47.x);
+            float _e55 = w_1;
+            float _e59 = airlight_raymarch_16_scaled(sigma_s_5.y, intensity_5 * _e55, 1.0, _e47.y);
+            float _e61 = w_1;
+            float _e65 = airlight_raymarch_16_scaled(sigma_s_5.z, intensity_5 * _e61, 1.0, _e47.z);
+            metal::float3 add = metal::float3(_e53, _e59, _e65);
+            metal::float3 _e69 = acc_5.sum;
+            acc_5.sum = metal::min(_e69 + (v_4 * add), metal::float3(340282350000000000000000000000000000000.0));
+        }
+        uint _e76 = acc_5.calls;
+        acc_5.calls = _e76 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_raymarch_16_shafts_finish_spot(
+    airlight_raymarch_16_Shafts acc_6,
+    float end_1,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_6,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_6,
+    float g_11
+) {
+    return acc_6.sum;
 }

@@ -8,15 +8,28 @@
 
 using metal::uint;
 
-struct type_3 {
+struct type_4 {
     metal::float3 inner[2];
 };
 struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_6 {
+struct type_7 {
     float inner[6];
+};
+struct airlight_segments_6_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    char _pad4[3];
+    float lo;
+    float hi;
+    float before;
+    float after;
+    metal::packed_float3 sum;
+    uint calls;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -65,13 +78,13 @@ float airlight_segments_6_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_segments_6_two_sum(
+type_4 airlight_segments_6_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_3 = a_3 + b_2;
+    metal::float3 bb = s_3 - a_3;
+    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -98,7 +111,7 @@ metal::float3 airlight_segments_6_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_segments_6_two_sum(light, -(origin));
+    type_4 _e4 = airlight_segments_6_two_sum(light, -(origin));
     float _e6 = airlight_segments_6_max_abs(_e4.inner[0]);
     float _e7 = airlight_segments_6_max_abs(dir);
     if (_e6 == 0.0) {
@@ -175,12 +188,12 @@ float airlight_segments_6_scaled(
     if (a_4 >= airlight_segments_6_HUGE) {
         return airlight_segments_6_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_segments_6_HUGE;
     }
@@ -195,15 +208,15 @@ float airlight_segments_6_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_9 = metal::abs(x);
-    r = a_9;
-    if (a_9 > 2.4142137) {
+    float a_12 = metal::abs(x);
+    r = a_12;
+    if (a_12 > 2.4142137) {
         y0_ = airlight_segments_6_FRAC_PI_2_;
-        r = -1.0 / a_9;
+        r = -1.0 / a_12;
     } else {
-        if (a_9 > 0.41421357) {
+        if (a_12 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_9 - 1.0) / (a_9 + 1.0);
+            r = (a_12 - 1.0) / (a_12 + 1.0);
         }
     }
     float _e18 = r;
@@ -241,9 +254,9 @@ metal::float2 airlight_segments_6_sin_cos_octant(
     float x_2
 ) {
     float z_2 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
+    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -264,21 +277,21 @@ metal::float2 airlight_segments_6_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_3 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3;
+    float s_6 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_6, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_6));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_6), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_6);
         }
     }
 }
@@ -347,13 +360,13 @@ float airlight_segments_6_segments(
     float t_1,
     float att_1
 ) {
-    float b_4 = a_6 + len_1;
-    float _e9 = airlight_segments_6_piece(a_6, b_4, len_1, 0.0, 0.5596044, 0.51806617, -0.0038913945, t_1, att_1);
-    float _e14 = airlight_segments_6_piece(a_6, b_4, len_1, 0.5596044, 0.83941275, 0.56734735, -0.031469375, t_1, att_1);
-    float _e20 = airlight_segments_6_piece(a_6, b_4, len_1, 0.83941275, 1.0624303, 0.6347851, -0.08807748, t_1, att_1);
-    float _e26 = airlight_segments_6_piece(a_6, b_4, len_1, 1.0624303, 1.2441628, 0.7104354, -0.16845062, t_1, att_1);
-    float _e32 = airlight_segments_6_piece(a_6, b_4, len_1, 1.2441628, 1.4316419, 0.81226873, -0.29514784, t_1, att_1);
-    float _e38 = airlight_segments_6_piece(a_6, b_4, len_1, 1.4316419, 1.5707964, 0.9449292, -0.48507014, t_1, att_1);
+    float b_7 = a_6 + len_1;
+    float _e9 = airlight_segments_6_piece(a_6, b_7, len_1, 0.0, 0.5596044, 0.51806617, -0.0038913945, t_1, att_1);
+    float _e14 = airlight_segments_6_piece(a_6, b_7, len_1, 0.5596044, 0.83941275, 0.56734735, -0.031469375, t_1, att_1);
+    float _e20 = airlight_segments_6_piece(a_6, b_7, len_1, 0.83941275, 1.0624303, 0.6347851, -0.08807748, t_1, att_1);
+    float _e26 = airlight_segments_6_piece(a_6, b_7, len_1, 1.0624303, 1.2441628, 0.7104354, -0.16845062, t_1, att_1);
+    float _e32 = airlight_segments_6_piece(a_6, b_7, len_1, 1.2441628, 1.4316419, 0.81226873, -0.29514784, t_1, att_1);
+    float _e38 = airlight_segments_6_piece(a_6, b_7, len_1, 1.4316419, 1.5707964, 0.9449292, -0.48507014, t_1, att_1);
     return ((((_e9 + _e14) + _e20) + _e26) + _e32) + _e38;
 }
 
@@ -439,21 +452,21 @@ float airlight_segments_6_backward_u(
     }
     bool _e143 = local_6;
     if (_e143) {
-        float a_10 = metal::max(u0_, 16.0);
-        float shift = base - (t_3 * (a_10 - u0_));
+        float a_13 = metal::max(u0_, 16.0);
+        float shift = base - (t_3 * (a_13 - u0_));
         if (!(endless)) {
-            local_7 = ub <= (2.0 * a_10);
+            local_7 = ub <= (2.0 * a_13);
         } else {
             local_7 = false;
         }
         bool _e156 = local_7;
         if (_e156) {
             float _e160 = span;
-            float len_5 = (a_10 == u0_) ? (_e160 / a_10) : ((ub / a_10) - 1.0);
-            float ta = t_3 * a_10;
+            float len_5 = (a_13 == u0_) ? (_e160 / a_13) : ((ub / a_13) - 1.0);
+            float ta = t_3 * a_13;
             {
                 float lam_5 = ta + 0.26840276;
-                float u_2 = a_10 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
+                float u_2 = a_13 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
                 float q_1 = 1.0 / (1.0 + (1.0 / (u_2 * u_2)));
                 float _e183 = part;
                 float _e192 = airlight_segments_6_exprel(-(lam_5) * len_5);
@@ -461,7 +474,7 @@ float airlight_segments_6_backward_u(
             }
             {
                 float lam_6 = ta + 1.5659415;
-                float u_3 = a_10 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
+                float u_3 = a_13 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
                 float q_2 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
                 float _e214 = part;
                 float _e223 = airlight_segments_6_exprel(-(lam_6) * len_5);
@@ -469,7 +482,7 @@ float airlight_segments_6_backward_u(
             }
             {
                 float lam_7 = ta + 4.449333;
-                float u_4 = a_10 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
+                float u_4 = a_13 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
                 float q_3 = 1.0 / (1.0 + (1.0 / (u_4 * u_4)));
                 float _e245 = part;
                 float _e254 = airlight_segments_6_exprel(-(lam_7) * len_5);
@@ -477,19 +490,19 @@ float airlight_segments_6_backward_u(
             }
             float _e260 = sum;
             float _e261 = part;
-            sum = _e260 + (_e261 / a_10);
+            sum = _e260 + (_e261 / a_13);
         } else {
-            float lam_8 = t_3 + (2.0 / a_10);
-            float _e268 = airlight_segments_6_phi(t_3 * a_10);
-            g = _e268 / a_10;
-            u = a_10 + (1.0 / lam_8);
+            float lam_8 = t_3 + (2.0 / a_13);
+            float _e268 = airlight_segments_6_phi(t_3 * a_13);
+            g = _e268 / a_13;
+            u = a_13 + (1.0 / lam_8);
             if (!(endless)) {
                 float _e277 = span;
-                float len_6 = (a_10 == u0_) ? _e277 : (ub - a_10);
+                float len_6 = (a_13 == u0_) ? _e277 : (ub - a_13);
                 float _e280 = g;
                 float _e285 = airlight_segments_6_phi(t_3 * ub);
                 g = _e280 - ((metal::exp(-(t_3) * len_6) * _e285) / ub);
-                u = a_10 + (len_6 / (2.0 + (lam_8 * len_6)));
+                u = a_13 + (len_6 / (2.0 + (lam_8 * len_6)));
             }
             float _e294 = u;
             float _e295 = u;
@@ -725,7 +738,7 @@ metal::float3 airlight_segments_6_spot_edge(
 ) {
     bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_6 pieces = type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_2 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -772,12 +785,12 @@ metal::float3 airlight_segments_6_spot_edge(
         {
             int _e80 = i;
             float _e82 = pieces.inner[_e80];
-            float a_11 = u_1 + ((v_in - u_1) * _e82);
+            float a_14 = u_1 + ((v_in - u_1) * _e82);
             int _e86 = i;
             float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_5 = u_1 + ((v_in - u_1) * _e90);
-            float half_ = 0.5 * (b_5 - a_11);
-            float mid = 0.5 * (b_5 + a_11);
+            float b_8 = u_1 + ((v_in - u_1) * _e90);
+            float half_ = 0.5 * (b_8 - a_14);
+            float mid = 0.5 * (b_8 + a_14);
             w = mid + (half_ * 0.96028984);
             float _e102 = w;
             metal::float2 _e105 = airlight_segments_6_sin_cos(0.5 * _e102);
@@ -1206,4 +1219,272 @@ metal::float3 airlight_segments_6_spot(
     float _e292 = a_8.z;
     float _e293 = airlight_segments_6_scaled(sigma_s_2.z, intensity_2 * _e289, d_5, _e292);
     return metal::float3(_e281, _e287, _e293);
+}
+
+airlight_segments_6_Shafts airlight_segments_6_shafts_begin(
+) {
+    return airlight_segments_6_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+}
+
+float airlight_segments_6_shafts_probe(
+    airlight_segments_6_Shafts acc
+) {
+    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+}
+
+void airlight_segments_6_shafts_refine(
+    thread airlight_segments_6_Shafts& acc_1,
+    float v_2
+) {
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = 0.5 * (_e5 + _e7);
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_segments_6_shafts_place(
+    thread airlight_segments_6_Shafts& acc_2
+) {
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return metal::float3(0.0);
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = 0.5 * (_e9 + _e11);
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    metal::float3 run = metal::float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+metal::float3 airlight_segments_6_shafts_step(
+    thread airlight_segments_6_Shafts& acc_3,
+    float s,
+    float v_3
+) {
+    metal::float3 _e3 = airlight_segments_6_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if (_e5 < 0.0) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if (v_3 != _e10) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+metal::float4 airlight_segments_6_shafts_moved(
+    float a_9,
+    float b_4,
+    metal::float3 origin_3,
+    metal::float3 dir_3
+) {
+    float _e4 = airlight_segments_6_max_abs(dir_3);
+    metal::float3 u_5 = dir_3 / metal::float3(_e4);
+    return metal::float4(origin_3 + (a_9 * (u_5 / metal::float3(metal::length(u_5)))), (b_4 >= 0.0) ? metal::max(b_4 - a_9, 0.0) : -1.0);
+}
+
+float airlight_segments_6_shafts_run(
+    float a_10,
+    float b_5,
+    float w_1,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_3,
+    float intensity_3,
+    float sigma_t_2,
+    float sigma_s_3
+) {
+    bool local_23 = {};
+    bool local_24 = {};
+    if (!(!((w_1 > 0.0)))) {
+        if (b_5 >= 0.0) {
+            local_24 = b_5 <= a_10;
+        } else {
+            local_24 = false;
+        }
+        bool _e21 = local_24;
+        local_23 = _e21;
+    } else {
+        local_23 = true;
+    }
+    bool _e23 = local_23;
+    if (_e23) {
+        return 0.0;
+    }
+    metal::float4 _e25 = airlight_segments_6_shafts_moved(a_10, b_5, origin_4, dir_4);
+    metal::float3 o = _e25.xyz;
+    float len_7 = _e25.w;
+    float _e28 = airlight_segments_6_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    if (_e28 >= airlight_segments_6_HUGE) {
+        return _e28;
+    }
+    return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e28;
+}
+
+void airlight_segments_6_shafts_push(
+    thread airlight_segments_6_Shafts& acc_4,
+    float s_1,
+    float v_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_4,
+    float intensity_4,
+    float sigma_t_3,
+    float sigma_s_4
+) {
+    metal::float3 _e9 = airlight_segments_6_shafts_step(acc_4, s_1, v_4);
+    if (_e9.z > 0.0) {
+        float _e17 = acc_4.sum[0];
+        float _e21 = airlight_segments_6_shafts_run(_e9.x, _e9.y, _e9.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+        acc_4.sum[0] = metal::min(_e17 + _e21, airlight_segments_6_HUGE);
+        uint _e26 = acc_4.calls;
+        acc_4.calls = _e26 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_segments_6_shafts_finish(
+    airlight_segments_6_Shafts acc_in,
+    float end,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_5,
+    float intensity_5,
+    float sigma_t_4,
+    float sigma_s_5
+) {
+    airlight_segments_6_Shafts acc_5 = {};
+    acc_5 = acc_in;
+    metal::float3 _e9 = airlight_segments_6_shafts_place(acc_5);
+    float _e12 = acc_5.sum[0];
+    float _e16 = airlight_segments_6_shafts_run(_e9.x, _e9.y, _e9.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    float sum_3 = metal::min(_e12 + _e16, airlight_segments_6_HUGE);
+    float _e21 = acc_5.v;
+    float _e23 = acc_5.v;
+    float w_3 = (_e23 < 0.0) ? 1.0 : _e21;
+    float _e29 = acc_5.start;
+    float _e30 = airlight_segments_6_shafts_run(_e29, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+    return metal::min(sum_3 + _e30, airlight_segments_6_HUGE);
+}
+
+metal::float3 airlight_segments_6_shafts_run_spot(
+    float a_11,
+    float b_6,
+    float w_2,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_6,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_6
+) {
+    bool local_25 = {};
+    bool local_26 = {};
+    if (!(!((w_2 > 0.0)))) {
+        if (b_6 >= 0.0) {
+            local_26 = b_6 <= a_11;
+        } else {
+            local_26 = false;
+        }
+        bool _e24 = local_26;
+        local_25 = _e24;
+    } else {
+        local_25 = true;
+    }
+    bool _e26 = local_25;
+    if (_e26) {
+        return metal::float3(0.0);
+    }
+    metal::float4 _e29 = airlight_segments_6_shafts_moved(a_11, b_6, origin_7, dir_7);
+    metal::float3 o_1 = _e29.xyz;
+    float len_8 = _e29.w;
+    metal::float3 _e32 = airlight_segments_6_spot(o_1, dir_7, len_8, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6);
+    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_11)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_segments_6_shafts_push_spot(
+    thread airlight_segments_6_Shafts& acc_6,
+    float s_2,
+    float v_5,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7
+) {
+    metal::float3 _e12 = airlight_segments_6_shafts_step(acc_6, s_2, v_5);
+    if (_e12.z > 0.0) {
+        metal::float3 _e18 = acc_6.sum;
+        metal::float3 _e22 = airlight_segments_6_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7);
+        acc_6.sum = metal::min(_e18 + _e22, metal::float3(340282350000000000000000000000000000000.0));
+        uint _e28 = acc_6.calls;
+        acc_6.calls = _e28 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_segments_6_shafts_finish_spot(
+    airlight_segments_6_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_8,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8
+) {
+    airlight_segments_6_Shafts acc_7 = {};
+    acc_7 = acc_in_1;
+    metal::float3 _e12 = airlight_segments_6_shafts_place(acc_7);
+    metal::float3 _e14 = acc_7.sum;
+    metal::float3 _e18 = airlight_segments_6_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    metal::float3 sum_4 = metal::min(_e14 + _e18, metal::float3(340282350000000000000000000000000000000.0));
+    float _e24 = acc_7.v;
+    float _e26 = acc_7.v;
+    float w_4 = (_e26 < 0.0) ? 1.0 : _e24;
+    float _e32 = acc_7.start;
+    metal::float3 _e33 = airlight_segments_6_shafts_run_spot(_e32, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
+    return metal::min(sum_4 + _e33, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -8,15 +8,28 @@
 
 using metal::uint;
 
-struct type_3 {
+struct type_4 {
     metal::float3 inner[2];
 };
 struct _frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_8 {
+struct type_9 {
     float inner[6];
+};
+struct airlight_sun2005_512_Shafts {
+    float start;
+    float v;
+    float s;
+    bool pending;
+    char _pad4[3];
+    float lo;
+    float hi;
+    float before;
+    float after;
+    metal::packed_float3 sum;
+    uint calls;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -68,13 +81,13 @@ float airlight_sun2005_512_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_sun2005_512_two_sum(
+type_4 airlight_sun2005_512_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_3 = a_3 + b_2;
+    metal::float3 bb = s_3 - a_3;
+    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -101,7 +114,7 @@ metal::float3 airlight_sun2005_512_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_sun2005_512_two_sum(light, -(origin));
+    type_4 _e4 = airlight_sun2005_512_two_sum(light, -(origin));
     float _e6 = airlight_sun2005_512_max_abs(_e4.inner[0]);
     float _e7 = airlight_sun2005_512_max_abs(dir);
     if (_e6 == 0.0) {
@@ -178,12 +191,12 @@ float airlight_sun2005_512_scaled(
     if (a_4 >= airlight_sun2005_512_HUGE) {
         return airlight_sun2005_512_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_2 = naga_frexp(intensity);
     _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i_2.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_2.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_sun2005_512_HUGE;
     }
@@ -198,15 +211,15 @@ float airlight_sun2005_512_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_7 = metal::abs(x);
-    r = a_7;
-    if (a_7 > 2.4142137) {
+    float a_10 = metal::abs(x);
+    r = a_10;
+    if (a_10 > 2.4142137) {
         y0_ = airlight_sun2005_512_FRAC_PI_2_;
-        r = -1.0 / a_7;
+        r = -1.0 / a_10;
     } else {
-        if (a_7 > 0.41421357) {
+        if (a_10 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_7 - 1.0) / (a_7 + 1.0);
+            r = (a_10 - 1.0) / (a_10 + 1.0);
         }
     }
     float _e18 = r;
@@ -244,9 +257,9 @@ metal::float2 airlight_sun2005_512_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_5 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_2, c_3);
+    return metal::float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -267,21 +280,21 @@ metal::float2 airlight_sun2005_512_sin_cos(
     float y_2 = static_cast<float>(_e13);
     float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
     float z_2 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float s_6 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_4);
+            return metal::float2(s_6, c_4);
         }
         case 1: {
-            return metal::float2(c_4, -(s_3));
+            return metal::float2(c_4, -(s_6));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_4));
+            return metal::float2(-(s_6), -(c_4));
         }
         default: {
-            return metal::float2(-(c_4), s_3);
+            return metal::float2(-(c_4), s_6);
         }
     }
 }
@@ -361,8 +374,8 @@ float airlight_sun2005_512_airlight_geometry(
         if (_e33) {
             return airlight_sun2005_512_HUGE;
         }
-        float a_8 = open ? airlight_sun2005_512_P_ISO : ((airlight_sun2005_512_P_ISO * rho) / (1.0 - (x0_ * rho)));
-        return a_8 * metal::exp(-(tau_5));
+        float a_11 = open ? airlight_sun2005_512_P_ISO : ((airlight_sun2005_512_P_ISO * rho) / (1.0 - (x0_ * rho)));
+        return a_11 * metal::exp(-(tau_5));
     }
     float t = tau_5 * h_1;
     if (!(open)) {
@@ -540,7 +553,7 @@ metal::float3 airlight_sun2005_512_spot_edge(
 ) {
     bool local_9 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_8 pieces = type_8 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    type_9 pieces = type_9 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -587,12 +600,12 @@ metal::float3 airlight_sun2005_512_spot_edge(
         {
             int _e80 = i_1;
             float _e82 = pieces.inner[_e80];
-            float a_9 = u_1 + ((v_in - u_1) * _e82);
+            float a_12 = u_1 + ((v_in - u_1) * _e82);
             int _e86 = i_1;
             float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_4 = u_1 + ((v_in - u_1) * _e90);
-            float half_ = 0.5 * (b_4 - a_9);
-            float mid = 0.5 * (b_4 + a_9);
+            float b_7 = u_1 + ((v_in - u_1) * _e90);
+            float half_ = 0.5 * (b_7 - a_12);
+            float mid = 0.5 * (b_7 + a_12);
             w = mid + (half_ * 0.96028984);
             float _e102 = w;
             metal::float2 _e105 = airlight_sun2005_512_sin_cos(0.5 * _e102);
@@ -1022,4 +1035,278 @@ metal::float3 airlight_sun2005_512_spot(
     float _e292 = a_6.z;
     float _e293 = airlight_sun2005_512_scaled(sigma_s_2.z, intensity_2 * _e289, d_3, _e292);
     return metal::float3(_e281, _e287, _e293);
+}
+
+airlight_sun2005_512_Shafts airlight_sun2005_512_shafts_begin(
+) {
+    return airlight_sun2005_512_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+}
+
+float airlight_sun2005_512_shafts_probe(
+    airlight_sun2005_512_Shafts acc
+) {
+    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+}
+
+void airlight_sun2005_512_shafts_refine(
+    thread airlight_sun2005_512_Shafts& acc_1,
+    float v_2
+) {
+    bool _e3 = acc_1.pending;
+    if (_e3) {
+        float _e5 = acc_1.lo;
+        float _e7 = acc_1.hi;
+        float m_1 = 0.5 * (_e5 + _e7);
+        float _e12 = acc_1.before;
+        float _e16 = acc_1.after;
+        if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
+            acc_1.lo = m_1;
+            return;
+        } else {
+            acc_1.hi = m_1;
+            return;
+        }
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_sun2005_512_shafts_place(
+    thread airlight_sun2005_512_Shafts& acc_2
+) {
+    bool _e2 = acc_2.pending;
+    if (!(_e2)) {
+        return metal::float3(0.0);
+    }
+    acc_2.pending = false;
+    float _e9 = acc_2.lo;
+    float _e11 = acc_2.hi;
+    float m_2 = 0.5 * (_e9 + _e11);
+    float _e16 = acc_2.start;
+    float _e18 = acc_2.before;
+    metal::float3 run = metal::float3(_e16, m_2, _e18);
+    acc_2.start = m_2;
+    float _e23 = acc_2.after;
+    acc_2.v = _e23;
+    return run;
+}
+
+metal::float3 airlight_sun2005_512_shafts_step(
+    thread airlight_sun2005_512_Shafts& acc_3,
+    float s,
+    float v_3
+) {
+    metal::float3 _e3 = airlight_sun2005_512_shafts_place(acc_3);
+    float _e5 = acc_3.v;
+    if (_e5 < 0.0) {
+        acc_3.v = v_3;
+    } else {
+        float _e10 = acc_3.v;
+        if (v_3 != _e10) {
+            acc_3.pending = true;
+            float _e16 = acc_3.s;
+            acc_3.lo = _e16;
+            acc_3.hi = s;
+            float _e20 = acc_3.v;
+            acc_3.before = _e20;
+            acc_3.after = v_3;
+        }
+    }
+    acc_3.s = s;
+    return _e3;
+}
+
+metal::float4 airlight_sun2005_512_shafts_moved(
+    float a_7,
+    float b_4,
+    metal::float3 origin_3,
+    metal::float3 dir_3
+) {
+    float _e4 = airlight_sun2005_512_max_abs(dir_3);
+    metal::float3 u_2 = dir_3 / metal::float3(_e4);
+    return metal::float4(origin_3 + (a_7 * (u_2 / metal::float3(metal::length(u_2)))), (b_4 >= 0.0) ? metal::max(b_4 - a_7, 0.0) : -1.0);
+}
+
+float airlight_sun2005_512_shafts_run(
+    float a_8,
+    float b_5,
+    float w_1,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_3,
+    float intensity_3,
+    float sigma_t_2,
+    float sigma_s_3,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    bool local_18 = {};
+    bool local_19 = {};
+    if (!(!((w_1 > 0.0)))) {
+        if (b_5 >= 0.0) {
+            local_19 = b_5 <= a_8;
+        } else {
+            local_19 = false;
+        }
+        bool _e21 = local_19;
+        local_18 = _e21;
+    } else {
+        local_18 = true;
+    }
+    bool _e23 = local_18;
+    if (_e23) {
+        return 0.0;
+    }
+    metal::float4 _e25 = airlight_sun2005_512_shafts_moved(a_8, b_5, origin_4, dir_4);
+    metal::float3 o = _e25.xyz;
+    float len = _e25.w;
+    float _e28 = airlight_sun2005_512_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, airlight_sun2005_512_F);
+    if (_e28 >= airlight_sun2005_512_HUGE) {
+        return _e28;
+    }
+    return (w_1 * metal::exp(-(sigma_t_2) * a_8)) * _e28;
+}
+
+void airlight_sun2005_512_shafts_push(
+    thread airlight_sun2005_512_Shafts& acc_4,
+    float s_1,
+    float v_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_4,
+    float intensity_4,
+    float sigma_t_3,
+    float sigma_s_4,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    metal::float3 _e9 = airlight_sun2005_512_shafts_step(acc_4, s_1, v_4);
+    if (_e9.z > 0.0) {
+        float _e17 = acc_4.sum[0];
+        float _e21 = airlight_sun2005_512_shafts_run(_e9.x, _e9.y, _e9.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, airlight_sun2005_512_F);
+        acc_4.sum[0] = metal::min(_e17 + _e21, airlight_sun2005_512_HUGE);
+        uint _e26 = acc_4.calls;
+        acc_4.calls = _e26 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+float airlight_sun2005_512_shafts_finish(
+    airlight_sun2005_512_Shafts acc_in,
+    float end,
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_5,
+    float intensity_5,
+    float sigma_t_4,
+    float sigma_s_5,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    airlight_sun2005_512_Shafts acc_5 = {};
+    acc_5 = acc_in;
+    metal::float3 _e9 = airlight_sun2005_512_shafts_place(acc_5);
+    float _e12 = acc_5.sum[0];
+    float _e16 = airlight_sun2005_512_shafts_run(_e9.x, _e9.y, _e9.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, airlight_sun2005_512_F);
+    float sum_1 = metal::min(_e12 + _e16, airlight_sun2005_512_HUGE);
+    float _e21 = acc_5.v;
+    float _e23 = acc_5.v;
+    float w_3 = (_e23 < 0.0) ? 1.0 : _e21;
+    float _e29 = acc_5.start;
+    float _e30 = airlight_sun2005_512_shafts_run(_e29, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, airlight_sun2005_512_F);
+    return metal::min(sum_1 + _e30, airlight_sun2005_512_HUGE);
+}
+
+metal::float3 airlight_sun2005_512_shafts_run_spot(
+    float a_9,
+    float b_6,
+    float w_2,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_6,
+    metal::float3 sigma_t_5,
+    metal::float3 sigma_s_6,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    bool local_20 = {};
+    bool local_21 = {};
+    if (!(!((w_2 > 0.0)))) {
+        if (b_6 >= 0.0) {
+            local_21 = b_6 <= a_9;
+        } else {
+            local_21 = false;
+        }
+        bool _e24 = local_21;
+        local_20 = _e24;
+    } else {
+        local_20 = true;
+    }
+    bool _e26 = local_20;
+    if (_e26) {
+        return metal::float3(0.0);
+    }
+    metal::float4 _e29 = airlight_sun2005_512_shafts_moved(a_9, b_6, origin_7, dir_7);
+    metal::float3 o_1 = _e29.xyz;
+    float len_1 = _e29.w;
+    metal::float3 _e32 = airlight_sun2005_512_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, airlight_sun2005_512_F);
+    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_9)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
+}
+
+void airlight_sun2005_512_shafts_push_spot(
+    thread airlight_sun2005_512_Shafts& acc_6,
+    float s_2,
+    float v_5,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    metal::float3 _e12 = airlight_sun2005_512_shafts_step(acc_6, s_2, v_5);
+    if (_e12.z > 0.0) {
+        metal::float3 _e18 = acc_6.sum;
+        metal::float3 _e22 = airlight_sun2005_512_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, airlight_sun2005_512_F);
+        acc_6.sum = metal::min(_e18 + _e22, metal::float3(340282350000000000000000000000000000000.0));
+        uint _e28 = acc_6.calls;
+        acc_6.calls = _e28 + 1u;
+        return;
+    } else {
+        return;
+    }
+}
+
+metal::float3 airlight_sun2005_512_shafts_finish_spot(
+    airlight_sun2005_512_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_8,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8,
+    metal::texture2d<float, metal::access::sample> airlight_sun2005_512_F
+) {
+    airlight_sun2005_512_Shafts acc_7 = {};
+    acc_7 = acc_in_1;
+    metal::float3 _e12 = airlight_sun2005_512_shafts_place(acc_7);
+    metal::float3 _e14 = acc_7.sum;
+    metal::float3 _e18 = airlight_sun2005_512_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, airlight_sun2005_512_F);
+    metal::float3 sum_2 = metal::min(_e14 + _e18, metal::float3(340282350000000000000000000000000000000.0));
+    float _e24 = acc_7.v;
+    float _e26 = acc_7.v;
+    float w_4 = (_e26 < 0.0) ? 1.0 : _e24;
+    float _e32 = acc_7.start;
+    metal::float3 _e33 = airlight_sun2005_512_shafts_run_spot(_e32, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, airlight_sun2005_512_F);
+    return metal::min(sum_2 + _e33, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -692,3 +692,172 @@ fn airlight_paper_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: v
     }
     return vec3<f32>(airlight_paper_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_paper_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_paper_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
+
+// ---- Light shafts (codegen/templates/kernels/shafts.wgsl.tera) ----
+//
+// The shadowed in-scattering of a ray whose visibility v the caller samples (its
+// shadow map): constant between changes, each change placed between the samples
+// that straddle it (their midpoint, or where the caller's bisection puts it), so
+// the integral is the sum over runs of constant visibility of v times the run's
+// own in-scattering: the entry itself with the viewer moved to the run's start and
+// a surface at its end, times exp(-sigma_t start). Never a difference of two
+// integrals; dark runs cost nothing; the error is the family's bound times the
+// unshadowed value (docs/MATH.md section 8).
+//
+// Use (WGSL has no function pointers: the caller's loop looks visibility up):
+//   var acc = airlight_paper_shafts_begin();
+//   for (var i = 0u; i < n; i++) {
+//       let s = (f32(i) + 0.5) * step;
+//       airlight_paper_shafts_push(&acc, s, my_visibility(s), <the entry's arguments but surface>);
+//       // optional: place the change just seen by bisection
+//       for (var k = 0; k < 4 && airlight_paper_shafts_probe(acc) >= 0.0; k++) {
+//           airlight_paper_shafts_refine(&acc, my_visibility(airlight_paper_shafts_probe(acc)));
+//       }
+//   }
+//   let l = airlight_paper_shafts_finish(acc, surface, <the same arguments>);  // surface < 0: open ray
+// The spot entry: airlight_paper_shafts_push_spot and airlight_paper_shafts_finish_spot (RGB).
+
+struct airlight_paper_Shafts {
+    // Start of the current run of constant visibility, and its visibility
+    // (negative before the first sample).
+    start: f32,
+    v: f32,
+    // The last sample's distance.
+    s: f32,
+    // A change waiting to be placed, in [lo, hi], from `before` to `after`.
+    pending: bool,
+    lo: f32,
+    hi: f32,
+    before: f32,
+    after: f32,
+    // The runs' sum (RGB; a point light's in x), and the kernel evaluations.
+    sum: vec3<f32>,
+    calls: u32,
+}
+
+fn airlight_paper_shafts_begin() -> airlight_paper_Shafts {
+    return airlight_paper_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u);
+}
+
+/// Where to look visibility up to halve the pending change's bracket; negative
+/// when no change is pending.
+fn airlight_paper_shafts_probe(acc: airlight_paper_Shafts) -> f32 {
+    return select(-1.0, 0.5 * (acc.lo + acc.hi), acc.pending);
+}
+
+/// Halves the pending change's bracket by the visibility v at the probe: the
+/// change lies on the side whose visibility differs more from v.
+fn airlight_paper_shafts_refine(acc: ptr<function, airlight_paper_Shafts>, v: f32) {
+    if (*acc).pending {
+        let m = 0.5 * ((*acc).lo + (*acc).hi);
+        if abs(v - (*acc).before) <= abs(v - (*acc).after) {
+            (*acc).lo = m;
+        } else {
+            (*acc).hi = m;
+        }
+    }
+}
+
+/// Places a pending change at its bracket's midpoint; returns the run it closes
+/// as (start, end, visibility), visibility 0 if none.
+fn airlight_paper_shafts_place(acc: ptr<function, airlight_paper_Shafts>) -> vec3<f32> {
+    if !(*acc).pending {
+        return vec3<f32>(0.0);
+    }
+    (*acc).pending = false;
+    let m = 0.5 * ((*acc).lo + (*acc).hi);
+    let run = vec3<f32>((*acc).start, m, (*acc).before);
+    (*acc).start = m;
+    (*acc).v = (*acc).after;
+    return run;
+}
+
+/// Records the sample (s, v); returns the run a change placed now closes.
+fn airlight_paper_shafts_step(acc: ptr<function, airlight_paper_Shafts>, s: f32, v: f32) -> vec3<f32> {
+    let run = airlight_paper_shafts_place(acc);
+    if (*acc).v < 0.0 {
+        (*acc).v = v;
+    } else if v != (*acc).v {
+        (*acc).pending = true;
+        (*acc).lo = (*acc).s;
+        (*acc).hi = s;
+        (*acc).before = (*acc).v;
+        (*acc).after = v;
+    }
+    (*acc).s = s;
+    return run;
+}
+
+/// The viewer moved a along the unit direction of dir (xyz) and the stretch's
+/// length to b (w; negative: none).
+fn airlight_paper_shafts_moved(a: f32, b: f32, origin: vec3<f32>, dir: vec3<f32>) -> vec4<f32> {
+    let u = dir / airlight_paper_max_abs(dir);
+    return vec4<f32>(origin + a * (u / length(u)), select(-1.0, max(b - a, 0.0), b >= 0.0));
+}
+
+/// A run [a, b] of visibility w: w exp(-sigma_t a) times the entry's value with
+/// the viewer moved to a and the surface at b.
+fn airlight_paper_shafts_run(a: f32, b: f32, w: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
+    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+        return 0.0;
+    }
+    let m = airlight_paper_shafts_moved(a, b, origin, dir);
+    let o = m.xyz;
+    let len = m.w;
+    let c = airlight_paper_radiance(o, dir, len, light, intensity, sigma_t, sigma_s);
+    if c >= airlight_paper_HUGE {
+        return c;
+    }
+    return w * exp(-sigma_t * a) * c;
+}
+
+/// Pushes the visibility v (0 ... 1) of the light at distance s along the ray, for
+/// airlight_paper_radiance's ray, light and medium.
+fn airlight_paper_shafts_push(acc: ptr<function, airlight_paper_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
+    let run = airlight_paper_shafts_step(acc, s, v);
+    if run.z > 0.0 {
+        (*acc).sum.x = min((*acc).sum.x + airlight_paper_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+        (*acc).calls += 1u;
+    }
+}
+
+/// The shadowed in-scattering of airlight_paper_radiance's ray to the surface at `end`
+/// (negative: none, the last visibility holding to infinity).
+fn airlight_paper_shafts_finish(acc_in: airlight_paper_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
+    var acc = acc_in;
+    let run = airlight_paper_shafts_place(&acc);
+    let sum = min(acc.sum.x + airlight_paper_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+    let w = select(acc.v, 1.0, acc.v < 0.0);
+    return min(sum + airlight_paper_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+}
+
+/// airlight_paper_shafts_run for the spot entry, per channel.
+fn airlight_paper_shafts_run_spot(a: f32, b: f32, w: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) -> vec3<f32> {
+    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+        return vec3<f32>(0.0);
+    }
+    let m = airlight_paper_shafts_moved(a, b, origin, dir);
+    let o = m.xyz;
+    let len = m.w;
+    let c = airlight_paper_spot(o, dir, len, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+    return select(w * exp(-sigma_t * a) * c, c, c >= vec3<f32>(airlight_paper_HUGE));
+}
+
+/// airlight_paper_shafts_push for airlight_paper_spot's ray, cone and RGB medium.
+fn airlight_paper_shafts_push_spot(acc: ptr<function, airlight_paper_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
+    let run = airlight_paper_shafts_step(acc, s, v);
+    if run.z > 0.0 {
+        (*acc).sum = min((*acc).sum + airlight_paper_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_paper_HUGE));
+        (*acc).calls += 1u;
+    }
+}
+
+/// airlight_paper_shafts_finish for airlight_paper_spot's ray, cone and RGB medium.
+fn airlight_paper_shafts_finish_spot(acc_in: airlight_paper_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) -> vec3<f32> {
+    var acc = acc_in;
+    let run = airlight_paper_shafts_place(&acc);
+    let sum = min(acc.sum + airlight_paper_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_paper_HUGE));
+    let w = select(acc.v, 1.0, acc.v < 0.0);
+    return min(sum + airlight_paper_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_paper_HUGE));
+}
+

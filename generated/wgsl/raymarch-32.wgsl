@@ -519,3 +519,96 @@ fn airlight_raymarch_32_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, li
     }
     return vec3<f32>(airlight_raymarch_32_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_raymarch_32_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_raymarch_32_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
+
+// ---- Light shafts, the engines' way (fit/src/family/raymarch/core.wgsl.tera) ----
+//
+// The march with visibility: each pushed sample (s, v) is the midpoint of its own
+// step (from where the previous step ended to as far past s), and adds v f(s) ds,
+// f the single-scattering integrand there: the engines' march, looking the shadow
+// map up at each of its steps. Nothing is placed or refined (probe is negative).
+
+struct airlight_raymarch_32_Shafts {
+    // Where the last step ended; the sum (RGB; a point light's in x); evaluations.
+    end: f32,
+    sum: vec3<f32>,
+    calls: u32,
+}
+
+fn airlight_raymarch_32_shafts_begin() -> airlight_raymarch_32_Shafts {
+    return airlight_raymarch_32_Shafts(0.0, vec3<f32>(0.0), 0u);
+}
+
+fn airlight_raymarch_32_shafts_probe(acc: airlight_raymarch_32_Shafts) -> f32 {
+    return -1.0;
+}
+
+fn airlight_raymarch_32_shafts_refine(acc: ptr<function, airlight_raymarch_32_Shafts>, v: f32) {
+}
+
+/// The step around s: from where the last one ended to as far past s.
+fn airlight_raymarch_32_shafts_step(acc: ptr<function, airlight_raymarch_32_Shafts>, s: f32) -> f32 {
+    let step = max(2.0 * (s - (*acc).end), 0.0);
+    (*acc).end += step;
+    return step;
+}
+
+/// f(s) ds / (sigma_s I) for each channel's sigma_t, as airlight_geometry sums it
+/// (in units of the light distance, divided by it once more).
+fn airlight_raymarch_32_march_at(s: f32, step: f32, sigma_t: vec3<f32>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, g_in: f32) -> vec3<f32> {
+    let geo = airlight_raymarch_32_ray_geometry(origin, dir, light);
+    if !(geo.x > 0.0) {
+        return vec3<f32>(airlight_raymarch_32_HUGE);
+    }
+    let g = clamp(g_in, -0.999, 0.999);
+    let sc = s / geo.x;
+    let dt = step / geo.x;
+    let x = geo.z - sc;
+    let h2 = geo.y * geo.y;
+    let t2 = max(x * x + h2, 1e-37);
+    let t = sqrt(t2);
+    let om = select(t - x, h2 / (t + x), x > 0.0);
+    let op = select(h2 / (t - x), t + x, x > 0.0);
+    let p = airlight_raymarch_32_hg(g, om / t, op / t);
+    let tau = min(max(sigma_t * geo.x, vec3<f32>(0.0)), vec3<f32>(airlight_raymarch_32_TAU_MAX));
+    return min(p * exp(-tau * (sc + t)) / t2 * dt / geo.x, vec3<f32>(airlight_raymarch_32_HUGE));
+}
+
+/// Adds the step whose midpoint is s, the light's visibility there v.
+fn airlight_raymarch_32_shafts_push(acc: ptr<function, airlight_raymarch_32_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
+    let step = airlight_raymarch_32_shafts_step(acc, s);
+    if v > 0.0 {
+        let f = airlight_raymarch_32_march_at(s, step, vec3<f32>(sigma_t), origin, dir, light, g);
+        (*acc).sum.x = min((*acc).sum.x + v * airlight_raymarch_32_scaled(sigma_s, intensity, 1.0, f.x), airlight_raymarch_32_HUGE);
+        (*acc).calls += 1u;
+    }
+}
+
+/// The march's sum (end is where the steps ended; not used).
+fn airlight_raymarch_32_shafts_finish(acc: airlight_raymarch_32_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
+    return acc.sum.x;
+}
+
+/// airlight_raymarch_32_shafts_push for a spot light: the cone's weight at the sample too.
+fn airlight_raymarch_32_shafts_push_spot(acc: ptr<function, airlight_raymarch_32_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) {
+    let step = airlight_raymarch_32_shafts_step(acc, s);
+    if v > 0.0 {
+        let u = dir / airlight_raymarch_32_max_abs(dir);
+        let r = origin + s * (u / length(u)) - light;
+        var w = 1.0;
+        if cos_outer > -1.0 {
+            let a = axis / airlight_raymarch_32_max_abs(axis);
+            let rr = length(r);
+            w = airlight_raymarch_32_spot_weight(select(1.0, dot(r, a) / (rr * length(a)), rr > 0.0), max(cos_outer, 0.0), cos_inner);
+        }
+        if w > 0.0 {
+            let f = airlight_raymarch_32_march_at(s, step, sigma_t, origin, dir, light, g);
+            let add = vec3<f32>(airlight_raymarch_32_scaled(sigma_s.x, intensity * w, 1.0, f.x), airlight_raymarch_32_scaled(sigma_s.y, intensity * w, 1.0, f.y), airlight_raymarch_32_scaled(sigma_s.z, intensity * w, 1.0, f.z));
+            (*acc).sum = min((*acc).sum + v * add, vec3<f32>(airlight_raymarch_32_HUGE));
+        }
+        (*acc).calls += 1u;
+    }
+}
+
+fn airlight_raymarch_32_shafts_finish_spot(acc: airlight_raymarch_32_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) -> vec3<f32> {
+    return acc.sum;
+}

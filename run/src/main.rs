@@ -9,7 +9,14 @@ use airlight_fit::vocab::CompiledKernel;
 fn main() -> std::process::ExitCode {
     let kernels: Vec<CompiledKernel> = airlight_kernels::KERNELS
         .iter()
-        .map(|k| CompiledKernel { name: k.name, airlight: k.airlight, radiance: k.radiance, spot: k.spot })
+        .map(|k| CompiledKernel {
+            name: k.name,
+            airlight: k.airlight,
+            radiance: k.radiance,
+            spot: k.spot,
+            shadowed: k.shadowed,
+            spot_shadowed: k.spot_shadowed,
+        })
         .collect();
     airlight_cli::main_with(airlight_cli::Kernels::Linked(&kernels))
 }

@@ -172,6 +172,41 @@ impl Gpu {
         Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
     }
 
+    /// Evaluates a generated kernel's shafts accumulator over its physical entry
+    /// for every ray: `samples[i]` (`[s, v]`, at most [`MAX_SHADOW_SAMPLES`]) pushed
+    /// in order, then finished at the ray's surface. One f32 per ray, in order.
+    pub fn shadowed(&self, k: &KernelSource, rays: &[Ray], samples: &[Vec<[f32; 2]>]) -> Result<Vec<f32>, GpuError> {
+        let source = wrap_shadowed(k, Entry::Radiance)?;
+        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance)?;
+        self.dispatch(k.shader(&source), k.prefix, &data, shadowed_stride(Entry::Radiance), rays.len(), 1, k.table)
+    }
+
+    /// [`Gpu::shadowed`] over the spot entry: RGB per ray.
+    pub fn spot_shadowed(
+        &self,
+        k: &KernelSource,
+        rays: &[SpotRay],
+        samples: &[Vec<[f32; 2]>],
+    ) -> Result<Vec<[f32; 3]>, GpuError> {
+        let source = wrap_shadowed(k, Entry::Spot)?;
+        let data = pack_shadowed(rays.iter().map(SpotRay::pack), samples, Entry::Spot)?;
+        let out =
+            self.dispatch(k.shader(&source), k.prefix, &data, shadowed_stride(Entry::Spot), rays.len(), 3, k.table)?;
+        Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+    }
+
+    /// Rays per second through a kernel's shafts accumulator, as [`Gpu::throughput`].
+    pub fn shadowed_throughput(
+        &self,
+        k: &KernelSource,
+        rays: &[Ray],
+        samples: &[Vec<[f32; 2]>],
+        repeats: usize,
+    ) -> Result<Option<f64>, GpuError> {
+        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance)?;
+        self.timed_source(k, &wrap_shadowed(k, Entry::Radiance)?, 1, &data, rays.len(), repeats)
+    }
+
     /// GPU evaluations per second of a kernel's canonical entry over `points`:
     /// the median of `repeats` dispatches, each timed by timestamp queries at the
     /// pass's start and end. `None` where the adapter has no timestamps.
@@ -201,12 +236,24 @@ impl Gpu {
         n: usize,
         repeats: usize,
     ) -> Result<Option<f64>, GpuError> {
+        self.timed_source(k, &wrap(k, entry)?, entry.outputs(), data, n, repeats)
+    }
+
+    /// [`Gpu::timed`] of a harness shader already wrapped around the kernel.
+    fn timed_source(
+        &self,
+        k: &KernelSource,
+        source: &str,
+        outputs: usize,
+        data: &[f32],
+        n: usize,
+        repeats: usize,
+    ) -> Result<Option<f64>, GpuError> {
         if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || n == 0 {
             return Ok(None);
         }
-        let source = wrap(k, entry)?;
         let (gx, gy) = workgroups(n)?;
-        let run = self.prepare(k.shader(&source), k.prefix, data, n * entry.outputs(), k.table)?;
+        let run = self.prepare(k.shader(source), k.prefix, data, n * outputs, k.table)?;
         let d = &self.device;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("bench"),
@@ -833,6 +880,141 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
         x[j] = airlight_inputs[i * {stride}u + j];\n\
     }}\n\
     let r = {call};\n\
+    {store}\n\
+}}\n",
+            src = k.source
+        )
+    })
+}
+
+/// The most visibility samples one shadowed item carries through the GPU harness.
+pub const MAX_SHADOW_SAMPLES: usize = 128;
+
+/// `vec4`s per shadowed item: the entry's arguments, a count, the samples two by two.
+fn shadowed_stride(entry: Entry) -> usize {
+    entry.packed_vec4s() + 1 + MAX_SHADOW_SAMPLES / 2
+}
+
+/// Packs shadowed items: each entry's packed arguments, `[count, 0, 0, 0]`, then
+/// the `[s, v]` samples two to a `vec4`, zero-padded to [`shadowed_stride`].
+fn pack_shadowed<I, A>(items: I, samples: &[Vec<[f32; 2]>], entry: Entry) -> Result<Vec<f32>, GpuError>
+where
+    I: Iterator<Item = A>,
+    A: AsRef<[f32]>,
+{
+    let stride = shadowed_stride(entry);
+    let mut out = Vec::new();
+    for (args, sv) in items.zip(samples) {
+        if sv.len() > MAX_SHADOW_SAMPLES {
+            return Err(GpuError::Shader(format!(
+                "a shadowed ray has {} visibility samples; the GPU harness takes at most {MAX_SHADOW_SAMPLES}",
+                sv.len()
+            )));
+        }
+        let start = out.len();
+        out.extend_from_slice(args.as_ref());
+        out.extend_from_slice(&[sv.len() as f32, 0.0, 0.0, 0.0]);
+        out.extend(sv.iter().flatten());
+        out.resize(start + 4 * stride, 0.0);
+    }
+    Ok(out)
+}
+
+/// The compute shader around a kernel's shafts accumulator over `entry`: per item
+/// its arguments, then its samples pushed in order, then finished at its surface.
+fn wrap_shadowed(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
+    let glsl = k.language == Target::Glsl;
+    if !k.language.is_shader() {
+        return Err(GpuError::Shader(format!("{}: {} is not a shading language", k.prefix, k.language)));
+    }
+    let lanes = ["x", "y", "z", "w"];
+    let arg = |a: Arg| -> Result<String, GpuError> {
+        let (v, lane) = a.slot(entry).ok_or_else(|| {
+            GpuError::Shader(format!("{}: '{a}' is not an argument of {}", k.prefix, entry.function()))
+        })?;
+        Ok(match a.ty() {
+            ArgType::Scalar => format!("x[{v}].{}", lanes[lane]),
+            ArgType::Vec3 => format!("x[{v}].{}", lanes[lane..lane + 3].concat()),
+        })
+    };
+    let pass = k
+        .args(entry)
+        .iter()
+        .filter(|&&a| a != Arg::Surface)
+        .map(|&a| arg(a))
+        .collect::<Result<Vec<_>, _>>()?
+        .join(", ");
+    let end = arg(Arg::Surface)?;
+    let (args, stride, outputs) = (entry.packed_vec4s(), shadowed_stride(entry), entry.outputs());
+    let (push, finish) = match entry {
+        Entry::Spot => ("shafts_push_spot", "shafts_finish_spot"),
+        _ => ("shafts_push", "shafts_finish"),
+    };
+    let p = k.prefix;
+    let store = if outputs == 1 {
+        "airlight_results[i] = r;".to_string()
+    } else {
+        (0..outputs)
+            .map(|j| format!("airlight_results[i * {outputs}u + {j}u] = r.{};", lanes[j]))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    Ok(if glsl {
+        format!(
+            "#version 450\n{src}\n\
+// ---- airlight harness (shaders/src/lib.rs): the shafts accumulator ----\n\
+layout(local_size_x = {WORKGROUP}) in;\n\
+layout(std430, set = 0, binding = 0) readonly buffer AirlightInputs {{ vec4 airlight_inputs[]; }};\n\
+layout(std430, set = 0, binding = 1) buffer AirlightResults {{ float airlight_results[]; }};\n\
+void main() {{\n\
+    uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * {WORKGROUP}u;\n\
+    if (i >= uint(airlight_results.length()) / {outputs}u) {{\n\
+        return;\n\
+    }}\n\
+    uint base = i * {stride}u;\n\
+    vec4 x[{args}];\n\
+    for (uint j = 0u; j < {args}u; j++) {{\n\
+        x[j] = airlight_inputs[base + j];\n\
+    }}\n\
+    uint n = uint(airlight_inputs[base + {args}u].x);\n\
+    {p}Shafts acc = {p}shafts_begin();\n\
+    for (uint j = 0u; j < n; j++) {{\n\
+        vec4 q = airlight_inputs[base + {args}u + 1u + j / 2u];\n\
+        vec2 sv = (j & 1u) == 1u ? q.zw : q.xy;\n\
+        {p}{push}(acc, sv.x, sv.y, {pass});\n\
+    }}\n\
+    {ty} r = {p}{finish}(acc, {end}, {pass});\n\
+    {store}\n\
+}}\n",
+            src = k.source,
+            ty = if outputs == 1 { "float" } else { "vec3" }
+        )
+    } else {
+        format!(
+            "{src}\n\
+// ---- airlight harness (shaders/src/lib.rs): the shafts accumulator ----\n\
+@group(0) @binding(0) var<storage, read> airlight_inputs: array<vec4<f32>>;\n\
+@group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
+\n\
+@compute @workgroup_size({WORKGROUP})\n\
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
+    let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
+    if (i >= arrayLength(&airlight_results) / {outputs}u) {{\n\
+        return;\n\
+    }}\n\
+    let base = i * {stride}u;\n\
+    var x: array<vec4<f32>, {args}>;\n\
+    for (var j = 0u; j < {args}u; j++) {{\n\
+        x[j] = airlight_inputs[base + j];\n\
+    }}\n\
+    let n = u32(airlight_inputs[base + {args}u].x);\n\
+    var acc = {p}shafts_begin();\n\
+    for (var j = 0u; j < n; j++) {{\n\
+        let q = airlight_inputs[base + {args}u + 1u + j / 2u];\n\
+        let sv = select(q.xy, q.zw, (j & 1u) == 1u);\n\
+        {p}{push}(&acc, sv.x, sv.y, {pass});\n\
+    }}\n\
+    let r = {p}{finish}(acc, {end}, {pass});\n\
     {store}\n\
 }}\n",
             src = k.source

@@ -28,13 +28,16 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 12] = [
+pub const TEMPLATES: [(&str, &str); 15] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
     ("spot.wgsl.tera", include_str!("../../templates/kernels/spot.wgsl.tera")),
     ("spot.glsl.tera", include_str!("../../templates/kernels/spot.glsl.tera")),
     ("spot.rs.tera", include_str!("../../templates/kernels/spot.rs.tera")),
+    ("shafts.wgsl.tera", include_str!("../../templates/kernels/shafts.wgsl.tera")),
+    ("shafts.glsl.tera", include_str!("../../templates/kernels/shafts.glsl.tera")),
+    ("shafts.rs.tera", include_str!("../../templates/kernels/shafts.rs.tera")),
     ("math.wgsl.tera", include_str!("../../templates/kernels/math.wgsl.tera")),
     ("math.glsl.tera", include_str!("../../templates/kernels/math.glsl.tera")),
     ("math.rs.tera", include_str!("../../templates/kernels/math.rs.tera")),
@@ -142,6 +145,26 @@ fn signatures(ctx: &mut tera::Context, spec: &KernelSpec, lang: Target) {
     for entry in Entry::ALL {
         ctx.insert(format!("{}_params", entry.function()), &typed(spec.args(entry)));
     }
+    // The shafts accumulator's: each lit run is the entry called with the viewer
+    // moved (`o`) and the run's length as its surface (`len`); the caller passes
+    // the entry's other arguments to every push.
+    for entry in [Entry::Radiance, Entry::Spot] {
+        let args: Vec<Arg> = spec.args(entry).into_iter().filter(|&a| a != Arg::Surface).collect();
+        let names = |args: &[Arg]| args.iter().map(|a| a.name()).collect::<Vec<_>>().join(", ");
+        let call = spec
+            .args(entry)
+            .iter()
+            .map(|a| match a {
+                Arg::Origin => "o",
+                Arg::Surface => "len",
+                a => a.name(),
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        ctx.insert(format!("{}_shafts_params", entry.function()), &typed(args.clone()));
+        ctx.insert(format!("{}_shafts_pass", entry.function()), &names(&args));
+        ctx.insert(format!("{}_shafts_call", entry.function()), &call);
+    }
 }
 
 /// What the shared kernel template needs, whatever the family.
@@ -168,6 +191,8 @@ fn shared_context(spec: &KernelSpec, out: &KernelOutput) -> tera::Context {
     signatures(&mut ctx, spec, out.target);
     // The spot entry (shared by every family through its `along`).
     ctx.insert("spot", &spec.spot);
+    // The shafts accumulator (shadowed in-scattering), on the entries above.
+    ctx.insert("shafts", &spec.shafts);
     ctx.insert("takes_tau", &spec.takes_tau());
     // Families whose core shares its nodes across channels emit an RGB variant of it.
     let shared_rgb = spec.spot && spec.body().shares_rgb_nodes();

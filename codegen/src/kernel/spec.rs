@@ -39,6 +39,9 @@ pub struct KernelSpec {
     /// Whether it has the spot entry (spot lights, RGB media); needs `surfaces`,
     /// since a cone ends the lit stretch.
     pub spot: bool,
+    /// Whether it has the shafts accumulator (shadowed in-scattering, docs/MATH.md
+    /// §8); needs `surfaces`, since each lit run ends like a surface.
+    pub shafts: bool,
     /// Whether extinction is modelled (false: τ = 0).
     pub extinction: bool,
     /// Whether the backward part (beyond the foot point) is kept.
@@ -76,6 +79,7 @@ impl KernelSpec {
             phase,
             surfaces: true,
             spot: true,
+            shafts: true,
             extinction: true,
             backscatter: true,
             scene: None,
@@ -94,6 +98,7 @@ impl KernelSpec {
             phase,
             surfaces: scene.surfaces,
             spot: scene.spot,
+            shafts: scene.shadows,
             extinction: scene.extinction,
             backscatter: scene.backscatter,
             bound,

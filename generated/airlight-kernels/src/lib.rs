@@ -120,6 +120,17 @@ pub type Radiance = fn([f32; 3], [f32; 3], f32, [f32; 3], f32, f32, f32, f32) ->
 /// `sigma_s` and result; arguments the kernel does not take are ignored.
 pub type Spot = fn([f32; 3], [f32; 3], f32, [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
 
+/// A kernel's shafts accumulator over its physical entry (docs/MATH.md §8), uniform
+/// signature `(samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g)`:
+/// the visibility samples `[s, v]` in increasing `s` pushed in order, then the
+/// shadowed radiance to the surface at `end` (negative: none).
+pub type Shadowed = fn(&[[f32; 2]], f32, [f32; 3], [f32; 3], [f32; 3], f32, f32, f32, f32) -> f32;
+
+/// The same over the spot entry: `(samples, end, origin, dir, light, axis, cos_outer,
+/// cos_inner, intensity, sigma_t, sigma_s, g)`, RGB.
+pub type SpotShadowed =
+    fn(&[[f32; 2]], f32, [f32; 3], [f32; 3], [f32; 3], [f32; 3], f32, f32, f32, [f32; 3], [f32; 3], f32) -> [f32; 3];
+
 /// One generated kernel.
 #[derive(Debug, Clone, Copy)]
 pub struct Kernel {
@@ -139,6 +150,10 @@ pub struct Kernel {
     pub radiance: Radiance,
     /// The spot (RGB) entry, uniform signature, where the kernel has one.
     pub spot: Option<Spot>,
+    /// The shafts accumulator over `radiance`, where the kernel has one.
+    pub shadowed: Option<Shadowed>,
+    /// The shafts accumulator over `spot`, where the kernel has both.
+    pub spot_shadowed: Option<SpotShadowed>,
 }
 
 /// Every kernel in this crate.
@@ -156,6 +171,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper_as_printed::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper_as_printed::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper",
@@ -170,6 +201,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper-refit",
@@ -184,6 +231,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper_refit::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper_refit::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper_refit::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper-hg",
@@ -198,6 +261,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             paper_hg::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = paper_hg::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = paper_hg::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "paper-refit-hg",
@@ -214,6 +293,22 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = paper_refit_hg::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = paper_refit_hg::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "segments-2",
@@ -228,6 +323,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-3",
@@ -242,6 +353,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_3::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_3::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-4",
@@ -256,6 +383,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-6",
@@ -270,6 +413,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-8",
@@ -284,6 +443,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-12",
@@ -298,6 +473,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_12::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_12::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_12::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-16",
@@ -312,6 +503,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp1",
@@ -326,6 +533,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp1::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp1::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp1::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp2",
@@ -340,6 +563,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp3",
@@ -354,6 +593,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp3::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp3::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-4",
@@ -368,6 +623,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-6",
@@ -382,6 +653,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-8",
@@ -396,6 +683,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-4",
@@ -410,6 +713,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-6",
@@ -424,6 +743,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-8",
@@ -438,6 +773,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "no-extinction",
@@ -452,6 +803,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, _sigma_t, sigma_s, _g| {
+            let mut acc = no_extinction::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
+                let mut acc = no_extinction::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-8",
@@ -466,6 +833,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-16",
@@ -480,6 +863,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-32",
@@ -494,6 +893,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_32::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_32::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_32::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-64",
@@ -508,6 +923,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_64::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_64::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-128",
@@ -522,6 +953,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_128::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_128::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-256",
@@ -536,6 +983,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_256::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_256::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-1024",
@@ -550,6 +1013,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_1024::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_1024::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-2",
@@ -564,6 +1043,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-4",
@@ -578,6 +1073,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-8",
@@ -592,6 +1103,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-16",
@@ -608,6 +1135,22 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-32",
@@ -624,6 +1167,22 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_32::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_32::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-64",
@@ -638,6 +1197,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_64::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_64::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-128",
@@ -652,6 +1227,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_128::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_128::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-256",
@@ -666,6 +1257,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_256::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_256::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-512",
@@ -680,6 +1287,22 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_512::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_512::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "scene-backscatter-aerosol",
@@ -692,6 +1315,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-fog-street",
@@ -704,6 +1329,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-harbour-fog",
@@ -716,6 +1343,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-haze-sky",
@@ -728,6 +1357,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_haze_sky::radiance(origin, dir, light, intensity, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-hg-fog",
@@ -740,6 +1371,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-smoke-room",
@@ -752,6 +1385,8 @@ pub const KERNELS: &[Kernel] = &[
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
         },
         spot: None,
+        shadowed: None,
+        spot_shadowed: None,
     },
     Kernel {
         name: "scene-spot-harbour",
@@ -768,6 +1403,8 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s,
             )
         }),
+        shadowed: None,
+        spot_shadowed: None,
     },
 ];
 

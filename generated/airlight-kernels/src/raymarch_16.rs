@@ -301,3 +301,117 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     }
     [0, 1, 2].map(|c| scaled(sigma_s[c], intensity * scale, d, a[c]))
 }
+
+// ---- Light shafts, the engines' way (fit/src/family/raymarch/core.rs.tera) ----
+//
+// The march with visibility: each pushed sample `(s, v)` is the midpoint of its
+// own step (from where the previous step ended to as far past `s`), and adds
+// `v f(s) Δ`, `f` the single-scattering integrand there — the engines' march,
+// looking the shadow map up at each of its steps. Nothing is placed or refined.
+
+/// The march with visibility of one view ray: push each step's midpoint `s` and
+/// the light's visibility `v` there in increasing `s`; [`Shafts::finish`] returns
+/// the sum (`end` is where the steps ended; it is not used).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Shafts {
+    /// Where the last step ended.
+    end: f32,
+    /// The sum (RGB; a point light's in the first channel).
+    sum: [f32; 3],
+    /// Integrand evaluations so far.
+    pub calls: u32,
+}
+
+impl Shafts {
+    /// A march before its first step.
+    pub fn new() -> Shafts {
+        Shafts::default()
+    }
+
+    /// The march places nothing: always negative.
+    pub fn probe(&self) -> f32 {
+        -1.0
+    }
+
+    /// The march places nothing: ignored.
+    pub fn refine(&mut self, _v: f32) {}
+
+    /// The step around `s`: from where the last one ended to as far past `s`.
+    fn step(&mut self, s: f32) -> f32 {
+        let step = (2.0 * (s - self.end)).max(0.0);
+        self.end += step;
+        step
+    }
+
+    /// Adds the step whose midpoint is `s`, the light's visibility there `v`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
+        let step = self.step(s);
+        if v > 0.0 {
+            let [f, _, _] = march_at(s, step, [sigma_t; 3], origin, dir, light, g);
+            self.sum[0] = (self.sum[0] + v * scaled(sigma_s, intensity, 1.0, f)).min(HUGE);
+            self.calls += 1;
+        }
+    }
+
+    /// The march's sum.
+    #[allow(clippy::too_many_arguments)]
+    pub fn finish(self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
+        let _ = (end, origin, dir, light, intensity, sigma_s, sigma_t, g);
+        self.sum[0]
+    }
+
+    /// [`Shafts::push`] for a spot light: the cone's weight at the sample too.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push_spot(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) {
+        let step = self.step(s);
+        if v > 0.0 {
+            let m = crate::math::max_abs(dir);
+            let u = dir.map(|x| x / m);
+            let n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+            let r = [0, 1, 2].map(|i| origin[i] + s * (u[i] / n) - light[i]);
+            let w = if cos_outer <= -1.0 {
+                1.0
+            } else {
+                let ma = crate::math::max_abs(axis);
+                let a = axis.map(|x| x / ma);
+                let (ra, rr, aa) = (r[0] * a[0] + r[1] * a[1] + r[2] * a[2], sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]), sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]));
+                spot_weight(if rr > 0.0 { ra / (rr * aa) } else { 1.0 }, cos_outer.max(0.0), cos_inner)
+            };
+            if w > 0.0 {
+                let f = march_at(s, step, sigma_t, origin, dir, light, g);
+                for c in 0..3 {
+                    self.sum[c] = (self.sum[c] + v * scaled(sigma_s[c], intensity * w, 1.0, f[c])).min(HUGE);
+                }
+            }
+            self.calls += 1;
+        }
+    }
+
+    /// The march's sum, RGB.
+    #[allow(clippy::too_many_arguments)]
+    pub fn finish_spot(self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) -> [f32; 3] {
+        let _ = (end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s, sigma_t, g);
+        self.sum
+    }
+}
+
+/// `f(s) Δ / (σs I)` for each channel's σt: the integrand of the step of length
+/// `step` whose midpoint is `s`, as [`airlight_geometry`] sums it (in units of the
+/// light distance, divided by it once more).
+#[allow(clippy::too_many_arguments)]
+fn march_at(s: f32, step: f32, sigma_t: [f32; 3], origin: [f32; 3], dir: [f32; 3], light: [f32; 3], g: f32) -> [f32; 3] {
+    let [dd, h, x0] = ray_geometry(origin, dir, light);
+    if !(dd > 0.0) {
+        return [HUGE; 3];
+    }
+    let g = g.max(-0.999).min(0.999);
+    let (sc, dt) = (s / dd, step / dd);
+    let x = x0 - sc;
+    let h2 = h * h;
+    let t2 = (x * x + h2).max(1e-37);
+    let t = sqrt(t2);
+    let (om, op) = if x > 0.0 { (h2 / (t + x), t + x) } else { (t - x, h2 / (t - x)) };
+    let p = hg(g, om / t, op / t);
+    sigma_t.map(|st| (p * exp(-(st * dd).max(0.0).min(TAU_MAX) * (sc + t)) / t2 * dt / dd).min(HUGE))
+}

@@ -324,3 +324,192 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     }
     [0, 1, 2].map(|c| scaled(sigma_s[c], intensity * scale, d, a[c]))
 }
+
+// ---- Light shafts (codegen/templates/kernels/shafts.rs.tera) ----
+//
+// The shadowed in-scattering `∫ v dC` of a ray whose visibility `v` the caller
+// samples (its shadow map): constant between changes, each change placed between
+// the samples that straddle it (their midpoint, or where the caller's bisection
+// puts it), so the integral is `Σ v_run C[a, b]` over the runs of constant
+// visibility. Each run is the entry itself with the viewer moved to `a` and a
+// surface at `b`, times `e^(−σt a)`: the family's own in-scattering of the
+// stretch, never a difference of two. Dark runs cost nothing; the error is the
+// family's bound times the unshadowed value (docs/MATH.md §8).
+
+/// The shafts accumulator of one view ray. Push the ray's visibility samples
+/// `(s, v)` in increasing `s` ([`Shafts::push`], or [`Shafts::push_spot`] for the spot
+/// entry), each with the same ray, light and medium; optionally, after each push,
+/// refine a change by bisection ([`Shafts::probe`], [`Shafts::refine`]); end with
+/// [`Shafts::finish`] (or [`Shafts::finish_spot`]) at the surface, or at a negative `end`
+/// for an open ray, where the last sample's visibility holds to infinity.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Shafts {
+    /// Start of the current run of constant visibility.
+    start: f32,
+    /// Its visibility (negative before the first sample).
+    v: f32,
+    /// The last sample's distance.
+    s: f32,
+    /// Whether a change waits to be placed, in `[lo, hi]`, from `before` to `after`.
+    pending: bool,
+    lo: f32,
+    hi: f32,
+    before: f32,
+    after: f32,
+    /// The runs' sum (RGB; a point light's in the first channel).
+    sum: [f32; 3],
+    /// Kernel evaluations so far (one per lit run).
+    pub calls: u32,
+}
+
+impl Shafts {
+    /// An accumulator before its first sample.
+    pub fn new() -> Shafts {
+        Shafts { v: -1.0, ..Shafts::default() }
+    }
+
+    /// Where to look visibility up to halve the pending change's bracket; negative
+    /// when no change is pending.
+    pub fn probe(&self) -> f32 {
+        if self.pending {
+            0.5 * (self.lo + self.hi)
+        } else {
+            -1.0
+        }
+    }
+
+    /// Halves the pending change's bracket by the visibility `v` at [`Shafts::probe`]:
+    /// the change lies on the side whose visibility differs more from `v`.
+    pub fn refine(&mut self, v: f32) {
+        if self.pending {
+            let m = 0.5 * (self.lo + self.hi);
+            if (v - self.before).abs() <= (v - self.after).abs() {
+                self.lo = m;
+            } else {
+                self.hi = m;
+            }
+        }
+    }
+
+    /// Records `(s, v)`: returns the run that a change placed now closes, as
+    /// `(start, end, visibility)`, if any; the caller's entry evaluates it.
+    fn step(&mut self, s: f32, v: f32) -> Option<(f32, f32, f32)> {
+        let closed = self.place();
+        if self.v < 0.0 {
+            self.v = v;
+        } else if v != self.v {
+            *self = Shafts { pending: true, lo: self.s, hi: s, before: self.v, after: v, ..*self };
+        }
+        self.s = s;
+        closed
+    }
+
+    /// Places a pending change at its bracket's midpoint: the run before it closes there.
+    fn place(&mut self) -> Option<(f32, f32, f32)> {
+        if !self.pending {
+            return None;
+        }
+        self.pending = false;
+        let m = 0.5 * (self.lo + self.hi);
+        let run = (self.start, m, self.before);
+        self.start = m;
+        self.v = self.after;
+        Some(run)
+    }
+
+    /// Adds a run's value, saturating at [`crate::math::HUGE`].
+    fn add(&mut self, c: usize, x: f32) {
+        self.sum[c] = (self.sum[c] + x).min(crate::math::HUGE);
+    }
+
+    /// Pushes the visibility `v` (0 … 1) of the light at distance `s` along the ray,
+    /// for [`radiance`]'s ray, light and medium.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
+        if let Some((a, b, w)) = self.step(s, v) {
+            let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s);
+            self.calls += u32::from(w > 0.0);
+            self.add(0, x);
+        }
+    }
+
+    /// The shadowed in-scattering of [`radiance`]'s ray to the surface at `end`
+    /// (negative: none, the last visibility holding to infinity).
+    #[allow(clippy::too_many_arguments)]
+    pub fn finish(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
+        if let Some((a, b, w)) = self.place() {
+            let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s);
+            self.add(0, x);
+        }
+        let w = if self.v < 0.0 { 1.0 } else { self.v };
+        let x = shafts_run(self.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s);
+        self.add(0, x);
+        self.sum[0]
+    }
+
+    /// [`Shafts::push`] for [`spot`]'s ray, cone and RGB medium.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push_spot(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
+        if let Some((a, b, w)) = self.step(s, v) {
+            let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            self.calls += u32::from(w > 0.0);
+            for c in 0..3 {
+                self.add(c, x[c]);
+            }
+        }
+    }
+
+    /// [`Shafts::finish`] for [`spot`]'s ray, cone and RGB medium.
+    #[allow(clippy::too_many_arguments)]
+    pub fn finish_spot(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) -> [f32; 3] {
+        if let Some((a, b, w)) = self.place() {
+            let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            for c in 0..3 {
+                self.add(c, x[c]);
+            }
+        }
+        let w = if self.v < 0.0 { 1.0 } else { self.v };
+        let x = shafts_run_spot(self.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+        for c in 0..3 {
+            self.add(c, x[c]);
+        }
+        self.sum
+    }
+}
+
+/// The viewer moved `a` along the unit direction of `dir`, and the stretch's
+/// length to `b` (negative: none).
+fn shafts_moved(a: f32, b: f32, origin: [f32; 3], dir: [f32; 3]) -> ([f32; 3], f32) {
+    let m = crate::math::max_abs(dir);
+    let u = dir.map(|x| x / m);
+    let n = crate::math::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    let o = [0, 1, 2].map(|i| origin[i] + a * (u[i] / n));
+    (o, if b >= 0.0 { (b - a).max(0.0) } else { -1.0 })
+}
+
+/// A run `[a, b]` of visibility `w`: `w e^(−σt a)` times the entry's value with the
+/// viewer moved to `a` and the surface at `b`.
+#[allow(clippy::too_many_arguments)]
+fn shafts_run(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
+    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+        return 0.0;
+    }
+    let (o, len) = shafts_moved(a, b, origin, dir);
+    let c = radiance(o, dir, len, light, intensity, sigma_t, sigma_s);
+    if c >= crate::math::HUGE {
+        return c;
+    }
+    w * crate::math::exp(-sigma_t * a) * c
+}
+
+/// [`shafts_run`] for the spot entry, per channel.
+#[allow(clippy::too_many_arguments)]
+fn shafts_run_spot(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) -> [f32; 3] {
+    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+        return [0.0; 3];
+    }
+    let (o, len) = shafts_moved(a, b, origin, dir);
+    let c = spot(o, dir, len, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+    [0, 1, 2].map(|i| if c[i] >= crate::math::HUGE { c[i] } else { w * crate::math::exp(-sigma_t[i] * a) * c[i] })
+}
+

@@ -8,7 +8,14 @@ use airlight_shaders::{gpu_required, Gpu};
 pub fn compiled() -> Vec<CompiledKernel> {
     airlight_kernels::KERNELS
         .iter()
-        .map(|k| CompiledKernel { name: k.name, airlight: k.airlight, radiance: k.radiance, spot: k.spot })
+        .map(|k| CompiledKernel {
+            name: k.name,
+            airlight: k.airlight,
+            radiance: k.radiance,
+            spot: k.spot,
+            shadowed: k.shadowed,
+            spot_shadowed: k.spot_shadowed,
+        })
         .collect()
 }
 

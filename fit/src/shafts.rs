@@ -1,0 +1,640 @@
+//! Light shafts: the in-scattering along a view ray when opaque occluders stand
+//! between the light and the medium (docs/MATH.md §8).
+//!
+//! With the visibility `v(s) ∈ [0, 1]` of the light from the point at distance `s`
+//! along the ray, the shadowed in-scattering is `∫ v dC`, `C(s)` the unshadowed
+//! in-scattering from the viewer to `s`. Visibility sampled at `s₁ < … < s_N` is
+//! taken as constant between changes, each change placed between the samples
+//! that straddle it (their midpoint, or where a bisection of the caller's
+//! visibility puts it), so `∫ v dC = Σ_runs v_run · C[a, b]` over the runs of
+//! constant visibility — the summation by parts `v_N C(end) + Σ (v_i − v_{i+1}) C(m_i)`
+//! of the same sum, evaluated run by run. Each `C[a, b]` is the family's own
+//! in-scattering of a ray whose viewer is moved to `a` (the phase angle at a point
+//! does not depend on where the viewer stands), times `e^{−σt a}`: no difference
+//! of two integrals is ever formed, dark runs cost nothing, and the result's
+//! error is at most the family's bound times `C(end)` — with no growth in the
+//! number of changes. This module holds the exact geometry (analytic occluders
+//! and their lit intervals, found to double precision), the shadowed reference,
+//! the accumulator in f64 (the generated kernels carry the same in f32), where a
+//! shadow map's samples fall, and the engines' march with visibility.
+
+use crate::geometry::{Cone, GeometryError, PhysicalRay, Vec3};
+use crate::reference::Point;
+
+fn sub(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: Vec3, b: Vec3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+fn norm(a: Vec3) -> f64 {
+    a[0].hypot(a[1]).hypot(a[2])
+}
+fn along(o: Vec3, d: Vec3, s: f64) -> Vec3 {
+    [o[0] + s * d[0], o[1] + s * d[1], o[2] + s * d[2]]
+}
+
+/// An opaque occluder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Occluder {
+    /// A ball.
+    Sphere {
+        /// Its centre.
+        center: Vec3,
+        /// Its radius (> 0).
+        radius: f64,
+    },
+    /// An axis-aligned box.
+    Cuboid {
+        /// Its lowest corner.
+        min: Vec3,
+        /// Its highest corner.
+        max: Vec3,
+    },
+}
+
+impl Occluder {
+    /// Whether the segment from `x` to `light` passes through the occluder's
+    /// interior (grazing its boundary does not block).
+    pub fn blocks(&self, x: Vec3, light: Vec3) -> bool {
+        let e = sub(light, x);
+        match *self {
+            Occluder::Sphere { center, radius } => {
+                let w = sub(center, x);
+                let ee = dot(e, e);
+                let t = if ee > 0.0 { (dot(w, e) / ee).clamp(0.0, 1.0) } else { 0.0 };
+                let q = sub(along(x, e, t), center);
+                dot(q, q) < radius * radius
+            }
+            Occluder::Cuboid { min, max } => {
+                let (mut lo, mut hi) = (0.0f64, 1.0f64);
+                for i in 0..3 {
+                    if e[i] == 0.0 {
+                        if !(x[i] > min[i] && x[i] < max[i]) {
+                            return false;
+                        }
+                    } else {
+                        let (a, b) = ((min[i] - x[i]) / e[i], (max[i] - x[i]) / e[i]);
+                        lo = lo.max(a.min(b));
+                        hi = hi.min(a.max(b));
+                    }
+                }
+                lo < hi
+            }
+        }
+    }
+
+    /// Distances along the ray `o + s d` (`d` a unit vector) at which [`blocks`](Self::blocks)
+    /// can change: a superset of the shadow's boundaries on the ray. A ball's
+    /// shadow is bounded by the cone of tangents from the light and by the ball
+    /// itself; a box's by the planes through the light and each of its 12 edges and
+    /// by its 6 faces.
+    pub fn candidates(&self, o: Vec3, d: Vec3, light: Vec3, out: &mut Vec<f64>) {
+        let mut roots = |a: f64, b: f64, c: f64| {
+            // a s² + 2 b s + c = 0, without cancellation.
+            let disc = b * b - a * c;
+            if disc < 0.0 {
+                return;
+            }
+            let q = -(b + b.signum() * disc.sqrt());
+            if a != 0.0 {
+                out.push(q / a);
+            }
+            if q != 0.0 {
+                out.push(c / q);
+            }
+        };
+        match *self {
+            Occluder::Sphere { center, radius } => {
+                let w = sub(o, center);
+                roots(1.0, dot(w, d), dot(w, w) - radius * radius);
+                let axis = sub(center, light);
+                let dist = norm(axis);
+                if dist > radius {
+                    let a = axis.map(|x| x / dist);
+                    let c2 = (1.0 - radius / dist) * (1.0 + radius / dist);
+                    let w = sub(o, light);
+                    let (wa, da) = (dot(w, a), dot(d, a));
+                    roots(da * da - c2, wa * da - c2 * dot(w, d), wa * wa - c2 * dot(w, w));
+                }
+            }
+            Occluder::Cuboid { min, max } => {
+                for i in 0..3 {
+                    if d[i] != 0.0 {
+                        out.push((min[i] - o[i]) / d[i]);
+                        out.push((max[i] - o[i]) / d[i]);
+                    }
+                }
+                let corner = |k: usize| [0, 1, 2].map(|i| if k >> i & 1 == 1 { max[i] } else { min[i] });
+                for k in 0..8usize {
+                    for i in 0..3 {
+                        if k >> i & 1 == 0 {
+                            let (p, q) = (corner(k), corner(k | 1 << i));
+                            let n = cross(sub(p, light), sub(q, light));
+                            let nd = dot(n, d);
+                            if nd != 0.0 {
+                                out.push(dot(n, sub(light, o)) / nd);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Reads occluders written as `cx cy cz r` quadruples (balls) separated by `;`;
+/// empty for none. The error names the quadruple (1-based) and what is wrong.
+pub fn parse_spheres(text: &str) -> Result<Vec<Occluder>, String> {
+    let mut out = Vec::new();
+    for (k, item) in text.split(';').enumerate() {
+        if item.trim().is_empty() {
+            if text.trim().is_empty() {
+                continue;
+            }
+            return Err(format!("sphere {} is empty (write cx cy cz r; separated by ';')", k + 1));
+        }
+        let v: Vec<&str> = item.split_whitespace().collect();
+        if v.len() != 4 {
+            return Err(format!("sphere {} '{}' has {} numbers, not 4 (cx cy cz r)", k + 1, item.trim(), v.len()));
+        }
+        let mut x = [0.0; 4];
+        for (j, t) in v.iter().enumerate() {
+            x[j] = t
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("sphere {}: '{t}' is not a finite number", k + 1))?;
+        }
+        if x[3] <= 0.0 {
+            return Err(format!("sphere {}: radius {} must be > 0", k + 1, v[3]));
+        }
+        out.push(Occluder::Sphere { center: [x[0], x[1], x[2]], radius: x[3] });
+    }
+    Ok(out)
+}
+
+/// Writes balls as [`parse_spheres`] reads them (round-trip precision).
+pub fn render_spheres(occluders: &[Occluder]) -> String {
+    occluders
+        .iter()
+        .filter_map(|o| match o {
+            Occluder::Sphere { center: c, radius: r } => Some(format!("{:?} {:?} {:?} {:?}", c[0], c[1], c[2], r)),
+            Occluder::Cuboid { .. } => None,
+        })
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// The unit direction and the far end (`∞` without a surface) of a ray.
+fn unit_and_end(ray: &PhysicalRay) -> (Vec3, f64) {
+    let n = norm(ray.direction);
+    (ray.direction.map(|x| x / n), ray.surface_distance.unwrap_or(f64::INFINITY))
+}
+
+/// Whether the light is visible from the point at distance `s` along `ray`.
+pub fn visible(ray: &PhysicalRay, occluders: &[Occluder], s: f64) -> bool {
+    let (d, _) = unit_and_end(ray);
+    let x = along(ray.origin, d, s);
+    !occluders.iter().any(|o| o.blocks(x, ray.light))
+}
+
+/// The lit intervals `[a, b]` of `ray` between the viewer and its surface (`b = ∞`
+/// on an open ray), in order and disjoint. The candidates of every occluder cut
+/// the ray into pieces of constant visibility, each classified at its midpoint;
+/// every boundary between a lit and a dark piece is then bisected on the exact
+/// visibility test to adjacent doubles.
+pub fn lit_intervals(ray: &PhysicalRay, occluders: &[Occluder]) -> Vec<(f64, f64)> {
+    let (d, end) = unit_and_end(ray);
+    let mut cuts = Vec::new();
+    for o in occluders {
+        o.candidates(ray.origin, d, ray.light, &mut cuts);
+    }
+    cuts.retain(|&s| s.is_finite() && s > 0.0 && s < end);
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let far = cuts.last().map_or(1.0, |&c| 2.0 * c + 1.0);
+    let mut edges = vec![0.0];
+    edges.extend(&cuts);
+    edges.push(end);
+    let mid = |a: f64, b: f64| if b.is_finite() { 0.5 * (a + b) } else { far.max(a + 1.0) };
+    let lit: Vec<bool> = edges.windows(2).map(|w| visible(ray, occluders, mid(w[0], w[1]))).collect();
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    let mut start: Option<f64> = None;
+    for (i, w) in edges.windows(2).enumerate() {
+        if lit[i] && start.is_none() {
+            start = Some(if i == 0 { 0.0 } else { boundary(ray, occluders, mid(edges[i - 1], w[0]), mid(w[0], w[1])) });
+        }
+        let closes = lit[i] && (i + 1 == lit.len() || !lit[i + 1]);
+        if closes {
+            let b = if i + 1 == lit.len() {
+                end
+            } else {
+                boundary(ray, occluders, mid(w[0], w[1]), mid(w[1], edges[i + 2]))
+            };
+            out.push((start.take().unwrap_or(0.0), b));
+        }
+    }
+    out.retain(|&(a, b)| b > a);
+    out
+}
+
+/// The point between `a` and `b` where visibility changes, to adjacent doubles.
+fn boundary(ray: &PhysicalRay, occluders: &[Occluder], mut a: f64, mut b: f64) -> f64 {
+    let va = visible(ray, occluders, a);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b {
+            break;
+        }
+        if visible(ray, occluders, m) == va {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The in-scattering over the stretch `[a, b]` of `ray` (`b = ∞`: to infinity)
+/// from a spot light of cone `cone` or a point light (`None`), `A` by `f`: the
+/// viewer moved to `a`, times the transmittance `e^{−σt a}` of the part skipped.
+pub fn run_radiance(
+    ray: &PhysicalRay,
+    cone: Option<&Cone>,
+    g: f64,
+    a: f64,
+    b: f64,
+    f: &dyn Fn(Point) -> f64,
+) -> Result<f64, GeometryError> {
+    if !(b > a) {
+        return Ok(0.0);
+    }
+    let (moved, t) = ray.stretch(a, b);
+    if t == 0.0 {
+        return Ok(0.0);
+    }
+    let v = moved.light_radiance(cone, g, f)?;
+    Ok(if v.is_infinite() { v } else { t * v })
+}
+
+/// The shadowed in-scattering of `ray` lit over `lit` (from [`lit_intervals`]):
+/// the sum of the lit stretches' own in-scattering, `A` by `f` (the reference, or
+/// a model).
+pub fn shadowed_radiance(
+    ray: &PhysicalRay,
+    cone: Option<&Cone>,
+    g: f64,
+    lit: &[(f64, f64)],
+    f: &dyn Fn(Point) -> f64,
+) -> Result<f64, GeometryError> {
+    let mut sum = 0.0;
+    for &(a, b) in lit {
+        sum += run_radiance(ray, cone, g, a, b, f)?;
+    }
+    Ok(sum)
+}
+
+/// A change of visibility not yet placed: between `lo` and `hi`, from `before`
+/// to `after`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    /// The last sample before the change.
+    pub lo: f64,
+    /// The first sample after it.
+    pub hi: f64,
+    /// Visibility before.
+    pub before: f64,
+    /// Visibility after.
+    pub after: f64,
+}
+
+/// The shafts accumulator, in f64 (the generated kernels' `Shafts` is the same in
+/// f32): push `(s, v)` samples in increasing `s`; optionally refine each pending
+/// change by bisection on the caller's visibility; finish at the ray's end.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Accumulator {
+    /// Start of the current run of constant visibility.
+    start: f64,
+    /// Its visibility (`None` before the first sample).
+    v: Option<f64>,
+    /// The last sample's distance.
+    s: f64,
+    /// A change seen but not yet placed.
+    pending: Option<Edge>,
+    /// The runs' sum so far.
+    sum: f64,
+    /// Kernel evaluations so far (one per lit run).
+    pub calls: usize,
+}
+
+impl Accumulator {
+    /// An empty accumulator.
+    pub fn new() -> Accumulator {
+        Accumulator::default()
+    }
+
+    /// Adds the sample `(s, v)`; `run(a, b)` is the in-scattering of the stretch `[a, b]`.
+    pub fn push(&mut self, s: f64, v: f64, run: &mut dyn FnMut(f64, Option<f64>) -> f64) {
+        self.place(run);
+        match self.v {
+            None => self.v = Some(v),
+            Some(cur) if v != cur => self.pending = Some(Edge { lo: self.s, hi: s, before: cur, after: v }),
+            Some(_) => {}
+        }
+        self.s = s;
+    }
+
+    /// Where the caller should look up visibility to refine the pending change,
+    /// if there is one.
+    pub fn probe(&self) -> Option<f64> {
+        self.pending.map(|e| 0.5 * (e.lo + e.hi))
+    }
+
+    /// Halves the pending change's bracket by the visibility `v` at [`probe`](Self::probe):
+    /// the change lies on the side whose visibility differs more from `v`.
+    pub fn refine(&mut self, v: f64) {
+        if let Some(e) = self.pending.as_mut() {
+            let m = 0.5 * (e.lo + e.hi);
+            if (v - e.before).abs() <= (v - e.after).abs() {
+                e.lo = m;
+            } else {
+                e.hi = m;
+            }
+        }
+    }
+
+    /// Places a pending change at its bracket's midpoint, closing the run before it.
+    fn place(&mut self, run: &mut dyn FnMut(f64, Option<f64>) -> f64) {
+        if let Some(e) = self.pending.take() {
+            let m = 0.5 * (e.lo + e.hi);
+            self.close(Some(m), e.before, run);
+            self.start = m;
+            self.v = Some(e.after);
+        }
+    }
+
+    fn close(&mut self, end: Option<f64>, v: f64, run: &mut dyn FnMut(f64, Option<f64>) -> f64) {
+        if v > 0.0 {
+            self.sum += v * run(self.start, end);
+            self.calls += 1;
+        }
+    }
+
+    /// The shadowed in-scattering to the ray's end (`None`: an open ray, the last
+    /// sample's visibility holding to infinity). Without samples: unshadowed.
+    pub fn finish(mut self, end: Option<f64>, run: &mut dyn FnMut(f64, Option<f64>) -> f64) -> (f64, usize) {
+        self.place(run);
+        let v = self.v.unwrap_or(1.0);
+        self.close(end, v, run);
+        (self.sum, self.calls)
+    }
+}
+
+/// The samples a shadow map's look-ups give at the midpoints of `n` equal steps
+/// to `len`: `(s_i, v_i)`.
+pub fn samples(ray: &PhysicalRay, occluders: &[Occluder], n: usize, len: f64) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let s = (i as f64 + 0.5) * len / n as f64;
+            (s, if visible(ray, occluders, s) { 1.0 } else { 0.0 })
+        })
+        .collect()
+}
+
+/// The samples that feed the accumulator the exact lit intervals: a sample on
+/// each side of every boundary, at the boundary itself, so that each change is
+/// placed exactly there.
+pub fn exact_samples(ray: &PhysicalRay, lit: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let end = ray.surface_distance.unwrap_or(f64::INFINITY);
+    let mut out = vec![(0.0, if lit.first().is_some_and(|&(a, _)| a <= 0.0) { 1.0 } else { 0.0 })];
+    for &(a, b) in lit {
+        if a > 0.0 {
+            out.push((a, 0.0));
+            out.push((a, 1.0));
+        }
+        if b < end {
+            out.push((b, 1.0));
+            out.push((b, 0.0));
+        }
+    }
+    out
+}
+
+/// How far a march goes: the surface, or on an open ray the raymarch family's
+/// stated cut-off ([`crate::family::raymarch::march_end`], in light distances).
+pub fn march_length(ray: &PhysicalRay, g: f64) -> Result<f64, GeometryError> {
+    if let Some(s) = ray.surface_distance {
+        return Ok(s);
+    }
+    let c = ray.to_canonical(g)?;
+    Ok(crate::family::raymarch::march_end(c.point.tau, c.point.gamma.cos()) * c.distance)
+}
+
+/// The engines' march with visibility: `Σ v_i W_i f(s_i) Δ_i` over the samples,
+/// with `f` the exact single-scattering integrand (Henyey–Greenstein `g`), `W_i`
+/// the cone's weight there (1 for a point light), and `Δ_i` the step each sample
+/// stands for (`s_i` the midpoint of its step).
+pub fn march(ray: &PhysicalRay, cone: Option<&Cone>, g: f64, samples: &[(f64, f64)]) -> f64 {
+    let (d, _) = unit_and_end(ray);
+    let mut sum = 0.0;
+    let mut prev_end = 0.0;
+    for &(s, v) in samples {
+        let step = 2.0 * (s - prev_end);
+        prev_end += step;
+        let w = cone.map_or(1.0, |c| c.weight(sub(along(ray.origin, d, s), ray.light)));
+        if v > 0.0 && w > 0.0 {
+            sum += v * w * integrand(ray, d, g, s) * step;
+        }
+    }
+    sum
+}
+
+/// How a shadowed ray's visibility reaches the accumulator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Feed {
+    /// The exact lit intervals ([`exact_samples`]).
+    Exact,
+    /// `n` shadow-map look-ups at the midpoints of `n` equal steps to the surface,
+    /// or to the march's cut-off on an open ray ([`march_length`]).
+    Samples(usize),
+}
+
+/// The `(s, v)` samples of `feed` for `ray` among `occluders`.
+pub fn feed(ray: &PhysicalRay, occluders: &[Occluder], g: f64, feed: Feed) -> Result<Vec<(f64, f64)>, GeometryError> {
+    Ok(match feed {
+        Feed::Exact => exact_samples(ray, &lit_intervals(ray, occluders)),
+        Feed::Samples(n) => samples(ray, occluders, n, march_length(ray, g)?),
+    })
+}
+
+/// The shadowed radiance of `ray` from `samples` in f64: the accumulator over the
+/// lit runs with `A` by `f` (a model, or the reference), or — `march` — the
+/// engines' march at the samples (each the midpoint of its step). Also returns the
+/// kernel evaluations it took.
+pub fn evaluate(
+    ray: &PhysicalRay,
+    cone: Option<&Cone>,
+    g: f64,
+    samples: &[(f64, f64)],
+    f: &dyn Fn(Point) -> f64,
+    march_rule: bool,
+) -> Result<(f64, usize), GeometryError> {
+    // The ray must define an in-scattering at all (the errors of `radiance`).
+    ray.radiance(g, &|_| 0.0)?;
+    if march_rule {
+        return Ok((march(ray, cone, g, samples), samples.iter().filter(|x| x.1 > 0.0).count()));
+    }
+    let failed = std::cell::Cell::new(None);
+    let mut run = |a: f64, b: Option<f64>| {
+        run_radiance(ray, cone, g, a, b.unwrap_or(f64::INFINITY), f).unwrap_or_else(|e| {
+            failed.set(Some(e));
+            f64::NAN
+        })
+    };
+    let mut acc = Accumulator::new();
+    for &(s, v) in samples {
+        acc.push(s, v, &mut run);
+    }
+    let out = acc.finish(ray.surface_distance, &mut run);
+    match failed.get() {
+        Some(e) => Err(e),
+        None => Ok(out),
+    }
+}
+
+/// The single-scattering integrand at distance `s` (unit direction `d`).
+pub fn integrand(ray: &PhysicalRay, d: Vec3, g: f64, s: f64) -> f64 {
+    let x = along(ray.origin, d, s);
+    let r = sub(ray.light, x);
+    let t = norm(r);
+    if t == 0.0 {
+        return f64::INFINITY;
+    }
+    // cos α = d · (light − x)/t: forward scattering looking at the light.
+    let proj = dot(d, r);
+    let h = norm(cross(d, r));
+    let (om, op) = crate::phase::one_minus_plus_cos(proj, h, t);
+    ray.sigma_s * ray.intensity * crate::phase::hg(g, om, op) * (-ray.sigma_t * (s + t)).exp() / (t * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference;
+
+    fn ray(surface: Option<f64>) -> PhysicalRay {
+        PhysicalRay {
+            origin: [0.0, 0.0, 0.0],
+            direction: [1.0, 0.05, 0.0],
+            surface_distance: surface,
+            light: [6.0, 2.0, 0.5],
+            intensity: 3.0,
+            sigma_t: 0.12,
+            sigma_s: 0.08,
+        }
+    }
+
+    fn scene() -> Vec<Occluder> {
+        vec![
+            Occluder::Sphere { center: [3.0, 1.2, 0.3], radius: 0.35 },
+            Occluder::Sphere { center: [7.0, 1.6, 0.4], radius: 0.25 },
+            Occluder::Cuboid { min: [9.0, 1.0, -0.5], max: [9.4, 1.5, 1.5] },
+        ]
+    }
+
+    #[test]
+    fn boundaries_are_where_visibility_changes() {
+        let r = ray(Some(25.0));
+        let lit = lit_intervals(&r, &scene());
+        assert!(lit.len() >= 2 && lit[0].0 > 0.0, "{lit:?}");
+        for &(a, b) in &lit {
+            assert!(visible(&r, &scene(), 0.5 * (a + b)));
+            for &x in &[a, b] {
+                if x > 0.0 && x < 25.0 {
+                    let eps = 1e-12 * x.max(1.0);
+                    assert_ne!(visible(&r, &scene(), x - eps), visible(&r, &scene(), x + eps), "boundary at {x}");
+                }
+            }
+        }
+    }
+
+    /// Against an independent evaluation: adaptive quadrature of `v(s) f(s)` over
+    /// the ray with the boundaries as breakpoints.
+    #[test]
+    fn the_reference_is_the_integral_of_visibility_times_the_integrand() {
+        let a = |p: Point| reference::airlight(p).unwrap();
+        for g in [0.0, 0.6, -0.4] {
+            for surface in [Some(25.0), None] {
+                let r = ray(surface);
+                let occ = scene();
+                let lit = lit_intervals(&r, &occ);
+                let want = shadowed_radiance(&r, None, g, &lit, &a).unwrap();
+                let (d, _) = unit_and_end(&r);
+                let far = surface.unwrap_or(400.0);
+                let mut breaks = vec![0.0];
+                for &(x, y) in &lit {
+                    breaks.push(x);
+                    breaks.push(y.min(far));
+                }
+                breaks.push(far);
+                breaks.sort_by(f64::total_cmp);
+                let q = crate::quad::gauss_kronrod(
+                    |s| if visible(&r, &occ, s) { integrand(&r, d, g, s) } else { 0.0 },
+                    &breaks,
+                    1e-12,
+                    4000,
+                );
+                assert!(((q.value - want) / want).abs() < 1e-9, "g {g}, {surface:?}: {} vs {want}", q.value);
+                // The accumulator fed the exact intervals is the same sum.
+                let mut acc = Accumulator::new();
+                let mut run =
+                    |x: f64, y: Option<f64>| run_radiance(&r, None, g, x, y.unwrap_or(f64::INFINITY), &a).unwrap();
+                for (s, v) in exact_samples(&r, &lit) {
+                    acc.push(s, v, &mut run);
+                }
+                let (got, calls) = acc.finish(surface, &mut run);
+                assert!(((got - want) / want).abs() < 1e-13, "{got} vs {want}");
+                assert_eq!(calls, lit.len());
+            }
+        }
+    }
+
+    #[test]
+    fn refinement_places_a_change_by_bisection() {
+        let r = ray(Some(25.0));
+        let occ = scene();
+        let lit = lit_intervals(&r, &occ);
+        let a = |p: Point| reference::airlight(p).unwrap();
+        let want = shadowed_radiance(&r, None, 0.3, &lit, &a).unwrap();
+        let mut run = |x: f64, y: Option<f64>| run_radiance(&r, None, 0.3, x, y.unwrap_or(f64::INFINITY), &a).unwrap();
+        let err = |k: usize, run: &mut dyn FnMut(f64, Option<f64>) -> f64| {
+            let mut acc = Accumulator::new();
+            for (s, v) in samples(&r, &occ, 16, 25.0) {
+                acc.push(s, v, run);
+                for _ in 0..k {
+                    let Some(m) = acc.probe() else { break };
+                    acc.refine(if visible(&r, &occ, m) { 1.0 } else { 0.0 });
+                }
+            }
+            ((acc.finish(Some(25.0), run).0 - want) / want).abs()
+        };
+        let (e0, e20) = (err(0, &mut run), err(20, &mut run));
+        assert!(e20 < 1e-5 && e20 < e0 / 10.0, "unrefined {e0:.2e}, refined {e20:.2e}");
+    }
+
+    #[test]
+    fn spheres_parse_and_refuse() {
+        let s = parse_spheres("1 2 3 0.5; -1e3 0 2.5 4").unwrap();
+        assert_eq!(s.len(), 2);
+        assert_eq!(parse_spheres(&render_spheres(&s)).unwrap(), s);
+        assert!(parse_spheres("").unwrap().is_empty());
+        assert!(parse_spheres("1 2 3").unwrap_err().contains("4"));
+        assert!(parse_spheres("1 2 3 -1").unwrap_err().contains("radius"));
+        assert!(parse_spheres("1 2 3 x").unwrap_err().contains("'x'"));
+        assert!(parse_spheres("1 2 3 1;;").unwrap_err().contains("empty"));
+    }
+}
