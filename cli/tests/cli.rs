@@ -629,3 +629,83 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
 fn airlight_tests_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
+
+/// `eval --entry shadowed`: the exact-interval path on every target agrees with the
+/// reference; `--samples` and the march; bad spheres are one line with exit 2.
+#[test]
+fn eval_shadowed_on_every_target() {
+    let dir = scratch("shadowed");
+    let input = dir.join("shafts.csv");
+    std::fs::write(
+        &input,
+        "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres\n\
+         0,0,0,1,0.05,0,25,6,2,0.5,3,0.12,0.08,0.6,3 1.2 0.3 0.35;7 1.6 0.4 0.25\n\
+         0,0,0,1,0.05,0,-1,6,2,0.5,3,0.12,0.08,-0.3,3 1.2 0.3 0.35;7 1.6 0.4 0.25\n\
+         0,0,0,1,0,0,40,10,1,0,1,0.05,0.05,0.3,\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let mut all = vec!["eval", "--entry", "shadowed", "-i", input.to_str().unwrap()];
+        all.extend_from_slice(args);
+        airlight(&all)
+    };
+    let values = |o: &Output| -> Vec<f64> {
+        assert!(o.status.success(), "{}", stderr(o));
+        let out = String::from_utf8(o.stdout.clone()).unwrap();
+        assert!(out.starts_with("ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres,radiance\n"));
+        out.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse().unwrap()).collect()
+    };
+    let reference = values(&run(&["--model", "reference"]));
+    // The unshadowed third ray is the radiance entry's own value.
+    let plain = dir.join("plain.csv");
+    std::fs::write(
+        &plain,
+        "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g\n0,0,0,1,0,0,40,10,1,0,1,0.05,0.05,0.3\n",
+    )
+    .unwrap();
+    let o = airlight(&["eval", "--entry", "radiance", "-i", plain.to_str().unwrap()]);
+    let unshadowed: f64 =
+        String::from_utf8(o.stdout).unwrap().lines().nth(1).unwrap().rsplit(',').next().unwrap().parse().unwrap();
+    assert!(((reference[2] - unshadowed) / unshadowed).abs() < 1e-13);
+    for args in [
+        &["--model", "phi-8"][..],
+        &["--model", "phi-8", "--precision", "f32"],
+        &["--model", "phi-8", "--target", "wgsl"],
+        &["--model", "phi-8", "--target", "glsl"],
+    ] {
+        let o = run(args);
+        if !o.status.success() && !gpu_required() && stderr(&o).contains("no GPU adapter") {
+            eprintln!("SKIPPED eval --entry shadowed {args:?}: {}", stderr(&o));
+            continue;
+        }
+        for (x, r) in values(&o).iter().zip(&reference) {
+            assert!(((x - r) / r).abs() < 2e-5, "{args:?}: {x} vs {r}");
+        }
+    }
+    // Shadow-map samples: both place each change between the samples that see
+    // it; the march adds its quadrature error, the accumulator none (the third
+    // ray, without occluders, is exact), so its mean error is below the march's.
+    let acc = values(&run(&["--model", "reference", "--samples", "16"]));
+    let march = values(&run(&["--model", "raymarch-16"]));
+    let err = |v: &[f64]| v.iter().zip(&reference).map(|(x, r)| ((x - r) / r).abs()).sum::<f64>();
+    assert!(err(&acc) < err(&march), "accumulator {:.2e}, march {:.2e}", err(&acc), err(&march));
+    assert!(((acc[2] - reference[2]) / reference[2]).abs() < 1e-13);
+    let o = run(&["--model", "raymarch-16", "--samples", "32"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("its own 16 steps"), "{}", stderr(&o));
+    let o = airlight(&["eval", "--samples", "8", "-i", plain.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--entry shadowed"), "{}", stderr(&o));
+    // A bad sphere: file, line and column.
+    let bad = dir.join("bad.csv");
+    std::fs::write(
+        &bad,
+        "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres\n0,0,0,1,0,0,4,2,1,0,1,0.1,0.1,0,1 2 3\n",
+    )
+    .unwrap();
+    let o = airlight(&["eval", "--entry", "shadowed", "-i", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("bad.csv:2") && e.contains("spheres") && e.lines().count() == 1, "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -35,10 +35,14 @@ pub const SPOT: &str = "spot";
 /// touching surfaces.
 pub const EDGE: &str = "edge";
 
+/// The shafts accumulator's rows: rays among analytic occluders, fed the exact
+/// lit intervals.
+pub const SHADOWED: &str = "shadowed";
+
 /// The gate's regimes, in the order its tables list them: the canonical entry's
-/// domains, then the physical and spot entries' sets.
-pub const REGIMES: [&str; 7] =
-    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), EDGE, PHYSICAL, PHYS_EXTREME, SPOT];
+/// domains, then the physical, spot and shadowed entries' sets.
+pub const REGIMES: [&str; 8] =
+    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), EDGE, PHYSICAL, PHYS_EXTREME, SPOT, SHADOWED];
 
 /// One kernel × target × domain row of the gate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -270,7 +270,7 @@ pub fn run_radiance(
     b: f64,
     f: &dyn Fn(Point) -> f64,
 ) -> Result<f64, GeometryError> {
-    if !(b > a) {
+    if b.is_nan() || b <= a {
         return Ok(0.0);
     }
     let (moved, t) = ray.stretch(a, b);

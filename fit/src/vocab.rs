@@ -390,6 +390,9 @@ pub struct IndexEntry {
     pub extinction: bool,
     /// Whether the backward part is kept.
     pub backscatter: bool,
+    /// Whether it has the shafts accumulator (shadowed in-scattering).
+    #[serde(default)]
+    pub shafts: bool,
     /// The plain WGSL file, under `generated/`.
     pub wgsl: Option<String>,
     /// The Bevy variant.

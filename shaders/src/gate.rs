@@ -21,7 +21,7 @@ use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
 use std::fmt;
 use std::path::Path;
 
-pub use airlight_fit::record::{target_label, EDGE, PHYSICAL, PHYS_EXTREME, SPOT};
+pub use airlight_fit::record::{target_label, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SPOT};
 
 /// One kernel × target × domain.
 #[derive(Debug, Clone, PartialEq)]
@@ -462,6 +462,168 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         .collect()
 }
 
+/// Shadowed rays per kernel in the gate.
+pub const SHADOWED_RAYS: usize = 96;
+
+/// One shadowed ray of the gate: a physical ray among analytic occluders.
+#[derive(Debug, Clone)]
+pub struct ShadowCase {
+    /// The ray, light and medium (f32, as the kernels take them); its surface is
+    /// where the view ray ends (its own surface, or the first occluder it hits).
+    pub ray: crate::Ray,
+    /// The canonical point of the unshadowed ray (where it is reported).
+    pub point: Point,
+    /// The occluders.
+    pub occluders: Vec<airlight_fit::shafts::Occluder>,
+    /// The exact lit intervals fed as samples ([`airlight_fit::shafts::exact_samples`]).
+    pub samples: Vec<(f64, f64)>,
+    /// Visibility changes on the ray (lit intervals' ends inside it).
+    pub transitions: usize,
+    /// The reference shadowed radiance.
+    pub reference: f64,
+    /// The reference unshadowed radiance of the same ray.
+    pub unshadowed: f64,
+}
+
+/// Where the view ray `o + t dn` (unit `dn`) first enters `oc`, if it does ahead.
+fn first_hit(oc: &airlight_fit::shafts::Occluder, o: [f64; 3], dn: [f64; 3]) -> Option<f64> {
+    use airlight_fit::shafts::Occluder;
+    match *oc {
+        Occluder::Sphere { center, radius } => {
+            let w: [f64; 3] = std::array::from_fn(|q| o[q] - center[q]);
+            let b = w[0] * dn[0] + w[1] * dn[1] + w[2] * dn[2];
+            let c2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - radius * radius;
+            let disc = b * b - c2;
+            let t = -b - disc.max(0.0).sqrt();
+            (disc >= 0.0 && t > 0.0).then_some(t)
+        }
+        Occluder::Cuboid { min, max } => {
+            let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+            for a in 0..3 {
+                if dn[a] == 0.0 {
+                    if o[a] <= min[a] || o[a] >= max[a] {
+                        return None;
+                    }
+                } else {
+                    let (t1, t2) = ((min[a] - o[a]) / dn[a], (max[a] - o[a]) / dn[a]);
+                    lo = lo.max(t1.min(t2));
+                    hi = hi.min(t1.max(t2));
+                }
+            }
+            (lo < hi && lo > 0.0).then_some(lo)
+        }
+    }
+}
+
+/// Shadowed rays for kernel `k`: the placements of [`physical_rays`], each with 1
+/// to 4 occluders placed between the light and points of the ray (balls of
+/// radius 3–15% of the light's distance to their centre's ray point times their
+/// place along it, every fourth case one box instead of a ball), so that each
+/// casts its shadow across the ray; the view ray ends at the first occluder it
+/// hits (as the caller's first hit would); one holding the viewer or the light is
+/// left out. Returns the cases with the exact lit intervals and the reference
+/// shadowed and unshadowed radiance.
+pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCase>, GateError> {
+    use airlight_fit::shafts::{self, Occluder};
+    let base = placements(k, n, seed)?;
+    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x54AD);
+    let mut cases = Vec::with_capacity(n);
+    for (i, (r, p, _)) in base.into_iter().enumerate() {
+        let phys = r.physical();
+        let dn = {
+            let d = phys.direction;
+            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            d.map(|x| x / m)
+        };
+        let (l, o) = (phys.light, phys.origin);
+        let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
+        let reach = phys.surface_distance.unwrap_or(3.0 * dist).min(3.0 * dist);
+        let mut occ = Vec::new();
+        for j in 0..1 + i % 4 {
+            let s = reach * rng.next_f64();
+            let x: [f64; 3] = std::array::from_fn(|c| o[c] + s * dn[c]);
+            let u = 0.2 + 0.6 * rng.next_f64();
+            let c: [f64; 3] = std::array::from_fn(|q| l[q] + u * (x[q] - l[q]));
+            let lx = ((x[0] - l[0]).powi(2) + (x[1] - l[1]).powi(2) + (x[2] - l[2]).powi(2)).sqrt();
+            let size = (0.03 + 0.12 * rng.next_f64()) * lx * u;
+            if !(size > 0.0 && size.is_finite()) {
+                continue;
+            }
+            let oc = if i % 4 == 3 && j == 0 {
+                Occluder::Cuboid { min: c.map(|v| v - size), max: [c[0] + size, c[1] + 0.5 * size, c[2] + 2.0 * size] }
+            } else {
+                Occluder::Sphere { center: c, radius: size }
+            };
+            let inside = |q: [f64; 3]| match oc {
+                Occluder::Sphere { center, radius } => {
+                    (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) + (q[2] - center[2]).powi(2)
+                        <= radius * radius
+                }
+                Occluder::Cuboid { min, max } => (0..3).all(|a| q[a] >= min[a] && q[a] <= max[a]),
+            };
+            if !inside(o) && !inside(l) {
+                occ.push(oc);
+            }
+        }
+        let mut ray = r;
+        let end = occ.iter().filter_map(|oc| first_hit(oc, o, dn)).fold(f64::INFINITY, f64::min);
+        if end < phys.surface_distance.unwrap_or(f64::INFINITY) {
+            ray.surface = end as f32;
+        }
+        let phys = ray.physical();
+        let lit = shafts::lit_intervals(&phys, &occ);
+        let stop = phys.surface_distance.unwrap_or(f64::INFINITY);
+        let transitions = lit.iter().map(|&(a, b)| usize::from(a > 0.0) + usize::from(b < stop)).sum();
+        let a = |q: Point| reference::airlight(q).unwrap_or(f64::NAN);
+        let g = f64::from(ray.g);
+        let fail =
+            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: shadowed ray: {e}", k.name));
+        let reference = shafts::shadowed_radiance(&phys, None, g, &lit, &a).map_err(fail)?;
+        let unshadowed = phys.radiance(g, &a).map_err(fail)?;
+        cases.push(ShadowCase {
+            ray,
+            point: p,
+            samples: shafts::exact_samples(&phys, &lit),
+            occluders: occ,
+            transitions,
+            reference,
+            unshadowed,
+        });
+    }
+    Ok(cases)
+}
+
+/// A shadowed row: each ray's error `|Â − A| / (U (1 + transitions))`, `U` the
+/// unshadowed value of the same ray, held to `declared` like every row.
+fn shadow_row(k: &IndexEntry, target: Option<Target>, cases: &[ShadowCase], got: &[f64], declared: f64) -> Row {
+    let mut errs = Vec::with_capacity(cases.len());
+    let (mut bad, mut first_bad) = (0, None);
+    for (c, &v) in cases.iter().zip(got) {
+        let saturated = target.is_some() && v == f64::INFINITY && c.reference > F32_RANGE.1;
+        if !saturated && c.reference.is_finite() && !(v.is_finite() && v >= 0.0) {
+            bad += 1;
+            first_bad.get_or_insert((c.point, v));
+            continue;
+        }
+        if (F32_RANGE.0..=F32_RANGE.1).contains(&c.unshadowed) && c.reference.is_finite() {
+            errs.push((c.point, (v - c.reference).abs() / (c.unshadowed * (1.0 + c.transitions as f64))));
+        }
+    }
+    let stats = airlight_fit::stats::ErrorStats::from_errors(errs);
+    Row {
+        kernel: k.name.clone(),
+        target,
+        domain: SHADOWED,
+        points: stats.count,
+        max: stats.max,
+        p99: stats.p99,
+        declared,
+        worst: stats.worst,
+        bad,
+        first_bad,
+    }
+}
+
 /// The hull of a kernel's declared domains: τ up to the end of its sampled
 /// domains (`tau_max`), γ and ρ as far as `extreme` reaches (docs/MATH.md §5: γ ∈
 /// [1e-4, π − 1e-4], ρ ∈ [1e-4, 1e4] ∪ {∞}): where a physical extreme ray's error
@@ -787,6 +949,58 @@ impl Subject<'_> {
     }
 }
 
+impl Subject<'_> {
+    /// The shafts accumulator fed the exact lit intervals of rays among
+    /// occluders, held to `bound` relative to each ray's unshadowed value times
+    /// one plus its visibility changes.
+    fn shadowed_rows(&self, bound: f64) -> Result<Vec<Row>, GateError> {
+        let (k, mut rows) = (self.k, Vec::new());
+        let cases = shadowed_rays(k, SHADOWED_RAYS, VALIDATION_SEED ^ 0x54AD)?;
+        let f64s: Vec<f64> = airlight_fit::parallel::map(
+            &cases,
+            |c| {
+                let phys = c.ray.physical();
+                airlight_fit::shafts::evaluate(&phys, None, f64::from(c.ray.g), &c.samples, &|p| (self.model)(p), false)
+                    .map_or(f64::NAN, |v| v.0)
+            },
+            &|_, _| {},
+        );
+        rows.push(shadow_row(k, None, &cases, &f64s, bound));
+        let samples: Vec<Vec<[f32; 2]>> =
+            cases.iter().map(|c| c.samples.iter().map(|&(s, v)| [s as f32, v as f32]).collect()).collect();
+        if let Some(f) = self.compiled.and_then(|rk| rk.shadowed) {
+            let got: Vec<f64> = cases
+                .iter()
+                .zip(&samples)
+                .map(|(c, s)| {
+                    let r = &c.ray;
+                    crate::from_kernel(f(
+                        s,
+                        r.surface,
+                        r.origin,
+                        r.dir,
+                        r.light,
+                        r.intensity,
+                        r.sigma_t,
+                        r.sigma_s,
+                        r.g,
+                    ))
+                })
+                .collect();
+            rows.push(shadow_row(k, Some(Target::Rust), &cases, &got, bound));
+        }
+        if let Some(gpu) = self.gpu {
+            let plain: Vec<crate::Ray> = cases.iter().map(|c| c.ray).collect();
+            for (target, src) in &self.shaders {
+                let got = gpu.shadowed(src, &plain, &samples).map_err(self.gpu_error(*target))?;
+                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
+                rows.push(shadow_row(k, Some(*target), &cases, &got, bound));
+            }
+        }
+        Ok(rows)
+    }
+}
+
 /// The shader files of `k` under `generated` that a GPU runs (WGSL, GLSL).
 fn shader_texts(generated: &Path, k: &IndexEntry) -> Result<Vec<(Target, String)>, GateError> {
     let mut texts = Vec::new();
@@ -860,6 +1074,11 @@ pub fn run(
         rows.extend(subject.physical_rows(sampled, hull)?);
         if k.has(Entry::Spot) {
             rows.extend(subject.spot_rows(sampled)?);
+        }
+        // The march looks visibility up at its own steps: its error is not the
+        // family's bound (docs/MATH.md §8), so it has no shadowed rows.
+        if k.shafts && !subject.marches {
+            rows.extend(subject.shadowed_rows(hull)?);
         }
     }
     Ok(rows)

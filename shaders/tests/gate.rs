@@ -41,9 +41,10 @@ fn the_committed_kernels_pass_on_the_cpu() {
             .unwrap();
     assert_eq!(
         rows.len(),
-        2 * (7 + 5),
-        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, edge, physical, phys-extreme, spot) and of the \
-         closed form (thin, extreme, edge, physical, phys-extreme; its scene has point lights, no spot entry)"
+        2 * (8 + 5),
+        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, edge, physical, phys-extreme, spot, shadowed) \
+         and of the closed form (thin, extreme, edge, physical, phys-extreme; its scene has point lights, no spot \
+         entry and no shadows)"
     );
     assert!(rows.iter().all(|r| r.passes()), "{}", gate::table(&rows, true));
 }

@@ -171,3 +171,48 @@ fn example_scene_files_all_plan() {
         assert!(generated_dir().join(format!("plans/scene-{}.md", s.name)).exists());
     }
 }
+
+/// A scene whose lights cast shadows gets the shafts accumulator in every
+/// target, and it compiles (naga, glslang ES 3.00 and 4.50); scenes without
+/// shadows carry none of it; shadows need surfaces.
+#[test]
+fn shadows_bring_the_shafts_accumulator_and_nothing_else_does() {
+    let text = std::fs::read_to_string(repo_root().join("codegen/scenes/window-shafts.toml")).unwrap();
+    let s = scene::parse("window-shafts.toml", &text).unwrap();
+    assert!(s.shadows && s.spot);
+    // Planned among every committed model (the split family alone misses its budget).
+    let models = committed_models();
+    let t = scene::parse("test.toml", &text).unwrap();
+    let spec = KernelSpec::for_scene(&t, &scene::plan(&t, &models).unwrap(), &models, "test.toml");
+    assert!(spec.shafts);
+    let files: Vec<(String, String)> = kernel::render(std::slice::from_ref(&spec))
+        .unwrap()
+        .into_iter()
+        .filter(|o| o.path.contains("scene-test") || o.path.contains("scene_test"))
+        .map(|o| (o.path, String::from_utf8(o.contents).unwrap()))
+        .collect();
+    assert!(files.len() >= 3);
+    for (path, src) in &files {
+        if path.ends_with(".wgsl") && !path.contains("bevy") {
+            assert!(src.contains("fn airlight_scene_test_shafts_push_spot("), "{path}");
+            naga_validates(src);
+        }
+        if path.ends_with(".glsl") {
+            assert!(
+                src.contains("void airlight_scene_test_shafts_push_spot(inout airlight_scene_test_Shafts acc"),
+                "{path}"
+            );
+            glslang_compiles(src, path);
+        }
+        if path.ends_with(".rs") {
+            assert!(src.contains("pub fn push_spot("), "{path}");
+        }
+    }
+    for p in ["wgsl/scene-spot-harbour.wgsl", "glsl/scene-fog-street.glsl", "airlight-kernels/src/scene_hg_fog.rs"] {
+        let text = std::fs::read_to_string(generated_dir().join(p)).unwrap();
+        assert!(!text.contains("Shafts") && !text.contains("shafts"), "{p} has the shafts accumulator");
+    }
+    let open = text.replace("surfaces = true", "surfaces = false").replace("kind = \"spot\"", "kind = \"point\"");
+    let e = scene::parse("w.toml", &open).unwrap_err().to_string();
+    assert!(e.contains("field 'lights.shadows'") && e.contains("surfaces"), "{e}");
+}

@@ -34,6 +34,7 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
         surfaces: spec.surfaces,
         extinction: spec.extinction,
         backscatter: spec.backscatter,
+        shafts: spec.shafts,
         wgsl: path(Target::Wgsl, false),
         wgsl_bevy: path(Target::Wgsl, true),
         glsl: path(Target::Glsl, false),

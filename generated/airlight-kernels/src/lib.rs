@@ -105,6 +105,8 @@ pub mod scene_hg_fog;
 pub mod scene_smoke_room;
 #[rustfmt::skip]
 pub mod scene_spot_harbour;
+#[rustfmt::skip]
+pub mod scene_window_shafts;
 
 /// A kernel's canonical entry with the uniform signature `(tau, gamma, rho, g)`:
 /// `rho < 0` means no surface; arguments the kernel does not take are ignored.
@@ -1405,6 +1407,38 @@ pub const KERNELS: &[Kernel] = &[
         }),
         shadowed: None,
         spot_shadowed: None,
+    },
+    Kernel {
+        name: "scene-window-shafts",
+        scene: true,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 2.2437287989487383e-3,
+        dense_max_rel: 2.251841604925979e-3,
+        airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            scene_window_shafts::spot(
+                origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s,
+            )
+        }),
+        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = scene_window_shafts::Shafts::new();
+            for &[s, v] in samples {
+                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+            }
+            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = scene_window_shafts::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
 ];
 

@@ -553,8 +553,8 @@ impl Shafts {
         if let Some((a, b, w)) = self.step(s, v) {
             let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
             self.calls += u32::from(w > 0.0);
-            for c in 0..3 {
-                self.add(c, x[c]);
+            for (c, x) in x.into_iter().enumerate() {
+                self.add(c, x);
             }
         }
     }
@@ -564,14 +564,14 @@ impl Shafts {
     pub fn finish_spot(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) -> [f32; 3] {
         if let Some((a, b, w)) = self.place() {
             let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            for c in 0..3 {
-                self.add(c, x[c]);
+            for (c, x) in x.into_iter().enumerate() {
+                self.add(c, x);
             }
         }
         let w = if self.v < 0.0 { 1.0 } else { self.v };
         let x = shafts_run_spot(self.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-        for c in 0..3 {
-            self.add(c, x[c]);
+        for (c, x) in x.into_iter().enumerate() {
+            self.add(c, x);
         }
         self.sum
     }
@@ -591,7 +591,7 @@ fn shafts_moved(a: f32, b: f32, origin: [f32; 3], dir: [f32; 3]) -> ([f32; 3], f
 /// viewer moved to `a` and the surface at `b`.
 #[allow(clippy::too_many_arguments)]
 fn shafts_run(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
-    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+    if w.is_nan() || w <= 0.0 || (b >= 0.0 && b <= a) {
         return 0.0;
     }
     let (o, len) = shafts_moved(a, b, origin, dir);
@@ -605,7 +605,7 @@ fn shafts_run(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], light: [f
 /// [`shafts_run`] for the spot entry, per channel.
 #[allow(clippy::too_many_arguments)]
 fn shafts_run_spot(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) -> [f32; 3] {
-    if !(w > 0.0) || (b >= 0.0 && b <= a) {
+    if w.is_nan() || w <= 0.0 || (b >= 0.0 && b <= a) {
         return [0.0; 3];
     }
     let (o, len) = shafts_moved(a, b, origin, dir);

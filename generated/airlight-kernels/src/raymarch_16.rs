@@ -399,10 +399,11 @@ impl Shafts {
 /// `f(s) Δ / (σs I)` for each channel's σt: the integrand of the step of length
 /// `step` whose midpoint is `s`, as [`airlight_geometry`] sums it (in units of the
 /// light distance, divided by it once more).
-#[allow(clippy::too_many_arguments)]
+// `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
+#[allow(clippy::too_many_arguments, clippy::manual_clamp)]
 fn march_at(s: f32, step: f32, sigma_t: [f32; 3], origin: [f32; 3], dir: [f32; 3], light: [f32; 3], g: f32) -> [f32; 3] {
     let [dd, h, x0] = ray_geometry(origin, dir, light);
-    if !(dd > 0.0) {
+    if dd.is_nan() || dd <= 0.0 {
         return [HUGE; 3];
     }
     let g = g.max(-0.999).min(0.999);

@@ -21,6 +21,7 @@ pub fn compiled() -> Vec<CompiledKernel> {
 
 /// The adapter, or `None` after printing SKIPPED when there is none — unless
 /// `AIRLIGHT_REQUIRE_GPU=1`, which makes a missing adapter a failure.
+#[allow(dead_code)]
 pub fn open_or_skip(test: &str) -> Option<Gpu> {
     match Gpu::open() {
         Ok(gpu) => {
