@@ -95,6 +95,30 @@ pub struct Bench {
     /// The RGB (spot) entry against three scalar calls, per model with a spot entry.
     #[serde(default)]
     pub rgb: Vec<RgbCost>,
+    /// Light shafts: the accumulator against the march, on the same shadow-map
+    /// samples, per sample count.
+    #[serde(default)]
+    pub shafts: Vec<ShaftsCost>,
+}
+
+/// One method of shadowed in-scattering at one sample count: errors against the
+/// shadowed reference and costs, over the gate's shadowed rays.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ShaftsCost {
+    /// The kernel: a model's accumulator, or `raymarch-N` (the engines' march).
+    pub name: String,
+    /// Visibility samples per ray (0: the exact lit intervals).
+    pub samples: usize,
+    /// Mean kernel (or integrand) evaluations per ray.
+    pub calls_per_ray: f64,
+    /// Largest relative error against the shadowed reference (rays with some light).
+    pub max_rel: f64,
+    /// Mean relative error.
+    pub mean_rel: f64,
+    /// CPU ns per ray, f32 kernel, samples given (the shadow look-ups are the caller's).
+    pub cpu_ns_per_ray: f64,
+    /// GPU rays per second (timestamp queries); 0 without timestamps.
+    pub gpu_rays_per_s: f64,
 }
 
 /// What RGB costs: a model's spot entry (one call, three channels) against its
@@ -391,6 +415,23 @@ impl Bench {
                 r.rgb_soft_cone_ns,
                 r.gpu_three_scalar_rays_per_s,
                 r.gpu_rgb_point_rays_per_s
+            ));
+        }
+        lines.push("\nLight shafts: accumulator against the march on the same shadow-map samples".to_string());
+        lines.push(format!(
+            "{:<16} {:>7} {:>8} {:>9} {:>9} {:>10} {:>12}",
+            "kernel", "samples", "calls", "max rel", "mean rel", "ns/ray", "GPU rays/s"
+        ));
+        for r in &self.shafts {
+            lines.push(format!(
+                "{:<16} {:>7} {:>8.2} {:>9.2e} {:>9.2e} {:>10.1} {:>12.3e}",
+                r.name,
+                if r.samples == 0 { "exact".to_string() } else { r.samples.to_string() },
+                r.calls_per_ray,
+                r.max_rel,
+                r.mean_rel,
+                r.cpu_ns_per_ray,
+                r.gpu_rays_per_s
             ));
         }
         lines.join("\n")

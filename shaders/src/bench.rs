@@ -6,7 +6,7 @@
 //! three scalar `radiance` calls, on the CPU and the GPU.
 
 use crate::{Gpu, GpuError, KernelSource, Ray, SpotRay};
-use airlight_fit::bench::{self, Bench, BenchModel, RgbCost, RgbRay};
+use airlight_fit::bench::{self, Bench, BenchModel, RgbCost, RgbRay, ShaftsCost};
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry, Target};
 use std::path::Path;
@@ -171,6 +171,99 @@ fn rgb_cost(k: &CompiledKernel, rays: &[RgbRay], repeats: usize, gpu: (f64, f64)
     })
 }
 
+/// Sample counts of the shafts bench.
+pub const SHAFTS_SAMPLES: [usize; 4] = [8, 16, 32, 64];
+
+/// The accumulator kernels the shafts bench follows.
+pub const SHAFTS_KERNELS: [&str; 2] = ["phi-6", "phi-8"];
+
+/// Light shafts on the gate's shadowed rays of `phi-8` (point lights among balls
+/// and boxes): each followed model's accumulator on the exact lit intervals and on
+/// `N` shadow-map samples, and `raymarch-N` on the same samples, with errors
+/// against the shadowed reference, CPU ns per ray (median of interleaved repeats)
+/// and GPU rays per second.
+fn shafts_costs(inputs: &Inputs, kernels: &[CompiledKernel], progress: &Progress) -> Result<Vec<ShaftsCost>, BenchError> {
+    use airlight_fit::shafts::{self, Feed};
+    let entry = inputs.index.get("phi-8").map_err(BenchError::Input)?;
+    let cases = crate::gate::shadowed_rays(entry, crate::gate::SHADOWED_RAYS, 0x5AF7_BE7C)
+        .map_err(|e| BenchError::Failed(e.to_string()))?;
+    let rays: Vec<crate::Ray> = cases.iter().map(|c| c.ray).collect();
+    let mut jobs: Vec<(String, usize)> = Vec::new();
+    for n in std::iter::once(0).chain(SHAFTS_SAMPLES) {
+        for name in SHAFTS_KERNELS {
+            jobs.push((name.to_string(), n));
+        }
+        if n > 0 {
+            jobs.push((format!("raymarch-{n}"), n));
+        }
+    }
+    let mut out = Vec::new();
+    for (j, (name, n)) in jobs.iter().enumerate() {
+        progress(&format!("bench: shafts, {name} at {n} samples"), j, jobs.len());
+        let k = kernels.iter().find(|k| k.name == name.as_str()).ok_or_else(|| {
+            BenchError::Failed(format!("bench: no compiled kernel '{name}': run `airlight generate` and rebuild"))
+        })?;
+        let f = k.shadowed.ok_or_else(|| BenchError::Failed(format!("bench: {name} has no shafts accumulator")))?;
+        let feed = if *n == 0 { Feed::Exact } else { Feed::Samples(*n) };
+        let samples: Vec<Vec<[f32; 2]>> = cases
+            .iter()
+            .map(|c| {
+                let s = shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), feed).unwrap_or_default();
+                s.iter().map(|&(a, b)| [a as f32, b as f32]).collect()
+            })
+            .collect();
+        let call = |i: usize| {
+            let r = &rays[i];
+            f(&samples[i], r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
+        };
+        let mut errs = Vec::new();
+        let mut calls = 0.0;
+        for (i, c) in cases.iter().enumerate() {
+            if c.reference > 0.0 && c.reference.is_finite() {
+                errs.push((crate::from_kernel(call(i)) - c.reference).abs() / c.reference);
+            }
+            // Lit runs for the accumulator, lit samples for the march.
+            let s = &samples[i];
+            calls += if name.starts_with("raymarch") {
+                s.iter().filter(|x| x[1] > 0.0).count() as f64
+            } else {
+                1.0 + s.windows(2).filter(|w| w[0][1] != w[1][1] && w[1][1] > 0.0).count() as f64
+            };
+        }
+        let mut times = Vec::with_capacity(inputs.repeats);
+        for _ in 0..inputs.repeats {
+            let start = bench::thread_cpu_s();
+            let mut acc = 0.0f32;
+            for i in 0..rays.len() {
+                acc += call(std::hint::black_box(i));
+            }
+            std::hint::black_box(acc);
+            times.push((bench::thread_cpu_s() - start) * 1e9 / rays.len() as f64);
+        }
+        times.sort_by(f64::total_cmp);
+        let gpu_rays_per_s = match (inputs.gpu, wgsl_of(inputs, name)) {
+            (Some(gpu), Ok((e, _, text))) => {
+                let table = crate::load_table(inputs.generated, e).map_err(|e| BenchError::Failed(e.to_string()))?;
+                let src = KernelSource::of(e, Target::Wgsl, &text).with_table(table.as_ref());
+                gpu.shadowed_throughput(&src, &rays, &samples, inputs.repeats)
+                    .map_err(|e| BenchError::Failed(format!("{name}: {e}")))?
+                    .unwrap_or(0.0)
+            }
+            _ => 0.0,
+        };
+        out.push(ShaftsCost {
+            name: name.clone(),
+            samples: *n,
+            calls_per_ray: calls / cases.len() as f64,
+            max_rel: errs.iter().copied().fold(0.0, f64::max),
+            mean_rel: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
+            cpu_ns_per_ray: times[times.len() / 2],
+            gpu_rays_per_s,
+        });
+    }
+    Ok(out)
+}
+
 /// Measures every model in `files` with its compiled kernel from `kernels` and
 /// the generated files under `generated` (the GPU figures where an adapter opens).
 pub fn measure(
@@ -222,6 +315,7 @@ pub fn measure(
     }
     progress("bench: RGB against three scalar calls", 0, 1);
     let rgb = compiled.iter().zip(&gpu_rgb).filter_map(|(k, &g)| rgb_cost(k, &rgb_rays, size.repeats, g)).collect();
+    let shafts = shafts_costs(&inputs, kernels, progress)?;
     Ok(Bench {
         adapter: adapter_label(&gpu),
         cpu: bench::cpu_name(),
@@ -230,5 +324,6 @@ pub fn measure(
         repeats: size.repeats,
         models: rows,
         rgb,
+        shafts,
     })
 }

@@ -67,6 +67,17 @@ struct RgbRow {
 }
 
 #[derive(Serialize)]
+struct ShaftsRow {
+    name: String,
+    samples: String,
+    calls: String,
+    max: String,
+    mean: String,
+    ns: String,
+    gpu: String,
+}
+
+#[derive(Serialize)]
 struct NoExt {
     tau: f64,
     error: String,
@@ -202,6 +213,20 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
     ctx.insert("trade", &sections);
     ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
+    let shafts: Vec<ShaftsRow> = b
+        .shafts
+        .iter()
+        .map(|r| ShaftsRow {
+            name: r.name.clone(),
+            samples: if r.samples == 0 { "exact intervals".into() } else { r.samples.to_string() },
+            calls: format!("{:.2}", r.calls_per_ray),
+            max: fmt_err(r.max_rel),
+            mean: fmt_err(r.mean_rel),
+            ns: ns(r.cpu_ns_per_ray),
+            gpu: if r.gpu_rays_per_s > 0.0 { format!("{:.3e}", r.gpu_rays_per_s) } else { "—".into() },
+        })
+        .collect();
+    ctx.insert("shafts_rows", &shafts);
     ctx.insert("spot_edge_nodes", &crate::kernel::SPOT_EDGE_NODES);
     ctx.insert("spot_edge_pieces", &(crate::kernel::SPOT_EDGE_PIECES.len() - 1));
     ctx.insert("bench_adapter", &b.adapter);

@@ -180,15 +180,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper_as_printed::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper_as_printed::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper",
@@ -210,15 +208,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper-refit",
@@ -240,15 +236,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper_refit::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = paper_refit::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "paper-hg",
@@ -270,15 +264,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = paper_hg::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = paper_hg::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "paper-refit-hg",
@@ -302,15 +294,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = paper_refit_hg::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = paper_refit_hg::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "segments-2",
@@ -332,15 +322,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-3",
@@ -362,15 +350,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_3::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_3::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-4",
@@ -392,15 +378,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-6",
@@ -422,15 +406,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-8",
@@ -452,15 +434,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-12",
@@ -482,15 +462,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_12::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_12::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "segments-16",
@@ -512,15 +490,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = segments_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "hg-exp1",
@@ -542,15 +518,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp1::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp1::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "hg-exp2",
@@ -572,15 +546,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "hg-exp3",
@@ -602,15 +574,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp3::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = hg_exp3::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-iso-4",
@@ -632,15 +602,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-iso-6",
@@ -662,15 +630,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-iso-8",
@@ -692,15 +658,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = phi_iso_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "phi-4",
@@ -722,15 +686,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-6",
@@ -752,15 +714,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_6::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "phi-8",
@@ -782,15 +742,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = phi_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "no-extinction",
@@ -812,15 +770,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
-                let mut acc = no_extinction::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
+            let mut acc = no_extinction::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
+        }),
     },
     Kernel {
         name: "raymarch-8",
@@ -842,15 +798,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-16",
@@ -872,15 +826,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-32",
@@ -902,15 +854,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_32::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_32::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-64",
@@ -932,15 +882,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_64::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_64::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-128",
@@ -962,15 +910,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_128::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_128::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-256",
@@ -992,15 +938,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_256::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_256::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "raymarch-1024",
@@ -1022,15 +966,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_1024::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = raymarch_1024::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-2",
@@ -1052,15 +994,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_2::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-4",
@@ -1082,15 +1022,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_4::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-8",
@@ -1112,15 +1050,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_8::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-16",
@@ -1144,15 +1080,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_16::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "equiangular-32",
@@ -1176,15 +1110,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_32::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            let mut acc = equiangular_32::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
     },
     Kernel {
         name: "sun2005-64",
@@ -1206,15 +1138,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_64::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_64::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-128",
@@ -1236,15 +1166,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_128::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_128::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-256",
@@ -1266,15 +1194,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_256::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_256::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "sun2005-512",
@@ -1296,15 +1222,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_512::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = sun2005_512::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
     Kernel {
         name: "scene-backscatter-aerosol",
@@ -1430,15 +1354,13 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = scene_window_shafts::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            let mut acc = scene_window_shafts::Shafts::new();
+            for &[s, v] in samples {
+                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            }
+            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
     },
 ];
 
