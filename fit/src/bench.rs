@@ -115,10 +115,23 @@ pub struct ShaftsCost {
     pub max_rel: f64,
     /// Mean relative error.
     pub mean_rel: f64,
+    /// Largest error relative to the ray's unshadowed in-scattering (as the gate
+    /// holds it: how much of the pixel's possible glow is wrong).
+    #[serde(default)]
+    pub max_of_unshadowed: f64,
+    /// Mean error relative to the unshadowed in-scattering.
+    #[serde(default)]
+    pub mean_of_unshadowed: f64,
     /// CPU ns per ray, f32 kernel, samples given (the shadow look-ups are the caller's).
     pub cpu_ns_per_ray: f64,
-    /// GPU rays per second (timestamp queries); 0 without timestamps.
+    /// GPU rays per second (timestamp queries); 0 without timestamps or not run there.
     pub gpu_rays_per_s: f64,
+    /// A per-frame table's build per light (the seed's `F'`): CPU ms (0: none).
+    #[serde(default)]
+    pub build_cpu_ms: f64,
+    /// The same build as one GPU compute pass over the kernel, ms (0: not measured).
+    #[serde(default)]
+    pub build_gpu_ms: f64,
 }
 
 /// What RGB costs: a model's spot entry (one call, three channels) against its
@@ -419,19 +432,33 @@ impl Bench {
         }
         lines.push("\nLight shafts: accumulator against the march on the same shadow-map samples".to_string());
         lines.push(format!(
-            "{:<16} {:>7} {:>8} {:>9} {:>9} {:>10} {:>12}",
-            "kernel", "samples", "calls", "max rel", "mean rel", "ns/ray", "GPU rays/s"
+            "{:<22} {:>7} {:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>12} {:>10} {:>10}",
+            "kernel",
+            "samples",
+            "calls",
+            "max rel",
+            "mean rel",
+            "max/U",
+            "mean/U",
+            "ns/ray",
+            "GPU rays/s",
+            "build ms",
+            "GPU build"
         ));
         for r in &self.shafts {
             lines.push(format!(
-                "{:<16} {:>7} {:>8.2} {:>9.2e} {:>9.2e} {:>10.1} {:>12.3e}",
+                "{:<22} {:>7} {:>8.2} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.1} {:>12.3e} {:>10.2} {:>10.3}",
                 r.name,
                 if r.samples == 0 { "exact".to_string() } else { r.samples.to_string() },
                 r.calls_per_ray,
                 r.max_rel,
                 r.mean_rel,
+                r.max_of_unshadowed,
+                r.mean_of_unshadowed,
                 r.cpu_ns_per_ray,
-                r.gpu_rays_per_s
+                r.gpu_rays_per_s,
+                r.build_cpu_ms,
+                r.build_gpu_ms
             ));
         }
         lines.join("\n")
@@ -485,6 +512,19 @@ mod tests {
                 gpu_three_scalar_rays_per_s: 0.0,
                 gpu_rgb_point_rays_per_s: 0.0,
             }],
+            shafts: vec![ShaftsCost {
+                name: "phi-8".into(),
+                samples: 0,
+                calls_per_ray: 1.5,
+                max_rel: 1e-7,
+                mean_rel: 1e-8,
+                max_of_unshadowed: 1e-8,
+                mean_of_unshadowed: 1e-9,
+                cpu_ns_per_ray: 900.0,
+                gpu_rays_per_s: 0.0,
+                build_cpu_ms: 0.0,
+                build_gpu_ms: 0.0,
+            }],
         };
         let t = b.table();
         assert!(t.starts_with("adapter: none\ncpu: "), "{t}");
@@ -492,6 +532,7 @@ mod tests {
         assert_eq!(closed.len(), 2, "{t}");
         assert!(closed[0].contains("12.5") && closed[0].ends_with("(g = 0)"), "{t}");
         assert!(closed[1].contains(" 0.50 "), "{t}");
+        assert!(t.lines().any(|l| l.starts_with("phi-8") && l.contains("exact")), "{t}");
         assert_eq!(Bench::from_json(&b.to_json()).unwrap(), b);
     }
 }

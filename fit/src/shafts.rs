@@ -506,6 +506,90 @@ pub fn evaluate(
     }
 }
 
+/// Texels per side of the seed's per-frame table in the bench (its authors' 256²).
+pub const FPRIME_RES: usize = 256;
+
+/// The kernel that fills the seed's table in the bench.
+pub const FPRIME_KERNEL: &str = "phi-6";
+
+/// The seed's method (Wyman & Ramsey 2008, seed 004): a per-frame table
+/// `F'(cos γ, x)` of the in-scattering from the viewer to distance `x` along a ray
+/// at angle γ to the light, for one viewer and one light, `res × res` texels over
+/// `cos γ ∈ [−1, 1]` and `x ∈ [0, x_max]`, filled by any evaluation of the
+/// unshadowed in-scattering (a compute pass over an airlight kernel) and read
+/// bilinearly; a ray's shadowed in-scattering is then `Σ v_i [F'(c, x_{i+1}) −
+/// F'(c, x_i)]` over its steps — the difference form the seed itself notes is
+/// unstable for small steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FPrimeTable {
+    /// Texels per side.
+    pub res: usize,
+    /// The far end of the `x` axis.
+    pub x_max: f64,
+    /// Row-major: row `j` at `x_j = x_max j/(res − 1)`, column `i` at
+    /// `cos γ_i = −1 + 2 i/(res − 1)`.
+    pub texels: Vec<f32>,
+}
+
+impl FPrimeTable {
+    /// Builds the table for `viewer`, with `c(direction, x)` the unshadowed
+    /// in-scattering of the ray from the viewer along `direction` to distance `x`
+    /// (the frame's light, medium and phase inside it); `light` fixes γ.
+    pub fn build(res: usize, viewer: Vec3, light: Vec3, x_max: f64, c: &dyn Fn(Vec3, f64) -> f64) -> FPrimeTable {
+        let l = sub(light, viewer);
+        let ln = norm(l);
+        let lu = l.map(|v| v / ln);
+        // A unit vector across the direction to the light.
+        let helper = if lu[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let p = cross(lu, helper);
+        let pn = norm(p);
+        let pu = p.map(|v| v / pn);
+        let mut texels = vec![0.0f32; res * res];
+        for i in 0..res {
+            let ci = -1.0 + 2.0 * i as f64 / (res - 1) as f64;
+            let si = (1.0 - ci * ci).max(0.0).sqrt();
+            let d = [0, 1, 2].map(|k| ci * lu[k] + si * pu[k]);
+            for j in 0..res {
+                let x = x_max * j as f64 / (res - 1) as f64;
+                texels[j * res + i] = if j == 0 { 0.0 } else { c(d, x) as f32 };
+            }
+        }
+        FPrimeTable { res, x_max, texels }
+    }
+
+    /// `F'(c, x)`, bilinear, clamped to the table.
+    pub fn lookup(&self, c: f64, x: f64) -> f64 {
+        let n = (self.res - 1) as f64;
+        let u = ((c + 1.0) * 0.5 * n).clamp(0.0, n);
+        let w = (x / self.x_max * n).clamp(0.0, n);
+        let (i, j) = ((u.floor() as usize).min(self.res - 2), (w.floor() as usize).min(self.res - 2));
+        let (tu, tw) = (u - i as f64, w - j as f64);
+        let t = |i: usize, j: usize| f64::from(self.texels[j * self.res + i]);
+        let lo = t(i, j) + tu * (t(i + 1, j) - t(i, j));
+        let hi = t(i, j + 1) + tu * (t(i + 1, j + 1) - t(i, j + 1));
+        lo + tw * (hi - lo)
+    }
+
+    /// The shadowed in-scattering of `ray` (from the table's viewer) with the
+    /// visibility `samples` at the midpoints of equal steps: each step's
+    /// visibility times the table's difference over the step.
+    pub fn shadowed(&self, ray: &PhysicalRay, samples: &[(f64, f64)]) -> f64 {
+        let (d, _) = unit_and_end(ray);
+        let l = sub(ray.light, ray.origin);
+        let c = dot(d, l) / norm(l);
+        let mut sum = 0.0;
+        let mut prev = 0.0;
+        for &(s, v) in samples {
+            let end = prev + 2.0 * (s - prev);
+            if v > 0.0 {
+                sum += v * (self.lookup(c, end) - self.lookup(c, prev));
+            }
+            prev = end;
+        }
+        sum
+    }
+}
+
 /// The single-scattering integrand at distance `s` (unit direction `d`).
 pub fn integrand(ray: &PhysicalRay, d: Vec3, g: f64, s: f64) -> f64 {
     let x = along(ray.origin, d, s);
@@ -624,6 +708,33 @@ mod tests {
         };
         let (e0, e20) = (err(0, &mut run), err(20, &mut run));
         assert!(e20 < 1e-5 && e20 < e0 / 10.0, "unrefined {e0:.2e}, refined {e20:.2e}");
+    }
+
+    /// The seed's table reproduces the reference where it is fine enough, and
+    /// its error is the table's (interpolation), not the sampling's.
+    #[test]
+    fn the_seeds_table_is_the_in_scattering_it_was_built_from() {
+        let a = |p: Point| reference::airlight(p).unwrap();
+        let r = ray(Some(25.0));
+        let g = 0.3;
+        let fill =
+            |d: Vec3, x: f64| PhysicalRay { direction: d, surface_distance: Some(x), ..r }.radiance(g, &a).unwrap();
+        let table = FPrimeTable::build(256, r.origin, r.light, 25.0, &fill);
+        let occ = scene();
+        let exact = shadowed_radiance(&r, None, g, &lit_intervals(&r, &occ), &a).unwrap();
+        let s = samples(&r, &occ, 64, 25.0);
+        let (acc, _) = evaluate(&r, None, g, &s, &a, false).unwrap();
+        let via_table = table.shadowed(&r, &s);
+        // Same samples, same edges: the table adds only its interpolation error.
+        assert!(((via_table - acc) / acc).abs() < 2e-2, "table {via_table}, accumulator {acc}, exact {exact}");
+        let unshadowed = r.radiance(g, &a).unwrap();
+        assert!(
+            ((table.lookup(dot(unit_and_end(&r).0, sub(r.light, r.origin)) / norm(sub(r.light, r.origin)), 25.0)
+                - unshadowed)
+                / unshadowed)
+                .abs()
+                < 2e-2
+        );
     }
 
     #[test]

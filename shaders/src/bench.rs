@@ -182,7 +182,11 @@ pub const SHAFTS_KERNELS: [&str; 2] = ["phi-6", "phi-8"];
 /// `N` shadow-map samples, and `raymarch-N` on the same samples, with errors
 /// against the shadowed reference, CPU ns per ray (median of interleaved repeats)
 /// and GPU rays per second.
-fn shafts_costs(inputs: &Inputs, kernels: &[CompiledKernel], progress: &Progress) -> Result<Vec<ShaftsCost>, BenchError> {
+fn shafts_costs(
+    inputs: &Inputs,
+    kernels: &[CompiledKernel],
+    progress: &Progress,
+) -> Result<Vec<ShaftsCost>, BenchError> {
     use airlight_fit::shafts::{self, Feed};
     let entry = inputs.index.get("phi-8").map_err(BenchError::Input)?;
     let cases = crate::gate::shadowed_rays(entry, crate::gate::SHADOWED_RAYS, 0x5AF7_BE7C)
@@ -216,11 +220,15 @@ fn shafts_costs(inputs: &Inputs, kernels: &[CompiledKernel], progress: &Progress
             let r = &rays[i];
             f(&samples[i], r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
         };
-        let mut errs = Vec::new();
+        let (mut errs, mut of_u) = (Vec::new(), Vec::new());
         let mut calls = 0.0;
         for (i, c) in cases.iter().enumerate() {
+            let v = crate::from_kernel(call(i));
             if c.reference > 0.0 && c.reference.is_finite() {
-                errs.push((crate::from_kernel(call(i)) - c.reference).abs() / c.reference);
+                errs.push((v - c.reference).abs() / c.reference);
+            }
+            if c.unshadowed > 0.0 && c.unshadowed.is_finite() {
+                of_u.push((v - c.reference).abs() / c.unshadowed);
             }
             // Lit runs for the accumulator, lit samples for the march.
             let s = &samples[i];
@@ -257,8 +265,147 @@ fn shafts_costs(inputs: &Inputs, kernels: &[CompiledKernel], progress: &Progress
             calls_per_ray: calls / cases.len() as f64,
             max_rel: errs.iter().copied().fold(0.0, f64::max),
             mean_rel: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
+            max_of_unshadowed: of_u.iter().copied().fold(0.0, f64::max),
+            mean_of_unshadowed: of_u.iter().sum::<f64>() / of_u.len().max(1) as f64,
             cpu_ns_per_ray: times[times.len() / 2],
             gpu_rays_per_s,
+            build_cpu_ms: 0.0,
+            build_gpu_ms: 0.0,
+        });
+    }
+    out.extend(fprime_costs(inputs, kernels, &cases, progress)?);
+    Ok(out)
+}
+
+/// The seed's method on the same rays and samples: per ray (each has its own
+/// viewer and light, so its own frame) a [`FPRIME_RES`]² table `F'(cos γ, x)` filled
+/// by [`FPRIME_KERNEL`]'s f32 `radiance`, read at each step. Errors against the
+/// shadowed reference; CPU ns per ray of the reads and differences alone; the
+/// build per frame on the CPU (median of the repeats over a few rays) and as one
+/// GPU pass of `radiance` over the texels (timestamp queries).
+fn fprime_costs(
+    inputs: &Inputs,
+    kernels: &[CompiledKernel],
+    cases: &[crate::gate::ShadowCase],
+    progress: &Progress,
+) -> Result<Vec<ShaftsCost>, BenchError> {
+    use airlight_fit::shafts::{self, FPrimeTable, Feed, FPRIME_KERNEL, FPRIME_RES};
+    let k = kernels.iter().find(|k| k.name == FPRIME_KERNEL).ok_or_else(|| {
+        BenchError::Failed(format!("bench: no compiled kernel '{FPRIME_KERNEL}': run `airlight generate` and rebuild"))
+    })?;
+    let radiance = k.radiance;
+    let tables: Vec<FPrimeTable> = cases
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            progress("bench: shafts, the seed's F' tables", i, cases.len());
+            let r = c.ray;
+            let phys = r.physical();
+            let x_max = shafts::march_length(&phys, f64::from(r.g)).unwrap_or(1.0);
+            let fill = |d: [f64; 3], x: f64| {
+                f64::from(radiance(
+                    r.origin,
+                    d.map(|v| v as f32),
+                    x as f32,
+                    r.light,
+                    r.intensity,
+                    r.sigma_t,
+                    r.sigma_s,
+                    r.g,
+                ))
+            };
+            FPrimeTable::build(FPRIME_RES, phys.origin, phys.light, x_max, &fill)
+        })
+        .collect();
+    // The build per frame, CPU: the median over a few rays' tables.
+    let mut builds: Vec<f64> = cases
+        .iter()
+        .take(inputs.repeats.max(3))
+        .map(|c| {
+            let r = c.ray;
+            let phys = r.physical();
+            let fill = |d: [f64; 3], x: f64| {
+                f64::from(radiance(
+                    r.origin,
+                    d.map(|v| v as f32),
+                    x as f32,
+                    r.light,
+                    r.intensity,
+                    r.sigma_t,
+                    r.sigma_s,
+                    r.g,
+                ))
+            };
+            let start = bench::thread_cpu_s();
+            std::hint::black_box(FPrimeTable::build(FPRIME_RES, phys.origin, phys.light, 10.0, &fill));
+            (bench::thread_cpu_s() - start) * 1e3
+        })
+        .collect();
+    builds.sort_by(f64::total_cmp);
+    let build_cpu_ms = builds[builds.len() / 2];
+    // The build per frame, GPU: one pass of `radiance` over the texels.
+    let build_gpu_ms = match (inputs.gpu, wgsl_of(inputs, FPRIME_KERNEL)) {
+        (Some(gpu), Ok((e, _, text))) => {
+            let r = cases[0].ray;
+            let texels: Vec<crate::Ray> = (0..FPRIME_RES * FPRIME_RES)
+                .map(|t| {
+                    let c = -1.0 + 2.0 * (t % FPRIME_RES) as f32 / (FPRIME_RES - 1) as f32;
+                    let x = 10.0 * (t / FPRIME_RES) as f32 / (FPRIME_RES - 1) as f32;
+                    crate::Ray { dir: [c, (1.0 - c * c).max(0.0).sqrt(), 0.0], surface: x, ..r }
+                })
+                .collect();
+            let src = KernelSource::of(e, Target::Wgsl, &text);
+            gpu.radiance_throughput(&src, &texels, inputs.repeats)
+                .map_err(|e| BenchError::Failed(format!("{FPRIME_KERNEL}: {e}")))?
+                .map_or(0.0, |rate| texels.len() as f64 / rate * 1e3)
+        }
+        _ => 0.0,
+    };
+    let mut out = Vec::new();
+    for n in SHAFTS_SAMPLES {
+        progress(&format!("bench: shafts, the seed's table at {n} samples"), n, 64);
+        let samples: Vec<Vec<(f64, f64)>> = cases
+            .iter()
+            .map(|c| {
+                shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), Feed::Samples(n)).unwrap_or_default()
+            })
+            .collect();
+        let physical: Vec<_> = cases.iter().map(|c| c.ray.physical()).collect();
+        let (mut errs, mut of_u) = (Vec::new(), Vec::new());
+        let mut lookups = 0.0;
+        for (i, c) in cases.iter().enumerate() {
+            let v = tables[i].shadowed(&physical[i], &samples[i]);
+            if c.reference > 0.0 && c.reference.is_finite() {
+                errs.push((v - c.reference).abs() / c.reference);
+            }
+            if c.unshadowed > 0.0 && c.unshadowed.is_finite() {
+                of_u.push((v - c.reference).abs() / c.unshadowed);
+            }
+            lookups += 2.0 * samples[i].iter().filter(|x| x.1 > 0.0).count() as f64;
+        }
+        let mut times = Vec::with_capacity(inputs.repeats);
+        for _ in 0..inputs.repeats {
+            let start = bench::thread_cpu_s();
+            let mut acc = 0.0;
+            for i in 0..cases.len() {
+                acc += tables[i].shadowed(&physical[i], std::hint::black_box(&samples[i]));
+            }
+            std::hint::black_box(acc);
+            times.push((bench::thread_cpu_s() - start) * 1e9 / cases.len() as f64);
+        }
+        times.sort_by(f64::total_cmp);
+        out.push(ShaftsCost {
+            name: format!("F' {FPRIME_RES}² ({FPRIME_KERNEL})"),
+            samples: n,
+            calls_per_ray: lookups / cases.len() as f64,
+            max_rel: errs.iter().copied().fold(0.0, f64::max),
+            mean_rel: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
+            max_of_unshadowed: of_u.iter().copied().fold(0.0, f64::max),
+            mean_of_unshadowed: of_u.iter().sum::<f64>() / of_u.len().max(1) as f64,
+            cpu_ns_per_ray: times[times.len() / 2],
+            gpu_rays_per_s: 0.0,
+            build_cpu_ms,
+            build_gpu_ms,
         });
     }
     Ok(out)

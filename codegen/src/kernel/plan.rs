@@ -81,6 +81,8 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
     ctx.insert("max_distance", &scene.max_distance);
     ctx.insert("tau_max", &plan.tau_max);
     ctx.insert("surfaces", &scene.surfaces);
+    ctx.insert("spot", &scene.spot);
+    ctx.insert("shadows", &scene.shadows);
     ctx.insert("backscatter", &scene.backscatter);
     ctx.insert("budget", &scene.max_rel_error);
     ctx.insert("ops", &spec.op_count());

@@ -180,13 +180,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper_as_printed::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper_as_printed::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper",
@@ -208,13 +210,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper-refit",
@@ -236,13 +240,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper_refit::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = paper_refit::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "paper-hg",
@@ -264,13 +270,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = paper_hg::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = paper_hg::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "paper-refit-hg",
@@ -294,13 +302,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = paper_refit_hg::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = paper_refit_hg::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "segments-2",
@@ -322,13 +332,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-3",
@@ -350,13 +362,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_3::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_3::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-4",
@@ -378,13 +392,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-6",
@@ -406,13 +422,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-8",
@@ -434,13 +452,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-12",
@@ -462,13 +482,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_12::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_12::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "segments-16",
@@ -490,13 +512,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = segments_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp1",
@@ -518,13 +542,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp1::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp1::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp2",
@@ -546,13 +572,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "hg-exp3",
@@ -574,13 +602,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp3::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = hg_exp3::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-4",
@@ -602,13 +632,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-6",
@@ -630,13 +662,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-iso-8",
@@ -658,13 +692,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = phi_iso_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "phi-4",
@@ -686,13 +722,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-6",
@@ -714,13 +752,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_6::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "phi-8",
@@ -742,13 +782,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = phi_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "no-extinction",
@@ -770,13 +812,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
-            let mut acc = no_extinction::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
+                let mut acc = no_extinction::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-8",
@@ -798,13 +842,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-16",
@@ -826,13 +872,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-32",
@@ -854,13 +902,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_32::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_32::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-64",
@@ -882,13 +932,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_64::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_64::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-128",
@@ -910,13 +962,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_128::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_128::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-256",
@@ -938,13 +992,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_256::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_256::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "raymarch-1024",
@@ -966,13 +1022,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_1024::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = raymarch_1024::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-2",
@@ -994,13 +1052,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_2::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-4",
@@ -1022,13 +1082,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_4::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-8",
@@ -1050,13 +1112,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_8::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-16",
@@ -1080,13 +1144,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_16::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "equiangular-32",
@@ -1110,13 +1176,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_32::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+                let mut acc = equiangular_32::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-64",
@@ -1138,13 +1206,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_64::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_64::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-128",
@@ -1166,13 +1236,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_128::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_128::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-256",
@@ -1194,13 +1266,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_256::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_256::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "sun2005-512",
@@ -1222,13 +1296,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_512::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = sun2005_512::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
     Kernel {
         name: "scene-backscatter-aerosol",
@@ -1354,13 +1430,15 @@ pub const KERNELS: &[Kernel] = &[
             }
             acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
         }),
-        spot_shadowed: Some(|samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = scene_window_shafts::Shafts::new();
-            for &[s, v] in samples {
-                acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            }
-            acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-        }),
+        spot_shadowed: Some(
+            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+                let mut acc = scene_window_shafts::Shafts::new();
+                for &[s, v] in samples {
+                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+                }
+                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+            },
+        ),
     },
 ];
 
