@@ -162,6 +162,20 @@ fn signatures(ctx: &mut tera::Context, spec: &KernelSpec, lang: Target) {
             .collect::<Vec<_>>()
             .join(", ");
         ctx.insert(format!("{}_shafts_params", entry.function()), &typed(args.clone()));
+        // The registry's uniform signature (Rust): every argument but `surface`,
+        // those the kernel does not take `_`-prefixed.
+        let uniform = entry
+            .all_args()
+            .iter()
+            .filter(|&&a| a != Arg::Surface)
+            .map(|&a| {
+                let ty = if a.ty() == ArgType::Vec3 { "[f32; 3]" } else { "f32" };
+                let name = if args.contains(&a) { a.name().to_string() } else { format!("_{}", a.name()) };
+                format!("{name}: {ty}")
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        ctx.insert(format!("{}_shafts_uniform", entry.function()), &uniform);
         ctx.insert(format!("{}_shafts_pass", entry.function()), &names(&args));
         ctx.insert(format!("{}_shafts_call", entry.function()), &call);
     }

@@ -23,13 +23,8 @@ struct CrateKernel {
     spot_closure: String,
     /// The spot call as rustfmt lays it out (one line where it fits).
     spot_call: String,
-    /// Whether it has the shafts accumulator, and the uniform closures' parameters
-    /// and pass-through arguments (the entry's but `surface`).
+    /// Whether it has the shafts accumulator (its module's `shadowed` functions).
     shafts: bool,
-    shafts_closure: String,
-    shafts_pass: String,
-    spot_shafts_closure: String,
-    spot_shafts_pass: String,
 }
 
 /// Closure parameters of a uniform signature `all`, those the kernel does not
@@ -44,19 +39,6 @@ fn closure(entry: Entry, used: &[Arg]) -> String {
         .join(", ")
 }
 
-/// [`closure`] without `surface` (the shafts accumulator's pass-through), and the
-/// arguments it passes.
-fn pass_through(entry: Entry, used: &[Arg]) -> (String, String) {
-    let all: Vec<String> = entry
-        .all_args()
-        .iter()
-        .filter(|&&p| p != Arg::Surface)
-        .map(|p| if used.contains(p) { p.to_string() } else { format!("_{p}") })
-        .collect();
-    let pass: Vec<&str> = used.iter().filter(|&&a| a != Arg::Surface).map(|a| a.name()).collect();
-    (all.join(", "), pass.join(", "))
-}
-
 fn names(args: &[Arg]) -> Vec<&'static str> {
     args.iter().map(|a| a.name()).collect()
 }
@@ -69,14 +51,8 @@ fn crate_kernels(specs: &[KernelSpec]) -> Vec<CrateKernel> {
         .map(|s| {
             let err = |d: Domain| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
             let (params, radiance_params) = (s.params(), s.radiance_params());
-            let (shafts_closure, shafts_pass) = pass_through(Entry::Radiance, &radiance_params);
-            let (spot_shafts_closure, spot_shafts_pass) = pass_through(Entry::Spot, &s.args(Entry::Spot));
             CrateKernel {
                 shafts: s.shafts,
-                shafts_closure,
-                shafts_pass,
-                spot_shafts_closure,
-                spot_shafts_pass,
                 name: s.name.clone(),
                 ident: s.ident(),
                 thin: format!("{:e}", err(Domain::Thin)),

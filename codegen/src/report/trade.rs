@@ -249,11 +249,11 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
             ("mean of unshadowed", r.mean_of_unshadowed, m.mean_of_unshadowed),
             ("CPU ns", r.cpu_ns_per_ray, m.cpu_ns_per_ray),
         ] {
-            if a >= x {
+            if a > x {
                 lost.push(format!("{what} ({} against {})", fmt_err(a), fmt_err(x)));
             }
         }
-        if r.gpu_rays_per_s > 0.0 && m.gpu_rays_per_s > 0.0 && r.gpu_rays_per_s <= m.gpu_rays_per_s {
+        if r.gpu_rays_per_s > 0.0 && m.gpu_rays_per_s > 0.0 && r.gpu_rays_per_s < m.gpu_rays_per_s {
             lost.push(format!("GPU rays/s ({:.3e} against {:.3e})", r.gpu_rays_per_s, m.gpu_rays_per_s));
         }
         if !lost.is_empty() {

@@ -173,22 +173,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper_as_printed::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper_as_printed::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(paper_as_printed::shadowed),
+        spot_shadowed: Some(paper_as_printed::shadowed_spot),
     },
     Kernel {
         name: "paper",
@@ -203,22 +189,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(paper::shadowed),
+        spot_shadowed: Some(paper::shadowed_spot),
     },
     Kernel {
         name: "paper-refit",
@@ -233,22 +205,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             paper_refit::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = paper_refit::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = paper_refit::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(paper_refit::shadowed),
+        spot_shadowed: Some(paper_refit::shadowed_spot),
     },
     Kernel {
         name: "paper-hg",
@@ -263,22 +221,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             paper_hg::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = paper_hg::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = paper_hg::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(paper_hg::shadowed),
+        spot_shadowed: Some(paper_hg::shadowed_spot),
     },
     Kernel {
         name: "paper-refit-hg",
@@ -295,22 +239,8 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = paper_refit_hg::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = paper_refit_hg::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(paper_refit_hg::shadowed),
+        spot_shadowed: Some(paper_refit_hg::shadowed_spot),
     },
     Kernel {
         name: "segments-2",
@@ -325,22 +255,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_2::shadowed),
+        spot_shadowed: Some(segments_2::shadowed_spot),
     },
     Kernel {
         name: "segments-3",
@@ -355,22 +271,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_3::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_3::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_3::shadowed),
+        spot_shadowed: Some(segments_3::shadowed_spot),
     },
     Kernel {
         name: "segments-4",
@@ -385,22 +287,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_4::shadowed),
+        spot_shadowed: Some(segments_4::shadowed_spot),
     },
     Kernel {
         name: "segments-6",
@@ -415,22 +303,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_6::shadowed),
+        spot_shadowed: Some(segments_6::shadowed_spot),
     },
     Kernel {
         name: "segments-8",
@@ -445,22 +319,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_8::shadowed),
+        spot_shadowed: Some(segments_8::shadowed_spot),
     },
     Kernel {
         name: "segments-12",
@@ -475,22 +335,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_12::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_12::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_12::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_12::shadowed),
+        spot_shadowed: Some(segments_12::shadowed_spot),
     },
     Kernel {
         name: "segments-16",
@@ -505,22 +351,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             segments_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = segments_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = segments_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(segments_16::shadowed),
+        spot_shadowed: Some(segments_16::shadowed_spot),
     },
     Kernel {
         name: "hg-exp1",
@@ -535,22 +367,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp1::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp1::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp1::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(hg_exp1::shadowed),
+        spot_shadowed: Some(hg_exp1::shadowed_spot),
     },
     Kernel {
         name: "hg-exp2",
@@ -565,22 +383,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(hg_exp2::shadowed),
+        spot_shadowed: Some(hg_exp2::shadowed_spot),
     },
     Kernel {
         name: "hg-exp3",
@@ -595,22 +399,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             hg_exp3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = hg_exp3::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = hg_exp3::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(hg_exp3::shadowed),
+        spot_shadowed: Some(hg_exp3::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-4",
@@ -625,22 +415,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(phi_iso_4::shadowed),
+        spot_shadowed: Some(phi_iso_4::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-6",
@@ -655,22 +431,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(phi_iso_6::shadowed),
+        spot_shadowed: Some(phi_iso_6::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-8",
@@ -685,22 +447,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = phi_iso_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = phi_iso_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(phi_iso_8::shadowed),
+        spot_shadowed: Some(phi_iso_8::shadowed_spot),
     },
     Kernel {
         name: "phi-4",
@@ -715,22 +463,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(phi_4::shadowed),
+        spot_shadowed: Some(phi_4::shadowed_spot),
     },
     Kernel {
         name: "phi-6",
@@ -745,22 +479,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_6::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_6::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_6::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(phi_6::shadowed),
+        spot_shadowed: Some(phi_6::shadowed_spot),
     },
     Kernel {
         name: "phi-8",
@@ -775,22 +495,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             phi_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = phi_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = phi_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(phi_8::shadowed),
+        spot_shadowed: Some(phi_8::shadowed_spot),
     },
     Kernel {
         name: "no-extinction",
@@ -805,22 +511,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, _sigma_t, sigma_s, _g| {
-            let mut acc = no_extinction::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, _sigma_t, sigma_s, _g| {
-                let mut acc = no_extinction::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s)
-            },
-        ),
+        shadowed: Some(no_extinction::shadowed),
+        spot_shadowed: Some(no_extinction::shadowed_spot),
     },
     Kernel {
         name: "raymarch-8",
@@ -835,22 +527,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_8::shadowed),
+        spot_shadowed: Some(raymarch_8::shadowed_spot),
     },
     Kernel {
         name: "raymarch-16",
@@ -865,22 +543,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_16::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_16::shadowed),
+        spot_shadowed: Some(raymarch_16::shadowed_spot),
     },
     Kernel {
         name: "raymarch-32",
@@ -895,22 +559,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_32::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_32::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_32::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_32::shadowed),
+        spot_shadowed: Some(raymarch_32::shadowed_spot),
     },
     Kernel {
         name: "raymarch-64",
@@ -925,22 +575,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_64::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_64::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_64::shadowed),
+        spot_shadowed: Some(raymarch_64::shadowed_spot),
     },
     Kernel {
         name: "raymarch-128",
@@ -955,22 +591,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_128::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_128::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_128::shadowed),
+        spot_shadowed: Some(raymarch_128::shadowed_spot),
     },
     Kernel {
         name: "raymarch-256",
@@ -985,22 +607,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_256::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_256::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_256::shadowed),
+        spot_shadowed: Some(raymarch_256::shadowed_spot),
     },
     Kernel {
         name: "raymarch-1024",
@@ -1015,22 +623,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = raymarch_1024::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = raymarch_1024::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(raymarch_1024::shadowed),
+        spot_shadowed: Some(raymarch_1024::shadowed_spot),
     },
     Kernel {
         name: "equiangular-2",
@@ -1045,22 +639,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_2::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_2::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(equiangular_2::shadowed),
+        spot_shadowed: Some(equiangular_2::shadowed_spot),
     },
     Kernel {
         name: "equiangular-4",
@@ -1075,22 +655,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_4::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_4::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(equiangular_4::shadowed),
+        spot_shadowed: Some(equiangular_4::shadowed_spot),
     },
     Kernel {
         name: "equiangular-8",
@@ -1105,22 +671,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
             equiangular_8::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_8::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_8::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(equiangular_8::shadowed),
+        spot_shadowed: Some(equiangular_8::shadowed_spot),
     },
     Kernel {
         name: "equiangular-16",
@@ -1137,22 +689,8 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_16::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_16::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(equiangular_16::shadowed),
+        spot_shadowed: Some(equiangular_16::shadowed_spot),
     },
     Kernel {
         name: "equiangular-32",
@@ -1169,22 +707,8 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g,
             )
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, g| {
-            let mut acc = equiangular_32::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
-                let mut acc = equiangular_32::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
-            },
-        ),
+        shadowed: Some(equiangular_32::shadowed),
+        spot_shadowed: Some(equiangular_32::shadowed_spot),
     },
     Kernel {
         name: "sun2005-64",
@@ -1199,22 +723,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_64::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_64::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(sun2005_64::shadowed),
+        spot_shadowed: Some(sun2005_64::shadowed_spot),
     },
     Kernel {
         name: "sun2005-128",
@@ -1229,22 +739,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_128::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_128::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(sun2005_128::shadowed),
+        spot_shadowed: Some(sun2005_128::shadowed_spot),
     },
     Kernel {
         name: "sun2005-256",
@@ -1259,22 +755,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_256::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_256::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(sun2005_256::shadowed),
+        spot_shadowed: Some(sun2005_256::shadowed_spot),
     },
     Kernel {
         name: "sun2005-512",
@@ -1289,22 +771,8 @@ pub const KERNELS: &[Kernel] = &[
         spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = sun2005_512::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = sun2005_512::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(sun2005_512::shadowed),
+        spot_shadowed: Some(sun2005_512::shadowed_spot),
     },
     Kernel {
         name: "scene-backscatter-aerosol",
@@ -1423,22 +891,8 @@ pub const KERNELS: &[Kernel] = &[
                 origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s,
             )
         }),
-        shadowed: Some(|samples, end, origin, dir, light, intensity, sigma_t, sigma_s, _g| {
-            let mut acc = scene_window_shafts::Shafts::new();
-            for &[s, v] in samples {
-                acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
-            }
-            acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
-        }),
-        spot_shadowed: Some(
-            |samples, end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
-                let mut acc = scene_window_shafts::Shafts::new();
-                for &[s, v] in samples {
-                    acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-                }
-                acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
-            },
-        ),
+        shadowed: Some(scene_window_shafts::shadowed),
+        spot_shadowed: Some(scene_window_shafts::shadowed_spot),
     },
 ];
 

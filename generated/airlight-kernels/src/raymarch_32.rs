@@ -416,3 +416,25 @@ fn march_at(s: f32, step: f32, sigma_t: [f32; 3], origin: [f32; 3], dir: [f32; 3
     let p = hg(g, om / t, op / t);
     sigma_t.map(|st| (p * exp(-(st * dd).max(0.0).min(TAU_MAX) * (sc + t)) / t2 * dt / dd).min(HUGE))
 }
+
+/// The shafts accumulator over a whole list of `[s, v]` samples, then finished at
+/// `end` (negative: none): the registry's uniform signature (`airlight_kernels::Shadowed`;
+/// arguments the kernel does not take are ignored).
+#[allow(clippy::too_many_arguments)]
+pub fn shadowed(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
+    let mut acc = Shafts::new();
+    for &[s, v] in samples {
+        acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+    }
+    acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
+}
+
+/// [`shadowed`] over the spot entry (`airlight_kernels::SpotShadowed`).
+#[allow(clippy::too_many_arguments)]
+pub fn shadowed_spot(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) -> [f32; 3] {
+    let mut acc = Shafts::new();
+    for &[s, v] in samples {
+        acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+    }
+    acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+}

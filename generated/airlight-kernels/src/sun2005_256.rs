@@ -513,3 +513,25 @@ fn shafts_run_spot(a: f32, b: f32, w: f32, origin: [f32; 3], dir: [f32; 3], ligh
     [0, 1, 2].map(|i| if c[i] >= crate::math::HUGE { c[i] } else { w * crate::math::exp(-sigma_t[i] * a) * c[i] })
 }
 
+
+/// The shafts accumulator over a whole list of `[s, v]` samples, then finished at
+/// `end` (negative: none): the registry's uniform signature (`airlight_kernels::Shadowed`;
+/// arguments the kernel does not take are ignored).
+#[allow(clippy::too_many_arguments)]
+pub fn shadowed(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, _g: f32) -> f32 {
+    let mut acc = Shafts::new();
+    for &[s, v] in samples {
+        acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+    }
+    acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
+}
+
+/// [`shadowed`] over the spot entry (`airlight_kernels::SpotShadowed`).
+#[allow(clippy::too_many_arguments)]
+pub fn shadowed_spot(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], _g: f32) -> [f32; 3] {
+    let mut acc = Shafts::new();
+    for &[s, v] in samples {
+        acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+    }
+    acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+}
