@@ -40,6 +40,11 @@ const float airlight_equiangular_8_FRAC_PI_2 = 1.57079637e0;
 const float airlight_equiangular_8_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_equiangular_8_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_equiangular_8_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_equiangular_8_TAU_MAX = 1e4;
@@ -259,7 +264,7 @@ float airlight_equiangular_8_airlight_axis(float tau, float x0, float rho, float
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself and comp = pi - gamma, rho (negative: no surface).
-float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, float gamma, float comp, float rho, float g_in) {
+float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, float gamma, float comp, float rho, float xr, float g_in) {
     float tau = min(max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
@@ -271,7 +276,7 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, 
     }
     float span = comp;
     if (rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN) {
-        span = airlight_equiangular_8_arctan2(h * rho, 1.0 - x0 * rho);
+        span = airlight_equiangular_8_arctan2(h * rho, h * h + x0 * xr);
     }
     float half_span = 0.5 * span;
     float sum = 0.0;
@@ -365,7 +370,7 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h, float x0, 
 
 // The same for three channels' tau at once (the spot entry): the nodes, their
 // geometry and phase values are shared; each channel pays its transmittances.
-vec3 airlight_equiangular_8_airlight_geometry_rgb(vec3 tau_in, float h, float x0, float gamma, float comp, float rho, float g_in) {
+vec3 airlight_equiangular_8_airlight_geometry_rgb(vec3 tau_in, float h, float x0, float gamma, float comp, float rho, float xr, float g_in) {
     vec3 tau = min(max(tau_in, vec3(0.0)), vec3(airlight_equiangular_8_TAU_MAX));
     float g = clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g) * (1.0 - g);
@@ -377,7 +382,7 @@ vec3 airlight_equiangular_8_airlight_geometry_rgb(vec3 tau_in, float h, float x0
     }
     float span = comp;
     if (rho >= 0.0 && rho < airlight_equiangular_8_RHO_OPEN) {
-        span = airlight_equiangular_8_arctan2(h * rho, 1.0 - x0 * rho);
+        span = airlight_equiangular_8_arctan2(h * rho, h * h + x0 * xr);
     }
     float half_span = 0.5 * span;
     vec3 sum = vec3(0.0);
@@ -479,7 +484,7 @@ float airlight_equiangular_8_airlight(float tau, float gamma, float rho, float g
     // sin(gamma) from the smaller of gamma and pi - gamma: 0 on the axis behind (gamma at
     // float's pi, which lies beyond pi), exact near it.
     float h = gc > comp ? airlight_equiangular_8_sin_cos(comp).x : abs(sc.x);
-    return airlight_equiangular_8_airlight_geometry(tau, h, sc.y, gc, comp, rho, g);
+    return airlight_equiangular_8_airlight_geometry(tau, h, sc.y, gc, comp, rho, airlight_equiangular_8_foot(h, sc.y, rho), g);
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -495,13 +500,13 @@ float airlight_equiangular_8_radiance(vec3 origin, vec3 dir, float surface, vec3
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
     float gamma = airlight_equiangular_8_arctan2(geo.y, geo.z);
     float comp = airlight_equiangular_8_arctan2(geo.y, -geo.z);
-    return airlight_equiangular_8_scaled(sigma_s, intensity, geo.x, airlight_equiangular_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
+    return airlight_equiangular_8_scaled(sigma_s, intensity, geo.x, airlight_equiangular_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, airlight_equiangular_8_foot(geo.y, geo.z, rho), g));
 }
 
 // A from the unit geometry (h = sin(gamma) >= 0, x0 = cos(gamma), rho negative: none) for
 // three channels' tau, its nodes shared: the core the spot entry calls.
-vec3 airlight_equiangular_8_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return airlight_equiangular_8_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_8_arctan2(h, x0), airlight_equiangular_8_arctan2(h, -x0), rho, g);
+vec3 airlight_equiangular_8_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_equiangular_8_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_8_arctan2(h, x0), airlight_equiangular_8_arctan2(h, -x0), rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -540,12 +545,18 @@ vec3 airlight_equiangular_8_spot_core(vec3 tau, float h, float x0, float rho, fl
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_equiangular_8_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_equiangular_8_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_equiangular_8_sin_cos(wb - wa).x / max(airlight_equiangular_8_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_equiangular_8_sin_cos(wb);
+        rho1 = airlight_equiangular_8_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_equiangular_8_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_equiangular_8_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_equiangular_8_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_equiangular_8_HUGE)));
 }
 

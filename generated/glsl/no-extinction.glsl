@@ -41,6 +41,11 @@ const float airlight_no_extinction_FRAC_PI_2 = 1.57079637e0;
 const float airlight_no_extinction_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_no_extinction_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_no_extinction_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_no_extinction_TAU_MAX = 1e4;
@@ -228,7 +233,7 @@ vec2 airlight_no_extinction_sin_cos(float x) {
 const float airlight_no_extinction_P_ISO = 7.95774683e-2;
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_no_extinction_airlight_geometry(float h, float x0, float rho) {
+float airlight_no_extinction_airlight_geometry(float h, float x0, float rho, float xr) {
     bool open = !(rho >= 0.0 && rho < airlight_no_extinction_RHO_OPEN);
     if (h <= 0.0) {
         // On the line through the light: the integral of ds/(1 - x0 s)^2.
@@ -239,7 +244,7 @@ float airlight_no_extinction_airlight_geometry(float h, float x0, float rho) {
     }
     float angle = airlight_no_extinction_arctan2(h, -x0);
     if (!open) {
-        angle = airlight_no_extinction_arctan2(h * rho, 1.0 - x0 * rho);
+        angle = airlight_no_extinction_arctan2(h * rho, h * h + x0 * xr);
     }
     return min(airlight_no_extinction_P_ISO * angle / h, airlight_no_extinction_HUGE);
 }
@@ -247,7 +252,7 @@ float airlight_no_extinction_airlight_geometry(float h, float x0, float rho) {
 // The canonical A(γ, ρ) (docs/MATH.md section 2).
 float airlight_no_extinction_airlight(float gamma, float rho) {
     vec2 sc = airlight_no_extinction_sin_cos(gamma);
-    return airlight_no_extinction_airlight_geometry(abs(sc.x), sc.y, rho);
+    return airlight_no_extinction_airlight_geometry(abs(sc.x), sc.y, rho, airlight_no_extinction_foot(abs(sc.x), sc.y, rho));
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -265,12 +270,12 @@ float airlight_no_extinction_radiance(vec3 origin, vec3 dir, float surface, vec3
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    return airlight_no_extinction_scaled(sigma_s, intensity, geo.x, airlight_no_extinction_airlight_geometry(geo.y, geo.z, rho));
+    return airlight_no_extinction_scaled(sigma_s, intensity, geo.x, airlight_no_extinction_airlight_geometry(geo.y, geo.z, rho, airlight_no_extinction_foot(geo.y, geo.z, rho)));
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_no_extinction_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_no_extinction_airlight_geometry(h, x0, rho);
+float airlight_no_extinction_along(float tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_no_extinction_airlight_geometry(h, x0, rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -290,8 +295,8 @@ float airlight_no_extinction_along(float tau, float h, float x0, float rho, floa
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
-vec3 airlight_no_extinction_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return vec3(airlight_no_extinction_along(tau.x, h, x0, rho, g), airlight_no_extinction_along(tau.y, h, x0, rho, g), airlight_no_extinction_along(tau.z, h, x0, rho, g));
+vec3 airlight_no_extinction_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return vec3(airlight_no_extinction_along(tau.x, h, x0, rho, xr, g), airlight_no_extinction_along(tau.y, h, x0, rho, xr, g), airlight_no_extinction_along(tau.z, h, x0, rho, xr, g));
 }
 
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -315,12 +320,18 @@ vec3 airlight_no_extinction_spot_core(vec3 tau, float h, float x0, float rho, fl
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_no_extinction_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_no_extinction_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_no_extinction_sin_cos(wb - wa).x / max(airlight_no_extinction_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_no_extinction_sin_cos(wb);
+        rho1 = airlight_no_extinction_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_no_extinction_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_no_extinction_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_no_extinction_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_no_extinction_HUGE)));
 }
 

@@ -37,6 +37,11 @@ const float airlight_paper_refit_FRAC_PI_2 = 1.57079637e0;
 const float airlight_paper_refit_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_paper_refit_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_paper_refit_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_paper_refit_TAU_MAX = 1e4;
@@ -306,7 +311,7 @@ float airlight_paper_refit_backward_ratio(float tau, float t, float x0, float th
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, float rho, bool open) {
+float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, float rho, float xr, bool open) {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
@@ -315,7 +320,7 @@ float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, flo
     // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     float span = airlight_paper_refit_HUGE;
     if (!open) {
-        float d = rho - x0;
+        float d = -xr;
         float r = sqrt(d * d + h * h);
         span = x0 < 0.0 ? 2.0 * rho * (d + r) / ((rho + r + 1.0) * h) : (d + r) / h - u0;
     }
@@ -389,7 +394,7 @@ float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, flo
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0, float rho) {
+float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr) {
     bool open = !(rho >= 0.0 && rho < airlight_paper_refit_RHO_OPEN);
     float tau = min(tau_in, airlight_paper_refit_TAU_MAX);
     if (h_in <= 0.0 && x0 > 0.0) {
@@ -408,21 +413,21 @@ float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0,
         // first; both lengths are angles between vectors, precise when short.
 
         float len = airlight_paper_refit_arctan2(x0, h);
-        if (!open && rho < x0) {
-            len = airlight_paper_refit_arctan2(h * rho, 1.0 - x0 * rho);
+        if (!open && xr > 0.0) {
+            len = airlight_paper_refit_arctan2(h * rho, h * h + x0 * xr);
         }
         sum += airlight_paper_refit_forward(airlight_paper_refit_arctan2(h, x0), len, t, -tau * x0);
     }
     if (x0 >= 0.0) {
-        if (open || rho > x0) {
+        if (open || xr < 0.0) {
             float theta_b = airlight_paper_refit_FRAC_PI_2;
             if (!open) {
-                theta_b = airlight_paper_refit_arctan2(rho - x0, h);
+                theta_b = airlight_paper_refit_arctan2(-xr, h);
             }
             sum += airlight_paper_refit_backward_ratio(tau, t, x0, theta_b);
         }
     } else {
-        sum += airlight_paper_refit_backward_u(tau, t, h, x0, rho, open);
+        sum += airlight_paper_refit_backward_u(tau, t, h, x0, rho, xr, open);
     }
     return min(sum / h, airlight_paper_refit_HUGE);
 }
@@ -430,7 +435,7 @@ float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0,
 // The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 float airlight_paper_refit_airlight(float tau, float gamma, float rho) {
     vec2 sc = airlight_paper_refit_sin_cos(gamma);
-    return airlight_paper_refit_airlight_geometry(tau, abs(sc.x), sc.y, rho);
+    return airlight_paper_refit_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_paper_refit_foot(abs(sc.x), sc.y, rho));
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -448,13 +453,13 @@ float airlight_paper_refit_radiance(vec3 origin, vec3 dir, float surface, vec3 l
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    float a = airlight_paper_refit_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho);
+    float a = airlight_paper_refit_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_foot(geo.y, geo.z, rho));
     return airlight_paper_refit_scaled(sigma_s, intensity, geo.x, a);
 }
 
-// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_paper_refit_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_paper_refit_airlight_geometry(tau, h, x0, rho);
+// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+float airlight_paper_refit_along(float tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_paper_refit_airlight_geometry(tau, h, x0, rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -474,8 +479,8 @@ float airlight_paper_refit_along(float tau, float h, float x0, float rho, float 
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
-vec3 airlight_paper_refit_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return vec3(airlight_paper_refit_along(tau.x, h, x0, rho, g), airlight_paper_refit_along(tau.y, h, x0, rho, g), airlight_paper_refit_along(tau.z, h, x0, rho, g));
+vec3 airlight_paper_refit_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return vec3(airlight_paper_refit_along(tau.x, h, x0, rho, xr, g), airlight_paper_refit_along(tau.y, h, x0, rho, xr, g), airlight_paper_refit_along(tau.z, h, x0, rho, xr, g));
 }
 
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -499,12 +504,18 @@ vec3 airlight_paper_refit_spot_core(vec3 tau, float h, float x0, float rho, floa
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_paper_refit_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_paper_refit_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_paper_refit_sin_cos(wb - wa).x / max(airlight_paper_refit_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_paper_refit_sin_cos(wb);
+        rho1 = airlight_paper_refit_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_paper_refit_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_paper_refit_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_paper_refit_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_paper_refit_HUGE)));
 }
 

@@ -42,6 +42,11 @@ const float airlight_phi_6_FRAC_PI_2 = 1.57079637e0;
 const float airlight_phi_6_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_phi_6_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_phi_6_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_phi_6_TAU_MAX = 1e4;
@@ -303,7 +308,7 @@ float airlight_phi_6_r_of_v(float v, vec4 md) {
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0, float rho, float g_in) {
+float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr, float g_in) {
     float tau = min(max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
     float g = clamp(g_in, -0.999, 0.999);
     vec4 md = vec4(g, 1.0 - g, 1.0 + g, (1.0 - g) / (1.0 + g));
@@ -332,12 +337,10 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0, float
     if (!open) {
         // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
         // so that h^2 never underflows.
-        float ta = abs(rho - 1.0);
-        float tb = x0 >= 0.0 ? h * sqrt(2.0 * rho / (1.0 + x0)) : sqrt(2.0 * rho * one_minus);
+        float ta = abs(xr);
+        float tb = h;
         float tm = max(ta, tb);
         float tr = tm > 0.0 ? tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) : 0.0;
-        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
-        float xr = x0 >= 0.0 ? (1.0 - rho) - one_minus : x0 - rho;
         du = xr <= 0.0 ? rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
                        : 2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr));
     }
@@ -477,7 +480,7 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0, float
 // The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_phi_6_airlight(float tau, float gamma, float rho, float g) {
     vec2 sc = airlight_phi_6_sin_cos(clamp(gamma, 0.0, airlight_phi_6_PI));
-    return airlight_phi_6_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_phi_6_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_phi_6_foot(abs(sc.x), sc.y, rho), g);
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -491,12 +494,12 @@ float airlight_phi_6_radiance(vec3 origin, vec3 dir, float surface, vec3 light, 
         return 0.0;
     }
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    return airlight_phi_6_scaled(sigma_s, intensity, geo.x, airlight_phi_6_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g));
+    return airlight_phi_6_scaled(sigma_s, intensity, geo.x, airlight_phi_6_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_phi_6_foot(geo.y, geo.z, rho), g));
 }
 
-// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_phi_6_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_phi_6_airlight_geometry(tau, h, x0, rho, g);
+// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+float airlight_phi_6_along(float tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_phi_6_airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -516,8 +519,8 @@ float airlight_phi_6_along(float tau, float h, float x0, float rho, float g) {
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
-vec3 airlight_phi_6_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return vec3(airlight_phi_6_along(tau.x, h, x0, rho, g), airlight_phi_6_along(tau.y, h, x0, rho, g), airlight_phi_6_along(tau.z, h, x0, rho, g));
+vec3 airlight_phi_6_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return vec3(airlight_phi_6_along(tau.x, h, x0, rho, xr, g), airlight_phi_6_along(tau.y, h, x0, rho, xr, g), airlight_phi_6_along(tau.z, h, x0, rho, xr, g));
 }
 
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -541,12 +544,18 @@ vec3 airlight_phi_6_spot_core(vec3 tau, float h, float x0, float rho, float gam,
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_phi_6_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_phi_6_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_phi_6_sin_cos(wb - wa).x / max(airlight_phi_6_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_phi_6_sin_cos(wb);
+        rho1 = airlight_phi_6_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_phi_6_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_phi_6_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_phi_6_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_phi_6_HUGE)));
 }
 

@@ -38,6 +38,11 @@ const float airlight_raymarch_64_FRAC_PI_2 = 1.57079637e0;
 const float airlight_raymarch_64_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_raymarch_64_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_raymarch_64_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_raymarch_64_TAU_MAX = 1e4;
@@ -232,7 +237,7 @@ float airlight_raymarch_64_hg(float g, float om, float op) {
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_raymarch_64_airlight_geometry(float tau_in, float h, float x0, float rho, float g_in) {
+float airlight_raymarch_64_airlight_geometry(float tau_in, float h, float x0, float rho, float xr, float g_in) {
     float tau = min(max(tau_in, 0.0), airlight_raymarch_64_TAU_MAX);
     float g = clamp(g_in, -0.999, 0.999);
     float len = airlight_raymarch_64_FAR;
@@ -262,7 +267,7 @@ float airlight_raymarch_64_airlight_geometry(float tau_in, float h, float x0, fl
 // The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 float airlight_raymarch_64_airlight(float tau, float gamma, float rho, float g) {
     vec2 sc = airlight_raymarch_64_sin_cos(gamma);
-    return airlight_raymarch_64_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_raymarch_64_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_raymarch_64_foot(abs(sc.x), sc.y, rho), g);
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -276,12 +281,12 @@ float airlight_raymarch_64_radiance(vec3 origin, vec3 dir, float surface, vec3 l
         return 0.0;
     }
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    return airlight_raymarch_64_scaled(sigma_s, intensity, geo.x, airlight_raymarch_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g));
+    return airlight_raymarch_64_scaled(sigma_s, intensity, geo.x, airlight_raymarch_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_raymarch_64_foot(geo.y, geo.z, rho), g));
 }
 
-// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_raymarch_64_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_raymarch_64_airlight_geometry(tau, h, x0, rho, g);
+// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+float airlight_raymarch_64_along(float tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_raymarch_64_airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -301,8 +306,8 @@ float airlight_raymarch_64_along(float tau, float h, float x0, float rho, float 
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
-vec3 airlight_raymarch_64_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return vec3(airlight_raymarch_64_along(tau.x, h, x0, rho, g), airlight_raymarch_64_along(tau.y, h, x0, rho, g), airlight_raymarch_64_along(tau.z, h, x0, rho, g));
+vec3 airlight_raymarch_64_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return vec3(airlight_raymarch_64_along(tau.x, h, x0, rho, xr, g), airlight_raymarch_64_along(tau.y, h, x0, rho, xr, g), airlight_raymarch_64_along(tau.z, h, x0, rho, xr, g));
 }
 
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -326,12 +331,18 @@ vec3 airlight_raymarch_64_spot_core(vec3 tau, float h, float x0, float rho, floa
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_raymarch_64_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_raymarch_64_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_raymarch_64_sin_cos(wb - wa).x / max(airlight_raymarch_64_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_raymarch_64_sin_cos(wb);
+        rho1 = airlight_raymarch_64_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_raymarch_64_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_raymarch_64_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_raymarch_64_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_raymarch_64_HUGE)));
 }
 

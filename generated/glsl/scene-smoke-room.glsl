@@ -43,6 +43,11 @@ const float airlight_scene_smoke_room_FRAC_PI_2 = 1.57079637e0;
 const float airlight_scene_smoke_room_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_scene_smoke_room_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_scene_smoke_room_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_scene_smoke_room_TAU_MAX = 1e4;
@@ -285,7 +290,7 @@ float airlight_scene_smoke_room_r_of_v(float v, vec4 md) {
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, float x0, float rho) {
+float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr) {
     float tau = min(max(tau_in, 0.0), airlight_scene_smoke_room_TAU_MAX);
     vec4 md = vec4(0.0, 1.0, 1.0, 1.0);
     // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
@@ -313,12 +318,10 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     if (!open) {
         // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
         // so that h^2 never underflows.
-        float ta = abs(rho - 1.0);
-        float tb = x0 >= 0.0 ? h * sqrt(2.0 * rho / (1.0 + x0)) : sqrt(2.0 * rho * one_minus);
+        float ta = abs(xr);
+        float tb = h;
         float tm = max(ta, tb);
         float tr = tm > 0.0 ? tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) : 0.0;
-        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
-        float xr = x0 >= 0.0 ? (1.0 - rho) - one_minus : x0 - rho;
         du = xr <= 0.0 ? rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
                        : 2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr));
     }
@@ -432,7 +435,7 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
 // The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho) {
     vec2 sc = airlight_scene_smoke_room_sin_cos(clamp(gamma, 0.0, airlight_scene_smoke_room_PI));
-    return airlight_scene_smoke_room_airlight_geometry(tau, abs(sc.x), sc.y, rho);
+    return airlight_scene_smoke_room_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_scene_smoke_room_foot(abs(sc.x), sc.y, rho));
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -446,5 +449,5 @@ float airlight_scene_smoke_room_radiance(vec3 origin, vec3 dir, float surface, v
         return 0.0;
     }
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    return airlight_scene_smoke_room_scaled(sigma_s, intensity, geo.x, airlight_scene_smoke_room_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho));
+    return airlight_scene_smoke_room_scaled(sigma_s, intensity, geo.x, airlight_scene_smoke_room_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_scene_smoke_room_foot(geo.y, geo.z, rho)));
 }

@@ -44,6 +44,11 @@ const float airlight_sun2005_64_FRAC_PI_2 = 1.57079637e0;
 const float airlight_sun2005_64_HUGE = 3.40282347e38;
 // Beyond rho = 2^32 the rest of the ray adds less than float's resolution to A: no surface.
 const float airlight_sun2005_64_RHO_OPEN = 4294967296.0;
+// x0 - rho: how far before the light's foot on the ray the surface lies, from
+// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+float airlight_sun2005_64_foot(float h, float x0, float rho) {
+    return x0 >= 0.0 ? (1.0 - rho) - h * h / (1.0 + x0) : x0 - rho;
+}
 // Beyond tau = 1e4, A is below float's smallest subnormal for every geometry float
 // can hold: tau is taken as this, so inf * 0 never forms.
 const float airlight_sun2005_64_TAU_MAX = 1e4;
@@ -265,7 +270,7 @@ float airlight_sun2005_64_lookup_diff(float u, float a, float b) {
 }
 
 // A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself, rho (negative: no surface).
-float airlight_sun2005_64_airlight_geometry(float tau_in, float h, float x0, float gamma, float rho) {
+float airlight_sun2005_64_airlight_geometry(float tau_in, float h, float x0, float gamma, float rho, float xr) {
     float tau = min(max(tau_in, 0.0), airlight_sun2005_64_TAU_MAX);
     bool open = !(rho >= 0.0 && rho < airlight_sun2005_64_RHO_OPEN);
     if (h <= 0.0) {
@@ -280,7 +285,7 @@ float airlight_sun2005_64_airlight_geometry(float tau_in, float h, float x0, flo
     float xb = airlight_sun2005_64_FRAC_PI_2;
     if (!open) {
         // pi/4 + atan((rho - x0)/h)/2 = atan2(h, x0 - rho)/2: no cancellation as h -> 0.
-        xb = 0.5 * airlight_sun2005_64_arctan2(h, x0 - rho);
+        xb = 0.5 * airlight_sun2005_64_arctan2(h, xr);
     }
     float f = max(airlight_sun2005_64_lookup_diff(t, 0.5 * gamma, xb), 0.0);
     // e^(-tau x0) is bounded where it can overflow (x0 < 0): the product saturates instead.
@@ -291,7 +296,7 @@ float airlight_sun2005_64_airlight_geometry(float tau_in, float h, float x0, flo
 float airlight_sun2005_64_airlight(float tau, float gamma, float rho) {
     float gc = clamp(gamma, 0.0, airlight_sun2005_64_PI);
     vec2 sc = airlight_sun2005_64_sin_cos(gc);
-    return airlight_sun2005_64_airlight_geometry(tau, abs(sc.x), sc.y, gc, rho);
+    return airlight_sun2005_64_airlight_geometry(tau, abs(sc.x), sc.y, gc, rho, airlight_sun2005_64_foot(abs(sc.x), sc.y, rho));
 }
 
 // In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -306,12 +311,12 @@ float airlight_sun2005_64_radiance(vec3 origin, vec3 dir, float surface, vec3 li
     }
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
     float gamma = airlight_sun2005_64_arctan2(geo.y, geo.z);
-    return airlight_sun2005_64_scaled(sigma_s, intensity, geo.x, airlight_sun2005_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, rho));
+    return airlight_sun2005_64_scaled(sigma_s, intensity, geo.x, airlight_sun2005_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, rho, airlight_sun2005_64_foot(geo.y, geo.z, rho)));
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-float airlight_sun2005_64_along(float tau, float h, float x0, float rho, float g) {
-    return airlight_sun2005_64_airlight_geometry(tau, h, x0, airlight_sun2005_64_arctan2(h, x0), rho);
+float airlight_sun2005_64_along(float tau, float h, float x0, float rho, float xr, float g) {
+    return airlight_sun2005_64_airlight_geometry(tau, h, x0, airlight_sun2005_64_arctan2(h, x0), rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.glsl.tera) ----
@@ -331,8 +336,8 @@ float airlight_sun2005_64_along(float tau, float h, float x0, float rho, float g
 
 // along for three channels' tau: this family's core depends on tau throughout, so
 // it runs once per channel.
-vec3 airlight_sun2005_64_along_rgb(vec3 tau, float h, float x0, float rho, float g) {
-    return vec3(airlight_sun2005_64_along(tau.x, h, x0, rho, g), airlight_sun2005_64_along(tau.y, h, x0, rho, g), airlight_sun2005_64_along(tau.z, h, x0, rho, g));
+vec3 airlight_sun2005_64_along_rgb(vec3 tau, float h, float x0, float rho, float xr, float g) {
+    return vec3(airlight_sun2005_64_along(tau.x, h, x0, rho, xr, g), airlight_sun2005_64_along(tau.y, h, x0, rho, xr, g), airlight_sun2005_64_along(tau.z, h, x0, rho, xr, g));
 }
 
 // asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -356,12 +361,18 @@ vec3 airlight_sun2005_64_spot_core(vec3 tau, float h, float x0, float rho, float
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_sun2005_64_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    float xr1 = airlight_sun2005_64_foot(h, x0, rho);
     if (cut_b) {
-        rho1 = airlight_sun2005_64_sin_cos(wb - wa).x / max(airlight_sun2005_64_sin_cos(wb).x, 1e-30);
+        vec2 sb = airlight_sun2005_64_sin_cos(wb);
+        rho1 = airlight_sun2005_64_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if (cut_a && rho >= 0.0) {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_sun2005_64_foot(h1, x1, rho1);
     }
-    vec3 a = airlight_sun2005_64_along_rgb(tau * t0, h1, x1, rho1, g);
+    vec3 a = airlight_sun2005_64_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return mix(a * exp(-tau * s0) / t0, a, greaterThanEqual(a, vec3(airlight_sun2005_64_HUGE)));
 }
 

@@ -34,6 +34,11 @@ static const float airlight_equiangular_32_HUGE = 3.4028235e38;
 static const float airlight_equiangular_32_RHO_OPEN = 4294967300.0;
 static const float airlight_equiangular_32_TAU_MAX = 10000.0;
 
+float airlight_equiangular_32_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_equiangular_32_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -92,7 +97,7 @@ float3 airlight_equiangular_32_ray_geometry(float3 origin, float3 dir, float3 li
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_equiangular_32_two_sum(light, -(origin));
     const float _e6 = airlight_equiangular_32_max_abs(_e4[0]);
@@ -133,16 +138,16 @@ float3 airlight_equiangular_32_ray_geometry(float3 origin, float3 dir, float3 li
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
+    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
     const float3 _e93 = airlight_equiangular_32_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_equiangular_32_HUGE), (_e97 / n_1), (x0_6 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_equiangular_32_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
 float airlight_equiangular_32_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -273,22 +278,22 @@ float2 airlight_equiangular_32_sin_cos(float x_3)
     }
 }
 
-float airlight_equiangular_32_airlight_axis(float tau, float x0_, float rho, float g)
+float airlight_equiangular_32_airlight_axis(float tau, float x0_1, float rho_1, float g)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     float sum = 0.0;
     float u = (float)0;
 
-    if ((rho >= 0.0)) {
-        local_4 = (rho < airlight_equiangular_32_RHO_OPEN);
+    if ((rho_1 >= 0.0)) {
+        local_4 = (rho_1 < airlight_equiangular_32_RHO_OPEN);
     } else {
         local_4 = false;
     }
     bool has_end = local_4;
-    if ((x0_ > 0.0)) {
+    if ((x0_1 > 0.0)) {
         if (has_end) {
-            local_5 = (rho < 1.0);
+            local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
@@ -296,9 +301,9 @@ float airlight_equiangular_32_airlight_axis(float tau, float x0_, float rho, flo
         if (!(_e19)) {
             return airlight_equiangular_32_HUGE;
         }
-        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho) / (1.0 - rho)), airlight_equiangular_32_HUGE);
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_32_HUGE);
     }
-    float lo = (has_end ? (1.0 / (1.0 + rho)) : 0.0);
+    float lo = (has_end ? (1.0 / (1.0 + rho_1)) : 0.0);
     float half_ = (0.5 * (1.0 - lo));
     u = (lo + (half_ * 1.9972639));
     float _e57 = sum;
@@ -464,7 +469,7 @@ float airlight_equiangular_32_airlight_axis(float tau, float x0_, float rho, flo
     return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e580);
 }
 
-float airlight_equiangular_32_airlight_geometry(float tau_in, float h_1, float x0_1, float gamma, float comp, float rho_1, float g_in)
+float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x0_2, float gamma, float comp, float rho_2, float xr, float g_in)
 {
     bool local_6 = (bool)0;
     bool local_7 = (bool)0;
@@ -481,840 +486,840 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_1, float x
     float g_13 = clamp(g_in, -0.999, 0.999);
     float gm = ((1.0 - g_13) * (1.0 - g_13));
     float gp = ((1.0 + g_13) * (1.0 + g_13));
-    if (!((h_1 <= 0.0))) {
-        if ((x0_1 < 0.0)) {
-            local_7 = (h_1 < 8.673617e-19);
+    if (!((h_2 <= 0.0))) {
+        if ((x0_2 < 0.0)) {
+            local_7 = (h_2 < 8.673617e-19);
         } else {
             local_7 = false;
         }
-        bool _e36 = local_7;
-        local_6 = _e36;
+        bool _e37 = local_7;
+        local_6 = _e37;
     } else {
         local_6 = true;
     }
-    bool _e38 = local_6;
-    if (_e38) {
-        const float _e39 = airlight_equiangular_32_airlight_axis(tau_5, x0_1, rho_1, g_13);
-        return _e39;
+    bool _e39 = local_6;
+    if (_e39) {
+        const float _e40 = airlight_equiangular_32_airlight_axis(tau_5, x0_2, rho_2, g_13);
+        return _e40;
     }
     span = comp;
-    if ((rho_1 >= 0.0)) {
-        local_8 = (rho_1 < airlight_equiangular_32_RHO_OPEN);
+    if ((rho_2 >= 0.0)) {
+        local_8 = (rho_2 < airlight_equiangular_32_RHO_OPEN);
     } else {
         local_8 = false;
     }
-    bool _e48 = local_8;
-    if (_e48) {
-        const float _e53 = airlight_equiangular_32_arctan2_((h_1 * rho_1), (1.0 - (x0_1 * rho_1)));
-        span = _e53;
+    bool _e49 = local_8;
+    if (_e49) {
+        const float _e54 = airlight_equiangular_32_arctan2_((h_2 * rho_2), ((h_2 * h_2) + (x0_2 * xr)));
+        span = _e54;
     }
-    float _e54 = span;
-    float half_1 = (0.5 * _e54);
+    float _e55 = span;
+    float half_1 = (0.5 * _e55);
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9972639));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9972639));
-    float _e78 = b_3;
-    float _e79 = co;
-    const float2 _e83 = airlight_equiangular_32_sin_cos(max(min(_e78, _e79), 0.0));
-    sc = _e83;
-    float _e84 = b_3;
-    float _e85 = co;
-    if ((_e84 > _e85)) {
-        float2 _e87 = sc;
-        sc = _e87.yx;
+    float _e79 = b_3;
+    float _e80 = co;
+    const float2 _e84 = airlight_equiangular_32_sin_cos(max(min(_e79, _e80), 0.0));
+    sc = _e84;
+    float _e85 = b_3;
+    float _e86 = co;
+    if ((_e85 > _e86)) {
+        float2 _e88 = sc;
+        sc = _e88.yx;
     }
-    float _e90 = sc.x;
-    float _e93 = sc.y;
-    st = max((x0_1 + ((h_1 * _e90) / max(_e93, 1e-30))), 1.0);
-    float _e103 = sc.y;
-    float _e106 = sc.y;
-    float _e112 = sc.x;
-    float _e115 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e112) * _e115)) : (gp - (((4.0 * g_13) * _e103) * _e106)));
-    float _e121 = sum_1;
-    float _e123 = st;
-    float _e128 = d_2;
+    float _e91 = sc.x;
+    float _e94 = sc.y;
+    st = max((x0_2 + ((h_2 * _e91) / max(_e94, 1e-30))), 1.0);
+    float _e104 = sc.y;
+    float _e107 = sc.y;
+    float _e113 = sc.x;
+    float _e116 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e113) * _e116)) : (gp - (((4.0 * g_13) * _e104) * _e107)));
+    float _e122 = sum_1;
+    float _e124 = st;
     float _e129 = d_2;
-    sum_1 = (_e121 + ((0.00701861 * exp((-(tau_5) * _e123))) / (_e128 * sqrt(_e129))));
+    float _e130 = d_2;
+    sum_1 = (_e122 + ((0.00701861 * exp((-(tau_5) * _e124))) / (_e129 * sqrt(_e130))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9856114));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9856114));
-    float _e148 = b_3;
-    float _e149 = co;
-    const float2 _e153 = airlight_equiangular_32_sin_cos(max(min(_e148, _e149), 0.0));
-    sc = _e153;
-    float _e154 = b_3;
-    float _e155 = co;
-    if ((_e154 > _e155)) {
-        float2 _e157 = sc;
-        sc = _e157.yx;
+    float _e149 = b_3;
+    float _e150 = co;
+    const float2 _e154 = airlight_equiangular_32_sin_cos(max(min(_e149, _e150), 0.0));
+    sc = _e154;
+    float _e155 = b_3;
+    float _e156 = co;
+    if ((_e155 > _e156)) {
+        float2 _e158 = sc;
+        sc = _e158.yx;
     }
-    float _e160 = sc.x;
-    float _e163 = sc.y;
-    st = max((x0_1 + ((h_1 * _e160) / max(_e163, 1e-30))), 1.0);
-    float _e173 = sc.y;
-    float _e176 = sc.y;
-    float _e182 = sc.x;
-    float _e185 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e182) * _e185)) : (gp - (((4.0 * g_13) * _e173) * _e176)));
-    float _e191 = sum_1;
-    float _e193 = st;
-    float _e198 = d_2;
+    float _e161 = sc.x;
+    float _e164 = sc.y;
+    st = max((x0_2 + ((h_2 * _e161) / max(_e164, 1e-30))), 1.0);
+    float _e174 = sc.y;
+    float _e177 = sc.y;
+    float _e183 = sc.x;
+    float _e186 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e183) * _e186)) : (gp - (((4.0 * g_13) * _e174) * _e177)));
+    float _e192 = sum_1;
+    float _e194 = st;
     float _e199 = d_2;
-    sum_1 = (_e191 + ((0.016274394 * exp((-(tau_5) * _e193))) / (_e198 * sqrt(_e199))));
+    float _e200 = d_2;
+    sum_1 = (_e192 + ((0.016274394 * exp((-(tau_5) * _e194))) / (_e199 * sqrt(_e200))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9647622));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9647622));
-    float _e218 = b_3;
-    float _e219 = co;
-    const float2 _e223 = airlight_equiangular_32_sin_cos(max(min(_e218, _e219), 0.0));
-    sc = _e223;
-    float _e224 = b_3;
-    float _e225 = co;
-    if ((_e224 > _e225)) {
-        float2 _e227 = sc;
-        sc = _e227.yx;
+    float _e219 = b_3;
+    float _e220 = co;
+    const float2 _e224 = airlight_equiangular_32_sin_cos(max(min(_e219, _e220), 0.0));
+    sc = _e224;
+    float _e225 = b_3;
+    float _e226 = co;
+    if ((_e225 > _e226)) {
+        float2 _e228 = sc;
+        sc = _e228.yx;
     }
-    float _e230 = sc.x;
-    float _e233 = sc.y;
-    st = max((x0_1 + ((h_1 * _e230) / max(_e233, 1e-30))), 1.0);
-    float _e243 = sc.y;
-    float _e246 = sc.y;
-    float _e252 = sc.x;
-    float _e255 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e252) * _e255)) : (gp - (((4.0 * g_13) * _e243) * _e246)));
-    float _e261 = sum_1;
-    float _e263 = st;
-    float _e268 = d_2;
+    float _e231 = sc.x;
+    float _e234 = sc.y;
+    st = max((x0_2 + ((h_2 * _e231) / max(_e234, 1e-30))), 1.0);
+    float _e244 = sc.y;
+    float _e247 = sc.y;
+    float _e253 = sc.x;
+    float _e256 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e253) * _e256)) : (gp - (((4.0 * g_13) * _e244) * _e247)));
+    float _e262 = sum_1;
+    float _e264 = st;
     float _e269 = d_2;
-    sum_1 = (_e261 + ((0.025392065 * exp((-(tau_5) * _e263))) / (_e268 * sqrt(_e269))));
+    float _e270 = d_2;
+    sum_1 = (_e262 + ((0.025392065 * exp((-(tau_5) * _e264))) / (_e269 * sqrt(_e270))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.934906));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.934906));
-    float _e288 = b_3;
-    float _e289 = co;
-    const float2 _e293 = airlight_equiangular_32_sin_cos(max(min(_e288, _e289), 0.0));
-    sc = _e293;
-    float _e294 = b_3;
-    float _e295 = co;
-    if ((_e294 > _e295)) {
-        float2 _e297 = sc;
-        sc = _e297.yx;
+    float _e289 = b_3;
+    float _e290 = co;
+    const float2 _e294 = airlight_equiangular_32_sin_cos(max(min(_e289, _e290), 0.0));
+    sc = _e294;
+    float _e295 = b_3;
+    float _e296 = co;
+    if ((_e295 > _e296)) {
+        float2 _e298 = sc;
+        sc = _e298.yx;
     }
-    float _e300 = sc.x;
-    float _e303 = sc.y;
-    st = max((x0_1 + ((h_1 * _e300) / max(_e303, 1e-30))), 1.0);
-    float _e313 = sc.y;
-    float _e316 = sc.y;
-    float _e322 = sc.x;
-    float _e325 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e322) * _e325)) : (gp - (((4.0 * g_13) * _e313) * _e316)));
-    float _e331 = sum_1;
-    float _e333 = st;
-    float _e338 = d_2;
+    float _e301 = sc.x;
+    float _e304 = sc.y;
+    st = max((x0_2 + ((h_2 * _e301) / max(_e304, 1e-30))), 1.0);
+    float _e314 = sc.y;
+    float _e317 = sc.y;
+    float _e323 = sc.x;
+    float _e326 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e323) * _e326)) : (gp - (((4.0 * g_13) * _e314) * _e317)));
+    float _e332 = sum_1;
+    float _e334 = st;
     float _e339 = d_2;
-    sum_1 = (_e331 + ((0.034273863 * exp((-(tau_5) * _e333))) / (_e338 * sqrt(_e339))));
+    float _e340 = d_2;
+    sum_1 = (_e332 + ((0.034273863 * exp((-(tau_5) * _e334))) / (_e339 * sqrt(_e340))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.8963212));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.8963212));
-    float _e358 = b_3;
-    float _e359 = co;
-    const float2 _e363 = airlight_equiangular_32_sin_cos(max(min(_e358, _e359), 0.0));
-    sc = _e363;
-    float _e364 = b_3;
-    float _e365 = co;
-    if ((_e364 > _e365)) {
-        float2 _e367 = sc;
-        sc = _e367.yx;
+    float _e359 = b_3;
+    float _e360 = co;
+    const float2 _e364 = airlight_equiangular_32_sin_cos(max(min(_e359, _e360), 0.0));
+    sc = _e364;
+    float _e365 = b_3;
+    float _e366 = co;
+    if ((_e365 > _e366)) {
+        float2 _e368 = sc;
+        sc = _e368.yx;
     }
-    float _e370 = sc.x;
-    float _e373 = sc.y;
-    st = max((x0_1 + ((h_1 * _e370) / max(_e373, 1e-30))), 1.0);
-    float _e383 = sc.y;
-    float _e386 = sc.y;
-    float _e392 = sc.x;
-    float _e395 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e392) * _e395)) : (gp - (((4.0 * g_13) * _e383) * _e386)));
-    float _e401 = sum_1;
-    float _e403 = st;
-    float _e408 = d_2;
+    float _e371 = sc.x;
+    float _e374 = sc.y;
+    st = max((x0_2 + ((h_2 * _e371) / max(_e374, 1e-30))), 1.0);
+    float _e384 = sc.y;
+    float _e387 = sc.y;
+    float _e393 = sc.x;
+    float _e396 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e393) * _e396)) : (gp - (((4.0 * g_13) * _e384) * _e387)));
+    float _e402 = sum_1;
+    float _e404 = st;
     float _e409 = d_2;
-    sum_1 = (_e401 + ((0.0428359 * exp((-(tau_5) * _e403))) / (_e408 * sqrt(_e409))));
+    float _e410 = d_2;
+    sum_1 = (_e402 + ((0.0428359 * exp((-(tau_5) * _e404))) / (_e409 * sqrt(_e410))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.8493676));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.8493676));
-    float _e428 = b_3;
-    float _e429 = co;
-    const float2 _e433 = airlight_equiangular_32_sin_cos(max(min(_e428, _e429), 0.0));
-    sc = _e433;
-    float _e434 = b_3;
-    float _e435 = co;
-    if ((_e434 > _e435)) {
-        float2 _e437 = sc;
-        sc = _e437.yx;
+    float _e429 = b_3;
+    float _e430 = co;
+    const float2 _e434 = airlight_equiangular_32_sin_cos(max(min(_e429, _e430), 0.0));
+    sc = _e434;
+    float _e435 = b_3;
+    float _e436 = co;
+    if ((_e435 > _e436)) {
+        float2 _e438 = sc;
+        sc = _e438.yx;
     }
-    float _e440 = sc.x;
-    float _e443 = sc.y;
-    st = max((x0_1 + ((h_1 * _e440) / max(_e443, 1e-30))), 1.0);
-    float _e453 = sc.y;
-    float _e456 = sc.y;
-    float _e462 = sc.x;
-    float _e465 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e462) * _e465)) : (gp - (((4.0 * g_13) * _e453) * _e456)));
-    float _e471 = sum_1;
-    float _e473 = st;
-    float _e478 = d_2;
+    float _e441 = sc.x;
+    float _e444 = sc.y;
+    st = max((x0_2 + ((h_2 * _e441) / max(_e444, 1e-30))), 1.0);
+    float _e454 = sc.y;
+    float _e457 = sc.y;
+    float _e463 = sc.x;
+    float _e466 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e463) * _e466)) : (gp - (((4.0 * g_13) * _e454) * _e457)));
+    float _e472 = sum_1;
+    float _e474 = st;
     float _e479 = d_2;
-    sum_1 = (_e471 + ((0.05099806 * exp((-(tau_5) * _e473))) / (_e478 * sqrt(_e479))));
+    float _e480 = d_2;
+    sum_1 = (_e472 + ((0.05099806 * exp((-(tau_5) * _e474))) / (_e479 * sqrt(_e480))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7944838));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7944838));
-    float _e498 = b_3;
-    float _e499 = co;
-    const float2 _e503 = airlight_equiangular_32_sin_cos(max(min(_e498, _e499), 0.0));
-    sc = _e503;
-    float _e504 = b_3;
-    float _e505 = co;
-    if ((_e504 > _e505)) {
-        float2 _e507 = sc;
-        sc = _e507.yx;
+    float _e499 = b_3;
+    float _e500 = co;
+    const float2 _e504 = airlight_equiangular_32_sin_cos(max(min(_e499, _e500), 0.0));
+    sc = _e504;
+    float _e505 = b_3;
+    float _e506 = co;
+    if ((_e505 > _e506)) {
+        float2 _e508 = sc;
+        sc = _e508.yx;
     }
-    float _e510 = sc.x;
-    float _e513 = sc.y;
-    st = max((x0_1 + ((h_1 * _e510) / max(_e513, 1e-30))), 1.0);
-    float _e523 = sc.y;
-    float _e526 = sc.y;
-    float _e532 = sc.x;
-    float _e535 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e532) * _e535)) : (gp - (((4.0 * g_13) * _e523) * _e526)));
-    float _e541 = sum_1;
-    float _e543 = st;
-    float _e548 = d_2;
+    float _e511 = sc.x;
+    float _e514 = sc.y;
+    st = max((x0_2 + ((h_2 * _e511) / max(_e514, 1e-30))), 1.0);
+    float _e524 = sc.y;
+    float _e527 = sc.y;
+    float _e533 = sc.x;
+    float _e536 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e533) * _e536)) : (gp - (((4.0 * g_13) * _e524) * _e527)));
+    float _e542 = sum_1;
+    float _e544 = st;
     float _e549 = d_2;
-    sum_1 = (_e541 + ((0.058684092 * exp((-(tau_5) * _e543))) / (_e548 * sqrt(_e549))));
+    float _e550 = d_2;
+    sum_1 = (_e542 + ((0.058684092 * exp((-(tau_5) * _e544))) / (_e549 * sqrt(_e550))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7321821));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7321821));
-    float _e568 = b_3;
-    float _e569 = co;
-    const float2 _e573 = airlight_equiangular_32_sin_cos(max(min(_e568, _e569), 0.0));
-    sc = _e573;
-    float _e574 = b_3;
-    float _e575 = co;
-    if ((_e574 > _e575)) {
-        float2 _e577 = sc;
-        sc = _e577.yx;
+    float _e569 = b_3;
+    float _e570 = co;
+    const float2 _e574 = airlight_equiangular_32_sin_cos(max(min(_e569, _e570), 0.0));
+    sc = _e574;
+    float _e575 = b_3;
+    float _e576 = co;
+    if ((_e575 > _e576)) {
+        float2 _e578 = sc;
+        sc = _e578.yx;
     }
-    float _e580 = sc.x;
-    float _e583 = sc.y;
-    st = max((x0_1 + ((h_1 * _e580) / max(_e583, 1e-30))), 1.0);
-    float _e593 = sc.y;
-    float _e596 = sc.y;
-    float _e602 = sc.x;
-    float _e605 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e602) * _e605)) : (gp - (((4.0 * g_13) * _e593) * _e596)));
-    float _e611 = sum_1;
-    float _e613 = st;
-    float _e618 = d_2;
+    float _e581 = sc.x;
+    float _e584 = sc.y;
+    st = max((x0_2 + ((h_2 * _e581) / max(_e584, 1e-30))), 1.0);
+    float _e594 = sc.y;
+    float _e597 = sc.y;
+    float _e603 = sc.x;
+    float _e606 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e603) * _e606)) : (gp - (((4.0 * g_13) * _e594) * _e597)));
+    float _e612 = sum_1;
+    float _e614 = st;
     float _e619 = d_2;
-    sum_1 = (_e611 + ((0.06582222 * exp((-(tau_5) * _e613))) / (_e618 * sqrt(_e619))));
+    float _e620 = d_2;
+    sum_1 = (_e612 + ((0.06582222 * exp((-(tau_5) * _e614))) / (_e619 * sqrt(_e620))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.6630443));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.6630443));
-    float _e638 = b_3;
-    float _e639 = co;
-    const float2 _e643 = airlight_equiangular_32_sin_cos(max(min(_e638, _e639), 0.0));
-    sc = _e643;
-    float _e644 = b_3;
-    float _e645 = co;
-    if ((_e644 > _e645)) {
-        float2 _e647 = sc;
-        sc = _e647.yx;
+    float _e639 = b_3;
+    float _e640 = co;
+    const float2 _e644 = airlight_equiangular_32_sin_cos(max(min(_e639, _e640), 0.0));
+    sc = _e644;
+    float _e645 = b_3;
+    float _e646 = co;
+    if ((_e645 > _e646)) {
+        float2 _e648 = sc;
+        sc = _e648.yx;
     }
-    float _e650 = sc.x;
-    float _e653 = sc.y;
-    st = max((x0_1 + ((h_1 * _e650) / max(_e653, 1e-30))), 1.0);
-    float _e663 = sc.y;
-    float _e666 = sc.y;
-    float _e672 = sc.x;
-    float _e675 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e672) * _e675)) : (gp - (((4.0 * g_13) * _e663) * _e666)));
-    float _e681 = sum_1;
-    float _e683 = st;
-    float _e688 = d_2;
+    float _e651 = sc.x;
+    float _e654 = sc.y;
+    st = max((x0_2 + ((h_2 * _e651) / max(_e654, 1e-30))), 1.0);
+    float _e664 = sc.y;
+    float _e667 = sc.y;
+    float _e673 = sc.x;
+    float _e676 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e673) * _e676)) : (gp - (((4.0 * g_13) * _e664) * _e667)));
+    float _e682 = sum_1;
+    float _e684 = st;
     float _e689 = d_2;
-    sum_1 = (_e681 + ((0.07234579 * exp((-(tau_5) * _e683))) / (_e688 * sqrt(_e689))));
+    float _e690 = d_2;
+    sum_1 = (_e682 + ((0.07234579 * exp((-(tau_5) * _e684))) / (_e689 * sqrt(_e690))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5877157));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5877157));
-    float _e708 = b_3;
-    float _e709 = co;
-    const float2 _e713 = airlight_equiangular_32_sin_cos(max(min(_e708, _e709), 0.0));
-    sc = _e713;
-    float _e714 = b_3;
-    float _e715 = co;
-    if ((_e714 > _e715)) {
-        float2 _e717 = sc;
-        sc = _e717.yx;
+    float _e709 = b_3;
+    float _e710 = co;
+    const float2 _e714 = airlight_equiangular_32_sin_cos(max(min(_e709, _e710), 0.0));
+    sc = _e714;
+    float _e715 = b_3;
+    float _e716 = co;
+    if ((_e715 > _e716)) {
+        float2 _e718 = sc;
+        sc = _e718.yx;
     }
-    float _e720 = sc.x;
-    float _e723 = sc.y;
-    st = max((x0_1 + ((h_1 * _e720) / max(_e723, 1e-30))), 1.0);
-    float _e733 = sc.y;
-    float _e736 = sc.y;
-    float _e742 = sc.x;
-    float _e745 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e742) * _e745)) : (gp - (((4.0 * g_13) * _e733) * _e736)));
-    float _e751 = sum_1;
-    float _e753 = st;
-    float _e758 = d_2;
+    float _e721 = sc.x;
+    float _e724 = sc.y;
+    st = max((x0_2 + ((h_2 * _e721) / max(_e724, 1e-30))), 1.0);
+    float _e734 = sc.y;
+    float _e737 = sc.y;
+    float _e743 = sc.x;
+    float _e746 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e743) * _e746)) : (gp - (((4.0 * g_13) * _e734) * _e737)));
+    float _e752 = sum_1;
+    float _e754 = st;
     float _e759 = d_2;
-    sum_1 = (_e751 + ((0.078193896 * exp((-(tau_5) * _e753))) / (_e758 * sqrt(_e759))));
+    float _e760 = d_2;
+    sum_1 = (_e752 + ((0.078193896 * exp((-(tau_5) * _e754))) / (_e759 * sqrt(_e760))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5068998));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5068998));
-    float _e778 = b_3;
-    float _e779 = co;
-    const float2 _e783 = airlight_equiangular_32_sin_cos(max(min(_e778, _e779), 0.0));
-    sc = _e783;
-    float _e784 = b_3;
-    float _e785 = co;
-    if ((_e784 > _e785)) {
-        float2 _e787 = sc;
-        sc = _e787.yx;
+    float _e779 = b_3;
+    float _e780 = co;
+    const float2 _e784 = airlight_equiangular_32_sin_cos(max(min(_e779, _e780), 0.0));
+    sc = _e784;
+    float _e785 = b_3;
+    float _e786 = co;
+    if ((_e785 > _e786)) {
+        float2 _e788 = sc;
+        sc = _e788.yx;
     }
-    float _e790 = sc.x;
-    float _e793 = sc.y;
-    st = max((x0_1 + ((h_1 * _e790) / max(_e793, 1e-30))), 1.0);
-    float _e803 = sc.y;
-    float _e806 = sc.y;
-    float _e812 = sc.x;
-    float _e815 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e812) * _e815)) : (gp - (((4.0 * g_13) * _e803) * _e806)));
-    float _e821 = sum_1;
-    float _e823 = st;
-    float _e828 = d_2;
+    float _e791 = sc.x;
+    float _e794 = sc.y;
+    st = max((x0_2 + ((h_2 * _e791) / max(_e794, 1e-30))), 1.0);
+    float _e804 = sc.y;
+    float _e807 = sc.y;
+    float _e813 = sc.x;
+    float _e816 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e813) * _e816)) : (gp - (((4.0 * g_13) * _e804) * _e807)));
+    float _e822 = sum_1;
+    float _e824 = st;
     float _e829 = d_2;
-    sum_1 = (_e821 + ((0.08331192 * exp((-(tau_5) * _e823))) / (_e828 * sqrt(_e829))));
+    float _e830 = d_2;
+    sum_1 = (_e822 + ((0.08331192 * exp((-(tau_5) * _e824))) / (_e829 * sqrt(_e830))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.4213513));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.4213513));
-    float _e848 = b_3;
-    float _e849 = co;
-    const float2 _e853 = airlight_equiangular_32_sin_cos(max(min(_e848, _e849), 0.0));
-    sc = _e853;
-    float _e854 = b_3;
-    float _e855 = co;
-    if ((_e854 > _e855)) {
-        float2 _e857 = sc;
-        sc = _e857.yx;
+    float _e849 = b_3;
+    float _e850 = co;
+    const float2 _e854 = airlight_equiangular_32_sin_cos(max(min(_e849, _e850), 0.0));
+    sc = _e854;
+    float _e855 = b_3;
+    float _e856 = co;
+    if ((_e855 > _e856)) {
+        float2 _e858 = sc;
+        sc = _e858.yx;
     }
-    float _e860 = sc.x;
-    float _e863 = sc.y;
-    st = max((x0_1 + ((h_1 * _e860) / max(_e863, 1e-30))), 1.0);
-    float _e873 = sc.y;
-    float _e876 = sc.y;
-    float _e882 = sc.x;
-    float _e885 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e882) * _e885)) : (gp - (((4.0 * g_13) * _e873) * _e876)));
-    float _e891 = sum_1;
-    float _e893 = st;
-    float _e898 = d_2;
+    float _e861 = sc.x;
+    float _e864 = sc.y;
+    st = max((x0_2 + ((h_2 * _e861) / max(_e864, 1e-30))), 1.0);
+    float _e874 = sc.y;
+    float _e877 = sc.y;
+    float _e883 = sc.x;
+    float _e886 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e883) * _e886)) : (gp - (((4.0 * g_13) * _e874) * _e877)));
+    float _e892 = sum_1;
+    float _e894 = st;
     float _e899 = d_2;
-    sum_1 = (_e891 + ((0.087652095 * exp((-(tau_5) * _e893))) / (_e898 * sqrt(_e899))));
+    float _e900 = d_2;
+    sum_1 = (_e892 + ((0.087652095 * exp((-(tau_5) * _e894))) / (_e899 * sqrt(_e900))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.3318686));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.3318686));
-    float _e918 = b_3;
-    float _e919 = co;
-    const float2 _e923 = airlight_equiangular_32_sin_cos(max(min(_e918, _e919), 0.0));
-    sc = _e923;
-    float _e924 = b_3;
-    float _e925 = co;
-    if ((_e924 > _e925)) {
-        float2 _e927 = sc;
-        sc = _e927.yx;
+    float _e919 = b_3;
+    float _e920 = co;
+    const float2 _e924 = airlight_equiangular_32_sin_cos(max(min(_e919, _e920), 0.0));
+    sc = _e924;
+    float _e925 = b_3;
+    float _e926 = co;
+    if ((_e925 > _e926)) {
+        float2 _e928 = sc;
+        sc = _e928.yx;
     }
-    float _e930 = sc.x;
-    float _e933 = sc.y;
-    st = max((x0_1 + ((h_1 * _e930) / max(_e933, 1e-30))), 1.0);
-    float _e943 = sc.y;
-    float _e946 = sc.y;
-    float _e952 = sc.x;
-    float _e955 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e952) * _e955)) : (gp - (((4.0 * g_13) * _e943) * _e946)));
-    float _e961 = sum_1;
-    float _e963 = st;
-    float _e968 = d_2;
+    float _e931 = sc.x;
+    float _e934 = sc.y;
+    st = max((x0_2 + ((h_2 * _e931) / max(_e934, 1e-30))), 1.0);
+    float _e944 = sc.y;
+    float _e947 = sc.y;
+    float _e953 = sc.x;
+    float _e956 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e953) * _e956)) : (gp - (((4.0 * g_13) * _e944) * _e947)));
+    float _e962 = sum_1;
+    float _e964 = st;
     float _e969 = d_2;
-    sum_1 = (_e961 + ((0.09117388 * exp((-(tau_5) * _e963))) / (_e968 * sqrt(_e969))));
+    float _e970 = d_2;
+    sum_1 = (_e962 + ((0.09117388 * exp((-(tau_5) * _e964))) / (_e969 * sqrt(_e970))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.2392874));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.2392874));
-    float _e988 = b_3;
-    float _e989 = co;
-    const float2 _e993 = airlight_equiangular_32_sin_cos(max(min(_e988, _e989), 0.0));
-    sc = _e993;
-    float _e994 = b_3;
-    float _e995 = co;
-    if ((_e994 > _e995)) {
-        float2 _e997 = sc;
-        sc = _e997.yx;
+    float _e989 = b_3;
+    float _e990 = co;
+    const float2 _e994 = airlight_equiangular_32_sin_cos(max(min(_e989, _e990), 0.0));
+    sc = _e994;
+    float _e995 = b_3;
+    float _e996 = co;
+    if ((_e995 > _e996)) {
+        float2 _e998 = sc;
+        sc = _e998.yx;
     }
-    float _e1000 = sc.x;
-    float _e1003 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1000) / max(_e1003, 1e-30))), 1.0);
-    float _e1013 = sc.y;
-    float _e1016 = sc.y;
-    float _e1022 = sc.x;
-    float _e1025 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1022) * _e1025)) : (gp - (((4.0 * g_13) * _e1013) * _e1016)));
-    float _e1031 = sum_1;
-    float _e1033 = st;
-    float _e1038 = d_2;
+    float _e1001 = sc.x;
+    float _e1004 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1001) / max(_e1004, 1e-30))), 1.0);
+    float _e1014 = sc.y;
+    float _e1017 = sc.y;
+    float _e1023 = sc.x;
+    float _e1026 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1023) * _e1026)) : (gp - (((4.0 * g_13) * _e1014) * _e1017)));
+    float _e1032 = sum_1;
+    float _e1034 = st;
     float _e1039 = d_2;
-    sum_1 = (_e1031 + ((0.0938444 * exp((-(tau_5) * _e1033))) / (_e1038 * sqrt(_e1039))));
+    float _e1040 = d_2;
+    sum_1 = (_e1032 + ((0.0938444 * exp((-(tau_5) * _e1034))) / (_e1039 * sqrt(_e1040))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.144472));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.144472));
-    float _e1058 = b_3;
-    float _e1059 = co;
-    const float2 _e1063 = airlight_equiangular_32_sin_cos(max(min(_e1058, _e1059), 0.0));
-    sc = _e1063;
-    float _e1064 = b_3;
-    float _e1065 = co;
-    if ((_e1064 > _e1065)) {
-        float2 _e1067 = sc;
-        sc = _e1067.yx;
+    float _e1059 = b_3;
+    float _e1060 = co;
+    const float2 _e1064 = airlight_equiangular_32_sin_cos(max(min(_e1059, _e1060), 0.0));
+    sc = _e1064;
+    float _e1065 = b_3;
+    float _e1066 = co;
+    if ((_e1065 > _e1066)) {
+        float2 _e1068 = sc;
+        sc = _e1068.yx;
     }
-    float _e1070 = sc.x;
-    float _e1073 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1070) / max(_e1073, 1e-30))), 1.0);
-    float _e1083 = sc.y;
-    float _e1086 = sc.y;
-    float _e1092 = sc.x;
-    float _e1095 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1092) * _e1095)) : (gp - (((4.0 * g_13) * _e1083) * _e1086)));
-    float _e1101 = sum_1;
-    float _e1103 = st;
-    float _e1108 = d_2;
+    float _e1071 = sc.x;
+    float _e1074 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1071) / max(_e1074, 1e-30))), 1.0);
+    float _e1084 = sc.y;
+    float _e1087 = sc.y;
+    float _e1093 = sc.x;
+    float _e1096 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1093) * _e1096)) : (gp - (((4.0 * g_13) * _e1084) * _e1087)));
+    float _e1102 = sum_1;
+    float _e1104 = st;
     float _e1109 = d_2;
-    sum_1 = (_e1101 + ((0.09563872 * exp((-(tau_5) * _e1103))) / (_e1108 * sqrt(_e1109))));
+    float _e1110 = d_2;
+    sum_1 = (_e1102 + ((0.09563872 * exp((-(tau_5) * _e1104))) / (_e1109 * sqrt(_e1110))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.0483077));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.0483077));
-    float _e1128 = b_3;
-    float _e1129 = co;
-    const float2 _e1133 = airlight_equiangular_32_sin_cos(max(min(_e1128, _e1129), 0.0));
-    sc = _e1133;
-    float _e1134 = b_3;
-    float _e1135 = co;
-    if ((_e1134 > _e1135)) {
-        float2 _e1137 = sc;
-        sc = _e1137.yx;
+    float _e1129 = b_3;
+    float _e1130 = co;
+    const float2 _e1134 = airlight_equiangular_32_sin_cos(max(min(_e1129, _e1130), 0.0));
+    sc = _e1134;
+    float _e1135 = b_3;
+    float _e1136 = co;
+    if ((_e1135 > _e1136)) {
+        float2 _e1138 = sc;
+        sc = _e1138.yx;
     }
-    float _e1140 = sc.x;
-    float _e1143 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1140) / max(_e1143, 1e-30))), 1.0);
-    float _e1153 = sc.y;
-    float _e1156 = sc.y;
-    float _e1162 = sc.x;
-    float _e1165 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1162) * _e1165)) : (gp - (((4.0 * g_13) * _e1153) * _e1156)));
-    float _e1171 = sum_1;
-    float _e1173 = st;
-    float _e1178 = d_2;
+    float _e1141 = sc.x;
+    float _e1144 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1141) / max(_e1144, 1e-30))), 1.0);
+    float _e1154 = sc.y;
+    float _e1157 = sc.y;
+    float _e1163 = sc.x;
+    float _e1166 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1163) * _e1166)) : (gp - (((4.0 * g_13) * _e1154) * _e1157)));
+    float _e1172 = sum_1;
+    float _e1174 = st;
     float _e1179 = d_2;
-    sum_1 = (_e1171 + ((0.096540086 * exp((-(tau_5) * _e1173))) / (_e1178 * sqrt(_e1179))));
+    float _e1180 = d_2;
+    sum_1 = (_e1172 + ((0.096540086 * exp((-(tau_5) * _e1174))) / (_e1179 * sqrt(_e1180))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.95169234));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.95169234));
-    float _e1198 = b_3;
-    float _e1199 = co;
-    const float2 _e1203 = airlight_equiangular_32_sin_cos(max(min(_e1198, _e1199), 0.0));
-    sc = _e1203;
-    float _e1204 = b_3;
-    float _e1205 = co;
-    if ((_e1204 > _e1205)) {
-        float2 _e1207 = sc;
-        sc = _e1207.yx;
+    float _e1199 = b_3;
+    float _e1200 = co;
+    const float2 _e1204 = airlight_equiangular_32_sin_cos(max(min(_e1199, _e1200), 0.0));
+    sc = _e1204;
+    float _e1205 = b_3;
+    float _e1206 = co;
+    if ((_e1205 > _e1206)) {
+        float2 _e1208 = sc;
+        sc = _e1208.yx;
     }
-    float _e1210 = sc.x;
-    float _e1213 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1210) / max(_e1213, 1e-30))), 1.0);
-    float _e1223 = sc.y;
-    float _e1226 = sc.y;
-    float _e1232 = sc.x;
-    float _e1235 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1232) * _e1235)) : (gp - (((4.0 * g_13) * _e1223) * _e1226)));
-    float _e1241 = sum_1;
-    float _e1243 = st;
-    float _e1248 = d_2;
+    float _e1211 = sc.x;
+    float _e1214 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1211) / max(_e1214, 1e-30))), 1.0);
+    float _e1224 = sc.y;
+    float _e1227 = sc.y;
+    float _e1233 = sc.x;
+    float _e1236 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1233) * _e1236)) : (gp - (((4.0 * g_13) * _e1224) * _e1227)));
+    float _e1242 = sum_1;
+    float _e1244 = st;
     float _e1249 = d_2;
-    sum_1 = (_e1241 + ((0.096540086 * exp((-(tau_5) * _e1243))) / (_e1248 * sqrt(_e1249))));
+    float _e1250 = d_2;
+    sum_1 = (_e1242 + ((0.096540086 * exp((-(tau_5) * _e1244))) / (_e1249 * sqrt(_e1250))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.85552806));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.85552806));
-    float _e1268 = b_3;
-    float _e1269 = co;
-    const float2 _e1273 = airlight_equiangular_32_sin_cos(max(min(_e1268, _e1269), 0.0));
-    sc = _e1273;
-    float _e1274 = b_3;
-    float _e1275 = co;
-    if ((_e1274 > _e1275)) {
-        float2 _e1277 = sc;
-        sc = _e1277.yx;
+    float _e1269 = b_3;
+    float _e1270 = co;
+    const float2 _e1274 = airlight_equiangular_32_sin_cos(max(min(_e1269, _e1270), 0.0));
+    sc = _e1274;
+    float _e1275 = b_3;
+    float _e1276 = co;
+    if ((_e1275 > _e1276)) {
+        float2 _e1278 = sc;
+        sc = _e1278.yx;
     }
-    float _e1280 = sc.x;
-    float _e1283 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1280) / max(_e1283, 1e-30))), 1.0);
-    float _e1293 = sc.y;
-    float _e1296 = sc.y;
-    float _e1302 = sc.x;
-    float _e1305 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1302) * _e1305)) : (gp - (((4.0 * g_13) * _e1293) * _e1296)));
-    float _e1311 = sum_1;
-    float _e1313 = st;
-    float _e1318 = d_2;
+    float _e1281 = sc.x;
+    float _e1284 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1281) / max(_e1284, 1e-30))), 1.0);
+    float _e1294 = sc.y;
+    float _e1297 = sc.y;
+    float _e1303 = sc.x;
+    float _e1306 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1303) * _e1306)) : (gp - (((4.0 * g_13) * _e1294) * _e1297)));
+    float _e1312 = sum_1;
+    float _e1314 = st;
     float _e1319 = d_2;
-    sum_1 = (_e1311 + ((0.09563872 * exp((-(tau_5) * _e1313))) / (_e1318 * sqrt(_e1319))));
+    float _e1320 = d_2;
+    sum_1 = (_e1312 + ((0.09563872 * exp((-(tau_5) * _e1314))) / (_e1319 * sqrt(_e1320))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.7607126));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.7607126));
-    float _e1338 = b_3;
-    float _e1339 = co;
-    const float2 _e1343 = airlight_equiangular_32_sin_cos(max(min(_e1338, _e1339), 0.0));
-    sc = _e1343;
-    float _e1344 = b_3;
-    float _e1345 = co;
-    if ((_e1344 > _e1345)) {
-        float2 _e1347 = sc;
-        sc = _e1347.yx;
+    float _e1339 = b_3;
+    float _e1340 = co;
+    const float2 _e1344 = airlight_equiangular_32_sin_cos(max(min(_e1339, _e1340), 0.0));
+    sc = _e1344;
+    float _e1345 = b_3;
+    float _e1346 = co;
+    if ((_e1345 > _e1346)) {
+        float2 _e1348 = sc;
+        sc = _e1348.yx;
     }
-    float _e1350 = sc.x;
-    float _e1353 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1350) / max(_e1353, 1e-30))), 1.0);
-    float _e1363 = sc.y;
-    float _e1366 = sc.y;
-    float _e1372 = sc.x;
-    float _e1375 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1372) * _e1375)) : (gp - (((4.0 * g_13) * _e1363) * _e1366)));
-    float _e1381 = sum_1;
-    float _e1383 = st;
-    float _e1388 = d_2;
+    float _e1351 = sc.x;
+    float _e1354 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1351) / max(_e1354, 1e-30))), 1.0);
+    float _e1364 = sc.y;
+    float _e1367 = sc.y;
+    float _e1373 = sc.x;
+    float _e1376 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1373) * _e1376)) : (gp - (((4.0 * g_13) * _e1364) * _e1367)));
+    float _e1382 = sum_1;
+    float _e1384 = st;
     float _e1389 = d_2;
-    sum_1 = (_e1381 + ((0.0938444 * exp((-(tau_5) * _e1383))) / (_e1388 * sqrt(_e1389))));
+    float _e1390 = d_2;
+    sum_1 = (_e1382 + ((0.0938444 * exp((-(tau_5) * _e1384))) / (_e1389 * sqrt(_e1390))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.6681314));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.6681314));
-    float _e1408 = b_3;
-    float _e1409 = co;
-    const float2 _e1413 = airlight_equiangular_32_sin_cos(max(min(_e1408, _e1409), 0.0));
-    sc = _e1413;
-    float _e1414 = b_3;
-    float _e1415 = co;
-    if ((_e1414 > _e1415)) {
-        float2 _e1417 = sc;
-        sc = _e1417.yx;
+    float _e1409 = b_3;
+    float _e1410 = co;
+    const float2 _e1414 = airlight_equiangular_32_sin_cos(max(min(_e1409, _e1410), 0.0));
+    sc = _e1414;
+    float _e1415 = b_3;
+    float _e1416 = co;
+    if ((_e1415 > _e1416)) {
+        float2 _e1418 = sc;
+        sc = _e1418.yx;
     }
-    float _e1420 = sc.x;
-    float _e1423 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1420) / max(_e1423, 1e-30))), 1.0);
-    float _e1433 = sc.y;
-    float _e1436 = sc.y;
-    float _e1442 = sc.x;
-    float _e1445 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1442) * _e1445)) : (gp - (((4.0 * g_13) * _e1433) * _e1436)));
-    float _e1451 = sum_1;
-    float _e1453 = st;
-    float _e1458 = d_2;
+    float _e1421 = sc.x;
+    float _e1424 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1421) / max(_e1424, 1e-30))), 1.0);
+    float _e1434 = sc.y;
+    float _e1437 = sc.y;
+    float _e1443 = sc.x;
+    float _e1446 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1443) * _e1446)) : (gp - (((4.0 * g_13) * _e1434) * _e1437)));
+    float _e1452 = sum_1;
+    float _e1454 = st;
     float _e1459 = d_2;
-    sum_1 = (_e1451 + ((0.09117388 * exp((-(tau_5) * _e1453))) / (_e1458 * sqrt(_e1459))));
+    float _e1460 = d_2;
+    sum_1 = (_e1452 + ((0.09117388 * exp((-(tau_5) * _e1454))) / (_e1459 * sqrt(_e1460))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.5786487));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.5786487));
-    float _e1478 = b_3;
-    float _e1479 = co;
-    const float2 _e1483 = airlight_equiangular_32_sin_cos(max(min(_e1478, _e1479), 0.0));
-    sc = _e1483;
-    float _e1484 = b_3;
-    float _e1485 = co;
-    if ((_e1484 > _e1485)) {
-        float2 _e1487 = sc;
-        sc = _e1487.yx;
+    float _e1479 = b_3;
+    float _e1480 = co;
+    const float2 _e1484 = airlight_equiangular_32_sin_cos(max(min(_e1479, _e1480), 0.0));
+    sc = _e1484;
+    float _e1485 = b_3;
+    float _e1486 = co;
+    if ((_e1485 > _e1486)) {
+        float2 _e1488 = sc;
+        sc = _e1488.yx;
     }
-    float _e1490 = sc.x;
-    float _e1493 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1490) / max(_e1493, 1e-30))), 1.0);
-    float _e1503 = sc.y;
-    float _e1506 = sc.y;
-    float _e1512 = sc.x;
-    float _e1515 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1512) * _e1515)) : (gp - (((4.0 * g_13) * _e1503) * _e1506)));
-    float _e1521 = sum_1;
-    float _e1523 = st;
-    float _e1528 = d_2;
+    float _e1491 = sc.x;
+    float _e1494 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1491) / max(_e1494, 1e-30))), 1.0);
+    float _e1504 = sc.y;
+    float _e1507 = sc.y;
+    float _e1513 = sc.x;
+    float _e1516 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1513) * _e1516)) : (gp - (((4.0 * g_13) * _e1504) * _e1507)));
+    float _e1522 = sum_1;
+    float _e1524 = st;
     float _e1529 = d_2;
-    sum_1 = (_e1521 + ((0.087652095 * exp((-(tau_5) * _e1523))) / (_e1528 * sqrt(_e1529))));
+    float _e1530 = d_2;
+    sum_1 = (_e1522 + ((0.087652095 * exp((-(tau_5) * _e1524))) / (_e1529 * sqrt(_e1530))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.4931001));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.4931001));
-    float _e1548 = b_3;
-    float _e1549 = co;
-    const float2 _e1553 = airlight_equiangular_32_sin_cos(max(min(_e1548, _e1549), 0.0));
-    sc = _e1553;
-    float _e1554 = b_3;
-    float _e1555 = co;
-    if ((_e1554 > _e1555)) {
-        float2 _e1557 = sc;
-        sc = _e1557.yx;
+    float _e1549 = b_3;
+    float _e1550 = co;
+    const float2 _e1554 = airlight_equiangular_32_sin_cos(max(min(_e1549, _e1550), 0.0));
+    sc = _e1554;
+    float _e1555 = b_3;
+    float _e1556 = co;
+    if ((_e1555 > _e1556)) {
+        float2 _e1558 = sc;
+        sc = _e1558.yx;
     }
-    float _e1560 = sc.x;
-    float _e1563 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1560) / max(_e1563, 1e-30))), 1.0);
-    float _e1573 = sc.y;
-    float _e1576 = sc.y;
-    float _e1582 = sc.x;
-    float _e1585 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1582) * _e1585)) : (gp - (((4.0 * g_13) * _e1573) * _e1576)));
-    float _e1591 = sum_1;
-    float _e1593 = st;
-    float _e1598 = d_2;
+    float _e1561 = sc.x;
+    float _e1564 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1561) / max(_e1564, 1e-30))), 1.0);
+    float _e1574 = sc.y;
+    float _e1577 = sc.y;
+    float _e1583 = sc.x;
+    float _e1586 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1583) * _e1586)) : (gp - (((4.0 * g_13) * _e1574) * _e1577)));
+    float _e1592 = sum_1;
+    float _e1594 = st;
     float _e1599 = d_2;
-    sum_1 = (_e1591 + ((0.08331192 * exp((-(tau_5) * _e1593))) / (_e1598 * sqrt(_e1599))));
+    float _e1600 = d_2;
+    sum_1 = (_e1592 + ((0.08331192 * exp((-(tau_5) * _e1594))) / (_e1599 * sqrt(_e1600))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.41228426));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.41228426));
-    float _e1618 = b_3;
-    float _e1619 = co;
-    const float2 _e1623 = airlight_equiangular_32_sin_cos(max(min(_e1618, _e1619), 0.0));
-    sc = _e1623;
-    float _e1624 = b_3;
-    float _e1625 = co;
-    if ((_e1624 > _e1625)) {
-        float2 _e1627 = sc;
-        sc = _e1627.yx;
+    float _e1619 = b_3;
+    float _e1620 = co;
+    const float2 _e1624 = airlight_equiangular_32_sin_cos(max(min(_e1619, _e1620), 0.0));
+    sc = _e1624;
+    float _e1625 = b_3;
+    float _e1626 = co;
+    if ((_e1625 > _e1626)) {
+        float2 _e1628 = sc;
+        sc = _e1628.yx;
     }
-    float _e1630 = sc.x;
-    float _e1633 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1630) / max(_e1633, 1e-30))), 1.0);
-    float _e1643 = sc.y;
-    float _e1646 = sc.y;
-    float _e1652 = sc.x;
-    float _e1655 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1652) * _e1655)) : (gp - (((4.0 * g_13) * _e1643) * _e1646)));
-    float _e1661 = sum_1;
-    float _e1663 = st;
-    float _e1668 = d_2;
+    float _e1631 = sc.x;
+    float _e1634 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1631) / max(_e1634, 1e-30))), 1.0);
+    float _e1644 = sc.y;
+    float _e1647 = sc.y;
+    float _e1653 = sc.x;
+    float _e1656 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1653) * _e1656)) : (gp - (((4.0 * g_13) * _e1644) * _e1647)));
+    float _e1662 = sum_1;
+    float _e1664 = st;
     float _e1669 = d_2;
-    sum_1 = (_e1661 + ((0.078193896 * exp((-(tau_5) * _e1663))) / (_e1668 * sqrt(_e1669))));
+    float _e1670 = d_2;
+    sum_1 = (_e1662 + ((0.078193896 * exp((-(tau_5) * _e1664))) / (_e1669 * sqrt(_e1670))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.33695573));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.33695573));
-    float _e1688 = b_3;
-    float _e1689 = co;
-    const float2 _e1693 = airlight_equiangular_32_sin_cos(max(min(_e1688, _e1689), 0.0));
-    sc = _e1693;
-    float _e1694 = b_3;
-    float _e1695 = co;
-    if ((_e1694 > _e1695)) {
-        float2 _e1697 = sc;
-        sc = _e1697.yx;
+    float _e1689 = b_3;
+    float _e1690 = co;
+    const float2 _e1694 = airlight_equiangular_32_sin_cos(max(min(_e1689, _e1690), 0.0));
+    sc = _e1694;
+    float _e1695 = b_3;
+    float _e1696 = co;
+    if ((_e1695 > _e1696)) {
+        float2 _e1698 = sc;
+        sc = _e1698.yx;
     }
-    float _e1700 = sc.x;
-    float _e1703 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1700) / max(_e1703, 1e-30))), 1.0);
-    float _e1713 = sc.y;
-    float _e1716 = sc.y;
-    float _e1722 = sc.x;
-    float _e1725 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1722) * _e1725)) : (gp - (((4.0 * g_13) * _e1713) * _e1716)));
-    float _e1731 = sum_1;
-    float _e1733 = st;
-    float _e1738 = d_2;
+    float _e1701 = sc.x;
+    float _e1704 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1701) / max(_e1704, 1e-30))), 1.0);
+    float _e1714 = sc.y;
+    float _e1717 = sc.y;
+    float _e1723 = sc.x;
+    float _e1726 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1723) * _e1726)) : (gp - (((4.0 * g_13) * _e1714) * _e1717)));
+    float _e1732 = sum_1;
+    float _e1734 = st;
     float _e1739 = d_2;
-    sum_1 = (_e1731 + ((0.07234579 * exp((-(tau_5) * _e1733))) / (_e1738 * sqrt(_e1739))));
+    float _e1740 = d_2;
+    sum_1 = (_e1732 + ((0.07234579 * exp((-(tau_5) * _e1734))) / (_e1739 * sqrt(_e1740))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.26781785));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.26781785));
-    float _e1758 = b_3;
-    float _e1759 = co;
-    const float2 _e1763 = airlight_equiangular_32_sin_cos(max(min(_e1758, _e1759), 0.0));
-    sc = _e1763;
-    float _e1764 = b_3;
-    float _e1765 = co;
-    if ((_e1764 > _e1765)) {
-        float2 _e1767 = sc;
-        sc = _e1767.yx;
+    float _e1759 = b_3;
+    float _e1760 = co;
+    const float2 _e1764 = airlight_equiangular_32_sin_cos(max(min(_e1759, _e1760), 0.0));
+    sc = _e1764;
+    float _e1765 = b_3;
+    float _e1766 = co;
+    if ((_e1765 > _e1766)) {
+        float2 _e1768 = sc;
+        sc = _e1768.yx;
     }
-    float _e1770 = sc.x;
-    float _e1773 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1770) / max(_e1773, 1e-30))), 1.0);
-    float _e1783 = sc.y;
-    float _e1786 = sc.y;
-    float _e1792 = sc.x;
-    float _e1795 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1792) * _e1795)) : (gp - (((4.0 * g_13) * _e1783) * _e1786)));
-    float _e1801 = sum_1;
-    float _e1803 = st;
-    float _e1808 = d_2;
+    float _e1771 = sc.x;
+    float _e1774 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1771) / max(_e1774, 1e-30))), 1.0);
+    float _e1784 = sc.y;
+    float _e1787 = sc.y;
+    float _e1793 = sc.x;
+    float _e1796 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1793) * _e1796)) : (gp - (((4.0 * g_13) * _e1784) * _e1787)));
+    float _e1802 = sum_1;
+    float _e1804 = st;
     float _e1809 = d_2;
-    sum_1 = (_e1801 + ((0.06582222 * exp((-(tau_5) * _e1803))) / (_e1808 * sqrt(_e1809))));
+    float _e1810 = d_2;
+    sum_1 = (_e1802 + ((0.06582222 * exp((-(tau_5) * _e1804))) / (_e1809 * sqrt(_e1810))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.20551622));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.20551622));
-    float _e1828 = b_3;
-    float _e1829 = co;
-    const float2 _e1833 = airlight_equiangular_32_sin_cos(max(min(_e1828, _e1829), 0.0));
-    sc = _e1833;
-    float _e1834 = b_3;
-    float _e1835 = co;
-    if ((_e1834 > _e1835)) {
-        float2 _e1837 = sc;
-        sc = _e1837.yx;
+    float _e1829 = b_3;
+    float _e1830 = co;
+    const float2 _e1834 = airlight_equiangular_32_sin_cos(max(min(_e1829, _e1830), 0.0));
+    sc = _e1834;
+    float _e1835 = b_3;
+    float _e1836 = co;
+    if ((_e1835 > _e1836)) {
+        float2 _e1838 = sc;
+        sc = _e1838.yx;
     }
-    float _e1840 = sc.x;
-    float _e1843 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1840) / max(_e1843, 1e-30))), 1.0);
-    float _e1853 = sc.y;
-    float _e1856 = sc.y;
-    float _e1862 = sc.x;
-    float _e1865 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1862) * _e1865)) : (gp - (((4.0 * g_13) * _e1853) * _e1856)));
-    float _e1871 = sum_1;
-    float _e1873 = st;
-    float _e1878 = d_2;
+    float _e1841 = sc.x;
+    float _e1844 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1841) / max(_e1844, 1e-30))), 1.0);
+    float _e1854 = sc.y;
+    float _e1857 = sc.y;
+    float _e1863 = sc.x;
+    float _e1866 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1863) * _e1866)) : (gp - (((4.0 * g_13) * _e1854) * _e1857)));
+    float _e1872 = sum_1;
+    float _e1874 = st;
     float _e1879 = d_2;
-    sum_1 = (_e1871 + ((0.058684092 * exp((-(tau_5) * _e1873))) / (_e1878 * sqrt(_e1879))));
+    float _e1880 = d_2;
+    sum_1 = (_e1872 + ((0.058684092 * exp((-(tau_5) * _e1874))) / (_e1879 * sqrt(_e1880))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.15063238));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.15063238));
-    float _e1898 = b_3;
-    float _e1899 = co;
-    const float2 _e1903 = airlight_equiangular_32_sin_cos(max(min(_e1898, _e1899), 0.0));
-    sc = _e1903;
-    float _e1904 = b_3;
-    float _e1905 = co;
-    if ((_e1904 > _e1905)) {
-        float2 _e1907 = sc;
-        sc = _e1907.yx;
+    float _e1899 = b_3;
+    float _e1900 = co;
+    const float2 _e1904 = airlight_equiangular_32_sin_cos(max(min(_e1899, _e1900), 0.0));
+    sc = _e1904;
+    float _e1905 = b_3;
+    float _e1906 = co;
+    if ((_e1905 > _e1906)) {
+        float2 _e1908 = sc;
+        sc = _e1908.yx;
     }
-    float _e1910 = sc.x;
-    float _e1913 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1910) / max(_e1913, 1e-30))), 1.0);
-    float _e1923 = sc.y;
-    float _e1926 = sc.y;
-    float _e1932 = sc.x;
-    float _e1935 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1932) * _e1935)) : (gp - (((4.0 * g_13) * _e1923) * _e1926)));
-    float _e1941 = sum_1;
-    float _e1943 = st;
-    float _e1948 = d_2;
+    float _e1911 = sc.x;
+    float _e1914 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1911) / max(_e1914, 1e-30))), 1.0);
+    float _e1924 = sc.y;
+    float _e1927 = sc.y;
+    float _e1933 = sc.x;
+    float _e1936 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1933) * _e1936)) : (gp - (((4.0 * g_13) * _e1924) * _e1927)));
+    float _e1942 = sum_1;
+    float _e1944 = st;
     float _e1949 = d_2;
-    sum_1 = (_e1941 + ((0.05099806 * exp((-(tau_5) * _e1943))) / (_e1948 * sqrt(_e1949))));
+    float _e1950 = d_2;
+    sum_1 = (_e1942 + ((0.05099806 * exp((-(tau_5) * _e1944))) / (_e1949 * sqrt(_e1950))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.10367882));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.10367882));
-    float _e1968 = b_3;
-    float _e1969 = co;
-    const float2 _e1973 = airlight_equiangular_32_sin_cos(max(min(_e1968, _e1969), 0.0));
-    sc = _e1973;
-    float _e1974 = b_3;
-    float _e1975 = co;
-    if ((_e1974 > _e1975)) {
-        float2 _e1977 = sc;
-        sc = _e1977.yx;
+    float _e1969 = b_3;
+    float _e1970 = co;
+    const float2 _e1974 = airlight_equiangular_32_sin_cos(max(min(_e1969, _e1970), 0.0));
+    sc = _e1974;
+    float _e1975 = b_3;
+    float _e1976 = co;
+    if ((_e1975 > _e1976)) {
+        float2 _e1978 = sc;
+        sc = _e1978.yx;
     }
-    float _e1980 = sc.x;
-    float _e1983 = sc.y;
-    st = max((x0_1 + ((h_1 * _e1980) / max(_e1983, 1e-30))), 1.0);
-    float _e1993 = sc.y;
-    float _e1996 = sc.y;
-    float _e2002 = sc.x;
-    float _e2005 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2002) * _e2005)) : (gp - (((4.0 * g_13) * _e1993) * _e1996)));
-    float _e2011 = sum_1;
-    float _e2013 = st;
-    float _e2018 = d_2;
+    float _e1981 = sc.x;
+    float _e1984 = sc.y;
+    st = max((x0_2 + ((h_2 * _e1981) / max(_e1984, 1e-30))), 1.0);
+    float _e1994 = sc.y;
+    float _e1997 = sc.y;
+    float _e2003 = sc.x;
+    float _e2006 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2003) * _e2006)) : (gp - (((4.0 * g_13) * _e1994) * _e1997)));
+    float _e2012 = sum_1;
+    float _e2014 = st;
     float _e2019 = d_2;
-    sum_1 = (_e2011 + ((0.0428359 * exp((-(tau_5) * _e2013))) / (_e2018 * sqrt(_e2019))));
+    float _e2020 = d_2;
+    sum_1 = (_e2012 + ((0.0428359 * exp((-(tau_5) * _e2014))) / (_e2019 * sqrt(_e2020))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.065093935));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.065093935));
-    float _e2038 = b_3;
-    float _e2039 = co;
-    const float2 _e2043 = airlight_equiangular_32_sin_cos(max(min(_e2038, _e2039), 0.0));
-    sc = _e2043;
-    float _e2044 = b_3;
-    float _e2045 = co;
-    if ((_e2044 > _e2045)) {
-        float2 _e2047 = sc;
-        sc = _e2047.yx;
+    float _e2039 = b_3;
+    float _e2040 = co;
+    const float2 _e2044 = airlight_equiangular_32_sin_cos(max(min(_e2039, _e2040), 0.0));
+    sc = _e2044;
+    float _e2045 = b_3;
+    float _e2046 = co;
+    if ((_e2045 > _e2046)) {
+        float2 _e2048 = sc;
+        sc = _e2048.yx;
     }
-    float _e2050 = sc.x;
-    float _e2053 = sc.y;
-    st = max((x0_1 + ((h_1 * _e2050) / max(_e2053, 1e-30))), 1.0);
-    float _e2063 = sc.y;
-    float _e2066 = sc.y;
-    float _e2072 = sc.x;
-    float _e2075 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2072) * _e2075)) : (gp - (((4.0 * g_13) * _e2063) * _e2066)));
-    float _e2081 = sum_1;
-    float _e2083 = st;
-    float _e2088 = d_2;
+    float _e2051 = sc.x;
+    float _e2054 = sc.y;
+    st = max((x0_2 + ((h_2 * _e2051) / max(_e2054, 1e-30))), 1.0);
+    float _e2064 = sc.y;
+    float _e2067 = sc.y;
+    float _e2073 = sc.x;
+    float _e2076 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2073) * _e2076)) : (gp - (((4.0 * g_13) * _e2064) * _e2067)));
+    float _e2082 = sum_1;
+    float _e2084 = st;
     float _e2089 = d_2;
-    sum_1 = (_e2081 + ((0.034273863 * exp((-(tau_5) * _e2083))) / (_e2088 * sqrt(_e2089))));
+    float _e2090 = d_2;
+    sum_1 = (_e2082 + ((0.034273863 * exp((-(tau_5) * _e2084))) / (_e2089 * sqrt(_e2090))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.03523773));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.03523773));
-    float _e2108 = b_3;
-    float _e2109 = co;
-    const float2 _e2113 = airlight_equiangular_32_sin_cos(max(min(_e2108, _e2109), 0.0));
-    sc = _e2113;
-    float _e2114 = b_3;
-    float _e2115 = co;
-    if ((_e2114 > _e2115)) {
-        float2 _e2117 = sc;
-        sc = _e2117.yx;
+    float _e2109 = b_3;
+    float _e2110 = co;
+    const float2 _e2114 = airlight_equiangular_32_sin_cos(max(min(_e2109, _e2110), 0.0));
+    sc = _e2114;
+    float _e2115 = b_3;
+    float _e2116 = co;
+    if ((_e2115 > _e2116)) {
+        float2 _e2118 = sc;
+        sc = _e2118.yx;
     }
-    float _e2120 = sc.x;
-    float _e2123 = sc.y;
-    st = max((x0_1 + ((h_1 * _e2120) / max(_e2123, 1e-30))), 1.0);
-    float _e2133 = sc.y;
-    float _e2136 = sc.y;
-    float _e2142 = sc.x;
-    float _e2145 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2142) * _e2145)) : (gp - (((4.0 * g_13) * _e2133) * _e2136)));
-    float _e2151 = sum_1;
-    float _e2153 = st;
-    float _e2158 = d_2;
+    float _e2121 = sc.x;
+    float _e2124 = sc.y;
+    st = max((x0_2 + ((h_2 * _e2121) / max(_e2124, 1e-30))), 1.0);
+    float _e2134 = sc.y;
+    float _e2137 = sc.y;
+    float _e2143 = sc.x;
+    float _e2146 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2143) * _e2146)) : (gp - (((4.0 * g_13) * _e2134) * _e2137)));
+    float _e2152 = sum_1;
+    float _e2154 = st;
     float _e2159 = d_2;
-    sum_1 = (_e2151 + ((0.025392065 * exp((-(tau_5) * _e2153))) / (_e2158 * sqrt(_e2159))));
+    float _e2160 = d_2;
+    sum_1 = (_e2152 + ((0.025392065 * exp((-(tau_5) * _e2154))) / (_e2159 * sqrt(_e2160))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.014388502));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.014388502));
-    float _e2178 = b_3;
-    float _e2179 = co;
-    const float2 _e2183 = airlight_equiangular_32_sin_cos(max(min(_e2178, _e2179), 0.0));
-    sc = _e2183;
-    float _e2184 = b_3;
-    float _e2185 = co;
-    if ((_e2184 > _e2185)) {
-        float2 _e2187 = sc;
-        sc = _e2187.yx;
+    float _e2179 = b_3;
+    float _e2180 = co;
+    const float2 _e2184 = airlight_equiangular_32_sin_cos(max(min(_e2179, _e2180), 0.0));
+    sc = _e2184;
+    float _e2185 = b_3;
+    float _e2186 = co;
+    if ((_e2185 > _e2186)) {
+        float2 _e2188 = sc;
+        sc = _e2188.yx;
     }
-    float _e2190 = sc.x;
-    float _e2193 = sc.y;
-    st = max((x0_1 + ((h_1 * _e2190) / max(_e2193, 1e-30))), 1.0);
-    float _e2203 = sc.y;
-    float _e2206 = sc.y;
-    float _e2212 = sc.x;
-    float _e2215 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2212) * _e2215)) : (gp - (((4.0 * g_13) * _e2203) * _e2206)));
-    float _e2221 = sum_1;
-    float _e2223 = st;
-    float _e2228 = d_2;
+    float _e2191 = sc.x;
+    float _e2194 = sc.y;
+    st = max((x0_2 + ((h_2 * _e2191) / max(_e2194, 1e-30))), 1.0);
+    float _e2204 = sc.y;
+    float _e2207 = sc.y;
+    float _e2213 = sc.x;
+    float _e2216 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2213) * _e2216)) : (gp - (((4.0 * g_13) * _e2204) * _e2207)));
+    float _e2222 = sum_1;
+    float _e2224 = st;
     float _e2229 = d_2;
-    sum_1 = (_e2221 + ((0.016274394 * exp((-(tau_5) * _e2223))) / (_e2228 * sqrt(_e2229))));
+    float _e2230 = d_2;
+    sum_1 = (_e2222 + ((0.016274394 * exp((-(tau_5) * _e2224))) / (_e2229 * sqrt(_e2230))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.002736151));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.002736151));
-    float _e2248 = b_3;
-    float _e2249 = co;
-    const float2 _e2253 = airlight_equiangular_32_sin_cos(max(min(_e2248, _e2249), 0.0));
-    sc = _e2253;
-    float _e2254 = b_3;
-    float _e2255 = co;
-    if ((_e2254 > _e2255)) {
-        float2 _e2257 = sc;
-        sc = _e2257.yx;
+    float _e2249 = b_3;
+    float _e2250 = co;
+    const float2 _e2254 = airlight_equiangular_32_sin_cos(max(min(_e2249, _e2250), 0.0));
+    sc = _e2254;
+    float _e2255 = b_3;
+    float _e2256 = co;
+    if ((_e2255 > _e2256)) {
+        float2 _e2258 = sc;
+        sc = _e2258.yx;
     }
-    float _e2260 = sc.x;
-    float _e2263 = sc.y;
-    st = max((x0_1 + ((h_1 * _e2260) / max(_e2263, 1e-30))), 1.0);
-    float _e2273 = sc.y;
-    float _e2276 = sc.y;
-    float _e2282 = sc.x;
-    float _e2285 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2282) * _e2285)) : (gp - (((4.0 * g_13) * _e2273) * _e2276)));
-    float _e2291 = sum_1;
-    float _e2293 = st;
-    float _e2298 = d_2;
+    float _e2261 = sc.x;
+    float _e2264 = sc.y;
+    st = max((x0_2 + ((h_2 * _e2261) / max(_e2264, 1e-30))), 1.0);
+    float _e2274 = sc.y;
+    float _e2277 = sc.y;
+    float _e2283 = sc.x;
+    float _e2286 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2283) * _e2286)) : (gp - (((4.0 * g_13) * _e2274) * _e2277)));
+    float _e2292 = sum_1;
+    float _e2294 = st;
     float _e2299 = d_2;
-    sum_1 = (_e2291 + ((0.00701861 * exp((-(tau_5) * _e2293))) / (_e2298 * sqrt(_e2299))));
-    float _e2311 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e2311) * half_1) / h_1), airlight_equiangular_32_HUGE);
+    float _e2300 = d_2;
+    sum_1 = (_e2292 + ((0.00701861 * exp((-(tau_5) * _e2294))) / (_e2299 * sqrt(_e2300))));
+    float _e2312 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e2312) * half_1) / h_2), airlight_equiangular_32_HUGE);
 }
 
-float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
+float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1, float g_in_1)
 {
     bool local_9 = (bool)0;
     bool local_10 = (bool)0;
@@ -1331,850 +1336,851 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_2,
     float g_14 = clamp(g_in_1, -0.999, 0.999);
     float gm_1 = ((1.0 - g_14) * (1.0 - g_14));
     float gp_1 = ((1.0 + g_14) * (1.0 + g_14));
-    if (!((h_2 <= 0.0))) {
-        if ((x0_2 < 0.0)) {
-            local_10 = (h_2 < 8.673617e-19);
+    if (!((h_3 <= 0.0))) {
+        if ((x0_3 < 0.0)) {
+            local_10 = (h_3 < 8.673617e-19);
         } else {
             local_10 = false;
         }
-        bool _e38 = local_10;
-        local_9 = _e38;
+        bool _e39 = local_10;
+        local_9 = _e39;
     } else {
         local_9 = true;
     }
-    bool _e40 = local_9;
-    if (_e40) {
-        const float _e42 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_2, rho_2, g_14);
-        const float _e44 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_2, rho_2, g_14);
-        const float _e46 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_2, rho_2, g_14);
-        return float3(_e42, _e44, _e46);
+    bool _e41 = local_9;
+    if (_e41) {
+        const float _e43 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_3, rho_3, g_14);
+        const float _e45 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_3, rho_3, g_14);
+        const float _e47 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_3, rho_3, g_14);
+        return float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
-    if ((rho_2 >= 0.0)) {
-        local_11 = (rho_2 < airlight_equiangular_32_RHO_OPEN);
+    if ((rho_3 >= 0.0)) {
+        local_11 = (rho_3 < airlight_equiangular_32_RHO_OPEN);
     } else {
         local_11 = false;
     }
-    bool _e56 = local_11;
-    if (_e56) {
-        const float _e61 = airlight_equiangular_32_arctan2_((h_2 * rho_2), (1.0 - (x0_2 * rho_2)));
-        span_1 = _e61;
+    bool _e57 = local_11;
+    if (_e57) {
+        const float _e62 = airlight_equiangular_32_arctan2_((h_3 * rho_3), ((h_3 * h_3) + (x0_3 * xr_1)));
+        span_1 = _e62;
     }
-    float _e62 = span_1;
-    float half_2 = (0.5 * _e62);
+    float _e63 = span_1;
+    float half_2 = (0.5 * _e63);
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9972639));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9972639));
-    float _e87 = b_4;
-    float _e88 = co_1;
-    const float2 _e92 = airlight_equiangular_32_sin_cos(max(min(_e87, _e88), 0.0));
-    sc_1 = _e92;
-    float _e93 = b_4;
-    float _e94 = co_1;
-    if ((_e93 > _e94)) {
-        float2 _e96 = sc_1;
-        sc_1 = _e96.yx;
+    float _e88 = b_4;
+    float _e89 = co_1;
+    const float2 _e93 = airlight_equiangular_32_sin_cos(max(min(_e88, _e89), 0.0));
+    sc_1 = _e93;
+    float _e94 = b_4;
+    float _e95 = co_1;
+    if ((_e94 > _e95)) {
+        float2 _e97 = sc_1;
+        sc_1 = _e97.yx;
     }
-    float _e99 = sc_1.x;
-    float _e102 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e99) / max(_e102, 1e-30))), 1.0);
-    float _e112 = sc_1.y;
-    float _e115 = sc_1.y;
-    float _e121 = sc_1.x;
-    float _e124 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e121) * _e124)) : (gp_1 - (((4.0 * g_14) * _e112) * _e115)));
-    float3 _e130 = sum_2;
-    float _e132 = st_1;
-    float _e137 = d_3;
+    float _e100 = sc_1.x;
+    float _e103 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e100) / max(_e103, 1e-30))), 1.0);
+    float _e113 = sc_1.y;
+    float _e116 = sc_1.y;
+    float _e122 = sc_1.x;
+    float _e125 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e122) * _e125)) : (gp_1 - (((4.0 * g_14) * _e113) * _e116)));
+    float3 _e131 = sum_2;
+    float _e133 = st_1;
     float _e138 = d_3;
-    sum_2 = (_e130 + ((0.00701861 * exp((-(tau_6) * _e132))) / ((_e137 * sqrt(_e138))).xxx));
+    float _e139 = d_3;
+    sum_2 = (_e131 + ((0.00701861 * exp((-(tau_6) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9856114));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9856114));
-    float _e158 = b_4;
-    float _e159 = co_1;
-    const float2 _e163 = airlight_equiangular_32_sin_cos(max(min(_e158, _e159), 0.0));
-    sc_1 = _e163;
-    float _e164 = b_4;
-    float _e165 = co_1;
-    if ((_e164 > _e165)) {
-        float2 _e167 = sc_1;
-        sc_1 = _e167.yx;
+    float _e159 = b_4;
+    float _e160 = co_1;
+    const float2 _e164 = airlight_equiangular_32_sin_cos(max(min(_e159, _e160), 0.0));
+    sc_1 = _e164;
+    float _e165 = b_4;
+    float _e166 = co_1;
+    if ((_e165 > _e166)) {
+        float2 _e168 = sc_1;
+        sc_1 = _e168.yx;
     }
-    float _e170 = sc_1.x;
-    float _e173 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e170) / max(_e173, 1e-30))), 1.0);
-    float _e183 = sc_1.y;
-    float _e186 = sc_1.y;
-    float _e192 = sc_1.x;
-    float _e195 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e192) * _e195)) : (gp_1 - (((4.0 * g_14) * _e183) * _e186)));
-    float3 _e201 = sum_2;
-    float _e203 = st_1;
-    float _e208 = d_3;
+    float _e171 = sc_1.x;
+    float _e174 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e171) / max(_e174, 1e-30))), 1.0);
+    float _e184 = sc_1.y;
+    float _e187 = sc_1.y;
+    float _e193 = sc_1.x;
+    float _e196 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e193) * _e196)) : (gp_1 - (((4.0 * g_14) * _e184) * _e187)));
+    float3 _e202 = sum_2;
+    float _e204 = st_1;
     float _e209 = d_3;
-    sum_2 = (_e201 + ((0.016274394 * exp((-(tau_6) * _e203))) / ((_e208 * sqrt(_e209))).xxx));
+    float _e210 = d_3;
+    sum_2 = (_e202 + ((0.016274394 * exp((-(tau_6) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9647622));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9647622));
-    float _e229 = b_4;
-    float _e230 = co_1;
-    const float2 _e234 = airlight_equiangular_32_sin_cos(max(min(_e229, _e230), 0.0));
-    sc_1 = _e234;
-    float _e235 = b_4;
-    float _e236 = co_1;
-    if ((_e235 > _e236)) {
-        float2 _e238 = sc_1;
-        sc_1 = _e238.yx;
+    float _e230 = b_4;
+    float _e231 = co_1;
+    const float2 _e235 = airlight_equiangular_32_sin_cos(max(min(_e230, _e231), 0.0));
+    sc_1 = _e235;
+    float _e236 = b_4;
+    float _e237 = co_1;
+    if ((_e236 > _e237)) {
+        float2 _e239 = sc_1;
+        sc_1 = _e239.yx;
     }
-    float _e241 = sc_1.x;
-    float _e244 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e241) / max(_e244, 1e-30))), 1.0);
-    float _e254 = sc_1.y;
-    float _e257 = sc_1.y;
-    float _e263 = sc_1.x;
-    float _e266 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e263) * _e266)) : (gp_1 - (((4.0 * g_14) * _e254) * _e257)));
-    float3 _e272 = sum_2;
-    float _e274 = st_1;
-    float _e279 = d_3;
+    float _e242 = sc_1.x;
+    float _e245 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e242) / max(_e245, 1e-30))), 1.0);
+    float _e255 = sc_1.y;
+    float _e258 = sc_1.y;
+    float _e264 = sc_1.x;
+    float _e267 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e264) * _e267)) : (gp_1 - (((4.0 * g_14) * _e255) * _e258)));
+    float3 _e273 = sum_2;
+    float _e275 = st_1;
     float _e280 = d_3;
-    sum_2 = (_e272 + ((0.025392065 * exp((-(tau_6) * _e274))) / ((_e279 * sqrt(_e280))).xxx));
+    float _e281 = d_3;
+    sum_2 = (_e273 + ((0.025392065 * exp((-(tau_6) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.934906));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.934906));
-    float _e300 = b_4;
-    float _e301 = co_1;
-    const float2 _e305 = airlight_equiangular_32_sin_cos(max(min(_e300, _e301), 0.0));
-    sc_1 = _e305;
-    float _e306 = b_4;
-    float _e307 = co_1;
-    if ((_e306 > _e307)) {
-        float2 _e309 = sc_1;
-        sc_1 = _e309.yx;
+    float _e301 = b_4;
+    float _e302 = co_1;
+    const float2 _e306 = airlight_equiangular_32_sin_cos(max(min(_e301, _e302), 0.0));
+    sc_1 = _e306;
+    float _e307 = b_4;
+    float _e308 = co_1;
+    if ((_e307 > _e308)) {
+        float2 _e310 = sc_1;
+        sc_1 = _e310.yx;
     }
-    float _e312 = sc_1.x;
-    float _e315 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e312) / max(_e315, 1e-30))), 1.0);
-    float _e325 = sc_1.y;
-    float _e328 = sc_1.y;
-    float _e334 = sc_1.x;
-    float _e337 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e334) * _e337)) : (gp_1 - (((4.0 * g_14) * _e325) * _e328)));
-    float3 _e343 = sum_2;
-    float _e345 = st_1;
-    float _e350 = d_3;
+    float _e313 = sc_1.x;
+    float _e316 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e313) / max(_e316, 1e-30))), 1.0);
+    float _e326 = sc_1.y;
+    float _e329 = sc_1.y;
+    float _e335 = sc_1.x;
+    float _e338 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e335) * _e338)) : (gp_1 - (((4.0 * g_14) * _e326) * _e329)));
+    float3 _e344 = sum_2;
+    float _e346 = st_1;
     float _e351 = d_3;
-    sum_2 = (_e343 + ((0.034273863 * exp((-(tau_6) * _e345))) / ((_e350 * sqrt(_e351))).xxx));
+    float _e352 = d_3;
+    sum_2 = (_e344 + ((0.034273863 * exp((-(tau_6) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.8963212));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.8963212));
-    float _e371 = b_4;
-    float _e372 = co_1;
-    const float2 _e376 = airlight_equiangular_32_sin_cos(max(min(_e371, _e372), 0.0));
-    sc_1 = _e376;
-    float _e377 = b_4;
-    float _e378 = co_1;
-    if ((_e377 > _e378)) {
-        float2 _e380 = sc_1;
-        sc_1 = _e380.yx;
+    float _e372 = b_4;
+    float _e373 = co_1;
+    const float2 _e377 = airlight_equiangular_32_sin_cos(max(min(_e372, _e373), 0.0));
+    sc_1 = _e377;
+    float _e378 = b_4;
+    float _e379 = co_1;
+    if ((_e378 > _e379)) {
+        float2 _e381 = sc_1;
+        sc_1 = _e381.yx;
     }
-    float _e383 = sc_1.x;
-    float _e386 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e383) / max(_e386, 1e-30))), 1.0);
-    float _e396 = sc_1.y;
-    float _e399 = sc_1.y;
-    float _e405 = sc_1.x;
-    float _e408 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e405) * _e408)) : (gp_1 - (((4.0 * g_14) * _e396) * _e399)));
-    float3 _e414 = sum_2;
-    float _e416 = st_1;
-    float _e421 = d_3;
+    float _e384 = sc_1.x;
+    float _e387 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e384) / max(_e387, 1e-30))), 1.0);
+    float _e397 = sc_1.y;
+    float _e400 = sc_1.y;
+    float _e406 = sc_1.x;
+    float _e409 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e406) * _e409)) : (gp_1 - (((4.0 * g_14) * _e397) * _e400)));
+    float3 _e415 = sum_2;
+    float _e417 = st_1;
     float _e422 = d_3;
-    sum_2 = (_e414 + ((0.0428359 * exp((-(tau_6) * _e416))) / ((_e421 * sqrt(_e422))).xxx));
+    float _e423 = d_3;
+    sum_2 = (_e415 + ((0.0428359 * exp((-(tau_6) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.8493676));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.8493676));
-    float _e442 = b_4;
-    float _e443 = co_1;
-    const float2 _e447 = airlight_equiangular_32_sin_cos(max(min(_e442, _e443), 0.0));
-    sc_1 = _e447;
-    float _e448 = b_4;
-    float _e449 = co_1;
-    if ((_e448 > _e449)) {
-        float2 _e451 = sc_1;
-        sc_1 = _e451.yx;
+    float _e443 = b_4;
+    float _e444 = co_1;
+    const float2 _e448 = airlight_equiangular_32_sin_cos(max(min(_e443, _e444), 0.0));
+    sc_1 = _e448;
+    float _e449 = b_4;
+    float _e450 = co_1;
+    if ((_e449 > _e450)) {
+        float2 _e452 = sc_1;
+        sc_1 = _e452.yx;
     }
-    float _e454 = sc_1.x;
-    float _e457 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e454) / max(_e457, 1e-30))), 1.0);
-    float _e467 = sc_1.y;
-    float _e470 = sc_1.y;
-    float _e476 = sc_1.x;
-    float _e479 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e476) * _e479)) : (gp_1 - (((4.0 * g_14) * _e467) * _e470)));
-    float3 _e485 = sum_2;
-    float _e487 = st_1;
-    float _e492 = d_3;
+    float _e455 = sc_1.x;
+    float _e458 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e455) / max(_e458, 1e-30))), 1.0);
+    float _e468 = sc_1.y;
+    float _e471 = sc_1.y;
+    float _e477 = sc_1.x;
+    float _e480 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e477) * _e480)) : (gp_1 - (((4.0 * g_14) * _e468) * _e471)));
+    float3 _e486 = sum_2;
+    float _e488 = st_1;
     float _e493 = d_3;
-    sum_2 = (_e485 + ((0.05099806 * exp((-(tau_6) * _e487))) / ((_e492 * sqrt(_e493))).xxx));
+    float _e494 = d_3;
+    sum_2 = (_e486 + ((0.05099806 * exp((-(tau_6) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7944838));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7944838));
-    float _e513 = b_4;
-    float _e514 = co_1;
-    const float2 _e518 = airlight_equiangular_32_sin_cos(max(min(_e513, _e514), 0.0));
-    sc_1 = _e518;
-    float _e519 = b_4;
-    float _e520 = co_1;
-    if ((_e519 > _e520)) {
-        float2 _e522 = sc_1;
-        sc_1 = _e522.yx;
+    float _e514 = b_4;
+    float _e515 = co_1;
+    const float2 _e519 = airlight_equiangular_32_sin_cos(max(min(_e514, _e515), 0.0));
+    sc_1 = _e519;
+    float _e520 = b_4;
+    float _e521 = co_1;
+    if ((_e520 > _e521)) {
+        float2 _e523 = sc_1;
+        sc_1 = _e523.yx;
     }
-    float _e525 = sc_1.x;
-    float _e528 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e525) / max(_e528, 1e-30))), 1.0);
-    float _e538 = sc_1.y;
-    float _e541 = sc_1.y;
-    float _e547 = sc_1.x;
-    float _e550 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e547) * _e550)) : (gp_1 - (((4.0 * g_14) * _e538) * _e541)));
-    float3 _e556 = sum_2;
-    float _e558 = st_1;
-    float _e563 = d_3;
+    float _e526 = sc_1.x;
+    float _e529 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e526) / max(_e529, 1e-30))), 1.0);
+    float _e539 = sc_1.y;
+    float _e542 = sc_1.y;
+    float _e548 = sc_1.x;
+    float _e551 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e548) * _e551)) : (gp_1 - (((4.0 * g_14) * _e539) * _e542)));
+    float3 _e557 = sum_2;
+    float _e559 = st_1;
     float _e564 = d_3;
-    sum_2 = (_e556 + ((0.058684092 * exp((-(tau_6) * _e558))) / ((_e563 * sqrt(_e564))).xxx));
+    float _e565 = d_3;
+    sum_2 = (_e557 + ((0.058684092 * exp((-(tau_6) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7321821));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7321821));
-    float _e584 = b_4;
-    float _e585 = co_1;
-    const float2 _e589 = airlight_equiangular_32_sin_cos(max(min(_e584, _e585), 0.0));
-    sc_1 = _e589;
-    float _e590 = b_4;
-    float _e591 = co_1;
-    if ((_e590 > _e591)) {
-        float2 _e593 = sc_1;
-        sc_1 = _e593.yx;
+    float _e585 = b_4;
+    float _e586 = co_1;
+    const float2 _e590 = airlight_equiangular_32_sin_cos(max(min(_e585, _e586), 0.0));
+    sc_1 = _e590;
+    float _e591 = b_4;
+    float _e592 = co_1;
+    if ((_e591 > _e592)) {
+        float2 _e594 = sc_1;
+        sc_1 = _e594.yx;
     }
-    float _e596 = sc_1.x;
-    float _e599 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e596) / max(_e599, 1e-30))), 1.0);
-    float _e609 = sc_1.y;
-    float _e612 = sc_1.y;
-    float _e618 = sc_1.x;
-    float _e621 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e618) * _e621)) : (gp_1 - (((4.0 * g_14) * _e609) * _e612)));
-    float3 _e627 = sum_2;
-    float _e629 = st_1;
-    float _e634 = d_3;
+    float _e597 = sc_1.x;
+    float _e600 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e597) / max(_e600, 1e-30))), 1.0);
+    float _e610 = sc_1.y;
+    float _e613 = sc_1.y;
+    float _e619 = sc_1.x;
+    float _e622 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e619) * _e622)) : (gp_1 - (((4.0 * g_14) * _e610) * _e613)));
+    float3 _e628 = sum_2;
+    float _e630 = st_1;
     float _e635 = d_3;
-    sum_2 = (_e627 + ((0.06582222 * exp((-(tau_6) * _e629))) / ((_e634 * sqrt(_e635))).xxx));
+    float _e636 = d_3;
+    sum_2 = (_e628 + ((0.06582222 * exp((-(tau_6) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.6630443));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.6630443));
-    float _e655 = b_4;
-    float _e656 = co_1;
-    const float2 _e660 = airlight_equiangular_32_sin_cos(max(min(_e655, _e656), 0.0));
-    sc_1 = _e660;
-    float _e661 = b_4;
-    float _e662 = co_1;
-    if ((_e661 > _e662)) {
-        float2 _e664 = sc_1;
-        sc_1 = _e664.yx;
+    float _e656 = b_4;
+    float _e657 = co_1;
+    const float2 _e661 = airlight_equiangular_32_sin_cos(max(min(_e656, _e657), 0.0));
+    sc_1 = _e661;
+    float _e662 = b_4;
+    float _e663 = co_1;
+    if ((_e662 > _e663)) {
+        float2 _e665 = sc_1;
+        sc_1 = _e665.yx;
     }
-    float _e667 = sc_1.x;
-    float _e670 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e667) / max(_e670, 1e-30))), 1.0);
-    float _e680 = sc_1.y;
-    float _e683 = sc_1.y;
-    float _e689 = sc_1.x;
-    float _e692 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e689) * _e692)) : (gp_1 - (((4.0 * g_14) * _e680) * _e683)));
-    float3 _e698 = sum_2;
-    float _e700 = st_1;
-    float _e705 = d_3;
+    float _e668 = sc_1.x;
+    float _e671 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e668) / max(_e671, 1e-30))), 1.0);
+    float _e681 = sc_1.y;
+    float _e684 = sc_1.y;
+    float _e690 = sc_1.x;
+    float _e693 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e690) * _e693)) : (gp_1 - (((4.0 * g_14) * _e681) * _e684)));
+    float3 _e699 = sum_2;
+    float _e701 = st_1;
     float _e706 = d_3;
-    sum_2 = (_e698 + ((0.07234579 * exp((-(tau_6) * _e700))) / ((_e705 * sqrt(_e706))).xxx));
+    float _e707 = d_3;
+    sum_2 = (_e699 + ((0.07234579 * exp((-(tau_6) * _e701))) / ((_e706 * sqrt(_e707))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5877157));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5877157));
-    float _e726 = b_4;
-    float _e727 = co_1;
-    const float2 _e731 = airlight_equiangular_32_sin_cos(max(min(_e726, _e727), 0.0));
-    sc_1 = _e731;
-    float _e732 = b_4;
-    float _e733 = co_1;
-    if ((_e732 > _e733)) {
-        float2 _e735 = sc_1;
-        sc_1 = _e735.yx;
+    float _e727 = b_4;
+    float _e728 = co_1;
+    const float2 _e732 = airlight_equiangular_32_sin_cos(max(min(_e727, _e728), 0.0));
+    sc_1 = _e732;
+    float _e733 = b_4;
+    float _e734 = co_1;
+    if ((_e733 > _e734)) {
+        float2 _e736 = sc_1;
+        sc_1 = _e736.yx;
     }
-    float _e738 = sc_1.x;
-    float _e741 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e738) / max(_e741, 1e-30))), 1.0);
-    float _e751 = sc_1.y;
-    float _e754 = sc_1.y;
-    float _e760 = sc_1.x;
-    float _e763 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e760) * _e763)) : (gp_1 - (((4.0 * g_14) * _e751) * _e754)));
-    float3 _e769 = sum_2;
-    float _e771 = st_1;
-    float _e776 = d_3;
+    float _e739 = sc_1.x;
+    float _e742 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e739) / max(_e742, 1e-30))), 1.0);
+    float _e752 = sc_1.y;
+    float _e755 = sc_1.y;
+    float _e761 = sc_1.x;
+    float _e764 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e761) * _e764)) : (gp_1 - (((4.0 * g_14) * _e752) * _e755)));
+    float3 _e770 = sum_2;
+    float _e772 = st_1;
     float _e777 = d_3;
-    sum_2 = (_e769 + ((0.078193896 * exp((-(tau_6) * _e771))) / ((_e776 * sqrt(_e777))).xxx));
+    float _e778 = d_3;
+    sum_2 = (_e770 + ((0.078193896 * exp((-(tau_6) * _e772))) / ((_e777 * sqrt(_e778))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5068998));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5068998));
-    float _e797 = b_4;
-    float _e798 = co_1;
-    const float2 _e802 = airlight_equiangular_32_sin_cos(max(min(_e797, _e798), 0.0));
-    sc_1 = _e802;
-    float _e803 = b_4;
-    float _e804 = co_1;
-    if ((_e803 > _e804)) {
-        float2 _e806 = sc_1;
-        sc_1 = _e806.yx;
+    float _e798 = b_4;
+    float _e799 = co_1;
+    const float2 _e803 = airlight_equiangular_32_sin_cos(max(min(_e798, _e799), 0.0));
+    sc_1 = _e803;
+    float _e804 = b_4;
+    float _e805 = co_1;
+    if ((_e804 > _e805)) {
+        float2 _e807 = sc_1;
+        sc_1 = _e807.yx;
     }
-    float _e809 = sc_1.x;
-    float _e812 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e809) / max(_e812, 1e-30))), 1.0);
-    float _e822 = sc_1.y;
-    float _e825 = sc_1.y;
-    float _e831 = sc_1.x;
-    float _e834 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e831) * _e834)) : (gp_1 - (((4.0 * g_14) * _e822) * _e825)));
-    float3 _e840 = sum_2;
-    float _e842 = st_1;
-    float _e847 = d_3;
+    float _e810 = sc_1.x;
+    float _e813 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e810) / max(_e813, 1e-30))), 1.0);
+    float _e823 = sc_1.y;
+    float _e826 = sc_1.y;
+    float _e832 = sc_1.x;
+    float _e835 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e832) * _e835)) : (gp_1 - (((4.0 * g_14) * _e823) * _e826)));
+    float3 _e841 = sum_2;
+    float _e843 = st_1;
     float _e848 = d_3;
-    sum_2 = (_e840 + ((0.08331192 * exp((-(tau_6) * _e842))) / ((_e847 * sqrt(_e848))).xxx));
+    float _e849 = d_3;
+    sum_2 = (_e841 + ((0.08331192 * exp((-(tau_6) * _e843))) / ((_e848 * sqrt(_e849))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.4213513));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.4213513));
-    float _e868 = b_4;
-    float _e869 = co_1;
-    const float2 _e873 = airlight_equiangular_32_sin_cos(max(min(_e868, _e869), 0.0));
-    sc_1 = _e873;
-    float _e874 = b_4;
-    float _e875 = co_1;
-    if ((_e874 > _e875)) {
-        float2 _e877 = sc_1;
-        sc_1 = _e877.yx;
+    float _e869 = b_4;
+    float _e870 = co_1;
+    const float2 _e874 = airlight_equiangular_32_sin_cos(max(min(_e869, _e870), 0.0));
+    sc_1 = _e874;
+    float _e875 = b_4;
+    float _e876 = co_1;
+    if ((_e875 > _e876)) {
+        float2 _e878 = sc_1;
+        sc_1 = _e878.yx;
     }
-    float _e880 = sc_1.x;
-    float _e883 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e880) / max(_e883, 1e-30))), 1.0);
-    float _e893 = sc_1.y;
-    float _e896 = sc_1.y;
-    float _e902 = sc_1.x;
-    float _e905 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e902) * _e905)) : (gp_1 - (((4.0 * g_14) * _e893) * _e896)));
-    float3 _e911 = sum_2;
-    float _e913 = st_1;
-    float _e918 = d_3;
+    float _e881 = sc_1.x;
+    float _e884 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e881) / max(_e884, 1e-30))), 1.0);
+    float _e894 = sc_1.y;
+    float _e897 = sc_1.y;
+    float _e903 = sc_1.x;
+    float _e906 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e903) * _e906)) : (gp_1 - (((4.0 * g_14) * _e894) * _e897)));
+    float3 _e912 = sum_2;
+    float _e914 = st_1;
     float _e919 = d_3;
-    sum_2 = (_e911 + ((0.087652095 * exp((-(tau_6) * _e913))) / ((_e918 * sqrt(_e919))).xxx));
+    float _e920 = d_3;
+    sum_2 = (_e912 + ((0.087652095 * exp((-(tau_6) * _e914))) / ((_e919 * sqrt(_e920))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.3318686));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.3318686));
-    float _e939 = b_4;
-    float _e940 = co_1;
-    const float2 _e944 = airlight_equiangular_32_sin_cos(max(min(_e939, _e940), 0.0));
-    sc_1 = _e944;
-    float _e945 = b_4;
-    float _e946 = co_1;
-    if ((_e945 > _e946)) {
-        float2 _e948 = sc_1;
-        sc_1 = _e948.yx;
+    float _e940 = b_4;
+    float _e941 = co_1;
+    const float2 _e945 = airlight_equiangular_32_sin_cos(max(min(_e940, _e941), 0.0));
+    sc_1 = _e945;
+    float _e946 = b_4;
+    float _e947 = co_1;
+    if ((_e946 > _e947)) {
+        float2 _e949 = sc_1;
+        sc_1 = _e949.yx;
     }
-    float _e951 = sc_1.x;
-    float _e954 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e951) / max(_e954, 1e-30))), 1.0);
-    float _e964 = sc_1.y;
-    float _e967 = sc_1.y;
-    float _e973 = sc_1.x;
-    float _e976 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e973) * _e976)) : (gp_1 - (((4.0 * g_14) * _e964) * _e967)));
-    float3 _e982 = sum_2;
-    float _e984 = st_1;
-    float _e989 = d_3;
+    float _e952 = sc_1.x;
+    float _e955 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e952) / max(_e955, 1e-30))), 1.0);
+    float _e965 = sc_1.y;
+    float _e968 = sc_1.y;
+    float _e974 = sc_1.x;
+    float _e977 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e974) * _e977)) : (gp_1 - (((4.0 * g_14) * _e965) * _e968)));
+    float3 _e983 = sum_2;
+    float _e985 = st_1;
     float _e990 = d_3;
-    sum_2 = (_e982 + ((0.09117388 * exp((-(tau_6) * _e984))) / ((_e989 * sqrt(_e990))).xxx));
+    float _e991 = d_3;
+    sum_2 = (_e983 + ((0.09117388 * exp((-(tau_6) * _e985))) / ((_e990 * sqrt(_e991))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.2392874));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.2392874));
-    float _e1010 = b_4;
-    float _e1011 = co_1;
-    const float2 _e1015 = airlight_equiangular_32_sin_cos(max(min(_e1010, _e1011), 0.0));
-    sc_1 = _e1015;
-    float _e1016 = b_4;
-    float _e1017 = co_1;
-    if ((_e1016 > _e1017)) {
-        float2 _e1019 = sc_1;
-        sc_1 = _e1019.yx;
+    float _e1011 = b_4;
+    float _e1012 = co_1;
+    const float2 _e1016 = airlight_equiangular_32_sin_cos(max(min(_e1011, _e1012), 0.0));
+    sc_1 = _e1016;
+    float _e1017 = b_4;
+    float _e1018 = co_1;
+    if ((_e1017 > _e1018)) {
+        float2 _e1020 = sc_1;
+        sc_1 = _e1020.yx;
     }
-    float _e1022 = sc_1.x;
-    float _e1025 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1022) / max(_e1025, 1e-30))), 1.0);
-    float _e1035 = sc_1.y;
-    float _e1038 = sc_1.y;
-    float _e1044 = sc_1.x;
-    float _e1047 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1044) * _e1047)) : (gp_1 - (((4.0 * g_14) * _e1035) * _e1038)));
-    float3 _e1053 = sum_2;
-    float _e1055 = st_1;
-    float _e1060 = d_3;
+    float _e1023 = sc_1.x;
+    float _e1026 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1023) / max(_e1026, 1e-30))), 1.0);
+    float _e1036 = sc_1.y;
+    float _e1039 = sc_1.y;
+    float _e1045 = sc_1.x;
+    float _e1048 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1045) * _e1048)) : (gp_1 - (((4.0 * g_14) * _e1036) * _e1039)));
+    float3 _e1054 = sum_2;
+    float _e1056 = st_1;
     float _e1061 = d_3;
-    sum_2 = (_e1053 + ((0.0938444 * exp((-(tau_6) * _e1055))) / ((_e1060 * sqrt(_e1061))).xxx));
+    float _e1062 = d_3;
+    sum_2 = (_e1054 + ((0.0938444 * exp((-(tau_6) * _e1056))) / ((_e1061 * sqrt(_e1062))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.144472));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.144472));
-    float _e1081 = b_4;
-    float _e1082 = co_1;
-    const float2 _e1086 = airlight_equiangular_32_sin_cos(max(min(_e1081, _e1082), 0.0));
-    sc_1 = _e1086;
-    float _e1087 = b_4;
-    float _e1088 = co_1;
-    if ((_e1087 > _e1088)) {
-        float2 _e1090 = sc_1;
-        sc_1 = _e1090.yx;
+    float _e1082 = b_4;
+    float _e1083 = co_1;
+    const float2 _e1087 = airlight_equiangular_32_sin_cos(max(min(_e1082, _e1083), 0.0));
+    sc_1 = _e1087;
+    float _e1088 = b_4;
+    float _e1089 = co_1;
+    if ((_e1088 > _e1089)) {
+        float2 _e1091 = sc_1;
+        sc_1 = _e1091.yx;
     }
-    float _e1093 = sc_1.x;
-    float _e1096 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1093) / max(_e1096, 1e-30))), 1.0);
-    float _e1106 = sc_1.y;
-    float _e1109 = sc_1.y;
-    float _e1115 = sc_1.x;
-    float _e1118 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1115) * _e1118)) : (gp_1 - (((4.0 * g_14) * _e1106) * _e1109)));
-    float3 _e1124 = sum_2;
-    float _e1126 = st_1;
-    float _e1131 = d_3;
+    float _e1094 = sc_1.x;
+    float _e1097 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1094) / max(_e1097, 1e-30))), 1.0);
+    float _e1107 = sc_1.y;
+    float _e1110 = sc_1.y;
+    float _e1116 = sc_1.x;
+    float _e1119 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1116) * _e1119)) : (gp_1 - (((4.0 * g_14) * _e1107) * _e1110)));
+    float3 _e1125 = sum_2;
+    float _e1127 = st_1;
     float _e1132 = d_3;
-    sum_2 = (_e1124 + ((0.09563872 * exp((-(tau_6) * _e1126))) / ((_e1131 * sqrt(_e1132))).xxx));
+    float _e1133 = d_3;
+    sum_2 = (_e1125 + ((0.09563872 * exp((-(tau_6) * _e1127))) / ((_e1132 * sqrt(_e1133))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.0483077));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.0483077));
-    float _e1152 = b_4;
-    float _e1153 = co_1;
-    const float2 _e1157 = airlight_equiangular_32_sin_cos(max(min(_e1152, _e1153), 0.0));
-    sc_1 = _e1157;
-    float _e1158 = b_4;
-    float _e1159 = co_1;
-    if ((_e1158 > _e1159)) {
-        float2 _e1161 = sc_1;
-        sc_1 = _e1161.yx;
+    float _e1153 = b_4;
+    float _e1154 = co_1;
+    const float2 _e1158 = airlight_equiangular_32_sin_cos(max(min(_e1153, _e1154), 0.0));
+    sc_1 = _e1158;
+    float _e1159 = b_4;
+    float _e1160 = co_1;
+    if ((_e1159 > _e1160)) {
+        float2 _e1162 = sc_1;
+        sc_1 = _e1162.yx;
     }
-    float _e1164 = sc_1.x;
-    float _e1167 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1164) / max(_e1167, 1e-30))), 1.0);
-    float _e1177 = sc_1.y;
-    float _e1180 = sc_1.y;
-    float _e1186 = sc_1.x;
-    float _e1189 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1186) * _e1189)) : (gp_1 - (((4.0 * g_14) * _e1177) * _e1180)));
-    float3 _e1195 = sum_2;
-    float _e1197 = st_1;
-    float _e1202 = d_3;
+    float _e1165 = sc_1.x;
+    float _e1168 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1165) / max(_e1168, 1e-30))), 1.0);
+    float _e1178 = sc_1.y;
+    float _e1181 = sc_1.y;
+    float _e1187 = sc_1.x;
+    float _e1190 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1187) * _e1190)) : (gp_1 - (((4.0 * g_14) * _e1178) * _e1181)));
+    float3 _e1196 = sum_2;
+    float _e1198 = st_1;
     float _e1203 = d_3;
-    sum_2 = (_e1195 + ((0.096540086 * exp((-(tau_6) * _e1197))) / ((_e1202 * sqrt(_e1203))).xxx));
+    float _e1204 = d_3;
+    sum_2 = (_e1196 + ((0.096540086 * exp((-(tau_6) * _e1198))) / ((_e1203 * sqrt(_e1204))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.95169234));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.95169234));
-    float _e1223 = b_4;
-    float _e1224 = co_1;
-    const float2 _e1228 = airlight_equiangular_32_sin_cos(max(min(_e1223, _e1224), 0.0));
-    sc_1 = _e1228;
-    float _e1229 = b_4;
-    float _e1230 = co_1;
-    if ((_e1229 > _e1230)) {
-        float2 _e1232 = sc_1;
-        sc_1 = _e1232.yx;
+    float _e1224 = b_4;
+    float _e1225 = co_1;
+    const float2 _e1229 = airlight_equiangular_32_sin_cos(max(min(_e1224, _e1225), 0.0));
+    sc_1 = _e1229;
+    float _e1230 = b_4;
+    float _e1231 = co_1;
+    if ((_e1230 > _e1231)) {
+        float2 _e1233 = sc_1;
+        sc_1 = _e1233.yx;
     }
-    float _e1235 = sc_1.x;
-    float _e1238 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1235) / max(_e1238, 1e-30))), 1.0);
-    float _e1248 = sc_1.y;
-    float _e1251 = sc_1.y;
-    float _e1257 = sc_1.x;
-    float _e1260 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1257) * _e1260)) : (gp_1 - (((4.0 * g_14) * _e1248) * _e1251)));
-    float3 _e1266 = sum_2;
-    float _e1268 = st_1;
-    float _e1273 = d_3;
+    float _e1236 = sc_1.x;
+    float _e1239 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1236) / max(_e1239, 1e-30))), 1.0);
+    float _e1249 = sc_1.y;
+    float _e1252 = sc_1.y;
+    float _e1258 = sc_1.x;
+    float _e1261 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1258) * _e1261)) : (gp_1 - (((4.0 * g_14) * _e1249) * _e1252)));
+    float3 _e1267 = sum_2;
+    float _e1269 = st_1;
     float _e1274 = d_3;
-    sum_2 = (_e1266 + ((0.096540086 * exp((-(tau_6) * _e1268))) / ((_e1273 * sqrt(_e1274))).xxx));
+    float _e1275 = d_3;
+    sum_2 = (_e1267 + ((0.096540086 * exp((-(tau_6) * _e1269))) / ((_e1274 * sqrt(_e1275))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.85552806));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.85552806));
-    float _e1294 = b_4;
-    float _e1295 = co_1;
-    const float2 _e1299 = airlight_equiangular_32_sin_cos(max(min(_e1294, _e1295), 0.0));
-    sc_1 = _e1299;
-    float _e1300 = b_4;
-    float _e1301 = co_1;
-    if ((_e1300 > _e1301)) {
-        float2 _e1303 = sc_1;
-        sc_1 = _e1303.yx;
+    float _e1295 = b_4;
+    float _e1296 = co_1;
+    const float2 _e1300 = airlight_equiangular_32_sin_cos(max(min(_e1295, _e1296), 0.0));
+    sc_1 = _e1300;
+    float _e1301 = b_4;
+    float _e1302 = co_1;
+    if ((_e1301 > _e1302)) {
+        float2 _e1304 = sc_1;
+        sc_1 = _e1304.yx;
     }
-    float _e1306 = sc_1.x;
-    float _e1309 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1306) / max(_e1309, 1e-30))), 1.0);
-    float _e1319 = sc_1.y;
-    float _e1322 = sc_1.y;
-    float _e1328 = sc_1.x;
-    float _e1331 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1328) * _e1331)) : (gp_1 - (((4.0 * g_14) * _e1319) * _e1322)));
-    float3 _e1337 = sum_2;
-    float _e1339 = st_1;
-    float _e1344 = d_3;
+    float _e1307 = sc_1.x;
+    float _e1310 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1307) / max(_e1310, 1e-30))), 1.0);
+    float _e1320 = sc_1.y;
+    float _e1323 = sc_1.y;
+    float _e1329 = sc_1.x;
+    float _e1332 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1329) * _e1332)) : (gp_1 - (((4.0 * g_14) * _e1320) * _e1323)));
+    float3 _e1338 = sum_2;
+    float _e1340 = st_1;
     float _e1345 = d_3;
-    sum_2 = (_e1337 + ((0.09563872 * exp((-(tau_6) * _e1339))) / ((_e1344 * sqrt(_e1345))).xxx));
+    float _e1346 = d_3;
+    sum_2 = (_e1338 + ((0.09563872 * exp((-(tau_6) * _e1340))) / ((_e1345 * sqrt(_e1346))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.7607126));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.7607126));
-    float _e1365 = b_4;
-    float _e1366 = co_1;
-    const float2 _e1370 = airlight_equiangular_32_sin_cos(max(min(_e1365, _e1366), 0.0));
-    sc_1 = _e1370;
-    float _e1371 = b_4;
-    float _e1372 = co_1;
-    if ((_e1371 > _e1372)) {
-        float2 _e1374 = sc_1;
-        sc_1 = _e1374.yx;
+    float _e1366 = b_4;
+    float _e1367 = co_1;
+    const float2 _e1371 = airlight_equiangular_32_sin_cos(max(min(_e1366, _e1367), 0.0));
+    sc_1 = _e1371;
+    float _e1372 = b_4;
+    float _e1373 = co_1;
+    if ((_e1372 > _e1373)) {
+        float2 _e1375 = sc_1;
+        sc_1 = _e1375.yx;
     }
-    float _e1377 = sc_1.x;
-    float _e1380 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1377) / max(_e1380, 1e-30))), 1.0);
-    float _e1390 = sc_1.y;
-    float _e1393 = sc_1.y;
-    float _e1399 = sc_1.x;
-    float _e1402 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1399) * _e1402)) : (gp_1 - (((4.0 * g_14) * _e1390) * _e1393)));
-    float3 _e1408 = sum_2;
-    float _e1410 = st_1;
-    float _e1415 = d_3;
+    float _e1378 = sc_1.x;
+    float _e1381 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1378) / max(_e1381, 1e-30))), 1.0);
+    float _e1391 = sc_1.y;
+    float _e1394 = sc_1.y;
+    float _e1400 = sc_1.x;
+    float _e1403 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1400) * _e1403)) : (gp_1 - (((4.0 * g_14) * _e1391) * _e1394)));
+    float3 _e1409 = sum_2;
+    float _e1411 = st_1;
     float _e1416 = d_3;
-    sum_2 = (_e1408 + ((0.0938444 * exp((-(tau_6) * _e1410))) / ((_e1415 * sqrt(_e1416))).xxx));
+    float _e1417 = d_3;
+    sum_2 = (_e1409 + ((0.0938444 * exp((-(tau_6) * _e1411))) / ((_e1416 * sqrt(_e1417))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.6681314));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.6681314));
-    float _e1436 = b_4;
-    float _e1437 = co_1;
-    const float2 _e1441 = airlight_equiangular_32_sin_cos(max(min(_e1436, _e1437), 0.0));
-    sc_1 = _e1441;
-    float _e1442 = b_4;
-    float _e1443 = co_1;
-    if ((_e1442 > _e1443)) {
-        float2 _e1445 = sc_1;
-        sc_1 = _e1445.yx;
+    float _e1437 = b_4;
+    float _e1438 = co_1;
+    const float2 _e1442 = airlight_equiangular_32_sin_cos(max(min(_e1437, _e1438), 0.0));
+    sc_1 = _e1442;
+    float _e1443 = b_4;
+    float _e1444 = co_1;
+    if ((_e1443 > _e1444)) {
+        float2 _e1446 = sc_1;
+        sc_1 = _e1446.yx;
     }
-    float _e1448 = sc_1.x;
-    float _e1451 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1448) / max(_e1451, 1e-30))), 1.0);
-    float _e1461 = sc_1.y;
-    float _e1464 = sc_1.y;
-    float _e1470 = sc_1.x;
-    float _e1473 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1470) * _e1473)) : (gp_1 - (((4.0 * g_14) * _e1461) * _e1464)));
-    float3 _e1479 = sum_2;
-    float _e1481 = st_1;
-    float _e1486 = d_3;
+    float _e1449 = sc_1.x;
+    float _e1452 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1449) / max(_e1452, 1e-30))), 1.0);
+    float _e1462 = sc_1.y;
+    float _e1465 = sc_1.y;
+    float _e1471 = sc_1.x;
+    float _e1474 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1471) * _e1474)) : (gp_1 - (((4.0 * g_14) * _e1462) * _e1465)));
+    float3 _e1480 = sum_2;
+    float _e1482 = st_1;
     float _e1487 = d_3;
-    sum_2 = (_e1479 + ((0.09117388 * exp((-(tau_6) * _e1481))) / ((_e1486 * sqrt(_e1487))).xxx));
+    float _e1488 = d_3;
+    sum_2 = (_e1480 + ((0.09117388 * exp((-(tau_6) * _e1482))) / ((_e1487 * sqrt(_e1488))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.5786487));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.5786487));
-    float _e1507 = b_4;
-    float _e1508 = co_1;
-    const float2 _e1512 = airlight_equiangular_32_sin_cos(max(min(_e1507, _e1508), 0.0));
-    sc_1 = _e1512;
-    float _e1513 = b_4;
-    float _e1514 = co_1;
-    if ((_e1513 > _e1514)) {
-        float2 _e1516 = sc_1;
-        sc_1 = _e1516.yx;
+    float _e1508 = b_4;
+    float _e1509 = co_1;
+    const float2 _e1513 = airlight_equiangular_32_sin_cos(max(min(_e1508, _e1509), 0.0));
+    sc_1 = _e1513;
+    float _e1514 = b_4;
+    float _e1515 = co_1;
+    if ((_e1514 > _e1515)) {
+        float2 _e1517 = sc_1;
+        sc_1 = _e1517.yx;
     }
-    float _e1519 = sc_1.x;
-    float _e1522 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1519) / max(_e1522, 1e-30))), 1.0);
-    float _e1532 = sc_1.y;
-    float _e1535 = sc_1.y;
-    float _e1541 = sc_1.x;
-    float _e1544 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1541) * _e1544)) : (gp_1 - (((4.0 * g_14) * _e1532) * _e1535)));
-    float3 _e1550 = sum_2;
-    float _e1552 = st_1;
-    float _e1557 = d_3;
+    float _e1520 = sc_1.x;
+    float _e1523 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1520) / max(_e1523, 1e-30))), 1.0);
+    float _e1533 = sc_1.y;
+    float _e1536 = sc_1.y;
+    float _e1542 = sc_1.x;
+    float _e1545 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1542) * _e1545)) : (gp_1 - (((4.0 * g_14) * _e1533) * _e1536)));
+    float3 _e1551 = sum_2;
+    float _e1553 = st_1;
     float _e1558 = d_3;
-    sum_2 = (_e1550 + ((0.087652095 * exp((-(tau_6) * _e1552))) / ((_e1557 * sqrt(_e1558))).xxx));
+    float _e1559 = d_3;
+    sum_2 = (_e1551 + ((0.087652095 * exp((-(tau_6) * _e1553))) / ((_e1558 * sqrt(_e1559))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.4931001));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.4931001));
-    float _e1578 = b_4;
-    float _e1579 = co_1;
-    const float2 _e1583 = airlight_equiangular_32_sin_cos(max(min(_e1578, _e1579), 0.0));
-    sc_1 = _e1583;
-    float _e1584 = b_4;
-    float _e1585 = co_1;
-    if ((_e1584 > _e1585)) {
-        float2 _e1587 = sc_1;
-        sc_1 = _e1587.yx;
+    float _e1579 = b_4;
+    float _e1580 = co_1;
+    const float2 _e1584 = airlight_equiangular_32_sin_cos(max(min(_e1579, _e1580), 0.0));
+    sc_1 = _e1584;
+    float _e1585 = b_4;
+    float _e1586 = co_1;
+    if ((_e1585 > _e1586)) {
+        float2 _e1588 = sc_1;
+        sc_1 = _e1588.yx;
     }
-    float _e1590 = sc_1.x;
-    float _e1593 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1590) / max(_e1593, 1e-30))), 1.0);
-    float _e1603 = sc_1.y;
-    float _e1606 = sc_1.y;
-    float _e1612 = sc_1.x;
-    float _e1615 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1612) * _e1615)) : (gp_1 - (((4.0 * g_14) * _e1603) * _e1606)));
-    float3 _e1621 = sum_2;
-    float _e1623 = st_1;
-    float _e1628 = d_3;
+    float _e1591 = sc_1.x;
+    float _e1594 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1591) / max(_e1594, 1e-30))), 1.0);
+    float _e1604 = sc_1.y;
+    float _e1607 = sc_1.y;
+    float _e1613 = sc_1.x;
+    float _e1616 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1613) * _e1616)) : (gp_1 - (((4.0 * g_14) * _e1604) * _e1607)));
+    float3 _e1622 = sum_2;
+    float _e1624 = st_1;
     float _e1629 = d_3;
-    sum_2 = (_e1621 + ((0.08331192 * exp((-(tau_6) * _e1623))) / ((_e1628 * sqrt(_e1629))).xxx));
+    float _e1630 = d_3;
+    sum_2 = (_e1622 + ((0.08331192 * exp((-(tau_6) * _e1624))) / ((_e1629 * sqrt(_e1630))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.41228426));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.41228426));
-    float _e1649 = b_4;
-    float _e1650 = co_1;
-    const float2 _e1654 = airlight_equiangular_32_sin_cos(max(min(_e1649, _e1650), 0.0));
-    sc_1 = _e1654;
-    float _e1655 = b_4;
-    float _e1656 = co_1;
-    if ((_e1655 > _e1656)) {
-        float2 _e1658 = sc_1;
-        sc_1 = _e1658.yx;
+    float _e1650 = b_4;
+    float _e1651 = co_1;
+    const float2 _e1655 = airlight_equiangular_32_sin_cos(max(min(_e1650, _e1651), 0.0));
+    sc_1 = _e1655;
+    float _e1656 = b_4;
+    float _e1657 = co_1;
+    if ((_e1656 > _e1657)) {
+        float2 _e1659 = sc_1;
+        sc_1 = _e1659.yx;
     }
-    float _e1661 = sc_1.x;
-    float _e1664 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1661) / max(_e1664, 1e-30))), 1.0);
-    float _e1674 = sc_1.y;
-    float _e1677 = sc_1.y;
-    float _e1683 = sc_1.x;
-    float _e1686 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1683) * _e1686)) : (gp_1 - (((4.0 * g_14) * _e1674) * _e1677)));
-    float3 _e1692 = sum_2;
-    float _e1694 = st_1;
-    float _e1699 = d_3;
+    float _e1662 = sc_1.x;
+    float _e1665 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1662) / max(_e1665, 1e-30))), 1.0);
+    float _e1675 = sc_1.y;
+    float _e1678 = sc_1.y;
+    float _e1684 = sc_1.x;
+    float _e1687 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1684) * _e1687)) : (gp_1 - (((4.0 * g_14) * _e1675) * _e1678)));
+    float3 _e1693 = sum_2;
+    float _e1695 = st_1;
     float _e1700 = d_3;
-    sum_2 = (_e1692 + ((0.078193896 * exp((-(tau_6) * _e1694))) / ((_e1699 * sqrt(_e1700))).xxx));
+    float _e1701 = d_3;
+    sum_2 = (_e1693 + ((0.078193896 * exp((-(tau_6) * _e1695))) / ((_e1700 * sqrt(_e1701))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.33695573));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.33695573));
-    float _e1720 = b_4;
-    float _e1721 = co_1;
-    const float2 _e1725 = airlight_equiangular_32_sin_cos(max(min(_e1720, _e1721), 0.0));
-    sc_1 = _e1725;
-    float _e1726 = b_4;
-    float _e1727 = co_1;
-    if ((_e1726 > _e1727)) {
-        float2 _e1729 = sc_1;
-        sc_1 = _e1729.yx;
+    float _e1721 = b_4;
+    float _e1722 = co_1;
+    const float2 _e1726 = airlight_equiangular_32_sin_cos(max(min(_e1721, _e1722), 0.0));
+    sc_1 = _e1726;
+    float _e1727 = b_4;
+    float _e1728 = co_1;
+    if ((_e1727 > _e1728)) {
+        float2 _e1730 = sc_1;
+        sc_1 = _e1730.yx;
     }
-    float _e1732 = sc_1.x;
-    float _e1735 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1732) / max(_e1735, 1e-30))), 1.0);
-    float _e1745 = sc_1.y;
-    float _e1748 = sc_1.y;
-    float _e1754 = sc_1.x;
-    float _e1757 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1754) * _e1757)) : (gp_1 - (((4.0 * g_14) * _e1745) * _e1748)));
-    float3 _e1763 = sum_2;
-    float _e1765 = st_1;
-    float _e1770 = d_3;
+    float _e1733 = sc_1.x;
+    float _e1736 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1733) / max(_e1736, 1e-30))), 1.0);
+    float _e1746 = sc_1.y;
+    float _e1749 = sc_1.y;
+    float _e1755 = sc_1.x;
+    float _e1758 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1755) * _e1758)) : (gp_1 - (((4.0 * g_14) * _e1746) * _e1749)));
+    float3 _e1764 = sum_2;
+    float _e1766 = st_1;
     float _e1771 = d_3;
-    sum_2 = (_e1763 + ((0.07234579 * exp((-(tau_6) * _e1765))) / ((_e1770 * sqrt(_e1771))).xxx));
+    float _e1772 = d_3;
+    sum_2 = (_e1764 + ((0.07234579 * exp((-(tau_6) * _e1766))) / ((_e1771 * sqrt(_e1772))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.26781785));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.26781785));
-    float _e1791 = b_4;
-    float _e1792 = co_1;
-    const float2 _e1796 = airlight_equiangular_32_sin_cos(max(min(_e1791, _e1792), 0.0));
-    sc_1 = _e1796;
-    float _e1797 = b_4;
-    float _e1798 = co_1;
-    if ((_e1797 > _e1798)) {
-        float2 _e1800 = sc_1;
-        sc_1 = _e1800.yx;
+    float _e1792 = b_4;
+    float _e1793 = co_1;
+    const float2 _e1797 = airlight_equiangular_32_sin_cos(max(min(_e1792, _e1793), 0.0));
+    sc_1 = _e1797;
+    float _e1798 = b_4;
+    float _e1799 = co_1;
+    if ((_e1798 > _e1799)) {
+        float2 _e1801 = sc_1;
+        sc_1 = _e1801.yx;
     }
-    float _e1803 = sc_1.x;
-    float _e1806 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1803) / max(_e1806, 1e-30))), 1.0);
-    float _e1816 = sc_1.y;
-    float _e1819 = sc_1.y;
-    float _e1825 = sc_1.x;
-    float _e1828 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1825) * _e1828)) : (gp_1 - (((4.0 * g_14) * _e1816) * _e1819)));
-    float3 _e1834 = sum_2;
-    float _e1836 = st_1;
-    float _e1841 = d_3;
+    float _e1804 = sc_1.x;
+    float _e1807 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1804) / max(_e1807, 1e-30))), 1.0);
+    float _e1817 = sc_1.y;
+    float _e1820 = sc_1.y;
+    float _e1826 = sc_1.x;
+    float _e1829 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1826) * _e1829)) : (gp_1 - (((4.0 * g_14) * _e1817) * _e1820)));
+    float3 _e1835 = sum_2;
+    float _e1837 = st_1;
     float _e1842 = d_3;
-    sum_2 = (_e1834 + ((0.06582222 * exp((-(tau_6) * _e1836))) / ((_e1841 * sqrt(_e1842))).xxx));
+    float _e1843 = d_3;
+    sum_2 = (_e1835 + ((0.06582222 * exp((-(tau_6) * _e1837))) / ((_e1842 * sqrt(_e1843))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.20551622));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.20551622));
-    float _e1862 = b_4;
-    float _e1863 = co_1;
-    const float2 _e1867 = airlight_equiangular_32_sin_cos(max(min(_e1862, _e1863), 0.0));
-    sc_1 = _e1867;
-    float _e1868 = b_4;
-    float _e1869 = co_1;
-    if ((_e1868 > _e1869)) {
-        float2 _e1871 = sc_1;
-        sc_1 = _e1871.yx;
+    float _e1863 = b_4;
+    float _e1864 = co_1;
+    const float2 _e1868 = airlight_equiangular_32_sin_cos(max(min(_e1863, _e1864), 0.0));
+    sc_1 = _e1868;
+    float _e1869 = b_4;
+    float _e1870 = co_1;
+    if ((_e1869 > _e1870)) {
+        float2 _e1872 = sc_1;
+        sc_1 = _e1872.yx;
     }
-    float _e1874 = sc_1.x;
-    float _e1877 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1874) / max(_e1877, 1e-30))), 1.0);
-    float _e1887 = sc_1.y;
-    float _e1890 = sc_1.y;
-    float _e1896 = sc_1.x;
-    float _e1899 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1896) * _e1899)) : (gp_1 - (((4.0 * g_14) * _e1887) * _e1890)));
-    float3 _e1905 = sum_2;
-    float _e1907 = st_1;
-    float _e1912 = d_3;
+    float _e1875 = sc_1.x;
+    float _e1878 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1875) / max(_e1878, 1e-30))), 1.0);
+    float _e1888 = sc_1.y;
+    float _e1891 = sc_1.y;
+    float _e1897 = sc_1.x;
+    float _e1900 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1897) * _e1900)) : (gp_1 - (((4.0 * g_14) * _e1888) * _e1891)));
+    float3 _e1906 = sum_2;
+    float _e1908 = st_1;
     float _e1913 = d_3;
-    sum_2 = (_e1905 + ((0.058684092 * exp((-(tau_6) * _e1907))) / ((_e1912 * sqrt(_e1913))).xxx));
+    float _e1914 = d_3;
+    sum_2 = (_e1906 + ((0.058684092 * exp((-(tau_6) * _e1908))) / ((_e1913 * sqrt(_e1914))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.15063238));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.15063238));
-    float _e1933 = b_4;
-    float _e1934 = co_1;
-    const float2 _e1938 = airlight_equiangular_32_sin_cos(max(min(_e1933, _e1934), 0.0));
-    sc_1 = _e1938;
-    float _e1939 = b_4;
-    float _e1940 = co_1;
-    if ((_e1939 > _e1940)) {
-        float2 _e1942 = sc_1;
-        sc_1 = _e1942.yx;
+    float _e1934 = b_4;
+    float _e1935 = co_1;
+    const float2 _e1939 = airlight_equiangular_32_sin_cos(max(min(_e1934, _e1935), 0.0));
+    sc_1 = _e1939;
+    float _e1940 = b_4;
+    float _e1941 = co_1;
+    if ((_e1940 > _e1941)) {
+        float2 _e1943 = sc_1;
+        sc_1 = _e1943.yx;
     }
-    float _e1945 = sc_1.x;
-    float _e1948 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e1945) / max(_e1948, 1e-30))), 1.0);
-    float _e1958 = sc_1.y;
-    float _e1961 = sc_1.y;
-    float _e1967 = sc_1.x;
-    float _e1970 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1967) * _e1970)) : (gp_1 - (((4.0 * g_14) * _e1958) * _e1961)));
-    float3 _e1976 = sum_2;
-    float _e1978 = st_1;
-    float _e1983 = d_3;
+    float _e1946 = sc_1.x;
+    float _e1949 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e1946) / max(_e1949, 1e-30))), 1.0);
+    float _e1959 = sc_1.y;
+    float _e1962 = sc_1.y;
+    float _e1968 = sc_1.x;
+    float _e1971 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1968) * _e1971)) : (gp_1 - (((4.0 * g_14) * _e1959) * _e1962)));
+    float3 _e1977 = sum_2;
+    float _e1979 = st_1;
     float _e1984 = d_3;
-    sum_2 = (_e1976 + ((0.05099806 * exp((-(tau_6) * _e1978))) / ((_e1983 * sqrt(_e1984))).xxx));
+    float _e1985 = d_3;
+    sum_2 = (_e1977 + ((0.05099806 * exp((-(tau_6) * _e1979))) / ((_e1984 * sqrt(_e1985))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.10367882));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.10367882));
-    float _e2004 = b_4;
-    float _e2005 = co_1;
-    const float2 _e2009 = airlight_equiangular_32_sin_cos(max(min(_e2004, _e2005), 0.0));
-    sc_1 = _e2009;
-    float _e2010 = b_4;
-    float _e2011 = co_1;
-    if ((_e2010 > _e2011)) {
-        float2 _e2013 = sc_1;
-        sc_1 = _e2013.yx;
+    float _e2005 = b_4;
+    float _e2006 = co_1;
+    const float2 _e2010 = airlight_equiangular_32_sin_cos(max(min(_e2005, _e2006), 0.0));
+    sc_1 = _e2010;
+    float _e2011 = b_4;
+    float _e2012 = co_1;
+    if ((_e2011 > _e2012)) {
+        float2 _e2014 = sc_1;
+        sc_1 = _e2014.yx;
     }
-    float _e2016 = sc_1.x;
-    float _e2019 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e2016) / max(_e2019, 1e-30))), 1.0);
-    float _e2029 = sc_1.y;
-    float _e2032 = sc_1.y;
-    float _e2038 = sc_1.x;
-    float _e2041 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2038) * _e2041)) : (gp_1 - (((4.0 * g_14) * _e2029) * _e2032)));
-    float3 _e2047 = sum_2;
-    float _e2049 = st_1;
-    float _e2054 = d_3;
+    float _e2017 = sc_1.x;
+    float _e2020 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e2017) / max(_e2020, 1e-30))), 1.0);
+    float _e2030 = sc_1.y;
+    float _e2033 = sc_1.y;
+    float _e2039 = sc_1.x;
+    float _e2042 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2039) * _e2042)) : (gp_1 - (((4.0 * g_14) * _e2030) * _e2033)));
+    float3 _e2048 = sum_2;
+    float _e2050 = st_1;
     float _e2055 = d_3;
-    sum_2 = (_e2047 + ((0.0428359 * exp((-(tau_6) * _e2049))) / ((_e2054 * sqrt(_e2055))).xxx));
+    float _e2056 = d_3;
+    sum_2 = (_e2048 + ((0.0428359 * exp((-(tau_6) * _e2050))) / ((_e2055 * sqrt(_e2056))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.065093935));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.065093935));
-    float _e2075 = b_4;
-    float _e2076 = co_1;
-    const float2 _e2080 = airlight_equiangular_32_sin_cos(max(min(_e2075, _e2076), 0.0));
-    sc_1 = _e2080;
-    float _e2081 = b_4;
-    float _e2082 = co_1;
-    if ((_e2081 > _e2082)) {
-        float2 _e2084 = sc_1;
-        sc_1 = _e2084.yx;
+    float _e2076 = b_4;
+    float _e2077 = co_1;
+    const float2 _e2081 = airlight_equiangular_32_sin_cos(max(min(_e2076, _e2077), 0.0));
+    sc_1 = _e2081;
+    float _e2082 = b_4;
+    float _e2083 = co_1;
+    if ((_e2082 > _e2083)) {
+        float2 _e2085 = sc_1;
+        sc_1 = _e2085.yx;
     }
-    float _e2087 = sc_1.x;
-    float _e2090 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e2087) / max(_e2090, 1e-30))), 1.0);
-    float _e2100 = sc_1.y;
-    float _e2103 = sc_1.y;
-    float _e2109 = sc_1.x;
-    float _e2112 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2109) * _e2112)) : (gp_1 - (((4.0 * g_14) * _e2100) * _e2103)));
-    float3 _e2118 = sum_2;
-    float _e2120 = st_1;
-    float _e2125 = d_3;
+    float _e2088 = sc_1.x;
+    float _e2091 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e2088) / max(_e2091, 1e-30))), 1.0);
+    float _e2101 = sc_1.y;
+    float _e2104 = sc_1.y;
+    float _e2110 = sc_1.x;
+    float _e2113 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2110) * _e2113)) : (gp_1 - (((4.0 * g_14) * _e2101) * _e2104)));
+    float3 _e2119 = sum_2;
+    float _e2121 = st_1;
     float _e2126 = d_3;
-    sum_2 = (_e2118 + ((0.034273863 * exp((-(tau_6) * _e2120))) / ((_e2125 * sqrt(_e2126))).xxx));
+    float _e2127 = d_3;
+    sum_2 = (_e2119 + ((0.034273863 * exp((-(tau_6) * _e2121))) / ((_e2126 * sqrt(_e2127))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.03523773));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.03523773));
-    float _e2146 = b_4;
-    float _e2147 = co_1;
-    const float2 _e2151 = airlight_equiangular_32_sin_cos(max(min(_e2146, _e2147), 0.0));
-    sc_1 = _e2151;
-    float _e2152 = b_4;
-    float _e2153 = co_1;
-    if ((_e2152 > _e2153)) {
-        float2 _e2155 = sc_1;
-        sc_1 = _e2155.yx;
+    float _e2147 = b_4;
+    float _e2148 = co_1;
+    const float2 _e2152 = airlight_equiangular_32_sin_cos(max(min(_e2147, _e2148), 0.0));
+    sc_1 = _e2152;
+    float _e2153 = b_4;
+    float _e2154 = co_1;
+    if ((_e2153 > _e2154)) {
+        float2 _e2156 = sc_1;
+        sc_1 = _e2156.yx;
     }
-    float _e2158 = sc_1.x;
-    float _e2161 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e2158) / max(_e2161, 1e-30))), 1.0);
-    float _e2171 = sc_1.y;
-    float _e2174 = sc_1.y;
-    float _e2180 = sc_1.x;
-    float _e2183 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2180) * _e2183)) : (gp_1 - (((4.0 * g_14) * _e2171) * _e2174)));
-    float3 _e2189 = sum_2;
-    float _e2191 = st_1;
-    float _e2196 = d_3;
+    float _e2159 = sc_1.x;
+    float _e2162 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e2159) / max(_e2162, 1e-30))), 1.0);
+    float _e2172 = sc_1.y;
+    float _e2175 = sc_1.y;
+    float _e2181 = sc_1.x;
+    float _e2184 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2181) * _e2184)) : (gp_1 - (((4.0 * g_14) * _e2172) * _e2175)));
+    float3 _e2190 = sum_2;
+    float _e2192 = st_1;
     float _e2197 = d_3;
-    sum_2 = (_e2189 + ((0.025392065 * exp((-(tau_6) * _e2191))) / ((_e2196 * sqrt(_e2197))).xxx));
+    float _e2198 = d_3;
+    sum_2 = (_e2190 + ((0.025392065 * exp((-(tau_6) * _e2192))) / ((_e2197 * sqrt(_e2198))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.014388502));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.014388502));
-    float _e2217 = b_4;
-    float _e2218 = co_1;
-    const float2 _e2222 = airlight_equiangular_32_sin_cos(max(min(_e2217, _e2218), 0.0));
-    sc_1 = _e2222;
-    float _e2223 = b_4;
-    float _e2224 = co_1;
-    if ((_e2223 > _e2224)) {
-        float2 _e2226 = sc_1;
-        sc_1 = _e2226.yx;
+    float _e2218 = b_4;
+    float _e2219 = co_1;
+    const float2 _e2223 = airlight_equiangular_32_sin_cos(max(min(_e2218, _e2219), 0.0));
+    sc_1 = _e2223;
+    float _e2224 = b_4;
+    float _e2225 = co_1;
+    if ((_e2224 > _e2225)) {
+        float2 _e2227 = sc_1;
+        sc_1 = _e2227.yx;
     }
-    float _e2229 = sc_1.x;
-    float _e2232 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e2229) / max(_e2232, 1e-30))), 1.0);
-    float _e2242 = sc_1.y;
-    float _e2245 = sc_1.y;
-    float _e2251 = sc_1.x;
-    float _e2254 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2251) * _e2254)) : (gp_1 - (((4.0 * g_14) * _e2242) * _e2245)));
-    float3 _e2260 = sum_2;
-    float _e2262 = st_1;
-    float _e2267 = d_3;
+    float _e2230 = sc_1.x;
+    float _e2233 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e2230) / max(_e2233, 1e-30))), 1.0);
+    float _e2243 = sc_1.y;
+    float _e2246 = sc_1.y;
+    float _e2252 = sc_1.x;
+    float _e2255 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2252) * _e2255)) : (gp_1 - (((4.0 * g_14) * _e2243) * _e2246)));
+    float3 _e2261 = sum_2;
+    float _e2263 = st_1;
     float _e2268 = d_3;
-    sum_2 = (_e2260 + ((0.016274394 * exp((-(tau_6) * _e2262))) / ((_e2267 * sqrt(_e2268))).xxx));
+    float _e2269 = d_3;
+    sum_2 = (_e2261 + ((0.016274394 * exp((-(tau_6) * _e2263))) / ((_e2268 * sqrt(_e2269))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.002736151));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.002736151));
-    float _e2288 = b_4;
-    float _e2289 = co_1;
-    const float2 _e2293 = airlight_equiangular_32_sin_cos(max(min(_e2288, _e2289), 0.0));
-    sc_1 = _e2293;
-    float _e2294 = b_4;
-    float _e2295 = co_1;
-    if ((_e2294 > _e2295)) {
-        float2 _e2297 = sc_1;
-        sc_1 = _e2297.yx;
+    float _e2289 = b_4;
+    float _e2290 = co_1;
+    const float2 _e2294 = airlight_equiangular_32_sin_cos(max(min(_e2289, _e2290), 0.0));
+    sc_1 = _e2294;
+    float _e2295 = b_4;
+    float _e2296 = co_1;
+    if ((_e2295 > _e2296)) {
+        float2 _e2298 = sc_1;
+        sc_1 = _e2298.yx;
     }
-    float _e2300 = sc_1.x;
-    float _e2303 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e2300) / max(_e2303, 1e-30))), 1.0);
-    float _e2313 = sc_1.y;
-    float _e2316 = sc_1.y;
-    float _e2322 = sc_1.x;
-    float _e2325 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2322) * _e2325)) : (gp_1 - (((4.0 * g_14) * _e2313) * _e2316)));
-    float3 _e2331 = sum_2;
-    float _e2333 = st_1;
-    float _e2338 = d_3;
+    float _e2301 = sc_1.x;
+    float _e2304 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e2301) / max(_e2304, 1e-30))), 1.0);
+    float _e2314 = sc_1.y;
+    float _e2317 = sc_1.y;
+    float _e2323 = sc_1.x;
+    float _e2326 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2323) * _e2326)) : (gp_1 - (((4.0 * g_14) * _e2314) * _e2317)));
+    float3 _e2332 = sum_2;
+    float _e2334 = st_1;
     float _e2339 = d_3;
-    sum_2 = (_e2331 + ((0.00701861 * exp((-(tau_6) * _e2333))) / ((_e2338 * sqrt(_e2339))).xxx));
-    float3 _e2352 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e2352) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
+    float _e2340 = d_3;
+    sum_2 = (_e2332 + ((0.00701861 * exp((-(tau_6) * _e2334))) / ((_e2339 * sqrt(_e2340))).xxx));
+    float3 _e2353 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e2353) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
+float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_4, float g_1)
 {
     float gc = clamp(gamma_2, 0.0, airlight_equiangular_32_PI);
     const float2 _e7 = airlight_equiangular_32_sin_cos(gc);
     float comp_2 = max(((airlight_equiangular_32_PI - gc) - 8.742278e-8), 0.0);
     const float2 _e16 = airlight_equiangular_32_sin_cos(comp_2);
-    float h_6 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
-    const float _e21 = airlight_equiangular_32_airlight_geometry(tau_1, h_6, _e7.y, gc, comp_2, rho_3, g_1);
-    return _e21;
+    float h_7 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
+    const float _e22 = airlight_equiangular_32_foot(h_7, _e7.y, rho_4);
+    const float _e23 = airlight_equiangular_32_airlight_geometry(tau_1, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
+    return _e23;
 }
 
 float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
@@ -2195,20 +2201,21 @@ float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surf
     if (_e24) {
         return 0.0;
     }
-    float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e34 = airlight_equiangular_32_arctan2_(_e8.y, _e8.z);
     const float _e38 = airlight_equiangular_32_arctan2_(_e8.y, -(_e8.z));
-    const float _e44 = airlight_equiangular_32_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_7, g_2);
-    const float _e45 = airlight_equiangular_32_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
-    return _e45;
+    const float _e46 = airlight_equiangular_32_foot(_e8.y, _e8.z, rho_8);
+    const float _e47 = airlight_equiangular_32_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_8, _e46, g_2);
+    const float _e48 = airlight_equiangular_32_scaled(sigma_s_1, intensity_1, _e8.x, _e47);
+    return _e48;
 }
 
-float3 airlight_equiangular_32_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float g_3)
+float3 airlight_equiangular_32_along_rgb(float3 tau_2, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
 {
-    const float _e5 = airlight_equiangular_32_arctan2_(h_3, x0_3);
-    const float _e7 = airlight_equiangular_32_arctan2_(h_3, -(x0_3));
-    const float3 _e8 = airlight_equiangular_32_airlight_geometry_rgb(tau_2, h_3, x0_3, _e5, _e7, rho_4, g_3);
-    return _e8;
+    const float _e6 = airlight_equiangular_32_arctan2_(h_4, x0_4);
+    const float _e8 = airlight_equiangular_32_arctan2_(h_4, -(x0_4));
+    const float3 _e9 = airlight_equiangular_32_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
+    return _e9;
 }
 
 float airlight_equiangular_32_spot_asin(float x_4, float r_1)
@@ -2217,51 +2224,62 @@ float airlight_equiangular_32_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_32_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_equiangular_32_spot_core(float3 tau_3, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_13 = (bool)0;
 
-    h1_ = h_4;
-    x1_ = x0_4;
-    rho1_ = rho_5;
+    h1_ = h_5;
+    x1_ = x0_5;
+    rho1_ = rho_6;
     const float2 _e17 = airlight_equiangular_32_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_4 / max(_e17.x, 1e-30));
+        t0_ = (h_5 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_equiangular_32_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_equiangular_32_foot(h_5, x0_5, rho_6);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_equiangular_32_sin_cos((wb - wa));
-        const float2 _e34 = airlight_equiangular_32_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_equiangular_32_sin_cos(wb);
+        const float2 _e35 = airlight_equiangular_32_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_5 >= 0.0);
+            local_13 = (rho_6 >= 0.0);
         } else {
             local_13 = false;
         }
-        bool _e44 = local_13;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_5 - _e45) / _e47), 0.0);
+        bool _e53 = local_13;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_equiangular_32_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_equiangular_32_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_4);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_equiangular_32_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
 }
 
 float airlight_equiangular_32_spot_weight(float c_2, float co_2, float ci)
@@ -2278,7 +2296,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
+float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
 {
     bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -2303,7 +2321,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
     const float2 _e27 = airlight_equiangular_32_sin_cos(e_1);
     const float _e33 = airlight_equiangular_32_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_3, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_equiangular_32_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
+        const float3 _e41 = airlight_equiangular_32_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -2347,7 +2365,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e118) * _e121)) : (gp_2 - (((4.0 * g_5) * _e109) * _e112)));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum_3;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -2371,7 +2389,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e195) * _e198)) : (gp_2 - (((4.0 * g_5) * _e186) * _e189)));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum_3;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -2395,7 +2413,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e272) * _e275)) : (gp_2 - (((4.0 * g_5) * _e263) * _e266)));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum_3;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -2419,7 +2437,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e349) * _e352)) : (gp_2 - (((4.0 * g_5) * _e340) * _e343)));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum_3;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -2443,7 +2461,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e426) * _e429)) : (gp_2 - (((4.0 * g_5) * _e417) * _e420)));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum_3;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -2467,7 +2485,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e503) * _e506)) : (gp_2 - (((4.0 * g_5) * _e494) * _e497)));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum_3;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -2491,7 +2509,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e580) * _e583)) : (gp_2 - (((4.0 * g_5) * _e571) * _e574)));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum_3;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -2515,7 +2533,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e657) * _e660)) : (gp_2 - (((4.0 * g_5) * _e648) * _e651)));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum_3;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -2532,7 +2550,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_5, float x0_5, fl
     }
     float3 _e718 = exact;
     float3 _e727 = sum_3;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
@@ -2618,20 +2636,20 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         return (0.0).xxx;
     }
     float d_5 = _e11.x;
-    float h_7 = _e11.y;
-    float x0_7 = _e11.z;
+    float h_8 = _e11.y;
+    float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_5) < airlight_equiangular_32_RHO_OPEN);
     } else {
         local_19 = false;
     }
     bool has_end_1 = local_19;
-    float rho_8 = (has_end_1 ? (surface_1 / d_5) : -1.0);
+    float rho_9 = (has_end_1 ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
-    const float _e143 = airlight_equiangular_32_arctan2_(h_7, x0_7);
+    const float _e143 = airlight_equiangular_32_arctan2_(h_8, x0_8);
     if (!(point_)) {
-        local_20 = (h_7 <= 0.0);
+        local_20 = (h_8 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -2647,12 +2665,12 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
             const float _e160 = airlight_equiangular_32_spot_weight(-(k_2), co_4, cos_inner);
             const float _e161 = airlight_equiangular_32_spot_weight(k_2, co_4, cos_inner);
             if (has_end_1) {
-                local_22 = (rho_8 < 1.0);
+                local_22 = (rho_9 < 1.0);
             } else {
                 local_22 = false;
             }
             bool _e168 = local_22;
-            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
+            scale = ((x0_8 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
@@ -2669,7 +2687,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         float _e194 = ca_1;
         const float _e195 = airlight_equiangular_32_arctan2_(k_2, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_equiangular_32_arctan2_(h_7, (x0_7 - rho_8));
+        const float _e198 = airlight_equiangular_32_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end_1 ? _e198 : airlight_equiangular_32_PI);
         if ((co_4 < r_4)) {
             const float _e201 = airlight_equiangular_32_spot_asin(co_4, r_4);
@@ -2713,7 +2731,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_equiangular_32_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_equiangular_32_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -2741,7 +2759,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_equiangular_32_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
+                const float3 _e274 = airlight_equiangular_32_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
                 a_5 = (_e268 + _e274);
             }
         }

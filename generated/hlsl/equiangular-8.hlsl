@@ -34,6 +34,11 @@ static const float airlight_equiangular_8_HUGE = 3.4028235e38;
 static const float airlight_equiangular_8_RHO_OPEN = 4294967300.0;
 static const float airlight_equiangular_8_TAU_MAX = 10000.0;
 
+float airlight_equiangular_8_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_equiangular_8_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -92,7 +97,7 @@ float3 airlight_equiangular_8_ray_geometry(float3 origin, float3 dir, float3 lig
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_equiangular_8_two_sum(light, -(origin));
     const float _e6 = airlight_equiangular_8_max_abs(_e4[0]);
@@ -133,16 +138,16 @@ float3 airlight_equiangular_8_ray_geometry(float3 origin, float3 dir, float3 lig
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
+    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
     const float3 _e93 = airlight_equiangular_8_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_equiangular_8_HUGE), (_e97 / n_1), (x0_6 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_equiangular_8_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
 float airlight_equiangular_8_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -273,22 +278,22 @@ float2 airlight_equiangular_8_sin_cos(float x_3)
     }
 }
 
-float airlight_equiangular_8_airlight_axis(float tau, float x0_, float rho, float g)
+float airlight_equiangular_8_airlight_axis(float tau, float x0_1, float rho_1, float g)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     float sum = 0.0;
     float u = (float)0;
 
-    if ((rho >= 0.0)) {
-        local_4 = (rho < airlight_equiangular_8_RHO_OPEN);
+    if ((rho_1 >= 0.0)) {
+        local_4 = (rho_1 < airlight_equiangular_8_RHO_OPEN);
     } else {
         local_4 = false;
     }
     bool has_end = local_4;
-    if ((x0_ > 0.0)) {
+    if ((x0_1 > 0.0)) {
         if (has_end) {
-            local_5 = (rho < 1.0);
+            local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
@@ -296,9 +301,9 @@ float airlight_equiangular_8_airlight_axis(float tau, float x0_, float rho, floa
         if (!(_e19)) {
             return airlight_equiangular_8_HUGE;
         }
-        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho) / (1.0 - rho)), airlight_equiangular_8_HUGE);
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_8_HUGE);
     }
-    float lo = (has_end ? (1.0 / (1.0 + rho)) : 0.0);
+    float lo = (has_end ? (1.0 / (1.0 + rho_1)) : 0.0);
     float half_ = (0.5 * (1.0 - lo));
     u = (lo + (half_ * 1.9602898));
     float _e57 = sum;
@@ -344,7 +349,7 @@ float airlight_equiangular_8_airlight_axis(float tau, float x0_, float rho, floa
     return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e196);
 }
 
-float airlight_equiangular_8_airlight_geometry(float tau_in, float h_1, float x0_1, float gamma, float comp, float rho_1, float g_in)
+float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0_2, float gamma, float comp, float rho_2, float xr, float g_in)
 {
     bool local_6 = (bool)0;
     bool local_7 = (bool)0;
@@ -361,240 +366,240 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_1, float x0
     float g_13 = clamp(g_in, -0.999, 0.999);
     float gm = ((1.0 - g_13) * (1.0 - g_13));
     float gp = ((1.0 + g_13) * (1.0 + g_13));
-    if (!((h_1 <= 0.0))) {
-        if ((x0_1 < 0.0)) {
-            local_7 = (h_1 < 8.673617e-19);
+    if (!((h_2 <= 0.0))) {
+        if ((x0_2 < 0.0)) {
+            local_7 = (h_2 < 8.673617e-19);
         } else {
             local_7 = false;
         }
-        bool _e36 = local_7;
-        local_6 = _e36;
+        bool _e37 = local_7;
+        local_6 = _e37;
     } else {
         local_6 = true;
     }
-    bool _e38 = local_6;
-    if (_e38) {
-        const float _e39 = airlight_equiangular_8_airlight_axis(tau_5, x0_1, rho_1, g_13);
-        return _e39;
+    bool _e39 = local_6;
+    if (_e39) {
+        const float _e40 = airlight_equiangular_8_airlight_axis(tau_5, x0_2, rho_2, g_13);
+        return _e40;
     }
     span = comp;
-    if ((rho_1 >= 0.0)) {
-        local_8 = (rho_1 < airlight_equiangular_8_RHO_OPEN);
+    if ((rho_2 >= 0.0)) {
+        local_8 = (rho_2 < airlight_equiangular_8_RHO_OPEN);
     } else {
         local_8 = false;
     }
-    bool _e48 = local_8;
-    if (_e48) {
-        const float _e53 = airlight_equiangular_8_arctan2_((h_1 * rho_1), (1.0 - (x0_1 * rho_1)));
-        span = _e53;
+    bool _e49 = local_8;
+    if (_e49) {
+        const float _e54 = airlight_equiangular_8_arctan2_((h_2 * rho_2), ((h_2 * h_2) + (x0_2 * xr)));
+        span = _e54;
     }
-    float _e54 = span;
-    float half_1 = (0.5 * _e54);
+    float _e55 = span;
+    float half_1 = (0.5 * _e55);
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9602898));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9602898));
-    float _e78 = b_3;
-    float _e79 = co;
-    const float2 _e83 = airlight_equiangular_8_sin_cos(max(min(_e78, _e79), 0.0));
-    sc = _e83;
-    float _e84 = b_3;
-    float _e85 = co;
-    if ((_e84 > _e85)) {
-        float2 _e87 = sc;
-        sc = _e87.yx;
+    float _e79 = b_3;
+    float _e80 = co;
+    const float2 _e84 = airlight_equiangular_8_sin_cos(max(min(_e79, _e80), 0.0));
+    sc = _e84;
+    float _e85 = b_3;
+    float _e86 = co;
+    if ((_e85 > _e86)) {
+        float2 _e88 = sc;
+        sc = _e88.yx;
     }
-    float _e90 = sc.x;
-    float _e93 = sc.y;
-    st = max((x0_1 + ((h_1 * _e90) / max(_e93, 1e-30))), 1.0);
-    float _e103 = sc.y;
-    float _e106 = sc.y;
-    float _e112 = sc.x;
-    float _e115 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e112) * _e115)) : (gp - (((4.0 * g_13) * _e103) * _e106)));
-    float _e121 = sum_1;
-    float _e123 = st;
-    float _e128 = d_2;
+    float _e91 = sc.x;
+    float _e94 = sc.y;
+    st = max((x0_2 + ((h_2 * _e91) / max(_e94, 1e-30))), 1.0);
+    float _e104 = sc.y;
+    float _e107 = sc.y;
+    float _e113 = sc.x;
+    float _e116 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e113) * _e116)) : (gp - (((4.0 * g_13) * _e104) * _e107)));
+    float _e122 = sum_1;
+    float _e124 = st;
     float _e129 = d_2;
-    sum_1 = (_e121 + ((0.101228535 * exp((-(tau_5) * _e123))) / (_e128 * sqrt(_e129))));
+    float _e130 = d_2;
+    sum_1 = (_e122 + ((0.101228535 * exp((-(tau_5) * _e124))) / (_e129 * sqrt(_e130))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7966665));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7966665));
-    float _e148 = b_3;
-    float _e149 = co;
-    const float2 _e153 = airlight_equiangular_8_sin_cos(max(min(_e148, _e149), 0.0));
-    sc = _e153;
-    float _e154 = b_3;
-    float _e155 = co;
-    if ((_e154 > _e155)) {
-        float2 _e157 = sc;
-        sc = _e157.yx;
+    float _e149 = b_3;
+    float _e150 = co;
+    const float2 _e154 = airlight_equiangular_8_sin_cos(max(min(_e149, _e150), 0.0));
+    sc = _e154;
+    float _e155 = b_3;
+    float _e156 = co;
+    if ((_e155 > _e156)) {
+        float2 _e158 = sc;
+        sc = _e158.yx;
     }
-    float _e160 = sc.x;
-    float _e163 = sc.y;
-    st = max((x0_1 + ((h_1 * _e160) / max(_e163, 1e-30))), 1.0);
-    float _e173 = sc.y;
-    float _e176 = sc.y;
-    float _e182 = sc.x;
-    float _e185 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e182) * _e185)) : (gp - (((4.0 * g_13) * _e173) * _e176)));
-    float _e191 = sum_1;
-    float _e193 = st;
-    float _e198 = d_2;
+    float _e161 = sc.x;
+    float _e164 = sc.y;
+    st = max((x0_2 + ((h_2 * _e161) / max(_e164, 1e-30))), 1.0);
+    float _e174 = sc.y;
+    float _e177 = sc.y;
+    float _e183 = sc.x;
+    float _e186 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e183) * _e186)) : (gp - (((4.0 * g_13) * _e174) * _e177)));
+    float _e192 = sum_1;
+    float _e194 = st;
     float _e199 = d_2;
-    sum_1 = (_e191 + ((0.22238104 * exp((-(tau_5) * _e193))) / (_e198 * sqrt(_e199))));
+    float _e200 = d_2;
+    sum_1 = (_e192 + ((0.22238104 * exp((-(tau_5) * _e194))) / (_e199 * sqrt(_e200))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5255324));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5255324));
-    float _e218 = b_3;
-    float _e219 = co;
-    const float2 _e223 = airlight_equiangular_8_sin_cos(max(min(_e218, _e219), 0.0));
-    sc = _e223;
-    float _e224 = b_3;
-    float _e225 = co;
-    if ((_e224 > _e225)) {
-        float2 _e227 = sc;
-        sc = _e227.yx;
+    float _e219 = b_3;
+    float _e220 = co;
+    const float2 _e224 = airlight_equiangular_8_sin_cos(max(min(_e219, _e220), 0.0));
+    sc = _e224;
+    float _e225 = b_3;
+    float _e226 = co;
+    if ((_e225 > _e226)) {
+        float2 _e228 = sc;
+        sc = _e228.yx;
     }
-    float _e230 = sc.x;
-    float _e233 = sc.y;
-    st = max((x0_1 + ((h_1 * _e230) / max(_e233, 1e-30))), 1.0);
-    float _e243 = sc.y;
-    float _e246 = sc.y;
-    float _e252 = sc.x;
-    float _e255 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e252) * _e255)) : (gp - (((4.0 * g_13) * _e243) * _e246)));
-    float _e261 = sum_1;
-    float _e263 = st;
-    float _e268 = d_2;
+    float _e231 = sc.x;
+    float _e234 = sc.y;
+    st = max((x0_2 + ((h_2 * _e231) / max(_e234, 1e-30))), 1.0);
+    float _e244 = sc.y;
+    float _e247 = sc.y;
+    float _e253 = sc.x;
+    float _e256 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e253) * _e256)) : (gp - (((4.0 * g_13) * _e244) * _e247)));
+    float _e262 = sum_1;
+    float _e264 = st;
     float _e269 = d_2;
-    sum_1 = (_e261 + ((0.31370664 * exp((-(tau_5) * _e263))) / (_e268 * sqrt(_e269))));
+    float _e270 = d_2;
+    sum_1 = (_e262 + ((0.31370664 * exp((-(tau_5) * _e264))) / (_e269 * sqrt(_e270))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.1834346));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.1834346));
-    float _e288 = b_3;
-    float _e289 = co;
-    const float2 _e293 = airlight_equiangular_8_sin_cos(max(min(_e288, _e289), 0.0));
-    sc = _e293;
-    float _e294 = b_3;
-    float _e295 = co;
-    if ((_e294 > _e295)) {
-        float2 _e297 = sc;
-        sc = _e297.yx;
+    float _e289 = b_3;
+    float _e290 = co;
+    const float2 _e294 = airlight_equiangular_8_sin_cos(max(min(_e289, _e290), 0.0));
+    sc = _e294;
+    float _e295 = b_3;
+    float _e296 = co;
+    if ((_e295 > _e296)) {
+        float2 _e298 = sc;
+        sc = _e298.yx;
     }
-    float _e300 = sc.x;
-    float _e303 = sc.y;
-    st = max((x0_1 + ((h_1 * _e300) / max(_e303, 1e-30))), 1.0);
-    float _e313 = sc.y;
-    float _e316 = sc.y;
-    float _e322 = sc.x;
-    float _e325 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e322) * _e325)) : (gp - (((4.0 * g_13) * _e313) * _e316)));
-    float _e331 = sum_1;
-    float _e333 = st;
-    float _e338 = d_2;
+    float _e301 = sc.x;
+    float _e304 = sc.y;
+    st = max((x0_2 + ((h_2 * _e301) / max(_e304, 1e-30))), 1.0);
+    float _e314 = sc.y;
+    float _e317 = sc.y;
+    float _e323 = sc.x;
+    float _e326 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e323) * _e326)) : (gp - (((4.0 * g_13) * _e314) * _e317)));
+    float _e332 = sum_1;
+    float _e334 = st;
     float _e339 = d_2;
-    sum_1 = (_e331 + ((0.36268377 * exp((-(tau_5) * _e333))) / (_e338 * sqrt(_e339))));
+    float _e340 = d_2;
+    sum_1 = (_e332 + ((0.36268377 * exp((-(tau_5) * _e334))) / (_e339 * sqrt(_e340))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.8165654));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.8165654));
-    float _e358 = b_3;
-    float _e359 = co;
-    const float2 _e363 = airlight_equiangular_8_sin_cos(max(min(_e358, _e359), 0.0));
-    sc = _e363;
-    float _e364 = b_3;
-    float _e365 = co;
-    if ((_e364 > _e365)) {
-        float2 _e367 = sc;
-        sc = _e367.yx;
+    float _e359 = b_3;
+    float _e360 = co;
+    const float2 _e364 = airlight_equiangular_8_sin_cos(max(min(_e359, _e360), 0.0));
+    sc = _e364;
+    float _e365 = b_3;
+    float _e366 = co;
+    if ((_e365 > _e366)) {
+        float2 _e368 = sc;
+        sc = _e368.yx;
     }
-    float _e370 = sc.x;
-    float _e373 = sc.y;
-    st = max((x0_1 + ((h_1 * _e370) / max(_e373, 1e-30))), 1.0);
-    float _e383 = sc.y;
-    float _e386 = sc.y;
-    float _e392 = sc.x;
-    float _e395 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e392) * _e395)) : (gp - (((4.0 * g_13) * _e383) * _e386)));
-    float _e401 = sum_1;
-    float _e403 = st;
-    float _e408 = d_2;
+    float _e371 = sc.x;
+    float _e374 = sc.y;
+    st = max((x0_2 + ((h_2 * _e371) / max(_e374, 1e-30))), 1.0);
+    float _e384 = sc.y;
+    float _e387 = sc.y;
+    float _e393 = sc.x;
+    float _e396 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e393) * _e396)) : (gp - (((4.0 * g_13) * _e384) * _e387)));
+    float _e402 = sum_1;
+    float _e404 = st;
     float _e409 = d_2;
-    sum_1 = (_e401 + ((0.36268377 * exp((-(tau_5) * _e403))) / (_e408 * sqrt(_e409))));
+    float _e410 = d_2;
+    sum_1 = (_e402 + ((0.36268377 * exp((-(tau_5) * _e404))) / (_e409 * sqrt(_e410))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.47446758));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.47446758));
-    float _e428 = b_3;
-    float _e429 = co;
-    const float2 _e433 = airlight_equiangular_8_sin_cos(max(min(_e428, _e429), 0.0));
-    sc = _e433;
-    float _e434 = b_3;
-    float _e435 = co;
-    if ((_e434 > _e435)) {
-        float2 _e437 = sc;
-        sc = _e437.yx;
+    float _e429 = b_3;
+    float _e430 = co;
+    const float2 _e434 = airlight_equiangular_8_sin_cos(max(min(_e429, _e430), 0.0));
+    sc = _e434;
+    float _e435 = b_3;
+    float _e436 = co;
+    if ((_e435 > _e436)) {
+        float2 _e438 = sc;
+        sc = _e438.yx;
     }
-    float _e440 = sc.x;
-    float _e443 = sc.y;
-    st = max((x0_1 + ((h_1 * _e440) / max(_e443, 1e-30))), 1.0);
-    float _e453 = sc.y;
-    float _e456 = sc.y;
-    float _e462 = sc.x;
-    float _e465 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e462) * _e465)) : (gp - (((4.0 * g_13) * _e453) * _e456)));
-    float _e471 = sum_1;
-    float _e473 = st;
-    float _e478 = d_2;
+    float _e441 = sc.x;
+    float _e444 = sc.y;
+    st = max((x0_2 + ((h_2 * _e441) / max(_e444, 1e-30))), 1.0);
+    float _e454 = sc.y;
+    float _e457 = sc.y;
+    float _e463 = sc.x;
+    float _e466 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e463) * _e466)) : (gp - (((4.0 * g_13) * _e454) * _e457)));
+    float _e472 = sum_1;
+    float _e474 = st;
     float _e479 = d_2;
-    sum_1 = (_e471 + ((0.31370664 * exp((-(tau_5) * _e473))) / (_e478 * sqrt(_e479))));
+    float _e480 = d_2;
+    sum_1 = (_e472 + ((0.31370664 * exp((-(tau_5) * _e474))) / (_e479 * sqrt(_e480))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.2033335));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.2033335));
-    float _e498 = b_3;
-    float _e499 = co;
-    const float2 _e503 = airlight_equiangular_8_sin_cos(max(min(_e498, _e499), 0.0));
-    sc = _e503;
-    float _e504 = b_3;
-    float _e505 = co;
-    if ((_e504 > _e505)) {
-        float2 _e507 = sc;
-        sc = _e507.yx;
+    float _e499 = b_3;
+    float _e500 = co;
+    const float2 _e504 = airlight_equiangular_8_sin_cos(max(min(_e499, _e500), 0.0));
+    sc = _e504;
+    float _e505 = b_3;
+    float _e506 = co;
+    if ((_e505 > _e506)) {
+        float2 _e508 = sc;
+        sc = _e508.yx;
     }
-    float _e510 = sc.x;
-    float _e513 = sc.y;
-    st = max((x0_1 + ((h_1 * _e510) / max(_e513, 1e-30))), 1.0);
-    float _e523 = sc.y;
-    float _e526 = sc.y;
-    float _e532 = sc.x;
-    float _e535 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e532) * _e535)) : (gp - (((4.0 * g_13) * _e523) * _e526)));
-    float _e541 = sum_1;
-    float _e543 = st;
-    float _e548 = d_2;
+    float _e511 = sc.x;
+    float _e514 = sc.y;
+    st = max((x0_2 + ((h_2 * _e511) / max(_e514, 1e-30))), 1.0);
+    float _e524 = sc.y;
+    float _e527 = sc.y;
+    float _e533 = sc.x;
+    float _e536 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e533) * _e536)) : (gp - (((4.0 * g_13) * _e524) * _e527)));
+    float _e542 = sum_1;
+    float _e544 = st;
     float _e549 = d_2;
-    sum_1 = (_e541 + ((0.22238104 * exp((-(tau_5) * _e543))) / (_e548 * sqrt(_e549))));
+    float _e550 = d_2;
+    sum_1 = (_e542 + ((0.22238104 * exp((-(tau_5) * _e544))) / (_e549 * sqrt(_e550))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.039710164));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.039710164));
-    float _e568 = b_3;
-    float _e569 = co;
-    const float2 _e573 = airlight_equiangular_8_sin_cos(max(min(_e568, _e569), 0.0));
-    sc = _e573;
-    float _e574 = b_3;
-    float _e575 = co;
-    if ((_e574 > _e575)) {
-        float2 _e577 = sc;
-        sc = _e577.yx;
+    float _e569 = b_3;
+    float _e570 = co;
+    const float2 _e574 = airlight_equiangular_8_sin_cos(max(min(_e569, _e570), 0.0));
+    sc = _e574;
+    float _e575 = b_3;
+    float _e576 = co;
+    if ((_e575 > _e576)) {
+        float2 _e578 = sc;
+        sc = _e578.yx;
     }
-    float _e580 = sc.x;
-    float _e583 = sc.y;
-    st = max((x0_1 + ((h_1 * _e580) / max(_e583, 1e-30))), 1.0);
-    float _e593 = sc.y;
-    float _e596 = sc.y;
-    float _e602 = sc.x;
-    float _e605 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e602) * _e605)) : (gp - (((4.0 * g_13) * _e593) * _e596)));
-    float _e611 = sum_1;
-    float _e613 = st;
-    float _e618 = d_2;
+    float _e581 = sc.x;
+    float _e584 = sc.y;
+    st = max((x0_2 + ((h_2 * _e581) / max(_e584, 1e-30))), 1.0);
+    float _e594 = sc.y;
+    float _e597 = sc.y;
+    float _e603 = sc.x;
+    float _e606 = sc.x;
+    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e603) * _e606)) : (gp - (((4.0 * g_13) * _e594) * _e597)));
+    float _e612 = sum_1;
+    float _e614 = st;
     float _e619 = d_2;
-    sum_1 = (_e611 + ((0.101228535 * exp((-(tau_5) * _e613))) / (_e618 * sqrt(_e619))));
-    float _e631 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e631) * half_1) / h_1), airlight_equiangular_8_HUGE);
+    float _e620 = d_2;
+    sum_1 = (_e612 + ((0.101228535 * exp((-(tau_5) * _e614))) / (_e619 * sqrt(_e620))));
+    float _e632 = sum_1;
+    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e632) * half_1) / h_2), airlight_equiangular_8_HUGE);
 }
 
-float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_2, float x0_2, float gamma_1, float comp_1, float rho_2, float g_in_1)
+float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1, float g_in_1)
 {
     bool local_9 = (bool)0;
     bool local_10 = (bool)0;
@@ -611,250 +616,251 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_2, 
     float g_14 = clamp(g_in_1, -0.999, 0.999);
     float gm_1 = ((1.0 - g_14) * (1.0 - g_14));
     float gp_1 = ((1.0 + g_14) * (1.0 + g_14));
-    if (!((h_2 <= 0.0))) {
-        if ((x0_2 < 0.0)) {
-            local_10 = (h_2 < 8.673617e-19);
+    if (!((h_3 <= 0.0))) {
+        if ((x0_3 < 0.0)) {
+            local_10 = (h_3 < 8.673617e-19);
         } else {
             local_10 = false;
         }
-        bool _e38 = local_10;
-        local_9 = _e38;
+        bool _e39 = local_10;
+        local_9 = _e39;
     } else {
         local_9 = true;
     }
-    bool _e40 = local_9;
-    if (_e40) {
-        const float _e42 = airlight_equiangular_8_airlight_axis(tau_6.x, x0_2, rho_2, g_14);
-        const float _e44 = airlight_equiangular_8_airlight_axis(tau_6.y, x0_2, rho_2, g_14);
-        const float _e46 = airlight_equiangular_8_airlight_axis(tau_6.z, x0_2, rho_2, g_14);
-        return float3(_e42, _e44, _e46);
+    bool _e41 = local_9;
+    if (_e41) {
+        const float _e43 = airlight_equiangular_8_airlight_axis(tau_6.x, x0_3, rho_3, g_14);
+        const float _e45 = airlight_equiangular_8_airlight_axis(tau_6.y, x0_3, rho_3, g_14);
+        const float _e47 = airlight_equiangular_8_airlight_axis(tau_6.z, x0_3, rho_3, g_14);
+        return float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
-    if ((rho_2 >= 0.0)) {
-        local_11 = (rho_2 < airlight_equiangular_8_RHO_OPEN);
+    if ((rho_3 >= 0.0)) {
+        local_11 = (rho_3 < airlight_equiangular_8_RHO_OPEN);
     } else {
         local_11 = false;
     }
-    bool _e56 = local_11;
-    if (_e56) {
-        const float _e61 = airlight_equiangular_8_arctan2_((h_2 * rho_2), (1.0 - (x0_2 * rho_2)));
-        span_1 = _e61;
+    bool _e57 = local_11;
+    if (_e57) {
+        const float _e62 = airlight_equiangular_8_arctan2_((h_3 * rho_3), ((h_3 * h_3) + (x0_3 * xr_1)));
+        span_1 = _e62;
     }
-    float _e62 = span_1;
-    float half_2 = (0.5 * _e62);
+    float _e63 = span_1;
+    float half_2 = (0.5 * _e63);
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9602898));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9602898));
-    float _e87 = b_4;
-    float _e88 = co_1;
-    const float2 _e92 = airlight_equiangular_8_sin_cos(max(min(_e87, _e88), 0.0));
-    sc_1 = _e92;
-    float _e93 = b_4;
-    float _e94 = co_1;
-    if ((_e93 > _e94)) {
-        float2 _e96 = sc_1;
-        sc_1 = _e96.yx;
+    float _e88 = b_4;
+    float _e89 = co_1;
+    const float2 _e93 = airlight_equiangular_8_sin_cos(max(min(_e88, _e89), 0.0));
+    sc_1 = _e93;
+    float _e94 = b_4;
+    float _e95 = co_1;
+    if ((_e94 > _e95)) {
+        float2 _e97 = sc_1;
+        sc_1 = _e97.yx;
     }
-    float _e99 = sc_1.x;
-    float _e102 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e99) / max(_e102, 1e-30))), 1.0);
-    float _e112 = sc_1.y;
-    float _e115 = sc_1.y;
-    float _e121 = sc_1.x;
-    float _e124 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e121) * _e124)) : (gp_1 - (((4.0 * g_14) * _e112) * _e115)));
-    float3 _e130 = sum_2;
-    float _e132 = st_1;
-    float _e137 = d_3;
+    float _e100 = sc_1.x;
+    float _e103 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e100) / max(_e103, 1e-30))), 1.0);
+    float _e113 = sc_1.y;
+    float _e116 = sc_1.y;
+    float _e122 = sc_1.x;
+    float _e125 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e122) * _e125)) : (gp_1 - (((4.0 * g_14) * _e113) * _e116)));
+    float3 _e131 = sum_2;
+    float _e133 = st_1;
     float _e138 = d_3;
-    sum_2 = (_e130 + ((0.101228535 * exp((-(tau_6) * _e132))) / ((_e137 * sqrt(_e138))).xxx));
+    float _e139 = d_3;
+    sum_2 = (_e131 + ((0.101228535 * exp((-(tau_6) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7966665));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7966665));
-    float _e158 = b_4;
-    float _e159 = co_1;
-    const float2 _e163 = airlight_equiangular_8_sin_cos(max(min(_e158, _e159), 0.0));
-    sc_1 = _e163;
-    float _e164 = b_4;
-    float _e165 = co_1;
-    if ((_e164 > _e165)) {
-        float2 _e167 = sc_1;
-        sc_1 = _e167.yx;
+    float _e159 = b_4;
+    float _e160 = co_1;
+    const float2 _e164 = airlight_equiangular_8_sin_cos(max(min(_e159, _e160), 0.0));
+    sc_1 = _e164;
+    float _e165 = b_4;
+    float _e166 = co_1;
+    if ((_e165 > _e166)) {
+        float2 _e168 = sc_1;
+        sc_1 = _e168.yx;
     }
-    float _e170 = sc_1.x;
-    float _e173 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e170) / max(_e173, 1e-30))), 1.0);
-    float _e183 = sc_1.y;
-    float _e186 = sc_1.y;
-    float _e192 = sc_1.x;
-    float _e195 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e192) * _e195)) : (gp_1 - (((4.0 * g_14) * _e183) * _e186)));
-    float3 _e201 = sum_2;
-    float _e203 = st_1;
-    float _e208 = d_3;
+    float _e171 = sc_1.x;
+    float _e174 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e171) / max(_e174, 1e-30))), 1.0);
+    float _e184 = sc_1.y;
+    float _e187 = sc_1.y;
+    float _e193 = sc_1.x;
+    float _e196 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e193) * _e196)) : (gp_1 - (((4.0 * g_14) * _e184) * _e187)));
+    float3 _e202 = sum_2;
+    float _e204 = st_1;
     float _e209 = d_3;
-    sum_2 = (_e201 + ((0.22238104 * exp((-(tau_6) * _e203))) / ((_e208 * sqrt(_e209))).xxx));
+    float _e210 = d_3;
+    sum_2 = (_e202 + ((0.22238104 * exp((-(tau_6) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5255324));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5255324));
-    float _e229 = b_4;
-    float _e230 = co_1;
-    const float2 _e234 = airlight_equiangular_8_sin_cos(max(min(_e229, _e230), 0.0));
-    sc_1 = _e234;
-    float _e235 = b_4;
-    float _e236 = co_1;
-    if ((_e235 > _e236)) {
-        float2 _e238 = sc_1;
-        sc_1 = _e238.yx;
+    float _e230 = b_4;
+    float _e231 = co_1;
+    const float2 _e235 = airlight_equiangular_8_sin_cos(max(min(_e230, _e231), 0.0));
+    sc_1 = _e235;
+    float _e236 = b_4;
+    float _e237 = co_1;
+    if ((_e236 > _e237)) {
+        float2 _e239 = sc_1;
+        sc_1 = _e239.yx;
     }
-    float _e241 = sc_1.x;
-    float _e244 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e241) / max(_e244, 1e-30))), 1.0);
-    float _e254 = sc_1.y;
-    float _e257 = sc_1.y;
-    float _e263 = sc_1.x;
-    float _e266 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e263) * _e266)) : (gp_1 - (((4.0 * g_14) * _e254) * _e257)));
-    float3 _e272 = sum_2;
-    float _e274 = st_1;
-    float _e279 = d_3;
+    float _e242 = sc_1.x;
+    float _e245 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e242) / max(_e245, 1e-30))), 1.0);
+    float _e255 = sc_1.y;
+    float _e258 = sc_1.y;
+    float _e264 = sc_1.x;
+    float _e267 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e264) * _e267)) : (gp_1 - (((4.0 * g_14) * _e255) * _e258)));
+    float3 _e273 = sum_2;
+    float _e275 = st_1;
     float _e280 = d_3;
-    sum_2 = (_e272 + ((0.31370664 * exp((-(tau_6) * _e274))) / ((_e279 * sqrt(_e280))).xxx));
+    float _e281 = d_3;
+    sum_2 = (_e273 + ((0.31370664 * exp((-(tau_6) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.1834346));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.1834346));
-    float _e300 = b_4;
-    float _e301 = co_1;
-    const float2 _e305 = airlight_equiangular_8_sin_cos(max(min(_e300, _e301), 0.0));
-    sc_1 = _e305;
-    float _e306 = b_4;
-    float _e307 = co_1;
-    if ((_e306 > _e307)) {
-        float2 _e309 = sc_1;
-        sc_1 = _e309.yx;
+    float _e301 = b_4;
+    float _e302 = co_1;
+    const float2 _e306 = airlight_equiangular_8_sin_cos(max(min(_e301, _e302), 0.0));
+    sc_1 = _e306;
+    float _e307 = b_4;
+    float _e308 = co_1;
+    if ((_e307 > _e308)) {
+        float2 _e310 = sc_1;
+        sc_1 = _e310.yx;
     }
-    float _e312 = sc_1.x;
-    float _e315 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e312) / max(_e315, 1e-30))), 1.0);
-    float _e325 = sc_1.y;
-    float _e328 = sc_1.y;
-    float _e334 = sc_1.x;
-    float _e337 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e334) * _e337)) : (gp_1 - (((4.0 * g_14) * _e325) * _e328)));
-    float3 _e343 = sum_2;
-    float _e345 = st_1;
-    float _e350 = d_3;
+    float _e313 = sc_1.x;
+    float _e316 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e313) / max(_e316, 1e-30))), 1.0);
+    float _e326 = sc_1.y;
+    float _e329 = sc_1.y;
+    float _e335 = sc_1.x;
+    float _e338 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e335) * _e338)) : (gp_1 - (((4.0 * g_14) * _e326) * _e329)));
+    float3 _e344 = sum_2;
+    float _e346 = st_1;
     float _e351 = d_3;
-    sum_2 = (_e343 + ((0.36268377 * exp((-(tau_6) * _e345))) / ((_e350 * sqrt(_e351))).xxx));
+    float _e352 = d_3;
+    sum_2 = (_e344 + ((0.36268377 * exp((-(tau_6) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.8165654));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.8165654));
-    float _e371 = b_4;
-    float _e372 = co_1;
-    const float2 _e376 = airlight_equiangular_8_sin_cos(max(min(_e371, _e372), 0.0));
-    sc_1 = _e376;
-    float _e377 = b_4;
-    float _e378 = co_1;
-    if ((_e377 > _e378)) {
-        float2 _e380 = sc_1;
-        sc_1 = _e380.yx;
+    float _e372 = b_4;
+    float _e373 = co_1;
+    const float2 _e377 = airlight_equiangular_8_sin_cos(max(min(_e372, _e373), 0.0));
+    sc_1 = _e377;
+    float _e378 = b_4;
+    float _e379 = co_1;
+    if ((_e378 > _e379)) {
+        float2 _e381 = sc_1;
+        sc_1 = _e381.yx;
     }
-    float _e383 = sc_1.x;
-    float _e386 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e383) / max(_e386, 1e-30))), 1.0);
-    float _e396 = sc_1.y;
-    float _e399 = sc_1.y;
-    float _e405 = sc_1.x;
-    float _e408 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e405) * _e408)) : (gp_1 - (((4.0 * g_14) * _e396) * _e399)));
-    float3 _e414 = sum_2;
-    float _e416 = st_1;
-    float _e421 = d_3;
+    float _e384 = sc_1.x;
+    float _e387 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e384) / max(_e387, 1e-30))), 1.0);
+    float _e397 = sc_1.y;
+    float _e400 = sc_1.y;
+    float _e406 = sc_1.x;
+    float _e409 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e406) * _e409)) : (gp_1 - (((4.0 * g_14) * _e397) * _e400)));
+    float3 _e415 = sum_2;
+    float _e417 = st_1;
     float _e422 = d_3;
-    sum_2 = (_e414 + ((0.36268377 * exp((-(tau_6) * _e416))) / ((_e421 * sqrt(_e422))).xxx));
+    float _e423 = d_3;
+    sum_2 = (_e415 + ((0.36268377 * exp((-(tau_6) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.47446758));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.47446758));
-    float _e442 = b_4;
-    float _e443 = co_1;
-    const float2 _e447 = airlight_equiangular_8_sin_cos(max(min(_e442, _e443), 0.0));
-    sc_1 = _e447;
-    float _e448 = b_4;
-    float _e449 = co_1;
-    if ((_e448 > _e449)) {
-        float2 _e451 = sc_1;
-        sc_1 = _e451.yx;
+    float _e443 = b_4;
+    float _e444 = co_1;
+    const float2 _e448 = airlight_equiangular_8_sin_cos(max(min(_e443, _e444), 0.0));
+    sc_1 = _e448;
+    float _e449 = b_4;
+    float _e450 = co_1;
+    if ((_e449 > _e450)) {
+        float2 _e452 = sc_1;
+        sc_1 = _e452.yx;
     }
-    float _e454 = sc_1.x;
-    float _e457 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e454) / max(_e457, 1e-30))), 1.0);
-    float _e467 = sc_1.y;
-    float _e470 = sc_1.y;
-    float _e476 = sc_1.x;
-    float _e479 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e476) * _e479)) : (gp_1 - (((4.0 * g_14) * _e467) * _e470)));
-    float3 _e485 = sum_2;
-    float _e487 = st_1;
-    float _e492 = d_3;
+    float _e455 = sc_1.x;
+    float _e458 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e455) / max(_e458, 1e-30))), 1.0);
+    float _e468 = sc_1.y;
+    float _e471 = sc_1.y;
+    float _e477 = sc_1.x;
+    float _e480 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e477) * _e480)) : (gp_1 - (((4.0 * g_14) * _e468) * _e471)));
+    float3 _e486 = sum_2;
+    float _e488 = st_1;
     float _e493 = d_3;
-    sum_2 = (_e485 + ((0.31370664 * exp((-(tau_6) * _e487))) / ((_e492 * sqrt(_e493))).xxx));
+    float _e494 = d_3;
+    sum_2 = (_e486 + ((0.31370664 * exp((-(tau_6) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.2033335));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.2033335));
-    float _e513 = b_4;
-    float _e514 = co_1;
-    const float2 _e518 = airlight_equiangular_8_sin_cos(max(min(_e513, _e514), 0.0));
-    sc_1 = _e518;
-    float _e519 = b_4;
-    float _e520 = co_1;
-    if ((_e519 > _e520)) {
-        float2 _e522 = sc_1;
-        sc_1 = _e522.yx;
+    float _e514 = b_4;
+    float _e515 = co_1;
+    const float2 _e519 = airlight_equiangular_8_sin_cos(max(min(_e514, _e515), 0.0));
+    sc_1 = _e519;
+    float _e520 = b_4;
+    float _e521 = co_1;
+    if ((_e520 > _e521)) {
+        float2 _e523 = sc_1;
+        sc_1 = _e523.yx;
     }
-    float _e525 = sc_1.x;
-    float _e528 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e525) / max(_e528, 1e-30))), 1.0);
-    float _e538 = sc_1.y;
-    float _e541 = sc_1.y;
-    float _e547 = sc_1.x;
-    float _e550 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e547) * _e550)) : (gp_1 - (((4.0 * g_14) * _e538) * _e541)));
-    float3 _e556 = sum_2;
-    float _e558 = st_1;
-    float _e563 = d_3;
+    float _e526 = sc_1.x;
+    float _e529 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e526) / max(_e529, 1e-30))), 1.0);
+    float _e539 = sc_1.y;
+    float _e542 = sc_1.y;
+    float _e548 = sc_1.x;
+    float _e551 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e548) * _e551)) : (gp_1 - (((4.0 * g_14) * _e539) * _e542)));
+    float3 _e557 = sum_2;
+    float _e559 = st_1;
     float _e564 = d_3;
-    sum_2 = (_e556 + ((0.22238104 * exp((-(tau_6) * _e558))) / ((_e563 * sqrt(_e564))).xxx));
+    float _e565 = d_3;
+    sum_2 = (_e557 + ((0.22238104 * exp((-(tau_6) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.039710164));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.039710164));
-    float _e584 = b_4;
-    float _e585 = co_1;
-    const float2 _e589 = airlight_equiangular_8_sin_cos(max(min(_e584, _e585), 0.0));
-    sc_1 = _e589;
-    float _e590 = b_4;
-    float _e591 = co_1;
-    if ((_e590 > _e591)) {
-        float2 _e593 = sc_1;
-        sc_1 = _e593.yx;
+    float _e585 = b_4;
+    float _e586 = co_1;
+    const float2 _e590 = airlight_equiangular_8_sin_cos(max(min(_e585, _e586), 0.0));
+    sc_1 = _e590;
+    float _e591 = b_4;
+    float _e592 = co_1;
+    if ((_e591 > _e592)) {
+        float2 _e594 = sc_1;
+        sc_1 = _e594.yx;
     }
-    float _e596 = sc_1.x;
-    float _e599 = sc_1.y;
-    st_1 = max((x0_2 + ((h_2 * _e596) / max(_e599, 1e-30))), 1.0);
-    float _e609 = sc_1.y;
-    float _e612 = sc_1.y;
-    float _e618 = sc_1.x;
-    float _e621 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e618) * _e621)) : (gp_1 - (((4.0 * g_14) * _e609) * _e612)));
-    float3 _e627 = sum_2;
-    float _e629 = st_1;
-    float _e634 = d_3;
+    float _e597 = sc_1.x;
+    float _e600 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e597) / max(_e600, 1e-30))), 1.0);
+    float _e610 = sc_1.y;
+    float _e613 = sc_1.y;
+    float _e619 = sc_1.x;
+    float _e622 = sc_1.x;
+    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e619) * _e622)) : (gp_1 - (((4.0 * g_14) * _e610) * _e613)));
+    float3 _e628 = sum_2;
+    float _e630 = st_1;
     float _e635 = d_3;
-    sum_2 = (_e627 + ((0.101228535 * exp((-(tau_6) * _e629))) / ((_e634 * sqrt(_e635))).xxx));
-    float3 _e648 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e648) * half_2) / (h_2).xxx), (3.4028235e38).xxx);
+    float _e636 = d_3;
+    sum_2 = (_e628 + ((0.101228535 * exp((-(tau_6) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
+    float3 _e649 = sum_2;
+    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e649) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_8_airlight(float tau_1, float gamma_2, float rho_3, float g_1)
+float airlight_equiangular_8_airlight(float tau_1, float gamma_2, float rho_4, float g_1)
 {
     float gc = clamp(gamma_2, 0.0, airlight_equiangular_8_PI);
     const float2 _e7 = airlight_equiangular_8_sin_cos(gc);
     float comp_2 = max(((airlight_equiangular_8_PI - gc) - 8.742278e-8), 0.0);
     const float2 _e16 = airlight_equiangular_8_sin_cos(comp_2);
-    float h_6 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
-    const float _e21 = airlight_equiangular_8_airlight_geometry(tau_1, h_6, _e7.y, gc, comp_2, rho_3, g_1);
-    return _e21;
+    float h_7 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
+    const float _e22 = airlight_equiangular_8_foot(h_7, _e7.y, rho_4);
+    const float _e23 = airlight_equiangular_8_airlight_geometry(tau_1, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
+    return _e23;
 }
 
 float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
@@ -875,20 +881,21 @@ float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surfa
     if (_e24) {
         return 0.0;
     }
-    float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e34 = airlight_equiangular_8_arctan2_(_e8.y, _e8.z);
     const float _e38 = airlight_equiangular_8_arctan2_(_e8.y, -(_e8.z));
-    const float _e44 = airlight_equiangular_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_7, g_2);
-    const float _e45 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, _e8.x, _e44);
-    return _e45;
+    const float _e46 = airlight_equiangular_8_foot(_e8.y, _e8.z, rho_8);
+    const float _e47 = airlight_equiangular_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_8, _e46, g_2);
+    const float _e48 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, _e8.x, _e47);
+    return _e48;
 }
 
-float3 airlight_equiangular_8_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float g_3)
+float3 airlight_equiangular_8_along_rgb(float3 tau_2, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
 {
-    const float _e5 = airlight_equiangular_8_arctan2_(h_3, x0_3);
-    const float _e7 = airlight_equiangular_8_arctan2_(h_3, -(x0_3));
-    const float3 _e8 = airlight_equiangular_8_airlight_geometry_rgb(tau_2, h_3, x0_3, _e5, _e7, rho_4, g_3);
-    return _e8;
+    const float _e6 = airlight_equiangular_8_arctan2_(h_4, x0_4);
+    const float _e8 = airlight_equiangular_8_arctan2_(h_4, -(x0_4));
+    const float3 _e9 = airlight_equiangular_8_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
+    return _e9;
 }
 
 float airlight_equiangular_8_spot_asin(float x_4, float r_1)
@@ -897,51 +904,62 @@ float airlight_equiangular_8_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_8_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_equiangular_8_spot_core(float3 tau_3, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_13 = (bool)0;
 
-    h1_ = h_4;
-    x1_ = x0_4;
-    rho1_ = rho_5;
+    h1_ = h_5;
+    x1_ = x0_5;
+    rho1_ = rho_6;
     const float2 _e17 = airlight_equiangular_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_4 / max(_e17.x, 1e-30));
+        t0_ = (h_5 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_equiangular_8_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_equiangular_8_foot(h_5, x0_5, rho_6);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_equiangular_8_sin_cos((wb - wa));
-        const float2 _e34 = airlight_equiangular_8_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_equiangular_8_sin_cos(wb);
+        const float2 _e35 = airlight_equiangular_8_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_5 >= 0.0);
+            local_13 = (rho_6 >= 0.0);
         } else {
             local_13 = false;
         }
-        bool _e44 = local_13;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_5 - _e45) / _e47), 0.0);
+        bool _e53 = local_13;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_equiangular_8_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_equiangular_8_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_4);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_equiangular_8_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
 }
 
 float airlight_equiangular_8_spot_weight(float c_2, float co_2, float ci)
@@ -958,7 +976,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
+float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
 {
     bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -983,7 +1001,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
     const float2 _e27 = airlight_equiangular_8_sin_cos(e_1);
     const float _e33 = airlight_equiangular_8_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_3, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_equiangular_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
+        const float3 _e41 = airlight_equiangular_8_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -1027,7 +1045,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e118) * _e121)) : (gp_2 - (((4.0 * g_5) * _e109) * _e112)));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum_3;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -1051,7 +1069,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e195) * _e198)) : (gp_2 - (((4.0 * g_5) * _e186) * _e189)));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum_3;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -1075,7 +1093,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e272) * _e275)) : (gp_2 - (((4.0 * g_5) * _e263) * _e266)));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum_3;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -1099,7 +1117,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e349) * _e352)) : (gp_2 - (((4.0 * g_5) * _e340) * _e343)));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum_3;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -1123,7 +1141,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e426) * _e429)) : (gp_2 - (((4.0 * g_5) * _e417) * _e420)));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum_3;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -1147,7 +1165,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e503) * _e506)) : (gp_2 - (((4.0 * g_5) * _e494) * _e497)));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum_3;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -1171,7 +1189,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e580) * _e583)) : (gp_2 - (((4.0 * g_5) * _e571) * _e574)));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum_3;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -1195,7 +1213,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
             d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e657) * _e660)) : (gp_2 - (((4.0 * g_5) * _e648) * _e651)));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st_2 = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
+            st_2 = max((x0_6 + ((h_6 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum_3;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -1212,7 +1230,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_5, float x0_5, flo
     }
     float3 _e718 = exact;
     float3 _e727 = sum_3;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
@@ -1298,20 +1316,20 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         return (0.0).xxx;
     }
     float d_5 = _e11.x;
-    float h_7 = _e11.y;
-    float x0_7 = _e11.z;
+    float h_8 = _e11.y;
+    float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_5) < airlight_equiangular_8_RHO_OPEN);
     } else {
         local_19 = false;
     }
     bool has_end_1 = local_19;
-    float rho_8 = (has_end_1 ? (surface_1 / d_5) : -1.0);
+    float rho_9 = (has_end_1 ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
-    const float _e143 = airlight_equiangular_8_arctan2_(h_7, x0_7);
+    const float _e143 = airlight_equiangular_8_arctan2_(h_8, x0_8);
     if (!(point_)) {
-        local_20 = (h_7 <= 0.0);
+        local_20 = (h_8 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -1327,12 +1345,12 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
             const float _e160 = airlight_equiangular_8_spot_weight(-(k_2), co_4, cos_inner);
             const float _e161 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
             if (has_end_1) {
-                local_22 = (rho_8 < 1.0);
+                local_22 = (rho_9 < 1.0);
             } else {
                 local_22 = false;
             }
             bool _e168 = local_22;
-            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
+            scale = ((x0_8 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
@@ -1349,7 +1367,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         float _e194 = ca_1;
         const float _e195 = airlight_equiangular_8_arctan2_(k_2, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_equiangular_8_arctan2_(h_7, (x0_7 - rho_8));
+        const float _e198 = airlight_equiangular_8_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end_1 ? _e198 : airlight_equiangular_8_PI);
         if ((co_4 < r_4)) {
             const float _e201 = airlight_equiangular_8_spot_asin(co_4, r_4);
@@ -1393,7 +1411,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_equiangular_8_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_equiangular_8_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1421,7 +1439,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_equiangular_8_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
+                const float3 _e274 = airlight_equiangular_8_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
                 a_5 = (_e268 + _e274);
             }
         }

@@ -40,6 +40,11 @@ static const float airlight_hg_exp1_HUGE = 3.4028235e38;
 static const float airlight_hg_exp1_RHO_OPEN = 4294967300.0;
 static const float airlight_hg_exp1_TAU_MAX = 10000.0;
 
+float airlight_hg_exp1_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_hg_exp1_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -98,7 +103,7 @@ float3 airlight_hg_exp1_ray_geometry(float3 origin, float3 dir, float3 light)
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_hg_exp1_two_sum(light, -(origin));
     const float _e6 = airlight_hg_exp1_max_abs(_e4[0]);
@@ -139,16 +144,16 @@ float3 airlight_hg_exp1_ray_geometry(float3 origin, float3 dir, float3 light)
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
+    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
     const float3 _e93 = airlight_hg_exp1_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_hg_exp1_HUGE), (_e97 / n_1), (x0_6 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_hg_exp1_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
 float airlight_hg_exp1_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -412,7 +417,7 @@ float airlight_hg_exp1_forward(float a_7, float len_2, float t_2, float att_2, a
     return max((ph_3.c[0] * _e10), 0.0);
 }
 
-float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, float rho, bool open, airlight_hg_exp1_Phase ph_4)
+float airlight_hg_exp1_backward_u(float tau, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_hg_exp1_Phase ph_4)
 {
     float span = airlight_hg_exp1_HUGE;
     bool local_5 = (bool)0;
@@ -423,61 +428,61 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
     float g_1 = (float)0;
     float u_1 = (float)0;
 
-    float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
+    float ua = ((x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
-        float d_4 = (rho - x0_);
-        float r_5 = sqrt(((d_4 * d_4) + (h_1 * h_1)));
-        span = ((x0_ < 0.0) ? (((2.0 * rho) * (d_4 + r_5)) / (((rho + r_5) + 1.0) * h_1)) : (((d_4 + r_5) / h_1) - u0_));
+        float d_4 = -(xr);
+        float r_5 = sqrt(((d_4 * d_4) + (h_2 * h_2)));
+        span = ((x0_1 < 0.0) ? (((2.0 * rho_1) * (d_4 + r_5)) / (((rho_1 + r_5) + 1.0) * h_2)) : (((d_4 + r_5) / h_2) - u0_));
     }
-    float _e41 = span;
-    if (!((_e41 > 0.0))) {
+    float _e42 = span;
+    if (!((_e42 > 0.0))) {
         return 0.0;
     }
     if (!(open)) {
-        float _e49 = span;
-        local_5 = (_e49 >= 1e30);
+        float _e50 = span;
+        local_5 = (_e50 >= 1e30);
     } else {
         local_5 = true;
     }
     bool endless = local_5;
-    float _e54 = span;
-    float ub = (u0_ + _e54);
+    float _e55 = span;
+    float ub = (u0_ + _e55);
     float base = (-(tau) - (t_3 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
-        float _e66 = span;
-        float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
+        float _e67 = span;
+        float len_4 = ((ub <= 16.0) ? _e67 : (16.0 - u0_));
         {
             float lam_1 = (t_3 + 0.024973566);
             float mean = (u0_ + (len_4 / (2.0 + (lam_1 * len_4))));
-            float _e77 = sum;
-            const float _e87 = airlight_hg_exp1_exprel((-(lam_1) * len_4));
-            const float _e89 = airlight_hg_exp1_phase_u(ph_4, mean);
-            sum = (_e77 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e87) * _e89));
+            float _e78 = sum;
+            const float _e88 = airlight_hg_exp1_exprel((-(lam_1) * len_4));
+            const float _e90 = airlight_hg_exp1_phase_u(ph_4, mean);
+            sum = (_e78 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e88) * _e90));
         }
         {
             float lam_2 = (t_3 + 0.19339234);
             float mean_1 = (u0_ + (len_4 / (2.0 + (lam_2 * len_4))));
-            float _e99 = sum;
-            const float _e109 = airlight_hg_exp1_exprel((-(lam_2) * len_4));
-            const float _e111 = airlight_hg_exp1_phase_u(ph_4, mean_1);
-            sum = (_e99 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e109) * _e111));
+            float _e100 = sum;
+            const float _e110 = airlight_hg_exp1_exprel((-(lam_2) * len_4));
+            const float _e112 = airlight_hg_exp1_phase_u(ph_4, mean_1);
+            sum = (_e100 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e110) * _e112));
         }
         {
             float lam_3 = (t_3 + 0.58173054);
             float mean_2 = (u0_ + (len_4 / (2.0 + (lam_3 * len_4))));
-            float _e121 = sum;
-            const float _e131 = airlight_hg_exp1_exprel((-(lam_3) * len_4));
-            const float _e133 = airlight_hg_exp1_phase_u(ph_4, mean_2);
-            sum = (_e121 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e131) * _e133));
+            float _e122 = sum;
+            const float _e132 = airlight_hg_exp1_exprel((-(lam_3) * len_4));
+            const float _e134 = airlight_hg_exp1_phase_u(ph_4, mean_2);
+            sum = (_e122 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e132) * _e134));
         }
         {
             float lam_4 = (t_3 + 1.4293756);
             float mean_3 = (u0_ + (len_4 / (2.0 + (lam_4 * len_4))));
-            float _e143 = sum;
-            const float _e153 = airlight_hg_exp1_exprel((-(lam_4) * len_4));
-            const float _e155 = airlight_hg_exp1_phase_u(ph_4, mean_3);
-            sum = (_e143 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e153) * _e155));
+            float _e144 = sum;
+            const float _e154 = airlight_hg_exp1_exprel((-(lam_4) * len_4));
+            const float _e156 = airlight_hg_exp1_phase_u(ph_4, mean_3);
+            sum = (_e144 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e154) * _e156));
         }
     }
     if (!(endless)) {
@@ -485,8 +490,8 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
     } else {
         local_6 = true;
     }
-    bool _e164 = local_6;
-    if (_e164) {
+    bool _e165 = local_6;
+    if (_e165) {
         float a_15 = max(u0_, 16.0);
         float shift = (base - (t_3 * (a_15 - u0_)));
         if (!(endless)) {
@@ -494,69 +499,69 @@ float airlight_hg_exp1_backward_u(float tau, float t_3, float h_1, float x0_, fl
         } else {
             local_7 = false;
         }
-        bool _e177 = local_7;
-        if (_e177) {
-            float _e181 = span;
-            float len_5 = ((a_15 == u0_) ? (_e181 / a_15) : ((ub / a_15) - 1.0));
+        bool _e178 = local_7;
+        if (_e178) {
+            float _e182 = span;
+            float len_5 = ((a_15 == u0_) ? (_e182 / a_15) : ((ub / a_15) - 1.0));
             float ta = (t_3 * a_15);
             {
                 float lam_5 = (ta + 0.26840276);
                 float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
-                float _e204 = part;
-                const float _e213 = airlight_hg_exp1_exprel((-(lam_5) * len_5));
-                const float _e216 = airlight_hg_exp1_phase_u(ph_4, u_3);
-                part = (_e204 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e213) * q_1) * _e216));
+                float _e205 = part;
+                const float _e214 = airlight_hg_exp1_exprel((-(lam_5) * len_5));
+                const float _e217 = airlight_hg_exp1_phase_u(ph_4, u_3);
+                part = (_e205 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e214) * q_1) * _e217));
             }
             {
                 float lam_6 = (ta + 1.5659415);
                 float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
-                float _e235 = part;
-                const float _e244 = airlight_hg_exp1_exprel((-(lam_6) * len_5));
-                const float _e247 = airlight_hg_exp1_phase_u(ph_4, u_4);
-                part = (_e235 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e244) * q_2) * _e247));
+                float _e236 = part;
+                const float _e245 = airlight_hg_exp1_exprel((-(lam_6) * len_5));
+                const float _e248 = airlight_hg_exp1_phase_u(ph_4, u_4);
+                part = (_e236 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e245) * q_2) * _e248));
             }
             {
                 float lam_7 = (ta + 4.449333);
                 float u_5 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
-                float _e266 = part;
-                const float _e275 = airlight_hg_exp1_exprel((-(lam_7) * len_5));
-                const float _e278 = airlight_hg_exp1_phase_u(ph_4, u_5);
-                part = (_e266 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e275) * q_3) * _e278));
+                float _e267 = part;
+                const float _e276 = airlight_hg_exp1_exprel((-(lam_7) * len_5));
+                const float _e279 = airlight_hg_exp1_phase_u(ph_4, u_5);
+                part = (_e267 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e276) * q_3) * _e279));
             }
-            float _e281 = sum;
-            float _e282 = part;
-            sum = (_e281 + (_e282 / a_15));
+            float _e282 = sum;
+            float _e283 = part;
+            sum = (_e282 + (_e283 / a_15));
         } else {
             float lam_8 = (t_3 + (2.0 / a_15));
-            const float _e289 = airlight_hg_exp1_phi((t_3 * a_15));
-            g_1 = (_e289 / a_15);
+            const float _e290 = airlight_hg_exp1_phi((t_3 * a_15));
+            g_1 = (_e290 / a_15);
             u_1 = (a_15 + (1.0 / lam_8));
             if (!(endless)) {
-                float _e298 = span;
-                float len_6 = ((a_15 == u0_) ? _e298 : (ub - a_15));
-                float _e301 = g_1;
-                const float _e306 = airlight_hg_exp1_phi((t_3 * ub));
-                g_1 = (_e301 - ((exp((-(t_3) * len_6)) * _e306) / ub));
+                float _e299 = span;
+                float len_6 = ((a_15 == u0_) ? _e299 : (ub - a_15));
+                float _e302 = g_1;
+                const float _e307 = airlight_hg_exp1_phi((t_3 * ub));
+                g_1 = (_e302 - ((exp((-(t_3) * len_6)) * _e307) / ub));
                 u_1 = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
-            float _e315 = u_1;
             float _e316 = u_1;
-            float q_4 = (1.0 / (1.0 + (1.0 / (_e315 * _e316))));
-            float _e324 = sum;
-            float _e326 = g_1;
-            float _e329 = u_1;
-            const float _e330 = airlight_hg_exp1_phase_u(ph_4, _e329);
-            sum = (_e324 + (((exp(shift) * _e326) * q_4) * _e330));
+            float _e317 = u_1;
+            float q_4 = (1.0 / (1.0 + (1.0 / (_e316 * _e317))));
+            float _e325 = sum;
+            float _e327 = g_1;
+            float _e330 = u_1;
+            const float _e331 = airlight_hg_exp1_phase_u(ph_4, _e330);
+            sum = (_e325 + (((exp(shift) * _e327) * q_4) * _e331));
         }
     }
-    float _e333 = sum;
-    return (2.0 * _e333);
+    float _e334 = sum;
+    return (2.0 * _e334);
 }
 
-float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float g_2)
+float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_2, float rho_2, float xr_1, float g_2)
 {
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
@@ -565,67 +570,68 @@ float airlight_hg_exp1_airlight_geometry(float tau_in, float h_in, float x0_1, f
     float len_3 = (float)0;
     bool local_11 = (bool)0;
 
-    const airlight_hg_exp1_Phase _e5 = airlight_hg_exp1_phase(g_2);
-    if ((rho_1 >= 0.0)) {
-        local_8 = (rho_1 < airlight_hg_exp1_RHO_OPEN);
+    const airlight_hg_exp1_Phase _e6 = airlight_hg_exp1_phase(g_2);
+    if ((rho_2 >= 0.0)) {
+        local_8 = (rho_2 < airlight_hg_exp1_RHO_OPEN);
     } else {
         local_8 = false;
     }
-    bool _e13 = local_8;
-    bool open_1 = !(_e13);
+    bool _e14 = local_8;
+    bool open_1 = !(_e14);
     float tau_6 = min(tau_in, airlight_hg_exp1_TAU_MAX);
     if ((h_in <= 0.0)) {
-        local_9 = (x0_1 > 0.0);
+        local_9 = (x0_2 > 0.0);
     } else {
         local_9 = false;
     }
-    bool _e24 = local_9;
-    if (_e24) {
+    bool _e25 = local_9;
+    if (_e25) {
         if (!(open_1)) {
-            local_10 = (rho_1 >= 1.0);
+            local_10 = (rho_2 >= 1.0);
         } else {
             local_10 = true;
         }
-        bool _e31 = local_10;
-        if (_e31) {
+        bool _e32 = local_10;
+        if (_e32) {
             return airlight_hg_exp1_HUGE;
         }
-        const float _e34 = airlight_hg_exp1_phase_at(_e5, 0.0);
-        return (((_e34 * exp(-(tau_6))) * rho_1) / (1.0 - rho_1));
+        const float _e35 = airlight_hg_exp1_phase_at(_e6, 0.0);
+        return (((_e35 * exp(-(tau_6))) * rho_2) / (1.0 - rho_2));
     }
-    float h_6 = ((x0_1 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_6 * h_6);
-    if ((x0_1 > 0.0)) {
-        const float _e52 = airlight_hg_exp1_arctan2_(x0_1, h_6);
-        len_3 = _e52;
+    float h_7 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_4 = (tau_6 * h_7);
+    if ((x0_2 > 0.0)) {
+        const float _e53 = airlight_hg_exp1_arctan2_(x0_2, h_7);
+        len_3 = _e53;
         if (!(open_1)) {
-            local_11 = (rho_1 < x0_1);
+            local_11 = (xr_1 > 0.0);
         } else {
             local_11 = false;
         }
-        bool _e59 = local_11;
-        if (_e59) {
-            const float _e64 = airlight_hg_exp1_arctan2_((h_6 * rho_1), (1.0 - (x0_1 * rho_1)));
-            len_3 = _e64;
+        bool _e61 = local_11;
+        if (_e61) {
+            const float _e66 = airlight_hg_exp1_arctan2_((h_7 * rho_2), ((h_7 * h_7) + (x0_2 * xr_1)));
+            len_3 = _e66;
         }
-        float _e65 = sum_1;
-        const float _e66 = airlight_hg_exp1_arctan2_(h_6, x0_1);
-        float _e67 = len_3;
-        const float _e70 = airlight_hg_exp1_forward(_e66, _e67, t_4, (-(tau_6) * x0_1), _e5);
-        sum_1 = (_e65 + _e70);
+        float _e67 = sum_1;
+        const float _e68 = airlight_hg_exp1_arctan2_(h_7, x0_2);
+        float _e69 = len_3;
+        const float _e72 = airlight_hg_exp1_forward(_e68, _e69, t_4, (-(tau_6) * x0_2), _e6);
+        sum_1 = (_e67 + _e72);
     }
-    float _e72 = sum_1;
-    const float _e73 = airlight_hg_exp1_backward_u(tau_6, t_4, h_6, x0_1, rho_1, open_1, _e5);
-    sum_1 = (_e72 + _e73);
-    float _e75 = sum_1;
-    return min((_e75 / h_6), airlight_hg_exp1_HUGE);
+    float _e74 = sum_1;
+    const float _e75 = airlight_hg_exp1_backward_u(tau_6, t_4, h_7, x0_2, rho_2, xr_1, open_1, _e6);
+    sum_1 = (_e74 + _e75);
+    float _e77 = sum_1;
+    return min((_e77 / h_7), airlight_hg_exp1_HUGE);
 }
 
-float airlight_hg_exp1_airlight(float tau_1, float gamma, float rho_2, float g_3)
+float airlight_hg_exp1_airlight(float tau_1, float gamma, float rho_3, float g_3)
 {
     const float2 _e4 = airlight_hg_exp1_sin_cos(gamma);
-    const float _e8 = airlight_hg_exp1_airlight_geometry(tau_1, abs(_e4.x), _e4.y, rho_2, g_3);
-    return _e8;
+    const float _e11 = airlight_hg_exp1_foot(abs(_e4.x), _e4.y, rho_3);
+    const float _e12 = airlight_hg_exp1_airlight_geometry(tau_1, abs(_e4.x), _e4.y, rho_3, _e11, g_3);
+    return _e12;
 }
 
 float airlight_hg_exp1_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_4)
@@ -646,24 +652,25 @@ float airlight_hg_exp1_radiance(float3 origin_1, float3 dir_1, float surface, fl
     if (_e24) {
         return 0.0;
     }
-    float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e36 = airlight_hg_exp1_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_7, g_4);
-    const float _e38 = airlight_hg_exp1_scaled(sigma_s_1, intensity_1, _e8.x, _e36);
-    return _e38;
+    float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e38 = airlight_hg_exp1_foot(_e8.y, _e8.z, rho_8);
+    const float _e39 = airlight_hg_exp1_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_8, _e38, g_4);
+    const float _e41 = airlight_hg_exp1_scaled(sigma_s_1, intensity_1, _e8.x, _e39);
+    return _e41;
 }
 
-float airlight_hg_exp1_along(float tau_2, float h_2, float x0_2, float rho_3, float g_5)
+float airlight_hg_exp1_along(float tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_5)
 {
-    const float _e5 = airlight_hg_exp1_airlight_geometry(tau_2, h_2, x0_2, rho_3, g_5);
-    return _e5;
+    const float _e6 = airlight_hg_exp1_airlight_geometry(tau_2, h_3, x0_3, rho_4, xr_2, g_5);
+    return _e6;
 }
 
-float3 airlight_hg_exp1_along_rgb(float3 tau_3, float h_3, float x0_3, float rho_4, float g_6)
+float3 airlight_hg_exp1_along_rgb(float3 tau_3, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
 {
-    const float _e6 = airlight_hg_exp1_along(tau_3.x, h_3, x0_3, rho_4, g_6);
-    const float _e8 = airlight_hg_exp1_along(tau_3.y, h_3, x0_3, rho_4, g_6);
-    const float _e10 = airlight_hg_exp1_along(tau_3.z, h_3, x0_3, rho_4, g_6);
-    return float3(_e6, _e8, _e10);
+    const float _e7 = airlight_hg_exp1_along(tau_3.x, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e9 = airlight_hg_exp1_along(tau_3.y, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e11 = airlight_hg_exp1_along(tau_3.z, h_4, x0_4, rho_5, xr_3, g_6);
+    return float3(_e7, _e9, _e11);
 }
 
 float airlight_hg_exp1_spot_asin(float x_5, float r_1)
@@ -672,51 +679,62 @@ float airlight_hg_exp1_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_hg_exp1_spot_core(float3 tau_4, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
+float3 airlight_hg_exp1_spot_core(float3 tau_4, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_13 = (bool)0;
 
-    h1_ = h_4;
-    x1_ = x0_4;
-    rho1_ = rho_5;
+    h1_ = h_5;
+    x1_ = x0_5;
+    rho1_ = rho_6;
     const float2 _e17 = airlight_hg_exp1_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_4 / max(_e17.x, 1e-30));
+        t0_ = (h_5 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_hg_exp1_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_hg_exp1_foot(h_5, x0_5, rho_6);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_hg_exp1_sin_cos((wb - wa));
-        const float2 _e34 = airlight_hg_exp1_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_hg_exp1_sin_cos(wb);
+        const float2 _e35 = airlight_hg_exp1_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_5 >= 0.0);
+            local_13 = (rho_6 >= 0.0);
         } else {
             local_13 = false;
         }
-        bool _e44 = local_13;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_5 - _e45) / _e47), 0.0);
+        bool _e53 = local_13;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_hg_exp1_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_hg_exp1_along_rgb((tau_4 * _e51), _e53, _e54, _e55, g_7);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_4) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_hg_exp1_along_rgb((tau_4 * _e64), _e66, _e67, _e68, _e69, g_7);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_4) * _e72))) / (_e76).xxx));
 }
 
 float airlight_hg_exp1_spot_weight(float c_2, float co, float ci)
@@ -733,7 +751,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_1, float ci_1, float g_8)
+float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_1, float ci_1, float g_8)
 {
     bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -758,7 +776,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
     const float2 _e27 = airlight_hg_exp1_sin_cos(e_1);
     const float _e33 = airlight_hg_exp1_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_1, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_hg_exp1_spot_core(tau_5, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
+        const float3 _e41 = airlight_hg_exp1_spot_core(tau_5, h_6, x0_6, rho_7, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -802,7 +820,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e118) * _e121)) : (gp - (((4.0 * g_8) * _e109) * _e112)));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum_2;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -826,7 +844,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e195) * _e198)) : (gp - (((4.0 * g_8) * _e186) * _e189)));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum_2;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -850,7 +868,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e272) * _e275)) : (gp - (((4.0 * g_8) * _e263) * _e266)));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum_2;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -874,7 +892,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e349) * _e352)) : (gp - (((4.0 * g_8) * _e340) * _e343)));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum_2;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -898,7 +916,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e426) * _e429)) : (gp - (((4.0 * g_8) * _e417) * _e420)));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum_2;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -922,7 +940,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e503) * _e506)) : (gp - (((4.0 * g_8) * _e494) * _e497)));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum_2;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -946,7 +964,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e580) * _e583)) : (gp - (((4.0 * g_8) * _e571) * _e574)));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum_2;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -970,7 +988,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
             d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e657) * _e660)) : (gp - (((4.0 * g_8) * _e648) * _e651)));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
+            st = max((x0_6 + ((h_6 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum_2;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -987,7 +1005,7 @@ float3 airlight_hg_exp1_spot_edge(float3 tau_5, float h_5, float x0_5, float rho
     }
     float3 _e718 = exact;
     float3 _e727 = sum_2;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e727) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_9)
@@ -1073,20 +1091,20 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         return (0.0).xxx;
     }
     float d_5 = _e11.x;
-    float h_7 = _e11.y;
-    float x0_7 = _e11.z;
+    float h_8 = _e11.y;
+    float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_5) < airlight_hg_exp1_RHO_OPEN);
     } else {
         local_19 = false;
     }
     bool has_end = local_19;
-    float rho_8 = (has_end ? (surface_1 / d_5) : -1.0);
+    float rho_9 = (has_end ? (surface_1 / d_5) : -1.0);
     float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_9, -0.999, 0.999);
-    const float _e143 = airlight_hg_exp1_arctan2_(h_7, x0_7);
+    const float _e143 = airlight_hg_exp1_arctan2_(h_8, x0_8);
     if (!(point_)) {
-        local_20 = (h_7 <= 0.0);
+        local_20 = (h_8 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -1102,12 +1120,12 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
             const float _e160 = airlight_hg_exp1_spot_weight(-(k_2), co_2, cos_inner);
             const float _e161 = airlight_hg_exp1_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_22 = (rho_8 < 1.0);
+                local_22 = (rho_9 < 1.0);
             } else {
                 local_22 = false;
             }
             bool _e168 = local_22;
-            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
+            scale = ((x0_8 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
@@ -1124,7 +1142,7 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         float _e194 = ca_1;
         const float _e195 = airlight_hg_exp1_arctan2_(k_2, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_hg_exp1_arctan2_(h_7, (x0_7 - rho_8));
+        const float _e198 = airlight_hg_exp1_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end ? _e198 : airlight_hg_exp1_PI);
         if ((co_2 < r_6)) {
             const float _e201 = airlight_hg_exp1_spot_asin(co_2, r_6);
@@ -1168,7 +1186,7 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_hg_exp1_spot_core(tau_7, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_hg_exp1_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
         a_8 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1196,7 +1214,7 @@ float3 airlight_hg_exp1_spot(float3 origin_2, float3 dir_2, float surface_1, flo
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_hg_exp1_spot_edge(tau_7, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_2, co_2, cos_inner, gg);
+                const float3 _e274 = airlight_hg_exp1_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_2, cos_inner, gg);
                 a_8 = (_e268 + _e274);
             }
         }

@@ -35,6 +35,11 @@ static const float airlight_no_extinction_RHO_OPEN = 4294967300.0;
 static const float airlight_no_extinction_TAU_MAX = 10000.0;
 static const float airlight_no_extinction_P_ISO = 0.07957747;
 
+float airlight_no_extinction_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_no_extinction_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -93,7 +98,7 @@ float3 airlight_no_extinction_ray_geometry(float3 origin, float3 dir, float3 lig
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_no_extinction_two_sum(light, -(origin));
     const float _e6 = airlight_no_extinction_max_abs(_e4[0]);
@@ -134,16 +139,16 @@ float3 airlight_no_extinction_ray_geometry(float3 origin, float3 dir, float3 lig
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
+    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
     const float3 _e93 = airlight_no_extinction_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_no_extinction_HUGE), (_e97 / n_1), (x0_5 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_no_extinction_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
 float airlight_no_extinction_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -274,53 +279,54 @@ float2 airlight_no_extinction_sin_cos(float x_3)
     }
 }
 
-float airlight_no_extinction_airlight_geometry(float h_1, float x0_, float rho)
+float airlight_no_extinction_airlight_geometry(float h_2, float x0_1, float rho_1, float xr)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
     float angle = (float)0;
 
-    if ((rho >= 0.0)) {
-        local_4 = (rho < airlight_no_extinction_RHO_OPEN);
+    if ((rho_1 >= 0.0)) {
+        local_4 = (rho_1 < airlight_no_extinction_RHO_OPEN);
     } else {
         local_4 = false;
     }
-    bool _e10 = local_4;
-    bool open = !(_e10);
-    if ((h_1 <= 0.0)) {
+    bool _e11 = local_4;
+    bool open = !(_e11);
+    if ((h_2 <= 0.0)) {
         if (!(open)) {
-            local_5 = ((1.0 - (x0_ * rho)) <= 0.0);
+            local_5 = ((1.0 - (x0_1 * rho_1)) <= 0.0);
         } else {
             local_5 = true;
         }
-        bool _e23 = local_5;
-        if (_e23) {
+        bool _e24 = local_5;
+        if (_e24) {
             if (open) {
-                local_6 = (x0_ < 0.0);
+                local_6 = (x0_1 < 0.0);
             } else {
                 local_6 = false;
             }
-            bool _e31 = local_6;
-            return (_e31 ? airlight_no_extinction_P_ISO : airlight_no_extinction_HUGE);
+            bool _e32 = local_6;
+            return (_e32 ? airlight_no_extinction_P_ISO : airlight_no_extinction_HUGE);
         }
-        return ((airlight_no_extinction_P_ISO * rho) / (1.0 - (x0_ * rho)));
+        return ((airlight_no_extinction_P_ISO * rho_1) / (1.0 - (x0_1 * rho_1)));
     }
-    const float _e40 = airlight_no_extinction_arctan2_(h_1, -(x0_));
-    angle = _e40;
+    const float _e41 = airlight_no_extinction_arctan2_(h_2, -(x0_1));
+    angle = _e41;
     if (!(open)) {
-        const float _e47 = airlight_no_extinction_arctan2_((h_1 * rho), (1.0 - (x0_ * rho)));
-        angle = _e47;
+        const float _e48 = airlight_no_extinction_arctan2_((h_2 * rho_1), ((h_2 * h_2) + (x0_1 * xr)));
+        angle = _e48;
     }
-    float _e49 = angle;
-    return min(((airlight_no_extinction_P_ISO * _e49) / h_1), airlight_no_extinction_HUGE);
+    float _e50 = angle;
+    return min(((airlight_no_extinction_P_ISO * _e50) / h_2), airlight_no_extinction_HUGE);
 }
 
-float airlight_no_extinction_airlight(float gamma, float rho_1)
+float airlight_no_extinction_airlight(float gamma, float rho_2)
 {
     const float2 _e2 = airlight_no_extinction_sin_cos(gamma);
-    const float _e6 = airlight_no_extinction_airlight_geometry(abs(_e2.x), _e2.y, rho_1);
-    return _e6;
+    const float _e9 = airlight_no_extinction_foot(abs(_e2.x), _e2.y, rho_2);
+    const float _e10 = airlight_no_extinction_airlight_geometry(abs(_e2.x), _e2.y, rho_2, _e9);
+    return _e10;
 }
 
 float airlight_no_extinction_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_s_1)
@@ -341,24 +347,25 @@ float airlight_no_extinction_radiance(float3 origin_1, float3 dir_1, float surfa
     if (_e22) {
         return 0.0;
     }
-    float rho_6 = ((surface >= 0.0) ? (surface / _e6.x) : -1.0);
-    const float _e33 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_6);
-    const float _e34 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, _e6.x, _e33);
-    return _e34;
+    float rho_7 = ((surface >= 0.0) ? (surface / _e6.x) : -1.0);
+    const float _e35 = airlight_no_extinction_foot(_e6.y, _e6.z, rho_7);
+    const float _e36 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_7, _e35);
+    const float _e37 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, _e6.x, _e36);
+    return _e37;
 }
 
-float airlight_no_extinction_along(float tau, float h_2, float x0_1, float rho_2, float g)
+float airlight_no_extinction_along(float tau, float h_3, float x0_2, float rho_3, float xr_1, float g)
 {
-    const float _e5 = airlight_no_extinction_airlight_geometry(h_2, x0_1, rho_2);
-    return _e5;
+    const float _e6 = airlight_no_extinction_airlight_geometry(h_3, x0_2, rho_3, xr_1);
+    return _e6;
 }
 
-float3 airlight_no_extinction_along_rgb(float3 tau_1, float h_3, float x0_2, float rho_3, float g_1)
+float3 airlight_no_extinction_along_rgb(float3 tau_1, float h_4, float x0_3, float rho_4, float xr_2, float g_1)
 {
-    const float _e6 = airlight_no_extinction_along(tau_1.x, h_3, x0_2, rho_3, g_1);
-    const float _e8 = airlight_no_extinction_along(tau_1.y, h_3, x0_2, rho_3, g_1);
-    const float _e10 = airlight_no_extinction_along(tau_1.z, h_3, x0_2, rho_3, g_1);
-    return float3(_e6, _e8, _e10);
+    const float _e7 = airlight_no_extinction_along(tau_1.x, h_4, x0_3, rho_4, xr_2, g_1);
+    const float _e9 = airlight_no_extinction_along(tau_1.y, h_4, x0_3, rho_4, xr_2, g_1);
+    const float _e11 = airlight_no_extinction_along(tau_1.z, h_4, x0_3, rho_4, xr_2, g_1);
+    return float3(_e7, _e9, _e11);
 }
 
 float airlight_no_extinction_spot_asin(float x_4, float r_1)
@@ -367,51 +374,62 @@ float airlight_no_extinction_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_no_extinction_spot_core(float3 tau_2, float h_4, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
+float3 airlight_no_extinction_spot_core(float3 tau_2, float h_5, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_8 = (bool)0;
 
-    h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_5;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     const float2 _e17 = airlight_no_extinction_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_4 / max(_e17.x, 1e-30));
+        t0_ = (h_5 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_no_extinction_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_no_extinction_foot(h_5, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_no_extinction_sin_cos((wb - wa));
-        const float2 _e34 = airlight_no_extinction_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_no_extinction_sin_cos(wb);
+        const float2 _e35 = airlight_no_extinction_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_8 = (rho_4 >= 0.0);
+            local_8 = (rho_5 >= 0.0);
         } else {
             local_8 = false;
         }
-        bool _e44 = local_8;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+        bool _e53 = local_8;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_5 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_no_extinction_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_no_extinction_along_rgb((tau_2 * _e51), _e53, _e54, _e55, g_2);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_2) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_no_extinction_along_rgb((tau_2 * _e64), _e66, _e67, _e68, _e69, g_2);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_2) * _e72))) / (_e76).xxx));
 }
 
 float airlight_no_extinction_spot_weight(float c_2, float co, float ci)
@@ -428,7 +446,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, float rho_5, float gam_1, float om_e, float u, float v_in, float ca, float k_1, float co_1, float ci_1, float g_3)
+float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_6, float x0_5, float rho_6, float gam_1, float om_e, float u, float v_in, float ca, float k_1, float co_1, float ci_1, float g_3)
 {
     bool local_9 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -453,7 +471,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
     const float2 _e27 = airlight_no_extinction_sin_cos(e_1);
     const float _e33 = airlight_no_extinction_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_1, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_no_extinction_spot_core(tau_3, h_5, x0_4, rho_5, gam_1, u, v_in, (u > gam_1), (v_in < om_e), g_3);
+        const float3 _e41 = airlight_no_extinction_spot_core(tau_3, h_6, x0_5, rho_6, gam_1, u, v_in, (u > gam_1), (v_in < om_e), g_3);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -497,7 +515,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112)));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st = max((x0_4 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -521,7 +539,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st = max((x0_4 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -545,7 +563,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266)));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st = max((x0_4 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -569,7 +587,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343)));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st = max((x0_4 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -593,7 +611,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420)));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st = max((x0_4 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -617,7 +635,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497)));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st = max((x0_4 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -641,7 +659,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574)));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st = max((x0_4 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -665,7 +683,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
             d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651)));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st = max((x0_4 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_6 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -682,7 +700,7 @@ float3 airlight_no_extinction_spot_edge(float3 tau_3, float h_5, float x0_4, flo
     }
     float3 _e718 = exact;
     float3 _e727 = sum;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_s_2)
@@ -768,19 +786,19 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
         return (0.0).xxx;
     }
     float d_3 = _e9.x;
-    float h_6 = _e9.y;
-    float x0_6 = _e9.z;
+    float h_7 = _e9.y;
+    float x0_7 = _e9.z;
     if ((surface_1 >= 0.0)) {
         local_14 = ((surface_1 / d_3) < airlight_no_extinction_RHO_OPEN);
     } else {
         local_14 = false;
     }
     bool has_end = local_14;
-    float rho_7 = (has_end ? (surface_1 / d_3) : -1.0);
+    float rho_8 = (has_end ? (surface_1 / d_3) : -1.0);
     float3 tau_4 = (0.0).xxx;
-    const float _e134 = airlight_no_extinction_arctan2_(h_6, x0_6);
+    const float _e134 = airlight_no_extinction_arctan2_(h_7, x0_7);
     if (!(point_)) {
-        local_15 = (h_6 <= 0.0);
+        local_15 = (h_7 <= 0.0);
     } else {
         local_15 = true;
     }
@@ -796,12 +814,12 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
             const float _e151 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
             const float _e152 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_17 = (rho_7 < 1.0);
+                local_17 = (rho_8 < 1.0);
             } else {
                 local_17 = false;
             }
             bool _e159 = local_17;
-            scale = ((x0_6 < 0.0) ? _e152 : (_e159 ? _e151 : max(_e151, _e152)));
+            scale = ((x0_7 < 0.0) ? _e152 : (_e159 ? _e151 : max(_e151, _e152)));
         }
         core = true;
     } else {
@@ -818,7 +836,7 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
         float _e185 = ca_1;
         const float _e186 = airlight_no_extinction_arctan2_(k_2, _e185);
         gam_2 = _e134;
-        const float _e189 = airlight_no_extinction_arctan2_(h_6, (x0_6 - rho_7));
+        const float _e189 = airlight_no_extinction_arctan2_(h_7, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e189 : airlight_no_extinction_PI);
         if ((co_2 < r_4)) {
             const float _e192 = airlight_no_extinction_spot_asin(co_2, r_4);
@@ -862,7 +880,7 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
         float _e239 = wb_1;
         bool _e240 = cut_a_1;
         bool _e241 = cut_b_1;
-        const float3 _e242 = airlight_no_extinction_spot_core(tau_4, h_6, x0_6, rho_7, _e237, _e238, _e239, _e240, _e241, 0.0);
+        const float3 _e242 = airlight_no_extinction_spot_core(tau_4, h_7, x0_7, rho_8, _e237, _e238, _e239, _e240, _e241, 0.0);
         a_5 = _e242;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -890,7 +908,7 @@ float3 airlight_no_extinction_spot(float3 origin_2, float3 dir_2, float surface_
                 float _e260 = gam_2;
                 float _e261 = om_e_1;
                 float _e264 = ca_1;
-                const float3 _e265 = airlight_no_extinction_spot_edge(tau_4, h_6, x0_6, rho_7, _e260, _e261, piece.x, piece.y, _e264, k_2, co_2, cos_inner, 0.0);
+                const float3 _e265 = airlight_no_extinction_spot_edge(tau_4, h_7, x0_7, rho_8, _e260, _e261, piece.x, piece.y, _e264, k_2, co_2, cos_inner, 0.0);
                 a_5 = (_e259 + _e265);
             }
         }

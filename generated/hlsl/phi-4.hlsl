@@ -34,6 +34,11 @@ static const float airlight_phi_4_HUGE = 3.4028235e38;
 static const float airlight_phi_4_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_4_TAU_MAX = 10000.0;
 
+float airlight_phi_4_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_phi_4_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -92,7 +97,7 @@ float3 airlight_phi_4_ray_geometry(float3 origin, float3 dir, float3 light)
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_phi_4_two_sum(light, -(origin));
     const float _e6 = airlight_phi_4_max_abs(_e4[0]);
@@ -133,16 +138,16 @@ float3 airlight_phi_4_ray_geometry(float3 origin, float3 dir, float3 light)
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
+    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
     const float3 _e93 = airlight_phi_4_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_phi_4_HUGE), (_e97 / n_1), (x0_5 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_phi_4_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
 float airlight_phi_4_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -373,7 +378,7 @@ float airlight_phi_4_r_of_v(float v_2, float4 md_3)
     return ((v2_ * ((1.0 - (3.0 * k2_)) - (((k2_ * k2_) * v2_) * (3.0 + (k2_ * v2_))))) / ((q_3 + pp) * pp));
 }
 
-float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_, float rho, float g_in)
+float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr, float g_in)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
@@ -398,268 +403,267 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_, floa
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_4_TAU_MAX);
     float g_14 = clamp(g_in, -0.999, 0.999);
     float4 md_4 = float4(g_14, (1.0 - g_14), (1.0 + g_14), ((1.0 - g_14) / (1.0 + g_14)));
-    if ((x0_ > 0.0)) {
+    if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
-    bool _e29 = local_4;
-    if (_e29) {
-        if ((rho >= 0.0)) {
-            local_5 = (rho < 1.0);
+    bool _e30 = local_4;
+    if (_e30) {
+        if ((rho_1 >= 0.0)) {
+            local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
-        bool _e37 = local_5;
-        if (_e37) {
-            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_4_HUGE);
+        bool _e38 = local_5;
+        if (_e38) {
+            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho_1) / (1.0 - rho_1)), airlight_phi_4_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_phi_4_HUGE;
         }
     }
-    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
-    float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
-    float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
-    if ((rho >= 0.0)) {
-        local_6 = (rho < airlight_phi_4_RHO_OPEN);
+    float tb = ((x0_1 > 0.0) ? h_in : max(h_in, 9.094947e-13));
+    float ua = ((x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb));
+    float one_minus = ((x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1));
+    if ((rho_1 >= 0.0)) {
+        local_6 = (rho_1 < airlight_phi_4_RHO_OPEN);
     } else {
         local_6 = false;
     }
-    bool _e87 = local_6;
-    bool open = !(_e87);
+    bool _e88 = local_6;
+    bool open = !(_e88);
     if (!(open)) {
-        float ta = abs((rho - 1.0));
-        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float ta = abs(xr);
         float tm = max(ta, tb);
         float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
-        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
         if ((xr <= 0.0)) {
-            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
+            du = ((rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
+            du = (((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr)));
         }
     }
-    float _e148 = du;
-    float ub = (ua + _e148);
-    float t_1 = (tau_5 * h_5);
+    float _e126 = du;
+    float ub = (ua + _e126);
+    float t_1 = (tau_5 * tb);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_phi_4_HUGE);
     float m_1 = max(ua, xf);
-    float _e165 = du;
-    bool is_short = (_e165 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e143 = du;
+    bool is_short = (_e143 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e178 = local_7;
-    if (_e178) {
+    bool _e156 = local_7;
+    if (_e156) {
         local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e186 = local_8;
-    if (_e186) {
+    bool _e164 = local_8;
+    if (_e164) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e194 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e194, lcut));
+    float _e172 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e172, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e214 = local_10;
-        if (_e214) {
+        bool _e192 = local_10;
+        if (_e192) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e220 = sum;
-            float _e221 = d_2;
-            const float _e223 = airlight_phi_4_w_u((ua + _e221), md_4);
-            float _e227 = d_2;
-            sum = (_e220 + ((0.34785485 * _e223) * exp((-(t_1) * _e227))));
+            float _e198 = sum;
+            float _e199 = d_2;
+            const float _e201 = airlight_phi_4_w_u((ua + _e199), md_4);
+            float _e205 = d_2;
+            sum = (_e198 + ((0.34785485 * _e201) * exp((-(t_1) * _e205))));
             d_2 = (hl * 1.3399811);
-            float _e234 = sum;
-            float _e235 = d_2;
-            const float _e237 = airlight_phi_4_w_u((ua + _e235), md_4);
-            float _e241 = d_2;
-            sum = (_e234 + ((0.65214515 * _e237) * exp((-(t_1) * _e241))));
+            float _e212 = sum;
+            float _e213 = d_2;
+            const float _e215 = airlight_phi_4_w_u((ua + _e213), md_4);
+            float _e219 = d_2;
+            sum = (_e212 + ((0.65214515 * _e215) * exp((-(t_1) * _e219))));
             d_2 = (hl * 0.660019);
-            float _e248 = sum;
-            float _e249 = d_2;
-            const float _e251 = airlight_phi_4_w_u((ua + _e249), md_4);
-            float _e255 = d_2;
-            sum = (_e248 + ((0.65214515 * _e251) * exp((-(t_1) * _e255))));
+            float _e226 = sum;
+            float _e227 = d_2;
+            const float _e229 = airlight_phi_4_w_u((ua + _e227), md_4);
+            float _e233 = d_2;
+            sum = (_e226 + ((0.65214515 * _e229) * exp((-(t_1) * _e233))));
             d_2 = (hl * 0.13886368);
-            float _e262 = sum;
-            float _e263 = d_2;
-            const float _e265 = airlight_phi_4_w_u((ua + _e263), md_4);
-            float _e269 = d_2;
-            sum = (_e262 + ((0.34785485 * _e265) * exp((-(t_1) * _e269))));
-            float _e274 = sum;
-            sum = (_e274 * hl);
+            float _e240 = sum;
+            float _e241 = d_2;
+            const float _e243 = airlight_phi_4_w_u((ua + _e241), md_4);
+            float _e247 = d_2;
+            sum = (_e240 + ((0.34785485 * _e243) * exp((-(t_1) * _e247))));
+            float _e252 = sum;
+            sum = (_e252 * hl);
         } else {
-            const float2 _e276 = airlight_phi_4_phi_and_complement(ua, md_4);
-            const float2 _e278 = airlight_phi_4_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e276.y < 1.5707964) ? (_e276.y - _e278.y) : (_e278.x - _e276.x)));
-            beta = ((0.5 * _e276.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e276.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e311 = beta;
-            float _e312 = co;
-            const float2 _e316 = airlight_phi_4_sin_cos_octant(max(min(_e311, _e312), 0.0));
-            sc = _e316;
-            float _e317 = beta;
-            float _e318 = co;
-            if ((_e317 > _e318)) {
-                float2 _e320 = sc;
-                sc = _e320.yx;
+            const float2 _e254 = airlight_phi_4_phi_and_complement(ua, md_4);
+            const float2 _e256 = airlight_phi_4_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e254.y < 1.5707964) ? (_e254.y - _e256.y) : (_e256.x - _e254.x)));
+            beta = ((0.5 * _e254.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e254.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e289 = beta;
+            float _e290 = co;
+            const float2 _e294 = airlight_phi_4_sin_cos_octant(max(min(_e289, _e290), 0.0));
+            sc = _e294;
+            float _e295 = beta;
+            float _e296 = co;
+            if ((_e295 > _e296)) {
+                float2 _e298 = sc;
+                sc = _e298.yx;
             }
-            float _e323 = sc.x;
-            float _e325 = sc.y;
-            const float2 _e326 = airlight_phi_4_u_and_weight(_e323, _e325, md_4);
-            uw = _e326;
-            float _e327 = sum;
-            float _e329 = uw.y;
-            float _e334 = uw.x;
-            sum = (_e327 + ((0.34785485 * _e329) * exp((-(t_1) * (_e334 - ua)))));
-            beta = ((0.5 * _e276.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e276.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e356 = beta;
-            float _e357 = co;
-            const float2 _e361 = airlight_phi_4_sin_cos_octant(max(min(_e356, _e357), 0.0));
-            sc = _e361;
-            float _e362 = beta;
-            float _e363 = co;
-            if ((_e362 > _e363)) {
-                float2 _e365 = sc;
-                sc = _e365.yx;
+            float _e301 = sc.x;
+            float _e303 = sc.y;
+            const float2 _e304 = airlight_phi_4_u_and_weight(_e301, _e303, md_4);
+            uw = _e304;
+            float _e305 = sum;
+            float _e307 = uw.y;
+            float _e312 = uw.x;
+            sum = (_e305 + ((0.34785485 * _e307) * exp((-(t_1) * (_e312 - ua)))));
+            beta = ((0.5 * _e254.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e254.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e334 = beta;
+            float _e335 = co;
+            const float2 _e339 = airlight_phi_4_sin_cos_octant(max(min(_e334, _e335), 0.0));
+            sc = _e339;
+            float _e340 = beta;
+            float _e341 = co;
+            if ((_e340 > _e341)) {
+                float2 _e343 = sc;
+                sc = _e343.yx;
             }
-            float _e368 = sc.x;
-            float _e370 = sc.y;
-            const float2 _e371 = airlight_phi_4_u_and_weight(_e368, _e370, md_4);
-            uw = _e371;
-            float _e372 = sum;
-            float _e374 = uw.y;
-            float _e379 = uw.x;
-            sum = (_e372 + ((0.65214515 * _e374) * exp((-(t_1) * (_e379 - ua)))));
-            beta = ((0.5 * _e276.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e276.y) - ((0.5 * hl_1) * 0.660019));
-            float _e401 = beta;
-            float _e402 = co;
-            const float2 _e406 = airlight_phi_4_sin_cos_octant(max(min(_e401, _e402), 0.0));
-            sc = _e406;
-            float _e407 = beta;
-            float _e408 = co;
-            if ((_e407 > _e408)) {
-                float2 _e410 = sc;
-                sc = _e410.yx;
+            float _e346 = sc.x;
+            float _e348 = sc.y;
+            const float2 _e349 = airlight_phi_4_u_and_weight(_e346, _e348, md_4);
+            uw = _e349;
+            float _e350 = sum;
+            float _e352 = uw.y;
+            float _e357 = uw.x;
+            sum = (_e350 + ((0.65214515 * _e352) * exp((-(t_1) * (_e357 - ua)))));
+            beta = ((0.5 * _e254.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e254.y) - ((0.5 * hl_1) * 0.660019));
+            float _e379 = beta;
+            float _e380 = co;
+            const float2 _e384 = airlight_phi_4_sin_cos_octant(max(min(_e379, _e380), 0.0));
+            sc = _e384;
+            float _e385 = beta;
+            float _e386 = co;
+            if ((_e385 > _e386)) {
+                float2 _e388 = sc;
+                sc = _e388.yx;
             }
-            float _e413 = sc.x;
-            float _e415 = sc.y;
-            const float2 _e416 = airlight_phi_4_u_and_weight(_e413, _e415, md_4);
-            uw = _e416;
-            float _e417 = sum;
-            float _e419 = uw.y;
-            float _e424 = uw.x;
-            sum = (_e417 + ((0.65214515 * _e419) * exp((-(t_1) * (_e424 - ua)))));
-            beta = ((0.5 * _e276.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e276.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e446 = beta;
-            float _e447 = co;
-            const float2 _e451 = airlight_phi_4_sin_cos_octant(max(min(_e446, _e447), 0.0));
-            sc = _e451;
-            float _e452 = beta;
-            float _e453 = co;
-            if ((_e452 > _e453)) {
-                float2 _e455 = sc;
-                sc = _e455.yx;
+            float _e391 = sc.x;
+            float _e393 = sc.y;
+            const float2 _e394 = airlight_phi_4_u_and_weight(_e391, _e393, md_4);
+            uw = _e394;
+            float _e395 = sum;
+            float _e397 = uw.y;
+            float _e402 = uw.x;
+            sum = (_e395 + ((0.65214515 * _e397) * exp((-(t_1) * (_e402 - ua)))));
+            beta = ((0.5 * _e254.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e254.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e424 = beta;
+            float _e425 = co;
+            const float2 _e429 = airlight_phi_4_sin_cos_octant(max(min(_e424, _e425), 0.0));
+            sc = _e429;
+            float _e430 = beta;
+            float _e431 = co;
+            if ((_e430 > _e431)) {
+                float2 _e433 = sc;
+                sc = _e433.yx;
             }
-            float _e458 = sc.x;
-            float _e460 = sc.y;
-            const float2 _e461 = airlight_phi_4_u_and_weight(_e458, _e460, md_4);
-            uw = _e461;
-            float _e462 = sum;
-            float _e464 = uw.y;
-            float _e469 = uw.x;
-            sum = (_e462 + ((0.34785485 * _e464) * exp((-(t_1) * (_e469 - ua)))));
-            float _e475 = sum;
-            sum = (_e475 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e436 = sc.x;
+            float _e438 = sc.y;
+            const float2 _e439 = airlight_phi_4_u_and_weight(_e436, _e438, md_4);
+            uw = _e439;
+            float _e440 = sum;
+            float _e442 = uw.y;
+            float _e447 = uw.x;
+            sum = (_e440 + ((0.34785485 * _e442) * exp((-(t_1) * (_e447 - ua)))));
+            float _e453 = sum;
+            sum = (_e453 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e491 = airlight_phi_4_exp_e2_((t_1 * m_1));
-        f = (_e491 / m_1);
+        const float _e469 = airlight_phi_4_exp_e2_((t_1 * m_1));
+        f = (_e469 / m_1);
         if (!(open)) {
-            float _e495 = f;
-            const float _e501 = airlight_phi_4_exp_e2_((t_1 * ub));
-            f = (_e495 - ((exp((-(t_1) * (ub - m_1))) * _e501) / ub));
+            float _e473 = f;
+            const float _e479 = airlight_phi_4_exp_e2_((t_1 * ub));
+            f = (_e473 - ((exp((-(t_1) * (ub - m_1))) * _e479) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_phi_4_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e528 = s;
-        float _e529 = v_3;
-        const float _e530 = airlight_phi_4_r_of_v(_e529, md_4);
-        float _e534 = v_3;
-        s = (_e528 + ((1.0 * _e530) * exp((-(t_1) * ((1.0 / _e534) - m_1)))));
+        float _e506 = s;
+        float _e507 = v_3;
+        const float _e508 = airlight_phi_4_r_of_v(_e507, md_4);
+        float _e512 = v_3;
+        s = (_e506 + ((1.0 * _e508) * exp((-(t_1) * ((1.0 / _e512) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e545 = s;
-        float _e546 = v_3;
-        const float _e547 = airlight_phi_4_r_of_v(_e546, md_4);
-        float _e551 = v_3;
-        s = (_e545 + ((1.0 * _e547) * exp((-(t_1) * ((1.0 / _e551) - m_1)))));
-        float _e559 = sum;
-        float _e565 = f;
-        float _e566 = s;
-        sum = (_e559 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e565 + (_e566 * hl_2))));
+        float _e523 = s;
+        float _e524 = v_3;
+        const float _e525 = airlight_phi_4_r_of_v(_e524, md_4);
+        float _e529 = v_3;
+        s = (_e523 + ((1.0 * _e525) * exp((-(t_1) * ((1.0 / _e529) - m_1)))));
+        float _e537 = sum;
+        float _e543 = f;
+        float _e544 = s;
+        sum = (_e537 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e543 + (_e544 * hl_2))));
     } else {
-        float _e571 = du;
-        if ((_e571 > lcut)) {
+        float _e549 = du;
+        if ((_e549 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e576 = s_1;
-            const float _e580 = airlight_phi_4_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e576 + (0.8535534 * _e580));
-            float _e584 = s_1;
-            const float _e588 = airlight_phi_4_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e584 + (0.14644662 * _e588));
+            float _e554 = s_1;
+            const float _e558 = airlight_phi_4_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e554 + (0.8535534 * _e558));
+            float _e562 = s_1;
+            const float _e566 = airlight_phi_4_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e562 + (0.14644662 * _e566));
             if (!(open)) {
+                float _e573 = sb;
+                const float _e577 = airlight_phi_4_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e573 + (0.8535534 * _e577));
+                float _e581 = sb;
+                const float _e585 = airlight_phi_4_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e581 + (0.14644662 * _e585));
+                float _e589 = s_1;
+                float _e591 = du;
                 float _e595 = sb;
-                const float _e599 = airlight_phi_4_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e595 + (0.8535534 * _e599));
-                float _e603 = sb;
-                const float _e607 = airlight_phi_4_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e603 + (0.14644662 * _e607));
-                float _e611 = s_1;
-                float _e613 = du;
-                float _e617 = sb;
-                s_1 = (_e611 - (exp((-(t_1) * (_e613 - lcut))) * _e617));
+                s_1 = (_e589 - (exp((-(t_1) * (_e591 - lcut))) * _e595));
             }
-            float _e620 = sum;
-            float _e623 = s_1;
-            sum = (_e620 + ((0.030197384 / t_1) * max(_e623, 0.0)));
+            float _e598 = sum;
+            float _e601 = s_1;
+            sum = (_e598 + ((0.030197384 / t_1) * max(_e601, 0.0)));
         }
     }
-    if ((h_5 < 8.673617e-19)) {
-        float _e630 = sum;
-        const float _e638 = airlight_phi_4_scaled((2.0 * max(_e630, 0.0)), exp(-(tau_5)), h_5, 1.0);
-        return _e638;
+    if ((tb < 8.673617e-19)) {
+        float _e608 = sum;
+        const float _e616 = airlight_phi_4_scaled((2.0 * max(_e608, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e616;
     }
-    float _e643 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e643 / h_5)), 0.0), airlight_phi_4_HUGE);
+    float _e621 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e621 / tb)), 0.0), airlight_phi_4_HUGE);
 }
 
-float airlight_phi_4_airlight(float tau, float gamma, float rho_1, float g)
+float airlight_phi_4_airlight(float tau, float gamma, float rho_2, float g)
 {
     const float2 _e7 = airlight_phi_4_sin_cos(clamp(gamma, 0.0, airlight_phi_4_PI));
-    const float _e11 = airlight_phi_4_airlight_geometry(tau, abs(_e7.x), _e7.y, rho_1, g);
-    return _e11;
+    const float _e14 = airlight_phi_4_foot(abs(_e7.x), _e7.y, rho_2);
+    const float _e15 = airlight_phi_4_airlight_geometry(tau, abs(_e7.x), _e7.y, rho_2, _e14, g);
+    return _e15;
 }
 
 float airlight_phi_4_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
@@ -680,24 +684,25 @@ float airlight_phi_4_radiance(float3 origin_1, float3 dir_1, float surface, floa
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e37 = airlight_phi_4_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_6, g_1);
-    const float _e38 = airlight_phi_4_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
-    return _e38;
+    float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e39 = airlight_phi_4_foot(_e8.y, _e8.z, rho_7);
+    const float _e40 = airlight_phi_4_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_7, _e39, g_1);
+    const float _e41 = airlight_phi_4_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    return _e41;
 }
 
-float airlight_phi_4_along(float tau_1, float h_1, float x0_1, float rho_2, float g_2)
+float airlight_phi_4_along(float tau_1, float h_2, float x0_2, float rho_3, float xr_1, float g_2)
 {
-    const float _e5 = airlight_phi_4_airlight_geometry(tau_1, h_1, x0_1, rho_2, g_2);
-    return _e5;
+    const float _e6 = airlight_phi_4_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1, g_2);
+    return _e6;
 }
 
-float3 airlight_phi_4_along_rgb(float3 tau_2, float h_2, float x0_2, float rho_3, float g_3)
+float3 airlight_phi_4_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_3)
 {
-    const float _e6 = airlight_phi_4_along(tau_2.x, h_2, x0_2, rho_3, g_3);
-    const float _e8 = airlight_phi_4_along(tau_2.y, h_2, x0_2, rho_3, g_3);
-    const float _e10 = airlight_phi_4_along(tau_2.z, h_2, x0_2, rho_3, g_3);
-    return float3(_e6, _e8, _e10);
+    const float _e7 = airlight_phi_4_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_3);
+    const float _e9 = airlight_phi_4_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_3);
+    const float _e11 = airlight_phi_4_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_3);
+    return float3(_e7, _e9, _e11);
 }
 
 float airlight_phi_4_spot_asin(float x_5, float r_1)
@@ -706,51 +711,62 @@ float airlight_phi_4_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_phi_4_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_phi_4_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_12 = (bool)0;
 
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     const float2 _e17 = airlight_phi_4_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_phi_4_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_phi_4_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_phi_4_sin_cos((wb - wa));
-        const float2 _e34 = airlight_phi_4_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_phi_4_sin_cos(wb);
+        const float2 _e35 = airlight_phi_4_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_12 = (rho_4 >= 0.0);
+            local_12 = (rho_5 >= 0.0);
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_5 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_phi_4_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_phi_4_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_4);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_phi_4_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
 }
 
 float airlight_phi_4_spot_weight(float c_2, float co_1, float ci)
@@ -767,7 +783,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_5)
+float3 airlight_phi_4_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_5)
 {
     bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -792,7 +808,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
     const float2 _e27 = airlight_phi_4_sin_cos(e_1);
     const float _e33 = airlight_phi_4_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_2, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_phi_4_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_5);
+        const float3 _e41 = airlight_phi_4_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_5);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -836,7 +852,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e118) * _e121)) : (gp - (((4.0 * g_5) * _e109) * _e112)));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e128) / max(_e131, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -860,7 +876,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189)));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -884,7 +900,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e272) * _e275)) : (gp - (((4.0 * g_5) * _e263) * _e266)));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e282) / max(_e285, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -908,7 +924,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e349) * _e352)) : (gp - (((4.0 * g_5) * _e340) * _e343)));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e359) / max(_e362, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -932,7 +948,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e426) * _e429)) : (gp - (((4.0 * g_5) * _e417) * _e420)));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e436) / max(_e439, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -956,7 +972,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e503) * _e506)) : (gp - (((4.0 * g_5) * _e494) * _e497)));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e513) / max(_e516, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -980,7 +996,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e580) * _e583)) : (gp - (((4.0 * g_5) * _e571) * _e574)));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e590) / max(_e593, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1004,7 +1020,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
             d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e657) * _e660)) : (gp - (((4.0 * g_5) * _e648) * _e651)));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e667) / max(_e670, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1021,7 +1037,7 @@ float3 airlight_phi_4_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5
     }
     float3 _e718 = exact;
     float3 _e727 = sum_1;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_4).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
@@ -1108,17 +1124,17 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
     }
     float d_7 = _e11.x;
     float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float x0_7 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_18 = ((surface_1 / d_7) < airlight_phi_4_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = (has_end ? (surface_1 / d_7) : -1.0);
+    float rho_8 = (has_end ? (surface_1 / d_7) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
-    const float _e143 = airlight_phi_4_arctan2_(h_6, x0_6);
+    const float _e143 = airlight_phi_4_arctan2_(h_6, x0_7);
     if (!(point_)) {
         local_19 = (h_6 <= 0.0);
     } else {
@@ -1136,12 +1152,12 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
             const float _e160 = airlight_phi_4_spot_weight(-(k_3), co_3, cos_inner);
             const float _e161 = airlight_phi_4_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_21 = (rho_8 < 1.0);
             } else {
                 local_21 = false;
             }
             bool _e168 = local_21;
-            scale = ((x0_6 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
+            scale = ((x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
@@ -1158,7 +1174,7 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
         float _e194 = ca_1;
         const float _e195 = airlight_phi_4_arctan2_(k_3, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_phi_4_arctan2_(h_6, (x0_6 - rho_7));
+        const float _e198 = airlight_phi_4_arctan2_(h_6, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e198 : airlight_phi_4_PI);
         if ((co_3 < r_6)) {
             const float _e201 = airlight_phi_4_spot_asin(co_3, r_6);
@@ -1202,7 +1218,7 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_phi_4_spot_core(tau_6, h_6, x0_6, rho_7, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_phi_4_spot_core(tau_6, h_6, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1230,7 +1246,7 @@ float3 airlight_phi_4_spot(float3 origin_2, float3 dir_2, float surface_1, float
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_phi_4_spot_edge(tau_6, h_6, x0_6, rho_7, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
+                const float3 _e274 = airlight_phi_4_spot_edge(tau_6, h_6, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
                 a_5 = (_e268 + _e274);
             }
         }

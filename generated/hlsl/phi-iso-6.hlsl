@@ -34,6 +34,11 @@ static const float airlight_phi_iso_6_HUGE = 3.4028235e38;
 static const float airlight_phi_iso_6_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_iso_6_TAU_MAX = 10000.0;
 
+float airlight_phi_iso_6_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_phi_iso_6_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -92,7 +97,7 @@ float3 airlight_phi_iso_6_ray_geometry(float3 origin, float3 dir, float3 light)
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_phi_iso_6_two_sum(light, -(origin));
     const float _e6 = airlight_phi_iso_6_max_abs(_e4[0]);
@@ -133,16 +138,16 @@ float3 airlight_phi_iso_6_ray_geometry(float3 origin, float3 dir, float3 light)
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_5 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_5 * x0_5)));
+    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
     const float3 _e93 = airlight_phi_iso_6_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_phi_iso_6_HUGE), (_e97 / n_1), (x0_5 / n_1));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_phi_iso_6_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
 float airlight_phi_iso_6_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -353,7 +358,7 @@ float airlight_phi_iso_6_r_of_v(float v_2, float4 md_3)
     return ((-(v_2) * v_2) / (1.0 + (v_2 * v_2)));
 }
 
-float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_, float rho)
+float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
@@ -377,337 +382,336 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_, 
 
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_iso_6_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
-    if ((x0_ > 0.0)) {
+    if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
-    bool _e20 = local_4;
-    if (_e20) {
-        if ((rho >= 0.0)) {
-            local_5 = (rho < 1.0);
+    bool _e21 = local_4;
+    if (_e21) {
+        if ((rho_1 >= 0.0)) {
+            local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
-        bool _e28 = local_5;
-        if (_e28) {
-            return min((((0.07957747 * exp(-(tau_5))) * rho) / (1.0 - rho)), airlight_phi_iso_6_HUGE);
+        bool _e29 = local_5;
+        if (_e29) {
+            return min((((0.07957747 * exp(-(tau_5))) * rho_1) / (1.0 - rho_1)), airlight_phi_iso_6_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_phi_iso_6_HUGE;
         }
     }
-    float h_5 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
-    float ua = ((x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5));
-    float one_minus = ((x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_));
-    if ((rho >= 0.0)) {
-        local_6 = (rho < airlight_phi_iso_6_RHO_OPEN);
+    float tb = ((x0_1 > 0.0) ? h_in : max(h_in, 9.094947e-13));
+    float ua = ((x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb));
+    float one_minus = ((x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1));
+    if ((rho_1 >= 0.0)) {
+        local_6 = (rho_1 < airlight_phi_iso_6_RHO_OPEN);
     } else {
         local_6 = false;
     }
-    bool _e72 = local_6;
-    bool open = !(_e72);
+    bool _e73 = local_6;
+    bool open = !(_e73);
     if (!(open)) {
-        float ta = abs((rho - 1.0));
-        float tb = ((x0_ >= 0.0) ? (h_5 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float ta = abs(xr);
         float tm = max(ta, tb);
         float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
-        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
         if ((xr <= 0.0)) {
-            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5));
+            du = ((rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb));
         } else {
-            du = (((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr)));
+            du = (((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr)));
         }
     }
-    float _e133 = du;
-    float ub = (ua + _e133);
-    float t_1 = (tau_5 * h_5);
+    float _e111 = du;
+    float ub = (ua + _e111);
+    float t_1 = (tau_5 * tb);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.0 / max(t_1, 1e-30)) : airlight_phi_iso_6_HUGE);
     float m_1 = max(ua, xf);
-    float _e150 = du;
-    bool is_short = (_e150 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e128 = du;
+    bool is_short = (_e128 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e163 = local_7;
-    if (_e163) {
+    bool _e141 = local_7;
+    if (_e141) {
         local_8 = ((t_1 * (m_1 - ua)) < 4.0);
     } else {
         local_8 = false;
     }
-    bool _e171 = local_8;
-    if (_e171) {
+    bool _e149 = local_8;
+    if (_e149) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e179 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e179, lcut));
+    float _e157 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e157, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e199 = local_10;
-        if (_e199) {
+        bool _e177 = local_10;
+        if (_e177) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.9324695);
-            float _e205 = sum;
-            float _e206 = d_2;
-            const float _e208 = airlight_phi_iso_6_w_u((ua + _e206), md_4);
-            float _e212 = d_2;
-            sum = (_e205 + ((0.17132449 * _e208) * exp((-(t_1) * _e212))));
+            float _e183 = sum;
+            float _e184 = d_2;
+            const float _e186 = airlight_phi_iso_6_w_u((ua + _e184), md_4);
+            float _e190 = d_2;
+            sum = (_e183 + ((0.17132449 * _e186) * exp((-(t_1) * _e190))));
             d_2 = (hl * 1.6612093);
-            float _e219 = sum;
-            float _e220 = d_2;
-            const float _e222 = airlight_phi_iso_6_w_u((ua + _e220), md_4);
-            float _e226 = d_2;
-            sum = (_e219 + ((0.36076158 * _e222) * exp((-(t_1) * _e226))));
+            float _e197 = sum;
+            float _e198 = d_2;
+            const float _e200 = airlight_phi_iso_6_w_u((ua + _e198), md_4);
+            float _e204 = d_2;
+            sum = (_e197 + ((0.36076158 * _e200) * exp((-(t_1) * _e204))));
             d_2 = (hl * 1.2386192);
-            float _e233 = sum;
-            float _e234 = d_2;
-            const float _e236 = airlight_phi_iso_6_w_u((ua + _e234), md_4);
-            float _e240 = d_2;
-            sum = (_e233 + ((0.46791393 * _e236) * exp((-(t_1) * _e240))));
+            float _e211 = sum;
+            float _e212 = d_2;
+            const float _e214 = airlight_phi_iso_6_w_u((ua + _e212), md_4);
+            float _e218 = d_2;
+            sum = (_e211 + ((0.46791393 * _e214) * exp((-(t_1) * _e218))));
             d_2 = (hl * 0.7613808);
-            float _e247 = sum;
-            float _e248 = d_2;
-            const float _e250 = airlight_phi_iso_6_w_u((ua + _e248), md_4);
-            float _e254 = d_2;
-            sum = (_e247 + ((0.46791393 * _e250) * exp((-(t_1) * _e254))));
+            float _e225 = sum;
+            float _e226 = d_2;
+            const float _e228 = airlight_phi_iso_6_w_u((ua + _e226), md_4);
+            float _e232 = d_2;
+            sum = (_e225 + ((0.46791393 * _e228) * exp((-(t_1) * _e232))));
             d_2 = (hl * 0.3387906);
-            float _e261 = sum;
-            float _e262 = d_2;
-            const float _e264 = airlight_phi_iso_6_w_u((ua + _e262), md_4);
-            float _e268 = d_2;
-            sum = (_e261 + ((0.36076158 * _e264) * exp((-(t_1) * _e268))));
+            float _e239 = sum;
+            float _e240 = d_2;
+            const float _e242 = airlight_phi_iso_6_w_u((ua + _e240), md_4);
+            float _e246 = d_2;
+            sum = (_e239 + ((0.36076158 * _e242) * exp((-(t_1) * _e246))));
             d_2 = (hl * 0.06753051);
-            float _e275 = sum;
-            float _e276 = d_2;
-            const float _e278 = airlight_phi_iso_6_w_u((ua + _e276), md_4);
-            float _e282 = d_2;
-            sum = (_e275 + ((0.17132449 * _e278) * exp((-(t_1) * _e282))));
-            float _e287 = sum;
-            sum = (_e287 * hl);
+            float _e253 = sum;
+            float _e254 = d_2;
+            const float _e256 = airlight_phi_iso_6_w_u((ua + _e254), md_4);
+            float _e260 = d_2;
+            sum = (_e253 + ((0.17132449 * _e256) * exp((-(t_1) * _e260))));
+            float _e265 = sum;
+            sum = (_e265 * hl);
         } else {
-            const float2 _e289 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
-            const float2 _e291 = airlight_phi_iso_6_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e289.y < 1.5707964) ? (_e289.y - _e291.y) : (_e291.x - _e289.x)));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 1.9324695));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 1.9324695));
-            float _e324 = beta;
-            float _e325 = co;
-            const float2 _e329 = airlight_phi_iso_6_sin_cos_octant(max(min(_e324, _e325), 0.0));
-            sc = _e329;
-            float _e330 = beta;
-            float _e331 = co;
-            if ((_e330 > _e331)) {
-                float2 _e333 = sc;
-                sc = _e333.yx;
+            const float2 _e267 = airlight_phi_iso_6_phi_and_complement(ua, md_4);
+            const float2 _e269 = airlight_phi_iso_6_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e267.y < 1.5707964) ? (_e267.y - _e269.y) : (_e269.x - _e267.x)));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e302 = beta;
+            float _e303 = co;
+            const float2 _e307 = airlight_phi_iso_6_sin_cos_octant(max(min(_e302, _e303), 0.0));
+            sc = _e307;
+            float _e308 = beta;
+            float _e309 = co;
+            if ((_e308 > _e309)) {
+                float2 _e311 = sc;
+                sc = _e311.yx;
             }
-            float _e336 = sc.x;
-            float _e338 = sc.y;
-            const float2 _e339 = airlight_phi_iso_6_u_and_weight(_e336, _e338, md_4);
-            uw = _e339;
-            float _e340 = sum;
-            float _e342 = uw.y;
-            float _e347 = uw.x;
-            sum = (_e340 + ((0.17132449 * _e342) * exp((-(t_1) * (_e347 - ua)))));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 1.6612093));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 1.6612093));
-            float _e369 = beta;
-            float _e370 = co;
-            const float2 _e374 = airlight_phi_iso_6_sin_cos_octant(max(min(_e369, _e370), 0.0));
-            sc = _e374;
-            float _e375 = beta;
-            float _e376 = co;
-            if ((_e375 > _e376)) {
-                float2 _e378 = sc;
-                sc = _e378.yx;
+            float _e314 = sc.x;
+            float _e316 = sc.y;
+            const float2 _e317 = airlight_phi_iso_6_u_and_weight(_e314, _e316, md_4);
+            uw = _e317;
+            float _e318 = sum;
+            float _e320 = uw.y;
+            float _e325 = uw.x;
+            sum = (_e318 + ((0.17132449 * _e320) * exp((-(t_1) * (_e325 - ua)))));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e347 = beta;
+            float _e348 = co;
+            const float2 _e352 = airlight_phi_iso_6_sin_cos_octant(max(min(_e347, _e348), 0.0));
+            sc = _e352;
+            float _e353 = beta;
+            float _e354 = co;
+            if ((_e353 > _e354)) {
+                float2 _e356 = sc;
+                sc = _e356.yx;
             }
-            float _e381 = sc.x;
-            float _e383 = sc.y;
-            const float2 _e384 = airlight_phi_iso_6_u_and_weight(_e381, _e383, md_4);
-            uw = _e384;
-            float _e385 = sum;
-            float _e387 = uw.y;
-            float _e392 = uw.x;
-            sum = (_e385 + ((0.36076158 * _e387) * exp((-(t_1) * (_e392 - ua)))));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 1.2386192));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 1.2386192));
-            float _e414 = beta;
-            float _e415 = co;
-            const float2 _e419 = airlight_phi_iso_6_sin_cos_octant(max(min(_e414, _e415), 0.0));
-            sc = _e419;
-            float _e420 = beta;
-            float _e421 = co;
-            if ((_e420 > _e421)) {
-                float2 _e423 = sc;
-                sc = _e423.yx;
+            float _e359 = sc.x;
+            float _e361 = sc.y;
+            const float2 _e362 = airlight_phi_iso_6_u_and_weight(_e359, _e361, md_4);
+            uw = _e362;
+            float _e363 = sum;
+            float _e365 = uw.y;
+            float _e370 = uw.x;
+            sum = (_e363 + ((0.36076158 * _e365) * exp((-(t_1) * (_e370 - ua)))));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e392 = beta;
+            float _e393 = co;
+            const float2 _e397 = airlight_phi_iso_6_sin_cos_octant(max(min(_e392, _e393), 0.0));
+            sc = _e397;
+            float _e398 = beta;
+            float _e399 = co;
+            if ((_e398 > _e399)) {
+                float2 _e401 = sc;
+                sc = _e401.yx;
             }
-            float _e426 = sc.x;
-            float _e428 = sc.y;
-            const float2 _e429 = airlight_phi_iso_6_u_and_weight(_e426, _e428, md_4);
-            uw = _e429;
-            float _e430 = sum;
-            float _e432 = uw.y;
-            float _e437 = uw.x;
-            sum = (_e430 + ((0.46791393 * _e432) * exp((-(t_1) * (_e437 - ua)))));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 0.7613808));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 0.7613808));
-            float _e459 = beta;
-            float _e460 = co;
-            const float2 _e464 = airlight_phi_iso_6_sin_cos_octant(max(min(_e459, _e460), 0.0));
-            sc = _e464;
-            float _e465 = beta;
-            float _e466 = co;
-            if ((_e465 > _e466)) {
-                float2 _e468 = sc;
-                sc = _e468.yx;
+            float _e404 = sc.x;
+            float _e406 = sc.y;
+            const float2 _e407 = airlight_phi_iso_6_u_and_weight(_e404, _e406, md_4);
+            uw = _e407;
+            float _e408 = sum;
+            float _e410 = uw.y;
+            float _e415 = uw.x;
+            sum = (_e408 + ((0.46791393 * _e410) * exp((-(t_1) * (_e415 - ua)))));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e437 = beta;
+            float _e438 = co;
+            const float2 _e442 = airlight_phi_iso_6_sin_cos_octant(max(min(_e437, _e438), 0.0));
+            sc = _e442;
+            float _e443 = beta;
+            float _e444 = co;
+            if ((_e443 > _e444)) {
+                float2 _e446 = sc;
+                sc = _e446.yx;
             }
-            float _e471 = sc.x;
-            float _e473 = sc.y;
-            const float2 _e474 = airlight_phi_iso_6_u_and_weight(_e471, _e473, md_4);
-            uw = _e474;
-            float _e475 = sum;
-            float _e477 = uw.y;
-            float _e482 = uw.x;
-            sum = (_e475 + ((0.46791393 * _e477) * exp((-(t_1) * (_e482 - ua)))));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 0.3387906));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 0.3387906));
-            float _e504 = beta;
-            float _e505 = co;
-            const float2 _e509 = airlight_phi_iso_6_sin_cos_octant(max(min(_e504, _e505), 0.0));
-            sc = _e509;
-            float _e510 = beta;
-            float _e511 = co;
-            if ((_e510 > _e511)) {
-                float2 _e513 = sc;
-                sc = _e513.yx;
+            float _e449 = sc.x;
+            float _e451 = sc.y;
+            const float2 _e452 = airlight_phi_iso_6_u_and_weight(_e449, _e451, md_4);
+            uw = _e452;
+            float _e453 = sum;
+            float _e455 = uw.y;
+            float _e460 = uw.x;
+            sum = (_e453 + ((0.46791393 * _e455) * exp((-(t_1) * (_e460 - ua)))));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e482 = beta;
+            float _e483 = co;
+            const float2 _e487 = airlight_phi_iso_6_sin_cos_octant(max(min(_e482, _e483), 0.0));
+            sc = _e487;
+            float _e488 = beta;
+            float _e489 = co;
+            if ((_e488 > _e489)) {
+                float2 _e491 = sc;
+                sc = _e491.yx;
             }
-            float _e516 = sc.x;
-            float _e518 = sc.y;
-            const float2 _e519 = airlight_phi_iso_6_u_and_weight(_e516, _e518, md_4);
-            uw = _e519;
-            float _e520 = sum;
-            float _e522 = uw.y;
-            float _e527 = uw.x;
-            sum = (_e520 + ((0.36076158 * _e522) * exp((-(t_1) * (_e527 - ua)))));
-            beta = ((0.5 * _e289.x) + ((0.5 * hl_1) * 0.06753051));
-            co = ((0.5 * _e289.y) - ((0.5 * hl_1) * 0.06753051));
-            float _e549 = beta;
-            float _e550 = co;
-            const float2 _e554 = airlight_phi_iso_6_sin_cos_octant(max(min(_e549, _e550), 0.0));
-            sc = _e554;
-            float _e555 = beta;
-            float _e556 = co;
-            if ((_e555 > _e556)) {
-                float2 _e558 = sc;
-                sc = _e558.yx;
+            float _e494 = sc.x;
+            float _e496 = sc.y;
+            const float2 _e497 = airlight_phi_iso_6_u_and_weight(_e494, _e496, md_4);
+            uw = _e497;
+            float _e498 = sum;
+            float _e500 = uw.y;
+            float _e505 = uw.x;
+            sum = (_e498 + ((0.36076158 * _e500) * exp((-(t_1) * (_e505 - ua)))));
+            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e527 = beta;
+            float _e528 = co;
+            const float2 _e532 = airlight_phi_iso_6_sin_cos_octant(max(min(_e527, _e528), 0.0));
+            sc = _e532;
+            float _e533 = beta;
+            float _e534 = co;
+            if ((_e533 > _e534)) {
+                float2 _e536 = sc;
+                sc = _e536.yx;
             }
-            float _e561 = sc.x;
-            float _e563 = sc.y;
-            const float2 _e564 = airlight_phi_iso_6_u_and_weight(_e561, _e563, md_4);
-            uw = _e564;
-            float _e565 = sum;
-            float _e567 = uw.y;
-            float _e572 = uw.x;
-            sum = (_e565 + ((0.17132449 * _e567) * exp((-(t_1) * (_e572 - ua)))));
-            float _e578 = sum;
-            sum = (_e578 * (hl_1 * 0.07957747));
+            float _e539 = sc.x;
+            float _e541 = sc.y;
+            const float2 _e542 = airlight_phi_iso_6_u_and_weight(_e539, _e541, md_4);
+            uw = _e542;
+            float _e543 = sum;
+            float _e545 = uw.y;
+            float _e550 = uw.x;
+            sum = (_e543 + ((0.17132449 * _e545) * exp((-(t_1) * (_e550 - ua)))));
+            float _e556 = sum;
+            sum = (_e556 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e584 = airlight_phi_iso_6_exp_e2_((t_1 * m_1));
-        f = (_e584 / m_1);
+        const float _e562 = airlight_phi_iso_6_exp_e2_((t_1 * m_1));
+        f = (_e562 / m_1);
         if (!(open)) {
-            float _e588 = f;
-            const float _e594 = airlight_phi_iso_6_exp_e2_((t_1 * ub));
-            f = (_e588 - ((exp((-(t_1) * (ub - m_1))) * _e594) / ub));
+            float _e566 = f;
+            const float _e572 = airlight_phi_iso_6_exp_e2_((t_1 * ub));
+            f = (_e566 - ((exp((-(t_1) * (ub - m_1))) * _e572) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (6.0 / max(t_1, 1e-30))) : airlight_phi_iso_6_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
-        float _e621 = s;
-        float _e622 = v_3;
-        const float _e623 = airlight_phi_iso_6_r_of_v(_e622, md_4);
-        float _e627 = v_3;
-        s = (_e621 + ((0.34785485 * _e623) * exp((-(t_1) * ((1.0 / _e627) - m_1)))));
+        float _e599 = s;
+        float _e600 = v_3;
+        const float _e601 = airlight_phi_iso_6_r_of_v(_e600, md_4);
+        float _e605 = v_3;
+        s = (_e599 + ((0.34785485 * _e601) * exp((-(t_1) * ((1.0 / _e605) - m_1)))));
         v_3 = (va + (hl_2 * 1.3399811));
-        float _e638 = s;
-        float _e639 = v_3;
-        const float _e640 = airlight_phi_iso_6_r_of_v(_e639, md_4);
-        float _e644 = v_3;
-        s = (_e638 + ((0.65214515 * _e640) * exp((-(t_1) * ((1.0 / _e644) - m_1)))));
+        float _e616 = s;
+        float _e617 = v_3;
+        const float _e618 = airlight_phi_iso_6_r_of_v(_e617, md_4);
+        float _e622 = v_3;
+        s = (_e616 + ((0.65214515 * _e618) * exp((-(t_1) * ((1.0 / _e622) - m_1)))));
         v_3 = (va + (hl_2 * 0.660019));
-        float _e655 = s;
-        float _e656 = v_3;
-        const float _e657 = airlight_phi_iso_6_r_of_v(_e656, md_4);
-        float _e661 = v_3;
-        s = (_e655 + ((0.65214515 * _e657) * exp((-(t_1) * ((1.0 / _e661) - m_1)))));
+        float _e633 = s;
+        float _e634 = v_3;
+        const float _e635 = airlight_phi_iso_6_r_of_v(_e634, md_4);
+        float _e639 = v_3;
+        s = (_e633 + ((0.65214515 * _e635) * exp((-(t_1) * ((1.0 / _e639) - m_1)))));
         v_3 = (va + (hl_2 * 0.13886368));
-        float _e672 = s;
-        float _e673 = v_3;
-        const float _e674 = airlight_phi_iso_6_r_of_v(_e673, md_4);
-        float _e678 = v_3;
-        s = (_e672 + ((0.34785485 * _e674) * exp((-(t_1) * ((1.0 / _e678) - m_1)))));
-        float _e686 = sum;
-        float _e692 = f;
-        float _e693 = s;
-        sum = (_e686 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e692 + (_e693 * hl_2))));
+        float _e650 = s;
+        float _e651 = v_3;
+        const float _e652 = airlight_phi_iso_6_r_of_v(_e651, md_4);
+        float _e656 = v_3;
+        s = (_e650 + ((0.34785485 * _e652) * exp((-(t_1) * ((1.0 / _e656) - m_1)))));
+        float _e664 = sum;
+        float _e670 = f;
+        float _e671 = s;
+        sum = (_e664 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e670 + (_e671 * hl_2))));
     } else {
-        float _e698 = du;
-        if ((_e698 > lcut)) {
+        float _e676 = du;
+        if ((_e676 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e703 = s_1;
-            const float _e707 = airlight_phi_iso_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e703 + (0.711093 * _e707));
-            float _e711 = s_1;
-            const float _e715 = airlight_phi_iso_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e711 + (0.27851772 * _e715));
-            float _e719 = s_1;
-            const float _e723 = airlight_phi_iso_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e719 + (0.010389256 * _e723));
+            float _e681 = s_1;
+            const float _e685 = airlight_phi_iso_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e681 + (0.711093 * _e685));
+            float _e689 = s_1;
+            const float _e693 = airlight_phi_iso_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e689 + (0.27851772 * _e693));
+            float _e697 = s_1;
+            const float _e701 = airlight_phi_iso_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e697 + (0.010389256 * _e701));
             if (!(open)) {
-                float _e730 = sb;
-                const float _e734 = airlight_phi_iso_6_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e730 + (0.711093 * _e734));
+                float _e708 = sb;
+                const float _e712 = airlight_phi_iso_6_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e708 + (0.711093 * _e712));
+                float _e716 = sb;
+                const float _e720 = airlight_phi_iso_6_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e716 + (0.27851772 * _e720));
+                float _e724 = sb;
+                const float _e728 = airlight_phi_iso_6_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e724 + (0.010389256 * _e728));
+                float _e732 = s_1;
+                float _e734 = du;
                 float _e738 = sb;
-                const float _e742 = airlight_phi_iso_6_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e738 + (0.27851772 * _e742));
-                float _e746 = sb;
-                const float _e750 = airlight_phi_iso_6_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e746 + (0.010389256 * _e750));
-                float _e754 = s_1;
-                float _e756 = du;
-                float _e760 = sb;
-                s_1 = (_e754 - (exp((-(t_1) * (_e756 - lcut))) * _e760));
+                s_1 = (_e732 - (exp((-(t_1) * (_e734 - lcut))) * _e738));
             }
-            float _e763 = sum;
-            float _e766 = s_1;
-            sum = (_e763 + ((0.01831564 / t_1) * max(_e766, 0.0)));
+            float _e741 = sum;
+            float _e744 = s_1;
+            sum = (_e741 + ((0.01831564 / t_1) * max(_e744, 0.0)));
         }
     }
-    if ((h_5 < 8.673617e-19)) {
-        float _e773 = sum;
-        const float _e781 = airlight_phi_iso_6_scaled((2.0 * max(_e773, 0.0)), exp(-(tau_5)), h_5, 1.0);
-        return _e781;
+    if ((tb < 8.673617e-19)) {
+        float _e751 = sum;
+        const float _e759 = airlight_phi_iso_6_scaled((2.0 * max(_e751, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e759;
     }
-    float _e786 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e786 / h_5)), 0.0), airlight_phi_iso_6_HUGE);
+    float _e764 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e764 / tb)), 0.0), airlight_phi_iso_6_HUGE);
 }
 
-float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_1)
+float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_2)
 {
     const float2 _e6 = airlight_phi_iso_6_sin_cos(clamp(gamma, 0.0, airlight_phi_iso_6_PI));
-    const float _e10 = airlight_phi_iso_6_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_1);
-    return _e10;
+    const float _e13 = airlight_phi_iso_6_foot(abs(_e6.x), _e6.y, rho_2);
+    const float _e14 = airlight_phi_iso_6_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
@@ -728,24 +732,25 @@ float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, 
     if (_e23) {
         return 0.0;
     }
-    float rho_6 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e36 = airlight_phi_iso_6_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_6);
-    const float _e37 = airlight_phi_iso_6_scaled(sigma_s_1, intensity_1, _e7.x, _e36);
-    return _e37;
+    float rho_7 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e38 = airlight_phi_iso_6_foot(_e7.y, _e7.z, rho_7);
+    const float _e39 = airlight_phi_iso_6_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_7, _e38);
+    const float _e40 = airlight_phi_iso_6_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
 }
 
-float airlight_phi_iso_6_along(float tau_1, float h_1, float x0_1, float rho_2, float g)
+float airlight_phi_iso_6_along(float tau_1, float h_2, float x0_2, float rho_3, float xr_1, float g)
 {
-    const float _e5 = airlight_phi_iso_6_airlight_geometry(tau_1, h_1, x0_1, rho_2);
-    return _e5;
+    const float _e6 = airlight_phi_iso_6_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    return _e6;
 }
 
-float3 airlight_phi_iso_6_along_rgb(float3 tau_2, float h_2, float x0_2, float rho_3, float g_1)
+float3 airlight_phi_iso_6_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_1)
 {
-    const float _e6 = airlight_phi_iso_6_along(tau_2.x, h_2, x0_2, rho_3, g_1);
-    const float _e8 = airlight_phi_iso_6_along(tau_2.y, h_2, x0_2, rho_3, g_1);
-    const float _e10 = airlight_phi_iso_6_along(tau_2.z, h_2, x0_2, rho_3, g_1);
-    return float3(_e6, _e8, _e10);
+    const float _e7 = airlight_phi_iso_6_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
+    const float _e9 = airlight_phi_iso_6_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
+    const float _e11 = airlight_phi_iso_6_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    return float3(_e7, _e9, _e11);
 }
 
 float airlight_phi_iso_6_spot_asin(float x_5, float r_1)
@@ -754,51 +759,62 @@ float airlight_phi_iso_6_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_3, float x0_3, float rho_4, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
+float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = (float)0;
+    float xr1_ = (float)0;
     bool local_12 = (bool)0;
 
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     const float2 _e17 = airlight_phi_iso_6_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_3 / max(_e17.x, 1e-30));
+        t0_ = (h_4 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_phi_iso_6_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
+    const float _e31 = airlight_phi_iso_6_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        const float2 _e32 = airlight_phi_iso_6_sin_cos((wb - wa));
-        const float2 _e34 = airlight_phi_iso_6_sin_cos(wb);
-        rho1_ = (_e32.x / max(_e34.x, 1e-30));
+        const float2 _e33 = airlight_phi_iso_6_sin_cos(wb);
+        const float2 _e35 = airlight_phi_iso_6_sin_cos((wb - wa));
+        rho1_ = (_e35.x / max(_e33.x, 1e-30));
+        float _e41 = h1_;
+        xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_12 = (rho_4 >= 0.0);
+            local_12 = (rho_5 >= 0.0);
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = max(((rho_4 - _e45) / _e47), 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = max(((rho_5 - _e54) / _e56), 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            const float _e63 = airlight_phi_iso_6_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    const float3 _e56 = airlight_phi_iso_6_along_rgb((tau_3 * _e51), _e53, _e54, _e55, g_2);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return ((_e56 >= (3.4028235e38).xxx) ? _e56 : ((_e56 * exp((-(tau_3) * _e58))) / (_e62).xxx));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    const float3 _e70 = airlight_phi_iso_6_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_2);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
 }
 
 float airlight_phi_iso_6_spot_weight(float c_2, float co_1, float ci)
@@ -815,7 +831,7 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float rho_5, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_3)
+float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_3)
 {
     bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
@@ -840,7 +856,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
     const float2 _e27 = airlight_phi_iso_6_sin_cos(e_1);
     const float _e33 = airlight_phi_iso_6_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_2, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_phi_iso_6_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_3);
+        const float3 _e41 = airlight_phi_iso_6_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_3);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
@@ -884,7 +900,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112)));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e128) / max(_e131, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
             float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -908,7 +924,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e205) / max(_e208, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
             float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -932,7 +948,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266)));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e282) / max(_e285, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
             float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -956,7 +972,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343)));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e359) / max(_e362, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
             float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -980,7 +996,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420)));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e436) / max(_e439, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
             float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -1004,7 +1020,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497)));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e513) / max(_e516, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
             float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -1028,7 +1044,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574)));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e590) / max(_e593, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
             float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1052,7 +1068,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
             d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651)));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = max((x0_4 + ((h_4 * _e667) / max(_e670, 1e-30))), 1.0);
+            st = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
             float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1069,7 +1085,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_4, float x0_4, float r
     }
     float3 _e718 = exact;
     float3 _e727 = sum_1;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_4).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
@@ -1156,16 +1172,16 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     }
     float d_4 = _e10.x;
     float h_6 = _e10.y;
-    float x0_6 = _e10.z;
+    float x0_7 = _e10.z;
     if ((surface_1 >= 0.0)) {
         local_18 = ((surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = (has_end ? (surface_1 / d_4) : -1.0);
+    float rho_8 = (has_end ? (surface_1 / d_4) : -1.0);
     float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
-    const float _e140 = airlight_phi_iso_6_arctan2_(h_6, x0_6);
+    const float _e140 = airlight_phi_iso_6_arctan2_(h_6, x0_7);
     if (!(point_)) {
         local_19 = (h_6 <= 0.0);
     } else {
@@ -1183,12 +1199,12 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
             const float _e157 = airlight_phi_iso_6_spot_weight(-(k_2), co_3, cos_inner);
             const float _e158 = airlight_phi_iso_6_spot_weight(k_2, co_3, cos_inner);
             if (has_end) {
-                local_21 = (rho_7 < 1.0);
+                local_21 = (rho_8 < 1.0);
             } else {
                 local_21 = false;
             }
             bool _e165 = local_21;
-            scale = ((x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
+            scale = ((x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
         }
         core = true;
     } else {
@@ -1205,7 +1221,7 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         float _e191 = ca_1;
         const float _e192 = airlight_phi_iso_6_arctan2_(k_2, _e191);
         gam_2 = _e140;
-        const float _e195 = airlight_phi_iso_6_arctan2_(h_6, (x0_6 - rho_7));
+        const float _e195 = airlight_phi_iso_6_arctan2_(h_6, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e195 : airlight_phi_iso_6_PI);
         if ((co_3 < r_4)) {
             const float _e198 = airlight_phi_iso_6_spot_asin(co_3, r_4);
@@ -1249,7 +1265,7 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_phi_iso_6_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.0);
+        const float3 _e248 = airlight_phi_iso_6_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
         a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1277,7 +1293,7 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_phi_iso_6_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
+                const float3 _e271 = airlight_phi_iso_6_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
                 a_5 = (_e265 + _e271);
             }
         }

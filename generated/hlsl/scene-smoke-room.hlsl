@@ -21,6 +21,11 @@ static const float airlight_scene_smoke_room_HUGE = 3.4028235e38;
 static const float airlight_scene_smoke_room_RHO_OPEN = 4294967300.0;
 static const float airlight_scene_smoke_room_TAU_MAX = 10000.0;
 
+float airlight_scene_smoke_room_foot(float h, float x0_, float rho)
+{
+    return ((x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho));
+}
+
 float airlight_scene_smoke_room_max_abs(float3 v)
 {
     return max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -79,7 +84,7 @@ float3 airlight_scene_smoke_room_ray_geometry(float3 origin, float3 dir, float3 
     bool local = (bool)0;
     bool local_1 = (bool)0;
     float3 c_1 = (float3)0;
-    float h = 0.0;
+    float h_1 = 0.0;
 
     const float3 _e4[2] = airlight_scene_smoke_room_two_sum(light, -(origin));
     const float _e6 = airlight_scene_smoke_room_max_abs(_e4[0]);
@@ -120,16 +125,16 @@ float3 airlight_scene_smoke_room_ray_geometry(float3 origin, float3 dir, float3 
     if ((_e70 > 0.0)) {
         float3 _e75 = c_1;
         float3 cs = (_e75 / (_e70).xxx);
-        h = (_e70 * sqrt(dot(cs, cs)));
+        h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_1 = (dot(_e44, _e37) + dot(_e44, _e40));
-    float _e84 = h;
-    float _e85 = h;
-    float n = sqrt(((_e84 * _e85) + (x0_1 * x0_1)));
+    float x0_2 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n = sqrt(((_e84 * _e85) + (x0_2 * x0_2)));
     const float3 _e93 = airlight_scene_smoke_room_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return float3(min(dist, airlight_scene_smoke_room_HUGE), (_e97 / n), (x0_1 / n));
+    float _e97 = h_1;
+    return float3(min(dist, airlight_scene_smoke_room_HUGE), (_e97 / n), (x0_2 / n));
 }
 
 float airlight_scene_smoke_room_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -340,7 +345,7 @@ float airlight_scene_smoke_room_r_of_v(float v_2, float4 md_3)
     return ((-(v_2) * v_2) / (1.0 + (v_2 * v_2)));
 }
 
-float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, float x0_, float rho)
+float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
@@ -364,267 +369,266 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
 
     float tau_1 = min(max(tau_in, 0.0), airlight_scene_smoke_room_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
-    if ((x0_ > 0.0)) {
+    if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
-    bool _e20 = local_4;
-    if (_e20) {
-        if ((rho >= 0.0)) {
-            local_5 = (rho < 1.0);
+    bool _e21 = local_4;
+    if (_e21) {
+        if ((rho_1 >= 0.0)) {
+            local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
-        bool _e28 = local_5;
-        if (_e28) {
-            return min((((0.07957747 * exp(-(tau_1))) * rho) / (1.0 - rho)), airlight_scene_smoke_room_HUGE);
+        bool _e29 = local_5;
+        if (_e29) {
+            return min((((0.07957747 * exp(-(tau_1))) * rho_1) / (1.0 - rho_1)), airlight_scene_smoke_room_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_scene_smoke_room_HUGE;
         }
     }
-    float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
-    float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
-    float one_minus = ((x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_));
-    if ((rho >= 0.0)) {
-        local_6 = (rho < airlight_scene_smoke_room_RHO_OPEN);
+    float tb = ((x0_1 > 0.0) ? h_in : max(h_in, 9.094947e-13));
+    float ua = ((x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb));
+    float one_minus = ((x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1));
+    if ((rho_1 >= 0.0)) {
+        local_6 = (rho_1 < airlight_scene_smoke_room_RHO_OPEN);
     } else {
         local_6 = false;
     }
-    bool _e72 = local_6;
-    bool open = !(_e72);
+    bool _e73 = local_6;
+    bool open = !(_e73);
     if (!(open)) {
-        float ta = abs((rho - 1.0));
-        float tb = ((x0_ >= 0.0) ? (h_1 * sqrt(((2.0 * rho) / (1.0 + x0_)))) : sqrt(((2.0 * rho) * one_minus)));
+        float ta = abs(xr);
         float tm = max(ta, tb);
         float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
-        float xr = ((x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho));
         if ((xr <= 0.0)) {
-            du = ((rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_1));
+            du = ((rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb));
         } else {
-            du = (((2.0 * rho) * h_1) / (((1.0 + rho) + tr) * (tr + xr)));
+            du = (((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr)));
         }
     }
-    float _e133 = du;
-    float ub = (ua + _e133);
-    float t_1 = (tau_1 * h_1);
+    float _e111 = du;
+    float ub = (ua + _e111);
+    float t_1 = (tau_1 * tb);
     float xf = (3.0 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_scene_smoke_room_HUGE);
     float m_1 = max(ua, xf);
-    float _e150 = du;
-    bool is_short = (_e150 < (0.25 * (ua + min(md_4.w, 1.0))));
+    float _e128 = du;
+    bool is_short = (_e128 < (0.25 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
         local_7 = false;
     }
-    bool _e163 = local_7;
-    if (_e163) {
+    bool _e141 = local_7;
+    if (_e141) {
         local_8 = ((t_1 * (m_1 - ua)) < 3.5);
     } else {
         local_8 = false;
     }
-    bool _e171 = local_8;
-    if (_e171) {
+    bool _e149 = local_8;
+    if (_e149) {
         local_9 = ((t_1 * m_1) < 4.0);
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e179 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e179, lcut));
+    float _e157 = du;
+    float len = (use_far ? (m_1 - ua) : min(_e157, lcut));
     if ((len > 0.0)) {
         if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
         }
-        bool _e199 = local_10;
-        if (_e199) {
+        bool _e177 = local_10;
+        if (_e177) {
             float hl = (0.5 * len);
             d_2 = (hl * 1.8611363);
-            float _e205 = sum;
-            float _e206 = d_2;
-            const float _e208 = airlight_scene_smoke_room_w_u((ua + _e206), md_4);
-            float _e212 = d_2;
-            sum = (_e205 + ((0.34785485 * _e208) * exp((-(t_1) * _e212))));
+            float _e183 = sum;
+            float _e184 = d_2;
+            const float _e186 = airlight_scene_smoke_room_w_u((ua + _e184), md_4);
+            float _e190 = d_2;
+            sum = (_e183 + ((0.34785485 * _e186) * exp((-(t_1) * _e190))));
             d_2 = (hl * 1.3399811);
-            float _e219 = sum;
-            float _e220 = d_2;
-            const float _e222 = airlight_scene_smoke_room_w_u((ua + _e220), md_4);
-            float _e226 = d_2;
-            sum = (_e219 + ((0.65214515 * _e222) * exp((-(t_1) * _e226))));
+            float _e197 = sum;
+            float _e198 = d_2;
+            const float _e200 = airlight_scene_smoke_room_w_u((ua + _e198), md_4);
+            float _e204 = d_2;
+            sum = (_e197 + ((0.65214515 * _e200) * exp((-(t_1) * _e204))));
             d_2 = (hl * 0.660019);
-            float _e233 = sum;
-            float _e234 = d_2;
-            const float _e236 = airlight_scene_smoke_room_w_u((ua + _e234), md_4);
-            float _e240 = d_2;
-            sum = (_e233 + ((0.65214515 * _e236) * exp((-(t_1) * _e240))));
+            float _e211 = sum;
+            float _e212 = d_2;
+            const float _e214 = airlight_scene_smoke_room_w_u((ua + _e212), md_4);
+            float _e218 = d_2;
+            sum = (_e211 + ((0.65214515 * _e214) * exp((-(t_1) * _e218))));
             d_2 = (hl * 0.13886368);
-            float _e247 = sum;
-            float _e248 = d_2;
-            const float _e250 = airlight_scene_smoke_room_w_u((ua + _e248), md_4);
-            float _e254 = d_2;
-            sum = (_e247 + ((0.34785485 * _e250) * exp((-(t_1) * _e254))));
-            float _e259 = sum;
-            sum = (_e259 * hl);
+            float _e225 = sum;
+            float _e226 = d_2;
+            const float _e228 = airlight_scene_smoke_room_w_u((ua + _e226), md_4);
+            float _e232 = d_2;
+            sum = (_e225 + ((0.34785485 * _e228) * exp((-(t_1) * _e232))));
+            float _e237 = sum;
+            sum = (_e237 * hl);
         } else {
-            const float2 _e261 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
-            const float2 _e263 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e261.y < 1.5707964) ? (_e261.y - _e263.y) : (_e263.x - _e261.x)));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e296 = beta;
-            float _e297 = co;
-            const float2 _e301 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e296, _e297), 0.0));
-            sc = _e301;
-            float _e302 = beta;
-            float _e303 = co;
-            if ((_e302 > _e303)) {
-                float2 _e305 = sc;
-                sc = _e305.yx;
+            const float2 _e239 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
+            const float2 _e241 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e239.y < 1.5707964) ? (_e239.y - _e241.y) : (_e241.x - _e239.x)));
+            beta = ((0.5 * _e239.x) + ((0.5 * hl_1) * 1.8611363));
+            co = ((0.5 * _e239.y) - ((0.5 * hl_1) * 1.8611363));
+            float _e274 = beta;
+            float _e275 = co;
+            const float2 _e279 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e274, _e275), 0.0));
+            sc = _e279;
+            float _e280 = beta;
+            float _e281 = co;
+            if ((_e280 > _e281)) {
+                float2 _e283 = sc;
+                sc = _e283.yx;
             }
-            float _e308 = sc.x;
-            float _e310 = sc.y;
-            const float2 _e311 = airlight_scene_smoke_room_u_and_weight(_e308, _e310, md_4);
-            uw = _e311;
-            float _e312 = sum;
-            float _e314 = uw.y;
-            float _e319 = uw.x;
-            sum = (_e312 + ((0.34785485 * _e314) * exp((-(t_1) * (_e319 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e341 = beta;
-            float _e342 = co;
-            const float2 _e346 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e341, _e342), 0.0));
-            sc = _e346;
-            float _e347 = beta;
-            float _e348 = co;
-            if ((_e347 > _e348)) {
-                float2 _e350 = sc;
-                sc = _e350.yx;
+            float _e286 = sc.x;
+            float _e288 = sc.y;
+            const float2 _e289 = airlight_scene_smoke_room_u_and_weight(_e286, _e288, md_4);
+            uw = _e289;
+            float _e290 = sum;
+            float _e292 = uw.y;
+            float _e297 = uw.x;
+            sum = (_e290 + ((0.34785485 * _e292) * exp((-(t_1) * (_e297 - ua)))));
+            beta = ((0.5 * _e239.x) + ((0.5 * hl_1) * 1.3399811));
+            co = ((0.5 * _e239.y) - ((0.5 * hl_1) * 1.3399811));
+            float _e319 = beta;
+            float _e320 = co;
+            const float2 _e324 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e319, _e320), 0.0));
+            sc = _e324;
+            float _e325 = beta;
+            float _e326 = co;
+            if ((_e325 > _e326)) {
+                float2 _e328 = sc;
+                sc = _e328.yx;
             }
-            float _e353 = sc.x;
-            float _e355 = sc.y;
-            const float2 _e356 = airlight_scene_smoke_room_u_and_weight(_e353, _e355, md_4);
-            uw = _e356;
-            float _e357 = sum;
-            float _e359 = uw.y;
-            float _e364 = uw.x;
-            sum = (_e357 + ((0.65214515 * _e359) * exp((-(t_1) * (_e364 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.660019));
-            float _e386 = beta;
-            float _e387 = co;
-            const float2 _e391 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e386, _e387), 0.0));
-            sc = _e391;
-            float _e392 = beta;
-            float _e393 = co;
-            if ((_e392 > _e393)) {
-                float2 _e395 = sc;
-                sc = _e395.yx;
+            float _e331 = sc.x;
+            float _e333 = sc.y;
+            const float2 _e334 = airlight_scene_smoke_room_u_and_weight(_e331, _e333, md_4);
+            uw = _e334;
+            float _e335 = sum;
+            float _e337 = uw.y;
+            float _e342 = uw.x;
+            sum = (_e335 + ((0.65214515 * _e337) * exp((-(t_1) * (_e342 - ua)))));
+            beta = ((0.5 * _e239.x) + ((0.5 * hl_1) * 0.660019));
+            co = ((0.5 * _e239.y) - ((0.5 * hl_1) * 0.660019));
+            float _e364 = beta;
+            float _e365 = co;
+            const float2 _e369 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e364, _e365), 0.0));
+            sc = _e369;
+            float _e370 = beta;
+            float _e371 = co;
+            if ((_e370 > _e371)) {
+                float2 _e373 = sc;
+                sc = _e373.yx;
             }
-            float _e398 = sc.x;
-            float _e400 = sc.y;
-            const float2 _e401 = airlight_scene_smoke_room_u_and_weight(_e398, _e400, md_4);
-            uw = _e401;
-            float _e402 = sum;
-            float _e404 = uw.y;
-            float _e409 = uw.x;
-            sum = (_e402 + ((0.65214515 * _e404) * exp((-(t_1) * (_e409 - ua)))));
-            beta = ((0.5 * _e261.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e261.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e431 = beta;
-            float _e432 = co;
-            const float2 _e436 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e431, _e432), 0.0));
-            sc = _e436;
-            float _e437 = beta;
-            float _e438 = co;
-            if ((_e437 > _e438)) {
-                float2 _e440 = sc;
-                sc = _e440.yx;
+            float _e376 = sc.x;
+            float _e378 = sc.y;
+            const float2 _e379 = airlight_scene_smoke_room_u_and_weight(_e376, _e378, md_4);
+            uw = _e379;
+            float _e380 = sum;
+            float _e382 = uw.y;
+            float _e387 = uw.x;
+            sum = (_e380 + ((0.65214515 * _e382) * exp((-(t_1) * (_e387 - ua)))));
+            beta = ((0.5 * _e239.x) + ((0.5 * hl_1) * 0.13886368));
+            co = ((0.5 * _e239.y) - ((0.5 * hl_1) * 0.13886368));
+            float _e409 = beta;
+            float _e410 = co;
+            const float2 _e414 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e409, _e410), 0.0));
+            sc = _e414;
+            float _e415 = beta;
+            float _e416 = co;
+            if ((_e415 > _e416)) {
+                float2 _e418 = sc;
+                sc = _e418.yx;
             }
-            float _e443 = sc.x;
-            float _e445 = sc.y;
-            const float2 _e446 = airlight_scene_smoke_room_u_and_weight(_e443, _e445, md_4);
-            uw = _e446;
-            float _e447 = sum;
-            float _e449 = uw.y;
-            float _e454 = uw.x;
-            sum = (_e447 + ((0.34785485 * _e449) * exp((-(t_1) * (_e454 - ua)))));
-            float _e460 = sum;
-            sum = (_e460 * (hl_1 * 0.07957747));
+            float _e421 = sc.x;
+            float _e423 = sc.y;
+            const float2 _e424 = airlight_scene_smoke_room_u_and_weight(_e421, _e423, md_4);
+            uw = _e424;
+            float _e425 = sum;
+            float _e427 = uw.y;
+            float _e432 = uw.x;
+            sum = (_e425 + ((0.34785485 * _e427) * exp((-(t_1) * (_e432 - ua)))));
+            float _e438 = sum;
+            sum = (_e438 * (hl_1 * 0.07957747));
         }
     }
     if (use_far) {
-        const float _e466 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
-        f = (_e466 / m_1);
+        const float _e444 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
+        f = (_e444 / m_1);
         if (!(open)) {
-            float _e470 = f;
-            const float _e476 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
-            f = (_e470 - ((exp((-(t_1) * (ub - m_1))) * _e476) / ub));
+            float _e448 = f;
+            const float _e454 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
+            f = (_e448 - ((exp((-(t_1) * (ub - m_1))) * _e454) / ub));
         }
         float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_smoke_room_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.5773503));
-        float _e503 = s;
-        float _e504 = v_3;
-        const float _e505 = airlight_scene_smoke_room_r_of_v(_e504, md_4);
-        float _e509 = v_3;
-        s = (_e503 + ((1.0 * _e505) * exp((-(t_1) * ((1.0 / _e509) - m_1)))));
+        float _e481 = s;
+        float _e482 = v_3;
+        const float _e483 = airlight_scene_smoke_room_r_of_v(_e482, md_4);
+        float _e487 = v_3;
+        s = (_e481 + ((1.0 * _e483) * exp((-(t_1) * ((1.0 / _e487) - m_1)))));
         v_3 = (va + (hl_2 * 0.42264974));
-        float _e520 = s;
-        float _e521 = v_3;
-        const float _e522 = airlight_scene_smoke_room_r_of_v(_e521, md_4);
-        float _e526 = v_3;
-        s = (_e520 + ((1.0 * _e522) * exp((-(t_1) * ((1.0 / _e526) - m_1)))));
-        float _e534 = sum;
-        float _e540 = f;
-        float _e541 = s;
-        sum = (_e534 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e540 + (_e541 * hl_2))));
+        float _e498 = s;
+        float _e499 = v_3;
+        const float _e500 = airlight_scene_smoke_room_r_of_v(_e499, md_4);
+        float _e504 = v_3;
+        s = (_e498 + ((1.0 * _e500) * exp((-(t_1) * ((1.0 / _e504) - m_1)))));
+        float _e512 = sum;
+        float _e518 = f;
+        float _e519 = s;
+        sum = (_e512 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e518 + (_e519 * hl_2))));
     } else {
-        float _e546 = du;
-        if ((_e546 > lcut)) {
+        float _e524 = du;
+        if ((_e524 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e551 = s_1;
-            const float _e555 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e551 + (0.8535534 * _e555));
-            float _e559 = s_1;
-            const float _e563 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e559 + (0.14644662 * _e563));
+            float _e529 = s_1;
+            const float _e533 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e529 + (0.8535534 * _e533));
+            float _e537 = s_1;
+            const float _e541 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e537 + (0.14644662 * _e541));
             if (!(open)) {
+                float _e548 = sb;
+                const float _e552 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e548 + (0.8535534 * _e552));
+                float _e556 = sb;
+                const float _e560 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e556 + (0.14644662 * _e560));
+                float _e564 = s_1;
+                float _e566 = du;
                 float _e570 = sb;
-                const float _e574 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e570 + (0.8535534 * _e574));
-                float _e578 = sb;
-                const float _e582 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e578 + (0.14644662 * _e582));
-                float _e586 = s_1;
-                float _e588 = du;
-                float _e592 = sb;
-                s_1 = (_e586 - (exp((-(t_1) * (_e588 - lcut))) * _e592));
+                s_1 = (_e564 - (exp((-(t_1) * (_e566 - lcut))) * _e570));
             }
-            float _e595 = sum;
-            float _e598 = s_1;
-            sum = (_e595 + ((0.030197384 / t_1) * max(_e598, 0.0)));
+            float _e573 = sum;
+            float _e576 = s_1;
+            sum = (_e573 + ((0.030197384 / t_1) * max(_e576, 0.0)));
         }
     }
-    if ((h_1 < 8.673617e-19)) {
-        float _e605 = sum;
-        const float _e613 = airlight_scene_smoke_room_scaled((2.0 * max(_e605, 0.0)), exp(-(tau_1)), h_1, 1.0);
-        return _e613;
+    if ((tb < 8.673617e-19)) {
+        float _e583 = sum;
+        const float _e591 = airlight_scene_smoke_room_scaled((2.0 * max(_e583, 0.0)), exp(-(tau_1)), tb, 1.0);
+        return _e591;
     }
-    float _e618 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e618 / h_1)), 0.0), airlight_scene_smoke_room_HUGE);
+    float _e596 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e596 / tb)), 0.0), airlight_scene_smoke_room_HUGE);
 }
 
-float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_1)
+float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_2)
 {
     const float2 _e6 = airlight_scene_smoke_room_sin_cos(clamp(gamma, 0.0, airlight_scene_smoke_room_PI));
-    const float _e10 = airlight_scene_smoke_room_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_1);
-    return _e10;
+    const float _e13 = airlight_scene_smoke_room_foot(abs(_e6.x), _e6.y, rho_2);
+    const float _e14 = airlight_scene_smoke_room_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
@@ -645,9 +649,10 @@ float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float su
     if (_e23) {
         return 0.0;
     }
-    float rho_2 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e36 = airlight_scene_smoke_room_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_2);
-    const float _e37 = airlight_scene_smoke_room_scaled(sigma_s_1, intensity_1, _e7.x, _e36);
-    return _e37;
+    float rho_3 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e38 = airlight_scene_smoke_room_foot(_e7.y, _e7.z, rho_3);
+    const float _e39 = airlight_scene_smoke_room_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_3, _e38);
+    const float _e40 = airlight_scene_smoke_room_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
 }
 

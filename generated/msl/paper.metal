@@ -44,6 +44,14 @@ constant float airlight_paper_RHO_OPEN = 4294967300.0;
 constant float airlight_paper_TAU_MAX = 10000.0;
 constant float airlight_paper_P_ISO = 0.07957747;
 
+float airlight_paper_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_paper_max_abs(
     metal::float3 v
 ) {
@@ -110,7 +118,7 @@ metal::float3 airlight_paper_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_paper_two_sum(light, -(origin));
     float _e6 = airlight_paper_max_abs(_e4.inner[0]);
     float _e7 = airlight_paper_max_abs(dir);
@@ -150,16 +158,16 @@ metal::float3 airlight_paper_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_7 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_7 * x0_7));
+    float x0_8 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_8 * x0_8));
     metal::float3 _e93 = airlight_paper_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_paper_HUGE), _e97 / n_1, x0_7 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_paper_HUGE), _e97 / n_1, x0_8 / n_1);
 }
 
 float airlight_paper_scaled(
@@ -390,7 +398,7 @@ float airlight_paper_cubic(
 float airlight_paper_backward_ratio(
     float tau,
     float t_3,
-    float x0_,
+    float x0_1,
     float theta_b
 ) {
     float decay = 1.0;
@@ -403,15 +411,16 @@ float airlight_paper_backward_ratio(
     float _e29 = decay;
     float r_5 = metal::max(_e28 * _e29, 0.0);
     float _e36 = airlight_paper_segments(0.0, airlight_paper_FRAC_PI_2_, t_3, 0.0);
-    return ((metal::exp(-(tau) * x0_) * airlight_paper_P_ISO) * r_5) * _e36;
+    return ((metal::exp(-(tau) * x0_1) * airlight_paper_P_ISO) * r_5) * _e36;
 }
 
 float airlight_paper_backward_u(
     float tau_1,
     float t_4,
-    float h_1,
-    float x0_1,
-    float rho,
+    float h_2,
+    float x0_2,
+    float rho_1,
+    float xr,
     bool open
 ) {
     float span = airlight_paper_HUGE;
@@ -422,53 +431,53 @@ float airlight_paper_backward_u(
     float part = 0.0;
     float g = {};
     float u = {};
-    float ua = (x0_1 >= 0.0) ? (h_1 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_1);
+    float ua = (x0_2 >= 0.0) ? (h_2 / (1.0 + x0_2)) : ((1.0 - x0_2) / h_2);
     float u0_ = metal::max(ua, 1.0);
     if (!(open)) {
-        float d_4 = rho - x0_1;
-        float r_6 = metal::sqrt((d_4 * d_4) + (h_1 * h_1));
-        span = (x0_1 < 0.0) ? (((2.0 * rho) * (d_4 + r_6)) / (((rho + r_6) + 1.0) * h_1)) : (((d_4 + r_6) / h_1) - u0_);
+        float d_4 = -(xr);
+        float r_6 = metal::sqrt((d_4 * d_4) + (h_2 * h_2));
+        span = (x0_2 < 0.0) ? (((2.0 * rho_1) * (d_4 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_4 + r_6) / h_2) - u0_);
     }
-    float _e40 = span;
-    if (!((_e40 > 0.0))) {
+    float _e41 = span;
+    if (!((_e41 > 0.0))) {
         return 0.0;
     }
     if (!(open)) {
-        float _e48 = span;
-        local_5 = _e48 >= 1000000000000000000000000000000.0;
+        float _e49 = span;
+        local_5 = _e49 >= 1000000000000000000000000000000.0;
     } else {
         local_5 = true;
     }
     bool endless = local_5;
-    float _e53 = span;
-    float ub = u0_ + _e53;
+    float _e54 = span;
+    float ub = u0_ + _e54;
     float base = -(tau_1) - (t_4 * (u0_ - ua));
     if (u0_ < 16.0) {
-        float _e65 = span;
-        float len_4 = (ub <= 16.0) ? _e65 : (16.0 - u0_);
+        float _e66 = span;
+        float len_4 = (ub <= 16.0) ? _e66 : (16.0 - u0_);
         {
             float lam_1 = t_4 + 0.024973566;
-            float _e71 = sum;
-            float _e81 = airlight_paper_exprel(-(lam_1) * len_4);
-            sum = _e71 + ((((0.0024574616 * metal::exp(base - (0.024973566 * u0_))) * len_4) * _e81) * airlight_paper_P_ISO);
+            float _e72 = sum;
+            float _e82 = airlight_paper_exprel(-(lam_1) * len_4);
+            sum = _e72 + ((((0.0024574616 * metal::exp(base - (0.024973566 * u0_))) * len_4) * _e82) * airlight_paper_P_ISO);
         }
         {
             float lam_2 = t_4 + 0.19339234;
-            float _e88 = sum;
-            float _e98 = airlight_paper_exprel(-(lam_2) * len_4);
-            sum = _e88 + ((((0.04885752 * metal::exp(base - (0.19339234 * u0_))) * len_4) * _e98) * airlight_paper_P_ISO);
+            float _e89 = sum;
+            float _e99 = airlight_paper_exprel(-(lam_2) * len_4);
+            sum = _e89 + ((((0.04885752 * metal::exp(base - (0.19339234 * u0_))) * len_4) * _e99) * airlight_paper_P_ISO);
         }
         {
             float lam_3 = t_4 + 0.58173054;
-            float _e105 = sum;
-            float _e115 = airlight_paper_exprel(-(lam_3) * len_4);
-            sum = _e105 + ((((0.30847993 * metal::exp(base - (0.58173054 * u0_))) * len_4) * _e115) * airlight_paper_P_ISO);
+            float _e106 = sum;
+            float _e116 = airlight_paper_exprel(-(lam_3) * len_4);
+            sum = _e106 + ((((0.30847993 * metal::exp(base - (0.58173054 * u0_))) * len_4) * _e116) * airlight_paper_P_ISO);
         }
         {
             float lam_4 = t_4 + 1.4293756;
-            float _e122 = sum;
-            float _e132 = airlight_paper_exprel(-(lam_4) * len_4);
-            sum = _e122 + ((((1.1929636 * metal::exp(base - (1.4293756 * u0_))) * len_4) * _e132) * airlight_paper_P_ISO);
+            float _e123 = sum;
+            float _e133 = airlight_paper_exprel(-(lam_4) * len_4);
+            sum = _e123 + ((((1.1929636 * metal::exp(base - (1.4293756 * u0_))) * len_4) * _e133) * airlight_paper_P_ISO);
         }
     }
     if (!(endless)) {
@@ -476,8 +485,8 @@ float airlight_paper_backward_u(
     } else {
         local_6 = true;
     }
-    bool _e143 = local_6;
-    if (_e143) {
+    bool _e144 = local_6;
+    if (_e144) {
         float a_13 = metal::max(u0_, 16.0);
         float shift = base - (t_4 * (a_13 - u0_));
         if (!(endless)) {
@@ -485,68 +494,69 @@ float airlight_paper_backward_u(
         } else {
             local_7 = false;
         }
-        bool _e156 = local_7;
-        if (_e156) {
-            float _e160 = span;
-            float len_5 = (a_13 == u0_) ? (_e160 / a_13) : ((ub / a_13) - 1.0);
+        bool _e157 = local_7;
+        if (_e157) {
+            float _e161 = span;
+            float len_5 = (a_13 == u0_) ? (_e161 / a_13) : ((ub / a_13) - 1.0);
             float ta = t_4 * a_13;
             {
                 float lam_5 = ta + 0.26840276;
                 float u_2 = a_13 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
                 float q_1 = 1.0 / (1.0 + (1.0 / (u_2 * u_2)));
-                float _e183 = part;
-                float _e192 = airlight_paper_exprel(-(lam_5) * len_5);
-                part = _e183 + (((((0.1972373 * metal::exp(shift - 0.26840276)) * len_5) * _e192) * q_1) * airlight_paper_P_ISO);
+                float _e184 = part;
+                float _e193 = airlight_paper_exprel(-(lam_5) * len_5);
+                part = _e184 + (((((0.1972373 * metal::exp(shift - 0.26840276)) * len_5) * _e193) * q_1) * airlight_paper_P_ISO);
             }
             {
                 float lam_6 = ta + 1.5659415;
                 float u_3 = a_13 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
                 float q_2 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
-                float _e214 = part;
-                float _e223 = airlight_paper_exprel(-(lam_6) * len_5);
-                part = _e214 + (((((3.029358 * metal::exp(shift - 1.5659415)) * len_5) * _e223) * q_2) * airlight_paper_P_ISO);
+                float _e215 = part;
+                float _e224 = airlight_paper_exprel(-(lam_6) * len_5);
+                part = _e215 + (((((3.029358 * metal::exp(shift - 1.5659415)) * len_5) * _e224) * q_2) * airlight_paper_P_ISO);
             }
             {
                 float lam_7 = ta + 4.449333;
                 float u_4 = a_13 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
                 float q_3 = 1.0 / (1.0 + (1.0 / (u_4 * u_4)));
-                float _e245 = part;
-                float _e254 = airlight_paper_exprel(-(lam_7) * len_5);
-                part = _e245 + (((((18.508303 * metal::exp(shift - 4.449333)) * len_5) * _e254) * q_3) * airlight_paper_P_ISO);
+                float _e246 = part;
+                float _e255 = airlight_paper_exprel(-(lam_7) * len_5);
+                part = _e246 + (((((18.508303 * metal::exp(shift - 4.449333)) * len_5) * _e255) * q_3) * airlight_paper_P_ISO);
             }
-            float _e260 = sum;
-            float _e261 = part;
-            sum = _e260 + (_e261 / a_13);
+            float _e261 = sum;
+            float _e262 = part;
+            sum = _e261 + (_e262 / a_13);
         } else {
             float lam_8 = t_4 + (2.0 / a_13);
-            float _e268 = airlight_paper_phi(t_4 * a_13);
-            g = _e268 / a_13;
+            float _e269 = airlight_paper_phi(t_4 * a_13);
+            g = _e269 / a_13;
             u = a_13 + (1.0 / lam_8);
             if (!(endless)) {
-                float _e277 = span;
-                float len_6 = (a_13 == u0_) ? _e277 : (ub - a_13);
-                float _e280 = g;
-                float _e285 = airlight_paper_phi(t_4 * ub);
-                g = _e280 - ((metal::exp(-(t_4) * len_6) * _e285) / ub);
+                float _e278 = span;
+                float len_6 = (a_13 == u0_) ? _e278 : (ub - a_13);
+                float _e281 = g;
+                float _e286 = airlight_paper_phi(t_4 * ub);
+                g = _e281 - ((metal::exp(-(t_4) * len_6) * _e286) / ub);
                 u = a_13 + (len_6 / (2.0 + (lam_8 * len_6)));
             }
-            float _e294 = u;
             float _e295 = u;
-            float q_4 = 1.0 / (1.0 + (1.0 / (_e294 * _e295)));
-            float _e303 = sum;
-            float _e305 = g;
-            sum = _e303 + (((metal::exp(shift) * _e305) * q_4) * airlight_paper_P_ISO);
+            float _e296 = u;
+            float q_4 = 1.0 / (1.0 + (1.0 / (_e295 * _e296)));
+            float _e304 = sum;
+            float _e306 = g;
+            sum = _e304 + (((metal::exp(shift) * _e306) * q_4) * airlight_paper_P_ISO);
         }
     }
-    float _e311 = sum;
-    return 2.0 * _e311;
+    float _e312 = sum;
+    return 2.0 * _e312;
 }
 
 float airlight_paper_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_2,
-    float rho_1
+    float x0_3,
+    float rho_2,
+    float xr_1
 ) {
     bool local_8 = {};
     bool local_9 = {};
@@ -556,87 +566,88 @@ float airlight_paper_airlight_geometry(
     bool local_11 = {};
     bool local_12 = {};
     float theta_b_1 = airlight_paper_FRAC_PI_2_;
-    if (rho_1 >= 0.0) {
-        local_8 = rho_1 < airlight_paper_RHO_OPEN;
+    if (rho_2 >= 0.0) {
+        local_8 = rho_2 < airlight_paper_RHO_OPEN;
     } else {
         local_8 = false;
     }
-    bool _e11 = local_8;
-    bool open_1 = !(_e11);
+    bool _e12 = local_8;
+    bool open_1 = !(_e12);
     float tau_7 = metal::min(tau_in, airlight_paper_TAU_MAX);
     if (h_in <= 0.0) {
-        local_9 = x0_2 > 0.0;
+        local_9 = x0_3 > 0.0;
     } else {
         local_9 = false;
     }
-    bool _e22 = local_9;
-    if (_e22) {
+    bool _e23 = local_9;
+    if (_e23) {
         if (!(open_1)) {
-            local_10 = rho_1 >= 1.0;
+            local_10 = rho_2 >= 1.0;
         } else {
             local_10 = true;
         }
-        bool _e29 = local_10;
-        if (_e29) {
+        bool _e30 = local_10;
+        if (_e30) {
             return airlight_paper_HUGE;
         }
-        return ((airlight_paper_P_ISO * metal::exp(-(tau_7))) * rho_1) / (1.0 - rho_1);
+        return ((airlight_paper_P_ISO * metal::exp(-(tau_7))) * rho_2) / (1.0 - rho_2);
     }
-    float h_6 = (x0_2 < 0.0) ? metal::max(h_in, 0.0000001) : h_in;
-    float t_5 = tau_7 * h_6;
-    if (x0_2 > 0.0) {
-        float _e49 = airlight_paper_arctan2_(x0_2, h_6);
-        len_3 = _e49;
+    float h_7 = (x0_3 < 0.0) ? metal::max(h_in, 0.0000001) : h_in;
+    float t_5 = tau_7 * h_7;
+    if (x0_3 > 0.0) {
+        float _e50 = airlight_paper_arctan2_(x0_3, h_7);
+        len_3 = _e50;
         if (!(open_1)) {
-            local_11 = rho_1 < x0_2;
+            local_11 = xr_1 > 0.0;
         } else {
             local_11 = false;
         }
-        bool _e56 = local_11;
-        if (_e56) {
-            float _e61 = airlight_paper_arctan2_(h_6 * rho_1, 1.0 - (x0_2 * rho_1));
-            len_3 = _e61;
+        bool _e58 = local_11;
+        if (_e58) {
+            float _e63 = airlight_paper_arctan2_(h_7 * rho_2, (h_7 * h_7) + (x0_3 * xr_1));
+            len_3 = _e63;
         }
-        float _e62 = sum_1;
-        float _e63 = airlight_paper_arctan2_(h_6, x0_2);
-        float _e64 = len_3;
-        float _e67 = airlight_paper_forward(_e63, _e64, t_5, -(tau_7) * x0_2);
-        sum_1 = _e62 + _e67;
+        float _e64 = sum_1;
+        float _e65 = airlight_paper_arctan2_(h_7, x0_3);
+        float _e66 = len_3;
+        float _e69 = airlight_paper_forward(_e65, _e66, t_5, -(tau_7) * x0_3);
+        sum_1 = _e64 + _e69;
     }
-    if (x0_2 >= 0.0) {
+    if (x0_3 >= 0.0) {
         if (!(open_1)) {
-            local_12 = rho_1 > x0_2;
+            local_12 = xr_1 < 0.0;
         } else {
             local_12 = true;
         }
-        bool _e76 = local_12;
-        if (_e76) {
+        bool _e79 = local_12;
+        if (_e79) {
             if (!(open_1)) {
-                float _e81 = airlight_paper_arctan2_(rho_1 - x0_2, h_6);
-                theta_b_1 = _e81;
+                float _e84 = airlight_paper_arctan2_(-(xr_1), h_7);
+                theta_b_1 = _e84;
             }
-            float _e82 = sum_1;
-            float _e83 = theta_b_1;
-            float _e84 = airlight_paper_backward_ratio(tau_7, t_5, x0_2, _e83);
-            sum_1 = _e82 + _e84;
+            float _e85 = sum_1;
+            float _e86 = theta_b_1;
+            float _e87 = airlight_paper_backward_ratio(tau_7, t_5, x0_3, _e86);
+            sum_1 = _e85 + _e87;
         }
     } else {
-        float _e86 = sum_1;
-        float _e87 = airlight_paper_backward_u(tau_7, t_5, h_6, x0_2, rho_1, open_1);
-        sum_1 = _e86 + _e87;
+        float _e89 = sum_1;
+        float _e90 = airlight_paper_backward_u(tau_7, t_5, h_7, x0_3, rho_2, xr_1, open_1);
+        sum_1 = _e89 + _e90;
     }
-    float _e89 = sum_1;
-    return metal::min(_e89 / h_6, airlight_paper_HUGE);
+    float _e92 = sum_1;
+    return metal::min(_e92 / h_7, airlight_paper_HUGE);
 }
 
 float airlight_paper_airlight(
     float tau_2,
     float gamma,
-    float rho_2
+    float rho_3
 ) {
     metal::float2 _e3 = airlight_paper_sin_cos(gamma);
-    float _e7 = airlight_paper_airlight_geometry(tau_2, metal::abs(_e3.x), _e3.y, rho_2);
-    return _e7;
+    float _e10 = airlight_paper_foot(metal::abs(_e3.x), _e3.y, rho_3);
+    float _e11 = airlight_paper_airlight_geometry(tau_2, metal::abs(_e3.x), _e3.y, rho_3, _e10);
+    return _e11;
 }
 
 float airlight_paper_radiance(
@@ -663,34 +674,37 @@ float airlight_paper_radiance(
     if (_e23) {
         return 0.0;
     }
-    float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e35 = airlight_paper_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7);
-    float _e37 = airlight_paper_scaled(sigma_s_1, intensity_1, _e7.x, _e35);
-    return _e37;
+    float rho_8 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e37 = airlight_paper_foot(_e7.y, _e7.z, rho_8);
+    float _e38 = airlight_paper_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_8, _e37);
+    float _e40 = airlight_paper_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
+    return _e40;
 }
 
 float airlight_paper_along(
     float tau_3,
-    float h_2,
-    float x0_3,
-    float rho_3,
+    float h_3,
+    float x0_4,
+    float rho_4,
+    float xr_2,
     float g_1
 ) {
-    float _e5 = airlight_paper_airlight_geometry(tau_3, h_2, x0_3, rho_3);
-    return _e5;
+    float _e6 = airlight_paper_airlight_geometry(tau_3, h_3, x0_4, rho_4, xr_2);
+    return _e6;
 }
 
 metal::float3 airlight_paper_along_rgb(
     metal::float3 tau_4,
-    float h_3,
-    float x0_4,
-    float rho_4,
+    float h_4,
+    float x0_5,
+    float rho_5,
+    float xr_3,
     float g_2
 ) {
-    float _e6 = airlight_paper_along(tau_4.x, h_3, x0_4, rho_4, g_2);
-    float _e8 = airlight_paper_along(tau_4.y, h_3, x0_4, rho_4, g_2);
-    float _e10 = airlight_paper_along(tau_4.z, h_3, x0_4, rho_4, g_2);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_paper_along(tau_4.x, h_4, x0_5, rho_5, xr_3, g_2);
+    float _e9 = airlight_paper_along(tau_4.y, h_4, x0_5, rho_5, xr_3, g_2);
+    float _e11 = airlight_paper_along(tau_4.z, h_4, x0_5, rho_5, xr_3, g_2);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_paper_spot_asin(
@@ -703,9 +717,9 @@ float airlight_paper_spot_asin(
 
 metal::float3 airlight_paper_spot_core(
     metal::float3 tau_5,
-    float h_4,
-    float x0_5,
-    float rho_5,
+    float h_5,
+    float x0_6,
+    float rho_6,
     float gam,
     float wa,
     float wb,
@@ -718,43 +732,54 @@ metal::float3 airlight_paper_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_14 = {};
-    h1_ = h_4;
-    x1_ = x0_5;
-    rho1_ = rho_5;
+    h1_ = h_5;
+    x1_ = x0_6;
+    rho1_ = rho_6;
     metal::float2 _e17 = airlight_paper_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_5 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_paper_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_paper_foot(h_5, x0_6, rho_6);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_paper_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_paper_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_paper_sin_cos(wb);
+        metal::float2 _e35 = airlight_paper_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_14 = rho_5 >= 0.0;
+            local_14 = rho_6 >= 0.0;
         } else {
             local_14 = false;
         }
-        bool _e44 = local_14;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_5 - _e45) / _e47, 0.0);
+        bool _e53 = local_14;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_6 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_paper_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_paper_along_rgb(tau_5 * _e51, _e53, _e54, _e55, g_3);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_5) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_paper_along_rgb(tau_5 * _e64, _e66, _e67, _e68, _e69, g_3);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_5) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_paper_spot_weight(
@@ -770,9 +795,9 @@ float airlight_paper_spot_weight(
 
 metal::float3 airlight_paper_spot_edge(
     metal::float3 tau_6,
-    float h_5,
-    float x0_6,
-    float rho_6,
+    float h_6,
+    float x0_7,
+    float rho_7,
     float gam_1,
     float om_e,
     float u_1,
@@ -805,7 +830,7 @@ metal::float3 airlight_paper_spot_edge(
     metal::float2 _e27 = airlight_paper_sin_cos(e_1);
     float _e33 = airlight_paper_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_1, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_paper_spot_core(tau_6, h_5, x0_6, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_4);
+        metal::float3 _e41 = airlight_paper_spot_core(tau_6, h_6, x0_7, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_4);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -849,7 +874,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e118) * _e121)) : (gp - (((4.0 * g_4) * _e109) * _e112));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_2;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -873,7 +898,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e195) * _e198)) : (gp - (((4.0 * g_4) * _e186) * _e189));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_2;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -897,7 +922,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e272) * _e275)) : (gp - (((4.0 * g_4) * _e263) * _e266));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_2;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -921,7 +946,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e349) * _e352)) : (gp - (((4.0 * g_4) * _e340) * _e343));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_2;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -945,7 +970,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e426) * _e429)) : (gp - (((4.0 * g_4) * _e417) * _e420));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_2;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -969,7 +994,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e503) * _e506)) : (gp - (((4.0 * g_4) * _e494) * _e497));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_2;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -993,7 +1018,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e580) * _e583)) : (gp - (((4.0 * g_4) * _e571) * _e574));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_2;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -1017,7 +1042,7 @@ metal::float3 airlight_paper_spot_edge(
             d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e657) * _e660)) : (gp - (((4.0 * g_4) * _e648) * _e651));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st = metal::max(x0_6 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_7 + ((h_6 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_2;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -1034,7 +1059,7 @@ metal::float3 airlight_paper_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_2;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e727) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_paper_spot(
@@ -1129,19 +1154,19 @@ metal::float3 airlight_paper_spot(
         return metal::float3(0.0);
     }
     float d_5 = _e10.x;
-    float h_7 = _e10.y;
-    float x0_8 = _e10.z;
+    float h_8 = _e10.y;
+    float x0_9 = _e10.z;
     if (surface_1 >= 0.0) {
         local_20 = (surface_1 / d_5) < airlight_paper_RHO_OPEN;
     } else {
         local_20 = false;
     }
     bool has_end = local_20;
-    float rho_8 = has_end ? (surface_1 / d_5) : -1.0;
+    float rho_9 = has_end ? (surface_1 / d_5) : -1.0;
     metal::float3 tau_8 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
-    float _e140 = airlight_paper_arctan2_(h_7, x0_8);
+    float _e140 = airlight_paper_arctan2_(h_8, x0_9);
     if (!(point)) {
-        local_21 = h_7 <= 0.0;
+        local_21 = h_8 <= 0.0;
     } else {
         local_21 = true;
     }
@@ -1157,12 +1182,12 @@ metal::float3 airlight_paper_spot(
             float _e157 = airlight_paper_spot_weight(-(k_2), co_2, cos_inner);
             float _e158 = airlight_paper_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_23 = rho_8 < 1.0;
+                local_23 = rho_9 < 1.0;
             } else {
                 local_23 = false;
             }
             bool _e165 = local_23;
-            scale = (x0_8 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
+            scale = (x0_9 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
@@ -1179,7 +1204,7 @@ metal::float3 airlight_paper_spot(
         float _e191 = ca_1;
         float _e192 = airlight_paper_arctan2_(k_2, _e191);
         gam_2 = _e140;
-        float _e195 = airlight_paper_arctan2_(h_7, x0_8 - rho_8);
+        float _e195 = airlight_paper_arctan2_(h_8, x0_9 - rho_9);
         om_e_1 = has_end ? _e195 : airlight_paper_PI;
         if (co_2 < r_7) {
             float _e198 = airlight_paper_spot_asin(co_2, r_7);
@@ -1223,7 +1248,7 @@ metal::float3 airlight_paper_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_paper_spot_core(tau_8, h_7, x0_8, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
+        metal::float3 _e248 = airlight_paper_spot_core(tau_8, h_8, x0_9, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
         a_8 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1251,7 +1276,7 @@ metal::float3 airlight_paper_spot(
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_paper_spot_edge(tau_8, h_7, x0_8, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
+                metal::float3 _e271 = airlight_paper_spot_edge(tau_8, h_8, x0_9, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
                 a_8 = _e265 + _e271;
             }
         }

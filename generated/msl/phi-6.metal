@@ -43,6 +43,14 @@ constant float airlight_phi_6_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_phi_6_RHO_OPEN = 4294967300.0;
 constant float airlight_phi_6_TAU_MAX = 10000.0;
 
+float airlight_phi_6_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_phi_6_max_abs(
     metal::float3 v
 ) {
@@ -109,7 +117,7 @@ metal::float3 airlight_phi_6_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_phi_6_two_sum(light, -(origin));
     float _e6 = airlight_phi_6_max_abs(_e4.inner[0]);
     float _e7 = airlight_phi_6_max_abs(dir);
@@ -149,16 +157,16 @@ metal::float3 airlight_phi_6_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_phi_6_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_phi_6_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_phi_6_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_phi_6_scaled(
@@ -407,8 +415,9 @@ float airlight_phi_6_r_of_v(
 float airlight_phi_6_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_,
-    float rho,
+    float x0_1,
+    float rho_1,
+    float xr,
     float g_in
 ) {
     bool local_4 = {};
@@ -433,342 +442,341 @@ float airlight_phi_6_airlight_geometry(
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
     float g_14 = metal::clamp(g_in, -0.999, 0.999);
     metal::float4 md_4 = metal::float4(g_14, 1.0 - g_14, 1.0 + g_14, (1.0 - g_14) / (1.0 + g_14));
-    if (x0_ > 0.0) {
+    if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
-    bool _e29 = local_4;
-    if (_e29) {
-        if (rho >= 0.0) {
-            local_5 = rho < 1.0;
+    bool _e30 = local_4;
+    if (_e30) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
             local_5 = false;
         }
-        bool _e37 = local_5;
-        if (_e37) {
-            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_6_HUGE);
+        bool _e38 = local_5;
+        if (_e38) {
+            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_phi_6_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_phi_6_HUGE;
         }
     }
-    float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
-    float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
-    float one_minus = (x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_);
-    if (rho >= 0.0) {
-        local_6 = rho < airlight_phi_6_RHO_OPEN;
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_phi_6_RHO_OPEN;
     } else {
         local_6 = false;
     }
-    bool _e87 = local_6;
-    bool open = !(_e87);
+    bool _e88 = local_6;
+    bool open = !(_e88);
     if (!(open)) {
-        float ta = metal::abs(rho - 1.0);
-        float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
+        float ta = metal::abs(xr);
         float tm = metal::max(ta, tb);
         float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
-        float xr = (x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho);
         if (xr <= 0.0) {
-            du = (rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5);
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
     }
-    float _e148 = du;
-    float ub = ua + _e148;
-    float t_1 = tau_5 * h_5;
+    float _e126 = du;
+    float ub = ua + _e126;
+    float t_1 = tau_5 * tb;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (4.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_6_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e165 = du;
-    bool is_short = _e165 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e143 = du;
+    bool is_short = _e143 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e178 = local_7;
-    if (_e178) {
+    bool _e156 = local_7;
+    if (_e156) {
         local_8 = (t_1 * (m_1 - ua)) < 4.0;
     } else {
         local_8 = false;
     }
-    bool _e186 = local_8;
-    if (_e186) {
+    bool _e164 = local_8;
+    if (_e164) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e194 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e194, lcut);
+    float _e172 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e172, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e214 = local_10;
-        if (_e214) {
+        bool _e192 = local_10;
+        if (_e192) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9324695;
-            float _e220 = sum;
-            float _e221 = d_2;
-            float _e223 = airlight_phi_6_w_u(ua + _e221, md_4);
-            float _e227 = d_2;
-            sum = _e220 + ((0.17132449 * _e223) * metal::exp(-(t_1) * _e227));
+            float _e198 = sum;
+            float _e199 = d_2;
+            float _e201 = airlight_phi_6_w_u(ua + _e199, md_4);
+            float _e205 = d_2;
+            sum = _e198 + ((0.17132449 * _e201) * metal::exp(-(t_1) * _e205));
             d_2 = hl * 1.6612093;
-            float _e234 = sum;
-            float _e235 = d_2;
-            float _e237 = airlight_phi_6_w_u(ua + _e235, md_4);
-            float _e241 = d_2;
-            sum = _e234 + ((0.36076158 * _e237) * metal::exp(-(t_1) * _e241));
+            float _e212 = sum;
+            float _e213 = d_2;
+            float _e215 = airlight_phi_6_w_u(ua + _e213, md_4);
+            float _e219 = d_2;
+            sum = _e212 + ((0.36076158 * _e215) * metal::exp(-(t_1) * _e219));
             d_2 = hl * 1.2386192;
-            float _e248 = sum;
-            float _e249 = d_2;
-            float _e251 = airlight_phi_6_w_u(ua + _e249, md_4);
-            float _e255 = d_2;
-            sum = _e248 + ((0.46791393 * _e251) * metal::exp(-(t_1) * _e255));
+            float _e226 = sum;
+            float _e227 = d_2;
+            float _e229 = airlight_phi_6_w_u(ua + _e227, md_4);
+            float _e233 = d_2;
+            sum = _e226 + ((0.46791393 * _e229) * metal::exp(-(t_1) * _e233));
             d_2 = hl * 0.7613808;
-            float _e262 = sum;
-            float _e263 = d_2;
-            float _e265 = airlight_phi_6_w_u(ua + _e263, md_4);
-            float _e269 = d_2;
-            sum = _e262 + ((0.46791393 * _e265) * metal::exp(-(t_1) * _e269));
+            float _e240 = sum;
+            float _e241 = d_2;
+            float _e243 = airlight_phi_6_w_u(ua + _e241, md_4);
+            float _e247 = d_2;
+            sum = _e240 + ((0.46791393 * _e243) * metal::exp(-(t_1) * _e247));
             d_2 = hl * 0.3387906;
-            float _e276 = sum;
-            float _e277 = d_2;
-            float _e279 = airlight_phi_6_w_u(ua + _e277, md_4);
-            float _e283 = d_2;
-            sum = _e276 + ((0.36076158 * _e279) * metal::exp(-(t_1) * _e283));
+            float _e254 = sum;
+            float _e255 = d_2;
+            float _e257 = airlight_phi_6_w_u(ua + _e255, md_4);
+            float _e261 = d_2;
+            sum = _e254 + ((0.36076158 * _e257) * metal::exp(-(t_1) * _e261));
             d_2 = hl * 0.06753051;
-            float _e290 = sum;
-            float _e291 = d_2;
-            float _e293 = airlight_phi_6_w_u(ua + _e291, md_4);
-            float _e297 = d_2;
-            sum = _e290 + ((0.17132449 * _e293) * metal::exp(-(t_1) * _e297));
-            float _e302 = sum;
-            sum = _e302 * hl;
+            float _e268 = sum;
+            float _e269 = d_2;
+            float _e271 = airlight_phi_6_w_u(ua + _e269, md_4);
+            float _e275 = d_2;
+            sum = _e268 + ((0.17132449 * _e271) * metal::exp(-(t_1) * _e275));
+            float _e280 = sum;
+            sum = _e280 * hl;
         } else {
-            metal::float2 _e304 = airlight_phi_6_phi_and_complement(ua, md_4);
-            metal::float2 _e306 = airlight_phi_6_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e304.y < 1.5707964) ? (_e304.y - _e306.y) : (_e306.x - _e304.x));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e339 = beta;
-            float _e340 = co;
-            metal::float2 _e344 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e339, _e340), 0.0));
-            sc = _e344;
-            float _e345 = beta;
-            float _e346 = co;
-            if (_e345 > _e346) {
-                metal::float2 _e348 = sc;
-                sc = _e348.yx;
+            metal::float2 _e282 = airlight_phi_6_phi_and_complement(ua, md_4);
+            metal::float2 _e284 = airlight_phi_6_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e282.y < 1.5707964) ? (_e282.y - _e284.y) : (_e284.x - _e282.x));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 1.9324695);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 1.9324695);
+            float _e317 = beta;
+            float _e318 = co;
+            metal::float2 _e322 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e317, _e318), 0.0));
+            sc = _e322;
+            float _e323 = beta;
+            float _e324 = co;
+            if (_e323 > _e324) {
+                metal::float2 _e326 = sc;
+                sc = _e326.yx;
             }
-            float _e351 = sc.x;
-            float _e353 = sc.y;
-            metal::float2 _e354 = airlight_phi_6_u_and_weight(_e351, _e353, md_4);
-            uw = _e354;
-            float _e355 = sum;
-            float _e357 = uw.y;
-            float _e362 = uw.x;
-            sum = _e355 + ((0.17132449 * _e357) * metal::exp(-(t_1) * (_e362 - ua)));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e384 = beta;
-            float _e385 = co;
-            metal::float2 _e389 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e384, _e385), 0.0));
-            sc = _e389;
-            float _e390 = beta;
-            float _e391 = co;
-            if (_e390 > _e391) {
-                metal::float2 _e393 = sc;
-                sc = _e393.yx;
+            float _e329 = sc.x;
+            float _e331 = sc.y;
+            metal::float2 _e332 = airlight_phi_6_u_and_weight(_e329, _e331, md_4);
+            uw = _e332;
+            float _e333 = sum;
+            float _e335 = uw.y;
+            float _e340 = uw.x;
+            sum = _e333 + ((0.17132449 * _e335) * metal::exp(-(t_1) * (_e340 - ua)));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 1.6612093);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 1.6612093);
+            float _e362 = beta;
+            float _e363 = co;
+            metal::float2 _e367 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e362, _e363), 0.0));
+            sc = _e367;
+            float _e368 = beta;
+            float _e369 = co;
+            if (_e368 > _e369) {
+                metal::float2 _e371 = sc;
+                sc = _e371.yx;
             }
-            float _e396 = sc.x;
-            float _e398 = sc.y;
-            metal::float2 _e399 = airlight_phi_6_u_and_weight(_e396, _e398, md_4);
-            uw = _e399;
-            float _e400 = sum;
-            float _e402 = uw.y;
-            float _e407 = uw.x;
-            sum = _e400 + ((0.36076158 * _e402) * metal::exp(-(t_1) * (_e407 - ua)));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e429 = beta;
-            float _e430 = co;
-            metal::float2 _e434 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e429, _e430), 0.0));
-            sc = _e434;
-            float _e435 = beta;
-            float _e436 = co;
-            if (_e435 > _e436) {
-                metal::float2 _e438 = sc;
-                sc = _e438.yx;
+            float _e374 = sc.x;
+            float _e376 = sc.y;
+            metal::float2 _e377 = airlight_phi_6_u_and_weight(_e374, _e376, md_4);
+            uw = _e377;
+            float _e378 = sum;
+            float _e380 = uw.y;
+            float _e385 = uw.x;
+            sum = _e378 + ((0.36076158 * _e380) * metal::exp(-(t_1) * (_e385 - ua)));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 1.2386192);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 1.2386192);
+            float _e407 = beta;
+            float _e408 = co;
+            metal::float2 _e412 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e407, _e408), 0.0));
+            sc = _e412;
+            float _e413 = beta;
+            float _e414 = co;
+            if (_e413 > _e414) {
+                metal::float2 _e416 = sc;
+                sc = _e416.yx;
             }
-            float _e441 = sc.x;
-            float _e443 = sc.y;
-            metal::float2 _e444 = airlight_phi_6_u_and_weight(_e441, _e443, md_4);
-            uw = _e444;
-            float _e445 = sum;
-            float _e447 = uw.y;
-            float _e452 = uw.x;
-            sum = _e445 + ((0.46791393 * _e447) * metal::exp(-(t_1) * (_e452 - ua)));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e474 = beta;
-            float _e475 = co;
-            metal::float2 _e479 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e474, _e475), 0.0));
-            sc = _e479;
-            float _e480 = beta;
-            float _e481 = co;
-            if (_e480 > _e481) {
-                metal::float2 _e483 = sc;
-                sc = _e483.yx;
+            float _e419 = sc.x;
+            float _e421 = sc.y;
+            metal::float2 _e422 = airlight_phi_6_u_and_weight(_e419, _e421, md_4);
+            uw = _e422;
+            float _e423 = sum;
+            float _e425 = uw.y;
+            float _e430 = uw.x;
+            sum = _e423 + ((0.46791393 * _e425) * metal::exp(-(t_1) * (_e430 - ua)));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 0.7613808);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 0.7613808);
+            float _e452 = beta;
+            float _e453 = co;
+            metal::float2 _e457 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e452, _e453), 0.0));
+            sc = _e457;
+            float _e458 = beta;
+            float _e459 = co;
+            if (_e458 > _e459) {
+                metal::float2 _e461 = sc;
+                sc = _e461.yx;
             }
-            float _e486 = sc.x;
-            float _e488 = sc.y;
-            metal::float2 _e489 = airlight_phi_6_u_and_weight(_e486, _e488, md_4);
-            uw = _e489;
-            float _e490 = sum;
-            float _e492 = uw.y;
-            float _e497 = uw.x;
-            sum = _e490 + ((0.46791393 * _e492) * metal::exp(-(t_1) * (_e497 - ua)));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e519 = beta;
-            float _e520 = co;
-            metal::float2 _e524 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e519, _e520), 0.0));
-            sc = _e524;
-            float _e525 = beta;
-            float _e526 = co;
-            if (_e525 > _e526) {
-                metal::float2 _e528 = sc;
-                sc = _e528.yx;
+            float _e464 = sc.x;
+            float _e466 = sc.y;
+            metal::float2 _e467 = airlight_phi_6_u_and_weight(_e464, _e466, md_4);
+            uw = _e467;
+            float _e468 = sum;
+            float _e470 = uw.y;
+            float _e475 = uw.x;
+            sum = _e468 + ((0.46791393 * _e470) * metal::exp(-(t_1) * (_e475 - ua)));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 0.3387906);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 0.3387906);
+            float _e497 = beta;
+            float _e498 = co;
+            metal::float2 _e502 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e497, _e498), 0.0));
+            sc = _e502;
+            float _e503 = beta;
+            float _e504 = co;
+            if (_e503 > _e504) {
+                metal::float2 _e506 = sc;
+                sc = _e506.yx;
             }
-            float _e531 = sc.x;
-            float _e533 = sc.y;
-            metal::float2 _e534 = airlight_phi_6_u_and_weight(_e531, _e533, md_4);
-            uw = _e534;
-            float _e535 = sum;
-            float _e537 = uw.y;
-            float _e542 = uw.x;
-            sum = _e535 + ((0.36076158 * _e537) * metal::exp(-(t_1) * (_e542 - ua)));
-            beta = (0.5 * _e304.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e304.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e564 = beta;
-            float _e565 = co;
-            metal::float2 _e569 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e564, _e565), 0.0));
-            sc = _e569;
-            float _e570 = beta;
-            float _e571 = co;
-            if (_e570 > _e571) {
-                metal::float2 _e573 = sc;
-                sc = _e573.yx;
+            float _e509 = sc.x;
+            float _e511 = sc.y;
+            metal::float2 _e512 = airlight_phi_6_u_and_weight(_e509, _e511, md_4);
+            uw = _e512;
+            float _e513 = sum;
+            float _e515 = uw.y;
+            float _e520 = uw.x;
+            sum = _e513 + ((0.36076158 * _e515) * metal::exp(-(t_1) * (_e520 - ua)));
+            beta = (0.5 * _e282.x) + ((0.5 * hl_1) * 0.06753051);
+            co = (0.5 * _e282.y) - ((0.5 * hl_1) * 0.06753051);
+            float _e542 = beta;
+            float _e543 = co;
+            metal::float2 _e547 = airlight_phi_6_sin_cos_octant(metal::max(metal::min(_e542, _e543), 0.0));
+            sc = _e547;
+            float _e548 = beta;
+            float _e549 = co;
+            if (_e548 > _e549) {
+                metal::float2 _e551 = sc;
+                sc = _e551.yx;
             }
-            float _e576 = sc.x;
-            float _e578 = sc.y;
-            metal::float2 _e579 = airlight_phi_6_u_and_weight(_e576, _e578, md_4);
-            uw = _e579;
-            float _e580 = sum;
-            float _e582 = uw.y;
-            float _e587 = uw.x;
-            sum = _e580 + ((0.17132449 * _e582) * metal::exp(-(t_1) * (_e587 - ua)));
-            float _e593 = sum;
-            sum = _e593 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e554 = sc.x;
+            float _e556 = sc.y;
+            metal::float2 _e557 = airlight_phi_6_u_and_weight(_e554, _e556, md_4);
+            uw = _e557;
+            float _e558 = sum;
+            float _e560 = uw.y;
+            float _e565 = uw.x;
+            sum = _e558 + ((0.17132449 * _e560) * metal::exp(-(t_1) * (_e565 - ua)));
+            float _e571 = sum;
+            sum = _e571 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_6 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e609 = airlight_phi_6_exp_e2_(t_1 * m_1);
-        f = _e609 / m_1;
+        float _e587 = airlight_phi_6_exp_e2_(t_1 * m_1);
+        f = _e587 / m_1;
         if (!(open)) {
-            float _e613 = f;
-            float _e619 = airlight_phi_6_exp_e2_(t_1 * ub);
-            f = _e613 - ((metal::exp(-(t_1) * (ub - m_1)) * _e619) / ub);
+            float _e591 = f;
+            float _e597 = airlight_phi_6_exp_e2_(t_1 * ub);
+            f = _e591 - ((metal::exp(-(t_1) * (ub - m_1)) * _e597) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (6.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_6_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e646 = s;
-        float _e647 = v_3;
-        float _e648 = airlight_phi_6_r_of_v(_e647, md_4);
-        float _e652 = v_3;
-        s = _e646 + ((0.34785485 * _e648) * metal::exp(-(t_1) * ((1.0 / _e652) - m_1)));
+        float _e624 = s;
+        float _e625 = v_3;
+        float _e626 = airlight_phi_6_r_of_v(_e625, md_4);
+        float _e630 = v_3;
+        s = _e624 + ((0.34785485 * _e626) * metal::exp(-(t_1) * ((1.0 / _e630) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e663 = s;
-        float _e664 = v_3;
-        float _e665 = airlight_phi_6_r_of_v(_e664, md_4);
-        float _e669 = v_3;
-        s = _e663 + ((0.65214515 * _e665) * metal::exp(-(t_1) * ((1.0 / _e669) - m_1)));
+        float _e641 = s;
+        float _e642 = v_3;
+        float _e643 = airlight_phi_6_r_of_v(_e642, md_4);
+        float _e647 = v_3;
+        s = _e641 + ((0.65214515 * _e643) * metal::exp(-(t_1) * ((1.0 / _e647) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e680 = s;
-        float _e681 = v_3;
-        float _e682 = airlight_phi_6_r_of_v(_e681, md_4);
-        float _e686 = v_3;
-        s = _e680 + ((0.65214515 * _e682) * metal::exp(-(t_1) * ((1.0 / _e686) - m_1)));
+        float _e658 = s;
+        float _e659 = v_3;
+        float _e660 = airlight_phi_6_r_of_v(_e659, md_4);
+        float _e664 = v_3;
+        s = _e658 + ((0.65214515 * _e660) * metal::exp(-(t_1) * ((1.0 / _e664) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e697 = s;
-        float _e698 = v_3;
-        float _e699 = airlight_phi_6_r_of_v(_e698, md_4);
-        float _e703 = v_3;
-        s = _e697 + ((0.34785485 * _e699) * metal::exp(-(t_1) * ((1.0 / _e703) - m_1)));
-        float _e711 = sum;
-        float _e717 = f;
-        float _e718 = s;
-        sum = _e711 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e717 + (_e718 * hl_2)));
+        float _e675 = s;
+        float _e676 = v_3;
+        float _e677 = airlight_phi_6_r_of_v(_e676, md_4);
+        float _e681 = v_3;
+        s = _e675 + ((0.34785485 * _e677) * metal::exp(-(t_1) * ((1.0 / _e681) - m_1)));
+        float _e689 = sum;
+        float _e695 = f;
+        float _e696 = s;
+        sum = _e689 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e695 + (_e696 * hl_2)));
     } else {
-        float _e723 = du;
-        if (_e723 > lcut) {
+        float _e701 = du;
+        if (_e701 > lcut) {
             float ue_1 = ua + lcut;
-            float _e728 = s_1;
-            float _e732 = airlight_phi_6_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e728 + (0.711093 * _e732);
-            float _e736 = s_1;
-            float _e740 = airlight_phi_6_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e736 + (0.27851772 * _e740);
-            float _e744 = s_1;
-            float _e748 = airlight_phi_6_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e744 + (0.010389256 * _e748);
+            float _e706 = s_1;
+            float _e710 = airlight_phi_6_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e706 + (0.711093 * _e710);
+            float _e714 = s_1;
+            float _e718 = airlight_phi_6_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e714 + (0.27851772 * _e718);
+            float _e722 = s_1;
+            float _e726 = airlight_phi_6_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e722 + (0.010389256 * _e726);
             if (!(open)) {
-                float _e755 = sb;
-                float _e759 = airlight_phi_6_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e755 + (0.711093 * _e759);
+                float _e733 = sb;
+                float _e737 = airlight_phi_6_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e733 + (0.711093 * _e737);
+                float _e741 = sb;
+                float _e745 = airlight_phi_6_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e741 + (0.27851772 * _e745);
+                float _e749 = sb;
+                float _e753 = airlight_phi_6_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e749 + (0.010389256 * _e753);
+                float _e757 = s_1;
+                float _e759 = du;
                 float _e763 = sb;
-                float _e767 = airlight_phi_6_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e763 + (0.27851772 * _e767);
-                float _e771 = sb;
-                float _e775 = airlight_phi_6_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e771 + (0.010389256 * _e775);
-                float _e779 = s_1;
-                float _e781 = du;
-                float _e785 = sb;
-                s_1 = _e779 - (metal::exp(-(t_1) * (_e781 - lcut)) * _e785);
+                s_1 = _e757 - (metal::exp(-(t_1) * (_e759 - lcut)) * _e763);
             }
-            float _e788 = sum;
-            float _e791 = s_1;
-            sum = _e788 + ((0.01831564 / t_1) * metal::max(_e791, 0.0));
+            float _e766 = sum;
+            float _e769 = s_1;
+            sum = _e766 + ((0.01831564 / t_1) * metal::max(_e769, 0.0));
         }
     }
-    if (h_5 < 0.0000000000000000008673617) {
-        float _e798 = sum;
-        float _e806 = airlight_phi_6_scaled(2.0 * metal::max(_e798, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e806;
+    if (tb < 0.0000000000000000008673617) {
+        float _e776 = sum;
+        float _e784 = airlight_phi_6_scaled(2.0 * metal::max(_e776, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e784;
     }
-    float _e811 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e811 / h_5), 0.0), airlight_phi_6_HUGE);
+    float _e789 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e789 / tb), 0.0), airlight_phi_6_HUGE);
 }
 
 float airlight_phi_6_airlight(
     float tau,
     float gamma,
-    float rho_1,
+    float rho_2,
     float g
 ) {
     metal::float2 _e7 = airlight_phi_6_sin_cos(metal::clamp(gamma, 0.0, airlight_phi_6_PI));
-    float _e11 = airlight_phi_6_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, rho_1, g);
-    return _e11;
+    float _e14 = airlight_phi_6_foot(metal::abs(_e7.x), _e7.y, rho_2);
+    float _e15 = airlight_phi_6_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, rho_2, _e14, g);
+    return _e15;
 }
 
 float airlight_phi_6_radiance(
@@ -796,34 +804,37 @@ float airlight_phi_6_radiance(
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
-    float _e37 = airlight_phi_6_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_6, g_1);
-    float _e38 = airlight_phi_6_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
-    return _e38;
+    float rho_7 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float _e39 = airlight_phi_6_foot(_e8.y, _e8.z, rho_7);
+    float _e40 = airlight_phi_6_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_7, _e39, g_1);
+    float _e41 = airlight_phi_6_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    return _e41;
 }
 
 float airlight_phi_6_along(
     float tau_1,
-    float h_1,
-    float x0_1,
-    float rho_2,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g_2
 ) {
-    float _e5 = airlight_phi_6_airlight_geometry(tau_1, h_1, x0_1, rho_2, g_2);
-    return _e5;
+    float _e6 = airlight_phi_6_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1, g_2);
+    return _e6;
 }
 
 metal::float3 airlight_phi_6_along_rgb(
     metal::float3 tau_2,
-    float h_2,
-    float x0_2,
-    float rho_3,
+    float h_3,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_3
 ) {
-    float _e6 = airlight_phi_6_along(tau_2.x, h_2, x0_2, rho_3, g_3);
-    float _e8 = airlight_phi_6_along(tau_2.y, h_2, x0_2, rho_3, g_3);
-    float _e10 = airlight_phi_6_along(tau_2.z, h_2, x0_2, rho_3, g_3);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_phi_6_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_3);
+    float _e9 = airlight_phi_6_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_3);
+    float _e11 = airlight_phi_6_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_3);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_phi_6_spot_asin(
@@ -836,9 +847,9 @@ float airlight_phi_6_spot_asin(
 
 metal::float3 airlight_phi_6_spot_core(
     metal::float3 tau_3,
-    float h_3,
-    float x0_3,
-    float rho_4,
+    float h_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -851,43 +862,54 @@ metal::float3 airlight_phi_6_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_12 = {};
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_phi_6_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_phi_6_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_phi_6_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_phi_6_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_phi_6_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_phi_6_sin_cos(wb);
+        metal::float2 _e35 = airlight_phi_6_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_12 = rho_4 >= 0.0;
+            local_12 = rho_5 >= 0.0;
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_phi_6_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_phi_6_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_4);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_phi_6_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_4);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_6_spot_weight(
@@ -903,9 +925,9 @@ float airlight_phi_6_spot_weight(
 
 metal::float3 airlight_phi_6_spot_edge(
     metal::float3 tau_4,
-    float h_4,
-    float x0_4,
-    float rho_5,
+    float h_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_2,
@@ -938,7 +960,7 @@ metal::float3 airlight_phi_6_spot_edge(
     metal::float2 _e27 = airlight_phi_6_sin_cos(e_1);
     float _e33 = airlight_phi_6_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_2, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_phi_6_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
+        metal::float3 _e41 = airlight_phi_6_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -982,7 +1004,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e118) * _e121)) : (gp - (((4.0 * g_5) * _e109) * _e112));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -1006,7 +1028,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -1030,7 +1052,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e272) * _e275)) : (gp - (((4.0 * g_5) * _e263) * _e266));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -1054,7 +1076,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e349) * _e352)) : (gp - (((4.0 * g_5) * _e340) * _e343));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -1078,7 +1100,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e426) * _e429)) : (gp - (((4.0 * g_5) * _e417) * _e420));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -1102,7 +1124,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e503) * _e506)) : (gp - (((4.0 * g_5) * _e494) * _e497));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -1126,7 +1148,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e580) * _e583)) : (gp - (((4.0 * g_5) * _e571) * _e574));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1150,7 +1172,7 @@ metal::float3 airlight_phi_6_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e657) * _e660)) : (gp - (((4.0 * g_5) * _e648) * _e651));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1167,7 +1189,7 @@ metal::float3 airlight_phi_6_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_phi_6_spot(
@@ -1264,17 +1286,17 @@ metal::float3 airlight_phi_6_spot(
     }
     float d_7 = _e11.x;
     float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
         local_18 = (surface_1 / d_7) < airlight_phi_6_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = has_end ? (surface_1 / d_7) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_7) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_7, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_6, -0.999, 0.999);
-    float _e143 = airlight_phi_6_arctan2_(h_6, x0_6);
+    float _e143 = airlight_phi_6_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_19 = h_6 <= 0.0;
     } else {
@@ -1292,12 +1314,12 @@ metal::float3 airlight_phi_6_spot(
             float _e160 = airlight_phi_6_spot_weight(-(k_3), co_3, cos_inner);
             float _e161 = airlight_phi_6_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_21 = rho_7 < 1.0;
+                local_21 = rho_8 < 1.0;
             } else {
                 local_21 = false;
             }
             bool _e168 = local_21;
-            scale = (x0_6 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
+            scale = (x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
     } else {
@@ -1314,7 +1336,7 @@ metal::float3 airlight_phi_6_spot(
         float _e194 = ca_1;
         float _e195 = airlight_phi_6_arctan2_(k_3, _e194);
         gam_2 = _e143;
-        float _e198 = airlight_phi_6_arctan2_(h_6, x0_6 - rho_7);
+        float _e198 = airlight_phi_6_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e198 : airlight_phi_6_PI;
         if (co_3 < r_6) {
             float _e201 = airlight_phi_6_spot_asin(co_3, r_6);
@@ -1358,7 +1380,7 @@ metal::float3 airlight_phi_6_spot(
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        metal::float3 _e251 = airlight_phi_6_spot_core(tau_6, h_6, x0_6, rho_7, _e246, _e247, _e248, _e249, _e250, gg);
+        metal::float3 _e251 = airlight_phi_6_spot_core(tau_6, h_6, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1386,7 +1408,7 @@ metal::float3 airlight_phi_6_spot(
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                metal::float3 _e274 = airlight_phi_6_spot_edge(tau_6, h_6, x0_6, rho_7, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
+                metal::float3 _e274 = airlight_phi_6_spot_edge(tau_6, h_6, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
                 a_5 = _e268 + _e274;
             }
         }

@@ -43,6 +43,14 @@ constant float airlight_phi_8_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_phi_8_RHO_OPEN = 4294967300.0;
 constant float airlight_phi_8_TAU_MAX = 10000.0;
 
+float airlight_phi_8_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_phi_8_max_abs(
     metal::float3 v
 ) {
@@ -109,7 +117,7 @@ metal::float3 airlight_phi_8_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_phi_8_two_sum(light, -(origin));
     float _e6 = airlight_phi_8_max_abs(_e4.inner[0]);
     float _e7 = airlight_phi_8_max_abs(dir);
@@ -149,16 +157,16 @@ metal::float3 airlight_phi_8_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_phi_8_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_phi_8_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_phi_8_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_phi_8_scaled(
@@ -407,8 +415,9 @@ float airlight_phi_8_r_of_v(
 float airlight_phi_8_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_,
-    float rho,
+    float x0_1,
+    float rho_1,
+    float xr,
     float g_in
 ) {
     bool local_4 = {};
@@ -433,394 +442,393 @@ float airlight_phi_8_airlight_geometry(
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_phi_8_TAU_MAX);
     float g_14 = metal::clamp(g_in, -0.999, 0.999);
     metal::float4 md_4 = metal::float4(g_14, 1.0 - g_14, 1.0 + g_14, (1.0 - g_14) / (1.0 + g_14));
-    if (x0_ > 0.0) {
+    if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
-    bool _e29 = local_4;
-    if (_e29) {
-        if (rho >= 0.0) {
-            local_5 = rho < 1.0;
+    bool _e30 = local_4;
+    if (_e30) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
             local_5 = false;
         }
-        bool _e37 = local_5;
-        if (_e37) {
-            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_8_HUGE);
+        bool _e38 = local_5;
+        if (_e38) {
+            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_phi_8_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_phi_8_HUGE;
         }
     }
-    float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
-    float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
-    float one_minus = (x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_);
-    if (rho >= 0.0) {
-        local_6 = rho < airlight_phi_8_RHO_OPEN;
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_phi_8_RHO_OPEN;
     } else {
         local_6 = false;
     }
-    bool _e87 = local_6;
-    bool open = !(_e87);
+    bool _e88 = local_6;
+    bool open = !(_e88);
     if (!(open)) {
-        float ta = metal::abs(rho - 1.0);
-        float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
+        float ta = metal::abs(xr);
         float tm = metal::max(ta, tb);
         float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
-        float xr = (x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho);
         if (xr <= 0.0) {
-            du = (rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5);
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
     }
-    float _e148 = du;
-    float ub = ua + _e148;
-    float t_1 = tau_5 * h_5;
+    float _e126 = du;
+    float ub = ua + _e126;
+    float t_1 = tau_5 * tb;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (5.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_8_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e165 = du;
-    bool is_short = _e165 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e143 = du;
+    bool is_short = _e143 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e178 = local_7;
-    if (_e178) {
+    bool _e156 = local_7;
+    if (_e156) {
         local_8 = (t_1 * (m_1 - ua)) < 5.0;
     } else {
         local_8 = false;
     }
-    bool _e186 = local_8;
-    if (_e186) {
+    bool _e164 = local_8;
+    if (_e164) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e194 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e194, lcut);
+    float _e172 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e172, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e214 = local_10;
-        if (_e214) {
+        bool _e192 = local_10;
+        if (_e192) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9602898;
-            float _e220 = sum;
-            float _e221 = d_2;
-            float _e223 = airlight_phi_8_w_u(ua + _e221, md_4);
-            float _e227 = d_2;
-            sum = _e220 + ((0.101228535 * _e223) * metal::exp(-(t_1) * _e227));
+            float _e198 = sum;
+            float _e199 = d_2;
+            float _e201 = airlight_phi_8_w_u(ua + _e199, md_4);
+            float _e205 = d_2;
+            sum = _e198 + ((0.101228535 * _e201) * metal::exp(-(t_1) * _e205));
             d_2 = hl * 1.7966665;
-            float _e234 = sum;
-            float _e235 = d_2;
-            float _e237 = airlight_phi_8_w_u(ua + _e235, md_4);
-            float _e241 = d_2;
-            sum = _e234 + ((0.22238104 * _e237) * metal::exp(-(t_1) * _e241));
+            float _e212 = sum;
+            float _e213 = d_2;
+            float _e215 = airlight_phi_8_w_u(ua + _e213, md_4);
+            float _e219 = d_2;
+            sum = _e212 + ((0.22238104 * _e215) * metal::exp(-(t_1) * _e219));
             d_2 = hl * 1.5255324;
-            float _e248 = sum;
-            float _e249 = d_2;
-            float _e251 = airlight_phi_8_w_u(ua + _e249, md_4);
-            float _e255 = d_2;
-            sum = _e248 + ((0.31370664 * _e251) * metal::exp(-(t_1) * _e255));
+            float _e226 = sum;
+            float _e227 = d_2;
+            float _e229 = airlight_phi_8_w_u(ua + _e227, md_4);
+            float _e233 = d_2;
+            sum = _e226 + ((0.31370664 * _e229) * metal::exp(-(t_1) * _e233));
             d_2 = hl * 1.1834346;
-            float _e262 = sum;
-            float _e263 = d_2;
-            float _e265 = airlight_phi_8_w_u(ua + _e263, md_4);
-            float _e269 = d_2;
-            sum = _e262 + ((0.36268377 * _e265) * metal::exp(-(t_1) * _e269));
+            float _e240 = sum;
+            float _e241 = d_2;
+            float _e243 = airlight_phi_8_w_u(ua + _e241, md_4);
+            float _e247 = d_2;
+            sum = _e240 + ((0.36268377 * _e243) * metal::exp(-(t_1) * _e247));
             d_2 = hl * 0.8165654;
-            float _e276 = sum;
-            float _e277 = d_2;
-            float _e279 = airlight_phi_8_w_u(ua + _e277, md_4);
-            float _e283 = d_2;
-            sum = _e276 + ((0.36268377 * _e279) * metal::exp(-(t_1) * _e283));
+            float _e254 = sum;
+            float _e255 = d_2;
+            float _e257 = airlight_phi_8_w_u(ua + _e255, md_4);
+            float _e261 = d_2;
+            sum = _e254 + ((0.36268377 * _e257) * metal::exp(-(t_1) * _e261));
             d_2 = hl * 0.47446758;
-            float _e290 = sum;
-            float _e291 = d_2;
-            float _e293 = airlight_phi_8_w_u(ua + _e291, md_4);
-            float _e297 = d_2;
-            sum = _e290 + ((0.31370664 * _e293) * metal::exp(-(t_1) * _e297));
+            float _e268 = sum;
+            float _e269 = d_2;
+            float _e271 = airlight_phi_8_w_u(ua + _e269, md_4);
+            float _e275 = d_2;
+            sum = _e268 + ((0.31370664 * _e271) * metal::exp(-(t_1) * _e275));
             d_2 = hl * 0.2033335;
-            float _e304 = sum;
-            float _e305 = d_2;
-            float _e307 = airlight_phi_8_w_u(ua + _e305, md_4);
-            float _e311 = d_2;
-            sum = _e304 + ((0.22238104 * _e307) * metal::exp(-(t_1) * _e311));
+            float _e282 = sum;
+            float _e283 = d_2;
+            float _e285 = airlight_phi_8_w_u(ua + _e283, md_4);
+            float _e289 = d_2;
+            sum = _e282 + ((0.22238104 * _e285) * metal::exp(-(t_1) * _e289));
             d_2 = hl * 0.039710164;
-            float _e318 = sum;
-            float _e319 = d_2;
-            float _e321 = airlight_phi_8_w_u(ua + _e319, md_4);
-            float _e325 = d_2;
-            sum = _e318 + ((0.101228535 * _e321) * metal::exp(-(t_1) * _e325));
-            float _e330 = sum;
-            sum = _e330 * hl;
+            float _e296 = sum;
+            float _e297 = d_2;
+            float _e299 = airlight_phi_8_w_u(ua + _e297, md_4);
+            float _e303 = d_2;
+            sum = _e296 + ((0.101228535 * _e299) * metal::exp(-(t_1) * _e303));
+            float _e308 = sum;
+            sum = _e308 * hl;
         } else {
-            metal::float2 _e332 = airlight_phi_8_phi_and_complement(ua, md_4);
-            metal::float2 _e334 = airlight_phi_8_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e332.y < 1.5707964) ? (_e332.y - _e334.y) : (_e334.x - _e332.x));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 1.9602898);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 1.9602898);
-            float _e367 = beta;
-            float _e368 = co;
-            metal::float2 _e372 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e367, _e368), 0.0));
-            sc = _e372;
-            float _e373 = beta;
-            float _e374 = co;
-            if (_e373 > _e374) {
-                metal::float2 _e376 = sc;
-                sc = _e376.yx;
+            metal::float2 _e310 = airlight_phi_8_phi_and_complement(ua, md_4);
+            metal::float2 _e312 = airlight_phi_8_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e310.y < 1.5707964) ? (_e310.y - _e312.y) : (_e312.x - _e310.x));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 1.9602898);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 1.9602898);
+            float _e345 = beta;
+            float _e346 = co;
+            metal::float2 _e350 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e345, _e346), 0.0));
+            sc = _e350;
+            float _e351 = beta;
+            float _e352 = co;
+            if (_e351 > _e352) {
+                metal::float2 _e354 = sc;
+                sc = _e354.yx;
             }
-            float _e379 = sc.x;
-            float _e381 = sc.y;
-            metal::float2 _e382 = airlight_phi_8_u_and_weight(_e379, _e381, md_4);
-            uw = _e382;
-            float _e383 = sum;
-            float _e385 = uw.y;
-            float _e390 = uw.x;
-            sum = _e383 + ((0.101228535 * _e385) * metal::exp(-(t_1) * (_e390 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 1.7966665);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 1.7966665);
-            float _e412 = beta;
-            float _e413 = co;
-            metal::float2 _e417 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e412, _e413), 0.0));
-            sc = _e417;
-            float _e418 = beta;
-            float _e419 = co;
-            if (_e418 > _e419) {
-                metal::float2 _e421 = sc;
-                sc = _e421.yx;
+            float _e357 = sc.x;
+            float _e359 = sc.y;
+            metal::float2 _e360 = airlight_phi_8_u_and_weight(_e357, _e359, md_4);
+            uw = _e360;
+            float _e361 = sum;
+            float _e363 = uw.y;
+            float _e368 = uw.x;
+            sum = _e361 + ((0.101228535 * _e363) * metal::exp(-(t_1) * (_e368 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 1.7966665);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 1.7966665);
+            float _e390 = beta;
+            float _e391 = co;
+            metal::float2 _e395 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e390, _e391), 0.0));
+            sc = _e395;
+            float _e396 = beta;
+            float _e397 = co;
+            if (_e396 > _e397) {
+                metal::float2 _e399 = sc;
+                sc = _e399.yx;
             }
-            float _e424 = sc.x;
-            float _e426 = sc.y;
-            metal::float2 _e427 = airlight_phi_8_u_and_weight(_e424, _e426, md_4);
-            uw = _e427;
-            float _e428 = sum;
-            float _e430 = uw.y;
-            float _e435 = uw.x;
-            sum = _e428 + ((0.22238104 * _e430) * metal::exp(-(t_1) * (_e435 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 1.5255324);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 1.5255324);
-            float _e457 = beta;
-            float _e458 = co;
-            metal::float2 _e462 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e457, _e458), 0.0));
-            sc = _e462;
-            float _e463 = beta;
-            float _e464 = co;
-            if (_e463 > _e464) {
-                metal::float2 _e466 = sc;
-                sc = _e466.yx;
+            float _e402 = sc.x;
+            float _e404 = sc.y;
+            metal::float2 _e405 = airlight_phi_8_u_and_weight(_e402, _e404, md_4);
+            uw = _e405;
+            float _e406 = sum;
+            float _e408 = uw.y;
+            float _e413 = uw.x;
+            sum = _e406 + ((0.22238104 * _e408) * metal::exp(-(t_1) * (_e413 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 1.5255324);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 1.5255324);
+            float _e435 = beta;
+            float _e436 = co;
+            metal::float2 _e440 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e435, _e436), 0.0));
+            sc = _e440;
+            float _e441 = beta;
+            float _e442 = co;
+            if (_e441 > _e442) {
+                metal::float2 _e444 = sc;
+                sc = _e444.yx;
             }
-            float _e469 = sc.x;
-            float _e471 = sc.y;
-            metal::float2 _e472 = airlight_phi_8_u_and_weight(_e469, _e471, md_4);
-            uw = _e472;
-            float _e473 = sum;
-            float _e475 = uw.y;
-            float _e480 = uw.x;
-            sum = _e473 + ((0.31370664 * _e475) * metal::exp(-(t_1) * (_e480 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 1.1834346);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 1.1834346);
-            float _e502 = beta;
-            float _e503 = co;
-            metal::float2 _e507 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e502, _e503), 0.0));
-            sc = _e507;
-            float _e508 = beta;
-            float _e509 = co;
-            if (_e508 > _e509) {
-                metal::float2 _e511 = sc;
-                sc = _e511.yx;
+            float _e447 = sc.x;
+            float _e449 = sc.y;
+            metal::float2 _e450 = airlight_phi_8_u_and_weight(_e447, _e449, md_4);
+            uw = _e450;
+            float _e451 = sum;
+            float _e453 = uw.y;
+            float _e458 = uw.x;
+            sum = _e451 + ((0.31370664 * _e453) * metal::exp(-(t_1) * (_e458 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 1.1834346);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 1.1834346);
+            float _e480 = beta;
+            float _e481 = co;
+            metal::float2 _e485 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e480, _e481), 0.0));
+            sc = _e485;
+            float _e486 = beta;
+            float _e487 = co;
+            if (_e486 > _e487) {
+                metal::float2 _e489 = sc;
+                sc = _e489.yx;
             }
-            float _e514 = sc.x;
-            float _e516 = sc.y;
-            metal::float2 _e517 = airlight_phi_8_u_and_weight(_e514, _e516, md_4);
-            uw = _e517;
-            float _e518 = sum;
-            float _e520 = uw.y;
-            float _e525 = uw.x;
-            sum = _e518 + ((0.36268377 * _e520) * metal::exp(-(t_1) * (_e525 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 0.8165654);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 0.8165654);
-            float _e547 = beta;
-            float _e548 = co;
-            metal::float2 _e552 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e547, _e548), 0.0));
-            sc = _e552;
-            float _e553 = beta;
-            float _e554 = co;
-            if (_e553 > _e554) {
-                metal::float2 _e556 = sc;
-                sc = _e556.yx;
+            float _e492 = sc.x;
+            float _e494 = sc.y;
+            metal::float2 _e495 = airlight_phi_8_u_and_weight(_e492, _e494, md_4);
+            uw = _e495;
+            float _e496 = sum;
+            float _e498 = uw.y;
+            float _e503 = uw.x;
+            sum = _e496 + ((0.36268377 * _e498) * metal::exp(-(t_1) * (_e503 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 0.8165654);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 0.8165654);
+            float _e525 = beta;
+            float _e526 = co;
+            metal::float2 _e530 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e525, _e526), 0.0));
+            sc = _e530;
+            float _e531 = beta;
+            float _e532 = co;
+            if (_e531 > _e532) {
+                metal::float2 _e534 = sc;
+                sc = _e534.yx;
             }
-            float _e559 = sc.x;
-            float _e561 = sc.y;
-            metal::float2 _e562 = airlight_phi_8_u_and_weight(_e559, _e561, md_4);
-            uw = _e562;
-            float _e563 = sum;
-            float _e565 = uw.y;
-            float _e570 = uw.x;
-            sum = _e563 + ((0.36268377 * _e565) * metal::exp(-(t_1) * (_e570 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 0.47446758);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 0.47446758);
-            float _e592 = beta;
-            float _e593 = co;
-            metal::float2 _e597 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e592, _e593), 0.0));
-            sc = _e597;
-            float _e598 = beta;
-            float _e599 = co;
-            if (_e598 > _e599) {
-                metal::float2 _e601 = sc;
-                sc = _e601.yx;
+            float _e537 = sc.x;
+            float _e539 = sc.y;
+            metal::float2 _e540 = airlight_phi_8_u_and_weight(_e537, _e539, md_4);
+            uw = _e540;
+            float _e541 = sum;
+            float _e543 = uw.y;
+            float _e548 = uw.x;
+            sum = _e541 + ((0.36268377 * _e543) * metal::exp(-(t_1) * (_e548 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 0.47446758);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 0.47446758);
+            float _e570 = beta;
+            float _e571 = co;
+            metal::float2 _e575 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e570, _e571), 0.0));
+            sc = _e575;
+            float _e576 = beta;
+            float _e577 = co;
+            if (_e576 > _e577) {
+                metal::float2 _e579 = sc;
+                sc = _e579.yx;
             }
-            float _e604 = sc.x;
-            float _e606 = sc.y;
-            metal::float2 _e607 = airlight_phi_8_u_and_weight(_e604, _e606, md_4);
-            uw = _e607;
-            float _e608 = sum;
-            float _e610 = uw.y;
-            float _e615 = uw.x;
-            sum = _e608 + ((0.31370664 * _e610) * metal::exp(-(t_1) * (_e615 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 0.2033335);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 0.2033335);
-            float _e637 = beta;
-            float _e638 = co;
-            metal::float2 _e642 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e637, _e638), 0.0));
-            sc = _e642;
-            float _e643 = beta;
-            float _e644 = co;
-            if (_e643 > _e644) {
-                metal::float2 _e646 = sc;
-                sc = _e646.yx;
+            float _e582 = sc.x;
+            float _e584 = sc.y;
+            metal::float2 _e585 = airlight_phi_8_u_and_weight(_e582, _e584, md_4);
+            uw = _e585;
+            float _e586 = sum;
+            float _e588 = uw.y;
+            float _e593 = uw.x;
+            sum = _e586 + ((0.31370664 * _e588) * metal::exp(-(t_1) * (_e593 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 0.2033335);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 0.2033335);
+            float _e615 = beta;
+            float _e616 = co;
+            metal::float2 _e620 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e615, _e616), 0.0));
+            sc = _e620;
+            float _e621 = beta;
+            float _e622 = co;
+            if (_e621 > _e622) {
+                metal::float2 _e624 = sc;
+                sc = _e624.yx;
             }
-            float _e649 = sc.x;
-            float _e651 = sc.y;
-            metal::float2 _e652 = airlight_phi_8_u_and_weight(_e649, _e651, md_4);
-            uw = _e652;
-            float _e653 = sum;
-            float _e655 = uw.y;
-            float _e660 = uw.x;
-            sum = _e653 + ((0.22238104 * _e655) * metal::exp(-(t_1) * (_e660 - ua)));
-            beta = (0.5 * _e332.x) + ((0.5 * hl_1) * 0.039710164);
-            co = (0.5 * _e332.y) - ((0.5 * hl_1) * 0.039710164);
-            float _e682 = beta;
-            float _e683 = co;
-            metal::float2 _e687 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e682, _e683), 0.0));
-            sc = _e687;
-            float _e688 = beta;
-            float _e689 = co;
-            if (_e688 > _e689) {
-                metal::float2 _e691 = sc;
-                sc = _e691.yx;
+            float _e627 = sc.x;
+            float _e629 = sc.y;
+            metal::float2 _e630 = airlight_phi_8_u_and_weight(_e627, _e629, md_4);
+            uw = _e630;
+            float _e631 = sum;
+            float _e633 = uw.y;
+            float _e638 = uw.x;
+            sum = _e631 + ((0.22238104 * _e633) * metal::exp(-(t_1) * (_e638 - ua)));
+            beta = (0.5 * _e310.x) + ((0.5 * hl_1) * 0.039710164);
+            co = (0.5 * _e310.y) - ((0.5 * hl_1) * 0.039710164);
+            float _e660 = beta;
+            float _e661 = co;
+            metal::float2 _e665 = airlight_phi_8_sin_cos_octant(metal::max(metal::min(_e660, _e661), 0.0));
+            sc = _e665;
+            float _e666 = beta;
+            float _e667 = co;
+            if (_e666 > _e667) {
+                metal::float2 _e669 = sc;
+                sc = _e669.yx;
             }
-            float _e694 = sc.x;
-            float _e696 = sc.y;
-            metal::float2 _e697 = airlight_phi_8_u_and_weight(_e694, _e696, md_4);
-            uw = _e697;
-            float _e698 = sum;
-            float _e700 = uw.y;
-            float _e705 = uw.x;
-            sum = _e698 + ((0.101228535 * _e700) * metal::exp(-(t_1) * (_e705 - ua)));
-            float _e711 = sum;
-            sum = _e711 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e672 = sc.x;
+            float _e674 = sc.y;
+            metal::float2 _e675 = airlight_phi_8_u_and_weight(_e672, _e674, md_4);
+            uw = _e675;
+            float _e676 = sum;
+            float _e678 = uw.y;
+            float _e683 = uw.x;
+            sum = _e676 + ((0.101228535 * _e678) * metal::exp(-(t_1) * (_e683 - ua)));
+            float _e689 = sum;
+            sum = _e689 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_6 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e727 = airlight_phi_8_exp_e2_(t_1 * m_1);
-        f = _e727 / m_1;
+        float _e705 = airlight_phi_8_exp_e2_(t_1 * m_1);
+        f = _e705 / m_1;
         if (!(open)) {
-            float _e731 = f;
-            float _e737 = airlight_phi_8_exp_e2_(t_1 * ub);
-            f = _e731 - ((metal::exp(-(t_1) * (ub - m_1)) * _e737) / ub);
+            float _e709 = f;
+            float _e715 = airlight_phi_8_exp_e2_(t_1 * ub);
+            f = _e709 - ((metal::exp(-(t_1) * (ub - m_1)) * _e715) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (8.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_8_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e764 = s;
-        float _e765 = v_3;
-        float _e766 = airlight_phi_8_r_of_v(_e765, md_4);
-        float _e770 = v_3;
-        s = _e764 + ((0.34785485 * _e766) * metal::exp(-(t_1) * ((1.0 / _e770) - m_1)));
+        float _e742 = s;
+        float _e743 = v_3;
+        float _e744 = airlight_phi_8_r_of_v(_e743, md_4);
+        float _e748 = v_3;
+        s = _e742 + ((0.34785485 * _e744) * metal::exp(-(t_1) * ((1.0 / _e748) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e781 = s;
-        float _e782 = v_3;
-        float _e783 = airlight_phi_8_r_of_v(_e782, md_4);
-        float _e787 = v_3;
-        s = _e781 + ((0.65214515 * _e783) * metal::exp(-(t_1) * ((1.0 / _e787) - m_1)));
+        float _e759 = s;
+        float _e760 = v_3;
+        float _e761 = airlight_phi_8_r_of_v(_e760, md_4);
+        float _e765 = v_3;
+        s = _e759 + ((0.65214515 * _e761) * metal::exp(-(t_1) * ((1.0 / _e765) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e798 = s;
-        float _e799 = v_3;
-        float _e800 = airlight_phi_8_r_of_v(_e799, md_4);
-        float _e804 = v_3;
-        s = _e798 + ((0.65214515 * _e800) * metal::exp(-(t_1) * ((1.0 / _e804) - m_1)));
+        float _e776 = s;
+        float _e777 = v_3;
+        float _e778 = airlight_phi_8_r_of_v(_e777, md_4);
+        float _e782 = v_3;
+        s = _e776 + ((0.65214515 * _e778) * metal::exp(-(t_1) * ((1.0 / _e782) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e815 = s;
-        float _e816 = v_3;
-        float _e817 = airlight_phi_8_r_of_v(_e816, md_4);
-        float _e821 = v_3;
-        s = _e815 + ((0.34785485 * _e817) * metal::exp(-(t_1) * ((1.0 / _e821) - m_1)));
-        float _e829 = sum;
-        float _e835 = f;
-        float _e836 = s;
-        sum = _e829 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e835 + (_e836 * hl_2)));
+        float _e793 = s;
+        float _e794 = v_3;
+        float _e795 = airlight_phi_8_r_of_v(_e794, md_4);
+        float _e799 = v_3;
+        s = _e793 + ((0.34785485 * _e795) * metal::exp(-(t_1) * ((1.0 / _e799) - m_1)));
+        float _e807 = sum;
+        float _e813 = f;
+        float _e814 = s;
+        sum = _e807 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e813 + (_e814 * hl_2)));
     } else {
-        float _e841 = du;
-        if (_e841 > lcut) {
+        float _e819 = du;
+        if (_e819 > lcut) {
             float ue_1 = ua + lcut;
-            float _e846 = s_1;
-            float _e850 = airlight_phi_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e846 + (0.711093 * _e850);
-            float _e854 = s_1;
-            float _e858 = airlight_phi_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e854 + (0.27851772 * _e858);
-            float _e862 = s_1;
-            float _e866 = airlight_phi_8_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e862 + (0.010389256 * _e866);
+            float _e824 = s_1;
+            float _e828 = airlight_phi_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e824 + (0.711093 * _e828);
+            float _e832 = s_1;
+            float _e836 = airlight_phi_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e832 + (0.27851772 * _e836);
+            float _e840 = s_1;
+            float _e844 = airlight_phi_8_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e840 + (0.010389256 * _e844);
             if (!(open)) {
-                float _e873 = sb;
-                float _e877 = airlight_phi_8_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e873 + (0.711093 * _e877);
+                float _e851 = sb;
+                float _e855 = airlight_phi_8_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e851 + (0.711093 * _e855);
+                float _e859 = sb;
+                float _e863 = airlight_phi_8_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e859 + (0.27851772 * _e863);
+                float _e867 = sb;
+                float _e871 = airlight_phi_8_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e867 + (0.010389256 * _e871);
+                float _e875 = s_1;
+                float _e877 = du;
                 float _e881 = sb;
-                float _e885 = airlight_phi_8_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e881 + (0.27851772 * _e885);
-                float _e889 = sb;
-                float _e893 = airlight_phi_8_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e889 + (0.010389256 * _e893);
-                float _e897 = s_1;
-                float _e899 = du;
-                float _e903 = sb;
-                s_1 = _e897 - (metal::exp(-(t_1) * (_e899 - lcut)) * _e903);
+                s_1 = _e875 - (metal::exp(-(t_1) * (_e877 - lcut)) * _e881);
             }
-            float _e906 = sum;
-            float _e909 = s_1;
-            sum = _e906 + ((0.006737947 / t_1) * metal::max(_e909, 0.0));
+            float _e884 = sum;
+            float _e887 = s_1;
+            sum = _e884 + ((0.006737947 / t_1) * metal::max(_e887, 0.0));
         }
     }
-    if (h_5 < 0.0000000000000000008673617) {
-        float _e916 = sum;
-        float _e924 = airlight_phi_8_scaled(2.0 * metal::max(_e916, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e924;
+    if (tb < 0.0000000000000000008673617) {
+        float _e894 = sum;
+        float _e902 = airlight_phi_8_scaled(2.0 * metal::max(_e894, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e902;
     }
-    float _e929 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e929 / h_5), 0.0), airlight_phi_8_HUGE);
+    float _e907 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e907 / tb), 0.0), airlight_phi_8_HUGE);
 }
 
 float airlight_phi_8_airlight(
     float tau,
     float gamma,
-    float rho_1,
+    float rho_2,
     float g
 ) {
     metal::float2 _e7 = airlight_phi_8_sin_cos(metal::clamp(gamma, 0.0, airlight_phi_8_PI));
-    float _e11 = airlight_phi_8_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, rho_1, g);
-    return _e11;
+    float _e14 = airlight_phi_8_foot(metal::abs(_e7.x), _e7.y, rho_2);
+    float _e15 = airlight_phi_8_airlight_geometry(tau, metal::abs(_e7.x), _e7.y, rho_2, _e14, g);
+    return _e15;
 }
 
 float airlight_phi_8_radiance(
@@ -848,34 +856,37 @@ float airlight_phi_8_radiance(
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
-    float _e37 = airlight_phi_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_6, g_1);
-    float _e38 = airlight_phi_8_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
-    return _e38;
+    float rho_7 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float _e39 = airlight_phi_8_foot(_e8.y, _e8.z, rho_7);
+    float _e40 = airlight_phi_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_7, _e39, g_1);
+    float _e41 = airlight_phi_8_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    return _e41;
 }
 
 float airlight_phi_8_along(
     float tau_1,
-    float h_1,
-    float x0_1,
-    float rho_2,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g_2
 ) {
-    float _e5 = airlight_phi_8_airlight_geometry(tau_1, h_1, x0_1, rho_2, g_2);
-    return _e5;
+    float _e6 = airlight_phi_8_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1, g_2);
+    return _e6;
 }
 
 metal::float3 airlight_phi_8_along_rgb(
     metal::float3 tau_2,
-    float h_2,
-    float x0_2,
-    float rho_3,
+    float h_3,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_3
 ) {
-    float _e6 = airlight_phi_8_along(tau_2.x, h_2, x0_2, rho_3, g_3);
-    float _e8 = airlight_phi_8_along(tau_2.y, h_2, x0_2, rho_3, g_3);
-    float _e10 = airlight_phi_8_along(tau_2.z, h_2, x0_2, rho_3, g_3);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_phi_8_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_3);
+    float _e9 = airlight_phi_8_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_3);
+    float _e11 = airlight_phi_8_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_3);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_phi_8_spot_asin(
@@ -888,9 +899,9 @@ float airlight_phi_8_spot_asin(
 
 metal::float3 airlight_phi_8_spot_core(
     metal::float3 tau_3,
-    float h_3,
-    float x0_3,
-    float rho_4,
+    float h_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -903,43 +914,54 @@ metal::float3 airlight_phi_8_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_12 = {};
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_phi_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_phi_8_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_phi_8_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_phi_8_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_phi_8_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_phi_8_sin_cos(wb);
+        metal::float2 _e35 = airlight_phi_8_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_12 = rho_4 >= 0.0;
+            local_12 = rho_5 >= 0.0;
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_phi_8_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_phi_8_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_4);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_phi_8_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_4);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_8_spot_weight(
@@ -955,9 +977,9 @@ float airlight_phi_8_spot_weight(
 
 metal::float3 airlight_phi_8_spot_edge(
     metal::float3 tau_4,
-    float h_4,
-    float x0_4,
-    float rho_5,
+    float h_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_2,
@@ -990,7 +1012,7 @@ metal::float3 airlight_phi_8_spot_edge(
     metal::float2 _e27 = airlight_phi_8_sin_cos(e_1);
     float _e33 = airlight_phi_8_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_2, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_phi_8_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
+        metal::float3 _e41 = airlight_phi_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_5);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -1034,7 +1056,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e118) * _e121)) : (gp - (((4.0 * g_5) * _e109) * _e112));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -1058,7 +1080,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e195) * _e198)) : (gp - (((4.0 * g_5) * _e186) * _e189));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -1082,7 +1104,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e272) * _e275)) : (gp - (((4.0 * g_5) * _e263) * _e266));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -1106,7 +1128,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e349) * _e352)) : (gp - (((4.0 * g_5) * _e340) * _e343));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -1130,7 +1152,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e426) * _e429)) : (gp - (((4.0 * g_5) * _e417) * _e420));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -1154,7 +1176,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e503) * _e506)) : (gp - (((4.0 * g_5) * _e494) * _e497));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -1178,7 +1200,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e580) * _e583)) : (gp - (((4.0 * g_5) * _e571) * _e574));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1202,7 +1224,7 @@ metal::float3 airlight_phi_8_spot_edge(
             d_3 = (g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e657) * _e660)) : (gp - (((4.0 * g_5) * _e648) * _e651));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1219,7 +1241,7 @@ metal::float3 airlight_phi_8_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_phi_8_spot(
@@ -1316,17 +1338,17 @@ metal::float3 airlight_phi_8_spot(
     }
     float d_7 = _e11.x;
     float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
         local_18 = (surface_1 / d_7) < airlight_phi_8_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = has_end ? (surface_1 / d_7) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_7) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_7, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_6, -0.999, 0.999);
-    float _e143 = airlight_phi_8_arctan2_(h_6, x0_6);
+    float _e143 = airlight_phi_8_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_19 = h_6 <= 0.0;
     } else {
@@ -1344,12 +1366,12 @@ metal::float3 airlight_phi_8_spot(
             float _e160 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
             float _e161 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_21 = rho_7 < 1.0;
+                local_21 = rho_8 < 1.0;
             } else {
                 local_21 = false;
             }
             bool _e168 = local_21;
-            scale = (x0_6 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
+            scale = (x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
     } else {
@@ -1366,7 +1388,7 @@ metal::float3 airlight_phi_8_spot(
         float _e194 = ca_1;
         float _e195 = airlight_phi_8_arctan2_(k_3, _e194);
         gam_2 = _e143;
-        float _e198 = airlight_phi_8_arctan2_(h_6, x0_6 - rho_7);
+        float _e198 = airlight_phi_8_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e198 : airlight_phi_8_PI;
         if (co_3 < r_6) {
             float _e201 = airlight_phi_8_spot_asin(co_3, r_6);
@@ -1410,7 +1432,7 @@ metal::float3 airlight_phi_8_spot(
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        metal::float3 _e251 = airlight_phi_8_spot_core(tau_6, h_6, x0_6, rho_7, _e246, _e247, _e248, _e249, _e250, gg);
+        metal::float3 _e251 = airlight_phi_8_spot_core(tau_6, h_6, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1438,7 +1460,7 @@ metal::float3 airlight_phi_8_spot(
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                metal::float3 _e274 = airlight_phi_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
+                metal::float3 _e274 = airlight_phi_8_spot_edge(tau_6, h_6, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
                 a_5 = _e268 + _e274;
             }
         }

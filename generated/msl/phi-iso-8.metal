@@ -43,6 +43,14 @@ constant float airlight_phi_iso_8_HUGE = 340282350000000000000000000000000000000
 constant float airlight_phi_iso_8_RHO_OPEN = 4294967300.0;
 constant float airlight_phi_iso_8_TAU_MAX = 10000.0;
 
+float airlight_phi_iso_8_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_phi_iso_8_max_abs(
     metal::float3 v
 ) {
@@ -109,7 +117,7 @@ metal::float3 airlight_phi_iso_8_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_phi_iso_8_two_sum(light, -(origin));
     float _e6 = airlight_phi_iso_8_max_abs(_e4.inner[0]);
     float _e7 = airlight_phi_iso_8_max_abs(dir);
@@ -149,16 +157,16 @@ metal::float3 airlight_phi_iso_8_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_phi_iso_8_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_phi_iso_8_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_phi_iso_8_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_phi_iso_8_scaled(
@@ -387,8 +395,9 @@ float airlight_phi_iso_8_r_of_v(
 float airlight_phi_iso_8_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_,
-    float rho
+    float x0_1,
+    float rho_1,
+    float xr
 ) {
     bool local_4 = {};
     bool local_5 = {};
@@ -411,392 +420,391 @@ float airlight_phi_iso_8_airlight_geometry(
     float sb = 0.0;
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_phi_iso_8_TAU_MAX);
     metal::float4 md_4 = metal::float4(0.0, 1.0, 1.0, 1.0);
-    if (x0_ > 0.0) {
+    if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
-    bool _e20 = local_4;
-    if (_e20) {
-        if (rho >= 0.0) {
-            local_5 = rho < 1.0;
+    bool _e21 = local_4;
+    if (_e21) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
             local_5 = false;
         }
-        bool _e28 = local_5;
-        if (_e28) {
-            return metal::min(((0.07957747 * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_phi_iso_8_HUGE);
+        bool _e29 = local_5;
+        if (_e29) {
+            return metal::min(((0.07957747 * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_phi_iso_8_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_phi_iso_8_HUGE;
         }
     }
-    float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
-    float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
-    float one_minus = (x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_);
-    if (rho >= 0.0) {
-        local_6 = rho < airlight_phi_iso_8_RHO_OPEN;
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_phi_iso_8_RHO_OPEN;
     } else {
         local_6 = false;
     }
-    bool _e72 = local_6;
-    bool open = !(_e72);
+    bool _e73 = local_6;
+    bool open = !(_e73);
     if (!(open)) {
-        float ta = metal::abs(rho - 1.0);
-        float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
+        float ta = metal::abs(xr);
         float tm = metal::max(ta, tb);
         float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
-        float xr = (x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho);
         if (xr <= 0.0) {
-            du = (rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5);
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
     }
-    float _e133 = du;
-    float ub = ua + _e133;
-    float t_1 = tau_5 * h_5;
+    float _e111 = du;
+    float ub = ua + _e111;
+    float t_1 = tau_5 * tb;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (5.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_8_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e150 = du;
-    bool is_short = _e150 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e128 = du;
+    bool is_short = _e128 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e163 = local_7;
-    if (_e163) {
+    bool _e141 = local_7;
+    if (_e141) {
         local_8 = (t_1 * (m_1 - ua)) < 5.0;
     } else {
         local_8 = false;
     }
-    bool _e171 = local_8;
-    if (_e171) {
+    bool _e149 = local_8;
+    if (_e149) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e179 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e179, lcut);
+    float _e157 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e157, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e199 = local_10;
-        if (_e199) {
+        bool _e177 = local_10;
+        if (_e177) {
             float hl = 0.5 * len;
             d_2 = hl * 1.9602898;
-            float _e205 = sum;
-            float _e206 = d_2;
-            float _e208 = airlight_phi_iso_8_w_u(ua + _e206, md_4);
-            float _e212 = d_2;
-            sum = _e205 + ((0.101228535 * _e208) * metal::exp(-(t_1) * _e212));
+            float _e183 = sum;
+            float _e184 = d_2;
+            float _e186 = airlight_phi_iso_8_w_u(ua + _e184, md_4);
+            float _e190 = d_2;
+            sum = _e183 + ((0.101228535 * _e186) * metal::exp(-(t_1) * _e190));
             d_2 = hl * 1.7966665;
-            float _e219 = sum;
-            float _e220 = d_2;
-            float _e222 = airlight_phi_iso_8_w_u(ua + _e220, md_4);
-            float _e226 = d_2;
-            sum = _e219 + ((0.22238104 * _e222) * metal::exp(-(t_1) * _e226));
+            float _e197 = sum;
+            float _e198 = d_2;
+            float _e200 = airlight_phi_iso_8_w_u(ua + _e198, md_4);
+            float _e204 = d_2;
+            sum = _e197 + ((0.22238104 * _e200) * metal::exp(-(t_1) * _e204));
             d_2 = hl * 1.5255324;
-            float _e233 = sum;
-            float _e234 = d_2;
-            float _e236 = airlight_phi_iso_8_w_u(ua + _e234, md_4);
-            float _e240 = d_2;
-            sum = _e233 + ((0.31370664 * _e236) * metal::exp(-(t_1) * _e240));
+            float _e211 = sum;
+            float _e212 = d_2;
+            float _e214 = airlight_phi_iso_8_w_u(ua + _e212, md_4);
+            float _e218 = d_2;
+            sum = _e211 + ((0.31370664 * _e214) * metal::exp(-(t_1) * _e218));
             d_2 = hl * 1.1834346;
-            float _e247 = sum;
-            float _e248 = d_2;
-            float _e250 = airlight_phi_iso_8_w_u(ua + _e248, md_4);
-            float _e254 = d_2;
-            sum = _e247 + ((0.36268377 * _e250) * metal::exp(-(t_1) * _e254));
+            float _e225 = sum;
+            float _e226 = d_2;
+            float _e228 = airlight_phi_iso_8_w_u(ua + _e226, md_4);
+            float _e232 = d_2;
+            sum = _e225 + ((0.36268377 * _e228) * metal::exp(-(t_1) * _e232));
             d_2 = hl * 0.8165654;
-            float _e261 = sum;
-            float _e262 = d_2;
-            float _e264 = airlight_phi_iso_8_w_u(ua + _e262, md_4);
-            float _e268 = d_2;
-            sum = _e261 + ((0.36268377 * _e264) * metal::exp(-(t_1) * _e268));
+            float _e239 = sum;
+            float _e240 = d_2;
+            float _e242 = airlight_phi_iso_8_w_u(ua + _e240, md_4);
+            float _e246 = d_2;
+            sum = _e239 + ((0.36268377 * _e242) * metal::exp(-(t_1) * _e246));
             d_2 = hl * 0.47446758;
-            float _e275 = sum;
-            float _e276 = d_2;
-            float _e278 = airlight_phi_iso_8_w_u(ua + _e276, md_4);
-            float _e282 = d_2;
-            sum = _e275 + ((0.31370664 * _e278) * metal::exp(-(t_1) * _e282));
+            float _e253 = sum;
+            float _e254 = d_2;
+            float _e256 = airlight_phi_iso_8_w_u(ua + _e254, md_4);
+            float _e260 = d_2;
+            sum = _e253 + ((0.31370664 * _e256) * metal::exp(-(t_1) * _e260));
             d_2 = hl * 0.2033335;
-            float _e289 = sum;
-            float _e290 = d_2;
-            float _e292 = airlight_phi_iso_8_w_u(ua + _e290, md_4);
-            float _e296 = d_2;
-            sum = _e289 + ((0.22238104 * _e292) * metal::exp(-(t_1) * _e296));
+            float _e267 = sum;
+            float _e268 = d_2;
+            float _e270 = airlight_phi_iso_8_w_u(ua + _e268, md_4);
+            float _e274 = d_2;
+            sum = _e267 + ((0.22238104 * _e270) * metal::exp(-(t_1) * _e274));
             d_2 = hl * 0.039710164;
-            float _e303 = sum;
-            float _e304 = d_2;
-            float _e306 = airlight_phi_iso_8_w_u(ua + _e304, md_4);
-            float _e310 = d_2;
-            sum = _e303 + ((0.101228535 * _e306) * metal::exp(-(t_1) * _e310));
-            float _e315 = sum;
-            sum = _e315 * hl;
+            float _e281 = sum;
+            float _e282 = d_2;
+            float _e284 = airlight_phi_iso_8_w_u(ua + _e282, md_4);
+            float _e288 = d_2;
+            sum = _e281 + ((0.101228535 * _e284) * metal::exp(-(t_1) * _e288));
+            float _e293 = sum;
+            sum = _e293 * hl;
         } else {
-            metal::float2 _e317 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
-            metal::float2 _e319 = airlight_phi_iso_8_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e317.y < 1.5707964) ? (_e317.y - _e319.y) : (_e319.x - _e317.x));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 1.9602898);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 1.9602898);
-            float _e352 = beta;
-            float _e353 = co;
-            metal::float2 _e357 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e352, _e353), 0.0));
-            sc = _e357;
-            float _e358 = beta;
-            float _e359 = co;
-            if (_e358 > _e359) {
-                metal::float2 _e361 = sc;
-                sc = _e361.yx;
+            metal::float2 _e295 = airlight_phi_iso_8_phi_and_complement(ua, md_4);
+            metal::float2 _e297 = airlight_phi_iso_8_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e295.y < 1.5707964) ? (_e295.y - _e297.y) : (_e297.x - _e295.x));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 1.9602898);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 1.9602898);
+            float _e330 = beta;
+            float _e331 = co;
+            metal::float2 _e335 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e330, _e331), 0.0));
+            sc = _e335;
+            float _e336 = beta;
+            float _e337 = co;
+            if (_e336 > _e337) {
+                metal::float2 _e339 = sc;
+                sc = _e339.yx;
             }
-            float _e364 = sc.x;
-            float _e366 = sc.y;
-            metal::float2 _e367 = airlight_phi_iso_8_u_and_weight(_e364, _e366, md_4);
-            uw = _e367;
-            float _e368 = sum;
-            float _e370 = uw.y;
-            float _e375 = uw.x;
-            sum = _e368 + ((0.101228535 * _e370) * metal::exp(-(t_1) * (_e375 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 1.7966665);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 1.7966665);
-            float _e397 = beta;
-            float _e398 = co;
-            metal::float2 _e402 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e397, _e398), 0.0));
-            sc = _e402;
-            float _e403 = beta;
-            float _e404 = co;
-            if (_e403 > _e404) {
-                metal::float2 _e406 = sc;
-                sc = _e406.yx;
+            float _e342 = sc.x;
+            float _e344 = sc.y;
+            metal::float2 _e345 = airlight_phi_iso_8_u_and_weight(_e342, _e344, md_4);
+            uw = _e345;
+            float _e346 = sum;
+            float _e348 = uw.y;
+            float _e353 = uw.x;
+            sum = _e346 + ((0.101228535 * _e348) * metal::exp(-(t_1) * (_e353 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 1.7966665);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 1.7966665);
+            float _e375 = beta;
+            float _e376 = co;
+            metal::float2 _e380 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e375, _e376), 0.0));
+            sc = _e380;
+            float _e381 = beta;
+            float _e382 = co;
+            if (_e381 > _e382) {
+                metal::float2 _e384 = sc;
+                sc = _e384.yx;
             }
-            float _e409 = sc.x;
-            float _e411 = sc.y;
-            metal::float2 _e412 = airlight_phi_iso_8_u_and_weight(_e409, _e411, md_4);
-            uw = _e412;
-            float _e413 = sum;
-            float _e415 = uw.y;
-            float _e420 = uw.x;
-            sum = _e413 + ((0.22238104 * _e415) * metal::exp(-(t_1) * (_e420 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 1.5255324);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 1.5255324);
-            float _e442 = beta;
-            float _e443 = co;
-            metal::float2 _e447 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e442, _e443), 0.0));
-            sc = _e447;
-            float _e448 = beta;
-            float _e449 = co;
-            if (_e448 > _e449) {
-                metal::float2 _e451 = sc;
-                sc = _e451.yx;
+            float _e387 = sc.x;
+            float _e389 = sc.y;
+            metal::float2 _e390 = airlight_phi_iso_8_u_and_weight(_e387, _e389, md_4);
+            uw = _e390;
+            float _e391 = sum;
+            float _e393 = uw.y;
+            float _e398 = uw.x;
+            sum = _e391 + ((0.22238104 * _e393) * metal::exp(-(t_1) * (_e398 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 1.5255324);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 1.5255324);
+            float _e420 = beta;
+            float _e421 = co;
+            metal::float2 _e425 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e420, _e421), 0.0));
+            sc = _e425;
+            float _e426 = beta;
+            float _e427 = co;
+            if (_e426 > _e427) {
+                metal::float2 _e429 = sc;
+                sc = _e429.yx;
             }
-            float _e454 = sc.x;
-            float _e456 = sc.y;
-            metal::float2 _e457 = airlight_phi_iso_8_u_and_weight(_e454, _e456, md_4);
-            uw = _e457;
-            float _e458 = sum;
-            float _e460 = uw.y;
-            float _e465 = uw.x;
-            sum = _e458 + ((0.31370664 * _e460) * metal::exp(-(t_1) * (_e465 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 1.1834346);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 1.1834346);
-            float _e487 = beta;
-            float _e488 = co;
-            metal::float2 _e492 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e487, _e488), 0.0));
-            sc = _e492;
-            float _e493 = beta;
-            float _e494 = co;
-            if (_e493 > _e494) {
-                metal::float2 _e496 = sc;
-                sc = _e496.yx;
+            float _e432 = sc.x;
+            float _e434 = sc.y;
+            metal::float2 _e435 = airlight_phi_iso_8_u_and_weight(_e432, _e434, md_4);
+            uw = _e435;
+            float _e436 = sum;
+            float _e438 = uw.y;
+            float _e443 = uw.x;
+            sum = _e436 + ((0.31370664 * _e438) * metal::exp(-(t_1) * (_e443 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 1.1834346);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 1.1834346);
+            float _e465 = beta;
+            float _e466 = co;
+            metal::float2 _e470 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e465, _e466), 0.0));
+            sc = _e470;
+            float _e471 = beta;
+            float _e472 = co;
+            if (_e471 > _e472) {
+                metal::float2 _e474 = sc;
+                sc = _e474.yx;
             }
-            float _e499 = sc.x;
-            float _e501 = sc.y;
-            metal::float2 _e502 = airlight_phi_iso_8_u_and_weight(_e499, _e501, md_4);
-            uw = _e502;
-            float _e503 = sum;
-            float _e505 = uw.y;
-            float _e510 = uw.x;
-            sum = _e503 + ((0.36268377 * _e505) * metal::exp(-(t_1) * (_e510 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 0.8165654);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 0.8165654);
-            float _e532 = beta;
-            float _e533 = co;
-            metal::float2 _e537 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e532, _e533), 0.0));
-            sc = _e537;
-            float _e538 = beta;
-            float _e539 = co;
-            if (_e538 > _e539) {
-                metal::float2 _e541 = sc;
-                sc = _e541.yx;
+            float _e477 = sc.x;
+            float _e479 = sc.y;
+            metal::float2 _e480 = airlight_phi_iso_8_u_and_weight(_e477, _e479, md_4);
+            uw = _e480;
+            float _e481 = sum;
+            float _e483 = uw.y;
+            float _e488 = uw.x;
+            sum = _e481 + ((0.36268377 * _e483) * metal::exp(-(t_1) * (_e488 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 0.8165654);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 0.8165654);
+            float _e510 = beta;
+            float _e511 = co;
+            metal::float2 _e515 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e510, _e511), 0.0));
+            sc = _e515;
+            float _e516 = beta;
+            float _e517 = co;
+            if (_e516 > _e517) {
+                metal::float2 _e519 = sc;
+                sc = _e519.yx;
             }
-            float _e544 = sc.x;
-            float _e546 = sc.y;
-            metal::float2 _e547 = airlight_phi_iso_8_u_and_weight(_e544, _e546, md_4);
-            uw = _e547;
-            float _e548 = sum;
-            float _e550 = uw.y;
-            float _e555 = uw.x;
-            sum = _e548 + ((0.36268377 * _e550) * metal::exp(-(t_1) * (_e555 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 0.47446758);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 0.47446758);
-            float _e577 = beta;
-            float _e578 = co;
-            metal::float2 _e582 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e577, _e578), 0.0));
-            sc = _e582;
-            float _e583 = beta;
-            float _e584 = co;
-            if (_e583 > _e584) {
-                metal::float2 _e586 = sc;
-                sc = _e586.yx;
+            float _e522 = sc.x;
+            float _e524 = sc.y;
+            metal::float2 _e525 = airlight_phi_iso_8_u_and_weight(_e522, _e524, md_4);
+            uw = _e525;
+            float _e526 = sum;
+            float _e528 = uw.y;
+            float _e533 = uw.x;
+            sum = _e526 + ((0.36268377 * _e528) * metal::exp(-(t_1) * (_e533 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 0.47446758);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 0.47446758);
+            float _e555 = beta;
+            float _e556 = co;
+            metal::float2 _e560 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e555, _e556), 0.0));
+            sc = _e560;
+            float _e561 = beta;
+            float _e562 = co;
+            if (_e561 > _e562) {
+                metal::float2 _e564 = sc;
+                sc = _e564.yx;
             }
-            float _e589 = sc.x;
-            float _e591 = sc.y;
-            metal::float2 _e592 = airlight_phi_iso_8_u_and_weight(_e589, _e591, md_4);
-            uw = _e592;
-            float _e593 = sum;
-            float _e595 = uw.y;
-            float _e600 = uw.x;
-            sum = _e593 + ((0.31370664 * _e595) * metal::exp(-(t_1) * (_e600 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 0.2033335);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 0.2033335);
-            float _e622 = beta;
-            float _e623 = co;
-            metal::float2 _e627 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e622, _e623), 0.0));
-            sc = _e627;
-            float _e628 = beta;
-            float _e629 = co;
-            if (_e628 > _e629) {
-                metal::float2 _e631 = sc;
-                sc = _e631.yx;
+            float _e567 = sc.x;
+            float _e569 = sc.y;
+            metal::float2 _e570 = airlight_phi_iso_8_u_and_weight(_e567, _e569, md_4);
+            uw = _e570;
+            float _e571 = sum;
+            float _e573 = uw.y;
+            float _e578 = uw.x;
+            sum = _e571 + ((0.31370664 * _e573) * metal::exp(-(t_1) * (_e578 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 0.2033335);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 0.2033335);
+            float _e600 = beta;
+            float _e601 = co;
+            metal::float2 _e605 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e600, _e601), 0.0));
+            sc = _e605;
+            float _e606 = beta;
+            float _e607 = co;
+            if (_e606 > _e607) {
+                metal::float2 _e609 = sc;
+                sc = _e609.yx;
             }
-            float _e634 = sc.x;
-            float _e636 = sc.y;
-            metal::float2 _e637 = airlight_phi_iso_8_u_and_weight(_e634, _e636, md_4);
-            uw = _e637;
-            float _e638 = sum;
-            float _e640 = uw.y;
-            float _e645 = uw.x;
-            sum = _e638 + ((0.22238104 * _e640) * metal::exp(-(t_1) * (_e645 - ua)));
-            beta = (0.5 * _e317.x) + ((0.5 * hl_1) * 0.039710164);
-            co = (0.5 * _e317.y) - ((0.5 * hl_1) * 0.039710164);
-            float _e667 = beta;
-            float _e668 = co;
-            metal::float2 _e672 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e667, _e668), 0.0));
-            sc = _e672;
-            float _e673 = beta;
-            float _e674 = co;
-            if (_e673 > _e674) {
-                metal::float2 _e676 = sc;
-                sc = _e676.yx;
+            float _e612 = sc.x;
+            float _e614 = sc.y;
+            metal::float2 _e615 = airlight_phi_iso_8_u_and_weight(_e612, _e614, md_4);
+            uw = _e615;
+            float _e616 = sum;
+            float _e618 = uw.y;
+            float _e623 = uw.x;
+            sum = _e616 + ((0.22238104 * _e618) * metal::exp(-(t_1) * (_e623 - ua)));
+            beta = (0.5 * _e295.x) + ((0.5 * hl_1) * 0.039710164);
+            co = (0.5 * _e295.y) - ((0.5 * hl_1) * 0.039710164);
+            float _e645 = beta;
+            float _e646 = co;
+            metal::float2 _e650 = airlight_phi_iso_8_sin_cos_octant(metal::max(metal::min(_e645, _e646), 0.0));
+            sc = _e650;
+            float _e651 = beta;
+            float _e652 = co;
+            if (_e651 > _e652) {
+                metal::float2 _e654 = sc;
+                sc = _e654.yx;
             }
-            float _e679 = sc.x;
-            float _e681 = sc.y;
-            metal::float2 _e682 = airlight_phi_iso_8_u_and_weight(_e679, _e681, md_4);
-            uw = _e682;
-            float _e683 = sum;
-            float _e685 = uw.y;
-            float _e690 = uw.x;
-            sum = _e683 + ((0.101228535 * _e685) * metal::exp(-(t_1) * (_e690 - ua)));
-            float _e696 = sum;
-            sum = _e696 * (hl_1 * 0.07957747);
+            float _e657 = sc.x;
+            float _e659 = sc.y;
+            metal::float2 _e660 = airlight_phi_iso_8_u_and_weight(_e657, _e659, md_4);
+            uw = _e660;
+            float _e661 = sum;
+            float _e663 = uw.y;
+            float _e668 = uw.x;
+            sum = _e661 + ((0.101228535 * _e663) * metal::exp(-(t_1) * (_e668 - ua)));
+            float _e674 = sum;
+            sum = _e674 * (hl_1 * 0.07957747);
         }
     }
     if (use_far) {
-        float _e702 = airlight_phi_iso_8_exp_e2_(t_1 * m_1);
-        f = _e702 / m_1;
+        float _e680 = airlight_phi_iso_8_exp_e2_(t_1 * m_1);
+        f = _e680 / m_1;
         if (!(open)) {
-            float _e706 = f;
-            float _e712 = airlight_phi_iso_8_exp_e2_(t_1 * ub);
-            f = _e706 - ((metal::exp(-(t_1) * (ub - m_1)) * _e712) / ub);
+            float _e684 = f;
+            float _e690 = airlight_phi_iso_8_exp_e2_(t_1 * ub);
+            f = _e684 - ((metal::exp(-(t_1) * (ub - m_1)) * _e690) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (8.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_8_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
-        float _e739 = s;
-        float _e740 = v_3;
-        float _e741 = airlight_phi_iso_8_r_of_v(_e740, md_4);
-        float _e745 = v_3;
-        s = _e739 + ((0.34785485 * _e741) * metal::exp(-(t_1) * ((1.0 / _e745) - m_1)));
+        float _e717 = s;
+        float _e718 = v_3;
+        float _e719 = airlight_phi_iso_8_r_of_v(_e718, md_4);
+        float _e723 = v_3;
+        s = _e717 + ((0.34785485 * _e719) * metal::exp(-(t_1) * ((1.0 / _e723) - m_1)));
         v_3 = va + (hl_2 * 1.3399811);
-        float _e756 = s;
-        float _e757 = v_3;
-        float _e758 = airlight_phi_iso_8_r_of_v(_e757, md_4);
-        float _e762 = v_3;
-        s = _e756 + ((0.65214515 * _e758) * metal::exp(-(t_1) * ((1.0 / _e762) - m_1)));
+        float _e734 = s;
+        float _e735 = v_3;
+        float _e736 = airlight_phi_iso_8_r_of_v(_e735, md_4);
+        float _e740 = v_3;
+        s = _e734 + ((0.65214515 * _e736) * metal::exp(-(t_1) * ((1.0 / _e740) - m_1)));
         v_3 = va + (hl_2 * 0.660019);
-        float _e773 = s;
-        float _e774 = v_3;
-        float _e775 = airlight_phi_iso_8_r_of_v(_e774, md_4);
-        float _e779 = v_3;
-        s = _e773 + ((0.65214515 * _e775) * metal::exp(-(t_1) * ((1.0 / _e779) - m_1)));
+        float _e751 = s;
+        float _e752 = v_3;
+        float _e753 = airlight_phi_iso_8_r_of_v(_e752, md_4);
+        float _e757 = v_3;
+        s = _e751 + ((0.65214515 * _e753) * metal::exp(-(t_1) * ((1.0 / _e757) - m_1)));
         v_3 = va + (hl_2 * 0.13886368);
-        float _e790 = s;
-        float _e791 = v_3;
-        float _e792 = airlight_phi_iso_8_r_of_v(_e791, md_4);
-        float _e796 = v_3;
-        s = _e790 + ((0.34785485 * _e792) * metal::exp(-(t_1) * ((1.0 / _e796) - m_1)));
-        float _e804 = sum;
-        float _e810 = f;
-        float _e811 = s;
-        sum = _e804 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e810 + (_e811 * hl_2)));
+        float _e768 = s;
+        float _e769 = v_3;
+        float _e770 = airlight_phi_iso_8_r_of_v(_e769, md_4);
+        float _e774 = v_3;
+        s = _e768 + ((0.34785485 * _e770) * metal::exp(-(t_1) * ((1.0 / _e774) - m_1)));
+        float _e782 = sum;
+        float _e788 = f;
+        float _e789 = s;
+        sum = _e782 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e788 + (_e789 * hl_2)));
     } else {
-        float _e816 = du;
-        if (_e816 > lcut) {
+        float _e794 = du;
+        if (_e794 > lcut) {
             float ue_1 = ua + lcut;
-            float _e821 = s_1;
-            float _e825 = airlight_phi_iso_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e821 + (0.711093 * _e825);
-            float _e829 = s_1;
-            float _e833 = airlight_phi_iso_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e829 + (0.27851772 * _e833);
-            float _e837 = s_1;
-            float _e841 = airlight_phi_iso_8_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e837 + (0.010389256 * _e841);
+            float _e799 = s_1;
+            float _e803 = airlight_phi_iso_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e799 + (0.711093 * _e803);
+            float _e807 = s_1;
+            float _e811 = airlight_phi_iso_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e807 + (0.27851772 * _e811);
+            float _e815 = s_1;
+            float _e819 = airlight_phi_iso_8_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e815 + (0.010389256 * _e819);
             if (!(open)) {
-                float _e848 = sb;
-                float _e852 = airlight_phi_iso_8_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e848 + (0.711093 * _e852);
+                float _e826 = sb;
+                float _e830 = airlight_phi_iso_8_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e826 + (0.711093 * _e830);
+                float _e834 = sb;
+                float _e838 = airlight_phi_iso_8_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e834 + (0.27851772 * _e838);
+                float _e842 = sb;
+                float _e846 = airlight_phi_iso_8_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e842 + (0.010389256 * _e846);
+                float _e850 = s_1;
+                float _e852 = du;
                 float _e856 = sb;
-                float _e860 = airlight_phi_iso_8_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e856 + (0.27851772 * _e860);
-                float _e864 = sb;
-                float _e868 = airlight_phi_iso_8_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e864 + (0.010389256 * _e868);
-                float _e872 = s_1;
-                float _e874 = du;
-                float _e878 = sb;
-                s_1 = _e872 - (metal::exp(-(t_1) * (_e874 - lcut)) * _e878);
+                s_1 = _e850 - (metal::exp(-(t_1) * (_e852 - lcut)) * _e856);
             }
-            float _e881 = sum;
-            float _e884 = s_1;
-            sum = _e881 + ((0.006737947 / t_1) * metal::max(_e884, 0.0));
+            float _e859 = sum;
+            float _e862 = s_1;
+            sum = _e859 + ((0.006737947 / t_1) * metal::max(_e862, 0.0));
         }
     }
-    if (h_5 < 0.0000000000000000008673617) {
-        float _e891 = sum;
-        float _e899 = airlight_phi_iso_8_scaled(2.0 * metal::max(_e891, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e899;
+    if (tb < 0.0000000000000000008673617) {
+        float _e869 = sum;
+        float _e877 = airlight_phi_iso_8_scaled(2.0 * metal::max(_e869, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e877;
     }
-    float _e904 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e904 / h_5), 0.0), airlight_phi_iso_8_HUGE);
+    float _e882 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e882 / tb), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(
     float tau,
     float gamma,
-    float rho_1
+    float rho_2
 ) {
     metal::float2 _e6 = airlight_phi_iso_8_sin_cos(metal::clamp(gamma, 0.0, airlight_phi_iso_8_PI));
-    float _e10 = airlight_phi_iso_8_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_1);
-    return _e10;
+    float _e13 = airlight_phi_iso_8_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_phi_iso_8_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_phi_iso_8_radiance(
@@ -823,34 +831,37 @@ float airlight_phi_iso_8_radiance(
     if (_e23) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e36 = airlight_phi_iso_8_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_6);
-    float _e37 = airlight_phi_iso_8_scaled(sigma_s_1, intensity_1, _e7.x, _e36);
-    return _e37;
+    float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_phi_iso_8_foot(_e7.y, _e7.z, rho_7);
+    float _e39 = airlight_phi_iso_8_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7, _e38);
+    float _e40 = airlight_phi_iso_8_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
 }
 
 float airlight_phi_iso_8_along(
     float tau_1,
-    float h_1,
-    float x0_1,
-    float rho_2,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g
 ) {
-    float _e5 = airlight_phi_iso_8_airlight_geometry(tau_1, h_1, x0_1, rho_2);
-    return _e5;
+    float _e6 = airlight_phi_iso_8_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    return _e6;
 }
 
 metal::float3 airlight_phi_iso_8_along_rgb(
     metal::float3 tau_2,
-    float h_2,
-    float x0_2,
-    float rho_3,
+    float h_3,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_1
 ) {
-    float _e6 = airlight_phi_iso_8_along(tau_2.x, h_2, x0_2, rho_3, g_1);
-    float _e8 = airlight_phi_iso_8_along(tau_2.y, h_2, x0_2, rho_3, g_1);
-    float _e10 = airlight_phi_iso_8_along(tau_2.z, h_2, x0_2, rho_3, g_1);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_phi_iso_8_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_phi_iso_8_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_phi_iso_8_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_phi_iso_8_spot_asin(
@@ -863,9 +874,9 @@ float airlight_phi_iso_8_spot_asin(
 
 metal::float3 airlight_phi_iso_8_spot_core(
     metal::float3 tau_3,
-    float h_3,
-    float x0_3,
-    float rho_4,
+    float h_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -878,43 +889,54 @@ metal::float3 airlight_phi_iso_8_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_12 = {};
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_phi_iso_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_phi_iso_8_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_phi_iso_8_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_phi_iso_8_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_phi_iso_8_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_phi_iso_8_sin_cos(wb);
+        metal::float2 _e35 = airlight_phi_iso_8_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_12 = rho_4 >= 0.0;
+            local_12 = rho_5 >= 0.0;
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_phi_iso_8_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_phi_iso_8_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_2);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_phi_iso_8_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_phi_iso_8_spot_weight(
@@ -930,9 +952,9 @@ float airlight_phi_iso_8_spot_weight(
 
 metal::float3 airlight_phi_iso_8_spot_edge(
     metal::float3 tau_4,
-    float h_4,
-    float x0_4,
-    float rho_5,
+    float h_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_2,
@@ -965,7 +987,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
     metal::float2 _e27 = airlight_phi_iso_8_sin_cos(e_1);
     float _e33 = airlight_phi_iso_8_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_2, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_phi_iso_8_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_3);
+        metal::float3 _e41 = airlight_phi_iso_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_3);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -1009,7 +1031,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -1033,7 +1055,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -1057,7 +1079,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -1081,7 +1103,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -1105,7 +1127,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -1129,7 +1151,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -1153,7 +1175,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1177,7 +1199,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1194,7 +1216,7 @@ metal::float3 airlight_phi_iso_8_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_phi_iso_8_spot(
@@ -1290,16 +1312,16 @@ metal::float3 airlight_phi_iso_8_spot(
     }
     float d_4 = _e10.x;
     float h_6 = _e10.y;
-    float x0_6 = _e10.z;
+    float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
         local_18 = (surface_1 / d_4) < airlight_phi_iso_8_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = has_end ? (surface_1 / d_4) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
-    float _e140 = airlight_phi_iso_8_arctan2_(h_6, x0_6);
+    float _e140 = airlight_phi_iso_8_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_19 = h_6 <= 0.0;
     } else {
@@ -1317,12 +1339,12 @@ metal::float3 airlight_phi_iso_8_spot(
             float _e157 = airlight_phi_iso_8_spot_weight(-(k_2), co_3, cos_inner);
             float _e158 = airlight_phi_iso_8_spot_weight(k_2, co_3, cos_inner);
             if (has_end) {
-                local_21 = rho_7 < 1.0;
+                local_21 = rho_8 < 1.0;
             } else {
                 local_21 = false;
             }
             bool _e165 = local_21;
-            scale = (x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
+            scale = (x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
@@ -1339,7 +1361,7 @@ metal::float3 airlight_phi_iso_8_spot(
         float _e191 = ca_1;
         float _e192 = airlight_phi_iso_8_arctan2_(k_2, _e191);
         gam_2 = _e140;
-        float _e195 = airlight_phi_iso_8_arctan2_(h_6, x0_6 - rho_7);
+        float _e195 = airlight_phi_iso_8_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_phi_iso_8_PI;
         if (co_3 < r_4) {
             float _e198 = airlight_phi_iso_8_spot_asin(co_3, r_4);
@@ -1383,7 +1405,7 @@ metal::float3 airlight_phi_iso_8_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_phi_iso_8_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.0);
+        metal::float3 _e248 = airlight_phi_iso_8_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
         a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1411,7 +1433,7 @@ metal::float3 airlight_phi_iso_8_spot(
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_phi_iso_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
+                metal::float3 _e271 = airlight_phi_iso_8_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
                 a_5 = _e265 + _e271;
             }
         }

@@ -39,6 +39,14 @@ constant uint airlight_raymarch_8_STEPS = 8u;
 constant float airlight_raymarch_8_FAR = 1000.0;
 constant float airlight_raymarch_8_LN_CUTOFF = 9.2103405;
 
+float airlight_raymarch_8_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_raymarch_8_max_abs(
     metal::float3 v
 ) {
@@ -105,7 +113,7 @@ metal::float3 airlight_raymarch_8_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_raymarch_8_two_sum(light, -(origin));
     float _e6 = airlight_raymarch_8_max_abs(_e4.inner[0]);
     float _e7 = airlight_raymarch_8_max_abs(dir);
@@ -145,16 +153,16 @@ metal::float3 airlight_raymarch_8_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_raymarch_8_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_raymarch_8_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_raymarch_8_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_raymarch_8_scaled(
@@ -302,9 +310,10 @@ float airlight_raymarch_8_hg(
 
 float airlight_raymarch_8_airlight_geometry(
     float tau_in,
-    float h_1,
-    float x0_,
-    float rho,
+    float h_2,
+    float x0_1,
+    float rho_1,
+    float xr,
     float g_in
 ) {
     float len = airlight_raymarch_8_FAR;
@@ -315,61 +324,62 @@ float airlight_raymarch_8_airlight_geometry(
     float g_12 = metal::clamp(g_in, -0.999, 0.999);
     if (tau_5 > 0.0046051703) {
         float k_2 = 1.0 + (airlight_raymarch_8_LN_CUTOFF / tau_5);
-        len = metal::min(((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_)), airlight_raymarch_8_FAR);
+        len = metal::min(((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_1)), airlight_raymarch_8_FAR);
     }
-    if (rho >= 0.0) {
-        local_4 = rho < airlight_raymarch_8_RHO_OPEN;
+    if (rho_1 >= 0.0) {
+        local_4 = rho_1 < airlight_raymarch_8_RHO_OPEN;
     } else {
         local_4 = false;
     }
-    bool _e38 = local_4;
-    if (_e38) {
-        len = rho;
+    bool _e39 = local_4;
+    if (_e39) {
+        len = rho_1;
     }
-    float _e39 = len;
-    float dt = _e39 / 8.0;
-    float h2_ = h_1 * h_1;
+    float _e40 = len;
+    float dt = _e40 / 8.0;
+    float h2_ = h_2 * h_2;
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            uint _e85 = i;
-            i = _e85 + 1u;
+            uint _e86 = i;
+            i = _e86 + 1u;
         }
         loop_init = false;
-        uint _e47 = i;
-        if (_e47 < airlight_raymarch_8_STEPS) {
+        uint _e48 = i;
+        if (_e48 < airlight_raymarch_8_STEPS) {
         } else {
             break;
         }
         {
-            uint _e50 = i;
-            float s_8 = (static_cast<float>(_e50) + 0.5) * dt;
-            float x_5 = x0_ - s_8;
+            uint _e51 = i;
+            float s_8 = (static_cast<float>(_e51) + 0.5) * dt;
+            float x_5 = x0_1 - s_8;
             float t2_ = metal::max((x_5 * x_5) + h2_, 0.0000000000000000000000000000000000001);
             float t = metal::sqrt(t2_);
             float om_1 = (x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5);
             float op_1 = (x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5));
-            float _e73 = sum;
-            float _e76 = airlight_raymarch_8_hg(g_12, om_1 / t, op_1 / t);
-            sum = _e73 + ((_e76 * metal::exp(-(tau_5) * (s_8 + t))) / t2_);
+            float _e74 = sum;
+            float _e77 = airlight_raymarch_8_hg(g_12, om_1 / t, op_1 / t);
+            sum = _e74 + ((_e77 * metal::exp(-(tau_5) * (s_8 + t))) / t2_);
         }
     }
-    float _e87 = sum;
-    return metal::min(_e87 * dt, airlight_raymarch_8_HUGE);
+    float _e88 = sum;
+    return metal::min(_e88 * dt, airlight_raymarch_8_HUGE);
 }
 
 float airlight_raymarch_8_airlight(
     float tau,
     float gamma,
-    float rho_1,
+    float rho_2,
     float g_1
 ) {
     metal::float2 _e4 = airlight_raymarch_8_sin_cos(gamma);
-    float _e8 = airlight_raymarch_8_airlight_geometry(tau, metal::abs(_e4.x), _e4.y, rho_1, g_1);
-    return _e8;
+    float _e11 = airlight_raymarch_8_foot(metal::abs(_e4.x), _e4.y, rho_2);
+    float _e12 = airlight_raymarch_8_airlight_geometry(tau, metal::abs(_e4.x), _e4.y, rho_2, _e11, g_1);
+    return _e12;
 }
 
 float airlight_raymarch_8_radiance(
@@ -397,34 +407,37 @@ float airlight_raymarch_8_radiance(
     if (_e24) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
-    float _e37 = airlight_raymarch_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_6, g_2);
-    float _e38 = airlight_raymarch_8_scaled(sigma_s_1, intensity_1, _e8.x, _e37);
-    return _e38;
+    float rho_7 = (surface >= 0.0) ? (surface / _e8.x) : -1.0;
+    float _e39 = airlight_raymarch_8_foot(_e8.y, _e8.z, rho_7);
+    float _e40 = airlight_raymarch_8_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, rho_7, _e39, g_2);
+    float _e41 = airlight_raymarch_8_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    return _e41;
 }
 
 float airlight_raymarch_8_along(
     float tau_1,
-    float h_2,
-    float x0_1,
-    float rho_2,
+    float h_3,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g_3
 ) {
-    float _e5 = airlight_raymarch_8_airlight_geometry(tau_1, h_2, x0_1, rho_2, g_3);
-    return _e5;
+    float _e6 = airlight_raymarch_8_airlight_geometry(tau_1, h_3, x0_2, rho_3, xr_1, g_3);
+    return _e6;
 }
 
 metal::float3 airlight_raymarch_8_along_rgb(
     metal::float3 tau_2,
-    float h_3,
-    float x0_2,
-    float rho_3,
+    float h_4,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_4
 ) {
-    float _e6 = airlight_raymarch_8_along(tau_2.x, h_3, x0_2, rho_3, g_4);
-    float _e8 = airlight_raymarch_8_along(tau_2.y, h_3, x0_2, rho_3, g_4);
-    float _e10 = airlight_raymarch_8_along(tau_2.z, h_3, x0_2, rho_3, g_4);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_raymarch_8_along(tau_2.x, h_4, x0_3, rho_4, xr_2, g_4);
+    float _e9 = airlight_raymarch_8_along(tau_2.y, h_4, x0_3, rho_4, xr_2, g_4);
+    float _e11 = airlight_raymarch_8_along(tau_2.z, h_4, x0_3, rho_4, xr_2, g_4);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_raymarch_8_spot_asin(
@@ -437,9 +450,9 @@ float airlight_raymarch_8_spot_asin(
 
 metal::float3 airlight_raymarch_8_spot_core(
     metal::float3 tau_3,
-    float h_4,
-    float x0_3,
-    float rho_4,
+    float h_5,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -452,43 +465,54 @@ metal::float3 airlight_raymarch_8_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_6 = {};
-    h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_5;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_raymarch_8_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_5 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_raymarch_8_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_raymarch_8_foot(h_5, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_raymarch_8_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_raymarch_8_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_raymarch_8_sin_cos(wb);
+        metal::float2 _e35 = airlight_raymarch_8_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_6 = rho_4 >= 0.0;
+            local_6 = rho_5 >= 0.0;
         } else {
             local_6 = false;
         }
-        bool _e44 = local_6;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_6;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_raymarch_8_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_raymarch_8_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_5);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_raymarch_8_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_5);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_raymarch_8_spot_weight(
@@ -504,9 +528,9 @@ float airlight_raymarch_8_spot_weight(
 
 metal::float3 airlight_raymarch_8_spot_edge(
     metal::float3 tau_4,
-    float h_5,
-    float x0_4,
-    float rho_5,
+    float h_6,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u,
@@ -539,7 +563,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
     metal::float2 _e27 = airlight_raymarch_8_sin_cos(e_1);
     float _e33 = airlight_raymarch_8_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_1, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_raymarch_8_spot_core(tau_4, h_5, x0_4, rho_5, gam_1, u, v_in, u > gam_1, v_in < om_e, g_6);
+        metal::float3 _e41 = airlight_raymarch_8_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u, v_in, u > gam_1, v_in < om_e, g_6);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -583,7 +607,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e118) * _e121)) : (gp - (((4.0 * g_6) * _e109) * _e112));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_1;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -607,7 +631,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e195) * _e198)) : (gp - (((4.0 * g_6) * _e186) * _e189));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_1;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -631,7 +655,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e272) * _e275)) : (gp - (((4.0 * g_6) * _e263) * _e266));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_1;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -655,7 +679,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e349) * _e352)) : (gp - (((4.0 * g_6) * _e340) * _e343));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_1;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -679,7 +703,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e426) * _e429)) : (gp - (((4.0 * g_6) * _e417) * _e420));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_1;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -703,7 +727,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e503) * _e506)) : (gp - (((4.0 * g_6) * _e494) * _e497));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_1;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -727,7 +751,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e580) * _e583)) : (gp - (((4.0 * g_6) * _e571) * _e574));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_1;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -751,7 +775,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
             d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e657) * _e660)) : (gp - (((4.0 * g_6) * _e648) * _e651));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_1;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -768,7 +792,7 @@ metal::float3 airlight_raymarch_8_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e727) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_raymarch_8_spot(
@@ -864,20 +888,20 @@ metal::float3 airlight_raymarch_8_spot(
         return metal::float3(0.0);
     }
     float d_4 = _e11.x;
-    float h_6 = _e11.y;
-    float x0_6 = _e11.z;
+    float h_7 = _e11.y;
+    float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
         local_12 = (surface_1 / d_4) < airlight_raymarch_8_RHO_OPEN;
     } else {
         local_12 = false;
     }
     bool has_end = local_12;
-    float rho_7 = has_end ? (surface_1 / d_4) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_7, -0.999, 0.999);
-    float _e143 = airlight_raymarch_8_arctan2_(h_6, x0_6);
+    float _e143 = airlight_raymarch_8_arctan2_(h_7, x0_7);
     if (!(point)) {
-        local_13 = h_6 <= 0.0;
+        local_13 = h_7 <= 0.0;
     } else {
         local_13 = true;
     }
@@ -893,12 +917,12 @@ metal::float3 airlight_raymarch_8_spot(
             float _e160 = airlight_raymarch_8_spot_weight(-(k_3), co_2, cos_inner);
             float _e161 = airlight_raymarch_8_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_15 = rho_7 < 1.0;
+                local_15 = rho_8 < 1.0;
             } else {
                 local_15 = false;
             }
             bool _e168 = local_15;
-            scale = (x0_6 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
+            scale = (x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
     } else {
@@ -915,7 +939,7 @@ metal::float3 airlight_raymarch_8_spot(
         float _e194 = ca_1;
         float _e195 = airlight_raymarch_8_arctan2_(k_3, _e194);
         gam_2 = _e143;
-        float _e198 = airlight_raymarch_8_arctan2_(h_6, x0_6 - rho_7);
+        float _e198 = airlight_raymarch_8_arctan2_(h_7, x0_7 - rho_8);
         om_e_1 = has_end ? _e198 : airlight_raymarch_8_PI;
         if (co_2 < r_4) {
             float _e201 = airlight_raymarch_8_spot_asin(co_2, r_4);
@@ -959,7 +983,7 @@ metal::float3 airlight_raymarch_8_spot(
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        metal::float3 _e251 = airlight_raymarch_8_spot_core(tau_6, h_6, x0_6, rho_7, _e246, _e247, _e248, _e249, _e250, gg);
+        metal::float3 _e251 = airlight_raymarch_8_spot_core(tau_6, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
         a_5 = _e251;
     }
     uint2 loop_bound_2 = uint2(4294967295u);
@@ -987,7 +1011,7 @@ metal::float3 airlight_raymarch_8_spot(
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                metal::float3 _e274 = airlight_raymarch_8_spot_edge(tau_6, h_6, x0_6, rho_7, _e269, _e270, piece.x, piece.y, _e273, k_3, co_2, cos_inner, gg);
+                metal::float3 _e274 = airlight_raymarch_8_spot_edge(tau_6, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_2, cos_inner, gg);
                 a_5 = _e268 + _e274;
             }
         }

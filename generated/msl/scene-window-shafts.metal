@@ -43,6 +43,14 @@ constant float airlight_scene_window_shafts_HUGE = 34028235000000000000000000000
 constant float airlight_scene_window_shafts_RHO_OPEN = 4294967300.0;
 constant float airlight_scene_window_shafts_TAU_MAX = 10000.0;
 
+float airlight_scene_window_shafts_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_scene_window_shafts_max_abs(
     metal::float3 v
 ) {
@@ -109,7 +117,7 @@ metal::float3 airlight_scene_window_shafts_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_scene_window_shafts_two_sum(light, -(origin));
     float _e6 = airlight_scene_window_shafts_max_abs(_e4.inner[0]);
     float _e7 = airlight_scene_window_shafts_max_abs(dir);
@@ -149,16 +157,16 @@ metal::float3 airlight_scene_window_shafts_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_scene_window_shafts_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_scene_window_shafts_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_scene_window_shafts_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_scene_window_shafts_scaled(
@@ -407,8 +415,9 @@ float airlight_scene_window_shafts_r_of_v(
 float airlight_scene_window_shafts_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_,
-    float rho
+    float x0_1,
+    float rho_1,
+    float xr
 ) {
     bool local_4 = {};
     bool local_5 = {};
@@ -431,271 +440,270 @@ float airlight_scene_window_shafts_airlight_geometry(
     float sb = 0.0;
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_scene_window_shafts_TAU_MAX);
     metal::float4 md_4 = metal::float4(0.5, 1.0 - 0.5, 1.0 + 0.5, (1.0 - 0.5) / (1.0 + 0.5));
-    if (x0_ > 0.0) {
+    if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
-    bool _e26 = local_4;
-    if (_e26) {
-        if (rho >= 0.0) {
-            local_5 = rho < 1.0;
+    bool _e27 = local_4;
+    if (_e27) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
             local_5 = false;
         }
-        bool _e34 = local_5;
-        if (_e34) {
-            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho) / (1.0 - rho), airlight_scene_window_shafts_HUGE);
+        bool _e35 = local_5;
+        if (_e35) {
+            return metal::min(((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_scene_window_shafts_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_scene_window_shafts_HUGE;
         }
     }
-    float h_5 = (x0_ > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
-    float ua = (x0_ >= 0.0) ? (h_5 / (1.0 + x0_)) : ((1.0 - x0_) / h_5);
-    float one_minus = (x0_ >= 0.0) ? ((h_5 * h_5) / (1.0 + x0_)) : (1.0 - x0_);
-    if (rho >= 0.0) {
-        local_6 = rho < airlight_scene_window_shafts_RHO_OPEN;
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_scene_window_shafts_RHO_OPEN;
     } else {
         local_6 = false;
     }
-    bool _e84 = local_6;
-    bool open = !(_e84);
+    bool _e85 = local_6;
+    bool open = !(_e85);
     if (!(open)) {
-        float ta = metal::abs(rho - 1.0);
-        float tb = (x0_ >= 0.0) ? (h_5 * metal::sqrt((2.0 * rho) / (1.0 + x0_))) : metal::sqrt((2.0 * rho) * one_minus);
+        float ta = metal::abs(xr);
         float tm = metal::max(ta, tb);
         float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
-        float xr = (x0_ >= 0.0) ? ((1.0 - rho) - one_minus) : (x0_ - rho);
         if (xr <= 0.0) {
-            du = (rho * ((tr - xr) + one_minus)) / ((tr + 1.0) * h_5);
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            du = ((2.0 * rho) * h_5) / (((1.0 + rho) + tr) * (tr + xr));
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
     }
-    float _e145 = du;
-    float ub = ua + _e145;
-    float t_1 = tau_5 * h_5;
+    float _e123 = du;
+    float ub = ua + _e123;
+    float t_1 = tau_5 * tb;
     float xf = 3.0 * metal::max(md_4.w, 1.0);
     float lcut = (t_1 > 0.0) ? (3.5 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_scene_window_shafts_HUGE;
     float m_1 = metal::max(ua, xf);
-    float _e162 = du;
-    bool is_short = _e162 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    float _e140 = du;
+    bool is_short = _e140 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
         local_7 = false;
     }
-    bool _e175 = local_7;
-    if (_e175) {
+    bool _e153 = local_7;
+    if (_e153) {
         local_8 = (t_1 * (m_1 - ua)) < 3.5;
     } else {
         local_8 = false;
     }
-    bool _e183 = local_8;
-    if (_e183) {
+    bool _e161 = local_8;
+    if (_e161) {
         local_9 = (t_1 * m_1) < 4.0;
     } else {
         local_9 = false;
     }
     bool use_far = local_9;
-    float _e191 = du;
-    float len = use_far ? (m_1 - ua) : metal::min(_e191, lcut);
+    float _e169 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e169, lcut);
     if (len > 0.0) {
         if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e211 = local_10;
-        if (_e211) {
+        bool _e189 = local_10;
+        if (_e189) {
             float hl = 0.5 * len;
             d_2 = hl * 1.8611363;
-            float _e217 = sum;
-            float _e218 = d_2;
-            float _e220 = airlight_scene_window_shafts_w_u(ua + _e218, md_4);
-            float _e224 = d_2;
-            sum = _e217 + ((0.34785485 * _e220) * metal::exp(-(t_1) * _e224));
+            float _e195 = sum;
+            float _e196 = d_2;
+            float _e198 = airlight_scene_window_shafts_w_u(ua + _e196, md_4);
+            float _e202 = d_2;
+            sum = _e195 + ((0.34785485 * _e198) * metal::exp(-(t_1) * _e202));
             d_2 = hl * 1.3399811;
-            float _e231 = sum;
-            float _e232 = d_2;
-            float _e234 = airlight_scene_window_shafts_w_u(ua + _e232, md_4);
-            float _e238 = d_2;
-            sum = _e231 + ((0.65214515 * _e234) * metal::exp(-(t_1) * _e238));
+            float _e209 = sum;
+            float _e210 = d_2;
+            float _e212 = airlight_scene_window_shafts_w_u(ua + _e210, md_4);
+            float _e216 = d_2;
+            sum = _e209 + ((0.65214515 * _e212) * metal::exp(-(t_1) * _e216));
             d_2 = hl * 0.660019;
-            float _e245 = sum;
-            float _e246 = d_2;
-            float _e248 = airlight_scene_window_shafts_w_u(ua + _e246, md_4);
-            float _e252 = d_2;
-            sum = _e245 + ((0.65214515 * _e248) * metal::exp(-(t_1) * _e252));
+            float _e223 = sum;
+            float _e224 = d_2;
+            float _e226 = airlight_scene_window_shafts_w_u(ua + _e224, md_4);
+            float _e230 = d_2;
+            sum = _e223 + ((0.65214515 * _e226) * metal::exp(-(t_1) * _e230));
             d_2 = hl * 0.13886368;
-            float _e259 = sum;
-            float _e260 = d_2;
-            float _e262 = airlight_scene_window_shafts_w_u(ua + _e260, md_4);
-            float _e266 = d_2;
-            sum = _e259 + ((0.34785485 * _e262) * metal::exp(-(t_1) * _e266));
-            float _e271 = sum;
-            sum = _e271 * hl;
+            float _e237 = sum;
+            float _e238 = d_2;
+            float _e240 = airlight_scene_window_shafts_w_u(ua + _e238, md_4);
+            float _e244 = d_2;
+            sum = _e237 + ((0.34785485 * _e240) * metal::exp(-(t_1) * _e244));
+            float _e249 = sum;
+            sum = _e249 * hl;
         } else {
-            metal::float2 _e273 = airlight_scene_window_shafts_phi_and_complement(ua, md_4);
-            metal::float2 _e275 = airlight_scene_window_shafts_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e273.y < 1.5707964) ? (_e273.y - _e275.y) : (_e275.x - _e273.x));
-            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 1.8611363);
-            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 1.8611363);
-            float _e308 = beta;
-            float _e309 = co;
-            metal::float2 _e313 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e308, _e309), 0.0));
-            sc = _e313;
-            float _e314 = beta;
-            float _e315 = co;
-            if (_e314 > _e315) {
-                metal::float2 _e317 = sc;
-                sc = _e317.yx;
+            metal::float2 _e251 = airlight_scene_window_shafts_phi_and_complement(ua, md_4);
+            metal::float2 _e253 = airlight_scene_window_shafts_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e251.y < 1.5707964) ? (_e251.y - _e253.y) : (_e253.x - _e251.x));
+            beta = (0.5 * _e251.x) + ((0.5 * hl_1) * 1.8611363);
+            co = (0.5 * _e251.y) - ((0.5 * hl_1) * 1.8611363);
+            float _e286 = beta;
+            float _e287 = co;
+            metal::float2 _e291 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e286, _e287), 0.0));
+            sc = _e291;
+            float _e292 = beta;
+            float _e293 = co;
+            if (_e292 > _e293) {
+                metal::float2 _e295 = sc;
+                sc = _e295.yx;
             }
-            float _e320 = sc.x;
-            float _e322 = sc.y;
-            metal::float2 _e323 = airlight_scene_window_shafts_u_and_weight(_e320, _e322, md_4);
-            uw = _e323;
-            float _e324 = sum;
-            float _e326 = uw.y;
-            float _e331 = uw.x;
-            sum = _e324 + ((0.34785485 * _e326) * metal::exp(-(t_1) * (_e331 - ua)));
-            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 1.3399811);
-            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 1.3399811);
-            float _e353 = beta;
-            float _e354 = co;
-            metal::float2 _e358 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e353, _e354), 0.0));
-            sc = _e358;
-            float _e359 = beta;
-            float _e360 = co;
-            if (_e359 > _e360) {
-                metal::float2 _e362 = sc;
-                sc = _e362.yx;
+            float _e298 = sc.x;
+            float _e300 = sc.y;
+            metal::float2 _e301 = airlight_scene_window_shafts_u_and_weight(_e298, _e300, md_4);
+            uw = _e301;
+            float _e302 = sum;
+            float _e304 = uw.y;
+            float _e309 = uw.x;
+            sum = _e302 + ((0.34785485 * _e304) * metal::exp(-(t_1) * (_e309 - ua)));
+            beta = (0.5 * _e251.x) + ((0.5 * hl_1) * 1.3399811);
+            co = (0.5 * _e251.y) - ((0.5 * hl_1) * 1.3399811);
+            float _e331 = beta;
+            float _e332 = co;
+            metal::float2 _e336 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e331, _e332), 0.0));
+            sc = _e336;
+            float _e337 = beta;
+            float _e338 = co;
+            if (_e337 > _e338) {
+                metal::float2 _e340 = sc;
+                sc = _e340.yx;
             }
-            float _e365 = sc.x;
-            float _e367 = sc.y;
-            metal::float2 _e368 = airlight_scene_window_shafts_u_and_weight(_e365, _e367, md_4);
-            uw = _e368;
-            float _e369 = sum;
-            float _e371 = uw.y;
-            float _e376 = uw.x;
-            sum = _e369 + ((0.65214515 * _e371) * metal::exp(-(t_1) * (_e376 - ua)));
-            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 0.660019);
-            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 0.660019);
-            float _e398 = beta;
-            float _e399 = co;
-            metal::float2 _e403 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e398, _e399), 0.0));
-            sc = _e403;
-            float _e404 = beta;
-            float _e405 = co;
-            if (_e404 > _e405) {
-                metal::float2 _e407 = sc;
-                sc = _e407.yx;
+            float _e343 = sc.x;
+            float _e345 = sc.y;
+            metal::float2 _e346 = airlight_scene_window_shafts_u_and_weight(_e343, _e345, md_4);
+            uw = _e346;
+            float _e347 = sum;
+            float _e349 = uw.y;
+            float _e354 = uw.x;
+            sum = _e347 + ((0.65214515 * _e349) * metal::exp(-(t_1) * (_e354 - ua)));
+            beta = (0.5 * _e251.x) + ((0.5 * hl_1) * 0.660019);
+            co = (0.5 * _e251.y) - ((0.5 * hl_1) * 0.660019);
+            float _e376 = beta;
+            float _e377 = co;
+            metal::float2 _e381 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e376, _e377), 0.0));
+            sc = _e381;
+            float _e382 = beta;
+            float _e383 = co;
+            if (_e382 > _e383) {
+                metal::float2 _e385 = sc;
+                sc = _e385.yx;
             }
-            float _e410 = sc.x;
-            float _e412 = sc.y;
-            metal::float2 _e413 = airlight_scene_window_shafts_u_and_weight(_e410, _e412, md_4);
-            uw = _e413;
-            float _e414 = sum;
-            float _e416 = uw.y;
-            float _e421 = uw.x;
-            sum = _e414 + ((0.65214515 * _e416) * metal::exp(-(t_1) * (_e421 - ua)));
-            beta = (0.5 * _e273.x) + ((0.5 * hl_1) * 0.13886368);
-            co = (0.5 * _e273.y) - ((0.5 * hl_1) * 0.13886368);
-            float _e443 = beta;
-            float _e444 = co;
-            metal::float2 _e448 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e443, _e444), 0.0));
-            sc = _e448;
-            float _e449 = beta;
-            float _e450 = co;
-            if (_e449 > _e450) {
-                metal::float2 _e452 = sc;
-                sc = _e452.yx;
+            float _e388 = sc.x;
+            float _e390 = sc.y;
+            metal::float2 _e391 = airlight_scene_window_shafts_u_and_weight(_e388, _e390, md_4);
+            uw = _e391;
+            float _e392 = sum;
+            float _e394 = uw.y;
+            float _e399 = uw.x;
+            sum = _e392 + ((0.65214515 * _e394) * metal::exp(-(t_1) * (_e399 - ua)));
+            beta = (0.5 * _e251.x) + ((0.5 * hl_1) * 0.13886368);
+            co = (0.5 * _e251.y) - ((0.5 * hl_1) * 0.13886368);
+            float _e421 = beta;
+            float _e422 = co;
+            metal::float2 _e426 = airlight_scene_window_shafts_sin_cos_octant(metal::max(metal::min(_e421, _e422), 0.0));
+            sc = _e426;
+            float _e427 = beta;
+            float _e428 = co;
+            if (_e427 > _e428) {
+                metal::float2 _e430 = sc;
+                sc = _e430.yx;
             }
-            float _e455 = sc.x;
-            float _e457 = sc.y;
-            metal::float2 _e458 = airlight_scene_window_shafts_u_and_weight(_e455, _e457, md_4);
-            uw = _e458;
-            float _e459 = sum;
-            float _e461 = uw.y;
-            float _e466 = uw.x;
-            sum = _e459 + ((0.34785485 * _e461) * metal::exp(-(t_1) * (_e466 - ua)));
-            float _e472 = sum;
-            sum = _e472 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
+            float _e433 = sc.x;
+            float _e435 = sc.y;
+            metal::float2 _e436 = airlight_scene_window_shafts_u_and_weight(_e433, _e435, md_4);
+            uw = _e436;
+            float _e437 = sum;
+            float _e439 = uw.y;
+            float _e444 = uw.x;
+            sum = _e437 + ((0.34785485 * _e439) * metal::exp(-(t_1) * (_e444 - ua)));
+            float _e450 = sum;
+            sum = _e450 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
         }
     }
     if (use_far) {
         float c_6 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e488 = airlight_scene_window_shafts_exp_e2_(t_1 * m_1);
-        f = _e488 / m_1;
+        float _e466 = airlight_scene_window_shafts_exp_e2_(t_1 * m_1);
+        f = _e466 / m_1;
         if (!(open)) {
-            float _e492 = f;
-            float _e498 = airlight_scene_window_shafts_exp_e2_(t_1 * ub);
-            f = _e492 - ((metal::exp(-(t_1) * (ub - m_1)) * _e498) / ub);
+            float _e470 = f;
+            float _e476 = airlight_scene_window_shafts_exp_e2_(t_1 * ub);
+            f = _e470 - ((metal::exp(-(t_1) * (ub - m_1)) * _e476) / ub);
         }
         float ue = (t_1 > 0.0) ? (m_1 + (5.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_window_shafts_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.5773503);
-        float _e525 = s;
-        float _e526 = v_3;
-        float _e527 = airlight_scene_window_shafts_r_of_v(_e526, md_4);
-        float _e531 = v_3;
-        s = _e525 + ((1.0 * _e527) * metal::exp(-(t_1) * ((1.0 / _e531) - m_1)));
+        float _e503 = s;
+        float _e504 = v_3;
+        float _e505 = airlight_scene_window_shafts_r_of_v(_e504, md_4);
+        float _e509 = v_3;
+        s = _e503 + ((1.0 * _e505) * metal::exp(-(t_1) * ((1.0 / _e509) - m_1)));
         v_3 = va + (hl_2 * 0.42264974);
-        float _e542 = s;
-        float _e543 = v_3;
-        float _e544 = airlight_scene_window_shafts_r_of_v(_e543, md_4);
-        float _e548 = v_3;
-        s = _e542 + ((1.0 * _e544) * metal::exp(-(t_1) * ((1.0 / _e548) - m_1)));
-        float _e556 = sum;
-        float _e562 = f;
-        float _e563 = s;
-        sum = _e556 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e562 + (_e563 * hl_2)));
+        float _e520 = s;
+        float _e521 = v_3;
+        float _e522 = airlight_scene_window_shafts_r_of_v(_e521, md_4);
+        float _e526 = v_3;
+        s = _e520 + ((1.0 * _e522) * metal::exp(-(t_1) * ((1.0 / _e526) - m_1)));
+        float _e534 = sum;
+        float _e540 = f;
+        float _e541 = s;
+        sum = _e534 + ((c_6 * metal::exp(-(t_1) * (m_1 - ua))) * (_e540 + (_e541 * hl_2)));
     } else {
-        float _e568 = du;
-        if (_e568 > lcut) {
+        float _e546 = du;
+        if (_e546 > lcut) {
             float ue_1 = ua + lcut;
-            float _e573 = s_1;
-            float _e577 = airlight_scene_window_shafts_w_u(ue_1 + (0.58578646 / t_1), md_4);
-            s_1 = _e573 + (0.8535534 * _e577);
-            float _e581 = s_1;
-            float _e585 = airlight_scene_window_shafts_w_u(ue_1 + (3.4142137 / t_1), md_4);
-            s_1 = _e581 + (0.14644662 * _e585);
+            float _e551 = s_1;
+            float _e555 = airlight_scene_window_shafts_w_u(ue_1 + (0.58578646 / t_1), md_4);
+            s_1 = _e551 + (0.8535534 * _e555);
+            float _e559 = s_1;
+            float _e563 = airlight_scene_window_shafts_w_u(ue_1 + (3.4142137 / t_1), md_4);
+            s_1 = _e559 + (0.14644662 * _e563);
             if (!(open)) {
+                float _e570 = sb;
+                float _e574 = airlight_scene_window_shafts_w_u(ub + (0.58578646 / t_1), md_4);
+                sb = _e570 + (0.8535534 * _e574);
+                float _e578 = sb;
+                float _e582 = airlight_scene_window_shafts_w_u(ub + (3.4142137 / t_1), md_4);
+                sb = _e578 + (0.14644662 * _e582);
+                float _e586 = s_1;
+                float _e588 = du;
                 float _e592 = sb;
-                float _e596 = airlight_scene_window_shafts_w_u(ub + (0.58578646 / t_1), md_4);
-                sb = _e592 + (0.8535534 * _e596);
-                float _e600 = sb;
-                float _e604 = airlight_scene_window_shafts_w_u(ub + (3.4142137 / t_1), md_4);
-                sb = _e600 + (0.14644662 * _e604);
-                float _e608 = s_1;
-                float _e610 = du;
-                float _e614 = sb;
-                s_1 = _e608 - (metal::exp(-(t_1) * (_e610 - lcut)) * _e614);
+                s_1 = _e586 - (metal::exp(-(t_1) * (_e588 - lcut)) * _e592);
             }
-            float _e617 = sum;
-            float _e620 = s_1;
-            sum = _e617 + ((0.030197384 / t_1) * metal::max(_e620, 0.0));
+            float _e595 = sum;
+            float _e598 = s_1;
+            sum = _e595 + ((0.030197384 / t_1) * metal::max(_e598, 0.0));
         }
     }
-    if (h_5 < 0.0000000000000000008673617) {
-        float _e627 = sum;
-        float _e635 = airlight_scene_window_shafts_scaled(2.0 * metal::max(_e627, 0.0), metal::exp(-(tau_5)), h_5, 1.0);
-        return _e635;
+    if (tb < 0.0000000000000000008673617) {
+        float _e605 = sum;
+        float _e613 = airlight_scene_window_shafts_scaled(2.0 * metal::max(_e605, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e613;
     }
-    float _e640 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e640 / h_5), 0.0), airlight_scene_window_shafts_HUGE);
+    float _e618 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e618 / tb), 0.0), airlight_scene_window_shafts_HUGE);
 }
 
 float airlight_scene_window_shafts_airlight(
     float tau,
     float gamma,
-    float rho_1
+    float rho_2
 ) {
     metal::float2 _e6 = airlight_scene_window_shafts_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_window_shafts_PI));
-    float _e10 = airlight_scene_window_shafts_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_1);
-    return _e10;
+    float _e13 = airlight_scene_window_shafts_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_scene_window_shafts_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_window_shafts_radiance(
@@ -722,34 +730,37 @@ float airlight_scene_window_shafts_radiance(
     if (_e23) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e36 = airlight_scene_window_shafts_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_6);
-    float _e37 = airlight_scene_window_shafts_scaled(sigma_s_1, intensity_1, _e7.x, _e36);
-    return _e37;
+    float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_scene_window_shafts_foot(_e7.y, _e7.z, rho_7);
+    float _e39 = airlight_scene_window_shafts_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7, _e38);
+    float _e40 = airlight_scene_window_shafts_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
 }
 
 float airlight_scene_window_shafts_along(
     float tau_1,
-    float h_1,
-    float x0_1,
-    float rho_2,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g
 ) {
-    float _e5 = airlight_scene_window_shafts_airlight_geometry(tau_1, h_1, x0_1, rho_2);
-    return _e5;
+    float _e6 = airlight_scene_window_shafts_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    return _e6;
 }
 
 metal::float3 airlight_scene_window_shafts_along_rgb(
     metal::float3 tau_2,
-    float h_2,
-    float x0_2,
-    float rho_3,
+    float h_3,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_1
 ) {
-    float _e6 = airlight_scene_window_shafts_along(tau_2.x, h_2, x0_2, rho_3, g_1);
-    float _e8 = airlight_scene_window_shafts_along(tau_2.y, h_2, x0_2, rho_3, g_1);
-    float _e10 = airlight_scene_window_shafts_along(tau_2.z, h_2, x0_2, rho_3, g_1);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_scene_window_shafts_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_scene_window_shafts_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_scene_window_shafts_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_scene_window_shafts_spot_asin(
@@ -762,9 +773,9 @@ float airlight_scene_window_shafts_spot_asin(
 
 metal::float3 airlight_scene_window_shafts_spot_core(
     metal::float3 tau_3,
-    float h_3,
-    float x0_3,
-    float rho_4,
+    float h_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -777,43 +788,54 @@ metal::float3 airlight_scene_window_shafts_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_12 = {};
-    h1_ = h_3;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_scene_window_shafts_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_3 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_scene_window_shafts_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_scene_window_shafts_foot(h_4, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_scene_window_shafts_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_scene_window_shafts_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_scene_window_shafts_sin_cos(wb);
+        metal::float2 _e35 = airlight_scene_window_shafts_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_12 = rho_4 >= 0.0;
+            local_12 = rho_5 >= 0.0;
         } else {
             local_12 = false;
         }
-        bool _e44 = local_12;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_12;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_scene_window_shafts_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_scene_window_shafts_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_2);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_scene_window_shafts_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_scene_window_shafts_spot_weight(
@@ -829,9 +851,9 @@ float airlight_scene_window_shafts_spot_weight(
 
 metal::float3 airlight_scene_window_shafts_spot_edge(
     metal::float3 tau_4,
-    float h_4,
-    float x0_4,
-    float rho_5,
+    float h_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_2,
@@ -864,7 +886,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
     metal::float2 _e27 = airlight_scene_window_shafts_sin_cos(e_1);
     float _e33 = airlight_scene_window_shafts_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_2, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_scene_window_shafts_spot_core(tau_4, h_4, x0_4, rho_5, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_3);
+        metal::float3 _e41 = airlight_scene_window_shafts_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_3);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -908,7 +930,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112));
             float _e128 = sb_1.x;
             float _e131 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum_1;
             float _e144 = sb_1.x;
             float _e147 = sb_1.y;
@@ -932,7 +954,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
             float _e205 = sb_1.x;
             float _e208 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum_1;
             float _e221 = sb_1.x;
             float _e224 = sb_1.y;
@@ -956,7 +978,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266));
             float _e282 = sb_1.x;
             float _e285 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum_1;
             float _e298 = sb_1.x;
             float _e301 = sb_1.y;
@@ -980,7 +1002,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343));
             float _e359 = sb_1.x;
             float _e362 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum_1;
             float _e375 = sb_1.x;
             float _e378 = sb_1.y;
@@ -1004,7 +1026,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420));
             float _e436 = sb_1.x;
             float _e439 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum_1;
             float _e452 = sb_1.x;
             float _e455 = sb_1.y;
@@ -1028,7 +1050,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497));
             float _e513 = sb_1.x;
             float _e516 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum_1;
             float _e529 = sb_1.x;
             float _e532 = sb_1.y;
@@ -1052,7 +1074,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574));
             float _e590 = sb_1.x;
             float _e593 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum_1;
             float _e606 = sb_1.x;
             float _e609 = sb_1.y;
@@ -1076,7 +1098,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
             d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651));
             float _e667 = sb_1.x;
             float _e670 = sb_1.y;
-            st = metal::max(x0_4 + ((h_4 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum_1;
             float _e683 = sb_1.x;
             float _e686 = sb_1.y;
@@ -1093,7 +1115,7 @@ metal::float3 airlight_scene_window_shafts_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_4)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_scene_window_shafts_spot(
@@ -1189,16 +1211,16 @@ metal::float3 airlight_scene_window_shafts_spot(
     }
     float d_7 = _e10.x;
     float h_6 = _e10.y;
-    float x0_6 = _e10.z;
+    float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
         local_18 = (surface_1 / d_7) < airlight_scene_window_shafts_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_7 = has_end ? (surface_1 / d_7) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_7) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_7, metal::float3(0.0)), metal::float3(10000.0));
-    float _e140 = airlight_scene_window_shafts_arctan2_(h_6, x0_6);
+    float _e140 = airlight_scene_window_shafts_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_19 = h_6 <= 0.0;
     } else {
@@ -1216,12 +1238,12 @@ metal::float3 airlight_scene_window_shafts_spot(
             float _e157 = airlight_scene_window_shafts_spot_weight(-(k_3), co_3, cos_inner);
             float _e158 = airlight_scene_window_shafts_spot_weight(k_3, co_3, cos_inner);
             if (has_end) {
-                local_21 = rho_7 < 1.0;
+                local_21 = rho_8 < 1.0;
             } else {
                 local_21 = false;
             }
             bool _e165 = local_21;
-            scale = (x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
+            scale = (x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
@@ -1238,7 +1260,7 @@ metal::float3 airlight_scene_window_shafts_spot(
         float _e191 = ca_1;
         float _e192 = airlight_scene_window_shafts_arctan2_(k_3, _e191);
         gam_2 = _e140;
-        float _e195 = airlight_scene_window_shafts_arctan2_(h_6, x0_6 - rho_7);
+        float _e195 = airlight_scene_window_shafts_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_scene_window_shafts_PI;
         if (co_3 < r_6) {
             float _e198 = airlight_scene_window_shafts_spot_asin(co_3, r_6);
@@ -1282,7 +1304,7 @@ metal::float3 airlight_scene_window_shafts_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_scene_window_shafts_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.5);
+        metal::float3 _e248 = airlight_scene_window_shafts_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.5);
         a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1310,7 +1332,7 @@ metal::float3 airlight_scene_window_shafts_spot(
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_scene_window_shafts_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_3, co_3, cos_inner, 0.5);
+                metal::float3 _e271 = airlight_scene_window_shafts_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_3, co_3, cos_inner, 0.5);
                 a_5 = _e265 + _e271;
             }
         }

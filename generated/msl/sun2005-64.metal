@@ -47,6 +47,14 @@ constant float airlight_sun2005_64_U_SCALE = 3.15;
 constant float airlight_sun2005_64_V_SCALE = 40.107044;
 constant float airlight_sun2005_64_P_ISO = 0.07957747;
 
+float airlight_sun2005_64_foot(
+    float h,
+    float x0_,
+    float rho
+) {
+    return (x0_ >= 0.0) ? ((1.0 - rho) - ((h * h) / (1.0 + x0_))) : (x0_ - rho);
+}
+
 float airlight_sun2005_64_max_abs(
     metal::float3 v
 ) {
@@ -113,7 +121,7 @@ metal::float3 airlight_sun2005_64_ray_geometry(
     bool local = {};
     bool local_1 = {};
     metal::float3 c_1 = {};
-    float h = 0.0;
+    float h_1 = 0.0;
     type_4 _e4 = airlight_sun2005_64_two_sum(light, -(origin));
     float _e6 = airlight_sun2005_64_max_abs(_e4.inner[0]);
     float _e7 = airlight_sun2005_64_max_abs(dir);
@@ -153,16 +161,16 @@ metal::float3 airlight_sun2005_64_ray_geometry(
     if (_e70 > 0.0) {
         metal::float3 _e75 = c_1;
         metal::float3 cs = _e75 / metal::float3(_e70);
-        h = _e70 * metal::sqrt(metal::dot(cs, cs));
+        h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_5 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
-    float _e84 = h;
-    float _e85 = h;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_5 * x0_5));
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float _e84 = h_1;
+    float _e85 = h_1;
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_sun2005_64_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
-    float _e97 = h;
-    return metal::float3(metal::min(dist, airlight_sun2005_64_HUGE), _e97 / n_1, x0_5 / n_1);
+    float _e97 = h_1;
+    return metal::float3(metal::min(dist, airlight_sun2005_64_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_sun2005_64_scaled(
@@ -340,10 +348,11 @@ float airlight_sun2005_64_lookup_diff(
 
 float airlight_sun2005_64_airlight_geometry(
     float tau_in,
-    float h_1,
-    float x0_,
+    float h_2,
+    float x0_1,
     float gamma,
-    float rho,
+    float rho_1,
+    float xr,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_64_F
 ) {
     bool local_4 = {};
@@ -351,53 +360,54 @@ float airlight_sun2005_64_airlight_geometry(
     bool local_6 = {};
     float xb = airlight_sun2005_64_FRAC_PI_2_;
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_sun2005_64_TAU_MAX);
-    if (rho >= 0.0) {
-        local_4 = rho < airlight_sun2005_64_RHO_OPEN;
+    if (rho_1 >= 0.0) {
+        local_4 = rho_1 < airlight_sun2005_64_RHO_OPEN;
     } else {
         local_4 = false;
     }
-    bool _e16 = local_4;
-    bool open = !(_e16);
-    if (h_1 <= 0.0) {
-        if (x0_ > 0.0) {
+    bool _e17 = local_4;
+    bool open = !(_e17);
+    if (h_2 <= 0.0) {
+        if (x0_1 > 0.0) {
             if (!(open)) {
-                local_6 = (x0_ * rho) >= 1.0;
+                local_6 = (x0_1 * rho_1) >= 1.0;
             } else {
                 local_6 = true;
             }
-            bool _e31 = local_6;
-            local_5 = _e31;
+            bool _e32 = local_6;
+            local_5 = _e32;
         } else {
             local_5 = false;
         }
-        bool _e33 = local_5;
-        if (_e33) {
+        bool _e34 = local_5;
+        if (_e34) {
             return airlight_sun2005_64_HUGE;
         }
-        float a_11 = open ? airlight_sun2005_64_P_ISO : ((airlight_sun2005_64_P_ISO * rho) / (1.0 - (x0_ * rho)));
+        float a_11 = open ? airlight_sun2005_64_P_ISO : ((airlight_sun2005_64_P_ISO * rho_1) / (1.0 - (x0_1 * rho_1)));
         return a_11 * metal::exp(-(tau_5));
     }
-    float t = tau_5 * h_1;
+    float t = tau_5 * h_2;
     if (!(open)) {
-        float _e51 = airlight_sun2005_64_arctan2_(h_1, x0_ - rho);
+        float _e51 = airlight_sun2005_64_arctan2_(h_2, xr);
         xb = 0.5 * _e51;
     }
     float _e56 = xb;
     float _e57 = airlight_sun2005_64_lookup_diff(t, 0.5 * gamma, _e56, airlight_sun2005_64_F);
     float f = metal::max(_e57, 0.0);
-    return metal::min((metal::exp(metal::min(-(tau_5) * x0_, 88.0)) * f) / (6.2831855 * h_1), airlight_sun2005_64_HUGE);
+    return metal::min((metal::exp(metal::min(-(tau_5) * x0_1, 88.0)) * f) / (6.2831855 * h_2), airlight_sun2005_64_HUGE);
 }
 
 float airlight_sun2005_64_airlight(
     float tau,
     float gamma_1,
-    float rho_1,
+    float rho_2,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_64_F
 ) {
     float gc = metal::clamp(gamma_1, 0.0, airlight_sun2005_64_PI);
     metal::float2 _e6 = airlight_sun2005_64_sin_cos(gc);
-    float _e10 = airlight_sun2005_64_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, gc, rho_1, airlight_sun2005_64_F);
-    return _e10;
+    float _e13 = airlight_sun2005_64_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_sun2005_64_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, gc, rho_2, _e13, airlight_sun2005_64_F);
+    return _e14;
 }
 
 float airlight_sun2005_64_radiance(
@@ -425,38 +435,41 @@ float airlight_sun2005_64_radiance(
     if (_e23) {
         return 0.0;
     }
-    float rho_6 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
     float _e33 = airlight_sun2005_64_arctan2_(_e7.y, _e7.z);
-    float _e39 = airlight_sun2005_64_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, _e33, rho_6, airlight_sun2005_64_F);
-    float _e40 = airlight_sun2005_64_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
-    return _e40;
+    float _e41 = airlight_sun2005_64_foot(_e7.y, _e7.z, rho_7);
+    float _e42 = airlight_sun2005_64_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, _e33, rho_7, _e41, airlight_sun2005_64_F);
+    float _e43 = airlight_sun2005_64_scaled(sigma_s_1, intensity_1, _e7.x, _e42);
+    return _e43;
 }
 
 float airlight_sun2005_64_along(
     float tau_1,
-    float h_2,
-    float x0_1,
-    float rho_2,
+    float h_3,
+    float x0_2,
+    float rho_3,
+    float xr_1,
     float g,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_64_F
 ) {
-    float _e5 = airlight_sun2005_64_arctan2_(h_2, x0_1);
-    float _e6 = airlight_sun2005_64_airlight_geometry(tau_1, h_2, x0_1, _e5, rho_2, airlight_sun2005_64_F);
-    return _e6;
+    float _e6 = airlight_sun2005_64_arctan2_(h_3, x0_2);
+    float _e7 = airlight_sun2005_64_airlight_geometry(tau_1, h_3, x0_2, _e6, rho_3, xr_1, airlight_sun2005_64_F);
+    return _e7;
 }
 
 metal::float3 airlight_sun2005_64_along_rgb(
     metal::float3 tau_2,
-    float h_3,
-    float x0_2,
-    float rho_3,
+    float h_4,
+    float x0_3,
+    float rho_4,
+    float xr_2,
     float g_1,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_64_F
 ) {
-    float _e6 = airlight_sun2005_64_along(tau_2.x, h_3, x0_2, rho_3, g_1, airlight_sun2005_64_F);
-    float _e8 = airlight_sun2005_64_along(tau_2.y, h_3, x0_2, rho_3, g_1, airlight_sun2005_64_F);
-    float _e10 = airlight_sun2005_64_along(tau_2.z, h_3, x0_2, rho_3, g_1, airlight_sun2005_64_F);
-    return metal::float3(_e6, _e8, _e10);
+    float _e7 = airlight_sun2005_64_along(tau_2.x, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_64_F);
+    float _e9 = airlight_sun2005_64_along(tau_2.y, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_64_F);
+    float _e11 = airlight_sun2005_64_along(tau_2.z, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_64_F);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_sun2005_64_spot_asin(
@@ -469,9 +482,9 @@ float airlight_sun2005_64_spot_asin(
 
 metal::float3 airlight_sun2005_64_spot_core(
     metal::float3 tau_3,
-    float h_4,
-    float x0_3,
-    float rho_4,
+    float h_5,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -485,43 +498,54 @@ metal::float3 airlight_sun2005_64_spot_core(
     float t0_ = 1.0;
     float s0_ = 0.0;
     float rho1_ = {};
+    float xr1_ = {};
     bool local_8 = {};
-    h1_ = h_4;
-    x1_ = x0_3;
-    rho1_ = rho_4;
+    h1_ = h_5;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_sun2005_64_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_5 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_sun2005_64_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
+    float _e31 = airlight_sun2005_64_foot(h_5, x0_4, rho_5);
+    xr1_ = _e31;
     if (cut_b) {
-        metal::float2 _e32 = airlight_sun2005_64_sin_cos(wb - wa);
-        metal::float2 _e34 = airlight_sun2005_64_sin_cos(wb);
-        rho1_ = _e32.x / metal::max(_e34.x, 0.000000000000000000000000000001);
+        metal::float2 _e33 = airlight_sun2005_64_sin_cos(wb);
+        metal::float2 _e35 = airlight_sun2005_64_sin_cos(wb - wa);
+        rho1_ = _e35.x / metal::max(_e33.x, 0.000000000000000000000000000001);
+        float _e41 = h1_;
+        xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_8 = rho_4 >= 0.0;
+            local_8 = rho_5 >= 0.0;
         } else {
             local_8 = false;
         }
-        bool _e44 = local_8;
-        if (_e44) {
-            float _e45 = s0_;
-            float _e47 = t0_;
-            rho1_ = metal::max((rho_4 - _e45) / _e47, 0.0);
+        bool _e53 = local_8;
+        if (_e53) {
+            float _e54 = s0_;
+            float _e56 = t0_;
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
+            float _e60 = h1_;
+            float _e61 = x1_;
+            float _e62 = rho1_;
+            float _e63 = airlight_sun2005_64_foot(_e60, _e61, _e62);
+            xr1_ = _e63;
         }
     }
-    float _e51 = t0_;
-    float _e53 = h1_;
-    float _e54 = x1_;
-    float _e55 = rho1_;
-    metal::float3 _e56 = airlight_sun2005_64_along_rgb(tau_3 * _e51, _e53, _e54, _e55, g_2, airlight_sun2005_64_F);
-    float _e58 = s0_;
-    float _e62 = t0_;
-    return metal::select((_e56 * metal::exp(-(tau_3) * _e58)) / metal::float3(_e62), _e56, _e56 >= metal::float3(340282350000000000000000000000000000000.0));
+    float _e64 = t0_;
+    float _e66 = h1_;
+    float _e67 = x1_;
+    float _e68 = rho1_;
+    float _e69 = xr1_;
+    metal::float3 _e70 = airlight_sun2005_64_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2, airlight_sun2005_64_F);
+    float _e72 = s0_;
+    float _e76 = t0_;
+    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_sun2005_64_spot_weight(
@@ -537,9 +561,9 @@ float airlight_sun2005_64_spot_weight(
 
 metal::float3 airlight_sun2005_64_spot_edge(
     metal::float3 tau_4,
-    float h_5,
-    float x0_4,
-    float rho_5,
+    float h_6,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_1,
@@ -573,7 +597,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
     metal::float2 _e27 = airlight_sun2005_64_sin_cos(e_1);
     float _e33 = airlight_sun2005_64_spot_weight((ca * _e27.x) - (k_2 * _e27.y), co_1, ci_1);
     if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_sun2005_64_spot_core(tau_4, h_5, x0_4, rho_5, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3, airlight_sun2005_64_F);
+        metal::float3 _e41 = airlight_sun2005_64_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3, airlight_sun2005_64_F);
         exact = _e41;
         metal::float3 _e42 = exact;
         if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -617,7 +641,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112));
             float _e128 = sb.x;
             float _e131 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e138 = sum;
             float _e144 = sb.x;
             float _e147 = sb.y;
@@ -641,7 +665,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
             float _e205 = sb.x;
             float _e208 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e215 = sum;
             float _e221 = sb.x;
             float _e224 = sb.y;
@@ -665,7 +689,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266));
             float _e282 = sb.x;
             float _e285 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e292 = sum;
             float _e298 = sb.x;
             float _e301 = sb.y;
@@ -689,7 +713,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343));
             float _e359 = sb.x;
             float _e362 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e369 = sum;
             float _e375 = sb.x;
             float _e378 = sb.y;
@@ -713,7 +737,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420));
             float _e436 = sb.x;
             float _e439 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e446 = sum;
             float _e452 = sb.x;
             float _e455 = sb.y;
@@ -737,7 +761,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497));
             float _e513 = sb.x;
             float _e516 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e523 = sum;
             float _e529 = sb.x;
             float _e532 = sb.y;
@@ -761,7 +785,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574));
             float _e590 = sb.x;
             float _e593 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e600 = sum;
             float _e606 = sb.x;
             float _e609 = sb.y;
@@ -785,7 +809,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
             d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651));
             float _e667 = sb.x;
             float _e670 = sb.y;
-            st = metal::max(x0_4 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
+            st = metal::max(x0_5 + ((h_6 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
             metal::float3 _e677 = sum;
             float _e683 = sb.x;
             float _e686 = sb.y;
@@ -802,7 +826,7 @@ metal::float3 airlight_sun2005_64_spot_edge(
     }
     metal::float3 _e718 = exact;
     metal::float3 _e727 = sum;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_sun2005_64_spot(
@@ -898,19 +922,19 @@ metal::float3 airlight_sun2005_64_spot(
         return metal::float3(0.0);
     }
     float d_3 = _e10.x;
-    float h_6 = _e10.y;
-    float x0_6 = _e10.z;
+    float h_7 = _e10.y;
+    float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
         local_14 = (surface_1 / d_3) < airlight_sun2005_64_RHO_OPEN;
     } else {
         local_14 = false;
     }
     bool has_end = local_14;
-    float rho_7 = has_end ? (surface_1 / d_3) : -1.0;
+    float rho_8 = has_end ? (surface_1 / d_3) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_3, metal::float3(0.0)), metal::float3(10000.0));
-    float _e140 = airlight_sun2005_64_arctan2_(h_6, x0_6);
+    float _e140 = airlight_sun2005_64_arctan2_(h_7, x0_7);
     if (!(point)) {
-        local_15 = h_6 <= 0.0;
+        local_15 = h_7 <= 0.0;
     } else {
         local_15 = true;
     }
@@ -926,12 +950,12 @@ metal::float3 airlight_sun2005_64_spot(
             float _e157 = airlight_sun2005_64_spot_weight(-(k_3), co_2, cos_inner);
             float _e158 = airlight_sun2005_64_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_17 = rho_7 < 1.0;
+                local_17 = rho_8 < 1.0;
             } else {
                 local_17 = false;
             }
             bool _e165 = local_17;
-            scale = (x0_6 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
+            scale = (x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
@@ -948,7 +972,7 @@ metal::float3 airlight_sun2005_64_spot(
         float _e191 = ca_1;
         float _e192 = airlight_sun2005_64_arctan2_(k_3, _e191);
         gam_2 = _e140;
-        float _e195 = airlight_sun2005_64_arctan2_(h_6, x0_6 - rho_7);
+        float _e195 = airlight_sun2005_64_arctan2_(h_7, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_sun2005_64_PI;
         if (co_2 < r_4) {
             float _e198 = airlight_sun2005_64_spot_asin(co_2, r_4);
@@ -992,7 +1016,7 @@ metal::float3 airlight_sun2005_64_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_sun2005_64_spot_core(tau_6, h_6, x0_6, rho_7, _e243, _e244, _e245, _e246, _e247, 0.0, airlight_sun2005_64_F);
+        metal::float3 _e248 = airlight_sun2005_64_spot_core(tau_6, h_7, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0, airlight_sun2005_64_F);
         a_6 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1020,7 +1044,7 @@ metal::float3 airlight_sun2005_64_spot(
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_sun2005_64_spot_edge(tau_6, h_6, x0_6, rho_7, _e266, _e267, piece.x, piece.y, _e270, k_3, co_2, cos_inner, 0.0, airlight_sun2005_64_F);
+                metal::float3 _e271 = airlight_sun2005_64_spot_edge(tau_6, h_7, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_3, co_2, cos_inner, 0.0, airlight_sun2005_64_F);
                 a_6 = _e265 + _e271;
             }
         }

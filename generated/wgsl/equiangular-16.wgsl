@@ -37,6 +37,11 @@ const airlight_equiangular_16_FRAC_PI_2: f32 = 1.57079637e0;
 const airlight_equiangular_16_HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_equiangular_16_RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn airlight_equiangular_16_foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_equiangular_16_TAU_MAX: f32 = 1e4;
@@ -262,7 +267,7 @@ fn airlight_equiangular_16_airlight_axis(tau: f32, x0: f32, rho: f32, g: f32) ->
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself and comp = pi - gamma, rho (negative: no surface).
-fn airlight_equiangular_16_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> f32 {
+fn airlight_equiangular_16_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_equiangular_16_TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
@@ -274,7 +279,7 @@ fn airlight_equiangular_16_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma
     }
     var span = comp;
     if rho >= 0.0 && rho < airlight_equiangular_16_RHO_OPEN {
-        span = airlight_equiangular_16_arctan2(h * rho, 1.0 - x0 * rho);
+        span = airlight_equiangular_16_arctan2(h * rho, h * h + x0 * xr);
     }
     let half = 0.5 * span;
     var sum = 0.0;
@@ -448,7 +453,7 @@ fn airlight_equiangular_16_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma
 
 /// The same for three channels' tau at once (the spot entry): the nodes, their
 /// geometry and phase values are shared; each channel pays its transmittances.
-fn airlight_equiangular_16_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> vec3<f32> {
+fn airlight_equiangular_16_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g_in: f32) -> vec3<f32> {
     let tau = min(max(tau_in, vec3<f32>(0.0)), vec3<f32>(airlight_equiangular_16_TAU_MAX));
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
@@ -460,7 +465,7 @@ fn airlight_equiangular_16_airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: 
     }
     var span = comp;
     if rho >= 0.0 && rho < airlight_equiangular_16_RHO_OPEN {
-        span = airlight_equiangular_16_arctan2(h * rho, 1.0 - x0 * rho);
+        span = airlight_equiangular_16_arctan2(h * rho, h * h + x0 * xr);
     }
     let half = 0.5 * span;
     var sum = vec3<f32>(0.0);
@@ -642,7 +647,7 @@ fn airlight_equiangular_16_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f
     // sin(gamma) from the smaller of gamma and pi - gamma: 0 on the axis behind (gamma at
     // f32's pi, which lies beyond pi), exact near it.
     let h = select(abs(sc.x), airlight_equiangular_16_sin_cos(comp).x, gc > comp);
-    return airlight_equiangular_16_airlight_geometry(tau, h, sc.y, gc, comp, rho, g);
+    return airlight_equiangular_16_airlight_geometry(tau, h, sc.y, gc, comp, rho, airlight_equiangular_16_foot(h, sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -658,13 +663,13 @@ fn airlight_equiangular_16_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: 
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
     let gamma = airlight_equiangular_16_arctan2(geo.y, geo.z);
     let comp = airlight_equiangular_16_arctan2(geo.y, -geo.z);
-    return airlight_equiangular_16_scaled(sigma_s, intensity, geo.x, airlight_equiangular_16_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
+    return airlight_equiangular_16_scaled(sigma_s, intensity, geo.x, airlight_equiangular_16_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, airlight_equiangular_16_foot(geo.y, geo.z, rho), g));
 }
 
 /// A from the unit geometry (h = sin(gamma) >= 0, x0 = cos(gamma), rho negative: none) for
 /// three channels' tau, its nodes shared: the core the spot entry calls.
-fn airlight_equiangular_16_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return airlight_equiangular_16_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_16_arctan2(h, x0), airlight_equiangular_16_arctan2(h, -x0), rho, g);
+fn airlight_equiangular_16_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return airlight_equiangular_16_airlight_geometry_rgb(tau, h, x0, airlight_equiangular_16_arctan2(h, x0), airlight_equiangular_16_arctan2(h, -x0), rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -703,12 +708,18 @@ fn airlight_equiangular_16_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, 
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_equiangular_16_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = airlight_equiangular_16_foot(h, x0, rho);
     if cut_b {
-        rho1 = airlight_equiangular_16_sin_cos(wb - wa).x / max(airlight_equiangular_16_sin_cos(wb).x, 1e-30);
+        let sb = airlight_equiangular_16_sin_cos(wb);
+        rho1 = airlight_equiangular_16_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_equiangular_16_foot(h1, x1, rho1);
     }
-    let a = airlight_equiangular_16_along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = airlight_equiangular_16_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_equiangular_16_HUGE));
 }
 

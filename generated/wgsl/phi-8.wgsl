@@ -39,6 +39,11 @@ const airlight_phi_8_FRAC_PI_2: f32 = 1.57079637e0;
 const airlight_phi_8_HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_phi_8_RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn airlight_phi_8_foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_phi_8_TAU_MAX: f32 = 1e4;
@@ -290,7 +295,7 @@ fn airlight_phi_8_r_of_v(v: f32, md: vec4<f32>) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_phi_8_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g_in: f32) -> f32 {
+fn airlight_phi_8_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_phi_8_TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     let md = vec4<f32>(g, 1.0 - g, 1.0 + g, (1.0 - g) / (1.0 + g));
@@ -319,12 +324,10 @@ fn airlight_phi_8_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g
     if !open {
         // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
         // so that h^2 never underflows.
-        let ta = abs(rho - 1.0);
-        let tb = select(sqrt(2.0 * rho * one_minus), h * sqrt(2.0 * rho / (1.0 + x0)), x0 >= 0.0);
+        let ta = abs(xr);
+        let tb = h;
         let tm = max(ta, tb);
         let tr = select(0.0, tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)), tm > 0.0);
-        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
-        let xr = select(x0 - rho, (1.0 - rho) - one_minus, x0 >= 0.0);
         if xr <= 0.0 {
             du = rho * (tr - xr + one_minus) / ((tr + 1.0) * h);
         } else {
@@ -487,7 +490,7 @@ fn airlight_phi_8_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight_phi_8_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = airlight_phi_8_sin_cos(clamp(gamma, 0.0, airlight_phi_8_PI));
-    return airlight_phi_8_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_phi_8_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_phi_8_foot(abs(sc.x), sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -501,12 +504,12 @@ fn airlight_phi_8_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, ligh
         return 0.0;
     }
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    return airlight_phi_8_scaled(sigma_s, intensity, geo.x, airlight_phi_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g));
+    return airlight_phi_8_scaled(sigma_s, intensity, geo.x, airlight_phi_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_phi_8_foot(geo.y, geo.z, rho), g));
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn airlight_phi_8_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_phi_8_airlight_geometry(tau, h, x0, rho, g);
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn airlight_phi_8_along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_phi_8_airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -526,8 +529,8 @@ fn airlight_phi_8_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn airlight_phi_8_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(airlight_phi_8_along(tau.x, h, x0, rho, g), airlight_phi_8_along(tau.y, h, x0, rho, g), airlight_phi_8_along(tau.z, h, x0, rho, g));
+fn airlight_phi_8_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(airlight_phi_8_along(tau.x, h, x0, rho, xr, g), airlight_phi_8_along(tau.y, h, x0, rho, xr, g), airlight_phi_8_along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -551,12 +554,18 @@ fn airlight_phi_8_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32,
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_phi_8_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = airlight_phi_8_foot(h, x0, rho);
     if cut_b {
-        rho1 = airlight_phi_8_sin_cos(wb - wa).x / max(airlight_phi_8_sin_cos(wb).x, 1e-30);
+        let sb = airlight_phi_8_sin_cos(wb);
+        rho1 = airlight_phi_8_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_phi_8_foot(h1, x1, rho1);
     }
-    let a = airlight_phi_8_along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = airlight_phi_8_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_phi_8_HUGE));
 }
 

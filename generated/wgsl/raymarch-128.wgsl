@@ -35,6 +35,11 @@ const airlight_raymarch_128_FRAC_PI_2: f32 = 1.57079637e0;
 const airlight_raymarch_128_HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_raymarch_128_RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn airlight_raymarch_128_foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_raymarch_128_TAU_MAX: f32 = 1e4;
@@ -219,7 +224,7 @@ fn airlight_raymarch_128_hg(g: f32, om: f32, op: f32) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_raymarch_128_airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, g_in: f32) -> f32 {
+fn airlight_raymarch_128_airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, xr: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_raymarch_128_TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     var len = airlight_raymarch_128_FAR;
@@ -249,7 +254,7 @@ fn airlight_raymarch_128_airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f3
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight_raymarch_128_airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = airlight_raymarch_128_sin_cos(gamma);
-    return airlight_raymarch_128_airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_raymarch_128_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_raymarch_128_foot(abs(sc.x), sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -263,12 +268,12 @@ fn airlight_raymarch_128_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f3
         return 0.0;
     }
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    return airlight_raymarch_128_scaled(sigma_s, intensity, geo.x, airlight_raymarch_128_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g));
+    return airlight_raymarch_128_scaled(sigma_s, intensity, geo.x, airlight_raymarch_128_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_raymarch_128_foot(geo.y, geo.z, rho), g));
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn airlight_raymarch_128_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_raymarch_128_airlight_geometry(tau, h, x0, rho, g);
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn airlight_raymarch_128_along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_raymarch_128_airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -288,8 +293,8 @@ fn airlight_raymarch_128_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn airlight_raymarch_128_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(airlight_raymarch_128_along(tau.x, h, x0, rho, g), airlight_raymarch_128_along(tau.y, h, x0, rho, g), airlight_raymarch_128_along(tau.z, h, x0, rho, g));
+fn airlight_raymarch_128_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(airlight_raymarch_128_along(tau.x, h, x0, rho, xr, g), airlight_raymarch_128_along(tau.y, h, x0, rho, xr, g), airlight_raymarch_128_along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -313,12 +318,18 @@ fn airlight_raymarch_128_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, ga
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_raymarch_128_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = airlight_raymarch_128_foot(h, x0, rho);
     if cut_b {
-        rho1 = airlight_raymarch_128_sin_cos(wb - wa).x / max(airlight_raymarch_128_sin_cos(wb).x, 1e-30);
+        let sb = airlight_raymarch_128_sin_cos(wb);
+        rho1 = airlight_raymarch_128_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_raymarch_128_foot(h1, x1, rho1);
     }
-    let a = airlight_raymarch_128_along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = airlight_raymarch_128_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_raymarch_128_HUGE));
 }
 

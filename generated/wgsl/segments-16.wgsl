@@ -34,6 +34,11 @@ const airlight_segments_16_FRAC_PI_2: f32 = 1.57079637e0;
 const airlight_segments_16_HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_segments_16_RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn airlight_segments_16_foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_segments_16_TAU_MAX: f32 = 1e4;
@@ -290,7 +295,7 @@ fn airlight_segments_16_forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-fn airlight_segments_16_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool) -> f32 {
+fn airlight_segments_16_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
@@ -299,7 +304,7 @@ fn airlight_segments_16_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, 
     // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     var span = airlight_segments_16_HUGE;
     if !open {
-        let d = rho - x0;
+        let d = -xr;
         let r = sqrt(d * d + h * h);
         span = select((d + r) / h - u0, 2.0 * rho * (d + r) / ((rho + r + 1.0) * h), x0 < 0.0);
     }
@@ -373,7 +378,7 @@ fn airlight_segments_16_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, 
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_segments_16_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32) -> f32 {
+fn airlight_segments_16_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32) -> f32 {
     let open = !(rho >= 0.0 && rho < airlight_segments_16_RHO_OPEN);
     let tau = min(tau_in, airlight_segments_16_TAU_MAX);
     if h_in <= 0.0 && x0 > 0.0 {
@@ -392,19 +397,19 @@ fn airlight_segments_16_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: 
         // first; both lengths are angles between vectors, precise when short.
 
         var len = airlight_segments_16_arctan2(x0, h);
-        if !open && rho < x0 {
-            len = airlight_segments_16_arctan2(h * rho, 1.0 - x0 * rho);
+        if !open && xr > 0.0 {
+            len = airlight_segments_16_arctan2(h * rho, h * h + x0 * xr);
         }
         sum += airlight_segments_16_forward(airlight_segments_16_arctan2(h, x0), len, t, -tau * x0);
     }
-    sum += airlight_segments_16_backward_u(tau, t, h, x0, rho, open);
+    sum += airlight_segments_16_backward_u(tau, t, h, x0, rho, xr, open);
     return min(sum / h, airlight_segments_16_HUGE);
 }
 
 /// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 fn airlight_segments_16_airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let sc = airlight_segments_16_sin_cos(gamma);
-    return airlight_segments_16_airlight_geometry(tau, abs(sc.x), sc.y, rho);
+    return airlight_segments_16_airlight_geometry(tau, abs(sc.x), sc.y, rho, airlight_segments_16_foot(abs(sc.x), sc.y, rho));
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -422,13 +427,13 @@ fn airlight_segments_16_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    let a = airlight_segments_16_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho);
+    let a = airlight_segments_16_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_segments_16_foot(geo.y, geo.z, rho));
     return airlight_segments_16_scaled(sigma_s, intensity, geo.x, a);
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn airlight_segments_16_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_segments_16_airlight_geometry(tau, h, x0, rho);
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn airlight_segments_16_along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_segments_16_airlight_geometry(tau, h, x0, rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -448,8 +453,8 @@ fn airlight_segments_16_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f3
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn airlight_segments_16_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(airlight_segments_16_along(tau.x, h, x0, rho, g), airlight_segments_16_along(tau.y, h, x0, rho, g), airlight_segments_16_along(tau.z, h, x0, rho, g));
+fn airlight_segments_16_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(airlight_segments_16_along(tau.x, h, x0, rho, xr, g), airlight_segments_16_along(tau.y, h, x0, rho, xr, g), airlight_segments_16_along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -473,12 +478,18 @@ fn airlight_segments_16_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_segments_16_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = airlight_segments_16_foot(h, x0, rho);
     if cut_b {
-        rho1 = airlight_segments_16_sin_cos(wb - wa).x / max(airlight_segments_16_sin_cos(wb).x, 1e-30);
+        let sb = airlight_segments_16_sin_cos(wb);
+        rho1 = airlight_segments_16_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_segments_16_foot(h1, x1, rho1);
     }
-    let a = airlight_segments_16_along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = airlight_segments_16_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_segments_16_HUGE));
 }
 

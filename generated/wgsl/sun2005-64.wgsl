@@ -39,6 +39,11 @@ const airlight_sun2005_64_FRAC_PI_2: f32 = 1.57079637e0;
 const airlight_sun2005_64_HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_sun2005_64_RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn airlight_sun2005_64_foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const airlight_sun2005_64_TAU_MAX: f32 = 1e4;
@@ -244,7 +249,7 @@ fn airlight_sun2005_64_lookup_diff(u: f32, a: f32, b: f32) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself, rho (negative: no surface).
-fn airlight_sun2005_64_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, rho: f32) -> f32 {
+fn airlight_sun2005_64_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, rho: f32, xr: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), airlight_sun2005_64_TAU_MAX);
     let open = !(rho >= 0.0 && rho < airlight_sun2005_64_RHO_OPEN);
     if h <= 0.0 {
@@ -259,7 +264,7 @@ fn airlight_sun2005_64_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f3
     var xb = airlight_sun2005_64_FRAC_PI_2;
     if !open {
         // pi/4 + atan((rho - x0)/h)/2 = atan2(h, x0 - rho)/2: no cancellation as h -> 0.
-        xb = 0.5 * airlight_sun2005_64_arctan2(h, x0 - rho);
+        xb = 0.5 * airlight_sun2005_64_arctan2(h, xr);
     }
     let f = max(airlight_sun2005_64_lookup_diff(t, 0.5 * gamma, xb), 0.0);
     // e^(-tau x0) is bounded where it can overflow (x0 < 0): the product saturates instead.
@@ -270,7 +275,7 @@ fn airlight_sun2005_64_airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f3
 fn airlight_sun2005_64_airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let gc = clamp(gamma, 0.0, airlight_sun2005_64_PI);
     let sc = airlight_sun2005_64_sin_cos(gc);
-    return airlight_sun2005_64_airlight_geometry(tau, abs(sc.x), sc.y, gc, rho);
+    return airlight_sun2005_64_airlight_geometry(tau, abs(sc.x), sc.y, gc, rho, airlight_sun2005_64_foot(abs(sc.x), sc.y, rho));
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -285,12 +290,12 @@ fn airlight_sun2005_64_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32,
     }
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
     let gamma = airlight_sun2005_64_arctan2(geo.y, geo.z);
-    return airlight_sun2005_64_scaled(sigma_s, intensity, geo.x, airlight_sun2005_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, rho));
+    return airlight_sun2005_64_scaled(sigma_s, intensity, geo.x, airlight_sun2005_64_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, rho, airlight_sun2005_64_foot(geo.y, geo.z, rho)));
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn airlight_sun2005_64_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_sun2005_64_airlight_geometry(tau, h, x0, airlight_sun2005_64_arctan2(h, x0), rho);
+fn airlight_sun2005_64_along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_sun2005_64_airlight_geometry(tau, h, x0, airlight_sun2005_64_arctan2(h, x0), rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -310,8 +315,8 @@ fn airlight_sun2005_64_along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn airlight_sun2005_64_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(airlight_sun2005_64_along(tau.x, h, x0, rho, g), airlight_sun2005_64_along(tau.y, h, x0, rho, g), airlight_sun2005_64_along(tau.z, h, x0, rho, g));
+fn airlight_sun2005_64_along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(airlight_sun2005_64_along(tau.x, h, x0, rho, xr, g), airlight_sun2005_64_along(tau.y, h, x0, rho, xr, g), airlight_sun2005_64_along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -335,12 +340,18 @@ fn airlight_sun2005_64_spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam:
         t0 = h / max(sa.x, 1e-30);
         s0 = airlight_sun2005_64_sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = airlight_sun2005_64_foot(h, x0, rho);
     if cut_b {
-        rho1 = airlight_sun2005_64_sin_cos(wb - wa).x / max(airlight_sun2005_64_sin_cos(wb).x, 1e-30);
+        let sb = airlight_sun2005_64_sin_cos(wb);
+        rho1 = airlight_sun2005_64_sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = airlight_sun2005_64_foot(h1, x1, rho1);
     }
-    let a = airlight_sun2005_64_along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = airlight_sun2005_64_along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(airlight_sun2005_64_HUGE));
 }
 

@@ -296,8 +296,8 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// [`SPOT_GRID_INNER`] (every eighth turned so that the ray leaves through its
 /// penumbra), the others outer half-angle 2°…80° log-uniform, every other one with a
 /// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
-/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then 20
-/// rays on the line through the light and beside it behind the viewer. Returns
+/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then 28
+/// rays on the line through the light and beside it. Returns
 /// the rays with the canonical point of their unclipped red channel and the
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
@@ -371,18 +371,22 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             *p,
         ));
     }
-    // The line through the light (issue 23): the light on the ray's line ahead,
-    // and behind on it and off it by 1e-30 … 1e-7 of its distance, a smooth
-    // 30°/20° and a hard 30° cone aimed along the line either way, surfaces before
-    // the light and none. On the line the value is the point light's times the
-    // line's weight, and the edge regime holds the point light to the bound at
-    // γ = 0 and π exactly: these are held at γ brought into the sampled hull. (A
-    // light ahead a little off the line is not here: see docs/MATH.md §7.)
+    // The line through the light (issue 23): the light on the ray's line ahead and
+    // off it by 1e-9 and 1e-5 of its distance, behind on it and off it by 1e-30 …
+    // 1e-7, a smooth 30°/20° and a hard 30° cone aimed along the line either way,
+    // surfaces before the light and none. On the line the value is the point
+    // light's times the line's weight, and the edge regime holds the point light
+    // to the bound at γ = 0 and π exactly: these are held at γ brought into the
+    // sampled hull.
     let mut line = Vec::new();
     let mut cases = Vec::new();
     for smooth in [true, false] {
         for toward in [true, false] {
-            cases.push((true, 0.0, smooth, toward, toward));
+            // Ahead, the cone's cut falls within `h cot ω` of the light's foot; the f64
+            // reference places it in distances, which hold `h` from about 1e-9 up.
+            for off in [0.0, 1e-9, 1e-5] {
+                cases.push((true, off, smooth, toward, toward && off == 0.0));
+            }
             for off in [0.0, 1e-30, 1e-12, 1e-7] {
                 cases.push((false, off, smooth, toward, false));
             }

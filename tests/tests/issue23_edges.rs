@@ -245,3 +245,48 @@ fn the_line_through_the_light_behind_the_viewer() {
         }
     }
 }
+
+/// A spot light ahead, a little off the ray's line, aimed along it: the cone ends
+/// the lit stretch within `h cot ω` of the light's foot, which the families now
+/// take as that offset (3e-4 off at 1e-4 of the distance, 3.4× at 1e-12 before).
+#[test]
+fn a_cone_cut_near_the_lights_foot_ahead() {
+    let a = |p: Point| reference::airlight(p).unwrap();
+    let co = 30f64.to_radians().cos();
+    for (ci, toward) in [(20f64.to_radians().cos(), true), (co, true), (20f64.to_radians().cos(), false), (co, false)] {
+        let axis = [if toward { -1.0 } else { 1.0 }, 0.0, 0.0];
+        let cone = Cone { axis, cos_outer: co, cos_inner: ci };
+        for off in [5e-9, 5e-5, 5e-3] {
+            let ray = PhysicalRay {
+                origin: [0.0; 3],
+                direction: [1.0, 0.0, 0.0],
+                surface_distance: None,
+                light: [5.0, off, 0.0],
+                intensity: 1.0,
+                sigma_t: 0.035,
+                sigma_s: 0.03,
+            };
+            let want = ray.spot_radiance(&cone, -0.19, &a).unwrap();
+            for name in ["phi-6", "phi-8", "equiangular-32"] {
+                let k = kernel(name);
+                let tol = k.thin_max_rel.max(k.dense_max_rel) * (1.0 + 1e-4) + 1e-4;
+                let f = k.spot.expect("spot entry");
+                let got = f(
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    -1.0,
+                    [5.0, off as f32, 0.0],
+                    axis.map(|x| x as f32),
+                    co as f32,
+                    ci as f32,
+                    1.0,
+                    [0.035; 3],
+                    [0.03; 3],
+                    -0.19,
+                );
+                let e = rel(f64::from(got[0]), want);
+                assert!(e < tol, "{name} off {off}, toward {toward}, inner {ci}: {} against {want} ({e:.1e})", got[0]);
+            }
+        }
+    }
+}

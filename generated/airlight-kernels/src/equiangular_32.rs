@@ -57,8 +57,8 @@ fn airlight_axis(tau: f32, x0: f32, rho: f32, g: f32) -> f32 {
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `gamma` itself and `comp = π − γ`, `rho` (negative,
 /// NaN or ≥ 2^32: no surface).
 // `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
-#[allow(clippy::manual_clamp)]
-pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g: f32) -> f32 {
+#[allow(clippy::manual_clamp, clippy::too_many_arguments)]
+pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
@@ -67,7 +67,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
     if h <= 0.0 || (x0 < 0.0 && h < 8.673_617e-19) {
         return airlight_axis(tau, x0, rho, g);
     }
-    let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
+    let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, h * h + x0 * xr) } else { comp };
     let half = 0.5 * span;
     let mut sum = 0.0f32;
     for i in 0..X.len() {
@@ -87,8 +87,8 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: 
 
 /// The same for three channels' τ at once (the spot entry): the nodes, their
 /// geometry and phase values are shared; each channel pays its transmittances.
-#[allow(clippy::manual_clamp)]
-pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g: f32) -> [f32; 3] {
+#[allow(clippy::manual_clamp, clippy::too_many_arguments)]
+pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g: f32) -> [f32; 3] {
     let tau = tau.map(|t| t.max(0.0).min(TAU_MAX));
     let g = g.max(-0.999).min(0.999);
     let (gm, gp) = ((1.0 - g) * (1.0 - g), (1.0 + g) * (1.0 + g));
@@ -97,7 +97,7 @@ pub fn airlight_geometry_rgb(tau: [f32; 3], h: f32, x0: f32, gamma: f32, comp: f
     if h <= 0.0 || (x0 < 0.0 && h < 8.673_617e-19) {
         return tau.map(|t| airlight_axis(t, x0, rho, g));
     }
-    let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, 1.0 - x0 * rho) } else { comp };
+    let span = if (0.0..RHO_OPEN).contains(&rho) { atan2(h * rho, h * h + x0 * xr) } else { comp };
     let half = 0.5 * span;
     let mut sum = [0.0f32; 3];
     for i in 0..X.len() {
@@ -129,7 +129,7 @@ pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     // sin γ from the smaller of γ and π − γ: 0 on the axis behind (γ at f32's π,
     // which lies beyond π), exact near it.
     let h = if gamma <= comp { s.abs() } else { sin_cos(comp).0 };
-    airlight_geometry(tau, h, c, gamma, comp, rho, g)
+    airlight_geometry(tau, h, c, gamma, comp, rho, crate::math::foot(h, c, rho), g)
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
@@ -145,14 +145,14 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
     }
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
     let (gamma, comp) = (atan2(h, x0), atan2(h, -x0));
-    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, gamma, comp, rho, g))
+    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, gamma, comp, rho, crate::math::foot(h, x0, rho), g))
 }
 
 /// `A` from the unit geometry (`h = sin γ ≥ 0`, `x0 = cos γ`, `rho` negative: none) for three
 /// channels' τ, its nodes shared: the core the spot entry calls.
-fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> [f32; 3] {
     let _ = (tau, g);
-    airlight_geometry_rgb(tau, h, x0, crate::math::atan2(h, x0), crate::math::atan2(h, -x0), rho, g)
+    airlight_geometry_rgb(tau, h, x0, crate::math::atan2(h, x0), crate::math::atan2(h, -x0), rho, xr, g)
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.rs.tera) ----
@@ -188,12 +188,18 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
         t0 = h / sa.0.max(1e-30);
         s0 = sin_cos(wa - gam).0 / sa.0.max(1e-30);
     }
+    // The end's foot offset x − ρ from the angles where the cone ends the stretch
+    // (`h1 cot ωb`: its digits survive however near the foot the cut falls).
+    let mut xr1 = crate::math::foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).0 / sin_cos(wb).0.max(1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).0 / sb.0.max(1e-30);
+        xr1 = h1 * sb.1 / sb.0.max(1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
+        xr1 = crate::math::foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, xr1, g);
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 

@@ -18,6 +18,18 @@ pub const HUGE: f32 = f32::MAX;
 /// (the part past ρ is below `P(π)/ρ`, `A` above `P(π)`): no surface.
 pub const RHO_OPEN: f32 = 4_294_967_296.0;
 
+/// `x0 − ρ`: how far before the light's foot on the ray the surface lies (in light
+/// distances), from `1 − ρ` where `cos γ` rounds to 1. The families take this
+/// rather than forming it from `ρ`, so that a stretch ending near the foot (a spot
+/// light's cone cut, `h cot ω`) keeps its digits.
+pub fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    if x0 >= 0.0 {
+        (1.0 - rho) - h * h / (1.0 + x0)
+    } else {
+        x0 - rho
+    }
+}
+
 /// Beyond `τ = 10⁴`, `A ≤ e^{−τ} P_max π/h` is below f32's smallest subnormal for
 /// every geometry f32 can hold: τ is taken as this, so `∞·0` never forms.
 pub const TAU_MAX: f32 = 1e4;

@@ -156,7 +156,8 @@ fn backward_ratio(tau: f32, t: f32, x0: f32, theta_b: f32, ph: &Phase) -> f32 {
 /// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`
 /// over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
 /// `open`: no surface (`ub = ∞`).
-fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phase) -> f32 {
+#[allow(clippy::too_many_arguments)]
+fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: &Phase) -> f32 {
     // u = tan(α/2), written without cancellation on either side of the foot point.
     let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
     let u0 = ua.max(1.0);
@@ -166,7 +167,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
     let span = if open {
         HUGE
     } else {
-        let d = rho - x0;
+        let d = -xr;
         let r = sqrt(d * d + h * h);
         if x0 < 0.0 {
             2.0 * rho * (d + r) / ((rho + r + 1.0) * h)
@@ -224,7 +225,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: &Phas
 
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `rho` (negative or
 /// infinite: no surface).
-pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let ph = phase(g);
     let open = !(0.0..RHO_OPEN).contains(&rho);
     let tau = tau.min(TAU_MAX);
@@ -243,16 +244,16 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
         // α runs from γ to the foot point (π/2) or the surface, whichever is first;
         // both lengths are taken as angles between vectors, precise when short.
 
-        let len = if !open && rho < x0 { atan2(h * rho, 1.0 - x0 * rho) } else { atan2(x0, h) };
+        let len = if !open && xr > 0.0 { atan2(h * rho, h * h + x0 * xr) } else { atan2(x0, h) };
         sum += forward(atan2(h, x0), len, t, -tau * x0, &ph);
     }
     if x0 >= 0.0 {
-        if open || rho > x0 {
-            let theta_b = if open { FRAC_PI_2 } else { atan2(rho - x0, h) };
+        if open || xr < 0.0 {
+            let theta_b = if open { FRAC_PI_2 } else { atan2(-xr, h) };
             sum += backward_ratio(tau, t, x0, theta_b, &ph);
         }
     } else {
-        sum += backward_u(tau, t, h, x0, rho, open, &ph);
+        sum += backward_u(tau, t, h, x0, rho, xr, open, &ph);
     }
     (sum / h).min(HUGE)
 }
@@ -260,7 +261,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 /// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
-    airlight_geometry(tau, s.abs(), c, rho, g)
+    airlight_geometry(tau, s.abs(), c, rho, crate::math::foot(s.abs(), c, rho), g)
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
@@ -279,14 +280,14 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
     }
     // Negative or NaN: no surface; an infinite ρ is none too.
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    let a = airlight_geometry(sigma_t * dd, h, x0, rho, g);
+    let a = airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g);
     scaled(sigma_s, intensity, dd, a)
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let _ = (tau, g);
-    airlight_geometry(tau, h, x0, rho, g)
+    airlight_geometry(tau, h, x0, rho, xr, g)
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.rs.tera) ----
@@ -305,8 +306,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// [`along`] for three channels' τ: this family's core depends on τ throughout,
 /// so it runs once per channel.
-fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
-    tau.map(|t| along(t, h, x0, rho, g))
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> [f32; 3] {
+    tau.map(|t| along(t, h, x0, rho, xr, g))
 }
 
 /// `asin(x/r)` for `0 ≤ x ≤ r`, as an angle between vectors.
@@ -328,12 +329,18 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
         t0 = h / sa.0.max(1e-30);
         s0 = sin_cos(wa - gam).0 / sa.0.max(1e-30);
     }
+    // The end's foot offset x − ρ from the angles where the cone ends the stretch
+    // (`h1 cot ωb`: its digits survive however near the foot the cut falls).
+    let mut xr1 = crate::math::foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).0 / sin_cos(wb).0.max(1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).0 / sb.0.max(1e-30);
+        xr1 = h1 * sb.1 / sb.0.max(1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
+        xr1 = crate::math::foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, xr1, g);
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 

@@ -136,7 +136,7 @@ fn r_of_v(v: f32, md: Medium) -> f32 {
 /// NaN or ≥ 2^32: no surface).
 // `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
 #[allow(clippy::manual_clamp)]
-pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
     let g = g.max(-0.999).min(0.999);
     let (a, b) = (1.0 - g, 1.0 + g);
@@ -167,11 +167,9 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
     } else {
         // |s − light| at the surface, `hypot(ρ − 1, √(2ρ(1 − cos γ)))` scaled so
         // that `h²` never underflows.
-        let (ta, tb) = ((rho - 1.0).abs(), if x0 >= 0.0 { h * sqrt(2.0 * rho / (1.0 + x0)) } else { sqrt(2.0 * rho * one_minus) });
+        let (ta, tb) = (xr.abs(), h);
         let tm = ta.max(tb);
         let tr = if tm > 0.0 { tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) } else { 0.0 };
-        // x0 − ρ from 1 − ρ (exact near 1) where cos γ rounds to 1.
-        let xr = if x0 >= 0.0 { (1.0 - rho) - one_minus } else { x0 - rho };
         if xr <= 0.0 {
             rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
         } else {
@@ -256,7 +254,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let gamma = gamma.max(0.0).min(PI);
     let (s, c) = sin_cos(gamma);
-    airlight_geometry(tau, s.abs(), c, rho, g)
+    airlight_geometry(tau, s.abs(), c, rho, crate::math::foot(s.abs(), c, rho), g)
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
@@ -271,13 +269,13 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
         return 0.0;
     }
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho, g))
+    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g))
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let _ = (tau, g);
-    airlight_geometry(tau, h, x0, rho, g)
+    airlight_geometry(tau, h, x0, rho, xr, g)
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.rs.tera) ----
@@ -296,8 +294,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// [`along`] for three channels' τ: this family's core depends on τ throughout,
 /// so it runs once per channel.
-fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
-    tau.map(|t| along(t, h, x0, rho, g))
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> [f32; 3] {
+    tau.map(|t| along(t, h, x0, rho, xr, g))
 }
 
 /// `asin(x/r)` for `0 ≤ x ≤ r`, as an angle between vectors.
@@ -319,12 +317,18 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
         t0 = h / sa.0.max(1e-30);
         s0 = sin_cos(wa - gam).0 / sa.0.max(1e-30);
     }
+    // The end's foot offset x − ρ from the angles where the cone ends the stretch
+    // (`h1 cot ωb`: its digits survive however near the foot the cut falls).
+    let mut xr1 = crate::math::foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).0 / sin_cos(wb).0.max(1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).0 / sb.0.max(1e-30);
+        xr1 = h1 * sb.1 / sb.0.max(1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
+        xr1 = crate::math::foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, xr1, g);
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 

@@ -42,8 +42,9 @@ fn hg(g: f32, om: f32, op: f32) -> f32 {
 /// no surface).
 // `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
 #[allow(clippy::manual_clamp)]
-pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
+    let _ = xr;
     let g = g.max(-0.999).min(0.999);
     // No surface: to the cut-off, which lies beyond the far plane when τ ≤ ln(1/cutoff)/(2 FAR).
     let end = if tau <= LN_CUTOFF / (2.0 * FAR) {
@@ -71,7 +72,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 /// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
 pub fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let (s, c) = sin_cos(gamma);
-    airlight_geometry(tau, s.abs(), c, rho, g)
+    airlight_geometry(tau, s.abs(), c, rho, crate::math::foot(s.abs(), c, rho), g)
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
@@ -86,13 +87,13 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
         return 0.0;
     }
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho, g))
+    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g))
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let _ = (tau, g);
-    airlight_geometry(tau, h, x0, rho, g)
+    airlight_geometry(tau, h, x0, rho, xr, g)
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.rs.tera) ----
@@ -111,8 +112,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// [`along`] for three channels' τ: this family's core depends on τ throughout,
 /// so it runs once per channel.
-fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, g: f32) -> [f32; 3] {
-    tau.map(|t| along(t, h, x0, rho, g))
+fn along_rgb(tau: [f32; 3], h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> [f32; 3] {
+    tau.map(|t| along(t, h, x0, rho, xr, g))
 }
 
 /// `asin(x/r)` for `0 ≤ x ≤ r`, as an angle between vectors.
@@ -134,12 +135,18 @@ fn spot_core(tau: [f32; 3], h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f3
         t0 = h / sa.0.max(1e-30);
         s0 = sin_cos(wa - gam).0 / sa.0.max(1e-30);
     }
+    // The end's foot offset x − ρ from the angles where the cone ends the stretch
+    // (`h1 cot ωb`: its digits survive however near the foot the cut falls).
+    let mut xr1 = crate::math::foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).0 / sin_cos(wb).0.max(1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).0 / sb.0.max(1e-30);
+        xr1 = h1 * sb.1 / sb.0.max(1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = ((rho - s0) / t0).max(0.0);
+        xr1 = crate::math::foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, g);
+    let a = along_rgb(tau.map(|t| t * t0), h1, x1, rho1, xr1, g);
     [0, 1, 2].map(|c| if a[c] >= HUGE { a[c] } else { a[c] * exp(-tau[c] * s0) / t0 })
 }
 

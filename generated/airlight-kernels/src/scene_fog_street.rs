@@ -115,7 +115,7 @@ fn r_of_v(v: f32, md: Medium) -> f32 {
 /// NaN or ≥ 2^32: no surface).
 // `max` then `min`, not `clamp`: a NaN argument maps to a bound instead of passing through.
 #[allow(clippy::manual_clamp)]
-pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
+pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32) -> f32 {
     let tau = tau.max(0.0).min(TAU_MAX);
     let md = Medium { kappa: 1.0 };
     // On the axis with the light ahead: `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent
@@ -144,11 +144,9 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
     } else {
         // |s − light| at the surface, `hypot(ρ − 1, √(2ρ(1 − cos γ)))` scaled so
         // that `h²` never underflows.
-        let (ta, tb) = ((rho - 1.0).abs(), if x0 >= 0.0 { h * sqrt(2.0 * rho / (1.0 + x0)) } else { sqrt(2.0 * rho * one_minus) });
+        let (ta, tb) = (xr.abs(), h);
         let tm = ta.max(tb);
         let tr = if tm > 0.0 { tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)) } else { 0.0 };
-        // x0 − ρ from 1 − ρ (exact near 1) where cos γ rounds to 1.
-        let xr = if x0 >= 0.0 { (1.0 - rho) - one_minus } else { x0 - rho };
         if xr <= 0.0 {
             rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
         } else {
@@ -233,7 +231,7 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32) -> f32 {
 pub fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let gamma = gamma.max(0.0).min(PI);
     let (s, c) = sin_cos(gamma);
-    airlight_geometry(tau, s.abs(), c, rho)
+    airlight_geometry(tau, s.abs(), c, rho, crate::math::foot(s.abs(), c, rho))
 }
 
 /// In-scattered radiance along a view ray: `σs · I / D · A` (see the module header).
@@ -248,5 +246,5 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
         return 0.0;
     }
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho))
+    scaled(sigma_s, intensity, dd, airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho)))
 }

@@ -39,6 +39,11 @@ const FRAC_PI_2: f32 = 1.57079637e0;
 const HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const TAU_MAX: f32 = 1e4;
@@ -264,7 +269,7 @@ fn airlight_axis(tau: f32, x0: f32, rho: f32, g: f32) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), gamma itself and comp = pi - gamma, rho (negative: no surface).
-fn airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> f32 {
+fn airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
@@ -276,7 +281,7 @@ fn airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f
     }
     var span = comp;
     if rho >= 0.0 && rho < RHO_OPEN {
-        span = arctan2(h * rho, 1.0 - x0 * rho);
+        span = arctan2(h * rho, h * h + x0 * xr);
     }
     let half = 0.5 * span;
     var sum = 0.0;
@@ -450,7 +455,7 @@ fn airlight_geometry(tau_in: f32, h: f32, x0: f32, gamma: f32, comp: f32, rho: f
 
 /// The same for three channels' tau at once (the spot entry): the nodes, their
 /// geometry and phase values are shared; each channel pays its transmittances.
-fn airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, g_in: f32) -> vec3<f32> {
+fn airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f32, rho: f32, xr: f32, g_in: f32) -> vec3<f32> {
     let tau = min(max(tau_in, vec3<f32>(0.0)), vec3<f32>(TAU_MAX));
     let g = clamp(g_in, -0.999, 0.999);
     let gm = (1.0 - g) * (1.0 - g);
@@ -462,7 +467,7 @@ fn airlight_geometry_rgb(tau_in: vec3<f32>, h: f32, x0: f32, gamma: f32, comp: f
     }
     var span = comp;
     if rho >= 0.0 && rho < RHO_OPEN {
-        span = arctan2(h * rho, 1.0 - x0 * rho);
+        span = arctan2(h * rho, h * h + x0 * xr);
     }
     let half = 0.5 * span;
     var sum = vec3<f32>(0.0);
@@ -644,7 +649,7 @@ fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     // sin(gamma) from the smaller of gamma and pi - gamma: 0 on the axis behind (gamma at
     // f32's pi, which lies beyond pi), exact near it.
     let h = select(abs(sc.x), sin_cos(comp).x, gc > comp);
-    return airlight_geometry(tau, h, sc.y, gc, comp, rho, g);
+    return airlight_geometry(tau, h, sc.y, gc, comp, rho, foot(h, sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -660,13 +665,13 @@ fn radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, i
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
     let gamma = arctan2(geo.y, geo.z);
     let comp = arctan2(geo.y, -geo.z);
-    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, g));
+    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, gamma, comp, rho, foot(geo.y, geo.z, rho), g));
 }
 
 /// A from the unit geometry (h = sin(gamma) >= 0, x0 = cos(gamma), rho negative: none) for
 /// three channels' tau, its nodes shared: the core the spot entry calls.
-fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return airlight_geometry_rgb(tau, h, x0, arctan2(h, x0), arctan2(h, -x0), rho, g);
+fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return airlight_geometry_rgb(tau, h, x0, arctan2(h, x0), arctan2(h, -x0), rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -705,12 +710,18 @@ fn spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f
         t0 = h / max(sa.x, 1e-30);
         s0 = sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).x / max(sin_cos(wb).x, 1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(HUGE));
 }
 

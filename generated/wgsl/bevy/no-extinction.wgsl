@@ -40,6 +40,11 @@ const FRAC_PI_2: f32 = 1.57079637e0;
 const HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const TAU_MAX: f32 = 1e4;
@@ -217,7 +222,7 @@ fn sin_cos(x: f32) -> vec2<f32> {
 const P_ISO: f32 = 7.95774683e-2;
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_geometry(h: f32, x0: f32, rho: f32) -> f32 {
+fn airlight_geometry(h: f32, x0: f32, rho: f32, xr: f32) -> f32 {
     let open = !(rho >= 0.0 && rho < RHO_OPEN);
     if h <= 0.0 {
         // On the line through the light: the integral of ds/(1 - x0 s)^2.
@@ -228,7 +233,7 @@ fn airlight_geometry(h: f32, x0: f32, rho: f32) -> f32 {
     }
     var angle = arctan2(h, -x0);
     if !open {
-        angle = arctan2(h * rho, 1.0 - x0 * rho);
+        angle = arctan2(h * rho, h * h + x0 * xr);
     }
     return min(P_ISO * angle / h, HUGE);
 }
@@ -236,7 +241,7 @@ fn airlight_geometry(h: f32, x0: f32, rho: f32) -> f32 {
 /// The canonical A(γ, ρ) (docs/MATH.md section 2).
 fn airlight(gamma: f32, rho: f32) -> f32 {
     let sc = sin_cos(gamma);
-    return airlight_geometry(abs(sc.x), sc.y, rho);
+    return airlight_geometry(abs(sc.x), sc.y, rho, foot(abs(sc.x), sc.y, rho));
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -254,12 +259,12 @@ fn radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, i
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    return scaled(sigma_s, intensity, geo.x, airlight_geometry(geo.y, geo.z, rho));
+    return scaled(sigma_s, intensity, geo.x, airlight_geometry(geo.y, geo.z, rho, foot(geo.y, geo.z, rho)));
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_geometry(h, x0, rho);
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_geometry(h, x0, rho, xr);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -279,8 +284,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(along(tau.x, h, x0, rho, g), along(tau.y, h, x0, rho, g), along(tau.z, h, x0, rho, g));
+fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(along(tau.x, h, x0, rho, xr, g), along(tau.y, h, x0, rho, xr, g), along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -304,12 +309,18 @@ fn spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f
         t0 = h / max(sa.x, 1e-30);
         s0 = sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).x / max(sin_cos(wb).x, 1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(HUGE));
 }
 

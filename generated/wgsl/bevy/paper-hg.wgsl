@@ -37,6 +37,11 @@ const FRAC_PI_2: f32 = 1.57079637e0;
 const HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const TAU_MAX: f32 = 1e4;
@@ -358,7 +363,7 @@ fn backward_ratio(tau: f32, t: f32, x0: f32, theta_b: f32, ph: Phase) -> f32 {
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: Phase) -> f32 {
+fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: Phase) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
@@ -367,7 +372,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: Phase
     // d = rho - cos(gamma), r = sqrt(d^2 + h^2), exact as rho -> 0 (docs/MATH.md section 3).
     var span = HUGE;
     if !open {
-        let d = rho - x0;
+        let d = -xr;
         let r = sqrt(d * d + h * h);
         span = select((d + r) / h - u0, 2.0 * rho * (d + r) / ((rho + r + 1.0) * h), x0 < 0.0);
     }
@@ -445,7 +450,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, open: bool, ph: Phase
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
+fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
     let ph = phase(g);
     let open = !(rho >= 0.0 && rho < RHO_OPEN);
     let tau = min(tau_in, TAU_MAX);
@@ -465,21 +470,21 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
         // first; both lengths are angles between vectors, precise when short.
 
         var len = arctan2(x0, h);
-        if !open && rho < x0 {
-            len = arctan2(h * rho, 1.0 - x0 * rho);
+        if !open && xr > 0.0 {
+            len = arctan2(h * rho, h * h + x0 * xr);
         }
         sum += forward(arctan2(h, x0), len, t, -tau * x0, ph);
     }
     if x0 >= 0.0 {
-        if open || rho > x0 {
+        if open || xr < 0.0 {
             var theta_b = FRAC_PI_2;
             if !open {
-                theta_b = arctan2(rho - x0, h);
+                theta_b = arctan2(-xr, h);
             }
             sum += backward_ratio(tau, t, x0, theta_b, ph);
         }
     } else {
-        sum += backward_u(tau, t, h, x0, rho, open, ph);
+        sum += backward_u(tau, t, h, x0, rho, xr, open, ph);
     }
     return min(sum / h, HUGE);
 }
@@ -487,7 +492,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, g: f32) -> f32 {
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = sin_cos(gamma);
-    return airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_geometry(tau, abs(sc.x), sc.y, rho, foot(abs(sc.x), sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -505,13 +510,13 @@ fn radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, i
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    let a = airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g);
+    let a = airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, foot(geo.y, geo.z, rho), g);
     return scaled(sigma_s, intensity, geo.x, a);
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_geometry(tau, h, x0, rho, g);
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -531,8 +536,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(along(tau.x, h, x0, rho, g), along(tau.y, h, x0, rho, g), along(tau.z, h, x0, rho, g));
+fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(along(tau.x, h, x0, rho, xr, g), along(tau.y, h, x0, rho, xr, g), along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -556,12 +561,18 @@ fn spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f
         t0 = h / max(sa.x, 1e-30);
         s0 = sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).x / max(sin_cos(wb).x, 1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(HUGE));
 }
 

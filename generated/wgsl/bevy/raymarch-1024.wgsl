@@ -37,6 +37,11 @@ const FRAC_PI_2: f32 = 1.57079637e0;
 const HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const TAU_MAX: f32 = 1e4;
@@ -221,7 +226,7 @@ fn hg(g: f32, om: f32, op: f32) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, g_in: f32) -> f32 {
+fn airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, xr: f32, g_in: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), TAU_MAX);
     let g = clamp(g_in, -0.999, 0.999);
     var len = FAR;
@@ -251,7 +256,7 @@ fn airlight_geometry(tau_in: f32, h: f32, x0: f32, rho: f32, g_in: f32) -> f32 {
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
 fn airlight(tau: f32, gamma: f32, rho: f32, g: f32) -> f32 {
     let sc = sin_cos(gamma);
-    return airlight_geometry(tau, abs(sc.x), sc.y, rho, g);
+    return airlight_geometry(tau, abs(sc.x), sc.y, rho, foot(abs(sc.x), sc.y, rho), g);
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -265,12 +270,12 @@ fn radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, i
         return 0.0;
     }
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, g));
+    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, foot(geo.y, geo.z, rho), g));
 }
 
-/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
-fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
-    return airlight_geometry(tau, h, x0, rho, g);
+/// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.
+fn along(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    return airlight_geometry(tau, h, x0, rho, xr, g);
 }
 
 // ---- Spot lights and RGB media (codegen/templates/kernels/spot.wgsl.tera) ----
@@ -290,8 +295,8 @@ fn along(tau: f32, h: f32, x0: f32, rho: f32, g: f32) -> f32 {
 
 /// along for three channels' tau: this family's core depends on tau throughout, so
 /// it runs once per channel.
-fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, g: f32) -> vec3<f32> {
-    return vec3<f32>(along(tau.x, h, x0, rho, g), along(tau.y, h, x0, rho, g), along(tau.z, h, x0, rho, g));
+fn along_rgb(tau: vec3<f32>, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec3<f32> {
+    return vec3<f32>(along(tau.x, h, x0, rho, xr, g), along(tau.y, h, x0, rho, xr, g), along(tau.z, h, x0, rho, xr, g));
 }
 
 /// asin(x / r) for 0 <= x <= r, as an angle between vectors.
@@ -315,12 +320,18 @@ fn spot_core(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, wa: f32, wb: f
         t0 = h / max(sa.x, 1e-30);
         s0 = sin_cos(wa - gam).x / max(sa.x, 1e-30);
     }
+    // The end's foot offset x - rho from the angles where the cone ends the stretch
+    // (h1 cot(wb): its digits survive however near the foot the cut falls).
+    var xr1 = foot(h, x0, rho);
     if cut_b {
-        rho1 = sin_cos(wb - wa).x / max(sin_cos(wb).x, 1e-30);
+        let sb = sin_cos(wb);
+        rho1 = sin_cos(wb - wa).x / max(sb.x, 1e-30);
+        xr1 = h1 * sb.y / max(sb.x, 1e-30);
     } else if cut_a && rho >= 0.0 {
         rho1 = max((rho - s0) / t0, 0.0);
+        xr1 = foot(h1, x1, rho1);
     }
-    let a = along_rgb(tau * t0, h1, x1, rho1, g);
+    let a = along_rgb(tau * t0, h1, x1, rho1, xr1, g);
     return select(a * exp(-tau * s0) / t0, a, a >= vec3<f32>(HUGE));
 }
 

@@ -42,6 +42,11 @@ const FRAC_PI_2: f32 = 1.57079637e0;
 const HUGE: f32 = 3.40282347e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const RHO_OPEN: f32 = 4294967296.0;
+/// x0 - rho: how far before the light's foot on the ray the surface lies, from
+/// 1 - rho where cos(gamma) rounds to 1 (the families take this, not rho alone).
+fn foot(h: f32, x0: f32, rho: f32) -> f32 {
+    return select(x0 - rho, (1.0 - rho) - h * h / (1.0 + x0), x0 >= 0.0);
+}
 /// Beyond tau = 1e4, A is below f32's smallest subnormal for every geometry f32 can
 /// hold: tau is taken as this, so inf * 0 never forms.
 const TAU_MAX: f32 = 1e4;
@@ -274,7 +279,7 @@ fn r_of_v(v: f32, md: vec4<f32>) -> f32 {
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32) -> f32 {
+fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32) -> f32 {
     let tau = min(max(tau_in, 0.0), TAU_MAX);
     let md = vec4<f32>(0.0, 1.0, 1.0, 1.0);
     // On the axis with the light ahead: P(0) e^(-tau) rho / (1 - rho) before it,
@@ -302,12 +307,10 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32) -> f32 {
     if !open {
         // |s - light| at the surface, hypot(rho - 1, sqrt(2 rho (1 - cos(gamma)))) scaled
         // so that h^2 never underflows.
-        let ta = abs(rho - 1.0);
-        let tb = select(sqrt(2.0 * rho * one_minus), h * sqrt(2.0 * rho / (1.0 + x0)), x0 >= 0.0);
+        let ta = abs(xr);
+        let tb = h;
         let tm = max(ta, tb);
         let tr = select(0.0, tm * sqrt((ta / tm) * (ta / tm) + (tb / tm) * (tb / tm)), tm > 0.0);
-        // x0 - rho from 1 - rho (exact near 1) where cos(gamma) rounds to 1.
-        let xr = select(x0 - rho, (1.0 - rho) - one_minus, x0 >= 0.0);
         if xr <= 0.0 {
             du = rho * (tr - xr + one_minus) / ((tr + 1.0) * h);
         } else {
@@ -424,7 +427,7 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32) -> f32 {
 /// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
 fn airlight(tau: f32, gamma: f32, rho: f32) -> f32 {
     let sc = sin_cos(clamp(gamma, 0.0, PI));
-    return airlight_geometry(tau, abs(sc.x), sc.y, rho);
+    return airlight_geometry(tau, abs(sc.x), sc.y, rho, foot(abs(sc.x), sc.y, rho));
 }
 
 /// In-scattered radiance along a view ray: sigma_s * I / D * A (see the header).
@@ -438,5 +441,5 @@ fn radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, i
         return 0.0;
     }
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho));
+    return scaled(sigma_s, intensity, geo.x, airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, foot(geo.y, geo.z, rho)));
 }
