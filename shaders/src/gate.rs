@@ -469,6 +469,9 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
 /// Shadowed rays per kernel in the gate.
 pub const SHADOWED_RAYS: usize = 96;
 
+/// Of those, how many are also made spot lights (where the kernel has the spot entry).
+pub const SHADOWED_SPOT_RAYS: usize = 8;
+
 /// One shadowed ray of the gate: a physical ray among analytic occluders.
 #[derive(Debug, Clone)]
 pub struct ShadowCase {
@@ -597,12 +600,126 @@ pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCa
     Ok(cases)
 }
 
-/// A shadowed row: each ray's error `|Â − A| / (U (1 + transitions))`, `U` the
+/// A spot light's shadowed ray of the gate: a [`ShadowCase`]'s ray, occluders and
+/// samples with the light made a spot light aimed at a point of the ray.
+#[derive(Debug, Clone)]
+pub struct SpotShadowCase {
+    /// The ray, cone and RGB medium (f32).
+    pub ray: crate::SpotRay,
+    /// The canonical point of the unshadowed red channel (where it is reported).
+    pub point: Point,
+    /// The exact lit intervals fed as samples.
+    pub samples: Vec<(f64, f64)>,
+    /// Visibility changes on the ray.
+    pub transitions: usize,
+    /// The reference shadowed radiance per channel.
+    pub reference: [f64; 3],
+    /// The reference unshadowed radiance per channel.
+    pub unshadowed: [f64; 3],
+}
+
+/// Spot rays of the shadowed set: the first `n` of `cases`, each light a spot light
+/// aimed from the light at a random point of the ray's first 3 light distances,
+/// 40° outer half-angle, smooth (inner 25°) and hard in turn; σt and σs per
+/// channel the ray's times 1, 0.7, 0.4 and 1, 0.8, 0.6.
+pub fn spot_shadowed_rays(
+    k: &IndexEntry,
+    cases: &[ShadowCase],
+    n: usize,
+    seed: u64,
+) -> Result<Vec<SpotShadowCase>, GateError> {
+    use airlight_fit::shafts;
+    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x5B0D);
+    let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+    let mut out = Vec::new();
+    for (i, c) in cases.iter().take(n).enumerate() {
+        let r = c.ray;
+        let phys = r.physical();
+        let d = phys.direction;
+        let dn = {
+            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            d.map(|x| x / m)
+        };
+        let (o, l) = (phys.origin, phys.light);
+        let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
+        let s = phys.surface_distance.unwrap_or(3.0 * dist).min(3.0 * dist) * rng.next_f64();
+        let axis: [f64; 3] = std::array::from_fn(|q| o[q] + s * dn[q] - l[q]);
+        let co = 40f64.to_radians().cos();
+        let ci = if i % 2 == 0 { 25f64.to_radians().cos() } else { co };
+        let ray = crate::SpotRay {
+            origin: r.origin,
+            dir: r.dir,
+            surface: r.surface,
+            light: r.light,
+            axis: axis.map(|x| x as f32),
+            cos_outer: co as f32,
+            cos_inner: ci as f32,
+            intensity: r.intensity,
+            sigma_t: if takes_sigma_t { [r.sigma_t, 0.7 * r.sigma_t, 0.4 * r.sigma_t] } else { [0.0; 3] },
+            sigma_s: [r.sigma_s, 0.8 * r.sigma_s, 0.6 * r.sigma_s],
+            g: r.g,
+        };
+        let cone = ray.cone();
+        let lit = shafts::lit_intervals(&ray.physical(0), &c.occluders);
+        let a = |q: Point| reference::airlight(project(k, q)).unwrap_or(f64::NAN);
+        let fail =
+            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: spot shadowed ray: {e}", k.name));
+        let mut reference = [0.0; 3];
+        let mut unshadowed = [0.0; 3];
+        for ch in 0..3 {
+            let p = ray.physical(ch);
+            reference[ch] = shafts::shadowed_radiance(&p, cone.as_ref(), f64::from(r.g), &lit, &a).map_err(fail)?;
+            unshadowed[ch] = ray.reference(ch, &a).map_err(fail)?;
+        }
+        out.push(SpotShadowCase {
+            ray,
+            point: c.point,
+            samples: c.samples.clone(),
+            transitions: c.transitions,
+            reference,
+            unshadowed,
+        });
+    }
+    Ok(out)
+}
+
+/// What a shadowed row holds one value to: the reference, the unshadowed value of
+/// the same ray, its visibility changes, and where it is reported.
+struct Held {
+    point: Point,
+    reference: f64,
+    unshadowed: f64,
+    transitions: usize,
+}
+
+impl ShadowCase {
+    fn held(&self) -> Held {
+        Held {
+            point: self.point,
+            reference: self.reference,
+            unshadowed: self.unshadowed,
+            transitions: self.transitions,
+        }
+    }
+}
+
+impl SpotShadowCase {
+    fn held(&self) -> [Held; 3] {
+        std::array::from_fn(|c| Held {
+            point: self.point,
+            reference: self.reference[c],
+            unshadowed: self.unshadowed[c],
+            transitions: self.transitions,
+        })
+    }
+}
+
+/// A shadowed row: each value's error `|Â − A| / (U (1 + transitions))`, `U` the
 /// unshadowed value of the same ray, held to `declared` like every row.
-fn shadow_row(k: &IndexEntry, target: Option<Target>, cases: &[ShadowCase], got: &[f64], declared: f64) -> Row {
-    let mut errs = Vec::with_capacity(cases.len());
+fn shadow_row(k: &IndexEntry, target: Option<Target>, items: &[Held], got: &[f64], declared: f64) -> Row {
+    let mut errs = Vec::with_capacity(items.len());
     let (mut bad, mut first_bad) = (0, None);
-    for (c, &v) in cases.iter().zip(got) {
+    for (c, &v) in items.iter().zip(got) {
         let saturated = target.is_some() && v == f64::INFINITY && c.reference > F32_RANGE.1;
         if !saturated && c.reference.is_finite() && !(v.is_finite() && v >= 0.0) {
             bad += 1;
@@ -958,9 +1075,18 @@ impl Subject<'_> {
     /// occluders, held to `bound` relative to each ray's unshadowed value times
     /// one plus its visibility changes.
     fn shadowed_rows(&self, bound: f64) -> Result<Vec<Row>, GateError> {
-        let (k, mut rows) = (self.k, Vec::new());
+        let k = self.k;
         let cases = shadowed_rays(k, SHADOWED_RAYS, VALIDATION_SEED ^ 0x54AD)?;
-        let f64s: Vec<f64> = airlight_fit::parallel::map(
+        let spots = if k.has(Entry::Spot) {
+            spot_shadowed_rays(k, &cases, SHADOWED_SPOT_RAYS, VALIDATION_SEED ^ 0x54AD)?
+        } else {
+            Vec::new()
+        };
+        let mut held: Vec<Held> = cases.iter().map(ShadowCase::held).collect();
+        held.extend(spots.iter().flat_map(SpotShadowCase::held));
+        let f32s = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();
+        // The f64 model through the f64 accumulator.
+        let mut f64s: Vec<f64> = airlight_fit::parallel::map(
             &cases,
             |c| {
                 let phys = c.ray.physical();
@@ -969,11 +1095,34 @@ impl Subject<'_> {
             },
             &|_, _| {},
         );
-        rows.push(shadow_row(k, None, &cases, &f64s, bound));
-        let samples: Vec<Vec<[f32; 2]>> =
-            cases.iter().map(|c| c.samples.iter().map(|&(s, v)| [s as f32, v as f32]).collect()).collect();
+        f64s.extend(
+            airlight_fit::parallel::map(
+                &spots,
+                |c| {
+                    let cone = c.ray.cone();
+                    [0, 1, 2].map(|ch| {
+                        let p = c.ray.physical(ch);
+                        airlight_fit::shafts::evaluate(
+                            &p,
+                            cone.as_ref(),
+                            f64::from(c.ray.g),
+                            &c.samples,
+                            &|q| (self.model)(q),
+                            false,
+                        )
+                        .map_or(f64::NAN, |v| v.0)
+                    })
+                },
+                &|_, _| {},
+            )
+            .into_iter()
+            .flatten(),
+        );
+        let mut rows = vec![shadow_row(k, None, &held, &f64s, bound)];
+        let samples: Vec<Vec<[f32; 2]>> = cases.iter().map(|c| f32s(&c.samples)).collect();
+        let spot_samples: Vec<Vec<[f32; 2]>> = spots.iter().map(|c| f32s(&c.samples)).collect();
         if let Some(f) = self.compiled.and_then(|rk| rk.shadowed) {
-            let got: Vec<f64> = cases
+            let mut got: Vec<f64> = cases
                 .iter()
                 .zip(&samples)
                 .map(|(c, s)| {
@@ -991,14 +1140,43 @@ impl Subject<'_> {
                     ))
                 })
                 .collect();
-            rows.push(shadow_row(k, Some(Target::Rust), &cases, &got, bound));
+            if let Some(fs) = self.compiled.and_then(|rk| rk.spot_shadowed) {
+                for (c, s) in spots.iter().zip(&spot_samples) {
+                    let r = &c.ray;
+                    let v = fs(
+                        s,
+                        r.surface,
+                        r.origin,
+                        r.dir,
+                        r.light,
+                        r.axis,
+                        r.cos_outer,
+                        r.cos_inner,
+                        r.intensity,
+                        r.sigma_t,
+                        r.sigma_s,
+                        r.g,
+                    );
+                    got.extend(v.map(crate::from_kernel));
+                }
+            }
+            rows.push(shadow_row(k, Some(Target::Rust), &held, &got, bound));
         }
         if let Some(gpu) = self.gpu {
             let plain: Vec<crate::Ray> = cases.iter().map(|c| c.ray).collect();
+            let spot_plain: Vec<crate::SpotRay> = spots.iter().map(|c| c.ray).collect();
             for (target, src) in &self.shaders {
-                let got = gpu.shadowed(src, &plain, &samples).map_err(self.gpu_error(*target))?;
-                let got: Vec<f64> = got.into_iter().map(crate::from_kernel).collect();
-                rows.push(shadow_row(k, Some(*target), &cases, &got, bound));
+                let mut got: Vec<f64> = gpu
+                    .shadowed(src, &plain, &samples)
+                    .map_err(self.gpu_error(*target))?
+                    .into_iter()
+                    .map(crate::from_kernel)
+                    .collect();
+                if !spots.is_empty() {
+                    let v = gpu.spot_shadowed(src, &spot_plain, &spot_samples).map_err(self.gpu_error(*target))?;
+                    got.extend(v.into_iter().flatten().map(crate::from_kernel));
+                }
+                rows.push(shadow_row(k, Some(*target), &held, &got, bound));
             }
         }
         Ok(rows)
