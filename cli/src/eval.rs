@@ -20,13 +20,7 @@ pub(crate) fn eval(
 ) -> Result<(), Failure> {
     match kernels {
         None => eval_model(model, input, output, entry_kind, root),
-        Some(ks) => {
-            let k = ks.iter().find(|k| k.name == model).ok_or_else(|| {
-                let known: Vec<&str> = ks.iter().map(|k| k.name).collect();
-                bad_input(format!("no generated f32 kernel '{model}'; kernels: {}", known.join(", ")))
-            })?;
-            eval_compiled(k, input, output, entry_kind, root)
-        }
+        Some(ks) => eval_compiled(compiled(ks, model)?, input, output, entry_kind, root),
     }
 }
 
@@ -172,14 +166,9 @@ pub(crate) fn eval_gpu(
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
     let rays = entry_kind == EvalEntry::Radiance;
-    let generated = generated_dir(root.clone())?;
-    let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
+    let index = gate::load_index(&generated_dir(root.clone())?).map_err(|e| bad_input(e.to_string()))?;
     let k = index.get(name).map_err(bad_input)?;
-    let file = k.file(language).ok_or_else(|| bad_input(format!("kernel '{name}' has no {language} file")))?;
-    let path = generated.join(file);
-    let source =
-        std::fs::read_to_string(&path).map_err(|e| Failure(1, format!("{}: cannot read: {e}", path.display())))?;
-    let table = airlight_shaders::load_table(&generated, k).map_err(|e| Failure(1, e.to_string()))?;
+    let (source, table, path) = shader_source(root, k, language)?;
     let src = KernelSource::of(k, language, &source).with_table(table.as_ref());
     if entry_kind == EvalEntry::Spot {
         if !k.has(airlight_fit::vocab::Entry::Spot) {

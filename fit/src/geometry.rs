@@ -12,17 +12,17 @@ use std::fmt;
 /// A 3-vector in world units.
 pub type Vec3 = [f64; 3];
 
-fn sub(a: Vec3, b: Vec3) -> Vec3 {
+pub(crate) fn sub(a: Vec3, b: Vec3) -> Vec3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
-fn dot(a: Vec3, b: Vec3) -> f64 {
+pub(crate) fn dot(a: Vec3, b: Vec3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
-fn cross(a: Vec3, b: Vec3) -> Vec3 {
+pub(crate) fn cross(a: Vec3, b: Vec3) -> Vec3 {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 /// Euclidean length without overflow or underflow for any finite input.
-fn norm(a: Vec3) -> f64 {
+pub(crate) fn norm(a: Vec3) -> f64 {
     a[0].hypot(a[1]).hypot(a[2])
 }
 

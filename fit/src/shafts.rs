@@ -18,21 +18,9 @@
 //! the accumulator in f64 (the generated kernels carry the same in f32), where a
 //! shadow map's samples fall, and the engines' march with visibility.
 
-use crate::geometry::{Cone, GeometryError, PhysicalRay, Vec3};
+use crate::geometry::{cross, dot, norm, sub, Cone, GeometryError, PhysicalRay, Vec3};
 use crate::reference::Point;
 
-fn sub(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-fn norm(a: Vec3) -> f64 {
-    a[0].hypot(a[1]).hypot(a[2])
-}
 fn along(o: Vec3, d: Vec3, s: f64) -> Vec3 {
     [o[0] + s * d[0], o[1] + s * d[1], o[2] + s * d[2]]
 }
@@ -83,6 +71,46 @@ impl Occluder {
                     }
                 }
                 lo < hi
+            }
+        }
+    }
+
+    /// Whether `q` lies in the occluder (its boundary included).
+    pub fn contains(&self, q: Vec3) -> bool {
+        match *self {
+            Occluder::Sphere { center, radius } => {
+                let w = sub(q, center);
+                dot(w, w) <= radius * radius
+            }
+            Occluder::Cuboid { min, max } => (0..3).all(|a| q[a] >= min[a] && q[a] <= max[a]),
+        }
+    }
+
+    /// Where the ray `o + s d` (`d` a unit vector) first enters the occluder ahead
+    /// of `o`, if it does.
+    pub fn enters(&self, o: Vec3, d: Vec3) -> Option<f64> {
+        match *self {
+            Occluder::Sphere { center, radius } => {
+                let w = sub(o, center);
+                let b = dot(w, d);
+                let disc = b * b - (dot(w, w) - radius * radius);
+                let s = -b - disc.max(0.0).sqrt();
+                (disc >= 0.0 && s > 0.0).then_some(s)
+            }
+            Occluder::Cuboid { min, max } => {
+                let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+                for a in 0..3 {
+                    if d[a] == 0.0 {
+                        if o[a] <= min[a] || o[a] >= max[a] {
+                            return None;
+                        }
+                    } else {
+                        let (t1, t2) = ((min[a] - o[a]) / d[a], (max[a] - o[a]) / d[a]);
+                        lo = lo.max(t1.min(t2));
+                        hi = hi.min(t1.max(t2));
+                    }
+                }
+                (lo < hi && lo > 0.0).then_some(lo)
             }
         }
     }

@@ -171,6 +171,51 @@ fn rgb_cost(k: &CompiledKernel, rays: &[RgbRay], repeats: usize, gpu: (f64, f64)
     })
 }
 
+/// Errors of `values` (one per case) against the shadowed reference: max and mean
+/// relative to it (rays with some light), then max and mean relative to the ray's
+/// unshadowed value.
+fn shafts_errors(cases: &[crate::gate::ShadowCase], values: &[f64]) -> [f64; 4] {
+    let (mut rel, mut of_u) = (Vec::new(), Vec::new());
+    for (c, &v) in cases.iter().zip(values) {
+        if c.reference > 0.0 && c.reference.is_finite() {
+            rel.push((v - c.reference).abs() / c.reference);
+        }
+        if c.unshadowed > 0.0 && c.unshadowed.is_finite() {
+            of_u.push((v - c.reference).abs() / c.unshadowed);
+        }
+    }
+    let max = |e: &[f64]| e.iter().copied().fold(0.0, f64::max);
+    let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len().max(1) as f64;
+    [max(&rel), mean(&rel), max(&of_u), mean(&of_u)]
+}
+
+/// Thread-CPU ns per item of `f(0) … f(n − 1)`: the median of `repeats` passes.
+fn median_ns(repeats: usize, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
+    let mut times: Vec<f64> = (0..repeats.max(1))
+        .map(|_| {
+            let start = bench::thread_cpu_s();
+            let mut acc = 0.0;
+            for i in 0..n {
+                acc += f(std::hint::black_box(i));
+            }
+            std::hint::black_box(acc);
+            (bench::thread_cpu_s() - start) * 1e9 / n.max(1) as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// The seed's table for the frame of `r` (its viewer and light), filled by the f32
+/// kernel's `radiance` over `x ∈ [0, x_max]`.
+fn fprime_table(radiance: airlight_fit::vocab::RadianceFn, r: &Ray, x_max: f64) -> airlight_fit::shafts::FPrimeTable {
+    let fill = |d: [f64; 3], x: f64| {
+        f64::from(radiance(r.origin, d.map(|v| v as f32), x as f32, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g))
+    };
+    let phys = r.physical();
+    airlight_fit::shafts::FPrimeTable::build(airlight_fit::shafts::FPRIME_RES, phys.origin, phys.light, x_max, &fill)
+}
+
 /// Sample counts of the shafts bench.
 pub const SHAFTS_SAMPLES: [usize; 4] = [8, 16, 32, 64];
 
@@ -220,35 +265,20 @@ fn shafts_costs(
             let r = &rays[i];
             f(&samples[i], r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
         };
-        let (mut errs, mut of_u) = (Vec::new(), Vec::new());
-        let mut calls = 0.0;
-        for (i, c) in cases.iter().enumerate() {
-            let v = crate::from_kernel(call(i));
-            if c.reference > 0.0 && c.reference.is_finite() {
-                errs.push((v - c.reference).abs() / c.reference);
-            }
-            if c.unshadowed > 0.0 && c.unshadowed.is_finite() {
-                of_u.push((v - c.reference).abs() / c.unshadowed);
-            }
-            // Lit runs for the accumulator, lit samples for the march.
-            let s = &samples[i];
-            calls += if name.starts_with("raymarch") {
-                s.iter().filter(|x| x[1] > 0.0).count() as f64
-            } else {
-                1.0 + s.windows(2).filter(|w| w[0][1] != w[1][1] && w[1][1] > 0.0).count() as f64
-            };
-        }
-        let mut times = Vec::with_capacity(inputs.repeats);
-        for _ in 0..inputs.repeats {
-            let start = bench::thread_cpu_s();
-            let mut acc = 0.0f32;
-            for i in 0..rays.len() {
-                acc += call(std::hint::black_box(i));
-            }
-            std::hint::black_box(acc);
-            times.push((bench::thread_cpu_s() - start) * 1e9 / rays.len() as f64);
-        }
-        times.sort_by(f64::total_cmp);
+        let values: Vec<f64> = (0..cases.len()).map(|i| crate::from_kernel(call(i))).collect();
+        let errors = shafts_errors(&cases, &values);
+        // Lit runs for the accumulator, lit samples for the march.
+        let calls: f64 = samples
+            .iter()
+            .map(|s| {
+                if name.starts_with("raymarch") {
+                    s.iter().filter(|x| x[1] > 0.0).count() as f64
+                } else {
+                    1.0 + s.windows(2).filter(|w| w[0][1] != w[1][1] && w[1][1] > 0.0).count() as f64
+                }
+            })
+            .sum();
+        let cpu_ns_per_ray = median_ns(inputs.repeats, rays.len(), &|i| f64::from(call(i)));
         let gpu_rays_per_s = match (inputs.gpu, wgsl_of(inputs, name)) {
             (Some(gpu), Ok((e, _, text))) => {
                 let table = crate::load_table(inputs.generated, e).map_err(|e| BenchError::Failed(e.to_string()))?;
@@ -263,11 +293,11 @@ fn shafts_costs(
             name: name.clone(),
             samples: *n,
             calls_per_ray: calls / cases.len() as f64,
-            max_rel: errs.iter().copied().fold(0.0, f64::max),
-            mean_rel: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
-            max_of_unshadowed: of_u.iter().copied().fold(0.0, f64::max),
-            mean_of_unshadowed: of_u.iter().sum::<f64>() / of_u.len().max(1) as f64,
-            cpu_ns_per_ray: times[times.len() / 2],
+            max_rel: errors[0],
+            mean_rel: errors[1],
+            max_of_unshadowed: errors[2],
+            mean_of_unshadowed: errors[3],
+            cpu_ns_per_ray,
             gpu_rays_per_s,
             build_cpu_ms: 0.0,
             build_gpu_ms: 0.0,
@@ -299,22 +329,8 @@ fn fprime_costs(
         .enumerate()
         .map(|(i, c)| {
             progress("bench: shafts, the seed's F' tables", i, cases.len());
-            let r = c.ray;
-            let phys = r.physical();
-            let x_max = shafts::march_length(&phys, f64::from(r.g)).unwrap_or(1.0);
-            let fill = |d: [f64; 3], x: f64| {
-                f64::from(radiance(
-                    r.origin,
-                    d.map(|v| v as f32),
-                    x as f32,
-                    r.light,
-                    r.intensity,
-                    r.sigma_t,
-                    r.sigma_s,
-                    r.g,
-                ))
-            };
-            FPrimeTable::build(FPRIME_RES, phys.origin, phys.light, x_max, &fill)
+            let x_max = shafts::march_length(&c.ray.physical(), f64::from(c.ray.g)).unwrap_or(1.0);
+            fprime_table(radiance, &c.ray, x_max)
         })
         .collect();
     // The build per frame, CPU: the median over a few rays' tables.
@@ -322,22 +338,8 @@ fn fprime_costs(
         .iter()
         .take(inputs.repeats.max(3))
         .map(|c| {
-            let r = c.ray;
-            let phys = r.physical();
-            let fill = |d: [f64; 3], x: f64| {
-                f64::from(radiance(
-                    r.origin,
-                    d.map(|v| v as f32),
-                    x as f32,
-                    r.light,
-                    r.intensity,
-                    r.sigma_t,
-                    r.sigma_s,
-                    r.g,
-                ))
-            };
             let start = bench::thread_cpu_s();
-            std::hint::black_box(FPrimeTable::build(FPRIME_RES, phys.origin, phys.light, 10.0, &fill));
+            std::hint::black_box(fprime_table(radiance, &c.ray, 10.0));
             (bench::thread_cpu_s() - start) * 1e3
         })
         .collect();
@@ -371,38 +373,20 @@ fn fprime_costs(
             })
             .collect();
         let physical: Vec<_> = cases.iter().map(|c| c.ray.physical()).collect();
-        let (mut errs, mut of_u) = (Vec::new(), Vec::new());
-        let mut lookups = 0.0;
-        for (i, c) in cases.iter().enumerate() {
-            let v = tables[i].shadowed(&physical[i], &samples[i]);
-            if c.reference > 0.0 && c.reference.is_finite() {
-                errs.push((v - c.reference).abs() / c.reference);
-            }
-            if c.unshadowed > 0.0 && c.unshadowed.is_finite() {
-                of_u.push((v - c.reference).abs() / c.unshadowed);
-            }
-            lookups += 2.0 * samples[i].iter().filter(|x| x.1 > 0.0).count() as f64;
-        }
-        let mut times = Vec::with_capacity(inputs.repeats);
-        for _ in 0..inputs.repeats {
-            let start = bench::thread_cpu_s();
-            let mut acc = 0.0;
-            for i in 0..cases.len() {
-                acc += tables[i].shadowed(&physical[i], std::hint::black_box(&samples[i]));
-            }
-            std::hint::black_box(acc);
-            times.push((bench::thread_cpu_s() - start) * 1e9 / cases.len() as f64);
-        }
-        times.sort_by(f64::total_cmp);
+        let read = |i: usize| tables[i].shadowed(&physical[i], &samples[i]);
+        let values: Vec<f64> = (0..cases.len()).map(read).collect();
+        let errors = shafts_errors(cases, &values);
+        let lookups: f64 = samples.iter().map(|s| 2.0 * s.iter().filter(|x| x.1 > 0.0).count() as f64).sum();
+        let cpu_ns_per_ray = median_ns(inputs.repeats, cases.len(), &read);
         out.push(ShaftsCost {
             name: format!("F' {FPRIME_RES}² ({FPRIME_KERNEL})"),
             samples: n,
             calls_per_ray: lookups / cases.len() as f64,
-            max_rel: errs.iter().copied().fold(0.0, f64::max),
-            mean_rel: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
-            max_of_unshadowed: of_u.iter().copied().fold(0.0, f64::max),
-            mean_of_unshadowed: of_u.iter().sum::<f64>() / of_u.len().max(1) as f64,
-            cpu_ns_per_ray: times[times.len() / 2],
+            max_rel: errors[0],
+            mean_rel: errors[1],
+            max_of_unshadowed: errors[2],
+            mean_of_unshadowed: errors[3],
+            cpu_ns_per_ray,
             gpu_rays_per_s: 0.0,
             build_cpu_ms,
             build_gpu_ms,

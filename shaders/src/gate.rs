@@ -492,36 +492,6 @@ pub struct ShadowCase {
     pub unshadowed: f64,
 }
 
-/// Where the view ray `o + t dn` (unit `dn`) first enters `oc`, if it does ahead.
-fn first_hit(oc: &airlight_fit::shafts::Occluder, o: [f64; 3], dn: [f64; 3]) -> Option<f64> {
-    use airlight_fit::shafts::Occluder;
-    match *oc {
-        Occluder::Sphere { center, radius } => {
-            let w: [f64; 3] = std::array::from_fn(|q| o[q] - center[q]);
-            let b = w[0] * dn[0] + w[1] * dn[1] + w[2] * dn[2];
-            let c2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - radius * radius;
-            let disc = b * b - c2;
-            let t = -b - disc.max(0.0).sqrt();
-            (disc >= 0.0 && t > 0.0).then_some(t)
-        }
-        Occluder::Cuboid { min, max } => {
-            let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
-            for a in 0..3 {
-                if dn[a] == 0.0 {
-                    if o[a] <= min[a] || o[a] >= max[a] {
-                        return None;
-                    }
-                } else {
-                    let (t1, t2) = ((min[a] - o[a]) / dn[a], (max[a] - o[a]) / dn[a]);
-                    lo = lo.max(t1.min(t2));
-                    hi = hi.min(t1.max(t2));
-                }
-            }
-            (lo < hi && lo > 0.0).then_some(lo)
-        }
-    }
-}
-
 /// Shadowed rays for kernel `k`: the placements of [`physical_rays`], each with 1
 /// to 4 occluders placed between the light and points of the ray (balls of
 /// radius 3–15% of the light's distance to their centre's ray point times their
@@ -561,19 +531,12 @@ pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCa
             } else {
                 Occluder::Sphere { center: c, radius: size }
             };
-            let inside = |q: [f64; 3]| match oc {
-                Occluder::Sphere { center, radius } => {
-                    (q[0] - center[0]).powi(2) + (q[1] - center[1]).powi(2) + (q[2] - center[2]).powi(2)
-                        <= radius * radius
-                }
-                Occluder::Cuboid { min, max } => (0..3).all(|a| q[a] >= min[a] && q[a] <= max[a]),
-            };
-            if !inside(o) && !inside(l) {
+            if !oc.contains(o) && !oc.contains(l) {
                 occ.push(oc);
             }
         }
         let mut ray = r;
-        let end = occ.iter().filter_map(|oc| first_hit(oc, o, dn)).fold(f64::INFINITY, f64::min);
+        let end = occ.iter().filter_map(|oc| oc.enters(o, dn)).fold(f64::INFINITY, f64::min);
         if end < phys.surface_distance.unwrap_or(f64::INFINITY) {
             ray.surface = end as f32;
         }

@@ -810,34 +810,49 @@ fn pack_slots<'a, const N: usize>(entry: Entry, value: impl Fn(Arg) -> &'a [f32]
     out
 }
 
+/// The WGSL/GLSL expression that reads argument `a` of `entry` from the harness's
+/// packed inputs `x` (its slot, [`Arg::slot`]).
+fn arg_expr(k: &KernelSource, entry: Entry, a: Arg) -> Result<String, GpuError> {
+    let (v, lane) = a
+        .slot(entry)
+        .ok_or_else(|| GpuError::Shader(format!("{}: '{a}' is not an argument of {}", k.prefix, entry.function())))?;
+    let lanes = ["x", "y", "z", "w"];
+    Ok(match a.ty() {
+        ArgType::Scalar => format!("x[{v}].{}", lanes[lane]),
+        ArgType::Vec3 => format!("x[{v}].{}", lanes[lane..lane + 3].concat()),
+    })
+}
+
+/// The harness's store of the result `r` (`outputs` f32 per item).
+fn store_results(outputs: usize) -> String {
+    if outputs == 1 {
+        return "airlight_results[i] = r;".to_string();
+    }
+    let lanes = ["x", "y", "z", "w"];
+    (0..outputs)
+        .map(|j| format!("airlight_results[i * {outputs}u + {j}u] = r.{};", lanes[j]))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A harness needs a shading language.
+fn shader_only(k: &KernelSource) -> Result<(), GpuError> {
+    if k.language.is_shader() {
+        Ok(())
+    } else {
+        Err(GpuError::Shader(format!("{}: {} is not a shading language", k.prefix, k.language)))
+    }
+}
+
 /// The compute shader around one of a generated kernel's entry points: one
 /// invocation per item, arguments taken by name from the packed inputs.
 fn wrap(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
     let glsl = k.language == Target::Glsl;
-    if !k.language.is_shader() {
-        return Err(GpuError::Shader(format!("{}: {} is not a shading language", k.prefix, k.language)));
-    }
-    let arg = |a: Arg| -> Result<String, GpuError> {
-        let (v, lane) = a.slot(entry).ok_or_else(|| {
-            GpuError::Shader(format!("{}: '{a}' is not an argument of {}", k.prefix, entry.function()))
-        })?;
-        let lanes = ["x", "y", "z", "w"];
-        Ok(match a.ty() {
-            ArgType::Scalar => format!("x[{v}].{}", lanes[lane]),
-            ArgType::Vec3 => format!("x[{v}].{}", lanes[lane..lane + 3].concat()),
-        })
-    };
+    shader_only(k)?;
+    let arg = |a: Arg| arg_expr(k, entry, a);
     let stride = entry.packed_vec4s();
     let outputs = entry.outputs();
-    let store = if outputs == 1 {
-        "airlight_results[i] = r;".to_string()
-    } else {
-        let lanes = ["x", "y", "z", "w"];
-        (0..outputs)
-            .map(|j| format!("airlight_results[i * {outputs}u + {j}u] = r.{};", lanes[j]))
-            .collect::<Vec<_>>()
-            .join(" ")
-    };
+    let store = store_results(outputs);
     let args = k.args(entry).iter().map(|&p| arg(p)).collect::<Result<Vec<_>, _>>()?.join(", ");
     let call = format!("{}{}({args})", k.prefix, entry.function());
     Ok(if glsl {
@@ -924,19 +939,8 @@ where
 /// its arguments, then its samples pushed in order, then finished at its surface.
 fn wrap_shadowed(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
     let glsl = k.language == Target::Glsl;
-    if !k.language.is_shader() {
-        return Err(GpuError::Shader(format!("{}: {} is not a shading language", k.prefix, k.language)));
-    }
-    let lanes = ["x", "y", "z", "w"];
-    let arg = |a: Arg| -> Result<String, GpuError> {
-        let (v, lane) = a.slot(entry).ok_or_else(|| {
-            GpuError::Shader(format!("{}: '{a}' is not an argument of {}", k.prefix, entry.function()))
-        })?;
-        Ok(match a.ty() {
-            ArgType::Scalar => format!("x[{v}].{}", lanes[lane]),
-            ArgType::Vec3 => format!("x[{v}].{}", lanes[lane..lane + 3].concat()),
-        })
-    };
+    shader_only(k)?;
+    let arg = |a: Arg| arg_expr(k, entry, a);
     let pass = k
         .args(entry)
         .iter()
@@ -951,14 +955,7 @@ fn wrap_shadowed(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
         _ => ("shafts_push", "shafts_finish"),
     };
     let p = k.prefix;
-    let store = if outputs == 1 {
-        "airlight_results[i] = r;".to_string()
-    } else {
-        (0..outputs)
-            .map(|j| format!("airlight_results[i * {outputs}u + {j}u] = r.{};", lanes[j]))
-            .collect::<Vec<_>>()
-            .join(" ")
-    };
+    let store = store_results(outputs);
     Ok(if glsl {
         format!(
             "#version 450\n{src}\n\
