@@ -39,7 +39,10 @@ fn render(text: &str) -> (KernelSpec, Vec<(String, String)>) {
 
 /// `glslangValidator` compiles the include as ES 3.00 (fragment) and 4.50 (compute).
 fn glslang_compiles(glsl: &str, what: &str) {
-    let dir = std::env::temp_dir().join(format!("airlight-scene-glsl-{}", std::process::id()));
+    // One directory per call: tests calling this run in parallel threads.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("airlight-scene-glsl-{}-{call}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for (ext, src) in [
         ("frag", format!("#version 300 es\n{glsl}\nout highp vec4 c;\nvoid main() {{ c = vec4(0.0); }}\n")),
