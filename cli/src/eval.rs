@@ -264,7 +264,7 @@ pub(crate) fn eval_shadowed(
                 "{model} looks visibility up at its own {n} steps; --samples {m} differs (give {n} or none)"
             )))
         }
-        (Some(n), _) => Feed::Samples(n),
+        (Some(n), _) => Feed::LookUps(n),
         (None, Some(0)) => return Err(bad_input("--samples needs at least 1".to_string())),
         (None, Some(n)) => Feed::Samples(n),
         (None, None) => Feed::Exact,

@@ -150,9 +150,10 @@ enum Command {
         entry: EvalEntry,
         /// With --entry shadowed: feed the accumulator N visibility samples, taken
         /// where raymarch-N takes its steps (midpoints of N equal steps to the
-        /// surface, or to the march's cut-off on an open ray), instead of the
-        /// exact lit intervals. A raymarch-N model always looks visibility up at
-        /// its own N steps (the engines' march).
+        /// surface, or to the march's cut-off on an open ray), between the
+        /// viewer's and the surface's visibility (look-ups a renderer already
+        /// makes), instead of the exact lit intervals. A raymarch-N model always
+        /// looks visibility up at its own N steps alone (the engines' march).
         #[arg(long, value_name = "N")]
         samples: Option<usize>,
         /// Repository root (the directory holding generated/coefficients/); found

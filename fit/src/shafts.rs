@@ -487,16 +487,43 @@ pub enum Feed {
     /// The exact lit intervals ([`exact_samples`]).
     Exact,
     /// `n` shadow-map look-ups at the midpoints of `n` equal steps to the surface,
-    /// or to the march's cut-off on an open ray ([`march_length`]).
+    /// or to the march's cut-off on an open ray ([`march_length`]), between the
+    /// two visibilities a renderer already has ([`with_ends`]): the viewer's (one
+    /// look-up per frame, the same for every pixel) and the surface's own (its
+    /// direct light's shadow test). How the accumulator is fed.
     Samples(usize),
+    /// The `n` look-ups alone: how `raymarch-N` looks visibility up at its own
+    /// steps (its midpoint rule has no use for the ends), and the accumulator
+    /// without the ends, for comparison.
+    LookUps(usize),
 }
 
 /// The `(s, v)` samples of `feed` for `ray` among `occluders`.
 pub fn feed(ray: &PhysicalRay, occluders: &[Occluder], g: f64, feed: Feed) -> Result<Vec<(f64, f64)>, GeometryError> {
     Ok(match feed {
         Feed::Exact => exact_samples(ray, &lit_intervals(ray, occluders)),
-        Feed::Samples(n) => samples(ray, occluders, n, march_length(ray, g)?),
+        Feed::Samples(n) => with_ends(ray, occluders, &samples(ray, occluders, n, march_length(ray, g)?)),
+        Feed::LookUps(n) => samples(ray, occluders, n, march_length(ray, g)?),
     })
+}
+
+/// `samples` between the visibility at the viewer (`s = 0`) and, on a ray with a
+/// surface, at the surface (taken a relative 1e-9 in front of it, as a shadow
+/// test's bias would, so that the surface does not shadow itself). In dense
+/// media most of the in-scattering lies within a free path of the viewer, before
+/// the first look-up; without these two the accumulator extends the first and
+/// the last look-up's visibility over it.
+pub fn with_ends(ray: &PhysicalRay, occluders: &[Occluder], samples: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let v = |s: f64| if visible(ray, occluders, s) { 1.0 } else { 0.0 };
+    let mut out = Vec::with_capacity(samples.len() + 2);
+    out.push((0.0, v(0.0)));
+    out.extend(samples.iter().copied().filter(|&(s, _)| s > 0.0));
+    if let Some(end) = ray.surface_distance {
+        if end > 0.0 {
+            out.push((end, v(end * (1.0 - 1e-9))));
+        }
+    }
+    out
 }
 
 /// The shadowed radiance of `ray` from `samples` in f64: the accumulator over the
@@ -672,6 +699,24 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn sampled_feeds_add_the_viewers_and_the_surfaces_visibility() {
+        // A ball over the viewer's end of the ray: dark from 0, lit later.
+        let occ = vec![Occluder::Sphere { center: [0.6, 0.4, 0.0], radius: 0.3 }];
+        let r = ray(Some(25.0));
+        let look = feed(&r, &occ, 0.0, Feed::LookUps(8)).unwrap();
+        let fed = feed(&r, &occ, 0.0, Feed::Samples(8)).unwrap();
+        assert_eq!(look.len(), 8);
+        assert_eq!(fed.len(), 10);
+        assert_eq!(&fed[1..9], &look[..]);
+        assert_eq!(fed[0], (0.0, if visible(&r, &occ, 0.0) { 1.0 } else { 0.0 }));
+        assert_eq!(fed[9], (25.0, 1.0));
+        // An open ray has no surface to add.
+        let open = feed(&ray(None), &occ, 0.0, Feed::Samples(8)).unwrap();
+        assert_eq!(open.len(), 9);
+        assert_eq!(open[0].0, 0.0);
     }
 
     /// Against an independent evaluation: adaptive quadrature of `v(s) f(s)` over

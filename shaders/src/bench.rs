@@ -219,6 +219,10 @@ fn fprime_table(radiance: airlight_fit::vocab::RadianceFn, r: &Ray, x_max: f64) 
 /// Sample counts of the shafts bench.
 pub const SHAFTS_SAMPLES: [usize; 4] = [8, 16, 32, 64];
 
+/// The suffix of the shafts bench's row that feeds an accumulator the look-ups
+/// alone, without the viewer's and the surface's visibility.
+pub const LOOK_UPS_ONLY: &str = ", look-ups only";
+
 /// The accumulator kernels the shafts bench follows.
 pub const SHAFTS_KERNELS: [&str; 2] = ["phi-6", "phi-8"];
 
@@ -243,17 +247,26 @@ fn shafts_costs(
             jobs.push((name.to_string(), n));
         }
         if n > 0 {
+            jobs.push((format!("{}{LOOK_UPS_ONLY}", SHAFTS_KERNELS[1]), n));
             jobs.push((format!("raymarch-{n}"), n));
         }
     }
     let mut out = Vec::new();
     for (j, (name, n)) in jobs.iter().enumerate() {
         progress(&format!("bench: shafts, {name} at {n} samples"), j, jobs.len());
-        let k = kernels.iter().find(|k| k.name == name.as_str()).ok_or_else(|| {
-            BenchError::Failed(format!("bench: no compiled kernel '{name}': run `airlight generate` and rebuild"))
+        let (kernel, look_ups_only) = match name.strip_suffix(LOOK_UPS_ONLY) {
+            Some(k) => (k, true),
+            None => (name.as_str(), name.starts_with("raymarch")),
+        };
+        let k = kernels.iter().find(|k| k.name == kernel).ok_or_else(|| {
+            BenchError::Failed(format!("bench: no compiled kernel '{kernel}': run `airlight generate` and rebuild"))
         })?;
-        let f = k.shadowed.ok_or_else(|| BenchError::Failed(format!("bench: {name} has no shafts accumulator")))?;
-        let feed = if *n == 0 { Feed::Exact } else { Feed::Samples(*n) };
+        let f = k.shadowed.ok_or_else(|| BenchError::Failed(format!("bench: {kernel} has no shafts accumulator")))?;
+        let feed = match (*n, look_ups_only) {
+            (0, _) => Feed::Exact,
+            (n, true) => Feed::LookUps(n),
+            (n, false) => Feed::Samples(n),
+        };
         let samples: Vec<Vec<[f32; 2]>> = cases
             .iter()
             .map(|c| {
@@ -279,7 +292,7 @@ fn shafts_costs(
             })
             .sum();
         let cpu_ns_per_ray = median_ns(inputs.repeats, rays.len(), &|i| f64::from(call(i)));
-        let gpu_rays_per_s = match (inputs.gpu, wgsl_of(inputs, name)) {
+        let gpu_rays_per_s = match (inputs.gpu, wgsl_of(inputs, kernel)) {
             (Some(gpu), Ok((e, _, text))) => {
                 let table = crate::load_table(inputs.generated, e).map_err(|e| BenchError::Failed(e.to_string()))?;
                 let src = KernelSource::of(e, Target::Wgsl, &text).with_table(table.as_ref());
@@ -369,7 +382,7 @@ fn fprime_costs(
         let samples: Vec<Vec<(f64, f64)>> = cases
             .iter()
             .map(|c| {
-                shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), Feed::Samples(n)).unwrap_or_default()
+                shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), Feed::LookUps(n)).unwrap_or_default()
             })
             .collect();
         let physical: Vec<_> = cases.iter().map(|c| c.ray.physical()).collect();

@@ -161,7 +161,7 @@ fn spot_and_march() {
         for c in got {
             assert!((f64::from(c) - want).abs() <= 2e-4 * unshadowed.max(1e-30), "spot: {c} vs {want}");
         }
-        let samples = shafts::feed(&ray, &occ, g, Feed::Samples(32)).unwrap();
+        let samples = shafts::feed(&ray, &occ, g, Feed::LookUps(32)).unwrap();
         let m64 = shafts::march(&ray, None, g, &samples);
         let m32 = f64::from(march(&f32s(&samples), end, [0.0; 3], d, l, 2.0, st, 0.05, g as f32));
         assert!((m32 - m64).abs() <= 1e-4 * m64.abs().max(1e-30), "march: {m32} vs {m64}");
