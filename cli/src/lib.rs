@@ -251,6 +251,12 @@ enum Command {
     /// and with the reference, and a relative-difference image; prints the max
     /// and mean relative errors. Writes OUT (GPU), OUT-rust.png, OUT-reference.png
     /// and OUT-diff.png; with --report, into generated/render/ for REPORT.md.
+    ///
+    /// A scene with shadows draws light shafts instead: a spot light through a
+    /// pergola into a smoky room, a shadow map from a depth pass, the fog by the
+    /// scene kernel's shafts accumulator (OUT) and by the engines' march at about
+    /// the same GPU time (OUT-march.png), the reference over exact lit intervals
+    /// (OUT-reference.png), and each one's relative fog error (OUT-diff*.png).
     Render {
         /// The scene file (codegen/scenes/<name>.toml); its kernels must be generated.
         #[arg(long)]
@@ -261,12 +267,13 @@ enum Command {
         /// Write into generated/render/ (quoted by REPORT.md after `airlight generate`).
         #[arg(long)]
         report: bool,
-        /// Width of each of the three panels, pixels.
-        #[arg(long, default_value_t = 320)]
-        width: u32,
-        /// Height, pixels.
-        #[arg(long, default_value_t = 240)]
-        height: u32,
+        /// Width of each of the three panels, pixels (default 320); for a scene
+        /// with shadows, of the whole frame (default 640).
+        #[arg(long)]
+        width: Option<u32>,
+        /// Height, pixels (default 240; 360 for a scene with shadows).
+        #[arg(long)]
+        height: Option<u32>,
         /// Repository root (the directory holding generated/); found from the
         /// current directory if omitted.
         #[arg(long)]

@@ -726,7 +726,10 @@ vec3 airlight_paper_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec3 
 // own in-scattering: the entry itself with the viewer moved to the run's start and
 // a surface at its end, times exp(-sigma_t start). Never a difference of two
 // integrals; dark runs cost nothing; the error is the family's bound times the
-// unshadowed value (docs/MATH.md section 8).
+// unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
+// closed lit runs wait in a buffer of 32 and are all evaluated by finish, so that
+// the lanes of a wave evaluate the kernel together; past 32 lit runs on one ray,
+// each further run is merged into the last held one (see the WGSL).
 //
 // Use:
 //   airlight_paper_Shafts acc = airlight_paper_shafts_begin();
@@ -757,10 +760,45 @@ struct airlight_paper_Shafts {
     // The runs' sum (RGB; a point light's in x), and the kernel evaluations.
     vec3 sum;
     uint calls;
+    // Closed lit runs not yet evaluated (start, end, visibility), for finish.
+    vec3 runs[32];
+    uint count;
 };
 
 airlight_paper_Shafts airlight_paper_shafts_begin() {
-    return airlight_paper_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3(0.0), 0u);
+    airlight_paper_Shafts acc;
+    acc.start = 0.0;
+    acc.v = -1.0;
+    acc.s = 0.0;
+    acc.pending = false;
+    acc.lo = 0.0;
+    acc.hi = 0.0;
+    acc.before = 0.0;
+    acc.after = 0.0;
+    acc.sum = vec3(0.0);
+    acc.calls = 0u;
+    for (int i = 0; i < 32; i++) {
+        acc.runs[i] = vec3(0.0);
+    }
+    acc.count = 0u;
+    return acc;
+}
+
+// Holds a closed run; past the buffer, merges it into the last held run.
+void airlight_paper_shafts_hold(inout airlight_paper_Shafts acc, vec3 run) {
+    if (!(run.z > 0.0)) {
+        return;
+    }
+    if (acc.count < 32u) {
+        acc.runs[acc.count] = run;
+        acc.count += 1u;
+        acc.calls += 1u;
+        return;
+    }
+    vec3 last = acc.runs[31];
+    float len = run.y - last.x;
+    float w = len > 0.0 ? (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len : last.z;
+    acc.runs[31] = vec3(last.x, run.y, w);
 }
 
 // Where to look visibility up to halve the pending change's bracket; negative
@@ -835,23 +873,31 @@ float airlight_paper_shafts_run(float a, float b, float w, vec3 origin, vec3 dir
     return w * exp(-sigma_t * a) * c;
 }
 
+// Evaluates the held runs, in order, into the sum.
+void airlight_paper_shafts_flush(inout airlight_paper_Shafts acc, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s) {
+    for (uint j = 0u; j < acc.count; j++) {
+        vec3 r = acc.runs[j];
+        acc.sum.x = min(acc.sum.x + airlight_paper_shafts_run(r.x, r.y, r.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+    }
+    acc.count = 0u;
+}
+
 // Pushes the visibility v (0 ... 1) of the light at distance s along the ray, for
 // airlight_paper_radiance's ray, light and medium.
 void airlight_paper_shafts_push(inout airlight_paper_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s) {
+    // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_paper_shafts_step(acc, s, v);
-    if (run.z > 0.0) {
-        acc.sum.x = min(acc.sum.x + airlight_paper_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
-        acc.calls += 1u;
-    }
+    airlight_paper_shafts_hold(acc, run);
 }
 
 // The shadowed in-scattering of airlight_paper_radiance's ray to the surface at `end`
 // (negative: none, the last visibility holding to infinity).
 float airlight_paper_shafts_finish(airlight_paper_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s) {
     vec3 run = airlight_paper_shafts_place(acc);
-    float sum = min(acc.sum.x + airlight_paper_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+    airlight_paper_shafts_hold(acc, run);
+    airlight_paper_shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s);
     float w = acc.v < 0.0 ? 1.0 : acc.v;
-    return min(sum + airlight_paper_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
+    return min(acc.sum.x + airlight_paper_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), airlight_paper_HUGE);
 }
 
 // airlight_paper_shafts_run for the spot entry, per channel.
@@ -866,20 +912,28 @@ vec3 airlight_paper_shafts_run_spot(float a, float b, float w, vec3 origin, vec3
     return mix(w * exp(-sigma_t * a) * c, c, greaterThanEqual(c, vec3(airlight_paper_HUGE)));
 }
 
+// airlight_paper_shafts_flush for the spot entry.
+void airlight_paper_shafts_flush_spot(inout airlight_paper_Shafts acc, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s) {
+    for (uint j = 0u; j < acc.count; j++) {
+        vec3 r = acc.runs[j];
+        acc.sum = min(acc.sum + airlight_paper_shafts_run_spot(r.x, r.y, r.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_paper_HUGE));
+    }
+    acc.count = 0u;
+}
+
 // airlight_paper_shafts_push for airlight_paper_spot's ray, cone and RGB medium.
 void airlight_paper_shafts_push_spot(inout airlight_paper_Shafts acc, float s, float v, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s) {
+    // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_paper_shafts_step(acc, s, v);
-    if (run.z > 0.0) {
-        acc.sum = min(acc.sum + airlight_paper_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_paper_HUGE));
-        acc.calls += 1u;
-    }
+    airlight_paper_shafts_hold(acc, run);
 }
 
 // airlight_paper_shafts_finish for airlight_paper_spot's ray, cone and RGB medium.
 vec3 airlight_paper_shafts_finish_spot(airlight_paper_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s) {
     vec3 run = airlight_paper_shafts_place(acc);
-    vec3 sum = min(acc.sum + airlight_paper_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_paper_HUGE));
+    airlight_paper_shafts_hold(acc, run);
+    airlight_paper_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
     float w = acc.v < 0.0 ? 1.0 : acc.v;
-    return min(sum + airlight_paper_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_paper_HUGE));
+    return min(acc.sum + airlight_paper_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_paper_HUGE));
 }
 

@@ -18,6 +18,12 @@ struct airlight_equiangular_32_Shafts {
     float after;
     float3 sum;
     uint calls;
+    float3 runs[32];
+    int _pad11_0;
+    uint count;
+    int _end_pad_0;
+    int _end_pad_1;
+    int _end_pad_2;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -33,6 +39,7 @@ static const float airlight_equiangular_32_FRAC_PI_2_ = 1.5707964;
 static const float airlight_equiangular_32_HUGE = 3.4028235e38;
 static const float airlight_equiangular_32_RHO_OPEN = 4294967300.0;
 static const float airlight_equiangular_32_TAU_MAX = 10000.0;
+static const uint airlight_equiangular_32_SHAFTS_RUNS = 32u;
 
 float airlight_equiangular_32_foot(float h, float x0_, float rho)
 {
@@ -483,9 +490,9 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float d_2 = (float)0;
 
     float tau_5 = min(max(tau_in, 0.0), airlight_equiangular_32_TAU_MAX);
-    float g_13 = clamp(g_in, -0.999, 0.999);
-    float gm = ((1.0 - g_13) * (1.0 - g_13));
-    float gp = ((1.0 + g_13) * (1.0 + g_13));
+    float g_15 = clamp(g_in, -0.999, 0.999);
+    float gm = ((1.0 - g_15) * (1.0 - g_15));
+    float gp = ((1.0 + g_15) * (1.0 + g_15));
     if (!((h_2 <= 0.0))) {
         if ((x0_2 < 0.0)) {
             local_7 = (h_2 < 8.673617e-19);
@@ -499,7 +506,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     }
     bool _e39 = local_6;
     if (_e39) {
-        const float _e40 = airlight_equiangular_32_airlight_axis(tau_5, x0_2, rho_2, g_13);
+        const float _e40 = airlight_equiangular_32_airlight_axis(tau_5, x0_2, rho_2, g_15);
         return _e40;
     }
     span = comp;
@@ -534,7 +541,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e107 = sc.y;
     float _e113 = sc.x;
     float _e116 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e113) * _e116)) : (gp - (((4.0 * g_13) * _e104) * _e107)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107)));
     float _e122 = sum_1;
     float _e124 = st;
     float _e129 = d_2;
@@ -559,7 +566,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e177 = sc.y;
     float _e183 = sc.x;
     float _e186 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e183) * _e186)) : (gp - (((4.0 * g_13) * _e174) * _e177)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177)));
     float _e192 = sum_1;
     float _e194 = st;
     float _e199 = d_2;
@@ -584,7 +591,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e247 = sc.y;
     float _e253 = sc.x;
     float _e256 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e253) * _e256)) : (gp - (((4.0 * g_13) * _e244) * _e247)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247)));
     float _e262 = sum_1;
     float _e264 = st;
     float _e269 = d_2;
@@ -609,7 +616,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e317 = sc.y;
     float _e323 = sc.x;
     float _e326 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e323) * _e326)) : (gp - (((4.0 * g_13) * _e314) * _e317)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317)));
     float _e332 = sum_1;
     float _e334 = st;
     float _e339 = d_2;
@@ -634,7 +641,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e387 = sc.y;
     float _e393 = sc.x;
     float _e396 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e393) * _e396)) : (gp - (((4.0 * g_13) * _e384) * _e387)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e393) * _e396)) : (gp - (((4.0 * g_15) * _e384) * _e387)));
     float _e402 = sum_1;
     float _e404 = st;
     float _e409 = d_2;
@@ -659,7 +666,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e457 = sc.y;
     float _e463 = sc.x;
     float _e466 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e463) * _e466)) : (gp - (((4.0 * g_13) * _e454) * _e457)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e463) * _e466)) : (gp - (((4.0 * g_15) * _e454) * _e457)));
     float _e472 = sum_1;
     float _e474 = st;
     float _e479 = d_2;
@@ -684,7 +691,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e527 = sc.y;
     float _e533 = sc.x;
     float _e536 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e533) * _e536)) : (gp - (((4.0 * g_13) * _e524) * _e527)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e533) * _e536)) : (gp - (((4.0 * g_15) * _e524) * _e527)));
     float _e542 = sum_1;
     float _e544 = st;
     float _e549 = d_2;
@@ -709,7 +716,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e597 = sc.y;
     float _e603 = sc.x;
     float _e606 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e603) * _e606)) : (gp - (((4.0 * g_13) * _e594) * _e597)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e603) * _e606)) : (gp - (((4.0 * g_15) * _e594) * _e597)));
     float _e612 = sum_1;
     float _e614 = st;
     float _e619 = d_2;
@@ -734,7 +741,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e667 = sc.y;
     float _e673 = sc.x;
     float _e676 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e673) * _e676)) : (gp - (((4.0 * g_13) * _e664) * _e667)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e673) * _e676)) : (gp - (((4.0 * g_15) * _e664) * _e667)));
     float _e682 = sum_1;
     float _e684 = st;
     float _e689 = d_2;
@@ -759,7 +766,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e737 = sc.y;
     float _e743 = sc.x;
     float _e746 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e743) * _e746)) : (gp - (((4.0 * g_13) * _e734) * _e737)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e743) * _e746)) : (gp - (((4.0 * g_15) * _e734) * _e737)));
     float _e752 = sum_1;
     float _e754 = st;
     float _e759 = d_2;
@@ -784,7 +791,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e807 = sc.y;
     float _e813 = sc.x;
     float _e816 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e813) * _e816)) : (gp - (((4.0 * g_13) * _e804) * _e807)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e813) * _e816)) : (gp - (((4.0 * g_15) * _e804) * _e807)));
     float _e822 = sum_1;
     float _e824 = st;
     float _e829 = d_2;
@@ -809,7 +816,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e877 = sc.y;
     float _e883 = sc.x;
     float _e886 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e883) * _e886)) : (gp - (((4.0 * g_13) * _e874) * _e877)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e883) * _e886)) : (gp - (((4.0 * g_15) * _e874) * _e877)));
     float _e892 = sum_1;
     float _e894 = st;
     float _e899 = d_2;
@@ -834,7 +841,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e947 = sc.y;
     float _e953 = sc.x;
     float _e956 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e953) * _e956)) : (gp - (((4.0 * g_13) * _e944) * _e947)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e953) * _e956)) : (gp - (((4.0 * g_15) * _e944) * _e947)));
     float _e962 = sum_1;
     float _e964 = st;
     float _e969 = d_2;
@@ -859,7 +866,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1017 = sc.y;
     float _e1023 = sc.x;
     float _e1026 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1023) * _e1026)) : (gp - (((4.0 * g_13) * _e1014) * _e1017)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1023) * _e1026)) : (gp - (((4.0 * g_15) * _e1014) * _e1017)));
     float _e1032 = sum_1;
     float _e1034 = st;
     float _e1039 = d_2;
@@ -884,7 +891,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1087 = sc.y;
     float _e1093 = sc.x;
     float _e1096 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1093) * _e1096)) : (gp - (((4.0 * g_13) * _e1084) * _e1087)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1093) * _e1096)) : (gp - (((4.0 * g_15) * _e1084) * _e1087)));
     float _e1102 = sum_1;
     float _e1104 = st;
     float _e1109 = d_2;
@@ -909,7 +916,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1157 = sc.y;
     float _e1163 = sc.x;
     float _e1166 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1163) * _e1166)) : (gp - (((4.0 * g_13) * _e1154) * _e1157)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1163) * _e1166)) : (gp - (((4.0 * g_15) * _e1154) * _e1157)));
     float _e1172 = sum_1;
     float _e1174 = st;
     float _e1179 = d_2;
@@ -934,7 +941,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1227 = sc.y;
     float _e1233 = sc.x;
     float _e1236 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1233) * _e1236)) : (gp - (((4.0 * g_13) * _e1224) * _e1227)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1233) * _e1236)) : (gp - (((4.0 * g_15) * _e1224) * _e1227)));
     float _e1242 = sum_1;
     float _e1244 = st;
     float _e1249 = d_2;
@@ -959,7 +966,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1297 = sc.y;
     float _e1303 = sc.x;
     float _e1306 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1303) * _e1306)) : (gp - (((4.0 * g_13) * _e1294) * _e1297)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1303) * _e1306)) : (gp - (((4.0 * g_15) * _e1294) * _e1297)));
     float _e1312 = sum_1;
     float _e1314 = st;
     float _e1319 = d_2;
@@ -984,7 +991,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1367 = sc.y;
     float _e1373 = sc.x;
     float _e1376 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1373) * _e1376)) : (gp - (((4.0 * g_13) * _e1364) * _e1367)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1373) * _e1376)) : (gp - (((4.0 * g_15) * _e1364) * _e1367)));
     float _e1382 = sum_1;
     float _e1384 = st;
     float _e1389 = d_2;
@@ -1009,7 +1016,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1437 = sc.y;
     float _e1443 = sc.x;
     float _e1446 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1443) * _e1446)) : (gp - (((4.0 * g_13) * _e1434) * _e1437)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1443) * _e1446)) : (gp - (((4.0 * g_15) * _e1434) * _e1437)));
     float _e1452 = sum_1;
     float _e1454 = st;
     float _e1459 = d_2;
@@ -1034,7 +1041,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1507 = sc.y;
     float _e1513 = sc.x;
     float _e1516 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1513) * _e1516)) : (gp - (((4.0 * g_13) * _e1504) * _e1507)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1513) * _e1516)) : (gp - (((4.0 * g_15) * _e1504) * _e1507)));
     float _e1522 = sum_1;
     float _e1524 = st;
     float _e1529 = d_2;
@@ -1059,7 +1066,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1577 = sc.y;
     float _e1583 = sc.x;
     float _e1586 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1583) * _e1586)) : (gp - (((4.0 * g_13) * _e1574) * _e1577)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1583) * _e1586)) : (gp - (((4.0 * g_15) * _e1574) * _e1577)));
     float _e1592 = sum_1;
     float _e1594 = st;
     float _e1599 = d_2;
@@ -1084,7 +1091,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1647 = sc.y;
     float _e1653 = sc.x;
     float _e1656 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1653) * _e1656)) : (gp - (((4.0 * g_13) * _e1644) * _e1647)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1653) * _e1656)) : (gp - (((4.0 * g_15) * _e1644) * _e1647)));
     float _e1662 = sum_1;
     float _e1664 = st;
     float _e1669 = d_2;
@@ -1109,7 +1116,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1717 = sc.y;
     float _e1723 = sc.x;
     float _e1726 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1723) * _e1726)) : (gp - (((4.0 * g_13) * _e1714) * _e1717)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1723) * _e1726)) : (gp - (((4.0 * g_15) * _e1714) * _e1717)));
     float _e1732 = sum_1;
     float _e1734 = st;
     float _e1739 = d_2;
@@ -1134,7 +1141,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1787 = sc.y;
     float _e1793 = sc.x;
     float _e1796 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1793) * _e1796)) : (gp - (((4.0 * g_13) * _e1784) * _e1787)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1793) * _e1796)) : (gp - (((4.0 * g_15) * _e1784) * _e1787)));
     float _e1802 = sum_1;
     float _e1804 = st;
     float _e1809 = d_2;
@@ -1159,7 +1166,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1857 = sc.y;
     float _e1863 = sc.x;
     float _e1866 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1863) * _e1866)) : (gp - (((4.0 * g_13) * _e1854) * _e1857)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1863) * _e1866)) : (gp - (((4.0 * g_15) * _e1854) * _e1857)));
     float _e1872 = sum_1;
     float _e1874 = st;
     float _e1879 = d_2;
@@ -1184,7 +1191,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1927 = sc.y;
     float _e1933 = sc.x;
     float _e1936 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e1933) * _e1936)) : (gp - (((4.0 * g_13) * _e1924) * _e1927)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1933) * _e1936)) : (gp - (((4.0 * g_15) * _e1924) * _e1927)));
     float _e1942 = sum_1;
     float _e1944 = st;
     float _e1949 = d_2;
@@ -1209,7 +1216,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1997 = sc.y;
     float _e2003 = sc.x;
     float _e2006 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2003) * _e2006)) : (gp - (((4.0 * g_13) * _e1994) * _e1997)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2003) * _e2006)) : (gp - (((4.0 * g_15) * _e1994) * _e1997)));
     float _e2012 = sum_1;
     float _e2014 = st;
     float _e2019 = d_2;
@@ -1234,7 +1241,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2067 = sc.y;
     float _e2073 = sc.x;
     float _e2076 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2073) * _e2076)) : (gp - (((4.0 * g_13) * _e2064) * _e2067)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2073) * _e2076)) : (gp - (((4.0 * g_15) * _e2064) * _e2067)));
     float _e2082 = sum_1;
     float _e2084 = st;
     float _e2089 = d_2;
@@ -1259,7 +1266,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2137 = sc.y;
     float _e2143 = sc.x;
     float _e2146 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2143) * _e2146)) : (gp - (((4.0 * g_13) * _e2134) * _e2137)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2143) * _e2146)) : (gp - (((4.0 * g_15) * _e2134) * _e2137)));
     float _e2152 = sum_1;
     float _e2154 = st;
     float _e2159 = d_2;
@@ -1284,7 +1291,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2207 = sc.y;
     float _e2213 = sc.x;
     float _e2216 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2213) * _e2216)) : (gp - (((4.0 * g_13) * _e2204) * _e2207)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2213) * _e2216)) : (gp - (((4.0 * g_15) * _e2204) * _e2207)));
     float _e2222 = sum_1;
     float _e2224 = st;
     float _e2229 = d_2;
@@ -1309,14 +1316,14 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2277 = sc.y;
     float _e2283 = sc.x;
     float _e2286 = sc.x;
-    d_2 = ((g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e2283) * _e2286)) : (gp - (((4.0 * g_13) * _e2274) * _e2277)));
+    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2283) * _e2286)) : (gp - (((4.0 * g_15) * _e2274) * _e2277)));
     float _e2292 = sum_1;
     float _e2294 = st;
     float _e2299 = d_2;
     float _e2300 = d_2;
     sum_1 = (_e2292 + ((0.00701861 * exp((-(tau_5) * _e2294))) / (_e2299 * sqrt(_e2300))));
     float _e2312 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e2312) * half_1) / h_2), airlight_equiangular_32_HUGE);
+    return min((((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e2312) * half_1) / h_2), airlight_equiangular_32_HUGE);
 }
 
 float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1, float g_in_1)
@@ -1333,9 +1340,9 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float d_3 = (float)0;
 
     float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
-    float g_14 = clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = ((1.0 - g_14) * (1.0 - g_14));
-    float gp_1 = ((1.0 + g_14) * (1.0 + g_14));
+    float g_16 = clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = ((1.0 - g_16) * (1.0 - g_16));
+    float gp_1 = ((1.0 + g_16) * (1.0 + g_16));
     if (!((h_3 <= 0.0))) {
         if ((x0_3 < 0.0)) {
             local_10 = (h_3 < 8.673617e-19);
@@ -1349,9 +1356,9 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     }
     bool _e41 = local_9;
     if (_e41) {
-        const float _e43 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_3, rho_3, g_14);
-        const float _e45 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_3, rho_3, g_14);
-        const float _e47 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_3, rho_3, g_14);
+        const float _e43 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_3, rho_3, g_16);
+        const float _e45 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_3, rho_3, g_16);
+        const float _e47 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_3, rho_3, g_16);
         return float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
@@ -1386,7 +1393,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e116 = sc_1.y;
     float _e122 = sc_1.x;
     float _e125 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e122) * _e125)) : (gp_1 - (((4.0 * g_14) * _e113) * _e116)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116)));
     float3 _e131 = sum_2;
     float _e133 = st_1;
     float _e138 = d_3;
@@ -1411,7 +1418,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e187 = sc_1.y;
     float _e193 = sc_1.x;
     float _e196 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e193) * _e196)) : (gp_1 - (((4.0 * g_14) * _e184) * _e187)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187)));
     float3 _e202 = sum_2;
     float _e204 = st_1;
     float _e209 = d_3;
@@ -1436,7 +1443,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e258 = sc_1.y;
     float _e264 = sc_1.x;
     float _e267 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e264) * _e267)) : (gp_1 - (((4.0 * g_14) * _e255) * _e258)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258)));
     float3 _e273 = sum_2;
     float _e275 = st_1;
     float _e280 = d_3;
@@ -1461,7 +1468,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e329 = sc_1.y;
     float _e335 = sc_1.x;
     float _e338 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e335) * _e338)) : (gp_1 - (((4.0 * g_14) * _e326) * _e329)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329)));
     float3 _e344 = sum_2;
     float _e346 = st_1;
     float _e351 = d_3;
@@ -1486,7 +1493,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e400 = sc_1.y;
     float _e406 = sc_1.x;
     float _e409 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e406) * _e409)) : (gp_1 - (((4.0 * g_14) * _e397) * _e400)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e406) * _e409)) : (gp_1 - (((4.0 * g_16) * _e397) * _e400)));
     float3 _e415 = sum_2;
     float _e417 = st_1;
     float _e422 = d_3;
@@ -1511,7 +1518,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e471 = sc_1.y;
     float _e477 = sc_1.x;
     float _e480 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e477) * _e480)) : (gp_1 - (((4.0 * g_14) * _e468) * _e471)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e477) * _e480)) : (gp_1 - (((4.0 * g_16) * _e468) * _e471)));
     float3 _e486 = sum_2;
     float _e488 = st_1;
     float _e493 = d_3;
@@ -1536,7 +1543,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e542 = sc_1.y;
     float _e548 = sc_1.x;
     float _e551 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e548) * _e551)) : (gp_1 - (((4.0 * g_14) * _e539) * _e542)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e548) * _e551)) : (gp_1 - (((4.0 * g_16) * _e539) * _e542)));
     float3 _e557 = sum_2;
     float _e559 = st_1;
     float _e564 = d_3;
@@ -1561,7 +1568,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e613 = sc_1.y;
     float _e619 = sc_1.x;
     float _e622 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e619) * _e622)) : (gp_1 - (((4.0 * g_14) * _e610) * _e613)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e619) * _e622)) : (gp_1 - (((4.0 * g_16) * _e610) * _e613)));
     float3 _e628 = sum_2;
     float _e630 = st_1;
     float _e635 = d_3;
@@ -1586,7 +1593,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e684 = sc_1.y;
     float _e690 = sc_1.x;
     float _e693 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e690) * _e693)) : (gp_1 - (((4.0 * g_14) * _e681) * _e684)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e690) * _e693)) : (gp_1 - (((4.0 * g_16) * _e681) * _e684)));
     float3 _e699 = sum_2;
     float _e701 = st_1;
     float _e706 = d_3;
@@ -1611,7 +1618,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e755 = sc_1.y;
     float _e761 = sc_1.x;
     float _e764 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e761) * _e764)) : (gp_1 - (((4.0 * g_14) * _e752) * _e755)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e761) * _e764)) : (gp_1 - (((4.0 * g_16) * _e752) * _e755)));
     float3 _e770 = sum_2;
     float _e772 = st_1;
     float _e777 = d_3;
@@ -1636,7 +1643,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e826 = sc_1.y;
     float _e832 = sc_1.x;
     float _e835 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e832) * _e835)) : (gp_1 - (((4.0 * g_14) * _e823) * _e826)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e832) * _e835)) : (gp_1 - (((4.0 * g_16) * _e823) * _e826)));
     float3 _e841 = sum_2;
     float _e843 = st_1;
     float _e848 = d_3;
@@ -1661,7 +1668,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e897 = sc_1.y;
     float _e903 = sc_1.x;
     float _e906 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e903) * _e906)) : (gp_1 - (((4.0 * g_14) * _e894) * _e897)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e903) * _e906)) : (gp_1 - (((4.0 * g_16) * _e894) * _e897)));
     float3 _e912 = sum_2;
     float _e914 = st_1;
     float _e919 = d_3;
@@ -1686,7 +1693,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e968 = sc_1.y;
     float _e974 = sc_1.x;
     float _e977 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e974) * _e977)) : (gp_1 - (((4.0 * g_14) * _e965) * _e968)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e974) * _e977)) : (gp_1 - (((4.0 * g_16) * _e965) * _e968)));
     float3 _e983 = sum_2;
     float _e985 = st_1;
     float _e990 = d_3;
@@ -1711,7 +1718,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1039 = sc_1.y;
     float _e1045 = sc_1.x;
     float _e1048 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1045) * _e1048)) : (gp_1 - (((4.0 * g_14) * _e1036) * _e1039)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1045) * _e1048)) : (gp_1 - (((4.0 * g_16) * _e1036) * _e1039)));
     float3 _e1054 = sum_2;
     float _e1056 = st_1;
     float _e1061 = d_3;
@@ -1736,7 +1743,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1110 = sc_1.y;
     float _e1116 = sc_1.x;
     float _e1119 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1116) * _e1119)) : (gp_1 - (((4.0 * g_14) * _e1107) * _e1110)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1116) * _e1119)) : (gp_1 - (((4.0 * g_16) * _e1107) * _e1110)));
     float3 _e1125 = sum_2;
     float _e1127 = st_1;
     float _e1132 = d_3;
@@ -1761,7 +1768,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1181 = sc_1.y;
     float _e1187 = sc_1.x;
     float _e1190 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1187) * _e1190)) : (gp_1 - (((4.0 * g_14) * _e1178) * _e1181)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1187) * _e1190)) : (gp_1 - (((4.0 * g_16) * _e1178) * _e1181)));
     float3 _e1196 = sum_2;
     float _e1198 = st_1;
     float _e1203 = d_3;
@@ -1786,7 +1793,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1252 = sc_1.y;
     float _e1258 = sc_1.x;
     float _e1261 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1258) * _e1261)) : (gp_1 - (((4.0 * g_14) * _e1249) * _e1252)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1258) * _e1261)) : (gp_1 - (((4.0 * g_16) * _e1249) * _e1252)));
     float3 _e1267 = sum_2;
     float _e1269 = st_1;
     float _e1274 = d_3;
@@ -1811,7 +1818,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1323 = sc_1.y;
     float _e1329 = sc_1.x;
     float _e1332 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1329) * _e1332)) : (gp_1 - (((4.0 * g_14) * _e1320) * _e1323)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1329) * _e1332)) : (gp_1 - (((4.0 * g_16) * _e1320) * _e1323)));
     float3 _e1338 = sum_2;
     float _e1340 = st_1;
     float _e1345 = d_3;
@@ -1836,7 +1843,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1394 = sc_1.y;
     float _e1400 = sc_1.x;
     float _e1403 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1400) * _e1403)) : (gp_1 - (((4.0 * g_14) * _e1391) * _e1394)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1400) * _e1403)) : (gp_1 - (((4.0 * g_16) * _e1391) * _e1394)));
     float3 _e1409 = sum_2;
     float _e1411 = st_1;
     float _e1416 = d_3;
@@ -1861,7 +1868,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1465 = sc_1.y;
     float _e1471 = sc_1.x;
     float _e1474 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1471) * _e1474)) : (gp_1 - (((4.0 * g_14) * _e1462) * _e1465)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1471) * _e1474)) : (gp_1 - (((4.0 * g_16) * _e1462) * _e1465)));
     float3 _e1480 = sum_2;
     float _e1482 = st_1;
     float _e1487 = d_3;
@@ -1886,7 +1893,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1536 = sc_1.y;
     float _e1542 = sc_1.x;
     float _e1545 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1542) * _e1545)) : (gp_1 - (((4.0 * g_14) * _e1533) * _e1536)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1542) * _e1545)) : (gp_1 - (((4.0 * g_16) * _e1533) * _e1536)));
     float3 _e1551 = sum_2;
     float _e1553 = st_1;
     float _e1558 = d_3;
@@ -1911,7 +1918,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1607 = sc_1.y;
     float _e1613 = sc_1.x;
     float _e1616 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1613) * _e1616)) : (gp_1 - (((4.0 * g_14) * _e1604) * _e1607)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1613) * _e1616)) : (gp_1 - (((4.0 * g_16) * _e1604) * _e1607)));
     float3 _e1622 = sum_2;
     float _e1624 = st_1;
     float _e1629 = d_3;
@@ -1936,7 +1943,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1678 = sc_1.y;
     float _e1684 = sc_1.x;
     float _e1687 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1684) * _e1687)) : (gp_1 - (((4.0 * g_14) * _e1675) * _e1678)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1684) * _e1687)) : (gp_1 - (((4.0 * g_16) * _e1675) * _e1678)));
     float3 _e1693 = sum_2;
     float _e1695 = st_1;
     float _e1700 = d_3;
@@ -1961,7 +1968,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1749 = sc_1.y;
     float _e1755 = sc_1.x;
     float _e1758 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1755) * _e1758)) : (gp_1 - (((4.0 * g_14) * _e1746) * _e1749)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1755) * _e1758)) : (gp_1 - (((4.0 * g_16) * _e1746) * _e1749)));
     float3 _e1764 = sum_2;
     float _e1766 = st_1;
     float _e1771 = d_3;
@@ -1986,7 +1993,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1820 = sc_1.y;
     float _e1826 = sc_1.x;
     float _e1829 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1826) * _e1829)) : (gp_1 - (((4.0 * g_14) * _e1817) * _e1820)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1826) * _e1829)) : (gp_1 - (((4.0 * g_16) * _e1817) * _e1820)));
     float3 _e1835 = sum_2;
     float _e1837 = st_1;
     float _e1842 = d_3;
@@ -2011,7 +2018,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1891 = sc_1.y;
     float _e1897 = sc_1.x;
     float _e1900 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1897) * _e1900)) : (gp_1 - (((4.0 * g_14) * _e1888) * _e1891)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1897) * _e1900)) : (gp_1 - (((4.0 * g_16) * _e1888) * _e1891)));
     float3 _e1906 = sum_2;
     float _e1908 = st_1;
     float _e1913 = d_3;
@@ -2036,7 +2043,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1962 = sc_1.y;
     float _e1968 = sc_1.x;
     float _e1971 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e1968) * _e1971)) : (gp_1 - (((4.0 * g_14) * _e1959) * _e1962)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1968) * _e1971)) : (gp_1 - (((4.0 * g_16) * _e1959) * _e1962)));
     float3 _e1977 = sum_2;
     float _e1979 = st_1;
     float _e1984 = d_3;
@@ -2061,7 +2068,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2033 = sc_1.y;
     float _e2039 = sc_1.x;
     float _e2042 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2039) * _e2042)) : (gp_1 - (((4.0 * g_14) * _e2030) * _e2033)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2039) * _e2042)) : (gp_1 - (((4.0 * g_16) * _e2030) * _e2033)));
     float3 _e2048 = sum_2;
     float _e2050 = st_1;
     float _e2055 = d_3;
@@ -2086,7 +2093,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2104 = sc_1.y;
     float _e2110 = sc_1.x;
     float _e2113 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2110) * _e2113)) : (gp_1 - (((4.0 * g_14) * _e2101) * _e2104)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2110) * _e2113)) : (gp_1 - (((4.0 * g_16) * _e2101) * _e2104)));
     float3 _e2119 = sum_2;
     float _e2121 = st_1;
     float _e2126 = d_3;
@@ -2111,7 +2118,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2175 = sc_1.y;
     float _e2181 = sc_1.x;
     float _e2184 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2181) * _e2184)) : (gp_1 - (((4.0 * g_14) * _e2172) * _e2175)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2181) * _e2184)) : (gp_1 - (((4.0 * g_16) * _e2172) * _e2175)));
     float3 _e2190 = sum_2;
     float _e2192 = st_1;
     float _e2197 = d_3;
@@ -2136,7 +2143,7 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2246 = sc_1.y;
     float _e2252 = sc_1.x;
     float _e2255 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2252) * _e2255)) : (gp_1 - (((4.0 * g_14) * _e2243) * _e2246)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2252) * _e2255)) : (gp_1 - (((4.0 * g_16) * _e2243) * _e2246)));
     float3 _e2261 = sum_2;
     float _e2263 = st_1;
     float _e2268 = d_3;
@@ -2161,14 +2168,14 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2317 = sc_1.y;
     float _e2323 = sc_1.x;
     float _e2326 = sc_1.x;
-    d_3 = ((g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e2323) * _e2326)) : (gp_1 - (((4.0 * g_14) * _e2314) * _e2317)));
+    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2323) * _e2326)) : (gp_1 - (((4.0 * g_16) * _e2314) * _e2317)));
     float3 _e2332 = sum_2;
     float _e2334 = st_1;
     float _e2339 = d_3;
     float _e2340 = d_3;
     sum_2 = (_e2332 + ((0.00701861 * exp((-(tau_6) * _e2334))) / ((_e2339 * sqrt(_e2340))).xxx));
     float3 _e2353 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e2353) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
+    return min((((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e2353) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
 }
 
 float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_4, float g_1)
@@ -2776,7 +2783,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     return float3(_e284, _e290, _e296);
 }
 
-airlight_equiangular_32_Shafts Constructairlight_equiangular_32_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+airlight_equiangular_32_Shafts Constructairlight_equiangular_32_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9, float3 arg10[32], uint arg11) {
     airlight_equiangular_32_Shafts ret = (airlight_equiangular_32_Shafts)0;
     ret.start = arg0;
     ret.v = arg1;
@@ -2788,34 +2795,63 @@ airlight_equiangular_32_Shafts Constructairlight_equiangular_32_Shafts(float arg
     ret.after = arg7;
     ret.sum = arg8;
     ret.calls = arg9;
+    ret.runs = arg10;
+    ret.count = arg11;
     return ret;
+}
+
+typedef float3 ret_ZeroValuearray32_float3_[32];
+ret_ZeroValuearray32_float3_ ZeroValuearray32_float3_() {
+    return (float3[32])0;
 }
 
 airlight_equiangular_32_Shafts airlight_equiangular_32_shafts_begin()
 {
-    const airlight_equiangular_32_Shafts airlight_equiangular_32_shafts = Constructairlight_equiangular_32_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    const airlight_equiangular_32_Shafts airlight_equiangular_32_shafts = Constructairlight_equiangular_32_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u, ZeroValuearray32_float3_(), 0u);
     return airlight_equiangular_32_shafts;
 }
 
-float airlight_equiangular_32_shafts_probe(airlight_equiangular_32_Shafts acc)
+void airlight_equiangular_32_shafts_hold(inout airlight_equiangular_32_Shafts acc, float3 run)
 {
-    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+    if (!((run.z > 0.0))) {
+        return;
+    }
+    uint _e7 = acc.count;
+    if ((_e7 < airlight_equiangular_32_SHAFTS_RUNS)) {
+        uint _e12 = acc.count;
+        acc.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc.count;
+        acc.count = (_e15 + 1u);
+        uint _e19 = acc.calls;
+        acc.calls = (_e19 + 1u);
+        return;
+    }
+    float3 last = acc.runs[31];
+    float len = (run.y - last.x);
+    float w_3 = ((len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z);
+    acc.runs[31] = float3(last.x, run.y, w_3);
+    return;
 }
 
-void airlight_equiangular_32_shafts_refine(inout airlight_equiangular_32_Shafts acc_1, float v_2)
+float airlight_equiangular_32_shafts_probe(airlight_equiangular_32_Shafts acc_1)
 {
-    bool _e3 = acc_1.pending;
+    return (acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0);
+}
+
+void airlight_equiangular_32_shafts_refine(inout airlight_equiangular_32_Shafts acc_2, float v_2)
+{
+    bool _e3 = acc_2.pending;
     if (_e3) {
-        float _e5 = acc_1.lo;
-        float _e7 = acc_1.hi;
+        float _e5 = acc_2.lo;
+        float _e7 = acc_2.hi;
         float m_1 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_1.before;
-        float _e16 = acc_1.after;
+        float _e12 = acc_2.before;
+        float _e16 = acc_2.after;
         if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
-            acc_1.lo = m_1;
+            acc_2.lo = m_1;
             return;
         } else {
-            acc_1.hi = m_1;
+            acc_2.hi = m_1;
             return;
         }
     } else {
@@ -2823,44 +2859,44 @@ void airlight_equiangular_32_shafts_refine(inout airlight_equiangular_32_Shafts 
     }
 }
 
-float3 airlight_equiangular_32_shafts_place(inout airlight_equiangular_32_Shafts acc_2)
+float3 airlight_equiangular_32_shafts_place(inout airlight_equiangular_32_Shafts acc_3)
 {
-    bool _e2 = acc_2.pending;
+    bool _e2 = acc_3.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_2.pending = false;
-    float _e9 = acc_2.lo;
-    float _e11 = acc_2.hi;
+    acc_3.pending = false;
+    float _e9 = acc_3.lo;
+    float _e11 = acc_3.hi;
     float m_2 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_2.start;
-    float _e18 = acc_2.before;
-    float3 run = float3(_e16, m_2, _e18);
-    acc_2.start = m_2;
-    float _e23 = acc_2.after;
-    acc_2.v = _e23;
-    return run;
+    float _e16 = acc_3.start;
+    float _e18 = acc_3.before;
+    float3 run_1 = float3(_e16, m_2, _e18);
+    acc_3.start = m_2;
+    float _e23 = acc_3.after;
+    acc_3.v = _e23;
+    return run_1;
 }
 
-float3 airlight_equiangular_32_shafts_step(inout airlight_equiangular_32_Shafts acc_3, float s, float v_3)
+float3 airlight_equiangular_32_shafts_step(inout airlight_equiangular_32_Shafts acc_4, float s, float v_3)
 {
-    const float3 _e3 = airlight_equiangular_32_shafts_place(acc_3);
-    float _e5 = acc_3.v;
+    const float3 _e3 = airlight_equiangular_32_shafts_place(acc_4);
+    float _e5 = acc_4.v;
     if ((_e5 < 0.0)) {
-        acc_3.v = v_3;
+        acc_4.v = v_3;
     } else {
-        float _e10 = acc_3.v;
+        float _e10 = acc_4.v;
         if ((v_3 != _e10)) {
-            acc_3.pending = true;
-            float _e16 = acc_3.s;
-            acc_3.lo = _e16;
-            acc_3.hi = s;
-            float _e20 = acc_3.v;
-            acc_3.before = _e20;
-            acc_3.after = v_3;
+            acc_4.pending = true;
+            float _e16 = acc_4.s;
+            acc_4.lo = _e16;
+            acc_4.hi = s;
+            float _e20 = acc_4.v;
+            acc_4.before = _e20;
+            acc_4.after = v_3;
         }
     }
-    acc_3.s = s;
+    acc_4.s = s;
     return _e3;
 }
 
@@ -2893,47 +2929,71 @@ float airlight_equiangular_32_shafts_run(float a_7, float b_6, float w_1, float3
     }
     const float4 _e26 = airlight_equiangular_32_shafts_moved(a_7, b_6, origin_4, dir_4);
     float3 o = _e26.xyz;
-    float len = _e26.w;
-    const float _e29 = airlight_equiangular_32_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    float len_1 = _e26.w;
+    const float _e29 = airlight_equiangular_32_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
     if ((_e29 >= airlight_equiangular_32_HUGE)) {
         return _e29;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
 }
 
-void airlight_equiangular_32_shafts_push(inout airlight_equiangular_32_Shafts acc_4, float s_1, float v_4, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_equiangular_32_shafts_flush(inout airlight_equiangular_32_Shafts acc_5, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
 {
-    const float3 _e10 = airlight_equiangular_32_shafts_step(acc_4, s_1, v_4);
-    if ((_e10.z > 0.0)) {
-        float _e18 = acc_4.sum.x;
-        const float _e22 = airlight_equiangular_32_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
-        acc_4.sum.x = min((_e18 + _e22), airlight_equiangular_32_HUGE);
-        uint _e27 = acc_4.calls;
-        acc_4.calls = (_e27 + 1u);
-        return;
-    } else {
-        return;
+    uint j_2 = 0u;
+
+    uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e31 = j_2;
+            j_2 = (_e31 + 1u);
+        }
+        loop_init_2 = false;
+        uint _e10 = j_2;
+        uint _e12 = acc_5.count;
+        if ((_e10 < _e12)) {
+        } else {
+            break;
+        }
+        {
+            uint _e15 = j_2;
+            float3 r_5 = acc_5.runs[min(uint(_e15), 31u)];
+            float _e22 = acc_5.sum.x;
+            const float _e26 = airlight_equiangular_32_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            acc_5.sum.x = min((_e22 + _e26), airlight_equiangular_32_HUGE);
+        }
     }
+    acc_5.count = 0u;
+    return;
 }
 
-float airlight_equiangular_32_shafts_finish(airlight_equiangular_32_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_equiangular_32_shafts_push(inout airlight_equiangular_32_Shafts acc_6, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
 {
-    airlight_equiangular_32_Shafts acc_5 = (airlight_equiangular_32_Shafts)0;
-
-    acc_5 = acc_in;
-    const float3 _e10 = airlight_equiangular_32_shafts_place(acc_5);
-    float _e13 = acc_5.sum.x;
-    const float _e17 = airlight_equiangular_32_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    float sum_4 = min((_e13 + _e17), airlight_equiangular_32_HUGE);
-    float _e22 = acc_5.v;
-    float _e24 = acc_5.v;
-    float w_3 = ((_e24 < 0.0) ? 1.0 : _e22);
-    float _e30 = acc_5.start;
-    const float _e31 = airlight_equiangular_32_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    return min((sum_4 + _e31), airlight_equiangular_32_HUGE);
+    const float3 _e10 = airlight_equiangular_32_shafts_step(acc_6, s_1, v_4);
+    airlight_equiangular_32_shafts_hold(acc_6, _e10);
+    return;
 }
 
-float3 airlight_equiangular_32_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_10)
+float airlight_equiangular_32_shafts_finish(airlight_equiangular_32_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
+{
+    airlight_equiangular_32_Shafts acc_7 = (airlight_equiangular_32_Shafts)0;
+
+    acc_7 = acc_in;
+    const float3 _e10 = airlight_equiangular_32_shafts_place(acc_7);
+    airlight_equiangular_32_shafts_hold(acc_7, _e10);
+    airlight_equiangular_32_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    float _e12 = acc_7.v;
+    float _e14 = acc_7.v;
+    float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
+    float _e21 = acc_7.sum.x;
+    float _e23 = acc_7.start;
+    const float _e24 = airlight_equiangular_32_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return min((_e21 + _e24), airlight_equiangular_32_HUGE);
+}
+
+float3 airlight_equiangular_32_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
 {
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
@@ -2953,42 +3013,66 @@ float3 airlight_equiangular_32_shafts_run_spot(float a_8, float b_7, float w_2, 
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_equiangular_32_shafts_moved(a_8, b_7, origin_7, dir_7);
+    const float4 _e30 = airlight_equiangular_32_shafts_moved(a_8, b_7, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
-    float len_1 = _e30.w;
-    const float3 _e33 = airlight_equiangular_32_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_5) * a_8))) * _e33));
+    float len_2 = _e30.w;
+    const float3 _e33 = airlight_equiangular_32_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
 }
 
-void airlight_equiangular_32_shafts_push_spot(inout airlight_equiangular_32_Shafts acc_6, float s_2, float v_5, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+void airlight_equiangular_32_shafts_flush_spot(inout airlight_equiangular_32_Shafts acc_8, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
 {
-    const float3 _e13 = airlight_equiangular_32_shafts_step(acc_6, s_2, v_5);
-    if ((_e13.z > 0.0)) {
-        float3 _e19 = acc_6.sum;
-        const float3 _e23 = airlight_equiangular_32_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
-        acc_6.sum = min((_e19 + _e23), (3.4028235e38).xxx);
-        uint _e29 = acc_6.calls;
-        acc_6.calls = (_e29 + 1u);
-        return;
-    } else {
-        return;
+    uint j_3 = 0u;
+
+    uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e33 = j_3;
+            j_3 = (_e33 + 1u);
+        }
+        loop_init_3 = false;
+        uint _e13 = j_3;
+        uint _e15 = acc_8.count;
+        if ((_e13 < _e15)) {
+        } else {
+            break;
+        }
+        {
+            uint _e18 = j_3;
+            float3 r_6 = acc_8.runs[min(uint(_e18), 31u)];
+            float3 _e23 = acc_8.sum;
+            const float3 _e27 = airlight_equiangular_32_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            acc_8.sum = min((_e23 + _e27), (3.4028235e38).xxx);
+        }
     }
+    acc_8.count = 0u;
+    return;
 }
 
-float3 airlight_equiangular_32_shafts_finish_spot(airlight_equiangular_32_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_equiangular_32_shafts_push_spot(inout airlight_equiangular_32_Shafts acc_9, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
 {
-    airlight_equiangular_32_Shafts acc_7 = (airlight_equiangular_32_Shafts)0;
+    const float3 _e13 = airlight_equiangular_32_shafts_step(acc_9, s_2, v_5);
+    airlight_equiangular_32_shafts_hold(acc_9, _e13);
+    return;
+}
 
-    acc_7 = acc_in_1;
-    const float3 _e13 = airlight_equiangular_32_shafts_place(acc_7);
-    float3 _e15 = acc_7.sum;
-    const float3 _e19 = airlight_equiangular_32_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    float3 sum_5 = min((_e15 + _e19), (3.4028235e38).xxx);
-    float _e25 = acc_7.v;
-    float _e27 = acc_7.v;
-    float w_4 = ((_e27 < 0.0) ? 1.0 : _e25);
-    float _e33 = acc_7.start;
-    const float3 _e34 = airlight_equiangular_32_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    return min((sum_5 + _e34), (3.4028235e38).xxx);
+float3 airlight_equiangular_32_shafts_finish_spot(airlight_equiangular_32_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
+{
+    airlight_equiangular_32_Shafts acc_10 = (airlight_equiangular_32_Shafts)0;
+
+    acc_10 = acc_in_1;
+    const float3 _e13 = airlight_equiangular_32_shafts_place(acc_10);
+    airlight_equiangular_32_shafts_hold(acc_10, _e13);
+    airlight_equiangular_32_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    float _e15 = acc_10.v;
+    float _e17 = acc_10.v;
+    float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
+    float3 _e23 = acc_10.sum;
+    float _e25 = acc_10.start;
+    const float3 _e26 = airlight_equiangular_32_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

@@ -18,6 +18,12 @@ struct airlight_phi_6_Shafts {
     float after;
     float3 sum;
     uint calls;
+    float3 runs[32];
+    int _pad11_0;
+    uint count;
+    int _end_pad_0;
+    int _end_pad_1;
+    int _end_pad_2;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -33,6 +39,7 @@ static const float airlight_phi_6_FRAC_PI_2_ = 1.5707964;
 static const float airlight_phi_6_HUGE = 3.4028235e38;
 static const float airlight_phi_6_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_6_TAU_MAX = 10000.0;
+static const uint airlight_phi_6_SHAFTS_RUNS = 32u;
 
 float airlight_phi_6_foot(float h, float x0_, float rho)
 {
@@ -359,11 +366,11 @@ float2 airlight_phi_6_phi_and_complement(float u_1, float4 md_1)
 
 float2 airlight_phi_6_u_and_weight(float s2_, float c2_, float4 md_2)
 {
-    float g_13 = md_2.x;
-    bool pos = (g_13 >= 0.0);
-    float num = (pos ? (1.0 + ((g_13 * c2_) * c2_)) : (md_2.z - ((g_13 * s2_) * s2_)));
-    float den = (pos ? (md_2.y + ((g_13 * c2_) * c2_)) : (1.0 - ((g_13 * s2_) * s2_)));
-    float q_2 = (pos ? (md_2.y + (((2.0 * g_13) * c2_) * c2_)) : (md_2.z - (((2.0 * g_13) * s2_) * s2_)));
+    float g_15 = md_2.x;
+    bool pos = (g_15 >= 0.0);
+    float num = (pos ? (1.0 + ((g_15 * c2_) * c2_)) : (md_2.z - ((g_15 * s2_) * s2_)));
+    float den = (pos ? (md_2.y + ((g_15 * c2_) * c2_)) : (1.0 - ((g_15 * s2_) * s2_)));
+    float q_2 = (pos ? (md_2.y + (((2.0 * g_15) * c2_) * c2_)) : (md_2.z - (((2.0 * g_15) * s2_) * s2_)));
     float r_5 = sqrt((num * den));
     return float2((((md_2.y / md_2.z) * (s2_ / c2_)) * (r_5 / den)), ((q_2 * q_2) / (2.0 * r_5)));
 }
@@ -401,8 +408,8 @@ float airlight_phi_6_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float sb = 0.0;
 
     float tau_5 = min(max(tau_in, 0.0), airlight_phi_6_TAU_MAX);
-    float g_14 = clamp(g_in, -0.999, 0.999);
-    float4 md_4 = float4(g_14, (1.0 - g_14), (1.0 + g_14), ((1.0 - g_14) / (1.0 + g_14)));
+    float g_16 = clamp(g_in, -0.999, 0.999);
+    float4 md_4 = float4(g_16, (1.0 - g_16), (1.0 + g_16), ((1.0 - g_16) / (1.0 + g_16)));
     if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
     } else {
@@ -1333,7 +1340,7 @@ float3 airlight_phi_6_spot(float3 origin_2, float3 dir_2, float surface_1, float
     return float3(_e284, _e290, _e296);
 }
 
-airlight_phi_6_Shafts Constructairlight_phi_6_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+airlight_phi_6_Shafts Constructairlight_phi_6_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9, float3 arg10[32], uint arg11) {
     airlight_phi_6_Shafts ret = (airlight_phi_6_Shafts)0;
     ret.start = arg0;
     ret.v = arg1;
@@ -1345,34 +1352,63 @@ airlight_phi_6_Shafts Constructairlight_phi_6_Shafts(float arg0, float arg1, flo
     ret.after = arg7;
     ret.sum = arg8;
     ret.calls = arg9;
+    ret.runs = arg10;
+    ret.count = arg11;
     return ret;
+}
+
+typedef float3 ret_ZeroValuearray32_float3_[32];
+ret_ZeroValuearray32_float3_ ZeroValuearray32_float3_() {
+    return (float3[32])0;
 }
 
 airlight_phi_6_Shafts airlight_phi_6_shafts_begin()
 {
-    const airlight_phi_6_Shafts airlight_phi_6_shafts = Constructairlight_phi_6_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    const airlight_phi_6_Shafts airlight_phi_6_shafts = Constructairlight_phi_6_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u, ZeroValuearray32_float3_(), 0u);
     return airlight_phi_6_shafts;
 }
 
-float airlight_phi_6_shafts_probe(airlight_phi_6_Shafts acc)
+void airlight_phi_6_shafts_hold(inout airlight_phi_6_Shafts acc, float3 run)
 {
-    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+    if (!((run.z > 0.0))) {
+        return;
+    }
+    uint _e7 = acc.count;
+    if ((_e7 < airlight_phi_6_SHAFTS_RUNS)) {
+        uint _e12 = acc.count;
+        acc.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc.count;
+        acc.count = (_e15 + 1u);
+        uint _e19 = acc.calls;
+        acc.calls = (_e19 + 1u);
+        return;
+    }
+    float3 last = acc.runs[31];
+    float len_1 = (run.y - last.x);
+    float w_3 = ((len_1 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_1) : last.z);
+    acc.runs[31] = float3(last.x, run.y, w_3);
+    return;
 }
 
-void airlight_phi_6_shafts_refine(inout airlight_phi_6_Shafts acc_1, float v_4)
+float airlight_phi_6_shafts_probe(airlight_phi_6_Shafts acc_1)
 {
-    bool _e3 = acc_1.pending;
+    return (acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0);
+}
+
+void airlight_phi_6_shafts_refine(inout airlight_phi_6_Shafts acc_2, float v_4)
+{
+    bool _e3 = acc_2.pending;
     if (_e3) {
-        float _e5 = acc_1.lo;
-        float _e7 = acc_1.hi;
+        float _e5 = acc_2.lo;
+        float _e7 = acc_2.hi;
         float m_2 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_1.before;
-        float _e16 = acc_1.after;
+        float _e12 = acc_2.before;
+        float _e16 = acc_2.after;
         if ((abs((v_4 - _e12)) <= abs((v_4 - _e16)))) {
-            acc_1.lo = m_2;
+            acc_2.lo = m_2;
             return;
         } else {
-            acc_1.hi = m_2;
+            acc_2.hi = m_2;
             return;
         }
     } else {
@@ -1380,44 +1416,44 @@ void airlight_phi_6_shafts_refine(inout airlight_phi_6_Shafts acc_1, float v_4)
     }
 }
 
-float3 airlight_phi_6_shafts_place(inout airlight_phi_6_Shafts acc_2)
+float3 airlight_phi_6_shafts_place(inout airlight_phi_6_Shafts acc_3)
 {
-    bool _e2 = acc_2.pending;
+    bool _e2 = acc_3.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_2.pending = false;
-    float _e9 = acc_2.lo;
-    float _e11 = acc_2.hi;
+    acc_3.pending = false;
+    float _e9 = acc_3.lo;
+    float _e11 = acc_3.hi;
     float m_3 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_2.start;
-    float _e18 = acc_2.before;
-    float3 run = float3(_e16, m_3, _e18);
-    acc_2.start = m_3;
-    float _e23 = acc_2.after;
-    acc_2.v = _e23;
-    return run;
+    float _e16 = acc_3.start;
+    float _e18 = acc_3.before;
+    float3 run_1 = float3(_e16, m_3, _e18);
+    acc_3.start = m_3;
+    float _e23 = acc_3.after;
+    acc_3.v = _e23;
+    return run_1;
 }
 
-float3 airlight_phi_6_shafts_step(inout airlight_phi_6_Shafts acc_3, float s_2, float v_5)
+float3 airlight_phi_6_shafts_step(inout airlight_phi_6_Shafts acc_4, float s_2, float v_5)
 {
-    const float3 _e3 = airlight_phi_6_shafts_place(acc_3);
-    float _e5 = acc_3.v;
+    const float3 _e3 = airlight_phi_6_shafts_place(acc_4);
+    float _e5 = acc_4.v;
     if ((_e5 < 0.0)) {
-        acc_3.v = v_5;
+        acc_4.v = v_5;
     } else {
-        float _e10 = acc_3.v;
+        float _e10 = acc_4.v;
         if ((v_5 != _e10)) {
-            acc_3.pending = true;
-            float _e16 = acc_3.s;
-            acc_3.lo = _e16;
-            acc_3.hi = s_2;
-            float _e20 = acc_3.v;
-            acc_3.before = _e20;
-            acc_3.after = v_5;
+            acc_4.pending = true;
+            float _e16 = acc_4.s;
+            acc_4.lo = _e16;
+            acc_4.hi = s_2;
+            float _e20 = acc_4.v;
+            acc_4.before = _e20;
+            acc_4.after = v_5;
         }
     }
-    acc_3.s = s_2;
+    acc_4.s = s_2;
     return _e3;
 }
 
@@ -1450,47 +1486,71 @@ float airlight_phi_6_shafts_run(float a_7, float b_4, float w_1, float3 origin_4
     }
     const float4 _e26 = airlight_phi_6_shafts_moved(a_7, b_4, origin_4, dir_4);
     float3 o = _e26.xyz;
-    float len_1 = _e26.w;
-    const float _e29 = airlight_phi_6_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    float len_2 = _e26.w;
+    const float _e29 = airlight_phi_6_radiance(o, dir_4, len_2, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
     if ((_e29 >= airlight_phi_6_HUGE)) {
         return _e29;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
 }
 
-void airlight_phi_6_shafts_push(inout airlight_phi_6_Shafts acc_4, float s_3, float v_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_phi_6_shafts_flush(inout airlight_phi_6_Shafts acc_5, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
 {
-    const float3 _e10 = airlight_phi_6_shafts_step(acc_4, s_3, v_6);
-    if ((_e10.z > 0.0)) {
-        float _e18 = acc_4.sum.x;
-        const float _e22 = airlight_phi_6_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
-        acc_4.sum.x = min((_e18 + _e22), airlight_phi_6_HUGE);
-        uint _e27 = acc_4.calls;
-        acc_4.calls = (_e27 + 1u);
-        return;
-    } else {
-        return;
+    uint j_2 = 0u;
+
+    uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e31 = j_2;
+            j_2 = (_e31 + 1u);
+        }
+        loop_init_2 = false;
+        uint _e10 = j_2;
+        uint _e12 = acc_5.count;
+        if ((_e10 < _e12)) {
+        } else {
+            break;
+        }
+        {
+            uint _e15 = j_2;
+            float3 r_7 = acc_5.runs[min(uint(_e15), 31u)];
+            float _e22 = acc_5.sum.x;
+            const float _e26 = airlight_phi_6_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            acc_5.sum.x = min((_e22 + _e26), airlight_phi_6_HUGE);
+        }
     }
+    acc_5.count = 0u;
+    return;
 }
 
-float airlight_phi_6_shafts_finish(airlight_phi_6_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_phi_6_shafts_push(inout airlight_phi_6_Shafts acc_6, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
 {
-    airlight_phi_6_Shafts acc_5 = (airlight_phi_6_Shafts)0;
-
-    acc_5 = acc_in;
-    const float3 _e10 = airlight_phi_6_shafts_place(acc_5);
-    float _e13 = acc_5.sum.x;
-    const float _e17 = airlight_phi_6_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    float sum_2 = min((_e13 + _e17), airlight_phi_6_HUGE);
-    float _e22 = acc_5.v;
-    float _e24 = acc_5.v;
-    float w_3 = ((_e24 < 0.0) ? 1.0 : _e22);
-    float _e30 = acc_5.start;
-    const float _e31 = airlight_phi_6_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    return min((sum_2 + _e31), airlight_phi_6_HUGE);
+    const float3 _e10 = airlight_phi_6_shafts_step(acc_6, s_3, v_6);
+    airlight_phi_6_shafts_hold(acc_6, _e10);
+    return;
 }
 
-float3 airlight_phi_6_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_10)
+float airlight_phi_6_shafts_finish(airlight_phi_6_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
+{
+    airlight_phi_6_Shafts acc_7 = (airlight_phi_6_Shafts)0;
+
+    acc_7 = acc_in;
+    const float3 _e10 = airlight_phi_6_shafts_place(acc_7);
+    airlight_phi_6_shafts_hold(acc_7, _e10);
+    airlight_phi_6_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    float _e12 = acc_7.v;
+    float _e14 = acc_7.v;
+    float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
+    float _e21 = acc_7.sum.x;
+    float _e23 = acc_7.start;
+    const float _e24 = airlight_phi_6_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return min((_e21 + _e24), airlight_phi_6_HUGE);
+}
+
+float3 airlight_phi_6_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
@@ -1510,42 +1570,66 @@ float3 airlight_phi_6_shafts_run_spot(float a_8, float b_5, float w_2, float3 or
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_phi_6_shafts_moved(a_8, b_5, origin_7, dir_7);
+    const float4 _e30 = airlight_phi_6_shafts_moved(a_8, b_5, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
-    float len_2 = _e30.w;
-    const float3 _e33 = airlight_phi_6_spot(o_1, dir_7, len_2, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_5) * a_8))) * _e33));
+    float len_3 = _e30.w;
+    const float3 _e33 = airlight_phi_6_spot(o_1, dir_8, len_3, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
 }
 
-void airlight_phi_6_shafts_push_spot(inout airlight_phi_6_Shafts acc_6, float s_4, float v_7, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+void airlight_phi_6_shafts_flush_spot(inout airlight_phi_6_Shafts acc_8, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
 {
-    const float3 _e13 = airlight_phi_6_shafts_step(acc_6, s_4, v_7);
-    if ((_e13.z > 0.0)) {
-        float3 _e19 = acc_6.sum;
-        const float3 _e23 = airlight_phi_6_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
-        acc_6.sum = min((_e19 + _e23), (3.4028235e38).xxx);
-        uint _e29 = acc_6.calls;
-        acc_6.calls = (_e29 + 1u);
-        return;
-    } else {
-        return;
+    uint j_3 = 0u;
+
+    uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e33 = j_3;
+            j_3 = (_e33 + 1u);
+        }
+        loop_init_3 = false;
+        uint _e13 = j_3;
+        uint _e15 = acc_8.count;
+        if ((_e13 < _e15)) {
+        } else {
+            break;
+        }
+        {
+            uint _e18 = j_3;
+            float3 r_8 = acc_8.runs[min(uint(_e18), 31u)];
+            float3 _e23 = acc_8.sum;
+            const float3 _e27 = airlight_phi_6_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            acc_8.sum = min((_e23 + _e27), (3.4028235e38).xxx);
+        }
     }
+    acc_8.count = 0u;
+    return;
 }
 
-float3 airlight_phi_6_shafts_finish_spot(airlight_phi_6_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_phi_6_shafts_push_spot(inout airlight_phi_6_Shafts acc_9, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
 {
-    airlight_phi_6_Shafts acc_7 = (airlight_phi_6_Shafts)0;
+    const float3 _e13 = airlight_phi_6_shafts_step(acc_9, s_4, v_7);
+    airlight_phi_6_shafts_hold(acc_9, _e13);
+    return;
+}
 
-    acc_7 = acc_in_1;
-    const float3 _e13 = airlight_phi_6_shafts_place(acc_7);
-    float3 _e15 = acc_7.sum;
-    const float3 _e19 = airlight_phi_6_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    float3 sum_3 = min((_e15 + _e19), (3.4028235e38).xxx);
-    float _e25 = acc_7.v;
-    float _e27 = acc_7.v;
-    float w_4 = ((_e27 < 0.0) ? 1.0 : _e25);
-    float _e33 = acc_7.start;
-    const float3 _e34 = airlight_phi_6_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    return min((sum_3 + _e34), (3.4028235e38).xxx);
+float3 airlight_phi_6_shafts_finish_spot(airlight_phi_6_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
+{
+    airlight_phi_6_Shafts acc_10 = (airlight_phi_6_Shafts)0;
+
+    acc_10 = acc_in_1;
+    const float3 _e13 = airlight_phi_6_shafts_place(acc_10);
+    airlight_phi_6_shafts_hold(acc_10, _e13);
+    airlight_phi_6_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    float _e15 = acc_10.v;
+    float _e17 = acc_10.v;
+    float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
+    float3 _e23 = acc_10.sum;
+    float _e25 = acc_10.start;
+    const float3 _e26 = airlight_phi_6_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

@@ -18,6 +18,12 @@ struct airlight_phi_iso_8_Shafts {
     float after;
     float3 sum;
     uint calls;
+    float3 runs[32];
+    int _pad11_0;
+    uint count;
+    int _end_pad_0;
+    int _end_pad_1;
+    int _end_pad_2;
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -33,6 +39,7 @@ static const float airlight_phi_iso_8_FRAC_PI_2_ = 1.5707964;
 static const float airlight_phi_iso_8_HUGE = 3.4028235e38;
 static const float airlight_phi_iso_8_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_iso_8_TAU_MAX = 10000.0;
+static const uint airlight_phi_iso_8_SHAFTS_RUNS = 32u;
 
 float airlight_phi_iso_8_foot(float h, float x0_, float rho)
 {
@@ -1362,7 +1369,7 @@ float3 airlight_phi_iso_8_spot(float3 origin_2, float3 dir_2, float surface_1, f
     return float3(_e281, _e287, _e293);
 }
 
-airlight_phi_iso_8_Shafts Constructairlight_phi_iso_8_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9) {
+airlight_phi_iso_8_Shafts Constructairlight_phi_iso_8_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9, float3 arg10[32], uint arg11) {
     airlight_phi_iso_8_Shafts ret = (airlight_phi_iso_8_Shafts)0;
     ret.start = arg0;
     ret.v = arg1;
@@ -1374,34 +1381,63 @@ airlight_phi_iso_8_Shafts Constructairlight_phi_iso_8_Shafts(float arg0, float a
     ret.after = arg7;
     ret.sum = arg8;
     ret.calls = arg9;
+    ret.runs = arg10;
+    ret.count = arg11;
     return ret;
+}
+
+typedef float3 ret_ZeroValuearray32_float3_[32];
+ret_ZeroValuearray32_float3_ ZeroValuearray32_float3_() {
+    return (float3[32])0;
 }
 
 airlight_phi_iso_8_Shafts airlight_phi_iso_8_shafts_begin()
 {
-    const airlight_phi_iso_8_Shafts airlight_phi_iso_8_shafts = Constructairlight_phi_iso_8_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u);
+    const airlight_phi_iso_8_Shafts airlight_phi_iso_8_shafts = Constructairlight_phi_iso_8_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u, ZeroValuearray32_float3_(), 0u);
     return airlight_phi_iso_8_shafts;
 }
 
-float airlight_phi_iso_8_shafts_probe(airlight_phi_iso_8_Shafts acc)
+void airlight_phi_iso_8_shafts_hold(inout airlight_phi_iso_8_Shafts acc, float3 run)
 {
-    return (acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0);
+    if (!((run.z > 0.0))) {
+        return;
+    }
+    uint _e7 = acc.count;
+    if ((_e7 < airlight_phi_iso_8_SHAFTS_RUNS)) {
+        uint _e12 = acc.count;
+        acc.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc.count;
+        acc.count = (_e15 + 1u);
+        uint _e19 = acc.calls;
+        acc.calls = (_e19 + 1u);
+        return;
+    }
+    float3 last = acc.runs[31];
+    float len_1 = (run.y - last.x);
+    float w_3 = ((len_1 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_1) : last.z);
+    acc.runs[31] = float3(last.x, run.y, w_3);
+    return;
 }
 
-void airlight_phi_iso_8_shafts_refine(inout airlight_phi_iso_8_Shafts acc_1, float v_4)
+float airlight_phi_iso_8_shafts_probe(airlight_phi_iso_8_Shafts acc_1)
 {
-    bool _e3 = acc_1.pending;
+    return (acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0);
+}
+
+void airlight_phi_iso_8_shafts_refine(inout airlight_phi_iso_8_Shafts acc_2, float v_4)
+{
+    bool _e3 = acc_2.pending;
     if (_e3) {
-        float _e5 = acc_1.lo;
-        float _e7 = acc_1.hi;
+        float _e5 = acc_2.lo;
+        float _e7 = acc_2.hi;
         float m_2 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_1.before;
-        float _e16 = acc_1.after;
+        float _e12 = acc_2.before;
+        float _e16 = acc_2.after;
         if ((abs((v_4 - _e12)) <= abs((v_4 - _e16)))) {
-            acc_1.lo = m_2;
+            acc_2.lo = m_2;
             return;
         } else {
-            acc_1.hi = m_2;
+            acc_2.hi = m_2;
             return;
         }
     } else {
@@ -1409,44 +1445,44 @@ void airlight_phi_iso_8_shafts_refine(inout airlight_phi_iso_8_Shafts acc_1, flo
     }
 }
 
-float3 airlight_phi_iso_8_shafts_place(inout airlight_phi_iso_8_Shafts acc_2)
+float3 airlight_phi_iso_8_shafts_place(inout airlight_phi_iso_8_Shafts acc_3)
 {
-    bool _e2 = acc_2.pending;
+    bool _e2 = acc_3.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_2.pending = false;
-    float _e9 = acc_2.lo;
-    float _e11 = acc_2.hi;
+    acc_3.pending = false;
+    float _e9 = acc_3.lo;
+    float _e11 = acc_3.hi;
     float m_3 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_2.start;
-    float _e18 = acc_2.before;
-    float3 run = float3(_e16, m_3, _e18);
-    acc_2.start = m_3;
-    float _e23 = acc_2.after;
-    acc_2.v = _e23;
-    return run;
+    float _e16 = acc_3.start;
+    float _e18 = acc_3.before;
+    float3 run_1 = float3(_e16, m_3, _e18);
+    acc_3.start = m_3;
+    float _e23 = acc_3.after;
+    acc_3.v = _e23;
+    return run_1;
 }
 
-float3 airlight_phi_iso_8_shafts_step(inout airlight_phi_iso_8_Shafts acc_3, float s_2, float v_5)
+float3 airlight_phi_iso_8_shafts_step(inout airlight_phi_iso_8_Shafts acc_4, float s_2, float v_5)
 {
-    const float3 _e3 = airlight_phi_iso_8_shafts_place(acc_3);
-    float _e5 = acc_3.v;
+    const float3 _e3 = airlight_phi_iso_8_shafts_place(acc_4);
+    float _e5 = acc_4.v;
     if ((_e5 < 0.0)) {
-        acc_3.v = v_5;
+        acc_4.v = v_5;
     } else {
-        float _e10 = acc_3.v;
+        float _e10 = acc_4.v;
         if ((v_5 != _e10)) {
-            acc_3.pending = true;
-            float _e16 = acc_3.s;
-            acc_3.lo = _e16;
-            acc_3.hi = s_2;
-            float _e20 = acc_3.v;
-            acc_3.before = _e20;
-            acc_3.after = v_5;
+            acc_4.pending = true;
+            float _e16 = acc_4.s;
+            acc_4.lo = _e16;
+            acc_4.hi = s_2;
+            float _e20 = acc_4.v;
+            acc_4.before = _e20;
+            acc_4.after = v_5;
         }
     }
-    acc_3.s = s_2;
+    acc_4.s = s_2;
     return _e3;
 }
 
@@ -1479,47 +1515,71 @@ float airlight_phi_iso_8_shafts_run(float a_7, float b_4, float w_1, float3 orig
     }
     const float4 _e25 = airlight_phi_iso_8_shafts_moved(a_7, b_4, origin_4, dir_4);
     float3 o = _e25.xyz;
-    float len_1 = _e25.w;
-    const float _e28 = airlight_phi_iso_8_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    float len_2 = _e25.w;
+    const float _e28 = airlight_phi_iso_8_radiance(o, dir_4, len_2, light_3, intensity_3, sigma_t_2, sigma_s_3);
     if ((_e28 >= airlight_phi_iso_8_HUGE)) {
         return _e28;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e28);
 }
 
-void airlight_phi_iso_8_shafts_push(inout airlight_phi_iso_8_Shafts acc_4, float s_3, float v_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
+void airlight_phi_iso_8_shafts_flush(inout airlight_phi_iso_8_Shafts acc_5, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
 {
-    const float3 _e9 = airlight_phi_iso_8_shafts_step(acc_4, s_3, v_6);
-    if ((_e9.z > 0.0)) {
-        float _e17 = acc_4.sum.x;
-        const float _e21 = airlight_phi_iso_8_shafts_run(_e9.x, _e9.y, _e9.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
-        acc_4.sum.x = min((_e17 + _e21), airlight_phi_iso_8_HUGE);
-        uint _e26 = acc_4.calls;
-        acc_4.calls = (_e26 + 1u);
-        return;
-    } else {
-        return;
+    uint j_2 = 0u;
+
+    uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e30 = j_2;
+            j_2 = (_e30 + 1u);
+        }
+        loop_init_2 = false;
+        uint _e9 = j_2;
+        uint _e11 = acc_5.count;
+        if ((_e9 < _e11)) {
+        } else {
+            break;
+        }
+        {
+            uint _e14 = j_2;
+            float3 r_5 = acc_5.runs[min(uint(_e14), 31u)];
+            float _e21 = acc_5.sum.x;
+            const float _e25 = airlight_phi_iso_8_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            acc_5.sum.x = min((_e21 + _e25), airlight_phi_iso_8_HUGE);
+        }
     }
+    acc_5.count = 0u;
+    return;
 }
 
-float airlight_phi_iso_8_shafts_finish(airlight_phi_iso_8_Shafts acc_in, float end, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_phi_iso_8_shafts_push(inout airlight_phi_iso_8_Shafts acc_6, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    airlight_phi_iso_8_Shafts acc_5 = (airlight_phi_iso_8_Shafts)0;
-
-    acc_5 = acc_in;
-    const float3 _e9 = airlight_phi_iso_8_shafts_place(acc_5);
-    float _e12 = acc_5.sum.x;
-    const float _e16 = airlight_phi_iso_8_shafts_run(_e9.x, _e9.y, _e9.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
-    float sum_2 = min((_e12 + _e16), airlight_phi_iso_8_HUGE);
-    float _e21 = acc_5.v;
-    float _e23 = acc_5.v;
-    float w_3 = ((_e23 < 0.0) ? 1.0 : _e21);
-    float _e29 = acc_5.start;
-    const float _e30 = airlight_phi_iso_8_shafts_run(_e29, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
-    return min((sum_2 + _e30), airlight_phi_iso_8_HUGE);
+    const float3 _e9 = airlight_phi_iso_8_shafts_step(acc_6, s_3, v_6);
+    airlight_phi_iso_8_shafts_hold(acc_6, _e9);
+    return;
 }
 
-float3 airlight_phi_iso_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_7, float3 dir_7, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6)
+float airlight_phi_iso_8_shafts_finish(airlight_phi_iso_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6)
+{
+    airlight_phi_iso_8_Shafts acc_7 = (airlight_phi_iso_8_Shafts)0;
+
+    acc_7 = acc_in;
+    const float3 _e9 = airlight_phi_iso_8_shafts_place(acc_7);
+    airlight_phi_iso_8_shafts_hold(acc_7, _e9);
+    airlight_phi_iso_8_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    float _e11 = acc_7.v;
+    float _e13 = acc_7.v;
+    float w_4 = ((_e13 < 0.0) ? 1.0 : _e11);
+    float _e20 = acc_7.sum.x;
+    float _e22 = acc_7.start;
+    const float _e23 = airlight_phi_iso_8_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    return min((_e20 + _e23), airlight_phi_iso_8_HUGE);
+}
+
+float3 airlight_phi_iso_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
@@ -1539,42 +1599,66 @@ float3 airlight_phi_iso_8_shafts_run_spot(float a_8, float b_5, float w_2, float
     if (_e26) {
         return (0.0).xxx;
     }
-    const float4 _e29 = airlight_phi_iso_8_shafts_moved(a_8, b_5, origin_7, dir_7);
+    const float4 _e29 = airlight_phi_iso_8_shafts_moved(a_8, b_5, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
-    float len_2 = _e29.w;
-    const float3 _e32 = airlight_phi_iso_8_spot(o_1, dir_7, len_2, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6);
-    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_5) * a_8))) * _e32));
+    float len_3 = _e29.w;
+    const float3 _e32 = airlight_phi_iso_8_spot(o_1, dir_8, len_3, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e32));
 }
 
-void airlight_phi_iso_8_shafts_push_spot(inout airlight_phi_iso_8_Shafts acc_6, float s_4, float v_7, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+void airlight_phi_iso_8_shafts_flush_spot(inout airlight_phi_iso_8_Shafts acc_8, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
 {
-    const float3 _e12 = airlight_phi_iso_8_shafts_step(acc_6, s_4, v_7);
-    if ((_e12.z > 0.0)) {
-        float3 _e18 = acc_6.sum;
-        const float3 _e22 = airlight_phi_iso_8_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7);
-        acc_6.sum = min((_e18 + _e22), (3.4028235e38).xxx);
-        uint _e28 = acc_6.calls;
-        acc_6.calls = (_e28 + 1u);
-        return;
-    } else {
-        return;
+    uint j_3 = 0u;
+
+    uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e32 = j_3;
+            j_3 = (_e32 + 1u);
+        }
+        loop_init_3 = false;
+        uint _e12 = j_3;
+        uint _e14 = acc_8.count;
+        if ((_e12 < _e14)) {
+        } else {
+            break;
+        }
+        {
+            uint _e17 = j_3;
+            float3 r_6 = acc_8.runs[min(uint(_e17), 31u)];
+            float3 _e22 = acc_8.sum;
+            const float3 _e26 = airlight_phi_iso_8_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            acc_8.sum = min((_e22 + _e26), (3.4028235e38).xxx);
+        }
     }
+    acc_8.count = 0u;
+    return;
 }
 
-float3 airlight_phi_iso_8_shafts_finish_spot(airlight_phi_iso_8_Shafts acc_in_1, float end_1, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
+void airlight_phi_iso_8_shafts_push_spot(inout airlight_phi_iso_8_Shafts acc_9, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    airlight_phi_iso_8_Shafts acc_7 = (airlight_phi_iso_8_Shafts)0;
+    const float3 _e12 = airlight_phi_iso_8_shafts_step(acc_9, s_4, v_7);
+    airlight_phi_iso_8_shafts_hold(acc_9, _e12);
+    return;
+}
 
-    acc_7 = acc_in_1;
-    const float3 _e12 = airlight_phi_iso_8_shafts_place(acc_7);
-    float3 _e14 = acc_7.sum;
-    const float3 _e18 = airlight_phi_iso_8_shafts_run_spot(_e12.x, _e12.y, _e12.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
-    float3 sum_3 = min((_e14 + _e18), (3.4028235e38).xxx);
-    float _e24 = acc_7.v;
-    float _e26 = acc_7.v;
-    float w_4 = ((_e26 < 0.0) ? 1.0 : _e24);
-    float _e32 = acc_7.start;
-    const float3 _e33 = airlight_phi_iso_8_shafts_run_spot(_e32, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8);
-    return min((sum_3 + _e33), (3.4028235e38).xxx);
+float3 airlight_phi_iso_8_shafts_finish_spot(airlight_phi_iso_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10)
+{
+    airlight_phi_iso_8_Shafts acc_10 = (airlight_phi_iso_8_Shafts)0;
+
+    acc_10 = acc_in_1;
+    const float3 _e12 = airlight_phi_iso_8_shafts_place(acc_10);
+    airlight_phi_iso_8_shafts_hold(acc_10, _e12);
+    airlight_phi_iso_8_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    float _e14 = acc_10.v;
+    float _e16 = acc_10.v;
+    float w_5 = ((_e16 < 0.0) ? 1.0 : _e14);
+    float3 _e22 = acc_10.sum;
+    float _e24 = acc_10.start;
+    const float3 _e25 = airlight_phi_iso_8_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 

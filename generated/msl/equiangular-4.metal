@@ -18,6 +18,9 @@ struct _frexp_result_f32_ {
 struct type_7 {
     float inner[6];
 };
+struct type_9 {
+    metal::float3 inner[32];
+};
 struct airlight_equiangular_4_Shafts {
     float start;
     float v;
@@ -30,6 +33,9 @@ struct airlight_equiangular_4_Shafts {
     float after;
     metal::packed_float3 sum;
     uint calls;
+    type_9 runs;
+    uint count;
+    char _pad12[12];
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -42,6 +48,7 @@ constant float airlight_equiangular_4_FRAC_PI_2_ = 1.5707964;
 constant float airlight_equiangular_4_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_equiangular_4_RHO_OPEN = 4294967300.0;
 constant float airlight_equiangular_4_TAU_MAX = 10000.0;
+constant uint airlight_equiangular_4_SHAFTS_RUNS = 32u;
 
 float airlight_equiangular_4_foot(
     float h,
@@ -378,9 +385,9 @@ float airlight_equiangular_4_airlight_geometry(
     float st = {};
     float d_2 = {};
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_4_TAU_MAX);
-    float g_13 = metal::clamp(g_in, -0.999, 0.999);
-    float gm = (1.0 - g_13) * (1.0 - g_13);
-    float gp = (1.0 + g_13) * (1.0 + g_13);
+    float g_15 = metal::clamp(g_in, -0.999, 0.999);
+    float gm = (1.0 - g_15) * (1.0 - g_15);
+    float gp = (1.0 + g_15) * (1.0 + g_15);
     if (!((h_2 <= 0.0))) {
         if (x0_2 < 0.0) {
             local_7 = h_2 < 0.0000000000000000008673617;
@@ -394,7 +401,7 @@ float airlight_equiangular_4_airlight_geometry(
     }
     bool _e39 = local_6;
     if (_e39) {
-        float _e40 = airlight_equiangular_4_airlight_axis(tau_5, x0_2, rho_2, g_13);
+        float _e40 = airlight_equiangular_4_airlight_axis(tau_5, x0_2, rho_2, g_15);
         return _e40;
     }
     span = comp;
@@ -429,7 +436,7 @@ float airlight_equiangular_4_airlight_geometry(
     float _e107 = sc.y;
     float _e113 = sc.x;
     float _e116 = sc.x;
-    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e113) * _e116)) : (gp - (((4.0 * g_13) * _e104) * _e107));
+    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107));
     float _e122 = sum_1;
     float _e124 = st;
     float _e129 = d_2;
@@ -454,7 +461,7 @@ float airlight_equiangular_4_airlight_geometry(
     float _e177 = sc.y;
     float _e183 = sc.x;
     float _e186 = sc.x;
-    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e183) * _e186)) : (gp - (((4.0 * g_13) * _e174) * _e177));
+    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177));
     float _e192 = sum_1;
     float _e194 = st;
     float _e199 = d_2;
@@ -479,7 +486,7 @@ float airlight_equiangular_4_airlight_geometry(
     float _e247 = sc.y;
     float _e253 = sc.x;
     float _e256 = sc.x;
-    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e253) * _e256)) : (gp - (((4.0 * g_13) * _e244) * _e247));
+    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247));
     float _e262 = sum_1;
     float _e264 = st;
     float _e269 = d_2;
@@ -504,14 +511,14 @@ float airlight_equiangular_4_airlight_geometry(
     float _e317 = sc.y;
     float _e323 = sc.x;
     float _e326 = sc.x;
-    d_2 = (g_13 >= 0.0) ? (gm + (((4.0 * g_13) * _e323) * _e326)) : (gp - (((4.0 * g_13) * _e314) * _e317));
+    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317));
     float _e332 = sum_1;
     float _e334 = st;
     float _e339 = d_2;
     float _e340 = d_2;
     sum_1 = _e332 + ((0.34785485 * metal::exp(-(tau_5) * _e334)) / (_e339 * metal::sqrt(_e340)));
     float _e352 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_13)) * (1.0 + g_13)) * _e352) * half_1) / h_2, airlight_equiangular_4_HUGE);
+    return metal::min(((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e352) * half_1) / h_2, airlight_equiangular_4_HUGE);
 }
 
 metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
@@ -535,9 +542,9 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float st_1 = {};
     float d_3 = {};
     metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float g_14 = metal::clamp(g_in_1, -0.999, 0.999);
-    float gm_1 = (1.0 - g_14) * (1.0 - g_14);
-    float gp_1 = (1.0 + g_14) * (1.0 + g_14);
+    float g_16 = metal::clamp(g_in_1, -0.999, 0.999);
+    float gm_1 = (1.0 - g_16) * (1.0 - g_16);
+    float gp_1 = (1.0 + g_16) * (1.0 + g_16);
     if (!((h_3 <= 0.0))) {
         if (x0_3 < 0.0) {
             local_10 = h_3 < 0.0000000000000000008673617;
@@ -551,9 +558,9 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     }
     bool _e41 = local_9;
     if (_e41) {
-        float _e43 = airlight_equiangular_4_airlight_axis(tau_6.x, x0_3, rho_3, g_14);
-        float _e45 = airlight_equiangular_4_airlight_axis(tau_6.y, x0_3, rho_3, g_14);
-        float _e47 = airlight_equiangular_4_airlight_axis(tau_6.z, x0_3, rho_3, g_14);
+        float _e43 = airlight_equiangular_4_airlight_axis(tau_6.x, x0_3, rho_3, g_16);
+        float _e45 = airlight_equiangular_4_airlight_axis(tau_6.y, x0_3, rho_3, g_16);
+        float _e47 = airlight_equiangular_4_airlight_axis(tau_6.z, x0_3, rho_3, g_16);
         return metal::float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
@@ -588,7 +595,7 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float _e116 = sc_1.y;
     float _e122 = sc_1.x;
     float _e125 = sc_1.x;
-    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e122) * _e125)) : (gp_1 - (((4.0 * g_14) * _e113) * _e116));
+    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116));
     metal::float3 _e131 = sum_2;
     float _e133 = st_1;
     float _e138 = d_3;
@@ -613,7 +620,7 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float _e187 = sc_1.y;
     float _e193 = sc_1.x;
     float _e196 = sc_1.x;
-    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e193) * _e196)) : (gp_1 - (((4.0 * g_14) * _e184) * _e187));
+    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187));
     metal::float3 _e202 = sum_2;
     float _e204 = st_1;
     float _e209 = d_3;
@@ -638,7 +645,7 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float _e258 = sc_1.y;
     float _e264 = sc_1.x;
     float _e267 = sc_1.x;
-    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e264) * _e267)) : (gp_1 - (((4.0 * g_14) * _e255) * _e258));
+    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258));
     metal::float3 _e273 = sum_2;
     float _e275 = st_1;
     float _e280 = d_3;
@@ -663,14 +670,14 @@ metal::float3 airlight_equiangular_4_airlight_geometry_rgb(
     float _e329 = sc_1.y;
     float _e335 = sc_1.x;
     float _e338 = sc_1.x;
-    d_3 = (g_14 >= 0.0) ? (gm_1 + (((4.0 * g_14) * _e335) * _e338)) : (gp_1 - (((4.0 * g_14) * _e326) * _e329));
+    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329));
     metal::float3 _e344 = sum_2;
     float _e346 = st_1;
     float _e351 = d_3;
     float _e352 = d_3;
     sum_2 = _e344 + ((0.34785485 * metal::exp(-(tau_6) * _e346)) / metal::float3(_e351 * metal::sqrt(_e352)));
     metal::float3 _e365 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_14)) * (1.0 + g_14)) * _e365) * half_2) / metal::float3(h_3), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min(((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e365) * half_2) / metal::float3(h_3), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_4_airlight(
@@ -1327,31 +1334,55 @@ metal::float3 airlight_equiangular_4_spot(
 
 airlight_equiangular_4_Shafts airlight_equiangular_4_shafts_begin(
 ) {
-    return airlight_equiangular_4_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+    return airlight_equiangular_4_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u, type_9 {}, 0u};
+}
+
+void airlight_equiangular_4_shafts_hold(
+    thread airlight_equiangular_4_Shafts& acc,
+    metal::float3 run
+) {
+    if (!((run.z > 0.0))) {
+        return;
+    }
+    uint _e7 = acc.count;
+    if (_e7 < airlight_equiangular_4_SHAFTS_RUNS) {
+        uint _e12 = acc.count;
+        acc.runs.inner[_e12] = run;
+        uint _e15 = acc.count;
+        acc.count = _e15 + 1u;
+        uint _e19 = acc.calls;
+        acc.calls = _e19 + 1u;
+        return;
+    }
+    metal::float3 last = acc.runs.inner[31];
+    float len = run.y - last.x;
+    float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
+    acc.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    return;
 }
 
 float airlight_equiangular_4_shafts_probe(
-    airlight_equiangular_4_Shafts acc
+    airlight_equiangular_4_Shafts acc_1
 ) {
-    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+    return acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0;
 }
 
 void airlight_equiangular_4_shafts_refine(
-    thread airlight_equiangular_4_Shafts& acc_1,
+    thread airlight_equiangular_4_Shafts& acc_2,
     float v_2
 ) {
-    bool _e3 = acc_1.pending;
+    bool _e3 = acc_2.pending;
     if (_e3) {
-        float _e5 = acc_1.lo;
-        float _e7 = acc_1.hi;
+        float _e5 = acc_2.lo;
+        float _e7 = acc_2.hi;
         float m_1 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_1.before;
-        float _e16 = acc_1.after;
+        float _e12 = acc_2.before;
+        float _e16 = acc_2.after;
         if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
-            acc_1.lo = m_1;
+            acc_2.lo = m_1;
             return;
         } else {
-            acc_1.hi = m_1;
+            acc_2.hi = m_1;
             return;
         }
     } else {
@@ -1360,47 +1391,47 @@ void airlight_equiangular_4_shafts_refine(
 }
 
 metal::float3 airlight_equiangular_4_shafts_place(
-    thread airlight_equiangular_4_Shafts& acc_2
+    thread airlight_equiangular_4_Shafts& acc_3
 ) {
-    bool _e2 = acc_2.pending;
+    bool _e2 = acc_3.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_2.pending = false;
-    float _e9 = acc_2.lo;
-    float _e11 = acc_2.hi;
+    acc_3.pending = false;
+    float _e9 = acc_3.lo;
+    float _e11 = acc_3.hi;
     float m_2 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_2.start;
-    float _e18 = acc_2.before;
-    metal::float3 run = metal::float3(_e16, m_2, _e18);
-    acc_2.start = m_2;
-    float _e23 = acc_2.after;
-    acc_2.v = _e23;
-    return run;
+    float _e16 = acc_3.start;
+    float _e18 = acc_3.before;
+    metal::float3 run_1 = metal::float3(_e16, m_2, _e18);
+    acc_3.start = m_2;
+    float _e23 = acc_3.after;
+    acc_3.v = _e23;
+    return run_1;
 }
 
 metal::float3 airlight_equiangular_4_shafts_step(
-    thread airlight_equiangular_4_Shafts& acc_3,
+    thread airlight_equiangular_4_Shafts& acc_4,
     float s,
     float v_3
 ) {
-    metal::float3 _e3 = airlight_equiangular_4_shafts_place(acc_3);
-    float _e5 = acc_3.v;
+    metal::float3 _e3 = airlight_equiangular_4_shafts_place(acc_4);
+    float _e5 = acc_4.v;
     if (_e5 < 0.0) {
-        acc_3.v = v_3;
+        acc_4.v = v_3;
     } else {
-        float _e10 = acc_3.v;
+        float _e10 = acc_4.v;
         if (v_3 != _e10) {
-            acc_3.pending = true;
-            float _e16 = acc_3.s;
-            acc_3.lo = _e16;
-            acc_3.hi = s;
-            float _e20 = acc_3.v;
-            acc_3.before = _e20;
-            acc_3.after = v_3;
+            acc_4.pending = true;
+            float _e16 = acc_4.s;
+            acc_4.lo = _e16;
+            acc_4.hi = s;
+            float _e20 = acc_4.v;
+            acc_4.before = _e20;
+            acc_4.after = v_3;
         }
     }
-    acc_3.s = s;
+    acc_4.s = s;
     return _e3;
 }
 
@@ -1446,18 +1477,16 @@ float airlight_equiangular_4_shafts_run(
     }
     metal::float4 _e26 = airlight_equiangular_4_shafts_moved(a_7, b_6, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
-    float len = _e26.w;
-    float _e29 = airlight_equiangular_4_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    float len_1 = _e26.w;
+    float _e29 = airlight_equiangular_4_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
     if (_e29 >= airlight_equiangular_4_HUGE) {
         return _e29;
     }
     return (w_1 * metal::exp(-(sigma_t_2) * a_7)) * _e29;
 }
 
-void airlight_equiangular_4_shafts_push(
-    thread airlight_equiangular_4_Shafts& acc_4,
-    float s_1,
-    float v_4,
+void airlight_equiangular_4_shafts_flush(
+    thread airlight_equiangular_4_Shafts& acc_5,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1466,22 +1495,39 @@ void airlight_equiangular_4_shafts_push(
     float sigma_s_4,
     float g_8
 ) {
-    metal::float3 _e10 = airlight_equiangular_4_shafts_step(acc_4, s_1, v_4);
-    if (_e10.z > 0.0) {
-        float _e18 = acc_4.sum[0];
-        float _e22 = airlight_equiangular_4_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
-        acc_4.sum[0] = metal::min(_e18 + _e22, airlight_equiangular_4_HUGE);
-        uint _e27 = acc_4.calls;
-        acc_4.calls = _e27 + 1u;
-        return;
-    } else {
-        return;
+    uint j_2 = 0u;
+    uint2 loop_bound_2 = uint2(4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (metal::all(loop_bound_2 == uint2(0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e31 = j_2;
+            j_2 = _e31 + 1u;
+        }
+        loop_init_2 = false;
+        uint _e10 = j_2;
+        uint _e12 = acc_5.count;
+        if (_e10 < _e12) {
+        } else {
+            break;
+        }
+        {
+            uint _e15 = j_2;
+            metal::float3 r_5 = acc_5.runs.inner[_e15];
+            float _e22 = acc_5.sum[0];
+            float _e26 = airlight_equiangular_4_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            acc_5.sum[0] = metal::min(_e22 + _e26, airlight_equiangular_4_HUGE);
+        }
     }
+    acc_5.count = 0u;
+    return;
 }
 
-float airlight_equiangular_4_shafts_finish(
-    airlight_equiangular_4_Shafts acc_in,
-    float end,
+void airlight_equiangular_4_shafts_push(
+    thread airlight_equiangular_4_Shafts& acc_6,
+    float s_1,
+    float v_4,
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
@@ -1490,34 +1536,50 @@ float airlight_equiangular_4_shafts_finish(
     float sigma_s_5,
     float g_9
 ) {
-    airlight_equiangular_4_Shafts acc_5 = {};
-    acc_5 = acc_in;
-    metal::float3 _e10 = airlight_equiangular_4_shafts_place(acc_5);
-    float _e13 = acc_5.sum[0];
-    float _e17 = airlight_equiangular_4_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    float sum_4 = metal::min(_e13 + _e17, airlight_equiangular_4_HUGE);
-    float _e22 = acc_5.v;
-    float _e24 = acc_5.v;
-    float w_3 = (_e24 < 0.0) ? 1.0 : _e22;
-    float _e30 = acc_5.start;
-    float _e31 = airlight_equiangular_4_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
-    return metal::min(sum_4 + _e31, airlight_equiangular_4_HUGE);
+    metal::float3 _e10 = airlight_equiangular_4_shafts_step(acc_6, s_1, v_4);
+    airlight_equiangular_4_shafts_hold(acc_6, _e10);
+    return;
+}
+
+float airlight_equiangular_4_shafts_finish(
+    airlight_equiangular_4_Shafts acc_in,
+    float end,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    float intensity_6,
+    float sigma_t_5,
+    float sigma_s_6,
+    float g_10
+) {
+    airlight_equiangular_4_Shafts acc_7 = {};
+    acc_7 = acc_in;
+    metal::float3 _e10 = airlight_equiangular_4_shafts_place(acc_7);
+    airlight_equiangular_4_shafts_hold(acc_7, _e10);
+    airlight_equiangular_4_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    float _e12 = acc_7.v;
+    float _e14 = acc_7.v;
+    float w_4 = (_e14 < 0.0) ? 1.0 : _e12;
+    float _e21 = acc_7.sum[0];
+    float _e23 = acc_7.start;
+    float _e24 = airlight_equiangular_4_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    return metal::min(_e21 + _e24, airlight_equiangular_4_HUGE);
 }
 
 metal::float3 airlight_equiangular_4_shafts_run_spot(
     float a_8,
     float b_7,
     float w_2,
-    metal::float3 origin_7,
-    metal::float3 dir_7,
-    metal::float3 light_6,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_6,
-    metal::float3 sigma_t_5,
-    metal::float3 sigma_s_6,
-    float g_10
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    float g_11
 ) {
     bool local_25 = {};
     bool local_26 = {};
@@ -1536,65 +1598,99 @@ metal::float3 airlight_equiangular_4_shafts_run_spot(
     if (_e27) {
         return metal::float3(0.0);
     }
-    metal::float4 _e30 = airlight_equiangular_4_shafts_moved(a_8, b_7, origin_7, dir_7);
+    metal::float4 _e30 = airlight_equiangular_4_shafts_moved(a_8, b_7, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
-    float len_1 = _e30.w;
-    metal::float3 _e33 = airlight_equiangular_4_spot(o_1, dir_7, len_1, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_10);
-    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_8)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+    float len_2 = _e30.w;
+    metal::float3 _e33 = airlight_equiangular_4_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_8)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
-void airlight_equiangular_4_shafts_push_spot(
-    thread airlight_equiangular_4_Shafts& acc_6,
-    float s_2,
-    float v_5,
-    metal::float3 origin_8,
-    metal::float3 dir_8,
-    metal::float3 light_7,
-    metal::float3 axis_2,
-    float cos_outer_2,
-    float cos_inner_2,
-    float intensity_7,
-    metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7,
-    float g_11
-) {
-    metal::float3 _e13 = airlight_equiangular_4_shafts_step(acc_6, s_2, v_5);
-    if (_e13.z > 0.0) {
-        metal::float3 _e19 = acc_6.sum;
-        metal::float3 _e23 = airlight_equiangular_4_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_11);
-        acc_6.sum = metal::min(_e19 + _e23, metal::float3(340282350000000000000000000000000000000.0));
-        uint _e29 = acc_6.calls;
-        acc_6.calls = _e29 + 1u;
-        return;
-    } else {
-        return;
-    }
-}
-
-metal::float3 airlight_equiangular_4_shafts_finish_spot(
-    airlight_equiangular_4_Shafts acc_in_1,
-    float end_1,
+void airlight_equiangular_4_shafts_flush_spot(
+    thread airlight_equiangular_4_Shafts& acc_8,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
-    metal::float3 axis_3,
-    float cos_outer_3,
-    float cos_inner_3,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
     float intensity_8,
     metal::float3 sigma_t_7,
     metal::float3 sigma_s_8,
     float g_12
 ) {
-    airlight_equiangular_4_Shafts acc_7 = {};
-    acc_7 = acc_in_1;
-    metal::float3 _e13 = airlight_equiangular_4_shafts_place(acc_7);
-    metal::float3 _e15 = acc_7.sum;
-    metal::float3 _e19 = airlight_equiangular_4_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    metal::float3 sum_5 = metal::min(_e15 + _e19, metal::float3(340282350000000000000000000000000000000.0));
-    float _e25 = acc_7.v;
-    float _e27 = acc_7.v;
-    float w_4 = (_e27 < 0.0) ? 1.0 : _e25;
-    float _e33 = acc_7.start;
-    metal::float3 _e34 = airlight_equiangular_4_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_12);
-    return metal::min(sum_5 + _e34, metal::float3(340282350000000000000000000000000000000.0));
+    uint j_3 = 0u;
+    uint2 loop_bound_3 = uint2(4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (metal::all(loop_bound_3 == uint2(0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e33 = j_3;
+            j_3 = _e33 + 1u;
+        }
+        loop_init_3 = false;
+        uint _e13 = j_3;
+        uint _e15 = acc_8.count;
+        if (_e13 < _e15) {
+        } else {
+            break;
+        }
+        {
+            uint _e18 = j_3;
+            metal::float3 r_6 = acc_8.runs.inner[_e18];
+            metal::float3 _e23 = acc_8.sum;
+            metal::float3 _e27 = airlight_equiangular_4_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            acc_8.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
+        }
+    }
+    acc_8.count = 0u;
+    return;
+}
+
+void airlight_equiangular_4_shafts_push_spot(
+    thread airlight_equiangular_4_Shafts& acc_9,
+    float s_2,
+    float v_5,
+    metal::float3 origin_10,
+    metal::float3 dir_10,
+    metal::float3 light_9,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_9,
+    metal::float3 sigma_t_8,
+    metal::float3 sigma_s_9,
+    float g_13
+) {
+    metal::float3 _e13 = airlight_equiangular_4_shafts_step(acc_9, s_2, v_5);
+    airlight_equiangular_4_shafts_hold(acc_9, _e13);
+    return;
+}
+
+metal::float3 airlight_equiangular_4_shafts_finish_spot(
+    airlight_equiangular_4_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_11,
+    metal::float3 dir_11,
+    metal::float3 light_10,
+    metal::float3 axis_4,
+    float cos_outer_4,
+    float cos_inner_4,
+    float intensity_10,
+    metal::float3 sigma_t_9,
+    metal::float3 sigma_s_10,
+    float g_14
+) {
+    airlight_equiangular_4_Shafts acc_10 = {};
+    acc_10 = acc_in_1;
+    metal::float3 _e13 = airlight_equiangular_4_shafts_place(acc_10);
+    airlight_equiangular_4_shafts_hold(acc_10, _e13);
+    airlight_equiangular_4_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    float _e15 = acc_10.v;
+    float _e17 = acc_10.v;
+    float w_5 = (_e17 < 0.0) ? 1.0 : _e15;
+    metal::float3 _e23 = acc_10.sum;
+    float _e25 = acc_10.start;
+    metal::float3 _e26 = airlight_equiangular_4_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -27,6 +27,9 @@ struct airlight_hg_exp3_Phase {
 struct type_8 {
     float inner[6];
 };
+struct type_10 {
+    metal::float3 inner[32];
+};
 struct airlight_hg_exp3_Shafts {
     float start;
     float v;
@@ -39,6 +42,9 @@ struct airlight_hg_exp3_Shafts {
     float after;
     metal::packed_float3 sum;
     uint calls;
+    type_10 runs;
+    uint count;
+    char _pad12[12];
 };
 
 _frexp_result_f32_ naga_frexp(float arg) {
@@ -51,6 +57,7 @@ constant float airlight_hg_exp3_FRAC_PI_2_ = 1.5707964;
 constant float airlight_hg_exp3_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_hg_exp3_RHO_OPEN = 4294967300.0;
 constant float airlight_hg_exp3_TAU_MAX = 10000.0;
+constant uint airlight_hg_exp3_SHAFTS_RUNS = 32u;
 
 float airlight_hg_exp3_foot(
     float h,
@@ -1382,31 +1389,55 @@ metal::float3 airlight_hg_exp3_spot(
 
 airlight_hg_exp3_Shafts airlight_hg_exp3_shafts_begin(
 ) {
-    return airlight_hg_exp3_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u};
+    return airlight_hg_exp3_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u, type_10 {}, 0u};
+}
+
+void airlight_hg_exp3_shafts_hold(
+    thread airlight_hg_exp3_Shafts& acc,
+    metal::float3 run
+) {
+    if (!((run.z > 0.0))) {
+        return;
+    }
+    uint _e7 = acc.count;
+    if (_e7 < airlight_hg_exp3_SHAFTS_RUNS) {
+        uint _e12 = acc.count;
+        acc.runs.inner[_e12] = run;
+        uint _e15 = acc.count;
+        acc.count = _e15 + 1u;
+        uint _e19 = acc.calls;
+        acc.calls = _e19 + 1u;
+        return;
+    }
+    metal::float3 last = acc.runs.inner[31];
+    float len_7 = run.y - last.x;
+    float w_3 = (len_7 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_7) : last.z;
+    acc.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    return;
 }
 
 float airlight_hg_exp3_shafts_probe(
-    airlight_hg_exp3_Shafts acc
+    airlight_hg_exp3_Shafts acc_1
 ) {
-    return acc.pending ? (0.5 * (acc.lo + acc.hi)) : -1.0;
+    return acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0;
 }
 
 void airlight_hg_exp3_shafts_refine(
-    thread airlight_hg_exp3_Shafts& acc_1,
+    thread airlight_hg_exp3_Shafts& acc_2,
     float v_2
 ) {
-    bool _e3 = acc_1.pending;
+    bool _e3 = acc_2.pending;
     if (_e3) {
-        float _e5 = acc_1.lo;
-        float _e7 = acc_1.hi;
+        float _e5 = acc_2.lo;
+        float _e7 = acc_2.hi;
         float m_1 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_1.before;
-        float _e16 = acc_1.after;
+        float _e12 = acc_2.before;
+        float _e16 = acc_2.after;
         if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
-            acc_1.lo = m_1;
+            acc_2.lo = m_1;
             return;
         } else {
-            acc_1.hi = m_1;
+            acc_2.hi = m_1;
             return;
         }
     } else {
@@ -1415,47 +1446,47 @@ void airlight_hg_exp3_shafts_refine(
 }
 
 metal::float3 airlight_hg_exp3_shafts_place(
-    thread airlight_hg_exp3_Shafts& acc_2
+    thread airlight_hg_exp3_Shafts& acc_3
 ) {
-    bool _e2 = acc_2.pending;
+    bool _e2 = acc_3.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_2.pending = false;
-    float _e9 = acc_2.lo;
-    float _e11 = acc_2.hi;
+    acc_3.pending = false;
+    float _e9 = acc_3.lo;
+    float _e11 = acc_3.hi;
     float m_2 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_2.start;
-    float _e18 = acc_2.before;
-    metal::float3 run = metal::float3(_e16, m_2, _e18);
-    acc_2.start = m_2;
-    float _e23 = acc_2.after;
-    acc_2.v = _e23;
-    return run;
+    float _e16 = acc_3.start;
+    float _e18 = acc_3.before;
+    metal::float3 run_1 = metal::float3(_e16, m_2, _e18);
+    acc_3.start = m_2;
+    float _e23 = acc_3.after;
+    acc_3.v = _e23;
+    return run_1;
 }
 
 metal::float3 airlight_hg_exp3_shafts_step(
-    thread airlight_hg_exp3_Shafts& acc_3,
+    thread airlight_hg_exp3_Shafts& acc_4,
     float s,
     float v_3
 ) {
-    metal::float3 _e3 = airlight_hg_exp3_shafts_place(acc_3);
-    float _e5 = acc_3.v;
+    metal::float3 _e3 = airlight_hg_exp3_shafts_place(acc_4);
+    float _e5 = acc_4.v;
     if (_e5 < 0.0) {
-        acc_3.v = v_3;
+        acc_4.v = v_3;
     } else {
-        float _e10 = acc_3.v;
+        float _e10 = acc_4.v;
         if (v_3 != _e10) {
-            acc_3.pending = true;
-            float _e16 = acc_3.s;
-            acc_3.lo = _e16;
-            acc_3.hi = s;
-            float _e20 = acc_3.v;
-            acc_3.before = _e20;
-            acc_3.after = v_3;
+            acc_4.pending = true;
+            float _e16 = acc_4.s;
+            acc_4.lo = _e16;
+            acc_4.hi = s;
+            float _e20 = acc_4.v;
+            acc_4.before = _e20;
+            acc_4.after = v_3;
         }
     }
-    acc_3.s = s;
+    acc_4.s = s;
     return _e3;
 }
 
@@ -1501,18 +1532,16 @@ float airlight_hg_exp3_shafts_run(
     }
     metal::float4 _e26 = airlight_hg_exp3_shafts_moved(a_10, b_5, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
-    float len_7 = _e26.w;
-    float _e29 = airlight_hg_exp3_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
+    float len_8 = _e26.w;
+    float _e29 = airlight_hg_exp3_radiance(o, dir_4, len_8, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
     if (_e29 >= airlight_hg_exp3_HUGE) {
         return _e29;
     }
     return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e29;
 }
 
-void airlight_hg_exp3_shafts_push(
-    thread airlight_hg_exp3_Shafts& acc_4,
-    float s_1,
-    float v_4,
+void airlight_hg_exp3_shafts_flush(
+    thread airlight_hg_exp3_Shafts& acc_5,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1521,22 +1550,39 @@ void airlight_hg_exp3_shafts_push(
     float sigma_s_4,
     float g_11
 ) {
-    metal::float3 _e10 = airlight_hg_exp3_shafts_step(acc_4, s_1, v_4);
-    if (_e10.z > 0.0) {
-        float _e18 = acc_4.sum[0];
-        float _e22 = airlight_hg_exp3_shafts_run(_e10.x, _e10.y, _e10.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_11);
-        acc_4.sum[0] = metal::min(_e18 + _e22, airlight_hg_exp3_HUGE);
-        uint _e27 = acc_4.calls;
-        acc_4.calls = _e27 + 1u;
-        return;
-    } else {
-        return;
+    uint j_2 = 0u;
+    uint2 loop_bound_2 = uint2(4294967295u);
+    bool loop_init_2 = true;
+    while(true) {
+        if (metal::all(loop_bound_2 == uint2(0u))) { break; }
+        loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
+        if (!loop_init_2) {
+            uint _e31 = j_2;
+            j_2 = _e31 + 1u;
+        }
+        loop_init_2 = false;
+        uint _e10 = j_2;
+        uint _e12 = acc_5.count;
+        if (_e10 < _e12) {
+        } else {
+            break;
+        }
+        {
+            uint _e15 = j_2;
+            metal::float3 r_7 = acc_5.runs.inner[_e15];
+            float _e22 = acc_5.sum[0];
+            float _e26 = airlight_hg_exp3_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_11);
+            acc_5.sum[0] = metal::min(_e22 + _e26, airlight_hg_exp3_HUGE);
+        }
     }
+    acc_5.count = 0u;
+    return;
 }
 
-float airlight_hg_exp3_shafts_finish(
-    airlight_hg_exp3_Shafts acc_in,
-    float end,
+void airlight_hg_exp3_shafts_push(
+    thread airlight_hg_exp3_Shafts& acc_6,
+    float s_1,
+    float v_4,
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
@@ -1545,34 +1591,50 @@ float airlight_hg_exp3_shafts_finish(
     float sigma_s_5,
     float g_12
 ) {
-    airlight_hg_exp3_Shafts acc_5 = {};
-    acc_5 = acc_in;
-    metal::float3 _e10 = airlight_hg_exp3_shafts_place(acc_5);
-    float _e13 = acc_5.sum[0];
-    float _e17 = airlight_hg_exp3_shafts_run(_e10.x, _e10.y, _e10.z, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
-    float sum_3 = metal::min(_e13 + _e17, airlight_hg_exp3_HUGE);
-    float _e22 = acc_5.v;
-    float _e24 = acc_5.v;
-    float w_3 = (_e24 < 0.0) ? 1.0 : _e22;
-    float _e30 = acc_5.start;
-    float _e31 = airlight_hg_exp3_shafts_run(_e30, end, w_3, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
-    return metal::min(sum_3 + _e31, airlight_hg_exp3_HUGE);
+    metal::float3 _e10 = airlight_hg_exp3_shafts_step(acc_6, s_1, v_4);
+    airlight_hg_exp3_shafts_hold(acc_6, _e10);
+    return;
+}
+
+float airlight_hg_exp3_shafts_finish(
+    airlight_hg_exp3_Shafts acc_in,
+    float end,
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_6,
+    float intensity_6,
+    float sigma_t_5,
+    float sigma_s_6,
+    float g_13
+) {
+    airlight_hg_exp3_Shafts acc_7 = {};
+    acc_7 = acc_in;
+    metal::float3 _e10 = airlight_hg_exp3_shafts_place(acc_7);
+    airlight_hg_exp3_shafts_hold(acc_7, _e10);
+    airlight_hg_exp3_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    float _e12 = acc_7.v;
+    float _e14 = acc_7.v;
+    float w_4 = (_e14 < 0.0) ? 1.0 : _e12;
+    float _e21 = acc_7.sum[0];
+    float _e23 = acc_7.start;
+    float _e24 = airlight_hg_exp3_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    return metal::min(_e21 + _e24, airlight_hg_exp3_HUGE);
 }
 
 metal::float3 airlight_hg_exp3_shafts_run_spot(
     float a_11,
     float b_6,
     float w_2,
-    metal::float3 origin_7,
-    metal::float3 dir_7,
-    metal::float3 light_6,
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_7,
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_6,
-    metal::float3 sigma_t_5,
-    metal::float3 sigma_s_6,
-    float g_13
+    float intensity_7,
+    metal::float3 sigma_t_6,
+    metal::float3 sigma_s_7,
+    float g_14
 ) {
     bool local_25 = {};
     bool local_26 = {};
@@ -1591,65 +1653,99 @@ metal::float3 airlight_hg_exp3_shafts_run_spot(
     if (_e27) {
         return metal::float3(0.0);
     }
-    metal::float4 _e30 = airlight_hg_exp3_shafts_moved(a_11, b_6, origin_7, dir_7);
+    metal::float4 _e30 = airlight_hg_exp3_shafts_moved(a_11, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
-    float len_8 = _e30.w;
-    metal::float3 _e33 = airlight_hg_exp3_spot(o_1, dir_7, len_8, light_6, axis_1, cos_outer_1, cos_inner_1, intensity_6, sigma_t_5, sigma_s_6, g_13);
-    return metal::select((w_2 * metal::exp(-(sigma_t_5) * a_11)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+    float len_9 = _e30.w;
+    metal::float3 _e33 = airlight_hg_exp3_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_14);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
-void airlight_hg_exp3_shafts_push_spot(
-    thread airlight_hg_exp3_Shafts& acc_6,
-    float s_2,
-    float v_5,
-    metal::float3 origin_8,
-    metal::float3 dir_8,
-    metal::float3 light_7,
-    metal::float3 axis_2,
-    float cos_outer_2,
-    float cos_inner_2,
-    float intensity_7,
-    metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7,
-    float g_14
-) {
-    metal::float3 _e13 = airlight_hg_exp3_shafts_step(acc_6, s_2, v_5);
-    if (_e13.z > 0.0) {
-        metal::float3 _e19 = acc_6.sum;
-        metal::float3 _e23 = airlight_hg_exp3_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_8, dir_8, light_7, axis_2, cos_outer_2, cos_inner_2, intensity_7, sigma_t_6, sigma_s_7, g_14);
-        acc_6.sum = metal::min(_e19 + _e23, metal::float3(340282350000000000000000000000000000000.0));
-        uint _e29 = acc_6.calls;
-        acc_6.calls = _e29 + 1u;
-        return;
-    } else {
-        return;
-    }
-}
-
-metal::float3 airlight_hg_exp3_shafts_finish_spot(
-    airlight_hg_exp3_Shafts acc_in_1,
-    float end_1,
+void airlight_hg_exp3_shafts_flush_spot(
+    thread airlight_hg_exp3_Shafts& acc_8,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
-    metal::float3 axis_3,
-    float cos_outer_3,
-    float cos_inner_3,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
     float intensity_8,
     metal::float3 sigma_t_7,
     metal::float3 sigma_s_8,
     float g_15
 ) {
-    airlight_hg_exp3_Shafts acc_7 = {};
-    acc_7 = acc_in_1;
-    metal::float3 _e13 = airlight_hg_exp3_shafts_place(acc_7);
-    metal::float3 _e15 = acc_7.sum;
-    metal::float3 _e19 = airlight_hg_exp3_shafts_run_spot(_e13.x, _e13.y, _e13.z, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
-    metal::float3 sum_4 = metal::min(_e15 + _e19, metal::float3(340282350000000000000000000000000000000.0));
-    float _e25 = acc_7.v;
-    float _e27 = acc_7.v;
-    float w_4 = (_e27 < 0.0) ? 1.0 : _e25;
-    float _e33 = acc_7.start;
-    metal::float3 _e34 = airlight_hg_exp3_shafts_run_spot(_e33, end_1, w_4, origin_9, dir_9, light_8, axis_3, cos_outer_3, cos_inner_3, intensity_8, sigma_t_7, sigma_s_8, g_15);
-    return metal::min(sum_4 + _e34, metal::float3(340282350000000000000000000000000000000.0));
+    uint j_3 = 0u;
+    uint2 loop_bound_3 = uint2(4294967295u);
+    bool loop_init_3 = true;
+    while(true) {
+        if (metal::all(loop_bound_3 == uint2(0u))) { break; }
+        loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
+        if (!loop_init_3) {
+            uint _e33 = j_3;
+            j_3 = _e33 + 1u;
+        }
+        loop_init_3 = false;
+        uint _e13 = j_3;
+        uint _e15 = acc_8.count;
+        if (_e13 < _e15) {
+        } else {
+            break;
+        }
+        {
+            uint _e18 = j_3;
+            metal::float3 r_8 = acc_8.runs.inner[_e18];
+            metal::float3 _e23 = acc_8.sum;
+            metal::float3 _e27 = airlight_hg_exp3_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_15);
+            acc_8.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
+        }
+    }
+    acc_8.count = 0u;
+    return;
+}
+
+void airlight_hg_exp3_shafts_push_spot(
+    thread airlight_hg_exp3_Shafts& acc_9,
+    float s_2,
+    float v_5,
+    metal::float3 origin_10,
+    metal::float3 dir_10,
+    metal::float3 light_9,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_9,
+    metal::float3 sigma_t_8,
+    metal::float3 sigma_s_9,
+    float g_16
+) {
+    metal::float3 _e13 = airlight_hg_exp3_shafts_step(acc_9, s_2, v_5);
+    airlight_hg_exp3_shafts_hold(acc_9, _e13);
+    return;
+}
+
+metal::float3 airlight_hg_exp3_shafts_finish_spot(
+    airlight_hg_exp3_Shafts acc_in_1,
+    float end_1,
+    metal::float3 origin_11,
+    metal::float3 dir_11,
+    metal::float3 light_10,
+    metal::float3 axis_4,
+    float cos_outer_4,
+    float cos_inner_4,
+    float intensity_10,
+    metal::float3 sigma_t_9,
+    metal::float3 sigma_s_10,
+    float g_17
+) {
+    airlight_hg_exp3_Shafts acc_10 = {};
+    acc_10 = acc_in_1;
+    metal::float3 _e13 = airlight_hg_exp3_shafts_place(acc_10);
+    airlight_hg_exp3_shafts_hold(acc_10, _e13);
+    airlight_hg_exp3_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
+    float _e15 = acc_10.v;
+    float _e17 = acc_10.v;
+    float w_5 = (_e17 < 0.0) ? 1.0 : _e15;
+    metal::float3 _e23 = acc_10.sum;
+    float _e25 = acc_10.start;
+    metal::float3 _e26 = airlight_hg_exp3_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
+    return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -562,7 +562,14 @@ fn airlight_sun2005_64_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, lig
 // own in-scattering: the entry itself with the viewer moved to the run's start and
 // a surface at its end, times exp(-sigma_t start). Never a difference of two
 // integrals; dark runs cost nothing; the error is the family's bound times the
-// unshadowed value (docs/MATH.md section 8).
+// unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
+// closed lit runs wait in a buffer of airlight_sun2005_64_SHAFTS_RUNS and are all evaluated by
+// finish, so that the lanes of a wave whose changes fall at different samples
+// evaluate the kernel together (evaluated at each push, a wave would run it at
+// every sample where any lane sees a change, and the walk's loop would carry the
+// whole kernel). Past airlight_sun2005_64_SHAFTS_RUNS lit runs on one ray, each further run is
+// merged into the last held one (their visibility averaged over the merged
+// stretch): not exact there.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = airlight_sun2005_64_shafts_begin();
@@ -593,10 +600,34 @@ struct airlight_sun2005_64_Shafts {
     // The runs' sum (RGB; a point light's in x), and the kernel evaluations.
     sum: vec3<f32>,
     calls: u32,
+    // Closed lit runs not yet evaluated: (start, end, visibility).
+    runs: array<vec3<f32>, 32>,
+    count: u32,
 }
 
+/// Closed lit runs held for finish.
+const airlight_sun2005_64_SHAFTS_RUNS: u32 = 32u;
+
 fn airlight_sun2005_64_shafts_begin() -> airlight_sun2005_64_Shafts {
-    return airlight_sun2005_64_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u);
+    return airlight_sun2005_64_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, array<vec3<f32>, 32>(), 0u);
+}
+
+/// Holds a closed run (start, end, visibility); past the buffer, merges it into
+/// the last held run.
+fn airlight_sun2005_64_shafts_hold(acc: ptr<function, airlight_sun2005_64_Shafts>, run: vec3<f32>) {
+    if !(run.z > 0.0) {
+        return;
+    }
+    if (*acc).count < airlight_sun2005_64_SHAFTS_RUNS {
+        (*acc).runs[(*acc).count] = run;
+        (*acc).count += 1u;
+        (*acc).calls += 1u;
+        return;
+    }
+    let last = (*acc).runs[airlight_sun2005_64_SHAFTS_RUNS - 1u];
+    let len = run.y - last.x;
+    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
+    (*acc).runs[airlight_sun2005_64_SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -671,14 +702,20 @@ fn airlight_sun2005_64_shafts_run(a: f32, b: f32, w: f32, origin: vec3<f32>, dir
     return w * exp(-sigma_t * a) * c;
 }
 
+/// Evaluates the held runs, in order, into the sum.
+fn airlight_sun2005_64_shafts_flush(acc: ptr<function, airlight_sun2005_64_Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
+    for (var j = 0u; j < (*acc).count; j++) {
+        let r = (*acc).runs[j];
+        (*acc).sum.x = min((*acc).sum.x + airlight_sun2005_64_shafts_run(r.x, r.y, r.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_sun2005_64_HUGE);
+    }
+    (*acc).count = 0u;
+}
+
 /// Pushes the visibility v (0 ... 1) of the light at distance s along the ray, for
 /// airlight_sun2005_64_radiance's ray, light and medium.
 fn airlight_sun2005_64_shafts_push(acc: ptr<function, airlight_sun2005_64_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
     let run = airlight_sun2005_64_shafts_step(acc, s, v);
-    if run.z > 0.0 {
-        (*acc).sum.x = min((*acc).sum.x + airlight_sun2005_64_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_sun2005_64_HUGE);
-        (*acc).calls += 1u;
-    }
+    airlight_sun2005_64_shafts_hold(acc, run);
 }
 
 /// The shadowed in-scattering of airlight_sun2005_64_radiance's ray to the surface at `end`
@@ -686,9 +723,10 @@ fn airlight_sun2005_64_shafts_push(acc: ptr<function, airlight_sun2005_64_Shafts
 fn airlight_sun2005_64_shafts_finish(acc_in: airlight_sun2005_64_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     var acc = acc_in;
     let run = airlight_sun2005_64_shafts_place(&acc);
-    let sum = min(acc.sum.x + airlight_sun2005_64_shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), airlight_sun2005_64_HUGE);
+    airlight_sun2005_64_shafts_hold(&acc, run);
+    airlight_sun2005_64_shafts_flush(&acc, origin, dir, light, intensity, sigma_t, sigma_s);
     let w = select(acc.v, 1.0, acc.v < 0.0);
-    return min(sum + airlight_sun2005_64_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), airlight_sun2005_64_HUGE);
+    return min(acc.sum.x + airlight_sun2005_64_shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), airlight_sun2005_64_HUGE);
 }
 
 /// airlight_sun2005_64_shafts_run for the spot entry, per channel.
@@ -703,21 +741,28 @@ fn airlight_sun2005_64_shafts_run_spot(a: f32, b: f32, w: f32, origin: vec3<f32>
     return select(w * exp(-sigma_t * a) * c, c, c >= vec3<f32>(airlight_sun2005_64_HUGE));
 }
 
+/// airlight_sun2005_64_shafts_flush for the spot entry.
+fn airlight_sun2005_64_shafts_flush_spot(acc: ptr<function, airlight_sun2005_64_Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
+    for (var j = 0u; j < (*acc).count; j++) {
+        let r = (*acc).runs[j];
+        (*acc).sum = min((*acc).sum + airlight_sun2005_64_shafts_run_spot(r.x, r.y, r.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_sun2005_64_HUGE));
+    }
+    (*acc).count = 0u;
+}
+
 /// airlight_sun2005_64_shafts_push for airlight_sun2005_64_spot's ray, cone and RGB medium.
 fn airlight_sun2005_64_shafts_push_spot(acc: ptr<function, airlight_sun2005_64_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
     let run = airlight_sun2005_64_shafts_step(acc, s, v);
-    if run.z > 0.0 {
-        (*acc).sum = min((*acc).sum + airlight_sun2005_64_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_sun2005_64_HUGE));
-        (*acc).calls += 1u;
-    }
+    airlight_sun2005_64_shafts_hold(acc, run);
 }
 
 /// airlight_sun2005_64_shafts_finish for airlight_sun2005_64_spot's ray, cone and RGB medium.
 fn airlight_sun2005_64_shafts_finish_spot(acc_in: airlight_sun2005_64_Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) -> vec3<f32> {
     var acc = acc_in;
     let run = airlight_sun2005_64_shafts_place(&acc);
-    let sum = min(acc.sum + airlight_sun2005_64_shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_sun2005_64_HUGE));
+    airlight_sun2005_64_shafts_hold(&acc, run);
+    airlight_sun2005_64_shafts_flush_spot(&acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
     let w = select(acc.v, 1.0, acc.v < 0.0);
-    return min(sum + airlight_sun2005_64_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_sun2005_64_HUGE));
+    return min(acc.sum + airlight_sun2005_64_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(airlight_sun2005_64_HUGE));
 }
 

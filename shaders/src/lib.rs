@@ -17,6 +17,7 @@ pub mod browser;
 pub mod gate;
 pub mod ircost;
 pub mod render;
+pub mod shafts_render;
 
 pub use airlight_fit::vocab::{Arg, Entry, Target};
 use airlight_fit::vocab::{ArgType, IndexEntry};

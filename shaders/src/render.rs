@@ -28,6 +28,10 @@ pub const FOV_Y: f32 = 0.9;
 /// σs / σt of the medium.
 pub const ALBEDO: f32 = 0.8;
 
+/// The size of a light-shafts frame, pixels (width, height).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShaftsSize(pub u32, pub u32);
+
 /// What is drawn.
 #[derive(Debug, Clone, PartialEq)]
 pub struct View {

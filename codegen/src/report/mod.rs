@@ -176,6 +176,83 @@ fn advice(models: &[ModelFile], bench: Option<&Bench>) -> Vec<String> {
     out
 }
 
+/// A light-shafts render (`kind = "shafts"`): the accumulator's frame, the
+/// marches tried, which march is shown.
+#[derive(Serialize)]
+struct ShaftsRender {
+    scene: String,
+    kernel: String,
+    march_kernel: String,
+    adapter: String,
+    size: String,
+    shadow_map: i64,
+    look_ups: i64,
+    refine_steps: i64,
+    lit_pixels: i64,
+    edge_pixels: i64,
+    march_shown: i64,
+    rows: Vec<ShaftsRenderRow>,
+}
+
+/// One frame of a light-shafts render: its method, GPU time and fog errors.
+#[derive(Serialize)]
+struct ShaftsRenderRow {
+    method: String,
+    steps: i64,
+    gpu_ms: String,
+    lit_max: String,
+    lit_mean: String,
+    edge_max: String,
+    edge_mean: String,
+}
+
+/// The light-shafts renders under `render/`.
+fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
+    let row = |method: &str, t: &toml::Table| {
+        let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
+        ShaftsRenderRow {
+            method: method.to_string(),
+            steps: t.get("steps").and_then(|v| v.as_integer()).unwrap_or(0),
+            gpu_ms: t.get("gpu_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
+            lit_max: f("lit_max"),
+            lit_mean: f("lit_mean"),
+            edge_max: f("edge_max"),
+            edge_mean: f("edge_mean"),
+        }
+    };
+    renders
+        .iter()
+        .filter(|o| o.path.ends_with(".toml"))
+        .filter_map(|o| {
+            let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
+            if t.get("kind").and_then(|v| v.as_str()) != Some("shafts") {
+                return None;
+            }
+            let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
+            let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
+            let acc = t.get("accumulator").and_then(|v| v.as_table())?;
+            let mut rows = vec![row("shafts accumulator", acc)];
+            for m in t.get("march").and_then(|v| v.as_array()).into_iter().flatten() {
+                rows.push(row("march", m.as_table()?));
+            }
+            Some(ShaftsRender {
+                scene: o.path.trim_start_matches("render/").trim_end_matches(".toml").to_string(),
+                kernel: s("kernel"),
+                march_kernel: s("march_kernel"),
+                adapter: s("adapter"),
+                size: format!("{}×{}", i("width"), i("height")),
+                shadow_map: i("shadow_map"),
+                look_ups: acc.get("steps").and_then(|v| v.as_integer()).unwrap_or(0),
+                refine_steps: i("refine_steps"),
+                lit_pixels: i("lit_pixels"),
+                edge_pixels: i("edge_pixels"),
+                march_shown: i("march_shown"),
+                rows,
+            })
+        })
+        .collect()
+}
+
 #[derive(Serialize)]
 struct RenderRow {
     scene: String,
@@ -189,13 +266,17 @@ struct RenderRow {
     rust_mean: String,
 }
 
-/// One row per `render/<scene>.toml` written by `airlight render --report`.
+/// One row per `render/<scene>.toml` written by `airlight render --report`
+/// (light-shafts renders apart: [`shafts_renders`]).
 fn render_rows(renders: &[Output]) -> Vec<RenderRow> {
     renders
         .iter()
         .filter(|o| o.path.ends_with(".toml"))
         .filter_map(|o| {
             let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
+            if t.get("kind").and_then(|v| v.as_str()) == Some("shafts") {
+                return None;
+            }
             let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
             let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
             let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
@@ -338,6 +419,7 @@ pub fn render(
     ctx.insert("family_sections", &family_sections(models, bench)?);
     ctx.insert("generated_kernels", &specs.iter().map(generated_kernel).collect::<Vec<_>>());
     ctx.insert("renders", &render_rows(renders));
+    ctx.insert("shafts_renders", &shafts_renders(renders));
     ctx.insert("bench", &bench.is_some());
     if let Some(b) = bench {
         trade::context(&mut ctx, b, models);

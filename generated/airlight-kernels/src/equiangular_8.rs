@@ -371,7 +371,10 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
 // visibility. Each run is the entry itself with the viewer moved to `a` and a
 // surface at `b`, times `e^(−σt a)`: the family's own in-scattering of the
 // stretch, never a difference of two. Dark runs cost nothing; the error is the
-// family's bound times the unshadowed value (docs/MATH.md §8).
+// family's bound times the unshadowed value (docs/MATH.md §8). As in the shaders
+// (where a wave's lanes must evaluate the kernel together), pushes only hold the
+// closed lit runs, up to `SHAFTS_RUNS`, each further one merged into the last
+// (their visibility averaged over the merged stretch); `finish` evaluates them.
 
 /// The shafts accumulator of one view ray. Push the ray's visibility samples
 /// `(s, v)` in increasing `s` ([`Shafts::push`], or [`Shafts::push_spot`] for the spot
@@ -397,7 +400,15 @@ pub struct Shafts {
     sum: [f32; 3],
     /// Kernel evaluations so far (one per lit run).
     pub calls: u32,
+    /// Closed lit runs not yet evaluated: `(start, end, visibility)`.
+    runs: [[f32; 3]; SHAFTS_RUNS],
+    /// How many are held.
+    count: usize,
 }
+
+/// Closed lit runs an accumulator holds for `finish`; past them, each further
+/// run is merged into the last.
+pub const SHAFTS_RUNS: usize = 32;
 
 impl Shafts {
     /// An accumulator before its first sample.
@@ -454,6 +465,24 @@ impl Shafts {
         Some(run)
     }
 
+    /// Holds a closed lit run; past [`SHAFTS_RUNS`], merges it into the last.
+    fn hold(&mut self, run: Option<(f32, f32, f32)>) {
+        let Some((a, b, w)) = run else { return };
+        if w.is_nan() || w <= 0.0 {
+            return;
+        }
+        if self.count < SHAFTS_RUNS {
+            self.runs[self.count] = [a, b, w];
+            self.count += 1;
+            self.calls += 1;
+            return;
+        }
+        let [la, lb, lw] = self.runs[SHAFTS_RUNS - 1];
+        let len = b - la;
+        let merged = if len > 0.0 { (lw * (lb - la) + w * (b - a)) / len } else { lw };
+        self.runs[SHAFTS_RUNS - 1] = [la, b, merged];
+    }
+
     /// Adds a run's value, saturating at [`crate::math::HUGE`].
     fn add(&mut self, c: usize, x: f32) {
         self.sum[c] = (self.sum[c] + x).min(crate::math::HUGE);
@@ -463,18 +492,19 @@ impl Shafts {
     /// for [`radiance`]'s ray, light and medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
-        if let Some((a, b, w)) = self.step(s, v) {
-            let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s, g);
-            self.calls += u32::from(w > 0.0);
-            self.add(0, x);
-        }
+        let _ = (origin, dir, light, intensity, sigma_t, sigma_s, g);
+        let run = self.step(s, v);
+        self.hold(run);
     }
 
     /// The shadowed in-scattering of [`radiance`]'s ray to the surface at `end`
     /// (negative: none, the last visibility holding to infinity).
     #[allow(clippy::too_many_arguments)]
     pub fn finish(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) -> f32 {
-        if let Some((a, b, w)) = self.place() {
+        let run = self.place();
+        self.hold(run);
+        let (runs, count) = (self.runs, self.count);
+        for &[a, b, w] in &runs[..count] {
             let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s, g);
             self.add(0, x);
         }
@@ -487,19 +517,18 @@ impl Shafts {
     /// [`Shafts::push`] for [`spot`]'s ray, cone and RGB medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push_spot(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) {
-        if let Some((a, b, w)) = self.step(s, v) {
-            let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-            self.calls += u32::from(w > 0.0);
-            for (c, x) in x.into_iter().enumerate() {
-                self.add(c, x);
-            }
-        }
+        let _ = (origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+        let run = self.step(s, v);
+        self.hold(run);
     }
 
     /// [`Shafts::finish`] for [`spot`]'s ray, cone and RGB medium.
     #[allow(clippy::too_many_arguments)]
     pub fn finish_spot(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) -> [f32; 3] {
-        if let Some((a, b, w)) = self.place() {
+        let run = self.place();
+        self.hold(run);
+        let (runs, count) = (self.runs, self.count);
+        for &[a, b, w] in &runs[..count] {
             let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
             for (c, x) in x.into_iter().enumerate() {
                 self.add(c, x);

@@ -564,7 +564,14 @@ fn spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis:
 // own in-scattering: the entry itself with the viewer moved to the run's start and
 // a surface at its end, times exp(-sigma_t start). Never a difference of two
 // integrals; dark runs cost nothing; the error is the family's bound times the
-// unshadowed value (docs/MATH.md section 8).
+// unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
+// closed lit runs wait in a buffer of SHAFTS_RUNS and are all evaluated by
+// finish, so that the lanes of a wave whose changes fall at different samples
+// evaluate the kernel together (evaluated at each push, a wave would run it at
+// every sample where any lane sees a change, and the walk's loop would carry the
+// whole kernel). Past SHAFTS_RUNS lit runs on one ray, each further run is
+// merged into the last held one (their visibility averaged over the merged
+// stretch): not exact there.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = shafts_begin();
@@ -595,10 +602,34 @@ struct Shafts {
     // The runs' sum (RGB; a point light's in x), and the kernel evaluations.
     sum: vec3<f32>,
     calls: u32,
+    // Closed lit runs not yet evaluated: (start, end, visibility).
+    runs: array<vec3<f32>, 32>,
+    count: u32,
 }
 
+/// Closed lit runs held for finish.
+const SHAFTS_RUNS: u32 = 32u;
+
 fn shafts_begin() -> Shafts {
-    return Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u);
+    return Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, array<vec3<f32>, 32>(), 0u);
+}
+
+/// Holds a closed run (start, end, visibility); past the buffer, merges it into
+/// the last held run.
+fn shafts_hold(acc: ptr<function, Shafts>, run: vec3<f32>) {
+    if !(run.z > 0.0) {
+        return;
+    }
+    if (*acc).count < SHAFTS_RUNS {
+        (*acc).runs[(*acc).count] = run;
+        (*acc).count += 1u;
+        (*acc).calls += 1u;
+        return;
+    }
+    let last = (*acc).runs[SHAFTS_RUNS - 1u];
+    let len = run.y - last.x;
+    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
+    (*acc).runs[SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -673,14 +704,20 @@ fn shafts_run(a: f32, b: f32, w: f32, origin: vec3<f32>, dir: vec3<f32>, light: 
     return w * exp(-sigma_t * a) * c;
 }
 
+/// Evaluates the held runs, in order, into the sum.
+fn shafts_flush(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
+    for (var j = 0u; j < (*acc).count; j++) {
+        let r = (*acc).runs[j];
+        (*acc).sum.x = min((*acc).sum.x + shafts_run(r.x, r.y, r.z, origin, dir, light, intensity, sigma_t, sigma_s), HUGE);
+    }
+    (*acc).count = 0u;
+}
+
 /// Pushes the visibility v (0 ... 1) of the light at distance s along the ray, for
 /// radiance's ray, light and medium.
 fn shafts_push(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
     let run = shafts_step(acc, s, v);
-    if run.z > 0.0 {
-        (*acc).sum.x = min((*acc).sum.x + shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), HUGE);
-        (*acc).calls += 1u;
-    }
+    shafts_hold(acc, run);
 }
 
 /// The shadowed in-scattering of radiance's ray to the surface at `end`
@@ -688,9 +725,10 @@ fn shafts_push(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, di
 fn shafts_finish(acc_in: Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
     var acc = acc_in;
     let run = shafts_place(&acc);
-    let sum = min(acc.sum.x + shafts_run(run.x, run.y, run.z, origin, dir, light, intensity, sigma_t, sigma_s), HUGE);
+    shafts_hold(&acc, run);
+    shafts_flush(&acc, origin, dir, light, intensity, sigma_t, sigma_s);
     let w = select(acc.v, 1.0, acc.v < 0.0);
-    return min(sum + shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), HUGE);
+    return min(acc.sum.x + shafts_run(acc.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s), HUGE);
 }
 
 /// shafts_run for the spot entry, per channel.
@@ -705,21 +743,28 @@ fn shafts_run_spot(a: f32, b: f32, w: f32, origin: vec3<f32>, dir: vec3<f32>, li
     return select(w * exp(-sigma_t * a) * c, c, c >= vec3<f32>(HUGE));
 }
 
+/// shafts_flush for the spot entry.
+fn shafts_flush_spot(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
+    for (var j = 0u; j < (*acc).count; j++) {
+        let r = (*acc).runs[j];
+        (*acc).sum = min((*acc).sum + shafts_run_spot(r.x, r.y, r.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(HUGE));
+    }
+    (*acc).count = 0u;
+}
+
 /// shafts_push for spot's ray, cone and RGB medium.
 fn shafts_push_spot(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
     let run = shafts_step(acc, s, v);
-    if run.z > 0.0 {
-        (*acc).sum = min((*acc).sum + shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(HUGE));
-        (*acc).calls += 1u;
-    }
+    shafts_hold(acc, run);
 }
 
 /// shafts_finish for spot's ray, cone and RGB medium.
 fn shafts_finish_spot(acc_in: Shafts, end: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) -> vec3<f32> {
     var acc = acc_in;
     let run = shafts_place(&acc);
-    let sum = min(acc.sum + shafts_run_spot(run.x, run.y, run.z, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(HUGE));
+    shafts_hold(&acc, run);
+    shafts_flush_spot(&acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
     let w = select(acc.v, 1.0, acc.v < 0.0);
-    return min(sum + shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(HUGE));
+    return min(acc.sum + shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3<f32>(HUGE));
 }
 
