@@ -1392,75 +1392,57 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     return float3(_e284, _e290, _e296);
 }
 
-airlight_phi_8_Shafts Constructairlight_phi_8_Shafts(float arg0, float arg1, float arg2, bool arg3, float arg4, float arg5, float arg6, float arg7, float3 arg8, uint arg9, float3 arg10[32], uint arg11) {
-    airlight_phi_8_Shafts ret = (airlight_phi_8_Shafts)0;
-    ret.start = arg0;
-    ret.v = arg1;
-    ret.s = arg2;
-    ret.pending = arg3;
-    ret.lo = arg4;
-    ret.hi = arg5;
-    ret.before = arg6;
-    ret.after = arg7;
-    ret.sum = arg8;
-    ret.calls = arg9;
-    ret.runs = arg10;
-    ret.count = arg11;
-    return ret;
-}
-
-typedef float3 ret_ZeroValuearray32_float3_[32];
-ret_ZeroValuearray32_float3_ ZeroValuearray32_float3_() {
-    return (float3[32])0;
-}
-
 airlight_phi_8_Shafts airlight_phi_8_shafts_begin()
 {
-    const airlight_phi_8_Shafts airlight_phi_8_shafts = Constructairlight_phi_8_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, (0.0).xxx, 0u, ZeroValuearray32_float3_(), 0u);
+    airlight_phi_8_Shafts acc = (airlight_phi_8_Shafts)0;
+
+    acc.v = -1.0;
+    airlight_phi_8_Shafts _e3 = acc;
+    const airlight_phi_8_Shafts airlight_phi_8_shafts = _e3;
     return airlight_phi_8_shafts;
 }
 
-void airlight_phi_8_shafts_hold(inout airlight_phi_8_Shafts acc, float3 run)
+void airlight_phi_8_shafts_hold(inout airlight_phi_8_Shafts acc_1, float3 run)
 {
     if (!((run.z > 0.0))) {
         return;
     }
-    uint _e7 = acc.count;
+    uint _e7 = acc_1.count;
     if ((_e7 < airlight_phi_8_SHAFTS_RUNS)) {
-        uint _e12 = acc.count;
-        acc.runs[min(uint(_e12), 31u)] = run;
-        uint _e15 = acc.count;
-        acc.count = (_e15 + 1u);
-        uint _e19 = acc.calls;
-        acc.calls = (_e19 + 1u);
+        uint _e12 = acc_1.count;
+        acc_1.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc_1.count;
+        acc_1.count = (_e15 + 1u);
+        uint _e19 = acc_1.calls;
+        acc_1.calls = (_e19 + 1u);
         return;
     }
-    float3 last = acc.runs[31];
+    float3 last = acc_1.runs[31];
     float len_1 = (run.y - last.x);
     float w_3 = ((len_1 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_1) : last.z);
-    acc.runs[31] = float3(last.x, run.y, w_3);
+    acc_1.runs[31] = float3(last.x, run.y, w_3);
     return;
 }
 
-float airlight_phi_8_shafts_probe(airlight_phi_8_Shafts acc_1)
+float airlight_phi_8_shafts_probe(airlight_phi_8_Shafts acc_2)
 {
-    return (acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0);
+    return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_phi_8_shafts_refine(inout airlight_phi_8_Shafts acc_2, float v_4)
+void airlight_phi_8_shafts_refine(inout airlight_phi_8_Shafts acc_3, float v_4)
 {
-    bool _e3 = acc_2.pending;
+    bool _e3 = acc_3.pending;
     if (_e3) {
-        float _e5 = acc_2.lo;
-        float _e7 = acc_2.hi;
+        float _e5 = acc_3.lo;
+        float _e7 = acc_3.hi;
         float m_2 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_2.before;
-        float _e16 = acc_2.after;
+        float _e12 = acc_3.before;
+        float _e16 = acc_3.after;
         if ((abs((v_4 - _e12)) <= abs((v_4 - _e16)))) {
-            acc_2.lo = m_2;
+            acc_3.lo = m_2;
             return;
         } else {
-            acc_2.hi = m_2;
+            acc_3.hi = m_2;
             return;
         }
     } else {
@@ -1468,44 +1450,44 @@ void airlight_phi_8_shafts_refine(inout airlight_phi_8_Shafts acc_2, float v_4)
     }
 }
 
-float3 airlight_phi_8_shafts_place(inout airlight_phi_8_Shafts acc_3)
+float3 airlight_phi_8_shafts_place(inout airlight_phi_8_Shafts acc_4)
 {
-    bool _e2 = acc_3.pending;
+    bool _e2 = acc_4.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_3.pending = false;
-    float _e9 = acc_3.lo;
-    float _e11 = acc_3.hi;
+    acc_4.pending = false;
+    float _e9 = acc_4.lo;
+    float _e11 = acc_4.hi;
     float m_3 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_3.start;
-    float _e18 = acc_3.before;
+    float _e16 = acc_4.start;
+    float _e18 = acc_4.before;
     float3 run_1 = float3(_e16, m_3, _e18);
-    acc_3.start = m_3;
-    float _e23 = acc_3.after;
-    acc_3.v = _e23;
+    acc_4.start = m_3;
+    float _e23 = acc_4.after;
+    acc_4.v = _e23;
     return run_1;
 }
 
-float3 airlight_phi_8_shafts_step(inout airlight_phi_8_Shafts acc_4, float s_2, float v_5)
+float3 airlight_phi_8_shafts_step(inout airlight_phi_8_Shafts acc_5, float s_2, float v_5)
 {
-    const float3 _e3 = airlight_phi_8_shafts_place(acc_4);
-    float _e5 = acc_4.v;
+    const float3 _e3 = airlight_phi_8_shafts_place(acc_5);
+    float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_4.v = v_5;
+        acc_5.v = v_5;
     } else {
-        float _e10 = acc_4.v;
+        float _e10 = acc_5.v;
         if ((v_5 != _e10)) {
-            acc_4.pending = true;
-            float _e16 = acc_4.s;
-            acc_4.lo = _e16;
-            acc_4.hi = s_2;
-            float _e20 = acc_4.v;
-            acc_4.before = _e20;
-            acc_4.after = v_5;
+            acc_5.pending = true;
+            float _e16 = acc_5.s;
+            acc_5.lo = _e16;
+            acc_5.hi = s_2;
+            float _e20 = acc_5.v;
+            acc_5.before = _e20;
+            acc_5.after = v_5;
         }
     }
-    acc_4.s = s_2;
+    acc_5.s = s_2;
     return _e3;
 }
 
@@ -1546,7 +1528,7 @@ float airlight_phi_8_shafts_run(float a_7, float b_4, float w_1, float3 origin_4
     return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
 }
 
-void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_5, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
 {
     uint j_2 = 0u;
 
@@ -1561,43 +1543,43 @@ void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_5, float3 origi
         }
         loop_init_2 = false;
         uint _e10 = j_2;
-        uint _e12 = acc_5.count;
+        uint _e12 = acc_6.count;
         if ((_e10 < _e12)) {
         } else {
             break;
         }
         {
             uint _e15 = j_2;
-            float3 r_7 = acc_5.runs[min(uint(_e15), 31u)];
-            float _e22 = acc_5.sum.x;
+            float3 r_7 = acc_6.runs[min(uint(_e15), 31u)];
+            float _e22 = acc_6.sum.x;
             const float _e26 = airlight_phi_8_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
-            acc_5.sum.x = min((_e22 + _e26), airlight_phi_8_HUGE);
+            acc_6.sum.x = min((_e22 + _e26), airlight_phi_8_HUGE);
         }
     }
-    acc_5.count = 0u;
+    acc_6.count = 0u;
     return;
 }
 
-void airlight_phi_8_shafts_push(inout airlight_phi_8_Shafts acc_6, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_phi_8_shafts_push(inout airlight_phi_8_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
 {
-    const float3 _e10 = airlight_phi_8_shafts_step(acc_6, s_3, v_6);
-    airlight_phi_8_shafts_hold(acc_6, _e10);
+    const float3 _e10 = airlight_phi_8_shafts_step(acc_7, s_3, v_6);
+    airlight_phi_8_shafts_hold(acc_7, _e10);
     return;
 }
 
 float airlight_phi_8_shafts_finish(airlight_phi_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
 {
-    airlight_phi_8_Shafts acc_7 = (airlight_phi_8_Shafts)0;
+    airlight_phi_8_Shafts acc_8 = (airlight_phi_8_Shafts)0;
 
-    acc_7 = acc_in;
-    const float3 _e10 = airlight_phi_8_shafts_place(acc_7);
-    airlight_phi_8_shafts_hold(acc_7, _e10);
-    airlight_phi_8_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
-    float _e12 = acc_7.v;
-    float _e14 = acc_7.v;
+    acc_8 = acc_in;
+    const float3 _e10 = airlight_phi_8_shafts_place(acc_8);
+    airlight_phi_8_shafts_hold(acc_8, _e10);
+    airlight_phi_8_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    float _e12 = acc_8.v;
+    float _e14 = acc_8.v;
     float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
-    float _e21 = acc_7.sum.x;
-    float _e23 = acc_7.start;
+    float _e21 = acc_8.sum.x;
+    float _e23 = acc_8.start;
     const float _e24 = airlight_phi_8_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
     return min((_e21 + _e24), airlight_phi_8_HUGE);
 }
@@ -1629,7 +1611,7 @@ float3 airlight_phi_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 or
     return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
 }
 
-void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_8, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
 {
     uint j_3 = 0u;
 
@@ -1644,43 +1626,43 @@ void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_8, float3 
         }
         loop_init_3 = false;
         uint _e13 = j_3;
-        uint _e15 = acc_8.count;
+        uint _e15 = acc_9.count;
         if ((_e13 < _e15)) {
         } else {
             break;
         }
         {
             uint _e18 = j_3;
-            float3 r_8 = acc_8.runs[min(uint(_e18), 31u)];
-            float3 _e23 = acc_8.sum;
+            float3 r_8 = acc_9.runs[min(uint(_e18), 31u)];
+            float3 _e23 = acc_9.sum;
             const float3 _e27 = airlight_phi_8_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
-            acc_8.sum = min((_e23 + _e27), (3.4028235e38).xxx);
+            acc_9.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
-    acc_8.count = 0u;
+    acc_9.count = 0u;
     return;
 }
 
-void airlight_phi_8_shafts_push_spot(inout airlight_phi_8_Shafts acc_9, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
+void airlight_phi_8_shafts_push_spot(inout airlight_phi_8_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
 {
-    const float3 _e13 = airlight_phi_8_shafts_step(acc_9, s_4, v_7);
-    airlight_phi_8_shafts_hold(acc_9, _e13);
+    const float3 _e13 = airlight_phi_8_shafts_step(acc_10, s_4, v_7);
+    airlight_phi_8_shafts_hold(acc_10, _e13);
     return;
 }
 
 float3 airlight_phi_8_shafts_finish_spot(airlight_phi_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
 {
-    airlight_phi_8_Shafts acc_10 = (airlight_phi_8_Shafts)0;
+    airlight_phi_8_Shafts acc_11 = (airlight_phi_8_Shafts)0;
 
-    acc_10 = acc_in_1;
-    const float3 _e13 = airlight_phi_8_shafts_place(acc_10);
-    airlight_phi_8_shafts_hold(acc_10, _e13);
-    airlight_phi_8_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
-    float _e15 = acc_10.v;
-    float _e17 = acc_10.v;
+    acc_11 = acc_in_1;
+    const float3 _e13 = airlight_phi_8_shafts_place(acc_11);
+    airlight_phi_8_shafts_hold(acc_11, _e13);
+    airlight_phi_8_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    float _e15 = acc_11.v;
+    float _e17 = acc_11.v;
     float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
-    float3 _e23 = acc_10.sum;
-    float _e25 = acc_10.start;
+    float3 _e23 = acc_11.sum;
+    float _e25 = acc_11.start;
     const float3 _e26 = airlight_phi_8_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }

@@ -1302,55 +1302,58 @@ metal::float3 airlight_paper_as_printed_spot(
 
 airlight_paper_as_printed_Shafts airlight_paper_as_printed_shafts_begin(
 ) {
-    return airlight_paper_as_printed_Shafts {0.0, -1.0, 0.0, false, {}, 0.0, 0.0, 0.0, 0.0, metal::float3(0.0), 0u, type_9 {}, 0u};
+    airlight_paper_as_printed_Shafts acc = {};
+    acc.v = -1.0;
+    airlight_paper_as_printed_Shafts _e3 = acc;
+    return _e3;
 }
 
 void airlight_paper_as_printed_shafts_hold(
-    thread airlight_paper_as_printed_Shafts& acc,
+    thread airlight_paper_as_printed_Shafts& acc_1,
     metal::float3 run
 ) {
     if (!((run.z > 0.0))) {
         return;
     }
-    uint _e7 = acc.count;
+    uint _e7 = acc_1.count;
     if (_e7 < airlight_paper_as_printed_SHAFTS_RUNS) {
-        uint _e12 = acc.count;
-        acc.runs.inner[_e12] = run;
-        uint _e15 = acc.count;
-        acc.count = _e15 + 1u;
-        uint _e19 = acc.calls;
-        acc.calls = _e19 + 1u;
+        uint _e12 = acc_1.count;
+        acc_1.runs.inner[_e12] = run;
+        uint _e15 = acc_1.count;
+        acc_1.count = _e15 + 1u;
+        uint _e19 = acc_1.calls;
+        acc_1.calls = _e19 + 1u;
         return;
     }
-    metal::float3 last = acc.runs.inner[31];
+    metal::float3 last = acc_1.runs.inner[31];
     float len_7 = run.y - last.x;
     float w_3 = (len_7 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_7) : last.z;
-    acc.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
     return;
 }
 
 float airlight_paper_as_printed_shafts_probe(
-    airlight_paper_as_printed_Shafts acc_1
+    airlight_paper_as_printed_Shafts acc_2
 ) {
-    return acc_1.pending ? (0.5 * (acc_1.lo + acc_1.hi)) : -1.0;
+    return acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0;
 }
 
 void airlight_paper_as_printed_shafts_refine(
-    thread airlight_paper_as_printed_Shafts& acc_2,
+    thread airlight_paper_as_printed_Shafts& acc_3,
     float v_2
 ) {
-    bool _e3 = acc_2.pending;
+    bool _e3 = acc_3.pending;
     if (_e3) {
-        float _e5 = acc_2.lo;
-        float _e7 = acc_2.hi;
+        float _e5 = acc_3.lo;
+        float _e7 = acc_3.hi;
         float m_1 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_2.before;
-        float _e16 = acc_2.after;
+        float _e12 = acc_3.before;
+        float _e16 = acc_3.after;
         if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
-            acc_2.lo = m_1;
+            acc_3.lo = m_1;
             return;
         } else {
-            acc_2.hi = m_1;
+            acc_3.hi = m_1;
             return;
         }
     } else {
@@ -1359,47 +1362,47 @@ void airlight_paper_as_printed_shafts_refine(
 }
 
 metal::float3 airlight_paper_as_printed_shafts_place(
-    thread airlight_paper_as_printed_Shafts& acc_3
+    thread airlight_paper_as_printed_Shafts& acc_4
 ) {
-    bool _e2 = acc_3.pending;
+    bool _e2 = acc_4.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_3.pending = false;
-    float _e9 = acc_3.lo;
-    float _e11 = acc_3.hi;
+    acc_4.pending = false;
+    float _e9 = acc_4.lo;
+    float _e11 = acc_4.hi;
     float m_2 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_3.start;
-    float _e18 = acc_3.before;
+    float _e16 = acc_4.start;
+    float _e18 = acc_4.before;
     metal::float3 run_1 = metal::float3(_e16, m_2, _e18);
-    acc_3.start = m_2;
-    float _e23 = acc_3.after;
-    acc_3.v = _e23;
+    acc_4.start = m_2;
+    float _e23 = acc_4.after;
+    acc_4.v = _e23;
     return run_1;
 }
 
 metal::float3 airlight_paper_as_printed_shafts_step(
-    thread airlight_paper_as_printed_Shafts& acc_4,
+    thread airlight_paper_as_printed_Shafts& acc_5,
     float s,
     float v_3
 ) {
-    metal::float3 _e3 = airlight_paper_as_printed_shafts_place(acc_4);
-    float _e5 = acc_4.v;
+    metal::float3 _e3 = airlight_paper_as_printed_shafts_place(acc_5);
+    float _e5 = acc_5.v;
     if (_e5 < 0.0) {
-        acc_4.v = v_3;
+        acc_5.v = v_3;
     } else {
-        float _e10 = acc_4.v;
+        float _e10 = acc_5.v;
         if (v_3 != _e10) {
-            acc_4.pending = true;
-            float _e16 = acc_4.s;
-            acc_4.lo = _e16;
-            acc_4.hi = s;
-            float _e20 = acc_4.v;
-            acc_4.before = _e20;
-            acc_4.after = v_3;
+            acc_5.pending = true;
+            float _e16 = acc_5.s;
+            acc_5.lo = _e16;
+            acc_5.hi = s;
+            float _e20 = acc_5.v;
+            acc_5.before = _e20;
+            acc_5.after = v_3;
         }
     }
-    acc_4.s = s;
+    acc_5.s = s;
     return _e3;
 }
 
@@ -1453,7 +1456,7 @@ float airlight_paper_as_printed_shafts_run(
 }
 
 void airlight_paper_as_printed_shafts_flush(
-    thread airlight_paper_as_printed_Shafts& acc_5,
+    thread airlight_paper_as_printed_Shafts& acc_6,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1473,25 +1476,25 @@ void airlight_paper_as_printed_shafts_flush(
         }
         loop_init_2 = false;
         uint _e9 = j_2;
-        uint _e11 = acc_5.count;
+        uint _e11 = acc_6.count;
         if (_e9 < _e11) {
         } else {
             break;
         }
         {
             uint _e14 = j_2;
-            metal::float3 r_8 = acc_5.runs.inner[_e14];
-            float _e21 = acc_5.sum[0];
+            metal::float3 r_8 = acc_6.runs.inner[_e14];
+            float _e21 = acc_6.sum[0];
             float _e25 = airlight_paper_as_printed_shafts_run(r_8.x, r_8.y, r_8.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
-            acc_5.sum[0] = metal::min(_e21 + _e25, airlight_paper_as_printed_HUGE);
+            acc_6.sum[0] = metal::min(_e21 + _e25, airlight_paper_as_printed_HUGE);
         }
     }
-    acc_5.count = 0u;
+    acc_6.count = 0u;
     return;
 }
 
 void airlight_paper_as_printed_shafts_push(
-    thread airlight_paper_as_printed_Shafts& acc_6,
+    thread airlight_paper_as_printed_Shafts& acc_7,
     float s_1,
     float v_4,
     metal::float3 origin_6,
@@ -1501,8 +1504,8 @@ void airlight_paper_as_printed_shafts_push(
     float sigma_t_4,
     float sigma_s_5
 ) {
-    metal::float3 _e9 = airlight_paper_as_printed_shafts_step(acc_6, s_1, v_4);
-    airlight_paper_as_printed_shafts_hold(acc_6, _e9);
+    metal::float3 _e9 = airlight_paper_as_printed_shafts_step(acc_7, s_1, v_4);
+    airlight_paper_as_printed_shafts_hold(acc_7, _e9);
     return;
 }
 
@@ -1516,16 +1519,16 @@ float airlight_paper_as_printed_shafts_finish(
     float sigma_t_5,
     float sigma_s_6
 ) {
-    airlight_paper_as_printed_Shafts acc_7 = {};
-    acc_7 = acc_in;
-    metal::float3 _e9 = airlight_paper_as_printed_shafts_place(acc_7);
-    airlight_paper_as_printed_shafts_hold(acc_7, _e9);
-    airlight_paper_as_printed_shafts_flush(acc_7, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
-    float _e11 = acc_7.v;
-    float _e13 = acc_7.v;
+    airlight_paper_as_printed_Shafts acc_8 = {};
+    acc_8 = acc_in;
+    metal::float3 _e9 = airlight_paper_as_printed_shafts_place(acc_8);
+    airlight_paper_as_printed_shafts_hold(acc_8, _e9);
+    airlight_paper_as_printed_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    float _e11 = acc_8.v;
+    float _e13 = acc_8.v;
     float w_4 = (_e13 < 0.0) ? 1.0 : _e11;
-    float _e20 = acc_7.sum[0];
-    float _e22 = acc_7.start;
+    float _e20 = acc_8.sum[0];
+    float _e22 = acc_8.start;
     float _e23 = airlight_paper_as_printed_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
     return metal::min(_e20 + _e23, airlight_paper_as_printed_HUGE);
 }
@@ -1569,7 +1572,7 @@ metal::float3 airlight_paper_as_printed_shafts_run_spot(
 }
 
 void airlight_paper_as_printed_shafts_flush_spot(
-    thread airlight_paper_as_printed_Shafts& acc_8,
+    thread airlight_paper_as_printed_Shafts& acc_9,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
@@ -1592,25 +1595,25 @@ void airlight_paper_as_printed_shafts_flush_spot(
         }
         loop_init_3 = false;
         uint _e12 = j_3;
-        uint _e14 = acc_8.count;
+        uint _e14 = acc_9.count;
         if (_e12 < _e14) {
         } else {
             break;
         }
         {
             uint _e17 = j_3;
-            metal::float3 r_9 = acc_8.runs.inner[_e17];
-            metal::float3 _e22 = acc_8.sum;
+            metal::float3 r_9 = acc_9.runs.inner[_e17];
+            metal::float3 _e22 = acc_9.sum;
             metal::float3 _e26 = airlight_paper_as_printed_shafts_run_spot(r_9.x, r_9.y, r_9.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
-            acc_8.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
+            acc_9.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
-    acc_8.count = 0u;
+    acc_9.count = 0u;
     return;
 }
 
 void airlight_paper_as_printed_shafts_push_spot(
-    thread airlight_paper_as_printed_Shafts& acc_9,
+    thread airlight_paper_as_printed_Shafts& acc_10,
     float s_2,
     float v_5,
     metal::float3 origin_10,
@@ -1623,8 +1626,8 @@ void airlight_paper_as_printed_shafts_push_spot(
     metal::float3 sigma_t_8,
     metal::float3 sigma_s_9
 ) {
-    metal::float3 _e12 = airlight_paper_as_printed_shafts_step(acc_9, s_2, v_5);
-    airlight_paper_as_printed_shafts_hold(acc_9, _e12);
+    metal::float3 _e12 = airlight_paper_as_printed_shafts_step(acc_10, s_2, v_5);
+    airlight_paper_as_printed_shafts_hold(acc_10, _e12);
     return;
 }
 
@@ -1641,16 +1644,16 @@ metal::float3 airlight_paper_as_printed_shafts_finish_spot(
     metal::float3 sigma_t_9,
     metal::float3 sigma_s_10
 ) {
-    airlight_paper_as_printed_Shafts acc_10 = {};
-    acc_10 = acc_in_1;
-    metal::float3 _e12 = airlight_paper_as_printed_shafts_place(acc_10);
-    airlight_paper_as_printed_shafts_hold(acc_10, _e12);
-    airlight_paper_as_printed_shafts_flush_spot(acc_10, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
-    float _e14 = acc_10.v;
-    float _e16 = acc_10.v;
+    airlight_paper_as_printed_Shafts acc_11 = {};
+    acc_11 = acc_in_1;
+    metal::float3 _e12 = airlight_paper_as_printed_shafts_place(acc_11);
+    airlight_paper_as_printed_shafts_hold(acc_11, _e12);
+    airlight_paper_as_printed_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    float _e14 = acc_11.v;
+    float _e16 = acc_11.v;
     float w_5 = (_e16 < 0.0) ? 1.0 : _e14;
-    metal::float3 _e22 = acc_10.sum;
-    float _e24 = acc_10.start;
+    metal::float3 _e22 = acc_11.sum;
+    float _e24 = acc_11.start;
     metal::float3 _e25 = airlight_paper_as_printed_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -757,7 +757,11 @@ struct airlight_phi_iso_4_Shafts {
 const airlight_phi_iso_4_SHAFTS_RUNS: u32 = 32u;
 
 fn airlight_phi_iso_4_shafts_begin() -> airlight_phi_iso_4_Shafts {
-    return airlight_phi_iso_4_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, array<vec3<f32>, 32>(), 0u);
+    // Zero-initialised (a struct constructor would need an array constructor,
+    // which the HLSL naga writes for it spells as a cast some compilers refuse).
+    var acc: airlight_phi_iso_4_Shafts;
+    acc.v = -1.0;
+    return acc;
 }
 
 /// Holds a closed run (start, end, visibility); past the buffer, merges it into

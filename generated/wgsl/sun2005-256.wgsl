@@ -609,7 +609,11 @@ struct airlight_sun2005_256_Shafts {
 const airlight_sun2005_256_SHAFTS_RUNS: u32 = 32u;
 
 fn airlight_sun2005_256_shafts_begin() -> airlight_sun2005_256_Shafts {
-    return airlight_sun2005_256_Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, array<vec3<f32>, 32>(), 0u);
+    // Zero-initialised (a struct constructor would need an array constructor,
+    // which the HLSL naga writes for it spells as a cast some compilers refuse).
+    var acc: airlight_sun2005_256_Shafts;
+    acc.v = -1.0;
+    return acc;
 }
 
 /// Holds a closed run (start, end, visibility); past the buffer, merges it into

@@ -48,7 +48,7 @@ pub const AMBIENT: f32 = 0.003;
 /// Texels per side of the shadow map.
 pub const SHADOW_MAP: u32 = 2048;
 /// Look-ups per ray for the accumulator's frame.
-pub const LOOK_UPS: u32 = 64;
+pub const LOOK_UPS: u32 = 128;
 /// Bisection steps on the shadow map that place each change the accumulator's
 /// look-ups see (each a further look-up).
 pub const REFINE_STEPS: u32 = 5;

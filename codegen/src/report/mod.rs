@@ -192,6 +192,8 @@ struct ShaftsRender {
     edge_pixels: i64,
     march_shown: i64,
     rows: Vec<ShaftsRenderRow>,
+    /// Where the accumulator's frame loses to the march shown.
+    losses: Vec<String>,
 }
 
 /// One frame of a light-shafts render: its method, GPU time and fog errors.
@@ -232,8 +234,24 @@ fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
             let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
             let acc = t.get("accumulator").and_then(|v| v.as_table())?;
             let mut rows = vec![row("shafts accumulator", acc)];
+            let mut losses = Vec::new();
             for m in t.get("march").and_then(|v| v.as_array()).into_iter().flatten() {
-                rows.push(row("march", m.as_table()?));
+                let m = m.as_table()?;
+                rows.push(row("march", m));
+                if m.get("steps").and_then(|v| v.as_integer()) == Some(i("march_shown")) {
+                    let x = |t: &toml::Table, k: &str| t.get(k).and_then(|v| v.as_float()).unwrap_or(f64::NAN);
+                    for (k, what) in [
+                        ("lit_max", "lit max"),
+                        ("lit_mean", "lit mean"),
+                        ("edge_max", "edge max"),
+                        ("edge_mean", "edge mean"),
+                        ("gpu_ms", "GPU time"),
+                    ] {
+                        if x(acc, k) > x(m, k) {
+                            losses.push(format!("{what} ({:.3e} against {:.3e})", x(acc, k), x(m, k)));
+                        }
+                    }
+                }
             }
             Some(ShaftsRender {
                 scene: o.path.trim_start_matches("render/").trim_end_matches(".toml").to_string(),
@@ -248,6 +266,7 @@ fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                 edge_pixels: i("edge_pixels"),
                 march_shown: i("march_shown"),
                 rows,
+                losses,
             })
         })
         .collect()

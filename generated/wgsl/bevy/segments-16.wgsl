@@ -749,7 +749,11 @@ struct Shafts {
 const SHAFTS_RUNS: u32 = 32u;
 
 fn shafts_begin() -> Shafts {
-    return Shafts(0.0, -1.0, 0.0, false, 0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, array<vec3<f32>, 32>(), 0u);
+    // Zero-initialised (a struct constructor would need an array constructor,
+    // which the HLSL naga writes for it spells as a cast some compilers refuse).
+    var acc: Shafts;
+    acc.v = -1.0;
+    return acc;
 }
 
 /// Holds a closed run (start, end, visibility); past the buffer, merges it into
