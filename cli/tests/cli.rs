@@ -609,6 +609,7 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
         }
         assert!(m.cpu_ns_per_eval.is_finite() && m.cpu_ns_per_eval > 0.0, "{}", m.name);
         assert!(m.cpu_ns_range[0] <= m.cpu_ns_per_eval && m.cpu_ns_per_eval <= m.cpu_ns_range[1]);
+        assert!(m.cpu_ns_one_at_a_time.is_finite() && m.cpu_ns_one_at_a_time > 0.0, "{}", m.name);
         assert!(m.ops > 0 && m.transcendentals <= m.ops, "{}", m.name);
         if gpu_required() {
             assert!(m.gpu_evals_per_s.is_finite() && m.gpu_evals_per_s > 0.0, "{}: no GPU figure", m.name);

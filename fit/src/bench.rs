@@ -67,6 +67,11 @@ pub struct BenchModel {
     pub cpu_ns_per_eval: f64,
     /// Fastest and slowest of the repeats, ns.
     pub cpu_ns_range: [f64; 2],
+    /// Median ns per evaluation one call at a time ([`time_kernels`]): each call's
+    /// arguments and result opaque to the compiler (through memory), each call's
+    /// first argument depending on the last result; 0 where not measured.
+    #[serde(default)]
+    pub cpu_ns_one_at_a_time: f64,
     /// Operations in the naga IR of its WGSL `airlight` (worst path, loops counted by trip count).
     pub ops: usize,
     /// Of those, calls of transcendental built-ins (exp, log, sqrt, pow, trigonometry).
@@ -338,18 +343,36 @@ pub fn thread_cpu_s() -> f64 {
     START.get_or_init(std::time::Instant::now).elapsed().as_secs_f64()
 }
 
-/// Thread CPU time per evaluation of each kernel over `batch`, in ns: `repeats`
-/// rounds, each timing every kernel once in turn (interleaved, so drifts of the
-/// machine spread over all), inputs and outputs through `black_box`. Returns
-/// `(median, fastest, slowest)` per kernel; `progress(round)` after each round.
+/// What [`time_kernels`] measures of one kernel, ns per evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CpuTimes {
+    /// The throughput loop: median of the repeats.
+    pub median: f64,
+    /// Its fastest and slowest repeat.
+    pub range: [f64; 2],
+    /// One call at a time: median of the repeats.
+    pub one_at_a_time: f64,
+}
+
+/// Thread CPU time per evaluation of each kernel over `batch`, in ns, two ways:
+/// a **throughput loop** (the batch in and the results out through `black_box`,
+/// each call free to overlap the next), and **one call at a time** (every
+/// argument and the result through `black_box`, and each call's first argument
+/// depending on the last result, `τ + 0·r`, so that no call starts before the
+/// last ends and none is specialised to its caller's values, as an independent
+/// harness would call it). `repeats` rounds, each timing every kernel both ways
+/// in turn (interleaved, so drifts of the machine spread over all);
+/// `progress(round)` after each round.
 pub fn time_kernels(
     kernels: &[CanonicalFn],
     batch: &[[f32; 4]],
     repeats: usize,
     progress: &dyn Fn(usize),
-) -> Vec<(f64, f64, f64)> {
+) -> Vec<CpuTimes> {
     let mut times = vec![Vec::with_capacity(repeats); kernels.len()];
+    let mut single = vec![Vec::with_capacity(repeats); kernels.len()];
     let mut out = vec![0.0f32; batch.len()];
+    let per = |t: f64| (thread_cpu_s() - t) * 1e9 / batch.len().max(1) as f64;
     for round in 0..repeats {
         for (k, f) in kernels.iter().enumerate() {
             let t = thread_cpu_s();
@@ -357,15 +380,29 @@ pub fn time_kernels(
                 *o = f(a[0], a[1], a[2], a[3]);
             }
             black_box(&out);
-            times[k].push((thread_cpu_s() - t) * 1e9 / batch.len() as f64);
+            times[k].push(per(t));
+            let t = thread_cpu_s();
+            let mut last = 0.0f32;
+            for a in black_box(batch) {
+                // The kernels' results are finite, so 0·r is 0: the same inputs.
+                let tau = black_box(a[0] + 0.0 * last);
+                last = black_box(f(tau, black_box(a[1]), black_box(a[2]), black_box(a[3])));
+            }
+            black_box(last);
+            single[k].push(per(t));
         }
         progress(round + 1);
     }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
     times
         .into_iter()
-        .map(|mut v| {
-            v.sort_by(f64::total_cmp);
-            (v[v.len() / 2], v[0], v[v.len() - 1])
+        .zip(single)
+        .map(|(mut v, mut s)| {
+            let m = median(&mut v);
+            CpuTimes { median: m, range: [v[0], v[v.len() - 1]], one_at_a_time: median(&mut s) }
         })
         .collect()
 }
@@ -392,20 +429,21 @@ impl Bench {
         let mut lines = Vec::new();
         lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
         lines.push(format!(
-            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>6} {:>5} {:>12}",
-            "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ops", "tr", "GPU evals/s"
+            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>6} {:>5} {:>12}",
+            "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ns one", "ops", "tr", "GPU evals/s"
         ));
         for m in &self.models {
             let e = m.errors.first();
             let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
             lines.push(format!(
-                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
+                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
                 m.name,
                 f(e.map(|e| e.max_rel.thin)),
                 f(e.map(|e| e.max_rel.dense)),
                 f(e.map(|e| e.p50_rel.thin)),
                 f(e.map(|e| e.p50_rel.dense)),
                 m.cpu_ns_per_eval,
+                m.cpu_ns_one_at_a_time,
                 m.ops,
                 m.transcendentals,
                 m.gpu_evals_per_s,
@@ -479,7 +517,8 @@ mod tests {
             (-tau).exp() * gamma
         }
         let t = time_kernels(&[k as CanonicalFn], &canonical_args(&cost_batch(1000)), 3, &|_| {});
-        assert!(t[0].0.is_finite() && t[0].0 > 0.0 && t[0].1 <= t[0].0 && t[0].0 <= t[0].2);
+        assert!(t[0].median.is_finite() && t[0].median > 0.0 && t[0].range[0] <= t[0].median);
+        assert!(t[0].median <= t[0].range[1] && t[0].one_at_a_time.is_finite() && t[0].one_at_a_time > 0.0);
     }
 
     #[test]
@@ -498,6 +537,7 @@ mod tests {
                 errors: errors(&|p| crate::family::CLOSED_FORM.eval(p), (0.0, 0.0), &sets),
                 cpu_ns_per_eval: 12.5,
                 cpu_ns_range: [12.0, 13.0],
+                cpu_ns_one_at_a_time: 20.0,
                 ops: 7,
                 transcendentals: 2,
                 gpu_evals_per_s: 0.0,

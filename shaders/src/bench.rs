@@ -140,6 +140,7 @@ fn model_row(
         errors,
         cpu_ns_per_eval: 0.0,
         cpu_ns_range: [0.0, 0.0],
+        cpu_ns_one_at_a_time: 0.0,
         ops: cost.ops,
         transcendentals: cost.transcendentals,
         gpu_evals_per_s,
@@ -453,9 +454,10 @@ pub fn measure(
     let times = bench::time_kernels(&fns, &batch, size.repeats, &|r| {
         progress("bench: CPU time (interleaved repeats)", r, size.repeats)
     });
-    for (row, (median, lo, hi)) in rows.iter_mut().zip(times) {
-        row.cpu_ns_per_eval = median;
-        row.cpu_ns_range = [lo, hi];
+    for (row, t) in rows.iter_mut().zip(times) {
+        row.cpu_ns_per_eval = t.median;
+        row.cpu_ns_range = t.range;
+        row.cpu_ns_one_at_a_time = t.one_at_a_time;
     }
     progress("bench: RGB against three scalar calls", 0, 1);
     let rgb = compiled.iter().zip(&gpu_rgb).filter_map(|(k, &g)| rgb_cost(k, &rgb_rays, size.repeats, g)).collect();

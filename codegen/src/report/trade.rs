@@ -47,6 +47,7 @@ struct TradeRow {
     thin_p50: String,
     dense_p50: String,
     ns: String,
+    ns_one: String,
     ops: usize,
     transcendentals: usize,
     gpu: String,
@@ -150,6 +151,7 @@ fn trade_row(m: &BenchModel) -> TradeRow {
         thin_p50: f(e.map(|e| e.p50_rel.thin)),
         dense_p50: f(e.map(|e| e.p50_rel.dense)),
         ns: format!("{} ({}–{})", ns(m.cpu_ns_per_eval), ns(m.cpu_ns_range[0]), ns(m.cpu_ns_range[1])),
+        ns_one: if m.cpu_ns_one_at_a_time > 0.0 { ns(m.cpu_ns_one_at_a_time) } else { "—".into() },
         ops: m.ops,
         transcendentals: m.transcendentals,
         gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
@@ -215,6 +217,22 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
     let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g)).collect();
     ctx.insert("trade", &sections);
     ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
+    // The CPU cost ratios that depend on how a short kernel is called.
+    let mut two_ways = Vec::new();
+    for (a, z) in [("phi-iso-4", "no-extinction"), ("phi-4", "no-extinction"), ("phi-4", "equiangular-4")] {
+        if let (Some(a), Some(z)) = (b.model(a), b.model(z)) {
+            if a.cpu_ns_one_at_a_time > 0.0 && z.cpu_ns_one_at_a_time > 0.0 {
+                two_ways.push(format!(
+                    "`{}` / `{}` {:.2}× in the loop, {:.2}× one call at a time",
+                    a.name,
+                    z.name,
+                    a.cpu_ns_per_eval / z.cpu_ns_per_eval,
+                    a.cpu_ns_one_at_a_time / z.cpu_ns_one_at_a_time
+                ));
+            }
+        }
+    }
+    ctx.insert("cpu_two_ways", &two_ways);
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     let shafts: Vec<ShaftsRow> = b
         .shafts
