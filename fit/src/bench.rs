@@ -76,8 +76,15 @@ pub struct BenchModel {
     pub ops: usize,
     /// Of those, calls of transcendental built-ins (exp, log, sqrt, pow, trigonometry).
     pub transcendentals: usize,
-    /// GPU evaluations per second (timestamp queries), 0 where not measured.
+    /// GPU evaluations per second (timestamp queries) over the random batch
+    /// (every lane on its own branch: the worst case for divergence), 0 where
+    /// not measured.
     pub gpu_evals_per_s: f64,
+    /// GPU evaluations per second over frame-coherent points: every pixel of two
+    /// rendered frames, light by light, in pixel order (neighbouring lanes on
+    /// neighbouring rays); 0 where not measured.
+    #[serde(default)]
+    pub gpu_frame_evals_per_s: f64,
     /// Bytes of tables it needs (0: none).
     pub bytes: usize,
 }
@@ -429,14 +436,24 @@ impl Bench {
         let mut lines = Vec::new();
         lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
         lines.push(format!(
-            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>6} {:>5} {:>12}",
-            "model", "thin max", "dense max", "thin p50", "dense p50", "ns/eval", "ns one", "ops", "tr", "GPU evals/s"
+            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>6} {:>5} {:>12} {:>12}",
+            "model",
+            "thin max",
+            "dense max",
+            "thin p50",
+            "dense p50",
+            "ns/eval",
+            "ns one",
+            "ops",
+            "tr",
+            "GPU evals/s",
+            "GPU frame/s"
         ));
         for m in &self.models {
             let e = m.errors.first();
             let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
             lines.push(format!(
-                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>10.1} {:>6} {:>5} {:>12.3e}   (g = {})",
+                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>10.1} {:>6} {:>5} {:>12.3e} {:>12.3e}   (g = {})",
                 m.name,
                 f(e.map(|e| e.max_rel.thin)),
                 f(e.map(|e| e.max_rel.dense)),
@@ -447,6 +464,7 @@ impl Bench {
                 m.ops,
                 m.transcendentals,
                 m.gpu_evals_per_s,
+                m.gpu_frame_evals_per_s,
                 e.map_or(0.0, |e| e.g)
             ));
         }
@@ -538,6 +556,7 @@ mod tests {
                 cpu_ns_per_eval: 12.5,
                 cpu_ns_range: [12.0, 13.0],
                 cpu_ns_one_at_a_time: 20.0,
+                gpu_frame_evals_per_s: 0.0,
                 ops: 7,
                 transcendentals: 2,
                 gpu_evals_per_s: 0.0,

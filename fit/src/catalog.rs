@@ -121,11 +121,11 @@ pub const CATALOG: [ModelSpec; 38] = [
     ),
     split(
         "paper-refit",
-        "isotropic; the paper's 3-segment and ratio forms refit by least squares",
+        "isotropic; the paper's 3-segment and ratio forms refit together to dominate the published coefficients",
         (0.0, 0.0),
-        ForwardChoice::Refit(3),
+        ForwardChoice::Dominant,
         PhaseChoice::Isotropic,
-        BackChoice::RefitRatio,
+        BackChoice::DominantRatio,
         true,
     ),
     split(

@@ -376,9 +376,9 @@ float airlight_paper_refit_segments(
     float att_1
 ) {
     float b_7 = a_6 + len_1;
-    float _e9 = airlight_paper_refit_piece(a_6, b_7, len_1, 0.0, 0.95316166, 0.56068134, -0.023911763, t_1, att_1);
-    float _e14 = airlight_paper_refit_piece(a_6, b_7, len_1, 0.95316166, 1.3244272, 0.7112775, -0.16745423, t_1, att_1);
-    float _e20 = airlight_paper_refit_piece(a_6, b_7, len_1, 1.3244272, 1.5707964, 0.9041022, -0.42283654, t_1, att_1);
+    float _e9 = airlight_paper_refit_piece(a_6, b_7, len_1, 0.0, 0.65778184, 0.5169534, 0.0084599545, t_1, att_1);
+    float _e14 = airlight_paper_refit_piece(a_6, b_7, len_1, 0.65778184, 1.1492468, 0.63100296, -0.08338092, t_1, att_1);
+    float _e20 = airlight_paper_refit_piece(a_6, b_7, len_1, 1.1492468, 1.5707964, 0.8345866, -0.32108563, t_1, att_1);
     return (_e9 + _e14) + _e20;
 }
 
@@ -410,11 +410,11 @@ float airlight_paper_refit_backward_ratio(
 ) {
     float decay = 1.0;
     if (t_3 > 0.0) {
-        float _e12 = airlight_paper_refit_cubic(-0.18221502, 0.43237662, 0.3583116, 0.6058798, theta_b);
-        float _e18 = airlight_paper_refit_cubic(0.12476439, -0.2914885, -0.012607996, 1.1134421, theta_b);
+        float _e12 = airlight_paper_refit_cubic(-0.1307064, 0.41692996, 0.37903553, 0.5977984, theta_b);
+        float _e18 = airlight_paper_refit_cubic(0.019989196, -0.15874639, -0.04207945, 1.082859, theta_b);
         decay = metal::exp(-(_e12) * metal::exp(_e18 * metal::log(t_3)));
     }
-    float _e28 = airlight_paper_refit_cubic(-0.090945214, 0.117275916, 0.6077043, 0.0007019238, theta_b);
+    float _e28 = airlight_paper_refit_cubic(-0.040392473, 0.10737394, 0.5758594, 0.004640467, theta_b);
     float _e29 = decay;
     float r_5 = metal::max(_e28 * _e29, 0.0);
     float _e36 = airlight_paper_refit_segments(0.0, airlight_paper_refit_FRAC_PI_2_, t_3, 0.0);

@@ -106,6 +106,60 @@ fn wgsl_of<'i>(inputs: &Inputs<'i>, name: &str) -> Result<(&'i IndexEntry, std::
     Ok((entry, path, source))
 }
 
+/// The g of the frame-coherent points for a model of g range `range`: 0.5 (the
+/// render's) where it takes it, else the range's own.
+fn frame_g(range: (f64, f64)) -> f64 {
+    if range.0 <= 0.5 && 0.5 <= range.1 {
+        0.5
+    } else {
+        range.0
+    }
+}
+
+/// The frames of the GPU-path bench's frame-coherent measure: the render's
+/// street of five lights (shaders/src/render.rs), three panels of 160 × 120
+/// pixels each, once in fog with the ground plane (σt = 0.025, 0.05, 0.1 per
+/// metre) and once in haze without it (σt = 0.002, 0.004, 0.008).
+pub const FRAMES: [(bool, [f32; 3]); 2] = [(true, [0.025, 0.05, 0.1]), (false, [0.002, 0.004, 0.008])];
+
+/// Frame-coherent canonical points `(τ, γ, ρ, g)`: for each frame of [`FRAMES`]
+/// and each light, every pixel's ray in pixel order, as a fragment shader that
+/// loops over its lights evaluates them (a wave's lanes on neighbouring pixels).
+pub fn frame_points(g: f64) -> Vec<[f64; 4]> {
+    let mut out = Vec::new();
+    for (ground, sigma_t) in FRAMES {
+        let view = crate::render::View {
+            panel_width: 160,
+            height: 120,
+            sigma_t: sigma_t.to_vec(),
+            ground,
+            g: g as f32,
+            scale: 1.0,
+        };
+        for (light, intensity) in view.lights() {
+            for y in 0..view.height {
+                for x in 0..view.width() {
+                    let (st, dir, surface) = view.ray(x, y);
+                    let ray = Ray {
+                        origin: [0.0; 3],
+                        dir,
+                        surface,
+                        light,
+                        intensity,
+                        sigma_t: st,
+                        sigma_s: crate::render::ALBEDO * st,
+                        g: g as f32,
+                    };
+                    if let Ok(c) = ray.physical().to_canonical(g) {
+                        out.push([c.point.tau, c.point.gamma, c.point.rho, g]);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// A model's row (CPU time still 0) and its GPU RGB rates (three scalar calls'
 /// rays/s over three, the spot entry's), from its kernels.
 fn model_row(
@@ -119,12 +173,14 @@ fn model_row(
     let fail = |e: String| BenchError::Failed(format!("{}: {e}", path.display()));
     let cost =
         crate::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix)).map_err(|e| fail(e.to_string()))?;
-    let (mut gpu_evals_per_s, mut gpu_rgb) = (0.0, (0.0, 0.0));
+    let (mut gpu_evals_per_s, mut gpu_frame_evals_per_s, mut gpu_rgb) = (0.0, 0.0, (0.0, 0.0));
     if let Some(g) = inputs.gpu {
         let table = crate::load_table(inputs.generated, entry).map_err(|e| BenchError::Failed(e.to_string()))?;
         let src = KernelSource::of(entry, Target::Wgsl, &source).with_table(table.as_ref());
         let err = |e: GpuError| fail(e.to_string());
         gpu_evals_per_s = g.throughput(&src, &inputs.batch64, inputs.repeats).map_err(err)?.unwrap_or(0.0);
+        let frames = frame_points(frame_g(f.model.g_range));
+        gpu_frame_evals_per_s = g.throughput(&src, &frames, inputs.repeats).map_err(err)?.unwrap_or(0.0);
         // RGB: the physical entry's rate over three, against the spot entry with a point light.
         if k.spot.is_some() {
             gpu_rgb = (
@@ -141,6 +197,7 @@ fn model_row(
         cpu_ns_per_eval: 0.0,
         cpu_ns_range: [0.0, 0.0],
         cpu_ns_one_at_a_time: 0.0,
+        gpu_frame_evals_per_s,
         ops: cost.ops,
         transcendentals: cost.transcendentals,
         gpu_evals_per_s,

@@ -51,6 +51,7 @@ struct TradeRow {
     ops: usize,
     transcendentals: usize,
     gpu: String,
+    gpu_frame: String,
     bytes: String,
 }
 
@@ -155,6 +156,11 @@ fn trade_row(m: &BenchModel) -> TradeRow {
         ops: m.ops,
         transcendentals: m.transcendentals,
         gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
+        gpu_frame: if m.gpu_frame_evals_per_s > 0.0 {
+            format!("{:.3e}", m.gpu_frame_evals_per_s)
+        } else {
+            "—".into()
+        },
         bytes: if m.bytes > 0 { format!("{} KiB", m.bytes / 1024) } else { "—".into() },
     }
 }
@@ -233,6 +239,22 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
         }
     }
     ctx.insert("cpu_two_ways", &two_ways);
+    // The GPU-path rate ratios, random and frame-coherent.
+    let mut gpu_two_ways = Vec::new();
+    for (a, z) in [("phi-4", "equiangular-8"), ("phi-iso-4", "equiangular-16"), ("phi-4", "no-extinction")] {
+        if let (Some(a), Some(z)) = (b.model(a), b.model(z)) {
+            if a.gpu_frame_evals_per_s > 0.0 && z.gpu_frame_evals_per_s > 0.0 && z.gpu_evals_per_s > 0.0 {
+                gpu_two_ways.push(format!(
+                    "`{}` / `{}` {:.2}× on random points, {:.2}× frame-coherent",
+                    a.name,
+                    z.name,
+                    a.gpu_evals_per_s / z.gpu_evals_per_s,
+                    a.gpu_frame_evals_per_s / z.gpu_frame_evals_per_s
+                ));
+            }
+        }
+    }
+    ctx.insert("gpu_two_ways", &gpu_two_ways);
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     let shafts: Vec<ShaftsRow> = b
         .shafts

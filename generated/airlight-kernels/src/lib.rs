@@ -196,8 +196,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "paper-refit",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.0783576966613195e-1,
-        dense_max_rel: 3.083444456994213e0,
+        thin_max_rel: 7.36061533826927e-1,
+        dense_max_rel: 6.537000294306384e2,
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

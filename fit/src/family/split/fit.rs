@@ -3,6 +3,7 @@
 //! assembly of a member from the recipe's choices with the provenance of each
 //! part.
 
+use super::dominant::{self, DominantFit};
 use super::expsum::{self, Backward, ExpSumFit, Target};
 use super::phase_exp::{self, Band, BandFit, ExpPhase, PAPER_BANDS};
 use super::ratio::{self, Ratio, RatioFit};
@@ -54,6 +55,9 @@ pub enum ForwardChoice {
     Paper,
     /// The refit with this many segments.
     Refit(usize),
+    /// The paper's three segments refit jointly with the ratio to dominate the
+    /// published model ([`dominant`]).
+    Dominant,
 }
 
 /// Where a model's phase function comes from.
@@ -74,6 +78,9 @@ pub enum BackChoice {
     PaperRatio,
     /// The refit ratio (γ ≤ π/2), the exponential sum beyond.
     RefitRatio,
+    /// The ratio refit jointly with the forward segments to dominate the
+    /// published model ([`dominant`]), the exponential sum beyond.
+    DominantRatio,
     /// The exponential sum everywhere.
     ExpSum,
 }
@@ -110,6 +117,8 @@ pub struct SplitFits {
     pub expsum: Option<(ExpSumFit, ExpSumFit)>,
     /// RMS and max relative error of the paper's ratio on the same targets.
     pub paper_ratio: Option<(f64, f64)>,
+    /// The paper's form refit jointly to dominate the published coefficients.
+    pub dominant: Option<DominantFit>,
 }
 
 enum Job {
@@ -186,6 +195,9 @@ pub fn fit(parts: &[&str], progress: &(dyn Fn(usize, usize) + Sync)) -> SplitFit
         }
     }
     if let (Some(n), Some(f)) = (near, far) {
+        // The dominance fit needs the backward sums (its γ > π/2 part).
+        let sums = Backward { near: n.sum.clone(), local: f.sum.clone() };
+        fits.dominant = Some(dominant::fit(&sums));
         fits.expsum = Some((n, f));
     }
     for (k, mut v) in bands {
@@ -237,6 +249,20 @@ pub fn summary(fits: &SplitFits) -> Vec<String> {
         out.push(format!(
             "backscatter ratio: refit rms {:.1e} max {:.1e} ({} iterations, {}); paper rms {prms:.1e} max {pmax:.1e}",
             r.rms_rel, r.max_rel, r.outcome.iterations, r.outcome.termination
+        ));
+    }
+    if let Some(d) = &fits.dominant {
+        let cells: Vec<String> = dominant::FIGURES
+            .iter()
+            .zip(d.figures.iter().zip(&d.paper))
+            .map(|(n, (a, b))| format!("{n} {a:.2e}/{b:.2e}"))
+            .collect();
+        out.push(format!(
+            "paper form refit for dominance (refit/paper): {}; worst ratio {:.3} ({} iterations, {})",
+            cells.join(", "),
+            d.worst_ratio(),
+            d.outcome.iterations,
+            d.outcome.termination
         ));
     }
     if let Some((n, f)) = &fits.expsum {
@@ -305,7 +331,50 @@ fn forward(choice: ForwardChoice, fits: &SplitFits, parts: &mut Parts) -> Result
             ));
             fit.segments.clone()
         }
+        ForwardChoice::Dominant => {
+            let d = fits.dominant.as_ref().ok_or("the dominance refit was not run")?;
+            families.push("segments-3 (paper form, refit with the ratio to dominate the published model)".into());
+            let (kmax, kat) = d.forward.kernel_error();
+            prov.push(("forward.fit".into(), kv(dominant_provenance(d, kmax, kat))));
+            d.forward.clone()
+        }
     })
+}
+
+/// The provenance of the dominance refit (shared by its forward and ratio tables).
+fn dominant_provenance(d: &DominantFit, kmax: f64, kat: f64) -> Vec<(&'static str, Value)> {
+    let arr = |x: &[f64; dominant::N]| Value::Array(x.iter().map(|&v| f(v)).collect());
+    vec![
+        ("source", s("this project: the paper's form (3 segments, ratio cubics) refit from its published values")),
+        (
+            "objective",
+            s(&format!(
+                "minimax against the published model: the largest ratio of the refit's figure to `paper`'s on the same points, over {} (a soft maximum, power {}, in the search; the hard maximum reported)",
+                dominant::FIGURES.join(", "),
+                dominant::SOFT_MAX_POWER
+            )),
+        ),
+        ("parameters", s("2 interior breakpoints, 3 slopes, 3 intercepts, f, g, h (20), all at once")),
+        ("points", i(d.points)),
+        (
+            "points_from",
+            s(&format!(
+                "{} low-discrepancy points inside thin and inside dense each (g = 0, seed below); {n}x{n} grids on each domain's faces, and its corners",
+                dominant::DOMINANT_POINTS,
+                n = dominant::DOMINANT_FACES
+            )),
+        ),
+        ("points_seed", hex_seed(dominant::DOMINANT_SEED)),
+        ("figures", Value::Array(dominant::FIGURES.iter().map(|n| s(n)).collect())),
+        ("figures_refit", arr(&d.figures)),
+        ("figures_paper", arr(&d.paper)),
+        ("worst_ratio", f(d.worst_ratio())),
+        ("solver", s(&format!("{OUTER_SOLVER}, restarted until no gain"))),
+        ("iterations", i(d.outcome.iterations)),
+        ("termination", s(&d.outcome.termination)),
+        ("kernel_max_abs_error", f(kmax)),
+        ("kernel_max_abs_error_at", f(kat)),
+    ]
 }
 
 /// The phase: isotropic, the paper's table, or a refit.
@@ -398,6 +467,18 @@ fn ratio(choice: BackChoice, fits: &SplitFits, parts: &mut Parts) -> Result<Opti
             }
             prov.push(("backscatter.fit".into(), kv(v)));
             Some(Ratio::paper())
+        }
+        BackChoice::DominantRatio => {
+            let d = fits.dominant.as_ref().ok_or("the dominance refit was not run")?;
+            families.push("backscatter-ratio (paper form, refit with the segments to dominate the published model; γ ≤ π/2)".into());
+            prov.push((
+                "backscatter.fit".into(),
+                kv(vec![
+                    ("source", s("this project: fitted in one search with the forward segments")),
+                    ("objective", s("see [forward.fit]")),
+                ]),
+            ));
+            Some(d.ratio.clone())
         }
         BackChoice::ExpSum => None,
     })

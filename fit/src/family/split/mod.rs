@@ -28,6 +28,7 @@
 
 use crate::tomlfile::{dec, hex_list, quad_rows};
 use crate::cost::{Cost, PhaseShape, Shape};
+pub mod dominant;
 pub mod expsum;
 pub mod fit;
 mod kernel;

@@ -122,7 +122,9 @@ fn phase(ctx: &mut Context, members: &[Member<'_, Split>]) {
 
 /// The backscatter ratio's and the backward sums' fits.
 fn backward(ctx: &mut Context, members: &[Member<'_, Split>]) {
-    let (pp, pr) = (get(members, "paper"), get(members, "paper-refit"));
+    // The least-squares ratio is `paper-refit-hg`'s (`paper-refit`'s is fitted
+    // with its segments for dominance, [`dominance`]).
+    let (pp, pr) = (get(members, "paper"), get(members, "paper-refit-hg"));
     ctx.insert("ratio_targets", &pr.map_or("—".into(), |m| prov_s(m, "backscatter.fit", "targets")));
     for (name, m, key) in [
         ("ratio_paper_rms", pp, "backward_integral_rms_rel"),
@@ -139,6 +141,43 @@ fn backward(ctx: &mut Context, members: &[Member<'_, Split>]) {
     ctx.insert("near_error", &es.map_or("—".into(), |m| prov_f(m, t, "near_max_rel")));
     ctx.insert("local_error", &es.map_or("—".into(), |m| prov_f(m, t, "local_max_rel")));
     ctx.insert("split", &expsum::SPLIT);
+}
+
+#[derive(Serialize)]
+struct DominanceRow {
+    figure: String,
+    paper: String,
+    refit: String,
+}
+
+/// `paper-refit` against `paper`: the fit's figures on its own points, and the
+/// declared (held-out) bounds of both.
+fn dominance(ctx: &mut Context, members: &[Member<'_, Split>]) {
+    let (Some(pp), Some(pr)) = (get(members, "paper"), get(members, "paper-refit")) else { return };
+    let floats = |key: &str| -> Vec<f64> {
+        pr.provenance_value("forward.fit", key)
+            .and_then(toml::Value::as_array)
+            .map(|a| a.iter().filter_map(toml::Value::as_float).collect())
+            .unwrap_or_default()
+    };
+    let (refit, paper) = (floats("figures_refit"), floats("figures_paper"));
+    let fit_rows: Vec<DominanceRow> = super::dominant::FIGURES
+        .iter()
+        .zip(refit.iter().zip(&paper))
+        .map(|(n, (r, p))| DominanceRow { figure: n.to_string(), paper: fmt_err(*p), refit: fmt_err(*r) })
+        .collect();
+    let mut declared = Vec::new();
+    for d in [Domain::Thin, Domain::Dense] {
+        if let (Some(a), Some(b)) = (pp.error(d), pr.error(d)) {
+            for (what, x, y) in [("max", a.max_rel, b.max_rel), ("p99", a.p99_rel, b.p99_rel)] {
+                declared.push(DominanceRow { figure: format!("{} {what}", d.name()), paper: fmt_err(x), refit: fmt_err(y) });
+            }
+        }
+    }
+    ctx.insert("dominance_fit", &fit_rows);
+    ctx.insert("dominance_declared", &declared);
+    ctx.insert("dominance_points", &prov_s(pr, "forward.fit", "points"));
+    ctx.insert("dominance_ratio", &prov_f(pr, "forward.fit", "worst_ratio"));
 }
 
 /// The section's values.
@@ -158,6 +197,7 @@ pub(super) fn context(members: &[Member<'_, Split>]) -> Option<Context> {
     forward(&mut ctx, members);
     phase(&mut ctx, members);
     backward(&mut ctx, members);
+    dominance(&mut ctx, members);
     Some(ctx)
 }
 
