@@ -1,11 +1,72 @@
 //! The speed/accuracy front from one `airlight bench` run (`generated/bench.json`):
-//! per `g`, each model's cost (ns/eval of its f32 Rust kernel) against its error
-//! (max and median over `thin ∪ dense`), which methods are dominated, airlight's
-//! own front, and the headline ratios the report quotes. The pictures
-//! ([`crate::plots::pareto`]) and the report's tables both read this, so they
-//! cannot disagree.
+//! per `g` and per cost measure ([`CostMeasure`]: CPU ns/eval of the f32 Rust
+//! kernel, or the GPU path's time per evaluation over random or frame-coherent
+//! points), each model's cost against its error (max and median over
+//! `thin ∪ dense`), which methods are dominated, airlight's own front, and the
+//! headline ratios the report quotes. The pictures ([`crate::plots::pareto`]) and
+//! the report's tables both read this, so they cannot disagree.
 
 use airlight_fit::bench::{Bench, BenchModel};
+
+/// What a method's cost is measured by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CostMeasure {
+    /// CPU ns per evaluation of the f32 Rust kernel (throughput loop, median).
+    Cpu,
+    /// The GPU path over random points (every lane on its own branch):
+    /// ns per evaluation as the inverse of the measured throughput.
+    GpuRandom,
+    /// The GPU path over frame-coherent points (every pixel of rendered frames,
+    /// in pixel order), the same way.
+    GpuFrame,
+}
+
+impl CostMeasure {
+    /// Every measure, in the report's order.
+    pub const ALL: [CostMeasure; 3] = [CostMeasure::Cpu, CostMeasure::GpuRandom, CostMeasure::GpuFrame];
+
+    /// The measure's cost of `m` in ns per evaluation, if measured.
+    pub fn ns(self, m: &BenchModel) -> Option<f64> {
+        let rate = |r: f64| (r > 0.0).then(|| 1e9 / r);
+        match self {
+            CostMeasure::Cpu => (m.cpu_ns_per_eval > 0.0).then_some(m.cpu_ns_per_eval),
+            CostMeasure::GpuRandom => rate(m.gpu_evals_per_s),
+            CostMeasure::GpuFrame => rate(m.gpu_frame_evals_per_s),
+        }
+    }
+
+    /// As file names end: `""` (the CPU figures keep the plain names), `-gpu-random`, `-gpu-frame`.
+    pub fn suffix(self) -> &'static str {
+        match self {
+            CostMeasure::Cpu => "",
+            CostMeasure::GpuRandom => "-gpu-random",
+            CostMeasure::GpuFrame => "-gpu-frame",
+        }
+    }
+
+    /// A short heading.
+    pub fn title(self) -> &'static str {
+        match self {
+            CostMeasure::Cpu => "CPU (f32 Rust kernel)",
+            CostMeasure::GpuRandom => "GPU path, random points",
+            CostMeasure::GpuFrame => "GPU path, frame-coherent points",
+        }
+    }
+
+    /// The cost axis as the plots label it.
+    pub fn axis(self) -> &'static str {
+        match self {
+            CostMeasure::Cpu => "CPU ns per evaluation (f32 Rust kernel, median)",
+            CostMeasure::GpuRandom => "GPU ns per evaluation (1 / throughput, random points)",
+            CostMeasure::GpuFrame => "GPU ns per evaluation (1 / throughput, frame-coherent)",
+        }
+    }
+
+    /// Whether any model of `b` has this measure.
+    pub fn measured(self, b: &Bench) -> bool {
+        b.models.iter().any(|m| self.ns(m).is_some())
+    }
+}
 
 /// Max-error levels of the headline table.
 pub const MAX_LEVELS: [f64; 4] = [1e-1, 1e-2, 1e-3, 1e-4];
@@ -19,7 +80,7 @@ pub struct Method {
     pub name: String,
     /// A baseline (what a user would pick instead) rather than an airlight model.
     pub baseline: bool,
-    /// ns/eval, CPU, median of the repeats.
+    /// ns/eval on the measure the methods were taken with ([`CostMeasure`]).
     pub ns: f64,
     /// Max relative error over thin ∪ dense.
     pub max: f64,
@@ -32,8 +93,13 @@ pub struct Method {
     pub dominated_median: bool,
 }
 
-/// Every method measured at `g`, in the bench's order.
+/// Every method measured at `g` on the CPU, in the bench's order.
 pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
+    methods_by(b, g, CostMeasure::Cpu)
+}
+
+/// Every method measured at `g` whose cost `measure` has, in the bench's order.
+pub fn methods_by(b: &Bench, g: f64, measure: CostMeasure) -> Vec<Method> {
     let mut out: Vec<Method> = b
         .models
         .iter()
@@ -42,7 +108,7 @@ pub fn methods(b: &Bench, g: f64) -> Vec<Method> {
             Some(Method {
                 name: m.name.clone(),
                 baseline: m.kind == airlight_fit::vocab::Role::Baseline,
-                ns: m.cpu_ns_per_eval,
+                ns: measure.ns(m)?,
                 max: e.max_rel.max(),
                 median: e.p50_rel.max(),
                 dominated_max: false,
@@ -209,6 +275,29 @@ mod tests {
             median: max / 10.0,
             dominated_max: false,
             dominated_median: false,
+        }
+    }
+
+    /// Each cost measure's methods carry that measure's ns (the GPU's as the
+    /// inverse of its throughput) and leave out models it did not measure.
+    #[test]
+    fn every_cost_measure_reads_its_own_figure() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated/bench.json");
+        let b = Bench::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+        for measure in CostMeasure::ALL {
+            let ms = methods_by(&b, 0.0, measure);
+            for m in &ms {
+                let bm = b.model(&m.name).unwrap();
+                let want = match measure {
+                    CostMeasure::Cpu => bm.cpu_ns_per_eval,
+                    CostMeasure::GpuRandom => 1e9 / bm.gpu_evals_per_s,
+                    CostMeasure::GpuFrame => 1e9 / bm.gpu_frame_evals_per_s,
+                };
+                assert_eq!(m.ns, want, "{measure:?} {}", m.name);
+                assert!(m.ns.is_finite() && m.ns > 0.0);
+            }
+            let measured = b.models.iter().filter(|m| m.at(0.0).is_some() && measure.ns(m).is_some()).count();
+            assert_eq!(ms.len(), measured, "{measure:?}");
         }
     }
 

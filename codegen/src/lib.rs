@@ -140,9 +140,9 @@ pub fn render_all(
     let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
     let mut plans = Vec::new();
     for s in scenes {
-        let plan = scene::plan(s, models).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
+        let plan = scene::plan(s, models, recorded.bench.as_ref()).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
         let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
-        plans.push(kernel::render_plan(s, &plan, &spec, models).map_err(RenderError::Template)?);
+        plans.push(kernel::render_plan(s, &plan, &spec).map_err(RenderError::Template)?);
         specs.push(spec);
     }
     let (bench, record, fuzz) = (recorded.bench.as_ref(), recorded.gate.as_ref(), recorded.fuzz.as_ref());

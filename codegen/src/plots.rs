@@ -204,6 +204,7 @@ fn pareto_panel<DB: DrawingBackend>(
     ms: &[crate::front::Method],
     measure: &dyn Fn(&crate::front::Method) -> f64,
     dominated: &dyn Fn(&crate::front::Method) -> bool,
+    cost: crate::front::CostMeasure,
 ) -> Result<(), PlotError> {
     let finite = |m: &&crate::front::Method| measure(m).is_finite() && measure(m) > 0.0 && m.ns > 0.0;
     let shown: Vec<&crate::front::Method> = ms.iter().filter(finite).collect();
@@ -228,7 +229,7 @@ fn pareto_panel<DB: DrawingBackend>(
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc("CPU ns per evaluation (f32 Rust kernel, median)")
+        .x_desc(cost.axis())
         .y_desc("relative error")
         .y_label_formatter(&|y| format!("{y:.0e}"))
         .x_label_formatter(&|x| format!("{x:.0}"))
@@ -282,26 +283,33 @@ fn pareto_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// `plots/pareto-<g>.{svg,png}` for every `g` of the bench: max error (left) and
-/// median error (right) against CPU ns/eval.
+/// `plots/pareto-<g><measure>.{svg,png}` for every `g` of the bench and every
+/// cost measure it holds ([`crate::front::CostMeasure::suffix`]): max error
+/// (left) and median error (right) against ns/eval on that measure.
 pub fn pareto(b: &airlight_fit::bench::Bench) -> Result<Vec<Output>, PlotError> {
     register_font()?;
     let mut out = Vec::new();
-    for g in crate::front::gs(b) {
-        let ms = crate::front::methods(b, g);
-        let label = crate::front::g_label(g);
-        let phase = if g == 0.0 { "isotropic".to_string() } else { format!("Henyey-Greenstein g = {label}") };
-        out.extend(both!(&format!("pareto-{label}"), |root| {
-            let areas = root.split_evenly((1, 2));
-            pareto_panel(&areas[0], &format!("{phase}: max error, thin ∪ dense"), &ms, &|m| m.max, &|m| {
-                m.dominated_max
-            })
-            .and_then(|_| {
-                pareto_panel(&areas[1], &format!("{phase}: median error (larger domain)"), &ms, &|m| m.median, &|m| {
-                    m.dominated_median
-                })
-            })
-        }));
+    for cost in crate::front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)) {
+        for g in crate::front::gs(b) {
+            let ms = crate::front::methods_by(b, g, cost);
+            let label = crate::front::g_label(g);
+            let phase = if g == 0.0 { "isotropic".to_string() } else { format!("Henyey-Greenstein g = {label}") };
+            out.extend(both!(&format!("pareto-{label}{}", cost.suffix()), |root| {
+                let areas = root.split_evenly((1, 2));
+                let title = |what: &str| format!("{phase}: {what} ({})", cost.title());
+                pareto_panel(&areas[0], &title("max error, thin ∪ dense"), &ms, &|m| m.max, &|m| m.dominated_max, cost)
+                    .and_then(|_| {
+                        pareto_panel(
+                            &areas[1],
+                            &title("median error"),
+                            &ms,
+                            &|m| m.median,
+                            &|m| m.dominated_median,
+                            cost,
+                        )
+                    })
+            }));
+        }
     }
     Ok(out)
 }

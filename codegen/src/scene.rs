@@ -1,7 +1,10 @@
 //! Scene specifications (`codegen/scenes/*.toml`) and the choice of model for a
 //! scene: the cheapest model whose declared error bound meets the scene's budget
-//! over the part of the error domains the scene can reach.
+//! over the part of the error domains the scene can reach, cheapest by the cost
+//! measured where the scene's kernels run ([`Ranking`]).
 
+use crate::front::CostMeasure;
+use airlight_fit::bench::Bench;
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::tomlfile::{deny_unknown, field_error, parse_table, FieldError};
 use airlight_fit::vocab::{Domain, Target};
@@ -300,9 +303,98 @@ pub enum Choice {
         name: String,
         /// Its declared bound over the domains the scene reaches.
         bound: f64,
-        /// Its cost (transcendental calls per evaluation).
-        cost: usize,
+        /// Its cost as the plan ranked it.
+        cost: ModelCost,
     },
+}
+
+/// What the planner ranks models by.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Ranking {
+    /// Measured ns/eval of each model's general kernel on the scene's target
+    /// (`generated/bench.json`): for a scene with WGSL or GLSL kernels the GPU
+    /// path's over frame-coherent points where measured, else over random points;
+    /// for a Rust-only scene the CPU's. Models the bench did not measure rank
+    /// after every measured one, by their counted calls.
+    Measured(CostMeasure),
+    /// No bench: transcendental calls on the worst path, counted per family.
+    Counted,
+}
+
+impl Ranking {
+    /// The ranking for a scene emitting `targets`, given the bench (if any).
+    pub fn for_targets(targets: &[Target], bench: Option<&Bench>) -> Ranking {
+        let Some(b) = bench else { return Ranking::Counted };
+        let shader = targets.iter().any(|t| matches!(t, Target::Wgsl | Target::Glsl));
+        let order: &[CostMeasure] = if shader {
+            &[CostMeasure::GpuFrame, CostMeasure::GpuRandom, CostMeasure::Cpu]
+        } else {
+            &[CostMeasure::Cpu]
+        };
+        order.iter().copied().find(|m| m.measured(b)).map_or(Ranking::Counted, Ranking::Measured)
+    }
+
+    /// In words, for the plans.
+    pub fn describe(self) -> String {
+        match self {
+            Ranking::Measured(m) => format!(
+                "measured ns per evaluation, {} (`generated/bench.json`, each model's general kernel); models it did not measure rank after, by counted calls",
+                m.title()
+            ),
+            Ranking::Counted => {
+                "transcendental calls (exp, log, atan, sqrt, sin_cos) on the worst path of the model's general f32 kernel, counted by its family (no bench)".into()
+            }
+        }
+    }
+}
+
+/// A model's cost as a plan ranks it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelCost {
+    /// Measured ns/eval on the plan's measure, if the bench has it.
+    pub ns: Option<f64>,
+    /// Transcendental calls on the worst path (counted).
+    pub calls: usize,
+}
+
+impl ModelCost {
+    fn of(m: &ModelFile, ranking: Ranking, bench: Option<&Bench>) -> ModelCost {
+        let ns = match (ranking, bench) {
+            (Ranking::Measured(measure), Some(b)) => b.model(&m.model.name).and_then(|bm| measure.ns(bm)),
+            _ => None,
+        };
+        ModelCost { ns, calls: m.model.cost() }
+    }
+
+    /// The ranking order: measured before unmeasured, then by ns, then by calls.
+    pub fn rank(&self, o: &ModelCost) -> std::cmp::Ordering {
+        match (self.ns, o.ns) {
+            (Some(a), Some(b)) => a.total_cmp(&b).then(self.calls.cmp(&o.calls)),
+            (Some(_), None) => std::cmp::Ordering::Less,
+            (None, Some(_)) => std::cmp::Ordering::Greater,
+            (None, None) => self.calls.cmp(&o.calls),
+        }
+    }
+
+    /// As the plans print it.
+    pub fn describe(&self) -> String {
+        match self.ns {
+            Some(ns) if ns >= 100.0 => format!("{ns:.0} ns ({} calls)", self.calls),
+            Some(ns) => format!("{ns:.1} ns ({} calls)", self.calls),
+            None => format!("not measured ({} calls)", self.calls),
+        }
+    }
+}
+
+/// One model the plan weighed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Model name.
+    pub name: String,
+    /// Its cost.
+    pub cost: ModelCost,
+    /// Its declared bound over the plan's domains.
+    pub bound: f64,
 }
 
 /// The plan for a scene: the choice and the domains it was made over.
@@ -319,6 +411,11 @@ pub struct Plan {
     ///
     /// [`NoExtinction`'s grid]: airlight_fit::analysis::extinction_error
     pub ignored_extinction: f64,
+    /// What the models were ranked by.
+    pub ranking: Ranking,
+    /// Every model covering the scene's phase, in the ranking's order (none for
+    /// the closed form).
+    pub candidates: Vec<Candidate>,
 }
 
 /// Why a scene has no model.
@@ -393,8 +490,10 @@ const TAU_DENSE_MAX: f64 = 20.0;
 const TAU_THIN_MAX: f64 = 2.0;
 
 /// Chooses the cheapest model whose declared bound meets the scene's budget over
-/// every error domain the scene reaches (ties go to the smaller bound).
-pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
+/// every error domain the scene reaches (ties go to the smaller bound), cheapest
+/// by [`Ranking::for_targets`] with `bench` (`None`: counted calls).
+pub fn plan(scene: &Scene, models: &[ModelFile], bench: Option<&Bench>) -> Result<Plan, PlanError> {
+    let ranking = Ranking::for_targets(&scene.targets, bench);
     let tau_max = scene.sigma_t.1 * scene.max_distance;
     if !scene.backscatter && scene.max_rel_error < 1.0 {
         return Err(PlanError::NoBackscatter { budget: scene.max_rel_error });
@@ -418,6 +517,8 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
             tau_max: 0.0,
             domains: vec![Domain::Thin],
             ignored_extinction,
+            ranking,
+            candidates: Vec::new(),
         });
     }
     let tau_max = if scene.extinction { tau_max } else { 0.0 };
@@ -431,28 +532,35 @@ pub fn plan(scene: &Scene, models: &[ModelFile]) -> Result<Plan, PlanError> {
         domains.push(Domain::Dense);
     }
     let (g_lo, g_hi) = scene.phase.g_range();
-    let covering: Vec<(&ModelFile, f64)> = models
+    // A baked g takes each model's bound over its band of g (where it has bands).
+    let baked = if let ScenePhase::Fixed(g) = scene.phase { Some(g) } else { None };
+    let mut candidates: Vec<Candidate> = models
         .iter()
         .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
         .filter_map(|m| {
-            let bounds: Option<Vec<f64>> = domains.iter().map(|&d| m.error(d).map(|e| e.max_rel)).collect();
-            bounds.map(|b| (m, b.into_iter().fold(0.0, f64::max)))
+            let bounds: Option<Vec<f64>> = domains.iter().map(|&d| m.bound_at(d, baked)).collect();
+            bounds.map(|b| Candidate {
+                name: m.model.name.clone(),
+                cost: ModelCost::of(m, ranking, bench),
+                bound: b.into_iter().fold(0.0, f64::max),
+            })
         })
         .collect();
-    let best = covering
-        .iter()
-        .filter(|(_, b)| *b <= scene.max_rel_error)
-        .min_by(|a, b| a.0.model.cost().cmp(&b.0.model.cost()).then(a.1.total_cmp(&b.1)));
+    candidates.sort_by(|a, b| a.cost.rank(&b.cost).then(a.bound.total_cmp(&b.bound)).then(a.name.cmp(&b.name)));
+    // The first in the ranking's order that meets the budget.
+    let best = candidates.iter().find(|c| c.bound <= scene.max_rel_error).cloned();
     match best {
-        Some((m, bound)) => Ok(Plan {
-            choice: Choice::Model { name: m.model.name.clone(), bound: *bound, cost: m.model.cost() },
+        Some(c) => Ok(Plan {
+            choice: Choice::Model { name: c.name, bound: c.bound, cost: c.cost },
             tau_max,
             domains,
             ignored_extinction,
+            ranking,
+            candidates,
         }),
         None => Err(PlanError::Budget {
             budget: scene.max_rel_error,
-            best: covering.iter().min_by(|a, b| a.1.total_cmp(&b.1)).map(|(m, b)| (m.model.name.clone(), *b)),
+            best: candidates.iter().min_by(|a, b| a.bound.total_cmp(&b.bound)).map(|c| (c.name.clone(), c.bound)),
         }),
     }
 }
@@ -467,6 +575,11 @@ mod tests {
             .unwrap()
     }
 
+    fn bench() -> Bench {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated/bench.json");
+        Bench::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
     fn scene(name: &str) -> Scene {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
         parse(&path.display().to_string(), &std::fs::read_to_string(&path).unwrap()).unwrap()
@@ -479,19 +592,56 @@ mod tests {
             [("fog-street.toml", "phi-iso-4"), ("smoke-room.toml", "phi-iso-4"), ("harbour-fog.toml", "phi-iso-4")]
         {
             let s = scene(file);
-            let p = plan(&s, &models).unwrap();
+            let p = plan(&s, &models, None).unwrap();
             let Choice::Model { name, bound, cost } = &p.choice else { panic!("{file}: {:?}", p.choice) };
             assert_eq!(name, want, "{file}");
             assert!(*bound <= s.max_rel_error);
             // Nothing cheaper would have done.
             for m in &models {
-                if m.model.cost() < *cost && m.model.g_range.0 <= 0.0 && m.model.g_range.1 >= 0.0 {
+                if m.model.cost() < cost.calls && m.model.g_range.0 <= 0.0 && m.model.g_range.1 >= 0.0 {
                     let b = p.domains.iter().map(|&d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
                     assert!(b > s.max_rel_error, "{file}: {} (cost {}) meets {b}", m.model.name, m.model.cost());
                 }
             }
         }
-        assert_eq!(plan(&scene("haze-sky.toml"), &models).unwrap().choice, Choice::NoExtinction);
+        assert_eq!(plan(&scene("haze-sky.toml"), &models, None).unwrap().choice, Choice::NoExtinction);
+    }
+
+    /// With the bench, each example scene gets the model that is cheapest by the
+    /// cost measured where its kernels run (the GPU path for WGSL/GLSL scenes, the
+    /// CPU for a Rust-only one) among those meeting its budget.
+    #[test]
+    fn scenes_rank_by_the_cost_measured_on_their_target() {
+        let (models, b) = (models(), bench());
+        for file in
+            ["fog-street.toml", "smoke-room.toml", "harbour-fog.toml", "hg-fog.toml", "backscatter-aerosol.toml"]
+        {
+            for rust_only in [false, true] {
+                let mut s = scene(file);
+                if rust_only {
+                    s.targets = vec![Target::Rust];
+                }
+                let p = plan(&s, &models, Some(&b)).unwrap();
+                let Ranking::Measured(measure) = p.ranking else { panic!("{file}: {:?}", p.ranking) };
+                assert_eq!(measure == CostMeasure::Cpu, rust_only, "{file}: {measure:?}");
+                let Choice::Model { name, bound, cost } = &p.choice else { panic!("{file}: {:?}", p.choice) };
+                assert!(*bound <= s.max_rel_error);
+                let ns = cost.ns.expect("the chosen model was measured");
+                assert_eq!(Some(ns), measure.ns(b.model(name).unwrap()), "{file}: {name}");
+                let (g_lo, g_hi) = s.phase.g_range();
+                for m in models.iter().filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1) {
+                    let Some(o) = b.model(&m.model.name).and_then(|bm| measure.ns(bm)) else { continue };
+                    if o < ns {
+                        let bm = p.domains.iter().map(|&d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
+                        assert!(
+                            bm > s.max_rel_error,
+                            "{file}: {} ({o} ns) meets {bm} but {name} ({ns} ns) was chosen",
+                            m.model.name
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]
@@ -499,7 +649,7 @@ mod tests {
         let models = models();
         let mut s = scene("smoke-room.toml");
         s.max_rel_error = 1e-6;
-        let e = plan(&s, &models).unwrap_err();
+        let e = plan(&s, &models, None).unwrap_err();
         let msg = e.to_string();
         assert!(
             msg.starts_with("no model meets max_rel_error = 0.000001; the best achievable for this scene is"),
@@ -507,11 +657,11 @@ mod tests {
         );
         assert!(msg.contains("phi-iso-8"), "{msg}");
         s.max_distance = 100.0;
-        assert_eq!(plan(&s, &models).unwrap_err(), PlanError::OutsideDomains { tau_max: 50.0 });
+        assert_eq!(plan(&s, &models, None).unwrap_err(), PlanError::OutsideDomains { tau_max: 50.0 });
         let mut hg = scene("fog-street.toml");
         hg.phase = ScenePhase::Fixed(0.9);
         hg.max_rel_error = 1e-6;
-        assert!(matches!(plan(&hg, &models).unwrap_err(), PlanError::Budget { best: Some(_), .. }));
+        assert!(matches!(plan(&hg, &models, None).unwrap_err(), PlanError::Budget { best: Some(_), .. }));
     }
 
     /// `extinction = false` is a modelling error of its own: measured at the
@@ -520,10 +670,10 @@ mod tests {
     fn ignoring_extinction_must_fit_the_budget() {
         let models = models();
         let mut s = scene("haze-sky.toml");
-        assert_eq!(plan(&s, &models).unwrap().ignored_extinction, 0.0, "σt = 0: exact");
+        assert_eq!(plan(&s, &models, None).unwrap().ignored_extinction, 0.0, "σt = 0: exact");
         // Fog at 2 km: σt·D = 2, where dropping extinction is off by orders of magnitude.
         s.sigma_t = (0.0, 1e-3);
-        let e = plan(&s, &models).unwrap_err();
+        let e = plan(&s, &models, None).unwrap_err();
         let PlanError::IgnoredExtinction { tau_max, error, .. } = e else { panic!("{e:?}") };
         assert!(tau_max == 2.0 && error > 1.0, "{error}");
         let msg = s.plan_error(&e).to_string();
@@ -531,7 +681,7 @@ mod tests {
         assert_eq!(s.plan_error(&e).line, s.text.lines().position(|l| l.starts_with("extinction")).unwrap() + 1);
         // Clear air: σt·D = 2e-6 costs a little, which the plan states.
         s.sigma_t = (0.0, 1e-9);
-        let p = plan(&s, &models).unwrap();
+        let p = plan(&s, &models, None).unwrap();
         assert!(p.ignored_extinction > 0.0 && p.ignored_extinction < s.max_rel_error, "{}", p.ignored_extinction);
     }
 

@@ -212,6 +212,7 @@ pub fn assemble(spec: &ModelSpec, fits: &Fits) -> Result<ModelFile, String> {
         },
         families: a.families,
         errors: vec![],
+        bands: vec![],
         provenance,
     })
 }
@@ -254,9 +255,9 @@ pub const HELD_OUT_ROUNDS: usize = 3;
 /// Points per held-out round.
 pub const HELD_OUT_POINTS: usize = 384;
 
-/// The seed of held-out round `r`.
-fn held_out_seed(r: usize) -> u64 {
-    VALIDATION_SEED ^ (0x4E1D_0000_0000_0000 + r as u64)
+/// The seed of held-out round `r` of a validation seeded `seed`.
+fn held_out_seed(seed: u64, r: usize) -> u64 {
+    seed ^ (0x4E1D_0000_0000_0000 + r as u64)
 }
 
 /// Worst cases found outside this project's own searches, kept and re-measured
@@ -284,21 +285,85 @@ fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
     gs
 }
 
+/// Edges of the bands of `g` over which a model whose `g` is a run-time argument
+/// also declares its bound ([`crate::coeffs::BandErrors`]): a kernel with `g`
+/// baked in (a scene's) holds its band's, which can be far below the bound over
+/// the whole range (every family is hardest at |g| → 0.99).
+pub const G_BANDS: [f64; 12] = [-0.99, -0.9, -0.7, -0.5, -0.3, -0.1, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99];
+
+/// Validation points per band and domain (the bands' sets are smaller than the
+/// whole range's; the faces, local searches and a held-out round are the same).
+pub const BAND_POINTS: usize = 2000;
+/// Points per side of each band's face grids.
+pub const BAND_FACE_GRID: usize = 16;
+/// Held-out rounds per band.
+pub const BAND_HELD_OUT_ROUNDS: usize = 1;
+/// Seed of the bands' sets (their held-out rounds derive from it as the whole
+/// range's do from [`VALIDATION_SEED`]).
+pub const BAND_SEED: u64 = VALIDATION_SEED ^ 0xBA4D_0000_0000_0000;
+
+/// The bands of `g_range` ([`G_BANDS`] cut to it; none for a single `g`).
+pub fn bands_of(g_range: (f64, f64)) -> Vec<(f64, f64)> {
+    if g_range.0 >= g_range.1 {
+        return Vec::new();
+    }
+    G_BANDS.windows(2).map(|w| (w[0].max(g_range.0), w[1].min(g_range.1))).filter(|(lo, hi)| lo < hi).collect()
+}
+
+/// How big a validation is.
+struct Sizes {
+    domains: &'static [Domain],
+    points: usize,
+    face_grid: usize,
+    held_out_rounds: usize,
+    seed: u64,
+}
+
 /// Reference values for the validation sets of every `(domain, g range)` in `ranges`.
 pub fn validations(ranges: &[(f64, f64)], progress: &(dyn Fn(usize, usize) + Sync)) -> Vec<Validation> {
+    let sizes = Sizes {
+        domains: &Domain::ALL,
+        points: VALIDATION_POINTS,
+        face_grid: FACE_GRID,
+        held_out_rounds: HELD_OUT_ROUNDS,
+        seed: VALIDATION_SEED,
+    };
+    validations_sized(ranges, &sizes, progress)
+}
+
+/// Reference values for the band validations ([`bands_of`]) of `bands`: `thin`
+/// and `dense` only.
+pub fn band_validations(bands: &[(f64, f64)], progress: &(dyn Fn(usize, usize) + Sync)) -> Vec<Validation> {
+    let sizes = Sizes {
+        domains: &[Domain::Thin, Domain::Dense],
+        points: BAND_POINTS,
+        face_grid: BAND_FACE_GRID,
+        held_out_rounds: BAND_HELD_OUT_ROUNDS,
+        seed: BAND_SEED,
+    };
+    validations_sized(bands, &sizes, progress)
+}
+
+fn validations_sized(
+    ranges: &[(f64, f64)],
+    sizes: &Sizes,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Vec<Validation> {
     let mut sets = Vec::new();
     for &r in ranges {
-        for d in Domain::ALL {
+        for &d in sizes.domains {
             let held: Vec<Vec<Point>> = if d == Domain::Extreme {
                 Vec::new()
             } else {
-                (0..HELD_OUT_ROUNDS).map(|k| d.validation_set(r, HELD_OUT_POINTS, held_out_seed(k))).collect()
+                (0..sizes.held_out_rounds)
+                    .map(|k| d.validation_set(r, HELD_OUT_POINTS, held_out_seed(sizes.seed, k)))
+                    .collect()
             };
             sets.push((
                 d,
                 r,
-                d.validation_set(r, VALIDATION_POINTS, VALIDATION_SEED),
-                d.faces(&face_gs(r), FACE_GRID),
+                d.validation_set(r, sizes.points, sizes.seed),
+                d.faces(&face_gs(r), sizes.face_grid),
                 held,
             ));
         }
@@ -531,6 +596,36 @@ pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Ve
     let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
     for (&(i, _), e) in jobs.iter().zip(measured) {
         files[i].errors.push(e);
+    }
+    // The bands of every model whose g is a run-time argument.
+    let mut bands: Vec<(f64, f64)> = Vec::new();
+    for f in &files {
+        for b in bands_of(f.model.g_range) {
+            if !bands.contains(&b) {
+                bands.push(b);
+            }
+        }
+    }
+    let band_sets = band_validations(&bands, progress);
+    let jobs: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(i, f)| {
+            let own = bands_of(f.model.g_range);
+            band_sets
+                .iter()
+                .enumerate()
+                .filter(move |(_, v)| own.contains(&v.g_range))
+                .map(move |(j, _)| (i, j))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &band_sets[j]), progress);
+    for (&(i, j), e) in jobs.iter().zip(measured) {
+        files[i].bands.push(crate::coeffs::BandErrors { g: band_sets[j].g_range, errors: e });
+    }
+    for f in &mut files {
+        f.bands.sort_by(|a, b| a.g.0.total_cmp(&b.g.0).then(a.errors.domain.cmp(&b.errors.domain)));
     }
     Ok(files)
 }

@@ -29,11 +29,39 @@ pub struct ModelFile {
     pub families: Vec<String>,
     /// Measured errors, one entry per domain.
     pub errors: Vec<DomainErrors>,
+    /// For a model whose `g` is a run-time argument: the same measurement over
+    /// each band of `g` ([`crate::catalog::G_BANDS`]) on `thin` and `dense`, the
+    /// bound that a kernel with `g` baked inside the band holds.
+    pub bands: Vec<BandErrors>,
     /// Provenance tables in file order (`forward.fit`, `phase.fit`, …, `provenance`).
     pub provenance: Vec<Provenance>,
 }
 
+/// A model's measured error over one band of `g` on one domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandErrors {
+    /// The band `[lo, hi]`.
+    pub g: (f64, f64),
+    /// Its measurement (validation points, faces, local and held-out searches).
+    pub errors: DomainErrors,
+}
+
 impl ModelFile {
+    /// The declared bound on `domain` for a kernel with `g` baked in (`Some`):
+    /// the largest of the bands holding `g` where the model has bands, else, and
+    /// for `g` at run time (`None`), the bound over its whole `g` range.
+    pub fn bound_at(&self, domain: Domain, g: Option<f64>) -> Option<f64> {
+        let global = self.error(domain).map(|e| e.max_rel);
+        let Some(g) = g else { return global };
+        let band = self
+            .bands
+            .iter()
+            .filter(|b| b.errors.domain == domain && b.g.0 <= g && g <= b.g.1)
+            .map(|b| b.errors.max_rel)
+            .reduce(f64::max);
+        band.or(global)
+    }
+
     /// What its family's report section sees of it, with its bench row.
     pub fn member<'a>(&'a self, bench: Option<&'a crate::bench::BenchModel>) -> Member<'a, Body> {
         Member {
@@ -83,6 +111,25 @@ pub fn render(f: &ModelFile) -> String {
     let _ = writeln!(o, "kind = \"{}\"", m.body.kind());
     for e in &f.errors {
         let _ = writeln!(o, "\n[error.{}]", e.domain);
+        let _ = writeln!(o, "points = {}", e.points);
+        let _ = writeln!(o, "max_rel = {}", dec(e.max_rel));
+        let _ = writeln!(o, "p99_rel = {}", dec(e.p99_rel));
+        let _ = writeln!(o, "worst = {}", point_inline(&e.worst));
+        let _ = writeln!(o, "non_finite = {}", e.non_finite);
+        let _ = writeln!(o, "negative = {}", e.negative);
+    }
+    if !f.bands.is_empty() {
+        let _ = writeln!(
+            o,
+            "\n# The same measurement over bands of g (smaller sets, the same searches): the bound a kernel"
+        );
+        let _ = writeln!(o, "# with g baked inside the band holds.");
+    }
+    for b in &f.bands {
+        let e = &b.errors;
+        let _ = writeln!(o, "\n[[error.band]]");
+        let _ = writeln!(o, "g = [{}, {}]", dec(b.g.0), dec(b.g.1));
+        let _ = writeln!(o, "domain = \"{}\"", e.domain);
         let _ = writeln!(o, "points = {}", e.points);
         let _ = writeln!(o, "max_rel = {}", dec(e.max_rel));
         let _ = writeln!(o, "p99_rel = {}", dec(e.p99_rel));
@@ -146,8 +193,36 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         None => &empty,
         Some(e) => e.as_table().ok_or_else(|| p.err("error", "error", "must be a table"))?,
     };
-    let names: Vec<&str> = Domain::ALL.iter().map(|d| d.name()).collect();
+    let mut names: Vec<&str> = Domain::ALL.iter().map(|d| d.name()).collect();
+    names.push("band");
     p.deny(err, "error", &names)?;
+    names.pop();
+    // One measurement table (`[error.<domain>]` or an `[[error.band]]`).
+    let measured = |t: &Table, sec: &str, d: Domain, extra: &[&str]| -> Result<DomainErrors, CoeffError> {
+        let keys: Vec<&str> =
+            ["points", "max_rel", "p99_rel", "worst", "non_finite", "negative"].iter().chain(extra).copied().collect();
+        p.deny(t, sec, &keys)?;
+        let w = p.table(t, "worst").map_err(|_| p.err(sec, "worst", "missing"))?;
+        p.deny(w, sec, &["tau", "gamma", "rho", "g"])?;
+        let pf = |k: &str| p.float(w, sec, k);
+        let bound = |k: &str| -> Result<f64, CoeffError> {
+            let x = p.float(t, sec, k)?;
+            if x.is_finite() && x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(p.err(sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
+            }
+        };
+        Ok(DomainErrors {
+            domain: d,
+            points: p.uint(t, sec, "points")?,
+            max_rel: bound("max_rel")?,
+            p99_rel: bound("p99_rel")?,
+            worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
+            non_finite: p.uint(t, sec, "non_finite")?,
+            negative: p.uint(t, sec, "negative")?,
+        })
+    };
     for d in Domain::ALL {
         let (domain, sec) = (d.name(), format!("error.{}", d.name()));
         let t = err.get(domain).ok_or_else(|| CoeffError {
@@ -157,27 +232,25 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
             message: format!("missing table [{sec}]: every model declares its measured error on {}", names.join(", ")),
         })?;
         let t = t.as_table().ok_or_else(|| p.err(&sec, domain, "must be a table"))?;
-        p.deny(t, &sec, &["points", "max_rel", "p99_rel", "worst", "non_finite", "negative"])?;
-        let w = p.table(t, "worst").map_err(|_| p.err(&sec, "worst", "missing"))?;
-        p.deny(w, &sec, &["tau", "gamma", "rho", "g"])?;
-        let pf = |k: &str| p.float(w, &sec, k);
-        let bound = |k: &str| -> Result<f64, CoeffError> {
-            let x = p.float(t, &sec, k)?;
-            if x.is_finite() && x >= 0.0 {
-                Ok(x)
-            } else {
-                Err(p.err(&sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
+        errors.push(measured(t, &sec, d, &[])?);
+    }
+    let mut bands = Vec::new();
+    if let Some(list) = err.get("band") {
+        let list = list.as_array().ok_or_else(|| p.err("error", "band", "must be an array of tables"))?;
+        for v in list {
+            let sec = "error.band";
+            let t = v.as_table().ok_or_else(|| p.err(sec, "band", "must be a table"))?;
+            let name = p.string(t, sec, "domain")?;
+            let d = Domain::ALL
+                .into_iter()
+                .find(|d| d.name() == name)
+                .ok_or_else(|| p.err(sec, "domain", &format!("unknown domain '{name}'")))?;
+            let g = p.floats(t, sec, "g", Some(2))?;
+            if !(g_range[0] <= g[0] && g[0] < g[1] && g[1] <= g_range[1]) {
+                return Err(p.err(sec, "g", "must be [lo, hi] with lo < hi inside model.g_range"));
             }
-        };
-        errors.push(DomainErrors {
-            domain: d,
-            points: p.uint(t, &sec, "points")?,
-            max_rel: bound("max_rel")?,
-            p99_rel: bound("p99_rel")?,
-            worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
-            non_finite: p.uint(t, &sec, "non_finite")?,
-            negative: p.uint(t, &sec, "negative")?,
-        });
+            bands.push(BandErrors { g: (g[0], g[1]), errors: measured(t, sec, d, &["g", "domain"])? });
+        }
     }
 
     let body = Body::parse_toml(&kind, &p, &doc, &g_range)?;
@@ -200,6 +273,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         model: Approximation { name, summary, g_range: (g_range[0], g_range[1]), body },
         families,
         errors,
+        bands,
         provenance,
     })
 }

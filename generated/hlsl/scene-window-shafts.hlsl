@@ -59,10 +59,10 @@ float2 airlight_scene_window_shafts_halves(float a)
 
 float2 airlight_scene_window_shafts_two_product(float a_1, float b)
 {
-    float p_1 = (a_1 * b);
+    float p = (a_1 * b);
     const float2 _e3 = airlight_scene_window_shafts_halves(a_1);
     const float2 _e4 = airlight_scene_window_shafts_halves(b);
-    return float2(p_1, (((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
+    return float2(p, (((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
 }
 
 float airlight_scene_window_shafts_diff_of_products(float a_2, float b_1, float c, float d)
@@ -81,9 +81,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_scene_window_shafts_two_sum[2];
 ret_airlight_scene_window_shafts_two_sum airlight_scene_window_shafts_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s_5 = (a_3 + b_2);
-    float3 bb = (s_5 - a_3);
-    return Constructarray2_float3_(s_5, ((a_3 - (s_5 - bb)) + (b_2 - bb)));
+    float3 s_3 = (a_3 + b_2);
+    float3 bb = (s_3 - a_3);
+    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -147,14 +147,14 @@ float3 airlight_scene_window_shafts_ray_geometry(float3 origin, float3 dir, floa
         float3 cs = (_e75 / (_e70).xxx);
         h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_6 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h_1;
     float _e85 = h_1;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_6 * x0_6)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
     const float3 _e93 = airlight_scene_window_shafts_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return float3(min(dist, airlight_scene_window_shafts_HUGE), (_e97 / n_1), (x0_6 / n_1));
+    return float3(min(dist, airlight_scene_window_shafts_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
 float airlight_scene_window_shafts_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -180,12 +180,12 @@ float airlight_scene_window_shafts_scaled(float sigma_s, float intensity, float 
     if ((a_4 >= airlight_scene_window_shafts_HUGE)) {
         return airlight_scene_window_shafts_HUGE;
     }
-    _frexp_result_f32_ s_6 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
     _frexp_result_f32_ i_1 = naga_frexp(intensity);
-    _frexp_result_f32_ q_1 = naga_frexp(a_4);
+    _frexp_result_f32_ q = naga_frexp(a_4);
     _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_scene_window_shafts_HUGE;
     }
@@ -243,9 +243,9 @@ float airlight_scene_window_shafts_arctan2_(float y, float x_1)
 float2 airlight_scene_window_shafts_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_7 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_5 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_7, c_3);
+    return float2(s_5, c_3);
 }
 
 int naga_f2i32(float value) {
@@ -266,415 +266,611 @@ float2 airlight_scene_window_shafts_sin_cos(float x_3)
     float y_2 = float(_e13);
     float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
     float z_2 = (r_3 * r_3);
-    float s_8 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
+    float s_6 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_4 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_8, c_4);
+            return float2(s_6, c_4);
         }
         case 1: {
-            return float2(c_4, -(s_8));
+            return float2(c_4, -(s_6));
         }
         case 2: {
-            return float2(-(s_8), -(c_4));
+            return float2(-(s_6), -(c_4));
         }
         default: {
-            return float2(-(c_4), s_8);
+            return float2(-(c_4), s_6);
         }
     }
 }
 
-float airlight_scene_window_shafts_exp_e2_(float x_4)
-{
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
-
-    if ((x_4 < 1.0)) {
-        float _e5 = ein;
-        ein = ((_e5 + -2.755732e-8) * x_4);
-        float _e9 = ein;
-        ein = ((_e9 + 3.0619245e-7) * x_4);
-        float _e13 = ein;
-        ein = ((_e13 + -3.1001985e-6) * x_4);
-        float _e17 = ein;
-        ein = ((_e17 + 2.8344672e-5) * x_4);
-        float _e21 = ein;
-        ein = ((_e21 + -0.00023148148) * x_4);
-        float _e25 = ein;
-        ein = ((_e25 + 0.0016666667) * x_4);
-        float _e29 = ein;
-        ein = ((_e29 + -0.010416667) * x_4);
-        float _e33 = ein;
-        ein = ((_e33 + 0.055555556) * x_4);
-        float _e37 = ein;
-        ein = ((_e37 + -0.25) * x_4);
-        float _e41 = ein;
-        ein = ((_e41 + 1.0) * x_4);
-        float _e52 = ein;
-        return (1.0 + ((x_4 * exp(x_4)) * ((log(max(x_4, 1e-30)) + 0.5772157) - _e52)));
-    }
-    float t = (1.0 / x_4);
-    float _e63 = p;
-    p = ((_e63 + 0.12941834) * t);
-    float _e67 = q;
-    q = ((_e67 + 15.616933) * t);
-    float _e71 = p;
-    p = ((_e71 + 13.425987) * t);
-    float _e75 = q;
-    q = ((_e75 + 51.058296) * t);
-    float _e79 = p;
-    p = ((_e79 + 24.985815) * t);
-    float _e83 = q;
-    q = ((_e83 + 43.252842) * t);
-    float _e87 = p;
-    p = ((_e87 + 10.132498) * t);
-    float _e91 = q;
-    q = ((_e91 + 12.132477) * t);
-    float _e95 = p;
-    float _e99 = q;
-    return ((t * (1.0 + _e95)) / (1.0 + _e99));
-}
-
-float airlight_scene_window_shafts_w_u(float u, float4 md)
-{
-    float k_2 = ((0.07957747 * (1.0 - md.x)) * (1.0 + md.x));
-    if ((u > 1.0)) {
-        float v_8 = (1.0 / u);
-        float d_4 = ((((md.y * md.y) * v_8) * v_8) + (md.z * md.z));
-        return ((((k_2 * v_8) * v_8) * sqrt((1.0 + (v_8 * v_8)))) / (d_4 * sqrt(d_4)));
-    }
-    float d_5 = ((md.y * md.y) + (((md.z * md.z) * u) * u));
-    return ((k_2 * sqrt((1.0 + (u * u)))) / (d_5 * sqrt(d_5)));
-}
-
-float2 airlight_scene_window_shafts_phi_and_complement(float u_1, float4 md_1)
-{
-    float d_6 = (((md_1.z * u_1) * u_1) - md_1.y);
-    float r_4 = sqrt(((d_6 * d_6) + ((4.0 * u_1) * u_1)));
-    float psi = sqrt(((d_6 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_6 + r_4)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_4 - d_6)))));
-    if ((psi <= 1.0)) {
-        const float _e35 = airlight_scene_window_shafts_arctan(psi);
-        float p_2 = (2.0 * _e35);
-        return float2(p_2, (airlight_scene_window_shafts_PI - p_2));
-    }
-    const float _e43 = airlight_scene_window_shafts_arctan((1.0 / psi));
-    float c_5 = (2.0 * _e43);
-    return float2((airlight_scene_window_shafts_PI - c_5), c_5);
-}
-
-float2 airlight_scene_window_shafts_u_and_weight(float s2_, float c2_, float4 md_2)
-{
-    float g_4 = md_2.x;
-    bool pos = (g_4 >= 0.0);
-    float num = (pos ? (1.0 + ((g_4 * c2_) * c2_)) : (md_2.z - ((g_4 * s2_) * s2_)));
-    float den = (pos ? (md_2.y + ((g_4 * c2_) * c2_)) : (1.0 - ((g_4 * s2_) * s2_)));
-    float q_2 = (pos ? (md_2.y + (((2.0 * g_4) * c2_) * c2_)) : (md_2.z - (((2.0 * g_4) * s2_) * s2_)));
-    float r_5 = sqrt((num * den));
-    return float2((((md_2.y / md_2.z) * (s2_ / c2_)) * (r_5 / den)), ((q_2 * q_2) / (2.0 * r_5)));
-}
-
-float airlight_scene_window_shafts_r_of_v(float v_2, float4 md_3)
-{
-    float k2_ = (md_3.w * md_3.w);
-    float v2_ = (v_2 * v_2);
-    float p_3 = (1.0 + (k2_ * v2_));
-    float pp = (p_3 * sqrt(p_3));
-    float q_3 = sqrt((1.0 + v2_));
-    return ((v2_ * ((1.0 - (3.0 * k2_)) - (((k2_ * k2_) * v2_) * (3.0 + (k2_ * v2_))))) / ((q_3 + pp) * pp));
-}
-
-float airlight_scene_window_shafts_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr)
+float airlight_scene_window_shafts_airlight_axis(float tau, float x0_1, float rho_1, float g)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
-    bool local_6 = (bool)0;
-    float du = airlight_scene_window_shafts_HUGE;
-    bool local_7 = (bool)0;
-    bool local_8 = (bool)0;
-    bool local_9 = (bool)0;
     float sum = 0.0;
-    bool local_10 = (bool)0;
-    float d_2 = (float)0;
-    float beta = (float)0;
-    float co = (float)0;
-    float2 sc = (float2)0;
-    float2 uw = (float2)0;
-    float f = (float)0;
-    float s = 0.0;
-    float v_3 = (float)0;
-    float s_1 = 0.0;
-    float sb = 0.0;
+    float u = (float)0;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_scene_window_shafts_TAU_MAX);
-    float4 md_4 = float4(0.5, (1.0 - 0.5), (1.0 + 0.5), ((1.0 - 0.5) / (1.0 + 0.5)));
-    if ((x0_1 > 0.0)) {
-        local_4 = (h_in < 8.673617e-19);
+    if ((rho_1 >= 0.0)) {
+        local_4 = (rho_1 < airlight_scene_window_shafts_RHO_OPEN);
     } else {
         local_4 = false;
     }
-    bool _e27 = local_4;
-    if (_e27) {
-        if ((rho_1 >= 0.0)) {
+    bool has_end = local_4;
+    if ((x0_1 > 0.0)) {
+        if (has_end) {
             local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
-        bool _e35 = local_5;
-        if (_e35) {
-            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho_1) / (1.0 - rho_1)), airlight_scene_window_shafts_HUGE);
-        }
-        if ((h_in <= 0.0)) {
+        bool _e19 = local_5;
+        if (!(_e19)) {
             return airlight_scene_window_shafts_HUGE;
         }
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho_1) / (1.0 - rho_1)), airlight_scene_window_shafts_HUGE);
     }
-    float tb = ((x0_1 > 0.0) ? h_in : max(h_in, 9.094947e-13));
-    float ua = ((x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb));
-    float one_minus = ((x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1));
-    if ((rho_1 >= 0.0)) {
-        local_6 = (rho_1 < airlight_scene_window_shafts_RHO_OPEN);
-    } else {
-        local_6 = false;
-    }
-    bool _e85 = local_6;
-    bool open = !(_e85);
-    if (!(open)) {
-        float ta = abs(xr);
-        float tm = max(ta, tb);
-        float tr = ((tm > 0.0) ? (tm * sqrt((((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm))))) : 0.0);
-        if ((xr <= 0.0)) {
-            du = ((rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb));
+    float lo = (has_end ? (1.0 / (1.0 + rho_1)) : 0.0);
+    float half_ = (0.5 * (1.0 - lo));
+    u = (lo + (half_ * 1.9602898));
+    float _e57 = sum;
+    float _e60 = u;
+    float _e63 = u;
+    sum = (_e57 + (0.101228535 * exp(((-2.0 * tau) * ((1.0 - _e60) / _e63)))));
+    u = (lo + (half_ * 1.7966665));
+    float _e73 = sum;
+    float _e76 = u;
+    float _e79 = u;
+    sum = (_e73 + (0.22238104 * exp(((-2.0 * tau) * ((1.0 - _e76) / _e79)))));
+    u = (lo + (half_ * 1.5255324));
+    float _e89 = sum;
+    float _e92 = u;
+    float _e95 = u;
+    sum = (_e89 + (0.31370664 * exp(((-2.0 * tau) * ((1.0 - _e92) / _e95)))));
+    u = (lo + (half_ * 1.1834346));
+    float _e105 = sum;
+    float _e108 = u;
+    float _e111 = u;
+    sum = (_e105 + (0.36268377 * exp(((-2.0 * tau) * ((1.0 - _e108) / _e111)))));
+    u = (lo + (half_ * 0.8165654));
+    float _e121 = sum;
+    float _e124 = u;
+    float _e127 = u;
+    sum = (_e121 + (0.36268377 * exp(((-2.0 * tau) * ((1.0 - _e124) / _e127)))));
+    u = (lo + (half_ * 0.47446758));
+    float _e137 = sum;
+    float _e140 = u;
+    float _e143 = u;
+    sum = (_e137 + (0.31370664 * exp(((-2.0 * tau) * ((1.0 - _e140) / _e143)))));
+    u = (lo + (half_ * 0.2033335));
+    float _e153 = sum;
+    float _e156 = u;
+    float _e159 = u;
+    sum = (_e153 + (0.22238104 * exp(((-2.0 * tau) * ((1.0 - _e156) / _e159)))));
+    u = (lo + (half_ * 0.039710164));
+    float _e169 = sum;
+    float _e172 = u;
+    float _e175 = u;
+    sum = (_e169 + (0.101228535 * exp(((-2.0 * tau) * ((1.0 - _e172) / _e175)))));
+    float _e196 = sum;
+    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e196);
+}
+
+float airlight_scene_window_shafts_airlight_geometry(float tau_in, float h_2, float x0_2, float gamma, float comp, float rho_2, float xr)
+{
+    bool local_6 = (bool)0;
+    bool local_7 = (bool)0;
+    float span = (float)0;
+    bool local_8 = (bool)0;
+    float sum_1 = 0.0;
+    float2 sc = (float2)0;
+    float b_3 = (float)0;
+    float co = (float)0;
+    float st = (float)0;
+    float d_2 = (float)0;
+
+    float tau_5 = min(max(tau_in, 0.0), airlight_scene_window_shafts_TAU_MAX);
+    float gm = ((1.0 - 0.5) * (1.0 - 0.5));
+    float gp = ((1.0 + 0.5) * (1.0 + 0.5));
+    if (!((h_2 <= 0.0))) {
+        if ((x0_2 < 0.0)) {
+            local_7 = (h_2 < 8.673617e-19);
         } else {
-            du = (((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr)));
+            local_7 = false;
         }
-    }
-    float _e123 = du;
-    float ub = (ua + _e123);
-    float t_1 = (tau_5 * tb);
-    float xf = (3.0 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_scene_window_shafts_HUGE);
-    float m_1 = max(ua, xf);
-    float _e140 = du;
-    bool is_short = (_e140 < (0.25 * (ua + min(md_4.w, 1.0))));
-    if (!(is_short)) {
-        local_7 = (ub > m_1);
+        bool _e34 = local_7;
+        local_6 = _e34;
     } else {
-        local_7 = false;
+        local_6 = true;
     }
-    bool _e153 = local_7;
-    if (_e153) {
-        local_8 = ((t_1 * (m_1 - ua)) < 3.5);
+    bool _e36 = local_6;
+    if (_e36) {
+        const float _e37 = airlight_scene_window_shafts_airlight_axis(tau_5, x0_2, rho_2, 0.5);
+        return _e37;
+    }
+    span = comp;
+    if ((rho_2 >= 0.0)) {
+        local_8 = (rho_2 < airlight_scene_window_shafts_RHO_OPEN);
     } else {
         local_8 = false;
     }
-    bool _e161 = local_8;
-    if (_e161) {
-        local_9 = ((t_1 * m_1) < 4.0);
-    } else {
-        local_9 = false;
+    bool _e46 = local_8;
+    if (_e46) {
+        const float _e51 = airlight_scene_window_shafts_arctan2_((h_2 * rho_2), ((h_2 * h_2) + (x0_2 * xr)));
+        span = _e51;
     }
-    bool use_far = local_9;
-    float _e169 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e169, lcut));
-    if ((len > 0.0)) {
-        if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
-            local_10 = (ua >= xf);
-        } else {
-            local_10 = true;
-        }
-        bool _e189 = local_10;
-        if (_e189) {
-            float hl = (0.5 * len);
-            d_2 = (hl * 1.8611363);
-            float _e195 = sum;
-            float _e196 = d_2;
-            const float _e198 = airlight_scene_window_shafts_w_u((ua + _e196), md_4);
-            float _e202 = d_2;
-            sum = (_e195 + ((0.34785485 * _e198) * exp((-(t_1) * _e202))));
-            d_2 = (hl * 1.3399811);
-            float _e209 = sum;
-            float _e210 = d_2;
-            const float _e212 = airlight_scene_window_shafts_w_u((ua + _e210), md_4);
-            float _e216 = d_2;
-            sum = (_e209 + ((0.65214515 * _e212) * exp((-(t_1) * _e216))));
-            d_2 = (hl * 0.660019);
-            float _e223 = sum;
-            float _e224 = d_2;
-            const float _e226 = airlight_scene_window_shafts_w_u((ua + _e224), md_4);
-            float _e230 = d_2;
-            sum = (_e223 + ((0.65214515 * _e226) * exp((-(t_1) * _e230))));
-            d_2 = (hl * 0.13886368);
-            float _e237 = sum;
-            float _e238 = d_2;
-            const float _e240 = airlight_scene_window_shafts_w_u((ua + _e238), md_4);
-            float _e244 = d_2;
-            sum = (_e237 + ((0.34785485 * _e240) * exp((-(t_1) * _e244))));
-            float _e249 = sum;
-            sum = (_e249 * hl);
-        } else {
-            const float2 _e251 = airlight_scene_window_shafts_phi_and_complement(ua, md_4);
-            const float2 _e253 = airlight_scene_window_shafts_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e251.y < 1.5707964) ? (_e251.y - _e253.y) : (_e253.x - _e251.x)));
-            beta = ((0.5 * _e251.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e251.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e286 = beta;
-            float _e287 = co;
-            const float2 _e291 = airlight_scene_window_shafts_sin_cos_octant(max(min(_e286, _e287), 0.0));
-            sc = _e291;
-            float _e292 = beta;
-            float _e293 = co;
-            if ((_e292 > _e293)) {
-                float2 _e295 = sc;
-                sc = _e295.yx;
-            }
-            float _e298 = sc.x;
-            float _e300 = sc.y;
-            const float2 _e301 = airlight_scene_window_shafts_u_and_weight(_e298, _e300, md_4);
-            uw = _e301;
-            float _e302 = sum;
-            float _e304 = uw.y;
-            float _e309 = uw.x;
-            sum = (_e302 + ((0.34785485 * _e304) * exp((-(t_1) * (_e309 - ua)))));
-            beta = ((0.5 * _e251.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e251.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e331 = beta;
-            float _e332 = co;
-            const float2 _e336 = airlight_scene_window_shafts_sin_cos_octant(max(min(_e331, _e332), 0.0));
-            sc = _e336;
-            float _e337 = beta;
-            float _e338 = co;
-            if ((_e337 > _e338)) {
-                float2 _e340 = sc;
-                sc = _e340.yx;
-            }
-            float _e343 = sc.x;
-            float _e345 = sc.y;
-            const float2 _e346 = airlight_scene_window_shafts_u_and_weight(_e343, _e345, md_4);
-            uw = _e346;
-            float _e347 = sum;
-            float _e349 = uw.y;
-            float _e354 = uw.x;
-            sum = (_e347 + ((0.65214515 * _e349) * exp((-(t_1) * (_e354 - ua)))));
-            beta = ((0.5 * _e251.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e251.y) - ((0.5 * hl_1) * 0.660019));
-            float _e376 = beta;
-            float _e377 = co;
-            const float2 _e381 = airlight_scene_window_shafts_sin_cos_octant(max(min(_e376, _e377), 0.0));
-            sc = _e381;
-            float _e382 = beta;
-            float _e383 = co;
-            if ((_e382 > _e383)) {
-                float2 _e385 = sc;
-                sc = _e385.yx;
-            }
-            float _e388 = sc.x;
-            float _e390 = sc.y;
-            const float2 _e391 = airlight_scene_window_shafts_u_and_weight(_e388, _e390, md_4);
-            uw = _e391;
-            float _e392 = sum;
-            float _e394 = uw.y;
-            float _e399 = uw.x;
-            sum = (_e392 + ((0.65214515 * _e394) * exp((-(t_1) * (_e399 - ua)))));
-            beta = ((0.5 * _e251.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e251.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e421 = beta;
-            float _e422 = co;
-            const float2 _e426 = airlight_scene_window_shafts_sin_cos_octant(max(min(_e421, _e422), 0.0));
-            sc = _e426;
-            float _e427 = beta;
-            float _e428 = co;
-            if ((_e427 > _e428)) {
-                float2 _e430 = sc;
-                sc = _e430.yx;
-            }
-            float _e433 = sc.x;
-            float _e435 = sc.y;
-            const float2 _e436 = airlight_scene_window_shafts_u_and_weight(_e433, _e435, md_4);
-            uw = _e436;
-            float _e437 = sum;
-            float _e439 = uw.y;
-            float _e444 = uw.x;
-            sum = (_e437 + ((0.34785485 * _e439) * exp((-(t_1) * (_e444 - ua)))));
-            float _e450 = sum;
-            sum = (_e450 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
-        }
+    float _e52 = span;
+    float half_1 = (0.5 * _e52);
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9602898));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 1.9602898));
+    float _e76 = b_3;
+    float _e77 = co;
+    const float2 _e81 = airlight_scene_window_shafts_sin_cos(max(min(_e76, _e77), 0.0));
+    sc = _e81;
+    float _e82 = b_3;
+    float _e83 = co;
+    if ((_e82 > _e83)) {
+        float2 _e85 = sc;
+        sc = _e85.yx;
     }
-    if (use_far) {
-        float c_6 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e466 = airlight_scene_window_shafts_exp_e2_((t_1 * m_1));
-        f = (_e466 / m_1);
-        if (!(open)) {
-            float _e470 = f;
-            const float _e476 = airlight_scene_window_shafts_exp_e2_((t_1 * ub));
-            f = (_e470 - ((exp((-(t_1) * (ub - m_1))) * _e476) / ub));
-        }
-        float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_scene_window_shafts_HUGE);
-        float va = (1.0 / min(ub, ue));
-        float hl_2 = (0.5 * ((1.0 / m_1) - va));
-        v_3 = (va + (hl_2 * 1.5773503));
-        float _e503 = s;
-        float _e504 = v_3;
-        const float _e505 = airlight_scene_window_shafts_r_of_v(_e504, md_4);
-        float _e509 = v_3;
-        s = (_e503 + ((1.0 * _e505) * exp((-(t_1) * ((1.0 / _e509) - m_1)))));
-        v_3 = (va + (hl_2 * 0.42264974));
-        float _e520 = s;
-        float _e521 = v_3;
-        const float _e522 = airlight_scene_window_shafts_r_of_v(_e521, md_4);
-        float _e526 = v_3;
-        s = (_e520 + ((1.0 * _e522) * exp((-(t_1) * ((1.0 / _e526) - m_1)))));
-        float _e534 = sum;
-        float _e540 = f;
-        float _e541 = s;
-        sum = (_e534 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e540 + (_e541 * hl_2))));
-    } else {
-        float _e546 = du;
-        if ((_e546 > lcut)) {
-            float ue_1 = (ua + lcut);
-            float _e551 = s_1;
-            const float _e555 = airlight_scene_window_shafts_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e551 + (0.8535534 * _e555));
-            float _e559 = s_1;
-            const float _e563 = airlight_scene_window_shafts_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e559 + (0.14644662 * _e563));
-            if (!(open)) {
-                float _e570 = sb;
-                const float _e574 = airlight_scene_window_shafts_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e570 + (0.8535534 * _e574));
-                float _e578 = sb;
-                const float _e582 = airlight_scene_window_shafts_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e578 + (0.14644662 * _e582));
-                float _e586 = s_1;
-                float _e588 = du;
-                float _e592 = sb;
-                s_1 = (_e586 - (exp((-(t_1) * (_e588 - lcut))) * _e592));
-            }
-            float _e595 = sum;
-            float _e598 = s_1;
-            sum = (_e595 + ((0.030197384 / t_1) * max(_e598, 0.0)));
-        }
+    float _e88 = sc.x;
+    float _e91 = sc.y;
+    st = max((x0_2 + ((h_2 * _e88) / max(_e91, 1e-30))), 1.0);
+    float _e101 = sc.y;
+    float _e104 = sc.y;
+    float _e110 = sc.x;
+    float _e113 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e110) * _e113)) : (gp - (((4.0 * 0.5) * _e101) * _e104)));
+    float _e119 = sum_1;
+    float _e121 = st;
+    float _e126 = d_2;
+    float _e127 = d_2;
+    sum_1 = (_e119 + ((0.101228535 * exp((-(tau_5) * _e121))) / (_e126 * sqrt(_e127))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7966665));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 1.7966665));
+    float _e146 = b_3;
+    float _e147 = co;
+    const float2 _e151 = airlight_scene_window_shafts_sin_cos(max(min(_e146, _e147), 0.0));
+    sc = _e151;
+    float _e152 = b_3;
+    float _e153 = co;
+    if ((_e152 > _e153)) {
+        float2 _e155 = sc;
+        sc = _e155.yx;
     }
-    if ((tb < 8.673617e-19)) {
-        float _e605 = sum;
-        const float _e613 = airlight_scene_window_shafts_scaled((2.0 * max(_e605, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e613;
+    float _e158 = sc.x;
+    float _e161 = sc.y;
+    st = max((x0_2 + ((h_2 * _e158) / max(_e161, 1e-30))), 1.0);
+    float _e171 = sc.y;
+    float _e174 = sc.y;
+    float _e180 = sc.x;
+    float _e183 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e180) * _e183)) : (gp - (((4.0 * 0.5) * _e171) * _e174)));
+    float _e189 = sum_1;
+    float _e191 = st;
+    float _e196 = d_2;
+    float _e197 = d_2;
+    sum_1 = (_e189 + ((0.22238104 * exp((-(tau_5) * _e191))) / (_e196 * sqrt(_e197))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5255324));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 1.5255324));
+    float _e216 = b_3;
+    float _e217 = co;
+    const float2 _e221 = airlight_scene_window_shafts_sin_cos(max(min(_e216, _e217), 0.0));
+    sc = _e221;
+    float _e222 = b_3;
+    float _e223 = co;
+    if ((_e222 > _e223)) {
+        float2 _e225 = sc;
+        sc = _e225.yx;
     }
-    float _e618 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e618 / tb)), 0.0), airlight_scene_window_shafts_HUGE);
+    float _e228 = sc.x;
+    float _e231 = sc.y;
+    st = max((x0_2 + ((h_2 * _e228) / max(_e231, 1e-30))), 1.0);
+    float _e241 = sc.y;
+    float _e244 = sc.y;
+    float _e250 = sc.x;
+    float _e253 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e250) * _e253)) : (gp - (((4.0 * 0.5) * _e241) * _e244)));
+    float _e259 = sum_1;
+    float _e261 = st;
+    float _e266 = d_2;
+    float _e267 = d_2;
+    sum_1 = (_e259 + ((0.31370664 * exp((-(tau_5) * _e261))) / (_e266 * sqrt(_e267))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.1834346));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 1.1834346));
+    float _e286 = b_3;
+    float _e287 = co;
+    const float2 _e291 = airlight_scene_window_shafts_sin_cos(max(min(_e286, _e287), 0.0));
+    sc = _e291;
+    float _e292 = b_3;
+    float _e293 = co;
+    if ((_e292 > _e293)) {
+        float2 _e295 = sc;
+        sc = _e295.yx;
+    }
+    float _e298 = sc.x;
+    float _e301 = sc.y;
+    st = max((x0_2 + ((h_2 * _e298) / max(_e301, 1e-30))), 1.0);
+    float _e311 = sc.y;
+    float _e314 = sc.y;
+    float _e320 = sc.x;
+    float _e323 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e320) * _e323)) : (gp - (((4.0 * 0.5) * _e311) * _e314)));
+    float _e329 = sum_1;
+    float _e331 = st;
+    float _e336 = d_2;
+    float _e337 = d_2;
+    sum_1 = (_e329 + ((0.36268377 * exp((-(tau_5) * _e331))) / (_e336 * sqrt(_e337))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.8165654));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 0.8165654));
+    float _e356 = b_3;
+    float _e357 = co;
+    const float2 _e361 = airlight_scene_window_shafts_sin_cos(max(min(_e356, _e357), 0.0));
+    sc = _e361;
+    float _e362 = b_3;
+    float _e363 = co;
+    if ((_e362 > _e363)) {
+        float2 _e365 = sc;
+        sc = _e365.yx;
+    }
+    float _e368 = sc.x;
+    float _e371 = sc.y;
+    st = max((x0_2 + ((h_2 * _e368) / max(_e371, 1e-30))), 1.0);
+    float _e381 = sc.y;
+    float _e384 = sc.y;
+    float _e390 = sc.x;
+    float _e393 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e390) * _e393)) : (gp - (((4.0 * 0.5) * _e381) * _e384)));
+    float _e399 = sum_1;
+    float _e401 = st;
+    float _e406 = d_2;
+    float _e407 = d_2;
+    sum_1 = (_e399 + ((0.36268377 * exp((-(tau_5) * _e401))) / (_e406 * sqrt(_e407))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.47446758));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 0.47446758));
+    float _e426 = b_3;
+    float _e427 = co;
+    const float2 _e431 = airlight_scene_window_shafts_sin_cos(max(min(_e426, _e427), 0.0));
+    sc = _e431;
+    float _e432 = b_3;
+    float _e433 = co;
+    if ((_e432 > _e433)) {
+        float2 _e435 = sc;
+        sc = _e435.yx;
+    }
+    float _e438 = sc.x;
+    float _e441 = sc.y;
+    st = max((x0_2 + ((h_2 * _e438) / max(_e441, 1e-30))), 1.0);
+    float _e451 = sc.y;
+    float _e454 = sc.y;
+    float _e460 = sc.x;
+    float _e463 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e460) * _e463)) : (gp - (((4.0 * 0.5) * _e451) * _e454)));
+    float _e469 = sum_1;
+    float _e471 = st;
+    float _e476 = d_2;
+    float _e477 = d_2;
+    sum_1 = (_e469 + ((0.31370664 * exp((-(tau_5) * _e471))) / (_e476 * sqrt(_e477))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.2033335));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 0.2033335));
+    float _e496 = b_3;
+    float _e497 = co;
+    const float2 _e501 = airlight_scene_window_shafts_sin_cos(max(min(_e496, _e497), 0.0));
+    sc = _e501;
+    float _e502 = b_3;
+    float _e503 = co;
+    if ((_e502 > _e503)) {
+        float2 _e505 = sc;
+        sc = _e505.yx;
+    }
+    float _e508 = sc.x;
+    float _e511 = sc.y;
+    st = max((x0_2 + ((h_2 * _e508) / max(_e511, 1e-30))), 1.0);
+    float _e521 = sc.y;
+    float _e524 = sc.y;
+    float _e530 = sc.x;
+    float _e533 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e530) * _e533)) : (gp - (((4.0 * 0.5) * _e521) * _e524)));
+    float _e539 = sum_1;
+    float _e541 = st;
+    float _e546 = d_2;
+    float _e547 = d_2;
+    sum_1 = (_e539 + ((0.22238104 * exp((-(tau_5) * _e541))) / (_e546 * sqrt(_e547))));
+    b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.039710164));
+    co = ((0.5 * comp) - ((0.5 * half_1) * 0.039710164));
+    float _e566 = b_3;
+    float _e567 = co;
+    const float2 _e571 = airlight_scene_window_shafts_sin_cos(max(min(_e566, _e567), 0.0));
+    sc = _e571;
+    float _e572 = b_3;
+    float _e573 = co;
+    if ((_e572 > _e573)) {
+        float2 _e575 = sc;
+        sc = _e575.yx;
+    }
+    float _e578 = sc.x;
+    float _e581 = sc.y;
+    st = max((x0_2 + ((h_2 * _e578) / max(_e581, 1e-30))), 1.0);
+    float _e591 = sc.y;
+    float _e594 = sc.y;
+    float _e600 = sc.x;
+    float _e603 = sc.x;
+    d_2 = ((0.5 >= 0.0) ? (gm + (((4.0 * 0.5) * _e600) * _e603)) : (gp - (((4.0 * 0.5) * _e591) * _e594)));
+    float _e609 = sum_1;
+    float _e611 = st;
+    float _e616 = d_2;
+    float _e617 = d_2;
+    sum_1 = (_e609 + ((0.101228535 * exp((-(tau_5) * _e611))) / (_e616 * sqrt(_e617))));
+    float _e629 = sum_1;
+    return min((((((0.07957747 * (1.0 - 0.5)) * (1.0 + 0.5)) * _e629) * half_1) / h_2), airlight_scene_window_shafts_HUGE);
 }
 
-float airlight_scene_window_shafts_airlight(float tau, float gamma, float rho_2)
+float3 airlight_scene_window_shafts_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1)
 {
-    const float2 _e6 = airlight_scene_window_shafts_sin_cos(clamp(gamma, 0.0, airlight_scene_window_shafts_PI));
-    const float _e13 = airlight_scene_window_shafts_foot(abs(_e6.x), _e6.y, rho_2);
-    const float _e14 = airlight_scene_window_shafts_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_2, _e13);
-    return _e14;
+    bool local_9 = (bool)0;
+    bool local_10 = (bool)0;
+    float span_1 = (float)0;
+    bool local_11 = (bool)0;
+    float3 sum_2 = (0.0).xxx;
+    float2 sc_1 = (float2)0;
+    float b_4 = (float)0;
+    float co_1 = (float)0;
+    float st_1 = (float)0;
+    float d_3 = (float)0;
+
+    float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float gm_1 = ((1.0 - 0.5) * (1.0 - 0.5));
+    float gp_1 = ((1.0 + 0.5) * (1.0 + 0.5));
+    if (!((h_3 <= 0.0))) {
+        if ((x0_3 < 0.0)) {
+            local_10 = (h_3 < 8.673617e-19);
+        } else {
+            local_10 = false;
+        }
+        bool _e36 = local_10;
+        local_9 = _e36;
+    } else {
+        local_9 = true;
+    }
+    bool _e38 = local_9;
+    if (_e38) {
+        const float _e40 = airlight_scene_window_shafts_airlight_axis(tau_6.x, x0_3, rho_3, 0.5);
+        const float _e42 = airlight_scene_window_shafts_airlight_axis(tau_6.y, x0_3, rho_3, 0.5);
+        const float _e44 = airlight_scene_window_shafts_airlight_axis(tau_6.z, x0_3, rho_3, 0.5);
+        return float3(_e40, _e42, _e44);
+    }
+    span_1 = comp_1;
+    if ((rho_3 >= 0.0)) {
+        local_11 = (rho_3 < airlight_scene_window_shafts_RHO_OPEN);
+    } else {
+        local_11 = false;
+    }
+    bool _e54 = local_11;
+    if (_e54) {
+        const float _e59 = airlight_scene_window_shafts_arctan2_((h_3 * rho_3), ((h_3 * h_3) + (x0_3 * xr_1)));
+        span_1 = _e59;
+    }
+    float _e60 = span_1;
+    float half_2 = (0.5 * _e60);
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9602898));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9602898));
+    float _e85 = b_4;
+    float _e86 = co_1;
+    const float2 _e90 = airlight_scene_window_shafts_sin_cos(max(min(_e85, _e86), 0.0));
+    sc_1 = _e90;
+    float _e91 = b_4;
+    float _e92 = co_1;
+    if ((_e91 > _e92)) {
+        float2 _e94 = sc_1;
+        sc_1 = _e94.yx;
+    }
+    float _e97 = sc_1.x;
+    float _e100 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e97) / max(_e100, 1e-30))), 1.0);
+    float _e110 = sc_1.y;
+    float _e113 = sc_1.y;
+    float _e119 = sc_1.x;
+    float _e122 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e119) * _e122)) : (gp_1 - (((4.0 * 0.5) * _e110) * _e113)));
+    float3 _e128 = sum_2;
+    float _e130 = st_1;
+    float _e135 = d_3;
+    float _e136 = d_3;
+    sum_2 = (_e128 + ((0.101228535 * exp((-(tau_6) * _e130))) / ((_e135 * sqrt(_e136))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7966665));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7966665));
+    float _e156 = b_4;
+    float _e157 = co_1;
+    const float2 _e161 = airlight_scene_window_shafts_sin_cos(max(min(_e156, _e157), 0.0));
+    sc_1 = _e161;
+    float _e162 = b_4;
+    float _e163 = co_1;
+    if ((_e162 > _e163)) {
+        float2 _e165 = sc_1;
+        sc_1 = _e165.yx;
+    }
+    float _e168 = sc_1.x;
+    float _e171 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e168) / max(_e171, 1e-30))), 1.0);
+    float _e181 = sc_1.y;
+    float _e184 = sc_1.y;
+    float _e190 = sc_1.x;
+    float _e193 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e190) * _e193)) : (gp_1 - (((4.0 * 0.5) * _e181) * _e184)));
+    float3 _e199 = sum_2;
+    float _e201 = st_1;
+    float _e206 = d_3;
+    float _e207 = d_3;
+    sum_2 = (_e199 + ((0.22238104 * exp((-(tau_6) * _e201))) / ((_e206 * sqrt(_e207))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5255324));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5255324));
+    float _e227 = b_4;
+    float _e228 = co_1;
+    const float2 _e232 = airlight_scene_window_shafts_sin_cos(max(min(_e227, _e228), 0.0));
+    sc_1 = _e232;
+    float _e233 = b_4;
+    float _e234 = co_1;
+    if ((_e233 > _e234)) {
+        float2 _e236 = sc_1;
+        sc_1 = _e236.yx;
+    }
+    float _e239 = sc_1.x;
+    float _e242 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e239) / max(_e242, 1e-30))), 1.0);
+    float _e252 = sc_1.y;
+    float _e255 = sc_1.y;
+    float _e261 = sc_1.x;
+    float _e264 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e261) * _e264)) : (gp_1 - (((4.0 * 0.5) * _e252) * _e255)));
+    float3 _e270 = sum_2;
+    float _e272 = st_1;
+    float _e277 = d_3;
+    float _e278 = d_3;
+    sum_2 = (_e270 + ((0.31370664 * exp((-(tau_6) * _e272))) / ((_e277 * sqrt(_e278))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.1834346));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.1834346));
+    float _e298 = b_4;
+    float _e299 = co_1;
+    const float2 _e303 = airlight_scene_window_shafts_sin_cos(max(min(_e298, _e299), 0.0));
+    sc_1 = _e303;
+    float _e304 = b_4;
+    float _e305 = co_1;
+    if ((_e304 > _e305)) {
+        float2 _e307 = sc_1;
+        sc_1 = _e307.yx;
+    }
+    float _e310 = sc_1.x;
+    float _e313 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e310) / max(_e313, 1e-30))), 1.0);
+    float _e323 = sc_1.y;
+    float _e326 = sc_1.y;
+    float _e332 = sc_1.x;
+    float _e335 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e332) * _e335)) : (gp_1 - (((4.0 * 0.5) * _e323) * _e326)));
+    float3 _e341 = sum_2;
+    float _e343 = st_1;
+    float _e348 = d_3;
+    float _e349 = d_3;
+    sum_2 = (_e341 + ((0.36268377 * exp((-(tau_6) * _e343))) / ((_e348 * sqrt(_e349))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.8165654));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.8165654));
+    float _e369 = b_4;
+    float _e370 = co_1;
+    const float2 _e374 = airlight_scene_window_shafts_sin_cos(max(min(_e369, _e370), 0.0));
+    sc_1 = _e374;
+    float _e375 = b_4;
+    float _e376 = co_1;
+    if ((_e375 > _e376)) {
+        float2 _e378 = sc_1;
+        sc_1 = _e378.yx;
+    }
+    float _e381 = sc_1.x;
+    float _e384 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e381) / max(_e384, 1e-30))), 1.0);
+    float _e394 = sc_1.y;
+    float _e397 = sc_1.y;
+    float _e403 = sc_1.x;
+    float _e406 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e403) * _e406)) : (gp_1 - (((4.0 * 0.5) * _e394) * _e397)));
+    float3 _e412 = sum_2;
+    float _e414 = st_1;
+    float _e419 = d_3;
+    float _e420 = d_3;
+    sum_2 = (_e412 + ((0.36268377 * exp((-(tau_6) * _e414))) / ((_e419 * sqrt(_e420))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.47446758));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.47446758));
+    float _e440 = b_4;
+    float _e441 = co_1;
+    const float2 _e445 = airlight_scene_window_shafts_sin_cos(max(min(_e440, _e441), 0.0));
+    sc_1 = _e445;
+    float _e446 = b_4;
+    float _e447 = co_1;
+    if ((_e446 > _e447)) {
+        float2 _e449 = sc_1;
+        sc_1 = _e449.yx;
+    }
+    float _e452 = sc_1.x;
+    float _e455 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e452) / max(_e455, 1e-30))), 1.0);
+    float _e465 = sc_1.y;
+    float _e468 = sc_1.y;
+    float _e474 = sc_1.x;
+    float _e477 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e474) * _e477)) : (gp_1 - (((4.0 * 0.5) * _e465) * _e468)));
+    float3 _e483 = sum_2;
+    float _e485 = st_1;
+    float _e490 = d_3;
+    float _e491 = d_3;
+    sum_2 = (_e483 + ((0.31370664 * exp((-(tau_6) * _e485))) / ((_e490 * sqrt(_e491))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.2033335));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.2033335));
+    float _e511 = b_4;
+    float _e512 = co_1;
+    const float2 _e516 = airlight_scene_window_shafts_sin_cos(max(min(_e511, _e512), 0.0));
+    sc_1 = _e516;
+    float _e517 = b_4;
+    float _e518 = co_1;
+    if ((_e517 > _e518)) {
+        float2 _e520 = sc_1;
+        sc_1 = _e520.yx;
+    }
+    float _e523 = sc_1.x;
+    float _e526 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e523) / max(_e526, 1e-30))), 1.0);
+    float _e536 = sc_1.y;
+    float _e539 = sc_1.y;
+    float _e545 = sc_1.x;
+    float _e548 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e545) * _e548)) : (gp_1 - (((4.0 * 0.5) * _e536) * _e539)));
+    float3 _e554 = sum_2;
+    float _e556 = st_1;
+    float _e561 = d_3;
+    float _e562 = d_3;
+    sum_2 = (_e554 + ((0.22238104 * exp((-(tau_6) * _e556))) / ((_e561 * sqrt(_e562))).xxx));
+    b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.039710164));
+    co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.039710164));
+    float _e582 = b_4;
+    float _e583 = co_1;
+    const float2 _e587 = airlight_scene_window_shafts_sin_cos(max(min(_e582, _e583), 0.0));
+    sc_1 = _e587;
+    float _e588 = b_4;
+    float _e589 = co_1;
+    if ((_e588 > _e589)) {
+        float2 _e591 = sc_1;
+        sc_1 = _e591.yx;
+    }
+    float _e594 = sc_1.x;
+    float _e597 = sc_1.y;
+    st_1 = max((x0_3 + ((h_3 * _e594) / max(_e597, 1e-30))), 1.0);
+    float _e607 = sc_1.y;
+    float _e610 = sc_1.y;
+    float _e616 = sc_1.x;
+    float _e619 = sc_1.x;
+    d_3 = ((0.5 >= 0.0) ? (gm_1 + (((4.0 * 0.5) * _e616) * _e619)) : (gp_1 - (((4.0 * 0.5) * _e607) * _e610)));
+    float3 _e625 = sum_2;
+    float _e627 = st_1;
+    float _e632 = d_3;
+    float _e633 = d_3;
+    sum_2 = (_e625 + ((0.101228535 * exp((-(tau_6) * _e627))) / ((_e632 * sqrt(_e633))).xxx));
+    float3 _e646 = sum_2;
+    return min((((((0.07957747 * (1.0 - 0.5)) * (1.0 + 0.5)) * _e646) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
+}
+
+float airlight_scene_window_shafts_airlight(float tau_1, float gamma_2, float rho_4)
+{
+    float gc = clamp(gamma_2, 0.0, airlight_scene_window_shafts_PI);
+    const float2 _e6 = airlight_scene_window_shafts_sin_cos(gc);
+    float comp_2 = max(((airlight_scene_window_shafts_PI - gc) - 8.742278e-8), 0.0);
+    const float2 _e15 = airlight_scene_window_shafts_sin_cos(comp_2);
+    float h_7 = ((gc > comp_2) ? _e15.x : abs(_e6.x));
+    const float _e21 = airlight_scene_window_shafts_foot(h_7, _e6.y, rho_4);
+    const float _e22 = airlight_scene_window_shafts_airlight_geometry(tau_1, h_7, _e6.y, gc, comp_2, rho_4, _e21);
+    return _e22;
 }
 
 float airlight_scene_window_shafts_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_11 = (bool)0;
+    bool local_12 = (bool)0;
 
     const float3 _e7 = airlight_scene_window_shafts_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -682,42 +878,38 @@ float airlight_scene_window_shafts_radiance(float3 origin_1, float3 dir_1, float
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_11 = (_e7.z == 0.0);
+        local_12 = (_e7.z == 0.0);
     } else {
-        local_11 = false;
+        local_12 = false;
     }
-    bool _e23 = local_11;
+    bool _e23 = local_12;
     if (_e23) {
         return 0.0;
     }
-    float rho_7 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e38 = airlight_scene_window_shafts_foot(_e7.y, _e7.z, rho_7);
-    const float _e39 = airlight_scene_window_shafts_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_7, _e38);
-    const float _e40 = airlight_scene_window_shafts_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
-    return _e40;
+    float rho_8 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e33 = airlight_scene_window_shafts_arctan2_(_e7.y, _e7.z);
+    const float _e37 = airlight_scene_window_shafts_arctan2_(_e7.y, -(_e7.z));
+    const float _e45 = airlight_scene_window_shafts_foot(_e7.y, _e7.z, rho_8);
+    const float _e46 = airlight_scene_window_shafts_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, _e33, _e37, rho_8, _e45);
+    const float _e47 = airlight_scene_window_shafts_scaled(sigma_s_1, intensity_1, _e7.x, _e46);
+    return _e47;
 }
 
-float airlight_scene_window_shafts_along(float tau_1, float h_2, float x0_2, float rho_3, float xr_1, float g)
+float3 airlight_scene_window_shafts_along_rgb(float3 tau_2, float h_4, float x0_4, float rho_5, float xr_2, float g_1)
 {
-    const float _e6 = airlight_scene_window_shafts_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
-    return _e6;
+    const float _e6 = airlight_scene_window_shafts_arctan2_(h_4, x0_4);
+    const float _e8 = airlight_scene_window_shafts_arctan2_(h_4, -(x0_4));
+    const float3 _e9 = airlight_scene_window_shafts_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2);
+    return _e9;
 }
 
-float3 airlight_scene_window_shafts_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_1)
+float airlight_scene_window_shafts_spot_asin(float x_4, float r_1)
 {
-    const float _e7 = airlight_scene_window_shafts_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
-    const float _e9 = airlight_scene_window_shafts_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
-    const float _e11 = airlight_scene_window_shafts_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
-    return float3(_e7, _e9, _e11);
-}
-
-float airlight_scene_window_shafts_spot_asin(float x_5, float r_1)
-{
-    const float _e8 = airlight_scene_window_shafts_arctan2_(x_5, sqrt(max(((r_1 - x_5) * (r_1 + x_5)), 0.0)));
+    const float _e8 = airlight_scene_window_shafts_arctan2_(x_4, sqrt(max(((r_1 - x_4) * (r_1 + x_4)), 0.0)));
     return _e8;
 }
 
-float3 airlight_scene_window_shafts_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
+float3 airlight_scene_window_shafts_spot_core(float3 tau_3, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -725,20 +917,20 @@ float3 airlight_scene_window_shafts_spot_core(float3 tau_3, float h_4, float x0_
     float s0_ = 0.0;
     float rho1_ = (float)0;
     float xr1_ = (float)0;
-    bool local_12 = (bool)0;
+    bool local_13 = (bool)0;
 
-    h1_ = h_4;
-    x1_ = x0_4;
-    rho1_ = rho_5;
+    h1_ = h_5;
+    x1_ = x0_5;
+    rho1_ = rho_6;
     const float2 _e17 = airlight_scene_window_shafts_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_4 / max(_e17.x, 1e-30));
+        t0_ = (h_5 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_scene_window_shafts_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
-    const float _e31 = airlight_scene_window_shafts_foot(h_4, x0_4, rho_5);
+    const float _e31 = airlight_scene_window_shafts_foot(h_5, x0_5, rho_6);
     xr1_ = _e31;
     if (cut_b) {
         const float2 _e33 = airlight_scene_window_shafts_sin_cos(wb);
@@ -748,15 +940,15 @@ float3 airlight_scene_window_shafts_spot_core(float3 tau_3, float h_4, float x0_
         xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_12 = (rho_5 >= 0.0);
+            local_13 = (rho_6 >= 0.0);
         } else {
-            local_12 = false;
+            local_13 = false;
         }
-        bool _e53 = local_12;
+        bool _e53 = local_13;
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = max(((rho_5 - _e54) / _e56), 0.0);
+            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -775,12 +967,12 @@ float3 airlight_scene_window_shafts_spot_core(float3 tau_3, float h_4, float x0_
     return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
 }
 
-float airlight_scene_window_shafts_spot_weight(float c_2, float co_1, float ci)
+float airlight_scene_window_shafts_spot_weight(float c_2, float co_2, float ci)
 {
-    if ((ci > co_1)) {
-        return clamp(((c_2 - co_1) / (ci - co_1)), 0.0, 1.0);
+    if ((ci > co_2)) {
+        return clamp(((c_2 - co_2) / (ci - co_2)), 0.0, 1.0);
     }
-    return ((c_2 >= co_1) ? 1.0 : 0.0);
+    return ((c_2 >= co_2) ? 1.0 : 0.0);
 }
 
 typedef float ret_Constructarray6_float_[6];
@@ -789,40 +981,40 @@ ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float 
     return ret;
 }
 
-float3 airlight_scene_window_shafts_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_3)
+float3 airlight_scene_window_shafts_spot_edge(float3 tau_4, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_3)
 {
-    bool local_13 = (bool)0;
+    bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
     float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
-    float3 sum_1 = (0.0).xxx;
+    float3 sum_3 = (0.0).xxx;
     float w = (float)0;
-    float2 sb_1 = (float2)0;
-    float d_3 = (float)0;
-    float st = (float)0;
+    float2 sb = (float2)0;
+    float d_4 = (float)0;
+    float st_2 = (float)0;
     int i = int(0);
 
-    if (!((v_in > u_2))) {
+    if (!((v_in > u_1))) {
         return (0.0).xxx;
     }
     if (!((g_3 < 0.0))) {
-        local_13 = (v_in > 3.0);
+        local_14 = (v_in > 3.0);
     } else {
-        local_13 = true;
+        local_14 = true;
     }
-    bool _e25 = local_13;
-    float e_1 = (_e25 ? v_in : u_2);
+    bool _e25 = local_14;
+    float e_1 = (_e25 ? v_in : u_1);
     const float2 _e27 = airlight_scene_window_shafts_sin_cos(e_1);
-    const float _e33 = airlight_scene_window_shafts_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_2, ci_1);
+    const float _e33 = airlight_scene_window_shafts_spot_weight(((ca * _e27.x) - (k_1 * _e27.y)), co_3, ci_1);
     if ((_e33 > 0.0)) {
-        const float3 _e41 = airlight_scene_window_shafts_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_3);
+        const float3 _e41 = airlight_scene_window_shafts_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_3);
         exact = _e41;
         float3 _e42 = exact;
         if (any((_e42 >= (3.4028235e38).xxx))) {
             return (3.4028235e38).xxx;
         }
     }
-    float gm = ((1.0 - g_3) * (1.0 - g_3));
-    float gp = ((1.0 + g_3) * (1.0 + g_3));
+    float gm_2 = ((1.0 - g_3) * (1.0 - g_3));
+    float gp_2 = ((1.0 + g_3) * (1.0 + g_3));
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
@@ -841,221 +1033,221 @@ float3 airlight_scene_window_shafts_spot_edge(float3 tau_4, float h_5, float x0_
         {
             int _e80 = i;
             float _e82 = pieces[min(uint(_e80), 5u)];
-            float a_10 = (u_2 + ((v_in - u_2) * _e82));
+            float a_10 = (u_1 + ((v_in - u_1) * _e82));
             int _e86 = i;
             float _e90 = pieces[min(uint(asint(asuint(_e86) + asuint(int(1)))), 5u)];
-            float b_6 = (u_2 + ((v_in - u_2) * _e90));
-            float half_ = (0.5 * (b_6 - a_10));
-            float mid = (0.5 * (b_6 + a_10));
-            w = (mid + (half_ * 0.96028984));
+            float b_8 = (u_1 + ((v_in - u_1) * _e90));
+            float half_3 = (0.5 * (b_8 - a_10));
+            float mid = (0.5 * (b_8 + a_10));
+            w = (mid + (half_3 * 0.96028984));
             float _e102 = w;
             const float2 _e105 = airlight_scene_window_shafts_sin_cos((0.5 * _e102));
-            sb_1 = _e105;
-            float _e109 = sb_1.y;
-            float _e112 = sb_1.y;
-            float _e118 = sb_1.x;
-            float _e121 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112)));
-            float _e128 = sb_1.x;
-            float _e131 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
-            float3 _e138 = sum_1;
-            float _e144 = sb_1.x;
-            float _e147 = sb_1.y;
-            float _e150 = sb_1.y;
-            float _e152 = sb_1.x;
-            float _e156 = sb_1.y;
-            float _e158 = sb_1.x;
-            const float _e162 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158))), co_2, ci_1);
-            float _e165 = d_3;
-            float _e166 = d_3;
-            float _e171 = st;
-            sum_1 = (_e138 + ((((half_ * 0.101228535) * (_e162 - _e33)) / (_e165 * sqrt(_e166))) * exp((-(tau_4) * _e171))));
-            w = (mid + (half_ * 0.7966665));
+            sb = _e105;
+            float _e109 = sb.y;
+            float _e112 = sb.y;
+            float _e118 = sb.x;
+            float _e121 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e118) * _e121)) : (gp_2 - (((4.0 * g_3) * _e109) * _e112)));
+            float _e128 = sb.x;
+            float _e131 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e128) / max(_e131, 1e-30))), 1.0);
+            float3 _e138 = sum_3;
+            float _e144 = sb.x;
+            float _e147 = sb.y;
+            float _e150 = sb.y;
+            float _e152 = sb.x;
+            float _e156 = sb.y;
+            float _e158 = sb.x;
+            const float _e162 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158))), co_3, ci_1);
+            float _e165 = d_4;
+            float _e166 = d_4;
+            float _e171 = st_2;
+            sum_3 = (_e138 + ((((half_3 * 0.101228535) * (_e162 - _e33)) / (_e165 * sqrt(_e166))) * exp((-(tau_4) * _e171))));
+            w = (mid + (half_3 * 0.7966665));
             float _e179 = w;
             const float2 _e182 = airlight_scene_window_shafts_sin_cos((0.5 * _e179));
-            sb_1 = _e182;
-            float _e186 = sb_1.y;
-            float _e189 = sb_1.y;
-            float _e195 = sb_1.x;
-            float _e198 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
-            float _e205 = sb_1.x;
-            float _e208 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
-            float3 _e215 = sum_1;
-            float _e221 = sb_1.x;
-            float _e224 = sb_1.y;
-            float _e227 = sb_1.y;
-            float _e229 = sb_1.x;
-            float _e233 = sb_1.y;
-            float _e235 = sb_1.x;
-            const float _e239 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235))), co_2, ci_1);
-            float _e242 = d_3;
-            float _e243 = d_3;
-            float _e248 = st;
-            sum_1 = (_e215 + ((((half_ * 0.22238104) * (_e239 - _e33)) / (_e242 * sqrt(_e243))) * exp((-(tau_4) * _e248))));
-            w = (mid + (half_ * 0.5255324));
+            sb = _e182;
+            float _e186 = sb.y;
+            float _e189 = sb.y;
+            float _e195 = sb.x;
+            float _e198 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e195) * _e198)) : (gp_2 - (((4.0 * g_3) * _e186) * _e189)));
+            float _e205 = sb.x;
+            float _e208 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e205) / max(_e208, 1e-30))), 1.0);
+            float3 _e215 = sum_3;
+            float _e221 = sb.x;
+            float _e224 = sb.y;
+            float _e227 = sb.y;
+            float _e229 = sb.x;
+            float _e233 = sb.y;
+            float _e235 = sb.x;
+            const float _e239 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235))), co_3, ci_1);
+            float _e242 = d_4;
+            float _e243 = d_4;
+            float _e248 = st_2;
+            sum_3 = (_e215 + ((((half_3 * 0.22238104) * (_e239 - _e33)) / (_e242 * sqrt(_e243))) * exp((-(tau_4) * _e248))));
+            w = (mid + (half_3 * 0.5255324));
             float _e256 = w;
             const float2 _e259 = airlight_scene_window_shafts_sin_cos((0.5 * _e256));
-            sb_1 = _e259;
-            float _e263 = sb_1.y;
-            float _e266 = sb_1.y;
-            float _e272 = sb_1.x;
-            float _e275 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266)));
-            float _e282 = sb_1.x;
-            float _e285 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
-            float3 _e292 = sum_1;
-            float _e298 = sb_1.x;
-            float _e301 = sb_1.y;
-            float _e304 = sb_1.y;
-            float _e306 = sb_1.x;
-            float _e310 = sb_1.y;
-            float _e312 = sb_1.x;
-            const float _e316 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312))), co_2, ci_1);
-            float _e319 = d_3;
-            float _e320 = d_3;
-            float _e325 = st;
-            sum_1 = (_e292 + ((((half_ * 0.31370664) * (_e316 - _e33)) / (_e319 * sqrt(_e320))) * exp((-(tau_4) * _e325))));
-            w = (mid + (half_ * 0.18343464));
+            sb = _e259;
+            float _e263 = sb.y;
+            float _e266 = sb.y;
+            float _e272 = sb.x;
+            float _e275 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e272) * _e275)) : (gp_2 - (((4.0 * g_3) * _e263) * _e266)));
+            float _e282 = sb.x;
+            float _e285 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e282) / max(_e285, 1e-30))), 1.0);
+            float3 _e292 = sum_3;
+            float _e298 = sb.x;
+            float _e301 = sb.y;
+            float _e304 = sb.y;
+            float _e306 = sb.x;
+            float _e310 = sb.y;
+            float _e312 = sb.x;
+            const float _e316 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312))), co_3, ci_1);
+            float _e319 = d_4;
+            float _e320 = d_4;
+            float _e325 = st_2;
+            sum_3 = (_e292 + ((((half_3 * 0.31370664) * (_e316 - _e33)) / (_e319 * sqrt(_e320))) * exp((-(tau_4) * _e325))));
+            w = (mid + (half_3 * 0.18343464));
             float _e333 = w;
             const float2 _e336 = airlight_scene_window_shafts_sin_cos((0.5 * _e333));
-            sb_1 = _e336;
-            float _e340 = sb_1.y;
-            float _e343 = sb_1.y;
-            float _e349 = sb_1.x;
-            float _e352 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343)));
-            float _e359 = sb_1.x;
-            float _e362 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
-            float3 _e369 = sum_1;
-            float _e375 = sb_1.x;
-            float _e378 = sb_1.y;
-            float _e381 = sb_1.y;
-            float _e383 = sb_1.x;
-            float _e387 = sb_1.y;
-            float _e389 = sb_1.x;
-            const float _e393 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389))), co_2, ci_1);
-            float _e396 = d_3;
-            float _e397 = d_3;
-            float _e402 = st;
-            sum_1 = (_e369 + ((((half_ * 0.36268377) * (_e393 - _e33)) / (_e396 * sqrt(_e397))) * exp((-(tau_4) * _e402))));
-            w = (mid + (half_ * -0.18343464));
+            sb = _e336;
+            float _e340 = sb.y;
+            float _e343 = sb.y;
+            float _e349 = sb.x;
+            float _e352 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e349) * _e352)) : (gp_2 - (((4.0 * g_3) * _e340) * _e343)));
+            float _e359 = sb.x;
+            float _e362 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e359) / max(_e362, 1e-30))), 1.0);
+            float3 _e369 = sum_3;
+            float _e375 = sb.x;
+            float _e378 = sb.y;
+            float _e381 = sb.y;
+            float _e383 = sb.x;
+            float _e387 = sb.y;
+            float _e389 = sb.x;
+            const float _e393 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389))), co_3, ci_1);
+            float _e396 = d_4;
+            float _e397 = d_4;
+            float _e402 = st_2;
+            sum_3 = (_e369 + ((((half_3 * 0.36268377) * (_e393 - _e33)) / (_e396 * sqrt(_e397))) * exp((-(tau_4) * _e402))));
+            w = (mid + (half_3 * -0.18343464));
             float _e410 = w;
             const float2 _e413 = airlight_scene_window_shafts_sin_cos((0.5 * _e410));
-            sb_1 = _e413;
-            float _e417 = sb_1.y;
-            float _e420 = sb_1.y;
-            float _e426 = sb_1.x;
-            float _e429 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420)));
-            float _e436 = sb_1.x;
-            float _e439 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
-            float3 _e446 = sum_1;
-            float _e452 = sb_1.x;
-            float _e455 = sb_1.y;
-            float _e458 = sb_1.y;
-            float _e460 = sb_1.x;
-            float _e464 = sb_1.y;
-            float _e466 = sb_1.x;
-            const float _e470 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466))), co_2, ci_1);
-            float _e473 = d_3;
-            float _e474 = d_3;
-            float _e479 = st;
-            sum_1 = (_e446 + ((((half_ * 0.36268377) * (_e470 - _e33)) / (_e473 * sqrt(_e474))) * exp((-(tau_4) * _e479))));
-            w = (mid + (half_ * -0.5255324));
+            sb = _e413;
+            float _e417 = sb.y;
+            float _e420 = sb.y;
+            float _e426 = sb.x;
+            float _e429 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e426) * _e429)) : (gp_2 - (((4.0 * g_3) * _e417) * _e420)));
+            float _e436 = sb.x;
+            float _e439 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e436) / max(_e439, 1e-30))), 1.0);
+            float3 _e446 = sum_3;
+            float _e452 = sb.x;
+            float _e455 = sb.y;
+            float _e458 = sb.y;
+            float _e460 = sb.x;
+            float _e464 = sb.y;
+            float _e466 = sb.x;
+            const float _e470 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466))), co_3, ci_1);
+            float _e473 = d_4;
+            float _e474 = d_4;
+            float _e479 = st_2;
+            sum_3 = (_e446 + ((((half_3 * 0.36268377) * (_e470 - _e33)) / (_e473 * sqrt(_e474))) * exp((-(tau_4) * _e479))));
+            w = (mid + (half_3 * -0.5255324));
             float _e487 = w;
             const float2 _e490 = airlight_scene_window_shafts_sin_cos((0.5 * _e487));
-            sb_1 = _e490;
-            float _e494 = sb_1.y;
-            float _e497 = sb_1.y;
-            float _e503 = sb_1.x;
-            float _e506 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497)));
-            float _e513 = sb_1.x;
-            float _e516 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
-            float3 _e523 = sum_1;
-            float _e529 = sb_1.x;
-            float _e532 = sb_1.y;
-            float _e535 = sb_1.y;
-            float _e537 = sb_1.x;
-            float _e541 = sb_1.y;
-            float _e543 = sb_1.x;
-            const float _e547 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543))), co_2, ci_1);
-            float _e550 = d_3;
-            float _e551 = d_3;
-            float _e556 = st;
-            sum_1 = (_e523 + ((((half_ * 0.31370664) * (_e547 - _e33)) / (_e550 * sqrt(_e551))) * exp((-(tau_4) * _e556))));
-            w = (mid + (half_ * -0.7966665));
+            sb = _e490;
+            float _e494 = sb.y;
+            float _e497 = sb.y;
+            float _e503 = sb.x;
+            float _e506 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e503) * _e506)) : (gp_2 - (((4.0 * g_3) * _e494) * _e497)));
+            float _e513 = sb.x;
+            float _e516 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e513) / max(_e516, 1e-30))), 1.0);
+            float3 _e523 = sum_3;
+            float _e529 = sb.x;
+            float _e532 = sb.y;
+            float _e535 = sb.y;
+            float _e537 = sb.x;
+            float _e541 = sb.y;
+            float _e543 = sb.x;
+            const float _e547 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543))), co_3, ci_1);
+            float _e550 = d_4;
+            float _e551 = d_4;
+            float _e556 = st_2;
+            sum_3 = (_e523 + ((((half_3 * 0.31370664) * (_e547 - _e33)) / (_e550 * sqrt(_e551))) * exp((-(tau_4) * _e556))));
+            w = (mid + (half_3 * -0.7966665));
             float _e564 = w;
             const float2 _e567 = airlight_scene_window_shafts_sin_cos((0.5 * _e564));
-            sb_1 = _e567;
-            float _e571 = sb_1.y;
-            float _e574 = sb_1.y;
-            float _e580 = sb_1.x;
-            float _e583 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574)));
-            float _e590 = sb_1.x;
-            float _e593 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
-            float3 _e600 = sum_1;
-            float _e606 = sb_1.x;
-            float _e609 = sb_1.y;
-            float _e612 = sb_1.y;
-            float _e614 = sb_1.x;
-            float _e618 = sb_1.y;
-            float _e620 = sb_1.x;
-            const float _e624 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620))), co_2, ci_1);
-            float _e627 = d_3;
-            float _e628 = d_3;
-            float _e633 = st;
-            sum_1 = (_e600 + ((((half_ * 0.22238104) * (_e624 - _e33)) / (_e627 * sqrt(_e628))) * exp((-(tau_4) * _e633))));
-            w = (mid + (half_ * -0.96028984));
+            sb = _e567;
+            float _e571 = sb.y;
+            float _e574 = sb.y;
+            float _e580 = sb.x;
+            float _e583 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e580) * _e583)) : (gp_2 - (((4.0 * g_3) * _e571) * _e574)));
+            float _e590 = sb.x;
+            float _e593 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e590) / max(_e593, 1e-30))), 1.0);
+            float3 _e600 = sum_3;
+            float _e606 = sb.x;
+            float _e609 = sb.y;
+            float _e612 = sb.y;
+            float _e614 = sb.x;
+            float _e618 = sb.y;
+            float _e620 = sb.x;
+            const float _e624 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620))), co_3, ci_1);
+            float _e627 = d_4;
+            float _e628 = d_4;
+            float _e633 = st_2;
+            sum_3 = (_e600 + ((((half_3 * 0.22238104) * (_e624 - _e33)) / (_e627 * sqrt(_e628))) * exp((-(tau_4) * _e633))));
+            w = (mid + (half_3 * -0.96028984));
             float _e641 = w;
             const float2 _e644 = airlight_scene_window_shafts_sin_cos((0.5 * _e641));
-            sb_1 = _e644;
-            float _e648 = sb_1.y;
-            float _e651 = sb_1.y;
-            float _e657 = sb_1.x;
-            float _e660 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651)));
-            float _e667 = sb_1.x;
-            float _e670 = sb_1.y;
-            st = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
-            float3 _e677 = sum_1;
-            float _e683 = sb_1.x;
-            float _e686 = sb_1.y;
-            float _e689 = sb_1.y;
-            float _e691 = sb_1.x;
-            float _e695 = sb_1.y;
-            float _e697 = sb_1.x;
-            const float _e701 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697))), co_2, ci_1);
-            float _e704 = d_3;
-            float _e705 = d_3;
-            float _e710 = st;
-            sum_1 = (_e677 + ((((half_ * 0.101228535) * (_e701 - _e33)) / (_e704 * sqrt(_e705))) * exp((-(tau_4) * _e710))));
+            sb = _e644;
+            float _e648 = sb.y;
+            float _e651 = sb.y;
+            float _e657 = sb.x;
+            float _e660 = sb.x;
+            d_4 = ((g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e657) * _e660)) : (gp_2 - (((4.0 * g_3) * _e648) * _e651)));
+            float _e667 = sb.x;
+            float _e670 = sb.y;
+            st_2 = max((x0_6 + ((h_6 * _e667) / max(_e670, 1e-30))), 1.0);
+            float3 _e677 = sum_3;
+            float _e683 = sb.x;
+            float _e686 = sb.y;
+            float _e689 = sb.y;
+            float _e691 = sb.x;
+            float _e695 = sb.y;
+            float _e697 = sb.x;
+            const float _e701 = airlight_scene_window_shafts_spot_weight(((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697))), co_3, ci_1);
+            float _e704 = d_4;
+            float _e705 = d_4;
+            float _e710 = st_2;
+            sum_3 = (_e677 + ((((half_3 * 0.101228535) * (_e701 - _e33)) / (_e704 * sqrt(_e705))) * exp((-(tau_4) * _e710))));
         }
     }
     float3 _e718 = exact;
-    float3 _e727 = sum_1;
-    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    float3 _e727 = sum_3;
+    return clamp(((_e33 * _e718) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e727) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
 {
-    bool local_14 = (bool)0;
     bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
     float3 ax = float3(0.0, 0.0, 1.0);
     float3 n = (float3)0;
-    bool local_16 = (bool)0;
-    float scale = 1.0;
     bool local_17 = (bool)0;
+    float scale = 1.0;
     bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1065,29 +1257,29 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
     float4 pen = (0.0).xxxx;
     float ca_1 = 0.0;
     float om_e_1 = airlight_scene_window_shafts_PI;
-    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
+    bool local_22 = (bool)0;
     float3 a_5 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e10 = airlight_scene_window_shafts_ray_geometry(origin_2, dir_2, light_2);
     bool point_ = (cos_outer <= -1.0);
-    float co_3 = clamp(cos_outer, 0.0, 1.0);
+    float co_4 = clamp(cos_outer, 0.0, 1.0);
     const float _e16 = airlight_scene_window_shafts_max_abs(dir_2);
     const float _e17 = airlight_scene_window_shafts_max_abs(axis);
     if (!(point_)) {
         if ((_e17 > 0.0)) {
-            local_15 = (_e17 <= airlight_scene_window_shafts_HUGE);
+            local_16 = (_e17 <= airlight_scene_window_shafts_HUGE);
         } else {
-            local_15 = false;
+            local_16 = false;
         }
-        bool _e28 = local_15;
-        local_14 = !(_e28);
+        bool _e28 = local_16;
+        local_15 = !(_e28);
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e31 = local_14;
+    bool _e31 = local_15;
     if (_e31) {
         return (0.0).xxx;
     }
@@ -1097,19 +1289,19 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
         ax = normalize((axis / (_e17).xxx));
     }
     if ((_e16 > 0.0)) {
-        local_16 = (_e16 <= airlight_scene_window_shafts_HUGE);
+        local_17 = (_e16 <= airlight_scene_window_shafts_HUGE);
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e52 = local_16;
+    bool _e52 = local_17;
     if (_e52) {
         n = normalize((dir_2 / (_e16).xxx));
     }
     float3 _e56 = ax;
     float3 _e57 = n;
-    float k_3 = dot(_e56, _e57);
+    float k_2 = dot(_e56, _e57);
     if ((_e10.x <= 0.0)) {
-        const float _e64 = airlight_scene_window_shafts_spot_weight(k_3, co_3, cos_inner);
+        const float _e64 = airlight_scene_window_shafts_spot_weight(k_2, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e64);
         float _e68 = scale;
         const float _e72 = airlight_scene_window_shafts_scaled(sigma_s_2.x, (intensity_2 * _e68), 1.0, airlight_scene_window_shafts_HUGE);
@@ -1120,49 +1312,49 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
-        local_17 = (_e10.z == 0.0);
-    } else {
-        local_17 = false;
-    }
-    bool _e95 = local_17;
-    if (_e95) {
-        return (0.0).xxx;
-    }
-    float d_7 = _e10.x;
-    float h_6 = _e10.y;
-    float x0_7 = _e10.z;
-    if ((surface_1 >= 0.0)) {
-        local_18 = ((surface_1 / d_7) < airlight_scene_window_shafts_RHO_OPEN);
+        local_18 = (_e10.z == 0.0);
     } else {
         local_18 = false;
     }
-    bool has_end = local_18;
-    float rho_8 = (has_end ? (surface_1 / d_7) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
-    const float _e140 = airlight_scene_window_shafts_arctan2_(h_6, x0_7);
-    if (!(point_)) {
-        local_19 = (h_6 <= 0.0);
-    } else {
-        local_19 = true;
+    bool _e95 = local_18;
+    if (_e95) {
+        return (0.0).xxx;
     }
-    bool _e147 = local_19;
-    if (!(_e147)) {
-        local_20 = (_e140 >= airlight_scene_window_shafts_PI);
+    float d_5 = _e10.x;
+    float h_8 = _e10.y;
+    float x0_8 = _e10.z;
+    if ((surface_1 >= 0.0)) {
+        local_19 = ((surface_1 / d_5) < airlight_scene_window_shafts_RHO_OPEN);
+    } else {
+        local_19 = false;
+    }
+    bool has_end_1 = local_19;
+    float rho_9 = (has_end_1 ? (surface_1 / d_5) : -1.0);
+    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    const float _e140 = airlight_scene_window_shafts_arctan2_(h_8, x0_8);
+    if (!(point_)) {
+        local_20 = (h_8 <= 0.0);
     } else {
         local_20 = true;
     }
-    bool _e154 = local_20;
+    bool _e147 = local_20;
+    if (!(_e147)) {
+        local_21 = (_e140 >= airlight_scene_window_shafts_PI);
+    } else {
+        local_21 = true;
+    }
+    bool _e154 = local_21;
     if (_e154) {
         if (!(point_)) {
-            const float _e157 = airlight_scene_window_shafts_spot_weight(-(k_3), co_3, cos_inner);
-            const float _e158 = airlight_scene_window_shafts_spot_weight(k_3, co_3, cos_inner);
-            if (has_end) {
-                local_21 = (rho_8 < 1.0);
+            const float _e157 = airlight_scene_window_shafts_spot_weight(-(k_2), co_4, cos_inner);
+            const float _e158 = airlight_scene_window_shafts_spot_weight(k_2, co_4, cos_inner);
+            if (has_end_1) {
+                local_22 = (rho_9 < 1.0);
             } else {
-                local_21 = false;
+                local_22 = false;
             }
-            bool _e165 = local_21;
-            scale = ((x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
+            bool _e165 = local_22;
+            scale = ((x0_8 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
         }
         core = true;
     } else {
@@ -1175,26 +1367,26 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
         ca_1 = (dot(cr, cross(_e177, _e178)) / max(length(cr), 1e-30));
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_6 = sqrt(((_e185 * _e186) + (k_3 * k_3)));
+        float r_4 = sqrt(((_e185 * _e186) + (k_2 * k_2)));
         float _e191 = ca_1;
-        const float _e192 = airlight_scene_window_shafts_arctan2_(k_3, _e191);
+        const float _e192 = airlight_scene_window_shafts_arctan2_(k_2, _e191);
         gam_2 = _e140;
-        const float _e195 = airlight_scene_window_shafts_arctan2_(h_6, (x0_7 - rho_8));
-        om_e_1 = (has_end ? _e195 : airlight_scene_window_shafts_PI);
-        if ((co_3 < r_6)) {
-            const float _e198 = airlight_scene_window_shafts_spot_asin(co_3, r_6);
+        const float _e195 = airlight_scene_window_shafts_arctan2_(h_8, (x0_8 - rho_9));
+        om_e_1 = (has_end_1 ? _e195 : airlight_scene_window_shafts_PI);
+        if ((co_4 < r_4)) {
+            const float _e198 = airlight_scene_window_shafts_spot_asin(co_4, r_4);
             float _e199 = gam_2;
-            float lo = max(_e199, (_e192 + _e198));
+            float lo_1 = max(_e199, (_e192 + _e198));
             float _e202 = om_e_1;
             float hi_1 = min(_e202, ((_e192 + airlight_scene_window_shafts_PI) - _e198));
-            wa_1 = lo;
+            wa_1 = lo_1;
             wb_1 = hi_1;
-            if ((lo < hi_1)) {
-                if ((cos_inner <= co_3)) {
+            if ((lo_1 < hi_1)) {
+                if ((cos_inner <= co_4)) {
                     core = true;
                 } else {
-                    if ((cos_inner < r_6)) {
-                        const float _e211 = airlight_scene_window_shafts_spot_asin(cos_inner, r_6);
+                    if ((cos_inner < r_4)) {
+                        const float _e211 = airlight_scene_window_shafts_spot_asin(cos_inner, r_4);
                         float _e212 = gam_2;
                         wa_1 = max(_e212, (_e192 + _e211));
                         float _e215 = om_e_1;
@@ -1202,9 +1394,9 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
                         float _e220 = wa_1;
                         float _e221 = wb_1;
                         core = (_e220 < _e221);
-                        pen = float4(lo, min(hi_1, (_e192 + _e211)), max(lo, ((_e192 + airlight_scene_window_shafts_PI) - _e211)), hi_1);
+                        pen = float4(lo_1, min(hi_1, (_e192 + _e211)), max(lo_1, ((_e192 + airlight_scene_window_shafts_PI) - _e211)), hi_1);
                     } else {
-                        pen = float4(lo, hi_1, 0.0, 0.0);
+                        pen = float4(lo_1, hi_1, 0.0, 0.0);
                     }
                 }
             }
@@ -1223,7 +1415,7 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_scene_window_shafts_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.5);
+        const float3 _e248 = airlight_scene_window_shafts_spot_core(tau_7, h_8, x0_8, rho_9, _e243, _e244, _e245, _e246, _e247, 0.5);
         a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1251,20 +1443,20 @@ float3 airlight_scene_window_shafts_spot(float3 origin_2, float3 dir_2, float su
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_scene_window_shafts_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_3, co_3, cos_inner, 0.5);
+                const float3 _e271 = airlight_scene_window_shafts_spot_edge(tau_7, h_8, x0_8, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_2, co_4, cos_inner, 0.5);
                 a_5 = (_e265 + _e271);
             }
         }
     }
     float _e277 = scale;
     float _e280 = a_5.x;
-    const float _e281 = airlight_scene_window_shafts_scaled(sigma_s_2.x, (intensity_2 * _e277), d_7, _e280);
+    const float _e281 = airlight_scene_window_shafts_scaled(sigma_s_2.x, (intensity_2 * _e277), d_5, _e280);
     float _e283 = scale;
     float _e286 = a_5.y;
-    const float _e287 = airlight_scene_window_shafts_scaled(sigma_s_2.y, (intensity_2 * _e283), d_7, _e286);
+    const float _e287 = airlight_scene_window_shafts_scaled(sigma_s_2.y, (intensity_2 * _e283), d_5, _e286);
     float _e289 = scale;
     float _e292 = a_5.z;
-    const float _e293 = airlight_scene_window_shafts_scaled(sigma_s_2.z, (intensity_2 * _e289), d_7, _e292);
+    const float _e293 = airlight_scene_window_shafts_scaled(sigma_s_2.z, (intensity_2 * _e289), d_5, _e292);
     return float3(_e281, _e287, _e293);
 }
 
@@ -1294,8 +1486,8 @@ void airlight_scene_window_shafts_shafts_hold(inout airlight_scene_window_shafts
         return;
     }
     float3 last = acc_1.runs[31];
-    float len_1 = (run.y - last.x);
-    float w_3 = ((len_1 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_1) : last.z);
+    float len = (run.y - last.x);
+    float w_3 = ((len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z);
     acc_1.runs[31] = float3(last.x, run.y, w_3);
     return;
 }
@@ -1305,20 +1497,20 @@ float airlight_scene_window_shafts_shafts_probe(airlight_scene_window_shafts_Sha
     return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_scene_window_shafts_shafts_refine(inout airlight_scene_window_shafts_Shafts acc_3, float v_4)
+void airlight_scene_window_shafts_shafts_refine(inout airlight_scene_window_shafts_Shafts acc_3, float v_2)
 {
     bool _e3 = acc_3.pending;
     if (_e3) {
         float _e5 = acc_3.lo;
         float _e7 = acc_3.hi;
-        float m_2 = (0.5 * (_e5 + _e7));
+        float m_1 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
-        if ((abs((v_4 - _e12)) <= abs((v_4 - _e16)))) {
-            acc_3.lo = m_2;
+        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+            acc_3.lo = m_1;
             return;
         } else {
-            acc_3.hi = m_2;
+            acc_3.hi = m_1;
             return;
         }
     } else {
@@ -1335,69 +1527,69 @@ float3 airlight_scene_window_shafts_shafts_place(inout airlight_scene_window_sha
     acc_4.pending = false;
     float _e9 = acc_4.lo;
     float _e11 = acc_4.hi;
-    float m_3 = (0.5 * (_e9 + _e11));
+    float m_2 = (0.5 * (_e9 + _e11));
     float _e16 = acc_4.start;
     float _e18 = acc_4.before;
-    float3 run_1 = float3(_e16, m_3, _e18);
-    acc_4.start = m_3;
+    float3 run_1 = float3(_e16, m_2, _e18);
+    acc_4.start = m_2;
     float _e23 = acc_4.after;
     acc_4.v = _e23;
     return run_1;
 }
 
-float3 airlight_scene_window_shafts_shafts_step(inout airlight_scene_window_shafts_Shafts acc_5, float s_2, float v_5)
+float3 airlight_scene_window_shafts_shafts_step(inout airlight_scene_window_shafts_Shafts acc_5, float s, float v_3)
 {
     const float3 _e3 = airlight_scene_window_shafts_shafts_place(acc_5);
     float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_5;
+        acc_5.v = v_3;
     } else {
         float _e10 = acc_5.v;
-        if ((v_5 != _e10)) {
+        if ((v_3 != _e10)) {
             acc_5.pending = true;
             float _e16 = acc_5.s;
             acc_5.lo = _e16;
-            acc_5.hi = s_2;
+            acc_5.hi = s;
             float _e20 = acc_5.v;
             acc_5.before = _e20;
-            acc_5.after = v_5;
+            acc_5.after = v_3;
         }
     }
-    acc_5.s = s_2;
+    acc_5.s = s;
     return _e3;
 }
 
-float4 airlight_scene_window_shafts_shafts_moved(float a_6, float b_3, float3 origin_3, float3 dir_3)
+float4 airlight_scene_window_shafts_shafts_moved(float a_6, float b_5, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_scene_window_shafts_max_abs(dir_3);
-    float3 u_3 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_6 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_6), 0.0) : -1.0));
+    float3 u_2 = (dir_3 / (_e4).xxx);
+    return float4((origin_3 + (a_6 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_6), 0.0) : -1.0));
 }
 
-float airlight_scene_window_shafts_shafts_run(float a_7, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
+float airlight_scene_window_shafts_shafts_run(float a_7, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
 {
-    bool local_22 = (bool)0;
     bool local_23 = (bool)0;
+    bool local_24 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
-        if ((b_4 >= 0.0)) {
-            local_23 = (b_4 <= a_7);
+        if ((b_6 >= 0.0)) {
+            local_24 = (b_6 <= a_7);
         } else {
-            local_23 = false;
+            local_24 = false;
         }
-        bool _e21 = local_23;
-        local_22 = _e21;
+        bool _e21 = local_24;
+        local_23 = _e21;
     } else {
-        local_22 = true;
+        local_23 = true;
     }
-    bool _e23 = local_22;
+    bool _e23 = local_23;
     if (_e23) {
         return 0.0;
     }
-    const float4 _e25 = airlight_scene_window_shafts_shafts_moved(a_7, b_4, origin_4, dir_4);
+    const float4 _e25 = airlight_scene_window_shafts_shafts_moved(a_7, b_6, origin_4, dir_4);
     float3 o = _e25.xyz;
-    float len_2 = _e25.w;
-    const float _e28 = airlight_scene_window_shafts_radiance(o, dir_4, len_2, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    float len_1 = _e25.w;
+    const float _e28 = airlight_scene_window_shafts_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3);
     if ((_e28 >= airlight_scene_window_shafts_HUGE)) {
         return _e28;
     }
@@ -1426,9 +1618,9 @@ void airlight_scene_window_shafts_shafts_flush(inout airlight_scene_window_shaft
         }
         {
             uint _e14 = j_2;
-            float3 r_7 = acc_6.runs[min(uint(_e14), 31u)];
+            float3 r_5 = acc_6.runs[min(uint(_e14), 31u)];
             float _e21 = acc_6.sum.x;
-            const float _e25 = airlight_scene_window_shafts_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            const float _e25 = airlight_scene_window_shafts_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
             acc_6.sum.x = min((_e21 + _e25), airlight_scene_window_shafts_HUGE);
         }
     }
@@ -1436,9 +1628,9 @@ void airlight_scene_window_shafts_shafts_flush(inout airlight_scene_window_shaft
     return;
 }
 
-void airlight_scene_window_shafts_shafts_push(inout airlight_scene_window_shafts_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_scene_window_shafts_shafts_push(inout airlight_scene_window_shafts_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    const float3 _e9 = airlight_scene_window_shafts_shafts_step(acc_7, s_3, v_6);
+    const float3 _e9 = airlight_scene_window_shafts_shafts_step(acc_7, s_1, v_4);
     airlight_scene_window_shafts_shafts_hold(acc_7, _e9);
     return;
 }
@@ -1460,30 +1652,30 @@ float airlight_scene_window_shafts_shafts_finish(airlight_scene_window_shafts_Sh
     return min((_e20 + _e23), airlight_scene_window_shafts_HUGE);
 }
 
-float3 airlight_scene_window_shafts_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+float3 airlight_scene_window_shafts_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
 {
-    bool local_24 = (bool)0;
     bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
-        if ((b_5 >= 0.0)) {
-            local_25 = (b_5 <= a_8);
+        if ((b_7 >= 0.0)) {
+            local_26 = (b_7 <= a_8);
         } else {
-            local_25 = false;
+            local_26 = false;
         }
-        bool _e24 = local_25;
-        local_24 = _e24;
+        bool _e24 = local_26;
+        local_25 = _e24;
     } else {
-        local_24 = true;
+        local_25 = true;
     }
-    bool _e26 = local_24;
+    bool _e26 = local_25;
     if (_e26) {
         return (0.0).xxx;
     }
-    const float4 _e29 = airlight_scene_window_shafts_shafts_moved(a_8, b_5, origin_8, dir_8);
+    const float4 _e29 = airlight_scene_window_shafts_shafts_moved(a_8, b_7, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
-    float len_3 = _e29.w;
-    const float3 _e32 = airlight_scene_window_shafts_spot(o_1, dir_8, len_3, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
+    float len_2 = _e29.w;
+    const float3 _e32 = airlight_scene_window_shafts_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
     return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e32));
 }
 
@@ -1509,9 +1701,9 @@ void airlight_scene_window_shafts_shafts_flush_spot(inout airlight_scene_window_
         }
         {
             uint _e17 = j_3;
-            float3 r_8 = acc_9.runs[min(uint(_e17), 31u)];
+            float3 r_6 = acc_9.runs[min(uint(_e17), 31u)];
             float3 _e22 = acc_9.sum;
-            const float3 _e26 = airlight_scene_window_shafts_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            const float3 _e26 = airlight_scene_window_shafts_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
             acc_9.sum = min((_e22 + _e26), (3.4028235e38).xxx);
         }
     }
@@ -1519,9 +1711,9 @@ void airlight_scene_window_shafts_shafts_flush_spot(inout airlight_scene_window_
     return;
 }
 
-void airlight_scene_window_shafts_shafts_push_spot(inout airlight_scene_window_shafts_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_scene_window_shafts_shafts_push_spot(inout airlight_scene_window_shafts_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    const float3 _e12 = airlight_scene_window_shafts_shafts_step(acc_10, s_4, v_7);
+    const float3 _e12 = airlight_scene_window_shafts_shafts_step(acc_10, s_2, v_5);
     airlight_scene_window_shafts_shafts_hold(acc_10, _e12);
     return;
 }

@@ -900,11 +900,12 @@ pub fn declared_max(k: &IndexEntry, models: &[ModelFile]) -> Result<f64, GateErr
     k.domains.iter().try_fold(0.0f64, |m, &d| Ok(m.max(declared(k, models, d)?)))
 }
 
-/// The declared bound of `k` on `domain`: its model's, 0 for the closed form.
+/// The declared bound of `k` on `domain`: its model's (over the band of `g` a
+/// kernel with `g` baked in lies in, [`ModelFile::bound_at`]), 0 for the closed form.
 fn declared(k: &IndexEntry, models: &[ModelFile], domain: Domain) -> Result<f64, GateError> {
     let Some(m) = model_file(k, models)? else { return Ok(0.0) };
-    m.error(domain)
-        .map(|e| e.max_rel)
+    let baked = (k.g[0] == k.g[1]).then_some(k.g[0]);
+    m.bound_at(domain, baked)
         .ok_or_else(|| GateError::Input(format!("model {}: no declared error on {domain}", m.model.name)))
 }
 

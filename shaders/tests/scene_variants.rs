@@ -40,7 +40,7 @@ fn unexercised_specialisations_compute_within_their_bounds_on_the_gpu() {
     ];
     for (what, text) in variants {
         let s = scene::parse("variant.toml", &text).unwrap();
-        let plan = scene::plan(&s, &models).unwrap();
+        let plan = scene::plan(&s, &models, None).unwrap();
         let spec = KernelSpec::for_scene(&s, &plan, &models, "variant.toml");
         let outputs = kernel::render(std::slice::from_ref(&spec)).unwrap();
         let index_text = String::from_utf8(kernel::render_index(std::slice::from_ref(&spec)).contents).unwrap();

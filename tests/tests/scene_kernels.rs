@@ -26,7 +26,7 @@ fn scene_text(phase: &str, extinction: bool, surfaces: bool, budget: f64) -> Str
 fn render(text: &str) -> (KernelSpec, Vec<(String, String)>) {
     let models: Vec<_> = committed_models().into_iter().filter(|m| m.model.split().is_some()).collect();
     let s = scene::parse("test.toml", text).unwrap();
-    let plan = scene::plan(&s, &models).unwrap();
+    let plan = scene::plan(&s, &models, None).unwrap();
     let spec = KernelSpec::for_scene(&s, &plan, &models, "test.toml");
     let out = kernel::render(std::slice::from_ref(&spec)).unwrap();
     let files = out
@@ -170,7 +170,7 @@ fn example_scene_files_all_plan() {
     let scenes = scene::load_dir(&repo_root().join("codegen/scenes"), "codegen/scenes").unwrap();
     assert!(scenes.len() >= 4);
     for s in &scenes {
-        scene::plan(s, &models).unwrap_or_else(|e| panic!("{}", s.plan_error(&e)));
+        scene::plan(s, &models, None).unwrap_or_else(|e| panic!("{}", s.plan_error(&e)));
         assert!(generated_dir().join(format!("plans/scene-{}.md", s.name)).exists());
     }
 }
@@ -186,7 +186,7 @@ fn shadows_bring_the_shafts_accumulator_and_nothing_else_does() {
     // Planned among every committed model (the split family alone misses its budget).
     let models = committed_models();
     let t = scene::parse("test.toml", &text).unwrap();
-    let spec = KernelSpec::for_scene(&t, &scene::plan(&t, &models).unwrap(), &models, "test.toml");
+    let spec = KernelSpec::for_scene(&t, &scene::plan(&t, &models, None).unwrap(), &models, "test.toml");
     assert!(spec.shafts);
     let files: Vec<(String, String)> = kernel::render(std::slice::from_ref(&spec))
         .unwrap()

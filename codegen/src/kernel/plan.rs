@@ -4,21 +4,20 @@ use super::outputs::{expand, OutputTable};
 use super::spec::{join_domains, specialisations, KernelSpec};
 use crate::output::Output;
 use crate::scene::{Choice, Plan, Scene, ScenePhase};
-use airlight_fit::coeffs::ModelFile;
 use airlight_fit::stats::fmt_err;
 use serde::Serialize;
 
 #[derive(Serialize)]
 struct Candidate {
     name: String,
-    cost: usize,
+    cost: String,
     bound: String,
     meets: &'static str,
 }
 
 /// The plan written next to a scene's kernels: the model and why, the expected
 /// error, the operation count, and every model that was considered.
-pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[ModelFile]) -> Result<Output, tera::Error> {
+pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec) -> Result<Output, tera::Error> {
     let table = OutputTable::standard();
     let tera = super::engine()?;
     let mut ctx = tera::Context::new();
@@ -49,7 +48,8 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
         Choice::Model { name, bound, cost } => (
             format!("`{name}`"),
             format!(
-                "The cheapest model (cost {cost}) whose declared max relative error over the domains the scene reaches ({}) is within the budget.",
+                "The cheapest model (cost {}) whose declared max relative error over the domains the scene reaches ({}) is within the budget.",
+                cost.describe(),
                 join_domains(&plan.domains)
             ),
             if scene.backscatter {
@@ -88,26 +88,18 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec, models: &[Mode
     ctx.insert("ops", &spec.op_count());
     ctx.insert("specialised", &specialisations(spec));
     ctx.insert("domains", &join_domains(&plan.domains));
-    let (g_lo, g_hi) = scene.phase.g_range();
-    let mut candidates: Vec<Candidate> = if matches!(plan.choice, Choice::NoExtinction) {
-        Vec::new()
-    } else {
-        models
-            .iter()
-            .filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1)
-            .map(|m| {
-                let b = plan.domains.iter().filter_map(|&d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max);
-                Candidate {
-                    name: m.model.name.clone(),
-                    cost: m.model.cost(),
-                    bound: fmt(b),
-                    meets: if b <= scene.max_rel_error { "yes" } else { "no" },
-                }
-            })
-            .collect()
-    };
-    candidates.sort_by(|a, b| a.cost.cmp(&b.cost).then(a.name.cmp(&b.name)));
+    let candidates: Vec<Candidate> = plan
+        .candidates
+        .iter()
+        .map(|c| Candidate {
+            name: c.name.clone(),
+            cost: c.cost.describe(),
+            bound: fmt(c.bound),
+            meets: if c.bound <= scene.max_rel_error { "yes" } else { "no" },
+        })
+        .collect();
     ctx.insert("candidates", &candidates);
+    ctx.insert("ranking", &plan.ranking.describe());
     let text = tera.render(&row.template, &ctx)?;
     Ok(Output::text(row.path.replace("{name}", &spec.name), text))
 }

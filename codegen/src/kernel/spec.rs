@@ -60,12 +60,19 @@ pub struct KernelSpec {
 }
 
 /// The declared max of `m` on each of `domains`, as `thin 9.8e-6, dense 2.8e-6`.
-pub fn domain_bound(m: &ModelFile, domains: &[Domain]) -> String {
-    domains
+pub fn domain_bound(m: &ModelFile, domains: &[Domain], g_range: (f64, f64)) -> String {
+    let baked = (g_range.0 == g_range.1).then_some(g_range.0);
+    let band = baked.is_some() && m.bands.iter().any(|b| baked.is_some_and(|g| b.g.0 <= g && g <= b.g.1));
+    let text = domains
         .iter()
-        .filter_map(|&d| m.error(d).map(|e| format!("{d} {}", fmt_err(e.max_rel))))
+        .filter_map(|&d| m.bound_at(d, baked).map(|e| format!("{d} {}", fmt_err(e))))
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    if band {
+        format!("{text} (over the band of g holding g = {})", g_range.0)
+    } else {
+        text
+    }
 }
 
 impl KernelSpec {
@@ -74,7 +81,10 @@ impl KernelSpec {
         let phase = m.model.body.kernel_phase(m.model.g_range, WantPhase::General);
         KernelSpec {
             name: m.model.name.clone(),
-            bound: format!("max relative error of A (f64 model): {}", domain_bound(m, &[Domain::Thin, Domain::Dense])),
+            bound: format!(
+                "max relative error of A (f64 model): {}",
+                domain_bound(m, &[Domain::Thin, Domain::Dense], m.model.g_range)
+            ),
             model: Some(m.clone()),
             phase,
             surfaces: true,
@@ -122,7 +132,7 @@ impl KernelSpec {
                 let mut bound = format!(
                     "max relative error of A (f64 model, over {}): {}",
                     join_domains(&plan.domains),
-                    domain_bound(&m, &plan.domains)
+                    domain_bound(&m, &plan.domains, scene.phase.g_range())
                 );
                 if !scene.backscatter {
                     bound.push_str("; without the backward part (by request): up to 100% looking away from a light");

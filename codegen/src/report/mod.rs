@@ -399,7 +399,10 @@ fn generated_kernel(k: &KernelSpec) -> GeneratedKernel {
         targets: k.targets.iter().map(|t| t.name()).collect::<Vec<_>>().join(", "),
         specialised: crate::kernel::specialisations(k),
         ops: format!("{} / {} / {} / {}", o.exp, o.log, o.atan, o.div),
-        bound: k.model.as_ref().map_or("exact".into(), |m| crate::kernel::spec::domain_bound(m, k.domains())),
+        bound: k
+            .model
+            .as_ref()
+            .map_or("exact".into(), |m| crate::kernel::spec::domain_bound(m, k.domains(), k.g_range)),
     }
 }
 

@@ -29,13 +29,20 @@ struct Level {
 }
 
 #[derive(Serialize)]
+struct MeasureTable {
+    title: &'static str,
+    plot: String,
+    levels: Vec<Level>,
+    losses: Vec<String>,
+}
+
+#[derive(Serialize)]
 struct GSection {
     g: String,
     title: String,
-    plot: String,
-    levels: Vec<Level>,
+    /// One table per cost measure the bench holds, the CPU's first.
+    measures: Vec<MeasureTable>,
     march_best: String,
-    losses: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -107,11 +114,10 @@ fn loss(h: &front::Headline) -> String {
     format!("{} error {}: {who}", h.measure, fmt_err(h.level))
 }
 
-/// One `g`'s headline table, losses and best ray march.
-fn g_section(b: &Bench, g: f64) -> GSection {
+/// One `g`'s headline table on one cost measure, with its losses.
+fn measure_table(b: &Bench, g: f64, cost: front::CostMeasure) -> MeasureTable {
     let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
-    let ms = front::methods(b, g);
-    let label = front::g_label(g);
+    let ms = front::methods_by(b, g, cost);
     let hs = front::headlines(&ms);
     let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(loss).collect();
     let levels = hs
@@ -125,6 +131,20 @@ fn g_section(b: &Bench, g: f64) -> GSection {
             verdict: h.verdict().label(),
         })
         .collect();
+    MeasureTable {
+        title: cost.title(),
+        plot: format!("plots/pareto-{}{}", front::g_label(g), cost.suffix()),
+        levels,
+        losses,
+    }
+}
+
+/// One `g`'s headline tables (one per cost measure), losses and best ray march.
+fn g_section(b: &Bench, g: f64) -> GSection {
+    let ms = front::methods(b, g);
+    let label = front::g_label(g);
+    let measures =
+        front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)).map(|c| measure_table(b, g, c)).collect();
     let march_best = ms
         .iter()
         .filter(|m| m.name.starts_with("raymarch-"))
@@ -132,11 +152,9 @@ fn g_section(b: &Bench, g: f64) -> GSection {
         .map_or("no raymarch measured".into(), |m| format!("{} (`{}`, {} ns)", fmt_err(m.max), m.name, ns(m.ns)));
     GSection {
         title: if g == 0.0 { "isotropic (g = 0)".into() } else { format!("Henyey–Greenstein, g = {label}") },
-        plot: format!("plots/pareto-{label}"),
         g: label,
-        levels,
+        measures,
         march_best,
-        losses,
     }
 }
 

@@ -792,8 +792,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.623071267969755e-4,
-        dense_max_rel: 5.693310587663081e-4,
+        thin_max_rel: 1.9418108715113507e-2,
+        dense_max_rel: 2.1207152633140497e-1,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -806,8 +806,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-harbour-fog",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 6.623071267969755e-4,
-        dense_max_rel: 5.693310587663081e-4,
+        thin_max_rel: 1.9640270794631727e-3,
+        dense_max_rel: 1.9815525489108008e-2,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -834,8 +834,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-hg-fog",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.2437287989487383e-3,
-        dense_max_rel: 2.251841604925979e-3,
+        thin_max_rel: 5.97474944748591e-1,
+        dense_max_rel: 4.0460361730914707e-1,
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -848,8 +848,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.623071267969755e-4,
-        dense_max_rel: 5.693310587663081e-4,
+        thin_max_rel: 1.9640270794631727e-3,
+        dense_max_rel: 1.9815525489108008e-2,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -862,8 +862,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-spot-harbour",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.2437287989487383e-3,
-        dense_max_rel: 2.251841604925979e-3,
+        thin_max_rel: 9.346048895183597e-1,
+        dense_max_rel: 8.563665429746622e-1,
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -880,8 +880,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-window-shafts",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 2.2437287989487383e-3,
-        dense_max_rel: 2.251841604925979e-3,
+        thin_max_rel: 9.346048895183597e-1,
+        dense_max_rel: 8.563665429746622e-1,
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

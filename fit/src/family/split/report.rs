@@ -153,6 +153,10 @@ struct DominanceRow {
 /// `paper-refit` against `paper`: the fit's figures on its own points, and the
 /// declared (held-out) bounds of both.
 fn dominance(ctx: &mut Context, members: &[Member<'_, Split>]) {
+    ctx.insert("dominance_fit", &Vec::<DominanceRow>::new());
+    ctx.insert("dominance_declared", &Vec::<DominanceRow>::new());
+    ctx.insert("dominance_points", "—");
+    ctx.insert("dominance_ratio", "—");
     let (Some(pp), Some(pr)) = (get(members, "paper"), get(members, "paper-refit")) else { return };
     let floats = |key: &str| -> Vec<f64> {
         pr.provenance_value("forward.fit", key)
