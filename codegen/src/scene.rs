@@ -484,6 +484,11 @@ impl fmt::Display for PlanError {
 
 impl std::error::Error for PlanError {}
 
+/// Measured costs within this fraction of each other are equal to the planner:
+/// two clean runs of `airlight bench` here differed by up to 8% on one model's
+/// GPU figure, so a smaller difference decides nothing.
+pub const COST_TIE: f64 = 0.1;
+
 /// Upper end of the `dense` domain's τ.
 const TAU_DENSE_MAX: f64 = 20.0;
 /// Upper end of the `thin` domain's τ.
@@ -547,8 +552,17 @@ pub fn plan(scene: &Scene, models: &[ModelFile], bench: Option<&Bench>) -> Resul
         })
         .collect();
     candidates.sort_by(|a, b| a.cost.rank(&b.cost).then(a.bound.total_cmp(&b.bound)).then(a.name.cmp(&b.name)));
-    // The first in the ranking's order that meets the budget.
-    let best = candidates.iter().find(|c| c.bound <= scene.max_rel_error).cloned();
+    // The first in the ranking's order that meets the budget; measured costs
+    // within COST_TIE of its own count as equal (the bench's run-to-run spread),
+    // and among those the smallest bound wins.
+    let meets: Vec<&Candidate> = candidates.iter().filter(|c| c.bound <= scene.max_rel_error).collect();
+    let best = meets.first().map(|first| {
+        let tied = |c: &&&Candidate| match (first.cost.ns, c.cost.ns) {
+            (Some(a), Some(b)) => b <= a * (1.0 + COST_TIE),
+            _ => c.name == first.name,
+        };
+        (*meets.iter().filter(tied).min_by(|a, b| a.bound.total_cmp(&b.bound)).unwrap_or(first)).clone()
+    });
     match best {
         Some(c) => Ok(Plan {
             choice: Choice::Model { name: c.name, bound: c.bound, cost: c.cost },
@@ -613,9 +627,14 @@ mod tests {
     #[test]
     fn scenes_rank_by_the_cost_measured_on_their_target() {
         let (models, b) = (models(), bench());
-        for file in
-            ["fog-street.toml", "smoke-room.toml", "harbour-fog.toml", "hg-fog.toml", "backscatter-aerosol.toml"]
-        {
+        for file in [
+            "fog-street.toml",
+            "smoke-room.toml",
+            "harbour-fog.toml",
+            "hg-fog.toml",
+            "backscatter-aerosol.toml",
+            "spot-harbour.toml",
+        ] {
             for rust_only in [false, true] {
                 let mut s = scene(file);
                 if rust_only {
@@ -631,8 +650,10 @@ mod tests {
                 let (g_lo, g_hi) = s.phase.g_range();
                 for m in models.iter().filter(|m| m.model.g_range.0 <= g_lo && g_hi <= m.model.g_range.1) {
                     let Some(o) = b.model(&m.model.name).and_then(|bm| measure.ns(bm)) else { continue };
-                    if o < ns {
-                        let bm = p.domains.iter().map(|&d| m.error(d).unwrap().max_rel).fold(0.0, f64::max);
+                    // Cheaper beyond the tie: it must miss the budget.
+                    if o * (1.0 + COST_TIE) < ns {
+                        let baked = if let ScenePhase::Fixed(g) = s.phase { Some(g) } else { None };
+                        let bm = p.domains.iter().map(|&d| m.bound_at(d, baked).unwrap()).fold(0.0, f64::max);
                         assert!(
                             bm > s.max_rel_error,
                             "{file}: {} ({o} ns) meets {bm} but {name} ({ns} ns) was chosen",

@@ -150,6 +150,33 @@ pub fn render(f: &ModelFile) -> String {
     o
 }
 
+/// The line of `key` in the `n`-th (from 0) `[[section]]` table of `text`, or of
+/// that table's header when the key is not there (1 when there is no such table).
+fn locate_nth_array_table(text: &str, section: &str, n: usize, key: &str) -> usize {
+    let header = format!("[[{section}]]");
+    let mut seen = 0usize;
+    let mut inside = None;
+    for (i, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if l.starts_with('[') {
+            if inside.is_some() {
+                break;
+            }
+            if l == header {
+                if seen == n {
+                    inside = Some(i + 1);
+                }
+                seen += 1;
+            }
+            continue;
+        }
+        if inside.is_some() && l.split('=').next().is_some_and(|k| k.trim() == key) {
+            return i + 1;
+        }
+    }
+    inside.unwrap_or(1)
+}
+
 /// Reads a coefficient file.
 pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let doc: Table = parse_table(file, text)?;
@@ -237,19 +264,28 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let mut bands = Vec::new();
     if let Some(list) = err.get("band") {
         let list = list.as_array().ok_or_else(|| p.err("error", "band", "must be an array of tables"))?;
-        for v in list {
+        for (n, v) in list.iter().enumerate() {
             let sec = "error.band";
-            let t = v.as_table().ok_or_else(|| p.err(sec, "band", "must be a table"))?;
-            let name = p.string(t, sec, "domain")?;
-            let d = Domain::ALL
-                .into_iter()
-                .find(|d| d.name() == name)
-                .ok_or_else(|| p.err(sec, "domain", &format!("unknown domain '{name}'")))?;
-            let g = p.floats(t, sec, "g", Some(2))?;
-            if !(g_range[0] <= g[0] && g[0] < g[1] && g[1] <= g_range[1]) {
-                return Err(p.err(sec, "g", "must be [lo, hi] with lo < hi inside model.g_range"));
-            }
-            bands.push(BandErrors { g: (g[0], g[1]), errors: measured(t, sec, d, &["g", "domain"])? });
+            // Errors name the line in this band's table (the n-th `[[error.band]]`).
+            let at_band = |mut e: CoeffError| {
+                let key = e.field.rsplit('.').next().unwrap_or("").to_string();
+                e.line = locate_nth_array_table(text, sec, n, &key);
+                e
+            };
+            let band = || -> Result<BandErrors, CoeffError> {
+                let t = v.as_table().ok_or_else(|| p.err(sec, "band", "must be a table"))?;
+                let name = p.string(t, sec, "domain")?;
+                let d = Domain::ALL
+                    .into_iter()
+                    .find(|d| d.name() == name)
+                    .ok_or_else(|| p.err(sec, "domain", &format!("unknown domain '{name}'")))?;
+                let g = p.floats(t, sec, "g", Some(2))?;
+                if !(g_range[0] <= g[0] && g[0] < g[1] && g[1] <= g_range[1]) {
+                    return Err(p.err(sec, "g", "must be [lo, hi] with lo < hi inside model.g_range"));
+                }
+                Ok(BandErrors { g: (g[0], g[1]), errors: measured(t, sec, d, &["g", "domain"])? })
+            };
+            bands.push(band().map_err(at_band)?);
         }
     }
 

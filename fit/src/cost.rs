@@ -1,5 +1,6 @@
 //! What one evaluation of a kernel costs, counted once per family: the planner
-//! ranks models by it, the plans and the report print it.
+//! ranks models by it where no bench was run (otherwise by the measured cost),
+//! and the plans and the report print it.
 
 use serde::Serialize;
 

@@ -317,9 +317,11 @@ float airlight_scene_fog_street_piece(float a_5, float b_3, float len, float lo_
 float airlight_scene_fog_street_segments(float a_6, float len_1, float t_1, float att_1)
 {
     float b_4 = (a_6 + len_1);
-    const float _e9 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 0.0, 1.1492407, 0.59235495, -0.04409811, t_1, att_1);
-    const float _e14 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 1.1492407, 1.5707964, 0.84415096, -0.33347234, t_1, att_1);
-    return (_e9 + _e14);
+    const float _e9 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 0.0, 0.8035183, 0.5408661, -0.013447985, t_1, att_1);
+    const float _e14 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 0.8035183, 1.139507, 0.64526737, -0.09733634, t_1, att_1);
+    const float _e20 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 1.139507, 1.3918387, 0.76968193, -0.23910761, t_1, att_1);
+    const float _e26 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 1.3918387, 1.5707964, 0.93048483, -0.4629193, t_1, att_1);
+    return (((_e9 + _e14) + _e20) + _e26);
 }
 
 float airlight_scene_fog_street_forward(float a_7, float len_2, float t_2, float att_2)

@@ -168,6 +168,33 @@ fn damaged_files_are_refused_naming_file_line_and_key() {
     }
 }
 
+/// A damaged band bound is refused naming the line in its own `[[error.band]]`.
+#[test]
+fn damaged_band_bounds_are_refused_at_their_line() {
+    let text = std::fs::read_to_string(generated_dir().join("coefficients/phi-4.toml")).unwrap();
+    assert!(text.matches("[[error.band]]").count() >= 20, "phi-4 declares its bands");
+    // The third band's g reversed, and its thin bound made negative.
+    let third = text.match_indices("[[error.band]]").nth(2).unwrap().0;
+    let (head, tail) = text.split_at(third);
+    let g_line = tail.lines().find(|l| l.starts_with("g = ")).unwrap();
+    let inner = g_line.trim_start_matches("g = [").trim_end_matches(']');
+    let (lo, hi) = inner.split_once(", ").unwrap();
+    let cases = [
+        (tail.replacen(g_line, &format!("g = [{hi}, {lo}]"), 1), "error.band.g", "must be [lo, hi]", "g = ["),
+        (tail.replacen("max_rel = ", "max_rel = -", 1), "error.band.max_rel", ">= 0", "max_rel = -"),
+        (tail.replacen("points = ", "extra = 1\npoints = ", 1), "error.band.extra", "unknown key", "extra"),
+    ];
+    for (damaged_tail, field, says, at) in cases {
+        let damaged = format!("{head}{damaged_tail}");
+        let e = parse("phi-4.toml", &damaged).expect_err(field);
+        let msg = e.to_string();
+        assert_eq!(e.field, field, "{msg}");
+        assert!(msg.contains(says) && msg.lines().count() == 1, "{msg}");
+        let want = head.lines().count() + damaged_tail.lines().position(|l| l.starts_with(at)).unwrap() + 1;
+        assert_eq!(e.line, want, "{field}: {msg}");
+    }
+}
+
 /// Scene files refuse unknown keys too.
 #[test]
 fn scene_files_refuse_unknown_keys() {

@@ -48,9 +48,10 @@ pub fn render_plan(scene: &Scene, plan: &Plan, spec: &KernelSpec) -> Result<Outp
         Choice::Model { name, bound, cost } => (
             format!("`{name}`"),
             format!(
-                "The cheapest model (cost {}) whose declared max relative error over the domains the scene reaches ({}) is within the budget.",
+                "The cheapest model (cost {}) whose declared max relative error over the domains the scene reaches ({}) is within the budget; measured costs within {:.0}% of each other count as equal, and among those the smallest bound wins.",
                 cost.describe(),
-                join_domains(&plan.domains)
+                join_domains(&plan.domains),
+                crate::scene::COST_TIE * 100.0
             ),
             if scene.backscatter {
                 format!("≤ {} (declared, f64 model) plus f32 rounding", fmt(*bound))

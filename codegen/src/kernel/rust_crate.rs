@@ -49,7 +49,7 @@ fn crate_kernels(specs: &[KernelSpec]) -> Vec<CrateKernel> {
         .iter()
         .filter(|s| s.targets.contains(&Target::Rust))
         .map(|s| {
-            let err = |d: Domain| s.model.as_ref().and_then(|m| m.error(d)).map_or(0.0, |e| e.max_rel);
+            let err = |d: Domain| s.declared(d).unwrap_or(0.0);
             let (params, radiance_params) = (s.params(), s.radiance_params());
             CrateKernel {
                 shafts: s.shafts,

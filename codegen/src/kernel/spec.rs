@@ -142,6 +142,18 @@ impl KernelSpec {
         }
     }
 
+    /// The `g` baked into the kernel, if one is (`None`: `g` at run time).
+    pub fn baked_g(&self) -> Option<f64> {
+        (self.g_range.0 == self.g_range.1).then_some(self.g_range.0)
+    }
+
+    /// Its model's declared bound on `domain`: over the band of `g` holding a
+    /// baked `g` where the model has bands ([`ModelFile::bound_at`]); `None` for
+    /// the closed form or a domain the model does not declare.
+    pub fn declared(&self, domain: Domain) -> Option<f64> {
+        self.model.as_ref().and_then(|m| m.bound_at(domain, self.baked_g()))
+    }
+
     /// Error domains its declared bound is taken over.
     pub fn domains(&self) -> &[Domain] {
         &self.domains

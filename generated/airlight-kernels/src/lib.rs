@@ -778,8 +778,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-backscatter-aerosol",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 3.337011155819172e-5,
-        dense_max_rel: 3.392442578504508e-5,
+        thin_max_rel: 1.0613563229900334e-5,
+        dense_max_rel: 1.0983624142725006e-5,
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -792,8 +792,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.9418108715113507e-2,
-        dense_max_rel: 2.1207152633140497e-1,
+        thin_max_rel: 5.868806092532688e-3,
+        dense_max_rel: 6.0269912854425886e-2,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -834,8 +834,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-hg-fog",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 5.97474944748591e-1,
-        dense_max_rel: 4.0460361730914707e-1,
+        thin_max_rel: 1.6330376837615128e-3,
+        dense_max_rel: 1.6462673247980386e-3,
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -862,8 +862,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-spot-harbour",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 9.346048895183597e-1,
-        dense_max_rel: 8.563665429746622e-1,
+        thin_max_rel: 3.2161388126980927e-3,
+        dense_max_rel: 5.149455335564206e-3,
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -880,8 +880,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-window-shafts",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 9.346048895183597e-1,
-        dense_max_rel: 8.563665429746622e-1,
+        thin_max_rel: 3.2161461452248933e-3,
+        dense_max_rel: 5.149455335564206e-3,
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
