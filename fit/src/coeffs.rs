@@ -109,14 +109,18 @@ pub fn render(f: &ModelFile) -> String {
     let _ = writeln!(o, "families = [{}]", fam.join(", "));
     let _ = writeln!(o, "g_range = [{}, {}]", dec(m.g_range.0), dec(m.g_range.1));
     let _ = writeln!(o, "kind = \"{}\"", m.body.kind());
-    for e in &f.errors {
-        let _ = writeln!(o, "\n[error.{}]", e.domain);
+    // One measurement's keys (`[error.<domain>]` and each `[[error.band]]`).
+    let measured = |o: &mut String, e: &DomainErrors| {
         let _ = writeln!(o, "points = {}", e.points);
         let _ = writeln!(o, "max_rel = {}", dec(e.max_rel));
         let _ = writeln!(o, "p99_rel = {}", dec(e.p99_rel));
         let _ = writeln!(o, "worst = {}", point_inline(&e.worst));
         let _ = writeln!(o, "non_finite = {}", e.non_finite);
         let _ = writeln!(o, "negative = {}", e.negative);
+    };
+    for e in &f.errors {
+        let _ = writeln!(o, "\n[error.{}]", e.domain);
+        measured(&mut o, e);
     }
     if !f.bands.is_empty() {
         let _ = writeln!(
@@ -130,12 +134,7 @@ pub fn render(f: &ModelFile) -> String {
         let _ = writeln!(o, "\n[[error.band]]");
         let _ = writeln!(o, "g = [{}, {}]", dec(b.g.0), dec(b.g.1));
         let _ = writeln!(o, "domain = \"{}\"", e.domain);
-        let _ = writeln!(o, "points = {}", e.points);
-        let _ = writeln!(o, "max_rel = {}", dec(e.max_rel));
-        let _ = writeln!(o, "p99_rel = {}", dec(e.p99_rel));
-        let _ = writeln!(o, "worst = {}", point_inline(&e.worst));
-        let _ = writeln!(o, "non_finite = {}", e.non_finite);
-        let _ = writeln!(o, "negative = {}", e.negative);
+        measured(&mut o, e);
     }
     let prov = |o: &mut String, table: &str| {
         for (name, kv) in f.provenance.iter().filter(|(n, _)| n == table) {
