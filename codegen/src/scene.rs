@@ -555,13 +555,14 @@ pub fn plan(scene: &Scene, models: &[ModelFile], bench: Option<&Bench>) -> Resul
     // The first in the ranking's order that meets the budget; measured costs
     // within COST_TIE of its own count as equal (the bench's run-to-run spread),
     // and among those the smallest bound wins.
-    let meets: Vec<&Candidate> = candidates.iter().filter(|c| c.bound <= scene.max_rel_error).collect();
-    let best = meets.first().map(|first| {
-        let tied = |c: &&&Candidate| match (first.cost.ns, c.cost.ns) {
+    let mut meets = candidates.iter().filter(|c| c.bound <= scene.max_rel_error).peekable();
+    let best = meets.peek().copied().map(|first| {
+        let tied = |c: &&Candidate| match (first.cost.ns, c.cost.ns) {
             (Some(a), Some(b)) => b <= a * (1.0 + COST_TIE),
             _ => c.name == first.name,
         };
-        (*meets.iter().filter(tied).min_by(|a, b| a.bound.total_cmp(&b.bound)).unwrap_or(first)).clone()
+        // `first` is tied with itself, so the minimum exists.
+        meets.filter(tied).min_by(|a, b| a.bound.total_cmp(&b.bound)).unwrap_or(first).clone()
     });
     match best {
         Some(c) => Ok(Plan {

@@ -570,6 +570,25 @@ pub fn load(dir: &std::path::Path) -> Result<Vec<ModelFile>, crate::coeffs::Coef
     Ok(files)
 }
 
+/// Measures every model of `files` on each validation of `sets` that `belongs`
+/// to it, in one parallel run: `(file, set, errors)` in file order.
+fn measure_on(
+    files: &[ModelFile],
+    sets: &[Validation],
+    belongs: impl Fn(&ModelFile, &Validation) -> bool,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Vec<(usize, usize, DomainErrors)> {
+    let jobs: Vec<(usize, usize)> = files
+        .iter()
+        .enumerate()
+        .flat_map(|(i, f)| {
+            sets.iter().enumerate().filter(|(_, v)| belongs(f, v)).map(move |(j, _)| (i, j)).collect::<Vec<_>>()
+        })
+        .collect();
+    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
+    jobs.into_iter().zip(measured).map(|((i, j), e)| (i, j, e)).collect()
+}
+
 /// Assembles every model of [`CATALOG`] from `fits` and measures it on the
 /// validation sets: the complete coefficient files, in catalog order.
 /// `progress(done, total)` counts reference evaluations, then models.
@@ -582,19 +601,7 @@ pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Ve
         }
     }
     let sets = validations(&ranges, progress);
-    let jobs: Vec<(usize, usize)> = files
-        .iter()
-        .enumerate()
-        .flat_map(|(i, f)| {
-            sets.iter()
-                .enumerate()
-                .filter(|(_, v)| v.g_range == f.model.g_range)
-                .map(move |(j, _)| (i, j))
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
-    for (&(i, _), e) in jobs.iter().zip(measured) {
+    for (i, _, e) in measure_on(&files, &sets, |f, v| v.g_range == f.model.g_range, progress) {
         files[i].errors.push(e);
     }
     // The bands of every model whose g is a run-time argument.
@@ -607,21 +614,8 @@ pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Ve
         }
     }
     let band_sets = band_validations(&bands, progress);
-    let jobs: Vec<(usize, usize)> = files
-        .iter()
-        .enumerate()
-        .flat_map(|(i, f)| {
-            let own = bands_of(f.model.g_range);
-            band_sets
-                .iter()
-                .enumerate()
-                .filter(move |(_, v)| own.contains(&v.g_range))
-                .map(move |(j, _)| (i, j))
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &band_sets[j]), progress);
-    for (&(i, j), e) in jobs.iter().zip(measured) {
+    let own = |f: &ModelFile, v: &Validation| bands_of(f.model.g_range).contains(&v.g_range);
+    for (i, j, e) in measure_on(&files, &band_sets, own, progress) {
         files[i].bands.push(crate::coeffs::BandErrors { g: band_sets[j].g_range, errors: e });
     }
     for f in &mut files {

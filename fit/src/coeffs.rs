@@ -11,7 +11,7 @@ use crate::approx::{Approximation, Body};
 use crate::domains::{Domain, DomainErrors};
 use crate::family::Member;
 use crate::reference::Point;
-use crate::tomlfile::{dec, locate, parse_table, short, FieldError, Provenance, Reader};
+use crate::tomlfile::{dec, locate, locate_nth, parse_table, short, FieldError, Provenance, Reader};
 use std::fmt::Write;
 use std::path::Path;
 use toml::{Table, Value};
@@ -149,33 +149,6 @@ pub fn render(f: &ModelFile) -> String {
     o
 }
 
-/// The line of `key` in the `n`-th (from 0) `[[section]]` table of `text`, or of
-/// that table's header when the key is not there (1 when there is no such table).
-fn locate_nth_array_table(text: &str, section: &str, n: usize, key: &str) -> usize {
-    let header = format!("[[{section}]]");
-    let mut seen = 0usize;
-    let mut inside = None;
-    for (i, line) in text.lines().enumerate() {
-        let l = line.trim();
-        if l.starts_with('[') {
-            if inside.is_some() {
-                break;
-            }
-            if l == header {
-                if seen == n {
-                    inside = Some(i + 1);
-                }
-                seen += 1;
-            }
-            continue;
-        }
-        if inside.is_some() && l.split('=').next().is_some_and(|k| k.trim() == key) {
-            return i + 1;
-        }
-    }
-    inside.unwrap_or(1)
-}
-
 /// Reads a coefficient file.
 pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     let doc: Table = parse_table(file, text)?;
@@ -219,10 +192,8 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         None => &empty,
         Some(e) => e.as_table().ok_or_else(|| p.err("error", "error", "must be a table"))?,
     };
-    let mut names: Vec<&str> = Domain::ALL.iter().map(|d| d.name()).collect();
-    names.push("band");
-    p.deny(err, "error", &names)?;
-    names.pop();
+    let names: Vec<&str> = Domain::ALL.iter().map(|d| d.name()).collect();
+    p.deny(err, "error", &names.iter().copied().chain(["band"]).collect::<Vec<_>>())?;
     // One measurement table (`[error.<domain>]` or an `[[error.band]]`).
     let measured = |t: &Table, sec: &str, d: Domain, extra: &[&str]| -> Result<DomainErrors, CoeffError> {
         let keys: Vec<&str> =
@@ -267,8 +238,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
             let sec = "error.band";
             // Errors name the line in this band's table (the n-th `[[error.band]]`).
             let at_band = |mut e: CoeffError| {
-                let key = e.field.rsplit('.').next().unwrap_or("").to_string();
-                e.line = locate_nth_array_table(text, sec, n, &key);
+                e.line = locate_nth(text, sec, n, &e.field);
                 e
             };
             let band = || -> Result<BandErrors, CoeffError> {

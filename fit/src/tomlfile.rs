@@ -84,6 +84,34 @@ pub fn locate(text: &str, section: &str, key: &str) -> usize {
     section_line
 }
 
+/// [`locate`] in the `n`-th (from 0) `[[section]]` table of an array of tables:
+/// the line of `key = …` there, else that table's header, else 1.
+pub fn locate_nth(text: &str, section: &str, n: usize, key: &str) -> usize {
+    let header = format!("[[{section}]]");
+    let leaf = key.rsplit('.').next().unwrap_or(key);
+    let mut seen = 0usize;
+    let mut inside = None;
+    for (i, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if l.starts_with('[') {
+            if inside.is_some() {
+                break;
+            }
+            if l == header {
+                if seen == n {
+                    inside = Some(i + 1);
+                }
+                seen += 1;
+            }
+            continue;
+        }
+        if inside.is_some() && l.split('=').next().is_some_and(|k| k.trim() == leaf) {
+            return i + 1;
+        }
+    }
+    inside.unwrap_or(1)
+}
+
 /// The error for `section.key` of `file`, located in `text`.
 pub fn field_error(file: &str, text: &str, section: &str, key: &str, message: impl Into<String>) -> FieldError {
     FieldError {

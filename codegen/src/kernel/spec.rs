@@ -62,7 +62,7 @@ pub struct KernelSpec {
 /// The declared max of `m` on each of `domains`, as `thin 9.8e-6, dense 2.8e-6`.
 pub fn domain_bound(m: &ModelFile, domains: &[Domain], g_range: (f64, f64)) -> String {
     let baked = (g_range.0 == g_range.1).then_some(g_range.0);
-    let band = baked.is_some() && m.bands.iter().any(|b| baked.is_some_and(|g| b.g.0 <= g && g <= b.g.1));
+    let band = baked.is_some_and(|g| m.bands.iter().any(|b| b.g.0 <= g && g <= b.g.1));
     let text = domains
         .iter()
         .filter_map(|&d| m.bound_at(d, baked).map(|e| format!("{d} {}", fmt_err(e))))

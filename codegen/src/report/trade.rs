@@ -236,42 +236,42 @@ fn no_extinction(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
     ctx.insert("noext_ns", &floor.map_or("—".into(), |f| ns(f.cpu_ns_per_eval)));
 }
 
+/// One way of measuring a model: its label and its figure.
+type Way = (&'static str, fn(&BenchModel) -> f64);
+
+/// For each pair `(a, z)` that both ways measured: "`a` / `z` r₁× way₁, r₂× way₂",
+/// each `r` the ratio of `a`'s figure to `z`'s that way.
+fn two_ways(b: &Bench, pairs: [(&str, &str); 3], ways: [Way; 2]) -> Vec<String> {
+    pairs
+        .iter()
+        .filter_map(|&(a, z)| {
+            let (a, z) = (b.model(a)?, b.model(z)?);
+            ways.iter().all(|(_, f)| f(a) > 0.0 && f(z) > 0.0).then(|| {
+                let cells: Vec<String> = ways.iter().map(|(what, f)| format!("{:.2}× {what}", f(a) / f(z))).collect();
+                format!("`{}` / `{}` {}", a.name, z.name, cells.join(", "))
+            })
+        })
+        .collect()
+}
+
 /// The speed/accuracy section's values.
 pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
     let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g)).collect();
     ctx.insert("trade", &sections);
     ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
-    // The CPU cost ratios that depend on how a short kernel is called.
-    let mut two_ways = Vec::new();
-    for (a, z) in [("phi-iso-4", "no-extinction"), ("phi-4", "no-extinction"), ("phi-4", "equiangular-4")] {
-        if let (Some(a), Some(z)) = (b.model(a), b.model(z)) {
-            if a.cpu_ns_one_at_a_time > 0.0 && z.cpu_ns_one_at_a_time > 0.0 {
-                two_ways.push(format!(
-                    "`{}` / `{}` {:.2}× in the loop, {:.2}× one call at a time",
-                    a.name,
-                    z.name,
-                    a.cpu_ns_per_eval / z.cpu_ns_per_eval,
-                    a.cpu_ns_one_at_a_time / z.cpu_ns_one_at_a_time
-                ));
-            }
-        }
-    }
-    ctx.insert("cpu_two_ways", &two_ways);
-    // The GPU-path rate ratios, random and frame-coherent.
-    let mut gpu_two_ways = Vec::new();
-    for (a, z) in [("phi-4", "equiangular-8"), ("phi-iso-4", "equiangular-16"), ("phi-4", "no-extinction")] {
-        if let (Some(a), Some(z)) = (b.model(a), b.model(z)) {
-            if a.gpu_frame_evals_per_s > 0.0 && z.gpu_frame_evals_per_s > 0.0 && z.gpu_evals_per_s > 0.0 {
-                gpu_two_ways.push(format!(
-                    "`{}` / `{}` {:.2}× on random points, {:.2}× frame-coherent",
-                    a.name,
-                    z.name,
-                    a.gpu_evals_per_s / z.gpu_evals_per_s,
-                    a.gpu_frame_evals_per_s / z.gpu_frame_evals_per_s
-                ));
-            }
-        }
-    }
+    // The CPU cost ratios that depend on how a short kernel is called, and the
+    // GPU-path rate ratios, random and frame-coherent.
+    let cpu_two_ways = two_ways(
+        b,
+        [("phi-iso-4", "no-extinction"), ("phi-4", "no-extinction"), ("phi-4", "equiangular-4")],
+        [("in the loop", |m| m.cpu_ns_per_eval), ("one call at a time", |m| m.cpu_ns_one_at_a_time)],
+    );
+    ctx.insert("cpu_two_ways", &cpu_two_ways);
+    let gpu_two_ways = two_ways(
+        b,
+        [("phi-4", "equiangular-8"), ("phi-iso-4", "equiangular-16"), ("phi-4", "no-extinction")],
+        [("on random points", |m| m.gpu_evals_per_s), ("frame-coherent", |m| m.gpu_frame_evals_per_s)],
+    );
     ctx.insert("gpu_two_ways", &gpu_two_ways);
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     let shafts: Vec<ShaftsRow> = b

@@ -334,15 +334,16 @@ fn forward(choice: ForwardChoice, fits: &SplitFits, parts: &mut Parts) -> Result
         ForwardChoice::Dominant => {
             let d = fits.dominant.as_ref().ok_or("the dominance refit was not run")?;
             families.push("segments-3 (paper form, refit with the ratio to dominate the published model)".into());
-            let (kmax, kat) = d.forward.kernel_error();
-            prov.push(("forward.fit".into(), kv(dominant_provenance(d, kmax, kat))));
+            prov.push(("forward.fit".into(), kv(dominant_provenance(d))));
             d.forward.clone()
         }
     })
 }
 
-/// The provenance of the dominance refit (shared by its forward and ratio tables).
-fn dominant_provenance(d: &DominantFit, kmax: f64, kat: f64) -> Vec<(&'static str, Value)> {
+/// The provenance of the dominance refit (in `[forward.fit]`; the ratio's table
+/// points there).
+fn dominant_provenance(d: &DominantFit) -> Vec<(&'static str, Value)> {
+    let (kmax, kat) = d.forward.kernel_error();
     let arr = |x: &[f64; dominant::N]| Value::Array(x.iter().map(|&v| f(v)).collect());
     vec![
         ("source", s("this project: the paper's form (3 segments, ratio cubics) refit from its published values")),
