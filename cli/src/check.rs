@@ -35,13 +35,16 @@ pub(crate) fn run_gate(
     record: bool,
 ) -> Result<(), Failure> {
     let spinner = indicatif::ProgressBar::new_spinner();
-    let rows =
-        gate::run(generated, gpu, rust, only, &|what| spinner.set_message(format!("check: {what}"))).map_err(|e| {
-            match e {
-                gate::GateError::Input(m) => bad_input(m),
-                e => Failure(1, e.to_string()),
-            }
-        })?;
+    let progress = |what: &str| spinner.set_message(format!("check: {what}"));
+    let (rows, f32_bounds) = if record {
+        gate::run_measuring(generated, gpu, rust, only, &progress)
+    } else {
+        gate::run(generated, gpu, rust, only, &progress).map(|r| (r, Vec::new()))
+    }
+    .map_err(|e| match e {
+        gate::GateError::Input(m) => bad_input(m),
+        e => Failure(1, e.to_string()),
+    })?;
     spinner.finish_and_clear();
     let failures: Vec<gate::Row> = rows.iter().filter(|r| !r.passes()).cloned().collect();
     if all {
@@ -51,7 +54,7 @@ pub(crate) fn run_gate(
     if record {
         let adapter = gpu.map_or("none: the GPU targets were not run".to_string(), |g| g.adapter().to_string());
         let path = generated.join(airlight_fit::record::FILE);
-        let record = gate::record(generated, &rows, adapter).map_err(|e| Failure(1, e))?;
+        let record = gate::record(generated, &rows, f32_bounds, adapter).map_err(|e| Failure(1, e))?;
         airlight_fit::io::write_atomic(&path, record.to_toml().as_bytes())
             .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
         println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());

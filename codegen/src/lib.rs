@@ -146,12 +146,25 @@ pub fn render_all(
         specs.push(spec);
     }
     let (bench, record, fuzz) = (recorded.bench.as_ref(), recorded.gate.as_ref(), recorded.fuzz.as_ref());
-    let kernels = kernel::render(&specs).map_err(RenderError::Template)?;
+    let mut kernels = kernel::render(&specs).map_err(RenderError::Template)?;
     // Whether the recorded gate measured these kernels.
     let current = record.map(|r| {
         let files: Vec<(String, Vec<u8>)> = kernels.iter().map(|o| (o.path.clone(), o.contents.clone())).collect();
         airlight_fit::record::digest(&files) == r.kernels_digest
     });
+    // The f32 bounds it measured on them: into the registries (kernels.toml, the
+    // crate's `KERNELS`), which are not kernel sources.
+    if let (Some(r), Some(true)) = (record, current) {
+        for spec in &mut specs {
+            spec.f32 = spec.domains.iter().filter_map(|&d| r.f32_bound(&spec.name, d).map(|e| (d, e))).collect();
+        }
+        let registry = kernel::render_crate(&specs).map_err(RenderError::Template)?;
+        for o in registry {
+            if let Some(slot) = kernels.iter_mut().find(|k| k.path == o.path) {
+                *slot = o;
+            }
+        }
+    }
     let gate = record.zip(current);
     let mut out =
         vec![report::render(check, models, bench, gate, fuzz, &specs, renders).map_err(RenderError::Template)?];

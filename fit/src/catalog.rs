@@ -406,6 +406,14 @@ pub const REFINE_STARTS: usize = 8;
 /// and underestimates (sampled domains only), so the declared bound is not an
 /// accident of sampling.
 pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
+    measure_within(model, v, &|p| p)
+}
+
+/// [`measure`] for a model that takes only part of the domain (a scene kernel: a
+/// fixed `g`, no surfaces or no extinction): every point the local searches visit
+/// is `project`ed onto what it takes before the model and the reference see it.
+/// The validation set's points must already lie there.
+pub fn measure_within(model: &dyn Model, v: &Validation, project: &(dyn Fn(Point) -> Point + Sync)) -> DomainErrors {
     let mut errs: Vec<(Point, f64)> = Vec::with_capacity(v.points.len());
     let mut signed: Vec<(Point, f64)> = Vec::with_capacity(v.points.len());
     let (mut non_finite, mut negative) = (0, 0);
@@ -458,7 +466,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
                 starts.push(p);
             }
         }
-        search(model, v, &starts, &mut max, &mut worst);
+        search(model, v, project, &starts, &mut max, &mut worst);
         // Held-out rounds: each a fresh seeded set, its largest over- and
         // underestimates searched from; the first round that raises nothing ends it.
         for set in &v.held_out {
@@ -474,7 +482,7 @@ pub fn measure(model: &dyn Model, v: &Validation) -> DomainErrors {
                     signed.push((p, a / exact - 1.0));
                 }
             }
-            search(model, v, &extremes(v.domain, &mut signed, REFINE_STARTS / 2), &mut max, &mut worst);
+            search(model, v, project, &extremes(v.domain, &mut signed, REFINE_STARTS / 2), &mut max, &mut worst);
             if max <= before {
                 break;
             }
@@ -503,9 +511,16 @@ fn extremes(domain: Domain, signed: &mut [(Point, f64)], n: usize) -> Vec<Point>
 
 /// A local search from each of `starts`, raising `max` (and moving `worst`)
 /// wherever one finds more.
-fn search(model: &dyn Model, v: &Validation, starts: &[Point], max: &mut f64, worst: &mut Point) {
+fn search(
+    model: &dyn Model,
+    v: &Validation,
+    project: &(dyn Fn(Point) -> Point + Sync),
+    starts: &[Point],
+    max: &mut f64,
+    worst: &mut Point,
+) {
     for &start in starts {
-        let (found, e) = refine(model, v.domain, v.g_range, start);
+        let (found, e) = refine(model, v.domain, v.g_range, project, start);
         if e > *max {
             (*max, *worst) = (e, found);
         }
@@ -539,14 +554,20 @@ fn diverse(domain: Domain, points: impl Iterator<Item = Point>, n: usize, apart:
 }
 
 /// Local search for a larger error near `start`, inside the domain.
-fn refine(model: &dyn Model, domain: Domain, g_range: (f64, f64), start: Point) -> (Point, f64) {
+fn refine(
+    model: &dyn Model,
+    domain: Domain,
+    g_range: (f64, f64),
+    project: &(dyn Fn(Point) -> Point + Sync),
+    start: Point,
+) -> (Point, f64) {
     let inf = start.rho.is_infinite();
     let to_point = |x: &[f64]| {
-        clamp_into(
+        project(clamp_into(
             domain,
             g_range,
             Point { tau: x[0], gamma: x[1], rho: if inf { f64::INFINITY } else { x[2].exp() }, g: x[3] },
-        )
+        ))
     };
     let err = |x: &[f64]| {
         let p = to_point(x);

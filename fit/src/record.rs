@@ -83,6 +83,43 @@ pub struct GateRecord {
     pub kernels_digest: String,
     /// Every row.
     pub rows: Vec<GateRow>,
+    /// Every kernel's f32 bound on each of its sampled domains, measured on its
+    /// f32 targets: what `kernels.toml` and the crate's `KERNELS` declare and the
+    /// gate holds the f32 targets to ([`F32Bound`]).
+    pub f32_bounds: Vec<F32Bound>,
+}
+
+/// A kernel's f32 bound on one domain (docs/MATH.md §5): the largest relative
+/// error its f32 targets reach, measured by `airlight check --record` — the Rust
+/// f32 kernel on the domain's validation set, face grids, held-out rounds and
+/// local searches from their worst points (those of the f64 bound, run on the
+/// kernel itself), each GPU target on the validation set and at the Rust
+/// searches' worst point — and never below the f64 model's declared bound.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct F32Bound {
+    /// Kernel name.
+    pub kernel: String,
+    /// `thin` or `dense`.
+    pub domain: String,
+    /// The bound.
+    pub max_rel: f64,
+    /// The f64 model's declared bound it is never below.
+    pub f64_max_rel: f64,
+    /// What set it: the target (`rust-f32`, `wgsl`, `glsl`, or `f64` where no f32
+    /// target exceeded the model's bound).
+    pub set_by: String,
+    /// Where that target's largest error was found `[τ, γ, ρ, g]` (ρ = -1: no
+    /// surface); absent where the model's bound set it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<[f64; 4]>,
+}
+
+impl GateRecord {
+    /// The recorded f32 bound of `kernel` on `domain`.
+    pub fn f32_bound(&self, kernel: &str, domain: Domain) -> Option<f64> {
+        self.f32_bounds.iter().find(|b| b.kernel == kernel && b.domain == domain.name()).map(|b| b.max_rel)
+    }
 }
 
 impl GateRecord {
@@ -188,7 +225,17 @@ mod tests {
                 limit: 2e-3,
                 bad: 0,
             }],
+            f32_bounds: vec![F32Bound {
+                kernel: "segments-8".into(),
+                domain: "thin".into(),
+                max_rel: 1.5e-3,
+                f64_max_rel: 1e-3,
+                set_by: "wgsl".into(),
+                at: Some([0.5, 1.0, -1.0, 0.0]),
+            }],
         };
+        assert_eq!(r.f32_bound("segments-8", Domain::Thin), Some(1.5e-3));
+        assert_eq!(r.f32_bound("segments-8", Domain::Dense), None);
         assert_eq!(GateRecord::from_toml("g.toml", &r.to_toml()).unwrap(), r);
         let a = digest(&[("wgsl/a.wgsl".into(), b"x".to_vec()), ("REPORT.md".into(), b"y".to_vec())]);
         let b = digest(&[("wgsl/a.wgsl".into(), b"x".to_vec())]);

@@ -300,10 +300,26 @@ pub fn rho_arg(rho: f64) -> f32 {
     }
 }
 
-/// The largest relative error an f32 kernel (any target) may show where its f64
-/// model declares `declared`: the one rule of the gate and of the tests.
+/// The largest relative error an f32 kernel (any target) may show on the sets its
+/// f32 bound was not measured on (the edge and extreme sets, the physical, spot
+/// and shafts entries) where it declares `declared`.
 pub fn f32_limit(declared: f64) -> f64 {
     declared * (1.0 + F32_REL_ALLOWANCE) + F32_ALLOWANCE
+}
+
+/// What another adapter's (or compiler's) rounding may add to an f32 bound
+/// measured on one: 64 units in the last place of 1 (2⁻¹⁸ = 3.8e-6), twice the
+/// largest gap measured between two implementations on the same points (the
+/// gate record of 2026-12-03: lavapipe's WGSL and GLSL against the Rust f32
+/// kernel, `phi-iso-8` on `dense`, 3.58e-6 against 1.78e-6).
+pub const F32_ADAPTER_ALLOWANCE: f64 = 1.0 / 262_144.0;
+
+/// The largest relative error an f32 target may show on `thin` or `dense`, where
+/// the kernel declares its own f32 bound `f32_bound` (measured on its f32
+/// targets): the bound, widened by [`F32_REL_ALLOWANCE`] and
+/// [`F32_ADAPTER_ALLOWANCE`] only.
+pub fn f32_domain_limit(f32_bound: f64) -> f64 {
+    f32_bound * (1.0 + F32_REL_ALLOWANCE) + F32_ADAPTER_ALLOWANCE
 }
 
 /// A compiled Rust kernel's canonical entry, uniform signature `(tau, gamma, rho, g)`
@@ -406,9 +422,25 @@ pub struct IndexEntry {
     /// The table it reads (bound as a texture in the shaders), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<TableRef>,
+    /// Its f32 bound on `thin`, as `airlight check --record` measured it on its
+    /// f32 targets (absent: not recorded for these sources; the gate then fails).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub f32_thin_max_rel: Option<f64>,
+    /// Its f32 bound on `dense`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub f32_dense_max_rel: Option<f64>,
 }
 
 impl IndexEntry {
+    /// Its recorded f32 bound on `domain` (`thin` or `dense`).
+    pub fn f32_bound(&self, domain: Domain) -> Option<f64> {
+        match domain {
+            Domain::Thin => self.f32_thin_max_rel,
+            Domain::Dense => self.f32_dense_max_rel,
+            Domain::Extreme => None,
+        }
+    }
+
     /// Whether the kernel can evaluate `p` as it is: `p` in the domain of `A`, and
     /// nothing the kernel was specialised away from (extinction: only `τ = 0`;
     /// surfaces: only `ρ = ∞`; its `g`, or its `g` range) — a kernel would otherwise

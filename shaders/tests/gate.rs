@@ -1,6 +1,7 @@
 //! The error gate fails when a kernel breaks its bound: a wrong coefficient
-//! planted in a copy of the generated WGSL and GLSL fails on the GPU targets; a
-//! declared bound the compiled Rust kernel cannot meet fails on the CPU.
+//! planted in a copy of the generated WGSL and GLSL fails on the GPU targets; an
+//! f32 bound the compiled Rust kernel cannot meet fails on the CPU; a kernel
+//! without a recorded f32 bound is refused.
 
 mod common;
 
@@ -49,16 +50,20 @@ fn the_committed_kernels_pass_on_the_cpu() {
     assert!(rows.iter().all(|r| r.passes()), "{}", gate::table(&rows, true));
 }
 
+/// The line `key = …` of segments-8's entry in `kernels.toml` under `dir`.
+fn segments_8_line(dir: &Path, key: &str) -> String {
+    let text = std::fs::read_to_string(dir.join("kernels.toml")).unwrap();
+    let at = text.find("name = \"segments-8\"").unwrap();
+    text[at..].lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap().to_string()
+}
+
 #[test]
-fn a_bound_the_rust_kernel_cannot_meet_fails() {
+fn an_f32_bound_the_rust_kernel_cannot_meet_fails() {
     let dir = copy("bound");
-    // Declare segments-8 ten times better on thin than it is.
-    let toml = dir.join("coefficients/segments-8.toml");
-    let text = std::fs::read_to_string(&toml).unwrap();
-    let at = text.find("[error.thin]").unwrap();
-    let line = text[at..].lines().find(|l| l.starts_with("max_rel = ")).unwrap().to_string();
-    let value: f64 = line["max_rel = ".len()..].split_whitespace().next().unwrap().parse().unwrap();
-    replace_in(&toml, &line, &format!("max_rel = {}", value / 10.0));
+    // Declare segments-8's f32 bound ten times better on thin than it is.
+    let line = segments_8_line(&dir, "f32_thin_max_rel");
+    let value: f64 = line["f32_thin_max_rel = ".len()..].trim().parse().unwrap();
+    replace_in(&dir.join("kernels.toml"), &line, &format!("f32_thin_max_rel = {}", value / 10.0));
     let rows = gate::run(&dir, None, &common::compiled(), &["segments-8".into()], &|_| {}).unwrap();
     let failed: Vec<_> = rows.iter().filter(|r| !r.passes()).collect();
     assert!(!failed.is_empty(), "{}", gate::table(&rows, false));
@@ -69,6 +74,20 @@ fn a_bound_the_rust_kernel_cannot_meet_fails() {
     );
     let table = gate::table(&rows, true);
     assert!(table.contains("segments-8") && table.contains("FAIL") && table.contains("rust-f32"), "{table}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_kernel_without_a_recorded_f32_bound_is_refused() {
+    let dir = copy("no-f32");
+    let line = segments_8_line(&dir, "f32_dense_max_rel");
+    replace_in(&dir.join("kernels.toml"), &format!("{line}\n"), "");
+    let Err(gate::GateError::Input(e)) = gate::run(&dir, None, &common::compiled(), &["segments-8".into()], &|_| {})
+    else {
+        panic!("the gate ran without an f32 bound")
+    };
+    assert!(e.contains("kernels.toml") && e.contains("segments-8") && e.contains("f32_dense_max_rel"), "{e}");
+    assert!(e.contains("airlight check --record"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

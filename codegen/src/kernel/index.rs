@@ -6,7 +6,7 @@ use super::spec::KernelSpec;
 use super::table_path;
 use crate::output::Output;
 use airlight_fit::template::KernelPhase;
-use airlight_fit::vocab::{Entry, Index, IndexEntry, Target};
+use airlight_fit::vocab::{Domain, Entry, Index, IndexEntry, Target};
 
 fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     let path = |target: Target, bevy: bool| {
@@ -46,6 +46,8 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
                 .texture()
                 .map(|t| airlight_fit::vocab::TableRef { path: table_path(&m.model.name), size: t.res })
         }),
+        f32_thin_max_rel: spec.f32_bound(Domain::Thin),
+        f32_dense_max_rel: spec.f32_bound(Domain::Dense),
     }
 }
 

@@ -278,6 +278,20 @@ fn translations(spec: &KernelSpec, table: &OutputTable, rendered: &[Output]) -> 
 /// Every kernel output: per-kernel files from the table, naga's translations,
 /// the tables kernels read, and the Rust crate's own files.
 pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
+    let mut out = render_sources(specs)?;
+    out.extend(render_crate(specs)?);
+    Ok(out)
+}
+
+/// The Rust crate's registry and manifest (`lib.rs`, `Cargo.toml`): what carries
+/// the declared bounds, f32 ones included, and none of the kernels' code.
+pub fn render_crate(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
+    rust_crate::render(&engine()?, &OutputTable::standard(), specs)
+}
+
+/// Every kernel source (and table) of `specs`, without the crate's registry:
+/// what the gate measures ([`airlight_fit::record::digest`]).
+pub fn render_sources(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     let table = OutputTable::standard();
     let tera = engine()?;
     let mut out = Vec::new();
@@ -301,7 +315,6 @@ pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
             }
         }
     }
-    out.extend(rust_crate::render(&tera, &table, specs)?);
     Ok(out)
 }
 

@@ -14,6 +14,9 @@ struct CrateKernel {
     ident: String,
     thin: String,
     dense: String,
+    /// `Some(…)` or `None`, as Rust.
+    f32_thin: String,
+    f32_dense: String,
     scene: bool,
     params: Vec<&'static str>,
     closure: String,
@@ -57,6 +60,8 @@ fn crate_kernels(specs: &[KernelSpec]) -> Vec<CrateKernel> {
                 ident: s.ident(),
                 thin: format!("{:e}", err(Domain::Thin)),
                 dense: format!("{:e}", err(Domain::Dense)),
+                f32_thin: s.f32_bound(Domain::Thin).map_or("None".into(), |e| format!("Some({e:e})")),
+                f32_dense: s.f32_bound(Domain::Dense).map_or("None".into(), |e| format!("Some({e:e})")),
                 scene: s.scene.is_some(),
                 radiance_closure: closure(Entry::Radiance, &radiance_params),
                 spot_closure: closure(Entry::Spot, &s.args(Entry::Spot)),

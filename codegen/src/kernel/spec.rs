@@ -57,6 +57,10 @@ pub struct KernelSpec {
     pub g_range: (f64, f64),
     /// Targets to emit.
     pub targets: Vec<Target>,
+    /// Its f32 bound on each of its sampled domains, as the gate record
+    /// (`generated/gate.toml`) measured it on these very sources; empty when the
+    /// record is missing or measured other sources.
+    pub f32: Vec<(Domain, f64)>,
 }
 
 /// The declared max of `m` on each of `domains`, as `thin 9.8e-6, dense 2.8e-6`.
@@ -96,6 +100,7 @@ impl KernelSpec {
             domains: vec![Domain::Thin, Domain::Dense],
             g_range: m.model.g_range,
             targets: Target::ALL.to_vec(),
+            f32: Vec::new(),
         }
     }
 
@@ -116,6 +121,7 @@ impl KernelSpec {
             domains: plan.domains.clone(),
             g_range: scene.phase.g_range(),
             targets: scene.targets.clone(),
+            f32: Vec::new(),
         };
         match &plan.choice {
             Choice::NoExtinction => {
@@ -152,6 +158,11 @@ impl KernelSpec {
     /// the closed form or a domain the model does not declare.
     pub fn declared(&self, domain: Domain) -> Option<f64> {
         self.model.as_ref().and_then(|m| m.bound_at(domain, self.baked_g()))
+    }
+
+    /// Its recorded f32 bound on `domain` ([`KernelSpec::f32`]).
+    pub fn f32_bound(&self, domain: Domain) -> Option<f64> {
+        self.f32.iter().find(|(d, _)| *d == domain).map(|&(_, e)| e)
     }
 
     /// Error domains its declared bound is taken over.

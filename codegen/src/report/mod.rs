@@ -82,7 +82,9 @@ fn worst_of(m: &ModelFile) -> f64 {
 }
 
 /// Plain-language advice computed from the measured table.
-fn advice(models: &[ModelFile], bench: Option<&Bench>) -> Vec<String> {
+/// `f32_of(name)`: the f32 bound over `thin` and `dense` of a model's kernel, where
+/// the gate record measured these kernels.
+fn advice(models: &[ModelFile], bench: Option<&Bench>, f32_of: &dyn Fn(&str) -> Option<f64>) -> Vec<String> {
     let mut out = Vec::new();
     let get = |n: &str| models.iter().find(|m| m.model.name == n);
     if let (Some(p), Some(r)) = (get("paper"), get("paper-refit")) {
@@ -130,12 +132,17 @@ fn advice(models: &[ModelFile], bench: Option<&Bench>) -> Vec<String> {
                 .min_by(|a, b| speed(a).total_cmp(&speed(b)));
             out.push(match best {
                 Some(m) => format!(
-                    "{label}, max error ≤ {} on both `thin` and `dense`: `{}` ({}cost {}, declared max {}).",
+                    "{label}, max error ≤ {} on both `thin` and `dense`: `{}` ({}cost {}, declared max {}{}).",
                     fmt_err(budget),
                     m.model.name,
                     ns_of(m).map_or(String::new(), |n| format!("{n:.0} ns/eval in the bench, ")),
                     m.model.cost(),
-                    fmt_err(worst_of(m))
+                    fmt_err(worst_of(m)),
+                    f32_of(&m.model.name).map_or(String::new(), |e| format!(
+                        "; its f32 kernels {}{}",
+                        fmt_err(e),
+                        if e > budget { ", above this level" } else { "" }
+                    ))
                 ),
                 None => format!("{label}, max error ≤ {}: no model here meets it.", fmt_err(budget)),
             });
@@ -323,6 +330,7 @@ struct GeneratedKernel {
     specialised: String,
     ops: String,
     bound: String,
+    f32_bound: String,
 }
 
 /// The reference's self-check: per domain and phase, the agreement of its
@@ -403,6 +411,11 @@ fn generated_kernel(k: &KernelSpec) -> GeneratedKernel {
             .model
             .as_ref()
             .map_or("exact".into(), |m| crate::kernel::spec::domain_bound(m, k.domains(), k.g_range)),
+        f32_bound: if k.f32.is_empty() {
+            "not recorded for these sources".into()
+        } else {
+            k.f32.iter().map(|(d, e)| format!("{d} {}", fmt_err(*e))).collect::<Vec<_>>().join(", ")
+        },
     }
 }
 
@@ -437,9 +450,16 @@ pub fn render(
     ctx.insert("header", &header(TEMPLATE_NAME));
     selfcheck_context(&mut ctx, check);
     ctx.insert("models", &models.iter().map(model_row).collect::<Vec<_>>());
-    ctx.insert("advice", &advice(models, bench));
+    let f32_of = |name: &str| {
+        let (r, current) = gate?;
+        let (t, d) = (r.f32_bound(name, Domain::Thin), r.f32_bound(name, Domain::Dense));
+        current.then(|| t.into_iter().chain(d).fold(None, |m: Option<f64>, e| Some(m.map_or(e, |m| m.max(e)))))?
+    };
+    ctx.insert("advice", &advice(models, bench, &f32_of));
     ctx.insert("family_sections", &family_sections(models, bench)?);
     ctx.insert("generated_kernels", &specs.iter().map(generated_kernel).collect::<Vec<_>>());
+    ctx.insert("f32_rel", &format!("{:.0e}", airlight_fit::vocab::F32_REL_ALLOWANCE));
+    ctx.insert("f32_adapter", &format!("{:.1e}", airlight_fit::vocab::F32_ADAPTER_ALLOWANCE));
     ctx.insert("renders", &render_rows(renders));
     ctx.insert("shafts_renders", &shafts_renders(renders));
     ctx.insert("bench", &bench.is_some());

@@ -146,6 +146,12 @@ pub struct Kernel {
     pub thin_max_rel: f64,
     /// Declared max relative error of the f64 model on `dense`.
     pub dense_max_rel: f64,
+    /// Declared max relative error of the f32 kernels (this crate's and the
+    /// shaders') on `thin`, measured on them by `airlight check --record` and never
+    /// below the f64 model's (`None`: not recorded for this code).
+    pub f32_thin_max_rel: Option<f64>,
+    /// The same on `dense`.
+    pub f32_dense_max_rel: Option<f64>,
     /// The canonical entry, uniform signature.
     pub airlight: Canonical,
     /// The physical entry, uniform signature.
@@ -166,6 +172,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.3888063976782465e0,
         dense_max_rel: 4.8500126557493323e8,
+        f32_thin_max_rel: Some(6.388808180189458e0),
+        f32_dense_max_rel: Some(4.8500131772216463e8),
         airlight: |tau, gamma, rho, _g| paper_as_printed::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -182,6 +190,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.205391512184754e-1,
         dense_max_rel: 9.435195391294986e2,
+        f32_thin_max_rel: Some(9.205403794671668e-1),
+        f32_dense_max_rel: Some(9.435195391294986e2),
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -198,6 +208,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.36061533826927e-1,
         dense_max_rel: 6.537000294306384e2,
+        f32_thin_max_rel: Some(7.360625703746027e-1),
+        f32_dense_max_rel: Some(6.537000294306384e2),
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -214,6 +226,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1e0,
         dense_max_rel: 9.425225554351499e2,
+        f32_thin_max_rel: Some(1e0),
+        f32_dense_max_rel: Some(9.425225554351499e2),
         airlight: |tau, gamma, rho, g| paper_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -230,6 +244,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99991573777365e-1,
         dense_max_rel: 4.350156466700981e0,
+        f32_thin_max_rel: Some(9.99991573777365e-1),
+        f32_dense_max_rel: Some(4.350156466700981e0),
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -248,6 +264,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9418108715113507e-2,
         dense_max_rel: 2.1207152633140497e-1,
+        f32_thin_max_rel: Some(1.9424621720277074e-2),
+        f32_dense_max_rel: Some(2.120805912953173e-1),
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -264,6 +282,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.431094167318058e-3,
         dense_max_rel: 9.842357562198802e-2,
+        f32_thin_max_rel: Some(9.437250582468228e-3),
+        f32_dense_max_rel: Some(9.843109253858719e-2),
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -280,6 +300,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.868806092532688e-3,
         dense_max_rel: 6.0269912854425886e-2,
+        f32_thin_max_rel: Some(5.87498258411175e-3),
+        f32_dense_max_rel: Some(6.0277263845743306e-2),
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -296,6 +318,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.5885333914572e-3,
         dense_max_rel: 3.647654045780973e-2,
+        f32_thin_max_rel: Some(3.5944982316986366e-3),
+        f32_dense_max_rel: Some(3.648322548927695e-2),
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -312,6 +336,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9640270794631727e-3,
         dense_max_rel: 1.9815525489108008e-2,
+        f32_thin_max_rel: Some(1.9704338446864143e-3),
+        f32_dense_max_rel: Some(1.982146997417731e-2),
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -328,6 +354,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 1.1751982685251208e-2,
+        f32_thin_max_rel: Some(1.498650575316867e-3),
+        f32_dense_max_rel: Some(1.175978080202044e-2),
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -344,6 +372,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 9.35346948019298e-3,
+        f32_thin_max_rel: Some(1.498650575316867e-3),
+        f32_dense_max_rel: Some(9.361295255566554e-3),
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -360,6 +390,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99995779898211e-1,
         dense_max_rel: 9.999932386612747e-1,
+        f32_thin_max_rel: Some(9.99995779898211e-1),
+        f32_dense_max_rel: Some(9.999932386612747e-1),
         airlight: |tau, gamma, rho, g| hg_exp1::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -376,6 +408,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99660042706722e-1,
         dense_max_rel: 9.994611551207985e-1,
+        f32_thin_max_rel: Some(9.99660042706722e-1),
+        f32_dense_max_rel: Some(9.994611551207985e-1),
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -392,6 +426,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.624572025648898e-1,
         dense_max_rel: 8.706807242861917e-1,
+        f32_thin_max_rel: Some(9.624572025648898e-1),
+        f32_dense_max_rel: Some(8.706807242861917e-1),
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -408,6 +444,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.623071267969755e-4,
         dense_max_rel: 5.693310587663081e-4,
+        f32_thin_max_rel: Some(6.623071267969755e-4),
+        f32_dense_max_rel: Some(5.697697002876579e-4),
         airlight: |tau, gamma, rho, _g| phi_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -424,6 +462,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.428369174091819e-6,
         dense_max_rel: 7.38223234433147e-6,
+        f32_thin_max_rel: Some(5.810153827494727e-6),
+        f32_dense_max_rel: Some(7.725862803832926e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -440,6 +480,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.449329305279864e-6,
         dense_max_rel: 1.6010448461722652e-6,
+        f32_thin_max_rel: Some(7.010733873368088e-6),
+        f32_dense_max_rel: Some(3.5849224202105235e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -456,6 +498,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.2437287989487383e-3,
         dense_max_rel: 2.251841604925979e-3,
+        f32_thin_max_rel: Some(2.24516207268932e-3),
+        f32_dense_max_rel: Some(2.2528863055160165e-3),
         airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -472,6 +516,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.337011155819172e-5,
         dense_max_rel: 3.392442578504508e-5,
+        f32_thin_max_rel: Some(3.372852455425256e-5),
+        f32_dense_max_rel: Some(3.392442578504508e-5),
         airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -488,6 +534,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.877231146706908e-6,
         dense_max_rel: 2.8008944091557076e-6,
+        f32_thin_max_rel: Some(1.8965078609454394e-5),
+        f32_dense_max_rel: Some(2.054794146438068e-5),
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -504,6 +552,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma", "rho"],
         thin_max_rel: 4.13153718893016e1,
         dense_max_rel: 2.0354650194914993e10,
+        f32_thin_max_rel: Some(4.13153718893016e1),
+        f32_dense_max_rel: Some(2.0354650194914993e10),
         airlight: |_tau, gamma, rho, _g| no_extinction::airlight(gamma, rho),
         radiance: |origin, dir, surface, light, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::radiance(origin, dir, surface, light, intensity, sigma_s)
@@ -520,6 +570,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888243e1,
         dense_max_rel: 7.48776599924585e1,
+        f32_thin_max_rel: Some(6.543289093720632e1),
+        f32_dense_max_rel: Some(7.487784653682229e1),
         airlight: |tau, gamma, rho, g| raymarch_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -536,6 +588,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888226e1,
         dense_max_rel: 7.487765999245829e1,
+        f32_thin_max_rel: Some(6.543288967352514e1),
+        f32_dense_max_rel: Some(7.487783633751633e1),
         airlight: |tau, gamma, rho, g| raymarch_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -552,6 +606,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888243e1,
         dense_max_rel: 7.48776599924587e1,
+        f32_thin_max_rel: Some(6.543288813563585e1),
+        f32_dense_max_rel: Some(7.487784436031632e1),
         airlight: |tau, gamma, rho, g| raymarch_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -568,6 +624,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.296811482479926e1,
         dense_max_rel: 2.429674959177883e1,
+        f32_thin_max_rel: Some(6.296813155533519e1),
+        f32_dense_max_rel: Some(2.4296805961159816e1),
         airlight: |tau, gamma, rho, g| raymarch_64::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -584,6 +642,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.1149205384025283e1,
         dense_max_rel: 2.4296749591779253e1,
+        f32_thin_max_rel: Some(2.1149214342213835e1),
+        f32_dense_max_rel: Some(2.4296811171156865e1),
         airlight: |tau, gamma, rho, g| raymarch_128::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -600,6 +660,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.509408392410128e0,
         dense_max_rel: 9.85305472844469e0,
+        f32_thin_max_rel: Some(8.509414266196682e0),
+        f32_dense_max_rel: Some(9.85308051552886e0),
         airlight: |tau, gamma, rho, g| raymarch_256::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -616,6 +678,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.2463495652750334e0,
         dense_max_rel: 2.6616967237723244e0,
+        f32_thin_max_rel: Some(2.246350925187153e0),
+        f32_dense_max_rel: Some(2.6617053349281896e0),
         airlight: |tau, gamma, rho, g| raymarch_1024::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -632,6 +696,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.994002332413402e-1,
         dense_max_rel: 9.995354512042686e-1,
+        f32_thin_max_rel: Some(9.994002338646923e-1),
+        f32_dense_max_rel: Some(9.995354560523492e-1),
         airlight: |tau, gamma, rho, g| equiangular_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -648,6 +714,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.945000713325793e-1,
         dense_max_rel: 9.840315142543387e-1,
+        f32_thin_max_rel: Some(9.945000754593263e-1),
+        f32_dense_max_rel: Some(9.840315367675965e-1),
         airlight: |tau, gamma, rho, g| equiangular_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -664,6 +732,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.346048895183597e-1,
         dense_max_rel: 8.563665429746622e-1,
+        f32_thin_max_rel: Some(9.346053590207828e-1),
+        f32_dense_max_rel: Some(8.563667596400659e-1),
         airlight: |tau, gamma, rho, g| equiangular_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -680,6 +750,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.97474944748591e-1,
         dense_max_rel: 4.0460361730914707e-1,
+        f32_thin_max_rel: Some(5.97474944748591e-1),
+        f32_dense_max_rel: Some(4.0460487646631627e-1),
         airlight: |tau, gamma, rho, g| equiangular_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -698,6 +770,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.6987679325666438e-1,
         dense_max_rel: 4.856620748391694e-2,
+        f32_thin_max_rel: Some(1.6989453255309878e-1),
+        f32_dense_max_rel: Some(4.8567677572928236e-2),
         airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -716,6 +790,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.919441799010673e2,
         dense_max_rel: 3.650346902078789e18,
+        f32_thin_max_rel: Some(2.9194668130230554e2),
+        f32_dense_max_rel: Some(3.650437852740468e18),
         airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -732,6 +808,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.7193672231725265e2,
         dense_max_rel: 1.8078629703794867e13,
+        f32_thin_max_rel: Some(2.719381139628047e2),
+        f32_dense_max_rel: Some(1.8084296987934563e13),
         airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -748,6 +826,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.319190075828035e2,
         dense_max_rel: 2.528630706396565e6,
+        f32_thin_max_rel: Some(2.319190075828035e2),
+        f32_dense_max_rel: Some(2.528999751624994e6),
         airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -764,6 +844,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5191149715037238e2,
         dense_max_rel: 1.025026167428919e3,
+        f32_thin_max_rel: Some(1.5191149715037238e2),
+        f32_dense_max_rel: Some(1.025090820867259e3),
         airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -780,6 +862,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 1.0613563229900334e-5,
         dense_max_rel: 1.0983624142725006e-5,
+        f32_thin_max_rel: Some(1.0613563229900334e-5),
+        f32_dense_max_rel: Some(1.0983624142725006e-5),
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -794,6 +878,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.868806092532688e-3,
         dense_max_rel: 6.0269912854425886e-2,
+        f32_thin_max_rel: Some(5.87498258411175e-3),
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_fog_street::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -808,6 +894,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 1.9640270794631727e-3,
         dense_max_rel: 1.9815525489108008e-2,
+        f32_thin_max_rel: Some(1.9640270794631727e-3),
+        f32_dense_max_rel: Some(1.9815525489108008e-2),
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -822,6 +910,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma"],
         thin_max_rel: 0e0,
         dense_max_rel: 0e0,
+        f32_thin_max_rel: Some(2.8996820200501617e-7),
+        f32_dense_max_rel: None,
         airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
         radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
             scene_haze_sky::radiance(origin, dir, light, intensity, sigma_s)
@@ -836,6 +926,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.6330376837615128e-3,
         dense_max_rel: 1.6462673247980386e-3,
+        f32_thin_max_rel: Some(1.6330376837615128e-3),
+        f32_dense_max_rel: Some(1.6462673247980386e-3),
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -850,6 +942,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9640270794631727e-3,
         dense_max_rel: 1.9815525489108008e-2,
+        f32_thin_max_rel: Some(1.9640270794631727e-3),
+        f32_dense_max_rel: Some(1.982146997417731e-2),
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -864,6 +958,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.2161388126980927e-3,
         dense_max_rel: 5.149455335564206e-3,
+        f32_thin_max_rel: Some(3.2161388126980927e-3),
+        f32_dense_max_rel: Some(5.149455335564206e-3),
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -882,6 +978,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.2161461452248933e-3,
         dense_max_rel: 5.149455335564206e-3,
+        f32_thin_max_rel: Some(3.2162097495748144e-3),
+        f32_dense_max_rel: Some(5.149455335564206e-3),
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
