@@ -453,11 +453,11 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float _e126 = du;
     float ub = (ua + _e126);
     float t_1 = (tau_5 * tb);
-    float xf = (3.0 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (3.5 / max(t_1, 1e-30)) : airlight_phi_4_HUGE);
+    float xf = (1.5 * max(md_4.w, 1.0));
+    float lcut = ((t_1 > 0.0) ? (1.8847107 / max(t_1, 1e-30)) : airlight_phi_4_HUGE);
     float m_1 = max(ua, xf);
     float _e143 = du;
-    bool is_short = (_e143 < (0.25 * (ua + min(md_4.w, 1.0))));
+    bool is_short = (_e143 < (0.29245466 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
@@ -465,13 +465,13 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     }
     bool _e156 = local_7;
     if (_e156) {
-        local_8 = ((t_1 * (m_1 - ua)) < 3.5);
+        local_8 = ((t_1 * (m_1 - ua)) < 1.8847107);
     } else {
         local_8 = false;
     }
     bool _e164 = local_8;
     if (_e164) {
-        local_9 = ((t_1 * m_1) < 4.0);
+        local_9 = ((t_1 * m_1) < 7.001672);
     } else {
         local_9 = false;
     }
@@ -479,7 +479,7 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float _e172 = du;
     float len = (use_far ? (m_1 - ua) : min(_e172, lcut));
     if ((len > 0.0)) {
-        if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
+        if (!((len < (0.29245466 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
@@ -610,59 +610,71 @@ float airlight_phi_4_airlight_geometry(float tau_in, float h_in, float x0_1, flo
             const float _e479 = airlight_phi_4_exp_e2_((t_1 * ub));
             f = (_e473 - ((exp((-(t_1) * (ub - m_1))) * _e479) / ub));
         }
-        float ue = ((t_1 > 0.0) ? (m_1 + (5.0 / max(t_1, 1e-30))) : airlight_phi_4_HUGE);
+        float ue = ((t_1 > 0.0) ? (m_1 + (6.4751744 / max(t_1, 1e-30))) : airlight_phi_4_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
-        v_3 = (va + (hl_2 * 1.5773503));
+        v_3 = (va + (hl_2 * 1.7745967));
         float _e506 = s;
         float _e507 = v_3;
         const float _e508 = airlight_phi_4_r_of_v(_e507, md_4);
         float _e512 = v_3;
-        s = (_e506 + ((1.0 * _e508) * exp((-(t_1) * ((1.0 / _e512) - m_1)))));
-        v_3 = (va + (hl_2 * 0.42264974));
+        s = (_e506 + ((0.5555556 * _e508) * exp((-(t_1) * ((1.0 / _e512) - m_1)))));
+        v_3 = (va + (hl_2 * 1.0));
         float _e523 = s;
         float _e524 = v_3;
         const float _e525 = airlight_phi_4_r_of_v(_e524, md_4);
         float _e529 = v_3;
-        s = (_e523 + ((1.0 * _e525) * exp((-(t_1) * ((1.0 / _e529) - m_1)))));
-        float _e537 = sum;
-        float _e543 = f;
-        float _e544 = s;
-        sum = (_e537 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e543 + (_e544 * hl_2))));
+        s = (_e523 + ((0.8888889 * _e525) * exp((-(t_1) * ((1.0 / _e529) - m_1)))));
+        v_3 = (va + (hl_2 * 0.22540331));
+        float _e540 = s;
+        float _e541 = v_3;
+        const float _e542 = airlight_phi_4_r_of_v(_e541, md_4);
+        float _e546 = v_3;
+        s = (_e540 + ((0.5555556 * _e542) * exp((-(t_1) * ((1.0 / _e546) - m_1)))));
+        float _e554 = sum;
+        float _e560 = f;
+        float _e561 = s;
+        sum = (_e554 + ((c_6 * exp((-(t_1) * (m_1 - ua)))) * (_e560 + (_e561 * hl_2))));
     } else {
-        float _e549 = du;
-        if ((_e549 > lcut)) {
+        float _e566 = du;
+        if ((_e566 > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e554 = s_1;
-            const float _e558 = airlight_phi_4_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e554 + (0.8535534 * _e558));
-            float _e562 = s_1;
-            const float _e566 = airlight_phi_4_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e562 + (0.14644662 * _e566));
+            float _e571 = s_1;
+            const float _e575 = airlight_phi_4_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e571 + (0.711093 * _e575));
+            float _e579 = s_1;
+            const float _e583 = airlight_phi_4_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e579 + (0.27851772 * _e583));
+            float _e587 = s_1;
+            const float _e591 = airlight_phi_4_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e587 + (0.010389256 * _e591));
             if (!(open)) {
-                float _e573 = sb;
-                const float _e577 = airlight_phi_4_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e573 + (0.8535534 * _e577));
-                float _e581 = sb;
-                const float _e585 = airlight_phi_4_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e581 + (0.14644662 * _e585));
-                float _e589 = s_1;
-                float _e591 = du;
-                float _e595 = sb;
-                s_1 = (_e589 - (exp((-(t_1) * (_e591 - lcut))) * _e595));
+                float _e598 = sb;
+                const float _e602 = airlight_phi_4_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e598 + (0.711093 * _e602));
+                float _e606 = sb;
+                const float _e610 = airlight_phi_4_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e606 + (0.27851772 * _e610));
+                float _e614 = sb;
+                const float _e618 = airlight_phi_4_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e614 + (0.010389256 * _e618));
+                float _e622 = s_1;
+                float _e624 = du;
+                float _e628 = sb;
+                s_1 = (_e622 - (exp((-(t_1) * (_e624 - lcut))) * _e628));
             }
-            float _e598 = sum;
-            float _e601 = s_1;
-            sum = (_e598 + ((0.030197384 / t_1) * max(_e601, 0.0)));
+            float _e631 = sum;
+            float _e634 = s_1;
+            sum = (_e631 + ((0.15187299 / t_1) * max(_e634, 0.0)));
         }
     }
     if ((tb < 8.673617e-19)) {
-        float _e608 = sum;
-        const float _e616 = airlight_phi_4_scaled((2.0 * max(_e608, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e616;
+        float _e641 = sum;
+        const float _e649 = airlight_phi_4_scaled((2.0 * max(_e641, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e649;
     }
-    float _e621 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e621 / tb)), 0.0), airlight_phi_4_HUGE);
+    float _e654 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e654 / tb)), 0.0), airlight_phi_4_HUGE);
 }
 
 float airlight_phi_4_airlight(float tau, float gamma, float rho_2, float g)

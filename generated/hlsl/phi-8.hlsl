@@ -453,11 +453,11 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float _e126 = du;
     float ub = (ua + _e126);
     float t_1 = (tau_5 * tb);
-    float xf = (3.0 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (5.0 / max(t_1, 1e-30)) : airlight_phi_8_HUGE);
+    float xf = (3.7640178 * max(md_4.w, 1.0));
+    float lcut = ((t_1 > 0.0) ? (4.729138 / max(t_1, 1e-30)) : airlight_phi_8_HUGE);
     float m_1 = max(ua, xf);
     float _e143 = du;
-    bool is_short = (_e143 < (0.25 * (ua + min(md_4.w, 1.0))));
+    bool is_short = (_e143 < (0.27937064 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
@@ -465,13 +465,13 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     }
     bool _e156 = local_7;
     if (_e156) {
-        local_8 = ((t_1 * (m_1 - ua)) < 5.0);
+        local_8 = ((t_1 * (m_1 - ua)) < 4.729138);
     } else {
         local_8 = false;
     }
     bool _e164 = local_8;
     if (_e164) {
-        local_9 = ((t_1 * m_1) < 4.0);
+        local_9 = ((t_1 * m_1) < 4.5903716);
     } else {
         local_9 = false;
     }
@@ -479,7 +479,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float _e172 = du;
     float len = (use_far ? (m_1 - ua) : min(_e172, lcut));
     if ((len > 0.0)) {
-        if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
+        if (!((len < (0.27937064 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
@@ -714,7 +714,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
             const float _e715 = airlight_phi_8_exp_e2_((t_1 * ub));
             f = (_e709 - ((exp((-(t_1) * (ub - m_1))) * _e715) / ub));
         }
-        float ue = ((t_1 > 0.0) ? (m_1 + (8.0 / max(t_1, 1e-30))) : airlight_phi_8_HUGE);
+        float ue = ((t_1 > 0.0) ? (m_1 + (7.079974 / max(t_1, 1e-30))) : airlight_phi_8_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
@@ -775,7 +775,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
             }
             float _e884 = sum;
             float _e887 = s_1;
-            sum = (_e884 + ((0.006737947 / t_1) * max(_e887, 0.0)));
+            sum = (_e884 + ((0.008834084 / t_1) * max(_e887, 0.0)));
         }
     }
     if ((tb < 8.673617e-19)) {

@@ -432,11 +432,11 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     float _e111 = du;
     float ub = (ua + _e111);
     float t_1 = (tau_5 * tb);
-    float xf = (3.0 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (4.0 / max(t_1, 1e-30)) : airlight_phi_iso_6_HUGE);
+    float xf = (3.7283664 * max(md_4.w, 1.0));
+    float lcut = ((t_1 > 0.0) ? (4.91128 / max(t_1, 1e-30)) : airlight_phi_iso_6_HUGE);
     float m_1 = max(ua, xf);
     float _e128 = du;
-    bool is_short = (_e128 < (0.25 * (ua + min(md_4.w, 1.0))));
+    bool is_short = (_e128 < (0.16031957 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_7 = (ub > m_1);
     } else {
@@ -444,13 +444,13 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     }
     bool _e141 = local_7;
     if (_e141) {
-        local_8 = ((t_1 * (m_1 - ua)) < 4.0);
+        local_8 = ((t_1 * (m_1 - ua)) < 4.91128);
     } else {
         local_8 = false;
     }
     bool _e149 = local_8;
     if (_e149) {
-        local_9 = ((t_1 * m_1) < 4.0);
+        local_9 = ((t_1 * m_1) < 5.248124);
     } else {
         local_9 = false;
     }
@@ -458,7 +458,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     float _e157 = du;
     float len = (use_far ? (m_1 - ua) : min(_e157, lcut));
     if ((len > 0.0)) {
-        if (!((len < (0.25 * (ua + min(md_4.w, 1.0)))))) {
+        if (!((len < (0.16031957 * (ua + min(md_4.w, 1.0)))))) {
             local_10 = (ua >= xf);
         } else {
             local_10 = true;
@@ -640,7 +640,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
             const float _e572 = airlight_phi_iso_6_exp_e2_((t_1 * ub));
             f = (_e566 - ((exp((-(t_1) * (ub - m_1))) * _e572) / ub));
         }
-        float ue = ((t_1 > 0.0) ? (m_1 + (6.0 / max(t_1, 1e-30))) : airlight_phi_iso_6_HUGE);
+        float ue = ((t_1 > 0.0) ? (m_1 + (6.294302 / max(t_1, 1e-30))) : airlight_phi_iso_6_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
         v_3 = (va + (hl_2 * 1.8611363));
@@ -676,41 +676,35 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
         if ((_e676 > lcut)) {
             float ue_1 = (ua + lcut);
             float _e681 = s_1;
-            const float _e685 = airlight_phi_iso_6_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e681 + (0.711093 * _e685));
+            const float _e685 = airlight_phi_iso_6_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e681 + (0.8535534 * _e685));
             float _e689 = s_1;
-            const float _e693 = airlight_phi_iso_6_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e689 + (0.27851772 * _e693));
-            float _e697 = s_1;
-            const float _e701 = airlight_phi_iso_6_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e697 + (0.010389256 * _e701));
+            const float _e693 = airlight_phi_iso_6_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e689 + (0.14644662 * _e693));
             if (!(open)) {
+                float _e700 = sb;
+                const float _e704 = airlight_phi_iso_6_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e700 + (0.8535534 * _e704));
                 float _e708 = sb;
-                const float _e712 = airlight_phi_iso_6_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e708 + (0.711093 * _e712));
-                float _e716 = sb;
-                const float _e720 = airlight_phi_iso_6_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e716 + (0.27851772 * _e720));
-                float _e724 = sb;
-                const float _e728 = airlight_phi_iso_6_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e724 + (0.010389256 * _e728));
-                float _e732 = s_1;
-                float _e734 = du;
-                float _e738 = sb;
-                s_1 = (_e732 - (exp((-(t_1) * (_e734 - lcut))) * _e738));
+                const float _e712 = airlight_phi_iso_6_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e708 + (0.14644662 * _e712));
+                float _e716 = s_1;
+                float _e718 = du;
+                float _e722 = sb;
+                s_1 = (_e716 - (exp((-(t_1) * (_e718 - lcut))) * _e722));
             }
-            float _e741 = sum;
-            float _e744 = s_1;
-            sum = (_e741 + ((0.01831564 / t_1) * max(_e744, 0.0)));
+            float _e725 = sum;
+            float _e728 = s_1;
+            sum = (_e725 + ((0.007363057 / t_1) * max(_e728, 0.0)));
         }
     }
     if ((tb < 8.673617e-19)) {
-        float _e751 = sum;
-        const float _e759 = airlight_phi_iso_6_scaled((2.0 * max(_e751, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e759;
+        float _e735 = sum;
+        const float _e743 = airlight_phi_iso_6_scaled((2.0 * max(_e735, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e743;
     }
-    float _e764 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e764 / tb)), 0.0), airlight_phi_iso_6_HUGE);
+    float _e748 = sum;
+    return min(max(((2.0 * exp(-(tau_5))) * (_e748 / tb)), 0.0), airlight_phi_iso_6_HUGE);
 }
 
 float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_2)

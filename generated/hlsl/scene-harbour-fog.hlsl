@@ -19,7 +19,6 @@ static const float airlight_scene_harbour_fog_PI = 3.1415927;
 static const float airlight_scene_harbour_fog_FRAC_PI_2_ = 1.5707964;
 static const float airlight_scene_harbour_fog_HUGE = 3.4028235e38;
 static const float airlight_scene_harbour_fog_TAU_MAX = 10000.0;
-static const float airlight_scene_harbour_fog_P_ISO = 0.07957747;
 
 float airlight_scene_harbour_fog_max_abs(float3 v)
 {
@@ -34,10 +33,10 @@ float2 airlight_scene_harbour_fog_halves(float a)
 
 float2 airlight_scene_harbour_fog_two_product(float a_1, float b)
 {
-    float p = (a_1 * b);
+    float p_1 = (a_1 * b);
     const float2 _e3 = airlight_scene_harbour_fog_halves(a_1);
     const float2 _e4 = airlight_scene_harbour_fog_halves(b);
-    return float2(p, (((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
+    return float2(p_1, (((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
 }
 
 float airlight_scene_harbour_fog_diff_of_products(float a_2, float b_1, float c, float d)
@@ -56,9 +55,9 @@ ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
 typedef float3 ret_airlight_scene_harbour_fog_two_sum[2];
 ret_airlight_scene_harbour_fog_two_sum airlight_scene_harbour_fog_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s = (a_3 + b_2);
-    float3 bb = (s - a_3);
-    return Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
+    float3 s_2 = (a_3 + b_2);
+    float3 bb = (s_2 - a_3);
+    return Constructarray2_float3_(s_2, ((a_3 - (s_2 - bb)) + (b_2 - bb)));
 }
 
 int naga_div(int lhs, int rhs) {
@@ -122,14 +121,14 @@ float3 airlight_scene_harbour_fog_ray_geometry(float3 origin, float3 dir, float3
         float3 cs = (_e75 / (_e70).xxx);
         h = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_2 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_1 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h;
     float _e85 = h;
-    float n = sqrt(((_e84 * _e85) + (x0_2 * x0_2)));
+    float n = sqrt(((_e84 * _e85) + (x0_1 * x0_1)));
     const float3 _e93 = airlight_scene_harbour_fog_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h;
-    return float3(min(dist, airlight_scene_harbour_fog_HUGE), (_e97 / n), (x0_2 / n));
+    return float3(min(dist, airlight_scene_harbour_fog_HUGE), (_e97 / n), (x0_1 / n));
 }
 
 float airlight_scene_harbour_fog_scaled(float sigma_s, float intensity, float d_1, float a_4)
@@ -155,12 +154,12 @@ float airlight_scene_harbour_fog_scaled(float sigma_s, float intensity, float d_
     if ((a_4 >= airlight_scene_harbour_fog_HUGE)) {
         return airlight_scene_harbour_fog_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
     _frexp_result_f32_ i = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
+    _frexp_result_f32_ q_1 = naga_frexp(a_4);
     _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_1.fract * i.fract) * q.fract) / r_1.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_1.exp_));
+    _frexp_result_f32_ m = naga_frexp((((s_3.fract * i.fract) * q_1.fract) / r_1.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i.exp_))) + asuint(q_1.exp_))) - asuint(r_1.exp_));
     if ((e > int(128))) {
         return airlight_scene_harbour_fog_HUGE;
     }
@@ -175,24 +174,24 @@ float airlight_scene_harbour_fog_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_8 = abs(x);
-    r = a_8;
-    if ((a_8 > 2.4142137)) {
+    float a_5 = abs(x);
+    r = a_5;
+    if ((a_5 > 2.4142137)) {
         y0_ = airlight_scene_harbour_fog_FRAC_PI_2_;
-        r = (-1.0 / a_8);
+        r = (-1.0 / a_5);
     } else {
-        if ((a_8 > 0.41421357)) {
+        if ((a_5 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_8 - 1.0) / (a_8 + 1.0));
+            r = ((a_5 - 1.0) / (a_5 + 1.0));
         }
     }
     float _e18 = r;
     float _e19 = r;
-    float z_1 = (_e18 * _e19);
+    float z = (_e18 * _e19);
     float _e21 = y0_;
     float _e33 = r;
     float _e36 = r;
-    float y_1 = ((_e21 + ((((((((0.080537446 * z_1) - 0.13877685) * z_1) + 0.19977711) * z_1) - 0.3333295) * z_1) * _e33)) + _e36);
+    float y_1 = ((_e21 + ((((((((0.080537446 * z) - 0.13877685) * z) + 0.19977711) * z) - 0.3333295) * z) * _e33)) + _e36);
     return ((x < 0.0) ? -(y_1) : y_1);
 }
 
@@ -217,10 +216,10 @@ float airlight_scene_harbour_fog_arctan2_(float y, float x_1)
 
 float2 airlight_scene_harbour_fog_sin_cos_octant(float x_2)
 {
-    float z_2 = (x_2 * x_2);
-    float s_2 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
-    float c_2 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
-    return float2(s_2, c_2);
+    float z_1 = (x_2 * x_2);
+    float s_4 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float c_2 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
+    return float2(s_4, c_2);
 }
 
 int naga_f2i32(float value) {
@@ -240,183 +239,424 @@ float2 airlight_scene_harbour_fog_sin_cos(float x_3)
     int _e13 = j;
     float y_2 = float(_e13);
     float r_2 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
-    float z_3 = (r_2 * r_2);
-    float s_3 = (((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_2) + r_2);
-    float c_3 = ((((((((2.4433157e-5 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0);
+    float z_2 = (r_2 * r_2);
+    float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2);
+    float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_3, c_3);
+            return float2(s_5, c_3);
         }
         case 1: {
-            return float2(c_3, -(s_3));
+            return float2(c_3, -(s_5));
         }
         case 2: {
-            return float2(-(s_3), -(c_3));
+            return float2(-(s_5), -(c_3));
         }
         default: {
-            return float2(-(c_3), s_3);
+            return float2(-(c_3), s_5);
         }
     }
 }
 
-float airlight_scene_harbour_fog_exprel(float x_4)
+float airlight_scene_harbour_fog_exp_e2_(float x_4)
 {
-    if ((abs(x_4) < 0.5)) {
-        return (1.0 + (x_4 * (0.5 + (x_4 * (0.16666667 + (x_4 * (0.041666668 + (x_4 * (0.008333334 + (x_4 * (0.0013888889 + (x_4 * (0.0001984127 + (x_4 * 2.4801588e-5))))))))))))));
+    float ein = 0.0;
+    float p = 0.0;
+    float q = 0.0;
+
+    if ((x_4 < 1.0)) {
+        float _e5 = ein;
+        ein = ((_e5 + -2.755732e-8) * x_4);
+        float _e9 = ein;
+        ein = ((_e9 + 3.0619245e-7) * x_4);
+        float _e13 = ein;
+        ein = ((_e13 + -3.1001985e-6) * x_4);
+        float _e17 = ein;
+        ein = ((_e17 + 2.8344672e-5) * x_4);
+        float _e21 = ein;
+        ein = ((_e21 + -0.00023148148) * x_4);
+        float _e25 = ein;
+        ein = ((_e25 + 0.0016666667) * x_4);
+        float _e29 = ein;
+        ein = ((_e29 + -0.010416667) * x_4);
+        float _e33 = ein;
+        ein = ((_e33 + 0.055555556) * x_4);
+        float _e37 = ein;
+        ein = ((_e37 + -0.25) * x_4);
+        float _e41 = ein;
+        ein = ((_e41 + 1.0) * x_4);
+        float _e52 = ein;
+        return (1.0 + ((x_4 * exp(x_4)) * ((log(max(x_4, 1e-30)) + 0.5772157) - _e52)));
     }
-    return ((exp(x_4) - 1.0) / x_4);
+    float t = (1.0 / x_4);
+    float _e63 = p;
+    p = ((_e63 + 0.12941834) * t);
+    float _e67 = q;
+    q = ((_e67 + 15.616933) * t);
+    float _e71 = p;
+    p = ((_e71 + 13.425987) * t);
+    float _e75 = q;
+    q = ((_e75 + 51.058296) * t);
+    float _e79 = p;
+    p = ((_e79 + 24.985815) * t);
+    float _e83 = q;
+    q = ((_e83 + 43.252842) * t);
+    float _e87 = p;
+    p = ((_e87 + 10.132498) * t);
+    float _e91 = q;
+    q = ((_e91 + 12.132477) * t);
+    float _e95 = p;
+    float _e99 = q;
+    return ((t * (1.0 + _e95)) / (1.0 + _e99));
 }
 
-float airlight_scene_harbour_fog_phi(float z)
+float airlight_scene_harbour_fog_w_u(float u, float4 md)
 {
-    if ((z <= 0.0)) {
-        return 1.0;
-    }
-    if ((z <= 1.0)) {
-        float e1_ = ((-(log(z)) - 0.5772157) + (z * (0.99999195 + (z * (-0.24991055 + (z * (0.055199683 + (z * (-0.00976004 + (z * 0.00107857))))))))));
-        return (1.0 - ((z * exp(z)) * e1_));
-    }
-    if ((z > 500.0)) {
-        float r_3 = (1.0 / z);
-        return (r_3 * (1.0 + (r_3 * (-2.0 + (r_3 * (6.0 + (r_3 * (-24.0 + (r_3 * 120.0)))))))));
-    }
-    float d_2 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
-    float n_1 = ((((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232);
-    return (n_1 / d_2);
+    float v_4 = (1.0 / u);
+    return ((u > 1.0) ? (((0.07957747 * v_4) * v_4) / (1.0 + (v_4 * v_4))) : (0.07957747 / (1.0 + (u * u))));
 }
 
-float airlight_scene_harbour_fog_piece(float a_5, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att)
+float2 airlight_scene_harbour_fog_phi_and_complement(float u_1, float4 md_1)
+{
+    if ((u_1 <= 1.0)) {
+        const float _e4 = airlight_scene_harbour_fog_arctan(u_1);
+        float p_2 = (2.0 * _e4);
+        return float2(p_2, (airlight_scene_harbour_fog_PI - p_2));
+    }
+    const float _e12 = airlight_scene_harbour_fog_arctan((1.0 / u_1));
+    float c_4 = (2.0 * _e12);
+    return float2((airlight_scene_harbour_fog_PI - c_4), c_4);
+}
+
+float2 airlight_scene_harbour_fog_u_and_weight(float s2_, float c2_, float4 md_2)
+{
+    return float2((s2_ / c2_), 0.5);
+}
+
+float airlight_scene_harbour_fog_r_of_v(float v_2, float4 md_3)
+{
+    return ((-(v_2) * v_2) / (1.0 + (v_2 * v_2)));
+}
+
+float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, float x0_)
 {
     bool local_4 = (bool)0;
+    bool local_5 = (bool)0;
+    bool local_6 = (bool)0;
+    bool local_7 = (bool)0;
+    float sum = 0.0;
+    bool local_8 = (bool)0;
+    float d_2 = (float)0;
+    float beta = (float)0;
+    float co = (float)0;
+    float2 sc = (float2)0;
+    float2 uw = (float2)0;
+    float f = (float)0;
+    float s = 0.0;
+    float v_3 = (float)0;
+    float s_1 = 0.0;
+    float sb = 0.0;
 
-    float lo = max(a_5, lo_j);
-    float hi_1 = min(b_3, hi_j);
-    if ((hi_1 <= lo)) {
-        return 0.0;
-    }
-    if ((a_5 >= lo_j)) {
-        local_4 = (b_3 <= hi_j);
+    float tau_1 = min(max(tau_in, 0.0), airlight_scene_harbour_fog_TAU_MAX);
+    float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
+    if ((x0_ > 0.0)) {
+        local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
     bool _e19 = local_4;
-    float l = (_e19 ? len : (hi_1 - lo));
-    float lam = (-(t) * slope);
-    float ea = (att - (t * ((slope * lo) + icpt)));
-    const float _e35 = airlight_scene_harbour_fog_exprel((-(abs(lam)) * l));
-    return ((exp(max(ea, (ea + (lam * l)))) * l) * _e35);
-}
-
-float airlight_scene_harbour_fog_segments(float a_6, float len_1, float t_1, float att_1)
-{
-    float b_4 = (a_6 + len_1);
-    const float _e9 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1);
-    const float _e14 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1);
-    const float _e20 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1);
-    const float _e26 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1);
-    const float _e32 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1);
-    const float _e38 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1);
-    const float _e44 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1);
-    const float _e50 = airlight_scene_harbour_fog_piece(a_6, b_4, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1);
-    return (((((((_e9 + _e14) + _e20) + _e26) + _e32) + _e38) + _e44) + _e50);
-}
-
-float airlight_scene_harbour_fog_forward(float a_7, float len_2, float t_2, float att_2)
-{
-    const float _e5 = airlight_scene_harbour_fog_segments(a_7, len_2, t_2, att_2);
-    return (airlight_scene_harbour_fog_P_ISO * _e5);
-}
-
-float airlight_scene_harbour_fog_backward_u(float tau, float t_3, float h_1, float x0_)
-{
-    float sum = 0.0;
-
+    if (_e19) {
+        if ((h_in <= 0.0)) {
+            return airlight_scene_harbour_fog_HUGE;
+        }
+    }
+    float h_1 = ((x0_ > 0.0) ? h_in : max(h_in, 9.094947e-13));
     float ua = ((x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1));
-    float u0_ = max(ua, 1.0);
-    float base = (-(tau) - (t_3 * (u0_ - ua)));
-    if ((u0_ < 16.0)) {
-        float len_3 = (16.0 - u0_);
-        {
-            float lam_1 = (t_3 + 0.024973566);
-            float _e27 = sum;
-            const float _e37 = airlight_scene_harbour_fog_exprel((-(lam_1) * len_3));
-            sum = (_e27 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_3) * _e37) * airlight_scene_harbour_fog_P_ISO));
-        }
-        {
-            float lam_2 = (t_3 + 0.19339234);
-            float _e44 = sum;
-            const float _e54 = airlight_scene_harbour_fog_exprel((-(lam_2) * len_3));
-            sum = (_e44 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_3) * _e54) * airlight_scene_harbour_fog_P_ISO));
-        }
-        {
-            float lam_3 = (t_3 + 0.58173054);
-            float _e61 = sum;
-            const float _e71 = airlight_scene_harbour_fog_exprel((-(lam_3) * len_3));
-            sum = (_e61 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_3) * _e71) * airlight_scene_harbour_fog_P_ISO));
-        }
-        {
-            float lam_4 = (t_3 + 1.4293756);
-            float _e78 = sum;
-            const float _e88 = airlight_scene_harbour_fog_exprel((-(lam_4) * len_3));
-            sum = (_e78 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_3) * _e88) * airlight_scene_harbour_fog_P_ISO));
-        }
-    }
-    {
-        float a_9 = max(u0_, 16.0);
-        float shift = (base - (t_3 * (a_9 - u0_)));
-        float lam_5 = (t_3 + (2.0 / a_9));
-        float u = (a_9 + (1.0 / lam_5));
-        float q_1 = (1.0 / (1.0 + (1.0 / (u * u))));
-        float _e111 = sum;
-        const float _e114 = airlight_scene_harbour_fog_phi((t_3 * a_9));
-        sum = (_e111 + ((((exp(shift) * _e114) / a_9) * q_1) * airlight_scene_harbour_fog_P_ISO));
-    }
-    float _e121 = sum;
-    return (2.0 * _e121);
-}
-
-float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, float x0_1)
-{
-    bool local_5 = (bool)0;
-    float sum_1 = 0.0;
-
-    float tau_2 = min(tau_in, airlight_scene_harbour_fog_TAU_MAX);
-    if ((h_in <= 0.0)) {
-        local_5 = (x0_1 > 0.0);
+    float one_minus = ((x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_));
+    float ub = (ua + airlight_scene_harbour_fog_HUGE);
+    float t_1 = (tau_1 * h_1);
+    float xf = (3.7283664 * max(md_4.w, 1.0));
+    float lcut = ((t_1 > 0.0) ? (4.91128 / max(t_1, 1e-30)) : airlight_scene_harbour_fog_HUGE);
+    float m_1 = max(ua, xf);
+    bool is_short = (airlight_scene_harbour_fog_HUGE < (0.16031957 * (ua + min(md_4.w, 1.0))));
+    if (!(is_short)) {
+        local_5 = (ub > m_1);
     } else {
         local_5 = false;
     }
-    bool _e12 = local_5;
-    if (_e12) {
-        return airlight_scene_harbour_fog_HUGE;
+    bool _e76 = local_5;
+    if (_e76) {
+        local_6 = ((t_1 * (m_1 - ua)) < 4.91128);
+    } else {
+        local_6 = false;
     }
-    float h_2 = ((x0_1 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_2 * h_2);
-    if ((x0_1 > 0.0)) {
-        const float _e24 = airlight_scene_harbour_fog_arctan2_(x0_1, h_2);
-        float _e25 = sum_1;
-        const float _e26 = airlight_scene_harbour_fog_arctan2_(h_2, x0_1);
-        const float _e29 = airlight_scene_harbour_fog_forward(_e26, _e24, t_4, (-(tau_2) * x0_1));
-        sum_1 = (_e25 + _e29);
+    bool _e84 = local_6;
+    if (_e84) {
+        local_7 = ((t_1 * m_1) < 5.248124);
+    } else {
+        local_7 = false;
     }
-    float _e31 = sum_1;
-    const float _e32 = airlight_scene_harbour_fog_backward_u(tau_2, t_4, h_2, x0_1);
-    sum_1 = (_e31 + _e32);
-    float _e34 = sum_1;
-    return min((_e34 / h_2), airlight_scene_harbour_fog_HUGE);
+    bool use_far = local_7;
+    float len = (use_far ? (m_1 - ua) : min(airlight_scene_harbour_fog_HUGE, lcut));
+    if ((len > 0.0)) {
+        if (!((len < (0.16031957 * (ua + min(md_4.w, 1.0)))))) {
+            local_8 = (ua >= xf);
+        } else {
+            local_8 = true;
+        }
+        bool _e111 = local_8;
+        if (_e111) {
+            float hl = (0.5 * len);
+            d_2 = (hl * 1.9324695);
+            float _e117 = sum;
+            float _e118 = d_2;
+            const float _e120 = airlight_scene_harbour_fog_w_u((ua + _e118), md_4);
+            float _e124 = d_2;
+            sum = (_e117 + ((0.17132449 * _e120) * exp((-(t_1) * _e124))));
+            d_2 = (hl * 1.6612093);
+            float _e131 = sum;
+            float _e132 = d_2;
+            const float _e134 = airlight_scene_harbour_fog_w_u((ua + _e132), md_4);
+            float _e138 = d_2;
+            sum = (_e131 + ((0.36076158 * _e134) * exp((-(t_1) * _e138))));
+            d_2 = (hl * 1.2386192);
+            float _e145 = sum;
+            float _e146 = d_2;
+            const float _e148 = airlight_scene_harbour_fog_w_u((ua + _e146), md_4);
+            float _e152 = d_2;
+            sum = (_e145 + ((0.46791393 * _e148) * exp((-(t_1) * _e152))));
+            d_2 = (hl * 0.7613808);
+            float _e159 = sum;
+            float _e160 = d_2;
+            const float _e162 = airlight_scene_harbour_fog_w_u((ua + _e160), md_4);
+            float _e166 = d_2;
+            sum = (_e159 + ((0.46791393 * _e162) * exp((-(t_1) * _e166))));
+            d_2 = (hl * 0.3387906);
+            float _e173 = sum;
+            float _e174 = d_2;
+            const float _e176 = airlight_scene_harbour_fog_w_u((ua + _e174), md_4);
+            float _e180 = d_2;
+            sum = (_e173 + ((0.36076158 * _e176) * exp((-(t_1) * _e180))));
+            d_2 = (hl * 0.06753051);
+            float _e187 = sum;
+            float _e188 = d_2;
+            const float _e190 = airlight_scene_harbour_fog_w_u((ua + _e188), md_4);
+            float _e194 = d_2;
+            sum = (_e187 + ((0.17132449 * _e190) * exp((-(t_1) * _e194))));
+            float _e199 = sum;
+            sum = (_e199 * hl);
+        } else {
+            const float2 _e201 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
+            const float2 _e203 = airlight_scene_harbour_fog_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e201.y < 1.5707964) ? (_e201.y - _e203.y) : (_e203.x - _e201.x)));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e236 = beta;
+            float _e237 = co;
+            const float2 _e241 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e236, _e237), 0.0));
+            sc = _e241;
+            float _e242 = beta;
+            float _e243 = co;
+            if ((_e242 > _e243)) {
+                float2 _e245 = sc;
+                sc = _e245.yx;
+            }
+            float _e248 = sc.x;
+            float _e250 = sc.y;
+            const float2 _e251 = airlight_scene_harbour_fog_u_and_weight(_e248, _e250, md_4);
+            uw = _e251;
+            float _e252 = sum;
+            float _e254 = uw.y;
+            float _e259 = uw.x;
+            sum = (_e252 + ((0.17132449 * _e254) * exp((-(t_1) * (_e259 - ua)))));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e281 = beta;
+            float _e282 = co;
+            const float2 _e286 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e281, _e282), 0.0));
+            sc = _e286;
+            float _e287 = beta;
+            float _e288 = co;
+            if ((_e287 > _e288)) {
+                float2 _e290 = sc;
+                sc = _e290.yx;
+            }
+            float _e293 = sc.x;
+            float _e295 = sc.y;
+            const float2 _e296 = airlight_scene_harbour_fog_u_and_weight(_e293, _e295, md_4);
+            uw = _e296;
+            float _e297 = sum;
+            float _e299 = uw.y;
+            float _e304 = uw.x;
+            sum = (_e297 + ((0.36076158 * _e299) * exp((-(t_1) * (_e304 - ua)))));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e326 = beta;
+            float _e327 = co;
+            const float2 _e331 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e326, _e327), 0.0));
+            sc = _e331;
+            float _e332 = beta;
+            float _e333 = co;
+            if ((_e332 > _e333)) {
+                float2 _e335 = sc;
+                sc = _e335.yx;
+            }
+            float _e338 = sc.x;
+            float _e340 = sc.y;
+            const float2 _e341 = airlight_scene_harbour_fog_u_and_weight(_e338, _e340, md_4);
+            uw = _e341;
+            float _e342 = sum;
+            float _e344 = uw.y;
+            float _e349 = uw.x;
+            sum = (_e342 + ((0.46791393 * _e344) * exp((-(t_1) * (_e349 - ua)))));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e371 = beta;
+            float _e372 = co;
+            const float2 _e376 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e371, _e372), 0.0));
+            sc = _e376;
+            float _e377 = beta;
+            float _e378 = co;
+            if ((_e377 > _e378)) {
+                float2 _e380 = sc;
+                sc = _e380.yx;
+            }
+            float _e383 = sc.x;
+            float _e385 = sc.y;
+            const float2 _e386 = airlight_scene_harbour_fog_u_and_weight(_e383, _e385, md_4);
+            uw = _e386;
+            float _e387 = sum;
+            float _e389 = uw.y;
+            float _e394 = uw.x;
+            sum = (_e387 + ((0.46791393 * _e389) * exp((-(t_1) * (_e394 - ua)))));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e416 = beta;
+            float _e417 = co;
+            const float2 _e421 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e416, _e417), 0.0));
+            sc = _e421;
+            float _e422 = beta;
+            float _e423 = co;
+            if ((_e422 > _e423)) {
+                float2 _e425 = sc;
+                sc = _e425.yx;
+            }
+            float _e428 = sc.x;
+            float _e430 = sc.y;
+            const float2 _e431 = airlight_scene_harbour_fog_u_and_weight(_e428, _e430, md_4);
+            uw = _e431;
+            float _e432 = sum;
+            float _e434 = uw.y;
+            float _e439 = uw.x;
+            sum = (_e432 + ((0.36076158 * _e434) * exp((-(t_1) * (_e439 - ua)))));
+            beta = ((0.5 * _e201.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e201.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e461 = beta;
+            float _e462 = co;
+            const float2 _e466 = airlight_scene_harbour_fog_sin_cos_octant(max(min(_e461, _e462), 0.0));
+            sc = _e466;
+            float _e467 = beta;
+            float _e468 = co;
+            if ((_e467 > _e468)) {
+                float2 _e470 = sc;
+                sc = _e470.yx;
+            }
+            float _e473 = sc.x;
+            float _e475 = sc.y;
+            const float2 _e476 = airlight_scene_harbour_fog_u_and_weight(_e473, _e475, md_4);
+            uw = _e476;
+            float _e477 = sum;
+            float _e479 = uw.y;
+            float _e484 = uw.x;
+            sum = (_e477 + ((0.17132449 * _e479) * exp((-(t_1) * (_e484 - ua)))));
+            float _e490 = sum;
+            sum = (_e490 * (hl_1 * 0.07957747));
+        }
+    }
+    if (use_far) {
+        const float _e496 = airlight_scene_harbour_fog_exp_e2_((t_1 * m_1));
+        f = (_e496 / m_1);
+        if (!(true)) {
+            float _e500 = f;
+            const float _e506 = airlight_scene_harbour_fog_exp_e2_((t_1 * ub));
+            f = (_e500 - ((exp((-(t_1) * (ub - m_1))) * _e506) / ub));
+        }
+        float ue = ((t_1 > 0.0) ? (m_1 + (6.294302 / max(t_1, 1e-30))) : airlight_scene_harbour_fog_HUGE);
+        float va = (1.0 / min(ub, ue));
+        float hl_2 = (0.5 * ((1.0 / m_1) - va));
+        v_3 = (va + (hl_2 * 1.8611363));
+        float _e533 = s;
+        float _e534 = v_3;
+        const float _e535 = airlight_scene_harbour_fog_r_of_v(_e534, md_4);
+        float _e539 = v_3;
+        s = (_e533 + ((0.34785485 * _e535) * exp((-(t_1) * ((1.0 / _e539) - m_1)))));
+        v_3 = (va + (hl_2 * 1.3399811));
+        float _e550 = s;
+        float _e551 = v_3;
+        const float _e552 = airlight_scene_harbour_fog_r_of_v(_e551, md_4);
+        float _e556 = v_3;
+        s = (_e550 + ((0.65214515 * _e552) * exp((-(t_1) * ((1.0 / _e556) - m_1)))));
+        v_3 = (va + (hl_2 * 0.660019));
+        float _e567 = s;
+        float _e568 = v_3;
+        const float _e569 = airlight_scene_harbour_fog_r_of_v(_e568, md_4);
+        float _e573 = v_3;
+        s = (_e567 + ((0.65214515 * _e569) * exp((-(t_1) * ((1.0 / _e573) - m_1)))));
+        v_3 = (va + (hl_2 * 0.13886368));
+        float _e584 = s;
+        float _e585 = v_3;
+        const float _e586 = airlight_scene_harbour_fog_r_of_v(_e585, md_4);
+        float _e590 = v_3;
+        s = (_e584 + ((0.34785485 * _e586) * exp((-(t_1) * ((1.0 / _e590) - m_1)))));
+        float _e598 = sum;
+        float _e604 = f;
+        float _e605 = s;
+        sum = (_e598 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e604 + (_e605 * hl_2))));
+    } else {
+        if ((airlight_scene_harbour_fog_HUGE > lcut)) {
+            float ue_1 = (ua + lcut);
+            float _e614 = s_1;
+            const float _e618 = airlight_scene_harbour_fog_w_u((ue_1 + (0.58578646 / t_1)), md_4);
+            s_1 = (_e614 + (0.8535534 * _e618));
+            float _e622 = s_1;
+            const float _e626 = airlight_scene_harbour_fog_w_u((ue_1 + (3.4142137 / t_1)), md_4);
+            s_1 = (_e622 + (0.14644662 * _e626));
+            if (!(true)) {
+                float _e633 = sb;
+                const float _e637 = airlight_scene_harbour_fog_w_u((ub + (0.58578646 / t_1)), md_4);
+                sb = (_e633 + (0.8535534 * _e637));
+                float _e641 = sb;
+                const float _e645 = airlight_scene_harbour_fog_w_u((ub + (3.4142137 / t_1)), md_4);
+                sb = (_e641 + (0.14644662 * _e645));
+                float _e649 = s_1;
+                float _e654 = sb;
+                s_1 = (_e649 - (exp((-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut))) * _e654));
+            }
+            float _e657 = sum;
+            float _e660 = s_1;
+            sum = (_e657 + ((0.007363057 / t_1) * max(_e660, 0.0)));
+        }
+    }
+    if ((h_1 < 8.673617e-19)) {
+        float _e667 = sum;
+        const float _e675 = airlight_scene_harbour_fog_scaled((2.0 * max(_e667, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e675;
+    }
+    float _e680 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e680 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
-float airlight_scene_harbour_fog_airlight(float tau_1, float gamma)
+float airlight_scene_harbour_fog_airlight(float tau, float gamma)
 {
-    const float2 _e2 = airlight_scene_harbour_fog_sin_cos(gamma);
-    const float _e6 = airlight_scene_harbour_fog_airlight_geometry(tau_1, abs(_e2.x), _e2.y);
-    return _e6;
+    const float2 _e5 = airlight_scene_harbour_fog_sin_cos(clamp(gamma, 0.0, airlight_scene_harbour_fog_PI));
+    const float _e9 = airlight_scene_harbour_fog_airlight_geometry(tau, abs(_e5.x), _e5.y);
+    return _e9;
 }
 
 float airlight_scene_harbour_fog_radiance(float3 origin_1, float3 dir_1, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_6 = (bool)0;
+    bool local_9 = (bool)0;
 
     const float3 _e6 = airlight_scene_harbour_fog_ray_geometry(origin_1, dir_1, light_1);
     if ((_e6.x <= 0.0)) {
@@ -424,16 +664,16 @@ float airlight_scene_harbour_fog_radiance(float3 origin_1, float3 dir_1, float3 
         return _e12;
     }
     if ((_e6.y <= 0.0)) {
-        local_6 = (_e6.z == 0.0);
+        local_9 = (_e6.z == 0.0);
     } else {
-        local_6 = false;
+        local_9 = false;
     }
-    bool _e22 = local_6;
+    bool _e22 = local_9;
     if (_e22) {
         return 0.0;
     }
-    const float _e28 = airlight_scene_harbour_fog_airlight_geometry((sigma_t * _e6.x), _e6.y, _e6.z);
-    const float _e30 = airlight_scene_harbour_fog_scaled(sigma_s_1, intensity_1, _e6.x, _e28);
+    const float _e29 = airlight_scene_harbour_fog_airlight_geometry((sigma_t * _e6.x), _e6.y, _e6.z);
+    const float _e30 = airlight_scene_harbour_fog_scaled(sigma_s_1, intensity_1, _e6.x, _e29);
     return _e30;
 }
 

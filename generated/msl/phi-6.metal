@@ -492,11 +492,11 @@ float airlight_phi_6_airlight_geometry(
     float _e126 = du;
     float ub = ua + _e126;
     float t_1 = tau_5 * tb;
-    float xf = 3.0 * metal::max(md_4.w, 1.0);
-    float lcut = (t_1 > 0.0) ? (4.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_6_HUGE;
+    float xf = 2.1668308 * metal::max(md_4.w, 1.0);
+    float lcut = (t_1 > 0.0) ? (4.172611 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_6_HUGE;
     float m_1 = metal::max(ua, xf);
     float _e143 = du;
-    bool is_short = _e143 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    bool is_short = _e143 < (0.2704029 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
@@ -504,13 +504,13 @@ float airlight_phi_6_airlight_geometry(
     }
     bool _e156 = local_7;
     if (_e156) {
-        local_8 = (t_1 * (m_1 - ua)) < 4.0;
+        local_8 = (t_1 * (m_1 - ua)) < 4.172611;
     } else {
         local_8 = false;
     }
     bool _e164 = local_8;
     if (_e164) {
-        local_9 = (t_1 * m_1) < 4.0;
+        local_9 = (t_1 * m_1) < 4.6279573;
     } else {
         local_9 = false;
     }
@@ -518,7 +518,7 @@ float airlight_phi_6_airlight_geometry(
     float _e172 = du;
     float len = use_far ? (m_1 - ua) : metal::min(_e172, lcut);
     if (len > 0.0) {
-        if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
+        if (!((len < (0.2704029 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
@@ -701,7 +701,7 @@ float airlight_phi_6_airlight_geometry(
             float _e597 = airlight_phi_6_exp_e2_(t_1 * ub);
             f = _e591 - ((metal::exp(-(t_1) * (ub - m_1)) * _e597) / ub);
         }
-        float ue = (t_1 > 0.0) ? (m_1 + (6.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_6_HUGE;
+        float ue = (t_1 > 0.0) ? (m_1 + (6.4916997 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_6_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
@@ -762,7 +762,7 @@ float airlight_phi_6_airlight_geometry(
             }
             float _e766 = sum;
             float _e769 = s_1;
-            sum = _e766 + ((0.01831564 / t_1) * metal::max(_e769, 0.0));
+            sum = _e766 + ((0.015411963 / t_1) * metal::max(_e769, 0.0));
         }
     }
     if (tb < 0.0000000000000000008673617) {

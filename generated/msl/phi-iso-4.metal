@@ -470,11 +470,11 @@ float airlight_phi_iso_4_airlight_geometry(
     float _e111 = du;
     float ub = ua + _e111;
     float t_1 = tau_5 * tb;
-    float xf = 3.0 * metal::max(md_4.w, 1.0);
-    float lcut = (t_1 > 0.0) ? (3.5 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_4_HUGE;
+    float xf = 1.792713 * metal::max(md_4.w, 1.0);
+    float lcut = (t_1 > 0.0) ? (2.7518814 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_4_HUGE;
     float m_1 = metal::max(ua, xf);
     float _e128 = du;
-    bool is_short = _e128 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    bool is_short = _e128 < (0.08023866 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
@@ -482,13 +482,13 @@ float airlight_phi_iso_4_airlight_geometry(
     }
     bool _e141 = local_7;
     if (_e141) {
-        local_8 = (t_1 * (m_1 - ua)) < 3.5;
+        local_8 = (t_1 * (m_1 - ua)) < 2.7518814;
     } else {
         local_8 = false;
     }
     bool _e149 = local_8;
     if (_e149) {
-        local_9 = (t_1 * m_1) < 4.0;
+        local_9 = (t_1 * m_1) < 6.4341583;
     } else {
         local_9 = false;
     }
@@ -496,7 +496,7 @@ float airlight_phi_iso_4_airlight_geometry(
     float _e157 = du;
     float len = use_far ? (m_1 - ua) : metal::min(_e157, lcut);
     if (len > 0.0) {
-        if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
+        if (!((len < (0.08023866 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
@@ -626,59 +626,77 @@ float airlight_phi_iso_4_airlight_geometry(
             float _e454 = airlight_phi_iso_4_exp_e2_(t_1 * ub);
             f = _e448 - ((metal::exp(-(t_1) * (ub - m_1)) * _e454) / ub);
         }
-        float ue = (t_1 > 0.0) ? (m_1 + (5.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_4_HUGE;
+        float ue = (t_1 > 0.0) ? (m_1 + (7.138943 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_4_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
-        v_3 = va + (hl_2 * 1.5773503);
+        v_3 = va + (hl_2 * 1.8611363);
         float _e481 = s;
         float _e482 = v_3;
         float _e483 = airlight_phi_iso_4_r_of_v(_e482, md_4);
         float _e487 = v_3;
-        s = _e481 + ((1.0 * _e483) * metal::exp(-(t_1) * ((1.0 / _e487) - m_1)));
-        v_3 = va + (hl_2 * 0.42264974);
+        s = _e481 + ((0.34785485 * _e483) * metal::exp(-(t_1) * ((1.0 / _e487) - m_1)));
+        v_3 = va + (hl_2 * 1.3399811);
         float _e498 = s;
         float _e499 = v_3;
         float _e500 = airlight_phi_iso_4_r_of_v(_e499, md_4);
         float _e504 = v_3;
-        s = _e498 + ((1.0 * _e500) * metal::exp(-(t_1) * ((1.0 / _e504) - m_1)));
-        float _e512 = sum;
-        float _e518 = f;
-        float _e519 = s;
-        sum = _e512 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e518 + (_e519 * hl_2)));
+        s = _e498 + ((0.65214515 * _e500) * metal::exp(-(t_1) * ((1.0 / _e504) - m_1)));
+        v_3 = va + (hl_2 * 0.660019);
+        float _e515 = s;
+        float _e516 = v_3;
+        float _e517 = airlight_phi_iso_4_r_of_v(_e516, md_4);
+        float _e521 = v_3;
+        s = _e515 + ((0.65214515 * _e517) * metal::exp(-(t_1) * ((1.0 / _e521) - m_1)));
+        v_3 = va + (hl_2 * 0.13886368);
+        float _e532 = s;
+        float _e533 = v_3;
+        float _e534 = airlight_phi_iso_4_r_of_v(_e533, md_4);
+        float _e538 = v_3;
+        s = _e532 + ((0.34785485 * _e534) * metal::exp(-(t_1) * ((1.0 / _e538) - m_1)));
+        float _e546 = sum;
+        float _e552 = f;
+        float _e553 = s;
+        sum = _e546 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e552 + (_e553 * hl_2)));
     } else {
-        float _e524 = du;
-        if (_e524 > lcut) {
+        float _e558 = du;
+        if (_e558 > lcut) {
             float ue_1 = ua + lcut;
-            float _e529 = s_1;
-            float _e533 = airlight_phi_iso_4_w_u(ue_1 + (0.58578646 / t_1), md_4);
-            s_1 = _e529 + (0.8535534 * _e533);
-            float _e537 = s_1;
-            float _e541 = airlight_phi_iso_4_w_u(ue_1 + (3.4142137 / t_1), md_4);
-            s_1 = _e537 + (0.14644662 * _e541);
+            float _e563 = s_1;
+            float _e567 = airlight_phi_iso_4_w_u(ue_1 + (0.41577455 / t_1), md_4);
+            s_1 = _e563 + (0.711093 * _e567);
+            float _e571 = s_1;
+            float _e575 = airlight_phi_iso_4_w_u(ue_1 + (2.2942803 / t_1), md_4);
+            s_1 = _e571 + (0.27851772 * _e575);
+            float _e579 = s_1;
+            float _e583 = airlight_phi_iso_4_w_u(ue_1 + (6.289945 / t_1), md_4);
+            s_1 = _e579 + (0.010389256 * _e583);
             if (!(open)) {
-                float _e548 = sb;
-                float _e552 = airlight_phi_iso_4_w_u(ub + (0.58578646 / t_1), md_4);
-                sb = _e548 + (0.8535534 * _e552);
-                float _e556 = sb;
-                float _e560 = airlight_phi_iso_4_w_u(ub + (3.4142137 / t_1), md_4);
-                sb = _e556 + (0.14644662 * _e560);
-                float _e564 = s_1;
-                float _e566 = du;
-                float _e570 = sb;
-                s_1 = _e564 - (metal::exp(-(t_1) * (_e566 - lcut)) * _e570);
+                float _e590 = sb;
+                float _e594 = airlight_phi_iso_4_w_u(ub + (0.41577455 / t_1), md_4);
+                sb = _e590 + (0.711093 * _e594);
+                float _e598 = sb;
+                float _e602 = airlight_phi_iso_4_w_u(ub + (2.2942803 / t_1), md_4);
+                sb = _e598 + (0.27851772 * _e602);
+                float _e606 = sb;
+                float _e610 = airlight_phi_iso_4_w_u(ub + (6.289945 / t_1), md_4);
+                sb = _e606 + (0.010389256 * _e610);
+                float _e614 = s_1;
+                float _e616 = du;
+                float _e620 = sb;
+                s_1 = _e614 - (metal::exp(-(t_1) * (_e616 - lcut)) * _e620);
             }
-            float _e573 = sum;
-            float _e576 = s_1;
-            sum = _e573 + ((0.030197384 / t_1) * metal::max(_e576, 0.0));
+            float _e623 = sum;
+            float _e626 = s_1;
+            sum = _e623 + ((0.0638077 / t_1) * metal::max(_e626, 0.0));
         }
     }
     if (tb < 0.0000000000000000008673617) {
-        float _e583 = sum;
-        float _e591 = airlight_phi_iso_4_scaled(2.0 * metal::max(_e583, 0.0), metal::exp(-(tau_5)), tb, 1.0);
-        return _e591;
+        float _e633 = sum;
+        float _e641 = airlight_phi_iso_4_scaled(2.0 * metal::max(_e633, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e641;
     }
-    float _e596 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e596 / tb), 0.0), airlight_phi_iso_4_HUGE);
+    float _e646 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e646 / tb), 0.0), airlight_phi_iso_4_HUGE);
 }
 
 float airlight_phi_iso_4_airlight(

@@ -470,11 +470,11 @@ float airlight_phi_iso_8_airlight_geometry(
     float _e111 = du;
     float ub = ua + _e111;
     float t_1 = tau_5 * tb;
-    float xf = 3.0 * metal::max(md_4.w, 1.0);
-    float lcut = (t_1 > 0.0) ? (5.0 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_8_HUGE;
+    float xf = 5.6334186 * metal::max(md_4.w, 1.0);
+    float lcut = (t_1 > 0.0) ? (5.5110784 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_phi_iso_8_HUGE;
     float m_1 = metal::max(ua, xf);
     float _e128 = du;
-    bool is_short = _e128 < (0.25 * (ua + metal::min(md_4.w, 1.0)));
+    bool is_short = _e128 < (0.09057361 * (ua + metal::min(md_4.w, 1.0)));
     if (!(is_short)) {
         local_7 = ub > m_1;
     } else {
@@ -482,13 +482,13 @@ float airlight_phi_iso_8_airlight_geometry(
     }
     bool _e141 = local_7;
     if (_e141) {
-        local_8 = (t_1 * (m_1 - ua)) < 5.0;
+        local_8 = (t_1 * (m_1 - ua)) < 5.5110784;
     } else {
         local_8 = false;
     }
     bool _e149 = local_8;
     if (_e149) {
-        local_9 = (t_1 * m_1) < 4.0;
+        local_9 = (t_1 * m_1) < 3.920509;
     } else {
         local_9 = false;
     }
@@ -496,7 +496,7 @@ float airlight_phi_iso_8_airlight_geometry(
     float _e157 = du;
     float len = use_far ? (m_1 - ua) : metal::min(_e157, lcut);
     if (len > 0.0) {
-        if (!((len < (0.25 * (ua + metal::min(md_4.w, 1.0)))))) {
+        if (!((len < (0.09057361 * (ua + metal::min(md_4.w, 1.0)))))) {
             local_10 = ua >= xf;
         } else {
             local_10 = true;
@@ -730,7 +730,7 @@ float airlight_phi_iso_8_airlight_geometry(
             float _e690 = airlight_phi_iso_8_exp_e2_(t_1 * ub);
             f = _e684 - ((metal::exp(-(t_1) * (ub - m_1)) * _e690) / ub);
         }
-        float ue = (t_1 > 0.0) ? (m_1 + (8.0 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_8_HUGE;
+        float ue = (t_1 > 0.0) ? (m_1 + (6.244064 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_phi_iso_8_HUGE;
         float va = 1.0 / metal::min(ub, ue);
         float hl_2 = 0.5 * ((1.0 / m_1) - va);
         v_3 = va + (hl_2 * 1.8611363);
@@ -766,41 +766,35 @@ float airlight_phi_iso_8_airlight_geometry(
         if (_e794 > lcut) {
             float ue_1 = ua + lcut;
             float _e799 = s_1;
-            float _e803 = airlight_phi_iso_8_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e799 + (0.711093 * _e803);
+            float _e803 = airlight_phi_iso_8_w_u(ue_1 + (0.58578646 / t_1), md_4);
+            s_1 = _e799 + (0.8535534 * _e803);
             float _e807 = s_1;
-            float _e811 = airlight_phi_iso_8_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e807 + (0.27851772 * _e811);
-            float _e815 = s_1;
-            float _e819 = airlight_phi_iso_8_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e815 + (0.010389256 * _e819);
+            float _e811 = airlight_phi_iso_8_w_u(ue_1 + (3.4142137 / t_1), md_4);
+            s_1 = _e807 + (0.14644662 * _e811);
             if (!(open)) {
+                float _e818 = sb;
+                float _e822 = airlight_phi_iso_8_w_u(ub + (0.58578646 / t_1), md_4);
+                sb = _e818 + (0.8535534 * _e822);
                 float _e826 = sb;
-                float _e830 = airlight_phi_iso_8_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e826 + (0.711093 * _e830);
-                float _e834 = sb;
-                float _e838 = airlight_phi_iso_8_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e834 + (0.27851772 * _e838);
-                float _e842 = sb;
-                float _e846 = airlight_phi_iso_8_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e842 + (0.010389256 * _e846);
-                float _e850 = s_1;
-                float _e852 = du;
-                float _e856 = sb;
-                s_1 = _e850 - (metal::exp(-(t_1) * (_e852 - lcut)) * _e856);
+                float _e830 = airlight_phi_iso_8_w_u(ub + (3.4142137 / t_1), md_4);
+                sb = _e826 + (0.14644662 * _e830);
+                float _e834 = s_1;
+                float _e836 = du;
+                float _e840 = sb;
+                s_1 = _e834 - (metal::exp(-(t_1) * (_e836 - lcut)) * _e840);
             }
-            float _e859 = sum;
-            float _e862 = s_1;
-            sum = _e859 + ((0.006737947 / t_1) * metal::max(_e862, 0.0));
+            float _e843 = sum;
+            float _e846 = s_1;
+            sum = _e843 + ((0.0040417463 / t_1) * metal::max(_e846, 0.0));
         }
     }
     if (tb < 0.0000000000000000008673617) {
-        float _e869 = sum;
-        float _e877 = airlight_phi_iso_8_scaled(2.0 * metal::max(_e869, 0.0), metal::exp(-(tau_5)), tb, 1.0);
-        return _e877;
+        float _e853 = sum;
+        float _e861 = airlight_phi_iso_8_scaled(2.0 * metal::max(_e853, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e861;
     }
-    float _e882 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e882 / tb), 0.0), airlight_phi_iso_8_HUGE);
+    float _e866 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_5))) * (_e866 / tb), 0.0), airlight_phi_iso_8_HUGE);
 }
 
 float airlight_phi_iso_8_airlight(

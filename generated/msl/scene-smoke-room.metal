@@ -26,7 +26,6 @@ constant float airlight_scene_smoke_room_FRAC_PI_2_ = 1.5707964;
 constant float airlight_scene_smoke_room_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_scene_smoke_room_RHO_OPEN = 4294967300.0;
 constant float airlight_scene_smoke_room_TAU_MAX = 10000.0;
-constant float airlight_scene_smoke_room_P_ISO = 0.07957747;
 
 float airlight_scene_smoke_room_foot(
     float h,
@@ -53,10 +52,10 @@ metal::float2 airlight_scene_smoke_room_two_product(
     float a_1,
     float b
 ) {
-    float p = a_1 * b;
+    float p_1 = a_1 * b;
     metal::float2 _e3 = airlight_scene_smoke_room_halves(a_1);
     metal::float2 _e4 = airlight_scene_smoke_room_halves(b);
-    return metal::float2(p, ((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
+    return metal::float2(p_1, ((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
 }
 
 float airlight_scene_smoke_room_diff_of_products(
@@ -74,9 +73,9 @@ type_3 airlight_scene_smoke_room_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s = a_3 + b_2;
-    metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    metal::float3 s_2 = a_3 + b_2;
+    metal::float3 bb = s_2 - a_3;
+    return type_3 {{s_2, (a_3 - (s_2 - bb)) + (b_2 - bb)}};
 }
 
 int naga_div(int lhs, int rhs) {
@@ -144,14 +143,14 @@ metal::float3 airlight_scene_smoke_room_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_3 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_2 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h_1;
     float _e85 = h_1;
-    float n = metal::sqrt((_e84 * _e85) + (x0_3 * x0_3));
+    float n = metal::sqrt((_e84 * _e85) + (x0_2 * x0_2));
     metal::float3 _e93 = airlight_scene_smoke_room_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return metal::float3(metal::min(dist, airlight_scene_smoke_room_HUGE), _e97 / n, x0_3 / n);
+    return metal::float3(metal::min(dist, airlight_scene_smoke_room_HUGE), _e97 / n, x0_2 / n);
 }
 
 float airlight_scene_smoke_room_scaled(
@@ -180,12 +179,12 @@ float airlight_scene_smoke_room_scaled(
     if (a_4 >= airlight_scene_smoke_room_HUGE) {
         return airlight_scene_smoke_room_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
+    _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
     _frexp_result_f32_ i = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
+    _frexp_result_f32_ q_1 = naga_frexp(a_4);
     _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
+    _frexp_result_f32_ m = naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_1.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_1.exp));
     if (e > 128) {
         return airlight_scene_smoke_room_HUGE;
     }
@@ -200,24 +199,24 @@ float airlight_scene_smoke_room_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_8 = metal::abs(x);
-    r = a_8;
-    if (a_8 > 2.4142137) {
+    float a_5 = metal::abs(x);
+    r = a_5;
+    if (a_5 > 2.4142137) {
         y0_ = airlight_scene_smoke_room_FRAC_PI_2_;
-        r = -1.0 / a_8;
+        r = -1.0 / a_5;
     } else {
-        if (a_8 > 0.41421357) {
+        if (a_5 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_8 - 1.0) / (a_8 + 1.0);
+            r = (a_5 - 1.0) / (a_5 + 1.0);
         }
     }
     float _e18 = r;
     float _e19 = r;
-    float z_1 = _e18 * _e19;
+    float z = _e18 * _e19;
     float _e21 = y0_;
     float _e33 = r;
     float _e36 = r;
-    float y_1 = (_e21 + ((((((((0.080537446 * z_1) - 0.13877685) * z_1) + 0.19977711) * z_1) - 0.3333295) * z_1) * _e33)) + _e36;
+    float y_1 = (_e21 + ((((((((0.080537446 * z) - 0.13877685) * z) + 0.19977711) * z) - 0.3333295) * z) * _e33)) + _e36;
     return (x < 0.0) ? -(y_1) : y_1;
 }
 
@@ -245,10 +244,10 @@ float airlight_scene_smoke_room_arctan2_(
 metal::float2 airlight_scene_smoke_room_sin_cos_octant(
     float x_2
 ) {
-    float z_2 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
-    float c_2 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
-    return metal::float2(s_2, c_2);
+    float z_1 = x_2 * x_2;
+    float s_4 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
+    return metal::float2(s_4, c_2);
 }
 
 int naga_f2i32(float value) {
@@ -268,325 +267,470 @@ metal::float2 airlight_scene_smoke_room_sin_cos(
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
     float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_3 = r_2 * r_2;
-    float s_3 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_2) + r_2;
-    float c_3 = (((((((0.000024433157 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0;
+    float z_2 = r_2 * r_2;
+    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2;
+    float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_3, c_3);
+            return metal::float2(s_5, c_3);
         }
         case 1: {
-            return metal::float2(c_3, -(s_3));
+            return metal::float2(c_3, -(s_5));
         }
         case 2: {
-            return metal::float2(-(s_3), -(c_3));
+            return metal::float2(-(s_5), -(c_3));
         }
         default: {
-            return metal::float2(-(c_3), s_3);
+            return metal::float2(-(c_3), s_5);
         }
     }
 }
 
-float airlight_scene_smoke_room_exprel(
+float airlight_scene_smoke_room_exp_e2_(
     float x_4
 ) {
-    if (metal::abs(x_4) < 0.5) {
-        return 1.0 + (x_4 * (0.5 + (x_4 * (0.16666667 + (x_4 * (0.041666668 + (x_4 * (0.008333334 + (x_4 * (0.0013888889 + (x_4 * (0.0001984127 + (x_4 * 0.000024801588)))))))))))));
+    float ein = 0.0;
+    float p = 0.0;
+    float q = 0.0;
+    if (x_4 < 1.0) {
+        float _e5 = ein;
+        ein = (_e5 + -0.00000002755732) * x_4;
+        float _e9 = ein;
+        ein = (_e9 + 0.00000030619245) * x_4;
+        float _e13 = ein;
+        ein = (_e13 + -0.0000031001985) * x_4;
+        float _e17 = ein;
+        ein = (_e17 + 0.000028344672) * x_4;
+        float _e21 = ein;
+        ein = (_e21 + -0.00023148148) * x_4;
+        float _e25 = ein;
+        ein = (_e25 + 0.0016666667) * x_4;
+        float _e29 = ein;
+        ein = (_e29 + -0.010416667) * x_4;
+        float _e33 = ein;
+        ein = (_e33 + 0.055555556) * x_4;
+        float _e37 = ein;
+        ein = (_e37 + -0.25) * x_4;
+        float _e41 = ein;
+        ein = (_e41 + 1.0) * x_4;
+        float _e52 = ein;
+        return 1.0 + ((x_4 * metal::exp(x_4)) * ((metal::log(metal::max(x_4, 0.000000000000000000000000000001)) + 0.5772157) - _e52));
     }
-    return (metal::exp(x_4) - 1.0) / x_4;
+    float t = 1.0 / x_4;
+    float _e63 = p;
+    p = (_e63 + 0.12941834) * t;
+    float _e67 = q;
+    q = (_e67 + 15.616933) * t;
+    float _e71 = p;
+    p = (_e71 + 13.425987) * t;
+    float _e75 = q;
+    q = (_e75 + 51.058296) * t;
+    float _e79 = p;
+    p = (_e79 + 24.985815) * t;
+    float _e83 = q;
+    q = (_e83 + 43.252842) * t;
+    float _e87 = p;
+    p = (_e87 + 10.132498) * t;
+    float _e91 = q;
+    q = (_e91 + 12.132477) * t;
+    float _e95 = p;
+    float _e99 = q;
+    return (t * (1.0 + _e95)) / (1.0 + _e99);
 }
 
-float airlight_scene_smoke_room_phi(
-    float z
+float airlight_scene_smoke_room_w_u(
+    float u,
+    metal::float4 md
 ) {
-    if (z <= 0.0) {
-        return 1.0;
-    }
-    if (z <= 1.0) {
-        float e1_ = (-(metal::log(z)) - 0.5772157) + (z * (0.99999195 + (z * (-0.24991055 + (z * (0.055199683 + (z * (-0.00976004 + (z * 0.00107857)))))))));
-        return 1.0 - ((z * metal::exp(z)) * e1_);
-    }
-    if (z > 500.0) {
-        float r_3 = 1.0 / z;
-        return r_3 * (1.0 + (r_3 * (-2.0 + (r_3 * (6.0 + (r_3 * (-24.0 + (r_3 * 120.0))))))));
-    }
-    float d_2 = ((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968;
-    float n_1 = (((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232;
-    return n_1 / d_2;
+    float v_4 = 1.0 / u;
+    return (u > 1.0) ? (((0.07957747 * v_4) * v_4) / (1.0 + (v_4 * v_4))) : (0.07957747 / (1.0 + (u * u)));
 }
 
-float airlight_scene_smoke_room_piece(
-    float a_5,
-    float b_3,
-    float len,
-    float lo_j,
-    float hi_j,
-    float slope,
-    float icpt,
-    float t,
-    float att
+metal::float2 airlight_scene_smoke_room_phi_and_complement(
+    float u_1,
+    metal::float4 md_1
 ) {
-    bool local_4 = {};
-    float lo = metal::max(a_5, lo_j);
-    float hi_1 = metal::min(b_3, hi_j);
-    if (hi_1 <= lo) {
-        return 0.0;
+    if (u_1 <= 1.0) {
+        float _e4 = airlight_scene_smoke_room_arctan(u_1);
+        float p_2 = 2.0 * _e4;
+        return metal::float2(p_2, airlight_scene_smoke_room_PI - p_2);
     }
-    if (a_5 >= lo_j) {
-        local_4 = b_3 <= hi_j;
-    } else {
-        local_4 = false;
-    }
-    bool _e19 = local_4;
-    float l = _e19 ? len : (hi_1 - lo);
-    float lam = -(t) * slope;
-    float ea = att - (t * ((slope * lo) + icpt));
-    float _e35 = airlight_scene_smoke_room_exprel(-(metal::abs(lam)) * l);
-    return (metal::exp(metal::max(ea, ea + (lam * l))) * l) * _e35;
+    float _e12 = airlight_scene_smoke_room_arctan(1.0 / u_1);
+    float c_4 = 2.0 * _e12;
+    return metal::float2(airlight_scene_smoke_room_PI - c_4, c_4);
 }
 
-float airlight_scene_smoke_room_segments(
-    float a_6,
-    float len_1,
-    float t_1,
-    float att_1
+metal::float2 airlight_scene_smoke_room_u_and_weight(
+    float s2_,
+    float c2_,
+    metal::float4 md_2
 ) {
-    float b_4 = a_6 + len_1;
-    float _e9 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1);
-    float _e14 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1);
-    float _e20 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1);
-    float _e26 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1);
-    float _e32 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1);
-    float _e38 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1);
-    float _e44 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1);
-    float _e50 = airlight_scene_smoke_room_piece(a_6, b_4, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1);
-    return ((((((_e9 + _e14) + _e20) + _e26) + _e32) + _e38) + _e44) + _e50;
+    return metal::float2(s2_ / c2_, 0.5);
 }
 
-float airlight_scene_smoke_room_forward(
-    float a_7,
-    float len_2,
-    float t_2,
-    float att_2
+float airlight_scene_smoke_room_r_of_v(
+    float v_2,
+    metal::float4 md_3
 ) {
-    float _e5 = airlight_scene_smoke_room_segments(a_7, len_2, t_2, att_2);
-    return airlight_scene_smoke_room_P_ISO * _e5;
-}
-
-float airlight_scene_smoke_room_backward_u(
-    float tau,
-    float t_3,
-    float h_2,
-    float x0_1,
-    float rho_1,
-    float xr,
-    bool open
-) {
-    float span = airlight_scene_smoke_room_HUGE;
-    bool local_5 = {};
-    float sum = 0.0;
-    bool local_6 = {};
-    bool local_7 = {};
-    float part = 0.0;
-    float g = {};
-    float u = {};
-    float ua = (x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2);
-    float u0_ = metal::max(ua, 1.0);
-    if (!(open)) {
-        float d_3 = -(xr);
-        float r_4 = metal::sqrt((d_3 * d_3) + (h_2 * h_2));
-        span = (x0_1 < 0.0) ? (((2.0 * rho_1) * (d_3 + r_4)) / (((rho_1 + r_4) + 1.0) * h_2)) : (((d_3 + r_4) / h_2) - u0_);
-    }
-    float _e41 = span;
-    if (!((_e41 > 0.0))) {
-        return 0.0;
-    }
-    if (!(open)) {
-        float _e49 = span;
-        local_5 = _e49 >= 1000000000000000000000000000000.0;
-    } else {
-        local_5 = true;
-    }
-    bool endless = local_5;
-    float _e54 = span;
-    float ub = u0_ + _e54;
-    float base = -(tau) - (t_3 * (u0_ - ua));
-    if (u0_ < 16.0) {
-        float _e66 = span;
-        float len_4 = (ub <= 16.0) ? _e66 : (16.0 - u0_);
-        {
-            float lam_1 = t_3 + 0.024973566;
-            float _e72 = sum;
-            float _e82 = airlight_scene_smoke_room_exprel(-(lam_1) * len_4);
-            sum = _e72 + ((((0.0024574616 * metal::exp(base - (0.024973566 * u0_))) * len_4) * _e82) * airlight_scene_smoke_room_P_ISO);
-        }
-        {
-            float lam_2 = t_3 + 0.19339234;
-            float _e89 = sum;
-            float _e99 = airlight_scene_smoke_room_exprel(-(lam_2) * len_4);
-            sum = _e89 + ((((0.04885752 * metal::exp(base - (0.19339234 * u0_))) * len_4) * _e99) * airlight_scene_smoke_room_P_ISO);
-        }
-        {
-            float lam_3 = t_3 + 0.58173054;
-            float _e106 = sum;
-            float _e116 = airlight_scene_smoke_room_exprel(-(lam_3) * len_4);
-            sum = _e106 + ((((0.30847993 * metal::exp(base - (0.58173054 * u0_))) * len_4) * _e116) * airlight_scene_smoke_room_P_ISO);
-        }
-        {
-            float lam_4 = t_3 + 1.4293756;
-            float _e123 = sum;
-            float _e133 = airlight_scene_smoke_room_exprel(-(lam_4) * len_4);
-            sum = _e123 + ((((1.1929636 * metal::exp(base - (1.4293756 * u0_))) * len_4) * _e133) * airlight_scene_smoke_room_P_ISO);
-        }
-    }
-    if (!(endless)) {
-        local_6 = ub > 16.0;
-    } else {
-        local_6 = true;
-    }
-    bool _e144 = local_6;
-    if (_e144) {
-        float a_9 = metal::max(u0_, 16.0);
-        float shift = base - (t_3 * (a_9 - u0_));
-        if (!(endless)) {
-            local_7 = ub <= (2.0 * a_9);
-        } else {
-            local_7 = false;
-        }
-        bool _e157 = local_7;
-        if (_e157) {
-            float _e161 = span;
-            float len_5 = (a_9 == u0_) ? (_e161 / a_9) : ((ub / a_9) - 1.0);
-            float ta = t_3 * a_9;
-            {
-                float lam_5 = ta + 0.26840276;
-                float u_1 = a_9 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
-                float q_1 = 1.0 / (1.0 + (1.0 / (u_1 * u_1)));
-                float _e184 = part;
-                float _e193 = airlight_scene_smoke_room_exprel(-(lam_5) * len_5);
-                part = _e184 + (((((0.1972373 * metal::exp(shift - 0.26840276)) * len_5) * _e193) * q_1) * airlight_scene_smoke_room_P_ISO);
-            }
-            {
-                float lam_6 = ta + 1.5659415;
-                float u_2 = a_9 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
-                float q_2 = 1.0 / (1.0 + (1.0 / (u_2 * u_2)));
-                float _e215 = part;
-                float _e224 = airlight_scene_smoke_room_exprel(-(lam_6) * len_5);
-                part = _e215 + (((((3.029358 * metal::exp(shift - 1.5659415)) * len_5) * _e224) * q_2) * airlight_scene_smoke_room_P_ISO);
-            }
-            {
-                float lam_7 = ta + 4.449333;
-                float u_3 = a_9 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
-                float q_3 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
-                float _e246 = part;
-                float _e255 = airlight_scene_smoke_room_exprel(-(lam_7) * len_5);
-                part = _e246 + (((((18.508303 * metal::exp(shift - 4.449333)) * len_5) * _e255) * q_3) * airlight_scene_smoke_room_P_ISO);
-            }
-            float _e261 = sum;
-            float _e262 = part;
-            sum = _e261 + (_e262 / a_9);
-        } else {
-            float lam_8 = t_3 + (2.0 / a_9);
-            float _e269 = airlight_scene_smoke_room_phi(t_3 * a_9);
-            g = _e269 / a_9;
-            u = a_9 + (1.0 / lam_8);
-            if (!(endless)) {
-                float _e278 = span;
-                float len_6 = (a_9 == u0_) ? _e278 : (ub - a_9);
-                float _e281 = g;
-                float _e286 = airlight_scene_smoke_room_phi(t_3 * ub);
-                g = _e281 - ((metal::exp(-(t_3) * len_6) * _e286) / ub);
-                u = a_9 + (len_6 / (2.0 + (lam_8 * len_6)));
-            }
-            float _e295 = u;
-            float _e296 = u;
-            float q_4 = 1.0 / (1.0 + (1.0 / (_e295 * _e296)));
-            float _e304 = sum;
-            float _e306 = g;
-            sum = _e304 + (((metal::exp(shift) * _e306) * q_4) * airlight_scene_smoke_room_P_ISO);
-        }
-    }
-    float _e312 = sum;
-    return 2.0 * _e312;
+    return (-(v_2) * v_2) / (1.0 + (v_2 * v_2));
 }
 
 float airlight_scene_smoke_room_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_2,
-    float rho_2,
-    float xr_1
+    float x0_1,
+    float rho_1,
+    float xr
 ) {
+    bool local_4 = {};
+    bool local_5 = {};
+    bool local_6 = {};
+    float du = airlight_scene_smoke_room_HUGE;
+    bool local_7 = {};
     bool local_8 = {};
     bool local_9 = {};
+    float sum = 0.0;
     bool local_10 = {};
-    float sum_1 = 0.0;
-    float len_3 = {};
-    bool local_11 = {};
-    if (rho_2 >= 0.0) {
-        local_8 = rho_2 < airlight_scene_smoke_room_RHO_OPEN;
+    float d_2 = {};
+    float beta = {};
+    float co = {};
+    metal::float2 sc = {};
+    metal::float2 uw = {};
+    float f = {};
+    float s = 0.0;
+    float v_3 = {};
+    float s_1 = 0.0;
+    float sb = 0.0;
+    float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_smoke_room_TAU_MAX);
+    metal::float4 md_4 = metal::float4(0.0, 1.0, 1.0, 1.0);
+    if (x0_1 > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
+    } else {
+        local_4 = false;
+    }
+    bool _e21 = local_4;
+    if (_e21) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
+        } else {
+            local_5 = false;
+        }
+        bool _e29 = local_5;
+        if (_e29) {
+            return metal::min(((0.07957747 * metal::exp(-(tau_1))) * rho_1) / (1.0 - rho_1), airlight_scene_smoke_room_HUGE);
+        }
+        if (h_in <= 0.0) {
+            return airlight_scene_smoke_room_HUGE;
+        }
+    }
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_scene_smoke_room_RHO_OPEN;
+    } else {
+        local_6 = false;
+    }
+    bool _e73 = local_6;
+    bool open = !(_e73);
+    if (!(open)) {
+        float ta = metal::abs(xr);
+        float tm = metal::max(ta, tb);
+        float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
+        if (xr <= 0.0) {
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
+        } else {
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
+        }
+    }
+    float _e111 = du;
+    float ub = ua + _e111;
+    float t_1 = tau_1 * tb;
+    float xf = 3.7283664 * metal::max(md_4.w, 1.0);
+    float lcut = (t_1 > 0.0) ? (4.91128 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_scene_smoke_room_HUGE;
+    float m_1 = metal::max(ua, xf);
+    float _e128 = du;
+    bool is_short = _e128 < (0.16031957 * (ua + metal::min(md_4.w, 1.0)));
+    if (!(is_short)) {
+        local_7 = ub > m_1;
+    } else {
+        local_7 = false;
+    }
+    bool _e141 = local_7;
+    if (_e141) {
+        local_8 = (t_1 * (m_1 - ua)) < 4.91128;
     } else {
         local_8 = false;
     }
-    bool _e12 = local_8;
-    bool open_1 = !(_e12);
-    float tau_2 = metal::min(tau_in, airlight_scene_smoke_room_TAU_MAX);
-    if (h_in <= 0.0) {
-        local_9 = x0_2 > 0.0;
+    bool _e149 = local_8;
+    if (_e149) {
+        local_9 = (t_1 * m_1) < 5.248124;
     } else {
         local_9 = false;
     }
-    bool _e23 = local_9;
-    if (_e23) {
-        if (!(open_1)) {
-            local_10 = rho_2 >= 1.0;
+    bool use_far = local_9;
+    float _e157 = du;
+    float len = use_far ? (m_1 - ua) : metal::min(_e157, lcut);
+    if (len > 0.0) {
+        if (!((len < (0.16031957 * (ua + metal::min(md_4.w, 1.0)))))) {
+            local_10 = ua >= xf;
         } else {
             local_10 = true;
         }
-        bool _e30 = local_10;
-        if (_e30) {
-            return airlight_scene_smoke_room_HUGE;
-        }
-        return ((airlight_scene_smoke_room_P_ISO * metal::exp(-(tau_2))) * rho_2) / (1.0 - rho_2);
-    }
-    float h_3 = (x0_2 < 0.0) ? metal::max(h_in, 0.0000001) : h_in;
-    float t_4 = tau_2 * h_3;
-    if (x0_2 > 0.0) {
-        float _e50 = airlight_scene_smoke_room_arctan2_(x0_2, h_3);
-        len_3 = _e50;
-        if (!(open_1)) {
-            local_11 = xr_1 > 0.0;
+        bool _e177 = local_10;
+        if (_e177) {
+            float hl = 0.5 * len;
+            d_2 = hl * 1.9324695;
+            float _e183 = sum;
+            float _e184 = d_2;
+            float _e186 = airlight_scene_smoke_room_w_u(ua + _e184, md_4);
+            float _e190 = d_2;
+            sum = _e183 + ((0.17132449 * _e186) * metal::exp(-(t_1) * _e190));
+            d_2 = hl * 1.6612093;
+            float _e197 = sum;
+            float _e198 = d_2;
+            float _e200 = airlight_scene_smoke_room_w_u(ua + _e198, md_4);
+            float _e204 = d_2;
+            sum = _e197 + ((0.36076158 * _e200) * metal::exp(-(t_1) * _e204));
+            d_2 = hl * 1.2386192;
+            float _e211 = sum;
+            float _e212 = d_2;
+            float _e214 = airlight_scene_smoke_room_w_u(ua + _e212, md_4);
+            float _e218 = d_2;
+            sum = _e211 + ((0.46791393 * _e214) * metal::exp(-(t_1) * _e218));
+            d_2 = hl * 0.7613808;
+            float _e225 = sum;
+            float _e226 = d_2;
+            float _e228 = airlight_scene_smoke_room_w_u(ua + _e226, md_4);
+            float _e232 = d_2;
+            sum = _e225 + ((0.46791393 * _e228) * metal::exp(-(t_1) * _e232));
+            d_2 = hl * 0.3387906;
+            float _e239 = sum;
+            float _e240 = d_2;
+            float _e242 = airlight_scene_smoke_room_w_u(ua + _e240, md_4);
+            float _e246 = d_2;
+            sum = _e239 + ((0.36076158 * _e242) * metal::exp(-(t_1) * _e246));
+            d_2 = hl * 0.06753051;
+            float _e253 = sum;
+            float _e254 = d_2;
+            float _e256 = airlight_scene_smoke_room_w_u(ua + _e254, md_4);
+            float _e260 = d_2;
+            sum = _e253 + ((0.17132449 * _e256) * metal::exp(-(t_1) * _e260));
+            float _e265 = sum;
+            sum = _e265 * hl;
         } else {
-            local_11 = false;
+            metal::float2 _e267 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
+            metal::float2 _e269 = airlight_scene_smoke_room_phi_and_complement(ua + len, md_4);
+            float hl_1 = 0.5 * ((_e267.y < 1.5707964) ? (_e267.y - _e269.y) : (_e269.x - _e267.x));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 1.9324695);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 1.9324695);
+            float _e302 = beta;
+            float _e303 = co;
+            metal::float2 _e307 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e302, _e303), 0.0));
+            sc = _e307;
+            float _e308 = beta;
+            float _e309 = co;
+            if (_e308 > _e309) {
+                metal::float2 _e311 = sc;
+                sc = _e311.yx;
+            }
+            float _e314 = sc.x;
+            float _e316 = sc.y;
+            metal::float2 _e317 = airlight_scene_smoke_room_u_and_weight(_e314, _e316, md_4);
+            uw = _e317;
+            float _e318 = sum;
+            float _e320 = uw.y;
+            float _e325 = uw.x;
+            sum = _e318 + ((0.17132449 * _e320) * metal::exp(-(t_1) * (_e325 - ua)));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 1.6612093);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 1.6612093);
+            float _e347 = beta;
+            float _e348 = co;
+            metal::float2 _e352 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e347, _e348), 0.0));
+            sc = _e352;
+            float _e353 = beta;
+            float _e354 = co;
+            if (_e353 > _e354) {
+                metal::float2 _e356 = sc;
+                sc = _e356.yx;
+            }
+            float _e359 = sc.x;
+            float _e361 = sc.y;
+            metal::float2 _e362 = airlight_scene_smoke_room_u_and_weight(_e359, _e361, md_4);
+            uw = _e362;
+            float _e363 = sum;
+            float _e365 = uw.y;
+            float _e370 = uw.x;
+            sum = _e363 + ((0.36076158 * _e365) * metal::exp(-(t_1) * (_e370 - ua)));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 1.2386192);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 1.2386192);
+            float _e392 = beta;
+            float _e393 = co;
+            metal::float2 _e397 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e392, _e393), 0.0));
+            sc = _e397;
+            float _e398 = beta;
+            float _e399 = co;
+            if (_e398 > _e399) {
+                metal::float2 _e401 = sc;
+                sc = _e401.yx;
+            }
+            float _e404 = sc.x;
+            float _e406 = sc.y;
+            metal::float2 _e407 = airlight_scene_smoke_room_u_and_weight(_e404, _e406, md_4);
+            uw = _e407;
+            float _e408 = sum;
+            float _e410 = uw.y;
+            float _e415 = uw.x;
+            sum = _e408 + ((0.46791393 * _e410) * metal::exp(-(t_1) * (_e415 - ua)));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 0.7613808);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 0.7613808);
+            float _e437 = beta;
+            float _e438 = co;
+            metal::float2 _e442 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e437, _e438), 0.0));
+            sc = _e442;
+            float _e443 = beta;
+            float _e444 = co;
+            if (_e443 > _e444) {
+                metal::float2 _e446 = sc;
+                sc = _e446.yx;
+            }
+            float _e449 = sc.x;
+            float _e451 = sc.y;
+            metal::float2 _e452 = airlight_scene_smoke_room_u_and_weight(_e449, _e451, md_4);
+            uw = _e452;
+            float _e453 = sum;
+            float _e455 = uw.y;
+            float _e460 = uw.x;
+            sum = _e453 + ((0.46791393 * _e455) * metal::exp(-(t_1) * (_e460 - ua)));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 0.3387906);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 0.3387906);
+            float _e482 = beta;
+            float _e483 = co;
+            metal::float2 _e487 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e482, _e483), 0.0));
+            sc = _e487;
+            float _e488 = beta;
+            float _e489 = co;
+            if (_e488 > _e489) {
+                metal::float2 _e491 = sc;
+                sc = _e491.yx;
+            }
+            float _e494 = sc.x;
+            float _e496 = sc.y;
+            metal::float2 _e497 = airlight_scene_smoke_room_u_and_weight(_e494, _e496, md_4);
+            uw = _e497;
+            float _e498 = sum;
+            float _e500 = uw.y;
+            float _e505 = uw.x;
+            sum = _e498 + ((0.36076158 * _e500) * metal::exp(-(t_1) * (_e505 - ua)));
+            beta = (0.5 * _e267.x) + ((0.5 * hl_1) * 0.06753051);
+            co = (0.5 * _e267.y) - ((0.5 * hl_1) * 0.06753051);
+            float _e527 = beta;
+            float _e528 = co;
+            metal::float2 _e532 = airlight_scene_smoke_room_sin_cos_octant(metal::max(metal::min(_e527, _e528), 0.0));
+            sc = _e532;
+            float _e533 = beta;
+            float _e534 = co;
+            if (_e533 > _e534) {
+                metal::float2 _e536 = sc;
+                sc = _e536.yx;
+            }
+            float _e539 = sc.x;
+            float _e541 = sc.y;
+            metal::float2 _e542 = airlight_scene_smoke_room_u_and_weight(_e539, _e541, md_4);
+            uw = _e542;
+            float _e543 = sum;
+            float _e545 = uw.y;
+            float _e550 = uw.x;
+            sum = _e543 + ((0.17132449 * _e545) * metal::exp(-(t_1) * (_e550 - ua)));
+            float _e556 = sum;
+            sum = _e556 * (hl_1 * 0.07957747);
         }
-        bool _e58 = local_11;
-        if (_e58) {
-            float _e63 = airlight_scene_smoke_room_arctan2_(h_3 * rho_2, (h_3 * h_3) + (x0_2 * xr_1));
-            len_3 = _e63;
-        }
-        float _e64 = sum_1;
-        float _e65 = airlight_scene_smoke_room_arctan2_(h_3, x0_2);
-        float _e66 = len_3;
-        float _e69 = airlight_scene_smoke_room_forward(_e65, _e66, t_4, -(tau_2) * x0_2);
-        sum_1 = _e64 + _e69;
     }
-    float _e71 = sum_1;
-    float _e72 = airlight_scene_smoke_room_backward_u(tau_2, t_4, h_3, x0_2, rho_2, xr_1, open_1);
-    sum_1 = _e71 + _e72;
-    float _e74 = sum_1;
-    return metal::min(_e74 / h_3, airlight_scene_smoke_room_HUGE);
+    if (use_far) {
+        float _e562 = airlight_scene_smoke_room_exp_e2_(t_1 * m_1);
+        f = _e562 / m_1;
+        if (!(open)) {
+            float _e566 = f;
+            float _e572 = airlight_scene_smoke_room_exp_e2_(t_1 * ub);
+            f = _e566 - ((metal::exp(-(t_1) * (ub - m_1)) * _e572) / ub);
+        }
+        float ue = (t_1 > 0.0) ? (m_1 + (6.294302 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_smoke_room_HUGE;
+        float va = 1.0 / metal::min(ub, ue);
+        float hl_2 = 0.5 * ((1.0 / m_1) - va);
+        v_3 = va + (hl_2 * 1.8611363);
+        float _e599 = s;
+        float _e600 = v_3;
+        float _e601 = airlight_scene_smoke_room_r_of_v(_e600, md_4);
+        float _e605 = v_3;
+        s = _e599 + ((0.34785485 * _e601) * metal::exp(-(t_1) * ((1.0 / _e605) - m_1)));
+        v_3 = va + (hl_2 * 1.3399811);
+        float _e616 = s;
+        float _e617 = v_3;
+        float _e618 = airlight_scene_smoke_room_r_of_v(_e617, md_4);
+        float _e622 = v_3;
+        s = _e616 + ((0.65214515 * _e618) * metal::exp(-(t_1) * ((1.0 / _e622) - m_1)));
+        v_3 = va + (hl_2 * 0.660019);
+        float _e633 = s;
+        float _e634 = v_3;
+        float _e635 = airlight_scene_smoke_room_r_of_v(_e634, md_4);
+        float _e639 = v_3;
+        s = _e633 + ((0.65214515 * _e635) * metal::exp(-(t_1) * ((1.0 / _e639) - m_1)));
+        v_3 = va + (hl_2 * 0.13886368);
+        float _e650 = s;
+        float _e651 = v_3;
+        float _e652 = airlight_scene_smoke_room_r_of_v(_e651, md_4);
+        float _e656 = v_3;
+        s = _e650 + ((0.34785485 * _e652) * metal::exp(-(t_1) * ((1.0 / _e656) - m_1)));
+        float _e664 = sum;
+        float _e670 = f;
+        float _e671 = s;
+        sum = _e664 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e670 + (_e671 * hl_2)));
+    } else {
+        float _e676 = du;
+        if (_e676 > lcut) {
+            float ue_1 = ua + lcut;
+            float _e681 = s_1;
+            float _e685 = airlight_scene_smoke_room_w_u(ue_1 + (0.58578646 / t_1), md_4);
+            s_1 = _e681 + (0.8535534 * _e685);
+            float _e689 = s_1;
+            float _e693 = airlight_scene_smoke_room_w_u(ue_1 + (3.4142137 / t_1), md_4);
+            s_1 = _e689 + (0.14644662 * _e693);
+            if (!(open)) {
+                float _e700 = sb;
+                float _e704 = airlight_scene_smoke_room_w_u(ub + (0.58578646 / t_1), md_4);
+                sb = _e700 + (0.8535534 * _e704);
+                float _e708 = sb;
+                float _e712 = airlight_scene_smoke_room_w_u(ub + (3.4142137 / t_1), md_4);
+                sb = _e708 + (0.14644662 * _e712);
+                float _e716 = s_1;
+                float _e718 = du;
+                float _e722 = sb;
+                s_1 = _e716 - (metal::exp(-(t_1) * (_e718 - lcut)) * _e722);
+            }
+            float _e725 = sum;
+            float _e728 = s_1;
+            sum = _e725 + ((0.007363057 / t_1) * metal::max(_e728, 0.0));
+        }
+    }
+    if (tb < 0.0000000000000000008673617) {
+        float _e735 = sum;
+        float _e743 = airlight_scene_smoke_room_scaled(2.0 * metal::max(_e735, 0.0), metal::exp(-(tau_1)), tb, 1.0);
+        return _e743;
+    }
+    float _e748 = sum;
+    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e748 / tb), 0.0), airlight_scene_smoke_room_HUGE);
 }
 
 float airlight_scene_smoke_room_airlight(
-    float tau_1,
+    float tau,
     float gamma,
-    float rho_3
+    float rho_2
 ) {
-    metal::float2 _e3 = airlight_scene_smoke_room_sin_cos(gamma);
-    float _e10 = airlight_scene_smoke_room_foot(metal::abs(_e3.x), _e3.y, rho_3);
-    float _e11 = airlight_scene_smoke_room_airlight_geometry(tau_1, metal::abs(_e3.x), _e3.y, rho_3, _e10);
-    return _e11;
+    metal::float2 _e6 = airlight_scene_smoke_room_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_smoke_room_PI));
+    float _e13 = airlight_scene_smoke_room_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_scene_smoke_room_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_smoke_room_radiance(
@@ -598,24 +742,24 @@ float airlight_scene_smoke_room_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_12 = {};
+    bool local_11 = {};
     metal::float3 _e7 = airlight_scene_smoke_room_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
         float _e13 = airlight_scene_smoke_room_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_smoke_room_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
-        local_12 = _e7.z == 0.0;
+        local_11 = _e7.z == 0.0;
     } else {
-        local_12 = false;
+        local_11 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_11;
     if (_e23) {
         return 0.0;
     }
-    float rho_4 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e37 = airlight_scene_smoke_room_foot(_e7.y, _e7.z, rho_4);
-    float _e38 = airlight_scene_smoke_room_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_4, _e37);
-    float _e40 = airlight_scene_smoke_room_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
+    float rho_3 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_scene_smoke_room_foot(_e7.y, _e7.z, rho_3);
+    float _e39 = airlight_scene_smoke_room_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_3, _e38);
+    float _e40 = airlight_scene_smoke_room_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
     return _e40;
 }

@@ -6,6 +6,7 @@
 use crate::front::{self, Method};
 use airlight_fit::bench::{Bench, BenchModel};
 use airlight_fit::coeffs::ModelFile;
+use airlight_fit::domains::Domain;
 use airlight_fit::stats::fmt_err;
 use serde::Serialize;
 
@@ -236,12 +237,82 @@ fn no_extinction(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
     ctx.insert("noext_ns", &floor.map_or("—".into(), |f| ns(f.cpu_ns_per_eval)));
 }
 
+/// One row of the cheap tiers' table.
+#[derive(Serialize)]
+struct TierRow {
+    medium: &'static str,
+    level: String,
+    measure: &'static str,
+    kernel: String,
+    ratio: String,
+    target: String,
+}
+
+/// Issue 25's tiers: per medium and max level (the declared bound over `thin` ∪
+/// `dense`), airlight's fastest kernel on each cost measure and its cost over the
+/// closed form without extinction's on the same measure; the 1e-2 level's target
+/// (isotropic ≤ 2×, HG ≤ 3×) met or missed.
+fn tiers(b: &Bench, models: &[ModelFile]) -> Vec<TierRow> {
+    let Some(floor) = models.iter().find(|m| m.model.body.is_cost_floor()).and_then(|m| b.model(&m.model.name)) else {
+        return Vec::new();
+    };
+    let declared = |m: &ModelFile| {
+        [Domain::Thin, Domain::Dense]
+            .iter()
+            .map(|&d| m.error(d).map_or(f64::INFINITY, |e| e.max_rel))
+            .fold(0.0, f64::max)
+    };
+    let mut rows = Vec::new();
+    for (medium, iso, target) in [("isotropic", true, 2.0), ("HG, g at run time in [−0.99, 0.99]", false, 3.0)] {
+        for level in [1e-1, 1e-2, 1e-3] {
+            for measure in front::CostMeasure::ALL {
+                let Some(f) = measure.ns(floor) else { continue };
+                let best = models
+                    .iter()
+                    .filter(|m| !m.model.body.is_baseline() && !m.model.body.is_cost_floor())
+                    .filter(|m| {
+                        let (lo, hi) = m.model.g_range;
+                        if iso {
+                            lo <= 0.0 && hi >= 0.0
+                        } else {
+                            (lo, hi) == (-0.99, 0.99)
+                        }
+                    })
+                    .filter(|m| declared(m) <= level)
+                    .filter_map(|m| Some((m, measure.ns(b.model(&m.model.name)?)?)))
+                    .min_by(|a, b| a.1.total_cmp(&b.1));
+                let (kernel, ratio, met) = match best {
+                    Some((m, ns)) => (
+                        format!("`{}` ({} declared)", m.model.name, fmt_err(declared(m))),
+                        format!("{:.2}×", ns / f),
+                        ns / f <= target,
+                    ),
+                    None => ("—".into(), "—".into(), false),
+                };
+                rows.push(TierRow {
+                    medium,
+                    level: fmt_err(level),
+                    measure: measure.title(),
+                    kernel,
+                    ratio,
+                    target: if level == 1e-2 {
+                        format!("≤ {target}×: {}", if met { "met" } else { "missed" })
+                    } else {
+                        "—".into()
+                    },
+                });
+            }
+        }
+    }
+    rows
+}
+
 /// One way of measuring a model: its label and its figure.
 type Way = (&'static str, fn(&BenchModel) -> f64);
 
 /// For each pair `(a, z)` that both ways measured: "`a` / `z` r₁× way₁, r₂× way₂",
 /// each `r` the ratio of `a`'s figure to `z`'s that way.
-fn two_ways(b: &Bench, pairs: [(&str, &str); 3], ways: [Way; 2]) -> Vec<String> {
+fn two_ways(b: &Bench, pairs: &[(&str, &str)], ways: [Way; 2]) -> Vec<String> {
     pairs
         .iter()
         .filter_map(|&(a, z)| {
@@ -263,16 +334,30 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) 
     // GPU-path rate ratios, random and frame-coherent.
     let cpu_two_ways = two_ways(
         b,
-        [("phi-iso-4", "no-extinction"), ("phi-4", "no-extinction"), ("phi-4", "equiangular-4")],
+        &[
+            ("phi-iso-2", "no-extinction"),
+            ("phi-3", "no-extinction"),
+            ("phi-iso-4", "no-extinction"),
+            ("phi-4", "no-extinction"),
+            ("phi-4", "equiangular-4"),
+        ],
         [("in the loop", |m| m.cpu_ns_per_eval), ("one call at a time", |m| m.cpu_ns_one_at_a_time)],
     );
     ctx.insert("cpu_two_ways", &cpu_two_ways);
     let gpu_two_ways = two_ways(
         b,
-        [("phi-4", "equiangular-8"), ("phi-iso-4", "equiangular-16"), ("phi-4", "no-extinction")],
+        &[
+            ("phi-3", "equiangular-8"),
+            ("phi-iso-2", "equiangular-8"),
+            ("phi-4", "equiangular-16"),
+            ("phi-iso-4", "equiangular-16"),
+            ("phi-3", "no-extinction"),
+            ("phi-iso-2", "no-extinction"),
+        ],
         [("on random points", |m| m.gpu_evals_per_s), ("frame-coherent", |m| m.gpu_frame_evals_per_s)],
     );
     ctx.insert("gpu_two_ways", &gpu_two_ways);
+    ctx.insert("tiers", &tiers(b, models));
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     let shafts: Vec<ShaftsRow> = b
         .shafts

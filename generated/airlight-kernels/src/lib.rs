@@ -52,6 +52,10 @@ pub mod phi_iso_6;
 #[rustfmt::skip]
 pub mod phi_iso_8;
 #[rustfmt::skip]
+pub mod phi_2;
+#[rustfmt::skip]
+pub mod phi_3;
+#[rustfmt::skip]
 pub mod phi_4;
 #[rustfmt::skip]
 pub mod phi_6;
@@ -442,10 +446,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-iso-4",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.623071267969755e-4,
-        dense_max_rel: 5.693310587663081e-4,
-        f32_thin_max_rel: Some(6.623071267969755e-4),
-        f32_dense_max_rel: Some(5.697697002876579e-4),
+        thin_max_rel: 1.8033590245416706e-5,
+        dense_max_rel: 1.8330977334092696e-5,
+        f32_thin_max_rel: Some(1.8407863340402798e-5),
+        f32_dense_max_rel: Some(1.8771852343651964e-5),
         airlight: |tau, gamma, rho, _g| phi_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -460,10 +464,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-iso-6",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 5.428369174091819e-6,
-        dense_max_rel: 7.38223234433147e-6,
-        f32_thin_max_rel: Some(5.810153827494727e-6),
-        f32_dense_max_rel: Some(7.725862803832926e-6),
+        thin_max_rel: 3.521076319065512e-6,
+        dense_max_rel: 6.180687898263746e-6,
+        f32_thin_max_rel: Some(3.7988235788989185e-6),
+        f32_dense_max_rel: Some(6.755107034552047e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -478,10 +482,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-iso-8",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.449329305279864e-6,
-        dense_max_rel: 1.6010448461722652e-6,
-        f32_thin_max_rel: Some(7.010733873368088e-6),
-        f32_dense_max_rel: Some(3.5849224202105235e-6),
+        thin_max_rel: 1.5072866107717009e-6,
+        dense_max_rel: 2.0086440626886e-6,
+        f32_thin_max_rel: Some(2.5648717682174514e-6),
+        f32_dense_max_rel: Some(7.63140708073133e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -493,13 +497,49 @@ pub const KERNELS: &[Kernel] = &[
         spot_shadowed: Some(phi_iso_8::shadowed_spot),
     },
     Kernel {
+        name: "phi-2",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 3.3218422554593306e-2,
+        dense_max_rel: 2.9800603783672545e-2,
+        f32_thin_max_rel: Some(3.32188656809778e-2),
+        f32_dense_max_rel: Some(2.980133963045826e-2),
+        airlight: |tau, gamma, rho, g| phi_2::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            phi_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            phi_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(phi_2::shadowed),
+        spot_shadowed: Some(phi_2::shadowed_spot),
+    },
+    Kernel {
+        name: "phi-3",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 2.7381360287629013e-3,
+        dense_max_rel: 3.6750769543490106e-3,
+        f32_thin_max_rel: Some(2.7382136225715353e-3),
+        f32_dense_max_rel: Some(3.6750769543490106e-3),
+        airlight: |tau, gamma, rho, g| phi_3::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            phi_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            phi_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(phi_3::shadowed),
+        spot_shadowed: Some(phi_3::shadowed_spot),
+    },
+    Kernel {
         name: "phi-4",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 2.2437287989487383e-3,
-        dense_max_rel: 2.251841604925979e-3,
-        f32_thin_max_rel: Some(2.24516207268932e-3),
-        f32_dense_max_rel: Some(2.2528863055160165e-3),
+        thin_max_rel: 5.543799233676418e-4,
+        dense_max_rel: 5.072552739348313e-4,
+        f32_thin_max_rel: Some(5.589027114881811e-4),
+        f32_dense_max_rel: Some(5.072552739348313e-4),
         airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -514,10 +554,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-6",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 3.337011155819172e-5,
-        dense_max_rel: 3.392442578504508e-5,
-        f32_thin_max_rel: Some(3.372852455425256e-5),
-        f32_dense_max_rel: Some(3.392442578504508e-5),
+        thin_max_rel: 2.0330063191794842e-5,
+        dense_max_rel: 2.142372697171272e-5,
+        f32_thin_max_rel: Some(2.067084629509292e-5),
+        f32_dense_max_rel: Some(2.2300243634528798e-5),
         airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -532,10 +572,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "phi-8",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
-        thin_max_rel: 9.877231146706908e-6,
-        dense_max_rel: 2.8008944091557076e-6,
+        thin_max_rel: 5.6901004699933205e-6,
+        dense_max_rel: 3.5723822865929644e-6,
         f32_thin_max_rel: Some(1.8965078609454394e-5),
-        f32_dense_max_rel: Some(2.054794146438068e-5),
+        f32_dense_max_rel: Some(1.639389141024137e-5),
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -860,10 +900,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-backscatter-aerosol",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 1.0613563229900334e-5,
-        dense_max_rel: 1.0983624142725006e-5,
-        f32_thin_max_rel: Some(1.0613563229900334e-5),
-        f32_dense_max_rel: Some(1.0983624142725006e-5),
+        thin_max_rel: 4.1925218974023666e-4,
+        dense_max_rel: 3.228435461851741e-4,
+        f32_thin_max_rel: Some(4.1925218974023666e-4),
+        f32_dense_max_rel: Some(3.228435461851741e-4),
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -892,10 +932,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-harbour-fog",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 1.9640270794631727e-3,
-        dense_max_rel: 1.9815525489108008e-2,
-        f32_thin_max_rel: Some(1.9640270794631727e-3),
-        f32_dense_max_rel: Some(1.9815525489108008e-2),
+        thin_max_rel: 3.521076319065512e-6,
+        dense_max_rel: 6.180687898263746e-6,
+        f32_thin_max_rel: Some(3.796278110834233e-6),
+        f32_dense_max_rel: Some(6.755107034552047e-6),
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -924,10 +964,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-hg-fog",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.6330376837615128e-3,
-        dense_max_rel: 1.6462673247980386e-3,
-        f32_thin_max_rel: Some(1.6330376837615128e-3),
-        f32_dense_max_rel: Some(1.6462673247980386e-3),
+        thin_max_rel: 6.991889025038546e-5,
+        dense_max_rel: 1.5676511173412709e-4,
+        f32_thin_max_rel: Some(6.991889025038546e-5),
+        f32_dense_max_rel: Some(1.5676511173412709e-4),
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -940,10 +980,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.9640270794631727e-3,
-        dense_max_rel: 1.9815525489108008e-2,
-        f32_thin_max_rel: Some(1.9640270794631727e-3),
-        f32_dense_max_rel: Some(1.982146997417731e-2),
+        thin_max_rel: 3.521076319065512e-6,
+        dense_max_rel: 6.180687898263746e-6,
+        f32_thin_max_rel: Some(3.7988235788989185e-6),
+        f32_dense_max_rel: Some(6.755107034552047e-6),
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

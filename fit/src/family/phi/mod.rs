@@ -441,12 +441,14 @@ impl Family for PhiRule {
         let _ = writeln!(o, "nodes = {}", self.head.x.len());
         crate::tomlfile::hex_list(o, "x", &self.head.x);
         crate::tomlfile::hex_list(o, "w", &self.head.w);
+        prov(o, "head.fit");
         o.push_str("\n[split]\n");
         let _ = writeln!(o, "cut = {:?}", self.cut);
         let _ = writeln!(o, "far_from = {:?}", self.far_from);
         let _ = writeln!(o, "far_tmax = {:?}", self.far_tmax);
         let _ = writeln!(o, "far_cut = {:?}", self.far_cut);
         let _ = writeln!(o, "short = {:?}", self.short);
+        prov(o, "split.fit");
         o.push_str("\n[far]\nrule = \"gauss-legendre\"\nvariable = \"v = 1/u\"\n");
         let _ = writeln!(o, "nodes = {}", self.far.x.len());
         crate::tomlfile::hex_list(o, "x", &self.far.x);
@@ -466,7 +468,7 @@ impl Family for PhiRule {
     fn parse_toml(r: &Reader, doc: &Table, _g_range: &[f64]) -> Result<PhiRule, FieldError> {
         let rule = |sec: &str, kind: &str, laguerre: bool| -> Result<Rule, FieldError> {
             let t = r.table(doc, sec)?;
-            r.deny(t, sec, &["rule", "variable", "nodes", "x", "w"])?;
+            r.deny(t, sec, &["rule", "variable", "nodes", "x", "w", "fit"])?;
             r.expect_str(t, sec, "rule", kind)?;
             let n = r.uint(t, sec, "nodes")?;
             if !(1..=64).contains(&n) {
@@ -491,7 +493,7 @@ impl Family for PhiRule {
         let far = rule("far", "gauss-legendre", false)?;
         let tail = rule("tail", "gauss-laguerre", true)?;
         let s = r.table(doc, "split")?;
-        r.deny(s, "split", &["cut", "far_from", "far_tmax", "far_cut", "short"])?;
+        r.deny(s, "split", &["cut", "far_from", "far_tmax", "far_cut", "short", "fit"])?;
         let pos = |key: &str| -> Result<f64, FieldError> {
             let v = r.float(s, "split", key)?;
             if !(v.is_finite() && v > 0.0) {
