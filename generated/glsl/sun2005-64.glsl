@@ -10,13 +10,13 @@
 // half-angle form (docs/MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
 // T = tau h, xi_b = pi/4 + atan((rho - x0)/h)/2 (pi/2 without a surface), with
 // F(u, v) = integral of e^(-u tan(xi)) over [0, v] read from a 64 x 64 r32float texture
-// over u <= 20, v <= pi/2 (16384 bytes, generated/tables/sun2005-64.f32: texel (i, j) at
+// over u <= 20, v <= pi/2 (16384 bytes, generated/airlight-kernels/tables/sun2005-64.f32: texel (i, j) at
 // u = 20 i/63, v = (pi/2) j/63), bilinear by hand from texelFetch: a
 // hardware sampler filters with 8-bit weights on most GPUs, far coarser than f32.
 // Isotropic. It fails where the two lookups cancel (gamma -> pi) and where T passes the table.
 //
 // BINDING: the table is the uniform sampler2D airlight_sun2005_64_F (WebGL2 / OpenGL: set its unit, upload
-// generated/tables/sun2005-64.f32 as an R32F texture, NEAREST filtering). Define
+// generated/airlight-kernels/tables/sun2005-64.f32 as an R32F texture, NEAREST filtering). Define
 // AIRLIGHT_SEPARATE_SAMPLERS for Vulkan-style GLSL: a texture2D at set 0, binding 2 and a
 // sampler at binding 3.
 //

@@ -10,13 +10,13 @@
 // half-angle form (docs/MATH.md section 3) A = e^(-tau x0) / (2 pi h) * (F(T, xi_b) - F(T, gamma/2)),
 // T = tau h, xi_b = pi/4 + atan((rho - x0)/h)/2 (pi/2 without a surface), with
 // F(u, v) = integral of e^(-u tan(xi)) over [0, v] read from a 512 x 512 r32float texture
-// over u <= 20, v <= pi/2 (1048576 bytes, generated/tables/sun2005-512.f32: texel (i, j) at
+// over u <= 20, v <= pi/2 (1048576 bytes, generated/airlight-kernels/tables/sun2005-512.f32: texel (i, j) at
 // u = 20 i/511, v = (pi/2) j/511), bilinear by hand from textureLoad: a
 // hardware sampler filters with 8-bit weights on most GPUs, far coarser than f32.
 // Isotropic. It fails where the two lookups cancel (gamma -> pi) and where T passes the table.
 //
 // BINDING: the table is airlight_sun2005_512_F at @group(0) @binding(2); change the attribute to fit
-// your pipeline's layout and upload generated/tables/sun2005-512.f32 as an r32float texture.
+// your pipeline's layout and upload generated/airlight-kernels/tables/sun2005-512.f32 as an r32float texture.
 //
 // Entry points (f32; lengths in any one unit):
 //

@@ -28,7 +28,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 15] = [
+pub const TEMPLATES: [(&str, &str); 16] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -43,6 +43,7 @@ pub const TEMPLATES: [(&str, &str); 15] = [
     ("math.rs.tera", include_str!("../../templates/kernels/math.rs.tera")),
     ("plan.md.tera", include_str!("../../templates/kernels/plan.md.tera")),
     ("Cargo.toml.tera", include_str!("../../templates/kernels/Cargo.toml.tera")),
+    ("README.md.tera", include_str!("../../templates/kernels/README.md.tera")),
     ("lib.rs.tera", include_str!("../../templates/kernels/lib.rs.tera")),
 ];
 
@@ -76,6 +77,12 @@ fn engine() -> Result<tera::Tera, tera::Error> {
 
 /// Where a model's table lives under `generated/`.
 pub fn table_path(model: &str) -> String {
+    format!("airlight-kernels/{}", crate_table_path(model))
+}
+
+/// The same inside the crate `airlight-kernels`, which owns its tables so that it
+/// packages on its own (`cargo package`); the shaders bind them from there.
+pub fn crate_table_path(model: &str) -> String {
     format!("tables/{model}.f32")
 }
 
@@ -218,7 +225,8 @@ fn shared_context(spec: &KernelSpec, out: &KernelOutput) -> tera::Context {
     ctx.insert("edge_w", &lits(&ew));
     ctx.insert("edge_pieces", &lits(&SPOT_EDGE_PIECES));
     if let (Some(_), Some(m)) = (spec.body().texture(), &spec.model) {
-        ctx.insert("table_path", &table_path(&m.model.name));
+        ctx.insert("table_path", &crate_table_path(&m.model.name));
+        ctx.insert("table_file", &table_path(&m.model.name));
     }
     ctx
 }

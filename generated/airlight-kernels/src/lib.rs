@@ -8,8 +8,17 @@
 //! Each module has `radiance` (physical: ray, light, medium) and `airlight`
 //! (canonical `A(τ, γ, ρ; g)`, docs/MATH.md §2). Model modules take every argument;
 //! scene modules only what their scene needs (see each module's header).
+//!
+//! ```
+//! // A point light 10 m away in fog with σt = 0.05 /m, σs = 0.04 /m, g = 0.6.
+//! let l = airlight_kernels::phi_4::radiance(
+//!     [0.0, 1.7, 0.0], [0.0, 0.0, 1.0], -1.0, [2.0, 3.0, 10.0], 100.0, 0.05, 0.04, 0.6,
+//! );
+//! assert!(l.is_finite() && l > 0.0);
+//! ```
 
 #![no_std]
+#![deny(missing_docs)]
 #![allow(clippy::excessive_precision, clippy::approx_constant, clippy::unreadable_literal)]
 
 // Generated modules are laid out by their templates, not by rustfmt.

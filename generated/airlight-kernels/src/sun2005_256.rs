@@ -9,7 +9,7 @@
 //! half-angle form (docs/MATH.md §3) `A = e^{−τ x0}/(2π h) · [F(T, ξb) − F(T, γ/2)]`,
 //! `T = τ h`, `ξb = π/4 + ½ atan((ρ − x0)/h)` (`π/2` without a surface), with
 //! `F(u, v) = ∫₀^v e^{−u tan ξ} dξ` looked up bilinearly in a 256 × 256 f32 table
-//! over `u ≤ 20`, `v ≤ π/2` (262144 bytes, `generated/tables/sun2005-256.f32`, row `j` at
+//! over `u ≤ 20`, `v ≤ π/2` (262144 bytes, `generated/airlight-kernels/tables/sun2005-256.f32`, row `j` at
 //! `v = (π/2) j/255`, column `i` at `u = 20 i/255`, little-endian). Isotropic.
 //! It fails where the two lookups cancel (looking away from the light, γ → π)
 //! and where `T` passes the table: its measured errors say how badly.
@@ -30,7 +30,7 @@ use core::f32::consts::{FRAC_PI_2, PI};
 /// Texels per side.
 const RES: usize = 256;
 /// The table, f32 little-endian, row-major (`v` rows, `u` columns).
-static TABLE: &[u8; 262144] = include_bytes!("../../tables/sun2005-256.f32");
+static TABLE: &[u8; 262144] = include_bytes!("../tables/sun2005-256.f32");
 /// Texel coordinates per unit of `u` and of `v`.
 const U_SCALE: f32 = 1.27500000e1;
 const V_SCALE: f32 = 1.62338043e2;
