@@ -283,7 +283,7 @@ pub const KEPT_WORST: &[(&str, Domain, [f64; 4])] = &[
 pub const FACE_GRID: usize = 48;
 
 /// The `g` values of the face grids for a `g` range: its ends and 0 if inside.
-fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
+pub fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
     let mut gs = vec![g_range.0];
     if g_range.0 < 0.0 && g_range.1 > 0.0 {
         gs.push(0.0);

@@ -975,10 +975,7 @@ impl Subject<'_> {
         let f64s = airlight_fit::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
         rows.push(row(k, None, label, pts, &f64s, bound, None));
         if let Some(rk) = self.compiled {
-            let got: Vec<f64> = raw
-                .iter()
-                .map(|p| crate::from_kernel((rk.airlight)(p[0] as f32, p[1] as f32, crate::rho_arg(p[2]), p[3] as f32)))
-                .collect();
+            let got: Vec<f64> = pts.iter().map(|(p, _)| rust_at(rk.airlight, *p)).collect();
             rows.push(row(k, Some(Target::Rust), label, pts, &got, bound, None));
         }
         if let Some(gpu) = self.gpu {
@@ -1275,8 +1272,8 @@ fn run_with(
                 (d, false) => k.f32_bound(d).ok_or_else(|| {
                     let path = generated.join(airlight_fit::vocab::INDEX_FILE);
                     let text = std::fs::read_to_string(&path).unwrap_or_default();
-                    let needle = format!("name = \"{}\"", k.name);
-                    let line = text.lines().position(|l| l.trim() == needle).map_or(1, |i| i + 1);
+                    let n = index.kernel.iter().position(|e| e.name == k.name).unwrap_or(0);
+                    let line = airlight_fit::tomlfile::locate_nth(&text, "kernel", n, &format!("f32_{d}_max_rel"));
                     GateError::Input(format!(
                         "{}:{line}: kernel {}: no f32_{d}_max_rel (its f32 bound on {d}): the gate record does not \
                          cover these kernel sources; run `airlight check --record`, then `airlight generate`",
@@ -1296,8 +1293,7 @@ fn run_with(
         if measuring {
             let found = subject.f32_bounds(&sets, &canonical, &validations, &domain_bounds)?;
             for b in &found {
-                let d = if b.domain == Domain::Thin.name() { Domain::Thin } else { Domain::Dense };
-                if let Some(x) = domain_bounds.iter_mut().find(|x| x.0 == d) {
+                if let Some(x) = domain_bounds.iter_mut().find(|x| x.0.name() == b.domain) {
                     x.1.f32 = b.max_rel;
                 }
                 for r in canonical.iter_mut().filter(|r| r.target.is_some() && r.domain == b.domain) {
@@ -1343,8 +1339,13 @@ impl airlight_fit::model::Model for F32Kernel<'_> {
         self.g_range
     }
     fn eval_unchecked(&self, p: Point) -> f64 {
-        crate::from_kernel((self.f)(p.tau as f32, p.gamma as f32, crate::rho_arg(p.rho), p.g as f32))
+        rust_at(self.f, p)
     }
+}
+
+/// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32).
+fn rust_at(f: airlight_fit::vocab::CanonicalFn, p: Point) -> f64 {
+    crate::from_kernel(f(p.tau as f32, p.gamma as f32, crate::rho_arg(p.rho), p.g as f32))
 }
 
 impl Subject<'_> {

@@ -453,7 +453,7 @@ pub fn render(
     let f32_of = |name: &str| {
         let (r, current) = gate?;
         let (t, d) = (r.f32_bound(name, Domain::Thin), r.f32_bound(name, Domain::Dense));
-        current.then(|| t.into_iter().chain(d).fold(None, |m: Option<f64>, e| Some(m.map_or(e, |m| m.max(e)))))?
+        current.then(|| t.into_iter().chain(d).reduce(f64::max))?
     };
     ctx.insert("advice", &advice(models, bench, &f32_of));
     ctx.insert("family_sections", &family_sections(models, bench)?);

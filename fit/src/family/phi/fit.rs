@@ -139,13 +139,7 @@ fn sets(g_range: (f64, f64)) -> (Set, Set) {
     if let Some((_, a, b)) = cache.lock().expect("not poisoned").iter().find(|c| c.0 == g_range) {
         return (a.clone(), b.clone());
     }
-    let mut gs = vec![g_range.0];
-    if g_range.0 < 0.0 && g_range.1 > 0.0 {
-        gs.push(0.0);
-    }
-    if g_range.1 != g_range.0 {
-        gs.push(g_range.1);
-    }
+    let gs = crate::catalog::face_gs(g_range);
     let with_ref = |pts: Vec<Point>| -> Set {
         let v = crate::parallel::map(&pts, |p| reference::airlight(*p).expect("domain points are valid"), &|_, _| {});
         Arc::new(pts.into_iter().zip(v).filter(|(_, a)| a.is_finite() && *a > 0.0).collect())
