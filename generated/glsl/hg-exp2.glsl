@@ -22,6 +22,8 @@
 // Both are finite and >= 0 for every finite input: airlight_hg_exp2_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
 // 0 where it underflows; tau beyond airlight_hg_exp2_TAU_MAX gives 0.
+#ifndef AIRLIGHT_HG_EXP2_GLSL_INCLUDED
+#define AIRLIGHT_HG_EXP2_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -998,3 +1000,4 @@ vec3 airlight_hg_exp2_shafts_finish_spot(airlight_hg_exp2_Shafts acc, float end,
     return min(acc.sum + airlight_hg_exp2_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g), vec3(airlight_hg_exp2_HUGE));
 }
 
+#endif // AIRLIGHT_HG_EXP2_GLSL_INCLUDED

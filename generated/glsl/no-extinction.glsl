@@ -25,6 +25,8 @@
 // Both are finite and >= 0 for every finite input: airlight_no_extinction_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
 // 0 where it underflows.
+#ifndef AIRLIGHT_NO_EXTINCTION_GLSL_INCLUDED
+#define AIRLIGHT_NO_EXTINCTION_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -753,3 +755,4 @@ vec3 airlight_no_extinction_shafts_finish_spot(airlight_no_extinction_Shafts acc
     return min(acc.sum + airlight_no_extinction_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s), vec3(airlight_no_extinction_HUGE));
 }
 
+#endif // AIRLIGHT_NO_EXTINCTION_GLSL_INCLUDED

@@ -26,6 +26,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_phi_iso_8_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_PHI_ISO_8_GLSL_INCLUDED
+#define AIRLIGHT_PHI_ISO_8_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -975,3 +977,4 @@ vec3 airlight_phi_iso_8_shafts_finish_spot(airlight_phi_iso_8_Shafts acc, float 
     return min(acc.sum + airlight_phi_iso_8_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_phi_iso_8_HUGE));
 }
 
+#endif // AIRLIGHT_PHI_ISO_8_GLSL_INCLUDED

@@ -22,6 +22,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_raymarch_256_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_RAYMARCH_256_GLSL_INCLUDED
+#define AIRLIGHT_RAYMARCH_256_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -636,3 +638,4 @@ void airlight_raymarch_256_shafts_push_spot(inout airlight_raymarch_256_Shafts a
 vec3 airlight_raymarch_256_shafts_finish_spot(airlight_raymarch_256_Shafts acc, float end, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
     return acc.sum;
 }
+#endif // AIRLIGHT_RAYMARCH_256_GLSL_INCLUDED

@@ -22,6 +22,8 @@
 // Both are finite and >= 0 for every finite input: airlight_scene_fog_street_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
 // 0 where it underflows; tau beyond airlight_scene_fog_street_TAU_MAX gives 0.
+#ifndef AIRLIGHT_SCENE_FOG_STREET_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_FOG_STREET_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -432,3 +434,4 @@ float airlight_scene_fog_street_radiance(vec3 origin, vec3 dir, float surface, v
     float a = airlight_scene_fog_street_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_scene_fog_street_foot(geo.y, geo.z, rho));
     return airlight_scene_fog_street_scaled(sigma_s, intensity, geo.x, a);
 }
+#endif // AIRLIGHT_SCENE_FOG_STREET_GLSL_INCLUDED

@@ -26,6 +26,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_harbour_fog_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_SCENE_HARBOUR_FOG_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_HARBOUR_FOG_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -448,3 +450,4 @@ float airlight_scene_harbour_fog_radiance(vec3 origin, vec3 dir, vec3 light, flo
     }
     return airlight_scene_harbour_fog_scaled(sigma_s, intensity, geo.x, airlight_scene_harbour_fog_airlight_geometry(sigma_t * geo.x, geo.y, geo.z));
 }
+#endif // AIRLIGHT_SCENE_HARBOUR_FOG_GLSL_INCLUDED

@@ -25,6 +25,8 @@
 // Both are finite and >= 0 for every finite input: airlight_scene_haze_sky_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
 // 0 where it underflows.
+#ifndef AIRLIGHT_SCENE_HAZE_SKY_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_HAZE_SKY_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -256,3 +258,4 @@ float airlight_scene_haze_sky_radiance(vec3 origin, vec3 dir, vec3 light, float 
     }
     return airlight_scene_haze_sky_scaled(sigma_s, intensity, geo.x, airlight_scene_haze_sky_airlight_geometry(geo.y, geo.z));
 }
+#endif // AIRLIGHT_SCENE_HAZE_SKY_GLSL_INCLUDED

@@ -27,6 +27,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_smoke_room_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_SCENE_SMOKE_ROOM_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_SMOKE_ROOM_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -475,3 +477,4 @@ float airlight_scene_smoke_room_radiance(vec3 origin, vec3 dir, float surface, v
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
     return airlight_scene_smoke_room_scaled(sigma_s, intensity, geo.x, airlight_scene_smoke_room_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_scene_smoke_room_foot(geo.y, geo.z, rho)));
 }
+#endif // AIRLIGHT_SCENE_SMOKE_ROOM_GLSL_INCLUDED

@@ -25,6 +25,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_spot_harbour_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_SCENE_SPOT_HARBOUR_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_SPOT_HARBOUR_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -758,3 +760,4 @@ vec3 airlight_scene_spot_harbour_spot(vec3 origin, vec3 dir, float surface, vec3
     }
     return vec3(airlight_scene_spot_harbour_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_scene_spot_harbour_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_scene_spot_harbour_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
+#endif // AIRLIGHT_SCENE_SPOT_HARBOUR_GLSL_INCLUDED

@@ -25,6 +25,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_scene_window_shafts_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_SCENE_WINDOW_SHAFTS_GLSL_INCLUDED
+#define AIRLIGHT_SCENE_WINDOW_SHAFTS_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -979,3 +981,4 @@ vec3 airlight_scene_window_shafts_shafts_finish_spot(airlight_scene_window_shaft
     return min(acc.sum + airlight_scene_window_shafts_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_scene_window_shafts_HUGE));
 }
 
+#endif // AIRLIGHT_SCENE_WINDOW_SHAFTS_GLSL_INCLUDED

@@ -21,6 +21,8 @@
 // Both are finite and >= 0 for every finite input: airlight_segments_2_HUGE (the largest float) on the
 // ray through the light, where A diverges (and where the value passes float's range),
 // 0 where it underflows; tau beyond airlight_segments_2_TAU_MAX gives 0.
+#ifndef AIRLIGHT_SEGMENTS_2_GLSL_INCLUDED
+#define AIRLIGHT_SEGMENTS_2_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -910,3 +912,4 @@ vec3 airlight_segments_2_shafts_finish_spot(airlight_segments_2_Shafts acc, floa
     return min(acc.sum + airlight_segments_2_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_segments_2_HUGE));
 }
 
+#endif // AIRLIGHT_SEGMENTS_2_GLSL_INCLUDED

@@ -28,6 +28,8 @@
 //
 // Both are finite and >= 0 for every finite input: airlight_sun2005_256_HUGE where the value passes
 // float's range, 0 where it underflows.
+#ifndef AIRLIGHT_SUN2005_256_GLSL_INCLUDED
+#define AIRLIGHT_SUN2005_256_GLSL_INCLUDED
 
 // --- float helpers (this kernel's own copies). GPU atan and sin/cos may err by
 // 4096 ulp and 2^-11 absolute (Vulkan's limits), too coarse here, so they are
@@ -794,3 +796,4 @@ vec3 airlight_sun2005_256_shafts_finish_spot(airlight_sun2005_256_Shafts acc, fl
     return min(acc.sum + airlight_sun2005_256_shafts_run_spot(acc.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s), vec3(airlight_sun2005_256_HUGE));
 }
 
+#endif // AIRLIGHT_SUN2005_256_GLSL_INCLUDED

@@ -2,7 +2,9 @@
 // source: generated/wgsl/phi-iso-8.wgsl (its header documents the entry points)
 // variant: HLSL include (shader model 5.1), naga hlsl-out of wgsl/phi-iso-8.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
-struct _frexp_result_f32_ {
+#ifndef AIRLIGHT_PHI_ISO_8_HLSL_INCLUDED
+#define AIRLIGHT_PHI_ISO_8_HLSL_INCLUDED
+struct airlight_phi_iso_8_frexp_result_f32_ {
     float fract;
     int exp_;
 };
@@ -26,9 +28,9 @@ struct airlight_phi_iso_8_Shafts {
     int _end_pad_2;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_phi_iso_8_frexp_result_f32_ airlight_phi_iso_8_naga_frexp(float arg) {
     float other;
-    _frexp_result_f32_ result;
+    airlight_phi_iso_8_frexp_result_f32_ result;
     result.fract = sign(arg) * frexp(arg, other);
     result.exp_ = other;
     return result;
@@ -72,30 +74,30 @@ float airlight_phi_iso_8_diff_of_products(float a_2, float b_1, float c, float d
     return ((_e4.x - _e5.x) + (_e4.y - _e5.y));
 }
 
-typedef float3 ret_Constructarray2_float3_[2];
-ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
+typedef float3 airlight_phi_iso_8_ret_Constructarray2_float3_[2];
+airlight_phi_iso_8_ret_Constructarray2_float3_ airlight_phi_iso_8_Constructarray2_float3_(float3 arg0, float3 arg1) {
     float3 ret[2] = { arg0, arg1 };
     return ret;
 }
 
-typedef float3 ret_airlight_phi_iso_8_two_sum[2];
-ret_airlight_phi_iso_8_two_sum airlight_phi_iso_8_two_sum(float3 a_3, float3 b_2)
+typedef float3 airlight_phi_iso_8_ret_airlight_phi_iso_8_two_sum[2];
+airlight_phi_iso_8_ret_airlight_phi_iso_8_two_sum airlight_phi_iso_8_two_sum(float3 a_3, float3 b_2)
 {
     float3 s_5 = (a_3 + b_2);
     float3 bb = (s_5 - a_3);
-    return Constructarray2_float3_(s_5, ((a_3 - (s_5 - bb)) + (b_2 - bb)));
+    return airlight_phi_iso_8_Constructarray2_float3_(s_5, ((a_3 - (s_5 - bb)) + (b_2 - bb)));
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_phi_iso_8_naga_div(int lhs, int rhs) {
     return lhs / (((lhs == int(-2147483647 - 1) & rhs == -1) | (rhs == 0)) ? 1 : rhs);
 }
 
 float3 airlight_phi_iso_8_scale2_(float3 v_1, int k)
 {
-    return ldexp(ldexp(v_1, (naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(naga_div(k, int(2))))).xxx);
+    return ldexp(ldexp(v_1, (airlight_phi_iso_8_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_phi_iso_8_naga_div(k, int(2))))).xxx);
 }
 
-int naga_neg(int val) {
+int airlight_phi_iso_8_naga_neg(int val) {
     return asint(-asuint(val));
 }
 
@@ -127,10 +129,10 @@ float3 airlight_phi_iso_8_ray_geometry(float3 origin, float3 dir, float3 light)
     if (!(_e27)) {
         return float3(3.4028235e38, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp_;
-    const float3 _e37 = airlight_phi_iso_8_scale2_(_e4[0], naga_neg(kl));
-    const float3 _e40 = airlight_phi_iso_8_scale2_(_e4[1], naga_neg(kl));
-    const float3 _e44 = airlight_phi_iso_8_scale2_(dir, naga_neg(naga_frexp(_e7).exp_));
+    int kl = airlight_phi_iso_8_naga_frexp(_e6).exp_;
+    const float3 _e37 = airlight_phi_iso_8_scale2_(_e4[0], airlight_phi_iso_8_naga_neg(kl));
+    const float3 _e40 = airlight_phi_iso_8_scale2_(_e4[1], airlight_phi_iso_8_naga_neg(kl));
+    const float3 _e44 = airlight_phi_iso_8_scale2_(dir, airlight_phi_iso_8_naga_neg(airlight_phi_iso_8_naga_frexp(_e7).exp_));
     c_1 = cross(_e44, _e37);
     float3 _e47 = c_1;
     const float _e48 = airlight_phi_iso_8_max_abs(_e47);
@@ -180,11 +182,11 @@ float airlight_phi_iso_8_scaled(float sigma_s, float intensity, float d_1, float
     if ((a_4 >= airlight_phi_iso_8_HUGE)) {
         return airlight_phi_iso_8_HUGE;
     }
-    _frexp_result_f32_ s_6 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i_1 = naga_frexp(intensity);
-    _frexp_result_f32_ q_1 = naga_frexp(a_4);
-    _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
+    airlight_phi_iso_8_frexp_result_f32_ s_6 = airlight_phi_iso_8_naga_frexp(sigma_s);
+    airlight_phi_iso_8_frexp_result_f32_ i_1 = airlight_phi_iso_8_naga_frexp(intensity);
+    airlight_phi_iso_8_frexp_result_f32_ q_1 = airlight_phi_iso_8_naga_frexp(a_4);
+    airlight_phi_iso_8_frexp_result_f32_ r_2 = airlight_phi_iso_8_naga_frexp(d_1);
+    airlight_phi_iso_8_frexp_result_f32_ m = airlight_phi_iso_8_naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
     int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_phi_iso_8_HUGE;
@@ -248,7 +250,7 @@ float2 airlight_phi_iso_8_sin_cos_octant(float x_2)
     return float2(s_7, c_3);
 }
 
-int naga_f2i32(float value) {
+int airlight_phi_iso_8_naga_f2i32(float value) {
     return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -256,7 +258,7 @@ float2 airlight_phi_iso_8_sin_cos(float x_3)
 {
     int j = (int)0;
 
-    j = naga_f2i32((x_3 * 1.2732395));
+    j = airlight_phi_iso_8_naga_f2i32((x_3 * 1.2732395));
     int _e5 = j;
     if (((_e5 & int(1)) == int(1))) {
         int _e10 = j;
@@ -878,8 +880,8 @@ float airlight_phi_iso_8_spot_weight(float c_2, float co_1, float ci)
     return ((c_2 >= co_1) ? 1.0 : 0.0);
 }
 
-typedef float ret_Constructarray6_float_[6];
-ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
+typedef float airlight_phi_iso_8_ret_Constructarray6_float_[6];
+airlight_phi_iso_8_ret_Constructarray6_float_ airlight_phi_iso_8_Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
     float ret[6] = { arg0, arg1, arg2, arg3, arg4, arg5 };
     return ret;
 }
@@ -888,7 +890,7 @@ float3 airlight_phi_iso_8_spot_edge(float3 tau_4, float h_5, float x0_5, float r
 {
     bool local_13 = (bool)0;
     float3 exact = (0.0).xxx;
-    float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
+    float pieces[6] = airlight_phi_iso_8_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
     float2 sb_1 = (float2)0;
@@ -1638,3 +1640,4 @@ float3 airlight_phi_iso_8_shafts_finish_spot(airlight_phi_iso_8_Shafts acc_in_1,
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 
+#endif // AIRLIGHT_PHI_ISO_8_HLSL_INCLUDED

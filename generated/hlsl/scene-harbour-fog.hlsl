@@ -2,14 +2,16 @@
 // source: generated/wgsl/scene-harbour-fog.wgsl (its header documents the entry points)
 // variant: HLSL include (shader model 5.1), naga hlsl-out of wgsl/scene-harbour-fog.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
-struct _frexp_result_f32_ {
+#ifndef AIRLIGHT_SCENE_HARBOUR_FOG_HLSL_INCLUDED
+#define AIRLIGHT_SCENE_HARBOUR_FOG_HLSL_INCLUDED
+struct airlight_scene_harbour_fog_frexp_result_f32_ {
     float fract;
     int exp_;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_scene_harbour_fog_frexp_result_f32_ airlight_scene_harbour_fog_naga_frexp(float arg) {
     float other;
-    _frexp_result_f32_ result;
+    airlight_scene_harbour_fog_frexp_result_f32_ result;
     result.fract = sign(arg) * frexp(arg, other);
     result.exp_ = other;
     return result;
@@ -46,30 +48,30 @@ float airlight_scene_harbour_fog_diff_of_products(float a_2, float b_1, float c,
     return ((_e4.x - _e5.x) + (_e4.y - _e5.y));
 }
 
-typedef float3 ret_Constructarray2_float3_[2];
-ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
+typedef float3 airlight_scene_harbour_fog_ret_Constructarray2_float3_[2];
+airlight_scene_harbour_fog_ret_Constructarray2_float3_ airlight_scene_harbour_fog_Constructarray2_float3_(float3 arg0, float3 arg1) {
     float3 ret[2] = { arg0, arg1 };
     return ret;
 }
 
-typedef float3 ret_airlight_scene_harbour_fog_two_sum[2];
-ret_airlight_scene_harbour_fog_two_sum airlight_scene_harbour_fog_two_sum(float3 a_3, float3 b_2)
+typedef float3 airlight_scene_harbour_fog_ret_airlight_scene_harbour_fog_two_sum[2];
+airlight_scene_harbour_fog_ret_airlight_scene_harbour_fog_two_sum airlight_scene_harbour_fog_two_sum(float3 a_3, float3 b_2)
 {
     float3 s_2 = (a_3 + b_2);
     float3 bb = (s_2 - a_3);
-    return Constructarray2_float3_(s_2, ((a_3 - (s_2 - bb)) + (b_2 - bb)));
+    return airlight_scene_harbour_fog_Constructarray2_float3_(s_2, ((a_3 - (s_2 - bb)) + (b_2 - bb)));
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_scene_harbour_fog_naga_div(int lhs, int rhs) {
     return lhs / (((lhs == int(-2147483647 - 1) & rhs == -1) | (rhs == 0)) ? 1 : rhs);
 }
 
 float3 airlight_scene_harbour_fog_scale2_(float3 v_1, int k)
 {
-    return ldexp(ldexp(v_1, (naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(naga_div(k, int(2))))).xxx);
+    return ldexp(ldexp(v_1, (airlight_scene_harbour_fog_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_scene_harbour_fog_naga_div(k, int(2))))).xxx);
 }
 
-int naga_neg(int val) {
+int airlight_scene_harbour_fog_naga_neg(int val) {
     return asint(-asuint(val));
 }
 
@@ -101,10 +103,10 @@ float3 airlight_scene_harbour_fog_ray_geometry(float3 origin, float3 dir, float3
     if (!(_e27)) {
         return float3(3.4028235e38, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp_;
-    const float3 _e37 = airlight_scene_harbour_fog_scale2_(_e4[0], naga_neg(kl));
-    const float3 _e40 = airlight_scene_harbour_fog_scale2_(_e4[1], naga_neg(kl));
-    const float3 _e44 = airlight_scene_harbour_fog_scale2_(dir, naga_neg(naga_frexp(_e7).exp_));
+    int kl = airlight_scene_harbour_fog_naga_frexp(_e6).exp_;
+    const float3 _e37 = airlight_scene_harbour_fog_scale2_(_e4[0], airlight_scene_harbour_fog_naga_neg(kl));
+    const float3 _e40 = airlight_scene_harbour_fog_scale2_(_e4[1], airlight_scene_harbour_fog_naga_neg(kl));
+    const float3 _e44 = airlight_scene_harbour_fog_scale2_(dir, airlight_scene_harbour_fog_naga_neg(airlight_scene_harbour_fog_naga_frexp(_e7).exp_));
     c_1 = cross(_e44, _e37);
     float3 _e47 = c_1;
     const float _e48 = airlight_scene_harbour_fog_max_abs(_e47);
@@ -154,11 +156,11 @@ float airlight_scene_harbour_fog_scaled(float sigma_s, float intensity, float d_
     if ((a_4 >= airlight_scene_harbour_fog_HUGE)) {
         return airlight_scene_harbour_fog_HUGE;
     }
-    _frexp_result_f32_ s_3 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
-    _frexp_result_f32_ q_1 = naga_frexp(a_4);
-    _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_3.fract * i.fract) * q_1.fract) / r_1.fract));
+    airlight_scene_harbour_fog_frexp_result_f32_ s_3 = airlight_scene_harbour_fog_naga_frexp(sigma_s);
+    airlight_scene_harbour_fog_frexp_result_f32_ i = airlight_scene_harbour_fog_naga_frexp(intensity);
+    airlight_scene_harbour_fog_frexp_result_f32_ q_1 = airlight_scene_harbour_fog_naga_frexp(a_4);
+    airlight_scene_harbour_fog_frexp_result_f32_ r_1 = airlight_scene_harbour_fog_naga_frexp(d_1);
+    airlight_scene_harbour_fog_frexp_result_f32_ m = airlight_scene_harbour_fog_naga_frexp((((s_3.fract * i.fract) * q_1.fract) / r_1.fract));
     int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i.exp_))) + asuint(q_1.exp_))) - asuint(r_1.exp_));
     if ((e > int(128))) {
         return airlight_scene_harbour_fog_HUGE;
@@ -222,7 +224,7 @@ float2 airlight_scene_harbour_fog_sin_cos_octant(float x_2)
     return float2(s_4, c_2);
 }
 
-int naga_f2i32(float value) {
+int airlight_scene_harbour_fog_naga_f2i32(float value) {
     return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -230,7 +232,7 @@ float2 airlight_scene_harbour_fog_sin_cos(float x_3)
 {
     int j = (int)0;
 
-    j = naga_f2i32((x_3 * 1.2732395));
+    j = airlight_scene_harbour_fog_naga_f2i32((x_3 * 1.2732395));
     int _e5 = j;
     if (((_e5 & int(1)) == int(1))) {
         int _e10 = j;
@@ -677,3 +679,4 @@ float airlight_scene_harbour_fog_radiance(float3 origin_1, float3 dir_1, float3 
     return _e30;
 }
 
+#endif // AIRLIGHT_SCENE_HARBOUR_FOG_HLSL_INCLUDED

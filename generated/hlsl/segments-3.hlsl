@@ -2,7 +2,9 @@
 // source: generated/wgsl/segments-3.wgsl (its header documents the entry points)
 // variant: HLSL include (shader model 5.1), naga hlsl-out of wgsl/segments-3.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
-struct _frexp_result_f32_ {
+#ifndef AIRLIGHT_SEGMENTS_3_HLSL_INCLUDED
+#define AIRLIGHT_SEGMENTS_3_HLSL_INCLUDED
+struct airlight_segments_3_frexp_result_f32_ {
     float fract;
     int exp_;
 };
@@ -26,9 +28,9 @@ struct airlight_segments_3_Shafts {
     int _end_pad_2;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_segments_3_frexp_result_f32_ airlight_segments_3_naga_frexp(float arg) {
     float other;
-    _frexp_result_f32_ result;
+    airlight_segments_3_frexp_result_f32_ result;
     result.fract = sign(arg) * frexp(arg, other);
     result.exp_ = other;
     return result;
@@ -73,30 +75,30 @@ float airlight_segments_3_diff_of_products(float a_2, float b_1, float c, float 
     return ((_e4.x - _e5.x) + (_e4.y - _e5.y));
 }
 
-typedef float3 ret_Constructarray2_float3_[2];
-ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
+typedef float3 airlight_segments_3_ret_Constructarray2_float3_[2];
+airlight_segments_3_ret_Constructarray2_float3_ airlight_segments_3_Constructarray2_float3_(float3 arg0, float3 arg1) {
     float3 ret[2] = { arg0, arg1 };
     return ret;
 }
 
-typedef float3 ret_airlight_segments_3_two_sum[2];
-ret_airlight_segments_3_two_sum airlight_segments_3_two_sum(float3 a_3, float3 b_2)
+typedef float3 airlight_segments_3_ret_airlight_segments_3_two_sum[2];
+airlight_segments_3_ret_airlight_segments_3_two_sum airlight_segments_3_two_sum(float3 a_3, float3 b_2)
 {
     float3 s_3 = (a_3 + b_2);
     float3 bb = (s_3 - a_3);
-    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
+    return airlight_segments_3_Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_segments_3_naga_div(int lhs, int rhs) {
     return lhs / (((lhs == int(-2147483647 - 1) & rhs == -1) | (rhs == 0)) ? 1 : rhs);
 }
 
 float3 airlight_segments_3_scale2_(float3 v_1, int k)
 {
-    return ldexp(ldexp(v_1, (naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(naga_div(k, int(2))))).xxx);
+    return ldexp(ldexp(v_1, (airlight_segments_3_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_segments_3_naga_div(k, int(2))))).xxx);
 }
 
-int naga_neg(int val) {
+int airlight_segments_3_naga_neg(int val) {
     return asint(-asuint(val));
 }
 
@@ -128,10 +130,10 @@ float3 airlight_segments_3_ray_geometry(float3 origin, float3 dir, float3 light)
     if (!(_e27)) {
         return float3(3.4028235e38, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp_;
-    const float3 _e37 = airlight_segments_3_scale2_(_e4[0], naga_neg(kl));
-    const float3 _e40 = airlight_segments_3_scale2_(_e4[1], naga_neg(kl));
-    const float3 _e44 = airlight_segments_3_scale2_(dir, naga_neg(naga_frexp(_e7).exp_));
+    int kl = airlight_segments_3_naga_frexp(_e6).exp_;
+    const float3 _e37 = airlight_segments_3_scale2_(_e4[0], airlight_segments_3_naga_neg(kl));
+    const float3 _e40 = airlight_segments_3_scale2_(_e4[1], airlight_segments_3_naga_neg(kl));
+    const float3 _e44 = airlight_segments_3_scale2_(dir, airlight_segments_3_naga_neg(airlight_segments_3_naga_frexp(_e7).exp_));
     c_1 = cross(_e44, _e37);
     float3 _e47 = c_1;
     const float _e48 = airlight_segments_3_max_abs(_e47);
@@ -181,11 +183,11 @@ float airlight_segments_3_scaled(float sigma_s, float intensity, float d_1, floa
     if ((a_4 >= airlight_segments_3_HUGE)) {
         return airlight_segments_3_HUGE;
     }
-    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i_1 = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
+    airlight_segments_3_frexp_result_f32_ s_4 = airlight_segments_3_naga_frexp(sigma_s);
+    airlight_segments_3_frexp_result_f32_ i_1 = airlight_segments_3_naga_frexp(intensity);
+    airlight_segments_3_frexp_result_f32_ q = airlight_segments_3_naga_frexp(a_4);
+    airlight_segments_3_frexp_result_f32_ r_2 = airlight_segments_3_naga_frexp(d_1);
+    airlight_segments_3_frexp_result_f32_ m = airlight_segments_3_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
     int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_segments_3_HUGE;
@@ -249,7 +251,7 @@ float2 airlight_segments_3_sin_cos_octant(float x_2)
     return float2(s_5, c_3);
 }
 
-int naga_f2i32(float value) {
+int airlight_segments_3_naga_f2i32(float value) {
     return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -257,7 +259,7 @@ float2 airlight_segments_3_sin_cos(float x_3)
 {
     int j = (int)0;
 
-    j = naga_f2i32((x_3 * 1.2732395));
+    j = airlight_segments_3_naga_f2i32((x_3 * 1.2732395));
     int _e5 = j;
     if (((_e5 & int(1)) == int(1))) {
         int _e10 = j;
@@ -662,8 +664,8 @@ float airlight_segments_3_spot_weight(float c_2, float co, float ci)
     return ((c_2 >= co) ? 1.0 : 0.0);
 }
 
-typedef float ret_Constructarray6_float_[6];
-ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
+typedef float airlight_segments_3_ret_Constructarray6_float_[6];
+airlight_segments_3_ret_Constructarray6_float_ airlight_segments_3_Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
     float ret[6] = { arg0, arg1, arg2, arg3, arg4, arg5 };
     return ret;
 }
@@ -672,7 +674,7 @@ float3 airlight_segments_3_spot_edge(float3 tau_5, float h_6, float x0_6, float 
 {
     bool local_14 = (bool)0;
     float3 exact = (0.0).xxx;
-    float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
+    float pieces[6] = airlight_segments_3_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_2 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
@@ -1422,3 +1424,4 @@ float3 airlight_segments_3_shafts_finish_spot(airlight_segments_3_Shafts acc_in_
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 
+#endif // AIRLIGHT_SEGMENTS_3_HLSL_INCLUDED

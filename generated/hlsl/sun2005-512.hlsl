@@ -2,7 +2,9 @@
 // source: generated/wgsl/sun2005-512.wgsl (its header documents the entry points)
 // variant: HLSL include (shader model 5.1), naga hlsl-out of wgsl/sun2005-512.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
-struct _frexp_result_f32_ {
+#ifndef AIRLIGHT_SUN2005_512_HLSL_INCLUDED
+#define AIRLIGHT_SUN2005_512_HLSL_INCLUDED
+struct airlight_sun2005_512_frexp_result_f32_ {
     float fract;
     int exp_;
 };
@@ -26,9 +28,9 @@ struct airlight_sun2005_512_Shafts {
     int _end_pad_2;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_sun2005_512_frexp_result_f32_ airlight_sun2005_512_naga_frexp(float arg) {
     float other;
-    _frexp_result_f32_ result;
+    airlight_sun2005_512_frexp_result_f32_ result;
     result.fract = sign(arg) * frexp(arg, other);
     result.exp_ = other;
     return result;
@@ -78,30 +80,30 @@ float airlight_sun2005_512_diff_of_products(float a_2, float b_1, float c, float
     return ((_e4.x - _e5.x) + (_e4.y - _e5.y));
 }
 
-typedef float3 ret_Constructarray2_float3_[2];
-ret_Constructarray2_float3_ Constructarray2_float3_(float3 arg0, float3 arg1) {
+typedef float3 airlight_sun2005_512_ret_Constructarray2_float3_[2];
+airlight_sun2005_512_ret_Constructarray2_float3_ airlight_sun2005_512_Constructarray2_float3_(float3 arg0, float3 arg1) {
     float3 ret[2] = { arg0, arg1 };
     return ret;
 }
 
-typedef float3 ret_airlight_sun2005_512_two_sum[2];
-ret_airlight_sun2005_512_two_sum airlight_sun2005_512_two_sum(float3 a_3, float3 b_2)
+typedef float3 airlight_sun2005_512_ret_airlight_sun2005_512_two_sum[2];
+airlight_sun2005_512_ret_airlight_sun2005_512_two_sum airlight_sun2005_512_two_sum(float3 a_3, float3 b_2)
 {
     float3 s_3 = (a_3 + b_2);
     float3 bb = (s_3 - a_3);
-    return Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
+    return airlight_sun2005_512_Constructarray2_float3_(s_3, ((a_3 - (s_3 - bb)) + (b_2 - bb)));
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_sun2005_512_naga_div(int lhs, int rhs) {
     return lhs / (((lhs == int(-2147483647 - 1) & rhs == -1) | (rhs == 0)) ? 1 : rhs);
 }
 
 float3 airlight_sun2005_512_scale2_(float3 v_1, int k)
 {
-    return ldexp(ldexp(v_1, (naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(naga_div(k, int(2))))).xxx);
+    return ldexp(ldexp(v_1, (airlight_sun2005_512_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_sun2005_512_naga_div(k, int(2))))).xxx);
 }
 
-int naga_neg(int val) {
+int airlight_sun2005_512_naga_neg(int val) {
     return asint(-asuint(val));
 }
 
@@ -133,10 +135,10 @@ float3 airlight_sun2005_512_ray_geometry(float3 origin, float3 dir, float3 light
     if (!(_e27)) {
         return float3(3.4028235e38, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp_;
-    const float3 _e37 = airlight_sun2005_512_scale2_(_e4[0], naga_neg(kl));
-    const float3 _e40 = airlight_sun2005_512_scale2_(_e4[1], naga_neg(kl));
-    const float3 _e44 = airlight_sun2005_512_scale2_(dir, naga_neg(naga_frexp(_e7).exp_));
+    int kl = airlight_sun2005_512_naga_frexp(_e6).exp_;
+    const float3 _e37 = airlight_sun2005_512_scale2_(_e4[0], airlight_sun2005_512_naga_neg(kl));
+    const float3 _e40 = airlight_sun2005_512_scale2_(_e4[1], airlight_sun2005_512_naga_neg(kl));
+    const float3 _e44 = airlight_sun2005_512_scale2_(dir, airlight_sun2005_512_naga_neg(airlight_sun2005_512_naga_frexp(_e7).exp_));
     c_1 = cross(_e44, _e37);
     float3 _e47 = c_1;
     const float _e48 = airlight_sun2005_512_max_abs(_e47);
@@ -186,11 +188,11 @@ float airlight_sun2005_512_scaled(float sigma_s, float intensity, float d_1, flo
     if ((a_4 >= airlight_sun2005_512_HUGE)) {
         return airlight_sun2005_512_HUGE;
     }
-    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i_2 = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp((((s_4.fract * i_2.fract) * q.fract) / r_2.fract));
+    airlight_sun2005_512_frexp_result_f32_ s_4 = airlight_sun2005_512_naga_frexp(sigma_s);
+    airlight_sun2005_512_frexp_result_f32_ i_2 = airlight_sun2005_512_naga_frexp(intensity);
+    airlight_sun2005_512_frexp_result_f32_ q = airlight_sun2005_512_naga_frexp(a_4);
+    airlight_sun2005_512_frexp_result_f32_ r_2 = airlight_sun2005_512_naga_frexp(d_1);
+    airlight_sun2005_512_frexp_result_f32_ m = airlight_sun2005_512_naga_frexp((((s_4.fract * i_2.fract) * q.fract) / r_2.fract));
     int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_sun2005_512_HUGE;
@@ -254,7 +256,7 @@ float2 airlight_sun2005_512_sin_cos_octant(float x_2)
     return float2(s_5, c_3);
 }
 
-int naga_f2i32(float value) {
+int airlight_sun2005_512_naga_f2i32(float value) {
     return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -262,7 +264,7 @@ float2 airlight_sun2005_512_sin_cos(float x_3)
 {
     int j = (int)0;
 
-    j = naga_f2i32((x_3 * 1.2732395));
+    j = airlight_sun2005_512_naga_f2i32((x_3 * 1.2732395));
     int _e5 = j;
     if (((_e5 & int(1)) == int(1))) {
         int _e10 = j;
@@ -307,9 +309,9 @@ float airlight_sun2005_512_lookup_diff(float u, float a_5, float b_3)
     float x_5 = clamp((u * airlight_sun2005_512_U_SCALE), 0.0, 511.0);
     float ya = clamp((a_5 * airlight_sun2005_512_V_SCALE), 0.0, 511.0);
     float yb = clamp((b_3 * airlight_sun2005_512_V_SCALE), 0.0, 511.0);
-    int i_3 = min(naga_f2i32(x_5), int(510));
-    int ja = min(naga_f2i32(ya), int(510));
-    int jb = min(naga_f2i32(yb), int(510));
+    int i_3 = min(airlight_sun2005_512_naga_f2i32(x_5), int(510));
+    int ja = min(airlight_sun2005_512_naga_f2i32(ya), int(510));
+    int jb = min(airlight_sun2005_512_naga_f2i32(yb), int(510));
     float tx_1 = (x_5 - float(i_3));
     if ((ja == jb)) {
         const float _e31 = airlight_sun2005_512_rows(i_3, asint(asuint(ja) + asuint(int(1))), ja, tx_1);
@@ -488,8 +490,8 @@ float airlight_sun2005_512_spot_weight(float c_2, float co, float ci)
     return ((c_2 >= co) ? 1.0 : 0.0);
 }
 
-typedef float ret_Constructarray6_float_[6];
-ret_Constructarray6_float_ Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
+typedef float airlight_sun2005_512_ret_Constructarray6_float_[6];
+airlight_sun2005_512_ret_Constructarray6_float_ airlight_sun2005_512_Constructarray6_float_(float arg0, float arg1, float arg2, float arg3, float arg4, float arg5) {
     float ret[6] = { arg0, arg1, arg2, arg3, arg4, arg5 };
     return ret;
 }
@@ -498,7 +500,7 @@ float3 airlight_sun2005_512_spot_edge(float3 tau_4, float h_6, float x0_5, float
 {
     bool local_9 = (bool)0;
     float3 exact = (0.0).xxx;
-    float pieces[6] = Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
+    float pieces[6] = airlight_sun2005_512_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
@@ -1248,3 +1250,4 @@ float3 airlight_sun2005_512_shafts_finish_spot(airlight_sun2005_512_Shafts acc_i
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 
+#endif // AIRLIGHT_SUN2005_512_HLSL_INCLUDED

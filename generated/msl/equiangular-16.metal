@@ -3,22 +3,24 @@
 // variant: Metal Shading Language 2.0 include, naga msl-out of wgsl/equiangular-16.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
 // language: metal2.0
+#ifndef AIRLIGHT_EQUIANGULAR_16_MSL_INCLUDED
+#define AIRLIGHT_EQUIANGULAR_16_MSL_INCLUDED
 #include <metal_stdlib>
 #include <simd/simd.h>
 
 using metal::uint;
 
-struct type_4 {
+struct airlight_equiangular_16_type_4 {
     metal::float3 inner[2];
 };
-struct _frexp_result_f32_ {
+struct airlight_equiangular_16_frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_7 {
+struct airlight_equiangular_16_type_7 {
     float inner[6];
 };
-struct type_9 {
+struct airlight_equiangular_16_type_9 {
     metal::float3 inner[32];
 };
 struct airlight_equiangular_16_Shafts {
@@ -33,15 +35,15 @@ struct airlight_equiangular_16_Shafts {
     float after;
     metal::packed_float3 sum;
     uint calls;
-    type_9 runs;
+    airlight_equiangular_16_type_9 runs;
     uint count;
     char _pad12[12];
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_equiangular_16_frexp_result_f32_ airlight_equiangular_16_naga_frexp(float arg) {
     int other;
     float fract = metal::frexp(arg, other);
-    return _frexp_result_f32_{ fract, other };
+    return airlight_equiangular_16_frexp_result_f32_{ fract, other };
 }
 constant float airlight_equiangular_16_PI = 3.1415927;
 constant float airlight_equiangular_16_FRAC_PI_2_ = 1.5707964;
@@ -92,16 +94,16 @@ float airlight_equiangular_16_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_4 airlight_equiangular_16_two_sum(
+airlight_equiangular_16_type_4 airlight_equiangular_16_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
     metal::float3 s_3 = a_3 + b_2;
     metal::float3 bb = s_3 - a_3;
-    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
+    return airlight_equiangular_16_type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_equiangular_16_naga_div(int lhs, int rhs) {
     return lhs / metal::select(rhs, 1, (lhs == (-2147483647 - 1) & rhs == -1) | (rhs == 0));
 }
 
@@ -109,10 +111,10 @@ metal::float3 airlight_equiangular_16_scale2_(
     metal::float3 v_1,
     int k
 ) {
-    return metal::ldexp(metal::ldexp(v_1, metal::int3(naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(naga_div(k, 2)))));
+    return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_equiangular_16_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_equiangular_16_naga_div(k, 2)))));
 }
 
-int naga_neg(int val) {
+int airlight_equiangular_16_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
 }
 
@@ -125,7 +127,7 @@ metal::float3 airlight_equiangular_16_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h_1 = 0.0;
-    type_4 _e4 = airlight_equiangular_16_two_sum(light, -(origin));
+    airlight_equiangular_16_type_4 _e4 = airlight_equiangular_16_two_sum(light, -(origin));
     float _e6 = airlight_equiangular_16_max_abs(_e4.inner[0]);
     float _e7 = airlight_equiangular_16_max_abs(dir);
     if (_e6 == 0.0) {
@@ -146,10 +148,10 @@ metal::float3 airlight_equiangular_16_ray_geometry(
     if (!(_e27)) {
         return metal::float3(340282350000000000000000000000000000000.0, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp;
-    metal::float3 _e37 = airlight_equiangular_16_scale2_(_e4.inner[0], naga_neg(kl));
-    metal::float3 _e40 = airlight_equiangular_16_scale2_(_e4.inner[1], naga_neg(kl));
-    metal::float3 _e44 = airlight_equiangular_16_scale2_(dir, naga_neg(naga_frexp(_e7).exp));
+    int kl = airlight_equiangular_16_naga_frexp(_e6).exp;
+    metal::float3 _e37 = airlight_equiangular_16_scale2_(_e4.inner[0], airlight_equiangular_16_naga_neg(kl));
+    metal::float3 _e40 = airlight_equiangular_16_scale2_(_e4.inner[1], airlight_equiangular_16_naga_neg(kl));
+    metal::float3 _e44 = airlight_equiangular_16_scale2_(dir, airlight_equiangular_16_naga_neg(airlight_equiangular_16_naga_frexp(_e7).exp));
     c_1 = metal::cross(_e44, _e37);
     metal::float3 _e47 = c_1;
     float _e48 = airlight_equiangular_16_max_abs(_e47);
@@ -202,11 +204,11 @@ float airlight_equiangular_16_scaled(
     if (a_4 >= airlight_equiangular_16_HUGE) {
         return airlight_equiangular_16_HUGE;
     }
-    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i_1 = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    airlight_equiangular_16_frexp_result_f32_ s_4 = airlight_equiangular_16_naga_frexp(sigma_s);
+    airlight_equiangular_16_frexp_result_f32_ i_1 = airlight_equiangular_16_naga_frexp(intensity);
+    airlight_equiangular_16_frexp_result_f32_ q = airlight_equiangular_16_naga_frexp(a_4);
+    airlight_equiangular_16_frexp_result_f32_ r_2 = airlight_equiangular_16_naga_frexp(d_1);
+    airlight_equiangular_16_frexp_result_f32_ m = airlight_equiangular_16_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
     int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_equiangular_16_HUGE;
@@ -273,7 +275,7 @@ metal::float2 airlight_equiangular_16_sin_cos_octant(
     return metal::float2(s_5, c_3);
 }
 
-int naga_f2i32(float value) {
+int airlight_equiangular_16_naga_f2i32(float value) {
     return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -281,7 +283,7 @@ metal::float2 airlight_equiangular_16_sin_cos(
     float x_3
 ) {
     int j = {};
-    j = naga_f2i32(x_3 * 1.2732395);
+    j = airlight_equiangular_16_naga_f2i32(x_3 * 1.2732395);
     int _e5 = j;
     if ((_e5 & 1) == 1) {
         int _e10 = j;
@@ -1507,7 +1509,7 @@ metal::float3 airlight_equiangular_16_spot_edge(
 ) {
     bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    airlight_equiangular_16_type_7 pieces = airlight_equiangular_16_type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_3 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -2357,3 +2359,4 @@ metal::float3 airlight_equiangular_16_shafts_finish_spot(
     metal::float3 _e26 = airlight_equiangular_16_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
     return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }
+#endif // AIRLIGHT_EQUIANGULAR_16_MSL_INCLUDED

@@ -3,23 +3,25 @@
 // variant: Metal Shading Language 2.0 include, naga msl-out of wgsl/scene-fog-street.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
 // language: metal2.0
+#ifndef AIRLIGHT_SCENE_FOG_STREET_MSL_INCLUDED
+#define AIRLIGHT_SCENE_FOG_STREET_MSL_INCLUDED
 #include <metal_stdlib>
 #include <simd/simd.h>
 
 using metal::uint;
 
-struct type_3 {
+struct airlight_scene_fog_street_type_3 {
     metal::float3 inner[2];
 };
-struct _frexp_result_f32_ {
+struct airlight_scene_fog_street_frexp_result_f32_ {
     float fract;
     int exp;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_scene_fog_street_frexp_result_f32_ airlight_scene_fog_street_naga_frexp(float arg) {
     int other;
     float fract = metal::frexp(arg, other);
-    return _frexp_result_f32_{ fract, other };
+    return airlight_scene_fog_street_frexp_result_f32_{ fract, other };
 }
 constant float airlight_scene_fog_street_PI = 3.1415927;
 constant float airlight_scene_fog_street_FRAC_PI_2_ = 1.5707964;
@@ -70,16 +72,16 @@ float airlight_scene_fog_street_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_scene_fog_street_two_sum(
+airlight_scene_fog_street_type_3 airlight_scene_fog_street_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
     metal::float3 s = a_3 + b_2;
     metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    return airlight_scene_fog_street_type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_scene_fog_street_naga_div(int lhs, int rhs) {
     return lhs / metal::select(rhs, 1, (lhs == (-2147483647 - 1) & rhs == -1) | (rhs == 0));
 }
 
@@ -87,10 +89,10 @@ metal::float3 airlight_scene_fog_street_scale2_(
     metal::float3 v_1,
     int k
 ) {
-    return metal::ldexp(metal::ldexp(v_1, metal::int3(naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(naga_div(k, 2)))));
+    return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_scene_fog_street_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_scene_fog_street_naga_div(k, 2)))));
 }
 
-int naga_neg(int val) {
+int airlight_scene_fog_street_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
 }
 
@@ -103,7 +105,7 @@ metal::float3 airlight_scene_fog_street_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h_1 = 0.0;
-    type_3 _e4 = airlight_scene_fog_street_two_sum(light, -(origin));
+    airlight_scene_fog_street_type_3 _e4 = airlight_scene_fog_street_two_sum(light, -(origin));
     float _e6 = airlight_scene_fog_street_max_abs(_e4.inner[0]);
     float _e7 = airlight_scene_fog_street_max_abs(dir);
     if (_e6 == 0.0) {
@@ -124,10 +126,10 @@ metal::float3 airlight_scene_fog_street_ray_geometry(
     if (!(_e27)) {
         return metal::float3(340282350000000000000000000000000000000.0, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp;
-    metal::float3 _e37 = airlight_scene_fog_street_scale2_(_e4.inner[0], naga_neg(kl));
-    metal::float3 _e40 = airlight_scene_fog_street_scale2_(_e4.inner[1], naga_neg(kl));
-    metal::float3 _e44 = airlight_scene_fog_street_scale2_(dir, naga_neg(naga_frexp(_e7).exp));
+    int kl = airlight_scene_fog_street_naga_frexp(_e6).exp;
+    metal::float3 _e37 = airlight_scene_fog_street_scale2_(_e4.inner[0], airlight_scene_fog_street_naga_neg(kl));
+    metal::float3 _e40 = airlight_scene_fog_street_scale2_(_e4.inner[1], airlight_scene_fog_street_naga_neg(kl));
+    metal::float3 _e44 = airlight_scene_fog_street_scale2_(dir, airlight_scene_fog_street_naga_neg(airlight_scene_fog_street_naga_frexp(_e7).exp));
     c_1 = metal::cross(_e44, _e37);
     metal::float3 _e47 = c_1;
     float _e48 = airlight_scene_fog_street_max_abs(_e47);
@@ -180,11 +182,11 @@ float airlight_scene_fog_street_scaled(
     if (a_4 >= airlight_scene_fog_street_HUGE) {
         return airlight_scene_fog_street_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
+    airlight_scene_fog_street_frexp_result_f32_ s_1 = airlight_scene_fog_street_naga_frexp(sigma_s);
+    airlight_scene_fog_street_frexp_result_f32_ i = airlight_scene_fog_street_naga_frexp(intensity);
+    airlight_scene_fog_street_frexp_result_f32_ q = airlight_scene_fog_street_naga_frexp(a_4);
+    airlight_scene_fog_street_frexp_result_f32_ r_1 = airlight_scene_fog_street_naga_frexp(d_1);
+    airlight_scene_fog_street_frexp_result_f32_ m = airlight_scene_fog_street_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
     int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
     if (e > 128) {
         return airlight_scene_fog_street_HUGE;
@@ -251,7 +253,7 @@ metal::float2 airlight_scene_fog_street_sin_cos_octant(
     return metal::float2(s_2, c_2);
 }
 
-int naga_f2i32(float value) {
+int airlight_scene_fog_street_naga_f2i32(float value) {
     return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -259,7 +261,7 @@ metal::float2 airlight_scene_fog_street_sin_cos(
     float x_3
 ) {
     int j = {};
-    j = naga_f2i32(x_3 * 1.2732395);
+    j = airlight_scene_fog_street_naga_f2i32(x_3 * 1.2732395);
     int _e5 = j;
     if ((_e5 & 1) == 1) {
         int _e10 = j;
@@ -615,3 +617,4 @@ float airlight_scene_fog_street_radiance(
     float _e40 = airlight_scene_fog_street_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
     return _e40;
 }
+#endif // AIRLIGHT_SCENE_FOG_STREET_MSL_INCLUDED

@@ -3,23 +3,25 @@
 // variant: Metal Shading Language 2.0 include, naga msl-out of wgsl/scene-haze-sky.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
 // language: metal2.0
+#ifndef AIRLIGHT_SCENE_HAZE_SKY_MSL_INCLUDED
+#define AIRLIGHT_SCENE_HAZE_SKY_MSL_INCLUDED
 #include <metal_stdlib>
 #include <simd/simd.h>
 
 using metal::uint;
 
-struct type_3 {
+struct airlight_scene_haze_sky_type_3 {
     metal::float3 inner[2];
 };
-struct _frexp_result_f32_ {
+struct airlight_scene_haze_sky_frexp_result_f32_ {
     float fract;
     int exp;
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_scene_haze_sky_frexp_result_f32_ airlight_scene_haze_sky_naga_frexp(float arg) {
     int other;
     float fract = metal::frexp(arg, other);
-    return _frexp_result_f32_{ fract, other };
+    return airlight_scene_haze_sky_frexp_result_f32_{ fract, other };
 }
 constant float airlight_scene_haze_sky_PI = 3.1415927;
 constant float airlight_scene_haze_sky_FRAC_PI_2_ = 1.5707964;
@@ -61,16 +63,16 @@ float airlight_scene_haze_sky_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_3 airlight_scene_haze_sky_two_sum(
+airlight_scene_haze_sky_type_3 airlight_scene_haze_sky_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
     metal::float3 s = a_3 + b_2;
     metal::float3 bb = s - a_3;
-    return type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
+    return airlight_scene_haze_sky_type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_scene_haze_sky_naga_div(int lhs, int rhs) {
     return lhs / metal::select(rhs, 1, (lhs == (-2147483647 - 1) & rhs == -1) | (rhs == 0));
 }
 
@@ -78,10 +80,10 @@ metal::float3 airlight_scene_haze_sky_scale2_(
     metal::float3 v_1,
     int k
 ) {
-    return metal::ldexp(metal::ldexp(v_1, metal::int3(naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(naga_div(k, 2)))));
+    return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_scene_haze_sky_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_scene_haze_sky_naga_div(k, 2)))));
 }
 
-int naga_neg(int val) {
+int airlight_scene_haze_sky_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
 }
 
@@ -94,7 +96,7 @@ metal::float3 airlight_scene_haze_sky_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h = 0.0;
-    type_3 _e4 = airlight_scene_haze_sky_two_sum(light, -(origin));
+    airlight_scene_haze_sky_type_3 _e4 = airlight_scene_haze_sky_two_sum(light, -(origin));
     float _e6 = airlight_scene_haze_sky_max_abs(_e4.inner[0]);
     float _e7 = airlight_scene_haze_sky_max_abs(dir);
     if (_e6 == 0.0) {
@@ -115,10 +117,10 @@ metal::float3 airlight_scene_haze_sky_ray_geometry(
     if (!(_e27)) {
         return metal::float3(340282350000000000000000000000000000000.0, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp;
-    metal::float3 _e37 = airlight_scene_haze_sky_scale2_(_e4.inner[0], naga_neg(kl));
-    metal::float3 _e40 = airlight_scene_haze_sky_scale2_(_e4.inner[1], naga_neg(kl));
-    metal::float3 _e44 = airlight_scene_haze_sky_scale2_(dir, naga_neg(naga_frexp(_e7).exp));
+    int kl = airlight_scene_haze_sky_naga_frexp(_e6).exp;
+    metal::float3 _e37 = airlight_scene_haze_sky_scale2_(_e4.inner[0], airlight_scene_haze_sky_naga_neg(kl));
+    metal::float3 _e40 = airlight_scene_haze_sky_scale2_(_e4.inner[1], airlight_scene_haze_sky_naga_neg(kl));
+    metal::float3 _e44 = airlight_scene_haze_sky_scale2_(dir, airlight_scene_haze_sky_naga_neg(airlight_scene_haze_sky_naga_frexp(_e7).exp));
     c_1 = metal::cross(_e44, _e37);
     metal::float3 _e47 = c_1;
     float _e48 = airlight_scene_haze_sky_max_abs(_e47);
@@ -171,11 +173,11 @@ float airlight_scene_haze_sky_scaled(
     if (a_4 >= airlight_scene_haze_sky_HUGE) {
         return airlight_scene_haze_sky_HUGE;
     }
-    _frexp_result_f32_ s_1 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_1 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
+    airlight_scene_haze_sky_frexp_result_f32_ s_1 = airlight_scene_haze_sky_naga_frexp(sigma_s);
+    airlight_scene_haze_sky_frexp_result_f32_ i = airlight_scene_haze_sky_naga_frexp(intensity);
+    airlight_scene_haze_sky_frexp_result_f32_ q = airlight_scene_haze_sky_naga_frexp(a_4);
+    airlight_scene_haze_sky_frexp_result_f32_ r_1 = airlight_scene_haze_sky_naga_frexp(d_1);
+    airlight_scene_haze_sky_frexp_result_f32_ m = airlight_scene_haze_sky_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
     int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
     if (e > 128) {
         return airlight_scene_haze_sky_HUGE;
@@ -242,7 +244,7 @@ metal::float2 airlight_scene_haze_sky_sin_cos_octant(
     return metal::float2(s_2, c_2);
 }
 
-int naga_f2i32(float value) {
+int airlight_scene_haze_sky_naga_f2i32(float value) {
     return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -250,7 +252,7 @@ metal::float2 airlight_scene_haze_sky_sin_cos(
     float x_3
 ) {
     int j = {};
-    j = naga_f2i32(x_3 * 1.2732395);
+    j = airlight_scene_haze_sky_naga_f2i32(x_3 * 1.2732395);
     int _e5 = j;
     if ((_e5 & 1) == 1) {
         int _e10 = j;
@@ -324,3 +326,4 @@ float airlight_scene_haze_sky_radiance(
     float _e27 = airlight_scene_haze_sky_scaled(sigma_s_1, intensity_1, _e5.x, _e26);
     return _e27;
 }
+#endif // AIRLIGHT_SCENE_HAZE_SKY_MSL_INCLUDED

@@ -3,22 +3,24 @@
 // variant: Metal Shading Language 2.0 include, naga msl-out of wgsl/segments-4.wgsl
 // translated by naga 30's back end, so names, arguments and behaviour are the WGSL's
 // language: metal2.0
+#ifndef AIRLIGHT_SEGMENTS_4_MSL_INCLUDED
+#define AIRLIGHT_SEGMENTS_4_MSL_INCLUDED
 #include <metal_stdlib>
 #include <simd/simd.h>
 
 using metal::uint;
 
-struct type_4 {
+struct airlight_segments_4_type_4 {
     metal::float3 inner[2];
 };
-struct _frexp_result_f32_ {
+struct airlight_segments_4_frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct type_7 {
+struct airlight_segments_4_type_7 {
     float inner[6];
 };
-struct type_9 {
+struct airlight_segments_4_type_9 {
     metal::float3 inner[32];
 };
 struct airlight_segments_4_Shafts {
@@ -33,15 +35,15 @@ struct airlight_segments_4_Shafts {
     float after;
     metal::packed_float3 sum;
     uint calls;
-    type_9 runs;
+    airlight_segments_4_type_9 runs;
     uint count;
     char _pad12[12];
 };
 
-_frexp_result_f32_ naga_frexp(float arg) {
+airlight_segments_4_frexp_result_f32_ airlight_segments_4_naga_frexp(float arg) {
     int other;
     float fract = metal::frexp(arg, other);
-    return _frexp_result_f32_{ fract, other };
+    return airlight_segments_4_frexp_result_f32_{ fract, other };
 }
 constant float airlight_segments_4_PI = 3.1415927;
 constant float airlight_segments_4_FRAC_PI_2_ = 1.5707964;
@@ -93,16 +95,16 @@ float airlight_segments_4_diff_of_products(
     return (_e4.x - _e5.x) + (_e4.y - _e5.y);
 }
 
-type_4 airlight_segments_4_two_sum(
+airlight_segments_4_type_4 airlight_segments_4_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
     metal::float3 s_3 = a_3 + b_2;
     metal::float3 bb = s_3 - a_3;
-    return type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
+    return airlight_segments_4_type_4 {{s_3, (a_3 - (s_3 - bb)) + (b_2 - bb)}};
 }
 
-int naga_div(int lhs, int rhs) {
+int airlight_segments_4_naga_div(int lhs, int rhs) {
     return lhs / metal::select(rhs, 1, (lhs == (-2147483647 - 1) & rhs == -1) | (rhs == 0));
 }
 
@@ -110,10 +112,10 @@ metal::float3 airlight_segments_4_scale2_(
     metal::float3 v_1,
     int k
 ) {
-    return metal::ldexp(metal::ldexp(v_1, metal::int3(naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(naga_div(k, 2)))));
+    return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_segments_4_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_segments_4_naga_div(k, 2)))));
 }
 
-int naga_neg(int val) {
+int airlight_segments_4_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
 }
 
@@ -126,7 +128,7 @@ metal::float3 airlight_segments_4_ray_geometry(
     bool local_1 = {};
     metal::float3 c_1 = {};
     float h_1 = 0.0;
-    type_4 _e4 = airlight_segments_4_two_sum(light, -(origin));
+    airlight_segments_4_type_4 _e4 = airlight_segments_4_two_sum(light, -(origin));
     float _e6 = airlight_segments_4_max_abs(_e4.inner[0]);
     float _e7 = airlight_segments_4_max_abs(dir);
     if (_e6 == 0.0) {
@@ -147,10 +149,10 @@ metal::float3 airlight_segments_4_ray_geometry(
     if (!(_e27)) {
         return metal::float3(340282350000000000000000000000000000000.0, 0.0, 0.0);
     }
-    int kl = naga_frexp(_e6).exp;
-    metal::float3 _e37 = airlight_segments_4_scale2_(_e4.inner[0], naga_neg(kl));
-    metal::float3 _e40 = airlight_segments_4_scale2_(_e4.inner[1], naga_neg(kl));
-    metal::float3 _e44 = airlight_segments_4_scale2_(dir, naga_neg(naga_frexp(_e7).exp));
+    int kl = airlight_segments_4_naga_frexp(_e6).exp;
+    metal::float3 _e37 = airlight_segments_4_scale2_(_e4.inner[0], airlight_segments_4_naga_neg(kl));
+    metal::float3 _e40 = airlight_segments_4_scale2_(_e4.inner[1], airlight_segments_4_naga_neg(kl));
+    metal::float3 _e44 = airlight_segments_4_scale2_(dir, airlight_segments_4_naga_neg(airlight_segments_4_naga_frexp(_e7).exp));
     c_1 = metal::cross(_e44, _e37);
     metal::float3 _e47 = c_1;
     float _e48 = airlight_segments_4_max_abs(_e47);
@@ -203,11 +205,11 @@ float airlight_segments_4_scaled(
     if (a_4 >= airlight_segments_4_HUGE) {
         return airlight_segments_4_HUGE;
     }
-    _frexp_result_f32_ s_4 = naga_frexp(sigma_s);
-    _frexp_result_f32_ i_1 = naga_frexp(intensity);
-    _frexp_result_f32_ q = naga_frexp(a_4);
-    _frexp_result_f32_ r_2 = naga_frexp(d_1);
-    _frexp_result_f32_ m = naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
+    airlight_segments_4_frexp_result_f32_ s_4 = airlight_segments_4_naga_frexp(sigma_s);
+    airlight_segments_4_frexp_result_f32_ i_1 = airlight_segments_4_naga_frexp(intensity);
+    airlight_segments_4_frexp_result_f32_ q = airlight_segments_4_naga_frexp(a_4);
+    airlight_segments_4_frexp_result_f32_ r_2 = airlight_segments_4_naga_frexp(d_1);
+    airlight_segments_4_frexp_result_f32_ m = airlight_segments_4_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
     int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_segments_4_HUGE;
@@ -274,7 +276,7 @@ metal::float2 airlight_segments_4_sin_cos_octant(
     return metal::float2(s_5, c_3);
 }
 
-int naga_f2i32(float value) {
+int airlight_segments_4_naga_f2i32(float value) {
     return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
@@ -282,7 +284,7 @@ metal::float2 airlight_segments_4_sin_cos(
     float x_3
 ) {
     int j = {};
-    j = naga_f2i32(x_3 * 1.2732395);
+    j = airlight_segments_4_naga_f2i32(x_3 * 1.2732395);
     int _e5 = j;
     if ((_e5 & 1) == 1) {
         int _e10 = j;
@@ -768,7 +770,7 @@ metal::float3 airlight_segments_4_spot_edge(
 ) {
     bool local_14 = {};
     metal::float3 exact = metal::float3(0.0);
-    type_7 pieces = type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    airlight_segments_4_type_7 pieces = airlight_segments_4_type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_2 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
@@ -1608,3 +1610,4 @@ metal::float3 airlight_segments_4_shafts_finish_spot(
     metal::float3 _e25 = airlight_segments_4_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
+#endif // AIRLIGHT_SEGMENTS_4_MSL_INCLUDED

@@ -1,6 +1,8 @@
 //! End-to-end tests across the airlight crates live in `tests/`; this library
 //! holds what they share: where the repository and its committed outputs are.
 
+pub mod calls;
+
 use std::path::PathBuf;
 
 /// The repository root (the workspace directory).
@@ -11,6 +13,14 @@ pub fn repo_root() -> PathBuf {
 /// The committed `generated/` directory.
 pub fn generated_dir() -> PathBuf {
     repo_root().join("generated")
+}
+
+/// The package name a WESL user imports the kernels' modules from.
+pub const WESL_PACKAGE: &str = "airlight";
+
+/// Where the committed WESL modules are.
+pub fn wesl_dir() -> PathBuf {
+    generated_dir().join("wesl/airlight")
 }
 
 /// The committed coefficient files, in catalog order.
