@@ -15,12 +15,14 @@ pub fn generated_dir() -> PathBuf {
     repo_root().join("generated")
 }
 
-/// The package name a WESL user imports the kernels' modules from.
-pub const WESL_PACKAGE: &str = "airlight";
+/// The package a WESL user imports the kernels' modules from: the Bevy 0.20
+/// plugin crate's name, which `load_shader_library!` makes the first component
+/// of `embedded://bevy_airlight/<kernel>.wesl`, and Bevy's loader the package.
+pub const WESL_PACKAGE: &str = "bevy_airlight";
 
-/// Where the committed WESL modules are.
+/// Where the committed WESL modules are: the plugin crate's `src/`.
 pub fn wesl_dir() -> PathBuf {
-    generated_dir().join("wesl/airlight")
+    generated_dir().join("bevy_airlight/src")
 }
 
 /// The committed coefficient files, in catalog order.
@@ -48,4 +50,23 @@ pub fn random_points(
             airlight_fit::reference::Point { tau, gamma, rho, g: gv }
         })
         .collect()
+}
+
+/// `tests/node/`, where `.ci/run` installs the pinned npm tools (`npm ci`), if
+/// `package` is installed there. Without it a test skips, unless the environment
+/// requires every tool (`AIRLIGHT_REQUIRE_GPU=1`, as CI sets, or
+/// `AIRLIGHT_REQUIRE_NPM=1`): then the test fails.
+pub fn npm_tools(package: &str) -> Option<PathBuf> {
+    let dir = repo_root().join("tests/node");
+    if dir.join("node_modules").join(package).join("package.json").exists() {
+        return Some(dir);
+    }
+    let required =
+        ["AIRLIGHT_REQUIRE_GPU", "AIRLIGHT_REQUIRE_NPM"].iter().any(|v| std::env::var(v).is_ok_and(|x| x == "1"));
+    assert!(
+        !required,
+        "npm package {package} not installed in tests/node: run `npm ci --prefix tests/node` (see README)"
+    );
+    eprintln!("SKIPPED: npm package {package} not installed (npm ci --prefix tests/node; AIRLIGHT_REQUIRE_NPM=1 makes this a failure)");
+    None
 }

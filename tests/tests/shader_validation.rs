@@ -1,8 +1,8 @@
 //! Every generated shader validates: WGSL through naga's front end and
 //! Validator; the Bevy 0.19 variant composed by naga_oil 0.22 and validated by
-//! naga 29 (what Bevy 0.19 runs); the WESL module for Bevy main compiled by the
-//! `wesl` crate the way `bevy_shader` does (package import, escape mangler) and
-//! validated by naga 30; GLSL through `glslangValidator` as GLSL ES 3.00
+//! naga 29 (what Bevy 0.19 runs); the WESL module of the Bevy 0.20 plugin crate
+//! compiled by the `wesl` crate the way `bevy_shader` does (package import, escape
+//! mangler) and validated by naga 30; GLSL through `glslangValidator` as GLSL ES 3.00
 //! (fragment) and GLSL 4.50 (compute); the HLSL through glslangValidator's HLSL
 //! front end (`-D`, fragment); the MSL for its entry points (no Metal compiler
 //! exists here). Each is wrapped with an entry point that calls both of its entry
@@ -78,23 +78,28 @@ fn every_bevy_variant_composes_through_naga_oil() {
 }
 
 #[test]
-fn every_wesl_module_compiles_with_wesl_as_bevy_main_does() {
+fn every_wesl_module_compiles_with_wesl_as_bevy_0_20_does() {
     use wesl::syntax::{ModulePath, PathOrigin};
-    let dir = generated_dir().join("wesl/airlight");
+    let dir = airlight_tests::wesl_dir();
     let modules = files(&dir, "wesl");
     assert_eq!(modules.len(), files(&generated_dir().join("wgsl"), "wgsl").len(), "one WESL module per WGSL kernel");
+    let package = airlight_tests::WESL_PACKAGE;
+    // The plugin registers each module where Bevy's loader imports it from.
+    let lib = std::fs::read_to_string(dir.join("lib.rs")).unwrap();
     for path in &modules {
         let text = std::fs::read_to_string(path).unwrap();
         assert!(!text.contains("#define_import_path") && !text.contains("#import"), "{}", path.display());
         let ident = path.file_stem().unwrap().to_string_lossy().to_string();
-        // Bevy main: a library loaded as `embedded://airlight/<ident>.wesl` is the
-        // package `airlight`, module `<ident>`; a user shader imports its functions.
-        let lib = ModulePath { origin: PathOrigin::Package("airlight".into()), components: vec![ident.clone()] };
+        assert!(lib.contains(&format!("load_shader_library!(app, \"{ident}.wesl\");")), "{ident} not registered");
+        assert!(lib.contains(&format!("(\"{package}::{ident}\", ")), "{ident} not listed");
+        // Bevy 0.20: a library embedded as `embedded://bevy_airlight/<ident>.wesl` is
+        // the package `bevy_airlight`, module `<ident>`; a user shader imports its functions.
+        let module = ModulePath { origin: PathOrigin::Package(package.into()), components: vec![ident.clone()] };
         let root = ModulePath { origin: PathOrigin::Absolute, components: vec!["user".into()] };
         let spot = if text.contains("fn spot(") { ", spot" } else { "" };
-        let user = format!("import airlight::{ident}::{{airlight, radiance{spot}}};\n{}", wgsl_entry(&text, "", ""));
+        let user = format!("import {package}::{ident}::{{airlight, radiance{spot}}};\n{}", wgsl_entry(&text, "", ""));
         let mut resolver = wesl::VirtualResolver::new();
-        resolver.add_module(lib, text.clone().into());
+        resolver.add_module(module, text.clone().into());
         resolver.add_module(root.clone(), user.into());
         let options = wesl::CompileOptions { imports: true, condcomp: true, ..Default::default() };
         let compiled = wesl::compile_sourcemap(&root, &resolver, &wesl::EscapeMangler, &options)

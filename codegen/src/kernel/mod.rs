@@ -10,6 +10,7 @@
 
 mod index;
 mod outputs;
+mod packages;
 mod plan;
 mod rust_crate;
 pub mod spec;
@@ -28,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 16] = [
+pub const TEMPLATES: [(&str, &str); 26] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -45,6 +46,16 @@ pub const TEMPLATES: [(&str, &str); 16] = [
     ("Cargo.toml.tera", include_str!("../../templates/kernels/Cargo.toml.tera")),
     ("README.md.tera", include_str!("../../templates/kernels/README.md.tera")),
     ("lib.rs.tera", include_str!("../../templates/kernels/lib.rs.tera")),
+    ("unity/shader_graph.hlsl.tera", include_str!("../../templates/packages/unity/shader_graph.hlsl.tera")),
+    ("unity/package.json.tera", include_str!("../../templates/packages/unity/package.json.tera")),
+    ("unity/README.md.tera", include_str!("../../templates/packages/unity/README.md.tera")),
+    ("unreal/Airlight.uplugin.tera", include_str!("../../templates/packages/unreal/Airlight.uplugin.tera")),
+    ("unreal/Build.cs.tera", include_str!("../../templates/packages/unreal/Build.cs.tera")),
+    ("unreal/Module.cpp.tera", include_str!("../../templates/packages/unreal/Module.cpp.tera")),
+    ("unreal/README.md.tera", include_str!("../../templates/packages/unreal/README.md.tera")),
+    ("bevy/Cargo.toml.tera", include_str!("../../templates/packages/bevy/Cargo.toml.tera")),
+    ("bevy/lib.rs.tera", include_str!("../../templates/packages/bevy/lib.rs.tera")),
+    ("bevy/README.md.tera", include_str!("../../templates/packages/bevy/README.md.tera")),
 ];
 
 /// The file extension of `target`'s templates.
@@ -305,10 +316,12 @@ fn translations(spec: &KernelSpec, table: &OutputTable, rendered: &[Output]) -> 
 }
 
 /// Every kernel output: per-kernel files from the table, naga's translations,
-/// the tables kernels read, and the Rust crate's own files.
+/// the tables kernels read, the Rust crate's own files and the engine packages.
 pub fn render(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     let mut out = render_sources(specs)?;
     out.extend(render_crate(specs)?);
+    let packages = packages::render(&engine()?, &OutputTable::standard(), specs, &out)?;
+    out.extend(packages);
     Ok(out)
 }
 

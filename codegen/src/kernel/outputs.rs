@@ -48,6 +48,42 @@ pub struct OutputTable {
     pub plan: Vec<FileOutput>,
     /// Per-kernel translations of a rendered kernel by naga.
     pub translation: Vec<Translation>,
+    /// Per-kernel files of the engine packages.
+    pub package_kernel: Vec<PackageKernel>,
+    /// Files of the engine packages, rendered once.
+    pub package_file: Vec<FileOutput>,
+    /// The package whose files get Unity `.meta` files.
+    pub unity_meta: UnityMeta,
+}
+
+/// A kernel's file in an engine package: a rendered file copied in.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PackageKernel {
+    /// The rendered file (pattern).
+    pub from: String,
+    /// Output path pattern.
+    pub path: String,
+    /// What is appended after the kernel.
+    #[serde(default)]
+    pub wrappers: Option<Wrappers>,
+}
+
+/// Wrappers appended to a kernel in a package.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Wrappers {
+    /// Unity Shader Graph Custom Function (File mode): `<entry>_float` and
+    /// `<entry>_half`, `void`, the result an `out` parameter.
+    ShaderGraph,
+}
+
+/// Where Unity `.meta` files are written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnityMeta {
+    /// The package root (every file and folder under it gets one).
+    pub root: String,
 }
 
 /// A kernel file translated from another by one of naga's back ends.
