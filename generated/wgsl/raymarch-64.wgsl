@@ -31,8 +31,10 @@
 const airlight_raymarch_64_PI: f32 = 3.14159274e0;
 const airlight_raymarch_64_FRAC_PI_2: f32 = 1.57079637e0;
 /// The largest finite f32, returned where A diverges (the ray through the light)
-/// and where a radiance passes f32's range.
-const airlight_raymarch_64_HUGE: f32 = 3.40282347e38;
+/// and where a radiance passes f32's range. The decimal is below it and rounds to
+/// it: 3.40282347e38 rounds to it too but is above it, which Tint (Chrome's
+/// WebGPU) rejects as outside f32's range (and the hex form is misread by wesl 0.4).
+const airlight_raymarch_64_HUGE: f32 = 3.40282346e38;
 /// Beyond rho = 2^32 the rest of the ray adds less than f32's resolution to A: no surface.
 const airlight_raymarch_64_RHO_OPEN: f32 = 4294967296.0;
 /// x0 - rho: how far before the light's foot on the ray the surface lies, from

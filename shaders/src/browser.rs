@@ -1,21 +1,23 @@
-//! The generated GLSL ES 3.00 include where three.js users are: a WebGL2 page
-//! (three.js r181, vendored under `tests/browser/vendor/`, MIT) draws the
-//! render's view of a scene in a full-screen `RawShaderMaterial` pass that
-//! includes the kernel, tone-maps it to the 8-bit canvas and reads the pixels
-//! back with `readPixels`. Headless Chromium loads the page from a loopback HTTP
-//! server started here (no network beyond 127.0.0.1) and prints the DOM, which
-//! carries the pixels; they are compared with the f64 reference render.
+//! The airlight-three package where three.js users are: a page (three.js r187
+//! from npm, pinned in `tests/node/package.json`) imports a kernel's ES module
+//! from the package and draws the render's view of a scene in one full-screen
+//! pass, through `WebGLRenderer` with the module's GLSL include in a
+//! `RawShaderMaterial`, or through `WebGPURenderer` with its TSL node (`wgslFn`
+//! on WebGPU, `glslFn` on the WebGL 2 backend), tone-mapped to 8 bits and read
+//! back. Headless Chromium (WebGL 2 and WebGPU on SwiftShader) loads the page from
+//! a loopback HTTP server started here (no network beyond 127.0.0.1); the page
+//! POSTs the pixels back, and they are compared with the f64 reference render.
 
 use crate::render::{View, FOV_Y, GROUND_Y};
-use airlight_fit::vocab::IndexEntry;
+use airlight_fit::vocab::{Arg, IndexEntry};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// The vendored three.js.
-pub const THREE_VERSION: &str = "0.181.0";
+/// The three.js the pages load (npm, pinned in tests/node/package.json).
+pub const THREE_VERSION: &str = "0.187.0";
 
 /// The page's fragment shader: the GLSL include `kernel` of `k`, the view's rays
 /// (the arithmetic of [`View::ray`], rows from the top), every light summed.
@@ -69,72 +71,437 @@ void main() {{
     )
 }
 
-/// The page: three.js renders the fragment shader once and writes what it read
-/// back into `<pre id="result">` (or the shader log into `<pre id="error">`).
-pub fn page(fragment: &str, width: u32, height: u32) -> String {
-    let js_string = |s: &str| {
-        let mut o = String::from("\"");
-        for c in s.chars() {
-            match c {
-                '"' => o.push_str("\\\""),
-                '\\' => o.push_str("\\\\"),
-                '\n' => o.push_str("\\n"),
-                c if (c as u32) < 0x20 || !c.is_ascii() => o.push_str(&format!("\\u{:04x}", c as u32)),
-                c => o.push(c),
-            }
+/// `s` as a JavaScript string literal.
+fn js_string(s: &str) -> String {
+    let mut o = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => o.push_str("\\\""),
+            '\\' => o.push_str("\\\\"),
+            '\n' => o.push_str("\\n"),
+            c if (c as u32) < 0x20 || !c.is_ascii() => o.push_str(&format!("\\u{:04x}", c as u32)),
+            c => o.push(c),
         }
-        o.push('"');
-        o
+    }
+    o.push('"');
+    o
+}
+
+/// Which three.js renderer a page draws with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Renderer {
+    /// `WebGLRenderer` and a `RawShaderMaterial` that prepends the package's GLSL include.
+    WebGl,
+    /// `WebGPURenderer` on WebGPU, a node material calling the package's WGSL TSL node.
+    WebGpu,
+    /// `WebGPURenderer` forced onto its WebGL 2 backend, calling the GLSL TSL node.
+    WebGpuOnWebGl,
+}
+
+impl Renderer {
+    /// All three.
+    pub const ALL: [Renderer; 3] = [Renderer::WebGl, Renderer::WebGpu, Renderer::WebGpuOnWebGl];
+
+    /// Its name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Renderer::WebGl => "WebGLRenderer + GLSL include",
+            Renderer::WebGpu => "WebGPURenderer (WebGPU) + TSL wgslFn",
+            Renderer::WebGpuOnWebGl => "WebGPURenderer (WebGL 2 backend) + TSL glslFn",
+        }
+    }
+}
+
+/// The import map of a page: three.js r187's builds and the package, served
+/// side by side (`three/`, `airlight-three/`).
+const IMPORT_MAP: &str = r#"<script type="importmap">{"imports": {"three": "./three/three.module.js", "three/webgpu": "./three/three.webgpu.js", "three/tsl": "./three/three.tsl.js"}}</script>"#;
+
+/// The page's TSL colour node: the ray of [`View::ray`] from the pixel, the
+/// package's `radiance` node per light, tone-mapped as [`crate::render::tone`].
+fn tsl_colour(k: &IndexEntry, view: &View, exposure: f64, node: &str) -> String {
+    let lights: Vec<String> =
+        view.lights().iter().map(|(p, i)| format!("[{:?}, {:?}, {:?}, {:?}]", p[0], p[1], p[2], i)).collect();
+    let sigma = view.sigma_t.iter().enumerate().skip(1).fold(format!("float({:?})", view.sigma_t[0]), |acc, (i, s)| {
+        format!("select(panel.greaterThanEqual({i:?}.0), float({s:?}), {acc})")
+    });
+    let args: Vec<String> = k
+        .radiance_params
+        .iter()
+        .map(|p| {
+            let v = match p {
+                Arg::Origin => "vec3(0.0, 0.0, 0.0)".to_string(),
+                Arg::Dir => "dir".into(),
+                Arg::Surface => "surface".into(),
+                Arg::Light => "vec3(l[0], l[1], l[2])".into(),
+                Arg::Intensity => "float(l[3])".into(),
+                Arg::SigmaT => "sigmaT".into(),
+                Arg::SigmaS => format!("sigmaT.mul({:?})", crate::render::ALBEDO),
+                Arg::G => format!("float({:?})", view.g),
+                other => unreachable!("{other} is not an argument of radiance"),
+            };
+            format!("{}: {v}", p.name())
+        })
+        .collect();
+    let ground = if view.ground {
+        format!("select(dir.y.lessThan(0.0), float({:?}).div(dir.y), float(-1.0))", GROUND_Y * view.scale)
+    } else {
+        "float(-1.0)".into()
     };
     format!(
-        r#"<!doctype html>
-<html><head><meta charset="utf-8"><title>airlight in three.js</title></head>
-<body>
-<pre id="status">loading</pre>
-<script type="module">
-import * as THREE from './three.module.min.js';
-const W = {width}, H = {height};
-const status = document.getElementById('status');
-function say(id, text) {{ const e = document.createElement('pre'); e.id = id; e.textContent = text; document.body.appendChild(e); }}
-try {{
-  const canvas = document.createElement('canvas');
-  canvas.width = W; canvas.height = H;
-  document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({{ canvas, antialias: false, alpha: false, preserveDrawingBuffer: true }});
-  renderer.setPixelRatio(1);
-  renderer.setSize(W, H, false);
-  renderer.debug.checkShaderErrors = true;
-  renderer.debug.onShaderError = (gl, program, vs, fs) => {{
-    say('error', 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program));
-  }};
-  const material = new THREE.RawShaderMaterial({{
-    glslVersion: THREE.GLSL3,
-    vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
-    fragmentShader: {fragment},
-  }});
-  const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-  mesh.frustumCulled = false;
-  const scene = new THREE.Scene();
-  scene.add(mesh);
-  renderer.render(scene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+        "Fn(() => {{
+    const pw = float({pw:?}), h = float({h:?});
+    // screenCoordinate: pixels from the top left, on both backends.
+    const pos = screenCoordinate.xy;
+    const panel = floor(pos.x.div(pw));
+    const u = pos.x.sub(panel.mul(pw)).div(pw).mul(2.0).sub(1.0);
+    const v = float(1.0).sub(pos.y.mul(2.0).div(h));
+    const t = float({t:?});
+    const d = vec3(u.mul(t.mul(pw.div(h))), v.mul(t), 1.0);
+    const dir = d.div(sqrt(dot(d, d)));
+    const surface = {ground};
+    const sigmaT = {sigma};
+    let sum = float(0.0);
+    for (const l of [{lights}]) {{
+        sum = sum.add({node}({{ {args} }}));
+    }}
+    const x = max(sum.mul({exposure:?}), 0.0);
+    const c = pow(x.div(x.add(1.0)), 1.0 / 2.2);
+    return vec4(c, c, c, 1.0);
+}})()",
+        pw = view.panel_width as f32,
+        h = view.height as f32,
+        t = (0.5 * FOV_Y).tan(),
+        lights = lights.join(", "),
+        args = args.join(", "),
+        exposure = exposure as f32,
+    )
+}
+
+/// The page for `renderer`: it imports the kernel's module from the package
+/// (`airlight-three/kernels/<name>.js`), draws the view once into a `width ×
+/// height` target, reads it back as 8-bit RGBA, rows from the top, and POSTs
+/// to `/result` either `ok`, the adapter and the pixels (base64) on three lines,
+/// or `error` and the message.
+pub fn page(k: &IndexEntry, view: &View, exposure: f64, renderer: Renderer) -> String {
+    let (width, height) = (view.width(), view.height);
+    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let (imports, body) = match renderer {
+        Renderer::WebGl => (
+            format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';"),
+            format!(
+                r#"const canvas = document.createElement('canvas');
+canvas.width = W; canvas.height = H;
+document.body.appendChild(canvas);
+const renderer = new THREE.WebGLRenderer({{ canvas, antialias: false, alpha: false, preserveDrawingBuffer: true }});
+renderer.setPixelRatio(1);
+renderer.setSize(W, H, false);
+let shaderError = null;
+renderer.debug.checkShaderErrors = true;
+renderer.debug.onShaderError = (gl, program, vs, fs) => {{
+  shaderError = 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program);
+}};
+const material = new THREE.RawShaderMaterial({{
+  glslVersion: THREE.GLSL3,
+  vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
+  fragmentShader: glsl + {main},
+}});
+const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+mesh.frustumCulled = false;
+const scene = new THREE.Scene();
+scene.add(mesh);
+renderer.render(scene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+if (shaderError) throw new Error(shaderError);
+const gl = renderer.getContext();
+const px = new Uint8Array(W * H * 4);
+gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE, px);
+const info = gl.getExtension('WEBGL_debug_renderer_info');
+const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, ' + gl.getParameter(gl.VERSION) + ', ' +
+  (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+// readPixels starts at the bottom row.
+return {{ adapter, rgba: px, bottomUp: true }};"#,
+                main = js_string(&fragment_shader(k, "", view, exposure)),
+            ),
+        ),
+        Renderer::WebGpu | Renderer::WebGpuOnWebGl => {
+            let force = renderer == Renderer::WebGpuOnWebGl;
+            let node = if force { "K.radianceGLSL" } else { "K.radianceWGSL" };
+            let imports = format!(
+                "import * as THREE from 'three/webgpu';\n\
+                 import {{ Fn, float, vec3, vec4, screenCoordinate, floor, sqrt, dot, max, pow, select }} from 'three/tsl';\n\
+                 import * as K from '{module}';"
+            );
+            let body = format!(
+                r#"const renderer = new THREE.WebGPURenderer({{ antialias: false, forceWebGL: {force} }});
+await renderer.init();
+const backend = renderer.backend.isWebGPUBackend ? 'WebGPU' : 'WebGL 2';
+if (backend !== '{want}') throw new Error('asked for {want}, got ' + backend);
+const material = new THREE.MeshBasicNodeMaterial();
+material.colorNode = {colour};
+const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+mesh.frustumCulled = false;
+const scene = new THREE.Scene();
+scene.add(mesh);
+const target = new THREE.RenderTarget(W, H, {{ type: THREE.UnsignedByteType, depthBuffer: false }});
+renderer.setRenderTarget(target);
+renderer.render(scene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + ')';
+if (renderer.backend.isWebGPUBackend) {{
+  const i = (await navigator.gpu.requestAdapter()).info;
+  adapter += ', ' + [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
+}} else {{
   const gl = renderer.getContext();
-  const px = new Uint8Array(W * H * 4);
-  gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE, px);
-  let bin = '';
-  for (let i = 0; i < px.length; i++) bin += String.fromCharCode(px[i]);
   const info = gl.getExtension('WEBGL_debug_renderer_info');
-  const adapter = info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
-  say('adapter', 'three.js r' + THREE.REVISION + ', ' + gl.getParameter(gl.VERSION) + ', ' + adapter);
-  say('result', btoa(bin));
-}} catch (e) {{
-  say('error', String(e && e.stack || e));
+  adapter += ', ' + (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
 }}
-status.textContent = 'done';
+return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: !renderer.backend.isWebGPUBackend }};"#,
+                want = if force { "WebGL 2" } else { "WebGPU" },
+                colour = tsl_colour(k, view, exposure, node),
+            );
+            (imports, body)
+        }
+    };
+    wrap_page(&imports, &body, width, height)
+}
+
+/// The page around a renderer's `imports` and the body of its `async draw()`,
+/// which returns `{adapter, rgba, bottomUp, texel}` (`texel`: bytes per pixel, 4
+/// unless given): the pixels go back rows from the top.
+fn wrap_page(imports: &str, body: &str, width: u32, height: u32) -> String {
+    format!(
+        r#"<!doctype html>
+<html><head><meta charset="utf-8"><title>airlight in three.js</title>
+{IMPORT_MAP}
+</head>
+<body>
+<script type="module">
+{imports}
+const W = {width}, H = {height};
+async function draw() {{
+{body}
+}}
+let reply;
+try {{
+  const {{ adapter, rgba, bottomUp, texel = 4 }} = await draw();
+  if (rgba.length !== W * H * texel) throw new Error(rgba.length + ' bytes read back, expected ' + W * H * texel);
+  const rows = new Uint8Array(W * H * texel);
+  for (let y = 0; y < H; y++) {{
+    const from = bottomUp ? H - 1 - y : y;
+    rows.set(rgba.subarray(from * W * texel, (from + 1) * W * texel), y * W * texel);
+  }}
+  let bin = '';
+  for (let i = 0; i < rows.length; i++) bin += String.fromCharCode(rows[i]);
+  reply = 'ok\n' + adapter + '\n' + btoa(bin);
+}} catch (e) {{
+  reply = 'error\n' + String(e && e.stack || e);
+}}
+await fetch('/result', {{ method: 'POST', body: reply }});
 </script>
 </body></html>
-"#,
-        fragment = js_string(fragment),
+"#
     )
+}
+
+/// `vec3(x, y, z)` in GLSL.
+fn glsl_v3(v: [f32; 3]) -> String {
+    format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2])
+}
+
+/// The light-shafts page (`WebGLRenderer`): the window-shafts room's occluders
+/// (`crate::shafts_render`) as three.js meshes that cast shadows, its spot as a
+/// `SpotLight` with a shadow map (`PCFShadowMap`: a depth texture with a
+/// comparison sampler, 2×2 filtered); one render builds three.js's shadow map,
+/// then a full-screen `RawShaderMaterial` with the kernel's GLSL include walks
+/// each view ray to its first surface in `look_ups` steps, looks visibility up
+/// in that shadow map (through `light.shadow.matrix`) and feeds the kernel's
+/// shafts accumulator (`shafts_push_spot`, `refine` bisection steps per change,
+/// `shafts_finish_spot`). It reads back the fog (RGB) and the surface distance
+/// as f32 and POSTs them (base64 of the floats, rows from the top).
+pub fn shafts_page(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32, refine: u32) -> String {
+    use crate::shafts_render as sr;
+    let (width, height) = (view.width, view.height);
+    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let p = &k.prefix;
+    let (st, ss) = sr::medium();
+    let axis = sr::axis();
+    let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
+    let args: Vec<String> = k
+        .spot_params
+        .iter()
+        .filter(|a| **a != Arg::Surface)
+        .map(|a| match a {
+            Arg::Origin => "CAMERA".to_string(),
+            Arg::Dir => "dir".into(),
+            Arg::Light => "LIGHT".into(),
+            Arg::Axis => glsl_v3(axis),
+            Arg::CosOuter => format!("{:?}", cos[0]),
+            Arg::CosInner => format!("{:?}", cos[1]),
+            Arg::Intensity => format!("{:?}", sr::INTENSITY),
+            Arg::SigmaTRgb => glsl_v3(st),
+            Arg::SigmaSRgb => glsl_v3(ss),
+            Arg::G => format!("{:?}", sr::G),
+            other => unreachable!("{other} is not an argument of spot"),
+        })
+        .collect();
+    let args = args.join(", ");
+    let [f, r, u] = sr::camera_basis();
+    let boxes = sr::boxes();
+    let slabs: String = boxes
+        .iter()
+        .map(|b| format!("    end = min(end, box_entry({}, {}, dir, end));\n", glsl_v3(b.0), glsl_v3(b.1)))
+        .collect();
+    let room = sr::ROOM;
+    let main = format!(
+        r#"
+// ---- the light-shafts pass (shaders/src/browser.rs) ----
+uniform highp sampler2DShadow shadowMap;
+uniform highp mat4 shadowMatrix;
+out highp vec4 airlight_fog;
+const vec3 CAMERA = {camera};
+const vec3 LIGHT = {light};
+// three.js's shadow: light.shadow.matrix maps the world to [0, 1]^3; outside it, lit.
+float visibility(vec3 q) {{
+    vec4 c = shadowMatrix * vec4(q, 1.0);
+    if (c.w <= 0.0) return 1.0;
+    vec3 t = c.xyz / c.w;
+    if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(1.0)))) return 1.0;
+    return texture(shadowMap, vec3(t.xy, t.z - 0.0005));
+}}
+float box_entry(vec3 lo, vec3 hi, vec3 d, float end) {{
+    vec3 a = (lo - CAMERA) / d, b = (hi - CAMERA) / d;
+    vec3 n = min(a, b), x = max(a, b);
+    float t0 = max(max(n.x, n.y), n.z), t1 = min(min(x.x, x.y), x.z);
+    return (t0 < t1 && t0 > 0.0) ? t0 : end;
+}}
+void main() {{
+    vec2 pos = vec2(gl_FragCoord.x, {h:?} - gl_FragCoord.y);
+    float u = 2.0 * pos.x / {w:?} - 1.0;
+    float v = 1.0 - 2.0 * pos.y / {h:?};
+    float t = {t:?};
+    vec3 d = {f} + (u * t * {aspect:?}) * {r} + (v * t) * {up};
+    vec3 dir = d / sqrt(dot(d, d));
+    // The first surface: the room's walls from inside, the beams, pillars and ball.
+    vec3 a = ({room_lo} - CAMERA) / dir, b = ({room_hi} - CAMERA) / dir;
+    vec3 x = max(a, b);
+    float end = min(min(x.x, x.y), x.z);
+{slabs}    vec3 w = CAMERA - {ball_c};
+    float bb = dot(w, dir), disc = bb * bb - (dot(w, w) - {ball_r2:?});
+    float sb = -bb - sqrt(max(disc, 0.0));
+    if (disc >= 0.0 && sb > 0.0) end = min(end, sb);
+    {p}Shafts acc = {p}shafts_begin();
+    {p}shafts_push_spot(acc, 0.0, visibility(CAMERA), {args});
+    for (int i = 0; i < {n}; i++) {{
+        float s = (float(i) + 0.5) * end / {nf:?};
+        {p}shafts_push_spot(acc, s, visibility(CAMERA + s * dir), {args});
+        for (int k = 0; k < {refine} && {p}shafts_probe(acc) >= 0.0; k++) {{
+            {p}shafts_refine(acc, visibility(CAMERA + {p}shafts_probe(acc) * dir));
+        }}
+    }}
+    {p}shafts_push_spot(acc, end, visibility(CAMERA + end * (1.0 - 1e-4) * dir), {args});
+    vec3 fog = {p}shafts_finish_spot(acc, end, {args});
+    airlight_fog = vec4(fog, end);
+}}
+"#,
+        camera = glsl_v3(sr::CAMERA),
+        light = glsl_v3(sr::LIGHT),
+        h = height as f32,
+        w = width as f32,
+        t = (0.5 * FOV_Y).tan(),
+        aspect = width as f32 / height as f32,
+        f = glsl_v3(f),
+        r = glsl_v3(r),
+        up = glsl_v3(u),
+        room_lo = glsl_v3([room[0][0], room[1][0], room[2][0]]),
+        room_hi = glsl_v3([room[0][1], room[1][1], room[2][1]]),
+        ball_c = glsl_v3(sr::BALL.0),
+        ball_r2 = sr::BALL.1 * sr::BALL.1,
+        n = look_ups,
+        nf = look_ups as f32,
+    );
+    let js_boxes: Vec<String> = boxes
+        .iter()
+        .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
+        .collect();
+    let body = format!(
+        r#"const renderer = new THREE.WebGLRenderer({{ antialias: false }});
+renderer.setPixelRatio(1);
+renderer.setSize(W, H, false);
+renderer.shadowMap.enabled = true;
+renderer.shadowMap.type = THREE.PCFShadowMap;
+let shaderError = null;
+renderer.debug.checkShaderErrors = true;
+renderer.debug.onShaderError = (gl, program, vs, fs) => {{
+  shaderError = 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program);
+}};
+// The room's occluders, casting shadows, and its spot light.
+const scene = new THREE.Scene();
+const stone = new THREE.MeshBasicMaterial();
+for (const [x0, y0, z0, x1, y1, z1] of [{boxes}]) {{
+  const m = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0), stone);
+  m.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+  m.castShadow = true;
+  scene.add(m);
+}}
+const ball = new THREE.Mesh(new THREE.SphereGeometry({ball_r:?}, 96, 48), stone);
+ball.position.set({bx:?}, {by:?}, {bz:?});
+ball.castShadow = true;
+scene.add(ball);
+const light = new THREE.SpotLight(0xffffff, 1.0, 0, {angle:?}, 0.0, 2);
+light.position.set({lx:?}, {ly:?}, {lz:?});
+light.target.position.set({ax:?}, {ay:?}, {az:?});
+light.castShadow = true;
+light.shadow.mapSize.set({map}, {map});
+light.shadow.camera.near = 0.3;
+light.shadow.camera.far = 30.0;
+scene.add(light, light.target);
+const camera = new THREE.PerspectiveCamera(60, W / H, 0.1, 100);
+camera.position.set({cx:?}, {cy:?}, {cz:?});
+// This render draws three.js's shadow map (light.shadow.map, light.shadow.matrix).
+const scratch = new THREE.WebGLRenderTarget(W, H);
+renderer.setRenderTarget(scratch);
+renderer.render(scene, camera);
+if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.js drew no shadow map');
+const material = new THREE.RawShaderMaterial({{
+  glslVersion: THREE.GLSL3,
+  vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
+  fragmentShader: glsl + {main},
+  uniforms: {{ shadowMap: {{ value: light.shadow.map.depthTexture }}, shadowMatrix: {{ value: light.shadow.matrix }} }},
+}});
+const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+quad.frustumCulled = false;
+const pass = new THREE.Scene();
+pass.add(quad);
+const target = new THREE.WebGLRenderTarget(W, H, {{ type: THREE.FloatType, depthBuffer: false }});
+renderer.setRenderTarget(target);
+renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+if (shaderError) throw new Error(shaderError);
+const px = new Float32Array(W * H * 4);
+renderer.readRenderTargetPixels(target, 0, 0, W, H, px);
+const gl = renderer.getContext();
+const info = gl.getExtension('WEBGL_debug_renderer_info');
+const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, shadow map ' + light.shadow.map.width + '², ' +
+  (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }};"#,
+        boxes = js_boxes.join(", "),
+        ball_r = sr::BALL.1,
+        bx = sr::BALL.0[0],
+        by = sr::BALL.0[1],
+        bz = sr::BALL.0[2],
+        angle = sr::CONE_DEG[0].to_radians(),
+        lx = sr::LIGHT[0],
+        ly = sr::LIGHT[1],
+        lz = sr::LIGHT[2],
+        ax = sr::AIM[0],
+        ay = sr::AIM[1],
+        az = sr::AIM[2],
+        map = sr::SHADOW_MAP,
+        cx = sr::CAMERA[0],
+        cy = sr::CAMERA[1],
+        cz = sr::CAMERA[2],
+        main = js_string(&main),
+    );
+    let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';");
+    wrap_page(&imports, &body, width, height)
 }
 
 /// What the page drew.
@@ -191,16 +558,17 @@ fn decode_base64(s: &str) -> Result<Vec<u8>, BrowserError> {
     Ok(out)
 }
 
-fn between<'a>(dom: &'a str, id: &str) -> Option<&'a str> {
-    let open = format!("<pre id=\"{id}\">");
-    let at = dom.find(&open)? + open.len();
-    let end = dom[at..].find("</pre>")?;
-    Some(&dom[at..at + end])
-}
+/// How long a page may take to report (`AIRLIGHT_BROWSER_TIMEOUT_S` overrides).
+const TIMEOUT_S: u64 = 240;
 
-/// Answers one HTTP request on `s` from `files` (`/`: `index.html`).
-fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)]) {
+/// What the page POSTed to `/result`.
+type Posted = std::sync::Arc<std::sync::Mutex<Option<String>>>;
+
+/// Answers one HTTP request on `s`: a GET from `files` (`/`: `index.html`), or
+/// the page's POST of its result to `/result`, kept in `posted`.
+fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)], posted: &Posted) {
     let _ = s.set_nonblocking(false);
+    let _ = s.set_read_timeout(Some(Duration::from_secs(30)));
     let mut line = String::new();
     let mut reader = BufReader::new(match s.try_clone() {
         Ok(c) => c,
@@ -209,36 +577,47 @@ fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)]) {
     if reader.read_line(&mut line).is_err() {
         return;
     }
-    // Drain the headers.
+    let mut length = 0usize;
     let mut h = String::new();
     while reader.read_line(&mut h).is_ok_and(|n| n > 2) {
+        if let Some(v) = h.to_ascii_lowercase().strip_prefix("content-length:") {
+            length = v.trim().parse().unwrap_or(0);
+        }
         h.clear();
     }
-    let path = line.split_whitespace().nth(1).unwrap_or("/").trim_start_matches('/');
-    let path = if path.is_empty() { "index.html" } else { path };
-    let reply = match files.iter().find(|(n, _)| n == path) {
-        Some((n, body)) => {
-            let ty = if n.ends_with(".js") { "text/javascript" } else { "text/html; charset=utf-8" };
-            let mut r = format!(
-                "HTTP/1.1 200 OK\r\nContent-Type: {ty}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
-                body.len()
-            )
-            .into_bytes();
-            r.extend_from_slice(body);
-            r
+    let mut words = line.split_whitespace();
+    let method = words.next().unwrap_or("GET");
+    let path = words.next().unwrap_or("/").trim_start_matches('/');
+    let reply = if method == "POST" && path == "result" {
+        let mut body = vec![0u8; length];
+        if reader.read_exact(&mut body).is_ok() {
+            *posted.lock().unwrap_or_else(|e| e.into_inner()) = Some(String::from_utf8_lossy(&body).into_owned());
         }
-        None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+        b"HTTP/1.1 204 No Content\r\nConnection: close\r\n\r\n".to_vec()
+    } else {
+        let path = if path.is_empty() { "index.html" } else { path };
+        match files.iter().find(|(n, _)| n == path) {
+            Some((n, body)) => {
+                let ty = if n.ends_with(".js") { "text/javascript" } else { "text/html; charset=utf-8" };
+                let mut r = format!(
+                    "HTTP/1.1 200 OK\r\nContent-Type: {ty}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+                    body.len()
+                )
+                .into_bytes();
+                r.extend_from_slice(body);
+                r
+            }
+            None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
+        }
     };
     let _ = s.write_all(&reply);
     let _ = s.flush();
-    let mut sink = [0u8; 1];
-    let _ = s.set_read_timeout(Some(Duration::from_millis(1)));
-    let _ = s.read(&mut sink);
 }
 
 /// A loopback HTTP server of `files` until [`Server::stop`].
 struct Server {
     port: u16,
+    posted: Posted,
     done: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: std::thread::JoinHandle<()>,
 }
@@ -250,16 +629,25 @@ impl Server {
         let port = listener.local_addr().map_err(err)?.port();
         listener.set_nonblocking(true).map_err(err)?;
         let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        let stop = done.clone();
+        let posted: Posted = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let (stop, post) = (done.clone(), posted.clone());
+        let files = std::sync::Arc::new(files);
         let thread = std::thread::spawn(move || {
             while !stop.load(std::sync::atomic::Ordering::Relaxed) {
                 match listener.accept() {
-                    Ok((s, _)) => serve_one(s, &files),
+                    Ok((s, _)) => {
+                        let (files, post) = (files.clone(), post.clone());
+                        std::thread::spawn(move || serve_one(s, &files, &post));
+                    }
                     Err(_) => std::thread::sleep(Duration::from_millis(5)),
                 }
             }
         });
-        Ok(Server { port, done, thread })
+        Ok(Server { port, posted, done, thread })
+    }
+
+    fn posted(&self) -> Option<String> {
+        self.posted.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 
     fn stop(self) {
@@ -268,15 +656,11 @@ impl Server {
     }
 }
 
-/// Runs headless `chrome` on `url` with a fresh profile, reading both pipes
-/// while it runs (the dumped DOM can pass a pipe's buffer): its exit status, the
-/// DOM and its log. A page that never settles is killed after 240 s.
-fn run_chromium(
-    chrome: &Path,
-    url: &str,
-    profile: &Path,
-    (width, height): (u32, u32),
-) -> Result<(std::process::ExitStatus, String, String), BrowserError> {
+/// Runs headless `chrome` on `url` with a fresh profile (WebGL 2 and WebGPU on
+/// SwiftShader) until the page has POSTed its result to `server`, then stops
+/// it; its log is kept for errors. A page that never reports is stopped after
+/// 240 s.
+fn run_chromium(chrome: &Path, url: &str, profile: &Path, server: &Server) -> Result<String, BrowserError> {
     let mut child = Command::new(chrome)
         .args([
             "--headless",
@@ -284,6 +668,8 @@ fn run_chromium(
             "--disable-gpu-sandbox",
             "--use-angle=swiftshader",
             "--enable-unsafe-swiftshader",
+            "--enable-unsafe-webgpu",
+            "--use-webgpu-adapter=swiftshader",
             "--ignore-gpu-blocklist",
             "--disable-quic",
             "--no-first-run",
@@ -291,80 +677,118 @@ fn run_chromium(
             "--disable-component-update",
             "--disable-sync",
             "--disable-extensions",
-            "--virtual-time-budget=60000",
-            "--dump-dom",
+            // The page's console in the log: its errors explain a page that never reports.
+            "--enable-logging=stderr",
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("--window-size={width},{height}"))
         .arg(url)
-        .stdout(Stdio::piped())
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .map_err(|e| BrowserError(format!("{}: {e}", chrome.display())))?;
-    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+    let errs = child.stderr.take().map(|mut p| {
         std::thread::spawn(move || {
             let mut text = String::new();
-            if let Some(mut p) = pipe {
-                let _ = p.read_to_string(&mut text);
-            }
+            let _ = p.read_to_string(&mut text);
             text
         })
-    };
-    let out = drain(child.stdout.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
-    let errs = drain(child.stderr.take().map(|p| Box::new(p) as Box<dyn Read + Send>));
+    });
+    let timeout = std::env::var("AIRLIGHT_BROWSER_TIMEOUT_S").ok().and_then(|v| v.parse().ok()).unwrap_or(TIMEOUT_S);
     let start = Instant::now();
-    let status = loop {
+    let outcome = loop {
+        if let Some(p) = server.posted() {
+            break Ok(p);
+        }
         match child.try_wait() {
-            Ok(Some(s)) => break Ok(s),
-            Err(e) => break Err(BrowserError(e.to_string())),
-            Ok(None) if start.elapsed() > Duration::from_secs(240) => {
-                let _ = child.kill();
-                let _ = child.wait();
-                break Err(BrowserError("chromium did not finish within 240 s".into()));
+            Ok(Some(s)) => break Err(format!("chromium exited ({s}) before the page reported")),
+            Err(e) => break Err(e.to_string()),
+            Ok(None) if start.elapsed() > Duration::from_secs(timeout) => {
+                break Err(format!("the page did not report within {timeout} s"));
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(50)),
         }
     };
-    let (dom, log) = (out.join().unwrap_or_default(), errs.join().unwrap_or_default());
-    Ok((status?, dom, log))
+    let _ = child.kill();
+    let _ = child.wait();
+    let log = errs.and_then(|t| t.join().ok()).unwrap_or_default();
+    if std::env::var_os("AIRLIGHT_BROWSER_CONSOLE").is_some() {
+        for l in log.lines().filter(|l| l.contains("CONSOLE")) {
+            eprintln!("{l}");
+        }
+    }
+    outcome.map_err(|e| {
+        let console: Vec<&str> = log.lines().filter(|l| l.contains("CONSOLE") || l.contains("Uncaught")).collect();
+        let lines: Vec<&str> = if console.is_empty() { log.lines().collect() } else { console };
+        let tail = lines[lines.len().saturating_sub(12)..].join("\n");
+        BrowserError(format!("{e}; chromium's log ends:\n{tail}"))
+    })
 }
 
-/// Serves `files` (name → contents) on 127.0.0.1 and loads `index.html` in
-/// headless `chrome`; the page's pixels, rows from the top.
-pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u32) -> Result<Drawn, BrowserError> {
+/// Serves `files` (name → contents) on 127.0.0.1, loads `index.html` in
+/// headless `chrome` and returns what the page read back: the adapter it names
+/// and its bytes, rows from the top.
+pub fn draw_raw(chrome: &Path, files: Vec<(String, Vec<u8>)>) -> Result<(String, Vec<u8>), BrowserError> {
     let server = Server::start(files)?;
     let url = format!("http://127.0.0.1:{}/index.html", server.port);
     let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{}", std::process::id(), server.port));
-    let ran = run_chromium(chrome, &url, &profile, (width, height));
+    let ran = run_chromium(chrome, &url, &profile, &server);
     server.stop();
     std::fs::remove_dir_all(&profile).ok();
-    let (status, dom, log) = ran?;
-    if let Some(e) = between(&dom, "error") {
-        return Err(BrowserError(format!("the page failed: {e}")));
+    let posted = ran?;
+    let mut lines = posted.splitn(3, '\n');
+    match (lines.next(), lines.next(), lines.next()) {
+        (Some("ok"), Some(adapter), Some(pixels)) => Ok((adapter.to_string(), decode_base64(pixels)?)),
+        _ => Err(BrowserError(format!("the page failed: {}", posted.trim_start_matches("error\n")))),
     }
-    let Some(result) = between(&dom, "result") else {
-        let tail: String =
-            log.lines().rev().take(12).collect::<Vec<_>>().into_iter().rev().collect::<Vec<_>>().join("\n");
-        return Err(BrowserError(format!("chromium ({status}) printed no pixels; its log ends:\n{tail}")));
-    };
-    let rgba = decode_base64(result)?;
+}
+
+/// [`draw_raw`] for a [`page`]: its gray levels (8-bit RGBA read back), `width ×
+/// height`, rows from the top.
+pub fn draw(chrome: &Path, files: Vec<(String, Vec<u8>)>, width: u32, height: u32) -> Result<Drawn, BrowserError> {
+    let (adapter, rgba) = draw_raw(chrome, files)?;
     let (w, h) = (width as usize, height as usize);
     if rgba.len() != 4 * w * h {
         return Err(BrowserError(format!("{} bytes read back, expected {}", rgba.len(), 4 * w * h)));
     }
-    // readPixels starts at the bottom row.
-    let pixels =
-        (0..h).flat_map(|y| (0..w).map(move |x| (y, x))).map(|(y, x)| rgba[4 * ((h - 1 - y) * w + x)]).collect();
-    Ok(Drawn { adapter: between(&dom, "adapter").unwrap_or("unknown").to_string(), pixels })
+    Ok(Drawn { adapter, pixels: rgba.chunks(4).map(|p| p[0]).collect() })
 }
 
-/// The files the page needs: itself and the vendored three.js under `vendor`.
-pub fn page_files(vendor: &Path, page: String) -> Result<Vec<(String, Vec<u8>)>, BrowserError> {
+/// [`draw_raw`] for a [`shafts_page`]: per pixel the fog (RGB) and the surface
+/// distance, as f32, rows from the top.
+pub fn draw_shafts(
+    chrome: &Path,
+    files: Vec<(String, Vec<u8>)>,
+    width: u32,
+    height: u32,
+) -> Result<(String, Vec<[f32; 4]>), BrowserError> {
+    let (adapter, bytes) = draw_raw(chrome, files)?;
+    if bytes.len() != 16 * (width * height) as usize {
+        return Err(BrowserError(format!("{} bytes read back, expected {}", bytes.len(), 16 * width * height)));
+    }
+    let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+    Ok((adapter, bytes.chunks(16).map(|p| [f(&p[0..4]), f(&p[4..8]), f(&p[8..12]), f(&p[12..16])]).collect()))
+}
+
+/// The files a page needs: itself, three.js's builds from `three` (the npm
+/// package's `build/`) as `three/…`, and every file of the airlight-three
+/// package at `package` as `airlight-three/…`.
+pub fn page_files(three: &Path, package: &Path, page: String) -> Result<Vec<(String, Vec<u8>)>, BrowserError> {
+    let read = |p: &Path| std::fs::read(p).map_err(|e| BrowserError(format!("{}: {e}", p.display())));
     let mut files = vec![("index.html".to_string(), page.into_bytes())];
-    for f in ["three.module.min.js", "three.core.min.js"] {
-        let p = vendor.join(f);
-        let body = std::fs::read(&p).map_err(|e| BrowserError(format!("{}: {e}", p.display())))?;
-        files.push((f.to_string(), body));
+    for f in ["three.module.js", "three.core.js", "three.webgpu.js", "three.tsl.js"] {
+        files.push((format!("three/{f}"), read(&three.join(f))?));
+    }
+    let mut dirs = vec![package.to_path_buf()];
+    while let Some(dir) = dirs.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| BrowserError(format!("{}: {e}", dir.display())))?;
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if let Ok(rel) = p.strip_prefix(package) {
+                files.push((format!("airlight-three/{}", rel.to_string_lossy().replace('\\', "/")), read(&p)?));
+            }
+        }
     }
     Ok(files)
 }

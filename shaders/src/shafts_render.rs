@@ -137,7 +137,7 @@ pub fn axis() -> [f32; 3] {
 }
 
 /// The camera's forward, right and up unit vectors.
-fn camera_basis() -> [[f32; 3]; 3] {
+pub fn camera_basis() -> [[f32; 3]; 3] {
     let p = PITCH_DEG.to_radians();
     let fwd = [0.0, p.sin(), p.cos()];
     let right = [1.0, 0.0, 0.0];
@@ -833,6 +833,56 @@ fn albedo(id: usize) -> [f64; 3] {
         _ => BALL.2,
     };
     a.map(f64::from)
+}
+
+/// The distance from the camera along the unit `dir` to the first surface:
+/// the room's walls from inside, or an occluder (f64).
+pub fn first_surface(dir: [f64; 3]) -> f64 {
+    let cam = CAMERA.map(f64::from);
+    let exit = (0..3)
+        .filter(|&a| dir[a] != 0.0)
+        .map(|a| {
+            let [lo, hi] = ROOM[a].map(f64::from);
+            ((lo - cam[a]) / dir[a]).max((hi - cam[a]) / dir[a])
+        })
+        .fold(f64::INFINITY, f64::min);
+    occluders().iter().filter_map(|o| o.enters(cam, dir)).fold(exit, f64::min)
+}
+
+/// The reference fog of each pixel of `view`, its ray ending at `ends[i]`: the
+/// reference in-scattering (per channel) over the ray's exact lit intervals
+/// among the analytic occluders, for the spot's cone.
+pub fn reference_fog(view: &ShaftsView, ends: &[f64]) -> Vec<[f64; 3]> {
+    let occ = occluders();
+    let (st, ss) = medium();
+    let cone = Cone {
+        axis: axis().map(f64::from),
+        cos_outer: f64::from(CONE_DEG[0].to_radians().cos()),
+        cos_inner: f64::from(CONE_DEG[1].to_radians().cos()),
+    };
+    let (light, cam) = (LIGHT.map(f64::from), CAMERA.map(f64::from));
+    let pixels: Vec<u32> = (0..view.width * view.height).collect();
+    let a = |q: airlight_fit::reference::Point| airlight_fit::reference::airlight(q).unwrap_or(f64::INFINITY);
+    airlight_fit::parallel::map(
+        &pixels,
+        |&i| {
+            let dir = view.dir(i % view.width, i / view.width).map(f64::from);
+            let ray = |c: usize| PhysicalRay {
+                origin: cam,
+                direction: dir,
+                surface_distance: Some(ends[i as usize]),
+                light,
+                intensity: f64::from(INTENSITY),
+                sigma_t: f64::from(st[c]),
+                sigma_s: f64::from(ss[c]),
+            };
+            let lit = shafts::lit_intervals(&ray(0), &occ);
+            std::array::from_fn(|c| {
+                shafts::shadowed_radiance(&ray(c), Some(&cone), f64::from(G), &lit, &a).unwrap_or(f64::NAN)
+            })
+        },
+        &|_, _| {},
+    )
 }
 
 /// The reference frame for the GPU frame `gpu` (its surface distances and

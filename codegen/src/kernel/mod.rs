@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 26] = [
+pub const TEMPLATES: [(&str, &str); 32] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -53,6 +53,12 @@ pub const TEMPLATES: [(&str, &str); 26] = [
     ("unreal/Build.cs.tera", include_str!("../../templates/packages/unreal/Build.cs.tera")),
     ("unreal/Module.cpp.tera", include_str!("../../templates/packages/unreal/Module.cpp.tera")),
     ("unreal/README.md.tera", include_str!("../../templates/packages/unreal/README.md.tera")),
+    ("three/kernel.js.tera", include_str!("../../templates/packages/three/kernel.js.tera")),
+    ("three/kernel.d.ts.tera", include_str!("../../templates/packages/three/kernel.d.ts.tera")),
+    ("three/package.json.tera", include_str!("../../templates/packages/three/package.json.tera")),
+    ("three/index.js.tera", include_str!("../../templates/packages/three/index.js.tera")),
+    ("three/index.d.ts.tera", include_str!("../../templates/packages/three/index.d.ts.tera")),
+    ("three/README.md.tera", include_str!("../../templates/packages/three/README.md.tera")),
     ("bevy/Cargo.toml.tera", include_str!("../../templates/packages/bevy/Cargo.toml.tera")),
     ("bevy/lib.rs.tera", include_str!("../../templates/packages/bevy/lib.rs.tera")),
     ("bevy/README.md.tera", include_str!("../../templates/packages/bevy/README.md.tera")),

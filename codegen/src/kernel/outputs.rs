@@ -50,6 +50,8 @@ pub struct OutputTable {
     pub translation: Vec<Translation>,
     /// Per-kernel files of the engine packages.
     pub package_kernel: Vec<PackageKernel>,
+    /// Per-kernel ES modules of the three.js package.
+    pub package_module: Vec<PackageModule>,
     /// Files of the engine packages, rendered once.
     pub package_file: Vec<FileOutput>,
     /// The package whose files get Unity `.meta` files.
@@ -67,6 +69,20 @@ pub struct PackageKernel {
     /// What is appended after the kernel.
     #[serde(default)]
     pub wrappers: Option<Wrappers>,
+}
+
+/// A kernel's ES module in the three.js package: two rendered sources as strings.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PackageModule {
+    /// The GLSL ES 3.00 include (pattern).
+    pub glsl: String,
+    /// The plain WGSL (pattern).
+    pub wgsl: String,
+    /// The module (pattern).
+    pub path: String,
+    /// Its TypeScript declarations (pattern).
+    pub types: String,
 }
 
 /// Wrappers appended to a kernel in a package.
