@@ -317,7 +317,13 @@ fn glsl_v3(v: [f32; 3]) -> String {
 /// shafts accumulator (`shafts_push_spot`, `refine` bisection steps per change,
 /// `shafts_finish_spot`). It reads back the fog (RGB) and the surface distance
 /// as f32 and POSTs them (base64 of the floats, rows from the top).
-pub fn shafts_page(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32, refine: u32) -> String {
+pub fn shafts_page(
+    k: &IndexEntry,
+    view: &crate::shafts_render::ShaftsView,
+    look_ups: u32,
+    refine: u32,
+    renderer: Renderer,
+) -> String {
     use crate::shafts_render as sr;
     let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
@@ -418,10 +424,9 @@ void main() {{
         n = look_ups,
         nf = look_ups as f32,
     );
-    let js_boxes: Vec<String> = boxes
-        .iter()
-        .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
-        .collect();
+    if renderer != Renderer::WebGl {
+        return shafts_page_tsl(k, view, look_ups);
+    }
     let body = format!(
         r#"const renderer = new THREE.WebGLRenderer({{ antialias: false }});
 renderer.setPixelRatio(1);
@@ -433,34 +438,8 @@ renderer.debug.checkShaderErrors = true;
 renderer.debug.onShaderError = (gl, program, vs, fs) => {{
   shaderError = 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program);
 }};
-// The room's occluders, casting shadows, and its spot light.
-const scene = new THREE.Scene();
-const stone = new THREE.MeshBasicMaterial();
-for (const [x0, y0, z0, x1, y1, z1] of [{boxes}]) {{
-  const m = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0), stone);
-  m.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-  m.castShadow = true;
-  scene.add(m);
-}}
-const ball = new THREE.Mesh(new THREE.SphereGeometry({ball_r:?}, 96, 48), stone);
-ball.position.set({bx:?}, {by:?}, {bz:?});
-ball.castShadow = true;
-scene.add(ball);
-const light = new THREE.SpotLight(0xffffff, 1.0, 0, {angle:?}, 0.0, 2);
-light.position.set({lx:?}, {ly:?}, {lz:?});
-light.target.position.set({ax:?}, {ay:?}, {az:?});
-light.castShadow = true;
-light.shadow.mapSize.set({map}, {map});
-light.shadow.camera.near = 0.3;
-light.shadow.camera.far = 30.0;
-scene.add(light, light.target);
-const camera = new THREE.PerspectiveCamera(60, W / H, 0.1, 100);
-camera.position.set({cx:?}, {cy:?}, {cz:?});
-// This render draws three.js's shadow map (light.shadow.map, light.shadow.matrix).
-const scratch = new THREE.WebGLRenderTarget(W, H);
-renderer.setRenderTarget(scratch);
-renderer.render(scene, camera);
-if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.js drew no shadow map');
+// The room's occluders, casting shadows, its spot light, and three.js's shadow map.
+{scene}
 const material = new THREE.RawShaderMaterial({{
   glslVersion: THREE.GLSL3,
   vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
@@ -482,6 +461,57 @@ const info = gl.getExtension('WEBGL_debug_renderer_info');
 const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, shadow map ' + light.shadow.map.width + '², ' +
   (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
 return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }};"#,
+        scene = shafts_scene_js("new THREE.MeshBasicMaterial()", "new THREE.MeshBasicMaterial()", "WebGLRenderTarget"),
+        main = js_string(&main),
+    );
+    let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';");
+    wrap_page(&imports, &body, width, height)
+}
+
+/// The three.js scene of the light-shafts room (JavaScript, `THREE` in scope):
+/// its occluders as meshes casting shadows (`material`), a floor receiving them
+/// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
+/// render that draws three.js's shadow map into `light.shadow`.
+fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
+    use crate::shafts_render as sr;
+    let js_boxes: Vec<String> = sr::boxes()
+        .iter()
+        .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
+        .collect();
+    format!(
+        r#"const scene = new THREE.Scene();
+const stone = {material};
+for (const [x0, y0, z0, x1, y1, z1] of [{boxes}]) {{
+  const m = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0), stone);
+  m.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+  m.castShadow = true;
+  scene.add(m);
+}}
+const ball = new THREE.Mesh(new THREE.SphereGeometry({ball_r:?}, 96, 48), stone);
+ball.position.set({bx:?}, {by:?}, {bz:?});
+ball.castShadow = true;
+scene.add(ball);
+const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 18), {floor});
+floor.rotation.x = -Math.PI / 2;
+floor.position.set(0, 0, 7);
+floor.receiveShadow = true;
+scene.add(floor);
+const light = new THREE.SpotLight(0xffffff, 1.0, 0, {angle:?}, 0.0, 2);
+light.position.set({lx:?}, {ly:?}, {lz:?});
+light.target.position.set({ax:?}, {ay:?}, {az:?});
+light.castShadow = true;
+light.shadow.mapSize.set({map}, {map});
+light.shadow.camera.near = 0.3;
+light.shadow.camera.far = 30.0;
+scene.add(light, light.target);
+const camera = new THREE.PerspectiveCamera(60, W / H, 0.1, 100);
+camera.position.set({cx:?}, {cy:?}, {cz:?});
+camera.lookAt({cx:?}, {cy:?}, {cz:?} + 1.0);
+// This render draws three.js's shadow map (light.shadow.map, light.shadow.matrix).
+const scratch = new THREE.{target}(W, H);
+renderer.setRenderTarget(scratch);
+renderer.render(scene, camera);
+if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.js drew no shadow map');"#,
         boxes = js_boxes.join(", "),
         ball_r = sr::BALL.1,
         bx = sr::BALL.0[0],
@@ -498,9 +528,128 @@ return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }}
         cx = sr::CAMERA[0],
         cy = sr::CAMERA[1],
         cz = sr::CAMERA[2],
-        main = js_string(&main),
+    )
+}
+
+/// The light-shafts page on `WebGPURenderer` (WebGPU): the same room, three.js's
+/// WebGPU shadow map, and the package's `shaftsSpotWGSL` TSL node walking each
+/// ray in `look_ups` steps (the page's own `wgslFn` finds the first surface).
+fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32) -> String {
+    use crate::shafts_render as sr;
+    let (width, height) = (view.width, view.height);
+    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let v3 = |v: [f32; 3]| format!("vec3<f32>({:?}, {:?}, {:?})", v[0], v[1], v[2]);
+    let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
+    let slabs: String = sr::boxes()
+        .iter()
+        .map(|b| format!("    end = min(end, box_entry(o, {}, {}, dir, end));\n", v3(b.0), v3(b.1)))
+        .collect();
+    let room = sr::ROOM;
+    let scene_end = format!(
+        "fn airlight_page_end(dir: vec3<f32>) -> f32 {{
+    let o = {cam};
+    let a = ({lo} - o) / dir;
+    let b = ({hi} - o) / dir;
+    let x = max(a, b);
+    var end = min(min(x.x, x.y), x.z);
+{slabs}    let w = o - {ball};
+    let bb = dot(w, dir);
+    let disc = bb * bb - (dot(w, w) - {r2:?});
+    let sb = -bb - sqrt(max(disc, 0.0));
+    if disc >= 0.0 && sb > 0.0 {{ end = min(end, sb); }}
+    return end;
+}}",
+        cam = v3(sr::CAMERA),
+        lo = v3([room[0][0], room[1][0], room[2][0]]),
+        hi = v3([room[0][1], room[1][1], room[2][1]]),
+        ball = v3(sr::BALL.0),
+        r2 = sr::BALL.1 * sr::BALL.1,
     );
-    let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';");
+    let box_entry = "fn box_entry(o: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, d: vec3<f32>, end: f32) -> f32 {
+    let a = (lo - o) / d;
+    let b = (hi - o) / d;
+    let n = min(a, b);
+    let x = max(a, b);
+    let t0 = max(max(n.x, n.y), n.z);
+    let t1 = min(min(x.x, x.y), x.z);
+    return select(end, t0, t0 < t1 && t0 > 0.0);
+}";
+    let (st, ss) = sr::medium();
+    let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
+    let args: Vec<String> = k
+        .spot_params
+        .iter()
+        .map(|a| {
+            let v = match a {
+                Arg::Origin => t3(sr::CAMERA),
+                Arg::Dir => "dir".to_string(),
+                Arg::Surface => "end".into(),
+                Arg::Light => t3(sr::LIGHT),
+                Arg::Axis => t3(sr::axis()),
+                Arg::CosOuter => format!("float({:?})", cos[0]),
+                Arg::CosInner => format!("float({:?})", cos[1]),
+                Arg::Intensity => format!("float({:?})", sr::INTENSITY),
+                Arg::SigmaTRgb => t3(st),
+                Arg::SigmaSRgb => t3(ss),
+                Arg::G => format!("float({:?})", sr::G),
+                other => unreachable!("{other} is not an argument of spot"),
+            };
+            format!("{}: {v}", a.name())
+        })
+        .collect();
+    let [f, r, u] = sr::camera_basis();
+    let body = format!(
+        r#"const renderer = new THREE.WebGPURenderer({{ antialias: false }});
+await renderer.init();
+if (!renderer.backend.isWebGPUBackend) throw new Error('asked for WebGPU, got WebGL 2');
+renderer.shadowMap.enabled = true;
+renderer.shadowMap.type = THREE.PCFShadowMap;
+{scene}
+const sceneEnd = wgslFn({scene_end}, [wgslCode({box_entry})]);
+const depth = texture(light.shadow.map.depthTexture);
+const material = new THREE.MeshBasicNodeMaterial();
+material.fragmentNode = Fn(() => {{
+  const pos = screenCoordinate.xy;
+  const u = pos.x.mul(2.0 / W).sub(1.0);
+  const v = float(1.0).sub(pos.y.mul(2.0 / H));
+  const t = float({t:?});
+  const d = {f}.add({r}.mul(u.mul(t).mul({aspect:?}))).add({up}.mul(v.mul(t)));
+  const dir = d.div(sqrt(dot(d, d)));
+  const end = sceneEnd({{ dir }});
+  const fog = K.shaftsSpotWGSL({{ {args}, shadow_map: depth, shadow_sampler: depth,
+    shadow_matrix: uniform(light.shadow.matrix), shadow_bias: float(-0.0005), look_ups: float({n:?}), reach: float(100.0) }});
+  return vec4(fog, end);
+}})();
+const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+quad.frustumCulled = false;
+const pass = new THREE.Scene();
+pass.add(quad);
+const target = new THREE.RenderTarget(W, H, {{ type: THREE.FloatType, depthBuffer: false }});
+renderer.setRenderTarget(target);
+renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+const i = (await navigator.gpu.requestAdapter()).info;
+const adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (WebGPU), shadow map ' + light.shadow.mapSize.x + '², ' +
+  [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
+return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: false, texel: 16 }};"#,
+        scene = shafts_scene_js(
+            "new THREE.MeshStandardNodeMaterial()",
+            "new THREE.MeshStandardNodeMaterial()",
+            "RenderTarget"
+        ),
+        scene_end = js_string(&scene_end),
+        box_entry = js_string(box_entry),
+        t = (0.5 * FOV_Y).tan(),
+        aspect = width as f32 / height as f32,
+        f = t3(f),
+        r = t3(r),
+        up = t3(u),
+        args = args.join(", "),
+        n = look_ups as f32,
+    );
+    let imports = format!(
+        "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode }} from 'three/tsl';\nimport * as K from '{module}';"
+    );
     wrap_page(&imports, &body, width, height)
 }
 

@@ -56,13 +56,32 @@ struct TslEntry {
     entry: &'static str,
     /// The kernel's function it calls.
     name: String,
-    /// The wrapper's code, as a JavaScript string literal, for `wgslFn` and `glslFn`.
+    /// The wrapper's code, as a JavaScript string literal, for `wgslFn` and
+    /// `glslFn` (none for the shafts nodes: WebGPU only).
     wgsl_fn: String,
-    glsl_fn: String,
+    glsl_fn: Option<String>,
+    /// The code nodes it includes besides the kernel's (`shadowLookup`).
+    includes: Vec<&'static str>,
     /// Parameter names, in order.
     params: Vec<&'static str>,
     /// Whether it returns RGB.
     rgb: bool,
+}
+
+impl TslEntry {
+    /// The TypeScript interface of its arguments (`ShaftsSpotArgs`).
+    fn args_type(&self) -> String {
+        let mut c = self.entry.chars();
+        c.next().map_or(String::new(), |f| f.to_ascii_uppercase().to_string() + c.as_str() + "Args")
+    }
+}
+
+/// A TSL entry as the templates see it.
+#[derive(Serialize)]
+struct TslView {
+    #[serde(flatten)]
+    entry: TslEntry,
+    args_type: String,
 }
 
 /// A kernel's ES module for three.js.
@@ -75,7 +94,7 @@ struct ThreeModule {
     wgsl: String,
     /// `{ thin: …, dense: …, f32Thin: …, f32Dense: … }` (JavaScript).
     bound: String,
-    entries: Vec<TslEntry>,
+    entries: Vec<TslView>,
 }
 
 /// `text` as a JavaScript (and JSON) string literal.
@@ -120,8 +139,95 @@ fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
                 entry: e.function(),
                 name,
                 wgsl_fn: js_string(&wgsl_fn),
-                glsl_fn: js_string(&glsl_fn),
+                glsl_fn: Some(js_string(&glsl_fn)),
+                includes: Vec::new(),
                 params: names,
+                rgb,
+            }
+        })
+        .chain(shafts_entries(spec))
+        .collect()
+}
+
+/// The shadow-map look-up the shafts nodes share (a TSL code node): the light's
+/// visibility at `q` from a depth texture with a comparison sampler, through
+/// three.js's `light.shadow.matrix` (its y flipped, as three.js's WebGPU shadows
+/// do), `bias` added to the depth; lit outside the map.
+pub const SHADOW_LOOKUP_WGSL: &str = "fn airlight_shadow_visibility(shadow_map: texture_depth_2d, shadow_sampler: sampler_comparison, m: mat4x4<f32>, bias: f32, q: vec3<f32>) -> f32 {
+    let c = m * vec4<f32>(q, 1.0);
+    if c.w <= 0.0 { return 1.0; }
+    let t = c.xyz / c.w;
+    let uv = vec2<f32>(t.x, 1.0 - t.y);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || t.z > 1.0 { return 1.0; }
+    return textureSampleCompareLevel(shadow_map, shadow_sampler, uv, t.z + bias);
+}";
+
+/// TSL nodes of the shafts accumulator (WGSL, for `WebGPURenderer`), where the
+/// kernel has it: `shafts` (the radiance entry's) and `shaftsSpot`. Each walks
+/// the ray in `look_ups` equal steps to the surface (or `reach` on an open ray),
+/// looks visibility up in a three.js shadow map at each step and at the ends,
+/// places each change by four bisection steps, and returns the shadowed
+/// in-scattering the accumulator sums.
+fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
+    if !spec.shafts {
+        return Vec::new();
+    }
+    let p = spec.prefix();
+    [(Entry::Radiance, "shafts", "shafts_push", "shafts_finish"), (Entry::Spot, "shaftsSpot", "shafts_push_spot", "shafts_finish_spot")]
+        .into_iter()
+        .filter(|(e, ..)| !spec.args(*e).is_empty())
+        .map(|(e, entry, push, finish)| {
+            let args = spec.args(e);
+            let rgb = e.outputs() == 3;
+            let typed: Vec<String> = args
+                .iter()
+                .map(|a| format!("{}: {}", a.name(), if a.ty() == ArgType::Vec3 { "vec3<f32>" } else { "f32" }))
+                .collect();
+            let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
+            let rest = rest.join(", ");
+            let surface = args.iter().any(|a| a.name() == "surface");
+            let name = format!("{p}{entry}_tsl");
+            let vis = |q: &str| format!("airlight_shadow_visibility(shadow_map, shadow_sampler, shadow_matrix, shadow_bias, {q})");
+            let (len, last, end) = if surface {
+                (
+                    "select(reach, min(surface, reach), surface >= 0.0)",
+                    format!("    if surface >= 0.0 {{ {p}{push}(&acc, len, {}, {rest}); }}\n", vis("origin + len * (1.0 - 1e-4) * d")),
+                    "surface",
+                )
+            } else {
+                ("reach", String::new(), "-1.0")
+            };
+            let wgsl_fn = format!(
+                "fn {name}({params}, shadow_map: texture_depth_2d, shadow_sampler: sampler_comparison, shadow_matrix: mat4x4<f32>, shadow_bias: f32, look_ups: f32, reach: f32) -> {ret} {{
+    let d = normalize(dir);
+    let len = {len};
+    let n = u32(max(look_ups, 1.0));
+    var acc = {p}shafts_begin();
+    {p}{push}(&acc, 0.0, {v0}, {rest});
+    for (var i = 0u; i < n; i++) {{
+        let s = (f32(i) + 0.5) * len / f32(n);
+        {p}{push}(&acc, s, {vs}, {rest});
+        for (var k = 0; k < 4 && {p}shafts_probe(acc) >= 0.0; k++) {{
+            {p}shafts_refine(&acc, {vp});
+        }}
+    }}
+{last}    return {p}{finish}(acc, {end}, {rest});
+}}",
+                params = typed.join(", "),
+                ret = if rgb { "vec3<f32>" } else { "f32" },
+                v0 = vis("origin"),
+                vs = vis("origin + s * d"),
+                vp = vis(&format!("origin + {p}shafts_probe(acc) * d")),
+            );
+            let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
+            params.extend(["shadow_map", "shadow_sampler", "shadow_matrix", "shadow_bias", "look_ups", "reach"]);
+            TslEntry {
+                entry,
+                name: format!("{p}{finish}"),
+                wgsl_fn: js_string(&wgsl_fn),
+                glsl_fn: None,
+                includes: vec!["shadowLookup"],
+                params,
                 rgb,
             }
         })
@@ -235,9 +341,13 @@ pub(super) fn render(
                     f32n(Domain::Thin),
                     f32n(Domain::Dense)
                 ),
-                entries: tsl_entries(spec),
+                entries: tsl_entries(spec)
+                    .into_iter()
+                    .map(|e| TslView { args_type: e.args_type(), entry: e })
+                    .collect(),
             };
             let mut ctx = tera::Context::from_serialize(&module)?;
+            ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
             ctx.insert("generated_by", GENERATED_BY);
             ctx.insert("sources", &[expand(&row.glsl, &spec.name), expand(&row.wgsl, &spec.name)]);
             out.push(Output::text(expand(&row.path, &spec.name), tera.render("three/kernel.js.tera", &ctx)?));

@@ -9,6 +9,7 @@ export declare const bound: { thin: number | null; dense: number | null; f32Thin
 /** The sources as TSL code nodes. */
 export declare const wgslLibrary: unknown;
 export declare const glslLibrary: unknown;
+export declare const shadowLookup: unknown;
 
 /** Arguments of `airlight_raymarch_64_airlight`, TSL nodes (or numbers). */
 export interface AirlightArgs {
@@ -21,6 +22,7 @@ export interface AirlightArgs {
 export declare const airlightWGSL: (args: AirlightArgs | unknown[]) => any;
 /** TSL function node calling `airlight_raymarch_64_airlight` on the GLSL. */
 export declare const airlightGLSL: (args: AirlightArgs | unknown[]) => any;
+
 
 /** Arguments of `airlight_raymarch_64_radiance`, TSL nodes (or numbers). */
 export interface RadianceArgs {
@@ -37,6 +39,7 @@ export interface RadianceArgs {
 export declare const radianceWGSL: (args: RadianceArgs | unknown[]) => any;
 /** TSL function node calling `airlight_raymarch_64_radiance` on the GLSL. */
 export declare const radianceGLSL: (args: RadianceArgs | unknown[]) => any;
+
 
 /** Arguments of `airlight_raymarch_64_spot`, TSL nodes (or numbers). */
 export interface SpotArgs {
@@ -56,4 +59,50 @@ export interface SpotArgs {
 export declare const spotWGSL: (args: SpotArgs | unknown[]) => any;
 /** TSL function node calling `airlight_raymarch_64_spot` on the GLSL. */
 export declare const spotGLSL: (args: SpotArgs | unknown[]) => any;
+
+
+/** Arguments of `airlight_raymarch_64_shafts_finish`, TSL nodes (or numbers). */
+export interface ShaftsArgs {
+  origin: unknown;
+  dir: unknown;
+  surface: unknown;
+  light: unknown;
+  intensity: unknown;
+  sigma_t: unknown;
+  sigma_s: unknown;
+  g: unknown;
+  shadow_map: unknown;
+  shadow_sampler: unknown;
+  shadow_matrix: unknown;
+  shadow_bias: unknown;
+  look_ups: unknown;
+  reach: unknown;
+}
+/** TSL function node calling `airlight_raymarch_64_shafts_finish` on the WGSL. */
+export declare const shaftsWGSL: (args: ShaftsArgs | unknown[]) => any;
+
+
+/** Arguments of `airlight_raymarch_64_shafts_finish_spot`, TSL nodes (or numbers). */
+export interface ShaftsSpotArgs {
+  origin: unknown;
+  dir: unknown;
+  surface: unknown;
+  light: unknown;
+  axis: unknown;
+  cos_outer: unknown;
+  cos_inner: unknown;
+  intensity: unknown;
+  sigma_t: unknown;
+  sigma_s: unknown;
+  g: unknown;
+  shadow_map: unknown;
+  shadow_sampler: unknown;
+  shadow_matrix: unknown;
+  shadow_bias: unknown;
+  look_ups: unknown;
+  reach: unknown;
+}
+/** TSL function node calling `airlight_raymarch_64_shafts_finish_spot` on the WGSL. */
+export declare const shaftsSpotWGSL: (args: ShaftsSpotArgs | unknown[]) => any;
+
 

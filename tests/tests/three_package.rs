@@ -1,0 +1,93 @@
+//! The three.js package's modules (`generated/three/airlight-three/kernels/`):
+//! each exports its kernel's sources as they are in `generated/`, and every TSL
+//! node's function — the entry points' wrappers and the shafts accumulator's walk
+//! of a shadow map — compiles against them: the `wgslFn` code with the module's
+//! WGSL and its shadow look-up, validated by naga; the `glslFn` code with its
+//! GLSL, by glslangValidator as GLSL ES 3.00. Node checks each module's syntax.
+//! (A browser runs them in `shaders/tests/browser.rs`.)
+
+use airlight_tests::calls::{files, glslang};
+use airlight_tests::generated_dir;
+use std::process::Command;
+
+/// Every JavaScript string literal passed as the first argument of `call(`.
+fn string_args(js: &str, call: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = js;
+    let open = format!("{call}(\"");
+    while let Some(at) = rest.find(&open) {
+        let start = at + open.len() - 1;
+        let bytes = rest.as_bytes();
+        let mut i = start + 1;
+        while bytes[i] != b'"' {
+            i += if bytes[i] == b'\\' { 2 } else { 1 };
+        }
+        out.push(serde_json::from_str::<String>(&rest[start..=i]).unwrap());
+        rest = &rest[i..];
+    }
+    out
+}
+
+/// `export const NAME = "…";` of a module.
+fn exported(js: &str, name: &str) -> String {
+    let open = format!("export const {name} = ");
+    let at = js.find(&open).unwrap_or_else(|| panic!("no export {name}")) + open.len();
+    let end = js[at..].find(";\n").unwrap();
+    serde_json::from_str(&js[at..at + end]).unwrap()
+}
+
+#[test]
+fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
+    let dir = generated_dir().join("three/airlight-three/kernels");
+    let modules = files(&dir, "js");
+    assert!(modules.len() >= 10, "{} modules", modules.len());
+    let tmp = std::env::temp_dir().join(format!("airlight-three-fns-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let mut shafts = 0;
+    for path in &modules {
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        let js = std::fs::read_to_string(path).unwrap();
+        let (wgsl, glsl) = (exported(&js, "wgsl"), exported(&js, "glsl"));
+        assert_eq!(wgsl, std::fs::read_to_string(generated_dir().join(format!("wgsl/{name}.wgsl"))).unwrap(), "{name}");
+        assert_eq!(glsl, std::fs::read_to_string(generated_dir().join(format!("glsl/{name}.glsl"))).unwrap(), "{name}");
+        assert!(std::path::Path::new(&path.with_extension("d.ts")).exists(), "{name}: no declarations");
+        // wgslFn: the kernel, the shadow look-up (a wgsl code node), every wrapper.
+        let codes = string_args(&js, "wgslCode");
+        let fns = string_args(&js, "wgslFn");
+        assert!(fns.len() >= 2, "{name}: {} wgslFn", fns.len());
+        shafts += fns.iter().filter(|f| f.contains("shafts_begin")).count();
+        let src = format!(
+            "{wgsl}\n{}\n{}\n",
+            codes.iter().filter(|c| c.starts_with("fn ")).cloned().collect::<Vec<_>>().join("\n"),
+            fns.join("\n")
+        );
+        let module =
+            naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+        // glslFn: the kernel and every wrapper, as GLSL ES 3.00.
+        let gfns = string_args(&js, "glslFn");
+        let entry_fns = fns.iter().filter(|f| !f.contains("shafts_begin")).count();
+        assert_eq!(gfns.len(), entry_fns, "{name}: a glslFn per entry point");
+        let frag = format!(
+            "#version 300 es\n{glsl}\n{}\nout highp vec4 color;\nvoid main() {{ color = vec4(0.0); }}\n",
+            gfns.join("\n")
+        );
+        let file = tmp.join(format!("{name}.frag"));
+        std::fs::write(&file, frag).unwrap();
+        let out = Command::new(glslang()).arg(&file).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
+            let out = Command::new("node").arg("--check").arg(path).output().unwrap();
+            assert!(out.status.success(), "{name}: node --check: {}", String::from_utf8_lossy(&out.stderr));
+        }
+    }
+    assert!(shafts >= 10, "{shafts} shafts nodes");
+    std::fs::remove_dir_all(&tmp).ok();
+}
