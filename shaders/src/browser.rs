@@ -185,9 +185,10 @@ fn tsl_colour(k: &IndexEntry, view: &View, exposure: f64, node: &str) -> String 
 pub fn page(k: &IndexEntry, view: &View, exposure: f64, renderer: Renderer) -> String {
     let (width, height) = (view.width(), view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let sources = format!("./airlight-three/sources/{}.js", k.name);
     let (imports, body) = match renderer {
         Renderer::WebGl => (
-            format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';"),
+            format!("import * as THREE from 'three';\nimport {{ glsl }} from '{sources}';"),
             format!(
                 r#"const canvas = document.createElement('canvas');
 canvas.width = W; canvas.height = H;
@@ -326,7 +327,7 @@ pub fn shafts_page(
 ) -> String {
     use crate::shafts_render as sr;
     let (width, height) = (view.width, view.height);
-    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let sources = format!("./airlight-three/sources/{}.js", k.name);
     let p = &k.prefix;
     let (st, ss) = sr::medium();
     let axis = sr::axis();
@@ -464,7 +465,7 @@ return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }}
         scene = shafts_scene_js("new THREE.MeshBasicMaterial()", "new THREE.MeshBasicMaterial()", "WebGLRenderTarget"),
         main = js_string(&main),
     );
-    let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{module}';");
+    let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{sources}';");
     wrap_page(&imports, &body, width, height)
 }
 

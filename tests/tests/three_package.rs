@@ -1,5 +1,6 @@
-//! The three.js package's modules (`generated/three/airlight-three/kernels/`):
-//! each exports its kernel's sources as they are in `generated/`, and every TSL
+//! The three.js package's modules (`generated/three/airlight-three/kernels/` and
+//! `sources/`): each exports its kernel's sources as they are in `generated/`
+//! (the sources' module importing nothing), and every TSL
 //! node's function — the entry points' wrappers and the shafts accumulator's walk
 //! of a shadow map — compiles against them: the `wgslFn` code with the module's
 //! WGSL and its shadow look-up, validated by naga; the `glslFn` code with its
@@ -47,7 +48,14 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     for path in &modules {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let js = std::fs::read_to_string(path).unwrap();
-        let (wgsl, glsl) = (exported(&js, "wgsl"), exported(&js, "glsl"));
+        // The sources' module: the strings alone, importing nothing (WebGLRenderer needs no TSL).
+        let sources = std::fs::read_to_string(dir.join(format!("../sources/{name}.js"))).unwrap();
+        assert!(!sources.lines().any(|l| l.starts_with("import ")), "{name}: the sources module imports");
+        assert!(
+            js.contains(&format!("from '../sources/{name}.js'")),
+            "{name}: the nodes' module re-exports the sources"
+        );
+        let (wgsl, glsl) = (exported(&sources, "wgsl"), exported(&sources, "glsl"));
         assert_eq!(wgsl, std::fs::read_to_string(generated_dir().join(format!("wgsl/{name}.wgsl"))).unwrap(), "{name}");
         assert_eq!(glsl, std::fs::read_to_string(generated_dir().join(format!("glsl/{name}.glsl"))).unwrap(), "{name}");
         assert!(std::path::Path::new(&path.with_extension("d.ts")).exists(), "{name}: no declarations");

@@ -79,10 +79,14 @@ pub struct PackageModule {
     pub glsl: String,
     /// The plain WGSL (pattern).
     pub wgsl: String,
-    /// The module (pattern).
+    /// The module of TSL nodes (pattern).
     pub path: String,
     /// Its TypeScript declarations (pattern).
     pub types: String,
+    /// The module of the sources alone (pattern).
+    pub sources: String,
+    /// Its TypeScript declarations (pattern).
+    pub source_types: String,
 }
 
 /// Wrappers appended to a kernel in a package.

@@ -350,6 +350,11 @@ pub(super) fn render(
             ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
             ctx.insert("generated_by", GENERATED_BY);
             ctx.insert("sources", &[expand(&row.glsl, &spec.name), expand(&row.wgsl, &spec.name)]);
+            out.push(Output::text(expand(&row.sources, &spec.name), tera.render("three/sources.js.tera", &ctx)?));
+            out.push(Output::text(
+                expand(&row.source_types, &spec.name),
+                tera.render("three/sources.d.ts.tera", &ctx)?,
+            ));
             out.push(Output::text(expand(&row.path, &spec.name), tera.render("three/kernel.js.tera", &ctx)?));
             out.push(Output::text(expand(&row.types, &spec.name), tera.render("three/kernel.d.ts.tera", &ctx)?));
         }
