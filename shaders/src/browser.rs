@@ -426,7 +426,7 @@ void main() {{
         nf = look_ups as f32,
     );
     if renderer != Renderer::WebGl {
-        return shafts_page_tsl(k, view, look_ups);
+        return shafts_page_tsl(k, view, look_ups, renderer == Renderer::WebGpuOnWebGl);
     }
     let body = format!(
         r#"const renderer = new THREE.WebGLRenderer({{ antialias: false }});
@@ -532,32 +532,57 @@ if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.
     )
 }
 
-/// The light-shafts page on `WebGPURenderer` (WebGPU): the same room, three.js's
-/// WebGPU shadow map, and the package's `shaftsSpotWGSL` TSL node walking each
-/// ray in `look_ups` steps (the page's own `wgslFn` finds the first surface).
-fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32) -> String {
+/// The light-shafts page on `WebGPURenderer`: the same room, three.js's shadow
+/// map, and the package's shafts TSL node walking each ray in `look_ups` steps
+/// (the page's own code node finds the first surface) — on WebGPU through
+/// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
+fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32, webgl: bool) -> String {
     use crate::shafts_render as sr;
     let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
-    let v3 = |v: [f32; 3]| format!("vec3<f32>({:?}, {:?}, {:?})", v[0], v[1], v[2]);
+    let v3 = |v: [f32; 3]| {
+        if webgl {
+            glsl_v3(v)
+        } else {
+            format!("vec3<f32>({:?}, {:?}, {:?})", v[0], v[1], v[2])
+        }
+    };
     let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
     let slabs: String = sr::boxes()
         .iter()
         .map(|b| format!("    end = min(end, box_entry(o, {}, {}, dir, end));\n", v3(b.0), v3(b.1)))
         .collect();
     let room = sr::ROOM;
+    let (let_, var_, fn_end, fn_box, vec3_) = if webgl {
+        (
+            "vec3",
+            "float",
+            "float airlight_page_end(vec3 dir)",
+            "float box_entry(vec3 o, vec3 lo, vec3 hi, vec3 d, float end)",
+            "vec3",
+        )
+    } else {
+        (
+            "let",
+            "var",
+            "fn airlight_page_end(dir: vec3<f32>) -> f32",
+            "fn box_entry(o: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, d: vec3<f32>, end: f32) -> f32",
+            "let",
+        )
+    };
+    let scalar = if webgl { "float" } else { "let" };
     let scene_end = format!(
-        "fn airlight_page_end(dir: vec3<f32>) -> f32 {{
-    let o = {cam};
-    let a = ({lo} - o) / dir;
-    let b = ({hi} - o) / dir;
-    let x = max(a, b);
-    var end = min(min(x.x, x.y), x.z);
-{slabs}    let w = o - {ball};
-    let bb = dot(w, dir);
-    let disc = bb * bb - (dot(w, w) - {r2:?});
-    let sb = -bb - sqrt(max(disc, 0.0));
-    if disc >= 0.0 && sb > 0.0 {{ end = min(end, sb); }}
+        "{fn_end} {{
+    {let_} o = {cam};
+    {let_} a = ({lo} - o) / dir;
+    {let_} b = ({hi} - o) / dir;
+    {let_} x = max(a, b);
+    {var_} end = min(min(x.x, x.y), x.z);
+{slabs}    {let_} w = o - {ball};
+    {scalar} bb = dot(w, dir);
+    {scalar} disc = bb * bb - (dot(w, w) - {r2:?});
+    {scalar} sb = -bb - sqrt(max(disc, 0.0));
+    if (disc >= 0.0 && sb > 0.0) {{ end = min(end, sb); }}
     return end;
 }}",
         cam = v3(sr::CAMERA),
@@ -566,15 +591,18 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look
         ball = v3(sr::BALL.0),
         r2 = sr::BALL.1 * sr::BALL.1,
     );
-    let box_entry = "fn box_entry(o: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, d: vec3<f32>, end: f32) -> f32 {
-    let a = (lo - o) / d;
-    let b = (hi - o) / d;
-    let n = min(a, b);
-    let x = max(a, b);
-    let t0 = max(max(n.x, n.y), n.z);
-    let t1 = min(min(x.x, x.y), x.z);
-    return select(end, t0, t0 < t1 && t0 > 0.0);
-}";
+    let box_entry = format!(
+        "{fn_box} {{
+    {vec3_} a = (lo - o) / d;
+    {vec3_} b = (hi - o) / d;
+    {vec3_} n = min(a, b);
+    {vec3_} x = max(a, b);
+    {scalar} t0 = max(max(n.x, n.y), n.z);
+    {scalar} t1 = min(min(x.x, x.y), x.z);
+    return {pick};
+}}",
+        pick = if webgl { "(t0 < t1 && t0 > 0.0) ? t0 : end" } else { "select(end, t0, t0 < t1 && t0 > 0.0)" },
+    );
     let (st, ss) = sr::medium();
     let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
     let args: Vec<String> = k
@@ -600,13 +628,14 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look
         .collect();
     let [f, r, u] = sr::camera_basis();
     let body = format!(
-        r#"const renderer = new THREE.WebGPURenderer({{ antialias: false }});
+        r#"const renderer = new THREE.WebGPURenderer({{ antialias: false, forceWebGL: {webgl} }});
 await renderer.init();
-if (!renderer.backend.isWebGPUBackend) throw new Error('asked for WebGPU, got WebGL 2');
+const backend = renderer.backend.isWebGPUBackend ? 'WebGPU' : 'WebGL 2';
+if (backend !== '{want}') throw new Error('asked for {want}, got ' + backend);
 renderer.shadowMap.enabled = true;
 renderer.shadowMap.type = THREE.PCFShadowMap;
 {scene}
-const sceneEnd = wgslFn({scene_end}, [wgslCode({box_entry})]);
+const sceneEnd = {code_fn}({scene_end}, [{code}({box_entry})]);
 const depth = texture(light.shadow.map.depthTexture);
 const material = new THREE.MeshBasicNodeMaterial();
 material.fragmentNode = Fn(() => {{
@@ -617,7 +646,7 @@ material.fragmentNode = Fn(() => {{
   const d = {f}.add({r}.mul(u.mul(t).mul({aspect:?}))).add({up}.mul(v.mul(t)));
   const dir = d.div(sqrt(dot(d, d)));
   const end = sceneEnd({{ dir }});
-  const fog = K.shaftsSpotWGSL({{ {args}, shadow_map: depth, shadow_sampler: depth,
+  const fog = K.{node}({{ {args}, shadow_map: depth, shadow_sampler: depth,
     shadow_matrix: uniform(light.shadow.matrix), shadow_bias: float(-0.0005), look_ups: float({n:?}), reach: float(100.0) }});
   return vec4(fog, end);
 }})();
@@ -629,17 +658,27 @@ const target = new THREE.RenderTarget(W, H, {{ type: THREE.FloatType, depthBuffe
 renderer.setRenderTarget(target);
 renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
 const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
-const i = (await navigator.gpu.requestAdapter()).info;
-const adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (WebGPU), shadow map ' + light.shadow.mapSize.x + '², ' +
-  [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
-return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: false, texel: 16 }};"#,
+let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), shadow map ' + light.shadow.mapSize.x + '², ';
+if (renderer.backend.isWebGPUBackend) {{
+  const i = (await navigator.gpu.requestAdapter()).info;
+  adapter += [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
+}} else {{
+  const gl = renderer.getContext();
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+}}
+return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: {webgl}, texel: 16 }};"#,
         scene = shafts_scene_js(
             "new THREE.MeshStandardNodeMaterial()",
             "new THREE.MeshStandardNodeMaterial()",
             "RenderTarget"
         ),
         scene_end = js_string(&scene_end),
-        box_entry = js_string(box_entry),
+        box_entry = js_string(&box_entry),
+        code_fn = if webgl { "glslFn" } else { "wgslFn" },
+        code = if webgl { "glslCode" } else { "wgslCode" },
+        node = if webgl { "shaftsSpotGLSL" } else { "shaftsSpotWGSL" },
+        want = if webgl { "WebGL 2" } else { "WebGPU" },
         t = (0.5 * FOV_Y).tan(),
         aspect = width as f32 / height as f32,
         f = t3(f),
@@ -649,7 +688,7 @@ return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength)
         n = look_ups as f32,
     );
     let imports = format!(
-        "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode }} from 'three/tsl';\nimport * as K from '{module}';"
+        "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode, glslFn, glsl as glslCode }} from 'three/tsl';\nimport * as K from '{module}';"
     );
     wrap_page(&imports, &body, width, height)
 }

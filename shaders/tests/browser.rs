@@ -8,9 +8,10 @@
 //! render, tone-mapped the same way, within the kernel's declared bound (plus the
 //! f32 allowance) and 8-bit quantisation. And one frame of light shafts: the
 //! window-shafts room's occluders as three.js meshes, three.js's own shadow map
-//! of its `SpotLight`, and `phi-4`'s shafts accumulator fed from it in a
-//! full-screen GLSL pass, its fog against the reference over the exact lit
-//! intervals. Skipped loudly without a browser or the npm tools, unless
+//! of its `SpotLight`, and `phi-4`'s shafts accumulator fed from it three ways
+//! (a full-screen GLSL pass on `WebGLRenderer`, the `shaftsSpotWGSL` node on
+//! WebGPU and the `shaftsSpotGLSL` node on `WebGPURenderer`'s WebGL 2 backend),
+//! its fog against the reference over the exact lit intervals. Skipped loudly without a browser or the npm tools, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (CI) or `AIRLIGHT_REQUIRE_BROWSER=1`.
 
 use airlight_fit::vocab::f32_limit;
@@ -132,10 +133,11 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
     let k = index.get("phi-4").unwrap();
     assert!(k.shafts && k.has(airlight_fit::vocab::Entry::Spot), "phi-4 has the spot entry and the accumulator");
     let view = sr::ShaftsView { width: 64, height: 36 };
-    for renderer in [Renderer::WebGl, Renderer::WebGpu] {
+    for renderer in Renderer::ALL {
         let what = match renderer {
             Renderer::WebGl => "WebGLRenderer + the GLSL include's accumulator",
-            _ => "WebGPURenderer + the shaftsSpotWGSL TSL node",
+            Renderer::WebGpu => "WebGPURenderer (WebGPU) + the shaftsSpotWGSL TSL node",
+            Renderer::WebGpuOnWebGl => "WebGPURenderer (WebGL 2 backend) + the shaftsSpotGLSL TSL node",
         };
         let page = browser::shafts_page(k, &view, sr::LOOK_UPS, sr::REFINE_STEPS, renderer);
         let files = browser::page_files(&three, &package, page).unwrap();

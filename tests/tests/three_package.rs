@@ -74,12 +74,15 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
             .validate(&module)
             .unwrap_or_else(|e| panic!("{name}: {e:?}"));
-        // glslFn: the kernel and every wrapper, as GLSL ES 3.00.
+        // glslFn: the kernel, the GLSL shadow look-up and every wrapper (the shafts
+        // walks' too, whose header defines the depth texture's parameter type), as
+        // GLSL ES 3.00.
+        let gcodes = string_args(&js, "glslCode");
         let gfns = string_args(&js, "glslFn");
-        let entry_fns = fns.iter().filter(|f| !f.contains("shafts_begin")).count();
-        assert_eq!(gfns.len(), entry_fns, "{name}: a glslFn per entry point");
+        assert_eq!(gfns.len(), fns.len(), "{name}: a glslFn per wgslFn");
         let frag = format!(
-            "#version 300 es\n{glsl}\n{}\nout highp vec4 color;\nvoid main() {{ color = vec4(0.0); }}\n",
+            "#version 300 es\nprecision highp float;\nprecision highp sampler2DShadow;\n{glsl}\n{}\n{}\nout highp vec4 color;\nvoid main() {{ color = vec4(0.0); }}\n",
+            gcodes.iter().filter(|c| c.starts_with("float ")).cloned().collect::<Vec<_>>().join("\n"),
             gfns.join("\n")
         );
         let file = tmp.join(format!("{name}.frag"));

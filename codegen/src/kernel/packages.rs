@@ -57,11 +57,17 @@ struct TslEntry {
     /// The kernel's function it calls.
     name: String,
     /// The wrapper's code, as a JavaScript string literal, for `wgslFn` and
-    /// `glslFn` (none for the shafts nodes: WebGPU only).
+    /// `glslFn`.
     wgsl_fn: String,
-    glsl_fn: Option<String>,
-    /// The code nodes it includes besides the kernel's (`shadowLookup`).
+    glsl_fn: String,
+    /// The code nodes it includes besides the kernel's, in WGSL (`shadowLookup`)
+    /// and in GLSL (`shadowLookupGLSL`).
     includes: Vec<&'static str>,
+    glsl_includes: Vec<&'static str>,
+    /// Where a shafts node takes `shadow_map` (`shadow_sampler` follows it): the
+    /// GLSL node's wrapper marks the map for comparison sampling and drops the
+    /// sampler, which GLSL has no counterpart of.
+    shadow_at: Option<usize>,
     /// Parameter names, in order.
     params: Vec<&'static str>,
     /// Whether it returns RGB.
@@ -139,8 +145,10 @@ fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
                 entry: e.function(),
                 name,
                 wgsl_fn: js_string(&wgsl_fn),
-                glsl_fn: Some(js_string(&glsl_fn)),
+                glsl_fn: js_string(&glsl_fn),
                 includes: Vec::new(),
+                glsl_includes: Vec::new(),
+                shadow_at: None,
                 params: names,
                 rgb,
             }
@@ -162,8 +170,32 @@ pub const SHADOW_LOOKUP_WGSL: &str = "fn airlight_shadow_visibility(shadow_map: 
     return textureSampleCompareLevel(shadow_map, shadow_sampler, uv, t.z + bias);
 }";
 
-/// TSL nodes of the shafts accumulator (WGSL, for `WebGPURenderer`), where the
-/// kernel has it: `shafts` (the radiance entry's) and `shaftsSpot`. Each walks
+/// The same look-up in GLSL ES 3.00, for `WebGPURenderer`'s WebGL 2 backend: a
+/// `sampler2DShadow` (three.js declares the depth texture so where it is sampled
+/// with a comparison), no y flip (WebGL's textures start at the bottom row).
+pub const SHADOW_LOOKUP_GLSL: &str =
+    "float airlight_shadow_visibility(sampler2DShadow shadow_map, mat4 m, float bias, vec3 q) {
+    vec4 c = m * vec4(q, 1.0);
+    if (c.w <= 0.0) { return 1.0; }
+    vec3 t = c.xyz / c.w;
+    if (any(lessThan(t.xy, vec2(0.0))) || any(greaterThan(t.xy, vec2(1.0))) || t.z > 1.0) { return 1.0; }
+    return texture(shadow_map, vec3(t.xy, t.z + bias));
+}";
+
+/// The `glslFn` header that lets a shafts node take a depth texture: three.js
+/// passes a texture node to a function parameter by its bare name only where the
+/// parameter's type is one of its reference types (`depthTexture`), so the
+/// parameter is declared with that name, defined as GLSL's `sampler2DShadow`.
+const GLSL_DEPTH_TEXTURE: &str = "#ifndef AIRLIGHT_TSL_DEPTH_TEXTURE
+#define AIRLIGHT_TSL_DEPTH_TEXTURE
+#define depthTexture sampler2DShadow
+#endif
+#pragma main
+";
+
+/// TSL nodes of the shafts accumulator (WGSL for `WebGPURenderer`, GLSL for its
+/// WebGL 2 backend), where the kernel has it: `shafts` (the radiance entry's) and
+/// `shaftsSpot`. Each walks
 /// the ray in `look_ups` equal steps to the surface (or `reach` on an open ray),
 /// looks visibility up in a three.js shadow map at each step and at the ends,
 /// places each change by four bisection steps, and returns the shadowed
@@ -188,14 +220,17 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
             let surface = args.iter().any(|a| a.name() == "surface");
             let name = format!("{p}{entry}_tsl");
             let vis = |q: &str| format!("airlight_shadow_visibility(shadow_map, shadow_sampler, shadow_matrix, shadow_bias, {q})");
-            let (len, last, end) = if surface {
+            let gvis = |q: &str| format!("airlight_shadow_visibility(shadow_map, shadow_matrix, shadow_bias, {q})");
+            let (len, last, glen, glast, end) = if surface {
                 (
                     "select(reach, min(surface, reach), surface >= 0.0)",
                     format!("    if surface >= 0.0 {{ {p}{push}(&acc, len, {}, {rest}); }}\n", vis("origin + len * (1.0 - 1e-4) * d")),
+                    "surface >= 0.0 ? min(surface, reach) : reach",
+                    format!("    if (surface >= 0.0) {{ {p}{push}(acc, len, {}, {rest}); }}\n", gvis("origin + len * (1.0 - 1e-4) * d")),
                     "surface",
                 )
             } else {
-                ("reach", String::new(), "-1.0")
+                ("reach", String::new(), "reach", String::new(), "-1.0")
             };
             let wgsl_fn = format!(
                 "fn {name}({params}, shadow_map: texture_depth_2d, shadow_sampler: sampler_comparison, shadow_matrix: mat4x4<f32>, shadow_bias: f32, look_ups: f32, reach: f32) -> {ret} {{
@@ -219,14 +254,43 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
                 vs = vis("origin + s * d"),
                 vp = vis(&format!("origin + {p}shafts_probe(acc) * d")),
             );
+            let glsl_typed: Vec<String> = args
+                .iter()
+                .map(|a| format!("{} {}", if a.ty() == ArgType::Vec3 { "vec3" } else { "float" }, a.name()))
+                .collect();
+            let glsl_fn = format!(
+                "{GLSL_DEPTH_TEXTURE}{ret} {name}({params}, depthTexture shadow_map, mat4 shadow_matrix, float shadow_bias, float look_ups, float reach) {{
+    vec3 d = normalize(dir);
+    float len = {glen};
+    int n = int(max(look_ups, 1.0));
+    {p}Shafts acc = {p}shafts_begin();
+    {p}{push}(acc, 0.0, {v0}, {rest});
+    for (int i = 0; i < n; i++) {{
+        float s = (float(i) + 0.5) * len / float(n);
+        {p}{push}(acc, s, {vs}, {rest});
+        for (int k = 0; k < 4 && {p}shafts_probe(acc) >= 0.0; k++) {{
+            {p}shafts_refine(acc, {vp});
+        }}
+    }}
+{glast}    return {p}{finish}(acc, {end}, {rest});
+}}",
+                params = glsl_typed.join(", "),
+                ret = if rgb { "vec3" } else { "float" },
+                v0 = gvis("origin"),
+                vs = gvis("origin + s * d"),
+                vp = gvis(&format!("origin + {p}shafts_probe(acc) * d")),
+            );
             let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
+            let shadow_at = params.len();
             params.extend(["shadow_map", "shadow_sampler", "shadow_matrix", "shadow_bias", "look_ups", "reach"]);
             TslEntry {
                 entry,
                 name: format!("{p}{finish}"),
                 wgsl_fn: js_string(&wgsl_fn),
-                glsl_fn: None,
+                glsl_fn: js_string(&glsl_fn),
                 includes: vec!["shadowLookup"],
+                glsl_includes: vec!["shadowLookupGLSL"],
+                shadow_at: Some(shadow_at),
                 params,
                 rgb,
             }
@@ -348,6 +412,7 @@ pub(super) fn render(
             };
             let mut ctx = tera::Context::from_serialize(&module)?;
             ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
+            ctx.insert("shadow_lookup_glsl", &js_string(SHADOW_LOOKUP_GLSL));
             ctx.insert("generated_by", GENERATED_BY);
             ctx.insert("sources", &[expand(&row.glsl, &spec.name), expand(&row.wgsl, &spec.name)]);
             out.push(Output::text(expand(&row.sources, &spec.name), tera.render("three/sources.js.tera", &ctx)?));

@@ -5,6 +5,7 @@ export { glsl, wgsl, bound } from '../sources/raymarch-16.js';
 export declare const wgslLibrary: unknown;
 export declare const glslLibrary: unknown;
 export declare const shadowLookup: unknown;
+export declare const shadowLookupGLSL: unknown;
 
 /** Arguments of `airlight_raymarch_16_airlight`, TSL nodes (or numbers). */
 export interface AirlightArgs {
@@ -14,9 +15,9 @@ export interface AirlightArgs {
   g: unknown;
 }
 /** TSL function node calling `airlight_raymarch_16_airlight` on the WGSL. */
-export declare const airlightWGSL: (args: AirlightArgs | unknown[]) => any;
+export declare const airlightWGSL: { (args: AirlightArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_raymarch_16_airlight` on the GLSL. */
-export declare const airlightGLSL: (args: AirlightArgs | unknown[]) => any;
+export declare const airlightGLSL: { (args: AirlightArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_raymarch_16_radiance`, TSL nodes (or numbers). */
@@ -31,9 +32,9 @@ export interface RadianceArgs {
   g: unknown;
 }
 /** TSL function node calling `airlight_raymarch_16_radiance` on the WGSL. */
-export declare const radianceWGSL: (args: RadianceArgs | unknown[]) => any;
+export declare const radianceWGSL: { (args: RadianceArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_raymarch_16_radiance` on the GLSL. */
-export declare const radianceGLSL: (args: RadianceArgs | unknown[]) => any;
+export declare const radianceGLSL: { (args: RadianceArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_raymarch_16_spot`, TSL nodes (or numbers). */
@@ -51,9 +52,9 @@ export interface SpotArgs {
   g: unknown;
 }
 /** TSL function node calling `airlight_raymarch_16_spot` on the WGSL. */
-export declare const spotWGSL: (args: SpotArgs | unknown[]) => any;
+export declare const spotWGSL: { (args: SpotArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_raymarch_16_spot` on the GLSL. */
-export declare const spotGLSL: (args: SpotArgs | unknown[]) => any;
+export declare const spotGLSL: { (args: SpotArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_raymarch_16_shafts_finish`, TSL nodes (or numbers). */
@@ -74,7 +75,9 @@ export interface ShaftsArgs {
   reach: unknown;
 }
 /** TSL function node calling `airlight_raymarch_16_shafts_finish` on the WGSL. */
-export declare const shaftsWGSL: (args: ShaftsArgs | unknown[]) => any;
+export declare const shaftsWGSL: { (args: ShaftsArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_raymarch_16_shafts_finish` on the GLSL (the same arguments; `shadow_sampler` unused). */
+export declare const shaftsGLSL: { (args: ShaftsArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_raymarch_16_shafts_finish_spot`, TSL nodes (or numbers). */
@@ -98,6 +101,8 @@ export interface ShaftsSpotArgs {
   reach: unknown;
 }
 /** TSL function node calling `airlight_raymarch_16_shafts_finish_spot` on the WGSL. */
-export declare const shaftsSpotWGSL: (args: ShaftsSpotArgs | unknown[]) => any;
+export declare const shaftsSpotWGSL: { (args: ShaftsSpotArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_raymarch_16_shafts_finish_spot` on the GLSL (the same arguments; `shadow_sampler` unused). */
+export declare const shaftsSpotGLSL: { (args: ShaftsSpotArgs): any; (...args: unknown[]): any };
 
 

@@ -5,6 +5,7 @@ export { glsl, wgsl, bound } from '../sources/segments-3.js';
 export declare const wgslLibrary: unknown;
 export declare const glslLibrary: unknown;
 export declare const shadowLookup: unknown;
+export declare const shadowLookupGLSL: unknown;
 
 /** Arguments of `airlight_segments_3_airlight`, TSL nodes (or numbers). */
 export interface AirlightArgs {
@@ -13,9 +14,9 @@ export interface AirlightArgs {
   rho: unknown;
 }
 /** TSL function node calling `airlight_segments_3_airlight` on the WGSL. */
-export declare const airlightWGSL: (args: AirlightArgs | unknown[]) => any;
+export declare const airlightWGSL: { (args: AirlightArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_segments_3_airlight` on the GLSL. */
-export declare const airlightGLSL: (args: AirlightArgs | unknown[]) => any;
+export declare const airlightGLSL: { (args: AirlightArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_segments_3_radiance`, TSL nodes (or numbers). */
@@ -29,9 +30,9 @@ export interface RadianceArgs {
   sigma_s: unknown;
 }
 /** TSL function node calling `airlight_segments_3_radiance` on the WGSL. */
-export declare const radianceWGSL: (args: RadianceArgs | unknown[]) => any;
+export declare const radianceWGSL: { (args: RadianceArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_segments_3_radiance` on the GLSL. */
-export declare const radianceGLSL: (args: RadianceArgs | unknown[]) => any;
+export declare const radianceGLSL: { (args: RadianceArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_segments_3_spot`, TSL nodes (or numbers). */
@@ -48,9 +49,9 @@ export interface SpotArgs {
   sigma_s: unknown;
 }
 /** TSL function node calling `airlight_segments_3_spot` on the WGSL. */
-export declare const spotWGSL: (args: SpotArgs | unknown[]) => any;
+export declare const spotWGSL: { (args: SpotArgs): any; (...args: unknown[]): any };
 /** TSL function node calling `airlight_segments_3_spot` on the GLSL. */
-export declare const spotGLSL: (args: SpotArgs | unknown[]) => any;
+export declare const spotGLSL: { (args: SpotArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_segments_3_shafts_finish`, TSL nodes (or numbers). */
@@ -70,7 +71,9 @@ export interface ShaftsArgs {
   reach: unknown;
 }
 /** TSL function node calling `airlight_segments_3_shafts_finish` on the WGSL. */
-export declare const shaftsWGSL: (args: ShaftsArgs | unknown[]) => any;
+export declare const shaftsWGSL: { (args: ShaftsArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_segments_3_shafts_finish` on the GLSL (the same arguments; `shadow_sampler` unused). */
+export declare const shaftsGLSL: { (args: ShaftsArgs): any; (...args: unknown[]): any };
 
 
 /** Arguments of `airlight_segments_3_shafts_finish_spot`, TSL nodes (or numbers). */
@@ -93,6 +96,8 @@ export interface ShaftsSpotArgs {
   reach: unknown;
 }
 /** TSL function node calling `airlight_segments_3_shafts_finish_spot` on the WGSL. */
-export declare const shaftsSpotWGSL: (args: ShaftsSpotArgs | unknown[]) => any;
+export declare const shaftsSpotWGSL: { (args: ShaftsSpotArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_segments_3_shafts_finish_spot` on the GLSL (the same arguments; `shadow_sampler` unused). */
+export declare const shaftsSpotGLSL: { (args: ShaftsSpotArgs): any; (...args: unknown[]): any };
 
 
