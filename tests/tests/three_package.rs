@@ -45,6 +45,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     let tmp = std::env::temp_dir().join(format!("airlight-three-fns-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let mut shafts = 0;
+    let shadow = std::fs::read_to_string(dir.join("../shadow.js")).unwrap();
     for path in &modules {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let js = std::fs::read_to_string(path).unwrap();
@@ -60,7 +61,13 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         assert_eq!(glsl, std::fs::read_to_string(generated_dir().join(format!("glsl/{name}.glsl"))).unwrap(), "{name}");
         assert!(std::path::Path::new(&path.with_extension("d.ts")).exists(), "{name}: no declarations");
         // wgslFn: the kernel, the shadow look-up (a wgsl code node), every wrapper.
-        let codes = string_args(&js, "wgslCode");
+        // The shadow look-up lives once, in shadow.js (two kernels' shafts nodes in
+        // one material include the same code node): no module defines it again.
+        assert!(
+            !js.contains("fn airlight_shadow_visibility") && !js.contains("float airlight_shadow_visibility"),
+            "{name}: the module defines the shadow look-up itself"
+        );
+        let codes = string_args(&shadow, "wgslCode");
         let fns = string_args(&js, "wgslFn");
         assert!(fns.len() >= 2, "{name}: {} wgslFn", fns.len());
         shafts += fns.iter().filter(|f| f.contains("shafts_begin")).count();
@@ -77,7 +84,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         // glslFn: the kernel, the GLSL shadow look-up and every wrapper (the shafts
         // walks' too, whose header defines the depth texture's parameter type), as
         // GLSL ES 3.00.
-        let gcodes = string_args(&js, "glslCode");
+        let gcodes = string_args(&shadow, "glslCode");
         let gfns = string_args(&js, "glslFn");
         assert_eq!(gfns.len(), fns.len(), "{name}: a glslFn per wgslFn");
         let frag = format!(
@@ -100,5 +107,36 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         }
     }
     assert!(shafts >= 10, "{shafts} shafts nodes");
+    if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
+        let out = Command::new("node").arg("--check").arg(dir.join("../shadow.js")).output().unwrap();
+        assert!(out.status.success(), "shadow.js: node --check: {}", String::from_utf8_lossy(&out.stderr));
+    }
     std::fs::remove_dir_all(&tmp).ok();
+}
+
+/// Two kernels' shafts nodes in one material, as TSL includes them: each
+/// kernel's WGSL once, the shared shadow look-up once, both walks — one valid
+/// WGSL module (naga).
+#[test]
+fn two_kernels_shafts_nodes_compose_with_one_shadow_look_up() {
+    let dir = generated_dir().join("three/airlight-three");
+    let shadow = std::fs::read_to_string(dir.join("shadow.js")).unwrap();
+    let lookup: Vec<String> = string_args(&shadow, "wgslCode");
+    assert_eq!(lookup.len(), 1, "one WGSL look-up in shadow.js");
+    let mut src = lookup[0].clone();
+    for name in ["phi-4", "phi-iso-6"] {
+        let js = std::fs::read_to_string(dir.join(format!("kernels/{name}.js"))).unwrap();
+        assert!(js.contains("from '../shadow.js'"), "{name}: imports the shared look-up");
+        let sources = std::fs::read_to_string(dir.join(format!("sources/{name}.js"))).unwrap();
+        src.push('\n');
+        src.push_str(&exported(&sources, "wgsl"));
+        for f in string_args(&js, "wgslFn").iter().filter(|f| f.contains("shafts_begin")) {
+            src.push('\n');
+            src.push_str(f);
+        }
+    }
+    let module = naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{e:?}"));
 }

@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 34] = [
+pub const TEMPLATES: [(&str, &str); 36] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -55,6 +55,8 @@ pub const TEMPLATES: [(&str, &str); 34] = [
     ("unreal/README.md.tera", include_str!("../../templates/packages/unreal/README.md.tera")),
     ("three/sources.js.tera", include_str!("../../templates/packages/three/sources.js.tera")),
     ("three/sources.d.ts.tera", include_str!("../../templates/packages/three/sources.d.ts.tera")),
+    ("three/shadow.js.tera", include_str!("../../templates/packages/three/shadow.js.tera")),
+    ("three/shadow.d.ts.tera", include_str!("../../templates/packages/three/shadow.d.ts.tera")),
     ("three/kernel.js.tera", include_str!("../../templates/packages/three/kernel.js.tera")),
     ("three/kernel.d.ts.tera", include_str!("../../templates/packages/three/kernel.d.ts.tera")),
     ("three/package.json.tera", include_str!("../../templates/packages/three/package.json.tera")),

@@ -411,8 +411,6 @@ pub(super) fn render(
                     .collect(),
             };
             let mut ctx = tera::Context::from_serialize(&module)?;
-            ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
-            ctx.insert("shadow_lookup_glsl", &js_string(SHADOW_LOOKUP_GLSL));
             ctx.insert("generated_by", GENERATED_BY);
             ctx.insert("sources", &[expand(&row.glsl, &spec.name), expand(&row.wgsl, &spec.name)]);
             out.push(Output::text(expand(&row.sources, &spec.name), tera.render("three/sources.js.tera", &ctx)?));
@@ -432,6 +430,8 @@ pub(super) fn render(
         ctx.insert("kernels", &kernels);
         ctx.insert("modules", &modules);
         ctx.insert("version", env!("CARGO_PKG_VERSION"));
+        ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
+        ctx.insert("shadow_lookup_glsl", &js_string(SHADOW_LOOKUP_GLSL));
         ctx.insert("generated_by", GENERATED_BY);
         ctx.insert("template", &format!("codegen/templates/packages/{}", f.template));
         out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));

@@ -4,8 +4,6 @@ export { glsl, wgsl, bound } from '../sources/phi-iso-4.js';
 /** The sources as TSL code nodes. */
 export declare const wgslLibrary: unknown;
 export declare const glslLibrary: unknown;
-export declare const shadowLookup: unknown;
-export declare const shadowLookupGLSL: unknown;
 
 /** Arguments of `airlight_phi_iso_4_airlight`, TSL nodes (or numbers). */
 export interface AirlightArgs {

@@ -4,8 +4,6 @@ export { glsl, wgsl, bound } from '../sources/segments-16.js';
 /** The sources as TSL code nodes. */
 export declare const wgslLibrary: unknown;
 export declare const glslLibrary: unknown;
-export declare const shadowLookup: unknown;
-export declare const shadowLookupGLSL: unknown;
 
 /** Arguments of `airlight_segments_16_airlight`, TSL nodes (or numbers). */
 export interface AirlightArgs {
