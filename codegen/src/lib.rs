@@ -166,8 +166,9 @@ pub fn render_all(
         }
     }
     let gate = record.zip(current);
+    let ir = report::kernel_ir(&specs, &kernels).map_err(RenderError::Template)?;
     let mut out =
-        vec![report::render(check, models, bench, gate, fuzz, &specs, renders).map_err(RenderError::Template)?];
+        vec![report::render(check, models, bench, gate, fuzz, &specs, &ir, renders).map_err(RenderError::Template)?];
     out.extend(renders.iter().cloned());
     out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {

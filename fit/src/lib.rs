@@ -22,6 +22,7 @@ pub mod fixtures;
 pub mod geometry;
 pub mod hexf;
 pub mod io;
+pub mod ircost;
 pub mod lsq;
 pub mod model;
 pub mod parallel;

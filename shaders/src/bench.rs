@@ -174,8 +174,8 @@ fn model_row(
     let name = &f.model.name;
     let (entry, path, source) = wgsl_of(inputs, name)?;
     let fail = |e: String| BenchError::Failed(format!("{}: {e}", path.display()));
-    let cost =
-        crate::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix)).map_err(|e| fail(e.to_string()))?;
+    let cost = airlight_fit::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix))
+        .map_err(|e| fail(e.to_string()))?;
     let (mut gpu_evals_per_s, mut gpu_frame_evals_per_s, mut gpu_rgb) = (0.0, 0.0, (0.0, 0.0));
     if let Some(g) = inputs.gpu {
         let table = crate::load_table(inputs.generated, entry).map_err(|e| BenchError::Failed(e.to_string()))?;

@@ -15,7 +15,6 @@
 pub mod bench;
 pub mod browser;
 pub mod gate;
-pub mod ircost;
 pub mod render;
 pub mod shafts_render;
 

@@ -3,6 +3,7 @@
 //! the smallest ray-march error, what modelling extinction costs over the
 //! closed form, every model's row, and the RGB entry against three scalar calls.
 
+use super::KernelIr;
 use crate::front::{self, Method};
 use airlight_fit::bench::{Bench, BenchModel};
 use airlight_fit::coeffs::ModelFile;
@@ -57,6 +58,7 @@ struct TradeRow {
     ns: String,
     ns_one: String,
     ops: usize,
+    ops_every: String,
     transcendentals: usize,
     gpu: String,
     gpu_frame: String,
@@ -98,8 +100,15 @@ struct NoExt {
     cost: String,
 }
 
-/// Where airlight loses a level, in words.
-fn loss(h: &front::Headline) -> String {
+/// A kernel's IR operations as the losses quote them: "every branch (worst path)".
+fn ir_ops(ir: &[KernelIr], name: &str) -> Option<String> {
+    ir.iter().find(|k| k.name == name).map(|k| format!("{} ({})", k.every.ops, k.worst.ops))
+}
+
+/// Where airlight loses a level, in words; on a GPU measure, with both kernels'
+/// IR operations on every branch and on the worst path (what that cost follows:
+/// the section's "What the cost follows").
+fn loss(h: &front::Headline, cost: front::CostMeasure, ir: &[KernelIr]) -> String {
     let who = match (&h.airlight, &h.baseline) {
         (Some(a), Some(bl)) => format!(
             "`{}` ({} ns) is {:.2}× faster than airlight's fastest, `{}` ({} ns)",
@@ -112,15 +121,24 @@ fn loss(h: &front::Headline) -> String {
         (None, Some(bl)) => format!("only baselines reach it; the fastest is `{}` ({} ns)", bl.name, ns(bl.ns)),
         _ => String::new(),
     };
-    format!("{} error {}: {who}", h.measure, fmt_err(h.level))
+    let why = match (&h.airlight, &h.baseline) {
+        (Some(a), Some(bl)) if cost != front::CostMeasure::Cpu => match (ir_ops(ir, &a.name), ir_ops(ir, &bl.name)) {
+            (Some(x), Some(y)) => {
+                format!(" — IR ops on every branch (worst path): `{}` {x}, `{}` {y}", a.name, bl.name)
+            }
+            _ => String::new(),
+        },
+        _ => String::new(),
+    };
+    format!("{} error {}: {who}{why}", h.measure, fmt_err(h.level))
 }
 
 /// One `g`'s headline table on one cost measure, with its losses.
-fn measure_table(b: &Bench, g: f64, cost: front::CostMeasure) -> MeasureTable {
+fn measure_table(b: &Bench, g: f64, cost: front::CostMeasure, ir: &[KernelIr]) -> MeasureTable {
     let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
     let ms = front::methods_by(b, g, cost);
     let hs = front::headlines(&ms);
-    let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(loss).collect();
+    let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(|h| loss(h, cost, ir)).collect();
     let levels = hs
         .iter()
         .map(|h| Level {
@@ -141,11 +159,11 @@ fn measure_table(b: &Bench, g: f64, cost: front::CostMeasure) -> MeasureTable {
 }
 
 /// One `g`'s headline tables (one per cost measure), losses and best ray march.
-fn g_section(b: &Bench, g: f64) -> GSection {
+fn g_section(b: &Bench, g: f64, ir: &[KernelIr]) -> GSection {
     let ms = front::methods(b, g);
     let label = front::g_label(g);
     let measures =
-        front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)).map(|c| measure_table(b, g, c)).collect();
+        front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)).map(|c| measure_table(b, g, c, ir)).collect();
     let march_best = ms
         .iter()
         .filter(|m| m.name.starts_with("raymarch-"))
@@ -160,7 +178,7 @@ fn g_section(b: &Bench, g: f64) -> GSection {
 }
 
 /// Every model's row of the bench.
-fn trade_row(m: &BenchModel) -> TradeRow {
+fn trade_row(m: &BenchModel, ir: &[KernelIr]) -> TradeRow {
     let e = m.at(0.0).or(m.errors.first());
     let f = |x: Option<f64>| x.map_or("—".to_string(), fmt_err);
     TradeRow {
@@ -173,6 +191,7 @@ fn trade_row(m: &BenchModel) -> TradeRow {
         ns: format!("{} ({}–{})", ns(m.cpu_ns_per_eval), ns(m.cpu_ns_range[0]), ns(m.cpu_ns_range[1])),
         ns_one: if m.cpu_ns_one_at_a_time > 0.0 { ns(m.cpu_ns_one_at_a_time) } else { "—".into() },
         ops: m.ops,
+        ops_every: ir.iter().find(|k| k.name == m.name).map_or("—".into(), |k| k.every.ops.to_string()),
         transcendentals: m.transcendentals,
         gpu: if m.gpu_evals_per_s > 0.0 { format!("{:.3e}", m.gpu_evals_per_s) } else { "—".into() },
         gpu_frame: if m.gpu_frame_evals_per_s > 0.0 {
@@ -325,11 +344,90 @@ fn two_ways(b: &Bench, pairs: &[(&str, &str)], ways: [Way; 2]) -> Vec<String> {
         .collect()
 }
 
+/// One cost measure's row of "What the cost follows".
+#[derive(Serialize)]
+struct FollowRow {
+    measure: &'static str,
+    kernels: usize,
+    worst_rms: String,
+    worst_max: String,
+    every_rms: String,
+    every_max: String,
+    every_line: String,
+    /// "every branch" or "worst path": the count that misses less (rms).
+    follows: &'static str,
+}
+
+/// Per cost measure, how well each IR count predicts the measured cost over the
+/// bench's kernels that read no table (a texture fetch is not arithmetic):
+/// [`airlight_fit::ircost::fit_cost`] on the worst path's operations and on every
+/// branch's.
+fn follows(b: &Bench, ir: &[KernelIr]) -> Vec<FollowRow> {
+    let pct = |x: f64| format!("{:.1}%", 100.0 * x);
+    front::CostMeasure::ALL
+        .into_iter()
+        .filter(|c| c.measured(b))
+        .filter_map(|cost| {
+            let pts: Vec<(&KernelIr, f64)> = b
+                .models
+                .iter()
+                .filter(|m| m.bytes == 0)
+                .filter_map(|m| Some((ir.iter().find(|k| k.name == m.name)?, cost.ns(m)?)))
+                .collect();
+            let fit = |f: fn(&KernelIr) -> usize| {
+                airlight_fit::ircost::fit_cost(&pts.iter().map(|(k, ns)| (f(k) as f64, *ns)).collect::<Vec<_>>())
+            };
+            let (w, e) = (fit(|k| k.worst.ops)?, fit(|k| k.every.ops)?);
+            Some(FollowRow {
+                measure: cost.title(),
+                kernels: pts.len(),
+                worst_rms: pct(w.rms),
+                worst_max: pct(w.max),
+                every_rms: pct(e.rms),
+                every_max: pct(e.max),
+                every_line: format!("{:.2} + {:.4} × ops", e.intercept, e.slope),
+                follows: if e.rms < w.rms { "every branch" } else { "worst path" },
+            })
+        })
+        .collect()
+}
+
+/// Airlight kernels whose every-branch IR count exceeds their worst path's by the
+/// most (the branches a GPU wave may pay for together), as "`name` every (worst,
+/// +x%)", largest first.
+fn branchy(b: &Bench, ir: &[KernelIr]) -> Vec<String> {
+    let mut k: Vec<&KernelIr> = ir
+        .iter()
+        .filter(|k| b.model(&k.name).is_some_and(|m| m.kind == airlight_fit::vocab::Role::Airlight))
+        .filter(|k| k.every.ops > k.worst.ops)
+        .collect();
+    let extra = |k: &KernelIr| k.every.ops as f64 / k.worst.ops.max(1) as f64 - 1.0;
+    k.sort_by(|a, z| extra(z).total_cmp(&extra(a)).then(a.name.cmp(&z.name)));
+    k.iter()
+        .take(6)
+        .map(|k| format!("`{}` {} ({}, +{:.0}%)", k.name, k.every.ops, k.worst.ops, 100.0 * extra(k)))
+        .collect()
+}
+
 /// The speed/accuracy section's values.
-pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile]) {
-    let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g)).collect();
+pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], ir: &[KernelIr]) {
+    let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g, ir)).collect();
     ctx.insert("trade", &sections);
-    ctx.insert("trade_rows", &b.models.iter().map(trade_row).collect::<Vec<_>>());
+    ctx.insert("trade_rows", &b.models.iter().map(|m| trade_row(m, ir)).collect::<Vec<_>>());
+    let follow_rows = follows(b, ir);
+    // Whether some GPU-path measure follows every branch (the report then says what
+    // that means for the branchy kernels).
+    let gpu_every =
+        follow_rows.iter().any(|f| f.measure != front::CostMeasure::Cpu.title() && f.follows == "every branch");
+    ctx.insert("gpu_follows_every", &gpu_every);
+    ctx.insert("follows", &follow_rows);
+    ctx.insert("branchy", &branchy(b, ir));
+    let flat: Vec<String> = ["equiangular-8", "equiangular-16"]
+        .iter()
+        .filter_map(|n| ir.iter().find(|k| k.name == *n))
+        .map(|k| format!("`{}` {} ({})", k.name, k.every.ops, k.worst.ops))
+        .collect();
+    ctx.insert("flat", &flat);
     // The CPU cost ratios that depend on how a short kernel is called, and the
     // GPU-path rate ratios, random and frame-coherent.
     let cpu_two_ways = two_ways(

@@ -1,11 +1,15 @@
 //! A deterministic cost of a kernel: the operations in the naga IR of its WGSL
-//! function, on its worst path. Every arithmetic, comparison, conversion, select
-//! and built-in call counts one; calls count their callee's cost; `if` and
-//! `switch` count their costliest branch; a loop counts its body times its trip
-//! count where that is a constant bound (`for (var i = 0u; i < N; i++)`), once
-//! otherwise. Transcendental built-ins (exp, log, sqrt, pow, trigonometry) are
-//! also counted apart: the polynomial `sin_cos` and `atan` the kernels carry count
-//! as the arithmetic they are.
+//! function, two ways — on its worst path, and on every branch at once. Every
+//! arithmetic, comparison, conversion, select and built-in call counts one; calls
+//! count their callee's cost; `if` and `switch` count their costliest branch (worst
+//! path) or all of their branches (every branch: what a GPU wave pays when its
+//! lanes take different branches, or when the compiler flattens the branches into
+//! selects); a loop counts its body times its trip count where that is a constant
+//! bound (`for (var i = 0u; i < N; i++)`), once otherwise. Transcendental built-ins
+//! (exp, log, sqrt, pow, trigonometry) are also counted apart: the polynomial
+//! `sin_cos` and `atan` the kernels carry count as the arithmetic they are. The
+//! bench records the worst path (`bench.json`'s `ops`); the report sets the GPU
+//! path's measured cost beside both.
 
 use naga::{Block, Expression, Function, Handle, MathFunction, Module, Statement};
 use std::collections::HashMap;
@@ -75,6 +79,8 @@ fn expr_cost(e: &Expression) -> IrCost {
 
 struct Walker<'m> {
     module: &'m Module,
+    /// Every branch counted (else the costliest).
+    every: bool,
     memo: HashMap<Handle<Function>, IrCost>,
 }
 
@@ -120,9 +126,22 @@ impl Walker<'_> {
                     range.clone().map(|h| expr_cost(&f.expressions[h])).fold(IrCost::default(), IrCost::add)
                 }
                 Statement::Block(inner) => self.block(f, inner),
-                Statement::If { accept, reject, .. } => self.block(f, accept).worse(self.block(f, reject)),
+                Statement::If { accept, reject, .. } => {
+                    let (a, r) = (self.block(f, accept), self.block(f, reject));
+                    if self.every {
+                        a.add(r)
+                    } else {
+                        a.worse(r)
+                    }
+                }
                 Statement::Switch { cases, .. } => {
-                    cases.iter().map(|k| self.block(f, &k.body)).fold(IrCost::default(), IrCost::worse)
+                    let every = self.every;
+                    let each = cases.iter().map(|k| self.block(f, &k.body));
+                    if every {
+                        each.fold(IrCost::default(), IrCost::add)
+                    } else {
+                        each.fold(IrCost::default(), IrCost::worse)
+                    }
                 }
                 Statement::Loop { body, continuing, .. } => {
                     let n = self.trip_count(f, body).unwrap_or(1);
@@ -136,16 +155,59 @@ impl Walker<'_> {
     }
 }
 
-/// The cost of `function` in the WGSL `source`.
+/// The cost of `function` in the WGSL `source` on its worst path.
 pub fn ir_cost(source: &str, function: &str) -> Result<IrCost, String> {
+    walk(source, function, false)
+}
+
+/// The cost of `function` in the WGSL `source` with every branch taken.
+pub fn ir_cost_every_branch(source: &str, function: &str) -> Result<IrCost, String> {
+    walk(source, function, true)
+}
+
+fn walk(source: &str, function: &str, every: bool) -> Result<IrCost, String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
     let (h, _) = module
         .functions
         .iter()
         .find(|(_, f)| f.name.as_deref() == Some(function))
         .ok_or_else(|| format!("no function '{function}'"))?;
-    let mut w = Walker { module: &module, memo: HashMap::new() };
+    let mut w = Walker { module: &module, every, memo: HashMap::new() };
     Ok(w.function(h))
+}
+
+/// How well an operation count predicts a measured cost: `ns ≈ intercept + slope ·
+/// ops`, fitted by least squares on relative residuals (every kernel weighs alike,
+/// short or long), and the residuals' root mean square and largest magnitude.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostFit {
+    /// ns per operation.
+    pub slope: f64,
+    /// ns of a kernel with no operations (the dispatch's own cost).
+    pub intercept: f64,
+    /// Root mean square of `predicted / measured − 1`.
+    pub rms: f64,
+    /// Largest `|predicted / measured − 1|`.
+    pub max: f64,
+}
+
+/// [`CostFit`] over `(ops, ns)` pairs; `None` with fewer than three or where the
+/// least squares fail.
+pub fn fit_cost(points: &[(f64, f64)]) -> Option<CostFit> {
+    use nalgebra::{DMatrix, DVector};
+    let pts: Vec<(f64, f64)> = points.iter().copied().filter(|(x, y)| x.is_finite() && *y > 0.0).collect();
+    if pts.len() < 3 {
+        return None;
+    }
+    let a = DMatrix::from_fn(pts.len(), 2, |i, j| if j == 0 { pts[i].0 / pts[i].1 } else { 1.0 / pts[i].1 });
+    let c = crate::lsq::solve(a, &DVector::from_element(pts.len(), 1.0))?;
+    let dev: Vec<f64> = pts.iter().map(|(x, y)| (c[0] * x + c[1]) / y - 1.0).collect();
+    Some(CostFit {
+        slope: c[0],
+        intercept: c[1],
+        rms: (dev.iter().map(|d| d * d).sum::<f64>() / dev.len() as f64).sqrt(),
+        max: dev.iter().fold(0.0, |m, d| m.max(d.abs())),
+    })
 }
 
 #[cfg(test)]
@@ -161,5 +223,20 @@ mod tests {
         // per trip: <, f32(i), *, exp, += and i++ (6); the else branch: sqrt, *, + (3); the test x > 0 (1).
         assert_eq!(c.transcendentals, 11);
         assert_eq!(c.ops, 6 * 10 + 3 + 1);
+        // Every branch: the then branch's + (1) as well.
+        let e = ir_cost_every_branch(src, "f").unwrap();
+        assert_eq!((e.ops, e.transcendentals), (6 * 10 + 3 + 1 + 1, 11));
+    }
+
+    #[test]
+    fn a_cost_fit_recovers_a_line_and_measures_its_misses() {
+        let exact: Vec<(f64, f64)> = [100.0, 300.0, 800.0, 2000.0].iter().map(|&x| (x, 4.0 + 0.02 * x)).collect();
+        let f = fit_cost(&exact).unwrap();
+        assert!((f.slope - 0.02).abs() < 1e-12 && (f.intercept - 4.0).abs() < 1e-9 && f.max < 1e-12, "{f:?}");
+        // One point 10% off the line: the fit misses some point.
+        let mut off = exact.clone();
+        off[1].1 *= 1.1;
+        assert!(fit_cost(&off).unwrap().max > 0.01);
+        assert!(fit_cost(&exact[..2]).is_none());
     }
 }
