@@ -140,3 +140,53 @@ fn two_kernels_shafts_nodes_compose_with_one_shadow_look_up() {
         .validate(&module)
         .unwrap_or_else(|e| panic!("{e:?}"));
 }
+
+/// The GLSL shafts nodes under three.js r187 in Node (no browser: the node graph
+/// only): called by name and in order, as the WGSL nodes are, each builds a call
+/// with `shadow_sampler` dropped and the shadow map marked for comparison
+/// sampling — a bare `DepthTexture` in order is wrapped in a texture node first.
+/// (The browser test draws through the named form.)
+#[test]
+fn the_glsl_shafts_nodes_map_both_argument_forms() {
+    use airlight_tests::npm_tools;
+    let Some(tools) = npm_tools("three") else { return };
+    if !Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
+        return;
+    }
+    let tmp = std::env::temp_dir().join(format!("airlight-three-args-{}", std::process::id()));
+    let modules = tmp.join("node_modules");
+    std::fs::create_dir_all(&modules).unwrap();
+    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
+    std::os::unix::fs::symlink(generated_dir().join("three/airlight-three"), modules.join("airlight-three")).unwrap();
+    let script = r#"import { float, vec3, uniform, texture } from 'three/tsl';
+import * as THREE from 'three';
+import * as K from 'airlight-three/kernels/phi-4.js';
+const depth = new THREE.DepthTexture(16, 16);
+const m = () => uniform(new THREE.Matrix4());
+const named = K.shaftsSpotGLSL({ origin: vec3(0, 0, 0), dir: vec3(0, 0, 1), surface: float(1), light: vec3(0, 1, 0),
+  axis: vec3(0, -1, 0), cos_outer: float(0.8), cos_inner: float(0.9), intensity: float(1), sigma_t: vec3(0.1),
+  sigma_s: vec3(0.1), g: float(0.5), shadow_map: texture(depth), shadow_sampler: texture(depth), shadow_matrix: m(),
+  shadow_bias: float(0), look_ups: float(8), reach: float(10) });
+const inOrder = K.shaftsSpotGLSL(vec3(0, 0, 0), vec3(0, 0, 1), float(1), vec3(0, 1, 0), vec3(0, -1, 0), float(0.8),
+  float(0.9), float(1), vec3(0.1), vec3(0.1), float(0.5), depth, texture(depth), m(), float(0), float(8), float(10));
+const p = named.parameters;
+console.log(JSON.stringify({
+  named: Object.keys(p).length, namedSampler: 'shadow_sampler' in p, namedCompare: p.shadow_map.compareNode !== null,
+  inOrder: inOrder.parameters.length, inOrderCompare: inOrder.parameters[11].compareNode !== null,
+  inOrderMatrix: inOrder.parameters[12].isUniformNode === true,
+}));
+"#;
+    std::fs::write(tmp.join("check.mjs"), script).unwrap();
+    // The package is linked, not copied: node resolves its imports from the link.
+    let out = Command::new("node").args(["--preserve-symlinks", "check.mjs"]).current_dir(&tmp).output().unwrap();
+    std::fs::remove_dir_all(&tmp).ok();
+    assert!(out.status.success(), "node: {}", String::from_utf8_lossy(&out.stderr));
+    let got: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // 17 arguments of the WGSL node, less shadow_sampler.
+    assert_eq!(
+        got,
+        serde_json::json!({ "named": 16, "namedSampler": false, "namedCompare": true,
+            "inOrder": 16, "inOrderCompare": true, "inOrderMatrix": true }),
+        "{got}"
+    );
+}
