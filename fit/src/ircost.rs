@@ -157,23 +157,20 @@ impl Walker<'_> {
 
 /// The cost of `function` in the WGSL `source` on its worst path.
 pub fn ir_cost(source: &str, function: &str) -> Result<IrCost, String> {
-    walk(source, function, false)
+    Ok(ir_costs(source, function)?.0)
 }
 
-/// The cost of `function` in the WGSL `source` with every branch taken.
-pub fn ir_cost_every_branch(source: &str, function: &str) -> Result<IrCost, String> {
-    walk(source, function, true)
-}
-
-fn walk(source: &str, function: &str, every: bool) -> Result<IrCost, String> {
+/// Both costs of `function` in the WGSL `source`, from one parse: (worst path,
+/// every branch).
+pub fn ir_costs(source: &str, function: &str) -> Result<(IrCost, IrCost), String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
     let (h, _) = module
         .functions
         .iter()
         .find(|(_, f)| f.name.as_deref() == Some(function))
         .ok_or_else(|| format!("no function '{function}'"))?;
-    let mut w = Walker { module: &module, every, memo: HashMap::new() };
-    Ok(w.function(h))
+    let walk = |every| Walker { module: &module, every, memo: HashMap::new() }.function(h);
+    Ok((walk(false), walk(true)))
 }
 
 /// How well an operation count predicts a measured cost: `ns ≈ intercept + slope ·
@@ -224,7 +221,8 @@ mod tests {
         assert_eq!(c.transcendentals, 11);
         assert_eq!(c.ops, 6 * 10 + 3 + 1);
         // Every branch: the then branch's + (1) as well.
-        let e = ir_cost_every_branch(src, "f").unwrap();
+        let (w, e) = ir_costs(src, "f").unwrap();
+        assert_eq!(w, c);
         assert_eq!((e.ops, e.transcendentals), (6 * 10 + 3 + 1 + 1, 11));
     }
 

@@ -553,32 +553,32 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look
         .map(|b| format!("    end = min(end, box_entry(o, {}, {}, dir, end));\n", v3(b.0), v3(b.1)))
         .collect();
     let room = sr::ROOM;
-    let (let_, var_, fn_end, fn_box, vec3_) = if webgl {
+    // Declarations by what they hold: a vector, a scalar, a scalar that changes.
+    let (vector, scalar, mutable, fn_end, fn_box) = if webgl {
         (
             "vec3",
             "float",
+            "float",
             "float airlight_page_end(vec3 dir)",
             "float box_entry(vec3 o, vec3 lo, vec3 hi, vec3 d, float end)",
-            "vec3",
         )
     } else {
         (
             "let",
+            "let",
             "var",
             "fn airlight_page_end(dir: vec3<f32>) -> f32",
             "fn box_entry(o: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, d: vec3<f32>, end: f32) -> f32",
-            "let",
         )
     };
-    let scalar = if webgl { "float" } else { "let" };
     let scene_end = format!(
         "{fn_end} {{
-    {let_} o = {cam};
-    {let_} a = ({lo} - o) / dir;
-    {let_} b = ({hi} - o) / dir;
-    {let_} x = max(a, b);
-    {var_} end = min(min(x.x, x.y), x.z);
-{slabs}    {let_} w = o - {ball};
+    {vector} o = {cam};
+    {vector} a = ({lo} - o) / dir;
+    {vector} b = ({hi} - o) / dir;
+    {vector} x = max(a, b);
+    {mutable} end = min(min(x.x, x.y), x.z);
+{slabs}    {vector} w = o - {ball};
     {scalar} bb = dot(w, dir);
     {scalar} disc = bb * bb - (dot(w, w) - {r2:?});
     {scalar} sb = -bb - sqrt(max(disc, 0.0));
@@ -593,10 +593,10 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look
     );
     let box_entry = format!(
         "{fn_box} {{
-    {vec3_} a = (lo - o) / d;
-    {vec3_} b = (hi - o) / d;
-    {vec3_} n = min(a, b);
-    {vec3_} x = max(a, b);
+    {vector} a = (lo - o) / d;
+    {vector} b = (hi - o) / d;
+    {vector} n = min(a, b);
+    {vector} x = max(a, b);
     {scalar} t0 = max(max(n.x, n.y), n.z);
     {scalar} t1 = min(min(x.x, x.y), x.z);
     return {pick};

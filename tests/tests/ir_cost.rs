@@ -3,13 +3,14 @@
 //! (`equiangular-8`) has nearly none beside it; the φ kernels' head, far and tail
 //! branches add a third or more — what REPORT.md "What the cost follows" quotes.
 
-use airlight_fit::ircost::{ir_cost, ir_cost_every_branch};
+use airlight_fit::ircost::ir_costs;
 use airlight_tests::generated_dir;
 
 fn counts(name: &str) -> (usize, usize) {
     let src = std::fs::read_to_string(generated_dir().join(format!("wgsl/{name}.wgsl"))).unwrap();
     let f = format!("airlight_{}_airlight", name.replace('-', "_"));
-    (ir_cost(&src, &f).unwrap().ops, ir_cost_every_branch(&src, &f).unwrap().ops)
+    let (worst, every) = ir_costs(&src, &f).unwrap();
+    (worst.ops, every.ops)
 }
 
 #[test]

@@ -10,7 +10,7 @@ use super::outputs::{expand, OutputTable, Wrappers};
 use super::spec::KernelSpec;
 use super::{comment, guard_macro};
 use crate::output::Output;
-use airlight_fit::vocab::{ArgType, Domain, Entry, Target};
+use airlight_fit::vocab::{Arg, ArgType, Domain, Entry, Target};
 use serde::Serialize;
 
 /// The largest finite `half`: Shader Graph's `_half` wrappers clamp to it, so a
@@ -121,6 +121,18 @@ fn js_string(text: &str) -> String {
     o
 }
 
+/// An entry's typed parameter list in WGSL (`origin: vec3<f32>, …`) or, with
+/// `glsl`, in GLSL (`vec3 origin, …`).
+fn param_list(args: &[Arg], glsl: bool) -> String {
+    let typed = |a: &Arg| match (glsl, a.ty() == ArgType::Vec3) {
+        (false, true) => format!("{}: vec3<f32>", a.name()),
+        (false, false) => format!("{}: f32", a.name()),
+        (true, true) => format!("vec3 {}", a.name()),
+        (true, false) => format!("float {}", a.name()),
+    };
+    args.iter().map(typed).collect::<Vec<_>>().join(", ")
+}
+
 fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
     entries(spec)
         .into_iter()
@@ -129,11 +141,7 @@ fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
             let rgb = e.outputs() == 3;
             let name = format!("{}{}", spec.prefix(), e.function());
             let names: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
-            let typed = |f: &dyn Fn(bool) -> String| {
-                args.iter().map(|a| f(a.ty() == ArgType::Vec3).replace("{}", a.name())).collect::<Vec<_>>().join(", ")
-            };
-            let wgsl_params = typed(&|v| if v { "{}: vec3<f32>".into() } else { "{}: f32".into() });
-            let glsl_params = typed(&|v| if v { "vec3 {}".into() } else { "float {}".into() });
+            let (wgsl_params, glsl_params) = (param_list(&args, false), param_list(&args, true));
             let call = format!("{name}({})", names.join(", "));
             let wgsl_fn = format!(
                 "fn {name}_tsl({wgsl_params}) -> {} {{ return {call}; }}",
@@ -211,10 +219,6 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
         .map(|(e, entry, push, finish)| {
             let args = spec.args(e);
             let rgb = e.outputs() == 3;
-            let typed: Vec<String> = args
-                .iter()
-                .map(|a| format!("{}: {}", a.name(), if a.ty() == ArgType::Vec3 { "vec3<f32>" } else { "f32" }))
-                .collect();
             let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
             let rest = rest.join(", ");
             let surface = args.iter().any(|a| a.name() == "surface");
@@ -248,16 +252,12 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
     }}
 {last}    return {p}{finish}(acc, {end}, {rest});
 }}",
-                params = typed.join(", "),
+                params = param_list(&args, false),
                 ret = if rgb { "vec3<f32>" } else { "f32" },
                 v0 = vis("origin"),
                 vs = vis("origin + s * d"),
                 vp = vis(&format!("origin + {p}shafts_probe(acc) * d")),
             );
-            let glsl_typed: Vec<String> = args
-                .iter()
-                .map(|a| format!("{} {}", if a.ty() == ArgType::Vec3 { "vec3" } else { "float" }, a.name()))
-                .collect();
             let glsl_fn = format!(
                 "{GLSL_DEPTH_TEXTURE}{ret} {name}({params}, depthTexture shadow_map, mat4 shadow_matrix, float shadow_bias, float look_ups, float reach) {{
     vec3 d = normalize(dir);
@@ -274,7 +274,7 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
     }}
 {glast}    return {p}{finish}(acc, {end}, {rest});
 }}",
-                params = glsl_typed.join(", "),
+                params = param_list(&args, true),
                 ret = if rgb { "vec3" } else { "float" },
                 v0 = gvis("origin"),
                 vs = gvis("origin + s * d"),

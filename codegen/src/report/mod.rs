@@ -461,11 +461,8 @@ pub fn kernel_ir(specs: &[KernelSpec], kernels: &[Output]) -> Result<Vec<KernelI
         .map(|(s, path, src)| {
             let f = format!("{}airlight", s.prefix());
             let fail = |e: String| tera::Error::msg(format!("{path}: {e}"));
-            Ok(KernelIr {
-                name: s.name.clone(),
-                worst: airlight_fit::ircost::ir_cost(&src, &f).map_err(fail)?,
-                every: airlight_fit::ircost::ir_cost_every_branch(&src, &f).map_err(fail)?,
-            })
+            let (worst, every) = airlight_fit::ircost::ir_costs(&src, &f).map_err(fail)?;
+            Ok(KernelIr { name: s.name.clone(), worst, every })
         })
         .collect()
 }

@@ -356,6 +356,9 @@ struct FollowRow {
     every_line: String,
     /// "every branch" or "worst path": the count that misses less (rms).
     follows: &'static str,
+    /// Whether the measure is the GPU path's.
+    #[serde(skip)]
+    gpu: bool,
 }
 
 /// Per cost measure, how well each IR count predicts the measured cost over the
@@ -387,6 +390,7 @@ fn follows(b: &Bench, ir: &[KernelIr]) -> Vec<FollowRow> {
                 every_max: pct(e.max),
                 every_line: format!("{:.2} + {:.4} × ops", e.intercept, e.slope),
                 follows: if e.rms < w.rms { "every branch" } else { "worst path" },
+                gpu: cost != front::CostMeasure::Cpu,
             })
         })
         .collect()
@@ -417,8 +421,7 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     let follow_rows = follows(b, ir);
     // Whether some GPU-path measure follows every branch (the report then says what
     // that means for the branchy kernels).
-    let gpu_every =
-        follow_rows.iter().any(|f| f.measure != front::CostMeasure::Cpu.title() && f.follows == "every branch");
+    let gpu_every = follow_rows.iter().any(|f| f.gpu && f.follows == "every branch");
     ctx.insert("gpu_follows_every", &gpu_every);
     ctx.insert("follows", &follow_rows);
     ctx.insert("branchy", &branchy(b, ir));
