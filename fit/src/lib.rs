@@ -18,6 +18,7 @@ pub mod domains;
 pub mod e1;
 pub mod family;
 pub mod figure;
+pub mod fitset;
 pub mod fixtures;
 pub mod geometry;
 pub mod hexf;

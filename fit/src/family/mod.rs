@@ -443,6 +443,8 @@ macro_rules! families {
 families! {
     /// The whole of `A` by a composite rule in the HG variable φ, `eˣE₂` and Gauss–Laguerre.
     Phi(phi::PhiRule),
+    /// The cheap isotropic tiers: `eˣE₂` of `1/(1 + u)²` and fitted nodes for the rest, one path.
+    Lite(lite::LiteRule),
     /// A forward part plus a backward part: the paper's three families and their refits.
     Split(split::Split),
     /// The whole integral without extinction, in closed form (exact at `τ = 0`).

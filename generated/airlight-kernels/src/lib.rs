@@ -55,6 +55,8 @@ pub mod hg_exp2;
 #[rustfmt::skip]
 pub mod hg_exp3;
 #[rustfmt::skip]
+pub mod lite_iso_3;
+#[rustfmt::skip]
 pub mod phi_iso_4;
 #[rustfmt::skip]
 pub mod phi_iso_6;
@@ -450,6 +452,24 @@ pub const KERNELS: &[Kernel] = &[
         }),
         shadowed: Some(hg_exp3::shadowed),
         spot_shadowed: Some(hg_exp3::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-iso-3",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 4.867255598158716e-3,
+        dense_max_rel: 5.769225707049001e-3,
+        f32_thin_max_rel: Some(4.867649214251133e-3),
+        f32_dense_max_rel: Some(5.769678213860627e-3),
+        airlight: |tau, gamma, rho, _g| lite_iso_3::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
+        shadowed: Some(lite_iso_3::shadowed),
+        spot_shadowed: Some(lite_iso_3::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-4",

@@ -5,13 +5,11 @@
 //! tier's.
 
 use super::{E2Fit, PhiRule, E2_DEGREE, EIN_TERMS};
-use crate::domains::Domain;
+use crate::fitset::{self, Set, SetSpec};
 use crate::family::{phase_label, Assembled, Family};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
-use crate::reference::{self, Point};
-use crate::stats::rel_error;
+use crate::reference::Point;
 use crate::tomlfile::value::{f, hex_seed, i, kv, s};
-use std::sync::{Arc, Mutex, OnceLock};
 use toml::Value;
 
 /// The part `airlight fit --family phi` names.
@@ -125,40 +123,21 @@ fn with_split(r: &PhiRule, x: &[f64]) -> PhiRule {
     PhiRule { cut: c(0), far_from: c(1), far_tmax: c(2), far_cut: c(3), short: c(4), ..r.clone() }
 }
 
-/// Points with reference `A`.
-type Set = Arc<Vec<(Point, f64)>>;
-
-/// The fitting and check sets computed so far, by `g` range.
-type SetCache = Mutex<Vec<((f64, f64), Set, Set)>>;
-
-/// The fitting and check sets of a `g` range (thin ∪ dense; the fitting set with
-/// face grids), computed once per range and shared by its members.
+/// The split fit's sets over `g_range` ([`crate::fitset`]).
 fn sets(g_range: (f64, f64)) -> (Set, Set) {
-    static CACHE: OnceLock<SetCache> = OnceLock::new();
-    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
-    if let Some((_, a, b)) = cache.lock().expect("not poisoned").iter().find(|c| c.0 == g_range) {
-        return (a.clone(), b.clone());
-    }
-    let gs = crate::catalog::face_gs(g_range);
-    let with_ref = |pts: Vec<Point>| -> Set {
-        let v = crate::parallel::map(&pts, |p| reference::airlight(*p).expect("domain points are valid"), &|_, _| {});
-        Arc::new(pts.into_iter().zip(v).filter(|(_, a)| a.is_finite() && *a > 0.0).collect())
-    };
-    let (mut fit, mut check) = (Vec::new(), Vec::new());
-    for d in [Domain::Thin, Domain::Dense] {
-        fit.extend(d.validation_set(g_range, SPLIT_FIT_POINTS, SPLIT_FIT_SEED));
-        fit.extend(d.faces(&gs, SPLIT_FACES));
-        check.extend(d.validation_set(g_range, SPLIT_CHECK_POINTS, SPLIT_CHECK_SEED));
-    }
-    let (fit, check) = (with_ref(fit), with_ref(check));
-    cache.lock().expect("not poisoned").push((g_range, fit.clone(), check.clone()));
-    (fit, check)
+    fitset::sets(SetSpec {
+        g_range,
+        fit_points: SPLIT_FIT_POINTS,
+        fit_seed: SPLIT_FIT_SEED,
+        faces: SPLIT_FACES,
+        check_points: SPLIT_CHECK_POINTS,
+        check_seed: SPLIT_CHECK_SEED,
+    })
 }
 
 /// The largest relative error of `r` on `set`.
 fn max_on(r: &PhiRule, set: &[(Point, f64)]) -> f64 {
-    let errs = crate::parallel::map(set, |(p, a)| rel_error(r.eval(*p), *a), &|_, _| {});
-    errs.into_iter().fold(0.0, f64::max)
+    fitset::max_on(&|p| r.eval(p), set)
 }
 
 /// Fits `rule`'s split points over `g_range`: minimax (the largest relative error
@@ -244,22 +223,7 @@ pub fn assemble(t: PhiTier, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<
         phase_label(g_range),
     ];
     let provenance = vec![
-        (
-            "e2.fit".into(),
-            kv(vec![
-                ("source", s("this project: e^x E2(x) = 1 - x e^x E1(x); Ein's Taylor series below x = 1, a rational in t = 1/x beyond")),
-                ("target", s("e^x E2(x), x >= 1, through the reference complex E1 (fit/src/e1.rs, about 1e-15)")),
-                ("form", s(&format!("t P(t)/Q(t), P, Q of degree {E2_DEGREE} with unit constant terms; Ein to x^{EIN_TERMS}"))),
-                ("objective", s("relative error, linearised (Sanathanan-Koerner): each step linear least squares by SVD (nalgebra 0.34), weighted by the previous denominator")),
-                ("points", i(fit.points)),
-                ("points_from", s("Chebyshev points of t = 1/x in (0, 1]")),
-                ("iterations", i(fit.iterations)),
-                ("max_rel", f(fit.max_rel.0)),
-                ("max_rel_at_x", f(fit.max_rel.1)),
-                ("series_max_rel", f(fit.series_max_rel.0)),
-                ("series_max_rel_at_x", f(fit.series_max_rel.1)),
-            ]),
-        ),
+        e2_provenance(fit),
         split_provenance(split),
         nodes_provenance(&nodes, t),
     ];
@@ -272,6 +236,26 @@ pub fn assemble(t: PhiTier, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<
             ("fitted", s("e^x E2's rational (see [e2.fit]) and the split points (see [split.fit]); node counts are the tier's")),
         ]),
     })
+}
+
+/// The provenance table of `eˣE₂`'s fit (`[e2.fit]`), for every family that integrates with it.
+pub fn e2_provenance(fit: &E2Fit) -> crate::tomlfile::Provenance {
+(
+        "e2.fit".into(),
+        kv(vec![
+            ("source", s("this project: e^x E2(x) = 1 - x e^x E1(x); Ein's Taylor series below x = 1, a rational in t = 1/x beyond")),
+            ("target", s("e^x E2(x), x >= 1, through the reference complex E1 (fit/src/e1.rs, about 1e-15)")),
+            ("form", s(&format!("t P(t)/Q(t), P, Q of degree {E2_DEGREE} with unit constant terms; Ein to x^{EIN_TERMS}"))),
+            ("objective", s("relative error, linearised (Sanathanan-Koerner): each step linear least squares by SVD (nalgebra 0.34), weighted by the previous denominator")),
+            ("points", i(fit.points)),
+            ("points_from", s("Chebyshev points of t = 1/x in (0, 1]")),
+            ("iterations", i(fit.iterations)),
+            ("max_rel", f(fit.max_rel.0)),
+            ("max_rel_at_x", f(fit.max_rel.1)),
+            ("series_max_rel", f(fit.series_max_rel.0)),
+            ("series_max_rel_at_x", f(fit.series_max_rel.1)),
+        ]),
+    )
 }
 
 /// What `airlight fit --family phi` prints.

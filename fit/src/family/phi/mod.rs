@@ -81,6 +81,35 @@ pub fn exp_e2_exact(x: f64) -> f64 {
 }
 
 impl ExpE2 {
+    /// Writes the `[e2]` table of a coefficient file (its provenance `e2.fit` by `prov`).
+    pub fn render_toml(&self, o: &mut String, prov: &dyn Fn(&mut String, &str)) {
+        o.push_str("\n[e2]\nform = \"e^x E2(x): 1 + x e^x (ln x + Euler gamma - Ein(x)) for x < 1, Ein(x) = sum ein_k x^k; t P(t)/Q(t), t = 1/x, P = 1 + sum p_k t^k, Q = 1 + sum q_k t^k beyond\"\n");
+        crate::tomlfile::hex_list(o, "ein", &self.ein);
+        crate::tomlfile::hex_list(o, "p", &self.p);
+        crate::tomlfile::hex_list(o, "q", &self.q);
+        prov(o, "e2.fit");
+    }
+
+    /// Reads the `[e2]` table of a coefficient file.
+    pub fn parse_toml(r: &Reader, doc: &Table) -> Result<ExpE2, FieldError> {
+        let e = r.table(doc, "e2")?;
+        r.deny(e, "e2", &["form", "ein", "p", "q", "fit"])?;
+        let ein = r.hexes(e, "e2", "ein", Some(EIN_TERMS))?;
+        let p = r.hexes(e, "e2", "p", Some(E2_DEGREE))?;
+        let q = r.hexes(e, "e2", "q", Some(E2_DEGREE))?;
+        Ok(ExpE2 { ein, p, q })
+    }
+
+    /// What the shared template `e2.*.tera` needs: `euler`, `ein`, `e2p`, `e2q`, `e2_rev`.
+    pub fn insert_context(&self, ctx: &mut Context) {
+        ctx.insert("euler", &lit(EULER_GAMMA));
+        ctx.insert("ein", &lits(&self.ein));
+        ctx.insert("e2p", &lits(&self.p));
+        ctx.insert("e2q", &lits(&self.q));
+        let rev: Vec<E2Term> = self.p.iter().zip(&self.q).rev().map(|(&p, &q)| E2Term { p: lit(p), q: lit(q) }).collect();
+        ctx.insert("e2_rev", &rev);
+    }
+
     /// Evaluates it.
     pub fn eval(&self, x: f64) -> f64 {
         if x < 1.0 {
@@ -457,11 +486,7 @@ impl Family for PhiRule {
         let _ = writeln!(o, "nodes = {}", self.tail.x.len());
         crate::tomlfile::hex_list(o, "x", &self.tail.x);
         crate::tomlfile::hex_list(o, "w", &self.tail.w);
-        o.push_str("\n[e2]\nform = \"e^x E2(x): 1 + x e^x (ln x + Euler gamma - Ein(x)) for x < 1, Ein(x) = sum ein_k x^k; t P(t)/Q(t), t = 1/x, P = 1 + sum p_k t^k, Q = 1 + sum q_k t^k beyond\"\n");
-        crate::tomlfile::hex_list(o, "ein", &self.e2.ein);
-        crate::tomlfile::hex_list(o, "p", &self.e2.p);
-        crate::tomlfile::hex_list(o, "q", &self.e2.q);
-        prov(o, "e2.fit");
+        self.e2.render_toml(o, prov);
     }
 
     /// Reads its tables; the rules must be the Gauss rules they name.
@@ -503,12 +528,8 @@ impl Family for PhiRule {
         };
         let (cut, far_from, far_tmax, far_cut, short) =
             (pos("cut")?, pos("far_from")?, pos("far_tmax")?, pos("far_cut")?, pos("short")?);
-        let e = r.table(doc, "e2")?;
-        r.deny(e, "e2", &["form", "ein", "p", "q", "fit"])?;
-        let ein = r.hexes(e, "e2", "ein", Some(EIN_TERMS))?;
-        let p = r.hexes(e, "e2", "p", Some(E2_DEGREE))?;
-        let q = r.hexes(e, "e2", "q", Some(E2_DEGREE))?;
-        Ok(PhiRule { head, cut, far_from, far_tmax, far, far_cut, short, tail, e2: ExpE2 { ein, p, q } })
+        let e2 = ExpE2::parse_toml(r, doc)?;
+        Ok(PhiRule { head, cut, far_from, far_tmax, far, far_cut, short, tail, e2 })
     }
 }
 
@@ -592,12 +613,7 @@ fn kernel_context(r: &PhiRule, k: &KernelView) -> Context {
     ctx.insert("far_tmax", &lit(r.far_tmax));
     ctx.insert("short", &lit(r.short));
     ctx.insert("far_from", &lit(r.far_from));
-    ctx.insert("euler", &lit(EULER_GAMMA));
-    ctx.insert("ein", &lits(&r.e2.ein));
-    ctx.insert("e2p", &lits(&r.e2.p));
-    ctx.insert("e2q", &lits(&r.e2.q));
-    let rev: Vec<E2Term> = r.e2.p.iter().zip(&r.e2.q).rev().map(|(&p, &q)| E2Term { p: lit(p), q: lit(q) }).collect();
-    ctx.insert("e2_rev", &rev);
+    r.e2.insert_context(&mut ctx);
     ctx
 }
 

@@ -1,0 +1,173 @@
+//! The lite family's fit: each member's nodes, weights, `α` and `σ` together, by
+//! minimax against the reference (the largest relative error of `A` over a fitting
+//! set), Nelder–Mead restarted from `n`-point Gauss–Legendre; a check set of its
+//! own seed keeps whichever of the start and the fitted rule is better there. The
+//! declared bound is then measured like every model's, on points neither saw.
+
+use super::LiteRule;
+use crate::family::Family;
+use crate::family::phi::fit::e2_provenance;
+use crate::family::phi::E2Fit;
+use crate::family::{phase_label, Assembled};
+use crate::fitset::{self, SetSpec};
+use crate::lsq::{self, Outcome, OUTER_SOLVER};
+use crate::tomlfile::value::{f, hex_seed, i, kv, s};
+use toml::Value;
+
+/// The part `airlight fit --family lite` names.
+pub const PART: &str = "lite";
+/// Seed of the fitting set (the validation and its held-out rounds use their own).
+pub const FIT_SEED: u64 = 0xF17_0000_0000_0011;
+/// Seed of the check set.
+pub const CHECK_SEED: u64 = 0xF17_0000_0000_0012;
+/// Low-discrepancy points per domain in the fitting set.
+pub const FIT_POINTS: usize = 3000;
+/// Face grid per domain.
+pub const FACES: usize = 16;
+/// Points per domain in the check set.
+pub const CHECK_POINTS: usize = 3000;
+/// Nelder–Mead iterations per run, and restarts.
+pub const ITERS: u64 = 2500;
+/// Restarts of Nelder–Mead from its own best point.
+pub const RESTARTS: usize = 3;
+/// The box `α ∈ [0.05, 4]`, `σ ∈ [0.01, 1]`; nodes inside (0, 1) through a logistic map.
+pub const ALPHA_BOX: (f64, f64) = (0.05, 4.0);
+/// See [`ALPHA_BOX`].
+pub const SHORT_BOX: (f64, f64) = (0.01, 1.0);
+
+/// What the fit found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeFit {
+    /// The start and the fitted rule.
+    pub start: LiteRule,
+    /// The fitted rule.
+    pub fitted: LiteRule,
+    /// The one kept.
+    pub kept: LiteRule,
+    /// Max relative error on the fitting set: start, fitted.
+    pub fit_max: (f64, f64),
+    /// Max relative error on the check set: start, fitted.
+    pub check_max: (f64, f64),
+    /// What the search did.
+    pub outcome: Outcome,
+    /// Points in the fitting set and in the check set.
+    pub points: (usize, usize),
+}
+
+fn spec(g_range: (f64, f64)) -> SetSpec {
+    SetSpec {
+        g_range,
+        fit_points: FIT_POINTS,
+        fit_seed: FIT_SEED,
+        faces: FACES,
+        check_points: CHECK_POINTS,
+        check_seed: CHECK_SEED,
+    }
+}
+
+/// The search's parameters: `logit x_i`, `w_i`, `ln α`, `σ`.
+fn params(r: &LiteRule) -> Vec<f64> {
+    let mut p: Vec<f64> = r.x.iter().map(|x| (x / (1.0 - x)).ln()).collect();
+    p.extend(&r.w);
+    p.push(r.alpha.ln());
+    p.push(r.short);
+    p
+}
+
+/// The rule at parameters `p` (nodes sorted, `α` and `σ` clamped into their box).
+fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
+    let n = start.x.len();
+    let mut nodes: Vec<(f64, f64)> = (0..n).map(|j| (1.0 / (1.0 + (-p[j]).exp()), p[n + j])).collect();
+    nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Weights summing to 1: a constant integrand (the shortest intervals) is exact.
+    let total: f64 = nodes.iter().map(|q| q.1).sum();
+    LiteRule {
+        x: nodes.iter().map(|q| q.0).collect(),
+        w: nodes.iter().map(|q| q.1 / total).collect(),
+        alpha: p[2 * n].exp().clamp(ALPHA_BOX.0, ALPHA_BOX.1),
+        short: p[2 * n + 1].clamp(SHORT_BOX.0, SHORT_BOX.1),
+        e2: start.e2.clone(),
+    }
+}
+
+/// Fits the `n`-node member ([`NodeFit`]).
+pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &crate::family::phi::ExpE2) -> NodeFit {
+    let (fit_set, check_set) = fitset::sets(spec(g_range));
+    let start = LiteRule::start(n, e2.clone());
+    let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| {
+        let m = fitset::max_on(&|p| r.eval(p), set);
+        if m.is_finite() {
+            m
+        } else {
+            f64::MAX
+        }
+    };
+    let cost = |p: &[f64]| max_on(&rule_at(&start, p), &fit_set);
+    let p0 = params(&start);
+    let mut step: Vec<f64> = vec![0.3; n];
+    step.extend(start.w.iter().map(|w| 0.1 * w));
+    step.push(0.3);
+    step.push(0.05);
+    let outcome = lsq::nelder_mead_restarted(&cost, &p0, &step, 1e-10, ITERS, RESTARTS);
+    let fitted = rule_at(&start, &outcome.param);
+    let fit_max = (max_on(&start, &fit_set), max_on(&fitted, &fit_set));
+    let check_max = (max_on(&start, &check_set), max_on(&fitted, &check_set));
+    let kept = if check_max.1 < check_max.0 { fitted.clone() } else { start.clone() };
+    NodeFit { start, fitted, kept, fit_max, check_max, outcome, points: (fit_set.len(), check_set.len()) }
+}
+
+/// The node fit's provenance table.
+fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
+    let arr = |x: &[f64]| Value::Array(x.iter().map(|&v| f(v)).collect());
+    (
+        "nodes.fit".into(),
+        kv(vec![
+            ("objective", s("minimax: the largest relative error of A over the fitting set (f64 model)")),
+            ("parameters", s("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short; nodes sorted, alpha in [0.05, 4], short in [0.01, 1]")),
+            (
+                "points_from",
+                s(&format!(
+                    "{FIT_POINTS} low-discrepancy points inside thin and inside dense each (isotropic), and {FACES}x{FACES} grids on each domain's faces (seed below)"
+                )),
+            ),
+            ("points_seed", hex_seed(FIT_SEED)),
+            ("points", i(fit.points.0)),
+            ("solver", s(&format!("{OUTER_SOLVER}, restarted up to {RESTARTS} times, {ITERS} iterations a run, from Gauss-Legendre nodes on [0, 1], alpha 0.5, short 0.1"))),
+            ("iterations", i(fit.outcome.iterations)),
+            ("termination", s(&fit.outcome.termination)),
+            ("start_x", arr(&fit.start.x)),
+            ("start_w", arr(&fit.start.w)),
+            ("fitted_x", arr(&fit.fitted.x)),
+            ("fitted_w", arr(&fit.fitted.w)),
+            ("fitted_alpha", f(fit.fitted.alpha)),
+            ("fitted_short", f(fit.fitted.short)),
+            ("fit_max_rel_start", f(fit.fit_max.0)),
+            ("fit_max_rel_fitted", f(fit.fit_max.1)),
+            ("check", s(&format!("{CHECK_POINTS} points inside thin and inside dense each, a seed of their own (below): the rule with the smaller max there is kept"))),
+            ("check_seed", hex_seed(CHECK_SEED)),
+            ("check_points", i(fit.points.1)),
+            ("check_max_rel_start", f(fit.check_max.0)),
+            ("check_max_rel_fitted", f(fit.check_max.1)),
+            ("kept", s(if fit.kept == fit.fitted && fit.kept != fit.start { "fitted" } else { "start" })),
+        ]),
+    )
+}
+
+/// A member of the lite family (errors not yet measured): `eˣE₂` fitted, nodes,
+/// weights and split fitted ([`fit_nodes`]).
+pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<Assembled<LiteRule>, String> {
+    if g_range != (0.0, 0.0) {
+        return Err("the lite family is isotropic (g range (0, 0))".into());
+    }
+    let fit = fit.ok_or("the lite family's e^x E2 was not fitted")?;
+    let nodes = fit_nodes(n, g_range, &fit.e2);
+    Ok(Assembled {
+        body: nodes.kept.clone(),
+        families: vec![format!("lite-{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"), phase_label(g_range)],
+        provenance: vec![e2_provenance(fit), provenance(&nodes)],
+        method: kv(vec![
+            ("method", s("whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)")),
+            ("fitted", s("e^x E2's rational (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])")),
+        ]),
+    })
+}

@@ -1,0 +1,232 @@
+//! The lite family: the cheap isotropic tiers, one straight-line rule with no
+//! head, far or tail branch, so that the lanes of a GPU wave take the same path.
+//!
+//! In the u form (docs/MATH.md §3), `A = (2 e^{−τ}/h) P I`, `P = 1/(4π)`,
+//! `I = ∫_{ua}^{ub} e^{−T(u−ua)}/(1 + u²) du`, `T = τ h`. With `m = 1 + ua`,
+//! `Δ = ub − ua`:
+//!
+//! * `1/(1 + u²) = 1/(1 + u)² + k(u)`, `k(u) = 2u/((1 + u²)(1 + u)²) ≥ 0`, which
+//!   falls like `2/u³`. The first part carries the `u⁻²` tail and with it the
+//!   `T ln T` non-analyticity (docs/MATH.md §6): it is integrated exactly,
+//!   `J₀ = E(T m)/m − e^{−TΔ} E(T(m + Δ))/(m + Δ)`, `E(x) = eˣE₂(x)` (the φ family's
+//!   fitted rational and series, [`crate::family::phi::ExpE2`]).
+//! * `k` by `n` fitted nodes in the rational map `u = ua + λ r`, `r = s/(1 − s)`,
+//!   `s ∈ [0, s_b]`, `λ = m/(1 + α T m)`, `s_b = Δ/(λ + Δ)` (1 on an open ray):
+//!   `λ` is the scale of `k` (about `m`) where the medium is thin and the
+//!   transmittance's `1/T` where it is dense, so that `e^{−Tλr}` stays a gentle
+//!   function of `s` in both.
+//! * A short interval (`Δ < σ m`) takes `1/(1 + u²)` itself at the same nodes and no
+//!   `J₀` (the difference of two `E` would cancel there).
+//!
+//! Nodes `x_i`, weights `w_i`, `α` and `σ` are fitted together by minimax against
+//! the reference ([`fit`]). Isotropic only: the HG forward peak (width `κ`) needs
+//! the φ family's variable.
+
+pub mod fit;
+
+use crate::cost::{Cost, PhaseShape, Shape};
+use crate::family::phi::{u_geometry, E2Fit, ExpE2};
+use crate::family::{Assembled, Family, Role};
+use crate::reference::Point;
+use crate::template::{lit, lits, Context, KernelView, Templates};
+use crate::tomlfile::{FieldError, Reader};
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use toml::Table;
+
+/// A member: its fitted nodes, weights and split, and `eˣE₂`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiteRule {
+    /// Nodes `x_i ∈ (0, 1)`: `s = s_b x_i`.
+    pub x: Vec<f64>,
+    /// Weights.
+    pub w: Vec<f64>,
+    /// `α` of the scale `λ = m/(1 + α T m)`.
+    pub alpha: f64,
+    /// `σ`: an interval with `Δ < σ m` is short.
+    pub short: f64,
+    /// `eˣE₂`.
+    pub e2: ExpE2,
+}
+
+/// `k(u) = 1/(1 + u²) − 1/(1 + u)²`, cancellation-free.
+pub fn k_of_u(u: f64) -> f64 {
+    2.0 * u / ((1.0 + u * u) * (1.0 + u) * (1.0 + u))
+}
+
+impl LiteRule {
+    /// `n` Gauss–Legendre nodes on `[0, 1]`, `α = 1/2`, `σ = 0.1`: where the fit starts.
+    pub fn start(n: usize, e2: ExpE2) -> LiteRule {
+        let (x, w) = crate::quad::gauss_legendre(n);
+        // Increasing, as the coefficient file requires.
+        let mut nodes: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect();
+        nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        LiteRule {
+            x: nodes.iter().map(|q| q.0).collect(),
+            w: nodes.iter().map(|q| q.1).collect(),
+            alpha: 0.5,
+            short: 0.1,
+            e2,
+        }
+    }
+
+    /// `I` (without `2 e^{−τ} P/h`) from `T`, `ua` and `Δ` (`∞`: open).
+    pub fn integral(&self, t: f64, ua: f64, du: f64) -> f64 {
+        let m = 1.0 + ua;
+        let short = du < self.short * m;
+        let lam = m / (1.0 + self.alpha * t * m);
+        let mut sum = 0.0;
+        if !short {
+            sum += self.e2.eval(t * m) / m;
+            if du.is_finite() {
+                let mb = m + du;
+                sum -= (-t * du).exp() * self.e2.eval(t * mb) / mb;
+            }
+        }
+        let sb = if du.is_finite() { du / (lam + du) } else { 1.0 };
+        for (&x, &w) in self.x.iter().zip(&self.w) {
+            // r = s/(1 − s) at s = s_b x, without forming 1 − s.
+            let r = if du.is_finite() { du * x / (lam + du * (1.0 - x)) } else { x / (1.0 - x) };
+            let u = ua + lam * r;
+            let f = if short { 1.0 / (1.0 + u * u) } else { k_of_u(u) };
+            sum += w * sb * lam * (1.0 + r) * (1.0 + r) * f * (-t * lam * r).exp();
+        }
+        sum
+    }
+}
+
+impl Family for LiteRule {
+    const KIND: &'static str = "lite";
+    const DIR: &'static str = "lite";
+    const ROLE: Role = Role::Airlight;
+    const TABLES: &'static [&'static str] = &["nodes", "split", "e2"];
+    const TEMPLATES: Templates = crate::core_templates!();
+    const FIT_PARTS: &'static [&'static str] = &[fit::PART];
+    /// The number of nodes.
+    type Recipe = usize;
+    type Fit = Option<E2Fit>;
+
+    fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Option<E2Fit> {
+        Some(ExpE2::fit())
+    }
+
+    fn assemble(n: usize, g_range: (f64, f64), fit: &Option<E2Fit>) -> Result<Assembled<LiteRule>, String> {
+        fit::assemble(n, g_range, fit.as_ref())
+    }
+
+    /// Isotropic: `1/(4π)` folded in.
+    fn phase_shape(&self) -> PhaseShape {
+        PhaseShape::Isotropic
+    }
+
+    fn kernel_context(&self, k: &KernelView) -> Context {
+        let mut ctx = Context::quadrature(k);
+        ctx.insert("nodes", &lits(&self.x));
+        ctx.insert("weights", &lits(&self.w));
+        // r_i = x_i/(1 − x_i) on an open ray, and 1 − x_i.
+        let open_r: Vec<f64> = self.x.iter().map(|x| x / (1.0 - x)).collect();
+        ctx.insert("open_r", &lits(&open_r));
+        ctx.insert("one_minus_x", &lits(&self.x.iter().map(|x| 1.0 - x).collect::<Vec<_>>()));
+        ctx.insert("alpha", &lit(self.alpha));
+        ctx.insert("short", &lit(self.short));
+        self.e2.insert_context(&mut ctx);
+        ctx
+    }
+
+    /// `A` at a valid point (isotropic; `g` is not read).
+    fn eval(&self, p: Point) -> f64 {
+        let (h, ua, du, _) = u_geometry(p.gamma, p.rho);
+        if h <= 0.0 {
+            // On the axis (docs/MATH.md §5): the light ahead, `P e^{−τ} ρ/(1 − ρ)`
+            // before it, divergent through it; behind, `A` is flat in `h` to O(h²).
+            return if p.gamma >= 1.0 {
+                self.eval(Point { gamma: PI - 1e-12, ..p })
+            } else if p.rho < 1.0 {
+                (-p.tau).exp() * p.rho / (4.0 * PI * (1.0 - p.rho))
+            } else {
+                f64::INFINITY
+            };
+        }
+        2.0 * (-p.tau).exp() * self.integral(p.tau * h, ua, du) / (4.0 * PI * h)
+    }
+
+    /// One path for every ray: the geometry (the canonical entry's `sin_cos`, the
+    /// surface's `sqrt` and divisions), `λ`, `s_b`, two `eˣE₂` (`exp` and `log` below
+    /// 1) with their `exp` and divisions; per node `exp` and two divisions.
+    fn ops(&self, shape: Shape) -> Cost {
+        let s = usize::from(shape.surfaces);
+        let n = self.x.len();
+        Cost { exp: 1 + 3 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 1 + 2 + 4 + 2 * n, sincos: 1 }
+    }
+
+    fn render_toml(&self, _g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
+        o.push_str("\n[nodes]\nrule = \"fitted\"\n");
+        o.push_str("variable = \"s in [0, s_b]: u = ua + lambda s/(1 - s), lambda = m/(1 + alpha T m), m = 1 + ua, s_b = du/(lambda + du) (1 open); s = s_b x\"\n");
+        let _ = writeln!(o, "nodes = {}", self.x.len());
+        crate::tomlfile::hex_list(o, "x", &self.x);
+        crate::tomlfile::hex_list(o, "w", &self.w);
+        prov(o, "nodes.fit");
+        o.push_str("\n[split]\n");
+        let _ = writeln!(o, "alpha = {:?}", self.alpha);
+        let _ = writeln!(o, "short = {:?}", self.short);
+        self.e2.render_toml(o, prov);
+    }
+
+    /// Reads its tables: nodes inside (0, 1) and increasing, a finite positive split.
+    fn parse_toml(r: &Reader, doc: &Table, _g_range: &[f64]) -> Result<LiteRule, FieldError> {
+        let t = r.table(doc, "nodes")?;
+        r.deny(t, "nodes", &["rule", "variable", "nodes", "x", "w", "fit"])?;
+        r.expect_str(t, "nodes", "rule", "fitted")?;
+        let n = r.uint(t, "nodes", "nodes")?;
+        if !(1..=16).contains(&n) {
+            return Err(r.err("nodes", "nodes", "must be 1..=16"));
+        }
+        let x = r.hexes(t, "nodes", "x", Some(n))?;
+        if x.iter().any(|&x| !(x > 0.0 && x < 1.0)) || x.windows(2).any(|p| p[0] >= p[1]) {
+            return Err(r.err("nodes", "x", "must increase strictly inside (0, 1)"));
+        }
+        let w = r.hexes(t, "nodes", "w", Some(n))?;
+        if w.iter().any(|w| !w.is_finite()) {
+            return Err(r.err("nodes", "w", "must be finite"));
+        }
+        let s = r.table(doc, "split")?;
+        r.deny(s, "split", &["alpha", "short", "fit"])?;
+        let pos = |key: &str| -> Result<f64, FieldError> {
+            let v = r.float(s, "split", key)?;
+            if !(v.is_finite() && v > 0.0) {
+                return Err(r.err("split", key, "must be finite and positive"));
+            }
+            Ok(v)
+        };
+        let (alpha, short) = (pos("alpha")?, pos("short")?);
+        Ok(LiteRule { x, w, alpha, short, e2: ExpE2::parse_toml(r, doc)? })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference;
+
+    #[test]
+    fn the_split_weight_is_the_isotropic_weight() {
+        for u in [0.0, 1e-3, 0.5, 1.0, 7.0, 1e4] {
+            let direct = 1.0 / (1.0 + u * u) - 1.0 / ((1.0 + u) * (1.0 + u));
+            assert!((k_of_u(u) - direct).abs() <= 1e-15 * (1.0 / (1.0 + u * u)), "u {u}");
+        }
+    }
+
+    #[test]
+    fn many_nodes_converge_to_the_reference() {
+        // The map is exact in the limit: 24 Gauss–Legendre nodes, the start's split.
+        let r = LiteRule::start(24, ExpE2::fit().e2);
+        for &(tau, gamma, rho) in
+            &[(0.5, 1.0, 3.0), (3.0, 2.0, f64::INFINITY), (1e-3, 0.3, f64::INFINITY), (15.0, 3.1, 0.02), (8.0, 0.2, 40.0)]
+        {
+            let p = Point { tau, gamma, rho, g: 0.0 };
+            let exact = reference::airlight(p).unwrap();
+            let e = r.eval(p);
+            assert!((e / exact - 1.0).abs() < 1e-5, "{p:?}: {e} vs {exact}");
+        }
+    }
+}

@@ -1,0 +1,62 @@
+//! The points a family's parameter fit is judged on: a fitting set (low-discrepancy
+//! points inside `thin` and `dense`, plus grids on their faces) and a check set of a
+//! seed of its own, each with the reference `A`, computed once per request and
+//! shared by every member that asks for the same sets.
+
+use crate::domains::Domain;
+use crate::reference::{self, Point};
+use crate::stats::rel_error;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Points with reference `A`.
+pub type Set = Arc<Vec<(Point, f64)>>;
+
+/// What a pair of sets is drawn from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetSpec {
+    /// The `g` range (face grids at its ends and 0).
+    pub g_range: (f64, f64),
+    /// Low-discrepancy points per domain in the fitting set, and their seed.
+    pub fit_points: usize,
+    /// Seed of the fitting set.
+    pub fit_seed: u64,
+    /// Face grid per domain (`n × n` per face).
+    pub faces: usize,
+    /// Points per domain in the check set.
+    pub check_points: usize,
+    /// Seed of the check set.
+    pub check_seed: u64,
+}
+
+/// The sets computed so far.
+type SetCache = Mutex<Vec<(SetSpec, Set, Set)>>;
+
+/// The fitting and check sets of `spec` (thin ∪ dense; the fitting set with face
+/// grids), computed once and cached.
+pub fn sets(spec: SetSpec) -> (Set, Set) {
+    static CACHE: OnceLock<SetCache> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
+    if let Some((_, a, b)) = cache.lock().expect("not poisoned").iter().find(|c| c.0 == spec) {
+        return (a.clone(), b.clone());
+    }
+    let gs = crate::catalog::face_gs(spec.g_range);
+    let with_ref = |pts: Vec<Point>| -> Set {
+        let v = crate::parallel::map(&pts, |p| reference::airlight(*p).expect("domain points are valid"), &|_, _| {});
+        Arc::new(pts.into_iter().zip(v).filter(|(_, a)| a.is_finite() && *a > 0.0).collect())
+    };
+    let (mut fit, mut check) = (Vec::new(), Vec::new());
+    for d in [Domain::Thin, Domain::Dense] {
+        fit.extend(d.validation_set(spec.g_range, spec.fit_points, spec.fit_seed));
+        fit.extend(d.faces(&gs, spec.faces));
+        check.extend(d.validation_set(spec.g_range, spec.check_points, spec.check_seed));
+    }
+    let (fit, check) = (with_ref(fit), with_ref(check));
+    cache.lock().expect("not poisoned").push((spec, fit.clone(), check.clone()));
+    (fit, check)
+}
+
+/// The largest relative error of `eval` on `set`.
+pub fn max_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> f64 {
+    let errs = crate::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
+    errs.into_iter().fold(0.0, f64::max)
+}
