@@ -61,10 +61,10 @@ float2 airlight_lite_iso_3_halves(float a)
 
 float2 airlight_lite_iso_3_two_product(float a_1, float b)
 {
-    float p_1 = (a_1 * b);
+    float p = (a_1 * b);
     const float2 _e3 = airlight_lite_iso_3_halves(a_1);
     const float2 _e4 = airlight_lite_iso_3_halves(b);
-    return float2(p_1, (((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
+    return float2(p, (((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
 }
 
 float airlight_lite_iso_3_diff_of_products(float a_2, float b_1, float c, float d)
@@ -184,17 +184,17 @@ float airlight_lite_iso_3_scaled(float sigma_s, float intensity, float d_1, floa
     }
     airlight_lite_iso_3_frexp_result_f32_ s_4 = airlight_lite_iso_3_naga_frexp(sigma_s);
     airlight_lite_iso_3_frexp_result_f32_ i_1 = airlight_lite_iso_3_naga_frexp(intensity);
-    airlight_lite_iso_3_frexp_result_f32_ q_1 = airlight_lite_iso_3_naga_frexp(a_4);
+    airlight_lite_iso_3_frexp_result_f32_ q = airlight_lite_iso_3_naga_frexp(a_4);
     airlight_lite_iso_3_frexp_result_f32_ r_3 = airlight_lite_iso_3_naga_frexp(d_1);
-    airlight_lite_iso_3_frexp_result_f32_ m = airlight_lite_iso_3_naga_frexp((((s_4.fract * i_1.fract) * q_1.fract) / r_3.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_3.exp_));
+    airlight_lite_iso_3_frexp_result_f32_ m_1 = airlight_lite_iso_3_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_3.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m_1.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_3.exp_));
     if ((e > int(128))) {
         return airlight_lite_iso_3_HUGE;
     }
     if ((e < int(-149))) {
         return 0.0;
     }
-    return ldexp(m.fract, e);
+    return ldexp(m_1.fract, e);
 }
 
 float airlight_lite_iso_3_arctan(float x)
@@ -287,56 +287,36 @@ float2 airlight_lite_iso_3_sin_cos(float x_3)
     }
 }
 
-float airlight_lite_iso_3_exp_e2_(float x_4)
+float airlight_lite_iso_3_e2_over(float x_in, float m)
 {
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
 
-    if ((x_4 < 1.0)) {
-        float _e5 = ein;
-        ein = ((_e5 + -2.755732e-8) * x_4);
-        float _e9 = ein;
-        ein = ((_e9 + 3.0619245e-7) * x_4);
-        float _e13 = ein;
-        ein = ((_e13 + -3.1001985e-6) * x_4);
-        float _e17 = ein;
-        ein = ((_e17 + 2.8344672e-5) * x_4);
-        float _e21 = ein;
-        ein = ((_e21 + -0.00023148148) * x_4);
-        float _e25 = ein;
-        ein = ((_e25 + 0.0016666667) * x_4);
-        float _e29 = ein;
-        ein = ((_e29 + -0.010416667) * x_4);
-        float _e33 = ein;
-        ein = ((_e33 + 0.055555556) * x_4);
-        float _e37 = ein;
-        ein = ((_e37 + -0.25) * x_4);
-        float _e41 = ein;
-        ein = ((_e41 + 1.0) * x_4);
-        float _e52 = ein;
-        return (1.0 + ((x_4 * exp(x_4)) * ((log(max(x_4, 1e-30)) + 0.5772157) - _e52)));
-    }
-    float t = (1.0 / x_4);
-    float _e63 = p;
-    p = ((_e63 + 0.12941834) * t);
-    float _e67 = q;
-    q = ((_e67 + 15.616933) * t);
-    float _e71 = p;
-    p = ((_e71 + 13.425987) * t);
-    float _e75 = q;
-    q = ((_e75 + 51.058296) * t);
-    float _e79 = p;
-    p = ((_e79 + 24.985815) * t);
-    float _e83 = q;
-    q = ((_e83 + 43.252842) * t);
-    float _e87 = p;
-    p = ((_e87 + 10.132498) * t);
-    float _e91 = q;
-    q = ((_e91 + 12.132477) * t);
-    float _e95 = p;
-    float _e99 = q;
-    return ((t * (1.0 + _e95)) / (1.0 + _e99));
+    float x_5 = clamp(x_in, 1e-30, 100000000.0);
+    float l = (x_5 * log(((1.0 + x_5) / x_5)));
+    float _e16 = n1_;
+    n1_ = ((_e16 + 0.86534244) * x_5);
+    float _e20 = n1_;
+    n1_ = ((_e20 + 7.2858496) * x_5);
+    float _e24 = n1_;
+    n1_ = ((_e24 + 0.56966215) * x_5);
+    float _e28 = n2_;
+    n2_ = ((_e28 + 3.0385017) * x_5);
+    float _e32 = n2_;
+    n2_ = ((_e32 + 0.5760694) * x_5);
+    float _e36 = d_2;
+    d_2 = ((_e36 + 0.86534345) * x_5);
+    float _e40 = d_2;
+    d_2 = ((_e40 + 5.9773254) * x_5);
+    float _e44 = d_2;
+    d_2 = ((_e44 + 8.315555) * x_5);
+    float _e48 = d_2;
+    d_2 = ((_e48 + 0.0) * x_5);
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return (((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m));
 }
 
 float airlight_lite_iso_3_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr)
@@ -346,10 +326,10 @@ float airlight_lite_iso_3_airlight_geometry(float tau_in, float h_in, float x0_1
     bool local_6 = (bool)0;
     float du = airlight_lite_iso_3_HUGE;
     float sum = (float)0;
+    float inv = (float)0;
     float nodes = 0.0;
     float r_1 = (float)0;
     float u = (float)0;
-    float f = (float)0;
 
     float tau_5 = min(max(tau_in, 0.0), airlight_lite_iso_3_TAU_MAX);
     if ((x0_1 > 0.0)) {
@@ -394,88 +374,79 @@ float airlight_lite_iso_3_airlight_geometry(float tau_in, float h_in, float x0_1
     }
     float _e106 = du;
     float ub = (ua + _e106);
-    float t_1 = (tau_5 * tb);
-    float m_1 = (1.0 + ua);
-    float lam = (m_1 / (1.0 + ((0.5326564 * t_1) * m_1)));
+    float t = (tau_5 * tb);
+    float m_2 = (1.0 + ua);
+    float lam = (m_2 / (1.0 + ((0.6260066 * t) * m_2)));
     float _e117 = du;
-    bool is_short = (_e117 < (0.01 * m_1));
+    bool is_short = (_e117 < (0.01 * m_2));
     float _e121 = du;
-    float mb = (m_1 + _e121);
+    float mb = (m_2 + _e121);
     float _e124 = du;
-    const float _e128 = airlight_lite_iso_3_exp_e2_((t_1 * mb));
-    float from_b = (open ? 0.0 : ((exp((-(t_1) * _e124)) * _e128) / mb));
-    const float _e134 = airlight_lite_iso_3_exp_e2_((t_1 * m_1));
-    sum = (is_short ? 0.0 : ((_e134 / m_1) - from_b));
-    float _e140 = du;
-    float _e141 = du;
-    float sb_1 = (open ? 1.0 : (_e140 / (lam + _e141)));
-    float _e151 = du;
-    float _e154 = du;
-    r_1 = (open ? 0.17411016 : ((_e151 * 0.14829116) / (lam + (_e154 * 0.8517088))));
-    float _e161 = r_1;
-    u = (ua + (lam * _e161));
-    float _e164 = u;
-    float _e167 = u;
-    float _e168 = u;
-    float _e172 = u;
-    float _e176 = u;
-    float _e181 = u;
-    float _e182 = u;
-    f = (is_short ? (1.0 / (1.0 + (_e181 * _e182))) : ((2.0 * _e164) / (((1.0 + (_e167 * _e168)) * (1.0 + _e172)) * (1.0 + _e176))));
-    float _e189 = nodes;
-    float _e190 = r_1;
-    float _e195 = r_1;
-    float _e199 = f;
-    float _e203 = r_1;
-    nodes = (_e189 + ((((0.33349824 * (1.0 + _e190)) * (1.0 + _e195)) * _e199) * exp(((-(t_1) * lam) * _e203))));
-    float _e208 = du;
-    float _e211 = du;
-    r_1 = (open ? 1.0941924 : ((_e208 * 0.52248895) / (lam + (_e211 * 0.47751105))));
-    float _e218 = r_1;
-    u = (ua + (lam * _e218));
+    const float _e128 = airlight_lite_iso_3_e2_over((t * mb), mb);
+    float from_b = (open ? 0.0 : (exp((-(t) * _e124)) * _e128));
+    const float _e133 = airlight_lite_iso_3_e2_over((t * m_2), m_2);
+    sum = (is_short ? 0.0 : (_e133 - from_b));
+    float _e138 = du;
+    float _e139 = du;
+    float sb_1 = (open ? 1.0 : (_e138 / (lam + _e139)));
+    float pre0_ = (1.0 - (sb_1 * 0.12199741));
+    float om1_ = (1.0 - (sb_1 * 0.5162396));
+    float om2_ = (1.0 - (sb_1 * 0.8565312));
+    float pre1_ = (pre0_ * om1_);
+    float pre2_ = (pre1_ * om2_);
+    inv = (1.0 / pre2_);
+    float _e161 = inv;
+    float v2_ = (_e161 * pre1_);
+    float _e163 = inv;
+    inv = (_e163 * om2_);
+    float _e165 = inv;
+    float v1_ = (_e165 * pre0_);
+    float _e167 = inv;
+    inv = (_e167 * om1_);
+    float v0_ = inv;
+    r_1 = ((sb_1 * 0.12199741) * v0_);
+    float _e177 = r_1;
+    u = (ua + (lam * _e177));
+    float _e180 = nodes;
+    float _e184 = u;
+    float _e187 = u;
+    float _e190 = u;
+    float _e198 = u;
+    float _e199 = u;
+    float _e206 = r_1;
+    nodes = (_e180 + (((((0.30865994 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e184) / ((1.0 + _e187) * (1.0 + _e190))))) / (1.0 + (_e198 * _e199))) * exp(((-(t) * lam) * _e206))));
+    r_1 = ((sb_1 * 0.5162396) * v1_);
+    float _e214 = r_1;
+    u = (ua + (lam * _e214));
+    float _e217 = nodes;
     float _e221 = u;
     float _e224 = u;
-    float _e225 = u;
-    float _e229 = u;
-    float _e233 = u;
-    float _e238 = u;
-    float _e239 = u;
-    f = (is_short ? (1.0 / (1.0 + (_e238 * _e239))) : ((2.0 * _e221) / (((1.0 + (_e224 * _e225)) * (1.0 + _e229)) * (1.0 + _e233))));
-    float _e246 = nodes;
-    float _e247 = r_1;
-    float _e252 = r_1;
-    float _e256 = f;
-    float _e260 = r_1;
-    nodes = (_e246 + ((((0.3650244 * (1.0 + _e247)) * (1.0 + _e252)) * _e256) * exp(((-(t_1) * lam) * _e260))));
-    float _e265 = du;
-    float _e268 = du;
-    r_1 = (open ? 5.8278165 : ((_e265 * 0.8535403) / (lam + (_e268 * 0.1464597))));
-    float _e275 = r_1;
-    u = (ua + (lam * _e275));
-    float _e278 = u;
-    float _e281 = u;
-    float _e282 = u;
-    float _e286 = u;
-    float _e290 = u;
-    float _e295 = u;
-    float _e296 = u;
-    f = (is_short ? (1.0 / (1.0 + (_e295 * _e296))) : ((2.0 * _e278) / (((1.0 + (_e281 * _e282)) * (1.0 + _e286)) * (1.0 + _e290))));
-    float _e303 = nodes;
-    float _e304 = r_1;
-    float _e309 = r_1;
-    float _e313 = f;
-    float _e317 = r_1;
-    nodes = (_e303 + ((((0.3014774 * (1.0 + _e304)) * (1.0 + _e309)) * _e313) * exp(((-(t_1) * lam) * _e317))));
-    float _e322 = sum;
-    float _e323 = nodes;
-    sum = (_e322 + ((_e323 * sb_1) * lam));
+    float _e227 = u;
+    float _e235 = u;
+    float _e236 = u;
+    float _e243 = r_1;
+    nodes = (_e217 + (((((0.39840147 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e221) / ((1.0 + _e224) * (1.0 + _e227))))) / (1.0 + (_e235 * _e236))) * exp(((-(t) * lam) * _e243))));
+    r_1 = ((sb_1 * 0.8565312) * v2_);
+    float _e251 = r_1;
+    u = (ua + (lam * _e251));
+    float _e254 = nodes;
+    float _e258 = u;
+    float _e261 = u;
+    float _e264 = u;
+    float _e272 = u;
+    float _e273 = u;
+    float _e280 = r_1;
+    nodes = (_e254 + (((((0.29293856 * v2_) * v2_) * (is_short ? 1.0 : ((2.0 * _e258) / ((1.0 + _e261) * (1.0 + _e264))))) / (1.0 + (_e272 * _e273))) * exp(((-(t) * lam) * _e280))));
+    float _e285 = sum;
+    float _e286 = nodes;
+    sum = (_e285 + ((_e286 * sb_1) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e329 = sum;
-        const float _e337 = airlight_lite_iso_3_scaled((0.15915494 * max(_e329, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e337;
+        float _e292 = sum;
+        const float _e300 = airlight_lite_iso_3_scaled((0.15915494 * max(_e292, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e300;
     }
-    float _e342 = sum;
-    return min(max(((0.15915494 * exp(-(tau_5))) * (_e342 / tb)), 0.0), airlight_lite_iso_3_HUGE);
+    float _e305 = sum;
+    return min(max(((0.15915494 * exp(-(tau_5))) * (_e305 / tb)), 0.0), airlight_lite_iso_3_HUGE);
 }
 
 float airlight_lite_iso_3_airlight(float tau, float gamma, float rho_2)
@@ -525,9 +496,9 @@ float3 airlight_lite_iso_3_along_rgb(float3 tau_2, float h_3, float x0_3, float 
     return float3(_e7, _e9, _e11);
 }
 
-float airlight_lite_iso_3_spot_asin(float x_5, float r_2)
+float airlight_lite_iso_3_spot_asin(float x_4, float r_2)
 {
-    const float _e8 = airlight_lite_iso_3_arctan2_(x_5, sqrt(max(((r_2 - x_5) * (r_2 + x_5)), 0.0)));
+    const float _e8 = airlight_lite_iso_3_arctan2_(x_4, sqrt(max(((r_2 - x_4) * (r_2 + x_4)), 0.0)));
     return _e8;
 }
 
@@ -611,7 +582,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float st = (float)0;
     int i = int(0);
 
@@ -669,7 +640,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e112 = sb.y;
             float _e118 = sb.x;
             float _e121 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112)));
             float _e128 = sb.x;
             float _e131 = sb.y;
             st = max((x0_5 + ((h_5 * _e128) / max(_e131, 1e-30))), 1.0);
@@ -681,8 +652,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e156 = sb.y;
             float _e158 = sb.x;
             const float _e162 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158))), co_1, ci_1);
-            float _e165 = d_2;
-            float _e166 = d_2;
+            float _e165 = d_3;
+            float _e166 = d_3;
             float _e171 = st;
             sum_1 = (_e138 + ((((half_ * 0.101228535) * (_e162 - _e33)) / (_e165 * sqrt(_e166))) * exp((-(tau_4) * _e171))));
             w = (mid + (half_ * 0.7966665));
@@ -693,7 +664,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e189 = sb.y;
             float _e195 = sb.x;
             float _e198 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189)));
             float _e205 = sb.x;
             float _e208 = sb.y;
             st = max((x0_5 + ((h_5 * _e205) / max(_e208, 1e-30))), 1.0);
@@ -705,8 +676,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e233 = sb.y;
             float _e235 = sb.x;
             const float _e239 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235))), co_1, ci_1);
-            float _e242 = d_2;
-            float _e243 = d_2;
+            float _e242 = d_3;
+            float _e243 = d_3;
             float _e248 = st;
             sum_1 = (_e215 + ((((half_ * 0.22238104) * (_e239 - _e33)) / (_e242 * sqrt(_e243))) * exp((-(tau_4) * _e248))));
             w = (mid + (half_ * 0.5255324));
@@ -717,7 +688,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e266 = sb.y;
             float _e272 = sb.x;
             float _e275 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266)));
             float _e282 = sb.x;
             float _e285 = sb.y;
             st = max((x0_5 + ((h_5 * _e282) / max(_e285, 1e-30))), 1.0);
@@ -729,8 +700,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e310 = sb.y;
             float _e312 = sb.x;
             const float _e316 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312))), co_1, ci_1);
-            float _e319 = d_2;
-            float _e320 = d_2;
+            float _e319 = d_3;
+            float _e320 = d_3;
             float _e325 = st;
             sum_1 = (_e292 + ((((half_ * 0.31370664) * (_e316 - _e33)) / (_e319 * sqrt(_e320))) * exp((-(tau_4) * _e325))));
             w = (mid + (half_ * 0.18343464));
@@ -741,7 +712,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e343 = sb.y;
             float _e349 = sb.x;
             float _e352 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343)));
             float _e359 = sb.x;
             float _e362 = sb.y;
             st = max((x0_5 + ((h_5 * _e359) / max(_e362, 1e-30))), 1.0);
@@ -753,8 +724,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e387 = sb.y;
             float _e389 = sb.x;
             const float _e393 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389))), co_1, ci_1);
-            float _e396 = d_2;
-            float _e397 = d_2;
+            float _e396 = d_3;
+            float _e397 = d_3;
             float _e402 = st;
             sum_1 = (_e369 + ((((half_ * 0.36268377) * (_e393 - _e33)) / (_e396 * sqrt(_e397))) * exp((-(tau_4) * _e402))));
             w = (mid + (half_ * -0.18343464));
@@ -765,7 +736,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e420 = sb.y;
             float _e426 = sb.x;
             float _e429 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420)));
             float _e436 = sb.x;
             float _e439 = sb.y;
             st = max((x0_5 + ((h_5 * _e436) / max(_e439, 1e-30))), 1.0);
@@ -777,8 +748,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e464 = sb.y;
             float _e466 = sb.x;
             const float _e470 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466))), co_1, ci_1);
-            float _e473 = d_2;
-            float _e474 = d_2;
+            float _e473 = d_3;
+            float _e474 = d_3;
             float _e479 = st;
             sum_1 = (_e446 + ((((half_ * 0.36268377) * (_e470 - _e33)) / (_e473 * sqrt(_e474))) * exp((-(tau_4) * _e479))));
             w = (mid + (half_ * -0.5255324));
@@ -789,7 +760,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e497 = sb.y;
             float _e503 = sb.x;
             float _e506 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497)));
             float _e513 = sb.x;
             float _e516 = sb.y;
             st = max((x0_5 + ((h_5 * _e513) / max(_e516, 1e-30))), 1.0);
@@ -801,8 +772,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e541 = sb.y;
             float _e543 = sb.x;
             const float _e547 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543))), co_1, ci_1);
-            float _e550 = d_2;
-            float _e551 = d_2;
+            float _e550 = d_3;
+            float _e551 = d_3;
             float _e556 = st;
             sum_1 = (_e523 + ((((half_ * 0.31370664) * (_e547 - _e33)) / (_e550 * sqrt(_e551))) * exp((-(tau_4) * _e556))));
             w = (mid + (half_ * -0.7966665));
@@ -813,7 +784,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e574 = sb.y;
             float _e580 = sb.x;
             float _e583 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574)));
             float _e590 = sb.x;
             float _e593 = sb.y;
             st = max((x0_5 + ((h_5 * _e590) / max(_e593, 1e-30))), 1.0);
@@ -825,8 +796,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e618 = sb.y;
             float _e620 = sb.x;
             const float _e624 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620))), co_1, ci_1);
-            float _e627 = d_2;
-            float _e628 = d_2;
+            float _e627 = d_3;
+            float _e628 = d_3;
             float _e633 = st;
             sum_1 = (_e600 + ((((half_ * 0.22238104) * (_e624 - _e33)) / (_e627 * sqrt(_e628))) * exp((-(tau_4) * _e633))));
             w = (mid + (half_ * -0.96028984));
@@ -837,7 +808,7 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e651 = sb.y;
             float _e657 = sb.x;
             float _e660 = sb.x;
-            d_2 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651)));
+            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651)));
             float _e667 = sb.x;
             float _e670 = sb.y;
             st = max((x0_5 + ((h_5 * _e667) / max(_e670, 1e-30))), 1.0);
@@ -849,8 +820,8 @@ float3 airlight_lite_iso_3_spot_edge(float3 tau_4, float h_5, float x0_5, float 
             float _e695 = sb.y;
             float _e697 = sb.x;
             const float _e701 = airlight_lite_iso_3_spot_weight(((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697))), co_1, ci_1);
-            float _e704 = d_2;
-            float _e705 = d_2;
+            float _e704 = d_3;
+            float _e705 = d_3;
             float _e710 = st;
             sum_1 = (_e677 + ((((half_ * 0.101228535) * (_e701 - _e33)) / (_e704 * sqrt(_e705))) * exp((-(tau_4) * _e710))));
         }
@@ -942,17 +913,17 @@ float3 airlight_lite_iso_3_spot(float3 origin_2, float3 dir_2, float surface_1, 
     if (_e95) {
         return (0.0).xxx;
     }
-    float d_3 = _e10.x;
+    float d_4 = _e10.x;
     float h_6 = _e10.y;
     float x0_7 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_14 = ((surface_1 / d_3) < airlight_lite_iso_3_RHO_OPEN);
+        local_14 = ((surface_1 / d_4) < airlight_lite_iso_3_RHO_OPEN);
     } else {
         local_14 = false;
     }
     bool has_end = local_14;
-    float rho_8 = (has_end ? (surface_1 / d_3) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_3), (0.0).xxx), (10000.0).xxx);
+    float rho_8 = (has_end ? (surface_1 / d_4) : -1.0);
+    float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
     const float _e140 = airlight_lite_iso_3_arctan2_(h_6, x0_7);
     if (!(point_)) {
         local_15 = (h_6 <= 0.0);
@@ -980,10 +951,10 @@ float3 airlight_lite_iso_3_spot(float3 origin_2, float3 dir_2, float surface_1, 
         }
         core = true;
     } else {
-        float3 l = (light_2 - origin_2);
-        const float _e172 = airlight_lite_iso_3_max_abs(l);
+        float3 l_1 = (light_2 - origin_2);
+        const float _e172 = airlight_lite_iso_3_max_abs(l_1);
         float3 _e175 = n;
-        float3 cr = cross((l / (_e172).xxx), _e175);
+        float3 cr = cross((l_1 / (_e172).xxx), _e175);
         float3 _e177 = n;
         float3 _e178 = ax;
         ca_1 = (dot(cr, cross(_e177, _e178)) / max(length(cr), 1e-30));
@@ -1072,13 +1043,13 @@ float3 airlight_lite_iso_3_spot(float3 origin_2, float3 dir_2, float surface_1, 
     }
     float _e277 = scale;
     float _e280 = a_5.x;
-    const float _e281 = airlight_lite_iso_3_scaled(sigma_s_2.x, (intensity_2 * _e277), d_3, _e280);
+    const float _e281 = airlight_lite_iso_3_scaled(sigma_s_2.x, (intensity_2 * _e277), d_4, _e280);
     float _e283 = scale;
     float _e286 = a_5.y;
-    const float _e287 = airlight_lite_iso_3_scaled(sigma_s_2.y, (intensity_2 * _e283), d_3, _e286);
+    const float _e287 = airlight_lite_iso_3_scaled(sigma_s_2.y, (intensity_2 * _e283), d_4, _e286);
     float _e289 = scale;
     float _e292 = a_5.z;
-    const float _e293 = airlight_lite_iso_3_scaled(sigma_s_2.z, (intensity_2 * _e289), d_3, _e292);
+    const float _e293 = airlight_lite_iso_3_scaled(sigma_s_2.z, (intensity_2 * _e289), d_4, _e292);
     return float3(_e281, _e287, _e293);
 }
 
@@ -1125,14 +1096,14 @@ void airlight_lite_iso_3_shafts_refine(inout airlight_lite_iso_3_Shafts acc_3, f
     if (_e3) {
         float _e5 = acc_3.lo;
         float _e7 = acc_3.hi;
-        float m_2 = (0.5 * (_e5 + _e7));
+        float m_3 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
         if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
-            acc_3.lo = m_2;
+            acc_3.lo = m_3;
             return;
         } else {
-            acc_3.hi = m_2;
+            acc_3.hi = m_3;
             return;
         }
     } else {
@@ -1149,11 +1120,11 @@ float3 airlight_lite_iso_3_shafts_place(inout airlight_lite_iso_3_Shafts acc_4)
     acc_4.pending = false;
     float _e9 = acc_4.lo;
     float _e11 = acc_4.hi;
-    float m_3 = (0.5 * (_e9 + _e11));
+    float m_4 = (0.5 * (_e9 + _e11));
     float _e16 = acc_4.start;
     float _e18 = acc_4.before;
-    float3 run_1 = float3(_e16, m_3, _e18);
-    acc_4.start = m_3;
+    float3 run_1 = float3(_e16, m_4, _e18);
+    acc_4.start = m_4;
     float _e23 = acc_4.after;
     acc_4.v = _e23;
     return run_1;

@@ -77,10 +77,10 @@ metal::float2 airlight_lite_iso_3_two_product(
     float a_1,
     float b
 ) {
-    float p_1 = a_1 * b;
+    float p = a_1 * b;
     metal::float2 _e3 = airlight_lite_iso_3_halves(a_1);
     metal::float2 _e4 = airlight_lite_iso_3_halves(b);
-    return metal::float2(p_1, ((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
+    return metal::float2(p, ((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
 }
 
 float airlight_lite_iso_3_diff_of_products(
@@ -206,17 +206,17 @@ float airlight_lite_iso_3_scaled(
     }
     airlight_lite_iso_3_frexp_result_f32_ s_4 = airlight_lite_iso_3_naga_frexp(sigma_s);
     airlight_lite_iso_3_frexp_result_f32_ i_1 = airlight_lite_iso_3_naga_frexp(intensity);
-    airlight_lite_iso_3_frexp_result_f32_ q_1 = airlight_lite_iso_3_naga_frexp(a_4);
+    airlight_lite_iso_3_frexp_result_f32_ q = airlight_lite_iso_3_naga_frexp(a_4);
     airlight_lite_iso_3_frexp_result_f32_ r_3 = airlight_lite_iso_3_naga_frexp(d_1);
-    airlight_lite_iso_3_frexp_result_f32_ m = airlight_lite_iso_3_naga_frexp(((s_4.fract * i_1.fract) * q_1.fract) / r_3.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_3.exp));
+    airlight_lite_iso_3_frexp_result_f32_ m_1 = airlight_lite_iso_3_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_3.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp));
     if (e > 128) {
         return airlight_lite_iso_3_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_lite_iso_3_arctan(
@@ -312,56 +312,37 @@ metal::float2 airlight_lite_iso_3_sin_cos(
     }
 }
 
-float airlight_lite_iso_3_exp_e2_(
-    float x_4
+float airlight_lite_iso_3_e2_over(
+    float x_in,
+    float m
 ) {
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
-    if (x_4 < 1.0) {
-        float _e5 = ein;
-        ein = (_e5 + -0.00000002755732) * x_4;
-        float _e9 = ein;
-        ein = (_e9 + 0.00000030619245) * x_4;
-        float _e13 = ein;
-        ein = (_e13 + -0.0000031001985) * x_4;
-        float _e17 = ein;
-        ein = (_e17 + 0.000028344672) * x_4;
-        float _e21 = ein;
-        ein = (_e21 + -0.00023148148) * x_4;
-        float _e25 = ein;
-        ein = (_e25 + 0.0016666667) * x_4;
-        float _e29 = ein;
-        ein = (_e29 + -0.010416667) * x_4;
-        float _e33 = ein;
-        ein = (_e33 + 0.055555556) * x_4;
-        float _e37 = ein;
-        ein = (_e37 + -0.25) * x_4;
-        float _e41 = ein;
-        ein = (_e41 + 1.0) * x_4;
-        float _e52 = ein;
-        return 1.0 + ((x_4 * metal::exp(x_4)) * ((metal::log(metal::max(x_4, 0.000000000000000000000000000001)) + 0.5772157) - _e52));
-    }
-    float t = 1.0 / x_4;
-    float _e63 = p;
-    p = (_e63 + 0.12941834) * t;
-    float _e67 = q;
-    q = (_e67 + 15.616933) * t;
-    float _e71 = p;
-    p = (_e71 + 13.425987) * t;
-    float _e75 = q;
-    q = (_e75 + 51.058296) * t;
-    float _e79 = p;
-    p = (_e79 + 24.985815) * t;
-    float _e83 = q;
-    q = (_e83 + 43.252842) * t;
-    float _e87 = p;
-    p = (_e87 + 10.132498) * t;
-    float _e91 = q;
-    q = (_e91 + 12.132477) * t;
-    float _e95 = p;
-    float _e99 = q;
-    return (t * (1.0 + _e95)) / (1.0 + _e99);
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_5 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_5 * metal::log((1.0 + x_5) / x_5);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_5;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_5;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_5;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_5;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_5;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_5;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_5;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_5;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_5;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_lite_iso_3_airlight_geometry(
@@ -376,10 +357,10 @@ float airlight_lite_iso_3_airlight_geometry(
     bool local_6 = {};
     float du = airlight_lite_iso_3_HUGE;
     float sum = {};
+    float inv = {};
     float nodes = 0.0;
     float r_1 = {};
     float u = {};
-    float f = {};
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_lite_iso_3_TAU_MAX);
     if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
@@ -423,88 +404,79 @@ float airlight_lite_iso_3_airlight_geometry(
     }
     float _e106 = du;
     float ub = ua + _e106;
-    float t_1 = tau_5 * tb;
-    float m_1 = 1.0 + ua;
-    float lam = m_1 / (1.0 + ((0.5326564 * t_1) * m_1));
+    float t = tau_5 * tb;
+    float m_2 = 1.0 + ua;
+    float lam = m_2 / (1.0 + ((0.6260066 * t) * m_2));
     float _e117 = du;
-    bool is_short = _e117 < (0.01 * m_1);
+    bool is_short = _e117 < (0.01 * m_2);
     float _e121 = du;
-    float mb = m_1 + _e121;
+    float mb = m_2 + _e121;
     float _e124 = du;
-    float _e128 = airlight_lite_iso_3_exp_e2_(t_1 * mb);
-    float from_b = open ? 0.0 : ((metal::exp(-(t_1) * _e124) * _e128) / mb);
-    float _e134 = airlight_lite_iso_3_exp_e2_(t_1 * m_1);
-    sum = is_short ? 0.0 : ((_e134 / m_1) - from_b);
-    float _e140 = du;
-    float _e141 = du;
-    float sb_1 = open ? 1.0 : (_e140 / (lam + _e141));
-    float _e151 = du;
-    float _e154 = du;
-    r_1 = open ? 0.17411016 : ((_e151 * 0.14829116) / (lam + (_e154 * 0.8517088)));
-    float _e161 = r_1;
-    u = ua + (lam * _e161);
-    float _e164 = u;
-    float _e167 = u;
-    float _e168 = u;
-    float _e172 = u;
-    float _e176 = u;
-    float _e181 = u;
-    float _e182 = u;
-    f = is_short ? (1.0 / (1.0 + (_e181 * _e182))) : ((2.0 * _e164) / (((1.0 + (_e167 * _e168)) * (1.0 + _e172)) * (1.0 + _e176)));
-    float _e189 = nodes;
-    float _e190 = r_1;
-    float _e195 = r_1;
-    float _e199 = f;
-    float _e203 = r_1;
-    nodes = _e189 + ((((0.33349824 * (1.0 + _e190)) * (1.0 + _e195)) * _e199) * metal::exp((-(t_1) * lam) * _e203));
-    float _e208 = du;
-    float _e211 = du;
-    r_1 = open ? 1.0941924 : ((_e208 * 0.52248895) / (lam + (_e211 * 0.47751105)));
-    float _e218 = r_1;
-    u = ua + (lam * _e218);
+    float _e128 = airlight_lite_iso_3_e2_over(t * mb, mb);
+    float from_b = open ? 0.0 : (metal::exp(-(t) * _e124) * _e128);
+    float _e133 = airlight_lite_iso_3_e2_over(t * m_2, m_2);
+    sum = is_short ? 0.0 : (_e133 - from_b);
+    float _e138 = du;
+    float _e139 = du;
+    float sb_1 = open ? 1.0 : (_e138 / (lam + _e139));
+    float pre0_ = 1.0 - (sb_1 * 0.12199741);
+    float om1_ = 1.0 - (sb_1 * 0.5162396);
+    float om2_ = 1.0 - (sb_1 * 0.8565312);
+    float pre1_ = pre0_ * om1_;
+    float pre2_ = pre1_ * om2_;
+    inv = 1.0 / pre2_;
+    float _e161 = inv;
+    float v2_ = _e161 * pre1_;
+    float _e163 = inv;
+    inv = _e163 * om2_;
+    float _e165 = inv;
+    float v1_ = _e165 * pre0_;
+    float _e167 = inv;
+    inv = _e167 * om1_;
+    float v0_ = inv;
+    r_1 = (sb_1 * 0.12199741) * v0_;
+    float _e177 = r_1;
+    u = ua + (lam * _e177);
+    float _e180 = nodes;
+    float _e184 = u;
+    float _e187 = u;
+    float _e190 = u;
+    float _e198 = u;
+    float _e199 = u;
+    float _e206 = r_1;
+    nodes = _e180 + (((((0.30865994 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e184) / ((1.0 + _e187) * (1.0 + _e190))))) / (1.0 + (_e198 * _e199))) * metal::exp((-(t) * lam) * _e206));
+    r_1 = (sb_1 * 0.5162396) * v1_;
+    float _e214 = r_1;
+    u = ua + (lam * _e214);
+    float _e217 = nodes;
     float _e221 = u;
     float _e224 = u;
-    float _e225 = u;
-    float _e229 = u;
-    float _e233 = u;
-    float _e238 = u;
-    float _e239 = u;
-    f = is_short ? (1.0 / (1.0 + (_e238 * _e239))) : ((2.0 * _e221) / (((1.0 + (_e224 * _e225)) * (1.0 + _e229)) * (1.0 + _e233)));
-    float _e246 = nodes;
-    float _e247 = r_1;
-    float _e252 = r_1;
-    float _e256 = f;
-    float _e260 = r_1;
-    nodes = _e246 + ((((0.3650244 * (1.0 + _e247)) * (1.0 + _e252)) * _e256) * metal::exp((-(t_1) * lam) * _e260));
-    float _e265 = du;
-    float _e268 = du;
-    r_1 = open ? 5.8278165 : ((_e265 * 0.8535403) / (lam + (_e268 * 0.1464597)));
-    float _e275 = r_1;
-    u = ua + (lam * _e275);
-    float _e278 = u;
-    float _e281 = u;
-    float _e282 = u;
-    float _e286 = u;
-    float _e290 = u;
-    float _e295 = u;
-    float _e296 = u;
-    f = is_short ? (1.0 / (1.0 + (_e295 * _e296))) : ((2.0 * _e278) / (((1.0 + (_e281 * _e282)) * (1.0 + _e286)) * (1.0 + _e290)));
-    float _e303 = nodes;
-    float _e304 = r_1;
-    float _e309 = r_1;
-    float _e313 = f;
-    float _e317 = r_1;
-    nodes = _e303 + ((((0.3014774 * (1.0 + _e304)) * (1.0 + _e309)) * _e313) * metal::exp((-(t_1) * lam) * _e317));
-    float _e322 = sum;
-    float _e323 = nodes;
-    sum = _e322 + ((_e323 * sb_1) * lam);
+    float _e227 = u;
+    float _e235 = u;
+    float _e236 = u;
+    float _e243 = r_1;
+    nodes = _e217 + (((((0.39840147 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e221) / ((1.0 + _e224) * (1.0 + _e227))))) / (1.0 + (_e235 * _e236))) * metal::exp((-(t) * lam) * _e243));
+    r_1 = (sb_1 * 0.8565312) * v2_;
+    float _e251 = r_1;
+    u = ua + (lam * _e251);
+    float _e254 = nodes;
+    float _e258 = u;
+    float _e261 = u;
+    float _e264 = u;
+    float _e272 = u;
+    float _e273 = u;
+    float _e280 = r_1;
+    nodes = _e254 + (((((0.29293856 * v2_) * v2_) * (is_short ? 1.0 : ((2.0 * _e258) / ((1.0 + _e261) * (1.0 + _e264))))) / (1.0 + (_e272 * _e273))) * metal::exp((-(t) * lam) * _e280));
+    float _e285 = sum;
+    float _e286 = nodes;
+    sum = _e285 + ((_e286 * sb_1) * lam);
     if (tb < 0.0000000000000000008673617) {
-        float _e329 = sum;
-        float _e337 = airlight_lite_iso_3_scaled(0.15915494 * metal::max(_e329, 0.0), metal::exp(-(tau_5)), tb, 1.0);
-        return _e337;
+        float _e292 = sum;
+        float _e300 = airlight_lite_iso_3_scaled(0.15915494 * metal::max(_e292, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e300;
     }
-    float _e342 = sum;
-    return metal::min(metal::max((0.15915494 * metal::exp(-(tau_5))) * (_e342 / tb), 0.0), airlight_lite_iso_3_HUGE);
+    float _e305 = sum;
+    return metal::min(metal::max((0.15915494 * metal::exp(-(tau_5))) * (_e305 / tb), 0.0), airlight_lite_iso_3_HUGE);
 }
 
 float airlight_lite_iso_3_airlight(
@@ -576,10 +548,10 @@ metal::float3 airlight_lite_iso_3_along_rgb(
 }
 
 float airlight_lite_iso_3_spot_asin(
-    float x_5,
+    float x_4,
     float r_2
 ) {
-    float _e8 = airlight_lite_iso_3_arctan2_(x_5, metal::sqrt(metal::max((r_2 - x_5) * (r_2 + x_5), 0.0)));
+    float _e8 = airlight_lite_iso_3_arctan2_(x_4, metal::sqrt(metal::max((r_2 - x_4) * (r_2 + x_4), 0.0)));
     return _e8;
 }
 
@@ -682,7 +654,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
     metal::float3 sum_1 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_2 = {};
+    float d_3 = {};
     float st = {};
     int i = 0;
     if (!((v_in > u_1))) {
@@ -739,7 +711,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e112 = sb.y;
             float _e118 = sb.x;
             float _e121 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e118) * _e121)) : (gp - (((4.0 * g_3) * _e109) * _e112));
             float _e128 = sb.x;
             float _e131 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
@@ -751,8 +723,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e156 = sb.y;
             float _e158 = sb.x;
             float _e162 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158)), co_1, ci_1);
-            float _e165 = d_2;
-            float _e166 = d_2;
+            float _e165 = d_3;
+            float _e166 = d_3;
             float _e171 = st;
             sum_1 = _e138 + ((((half_ * 0.101228535) * (_e162 - _e33)) / (_e165 * metal::sqrt(_e166))) * metal::exp(-(tau_4) * _e171));
             w = mid + (half_ * 0.7966665);
@@ -763,7 +735,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e189 = sb.y;
             float _e195 = sb.x;
             float _e198 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e195) * _e198)) : (gp - (((4.0 * g_3) * _e186) * _e189));
             float _e205 = sb.x;
             float _e208 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
@@ -775,8 +747,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e233 = sb.y;
             float _e235 = sb.x;
             float _e239 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235)), co_1, ci_1);
-            float _e242 = d_2;
-            float _e243 = d_2;
+            float _e242 = d_3;
+            float _e243 = d_3;
             float _e248 = st;
             sum_1 = _e215 + ((((half_ * 0.22238104) * (_e239 - _e33)) / (_e242 * metal::sqrt(_e243))) * metal::exp(-(tau_4) * _e248));
             w = mid + (half_ * 0.5255324);
@@ -787,7 +759,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e266 = sb.y;
             float _e272 = sb.x;
             float _e275 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e272) * _e275)) : (gp - (((4.0 * g_3) * _e263) * _e266));
             float _e282 = sb.x;
             float _e285 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
@@ -799,8 +771,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e310 = sb.y;
             float _e312 = sb.x;
             float _e316 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312)), co_1, ci_1);
-            float _e319 = d_2;
-            float _e320 = d_2;
+            float _e319 = d_3;
+            float _e320 = d_3;
             float _e325 = st;
             sum_1 = _e292 + ((((half_ * 0.31370664) * (_e316 - _e33)) / (_e319 * metal::sqrt(_e320))) * metal::exp(-(tau_4) * _e325));
             w = mid + (half_ * 0.18343464);
@@ -811,7 +783,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e343 = sb.y;
             float _e349 = sb.x;
             float _e352 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e349) * _e352)) : (gp - (((4.0 * g_3) * _e340) * _e343));
             float _e359 = sb.x;
             float _e362 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
@@ -823,8 +795,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e387 = sb.y;
             float _e389 = sb.x;
             float _e393 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389)), co_1, ci_1);
-            float _e396 = d_2;
-            float _e397 = d_2;
+            float _e396 = d_3;
+            float _e397 = d_3;
             float _e402 = st;
             sum_1 = _e369 + ((((half_ * 0.36268377) * (_e393 - _e33)) / (_e396 * metal::sqrt(_e397))) * metal::exp(-(tau_4) * _e402));
             w = mid + (half_ * -0.18343464);
@@ -835,7 +807,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e420 = sb.y;
             float _e426 = sb.x;
             float _e429 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e426) * _e429)) : (gp - (((4.0 * g_3) * _e417) * _e420));
             float _e436 = sb.x;
             float _e439 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
@@ -847,8 +819,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e464 = sb.y;
             float _e466 = sb.x;
             float _e470 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466)), co_1, ci_1);
-            float _e473 = d_2;
-            float _e474 = d_2;
+            float _e473 = d_3;
+            float _e474 = d_3;
             float _e479 = st;
             sum_1 = _e446 + ((((half_ * 0.36268377) * (_e470 - _e33)) / (_e473 * metal::sqrt(_e474))) * metal::exp(-(tau_4) * _e479));
             w = mid + (half_ * -0.5255324);
@@ -859,7 +831,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e497 = sb.y;
             float _e503 = sb.x;
             float _e506 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e503) * _e506)) : (gp - (((4.0 * g_3) * _e494) * _e497));
             float _e513 = sb.x;
             float _e516 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
@@ -871,8 +843,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e541 = sb.y;
             float _e543 = sb.x;
             float _e547 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543)), co_1, ci_1);
-            float _e550 = d_2;
-            float _e551 = d_2;
+            float _e550 = d_3;
+            float _e551 = d_3;
             float _e556 = st;
             sum_1 = _e523 + ((((half_ * 0.31370664) * (_e547 - _e33)) / (_e550 * metal::sqrt(_e551))) * metal::exp(-(tau_4) * _e556));
             w = mid + (half_ * -0.7966665);
@@ -883,7 +855,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e574 = sb.y;
             float _e580 = sb.x;
             float _e583 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e580) * _e583)) : (gp - (((4.0 * g_3) * _e571) * _e574));
             float _e590 = sb.x;
             float _e593 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
@@ -895,8 +867,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e618 = sb.y;
             float _e620 = sb.x;
             float _e624 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620)), co_1, ci_1);
-            float _e627 = d_2;
-            float _e628 = d_2;
+            float _e627 = d_3;
+            float _e628 = d_3;
             float _e633 = st;
             sum_1 = _e600 + ((((half_ * 0.22238104) * (_e624 - _e33)) / (_e627 * metal::sqrt(_e628))) * metal::exp(-(tau_4) * _e633));
             w = mid + (half_ * -0.96028984);
@@ -907,7 +879,7 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e651 = sb.y;
             float _e657 = sb.x;
             float _e660 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e657) * _e660)) : (gp - (((4.0 * g_3) * _e648) * _e651));
             float _e667 = sb.x;
             float _e670 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
@@ -919,8 +891,8 @@ metal::float3 airlight_lite_iso_3_spot_edge(
             float _e695 = sb.y;
             float _e697 = sb.x;
             float _e701 = airlight_lite_iso_3_spot_weight((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697)), co_1, ci_1);
-            float _e704 = d_2;
-            float _e705 = d_2;
+            float _e704 = d_3;
+            float _e705 = d_3;
             float _e710 = st;
             sum_1 = _e677 + ((((half_ * 0.101228535) * (_e701 - _e33)) / (_e704 * metal::sqrt(_e705))) * metal::exp(-(tau_4) * _e710));
         }
@@ -1021,17 +993,17 @@ metal::float3 airlight_lite_iso_3_spot(
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_3 = _e10.x;
+    float d_4 = _e10.x;
     float h_6 = _e10.y;
     float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_14 = (surface_1 / d_3) < airlight_lite_iso_3_RHO_OPEN;
+        local_14 = (surface_1 / d_4) < airlight_lite_iso_3_RHO_OPEN;
     } else {
         local_14 = false;
     }
     bool has_end = local_14;
-    float rho_8 = has_end ? (surface_1 / d_3) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_3, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
+    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     float _e140 = airlight_lite_iso_3_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_15 = h_6 <= 0.0;
@@ -1059,10 +1031,10 @@ metal::float3 airlight_lite_iso_3_spot(
         }
         core = true;
     } else {
-        metal::float3 l = light_2 - origin_2;
-        float _e172 = airlight_lite_iso_3_max_abs(l);
+        metal::float3 l_1 = light_2 - origin_2;
+        float _e172 = airlight_lite_iso_3_max_abs(l_1);
         metal::float3 _e175 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e172), _e175);
+        metal::float3 cr = metal::cross(l_1 / metal::float3(_e172), _e175);
         metal::float3 _e177 = n;
         metal::float3 _e178 = ax;
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
@@ -1151,13 +1123,13 @@ metal::float3 airlight_lite_iso_3_spot(
     }
     float _e277 = scale;
     float _e280 = a_5.x;
-    float _e281 = airlight_lite_iso_3_scaled(sigma_s_2.x, intensity_2 * _e277, d_3, _e280);
+    float _e281 = airlight_lite_iso_3_scaled(sigma_s_2.x, intensity_2 * _e277, d_4, _e280);
     float _e283 = scale;
     float _e286 = a_5.y;
-    float _e287 = airlight_lite_iso_3_scaled(sigma_s_2.y, intensity_2 * _e283, d_3, _e286);
+    float _e287 = airlight_lite_iso_3_scaled(sigma_s_2.y, intensity_2 * _e283, d_4, _e286);
     float _e289 = scale;
     float _e292 = a_5.z;
-    float _e293 = airlight_lite_iso_3_scaled(sigma_s_2.z, intensity_2 * _e289, d_3, _e292);
+    float _e293 = airlight_lite_iso_3_scaled(sigma_s_2.z, intensity_2 * _e289, d_4, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 
@@ -1207,14 +1179,14 @@ void airlight_lite_iso_3_shafts_refine(
     if (_e3) {
         float _e5 = acc_3.lo;
         float _e7 = acc_3.hi;
-        float m_2 = 0.5 * (_e5 + _e7);
+        float m_3 = 0.5 * (_e5 + _e7);
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
         if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
-            acc_3.lo = m_2;
+            acc_3.lo = m_3;
             return;
         } else {
-            acc_3.hi = m_2;
+            acc_3.hi = m_3;
             return;
         }
     } else {
@@ -1232,11 +1204,11 @@ metal::float3 airlight_lite_iso_3_shafts_place(
     acc_4.pending = false;
     float _e9 = acc_4.lo;
     float _e11 = acc_4.hi;
-    float m_3 = 0.5 * (_e9 + _e11);
+    float m_4 = 0.5 * (_e9 + _e11);
     float _e16 = acc_4.start;
     float _e18 = acc_4.before;
-    metal::float3 run_1 = metal::float3(_e16, m_3, _e18);
-    acc_4.start = m_3;
+    metal::float3 run_1 = metal::float3(_e16, m_4, _e18);
+    acc_4.start = m_4;
     float _e23 = acc_4.after;
     acc_4.v = _e23;
     return run_1;

@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 42] = [
+pub const TEMPLATES: [(&str, &str); 39] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -42,9 +42,6 @@ pub const TEMPLATES: [(&str, &str); 42] = [
     ("math.wgsl.tera", include_str!("../../templates/kernels/math.wgsl.tera")),
     ("math.glsl.tera", include_str!("../../templates/kernels/math.glsl.tera")),
     ("math.rs.tera", include_str!("../../templates/kernels/math.rs.tera")),
-    ("e2.wgsl.tera", include_str!("../../templates/kernels/e2.wgsl.tera")),
-    ("e2.glsl.tera", include_str!("../../templates/kernels/e2.glsl.tera")),
-    ("e2.rs.tera", include_str!("../../templates/kernels/e2.rs.tera")),
     ("u_interval.wgsl.tera", include_str!("../../templates/kernels/u_interval.wgsl.tera")),
     ("u_interval.glsl.tera", include_str!("../../templates/kernels/u_interval.glsl.tera")),
     ("u_interval.rs.tera", include_str!("../../templates/kernels/u_interval.rs.tera")),

@@ -457,10 +457,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "lite-iso-3",
         scene: false,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 4.867255598158716e-3,
-        dense_max_rel: 5.769225707049001e-3,
-        f32_thin_max_rel: Some(4.867649214251133e-3),
-        f32_dense_max_rel: Some(5.769678213860627e-3),
+        thin_max_rel: 5.050781601717717e-3,
+        dense_max_rel: 5.6589149767103854e-3,
+        f32_thin_max_rel: Some(5.051303391724537e-3),
+        f32_dense_max_rel: Some(5.6593653379901805e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

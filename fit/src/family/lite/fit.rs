@@ -6,8 +6,7 @@
 
 use super::LiteRule;
 use crate::family::Family;
-use crate::family::phi::fit::e2_provenance;
-use crate::family::phi::E2Fit;
+use super::e2::{self, LogE2, LogE2Fit};
 use crate::family::{phase_label, Assembled};
 use crate::fitset::{self, SetSpec};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
@@ -91,7 +90,7 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
 }
 
 /// Fits the `n`-node member ([`NodeFit`]).
-pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &crate::family::phi::ExpE2) -> NodeFit {
+pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let (fit_set, check_set) = fitset::sets(spec(g_range));
     let start = LiteRule::start(n, e2.clone());
     let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| {
@@ -155,7 +154,7 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
 
 /// A member of the lite family (errors not yet measured): `eˣE₂` fitted, nodes,
 /// weights and split fitted ([`fit_nodes`]).
-pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<Assembled<LiteRule>, String> {
+pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
     if g_range != (0.0, 0.0) {
         return Err("the lite family is isotropic (g range (0, 0))".into());
     }
@@ -164,10 +163,10 @@ pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<As
     Ok(Assembled {
         body: nodes.kept.clone(),
         families: vec![format!("lite-{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"), phase_label(g_range)],
-        provenance: vec![e2_provenance(fit), provenance(&nodes)],
+        provenance: vec![e2::provenance(fit), provenance(&nodes)],
         method: kv(vec![
-            ("method", s("whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)")),
-            ("fitted", s("e^x E2's rational (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])")),
+            ("method", s("whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 (one log, no branch) at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)")),
+            ("fitted", s("e^x E2's form (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])")),
         ]),
     })
 }

@@ -8,8 +8,8 @@
 //! * `1/(1 + u²) = 1/(1 + u)² + k(u)`, `k(u) = 2u/((1 + u²)(1 + u)²) ≥ 0`, which
 //!   falls like `2/u³`. The first part carries the `u⁻²` tail and with it the
 //!   `T ln T` non-analyticity (docs/MATH.md §6): it is integrated exactly,
-//!   `J₀ = E(T m)/m − e^{−TΔ} E(T(m + Δ))/(m + Δ)`, `E(x) = eˣE₂(x)` (the φ family's
-//!   fitted rational and series, [`crate::family::phi::ExpE2`]).
+//!   `J₀ = E(T m)/m − e^{−TΔ} E(T(m + Δ))/(m + Δ)`, `E(x) = eˣE₂(x)` by a fitted form
+//!   with one `log` and no branch ([`e2::LogE2`]).
 //! * `k` by `n` fitted nodes in the rational map `u = ua + λ r`, `r = s/(1 − s)`,
 //!   `s ∈ [0, s_b]`, `λ = m/(1 + α T m)`, `s_b = Δ/(λ + Δ)` (1 on an open ray):
 //!   `λ` is the scale of `k` (about `m`) where the medium is thin and the
@@ -22,10 +22,12 @@
 //! the reference ([`fit`]). Isotropic only: the HG forward peak (width `κ`) needs
 //! the φ family's variable.
 
+pub mod e2;
 pub mod fit;
 
 use crate::cost::{Cost, PhaseShape, Shape};
-use crate::family::phi::{u_geometry, E2Fit, ExpE2};
+use crate::family::phi::u_geometry;
+use e2::{LogE2, LogE2Fit};
 use crate::family::{Assembled, Family, Role};
 use crate::reference::Point;
 use crate::template::{lit, lits, Context, KernelView, Templates};
@@ -46,7 +48,7 @@ pub struct LiteRule {
     /// `σ`: an interval with `Δ < σ m` is short.
     pub short: f64,
     /// `eˣE₂`.
-    pub e2: ExpE2,
+    pub e2: LogE2,
 }
 
 /// `k(u) = 1/(1 + u²) − 1/(1 + u)²`, cancellation-free.
@@ -56,7 +58,7 @@ pub fn k_of_u(u: f64) -> f64 {
 
 impl LiteRule {
     /// `n` Gauss–Legendre nodes on `[0, 1]`, `α = 1/2`, `σ = 0.1`: where the fit starts.
-    pub fn start(n: usize, e2: ExpE2) -> LiteRule {
+    pub fn start(n: usize, e2: LogE2) -> LiteRule {
         let (x, w) = crate::quad::gauss_legendre(n);
         // Increasing, as the coefficient file requires.
         let mut nodes: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect();
@@ -85,11 +87,12 @@ impl LiteRule {
         }
         let sb = if du.is_finite() { du / (lam + du) } else { 1.0 };
         for (&x, &w) in self.x.iter().zip(&self.w) {
-            // r = s/(1 − s) at s = s_b x, without forming 1 − s.
-            let r = if du.is_finite() { du * x / (lam + du * (1.0 - x)) } else { x / (1.0 - x) };
+            // s = s_b x, v = 1/(1 − s) = 1 + r, r = s/(1 − s) (1 − s ≥ 1 − x: no cancellation).
+            let v = 1.0 / (1.0 - sb * x);
+            let r = sb * x * v;
             let u = ua + lam * r;
             let f = if short { 1.0 / (1.0 + u * u) } else { k_of_u(u) };
-            sum += w * sb * lam * (1.0 + r) * (1.0 + r) * f * (-t * lam * r).exp();
+            sum += w * sb * lam * v * v * f * (-t * lam * r).exp();
         }
         sum
     }
@@ -104,13 +107,24 @@ impl Family for LiteRule {
     const FIT_PARTS: &'static [&'static str] = &[fit::PART];
     /// The number of nodes.
     type Recipe = usize;
-    type Fit = Option<E2Fit>;
+    type Fit = Option<LogE2Fit>;
 
-    fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Option<E2Fit> {
-        Some(ExpE2::fit())
+    fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Option<LogE2Fit> {
+        Some(LogE2::fit())
     }
 
-    fn assemble(n: usize, g_range: (f64, f64), fit: &Option<E2Fit>) -> Result<Assembled<LiteRule>, String> {
+    fn fit_summary(fit: &Option<LogE2Fit>) -> Vec<String> {
+        fit.iter()
+            .map(|f| {
+                format!(
+                    "lite e^x E2 (one log, no branch): {} iterations, {}: max rel {:.2e} at x = {:.4}",
+                    f.outcome.iterations, f.outcome.termination, f.max_rel.0, f.max_rel.1
+                )
+            })
+            .collect()
+    }
+
+    fn assemble(n: usize, g_range: (f64, f64), fit: &Option<LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
         fit::assemble(n, g_range, fit.as_ref())
     }
 
@@ -123,13 +137,16 @@ impl Family for LiteRule {
         let mut ctx = Context::quadrature(k);
         ctx.insert("nodes", &lits(&self.x));
         ctx.insert("weights", &lits(&self.w));
-        // r_i = x_i/(1 − x_i) on an open ray, and 1 − x_i.
-        let open_r: Vec<f64> = self.x.iter().map(|x| x / (1.0 - x)).collect();
-        ctx.insert("open_r", &lits(&open_r));
-        ctx.insert("one_minus_x", &lits(&self.x.iter().map(|x| 1.0 - x).collect::<Vec<_>>()));
+        // Prefix products of the nodes' 1 − s, forwards and back (one division for all).
+        let n = self.x.len();
+        ctx.insert("forward", &(1..n).collect::<Vec<usize>>());
+        ctx.insert("back", &(1..n).rev().collect::<Vec<usize>>());
+        ctx.insert("last", &(n - 1));
         ctx.insert("alpha", &lit(self.alpha));
         ctx.insert("short", &lit(self.short));
-        self.e2.insert_context(&mut ctx);
+        ctx.insert("e2_n1", &lits(&self.e2.n1));
+        ctx.insert("e2_n2", &lits(&self.e2.n2));
+        ctx.insert("e2_d", &lits(&self.e2.d));
         ctx
     }
 
@@ -151,12 +168,13 @@ impl Family for LiteRule {
     }
 
     /// One path for every ray: the geometry (the canonical entry's `sin_cos`, the
-    /// surface's `sqrt` and divisions), `λ`, `s_b`, two `eˣE₂` (`exp` and `log` below
-    /// 1) with their `exp` and divisions; per node `exp` and two divisions.
+    /// surface's `sqrt` and divisions), `λ`, `s_b`, two `eˣE₂` (a `log` and two
+    /// divisions each) with `e^{−TΔ}` and the ends' divisions, one division for every
+    /// node's `1/(1 − s)`; per node `exp` and one division.
     fn ops(&self, shape: Shape) -> Cost {
         let s = usize::from(shape.surfaces);
         let n = self.x.len();
-        Cost { exp: 1 + 3 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 1 + 2 + 4 + 2 * n, sincos: 1 }
+        Cost { exp: 2 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 2 + 6 + 1 + n, sincos: 1 }
     }
 
     fn render_toml(&self, _g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
@@ -199,7 +217,7 @@ impl Family for LiteRule {
             Ok(v)
         };
         let (alpha, short) = (pos("alpha")?, pos("short")?);
-        Ok(LiteRule { x, w, alpha, short, e2: ExpE2::parse_toml(r, doc)? })
+        Ok(LiteRule { x, w, alpha, short, e2: LogE2::parse_toml(r, doc)? })
     }
 }
 
@@ -218,15 +236,16 @@ mod tests {
 
     #[test]
     fn many_nodes_converge_to_the_reference() {
-        // The map is exact in the limit: 24 Gauss–Legendre nodes, the start's split.
-        let r = LiteRule::start(24, ExpE2::fit().e2);
+        // The map is exact in the limit: 24 Gauss–Legendre nodes, the start's split;
+        // what is left is eˣE₂'s fitted form (a few 1e-5).
+        let r = LiteRule::start(24, LogE2::fit().e2);
         for &(tau, gamma, rho) in
             &[(0.5, 1.0, 3.0), (3.0, 2.0, f64::INFINITY), (1e-3, 0.3, f64::INFINITY), (15.0, 3.1, 0.02), (8.0, 0.2, 40.0)]
         {
             let p = Point { tau, gamma, rho, g: 0.0 };
             let exact = reference::airlight(p).unwrap();
             let e = r.eval(p);
-            assert!((e / exact - 1.0).abs() < 1e-5, "{p:?}: {e} vs {exact}");
+            assert!((e / exact - 1.0).abs() < 1e-4, "{p:?}: {e} vs {exact}");
         }
     }
 }
