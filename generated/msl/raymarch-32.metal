@@ -544,6 +544,8 @@ metal::float3 airlight_raymarch_32_spot_edge(
     float g_6
 ) {
     bool local_7 = {};
+    float we = {};
+    bool local_8 = {};
     metal::float3 exact = metal::float3(0.0);
     airlight_raymarch_32_type_7 pieces = airlight_raymarch_32_type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_1 = metal::float3(0.0);
@@ -564,11 +566,25 @@ metal::float3 airlight_raymarch_32_spot_edge(
     float e_1 = _e25 ? v_in : u;
     metal::float2 _e27 = airlight_raymarch_32_sin_cos(e_1);
     float _e33 = airlight_raymarch_32_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_1, ci_1);
-    if (_e33 > 0.0) {
-        metal::float3 _e41 = airlight_raymarch_32_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u, v_in, u > gam_1, v_in < om_e, g_6);
-        exact = _e41;
-        metal::float3 _e42 = exact;
-        if (metal::any(_e42 >= metal::float3(340282350000000000000000000000000000000.0))) {
+    we = _e33;
+    if (g_6 == 0.0) {
+        if (!((g_6 < 0.0))) {
+            local_8 = v_in > 3.0;
+        } else {
+            local_8 = true;
+        }
+        bool _e45 = local_8;
+        metal::float2 _e47 = airlight_raymarch_32_sin_cos(_e45 ? u : v_in);
+        float _e48 = we;
+        float _e54 = airlight_raymarch_32_spot_weight((ca * _e47.x) - (k_1 * _e47.y), co_1, ci_1);
+        we = metal::min(_e48, _e54);
+    }
+    float _e59 = we;
+    if (_e59 > 0.0) {
+        metal::float3 _e64 = airlight_raymarch_32_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u, v_in, u > gam_1, v_in < om_e, g_6);
+        exact = _e64;
+        metal::float3 _e65 = exact;
+        if (metal::any(_e65 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
@@ -580,221 +596,230 @@ metal::float3 airlight_raymarch_32_spot_edge(
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
         if (!loop_init_1) {
-            int _e716 = i_1;
-            i_1 = as_type<int>(as_type<uint>(_e716) + as_type<uint>(1));
+            int _e747 = i_1;
+            i_1 = as_type<int>(as_type<uint>(_e747) + as_type<uint>(1));
         }
         loop_init_1 = false;
-        int _e76 = i_1;
-        if (_e76 < 5) {
+        int _e99 = i_1;
+        if (_e99 < 5) {
         } else {
             break;
         }
         {
-            int _e80 = i_1;
-            float _e82 = pieces.inner[_e80];
-            float a_7 = u + ((v_in - u) * _e82);
-            int _e86 = i_1;
-            float _e90 = pieces.inner[as_type<int>(as_type<uint>(_e86) + as_type<uint>(1))];
-            float b_3 = u + ((v_in - u) * _e90);
+            int _e103 = i_1;
+            float _e105 = pieces.inner[_e103];
+            float a_7 = u + ((v_in - u) * _e105);
+            int _e109 = i_1;
+            float _e113 = pieces.inner[as_type<int>(as_type<uint>(_e109) + as_type<uint>(1))];
+            float b_3 = u + ((v_in - u) * _e113);
             float half_ = 0.5 * (b_3 - a_7);
             float mid = 0.5 * (b_3 + a_7);
             w = mid + (half_ * 0.96028984);
-            float _e102 = w;
-            metal::float2 _e105 = airlight_raymarch_32_sin_cos(0.5 * _e102);
-            sb = _e105;
-            float _e109 = sb.y;
-            float _e112 = sb.y;
-            float _e118 = sb.x;
-            float _e121 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e118) * _e121)) : (gp - (((4.0 * g_6) * _e109) * _e112));
-            float _e128 = sb.x;
-            float _e131 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e128) / metal::max(_e131, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e138 = sum_1;
+            float _e125 = w;
+            metal::float2 _e128 = airlight_raymarch_32_sin_cos(0.5 * _e125);
+            sb = _e128;
+            float _e132 = sb.y;
+            float _e135 = sb.y;
+            float _e141 = sb.x;
             float _e144 = sb.x;
-            float _e147 = sb.y;
-            float _e150 = sb.y;
-            float _e152 = sb.x;
-            float _e156 = sb.y;
-            float _e158 = sb.x;
-            float _e162 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e144) * _e147) - ((k_1 * (_e150 - _e152)) * (_e156 + _e158)), co_1, ci_1);
-            float _e165 = d_2;
-            float _e166 = d_2;
-            float _e171 = st;
-            sum_1 = _e138 + ((((half_ * 0.101228535) * (_e162 - _e33)) / (_e165 * metal::sqrt(_e166))) * metal::exp(-(tau_4) * _e171));
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e141) * _e144)) : (gp - (((4.0 * g_6) * _e132) * _e135));
+            float _e151 = sb.x;
+            float _e154 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e151) / metal::max(_e154, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e161 = sum_1;
+            float _e167 = sb.x;
+            float _e170 = sb.y;
+            float _e173 = sb.y;
+            float _e175 = sb.x;
+            float _e179 = sb.y;
+            float _e181 = sb.x;
+            float _e185 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e167) * _e170) - ((k_1 * (_e173 - _e175)) * (_e179 + _e181)), co_1, ci_1);
+            float _e186 = we;
+            float _e189 = d_2;
+            float _e190 = d_2;
+            float _e195 = st;
+            sum_1 = _e161 + ((((half_ * 0.101228535) * (_e185 - _e186)) / (_e189 * metal::sqrt(_e190))) * metal::exp(-(tau_4) * _e195));
             w = mid + (half_ * 0.7966665);
-            float _e179 = w;
-            metal::float2 _e182 = airlight_raymarch_32_sin_cos(0.5 * _e179);
-            sb = _e182;
-            float _e186 = sb.y;
-            float _e189 = sb.y;
-            float _e195 = sb.x;
-            float _e198 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e195) * _e198)) : (gp - (((4.0 * g_6) * _e186) * _e189));
-            float _e205 = sb.x;
-            float _e208 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e205) / metal::max(_e208, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e215 = sum_1;
-            float _e221 = sb.x;
-            float _e224 = sb.y;
-            float _e227 = sb.y;
+            float _e203 = w;
+            metal::float2 _e206 = airlight_raymarch_32_sin_cos(0.5 * _e203);
+            sb = _e206;
+            float _e210 = sb.y;
+            float _e213 = sb.y;
+            float _e219 = sb.x;
+            float _e222 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e219) * _e222)) : (gp - (((4.0 * g_6) * _e210) * _e213));
             float _e229 = sb.x;
-            float _e233 = sb.y;
-            float _e235 = sb.x;
-            float _e239 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e221) * _e224) - ((k_1 * (_e227 - _e229)) * (_e233 + _e235)), co_1, ci_1);
-            float _e242 = d_2;
-            float _e243 = d_2;
-            float _e248 = st;
-            sum_1 = _e215 + ((((half_ * 0.22238104) * (_e239 - _e33)) / (_e242 * metal::sqrt(_e243))) * metal::exp(-(tau_4) * _e248));
+            float _e232 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e229) / metal::max(_e232, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e239 = sum_1;
+            float _e245 = sb.x;
+            float _e248 = sb.y;
+            float _e251 = sb.y;
+            float _e253 = sb.x;
+            float _e257 = sb.y;
+            float _e259 = sb.x;
+            float _e263 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e245) * _e248) - ((k_1 * (_e251 - _e253)) * (_e257 + _e259)), co_1, ci_1);
+            float _e264 = we;
+            float _e267 = d_2;
+            float _e268 = d_2;
+            float _e273 = st;
+            sum_1 = _e239 + ((((half_ * 0.22238104) * (_e263 - _e264)) / (_e267 * metal::sqrt(_e268))) * metal::exp(-(tau_4) * _e273));
             w = mid + (half_ * 0.5255324);
-            float _e256 = w;
-            metal::float2 _e259 = airlight_raymarch_32_sin_cos(0.5 * _e256);
-            sb = _e259;
-            float _e263 = sb.y;
-            float _e266 = sb.y;
-            float _e272 = sb.x;
-            float _e275 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e272) * _e275)) : (gp - (((4.0 * g_6) * _e263) * _e266));
-            float _e282 = sb.x;
-            float _e285 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e282) / metal::max(_e285, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e292 = sum_1;
-            float _e298 = sb.x;
-            float _e301 = sb.y;
-            float _e304 = sb.y;
-            float _e306 = sb.x;
+            float _e281 = w;
+            metal::float2 _e284 = airlight_raymarch_32_sin_cos(0.5 * _e281);
+            sb = _e284;
+            float _e288 = sb.y;
+            float _e291 = sb.y;
+            float _e297 = sb.x;
+            float _e300 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e297) * _e300)) : (gp - (((4.0 * g_6) * _e288) * _e291));
+            float _e307 = sb.x;
             float _e310 = sb.y;
-            float _e312 = sb.x;
-            float _e316 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e298) * _e301) - ((k_1 * (_e304 - _e306)) * (_e310 + _e312)), co_1, ci_1);
-            float _e319 = d_2;
-            float _e320 = d_2;
-            float _e325 = st;
-            sum_1 = _e292 + ((((half_ * 0.31370664) * (_e316 - _e33)) / (_e319 * metal::sqrt(_e320))) * metal::exp(-(tau_4) * _e325));
+            st = metal::max(x0_5 + ((h_6 * _e307) / metal::max(_e310, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e317 = sum_1;
+            float _e323 = sb.x;
+            float _e326 = sb.y;
+            float _e329 = sb.y;
+            float _e331 = sb.x;
+            float _e335 = sb.y;
+            float _e337 = sb.x;
+            float _e341 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e323) * _e326) - ((k_1 * (_e329 - _e331)) * (_e335 + _e337)), co_1, ci_1);
+            float _e342 = we;
+            float _e345 = d_2;
+            float _e346 = d_2;
+            float _e351 = st;
+            sum_1 = _e317 + ((((half_ * 0.31370664) * (_e341 - _e342)) / (_e345 * metal::sqrt(_e346))) * metal::exp(-(tau_4) * _e351));
             w = mid + (half_ * 0.18343464);
-            float _e333 = w;
-            metal::float2 _e336 = airlight_raymarch_32_sin_cos(0.5 * _e333);
-            sb = _e336;
-            float _e340 = sb.y;
-            float _e343 = sb.y;
-            float _e349 = sb.x;
-            float _e352 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e349) * _e352)) : (gp - (((4.0 * g_6) * _e340) * _e343));
-            float _e359 = sb.x;
-            float _e362 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e359) / metal::max(_e362, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e369 = sum_1;
+            float _e359 = w;
+            metal::float2 _e362 = airlight_raymarch_32_sin_cos(0.5 * _e359);
+            sb = _e362;
+            float _e366 = sb.y;
+            float _e369 = sb.y;
             float _e375 = sb.x;
-            float _e378 = sb.y;
-            float _e381 = sb.y;
-            float _e383 = sb.x;
-            float _e387 = sb.y;
-            float _e389 = sb.x;
-            float _e393 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e375) * _e378) - ((k_1 * (_e381 - _e383)) * (_e387 + _e389)), co_1, ci_1);
-            float _e396 = d_2;
-            float _e397 = d_2;
-            float _e402 = st;
-            sum_1 = _e369 + ((((half_ * 0.36268377) * (_e393 - _e33)) / (_e396 * metal::sqrt(_e397))) * metal::exp(-(tau_4) * _e402));
+            float _e378 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e375) * _e378)) : (gp - (((4.0 * g_6) * _e366) * _e369));
+            float _e385 = sb.x;
+            float _e388 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e385) / metal::max(_e388, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e395 = sum_1;
+            float _e401 = sb.x;
+            float _e404 = sb.y;
+            float _e407 = sb.y;
+            float _e409 = sb.x;
+            float _e413 = sb.y;
+            float _e415 = sb.x;
+            float _e419 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e401) * _e404) - ((k_1 * (_e407 - _e409)) * (_e413 + _e415)), co_1, ci_1);
+            float _e420 = we;
+            float _e423 = d_2;
+            float _e424 = d_2;
+            float _e429 = st;
+            sum_1 = _e395 + ((((half_ * 0.36268377) * (_e419 - _e420)) / (_e423 * metal::sqrt(_e424))) * metal::exp(-(tau_4) * _e429));
             w = mid + (half_ * -0.18343464);
-            float _e410 = w;
-            metal::float2 _e413 = airlight_raymarch_32_sin_cos(0.5 * _e410);
-            sb = _e413;
-            float _e417 = sb.y;
-            float _e420 = sb.y;
-            float _e426 = sb.x;
-            float _e429 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e426) * _e429)) : (gp - (((4.0 * g_6) * _e417) * _e420));
-            float _e436 = sb.x;
-            float _e439 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e436) / metal::max(_e439, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e446 = sum_1;
-            float _e452 = sb.x;
-            float _e455 = sb.y;
-            float _e458 = sb.y;
-            float _e460 = sb.x;
-            float _e464 = sb.y;
-            float _e466 = sb.x;
-            float _e470 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e452) * _e455) - ((k_1 * (_e458 - _e460)) * (_e464 + _e466)), co_1, ci_1);
-            float _e473 = d_2;
-            float _e474 = d_2;
-            float _e479 = st;
-            sum_1 = _e446 + ((((half_ * 0.36268377) * (_e470 - _e33)) / (_e473 * metal::sqrt(_e474))) * metal::exp(-(tau_4) * _e479));
+            float _e437 = w;
+            metal::float2 _e440 = airlight_raymarch_32_sin_cos(0.5 * _e437);
+            sb = _e440;
+            float _e444 = sb.y;
+            float _e447 = sb.y;
+            float _e453 = sb.x;
+            float _e456 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e453) * _e456)) : (gp - (((4.0 * g_6) * _e444) * _e447));
+            float _e463 = sb.x;
+            float _e466 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e463) / metal::max(_e466, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e473 = sum_1;
+            float _e479 = sb.x;
+            float _e482 = sb.y;
+            float _e485 = sb.y;
+            float _e487 = sb.x;
+            float _e491 = sb.y;
+            float _e493 = sb.x;
+            float _e497 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e479) * _e482) - ((k_1 * (_e485 - _e487)) * (_e491 + _e493)), co_1, ci_1);
+            float _e498 = we;
+            float _e501 = d_2;
+            float _e502 = d_2;
+            float _e507 = st;
+            sum_1 = _e473 + ((((half_ * 0.36268377) * (_e497 - _e498)) / (_e501 * metal::sqrt(_e502))) * metal::exp(-(tau_4) * _e507));
             w = mid + (half_ * -0.5255324);
-            float _e487 = w;
-            metal::float2 _e490 = airlight_raymarch_32_sin_cos(0.5 * _e487);
-            sb = _e490;
-            float _e494 = sb.y;
-            float _e497 = sb.y;
-            float _e503 = sb.x;
-            float _e506 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e503) * _e506)) : (gp - (((4.0 * g_6) * _e494) * _e497));
-            float _e513 = sb.x;
-            float _e516 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e513) / metal::max(_e516, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e523 = sum_1;
-            float _e529 = sb.x;
-            float _e532 = sb.y;
-            float _e535 = sb.y;
-            float _e537 = sb.x;
-            float _e541 = sb.y;
-            float _e543 = sb.x;
-            float _e547 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e529) * _e532) - ((k_1 * (_e535 - _e537)) * (_e541 + _e543)), co_1, ci_1);
-            float _e550 = d_2;
-            float _e551 = d_2;
-            float _e556 = st;
-            sum_1 = _e523 + ((((half_ * 0.31370664) * (_e547 - _e33)) / (_e550 * metal::sqrt(_e551))) * metal::exp(-(tau_4) * _e556));
+            float _e515 = w;
+            metal::float2 _e518 = airlight_raymarch_32_sin_cos(0.5 * _e515);
+            sb = _e518;
+            float _e522 = sb.y;
+            float _e525 = sb.y;
+            float _e531 = sb.x;
+            float _e534 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e531) * _e534)) : (gp - (((4.0 * g_6) * _e522) * _e525));
+            float _e541 = sb.x;
+            float _e544 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e541) / metal::max(_e544, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e551 = sum_1;
+            float _e557 = sb.x;
+            float _e560 = sb.y;
+            float _e563 = sb.y;
+            float _e565 = sb.x;
+            float _e569 = sb.y;
+            float _e571 = sb.x;
+            float _e575 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e557) * _e560) - ((k_1 * (_e563 - _e565)) * (_e569 + _e571)), co_1, ci_1);
+            float _e576 = we;
+            float _e579 = d_2;
+            float _e580 = d_2;
+            float _e585 = st;
+            sum_1 = _e551 + ((((half_ * 0.31370664) * (_e575 - _e576)) / (_e579 * metal::sqrt(_e580))) * metal::exp(-(tau_4) * _e585));
             w = mid + (half_ * -0.7966665);
-            float _e564 = w;
-            metal::float2 _e567 = airlight_raymarch_32_sin_cos(0.5 * _e564);
-            sb = _e567;
-            float _e571 = sb.y;
-            float _e574 = sb.y;
-            float _e580 = sb.x;
-            float _e583 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e580) * _e583)) : (gp - (((4.0 * g_6) * _e571) * _e574));
-            float _e590 = sb.x;
-            float _e593 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e590) / metal::max(_e593, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e600 = sum_1;
-            float _e606 = sb.x;
-            float _e609 = sb.y;
-            float _e612 = sb.y;
-            float _e614 = sb.x;
-            float _e618 = sb.y;
-            float _e620 = sb.x;
-            float _e624 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e606) * _e609) - ((k_1 * (_e612 - _e614)) * (_e618 + _e620)), co_1, ci_1);
-            float _e627 = d_2;
-            float _e628 = d_2;
-            float _e633 = st;
-            sum_1 = _e600 + ((((half_ * 0.22238104) * (_e624 - _e33)) / (_e627 * metal::sqrt(_e628))) * metal::exp(-(tau_4) * _e633));
+            float _e593 = w;
+            metal::float2 _e596 = airlight_raymarch_32_sin_cos(0.5 * _e593);
+            sb = _e596;
+            float _e600 = sb.y;
+            float _e603 = sb.y;
+            float _e609 = sb.x;
+            float _e612 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e609) * _e612)) : (gp - (((4.0 * g_6) * _e600) * _e603));
+            float _e619 = sb.x;
+            float _e622 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e619) / metal::max(_e622, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e629 = sum_1;
+            float _e635 = sb.x;
+            float _e638 = sb.y;
+            float _e641 = sb.y;
+            float _e643 = sb.x;
+            float _e647 = sb.y;
+            float _e649 = sb.x;
+            float _e653 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e635) * _e638) - ((k_1 * (_e641 - _e643)) * (_e647 + _e649)), co_1, ci_1);
+            float _e654 = we;
+            float _e657 = d_2;
+            float _e658 = d_2;
+            float _e663 = st;
+            sum_1 = _e629 + ((((half_ * 0.22238104) * (_e653 - _e654)) / (_e657 * metal::sqrt(_e658))) * metal::exp(-(tau_4) * _e663));
             w = mid + (half_ * -0.96028984);
-            float _e641 = w;
-            metal::float2 _e644 = airlight_raymarch_32_sin_cos(0.5 * _e641);
-            sb = _e644;
-            float _e648 = sb.y;
-            float _e651 = sb.y;
-            float _e657 = sb.x;
-            float _e660 = sb.x;
-            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e657) * _e660)) : (gp - (((4.0 * g_6) * _e648) * _e651));
-            float _e667 = sb.x;
-            float _e670 = sb.y;
-            st = metal::max(x0_5 + ((h_6 * _e667) / metal::max(_e670, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e677 = sum_1;
-            float _e683 = sb.x;
-            float _e686 = sb.y;
-            float _e689 = sb.y;
-            float _e691 = sb.x;
-            float _e695 = sb.y;
+            float _e671 = w;
+            metal::float2 _e674 = airlight_raymarch_32_sin_cos(0.5 * _e671);
+            sb = _e674;
+            float _e678 = sb.y;
+            float _e681 = sb.y;
+            float _e687 = sb.x;
+            float _e690 = sb.x;
+            d_2 = (g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e687) * _e690)) : (gp - (((4.0 * g_6) * _e678) * _e681));
             float _e697 = sb.x;
-            float _e701 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e683) * _e686) - ((k_1 * (_e689 - _e691)) * (_e695 + _e697)), co_1, ci_1);
-            float _e704 = d_2;
-            float _e705 = d_2;
-            float _e710 = st;
-            sum_1 = _e677 + ((((half_ * 0.101228535) * (_e701 - _e33)) / (_e704 * metal::sqrt(_e705))) * metal::exp(-(tau_4) * _e710));
+            float _e700 = sb.y;
+            st = metal::max(x0_5 + ((h_6 * _e697) / metal::max(_e700, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e707 = sum_1;
+            float _e713 = sb.x;
+            float _e716 = sb.y;
+            float _e719 = sb.y;
+            float _e721 = sb.x;
+            float _e725 = sb.y;
+            float _e727 = sb.x;
+            float _e731 = airlight_raymarch_32_spot_weight((((ca * 2.0) * _e713) * _e716) - ((k_1 * (_e719 - _e721)) * (_e725 + _e727)), co_1, ci_1);
+            float _e732 = we;
+            float _e735 = d_2;
+            float _e736 = d_2;
+            float _e741 = st;
+            sum_1 = _e707 + ((((half_ * 0.101228535) * (_e731 - _e732)) / (_e735 * metal::sqrt(_e736))) * metal::exp(-(tau_4) * _e741));
         }
     }
-    metal::float3 _e718 = exact;
-    metal::float3 _e727 = sum_1;
-    return metal::clamp((_e33 * _e718) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e727) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    float _e749 = we;
+    metal::float3 _e750 = exact;
+    metal::float3 _e759 = sum_1;
+    return metal::clamp((_e749 * _e750) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e759) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_raymarch_32_spot(
@@ -810,14 +835,14 @@ metal::float3 airlight_raymarch_32_spot(
     metal::float3 sigma_s_2,
     float g_7
 ) {
-    bool local_8 = {};
     bool local_9 = {};
+    bool local_10 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_10 = {};
-    float scale = 1.0;
     bool local_11 = {};
+    float scale = 1.0;
     bool local_12 = {};
+    bool local_13 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -827,9 +852,9 @@ metal::float3 airlight_raymarch_32_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_1 = 0.0;
     float om_e_1 = airlight_raymarch_32_PI;
-    bool local_13 = {};
     bool local_14 = {};
     bool local_15 = {};
+    bool local_16 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_raymarch_32_ray_geometry(origin_2, dir_2, light_2);
@@ -839,16 +864,16 @@ metal::float3 airlight_raymarch_32_spot(
     float _e18 = airlight_raymarch_32_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_9 = _e18 <= airlight_raymarch_32_HUGE;
+            local_10 = _e18 <= airlight_raymarch_32_HUGE;
         } else {
-            local_9 = false;
+            local_10 = false;
         }
-        bool _e29 = local_9;
-        local_8 = !(_e29);
+        bool _e29 = local_10;
+        local_9 = !(_e29);
     } else {
-        local_8 = false;
+        local_9 = false;
     }
-    bool _e32 = local_8;
+    bool _e32 = local_9;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -858,11 +883,11 @@ metal::float3 airlight_raymarch_32_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_10 = _e17 <= airlight_raymarch_32_HUGE;
+        local_11 = _e17 <= airlight_raymarch_32_HUGE;
     } else {
-        local_10 = false;
+        local_11 = false;
     }
-    bool _e53 = local_10;
+    bool _e53 = local_11;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -881,11 +906,11 @@ metal::float3 airlight_raymarch_32_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_11 = _e11.z == 0.0;
+        local_12 = _e11.z == 0.0;
     } else {
-        local_11 = false;
+        local_12 = false;
     }
-    bool _e96 = local_11;
+    bool _e96 = local_12;
     if (_e96) {
         return metal::float3(0.0);
     }
@@ -893,37 +918,37 @@ metal::float3 airlight_raymarch_32_spot(
     float h_7 = _e11.y;
     float x0_7 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_12 = (surface_1 / d_4) < airlight_raymarch_32_RHO_OPEN;
+        local_13 = (surface_1 / d_4) < airlight_raymarch_32_RHO_OPEN;
     } else {
-        local_12 = false;
+        local_13 = false;
     }
-    bool has_end = local_12;
+    bool has_end = local_13;
     float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
     metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_7, -0.999, 0.999);
     float _e143 = airlight_raymarch_32_arctan2_(h_7, x0_7);
     if (!(point)) {
-        local_13 = h_7 <= 0.0;
-    } else {
-        local_13 = true;
-    }
-    bool _e150 = local_13;
-    if (!(_e150)) {
-        local_14 = _e143 >= airlight_raymarch_32_PI;
+        local_14 = h_7 <= 0.0;
     } else {
         local_14 = true;
     }
-    bool _e157 = local_14;
+    bool _e150 = local_14;
+    if (!(_e150)) {
+        local_15 = _e143 >= airlight_raymarch_32_PI;
+    } else {
+        local_15 = true;
+    }
+    bool _e157 = local_15;
     if (_e157) {
         if (!(point)) {
             float _e160 = airlight_raymarch_32_spot_weight(-(k_3), co_2, cos_inner);
             float _e161 = airlight_raymarch_32_spot_weight(k_3, co_2, cos_inner);
             if (has_end) {
-                local_15 = rho_8 < 1.0;
+                local_16 = rho_8 < 1.0;
             } else {
-                local_15 = false;
+                local_16 = false;
             }
-            bool _e168 = local_15;
+            bool _e168 = local_16;
             scale = (x0_7 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;

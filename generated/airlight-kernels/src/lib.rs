@@ -55,7 +55,13 @@ pub mod hg_exp2;
 #[rustfmt::skip]
 pub mod hg_exp3;
 #[rustfmt::skip]
+pub mod lite_iso_2;
+#[rustfmt::skip]
 pub mod lite_iso_3;
+#[rustfmt::skip]
+pub mod lite_iso_4;
+#[rustfmt::skip]
+pub mod lite_iso_5;
 #[rustfmt::skip]
 pub mod phi_iso_4;
 #[rustfmt::skip]
@@ -454,6 +460,24 @@ pub const KERNELS: &[Kernel] = &[
         spot_shadowed: Some(hg_exp3::shadowed_spot),
     },
     Kernel {
+        name: "lite-iso-2",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 1.86157521923663e-2,
+        dense_max_rel: 2.0410991801952442e-2,
+        f32_thin_max_rel: Some(1.8615972401808616e-2),
+        f32_dense_max_rel: Some(2.041144868002448e-2),
+        airlight: |tau, gamma, rho, _g| lite_iso_2::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_2::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
+        shadowed: Some(lite_iso_2::shadowed),
+        spot_shadowed: Some(lite_iso_2::shadowed_spot),
+    },
+    Kernel {
         name: "lite-iso-3",
         scene: false,
         params: &["tau", "gamma", "rho"],
@@ -470,6 +494,42 @@ pub const KERNELS: &[Kernel] = &[
         }),
         shadowed: Some(lite_iso_3::shadowed),
         spot_shadowed: Some(lite_iso_3::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-iso-4",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 1.2080833888705146e-3,
+        dense_max_rel: 1.2994396714629862e-3,
+        f32_thin_max_rel: Some(1.2084816784339075e-3),
+        f32_dense_max_rel: Some(1.299803189968614e-3),
+        airlight: |tau, gamma, rho, _g| lite_iso_4::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
+        shadowed: Some(lite_iso_4::shadowed),
+        spot_shadowed: Some(lite_iso_4::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-iso-5",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.868748509689439e-4),
+        f32_dense_max_rel: Some(8.255716751257138e-4),
+        airlight: |tau, gamma, rho, _g| lite_iso_5::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_5::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
+        shadowed: Some(lite_iso_5::shadowed),
+        spot_shadowed: Some(lite_iso_5::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-4",

@@ -35,7 +35,10 @@ impl Plugin for AirlightShadersPlugin {
         load_shader_library!(app, "hg_exp1.wesl");
         load_shader_library!(app, "hg_exp2.wesl");
         load_shader_library!(app, "hg_exp3.wesl");
+        load_shader_library!(app, "lite_iso_2.wesl");
         load_shader_library!(app, "lite_iso_3.wesl");
+        load_shader_library!(app, "lite_iso_4.wesl");
+        load_shader_library!(app, "lite_iso_5.wesl");
         load_shader_library!(app, "phi_iso_4.wesl");
         load_shader_library!(app, "phi_iso_6.wesl");
         load_shader_library!(app, "phi_iso_8.wesl");
@@ -89,7 +92,10 @@ pub const MODULES: &[(&str, &str)] = &[
     ("bevy_airlight::hg_exp1", "max relative error of A (f64 model): thin 1.0e0, dense 1.0e0"),
     ("bevy_airlight::hg_exp2", "max relative error of A (f64 model): thin 1.0e0, dense 1.0e0"),
     ("bevy_airlight::hg_exp3", "max relative error of A (f64 model): thin 9.6e-1, dense 8.7e-1"),
+    ("bevy_airlight::lite_iso_2", "max relative error of A (f64 model): thin 1.9e-2, dense 2.0e-2"),
     ("bevy_airlight::lite_iso_3", "max relative error of A (f64 model): thin 5.1e-3, dense 5.7e-3"),
+    ("bevy_airlight::lite_iso_4", "max relative error of A (f64 model): thin 1.2e-3, dense 1.3e-3"),
+    ("bevy_airlight::lite_iso_5", "max relative error of A (f64 model): thin 7.9e-4, dense 8.3e-4"),
     ("bevy_airlight::phi_iso_4", "max relative error of A (f64 model): thin 1.8e-5, dense 1.8e-5"),
     ("bevy_airlight::phi_iso_6", "max relative error of A (f64 model): thin 3.5e-6, dense 6.2e-6"),
     ("bevy_airlight::phi_iso_8", "max relative error of A (f64 model): thin 1.5e-6, dense 2.0e-6"),

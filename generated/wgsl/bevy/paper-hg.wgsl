@@ -592,7 +592,8 @@ fn spot_weight(c: f32, co: f32, ci: f32) -> f32 {
 /// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
 /// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
 /// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
-/// forward peak). Everything but the transmittance is shared by the channels.
+/// forward peak; for isotropic media the end with the smaller weight). Everything but
+/// the transmittance is shared by the channels.
 fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
     let v = v_in;
     if !(v > u) {
@@ -600,7 +601,14 @@ fn spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: 
     }
     let e = select(u, v, g < 0.0 || v > 3.0);
     let se = sin_cos(e);
-    let we = spot_weight(ca * se.x - k * se.y, co, ci);
+    var we = spot_weight(ca * se.x - k * se.y, co, ci);
+    if g == 0.0 {
+        // Isotropic: no phase peak to take the weight at. The smaller end's (W is
+        // monotone on a penumbra stretch) keeps W - W(e) >= 0: the family's error is
+        // never amplified by the rest cancelling its part.
+        let so = sin_cos(select(v, u, g < 0.0 || v > 3.0));
+        we = min(we, spot_weight(ca * so.x - k * so.y, co, ci));
+    }
     var exact = vec3<f32>(0.0);
     if we > 0.0 {
         exact = spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);

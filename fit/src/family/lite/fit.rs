@@ -26,9 +26,9 @@ pub const FACES: usize = 16;
 /// Points per domain in the check set.
 pub const CHECK_POINTS: usize = 3000;
 /// Nelder–Mead iterations per run, and restarts.
-pub const ITERS: u64 = 2500;
+pub const ITERS: u64 = 4000;
 /// Restarts of Nelder–Mead from its own best point.
-pub const RESTARTS: usize = 3;
+pub const RESTARTS: usize = 6;
 /// The box `α ∈ [0.05, 4]`, `σ ∈ [0.01, 1]`; nodes inside (0, 1) through a logistic map.
 pub const ALPHA_BOX: (f64, f64) = (0.05, 4.0);
 /// See [`ALPHA_BOX`].
