@@ -297,25 +297,20 @@ float airlight_lite_iso_2_airlight_geometry(float tau_in, float h_in, float x0, 
     float from_b = open ? 0.0 : exp(-t * du) * airlight_lite_iso_2_e2_over(t * mb, mb);
     float sum = is_short ? 0.0 : airlight_lite_iso_2_e2_over(t * m, m) - from_b;
     // The nodes: s = s_b x, v = 1 / (1 - s) = 1 + r, r = s / (1 - s) (1 - s >= 1 - x: no
-    // cancellation); one division for every v: prefix products of the 1 - s, then back.
+    // cancellation).
     float sb = open ? 1.0 : du / (lam + du);
-    float om0 = 1.0 - sb * 2.85586327e-1;
-    float om1 = 1.0 - sb * 8.14095616e-1;
-    float pre0 = om0;
-    float pre1 = pre0 * om1;
-    float inv = 1.0 / pre1;
-    float v1 = inv * pre0;
-    inv *= om1;
-    float v0 = inv;
     float nodes = 0.0;
+    float v;
     float r;
     float u;
-    r = sb * 2.85586327e-1 * v0;
+    v = 1.0 / (1.0 - sb * 2.85586327e-1);
+    r = sb * 2.85586327e-1 * v;
     u = ua + lam * r;
-    nodes += 5.61838508e-1 * v0 * v0 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 8.14095616e-1 * v1;
+    nodes += 5.61838508e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 8.14095616e-1);
+    r = sb * 8.14095616e-1 * v;
     u = ua + lam * r;
-    nodes += 4.38161492e-1 * v1 * v1 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    nodes += 4.38161492e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
     sum += nodes * sb * lam;
     if (h < 8.673617e-19) {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A

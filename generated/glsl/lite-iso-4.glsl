@@ -297,39 +297,28 @@ float airlight_lite_iso_4_airlight_geometry(float tau_in, float h_in, float x0, 
     float from_b = open ? 0.0 : exp(-t * du) * airlight_lite_iso_4_e2_over(t * mb, mb);
     float sum = is_short ? 0.0 : airlight_lite_iso_4_e2_over(t * m, m) - from_b;
     // The nodes: s = s_b x, v = 1 / (1 - s) = 1 + r, r = s / (1 - s) (1 - s >= 1 - x: no
-    // cancellation); one division for every v: prefix products of the 1 - s, then back.
+    // cancellation).
     float sb = open ? 1.0 : du / (lam + du);
-    float om0 = 1.0 - sb * 6.89806268e-2;
-    float om1 = 1.0 - sb * 3.55306327e-1;
-    float om2 = 1.0 - sb * 6.72619998e-1;
-    float om3 = 1.0 - sb * 9.13269579e-1;
-    float pre0 = om0;
-    float pre1 = pre0 * om1;
-    float pre2 = pre1 * om2;
-    float pre3 = pre2 * om3;
-    float inv = 1.0 / pre3;
-    float v3 = inv * pre2;
-    inv *= om3;
-    float v2 = inv * pre1;
-    inv *= om2;
-    float v1 = inv * pre0;
-    inv *= om1;
-    float v0 = inv;
     float nodes = 0.0;
+    float v;
     float r;
     float u;
-    r = sb * 6.89806268e-2 * v0;
+    v = 1.0 / (1.0 - sb * 6.89806268e-2);
+    r = sb * 6.89806268e-2 * v;
     u = ua + lam * r;
-    nodes += 1.86827689e-1 * v0 * v0 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 3.55306327e-1 * v1;
+    nodes += 1.86827689e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 3.55306327e-1);
+    r = sb * 3.55306327e-1 * v;
     u = ua + lam * r;
-    nodes += 3.37865204e-1 * v1 * v1 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 6.72619998e-1 * v2;
+    nodes += 3.37865204e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 6.72619998e-1);
+    r = sb * 6.72619998e-1 * v;
     u = ua + lam * r;
-    nodes += 2.83213556e-1 * v2 * v2 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 9.13269579e-1 * v3;
+    nodes += 2.83213556e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 9.13269579e-1);
+    r = sb * 9.13269579e-1 * v;
     u = ua + lam * r;
-    nodes += 1.92093551e-1 * v3 * v3 * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
+    nodes += 1.92093551e-1 * v * v * (is_short ? 1.0 : 2.0 * u / ((1.0 + u) * (1.0 + u))) / (1.0 + u * u) * exp(-t * lam * r);
     sum += nodes * sb * lam;
     if (h < 8.673617e-19) {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A

@@ -326,8 +326,8 @@ float airlight_lite_iso_3_airlight_geometry(float tau_in, float h_in, float x0_1
     bool local_6 = (bool)0;
     float du = airlight_lite_iso_3_HUGE;
     float sum = (float)0;
-    float inv = (float)0;
     float nodes = 0.0;
+    float v_2 = (float)0;
     float r_1 = (float)0;
     float u = (float)0;
 
@@ -389,64 +389,61 @@ float airlight_lite_iso_3_airlight_geometry(float tau_in, float h_in, float x0_1
     float _e138 = du;
     float _e139 = du;
     float sb_1 = (open ? 1.0 : (_e138 / (lam + _e139)));
-    float pre0_ = (1.0 - (sb_1 * 0.12199741));
-    float om1_ = (1.0 - (sb_1 * 0.5162396));
-    float om2_ = (1.0 - (sb_1 * 0.8565312));
-    float pre1_ = (pre0_ * om1_);
-    float pre2_ = (pre1_ * om2_);
-    inv = (1.0 / pre2_);
-    float _e161 = inv;
-    float v2_ = (_e161 * pre1_);
-    float _e163 = inv;
-    inv = (_e163 * om2_);
-    float _e165 = inv;
-    float v1_ = (_e165 * pre0_);
-    float _e167 = inv;
-    inv = (_e167 * om1_);
-    float v0_ = inv;
-    r_1 = ((sb_1 * 0.12199741) * v0_);
-    float _e177 = r_1;
-    u = (ua + (lam * _e177));
-    float _e180 = nodes;
-    float _e184 = u;
-    float _e187 = u;
-    float _e190 = u;
-    float _e198 = u;
-    float _e199 = u;
-    float _e206 = r_1;
-    nodes = (_e180 + (((((0.30865994 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e184) / ((1.0 + _e187) * (1.0 + _e190))))) / (1.0 + (_e198 * _e199))) * exp(((-(t) * lam) * _e206))));
-    r_1 = ((sb_1 * 0.5162396) * v1_);
-    float _e214 = r_1;
-    u = (ua + (lam * _e214));
-    float _e217 = nodes;
-    float _e221 = u;
-    float _e224 = u;
-    float _e227 = u;
-    float _e235 = u;
-    float _e236 = u;
-    float _e243 = r_1;
-    nodes = (_e217 + (((((0.39840147 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e221) / ((1.0 + _e224) * (1.0 + _e227))))) / (1.0 + (_e235 * _e236))) * exp(((-(t) * lam) * _e243))));
-    r_1 = ((sb_1 * 0.8565312) * v2_);
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.12199741)));
+    float _e157 = v_2;
+    r_1 = ((sb_1 * 0.12199741) * _e157);
+    float _e159 = r_1;
+    u = (ua + (lam * _e159));
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = (_e162 + (((((0.30865994 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.5162396)));
+    float _e203 = v_2;
+    r_1 = ((sb_1 * 0.5162396) * _e203);
+    float _e205 = r_1;
+    u = (ua + (lam * _e205));
+    float _e208 = nodes;
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
+    float _e217 = u;
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = (_e208 + (((((0.39840147 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.8565312)));
+    float _e249 = v_2;
+    r_1 = ((sb_1 * 0.8565312) * _e249);
     float _e251 = r_1;
     u = (ua + (lam * _e251));
     float _e254 = nodes;
-    float _e258 = u;
-    float _e261 = u;
-    float _e264 = u;
-    float _e272 = u;
-    float _e273 = u;
-    float _e280 = r_1;
-    nodes = (_e254 + (((((0.29293856 * v2_) * v2_) * (is_short ? 1.0 : ((2.0 * _e258) / ((1.0 + _e261) * (1.0 + _e264))))) / (1.0 + (_e272 * _e273))) * exp(((-(t) * lam) * _e280))));
-    float _e285 = sum;
-    float _e286 = nodes;
-    sum = (_e285 + ((_e286 * sb_1) * lam));
+    float _e255 = v_2;
+    float _e258 = v_2;
+    float _e260 = u;
+    float _e263 = u;
+    float _e266 = u;
+    float _e274 = u;
+    float _e275 = u;
+    float _e282 = r_1;
+    nodes = (_e254 + (((((0.29293856 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
+    float _e287 = sum;
+    float _e288 = nodes;
+    sum = (_e287 + ((_e288 * sb_1) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e292 = sum;
-        const float _e300 = airlight_lite_iso_3_scaled((0.15915494 * max(_e292, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e300;
+        float _e294 = sum;
+        const float _e302 = airlight_lite_iso_3_scaled((0.15915494 * max(_e294, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e302;
     }
-    float _e305 = sum;
-    return min(max(((0.15915494 * exp(-(tau_5))) * (_e305 / tb)), 0.0), airlight_lite_iso_3_HUGE);
+    float _e307 = sum;
+    return min(max(((0.15915494 * exp(-(tau_5))) * (_e307 / tb)), 0.0), airlight_lite_iso_3_HUGE);
 }
 
 float airlight_lite_iso_3_airlight(float tau, float gamma, float rho_2)
@@ -1115,7 +1112,7 @@ float airlight_lite_iso_3_shafts_probe(airlight_lite_iso_3_Shafts acc_2)
     return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_lite_iso_3_shafts_refine(inout airlight_lite_iso_3_Shafts acc_3, float v_2)
+void airlight_lite_iso_3_shafts_refine(inout airlight_lite_iso_3_Shafts acc_3, float v_3)
 {
     bool _e3 = acc_3.pending;
     if (_e3) {
@@ -1124,7 +1121,7 @@ void airlight_lite_iso_3_shafts_refine(inout airlight_lite_iso_3_Shafts acc_3, f
         float m_3 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
-        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+        if ((abs((v_3 - _e12)) <= abs((v_3 - _e16)))) {
             acc_3.lo = m_3;
             return;
         } else {
@@ -1155,22 +1152,22 @@ float3 airlight_lite_iso_3_shafts_place(inout airlight_lite_iso_3_Shafts acc_4)
     return run_1;
 }
 
-float3 airlight_lite_iso_3_shafts_step(inout airlight_lite_iso_3_Shafts acc_5, float s, float v_3)
+float3 airlight_lite_iso_3_shafts_step(inout airlight_lite_iso_3_Shafts acc_5, float s, float v_4)
 {
     const float3 _e3 = airlight_lite_iso_3_shafts_place(acc_5);
     float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_3;
+        acc_5.v = v_4;
     } else {
         float _e10 = acc_5.v;
-        if ((v_3 != _e10)) {
+        if ((v_4 != _e10)) {
             acc_5.pending = true;
             float _e16 = acc_5.s;
             acc_5.lo = _e16;
             acc_5.hi = s;
             float _e20 = acc_5.v;
             acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_5.after = v_4;
         }
     }
     acc_5.s = s;
@@ -1246,9 +1243,9 @@ void airlight_lite_iso_3_shafts_flush(inout airlight_lite_iso_3_Shafts acc_6, fl
     return;
 }
 
-void airlight_lite_iso_3_shafts_push(inout airlight_lite_iso_3_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_lite_iso_3_shafts_push(inout airlight_lite_iso_3_Shafts acc_7, float s_1, float v_5, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    const float3 _e9 = airlight_lite_iso_3_shafts_step(acc_7, s_1, v_4);
+    const float3 _e9 = airlight_lite_iso_3_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_3_shafts_hold(acc_7, _e9);
     return;
 }
@@ -1329,9 +1326,9 @@ void airlight_lite_iso_3_shafts_flush_spot(inout airlight_lite_iso_3_Shafts acc_
     return;
 }
 
-void airlight_lite_iso_3_shafts_push_spot(inout airlight_lite_iso_3_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_lite_iso_3_shafts_push_spot(inout airlight_lite_iso_3_Shafts acc_10, float s_2, float v_6, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    const float3 _e12 = airlight_lite_iso_3_shafts_step(acc_10, s_2, v_5);
+    const float3 _e12 = airlight_lite_iso_3_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_3_shafts_hold(acc_10, _e12);
     return;
 }

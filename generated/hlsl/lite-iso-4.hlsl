@@ -326,8 +326,8 @@ float airlight_lite_iso_4_airlight_geometry(float tau_in, float h_in, float x0_1
     bool local_6 = (bool)0;
     float du = airlight_lite_iso_4_HUGE;
     float sum = (float)0;
-    float inv = (float)0;
     float nodes = 0.0;
+    float v_2 = (float)0;
     float r_1 = (float)0;
     float u = (float)0;
 
@@ -389,81 +389,76 @@ float airlight_lite_iso_4_airlight_geometry(float tau_in, float h_in, float x0_1
     float _e138 = du;
     float _e139 = du;
     float sb_1 = (open ? 1.0 : (_e138 / (lam + _e139)));
-    float pre0_ = (1.0 - (sb_1 * 0.06898063));
-    float om1_ = (1.0 - (sb_1 * 0.35530633));
-    float om2_ = (1.0 - (sb_1 * 0.67262));
-    float om3_ = (1.0 - (sb_1 * 0.9132696));
-    float pre1_ = (pre0_ * om1_);
-    float pre2_ = (pre1_ * om2_);
-    float pre3_ = (pre2_ * om3_);
-    inv = (1.0 / pre3_);
-    float _e166 = inv;
-    float v3_ = (_e166 * pre2_);
-    float _e168 = inv;
-    inv = (_e168 * om3_);
-    float _e170 = inv;
-    float v2_ = (_e170 * pre1_);
-    float _e172 = inv;
-    inv = (_e172 * om2_);
-    float _e174 = inv;
-    float v1_ = (_e174 * pre0_);
-    float _e176 = inv;
-    inv = (_e176 * om1_);
-    float v0_ = inv;
-    r_1 = ((sb_1 * 0.06898063) * v0_);
-    float _e186 = r_1;
-    u = (ua + (lam * _e186));
-    float _e189 = nodes;
-    float _e193 = u;
-    float _e196 = u;
-    float _e199 = u;
-    float _e207 = u;
-    float _e208 = u;
-    float _e215 = r_1;
-    nodes = (_e189 + (((((0.18682769 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e193) / ((1.0 + _e196) * (1.0 + _e199))))) / (1.0 + (_e207 * _e208))) * exp(((-(t) * lam) * _e215))));
-    r_1 = ((sb_1 * 0.35530633) * v1_);
-    float _e223 = r_1;
-    u = (ua + (lam * _e223));
-    float _e226 = nodes;
-    float _e230 = u;
-    float _e233 = u;
-    float _e236 = u;
-    float _e244 = u;
-    float _e245 = u;
-    float _e252 = r_1;
-    nodes = (_e226 + (((((0.3378652 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e230) / ((1.0 + _e233) * (1.0 + _e236))))) / (1.0 + (_e244 * _e245))) * exp(((-(t) * lam) * _e252))));
-    r_1 = ((sb_1 * 0.67262) * v2_);
-    float _e260 = r_1;
-    u = (ua + (lam * _e260));
-    float _e263 = nodes;
-    float _e267 = u;
-    float _e270 = u;
-    float _e273 = u;
-    float _e281 = u;
-    float _e282 = u;
-    float _e289 = r_1;
-    nodes = (_e263 + (((((0.28321356 * v2_) * v2_) * (is_short ? 1.0 : ((2.0 * _e267) / ((1.0 + _e270) * (1.0 + _e273))))) / (1.0 + (_e281 * _e282))) * exp(((-(t) * lam) * _e289))));
-    r_1 = ((sb_1 * 0.9132696) * v3_);
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.06898063)));
+    float _e157 = v_2;
+    r_1 = ((sb_1 * 0.06898063) * _e157);
+    float _e159 = r_1;
+    u = (ua + (lam * _e159));
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = (_e162 + (((((0.18682769 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.35530633)));
+    float _e203 = v_2;
+    r_1 = ((sb_1 * 0.35530633) * _e203);
+    float _e205 = r_1;
+    u = (ua + (lam * _e205));
+    float _e208 = nodes;
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
+    float _e217 = u;
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = (_e208 + (((((0.3378652 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.67262)));
+    float _e249 = v_2;
+    r_1 = ((sb_1 * 0.67262) * _e249);
+    float _e251 = r_1;
+    u = (ua + (lam * _e251));
+    float _e254 = nodes;
+    float _e255 = v_2;
+    float _e258 = v_2;
+    float _e260 = u;
+    float _e263 = u;
+    float _e266 = u;
+    float _e274 = u;
+    float _e275 = u;
+    float _e282 = r_1;
+    nodes = (_e254 + (((((0.28321356 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.9132696)));
+    float _e295 = v_2;
+    r_1 = ((sb_1 * 0.9132696) * _e295);
     float _e297 = r_1;
     u = (ua + (lam * _e297));
     float _e300 = nodes;
-    float _e304 = u;
-    float _e307 = u;
-    float _e310 = u;
-    float _e318 = u;
-    float _e319 = u;
-    float _e326 = r_1;
-    nodes = (_e300 + (((((0.19209355 * v3_) * v3_) * (is_short ? 1.0 : ((2.0 * _e304) / ((1.0 + _e307) * (1.0 + _e310))))) / (1.0 + (_e318 * _e319))) * exp(((-(t) * lam) * _e326))));
-    float _e331 = sum;
-    float _e332 = nodes;
-    sum = (_e331 + ((_e332 * sb_1) * lam));
+    float _e301 = v_2;
+    float _e304 = v_2;
+    float _e306 = u;
+    float _e309 = u;
+    float _e312 = u;
+    float _e320 = u;
+    float _e321 = u;
+    float _e328 = r_1;
+    nodes = (_e300 + (((((0.19209355 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * exp(((-(t) * lam) * _e328))));
+    float _e333 = sum;
+    float _e334 = nodes;
+    sum = (_e333 + ((_e334 * sb_1) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e338 = sum;
-        const float _e346 = airlight_lite_iso_4_scaled((0.15915494 * max(_e338, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e346;
+        float _e340 = sum;
+        const float _e348 = airlight_lite_iso_4_scaled((0.15915494 * max(_e340, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e348;
     }
-    float _e351 = sum;
-    return min(max(((0.15915494 * exp(-(tau_5))) * (_e351 / tb)), 0.0), airlight_lite_iso_4_HUGE);
+    float _e353 = sum;
+    return min(max(((0.15915494 * exp(-(tau_5))) * (_e353 / tb)), 0.0), airlight_lite_iso_4_HUGE);
 }
 
 float airlight_lite_iso_4_airlight(float tau, float gamma, float rho_2)
@@ -1132,7 +1127,7 @@ float airlight_lite_iso_4_shafts_probe(airlight_lite_iso_4_Shafts acc_2)
     return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_lite_iso_4_shafts_refine(inout airlight_lite_iso_4_Shafts acc_3, float v_2)
+void airlight_lite_iso_4_shafts_refine(inout airlight_lite_iso_4_Shafts acc_3, float v_3)
 {
     bool _e3 = acc_3.pending;
     if (_e3) {
@@ -1141,7 +1136,7 @@ void airlight_lite_iso_4_shafts_refine(inout airlight_lite_iso_4_Shafts acc_3, f
         float m_3 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
-        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+        if ((abs((v_3 - _e12)) <= abs((v_3 - _e16)))) {
             acc_3.lo = m_3;
             return;
         } else {
@@ -1172,22 +1167,22 @@ float3 airlight_lite_iso_4_shafts_place(inout airlight_lite_iso_4_Shafts acc_4)
     return run_1;
 }
 
-float3 airlight_lite_iso_4_shafts_step(inout airlight_lite_iso_4_Shafts acc_5, float s, float v_3)
+float3 airlight_lite_iso_4_shafts_step(inout airlight_lite_iso_4_Shafts acc_5, float s, float v_4)
 {
     const float3 _e3 = airlight_lite_iso_4_shafts_place(acc_5);
     float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_3;
+        acc_5.v = v_4;
     } else {
         float _e10 = acc_5.v;
-        if ((v_3 != _e10)) {
+        if ((v_4 != _e10)) {
             acc_5.pending = true;
             float _e16 = acc_5.s;
             acc_5.lo = _e16;
             acc_5.hi = s;
             float _e20 = acc_5.v;
             acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_5.after = v_4;
         }
     }
     acc_5.s = s;
@@ -1263,9 +1258,9 @@ void airlight_lite_iso_4_shafts_flush(inout airlight_lite_iso_4_Shafts acc_6, fl
     return;
 }
 
-void airlight_lite_iso_4_shafts_push(inout airlight_lite_iso_4_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_lite_iso_4_shafts_push(inout airlight_lite_iso_4_Shafts acc_7, float s_1, float v_5, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    const float3 _e9 = airlight_lite_iso_4_shafts_step(acc_7, s_1, v_4);
+    const float3 _e9 = airlight_lite_iso_4_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_4_shafts_hold(acc_7, _e9);
     return;
 }
@@ -1346,9 +1341,9 @@ void airlight_lite_iso_4_shafts_flush_spot(inout airlight_lite_iso_4_Shafts acc_
     return;
 }
 
-void airlight_lite_iso_4_shafts_push_spot(inout airlight_lite_iso_4_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_lite_iso_4_shafts_push_spot(inout airlight_lite_iso_4_Shafts acc_10, float s_2, float v_6, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    const float3 _e12 = airlight_lite_iso_4_shafts_step(acc_10, s_2, v_5);
+    const float3 _e12 = airlight_lite_iso_4_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_4_shafts_hold(acc_10, _e12);
     return;
 }

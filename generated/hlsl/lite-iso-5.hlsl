@@ -326,8 +326,8 @@ float airlight_lite_iso_5_airlight_geometry(float tau_in, float h_in, float x0_1
     bool local_6 = (bool)0;
     float du = airlight_lite_iso_5_HUGE;
     float sum = (float)0;
-    float inv = (float)0;
     float nodes = 0.0;
+    float v_2 = (float)0;
     float r_1 = (float)0;
     float u = (float)0;
 
@@ -389,98 +389,91 @@ float airlight_lite_iso_5_airlight_geometry(float tau_in, float h_in, float x0_1
     float _e138 = du;
     float _e139 = du;
     float sb_1 = (open ? 1.0 : (_e138 / (lam + _e139)));
-    float pre0_ = (1.0 - (sb_1 * 0.045649897));
-    float om1_ = (1.0 - (sb_1 * 0.2267567));
-    float om2_ = (1.0 - (sb_1 * 0.5019324));
-    float om3_ = (1.0 - (sb_1 * 0.76887274));
-    float om4_ = (1.0 - (sb_1 * 0.9568853));
-    float pre1_ = (pre0_ * om1_);
-    float pre2_ = (pre1_ * om2_);
-    float pre3_ = (pre2_ * om3_);
-    float pre4_ = (pre3_ * om4_);
-    inv = (1.0 / pre4_);
-    float _e171 = inv;
-    float v4_ = (_e171 * pre3_);
-    float _e173 = inv;
-    inv = (_e173 * om4_);
-    float _e175 = inv;
-    float v3_ = (_e175 * pre2_);
-    float _e177 = inv;
-    inv = (_e177 * om3_);
-    float _e179 = inv;
-    float v2_ = (_e179 * pre1_);
-    float _e181 = inv;
-    inv = (_e181 * om2_);
-    float _e183 = inv;
-    float v1_ = (_e183 * pre0_);
-    float _e185 = inv;
-    inv = (_e185 * om1_);
-    float v0_ = inv;
-    r_1 = ((sb_1 * 0.045649897) * v0_);
-    float _e195 = r_1;
-    u = (ua + (lam * _e195));
-    float _e198 = nodes;
-    float _e202 = u;
-    float _e205 = u;
-    float _e208 = u;
-    float _e216 = u;
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.045649897)));
+    float _e157 = v_2;
+    r_1 = ((sb_1 * 0.045649897) * _e157);
+    float _e159 = r_1;
+    u = (ua + (lam * _e159));
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = (_e162 + (((((0.11473862 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.2267567)));
+    float _e203 = v_2;
+    r_1 = ((sb_1 * 0.2267567) * _e203);
+    float _e205 = r_1;
+    u = (ua + (lam * _e205));
+    float _e208 = nodes;
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
     float _e217 = u;
-    float _e224 = r_1;
-    nodes = (_e198 + (((((0.11473862 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e202) / ((1.0 + _e205) * (1.0 + _e208))))) / (1.0 + (_e216 * _e217))) * exp(((-(t) * lam) * _e224))));
-    r_1 = ((sb_1 * 0.2267567) * v1_);
-    float _e232 = r_1;
-    u = (ua + (lam * _e232));
-    float _e235 = nodes;
-    float _e239 = u;
-    float _e242 = u;
-    float _e245 = u;
-    float _e253 = u;
-    float _e254 = u;
-    float _e261 = r_1;
-    nodes = (_e235 + (((((0.24207275 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e239) / ((1.0 + _e242) * (1.0 + _e245))))) / (1.0 + (_e253 * _e254))) * exp(((-(t) * lam) * _e261))));
-    r_1 = ((sb_1 * 0.5019324) * v2_);
-    float _e269 = r_1;
-    u = (ua + (lam * _e269));
-    float _e272 = nodes;
-    float _e276 = u;
-    float _e279 = u;
-    float _e282 = u;
-    float _e290 = u;
-    float _e291 = u;
-    float _e298 = r_1;
-    nodes = (_e272 + (((((0.2868063 * v2_) * v2_) * (is_short ? 1.0 : ((2.0 * _e276) / ((1.0 + _e279) * (1.0 + _e282))))) / (1.0 + (_e290 * _e291))) * exp(((-(t) * lam) * _e298))));
-    r_1 = ((sb_1 * 0.76887274) * v3_);
-    float _e306 = r_1;
-    u = (ua + (lam * _e306));
-    float _e309 = nodes;
-    float _e313 = u;
-    float _e316 = u;
-    float _e319 = u;
-    float _e327 = u;
-    float _e328 = u;
-    float _e335 = r_1;
-    nodes = (_e309 + (((((0.23781383 * v3_) * v3_) * (is_short ? 1.0 : ((2.0 * _e313) / ((1.0 + _e316) * (1.0 + _e319))))) / (1.0 + (_e327 * _e328))) * exp(((-(t) * lam) * _e335))));
-    r_1 = ((sb_1 * 0.9568853) * v4_);
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = (_e208 + (((((0.24207275 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.5019324)));
+    float _e249 = v_2;
+    r_1 = ((sb_1 * 0.5019324) * _e249);
+    float _e251 = r_1;
+    u = (ua + (lam * _e251));
+    float _e254 = nodes;
+    float _e255 = v_2;
+    float _e258 = v_2;
+    float _e260 = u;
+    float _e263 = u;
+    float _e266 = u;
+    float _e274 = u;
+    float _e275 = u;
+    float _e282 = r_1;
+    nodes = (_e254 + (((((0.2868063 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.76887274)));
+    float _e295 = v_2;
+    r_1 = ((sb_1 * 0.76887274) * _e295);
+    float _e297 = r_1;
+    u = (ua + (lam * _e297));
+    float _e300 = nodes;
+    float _e301 = v_2;
+    float _e304 = v_2;
+    float _e306 = u;
+    float _e309 = u;
+    float _e312 = u;
+    float _e320 = u;
+    float _e321 = u;
+    float _e328 = r_1;
+    nodes = (_e300 + (((((0.23781383 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * exp(((-(t) * lam) * _e328))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.9568853)));
+    float _e341 = v_2;
+    r_1 = ((sb_1 * 0.9568853) * _e341);
     float _e343 = r_1;
     u = (ua + (lam * _e343));
     float _e346 = nodes;
-    float _e350 = u;
-    float _e353 = u;
-    float _e356 = u;
-    float _e364 = u;
-    float _e365 = u;
-    float _e372 = r_1;
-    nodes = (_e346 + (((((0.11856851 * v4_) * v4_) * (is_short ? 1.0 : ((2.0 * _e350) / ((1.0 + _e353) * (1.0 + _e356))))) / (1.0 + (_e364 * _e365))) * exp(((-(t) * lam) * _e372))));
-    float _e377 = sum;
-    float _e378 = nodes;
-    sum = (_e377 + ((_e378 * sb_1) * lam));
+    float _e347 = v_2;
+    float _e350 = v_2;
+    float _e352 = u;
+    float _e355 = u;
+    float _e358 = u;
+    float _e366 = u;
+    float _e367 = u;
+    float _e374 = r_1;
+    nodes = (_e346 + (((((0.11856851 * _e347) * _e350) * (is_short ? 1.0 : ((2.0 * _e352) / ((1.0 + _e355) * (1.0 + _e358))))) / (1.0 + (_e366 * _e367))) * exp(((-(t) * lam) * _e374))));
+    float _e379 = sum;
+    float _e380 = nodes;
+    sum = (_e379 + ((_e380 * sb_1) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e384 = sum;
-        const float _e392 = airlight_lite_iso_5_scaled((0.15915494 * max(_e384, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e392;
+        float _e386 = sum;
+        const float _e394 = airlight_lite_iso_5_scaled((0.15915494 * max(_e386, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e394;
     }
-    float _e397 = sum;
-    return min(max(((0.15915494 * exp(-(tau_5))) * (_e397 / tb)), 0.0), airlight_lite_iso_5_HUGE);
+    float _e399 = sum;
+    return min(max(((0.15915494 * exp(-(tau_5))) * (_e399 / tb)), 0.0), airlight_lite_iso_5_HUGE);
 }
 
 float airlight_lite_iso_5_airlight(float tau, float gamma, float rho_2)
@@ -1149,7 +1142,7 @@ float airlight_lite_iso_5_shafts_probe(airlight_lite_iso_5_Shafts acc_2)
     return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_lite_iso_5_shafts_refine(inout airlight_lite_iso_5_Shafts acc_3, float v_2)
+void airlight_lite_iso_5_shafts_refine(inout airlight_lite_iso_5_Shafts acc_3, float v_3)
 {
     bool _e3 = acc_3.pending;
     if (_e3) {
@@ -1158,7 +1151,7 @@ void airlight_lite_iso_5_shafts_refine(inout airlight_lite_iso_5_Shafts acc_3, f
         float m_3 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
-        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+        if ((abs((v_3 - _e12)) <= abs((v_3 - _e16)))) {
             acc_3.lo = m_3;
             return;
         } else {
@@ -1189,22 +1182,22 @@ float3 airlight_lite_iso_5_shafts_place(inout airlight_lite_iso_5_Shafts acc_4)
     return run_1;
 }
 
-float3 airlight_lite_iso_5_shafts_step(inout airlight_lite_iso_5_Shafts acc_5, float s, float v_3)
+float3 airlight_lite_iso_5_shafts_step(inout airlight_lite_iso_5_Shafts acc_5, float s, float v_4)
 {
     const float3 _e3 = airlight_lite_iso_5_shafts_place(acc_5);
     float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_3;
+        acc_5.v = v_4;
     } else {
         float _e10 = acc_5.v;
-        if ((v_3 != _e10)) {
+        if ((v_4 != _e10)) {
             acc_5.pending = true;
             float _e16 = acc_5.s;
             acc_5.lo = _e16;
             acc_5.hi = s;
             float _e20 = acc_5.v;
             acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_5.after = v_4;
         }
     }
     acc_5.s = s;
@@ -1280,9 +1273,9 @@ void airlight_lite_iso_5_shafts_flush(inout airlight_lite_iso_5_Shafts acc_6, fl
     return;
 }
 
-void airlight_lite_iso_5_shafts_push(inout airlight_lite_iso_5_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_lite_iso_5_shafts_push(inout airlight_lite_iso_5_Shafts acc_7, float s_1, float v_5, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    const float3 _e9 = airlight_lite_iso_5_shafts_step(acc_7, s_1, v_4);
+    const float3 _e9 = airlight_lite_iso_5_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_5_shafts_hold(acc_7, _e9);
     return;
 }
@@ -1363,9 +1356,9 @@ void airlight_lite_iso_5_shafts_flush_spot(inout airlight_lite_iso_5_Shafts acc_
     return;
 }
 
-void airlight_lite_iso_5_shafts_push_spot(inout airlight_lite_iso_5_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_lite_iso_5_shafts_push_spot(inout airlight_lite_iso_5_Shafts acc_10, float s_2, float v_6, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    const float3 _e12 = airlight_lite_iso_5_shafts_step(acc_10, s_2, v_5);
+    const float3 _e12 = airlight_lite_iso_5_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_5_shafts_hold(acc_10, _e12);
     return;
 }

@@ -287,25 +287,20 @@ fn airlight_lite_iso_2_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f
     let from_b = select(exp(-t * du) * airlight_lite_iso_2_e2_over(t * mb, mb), 0.0, open);
     var sum = select(airlight_lite_iso_2_e2_over(t * m, m) - from_b, 0.0, is_short);
     // The nodes: s = s_b x, v = 1 / (1 - s) = 1 + r, r = s / (1 - s) (1 - s >= 1 - x: no
-    // cancellation); one division for every v: prefix products of the 1 - s, then back.
+    // cancellation).
     let sb = select(du / (lam + du), 1.0, open);
-    let om0 = 1.0 - sb * 2.85586327e-1;
-    let om1 = 1.0 - sb * 8.14095616e-1;
-    let pre0 = om0;
-    let pre1 = pre0 * om1;
-    var inv = 1.0 / pre1;
-    let v1 = inv * pre0;
-    inv *= om1;
-    let v0 = inv;
     var nodes = 0.0;
+    var v: f32;
     var r: f32;
     var u: f32;
-    r = sb * 2.85586327e-1 * v0;
+    v = 1.0 / (1.0 - sb * 2.85586327e-1);
+    r = sb * 2.85586327e-1 * v;
     u = ua + lam * r;
-    nodes += 5.61838508e-1 * v0 * v0 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 8.14095616e-1 * v1;
+    nodes += 5.61838508e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 8.14095616e-1);
+    r = sb * 8.14095616e-1 * v;
     u = ua + lam * r;
-    nodes += 4.38161492e-1 * v1 * v1 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    nodes += 4.38161492e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
     sum += nodes * sb * lam;
     if h < 8.673617e-19 {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A

@@ -287,39 +287,28 @@ fn airlight_lite_iso_4_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f
     let from_b = select(exp(-t * du) * airlight_lite_iso_4_e2_over(t * mb, mb), 0.0, open);
     var sum = select(airlight_lite_iso_4_e2_over(t * m, m) - from_b, 0.0, is_short);
     // The nodes: s = s_b x, v = 1 / (1 - s) = 1 + r, r = s / (1 - s) (1 - s >= 1 - x: no
-    // cancellation); one division for every v: prefix products of the 1 - s, then back.
+    // cancellation).
     let sb = select(du / (lam + du), 1.0, open);
-    let om0 = 1.0 - sb * 6.89806268e-2;
-    let om1 = 1.0 - sb * 3.55306327e-1;
-    let om2 = 1.0 - sb * 6.72619998e-1;
-    let om3 = 1.0 - sb * 9.13269579e-1;
-    let pre0 = om0;
-    let pre1 = pre0 * om1;
-    let pre2 = pre1 * om2;
-    let pre3 = pre2 * om3;
-    var inv = 1.0 / pre3;
-    let v3 = inv * pre2;
-    inv *= om3;
-    let v2 = inv * pre1;
-    inv *= om2;
-    let v1 = inv * pre0;
-    inv *= om1;
-    let v0 = inv;
     var nodes = 0.0;
+    var v: f32;
     var r: f32;
     var u: f32;
-    r = sb * 6.89806268e-2 * v0;
+    v = 1.0 / (1.0 - sb * 6.89806268e-2);
+    r = sb * 6.89806268e-2 * v;
     u = ua + lam * r;
-    nodes += 1.86827689e-1 * v0 * v0 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 3.55306327e-1 * v1;
+    nodes += 1.86827689e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 3.55306327e-1);
+    r = sb * 3.55306327e-1 * v;
     u = ua + lam * r;
-    nodes += 3.37865204e-1 * v1 * v1 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 6.72619998e-1 * v2;
+    nodes += 3.37865204e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 6.72619998e-1);
+    r = sb * 6.72619998e-1 * v;
     u = ua + lam * r;
-    nodes += 2.83213556e-1 * v2 * v2 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 9.13269579e-1 * v3;
+    nodes += 2.83213556e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 9.13269579e-1);
+    r = sb * 9.13269579e-1 * v;
     u = ua + lam * r;
-    nodes += 1.92093551e-1 * v3 * v3 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    nodes += 1.92093551e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
     sum += nodes * sb * lam;
     if h < 8.673617e-19 {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A

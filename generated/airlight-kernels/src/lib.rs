@@ -465,8 +465,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.86157521923663e-2,
         dense_max_rel: 2.0410991801952442e-2,
-        f32_thin_max_rel: Some(1.8615972401808616e-2),
-        f32_dense_max_rel: Some(2.041144868002448e-2),
+        f32_thin_max_rel: Some(1.8615960468823318e-2),
+        f32_dense_max_rel: Some(2.0411450648184896e-2),
         airlight: |tau, gamma, rho, _g| lite_iso_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -484,7 +484,7 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 5.050781601717717e-3,
         dense_max_rel: 5.6589149767103854e-3,
         f32_thin_max_rel: Some(5.051303391724537e-3),
-        f32_dense_max_rel: Some(5.6593653379901805e-3),
+        f32_dense_max_rel: Some(5.659220242194785e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -501,8 +501,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.2080833888705146e-3,
         dense_max_rel: 1.2994396714629862e-3,
-        f32_thin_max_rel: Some(1.2084816784339075e-3),
-        f32_dense_max_rel: Some(1.299803189968614e-3),
+        f32_thin_max_rel: Some(1.2084605417379826e-3),
+        f32_dense_max_rel: Some(1.2997963284190038e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -519,8 +519,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.863553422423883e-4,
         dense_max_rel: 8.250122094914532e-4,
-        f32_thin_max_rel: Some(7.868748509689439e-4),
-        f32_dense_max_rel: Some(8.255716751257138e-4),
+        f32_thin_max_rel: Some(7.869854836583145e-4),
+        f32_dense_max_rel: Some(8.254566773297276e-4),
         airlight: |tau, gamma, rho, _g| lite_iso_5::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

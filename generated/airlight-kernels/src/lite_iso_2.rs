@@ -108,26 +108,15 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32) -> f32 {
     let from_b = if open { 0.0 } else { exp(-t * du) * e2_over(t * mb, mb) };
     let mut sum = if is_short { 0.0 } else { e2_over(t * m, m) - from_b };
     // The nodes: s = s_b x, v = 1/(1 − s) = 1 + r, r = s/(1 − s) (1 − s ≥ 1 − x: no
-    // cancellation); one division for every v: prefix products of the 1 − s, then back.
+    // cancellation).
     let sb = if open { 1.0 } else { du / (lam + du) };
-    let om = NX.map(|x| 1.0 - sb * x);
-    let mut pre = om;
-    for k in 1..pre.len() {
-        pre[k] = pre[k - 1] * om[k];
-    }
-    let mut inv = 1.0 / pre[pre.len() - 1];
-    let mut v = om;
-    for k in (1..v.len()).rev() {
-        v[k] = inv * pre[k - 1];
-        inv *= om[k];
-    }
-    v[0] = inv;
     let mut nodes = 0.0f32;
     for i in 0..NX.len() {
-        let r = sb * NX[i] * v[i];
+        let v = 1.0 / (1.0 - sb * NX[i]);
+        let r = sb * NX[i] * v;
         let u = ua + lam * r;
         let f = if is_short { 1.0 } else { 2.0 * u / ((1.0 + u) * (1.0 + u)) };
-        nodes += NW[i] * v[i] * v[i] * f / (1.0 + u * u) * exp(-t * lam * r);
+        nodes += NW[i] * v * v * f / (1.0 + u * u) * exp(-t * lam * r);
     }
     sum += nodes * sb * lam;
     if h < 8.673_617e-19 {

@@ -289,46 +289,32 @@ fn airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32) -> f32 
     let from_b = select(exp(-t * du) * e2_over(t * mb, mb), 0.0, open);
     var sum = select(e2_over(t * m, m) - from_b, 0.0, is_short);
     // The nodes: s = s_b x, v = 1 / (1 - s) = 1 + r, r = s / (1 - s) (1 - s >= 1 - x: no
-    // cancellation); one division for every v: prefix products of the 1 - s, then back.
+    // cancellation).
     let sb = select(du / (lam + du), 1.0, open);
-    let om0 = 1.0 - sb * 4.56498973e-2;
-    let om1 = 1.0 - sb * 2.26756707e-1;
-    let om2 = 1.0 - sb * 5.01932383e-1;
-    let om3 = 1.0 - sb * 7.68872738e-1;
-    let om4 = 1.0 - sb * 9.56885278e-1;
-    let pre0 = om0;
-    let pre1 = pre0 * om1;
-    let pre2 = pre1 * om2;
-    let pre3 = pre2 * om3;
-    let pre4 = pre3 * om4;
-    var inv = 1.0 / pre4;
-    let v4 = inv * pre3;
-    inv *= om4;
-    let v3 = inv * pre2;
-    inv *= om3;
-    let v2 = inv * pre1;
-    inv *= om2;
-    let v1 = inv * pre0;
-    inv *= om1;
-    let v0 = inv;
     var nodes = 0.0;
+    var v: f32;
     var r: f32;
     var u: f32;
-    r = sb * 4.56498973e-2 * v0;
+    v = 1.0 / (1.0 - sb * 4.56498973e-2);
+    r = sb * 4.56498973e-2 * v;
     u = ua + lam * r;
-    nodes += 1.14738621e-1 * v0 * v0 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 2.26756707e-1 * v1;
+    nodes += 1.14738621e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 2.26756707e-1);
+    r = sb * 2.26756707e-1 * v;
     u = ua + lam * r;
-    nodes += 2.42072746e-1 * v1 * v1 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 5.01932383e-1 * v2;
+    nodes += 2.42072746e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 5.01932383e-1);
+    r = sb * 5.01932383e-1 * v;
     u = ua + lam * r;
-    nodes += 2.86806285e-1 * v2 * v2 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 7.68872738e-1 * v3;
+    nodes += 2.86806285e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 7.68872738e-1);
+    r = sb * 7.68872738e-1 * v;
     u = ua + lam * r;
-    nodes += 2.37813830e-1 * v3 * v3 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
-    r = sb * 9.56885278e-1 * v4;
+    nodes += 2.37813830e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    v = 1.0 / (1.0 - sb * 9.56885278e-1);
+    r = sb * 9.56885278e-1 * v;
     u = ua + lam * r;
-    nodes += 1.18568510e-1 * v4 * v4 * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
+    nodes += 1.18568510e-1 * v * v * select(2.0 * u / ((1.0 + u) * (1.0 + u)), 1.0, is_short) / (1.0 + u * u) * exp(-t * lam * r);
     sum += nodes * sb * lam;
     if h < 8.673617e-19 {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A

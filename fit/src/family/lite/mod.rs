@@ -137,11 +137,6 @@ impl Family for LiteRule {
         let mut ctx = Context::quadrature(k);
         ctx.insert("nodes", &lits(&self.x));
         ctx.insert("weights", &lits(&self.w));
-        // Prefix products of the nodes' 1 − s, forwards and back (one division for all).
-        let n = self.x.len();
-        ctx.insert("forward", &(1..n).collect::<Vec<usize>>());
-        ctx.insert("back", &(1..n).rev().collect::<Vec<usize>>());
-        ctx.insert("last", &(n - 1));
         ctx.insert("alpha", &lit(self.alpha));
         ctx.insert("short", &lit(self.short));
         ctx.insert("e2_n1", &lits(&self.e2.n1));
@@ -169,12 +164,12 @@ impl Family for LiteRule {
 
     /// One path for every ray: the geometry (the canonical entry's `sin_cos`, the
     /// surface's `sqrt` and divisions), `λ`, `s_b`, two `eˣE₂` (a `log` and two
-    /// divisions each) with `e^{−TΔ}` and the ends' divisions, one division for every
-    /// node's `1/(1 − s)`; per node `exp` and one division.
+    /// divisions each) with `e^{−TΔ}` and the ends' divisions; per node `exp` and three
+    /// divisions.
     fn ops(&self, shape: Shape) -> Cost {
         let s = usize::from(shape.surfaces);
         let n = self.x.len();
-        Cost { exp: 2 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 2 + 6 + 1 + n, sincos: 1 }
+        Cost { exp: 2 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 2 + 6 + 3 * n, sincos: 1 }
     }
 
     fn render_toml(&self, _g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {

@@ -327,8 +327,8 @@ float airlight_lite_iso_2_airlight_geometry(float tau_in, float h_in, float x0_1
     bool local_6 = (bool)0;
     float du = airlight_lite_iso_2_HUGE;
     float sum = (float)0;
-    float inv = (float)0;
     float nodes = 0.0;
+    float v_2 = (float)0;
     float r_1 = (float)0;
     float u = (float)0;
 
@@ -390,47 +390,46 @@ float airlight_lite_iso_2_airlight_geometry(float tau_in, float h_in, float x0_1
     float _e138 = du;
     float _e139 = du;
     float sb_1 = (open ? 1.0 : (_e138 / (lam + _e139)));
-    float pre0_ = (1.0 - (sb_1 * 0.28558633));
-    float om1_ = (1.0 - (sb_1 * 0.8140956));
-    float pre1_ = (pre0_ * om1_);
-    inv = (1.0 / pre1_);
-    float _e156 = inv;
-    float v1_ = (_e156 * pre0_);
-    float _e158 = inv;
-    inv = (_e158 * om1_);
-    float v0_ = inv;
-    r_1 = ((sb_1 * 0.28558633) * v0_);
-    float _e168 = r_1;
-    u = (ua + (lam * _e168));
-    float _e171 = nodes;
-    float _e175 = u;
-    float _e178 = u;
-    float _e181 = u;
-    float _e189 = u;
-    float _e190 = u;
-    float _e197 = r_1;
-    nodes = (_e171 + (((((0.5618385 * v0_) * v0_) * (is_short ? 1.0 : ((2.0 * _e175) / ((1.0 + _e178) * (1.0 + _e181))))) / (1.0 + (_e189 * _e190))) * exp(((-(t) * lam) * _e197))));
-    r_1 = ((sb_1 * 0.8140956) * v1_);
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.28558633)));
+    float _e157 = v_2;
+    r_1 = ((sb_1 * 0.28558633) * _e157);
+    float _e159 = r_1;
+    u = (ua + (lam * _e159));
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = (_e162 + (((((0.5618385 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb_1 * 0.8140956)));
+    float _e203 = v_2;
+    r_1 = ((sb_1 * 0.8140956) * _e203);
     float _e205 = r_1;
     u = (ua + (lam * _e205));
     float _e208 = nodes;
-    float _e212 = u;
-    float _e215 = u;
-    float _e218 = u;
-    float _e226 = u;
-    float _e227 = u;
-    float _e234 = r_1;
-    nodes = (_e208 + (((((0.4381615 * v1_) * v1_) * (is_short ? 1.0 : ((2.0 * _e212) / ((1.0 + _e215) * (1.0 + _e218))))) / (1.0 + (_e226 * _e227))) * exp(((-(t) * lam) * _e234))));
-    float _e239 = sum;
-    float _e240 = nodes;
-    sum = (_e239 + ((_e240 * sb_1) * lam));
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
+    float _e217 = u;
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = (_e208 + (((((0.4381615 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    float _e241 = sum;
+    float _e242 = nodes;
+    sum = (_e241 + ((_e242 * sb_1) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e246 = sum;
-        const float _e254 = airlight_lite_iso_2_scaled((0.15915494 * max(_e246, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e254;
+        float _e248 = sum;
+        const float _e256 = airlight_lite_iso_2_scaled((0.15915494 * max(_e248, 0.0)), exp(-(tau_5)), tb, 1.0);
+        return _e256;
     }
-    float _e259 = sum;
-    return min(max(((0.15915494 * exp(-(tau_5))) * (_e259 / tb)), 0.0), airlight_lite_iso_2_HUGE);
+    float _e261 = sum;
+    return min(max(((0.15915494 * exp(-(tau_5))) * (_e261 / tb)), 0.0), airlight_lite_iso_2_HUGE);
 }
 
 float airlight_lite_iso_2_airlight(float tau, float gamma, float rho_2)
@@ -1099,7 +1098,7 @@ float airlight_lite_iso_2_shafts_probe(airlight_lite_iso_2_Shafts acc_2)
     return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
 }
 
-void airlight_lite_iso_2_shafts_refine(inout airlight_lite_iso_2_Shafts acc_3, float v_2)
+void airlight_lite_iso_2_shafts_refine(inout airlight_lite_iso_2_Shafts acc_3, float v_3)
 {
     bool _e3 = acc_3.pending;
     if (_e3) {
@@ -1108,7 +1107,7 @@ void airlight_lite_iso_2_shafts_refine(inout airlight_lite_iso_2_Shafts acc_3, f
         float m_3 = (0.5 * (_e5 + _e7));
         float _e12 = acc_3.before;
         float _e16 = acc_3.after;
-        if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
+        if ((abs((v_3 - _e12)) <= abs((v_3 - _e16)))) {
             acc_3.lo = m_3;
             return;
         } else {
@@ -1139,22 +1138,22 @@ float3 airlight_lite_iso_2_shafts_place(inout airlight_lite_iso_2_Shafts acc_4)
     return run_1;
 }
 
-float3 airlight_lite_iso_2_shafts_step(inout airlight_lite_iso_2_Shafts acc_5, float s, float v_3)
+float3 airlight_lite_iso_2_shafts_step(inout airlight_lite_iso_2_Shafts acc_5, float s, float v_4)
 {
     const float3 _e3 = airlight_lite_iso_2_shafts_place(acc_5);
     float _e5 = acc_5.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_3;
+        acc_5.v = v_4;
     } else {
         float _e10 = acc_5.v;
-        if ((v_3 != _e10)) {
+        if ((v_4 != _e10)) {
             acc_5.pending = true;
             float _e16 = acc_5.s;
             acc_5.lo = _e16;
             acc_5.hi = s;
             float _e20 = acc_5.v;
             acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_5.after = v_4;
         }
     }
     acc_5.s = s;
@@ -1230,9 +1229,9 @@ void airlight_lite_iso_2_shafts_flush(inout airlight_lite_iso_2_Shafts acc_6, fl
     return;
 }
 
-void airlight_lite_iso_2_shafts_push(inout airlight_lite_iso_2_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_lite_iso_2_shafts_push(inout airlight_lite_iso_2_Shafts acc_7, float s_1, float v_5, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
 {
-    const float3 _e9 = airlight_lite_iso_2_shafts_step(acc_7, s_1, v_4);
+    const float3 _e9 = airlight_lite_iso_2_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_2_shafts_hold(acc_7, _e9);
     return;
 }
@@ -1313,9 +1312,9 @@ void airlight_lite_iso_2_shafts_flush_spot(inout airlight_lite_iso_2_Shafts acc_
     return;
 }
 
-void airlight_lite_iso_2_shafts_push_spot(inout airlight_lite_iso_2_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_lite_iso_2_shafts_push_spot(inout airlight_lite_iso_2_Shafts acc_10, float s_2, float v_6, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
 {
-    const float3 _e12 = airlight_lite_iso_2_shafts_step(acc_10, s_2, v_5);
+    const float3 _e12 = airlight_lite_iso_2_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_2_shafts_hold(acc_10, _e12);
     return;
 }
