@@ -175,7 +175,7 @@ enum Command {
     /// written (a model needs all of its families).
     Fit {
         /// The family part to fit: segments, phase or backscatter (the split
-        /// family's parts) or phi.
+        /// family's parts), phi or lite.
         #[arg(long)]
         family: Option<String>,
         /// Repository root; found from the current directory if omitted.

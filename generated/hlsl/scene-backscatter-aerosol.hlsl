@@ -398,10 +398,10 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
     float one_minus = ((x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_));
     float ub = (ua + airlight_scene_backscatter_aerosol_HUGE);
     float t_1 = (tau_1 * h_1);
-    float xf = (1.5 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (1.8847107 / max(t_1, 1e-30)) : airlight_scene_backscatter_aerosol_HUGE);
+    float xf = (2.1668308 * max(md_4.w, 1.0));
+    float lcut = ((t_1 > 0.0) ? (4.172611 / max(t_1, 1e-30)) : airlight_scene_backscatter_aerosol_HUGE);
     float m_1 = max(ua, xf);
-    bool is_short = (airlight_scene_backscatter_aerosol_HUGE < (0.29245466 * (ua + min(md_4.w, 1.0))));
+    bool is_short = (airlight_scene_backscatter_aerosol_HUGE < (0.2704029 * (ua + min(md_4.w, 1.0))));
     if (!(is_short)) {
         local_5 = (ub > m_1);
     } else {
@@ -409,20 +409,20 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
     }
     bool _e82 = local_5;
     if (_e82) {
-        local_6 = ((t_1 * (m_1 - ua)) < 1.8847107);
+        local_6 = ((t_1 * (m_1 - ua)) < 4.172611);
     } else {
         local_6 = false;
     }
     bool _e90 = local_6;
     if (_e90) {
-        local_7 = ((t_1 * m_1) < 7.001672);
+        local_7 = ((t_1 * m_1) < 4.6279573);
     } else {
         local_7 = false;
     }
     bool use_far = local_7;
     float len = (use_far ? (m_1 - ua) : min(airlight_scene_backscatter_aerosol_HUGE, lcut));
     if ((len > 0.0)) {
-        if (!((len < (0.29245466 * (ua + min(md_4.w, 1.0)))))) {
+        if (!((len < (0.2704029 * (ua + min(md_4.w, 1.0)))))) {
             local_8 = (ua >= xf);
         } else {
             local_8 = true;
@@ -430,192 +430,250 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(float tau_in, float h
         bool _e117 = local_8;
         if (_e117) {
             float hl = (0.5 * len);
-            d_2 = (hl * 1.8611363);
+            d_2 = (hl * 1.9324695);
             float _e123 = sum;
             float _e124 = d_2;
             const float _e126 = airlight_scene_backscatter_aerosol_w_u((ua + _e124), md_4);
             float _e130 = d_2;
-            sum = (_e123 + ((0.34785485 * _e126) * exp((-(t_1) * _e130))));
-            d_2 = (hl * 1.3399811);
+            sum = (_e123 + ((0.17132449 * _e126) * exp((-(t_1) * _e130))));
+            d_2 = (hl * 1.6612093);
             float _e137 = sum;
             float _e138 = d_2;
             const float _e140 = airlight_scene_backscatter_aerosol_w_u((ua + _e138), md_4);
             float _e144 = d_2;
-            sum = (_e137 + ((0.65214515 * _e140) * exp((-(t_1) * _e144))));
-            d_2 = (hl * 0.660019);
+            sum = (_e137 + ((0.36076158 * _e140) * exp((-(t_1) * _e144))));
+            d_2 = (hl * 1.2386192);
             float _e151 = sum;
             float _e152 = d_2;
             const float _e154 = airlight_scene_backscatter_aerosol_w_u((ua + _e152), md_4);
             float _e158 = d_2;
-            sum = (_e151 + ((0.65214515 * _e154) * exp((-(t_1) * _e158))));
-            d_2 = (hl * 0.13886368);
+            sum = (_e151 + ((0.46791393 * _e154) * exp((-(t_1) * _e158))));
+            d_2 = (hl * 0.7613808);
             float _e165 = sum;
             float _e166 = d_2;
             const float _e168 = airlight_scene_backscatter_aerosol_w_u((ua + _e166), md_4);
             float _e172 = d_2;
-            sum = (_e165 + ((0.34785485 * _e168) * exp((-(t_1) * _e172))));
-            float _e177 = sum;
-            sum = (_e177 * hl);
+            sum = (_e165 + ((0.46791393 * _e168) * exp((-(t_1) * _e172))));
+            d_2 = (hl * 0.3387906);
+            float _e179 = sum;
+            float _e180 = d_2;
+            const float _e182 = airlight_scene_backscatter_aerosol_w_u((ua + _e180), md_4);
+            float _e186 = d_2;
+            sum = (_e179 + ((0.36076158 * _e182) * exp((-(t_1) * _e186))));
+            d_2 = (hl * 0.06753051);
+            float _e193 = sum;
+            float _e194 = d_2;
+            const float _e196 = airlight_scene_backscatter_aerosol_w_u((ua + _e194), md_4);
+            float _e200 = d_2;
+            sum = (_e193 + ((0.17132449 * _e196) * exp((-(t_1) * _e200))));
+            float _e205 = sum;
+            sum = (_e205 * hl);
         } else {
-            const float2 _e179 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
-            const float2 _e181 = airlight_scene_backscatter_aerosol_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e179.y < 1.5707964) ? (_e179.y - _e181.y) : (_e181.x - _e179.x)));
-            beta = ((0.5 * _e179.x) + ((0.5 * hl_1) * 1.8611363));
-            co = ((0.5 * _e179.y) - ((0.5 * hl_1) * 1.8611363));
-            float _e214 = beta;
-            float _e215 = co;
-            const float2 _e219 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e214, _e215), 0.0));
-            sc = _e219;
-            float _e220 = beta;
-            float _e221 = co;
-            if ((_e220 > _e221)) {
-                float2 _e223 = sc;
-                sc = _e223.yx;
+            const float2 _e207 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
+            const float2 _e209 = airlight_scene_backscatter_aerosol_phi_and_complement((ua + len), md_4);
+            float hl_1 = (0.5 * ((_e207.y < 1.5707964) ? (_e207.y - _e209.y) : (_e209.x - _e207.x)));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 1.9324695));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 1.9324695));
+            float _e242 = beta;
+            float _e243 = co;
+            const float2 _e247 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e242, _e243), 0.0));
+            sc = _e247;
+            float _e248 = beta;
+            float _e249 = co;
+            if ((_e248 > _e249)) {
+                float2 _e251 = sc;
+                sc = _e251.yx;
             }
-            float _e226 = sc.x;
-            float _e228 = sc.y;
-            const float2 _e229 = airlight_scene_backscatter_aerosol_u_and_weight(_e226, _e228, md_4);
-            uw = _e229;
-            float _e230 = sum;
-            float _e232 = uw.y;
-            float _e237 = uw.x;
-            sum = (_e230 + ((0.34785485 * _e232) * exp((-(t_1) * (_e237 - ua)))));
-            beta = ((0.5 * _e179.x) + ((0.5 * hl_1) * 1.3399811));
-            co = ((0.5 * _e179.y) - ((0.5 * hl_1) * 1.3399811));
-            float _e259 = beta;
-            float _e260 = co;
-            const float2 _e264 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e259, _e260), 0.0));
-            sc = _e264;
-            float _e265 = beta;
-            float _e266 = co;
-            if ((_e265 > _e266)) {
-                float2 _e268 = sc;
-                sc = _e268.yx;
+            float _e254 = sc.x;
+            float _e256 = sc.y;
+            const float2 _e257 = airlight_scene_backscatter_aerosol_u_and_weight(_e254, _e256, md_4);
+            uw = _e257;
+            float _e258 = sum;
+            float _e260 = uw.y;
+            float _e265 = uw.x;
+            sum = (_e258 + ((0.17132449 * _e260) * exp((-(t_1) * (_e265 - ua)))));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 1.6612093));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 1.6612093));
+            float _e287 = beta;
+            float _e288 = co;
+            const float2 _e292 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e287, _e288), 0.0));
+            sc = _e292;
+            float _e293 = beta;
+            float _e294 = co;
+            if ((_e293 > _e294)) {
+                float2 _e296 = sc;
+                sc = _e296.yx;
             }
-            float _e271 = sc.x;
-            float _e273 = sc.y;
-            const float2 _e274 = airlight_scene_backscatter_aerosol_u_and_weight(_e271, _e273, md_4);
-            uw = _e274;
-            float _e275 = sum;
-            float _e277 = uw.y;
-            float _e282 = uw.x;
-            sum = (_e275 + ((0.65214515 * _e277) * exp((-(t_1) * (_e282 - ua)))));
-            beta = ((0.5 * _e179.x) + ((0.5 * hl_1) * 0.660019));
-            co = ((0.5 * _e179.y) - ((0.5 * hl_1) * 0.660019));
-            float _e304 = beta;
-            float _e305 = co;
-            const float2 _e309 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e304, _e305), 0.0));
-            sc = _e309;
-            float _e310 = beta;
-            float _e311 = co;
-            if ((_e310 > _e311)) {
-                float2 _e313 = sc;
-                sc = _e313.yx;
+            float _e299 = sc.x;
+            float _e301 = sc.y;
+            const float2 _e302 = airlight_scene_backscatter_aerosol_u_and_weight(_e299, _e301, md_4);
+            uw = _e302;
+            float _e303 = sum;
+            float _e305 = uw.y;
+            float _e310 = uw.x;
+            sum = (_e303 + ((0.36076158 * _e305) * exp((-(t_1) * (_e310 - ua)))));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 1.2386192));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 1.2386192));
+            float _e332 = beta;
+            float _e333 = co;
+            const float2 _e337 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e332, _e333), 0.0));
+            sc = _e337;
+            float _e338 = beta;
+            float _e339 = co;
+            if ((_e338 > _e339)) {
+                float2 _e341 = sc;
+                sc = _e341.yx;
             }
-            float _e316 = sc.x;
-            float _e318 = sc.y;
-            const float2 _e319 = airlight_scene_backscatter_aerosol_u_and_weight(_e316, _e318, md_4);
-            uw = _e319;
-            float _e320 = sum;
-            float _e322 = uw.y;
-            float _e327 = uw.x;
-            sum = (_e320 + ((0.65214515 * _e322) * exp((-(t_1) * (_e327 - ua)))));
-            beta = ((0.5 * _e179.x) + ((0.5 * hl_1) * 0.13886368));
-            co = ((0.5 * _e179.y) - ((0.5 * hl_1) * 0.13886368));
-            float _e349 = beta;
-            float _e350 = co;
-            const float2 _e354 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e349, _e350), 0.0));
-            sc = _e354;
-            float _e355 = beta;
-            float _e356 = co;
-            if ((_e355 > _e356)) {
-                float2 _e358 = sc;
-                sc = _e358.yx;
+            float _e344 = sc.x;
+            float _e346 = sc.y;
+            const float2 _e347 = airlight_scene_backscatter_aerosol_u_and_weight(_e344, _e346, md_4);
+            uw = _e347;
+            float _e348 = sum;
+            float _e350 = uw.y;
+            float _e355 = uw.x;
+            sum = (_e348 + ((0.46791393 * _e350) * exp((-(t_1) * (_e355 - ua)))));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 0.7613808));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 0.7613808));
+            float _e377 = beta;
+            float _e378 = co;
+            const float2 _e382 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e377, _e378), 0.0));
+            sc = _e382;
+            float _e383 = beta;
+            float _e384 = co;
+            if ((_e383 > _e384)) {
+                float2 _e386 = sc;
+                sc = _e386.yx;
             }
-            float _e361 = sc.x;
-            float _e363 = sc.y;
-            const float2 _e364 = airlight_scene_backscatter_aerosol_u_and_weight(_e361, _e363, md_4);
-            uw = _e364;
-            float _e365 = sum;
-            float _e367 = uw.y;
-            float _e372 = uw.x;
-            sum = (_e365 + ((0.34785485 * _e367) * exp((-(t_1) * (_e372 - ua)))));
-            float _e378 = sum;
-            sum = (_e378 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
+            float _e389 = sc.x;
+            float _e391 = sc.y;
+            const float2 _e392 = airlight_scene_backscatter_aerosol_u_and_weight(_e389, _e391, md_4);
+            uw = _e392;
+            float _e393 = sum;
+            float _e395 = uw.y;
+            float _e400 = uw.x;
+            sum = (_e393 + ((0.46791393 * _e395) * exp((-(t_1) * (_e400 - ua)))));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 0.3387906));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 0.3387906));
+            float _e422 = beta;
+            float _e423 = co;
+            const float2 _e427 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e422, _e423), 0.0));
+            sc = _e427;
+            float _e428 = beta;
+            float _e429 = co;
+            if ((_e428 > _e429)) {
+                float2 _e431 = sc;
+                sc = _e431.yx;
+            }
+            float _e434 = sc.x;
+            float _e436 = sc.y;
+            const float2 _e437 = airlight_scene_backscatter_aerosol_u_and_weight(_e434, _e436, md_4);
+            uw = _e437;
+            float _e438 = sum;
+            float _e440 = uw.y;
+            float _e445 = uw.x;
+            sum = (_e438 + ((0.36076158 * _e440) * exp((-(t_1) * (_e445 - ua)))));
+            beta = ((0.5 * _e207.x) + ((0.5 * hl_1) * 0.06753051));
+            co = ((0.5 * _e207.y) - ((0.5 * hl_1) * 0.06753051));
+            float _e467 = beta;
+            float _e468 = co;
+            const float2 _e472 = airlight_scene_backscatter_aerosol_sin_cos_octant(max(min(_e467, _e468), 0.0));
+            sc = _e472;
+            float _e473 = beta;
+            float _e474 = co;
+            if ((_e473 > _e474)) {
+                float2 _e476 = sc;
+                sc = _e476.yx;
+            }
+            float _e479 = sc.x;
+            float _e481 = sc.y;
+            const float2 _e482 = airlight_scene_backscatter_aerosol_u_and_weight(_e479, _e481, md_4);
+            uw = _e482;
+            float _e483 = sum;
+            float _e485 = uw.y;
+            float _e490 = uw.x;
+            sum = (_e483 + ((0.17132449 * _e485) * exp((-(t_1) * (_e490 - ua)))));
+            float _e496 = sum;
+            sum = (_e496 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z)));
         }
     }
     if (use_far) {
         float c_5 = ((0.07957747 * md_4.y) / (md_4.z * md_4.z));
-        const float _e394 = airlight_scene_backscatter_aerosol_exp_e2_((t_1 * m_1));
-        f = (_e394 / m_1);
+        const float _e512 = airlight_scene_backscatter_aerosol_exp_e2_((t_1 * m_1));
+        f = (_e512 / m_1);
         if (!(true)) {
-            float _e398 = f;
-            const float _e404 = airlight_scene_backscatter_aerosol_exp_e2_((t_1 * ub));
-            f = (_e398 - ((exp((-(t_1) * (ub - m_1))) * _e404) / ub));
+            float _e516 = f;
+            const float _e522 = airlight_scene_backscatter_aerosol_exp_e2_((t_1 * ub));
+            f = (_e516 - ((exp((-(t_1) * (ub - m_1))) * _e522) / ub));
         }
-        float ue = ((t_1 > 0.0) ? (m_1 + (6.4751744 / max(t_1, 1e-30))) : airlight_scene_backscatter_aerosol_HUGE);
+        float ue = ((t_1 > 0.0) ? (m_1 + (6.4916997 / max(t_1, 1e-30))) : airlight_scene_backscatter_aerosol_HUGE);
         float va = (1.0 / min(ub, ue));
         float hl_2 = (0.5 * ((1.0 / m_1) - va));
-        v_3 = (va + (hl_2 * 1.7745967));
-        float _e431 = s;
-        float _e432 = v_3;
-        const float _e433 = airlight_scene_backscatter_aerosol_r_of_v(_e432, md_4);
-        float _e437 = v_3;
-        s = (_e431 + ((0.5555556 * _e433) * exp((-(t_1) * ((1.0 / _e437) - m_1)))));
-        v_3 = (va + (hl_2 * 1.0));
-        float _e448 = s;
-        float _e449 = v_3;
-        const float _e450 = airlight_scene_backscatter_aerosol_r_of_v(_e449, md_4);
-        float _e454 = v_3;
-        s = (_e448 + ((0.8888889 * _e450) * exp((-(t_1) * ((1.0 / _e454) - m_1)))));
-        v_3 = (va + (hl_2 * 0.22540331));
-        float _e465 = s;
-        float _e466 = v_3;
-        const float _e467 = airlight_scene_backscatter_aerosol_r_of_v(_e466, md_4);
-        float _e471 = v_3;
-        s = (_e465 + ((0.5555556 * _e467) * exp((-(t_1) * ((1.0 / _e471) - m_1)))));
-        float _e479 = sum;
-        float _e485 = f;
-        float _e486 = s;
-        sum = (_e479 + ((c_5 * exp((-(t_1) * (m_1 - ua)))) * (_e485 + (_e486 * hl_2))));
+        v_3 = (va + (hl_2 * 1.8611363));
+        float _e549 = s;
+        float _e550 = v_3;
+        const float _e551 = airlight_scene_backscatter_aerosol_r_of_v(_e550, md_4);
+        float _e555 = v_3;
+        s = (_e549 + ((0.34785485 * _e551) * exp((-(t_1) * ((1.0 / _e555) - m_1)))));
+        v_3 = (va + (hl_2 * 1.3399811));
+        float _e566 = s;
+        float _e567 = v_3;
+        const float _e568 = airlight_scene_backscatter_aerosol_r_of_v(_e567, md_4);
+        float _e572 = v_3;
+        s = (_e566 + ((0.65214515 * _e568) * exp((-(t_1) * ((1.0 / _e572) - m_1)))));
+        v_3 = (va + (hl_2 * 0.660019));
+        float _e583 = s;
+        float _e584 = v_3;
+        const float _e585 = airlight_scene_backscatter_aerosol_r_of_v(_e584, md_4);
+        float _e589 = v_3;
+        s = (_e583 + ((0.65214515 * _e585) * exp((-(t_1) * ((1.0 / _e589) - m_1)))));
+        v_3 = (va + (hl_2 * 0.13886368));
+        float _e600 = s;
+        float _e601 = v_3;
+        const float _e602 = airlight_scene_backscatter_aerosol_r_of_v(_e601, md_4);
+        float _e606 = v_3;
+        s = (_e600 + ((0.34785485 * _e602) * exp((-(t_1) * ((1.0 / _e606) - m_1)))));
+        float _e614 = sum;
+        float _e620 = f;
+        float _e621 = s;
+        sum = (_e614 + ((c_5 * exp((-(t_1) * (m_1 - ua)))) * (_e620 + (_e621 * hl_2))));
     } else {
         if ((airlight_scene_backscatter_aerosol_HUGE > lcut)) {
             float ue_1 = (ua + lcut);
-            float _e495 = s_1;
-            const float _e499 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (0.41577455 / t_1)), md_4);
-            s_1 = (_e495 + (0.711093 * _e499));
-            float _e503 = s_1;
-            const float _e507 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (2.2942803 / t_1)), md_4);
-            s_1 = (_e503 + (0.27851772 * _e507));
-            float _e511 = s_1;
-            const float _e515 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (6.289945 / t_1)), md_4);
-            s_1 = (_e511 + (0.010389256 * _e515));
+            float _e630 = s_1;
+            const float _e634 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (0.41577455 / t_1)), md_4);
+            s_1 = (_e630 + (0.711093 * _e634));
+            float _e638 = s_1;
+            const float _e642 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (2.2942803 / t_1)), md_4);
+            s_1 = (_e638 + (0.27851772 * _e642));
+            float _e646 = s_1;
+            const float _e650 = airlight_scene_backscatter_aerosol_w_u((ue_1 + (6.289945 / t_1)), md_4);
+            s_1 = (_e646 + (0.010389256 * _e650));
             if (!(true)) {
-                float _e522 = sb;
-                const float _e526 = airlight_scene_backscatter_aerosol_w_u((ub + (0.41577455 / t_1)), md_4);
-                sb = (_e522 + (0.711093 * _e526));
-                float _e530 = sb;
-                const float _e534 = airlight_scene_backscatter_aerosol_w_u((ub + (2.2942803 / t_1)), md_4);
-                sb = (_e530 + (0.27851772 * _e534));
-                float _e538 = sb;
-                const float _e542 = airlight_scene_backscatter_aerosol_w_u((ub + (6.289945 / t_1)), md_4);
-                sb = (_e538 + (0.010389256 * _e542));
-                float _e546 = s_1;
-                float _e551 = sb;
-                s_1 = (_e546 - (exp((-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut))) * _e551));
+                float _e657 = sb;
+                const float _e661 = airlight_scene_backscatter_aerosol_w_u((ub + (0.41577455 / t_1)), md_4);
+                sb = (_e657 + (0.711093 * _e661));
+                float _e665 = sb;
+                const float _e669 = airlight_scene_backscatter_aerosol_w_u((ub + (2.2942803 / t_1)), md_4);
+                sb = (_e665 + (0.27851772 * _e669));
+                float _e673 = sb;
+                const float _e677 = airlight_scene_backscatter_aerosol_w_u((ub + (6.289945 / t_1)), md_4);
+                sb = (_e673 + (0.010389256 * _e677));
+                float _e681 = s_1;
+                float _e686 = sb;
+                s_1 = (_e681 - (exp((-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut))) * _e686));
             }
-            float _e554 = sum;
-            float _e557 = s_1;
-            sum = (_e554 + ((0.15187299 / t_1) * max(_e557, 0.0)));
+            float _e689 = sum;
+            float _e692 = s_1;
+            sum = (_e689 + ((0.015411963 / t_1) * max(_e692, 0.0)));
         }
     }
     if ((h_1 < 8.673617e-19)) {
-        float _e564 = sum;
-        const float _e572 = airlight_scene_backscatter_aerosol_scaled((2.0 * max(_e564, 0.0)), exp(-(tau_1)), h_1, 1.0);
-        return _e572;
+        float _e699 = sum;
+        const float _e707 = airlight_scene_backscatter_aerosol_scaled((2.0 * max(_e699, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e707;
     }
-    float _e577 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e577 / h_1)), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    float _e712 = sum;
+    return min(max(((2.0 * exp(-(tau_1))) * (_e712 / h_1)), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(float tau, float gamma)

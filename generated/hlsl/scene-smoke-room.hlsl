@@ -41,10 +41,10 @@ float2 airlight_scene_smoke_room_halves(float a)
 
 float2 airlight_scene_smoke_room_two_product(float a_1, float b)
 {
-    float p_1 = (a_1 * b);
+    float p = (a_1 * b);
     const float2 _e3 = airlight_scene_smoke_room_halves(a_1);
     const float2 _e4 = airlight_scene_smoke_room_halves(b);
-    return float2(p_1, (((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
+    return float2(p, (((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y)));
 }
 
 float airlight_scene_smoke_room_diff_of_products(float a_2, float b_1, float c, float d)
@@ -63,9 +63,9 @@ airlight_scene_smoke_room_ret_Constructarray2_float3_ airlight_scene_smoke_room_
 typedef float3 airlight_scene_smoke_room_ret_airlight_scene_smoke_room_two_sum[2];
 airlight_scene_smoke_room_ret_airlight_scene_smoke_room_two_sum airlight_scene_smoke_room_two_sum(float3 a_3, float3 b_2)
 {
-    float3 s_2 = (a_3 + b_2);
-    float3 bb = (s_2 - a_3);
-    return airlight_scene_smoke_room_Constructarray2_float3_(s_2, ((a_3 - (s_2 - bb)) + (b_2 - bb)));
+    float3 s = (a_3 + b_2);
+    float3 bb = (s - a_3);
+    return airlight_scene_smoke_room_Constructarray2_float3_(s, ((a_3 - (s - bb)) + (b_2 - bb)));
 }
 
 int airlight_scene_smoke_room_naga_div(int lhs, int rhs) {
@@ -162,19 +162,19 @@ float airlight_scene_smoke_room_scaled(float sigma_s, float intensity, float d_1
     if ((a_4 >= airlight_scene_smoke_room_HUGE)) {
         return airlight_scene_smoke_room_HUGE;
     }
-    airlight_scene_smoke_room_frexp_result_f32_ s_3 = airlight_scene_smoke_room_naga_frexp(sigma_s);
+    airlight_scene_smoke_room_frexp_result_f32_ s_1 = airlight_scene_smoke_room_naga_frexp(sigma_s);
     airlight_scene_smoke_room_frexp_result_f32_ i = airlight_scene_smoke_room_naga_frexp(intensity);
-    airlight_scene_smoke_room_frexp_result_f32_ q_1 = airlight_scene_smoke_room_naga_frexp(a_4);
-    airlight_scene_smoke_room_frexp_result_f32_ r_1 = airlight_scene_smoke_room_naga_frexp(d_1);
-    airlight_scene_smoke_room_frexp_result_f32_ m = airlight_scene_smoke_room_naga_frexp((((s_3.fract * i.fract) * q_1.fract) / r_1.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_3.exp_))) + asuint(i.exp_))) + asuint(q_1.exp_))) - asuint(r_1.exp_));
+    airlight_scene_smoke_room_frexp_result_f32_ q = airlight_scene_smoke_room_naga_frexp(a_4);
+    airlight_scene_smoke_room_frexp_result_f32_ r_2 = airlight_scene_smoke_room_naga_frexp(d_1);
+    airlight_scene_smoke_room_frexp_result_f32_ m_1 = airlight_scene_smoke_room_naga_frexp((((s_1.fract * i.fract) * q.fract) / r_2.fract));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m_1.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
     if ((e > int(128))) {
         return airlight_scene_smoke_room_HUGE;
     }
     if ((e < int(-149))) {
         return 0.0;
     }
-    return ldexp(m.fract, e);
+    return ldexp(m_1.fract, e);
 }
 
 float airlight_scene_smoke_room_arctan(float x)
@@ -225,9 +225,9 @@ float airlight_scene_smoke_room_arctan2_(float y, float x_1)
 float2 airlight_scene_smoke_room_sin_cos_octant(float x_2)
 {
     float z_1 = (x_2 * x_2);
-    float s_4 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
+    float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_2 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
-    return float2(s_4, c_2);
+    return float2(s_2, c_2);
 }
 
 int airlight_scene_smoke_room_naga_f2i32(float value) {
@@ -246,105 +246,57 @@ float2 airlight_scene_smoke_room_sin_cos(float x_3)
     }
     int _e13 = j;
     float y_2 = float(_e13);
-    float r_2 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
-    float z_2 = (r_2 * r_2);
-    float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2);
+    float r_3 = (((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 3.774895e-8));
+    float z_2 = (r_3 * r_3);
+    float s_3 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3);
     float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     int _e49 = j;
     switch(((_e49 >> 1u) & int(3))) {
         case 0: {
-            return float2(s_5, c_3);
+            return float2(s_3, c_3);
         }
         case 1: {
-            return float2(c_3, -(s_5));
+            return float2(c_3, -(s_3));
         }
         case 2: {
-            return float2(-(s_5), -(c_3));
+            return float2(-(s_3), -(c_3));
         }
         default: {
-            return float2(-(c_3), s_5);
+            return float2(-(c_3), s_3);
         }
     }
 }
 
-float airlight_scene_smoke_room_exp_e2_(float x_4)
+float airlight_scene_smoke_room_e2_over(float x_in, float m)
 {
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
 
-    if ((x_4 < 1.0)) {
-        float _e5 = ein;
-        ein = ((_e5 + -2.755732e-8) * x_4);
-        float _e9 = ein;
-        ein = ((_e9 + 3.0619245e-7) * x_4);
-        float _e13 = ein;
-        ein = ((_e13 + -3.1001985e-6) * x_4);
-        float _e17 = ein;
-        ein = ((_e17 + 2.8344672e-5) * x_4);
-        float _e21 = ein;
-        ein = ((_e21 + -0.00023148148) * x_4);
-        float _e25 = ein;
-        ein = ((_e25 + 0.0016666667) * x_4);
-        float _e29 = ein;
-        ein = ((_e29 + -0.010416667) * x_4);
-        float _e33 = ein;
-        ein = ((_e33 + 0.055555556) * x_4);
-        float _e37 = ein;
-        ein = ((_e37 + -0.25) * x_4);
-        float _e41 = ein;
-        ein = ((_e41 + 1.0) * x_4);
-        float _e52 = ein;
-        return (1.0 + ((x_4 * exp(x_4)) * ((log(max(x_4, 1e-30)) + 0.5772157) - _e52)));
-    }
-    float t = (1.0 / x_4);
-    float _e63 = p;
-    p = ((_e63 + 0.12941834) * t);
-    float _e67 = q;
-    q = ((_e67 + 15.616933) * t);
-    float _e71 = p;
-    p = ((_e71 + 13.425987) * t);
-    float _e75 = q;
-    q = ((_e75 + 51.058296) * t);
-    float _e79 = p;
-    p = ((_e79 + 24.985815) * t);
-    float _e83 = q;
-    q = ((_e83 + 43.252842) * t);
-    float _e87 = p;
-    p = ((_e87 + 10.132498) * t);
-    float _e91 = q;
-    q = ((_e91 + 12.132477) * t);
-    float _e95 = p;
-    float _e99 = q;
-    return ((t * (1.0 + _e95)) / (1.0 + _e99));
-}
-
-float airlight_scene_smoke_room_w_u(float u, float4 md)
-{
-    float v_4 = (1.0 / u);
-    return ((u > 1.0) ? (((0.07957747 * v_4) * v_4) / (1.0 + (v_4 * v_4))) : (0.07957747 / (1.0 + (u * u))));
-}
-
-float2 airlight_scene_smoke_room_phi_and_complement(float u_1, float4 md_1)
-{
-    if ((u_1 <= 1.0)) {
-        const float _e4 = airlight_scene_smoke_room_arctan(u_1);
-        float p_2 = (2.0 * _e4);
-        return float2(p_2, (airlight_scene_smoke_room_PI - p_2));
-    }
-    const float _e12 = airlight_scene_smoke_room_arctan((1.0 / u_1));
-    float c_4 = (2.0 * _e12);
-    return float2((airlight_scene_smoke_room_PI - c_4), c_4);
-}
-
-float2 airlight_scene_smoke_room_u_and_weight(float s2_, float c2_, float4 md_2)
-{
-    return float2((s2_ / c2_), 0.5);
-}
-
-float airlight_scene_smoke_room_r_of_v(float v_2, float4 md_3)
-{
-    return ((-(v_2) * v_2) / (1.0 + (v_2 * v_2)));
+    float x_4 = clamp(x_in, 1e-30, 100000000.0);
+    float l = (x_4 * log(((1.0 + x_4) / x_4)));
+    float _e16 = n1_;
+    n1_ = ((_e16 + 0.86534244) * x_4);
+    float _e20 = n1_;
+    n1_ = ((_e20 + 7.2858496) * x_4);
+    float _e24 = n1_;
+    n1_ = ((_e24 + 0.56966215) * x_4);
+    float _e28 = n2_;
+    n2_ = ((_e28 + 3.0385017) * x_4);
+    float _e32 = n2_;
+    n2_ = ((_e32 + 0.5760694) * x_4);
+    float _e36 = d_2;
+    d_2 = ((_e36 + 0.86534345) * x_4);
+    float _e40 = d_2;
+    d_2 = ((_e40 + 5.9773254) * x_4);
+    float _e44 = d_2;
+    d_2 = ((_e44 + 8.315555) * x_4);
+    float _e48 = d_2;
+    d_2 = ((_e48 + 0.0) * x_4);
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return (((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m));
 }
 
 float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, float x0_1, float rho_1, float xr)
@@ -353,38 +305,27 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     bool local_5 = (bool)0;
     bool local_6 = (bool)0;
     float du = airlight_scene_smoke_room_HUGE;
-    bool local_7 = (bool)0;
-    bool local_8 = (bool)0;
-    bool local_9 = (bool)0;
-    float sum = 0.0;
-    bool local_10 = (bool)0;
-    float d_2 = (float)0;
-    float beta = (float)0;
-    float co = (float)0;
-    float2 sc = (float2)0;
-    float2 uw = (float2)0;
-    float f = (float)0;
-    float s = 0.0;
-    float v_3 = (float)0;
-    float s_1 = 0.0;
-    float sb = 0.0;
+    float sum = (float)0;
+    float nodes = 0.0;
+    float v_2 = (float)0;
+    float r_1 = (float)0;
+    float u = (float)0;
 
     float tau_1 = min(max(tau_in, 0.0), airlight_scene_smoke_room_TAU_MAX);
-    float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
     if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
     } else {
         local_4 = false;
     }
-    bool _e21 = local_4;
-    if (_e21) {
+    bool _e16 = local_4;
+    if (_e16) {
         if ((rho_1 >= 0.0)) {
             local_5 = (rho_1 < 1.0);
         } else {
             local_5 = false;
         }
-        bool _e29 = local_5;
-        if (_e29) {
+        bool _e24 = local_5;
+        if (_e24) {
             return min((((0.07957747 * exp(-(tau_1))) * rho_1) / (1.0 - rho_1)), airlight_scene_smoke_room_HUGE);
         }
         if ((h_in <= 0.0)) {
@@ -399,8 +340,8 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
     } else {
         local_6 = false;
     }
-    bool _e73 = local_6;
-    bool open = !(_e73);
+    bool _e68 = local_6;
+    bool open = !(_e68);
     if (!(open)) {
         float ta = abs(xr);
         float tm = max(ta, tb);
@@ -411,282 +352,108 @@ float airlight_scene_smoke_room_airlight_geometry(float tau_in, float h_in, floa
             du = (((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr)));
         }
     }
-    float _e111 = du;
-    float ub = (ua + _e111);
-    float t_1 = (tau_1 * tb);
-    float xf = (3.7283664 * max(md_4.w, 1.0));
-    float lcut = ((t_1 > 0.0) ? (4.91128 / max(t_1, 1e-30)) : airlight_scene_smoke_room_HUGE);
-    float m_1 = max(ua, xf);
-    float _e128 = du;
-    bool is_short = (_e128 < (0.16031957 * (ua + min(md_4.w, 1.0))));
-    if (!(is_short)) {
-        local_7 = (ub > m_1);
-    } else {
-        local_7 = false;
-    }
-    bool _e141 = local_7;
-    if (_e141) {
-        local_8 = ((t_1 * (m_1 - ua)) < 4.91128);
-    } else {
-        local_8 = false;
-    }
-    bool _e149 = local_8;
-    if (_e149) {
-        local_9 = ((t_1 * m_1) < 5.248124);
-    } else {
-        local_9 = false;
-    }
-    bool use_far = local_9;
-    float _e157 = du;
-    float len = (use_far ? (m_1 - ua) : min(_e157, lcut));
-    if ((len > 0.0)) {
-        if (!((len < (0.16031957 * (ua + min(md_4.w, 1.0)))))) {
-            local_10 = (ua >= xf);
-        } else {
-            local_10 = true;
-        }
-        bool _e177 = local_10;
-        if (_e177) {
-            float hl = (0.5 * len);
-            d_2 = (hl * 1.9324695);
-            float _e183 = sum;
-            float _e184 = d_2;
-            const float _e186 = airlight_scene_smoke_room_w_u((ua + _e184), md_4);
-            float _e190 = d_2;
-            sum = (_e183 + ((0.17132449 * _e186) * exp((-(t_1) * _e190))));
-            d_2 = (hl * 1.6612093);
-            float _e197 = sum;
-            float _e198 = d_2;
-            const float _e200 = airlight_scene_smoke_room_w_u((ua + _e198), md_4);
-            float _e204 = d_2;
-            sum = (_e197 + ((0.36076158 * _e200) * exp((-(t_1) * _e204))));
-            d_2 = (hl * 1.2386192);
-            float _e211 = sum;
-            float _e212 = d_2;
-            const float _e214 = airlight_scene_smoke_room_w_u((ua + _e212), md_4);
-            float _e218 = d_2;
-            sum = (_e211 + ((0.46791393 * _e214) * exp((-(t_1) * _e218))));
-            d_2 = (hl * 0.7613808);
-            float _e225 = sum;
-            float _e226 = d_2;
-            const float _e228 = airlight_scene_smoke_room_w_u((ua + _e226), md_4);
-            float _e232 = d_2;
-            sum = (_e225 + ((0.46791393 * _e228) * exp((-(t_1) * _e232))));
-            d_2 = (hl * 0.3387906);
-            float _e239 = sum;
-            float _e240 = d_2;
-            const float _e242 = airlight_scene_smoke_room_w_u((ua + _e240), md_4);
-            float _e246 = d_2;
-            sum = (_e239 + ((0.36076158 * _e242) * exp((-(t_1) * _e246))));
-            d_2 = (hl * 0.06753051);
-            float _e253 = sum;
-            float _e254 = d_2;
-            const float _e256 = airlight_scene_smoke_room_w_u((ua + _e254), md_4);
-            float _e260 = d_2;
-            sum = (_e253 + ((0.17132449 * _e256) * exp((-(t_1) * _e260))));
-            float _e265 = sum;
-            sum = (_e265 * hl);
-        } else {
-            const float2 _e267 = airlight_scene_smoke_room_phi_and_complement(ua, md_4);
-            const float2 _e269 = airlight_scene_smoke_room_phi_and_complement((ua + len), md_4);
-            float hl_1 = (0.5 * ((_e267.y < 1.5707964) ? (_e267.y - _e269.y) : (_e269.x - _e267.x)));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.9324695));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.9324695));
-            float _e302 = beta;
-            float _e303 = co;
-            const float2 _e307 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e302, _e303), 0.0));
-            sc = _e307;
-            float _e308 = beta;
-            float _e309 = co;
-            if ((_e308 > _e309)) {
-                float2 _e311 = sc;
-                sc = _e311.yx;
-            }
-            float _e314 = sc.x;
-            float _e316 = sc.y;
-            const float2 _e317 = airlight_scene_smoke_room_u_and_weight(_e314, _e316, md_4);
-            uw = _e317;
-            float _e318 = sum;
-            float _e320 = uw.y;
-            float _e325 = uw.x;
-            sum = (_e318 + ((0.17132449 * _e320) * exp((-(t_1) * (_e325 - ua)))));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.6612093));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.6612093));
-            float _e347 = beta;
-            float _e348 = co;
-            const float2 _e352 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e347, _e348), 0.0));
-            sc = _e352;
-            float _e353 = beta;
-            float _e354 = co;
-            if ((_e353 > _e354)) {
-                float2 _e356 = sc;
-                sc = _e356.yx;
-            }
-            float _e359 = sc.x;
-            float _e361 = sc.y;
-            const float2 _e362 = airlight_scene_smoke_room_u_and_weight(_e359, _e361, md_4);
-            uw = _e362;
-            float _e363 = sum;
-            float _e365 = uw.y;
-            float _e370 = uw.x;
-            sum = (_e363 + ((0.36076158 * _e365) * exp((-(t_1) * (_e370 - ua)))));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 1.2386192));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 1.2386192));
-            float _e392 = beta;
-            float _e393 = co;
-            const float2 _e397 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e392, _e393), 0.0));
-            sc = _e397;
-            float _e398 = beta;
-            float _e399 = co;
-            if ((_e398 > _e399)) {
-                float2 _e401 = sc;
-                sc = _e401.yx;
-            }
-            float _e404 = sc.x;
-            float _e406 = sc.y;
-            const float2 _e407 = airlight_scene_smoke_room_u_and_weight(_e404, _e406, md_4);
-            uw = _e407;
-            float _e408 = sum;
-            float _e410 = uw.y;
-            float _e415 = uw.x;
-            sum = (_e408 + ((0.46791393 * _e410) * exp((-(t_1) * (_e415 - ua)))));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.7613808));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.7613808));
-            float _e437 = beta;
-            float _e438 = co;
-            const float2 _e442 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e437, _e438), 0.0));
-            sc = _e442;
-            float _e443 = beta;
-            float _e444 = co;
-            if ((_e443 > _e444)) {
-                float2 _e446 = sc;
-                sc = _e446.yx;
-            }
-            float _e449 = sc.x;
-            float _e451 = sc.y;
-            const float2 _e452 = airlight_scene_smoke_room_u_and_weight(_e449, _e451, md_4);
-            uw = _e452;
-            float _e453 = sum;
-            float _e455 = uw.y;
-            float _e460 = uw.x;
-            sum = (_e453 + ((0.46791393 * _e455) * exp((-(t_1) * (_e460 - ua)))));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.3387906));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.3387906));
-            float _e482 = beta;
-            float _e483 = co;
-            const float2 _e487 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e482, _e483), 0.0));
-            sc = _e487;
-            float _e488 = beta;
-            float _e489 = co;
-            if ((_e488 > _e489)) {
-                float2 _e491 = sc;
-                sc = _e491.yx;
-            }
-            float _e494 = sc.x;
-            float _e496 = sc.y;
-            const float2 _e497 = airlight_scene_smoke_room_u_and_weight(_e494, _e496, md_4);
-            uw = _e497;
-            float _e498 = sum;
-            float _e500 = uw.y;
-            float _e505 = uw.x;
-            sum = (_e498 + ((0.36076158 * _e500) * exp((-(t_1) * (_e505 - ua)))));
-            beta = ((0.5 * _e267.x) + ((0.5 * hl_1) * 0.06753051));
-            co = ((0.5 * _e267.y) - ((0.5 * hl_1) * 0.06753051));
-            float _e527 = beta;
-            float _e528 = co;
-            const float2 _e532 = airlight_scene_smoke_room_sin_cos_octant(max(min(_e527, _e528), 0.0));
-            sc = _e532;
-            float _e533 = beta;
-            float _e534 = co;
-            if ((_e533 > _e534)) {
-                float2 _e536 = sc;
-                sc = _e536.yx;
-            }
-            float _e539 = sc.x;
-            float _e541 = sc.y;
-            const float2 _e542 = airlight_scene_smoke_room_u_and_weight(_e539, _e541, md_4);
-            uw = _e542;
-            float _e543 = sum;
-            float _e545 = uw.y;
-            float _e550 = uw.x;
-            sum = (_e543 + ((0.17132449 * _e545) * exp((-(t_1) * (_e550 - ua)))));
-            float _e556 = sum;
-            sum = (_e556 * (hl_1 * 0.07957747));
-        }
-    }
-    if (use_far) {
-        const float _e562 = airlight_scene_smoke_room_exp_e2_((t_1 * m_1));
-        f = (_e562 / m_1);
-        if (!(open)) {
-            float _e566 = f;
-            const float _e572 = airlight_scene_smoke_room_exp_e2_((t_1 * ub));
-            f = (_e566 - ((exp((-(t_1) * (ub - m_1))) * _e572) / ub));
-        }
-        float ue = ((t_1 > 0.0) ? (m_1 + (6.294302 / max(t_1, 1e-30))) : airlight_scene_smoke_room_HUGE);
-        float va = (1.0 / min(ub, ue));
-        float hl_2 = (0.5 * ((1.0 / m_1) - va));
-        v_3 = (va + (hl_2 * 1.8611363));
-        float _e599 = s;
-        float _e600 = v_3;
-        const float _e601 = airlight_scene_smoke_room_r_of_v(_e600, md_4);
-        float _e605 = v_3;
-        s = (_e599 + ((0.34785485 * _e601) * exp((-(t_1) * ((1.0 / _e605) - m_1)))));
-        v_3 = (va + (hl_2 * 1.3399811));
-        float _e616 = s;
-        float _e617 = v_3;
-        const float _e618 = airlight_scene_smoke_room_r_of_v(_e617, md_4);
-        float _e622 = v_3;
-        s = (_e616 + ((0.65214515 * _e618) * exp((-(t_1) * ((1.0 / _e622) - m_1)))));
-        v_3 = (va + (hl_2 * 0.660019));
-        float _e633 = s;
-        float _e634 = v_3;
-        const float _e635 = airlight_scene_smoke_room_r_of_v(_e634, md_4);
-        float _e639 = v_3;
-        s = (_e633 + ((0.65214515 * _e635) * exp((-(t_1) * ((1.0 / _e639) - m_1)))));
-        v_3 = (va + (hl_2 * 0.13886368));
-        float _e650 = s;
-        float _e651 = v_3;
-        const float _e652 = airlight_scene_smoke_room_r_of_v(_e651, md_4);
-        float _e656 = v_3;
-        s = (_e650 + ((0.34785485 * _e652) * exp((-(t_1) * ((1.0 / _e656) - m_1)))));
-        float _e664 = sum;
-        float _e670 = f;
-        float _e671 = s;
-        sum = (_e664 + ((0.07957747 * exp((-(t_1) * (m_1 - ua)))) * (_e670 + (_e671 * hl_2))));
-    } else {
-        float _e676 = du;
-        if ((_e676 > lcut)) {
-            float ue_1 = (ua + lcut);
-            float _e681 = s_1;
-            const float _e685 = airlight_scene_smoke_room_w_u((ue_1 + (0.58578646 / t_1)), md_4);
-            s_1 = (_e681 + (0.8535534 * _e685));
-            float _e689 = s_1;
-            const float _e693 = airlight_scene_smoke_room_w_u((ue_1 + (3.4142137 / t_1)), md_4);
-            s_1 = (_e689 + (0.14644662 * _e693));
-            if (!(open)) {
-                float _e700 = sb;
-                const float _e704 = airlight_scene_smoke_room_w_u((ub + (0.58578646 / t_1)), md_4);
-                sb = (_e700 + (0.8535534 * _e704));
-                float _e708 = sb;
-                const float _e712 = airlight_scene_smoke_room_w_u((ub + (3.4142137 / t_1)), md_4);
-                sb = (_e708 + (0.14644662 * _e712));
-                float _e716 = s_1;
-                float _e718 = du;
-                float _e722 = sb;
-                s_1 = (_e716 - (exp((-(t_1) * (_e718 - lcut))) * _e722));
-            }
-            float _e725 = sum;
-            float _e728 = s_1;
-            sum = (_e725 + ((0.007363057 / t_1) * max(_e728, 0.0)));
-        }
-    }
+    float _e106 = du;
+    float ub = (ua + _e106);
+    float t = (tau_1 * tb);
+    float m_2 = (1.0 + ua);
+    float lam = (m_2 / (1.0 + ((0.3573502 * t) * m_2)));
+    float _e117 = du;
+    bool is_short = (_e117 < (0.01 * m_2));
+    float _e121 = du;
+    float mb = (m_2 + _e121);
+    float _e124 = du;
+    const float _e128 = airlight_scene_smoke_room_e2_over((t * mb), mb);
+    float from_b = (open ? 0.0 : (exp((-(t) * _e124)) * _e128));
+    const float _e133 = airlight_scene_smoke_room_e2_over((t * m_2), m_2);
+    sum = (is_short ? 0.0 : (_e133 - from_b));
+    float _e138 = du;
+    float _e139 = du;
+    float sb = (open ? 1.0 : (_e138 / (lam + _e139)));
+    v_2 = (1.0 / (1.0 - (sb * 0.045649897)));
+    float _e157 = v_2;
+    r_1 = ((sb * 0.045649897) * _e157);
+    float _e159 = r_1;
+    u = (ua + (lam * _e159));
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = (_e162 + (((((0.11473862 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb * 0.2267567)));
+    float _e203 = v_2;
+    r_1 = ((sb * 0.2267567) * _e203);
+    float _e205 = r_1;
+    u = (ua + (lam * _e205));
+    float _e208 = nodes;
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
+    float _e217 = u;
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = (_e208 + (((((0.24207275 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    v_2 = (1.0 / (1.0 - (sb * 0.5019324)));
+    float _e249 = v_2;
+    r_1 = ((sb * 0.5019324) * _e249);
+    float _e251 = r_1;
+    u = (ua + (lam * _e251));
+    float _e254 = nodes;
+    float _e255 = v_2;
+    float _e258 = v_2;
+    float _e260 = u;
+    float _e263 = u;
+    float _e266 = u;
+    float _e274 = u;
+    float _e275 = u;
+    float _e282 = r_1;
+    nodes = (_e254 + (((((0.2868063 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
+    v_2 = (1.0 / (1.0 - (sb * 0.76887274)));
+    float _e295 = v_2;
+    r_1 = ((sb * 0.76887274) * _e295);
+    float _e297 = r_1;
+    u = (ua + (lam * _e297));
+    float _e300 = nodes;
+    float _e301 = v_2;
+    float _e304 = v_2;
+    float _e306 = u;
+    float _e309 = u;
+    float _e312 = u;
+    float _e320 = u;
+    float _e321 = u;
+    float _e328 = r_1;
+    nodes = (_e300 + (((((0.23781383 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * exp(((-(t) * lam) * _e328))));
+    v_2 = (1.0 / (1.0 - (sb * 0.9568853)));
+    float _e341 = v_2;
+    r_1 = ((sb * 0.9568853) * _e341);
+    float _e343 = r_1;
+    u = (ua + (lam * _e343));
+    float _e346 = nodes;
+    float _e347 = v_2;
+    float _e350 = v_2;
+    float _e352 = u;
+    float _e355 = u;
+    float _e358 = u;
+    float _e366 = u;
+    float _e367 = u;
+    float _e374 = r_1;
+    nodes = (_e346 + (((((0.11856851 * _e347) * _e350) * (is_short ? 1.0 : ((2.0 * _e352) / ((1.0 + _e355) * (1.0 + _e358))))) / (1.0 + (_e366 * _e367))) * exp(((-(t) * lam) * _e374))));
+    float _e379 = sum;
+    float _e380 = nodes;
+    sum = (_e379 + ((_e380 * sb) * lam));
     if ((tb < 8.673617e-19)) {
-        float _e735 = sum;
-        const float _e743 = airlight_scene_smoke_room_scaled((2.0 * max(_e735, 0.0)), exp(-(tau_1)), tb, 1.0);
-        return _e743;
+        float _e386 = sum;
+        const float _e394 = airlight_scene_smoke_room_scaled((0.15915494 * max(_e386, 0.0)), exp(-(tau_1)), tb, 1.0);
+        return _e394;
     }
-    float _e748 = sum;
-    return min(max(((2.0 * exp(-(tau_1))) * (_e748 / tb)), 0.0), airlight_scene_smoke_room_HUGE);
+    float _e399 = sum;
+    return min(max(((0.15915494 * exp(-(tau_1))) * (_e399 / tb)), 0.0), airlight_scene_smoke_room_HUGE);
 }
 
 float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_2)
@@ -699,7 +466,7 @@ float airlight_scene_smoke_room_airlight(float tau, float gamma, float rho_2)
 
 float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
 {
-    bool local_11 = (bool)0;
+    bool local_7 = (bool)0;
 
     const float3 _e7 = airlight_scene_smoke_room_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
@@ -707,11 +474,11 @@ float airlight_scene_smoke_room_radiance(float3 origin_1, float3 dir_1, float su
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
-        local_11 = (_e7.z == 0.0);
+        local_7 = (_e7.z == 0.0);
     } else {
-        local_11 = false;
+        local_7 = false;
     }
-    bool _e23 = local_11;
+    bool _e23 = local_7;
     if (_e23) {
         return 0.0;
     }

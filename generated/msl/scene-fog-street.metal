@@ -28,7 +28,6 @@ constant float airlight_scene_fog_street_FRAC_PI_2_ = 1.5707964;
 constant float airlight_scene_fog_street_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_scene_fog_street_RHO_OPEN = 4294967300.0;
 constant float airlight_scene_fog_street_TAU_MAX = 10000.0;
-constant float airlight_scene_fog_street_P_ISO = 0.07957747;
 
 float airlight_scene_fog_street_foot(
     float h,
@@ -146,14 +145,14 @@ metal::float3 airlight_scene_fog_street_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_3 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_2 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h_1;
     float _e85 = h_1;
-    float n = metal::sqrt((_e84 * _e85) + (x0_3 * x0_3));
+    float n = metal::sqrt((_e84 * _e85) + (x0_2 * x0_2));
     metal::float3 _e93 = airlight_scene_fog_street_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return metal::float3(metal::min(dist, airlight_scene_fog_street_HUGE), _e97 / n, x0_3 / n);
+    return metal::float3(metal::min(dist, airlight_scene_fog_street_HUGE), _e97 / n, x0_2 / n);
 }
 
 float airlight_scene_fog_street_scaled(
@@ -185,16 +184,16 @@ float airlight_scene_fog_street_scaled(
     airlight_scene_fog_street_frexp_result_f32_ s_1 = airlight_scene_fog_street_naga_frexp(sigma_s);
     airlight_scene_fog_street_frexp_result_f32_ i = airlight_scene_fog_street_naga_frexp(intensity);
     airlight_scene_fog_street_frexp_result_f32_ q = airlight_scene_fog_street_naga_frexp(a_4);
-    airlight_scene_fog_street_frexp_result_f32_ r_1 = airlight_scene_fog_street_naga_frexp(d_1);
-    airlight_scene_fog_street_frexp_result_f32_ m = airlight_scene_fog_street_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
+    airlight_scene_fog_street_frexp_result_f32_ r_2 = airlight_scene_fog_street_naga_frexp(d_1);
+    airlight_scene_fog_street_frexp_result_f32_ m_1 = airlight_scene_fog_street_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_scene_fog_street_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_scene_fog_street_arctan(
@@ -202,24 +201,24 @@ float airlight_scene_fog_street_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_8 = metal::abs(x);
-    r = a_8;
-    if (a_8 > 2.4142137) {
+    float a_5 = metal::abs(x);
+    r = a_5;
+    if (a_5 > 2.4142137) {
         y0_ = airlight_scene_fog_street_FRAC_PI_2_;
-        r = -1.0 / a_8;
+        r = -1.0 / a_5;
     } else {
-        if (a_8 > 0.41421357) {
+        if (a_5 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_8 - 1.0) / (a_8 + 1.0);
+            r = (a_5 - 1.0) / (a_5 + 1.0);
         }
     }
     float _e18 = r;
     float _e19 = r;
-    float z_1 = _e18 * _e19;
+    float z = _e18 * _e19;
     float _e21 = y0_;
     float _e33 = r;
     float _e36 = r;
-    float y_1 = (_e21 + ((((((((0.080537446 * z_1) - 0.13877685) * z_1) + 0.19977711) * z_1) - 0.3333295) * z_1) * _e33)) + _e36;
+    float y_1 = (_e21 + ((((((((0.080537446 * z) - 0.13877685) * z) + 0.19977711) * z) - 0.3333295) * z) * _e33)) + _e36;
     return (x < 0.0) ? -(y_1) : y_1;
 }
 
@@ -247,9 +246,9 @@ float airlight_scene_fog_street_arctan2_(
 metal::float2 airlight_scene_fog_street_sin_cos_octant(
     float x_2
 ) {
-    float z_2 = x_2 * x_2;
-    float s_2 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
-    float c_2 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
+    float z_1 = x_2 * x_2;
+    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
     return metal::float2(s_2, c_2);
 }
 
@@ -269,10 +268,10 @@ metal::float2 airlight_scene_fog_street_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_3 = r_2 * r_2;
-    float s_3 = ((((((-0.00019515296 * z_3) + 0.008332161) * z_3) - 0.16666655) * z_3) * r_2) + r_2;
-    float c_3 = (((((((0.000024433157 * z_3) - 0.0013887316) * z_3) + 0.041666646) * z_3) * z_3) - (0.5 * z_3)) + 1.0;
+    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_3 * r_3;
+    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
@@ -290,301 +289,209 @@ metal::float2 airlight_scene_fog_street_sin_cos(
     }
 }
 
-float airlight_scene_fog_street_exprel(
-    float x_4
+float airlight_scene_fog_street_e2_over(
+    float x_in,
+    float m
 ) {
-    if (metal::abs(x_4) < 0.5) {
-        return 1.0 + (x_4 * (0.5 + (x_4 * (0.16666667 + (x_4 * (0.041666668 + (x_4 * (0.008333334 + (x_4 * (0.0013888889 + (x_4 * (0.0001984127 + (x_4 * 0.000024801588)))))))))))));
-    }
-    return (metal::exp(x_4) - 1.0) / x_4;
-}
-
-float airlight_scene_fog_street_phi(
-    float z
-) {
-    if (z <= 0.0) {
-        return 1.0;
-    }
-    if (z <= 1.0) {
-        float e1_ = (-(metal::log(z)) - 0.5772157) + (z * (0.99999195 + (z * (-0.24991055 + (z * (0.055199683 + (z * (-0.00976004 + (z * 0.00107857)))))))));
-        return 1.0 - ((z * metal::exp(z)) * e1_);
-    }
-    if (z > 500.0) {
-        float r_3 = 1.0 / z;
-        return r_3 * (1.0 + (r_3 * (-2.0 + (r_3 * (6.0 + (r_3 * (-24.0 + (r_3 * 120.0))))))));
-    }
-    float d_2 = ((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968;
-    float n_1 = (((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232;
-    return n_1 / d_2;
-}
-
-float airlight_scene_fog_street_piece(
-    float a_5,
-    float b_3,
-    float len,
-    float lo_j,
-    float hi_j,
-    float slope,
-    float icpt,
-    float t,
-    float att
-) {
-    bool local_4 = {};
-    float lo = metal::max(a_5, lo_j);
-    float hi_1 = metal::min(b_3, hi_j);
-    if (hi_1 <= lo) {
-        return 0.0;
-    }
-    if (a_5 >= lo_j) {
-        local_4 = b_3 <= hi_j;
-    } else {
-        local_4 = false;
-    }
-    bool _e19 = local_4;
-    float l = _e19 ? len : (hi_1 - lo);
-    float lam = -(t) * slope;
-    float ea = att - (t * ((slope * lo) + icpt));
-    float _e35 = airlight_scene_fog_street_exprel(-(metal::abs(lam)) * l);
-    return (metal::exp(metal::max(ea, ea + (lam * l))) * l) * _e35;
-}
-
-float airlight_scene_fog_street_segments(
-    float a_6,
-    float len_1,
-    float t_1,
-    float att_1
-) {
-    float b_4 = a_6 + len_1;
-    float _e9 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 0.0, 0.8035183, 0.5408661, -0.013447985, t_1, att_1);
-    float _e14 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 0.8035183, 1.139507, 0.64526737, -0.09733634, t_1, att_1);
-    float _e20 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 1.139507, 1.3918387, 0.76968193, -0.23910761, t_1, att_1);
-    float _e26 = airlight_scene_fog_street_piece(a_6, b_4, len_1, 1.3918387, 1.5707964, 0.93048483, -0.4629193, t_1, att_1);
-    return ((_e9 + _e14) + _e20) + _e26;
-}
-
-float airlight_scene_fog_street_forward(
-    float a_7,
-    float len_2,
-    float t_2,
-    float att_2
-) {
-    float _e5 = airlight_scene_fog_street_segments(a_7, len_2, t_2, att_2);
-    return airlight_scene_fog_street_P_ISO * _e5;
-}
-
-float airlight_scene_fog_street_backward_u(
-    float tau,
-    float t_3,
-    float h_2,
-    float x0_1,
-    float rho_1,
-    float xr,
-    bool open
-) {
-    float span = airlight_scene_fog_street_HUGE;
-    bool local_5 = {};
-    float sum = 0.0;
-    bool local_6 = {};
-    bool local_7 = {};
-    float part = 0.0;
-    float g = {};
-    float u = {};
-    float ua = (x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2);
-    float u0_ = metal::max(ua, 1.0);
-    if (!(open)) {
-        float d_3 = -(xr);
-        float r_4 = metal::sqrt((d_3 * d_3) + (h_2 * h_2));
-        span = (x0_1 < 0.0) ? (((2.0 * rho_1) * (d_3 + r_4)) / (((rho_1 + r_4) + 1.0) * h_2)) : (((d_3 + r_4) / h_2) - u0_);
-    }
-    float _e41 = span;
-    if (!((_e41 > 0.0))) {
-        return 0.0;
-    }
-    if (!(open)) {
-        float _e49 = span;
-        local_5 = _e49 >= 1000000000000000000000000000000.0;
-    } else {
-        local_5 = true;
-    }
-    bool endless = local_5;
-    float _e54 = span;
-    float ub = u0_ + _e54;
-    float base = -(tau) - (t_3 * (u0_ - ua));
-    if (u0_ < 16.0) {
-        float _e66 = span;
-        float len_4 = (ub <= 16.0) ? _e66 : (16.0 - u0_);
-        {
-            float lam_1 = t_3 + 0.024973566;
-            float _e72 = sum;
-            float _e82 = airlight_scene_fog_street_exprel(-(lam_1) * len_4);
-            sum = _e72 + ((((0.0024574616 * metal::exp(base - (0.024973566 * u0_))) * len_4) * _e82) * airlight_scene_fog_street_P_ISO);
-        }
-        {
-            float lam_2 = t_3 + 0.19339234;
-            float _e89 = sum;
-            float _e99 = airlight_scene_fog_street_exprel(-(lam_2) * len_4);
-            sum = _e89 + ((((0.04885752 * metal::exp(base - (0.19339234 * u0_))) * len_4) * _e99) * airlight_scene_fog_street_P_ISO);
-        }
-        {
-            float lam_3 = t_3 + 0.58173054;
-            float _e106 = sum;
-            float _e116 = airlight_scene_fog_street_exprel(-(lam_3) * len_4);
-            sum = _e106 + ((((0.30847993 * metal::exp(base - (0.58173054 * u0_))) * len_4) * _e116) * airlight_scene_fog_street_P_ISO);
-        }
-        {
-            float lam_4 = t_3 + 1.4293756;
-            float _e123 = sum;
-            float _e133 = airlight_scene_fog_street_exprel(-(lam_4) * len_4);
-            sum = _e123 + ((((1.1929636 * metal::exp(base - (1.4293756 * u0_))) * len_4) * _e133) * airlight_scene_fog_street_P_ISO);
-        }
-    }
-    if (!(endless)) {
-        local_6 = ub > 16.0;
-    } else {
-        local_6 = true;
-    }
-    bool _e144 = local_6;
-    if (_e144) {
-        float a_9 = metal::max(u0_, 16.0);
-        float shift = base - (t_3 * (a_9 - u0_));
-        if (!(endless)) {
-            local_7 = ub <= (2.0 * a_9);
-        } else {
-            local_7 = false;
-        }
-        bool _e157 = local_7;
-        if (_e157) {
-            float _e161 = span;
-            float len_5 = (a_9 == u0_) ? (_e161 / a_9) : ((ub / a_9) - 1.0);
-            float ta = t_3 * a_9;
-            {
-                float lam_5 = ta + 0.26840276;
-                float u_1 = a_9 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
-                float q_1 = 1.0 / (1.0 + (1.0 / (u_1 * u_1)));
-                float _e184 = part;
-                float _e193 = airlight_scene_fog_street_exprel(-(lam_5) * len_5);
-                part = _e184 + (((((0.1972373 * metal::exp(shift - 0.26840276)) * len_5) * _e193) * q_1) * airlight_scene_fog_street_P_ISO);
-            }
-            {
-                float lam_6 = ta + 1.5659415;
-                float u_2 = a_9 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
-                float q_2 = 1.0 / (1.0 + (1.0 / (u_2 * u_2)));
-                float _e215 = part;
-                float _e224 = airlight_scene_fog_street_exprel(-(lam_6) * len_5);
-                part = _e215 + (((((3.029358 * metal::exp(shift - 1.5659415)) * len_5) * _e224) * q_2) * airlight_scene_fog_street_P_ISO);
-            }
-            {
-                float lam_7 = ta + 4.449333;
-                float u_3 = a_9 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
-                float q_3 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
-                float _e246 = part;
-                float _e255 = airlight_scene_fog_street_exprel(-(lam_7) * len_5);
-                part = _e246 + (((((18.508303 * metal::exp(shift - 4.449333)) * len_5) * _e255) * q_3) * airlight_scene_fog_street_P_ISO);
-            }
-            float _e261 = sum;
-            float _e262 = part;
-            sum = _e261 + (_e262 / a_9);
-        } else {
-            float lam_8 = t_3 + (2.0 / a_9);
-            float _e269 = airlight_scene_fog_street_phi(t_3 * a_9);
-            g = _e269 / a_9;
-            u = a_9 + (1.0 / lam_8);
-            if (!(endless)) {
-                float _e278 = span;
-                float len_6 = (a_9 == u0_) ? _e278 : (ub - a_9);
-                float _e281 = g;
-                float _e286 = airlight_scene_fog_street_phi(t_3 * ub);
-                g = _e281 - ((metal::exp(-(t_3) * len_6) * _e286) / ub);
-                u = a_9 + (len_6 / (2.0 + (lam_8 * len_6)));
-            }
-            float _e295 = u;
-            float _e296 = u;
-            float q_4 = 1.0 / (1.0 + (1.0 / (_e295 * _e296)));
-            float _e304 = sum;
-            float _e306 = g;
-            sum = _e304 + (((metal::exp(shift) * _e306) * q_4) * airlight_scene_fog_street_P_ISO);
-        }
-    }
-    float _e312 = sum;
-    return 2.0 * _e312;
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_4 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_4 * metal::log((1.0 + x_4) / x_4);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_4;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_4;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_4;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_4;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_4;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_4;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_4;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_4;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_4;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_scene_fog_street_airlight_geometry(
     float tau_in,
     float h_in,
-    float x0_2,
-    float rho_2,
-    float xr_1
+    float x0_1,
+    float rho_1,
+    float xr
 ) {
-    bool local_8 = {};
-    bool local_9 = {};
-    bool local_10 = {};
-    float sum_1 = 0.0;
-    float len_3 = {};
-    bool local_11 = {};
-    if (rho_2 >= 0.0) {
-        local_8 = rho_2 < airlight_scene_fog_street_RHO_OPEN;
+    bool local_4 = {};
+    bool local_5 = {};
+    bool local_6 = {};
+    float du = airlight_scene_fog_street_HUGE;
+    float sum = {};
+    float nodes = 0.0;
+    float v_2 = {};
+    float r_1 = {};
+    float u = {};
+    float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_fog_street_TAU_MAX);
+    if (x0_1 > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
     } else {
-        local_8 = false;
+        local_4 = false;
     }
-    bool _e12 = local_8;
-    bool open_1 = !(_e12);
-    float tau_2 = metal::min(tau_in, airlight_scene_fog_street_TAU_MAX);
-    if (h_in <= 0.0) {
-        local_9 = x0_2 > 0.0;
-    } else {
-        local_9 = false;
-    }
-    bool _e23 = local_9;
-    if (_e23) {
-        if (!(open_1)) {
-            local_10 = rho_2 >= 1.0;
+    bool _e16 = local_4;
+    if (_e16) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
-            local_10 = true;
+            local_5 = false;
         }
-        bool _e30 = local_10;
-        if (_e30) {
+        bool _e24 = local_5;
+        if (_e24) {
+            return metal::min(((0.07957747 * metal::exp(-(tau_1))) * rho_1) / (1.0 - rho_1), airlight_scene_fog_street_HUGE);
+        }
+        if (h_in <= 0.0) {
             return airlight_scene_fog_street_HUGE;
         }
-        return ((airlight_scene_fog_street_P_ISO * metal::exp(-(tau_2))) * rho_2) / (1.0 - rho_2);
     }
-    float h_3 = (x0_2 < 0.0) ? metal::max(h_in, 0.0000001) : h_in;
-    float t_4 = tau_2 * h_3;
-    if (x0_2 > 0.0) {
-        float _e50 = airlight_scene_fog_street_arctan2_(x0_2, h_3);
-        len_3 = _e50;
-        if (!(open_1)) {
-            local_11 = xr_1 > 0.0;
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_scene_fog_street_RHO_OPEN;
+    } else {
+        local_6 = false;
+    }
+    bool _e68 = local_6;
+    bool open = !(_e68);
+    if (!(open)) {
+        float ta = metal::abs(xr);
+        float tm = metal::max(ta, tb);
+        float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
+        if (xr <= 0.0) {
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            local_11 = false;
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
-        bool _e58 = local_11;
-        if (_e58) {
-            float _e63 = airlight_scene_fog_street_arctan2_(h_3 * rho_2, (h_3 * h_3) + (x0_2 * xr_1));
-            len_3 = _e63;
-        }
-        float _e64 = sum_1;
-        float _e65 = airlight_scene_fog_street_arctan2_(h_3, x0_2);
-        float _e66 = len_3;
-        float _e69 = airlight_scene_fog_street_forward(_e65, _e66, t_4, -(tau_2) * x0_2);
-        sum_1 = _e64 + _e69;
     }
-    float _e71 = sum_1;
-    float _e72 = airlight_scene_fog_street_backward_u(tau_2, t_4, h_3, x0_2, rho_2, xr_1, open_1);
-    sum_1 = _e71 + _e72;
-    float _e74 = sum_1;
-    return metal::min(_e74 / h_3, airlight_scene_fog_street_HUGE);
+    float _e106 = du;
+    float ub = ua + _e106;
+    float t = tau_1 * tb;
+    float m_2 = 1.0 + ua;
+    float lam = m_2 / (1.0 + ((0.3573502 * t) * m_2));
+    float _e117 = du;
+    bool is_short = _e117 < (0.01 * m_2);
+    float _e121 = du;
+    float mb = m_2 + _e121;
+    float _e124 = du;
+    float _e128 = airlight_scene_fog_street_e2_over(t * mb, mb);
+    float from_b = open ? 0.0 : (metal::exp(-(t) * _e124) * _e128);
+    float _e133 = airlight_scene_fog_street_e2_over(t * m_2, m_2);
+    sum = is_short ? 0.0 : (_e133 - from_b);
+    float _e138 = du;
+    float _e139 = du;
+    float sb = open ? 1.0 : (_e138 / (lam + _e139));
+    v_2 = 1.0 / (1.0 - (sb * 0.045649897));
+    float _e157 = v_2;
+    r_1 = (sb * 0.045649897) * _e157;
+    float _e159 = r_1;
+    u = ua + (lam * _e159);
+    float _e162 = nodes;
+    float _e163 = v_2;
+    float _e166 = v_2;
+    float _e168 = u;
+    float _e171 = u;
+    float _e174 = u;
+    float _e182 = u;
+    float _e183 = u;
+    float _e190 = r_1;
+    nodes = _e162 + (((((0.11473862 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * metal::exp((-(t) * lam) * _e190));
+    v_2 = 1.0 / (1.0 - (sb * 0.2267567));
+    float _e203 = v_2;
+    r_1 = (sb * 0.2267567) * _e203;
+    float _e205 = r_1;
+    u = ua + (lam * _e205);
+    float _e208 = nodes;
+    float _e209 = v_2;
+    float _e212 = v_2;
+    float _e214 = u;
+    float _e217 = u;
+    float _e220 = u;
+    float _e228 = u;
+    float _e229 = u;
+    float _e236 = r_1;
+    nodes = _e208 + (((((0.24207275 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * metal::exp((-(t) * lam) * _e236));
+    v_2 = 1.0 / (1.0 - (sb * 0.5019324));
+    float _e249 = v_2;
+    r_1 = (sb * 0.5019324) * _e249;
+    float _e251 = r_1;
+    u = ua + (lam * _e251);
+    float _e254 = nodes;
+    float _e255 = v_2;
+    float _e258 = v_2;
+    float _e260 = u;
+    float _e263 = u;
+    float _e266 = u;
+    float _e274 = u;
+    float _e275 = u;
+    float _e282 = r_1;
+    nodes = _e254 + (((((0.2868063 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * metal::exp((-(t) * lam) * _e282));
+    v_2 = 1.0 / (1.0 - (sb * 0.76887274));
+    float _e295 = v_2;
+    r_1 = (sb * 0.76887274) * _e295;
+    float _e297 = r_1;
+    u = ua + (lam * _e297);
+    float _e300 = nodes;
+    float _e301 = v_2;
+    float _e304 = v_2;
+    float _e306 = u;
+    float _e309 = u;
+    float _e312 = u;
+    float _e320 = u;
+    float _e321 = u;
+    float _e328 = r_1;
+    nodes = _e300 + (((((0.23781383 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * metal::exp((-(t) * lam) * _e328));
+    v_2 = 1.0 / (1.0 - (sb * 0.9568853));
+    float _e341 = v_2;
+    r_1 = (sb * 0.9568853) * _e341;
+    float _e343 = r_1;
+    u = ua + (lam * _e343);
+    float _e346 = nodes;
+    float _e347 = v_2;
+    float _e350 = v_2;
+    float _e352 = u;
+    float _e355 = u;
+    float _e358 = u;
+    float _e366 = u;
+    float _e367 = u;
+    float _e374 = r_1;
+    nodes = _e346 + (((((0.11856851 * _e347) * _e350) * (is_short ? 1.0 : ((2.0 * _e352) / ((1.0 + _e355) * (1.0 + _e358))))) / (1.0 + (_e366 * _e367))) * metal::exp((-(t) * lam) * _e374));
+    float _e379 = sum;
+    float _e380 = nodes;
+    sum = _e379 + ((_e380 * sb) * lam);
+    if (tb < 0.0000000000000000008673617) {
+        float _e386 = sum;
+        float _e394 = airlight_scene_fog_street_scaled(0.15915494 * metal::max(_e386, 0.0), metal::exp(-(tau_1)), tb, 1.0);
+        return _e394;
+    }
+    float _e399 = sum;
+    return metal::min(metal::max((0.15915494 * metal::exp(-(tau_1))) * (_e399 / tb), 0.0), airlight_scene_fog_street_HUGE);
 }
 
 float airlight_scene_fog_street_airlight(
-    float tau_1,
+    float tau,
     float gamma,
-    float rho_3
+    float rho_2
 ) {
-    metal::float2 _e3 = airlight_scene_fog_street_sin_cos(gamma);
-    float _e10 = airlight_scene_fog_street_foot(metal::abs(_e3.x), _e3.y, rho_3);
-    float _e11 = airlight_scene_fog_street_airlight_geometry(tau_1, metal::abs(_e3.x), _e3.y, rho_3, _e10);
-    return _e11;
+    metal::float2 _e6 = airlight_scene_fog_street_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_fog_street_PI));
+    float _e13 = airlight_scene_fog_street_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_scene_fog_street_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_fog_street_radiance(
@@ -596,25 +503,25 @@ float airlight_scene_fog_street_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_12 = {};
+    bool local_7 = {};
     metal::float3 _e7 = airlight_scene_fog_street_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
         float _e13 = airlight_scene_fog_street_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_fog_street_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
-        local_12 = _e7.z == 0.0;
+        local_7 = _e7.z == 0.0;
     } else {
-        local_12 = false;
+        local_7 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_7;
     if (_e23) {
         return 0.0;
     }
-    float rho_4 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e37 = airlight_scene_fog_street_foot(_e7.y, _e7.z, rho_4);
-    float _e38 = airlight_scene_fog_street_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_4, _e37);
-    float _e40 = airlight_scene_fog_street_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
+    float rho_3 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_scene_fog_street_foot(_e7.y, _e7.z, rho_3);
+    float _e39 = airlight_scene_fog_street_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_3, _e38);
+    float _e40 = airlight_scene_fog_street_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
     return _e40;
 }
 #endif // AIRLIGHT_SCENE_FOG_STREET_MSL_INCLUDED

@@ -45,10 +45,10 @@ metal::float2 airlight_scene_harbour_fog_two_product(
     float a_1,
     float b
 ) {
-    float p_1 = a_1 * b;
+    float p = a_1 * b;
     metal::float2 _e3 = airlight_scene_harbour_fog_halves(a_1);
     metal::float2 _e4 = airlight_scene_harbour_fog_halves(b);
-    return metal::float2(p_1, ((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
+    return metal::float2(p, ((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
 }
 
 float airlight_scene_harbour_fog_diff_of_products(
@@ -66,9 +66,9 @@ airlight_scene_harbour_fog_type_3 airlight_scene_harbour_fog_two_sum(
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s_2 = a_3 + b_2;
-    metal::float3 bb = s_2 - a_3;
-    return airlight_scene_harbour_fog_type_3 {{s_2, (a_3 - (s_2 - bb)) + (b_2 - bb)}};
+    metal::float3 s = a_3 + b_2;
+    metal::float3 bb = s - a_3;
+    return airlight_scene_harbour_fog_type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
 }
 
 int airlight_scene_harbour_fog_naga_div(int lhs, int rhs) {
@@ -172,19 +172,19 @@ float airlight_scene_harbour_fog_scaled(
     if (a_4 >= airlight_scene_harbour_fog_HUGE) {
         return airlight_scene_harbour_fog_HUGE;
     }
-    airlight_scene_harbour_fog_frexp_result_f32_ s_3 = airlight_scene_harbour_fog_naga_frexp(sigma_s);
+    airlight_scene_harbour_fog_frexp_result_f32_ s_1 = airlight_scene_harbour_fog_naga_frexp(sigma_s);
     airlight_scene_harbour_fog_frexp_result_f32_ i = airlight_scene_harbour_fog_naga_frexp(intensity);
-    airlight_scene_harbour_fog_frexp_result_f32_ q_1 = airlight_scene_harbour_fog_naga_frexp(a_4);
-    airlight_scene_harbour_fog_frexp_result_f32_ r_1 = airlight_scene_harbour_fog_naga_frexp(d_1);
-    airlight_scene_harbour_fog_frexp_result_f32_ m = airlight_scene_harbour_fog_naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_1.exp));
+    airlight_scene_harbour_fog_frexp_result_f32_ q = airlight_scene_harbour_fog_naga_frexp(a_4);
+    airlight_scene_harbour_fog_frexp_result_f32_ r_2 = airlight_scene_harbour_fog_naga_frexp(d_1);
+    airlight_scene_harbour_fog_frexp_result_f32_ m_1 = airlight_scene_harbour_fog_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_scene_harbour_fog_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_scene_harbour_fog_arctan(
@@ -238,9 +238,9 @@ metal::float2 airlight_scene_harbour_fog_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_4 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_4, c_2);
+    return metal::float2(s_2, c_2);
 }
 
 int airlight_scene_harbour_fog_naga_f2i32(float value) {
@@ -259,114 +259,58 @@ metal::float2 airlight_scene_harbour_fog_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_2 = r_2 * r_2;
-    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2;
+    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_3 * r_3;
+    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_5, c_3);
+            return metal::float2(s_3, c_3);
         }
         case 1: {
-            return metal::float2(c_3, -(s_5));
+            return metal::float2(c_3, -(s_3));
         }
         case 2: {
-            return metal::float2(-(s_5), -(c_3));
+            return metal::float2(-(s_3), -(c_3));
         }
         default: {
-            return metal::float2(-(c_3), s_5);
+            return metal::float2(-(c_3), s_3);
         }
     }
 }
 
-float airlight_scene_harbour_fog_exp_e2_(
-    float x_4
+float airlight_scene_harbour_fog_e2_over(
+    float x_in,
+    float m
 ) {
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
-    if (x_4 < 1.0) {
-        float _e5 = ein;
-        ein = (_e5 + -0.00000002755732) * x_4;
-        float _e9 = ein;
-        ein = (_e9 + 0.00000030619245) * x_4;
-        float _e13 = ein;
-        ein = (_e13 + -0.0000031001985) * x_4;
-        float _e17 = ein;
-        ein = (_e17 + 0.000028344672) * x_4;
-        float _e21 = ein;
-        ein = (_e21 + -0.00023148148) * x_4;
-        float _e25 = ein;
-        ein = (_e25 + 0.0016666667) * x_4;
-        float _e29 = ein;
-        ein = (_e29 + -0.010416667) * x_4;
-        float _e33 = ein;
-        ein = (_e33 + 0.055555556) * x_4;
-        float _e37 = ein;
-        ein = (_e37 + -0.25) * x_4;
-        float _e41 = ein;
-        ein = (_e41 + 1.0) * x_4;
-        float _e52 = ein;
-        return 1.0 + ((x_4 * metal::exp(x_4)) * ((metal::log(metal::max(x_4, 0.000000000000000000000000000001)) + 0.5772157) - _e52));
-    }
-    float t = 1.0 / x_4;
-    float _e63 = p;
-    p = (_e63 + 0.12941834) * t;
-    float _e67 = q;
-    q = (_e67 + 15.616933) * t;
-    float _e71 = p;
-    p = (_e71 + 13.425987) * t;
-    float _e75 = q;
-    q = (_e75 + 51.058296) * t;
-    float _e79 = p;
-    p = (_e79 + 24.985815) * t;
-    float _e83 = q;
-    q = (_e83 + 43.252842) * t;
-    float _e87 = p;
-    p = (_e87 + 10.132498) * t;
-    float _e91 = q;
-    q = (_e91 + 12.132477) * t;
-    float _e95 = p;
-    float _e99 = q;
-    return (t * (1.0 + _e95)) / (1.0 + _e99);
-}
-
-float airlight_scene_harbour_fog_w_u(
-    float u,
-    metal::float4 md
-) {
-    float v_4 = 1.0 / u;
-    return (u > 1.0) ? (((0.07957747 * v_4) * v_4) / (1.0 + (v_4 * v_4))) : (0.07957747 / (1.0 + (u * u)));
-}
-
-metal::float2 airlight_scene_harbour_fog_phi_and_complement(
-    float u_1,
-    metal::float4 md_1
-) {
-    if (u_1 <= 1.0) {
-        float _e4 = airlight_scene_harbour_fog_arctan(u_1);
-        float p_2 = 2.0 * _e4;
-        return metal::float2(p_2, airlight_scene_harbour_fog_PI - p_2);
-    }
-    float _e12 = airlight_scene_harbour_fog_arctan(1.0 / u_1);
-    float c_4 = 2.0 * _e12;
-    return metal::float2(airlight_scene_harbour_fog_PI - c_4, c_4);
-}
-
-metal::float2 airlight_scene_harbour_fog_u_and_weight(
-    float s2_,
-    float c2_,
-    metal::float4 md_2
-) {
-    return metal::float2(s2_ / c2_, 0.5);
-}
-
-float airlight_scene_harbour_fog_r_of_v(
-    float v_2,
-    metal::float4 md_3
-) {
-    return (-(v_2) * v_2) / (1.0 + (v_2 * v_2));
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_4 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_4 * metal::log((1.0 + x_4) / x_4);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_4;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_4;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_4;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_4;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_4;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_4;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_4;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_4;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_4;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_scene_harbour_fog_airlight_geometry(
@@ -375,30 +319,19 @@ float airlight_scene_harbour_fog_airlight_geometry(
     float x0_
 ) {
     bool local_4 = {};
-    bool local_5 = {};
-    bool local_6 = {};
-    bool local_7 = {};
-    float sum = 0.0;
-    bool local_8 = {};
-    float d_2 = {};
-    float beta = {};
-    float co = {};
-    metal::float2 sc = {};
-    metal::float2 uw = {};
-    float f = {};
-    float s = 0.0;
-    float v_3 = {};
-    float s_1 = 0.0;
-    float sb = 0.0;
+    float sum = {};
+    float nodes = 0.0;
+    float v_2 = {};
+    float r_1 = {};
+    float u = {};
     float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_harbour_fog_TAU_MAX);
-    metal::float4 md_4 = metal::float4(0.0, 1.0, 1.0, 1.0);
     if (x0_ > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
         local_4 = false;
     }
-    bool _e19 = local_4;
-    if (_e19) {
+    bool _e14 = local_4;
+    if (_e14) {
         if (h_in <= 0.0) {
             return airlight_scene_harbour_fog_HUGE;
         }
@@ -407,276 +340,101 @@ float airlight_scene_harbour_fog_airlight_geometry(
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
     float one_minus = (x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_);
     float ub = ua + airlight_scene_harbour_fog_HUGE;
-    float t_1 = tau_1 * h_1;
-    float xf = 3.7283664 * metal::max(md_4.w, 1.0);
-    float lcut = (t_1 > 0.0) ? (4.91128 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_scene_harbour_fog_HUGE;
-    float m_1 = metal::max(ua, xf);
-    bool is_short = airlight_scene_harbour_fog_HUGE < (0.16031957 * (ua + metal::min(md_4.w, 1.0)));
-    if (!(is_short)) {
-        local_5 = ub > m_1;
-    } else {
-        local_5 = false;
-    }
-    bool _e76 = local_5;
-    if (_e76) {
-        local_6 = (t_1 * (m_1 - ua)) < 4.91128;
-    } else {
-        local_6 = false;
-    }
-    bool _e84 = local_6;
-    if (_e84) {
-        local_7 = (t_1 * m_1) < 5.248124;
-    } else {
-        local_7 = false;
-    }
-    bool use_far = local_7;
-    float len = use_far ? (m_1 - ua) : metal::min(airlight_scene_harbour_fog_HUGE, lcut);
-    if (len > 0.0) {
-        if (!((len < (0.16031957 * (ua + metal::min(md_4.w, 1.0)))))) {
-            local_8 = ua >= xf;
-        } else {
-            local_8 = true;
-        }
-        bool _e111 = local_8;
-        if (_e111) {
-            float hl = 0.5 * len;
-            d_2 = hl * 1.9324695;
-            float _e117 = sum;
-            float _e118 = d_2;
-            float _e120 = airlight_scene_harbour_fog_w_u(ua + _e118, md_4);
-            float _e124 = d_2;
-            sum = _e117 + ((0.17132449 * _e120) * metal::exp(-(t_1) * _e124));
-            d_2 = hl * 1.6612093;
-            float _e131 = sum;
-            float _e132 = d_2;
-            float _e134 = airlight_scene_harbour_fog_w_u(ua + _e132, md_4);
-            float _e138 = d_2;
-            sum = _e131 + ((0.36076158 * _e134) * metal::exp(-(t_1) * _e138));
-            d_2 = hl * 1.2386192;
-            float _e145 = sum;
-            float _e146 = d_2;
-            float _e148 = airlight_scene_harbour_fog_w_u(ua + _e146, md_4);
-            float _e152 = d_2;
-            sum = _e145 + ((0.46791393 * _e148) * metal::exp(-(t_1) * _e152));
-            d_2 = hl * 0.7613808;
-            float _e159 = sum;
-            float _e160 = d_2;
-            float _e162 = airlight_scene_harbour_fog_w_u(ua + _e160, md_4);
-            float _e166 = d_2;
-            sum = _e159 + ((0.46791393 * _e162) * metal::exp(-(t_1) * _e166));
-            d_2 = hl * 0.3387906;
-            float _e173 = sum;
-            float _e174 = d_2;
-            float _e176 = airlight_scene_harbour_fog_w_u(ua + _e174, md_4);
-            float _e180 = d_2;
-            sum = _e173 + ((0.36076158 * _e176) * metal::exp(-(t_1) * _e180));
-            d_2 = hl * 0.06753051;
-            float _e187 = sum;
-            float _e188 = d_2;
-            float _e190 = airlight_scene_harbour_fog_w_u(ua + _e188, md_4);
-            float _e194 = d_2;
-            sum = _e187 + ((0.17132449 * _e190) * metal::exp(-(t_1) * _e194));
-            float _e199 = sum;
-            sum = _e199 * hl;
-        } else {
-            metal::float2 _e201 = airlight_scene_harbour_fog_phi_and_complement(ua, md_4);
-            metal::float2 _e203 = airlight_scene_harbour_fog_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e201.y < 1.5707964) ? (_e201.y - _e203.y) : (_e203.x - _e201.x));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e236 = beta;
-            float _e237 = co;
-            metal::float2 _e241 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e236, _e237), 0.0));
-            sc = _e241;
-            float _e242 = beta;
-            float _e243 = co;
-            if (_e242 > _e243) {
-                metal::float2 _e245 = sc;
-                sc = _e245.yx;
-            }
-            float _e248 = sc.x;
-            float _e250 = sc.y;
-            metal::float2 _e251 = airlight_scene_harbour_fog_u_and_weight(_e248, _e250, md_4);
-            uw = _e251;
-            float _e252 = sum;
-            float _e254 = uw.y;
-            float _e259 = uw.x;
-            sum = _e252 + ((0.17132449 * _e254) * metal::exp(-(t_1) * (_e259 - ua)));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e281 = beta;
-            float _e282 = co;
-            metal::float2 _e286 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e281, _e282), 0.0));
-            sc = _e286;
-            float _e287 = beta;
-            float _e288 = co;
-            if (_e287 > _e288) {
-                metal::float2 _e290 = sc;
-                sc = _e290.yx;
-            }
-            float _e293 = sc.x;
-            float _e295 = sc.y;
-            metal::float2 _e296 = airlight_scene_harbour_fog_u_and_weight(_e293, _e295, md_4);
-            uw = _e296;
-            float _e297 = sum;
-            float _e299 = uw.y;
-            float _e304 = uw.x;
-            sum = _e297 + ((0.36076158 * _e299) * metal::exp(-(t_1) * (_e304 - ua)));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e326 = beta;
-            float _e327 = co;
-            metal::float2 _e331 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e326, _e327), 0.0));
-            sc = _e331;
-            float _e332 = beta;
-            float _e333 = co;
-            if (_e332 > _e333) {
-                metal::float2 _e335 = sc;
-                sc = _e335.yx;
-            }
-            float _e338 = sc.x;
-            float _e340 = sc.y;
-            metal::float2 _e341 = airlight_scene_harbour_fog_u_and_weight(_e338, _e340, md_4);
-            uw = _e341;
-            float _e342 = sum;
-            float _e344 = uw.y;
-            float _e349 = uw.x;
-            sum = _e342 + ((0.46791393 * _e344) * metal::exp(-(t_1) * (_e349 - ua)));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e371 = beta;
-            float _e372 = co;
-            metal::float2 _e376 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e371, _e372), 0.0));
-            sc = _e376;
-            float _e377 = beta;
-            float _e378 = co;
-            if (_e377 > _e378) {
-                metal::float2 _e380 = sc;
-                sc = _e380.yx;
-            }
-            float _e383 = sc.x;
-            float _e385 = sc.y;
-            metal::float2 _e386 = airlight_scene_harbour_fog_u_and_weight(_e383, _e385, md_4);
-            uw = _e386;
-            float _e387 = sum;
-            float _e389 = uw.y;
-            float _e394 = uw.x;
-            sum = _e387 + ((0.46791393 * _e389) * metal::exp(-(t_1) * (_e394 - ua)));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e416 = beta;
-            float _e417 = co;
-            metal::float2 _e421 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e416, _e417), 0.0));
-            sc = _e421;
-            float _e422 = beta;
-            float _e423 = co;
-            if (_e422 > _e423) {
-                metal::float2 _e425 = sc;
-                sc = _e425.yx;
-            }
-            float _e428 = sc.x;
-            float _e430 = sc.y;
-            metal::float2 _e431 = airlight_scene_harbour_fog_u_and_weight(_e428, _e430, md_4);
-            uw = _e431;
-            float _e432 = sum;
-            float _e434 = uw.y;
-            float _e439 = uw.x;
-            sum = _e432 + ((0.36076158 * _e434) * metal::exp(-(t_1) * (_e439 - ua)));
-            beta = (0.5 * _e201.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e201.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e461 = beta;
-            float _e462 = co;
-            metal::float2 _e466 = airlight_scene_harbour_fog_sin_cos_octant(metal::max(metal::min(_e461, _e462), 0.0));
-            sc = _e466;
-            float _e467 = beta;
-            float _e468 = co;
-            if (_e467 > _e468) {
-                metal::float2 _e470 = sc;
-                sc = _e470.yx;
-            }
-            float _e473 = sc.x;
-            float _e475 = sc.y;
-            metal::float2 _e476 = airlight_scene_harbour_fog_u_and_weight(_e473, _e475, md_4);
-            uw = _e476;
-            float _e477 = sum;
-            float _e479 = uw.y;
-            float _e484 = uw.x;
-            sum = _e477 + ((0.17132449 * _e479) * metal::exp(-(t_1) * (_e484 - ua)));
-            float _e490 = sum;
-            sum = _e490 * (hl_1 * 0.07957747);
-        }
-    }
-    if (use_far) {
-        float _e496 = airlight_scene_harbour_fog_exp_e2_(t_1 * m_1);
-        f = _e496 / m_1;
-        if (!(true)) {
-            float _e500 = f;
-            float _e506 = airlight_scene_harbour_fog_exp_e2_(t_1 * ub);
-            f = _e500 - ((metal::exp(-(t_1) * (ub - m_1)) * _e506) / ub);
-        }
-        float ue = (t_1 > 0.0) ? (m_1 + (6.294302 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_harbour_fog_HUGE;
-        float va = 1.0 / metal::min(ub, ue);
-        float hl_2 = 0.5 * ((1.0 / m_1) - va);
-        v_3 = va + (hl_2 * 1.8611363);
-        float _e533 = s;
-        float _e534 = v_3;
-        float _e535 = airlight_scene_harbour_fog_r_of_v(_e534, md_4);
-        float _e539 = v_3;
-        s = _e533 + ((0.34785485 * _e535) * metal::exp(-(t_1) * ((1.0 / _e539) - m_1)));
-        v_3 = va + (hl_2 * 1.3399811);
-        float _e550 = s;
-        float _e551 = v_3;
-        float _e552 = airlight_scene_harbour_fog_r_of_v(_e551, md_4);
-        float _e556 = v_3;
-        s = _e550 + ((0.65214515 * _e552) * metal::exp(-(t_1) * ((1.0 / _e556) - m_1)));
-        v_3 = va + (hl_2 * 0.660019);
-        float _e567 = s;
-        float _e568 = v_3;
-        float _e569 = airlight_scene_harbour_fog_r_of_v(_e568, md_4);
-        float _e573 = v_3;
-        s = _e567 + ((0.65214515 * _e569) * metal::exp(-(t_1) * ((1.0 / _e573) - m_1)));
-        v_3 = va + (hl_2 * 0.13886368);
-        float _e584 = s;
-        float _e585 = v_3;
-        float _e586 = airlight_scene_harbour_fog_r_of_v(_e585, md_4);
-        float _e590 = v_3;
-        s = _e584 + ((0.34785485 * _e586) * metal::exp(-(t_1) * ((1.0 / _e590) - m_1)));
-        float _e598 = sum;
-        float _e604 = f;
-        float _e605 = s;
-        sum = _e598 + ((0.07957747 * metal::exp(-(t_1) * (m_1 - ua))) * (_e604 + (_e605 * hl_2)));
-    } else {
-        if (airlight_scene_harbour_fog_HUGE > lcut) {
-            float ue_1 = ua + lcut;
-            float _e614 = s_1;
-            float _e618 = airlight_scene_harbour_fog_w_u(ue_1 + (0.58578646 / t_1), md_4);
-            s_1 = _e614 + (0.8535534 * _e618);
-            float _e622 = s_1;
-            float _e626 = airlight_scene_harbour_fog_w_u(ue_1 + (3.4142137 / t_1), md_4);
-            s_1 = _e622 + (0.14644662 * _e626);
-            if (!(true)) {
-                float _e633 = sb;
-                float _e637 = airlight_scene_harbour_fog_w_u(ub + (0.58578646 / t_1), md_4);
-                sb = _e633 + (0.8535534 * _e637);
-                float _e641 = sb;
-                float _e645 = airlight_scene_harbour_fog_w_u(ub + (3.4142137 / t_1), md_4);
-                sb = _e641 + (0.14644662 * _e645);
-                float _e649 = s_1;
-                float _e654 = sb;
-                s_1 = _e649 - (metal::exp(-(t_1) * (airlight_scene_harbour_fog_HUGE - lcut)) * _e654);
-            }
-            float _e657 = sum;
-            float _e660 = s_1;
-            sum = _e657 + ((0.007363057 / t_1) * metal::max(_e660, 0.0));
-        }
-    }
+    float t = tau_1 * h_1;
+    float m_2 = 1.0 + ua;
+    float lam = m_2 / (1.0 + ((0.3573502 * t) * m_2));
+    bool is_short = airlight_scene_harbour_fog_HUGE < (0.01 * m_2);
+    float mb = m_2 + airlight_scene_harbour_fog_HUGE;
+    float _e61 = airlight_scene_harbour_fog_e2_over(t * mb, mb);
+    float from_b = true ? 0.0 : (metal::exp(-(t) * airlight_scene_harbour_fog_HUGE) * _e61);
+    float _e66 = airlight_scene_harbour_fog_e2_over(t * m_2, m_2);
+    sum = is_short ? 0.0 : (_e66 - from_b);
+    float sb = true ? 1.0 : (airlight_scene_harbour_fog_HUGE / (lam + airlight_scene_harbour_fog_HUGE));
+    v_2 = 1.0 / (1.0 - (sb * 0.045649897));
+    float _e88 = v_2;
+    r_1 = (sb * 0.045649897) * _e88;
+    float _e90 = r_1;
+    u = ua + (lam * _e90);
+    float _e93 = nodes;
+    float _e94 = v_2;
+    float _e97 = v_2;
+    float _e99 = u;
+    float _e102 = u;
+    float _e105 = u;
+    float _e113 = u;
+    float _e114 = u;
+    float _e121 = r_1;
+    nodes = _e93 + (((((0.11473862 * _e94) * _e97) * (is_short ? 1.0 : ((2.0 * _e99) / ((1.0 + _e102) * (1.0 + _e105))))) / (1.0 + (_e113 * _e114))) * metal::exp((-(t) * lam) * _e121));
+    v_2 = 1.0 / (1.0 - (sb * 0.2267567));
+    float _e134 = v_2;
+    r_1 = (sb * 0.2267567) * _e134;
+    float _e136 = r_1;
+    u = ua + (lam * _e136);
+    float _e139 = nodes;
+    float _e140 = v_2;
+    float _e143 = v_2;
+    float _e145 = u;
+    float _e148 = u;
+    float _e151 = u;
+    float _e159 = u;
+    float _e160 = u;
+    float _e167 = r_1;
+    nodes = _e139 + (((((0.24207275 * _e140) * _e143) * (is_short ? 1.0 : ((2.0 * _e145) / ((1.0 + _e148) * (1.0 + _e151))))) / (1.0 + (_e159 * _e160))) * metal::exp((-(t) * lam) * _e167));
+    v_2 = 1.0 / (1.0 - (sb * 0.5019324));
+    float _e180 = v_2;
+    r_1 = (sb * 0.5019324) * _e180;
+    float _e182 = r_1;
+    u = ua + (lam * _e182);
+    float _e185 = nodes;
+    float _e186 = v_2;
+    float _e189 = v_2;
+    float _e191 = u;
+    float _e194 = u;
+    float _e197 = u;
+    float _e205 = u;
+    float _e206 = u;
+    float _e213 = r_1;
+    nodes = _e185 + (((((0.2868063 * _e186) * _e189) * (is_short ? 1.0 : ((2.0 * _e191) / ((1.0 + _e194) * (1.0 + _e197))))) / (1.0 + (_e205 * _e206))) * metal::exp((-(t) * lam) * _e213));
+    v_2 = 1.0 / (1.0 - (sb * 0.76887274));
+    float _e226 = v_2;
+    r_1 = (sb * 0.76887274) * _e226;
+    float _e228 = r_1;
+    u = ua + (lam * _e228);
+    float _e231 = nodes;
+    float _e232 = v_2;
+    float _e235 = v_2;
+    float _e237 = u;
+    float _e240 = u;
+    float _e243 = u;
+    float _e251 = u;
+    float _e252 = u;
+    float _e259 = r_1;
+    nodes = _e231 + (((((0.23781383 * _e232) * _e235) * (is_short ? 1.0 : ((2.0 * _e237) / ((1.0 + _e240) * (1.0 + _e243))))) / (1.0 + (_e251 * _e252))) * metal::exp((-(t) * lam) * _e259));
+    v_2 = 1.0 / (1.0 - (sb * 0.9568853));
+    float _e272 = v_2;
+    r_1 = (sb * 0.9568853) * _e272;
+    float _e274 = r_1;
+    u = ua + (lam * _e274);
+    float _e277 = nodes;
+    float _e278 = v_2;
+    float _e281 = v_2;
+    float _e283 = u;
+    float _e286 = u;
+    float _e289 = u;
+    float _e297 = u;
+    float _e298 = u;
+    float _e305 = r_1;
+    nodes = _e277 + (((((0.11856851 * _e278) * _e281) * (is_short ? 1.0 : ((2.0 * _e283) / ((1.0 + _e286) * (1.0 + _e289))))) / (1.0 + (_e297 * _e298))) * metal::exp((-(t) * lam) * _e305));
+    float _e310 = sum;
+    float _e311 = nodes;
+    sum = _e310 + ((_e311 * sb) * lam);
     if (h_1 < 0.0000000000000000008673617) {
-        float _e667 = sum;
-        float _e675 = airlight_scene_harbour_fog_scaled(2.0 * metal::max(_e667, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
-        return _e675;
+        float _e317 = sum;
+        float _e325 = airlight_scene_harbour_fog_scaled(0.15915494 * metal::max(_e317, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e325;
     }
-    float _e680 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e680 / h_1), 0.0), airlight_scene_harbour_fog_HUGE);
+    float _e330 = sum;
+    return metal::min(metal::max((0.15915494 * metal::exp(-(tau_1))) * (_e330 / h_1), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(
@@ -696,18 +454,18 @@ float airlight_scene_harbour_fog_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_9 = {};
+    bool local_5 = {};
     metal::float3 _e6 = airlight_scene_harbour_fog_ray_geometry(origin_1, dir_1, light_1);
     if (_e6.x <= 0.0) {
         float _e12 = airlight_scene_harbour_fog_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_harbour_fog_HUGE);
         return _e12;
     }
     if (_e6.y <= 0.0) {
-        local_9 = _e6.z == 0.0;
+        local_5 = _e6.z == 0.0;
     } else {
-        local_9 = false;
+        local_5 = false;
     }
-    bool _e22 = local_9;
+    bool _e22 = local_5;
     if (_e22) {
         return 0.0;
     }

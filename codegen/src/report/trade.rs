@@ -436,7 +436,7 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     let cpu_two_ways = two_ways(
         b,
         &[
-            ("phi-iso-2", "no-extinction"),
+            ("lite-iso-3", "no-extinction"),
             ("phi-3", "no-extinction"),
             ("phi-iso-4", "no-extinction"),
             ("phi-4", "no-extinction"),
@@ -449,11 +449,11 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
         b,
         &[
             ("phi-3", "equiangular-8"),
-            ("phi-iso-2", "equiangular-8"),
+            ("lite-iso-3", "equiangular-8"),
             ("phi-4", "equiangular-16"),
-            ("phi-iso-4", "equiangular-16"),
+            ("lite-iso-5", "equiangular-16"),
             ("phi-3", "no-extinction"),
-            ("phi-iso-2", "no-extinction"),
+            ("lite-iso-3", "no-extinction"),
         ],
         [("on random points", |m| m.gpu_evals_per_s), ("frame-coherent", |m| m.gpu_frame_evals_per_s)],
     );

@@ -989,10 +989,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-backscatter-aerosol",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 4.1925218974023666e-4,
-        dense_max_rel: 3.228435461851741e-4,
-        f32_thin_max_rel: Some(4.1925218974023666e-4),
-        f32_dense_max_rel: Some(3.228435461851741e-4),
+        thin_max_rel: 1.683025514127769e-5,
+        dense_max_rel: 1.7047527977746167e-5,
+        f32_thin_max_rel: Some(1.683025514127769e-5),
+        f32_dense_max_rel: Some(1.7047527977746167e-5),
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1005,9 +1005,9 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 5.868806092532688e-3,
-        dense_max_rel: 6.0269912854425886e-2,
-        f32_thin_max_rel: Some(5.87498258411175e-3),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.868599098863415e-4),
         f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -1021,10 +1021,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-harbour-fog",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 3.521076319065512e-6,
-        dense_max_rel: 6.180687898263746e-6,
-        f32_thin_max_rel: Some(3.796278110834233e-6),
-        f32_dense_max_rel: Some(6.755107034552047e-6),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.869684993761923e-4),
+        f32_dense_max_rel: Some(8.250122094914532e-4),
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1053,10 +1053,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-hg-fog",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 6.991889025038546e-5,
-        dense_max_rel: 1.5676511173412709e-4,
-        f32_thin_max_rel: Some(6.991889025038546e-5),
-        f32_dense_max_rel: Some(1.5676511173412709e-4),
+        thin_max_rel: 1.6330376837615128e-3,
+        dense_max_rel: 1.6462673247980386e-3,
+        f32_thin_max_rel: Some(1.6330376837615128e-3),
+        f32_dense_max_rel: Some(1.6462673247980386e-3),
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1069,10 +1069,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 3.521076319065512e-6,
-        dense_max_rel: 6.180687898263746e-6,
-        f32_thin_max_rel: Some(3.7988235788989185e-6),
-        f32_dense_max_rel: Some(6.755107034552047e-6),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.868599098863415e-4),
+        f32_dense_max_rel: Some(8.254400959285012e-4),
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
