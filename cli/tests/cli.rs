@@ -235,9 +235,15 @@ fn fit_one_family_prints_and_writes_nothing() {
     let out = String::from_utf8(o.stdout).unwrap();
     assert!(out.contains("phi e^x E2") && out.contains("max rel") && out.contains("nothing written"), "{out}");
     assert!(std::fs::read_dir(root.join("generated")).unwrap().next().is_none());
+    // The lite family's part prints its one-path e^x E2.
+    let o = airlight(&["fit", "--family", "lite", "--root", root.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.contains("lite e^x E2") && out.contains("max rel") && out.contains("nothing written"), "{out}");
+    assert!(std::fs::read_dir(root.join("generated")).unwrap().next().is_none());
     let o = airlight(&["fit", "--family", "nope"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("unknown family 'nope'; known families: phi, segments, phase, backscatter"));
+    assert!(stderr(&o).contains("unknown family 'nope'; known families: phi, lite, segments, phase, backscatter"));
     std::fs::remove_dir_all(&root).unwrap();
 }
 

@@ -604,7 +604,7 @@ mod tests {
     fn example_scenes_get_the_cheapest_model_meeting_their_budget() {
         let models = models();
         for (file, want) in
-            [("fog-street.toml", "phi-iso-4"), ("smoke-room.toml", "phi-iso-4"), ("harbour-fog.toml", "phi-iso-4")]
+            [("fog-street.toml", "lite-iso-2"), ("smoke-room.toml", "lite-iso-3"), ("harbour-fog.toml", "lite-iso-2")]
         {
             let s = scene(file);
             let p = plan(&s, &models, None).unwrap();

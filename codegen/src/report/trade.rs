@@ -431,6 +431,12 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
         .map(|k| format!("`{}` {} ({})", k.name, k.every.ops, k.worst.ops))
         .collect();
     ctx.insert("flat", &flat);
+    let lite_flat: Vec<String> = ir
+        .iter()
+        .filter(|k| k.name.starts_with("lite-"))
+        .map(|k| format!("`{}` {} ({})", k.name, k.every.ops, k.worst.ops))
+        .collect();
+    ctx.insert("lite_flat", &lite_flat);
     // The CPU cost ratios that depend on how a short kernel is called, and the
     // GPU-path rate ratios, random and frame-coherent.
     let cpu_two_ways = two_ways(
