@@ -7,6 +7,7 @@ use super::KernelIr;
 use crate::front::{self, Method};
 use airlight_fit::bench::{Bench, BenchModel};
 use airlight_fit::coeffs::ModelFile;
+use airlight_fit::cost::Shape;
 use airlight_fit::domains::Domain;
 use airlight_fit::stats::fmt_err;
 use serde::Serialize;
@@ -271,10 +272,24 @@ struct TierRow {
 /// `dense`), airlight's fastest kernel on each cost measure and its cost over the
 /// closed form without extinction's on the same measure; the 1e-2 level's target
 /// (isotropic ≤ 2×, HG ≤ 3×) met or missed.
-fn tiers(b: &Bench, models: &[ModelFile]) -> Vec<TierRow> {
-    let Some(floor) = models.iter().find(|m| m.model.body.is_cost_floor()).and_then(|m| b.model(&m.model.name)) else {
-        return Vec::new();
+fn tiers(b: &Bench, models: &[ModelFile], ir: &[KernelIr]) -> (Vec<TierRow>, Vec<String>) {
+    let Some(floor_model) = models.iter().find(|m| m.model.body.is_cost_floor()) else {
+        return (Vec::new(), Vec::new());
     };
+    let Some(floor) = b.model(&floor_model.model.name) else {
+        return (Vec::new(), Vec::new());
+    };
+    // What a missed target pays: on the CPU the calls on its worst path (the cost
+    // the CPU follows), on a GPU path its IR operations with every branch taken.
+    let calls = |m: &ModelFile| {
+        let o = m.model.body.ops(Shape::general(m.model.body.phase_shape()));
+        format!(
+            "{} exp, {} log, {} atan, {} sqrt, {} sin_cos, {} divisions",
+            o.exp, o.log, o.atan, o.sqrt, o.sincos, o.div
+        )
+    };
+    let every = |name: &str| ir.iter().find(|k| k.name == name).map(|k| k.every.ops.to_string());
+    let mut why = Vec::new();
     let declared = |m: &ModelFile| {
         [Domain::Thin, Domain::Dense]
             .iter()
@@ -308,6 +323,30 @@ fn tiers(b: &Bench, models: &[ModelFile]) -> Vec<TierRow> {
                     ),
                     None => ("—".into(), "—".into(), false),
                 };
+                if level == 1e-2 && !met {
+                    if let Some((m, ns)) = best {
+                        let pays = if measure == front::CostMeasure::Cpu {
+                            format!(
+                                "its worst path calls {} against the closed form's {}",
+                                calls(m),
+                                calls(floor_model)
+                            )
+                        } else {
+                            format!(
+                                "it runs {} IR operations with every branch taken against the closed form's {}",
+                                every(&m.model.name).unwrap_or_else(|| "?".into()),
+                                every(&floor_model.model.name).unwrap_or_else(|| "?".into())
+                            )
+                        };
+                        why.push(format!(
+                            "{medium}, {}: `{}` at {:.2}× misses ≤ {target}× by {:.2}×; {pays}",
+                            measure.title(),
+                            m.model.name,
+                            ns / f,
+                            ns / f / target
+                        ));
+                    }
+                }
                 rows.push(TierRow {
                     medium,
                     level: fmt_err(level),
@@ -323,7 +362,7 @@ fn tiers(b: &Bench, models: &[ModelFile]) -> Vec<TierRow> {
             }
         }
     }
-    rows
+    (rows, why)
 }
 
 /// One way of measuring a model: its label and its figure.
@@ -464,7 +503,9 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
         [("on random points", |m| m.gpu_evals_per_s), ("frame-coherent", |m| m.gpu_frame_evals_per_s)],
     );
     ctx.insert("gpu_two_ways", &gpu_two_ways);
-    ctx.insert("tiers", &tiers(b, models));
+    let (tier_rows, tier_why) = tiers(b, models, ir);
+    ctx.insert("tiers", &tier_rows);
+    ctx.insert("tier_why", &tier_why);
     ctx.insert("rgb_rows", &b.rgb.iter().map(rgb_row).collect::<Vec<_>>());
     let shafts: Vec<ShaftsRow> = b
         .shafts
