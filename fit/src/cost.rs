@@ -23,6 +23,14 @@ pub struct Cost {
 }
 
 impl Cost {
+    /// In words: `3 exp, 1 log, 0 atan, 2 sqrt, 1 sin_cos, 9 div`.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} exp, {} log, {} atan, {} sqrt, {} sin_cos, {} div",
+            self.exp, self.log, self.atan, self.sqrt, self.sincos, self.div
+        )
+    }
+
     /// Both paths taken (a sum).
     pub fn add(&self, o: &Cost) -> Cost {
         Cost {

@@ -281,13 +281,7 @@ fn tiers(b: &Bench, models: &[ModelFile], ir: &[KernelIr]) -> (Vec<TierRow>, Vec
     };
     // What a missed target pays: on the CPU the calls on its worst path (the cost
     // the CPU follows), on a GPU path its IR operations with every branch taken.
-    let calls = |m: &ModelFile| {
-        let o = m.model.body.ops(Shape::general(m.model.body.phase_shape()));
-        format!(
-            "{} exp, {} log, {} atan, {} sqrt, {} sin_cos, {} divisions",
-            o.exp, o.log, o.atan, o.sqrt, o.sincos, o.div
-        )
-    };
+    let calls = |m: &ModelFile| m.model.body.ops(Shape::general(m.model.body.phase_shape())).describe();
     let every = |name: &str| ir.iter().find(|k| k.name == name).map(|k| k.every.ops.to_string());
     let mut why = Vec::new();
     let declared = |m: &ModelFile| {

@@ -6,7 +6,7 @@
 //! [`crate::family::phi::ExpE2`] (a series below 1, a rational beyond) is more
 //! accurate and branches; this one is fitted to the lite family's budget.
 
-use crate::family::phi::exp_e2_exact;
+use crate::family::phi::{exp_e2_exact, horner1};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
 use crate::tomlfile::value::{f, i, kv, s};
 use crate::tomlfile::{FieldError, Reader, Provenance};
@@ -45,11 +45,6 @@ pub struct LogE2Fit {
     pub max_rel: (f64, f64),
 }
 
-/// `1 + Σ c_k x^k`.
-fn poly1(c: &[f64], x: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &k| (acc + k) * x) + 1.0
-}
-
 fn log_grid(n: usize, lo: f64, hi: f64) -> Vec<f64> {
     (0..n).map(|k| 10f64.powf(lo + (hi - lo) * k as f64 / (n - 1) as f64)).collect()
 }
@@ -59,7 +54,7 @@ impl LogE2 {
     pub fn eval(&self, x: f64) -> f64 {
         let x = x.max(1e-30);
         let l = x * ((1.0 + x) / x).ln();
-        (poly1(&self.n1, x) - l * poly1(&self.n2, x)) / poly1(&self.d, x)
+        (horner1(&self.n1, x) - l * horner1(&self.n2, x)) / horner1(&self.d, x)
     }
 
     fn from_logs(p: &[f64]) -> LogE2 {

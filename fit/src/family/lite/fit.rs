@@ -78,15 +78,15 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
     let n = start.x.len();
     let mut nodes: Vec<(f64, f64)> = (0..n).map(|j| (1.0 / (1.0 + (-p[j]).exp()), p[n + j])).collect();
     nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // Weights summing to 1: a constant integrand (the shortest intervals) is exact.
+    // Weights summing to 1 (summed in node order): a constant integrand (the
+    // shortest intervals) is exact.
     let total: f64 = nodes.iter().map(|q| q.1).sum();
-    LiteRule {
-        x: nodes.iter().map(|q| q.0).collect(),
-        w: nodes.iter().map(|q| q.1 / total).collect(),
-        alpha: p[2 * n].exp().clamp(ALPHA_BOX.0, ALPHA_BOX.1),
-        short: p[2 * n + 1].clamp(SHORT_BOX.0, SHORT_BOX.1),
-        e2: start.e2.clone(),
-    }
+    LiteRule::from_nodes(
+        nodes.into_iter().map(|(x, w)| (x, w / total)).collect(),
+        p[2 * n].exp().clamp(ALPHA_BOX.0, ALPHA_BOX.1),
+        p[2 * n + 1].clamp(SHORT_BOX.0, SHORT_BOX.1),
+        start.e2.clone(),
+    )
 }
 
 /// Fits the `n`-node member ([`NodeFit`]).

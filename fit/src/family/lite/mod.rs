@@ -26,7 +26,7 @@ pub mod e2;
 pub mod fit;
 
 use crate::cost::{Cost, PhaseShape, Shape};
-use crate::family::phi::u_geometry;
+use crate::family::phi::{on_axis, u_geometry};
 use e2::{LogE2, LogE2Fit};
 use crate::family::{Assembled, Family, Role};
 use crate::reference::Point;
@@ -60,16 +60,14 @@ impl LiteRule {
     /// `n` Gauss–Legendre nodes on `[0, 1]`, `α = 1/2`, `σ = 0.1`: where the fit starts.
     pub fn start(n: usize, e2: LogE2) -> LiteRule {
         let (x, w) = crate::quad::gauss_legendre(n);
-        // Increasing, as the coefficient file requires.
-        let mut nodes: Vec<(f64, f64)> = x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect();
+        LiteRule::from_nodes(x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect(), 0.5, 0.1, e2)
+    }
+
+    /// The rule with nodes `(x_i, w_i)` (any order: sorted by `x`, as the coefficient
+    /// file requires).
+    pub fn from_nodes(mut nodes: Vec<(f64, f64)>, alpha: f64, short: f64, e2: LogE2) -> LiteRule {
         nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
-        LiteRule {
-            x: nodes.iter().map(|q| q.0).collect(),
-            w: nodes.iter().map(|q| q.1).collect(),
-            alpha: 0.5,
-            short: 0.1,
-            e2,
-        }
+        LiteRule { x: nodes.iter().map(|q| q.0).collect(), w: nodes.iter().map(|q| q.1).collect(), alpha, short, e2 }
     }
 
     /// `I` (without `2 e^{−τ} P/h`) from `T`, `ua` and `Δ` (`∞`: open).
@@ -149,15 +147,7 @@ impl Family for LiteRule {
     fn eval(&self, p: Point) -> f64 {
         let (h, ua, du, _) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
-            // On the axis (docs/MATH.md §5): the light ahead, `P e^{−τ} ρ/(1 − ρ)`
-            // before it, divergent through it; behind, `A` is flat in `h` to O(h²).
-            return if p.gamma >= 1.0 {
-                self.eval(Point { gamma: PI - 1e-12, ..p })
-            } else if p.rho < 1.0 {
-                (-p.tau).exp() * p.rho / (4.0 * PI * (1.0 - p.rho))
-            } else {
-                f64::INFINITY
-            };
+            return on_axis(p, 0.0, &|q| self.eval(q));
         }
         2.0 * (-p.tau).exp() * self.integral(p.tau * h, ua, du) / (4.0 * PI * h)
     }

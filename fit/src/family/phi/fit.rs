@@ -239,7 +239,7 @@ pub fn assemble(t: PhiTier, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<
 }
 
 /// The provenance table of `eˣE₂`'s fit (`[e2.fit]`), for every family that integrates with it.
-pub fn e2_provenance(fit: &E2Fit) -> crate::tomlfile::Provenance {
+fn e2_provenance(fit: &E2Fit) -> crate::tomlfile::Provenance {
 (
         "e2.fit".into(),
         kv(vec![

@@ -182,7 +182,7 @@ impl ExpE2 {
 }
 
 /// `1 + Σ c_k t^k`.
-fn horner1(c: &[f64], t: f64) -> f64 {
+pub(crate) fn horner1(c: &[f64], t: f64) -> f64 {
     let mut s = 0.0;
     for x in c.iter().rev() {
         s = (s + x) * t;
@@ -280,6 +280,19 @@ pub fn u_geometry(gamma: f64, rho: f64) -> (f64, f64, f64, f64) {
     (h, ua, du, ua + du)
 }
 
+/// `A` on the axis (`h = 0`, docs/MATH.md §5), for the families that integrate in
+/// the u form: the light ahead, `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent through
+/// it; behind, `A` is flat in `h` to O(h²), so `off_axis` evaluates it 1e-12 off.
+pub fn on_axis(p: Point, g: f64, off_axis: &dyn Fn(Point) -> f64) -> f64 {
+    if p.gamma >= 1.0 {
+        off_axis(Point { gamma: PI - 1e-12, ..p })
+    } else if p.rho < 1.0 {
+        crate::phase::hg(g, 0.0, 2.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho)
+    } else {
+        f64::INFINITY
+    }
+}
+
 impl PhiRule {
     /// The member with `n` head nodes, `nf` far nodes, `nt` tail nodes and these splits.
     pub fn new(n: usize, nf: usize, nt: usize, cut: f64, far_cut: f64, e2: ExpE2) -> PhiRule {
@@ -341,15 +354,7 @@ impl Family for PhiRule {
         let g = p.g.clamp(-0.999, 0.999);
         let (h, ua, du, ub) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
-            // On the axis (docs/MATH.md §5): the light ahead, `P(0) e^{−τ} ρ/(1 − ρ)`
-            // before it, divergent through it; behind, `A` is flat in `h` to O(h²).
-            return if p.gamma >= 1.0 {
-                self.eval(Point { gamma: PI - 1e-12, ..p })
-            } else if p.rho < 1.0 {
-                crate::phase::hg(g, 0.0, 2.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho)
-            } else {
-                f64::INFINITY
-            };
+            return on_axis(p, g, &|q| self.eval(q));
         }
         let t = p.tau * h;
         let (a, b) = (1.0 - g, 1.0 + g);

@@ -48,7 +48,7 @@ fn row(m: &Member<'_, PhiRule>, floor: ReportFloor) -> (PhiRow, Option<f64>) {
         thin: e(Domain::Thin),
         dense: e(Domain::Dense),
         worst,
-        ops: format!("{} exp, {} log, {} atan, {} sqrt, {} sin_cos, {} div", o.exp, o.log, o.atan, o.sqrt, o.sincos, o.div),
+        ops: o.describe(),
         ns: m.bench.map_or("—".into(), |b| format!("{:.1}", b.cpu_ns_per_eval)),
         ratio: ratio.map_or("—".into(), |x| format!("{x:.1}×")),
         target: ratio.map_or("—".into(), |x| {
