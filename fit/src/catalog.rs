@@ -104,6 +104,15 @@ const fn lite(name: &'static str, n: usize) -> ModelSpec {
     }
 }
 
+const fn lite_hg(name: &'static str, n: usize) -> ModelSpec {
+    ModelSpec {
+        name,
+        summary: "HG, g at run time in [-0.99, 0.99]; the cheap tiers, one path: e^x E2 of a faded C/(kappa+u)^2 and fitted nodes for the rest",
+        g_range: MIRRORED_G,
+        recipe: Recipe::Lite(n),
+    }
+}
+
 // Head nodes name a member; far and tail nodes are searched up to these counts
 // and the split fitted from here (fit/src/family/phi/fit.rs). No isotropic
 // 2- and 3-node members: their spot entries broke their bounds in the gate (the
@@ -116,7 +125,7 @@ const PHI_6: PhiTier = PhiTier { head: 6, far: 4, tail: 3, cut: 4.0, far_cut: 6.
 const PHI_8: PhiTier = PhiTier { head: 8, far: 4, tail: 3, cut: 5.0, far_cut: 8.0 };
 
 /// Every shipped model, in table order: airlight's models, then the baselines.
-pub const CATALOG: [ModelSpec; 44] = [
+pub const CATALOG: [ModelSpec; 47] = [
     split(
         "paper-as-printed",
         "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
@@ -188,6 +197,9 @@ pub const CATALOG: [ModelSpec; 44] = [
     lite("lite-iso-3", 3),
     lite("lite-iso-4", 4),
     lite("lite-iso-5", 5),
+    lite_hg("lite-3", 3),
+    lite_hg("lite-4", 4),
+    lite_hg("lite-5", 5),
     phi("phi-iso-4", "isotropic; whole A: 4 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_4),
     phi("phi-iso-6", "isotropic; whole A: 6 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_6),
     phi("phi-iso-8", "isotropic; whole A: 8 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_8),

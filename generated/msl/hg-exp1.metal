@@ -872,9 +872,6 @@ metal::float3 airlight_hg_exp1_spot_edge(
     float ci_1,
     float g_8
 ) {
-    bool local_14 = {};
-    float we = {};
-    bool local_15 = {};
     metal::float3 exact = metal::float3(0.0);
     airlight_hg_exp1_type_8 pieces = airlight_hg_exp1_type_8 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
     metal::float3 sum_2 = metal::float3(0.0);
@@ -886,34 +883,16 @@ metal::float3 airlight_hg_exp1_spot_edge(
     if (!((v_in > u_2))) {
         return metal::float3(0.0);
     }
-    if (!((g_8 < 0.0))) {
-        local_14 = v_in > 3.0;
-    } else {
-        local_14 = true;
-    }
-    bool _e25 = local_14;
-    float e_1 = _e25 ? v_in : u_2;
-    metal::float2 _e27 = airlight_hg_exp1_sin_cos(e_1);
-    float _e33 = airlight_hg_exp1_spot_weight((ca * _e27.x) - (k_1 * _e27.y), co_1, ci_1);
-    we = _e33;
-    if (g_8 == 0.0) {
-        if (!((g_8 < 0.0))) {
-            local_15 = v_in > 3.0;
-        } else {
-            local_15 = true;
-        }
-        bool _e45 = local_15;
-        metal::float2 _e47 = airlight_hg_exp1_sin_cos(_e45 ? u_2 : v_in);
-        float _e48 = we;
-        float _e54 = airlight_hg_exp1_spot_weight((ca * _e47.x) - (k_1 * _e47.y), co_1, ci_1);
-        we = metal::min(_e48, _e54);
-    }
-    float _e59 = we;
-    if (_e59 > 0.0) {
-        metal::float3 _e64 = airlight_hg_exp1_spot_core(tau_5, h_6, x0_6, rho_7, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_8);
-        exact = _e64;
-        metal::float3 _e65 = exact;
-        if (metal::any(_e65 >= metal::float3(340282350000000000000000000000000000000.0))) {
+    metal::float2 _e17 = airlight_hg_exp1_sin_cos(u_2);
+    metal::float2 _e18 = airlight_hg_exp1_sin_cos(v_in);
+    float _e24 = airlight_hg_exp1_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_hg_exp1_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
+    float we = metal::min(_e24, _e30);
+    if (we > 0.0) {
+        metal::float3 _e39 = airlight_hg_exp1_spot_core(tau_5, h_6, x0_6, rho_7, gam_1, u_2, v_in, u_2 > gam_1, v_in < om_e, g_8);
+        exact = _e39;
+        metal::float3 _e40 = exact;
+        if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
@@ -925,230 +904,221 @@ metal::float3 airlight_hg_exp1_spot_edge(
         if (metal::all(loop_bound == uint2(0u))) { break; }
         loop_bound -= uint2(loop_bound.y == 0u, 1u);
         if (!loop_init) {
-            int _e747 = i;
-            i = as_type<int>(as_type<uint>(_e747) + as_type<uint>(1));
+            int _e714 = i;
+            i = as_type<int>(as_type<uint>(_e714) + as_type<uint>(1));
         }
         loop_init = false;
-        int _e99 = i;
-        if (_e99 < 5) {
+        int _e74 = i;
+        if (_e74 < 5) {
         } else {
             break;
         }
         {
-            int _e103 = i;
-            float _e105 = pieces.inner[_e103];
-            float a_16 = u_2 + ((v_in - u_2) * _e105);
-            int _e109 = i;
-            float _e113 = pieces.inner[as_type<int>(as_type<uint>(_e109) + as_type<uint>(1))];
-            float b_8 = u_2 + ((v_in - u_2) * _e113);
+            int _e78 = i;
+            float _e80 = pieces.inner[_e78];
+            float a_16 = u_2 + ((v_in - u_2) * _e80);
+            int _e84 = i;
+            float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
+            float b_8 = u_2 + ((v_in - u_2) * _e88);
             float half_ = 0.5 * (b_8 - a_16);
             float mid = 0.5 * (b_8 + a_16);
             w = mid + (half_ * 0.96028984);
-            float _e125 = w;
-            metal::float2 _e128 = airlight_hg_exp1_sin_cos(0.5 * _e125);
-            sb = _e128;
-            float _e132 = sb.y;
-            float _e135 = sb.y;
-            float _e141 = sb.x;
-            float _e144 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e141) * _e144)) : (gp - (((4.0 * g_8) * _e132) * _e135));
-            float _e151 = sb.x;
+            float _e100 = w;
+            metal::float2 _e103 = airlight_hg_exp1_sin_cos(0.5 * _e100);
+            sb = _e103;
+            float _e107 = sb.y;
+            float _e110 = sb.y;
+            float _e116 = sb.x;
+            float _e119 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e116) * _e119)) : (gp - (((4.0 * g_8) * _e107) * _e110));
+            float _e126 = sb.x;
+            float _e129 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e136 = sum_2;
+            float _e142 = sb.x;
+            float _e145 = sb.y;
+            float _e148 = sb.y;
+            float _e150 = sb.x;
             float _e154 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e151) / metal::max(_e154, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e161 = sum_2;
-            float _e167 = sb.x;
-            float _e170 = sb.y;
-            float _e173 = sb.y;
-            float _e175 = sb.x;
-            float _e179 = sb.y;
-            float _e181 = sb.x;
-            float _e185 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e167) * _e170) - ((k_1 * (_e173 - _e175)) * (_e179 + _e181)), co_1, ci_1);
-            float _e186 = we;
-            float _e189 = d_2;
-            float _e190 = d_2;
-            float _e195 = st;
-            sum_2 = _e161 + ((((half_ * 0.101228535) * (_e185 - _e186)) / (_e189 * metal::sqrt(_e190))) * metal::exp(-(tau_5) * _e195));
+            float _e156 = sb.x;
+            float _e160 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_2;
+            float _e164 = d_2;
+            float _e169 = st;
+            sum_2 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_5) * _e169));
             w = mid + (half_ * 0.7966665);
-            float _e203 = w;
-            metal::float2 _e206 = airlight_hg_exp1_sin_cos(0.5 * _e203);
-            sb = _e206;
-            float _e210 = sb.y;
-            float _e213 = sb.y;
+            float _e177 = w;
+            metal::float2 _e180 = airlight_hg_exp1_sin_cos(0.5 * _e177);
+            sb = _e180;
+            float _e184 = sb.y;
+            float _e187 = sb.y;
+            float _e193 = sb.x;
+            float _e196 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e193) * _e196)) : (gp - (((4.0 * g_8) * _e184) * _e187));
+            float _e203 = sb.x;
+            float _e206 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e213 = sum_2;
             float _e219 = sb.x;
-            float _e222 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e219) * _e222)) : (gp - (((4.0 * g_8) * _e210) * _e213));
-            float _e229 = sb.x;
-            float _e232 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e229) / metal::max(_e232, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e239 = sum_2;
-            float _e245 = sb.x;
-            float _e248 = sb.y;
-            float _e251 = sb.y;
-            float _e253 = sb.x;
-            float _e257 = sb.y;
-            float _e259 = sb.x;
-            float _e263 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e245) * _e248) - ((k_1 * (_e251 - _e253)) * (_e257 + _e259)), co_1, ci_1);
-            float _e264 = we;
-            float _e267 = d_2;
-            float _e268 = d_2;
-            float _e273 = st;
-            sum_2 = _e239 + ((((half_ * 0.22238104) * (_e263 - _e264)) / (_e267 * metal::sqrt(_e268))) * metal::exp(-(tau_5) * _e273));
+            float _e222 = sb.y;
+            float _e225 = sb.y;
+            float _e227 = sb.x;
+            float _e231 = sb.y;
+            float _e233 = sb.x;
+            float _e237 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_2;
+            float _e241 = d_2;
+            float _e246 = st;
+            sum_2 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_5) * _e246));
             w = mid + (half_ * 0.5255324);
-            float _e281 = w;
-            metal::float2 _e284 = airlight_hg_exp1_sin_cos(0.5 * _e281);
-            sb = _e284;
-            float _e288 = sb.y;
-            float _e291 = sb.y;
-            float _e297 = sb.x;
-            float _e300 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e297) * _e300)) : (gp - (((4.0 * g_8) * _e288) * _e291));
-            float _e307 = sb.x;
-            float _e310 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e307) / metal::max(_e310, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e317 = sum_2;
-            float _e323 = sb.x;
-            float _e326 = sb.y;
-            float _e329 = sb.y;
-            float _e331 = sb.x;
-            float _e335 = sb.y;
-            float _e337 = sb.x;
-            float _e341 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e323) * _e326) - ((k_1 * (_e329 - _e331)) * (_e335 + _e337)), co_1, ci_1);
-            float _e342 = we;
-            float _e345 = d_2;
-            float _e346 = d_2;
-            float _e351 = st;
-            sum_2 = _e317 + ((((half_ * 0.31370664) * (_e341 - _e342)) / (_e345 * metal::sqrt(_e346))) * metal::exp(-(tau_5) * _e351));
+            float _e254 = w;
+            metal::float2 _e257 = airlight_hg_exp1_sin_cos(0.5 * _e254);
+            sb = _e257;
+            float _e261 = sb.y;
+            float _e264 = sb.y;
+            float _e270 = sb.x;
+            float _e273 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e270) * _e273)) : (gp - (((4.0 * g_8) * _e261) * _e264));
+            float _e280 = sb.x;
+            float _e283 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e290 = sum_2;
+            float _e296 = sb.x;
+            float _e299 = sb.y;
+            float _e302 = sb.y;
+            float _e304 = sb.x;
+            float _e308 = sb.y;
+            float _e310 = sb.x;
+            float _e314 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_2;
+            float _e318 = d_2;
+            float _e323 = st;
+            sum_2 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_5) * _e323));
             w = mid + (half_ * 0.18343464);
-            float _e359 = w;
-            metal::float2 _e362 = airlight_hg_exp1_sin_cos(0.5 * _e359);
-            sb = _e362;
-            float _e366 = sb.y;
-            float _e369 = sb.y;
-            float _e375 = sb.x;
-            float _e378 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e375) * _e378)) : (gp - (((4.0 * g_8) * _e366) * _e369));
-            float _e385 = sb.x;
-            float _e388 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e385) / metal::max(_e388, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e395 = sum_2;
-            float _e401 = sb.x;
-            float _e404 = sb.y;
-            float _e407 = sb.y;
-            float _e409 = sb.x;
-            float _e413 = sb.y;
-            float _e415 = sb.x;
-            float _e419 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e401) * _e404) - ((k_1 * (_e407 - _e409)) * (_e413 + _e415)), co_1, ci_1);
-            float _e420 = we;
-            float _e423 = d_2;
-            float _e424 = d_2;
-            float _e429 = st;
-            sum_2 = _e395 + ((((half_ * 0.36268377) * (_e419 - _e420)) / (_e423 * metal::sqrt(_e424))) * metal::exp(-(tau_5) * _e429));
+            float _e331 = w;
+            metal::float2 _e334 = airlight_hg_exp1_sin_cos(0.5 * _e331);
+            sb = _e334;
+            float _e338 = sb.y;
+            float _e341 = sb.y;
+            float _e347 = sb.x;
+            float _e350 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e347) * _e350)) : (gp - (((4.0 * g_8) * _e338) * _e341));
+            float _e357 = sb.x;
+            float _e360 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e367 = sum_2;
+            float _e373 = sb.x;
+            float _e376 = sb.y;
+            float _e379 = sb.y;
+            float _e381 = sb.x;
+            float _e385 = sb.y;
+            float _e387 = sb.x;
+            float _e391 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_2;
+            float _e395 = d_2;
+            float _e400 = st;
+            sum_2 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_5) * _e400));
             w = mid + (half_ * -0.18343464);
-            float _e437 = w;
-            metal::float2 _e440 = airlight_hg_exp1_sin_cos(0.5 * _e437);
-            sb = _e440;
-            float _e444 = sb.y;
-            float _e447 = sb.y;
-            float _e453 = sb.x;
-            float _e456 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e453) * _e456)) : (gp - (((4.0 * g_8) * _e444) * _e447));
-            float _e463 = sb.x;
-            float _e466 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e463) / metal::max(_e466, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e473 = sum_2;
-            float _e479 = sb.x;
-            float _e482 = sb.y;
-            float _e485 = sb.y;
-            float _e487 = sb.x;
-            float _e491 = sb.y;
-            float _e493 = sb.x;
-            float _e497 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e479) * _e482) - ((k_1 * (_e485 - _e487)) * (_e491 + _e493)), co_1, ci_1);
-            float _e498 = we;
-            float _e501 = d_2;
-            float _e502 = d_2;
-            float _e507 = st;
-            sum_2 = _e473 + ((((half_ * 0.36268377) * (_e497 - _e498)) / (_e501 * metal::sqrt(_e502))) * metal::exp(-(tau_5) * _e507));
+            float _e408 = w;
+            metal::float2 _e411 = airlight_hg_exp1_sin_cos(0.5 * _e408);
+            sb = _e411;
+            float _e415 = sb.y;
+            float _e418 = sb.y;
+            float _e424 = sb.x;
+            float _e427 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e424) * _e427)) : (gp - (((4.0 * g_8) * _e415) * _e418));
+            float _e434 = sb.x;
+            float _e437 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e444 = sum_2;
+            float _e450 = sb.x;
+            float _e453 = sb.y;
+            float _e456 = sb.y;
+            float _e458 = sb.x;
+            float _e462 = sb.y;
+            float _e464 = sb.x;
+            float _e468 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_2;
+            float _e472 = d_2;
+            float _e477 = st;
+            sum_2 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_5) * _e477));
             w = mid + (half_ * -0.5255324);
-            float _e515 = w;
-            metal::float2 _e518 = airlight_hg_exp1_sin_cos(0.5 * _e515);
-            sb = _e518;
-            float _e522 = sb.y;
-            float _e525 = sb.y;
-            float _e531 = sb.x;
-            float _e534 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e531) * _e534)) : (gp - (((4.0 * g_8) * _e522) * _e525));
+            float _e485 = w;
+            metal::float2 _e488 = airlight_hg_exp1_sin_cos(0.5 * _e485);
+            sb = _e488;
+            float _e492 = sb.y;
+            float _e495 = sb.y;
+            float _e501 = sb.x;
+            float _e504 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e501) * _e504)) : (gp - (((4.0 * g_8) * _e492) * _e495));
+            float _e511 = sb.x;
+            float _e514 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e521 = sum_2;
+            float _e527 = sb.x;
+            float _e530 = sb.y;
+            float _e533 = sb.y;
+            float _e535 = sb.x;
+            float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e544 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e541) / metal::max(_e544, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e551 = sum_2;
-            float _e557 = sb.x;
-            float _e560 = sb.y;
-            float _e563 = sb.y;
-            float _e565 = sb.x;
-            float _e569 = sb.y;
-            float _e571 = sb.x;
-            float _e575 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e557) * _e560) - ((k_1 * (_e563 - _e565)) * (_e569 + _e571)), co_1, ci_1);
-            float _e576 = we;
-            float _e579 = d_2;
-            float _e580 = d_2;
-            float _e585 = st;
-            sum_2 = _e551 + ((((half_ * 0.31370664) * (_e575 - _e576)) / (_e579 * metal::sqrt(_e580))) * metal::exp(-(tau_5) * _e585));
+            float _e545 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_2;
+            float _e549 = d_2;
+            float _e554 = st;
+            sum_2 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_5) * _e554));
             w = mid + (half_ * -0.7966665);
-            float _e593 = w;
-            metal::float2 _e596 = airlight_hg_exp1_sin_cos(0.5 * _e593);
-            sb = _e596;
-            float _e600 = sb.y;
-            float _e603 = sb.y;
-            float _e609 = sb.x;
+            float _e562 = w;
+            metal::float2 _e565 = airlight_hg_exp1_sin_cos(0.5 * _e562);
+            sb = _e565;
+            float _e569 = sb.y;
+            float _e572 = sb.y;
+            float _e578 = sb.x;
+            float _e581 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e578) * _e581)) : (gp - (((4.0 * g_8) * _e569) * _e572));
+            float _e588 = sb.x;
+            float _e591 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e598 = sum_2;
+            float _e604 = sb.x;
+            float _e607 = sb.y;
+            float _e610 = sb.y;
             float _e612 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e609) * _e612)) : (gp - (((4.0 * g_8) * _e600) * _e603));
-            float _e619 = sb.x;
-            float _e622 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e619) / metal::max(_e622, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e629 = sum_2;
-            float _e635 = sb.x;
-            float _e638 = sb.y;
-            float _e641 = sb.y;
-            float _e643 = sb.x;
-            float _e647 = sb.y;
-            float _e649 = sb.x;
-            float _e653 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e635) * _e638) - ((k_1 * (_e641 - _e643)) * (_e647 + _e649)), co_1, ci_1);
-            float _e654 = we;
-            float _e657 = d_2;
-            float _e658 = d_2;
-            float _e663 = st;
-            sum_2 = _e629 + ((((half_ * 0.22238104) * (_e653 - _e654)) / (_e657 * metal::sqrt(_e658))) * metal::exp(-(tau_5) * _e663));
+            float _e616 = sb.y;
+            float _e618 = sb.x;
+            float _e622 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_2;
+            float _e626 = d_2;
+            float _e631 = st;
+            sum_2 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_5) * _e631));
             w = mid + (half_ * -0.96028984);
-            float _e671 = w;
-            metal::float2 _e674 = airlight_hg_exp1_sin_cos(0.5 * _e671);
-            sb = _e674;
-            float _e678 = sb.y;
-            float _e681 = sb.y;
-            float _e687 = sb.x;
-            float _e690 = sb.x;
-            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e687) * _e690)) : (gp - (((4.0 * g_8) * _e678) * _e681));
-            float _e697 = sb.x;
-            float _e700 = sb.y;
-            st = metal::max(x0_6 + ((h_6 * _e697) / metal::max(_e700, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e707 = sum_2;
-            float _e713 = sb.x;
-            float _e716 = sb.y;
-            float _e719 = sb.y;
-            float _e721 = sb.x;
-            float _e725 = sb.y;
-            float _e727 = sb.x;
-            float _e731 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e713) * _e716) - ((k_1 * (_e719 - _e721)) * (_e725 + _e727)), co_1, ci_1);
-            float _e732 = we;
-            float _e735 = d_2;
-            float _e736 = d_2;
-            float _e741 = st;
-            sum_2 = _e707 + ((((half_ * 0.101228535) * (_e731 - _e732)) / (_e735 * metal::sqrt(_e736))) * metal::exp(-(tau_5) * _e741));
+            float _e639 = w;
+            metal::float2 _e642 = airlight_hg_exp1_sin_cos(0.5 * _e639);
+            sb = _e642;
+            float _e646 = sb.y;
+            float _e649 = sb.y;
+            float _e655 = sb.x;
+            float _e658 = sb.x;
+            d_2 = (g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e655) * _e658)) : (gp - (((4.0 * g_8) * _e646) * _e649));
+            float _e665 = sb.x;
+            float _e668 = sb.y;
+            st = metal::max(x0_6 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e675 = sum_2;
+            float _e681 = sb.x;
+            float _e684 = sb.y;
+            float _e687 = sb.y;
+            float _e689 = sb.x;
+            float _e693 = sb.y;
+            float _e695 = sb.x;
+            float _e699 = airlight_hg_exp1_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_2;
+            float _e703 = d_2;
+            float _e708 = st;
+            sum_2 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_5) * _e708));
         }
     }
-    float _e749 = we;
-    metal::float3 _e750 = exact;
-    metal::float3 _e759 = sum_2;
-    return metal::clamp((_e749 * _e750) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e759) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e716 = exact;
+    metal::float3 _e725 = sum_2;
+    return metal::clamp((we * _e716) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e725) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_hg_exp1_spot(
@@ -1164,14 +1134,14 @@ metal::float3 airlight_hg_exp1_spot(
     metal::float3 sigma_s_2,
     float g_9
 ) {
-    bool local_16 = {};
-    bool local_17 = {};
+    bool local_14 = {};
+    bool local_15 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_18 = {};
+    bool local_16 = {};
     float scale = 1.0;
-    bool local_19 = {};
-    bool local_20 = {};
+    bool local_17 = {};
+    bool local_18 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1181,9 +1151,9 @@ metal::float3 airlight_hg_exp1_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_1 = 0.0;
     float om_e_1 = airlight_hg_exp1_PI;
+    bool local_19 = {};
+    bool local_20 = {};
     bool local_21 = {};
-    bool local_22 = {};
-    bool local_23 = {};
     metal::float3 a_8 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_hg_exp1_ray_geometry(origin_2, dir_2, light_2);
@@ -1193,16 +1163,16 @@ metal::float3 airlight_hg_exp1_spot(
     float _e18 = airlight_hg_exp1_max_abs(axis);
     if (!(point)) {
         if (_e18 > 0.0) {
-            local_17 = _e18 <= airlight_hg_exp1_HUGE;
+            local_15 = _e18 <= airlight_hg_exp1_HUGE;
         } else {
-            local_17 = false;
+            local_15 = false;
         }
-        bool _e29 = local_17;
-        local_16 = !(_e29);
+        bool _e29 = local_15;
+        local_14 = !(_e29);
     } else {
-        local_16 = false;
+        local_14 = false;
     }
-    bool _e32 = local_16;
+    bool _e32 = local_14;
     if (_e32) {
         return metal::float3(0.0);
     }
@@ -1212,11 +1182,11 @@ metal::float3 airlight_hg_exp1_spot(
         ax = metal::normalize(axis / metal::float3(_e18));
     }
     if (_e17 > 0.0) {
-        local_18 = _e17 <= airlight_hg_exp1_HUGE;
+        local_16 = _e17 <= airlight_hg_exp1_HUGE;
     } else {
-        local_18 = false;
+        local_16 = false;
     }
-    bool _e53 = local_18;
+    bool _e53 = local_16;
     if (_e53) {
         n = metal::normalize(dir_2 / metal::float3(_e17));
     }
@@ -1235,11 +1205,11 @@ metal::float3 airlight_hg_exp1_spot(
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
-        local_19 = _e11.z == 0.0;
+        local_17 = _e11.z == 0.0;
     } else {
-        local_19 = false;
+        local_17 = false;
     }
-    bool _e96 = local_19;
+    bool _e96 = local_17;
     if (_e96) {
         return metal::float3(0.0);
     }
@@ -1247,37 +1217,37 @@ metal::float3 airlight_hg_exp1_spot(
     float h_8 = _e11.y;
     float x0_8 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_20 = (surface_1 / d_5) < airlight_hg_exp1_RHO_OPEN;
+        local_18 = (surface_1 / d_5) < airlight_hg_exp1_RHO_OPEN;
     } else {
-        local_20 = false;
+        local_18 = false;
     }
-    bool has_end = local_20;
+    bool has_end = local_18;
     float rho_9 = has_end ? (surface_1 / d_5) : -1.0;
     metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_9, -0.999, 0.999);
     float _e143 = airlight_hg_exp1_arctan2_(h_8, x0_8);
     if (!(point)) {
-        local_21 = h_8 <= 0.0;
+        local_19 = h_8 <= 0.0;
     } else {
-        local_21 = true;
+        local_19 = true;
     }
-    bool _e150 = local_21;
+    bool _e150 = local_19;
     if (!(_e150)) {
-        local_22 = _e143 >= airlight_hg_exp1_PI;
+        local_20 = _e143 >= airlight_hg_exp1_PI;
     } else {
-        local_22 = true;
+        local_20 = true;
     }
-    bool _e157 = local_22;
+    bool _e157 = local_20;
     if (_e157) {
         if (!(point)) {
             float _e160 = airlight_hg_exp1_spot_weight(-(k_2), co_2, cos_inner);
             float _e161 = airlight_hg_exp1_spot_weight(k_2, co_2, cos_inner);
             if (has_end) {
-                local_23 = rho_9 < 1.0;
+                local_21 = rho_9 < 1.0;
             } else {
-                local_23 = false;
+                local_21 = false;
             }
-            bool _e168 = local_23;
+            bool _e168 = local_21;
             scale = (x0_8 < 0.0) ? _e161 : (_e168 ? _e160 : metal::max(_e160, _e161));
         }
         core = true;
@@ -1513,20 +1483,20 @@ float airlight_hg_exp1_shafts_run(
     float sigma_s_3,
     float g_10
 ) {
-    bool local_24 = {};
-    bool local_25 = {};
+    bool local_22 = {};
+    bool local_23 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_25 = b_5 <= a_10;
+            local_23 = b_5 <= a_10;
         } else {
-            local_25 = false;
+            local_23 = false;
         }
-        bool _e22 = local_25;
-        local_24 = _e22;
+        bool _e22 = local_23;
+        local_22 = _e22;
     } else {
-        local_24 = true;
+        local_22 = true;
     }
-    bool _e24 = local_24;
+    bool _e24 = local_22;
     if (_e24) {
         return 0.0;
     }
@@ -1636,20 +1606,20 @@ metal::float3 airlight_hg_exp1_shafts_run_spot(
     metal::float3 sigma_s_7,
     float g_14
 ) {
-    bool local_26 = {};
-    bool local_27 = {};
+    bool local_24 = {};
+    bool local_25 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_27 = b_6 <= a_11;
+            local_25 = b_6 <= a_11;
         } else {
-            local_27 = false;
+            local_25 = false;
         }
-        bool _e25 = local_27;
-        local_26 = _e25;
+        bool _e25 = local_25;
+        local_24 = _e25;
     } else {
-        local_26 = true;
+        local_24 = true;
     }
-    bool _e27 = local_26;
+    bool _e27 = local_24;
     if (_e27) {
         return metal::float3(0.0);
     }

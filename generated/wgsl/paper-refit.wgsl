@@ -520,25 +520,22 @@ fn airlight_paper_refit_spot_weight(c: f32, co: f32, ci: f32) -> f32 {
 /// The penumbra over [u, v] of omega: the weight W = (A sin(omega) - k cos(omega) - co) /
 /// (ci - co) times the canonical integrand f. W(e) times the family's exact A over the
 /// stretch, plus (W - W(e)) f by 8-point Gauss-Legendre on 5 pieces graded towards
-/// both ends; e is the end where f gathers (the far one for g < 0, the backscatter
-/// peak, or a stretch reaching within 0.14 of pi, the tail; else the near one, the
-/// forward peak; for isotropic media the end with the smaller weight). Everything but
-/// the transmittance is shared by the channels.
+/// both ends (where f gathers: the HG peaks, the tail, the decay of dense media); e is
+/// the end with the smaller weight, so that W - W(e) >= 0. Everything but the
+/// transmittance is shared by the channels.
 fn airlight_paper_refit_spot_edge(tau: vec3<f32>, h: f32, x0: f32, rho: f32, gam: f32, om_e: f32, u: f32, v_in: f32, ca: f32, k: f32, co: f32, ci: f32, g: f32) -> vec3<f32> {
     let v = v_in;
     if !(v > u) {
         return vec3<f32>(0.0);
     }
-    let e = select(u, v, g < 0.0 || v > 3.0);
-    let se = airlight_paper_refit_sin_cos(e);
-    var we = airlight_paper_refit_spot_weight(ca * se.x - k * se.y, co, ci);
-    if g == 0.0 {
-        // Isotropic: no phase peak to take the weight at. The smaller end's (W is
-        // monotone on a penumbra stretch) keeps W - W(e) >= 0: the family's error is
-        // never amplified by the rest cancelling its part.
-        let so = airlight_paper_refit_sin_cos(select(v, u, g < 0.0 || v > 3.0));
-        we = min(we, airlight_paper_refit_spot_weight(ca * so.x - k * so.y, co, ci));
-    }
+    // The smaller end's weight (W is monotone on a penumbra stretch): W - W(e) >= 0,
+    // so the rest never cancels part of the family's term and the family's error is
+    // never amplified. (The end where the phase peak gathers amplified a cheap
+    // family's error up to 5x on the gate's spot rays; the graded rest resolves the
+    // peaks.)
+    let su = airlight_paper_refit_sin_cos(u);
+    let sv = airlight_paper_refit_sin_cos(v);
+    let we = min(airlight_paper_refit_spot_weight(ca * su.x - k * su.y, co, ci), airlight_paper_refit_spot_weight(ca * sv.x - k * sv.y, co, ci));
     var exact = vec3<f32>(0.0);
     if we > 0.0 {
         exact = airlight_paper_refit_spot_core(tau, h, x0, rho, gam, u, v, u > gam, v < om_e, g);

@@ -8,7 +8,7 @@
 // `scene-smoke-room`: isotropic; the cheap tiers, one path: e^x E2 of 1/(1+u)^2 and fitted nodes for the rest (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
 // The cheap isotropic tier: one path for every ray, no branch for lanes of a GPU
-// wave to diverge on (fit/src/family/lite/, docs/MATH.md section 9). In the u form
+// wave to diverge on (fit/src/family/lite/, docs/MATH.md section 6.7). In the u form
 // A = (2 e^(-tau) / h) P I, I = integral over [ua, ub] of e^(-T (u - ua)) / (1 + u^2) du,
 // T = tau h, m = 1 + ua: 1 / (1 + u^2) = 1 / (1 + u)^2 + k(u), the first part exactly
 // through e^x E2 at both ends, k = 2u / ((1 + u^2)(1 + u)^2) by 5 fitted nodes in s,

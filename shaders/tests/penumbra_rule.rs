@@ -1,8 +1,9 @@
 //! The gate's spot rows (issue 23) against the penumbra rules, in f64 so that
 //! only the rules differ: the old single 8-point Gauss–Legendre rule in ω over
 //! each penumbra stretch breaks the limit on some of them; the kernels' rule (the
-//! weight at one end times the exact integral over the stretch, the rest by
-//! 8-point Gauss–Legendre on 5 graded pieces) holds every one far inside it.
+//! weight at the end where it is smaller times the exact integral over the
+//! stretch, the rest by 8-point Gauss–Legendre on 5 graded pieces) holds every one
+//! far inside it.
 //!
 //! The fully lit stretch is the reference's own in both; a penumbra stretch is
 //! where the direction cosine lies between `cos_outer` and `cos_inner` (the outer
@@ -57,8 +58,8 @@ fn stretch_rule(ray: &PhysicalRay, cone: &Cone, g: f64, s0: f64, s1: f64, graded
     if !graded {
         return scale * gl(u, v, 0.0);
     }
-    let e = if g < 0.0 || v > 3.0 { v } else { u };
-    let we = weight(e);
+    // The end with the smaller weight: W − W(e) ≥ 0.
+    let we = weight(u).min(weight(v));
     let (stretch, t) = ray.stretch(s0, s1);
     let exact = t * stretch.radiance(g, &|p: Point| reference::airlight(p).unwrap()).unwrap();
     let pieces = [0.0, 1.0 / 32.0, 0.25, 0.75, 31.0 / 32.0, 1.0];

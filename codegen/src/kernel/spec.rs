@@ -19,7 +19,8 @@ pub const SPOT_EDGE_NODES: usize = 8;
 /// The pieces of a penumbra stretch, as fractions of it: graded towards both
 /// ends, where the integrand gathers (the phase peaks, the transmittance's tail
 /// to infinity, its fast decay in dense media). With the control variate of the
-/// spot entry (the weight at one end times the family's exact `A`), measured in
+/// spot entry (then the weight at the peak's end times the family's exact `A`; now
+/// the smaller end weight, docs/MATH.md §7), measured in
 /// f64 on 16,882 random stretches (γ down to 1e-4, |g| to 0.999, τ to 20): median
 /// 1.3e-14, p99 1.4e-8, max 7.9e-6 of the stretch's own integral; the single
 /// 8-point rule it replaces reached 100% there (issue 23).

@@ -63,6 +63,12 @@ pub mod lite_iso_4;
 #[rustfmt::skip]
 pub mod lite_iso_5;
 #[rustfmt::skip]
+pub mod lite_3;
+#[rustfmt::skip]
+pub mod lite_4;
+#[rustfmt::skip]
+pub mod lite_5;
+#[rustfmt::skip]
 pub mod phi_iso_4;
 #[rustfmt::skip]
 pub mod phi_iso_6;
@@ -530,6 +536,60 @@ pub const KERNELS: &[Kernel] = &[
         }),
         shadowed: Some(lite_iso_5::shadowed),
         spot_shadowed: Some(lite_iso_5::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-3",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 2.4680966363249963e-2,
+        dense_max_rel: 2.5368761972507068e-2,
+        f32_thin_max_rel: Some(2.468230197251102e-2),
+        f32_dense_max_rel: Some(2.5368907641937936e-2),
+        airlight: |tau, gamma, rho, g| lite_3::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_3::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_3::shadowed),
+        spot_shadowed: Some(lite_3::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-4",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 8.238250932824777e-3,
+        dense_max_rel: 8.569109849767989e-3,
+        f32_thin_max_rel: Some(8.238250932824777e-3),
+        f32_dense_max_rel: Some(8.569109849767989e-3),
+        airlight: |tau, gamma, rho, g| lite_4::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_4::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_4::shadowed),
+        spot_shadowed: Some(lite_4::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-5",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 4.1036224861969e-3,
+        dense_max_rel: 4.016779156743041e-3,
+        f32_thin_max_rel: Some(4.104292116188428e-3),
+        f32_dense_max_rel: Some(4.016779156743041e-3),
+        airlight: |tau, gamma, rho, g| lite_5::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_5::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_5::shadowed),
+        spot_shadowed: Some(lite_5::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-4",

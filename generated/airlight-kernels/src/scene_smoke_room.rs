@@ -7,7 +7,7 @@
 //! `scene-smoke-room`: isotropic; the cheap tiers, one path: e^x E2 of 1/(1+u)^2 and fitted nodes for the rest (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //!
 //! The cheap isotropic tier: one path for every ray (`fit/src/family/lite/`,
-//! docs/MATH.md §9). In the u form `A = (2 e^{−τ}/h) P I`,
+//! docs/MATH.md §6.7). In the u form `A = (2 e^{−τ}/h) P I`,
 //! `I = ∫_{ua}^{ub} e^{−T(u−ua)}/(1 + u²) du`, `T = τ h`, `m = 1 + ua`:
 //! `1/(1 + u²) = 1/(1 + u)² + k(u)`, the first part exactly through `eˣE₂` at both
 //! ends, `k = 2u/((1 + u²)(1 + u)²)` by 5 fitted nodes in `s`,

@@ -39,6 +39,9 @@ impl Plugin for AirlightShadersPlugin {
         load_shader_library!(app, "lite_iso_3.wesl");
         load_shader_library!(app, "lite_iso_4.wesl");
         load_shader_library!(app, "lite_iso_5.wesl");
+        load_shader_library!(app, "lite_3.wesl");
+        load_shader_library!(app, "lite_4.wesl");
+        load_shader_library!(app, "lite_5.wesl");
         load_shader_library!(app, "phi_iso_4.wesl");
         load_shader_library!(app, "phi_iso_6.wesl");
         load_shader_library!(app, "phi_iso_8.wesl");
@@ -96,6 +99,9 @@ pub const MODULES: &[(&str, &str)] = &[
     ("bevy_airlight::lite_iso_3", "max relative error of A (f64 model): thin 5.1e-3, dense 5.7e-3"),
     ("bevy_airlight::lite_iso_4", "max relative error of A (f64 model): thin 1.2e-3, dense 1.3e-3"),
     ("bevy_airlight::lite_iso_5", "max relative error of A (f64 model): thin 7.9e-4, dense 8.3e-4"),
+    ("bevy_airlight::lite_3", "max relative error of A (f64 model): thin 2.5e-2, dense 2.5e-2"),
+    ("bevy_airlight::lite_4", "max relative error of A (f64 model): thin 8.2e-3, dense 8.6e-3"),
+    ("bevy_airlight::lite_5", "max relative error of A (f64 model): thin 4.1e-3, dense 4.0e-3"),
     ("bevy_airlight::phi_iso_4", "max relative error of A (f64 model): thin 1.8e-5, dense 1.8e-5"),
     ("bevy_airlight::phi_iso_6", "max relative error of A (f64 model): thin 3.5e-6, dense 6.2e-6"),
     ("bevy_airlight::phi_iso_8", "max relative error of A (f64 model): thin 1.5e-6, dense 2.0e-6"),

@@ -1,4 +1,5 @@
-//! The lite family's fit: each member's nodes, weights, `α` and `σ` together, by
+//! The lite family's fit: each member's nodes, weights, `α` and `σ` (and an HG
+//! member's fade `b`) together, by
 //! minimax against the reference (the largest relative error of `A` over a fitting
 //! set), Nelder–Mead restarted from `n`-point Gauss–Legendre; a check set of its
 //! own seed keeps whichever of the start and the fitted rule is better there. The
@@ -21,6 +22,8 @@ pub const FIT_SEED: u64 = 0xF17_0000_0000_0011;
 pub const CHECK_SEED: u64 = 0xF17_0000_0000_0012;
 /// Low-discrepancy points per domain in the fitting set.
 pub const FIT_POINTS: usize = 3000;
+/// HG members: `g` is one more dimension, so their fitting set is denser.
+pub const FIT_POINTS_HG: usize = 9000;
 /// Face grid per domain.
 pub const FACES: usize = 16;
 /// Points per domain in the check set.
@@ -33,6 +36,10 @@ pub const RESTARTS: usize = 6;
 pub const ALPHA_BOX: (f64, f64) = (0.05, 4.0);
 /// See [`ALPHA_BOX`].
 pub const SHORT_BOX: (f64, f64) = (0.01, 1.0);
+/// HG members: the fade `b ∈ [1e-3, 10]`, from 0.3.
+pub const FADE_BOX: (f64, f64) = (1e-3, 10.0);
+/// See [`FADE_BOX`].
+pub const FADE_START: f64 = 0.3;
 
 /// What the fit found.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,7 +63,7 @@ pub struct NodeFit {
 fn spec(g_range: (f64, f64)) -> SetSpec {
     SetSpec {
         g_range,
-        fit_points: FIT_POINTS,
+        fit_points: if g_range == (0.0, 0.0) { FIT_POINTS } else { FIT_POINTS_HG },
         fit_seed: FIT_SEED,
         faces: FACES,
         check_points: CHECK_POINTS,
@@ -64,12 +71,13 @@ fn spec(g_range: (f64, f64)) -> SetSpec {
     }
 }
 
-/// The search's parameters: `logit x_i`, `w_i`, `ln α`, `σ`.
+/// The search's parameters: `logit x_i`, `w_i`, `ln α`, `σ` (and `ln b`).
 fn params(r: &LiteRule) -> Vec<f64> {
     let mut p: Vec<f64> = r.x.iter().map(|x| (x / (1.0 - x)).ln()).collect();
     p.extend(&r.w);
     p.push(r.alpha.ln());
     p.push(r.short);
+    p.extend(r.fade.map(f64::ln));
     p
 }
 
@@ -85,6 +93,7 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
         nodes.into_iter().map(|(x, w)| (x, w / total)).collect(),
         p[2 * n].exp().clamp(ALPHA_BOX.0, ALPHA_BOX.1),
         p[2 * n + 1].clamp(SHORT_BOX.0, SHORT_BOX.1),
+        start.fade.map(|_| p[2 * n + 2].exp().clamp(FADE_BOX.0, FADE_BOX.1)),
         start.e2.clone(),
     )
 }
@@ -92,7 +101,8 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
 /// Fits the `n`-node member ([`NodeFit`]).
 pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let (fit_set, check_set) = fitset::sets(spec(g_range));
-    let start = LiteRule::start(n, e2.clone());
+    let hg = g_range != (0.0, 0.0);
+    let start = LiteRule::start(n, hg.then_some(FADE_START), e2.clone());
     let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| {
         let m = fitset::max_on(&|p| r.eval(p), set);
         if m.is_finite() {
@@ -107,6 +117,9 @@ pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     step.extend(start.w.iter().map(|w| 0.1 * w));
     step.push(0.3);
     step.push(0.05);
+    if hg {
+        step.push(0.3);
+    }
     let outcome = lsq::nelder_mead_restarted(&cost, &p0, &step, 1e-10, ITERS, RESTARTS);
     let fitted = rule_at(&start, &outcome.param);
     let fit_max = (max_on(&start, &fit_set), max_on(&fitted, &fit_set));
@@ -118,15 +131,21 @@ pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
 /// The node fit's provenance table.
 fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
     let arr = |x: &[f64]| Value::Array(x.iter().map(|&v| f(v)).collect());
-    (
-        "nodes.fit".into(),
-        kv(vec![
+    let (parameters, phase) = match fit.start.fade {
+        None => ("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short; nodes sorted, alpha in [0.05, 4], short in [0.01, 1]".to_string(), "isotropic"),
+        Some(b) => (
+            format!("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short, ln fade; nodes sorted, alpha in [0.05, 4], short in [0.01, 1], fade in [0.001, 10] from {b}"),
+            "g over the member's range",
+        ),
+    };
+    let mut table = vec![
             ("objective", s("minimax: the largest relative error of A over the fitting set (f64 model)")),
-            ("parameters", s("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short; nodes sorted, alpha in [0.05, 4], short in [0.01, 1]")),
+            ("parameters", s(&parameters)),
             (
                 "points_from",
                 s(&format!(
-                    "{FIT_POINTS} low-discrepancy points inside thin and inside dense each (isotropic), and {FACES}x{FACES} grids on each domain's faces (seed below)"
+                    "{} low-discrepancy points inside thin and inside dense each ({phase}), and {FACES}x{FACES} grids on each domain's faces (seed below)",
+                    if fit.start.fade.is_some() { FIT_POINTS_HG } else { FIT_POINTS }
                 )),
             ),
             ("points_seed", hex_seed(FIT_SEED)),
@@ -140,6 +159,7 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             ("fitted_w", arr(&fit.fitted.w)),
             ("fitted_alpha", f(fit.fitted.alpha)),
             ("fitted_short", f(fit.fitted.short)),
+            ("fitted_fade", f(fit.fitted.fade.unwrap_or(0.0))),
             ("fit_max_rel_start", f(fit.fit_max.0)),
             ("fit_max_rel_fitted", f(fit.fit_max.1)),
             ("check", s(&format!("{CHECK_POINTS} points inside thin and inside dense each, a seed of their own (below): the rule with the smaller max there is kept"))),
@@ -148,25 +168,36 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             ("check_max_rel_start", f(fit.check_max.0)),
             ("check_max_rel_fitted", f(fit.check_max.1)),
             ("kept", s(if fit.kept == fit.fitted && fit.kept != fit.start { "fitted" } else { "start" })),
-        ]),
-    )
+    ];
+    if fit.start.fade.is_none() {
+        table.retain(|(k, _)| *k != "fitted_fade");
+    }
+    ("nodes.fit".into(), kv(table))
 }
 
 /// A member of the lite family (errors not yet measured): `eˣE₂` fitted, nodes,
 /// weights and split fitted ([`fit_nodes`]).
 pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
-    if g_range != (0.0, 0.0) {
-        return Err("the lite family is isotropic (g range (0, 0))".into());
-    }
     let fit = fit.ok_or("the lite family's e^x E2 was not fitted")?;
     let nodes = fit_nodes(n, g_range, &fit.e2);
+    let hg = g_range != (0.0, 0.0);
+    let (family, method, fitted) = if hg {
+        (
+            format!("lite-{n} (e^x E2 of a faded C/(kappa+u)^2, {n} fitted nodes for the rest, HG at each)"),
+            "whole A in the u form, one path: w(u) = C sqrt(1+u^2)/(kappa^2+u^2)^(3/2); beta C/(kappa+u)^2 exactly through e^x E2 (one log, no branch) at both ends, beta = 1/(1 + fade T m), m = kappa + ua; the rest w - beta C/(kappa+u)^2 by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take w at the same nodes (fit/src/family/lite/)",
+            "e^x E2's form (see [e2.fit]); the nodes, weights, alpha, short and fade together (see [nodes.fit])",
+        )
+    } else {
+        (
+            format!("lite-{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"),
+            "whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 (one log, no branch) at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)",
+            "e^x E2's form (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])",
+        )
+    };
     Ok(Assembled {
         body: nodes.kept.clone(),
-        families: vec![format!("lite-{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"), phase_label(g_range)],
+        families: vec![family, phase_label(g_range)],
         provenance: vec![e2::provenance(fit), provenance(&nodes)],
-        method: kv(vec![
-            ("method", s("whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 (one log, no branch) at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)")),
-            ("fitted", s("e^x E2's form (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])")),
-        ]),
+        method: kv(vec![("method", s(method)), ("fitted", s(fitted))]),
     })
 }

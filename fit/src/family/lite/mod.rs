@@ -18,9 +18,18 @@
 //! * A short interval (`Δ < σ m`) takes `1/(1 + u²)` itself at the same nodes and no
 //!   `J₀` (the difference of two `E` would cancel there).
 //!
-//! Nodes `x_i`, weights `w_i`, `α` and `σ` are fitted together by minimax against
-//! the reference ([`fit`]). Isotropic only: the HG forward peak (width `κ`) needs
-//! the φ family's variable.
+//! Henyey–Greenstein members (`g` at run time) take the same rule with `w(u)` for
+//! `1/(1 + u²)`: with `κ = (1 − g)/(1 + g)`, `C = (1 − g)/(4π (1 + g)²)`,
+//! `w = C √(1 + u²)/(κ² + u²)^{3/2}`, which is `C/(1 + u²)` at `g = 0`, flat for
+//! `u ≲ κ` (the forward peak when `g > 0`, the backward lobe up to `u ≈ κ` when
+//! `g < 0`) and `C/u²` beyond `max(1, κ)`. The exact part is `β C/(κ + u)²`
+//! and the scale `m = κ + ua`; `β = 1/(1 + b T m)` fades it where the medium is
+//! dense on the scale of `w`. Any `β` leaves the split exact; without the fade the
+//! nodes would cancel an exact part up to `κ` times larger than `A` when `g → −1`
+//! (`C/κ²` against `w(0) = C/κ³`), which amplified their error to 100% and more.
+//!
+//! Nodes `x_i`, weights `w_i`, `α`, `σ` (and `b`) are fitted together by minimax
+//! against the reference ([`fit`]).
 
 pub mod e2;
 pub mod fit;
@@ -47,6 +56,8 @@ pub struct LiteRule {
     pub alpha: f64,
     /// `σ`: an interval with `Δ < σ m` is short.
     pub short: f64,
+    /// Henyey–Greenstein members: `b` of the fade `β = 1/(1 + b T m)`; `None`: isotropic.
+    pub fade: Option<f64>,
     /// `eˣE₂`.
     pub e2: LogE2,
 }
@@ -58,16 +69,44 @@ pub fn k_of_u(u: f64) -> f64 {
 
 impl LiteRule {
     /// `n` Gauss–Legendre nodes on `[0, 1]`, `α = 1/2`, `σ = 0.1`: where the fit starts.
-    pub fn start(n: usize, e2: LogE2) -> LiteRule {
+    /// HG members (`fade`) start from `b = 0.3`.
+    pub fn start(n: usize, fade: Option<f64>, e2: LogE2) -> LiteRule {
         let (x, w) = crate::quad::gauss_legendre(n);
-        LiteRule::from_nodes(x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect(), 0.5, 0.1, e2)
+        LiteRule::from_nodes(x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect(), 0.5, 0.1, fade, e2)
     }
 
     /// The rule with nodes `(x_i, w_i)` (any order: sorted by `x`, as the coefficient
     /// file requires).
-    pub fn from_nodes(mut nodes: Vec<(f64, f64)>, alpha: f64, short: f64, e2: LogE2) -> LiteRule {
+    pub fn from_nodes(mut nodes: Vec<(f64, f64)>, alpha: f64, short: f64, fade: Option<f64>, e2: LogE2) -> LiteRule {
         nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
-        LiteRule { x: nodes.iter().map(|q| q.0).collect(), w: nodes.iter().map(|q| q.1).collect(), alpha, short, e2 }
+        LiteRule { x: nodes.iter().map(|q| q.0).collect(), w: nodes.iter().map(|q| q.1).collect(), alpha, short, fade, e2 }
+    }
+
+    /// `I/C` of an HG member (`w/C` integrated) from `T`, `ua`, `Δ` and `κ`.
+    pub fn integral_hg(&self, t: f64, ua: f64, du: f64, kappa: f64) -> f64 {
+        let m = kappa + ua;
+        let short = du < self.short * m;
+        let beta = if short { 0.0 } else { 1.0 / (1.0 + self.fade.unwrap_or(0.0) * t * m) };
+        let lam = m / (1.0 + self.alpha * t * m);
+        let mut sum = 0.0;
+        if !short {
+            sum += self.e2.eval(t * m) / m;
+            if du.is_finite() {
+                let mb = m + du;
+                sum -= (-t * du).exp() * self.e2.eval(t * mb) / mb;
+            }
+            sum *= beta;
+        }
+        let sb = if du.is_finite() { du / (lam + du) } else { 1.0 };
+        for (&x, &w) in self.x.iter().zip(&self.w) {
+            let v = 1.0 / (1.0 - sb * x);
+            let r = sb * x * v;
+            let u = ua + lam * r;
+            let q = kappa * kappa + u * u;
+            let f = ((1.0 + u * u) / q).sqrt() / q - beta / ((kappa + u) * (kappa + u));
+            sum += w * sb * lam * v * v * f * (-t * lam * r).exp();
+        }
+        sum
     }
 
     /// `I` (without `2 e^{−τ} P/h`) from `T`, `ua` and `Δ` (`∞`: open).
@@ -126,9 +165,13 @@ impl Family for LiteRule {
         fit::assemble(n, g_range, fit.as_ref())
     }
 
-    /// Isotropic: `1/(4π)` folded in.
+    /// Isotropic (`1/(4π)` folded in), or HG exact at each node.
     fn phase_shape(&self) -> PhaseShape {
-        PhaseShape::Isotropic
+        if self.fade.is_some() {
+            PhaseShape::Exact
+        } else {
+            PhaseShape::Isotropic
+        }
     }
 
     fn kernel_context(&self, k: &KernelView) -> Context {
@@ -137,34 +180,48 @@ impl Family for LiteRule {
         ctx.insert("weights", &lits(&self.w));
         ctx.insert("alpha", &lit(self.alpha));
         ctx.insert("short", &lit(self.short));
+        ctx.insert("hg", &self.fade.is_some());
+        ctx.insert("fade", &lit(self.fade.unwrap_or(0.0)));
         ctx.insert("e2_n1", &lits(&self.e2.n1));
         ctx.insert("e2_n2", &lits(&self.e2.n2));
         ctx.insert("e2_d", &lits(&self.e2.d));
         ctx
     }
 
-    /// `A` at a valid point (isotropic; `g` is not read).
+    /// `A` at a valid point (isotropic members do not read `g`).
     fn eval(&self, p: Point) -> f64 {
+        let g = if self.fade.is_some() { p.g.clamp(-0.999, 0.999) } else { 0.0 };
         let (h, ua, du, _) = u_geometry(p.gamma, p.rho);
         if h <= 0.0 {
-            return on_axis(p, 0.0, &|q| self.eval(q));
+            return on_axis(p, g, &|q| self.eval(q));
         }
-        2.0 * (-p.tau).exp() * self.integral(p.tau * h, ua, du) / (4.0 * PI * h)
+        let t = p.tau * h;
+        if self.fade.is_none() {
+            return 2.0 * (-p.tau).exp() * self.integral(t, ua, du) / (4.0 * PI * h);
+        }
+        let c = (1.0 - g) / (4.0 * PI * (1.0 + g) * (1.0 + g));
+        2.0 * (-p.tau).exp() * c * self.integral_hg(t, ua, du, (1.0 - g) / (1.0 + g)) / h
     }
 
     /// One path for every ray: the geometry (the canonical entry's `sin_cos`, the
     /// surface's `sqrt` and divisions), `λ`, `s_b`, two `eˣE₂` (a `log` and two
     /// divisions each) with `e^{−TΔ}` and the ends' divisions; per node `exp` and three
-    /// divisions.
+    /// divisions. HG adds `κ`, `C` and `β` (three divisions) and per node a `sqrt` and
+    /// one more division.
     fn ops(&self, shape: Shape) -> Cost {
         let s = usize::from(shape.surfaces);
         let n = self.x.len();
-        Cost { exp: 2 + n, log: 2, atan: 0, sqrt: s, div: 3 + 2 * s + 2 + 6 + 3 * n, sincos: 1 }
+        let hg = usize::from(self.fade.is_some());
+        Cost { exp: 2 + n, log: 2, atan: 0, sqrt: s + hg * n, div: 3 + 2 * s + 2 + 6 + 3 * n + hg * (3 + n), sincos: 1 }
     }
 
     fn render_toml(&self, _g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[nodes]\nrule = \"fitted\"\n");
-        o.push_str("variable = \"s in [0, s_b]: u = ua + lambda s/(1 - s), lambda = m/(1 + alpha T m), m = 1 + ua, s_b = du/(lambda + du) (1 open); s = s_b x\"\n");
+        let m = if self.fade.is_some() { "kappa + ua" } else { "1 + ua" };
+        let _ = writeln!(
+            o,
+            "variable = \"s in [0, s_b]: u = ua + lambda s/(1 - s), lambda = m/(1 + alpha T m), m = {m}, s_b = du/(lambda + du) (1 open); s = s_b x\""
+        );
         let _ = writeln!(o, "nodes = {}", self.x.len());
         crate::tomlfile::hex_list(o, "x", &self.x);
         crate::tomlfile::hex_list(o, "w", &self.w);
@@ -172,11 +229,14 @@ impl Family for LiteRule {
         o.push_str("\n[split]\n");
         let _ = writeln!(o, "alpha = {:?}", self.alpha);
         let _ = writeln!(o, "short = {:?}", self.short);
+        if let Some(b) = self.fade {
+            let _ = writeln!(o, "fade = {b:?}");
+        }
         self.e2.render_toml(o, prov);
     }
 
     /// Reads its tables: nodes inside (0, 1) and increasing, a finite positive split.
-    fn parse_toml(r: &Reader, doc: &Table, _g_range: &[f64]) -> Result<LiteRule, FieldError> {
+    fn parse_toml(r: &Reader, doc: &Table, g_range: &[f64]) -> Result<LiteRule, FieldError> {
         let t = r.table(doc, "nodes")?;
         r.deny(t, "nodes", &["rule", "variable", "nodes", "x", "w", "fit"])?;
         r.expect_str(t, "nodes", "rule", "fitted")?;
@@ -193,7 +253,7 @@ impl Family for LiteRule {
             return Err(r.err("nodes", "w", "must be finite"));
         }
         let s = r.table(doc, "split")?;
-        r.deny(s, "split", &["alpha", "short", "fit"])?;
+        r.deny(s, "split", &["alpha", "short", "fade", "fit"])?;
         let pos = |key: &str| -> Result<f64, FieldError> {
             let v = r.float(s, "split", key)?;
             if !(v.is_finite() && v > 0.0) {
@@ -202,7 +262,17 @@ impl Family for LiteRule {
             Ok(v)
         };
         let (alpha, short) = (pos("alpha")?, pos("short")?);
-        Ok(LiteRule { x, w, alpha, short, e2: LogE2::parse_toml(r, doc)? })
+        // HG members (a g range beyond 0) carry the fade; isotropic ones must not.
+        let hg = g_range.iter().any(|&g| g != 0.0);
+        let fade = if hg {
+            Some(pos("fade")?)
+        } else {
+            if s.contains_key("fade") {
+                return Err(r.err("split", "fade", "only Henyey-Greenstein members (a g range beyond 0) have a fade"));
+            }
+            None
+        };
+        Ok(LiteRule { x, w, alpha, short, fade, e2: LogE2::parse_toml(r, doc)? })
     }
 }
 
@@ -223,7 +293,7 @@ mod tests {
     fn many_nodes_converge_to_the_reference() {
         // The map is exact in the limit: 24 Gauss–Legendre nodes, the start's split;
         // what is left is eˣE₂'s fitted form (a few 1e-5).
-        let r = LiteRule::start(24, LogE2::fit().e2);
+        let r = LiteRule::start(24, None, LogE2::fit().e2);
         for &(tau, gamma, rho) in
             &[(0.5, 1.0, 3.0), (3.0, 2.0, f64::INFINITY), (1e-3, 0.3, f64::INFINITY), (15.0, 3.1, 0.02), (8.0, 0.2, 40.0)]
         {
