@@ -145,14 +145,14 @@ metal::float3 airlight_scene_hg_fog_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_3 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_2 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h_1;
     float _e85 = h_1;
-    float n = metal::sqrt((_e84 * _e85) + (x0_3 * x0_3));
+    float n = metal::sqrt((_e84 * _e85) + (x0_2 * x0_2));
     metal::float3 _e93 = airlight_scene_hg_fog_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return metal::float3(metal::min(dist, airlight_scene_hg_fog_HUGE), _e97 / n, x0_3 / n);
+    return metal::float3(metal::min(dist, airlight_scene_hg_fog_HUGE), _e97 / n, x0_2 / n);
 }
 
 float airlight_scene_hg_fog_scaled(
@@ -184,16 +184,16 @@ float airlight_scene_hg_fog_scaled(
     airlight_scene_hg_fog_frexp_result_f32_ s_1 = airlight_scene_hg_fog_naga_frexp(sigma_s);
     airlight_scene_hg_fog_frexp_result_f32_ i = airlight_scene_hg_fog_naga_frexp(intensity);
     airlight_scene_hg_fog_frexp_result_f32_ q = airlight_scene_hg_fog_naga_frexp(a_4);
-    airlight_scene_hg_fog_frexp_result_f32_ r_1 = airlight_scene_hg_fog_naga_frexp(d_1);
-    airlight_scene_hg_fog_frexp_result_f32_ m = airlight_scene_hg_fog_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
+    airlight_scene_hg_fog_frexp_result_f32_ r_2 = airlight_scene_hg_fog_naga_frexp(d_1);
+    airlight_scene_hg_fog_frexp_result_f32_ m_1 = airlight_scene_hg_fog_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_scene_hg_fog_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_scene_hg_fog_arctan(
@@ -268,9 +268,9 @@ metal::float2 airlight_scene_hg_fog_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_2 = r_2 * r_2;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2;
+    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_3 * r_3;
+    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
@@ -289,588 +289,234 @@ metal::float2 airlight_scene_hg_fog_sin_cos(
     }
 }
 
-float airlight_scene_hg_fog_airlight_axis(
-    float tau,
-    float x0_1,
-    float rho_1,
-    float g
+float airlight_scene_hg_fog_e2_over(
+    float x_in,
+    float m
 ) {
-    bool local_4 = {};
-    bool local_5 = {};
-    float sum = 0.0;
-    float u = {};
-    if (rho_1 >= 0.0) {
-        local_4 = rho_1 < airlight_scene_hg_fog_RHO_OPEN;
-    } else {
-        local_4 = false;
-    }
-    bool has_end = local_4;
-    if (x0_1 > 0.0) {
-        if (has_end) {
-            local_5 = rho_1 < 1.0;
-        } else {
-            local_5 = false;
-        }
-        bool _e19 = local_5;
-        if (!(_e19)) {
-            return airlight_scene_hg_fog_HUGE;
-        }
-        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau))) * rho_1) / (1.0 - rho_1), airlight_scene_hg_fog_HUGE);
-    }
-    float lo = has_end ? (1.0 / (1.0 + rho_1)) : 0.0;
-    float half_ = 0.5 * (1.0 - lo);
-    u = lo + (half_ * 1.9894009);
-    float _e57 = sum;
-    float _e60 = u;
-    float _e63 = u;
-    sum = _e57 + (0.02715246 * metal::exp((-2.0 * tau) * ((1.0 - _e60) / _e63)));
-    u = lo + (half_ * 1.9445751);
-    float _e73 = sum;
-    float _e76 = u;
-    float _e79 = u;
-    sum = _e73 + (0.062253524 * metal::exp((-2.0 * tau) * ((1.0 - _e76) / _e79)));
-    u = lo + (half_ * 1.8656312);
-    float _e89 = sum;
-    float _e92 = u;
-    float _e95 = u;
-    sum = _e89 + (0.09515851 * metal::exp((-2.0 * tau) * ((1.0 - _e92) / _e95)));
-    u = lo + (half_ * 1.7554045);
-    float _e105 = sum;
-    float _e108 = u;
-    float _e111 = u;
-    sum = _e105 + (0.12462897 * metal::exp((-2.0 * tau) * ((1.0 - _e108) / _e111)));
-    u = lo + (half_ * 1.6178763);
-    float _e121 = sum;
-    float _e124 = u;
-    float _e127 = u;
-    sum = _e121 + (0.14959599 * metal::exp((-2.0 * tau) * ((1.0 - _e124) / _e127)));
-    u = lo + (half_ * 1.4580168);
-    float _e137 = sum;
-    float _e140 = u;
-    float _e143 = u;
-    sum = _e137 + (0.16915652 * metal::exp((-2.0 * tau) * ((1.0 - _e140) / _e143)));
-    u = lo + (half_ * 1.2816036);
-    float _e153 = sum;
-    float _e156 = u;
-    float _e159 = u;
-    sum = _e153 + (0.18260342 * metal::exp((-2.0 * tau) * ((1.0 - _e156) / _e159)));
-    u = lo + (half_ * 1.0950125);
-    float _e169 = sum;
-    float _e172 = u;
-    float _e175 = u;
-    sum = _e169 + (0.1894506 * metal::exp((-2.0 * tau) * ((1.0 - _e172) / _e175)));
-    u = lo + (half_ * 0.9049875);
-    float _e185 = sum;
-    float _e188 = u;
-    float _e191 = u;
-    sum = _e185 + (0.1894506 * metal::exp((-2.0 * tau) * ((1.0 - _e188) / _e191)));
-    u = lo + (half_ * 0.7183964);
-    float _e201 = sum;
-    float _e204 = u;
-    float _e207 = u;
-    sum = _e201 + (0.18260342 * metal::exp((-2.0 * tau) * ((1.0 - _e204) / _e207)));
-    u = lo + (half_ * 0.5419832);
-    float _e217 = sum;
-    float _e220 = u;
-    float _e223 = u;
-    sum = _e217 + (0.16915652 * metal::exp((-2.0 * tau) * ((1.0 - _e220) / _e223)));
-    u = lo + (half_ * 0.38212377);
-    float _e233 = sum;
-    float _e236 = u;
-    float _e239 = u;
-    sum = _e233 + (0.14959599 * metal::exp((-2.0 * tau) * ((1.0 - _e236) / _e239)));
-    u = lo + (half_ * 0.24459559);
-    float _e249 = sum;
-    float _e252 = u;
-    float _e255 = u;
-    sum = _e249 + (0.12462897 * metal::exp((-2.0 * tau) * ((1.0 - _e252) / _e255)));
-    u = lo + (half_ * 0.13436878);
-    float _e265 = sum;
-    float _e268 = u;
-    float _e271 = u;
-    sum = _e265 + (0.09515851 * metal::exp((-2.0 * tau) * ((1.0 - _e268) / _e271)));
-    u = lo + (half_ * 0.05542499);
-    float _e281 = sum;
-    float _e284 = u;
-    float _e287 = u;
-    sum = _e281 + (0.062253524 * metal::exp((-2.0 * tau) * ((1.0 - _e284) / _e287)));
-    u = lo + (half_ * 0.010599077);
-    float _e297 = sum;
-    float _e300 = u;
-    float _e303 = u;
-    sum = _e297 + (0.02715246 * metal::exp((-2.0 * tau) * ((1.0 - _e300) / _e303)));
-    float _e324 = sum;
-    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau))) * half_) * _e324;
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_4 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_4 * metal::log((1.0 + x_4) / x_4);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_4;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_4;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_4;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_4;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_4;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_4;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_4;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_4;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_4;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_scene_hg_fog_airlight_geometry(
     float tau_in,
-    float h_2,
-    float x0_2,
-    float gamma,
-    float comp,
-    float rho_2,
+    float h_in,
+    float x0_1,
+    float rho_1,
     float xr
 ) {
+    bool local_4 = {};
+    bool local_5 = {};
     bool local_6 = {};
-    bool local_7 = {};
-    float span = {};
-    bool local_8 = {};
-    float sum_1 = 0.0;
-    metal::float2 sc = {};
-    float b_3 = {};
-    float co = {};
-    float st = {};
-    float d_2 = {};
-    float tau_2 = metal::min(metal::max(tau_in, 0.0), airlight_scene_hg_fog_TAU_MAX);
-    float gm = (1.0 - 0.8) * (1.0 - 0.8);
-    float gp = (1.0 + 0.8) * (1.0 + 0.8);
-    if (!((h_2 <= 0.0))) {
-        if (x0_2 < 0.0) {
-            local_7 = h_2 < 0.0000000000000000008673617;
+    float du = airlight_scene_hg_fog_HUGE;
+    float sum = {};
+    float nodes = 0.0;
+    float v_2 = {};
+    float r_1 = {};
+    float u = {};
+    float iq = {};
+    float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_hg_fog_TAU_MAX);
+    metal::float4 md = metal::float4(0.8, 1.0 - 0.8, 1.0 + 0.8, (1.0 - 0.8) / (1.0 + 0.8));
+    if (x0_1 > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
+    } else {
+        local_4 = false;
+    }
+    bool _e27 = local_4;
+    if (_e27) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
-            local_7 = false;
+            local_5 = false;
         }
-        bool _e34 = local_7;
-        local_6 = _e34;
+        bool _e35 = local_5;
+        if (_e35) {
+            return metal::min(((((0.07957747 * md.z) / (md.y * md.y)) * metal::exp(-(tau_1))) * rho_1) / (1.0 - rho_1), airlight_scene_hg_fog_HUGE);
+        }
+        if (h_in <= 0.0) {
+            return airlight_scene_hg_fog_HUGE;
+        }
+    }
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_scene_hg_fog_RHO_OPEN;
     } else {
-        local_6 = true;
+        local_6 = false;
     }
-    bool _e36 = local_6;
-    if (_e36) {
-        float _e37 = airlight_scene_hg_fog_airlight_axis(tau_2, x0_2, rho_2, 0.8);
-        return _e37;
+    bool _e85 = local_6;
+    bool open = !(_e85);
+    if (!(open)) {
+        float ta = metal::abs(xr);
+        float tm = metal::max(ta, tb);
+        float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
+        if (xr <= 0.0) {
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
+        } else {
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
+        }
     }
-    span = comp;
-    if (rho_2 >= 0.0) {
-        local_8 = rho_2 < airlight_scene_hg_fog_RHO_OPEN;
-    } else {
-        local_8 = false;
+    float _e123 = du;
+    float ub = ua + _e123;
+    float t = tau_1 * tb;
+    float kap = md.w;
+    float m_2 = kap + ua;
+    float lam = m_2 / (1.0 + ((0.37588415 * t) * m_2));
+    float _e134 = du;
+    bool is_short = _e134 < (0.01 * m_2);
+    float _e138 = du;
+    float mb = m_2 + _e138;
+    float _e141 = du;
+    float _e145 = airlight_scene_hg_fog_e2_over(t * mb, mb);
+    float from_b = open ? 0.0 : (metal::exp(-(t) * _e141) * _e145);
+    float beta = is_short ? 0.0 : (1.0 / (1.0 + ((0.2251005 * t) * m_2)));
+    float _e159 = airlight_scene_hg_fog_e2_over(t * m_2, m_2);
+    sum = beta * (_e159 - from_b);
+    float _e163 = du;
+    float _e164 = du;
+    float sb = open ? 1.0 : (_e163 / (lam + _e164));
+    v_2 = 1.0 / (1.0 - (sb * 0.0590947));
+    float _e183 = v_2;
+    r_1 = (sb * 0.0590947) * _e183;
+    float _e185 = r_1;
+    u = ua + (lam * _e185);
+    float _e189 = u;
+    float _e190 = u;
+    iq = 1.0 / ((kap * kap) + (_e189 * _e190));
+    float _e195 = nodes;
+    float _e196 = v_2;
+    float _e199 = v_2;
+    float _e201 = u;
+    float _e202 = u;
+    float _e206 = iq;
+    float _e209 = iq;
+    float _e211 = u;
+    float _e213 = u;
+    float _e221 = r_1;
+    nodes = _e195 + ((((0.1067142 * _e196) * _e199) * ((metal::sqrt((1.0 + (_e201 * _e202)) * _e206) * _e209) - (beta / ((kap + _e211) * (kap + _e213))))) * metal::exp((-(t) * lam) * _e221));
+    v_2 = 1.0 / (1.0 - (sb * 0.22183506));
+    float _e234 = v_2;
+    r_1 = (sb * 0.22183506) * _e234;
+    float _e236 = r_1;
+    u = ua + (lam * _e236);
+    float _e240 = u;
+    float _e241 = u;
+    iq = 1.0 / ((kap * kap) + (_e240 * _e241));
+    float _e246 = nodes;
+    float _e247 = v_2;
+    float _e250 = v_2;
+    float _e252 = u;
+    float _e253 = u;
+    float _e257 = iq;
+    float _e260 = iq;
+    float _e262 = u;
+    float _e264 = u;
+    float _e272 = r_1;
+    nodes = _e246 + ((((0.26659542 * _e247) * _e250) * ((metal::sqrt((1.0 + (_e252 * _e253)) * _e257) * _e260) - (beta / ((kap + _e262) * (kap + _e264))))) * metal::exp((-(t) * lam) * _e272));
+    v_2 = 1.0 / (1.0 - (sb * 0.5288123));
+    float _e285 = v_2;
+    r_1 = (sb * 0.5288123) * _e285;
+    float _e287 = r_1;
+    u = ua + (lam * _e287);
+    float _e291 = u;
+    float _e292 = u;
+    iq = 1.0 / ((kap * kap) + (_e291 * _e292));
+    float _e297 = nodes;
+    float _e298 = v_2;
+    float _e301 = v_2;
+    float _e303 = u;
+    float _e304 = u;
+    float _e308 = iq;
+    float _e311 = iq;
+    float _e313 = u;
+    float _e315 = u;
+    float _e323 = r_1;
+    nodes = _e297 + ((((0.29372224 * _e298) * _e301) * ((metal::sqrt((1.0 + (_e303 * _e304)) * _e308) * _e311) - (beta / ((kap + _e313) * (kap + _e315))))) * metal::exp((-(t) * lam) * _e323));
+    v_2 = 1.0 / (1.0 - (sb * 0.7768407));
+    float _e336 = v_2;
+    r_1 = (sb * 0.7768407) * _e336;
+    float _e338 = r_1;
+    u = ua + (lam * _e338);
+    float _e342 = u;
+    float _e343 = u;
+    iq = 1.0 / ((kap * kap) + (_e342 * _e343));
+    float _e348 = nodes;
+    float _e349 = v_2;
+    float _e352 = v_2;
+    float _e354 = u;
+    float _e355 = u;
+    float _e359 = iq;
+    float _e362 = iq;
+    float _e364 = u;
+    float _e366 = u;
+    float _e374 = r_1;
+    nodes = _e348 + ((((0.20575337 * _e349) * _e352) * ((metal::sqrt((1.0 + (_e354 * _e355)) * _e359) * _e362) - (beta / ((kap + _e364) * (kap + _e366))))) * metal::exp((-(t) * lam) * _e374));
+    v_2 = 1.0 / (1.0 - (sb * 0.94264346));
+    float _e387 = v_2;
+    r_1 = (sb * 0.94264346) * _e387;
+    float _e389 = r_1;
+    u = ua + (lam * _e389);
+    float _e393 = u;
+    float _e394 = u;
+    iq = 1.0 / ((kap * kap) + (_e393 * _e394));
+    float _e399 = nodes;
+    float _e400 = v_2;
+    float _e403 = v_2;
+    float _e405 = u;
+    float _e406 = u;
+    float _e410 = iq;
+    float _e413 = iq;
+    float _e415 = u;
+    float _e417 = u;
+    float _e425 = r_1;
+    nodes = _e399 + ((((0.12721477 * _e400) * _e403) * ((metal::sqrt((1.0 + (_e405 * _e406)) * _e410) * _e413) - (beta / ((kap + _e415) * (kap + _e417))))) * metal::exp((-(t) * lam) * _e425));
+    float _e430 = sum;
+    float _e431 = nodes;
+    sum = _e430 + ((_e431 * sb) * lam);
+    float pc = (0.07957747 * md.y) / (md.z * md.z);
+    if (tb < 0.0000000000000000008673617) {
+        float _e446 = sum;
+        float _e453 = airlight_scene_hg_fog_scaled((2.0 * pc) * metal::max(_e446, 0.0), metal::exp(-(tau_1)), tb, 1.0);
+        return _e453;
     }
-    bool _e46 = local_8;
-    if (_e46) {
-        float _e51 = airlight_scene_hg_fog_arctan2_(h_2 * rho_2, (h_2 * h_2) + (x0_2 * xr));
-        span = _e51;
-    }
-    float _e52 = span;
-    float half_1 = 0.5 * _e52;
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9894009);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.9894009);
-    float _e76 = b_3;
-    float _e77 = co;
-    metal::float2 _e81 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e76, _e77), 0.0));
-    sc = _e81;
-    float _e82 = b_3;
-    float _e83 = co;
-    if (_e82 > _e83) {
-        metal::float2 _e85 = sc;
-        sc = _e85.yx;
-    }
-    float _e88 = sc.x;
-    float _e91 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e88) / metal::max(_e91, 0.000000000000000000000000000001)), 1.0);
-    float _e101 = sc.y;
-    float _e104 = sc.y;
-    float _e110 = sc.x;
-    float _e113 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e110) * _e113)) : (gp - (((4.0 * 0.8) * _e101) * _e104));
-    float _e119 = sum_1;
-    float _e121 = st;
-    float _e126 = d_2;
-    float _e127 = d_2;
-    sum_1 = _e119 + ((0.02715246 * metal::exp(-(tau_2) * _e121)) / (_e126 * metal::sqrt(_e127)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9445751);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.9445751);
-    float _e146 = b_3;
-    float _e147 = co;
-    metal::float2 _e151 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e146, _e147), 0.0));
-    sc = _e151;
-    float _e152 = b_3;
-    float _e153 = co;
-    if (_e152 > _e153) {
-        metal::float2 _e155 = sc;
-        sc = _e155.yx;
-    }
-    float _e158 = sc.x;
-    float _e161 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e158) / metal::max(_e161, 0.000000000000000000000000000001)), 1.0);
-    float _e171 = sc.y;
-    float _e174 = sc.y;
-    float _e180 = sc.x;
-    float _e183 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e180) * _e183)) : (gp - (((4.0 * 0.8) * _e171) * _e174));
-    float _e189 = sum_1;
-    float _e191 = st;
-    float _e196 = d_2;
-    float _e197 = d_2;
-    sum_1 = _e189 + ((0.062253524 * metal::exp(-(tau_2) * _e191)) / (_e196 * metal::sqrt(_e197)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.8656312);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.8656312);
-    float _e216 = b_3;
-    float _e217 = co;
-    metal::float2 _e221 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e216, _e217), 0.0));
-    sc = _e221;
-    float _e222 = b_3;
-    float _e223 = co;
-    if (_e222 > _e223) {
-        metal::float2 _e225 = sc;
-        sc = _e225.yx;
-    }
-    float _e228 = sc.x;
-    float _e231 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e228) / metal::max(_e231, 0.000000000000000000000000000001)), 1.0);
-    float _e241 = sc.y;
-    float _e244 = sc.y;
-    float _e250 = sc.x;
-    float _e253 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e250) * _e253)) : (gp - (((4.0 * 0.8) * _e241) * _e244));
-    float _e259 = sum_1;
-    float _e261 = st;
-    float _e266 = d_2;
-    float _e267 = d_2;
-    sum_1 = _e259 + ((0.09515851 * metal::exp(-(tau_2) * _e261)) / (_e266 * metal::sqrt(_e267)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.7554045);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.7554045);
-    float _e286 = b_3;
-    float _e287 = co;
-    metal::float2 _e291 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e286, _e287), 0.0));
-    sc = _e291;
-    float _e292 = b_3;
-    float _e293 = co;
-    if (_e292 > _e293) {
-        metal::float2 _e295 = sc;
-        sc = _e295.yx;
-    }
-    float _e298 = sc.x;
-    float _e301 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e298) / metal::max(_e301, 0.000000000000000000000000000001)), 1.0);
-    float _e311 = sc.y;
-    float _e314 = sc.y;
-    float _e320 = sc.x;
-    float _e323 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e320) * _e323)) : (gp - (((4.0 * 0.8) * _e311) * _e314));
-    float _e329 = sum_1;
-    float _e331 = st;
-    float _e336 = d_2;
-    float _e337 = d_2;
-    sum_1 = _e329 + ((0.12462897 * metal::exp(-(tau_2) * _e331)) / (_e336 * metal::sqrt(_e337)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.6178763);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.6178763);
-    float _e356 = b_3;
-    float _e357 = co;
-    metal::float2 _e361 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e356, _e357), 0.0));
-    sc = _e361;
-    float _e362 = b_3;
-    float _e363 = co;
-    if (_e362 > _e363) {
-        metal::float2 _e365 = sc;
-        sc = _e365.yx;
-    }
-    float _e368 = sc.x;
-    float _e371 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e368) / metal::max(_e371, 0.000000000000000000000000000001)), 1.0);
-    float _e381 = sc.y;
-    float _e384 = sc.y;
-    float _e390 = sc.x;
-    float _e393 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e390) * _e393)) : (gp - (((4.0 * 0.8) * _e381) * _e384));
-    float _e399 = sum_1;
-    float _e401 = st;
-    float _e406 = d_2;
-    float _e407 = d_2;
-    sum_1 = _e399 + ((0.14959599 * metal::exp(-(tau_2) * _e401)) / (_e406 * metal::sqrt(_e407)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.4580168);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.4580168);
-    float _e426 = b_3;
-    float _e427 = co;
-    metal::float2 _e431 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e426, _e427), 0.0));
-    sc = _e431;
-    float _e432 = b_3;
-    float _e433 = co;
-    if (_e432 > _e433) {
-        metal::float2 _e435 = sc;
-        sc = _e435.yx;
-    }
-    float _e438 = sc.x;
-    float _e441 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e438) / metal::max(_e441, 0.000000000000000000000000000001)), 1.0);
-    float _e451 = sc.y;
-    float _e454 = sc.y;
-    float _e460 = sc.x;
-    float _e463 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e460) * _e463)) : (gp - (((4.0 * 0.8) * _e451) * _e454));
-    float _e469 = sum_1;
-    float _e471 = st;
-    float _e476 = d_2;
-    float _e477 = d_2;
-    sum_1 = _e469 + ((0.16915652 * metal::exp(-(tau_2) * _e471)) / (_e476 * metal::sqrt(_e477)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.2816036);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.2816036);
-    float _e496 = b_3;
-    float _e497 = co;
-    metal::float2 _e501 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e496, _e497), 0.0));
-    sc = _e501;
-    float _e502 = b_3;
-    float _e503 = co;
-    if (_e502 > _e503) {
-        metal::float2 _e505 = sc;
-        sc = _e505.yx;
-    }
-    float _e508 = sc.x;
-    float _e511 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e508) / metal::max(_e511, 0.000000000000000000000000000001)), 1.0);
-    float _e521 = sc.y;
-    float _e524 = sc.y;
-    float _e530 = sc.x;
-    float _e533 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e530) * _e533)) : (gp - (((4.0 * 0.8) * _e521) * _e524));
-    float _e539 = sum_1;
-    float _e541 = st;
-    float _e546 = d_2;
-    float _e547 = d_2;
-    sum_1 = _e539 + ((0.18260342 * metal::exp(-(tau_2) * _e541)) / (_e546 * metal::sqrt(_e547)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.0950125);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.0950125);
-    float _e566 = b_3;
-    float _e567 = co;
-    metal::float2 _e571 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e566, _e567), 0.0));
-    sc = _e571;
-    float _e572 = b_3;
-    float _e573 = co;
-    if (_e572 > _e573) {
-        metal::float2 _e575 = sc;
-        sc = _e575.yx;
-    }
-    float _e578 = sc.x;
-    float _e581 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e578) / metal::max(_e581, 0.000000000000000000000000000001)), 1.0);
-    float _e591 = sc.y;
-    float _e594 = sc.y;
-    float _e600 = sc.x;
-    float _e603 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e600) * _e603)) : (gp - (((4.0 * 0.8) * _e591) * _e594));
-    float _e609 = sum_1;
-    float _e611 = st;
-    float _e616 = d_2;
-    float _e617 = d_2;
-    sum_1 = _e609 + ((0.1894506 * metal::exp(-(tau_2) * _e611)) / (_e616 * metal::sqrt(_e617)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.9049875);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.9049875);
-    float _e636 = b_3;
-    float _e637 = co;
-    metal::float2 _e641 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e636, _e637), 0.0));
-    sc = _e641;
-    float _e642 = b_3;
-    float _e643 = co;
-    if (_e642 > _e643) {
-        metal::float2 _e645 = sc;
-        sc = _e645.yx;
-    }
-    float _e648 = sc.x;
-    float _e651 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e648) / metal::max(_e651, 0.000000000000000000000000000001)), 1.0);
-    float _e661 = sc.y;
-    float _e664 = sc.y;
-    float _e670 = sc.x;
-    float _e673 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e670) * _e673)) : (gp - (((4.0 * 0.8) * _e661) * _e664));
-    float _e679 = sum_1;
-    float _e681 = st;
-    float _e686 = d_2;
-    float _e687 = d_2;
-    sum_1 = _e679 + ((0.1894506 * metal::exp(-(tau_2) * _e681)) / (_e686 * metal::sqrt(_e687)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.7183964);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.7183964);
-    float _e706 = b_3;
-    float _e707 = co;
-    metal::float2 _e711 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e706, _e707), 0.0));
-    sc = _e711;
-    float _e712 = b_3;
-    float _e713 = co;
-    if (_e712 > _e713) {
-        metal::float2 _e715 = sc;
-        sc = _e715.yx;
-    }
-    float _e718 = sc.x;
-    float _e721 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e718) / metal::max(_e721, 0.000000000000000000000000000001)), 1.0);
-    float _e731 = sc.y;
-    float _e734 = sc.y;
-    float _e740 = sc.x;
-    float _e743 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e740) * _e743)) : (gp - (((4.0 * 0.8) * _e731) * _e734));
-    float _e749 = sum_1;
-    float _e751 = st;
-    float _e756 = d_2;
-    float _e757 = d_2;
-    sum_1 = _e749 + ((0.18260342 * metal::exp(-(tau_2) * _e751)) / (_e756 * metal::sqrt(_e757)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.5419832);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.5419832);
-    float _e776 = b_3;
-    float _e777 = co;
-    metal::float2 _e781 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e776, _e777), 0.0));
-    sc = _e781;
-    float _e782 = b_3;
-    float _e783 = co;
-    if (_e782 > _e783) {
-        metal::float2 _e785 = sc;
-        sc = _e785.yx;
-    }
-    float _e788 = sc.x;
-    float _e791 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e788) / metal::max(_e791, 0.000000000000000000000000000001)), 1.0);
-    float _e801 = sc.y;
-    float _e804 = sc.y;
-    float _e810 = sc.x;
-    float _e813 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e810) * _e813)) : (gp - (((4.0 * 0.8) * _e801) * _e804));
-    float _e819 = sum_1;
-    float _e821 = st;
-    float _e826 = d_2;
-    float _e827 = d_2;
-    sum_1 = _e819 + ((0.16915652 * metal::exp(-(tau_2) * _e821)) / (_e826 * metal::sqrt(_e827)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.38212377);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.38212377);
-    float _e846 = b_3;
-    float _e847 = co;
-    metal::float2 _e851 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e846, _e847), 0.0));
-    sc = _e851;
-    float _e852 = b_3;
-    float _e853 = co;
-    if (_e852 > _e853) {
-        metal::float2 _e855 = sc;
-        sc = _e855.yx;
-    }
-    float _e858 = sc.x;
-    float _e861 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e858) / metal::max(_e861, 0.000000000000000000000000000001)), 1.0);
-    float _e871 = sc.y;
-    float _e874 = sc.y;
-    float _e880 = sc.x;
-    float _e883 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e880) * _e883)) : (gp - (((4.0 * 0.8) * _e871) * _e874));
-    float _e889 = sum_1;
-    float _e891 = st;
-    float _e896 = d_2;
-    float _e897 = d_2;
-    sum_1 = _e889 + ((0.14959599 * metal::exp(-(tau_2) * _e891)) / (_e896 * metal::sqrt(_e897)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.24459559);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.24459559);
-    float _e916 = b_3;
-    float _e917 = co;
-    metal::float2 _e921 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e916, _e917), 0.0));
-    sc = _e921;
-    float _e922 = b_3;
-    float _e923 = co;
-    if (_e922 > _e923) {
-        metal::float2 _e925 = sc;
-        sc = _e925.yx;
-    }
-    float _e928 = sc.x;
-    float _e931 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e928) / metal::max(_e931, 0.000000000000000000000000000001)), 1.0);
-    float _e941 = sc.y;
-    float _e944 = sc.y;
-    float _e950 = sc.x;
-    float _e953 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e950) * _e953)) : (gp - (((4.0 * 0.8) * _e941) * _e944));
-    float _e959 = sum_1;
-    float _e961 = st;
-    float _e966 = d_2;
-    float _e967 = d_2;
-    sum_1 = _e959 + ((0.12462897 * metal::exp(-(tau_2) * _e961)) / (_e966 * metal::sqrt(_e967)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.13436878);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.13436878);
-    float _e986 = b_3;
-    float _e987 = co;
-    metal::float2 _e991 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e986, _e987), 0.0));
-    sc = _e991;
-    float _e992 = b_3;
-    float _e993 = co;
-    if (_e992 > _e993) {
-        metal::float2 _e995 = sc;
-        sc = _e995.yx;
-    }
-    float _e998 = sc.x;
-    float _e1001 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e998) / metal::max(_e1001, 0.000000000000000000000000000001)), 1.0);
-    float _e1011 = sc.y;
-    float _e1014 = sc.y;
-    float _e1020 = sc.x;
-    float _e1023 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e1020) * _e1023)) : (gp - (((4.0 * 0.8) * _e1011) * _e1014));
-    float _e1029 = sum_1;
-    float _e1031 = st;
-    float _e1036 = d_2;
-    float _e1037 = d_2;
-    sum_1 = _e1029 + ((0.09515851 * metal::exp(-(tau_2) * _e1031)) / (_e1036 * metal::sqrt(_e1037)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.05542499);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.05542499);
-    float _e1056 = b_3;
-    float _e1057 = co;
-    metal::float2 _e1061 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e1056, _e1057), 0.0));
-    sc = _e1061;
-    float _e1062 = b_3;
-    float _e1063 = co;
-    if (_e1062 > _e1063) {
-        metal::float2 _e1065 = sc;
-        sc = _e1065.yx;
-    }
-    float _e1068 = sc.x;
-    float _e1071 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e1068) / metal::max(_e1071, 0.000000000000000000000000000001)), 1.0);
-    float _e1081 = sc.y;
-    float _e1084 = sc.y;
-    float _e1090 = sc.x;
-    float _e1093 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e1090) * _e1093)) : (gp - (((4.0 * 0.8) * _e1081) * _e1084));
-    float _e1099 = sum_1;
-    float _e1101 = st;
-    float _e1106 = d_2;
-    float _e1107 = d_2;
-    sum_1 = _e1099 + ((0.062253524 * metal::exp(-(tau_2) * _e1101)) / (_e1106 * metal::sqrt(_e1107)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.010599077);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.010599077);
-    float _e1126 = b_3;
-    float _e1127 = co;
-    metal::float2 _e1131 = airlight_scene_hg_fog_sin_cos(metal::max(metal::min(_e1126, _e1127), 0.0));
-    sc = _e1131;
-    float _e1132 = b_3;
-    float _e1133 = co;
-    if (_e1132 > _e1133) {
-        metal::float2 _e1135 = sc;
-        sc = _e1135.yx;
-    }
-    float _e1138 = sc.x;
-    float _e1141 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e1138) / metal::max(_e1141, 0.000000000000000000000000000001)), 1.0);
-    float _e1151 = sc.y;
-    float _e1154 = sc.y;
-    float _e1160 = sc.x;
-    float _e1163 = sc.x;
-    d_2 = (0.8 >= 0.0) ? (gm + (((4.0 * 0.8) * _e1160) * _e1163)) : (gp - (((4.0 * 0.8) * _e1151) * _e1154));
-    float _e1169 = sum_1;
-    float _e1171 = st;
-    float _e1176 = d_2;
-    float _e1177 = d_2;
-    sum_1 = _e1169 + ((0.02715246 * metal::exp(-(tau_2) * _e1171)) / (_e1176 * metal::sqrt(_e1177)));
-    float _e1189 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - 0.8)) * (1.0 + 0.8)) * _e1189) * half_1) / h_2, airlight_scene_hg_fog_HUGE);
+    float _e459 = sum;
+    return metal::min(metal::max(((2.0 * pc) * metal::exp(-(tau_1))) * (_e459 / tb), 0.0), airlight_scene_hg_fog_HUGE);
 }
 
 float airlight_scene_hg_fog_airlight(
-    float tau_1,
-    float gamma_1,
-    float rho_3
+    float tau,
+    float gamma,
+    float rho_2
 ) {
-    float gc = metal::clamp(gamma_1, 0.0, airlight_scene_hg_fog_PI);
-    metal::float2 _e6 = airlight_scene_hg_fog_sin_cos(gc);
-    float comp_1 = metal::max((airlight_scene_hg_fog_PI - gc) - 0.00000008742278, 0.0);
-    metal::float2 _e15 = airlight_scene_hg_fog_sin_cos(comp_1);
-    float h_3 = (gc > comp_1) ? _e15.x : metal::abs(_e6.x);
-    float _e21 = airlight_scene_hg_fog_foot(h_3, _e6.y, rho_3);
-    float _e22 = airlight_scene_hg_fog_airlight_geometry(tau_1, h_3, _e6.y, gc, comp_1, rho_3, _e21);
-    return _e22;
+    metal::float2 _e6 = airlight_scene_hg_fog_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_hg_fog_PI));
+    float _e13 = airlight_scene_hg_fog_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_scene_hg_fog_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_hg_fog_radiance(
@@ -882,27 +528,25 @@ float airlight_scene_hg_fog_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_9 = {};
+    bool local_7 = {};
     metal::float3 _e7 = airlight_scene_hg_fog_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
         float _e13 = airlight_scene_hg_fog_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_hg_fog_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
-        local_9 = _e7.z == 0.0;
+        local_7 = _e7.z == 0.0;
     } else {
-        local_9 = false;
+        local_7 = false;
     }
-    bool _e23 = local_9;
+    bool _e23 = local_7;
     if (_e23) {
         return 0.0;
     }
-    float rho_4 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e33 = airlight_scene_hg_fog_arctan2_(_e7.y, _e7.z);
-    float _e37 = airlight_scene_hg_fog_arctan2_(_e7.y, -(_e7.z));
-    float _e45 = airlight_scene_hg_fog_foot(_e7.y, _e7.z, rho_4);
-    float _e46 = airlight_scene_hg_fog_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, _e33, _e37, rho_4, _e45);
-    float _e47 = airlight_scene_hg_fog_scaled(sigma_s_1, intensity_1, _e7.x, _e46);
-    return _e47;
+    float rho_3 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_scene_hg_fog_foot(_e7.y, _e7.z, rho_3);
+    float _e39 = airlight_scene_hg_fog_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_3, _e38);
+    float _e40 = airlight_scene_hg_fog_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
 }
 #endif // AIRLIGHT_SCENE_HG_FOG_MSL_INCLUDED

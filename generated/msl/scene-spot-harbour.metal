@@ -17,7 +17,7 @@ struct airlight_scene_spot_harbour_frexp_result_f32_ {
     float fract;
     int exp;
 };
-struct airlight_scene_spot_harbour_type_6 {
+struct airlight_scene_spot_harbour_type_7 {
     float inner[6];
 };
 
@@ -148,14 +148,14 @@ metal::float3 airlight_scene_spot_harbour_ray_geometry(
         metal::float3 cs = _e75 / metal::float3(_e70);
         h_1 = _e70 * metal::sqrt(metal::dot(cs, cs));
     }
-    float x0_7 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
+    float x0_6 = metal::dot(_e44, _e37) + metal::dot(_e44, _e40);
     float _e84 = h_1;
     float _e85 = h_1;
-    float n_1 = metal::sqrt((_e84 * _e85) + (x0_7 * x0_7));
+    float n_1 = metal::sqrt((_e84 * _e85) + (x0_6 * x0_6));
     metal::float3 _e93 = airlight_scene_spot_harbour_scale2_(metal::float3(metal::sqrt(metal::dot(_e37, _e37))), kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return metal::float3(metal::min(dist, airlight_scene_spot_harbour_HUGE), _e97 / n_1, x0_7 / n_1);
+    return metal::float3(metal::min(dist, airlight_scene_spot_harbour_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
 float airlight_scene_spot_harbour_scaled(
@@ -187,16 +187,16 @@ float airlight_scene_spot_harbour_scaled(
     airlight_scene_spot_harbour_frexp_result_f32_ s_1 = airlight_scene_spot_harbour_naga_frexp(sigma_s);
     airlight_scene_spot_harbour_frexp_result_f32_ i_1 = airlight_scene_spot_harbour_naga_frexp(intensity);
     airlight_scene_spot_harbour_frexp_result_f32_ q = airlight_scene_spot_harbour_naga_frexp(a_4);
-    airlight_scene_spot_harbour_frexp_result_f32_ r_2 = airlight_scene_spot_harbour_naga_frexp(d_1);
-    airlight_scene_spot_harbour_frexp_result_f32_ m = airlight_scene_spot_harbour_naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    airlight_scene_spot_harbour_frexp_result_f32_ r_3 = airlight_scene_spot_harbour_naga_frexp(d_1);
+    airlight_scene_spot_harbour_frexp_result_f32_ m_1 = airlight_scene_spot_harbour_naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_3.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp));
     if (e > 128) {
         return airlight_scene_spot_harbour_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_scene_spot_harbour_arctan(
@@ -271,9 +271,9 @@ metal::float2 airlight_scene_spot_harbour_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_2 = r_3 * r_3;
-    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
+    float r_4 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_4 * r_4;
+    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_4) + r_4;
     float c_4 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
@@ -292,605 +292,234 @@ metal::float2 airlight_scene_spot_harbour_sin_cos(
     }
 }
 
-float airlight_scene_spot_harbour_airlight_axis(
-    float tau,
-    float x0_1,
-    float rho_1,
-    float g
+float airlight_scene_spot_harbour_e2_over(
+    float x_in,
+    float m
 ) {
-    bool local_4 = {};
-    bool local_5 = {};
-    float sum = 0.0;
-    float u = {};
-    if (rho_1 >= 0.0) {
-        local_4 = rho_1 < airlight_scene_spot_harbour_RHO_OPEN;
-    } else {
-        local_4 = false;
-    }
-    bool has_end = local_4;
-    if (x0_1 > 0.0) {
-        if (has_end) {
-            local_5 = rho_1 < 1.0;
-        } else {
-            local_5 = false;
-        }
-        bool _e19 = local_5;
-        if (!(_e19)) {
-            return airlight_scene_spot_harbour_HUGE;
-        }
-        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau))) * rho_1) / (1.0 - rho_1), airlight_scene_spot_harbour_HUGE);
-    }
-    float lo = has_end ? (1.0 / (1.0 + rho_1)) : 0.0;
-    float half_ = 0.5 * (1.0 - lo);
-    u = lo + (half_ * 1.9602898);
-    float _e57 = sum;
-    float _e60 = u;
-    float _e63 = u;
-    sum = _e57 + (0.101228535 * metal::exp((-2.0 * tau) * ((1.0 - _e60) / _e63)));
-    u = lo + (half_ * 1.7966665);
-    float _e73 = sum;
-    float _e76 = u;
-    float _e79 = u;
-    sum = _e73 + (0.22238104 * metal::exp((-2.0 * tau) * ((1.0 - _e76) / _e79)));
-    u = lo + (half_ * 1.5255324);
-    float _e89 = sum;
-    float _e92 = u;
-    float _e95 = u;
-    sum = _e89 + (0.31370664 * metal::exp((-2.0 * tau) * ((1.0 - _e92) / _e95)));
-    u = lo + (half_ * 1.1834346);
-    float _e105 = sum;
-    float _e108 = u;
-    float _e111 = u;
-    sum = _e105 + (0.36268377 * metal::exp((-2.0 * tau) * ((1.0 - _e108) / _e111)));
-    u = lo + (half_ * 0.8165654);
-    float _e121 = sum;
-    float _e124 = u;
-    float _e127 = u;
-    sum = _e121 + (0.36268377 * metal::exp((-2.0 * tau) * ((1.0 - _e124) / _e127)));
-    u = lo + (half_ * 0.47446758);
-    float _e137 = sum;
-    float _e140 = u;
-    float _e143 = u;
-    sum = _e137 + (0.31370664 * metal::exp((-2.0 * tau) * ((1.0 - _e140) / _e143)));
-    u = lo + (half_ * 0.2033335);
-    float _e153 = sum;
-    float _e156 = u;
-    float _e159 = u;
-    sum = _e153 + (0.22238104 * metal::exp((-2.0 * tau) * ((1.0 - _e156) / _e159)));
-    u = lo + (half_ * 0.039710164);
-    float _e169 = sum;
-    float _e172 = u;
-    float _e175 = u;
-    sum = _e169 + (0.101228535 * metal::exp((-2.0 * tau) * ((1.0 - _e172) / _e175)));
-    float _e196 = sum;
-    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau))) * half_) * _e196;
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_5 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_5 * metal::log((1.0 + x_5) / x_5);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_5;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_5;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_5;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_5;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_5;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_5;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_5;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_5;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_5;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_scene_spot_harbour_airlight_geometry(
     float tau_in,
-    float h_2,
-    float x0_2,
-    float gamma,
-    float comp,
-    float rho_2,
+    float h_in,
+    float x0_1,
+    float rho_1,
     float xr
 ) {
+    bool local_4 = {};
+    bool local_5 = {};
     bool local_6 = {};
-    bool local_7 = {};
-    float span = {};
-    bool local_8 = {};
-    float sum_1 = 0.0;
-    metal::float2 sc = {};
-    float b_3 = {};
-    float co = {};
-    float st = {};
-    float d_2 = {};
+    float du = airlight_scene_spot_harbour_HUGE;
+    float sum = {};
+    float nodes = 0.0;
+    float v_2 = {};
+    float r_1 = {};
+    float u = {};
+    float iq = {};
     float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_scene_spot_harbour_TAU_MAX);
-    float gm = (1.0 - 0.6) * (1.0 - 0.6);
-    float gp = (1.0 + 0.6) * (1.0 + 0.6);
-    if (!((h_2 <= 0.0))) {
-        if (x0_2 < 0.0) {
-            local_7 = h_2 < 0.0000000000000000008673617;
+    metal::float4 md = metal::float4(0.6, 1.0 - 0.6, 1.0 + 0.6, (1.0 - 0.6) / (1.0 + 0.6));
+    if (x0_1 > 0.0) {
+        local_4 = h_in < 0.0000000000000000008673617;
+    } else {
+        local_4 = false;
+    }
+    bool _e27 = local_4;
+    if (_e27) {
+        if (rho_1 >= 0.0) {
+            local_5 = rho_1 < 1.0;
         } else {
-            local_7 = false;
+            local_5 = false;
         }
-        bool _e34 = local_7;
-        local_6 = _e34;
+        bool _e35 = local_5;
+        if (_e35) {
+            return metal::min(((((0.07957747 * md.z) / (md.y * md.y)) * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_scene_spot_harbour_HUGE);
+        }
+        if (h_in <= 0.0) {
+            return airlight_scene_spot_harbour_HUGE;
+        }
+    }
+    float tb = (x0_1 > 0.0) ? h_in : metal::max(h_in, 0.0000000000009094947);
+    float ua = (x0_1 >= 0.0) ? (tb / (1.0 + x0_1)) : ((1.0 - x0_1) / tb);
+    float one_minus = (x0_1 >= 0.0) ? ((tb * tb) / (1.0 + x0_1)) : (1.0 - x0_1);
+    if (rho_1 >= 0.0) {
+        local_6 = rho_1 < airlight_scene_spot_harbour_RHO_OPEN;
     } else {
-        local_6 = true;
+        local_6 = false;
     }
-    bool _e36 = local_6;
-    if (_e36) {
-        float _e37 = airlight_scene_spot_harbour_airlight_axis(tau_5, x0_2, rho_2, 0.6);
-        return _e37;
-    }
-    span = comp;
-    if (rho_2 >= 0.0) {
-        local_8 = rho_2 < airlight_scene_spot_harbour_RHO_OPEN;
-    } else {
-        local_8 = false;
-    }
-    bool _e46 = local_8;
-    if (_e46) {
-        float _e51 = airlight_scene_spot_harbour_arctan2_(h_2 * rho_2, (h_2 * h_2) + (x0_2 * xr));
-        span = _e51;
-    }
-    float _e52 = span;
-    float half_1 = 0.5 * _e52;
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.9602898);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.9602898);
-    float _e76 = b_3;
-    float _e77 = co;
-    metal::float2 _e81 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e76, _e77), 0.0));
-    sc = _e81;
-    float _e82 = b_3;
-    float _e83 = co;
-    if (_e82 > _e83) {
-        metal::float2 _e85 = sc;
-        sc = _e85.yx;
-    }
-    float _e88 = sc.x;
-    float _e91 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e88) / metal::max(_e91, 0.000000000000000000000000000001)), 1.0);
-    float _e101 = sc.y;
-    float _e104 = sc.y;
-    float _e110 = sc.x;
-    float _e113 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e110) * _e113)) : (gp - (((4.0 * 0.6) * _e101) * _e104));
-    float _e119 = sum_1;
-    float _e121 = st;
-    float _e126 = d_2;
-    float _e127 = d_2;
-    sum_1 = _e119 + ((0.101228535 * metal::exp(-(tau_5) * _e121)) / (_e126 * metal::sqrt(_e127)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.7966665);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.7966665);
-    float _e146 = b_3;
-    float _e147 = co;
-    metal::float2 _e151 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e146, _e147), 0.0));
-    sc = _e151;
-    float _e152 = b_3;
-    float _e153 = co;
-    if (_e152 > _e153) {
-        metal::float2 _e155 = sc;
-        sc = _e155.yx;
-    }
-    float _e158 = sc.x;
-    float _e161 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e158) / metal::max(_e161, 0.000000000000000000000000000001)), 1.0);
-    float _e171 = sc.y;
-    float _e174 = sc.y;
-    float _e180 = sc.x;
-    float _e183 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e180) * _e183)) : (gp - (((4.0 * 0.6) * _e171) * _e174));
-    float _e189 = sum_1;
-    float _e191 = st;
-    float _e196 = d_2;
-    float _e197 = d_2;
-    sum_1 = _e189 + ((0.22238104 * metal::exp(-(tau_5) * _e191)) / (_e196 * metal::sqrt(_e197)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.5255324);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.5255324);
-    float _e216 = b_3;
-    float _e217 = co;
-    metal::float2 _e221 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e216, _e217), 0.0));
-    sc = _e221;
-    float _e222 = b_3;
-    float _e223 = co;
-    if (_e222 > _e223) {
-        metal::float2 _e225 = sc;
-        sc = _e225.yx;
-    }
-    float _e228 = sc.x;
-    float _e231 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e228) / metal::max(_e231, 0.000000000000000000000000000001)), 1.0);
-    float _e241 = sc.y;
-    float _e244 = sc.y;
-    float _e250 = sc.x;
-    float _e253 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e250) * _e253)) : (gp - (((4.0 * 0.6) * _e241) * _e244));
-    float _e259 = sum_1;
-    float _e261 = st;
-    float _e266 = d_2;
-    float _e267 = d_2;
-    sum_1 = _e259 + ((0.31370664 * metal::exp(-(tau_5) * _e261)) / (_e266 * metal::sqrt(_e267)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 1.1834346);
-    co = (0.5 * comp) - ((0.5 * half_1) * 1.1834346);
-    float _e286 = b_3;
-    float _e287 = co;
-    metal::float2 _e291 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e286, _e287), 0.0));
-    sc = _e291;
-    float _e292 = b_3;
-    float _e293 = co;
-    if (_e292 > _e293) {
-        metal::float2 _e295 = sc;
-        sc = _e295.yx;
-    }
-    float _e298 = sc.x;
-    float _e301 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e298) / metal::max(_e301, 0.000000000000000000000000000001)), 1.0);
-    float _e311 = sc.y;
-    float _e314 = sc.y;
-    float _e320 = sc.x;
-    float _e323 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e320) * _e323)) : (gp - (((4.0 * 0.6) * _e311) * _e314));
-    float _e329 = sum_1;
-    float _e331 = st;
-    float _e336 = d_2;
-    float _e337 = d_2;
-    sum_1 = _e329 + ((0.36268377 * metal::exp(-(tau_5) * _e331)) / (_e336 * metal::sqrt(_e337)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.8165654);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.8165654);
-    float _e356 = b_3;
-    float _e357 = co;
-    metal::float2 _e361 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e356, _e357), 0.0));
-    sc = _e361;
-    float _e362 = b_3;
-    float _e363 = co;
-    if (_e362 > _e363) {
-        metal::float2 _e365 = sc;
-        sc = _e365.yx;
-    }
-    float _e368 = sc.x;
-    float _e371 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e368) / metal::max(_e371, 0.000000000000000000000000000001)), 1.0);
-    float _e381 = sc.y;
-    float _e384 = sc.y;
-    float _e390 = sc.x;
-    float _e393 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e390) * _e393)) : (gp - (((4.0 * 0.6) * _e381) * _e384));
-    float _e399 = sum_1;
-    float _e401 = st;
-    float _e406 = d_2;
-    float _e407 = d_2;
-    sum_1 = _e399 + ((0.36268377 * metal::exp(-(tau_5) * _e401)) / (_e406 * metal::sqrt(_e407)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.47446758);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.47446758);
-    float _e426 = b_3;
-    float _e427 = co;
-    metal::float2 _e431 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e426, _e427), 0.0));
-    sc = _e431;
-    float _e432 = b_3;
-    float _e433 = co;
-    if (_e432 > _e433) {
-        metal::float2 _e435 = sc;
-        sc = _e435.yx;
-    }
-    float _e438 = sc.x;
-    float _e441 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e438) / metal::max(_e441, 0.000000000000000000000000000001)), 1.0);
-    float _e451 = sc.y;
-    float _e454 = sc.y;
-    float _e460 = sc.x;
-    float _e463 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e460) * _e463)) : (gp - (((4.0 * 0.6) * _e451) * _e454));
-    float _e469 = sum_1;
-    float _e471 = st;
-    float _e476 = d_2;
-    float _e477 = d_2;
-    sum_1 = _e469 + ((0.31370664 * metal::exp(-(tau_5) * _e471)) / (_e476 * metal::sqrt(_e477)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.2033335);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.2033335);
-    float _e496 = b_3;
-    float _e497 = co;
-    metal::float2 _e501 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e496, _e497), 0.0));
-    sc = _e501;
-    float _e502 = b_3;
-    float _e503 = co;
-    if (_e502 > _e503) {
-        metal::float2 _e505 = sc;
-        sc = _e505.yx;
-    }
-    float _e508 = sc.x;
-    float _e511 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e508) / metal::max(_e511, 0.000000000000000000000000000001)), 1.0);
-    float _e521 = sc.y;
-    float _e524 = sc.y;
-    float _e530 = sc.x;
-    float _e533 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e530) * _e533)) : (gp - (((4.0 * 0.6) * _e521) * _e524));
-    float _e539 = sum_1;
-    float _e541 = st;
-    float _e546 = d_2;
-    float _e547 = d_2;
-    sum_1 = _e539 + ((0.22238104 * metal::exp(-(tau_5) * _e541)) / (_e546 * metal::sqrt(_e547)));
-    b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.039710164);
-    co = (0.5 * comp) - ((0.5 * half_1) * 0.039710164);
-    float _e566 = b_3;
-    float _e567 = co;
-    metal::float2 _e571 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e566, _e567), 0.0));
-    sc = _e571;
-    float _e572 = b_3;
-    float _e573 = co;
-    if (_e572 > _e573) {
-        metal::float2 _e575 = sc;
-        sc = _e575.yx;
-    }
-    float _e578 = sc.x;
-    float _e581 = sc.y;
-    st = metal::max(x0_2 + ((h_2 * _e578) / metal::max(_e581, 0.000000000000000000000000000001)), 1.0);
-    float _e591 = sc.y;
-    float _e594 = sc.y;
-    float _e600 = sc.x;
-    float _e603 = sc.x;
-    d_2 = (0.6 >= 0.0) ? (gm + (((4.0 * 0.6) * _e600) * _e603)) : (gp - (((4.0 * 0.6) * _e591) * _e594));
-    float _e609 = sum_1;
-    float _e611 = st;
-    float _e616 = d_2;
-    float _e617 = d_2;
-    sum_1 = _e609 + ((0.101228535 * metal::exp(-(tau_5) * _e611)) / (_e616 * metal::sqrt(_e617)));
-    float _e629 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - 0.6)) * (1.0 + 0.6)) * _e629) * half_1) / h_2, airlight_scene_spot_harbour_HUGE);
-}
-
-metal::float3 airlight_scene_spot_harbour_airlight_geometry_rgb(
-    metal::float3 tau_in_1,
-    float h_3,
-    float x0_3,
-    float gamma_1,
-    float comp_1,
-    float rho_3,
-    float xr_1
-) {
-    bool local_9 = {};
-    bool local_10 = {};
-    float span_1 = {};
-    bool local_11 = {};
-    metal::float3 sum_2 = metal::float3(0.0);
-    metal::float2 sc_1 = {};
-    float b_4 = {};
-    float co_1 = {};
-    float st_1 = {};
-    float d_3 = {};
-    metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
-    float gm_1 = (1.0 - 0.6) * (1.0 - 0.6);
-    float gp_1 = (1.0 + 0.6) * (1.0 + 0.6);
-    if (!((h_3 <= 0.0))) {
-        if (x0_3 < 0.0) {
-            local_10 = h_3 < 0.0000000000000000008673617;
+    bool _e85 = local_6;
+    bool open = !(_e85);
+    if (!(open)) {
+        float ta = metal::abs(xr);
+        float tm = metal::max(ta, tb);
+        float tr = (tm > 0.0) ? (tm * metal::sqrt(((ta / tm) * (ta / tm)) + ((tb / tm) * (tb / tm)))) : 0.0;
+        if (xr <= 0.0) {
+            du = (rho_1 * ((tr - xr) + one_minus)) / ((tr + 1.0) * tb);
         } else {
-            local_10 = false;
+            du = ((2.0 * rho_1) * tb) / (((1.0 + rho_1) + tr) * (tr + xr));
         }
-        bool _e36 = local_10;
-        local_9 = _e36;
-    } else {
-        local_9 = true;
     }
-    bool _e38 = local_9;
-    if (_e38) {
-        float _e40 = airlight_scene_spot_harbour_airlight_axis(tau_6.x, x0_3, rho_3, 0.6);
-        float _e42 = airlight_scene_spot_harbour_airlight_axis(tau_6.y, x0_3, rho_3, 0.6);
-        float _e44 = airlight_scene_spot_harbour_airlight_axis(tau_6.z, x0_3, rho_3, 0.6);
-        return metal::float3(_e40, _e42, _e44);
+    float _e123 = du;
+    float ub = ua + _e123;
+    float t = tau_5 * tb;
+    float kap = md.w;
+    float m_2 = kap + ua;
+    float lam = m_2 / (1.0 + ((0.37588415 * t) * m_2));
+    float _e134 = du;
+    bool is_short = _e134 < (0.01 * m_2);
+    float _e138 = du;
+    float mb = m_2 + _e138;
+    float _e141 = du;
+    float _e145 = airlight_scene_spot_harbour_e2_over(t * mb, mb);
+    float from_b = open ? 0.0 : (metal::exp(-(t) * _e141) * _e145);
+    float beta = is_short ? 0.0 : (1.0 / (1.0 + ((0.2251005 * t) * m_2)));
+    float _e159 = airlight_scene_spot_harbour_e2_over(t * m_2, m_2);
+    sum = beta * (_e159 - from_b);
+    float _e163 = du;
+    float _e164 = du;
+    float sb_1 = open ? 1.0 : (_e163 / (lam + _e164));
+    v_2 = 1.0 / (1.0 - (sb_1 * 0.0590947));
+    float _e183 = v_2;
+    r_1 = (sb_1 * 0.0590947) * _e183;
+    float _e185 = r_1;
+    u = ua + (lam * _e185);
+    float _e189 = u;
+    float _e190 = u;
+    iq = 1.0 / ((kap * kap) + (_e189 * _e190));
+    float _e195 = nodes;
+    float _e196 = v_2;
+    float _e199 = v_2;
+    float _e201 = u;
+    float _e202 = u;
+    float _e206 = iq;
+    float _e209 = iq;
+    float _e211 = u;
+    float _e213 = u;
+    float _e221 = r_1;
+    nodes = _e195 + ((((0.1067142 * _e196) * _e199) * ((metal::sqrt((1.0 + (_e201 * _e202)) * _e206) * _e209) - (beta / ((kap + _e211) * (kap + _e213))))) * metal::exp((-(t) * lam) * _e221));
+    v_2 = 1.0 / (1.0 - (sb_1 * 0.22183506));
+    float _e234 = v_2;
+    r_1 = (sb_1 * 0.22183506) * _e234;
+    float _e236 = r_1;
+    u = ua + (lam * _e236);
+    float _e240 = u;
+    float _e241 = u;
+    iq = 1.0 / ((kap * kap) + (_e240 * _e241));
+    float _e246 = nodes;
+    float _e247 = v_2;
+    float _e250 = v_2;
+    float _e252 = u;
+    float _e253 = u;
+    float _e257 = iq;
+    float _e260 = iq;
+    float _e262 = u;
+    float _e264 = u;
+    float _e272 = r_1;
+    nodes = _e246 + ((((0.26659542 * _e247) * _e250) * ((metal::sqrt((1.0 + (_e252 * _e253)) * _e257) * _e260) - (beta / ((kap + _e262) * (kap + _e264))))) * metal::exp((-(t) * lam) * _e272));
+    v_2 = 1.0 / (1.0 - (sb_1 * 0.5288123));
+    float _e285 = v_2;
+    r_1 = (sb_1 * 0.5288123) * _e285;
+    float _e287 = r_1;
+    u = ua + (lam * _e287);
+    float _e291 = u;
+    float _e292 = u;
+    iq = 1.0 / ((kap * kap) + (_e291 * _e292));
+    float _e297 = nodes;
+    float _e298 = v_2;
+    float _e301 = v_2;
+    float _e303 = u;
+    float _e304 = u;
+    float _e308 = iq;
+    float _e311 = iq;
+    float _e313 = u;
+    float _e315 = u;
+    float _e323 = r_1;
+    nodes = _e297 + ((((0.29372224 * _e298) * _e301) * ((metal::sqrt((1.0 + (_e303 * _e304)) * _e308) * _e311) - (beta / ((kap + _e313) * (kap + _e315))))) * metal::exp((-(t) * lam) * _e323));
+    v_2 = 1.0 / (1.0 - (sb_1 * 0.7768407));
+    float _e336 = v_2;
+    r_1 = (sb_1 * 0.7768407) * _e336;
+    float _e338 = r_1;
+    u = ua + (lam * _e338);
+    float _e342 = u;
+    float _e343 = u;
+    iq = 1.0 / ((kap * kap) + (_e342 * _e343));
+    float _e348 = nodes;
+    float _e349 = v_2;
+    float _e352 = v_2;
+    float _e354 = u;
+    float _e355 = u;
+    float _e359 = iq;
+    float _e362 = iq;
+    float _e364 = u;
+    float _e366 = u;
+    float _e374 = r_1;
+    nodes = _e348 + ((((0.20575337 * _e349) * _e352) * ((metal::sqrt((1.0 + (_e354 * _e355)) * _e359) * _e362) - (beta / ((kap + _e364) * (kap + _e366))))) * metal::exp((-(t) * lam) * _e374));
+    v_2 = 1.0 / (1.0 - (sb_1 * 0.94264346));
+    float _e387 = v_2;
+    r_1 = (sb_1 * 0.94264346) * _e387;
+    float _e389 = r_1;
+    u = ua + (lam * _e389);
+    float _e393 = u;
+    float _e394 = u;
+    iq = 1.0 / ((kap * kap) + (_e393 * _e394));
+    float _e399 = nodes;
+    float _e400 = v_2;
+    float _e403 = v_2;
+    float _e405 = u;
+    float _e406 = u;
+    float _e410 = iq;
+    float _e413 = iq;
+    float _e415 = u;
+    float _e417 = u;
+    float _e425 = r_1;
+    nodes = _e399 + ((((0.12721477 * _e400) * _e403) * ((metal::sqrt((1.0 + (_e405 * _e406)) * _e410) * _e413) - (beta / ((kap + _e415) * (kap + _e417))))) * metal::exp((-(t) * lam) * _e425));
+    float _e430 = sum;
+    float _e431 = nodes;
+    sum = _e430 + ((_e431 * sb_1) * lam);
+    float pc = (0.07957747 * md.y) / (md.z * md.z);
+    if (tb < 0.0000000000000000008673617) {
+        float _e446 = sum;
+        float _e453 = airlight_scene_spot_harbour_scaled((2.0 * pc) * metal::max(_e446, 0.0), metal::exp(-(tau_5)), tb, 1.0);
+        return _e453;
     }
-    span_1 = comp_1;
-    if (rho_3 >= 0.0) {
-        local_11 = rho_3 < airlight_scene_spot_harbour_RHO_OPEN;
-    } else {
-        local_11 = false;
-    }
-    bool _e54 = local_11;
-    if (_e54) {
-        float _e59 = airlight_scene_spot_harbour_arctan2_(h_3 * rho_3, (h_3 * h_3) + (x0_3 * xr_1));
-        span_1 = _e59;
-    }
-    float _e60 = span_1;
-    float half_2 = 0.5 * _e60;
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.9602898);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.9602898);
-    float _e85 = b_4;
-    float _e86 = co_1;
-    metal::float2 _e90 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e85, _e86), 0.0));
-    sc_1 = _e90;
-    float _e91 = b_4;
-    float _e92 = co_1;
-    if (_e91 > _e92) {
-        metal::float2 _e94 = sc_1;
-        sc_1 = _e94.yx;
-    }
-    float _e97 = sc_1.x;
-    float _e100 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e97) / metal::max(_e100, 0.000000000000000000000000000001)), 1.0);
-    float _e110 = sc_1.y;
-    float _e113 = sc_1.y;
-    float _e119 = sc_1.x;
-    float _e122 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e119) * _e122)) : (gp_1 - (((4.0 * 0.6) * _e110) * _e113));
-    metal::float3 _e128 = sum_2;
-    float _e130 = st_1;
-    float _e135 = d_3;
-    float _e136 = d_3;
-    sum_2 = _e128 + ((0.101228535 * metal::exp(-(tau_6) * _e130)) / metal::float3(_e135 * metal::sqrt(_e136)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.7966665);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.7966665);
-    float _e156 = b_4;
-    float _e157 = co_1;
-    metal::float2 _e161 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e156, _e157), 0.0));
-    sc_1 = _e161;
-    float _e162 = b_4;
-    float _e163 = co_1;
-    if (_e162 > _e163) {
-        metal::float2 _e165 = sc_1;
-        sc_1 = _e165.yx;
-    }
-    float _e168 = sc_1.x;
-    float _e171 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e168) / metal::max(_e171, 0.000000000000000000000000000001)), 1.0);
-    float _e181 = sc_1.y;
-    float _e184 = sc_1.y;
-    float _e190 = sc_1.x;
-    float _e193 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e190) * _e193)) : (gp_1 - (((4.0 * 0.6) * _e181) * _e184));
-    metal::float3 _e199 = sum_2;
-    float _e201 = st_1;
-    float _e206 = d_3;
-    float _e207 = d_3;
-    sum_2 = _e199 + ((0.22238104 * metal::exp(-(tau_6) * _e201)) / metal::float3(_e206 * metal::sqrt(_e207)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.5255324);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.5255324);
-    float _e227 = b_4;
-    float _e228 = co_1;
-    metal::float2 _e232 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e227, _e228), 0.0));
-    sc_1 = _e232;
-    float _e233 = b_4;
-    float _e234 = co_1;
-    if (_e233 > _e234) {
-        metal::float2 _e236 = sc_1;
-        sc_1 = _e236.yx;
-    }
-    float _e239 = sc_1.x;
-    float _e242 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e239) / metal::max(_e242, 0.000000000000000000000000000001)), 1.0);
-    float _e252 = sc_1.y;
-    float _e255 = sc_1.y;
-    float _e261 = sc_1.x;
-    float _e264 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e261) * _e264)) : (gp_1 - (((4.0 * 0.6) * _e252) * _e255));
-    metal::float3 _e270 = sum_2;
-    float _e272 = st_1;
-    float _e277 = d_3;
-    float _e278 = d_3;
-    sum_2 = _e270 + ((0.31370664 * metal::exp(-(tau_6) * _e272)) / metal::float3(_e277 * metal::sqrt(_e278)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 1.1834346);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 1.1834346);
-    float _e298 = b_4;
-    float _e299 = co_1;
-    metal::float2 _e303 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e298, _e299), 0.0));
-    sc_1 = _e303;
-    float _e304 = b_4;
-    float _e305 = co_1;
-    if (_e304 > _e305) {
-        metal::float2 _e307 = sc_1;
-        sc_1 = _e307.yx;
-    }
-    float _e310 = sc_1.x;
-    float _e313 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e310) / metal::max(_e313, 0.000000000000000000000000000001)), 1.0);
-    float _e323 = sc_1.y;
-    float _e326 = sc_1.y;
-    float _e332 = sc_1.x;
-    float _e335 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e332) * _e335)) : (gp_1 - (((4.0 * 0.6) * _e323) * _e326));
-    metal::float3 _e341 = sum_2;
-    float _e343 = st_1;
-    float _e348 = d_3;
-    float _e349 = d_3;
-    sum_2 = _e341 + ((0.36268377 * metal::exp(-(tau_6) * _e343)) / metal::float3(_e348 * metal::sqrt(_e349)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.8165654);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.8165654);
-    float _e369 = b_4;
-    float _e370 = co_1;
-    metal::float2 _e374 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e369, _e370), 0.0));
-    sc_1 = _e374;
-    float _e375 = b_4;
-    float _e376 = co_1;
-    if (_e375 > _e376) {
-        metal::float2 _e378 = sc_1;
-        sc_1 = _e378.yx;
-    }
-    float _e381 = sc_1.x;
-    float _e384 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e381) / metal::max(_e384, 0.000000000000000000000000000001)), 1.0);
-    float _e394 = sc_1.y;
-    float _e397 = sc_1.y;
-    float _e403 = sc_1.x;
-    float _e406 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e403) * _e406)) : (gp_1 - (((4.0 * 0.6) * _e394) * _e397));
-    metal::float3 _e412 = sum_2;
-    float _e414 = st_1;
-    float _e419 = d_3;
-    float _e420 = d_3;
-    sum_2 = _e412 + ((0.36268377 * metal::exp(-(tau_6) * _e414)) / metal::float3(_e419 * metal::sqrt(_e420)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.47446758);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.47446758);
-    float _e440 = b_4;
-    float _e441 = co_1;
-    metal::float2 _e445 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e440, _e441), 0.0));
-    sc_1 = _e445;
-    float _e446 = b_4;
-    float _e447 = co_1;
-    if (_e446 > _e447) {
-        metal::float2 _e449 = sc_1;
-        sc_1 = _e449.yx;
-    }
-    float _e452 = sc_1.x;
-    float _e455 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e452) / metal::max(_e455, 0.000000000000000000000000000001)), 1.0);
-    float _e465 = sc_1.y;
-    float _e468 = sc_1.y;
-    float _e474 = sc_1.x;
-    float _e477 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e474) * _e477)) : (gp_1 - (((4.0 * 0.6) * _e465) * _e468));
-    metal::float3 _e483 = sum_2;
-    float _e485 = st_1;
-    float _e490 = d_3;
-    float _e491 = d_3;
-    sum_2 = _e483 + ((0.31370664 * metal::exp(-(tau_6) * _e485)) / metal::float3(_e490 * metal::sqrt(_e491)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.2033335);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.2033335);
-    float _e511 = b_4;
-    float _e512 = co_1;
-    metal::float2 _e516 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e511, _e512), 0.0));
-    sc_1 = _e516;
-    float _e517 = b_4;
-    float _e518 = co_1;
-    if (_e517 > _e518) {
-        metal::float2 _e520 = sc_1;
-        sc_1 = _e520.yx;
-    }
-    float _e523 = sc_1.x;
-    float _e526 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e523) / metal::max(_e526, 0.000000000000000000000000000001)), 1.0);
-    float _e536 = sc_1.y;
-    float _e539 = sc_1.y;
-    float _e545 = sc_1.x;
-    float _e548 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e545) * _e548)) : (gp_1 - (((4.0 * 0.6) * _e536) * _e539));
-    metal::float3 _e554 = sum_2;
-    float _e556 = st_1;
-    float _e561 = d_3;
-    float _e562 = d_3;
-    sum_2 = _e554 + ((0.22238104 * metal::exp(-(tau_6) * _e556)) / metal::float3(_e561 * metal::sqrt(_e562)));
-    b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.039710164);
-    co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.039710164);
-    float _e582 = b_4;
-    float _e583 = co_1;
-    metal::float2 _e587 = airlight_scene_spot_harbour_sin_cos(metal::max(metal::min(_e582, _e583), 0.0));
-    sc_1 = _e587;
-    float _e588 = b_4;
-    float _e589 = co_1;
-    if (_e588 > _e589) {
-        metal::float2 _e591 = sc_1;
-        sc_1 = _e591.yx;
-    }
-    float _e594 = sc_1.x;
-    float _e597 = sc_1.y;
-    st_1 = metal::max(x0_3 + ((h_3 * _e594) / metal::max(_e597, 0.000000000000000000000000000001)), 1.0);
-    float _e607 = sc_1.y;
-    float _e610 = sc_1.y;
-    float _e616 = sc_1.x;
-    float _e619 = sc_1.x;
-    d_3 = (0.6 >= 0.0) ? (gm_1 + (((4.0 * 0.6) * _e616) * _e619)) : (gp_1 - (((4.0 * 0.6) * _e607) * _e610));
-    metal::float3 _e625 = sum_2;
-    float _e627 = st_1;
-    float _e632 = d_3;
-    float _e633 = d_3;
-    sum_2 = _e625 + ((0.101228535 * metal::exp(-(tau_6) * _e627)) / metal::float3(_e632 * metal::sqrt(_e633)));
-    metal::float3 _e646 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - 0.6)) * (1.0 + 0.6)) * _e646) * half_2) / metal::float3(h_3), metal::float3(340282350000000000000000000000000000000.0));
+    float _e459 = sum;
+    return metal::min(metal::max(((2.0 * pc) * metal::exp(-(tau_5))) * (_e459 / tb), 0.0), airlight_scene_spot_harbour_HUGE);
 }
 
 float airlight_scene_spot_harbour_airlight(
-    float tau_1,
-    float gamma_2,
-    float rho_4
+    float tau,
+    float gamma,
+    float rho_2
 ) {
-    float gc = metal::clamp(gamma_2, 0.0, airlight_scene_spot_harbour_PI);
-    metal::float2 _e6 = airlight_scene_spot_harbour_sin_cos(gc);
-    float comp_2 = metal::max((airlight_scene_spot_harbour_PI - gc) - 0.00000008742278, 0.0);
-    metal::float2 _e15 = airlight_scene_spot_harbour_sin_cos(comp_2);
-    float h_7 = (gc > comp_2) ? _e15.x : metal::abs(_e6.x);
-    float _e21 = airlight_scene_spot_harbour_foot(h_7, _e6.y, rho_4);
-    float _e22 = airlight_scene_spot_harbour_airlight_geometry(tau_1, h_7, _e6.y, gc, comp_2, rho_4, _e21);
-    return _e22;
+    metal::float2 _e6 = airlight_scene_spot_harbour_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_spot_harbour_PI));
+    float _e13 = airlight_scene_spot_harbour_foot(metal::abs(_e6.x), _e6.y, rho_2);
+    float _e14 = airlight_scene_spot_harbour_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    return _e14;
 }
 
 float airlight_scene_spot_harbour_radiance(
@@ -902,57 +531,67 @@ float airlight_scene_spot_harbour_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_12 = {};
+    bool local_7 = {};
     metal::float3 _e7 = airlight_scene_spot_harbour_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
         float _e13 = airlight_scene_spot_harbour_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_spot_harbour_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
-        local_12 = _e7.z == 0.0;
+        local_7 = _e7.z == 0.0;
     } else {
-        local_12 = false;
+        local_7 = false;
     }
-    bool _e23 = local_12;
+    bool _e23 = local_7;
     if (_e23) {
         return 0.0;
     }
-    float rho_8 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
-    float _e33 = airlight_scene_spot_harbour_arctan2_(_e7.y, _e7.z);
-    float _e37 = airlight_scene_spot_harbour_arctan2_(_e7.y, -(_e7.z));
-    float _e45 = airlight_scene_spot_harbour_foot(_e7.y, _e7.z, rho_8);
-    float _e46 = airlight_scene_spot_harbour_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, _e33, _e37, rho_8, _e45);
-    float _e47 = airlight_scene_spot_harbour_scaled(sigma_s_1, intensity_1, _e7.x, _e46);
-    return _e47;
+    float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
+    float _e38 = airlight_scene_spot_harbour_foot(_e7.y, _e7.z, rho_7);
+    float _e39 = airlight_scene_spot_harbour_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7, _e38);
+    float _e40 = airlight_scene_spot_harbour_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    return _e40;
+}
+
+float airlight_scene_spot_harbour_along(
+    float tau_1,
+    float h_2,
+    float x0_2,
+    float rho_3,
+    float xr_1,
+    float g
+) {
+    float _e6 = airlight_scene_spot_harbour_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    return _e6;
 }
 
 metal::float3 airlight_scene_spot_harbour_along_rgb(
     metal::float3 tau_2,
-    float h_4,
-    float x0_4,
-    float rho_5,
+    float h_3,
+    float x0_3,
+    float rho_4,
     float xr_2,
     float g_1
 ) {
-    float _e6 = airlight_scene_spot_harbour_arctan2_(h_4, x0_4);
-    float _e8 = airlight_scene_spot_harbour_arctan2_(h_4, -(x0_4));
-    metal::float3 _e9 = airlight_scene_spot_harbour_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2);
-    return _e9;
+    float _e7 = airlight_scene_spot_harbour_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_scene_spot_harbour_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_scene_spot_harbour_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    return metal::float3(_e7, _e9, _e11);
 }
 
 float airlight_scene_spot_harbour_spot_asin(
     float x_4,
-    float r_1
+    float r_2
 ) {
-    float _e8 = airlight_scene_spot_harbour_arctan2_(x_4, metal::sqrt(metal::max((r_1 - x_4) * (r_1 + x_4), 0.0)));
+    float _e8 = airlight_scene_spot_harbour_arctan2_(x_4, metal::sqrt(metal::max((r_2 - x_4) * (r_2 + x_4), 0.0)));
     return _e8;
 }
 
 metal::float3 airlight_scene_spot_harbour_spot_core(
     metal::float3 tau_3,
-    float h_5,
-    float x0_5,
-    float rho_6,
+    float h_4,
+    float x0_4,
+    float rho_5,
     float gam,
     float wa,
     float wb,
@@ -966,19 +605,19 @@ metal::float3 airlight_scene_spot_harbour_spot_core(
     float s0_ = 0.0;
     float rho1_ = {};
     float xr1_ = {};
-    bool local_13 = {};
-    h1_ = h_5;
-    x1_ = x0_5;
-    rho1_ = rho_6;
+    bool local_8 = {};
+    h1_ = h_4;
+    x1_ = x0_4;
+    rho1_ = rho_5;
     metal::float2 _e17 = airlight_scene_spot_harbour_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = h_5 / metal::max(_e17.x, 0.000000000000000000000000000001);
+        t0_ = h_4 / metal::max(_e17.x, 0.000000000000000000000000000001);
         metal::float2 _e25 = airlight_scene_spot_harbour_sin_cos(wa - gam);
         s0_ = _e25.x / metal::max(_e17.x, 0.000000000000000000000000000001);
     }
-    float _e31 = airlight_scene_spot_harbour_foot(h_5, x0_5, rho_6);
+    float _e31 = airlight_scene_spot_harbour_foot(h_4, x0_4, rho_5);
     xr1_ = _e31;
     if (cut_b) {
         metal::float2 _e33 = airlight_scene_spot_harbour_sin_cos(wb);
@@ -988,15 +627,15 @@ metal::float3 airlight_scene_spot_harbour_spot_core(
         xr1_ = (_e41 * _e33.y) / metal::max(_e33.x, 0.000000000000000000000000000001);
     } else {
         if (cut_a) {
-            local_13 = rho_6 >= 0.0;
+            local_8 = rho_5 >= 0.0;
         } else {
-            local_13 = false;
+            local_8 = false;
         }
-        bool _e53 = local_13;
+        bool _e53 = local_8;
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = metal::max((rho_6 - _e54) / _e56, 0.0);
+            rho1_ = metal::max((rho_5 - _e54) / _e56, 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -1017,56 +656,56 @@ metal::float3 airlight_scene_spot_harbour_spot_core(
 
 float airlight_scene_spot_harbour_spot_weight(
     float c_2,
-    float co_2,
+    float co,
     float ci
 ) {
-    if (ci > co_2) {
-        return metal::clamp((c_2 - co_2) / (ci - co_2), 0.0, 1.0);
+    if (ci > co) {
+        return metal::clamp((c_2 - co) / (ci - co), 0.0, 1.0);
     }
-    return (c_2 >= co_2) ? 1.0 : 0.0;
+    return (c_2 >= co) ? 1.0 : 0.0;
 }
 
 metal::float3 airlight_scene_spot_harbour_spot_edge(
     metal::float3 tau_4,
-    float h_6,
-    float x0_6,
-    float rho_7,
+    float h_5,
+    float x0_5,
+    float rho_6,
     float gam_1,
     float om_e,
     float u_1,
     float v_in,
     float ca,
     float k_1,
-    float co_3,
+    float co_1,
     float ci_1,
     float g_3
 ) {
     metal::float3 exact = metal::float3(0.0);
-    airlight_scene_spot_harbour_type_6 pieces = airlight_scene_spot_harbour_type_6 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
-    metal::float3 sum_3 = metal::float3(0.0);
+    airlight_scene_spot_harbour_type_7 pieces = airlight_scene_spot_harbour_type_7 {{0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0}};
+    metal::float3 sum_1 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_4 = {};
-    float st_2 = {};
+    float d_3 = {};
+    float st = {};
     int i = 0;
     if (!((v_in > u_1))) {
         return metal::float3(0.0);
     }
     metal::float2 _e17 = airlight_scene_spot_harbour_sin_cos(u_1);
     metal::float2 _e18 = airlight_scene_spot_harbour_sin_cos(v_in);
-    float _e24 = airlight_scene_spot_harbour_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_3, ci_1);
-    float _e30 = airlight_scene_spot_harbour_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_3, ci_1);
+    float _e24 = airlight_scene_spot_harbour_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_scene_spot_harbour_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_scene_spot_harbour_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
+        metal::float3 _e39 = airlight_scene_spot_harbour_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
             return metal::float3(340282350000000000000000000000000000000.0);
         }
     }
-    float gm_2 = (1.0 - g_3) * (1.0 - g_3);
-    float gp_2 = (1.0 + g_3) * (1.0 + g_3);
+    float gm = (1.0 - g_3) * (1.0 - g_3);
+    float gp = (1.0 + g_3) * (1.0 + g_3);
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
     while(true) {
@@ -1088,10 +727,10 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float a_7 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
-            float b_5 = u_1 + ((v_in - u_1) * _e88);
-            float half_3 = 0.5 * (b_5 - a_7);
-            float mid = 0.5 * (b_5 + a_7);
-            w = mid + (half_3 * 0.96028984);
+            float b_3 = u_1 + ((v_in - u_1) * _e88);
+            float half_ = 0.5 * (b_3 - a_7);
+            float mid = 0.5 * (b_3 + a_7);
+            w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_scene_spot_harbour_sin_cos(0.5 * _e100);
             sb = _e103;
@@ -1099,23 +738,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e116) * _e119)) : (gp_2 - (((4.0 * g_3) * _e107) * _e110));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e136 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e136 = sum_1;
             float _e142 = sb.x;
             float _e145 = sb.y;
             float _e148 = sb.y;
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_3, ci_1);
-            float _e163 = d_4;
-            float _e164 = d_4;
-            float _e169 = st_2;
-            sum_3 = _e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
-            w = mid + (half_3 * 0.7966665);
+            float _e160 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
+            float _e169 = st;
+            sum_1 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
+            w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_scene_spot_harbour_sin_cos(0.5 * _e177);
             sb = _e180;
@@ -1123,23 +762,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e193) * _e196)) : (gp_2 - (((4.0 * g_3) * _e184) * _e187));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e213 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e213 = sum_1;
             float _e219 = sb.x;
             float _e222 = sb.y;
             float _e225 = sb.y;
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_3, ci_1);
-            float _e240 = d_4;
-            float _e241 = d_4;
-            float _e246 = st_2;
-            sum_3 = _e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
-            w = mid + (half_3 * 0.5255324);
+            float _e237 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
+            float _e246 = st;
+            sum_1 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
+            w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_scene_spot_harbour_sin_cos(0.5 * _e254);
             sb = _e257;
@@ -1147,23 +786,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e270) * _e273)) : (gp_2 - (((4.0 * g_3) * _e261) * _e264));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e290 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e290 = sum_1;
             float _e296 = sb.x;
             float _e299 = sb.y;
             float _e302 = sb.y;
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_3, ci_1);
-            float _e317 = d_4;
-            float _e318 = d_4;
-            float _e323 = st_2;
-            sum_3 = _e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
-            w = mid + (half_3 * 0.18343464);
+            float _e314 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
+            float _e323 = st;
+            sum_1 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
+            w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_scene_spot_harbour_sin_cos(0.5 * _e331);
             sb = _e334;
@@ -1171,23 +810,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e347) * _e350)) : (gp_2 - (((4.0 * g_3) * _e338) * _e341));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e367 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e367 = sum_1;
             float _e373 = sb.x;
             float _e376 = sb.y;
             float _e379 = sb.y;
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_3, ci_1);
-            float _e394 = d_4;
-            float _e395 = d_4;
-            float _e400 = st_2;
-            sum_3 = _e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
-            w = mid + (half_3 * -0.18343464);
+            float _e391 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
+            float _e400 = st;
+            sum_1 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
+            w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_scene_spot_harbour_sin_cos(0.5 * _e408);
             sb = _e411;
@@ -1195,23 +834,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e424) * _e427)) : (gp_2 - (((4.0 * g_3) * _e415) * _e418));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e444 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e444 = sum_1;
             float _e450 = sb.x;
             float _e453 = sb.y;
             float _e456 = sb.y;
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_3, ci_1);
-            float _e471 = d_4;
-            float _e472 = d_4;
-            float _e477 = st_2;
-            sum_3 = _e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
-            w = mid + (half_3 * -0.5255324);
+            float _e468 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
+            float _e477 = st;
+            sum_1 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
+            w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_scene_spot_harbour_sin_cos(0.5 * _e485);
             sb = _e488;
@@ -1219,23 +858,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e501) * _e504)) : (gp_2 - (((4.0 * g_3) * _e492) * _e495));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e521 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e521 = sum_1;
             float _e527 = sb.x;
             float _e530 = sb.y;
             float _e533 = sb.y;
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_3, ci_1);
-            float _e548 = d_4;
-            float _e549 = d_4;
-            float _e554 = st_2;
-            sum_3 = _e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
-            w = mid + (half_3 * -0.7966665);
+            float _e545 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
+            float _e554 = st;
+            sum_1 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
+            w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_scene_spot_harbour_sin_cos(0.5 * _e562);
             sb = _e565;
@@ -1243,23 +882,23 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e578) * _e581)) : (gp_2 - (((4.0 * g_3) * _e569) * _e572));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e598 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e598 = sum_1;
             float _e604 = sb.x;
             float _e607 = sb.y;
             float _e610 = sb.y;
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_3, ci_1);
-            float _e625 = d_4;
-            float _e626 = d_4;
-            float _e631 = st_2;
-            sum_3 = _e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
-            w = mid + (half_3 * -0.96028984);
+            float _e622 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
+            float _e631 = st;
+            sum_1 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
+            w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_scene_spot_harbour_sin_cos(0.5 * _e639);
             sb = _e642;
@@ -1267,27 +906,27 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_4 = (g_3 >= 0.0) ? (gm_2 + (((4.0 * g_3) * _e655) * _e658)) : (gp_2 - (((4.0 * g_3) * _e646) * _e649));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
-            st_2 = metal::max(x0_6 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
-            metal::float3 _e675 = sum_3;
+            st = metal::max(x0_5 + ((h_5 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
+            metal::float3 _e675 = sum_1;
             float _e681 = sb.x;
             float _e684 = sb.y;
             float _e687 = sb.y;
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_3, ci_1);
-            float _e702 = d_4;
-            float _e703 = d_4;
-            float _e708 = st_2;
-            sum_3 = _e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
+            float _e699 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
+            float _e708 = st;
+            sum_1 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
         }
     }
     metal::float3 _e716 = exact;
-    metal::float3 _e725 = sum_3;
-    return metal::clamp((we * _e716) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e725) / metal::float3(h_6)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e725 = sum_1;
+    return metal::clamp((we * _e716) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e725) / metal::float3(h_5)), metal::float3(0.0), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 metal::float3 airlight_scene_spot_harbour_spot(
@@ -1302,14 +941,14 @@ metal::float3 airlight_scene_spot_harbour_spot(
     metal::float3 sigma_t_1,
     metal::float3 sigma_s_2
 ) {
-    bool local_14 = {};
-    bool local_15 = {};
+    bool local_9 = {};
+    bool local_10 = {};
     metal::float3 ax = metal::float3(0.0, 0.0, 1.0);
     metal::float3 n = {};
-    bool local_16 = {};
+    bool local_11 = {};
     float scale = 1.0;
-    bool local_17 = {};
-    bool local_18 = {};
+    bool local_12 = {};
+    bool local_13 = {};
     bool core = false;
     float gam_2 = 0.0;
     float wa_1 = 0.0;
@@ -1319,28 +958,28 @@ metal::float3 airlight_scene_spot_harbour_spot(
     metal::float4 pen = metal::float4(0.0);
     float ca_1 = 0.0;
     float om_e_1 = airlight_scene_spot_harbour_PI;
-    bool local_19 = {};
-    bool local_20 = {};
-    bool local_21 = {};
+    bool local_14 = {};
+    bool local_15 = {};
+    bool local_16 = {};
     metal::float3 a_5 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_scene_spot_harbour_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
-    float co_4 = metal::clamp(cos_outer, 0.0, 1.0);
+    float co_2 = metal::clamp(cos_outer, 0.0, 1.0);
     float _e16 = airlight_scene_spot_harbour_max_abs(dir_2);
     float _e17 = airlight_scene_spot_harbour_max_abs(axis);
     if (!(point)) {
         if (_e17 > 0.0) {
-            local_15 = _e17 <= airlight_scene_spot_harbour_HUGE;
+            local_10 = _e17 <= airlight_scene_spot_harbour_HUGE;
         } else {
-            local_15 = false;
+            local_10 = false;
         }
-        bool _e28 = local_15;
-        local_14 = !(_e28);
+        bool _e28 = local_10;
+        local_9 = !(_e28);
     } else {
-        local_14 = false;
+        local_9 = false;
     }
-    bool _e31 = local_14;
+    bool _e31 = local_9;
     if (_e31) {
         return metal::float3(0.0);
     }
@@ -1350,11 +989,11 @@ metal::float3 airlight_scene_spot_harbour_spot(
         ax = metal::normalize(axis / metal::float3(_e17));
     }
     if (_e16 > 0.0) {
-        local_16 = _e16 <= airlight_scene_spot_harbour_HUGE;
+        local_11 = _e16 <= airlight_scene_spot_harbour_HUGE;
     } else {
-        local_16 = false;
+        local_11 = false;
     }
-    bool _e52 = local_16;
+    bool _e52 = local_11;
     if (_e52) {
         n = metal::normalize(dir_2 / metal::float3(_e16));
     }
@@ -1362,7 +1001,7 @@ metal::float3 airlight_scene_spot_harbour_spot(
     metal::float3 _e57 = n;
     float k_2 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_scene_spot_harbour_spot_weight(k_2, co_4, cos_inner);
+        float _e64 = airlight_scene_spot_harbour_spot_weight(k_2, co_2, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
         float _e72 = airlight_scene_spot_harbour_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_scene_spot_harbour_HUGE);
@@ -1373,81 +1012,81 @@ metal::float3 airlight_scene_spot_harbour_spot(
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
-        local_17 = _e10.z == 0.0;
+        local_12 = _e10.z == 0.0;
     } else {
-        local_17 = false;
+        local_12 = false;
     }
-    bool _e95 = local_17;
+    bool _e95 = local_12;
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_5 = _e10.x;
-    float h_8 = _e10.y;
-    float x0_8 = _e10.z;
+    float d_4 = _e10.x;
+    float h_6 = _e10.y;
+    float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_18 = (surface_1 / d_5) < airlight_scene_spot_harbour_RHO_OPEN;
+        local_13 = (surface_1 / d_4) < airlight_scene_spot_harbour_RHO_OPEN;
     } else {
-        local_18 = false;
+        local_13 = false;
     }
-    bool has_end_1 = local_18;
-    float rho_9 = has_end_1 ? (surface_1 / d_5) : -1.0;
-    metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
-    float _e140 = airlight_scene_spot_harbour_arctan2_(h_8, x0_8);
+    bool has_end = local_13;
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
+    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
+    float _e140 = airlight_scene_spot_harbour_arctan2_(h_6, x0_7);
     if (!(point)) {
-        local_19 = h_8 <= 0.0;
+        local_14 = h_6 <= 0.0;
     } else {
-        local_19 = true;
+        local_14 = true;
     }
-    bool _e147 = local_19;
+    bool _e147 = local_14;
     if (!(_e147)) {
-        local_20 = _e140 >= airlight_scene_spot_harbour_PI;
+        local_15 = _e140 >= airlight_scene_spot_harbour_PI;
     } else {
-        local_20 = true;
+        local_15 = true;
     }
-    bool _e154 = local_20;
+    bool _e154 = local_15;
     if (_e154) {
         if (!(point)) {
-            float _e157 = airlight_scene_spot_harbour_spot_weight(-(k_2), co_4, cos_inner);
-            float _e158 = airlight_scene_spot_harbour_spot_weight(k_2, co_4, cos_inner);
-            if (has_end_1) {
-                local_21 = rho_9 < 1.0;
+            float _e157 = airlight_scene_spot_harbour_spot_weight(-(k_2), co_2, cos_inner);
+            float _e158 = airlight_scene_spot_harbour_spot_weight(k_2, co_2, cos_inner);
+            if (has_end) {
+                local_16 = rho_8 < 1.0;
             } else {
-                local_21 = false;
+                local_16 = false;
             }
-            bool _e165 = local_21;
-            scale = (x0_8 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
+            bool _e165 = local_16;
+            scale = (x0_7 < 0.0) ? _e158 : (_e165 ? _e157 : metal::max(_e157, _e158));
         }
         core = true;
     } else {
-        metal::float3 l = light_2 - origin_2;
-        float _e172 = airlight_scene_spot_harbour_max_abs(l);
+        metal::float3 l_1 = light_2 - origin_2;
+        float _e172 = airlight_scene_spot_harbour_max_abs(l_1);
         metal::float3 _e175 = n;
-        metal::float3 cr = metal::cross(l / metal::float3(_e172), _e175);
+        metal::float3 cr = metal::cross(l_1 / metal::float3(_e172), _e175);
         metal::float3 _e177 = n;
         metal::float3 _e178 = ax;
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_4 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
+        float r_5 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
         float _e191 = ca_1;
         float _e192 = airlight_scene_spot_harbour_arctan2_(k_2, _e191);
         gam_2 = _e140;
-        float _e195 = airlight_scene_spot_harbour_arctan2_(h_8, x0_8 - rho_9);
-        om_e_1 = has_end_1 ? _e195 : airlight_scene_spot_harbour_PI;
-        if (co_4 < r_4) {
-            float _e198 = airlight_scene_spot_harbour_spot_asin(co_4, r_4);
+        float _e195 = airlight_scene_spot_harbour_arctan2_(h_6, x0_7 - rho_8);
+        om_e_1 = has_end ? _e195 : airlight_scene_spot_harbour_PI;
+        if (co_2 < r_5) {
+            float _e198 = airlight_scene_spot_harbour_spot_asin(co_2, r_5);
             float _e199 = gam_2;
-            float lo_1 = metal::max(_e199, _e192 + _e198);
+            float lo = metal::max(_e199, _e192 + _e198);
             float _e202 = om_e_1;
             float hi_1 = metal::min(_e202, (_e192 + airlight_scene_spot_harbour_PI) - _e198);
-            wa_1 = lo_1;
+            wa_1 = lo;
             wb_1 = hi_1;
-            if (lo_1 < hi_1) {
-                if (cos_inner <= co_4) {
+            if (lo < hi_1) {
+                if (cos_inner <= co_2) {
                     core = true;
                 } else {
-                    if (cos_inner < r_4) {
-                        float _e211 = airlight_scene_spot_harbour_spot_asin(cos_inner, r_4);
+                    if (cos_inner < r_5) {
+                        float _e211 = airlight_scene_spot_harbour_spot_asin(cos_inner, r_5);
                         float _e212 = gam_2;
                         wa_1 = metal::max(_e212, _e192 + _e211);
                         float _e215 = om_e_1;
@@ -1455,9 +1094,9 @@ metal::float3 airlight_scene_spot_harbour_spot(
                         float _e220 = wa_1;
                         float _e221 = wb_1;
                         core = _e220 < _e221;
-                        pen = metal::float4(lo_1, metal::min(hi_1, _e192 + _e211), metal::max(lo_1, (_e192 + airlight_scene_spot_harbour_PI) - _e211), hi_1);
+                        pen = metal::float4(lo, metal::min(hi_1, _e192 + _e211), metal::max(lo, (_e192 + airlight_scene_spot_harbour_PI) - _e211), hi_1);
                     } else {
-                        pen = metal::float4(lo_1, hi_1, 0.0, 0.0);
+                        pen = metal::float4(lo, hi_1, 0.0, 0.0);
                     }
                 }
             }
@@ -1476,7 +1115,7 @@ metal::float3 airlight_scene_spot_harbour_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_scene_spot_harbour_spot_core(tau_7, h_8, x0_8, rho_9, _e243, _e244, _e245, _e246, _e247, 0.6);
+        metal::float3 _e248 = airlight_scene_spot_harbour_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.6);
         a_5 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
@@ -1504,20 +1143,20 @@ metal::float3 airlight_scene_spot_harbour_spot(
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_scene_spot_harbour_spot_edge(tau_7, h_8, x0_8, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_2, co_4, cos_inner, 0.6);
+                metal::float3 _e271 = airlight_scene_spot_harbour_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.6);
                 a_5 = _e265 + _e271;
             }
         }
     }
     float _e277 = scale;
     float _e280 = a_5.x;
-    float _e281 = airlight_scene_spot_harbour_scaled(sigma_s_2.x, intensity_2 * _e277, d_5, _e280);
+    float _e281 = airlight_scene_spot_harbour_scaled(sigma_s_2.x, intensity_2 * _e277, d_4, _e280);
     float _e283 = scale;
     float _e286 = a_5.y;
-    float _e287 = airlight_scene_spot_harbour_scaled(sigma_s_2.y, intensity_2 * _e283, d_5, _e286);
+    float _e287 = airlight_scene_spot_harbour_scaled(sigma_s_2.y, intensity_2 * _e283, d_4, _e286);
     float _e289 = scale;
     float _e292 = a_5.z;
-    float _e293 = airlight_scene_spot_harbour_scaled(sigma_s_2.z, intensity_2 * _e289, d_5, _e292);
+    float _e293 = airlight_scene_spot_harbour_scaled(sigma_s_2.z, intensity_2 * _e289, d_4, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 #endif // AIRLIGHT_SCENE_SPOT_HARBOUR_MSL_INCLUDED

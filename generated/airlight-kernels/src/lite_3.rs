@@ -130,8 +130,8 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -
         let v = 1.0 / (1.0 - sb * NX[i]);
         let r = sb * NX[i] * v;
         let u = ua + lam * r;
-        let q = kap * kap + u * u;
-        let f = sqrt((1.0 + u * u) / q) / q - beta / ((kap + u) * (kap + u));
+        let iq = 1.0 / (kap * kap + u * u);
+        let f = sqrt((1.0 + u * u) * iq) * iq - beta / ((kap + u) * (kap + u));
         nodes += NW[i] * v * v * f * exp(-t * lam * r);
     }
     sum += nodes * sb * lam;
