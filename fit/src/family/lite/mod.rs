@@ -87,49 +87,43 @@ impl LiteRule {
         let m = kappa + ua;
         let short = du < self.short * m;
         let beta = if short { 0.0 } else { 1.0 / (1.0 + self.fade.unwrap_or(0.0) * t * m) };
-        let lam = m / (1.0 + self.alpha * t * m);
-        let mut sum = 0.0;
-        if !short {
-            sum += self.e2.eval(t * m) / m;
-            if du.is_finite() {
-                let mb = m + du;
-                sum -= (-t * du).exp() * self.e2.eval(t * mb) / mb;
-            }
-            sum *= beta;
-        }
-        let sb = if du.is_finite() { du / (lam + du) } else { 1.0 };
-        for (&x, &w) in self.x.iter().zip(&self.w) {
-            let v = 1.0 / (1.0 - sb * x);
-            let r = sb * x * v;
-            let u = ua + lam * r;
+        let sum = if short { 0.0 } else { self.ends(t, m, du) * beta };
+        self.add_nodes(sum, t, ua, du, m, |u| {
             let iq = 1.0 / (kappa * kappa + u * u);
-            let f = ((1.0 + u * u) * iq).sqrt() * iq - beta / ((kappa + u) * (kappa + u));
-            sum += w * sb * lam * v * v * f * (-t * lam * r).exp();
-        }
-        sum
+            ((1.0 + u * u) * iq).sqrt() * iq - beta / ((kappa + u) * (kappa + u))
+        })
     }
 
     /// `I` (without `2 e^{−τ} P/h`) from `T`, `ua` and `Δ` (`∞`: open).
     pub fn integral(&self, t: f64, ua: f64, du: f64) -> f64 {
         let m = 1.0 + ua;
         let short = du < self.short * m;
-        let lam = m / (1.0 + self.alpha * t * m);
-        let mut sum = 0.0;
-        if !short {
-            sum += self.e2.eval(t * m) / m;
-            if du.is_finite() {
-                let mb = m + du;
-                sum -= (-t * du).exp() * self.e2.eval(t * mb) / mb;
-            }
+        let sum = if short { 0.0 } else { self.ends(t, m, du) };
+        self.add_nodes(sum, t, ua, du, m, |u| if short { 1.0 / (1.0 + u * u) } else { k_of_u(u) })
+    }
+
+    /// The exact part, `1/(c + u)²` from both ends with `m = c + ua`:
+    /// `E(T m)/m − e^{−TΔ} E(T(m + Δ))/(m + Δ)` (the second term 0 on an open ray).
+    fn ends(&self, t: f64, m: f64, du: f64) -> f64 {
+        let mut sum = self.e2.eval(t * m) / m;
+        if du.is_finite() {
+            let mb = m + du;
+            sum -= (-t * du).exp() * self.e2.eval(t * mb) / mb;
         }
+        sum
+    }
+
+    /// `sum` plus the nodes' `∫ f(u) e^{−T(u−ua)} du` over `[ua, ua + Δ]`, in the map of
+    /// scale `m`.
+    fn add_nodes(&self, mut sum: f64, t: f64, ua: f64, du: f64, m: f64, f: impl Fn(f64) -> f64) -> f64 {
+        let lam = m / (1.0 + self.alpha * t * m);
         let sb = if du.is_finite() { du / (lam + du) } else { 1.0 };
         for (&x, &w) in self.x.iter().zip(&self.w) {
             // s = s_b x, v = 1/(1 − s) = 1 + r, r = s/(1 − s) (1 − s ≥ 1 − x: no cancellation).
             let v = 1.0 / (1.0 - sb * x);
             let r = sb * x * v;
             let u = ua + lam * r;
-            let f = if short { 1.0 / (1.0 + u * u) } else { k_of_u(u) };
-            sum += w * sb * lam * v * v * f * (-t * lam * r).exp();
+            sum += w * sb * lam * v * v * f(u) * (-t * lam * r).exp();
         }
         sum
     }
