@@ -6,6 +6,7 @@
 use crate::approx::Approximation;
 use crate::coeffs::ModelFile;
 use crate::domains::{Domain, DomainErrors, VALIDATION_POINTS, VALIDATION_SEED};
+use crate::family::lite::fit::{LiteTier, Objective};
 use crate::family::phi::fit::PhiTier;
 use crate::family::split::fit::{BackChoice, ForwardChoice, PhaseChoice, MIRRORED_G, PAPER_G};
 use crate::family::{split, Fits, Recipe, Role};
@@ -95,23 +96,18 @@ const fn phi(name: &'static str, summary: &'static str, g_range: (f64, f64), t: 
     ModelSpec { name, summary, g_range, recipe: Recipe::Phi(t) }
 }
 
-const fn lite(name: &'static str, n: usize) -> ModelSpec {
-    ModelSpec {
-        name,
-        summary: "isotropic; the cheap tiers, one path: e^x E2 of 1/(1+u)^2 and fitted nodes for the rest",
-        g_range: (0.0, 0.0),
-        recipe: Recipe::Lite(n),
-    }
+const fn lite(
+    name: &'static str,
+    summary: &'static str,
+    g_range: (f64, f64),
+    nodes: usize,
+    objective: Objective,
+) -> ModelSpec {
+    ModelSpec { name, summary, g_range, recipe: Recipe::Lite(LiteTier { nodes, objective }) }
 }
 
-const fn lite_hg(name: &'static str, n: usize) -> ModelSpec {
-    ModelSpec {
-        name,
-        summary: "HG, g at run time in [-0.99, 0.99]; the cheap tiers, one path: e^x E2 of a faded C/(kappa+u)^2 and fitted nodes for the rest",
-        g_range: MIRRORED_G,
-        recipe: Recipe::Lite(n),
-    }
-}
+const LITE_ISO: &str = "isotropic; the cheap tiers, one path: e^x E2 of 1/(1+u)^2 and fitted nodes for the rest";
+const LITE_HG: &str = "HG, g at run time in [-0.99, 0.99]; the cheap tiers, one path: e^x E2 of a faded C/(kappa+u)^2 and fitted nodes for the rest";
 
 // Head nodes name a member; far and tail nodes are searched up to these counts
 // and the split fitted from here (fit/src/family/phi/fit.rs). No isotropic
@@ -125,7 +121,7 @@ const PHI_6: PhiTier = PhiTier { head: 6, far: 4, tail: 3, cut: 4.0, far_cut: 6.
 const PHI_8: PhiTier = PhiTier { head: 8, far: 4, tail: 3, cut: 5.0, far_cut: 8.0 };
 
 /// Every shipped model, in table order: airlight's models, then the baselines.
-pub const CATALOG: [ModelSpec; 47] = [
+pub const CATALOG: [ModelSpec; 49] = [
     split(
         "paper-as-printed",
         "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
@@ -193,13 +189,27 @@ pub const CATALOG: [ModelSpec; 47] = [
         "HG g in [-0.99, 0.99] (mirrored); 3 exponentials per band, 8 segments, 4+3-term backward sums and E1",
         3,
     ),
-    lite("lite-iso-2", 2),
-    lite("lite-iso-3", 3),
-    lite("lite-iso-4", 4),
-    lite("lite-iso-5", 5),
-    lite_hg("lite-3", 3),
-    lite_hg("lite-4", 4),
-    lite_hg("lite-5", 5),
+    lite("lite-iso-2", LITE_ISO, (0.0, 0.0), 2, Objective::Max),
+    lite("lite-iso-3", LITE_ISO, (0.0, 0.0), 3, Objective::Max),
+    lite("lite-iso-4", LITE_ISO, (0.0, 0.0), 4, Objective::Max),
+    lite("lite-iso-5", LITE_ISO, (0.0, 0.0), 5, Objective::Max),
+    lite(
+        "lite-iso-med-7",
+        "isotropic; the median tier, one path: e^x E2 of 1/(1+u)^2 and 7 nodes fitted for the median error",
+        (0.0, 0.0),
+        7,
+        Objective::Median,
+    ),
+    lite("lite-3", LITE_HG, MIRRORED_G, 3, Objective::Max),
+    lite("lite-4", LITE_HG, MIRRORED_G, 4, Objective::Max),
+    lite("lite-5", LITE_HG, MIRRORED_G, 5, Objective::Max),
+    lite(
+        "lite-med-7",
+        "HG, g at run time in [-0.99, 0.99]; the median tier, one path: e^x E2 of a faded C/(kappa+u)^2 and 7 nodes fitted for the median error",
+        MIRRORED_G,
+        7,
+        Objective::Median,
+    ),
     phi("phi-iso-4", "isotropic; whole A: 4 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_4),
     phi("phi-iso-6", "isotropic; whole A: 6 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_6),
     phi("phi-iso-8", "isotropic; whole A: 8 nodes in the scattering angle, Gauss-Laguerre tail, exact e^x E2 far part", (0.0, 0.0), PHI_8),

@@ -60,3 +60,28 @@ pub fn max_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> f64
     let errs = crate::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
     errs.into_iter().fold(0.0, f64::max)
 }
+
+/// Edges of the bands of `g` over which [`median_on`] takes its medians.
+pub const MEDIAN_G_EDGES: [f64; 11] = [-1.0, -0.8, -0.6, -0.4, -0.2, 0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
+
+/// The largest median relative error of `eval` on `set`, the medians taken within
+/// each domain (`τ ≤ 2`: thin, else dense) and each band of `g`
+/// ([`MEDIAN_G_EDGES`]; an isotropic set is one band): what the bench's median levels
+/// ask of every `g`. NaN or infinite errors count as infinite.
+pub fn median_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> f64 {
+    let errs = crate::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
+    let mut groups: Vec<Vec<f64>> = vec![Vec::new(); 2 * (MEDIAN_G_EDGES.len() - 1)];
+    for ((p, _), e) in set.iter().zip(errs) {
+        let band = MEDIAN_G_EDGES[1..].iter().position(|&hi| p.g < hi).unwrap_or(MEDIAN_G_EDGES.len() - 2);
+        let dense = usize::from(p.tau > 2.0);
+        groups[2 * band + dense].push(if e.is_finite() { e } else { f64::INFINITY });
+    }
+    groups
+        .iter_mut()
+        .filter(|g| !g.is_empty())
+        .map(|g| {
+            g.sort_by(f64::total_cmp);
+            g[g.len() / 2]
+        })
+        .fold(0.0, f64::max)
+}

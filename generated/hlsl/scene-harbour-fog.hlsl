@@ -320,17 +320,17 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     float ub = (ua + airlight_scene_harbour_fog_HUGE);
     float t = (tau_1 * h_1);
     float m_2 = (1.0 + ua);
-    float lam = (m_2 / (1.0 + ((0.46808493 * t) * m_2)));
-    bool is_short = (airlight_scene_harbour_fog_HUGE < (0.06245508 * m_2));
+    float lam = (m_2 / (1.0 + ((0.3573502 * t) * m_2)));
+    bool is_short = (airlight_scene_harbour_fog_HUGE < (0.01 * m_2));
     float mb = (m_2 + airlight_scene_harbour_fog_HUGE);
     const float _e61 = airlight_scene_harbour_fog_e2_over((t * mb), mb);
     float from_b = (true ? 0.0 : (exp((-(t) * airlight_scene_harbour_fog_HUGE)) * _e61));
     const float _e66 = airlight_scene_harbour_fog_e2_over((t * m_2), m_2);
     sum = (is_short ? 0.0 : (_e66 - from_b));
     float sb = (true ? 1.0 : (airlight_scene_harbour_fog_HUGE / (lam + airlight_scene_harbour_fog_HUGE)));
-    v_2 = (1.0 / (1.0 - (sb * 0.06898063)));
+    v_2 = (1.0 / (1.0 - (sb * 0.045649897)));
     float _e88 = v_2;
-    r_1 = ((sb * 0.06898063) * _e88);
+    r_1 = ((sb * 0.045649897) * _e88);
     float _e90 = r_1;
     u = (ua + (lam * _e90));
     float _e93 = nodes;
@@ -342,10 +342,10 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     float _e113 = u;
     float _e114 = u;
     float _e121 = r_1;
-    nodes = (_e93 + (((((0.18682769 * _e94) * _e97) * (is_short ? 1.0 : ((2.0 * _e99) / ((1.0 + _e102) * (1.0 + _e105))))) / (1.0 + (_e113 * _e114))) * exp(((-(t) * lam) * _e121))));
-    v_2 = (1.0 / (1.0 - (sb * 0.35530633)));
+    nodes = (_e93 + (((((0.11473862 * _e94) * _e97) * (is_short ? 1.0 : ((2.0 * _e99) / ((1.0 + _e102) * (1.0 + _e105))))) / (1.0 + (_e113 * _e114))) * exp(((-(t) * lam) * _e121))));
+    v_2 = (1.0 / (1.0 - (sb * 0.2267567)));
     float _e134 = v_2;
-    r_1 = ((sb * 0.35530633) * _e134);
+    r_1 = ((sb * 0.2267567) * _e134);
     float _e136 = r_1;
     u = (ua + (lam * _e136));
     float _e139 = nodes;
@@ -357,10 +357,10 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     float _e159 = u;
     float _e160 = u;
     float _e167 = r_1;
-    nodes = (_e139 + (((((0.3378652 * _e140) * _e143) * (is_short ? 1.0 : ((2.0 * _e145) / ((1.0 + _e148) * (1.0 + _e151))))) / (1.0 + (_e159 * _e160))) * exp(((-(t) * lam) * _e167))));
-    v_2 = (1.0 / (1.0 - (sb * 0.67262)));
+    nodes = (_e139 + (((((0.24207275 * _e140) * _e143) * (is_short ? 1.0 : ((2.0 * _e145) / ((1.0 + _e148) * (1.0 + _e151))))) / (1.0 + (_e159 * _e160))) * exp(((-(t) * lam) * _e167))));
+    v_2 = (1.0 / (1.0 - (sb * 0.5019324)));
     float _e180 = v_2;
-    r_1 = ((sb * 0.67262) * _e180);
+    r_1 = ((sb * 0.5019324) * _e180);
     float _e182 = r_1;
     u = (ua + (lam * _e182));
     float _e185 = nodes;
@@ -372,10 +372,10 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     float _e205 = u;
     float _e206 = u;
     float _e213 = r_1;
-    nodes = (_e185 + (((((0.28321356 * _e186) * _e189) * (is_short ? 1.0 : ((2.0 * _e191) / ((1.0 + _e194) * (1.0 + _e197))))) / (1.0 + (_e205 * _e206))) * exp(((-(t) * lam) * _e213))));
-    v_2 = (1.0 / (1.0 - (sb * 0.9132696)));
+    nodes = (_e185 + (((((0.2868063 * _e186) * _e189) * (is_short ? 1.0 : ((2.0 * _e191) / ((1.0 + _e194) * (1.0 + _e197))))) / (1.0 + (_e205 * _e206))) * exp(((-(t) * lam) * _e213))));
+    v_2 = (1.0 / (1.0 - (sb * 0.76887274)));
     float _e226 = v_2;
-    r_1 = ((sb * 0.9132696) * _e226);
+    r_1 = ((sb * 0.76887274) * _e226);
     float _e228 = r_1;
     u = (ua + (lam * _e228));
     float _e231 = nodes;
@@ -387,17 +387,32 @@ float airlight_scene_harbour_fog_airlight_geometry(float tau_in, float h_in, flo
     float _e251 = u;
     float _e252 = u;
     float _e259 = r_1;
-    nodes = (_e231 + (((((0.19209355 * _e232) * _e235) * (is_short ? 1.0 : ((2.0 * _e237) / ((1.0 + _e240) * (1.0 + _e243))))) / (1.0 + (_e251 * _e252))) * exp(((-(t) * lam) * _e259))));
-    float _e264 = sum;
-    float _e265 = nodes;
-    sum = (_e264 + ((_e265 * sb) * lam));
+    nodes = (_e231 + (((((0.23781383 * _e232) * _e235) * (is_short ? 1.0 : ((2.0 * _e237) / ((1.0 + _e240) * (1.0 + _e243))))) / (1.0 + (_e251 * _e252))) * exp(((-(t) * lam) * _e259))));
+    v_2 = (1.0 / (1.0 - (sb * 0.9568853)));
+    float _e272 = v_2;
+    r_1 = ((sb * 0.9568853) * _e272);
+    float _e274 = r_1;
+    u = (ua + (lam * _e274));
+    float _e277 = nodes;
+    float _e278 = v_2;
+    float _e281 = v_2;
+    float _e283 = u;
+    float _e286 = u;
+    float _e289 = u;
+    float _e297 = u;
+    float _e298 = u;
+    float _e305 = r_1;
+    nodes = (_e277 + (((((0.11856851 * _e278) * _e281) * (is_short ? 1.0 : ((2.0 * _e283) / ((1.0 + _e286) * (1.0 + _e289))))) / (1.0 + (_e297 * _e298))) * exp(((-(t) * lam) * _e305))));
+    float _e310 = sum;
+    float _e311 = nodes;
+    sum = (_e310 + ((_e311 * sb) * lam));
     if ((h_1 < 8.673617e-19)) {
-        float _e271 = sum;
-        const float _e279 = airlight_scene_harbour_fog_scaled((0.15915494 * max(_e271, 0.0)), exp(-(tau_1)), h_1, 1.0);
-        return _e279;
+        float _e317 = sum;
+        const float _e325 = airlight_scene_harbour_fog_scaled((0.15915494 * max(_e317, 0.0)), exp(-(tau_1)), h_1, 1.0);
+        return _e325;
     }
-    float _e284 = sum;
-    return min(max(((0.15915494 * exp(-(tau_1))) * (_e284 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
+    float _e330 = sum;
+    return min(max(((0.15915494 * exp(-(tau_1))) * (_e330 / h_1)), 0.0), airlight_scene_harbour_fog_HUGE);
 }
 
 float airlight_scene_harbour_fog_airlight(float tau, float gamma)

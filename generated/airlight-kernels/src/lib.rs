@@ -63,11 +63,15 @@ pub mod lite_iso_4;
 #[rustfmt::skip]
 pub mod lite_iso_5;
 #[rustfmt::skip]
+pub mod lite_iso_med_7;
+#[rustfmt::skip]
 pub mod lite_3;
 #[rustfmt::skip]
 pub mod lite_4;
 #[rustfmt::skip]
 pub mod lite_5;
+#[rustfmt::skip]
+pub mod lite_med_7;
 #[rustfmt::skip]
 pub mod phi_iso_4;
 #[rustfmt::skip]
@@ -538,6 +542,24 @@ pub const KERNELS: &[Kernel] = &[
         spot_shadowed: Some(lite_iso_5::shadowed_spot),
     },
     Kernel {
+        name: "lite-iso-med-7",
+        scene: false,
+        params: &["tau", "gamma", "rho"],
+        thin_max_rel: 1.3520886881938378e-4,
+        dense_max_rel: 3.198223426400472e-4,
+        f32_thin_max_rel: Some(1.3558263979784787e-4),
+        f32_dense_max_rel: Some(3.205011656635871e-4),
+        airlight: |tau, gamma, rho, _g| lite_iso_med_7::airlight(tau, gamma, rho),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, _g| {
+            lite_iso_med_7::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
+        }),
+        shadowed: Some(lite_iso_med_7::shadowed),
+        spot_shadowed: Some(lite_iso_med_7::shadowed_spot),
+    },
+    Kernel {
         name: "lite-3",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
@@ -590,6 +612,24 @@ pub const KERNELS: &[Kernel] = &[
         }),
         shadowed: Some(lite_5::shadowed),
         spot_shadowed: Some(lite_5::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-med-7",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 5.095179686971248e-3,
+        dense_max_rel: 5.106441257072278e-3,
+        f32_thin_max_rel: Some(5.095179686971248e-3),
+        f32_dense_max_rel: Some(5.108883184635733e-3),
+        airlight: |tau, gamma, rho, g| lite_med_7::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_med_7::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_med_7::shadowed),
+        spot_shadowed: Some(lite_med_7::shadowed_spot),
     },
     Kernel {
         name: "phi-iso-4",
@@ -1065,9 +1105,9 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-fog-street",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.2080833888705146e-3,
-        dense_max_rel: 1.2994396714629862e-3,
-        f32_thin_max_rel: Some(1.2084833258326705e-3),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.868599098863415e-4),
         f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -1081,10 +1121,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-harbour-fog",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 1.2080833888705146e-3,
-        dense_max_rel: 1.2994396714629862e-3,
-        f32_thin_max_rel: Some(1.2084415901484767e-3),
-        f32_dense_max_rel: Some(1.2994396714629862e-3),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.869684993761923e-4),
+        f32_dense_max_rel: Some(8.250122094914532e-4),
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1129,10 +1169,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-smoke-room",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 1.2080833888705146e-3,
-        dense_max_rel: 1.2994396714629862e-3,
-        f32_thin_max_rel: Some(1.2084833258326705e-3),
-        f32_dense_max_rel: Some(1.2997963284190038e-3),
+        thin_max_rel: 7.863553422423883e-4,
+        dense_max_rel: 8.250122094914532e-4,
+        f32_thin_max_rel: Some(7.868599098863415e-4),
+        f32_dense_max_rel: Some(8.254400959285012e-4),
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

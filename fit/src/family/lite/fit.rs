@@ -41,6 +41,48 @@ pub const FADE_BOX: (f64, f64) = (1e-3, 10.0);
 /// See [`FADE_BOX`].
 pub const FADE_START: f64 = 0.3;
 
+/// A member's recipe: its node count and what its fit minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LiteTier {
+    /// The number of nodes.
+    pub nodes: usize,
+    /// The fit's objective.
+    pub objective: Objective,
+}
+
+/// What a member's fit minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Objective {
+    /// The largest relative error (minimax): the members of the max levels.
+    Max,
+    /// The largest median relative error over the domains and bands of `g`
+    /// ([`fitset::median_on`]): the members of the median levels.
+    Median,
+}
+
+impl Objective {
+    /// Its value for `eval` on `set` (a non-finite value counts as the largest).
+    fn on(self, eval: &(dyn Fn(crate::reference::Point) -> f64 + Sync), set: &[(crate::reference::Point, f64)]) -> f64 {
+        let m = match self {
+            Objective::Max => fitset::max_on(eval, set),
+            Objective::Median => fitset::median_on(eval, set),
+        };
+        if m.is_finite() {
+            m
+        } else {
+            f64::MAX
+        }
+    }
+
+    /// The provenance keys' word for it.
+    fn word(self) -> &'static str {
+        match self {
+            Objective::Max => "max",
+            Objective::Median => "median",
+        }
+    }
+}
+
 /// What the fit found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodeFit {
@@ -50,10 +92,12 @@ pub struct NodeFit {
     pub fitted: LiteRule,
     /// The one kept.
     pub kept: LiteRule,
-    /// Max relative error on the fitting set: start, fitted.
+    /// The objective on the fitting set: start, fitted.
     pub fit_max: (f64, f64),
-    /// Max relative error on the check set: start, fitted.
+    /// The objective on the check set: start, fitted.
     pub check_max: (f64, f64),
+    /// The objective.
+    pub objective: Objective,
     /// What the search did.
     pub outcome: Outcome,
     /// Points in the fitting set and in the check set.
@@ -98,19 +142,13 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
     )
 }
 
-/// Fits the `n`-node member ([`NodeFit`]).
-pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
+/// Fits the member of `tier` ([`NodeFit`]).
+pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
+    let (n, objective) = (tier.nodes, tier.objective);
     let (fit_set, check_set) = fitset::sets(spec(g_range));
     let hg = g_range != (0.0, 0.0);
     let start = LiteRule::start(n, hg.then_some(FADE_START), e2.clone());
-    let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| {
-        let m = fitset::max_on(&|p| r.eval(p), set);
-        if m.is_finite() {
-            m
-        } else {
-            f64::MAX
-        }
-    };
+    let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| objective.on(&|p| r.eval(p), set);
     let cost = |p: &[f64]| max_on(&rule_at(&start, p), &fit_set);
     let p0 = params(&start);
     let mut step: Vec<f64> = vec![0.3; n];
@@ -125,7 +163,7 @@ pub fn fit_nodes(n: usize, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let fit_max = (max_on(&start, &fit_set), max_on(&fitted, &fit_set));
     let check_max = (max_on(&start, &check_set), max_on(&fitted, &check_set));
     let kept = if check_max.1 < check_max.0 { fitted.clone() } else { start.clone() };
-    NodeFit { start, fitted, kept, fit_max, check_max, outcome, points: (fit_set.len(), check_set.len()) }
+    NodeFit { start, fitted, kept, fit_max, check_max, objective, outcome, points: (fit_set.len(), check_set.len()) }
 }
 
 /// The node fit's provenance table.
@@ -138,8 +176,18 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             "g over the member's range",
         ),
     };
+    let objective = match fit.objective {
+        Objective::Max => "minimax: the largest relative error of A over the fitting set (f64 model)".to_string(),
+        Objective::Median => format!(
+            "the largest median relative error of A over the fitting set's domains (thin, dense) and bands of g (edges {:?}), f64 model",
+            fitset::MEDIAN_G_EDGES
+        ),
+    };
+    let w = fit.objective.word();
+    let (fs, ff, cs, cf) =
+        (format!("fit_{w}_rel_start"), format!("fit_{w}_rel_fitted"), format!("check_{w}_rel_start"), format!("check_{w}_rel_fitted"));
     let mut table = vec![
-            ("objective", s("minimax: the largest relative error of A over the fitting set (f64 model)")),
+            ("objective", s(&objective)),
             ("parameters", s(&parameters)),
             (
                 "points_from",
@@ -160,13 +208,13 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             ("fitted_alpha", f(fit.fitted.alpha)),
             ("fitted_short", f(fit.fitted.short)),
             ("fitted_fade", f(fit.fitted.fade.unwrap_or(0.0))),
-            ("fit_max_rel_start", f(fit.fit_max.0)),
-            ("fit_max_rel_fitted", f(fit.fit_max.1)),
-            ("check", s(&format!("{CHECK_POINTS} points inside thin and inside dense each, a seed of their own (below): the rule with the smaller max there is kept"))),
+            (fs.as_str(), f(fit.fit_max.0)),
+            (ff.as_str(), f(fit.fit_max.1)),
+            ("check", s(&format!("{CHECK_POINTS} points inside thin and inside dense each, a seed of their own (below): the rule with the smaller {w} there is kept"))),
             ("check_seed", hex_seed(CHECK_SEED)),
             ("check_points", i(fit.points.1)),
-            ("check_max_rel_start", f(fit.check_max.0)),
-            ("check_max_rel_fitted", f(fit.check_max.1)),
+            (cs.as_str(), f(fit.check_max.0)),
+            (cf.as_str(), f(fit.check_max.1)),
             ("kept", s(if fit.kept == fit.fitted && fit.kept != fit.start { "fitted" } else { "start" })),
     ];
     if fit.start.fade.is_none() {
@@ -177,19 +225,21 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
 
 /// A member of the lite family (errors not yet measured): `eˣE₂` fitted, nodes,
 /// weights and split fitted ([`fit_nodes`]).
-pub fn assemble(n: usize, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
+pub fn assemble(tier: LiteTier, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
     let fit = fit.ok_or("the lite family's e^x E2 was not fitted")?;
-    let nodes = fit_nodes(n, g_range, &fit.e2);
+    let nodes = fit_nodes(tier, g_range, &fit.e2);
+    let n = tier.nodes;
+    let med = if tier.objective == Objective::Median { "med-" } else { "" };
     let hg = g_range != (0.0, 0.0);
     let (family, method, fitted) = if hg {
         (
-            format!("lite-{n} (e^x E2 of a faded C/(kappa+u)^2, {n} fitted nodes for the rest, HG at each)"),
+            format!("lite-{med}{n} (e^x E2 of a faded C/(kappa+u)^2, {n} fitted nodes for the rest, HG at each)"),
             "whole A in the u form, one path: w(u) = C sqrt(1+u^2)/(kappa^2+u^2)^(3/2); beta C/(kappa+u)^2 exactly through e^x E2 (one log, no branch) at both ends, beta = 1/(1 + fade T m), m = kappa + ua; the rest w - beta C/(kappa+u)^2 by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take w at the same nodes (fit/src/family/lite/)",
             "e^x E2's form (see [e2.fit]); the nodes, weights, alpha, short and fade together (see [nodes.fit])",
         )
     } else {
         (
-            format!("lite-{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"),
+            format!("lite-{med}{n} (e^x E2 of 1/(1+u)^2, {n} fitted nodes for the rest)"),
             "whole A in the u form, one path: 1/(1+u)^2 exactly through e^x E2 (one log, no branch) at both ends, the rest k(u) = 2u/((1+u^2)(1+u)^2) by fitted nodes in s, u = ua + lambda s/(1-s); short intervals take 1/(1+u^2) at the same nodes (fit/src/family/lite/)",
             "e^x E2's form (see [e2.fit]); the nodes, weights, alpha and short together (see [nodes.fit])",
         )

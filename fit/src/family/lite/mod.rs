@@ -136,8 +136,8 @@ impl Family for LiteRule {
     const TABLES: &'static [&'static str] = &["nodes", "split", "e2"];
     const TEMPLATES: Templates = crate::core_templates!();
     const FIT_PARTS: &'static [&'static str] = &[fit::PART];
-    /// The number of nodes.
-    type Recipe = usize;
+    /// The number of nodes and the fit's objective.
+    type Recipe = fit::LiteTier;
     type Fit = Option<LogE2Fit>;
 
     fn fit(_parts: &[&str], _progress: &(dyn Fn(usize, usize) + Sync)) -> Option<LogE2Fit> {
@@ -155,8 +155,8 @@ impl Family for LiteRule {
             .collect()
     }
 
-    fn assemble(n: usize, g_range: (f64, f64), fit: &Option<LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
-        fit::assemble(n, g_range, fit.as_ref())
+    fn assemble(t: fit::LiteTier, g_range: (f64, f64), fit: &Option<LogE2Fit>) -> Result<Assembled<LiteRule>, String> {
+        fit::assemble(t, g_range, fit.as_ref())
     }
 
     /// Isotropic (`1/(4π)` folded in), or HG exact at each node.
