@@ -85,3 +85,34 @@ pub fn median_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> 
         })
         .fold(0.0, f64::max)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_on_takes_the_largest_median_over_domains_and_bands_of_g() {
+        // Errors set by the point's ρ: thin at g = −0.5 has 1e-3, 2e-3, 9e-1 (median
+        // 2e-3); dense at g = −0.5 has 1e-4 ×3; thin at g = 0.9 has 5e-3, 6e-3, 7e-3
+        // (median 6e-3, the largest); one point at g = 0.3 is NaN (its band's median
+        // is infinite only if it is the band's middle: it is the only point there).
+        let pt = |tau: f64, g: f64, e: f64| (Point { tau, gamma: 1.0, rho: e, g }, 1.0);
+        let mut set = vec![
+            pt(1.0, -0.5, 1e-3),
+            pt(1.0, -0.5, 2e-3),
+            pt(1.0, -0.5, 0.9),
+            pt(5.0, -0.5, 1e-4),
+            pt(5.0, -0.5, 1e-4),
+            pt(5.0, -0.5, 1e-4),
+            pt(1.0, 0.9, 5e-3),
+            pt(1.0, 0.9, 6e-3),
+            pt(1.0, 0.9, 7e-3),
+        ];
+        let eval = |p: Point| if p.rho.is_nan() { f64::NAN } else { 1.0 + p.rho };
+        assert!((median_on(&eval, &set) - 6e-3).abs() < 1e-12, "{}", median_on(&eval, &set));
+        // The max is the outlier; the median objective does not see it.
+        assert!((max_on(&eval, &set) - 0.9).abs() < 1e-12);
+        set.push(pt(1.0, 0.3, f64::NAN));
+        assert_eq!(median_on(&eval, &set), f64::INFINITY);
+    }
+}
