@@ -1,7 +1,7 @@
 //! The lite family's fit: each member's nodes, weights, `α` and `σ` (and an HG
-//! member's fade `b`) together, by
-//! minimax against the reference (the largest relative error of `A` over a fitting
-//! set), Nelder–Mead restarted from `n`-point Gauss–Legendre; a check set of its
+//! member's fade `b`) together, by minimax against the reference (the largest
+//! relative error of `A` over a fitting set; the median members: the largest median,
+//! [`Objective`]), Nelder–Mead restarted from `n`-point Gauss–Legendre; a check set of its
 //! own seed keeps whichever of the start and the fitted rule is better there. The
 //! declared bound is then measured like every model's, on points neither saw.
 
@@ -104,10 +104,19 @@ pub struct NodeFit {
     pub points: (usize, usize),
 }
 
+/// Points per domain in the fitting set of an isotropic or an HG member.
+fn fit_points(hg: bool) -> usize {
+    if hg {
+        FIT_POINTS_HG
+    } else {
+        FIT_POINTS
+    }
+}
+
 fn spec(g_range: (f64, f64)) -> SetSpec {
     SetSpec {
         g_range,
-        fit_points: if g_range == (0.0, 0.0) { FIT_POINTS } else { FIT_POINTS_HG },
+        fit_points: fit_points(g_range != (0.0, 0.0)),
         fit_seed: FIT_SEED,
         faces: FACES,
         check_points: CHECK_POINTS,
@@ -193,7 +202,7 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
                 "points_from",
                 s(&format!(
                     "{} low-discrepancy points inside thin and inside dense each ({phase}), and {FACES}x{FACES} grids on each domain's faces (seed below)",
-                    if fit.start.fade.is_some() { FIT_POINTS_HG } else { FIT_POINTS }
+                    fit_points(fit.start.fade.is_some())
                 )),
             ),
             ("points_seed", hex_seed(FIT_SEED)),
@@ -207,7 +216,10 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             ("fitted_w", arr(&fit.fitted.w)),
             ("fitted_alpha", f(fit.fitted.alpha)),
             ("fitted_short", f(fit.fitted.short)),
-            ("fitted_fade", f(fit.fitted.fade.unwrap_or(0.0))),
+    ];
+    // HG members' fade (isotropic ones have none).
+    table.extend(fit.fitted.fade.map(|b| ("fitted_fade", f(b))));
+    table.extend([
             (fs.as_str(), f(fit.fit_max.0)),
             (ff.as_str(), f(fit.fit_max.1)),
             ("check", s(&format!("{CHECK_POINTS} points inside thin and inside dense each, a seed of their own (below): the rule with the smaller {w} there is kept"))),
@@ -216,10 +228,7 @@ fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
             (cs.as_str(), f(fit.check_max.0)),
             (cf.as_str(), f(fit.check_max.1)),
             ("kept", s(if fit.kept == fit.fitted && fit.kept != fit.start { "fitted" } else { "start" })),
-    ];
-    if fit.start.fade.is_none() {
-        table.retain(|(k, _)| *k != "fitted_fade");
-    }
+    ]);
     ("nodes.fit".into(), kv(table))
 }
 

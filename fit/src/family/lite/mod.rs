@@ -28,8 +28,8 @@
 //! nodes would cancel an exact part up to `κ` times larger than `A` when `g → −1`
 //! (`C/κ²` against `w(0) = C/κ³`), which amplified their error to 100% and more.
 //!
-//! Nodes `x_i`, weights `w_i`, `α`, `σ` (and `b`) are fitted together by minimax
-//! against the reference ([`fit`]).
+//! Nodes `x_i`, weights `w_i`, `α`, `σ` (and `b`) are fitted together against the
+//! reference, by minimax or, for the median members, for the largest median ([`fit`]).
 
 pub mod e2;
 pub mod fit;
