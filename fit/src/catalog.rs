@@ -121,7 +121,7 @@ const PHI_6: PhiTier = PhiTier { head: 6, far: 4, tail: 3, cut: 4.0, far_cut: 6.
 const PHI_8: PhiTier = PhiTier { head: 8, far: 4, tail: 3, cut: 5.0, far_cut: 8.0 };
 
 /// Every shipped model, in table order: airlight's models, then the baselines.
-pub const CATALOG: [ModelSpec; 49] = [
+pub const CATALOG: [ModelSpec; 51] = [
     split(
         "paper-as-printed",
         "isotropic; Pradhan & Kumar as printed: 3 segments and backscatter ratio, forward part lacks e^(-beta d1)",
@@ -203,6 +203,8 @@ pub const CATALOG: [ModelSpec; 49] = [
     lite("lite-3", LITE_HG, MIRRORED_G, 3, Objective::Max),
     lite("lite-4", LITE_HG, MIRRORED_G, 4, Objective::Max),
     lite("lite-5", LITE_HG, MIRRORED_G, 5, Objective::Max),
+    lite("lite-7", LITE_HG, MIRRORED_G, 7, Objective::Max),
+    lite("lite-12", LITE_HG, MIRRORED_G, 12, Objective::Max),
     lite(
         "lite-med-7",
         "HG, g at run time in [-0.99, 0.99]; the median tier, one path: e^x E2 of a faded C/(kappa+u)^2 and 7 nodes fitted for the median error",

@@ -45,10 +45,10 @@ metal::float2 airlight_scene_backscatter_aerosol_two_product(
     float a_1,
     float b
 ) {
-    float p_1 = a_1 * b;
+    float p = a_1 * b;
     metal::float2 _e3 = airlight_scene_backscatter_aerosol_halves(a_1);
     metal::float2 _e4 = airlight_scene_backscatter_aerosol_halves(b);
-    return metal::float2(p_1, ((((_e3.x * _e4.x) - p_1) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
+    return metal::float2(p, ((((_e3.x * _e4.x) - p) + (_e3.x * _e4.y)) + (_e3.y * _e4.x)) + (_e3.y * _e4.y));
 }
 
 float airlight_scene_backscatter_aerosol_diff_of_products(
@@ -66,9 +66,9 @@ airlight_scene_backscatter_aerosol_type_3 airlight_scene_backscatter_aerosol_two
     metal::float3 a_3,
     metal::float3 b_2
 ) {
-    metal::float3 s_2 = a_3 + b_2;
-    metal::float3 bb = s_2 - a_3;
-    return airlight_scene_backscatter_aerosol_type_3 {{s_2, (a_3 - (s_2 - bb)) + (b_2 - bb)}};
+    metal::float3 s = a_3 + b_2;
+    metal::float3 bb = s - a_3;
+    return airlight_scene_backscatter_aerosol_type_3 {{s, (a_3 - (s - bb)) + (b_2 - bb)}};
 }
 
 int airlight_scene_backscatter_aerosol_naga_div(int lhs, int rhs) {
@@ -172,19 +172,19 @@ float airlight_scene_backscatter_aerosol_scaled(
     if (a_4 >= airlight_scene_backscatter_aerosol_HUGE) {
         return airlight_scene_backscatter_aerosol_HUGE;
     }
-    airlight_scene_backscatter_aerosol_frexp_result_f32_ s_3 = airlight_scene_backscatter_aerosol_naga_frexp(sigma_s);
+    airlight_scene_backscatter_aerosol_frexp_result_f32_ s_1 = airlight_scene_backscatter_aerosol_naga_frexp(sigma_s);
     airlight_scene_backscatter_aerosol_frexp_result_f32_ i = airlight_scene_backscatter_aerosol_naga_frexp(intensity);
-    airlight_scene_backscatter_aerosol_frexp_result_f32_ q_1 = airlight_scene_backscatter_aerosol_naga_frexp(a_4);
-    airlight_scene_backscatter_aerosol_frexp_result_f32_ r_1 = airlight_scene_backscatter_aerosol_naga_frexp(d_1);
-    airlight_scene_backscatter_aerosol_frexp_result_f32_ m = airlight_scene_backscatter_aerosol_naga_frexp(((s_3.fract * i.fract) * q_1.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_3.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q_1.exp))) - as_type<uint>(r_1.exp));
+    airlight_scene_backscatter_aerosol_frexp_result_f32_ q = airlight_scene_backscatter_aerosol_naga_frexp(a_4);
+    airlight_scene_backscatter_aerosol_frexp_result_f32_ r_2 = airlight_scene_backscatter_aerosol_naga_frexp(d_1);
+    airlight_scene_backscatter_aerosol_frexp_result_f32_ m_1 = airlight_scene_backscatter_aerosol_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
     if (e > 128) {
         return airlight_scene_backscatter_aerosol_HUGE;
     }
     if (e < -149) {
         return 0.0;
     }
-    return metal::ldexp(m.fract, e);
+    return metal::ldexp(m_1.fract, e);
 }
 
 float airlight_scene_backscatter_aerosol_arctan(
@@ -238,9 +238,9 @@ metal::float2 airlight_scene_backscatter_aerosol_sin_cos_octant(
     float x_2
 ) {
     float z_1 = x_2 * x_2;
-    float s_4 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
+    float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
-    return metal::float2(s_4, c_2);
+    return metal::float2(s_2, c_2);
 }
 
 int airlight_scene_backscatter_aerosol_naga_f2i32(float value) {
@@ -259,134 +259,58 @@ metal::float2 airlight_scene_backscatter_aerosol_sin_cos(
     }
     int _e13 = j;
     float y_2 = static_cast<float>(_e13);
-    float r_2 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
-    float z_2 = r_2 * r_2;
-    float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_2) + r_2;
+    float r_3 = ((x_3 - (y_2 * 0.78515625)) - (y_2 * 0.00024187565)) - (y_2 * 0.00000003774895);
+    float z_2 = r_3 * r_3;
+    float s_3 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * r_3) + r_3;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     int _e49 = j;
     switch((_e49 >> 1u) & 3) {
         case 0: {
-            return metal::float2(s_5, c_3);
+            return metal::float2(s_3, c_3);
         }
         case 1: {
-            return metal::float2(c_3, -(s_5));
+            return metal::float2(c_3, -(s_3));
         }
         case 2: {
-            return metal::float2(-(s_5), -(c_3));
+            return metal::float2(-(s_3), -(c_3));
         }
         default: {
-            return metal::float2(-(c_3), s_5);
+            return metal::float2(-(c_3), s_3);
         }
     }
 }
 
-float airlight_scene_backscatter_aerosol_exp_e2_(
-    float x_4
+float airlight_scene_backscatter_aerosol_e2_over(
+    float x_in,
+    float m
 ) {
-    float ein = 0.0;
-    float p = 0.0;
-    float q = 0.0;
-    if (x_4 < 1.0) {
-        float _e5 = ein;
-        ein = (_e5 + -0.00000002755732) * x_4;
-        float _e9 = ein;
-        ein = (_e9 + 0.00000030619245) * x_4;
-        float _e13 = ein;
-        ein = (_e13 + -0.0000031001985) * x_4;
-        float _e17 = ein;
-        ein = (_e17 + 0.000028344672) * x_4;
-        float _e21 = ein;
-        ein = (_e21 + -0.00023148148) * x_4;
-        float _e25 = ein;
-        ein = (_e25 + 0.0016666667) * x_4;
-        float _e29 = ein;
-        ein = (_e29 + -0.010416667) * x_4;
-        float _e33 = ein;
-        ein = (_e33 + 0.055555556) * x_4;
-        float _e37 = ein;
-        ein = (_e37 + -0.25) * x_4;
-        float _e41 = ein;
-        ein = (_e41 + 1.0) * x_4;
-        float _e52 = ein;
-        return 1.0 + ((x_4 * metal::exp(x_4)) * ((metal::log(metal::max(x_4, 0.000000000000000000000000000001)) + 0.5772157) - _e52));
-    }
-    float t = 1.0 / x_4;
-    float _e63 = p;
-    p = (_e63 + 0.12941834) * t;
-    float _e67 = q;
-    q = (_e67 + 15.616933) * t;
-    float _e71 = p;
-    p = (_e71 + 13.425987) * t;
-    float _e75 = q;
-    q = (_e75 + 51.058296) * t;
-    float _e79 = p;
-    p = (_e79 + 24.985815) * t;
-    float _e83 = q;
-    q = (_e83 + 43.252842) * t;
-    float _e87 = p;
-    p = (_e87 + 10.132498) * t;
-    float _e91 = q;
-    q = (_e91 + 12.132477) * t;
-    float _e95 = p;
-    float _e99 = q;
-    return (t * (1.0 + _e95)) / (1.0 + _e99);
-}
-
-float airlight_scene_backscatter_aerosol_w_u(
-    float u,
-    metal::float4 md
-) {
-    float k_1 = (0.07957747 * (1.0 - md.x)) * (1.0 + md.x);
-    if (u > 1.0) {
-        float v_4 = 1.0 / u;
-        float d_3 = (((md.y * md.y) * v_4) * v_4) + (md.z * md.z);
-        return (((k_1 * v_4) * v_4) * metal::sqrt(1.0 + (v_4 * v_4))) / (d_3 * metal::sqrt(d_3));
-    }
-    float d_4 = (md.y * md.y) + (((md.z * md.z) * u) * u);
-    return (k_1 * metal::sqrt(1.0 + (u * u))) / (d_4 * metal::sqrt(d_4));
-}
-
-metal::float2 airlight_scene_backscatter_aerosol_phi_and_complement(
-    float u_1,
-    metal::float4 md_1
-) {
-    float d_5 = ((md_1.z * u_1) * u_1) - md_1.y;
-    float r_3 = metal::sqrt((d_5 * d_5) + ((4.0 * u_1) * u_1));
-    float psi = metal::sqrt((d_5 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_5 + r_3)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_3 - d_5))));
-    if (psi <= 1.0) {
-        float _e35 = airlight_scene_backscatter_aerosol_arctan(psi);
-        float p_2 = 2.0 * _e35;
-        return metal::float2(p_2, airlight_scene_backscatter_aerosol_PI - p_2);
-    }
-    float _e43 = airlight_scene_backscatter_aerosol_arctan(1.0 / psi);
-    float c_4 = 2.0 * _e43;
-    return metal::float2(airlight_scene_backscatter_aerosol_PI - c_4, c_4);
-}
-
-metal::float2 airlight_scene_backscatter_aerosol_u_and_weight(
-    float s2_,
-    float c2_,
-    metal::float4 md_2
-) {
-    float g = md_2.x;
-    bool pos = g >= 0.0;
-    float num = pos ? (1.0 + ((g * c2_) * c2_)) : (md_2.z - ((g * s2_) * s2_));
-    float den = pos ? (md_2.y + ((g * c2_) * c2_)) : (1.0 - ((g * s2_) * s2_));
-    float q_2 = pos ? (md_2.y + (((2.0 * g) * c2_) * c2_)) : (md_2.z - (((2.0 * g) * s2_) * s2_));
-    float r_4 = metal::sqrt(num * den);
-    return metal::float2(((md_2.y / md_2.z) * (s2_ / c2_)) * (r_4 / den), (q_2 * q_2) / (2.0 * r_4));
-}
-
-float airlight_scene_backscatter_aerosol_r_of_v(
-    float v_2,
-    metal::float4 md_3
-) {
-    float k2_ = md_3.w * md_3.w;
-    float v2_ = v_2 * v_2;
-    float p_3 = 1.0 + (k2_ * v2_);
-    float pp = p_3 * metal::sqrt(p_3);
-    float q_3 = metal::sqrt(1.0 + v2_);
-    return (v2_ * ((1.0 - (3.0 * k2_)) - (((k2_ * k2_) * v2_) * (3.0 + (k2_ * v2_))))) / ((q_3 + pp) * pp);
+    float n1_ = 0.0;
+    float n2_ = 0.0;
+    float d_2 = 0.0;
+    float x_4 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
+    float l = x_4 * metal::log((1.0 + x_4) / x_4);
+    float _e16 = n1_;
+    n1_ = (_e16 + 0.86534244) * x_4;
+    float _e20 = n1_;
+    n1_ = (_e20 + 7.2858496) * x_4;
+    float _e24 = n1_;
+    n1_ = (_e24 + 0.56966215) * x_4;
+    float _e28 = n2_;
+    n2_ = (_e28 + 3.0385017) * x_4;
+    float _e32 = n2_;
+    n2_ = (_e32 + 0.5760694) * x_4;
+    float _e36 = d_2;
+    d_2 = (_e36 + 0.86534345) * x_4;
+    float _e40 = d_2;
+    d_2 = (_e40 + 5.9773254) * x_4;
+    float _e44 = d_2;
+    d_2 = (_e44 + 8.315555) * x_4;
+    float _e48 = d_2;
+    d_2 = (_e48 + 0.0) * x_4;
+    float _e52 = n1_;
+    float _e55 = n2_;
+    float _e60 = d_2;
+    return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
 float airlight_scene_backscatter_aerosol_airlight_geometry(
@@ -395,23 +319,14 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     float x0_
 ) {
     bool local_4 = {};
-    bool local_5 = {};
-    bool local_6 = {};
-    bool local_7 = {};
-    float sum = 0.0;
-    bool local_8 = {};
-    float d_2 = {};
-    float beta = {};
-    float co = {};
-    metal::float2 sc = {};
-    metal::float2 uw = {};
-    float f = {};
-    float s = 0.0;
-    float v_3 = {};
-    float s_1 = 0.0;
-    float sb = 0.0;
+    float sum = {};
+    float nodes = 0.0;
+    float v_2 = {};
+    float r_1 = {};
+    float u = {};
+    float iq = {};
     float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_backscatter_aerosol_TAU_MAX);
-    metal::float4 md_4 = metal::float4(-0.3, 1.0 - -0.3, 1.0 + -0.3, (1.0 - -0.3) / (1.0 + -0.3));
+    metal::float4 md = metal::float4(-0.3, 1.0 - -0.3, 1.0 + -0.3, (1.0 - -0.3) / (1.0 + -0.3));
     if (x0_ > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
@@ -427,283 +342,162 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
     float one_minus = (x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_);
     float ub = ua + airlight_scene_backscatter_aerosol_HUGE;
-    float t_1 = tau_1 * h_1;
-    float xf = 2.1668308 * metal::max(md_4.w, 1.0);
-    float lcut = (t_1 > 0.0) ? (4.172611 / metal::max(t_1, 0.000000000000000000000000000001)) : airlight_scene_backscatter_aerosol_HUGE;
-    float m_1 = metal::max(ua, xf);
-    bool is_short = airlight_scene_backscatter_aerosol_HUGE < (0.2704029 * (ua + metal::min(md_4.w, 1.0)));
-    if (!(is_short)) {
-        local_5 = ub > m_1;
-    } else {
-        local_5 = false;
-    }
-    bool _e82 = local_5;
-    if (_e82) {
-        local_6 = (t_1 * (m_1 - ua)) < 4.172611;
-    } else {
-        local_6 = false;
-    }
-    bool _e90 = local_6;
-    if (_e90) {
-        local_7 = (t_1 * m_1) < 4.6279573;
-    } else {
-        local_7 = false;
-    }
-    bool use_far = local_7;
-    float len = use_far ? (m_1 - ua) : metal::min(airlight_scene_backscatter_aerosol_HUGE, lcut);
-    if (len > 0.0) {
-        if (!((len < (0.2704029 * (ua + metal::min(md_4.w, 1.0)))))) {
-            local_8 = ua >= xf;
-        } else {
-            local_8 = true;
-        }
-        bool _e117 = local_8;
-        if (_e117) {
-            float hl = 0.5 * len;
-            d_2 = hl * 1.9324695;
-            float _e123 = sum;
-            float _e124 = d_2;
-            float _e126 = airlight_scene_backscatter_aerosol_w_u(ua + _e124, md_4);
-            float _e130 = d_2;
-            sum = _e123 + ((0.17132449 * _e126) * metal::exp(-(t_1) * _e130));
-            d_2 = hl * 1.6612093;
-            float _e137 = sum;
-            float _e138 = d_2;
-            float _e140 = airlight_scene_backscatter_aerosol_w_u(ua + _e138, md_4);
-            float _e144 = d_2;
-            sum = _e137 + ((0.36076158 * _e140) * metal::exp(-(t_1) * _e144));
-            d_2 = hl * 1.2386192;
-            float _e151 = sum;
-            float _e152 = d_2;
-            float _e154 = airlight_scene_backscatter_aerosol_w_u(ua + _e152, md_4);
-            float _e158 = d_2;
-            sum = _e151 + ((0.46791393 * _e154) * metal::exp(-(t_1) * _e158));
-            d_2 = hl * 0.7613808;
-            float _e165 = sum;
-            float _e166 = d_2;
-            float _e168 = airlight_scene_backscatter_aerosol_w_u(ua + _e166, md_4);
-            float _e172 = d_2;
-            sum = _e165 + ((0.46791393 * _e168) * metal::exp(-(t_1) * _e172));
-            d_2 = hl * 0.3387906;
-            float _e179 = sum;
-            float _e180 = d_2;
-            float _e182 = airlight_scene_backscatter_aerosol_w_u(ua + _e180, md_4);
-            float _e186 = d_2;
-            sum = _e179 + ((0.36076158 * _e182) * metal::exp(-(t_1) * _e186));
-            d_2 = hl * 0.06753051;
-            float _e193 = sum;
-            float _e194 = d_2;
-            float _e196 = airlight_scene_backscatter_aerosol_w_u(ua + _e194, md_4);
-            float _e200 = d_2;
-            sum = _e193 + ((0.17132449 * _e196) * metal::exp(-(t_1) * _e200));
-            float _e205 = sum;
-            sum = _e205 * hl;
-        } else {
-            metal::float2 _e207 = airlight_scene_backscatter_aerosol_phi_and_complement(ua, md_4);
-            metal::float2 _e209 = airlight_scene_backscatter_aerosol_phi_and_complement(ua + len, md_4);
-            float hl_1 = 0.5 * ((_e207.y < 1.5707964) ? (_e207.y - _e209.y) : (_e209.x - _e207.x));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.9324695);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.9324695);
-            float _e242 = beta;
-            float _e243 = co;
-            metal::float2 _e247 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e242, _e243), 0.0));
-            sc = _e247;
-            float _e248 = beta;
-            float _e249 = co;
-            if (_e248 > _e249) {
-                metal::float2 _e251 = sc;
-                sc = _e251.yx;
-            }
-            float _e254 = sc.x;
-            float _e256 = sc.y;
-            metal::float2 _e257 = airlight_scene_backscatter_aerosol_u_and_weight(_e254, _e256, md_4);
-            uw = _e257;
-            float _e258 = sum;
-            float _e260 = uw.y;
-            float _e265 = uw.x;
-            sum = _e258 + ((0.17132449 * _e260) * metal::exp(-(t_1) * (_e265 - ua)));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.6612093);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.6612093);
-            float _e287 = beta;
-            float _e288 = co;
-            metal::float2 _e292 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e287, _e288), 0.0));
-            sc = _e292;
-            float _e293 = beta;
-            float _e294 = co;
-            if (_e293 > _e294) {
-                metal::float2 _e296 = sc;
-                sc = _e296.yx;
-            }
-            float _e299 = sc.x;
-            float _e301 = sc.y;
-            metal::float2 _e302 = airlight_scene_backscatter_aerosol_u_and_weight(_e299, _e301, md_4);
-            uw = _e302;
-            float _e303 = sum;
-            float _e305 = uw.y;
-            float _e310 = uw.x;
-            sum = _e303 + ((0.36076158 * _e305) * metal::exp(-(t_1) * (_e310 - ua)));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 1.2386192);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 1.2386192);
-            float _e332 = beta;
-            float _e333 = co;
-            metal::float2 _e337 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e332, _e333), 0.0));
-            sc = _e337;
-            float _e338 = beta;
-            float _e339 = co;
-            if (_e338 > _e339) {
-                metal::float2 _e341 = sc;
-                sc = _e341.yx;
-            }
-            float _e344 = sc.x;
-            float _e346 = sc.y;
-            metal::float2 _e347 = airlight_scene_backscatter_aerosol_u_and_weight(_e344, _e346, md_4);
-            uw = _e347;
-            float _e348 = sum;
-            float _e350 = uw.y;
-            float _e355 = uw.x;
-            sum = _e348 + ((0.46791393 * _e350) * metal::exp(-(t_1) * (_e355 - ua)));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.7613808);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.7613808);
-            float _e377 = beta;
-            float _e378 = co;
-            metal::float2 _e382 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e377, _e378), 0.0));
-            sc = _e382;
-            float _e383 = beta;
-            float _e384 = co;
-            if (_e383 > _e384) {
-                metal::float2 _e386 = sc;
-                sc = _e386.yx;
-            }
-            float _e389 = sc.x;
-            float _e391 = sc.y;
-            metal::float2 _e392 = airlight_scene_backscatter_aerosol_u_and_weight(_e389, _e391, md_4);
-            uw = _e392;
-            float _e393 = sum;
-            float _e395 = uw.y;
-            float _e400 = uw.x;
-            sum = _e393 + ((0.46791393 * _e395) * metal::exp(-(t_1) * (_e400 - ua)));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.3387906);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.3387906);
-            float _e422 = beta;
-            float _e423 = co;
-            metal::float2 _e427 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e422, _e423), 0.0));
-            sc = _e427;
-            float _e428 = beta;
-            float _e429 = co;
-            if (_e428 > _e429) {
-                metal::float2 _e431 = sc;
-                sc = _e431.yx;
-            }
-            float _e434 = sc.x;
-            float _e436 = sc.y;
-            metal::float2 _e437 = airlight_scene_backscatter_aerosol_u_and_weight(_e434, _e436, md_4);
-            uw = _e437;
-            float _e438 = sum;
-            float _e440 = uw.y;
-            float _e445 = uw.x;
-            sum = _e438 + ((0.36076158 * _e440) * metal::exp(-(t_1) * (_e445 - ua)));
-            beta = (0.5 * _e207.x) + ((0.5 * hl_1) * 0.06753051);
-            co = (0.5 * _e207.y) - ((0.5 * hl_1) * 0.06753051);
-            float _e467 = beta;
-            float _e468 = co;
-            metal::float2 _e472 = airlight_scene_backscatter_aerosol_sin_cos_octant(metal::max(metal::min(_e467, _e468), 0.0));
-            sc = _e472;
-            float _e473 = beta;
-            float _e474 = co;
-            if (_e473 > _e474) {
-                metal::float2 _e476 = sc;
-                sc = _e476.yx;
-            }
-            float _e479 = sc.x;
-            float _e481 = sc.y;
-            metal::float2 _e482 = airlight_scene_backscatter_aerosol_u_and_weight(_e479, _e481, md_4);
-            uw = _e482;
-            float _e483 = sum;
-            float _e485 = uw.y;
-            float _e490 = uw.x;
-            sum = _e483 + ((0.17132449 * _e485) * metal::exp(-(t_1) * (_e490 - ua)));
-            float _e496 = sum;
-            sum = _e496 * ((hl_1 * 0.07957747) / (md_4.y * md_4.z));
-        }
-    }
-    if (use_far) {
-        float c_5 = (0.07957747 * md_4.y) / (md_4.z * md_4.z);
-        float _e512 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * m_1);
-        f = _e512 / m_1;
-        if (!(true)) {
-            float _e516 = f;
-            float _e522 = airlight_scene_backscatter_aerosol_exp_e2_(t_1 * ub);
-            f = _e516 - ((metal::exp(-(t_1) * (ub - m_1)) * _e522) / ub);
-        }
-        float ue = (t_1 > 0.0) ? (m_1 + (6.4916997 / metal::max(t_1, 0.000000000000000000000000000001))) : airlight_scene_backscatter_aerosol_HUGE;
-        float va = 1.0 / metal::min(ub, ue);
-        float hl_2 = 0.5 * ((1.0 / m_1) - va);
-        v_3 = va + (hl_2 * 1.8611363);
-        float _e549 = s;
-        float _e550 = v_3;
-        float _e551 = airlight_scene_backscatter_aerosol_r_of_v(_e550, md_4);
-        float _e555 = v_3;
-        s = _e549 + ((0.34785485 * _e551) * metal::exp(-(t_1) * ((1.0 / _e555) - m_1)));
-        v_3 = va + (hl_2 * 1.3399811);
-        float _e566 = s;
-        float _e567 = v_3;
-        float _e568 = airlight_scene_backscatter_aerosol_r_of_v(_e567, md_4);
-        float _e572 = v_3;
-        s = _e566 + ((0.65214515 * _e568) * metal::exp(-(t_1) * ((1.0 / _e572) - m_1)));
-        v_3 = va + (hl_2 * 0.660019);
-        float _e583 = s;
-        float _e584 = v_3;
-        float _e585 = airlight_scene_backscatter_aerosol_r_of_v(_e584, md_4);
-        float _e589 = v_3;
-        s = _e583 + ((0.65214515 * _e585) * metal::exp(-(t_1) * ((1.0 / _e589) - m_1)));
-        v_3 = va + (hl_2 * 0.13886368);
-        float _e600 = s;
-        float _e601 = v_3;
-        float _e602 = airlight_scene_backscatter_aerosol_r_of_v(_e601, md_4);
-        float _e606 = v_3;
-        s = _e600 + ((0.34785485 * _e602) * metal::exp(-(t_1) * ((1.0 / _e606) - m_1)));
-        float _e614 = sum;
-        float _e620 = f;
-        float _e621 = s;
-        sum = _e614 + ((c_5 * metal::exp(-(t_1) * (m_1 - ua))) * (_e620 + (_e621 * hl_2)));
-    } else {
-        if (airlight_scene_backscatter_aerosol_HUGE > lcut) {
-            float ue_1 = ua + lcut;
-            float _e630 = s_1;
-            float _e634 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (0.41577455 / t_1), md_4);
-            s_1 = _e630 + (0.711093 * _e634);
-            float _e638 = s_1;
-            float _e642 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (2.2942803 / t_1), md_4);
-            s_1 = _e638 + (0.27851772 * _e642);
-            float _e646 = s_1;
-            float _e650 = airlight_scene_backscatter_aerosol_w_u(ue_1 + (6.289945 / t_1), md_4);
-            s_1 = _e646 + (0.010389256 * _e650);
-            if (!(true)) {
-                float _e657 = sb;
-                float _e661 = airlight_scene_backscatter_aerosol_w_u(ub + (0.41577455 / t_1), md_4);
-                sb = _e657 + (0.711093 * _e661);
-                float _e665 = sb;
-                float _e669 = airlight_scene_backscatter_aerosol_w_u(ub + (2.2942803 / t_1), md_4);
-                sb = _e665 + (0.27851772 * _e669);
-                float _e673 = sb;
-                float _e677 = airlight_scene_backscatter_aerosol_w_u(ub + (6.289945 / t_1), md_4);
-                sb = _e673 + (0.010389256 * _e677);
-                float _e681 = s_1;
-                float _e686 = sb;
-                s_1 = _e681 - (metal::exp(-(t_1) * (airlight_scene_backscatter_aerosol_HUGE - lcut)) * _e686);
-            }
-            float _e689 = sum;
-            float _e692 = s_1;
-            sum = _e689 + ((0.015411963 / t_1) * metal::max(_e692, 0.0));
-        }
-    }
+    float t = tau_1 * h_1;
+    float kap = md.w;
+    float m_2 = kap + ua;
+    float lam = m_2 / (1.0 + ((0.40810418 * t) * m_2));
+    bool is_short = airlight_scene_backscatter_aerosol_HUGE < (1.0 * m_2);
+    float mb = m_2 + airlight_scene_backscatter_aerosol_HUGE;
+    float _e72 = airlight_scene_backscatter_aerosol_e2_over(t * mb, mb);
+    float from_b = true ? 0.0 : (metal::exp(-(t) * airlight_scene_backscatter_aerosol_HUGE) * _e72);
+    float beta = is_short ? 0.0 : (1.0 / (1.0 + ((0.08933012 * t) * m_2)));
+    float _e86 = airlight_scene_backscatter_aerosol_e2_over(t * m_2, m_2);
+    sum = beta * (_e86 - from_b);
+    float sb = true ? 1.0 : (airlight_scene_backscatter_aerosol_HUGE / (lam + airlight_scene_backscatter_aerosol_HUGE));
+    v_2 = 1.0 / (1.0 - (sb * 0.02923607));
+    float _e108 = v_2;
+    r_1 = (sb * 0.02923607) * _e108;
+    float _e110 = r_1;
+    u = ua + (lam * _e110);
+    float _e114 = u;
+    float _e115 = u;
+    iq = 1.0 / ((kap * kap) + (_e114 * _e115));
+    float _e120 = nodes;
+    float _e121 = v_2;
+    float _e124 = v_2;
+    float _e126 = u;
+    float _e127 = u;
+    float _e131 = iq;
+    float _e134 = iq;
+    float _e136 = u;
+    float _e138 = u;
+    float _e146 = r_1;
+    nodes = _e120 + ((((0.06507778 * _e121) * _e124) * ((metal::sqrt((1.0 + (_e126 * _e127)) * _e131) * _e134) - (beta / ((kap + _e136) * (kap + _e138))))) * metal::exp((-(t) * lam) * _e146));
+    v_2 = 1.0 / (1.0 - (sb * 0.12775679));
+    float _e159 = v_2;
+    r_1 = (sb * 0.12775679) * _e159;
+    float _e161 = r_1;
+    u = ua + (lam * _e161);
+    float _e165 = u;
+    float _e166 = u;
+    iq = 1.0 / ((kap * kap) + (_e165 * _e166));
+    float _e171 = nodes;
+    float _e172 = v_2;
+    float _e175 = v_2;
+    float _e177 = u;
+    float _e178 = u;
+    float _e182 = iq;
+    float _e185 = iq;
+    float _e187 = u;
+    float _e189 = u;
+    float _e197 = r_1;
+    nodes = _e171 + ((((0.13951425 * _e172) * _e175) * ((metal::sqrt((1.0 + (_e177 * _e178)) * _e182) * _e185) - (beta / ((kap + _e187) * (kap + _e189))))) * metal::exp((-(t) * lam) * _e197));
+    v_2 = 1.0 / (1.0 - (sb * 0.29788548));
+    float _e210 = v_2;
+    r_1 = (sb * 0.29788548) * _e210;
+    float _e212 = r_1;
+    u = ua + (lam * _e212);
+    float _e216 = u;
+    float _e217 = u;
+    iq = 1.0 / ((kap * kap) + (_e216 * _e217));
+    float _e222 = nodes;
+    float _e223 = v_2;
+    float _e226 = v_2;
+    float _e228 = u;
+    float _e229 = u;
+    float _e233 = iq;
+    float _e236 = iq;
+    float _e238 = u;
+    float _e240 = u;
+    float _e248 = r_1;
+    nodes = _e222 + ((((0.1904879 * _e223) * _e226) * ((metal::sqrt((1.0 + (_e228 * _e229)) * _e233) * _e236) - (beta / ((kap + _e238) * (kap + _e240))))) * metal::exp((-(t) * lam) * _e248));
+    v_2 = 1.0 / (1.0 - (sb * 0.49783388));
+    float _e261 = v_2;
+    r_1 = (sb * 0.49783388) * _e261;
+    float _e263 = r_1;
+    u = ua + (lam * _e263);
+    float _e267 = u;
+    float _e268 = u;
+    iq = 1.0 / ((kap * kap) + (_e267 * _e268));
+    float _e273 = nodes;
+    float _e274 = v_2;
+    float _e277 = v_2;
+    float _e279 = u;
+    float _e280 = u;
+    float _e284 = iq;
+    float _e287 = iq;
+    float _e289 = u;
+    float _e291 = u;
+    float _e299 = r_1;
+    nodes = _e273 + ((((0.20718504 * _e274) * _e277) * ((metal::sqrt((1.0 + (_e279 * _e280)) * _e284) * _e287) - (beta / ((kap + _e289) * (kap + _e291))))) * metal::exp((-(t) * lam) * _e299));
+    v_2 = 1.0 / (1.0 - (sb * 0.70101285));
+    float _e312 = v_2;
+    r_1 = (sb * 0.70101285) * _e312;
+    float _e314 = r_1;
+    u = ua + (lam * _e314);
+    float _e318 = u;
+    float _e319 = u;
+    iq = 1.0 / ((kap * kap) + (_e318 * _e319));
+    float _e324 = nodes;
+    float _e325 = v_2;
+    float _e328 = v_2;
+    float _e330 = u;
+    float _e331 = u;
+    float _e335 = iq;
+    float _e338 = iq;
+    float _e340 = u;
+    float _e342 = u;
+    float _e350 = r_1;
+    nodes = _e324 + ((((0.19073802 * _e325) * _e328) * ((metal::sqrt((1.0 + (_e330 * _e331)) * _e335) * _e338) - (beta / ((kap + _e340) * (kap + _e342))))) * metal::exp((-(t) * lam) * _e350));
+    v_2 = 1.0 / (1.0 - (sb * 0.8675647));
+    float _e363 = v_2;
+    r_1 = (sb * 0.8675647) * _e363;
+    float _e365 = r_1;
+    u = ua + (lam * _e365);
+    float _e369 = u;
+    float _e370 = u;
+    iq = 1.0 / ((kap * kap) + (_e369 * _e370));
+    float _e375 = nodes;
+    float _e376 = v_2;
+    float _e379 = v_2;
+    float _e381 = u;
+    float _e382 = u;
+    float _e386 = iq;
+    float _e389 = iq;
+    float _e391 = u;
+    float _e393 = u;
+    float _e401 = r_1;
+    nodes = _e375 + ((((0.13830611 * _e376) * _e379) * ((metal::sqrt((1.0 + (_e381 * _e382)) * _e386) * _e389) - (beta / ((kap + _e391) * (kap + _e393))))) * metal::exp((-(t) * lam) * _e401));
+    v_2 = 1.0 / (1.0 - (sb * 0.9735725));
+    float _e414 = v_2;
+    r_1 = (sb * 0.9735725) * _e414;
+    float _e416 = r_1;
+    u = ua + (lam * _e416);
+    float _e420 = u;
+    float _e421 = u;
+    iq = 1.0 / ((kap * kap) + (_e420 * _e421));
+    float _e426 = nodes;
+    float _e427 = v_2;
+    float _e430 = v_2;
+    float _e432 = u;
+    float _e433 = u;
+    float _e437 = iq;
+    float _e440 = iq;
+    float _e442 = u;
+    float _e444 = u;
+    float _e452 = r_1;
+    nodes = _e426 + ((((0.06869087 * _e427) * _e430) * ((metal::sqrt((1.0 + (_e432 * _e433)) * _e437) * _e440) - (beta / ((kap + _e442) * (kap + _e444))))) * metal::exp((-(t) * lam) * _e452));
+    float _e457 = sum;
+    float _e458 = nodes;
+    sum = _e457 + ((_e458 * sb) * lam);
+    float pc = (0.07957747 * md.y) / (md.z * md.z);
     if (h_1 < 0.0000000000000000008673617) {
-        float _e699 = sum;
-        float _e707 = airlight_scene_backscatter_aerosol_scaled(2.0 * metal::max(_e699, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
-        return _e707;
+        float _e473 = sum;
+        float _e480 = airlight_scene_backscatter_aerosol_scaled((2.0 * pc) * metal::max(_e473, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
+        return _e480;
     }
-    float _e712 = sum;
-    return metal::min(metal::max((2.0 * metal::exp(-(tau_1))) * (_e712 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    float _e486 = sum;
+    return metal::min(metal::max(((2.0 * pc) * metal::exp(-(tau_1))) * (_e486 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(
@@ -723,18 +517,18 @@ float airlight_scene_backscatter_aerosol_radiance(
     float sigma_t,
     float sigma_s_1
 ) {
-    bool local_9 = {};
+    bool local_5 = {};
     metal::float3 _e6 = airlight_scene_backscatter_aerosol_ray_geometry(origin_1, dir_1, light_1);
     if (_e6.x <= 0.0) {
         float _e12 = airlight_scene_backscatter_aerosol_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_backscatter_aerosol_HUGE);
         return _e12;
     }
     if (_e6.y <= 0.0) {
-        local_9 = _e6.z == 0.0;
+        local_5 = _e6.z == 0.0;
     } else {
-        local_9 = false;
+        local_5 = false;
     }
-    bool _e22 = local_9;
+    bool _e22 = local_5;
     if (_e22) {
         return 0.0;
     }

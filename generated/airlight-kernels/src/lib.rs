@@ -71,6 +71,10 @@ pub mod lite_4;
 #[rustfmt::skip]
 pub mod lite_5;
 #[rustfmt::skip]
+pub mod lite_7;
+#[rustfmt::skip]
+pub mod lite_12;
+#[rustfmt::skip]
 pub mod lite_med_7;
 #[rustfmt::skip]
 pub mod phi_iso_4;
@@ -614,6 +618,42 @@ pub const KERNELS: &[Kernel] = &[
         spot_shadowed: Some(lite_5::shadowed_spot),
     },
     Kernel {
+        name: "lite-7",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 8.941100086915218e-4,
+        dense_max_rel: 8.971903731747109e-4,
+        f32_thin_max_rel: Some(8.941100086915218e-4),
+        f32_dense_max_rel: Some(8.971903731747109e-4),
+        airlight: |tau, gamma, rho, g| lite_7::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_7::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_7::shadowed),
+        spot_shadowed: Some(lite_7::shadowed_spot),
+    },
+    Kernel {
+        name: "lite-12",
+        scene: false,
+        params: &["tau", "gamma", "rho", "g"],
+        thin_max_rel: 3.165501071982524e-4,
+        dense_max_rel: 1.5664480116704698e-4,
+        f32_thin_max_rel: Some(3.165501071982524e-4),
+        f32_dense_max_rel: Some(1.5664480116704698e-4),
+        airlight: |tau, gamma, rho, g| lite_12::airlight(tau, gamma, rho, g),
+        radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
+            lite_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
+        },
+        spot: Some(|origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g| {
+            lite_12::spot(origin, dir, surface, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
+        }),
+        shadowed: Some(lite_12::shadowed),
+        spot_shadowed: Some(lite_12::shadowed_spot),
+    },
+    Kernel {
         name: "lite-med-7",
         scene: false,
         params: &["tau", "gamma", "rho", "g"],
@@ -1089,10 +1129,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-backscatter-aerosol",
         scene: true,
         params: &["tau", "gamma"],
-        thin_max_rel: 1.683025514127769e-5,
-        dense_max_rel: 1.7047527977746167e-5,
-        f32_thin_max_rel: Some(1.683025514127769e-5),
-        f32_dense_max_rel: Some(1.7047527977746167e-5),
+        thin_max_rel: 4.400122719868158e-4,
+        dense_max_rel: 3.828520207973287e-4,
+        f32_thin_max_rel: Some(4.400122719868158e-4),
+        f32_dense_max_rel: Some(3.828520207973287e-4),
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1153,10 +1193,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-hg-fog",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 3.3673044112569796e-3,
-        dense_max_rel: 3.4785414388591343e-3,
-        f32_thin_max_rel: Some(3.3673044112569796e-3),
-        f32_dense_max_rel: Some(3.4785414388591343e-3),
+        thin_max_rel: 3.838299069469565e-4,
+        dense_max_rel: 3.536944691273925e-4,
+        f32_thin_max_rel: Some(3.838299069469565e-4),
+        f32_dense_max_rel: Some(3.536944691273925e-4),
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1185,10 +1225,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-spot-harbour",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 3.322346456857322e-3,
-        dense_max_rel: 3.473238449923121e-3,
-        f32_thin_max_rel: Some(3.322346456857322e-3),
-        f32_dense_max_rel: Some(3.473238449923121e-3),
+        thin_max_rel: 3.2198068241621574e-4,
+        dense_max_rel: 3.6233749325901936e-4,
+        f32_thin_max_rel: Some(3.2198068241621574e-4),
+        f32_dense_max_rel: Some(3.6309726090283617e-4),
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1205,10 +1245,10 @@ pub const KERNELS: &[Kernel] = &[
         name: "scene-window-shafts",
         scene: true,
         params: &["tau", "gamma", "rho"],
-        thin_max_rel: 3.322346456857322e-3,
-        dense_max_rel: 3.473238449923121e-3,
-        f32_thin_max_rel: Some(3.322346456857322e-3),
-        f32_dense_max_rel: Some(3.473238449923121e-3),
+        thin_max_rel: 3.2198068241621574e-4,
+        dense_max_rel: 3.6233749325901936e-4,
+        f32_thin_max_rel: Some(3.2198068241621574e-4),
+        f32_dense_max_rel: Some(3.6233749325901936e-4),
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

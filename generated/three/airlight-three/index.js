@@ -28,6 +28,8 @@ export const kernels = [
   { name: "lite-3", module: "./kernels/lite-3.js", bound: "max relative error of A (f64 model): thin 2.5e-2, dense 2.5e-2" },
   { name: "lite-4", module: "./kernels/lite-4.js", bound: "max relative error of A (f64 model): thin 8.2e-3, dense 8.6e-3" },
   { name: "lite-5", module: "./kernels/lite-5.js", bound: "max relative error of A (f64 model): thin 7.5e-3, dense 4.0e-3" },
+  { name: "lite-7", module: "./kernels/lite-7.js", bound: "max relative error of A (f64 model): thin 8.9e-4, dense 9.0e-4" },
+  { name: "lite-12", module: "./kernels/lite-12.js", bound: "max relative error of A (f64 model): thin 3.2e-4, dense 1.6e-4" },
   { name: "lite-med-7", module: "./kernels/lite-med-7.js", bound: "max relative error of A (f64 model): thin 5.1e-3, dense 5.1e-3" },
   { name: "phi-iso-4", module: "./kernels/phi-iso-4.js", bound: "max relative error of A (f64 model): thin 1.8e-5, dense 1.8e-5" },
   { name: "phi-iso-6", module: "./kernels/phi-iso-6.js", bound: "max relative error of A (f64 model): thin 3.5e-6, dense 6.2e-6" },
