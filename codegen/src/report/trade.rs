@@ -106,10 +106,20 @@ fn ir_ops(ir: &[KernelIr], name: &str) -> Option<String> {
     ir.iter().find(|k| k.name == name).map(|k| format!("{} ({})", k.every.ops, k.worst.ops))
 }
 
-/// Where airlight loses a level, in words; on a GPU measure, with both kernels'
-/// IR operations on every branch and on the worst path (what that cost follows:
-/// the section's "What the cost follows").
-fn loss(h: &front::Headline, cost: front::CostMeasure, ir: &[KernelIr]) -> String {
+/// A kernel's worst path as a CPU loss quotes it: IR operations, transcendental
+/// calls and the bytes of any table it reads (`bench.json`).
+fn cpu_path(b: &Bench, ir: &[KernelIr], name: &str) -> Option<String> {
+    let k = ir.iter().find(|k| k.name == name)?;
+    let bytes = b.models.iter().find(|m| m.name == name).map_or(0, |m| m.bytes);
+    let table = if bytes > 0 { format!(" and a {} KiB table", bytes / 1024) } else { String::new() };
+    Some(format!("`{name}` {} ops, {} transcendental calls{table}", k.worst.ops, k.worst.transcendentals))
+}
+
+/// Where airlight loses a level, in words, with what each kernel pays where the
+/// cost follows it (the section's "What the cost follows"): on a GPU measure both
+/// kernels' IR operations on every branch and on the worst path; on the CPU the
+/// worst path's operations, transcendental calls and table bytes.
+fn loss(h: &front::Headline, cost: front::CostMeasure, ir: &[KernelIr], b: &Bench) -> String {
     let who = match (&h.airlight, &h.baseline) {
         (Some(a), Some(bl)) => format!(
             "`{}` ({} ns) is {:.2}× faster than airlight's fastest, `{}` ({} ns)",
@@ -129,6 +139,10 @@ fn loss(h: &front::Headline, cost: front::CostMeasure, ir: &[KernelIr]) -> Strin
             }
             _ => String::new(),
         },
+        (Some(a), Some(bl)) => match (cpu_path(b, ir, &a.name), cpu_path(b, ir, &bl.name)) {
+            (Some(x), Some(y)) => format!(" — worst path: {x}; {y}"),
+            _ => String::new(),
+        },
         _ => String::new(),
     };
     format!("{} error {}: {who}{why}", h.measure, fmt_err(h.level))
@@ -139,7 +153,7 @@ fn measure_table(b: &Bench, g: f64, cost: front::CostMeasure, ir: &[KernelIr]) -
     let who = |m: &Option<Method>| m.as_ref().map_or("—".to_string(), |m| format!("`{}` {} ns", m.name, ns(m.ns)));
     let ms = front::methods_by(b, g, cost);
     let hs = front::headlines(&ms);
-    let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(|h| loss(h, cost, ir)).collect();
+    let losses = hs.iter().filter(|h| h.verdict().airlight_loses()).map(|h| loss(h, cost, ir, b)).collect();
     let levels = hs
         .iter()
         .map(|h| Level {
@@ -560,4 +574,76 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     ctx.insert("bench_repeats", &b.repeats);
     ctx.insert("bench_gs", &front::gs(b).iter().map(|g| front::g_label(*g)).collect::<Vec<_>>().join(", "));
     no_extinction(ctx, b, models);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use airlight_fit::ircost::IrCost;
+
+    fn method(name: &str, baseline: bool, ns: f64) -> Method {
+        Method {
+            name: name.into(),
+            baseline,
+            ns,
+            max: 1.0,
+            median: 1e-3,
+            dominated_max: false,
+            dominated_median: false,
+        }
+    }
+
+    fn model(name: &str, bytes: usize) -> BenchModel {
+        BenchModel {
+            name: name.into(),
+            kind: airlight_fit::vocab::Role::Baseline,
+            g_range: [0.0, 0.0],
+            errors: Vec::new(),
+            cpu_ns_per_eval: 1.0,
+            cpu_ns_range: [1.0, 1.0],
+            cpu_ns_one_at_a_time: 1.0,
+            ops: 0,
+            transcendentals: 0,
+            gpu_evals_per_s: 0.0,
+            gpu_frame_evals_per_s: 0.0,
+            bytes,
+        }
+    }
+
+    #[test]
+    fn a_loss_says_what_each_kernel_pays_where_the_cost_follows_it() {
+        let bench = Bench {
+            adapter: "none".into(),
+            cpu: "none".into(),
+            error_points: 1,
+            cost_batch: 1,
+            repeats: 1,
+            models: vec![model("cheap", 0), model("table", 262_144)],
+            rgb: Vec::new(),
+            shafts: Vec::new(),
+        };
+        let ir = |name: &str, worst: usize, every: usize, calls: usize| KernelIr {
+            name: name.into(),
+            worst: IrCost { ops: worst, transcendentals: calls },
+            every: IrCost { ops: every, transcendentals: calls },
+        };
+        let ir = vec![ir("cheap", 265, 273, 9), ir("table", 198, 198, 2)];
+        let h = front::Headline {
+            measure: "median",
+            level: 1e-2,
+            airlight: Some(method("cheap", false, 70.0)),
+            baseline: Some(method("table", true, 50.0)),
+        };
+        let cpu = loss(&h, front::CostMeasure::Cpu, &ir, &bench);
+        assert!(cpu.contains("`table` (50.0 ns) is 1.40× faster"), "{cpu}");
+        assert!(
+            cpu.contains(
+                "`cheap` 265 ops, 9 transcendental calls; `table` 198 ops, 2 transcendental calls and a 256 KiB table"
+            ),
+            "{cpu}"
+        );
+        let gpu = loss(&h, front::CostMeasure::GpuRandom, &ir, &bench);
+        assert!(gpu.contains("IR ops on every branch (worst path): `cheap` 273 (265), `table` 198 (198)"), "{gpu}");
+        assert!(!gpu.contains("KiB"), "{gpu}");
+    }
 }
