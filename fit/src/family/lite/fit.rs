@@ -104,6 +104,12 @@ pub struct NodeFit {
     pub points: (usize, usize),
 }
 
+/// Whether a member of this g range is an HG member (the isotropic ones have the
+/// range `(0, 0)`): the one place the family decides.
+fn is_hg(g_range: (f64, f64)) -> bool {
+    g_range != (0.0, 0.0)
+}
+
 /// Points per domain in the fitting set of an isotropic or an HG member.
 fn fit_points(hg: bool) -> usize {
     if hg {
@@ -116,7 +122,7 @@ fn fit_points(hg: bool) -> usize {
 fn spec(g_range: (f64, f64)) -> SetSpec {
     SetSpec {
         g_range,
-        fit_points: fit_points(g_range != (0.0, 0.0)),
+        fit_points: fit_points(is_hg(g_range)),
         fit_seed: FIT_SEED,
         faces: FACES,
         check_points: CHECK_POINTS,
@@ -155,7 +161,7 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
 pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let (n, objective) = (tier.nodes, tier.objective);
     let (fit_set, check_set) = fitset::sets(spec(g_range));
-    let hg = g_range != (0.0, 0.0);
+    let hg = is_hg(g_range);
     let start = LiteRule::start(n, hg.then_some(FADE_START), e2.clone());
     let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| objective.on(&|p| r.eval(p), set);
     let cost = |p: &[f64]| max_on(&rule_at(&start, p), &fit_set);
@@ -239,7 +245,7 @@ pub fn assemble(tier: LiteTier, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> 
     let nodes = fit_nodes(tier, g_range, &fit.e2);
     let n = tier.nodes;
     let med = if tier.objective == Objective::Median { "med-" } else { "" };
-    let hg = g_range != (0.0, 0.0);
+    let hg = is_hg(g_range);
     let (family, method, fitted) = if hg {
         (
             format!("lite-{med}{n} (e^x E2 of a faded C/(kappa+u)^2, {n} fitted nodes for the rest, HG at each)"),
