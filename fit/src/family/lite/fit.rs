@@ -104,10 +104,11 @@ pub struct NodeFit {
     pub points: (usize, usize),
 }
 
-/// Whether a member of this g range is an HG member (the isotropic ones have the
-/// range `(0, 0)`): the one place the family decides.
-fn is_hg(g_range: (f64, f64)) -> bool {
-    g_range != (0.0, 0.0)
+/// Whether a member of this g range (its ends) is an HG member (the isotropic ones
+/// have the range `(0, 0)`): the one place the family decides, for its fit and for
+/// reading its coefficient file.
+pub(super) fn is_hg(g_range: &[f64]) -> bool {
+    g_range.iter().any(|&g| g != 0.0)
 }
 
 /// Points per domain in the fitting set of an isotropic or an HG member.
@@ -122,7 +123,7 @@ fn fit_points(hg: bool) -> usize {
 fn spec(g_range: (f64, f64)) -> SetSpec {
     SetSpec {
         g_range,
-        fit_points: fit_points(is_hg(g_range)),
+        fit_points: fit_points(is_hg(&[g_range.0, g_range.1])),
         fit_seed: FIT_SEED,
         faces: FACES,
         check_points: CHECK_POINTS,
@@ -161,7 +162,7 @@ fn rule_at(start: &LiteRule, p: &[f64]) -> LiteRule {
 pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let (n, objective) = (tier.nodes, tier.objective);
     let (fit_set, check_set) = fitset::sets(spec(g_range));
-    let hg = is_hg(g_range);
+    let hg = is_hg(&[g_range.0, g_range.1]);
     let start = LiteRule::start(n, hg.then_some(FADE_START), e2.clone());
     let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| objective.on(&|p| r.eval(p), set);
     let cost = |p: &[f64]| max_on(&rule_at(&start, p), &fit_set);
@@ -184,13 +185,16 @@ pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
 /// The node fit's provenance table.
 fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
     let arr = |x: &[f64]| Value::Array(x.iter().map(|&v| f(v)).collect());
-    let (parameters, phase) = match fit.start.fade {
-        None => ("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short; nodes sorted, alpha in [0.05, 4], short in [0.01, 1]".to_string(), "isotropic"),
-        Some(b) => (
-            format!("nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short, ln fade; nodes sorted, alpha in [0.05, 4], short in [0.01, 1], fade in [0.001, 10] from {b}"),
-            "g over the member's range",
-        ),
+    // The boxes as `rule_at` clamps to them.
+    let (a, sh, fb) = (ALPHA_BOX, SHORT_BOX, FADE_BOX);
+    let (fade_param, fade_box, phase) = match fit.start.fade {
+        None => (String::new(), String::new(), "isotropic"),
+        Some(b) => (", ln fade".to_string(), format!(", fade in [{}, {}] from {b}", fb.0, fb.1), "g over the member's range"),
     };
+    let parameters = format!(
+        "nodes x (through logit), weights w (normalised to sum 1, so that the shortest intervals are exact), ln alpha, short{fade_param}; nodes sorted, alpha in [{}, {}], short in [{}, {}]{fade_box}",
+        a.0, a.1, sh.0, sh.1
+    );
     let objective = match fit.objective {
         Objective::Max => "minimax: the largest relative error of A over the fitting set (f64 model)".to_string(),
         Objective::Median => format!(
@@ -245,7 +249,7 @@ pub fn assemble(tier: LiteTier, g_range: (f64, f64), fit: Option<&LogE2Fit>) -> 
     let nodes = fit_nodes(tier, g_range, &fit.e2);
     let n = tier.nodes;
     let med = if tier.objective == Objective::Median { "med-" } else { "" };
-    let hg = is_hg(g_range);
+    let hg = is_hg(&[g_range.0, g_range.1]);
     let (family, method, fitted) = if hg {
         (
             format!("lite-{med}{n} (e^x E2 of a faded C/(kappa+u)^2, {n} fitted nodes for the rest, HG at each)"),

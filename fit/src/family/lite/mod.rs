@@ -257,8 +257,7 @@ impl Family for LiteRule {
         };
         let (alpha, short) = (pos("alpha")?, pos("short")?);
         // HG members (a g range beyond 0) carry the fade; isotropic ones must not.
-        let hg = g_range.iter().any(|&g| g != 0.0);
-        let fade = if hg {
+        let fade = if fit::is_hg(g_range) {
             Some(pos("fade")?)
         } else {
             if s.contains_key("fade") {
