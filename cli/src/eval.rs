@@ -61,6 +61,18 @@ fn eval_compiled(
     }
 }
 
+/// A model the registry does not know. Outside the repository only the
+/// reference is known: the message says why first (every entry says it alike).
+fn unknown_model(model: &str, e: impl std::fmt::Display, root: &Option<PathBuf>) -> Failure {
+    let found = root.clone().or_else(|| crate::workspace::find_root().ok());
+    match found {
+        None if model != "reference" => bad_input(format!(
+            "no generated/coefficients found above the current directory (run inside the repository or pass --root), so {e}"
+        )),
+        _ => bad_input(e),
+    }
+}
+
 /// `eval` through an f64 model (or the reference), which checks the input
 /// against its `g` range and domain.
 fn eval_model(
@@ -70,15 +82,8 @@ fn eval_model(
     entry_kind: EvalEntry,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
-    let found = root.clone().or_else(|| crate::workspace::find_root().ok());
-    let (reg, _) = registry(root)?;
-    let m = reg.get(model).map_err(|e| match &found {
-        // Outside the repository only the reference is known: say why first.
-        None if model != "reference" => bad_input(format!(
-            "no generated/coefficients found above the current directory (run inside the repository or pass --root), so {e}"
-        )),
-        _ => bad_input(e),
-    })?;
+    let (reg, _) = registry(root.clone())?;
+    let m = reg.get(model).map_err(|e| unknown_model(model, e, &root))?;
     let g_ok = |_: &airlight_fit::geometry::PhysicalRay, g: f64| {
         m.check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
             .map_err(|e| ("g", e.to_string()))
@@ -280,7 +285,8 @@ pub(crate) fn eval_shadowed(
     };
     let m = match (&on, f64_model) {
         (Runner::F64, None) => {
-            return Err(bad_input(reg.get(model).err().map(|e| e.to_string()).unwrap_or_default()));
+            let e = reg.get(model).err().map(|e| e.to_string()).unwrap_or_default();
+            return Err(unknown_model(model, e, &root));
         }
         (_, m) => m,
     };

@@ -135,7 +135,19 @@ impl Fields<'_> {
     /// `[medium] phase`, with `g` or `g_range` for `"hg"`.
     fn phase(&self) -> Result<ScenePhase, SceneError> {
         Ok(match self.get("medium", "phase")?.as_str() {
-            Some("isotropic") => ScenePhase::Isotropic,
+            Some("isotropic") => {
+                let m = self.table("medium")?;
+                for k in ["g", "g_range"] {
+                    if m.contains_key(k) {
+                        return Err(self.err(
+                            "medium",
+                            k,
+                            format!("an isotropic medium takes no {k} (for Henyey-Greenstein write phase = \"hg\")"),
+                        ));
+                    }
+                }
+                ScenePhase::Isotropic
+            }
             Some("hg") => {
                 let m = self.table("medium")?;
                 match (m.get("g"), m.get("g_range")) {
@@ -448,6 +460,10 @@ pub enum PlanError {
         budget: f64,
         /// The smallest declared bound among models that cover the scene, if any.
         best: Option<(String, f64)>,
+        /// The scene's `g` range (`[0, 0]`: isotropic), which a model must cover.
+        g: (f64, f64),
+        /// The widest `g` range any model covers.
+        widest: (f64, f64),
     },
 }
 
@@ -456,9 +472,10 @@ impl fmt::Display for PlanError {
         match self {
             PlanError::OutsideDomains { tau_max } => write!(
                 f,
-                "the scene reaches τ = σt·D = {tau_max} but models are measured only up to τ = 20 (the dense domain)"
+                "the scene reaches τ = σt·D = {} but models are measured only up to τ = 20 (the dense domain)",
+                airlight_fit::tomlfile::short(*tau_max)
             ),
-            PlanError::Budget { budget, best: Some((name, bound)) } => write!(
+            PlanError::Budget { budget, best: Some((name, bound)), .. } => write!(
                 f,
                 "no model meets max_rel_error = {budget}; the best achievable for this scene is {bound:.2e} (`{name}`)"
             ),
@@ -475,8 +492,9 @@ impl fmt::Display for PlanError {
                 airlight_fit::tomlfile::short(*error),
                 airlight_fit::tomlfile::short(*error)
             ),
-            PlanError::Budget { budget, best: None } => {
-                write!(f, "no model covers this scene's phase function (budget {budget})")
+            PlanError::Budget { budget, best: None, g: (lo, hi), widest: (wlo, whi) } => {
+                let g = if lo == hi { format!("g = {lo}") } else { format!("g in [{lo}, {hi}]") };
+                write!(f, "no model covers {g}: the models together cover g in [{wlo}, {whi}] (budget {budget})")
             }
         }
     }
@@ -576,6 +594,10 @@ pub fn plan(scene: &Scene, models: &[ModelFile], bench: Option<&Bench>) -> Resul
         None => Err(PlanError::Budget {
             budget: scene.max_rel_error,
             best: candidates.iter().min_by(|a, b| a.bound.total_cmp(&b.bound)).map(|c| (c.name.clone(), c.bound)),
+            g: scene.phase.g_range(),
+            widest: models
+                .iter()
+                .fold((0.0, 0.0), |(lo, hi), m| (m.model.g_range.0.min(lo), m.model.g_range.1.max(hi))),
         }),
     }
 }
@@ -725,6 +747,11 @@ mod tests {
             let e = parse("s.toml", &text).unwrap_err().to_string();
             assert!(e.starts_with(&format!("s.toml:{line}: {want}")), "{e}");
         }
+        // An isotropic medium refuses a g it would ignore, on g's own line.
+        let text = good.replacen("phase = \"isotropic\"", "phase = \"isotropic\"\ng = 0.5", 1);
+        let e = parse("s.toml", &text).unwrap_err().to_string();
+        let line = text.lines().position(|l| l == "g = 0.5").unwrap() + 1;
+        assert!(e.starts_with(&format!("s.toml:{line}: field 'medium.g'")) && e.contains("isotropic"), "{e}");
         // A spot scene needs surfaces (its cone ends the lit stretch).
         let spot = good.replacen("kind = \"point\"", "kind = \"spot\"", 1);
         assert!(parse("s.toml", &spot).unwrap().spot);

@@ -408,8 +408,16 @@ pub fn parse_spheres_column(
             format!("missing from the header '{}' (the occluders: cx cy cz r; …, empty for none)", header.trim()),
         )
     })?;
+    let columns = header.split(',').count();
     let mut out = Vec::new();
     for (line, text) in lines {
+        let fields = text.split(',').count();
+        if fields < columns {
+            // A short row is refused, as the other columns refuse it: it is not a ray
+            // without occluders (write the field empty for that).
+            let message = format!("missing value (the row has {fields} fields, the header {columns})");
+            return Err(located(file, line, Some("spheres"), message));
+        }
         let field = text.split(',').nth(col).map(str::trim).unwrap_or("");
         let occ = crate::shafts::parse_spheres(field).map_err(|m| located(file, line, Some("spheres"), m))?;
         out.push((line, occ, field.to_string()));

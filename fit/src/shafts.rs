@@ -50,13 +50,7 @@ impl Occluder {
     pub fn blocks(&self, x: Vec3, light: Vec3) -> bool {
         let e = sub(light, x);
         match *self {
-            Occluder::Sphere { center, radius } => {
-                let w = sub(center, x);
-                let ee = dot(e, e);
-                let t = if ee > 0.0 { (dot(w, e) / ee).clamp(0.0, 1.0) } else { 0.0 };
-                let q = sub(along(x, e, t), center);
-                dot(q, q) < radius * radius
-            }
+            Occluder::Sphere { center, radius } => ball_blocks(center, radius, x, light),
             Occluder::Cuboid { min, max } => {
                 let (mut lo, mut hi) = (0.0f64, 1.0f64);
                 for i in 0..3 {
@@ -78,10 +72,7 @@ impl Occluder {
     /// Whether `q` lies in the occluder (its boundary included).
     pub fn contains(&self, q: Vec3) -> bool {
         match *self {
-            Occluder::Sphere { center, radius } => {
-                let w = sub(q, center);
-                dot(w, w) <= radius * radius
-            }
+            Occluder::Sphere { center, radius } => norm(sub(q, center)) <= radius,
             Occluder::Cuboid { min, max } => (0..3).all(|a| q[a] >= min[a] && q[a] <= max[a]),
         }
     }
@@ -91,11 +82,8 @@ impl Occluder {
     pub fn enters(&self, o: Vec3, d: Vec3) -> Option<f64> {
         match *self {
             Occluder::Sphere { center, radius } => {
-                let w = sub(o, center);
-                let b = dot(w, d);
-                let disc = b * b - (dot(w, w) - radius * radius);
-                let s = -b - disc.max(0.0).sqrt();
-                (disc >= 0.0 && s > 0.0).then_some(s)
+                let (near, _) = ball_crossings(center, radius, o, d)?;
+                (near > 0.0).then_some(near)
             }
             Occluder::Cuboid { min, max } => {
                 let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
@@ -121,33 +109,12 @@ impl Occluder {
     /// itself; a box's by the planes through the light and each of its 12 edges and
     /// by its 6 faces.
     pub fn candidates(&self, o: Vec3, d: Vec3, light: Vec3, out: &mut Vec<f64>) {
-        let mut roots = |a: f64, b: f64, c: f64| {
-            // a s² + 2 b s + c = 0, without cancellation.
-            let disc = b * b - a * c;
-            if disc < 0.0 {
-                return;
-            }
-            let q = -(b + b.signum() * disc.sqrt());
-            if a != 0.0 {
-                out.push(q / a);
-            }
-            if q != 0.0 {
-                out.push(c / q);
-            }
-        };
         match *self {
             Occluder::Sphere { center, radius } => {
-                let w = sub(o, center);
-                roots(1.0, dot(w, d), dot(w, w) - radius * radius);
-                let axis = sub(center, light);
-                let dist = norm(axis);
-                if dist > radius {
-                    let a = axis.map(|x| x / dist);
-                    let c2 = (1.0 - radius / dist) * (1.0 + radius / dist);
-                    let w = sub(o, light);
-                    let (wa, da) = (dot(w, a), dot(d, a));
-                    roots(da * da - c2, wa * da - c2 * dot(w, d), wa * wa - c2 * dot(w, w));
+                if let Some((a, b)) = ball_crossings(center, radius, o, d) {
+                    out.extend([a, b]);
                 }
+                tangent_cone_cuts(center, radius, o, d, light, out);
             }
             Occluder::Cuboid { min, max } => {
                 for i in 0..3 {
@@ -171,6 +138,142 @@ impl Occluder {
                 }
             }
         }
+    }
+}
+
+/// `x · 2^k`, exactly wherever the result is a normal double.
+fn ldexp(mut x: f64, mut k: i32) -> f64 {
+    let step = |k: i32| f64::from_bits(((k + 1023) as u64) << 52);
+    while k > 1000 {
+        x *= step(1000);
+        k -= 1000;
+    }
+    while k < -1000 {
+        x *= step(-1000);
+        k += 1000;
+    }
+    x * step(k)
+}
+
+/// The `k` with `m · 2^{−k}` in `[0.5, 1)`, for a finite `m > 0` (0 otherwise).
+fn binade(m: f64) -> i32 {
+    if !(m > 0.0 && m.is_finite()) {
+        0
+    } else if m < f64::MIN_POSITIVE {
+        binade(m * ldexp(1.0, 600)) - 600
+    } else {
+        ((m.to_bits() >> 52) & 0x7ff) as i32 - 1022
+    }
+}
+
+fn scaled(v: Vec3, k: i32) -> Vec3 {
+    v.map(|x| ldexp(x, -k))
+}
+
+/// `a b − c d` to a few ulps even where the products cancel (Kahan's algorithm).
+fn diff_of_products(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    let w = c * d;
+    let err = (-c).mul_add(d, w);
+    a.mul_add(b, -w) + err
+}
+
+/// `a × b` to a few ulps per component, however nearly parallel `a` and `b` are.
+fn cross_accurate(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        diff_of_products(a[1], b[2], a[2], b[1]),
+        diff_of_products(a[2], b[0], a[0], b[2]),
+        diff_of_products(a[0], b[1], a[1], b[0]),
+    ]
+}
+
+/// Where the line `o + s d` (`d` a unit vector) meets the ball, `(near, far)`.
+/// Worked in a frame scaled by a power of two, so that no square overflows or
+/// underflows at any finite size.
+fn ball_crossings(center: Vec3, radius: f64, o: Vec3, d: Vec3) -> Option<(f64, f64)> {
+    let w = sub(o, center);
+    let k = binade(norm(w).max(radius));
+    let (w, r) = (scaled(w, k), ldexp(radius, -k));
+    let b = dot(w, d);
+    let nw = norm(w);
+    let disc = b * b - (nw - r) * (nw + r);
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    let (x, y) = if q == 0.0 { (0.0, 0.0) } else { (q, (nw - r) * (nw + r) / q) };
+    Some((ldexp(x.min(y), k), ldexp(x.max(y), k)))
+}
+
+/// Whether the segment from `x` to `light` passes through the ball's interior
+/// (touching its surface does not block; a light or a point inside it is blocked).
+/// Decided where it is well conditioned: a thin shadow cone (ball small against its
+/// distance) by the cross product `|u × e| < r |e|` (each factor scaled by a power of
+/// two, the cross product free of cancellation), a wide one (light near or on the
+/// surface) by `(u·ê)² > (|u| − r)(|u| + r)`, which is exact in its sign when the
+/// light is on the surface.
+fn ball_blocks(center: Vec3, radius: f64, x: Vec3, light: Vec3) -> bool {
+    let u = sub(center, light);
+    let du = norm(u);
+    if du < radius || norm(sub(x, center)) < radius {
+        return true;
+    }
+    let e = sub(x, light);
+    let de = norm(e);
+    if de == 0.0 {
+        return false;
+    }
+    let (ku, ke) = (binade(du), binade(de));
+    let (us, rs, dus) = (scaled(u, ku), ldexp(radius, -ku), ldexp(du, -ku));
+    let (es, des) = (scaled(e, ke), ldexp(de, -ke));
+    // u·ê in the scaled frame of u: the foot of the perpendicular from the centre.
+    let foot = dot(us, es) / des;
+    if !(foot > 0.0 && foot < ldexp(des, ke - ku)) {
+        return false; // the closest point is an end, and both ends are outside
+    }
+    if rs < 0.5 * dus {
+        norm(cross_accurate(us, es)) < rs * des
+    } else {
+        foot * foot > (dus - rs) * (dus + rs)
+    }
+}
+
+/// The cuts of a ball's tangent cone from the light on the ray `o + s d`: the roots
+/// of `(|u|² − r²) |P × u|² = r² (P·u)²`, `P` the ray's point from the light and
+/// `u` the light-to-centre vector — both nappes, so a superset. Formed from
+/// cancellation-free cross products in power-of-two-scaled frames, so that a
+/// ball 1e-12 of its distance across keeps its cone, and a light on the surface
+/// (`|u| = r`) gives the tangent plane `P·u = 0`. Where the discriminant is
+/// negative the ray's closest approach is pushed instead (a harmless extra cut).
+fn tangent_cone_cuts(center: Vec3, radius: f64, o: Vec3, d: Vec3, light: Vec3, out: &mut Vec<f64>) {
+    let u = sub(center, light);
+    let du = norm(u);
+    if !(du >= radius) {
+        return; // the light is inside: the ball's own surface bounds the shadow
+    }
+    let ku = binade(du);
+    let (u, r, du) = (scaled(u, ku), ldexp(radius, -ku), ldexp(du, -ku));
+    let w = sub(o, light);
+    let kw = binade(norm(w));
+    let w = scaled(w, kw);
+    let (c, s) = ((du - r) * (du + r), r * r);
+    let (x0, x1) = (cross_accurate(w, u), cross_accurate(d, u));
+    let (y0, y1) = (dot(w, u), dot(d, u));
+    let a = c * dot(x1, x1) - s * y1 * y1;
+    let b = c * dot(x0, x1) - s * y0 * y1;
+    let cc = c * dot(x0, x0) - s * y0 * y0;
+    let disc = b * b - a * cc;
+    if !(disc >= 0.0) {
+        if a != 0.0 {
+            out.push(ldexp(-b / a, kw));
+        }
+        return;
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    if a != 0.0 {
+        out.push(ldexp(q / a, kw));
+    }
+    if q != 0.0 {
+        out.push(ldexp(cc / q, kw));
     }
 }
 
@@ -820,5 +923,62 @@ mod tests {
         assert!(parse_spheres("1 2 3 -1").unwrap_err().contains("radius"));
         assert!(parse_spheres("1 2 3 x").unwrap_err().contains("'x'"));
         assert!(parse_spheres("1 2 3 1;;").unwrap_err().contains("empty"));
+    }
+
+    /// Issue 37's rays: `(origin, direction, light, σt, g, ball, mpmath's value)`;
+    /// σs = σt, intensity 1, no surface.
+    type Probe = (Vec3, Vec3, Vec3, f64, f64, (Vec3, f64), f64);
+    const PROBES: [Probe; 6] = [
+        // The light on the ball's surface (tangent plane x = 0).
+        ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 0.0, ([1.0, 0.0, 0.0], 1.0), 1.80666e-4),
+        ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 0.5, ([3.0, 0.0, 4.0], 5.0), 1.10352e-4),
+        // Tiny occluders 1e6 away (r/d = 1e-9, 1e-10): lit edges at 499.745 and 1500.755.
+        ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 1e-4, 0.0, ([1e6, 0.0, 0.0], 1e-3), 1.22181e-57),
+        ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 1e-4, 0.0, ([1e6, 0.0, 0.0], 1e-4), 1.43990e-57),
+        // r² beyond f64's range: the viewer inside a ball 2e200 across; a light inside one 1e-300 across.
+        ([0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.1, 0.0, ([1.9e200, 0.0, 0.0], 2e200), 0.0),
+        ([0.0; 3], [1.0, 0.0, 0.0], [5.0, 1.0, 0.0], 0.1, 0.0, ([5.0, 1.0, 0.0], 1e-300), 0.0),
+    ];
+
+    #[test]
+    fn lights_on_surfaces_and_balls_of_any_size_cast_their_shadows() {
+        for (o, d, l, st, g, (c, r), want) in PROBES {
+            let ray = PhysicalRay {
+                origin: o,
+                direction: d,
+                surface_distance: None,
+                light: l,
+                intensity: 1.0,
+                sigma_t: st,
+                sigma_s: st,
+            };
+            let occ = [Occluder::Sphere { center: c, radius: r }];
+            let lit = lit_intervals(&ray, &occ);
+            let got = shadowed_radiance(&ray, None, g, &lit, &|p| reference::airlight(p).unwrap()).unwrap();
+            let err = if want == 0.0 { got } else { (got / want - 1.0).abs() };
+            assert!(err < 1e-5, "ball {c:?} r {r}: {got:e} against {want:e} (lit {lit:?})");
+        }
+    }
+
+    #[test]
+    fn a_ball_blocks_exactly_what_its_tangent_cone_holds() {
+        // A light on the surface shadows the whole half-space behind its tangent
+        // plane, to within a few ulps of the plane.
+        let (c, r, l) = ([3.0, 0.0, 4.0], 5.0, [0.0; 3]);
+        let ball = Occluder::Sphere { center: c, radius: r };
+        for x in [1e-6, 1e-3, 1.0, 1e6] {
+            // n = c / 5 is the plane's normal; p ⟂ n.
+            let p = [4.0, 7.0, -3.0];
+            let side = |t: f64| [p[0] + t * 0.6, p[1], p[2] + t * 0.8];
+            assert!(ball.blocks(side(x), l), "{x}");
+            assert!(!ball.blocks(side(-x), l), "{x}");
+        }
+        // A ball 1e-12 of its distance across: its shadow's radius to 1e-9 relative.
+        let (c, r) = ([1e6, 0.0, 0.0], 1e-6);
+        let ball = Occluder::Sphere { center: c, radius: r };
+        let x = 3e6; // 3 light distances behind: the shadow's radius is 3 r / sqrt(1 − (r/d)²).
+        let edge = 3.0 * r;
+        assert!(ball.blocks([x, edge * (1.0 - 1e-9), 0.0], [0.0; 3]));
+        assert!(!ball.blocks([x, edge * (1.0 + 1e-9), 0.0], [0.0; 3]));
     }
 }

@@ -551,8 +551,9 @@ vec3 airlight_no_extinction_spot(vec3 origin, vec3 dir, float surface, vec3 ligh
 // integrals; dark runs cost nothing; the error is the family's bound times the
 // unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
 // closed lit runs wait in a buffer of 32 and are all evaluated by finish, so that
-// the lanes of a wave evaluate the kernel together; past 32 lit runs on one ray,
-// each further run is merged into the last held one (see the WGSL).
+// the lanes of a wave evaluate the kernel together; the push that fills the
+// buffer evaluates it and empties it, so no run is ever merged or dropped (see
+// the WGSL).
 //
 // Use:
 //   airlight_no_extinction_Shafts acc = airlight_no_extinction_shafts_begin();
@@ -607,21 +608,14 @@ airlight_no_extinction_Shafts airlight_no_extinction_shafts_begin() {
     return acc;
 }
 
-// Holds a closed run; past the buffer, merges it into the last held run.
+// Holds a closed run. The pushes keep a free place (they flush a full buffer).
 void airlight_no_extinction_shafts_hold(inout airlight_no_extinction_Shafts acc, vec3 run) {
-    if (!(run.z > 0.0)) {
+    if (!(run.z > 0.0) || acc.count >= 32u) {
         return;
     }
-    if (acc.count < 32u) {
-        acc.runs[acc.count] = run;
-        acc.count += 1u;
-        acc.calls += 1u;
-        return;
-    }
-    vec3 last = acc.runs[31];
-    float len = run.y - last.x;
-    float w = len > 0.0 ? (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len : last.z;
-    acc.runs[31] = vec3(last.x, run.y, w);
+    acc.runs[acc.count] = run;
+    acc.count += 1u;
+    acc.calls += 1u;
 }
 
 // Where to look visibility up to halve the pending change's bracket; negative
@@ -711,6 +705,9 @@ void airlight_no_extinction_shafts_push(inout airlight_no_extinction_Shafts acc,
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_no_extinction_shafts_step(acc, s, v);
     airlight_no_extinction_shafts_hold(acc, run);
+    if (acc.count == 32u) {
+        airlight_no_extinction_shafts_flush(acc, origin, dir, light, intensity, sigma_s);
+    }
 }
 
 // The shadowed in-scattering of airlight_no_extinction_radiance's ray to the surface at `end`
@@ -749,6 +746,9 @@ void airlight_no_extinction_shafts_push_spot(inout airlight_no_extinction_Shafts
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_no_extinction_shafts_step(acc, s, v);
     airlight_no_extinction_shafts_hold(acc, run);
+    if (acc.count == 32u) {
+        airlight_no_extinction_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_s);
+    }
 }
 
 // airlight_no_extinction_shafts_finish for airlight_no_extinction_spot's ray, cone and RGB medium.

@@ -654,8 +654,9 @@ vec3 airlight_scene_window_shafts_spot(vec3 origin, vec3 dir, float surface, vec
 // integrals; dark runs cost nothing; the error is the family's bound times the
 // unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
 // closed lit runs wait in a buffer of 32 and are all evaluated by finish, so that
-// the lanes of a wave evaluate the kernel together; past 32 lit runs on one ray,
-// each further run is merged into the last held one (see the WGSL).
+// the lanes of a wave evaluate the kernel together; the push that fills the
+// buffer evaluates it and empties it, so no run is ever merged or dropped (see
+// the WGSL).
 //
 // Use:
 //   airlight_scene_window_shafts_Shafts acc = airlight_scene_window_shafts_shafts_begin();
@@ -710,21 +711,14 @@ airlight_scene_window_shafts_Shafts airlight_scene_window_shafts_shafts_begin() 
     return acc;
 }
 
-// Holds a closed run; past the buffer, merges it into the last held run.
+// Holds a closed run. The pushes keep a free place (they flush a full buffer).
 void airlight_scene_window_shafts_shafts_hold(inout airlight_scene_window_shafts_Shafts acc, vec3 run) {
-    if (!(run.z > 0.0)) {
+    if (!(run.z > 0.0) || acc.count >= 32u) {
         return;
     }
-    if (acc.count < 32u) {
-        acc.runs[acc.count] = run;
-        acc.count += 1u;
-        acc.calls += 1u;
-        return;
-    }
-    vec3 last = acc.runs[31];
-    float len = run.y - last.x;
-    float w = len > 0.0 ? (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len : last.z;
-    acc.runs[31] = vec3(last.x, run.y, w);
+    acc.runs[acc.count] = run;
+    acc.count += 1u;
+    acc.calls += 1u;
 }
 
 // Where to look visibility up to halve the pending change's bracket; negative
@@ -814,6 +808,9 @@ void airlight_scene_window_shafts_shafts_push(inout airlight_scene_window_shafts
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_scene_window_shafts_shafts_step(acc, s, v);
     airlight_scene_window_shafts_shafts_hold(acc, run);
+    if (acc.count == 32u) {
+        airlight_scene_window_shafts_shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s);
+    }
 }
 
 // The shadowed in-scattering of airlight_scene_window_shafts_radiance's ray to the surface at `end`
@@ -852,6 +849,9 @@ void airlight_scene_window_shafts_shafts_push_spot(inout airlight_scene_window_s
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_scene_window_shafts_shafts_step(acc, s, v);
     airlight_scene_window_shafts_shafts_hold(acc, run);
+    if (acc.count == 32u) {
+        airlight_scene_window_shafts_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+    }
 }
 
 // airlight_scene_window_shafts_shafts_finish for airlight_scene_window_shafts_spot's ray, cone and RGB medium.

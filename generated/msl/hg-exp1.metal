@@ -1366,23 +1366,23 @@ void airlight_hg_exp1_shafts_hold(
     thread airlight_hg_exp1_Shafts& acc_1,
     metal::float3 run
 ) {
-    if (!((run.z > 0.0))) {
+    bool local_22 = {};
+    if (!(!((run.z > 0.0)))) {
+        uint _e10 = acc_1.count;
+        local_22 = _e10 >= airlight_hg_exp1_SHAFTS_RUNS;
+    } else {
+        local_22 = true;
+    }
+    bool _e14 = local_22;
+    if (_e14) {
         return;
     }
-    uint _e7 = acc_1.count;
-    if (_e7 < airlight_hg_exp1_SHAFTS_RUNS) {
-        uint _e12 = acc_1.count;
-        acc_1.runs.inner[_e12] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = _e15 + 1u;
-        uint _e19 = acc_1.calls;
-        acc_1.calls = _e19 + 1u;
-        return;
-    }
-    metal::float3 last = acc_1.runs.inner[31];
-    float len_7 = run.y - last.x;
-    float w_3 = (len_7 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_7) : last.z;
-    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e17 = acc_1.count;
+    acc_1.runs.inner[_e17] = run;
+    uint _e20 = acc_1.count;
+    acc_1.count = _e20 + 1u;
+    uint _e24 = acc_1.calls;
+    acc_1.calls = _e24 + 1u;
     return;
 }
 
@@ -1483,27 +1483,27 @@ float airlight_hg_exp1_shafts_run(
     float sigma_s_3,
     float g_10
 ) {
-    bool local_22 = {};
     bool local_23 = {};
+    bool local_24 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_23 = b_5 <= a_10;
+            local_24 = b_5 <= a_10;
         } else {
-            local_23 = false;
+            local_24 = false;
         }
-        bool _e22 = local_23;
-        local_22 = _e22;
+        bool _e22 = local_24;
+        local_23 = _e22;
     } else {
-        local_22 = true;
+        local_23 = true;
     }
-    bool _e24 = local_22;
+    bool _e24 = local_23;
     if (_e24) {
         return 0.0;
     }
     metal::float4 _e26 = airlight_hg_exp1_shafts_moved(a_10, b_5, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
-    float len_8 = _e26.w;
-    float _e29 = airlight_hg_exp1_radiance(o, dir_4, len_8, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
+    float len_7 = _e26.w;
+    float _e29 = airlight_hg_exp1_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
     if (_e29 >= airlight_hg_exp1_HUGE) {
         return _e29;
     }
@@ -1563,7 +1563,13 @@ void airlight_hg_exp1_shafts_push(
 ) {
     metal::float3 _e10 = airlight_hg_exp1_shafts_step(acc_7, s_1, v_4);
     airlight_hg_exp1_shafts_hold(acc_7, _e10);
-    return;
+    uint _e12 = acc_7.count;
+    if (_e12 == airlight_hg_exp1_SHAFTS_RUNS) {
+        airlight_hg_exp1_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_hg_exp1_shafts_finish(
@@ -1584,10 +1590,10 @@ float airlight_hg_exp1_shafts_finish(
     airlight_hg_exp1_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
-    float w_4 = (_e14 < 0.0) ? 1.0 : _e12;
+    float w_3 = (_e14 < 0.0) ? 1.0 : _e12;
     float _e21 = acc_8.sum[0];
     float _e23 = acc_8.start;
-    float _e24 = airlight_hg_exp1_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    float _e24 = airlight_hg_exp1_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
     return metal::min(_e21 + _e24, airlight_hg_exp1_HUGE);
 }
 
@@ -1606,27 +1612,27 @@ metal::float3 airlight_hg_exp1_shafts_run_spot(
     metal::float3 sigma_s_7,
     float g_14
 ) {
-    bool local_24 = {};
     bool local_25 = {};
+    bool local_26 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_25 = b_6 <= a_11;
+            local_26 = b_6 <= a_11;
         } else {
-            local_25 = false;
+            local_26 = false;
         }
-        bool _e25 = local_25;
-        local_24 = _e25;
+        bool _e25 = local_26;
+        local_25 = _e25;
     } else {
-        local_24 = true;
+        local_25 = true;
     }
-    bool _e27 = local_24;
+    bool _e27 = local_25;
     if (_e27) {
         return metal::float3(0.0);
     }
     metal::float4 _e30 = airlight_hg_exp1_shafts_moved(a_11, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
-    float len_9 = _e30.w;
-    metal::float3 _e33 = airlight_hg_exp1_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_14);
+    float len_8 = _e30.w;
+    metal::float3 _e33 = airlight_hg_exp1_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_14);
     return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
@@ -1689,7 +1695,13 @@ void airlight_hg_exp1_shafts_push_spot(
 ) {
     metal::float3 _e13 = airlight_hg_exp1_shafts_step(acc_10, s_2, v_5);
     airlight_hg_exp1_shafts_hold(acc_10, _e13);
-    return;
+    uint _e15 = acc_10.count;
+    if (_e15 == airlight_hg_exp1_SHAFTS_RUNS) {
+        airlight_hg_exp1_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_16);
+        return;
+    } else {
+        return;
+    }
 }
 
 metal::float3 airlight_hg_exp1_shafts_finish_spot(
@@ -1713,10 +1725,10 @@ metal::float3 airlight_hg_exp1_shafts_finish_spot(
     airlight_hg_exp1_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
-    float w_5 = (_e17 < 0.0) ? 1.0 : _e15;
+    float w_4 = (_e17 < 0.0) ? 1.0 : _e15;
     metal::float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    metal::float3 _e26 = airlight_hg_exp1_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
+    metal::float3 _e26 = airlight_hg_exp1_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
     return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_HG_EXP1_MSL_INCLUDED

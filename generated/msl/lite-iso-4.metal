@@ -1152,23 +1152,23 @@ void airlight_lite_iso_4_shafts_hold(
     thread airlight_lite_iso_4_Shafts& acc_1,
     metal::float3 run
 ) {
-    if (!((run.z > 0.0))) {
+    bool local_17 = {};
+    if (!(!((run.z > 0.0)))) {
+        uint _e10 = acc_1.count;
+        local_17 = _e10 >= airlight_lite_iso_4_SHAFTS_RUNS;
+    } else {
+        local_17 = true;
+    }
+    bool _e14 = local_17;
+    if (_e14) {
         return;
     }
-    uint _e7 = acc_1.count;
-    if (_e7 < airlight_lite_iso_4_SHAFTS_RUNS) {
-        uint _e12 = acc_1.count;
-        acc_1.runs.inner[_e12] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = _e15 + 1u;
-        uint _e19 = acc_1.calls;
-        acc_1.calls = _e19 + 1u;
-        return;
-    }
-    metal::float3 last = acc_1.runs.inner[31];
-    float len = run.y - last.x;
-    float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
-    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e17 = acc_1.count;
+    acc_1.runs.inner[_e17] = run;
+    uint _e20 = acc_1.count;
+    acc_1.count = _e20 + 1u;
+    uint _e24 = acc_1.calls;
+    acc_1.calls = _e24 + 1u;
     return;
 }
 
@@ -1268,27 +1268,27 @@ float airlight_lite_iso_4_shafts_run(
     float sigma_t_2,
     float sigma_s_3
 ) {
-    bool local_17 = {};
     bool local_18 = {};
+    bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_4 >= 0.0) {
-            local_18 = b_4 <= a_7;
+            local_19 = b_4 <= a_7;
         } else {
-            local_18 = false;
+            local_19 = false;
         }
-        bool _e21 = local_18;
-        local_17 = _e21;
+        bool _e21 = local_19;
+        local_18 = _e21;
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e23 = local_17;
+    bool _e23 = local_18;
     if (_e23) {
         return 0.0;
     }
     metal::float4 _e25 = airlight_lite_iso_4_shafts_moved(a_7, b_4, origin_4, dir_4);
     metal::float3 o = _e25.xyz;
-    float len_1 = _e25.w;
-    float _e28 = airlight_lite_iso_4_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    float len = _e25.w;
+    float _e28 = airlight_lite_iso_4_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3);
     if (_e28 >= airlight_lite_iso_4_HUGE) {
         return _e28;
     }
@@ -1346,7 +1346,13 @@ void airlight_lite_iso_4_shafts_push(
 ) {
     metal::float3 _e9 = airlight_lite_iso_4_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_4_shafts_hold(acc_7, _e9);
-    return;
+    uint _e11 = acc_7.count;
+    if (_e11 == airlight_lite_iso_4_SHAFTS_RUNS) {
+        airlight_lite_iso_4_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_lite_iso_4_shafts_finish(
@@ -1366,10 +1372,10 @@ float airlight_lite_iso_4_shafts_finish(
     airlight_lite_iso_4_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
-    float w_4 = (_e13 < 0.0) ? 1.0 : _e11;
+    float w_3 = (_e13 < 0.0) ? 1.0 : _e11;
     float _e20 = acc_8.sum[0];
     float _e22 = acc_8.start;
-    float _e23 = airlight_lite_iso_4_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    float _e23 = airlight_lite_iso_4_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
     return metal::min(_e20 + _e23, airlight_lite_iso_4_HUGE);
 }
 
@@ -1387,27 +1393,27 @@ metal::float3 airlight_lite_iso_4_shafts_run_spot(
     metal::float3 sigma_t_6,
     metal::float3 sigma_s_7
 ) {
-    bool local_19 = {};
     bool local_20 = {};
+    bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_20 = b_5 <= a_8;
+            local_21 = b_5 <= a_8;
         } else {
-            local_20 = false;
+            local_21 = false;
         }
-        bool _e24 = local_20;
-        local_19 = _e24;
+        bool _e24 = local_21;
+        local_20 = _e24;
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e26 = local_19;
+    bool _e26 = local_20;
     if (_e26) {
         return metal::float3(0.0);
     }
     metal::float4 _e29 = airlight_lite_iso_4_shafts_moved(a_8, b_5, origin_8, dir_8);
     metal::float3 o_1 = _e29.xyz;
-    float len_2 = _e29.w;
-    metal::float3 _e32 = airlight_lite_iso_4_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
+    float len_1 = _e29.w;
+    metal::float3 _e32 = airlight_lite_iso_4_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
     return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_8)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
@@ -1468,7 +1474,13 @@ void airlight_lite_iso_4_shafts_push_spot(
 ) {
     metal::float3 _e12 = airlight_lite_iso_4_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_4_shafts_hold(acc_10, _e12);
-    return;
+    uint _e14 = acc_10.count;
+    if (_e14 == airlight_lite_iso_4_SHAFTS_RUNS) {
+        airlight_lite_iso_4_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9);
+        return;
+    } else {
+        return;
+    }
 }
 
 metal::float3 airlight_lite_iso_4_shafts_finish_spot(
@@ -1491,10 +1503,10 @@ metal::float3 airlight_lite_iso_4_shafts_finish_spot(
     airlight_lite_iso_4_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
-    float w_5 = (_e16 < 0.0) ? 1.0 : _e14;
+    float w_4 = (_e16 < 0.0) ? 1.0 : _e14;
     metal::float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    metal::float3 _e25 = airlight_lite_iso_4_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    metal::float3 _e25 = airlight_lite_iso_4_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_LITE_ISO_4_MSL_INCLUDED

@@ -1016,23 +1016,23 @@ void airlight_no_extinction_shafts_hold(
     thread airlight_no_extinction_Shafts& acc_1,
     metal::float3 run
 ) {
-    if (!((run.z > 0.0))) {
+    bool local_17 = {};
+    if (!(!((run.z > 0.0)))) {
+        uint _e10 = acc_1.count;
+        local_17 = _e10 >= airlight_no_extinction_SHAFTS_RUNS;
+    } else {
+        local_17 = true;
+    }
+    bool _e14 = local_17;
+    if (_e14) {
         return;
     }
-    uint _e7 = acc_1.count;
-    if (_e7 < airlight_no_extinction_SHAFTS_RUNS) {
-        uint _e12 = acc_1.count;
-        acc_1.runs.inner[_e12] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = _e15 + 1u;
-        uint _e19 = acc_1.calls;
-        acc_1.calls = _e19 + 1u;
-        return;
-    }
-    metal::float3 last = acc_1.runs.inner[31];
-    float len = run.y - last.x;
-    float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
-    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e17 = acc_1.count;
+    acc_1.runs.inner[_e17] = run;
+    uint _e20 = acc_1.count;
+    acc_1.count = _e20 + 1u;
+    uint _e24 = acc_1.calls;
+    acc_1.calls = _e24 + 1u;
     return;
 }
 
@@ -1131,27 +1131,27 @@ float airlight_no_extinction_shafts_run(
     float intensity_3,
     float sigma_s_3
 ) {
-    bool local_17 = {};
     bool local_18 = {};
+    bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_4 >= 0.0) {
-            local_18 = b_4 <= a_7;
+            local_19 = b_4 <= a_7;
         } else {
-            local_18 = false;
+            local_19 = false;
         }
-        bool _e20 = local_18;
-        local_17 = _e20;
+        bool _e20 = local_19;
+        local_18 = _e20;
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e22 = local_17;
+    bool _e22 = local_18;
     if (_e22) {
         return 0.0;
     }
     metal::float4 _e24 = airlight_no_extinction_shafts_moved(a_7, b_4, origin_4, dir_4);
     metal::float3 o = _e24.xyz;
-    float len_1 = _e24.w;
-    float _e27 = airlight_no_extinction_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_s_3);
+    float len = _e24.w;
+    float _e27 = airlight_no_extinction_radiance(o, dir_4, len, light_3, intensity_3, sigma_s_3);
     if (_e27 >= airlight_no_extinction_HUGE) {
         return _e27;
     }
@@ -1207,7 +1207,13 @@ void airlight_no_extinction_shafts_push(
 ) {
     metal::float3 _e8 = airlight_no_extinction_shafts_step(acc_7, s_1, v_4);
     airlight_no_extinction_shafts_hold(acc_7, _e8);
-    return;
+    uint _e10 = acc_7.count;
+    if (_e10 == airlight_no_extinction_SHAFTS_RUNS) {
+        airlight_no_extinction_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_s_5);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_no_extinction_shafts_finish(
@@ -1226,10 +1232,10 @@ float airlight_no_extinction_shafts_finish(
     airlight_no_extinction_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_s_6);
     float _e10 = acc_8.v;
     float _e12 = acc_8.v;
-    float w_4 = (_e12 < 0.0) ? 1.0 : _e10;
+    float w_3 = (_e12 < 0.0) ? 1.0 : _e10;
     float _e19 = acc_8.sum[0];
     float _e21 = acc_8.start;
-    float _e22 = airlight_no_extinction_shafts_run(_e21, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_s_6);
+    float _e22 = airlight_no_extinction_shafts_run(_e21, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_s_6);
     return metal::min(_e19 + _e22, airlight_no_extinction_HUGE);
 }
 
@@ -1246,27 +1252,27 @@ metal::float3 airlight_no_extinction_shafts_run_spot(
     float intensity_7,
     metal::float3 sigma_s_7
 ) {
-    bool local_19 = {};
     bool local_20 = {};
+    bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_20 = b_5 <= a_8;
+            local_21 = b_5 <= a_8;
         } else {
-            local_20 = false;
+            local_21 = false;
         }
-        bool _e23 = local_20;
-        local_19 = _e23;
+        bool _e23 = local_21;
+        local_20 = _e23;
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e25 = local_19;
+    bool _e25 = local_20;
     if (_e25) {
         return metal::float3(0.0);
     }
     metal::float4 _e28 = airlight_no_extinction_shafts_moved(a_8, b_5, origin_8, dir_8);
     metal::float3 o_1 = _e28.xyz;
-    float len_2 = _e28.w;
-    metal::float3 _e31 = airlight_no_extinction_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_s_7);
+    float len_1 = _e28.w;
+    metal::float3 _e31 = airlight_no_extinction_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_s_7);
     return metal::select(w_2 * _e31, _e31, _e31 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
@@ -1325,7 +1331,13 @@ void airlight_no_extinction_shafts_push_spot(
 ) {
     metal::float3 _e11 = airlight_no_extinction_shafts_step(acc_10, s_2, v_5);
     airlight_no_extinction_shafts_hold(acc_10, _e11);
-    return;
+    uint _e13 = acc_10.count;
+    if (_e13 == airlight_no_extinction_SHAFTS_RUNS) {
+        airlight_no_extinction_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_s_9);
+        return;
+    } else {
+        return;
+    }
 }
 
 metal::float3 airlight_no_extinction_shafts_finish_spot(
@@ -1347,10 +1359,10 @@ metal::float3 airlight_no_extinction_shafts_finish_spot(
     airlight_no_extinction_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_s_10);
     float _e13 = acc_11.v;
     float _e15 = acc_11.v;
-    float w_5 = (_e15 < 0.0) ? 1.0 : _e13;
+    float w_4 = (_e15 < 0.0) ? 1.0 : _e13;
     metal::float3 _e21 = acc_11.sum;
     float _e23 = acc_11.start;
-    metal::float3 _e24 = airlight_no_extinction_shafts_run_spot(_e23, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_s_10);
+    metal::float3 _e24 = airlight_no_extinction_shafts_run_spot(_e23, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_s_10);
     return metal::min(_e21 + _e24, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_NO_EXTINCTION_MSL_INCLUDED

@@ -712,9 +712,10 @@ fn airlight_segments_16_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, li
 // finish, so that the lanes of a wave whose changes fall at different samples
 // evaluate the kernel together (evaluated at each push, a wave would run it at
 // every sample where any lane sees a change, and the walk's loop would carry the
-// whole kernel). Past airlight_segments_16_SHAFTS_RUNS lit runs on one ray, each further run is
-// merged into the last held one (their visibility averaged over the merged
-// stretch): not exact there.
+// whole kernel). When the buffer is full, the push that filled it evaluates the
+// held runs (a ray with more than airlight_segments_16_SHAFTS_RUNS lit runs pays one such flush
+// per airlight_segments_16_SHAFTS_RUNS runs, in the walk's loop) and empties it: no run is ever
+// merged or dropped, so the sum is exact for any number of runs.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = airlight_segments_16_shafts_begin();
@@ -761,22 +762,15 @@ fn airlight_segments_16_shafts_begin() -> airlight_segments_16_Shafts {
     return acc;
 }
 
-/// Holds a closed run (start, end, visibility); past the buffer, merges it into
-/// the last held run.
+/// Holds a closed run (start, end, visibility). The pushes keep a free place
+/// (they flush a full buffer), so nothing is ever dropped.
 fn airlight_segments_16_shafts_hold(acc: ptr<function, airlight_segments_16_Shafts>, run: vec3<f32>) {
-    if !(run.z > 0.0) {
+    if !(run.z > 0.0) || (*acc).count >= airlight_segments_16_SHAFTS_RUNS {
         return;
     }
-    if (*acc).count < airlight_segments_16_SHAFTS_RUNS {
-        (*acc).runs[(*acc).count] = run;
-        (*acc).count += 1u;
-        (*acc).calls += 1u;
-        return;
-    }
-    let last = (*acc).runs[airlight_segments_16_SHAFTS_RUNS - 1u];
-    let len = run.y - last.x;
-    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
-    (*acc).runs[airlight_segments_16_SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
+    (*acc).runs[(*acc).count] = run;
+    (*acc).count += 1u;
+    (*acc).calls += 1u;
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -865,6 +859,9 @@ fn airlight_segments_16_shafts_flush(acc: ptr<function, airlight_segments_16_Sha
 fn airlight_segments_16_shafts_push(acc: ptr<function, airlight_segments_16_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
     let run = airlight_segments_16_shafts_step(acc, s, v);
     airlight_segments_16_shafts_hold(acc, run);
+    if (*acc).count == airlight_segments_16_SHAFTS_RUNS {
+        airlight_segments_16_shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s);
+    }
 }
 
 /// The shadowed in-scattering of airlight_segments_16_radiance's ray to the surface at `end`
@@ -903,6 +900,9 @@ fn airlight_segments_16_shafts_flush_spot(acc: ptr<function, airlight_segments_1
 fn airlight_segments_16_shafts_push_spot(acc: ptr<function, airlight_segments_16_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
     let run = airlight_segments_16_shafts_step(acc, s, v);
     airlight_segments_16_shafts_hold(acc, run);
+    if (*acc).count == airlight_segments_16_SHAFTS_RUNS {
+        airlight_segments_16_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+    }
 }
 
 /// airlight_segments_16_shafts_finish for airlight_segments_16_spot's ray, cone and RGB medium.

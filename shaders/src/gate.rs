@@ -600,6 +600,55 @@ pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCa
     Ok(cases)
 }
 
+/// Shadowed rays kept from issue 37's probe, where the exact lit intervals were
+/// once wrong: `(origin, direction, light, σt, intensity, ball)`, σs = σt, no
+/// surface. A light on a ball's surface (its tangent plane is the shadow's edge),
+/// balls 1e-9 and 1e-10 of their distance across (thin shadow cones the
+/// ray runs along for a thousand units), a ball 2e200 across holding the viewer and
+/// one 1e-300 across holding the light (the radius squared overflows and underflows).
+pub const KEPT_SHADOWED: [([f32; 3], [f32; 3], [f32; 3], f32, f32, ([f64; 3], f64)); 7] = [
+    ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 1.0, ([1.0, 0.0, 0.0], 1.0)),
+    ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 1.0, ([3.0, 0.0, 4.0], 5.0)),
+    ([-1.0, 5.0, 0.0], [1.0, 0.2, 0.1], [0.0; 3], 0.8, 1.0, ([-3.0, 0.0, -4.0], 5.0)),
+    ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 1e-6, 1e12, ([1e6, 0.0, 0.0], 1e-3)),
+    ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 3e-6, 1e12, ([1e6, 0.0, 0.0], 1e-4)),
+    ([0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.1, 1.0, ([1.9e200, 0.0, 0.0], 2e200)),
+    ([0.0; 3], [1.0, 0.0, 0.0], [5.0, 1.0, 0.0], 0.1, 1.0, ([5.0, 1.0, 0.0], 1e-300)),
+];
+
+/// The [`KEPT_SHADOWED`] rays kernel `k` takes as they are (its `g` at the middle
+/// of its range; left out where the kernel would project the ray's canonical point
+/// elsewhere: no extinction).
+pub fn kept_shadowed_rays(k: &IndexEntry) -> Result<Vec<ShadowCase>, GateError> {
+    use airlight_fit::shafts::{self, Occluder};
+    let g = 0.5 * (k.g[0] + k.g[1]);
+    let mut out = Vec::new();
+    for (origin, dir, light, sigma_t, intensity, (center, radius)) in KEPT_SHADOWED {
+        let ray = crate::Ray { origin, dir, surface: -1.0, light, intensity, sigma_t, sigma_s: sigma_t, g: g as f32 };
+        let phys = ray.physical();
+        let fail =
+            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: kept shadowed ray: {e}", k.name));
+        let point = phys.to_canonical(f64::from(ray.g)).map_err(fail)?.point;
+        if project(k, point) != point {
+            continue;
+        }
+        let occluders = vec![Occluder::Sphere { center, radius }];
+        let lit = shafts::lit_intervals(&phys, &occluders);
+        let transitions = lit.iter().map(|&(a, b)| usize::from(a > 0.0) + usize::from(b.is_finite())).sum();
+        let a = |q: Point| reference::airlight(q).unwrap_or(f64::NAN);
+        out.push(ShadowCase {
+            ray,
+            point,
+            samples: shafts::exact_samples(&phys, &lit),
+            reference: shafts::shadowed_radiance(&phys, None, f64::from(ray.g), &lit, &a).map_err(fail)?,
+            unshadowed: phys.radiance(f64::from(ray.g), &a).map_err(fail)?,
+            occluders,
+            transitions,
+        });
+    }
+    Ok(out)
+}
+
 /// A spot light's shadowed ray of the gate: a [`ShadowCase`]'s ray, occluders and
 /// samples with the light made a spot light aimed at a point of the ray.
 #[derive(Debug, Clone)]
@@ -1077,12 +1126,13 @@ impl Subject<'_> {
     /// one plus its visibility changes.
     fn shadowed_rows(&self, bound: Bound) -> Result<Vec<Row>, GateError> {
         let k = self.k;
-        let cases = shadowed_rays(k, SHADOWED_RAYS, VALIDATION_SEED ^ 0x54AD)?;
+        let mut cases = shadowed_rays(k, SHADOWED_RAYS, VALIDATION_SEED ^ 0x54AD)?;
         let spots = if k.has(Entry::Spot) {
             spot_shadowed_rays(k, &cases, SHADOWED_SPOT_RAYS, VALIDATION_SEED ^ 0x54AD)?
         } else {
             Vec::new()
         };
+        cases.extend(kept_shadowed_rays(k)?);
         let mut held: Vec<Held> = cases.iter().map(ShadowCase::held).collect();
         held.extend(spots.iter().flat_map(SpotShadowCase::held));
         let f32s = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();

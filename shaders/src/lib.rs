@@ -173,12 +173,13 @@ impl Gpu {
     }
 
     /// Evaluates a generated kernel's shafts accumulator over its physical entry
-    /// for every ray: `samples[i]` (`[s, v]`, at most [`MAX_SHADOW_SAMPLES`]) pushed
+    /// for every ray: `samples[i]` (`[s, v]`, any number) pushed
     /// in order, then finished at the ray's surface. One f32 per ray, in order.
     pub fn shadowed(&self, k: &KernelSource, rays: &[Ray], samples: &[Vec<[f32; 2]>]) -> Result<Vec<f32>, GpuError> {
-        let source = wrap_shadowed(k, Entry::Radiance)?;
-        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance)?;
-        self.dispatch(k.shader(&source), k.prefix, &data, shadowed_stride(Entry::Radiance), rays.len(), 1, k.table)
+        let stride = shadowed_stride(Entry::Radiance, samples);
+        let source = wrap_shadowed(k, Entry::Radiance, stride)?;
+        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance);
+        self.dispatch(k.shader(&source), k.prefix, &data, stride, rays.len(), 1, k.table)
     }
 
     /// [`Gpu::shadowed`] over the spot entry: RGB per ray.
@@ -188,10 +189,10 @@ impl Gpu {
         rays: &[SpotRay],
         samples: &[Vec<[f32; 2]>],
     ) -> Result<Vec<[f32; 3]>, GpuError> {
-        let source = wrap_shadowed(k, Entry::Spot)?;
-        let data = pack_shadowed(rays.iter().map(SpotRay::pack), samples, Entry::Spot)?;
-        let out =
-            self.dispatch(k.shader(&source), k.prefix, &data, shadowed_stride(Entry::Spot), rays.len(), 3, k.table)?;
+        let stride = shadowed_stride(Entry::Spot, samples);
+        let source = wrap_shadowed(k, Entry::Spot, stride)?;
+        let data = pack_shadowed(rays.iter().map(SpotRay::pack), samples, Entry::Spot);
+        let out = self.dispatch(k.shader(&source), k.prefix, &data, stride, rays.len(), 3, k.table)?;
         Ok(out.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
     }
 
@@ -203,8 +204,9 @@ impl Gpu {
         samples: &[Vec<[f32; 2]>],
         repeats: usize,
     ) -> Result<Option<f64>, GpuError> {
-        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance)?;
-        self.timed_source(k, &wrap_shadowed(k, Entry::Radiance)?, 1, &data, rays.len(), repeats)
+        let stride = shadowed_stride(Entry::Radiance, samples);
+        let data = pack_shadowed(rays.iter().map(Ray::pack), samples, Entry::Radiance);
+        self.timed_source(k, &wrap_shadowed(k, Entry::Radiance, stride)?, 1, &data, rays.len(), repeats)
     }
 
     /// GPU evaluations per second of a kernel's canonical entry over `points`:
@@ -902,42 +904,36 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     })
 }
 
-/// The most visibility samples one shadowed item carries through the GPU harness.
-pub const MAX_SHADOW_SAMPLES: usize = 128;
-
-/// `vec4`s per shadowed item: the entry's arguments, a count, the samples two by two.
-fn shadowed_stride(entry: Entry) -> usize {
-    entry.packed_vec4s() + 1 + MAX_SHADOW_SAMPLES / 2
+/// `vec4`s per shadowed item of a batch: the entry's arguments, a count, and the
+/// samples two by two, as many as the batch's longest item has (no cap: a batch's
+/// only limit is the adapter's largest storage buffer, 128 MiB by default, about
+/// eight million samples in all).
+fn shadowed_stride(entry: Entry, samples: &[Vec<[f32; 2]>]) -> usize {
+    entry.packed_vec4s() + 1 + samples.iter().map(Vec::len).max().unwrap_or(0).div_ceil(2)
 }
 
 /// Packs shadowed items: each entry's packed arguments, `[count, 0, 0, 0]`, then
 /// the `[s, v]` samples two to a `vec4`, zero-padded to [`shadowed_stride`].
-fn pack_shadowed<I, A>(items: I, samples: &[Vec<[f32; 2]>], entry: Entry) -> Result<Vec<f32>, GpuError>
+fn pack_shadowed<I, A>(items: I, samples: &[Vec<[f32; 2]>], entry: Entry) -> Vec<f32>
 where
     I: Iterator<Item = A>,
     A: AsRef<[f32]>,
 {
-    let stride = shadowed_stride(entry);
+    let stride = shadowed_stride(entry, samples);
     let mut out = Vec::new();
     for (args, sv) in items.zip(samples) {
-        if sv.len() > MAX_SHADOW_SAMPLES {
-            return Err(GpuError::Shader(format!(
-                "a shadowed ray has {} visibility samples; the GPU harness takes at most {MAX_SHADOW_SAMPLES}",
-                sv.len()
-            )));
-        }
         let start = out.len();
         out.extend_from_slice(args.as_ref());
         out.extend_from_slice(&[sv.len() as f32, 0.0, 0.0, 0.0]);
         out.extend(sv.iter().flatten());
         out.resize(start + 4 * stride, 0.0);
     }
-    Ok(out)
+    out
 }
 
 /// The compute shader around a kernel's shafts accumulator over `entry`: per item
 /// its arguments, then its samples pushed in order, then finished at its surface.
-fn wrap_shadowed(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
+fn wrap_shadowed(k: &KernelSource, entry: Entry, stride: usize) -> Result<String, GpuError> {
     let glsl = k.language == Target::Glsl;
     shader_only(k)?;
     let arg = |a: Arg| arg_expr(k, entry, a);
@@ -949,7 +945,7 @@ fn wrap_shadowed(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
         .collect::<Result<Vec<_>, _>>()?
         .join(", ");
     let end = arg(Arg::Surface)?;
-    let (args, stride, outputs) = (entry.packed_vec4s(), shadowed_stride(entry), entry.outputs());
+    let (args, outputs) = (entry.packed_vec4s(), entry.outputs());
     let (push, finish) = match entry {
         Entry::Spot => ("shafts_push_spot", "shafts_finish_spot"),
         _ => ("shafts_push", "shafts_finish"),

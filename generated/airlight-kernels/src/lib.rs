@@ -207,8 +207,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.3888063976782465e0,
         dense_max_rel: 4.8500126557493323e8,
-        f32_thin_max_rel: Some(6.388808180189458e0),
-        f32_dense_max_rel: Some(4.8500131772216463e8),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| paper_as_printed::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -225,8 +225,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.205391512184754e-1,
         dense_max_rel: 9.435195391294986e2,
-        f32_thin_max_rel: Some(9.205403794671668e-1),
-        f32_dense_max_rel: Some(9.435195391294986e2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -243,8 +243,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.36061533826927e-1,
         dense_max_rel: 6.537000294306384e2,
-        f32_thin_max_rel: Some(7.360625703746027e-1),
-        f32_dense_max_rel: Some(6.537000294306384e2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -261,8 +261,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1e0,
         dense_max_rel: 9.425225554351499e2,
-        f32_thin_max_rel: Some(1e0),
-        f32_dense_max_rel: Some(9.425225554351499e2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| paper_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -279,8 +279,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99991573777365e-1,
         dense_max_rel: 4.35015681883744e0,
-        f32_thin_max_rel: Some(9.99991573777365e-1),
-        f32_dense_max_rel: Some(4.35015681883744e0),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -299,8 +299,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9418108715113507e-2,
         dense_max_rel: 2.1207152633140497e-1,
-        f32_thin_max_rel: Some(1.9424621720277074e-2),
-        f32_dense_max_rel: Some(2.120805912953173e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -317,8 +317,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.431094167318058e-3,
         dense_max_rel: 9.842357562198802e-2,
-        f32_thin_max_rel: Some(9.437250582468228e-3),
-        f32_dense_max_rel: Some(9.843109253858719e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -335,8 +335,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.868806092532688e-3,
         dense_max_rel: 6.0269912854425886e-2,
-        f32_thin_max_rel: Some(5.87498258411175e-3),
-        f32_dense_max_rel: Some(6.0277263845743306e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -353,8 +353,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.5885333914572e-3,
         dense_max_rel: 3.647654045780973e-2,
-        f32_thin_max_rel: Some(3.5944982316986366e-3),
-        f32_dense_max_rel: Some(3.648322548927695e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -371,8 +371,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.9640270794631727e-3,
         dense_max_rel: 1.9815525489108008e-2,
-        f32_thin_max_rel: Some(1.9704338446864143e-3),
-        f32_dense_max_rel: Some(1.982146997417731e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -389,8 +389,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 1.1751982685251208e-2,
-        f32_thin_max_rel: Some(1.498650575316867e-3),
-        f32_dense_max_rel: Some(1.175978080202044e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -407,8 +407,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.4981104097187324e-3,
         dense_max_rel: 9.35346948019298e-3,
-        f32_thin_max_rel: Some(1.498650575316867e-3),
-        f32_dense_max_rel: Some(9.361295255566554e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -425,8 +425,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99995779898211e-1,
         dense_max_rel: 9.999932386612747e-1,
-        f32_thin_max_rel: Some(9.99995779898211e-1),
-        f32_dense_max_rel: Some(9.999932386612747e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| hg_exp1::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -443,8 +443,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.99660042706722e-1,
         dense_max_rel: 9.994611551210647e-1,
-        f32_thin_max_rel: Some(9.99660042706722e-1),
-        f32_dense_max_rel: Some(9.994611551210647e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -461,8 +461,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.624572025648898e-1,
         dense_max_rel: 8.706807242861971e-1,
-        f32_thin_max_rel: Some(9.624572025648898e-1),
-        f32_dense_max_rel: Some(8.706807242861971e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -479,8 +479,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.86157521923663e-2,
         dense_max_rel: 2.0410991801952442e-2,
-        f32_thin_max_rel: Some(1.8615960468823318e-2),
-        f32_dense_max_rel: Some(2.0411450648184896e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| lite_iso_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -497,8 +497,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.050781601717717e-3,
         dense_max_rel: 5.6589149767103854e-3,
-        f32_thin_max_rel: Some(5.051303391724537e-3),
-        f32_dense_max_rel: Some(5.659220242194785e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| lite_iso_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -515,8 +515,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.2080833888705146e-3,
         dense_max_rel: 1.2994396714629862e-3,
-        f32_thin_max_rel: Some(1.2084605417379826e-3),
-        f32_dense_max_rel: Some(1.2997963284190038e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| lite_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -533,8 +533,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.863553422423883e-4,
         dense_max_rel: 8.250122094914532e-4,
-        f32_thin_max_rel: Some(7.869854836583145e-4),
-        f32_dense_max_rel: Some(8.254566773297276e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| lite_iso_5::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -551,8 +551,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.3520886881938378e-4,
         dense_max_rel: 3.198223426400472e-4,
-        f32_thin_max_rel: Some(1.3558263979784787e-4),
-        f32_dense_max_rel: Some(3.205011656635871e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| lite_iso_med_7::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -569,8 +569,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.4680966363249963e-2,
         dense_max_rel: 2.5368761972507068e-2,
-        f32_thin_max_rel: Some(2.468223117554558e-2),
-        f32_dense_max_rel: Some(2.5368761972507068e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -587,8 +587,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.238250932824777e-3,
         dense_max_rel: 8.569110470958203e-3,
-        f32_thin_max_rel: Some(8.241710762130459e-3),
-        f32_dense_max_rel: Some(8.569110470958203e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -605,8 +605,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.460563975438666e-3,
         dense_max_rel: 4.016779157283067e-3,
-        f32_thin_max_rel: Some(7.460563975438666e-3),
-        f32_dense_max_rel: Some(4.016779157283067e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_5::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -623,8 +623,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.941100086915218e-4,
         dense_max_rel: 8.971903731747109e-4,
-        f32_thin_max_rel: Some(8.941100086915218e-4),
-        f32_dense_max_rel: Some(8.971903731747109e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_7::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -641,8 +641,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.165501071982524e-4,
         dense_max_rel: 1.5664480116704698e-4,
-        f32_thin_max_rel: Some(3.165501071982524e-4),
-        f32_dense_max_rel: Some(1.5664480116704698e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_12::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -659,8 +659,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.095179686971248e-3,
         dense_max_rel: 5.106441257072278e-3,
-        f32_thin_max_rel: Some(5.095179686971248e-3),
-        f32_dense_max_rel: Some(5.108883184635733e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| lite_med_7::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -677,8 +677,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.8033590245416706e-5,
         dense_max_rel: 1.8330977334092696e-5,
-        f32_thin_max_rel: Some(1.8407863340402798e-5),
-        f32_dense_max_rel: Some(1.8771852343651964e-5),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| phi_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -695,8 +695,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.521076319065512e-6,
         dense_max_rel: 6.180687898263746e-6,
-        f32_thin_max_rel: Some(3.7988235788989185e-6),
-        f32_dense_max_rel: Some(6.755107034552047e-6),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -713,8 +713,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5072866107717009e-6,
         dense_max_rel: 2.0086440626886e-6,
-        f32_thin_max_rel: Some(2.5648717682174514e-6),
-        f32_dense_max_rel: Some(7.63140708073133e-6),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| phi_iso_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -731,8 +731,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.3218422554593306e-2,
         dense_max_rel: 2.9800603783705987e-2,
-        f32_thin_max_rel: Some(3.32188656809778e-2),
-        f32_dense_max_rel: Some(2.980133963045826e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| phi_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -749,8 +749,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.7381360287629013e-3,
         dense_max_rel: 3.754253904840079e-3,
-        f32_thin_max_rel: Some(2.7382136225715353e-3),
-        f32_dense_max_rel: Some(3.754253904840079e-3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| phi_3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -767,8 +767,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.543799233676418e-4,
         dense_max_rel: 5.489686099285229e-4,
-        f32_thin_max_rel: Some(5.589027114881811e-4),
-        f32_dense_max_rel: Some(5.489686099285229e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -785,8 +785,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.0330063191794842e-5,
         dense_max_rel: 2.1427800970021357e-5,
-        f32_thin_max_rel: Some(2.067084629509292e-5),
-        f32_dense_max_rel: Some(2.2300243634528798e-5),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -803,8 +803,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.700776238962813e-6,
         dense_max_rel: 3.57238277978829e-6,
-        f32_thin_max_rel: Some(1.8965078609454394e-5),
-        f32_dense_max_rel: Some(1.639389141024137e-5),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -821,8 +821,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma", "rho"],
         thin_max_rel: 4.13153718893016e1,
         dense_max_rel: 2.0354650194914993e10,
-        f32_thin_max_rel: Some(4.13153718893016e1),
-        f32_dense_max_rel: Some(2.0354650194914993e10),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |_tau, gamma, rho, _g| no_extinction::airlight(gamma, rho),
         radiance: |origin, dir, surface, light, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::radiance(origin, dir, surface, light, intensity, sigma_s)
@@ -839,8 +839,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888243e1,
         dense_max_rel: 7.48776599924585e1,
-        f32_thin_max_rel: Some(6.543289093720632e1),
-        f32_dense_max_rel: Some(7.487784653682229e1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -857,8 +857,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888226e1,
         dense_max_rel: 7.487765999245829e1,
-        f32_thin_max_rel: Some(6.543288967352514e1),
-        f32_dense_max_rel: Some(7.487783633751633e1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -875,8 +875,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.543286023888254e1,
         dense_max_rel: 7.48776599924587e1,
-        f32_thin_max_rel: Some(6.543288813563585e1),
-        f32_dense_max_rel: Some(7.487784436031632e1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -893,8 +893,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.296811482479926e1,
         dense_max_rel: 2.4296749591779342e1,
-        f32_thin_max_rel: Some(6.296813155533519e1),
-        f32_dense_max_rel: Some(2.4296805961159816e1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_64::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -911,8 +911,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.1925799731048535e1,
         dense_max_rel: 2.4296749591779253e1,
-        f32_thin_max_rel: Some(6.1925799731048535e1),
-        f32_dense_max_rel: Some(2.4296811171156865e1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_128::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -929,8 +929,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.881809056214402e1,
         dense_max_rel: 9.85305472844469e0,
-        f32_thin_max_rel: Some(5.881809056214402e1),
-        f32_dense_max_rel: Some(9.85308051552886e0),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_256::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -947,8 +947,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.807607967788585e1,
         dense_max_rel: 2.6616967237723244e0,
-        f32_thin_max_rel: Some(1.807607967788585e1),
-        f32_dense_max_rel: Some(2.6617053349281896e0),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| raymarch_1024::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -965,8 +965,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.994002332413402e-1,
         dense_max_rel: 9.995354512042686e-1,
-        f32_thin_max_rel: Some(9.994002338646923e-1),
-        f32_dense_max_rel: Some(9.995354560523492e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| equiangular_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -983,8 +983,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.945000713325793e-1,
         dense_max_rel: 9.840315142543387e-1,
-        f32_thin_max_rel: Some(9.945000754593263e-1),
-        f32_dense_max_rel: Some(9.840315367675965e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| equiangular_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1001,8 +1001,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.346048895183597e-1,
         dense_max_rel: 8.563665429746622e-1,
-        f32_thin_max_rel: Some(9.346053590207828e-1),
-        f32_dense_max_rel: Some(8.563667596400659e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| equiangular_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1019,8 +1019,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 5.974749447485985e-1,
         dense_max_rel: 4.0460361730914707e-1,
-        f32_thin_max_rel: Some(5.974749447485985e-1),
-        f32_dense_max_rel: Some(4.0460487646631627e-1),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| equiangular_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1039,8 +1039,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.698767932567838e-1,
         dense_max_rel: 4.856620748391694e-2,
-        f32_thin_max_rel: Some(1.6989453255309878e-1),
-        f32_dense_max_rel: Some(4.8567677572928236e-2),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1059,8 +1059,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.919441799010673e2,
         dense_max_rel: 3.650346902078789e18,
-        f32_thin_max_rel: Some(2.9194668130230554e2),
-        f32_dense_max_rel: Some(3.650437852740468e18),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1077,8 +1077,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.7193672231725265e2,
         dense_max_rel: 1.8078629703794867e13,
-        f32_thin_max_rel: Some(2.719381139628047e2),
-        f32_dense_max_rel: Some(1.8084296987934563e13),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1095,8 +1095,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.319190075828035e2,
         dense_max_rel: 2.528630706396565e6,
-        f32_thin_max_rel: Some(2.319190075828035e2),
-        f32_dense_max_rel: Some(2.528999751624994e6),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1113,8 +1113,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5191149715037238e2,
         dense_max_rel: 1.025026167428919e3,
-        f32_thin_max_rel: Some(1.5191149715037238e2),
-        f32_dense_max_rel: Some(1.025090820867259e3),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1131,8 +1131,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 4.400122719868158e-4,
         dense_max_rel: 3.828520207973287e-4,
-        f32_thin_max_rel: Some(4.400122719868158e-4),
-        f32_dense_max_rel: Some(3.828520207973287e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1147,7 +1147,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.863553422423883e-4,
         dense_max_rel: 8.250122094914532e-4,
-        f32_thin_max_rel: Some(7.868599098863415e-4),
+        f32_thin_max_rel: None,
         f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -1163,8 +1163,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 7.863553422423883e-4,
         dense_max_rel: 8.250122094914532e-4,
-        f32_thin_max_rel: Some(7.869684993761923e-4),
-        f32_dense_max_rel: Some(8.250122094914532e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1179,7 +1179,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma"],
         thin_max_rel: 0e0,
         dense_max_rel: 0e0,
-        f32_thin_max_rel: Some(2.8996820200501617e-7),
+        f32_thin_max_rel: None,
         f32_dense_max_rel: None,
         airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
         radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
@@ -1195,8 +1195,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.838299069469565e-4,
         dense_max_rel: 3.536944691273925e-4,
-        f32_thin_max_rel: Some(3.838299069469565e-4),
-        f32_dense_max_rel: Some(3.536944691273925e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1211,8 +1211,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.863553422423883e-4,
         dense_max_rel: 8.250122094914532e-4,
-        f32_thin_max_rel: Some(7.868599098863415e-4),
-        f32_dense_max_rel: Some(8.254400959285012e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1227,8 +1227,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.2198068241621574e-4,
         dense_max_rel: 3.6233749325901936e-4,
-        f32_thin_max_rel: Some(3.2198068241621574e-4),
-        f32_dense_max_rel: Some(3.6309726090283617e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1247,8 +1247,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.2198068241621574e-4,
         dense_max_rel: 3.6233749325901936e-4,
-        f32_thin_max_rel: Some(3.2198068241621574e-4),
-        f32_dense_max_rel: Some(3.6233749325901936e-4),
+        f32_thin_max_rel: None,
+        f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

@@ -345,8 +345,8 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
 // stretch, never a difference of two. Dark runs cost nothing; the error is the
 // family's bound times the unshadowed value (docs/MATH.md §8). As in the shaders
 // (where a wave's lanes must evaluate the kernel together), pushes only hold the
-// closed lit runs, up to `SHAFTS_RUNS`, each further one merged into the last
-// (their visibility averaged over the merged stretch); `finish` evaluates them.
+// closed lit runs, up to `SHAFTS_RUNS`; the push that fills the buffer evaluates
+// and empties it, and `finish` evaluates the rest: no run is merged or dropped.
 
 /// The shafts accumulator of one view ray. Push the ray's visibility samples
 /// `(s, v)` in increasing `s` ([`Shafts::push`], or [`Shafts::push_spot`] for the spot
@@ -378,8 +378,8 @@ pub struct Shafts {
     count: usize,
 }
 
-/// Closed lit runs an accumulator holds for `finish`; past them, each further
-/// run is merged into the last.
+/// Closed lit runs an accumulator holds before it evaluates them (at `finish`, or
+/// at the push that fills the buffer: any number of runs is summed exactly).
 pub const SHAFTS_RUNS: usize = 32;
 
 impl Shafts {
@@ -437,22 +437,40 @@ impl Shafts {
         Some(run)
     }
 
-    /// Holds a closed lit run; past [`SHAFTS_RUNS`], merges it into the last.
+    /// Holds a closed lit run. The pushes keep a free place (they flush a full
+    /// buffer), so nothing is dropped.
     fn hold(&mut self, run: Option<(f32, f32, f32)>) {
         let Some((a, b, w)) = run else { return };
-        if w.is_nan() || w <= 0.0 {
+        if w.is_nan() || w <= 0.0 || self.count >= SHAFTS_RUNS {
             return;
         }
-        if self.count < SHAFTS_RUNS {
-            self.runs[self.count] = [a, b, w];
-            self.count += 1;
-            self.calls += 1;
-            return;
+        self.runs[self.count] = [a, b, w];
+        self.count += 1;
+        self.calls += 1;
+    }
+
+    /// Evaluates the held runs, in order, into the sum, and empties the buffer.
+    #[allow(clippy::too_many_arguments)]
+    fn flush(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
+        let (runs, count) = (self.runs, self.count);
+        for &[a, b, w] in &runs[..count] {
+            let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s);
+            self.add(0, x);
         }
-        let [la, lb, lw] = self.runs[SHAFTS_RUNS - 1];
-        let len = b - la;
-        let merged = if len > 0.0 { (lw * (lb - la) + w * (b - a)) / len } else { lw };
-        self.runs[SHAFTS_RUNS - 1] = [la, b, merged];
+        self.count = 0;
+    }
+
+    /// [`Shafts::flush`] for the spot entry.
+    #[allow(clippy::too_many_arguments)]
+    fn flush_spot(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
+        let (runs, count) = (self.runs, self.count);
+        for &[a, b, w] in &runs[..count] {
+            let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+            for (c, x) in x.into_iter().enumerate() {
+                self.add(c, x);
+            }
+        }
+        self.count = 0;
     }
 
     /// Adds a run's value, saturating at [`crate::math::HUGE`].
@@ -464,9 +482,11 @@ impl Shafts {
     /// for [`radiance`]'s ray, light and medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
-        let _ = (origin, dir, light, intensity, sigma_t, sigma_s);
         let run = self.step(s, v);
         self.hold(run);
+        if self.count == SHAFTS_RUNS {
+            self.flush(origin, dir, light, intensity, sigma_t, sigma_s);
+        }
     }
 
     /// The shadowed in-scattering of [`radiance`]'s ray to the surface at `end`
@@ -475,11 +495,7 @@ impl Shafts {
     pub fn finish(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) -> f32 {
         let run = self.place();
         self.hold(run);
-        let (runs, count) = (self.runs, self.count);
-        for &[a, b, w] in &runs[..count] {
-            let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s);
-            self.add(0, x);
-        }
+        self.flush(origin, dir, light, intensity, sigma_t, sigma_s);
         let w = if self.v < 0.0 { 1.0 } else { self.v };
         let x = shafts_run(self.start, end, w, origin, dir, light, intensity, sigma_t, sigma_s);
         self.add(0, x);
@@ -489,9 +505,11 @@ impl Shafts {
     /// [`Shafts::push`] for [`spot`]'s ray, cone and RGB medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push_spot(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
-        let _ = (origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
         let run = self.step(s, v);
         self.hold(run);
+        if self.count == SHAFTS_RUNS {
+            self.flush_spot(origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+        }
     }
 
     /// [`Shafts::finish`] for [`spot`]'s ray, cone and RGB medium.
@@ -499,13 +517,7 @@ impl Shafts {
     pub fn finish_spot(mut self, end: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) -> [f32; 3] {
         let run = self.place();
         self.hold(run);
-        let (runs, count) = (self.runs, self.count);
-        for &[a, b, w] in &runs[..count] {
-            let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-            for (c, x) in x.into_iter().enumerate() {
-                self.add(c, x);
-            }
-        }
+        self.flush_spot(origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
         let w = if self.v < 0.0 { 1.0 } else { self.v };
         let x = shafts_run_spot(self.start, end, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
         for (c, x) in x.into_iter().enumerate() {

@@ -673,9 +673,10 @@ fn spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis:
 // finish, so that the lanes of a wave whose changes fall at different samples
 // evaluate the kernel together (evaluated at each push, a wave would run it at
 // every sample where any lane sees a change, and the walk's loop would carry the
-// whole kernel). Past SHAFTS_RUNS lit runs on one ray, each further run is
-// merged into the last held one (their visibility averaged over the merged
-// stretch): not exact there.
+// whole kernel). When the buffer is full, the push that filled it evaluates the
+// held runs (a ray with more than SHAFTS_RUNS lit runs pays one such flush
+// per SHAFTS_RUNS runs, in the walk's loop) and empties it: no run is ever
+// merged or dropped, so the sum is exact for any number of runs.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = shafts_begin();
@@ -722,22 +723,15 @@ fn shafts_begin() -> Shafts {
     return acc;
 }
 
-/// Holds a closed run (start, end, visibility); past the buffer, merges it into
-/// the last held run.
+/// Holds a closed run (start, end, visibility). The pushes keep a free place
+/// (they flush a full buffer), so nothing is ever dropped.
 fn shafts_hold(acc: ptr<function, Shafts>, run: vec3<f32>) {
-    if !(run.z > 0.0) {
+    if !(run.z > 0.0) || (*acc).count >= SHAFTS_RUNS {
         return;
     }
-    if (*acc).count < SHAFTS_RUNS {
-        (*acc).runs[(*acc).count] = run;
-        (*acc).count += 1u;
-        (*acc).calls += 1u;
-        return;
-    }
-    let last = (*acc).runs[SHAFTS_RUNS - 1u];
-    let len = run.y - last.x;
-    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
-    (*acc).runs[SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
+    (*acc).runs[(*acc).count] = run;
+    (*acc).count += 1u;
+    (*acc).calls += 1u;
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -826,6 +820,9 @@ fn shafts_flush(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, l
 fn shafts_push(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
     let run = shafts_step(acc, s, v);
     shafts_hold(acc, run);
+    if (*acc).count == SHAFTS_RUNS {
+        shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s, g);
+    }
 }
 
 /// The shadowed in-scattering of radiance's ray to the surface at `end`
@@ -864,6 +861,9 @@ fn shafts_flush_spot(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f3
 fn shafts_push_spot(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) {
     let run = shafts_step(acc, s, v);
     shafts_hold(acc, run);
+    if (*acc).count == SHAFTS_RUNS {
+        shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+    }
 }
 
 /// shafts_finish for spot's ray, cone and RGB medium.

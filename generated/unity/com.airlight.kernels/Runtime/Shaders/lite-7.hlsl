@@ -1153,23 +1153,24 @@ airlight_lite_7_Shafts airlight_lite_7_shafts_begin()
 
 void airlight_lite_7_shafts_hold(inout airlight_lite_7_Shafts acc_1, float3 run)
 {
-    if (!((run.z > 0.0))) {
+    bool local_17 = (bool)0;
+
+    if (!(!((run.z > 0.0)))) {
+        uint _e10 = acc_1.count;
+        local_17 = (_e10 >= airlight_lite_7_SHAFTS_RUNS);
+    } else {
+        local_17 = true;
+    }
+    bool _e14 = local_17;
+    if (_e14) {
         return;
     }
-    uint _e7 = acc_1.count;
-    if ((_e7 < airlight_lite_7_SHAFTS_RUNS)) {
-        uint _e12 = acc_1.count;
-        acc_1.runs[min(uint(_e12), 31u)] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = (_e15 + 1u);
-        uint _e19 = acc_1.calls;
-        acc_1.calls = (_e19 + 1u);
-        return;
-    }
-    float3 last = acc_1.runs[31];
-    float len = (run.y - last.x);
-    float w_3 = ((len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z);
-    acc_1.runs[31] = float3(last.x, run.y, w_3);
+    uint _e17 = acc_1.count;
+    acc_1.runs[min(uint(_e17), 31u)] = run;
+    uint _e20 = acc_1.count;
+    acc_1.count = (_e20 + 1u);
+    uint _e24 = acc_1.calls;
+    acc_1.calls = (_e24 + 1u);
     return;
 }
 
@@ -1249,28 +1250,28 @@ float4 airlight_lite_7_shafts_moved(float a_6, float b_3, float3 origin_3, float
 
 float airlight_lite_7_shafts_run(float a_7, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_7)
 {
-    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_4 >= 0.0)) {
-            local_18 = (b_4 <= a_7);
+            local_19 = (b_4 <= a_7);
         } else {
-            local_18 = false;
+            local_19 = false;
         }
-        bool _e22 = local_18;
-        local_17 = _e22;
+        bool _e22 = local_19;
+        local_18 = _e22;
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e24 = local_17;
+    bool _e24 = local_18;
     if (_e24) {
         return 0.0;
     }
     const float4 _e26 = airlight_lite_7_shafts_moved(a_7, b_4, origin_4, dir_4);
     float3 o = _e26.xyz;
-    float len_1 = _e26.w;
-    const float _e29 = airlight_lite_7_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    float len = _e26.w;
+    const float _e29 = airlight_lite_7_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
     if ((_e29 >= airlight_lite_7_HUGE)) {
         return _e29;
     }
@@ -1313,7 +1314,13 @@ void airlight_lite_7_shafts_push(inout airlight_lite_7_Shafts acc_7, float s_1, 
 {
     const float3 _e10 = airlight_lite_7_shafts_step(acc_7, s_1, v_5);
     airlight_lite_7_shafts_hold(acc_7, _e10);
-    return;
+    uint _e12 = acc_7.count;
+    if ((_e12 == airlight_lite_7_SHAFTS_RUNS)) {
+        airlight_lite_7_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_lite_7_shafts_finish(airlight_lite_7_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
@@ -1326,37 +1333,37 @@ float airlight_lite_7_shafts_finish(airlight_lite_7_Shafts acc_in, float end, fl
     airlight_lite_7_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
-    float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
+    float w_3 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_8.sum.x;
     float _e23 = acc_8.start;
-    const float _e24 = airlight_lite_7_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    const float _e24 = airlight_lite_7_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
     return min((_e21 + _e24), airlight_lite_7_HUGE);
 }
 
 float3 airlight_lite_7_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
 {
-    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
+    bool local_21 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_20 = (b_5 <= a_8);
+            local_21 = (b_5 <= a_8);
         } else {
-            local_20 = false;
+            local_21 = false;
         }
-        bool _e25 = local_20;
-        local_19 = _e25;
+        bool _e25 = local_21;
+        local_20 = _e25;
     } else {
-        local_19 = true;
+        local_20 = true;
     }
-    bool _e27 = local_19;
+    bool _e27 = local_20;
     if (_e27) {
         return (0.0).xxx;
     }
     const float4 _e30 = airlight_lite_7_shafts_moved(a_8, b_5, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
-    float len_2 = _e30.w;
-    const float3 _e33 = airlight_lite_7_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
+    float len_1 = _e30.w;
+    const float3 _e33 = airlight_lite_7_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
     return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
 }
 
@@ -1396,7 +1403,13 @@ void airlight_lite_7_shafts_push_spot(inout airlight_lite_7_Shafts acc_10, float
 {
     const float3 _e13 = airlight_lite_7_shafts_step(acc_10, s_2, v_6);
     airlight_lite_7_shafts_hold(acc_10, _e13);
-    return;
+    uint _e15 = acc_10.count;
+    if ((_e15 == airlight_lite_7_SHAFTS_RUNS)) {
+        airlight_lite_7_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_13);
+        return;
+    } else {
+        return;
+    }
 }
 
 float3 airlight_lite_7_shafts_finish_spot(airlight_lite_7_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
@@ -1409,10 +1422,10 @@ float3 airlight_lite_7_shafts_finish_spot(airlight_lite_7_Shafts acc_in_1, float
     airlight_lite_7_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
-    float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
+    float w_4 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    const float3 _e26 = airlight_lite_7_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    const float3 _e26 = airlight_lite_7_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 
