@@ -272,7 +272,7 @@ fn provenance_table(method: Vec<(String, Value)>) -> Provenance {
             ("reference_rel_tol", f(REFERENCE_REL_TOL)),
             ("validation_seed", hex_seed(VALIDATION_SEED)),
             ("validation_points_per_domain", i(VALIDATION_POINTS)),
-            ("validation_extra", s("domain corners at the ends of g_range; 48x48 grids on the faces rho = 0.01, rho = inf, tau = min and tau = max; local Nelder-Mead searches inside the domain from the 8 largest over- and 8 largest underestimates (a tenth of the domain apart) and from the 16 largest face errors (3% apart) raise max_rel where they find more; then up to 3 held-out rounds, each 384 fresh seeded points per domain (no fit or other measurement uses them) whose 4 largest over- and 4 largest underestimates start more searches, until a round raises nothing; worst cases reported from outside (catalog::KEPT_WORST) are re-measured and searched from")),
+            ("validation_extra", s("domain corners at the ends of g_range; 48x48 grids on the faces rho = 0.01, rho = inf, tau = min, tau = max, gamma = 0.01 and gamma = pi - 0.01; local Nelder-Mead searches (300 iterations each) inside the domain from the 8 largest over- and 8 largest underestimates (a tenth of the domain apart) and from the 16 largest face errors (3% apart) raise the max where they find more; then up to 3 held-out rounds, each 384 fresh seeded points per domain (no fit or other measurement uses them) whose 4 largest over- and 4 largest underestimates start more searches, until a round raises nothing; worst cases reported from outside (catalog::KEPT_WORST) are re-measured and searched from; then up to 4 polish searches from the worst point, each on a simplex a quarter of the last, until one finds nothing more. That largest error is searched_max_rel; the declared max_rel is 1.25 times it (catalog::DECLARED_MARGIN). Bands of g: 4000 points, 16x16 face grids, up to 3 held-out rounds, the same searches and margin")),
     ]));
     ("provenance".into(), v)
 }
@@ -314,7 +314,34 @@ pub const KEPT_WORST: &[(&str, Domain, [f64; 4])] = &[
     ("phi-8", Domain::Thin, [0.11422951026628728, 3.089430949486637, f64::INFINITY, -0.8548411349565563]),
     // Issue 23: its f32 kernel 1121 against the declared dense max 1025.
     ("sun2005-512", Domain::Dense, [7.424642086029053, 3.131592512130737, 0.9999499917030334, 0.0]),
+    // Issue 37: lite-12 f64 3.315e-4 against the declared thin 3.1655e-4 (γ on its face).
+    ("lite-12", Domain::Thin, [0.05660171263305316, 0.010000134952970816, 1.205996610115852, -0.99]),
+    // Issue 37: lite-12's f32 kernel 1.056x, its WGSL and GLSL 1.048x the gate's thin limit.
+    ("lite-12", Domain::Thin, [0.011313774721434192, 0.04994668352428118, 2.019590545303462, -0.9899041316043273]),
+    ("lite-12", Domain::Thin, [0.02166436602256801, 0.027915906104834867, 1.5467141578519668, -0.9894783174698888]),
+    // Issue 37: lite-12's bands [-0.5, -0.3] (1.173x), [-0.9, -0.7] (1.113x) thin, and
+    // 9.27e-5 at g = -0.4999 against the README's 8.1e-5 for g >= -0.5.
+    ("lite-12", Domain::Thin, [0.8551922341167062, 0.04412488223776162, 0.9796112467422934, -0.495]),
+    ("lite-12", Domain::Thin, [0.4128808677611597, 0.015308563884602644, 1.0266675794444007, -0.895]),
+    ("lite-12", Domain::Thin, [0.9048, 0.04124, 0.98059, -0.4999]),
+    // Issue 37: lite-7 dense 1.0012x its declared bound.
+    ("lite-7", Domain::Dense, [10.35528, 0.0104536, 1.2335, -0.95623]),
 ];
+
+/// The margin of every declared bound: a bound is the largest error the searches
+/// found (validation set, face grids, local searches, held-out rounds, the kept
+/// worst cases, and the polish from the worst point) times `1 + DECLARED_MARGIN`.
+/// Issue 37's hostile search, run on bounds declared with no margin, found up to
+/// 1.17x a band's bound; an error a search of ours never saw must exceed ours by
+/// this much to break a bound.
+pub const DECLARED_MARGIN: f64 = 0.25;
+
+/// Nelder–Mead iterations of each local search.
+pub const SEARCH_ITERATIONS: u64 = 300;
+
+/// Polish rounds from the worst point found, each a local search with its simplex
+/// a quarter of the last one's; they stop at the first that finds nothing more.
+pub const POLISH_ROUNDS: usize = 4;
 
 /// Points per side of each face grid.
 pub const FACE_GRID: usize = 48;
@@ -339,11 +366,11 @@ pub const G_BANDS: [f64; 12] = [-0.99, -0.9, -0.7, -0.5, -0.3, -0.1, 0.1, 0.3, 0
 
 /// Validation points per band and domain (the bands' sets are smaller than the
 /// whole range's; the faces, local searches and a held-out round are the same).
-pub const BAND_POINTS: usize = 2000;
+pub const BAND_POINTS: usize = 4000;
 /// Points per side of each band's face grids.
 pub const BAND_FACE_GRID: usize = 16;
 /// Held-out rounds per band.
-pub const BAND_HELD_OUT_ROUNDS: usize = 1;
+pub const BAND_HELD_OUT_ROUNDS: usize = 3;
 /// Seed of the bands' sets (their held-out rounds derive from it as the whole
 /// range's do from [`VALIDATION_SEED`]).
 pub const BAND_SEED: u64 = VALIDATION_SEED ^ 0xBA4D_0000_0000_0000;
@@ -409,7 +436,7 @@ fn validations_sized(
                 d,
                 r,
                 d.validation_set(r, sizes.points, sizes.seed),
-                d.faces(&face_gs(r), sizes.face_grid),
+                [d.faces(&face_gs(r), sizes.face_grid), d.gamma_faces(&face_gs(r), sizes.face_grid)].concat(),
                 held,
             ));
         }
@@ -533,11 +560,23 @@ pub fn measure_within(model: &dyn Model, v: &Validation, project: &(dyn Fn(Point
                 break;
             }
         }
+        // Polish: local searches from the worst point on ever smaller simplices,
+        // until one finds nothing more.
+        let mut scale = 1.0;
+        for _ in 0..POLISH_ROUNDS {
+            scale *= 0.25;
+            let (found, e) = refine(model, v.domain, v.g_range, project, worst, scale);
+            if !(e > max) {
+                break;
+            }
+            (max, worst) = (e, found);
+        }
     }
     DomainErrors {
         domain: v.domain,
         points: v.points.len(),
-        max_rel: max,
+        max_rel: if max.is_finite() { max * (1.0 + DECLARED_MARGIN) } else { max },
+        searched_max_rel: Some(max),
         p99_rel: stats.p99,
         worst,
         non_finite,
@@ -566,7 +605,7 @@ fn search(
     worst: &mut Point,
 ) {
     for &start in starts {
-        let (found, e) = refine(model, v.domain, v.g_range, project, start);
+        let (found, e) = refine(model, v.domain, v.g_range, project, start, 1.0);
         if e > *max {
             (*max, *worst) = (e, found);
         }
@@ -599,13 +638,15 @@ fn diverse(domain: Domain, points: impl Iterator<Item = Point>, n: usize, apart:
     out
 }
 
-/// Local search for a larger error near `start`, inside the domain.
+/// Local search for a larger error near `start`, inside the domain, on a simplex
+/// `scale` times the default.
 fn refine(
     model: &dyn Model,
     domain: Domain,
     g_range: (f64, f64),
     project: &(dyn Fn(Point) -> Point + Sync),
     start: Point,
+    scale: f64,
 ) -> (Point, f64) {
     let inf = start.rho.is_infinite();
     let to_point = |x: &[f64]| {
@@ -624,8 +665,9 @@ fn refine(
     };
     let x0 = [start.tau, start.gamma, if inf { 0.0 } else { start.rho.ln() }, start.g];
     let (tlo, thi) = domain.tau_range();
-    let step = [0.05 * (thi - tlo), 0.05, if inf { 0.0 } else { 0.2 }, if g_range.0 == g_range.1 { 0.0 } else { 0.02 }];
-    let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, 200);
+    let step = [0.05 * (thi - tlo), 0.05, if inf { 0.0 } else { 0.2 }, if g_range.0 == g_range.1 { 0.0 } else { 0.02 }]
+        .map(|x| x * scale);
+    let out = lsq::nelder_mead(&err, &x0, &step, 1e-12, SEARCH_ITERATIONS);
     (to_point(&out.param), -out.cost)
 }
 
@@ -699,6 +741,7 @@ pub fn build(fits: &Fits, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Ve
             if let Some(b) = worst_band {
                 if b.errors.max_rel > e.max_rel {
                     e.max_rel = b.errors.max_rel;
+                    e.searched_max_rel = b.errors.searched_max_rel;
                     e.worst = b.errors.worst;
                 }
             }

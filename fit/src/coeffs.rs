@@ -113,6 +113,9 @@ pub fn render(f: &ModelFile) -> String {
     let measured = |o: &mut String, e: &DomainErrors| {
         let _ = writeln!(o, "points = {}", e.points);
         let _ = writeln!(o, "max_rel = {}", dec(e.max_rel));
+        if let Some(x) = e.searched_max_rel {
+            let _ = writeln!(o, "searched_max_rel = {}", dec(x));
+        }
         let _ = writeln!(o, "p99_rel = {}", dec(e.p99_rel));
         let _ = writeln!(o, "worst = {}", point_inline(&e.worst));
         let _ = writeln!(o, "non_finite = {}", e.non_finite);
@@ -196,8 +199,11 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     p.deny(err, "error", &names.iter().copied().chain(["band"]).collect::<Vec<_>>())?;
     // One measurement table (`[error.<domain>]` or an `[[error.band]]`).
     let measured = |t: &Table, sec: &str, d: Domain, extra: &[&str]| -> Result<DomainErrors, CoeffError> {
-        let keys: Vec<&str> =
-            ["points", "max_rel", "p99_rel", "worst", "non_finite", "negative"].iter().chain(extra).copied().collect();
+        let keys: Vec<&str> = ["points", "max_rel", "searched_max_rel", "p99_rel", "worst", "non_finite", "negative"]
+            .iter()
+            .chain(extra)
+            .copied()
+            .collect();
         p.deny(t, sec, &keys)?;
         let w = p.table(t, "worst").map_err(|_| p.err(sec, "worst", "missing"))?;
         p.deny(w, sec, &["tau", "gamma", "rho", "g"])?;
@@ -210,10 +216,22 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
                 Err(p.err(sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
             }
         };
+        let (max_rel, searched) = (
+            bound("max_rel")?,
+            if t.contains_key("searched_max_rel") { Some(bound("searched_max_rel")?) } else { None },
+        );
+        if searched.is_some_and(|x| x > max_rel) {
+            return Err(p.err(
+                sec,
+                "max_rel",
+                "is below searched_max_rel: a bound must hold where the search found error",
+            ));
+        }
         Ok(DomainErrors {
             domain: d,
             points: p.uint(t, sec, "points")?,
-            max_rel: bound("max_rel")?,
+            max_rel,
+            searched_max_rel: searched,
             p99_rel: bound("p99_rel")?,
             worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
             non_finite: p.uint(t, sec, "non_finite")?,

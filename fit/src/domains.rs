@@ -94,7 +94,8 @@ impl Domain {
     /// Grids of `n × n` points on the faces of a sampled domain's box where
     /// errors peak — the nearest surface (ρ = 0.01), no surface (ρ = ∞), and both
     /// ends of τ — for each `g` in `gs`: peaks on an edge are narrow and easily
-    /// missed by a low-discrepancy set. Empty for `Extreme`.
+    /// missed by a low-discrepancy set. Empty for `Extreme`. (The fits use these;
+    /// the validation adds [`Domain::gamma_faces`].)
     pub fn faces(self, gs: &[f64], n: usize) -> Vec<Point> {
         if self == Domain::Extreme || n < 2 {
             return Vec::new();
@@ -112,6 +113,33 @@ impl Domain {
                     let rho = RHO_MIN * (RHO_MAX / RHO_MIN).powf(i as f64 / (n - 1) as f64);
                     out.push(Point { tau: tlo, gamma, rho, g });
                     out.push(Point { tau: thi, gamma, rho, g });
+                }
+            }
+        }
+        out
+    }
+
+    /// Grids of `n × n` points (τ by ρ, the last column an open ray) on the two
+    /// faces of γ, the ray grazing the light looking at it (γ = 0.01) and away
+    /// (γ = π − 0.01), for each `g` in `gs`: where the thin-medium peaks of the
+    /// one-path rules sit (issue 37). Empty for `Extreme`.
+    pub fn gamma_faces(self, gs: &[f64], n: usize) -> Vec<Point> {
+        if self == Domain::Extreme || n < 3 {
+            return Vec::new();
+        }
+        let (tlo, thi) = self.tau_range();
+        let mut out = Vec::new();
+        for &g in gs {
+            for i in 0..n {
+                let tau = tlo + (thi - tlo) * i as f64 / (n - 1) as f64;
+                for j in 0..n {
+                    let rho = if j + 1 == n {
+                        f64::INFINITY
+                    } else {
+                        RHO_MIN * (RHO_MAX / RHO_MIN).powf(j as f64 / (n - 2) as f64)
+                    };
+                    out.push(Point { tau, gamma: GAMMA_MIN, rho, g });
+                    out.push(Point { tau, gamma: PI - GAMMA_MIN, rho, g });
                 }
             }
         }
@@ -188,8 +216,12 @@ pub struct DomainErrors {
     pub domain: Domain,
     /// Points measured.
     pub points: usize,
-    /// Largest relative error of `A`.
+    /// The declared bound on the relative error of `A`: the largest error the
+    /// searches found times `1 +` [`crate::catalog::DECLARED_MARGIN`].
     pub max_rel: f64,
+    /// The largest relative error the searches found (absent in files written
+    /// before bounds carried a margin: then `max_rel`).
+    pub searched_max_rel: Option<f64>,
     /// 99th percentile.
     pub p99_rel: f64,
     /// Where the largest error occurs.

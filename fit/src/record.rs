@@ -94,7 +94,8 @@ pub struct GateRecord {
 /// f32 kernel on the domain's validation set, face grids, held-out rounds and
 /// local searches from their worst points (those of the f64 bound, run on the
 /// kernel itself), each GPU target on the validation set and at the Rust
-/// searches' worst point — and never below the f64 model's declared bound.
+/// searches' worst point — times `1 +` [`crate::catalog::DECLARED_MARGIN`], as every
+/// declared bound, and never below the f64 model's declared bound.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct F32Bound {
