@@ -644,6 +644,21 @@ mod tests {
         assert_eq!(plan(&scene("haze-sky.toml"), &models, None).unwrap().choice, Choice::NoExtinction);
     }
 
+    /// Issue 37: a plan error says what is wrong in a line a person reads — τ in
+    /// four digits however far the lights are, and a `g` no model covers by name.
+    #[test]
+    fn plan_errors_name_tau_shortly_and_an_uncovered_g() {
+        let models = models();
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hg-fog.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let far = text.replacen("max_distance = 150.0", "max_distance = 1e300", 1);
+        let e = plan(&parse("s.toml", &far).unwrap(), &models, None).unwrap_err().to_string();
+        assert!(e.contains("τ = σt·D = ") && e.len() < 200 && !e.contains("0000000000"), "{e}");
+        let wide = text.replacen("g = 0.8", "g = 0.995", 1);
+        let e = plan(&parse("s.toml", &wide).unwrap(), &models, None).unwrap_err().to_string();
+        assert!(e.contains("no model covers g = 0.995") && e.contains("[-0.99, 0.99]"), "{e}");
+    }
+
     /// With the bench, each example scene gets the model that is cheapest by the
     /// cost measured where its kernels run (the GPU path for WGSL/GLSL scenes, the
     /// CPU for a Rust-only one) among those meeting its budget.

@@ -3,7 +3,7 @@
 // templates: fit/src/family/lite/core.glsl.tera and codegen/templates/kernels/kernel.glsl.tera
 // model: lite-iso-5; coefficients: generated/coefficients/lite-iso-5.toml
 // scene: codegen/scenes/fog-street.toml; plan: generated/plans/scene-fog-street.md
-// declared bound: max relative error of A (f64 model, over thin): thin 7.9e-4
+// declared bound: max relative error of A (f64 model, over thin): thin 9.8e-4
 //
 // `scene-fog-street`: isotropic; the cheap tiers, one path: e^x E2 of 1/(1+u)^2 and fitted nodes for the rest (isotropic, P = 1/(4π) folded into constants, rays may end early (ρ argument)).
 //
@@ -97,6 +97,29 @@ vec3 airlight_scene_fog_street_scale2(vec3 v, int k) {
     return v * intBitsToFloat((h + 127) << 23) * intBitsToFloat((k - h + 127) << 23);
 }
 
+// ln 2 in two parts, the first with its low bits zero (k * LN2_HI exact for k <= 250).
+const float airlight_scene_fog_street_LN2_HI = 0.693145751953125;
+const float airlight_scene_fog_street_LN2_LO = 1.42860677e-6;
+
+// k (0 ... 250) with e^-tau = 2^-k e^-r, r = tau - k ln 2: past tau ~ 87.3 e^-tau
+// is subnormal in float (few bits; 0 where a GPU flushes subnormals) where the
+// products it enters are normal numbers, so it is carried as e^-r and k.
+int airlight_scene_fog_street_exp_neg_k(float tau) {
+    return int(clamp(floor(tau * 1.44269504), 0.0, 250.0));
+}
+
+// e^-r for exp_neg_k's k.
+float airlight_scene_fog_street_exp_neg_m(float tau, int k) {
+    float kf = float(k);
+    return exp(-((tau - kf * airlight_scene_fog_street_LN2_HI) - kf * airlight_scene_fog_street_LN2_LO));
+}
+
+// a * e^-tau (tau >= 0) without forming e^-tau: one rounding where float holds it.
+float airlight_scene_fog_street_mul_exp_neg(float a, float tau) {
+    int k = airlight_scene_fog_street_exp_neg_k(tau);
+    return airlight_scene_fog_street_scale2(vec3(a * airlight_scene_fog_street_exp_neg_m(tau, k)), -k).x;
+}
+
 // The canonical geometry of a view ray from `origin` along `dir` and a light at
 // `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
 // light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
@@ -146,7 +169,14 @@ vec3 airlight_scene_fog_street_ray_geometry(vec3 origin, vec3 dir, vec3 light) {
 // 0 * inf: the mantissas are multiplied and the exponents added, and the result
 // rounded once. 0 without scattering or light or below float's range; HUGE where
 // A diverges (a >= HUGE) or the radiance passes float's range.
+float airlight_scene_fog_street_scaled_pow2(float sigma_s, float intensity, float d, float a, int k);
+
 float airlight_scene_fog_street_scaled(float sigma_s, float intensity, float d, float a) {
+    return airlight_scene_fog_street_scaled_pow2(sigma_s, intensity, d, a, 0);
+}
+
+// scaled times 2^k, the power added to the exponents before the one rounding.
+float airlight_scene_fog_street_scaled_pow2(float sigma_s, float intensity, float d, float a, int k) {
     if (!(sigma_s > 0.0 && intensity > 0.0 && a > 0.0)) {
         return 0.0;
     }
@@ -155,7 +185,7 @@ float airlight_scene_fog_street_scaled(float sigma_s, float intensity, float d, 
     }
     int es, ei, ea, ed, e;
     float m = airlight_scene_fog_street_split(airlight_scene_fog_street_split(sigma_s, es) * airlight_scene_fog_street_split(intensity, ei) * airlight_scene_fog_street_split(a, ea) / airlight_scene_fog_street_split(d, ed), e);
-    e += es + ei + ea - ed;
+    e += es + ei + ea - ed + k;
     if (e > 128) {
         return airlight_scene_fog_street_HUGE;
     }
@@ -328,9 +358,10 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     if (h < 8.673617e-19) {
         // A light within 2^-60 of the ray: 1/h alone may pass f32's range where A
         // does not; the product is formed from mantissas and exponents.
-        return airlight_scene_fog_street_scaled(2.0 * 7.95774683e-2 * max(sum, 0.0), exp(-tau), h, 1.0);
+        int k = airlight_scene_fog_street_exp_neg_k(tau);
+        return airlight_scene_fog_street_scaled_pow2(2.0 * 7.95774683e-2 * max(sum, 0.0), airlight_scene_fog_street_exp_neg_m(tau, k), h, 1.0, -k);
     }
-    return min(max(2.0 * 7.95774683e-2 * exp(-tau) * (sum / h), 0.0), airlight_scene_fog_street_HUGE);
+    return min(max(2.0 * 7.95774683e-2 * airlight_scene_fog_street_mul_exp_neg(sum / h, tau), 0.0), airlight_scene_fog_street_HUGE);
 }
 
 // The canonical A(τ, γ, ρ) (docs/MATH.md section 2).

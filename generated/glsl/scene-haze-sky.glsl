@@ -90,6 +90,29 @@ vec3 airlight_scene_haze_sky_scale2(vec3 v, int k) {
     return v * intBitsToFloat((h + 127) << 23) * intBitsToFloat((k - h + 127) << 23);
 }
 
+// ln 2 in two parts, the first with its low bits zero (k * LN2_HI exact for k <= 250).
+const float airlight_scene_haze_sky_LN2_HI = 0.693145751953125;
+const float airlight_scene_haze_sky_LN2_LO = 1.42860677e-6;
+
+// k (0 ... 250) with e^-tau = 2^-k e^-r, r = tau - k ln 2: past tau ~ 87.3 e^-tau
+// is subnormal in float (few bits; 0 where a GPU flushes subnormals) where the
+// products it enters are normal numbers, so it is carried as e^-r and k.
+int airlight_scene_haze_sky_exp_neg_k(float tau) {
+    return int(clamp(floor(tau * 1.44269504), 0.0, 250.0));
+}
+
+// e^-r for exp_neg_k's k.
+float airlight_scene_haze_sky_exp_neg_m(float tau, int k) {
+    float kf = float(k);
+    return exp(-((tau - kf * airlight_scene_haze_sky_LN2_HI) - kf * airlight_scene_haze_sky_LN2_LO));
+}
+
+// a * e^-tau (tau >= 0) without forming e^-tau: one rounding where float holds it.
+float airlight_scene_haze_sky_mul_exp_neg(float a, float tau) {
+    int k = airlight_scene_haze_sky_exp_neg_k(tau);
+    return airlight_scene_haze_sky_scale2(vec3(a * airlight_scene_haze_sky_exp_neg_m(tau, k)), -k).x;
+}
+
 // The canonical geometry of a view ray from `origin` along `dir` and a light at
 // `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
 // light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
@@ -139,7 +162,14 @@ vec3 airlight_scene_haze_sky_ray_geometry(vec3 origin, vec3 dir, vec3 light) {
 // 0 * inf: the mantissas are multiplied and the exponents added, and the result
 // rounded once. 0 without scattering or light or below float's range; HUGE where
 // A diverges (a >= HUGE) or the radiance passes float's range.
+float airlight_scene_haze_sky_scaled_pow2(float sigma_s, float intensity, float d, float a, int k);
+
 float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d, float a) {
+    return airlight_scene_haze_sky_scaled_pow2(sigma_s, intensity, d, a, 0);
+}
+
+// scaled times 2^k, the power added to the exponents before the one rounding.
+float airlight_scene_haze_sky_scaled_pow2(float sigma_s, float intensity, float d, float a, int k) {
     if (!(sigma_s > 0.0 && intensity > 0.0 && a > 0.0)) {
         return 0.0;
     }
@@ -148,7 +178,7 @@ float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d, fl
     }
     int es, ei, ea, ed, e;
     float m = airlight_scene_haze_sky_split(airlight_scene_haze_sky_split(sigma_s, es) * airlight_scene_haze_sky_split(intensity, ei) * airlight_scene_haze_sky_split(a, ea) / airlight_scene_haze_sky_split(d, ed), e);
-    e += es + ei + ea - ed;
+    e += es + ei + ea - ed + k;
     if (e > 128) {
         return airlight_scene_haze_sky_HUGE;
     }

@@ -41,6 +41,8 @@ static const float airlight_equiangular_8_FRAC_PI_2_ = 1.5707964;
 static const float airlight_equiangular_8_HUGE = 3.4028235e38;
 static const float airlight_equiangular_8_RHO_OPEN = 4294967300.0;
 static const float airlight_equiangular_8_TAU_MAX = 10000.0;
+static const float airlight_equiangular_8_LN2_HI = 0.69314575;
+static const float airlight_equiangular_8_LN2_LO = 1.4286068e-6;
 static const uint airlight_equiangular_8_SHAFTS_RUNS = 32u;
 
 float airlight_equiangular_8_foot(float h, float x0_, float rho)
@@ -97,8 +99,31 @@ float3 airlight_equiangular_8_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_equiangular_8_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_equiangular_8_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_equiangular_8_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_equiangular_8_exp_neg_k(float tau)
+{
+    return airlight_equiangular_8_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_equiangular_8_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_equiangular_8_LN2_HI)) - (kf * airlight_equiangular_8_LN2_LO))));
+}
+
 int airlight_equiangular_8_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_equiangular_8_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_equiangular_8_exp_neg_k(tau_2);
+    const float _e3 = airlight_equiangular_8_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_equiangular_8_scale2_(((a_4 * _e3)).xxx, airlight_equiangular_8_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_equiangular_8_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -159,7 +184,7 @@ float3 airlight_equiangular_8_ray_geometry(float3 origin, float3 dir, float3 lig
     return float3(min(dist, airlight_equiangular_8_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
-float airlight_equiangular_8_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_equiangular_8_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -169,25 +194,25 @@ float airlight_equiangular_8_scaled(float sigma_s, float intensity, float d_1, f
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_equiangular_8_HUGE)) {
+    if ((a_5 >= airlight_equiangular_8_HUGE)) {
         return airlight_equiangular_8_HUGE;
     }
     airlight_equiangular_8_frexp_result_f32_ s_4 = airlight_equiangular_8_naga_frexp(sigma_s);
     airlight_equiangular_8_frexp_result_f32_ i_1 = airlight_equiangular_8_naga_frexp(intensity);
-    airlight_equiangular_8_frexp_result_f32_ q = airlight_equiangular_8_naga_frexp(a_4);
+    airlight_equiangular_8_frexp_result_f32_ q = airlight_equiangular_8_naga_frexp(a_5);
     airlight_equiangular_8_frexp_result_f32_ r_2 = airlight_equiangular_8_naga_frexp(d_1);
     airlight_equiangular_8_frexp_result_f32_ m = airlight_equiangular_8_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_equiangular_8_HUGE;
     }
@@ -197,20 +222,26 @@ float airlight_equiangular_8_scaled(float sigma_s, float intensity, float d_1, f
     return ldexp(m.fract, e);
 }
 
+float airlight_equiangular_8_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_equiangular_8_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_equiangular_8_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_9 = abs(x);
-    r = a_9;
-    if ((a_9 > 2.4142137)) {
+    float a_11 = abs(x);
+    r = a_11;
+    if ((a_11 > 2.4142137)) {
         y0_ = airlight_equiangular_8_FRAC_PI_2_;
-        r = (-1.0 / a_9);
+        r = (-1.0 / a_11);
     } else {
-        if ((a_9 > 0.41421357)) {
+        if ((a_11 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_9 - 1.0) / (a_9 + 1.0));
+            r = ((a_11 - 1.0) / (a_11 + 1.0));
         }
     }
     float _e18 = r;
@@ -250,10 +281,6 @@ float2 airlight_equiangular_8_sin_cos_octant(float x_2)
     return float2(s_5, c_3);
 }
 
-int airlight_equiangular_8_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
-}
-
 float2 airlight_equiangular_8_sin_cos(float x_3)
 {
     int j = (int)0;
@@ -287,7 +314,7 @@ float2 airlight_equiangular_8_sin_cos(float x_3)
     }
 }
 
-float airlight_equiangular_8_airlight_axis(float tau, float x0_1, float rho_1, float g)
+float airlight_equiangular_8_airlight_axis(float tau_3, float x0_1, float rho_1, float g)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
@@ -310,7 +337,7 @@ float airlight_equiangular_8_airlight_axis(float tau, float x0_1, float rho_1, f
         if (!(_e19)) {
             return airlight_equiangular_8_HUGE;
         }
-        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_8_HUGE);
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau_3))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_8_HUGE);
     }
     float lo = (has_end ? (1.0 / (1.0 + rho_1)) : 0.0);
     float half_ = (0.5 * (1.0 - lo));
@@ -318,44 +345,44 @@ float airlight_equiangular_8_airlight_axis(float tau, float x0_1, float rho_1, f
     float _e57 = sum;
     float _e60 = u;
     float _e63 = u;
-    sum = (_e57 + (0.101228535 * exp(((-2.0 * tau) * ((1.0 - _e60) / _e63)))));
+    sum = (_e57 + (0.101228535 * exp(((-2.0 * tau_3) * ((1.0 - _e60) / _e63)))));
     u = (lo + (half_ * 1.7966665));
     float _e73 = sum;
     float _e76 = u;
     float _e79 = u;
-    sum = (_e73 + (0.22238104 * exp(((-2.0 * tau) * ((1.0 - _e76) / _e79)))));
+    sum = (_e73 + (0.22238104 * exp(((-2.0 * tau_3) * ((1.0 - _e76) / _e79)))));
     u = (lo + (half_ * 1.5255324));
     float _e89 = sum;
     float _e92 = u;
     float _e95 = u;
-    sum = (_e89 + (0.31370664 * exp(((-2.0 * tau) * ((1.0 - _e92) / _e95)))));
+    sum = (_e89 + (0.31370664 * exp(((-2.0 * tau_3) * ((1.0 - _e92) / _e95)))));
     u = (lo + (half_ * 1.1834346));
     float _e105 = sum;
     float _e108 = u;
     float _e111 = u;
-    sum = (_e105 + (0.36268377 * exp(((-2.0 * tau) * ((1.0 - _e108) / _e111)))));
+    sum = (_e105 + (0.36268377 * exp(((-2.0 * tau_3) * ((1.0 - _e108) / _e111)))));
     u = (lo + (half_ * 0.8165654));
     float _e121 = sum;
     float _e124 = u;
     float _e127 = u;
-    sum = (_e121 + (0.36268377 * exp(((-2.0 * tau) * ((1.0 - _e124) / _e127)))));
+    sum = (_e121 + (0.36268377 * exp(((-2.0 * tau_3) * ((1.0 - _e124) / _e127)))));
     u = (lo + (half_ * 0.47446758));
     float _e137 = sum;
     float _e140 = u;
     float _e143 = u;
-    sum = (_e137 + (0.31370664 * exp(((-2.0 * tau) * ((1.0 - _e140) / _e143)))));
+    sum = (_e137 + (0.31370664 * exp(((-2.0 * tau_3) * ((1.0 - _e140) / _e143)))));
     u = (lo + (half_ * 0.2033335));
     float _e153 = sum;
     float _e156 = u;
     float _e159 = u;
-    sum = (_e153 + (0.22238104 * exp(((-2.0 * tau) * ((1.0 - _e156) / _e159)))));
+    sum = (_e153 + (0.22238104 * exp(((-2.0 * tau_3) * ((1.0 - _e156) / _e159)))));
     u = (lo + (half_ * 0.039710164));
     float _e169 = sum;
     float _e172 = u;
     float _e175 = u;
-    sum = (_e169 + (0.101228535 * exp(((-2.0 * tau) * ((1.0 - _e172) / _e175)))));
+    sum = (_e169 + (0.101228535 * exp(((-2.0 * tau_3) * ((1.0 - _e172) / _e175)))));
     float _e196 = sum;
-    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e196);
+    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau_3))) * half_) * _e196);
 }
 
 float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0_2, float gamma, float comp, float rho_2, float xr, float g_in)
@@ -369,9 +396,9 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float b_3 = (float)0;
     float co = (float)0;
     float st = (float)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
+    float tau_8 = min(max(tau_in, 0.0), airlight_equiangular_8_TAU_MAX);
     float g_15 = clamp(g_in, -0.999, 0.999);
     float gm = ((1.0 - g_15) * (1.0 - g_15));
     float gp = ((1.0 + g_15) * (1.0 + g_15));
@@ -388,7 +415,7 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     }
     bool _e39 = local_6;
     if (_e39) {
-        const float _e40 = airlight_equiangular_8_airlight_axis(tau_5, x0_2, rho_2, g_15);
+        const float _e40 = airlight_equiangular_8_airlight_axis(tau_8, x0_2, rho_2, g_15);
         return _e40;
     }
     span = comp;
@@ -423,12 +450,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e107 = sc.y;
     float _e113 = sc.x;
     float _e116 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107)));
     float _e122 = sum_1;
     float _e124 = st;
-    float _e129 = d_2;
-    float _e130 = d_2;
-    sum_1 = (_e122 + ((0.101228535 * exp((-(tau_5) * _e124))) / (_e129 * sqrt(_e130))));
+    float _e129 = d_3;
+    float _e130 = d_3;
+    sum_1 = (_e122 + ((0.101228535 * exp((-(tau_8) * _e124))) / (_e129 * sqrt(_e130))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7966665));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7966665));
     float _e149 = b_3;
@@ -448,12 +475,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e177 = sc.y;
     float _e183 = sc.x;
     float _e186 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177)));
     float _e192 = sum_1;
     float _e194 = st;
-    float _e199 = d_2;
-    float _e200 = d_2;
-    sum_1 = (_e192 + ((0.22238104 * exp((-(tau_5) * _e194))) / (_e199 * sqrt(_e200))));
+    float _e199 = d_3;
+    float _e200 = d_3;
+    sum_1 = (_e192 + ((0.22238104 * exp((-(tau_8) * _e194))) / (_e199 * sqrt(_e200))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5255324));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5255324));
     float _e219 = b_3;
@@ -473,12 +500,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e247 = sc.y;
     float _e253 = sc.x;
     float _e256 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247)));
     float _e262 = sum_1;
     float _e264 = st;
-    float _e269 = d_2;
-    float _e270 = d_2;
-    sum_1 = (_e262 + ((0.31370664 * exp((-(tau_5) * _e264))) / (_e269 * sqrt(_e270))));
+    float _e269 = d_3;
+    float _e270 = d_3;
+    sum_1 = (_e262 + ((0.31370664 * exp((-(tau_8) * _e264))) / (_e269 * sqrt(_e270))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.1834346));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.1834346));
     float _e289 = b_3;
@@ -498,12 +525,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e317 = sc.y;
     float _e323 = sc.x;
     float _e326 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317)));
     float _e332 = sum_1;
     float _e334 = st;
-    float _e339 = d_2;
-    float _e340 = d_2;
-    sum_1 = (_e332 + ((0.36268377 * exp((-(tau_5) * _e334))) / (_e339 * sqrt(_e340))));
+    float _e339 = d_3;
+    float _e340 = d_3;
+    sum_1 = (_e332 + ((0.36268377 * exp((-(tau_8) * _e334))) / (_e339 * sqrt(_e340))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.8165654));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.8165654));
     float _e359 = b_3;
@@ -523,12 +550,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e387 = sc.y;
     float _e393 = sc.x;
     float _e396 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e393) * _e396)) : (gp - (((4.0 * g_15) * _e384) * _e387)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e393) * _e396)) : (gp - (((4.0 * g_15) * _e384) * _e387)));
     float _e402 = sum_1;
     float _e404 = st;
-    float _e409 = d_2;
-    float _e410 = d_2;
-    sum_1 = (_e402 + ((0.36268377 * exp((-(tau_5) * _e404))) / (_e409 * sqrt(_e410))));
+    float _e409 = d_3;
+    float _e410 = d_3;
+    sum_1 = (_e402 + ((0.36268377 * exp((-(tau_8) * _e404))) / (_e409 * sqrt(_e410))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.47446758));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.47446758));
     float _e429 = b_3;
@@ -548,12 +575,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e457 = sc.y;
     float _e463 = sc.x;
     float _e466 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e463) * _e466)) : (gp - (((4.0 * g_15) * _e454) * _e457)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e463) * _e466)) : (gp - (((4.0 * g_15) * _e454) * _e457)));
     float _e472 = sum_1;
     float _e474 = st;
-    float _e479 = d_2;
-    float _e480 = d_2;
-    sum_1 = (_e472 + ((0.31370664 * exp((-(tau_5) * _e474))) / (_e479 * sqrt(_e480))));
+    float _e479 = d_3;
+    float _e480 = d_3;
+    sum_1 = (_e472 + ((0.31370664 * exp((-(tau_8) * _e474))) / (_e479 * sqrt(_e480))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.2033335));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.2033335));
     float _e499 = b_3;
@@ -573,12 +600,12 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e527 = sc.y;
     float _e533 = sc.x;
     float _e536 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e533) * _e536)) : (gp - (((4.0 * g_15) * _e524) * _e527)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e533) * _e536)) : (gp - (((4.0 * g_15) * _e524) * _e527)));
     float _e542 = sum_1;
     float _e544 = st;
-    float _e549 = d_2;
-    float _e550 = d_2;
-    sum_1 = (_e542 + ((0.22238104 * exp((-(tau_5) * _e544))) / (_e549 * sqrt(_e550))));
+    float _e549 = d_3;
+    float _e550 = d_3;
+    sum_1 = (_e542 + ((0.22238104 * exp((-(tau_8) * _e544))) / (_e549 * sqrt(_e550))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.039710164));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.039710164));
     float _e569 = b_3;
@@ -598,14 +625,14 @@ float airlight_equiangular_8_airlight_geometry(float tau_in, float h_2, float x0
     float _e597 = sc.y;
     float _e603 = sc.x;
     float _e606 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e603) * _e606)) : (gp - (((4.0 * g_15) * _e594) * _e597)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e603) * _e606)) : (gp - (((4.0 * g_15) * _e594) * _e597)));
     float _e612 = sum_1;
     float _e614 = st;
-    float _e619 = d_2;
-    float _e620 = d_2;
-    sum_1 = (_e612 + ((0.101228535 * exp((-(tau_5) * _e614))) / (_e619 * sqrt(_e620))));
+    float _e619 = d_3;
+    float _e620 = d_3;
+    sum_1 = (_e612 + ((0.101228535 * exp((-(tau_8) * _e614))) / (_e619 * sqrt(_e620))));
     float _e632 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e632) * half_1) / h_2), airlight_equiangular_8_HUGE);
+    return min(((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e632) * (half_1 / h_2)), airlight_equiangular_8_HUGE);
 }
 
 float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1, float g_in_1)
@@ -619,9 +646,9 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float b_4 = (float)0;
     float co_1 = (float)0;
     float st_1 = (float)0;
-    float d_3 = (float)0;
+    float d_4 = (float)0;
 
-    float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float3 tau_9 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
     float g_16 = clamp(g_in_1, -0.999, 0.999);
     float gm_1 = ((1.0 - g_16) * (1.0 - g_16));
     float gp_1 = ((1.0 + g_16) * (1.0 + g_16));
@@ -638,9 +665,9 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     }
     bool _e41 = local_9;
     if (_e41) {
-        const float _e43 = airlight_equiangular_8_airlight_axis(tau_6.x, x0_3, rho_3, g_16);
-        const float _e45 = airlight_equiangular_8_airlight_axis(tau_6.y, x0_3, rho_3, g_16);
-        const float _e47 = airlight_equiangular_8_airlight_axis(tau_6.z, x0_3, rho_3, g_16);
+        const float _e43 = airlight_equiangular_8_airlight_axis(tau_9.x, x0_3, rho_3, g_16);
+        const float _e45 = airlight_equiangular_8_airlight_axis(tau_9.y, x0_3, rho_3, g_16);
+        const float _e47 = airlight_equiangular_8_airlight_axis(tau_9.z, x0_3, rho_3, g_16);
         return float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
@@ -675,12 +702,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e116 = sc_1.y;
     float _e122 = sc_1.x;
     float _e125 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116)));
     float3 _e131 = sum_2;
     float _e133 = st_1;
-    float _e138 = d_3;
-    float _e139 = d_3;
-    sum_2 = (_e131 + ((0.101228535 * exp((-(tau_6) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
+    float _e138 = d_4;
+    float _e139 = d_4;
+    sum_2 = (_e131 + ((0.101228535 * exp((-(tau_9) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7966665));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7966665));
     float _e159 = b_4;
@@ -700,12 +727,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e187 = sc_1.y;
     float _e193 = sc_1.x;
     float _e196 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187)));
     float3 _e202 = sum_2;
     float _e204 = st_1;
-    float _e209 = d_3;
-    float _e210 = d_3;
-    sum_2 = (_e202 + ((0.22238104 * exp((-(tau_6) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
+    float _e209 = d_4;
+    float _e210 = d_4;
+    sum_2 = (_e202 + ((0.22238104 * exp((-(tau_9) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5255324));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5255324));
     float _e230 = b_4;
@@ -725,12 +752,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e258 = sc_1.y;
     float _e264 = sc_1.x;
     float _e267 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258)));
     float3 _e273 = sum_2;
     float _e275 = st_1;
-    float _e280 = d_3;
-    float _e281 = d_3;
-    sum_2 = (_e273 + ((0.31370664 * exp((-(tau_6) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
+    float _e280 = d_4;
+    float _e281 = d_4;
+    sum_2 = (_e273 + ((0.31370664 * exp((-(tau_9) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.1834346));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.1834346));
     float _e301 = b_4;
@@ -750,12 +777,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e329 = sc_1.y;
     float _e335 = sc_1.x;
     float _e338 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329)));
     float3 _e344 = sum_2;
     float _e346 = st_1;
-    float _e351 = d_3;
-    float _e352 = d_3;
-    sum_2 = (_e344 + ((0.36268377 * exp((-(tau_6) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
+    float _e351 = d_4;
+    float _e352 = d_4;
+    sum_2 = (_e344 + ((0.36268377 * exp((-(tau_9) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.8165654));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.8165654));
     float _e372 = b_4;
@@ -775,12 +802,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e400 = sc_1.y;
     float _e406 = sc_1.x;
     float _e409 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e406) * _e409)) : (gp_1 - (((4.0 * g_16) * _e397) * _e400)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e406) * _e409)) : (gp_1 - (((4.0 * g_16) * _e397) * _e400)));
     float3 _e415 = sum_2;
     float _e417 = st_1;
-    float _e422 = d_3;
-    float _e423 = d_3;
-    sum_2 = (_e415 + ((0.36268377 * exp((-(tau_6) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
+    float _e422 = d_4;
+    float _e423 = d_4;
+    sum_2 = (_e415 + ((0.36268377 * exp((-(tau_9) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.47446758));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.47446758));
     float _e443 = b_4;
@@ -800,12 +827,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e471 = sc_1.y;
     float _e477 = sc_1.x;
     float _e480 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e477) * _e480)) : (gp_1 - (((4.0 * g_16) * _e468) * _e471)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e477) * _e480)) : (gp_1 - (((4.0 * g_16) * _e468) * _e471)));
     float3 _e486 = sum_2;
     float _e488 = st_1;
-    float _e493 = d_3;
-    float _e494 = d_3;
-    sum_2 = (_e486 + ((0.31370664 * exp((-(tau_6) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
+    float _e493 = d_4;
+    float _e494 = d_4;
+    sum_2 = (_e486 + ((0.31370664 * exp((-(tau_9) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.2033335));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.2033335));
     float _e514 = b_4;
@@ -825,12 +852,12 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e542 = sc_1.y;
     float _e548 = sc_1.x;
     float _e551 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e548) * _e551)) : (gp_1 - (((4.0 * g_16) * _e539) * _e542)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e548) * _e551)) : (gp_1 - (((4.0 * g_16) * _e539) * _e542)));
     float3 _e557 = sum_2;
     float _e559 = st_1;
-    float _e564 = d_3;
-    float _e565 = d_3;
-    sum_2 = (_e557 + ((0.22238104 * exp((-(tau_6) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
+    float _e564 = d_4;
+    float _e565 = d_4;
+    sum_2 = (_e557 + ((0.22238104 * exp((-(tau_9) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.039710164));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.039710164));
     float _e585 = b_4;
@@ -850,17 +877,17 @@ float3 airlight_equiangular_8_airlight_geometry_rgb(float3 tau_in_1, float h_3, 
     float _e613 = sc_1.y;
     float _e619 = sc_1.x;
     float _e622 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e619) * _e622)) : (gp_1 - (((4.0 * g_16) * _e610) * _e613)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e619) * _e622)) : (gp_1 - (((4.0 * g_16) * _e610) * _e613)));
     float3 _e628 = sum_2;
     float _e630 = st_1;
-    float _e635 = d_3;
-    float _e636 = d_3;
-    sum_2 = (_e628 + ((0.101228535 * exp((-(tau_6) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
+    float _e635 = d_4;
+    float _e636 = d_4;
+    sum_2 = (_e628 + ((0.101228535 * exp((-(tau_9) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
     float3 _e649 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e649) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
+    return min(((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e649) * (half_2 / h_3)), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_8_airlight(float tau_1, float gamma_2, float rho_4, float g_1)
+float airlight_equiangular_8_airlight(float tau_4, float gamma_2, float rho_4, float g_1)
 {
     float gc = clamp(gamma_2, 0.0, airlight_equiangular_8_PI);
     const float2 _e7 = airlight_equiangular_8_sin_cos(gc);
@@ -868,17 +895,17 @@ float airlight_equiangular_8_airlight(float tau_1, float gamma_2, float rho_4, f
     const float2 _e16 = airlight_equiangular_8_sin_cos(comp_2);
     float h_7 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
     const float _e22 = airlight_equiangular_8_foot(h_7, _e7.y, rho_4);
-    const float _e23 = airlight_equiangular_8_airlight_geometry(tau_1, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
+    const float _e23 = airlight_equiangular_8_airlight_geometry(tau_4, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
     return _e23;
 }
 
-float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
+float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_2)
 {
     bool local_12 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_8_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
-        const float _e14 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_8_HUGE);
+        const float _e14 = airlight_equiangular_8_scaled(sigma_s_2, intensity_2, 1.0, airlight_equiangular_8_HUGE);
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
@@ -895,15 +922,15 @@ float airlight_equiangular_8_radiance(float3 origin_1, float3 dir_1, float surfa
     const float _e38 = airlight_equiangular_8_arctan2_(_e8.y, -(_e8.z));
     const float _e46 = airlight_equiangular_8_foot(_e8.y, _e8.z, rho_8);
     const float _e47 = airlight_equiangular_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_8, _e46, g_2);
-    const float _e48 = airlight_equiangular_8_scaled(sigma_s_1, intensity_1, _e8.x, _e47);
+    const float _e48 = airlight_equiangular_8_scaled(sigma_s_2, intensity_2, _e8.x, _e47);
     return _e48;
 }
 
-float3 airlight_equiangular_8_along_rgb(float3 tau_2, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
+float3 airlight_equiangular_8_along_rgb(float3 tau_5, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
 {
     const float _e6 = airlight_equiangular_8_arctan2_(h_4, x0_4);
     const float _e8 = airlight_equiangular_8_arctan2_(h_4, -(x0_4));
-    const float3 _e9 = airlight_equiangular_8_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
+    const float3 _e9 = airlight_equiangular_8_airlight_geometry_rgb(tau_5, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
     return _e9;
 }
 
@@ -913,7 +940,7 @@ float airlight_equiangular_8_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_8_spot_core(float3 tau_3, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_equiangular_8_spot_core(float3 tau_6, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -965,10 +992,10 @@ float3 airlight_equiangular_8_spot_core(float3 tau_3, float h_5, float x0_5, flo
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_equiangular_8_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    const float3 _e70 = airlight_equiangular_8_along_rgb((tau_6 * _e64), _e66, _e67, _e68, _e69, g_4);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_6) * _e72))) / (_e76).xxx));
 }
 
 float airlight_equiangular_8_spot_weight(float c_2, float co_2, float ci)
@@ -985,14 +1012,14 @@ airlight_equiangular_8_ret_Constructarray6_float_ airlight_equiangular_8_Constru
     return ret;
 }
 
-float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
+float3 airlight_equiangular_8_spot_edge(float3 tau_7, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_3, float ci_1, float g_5)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_equiangular_8_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_3 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_4 = (float)0;
+    float d_5 = (float)0;
     float st_2 = (float)0;
     int i = int(0);
 
@@ -1001,11 +1028,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
     }
     const float2 _e17 = airlight_equiangular_8_sin_cos(u_1);
     const float2 _e18 = airlight_equiangular_8_sin_cos(v_in);
-    const float _e24 = airlight_equiangular_8_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_3, ci_1);
-    const float _e30 = airlight_equiangular_8_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_3, ci_1);
+    const float _e24 = airlight_equiangular_8_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_3, ci_1);
+    const float _e30 = airlight_equiangular_8_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_3, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_equiangular_8_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
+        const float3 _e39 = airlight_equiangular_8_spot_core(tau_7, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -1032,12 +1059,12 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_10 = (u_1 + ((v_in - u_1) * _e80));
+            float a_12 = (u_1 + ((v_in - u_1) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_8 = (u_1 + ((v_in - u_1) * _e88));
-            float half_3 = (0.5 * (b_8 - a_10));
-            float mid = (0.5 * (b_8 + a_10));
+            float half_3 = (0.5 * (b_8 - a_12));
+            float mid = (0.5 * (b_8 + a_12));
             w = (mid + (half_3 * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_equiangular_8_sin_cos((0.5 * _e100));
@@ -1046,7 +1073,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -1057,11 +1084,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            const float _e160 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_3, ci_1);
-            float _e163 = d_4;
-            float _e164 = d_4;
+            const float _e160 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_3, ci_1);
+            float _e163 = d_5;
+            float _e164 = d_5;
             float _e169 = st_2;
-            sum_3 = (_e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+            sum_3 = (_e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_7) * _e169))));
             w = (mid + (half_3 * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_equiangular_8_sin_cos((0.5 * _e177));
@@ -1070,7 +1097,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -1081,11 +1108,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            const float _e237 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_3, ci_1);
-            float _e240 = d_4;
-            float _e241 = d_4;
+            const float _e237 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_3, ci_1);
+            float _e240 = d_5;
+            float _e241 = d_5;
             float _e246 = st_2;
-            sum_3 = (_e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_4) * _e246))));
+            sum_3 = (_e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_7) * _e246))));
             w = (mid + (half_3 * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_equiangular_8_sin_cos((0.5 * _e254));
@@ -1094,7 +1121,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -1105,11 +1132,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            const float _e314 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_3, ci_1);
-            float _e317 = d_4;
-            float _e318 = d_4;
+            const float _e314 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_3, ci_1);
+            float _e317 = d_5;
+            float _e318 = d_5;
             float _e323 = st_2;
-            sum_3 = (_e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_4) * _e323))));
+            sum_3 = (_e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_7) * _e323))));
             w = (mid + (half_3 * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_equiangular_8_sin_cos((0.5 * _e331));
@@ -1118,7 +1145,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -1129,11 +1156,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            const float _e391 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_3, ci_1);
-            float _e394 = d_4;
-            float _e395 = d_4;
+            const float _e391 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_3, ci_1);
+            float _e394 = d_5;
+            float _e395 = d_5;
             float _e400 = st_2;
-            sum_3 = (_e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_4) * _e400))));
+            sum_3 = (_e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_7) * _e400))));
             w = (mid + (half_3 * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_equiangular_8_sin_cos((0.5 * _e408));
@@ -1142,7 +1169,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -1153,11 +1180,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            const float _e468 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_3, ci_1);
-            float _e471 = d_4;
-            float _e472 = d_4;
+            const float _e468 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_3, ci_1);
+            float _e471 = d_5;
+            float _e472 = d_5;
             float _e477 = st_2;
-            sum_3 = (_e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_4) * _e477))));
+            sum_3 = (_e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_7) * _e477))));
             w = (mid + (half_3 * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_equiangular_8_sin_cos((0.5 * _e485));
@@ -1166,7 +1193,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -1177,11 +1204,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            const float _e545 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_3, ci_1);
-            float _e548 = d_4;
-            float _e549 = d_4;
+            const float _e545 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_3, ci_1);
+            float _e548 = d_5;
+            float _e549 = d_5;
             float _e554 = st_2;
-            sum_3 = (_e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_4) * _e554))));
+            sum_3 = (_e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_7) * _e554))));
             w = (mid + (half_3 * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_equiangular_8_sin_cos((0.5 * _e562));
@@ -1190,7 +1217,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -1201,11 +1228,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            const float _e622 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_3, ci_1);
-            float _e625 = d_4;
-            float _e626 = d_4;
+            const float _e622 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_3, ci_1);
+            float _e625 = d_5;
+            float _e626 = d_5;
             float _e631 = st_2;
-            sum_3 = (_e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_4) * _e631))));
+            sum_3 = (_e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_7) * _e631))));
             w = (mid + (half_3 * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_equiangular_8_sin_cos((0.5 * _e639));
@@ -1214,7 +1241,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -1225,11 +1252,11 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            const float _e699 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_3, ci_1);
-            float _e702 = d_4;
-            float _e703 = d_4;
+            const float _e699 = airlight_equiangular_8_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_3, ci_1);
+            float _e702 = d_5;
+            float _e703 = d_5;
             float _e708 = st_2;
-            sum_3 = (_e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_4) * _e708))));
+            sum_3 = (_e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_7) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -1237,7 +1264,7 @@ float3 airlight_equiangular_8_spot_edge(float3 tau_4, float h_6, float x0_6, flo
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
+float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_6)
 {
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
@@ -1259,7 +1286,7 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     bool local_19 = (bool)0;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    float3 a_7 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_equiangular_8_ray_geometry(origin_2, dir_2, light_2);
@@ -1298,16 +1325,16 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_2 = dot(_e57, _e58);
+    float k_4 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
+        const float _e65 = airlight_equiangular_8_spot_weight(k_4, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
-        const float _e73 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_equiangular_8_HUGE);
+        const float _e73 = airlight_equiangular_8_scaled(sigma_s_3.x, (intensity_3 * _e69), 1.0, airlight_equiangular_8_HUGE);
         float _e75 = scale;
-        const float _e79 = airlight_equiangular_8_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_equiangular_8_HUGE);
+        const float _e79 = airlight_equiangular_8_scaled(sigma_s_3.y, (intensity_3 * _e75), 1.0, airlight_equiangular_8_HUGE);
         float _e81 = scale;
-        const float _e85 = airlight_equiangular_8_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_equiangular_8_HUGE);
+        const float _e85 = airlight_equiangular_8_scaled(sigma_s_3.z, (intensity_3 * _e81), 1.0, airlight_equiangular_8_HUGE);
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
@@ -1319,17 +1346,17 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     if (_e96) {
         return (0.0).xxx;
     }
-    float d_5 = _e11.x;
+    float d_6 = _e11.x;
     float h_8 = _e11.y;
     float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_18 = ((surface_1 / d_5) < airlight_equiangular_8_RHO_OPEN);
+        local_18 = ((surface_1 / d_6) < airlight_equiangular_8_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end_1 = local_18;
-    float rho_9 = (has_end_1 ? (surface_1 / d_5) : -1.0);
-    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float rho_9 = (has_end_1 ? (surface_1 / d_6) : -1.0);
+    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     const float _e143 = airlight_equiangular_8_arctan2_(h_8, x0_8);
     if (!(point_)) {
@@ -1346,8 +1373,8 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
     bool _e157 = local_20;
     if (_e157) {
         if (!(point_)) {
-            const float _e160 = airlight_equiangular_8_spot_weight(-(k_2), co_4, cos_inner);
-            const float _e161 = airlight_equiangular_8_spot_weight(k_2, co_4, cos_inner);
+            const float _e160 = airlight_equiangular_8_spot_weight(-(k_4), co_4, cos_inner);
+            const float _e161 = airlight_equiangular_8_spot_weight(k_4, co_4, cos_inner);
             if (has_end_1) {
                 local_21 = (rho_9 < 1.0);
             } else {
@@ -1367,9 +1394,9 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_4 = sqrt(((_e188 * _e189) + (k_2 * k_2)));
+        float r_4 = sqrt(((_e188 * _e189) + (k_4 * k_4)));
         float _e194 = ca_1;
-        const float _e195 = airlight_equiangular_8_arctan2_(k_2, _e194);
+        const float _e195 = airlight_equiangular_8_arctan2_(k_4, _e194);
         gam_2 = _e143;
         const float _e198 = airlight_equiangular_8_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end_1 ? _e198 : airlight_equiangular_8_PI);
@@ -1415,8 +1442,8 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_equiangular_8_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
-        a_5 = _e251;
+        const float3 _e251 = airlight_equiangular_8_spot_core(tau_10, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        a_7 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1439,24 +1466,24 @@ float3 airlight_equiangular_8_spot(float3 origin_2, float3 dir_2, float surface_
             int _e261 = j_1;
             float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e268 = a_5;
+                float3 _e268 = a_7;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_equiangular_8_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
-                a_5 = (_e268 + _e274);
+                const float3 _e274 = airlight_equiangular_8_spot_edge(tau_10, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_4, cos_inner, gg);
+                a_7 = (_e268 + _e274);
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_5.x;
-    const float _e284 = airlight_equiangular_8_scaled(sigma_s_2.x, (intensity_2 * _e280), d_5, _e283);
+    float _e283 = a_7.x;
+    const float _e284 = airlight_equiangular_8_scaled(sigma_s_3.x, (intensity_3 * _e280), d_6, _e283);
     float _e286 = scale;
-    float _e289 = a_5.y;
-    const float _e290 = airlight_equiangular_8_scaled(sigma_s_2.y, (intensity_2 * _e286), d_5, _e289);
+    float _e289 = a_7.y;
+    const float _e290 = airlight_equiangular_8_scaled(sigma_s_3.y, (intensity_3 * _e286), d_6, _e289);
     float _e292 = scale;
-    float _e295 = a_5.z;
-    const float _e296 = airlight_equiangular_8_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
+    float _e295 = a_7.z;
+    const float _e296 = airlight_equiangular_8_scaled(sigma_s_3.z, (intensity_3 * _e292), d_6, _e295);
     return float3(_e284, _e290, _e296);
 }
 
@@ -1560,21 +1587,21 @@ float3 airlight_equiangular_8_shafts_step(inout airlight_equiangular_8_Shafts ac
     return _e3;
 }
 
-float4 airlight_equiangular_8_shafts_moved(float a_6, float b_5, float3 origin_3, float3 dir_3)
+float4 airlight_equiangular_8_shafts_moved(float a_8, float b_5, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_equiangular_8_max_abs(dir_3);
     float3 u_2 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_6 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_6), 0.0) : -1.0));
+    return float4((origin_3 + (a_8 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_8), 0.0) : -1.0));
 }
 
-float airlight_equiangular_8_shafts_run(float a_7, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_7)
+float airlight_equiangular_8_shafts_run(float a_9, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_7)
 {
     bool local_23 = (bool)0;
     bool local_24 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_6 >= 0.0)) {
-            local_24 = (b_6 <= a_7);
+            local_24 = (b_6 <= a_9);
         } else {
             local_24 = false;
         }
@@ -1587,17 +1614,17 @@ float airlight_equiangular_8_shafts_run(float a_7, float b_6, float w_1, float3 
     if (_e24) {
         return 0.0;
     }
-    const float4 _e26 = airlight_equiangular_8_shafts_moved(a_7, b_6, origin_4, dir_4);
+    const float4 _e26 = airlight_equiangular_8_shafts_moved(a_9, b_6, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len = _e26.w;
-    const float _e29 = airlight_equiangular_8_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    const float _e29 = airlight_equiangular_8_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if ((_e29 >= airlight_equiangular_8_HUGE)) {
         return _e29;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
+    return ((w_1 * exp((-(sigma_t_2) * a_9))) * _e29);
 }
 
-void airlight_equiangular_8_shafts_flush(inout airlight_equiangular_8_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_equiangular_8_shafts_flush(inout airlight_equiangular_8_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_8)
 {
     uint j_2 = 0u;
 
@@ -1621,7 +1648,7 @@ void airlight_equiangular_8_shafts_flush(inout airlight_equiangular_8_Shafts acc
             uint _e15 = j_2;
             float3 r_5 = acc_6.runs[min(uint(_e15), 31u)];
             float _e22 = acc_6.sum.x;
-            const float _e26 = airlight_equiangular_8_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            const float _e26 = airlight_equiangular_8_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
             acc_6.sum.x = min((_e22 + _e26), airlight_equiangular_8_HUGE);
         }
     }
@@ -1629,44 +1656,44 @@ void airlight_equiangular_8_shafts_flush(inout airlight_equiangular_8_Shafts acc
     return;
 }
 
-void airlight_equiangular_8_shafts_push(inout airlight_equiangular_8_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_equiangular_8_shafts_push(inout airlight_equiangular_8_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_9)
 {
     const float3 _e10 = airlight_equiangular_8_shafts_step(acc_7, s_1, v_4);
     airlight_equiangular_8_shafts_hold(acc_7, _e10);
     uint _e12 = acc_7.count;
     if ((_e12 == airlight_equiangular_8_SHAFTS_RUNS)) {
-        airlight_equiangular_8_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+        airlight_equiangular_8_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_9);
         return;
     } else {
         return;
     }
 }
 
-float airlight_equiangular_8_shafts_finish(airlight_equiangular_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
+float airlight_equiangular_8_shafts_finish(airlight_equiangular_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_10)
 {
     airlight_equiangular_8_Shafts acc_8 = (airlight_equiangular_8_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e10 = airlight_equiangular_8_shafts_place(acc_8);
     airlight_equiangular_8_shafts_hold(acc_8, _e10);
-    airlight_equiangular_8_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    airlight_equiangular_8_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
     float w_3 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_8.sum.x;
     float _e23 = acc_8.start;
-    const float _e24 = airlight_equiangular_8_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    const float _e24 = airlight_equiangular_8_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return min((_e21 + _e24), airlight_equiangular_8_HUGE);
 }
 
-float3 airlight_equiangular_8_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+float3 airlight_equiangular_8_shafts_run_spot(float a_10, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_11)
 {
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_7 >= 0.0)) {
-            local_26 = (b_7 <= a_8);
+            local_26 = (b_7 <= a_10);
         } else {
             local_26 = false;
         }
@@ -1679,14 +1706,14 @@ float3 airlight_equiangular_8_shafts_run_spot(float a_8, float b_7, float w_2, f
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_equiangular_8_shafts_moved(a_8, b_7, origin_8, dir_8);
+    const float4 _e30 = airlight_equiangular_8_shafts_moved(a_10, b_7, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_1 = _e30.w;
-    const float3 _e33 = airlight_equiangular_8_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
+    const float3 _e33 = airlight_equiangular_8_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_10))) * _e33));
 }
 
-void airlight_equiangular_8_shafts_flush_spot(inout airlight_equiangular_8_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_equiangular_8_shafts_flush_spot(inout airlight_equiangular_8_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_12)
 {
     uint j_3 = 0u;
 
@@ -1710,7 +1737,7 @@ void airlight_equiangular_8_shafts_flush_spot(inout airlight_equiangular_8_Shaft
             uint _e18 = j_3;
             float3 r_6 = acc_9.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_9.sum;
-            const float3 _e27 = airlight_equiangular_8_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            const float3 _e27 = airlight_equiangular_8_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
             acc_9.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -1718,33 +1745,33 @@ void airlight_equiangular_8_shafts_flush_spot(inout airlight_equiangular_8_Shaft
     return;
 }
 
-void airlight_equiangular_8_shafts_push_spot(inout airlight_equiangular_8_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
+void airlight_equiangular_8_shafts_push_spot(inout airlight_equiangular_8_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_13)
 {
     const float3 _e13 = airlight_equiangular_8_shafts_step(acc_10, s_2, v_5);
     airlight_equiangular_8_shafts_hold(acc_10, _e13);
     uint _e15 = acc_10.count;
     if ((_e15 == airlight_equiangular_8_SHAFTS_RUNS)) {
-        airlight_equiangular_8_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_13);
+        airlight_equiangular_8_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_13);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_equiangular_8_shafts_finish_spot(airlight_equiangular_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
+float3 airlight_equiangular_8_shafts_finish_spot(airlight_equiangular_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_14)
 {
     airlight_equiangular_8_Shafts acc_11 = (airlight_equiangular_8_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e13 = airlight_equiangular_8_shafts_place(acc_11);
     airlight_equiangular_8_shafts_hold(acc_11, _e13);
-    airlight_equiangular_8_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    airlight_equiangular_8_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
     float w_4 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    const float3 _e26 = airlight_equiangular_8_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    const float3 _e26 = airlight_equiangular_8_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

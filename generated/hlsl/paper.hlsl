@@ -41,6 +41,8 @@ static const float airlight_paper_FRAC_PI_2_ = 1.5707964;
 static const float airlight_paper_HUGE = 3.4028235e38;
 static const float airlight_paper_RHO_OPEN = 4294967300.0;
 static const float airlight_paper_TAU_MAX = 10000.0;
+static const float airlight_paper_LN2_HI = 0.69314575;
+static const float airlight_paper_LN2_LO = 1.4286068e-6;
 static const float airlight_paper_P_ISO = 0.07957747;
 static const uint airlight_paper_SHAFTS_RUNS = 32u;
 
@@ -98,8 +100,31 @@ float3 airlight_paper_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_paper_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_paper_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_paper_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_paper_exp_neg_k(float tau)
+{
+    return airlight_paper_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_paper_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_paper_LN2_HI)) - (kf * airlight_paper_LN2_LO))));
+}
+
 int airlight_paper_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_paper_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_paper_exp_neg_k(tau_2);
+    const float _e3 = airlight_paper_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_paper_scale2_(((a_4 * _e3)).xxx, airlight_paper_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_paper_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -160,7 +185,7 @@ float3 airlight_paper_ray_geometry(float3 origin, float3 dir, float3 light)
     return float3(min(dist, airlight_paper_HUGE), (_e97 / n_1), (x0_8 / n_1));
 }
 
-float airlight_paper_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_paper_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -170,25 +195,25 @@ float airlight_paper_scaled(float sigma_s, float intensity, float d_1, float a_4
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_paper_HUGE)) {
+    if ((a_5 >= airlight_paper_HUGE)) {
         return airlight_paper_HUGE;
     }
     airlight_paper_frexp_result_f32_ s_4 = airlight_paper_naga_frexp(sigma_s);
     airlight_paper_frexp_result_f32_ i_1 = airlight_paper_naga_frexp(intensity);
-    airlight_paper_frexp_result_f32_ q = airlight_paper_naga_frexp(a_4);
+    airlight_paper_frexp_result_f32_ q = airlight_paper_naga_frexp(a_5);
     airlight_paper_frexp_result_f32_ r_2 = airlight_paper_naga_frexp(d_1);
     airlight_paper_frexp_result_f32_ m = airlight_paper_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_paper_HUGE;
     }
@@ -198,20 +223,26 @@ float airlight_paper_scaled(float sigma_s, float intensity, float d_1, float a_4
     return ldexp(m.fract, e);
 }
 
+float airlight_paper_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_paper_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_paper_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_12 = abs(x);
-    r = a_12;
-    if ((a_12 > 2.4142137)) {
+    float a_14 = abs(x);
+    r = a_14;
+    if ((a_14 > 2.4142137)) {
         y0_ = airlight_paper_FRAC_PI_2_;
-        r = (-1.0 / a_12);
+        r = (-1.0 / a_14);
     } else {
-        if ((a_12 > 0.41421357)) {
+        if ((a_14 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_12 - 1.0) / (a_12 + 1.0));
+            r = ((a_14 - 1.0) / (a_14 + 1.0));
         }
     }
     float _e18 = r;
@@ -249,10 +280,6 @@ float2 airlight_paper_sin_cos_octant(float x_2)
     float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     return float2(s_5, c_3);
-}
-
-int airlight_paper_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
 float2 airlight_paper_sin_cos(float x_3)
@@ -309,21 +336,21 @@ float airlight_paper_phi(float z)
         float r_4 = (1.0 / z);
         return (r_4 * (1.0 + (r_4 * (-2.0 + (r_4 * (6.0 + (r_4 * (-24.0 + (r_4 * 120.0)))))))));
     }
-    float d_3 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
+    float d_4 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
     float n_2 = ((((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232);
-    return (n_2 / d_3);
+    return (n_2 / d_4);
 }
 
-float airlight_paper_piece(float a_5, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att)
+float airlight_paper_piece(float a_7, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att)
 {
     bool local_4 = (bool)0;
 
-    float lo = max(a_5, lo_j);
+    float lo = max(a_7, lo_j);
     float hi_1 = min(b_3, hi_j);
     if ((hi_1 <= lo)) {
         return 0.0;
     }
-    if ((a_5 >= lo_j)) {
+    if ((a_7 >= lo_j)) {
         local_4 = (b_3 <= hi_j);
     } else {
         local_4 = false;
@@ -336,18 +363,18 @@ float airlight_paper_piece(float a_5, float b_3, float len, float lo_j, float hi
     return ((exp(max(ea, (ea + (lam * l)))) * l) * _e35);
 }
 
-float airlight_paper_segments(float a_6, float len_1, float t_1, float att_1)
+float airlight_paper_segments(float a_8, float len_1, float t_1, float att_1)
 {
-    float b_7 = (a_6 + len_1);
-    const float _e9 = airlight_paper_piece(a_6, b_7, len_1, 0.0, 0.7312963, 0.5216, -0.003527364, t_1, att_1);
-    const float _e14 = airlight_paper_piece(a_6, b_7, len_1, 0.7312963, 1.1748964, 0.6331, -0.085071154, t_1, att_1);
-    const float _e20 = airlight_paper_piece(a_6, b_7, len_1, 1.1748964, 1.5707964, 0.8405, -0.3287543, t_1, att_1);
+    float b_7 = (a_8 + len_1);
+    const float _e9 = airlight_paper_piece(a_8, b_7, len_1, 0.0, 0.7312963, 0.5216, -0.003527364, t_1, att_1);
+    const float _e14 = airlight_paper_piece(a_8, b_7, len_1, 0.7312963, 1.1748964, 0.6331, -0.085071154, t_1, att_1);
+    const float _e20 = airlight_paper_piece(a_8, b_7, len_1, 1.1748964, 1.5707964, 0.8405, -0.3287543, t_1, att_1);
     return ((_e9 + _e14) + _e20);
 }
 
-float airlight_paper_forward(float a_7, float len_2, float t_2, float att_2)
+float airlight_paper_forward(float a_9, float len_2, float t_2, float att_2)
 {
-    const float _e5 = airlight_paper_segments(a_7, len_2, t_2, att_2);
+    const float _e5 = airlight_paper_segments(a_9, len_2, t_2, att_2);
     return (airlight_paper_P_ISO * _e5);
 }
 
@@ -356,7 +383,7 @@ float airlight_paper_cubic(float c0_, float c1_, float c2_, float c3_, float x_5
     return ((((((c0_ * x_5) + c1_) * x_5) + c2_) * x_5) + c3_);
 }
 
-float airlight_paper_backward_ratio(float tau, float t_3, float x0_1, float theta_b)
+float airlight_paper_backward_ratio(float tau_3, float t_3, float x0_1, float theta_b)
 {
     float decay = 1.0;
 
@@ -369,10 +396,10 @@ float airlight_paper_backward_ratio(float tau, float t_3, float x0_1, float thet
     float _e29 = decay;
     float r_5 = max((_e28 * _e29), 0.0);
     const float _e36 = airlight_paper_segments(0.0, airlight_paper_FRAC_PI_2_, t_3, 0.0);
-    return (((exp((-(tau) * x0_1)) * airlight_paper_P_ISO) * r_5) * _e36);
+    return (((exp((-(tau_3) * x0_1)) * airlight_paper_P_ISO) * r_5) * _e36);
 }
 
-float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, float rho_1, float xr, bool open)
+float airlight_paper_backward_u(float tau_4, float t_4, float h_2, float x0_2, float rho_1, float xr, bool open)
 {
     float span = airlight_paper_HUGE;
     bool local_5 = (bool)0;
@@ -386,9 +413,9 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
     float ua = ((x0_2 >= 0.0) ? (h_2 / (1.0 + x0_2)) : ((1.0 - x0_2) / h_2));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
-        float d_4 = -(xr);
-        float r_6 = sqrt(((d_4 * d_4) + (h_2 * h_2)));
-        span = ((x0_2 < 0.0) ? (((2.0 * rho_1) * (d_4 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_4 + r_6) / h_2) - u0_));
+        float d_5 = -(xr);
+        float r_6 = sqrt(((d_5 * d_5) + (h_2 * h_2)));
+        span = ((x0_2 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_5 + r_6) / h_2) - u0_));
     }
     float _e41 = span;
     if (!((_e41 > 0.0))) {
@@ -403,7 +430,7 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
     bool endless = local_5;
     float _e54 = span;
     float ub = (u0_ + _e54);
-    float base = (-(tau_1) - (t_4 * (u0_ - ua)));
+    float base = (-(tau_4) - (t_4 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
         float _e66 = span;
         float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
@@ -439,21 +466,21 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
     }
     bool _e144 = local_6;
     if (_e144) {
-        float a_13 = max(u0_, 16.0);
-        float shift = (base - (t_4 * (a_13 - u0_)));
+        float a_15 = max(u0_, 16.0);
+        float shift = (base - (t_4 * (a_15 - u0_)));
         if (!(endless)) {
-            local_7 = (ub <= (2.0 * a_13));
+            local_7 = (ub <= (2.0 * a_15));
         } else {
             local_7 = false;
         }
         bool _e157 = local_7;
         if (_e157) {
             float _e161 = span;
-            float len_5 = ((a_13 == u0_) ? (_e161 / a_13) : ((ub / a_13) - 1.0));
-            float ta = (t_4 * a_13);
+            float len_5 = ((a_15 == u0_) ? (_e161 / a_15) : ((ub / a_15) - 1.0));
+            float ta = (t_4 * a_15);
             {
                 float lam_5 = (ta + 0.26840276);
-                float u_2 = (a_13 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
+                float u_2 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_2 * u_2))));
                 float _e184 = part;
                 const float _e193 = airlight_paper_exprel((-(lam_5) * len_5));
@@ -461,7 +488,7 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
             }
             {
                 float lam_6 = (ta + 1.5659415);
-                float u_3 = (a_13 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
+                float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
                 float _e215 = part;
                 const float _e224 = airlight_paper_exprel((-(lam_6) * len_5));
@@ -469,7 +496,7 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
             }
             {
                 float lam_7 = (ta + 4.449333);
-                float u_4 = (a_13 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
+                float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
                 float _e246 = part;
                 const float _e255 = airlight_paper_exprel((-(lam_7) * len_5));
@@ -477,19 +504,19 @@ float airlight_paper_backward_u(float tau_1, float t_4, float h_2, float x0_2, f
             }
             float _e261 = sum;
             float _e262 = part;
-            sum = (_e261 + (_e262 / a_13));
+            sum = (_e261 + (_e262 / a_15));
         } else {
-            float lam_8 = (t_4 + (2.0 / a_13));
-            const float _e269 = airlight_paper_phi((t_4 * a_13));
-            g = (_e269 / a_13);
-            u = (a_13 + (1.0 / lam_8));
+            float lam_8 = (t_4 + (2.0 / a_15));
+            const float _e269 = airlight_paper_phi((t_4 * a_15));
+            g = (_e269 / a_15);
+            u = (a_15 + (1.0 / lam_8));
             if (!(endless)) {
                 float _e278 = span;
-                float len_6 = ((a_13 == u0_) ? _e278 : (ub - a_13));
+                float len_6 = ((a_15 == u0_) ? _e278 : (ub - a_15));
                 float _e281 = g;
                 const float _e286 = airlight_paper_phi((t_4 * ub));
                 g = (_e281 - ((exp((-(t_4) * len_6)) * _e286) / ub));
-                u = (a_13 + (len_6 / (2.0 + (lam_8 * len_6))));
+                u = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
             float _e295 = u;
             float _e296 = u;
@@ -521,7 +548,7 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_3, flo
     }
     bool _e12 = local_8;
     bool open_1 = !(_e12);
-    float tau_7 = min(tau_in, airlight_paper_TAU_MAX);
+    float tau_10 = min(tau_in, airlight_paper_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_3 > 0.0);
     } else {
@@ -538,10 +565,10 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_3, flo
         if (_e30) {
             return airlight_paper_HUGE;
         }
-        return (((airlight_paper_P_ISO * exp(-(tau_7))) * rho_2) / (1.0 - rho_2));
+        return (((airlight_paper_P_ISO * exp(-(tau_10))) * rho_2) / (1.0 - rho_2));
     }
     float h_7 = ((x0_3 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_5 = (tau_7 * h_7);
+    float t_5 = (tau_10 * h_7);
     if ((x0_3 > 0.0)) {
         const float _e50 = airlight_paper_arctan2_(x0_3, h_7);
         len_3 = _e50;
@@ -558,7 +585,7 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_3, flo
         float _e64 = sum_1;
         const float _e65 = airlight_paper_arctan2_(h_7, x0_3);
         float _e66 = len_3;
-        const float _e69 = airlight_paper_forward(_e65, _e66, t_5, (-(tau_7) * x0_3));
+        const float _e69 = airlight_paper_forward(_e65, _e66, t_5, (-(tau_10) * x0_3));
         sum_1 = (_e64 + _e69);
     }
     if ((x0_3 >= 0.0)) {
@@ -575,33 +602,33 @@ float airlight_paper_airlight_geometry(float tau_in, float h_in, float x0_3, flo
             }
             float _e85 = sum_1;
             float _e86 = theta_b_1;
-            const float _e87 = airlight_paper_backward_ratio(tau_7, t_5, x0_3, _e86);
+            const float _e87 = airlight_paper_backward_ratio(tau_10, t_5, x0_3, _e86);
             sum_1 = (_e85 + _e87);
         }
     } else {
         float _e89 = sum_1;
-        const float _e90 = airlight_paper_backward_u(tau_7, t_5, h_7, x0_3, rho_2, xr_1, open_1);
+        const float _e90 = airlight_paper_backward_u(tau_10, t_5, h_7, x0_3, rho_2, xr_1, open_1);
         sum_1 = (_e89 + _e90);
     }
     float _e92 = sum_1;
     return min((_e92 / h_7), airlight_paper_HUGE);
 }
 
-float airlight_paper_airlight(float tau_2, float gamma, float rho_3)
+float airlight_paper_airlight(float tau_5, float gamma, float rho_3)
 {
     const float2 _e3 = airlight_paper_sin_cos(gamma);
     const float _e10 = airlight_paper_foot(abs(_e3.x), _e3.y, rho_3);
-    const float _e11 = airlight_paper_airlight_geometry(tau_2, abs(_e3.x), _e3.y, rho_3, _e10);
+    const float _e11 = airlight_paper_airlight_geometry(tau_5, abs(_e3.x), _e3.y, rho_3, _e10);
     return _e11;
 }
 
-float airlight_paper_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
+float airlight_paper_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2)
 {
     bool local_13 = (bool)0;
 
     const float3 _e7 = airlight_paper_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
-        const float _e13 = airlight_paper_scaled(sigma_s_1, intensity_1, 1.0, airlight_paper_HUGE);
+        const float _e13 = airlight_paper_scaled(sigma_s_2, intensity_2, 1.0, airlight_paper_HUGE);
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
@@ -616,21 +643,21 @@ float airlight_paper_radiance(float3 origin_1, float3 dir_1, float surface, floa
     float rho_8 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
     const float _e37 = airlight_paper_foot(_e7.y, _e7.z, rho_8);
     const float _e38 = airlight_paper_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_8, _e37);
-    const float _e40 = airlight_paper_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
+    const float _e40 = airlight_paper_scaled(sigma_s_2, intensity_2, _e7.x, _e38);
     return _e40;
 }
 
-float airlight_paper_along(float tau_3, float h_3, float x0_4, float rho_4, float xr_2, float g_1)
+float airlight_paper_along(float tau_6, float h_3, float x0_4, float rho_4, float xr_2, float g_1)
 {
-    const float _e6 = airlight_paper_airlight_geometry(tau_3, h_3, x0_4, rho_4, xr_2);
+    const float _e6 = airlight_paper_airlight_geometry(tau_6, h_3, x0_4, rho_4, xr_2);
     return _e6;
 }
 
-float3 airlight_paper_along_rgb(float3 tau_4, float h_4, float x0_5, float rho_5, float xr_3, float g_2)
+float3 airlight_paper_along_rgb(float3 tau_7, float h_4, float x0_5, float rho_5, float xr_3, float g_2)
 {
-    const float _e7 = airlight_paper_along(tau_4.x, h_4, x0_5, rho_5, xr_3, g_2);
-    const float _e9 = airlight_paper_along(tau_4.y, h_4, x0_5, rho_5, xr_3, g_2);
-    const float _e11 = airlight_paper_along(tau_4.z, h_4, x0_5, rho_5, xr_3, g_2);
+    const float _e7 = airlight_paper_along(tau_7.x, h_4, x0_5, rho_5, xr_3, g_2);
+    const float _e9 = airlight_paper_along(tau_7.y, h_4, x0_5, rho_5, xr_3, g_2);
+    const float _e11 = airlight_paper_along(tau_7.z, h_4, x0_5, rho_5, xr_3, g_2);
     return float3(_e7, _e9, _e11);
 }
 
@@ -640,7 +667,7 @@ float airlight_paper_spot_asin(float x_6, float r_1)
     return _e8;
 }
 
-float3 airlight_paper_spot_core(float3 tau_5, float h_5, float x0_6, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_paper_spot_core(float3 tau_8, float h_5, float x0_6, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -692,10 +719,10 @@ float3 airlight_paper_spot_core(float3 tau_5, float h_5, float x0_6, float rho_6
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_paper_along_rgb((tau_5 * _e64), _e66, _e67, _e68, _e69, g_3);
+    const float3 _e70 = airlight_paper_along_rgb((tau_8 * _e64), _e66, _e67, _e68, _e69, g_3);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_5) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_8) * _e72))) / (_e76).xxx));
 }
 
 float airlight_paper_spot_weight(float c_2, float co, float ci)
@@ -712,14 +739,14 @@ airlight_paper_ret_Constructarray6_float_ airlight_paper_Constructarray6_float_(
     return ret;
 }
 
-float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_1, float ci_1, float g_4)
+float3 airlight_paper_spot_edge(float3 tau_9, float h_6, float x0_7, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_1, float ci_1, float g_4)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_paper_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_2 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float st = (float)0;
     int i = int(0);
 
@@ -728,11 +755,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
     }
     const float2 _e17 = airlight_paper_sin_cos(u_1);
     const float2 _e18 = airlight_paper_sin_cos(v_in);
-    const float _e24 = airlight_paper_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_1, ci_1);
-    const float _e30 = airlight_paper_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_1, ci_1);
+    const float _e24 = airlight_paper_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_1, ci_1);
+    const float _e30 = airlight_paper_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_paper_spot_core(tau_6, h_6, x0_7, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
+        const float3 _e39 = airlight_paper_spot_core(tau_9, h_6, x0_7, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -759,12 +786,12 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_14 = (u_1 + ((v_in - u_1) * _e80));
+            float a_16 = (u_1 + ((v_in - u_1) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_8 = (u_1 + ((v_in - u_1) * _e88));
-            float half_ = (0.5 * (b_8 - a_14));
-            float mid = (0.5 * (b_8 + a_14));
+            float half_ = (0.5 * (b_8 - a_16));
+            float mid = (0.5 * (b_8 + a_16));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_paper_sin_cos((0.5 * _e100));
@@ -773,7 +800,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = max((x0_7 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -784,11 +811,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            const float _e160 = airlight_paper_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            const float _e160 = airlight_paper_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_6) * _e169))));
+            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_9) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_paper_sin_cos((0.5 * _e177));
@@ -797,7 +824,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = max((x0_7 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -808,11 +835,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            const float _e237 = airlight_paper_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            const float _e237 = airlight_paper_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_6) * _e246))));
+            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_9) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_paper_sin_cos((0.5 * _e254));
@@ -821,7 +848,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = max((x0_7 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -832,11 +859,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            const float _e314 = airlight_paper_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            const float _e314 = airlight_paper_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_6) * _e323))));
+            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_9) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_paper_sin_cos((0.5 * _e331));
@@ -845,7 +872,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = max((x0_7 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -856,11 +883,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            const float _e391 = airlight_paper_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            const float _e391 = airlight_paper_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_6) * _e400))));
+            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_9) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_paper_sin_cos((0.5 * _e408));
@@ -869,7 +896,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = max((x0_7 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -880,11 +907,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            const float _e468 = airlight_paper_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            const float _e468 = airlight_paper_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_6) * _e477))));
+            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_9) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_paper_sin_cos((0.5 * _e485));
@@ -893,7 +920,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = max((x0_7 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -904,11 +931,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            const float _e545 = airlight_paper_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            const float _e545 = airlight_paper_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_6) * _e554))));
+            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_9) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_paper_sin_cos((0.5 * _e562));
@@ -917,7 +944,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = max((x0_7 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -928,11 +955,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            const float _e622 = airlight_paper_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            const float _e622 = airlight_paper_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_6) * _e631))));
+            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_9) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_paper_sin_cos((0.5 * _e639));
@@ -941,7 +968,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649)));
+            d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = max((x0_7 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -952,11 +979,11 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            const float _e699 = airlight_paper_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            const float _e699 = airlight_paper_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_6) * _e708))));
+            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_9) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -964,7 +991,7 @@ float3 airlight_paper_spot_edge(float3 tau_6, float h_6, float x0_7, float rho_7
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
+float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3)
 {
     bool local_15 = (bool)0;
     bool local_16 = (bool)0;
@@ -986,7 +1013,7 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
     bool local_22 = (bool)0;
-    float3 a_8 = (0.0).xxx;
+    float3 a_10 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e10 = airlight_paper_ray_geometry(origin_2, dir_2, light_2);
@@ -1025,16 +1052,16 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
     }
     float3 _e56 = ax;
     float3 _e57 = n;
-    float k_2 = dot(_e56, _e57);
+    float k_4 = dot(_e56, _e57);
     if ((_e10.x <= 0.0)) {
-        const float _e64 = airlight_paper_spot_weight(k_2, co_2, cos_inner);
+        const float _e64 = airlight_paper_spot_weight(k_4, co_2, cos_inner);
         scale = (point_ ? 1.0 : _e64);
         float _e68 = scale;
-        const float _e72 = airlight_paper_scaled(sigma_s_2.x, (intensity_2 * _e68), 1.0, airlight_paper_HUGE);
+        const float _e72 = airlight_paper_scaled(sigma_s_3.x, (intensity_3 * _e68), 1.0, airlight_paper_HUGE);
         float _e74 = scale;
-        const float _e78 = airlight_paper_scaled(sigma_s_2.y, (intensity_2 * _e74), 1.0, airlight_paper_HUGE);
+        const float _e78 = airlight_paper_scaled(sigma_s_3.y, (intensity_3 * _e74), 1.0, airlight_paper_HUGE);
         float _e80 = scale;
-        const float _e84 = airlight_paper_scaled(sigma_s_2.z, (intensity_2 * _e80), 1.0, airlight_paper_HUGE);
+        const float _e84 = airlight_paper_scaled(sigma_s_3.z, (intensity_3 * _e80), 1.0, airlight_paper_HUGE);
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
@@ -1046,17 +1073,17 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
     if (_e95) {
         return (0.0).xxx;
     }
-    float d_5 = _e10.x;
+    float d_6 = _e10.x;
     float h_8 = _e10.y;
     float x0_9 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_19 = ((surface_1 / d_5) < airlight_paper_RHO_OPEN);
+        local_19 = ((surface_1 / d_6) < airlight_paper_RHO_OPEN);
     } else {
         local_19 = false;
     }
     bool has_end = local_19;
-    float rho_9 = (has_end ? (surface_1 / d_5) : -1.0);
-    float3 tau_8 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_11 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
     const float _e140 = airlight_paper_arctan2_(h_8, x0_9);
     if (!(point_)) {
         local_20 = (h_8 <= 0.0);
@@ -1072,8 +1099,8 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
     bool _e154 = local_21;
     if (_e154) {
         if (!(point_)) {
-            const float _e157 = airlight_paper_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e158 = airlight_paper_spot_weight(k_2, co_2, cos_inner);
+            const float _e157 = airlight_paper_spot_weight(-(k_4), co_2, cos_inner);
+            const float _e158 = airlight_paper_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_22 = (rho_9 < 1.0);
             } else {
@@ -1093,9 +1120,9 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
         ca_1 = (dot(cr, cross(_e177, _e178)) / max(length(cr), 1e-30));
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_7 = sqrt(((_e185 * _e186) + (k_2 * k_2)));
+        float r_7 = sqrt(((_e185 * _e186) + (k_4 * k_4)));
         float _e191 = ca_1;
-        const float _e192 = airlight_paper_arctan2_(k_2, _e191);
+        const float _e192 = airlight_paper_arctan2_(k_4, _e191);
         gam_2 = _e140;
         const float _e195 = airlight_paper_arctan2_(h_8, (x0_9 - rho_9));
         om_e_1 = (has_end ? _e195 : airlight_paper_PI);
@@ -1141,8 +1168,8 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_paper_spot_core(tau_8, h_8, x0_9, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
-        a_8 = _e248;
+        const float3 _e248 = airlight_paper_spot_core(tau_11, h_8, x0_9, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_10 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1165,24 +1192,24 @@ float3 airlight_paper_spot(float3 origin_2, float3 dir_2, float surface_1, float
             int _e258 = j_1;
             float2 piece = ((_e258 == int(1)) ? _e256.zw : _e254.xy);
             if ((piece.y > piece.x)) {
-                float3 _e265 = a_8;
+                float3 _e265 = a_10;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_paper_spot_edge(tau_8, h_8, x0_9, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
-                a_8 = (_e265 + _e271);
+                const float3 _e271 = airlight_paper_spot_edge(tau_11, h_8, x0_9, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
+                a_10 = (_e265 + _e271);
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_8.x;
-    const float _e281 = airlight_paper_scaled(sigma_s_2.x, (intensity_2 * _e277), d_5, _e280);
+    float _e280 = a_10.x;
+    const float _e281 = airlight_paper_scaled(sigma_s_3.x, (intensity_3 * _e277), d_6, _e280);
     float _e283 = scale;
-    float _e286 = a_8.y;
-    const float _e287 = airlight_paper_scaled(sigma_s_2.y, (intensity_2 * _e283), d_5, _e286);
+    float _e286 = a_10.y;
+    const float _e287 = airlight_paper_scaled(sigma_s_3.y, (intensity_3 * _e283), d_6, _e286);
     float _e289 = scale;
-    float _e292 = a_8.z;
-    const float _e293 = airlight_paper_scaled(sigma_s_2.z, (intensity_2 * _e289), d_5, _e292);
+    float _e292 = a_10.z;
+    const float _e293 = airlight_paper_scaled(sigma_s_3.z, (intensity_3 * _e289), d_6, _e292);
     return float3(_e281, _e287, _e293);
 }
 
@@ -1286,21 +1313,21 @@ float3 airlight_paper_shafts_step(inout airlight_paper_Shafts acc_5, float s, fl
     return _e3;
 }
 
-float4 airlight_paper_shafts_moved(float a_9, float b_4, float3 origin_3, float3 dir_3)
+float4 airlight_paper_shafts_moved(float a_11, float b_4, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_paper_max_abs(dir_3);
     float3 u_5 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_9 * (u_5 / (length(u_5)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_9), 0.0) : -1.0));
+    return float4((origin_3 + (a_11 * (u_5 / (length(u_5)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_11), 0.0) : -1.0));
 }
 
-float airlight_paper_shafts_run(float a_10, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
+float airlight_paper_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_25 = (b_5 <= a_10);
+            local_25 = (b_5 <= a_12);
         } else {
             local_25 = false;
         }
@@ -1313,17 +1340,17 @@ float airlight_paper_shafts_run(float a_10, float b_5, float w_1, float3 origin_
     if (_e23) {
         return 0.0;
     }
-    const float4 _e25 = airlight_paper_shafts_moved(a_10, b_5, origin_4, dir_4);
+    const float4 _e25 = airlight_paper_shafts_moved(a_12, b_5, origin_4, dir_4);
     float3 o = _e25.xyz;
     float len_7 = _e25.w;
-    const float _e28 = airlight_paper_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    const float _e28 = airlight_paper_radiance(o, dir_4, len_7, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if ((_e28 >= airlight_paper_HUGE)) {
         return _e28;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_10))) * _e28);
+    return ((w_1 * exp((-(sigma_t_2) * a_12))) * _e28);
 }
 
-void airlight_paper_shafts_flush(inout airlight_paper_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
+void airlight_paper_shafts_flush(inout airlight_paper_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
 {
     uint j_2 = 0u;
 
@@ -1347,7 +1374,7 @@ void airlight_paper_shafts_flush(inout airlight_paper_Shafts acc_6, float3 origi
             uint _e14 = j_2;
             float3 r_8 = acc_6.runs[min(uint(_e14), 31u)];
             float _e21 = acc_6.sum.x;
-            const float _e25 = airlight_paper_shafts_run(r_8.x, r_8.y, r_8.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            const float _e25 = airlight_paper_shafts_run(r_8.x, r_8.y, r_8.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
             acc_6.sum.x = min((_e21 + _e25), airlight_paper_HUGE);
         }
     }
@@ -1355,44 +1382,44 @@ void airlight_paper_shafts_flush(inout airlight_paper_Shafts acc_6, float3 origi
     return;
 }
 
-void airlight_paper_shafts_push(inout airlight_paper_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_paper_shafts_push(inout airlight_paper_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
 {
     const float3 _e9 = airlight_paper_shafts_step(acc_7, s_1, v_4);
     airlight_paper_shafts_hold(acc_7, _e9);
     uint _e11 = acc_7.count;
     if ((_e11 == airlight_paper_SHAFTS_RUNS)) {
-        airlight_paper_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+        airlight_paper_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6);
         return;
     } else {
         return;
     }
 }
 
-float airlight_paper_shafts_finish(airlight_paper_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6)
+float airlight_paper_shafts_finish(airlight_paper_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7)
 {
     airlight_paper_Shafts acc_8 = (airlight_paper_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e9 = airlight_paper_shafts_place(acc_8);
     airlight_paper_shafts_hold(acc_8, _e9);
-    airlight_paper_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    airlight_paper_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
     float w_3 = ((_e13 < 0.0) ? 1.0 : _e11);
     float _e20 = acc_8.sum.x;
     float _e22 = acc_8.start;
-    const float _e23 = airlight_paper_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    const float _e23 = airlight_paper_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return min((_e20 + _e23), airlight_paper_HUGE);
 }
 
-float3 airlight_paper_shafts_run_spot(float a_11, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+float3 airlight_paper_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8)
 {
     bool local_26 = (bool)0;
     bool local_27 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_6 >= 0.0)) {
-            local_27 = (b_6 <= a_11);
+            local_27 = (b_6 <= a_13);
         } else {
             local_27 = false;
         }
@@ -1405,14 +1432,14 @@ float3 airlight_paper_shafts_run_spot(float a_11, float b_6, float w_2, float3 o
     if (_e26) {
         return (0.0).xxx;
     }
-    const float4 _e29 = airlight_paper_shafts_moved(a_11, b_6, origin_8, dir_8);
+    const float4 _e29 = airlight_paper_shafts_moved(a_13, b_6, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
     float len_8 = _e29.w;
-    const float3 _e32 = airlight_paper_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
-    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_11))) * _e32));
+    const float3 _e32 = airlight_paper_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_13))) * _e32));
 }
 
-void airlight_paper_shafts_flush_spot(inout airlight_paper_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
+void airlight_paper_shafts_flush_spot(inout airlight_paper_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
 {
     uint j_3 = 0u;
 
@@ -1436,7 +1463,7 @@ void airlight_paper_shafts_flush_spot(inout airlight_paper_Shafts acc_9, float3 
             uint _e17 = j_3;
             float3 r_9 = acc_9.runs[min(uint(_e17), 31u)];
             float3 _e22 = acc_9.sum;
-            const float3 _e26 = airlight_paper_shafts_run_spot(r_9.x, r_9.y, r_9.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            const float3 _e26 = airlight_paper_shafts_run_spot(r_9.x, r_9.y, r_9.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
             acc_9.sum = min((_e22 + _e26), (3.4028235e38).xxx);
         }
     }
@@ -1444,33 +1471,33 @@ void airlight_paper_shafts_flush_spot(inout airlight_paper_Shafts acc_9, float3 
     return;
 }
 
-void airlight_paper_shafts_push_spot(inout airlight_paper_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_paper_shafts_push_spot(inout airlight_paper_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
 {
     const float3 _e12 = airlight_paper_shafts_step(acc_10, s_2, v_5);
     airlight_paper_shafts_hold(acc_10, _e12);
     uint _e14 = acc_10.count;
     if ((_e14 == airlight_paper_SHAFTS_RUNS)) {
-        airlight_paper_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9);
+        airlight_paper_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_paper_shafts_finish_spot(airlight_paper_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10)
+float3 airlight_paper_shafts_finish_spot(airlight_paper_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11)
 {
     airlight_paper_Shafts acc_11 = (airlight_paper_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e12 = airlight_paper_shafts_place(acc_11);
     airlight_paper_shafts_hold(acc_11, _e12);
-    airlight_paper_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    airlight_paper_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
     float w_4 = ((_e16 < 0.0) ? 1.0 : _e14);
     float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    const float3 _e25 = airlight_paper_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    const float3 _e25 = airlight_paper_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 

@@ -41,6 +41,8 @@ static const float airlight_phi_8_FRAC_PI_2_ = 1.5707964;
 static const float airlight_phi_8_HUGE = 3.4028235e38;
 static const float airlight_phi_8_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_8_TAU_MAX = 10000.0;
+static const float airlight_phi_8_LN2_HI = 0.69314575;
+static const float airlight_phi_8_LN2_LO = 1.4286068e-6;
 static const uint airlight_phi_8_SHAFTS_RUNS = 32u;
 
 float airlight_phi_8_foot(float h, float x0_, float rho)
@@ -97,8 +99,31 @@ float3 airlight_phi_8_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_phi_8_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_phi_8_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_phi_8_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_phi_8_exp_neg_k(float tau)
+{
+    return airlight_phi_8_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_phi_8_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_phi_8_LN2_HI)) - (kf * airlight_phi_8_LN2_LO))));
+}
+
 int airlight_phi_8_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_phi_8_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_phi_8_exp_neg_k(tau_2);
+    const float _e3 = airlight_phi_8_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_phi_8_scale2_(((a_4 * _e3)).xxx, airlight_phi_8_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_phi_8_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -159,7 +184,7 @@ float3 airlight_phi_8_ray_geometry(float3 origin, float3 dir, float3 light)
     return float3(min(dist, airlight_phi_8_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
-float airlight_phi_8_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_phi_8_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -169,25 +194,25 @@ float airlight_phi_8_scaled(float sigma_s, float intensity, float d_1, float a_4
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_phi_8_HUGE)) {
+    if ((a_5 >= airlight_phi_8_HUGE)) {
         return airlight_phi_8_HUGE;
     }
     airlight_phi_8_frexp_result_f32_ s_6 = airlight_phi_8_naga_frexp(sigma_s);
     airlight_phi_8_frexp_result_f32_ i_1 = airlight_phi_8_naga_frexp(intensity);
-    airlight_phi_8_frexp_result_f32_ q_1 = airlight_phi_8_naga_frexp(a_4);
+    airlight_phi_8_frexp_result_f32_ q_1 = airlight_phi_8_naga_frexp(a_5);
     airlight_phi_8_frexp_result_f32_ r_2 = airlight_phi_8_naga_frexp(d_1);
     airlight_phi_8_frexp_result_f32_ m = airlight_phi_8_naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_phi_8_HUGE;
     }
@@ -197,20 +222,26 @@ float airlight_phi_8_scaled(float sigma_s, float intensity, float d_1, float a_4
     return ldexp(m.fract, e);
 }
 
+float airlight_phi_8_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_phi_8_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_phi_8_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_9 = abs(x);
-    r = a_9;
-    if ((a_9 > 2.4142137)) {
+    float a_11 = abs(x);
+    r = a_11;
+    if ((a_11 > 2.4142137)) {
         y0_ = airlight_phi_8_FRAC_PI_2_;
-        r = (-1.0 / a_9);
+        r = (-1.0 / a_11);
     } else {
-        if ((a_9 > 0.41421357)) {
+        if ((a_11 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_9 - 1.0) / (a_9 + 1.0));
+            r = ((a_11 - 1.0) / (a_11 + 1.0));
         }
     }
     float _e18 = r;
@@ -248,10 +279,6 @@ float2 airlight_phi_8_sin_cos_octant(float x_2)
     float s_7 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
     return float2(s_7, c_3);
-}
-
-int airlight_phi_8_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
 float2 airlight_phi_8_sin_cos(float x_3)
@@ -341,21 +368,21 @@ float airlight_phi_8_exp_e2_(float x_4)
 
 float airlight_phi_8_w_u(float u, float4 md)
 {
-    float k_2 = ((0.07957747 * (1.0 - md.x)) * (1.0 + md.x));
+    float k_4 = ((0.07957747 * (1.0 - md.x)) * (1.0 + md.x));
     if ((u > 1.0)) {
         float v_8 = (1.0 / u);
-        float d_4 = ((((md.y * md.y) * v_8) * v_8) + (md.z * md.z));
-        return ((((k_2 * v_8) * v_8) * sqrt((1.0 + (v_8 * v_8)))) / (d_4 * sqrt(d_4)));
+        float d_5 = ((((md.y * md.y) * v_8) * v_8) + (md.z * md.z));
+        return ((((k_4 * v_8) * v_8) * sqrt((1.0 + (v_8 * v_8)))) / (d_5 * sqrt(d_5)));
     }
-    float d_5 = ((md.y * md.y) + (((md.z * md.z) * u) * u));
-    return ((k_2 * sqrt((1.0 + (u * u)))) / (d_5 * sqrt(d_5)));
+    float d_6 = ((md.y * md.y) + (((md.z * md.z) * u) * u));
+    return ((k_4 * sqrt((1.0 + (u * u)))) / (d_6 * sqrt(d_6)));
 }
 
 float2 airlight_phi_8_phi_and_complement(float u_1, float4 md_1)
 {
-    float d_6 = (((md_1.z * u_1) * u_1) - md_1.y);
-    float r_4 = sqrt(((d_6 * d_6) + ((4.0 * u_1) * u_1)));
-    float psi = sqrt(((d_6 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_6 + r_4)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_4 - d_6)))));
+    float d_7 = (((md_1.z * u_1) * u_1) - md_1.y);
+    float r_4 = sqrt(((d_7 * d_7) + ((4.0 * u_1) * u_1)));
+    float psi = sqrt(((d_7 >= 0.0) ? ((md_1.z / (2.0 * md_1.y)) * (d_7 + r_4)) : ((((2.0 * md_1.z) * u_1) * u_1) / (md_1.y * (r_4 - d_7)))));
     if ((psi <= 1.0)) {
         const float _e35 = airlight_phi_8_arctan(psi);
         float p_2 = (2.0 * _e35);
@@ -398,7 +425,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     bool local_9 = (bool)0;
     float sum = 0.0;
     bool local_10 = (bool)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float beta = (float)0;
     float co = (float)0;
     float2 sc = (float2)0;
@@ -409,7 +436,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     float s_1 = 0.0;
     float sb = 0.0;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_phi_8_TAU_MAX);
+    float tau_8 = min(max(tau_in, 0.0), airlight_phi_8_TAU_MAX);
     float g_16 = clamp(g_in, -0.999, 0.999);
     float4 md_4 = float4(g_16, (1.0 - g_16), (1.0 + g_16), ((1.0 - g_16) / (1.0 + g_16)));
     if ((x0_1 > 0.0)) {
@@ -426,7 +453,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
         }
         bool _e38 = local_5;
         if (_e38) {
-            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_5))) * rho_1) / (1.0 - rho_1)), airlight_phi_8_HUGE);
+            return min((((((0.07957747 * md_4.z) / (md_4.y * md_4.y)) * exp(-(tau_8))) * rho_1) / (1.0 - rho_1)), airlight_phi_8_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_phi_8_HUGE;
@@ -454,7 +481,7 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
     }
     float _e126 = du;
     float ub = (ua + _e126);
-    float t_1 = (tau_5 * tb);
+    float t_1 = (tau_8 * tb);
     float xf = (3.7640178 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.729138 / max(t_1, 1e-30)) : airlight_phi_8_HUGE);
     float m_1 = max(ua, xf);
@@ -489,53 +516,53 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
         bool _e192 = local_10;
         if (_e192) {
             float hl = (0.5 * len);
-            d_2 = (hl * 1.9602898);
+            d_3 = (hl * 1.9602898);
             float _e198 = sum;
-            float _e199 = d_2;
+            float _e199 = d_3;
             const float _e201 = airlight_phi_8_w_u((ua + _e199), md_4);
-            float _e205 = d_2;
+            float _e205 = d_3;
             sum = (_e198 + ((0.101228535 * _e201) * exp((-(t_1) * _e205))));
-            d_2 = (hl * 1.7966665);
+            d_3 = (hl * 1.7966665);
             float _e212 = sum;
-            float _e213 = d_2;
+            float _e213 = d_3;
             const float _e215 = airlight_phi_8_w_u((ua + _e213), md_4);
-            float _e219 = d_2;
+            float _e219 = d_3;
             sum = (_e212 + ((0.22238104 * _e215) * exp((-(t_1) * _e219))));
-            d_2 = (hl * 1.5255324);
+            d_3 = (hl * 1.5255324);
             float _e226 = sum;
-            float _e227 = d_2;
+            float _e227 = d_3;
             const float _e229 = airlight_phi_8_w_u((ua + _e227), md_4);
-            float _e233 = d_2;
+            float _e233 = d_3;
             sum = (_e226 + ((0.31370664 * _e229) * exp((-(t_1) * _e233))));
-            d_2 = (hl * 1.1834346);
+            d_3 = (hl * 1.1834346);
             float _e240 = sum;
-            float _e241 = d_2;
+            float _e241 = d_3;
             const float _e243 = airlight_phi_8_w_u((ua + _e241), md_4);
-            float _e247 = d_2;
+            float _e247 = d_3;
             sum = (_e240 + ((0.36268377 * _e243) * exp((-(t_1) * _e247))));
-            d_2 = (hl * 0.8165654);
+            d_3 = (hl * 0.8165654);
             float _e254 = sum;
-            float _e255 = d_2;
+            float _e255 = d_3;
             const float _e257 = airlight_phi_8_w_u((ua + _e255), md_4);
-            float _e261 = d_2;
+            float _e261 = d_3;
             sum = (_e254 + ((0.36268377 * _e257) * exp((-(t_1) * _e261))));
-            d_2 = (hl * 0.47446758);
+            d_3 = (hl * 0.47446758);
             float _e268 = sum;
-            float _e269 = d_2;
+            float _e269 = d_3;
             const float _e271 = airlight_phi_8_w_u((ua + _e269), md_4);
-            float _e275 = d_2;
+            float _e275 = d_3;
             sum = (_e268 + ((0.31370664 * _e271) * exp((-(t_1) * _e275))));
-            d_2 = (hl * 0.2033335);
+            d_3 = (hl * 0.2033335);
             float _e282 = sum;
-            float _e283 = d_2;
+            float _e283 = d_3;
             const float _e285 = airlight_phi_8_w_u((ua + _e283), md_4);
-            float _e289 = d_2;
+            float _e289 = d_3;
             sum = (_e282 + ((0.22238104 * _e285) * exp((-(t_1) * _e289))));
-            d_2 = (hl * 0.039710164);
+            d_3 = (hl * 0.039710164);
             float _e296 = sum;
-            float _e297 = d_2;
+            float _e297 = d_3;
             const float _e299 = airlight_phi_8_w_u((ua + _e297), md_4);
-            float _e303 = d_2;
+            float _e303 = d_3;
             sum = (_e296 + ((0.101228535 * _e299) * exp((-(t_1) * _e303))));
             float _e308 = sum;
             sum = (_e308 * hl);
@@ -781,29 +808,32 @@ float airlight_phi_8_airlight_geometry(float tau_in, float h_in, float x0_1, flo
         }
     }
     if ((tb < 8.673617e-19)) {
-        float _e894 = sum;
-        const float _e902 = airlight_phi_8_scaled((2.0 * max(_e894, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e902;
+        const int _e894 = airlight_phi_8_exp_neg_k(tau_8);
+        float _e895 = sum;
+        const float _e900 = airlight_phi_8_exp_neg_m(tau_8, _e894);
+        const float _e903 = airlight_phi_8_scaled_pow2_((2.0 * max(_e895, 0.0)), _e900, tb, 1.0, airlight_phi_8_naga_neg(_e894));
+        return _e903;
     }
-    float _e907 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e907 / tb)), 0.0), airlight_phi_8_HUGE);
+    float _e904 = sum;
+    const float _e906 = airlight_phi_8_mul_exp_neg((_e904 / tb), tau_8);
+    return min(max((2.0 * _e906), 0.0), airlight_phi_8_HUGE);
 }
 
-float airlight_phi_8_airlight(float tau, float gamma, float rho_2, float g)
+float airlight_phi_8_airlight(float tau_3, float gamma, float rho_2, float g)
 {
     const float2 _e7 = airlight_phi_8_sin_cos(clamp(gamma, 0.0, airlight_phi_8_PI));
     const float _e14 = airlight_phi_8_foot(abs(_e7.x), _e7.y, rho_2);
-    const float _e15 = airlight_phi_8_airlight_geometry(tau, abs(_e7.x), _e7.y, rho_2, _e14, g);
+    const float _e15 = airlight_phi_8_airlight_geometry(tau_3, abs(_e7.x), _e7.y, rho_2, _e14, g);
     return _e15;
 }
 
-float airlight_phi_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_1)
+float airlight_phi_8_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_1)
 {
     bool local_11 = (bool)0;
 
     const float3 _e8 = airlight_phi_8_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
-        const float _e14 = airlight_phi_8_scaled(sigma_s_1, intensity_1, 1.0, airlight_phi_8_HUGE);
+        const float _e14 = airlight_phi_8_scaled(sigma_s_2, intensity_2, 1.0, airlight_phi_8_HUGE);
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
@@ -818,21 +848,21 @@ float airlight_phi_8_radiance(float3 origin_1, float3 dir_1, float surface, floa
     float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e39 = airlight_phi_8_foot(_e8.y, _e8.z, rho_7);
     const float _e40 = airlight_phi_8_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_7, _e39, g_1);
-    const float _e41 = airlight_phi_8_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    const float _e41 = airlight_phi_8_scaled(sigma_s_2, intensity_2, _e8.x, _e40);
     return _e41;
 }
 
-float airlight_phi_8_along(float tau_1, float h_2, float x0_2, float rho_3, float xr_1, float g_2)
+float airlight_phi_8_along(float tau_4, float h_2, float x0_2, float rho_3, float xr_1, float g_2)
 {
-    const float _e6 = airlight_phi_8_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1, g_2);
+    const float _e6 = airlight_phi_8_airlight_geometry(tau_4, h_2, x0_2, rho_3, xr_1, g_2);
     return _e6;
 }
 
-float3 airlight_phi_8_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_3)
+float3 airlight_phi_8_along_rgb(float3 tau_5, float h_3, float x0_3, float rho_4, float xr_2, float g_3)
 {
-    const float _e7 = airlight_phi_8_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_3);
-    const float _e9 = airlight_phi_8_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_3);
-    const float _e11 = airlight_phi_8_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_3);
+    const float _e7 = airlight_phi_8_along(tau_5.x, h_3, x0_3, rho_4, xr_2, g_3);
+    const float _e9 = airlight_phi_8_along(tau_5.y, h_3, x0_3, rho_4, xr_2, g_3);
+    const float _e11 = airlight_phi_8_along(tau_5.z, h_3, x0_3, rho_4, xr_2, g_3);
     return float3(_e7, _e9, _e11);
 }
 
@@ -842,7 +872,7 @@ float airlight_phi_8_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_phi_8_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_phi_8_spot_core(float3 tau_6, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -894,10 +924,10 @@ float3 airlight_phi_8_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_phi_8_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    const float3 _e70 = airlight_phi_8_along_rgb((tau_6 * _e64), _e66, _e67, _e68, _e69, g_4);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_6) * _e72))) / (_e76).xxx));
 }
 
 float airlight_phi_8_spot_weight(float c_2, float co_1, float ci)
@@ -914,14 +944,14 @@ airlight_phi_8_ret_Constructarray6_float_ airlight_phi_8_Constructarray6_float_(
     return ret;
 }
 
-float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_5)
+float3 airlight_phi_8_spot_edge(float3 tau_7, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_2, float ci_1, float g_5)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_phi_8_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
     float2 sb_1 = (float2)0;
-    float d_3 = (float)0;
+    float d_4 = (float)0;
     float st = (float)0;
     int i = int(0);
 
@@ -930,11 +960,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
     }
     const float2 _e17 = airlight_phi_8_sin_cos(u_2);
     const float2 _e18 = airlight_phi_8_sin_cos(v_in);
-    const float _e24 = airlight_phi_8_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_2, ci_1);
-    const float _e30 = airlight_phi_8_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_2, ci_1);
+    const float _e24 = airlight_phi_8_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_2, ci_1);
+    const float _e30 = airlight_phi_8_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_2, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_phi_8_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_5);
+        const float3 _e39 = airlight_phi_8_spot_core(tau_7, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_5);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -961,12 +991,12 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_10 = (u_2 + ((v_in - u_2) * _e80));
+            float a_12 = (u_2 + ((v_in - u_2) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_6 = (u_2 + ((v_in - u_2) * _e88));
-            float half_ = (0.5 * (b_6 - a_10));
-            float mid = (0.5 * (b_6 + a_10));
+            float half_ = (0.5 * (b_6 - a_12));
+            float mid = (0.5 * (b_6 + a_12));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_phi_8_sin_cos((0.5 * _e100));
@@ -975,7 +1005,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e110 = sb_1.y;
             float _e116 = sb_1.x;
             float _e119 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e116) * _e119)) : (gp - (((4.0 * g_5) * _e107) * _e110)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e116) * _e119)) : (gp - (((4.0 * g_5) * _e107) * _e110)));
             float _e126 = sb_1.x;
             float _e129 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -986,11 +1016,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e150 = sb_1.x;
             float _e154 = sb_1.y;
             float _e156 = sb_1.x;
-            const float _e160 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_2, ci_1);
-            float _e163 = d_3;
-            float _e164 = d_3;
+            const float _e160 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_2, ci_1);
+            float _e163 = d_4;
+            float _e164 = d_4;
             float _e169 = st;
-            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_7) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_phi_8_sin_cos((0.5 * _e177));
@@ -999,7 +1029,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e187 = sb_1.y;
             float _e193 = sb_1.x;
             float _e196 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e193) * _e196)) : (gp - (((4.0 * g_5) * _e184) * _e187)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e193) * _e196)) : (gp - (((4.0 * g_5) * _e184) * _e187)));
             float _e203 = sb_1.x;
             float _e206 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -1010,11 +1040,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e227 = sb_1.x;
             float _e231 = sb_1.y;
             float _e233 = sb_1.x;
-            const float _e237 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_2, ci_1);
-            float _e240 = d_3;
-            float _e241 = d_3;
+            const float _e237 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_2, ci_1);
+            float _e240 = d_4;
+            float _e241 = d_4;
             float _e246 = st;
-            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_4) * _e246))));
+            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_7) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_phi_8_sin_cos((0.5 * _e254));
@@ -1023,7 +1053,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e264 = sb_1.y;
             float _e270 = sb_1.x;
             float _e273 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e270) * _e273)) : (gp - (((4.0 * g_5) * _e261) * _e264)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e270) * _e273)) : (gp - (((4.0 * g_5) * _e261) * _e264)));
             float _e280 = sb_1.x;
             float _e283 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -1034,11 +1064,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e304 = sb_1.x;
             float _e308 = sb_1.y;
             float _e310 = sb_1.x;
-            const float _e314 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_2, ci_1);
-            float _e317 = d_3;
-            float _e318 = d_3;
+            const float _e314 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_2, ci_1);
+            float _e317 = d_4;
+            float _e318 = d_4;
             float _e323 = st;
-            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_4) * _e323))));
+            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_7) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_phi_8_sin_cos((0.5 * _e331));
@@ -1047,7 +1077,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e341 = sb_1.y;
             float _e347 = sb_1.x;
             float _e350 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e347) * _e350)) : (gp - (((4.0 * g_5) * _e338) * _e341)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e347) * _e350)) : (gp - (((4.0 * g_5) * _e338) * _e341)));
             float _e357 = sb_1.x;
             float _e360 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -1058,11 +1088,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e381 = sb_1.x;
             float _e385 = sb_1.y;
             float _e387 = sb_1.x;
-            const float _e391 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_2, ci_1);
-            float _e394 = d_3;
-            float _e395 = d_3;
+            const float _e391 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_2, ci_1);
+            float _e394 = d_4;
+            float _e395 = d_4;
             float _e400 = st;
-            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_4) * _e400))));
+            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_7) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_phi_8_sin_cos((0.5 * _e408));
@@ -1071,7 +1101,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e418 = sb_1.y;
             float _e424 = sb_1.x;
             float _e427 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e424) * _e427)) : (gp - (((4.0 * g_5) * _e415) * _e418)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e424) * _e427)) : (gp - (((4.0 * g_5) * _e415) * _e418)));
             float _e434 = sb_1.x;
             float _e437 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -1082,11 +1112,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e458 = sb_1.x;
             float _e462 = sb_1.y;
             float _e464 = sb_1.x;
-            const float _e468 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_2, ci_1);
-            float _e471 = d_3;
-            float _e472 = d_3;
+            const float _e468 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_2, ci_1);
+            float _e471 = d_4;
+            float _e472 = d_4;
             float _e477 = st;
-            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_4) * _e477))));
+            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_7) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_phi_8_sin_cos((0.5 * _e485));
@@ -1095,7 +1125,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e495 = sb_1.y;
             float _e501 = sb_1.x;
             float _e504 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e501) * _e504)) : (gp - (((4.0 * g_5) * _e492) * _e495)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e501) * _e504)) : (gp - (((4.0 * g_5) * _e492) * _e495)));
             float _e511 = sb_1.x;
             float _e514 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -1106,11 +1136,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e535 = sb_1.x;
             float _e539 = sb_1.y;
             float _e541 = sb_1.x;
-            const float _e545 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_2, ci_1);
-            float _e548 = d_3;
-            float _e549 = d_3;
+            const float _e545 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_2, ci_1);
+            float _e548 = d_4;
+            float _e549 = d_4;
             float _e554 = st;
-            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_4) * _e554))));
+            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_7) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_phi_8_sin_cos((0.5 * _e562));
@@ -1119,7 +1149,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e572 = sb_1.y;
             float _e578 = sb_1.x;
             float _e581 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e578) * _e581)) : (gp - (((4.0 * g_5) * _e569) * _e572)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e578) * _e581)) : (gp - (((4.0 * g_5) * _e569) * _e572)));
             float _e588 = sb_1.x;
             float _e591 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -1130,11 +1160,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e612 = sb_1.x;
             float _e616 = sb_1.y;
             float _e618 = sb_1.x;
-            const float _e622 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_2, ci_1);
-            float _e625 = d_3;
-            float _e626 = d_3;
+            const float _e622 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_2, ci_1);
+            float _e625 = d_4;
+            float _e626 = d_4;
             float _e631 = st;
-            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_4) * _e631))));
+            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_7) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_phi_8_sin_cos((0.5 * _e639));
@@ -1143,7 +1173,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e649 = sb_1.y;
             float _e655 = sb_1.x;
             float _e658 = sb_1.x;
-            d_3 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e655) * _e658)) : (gp - (((4.0 * g_5) * _e646) * _e649)));
+            d_4 = ((g_5 >= 0.0) ? (gm + (((4.0 * g_5) * _e655) * _e658)) : (gp - (((4.0 * g_5) * _e646) * _e649)));
             float _e665 = sb_1.x;
             float _e668 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -1154,11 +1184,11 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
             float _e689 = sb_1.x;
             float _e693 = sb_1.y;
             float _e695 = sb_1.x;
-            const float _e699 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_2, ci_1);
-            float _e702 = d_3;
-            float _e703 = d_3;
+            const float _e699 = airlight_phi_8_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_2, ci_1);
+            float _e702 = d_4;
+            float _e703 = d_4;
             float _e708 = st;
-            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_4) * _e708))));
+            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_7) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -1166,7 +1196,7 @@ float3 airlight_phi_8_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e725) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
+float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_6)
 {
     bool local_13 = (bool)0;
     bool local_14 = (bool)0;
@@ -1188,7 +1218,7 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     bool local_18 = (bool)0;
     bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    float3 a_7 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_phi_8_ray_geometry(origin_2, dir_2, light_2);
@@ -1227,16 +1257,16 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_3 = dot(_e57, _e58);
+    float k_5 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
+        const float _e65 = airlight_phi_8_spot_weight(k_5, co_3, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
-        const float _e73 = airlight_phi_8_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_phi_8_HUGE);
+        const float _e73 = airlight_phi_8_scaled(sigma_s_3.x, (intensity_3 * _e69), 1.0, airlight_phi_8_HUGE);
         float _e75 = scale;
-        const float _e79 = airlight_phi_8_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_phi_8_HUGE);
+        const float _e79 = airlight_phi_8_scaled(sigma_s_3.y, (intensity_3 * _e75), 1.0, airlight_phi_8_HUGE);
         float _e81 = scale;
-        const float _e85 = airlight_phi_8_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_phi_8_HUGE);
+        const float _e85 = airlight_phi_8_scaled(sigma_s_3.z, (intensity_3 * _e81), 1.0, airlight_phi_8_HUGE);
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
@@ -1248,17 +1278,17 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     if (_e96) {
         return (0.0).xxx;
     }
-    float d_7 = _e11.x;
+    float d_8 = _e11.x;
     float h_6 = _e11.y;
     float x0_7 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_17 = ((surface_1 / d_7) < airlight_phi_8_RHO_OPEN);
+        local_17 = ((surface_1 / d_8) < airlight_phi_8_RHO_OPEN);
     } else {
         local_17 = false;
     }
     bool has_end = local_17;
-    float rho_8 = (has_end ? (surface_1 / d_7) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_7), (0.0).xxx), (10000.0).xxx);
+    float rho_8 = (has_end ? (surface_1 / d_8) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_8), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     const float _e143 = airlight_phi_8_arctan2_(h_6, x0_7);
     if (!(point_)) {
@@ -1275,8 +1305,8 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
     bool _e157 = local_19;
     if (_e157) {
         if (!(point_)) {
-            const float _e160 = airlight_phi_8_spot_weight(-(k_3), co_3, cos_inner);
-            const float _e161 = airlight_phi_8_spot_weight(k_3, co_3, cos_inner);
+            const float _e160 = airlight_phi_8_spot_weight(-(k_5), co_3, cos_inner);
+            const float _e161 = airlight_phi_8_spot_weight(k_5, co_3, cos_inner);
             if (has_end) {
                 local_20 = (rho_8 < 1.0);
             } else {
@@ -1296,9 +1326,9 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
         ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_6 = sqrt(((_e188 * _e189) + (k_3 * k_3)));
+        float r_6 = sqrt(((_e188 * _e189) + (k_5 * k_5)));
         float _e194 = ca_1;
-        const float _e195 = airlight_phi_8_arctan2_(k_3, _e194);
+        const float _e195 = airlight_phi_8_arctan2_(k_5, _e194);
         gam_2 = _e143;
         const float _e198 = airlight_phi_8_arctan2_(h_6, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e198 : airlight_phi_8_PI);
@@ -1344,8 +1374,8 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_phi_8_spot_core(tau_6, h_6, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
-        a_5 = _e251;
+        const float3 _e251 = airlight_phi_8_spot_core(tau_9, h_6, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        a_7 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1368,24 +1398,24 @@ float3 airlight_phi_8_spot(float3 origin_2, float3 dir_2, float surface_1, float
             int _e261 = j_1;
             float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e268 = a_5;
+                float3 _e268 = a_7;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_phi_8_spot_edge(tau_6, h_6, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_3, cos_inner, gg);
-                a_5 = (_e268 + _e274);
+                const float3 _e274 = airlight_phi_8_spot_edge(tau_9, h_6, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_5, co_3, cos_inner, gg);
+                a_7 = (_e268 + _e274);
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_5.x;
-    const float _e284 = airlight_phi_8_scaled(sigma_s_2.x, (intensity_2 * _e280), d_7, _e283);
+    float _e283 = a_7.x;
+    const float _e284 = airlight_phi_8_scaled(sigma_s_3.x, (intensity_3 * _e280), d_8, _e283);
     float _e286 = scale;
-    float _e289 = a_5.y;
-    const float _e290 = airlight_phi_8_scaled(sigma_s_2.y, (intensity_2 * _e286), d_7, _e289);
+    float _e289 = a_7.y;
+    const float _e290 = airlight_phi_8_scaled(sigma_s_3.y, (intensity_3 * _e286), d_8, _e289);
     float _e292 = scale;
-    float _e295 = a_5.z;
-    const float _e296 = airlight_phi_8_scaled(sigma_s_2.z, (intensity_2 * _e292), d_7, _e295);
+    float _e295 = a_7.z;
+    const float _e296 = airlight_phi_8_scaled(sigma_s_3.z, (intensity_3 * _e292), d_8, _e295);
     return float3(_e284, _e290, _e296);
 }
 
@@ -1489,21 +1519,21 @@ float3 airlight_phi_8_shafts_step(inout airlight_phi_8_Shafts acc_5, float s_2, 
     return _e3;
 }
 
-float4 airlight_phi_8_shafts_moved(float a_6, float b_3, float3 origin_3, float3 dir_3)
+float4 airlight_phi_8_shafts_moved(float a_8, float b_3, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_phi_8_max_abs(dir_3);
     float3 u_3 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_6 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_6), 0.0) : -1.0));
+    return float4((origin_3 + (a_8 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_8), 0.0) : -1.0));
 }
 
-float airlight_phi_8_shafts_run(float a_7, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_7)
+float airlight_phi_8_shafts_run(float a_9, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_7)
 {
     bool local_22 = (bool)0;
     bool local_23 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_4 >= 0.0)) {
-            local_23 = (b_4 <= a_7);
+            local_23 = (b_4 <= a_9);
         } else {
             local_23 = false;
         }
@@ -1516,17 +1546,17 @@ float airlight_phi_8_shafts_run(float a_7, float b_4, float w_1, float3 origin_4
     if (_e24) {
         return 0.0;
     }
-    const float4 _e26 = airlight_phi_8_shafts_moved(a_7, b_4, origin_4, dir_4);
+    const float4 _e26 = airlight_phi_8_shafts_moved(a_9, b_4, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len_1 = _e26.w;
-    const float _e29 = airlight_phi_8_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    const float _e29 = airlight_phi_8_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if ((_e29 >= airlight_phi_8_HUGE)) {
         return _e29;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
+    return ((w_1 * exp((-(sigma_t_2) * a_9))) * _e29);
 }
 
-void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_8)
 {
     uint j_2 = 0u;
 
@@ -1550,7 +1580,7 @@ void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_6, float3 origi
             uint _e15 = j_2;
             float3 r_7 = acc_6.runs[min(uint(_e15), 31u)];
             float _e22 = acc_6.sum.x;
-            const float _e26 = airlight_phi_8_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            const float _e26 = airlight_phi_8_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
             acc_6.sum.x = min((_e22 + _e26), airlight_phi_8_HUGE);
         }
     }
@@ -1558,44 +1588,44 @@ void airlight_phi_8_shafts_flush(inout airlight_phi_8_Shafts acc_6, float3 origi
     return;
 }
 
-void airlight_phi_8_shafts_push(inout airlight_phi_8_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_phi_8_shafts_push(inout airlight_phi_8_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_9)
 {
     const float3 _e10 = airlight_phi_8_shafts_step(acc_7, s_3, v_6);
     airlight_phi_8_shafts_hold(acc_7, _e10);
     uint _e12 = acc_7.count;
     if ((_e12 == airlight_phi_8_SHAFTS_RUNS)) {
-        airlight_phi_8_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+        airlight_phi_8_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_9);
         return;
     } else {
         return;
     }
 }
 
-float airlight_phi_8_shafts_finish(airlight_phi_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
+float airlight_phi_8_shafts_finish(airlight_phi_8_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_10)
 {
     airlight_phi_8_Shafts acc_8 = (airlight_phi_8_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e10 = airlight_phi_8_shafts_place(acc_8);
     airlight_phi_8_shafts_hold(acc_8, _e10);
-    airlight_phi_8_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    airlight_phi_8_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
     float w_3 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_8.sum.x;
     float _e23 = acc_8.start;
-    const float _e24 = airlight_phi_8_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    const float _e24 = airlight_phi_8_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return min((_e21 + _e24), airlight_phi_8_HUGE);
 }
 
-float3 airlight_phi_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+float3 airlight_phi_8_shafts_run_spot(float a_10, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_11)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_25 = (b_5 <= a_8);
+            local_25 = (b_5 <= a_10);
         } else {
             local_25 = false;
         }
@@ -1608,14 +1638,14 @@ float3 airlight_phi_8_shafts_run_spot(float a_8, float b_5, float w_2, float3 or
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_phi_8_shafts_moved(a_8, b_5, origin_8, dir_8);
+    const float4 _e30 = airlight_phi_8_shafts_moved(a_10, b_5, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_2 = _e30.w;
-    const float3 _e33 = airlight_phi_8_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
+    const float3 _e33 = airlight_phi_8_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_10))) * _e33));
 }
 
-void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_12)
 {
     uint j_3 = 0u;
 
@@ -1639,7 +1669,7 @@ void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_9, float3 
             uint _e18 = j_3;
             float3 r_8 = acc_9.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_9.sum;
-            const float3 _e27 = airlight_phi_8_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            const float3 _e27 = airlight_phi_8_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
             acc_9.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -1647,33 +1677,33 @@ void airlight_phi_8_shafts_flush_spot(inout airlight_phi_8_Shafts acc_9, float3 
     return;
 }
 
-void airlight_phi_8_shafts_push_spot(inout airlight_phi_8_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
+void airlight_phi_8_shafts_push_spot(inout airlight_phi_8_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_13)
 {
     const float3 _e13 = airlight_phi_8_shafts_step(acc_10, s_4, v_7);
     airlight_phi_8_shafts_hold(acc_10, _e13);
     uint _e15 = acc_10.count;
     if ((_e15 == airlight_phi_8_SHAFTS_RUNS)) {
-        airlight_phi_8_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_13);
+        airlight_phi_8_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_13);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_phi_8_shafts_finish_spot(airlight_phi_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
+float3 airlight_phi_8_shafts_finish_spot(airlight_phi_8_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_14)
 {
     airlight_phi_8_Shafts acc_11 = (airlight_phi_8_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e13 = airlight_phi_8_shafts_place(acc_11);
     airlight_phi_8_shafts_hold(acc_11, _e13);
-    airlight_phi_8_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    airlight_phi_8_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
     float w_4 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    const float3 _e26 = airlight_phi_8_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    const float3 _e26 = airlight_phi_8_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

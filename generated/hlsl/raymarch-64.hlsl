@@ -31,6 +31,8 @@ static const float airlight_raymarch_64_FRAC_PI_2_ = 1.5707964;
 static const float airlight_raymarch_64_HUGE = 3.4028235e38;
 static const float airlight_raymarch_64_RHO_OPEN = 4294967300.0;
 static const float airlight_raymarch_64_TAU_MAX = 10000.0;
+static const float airlight_raymarch_64_LN2_HI = 0.69314575;
+static const float airlight_raymarch_64_LN2_LO = 1.4286068e-6;
 static const uint airlight_raymarch_64_STEPS = 64u;
 static const float airlight_raymarch_64_FAR = 1000.0;
 static const float airlight_raymarch_64_LN_CUTOFF = 9.2103405;
@@ -89,8 +91,31 @@ float3 airlight_raymarch_64_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_raymarch_64_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_raymarch_64_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_raymarch_64_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_raymarch_64_exp_neg_k(float tau)
+{
+    return airlight_raymarch_64_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_raymarch_64_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_raymarch_64_LN2_HI)) - (kf * airlight_raymarch_64_LN2_LO))));
+}
+
 int airlight_raymarch_64_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_raymarch_64_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_raymarch_64_exp_neg_k(tau_2);
+    const float _e3 = airlight_raymarch_64_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_raymarch_64_scale2_(((a_4 * _e3)).xxx, airlight_raymarch_64_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_raymarch_64_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -151,7 +176,7 @@ float3 airlight_raymarch_64_ray_geometry(float3 origin, float3 dir, float3 light
     return float3(min(dist, airlight_raymarch_64_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
-float airlight_raymarch_64_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_raymarch_64_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -161,25 +186,25 @@ float airlight_raymarch_64_scaled(float sigma_s, float intensity, float d_1, flo
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_raymarch_64_HUGE)) {
+    if ((a_5 >= airlight_raymarch_64_HUGE)) {
         return airlight_raymarch_64_HUGE;
     }
     airlight_raymarch_64_frexp_result_f32_ s_5 = airlight_raymarch_64_naga_frexp(sigma_s);
     airlight_raymarch_64_frexp_result_f32_ i_2 = airlight_raymarch_64_naga_frexp(intensity);
-    airlight_raymarch_64_frexp_result_f32_ q = airlight_raymarch_64_naga_frexp(a_4);
+    airlight_raymarch_64_frexp_result_f32_ q = airlight_raymarch_64_naga_frexp(a_5);
     airlight_raymarch_64_frexp_result_f32_ r_2 = airlight_raymarch_64_naga_frexp(d_1);
     airlight_raymarch_64_frexp_result_f32_ m = airlight_raymarch_64_naga_frexp((((s_5.fract * i_2.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_5.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_5.exp_))) + asuint(i_2.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_raymarch_64_HUGE;
     }
@@ -189,20 +214,26 @@ float airlight_raymarch_64_scaled(float sigma_s, float intensity, float d_1, flo
     return ldexp(m.fract, e);
 }
 
+float airlight_raymarch_64_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_raymarch_64_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_raymarch_64_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_6 = abs(x);
-    r = a_6;
-    if ((a_6 > 2.4142137)) {
+    float a_8 = abs(x);
+    r = a_8;
+    if ((a_8 > 2.4142137)) {
         y0_ = airlight_raymarch_64_FRAC_PI_2_;
-        r = (-1.0 / a_6);
+        r = (-1.0 / a_8);
     } else {
-        if ((a_6 > 0.41421357)) {
+        if ((a_8 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_6 - 1.0) / (a_6 + 1.0));
+            r = ((a_8 - 1.0) / (a_8 + 1.0));
         }
     }
     float _e18 = r;
@@ -242,10 +273,6 @@ float2 airlight_raymarch_64_sin_cos_octant(float x_2)
     return float2(s_6, c_3);
 }
 
-int airlight_raymarch_64_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
-}
-
 float2 airlight_raymarch_64_sin_cos(float x_3)
 {
     int j = (int)0;
@@ -281,8 +308,8 @@ float2 airlight_raymarch_64_sin_cos(float x_3)
 
 float airlight_raymarch_64_hg(float g, float om, float op)
 {
-    float d_3 = ((g >= 0.0) ? (((1.0 - g) * (1.0 - g)) + ((2.0 * g) * om)) : (((1.0 + g) * (1.0 + g)) - ((2.0 * g) * op)));
-    return (((0.07957747 * (1.0 - g)) * (1.0 + g)) / (d_3 * sqrt(d_3)));
+    float d_4 = ((g >= 0.0) ? (((1.0 - g) * (1.0 - g)) + ((2.0 * g) * om)) : (((1.0 + g) * (1.0 + g)) - ((2.0 * g) * op)));
+    return (((0.07957747 * (1.0 - g)) * (1.0 + g)) / (d_4 * sqrt(d_4)));
 }
 
 float airlight_raymarch_64_airlight_geometry(float tau_in, float h_2, float x0_1, float rho_1, float xr, float g_in)
@@ -292,11 +319,11 @@ float airlight_raymarch_64_airlight_geometry(float tau_in, float h_2, float x0_1
     float sum = 0.0;
     uint i = 0u;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_raymarch_64_TAU_MAX);
+    float tau_8 = min(max(tau_in, 0.0), airlight_raymarch_64_TAU_MAX);
     float g_12 = clamp(g_in, -0.999, 0.999);
-    if ((tau_5 > 0.0046051703)) {
-        float k_2 = (1.0 + (airlight_raymarch_64_LN_CUTOFF / tau_5));
-        len = min((((k_2 - 1.0) * (k_2 + 1.0)) / (2.0 * (k_2 - x0_1))), airlight_raymarch_64_FAR);
+    if ((tau_8 > 0.0046051703)) {
+        float k_4 = (1.0 + (airlight_raymarch_64_LN_CUTOFF / tau_8));
+        len = min((((k_4 - 1.0) * (k_4 + 1.0)) / (2.0 * (k_4 - x0_1))), airlight_raymarch_64_FAR);
     }
     if ((rho_1 >= 0.0)) {
         local_4 = (rho_1 < airlight_raymarch_64_RHO_OPEN);
@@ -335,28 +362,28 @@ float airlight_raymarch_64_airlight_geometry(float tau_in, float h_2, float x0_1
             float op_1 = ((x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5)));
             float _e74 = sum;
             const float _e77 = airlight_raymarch_64_hg(g_12, (om_1 / t), (op_1 / t));
-            sum = (_e74 + ((_e77 * exp((-(tau_5) * (s_8 + t)))) / t2_));
+            sum = (_e74 + ((_e77 * exp((-(tau_8) * (s_8 + t)))) / t2_));
         }
     }
     float _e88 = sum;
     return min((_e88 * dt), airlight_raymarch_64_HUGE);
 }
 
-float airlight_raymarch_64_airlight(float tau, float gamma, float rho_2, float g_1)
+float airlight_raymarch_64_airlight(float tau_3, float gamma, float rho_2, float g_1)
 {
     const float2 _e4 = airlight_raymarch_64_sin_cos(gamma);
     const float _e11 = airlight_raymarch_64_foot(abs(_e4.x), _e4.y, rho_2);
-    const float _e12 = airlight_raymarch_64_airlight_geometry(tau, abs(_e4.x), _e4.y, rho_2, _e11, g_1);
+    const float _e12 = airlight_raymarch_64_airlight_geometry(tau_3, abs(_e4.x), _e4.y, rho_2, _e11, g_1);
     return _e12;
 }
 
-float airlight_raymarch_64_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
+float airlight_raymarch_64_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_2)
 {
     bool local_5 = (bool)0;
 
     const float3 _e8 = airlight_raymarch_64_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
-        const float _e14 = airlight_raymarch_64_scaled(sigma_s_1, intensity_1, 1.0, airlight_raymarch_64_HUGE);
+        const float _e14 = airlight_raymarch_64_scaled(sigma_s_2, intensity_2, 1.0, airlight_raymarch_64_HUGE);
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
@@ -371,21 +398,21 @@ float airlight_raymarch_64_radiance(float3 origin_1, float3 dir_1, float surface
     float rho_7 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e39 = airlight_raymarch_64_foot(_e8.y, _e8.z, rho_7);
     const float _e40 = airlight_raymarch_64_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_7, _e39, g_2);
-    const float _e41 = airlight_raymarch_64_scaled(sigma_s_1, intensity_1, _e8.x, _e40);
+    const float _e41 = airlight_raymarch_64_scaled(sigma_s_2, intensity_2, _e8.x, _e40);
     return _e41;
 }
 
-float airlight_raymarch_64_along(float tau_1, float h_3, float x0_2, float rho_3, float xr_1, float g_3)
+float airlight_raymarch_64_along(float tau_4, float h_3, float x0_2, float rho_3, float xr_1, float g_3)
 {
-    const float _e6 = airlight_raymarch_64_airlight_geometry(tau_1, h_3, x0_2, rho_3, xr_1, g_3);
+    const float _e6 = airlight_raymarch_64_airlight_geometry(tau_4, h_3, x0_2, rho_3, xr_1, g_3);
     return _e6;
 }
 
-float3 airlight_raymarch_64_along_rgb(float3 tau_2, float h_4, float x0_3, float rho_4, float xr_2, float g_4)
+float3 airlight_raymarch_64_along_rgb(float3 tau_5, float h_4, float x0_3, float rho_4, float xr_2, float g_4)
 {
-    const float _e7 = airlight_raymarch_64_along(tau_2.x, h_4, x0_3, rho_4, xr_2, g_4);
-    const float _e9 = airlight_raymarch_64_along(tau_2.y, h_4, x0_3, rho_4, xr_2, g_4);
-    const float _e11 = airlight_raymarch_64_along(tau_2.z, h_4, x0_3, rho_4, xr_2, g_4);
+    const float _e7 = airlight_raymarch_64_along(tau_5.x, h_4, x0_3, rho_4, xr_2, g_4);
+    const float _e9 = airlight_raymarch_64_along(tau_5.y, h_4, x0_3, rho_4, xr_2, g_4);
+    const float _e11 = airlight_raymarch_64_along(tau_5.z, h_4, x0_3, rho_4, xr_2, g_4);
     return float3(_e7, _e9, _e11);
 }
 
@@ -395,7 +422,7 @@ float airlight_raymarch_64_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_raymarch_64_spot_core(float3 tau_3, float h_5, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_5)
+float3 airlight_raymarch_64_spot_core(float3 tau_6, float h_5, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_5)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -447,10 +474,10 @@ float3 airlight_raymarch_64_spot_core(float3 tau_3, float h_5, float x0_4, float
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_raymarch_64_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_5);
+    const float3 _e70 = airlight_raymarch_64_along_rgb((tau_6 * _e64), _e66, _e67, _e68, _e69, g_5);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_6) * _e72))) / (_e76).xxx));
 }
 
 float airlight_raymarch_64_spot_weight(float c_2, float co, float ci)
@@ -467,14 +494,14 @@ airlight_raymarch_64_ret_Constructarray6_float_ airlight_raymarch_64_Constructar
     return ret;
 }
 
-float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float rho_6, float gam_1, float om_e, float u, float v_in, float ca, float k_1, float co_1, float ci_1, float g_6)
+float3 airlight_raymarch_64_spot_edge(float3 tau_7, float h_6, float x0_5, float rho_6, float gam_1, float om_e, float u, float v_in, float ca, float k_3, float co_1, float ci_1, float g_6)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_raymarch_64_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float st = (float)0;
     int i_1 = int(0);
 
@@ -483,11 +510,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
     }
     const float2 _e17 = airlight_raymarch_64_sin_cos(u);
     const float2 _e18 = airlight_raymarch_64_sin_cos(v_in);
-    const float _e24 = airlight_raymarch_64_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_1, ci_1);
-    const float _e30 = airlight_raymarch_64_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_1, ci_1);
+    const float _e24 = airlight_raymarch_64_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_1, ci_1);
+    const float _e30 = airlight_raymarch_64_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_raymarch_64_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u, v_in, (u > gam_1), (v_in < om_e), g_6);
+        const float3 _e39 = airlight_raymarch_64_spot_core(tau_7, h_6, x0_5, rho_6, gam_1, u, v_in, (u > gam_1), (v_in < om_e), g_6);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -514,12 +541,12 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
         {
             int _e78 = i_1;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_7 = (u + ((v_in - u) * _e80));
+            float a_9 = (u + ((v_in - u) * _e80));
             int _e84 = i_1;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_3 = (u + ((v_in - u) * _e88));
-            float half_ = (0.5 * (b_3 - a_7));
-            float mid = (0.5 * (b_3 + a_7));
+            float half_ = (0.5 * (b_3 - a_9));
+            float mid = (0.5 * (b_3 + a_9));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_raymarch_64_sin_cos((0.5 * _e100));
@@ -528,7 +555,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e116) * _e119)) : (gp - (((4.0 * g_6) * _e107) * _e110)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e116) * _e119)) : (gp - (((4.0 * g_6) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = max((x0_5 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -539,11 +566,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            const float _e160 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            const float _e160 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_7) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_raymarch_64_sin_cos((0.5 * _e177));
@@ -552,7 +579,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e193) * _e196)) : (gp - (((4.0 * g_6) * _e184) * _e187)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e193) * _e196)) : (gp - (((4.0 * g_6) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = max((x0_5 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -563,11 +590,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            const float _e237 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            const float _e237 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_4) * _e246))));
+            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_7) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_raymarch_64_sin_cos((0.5 * _e254));
@@ -576,7 +603,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e270) * _e273)) : (gp - (((4.0 * g_6) * _e261) * _e264)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e270) * _e273)) : (gp - (((4.0 * g_6) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = max((x0_5 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -587,11 +614,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            const float _e314 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            const float _e314 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_4) * _e323))));
+            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_7) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_raymarch_64_sin_cos((0.5 * _e331));
@@ -600,7 +627,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e347) * _e350)) : (gp - (((4.0 * g_6) * _e338) * _e341)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e347) * _e350)) : (gp - (((4.0 * g_6) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = max((x0_5 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -611,11 +638,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            const float _e391 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            const float _e391 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_4) * _e400))));
+            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_7) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_raymarch_64_sin_cos((0.5 * _e408));
@@ -624,7 +651,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e424) * _e427)) : (gp - (((4.0 * g_6) * _e415) * _e418)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e424) * _e427)) : (gp - (((4.0 * g_6) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = max((x0_5 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -635,11 +662,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            const float _e468 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            const float _e468 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_4) * _e477))));
+            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_7) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_raymarch_64_sin_cos((0.5 * _e485));
@@ -648,7 +675,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e501) * _e504)) : (gp - (((4.0 * g_6) * _e492) * _e495)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e501) * _e504)) : (gp - (((4.0 * g_6) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = max((x0_5 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -659,11 +686,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            const float _e545 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            const float _e545 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_4) * _e554))));
+            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_7) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_raymarch_64_sin_cos((0.5 * _e562));
@@ -672,7 +699,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e578) * _e581)) : (gp - (((4.0 * g_6) * _e569) * _e572)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e578) * _e581)) : (gp - (((4.0 * g_6) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = max((x0_5 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -683,11 +710,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            const float _e622 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            const float _e622 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_4) * _e631))));
+            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_7) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_raymarch_64_sin_cos((0.5 * _e639));
@@ -696,7 +723,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e655) * _e658)) : (gp - (((4.0 * g_6) * _e646) * _e649)));
+            d_3 = ((g_6 >= 0.0) ? (gm + (((4.0 * g_6) * _e655) * _e658)) : (gp - (((4.0 * g_6) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = max((x0_5 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -707,11 +734,11 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            const float _e699 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            const float _e699 = airlight_raymarch_64_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_4) * _e708))));
+            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_7) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -719,7 +746,7 @@ float3 airlight_raymarch_64_spot_edge(float3 tau_4, float h_6, float x0_5, float
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_6)) * (1.0 + g_6)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_7)
+float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_7)
 {
     bool local_7 = (bool)0;
     bool local_8 = (bool)0;
@@ -741,7 +768,7 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
     bool local_12 = (bool)0;
     bool local_13 = (bool)0;
     bool local_14 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    float3 a_7 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_raymarch_64_ray_geometry(origin_2, dir_2, light_2);
@@ -780,16 +807,16 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_3 = dot(_e57, _e58);
+    float k_5 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_raymarch_64_spot_weight(k_3, co_2, cos_inner);
+        const float _e65 = airlight_raymarch_64_spot_weight(k_5, co_2, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
-        const float _e73 = airlight_raymarch_64_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_raymarch_64_HUGE);
+        const float _e73 = airlight_raymarch_64_scaled(sigma_s_3.x, (intensity_3 * _e69), 1.0, airlight_raymarch_64_HUGE);
         float _e75 = scale;
-        const float _e79 = airlight_raymarch_64_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_raymarch_64_HUGE);
+        const float _e79 = airlight_raymarch_64_scaled(sigma_s_3.y, (intensity_3 * _e75), 1.0, airlight_raymarch_64_HUGE);
         float _e81 = scale;
-        const float _e85 = airlight_raymarch_64_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_raymarch_64_HUGE);
+        const float _e85 = airlight_raymarch_64_scaled(sigma_s_3.z, (intensity_3 * _e81), 1.0, airlight_raymarch_64_HUGE);
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
@@ -801,17 +828,17 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
     if (_e96) {
         return (0.0).xxx;
     }
-    float d_4 = _e11.x;
+    float d_5 = _e11.x;
     float h_7 = _e11.y;
     float x0_7 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_11 = ((surface_1 / d_4) < airlight_raymarch_64_RHO_OPEN);
+        local_11 = ((surface_1 / d_5) < airlight_raymarch_64_RHO_OPEN);
     } else {
         local_11 = false;
     }
     bool has_end = local_11;
-    float rho_8 = (has_end ? (surface_1 / d_4) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
+    float rho_8 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_7, -0.999, 0.999);
     const float _e143 = airlight_raymarch_64_arctan2_(h_7, x0_7);
     if (!(point_)) {
@@ -828,8 +855,8 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
     bool _e157 = local_13;
     if (_e157) {
         if (!(point_)) {
-            const float _e160 = airlight_raymarch_64_spot_weight(-(k_3), co_2, cos_inner);
-            const float _e161 = airlight_raymarch_64_spot_weight(k_3, co_2, cos_inner);
+            const float _e160 = airlight_raymarch_64_spot_weight(-(k_5), co_2, cos_inner);
+            const float _e161 = airlight_raymarch_64_spot_weight(k_5, co_2, cos_inner);
             if (has_end) {
                 local_14 = (rho_8 < 1.0);
             } else {
@@ -849,9 +876,9 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
         ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_4 = sqrt(((_e188 * _e189) + (k_3 * k_3)));
+        float r_4 = sqrt(((_e188 * _e189) + (k_5 * k_5)));
         float _e194 = ca_1;
-        const float _e195 = airlight_raymarch_64_arctan2_(k_3, _e194);
+        const float _e195 = airlight_raymarch_64_arctan2_(k_5, _e194);
         gam_2 = _e143;
         const float _e198 = airlight_raymarch_64_arctan2_(h_7, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e198 : airlight_raymarch_64_PI);
@@ -897,8 +924,8 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_raymarch_64_spot_core(tau_6, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
-        a_5 = _e251;
+        const float3 _e251 = airlight_raymarch_64_spot_core(tau_9, h_7, x0_7, rho_8, _e246, _e247, _e248, _e249, _e250, gg);
+        a_7 = _e251;
     }
     uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
     bool loop_init_2 = true;
@@ -921,24 +948,24 @@ float3 airlight_raymarch_64_spot(float3 origin_2, float3 dir_2, float surface_1,
             int _e261 = j_1;
             float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e268 = a_5;
+                float3 _e268 = a_7;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_raymarch_64_spot_edge(tau_6, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_3, co_2, cos_inner, gg);
-                a_5 = (_e268 + _e274);
+                const float3 _e274 = airlight_raymarch_64_spot_edge(tau_9, h_7, x0_7, rho_8, _e269, _e270, piece.x, piece.y, _e273, k_5, co_2, cos_inner, gg);
+                a_7 = (_e268 + _e274);
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_5.x;
-    const float _e284 = airlight_raymarch_64_scaled(sigma_s_2.x, (intensity_2 * _e280), d_4, _e283);
+    float _e283 = a_7.x;
+    const float _e284 = airlight_raymarch_64_scaled(sigma_s_3.x, (intensity_3 * _e280), d_5, _e283);
     float _e286 = scale;
-    float _e289 = a_5.y;
-    const float _e290 = airlight_raymarch_64_scaled(sigma_s_2.y, (intensity_2 * _e286), d_4, _e289);
+    float _e289 = a_7.y;
+    const float _e290 = airlight_raymarch_64_scaled(sigma_s_3.y, (intensity_3 * _e286), d_5, _e289);
     float _e292 = scale;
-    float _e295 = a_5.z;
-    const float _e296 = airlight_raymarch_64_scaled(sigma_s_2.z, (intensity_2 * _e292), d_4, _e295);
+    float _e295 = a_7.z;
+    const float _e296 = airlight_raymarch_64_scaled(sigma_s_3.z, (intensity_3 * _e292), d_5, _e295);
     return float3(_e284, _e290, _e296);
 }
 
@@ -991,17 +1018,17 @@ float3 airlight_raymarch_64_march_at(float s_1, float step_, float3 sigma_t_2, f
     float om_2 = ((x_6 > 0.0) ? (h2_1 / (t_1 + x_6)) : (t_1 - x_6));
     float op_2 = ((x_6 > 0.0) ? (t_1 + x_6) : (h2_1 / (t_1 - x_6)));
     const float _e45 = airlight_raymarch_64_hg(g_13, (om_2 / t_1), (op_2 / t_1));
-    float3 tau_7 = min(max((sigma_t_2 * _e7.x), (0.0).xxx), (10000.0).xxx);
-    return min(((((_e45 * exp((-(tau_7) * (sc + t_1)))) / (t2_1).xxx) * dt_1) / (_e7.x).xxx), (3.4028235e38).xxx);
+    float3 tau_10 = min(max((sigma_t_2 * _e7.x), (0.0).xxx), (10000.0).xxx);
+    return min(((((_e45 * exp((-(tau_10) * (sc + t_1)))) / (t2_1).xxx) * dt_1) / (_e7.x).xxx), (3.4028235e38).xxx);
 }
 
-void airlight_raymarch_64_shafts_push(inout airlight_raymarch_64_Shafts acc_3, float s_2, float v_3, float3 origin_4, float3 dir_4, float3 light_4, float intensity_3, float sigma_t_3, float sigma_s_3, float g_8)
+void airlight_raymarch_64_shafts_push(inout airlight_raymarch_64_Shafts acc_3, float s_2, float v_3, float3 origin_4, float3 dir_4, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
 {
     const float _e10 = airlight_raymarch_64_shafts_step(acc_3, s_2);
     if ((v_3 > 0.0)) {
         const float3 _e14 = airlight_raymarch_64_march_at(s_2, _e10, (sigma_t_3).xxx, origin_4, dir_4, light_4, g_8);
         float _e19 = acc_3.sum.x;
-        const float _e22 = airlight_raymarch_64_scaled(sigma_s_3, intensity_3, 1.0, _e14.x);
+        const float _e22 = airlight_raymarch_64_scaled(sigma_s_4, intensity_4, 1.0, _e14.x);
         acc_3.sum.x = min((_e19 + (v_3 * _e22)), airlight_raymarch_64_HUGE);
         uint _e28 = acc_3.calls;
         acc_3.calls = (_e28 + 1u);
@@ -1011,12 +1038,12 @@ void airlight_raymarch_64_shafts_push(inout airlight_raymarch_64_Shafts acc_3, f
     }
 }
 
-float airlight_raymarch_64_shafts_finish(airlight_raymarch_64_Shafts acc_4, float end, float3 origin_5, float3 dir_5, float3 light_5, float intensity_4, float sigma_t_4, float sigma_s_4, float g_9)
+float airlight_raymarch_64_shafts_finish(airlight_raymarch_64_Shafts acc_4, float end, float3 origin_5, float3 dir_5, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
 {
     return acc_4.sum.x;
 }
 
-void airlight_raymarch_64_shafts_push_spot(inout airlight_raymarch_64_Shafts acc_5, float s_3, float v_4, float3 origin_6, float3 dir_6, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_5, float3 sigma_t_5, float3 sigma_s_5, float g_10)
+void airlight_raymarch_64_shafts_push_spot(inout airlight_raymarch_64_Shafts acc_5, float s_3, float v_4, float3 origin_6, float3 dir_6, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_10)
 {
     float w_1 = 1.0;
 
@@ -1027,20 +1054,20 @@ void airlight_raymarch_64_shafts_push_spot(inout airlight_raymarch_64_Shafts acc
         float3 r_5 = ((origin_6 + (s_3 * (u_1 / (length(u_1)).xxx))) - light_6);
         if ((cos_outer_1 > -1.0)) {
             const float _e29 = airlight_raymarch_64_max_abs(axis_1);
-            float3 a_8 = (axis_1 / (_e29).xxx);
+            float3 a_10 = (axis_1 / (_e29).xxx);
             float rr = length(r_5);
-            const float _e43 = airlight_raymarch_64_spot_weight(((rr > 0.0) ? (dot(r_5, a_8) / (rr * length(a_8))) : 1.0), max(cos_outer_1, 0.0), cos_inner_1);
+            const float _e43 = airlight_raymarch_64_spot_weight(((rr > 0.0) ? (dot(r_5, a_10) / (rr * length(a_10))) : 1.0), max(cos_outer_1, 0.0), cos_inner_1);
             w_1 = _e43;
         }
         float _e44 = w_1;
         if ((_e44 > 0.0)) {
             const float3 _e47 = airlight_raymarch_64_march_at(s_3, _e13, sigma_t_5, origin_6, dir_6, light_6, g_10);
             float _e49 = w_1;
-            const float _e53 = airlight_raymarch_64_scaled(sigma_s_5.x, (intensity_5 * _e49), 1.0, _e47.x);
+            const float _e53 = airlight_raymarch_64_scaled(sigma_s_6.x, (intensity_6 * _e49), 1.0, _e47.x);
             float _e55 = w_1;
-            const float _e59 = airlight_raymarch_64_scaled(sigma_s_5.y, (intensity_5 * _e55), 1.0, _e47.y);
+            const float _e59 = airlight_raymarch_64_scaled(sigma_s_6.y, (intensity_6 * _e55), 1.0, _e47.y);
             float _e61 = w_1;
-            const float _e65 = airlight_raymarch_64_scaled(sigma_s_5.z, (intensity_5 * _e61), 1.0, _e47.z);
+            const float _e65 = airlight_raymarch_64_scaled(sigma_s_6.z, (intensity_6 * _e61), 1.0, _e47.z);
             float3 add = float3(_e53, _e59, _e65);
             float3 _e69 = acc_5.sum;
             acc_5.sum = min((_e69 + (v_4 * add)), (3.4028235e38).xxx);
@@ -1053,7 +1080,7 @@ void airlight_raymarch_64_shafts_push_spot(inout airlight_raymarch_64_Shafts acc
     }
 }
 
-float3 airlight_raymarch_64_shafts_finish_spot(airlight_raymarch_64_Shafts acc_6, float end_1, float3 origin_7, float3 dir_7, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_6, float3 sigma_t_6, float3 sigma_s_6, float g_11)
+float3 airlight_raymarch_64_shafts_finish_spot(airlight_raymarch_64_Shafts acc_6, float end_1, float3 origin_7, float3 dir_7, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
 {
     return acc_6.sum;
 }

@@ -21,6 +21,8 @@ static const float airlight_scene_haze_sky_PI = 3.1415927;
 static const float airlight_scene_haze_sky_FRAC_PI_2_ = 1.5707964;
 static const float airlight_scene_haze_sky_HUGE = 3.4028235e38;
 static const float airlight_scene_haze_sky_TAU_MAX = 10000.0;
+static const float airlight_scene_haze_sky_LN2_HI = 0.69314575;
+static const float airlight_scene_haze_sky_LN2_LO = 1.4286068e-6;
 static const float airlight_scene_haze_sky_P_ISO = 0.07957747;
 
 float airlight_scene_haze_sky_max_abs(float3 v)
@@ -72,8 +74,31 @@ float3 airlight_scene_haze_sky_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_scene_haze_sky_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_scene_haze_sky_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_scene_haze_sky_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_scene_haze_sky_exp_neg_k(float tau)
+{
+    return airlight_scene_haze_sky_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_scene_haze_sky_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_scene_haze_sky_LN2_HI)) - (kf * airlight_scene_haze_sky_LN2_LO))));
+}
+
 int airlight_scene_haze_sky_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_scene_haze_sky_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_scene_haze_sky_exp_neg_k(tau_2);
+    const float _e3 = airlight_scene_haze_sky_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_scene_haze_sky_scale2_(((a_4 * _e3)).xxx, airlight_scene_haze_sky_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_scene_haze_sky_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -134,7 +159,7 @@ float3 airlight_scene_haze_sky_ray_geometry(float3 origin, float3 dir, float3 li
     return float3(min(dist, airlight_scene_haze_sky_HUGE), (_e97 / n), (x0_1 / n));
 }
 
-float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_scene_haze_sky_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -144,25 +169,25 @@ float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d_1, 
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_scene_haze_sky_HUGE)) {
+    if ((a_5 >= airlight_scene_haze_sky_HUGE)) {
         return airlight_scene_haze_sky_HUGE;
     }
     airlight_scene_haze_sky_frexp_result_f32_ s_1 = airlight_scene_haze_sky_naga_frexp(sigma_s);
     airlight_scene_haze_sky_frexp_result_f32_ i = airlight_scene_haze_sky_naga_frexp(intensity);
-    airlight_scene_haze_sky_frexp_result_f32_ q = airlight_scene_haze_sky_naga_frexp(a_4);
+    airlight_scene_haze_sky_frexp_result_f32_ q = airlight_scene_haze_sky_naga_frexp(a_5);
     airlight_scene_haze_sky_frexp_result_f32_ r_1 = airlight_scene_haze_sky_naga_frexp(d_1);
     airlight_scene_haze_sky_frexp_result_f32_ m = airlight_scene_haze_sky_naga_frexp((((s_1.fract * i.fract) * q.fract) / r_1.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_1.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_1.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_scene_haze_sky_HUGE;
     }
@@ -172,20 +197,26 @@ float airlight_scene_haze_sky_scaled(float sigma_s, float intensity, float d_1, 
     return ldexp(m.fract, e);
 }
 
+float airlight_scene_haze_sky_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_scene_haze_sky_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_scene_haze_sky_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_5 = abs(x);
-    r = a_5;
-    if ((a_5 > 2.4142137)) {
+    float a_7 = abs(x);
+    r = a_7;
+    if ((a_7 > 2.4142137)) {
         y0_ = airlight_scene_haze_sky_FRAC_PI_2_;
-        r = (-1.0 / a_5);
+        r = (-1.0 / a_7);
     } else {
-        if ((a_5 > 0.41421357)) {
+        if ((a_7 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_5 - 1.0) / (a_5 + 1.0));
+            r = ((a_7 - 1.0) / (a_7 + 1.0));
         }
     }
     float _e18 = r;
@@ -223,10 +254,6 @@ float2 airlight_scene_haze_sky_sin_cos_octant(float x_2)
     float s_2 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_2 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
     return float2(s_2, c_2);
-}
-
-int airlight_scene_haze_sky_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
 float2 airlight_scene_haze_sky_sin_cos(float x_3)
@@ -278,13 +305,13 @@ float airlight_scene_haze_sky_airlight(float gamma)
     return _e5;
 }
 
-float airlight_scene_haze_sky_radiance(float3 origin_1, float3 dir_1, float3 light_1, float intensity_1, float sigma_s_1)
+float airlight_scene_haze_sky_radiance(float3 origin_1, float3 dir_1, float3 light_1, float intensity_2, float sigma_s_2)
 {
     bool local_4 = (bool)0;
 
     const float3 _e5 = airlight_scene_haze_sky_ray_geometry(origin_1, dir_1, light_1);
     if ((_e5.x <= 0.0)) {
-        const float _e11 = airlight_scene_haze_sky_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_haze_sky_HUGE);
+        const float _e11 = airlight_scene_haze_sky_scaled(sigma_s_2, intensity_2, 1.0, airlight_scene_haze_sky_HUGE);
         return _e11;
     }
     if ((_e5.y <= 0.0)) {
@@ -297,7 +324,7 @@ float airlight_scene_haze_sky_radiance(float3 origin_1, float3 dir_1, float3 lig
         return 0.0;
     }
     const float _e26 = airlight_scene_haze_sky_airlight_geometry(_e5.y, _e5.z);
-    const float _e27 = airlight_scene_haze_sky_scaled(sigma_s_1, intensity_1, _e5.x, _e26);
+    const float _e27 = airlight_scene_haze_sky_scaled(sigma_s_2, intensity_2, _e5.x, _e26);
     return _e27;
 }
 

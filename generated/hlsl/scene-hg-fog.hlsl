@@ -22,6 +22,8 @@ static const float airlight_scene_hg_fog_FRAC_PI_2_ = 1.5707964;
 static const float airlight_scene_hg_fog_HUGE = 3.4028235e38;
 static const float airlight_scene_hg_fog_RHO_OPEN = 4294967300.0;
 static const float airlight_scene_hg_fog_TAU_MAX = 10000.0;
+static const float airlight_scene_hg_fog_LN2_HI = 0.69314575;
+static const float airlight_scene_hg_fog_LN2_LO = 1.4286068e-6;
 
 float airlight_scene_hg_fog_foot(float h, float x0_, float rho)
 {
@@ -77,8 +79,31 @@ float3 airlight_scene_hg_fog_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_scene_hg_fog_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_scene_hg_fog_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_scene_hg_fog_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_scene_hg_fog_exp_neg_k(float tau)
+{
+    return airlight_scene_hg_fog_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_scene_hg_fog_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_scene_hg_fog_LN2_HI)) - (kf * airlight_scene_hg_fog_LN2_LO))));
+}
+
 int airlight_scene_hg_fog_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_scene_hg_fog_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_scene_hg_fog_exp_neg_k(tau_2);
+    const float _e3 = airlight_scene_hg_fog_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_scene_hg_fog_scale2_(((a_4 * _e3)).xxx, airlight_scene_hg_fog_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_scene_hg_fog_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -139,7 +164,7 @@ float3 airlight_scene_hg_fog_ray_geometry(float3 origin, float3 dir, float3 ligh
     return float3(min(dist, airlight_scene_hg_fog_HUGE), (_e97 / n), (x0_2 / n));
 }
 
-float airlight_scene_hg_fog_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_scene_hg_fog_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -149,25 +174,25 @@ float airlight_scene_hg_fog_scaled(float sigma_s, float intensity, float d_1, fl
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_scene_hg_fog_HUGE)) {
+    if ((a_5 >= airlight_scene_hg_fog_HUGE)) {
         return airlight_scene_hg_fog_HUGE;
     }
     airlight_scene_hg_fog_frexp_result_f32_ s_1 = airlight_scene_hg_fog_naga_frexp(sigma_s);
     airlight_scene_hg_fog_frexp_result_f32_ i = airlight_scene_hg_fog_naga_frexp(intensity);
-    airlight_scene_hg_fog_frexp_result_f32_ q = airlight_scene_hg_fog_naga_frexp(a_4);
+    airlight_scene_hg_fog_frexp_result_f32_ q = airlight_scene_hg_fog_naga_frexp(a_5);
     airlight_scene_hg_fog_frexp_result_f32_ r_2 = airlight_scene_hg_fog_naga_frexp(d_1);
     airlight_scene_hg_fog_frexp_result_f32_ m_1 = airlight_scene_hg_fog_naga_frexp((((s_1.fract * i.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m_1.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m_1.exp_) + asuint(s_1.exp_))) + asuint(i.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_scene_hg_fog_HUGE;
     }
@@ -177,20 +202,26 @@ float airlight_scene_hg_fog_scaled(float sigma_s, float intensity, float d_1, fl
     return ldexp(m_1.fract, e);
 }
 
+float airlight_scene_hg_fog_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_scene_hg_fog_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_scene_hg_fog_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_5 = abs(x);
-    r = a_5;
-    if ((a_5 > 2.4142137)) {
+    float a_7 = abs(x);
+    r = a_7;
+    if ((a_7 > 2.4142137)) {
         y0_ = airlight_scene_hg_fog_FRAC_PI_2_;
-        r = (-1.0 / a_5);
+        r = (-1.0 / a_7);
     } else {
-        if ((a_5 > 0.41421357)) {
+        if ((a_7 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_5 - 1.0) / (a_5 + 1.0));
+            r = ((a_7 - 1.0) / (a_7 + 1.0));
         }
     }
     float _e18 = r;
@@ -230,10 +261,6 @@ float2 airlight_scene_hg_fog_sin_cos_octant(float x_2)
     return float2(s_2, c_2);
 }
 
-int airlight_scene_hg_fog_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
-}
-
 float2 airlight_scene_hg_fog_sin_cos(float x_3)
 {
     int j = (int)0;
@@ -271,7 +298,7 @@ float airlight_scene_hg_fog_e2_over(float x_in, float m)
 {
     float n1_ = 0.0;
     float n2_ = 0.0;
-    float d_2 = 0.0;
+    float d_3 = 0.0;
 
     float x_4 = clamp(x_in, 1e-30, 100000000.0);
     float l = (x_4 * log(((1.0 + x_4) / x_4)));
@@ -285,17 +312,17 @@ float airlight_scene_hg_fog_e2_over(float x_in, float m)
     n2_ = ((_e28 + 3.0385017) * x_4);
     float _e32 = n2_;
     n2_ = ((_e32 + 0.5760694) * x_4);
-    float _e36 = d_2;
-    d_2 = ((_e36 + 0.86534345) * x_4);
-    float _e40 = d_2;
-    d_2 = ((_e40 + 5.9773254) * x_4);
-    float _e44 = d_2;
-    d_2 = ((_e44 + 8.315555) * x_4);
-    float _e48 = d_2;
-    d_2 = ((_e48 + 0.0) * x_4);
+    float _e36 = d_3;
+    d_3 = ((_e36 + 0.86534345) * x_4);
+    float _e40 = d_3;
+    d_3 = ((_e40 + 5.9773254) * x_4);
+    float _e44 = d_3;
+    d_3 = ((_e44 + 8.315555) * x_4);
+    float _e48 = d_3;
+    d_3 = ((_e48 + 0.0) * x_4);
     float _e52 = n1_;
     float _e55 = n2_;
-    float _e60 = d_2;
+    float _e60 = d_3;
     return (((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m));
 }
 
@@ -312,7 +339,7 @@ float airlight_scene_hg_fog_airlight_geometry(float tau_in, float h_in, float x0
     float u = (float)0;
     float iq = (float)0;
 
-    float tau_1 = min(max(tau_in, 0.0), airlight_scene_hg_fog_TAU_MAX);
+    float tau_4 = min(max(tau_in, 0.0), airlight_scene_hg_fog_TAU_MAX);
     float4 md = float4(0.8, (1.0 - 0.8), (1.0 + 0.8), ((1.0 - 0.8) / (1.0 + 0.8)));
     if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
@@ -328,7 +355,7 @@ float airlight_scene_hg_fog_airlight_geometry(float tau_in, float h_in, float x0
         }
         bool _e35 = local_5;
         if (_e35) {
-            return min((((((0.07957747 * md.z) / (md.y * md.y)) * exp(-(tau_1))) * rho_1) / (1.0 - rho_1)), airlight_scene_hg_fog_HUGE);
+            return min((((((0.07957747 * md.z) / (md.y * md.y)) * exp(-(tau_4))) * rho_1) / (1.0 - rho_1)), airlight_scene_hg_fog_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_scene_hg_fog_HUGE;
@@ -356,7 +383,7 @@ float airlight_scene_hg_fog_airlight_geometry(float tau_in, float h_in, float x0
     }
     float _e123 = du;
     float ub = (ua + _e123);
-    float t = (tau_1 * tb);
+    float t = (tau_4 * tb);
     float kap = md.w;
     float m_2 = (kap + ua);
     float lam = (m_2 / (1.0 + ((0.40810418 * t) * m_2)));
@@ -511,29 +538,32 @@ float airlight_scene_hg_fog_airlight_geometry(float tau_in, float h_in, float x0
     sum = (_e532 + ((_e533 * sb) * lam));
     float pc = ((0.07957747 * md.y) / (md.z * md.z));
     if ((tb < 8.673617e-19)) {
-        float _e548 = sum;
-        const float _e555 = airlight_scene_hg_fog_scaled(((2.0 * pc) * max(_e548, 0.0)), exp(-(tau_1)), tb, 1.0);
-        return _e555;
+        const int _e546 = airlight_scene_hg_fog_exp_neg_k(tau_4);
+        float _e549 = sum;
+        const float _e553 = airlight_scene_hg_fog_exp_neg_m(tau_4, _e546);
+        const float _e556 = airlight_scene_hg_fog_scaled_pow2_(((2.0 * pc) * max(_e549, 0.0)), _e553, tb, 1.0, airlight_scene_hg_fog_naga_neg(_e546));
+        return _e556;
     }
-    float _e561 = sum;
-    return min(max((((2.0 * pc) * exp(-(tau_1))) * (_e561 / tb)), 0.0), airlight_scene_hg_fog_HUGE);
+    float _e559 = sum;
+    const float _e561 = airlight_scene_hg_fog_mul_exp_neg((_e559 / tb), tau_4);
+    return min(max(((2.0 * pc) * _e561), 0.0), airlight_scene_hg_fog_HUGE);
 }
 
-float airlight_scene_hg_fog_airlight(float tau, float gamma, float rho_2)
+float airlight_scene_hg_fog_airlight(float tau_3, float gamma, float rho_2)
 {
     const float2 _e6 = airlight_scene_hg_fog_sin_cos(clamp(gamma, 0.0, airlight_scene_hg_fog_PI));
     const float _e13 = airlight_scene_hg_fog_foot(abs(_e6.x), _e6.y, rho_2);
-    const float _e14 = airlight_scene_hg_fog_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_2, _e13);
+    const float _e14 = airlight_scene_hg_fog_airlight_geometry(tau_3, abs(_e6.x), _e6.y, rho_2, _e13);
     return _e14;
 }
 
-float airlight_scene_hg_fog_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
+float airlight_scene_hg_fog_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2)
 {
     bool local_7 = (bool)0;
 
     const float3 _e7 = airlight_scene_hg_fog_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
-        const float _e13 = airlight_scene_hg_fog_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_hg_fog_HUGE);
+        const float _e13 = airlight_scene_hg_fog_scaled(sigma_s_2, intensity_2, 1.0, airlight_scene_hg_fog_HUGE);
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
@@ -548,7 +578,7 @@ float airlight_scene_hg_fog_radiance(float3 origin_1, float3 dir_1, float surfac
     float rho_3 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
     const float _e38 = airlight_scene_hg_fog_foot(_e7.y, _e7.z, rho_3);
     const float _e39 = airlight_scene_hg_fog_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_3, _e38);
-    const float _e40 = airlight_scene_hg_fog_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    const float _e40 = airlight_scene_hg_fog_scaled(sigma_s_2, intensity_2, _e7.x, _e39);
     return _e40;
 }
 

@@ -50,6 +50,8 @@ constant float airlight_equiangular_2_FRAC_PI_2_ = 1.5707964;
 constant float airlight_equiangular_2_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_equiangular_2_RHO_OPEN = 4294967300.0;
 constant float airlight_equiangular_2_TAU_MAX = 10000.0;
+constant float airlight_equiangular_2_LN2_HI = 0.69314575;
+constant float airlight_equiangular_2_LN2_LO = 0.0000014286068;
 constant uint airlight_equiangular_2_SHAFTS_RUNS = 32u;
 
 float airlight_equiangular_2_foot(
@@ -114,8 +116,36 @@ metal::float3 airlight_equiangular_2_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_equiangular_2_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_equiangular_2_naga_div(k, 2)))));
 }
 
+int airlight_equiangular_2_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_equiangular_2_exp_neg_k(
+    float tau
+) {
+    return airlight_equiangular_2_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_equiangular_2_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_equiangular_2_LN2_HI)) - (kf * airlight_equiangular_2_LN2_LO))));
+}
+
 int airlight_equiangular_2_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_equiangular_2_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_equiangular_2_exp_neg_k(tau_2);
+    float _e3 = airlight_equiangular_2_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_equiangular_2_scale2_(metal::float3(a_4 * _e3), airlight_equiangular_2_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_equiangular_2_ray_geometry(
@@ -178,11 +208,12 @@ metal::float3 airlight_equiangular_2_ray_geometry(
     return metal::float3(metal::min(dist, airlight_equiangular_2_HUGE), _e97 / n_1, x0_7 / n_1);
 }
 
-float airlight_equiangular_2_scaled(
+float airlight_equiangular_2_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -191,25 +222,25 @@ float airlight_equiangular_2_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_equiangular_2_HUGE) {
+    if (a_5 >= airlight_equiangular_2_HUGE) {
         return airlight_equiangular_2_HUGE;
     }
     airlight_equiangular_2_frexp_result_f32_ s_4 = airlight_equiangular_2_naga_frexp(sigma_s);
     airlight_equiangular_2_frexp_result_f32_ i_1 = airlight_equiangular_2_naga_frexp(intensity);
-    airlight_equiangular_2_frexp_result_f32_ q = airlight_equiangular_2_naga_frexp(a_4);
+    airlight_equiangular_2_frexp_result_f32_ q = airlight_equiangular_2_naga_frexp(a_5);
     airlight_equiangular_2_frexp_result_f32_ r_2 = airlight_equiangular_2_naga_frexp(d_1);
     airlight_equiangular_2_frexp_result_f32_ m = airlight_equiangular_2_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_equiangular_2_HUGE;
     }
@@ -219,20 +250,30 @@ float airlight_equiangular_2_scaled(
     return metal::ldexp(m.fract, e);
 }
 
+float airlight_equiangular_2_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_equiangular_2_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_equiangular_2_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_9 = metal::abs(x);
-    r = a_9;
-    if (a_9 > 2.4142137) {
+    float a_11 = metal::abs(x);
+    r = a_11;
+    if (a_11 > 2.4142137) {
         y0_ = airlight_equiangular_2_FRAC_PI_2_;
-        r = -1.0 / a_9;
+        r = -1.0 / a_11;
     } else {
-        if (a_9 > 0.41421357) {
+        if (a_11 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_9 - 1.0) / (a_9 + 1.0);
+            r = (a_11 - 1.0) / (a_11 + 1.0);
         }
     }
     float _e18 = r;
@@ -275,10 +316,6 @@ metal::float2 airlight_equiangular_2_sin_cos_octant(
     return metal::float2(s_5, c_3);
 }
 
-int airlight_equiangular_2_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
-}
-
 metal::float2 airlight_equiangular_2_sin_cos(
     float x_3
 ) {
@@ -313,7 +350,7 @@ metal::float2 airlight_equiangular_2_sin_cos(
 }
 
 float airlight_equiangular_2_airlight_axis(
-    float tau,
+    float tau_3,
     float x0_1,
     float rho_1,
     float g
@@ -338,7 +375,7 @@ float airlight_equiangular_2_airlight_axis(
         if (!(_e19)) {
             return airlight_equiangular_2_HUGE;
         }
-        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau))) * rho_1) / (1.0 - rho_1), airlight_equiangular_2_HUGE);
+        return metal::min(((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * metal::exp(-(tau_3))) * rho_1) / (1.0 - rho_1), airlight_equiangular_2_HUGE);
     }
     float lo = has_end ? (1.0 / (1.0 + rho_1)) : 0.0;
     float half_ = 0.5 * (1.0 - lo);
@@ -346,14 +383,14 @@ float airlight_equiangular_2_airlight_axis(
     float _e57 = sum;
     float _e60 = u;
     float _e63 = u;
-    sum = _e57 + (1.0 * metal::exp((-2.0 * tau) * ((1.0 - _e60) / _e63)));
+    sum = _e57 + (1.0 * metal::exp((-2.0 * tau_3) * ((1.0 - _e60) / _e63)));
     u = lo + (half_ * 0.42264974);
     float _e73 = sum;
     float _e76 = u;
     float _e79 = u;
-    sum = _e73 + (1.0 * metal::exp((-2.0 * tau) * ((1.0 - _e76) / _e79)));
+    sum = _e73 + (1.0 * metal::exp((-2.0 * tau_3) * ((1.0 - _e76) / _e79)));
     float _e100 = sum;
-    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau))) * half_) * _e100;
+    return ((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * metal::exp(-(tau_3))) * half_) * _e100;
 }
 
 float airlight_equiangular_2_airlight_geometry(
@@ -375,8 +412,8 @@ float airlight_equiangular_2_airlight_geometry(
     float b_3 = {};
     float co = {};
     float st = {};
-    float d_2 = {};
-    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
+    float d_3 = {};
+    float tau_8 = metal::min(metal::max(tau_in, 0.0), airlight_equiangular_2_TAU_MAX);
     float g_15 = metal::clamp(g_in, -0.999, 0.999);
     float gm = (1.0 - g_15) * (1.0 - g_15);
     float gp = (1.0 + g_15) * (1.0 + g_15);
@@ -393,7 +430,7 @@ float airlight_equiangular_2_airlight_geometry(
     }
     bool _e39 = local_6;
     if (_e39) {
-        float _e40 = airlight_equiangular_2_airlight_axis(tau_5, x0_2, rho_2, g_15);
+        float _e40 = airlight_equiangular_2_airlight_axis(tau_8, x0_2, rho_2, g_15);
         return _e40;
     }
     span = comp;
@@ -428,12 +465,12 @@ float airlight_equiangular_2_airlight_geometry(
     float _e107 = sc.y;
     float _e113 = sc.x;
     float _e116 = sc.x;
-    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107));
+    d_3 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107));
     float _e122 = sum_1;
     float _e124 = st;
-    float _e129 = d_2;
-    float _e130 = d_2;
-    sum_1 = _e122 + ((1.0 * metal::exp(-(tau_5) * _e124)) / (_e129 * metal::sqrt(_e130)));
+    float _e129 = d_3;
+    float _e130 = d_3;
+    sum_1 = _e122 + ((1.0 * metal::exp(-(tau_8) * _e124)) / (_e129 * metal::sqrt(_e130)));
     b_3 = (0.5 * gamma) + ((0.5 * half_1) * 0.42264974);
     co = (0.5 * comp) - ((0.5 * half_1) * 0.42264974);
     float _e149 = b_3;
@@ -453,14 +490,14 @@ float airlight_equiangular_2_airlight_geometry(
     float _e177 = sc.y;
     float _e183 = sc.x;
     float _e186 = sc.x;
-    d_2 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177));
+    d_3 = (g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177));
     float _e192 = sum_1;
     float _e194 = st;
-    float _e199 = d_2;
-    float _e200 = d_2;
-    sum_1 = _e192 + ((1.0 * metal::exp(-(tau_5) * _e194)) / (_e199 * metal::sqrt(_e200)));
+    float _e199 = d_3;
+    float _e200 = d_3;
+    sum_1 = _e192 + ((1.0 * metal::exp(-(tau_8) * _e194)) / (_e199 * metal::sqrt(_e200)));
     float _e212 = sum_1;
-    return metal::min(((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e212) * half_1) / h_2, airlight_equiangular_2_HUGE);
+    return metal::min((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e212) * (half_1 / h_2), airlight_equiangular_2_HUGE);
 }
 
 metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
@@ -482,8 +519,8 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float b_4 = {};
     float co_1 = {};
     float st_1 = {};
-    float d_3 = {};
-    metal::float3 tau_6 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
+    float d_4 = {};
+    metal::float3 tau_9 = metal::min(metal::max(tau_in_1, metal::float3(0.0)), metal::float3(10000.0));
     float g_16 = metal::clamp(g_in_1, -0.999, 0.999);
     float gm_1 = (1.0 - g_16) * (1.0 - g_16);
     float gp_1 = (1.0 + g_16) * (1.0 + g_16);
@@ -500,9 +537,9 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     }
     bool _e41 = local_9;
     if (_e41) {
-        float _e43 = airlight_equiangular_2_airlight_axis(tau_6.x, x0_3, rho_3, g_16);
-        float _e45 = airlight_equiangular_2_airlight_axis(tau_6.y, x0_3, rho_3, g_16);
-        float _e47 = airlight_equiangular_2_airlight_axis(tau_6.z, x0_3, rho_3, g_16);
+        float _e43 = airlight_equiangular_2_airlight_axis(tau_9.x, x0_3, rho_3, g_16);
+        float _e45 = airlight_equiangular_2_airlight_axis(tau_9.y, x0_3, rho_3, g_16);
+        float _e47 = airlight_equiangular_2_airlight_axis(tau_9.z, x0_3, rho_3, g_16);
         return metal::float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
@@ -537,12 +574,12 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float _e116 = sc_1.y;
     float _e122 = sc_1.x;
     float _e125 = sc_1.x;
-    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116));
+    d_4 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116));
     metal::float3 _e131 = sum_2;
     float _e133 = st_1;
-    float _e138 = d_3;
-    float _e139 = d_3;
-    sum_2 = _e131 + ((1.0 * metal::exp(-(tau_6) * _e133)) / metal::float3(_e138 * metal::sqrt(_e139)));
+    float _e138 = d_4;
+    float _e139 = d_4;
+    sum_2 = _e131 + ((1.0 * metal::exp(-(tau_9) * _e133)) / metal::float3(_e138 * metal::sqrt(_e139)));
     b_4 = (0.5 * gamma_1) + ((0.5 * half_2) * 0.42264974);
     co_1 = (0.5 * comp_1) - ((0.5 * half_2) * 0.42264974);
     float _e159 = b_4;
@@ -562,18 +599,18 @@ metal::float3 airlight_equiangular_2_airlight_geometry_rgb(
     float _e187 = sc_1.y;
     float _e193 = sc_1.x;
     float _e196 = sc_1.x;
-    d_3 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187));
+    d_4 = (g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187));
     metal::float3 _e202 = sum_2;
     float _e204 = st_1;
-    float _e209 = d_3;
-    float _e210 = d_3;
-    sum_2 = _e202 + ((1.0 * metal::exp(-(tau_6) * _e204)) / metal::float3(_e209 * metal::sqrt(_e210)));
+    float _e209 = d_4;
+    float _e210 = d_4;
+    sum_2 = _e202 + ((1.0 * metal::exp(-(tau_9) * _e204)) / metal::float3(_e209 * metal::sqrt(_e210)));
     metal::float3 _e223 = sum_2;
-    return metal::min(((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e223) * half_2) / metal::float3(h_3), metal::float3(340282350000000000000000000000000000000.0));
+    return metal::min((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e223) * (half_2 / h_3), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_2_airlight(
-    float tau_1,
+    float tau_4,
     float gamma_2,
     float rho_4,
     float g_1
@@ -584,7 +621,7 @@ float airlight_equiangular_2_airlight(
     metal::float2 _e16 = airlight_equiangular_2_sin_cos(comp_2);
     float h_7 = (gc > comp_2) ? _e16.x : metal::abs(_e7.x);
     float _e22 = airlight_equiangular_2_foot(h_7, _e7.y, rho_4);
-    float _e23 = airlight_equiangular_2_airlight_geometry(tau_1, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
+    float _e23 = airlight_equiangular_2_airlight_geometry(tau_4, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
     return _e23;
 }
 
@@ -593,15 +630,15 @@ float airlight_equiangular_2_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1,
+    float sigma_s_2,
     float g_2
 ) {
     bool local_12 = {};
     metal::float3 _e8 = airlight_equiangular_2_ray_geometry(origin_1, dir_1, light_1);
     if (_e8.x <= 0.0) {
-        float _e14 = airlight_equiangular_2_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_2_HUGE);
+        float _e14 = airlight_equiangular_2_scaled(sigma_s_2, intensity_2, 1.0, airlight_equiangular_2_HUGE);
         return _e14;
     }
     if (_e8.y <= 0.0) {
@@ -618,12 +655,12 @@ float airlight_equiangular_2_radiance(
     float _e38 = airlight_equiangular_2_arctan2_(_e8.y, -(_e8.z));
     float _e46 = airlight_equiangular_2_foot(_e8.y, _e8.z, rho_8);
     float _e47 = airlight_equiangular_2_airlight_geometry(sigma_t * _e8.x, _e8.y, _e8.z, _e34, _e38, rho_8, _e46, g_2);
-    float _e48 = airlight_equiangular_2_scaled(sigma_s_1, intensity_1, _e8.x, _e47);
+    float _e48 = airlight_equiangular_2_scaled(sigma_s_2, intensity_2, _e8.x, _e47);
     return _e48;
 }
 
 metal::float3 airlight_equiangular_2_along_rgb(
-    metal::float3 tau_2,
+    metal::float3 tau_5,
     float h_4,
     float x0_4,
     float rho_5,
@@ -632,7 +669,7 @@ metal::float3 airlight_equiangular_2_along_rgb(
 ) {
     float _e6 = airlight_equiangular_2_arctan2_(h_4, x0_4);
     float _e8 = airlight_equiangular_2_arctan2_(h_4, -(x0_4));
-    metal::float3 _e9 = airlight_equiangular_2_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
+    metal::float3 _e9 = airlight_equiangular_2_airlight_geometry_rgb(tau_5, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
     return _e9;
 }
 
@@ -645,7 +682,7 @@ float airlight_equiangular_2_spot_asin(
 }
 
 metal::float3 airlight_equiangular_2_spot_core(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_5,
     float x0_5,
     float rho_6,
@@ -705,10 +742,10 @@ metal::float3 airlight_equiangular_2_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_equiangular_2_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_4);
+    metal::float3 _e70 = airlight_equiangular_2_along_rgb(tau_6 * _e64, _e66, _e67, _e68, _e69, g_4);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_6) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_equiangular_2_spot_weight(
@@ -723,7 +760,7 @@ float airlight_equiangular_2_spot_weight(
 }
 
 metal::float3 airlight_equiangular_2_spot_edge(
-    metal::float3 tau_4,
+    metal::float3 tau_7,
     float h_6,
     float x0_6,
     float rho_7,
@@ -732,7 +769,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
     float u_1,
     float v_in,
     float ca,
-    float k_1,
+    float k_3,
     float co_3,
     float ci_1,
     float g_5
@@ -742,7 +779,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
     metal::float3 sum_3 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_4 = {};
+    float d_5 = {};
     float st_2 = {};
     int i = 0;
     if (!((v_in > u_1))) {
@@ -750,11 +787,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
     }
     metal::float2 _e17 = airlight_equiangular_2_sin_cos(u_1);
     metal::float2 _e18 = airlight_equiangular_2_sin_cos(v_in);
-    float _e24 = airlight_equiangular_2_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_3, ci_1);
-    float _e30 = airlight_equiangular_2_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_3, ci_1);
+    float _e24 = airlight_equiangular_2_spot_weight((ca * _e17.x) - (k_3 * _e17.y), co_3, ci_1);
+    float _e30 = airlight_equiangular_2_spot_weight((ca * _e18.x) - (k_3 * _e18.y), co_3, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_equiangular_2_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_5);
+        metal::float3 _e39 = airlight_equiangular_2_spot_core(tau_7, h_6, x0_6, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_5);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -781,12 +818,12 @@ metal::float3 airlight_equiangular_2_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_10 = u_1 + ((v_in - u_1) * _e80);
+            float a_12 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_8 = u_1 + ((v_in - u_1) * _e88);
-            float half_3 = 0.5 * (b_8 - a_10);
-            float mid = 0.5 * (b_8 + a_10);
+            float half_3 = 0.5 * (b_8 - a_12);
+            float mid = 0.5 * (b_8 + a_12);
             w = mid + (half_3 * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_equiangular_2_sin_cos(0.5 * _e100);
@@ -795,7 +832,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -806,11 +843,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_3, ci_1);
-            float _e163 = d_4;
-            float _e164 = d_4;
+            float _e160 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156)), co_3, ci_1);
+            float _e163 = d_5;
+            float _e164 = d_5;
             float _e169 = st_2;
-            sum_3 = _e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
+            sum_3 = _e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_7) * _e169));
             w = mid + (half_3 * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_equiangular_2_sin_cos(0.5 * _e177);
@@ -819,7 +856,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -830,11 +867,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_3, ci_1);
-            float _e240 = d_4;
-            float _e241 = d_4;
+            float _e237 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233)), co_3, ci_1);
+            float _e240 = d_5;
+            float _e241 = d_5;
             float _e246 = st_2;
-            sum_3 = _e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
+            sum_3 = _e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_7) * _e246));
             w = mid + (half_3 * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_equiangular_2_sin_cos(0.5 * _e254);
@@ -843,7 +880,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -854,11 +891,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_3, ci_1);
-            float _e317 = d_4;
-            float _e318 = d_4;
+            float _e314 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310)), co_3, ci_1);
+            float _e317 = d_5;
+            float _e318 = d_5;
             float _e323 = st_2;
-            sum_3 = _e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
+            sum_3 = _e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_7) * _e323));
             w = mid + (half_3 * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_equiangular_2_sin_cos(0.5 * _e331);
@@ -867,7 +904,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -878,11 +915,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_3, ci_1);
-            float _e394 = d_4;
-            float _e395 = d_4;
+            float _e391 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387)), co_3, ci_1);
+            float _e394 = d_5;
+            float _e395 = d_5;
             float _e400 = st_2;
-            sum_3 = _e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
+            sum_3 = _e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_7) * _e400));
             w = mid + (half_3 * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_equiangular_2_sin_cos(0.5 * _e408);
@@ -891,7 +928,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -902,11 +939,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_3, ci_1);
-            float _e471 = d_4;
-            float _e472 = d_4;
+            float _e468 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464)), co_3, ci_1);
+            float _e471 = d_5;
+            float _e472 = d_5;
             float _e477 = st_2;
-            sum_3 = _e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
+            sum_3 = _e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_7) * _e477));
             w = mid + (half_3 * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_equiangular_2_sin_cos(0.5 * _e485);
@@ -915,7 +952,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -926,11 +963,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_3, ci_1);
-            float _e548 = d_4;
-            float _e549 = d_4;
+            float _e545 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541)), co_3, ci_1);
+            float _e548 = d_5;
+            float _e549 = d_5;
             float _e554 = st_2;
-            sum_3 = _e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
+            sum_3 = _e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_7) * _e554));
             w = mid + (half_3 * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_equiangular_2_sin_cos(0.5 * _e562);
@@ -939,7 +976,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -950,11 +987,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_3, ci_1);
-            float _e625 = d_4;
-            float _e626 = d_4;
+            float _e622 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618)), co_3, ci_1);
+            float _e625 = d_5;
+            float _e626 = d_5;
             float _e631 = st_2;
-            sum_3 = _e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
+            sum_3 = _e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_7) * _e631));
             w = mid + (half_3 * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_equiangular_2_sin_cos(0.5 * _e639);
@@ -963,7 +1000,7 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_4 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649));
+            d_5 = (g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st_2 = metal::max(x0_6 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -974,11 +1011,11 @@ metal::float3 airlight_equiangular_2_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_3, ci_1);
-            float _e702 = d_4;
-            float _e703 = d_4;
+            float _e699 = airlight_equiangular_2_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695)), co_3, ci_1);
+            float _e702 = d_5;
+            float _e703 = d_5;
             float _e708 = st_2;
-            sum_3 = _e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
+            sum_3 = _e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_7) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -994,9 +1031,9 @@ metal::float3 airlight_equiangular_2_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
+    float intensity_3,
     metal::float3 sigma_t_1,
-    metal::float3 sigma_s_2,
+    metal::float3 sigma_s_3,
     float g_6
 ) {
     bool local_14 = {};
@@ -1019,7 +1056,7 @@ metal::float3 airlight_equiangular_2_spot(
     bool local_19 = {};
     bool local_20 = {};
     bool local_21 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    metal::float3 a_7 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e11 = airlight_equiangular_2_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -1057,16 +1094,16 @@ metal::float3 airlight_equiangular_2_spot(
     }
     metal::float3 _e57 = ax;
     metal::float3 _e58 = n;
-    float k_2 = metal::dot(_e57, _e58);
+    float k_4 = metal::dot(_e57, _e58);
     if (_e11.x <= 0.0) {
-        float _e65 = airlight_equiangular_2_spot_weight(k_2, co_4, cos_inner);
+        float _e65 = airlight_equiangular_2_spot_weight(k_4, co_4, cos_inner);
         scale = point ? 1.0 : _e65;
         float _e69 = scale;
-        float _e73 = airlight_equiangular_2_scaled(sigma_s_2.x, intensity_2 * _e69, 1.0, airlight_equiangular_2_HUGE);
+        float _e73 = airlight_equiangular_2_scaled(sigma_s_3.x, intensity_3 * _e69, 1.0, airlight_equiangular_2_HUGE);
         float _e75 = scale;
-        float _e79 = airlight_equiangular_2_scaled(sigma_s_2.y, intensity_2 * _e75, 1.0, airlight_equiangular_2_HUGE);
+        float _e79 = airlight_equiangular_2_scaled(sigma_s_3.y, intensity_3 * _e75, 1.0, airlight_equiangular_2_HUGE);
         float _e81 = scale;
-        float _e85 = airlight_equiangular_2_scaled(sigma_s_2.z, intensity_2 * _e81, 1.0, airlight_equiangular_2_HUGE);
+        float _e85 = airlight_equiangular_2_scaled(sigma_s_3.z, intensity_3 * _e81, 1.0, airlight_equiangular_2_HUGE);
         return metal::float3(_e73, _e79, _e85);
     }
     if (_e11.y <= 0.0) {
@@ -1078,17 +1115,17 @@ metal::float3 airlight_equiangular_2_spot(
     if (_e96) {
         return metal::float3(0.0);
     }
-    float d_5 = _e11.x;
+    float d_6 = _e11.x;
     float h_8 = _e11.y;
     float x0_8 = _e11.z;
     if (surface_1 >= 0.0) {
-        local_18 = (surface_1 / d_5) < airlight_equiangular_2_RHO_OPEN;
+        local_18 = (surface_1 / d_6) < airlight_equiangular_2_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end_1 = local_18;
-    float rho_9 = has_end_1 ? (surface_1 / d_5) : -1.0;
-    metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_9 = has_end_1 ? (surface_1 / d_6) : -1.0;
+    metal::float3 tau_10 = metal::min(metal::max(sigma_t_1 * d_6, metal::float3(0.0)), metal::float3(10000.0));
     float gg = metal::clamp(g_6, -0.999, 0.999);
     float _e143 = airlight_equiangular_2_arctan2_(h_8, x0_8);
     if (!(point)) {
@@ -1105,8 +1142,8 @@ metal::float3 airlight_equiangular_2_spot(
     bool _e157 = local_20;
     if (_e157) {
         if (!(point)) {
-            float _e160 = airlight_equiangular_2_spot_weight(-(k_2), co_4, cos_inner);
-            float _e161 = airlight_equiangular_2_spot_weight(k_2, co_4, cos_inner);
+            float _e160 = airlight_equiangular_2_spot_weight(-(k_4), co_4, cos_inner);
+            float _e161 = airlight_equiangular_2_spot_weight(k_4, co_4, cos_inner);
             if (has_end_1) {
                 local_21 = rho_9 < 1.0;
             } else {
@@ -1126,9 +1163,9 @@ metal::float3 airlight_equiangular_2_spot(
         ca_1 = metal::dot(cr, metal::cross(_e180, _e181)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_4 = metal::sqrt((_e188 * _e189) + (k_2 * k_2));
+        float r_4 = metal::sqrt((_e188 * _e189) + (k_4 * k_4));
         float _e194 = ca_1;
-        float _e195 = airlight_equiangular_2_arctan2_(k_2, _e194);
+        float _e195 = airlight_equiangular_2_arctan2_(k_4, _e194);
         gam_2 = _e143;
         float _e198 = airlight_equiangular_2_arctan2_(h_8, x0_8 - rho_9);
         om_e_1 = has_end_1 ? _e198 : airlight_equiangular_2_PI;
@@ -1174,8 +1211,8 @@ metal::float3 airlight_equiangular_2_spot(
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        metal::float3 _e251 = airlight_equiangular_2_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
-        a_5 = _e251;
+        metal::float3 _e251 = airlight_equiangular_2_spot_core(tau_10, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        a_7 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1198,24 +1235,24 @@ metal::float3 airlight_equiangular_2_spot(
             int _e261 = j_1;
             metal::float2 piece = (_e261 == 1) ? _e259.zw : _e257.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e268 = a_5;
+                metal::float3 _e268 = a_7;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                metal::float3 _e274 = airlight_equiangular_2_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
-                a_5 = _e268 + _e274;
+                metal::float3 _e274 = airlight_equiangular_2_spot_edge(tau_10, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_4, cos_inner, gg);
+                a_7 = _e268 + _e274;
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_5.x;
-    float _e284 = airlight_equiangular_2_scaled(sigma_s_2.x, intensity_2 * _e280, d_5, _e283);
+    float _e283 = a_7.x;
+    float _e284 = airlight_equiangular_2_scaled(sigma_s_3.x, intensity_3 * _e280, d_6, _e283);
     float _e286 = scale;
-    float _e289 = a_5.y;
-    float _e290 = airlight_equiangular_2_scaled(sigma_s_2.y, intensity_2 * _e286, d_5, _e289);
+    float _e289 = a_7.y;
+    float _e290 = airlight_equiangular_2_scaled(sigma_s_3.y, intensity_3 * _e286, d_6, _e289);
     float _e292 = scale;
-    float _e295 = a_5.z;
-    float _e296 = airlight_equiangular_2_scaled(sigma_s_2.z, intensity_2 * _e292, d_5, _e295);
+    float _e295 = a_7.z;
+    float _e296 = airlight_equiangular_2_scaled(sigma_s_3.z, intensity_3 * _e292, d_6, _e295);
     return metal::float3(_e284, _e290, _e296);
 }
 
@@ -1326,33 +1363,33 @@ metal::float3 airlight_equiangular_2_shafts_step(
 }
 
 metal::float4 airlight_equiangular_2_shafts_moved(
-    float a_6,
+    float a_8,
     float b_5,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_equiangular_2_max_abs(dir_3);
     metal::float3 u_2 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_6 * (u_2 / metal::float3(metal::length(u_2)))), (b_5 >= 0.0) ? metal::max(b_5 - a_6, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_8 * (u_2 / metal::float3(metal::length(u_2)))), (b_5 >= 0.0) ? metal::max(b_5 - a_8, 0.0) : -1.0);
 }
 
 float airlight_equiangular_2_shafts_run(
-    float a_7,
+    float a_9,
     float b_6,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
     metal::float3 light_3,
-    float intensity_3,
+    float intensity_4,
     float sigma_t_2,
-    float sigma_s_3,
+    float sigma_s_4,
     float g_7
 ) {
     bool local_23 = {};
     bool local_24 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_24 = b_6 <= a_7;
+            local_24 = b_6 <= a_9;
         } else {
             local_24 = false;
         }
@@ -1365,14 +1402,14 @@ float airlight_equiangular_2_shafts_run(
     if (_e24) {
         return 0.0;
     }
-    metal::float4 _e26 = airlight_equiangular_2_shafts_moved(a_7, b_6, origin_4, dir_4);
+    metal::float4 _e26 = airlight_equiangular_2_shafts_moved(a_9, b_6, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
     float len = _e26.w;
-    float _e29 = airlight_equiangular_2_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    float _e29 = airlight_equiangular_2_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if (_e29 >= airlight_equiangular_2_HUGE) {
         return _e29;
     }
-    return (w_1 * metal::exp(-(sigma_t_2) * a_7)) * _e29;
+    return (w_1 * metal::exp(-(sigma_t_2) * a_9)) * _e29;
 }
 
 void airlight_equiangular_2_shafts_flush(
@@ -1380,9 +1417,9 @@ void airlight_equiangular_2_shafts_flush(
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
-    float intensity_4,
+    float intensity_5,
     float sigma_t_3,
-    float sigma_s_4,
+    float sigma_s_5,
     float g_8
 ) {
     uint j_2 = 0u;
@@ -1406,7 +1443,7 @@ void airlight_equiangular_2_shafts_flush(
             uint _e15 = j_2;
             metal::float3 r_5 = acc_6.runs.inner[_e15];
             float _e22 = acc_6.sum[0];
-            float _e26 = airlight_equiangular_2_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            float _e26 = airlight_equiangular_2_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
             acc_6.sum[0] = metal::min(_e22 + _e26, airlight_equiangular_2_HUGE);
         }
     }
@@ -1421,16 +1458,16 @@ void airlight_equiangular_2_shafts_push(
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
-    float intensity_5,
+    float intensity_6,
     float sigma_t_4,
-    float sigma_s_5,
+    float sigma_s_6,
     float g_9
 ) {
     metal::float3 _e10 = airlight_equiangular_2_shafts_step(acc_7, s_1, v_4);
     airlight_equiangular_2_shafts_hold(acc_7, _e10);
     uint _e12 = acc_7.count;
     if (_e12 == airlight_equiangular_2_SHAFTS_RUNS) {
-        airlight_equiangular_2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+        airlight_equiangular_2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_9);
         return;
     } else {
         return;
@@ -1443,27 +1480,27 @@ float airlight_equiangular_2_shafts_finish(
     metal::float3 origin_7,
     metal::float3 dir_7,
     metal::float3 light_6,
-    float intensity_6,
+    float intensity_7,
     float sigma_t_5,
-    float sigma_s_6,
+    float sigma_s_7,
     float g_10
 ) {
     airlight_equiangular_2_Shafts acc_8 = {};
     acc_8 = acc_in;
     metal::float3 _e10 = airlight_equiangular_2_shafts_place(acc_8);
     airlight_equiangular_2_shafts_hold(acc_8, _e10);
-    airlight_equiangular_2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    airlight_equiangular_2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
     float w_3 = (_e14 < 0.0) ? 1.0 : _e12;
     float _e21 = acc_8.sum[0];
     float _e23 = acc_8.start;
-    float _e24 = airlight_equiangular_2_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    float _e24 = airlight_equiangular_2_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return metal::min(_e21 + _e24, airlight_equiangular_2_HUGE);
 }
 
 metal::float3 airlight_equiangular_2_shafts_run_spot(
-    float a_8,
+    float a_10,
     float b_7,
     float w_2,
     metal::float3 origin_8,
@@ -1472,16 +1509,16 @@ metal::float3 airlight_equiangular_2_shafts_run_spot(
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_7,
+    float intensity_8,
     metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7,
+    metal::float3 sigma_s_8,
     float g_11
 ) {
     bool local_25 = {};
     bool local_26 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_7 >= 0.0) {
-            local_26 = b_7 <= a_8;
+            local_26 = b_7 <= a_10;
         } else {
             local_26 = false;
         }
@@ -1494,11 +1531,11 @@ metal::float3 airlight_equiangular_2_shafts_run_spot(
     if (_e27) {
         return metal::float3(0.0);
     }
-    metal::float4 _e30 = airlight_equiangular_2_shafts_moved(a_8, b_7, origin_8, dir_8);
+    metal::float4 _e30 = airlight_equiangular_2_shafts_moved(a_10, b_7, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
     float len_1 = _e30.w;
-    metal::float3 _e33 = airlight_equiangular_2_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
-    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_8)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e33 = airlight_equiangular_2_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_10)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_equiangular_2_shafts_flush_spot(
@@ -1509,9 +1546,9 @@ void airlight_equiangular_2_shafts_flush_spot(
     metal::float3 axis_2,
     float cos_outer_2,
     float cos_inner_2,
-    float intensity_8,
+    float intensity_9,
     metal::float3 sigma_t_7,
-    metal::float3 sigma_s_8,
+    metal::float3 sigma_s_9,
     float g_12
 ) {
     uint j_3 = 0u;
@@ -1535,7 +1572,7 @@ void airlight_equiangular_2_shafts_flush_spot(
             uint _e18 = j_3;
             metal::float3 r_6 = acc_9.runs.inner[_e18];
             metal::float3 _e23 = acc_9.sum;
-            metal::float3 _e27 = airlight_equiangular_2_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            metal::float3 _e27 = airlight_equiangular_2_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
             acc_9.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
@@ -1553,16 +1590,16 @@ void airlight_equiangular_2_shafts_push_spot(
     metal::float3 axis_3,
     float cos_outer_3,
     float cos_inner_3,
-    float intensity_9,
+    float intensity_10,
     metal::float3 sigma_t_8,
-    metal::float3 sigma_s_9,
+    metal::float3 sigma_s_10,
     float g_13
 ) {
     metal::float3 _e13 = airlight_equiangular_2_shafts_step(acc_10, s_2, v_5);
     airlight_equiangular_2_shafts_hold(acc_10, _e13);
     uint _e15 = acc_10.count;
     if (_e15 == airlight_equiangular_2_SHAFTS_RUNS) {
-        airlight_equiangular_2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_13);
+        airlight_equiangular_2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_13);
         return;
     } else {
         return;
@@ -1578,22 +1615,22 @@ metal::float3 airlight_equiangular_2_shafts_finish_spot(
     metal::float3 axis_4,
     float cos_outer_4,
     float cos_inner_4,
-    float intensity_10,
+    float intensity_11,
     metal::float3 sigma_t_9,
-    metal::float3 sigma_s_10,
+    metal::float3 sigma_s_11,
     float g_14
 ) {
     airlight_equiangular_2_Shafts acc_11 = {};
     acc_11 = acc_in_1;
     metal::float3 _e13 = airlight_equiangular_2_shafts_place(acc_11);
     airlight_equiangular_2_shafts_hold(acc_11, _e13);
-    airlight_equiangular_2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    airlight_equiangular_2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
     float w_4 = (_e17 < 0.0) ? 1.0 : _e15;
     metal::float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    metal::float3 _e26 = airlight_equiangular_2_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    metal::float3 _e26 = airlight_equiangular_2_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_EQUIANGULAR_2_MSL_INCLUDED

@@ -50,6 +50,8 @@ constant float airlight_lite_iso_2_FRAC_PI_2_ = 1.5707964;
 constant float airlight_lite_iso_2_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_lite_iso_2_RHO_OPEN = 4294967300.0;
 constant float airlight_lite_iso_2_TAU_MAX = 10000.0;
+constant float airlight_lite_iso_2_LN2_HI = 0.69314575;
+constant float airlight_lite_iso_2_LN2_LO = 0.0000014286068;
 constant uint airlight_lite_iso_2_SHAFTS_RUNS = 32u;
 
 float airlight_lite_iso_2_foot(
@@ -114,8 +116,36 @@ metal::float3 airlight_lite_iso_2_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_lite_iso_2_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_lite_iso_2_naga_div(k, 2)))));
 }
 
+int airlight_lite_iso_2_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_lite_iso_2_exp_neg_k(
+    float tau
+) {
+    return airlight_lite_iso_2_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_lite_iso_2_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_lite_iso_2_LN2_HI)) - (kf * airlight_lite_iso_2_LN2_LO))));
+}
+
 int airlight_lite_iso_2_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_lite_iso_2_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_lite_iso_2_exp_neg_k(tau_2);
+    float _e3 = airlight_lite_iso_2_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_lite_iso_2_scale2_(metal::float3(a_4 * _e3), airlight_lite_iso_2_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_lite_iso_2_ray_geometry(
@@ -178,11 +208,12 @@ metal::float3 airlight_lite_iso_2_ray_geometry(
     return metal::float3(metal::min(dist, airlight_lite_iso_2_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
-float airlight_lite_iso_2_scaled(
+float airlight_lite_iso_2_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -191,25 +222,25 @@ float airlight_lite_iso_2_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_lite_iso_2_HUGE) {
+    if (a_5 >= airlight_lite_iso_2_HUGE) {
         return airlight_lite_iso_2_HUGE;
     }
     airlight_lite_iso_2_frexp_result_f32_ s_4 = airlight_lite_iso_2_naga_frexp(sigma_s);
     airlight_lite_iso_2_frexp_result_f32_ i_1 = airlight_lite_iso_2_naga_frexp(intensity);
-    airlight_lite_iso_2_frexp_result_f32_ q = airlight_lite_iso_2_naga_frexp(a_4);
+    airlight_lite_iso_2_frexp_result_f32_ q = airlight_lite_iso_2_naga_frexp(a_5);
     airlight_lite_iso_2_frexp_result_f32_ r_3 = airlight_lite_iso_2_naga_frexp(d_1);
     airlight_lite_iso_2_frexp_result_f32_ m_1 = airlight_lite_iso_2_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_3.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_lite_iso_2_HUGE;
     }
@@ -219,20 +250,30 @@ float airlight_lite_iso_2_scaled(
     return metal::ldexp(m_1.fract, e);
 }
 
+float airlight_lite_iso_2_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_lite_iso_2_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_lite_iso_2_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_9 = metal::abs(x);
-    r = a_9;
-    if (a_9 > 2.4142137) {
+    float a_11 = metal::abs(x);
+    r = a_11;
+    if (a_11 > 2.4142137) {
         y0_ = airlight_lite_iso_2_FRAC_PI_2_;
-        r = -1.0 / a_9;
+        r = -1.0 / a_11;
     } else {
-        if (a_9 > 0.41421357) {
+        if (a_11 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_9 - 1.0) / (a_9 + 1.0);
+            r = (a_11 - 1.0) / (a_11 + 1.0);
         }
     }
     float _e18 = r;
@@ -275,10 +316,6 @@ metal::float2 airlight_lite_iso_2_sin_cos_octant(
     return metal::float2(s_5, c_3);
 }
 
-int airlight_lite_iso_2_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
-}
-
 metal::float2 airlight_lite_iso_2_sin_cos(
     float x_3
 ) {
@@ -318,7 +355,7 @@ float airlight_lite_iso_2_e2_over(
 ) {
     float n1_ = 0.0;
     float n2_ = 0.0;
-    float d_2 = 0.0;
+    float d_3 = 0.0;
     float x_5 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
     float l = x_5 * metal::log((1.0 + x_5) / x_5);
     float _e16 = n1_;
@@ -331,17 +368,17 @@ float airlight_lite_iso_2_e2_over(
     n2_ = (_e28 + 3.0385017) * x_5;
     float _e32 = n2_;
     n2_ = (_e32 + 0.5760694) * x_5;
-    float _e36 = d_2;
-    d_2 = (_e36 + 0.86534345) * x_5;
-    float _e40 = d_2;
-    d_2 = (_e40 + 5.9773254) * x_5;
-    float _e44 = d_2;
-    d_2 = (_e44 + 8.315555) * x_5;
-    float _e48 = d_2;
-    d_2 = (_e48 + 0.0) * x_5;
+    float _e36 = d_3;
+    d_3 = (_e36 + 0.86534345) * x_5;
+    float _e40 = d_3;
+    d_3 = (_e40 + 5.9773254) * x_5;
+    float _e44 = d_3;
+    d_3 = (_e44 + 8.315555) * x_5;
+    float _e48 = d_3;
+    d_3 = (_e48 + 0.0) * x_5;
     float _e52 = n1_;
     float _e55 = n2_;
-    float _e60 = d_2;
+    float _e60 = d_3;
     return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
@@ -361,7 +398,7 @@ float airlight_lite_iso_2_airlight_geometry(
     float v_2 = {};
     float r_1 = {};
     float u = {};
-    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_lite_iso_2_TAU_MAX);
+    float tau_8 = metal::min(metal::max(tau_in, 0.0), airlight_lite_iso_2_TAU_MAX);
     if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
     } else {
@@ -376,7 +413,7 @@ float airlight_lite_iso_2_airlight_geometry(
         }
         bool _e24 = local_5;
         if (_e24) {
-            return metal::min(((0.07957747 * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_lite_iso_2_HUGE);
+            return metal::min(((0.07957747 * metal::exp(-(tau_8))) * rho_1) / (1.0 - rho_1), airlight_lite_iso_2_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_lite_iso_2_HUGE;
@@ -404,7 +441,7 @@ float airlight_lite_iso_2_airlight_geometry(
     }
     float _e106 = du;
     float ub = ua + _e106;
-    float t = tau_5 * tb;
+    float t = tau_8 * tb;
     float m_2 = 1.0 + ua;
     float lam = m_2 / (1.0 + ((0.37160924 * t) * m_2));
     float _e117 = du;
@@ -453,22 +490,25 @@ float airlight_lite_iso_2_airlight_geometry(
     float _e242 = nodes;
     sum = _e241 + ((_e242 * sb_1) * lam);
     if (tb < 0.0000000000000000008673617) {
-        float _e248 = sum;
-        float _e256 = airlight_lite_iso_2_scaled(0.15915494 * metal::max(_e248, 0.0), metal::exp(-(tau_5)), tb, 1.0);
-        return _e256;
+        int _e248 = airlight_lite_iso_2_exp_neg_k(tau_8);
+        float _e249 = sum;
+        float _e254 = airlight_lite_iso_2_exp_neg_m(tau_8, _e248);
+        float _e257 = airlight_lite_iso_2_scaled_pow2_(0.15915494 * metal::max(_e249, 0.0), _e254, tb, 1.0, airlight_lite_iso_2_naga_neg(_e248));
+        return _e257;
     }
-    float _e261 = sum;
-    return metal::min(metal::max((0.15915494 * metal::exp(-(tau_5))) * (_e261 / tb), 0.0), airlight_lite_iso_2_HUGE);
+    float _e258 = sum;
+    float _e260 = airlight_lite_iso_2_mul_exp_neg(_e258 / tb, tau_8);
+    return metal::min(metal::max(0.15915494 * _e260, 0.0), airlight_lite_iso_2_HUGE);
 }
 
 float airlight_lite_iso_2_airlight(
-    float tau,
+    float tau_3,
     float gamma,
     float rho_2
 ) {
     metal::float2 _e6 = airlight_lite_iso_2_sin_cos(metal::clamp(gamma, 0.0, airlight_lite_iso_2_PI));
     float _e13 = airlight_lite_iso_2_foot(metal::abs(_e6.x), _e6.y, rho_2);
-    float _e14 = airlight_lite_iso_2_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    float _e14 = airlight_lite_iso_2_airlight_geometry(tau_3, metal::abs(_e6.x), _e6.y, rho_2, _e13);
     return _e14;
 }
 
@@ -477,14 +517,14 @@ float airlight_lite_iso_2_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1
+    float sigma_s_2
 ) {
     bool local_7 = {};
     metal::float3 _e7 = airlight_lite_iso_2_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
-        float _e13 = airlight_lite_iso_2_scaled(sigma_s_1, intensity_1, 1.0, airlight_lite_iso_2_HUGE);
+        float _e13 = airlight_lite_iso_2_scaled(sigma_s_2, intensity_2, 1.0, airlight_lite_iso_2_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
@@ -499,33 +539,33 @@ float airlight_lite_iso_2_radiance(
     float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
     float _e38 = airlight_lite_iso_2_foot(_e7.y, _e7.z, rho_7);
     float _e39 = airlight_lite_iso_2_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7, _e38);
-    float _e40 = airlight_lite_iso_2_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    float _e40 = airlight_lite_iso_2_scaled(sigma_s_2, intensity_2, _e7.x, _e39);
     return _e40;
 }
 
 float airlight_lite_iso_2_along(
-    float tau_1,
+    float tau_4,
     float h_2,
     float x0_2,
     float rho_3,
     float xr_1,
     float g
 ) {
-    float _e6 = airlight_lite_iso_2_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    float _e6 = airlight_lite_iso_2_airlight_geometry(tau_4, h_2, x0_2, rho_3, xr_1);
     return _e6;
 }
 
 metal::float3 airlight_lite_iso_2_along_rgb(
-    metal::float3 tau_2,
+    metal::float3 tau_5,
     float h_3,
     float x0_3,
     float rho_4,
     float xr_2,
     float g_1
 ) {
-    float _e7 = airlight_lite_iso_2_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
-    float _e9 = airlight_lite_iso_2_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
-    float _e11 = airlight_lite_iso_2_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e7 = airlight_lite_iso_2_along(tau_5.x, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_lite_iso_2_along(tau_5.y, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_lite_iso_2_along(tau_5.z, h_3, x0_3, rho_4, xr_2, g_1);
     return metal::float3(_e7, _e9, _e11);
 }
 
@@ -538,7 +578,7 @@ float airlight_lite_iso_2_spot_asin(
 }
 
 metal::float3 airlight_lite_iso_2_spot_core(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_4,
     float x0_4,
     float rho_5,
@@ -598,10 +638,10 @@ metal::float3 airlight_lite_iso_2_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_lite_iso_2_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2);
+    metal::float3 _e70 = airlight_lite_iso_2_along_rgb(tau_6 * _e64, _e66, _e67, _e68, _e69, g_2);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_6) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_lite_iso_2_spot_weight(
@@ -616,7 +656,7 @@ float airlight_lite_iso_2_spot_weight(
 }
 
 metal::float3 airlight_lite_iso_2_spot_edge(
-    metal::float3 tau_4,
+    metal::float3 tau_7,
     float h_5,
     float x0_5,
     float rho_6,
@@ -625,7 +665,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
     float u_1,
     float v_in,
     float ca,
-    float k_1,
+    float k_3,
     float co_1,
     float ci_1,
     float g_3
@@ -635,7 +675,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
     metal::float3 sum_1 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_3 = {};
+    float d_4 = {};
     float st = {};
     int i = 0;
     if (!((v_in > u_1))) {
@@ -643,11 +683,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
     }
     metal::float2 _e17 = airlight_lite_iso_2_sin_cos(u_1);
     metal::float2 _e18 = airlight_lite_iso_2_sin_cos(v_in);
-    float _e24 = airlight_lite_iso_2_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
-    float _e30 = airlight_lite_iso_2_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
+    float _e24 = airlight_lite_iso_2_spot_weight((ca * _e17.x) - (k_3 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_lite_iso_2_spot_weight((ca * _e18.x) - (k_3 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_lite_iso_2_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
+        metal::float3 _e39 = airlight_lite_iso_2_spot_core(tau_7, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -674,12 +714,12 @@ metal::float3 airlight_lite_iso_2_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_10 = u_1 + ((v_in - u_1) * _e80);
+            float a_12 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_6 = u_1 + ((v_in - u_1) * _e88);
-            float half_ = 0.5 * (b_6 - a_10);
-            float mid = 0.5 * (b_6 + a_10);
+            float half_ = 0.5 * (b_6 - a_12);
+            float mid = 0.5 * (b_6 + a_12);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_lite_iso_2_sin_cos(0.5 * _e100);
@@ -688,7 +728,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -699,11 +739,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
-            float _e163 = d_3;
-            float _e164 = d_3;
+            float _e160 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_4;
+            float _e164 = d_4;
             float _e169 = st;
-            sum_1 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
+            sum_1 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_7) * _e169));
             w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_lite_iso_2_sin_cos(0.5 * _e177);
@@ -712,7 +752,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -723,11 +763,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
-            float _e240 = d_3;
-            float _e241 = d_3;
+            float _e237 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_4;
+            float _e241 = d_4;
             float _e246 = st;
-            sum_1 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
+            sum_1 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_7) * _e246));
             w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_lite_iso_2_sin_cos(0.5 * _e254);
@@ -736,7 +776,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -747,11 +787,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
-            float _e317 = d_3;
-            float _e318 = d_3;
+            float _e314 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_4;
+            float _e318 = d_4;
             float _e323 = st;
-            sum_1 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
+            sum_1 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_7) * _e323));
             w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_lite_iso_2_sin_cos(0.5 * _e331);
@@ -760,7 +800,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -771,11 +811,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
-            float _e394 = d_3;
-            float _e395 = d_3;
+            float _e391 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_4;
+            float _e395 = d_4;
             float _e400 = st;
-            sum_1 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
+            sum_1 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_7) * _e400));
             w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_lite_iso_2_sin_cos(0.5 * _e408);
@@ -784,7 +824,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -795,11 +835,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
-            float _e471 = d_3;
-            float _e472 = d_3;
+            float _e468 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_4;
+            float _e472 = d_4;
             float _e477 = st;
-            sum_1 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
+            sum_1 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_7) * _e477));
             w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_lite_iso_2_sin_cos(0.5 * _e485);
@@ -808,7 +848,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -819,11 +859,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
-            float _e548 = d_3;
-            float _e549 = d_3;
+            float _e545 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_4;
+            float _e549 = d_4;
             float _e554 = st;
-            sum_1 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
+            sum_1 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_7) * _e554));
             w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_lite_iso_2_sin_cos(0.5 * _e562);
@@ -832,7 +872,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -843,11 +883,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
-            float _e625 = d_3;
-            float _e626 = d_3;
+            float _e622 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_4;
+            float _e626 = d_4;
             float _e631 = st;
-            sum_1 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
+            sum_1 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_7) * _e631));
             w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_lite_iso_2_sin_cos(0.5 * _e639);
@@ -856,7 +896,7 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -867,11 +907,11 @@ metal::float3 airlight_lite_iso_2_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
-            float _e702 = d_3;
-            float _e703 = d_3;
+            float _e699 = airlight_lite_iso_2_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_4;
+            float _e703 = d_4;
             float _e708 = st;
-            sum_1 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
+            sum_1 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_7) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -887,9 +927,9 @@ metal::float3 airlight_lite_iso_2_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
+    float intensity_3,
     metal::float3 sigma_t_1,
-    metal::float3 sigma_s_2
+    metal::float3 sigma_s_3
 ) {
     bool local_9 = {};
     bool local_10 = {};
@@ -911,7 +951,7 @@ metal::float3 airlight_lite_iso_2_spot(
     bool local_14 = {};
     bool local_15 = {};
     bool local_16 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    metal::float3 a_7 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_lite_iso_2_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -949,16 +989,16 @@ metal::float3 airlight_lite_iso_2_spot(
     }
     metal::float3 _e56 = ax;
     metal::float3 _e57 = n;
-    float k_2 = metal::dot(_e56, _e57);
+    float k_4 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_lite_iso_2_spot_weight(k_2, co_2, cos_inner);
+        float _e64 = airlight_lite_iso_2_spot_weight(k_4, co_2, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
-        float _e72 = airlight_lite_iso_2_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_lite_iso_2_HUGE);
+        float _e72 = airlight_lite_iso_2_scaled(sigma_s_3.x, intensity_3 * _e68, 1.0, airlight_lite_iso_2_HUGE);
         float _e74 = scale;
-        float _e78 = airlight_lite_iso_2_scaled(sigma_s_2.y, intensity_2 * _e74, 1.0, airlight_lite_iso_2_HUGE);
+        float _e78 = airlight_lite_iso_2_scaled(sigma_s_3.y, intensity_3 * _e74, 1.0, airlight_lite_iso_2_HUGE);
         float _e80 = scale;
-        float _e84 = airlight_lite_iso_2_scaled(sigma_s_2.z, intensity_2 * _e80, 1.0, airlight_lite_iso_2_HUGE);
+        float _e84 = airlight_lite_iso_2_scaled(sigma_s_3.z, intensity_3 * _e80, 1.0, airlight_lite_iso_2_HUGE);
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
@@ -970,17 +1010,17 @@ metal::float3 airlight_lite_iso_2_spot(
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_4 = _e10.x;
+    float d_5 = _e10.x;
     float h_6 = _e10.y;
     float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_4) < airlight_lite_iso_2_RHO_OPEN;
+        local_13 = (surface_1 / d_5) < airlight_lite_iso_2_RHO_OPEN;
     } else {
         local_13 = false;
     }
     bool has_end = local_13;
-    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_8 = has_end ? (surface_1 / d_5) : -1.0;
+    metal::float3 tau_9 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
     float _e140 = airlight_lite_iso_2_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_14 = h_6 <= 0.0;
@@ -996,8 +1036,8 @@ metal::float3 airlight_lite_iso_2_spot(
     bool _e154 = local_15;
     if (_e154) {
         if (!(point)) {
-            float _e157 = airlight_lite_iso_2_spot_weight(-(k_2), co_2, cos_inner);
-            float _e158 = airlight_lite_iso_2_spot_weight(k_2, co_2, cos_inner);
+            float _e157 = airlight_lite_iso_2_spot_weight(-(k_4), co_2, cos_inner);
+            float _e158 = airlight_lite_iso_2_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_16 = rho_8 < 1.0;
             } else {
@@ -1017,9 +1057,9 @@ metal::float3 airlight_lite_iso_2_spot(
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_5 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
+        float r_5 = metal::sqrt((_e185 * _e186) + (k_4 * k_4));
         float _e191 = ca_1;
-        float _e192 = airlight_lite_iso_2_arctan2_(k_2, _e191);
+        float _e192 = airlight_lite_iso_2_arctan2_(k_4, _e191);
         gam_2 = _e140;
         float _e195 = airlight_lite_iso_2_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_lite_iso_2_PI;
@@ -1065,8 +1105,8 @@ metal::float3 airlight_lite_iso_2_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_lite_iso_2_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
-        a_5 = _e248;
+        metal::float3 _e248 = airlight_lite_iso_2_spot_core(tau_9, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_7 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1089,24 +1129,24 @@ metal::float3 airlight_lite_iso_2_spot(
             int _e258 = j_1;
             metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e265 = a_5;
+                metal::float3 _e265 = a_7;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_lite_iso_2_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
-                a_5 = _e265 + _e271;
+                metal::float3 _e271 = airlight_lite_iso_2_spot_edge(tau_9, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
+                a_7 = _e265 + _e271;
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_5.x;
-    float _e281 = airlight_lite_iso_2_scaled(sigma_s_2.x, intensity_2 * _e277, d_4, _e280);
+    float _e280 = a_7.x;
+    float _e281 = airlight_lite_iso_2_scaled(sigma_s_3.x, intensity_3 * _e277, d_5, _e280);
     float _e283 = scale;
-    float _e286 = a_5.y;
-    float _e287 = airlight_lite_iso_2_scaled(sigma_s_2.y, intensity_2 * _e283, d_4, _e286);
+    float _e286 = a_7.y;
+    float _e287 = airlight_lite_iso_2_scaled(sigma_s_3.y, intensity_3 * _e283, d_5, _e286);
     float _e289 = scale;
-    float _e292 = a_5.z;
-    float _e293 = airlight_lite_iso_2_scaled(sigma_s_2.z, intensity_2 * _e289, d_4, _e292);
+    float _e292 = a_7.z;
+    float _e293 = airlight_lite_iso_2_scaled(sigma_s_3.z, intensity_3 * _e289, d_5, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 
@@ -1217,32 +1257,32 @@ metal::float3 airlight_lite_iso_2_shafts_step(
 }
 
 metal::float4 airlight_lite_iso_2_shafts_moved(
-    float a_6,
+    float a_8,
     float b_3,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_lite_iso_2_max_abs(dir_3);
     metal::float3 u_2 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_6 * (u_2 / metal::float3(metal::length(u_2)))), (b_3 >= 0.0) ? metal::max(b_3 - a_6, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_8 * (u_2 / metal::float3(metal::length(u_2)))), (b_3 >= 0.0) ? metal::max(b_3 - a_8, 0.0) : -1.0);
 }
 
 float airlight_lite_iso_2_shafts_run(
-    float a_7,
+    float a_9,
     float b_4,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
     metal::float3 light_3,
-    float intensity_3,
+    float intensity_4,
     float sigma_t_2,
-    float sigma_s_3
+    float sigma_s_4
 ) {
     bool local_18 = {};
     bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_4 >= 0.0) {
-            local_19 = b_4 <= a_7;
+            local_19 = b_4 <= a_9;
         } else {
             local_19 = false;
         }
@@ -1255,14 +1295,14 @@ float airlight_lite_iso_2_shafts_run(
     if (_e23) {
         return 0.0;
     }
-    metal::float4 _e25 = airlight_lite_iso_2_shafts_moved(a_7, b_4, origin_4, dir_4);
+    metal::float4 _e25 = airlight_lite_iso_2_shafts_moved(a_9, b_4, origin_4, dir_4);
     metal::float3 o = _e25.xyz;
     float len = _e25.w;
-    float _e28 = airlight_lite_iso_2_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    float _e28 = airlight_lite_iso_2_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if (_e28 >= airlight_lite_iso_2_HUGE) {
         return _e28;
     }
-    return (w_1 * metal::exp(-(sigma_t_2) * a_7)) * _e28;
+    return (w_1 * metal::exp(-(sigma_t_2) * a_9)) * _e28;
 }
 
 void airlight_lite_iso_2_shafts_flush(
@@ -1270,9 +1310,9 @@ void airlight_lite_iso_2_shafts_flush(
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
-    float intensity_4,
+    float intensity_5,
     float sigma_t_3,
-    float sigma_s_4
+    float sigma_s_5
 ) {
     uint j_2 = 0u;
     uint2 loop_bound_2 = uint2(4294967295u);
@@ -1295,7 +1335,7 @@ void airlight_lite_iso_2_shafts_flush(
             uint _e14 = j_2;
             metal::float3 r_6 = acc_6.runs.inner[_e14];
             float _e21 = acc_6.sum[0];
-            float _e25 = airlight_lite_iso_2_shafts_run(r_6.x, r_6.y, r_6.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            float _e25 = airlight_lite_iso_2_shafts_run(r_6.x, r_6.y, r_6.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
             acc_6.sum[0] = metal::min(_e21 + _e25, airlight_lite_iso_2_HUGE);
         }
     }
@@ -1310,15 +1350,15 @@ void airlight_lite_iso_2_shafts_push(
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
-    float intensity_5,
+    float intensity_6,
     float sigma_t_4,
-    float sigma_s_5
+    float sigma_s_6
 ) {
     metal::float3 _e9 = airlight_lite_iso_2_shafts_step(acc_7, s_1, v_5);
     airlight_lite_iso_2_shafts_hold(acc_7, _e9);
     uint _e11 = acc_7.count;
     if (_e11 == airlight_lite_iso_2_SHAFTS_RUNS) {
-        airlight_lite_iso_2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+        airlight_lite_iso_2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6);
         return;
     } else {
         return;
@@ -1331,26 +1371,26 @@ float airlight_lite_iso_2_shafts_finish(
     metal::float3 origin_7,
     metal::float3 dir_7,
     metal::float3 light_6,
-    float intensity_6,
+    float intensity_7,
     float sigma_t_5,
-    float sigma_s_6
+    float sigma_s_7
 ) {
     airlight_lite_iso_2_Shafts acc_8 = {};
     acc_8 = acc_in;
     metal::float3 _e9 = airlight_lite_iso_2_shafts_place(acc_8);
     airlight_lite_iso_2_shafts_hold(acc_8, _e9);
-    airlight_lite_iso_2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    airlight_lite_iso_2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
     float w_3 = (_e13 < 0.0) ? 1.0 : _e11;
     float _e20 = acc_8.sum[0];
     float _e22 = acc_8.start;
-    float _e23 = airlight_lite_iso_2_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    float _e23 = airlight_lite_iso_2_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return metal::min(_e20 + _e23, airlight_lite_iso_2_HUGE);
 }
 
 metal::float3 airlight_lite_iso_2_shafts_run_spot(
-    float a_8,
+    float a_10,
     float b_5,
     float w_2,
     metal::float3 origin_8,
@@ -1359,15 +1399,15 @@ metal::float3 airlight_lite_iso_2_shafts_run_spot(
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_7,
+    float intensity_8,
     metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7
+    metal::float3 sigma_s_8
 ) {
     bool local_20 = {};
     bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_21 = b_5 <= a_8;
+            local_21 = b_5 <= a_10;
         } else {
             local_21 = false;
         }
@@ -1380,11 +1420,11 @@ metal::float3 airlight_lite_iso_2_shafts_run_spot(
     if (_e26) {
         return metal::float3(0.0);
     }
-    metal::float4 _e29 = airlight_lite_iso_2_shafts_moved(a_8, b_5, origin_8, dir_8);
+    metal::float4 _e29 = airlight_lite_iso_2_shafts_moved(a_10, b_5, origin_8, dir_8);
     metal::float3 o_1 = _e29.xyz;
     float len_1 = _e29.w;
-    metal::float3 _e32 = airlight_lite_iso_2_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
-    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_8)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e32 = airlight_lite_iso_2_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_10)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_lite_iso_2_shafts_flush_spot(
@@ -1395,9 +1435,9 @@ void airlight_lite_iso_2_shafts_flush_spot(
     metal::float3 axis_2,
     float cos_outer_2,
     float cos_inner_2,
-    float intensity_8,
+    float intensity_9,
     metal::float3 sigma_t_7,
-    metal::float3 sigma_s_8
+    metal::float3 sigma_s_9
 ) {
     uint j_3 = 0u;
     uint2 loop_bound_3 = uint2(4294967295u);
@@ -1420,7 +1460,7 @@ void airlight_lite_iso_2_shafts_flush_spot(
             uint _e17 = j_3;
             metal::float3 r_7 = acc_9.runs.inner[_e17];
             metal::float3 _e22 = acc_9.sum;
-            metal::float3 _e26 = airlight_lite_iso_2_shafts_run_spot(r_7.x, r_7.y, r_7.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            metal::float3 _e26 = airlight_lite_iso_2_shafts_run_spot(r_7.x, r_7.y, r_7.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
             acc_9.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
@@ -1438,15 +1478,15 @@ void airlight_lite_iso_2_shafts_push_spot(
     metal::float3 axis_3,
     float cos_outer_3,
     float cos_inner_3,
-    float intensity_9,
+    float intensity_10,
     metal::float3 sigma_t_8,
-    metal::float3 sigma_s_9
+    metal::float3 sigma_s_10
 ) {
     metal::float3 _e12 = airlight_lite_iso_2_shafts_step(acc_10, s_2, v_6);
     airlight_lite_iso_2_shafts_hold(acc_10, _e12);
     uint _e14 = acc_10.count;
     if (_e14 == airlight_lite_iso_2_SHAFTS_RUNS) {
-        airlight_lite_iso_2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9);
+        airlight_lite_iso_2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10);
         return;
     } else {
         return;
@@ -1462,21 +1502,21 @@ metal::float3 airlight_lite_iso_2_shafts_finish_spot(
     metal::float3 axis_4,
     float cos_outer_4,
     float cos_inner_4,
-    float intensity_10,
+    float intensity_11,
     metal::float3 sigma_t_9,
-    metal::float3 sigma_s_10
+    metal::float3 sigma_s_11
 ) {
     airlight_lite_iso_2_Shafts acc_11 = {};
     acc_11 = acc_in_1;
     metal::float3 _e12 = airlight_lite_iso_2_shafts_place(acc_11);
     airlight_lite_iso_2_shafts_hold(acc_11, _e12);
-    airlight_lite_iso_2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    airlight_lite_iso_2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
     float w_4 = (_e16 < 0.0) ? 1.0 : _e14;
     metal::float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    metal::float3 _e25 = airlight_lite_iso_2_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    metal::float3 _e25 = airlight_lite_iso_2_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_LITE_ISO_2_MSL_INCLUDED

@@ -50,6 +50,8 @@ constant float airlight_no_extinction_FRAC_PI_2_ = 1.5707964;
 constant float airlight_no_extinction_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_no_extinction_RHO_OPEN = 4294967300.0;
 constant float airlight_no_extinction_TAU_MAX = 10000.0;
+constant float airlight_no_extinction_LN2_HI = 0.69314575;
+constant float airlight_no_extinction_LN2_LO = 0.0000014286068;
 constant float airlight_no_extinction_P_ISO = 0.07957747;
 constant uint airlight_no_extinction_SHAFTS_RUNS = 32u;
 
@@ -115,8 +117,36 @@ metal::float3 airlight_no_extinction_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_no_extinction_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_no_extinction_naga_div(k, 2)))));
 }
 
+int airlight_no_extinction_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_no_extinction_exp_neg_k(
+    float tau
+) {
+    return airlight_no_extinction_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_no_extinction_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_no_extinction_LN2_HI)) - (kf * airlight_no_extinction_LN2_LO))));
+}
+
 int airlight_no_extinction_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_no_extinction_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_no_extinction_exp_neg_k(tau_2);
+    float _e3 = airlight_no_extinction_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_no_extinction_scale2_(metal::float3(a_4 * _e3), airlight_no_extinction_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_no_extinction_ray_geometry(
@@ -179,11 +209,12 @@ metal::float3 airlight_no_extinction_ray_geometry(
     return metal::float3(metal::min(dist, airlight_no_extinction_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
-float airlight_no_extinction_scaled(
+float airlight_no_extinction_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -192,25 +223,25 @@ float airlight_no_extinction_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_no_extinction_HUGE) {
+    if (a_5 >= airlight_no_extinction_HUGE) {
         return airlight_no_extinction_HUGE;
     }
     airlight_no_extinction_frexp_result_f32_ s_4 = airlight_no_extinction_naga_frexp(sigma_s);
     airlight_no_extinction_frexp_result_f32_ i_1 = airlight_no_extinction_naga_frexp(intensity);
-    airlight_no_extinction_frexp_result_f32_ q = airlight_no_extinction_naga_frexp(a_4);
+    airlight_no_extinction_frexp_result_f32_ q = airlight_no_extinction_naga_frexp(a_5);
     airlight_no_extinction_frexp_result_f32_ r_2 = airlight_no_extinction_naga_frexp(d_1);
     airlight_no_extinction_frexp_result_f32_ m = airlight_no_extinction_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_no_extinction_HUGE;
     }
@@ -220,20 +251,30 @@ float airlight_no_extinction_scaled(
     return metal::ldexp(m.fract, e);
 }
 
+float airlight_no_extinction_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_no_extinction_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_no_extinction_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_9 = metal::abs(x);
-    r = a_9;
-    if (a_9 > 2.4142137) {
+    float a_11 = metal::abs(x);
+    r = a_11;
+    if (a_11 > 2.4142137) {
         y0_ = airlight_no_extinction_FRAC_PI_2_;
-        r = -1.0 / a_9;
+        r = -1.0 / a_11;
     } else {
-        if (a_9 > 0.41421357) {
+        if (a_11 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_9 - 1.0) / (a_9 + 1.0);
+            r = (a_11 - 1.0) / (a_11 + 1.0);
         }
     }
     float _e18 = r;
@@ -274,10 +315,6 @@ metal::float2 airlight_no_extinction_sin_cos_octant(
     float s_5 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
     return metal::float2(s_5, c_3);
-}
-
-int airlight_no_extinction_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
 metal::float2 airlight_no_extinction_sin_cos(
@@ -373,13 +410,13 @@ float airlight_no_extinction_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
-    float sigma_s_1
+    float intensity_2,
+    float sigma_s_2
 ) {
     bool local_7 = {};
     metal::float3 _e6 = airlight_no_extinction_ray_geometry(origin_1, dir_1, light_1);
     if (_e6.x <= 0.0) {
-        float _e12 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, 1.0, airlight_no_extinction_HUGE);
+        float _e12 = airlight_no_extinction_scaled(sigma_s_2, intensity_2, 1.0, airlight_no_extinction_HUGE);
         return _e12;
     }
     if (_e6.y <= 0.0) {
@@ -394,12 +431,12 @@ float airlight_no_extinction_radiance(
     float rho_7 = (surface >= 0.0) ? (surface / _e6.x) : -1.0;
     float _e35 = airlight_no_extinction_foot(_e6.y, _e6.z, rho_7);
     float _e36 = airlight_no_extinction_airlight_geometry(_e6.y, _e6.z, rho_7, _e35);
-    float _e37 = airlight_no_extinction_scaled(sigma_s_1, intensity_1, _e6.x, _e36);
+    float _e37 = airlight_no_extinction_scaled(sigma_s_2, intensity_2, _e6.x, _e36);
     return _e37;
 }
 
 float airlight_no_extinction_along(
-    float tau,
+    float tau_3,
     float h_3,
     float x0_2,
     float rho_3,
@@ -411,16 +448,16 @@ float airlight_no_extinction_along(
 }
 
 metal::float3 airlight_no_extinction_along_rgb(
-    metal::float3 tau_1,
+    metal::float3 tau_4,
     float h_4,
     float x0_3,
     float rho_4,
     float xr_2,
     float g_1
 ) {
-    float _e7 = airlight_no_extinction_along(tau_1.x, h_4, x0_3, rho_4, xr_2, g_1);
-    float _e9 = airlight_no_extinction_along(tau_1.y, h_4, x0_3, rho_4, xr_2, g_1);
-    float _e11 = airlight_no_extinction_along(tau_1.z, h_4, x0_3, rho_4, xr_2, g_1);
+    float _e7 = airlight_no_extinction_along(tau_4.x, h_4, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_no_extinction_along(tau_4.y, h_4, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_no_extinction_along(tau_4.z, h_4, x0_3, rho_4, xr_2, g_1);
     return metal::float3(_e7, _e9, _e11);
 }
 
@@ -433,7 +470,7 @@ float airlight_no_extinction_spot_asin(
 }
 
 metal::float3 airlight_no_extinction_spot_core(
-    metal::float3 tau_2,
+    metal::float3 tau_5,
     float h_5,
     float x0_4,
     float rho_5,
@@ -493,10 +530,10 @@ metal::float3 airlight_no_extinction_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_no_extinction_along_rgb(tau_2 * _e64, _e66, _e67, _e68, _e69, g_2);
+    metal::float3 _e70 = airlight_no_extinction_along_rgb(tau_5 * _e64, _e66, _e67, _e68, _e69, g_2);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_2) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_5) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_no_extinction_spot_weight(
@@ -511,7 +548,7 @@ float airlight_no_extinction_spot_weight(
 }
 
 metal::float3 airlight_no_extinction_spot_edge(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_6,
     float x0_5,
     float rho_6,
@@ -520,7 +557,7 @@ metal::float3 airlight_no_extinction_spot_edge(
     float u,
     float v_in,
     float ca,
-    float k_1,
+    float k_3,
     float co_1,
     float ci_1,
     float g_3
@@ -530,7 +567,7 @@ metal::float3 airlight_no_extinction_spot_edge(
     metal::float3 sum = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_2 = {};
+    float d_3 = {};
     float st = {};
     int i = 0;
     if (!((v_in > u))) {
@@ -538,11 +575,11 @@ metal::float3 airlight_no_extinction_spot_edge(
     }
     metal::float2 _e17 = airlight_no_extinction_sin_cos(u);
     metal::float2 _e18 = airlight_no_extinction_sin_cos(v_in);
-    float _e24 = airlight_no_extinction_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
-    float _e30 = airlight_no_extinction_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
+    float _e24 = airlight_no_extinction_spot_weight((ca * _e17.x) - (k_3 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_no_extinction_spot_weight((ca * _e18.x) - (k_3 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_no_extinction_spot_core(tau_3, h_6, x0_5, rho_6, gam_1, u, v_in, u > gam_1, v_in < om_e, g_3);
+        metal::float3 _e39 = airlight_no_extinction_spot_core(tau_6, h_6, x0_5, rho_6, gam_1, u, v_in, u > gam_1, v_in < om_e, g_3);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -569,12 +606,12 @@ metal::float3 airlight_no_extinction_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_10 = u + ((v_in - u) * _e80);
+            float a_12 = u + ((v_in - u) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_6 = u + ((v_in - u) * _e88);
-            float half_ = 0.5 * (b_6 - a_10);
-            float mid = 0.5 * (b_6 + a_10);
+            float half_ = 0.5 * (b_6 - a_12);
+            float mid = 0.5 * (b_6 + a_12);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_no_extinction_sin_cos(0.5 * _e100);
@@ -583,7 +620,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -594,11 +631,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            float _e160 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_3) * _e169));
+            sum = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_6) * _e169));
             w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_no_extinction_sin_cos(0.5 * _e177);
@@ -607,7 +644,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -618,11 +655,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            float _e237 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_3) * _e246));
+            sum = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_6) * _e246));
             w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_no_extinction_sin_cos(0.5 * _e254);
@@ -631,7 +668,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -642,11 +679,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            float _e314 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_3) * _e323));
+            sum = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_6) * _e323));
             w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_no_extinction_sin_cos(0.5 * _e331);
@@ -655,7 +692,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -666,11 +703,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            float _e391 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_3) * _e400));
+            sum = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_6) * _e400));
             w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_no_extinction_sin_cos(0.5 * _e408);
@@ -679,7 +716,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -690,11 +727,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            float _e468 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_3) * _e477));
+            sum = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_6) * _e477));
             w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_no_extinction_sin_cos(0.5 * _e485);
@@ -703,7 +740,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -714,11 +751,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            float _e545 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_3) * _e554));
+            sum = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_6) * _e554));
             w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_no_extinction_sin_cos(0.5 * _e562);
@@ -727,7 +764,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -738,11 +775,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            float _e622 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_3) * _e631));
+            sum = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_6) * _e631));
             w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_no_extinction_sin_cos(0.5 * _e639);
@@ -751,7 +788,7 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -762,11 +799,11 @@ metal::float3 airlight_no_extinction_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            float _e699 = airlight_no_extinction_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_3) * _e708));
+            sum = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_6) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -782,8 +819,8 @@ metal::float3 airlight_no_extinction_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
-    metal::float3 sigma_s_2
+    float intensity_3,
+    metal::float3 sigma_s_3
 ) {
     bool local_9 = {};
     bool local_10 = {};
@@ -805,7 +842,7 @@ metal::float3 airlight_no_extinction_spot(
     bool local_14 = {};
     bool local_15 = {};
     bool local_16 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    metal::float3 a_7 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e9 = airlight_no_extinction_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -843,16 +880,16 @@ metal::float3 airlight_no_extinction_spot(
     }
     metal::float3 _e55 = ax;
     metal::float3 _e56 = n;
-    float k_2 = metal::dot(_e55, _e56);
+    float k_4 = metal::dot(_e55, _e56);
     if (_e9.x <= 0.0) {
-        float _e63 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+        float _e63 = airlight_no_extinction_spot_weight(k_4, co_2, cos_inner);
         scale = point ? 1.0 : _e63;
         float _e67 = scale;
-        float _e71 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e67, 1.0, airlight_no_extinction_HUGE);
+        float _e71 = airlight_no_extinction_scaled(sigma_s_3.x, intensity_3 * _e67, 1.0, airlight_no_extinction_HUGE);
         float _e73 = scale;
-        float _e77 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e73, 1.0, airlight_no_extinction_HUGE);
+        float _e77 = airlight_no_extinction_scaled(sigma_s_3.y, intensity_3 * _e73, 1.0, airlight_no_extinction_HUGE);
         float _e79 = scale;
-        float _e83 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e79, 1.0, airlight_no_extinction_HUGE);
+        float _e83 = airlight_no_extinction_scaled(sigma_s_3.z, intensity_3 * _e79, 1.0, airlight_no_extinction_HUGE);
         return metal::float3(_e71, _e77, _e83);
     }
     if (_e9.y <= 0.0) {
@@ -864,17 +901,17 @@ metal::float3 airlight_no_extinction_spot(
     if (_e94) {
         return metal::float3(0.0);
     }
-    float d_3 = _e9.x;
+    float d_4 = _e9.x;
     float h_7 = _e9.y;
     float x0_7 = _e9.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_3) < airlight_no_extinction_RHO_OPEN;
+        local_13 = (surface_1 / d_4) < airlight_no_extinction_RHO_OPEN;
     } else {
         local_13 = false;
     }
     bool has_end = local_13;
-    float rho_8 = has_end ? (surface_1 / d_3) : -1.0;
-    metal::float3 tau_4 = metal::float3(0.0);
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
+    metal::float3 tau_7 = metal::float3(0.0);
     float _e134 = airlight_no_extinction_arctan2_(h_7, x0_7);
     if (!(point)) {
         local_14 = h_7 <= 0.0;
@@ -890,8 +927,8 @@ metal::float3 airlight_no_extinction_spot(
     bool _e148 = local_15;
     if (_e148) {
         if (!(point)) {
-            float _e151 = airlight_no_extinction_spot_weight(-(k_2), co_2, cos_inner);
-            float _e152 = airlight_no_extinction_spot_weight(k_2, co_2, cos_inner);
+            float _e151 = airlight_no_extinction_spot_weight(-(k_4), co_2, cos_inner);
+            float _e152 = airlight_no_extinction_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_16 = rho_8 < 1.0;
             } else {
@@ -911,9 +948,9 @@ metal::float3 airlight_no_extinction_spot(
         ca_1 = metal::dot(cr, metal::cross(_e171, _e172)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e179 = ca_1;
         float _e180 = ca_1;
-        float r_4 = metal::sqrt((_e179 * _e180) + (k_2 * k_2));
+        float r_4 = metal::sqrt((_e179 * _e180) + (k_4 * k_4));
         float _e185 = ca_1;
-        float _e186 = airlight_no_extinction_arctan2_(k_2, _e185);
+        float _e186 = airlight_no_extinction_arctan2_(k_4, _e185);
         gam_2 = _e134;
         float _e189 = airlight_no_extinction_arctan2_(h_7, x0_7 - rho_8);
         om_e_1 = has_end ? _e189 : airlight_no_extinction_PI;
@@ -959,8 +996,8 @@ metal::float3 airlight_no_extinction_spot(
         float _e239 = wb_1;
         bool _e240 = cut_a_1;
         bool _e241 = cut_b_1;
-        metal::float3 _e242 = airlight_no_extinction_spot_core(tau_4, h_7, x0_7, rho_8, _e237, _e238, _e239, _e240, _e241, 0.0);
-        a_5 = _e242;
+        metal::float3 _e242 = airlight_no_extinction_spot_core(tau_7, h_7, x0_7, rho_8, _e237, _e238, _e239, _e240, _e241, 0.0);
+        a_7 = _e242;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -983,24 +1020,24 @@ metal::float3 airlight_no_extinction_spot(
             int _e252 = j_1;
             metal::float2 piece = (_e252 == 1) ? _e250.zw : _e248.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e259 = a_5;
+                metal::float3 _e259 = a_7;
                 float _e260 = gam_2;
                 float _e261 = om_e_1;
                 float _e264 = ca_1;
-                metal::float3 _e265 = airlight_no_extinction_spot_edge(tau_4, h_7, x0_7, rho_8, _e260, _e261, piece.x, piece.y, _e264, k_2, co_2, cos_inner, 0.0);
-                a_5 = _e259 + _e265;
+                metal::float3 _e265 = airlight_no_extinction_spot_edge(tau_7, h_7, x0_7, rho_8, _e260, _e261, piece.x, piece.y, _e264, k_4, co_2, cos_inner, 0.0);
+                a_7 = _e259 + _e265;
             }
         }
     }
     float _e271 = scale;
-    float _e274 = a_5.x;
-    float _e275 = airlight_no_extinction_scaled(sigma_s_2.x, intensity_2 * _e271, d_3, _e274);
+    float _e274 = a_7.x;
+    float _e275 = airlight_no_extinction_scaled(sigma_s_3.x, intensity_3 * _e271, d_4, _e274);
     float _e277 = scale;
-    float _e280 = a_5.y;
-    float _e281 = airlight_no_extinction_scaled(sigma_s_2.y, intensity_2 * _e277, d_3, _e280);
+    float _e280 = a_7.y;
+    float _e281 = airlight_no_extinction_scaled(sigma_s_3.y, intensity_3 * _e277, d_4, _e280);
     float _e283 = scale;
-    float _e286 = a_5.z;
-    float _e287 = airlight_no_extinction_scaled(sigma_s_2.z, intensity_2 * _e283, d_3, _e286);
+    float _e286 = a_7.z;
+    float _e287 = airlight_no_extinction_scaled(sigma_s_3.z, intensity_3 * _e283, d_4, _e286);
     return metal::float3(_e275, _e281, _e287);
 }
 
@@ -1111,31 +1148,31 @@ metal::float3 airlight_no_extinction_shafts_step(
 }
 
 metal::float4 airlight_no_extinction_shafts_moved(
-    float a_6,
+    float a_8,
     float b_3,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_no_extinction_max_abs(dir_3);
     metal::float3 u_1 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_6 * (u_1 / metal::float3(metal::length(u_1)))), (b_3 >= 0.0) ? metal::max(b_3 - a_6, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_8 * (u_1 / metal::float3(metal::length(u_1)))), (b_3 >= 0.0) ? metal::max(b_3 - a_8, 0.0) : -1.0);
 }
 
 float airlight_no_extinction_shafts_run(
-    float a_7,
+    float a_9,
     float b_4,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
     metal::float3 light_3,
-    float intensity_3,
-    float sigma_s_3
+    float intensity_4,
+    float sigma_s_4
 ) {
     bool local_18 = {};
     bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_4 >= 0.0) {
-            local_19 = b_4 <= a_7;
+            local_19 = b_4 <= a_9;
         } else {
             local_19 = false;
         }
@@ -1148,10 +1185,10 @@ float airlight_no_extinction_shafts_run(
     if (_e22) {
         return 0.0;
     }
-    metal::float4 _e24 = airlight_no_extinction_shafts_moved(a_7, b_4, origin_4, dir_4);
+    metal::float4 _e24 = airlight_no_extinction_shafts_moved(a_9, b_4, origin_4, dir_4);
     metal::float3 o = _e24.xyz;
     float len = _e24.w;
-    float _e27 = airlight_no_extinction_radiance(o, dir_4, len, light_3, intensity_3, sigma_s_3);
+    float _e27 = airlight_no_extinction_radiance(o, dir_4, len, light_3, intensity_4, sigma_s_4);
     if (_e27 >= airlight_no_extinction_HUGE) {
         return _e27;
     }
@@ -1163,8 +1200,8 @@ void airlight_no_extinction_shafts_flush(
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
-    float intensity_4,
-    float sigma_s_4
+    float intensity_5,
+    float sigma_s_5
 ) {
     uint j_2 = 0u;
     uint2 loop_bound_2 = uint2(4294967295u);
@@ -1187,7 +1224,7 @@ void airlight_no_extinction_shafts_flush(
             uint _e13 = j_2;
             metal::float3 r_5 = acc_6.runs.inner[_e13];
             float _e20 = acc_6.sum[0];
-            float _e24 = airlight_no_extinction_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_s_4);
+            float _e24 = airlight_no_extinction_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_s_5);
             acc_6.sum[0] = metal::min(_e20 + _e24, airlight_no_extinction_HUGE);
         }
     }
@@ -1202,14 +1239,14 @@ void airlight_no_extinction_shafts_push(
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
-    float intensity_5,
-    float sigma_s_5
+    float intensity_6,
+    float sigma_s_6
 ) {
     metal::float3 _e8 = airlight_no_extinction_shafts_step(acc_7, s_1, v_4);
     airlight_no_extinction_shafts_hold(acc_7, _e8);
     uint _e10 = acc_7.count;
     if (_e10 == airlight_no_extinction_SHAFTS_RUNS) {
-        airlight_no_extinction_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_s_5);
+        airlight_no_extinction_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_s_6);
         return;
     } else {
         return;
@@ -1222,25 +1259,25 @@ float airlight_no_extinction_shafts_finish(
     metal::float3 origin_7,
     metal::float3 dir_7,
     metal::float3 light_6,
-    float intensity_6,
-    float sigma_s_6
+    float intensity_7,
+    float sigma_s_7
 ) {
     airlight_no_extinction_Shafts acc_8 = {};
     acc_8 = acc_in;
     metal::float3 _e8 = airlight_no_extinction_shafts_place(acc_8);
     airlight_no_extinction_shafts_hold(acc_8, _e8);
-    airlight_no_extinction_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_s_6);
+    airlight_no_extinction_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_s_7);
     float _e10 = acc_8.v;
     float _e12 = acc_8.v;
     float w_3 = (_e12 < 0.0) ? 1.0 : _e10;
     float _e19 = acc_8.sum[0];
     float _e21 = acc_8.start;
-    float _e22 = airlight_no_extinction_shafts_run(_e21, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_s_6);
+    float _e22 = airlight_no_extinction_shafts_run(_e21, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_s_7);
     return metal::min(_e19 + _e22, airlight_no_extinction_HUGE);
 }
 
 metal::float3 airlight_no_extinction_shafts_run_spot(
-    float a_8,
+    float a_10,
     float b_5,
     float w_2,
     metal::float3 origin_8,
@@ -1249,14 +1286,14 @@ metal::float3 airlight_no_extinction_shafts_run_spot(
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_7,
-    metal::float3 sigma_s_7
+    float intensity_8,
+    metal::float3 sigma_s_8
 ) {
     bool local_20 = {};
     bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_21 = b_5 <= a_8;
+            local_21 = b_5 <= a_10;
         } else {
             local_21 = false;
         }
@@ -1269,10 +1306,10 @@ metal::float3 airlight_no_extinction_shafts_run_spot(
     if (_e25) {
         return metal::float3(0.0);
     }
-    metal::float4 _e28 = airlight_no_extinction_shafts_moved(a_8, b_5, origin_8, dir_8);
+    metal::float4 _e28 = airlight_no_extinction_shafts_moved(a_10, b_5, origin_8, dir_8);
     metal::float3 o_1 = _e28.xyz;
     float len_1 = _e28.w;
-    metal::float3 _e31 = airlight_no_extinction_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_s_7);
+    metal::float3 _e31 = airlight_no_extinction_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_s_8);
     return metal::select(w_2 * _e31, _e31, _e31 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
@@ -1284,8 +1321,8 @@ void airlight_no_extinction_shafts_flush_spot(
     metal::float3 axis_2,
     float cos_outer_2,
     float cos_inner_2,
-    float intensity_8,
-    metal::float3 sigma_s_8
+    float intensity_9,
+    metal::float3 sigma_s_9
 ) {
     uint j_3 = 0u;
     uint2 loop_bound_3 = uint2(4294967295u);
@@ -1308,7 +1345,7 @@ void airlight_no_extinction_shafts_flush_spot(
             uint _e16 = j_3;
             metal::float3 r_6 = acc_9.runs.inner[_e16];
             metal::float3 _e21 = acc_9.sum;
-            metal::float3 _e25 = airlight_no_extinction_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_s_8);
+            metal::float3 _e25 = airlight_no_extinction_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_s_9);
             acc_9.sum = metal::min(_e21 + _e25, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
@@ -1326,14 +1363,14 @@ void airlight_no_extinction_shafts_push_spot(
     metal::float3 axis_3,
     float cos_outer_3,
     float cos_inner_3,
-    float intensity_9,
-    metal::float3 sigma_s_9
+    float intensity_10,
+    metal::float3 sigma_s_10
 ) {
     metal::float3 _e11 = airlight_no_extinction_shafts_step(acc_10, s_2, v_5);
     airlight_no_extinction_shafts_hold(acc_10, _e11);
     uint _e13 = acc_10.count;
     if (_e13 == airlight_no_extinction_SHAFTS_RUNS) {
-        airlight_no_extinction_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_s_9);
+        airlight_no_extinction_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_s_10);
         return;
     } else {
         return;
@@ -1349,20 +1386,20 @@ metal::float3 airlight_no_extinction_shafts_finish_spot(
     metal::float3 axis_4,
     float cos_outer_4,
     float cos_inner_4,
-    float intensity_10,
-    metal::float3 sigma_s_10
+    float intensity_11,
+    metal::float3 sigma_s_11
 ) {
     airlight_no_extinction_Shafts acc_11 = {};
     acc_11 = acc_in_1;
     metal::float3 _e11 = airlight_no_extinction_shafts_place(acc_11);
     airlight_no_extinction_shafts_hold(acc_11, _e11);
-    airlight_no_extinction_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_s_10);
+    airlight_no_extinction_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_s_11);
     float _e13 = acc_11.v;
     float _e15 = acc_11.v;
     float w_4 = (_e15 < 0.0) ? 1.0 : _e13;
     metal::float3 _e21 = acc_11.sum;
     float _e23 = acc_11.start;
-    metal::float3 _e24 = airlight_no_extinction_shafts_run_spot(_e23, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_s_10);
+    metal::float3 _e24 = airlight_no_extinction_shafts_run_spot(_e23, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_s_11);
     return metal::min(_e21 + _e24, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_NO_EXTINCTION_MSL_INCLUDED

@@ -27,6 +27,8 @@ constant float airlight_scene_backscatter_aerosol_PI = 3.1415927;
 constant float airlight_scene_backscatter_aerosol_FRAC_PI_2_ = 1.5707964;
 constant float airlight_scene_backscatter_aerosol_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_scene_backscatter_aerosol_TAU_MAX = 10000.0;
+constant float airlight_scene_backscatter_aerosol_LN2_HI = 0.69314575;
+constant float airlight_scene_backscatter_aerosol_LN2_LO = 0.0000014286068;
 
 float airlight_scene_backscatter_aerosol_max_abs(
     metal::float3 v
@@ -82,8 +84,36 @@ metal::float3 airlight_scene_backscatter_aerosol_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_scene_backscatter_aerosol_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_scene_backscatter_aerosol_naga_div(k, 2)))));
 }
 
+int airlight_scene_backscatter_aerosol_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_scene_backscatter_aerosol_exp_neg_k(
+    float tau
+) {
+    return airlight_scene_backscatter_aerosol_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_scene_backscatter_aerosol_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_scene_backscatter_aerosol_LN2_HI)) - (kf * airlight_scene_backscatter_aerosol_LN2_LO))));
+}
+
 int airlight_scene_backscatter_aerosol_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_scene_backscatter_aerosol_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_scene_backscatter_aerosol_exp_neg_k(tau_2);
+    float _e3 = airlight_scene_backscatter_aerosol_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_scene_backscatter_aerosol_scale2_(metal::float3(a_4 * _e3), airlight_scene_backscatter_aerosol_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_scene_backscatter_aerosol_ray_geometry(
@@ -146,11 +176,12 @@ metal::float3 airlight_scene_backscatter_aerosol_ray_geometry(
     return metal::float3(metal::min(dist, airlight_scene_backscatter_aerosol_HUGE), _e97 / n, x0_1 / n);
 }
 
-float airlight_scene_backscatter_aerosol_scaled(
+float airlight_scene_backscatter_aerosol_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -159,25 +190,25 @@ float airlight_scene_backscatter_aerosol_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_scene_backscatter_aerosol_HUGE) {
+    if (a_5 >= airlight_scene_backscatter_aerosol_HUGE) {
         return airlight_scene_backscatter_aerosol_HUGE;
     }
     airlight_scene_backscatter_aerosol_frexp_result_f32_ s_1 = airlight_scene_backscatter_aerosol_naga_frexp(sigma_s);
     airlight_scene_backscatter_aerosol_frexp_result_f32_ i = airlight_scene_backscatter_aerosol_naga_frexp(intensity);
-    airlight_scene_backscatter_aerosol_frexp_result_f32_ q = airlight_scene_backscatter_aerosol_naga_frexp(a_4);
+    airlight_scene_backscatter_aerosol_frexp_result_f32_ q = airlight_scene_backscatter_aerosol_naga_frexp(a_5);
     airlight_scene_backscatter_aerosol_frexp_result_f32_ r_2 = airlight_scene_backscatter_aerosol_naga_frexp(d_1);
     airlight_scene_backscatter_aerosol_frexp_result_f32_ m_1 = airlight_scene_backscatter_aerosol_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_scene_backscatter_aerosol_HUGE;
     }
@@ -187,20 +218,30 @@ float airlight_scene_backscatter_aerosol_scaled(
     return metal::ldexp(m_1.fract, e);
 }
 
+float airlight_scene_backscatter_aerosol_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_scene_backscatter_aerosol_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_scene_backscatter_aerosol_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_5 = metal::abs(x);
-    r = a_5;
-    if (a_5 > 2.4142137) {
+    float a_7 = metal::abs(x);
+    r = a_7;
+    if (a_7 > 2.4142137) {
         y0_ = airlight_scene_backscatter_aerosol_FRAC_PI_2_;
-        r = -1.0 / a_5;
+        r = -1.0 / a_7;
     } else {
-        if (a_5 > 0.41421357) {
+        if (a_7 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_5 - 1.0) / (a_5 + 1.0);
+            r = (a_7 - 1.0) / (a_7 + 1.0);
         }
     }
     float _e18 = r;
@@ -243,10 +284,6 @@ metal::float2 airlight_scene_backscatter_aerosol_sin_cos_octant(
     return metal::float2(s_2, c_2);
 }
 
-int airlight_scene_backscatter_aerosol_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
-}
-
 metal::float2 airlight_scene_backscatter_aerosol_sin_cos(
     float x_3
 ) {
@@ -286,7 +323,7 @@ float airlight_scene_backscatter_aerosol_e2_over(
 ) {
     float n1_ = 0.0;
     float n2_ = 0.0;
-    float d_2 = 0.0;
+    float d_3 = 0.0;
     float x_4 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
     float l = x_4 * metal::log((1.0 + x_4) / x_4);
     float _e16 = n1_;
@@ -299,17 +336,17 @@ float airlight_scene_backscatter_aerosol_e2_over(
     n2_ = (_e28 + 3.0385017) * x_4;
     float _e32 = n2_;
     n2_ = (_e32 + 0.5760694) * x_4;
-    float _e36 = d_2;
-    d_2 = (_e36 + 0.86534345) * x_4;
-    float _e40 = d_2;
-    d_2 = (_e40 + 5.9773254) * x_4;
-    float _e44 = d_2;
-    d_2 = (_e44 + 8.315555) * x_4;
-    float _e48 = d_2;
-    d_2 = (_e48 + 0.0) * x_4;
+    float _e36 = d_3;
+    d_3 = (_e36 + 0.86534345) * x_4;
+    float _e40 = d_3;
+    d_3 = (_e40 + 5.9773254) * x_4;
+    float _e44 = d_3;
+    d_3 = (_e44 + 8.315555) * x_4;
+    float _e48 = d_3;
+    d_3 = (_e48 + 0.0) * x_4;
     float _e52 = n1_;
     float _e55 = n2_;
-    float _e60 = d_2;
+    float _e60 = d_3;
     return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
@@ -325,7 +362,7 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     float r_1 = {};
     float u = {};
     float iq = {};
-    float tau_1 = metal::min(metal::max(tau_in, 0.0), airlight_scene_backscatter_aerosol_TAU_MAX);
+    float tau_4 = metal::min(metal::max(tau_in, 0.0), airlight_scene_backscatter_aerosol_TAU_MAX);
     metal::float4 md = metal::float4(-0.3, 1.0 - -0.3, 1.0 + -0.3, (1.0 - -0.3) / (1.0 + -0.3));
     if (x0_ > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
@@ -342,7 +379,7 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     float ua = (x0_ >= 0.0) ? (h_1 / (1.0 + x0_)) : ((1.0 - x0_) / h_1);
     float one_minus = (x0_ >= 0.0) ? ((h_1 * h_1) / (1.0 + x0_)) : (1.0 - x0_);
     float ub = ua + airlight_scene_backscatter_aerosol_HUGE;
-    float t = tau_1 * h_1;
+    float t = tau_4 * h_1;
     float kap = md.w;
     float m_2 = kap + ua;
     float lam = m_2 / (1.0 + ((0.40810418 * t) * m_2));
@@ -492,20 +529,23 @@ float airlight_scene_backscatter_aerosol_airlight_geometry(
     sum = _e457 + ((_e458 * sb) * lam);
     float pc = (0.07957747 * md.y) / (md.z * md.z);
     if (h_1 < 0.0000000000000000008673617) {
-        float _e473 = sum;
-        float _e480 = airlight_scene_backscatter_aerosol_scaled((2.0 * pc) * metal::max(_e473, 0.0), metal::exp(-(tau_1)), h_1, 1.0);
-        return _e480;
+        int _e471 = airlight_scene_backscatter_aerosol_exp_neg_k(tau_4);
+        float _e474 = sum;
+        float _e478 = airlight_scene_backscatter_aerosol_exp_neg_m(tau_4, _e471);
+        float _e481 = airlight_scene_backscatter_aerosol_scaled_pow2_((2.0 * pc) * metal::max(_e474, 0.0), _e478, h_1, 1.0, airlight_scene_backscatter_aerosol_naga_neg(_e471));
+        return _e481;
     }
-    float _e486 = sum;
-    return metal::min(metal::max(((2.0 * pc) * metal::exp(-(tau_1))) * (_e486 / h_1), 0.0), airlight_scene_backscatter_aerosol_HUGE);
+    float _e484 = sum;
+    float _e486 = airlight_scene_backscatter_aerosol_mul_exp_neg(_e484 / h_1, tau_4);
+    return metal::min(metal::max((2.0 * pc) * _e486, 0.0), airlight_scene_backscatter_aerosol_HUGE);
 }
 
 float airlight_scene_backscatter_aerosol_airlight(
-    float tau,
+    float tau_3,
     float gamma
 ) {
     metal::float2 _e5 = airlight_scene_backscatter_aerosol_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_backscatter_aerosol_PI));
-    float _e9 = airlight_scene_backscatter_aerosol_airlight_geometry(tau, metal::abs(_e5.x), _e5.y);
+    float _e9 = airlight_scene_backscatter_aerosol_airlight_geometry(tau_3, metal::abs(_e5.x), _e5.y);
     return _e9;
 }
 
@@ -513,14 +553,14 @@ float airlight_scene_backscatter_aerosol_radiance(
     metal::float3 origin_1,
     metal::float3 dir_1,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1
+    float sigma_s_2
 ) {
     bool local_5 = {};
     metal::float3 _e6 = airlight_scene_backscatter_aerosol_ray_geometry(origin_1, dir_1, light_1);
     if (_e6.x <= 0.0) {
-        float _e12 = airlight_scene_backscatter_aerosol_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_backscatter_aerosol_HUGE);
+        float _e12 = airlight_scene_backscatter_aerosol_scaled(sigma_s_2, intensity_2, 1.0, airlight_scene_backscatter_aerosol_HUGE);
         return _e12;
     }
     if (_e6.y <= 0.0) {
@@ -533,7 +573,7 @@ float airlight_scene_backscatter_aerosol_radiance(
         return 0.0;
     }
     float _e29 = airlight_scene_backscatter_aerosol_airlight_geometry(sigma_t * _e6.x, _e6.y, _e6.z);
-    float _e30 = airlight_scene_backscatter_aerosol_scaled(sigma_s_1, intensity_1, _e6.x, _e29);
+    float _e30 = airlight_scene_backscatter_aerosol_scaled(sigma_s_2, intensity_2, _e6.x, _e29);
     return _e30;
 }
 #endif // AIRLIGHT_SCENE_BACKSCATTER_AEROSOL_MSL_INCLUDED

@@ -27,6 +27,8 @@ constant float airlight_scene_haze_sky_PI = 3.1415927;
 constant float airlight_scene_haze_sky_FRAC_PI_2_ = 1.5707964;
 constant float airlight_scene_haze_sky_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_scene_haze_sky_TAU_MAX = 10000.0;
+constant float airlight_scene_haze_sky_LN2_HI = 0.69314575;
+constant float airlight_scene_haze_sky_LN2_LO = 0.0000014286068;
 constant float airlight_scene_haze_sky_P_ISO = 0.07957747;
 
 float airlight_scene_haze_sky_max_abs(
@@ -83,8 +85,36 @@ metal::float3 airlight_scene_haze_sky_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_scene_haze_sky_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_scene_haze_sky_naga_div(k, 2)))));
 }
 
+int airlight_scene_haze_sky_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_scene_haze_sky_exp_neg_k(
+    float tau
+) {
+    return airlight_scene_haze_sky_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_scene_haze_sky_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_scene_haze_sky_LN2_HI)) - (kf * airlight_scene_haze_sky_LN2_LO))));
+}
+
 int airlight_scene_haze_sky_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_scene_haze_sky_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_scene_haze_sky_exp_neg_k(tau_2);
+    float _e3 = airlight_scene_haze_sky_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_scene_haze_sky_scale2_(metal::float3(a_4 * _e3), airlight_scene_haze_sky_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_scene_haze_sky_ray_geometry(
@@ -147,11 +177,12 @@ metal::float3 airlight_scene_haze_sky_ray_geometry(
     return metal::float3(metal::min(dist, airlight_scene_haze_sky_HUGE), _e97 / n, x0_1 / n);
 }
 
-float airlight_scene_haze_sky_scaled(
+float airlight_scene_haze_sky_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -160,25 +191,25 @@ float airlight_scene_haze_sky_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_scene_haze_sky_HUGE) {
+    if (a_5 >= airlight_scene_haze_sky_HUGE) {
         return airlight_scene_haze_sky_HUGE;
     }
     airlight_scene_haze_sky_frexp_result_f32_ s_1 = airlight_scene_haze_sky_naga_frexp(sigma_s);
     airlight_scene_haze_sky_frexp_result_f32_ i = airlight_scene_haze_sky_naga_frexp(intensity);
-    airlight_scene_haze_sky_frexp_result_f32_ q = airlight_scene_haze_sky_naga_frexp(a_4);
+    airlight_scene_haze_sky_frexp_result_f32_ q = airlight_scene_haze_sky_naga_frexp(a_5);
     airlight_scene_haze_sky_frexp_result_f32_ r_1 = airlight_scene_haze_sky_naga_frexp(d_1);
     airlight_scene_haze_sky_frexp_result_f32_ m = airlight_scene_haze_sky_naga_frexp(((s_1.fract * i.fract) * q.fract) / r_1.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_1.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_scene_haze_sky_HUGE;
     }
@@ -188,20 +219,30 @@ float airlight_scene_haze_sky_scaled(
     return metal::ldexp(m.fract, e);
 }
 
+float airlight_scene_haze_sky_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_scene_haze_sky_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_scene_haze_sky_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_5 = metal::abs(x);
-    r = a_5;
-    if (a_5 > 2.4142137) {
+    float a_7 = metal::abs(x);
+    r = a_7;
+    if (a_7 > 2.4142137) {
         y0_ = airlight_scene_haze_sky_FRAC_PI_2_;
-        r = -1.0 / a_5;
+        r = -1.0 / a_7;
     } else {
-        if (a_5 > 0.41421357) {
+        if (a_7 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_5 - 1.0) / (a_5 + 1.0);
+            r = (a_7 - 1.0) / (a_7 + 1.0);
         }
     }
     float _e18 = r;
@@ -242,10 +283,6 @@ metal::float2 airlight_scene_haze_sky_sin_cos_octant(
     float s_2 = ((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2;
     float c_2 = (((((((0.000024433157 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0;
     return metal::float2(s_2, c_2);
-}
-
-int airlight_scene_haze_sky_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
 metal::float2 airlight_scene_haze_sky_sin_cos(
@@ -304,13 +341,13 @@ float airlight_scene_haze_sky_radiance(
     metal::float3 origin_1,
     metal::float3 dir_1,
     metal::float3 light_1,
-    float intensity_1,
-    float sigma_s_1
+    float intensity_2,
+    float sigma_s_2
 ) {
     bool local_4 = {};
     metal::float3 _e5 = airlight_scene_haze_sky_ray_geometry(origin_1, dir_1, light_1);
     if (_e5.x <= 0.0) {
-        float _e11 = airlight_scene_haze_sky_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_haze_sky_HUGE);
+        float _e11 = airlight_scene_haze_sky_scaled(sigma_s_2, intensity_2, 1.0, airlight_scene_haze_sky_HUGE);
         return _e11;
     }
     if (_e5.y <= 0.0) {
@@ -323,7 +360,7 @@ float airlight_scene_haze_sky_radiance(
         return 0.0;
     }
     float _e26 = airlight_scene_haze_sky_airlight_geometry(_e5.y, _e5.z);
-    float _e27 = airlight_scene_haze_sky_scaled(sigma_s_1, intensity_1, _e5.x, _e26);
+    float _e27 = airlight_scene_haze_sky_scaled(sigma_s_2, intensity_2, _e5.x, _e26);
     return _e27;
 }
 #endif // AIRLIGHT_SCENE_HAZE_SKY_MSL_INCLUDED

@@ -31,6 +31,8 @@ constant float airlight_scene_spot_harbour_FRAC_PI_2_ = 1.5707964;
 constant float airlight_scene_spot_harbour_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_scene_spot_harbour_RHO_OPEN = 4294967300.0;
 constant float airlight_scene_spot_harbour_TAU_MAX = 10000.0;
+constant float airlight_scene_spot_harbour_LN2_HI = 0.69314575;
+constant float airlight_scene_spot_harbour_LN2_LO = 0.0000014286068;
 
 float airlight_scene_spot_harbour_foot(
     float h,
@@ -94,8 +96,36 @@ metal::float3 airlight_scene_spot_harbour_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_scene_spot_harbour_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_scene_spot_harbour_naga_div(k, 2)))));
 }
 
+int airlight_scene_spot_harbour_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_scene_spot_harbour_exp_neg_k(
+    float tau
+) {
+    return airlight_scene_spot_harbour_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_scene_spot_harbour_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_scene_spot_harbour_LN2_HI)) - (kf * airlight_scene_spot_harbour_LN2_LO))));
+}
+
 int airlight_scene_spot_harbour_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_scene_spot_harbour_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_scene_spot_harbour_exp_neg_k(tau_2);
+    float _e3 = airlight_scene_spot_harbour_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_scene_spot_harbour_scale2_(metal::float3(a_4 * _e3), airlight_scene_spot_harbour_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_scene_spot_harbour_ray_geometry(
@@ -158,11 +188,12 @@ metal::float3 airlight_scene_spot_harbour_ray_geometry(
     return metal::float3(metal::min(dist, airlight_scene_spot_harbour_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
-float airlight_scene_spot_harbour_scaled(
+float airlight_scene_spot_harbour_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -171,25 +202,25 @@ float airlight_scene_spot_harbour_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_scene_spot_harbour_HUGE) {
+    if (a_5 >= airlight_scene_spot_harbour_HUGE) {
         return airlight_scene_spot_harbour_HUGE;
     }
     airlight_scene_spot_harbour_frexp_result_f32_ s_1 = airlight_scene_spot_harbour_naga_frexp(sigma_s);
     airlight_scene_spot_harbour_frexp_result_f32_ i_1 = airlight_scene_spot_harbour_naga_frexp(intensity);
-    airlight_scene_spot_harbour_frexp_result_f32_ q = airlight_scene_spot_harbour_naga_frexp(a_4);
+    airlight_scene_spot_harbour_frexp_result_f32_ q = airlight_scene_spot_harbour_naga_frexp(a_5);
     airlight_scene_spot_harbour_frexp_result_f32_ r_3 = airlight_scene_spot_harbour_naga_frexp(d_1);
     airlight_scene_spot_harbour_frexp_result_f32_ m_1 = airlight_scene_spot_harbour_naga_frexp(((s_1.fract * i_1.fract) * q.fract) / r_3.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m_1.exp) + as_type<uint>(s_1.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_3.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_scene_spot_harbour_HUGE;
     }
@@ -199,20 +230,30 @@ float airlight_scene_spot_harbour_scaled(
     return metal::ldexp(m_1.fract, e);
 }
 
+float airlight_scene_spot_harbour_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_scene_spot_harbour_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_scene_spot_harbour_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_6 = metal::abs(x);
-    r = a_6;
-    if (a_6 > 2.4142137) {
+    float a_8 = metal::abs(x);
+    r = a_8;
+    if (a_8 > 2.4142137) {
         y0_ = airlight_scene_spot_harbour_FRAC_PI_2_;
-        r = -1.0 / a_6;
+        r = -1.0 / a_8;
     } else {
-        if (a_6 > 0.41421357) {
+        if (a_8 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_6 - 1.0) / (a_6 + 1.0);
+            r = (a_8 - 1.0) / (a_8 + 1.0);
         }
     }
     float _e18 = r;
@@ -255,10 +296,6 @@ metal::float2 airlight_scene_spot_harbour_sin_cos_octant(
     return metal::float2(s_2, c_3);
 }
 
-int airlight_scene_spot_harbour_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
-}
-
 metal::float2 airlight_scene_spot_harbour_sin_cos(
     float x_3
 ) {
@@ -298,7 +335,7 @@ float airlight_scene_spot_harbour_e2_over(
 ) {
     float n1_ = 0.0;
     float n2_ = 0.0;
-    float d_2 = 0.0;
+    float d_3 = 0.0;
     float x_5 = metal::clamp(x_in, 0.000000000000000000000000000001, 100000000.0);
     float l = x_5 * metal::log((1.0 + x_5) / x_5);
     float _e16 = n1_;
@@ -311,17 +348,17 @@ float airlight_scene_spot_harbour_e2_over(
     n2_ = (_e28 + 3.0385017) * x_5;
     float _e32 = n2_;
     n2_ = (_e32 + 0.5760694) * x_5;
-    float _e36 = d_2;
-    d_2 = (_e36 + 0.86534345) * x_5;
-    float _e40 = d_2;
-    d_2 = (_e40 + 5.9773254) * x_5;
-    float _e44 = d_2;
-    d_2 = (_e44 + 8.315555) * x_5;
-    float _e48 = d_2;
-    d_2 = (_e48 + 0.0) * x_5;
+    float _e36 = d_3;
+    d_3 = (_e36 + 0.86534345) * x_5;
+    float _e40 = d_3;
+    d_3 = (_e40 + 5.9773254) * x_5;
+    float _e44 = d_3;
+    d_3 = (_e44 + 8.315555) * x_5;
+    float _e48 = d_3;
+    d_3 = (_e48 + 0.0) * x_5;
     float _e52 = n1_;
     float _e55 = n2_;
-    float _e60 = d_2;
+    float _e60 = d_3;
     return ((1.0 + _e52) - (l * (1.0 + _e55))) / ((1.0 + _e60) * m);
 }
 
@@ -342,7 +379,7 @@ float airlight_scene_spot_harbour_airlight_geometry(
     float r_1 = {};
     float u = {};
     float iq = {};
-    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_scene_spot_harbour_TAU_MAX);
+    float tau_8 = metal::min(metal::max(tau_in, 0.0), airlight_scene_spot_harbour_TAU_MAX);
     metal::float4 md = metal::float4(0.6, 1.0 - 0.6, 1.0 + 0.6, (1.0 - 0.6) / (1.0 + 0.6));
     if (x0_1 > 0.0) {
         local_4 = h_in < 0.0000000000000000008673617;
@@ -358,7 +395,7 @@ float airlight_scene_spot_harbour_airlight_geometry(
         }
         bool _e35 = local_5;
         if (_e35) {
-            return metal::min(((((0.07957747 * md.z) / (md.y * md.y)) * metal::exp(-(tau_5))) * rho_1) / (1.0 - rho_1), airlight_scene_spot_harbour_HUGE);
+            return metal::min(((((0.07957747 * md.z) / (md.y * md.y)) * metal::exp(-(tau_8))) * rho_1) / (1.0 - rho_1), airlight_scene_spot_harbour_HUGE);
         }
         if (h_in <= 0.0) {
             return airlight_scene_spot_harbour_HUGE;
@@ -386,7 +423,7 @@ float airlight_scene_spot_harbour_airlight_geometry(
     }
     float _e123 = du;
     float ub = ua + _e123;
-    float t = tau_5 * tb;
+    float t = tau_8 * tb;
     float kap = md.w;
     float m_2 = kap + ua;
     float lam = m_2 / (1.0 + ((0.40810418 * t) * m_2));
@@ -541,22 +578,25 @@ float airlight_scene_spot_harbour_airlight_geometry(
     sum = _e532 + ((_e533 * sb_1) * lam);
     float pc = (0.07957747 * md.y) / (md.z * md.z);
     if (tb < 0.0000000000000000008673617) {
-        float _e548 = sum;
-        float _e555 = airlight_scene_spot_harbour_scaled((2.0 * pc) * metal::max(_e548, 0.0), metal::exp(-(tau_5)), tb, 1.0);
-        return _e555;
+        int _e546 = airlight_scene_spot_harbour_exp_neg_k(tau_8);
+        float _e549 = sum;
+        float _e553 = airlight_scene_spot_harbour_exp_neg_m(tau_8, _e546);
+        float _e556 = airlight_scene_spot_harbour_scaled_pow2_((2.0 * pc) * metal::max(_e549, 0.0), _e553, tb, 1.0, airlight_scene_spot_harbour_naga_neg(_e546));
+        return _e556;
     }
-    float _e561 = sum;
-    return metal::min(metal::max(((2.0 * pc) * metal::exp(-(tau_5))) * (_e561 / tb), 0.0), airlight_scene_spot_harbour_HUGE);
+    float _e559 = sum;
+    float _e561 = airlight_scene_spot_harbour_mul_exp_neg(_e559 / tb, tau_8);
+    return metal::min(metal::max((2.0 * pc) * _e561, 0.0), airlight_scene_spot_harbour_HUGE);
 }
 
 float airlight_scene_spot_harbour_airlight(
-    float tau,
+    float tau_3,
     float gamma,
     float rho_2
 ) {
     metal::float2 _e6 = airlight_scene_spot_harbour_sin_cos(metal::clamp(gamma, 0.0, airlight_scene_spot_harbour_PI));
     float _e13 = airlight_scene_spot_harbour_foot(metal::abs(_e6.x), _e6.y, rho_2);
-    float _e14 = airlight_scene_spot_harbour_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, rho_2, _e13);
+    float _e14 = airlight_scene_spot_harbour_airlight_geometry(tau_3, metal::abs(_e6.x), _e6.y, rho_2, _e13);
     return _e14;
 }
 
@@ -565,14 +605,14 @@ float airlight_scene_spot_harbour_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1
+    float sigma_s_2
 ) {
     bool local_7 = {};
     metal::float3 _e7 = airlight_scene_spot_harbour_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
-        float _e13 = airlight_scene_spot_harbour_scaled(sigma_s_1, intensity_1, 1.0, airlight_scene_spot_harbour_HUGE);
+        float _e13 = airlight_scene_spot_harbour_scaled(sigma_s_2, intensity_2, 1.0, airlight_scene_spot_harbour_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
@@ -587,33 +627,33 @@ float airlight_scene_spot_harbour_radiance(
     float rho_7 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
     float _e38 = airlight_scene_spot_harbour_foot(_e7.y, _e7.z, rho_7);
     float _e39 = airlight_scene_spot_harbour_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_7, _e38);
-    float _e40 = airlight_scene_spot_harbour_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    float _e40 = airlight_scene_spot_harbour_scaled(sigma_s_2, intensity_2, _e7.x, _e39);
     return _e40;
 }
 
 float airlight_scene_spot_harbour_along(
-    float tau_1,
+    float tau_4,
     float h_2,
     float x0_2,
     float rho_3,
     float xr_1,
     float g
 ) {
-    float _e6 = airlight_scene_spot_harbour_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    float _e6 = airlight_scene_spot_harbour_airlight_geometry(tau_4, h_2, x0_2, rho_3, xr_1);
     return _e6;
 }
 
 metal::float3 airlight_scene_spot_harbour_along_rgb(
-    metal::float3 tau_2,
+    metal::float3 tau_5,
     float h_3,
     float x0_3,
     float rho_4,
     float xr_2,
     float g_1
 ) {
-    float _e7 = airlight_scene_spot_harbour_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
-    float _e9 = airlight_scene_spot_harbour_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
-    float _e11 = airlight_scene_spot_harbour_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e7 = airlight_scene_spot_harbour_along(tau_5.x, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e9 = airlight_scene_spot_harbour_along(tau_5.y, h_3, x0_3, rho_4, xr_2, g_1);
+    float _e11 = airlight_scene_spot_harbour_along(tau_5.z, h_3, x0_3, rho_4, xr_2, g_1);
     return metal::float3(_e7, _e9, _e11);
 }
 
@@ -626,7 +666,7 @@ float airlight_scene_spot_harbour_spot_asin(
 }
 
 metal::float3 airlight_scene_spot_harbour_spot_core(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_4,
     float x0_4,
     float rho_5,
@@ -686,10 +726,10 @@ metal::float3 airlight_scene_spot_harbour_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_scene_spot_harbour_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2);
+    metal::float3 _e70 = airlight_scene_spot_harbour_along_rgb(tau_6 * _e64, _e66, _e67, _e68, _e69, g_2);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_6) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_scene_spot_harbour_spot_weight(
@@ -704,7 +744,7 @@ float airlight_scene_spot_harbour_spot_weight(
 }
 
 metal::float3 airlight_scene_spot_harbour_spot_edge(
-    metal::float3 tau_4,
+    metal::float3 tau_7,
     float h_5,
     float x0_5,
     float rho_6,
@@ -713,7 +753,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
     float u_1,
     float v_in,
     float ca,
-    float k_1,
+    float k_3,
     float co_1,
     float ci_1,
     float g_3
@@ -723,7 +763,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
     metal::float3 sum_1 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_3 = {};
+    float d_4 = {};
     float st = {};
     int i = 0;
     if (!((v_in > u_1))) {
@@ -731,11 +771,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
     }
     metal::float2 _e17 = airlight_scene_spot_harbour_sin_cos(u_1);
     metal::float2 _e18 = airlight_scene_spot_harbour_sin_cos(v_in);
-    float _e24 = airlight_scene_spot_harbour_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
-    float _e30 = airlight_scene_spot_harbour_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
+    float _e24 = airlight_scene_spot_harbour_spot_weight((ca * _e17.x) - (k_3 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_scene_spot_harbour_spot_weight((ca * _e18.x) - (k_3 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_scene_spot_harbour_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
+        metal::float3 _e39 = airlight_scene_spot_harbour_spot_core(tau_7, h_5, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -762,12 +802,12 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_7 = u_1 + ((v_in - u_1) * _e80);
+            float a_9 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_3 = u_1 + ((v_in - u_1) * _e88);
-            float half_ = 0.5 * (b_3 - a_7);
-            float mid = 0.5 * (b_3 + a_7);
+            float half_ = 0.5 * (b_3 - a_9);
+            float mid = 0.5 * (b_3 + a_9);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_scene_spot_harbour_sin_cos(0.5 * _e100);
@@ -776,7 +816,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -787,11 +827,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
-            float _e163 = d_3;
-            float _e164 = d_3;
+            float _e160 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_4;
+            float _e164 = d_4;
             float _e169 = st;
-            sum_1 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
+            sum_1 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_7) * _e169));
             w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_scene_spot_harbour_sin_cos(0.5 * _e177);
@@ -800,7 +840,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -811,11 +851,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
-            float _e240 = d_3;
-            float _e241 = d_3;
+            float _e237 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_4;
+            float _e241 = d_4;
             float _e246 = st;
-            sum_1 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
+            sum_1 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_7) * _e246));
             w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_scene_spot_harbour_sin_cos(0.5 * _e254);
@@ -824,7 +864,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -835,11 +875,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
-            float _e317 = d_3;
-            float _e318 = d_3;
+            float _e314 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_4;
+            float _e318 = d_4;
             float _e323 = st;
-            sum_1 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
+            sum_1 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_7) * _e323));
             w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_scene_spot_harbour_sin_cos(0.5 * _e331);
@@ -848,7 +888,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -859,11 +899,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
-            float _e394 = d_3;
-            float _e395 = d_3;
+            float _e391 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_4;
+            float _e395 = d_4;
             float _e400 = st;
-            sum_1 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
+            sum_1 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_7) * _e400));
             w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_scene_spot_harbour_sin_cos(0.5 * _e408);
@@ -872,7 +912,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -883,11 +923,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
-            float _e471 = d_3;
-            float _e472 = d_3;
+            float _e468 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_4;
+            float _e472 = d_4;
             float _e477 = st;
-            sum_1 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
+            sum_1 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_7) * _e477));
             w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_scene_spot_harbour_sin_cos(0.5 * _e485);
@@ -896,7 +936,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -907,11 +947,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
-            float _e548 = d_3;
-            float _e549 = d_3;
+            float _e545 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_4;
+            float _e549 = d_4;
             float _e554 = st;
-            sum_1 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
+            sum_1 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_7) * _e554));
             w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_scene_spot_harbour_sin_cos(0.5 * _e562);
@@ -920,7 +960,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -931,11 +971,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
-            float _e625 = d_3;
-            float _e626 = d_3;
+            float _e622 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_4;
+            float _e626 = d_4;
             float _e631 = st;
-            sum_1 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
+            sum_1 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_7) * _e631));
             w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_scene_spot_harbour_sin_cos(0.5 * _e639);
@@ -944,7 +984,7 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
+            d_4 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = metal::max(x0_5 + ((h_5 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -955,11 +995,11 @@ metal::float3 airlight_scene_spot_harbour_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
-            float _e702 = d_3;
-            float _e703 = d_3;
+            float _e699 = airlight_scene_spot_harbour_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_4;
+            float _e703 = d_4;
             float _e708 = st;
-            sum_1 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
+            sum_1 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_7) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -975,9 +1015,9 @@ metal::float3 airlight_scene_spot_harbour_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
+    float intensity_3,
     metal::float3 sigma_t_1,
-    metal::float3 sigma_s_2
+    metal::float3 sigma_s_3
 ) {
     bool local_9 = {};
     bool local_10 = {};
@@ -999,7 +1039,7 @@ metal::float3 airlight_scene_spot_harbour_spot(
     bool local_14 = {};
     bool local_15 = {};
     bool local_16 = {};
-    metal::float3 a_5 = metal::float3(0.0);
+    metal::float3 a_7 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_scene_spot_harbour_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -1037,16 +1077,16 @@ metal::float3 airlight_scene_spot_harbour_spot(
     }
     metal::float3 _e56 = ax;
     metal::float3 _e57 = n;
-    float k_2 = metal::dot(_e56, _e57);
+    float k_4 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_scene_spot_harbour_spot_weight(k_2, co_2, cos_inner);
+        float _e64 = airlight_scene_spot_harbour_spot_weight(k_4, co_2, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
-        float _e72 = airlight_scene_spot_harbour_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_scene_spot_harbour_HUGE);
+        float _e72 = airlight_scene_spot_harbour_scaled(sigma_s_3.x, intensity_3 * _e68, 1.0, airlight_scene_spot_harbour_HUGE);
         float _e74 = scale;
-        float _e78 = airlight_scene_spot_harbour_scaled(sigma_s_2.y, intensity_2 * _e74, 1.0, airlight_scene_spot_harbour_HUGE);
+        float _e78 = airlight_scene_spot_harbour_scaled(sigma_s_3.y, intensity_3 * _e74, 1.0, airlight_scene_spot_harbour_HUGE);
         float _e80 = scale;
-        float _e84 = airlight_scene_spot_harbour_scaled(sigma_s_2.z, intensity_2 * _e80, 1.0, airlight_scene_spot_harbour_HUGE);
+        float _e84 = airlight_scene_spot_harbour_scaled(sigma_s_3.z, intensity_3 * _e80, 1.0, airlight_scene_spot_harbour_HUGE);
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
@@ -1058,17 +1098,17 @@ metal::float3 airlight_scene_spot_harbour_spot(
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_4 = _e10.x;
+    float d_5 = _e10.x;
     float h_6 = _e10.y;
     float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_4) < airlight_scene_spot_harbour_RHO_OPEN;
+        local_13 = (surface_1 / d_5) < airlight_scene_spot_harbour_RHO_OPEN;
     } else {
         local_13 = false;
     }
     bool has_end = local_13;
-    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_8 = has_end ? (surface_1 / d_5) : -1.0;
+    metal::float3 tau_9 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
     float _e140 = airlight_scene_spot_harbour_arctan2_(h_6, x0_7);
     if (!(point)) {
         local_14 = h_6 <= 0.0;
@@ -1084,8 +1124,8 @@ metal::float3 airlight_scene_spot_harbour_spot(
     bool _e154 = local_15;
     if (_e154) {
         if (!(point)) {
-            float _e157 = airlight_scene_spot_harbour_spot_weight(-(k_2), co_2, cos_inner);
-            float _e158 = airlight_scene_spot_harbour_spot_weight(k_2, co_2, cos_inner);
+            float _e157 = airlight_scene_spot_harbour_spot_weight(-(k_4), co_2, cos_inner);
+            float _e158 = airlight_scene_spot_harbour_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_16 = rho_8 < 1.0;
             } else {
@@ -1105,9 +1145,9 @@ metal::float3 airlight_scene_spot_harbour_spot(
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_5 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
+        float r_5 = metal::sqrt((_e185 * _e186) + (k_4 * k_4));
         float _e191 = ca_1;
-        float _e192 = airlight_scene_spot_harbour_arctan2_(k_2, _e191);
+        float _e192 = airlight_scene_spot_harbour_arctan2_(k_4, _e191);
         gam_2 = _e140;
         float _e195 = airlight_scene_spot_harbour_arctan2_(h_6, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_scene_spot_harbour_PI;
@@ -1153,8 +1193,8 @@ metal::float3 airlight_scene_spot_harbour_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_scene_spot_harbour_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.6);
-        a_5 = _e248;
+        metal::float3 _e248 = airlight_scene_spot_harbour_spot_core(tau_9, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.6);
+        a_7 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1177,24 +1217,24 @@ metal::float3 airlight_scene_spot_harbour_spot(
             int _e258 = j_1;
             metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e265 = a_5;
+                metal::float3 _e265 = a_7;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_scene_spot_harbour_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.6);
-                a_5 = _e265 + _e271;
+                metal::float3 _e271 = airlight_scene_spot_harbour_spot_edge(tau_9, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.6);
+                a_7 = _e265 + _e271;
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_5.x;
-    float _e281 = airlight_scene_spot_harbour_scaled(sigma_s_2.x, intensity_2 * _e277, d_4, _e280);
+    float _e280 = a_7.x;
+    float _e281 = airlight_scene_spot_harbour_scaled(sigma_s_3.x, intensity_3 * _e277, d_5, _e280);
     float _e283 = scale;
-    float _e286 = a_5.y;
-    float _e287 = airlight_scene_spot_harbour_scaled(sigma_s_2.y, intensity_2 * _e283, d_4, _e286);
+    float _e286 = a_7.y;
+    float _e287 = airlight_scene_spot_harbour_scaled(sigma_s_3.y, intensity_3 * _e283, d_5, _e286);
     float _e289 = scale;
-    float _e292 = a_5.z;
-    float _e293 = airlight_scene_spot_harbour_scaled(sigma_s_2.z, intensity_2 * _e289, d_4, _e292);
+    float _e292 = a_7.z;
+    float _e293 = airlight_scene_spot_harbour_scaled(sigma_s_3.z, intensity_3 * _e289, d_5, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 #endif // AIRLIGHT_SCENE_SPOT_HARBOUR_MSL_INCLUDED

@@ -50,6 +50,8 @@ constant float airlight_segments_12_FRAC_PI_2_ = 1.5707964;
 constant float airlight_segments_12_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_segments_12_RHO_OPEN = 4294967300.0;
 constant float airlight_segments_12_TAU_MAX = 10000.0;
+constant float airlight_segments_12_LN2_HI = 0.69314575;
+constant float airlight_segments_12_LN2_LO = 0.0000014286068;
 constant float airlight_segments_12_P_ISO = 0.07957747;
 constant uint airlight_segments_12_SHAFTS_RUNS = 32u;
 
@@ -115,8 +117,36 @@ metal::float3 airlight_segments_12_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_segments_12_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_segments_12_naga_div(k, 2)))));
 }
 
+int airlight_segments_12_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_segments_12_exp_neg_k(
+    float tau
+) {
+    return airlight_segments_12_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_segments_12_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_segments_12_LN2_HI)) - (kf * airlight_segments_12_LN2_LO))));
+}
+
 int airlight_segments_12_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_segments_12_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_segments_12_exp_neg_k(tau_2);
+    float _e3 = airlight_segments_12_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_segments_12_scale2_(metal::float3(a_4 * _e3), airlight_segments_12_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_segments_12_ray_geometry(
@@ -179,11 +209,12 @@ metal::float3 airlight_segments_12_ray_geometry(
     return metal::float3(metal::min(dist, airlight_segments_12_HUGE), _e97 / n_1, x0_7 / n_1);
 }
 
-float airlight_segments_12_scaled(
+float airlight_segments_12_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -192,25 +223,25 @@ float airlight_segments_12_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_segments_12_HUGE) {
+    if (a_5 >= airlight_segments_12_HUGE) {
         return airlight_segments_12_HUGE;
     }
     airlight_segments_12_frexp_result_f32_ s_4 = airlight_segments_12_naga_frexp(sigma_s);
     airlight_segments_12_frexp_result_f32_ i_1 = airlight_segments_12_naga_frexp(intensity);
-    airlight_segments_12_frexp_result_f32_ q = airlight_segments_12_naga_frexp(a_4);
+    airlight_segments_12_frexp_result_f32_ q = airlight_segments_12_naga_frexp(a_5);
     airlight_segments_12_frexp_result_f32_ r_2 = airlight_segments_12_naga_frexp(d_1);
     airlight_segments_12_frexp_result_f32_ m = airlight_segments_12_naga_frexp(((s_4.fract * i_1.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_1.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_segments_12_HUGE;
     }
@@ -220,20 +251,30 @@ float airlight_segments_12_scaled(
     return metal::ldexp(m.fract, e);
 }
 
+float airlight_segments_12_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_segments_12_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_segments_12_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_12 = metal::abs(x);
-    r = a_12;
-    if (a_12 > 2.4142137) {
+    float a_14 = metal::abs(x);
+    r = a_14;
+    if (a_14 > 2.4142137) {
         y0_ = airlight_segments_12_FRAC_PI_2_;
-        r = -1.0 / a_12;
+        r = -1.0 / a_14;
     } else {
-        if (a_12 > 0.41421357) {
+        if (a_14 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_12 - 1.0) / (a_12 + 1.0);
+            r = (a_14 - 1.0) / (a_14 + 1.0);
         }
     }
     float _e18 = r;
@@ -274,10 +315,6 @@ metal::float2 airlight_segments_12_sin_cos_octant(
     float s_5 = ((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2;
     float c_3 = (((((((0.000024433157 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0;
     return metal::float2(s_5, c_3);
-}
-
-int airlight_segments_12_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
 }
 
 metal::float2 airlight_segments_12_sin_cos(
@@ -336,13 +373,13 @@ float airlight_segments_12_phi(
         float r_4 = 1.0 / z;
         return r_4 * (1.0 + (r_4 * (-2.0 + (r_4 * (6.0 + (r_4 * (-24.0 + (r_4 * 120.0))))))));
     }
-    float d_3 = ((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968;
+    float d_4 = ((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968;
     float n_2 = (((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232;
-    return n_2 / d_3;
+    return n_2 / d_4;
 }
 
 float airlight_segments_12_piece(
-    float a_5,
+    float a_7,
     float b_3,
     float len,
     float lo_j,
@@ -353,12 +390,12 @@ float airlight_segments_12_piece(
     float att
 ) {
     bool local_4 = {};
-    float lo = metal::max(a_5, lo_j);
+    float lo = metal::max(a_7, lo_j);
     float hi_1 = metal::min(b_3, hi_j);
     if (hi_1 <= lo) {
         return 0.0;
     }
-    if (a_5 >= lo_j) {
+    if (a_7 >= lo_j) {
         local_4 = b_3 <= hi_j;
     } else {
         local_4 = false;
@@ -372,39 +409,39 @@ float airlight_segments_12_piece(
 }
 
 float airlight_segments_12_segments(
-    float a_6,
+    float a_8,
     float len_1,
     float t_1,
     float att_1
 ) {
-    float b_7 = a_6 + len_1;
-    float _e9 = airlight_segments_12_piece(a_6, b_7, len_1, 0.0, 0.25362974, 0.5035592, -0.00032098495, t_1, att_1);
-    float _e14 = airlight_segments_12_piece(a_6, b_7, len_1, 0.25362974, 0.3977663, 0.51334536, -0.0028030626, t_1, att_1);
-    float _e20 = airlight_segments_12_piece(a_6, b_7, len_1, 0.3977663, 0.5583972, 0.52823985, -0.00872758, t_1, att_1);
-    float _e26 = airlight_segments_12_piece(a_6, b_7, len_1, 0.5583972, 0.7063877, 0.5554575, -0.023925837, t_1, att_1);
-    float _e32 = airlight_segments_12_piece(a_6, b_7, len_1, 0.7063877, 0.83322775, 0.5808778, -0.041882418, t_1, att_1);
-    float _e38 = airlight_segments_12_piece(a_6, b_7, len_1, 0.83322775, 0.95383865, 0.61508006, -0.07038069, t_1, att_1);
-    float _e44 = airlight_segments_12_piece(a_6, b_7, len_1, 0.95383865, 1.0759338, 0.65413487, -0.107632674, t_1, att_1);
-    float _e50 = airlight_segments_12_piece(a_6, b_7, len_1, 1.0759338, 1.1880713, 0.7026101, -0.15978883, t_1, att_1);
-    float _e56 = airlight_segments_12_piece(a_6, b_7, len_1, 1.1880713, 1.3001157, 0.7554644, -0.22258346, t_1, att_1);
-    float _e62 = airlight_segments_12_piece(a_6, b_7, len_1, 1.3001157, 1.4079618, 0.8246472, -0.31252918, t_1, att_1);
-    float _e68 = airlight_segments_12_piece(a_6, b_7, len_1, 1.4079618, 1.4971633, 0.8955604, -0.41237217, t_1, att_1);
-    float _e74 = airlight_segments_12_piece(a_6, b_7, len_1, 1.4971633, 1.5707964, 0.9690583, -0.5224105, t_1, att_1);
+    float b_7 = a_8 + len_1;
+    float _e9 = airlight_segments_12_piece(a_8, b_7, len_1, 0.0, 0.25362974, 0.5035592, -0.00032098495, t_1, att_1);
+    float _e14 = airlight_segments_12_piece(a_8, b_7, len_1, 0.25362974, 0.3977663, 0.51334536, -0.0028030626, t_1, att_1);
+    float _e20 = airlight_segments_12_piece(a_8, b_7, len_1, 0.3977663, 0.5583972, 0.52823985, -0.00872758, t_1, att_1);
+    float _e26 = airlight_segments_12_piece(a_8, b_7, len_1, 0.5583972, 0.7063877, 0.5554575, -0.023925837, t_1, att_1);
+    float _e32 = airlight_segments_12_piece(a_8, b_7, len_1, 0.7063877, 0.83322775, 0.5808778, -0.041882418, t_1, att_1);
+    float _e38 = airlight_segments_12_piece(a_8, b_7, len_1, 0.83322775, 0.95383865, 0.61508006, -0.07038069, t_1, att_1);
+    float _e44 = airlight_segments_12_piece(a_8, b_7, len_1, 0.95383865, 1.0759338, 0.65413487, -0.107632674, t_1, att_1);
+    float _e50 = airlight_segments_12_piece(a_8, b_7, len_1, 1.0759338, 1.1880713, 0.7026101, -0.15978883, t_1, att_1);
+    float _e56 = airlight_segments_12_piece(a_8, b_7, len_1, 1.1880713, 1.3001157, 0.7554644, -0.22258346, t_1, att_1);
+    float _e62 = airlight_segments_12_piece(a_8, b_7, len_1, 1.3001157, 1.4079618, 0.8246472, -0.31252918, t_1, att_1);
+    float _e68 = airlight_segments_12_piece(a_8, b_7, len_1, 1.4079618, 1.4971633, 0.8955604, -0.41237217, t_1, att_1);
+    float _e74 = airlight_segments_12_piece(a_8, b_7, len_1, 1.4971633, 1.5707964, 0.9690583, -0.5224105, t_1, att_1);
     return ((((((((((_e9 + _e14) + _e20) + _e26) + _e32) + _e38) + _e44) + _e50) + _e56) + _e62) + _e68) + _e74;
 }
 
 float airlight_segments_12_forward(
-    float a_7,
+    float a_9,
     float len_2,
     float t_2,
     float att_2
 ) {
-    float _e5 = airlight_segments_12_segments(a_7, len_2, t_2, att_2);
+    float _e5 = airlight_segments_12_segments(a_9, len_2, t_2, att_2);
     return airlight_segments_12_P_ISO * _e5;
 }
 
 float airlight_segments_12_backward_u(
-    float tau,
+    float tau_3,
     float t_3,
     float h_2,
     float x0_1,
@@ -423,9 +460,9 @@ float airlight_segments_12_backward_u(
     float ua = (x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2);
     float u0_ = metal::max(ua, 1.0);
     if (!(open)) {
-        float d_4 = -(xr);
-        float r_5 = metal::sqrt((d_4 * d_4) + (h_2 * h_2));
-        span = (x0_1 < 0.0) ? (((2.0 * rho_1) * (d_4 + r_5)) / (((rho_1 + r_5) + 1.0) * h_2)) : (((d_4 + r_5) / h_2) - u0_);
+        float d_5 = -(xr);
+        float r_5 = metal::sqrt((d_5 * d_5) + (h_2 * h_2));
+        span = (x0_1 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_5)) / (((rho_1 + r_5) + 1.0) * h_2)) : (((d_5 + r_5) / h_2) - u0_);
     }
     float _e41 = span;
     if (!((_e41 > 0.0))) {
@@ -440,7 +477,7 @@ float airlight_segments_12_backward_u(
     bool endless = local_5;
     float _e54 = span;
     float ub = u0_ + _e54;
-    float base = -(tau) - (t_3 * (u0_ - ua));
+    float base = -(tau_3) - (t_3 * (u0_ - ua));
     if (u0_ < 16.0) {
         float _e66 = span;
         float len_4 = (ub <= 16.0) ? _e66 : (16.0 - u0_);
@@ -476,21 +513,21 @@ float airlight_segments_12_backward_u(
     }
     bool _e144 = local_6;
     if (_e144) {
-        float a_13 = metal::max(u0_, 16.0);
-        float shift = base - (t_3 * (a_13 - u0_));
+        float a_15 = metal::max(u0_, 16.0);
+        float shift = base - (t_3 * (a_15 - u0_));
         if (!(endless)) {
-            local_7 = ub <= (2.0 * a_13);
+            local_7 = ub <= (2.0 * a_15);
         } else {
             local_7 = false;
         }
         bool _e157 = local_7;
         if (_e157) {
             float _e161 = span;
-            float len_5 = (a_13 == u0_) ? (_e161 / a_13) : ((ub / a_13) - 1.0);
-            float ta = t_3 * a_13;
+            float len_5 = (a_15 == u0_) ? (_e161 / a_15) : ((ub / a_15) - 1.0);
+            float ta = t_3 * a_15;
             {
                 float lam_5 = ta + 0.26840276;
-                float u_2 = a_13 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
+                float u_2 = a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5))));
                 float q_1 = 1.0 / (1.0 + (1.0 / (u_2 * u_2)));
                 float _e184 = part;
                 float _e193 = airlight_segments_12_exprel(-(lam_5) * len_5);
@@ -498,7 +535,7 @@ float airlight_segments_12_backward_u(
             }
             {
                 float lam_6 = ta + 1.5659415;
-                float u_3 = a_13 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
+                float u_3 = a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5))));
                 float q_2 = 1.0 / (1.0 + (1.0 / (u_3 * u_3)));
                 float _e215 = part;
                 float _e224 = airlight_segments_12_exprel(-(lam_6) * len_5);
@@ -506,7 +543,7 @@ float airlight_segments_12_backward_u(
             }
             {
                 float lam_7 = ta + 4.449333;
-                float u_4 = a_13 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
+                float u_4 = a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5))));
                 float q_3 = 1.0 / (1.0 + (1.0 / (u_4 * u_4)));
                 float _e246 = part;
                 float _e255 = airlight_segments_12_exprel(-(lam_7) * len_5);
@@ -514,19 +551,19 @@ float airlight_segments_12_backward_u(
             }
             float _e261 = sum;
             float _e262 = part;
-            sum = _e261 + (_e262 / a_13);
+            sum = _e261 + (_e262 / a_15);
         } else {
-            float lam_8 = t_3 + (2.0 / a_13);
-            float _e269 = airlight_segments_12_phi(t_3 * a_13);
-            g = _e269 / a_13;
-            u = a_13 + (1.0 / lam_8);
+            float lam_8 = t_3 + (2.0 / a_15);
+            float _e269 = airlight_segments_12_phi(t_3 * a_15);
+            g = _e269 / a_15;
+            u = a_15 + (1.0 / lam_8);
             if (!(endless)) {
                 float _e278 = span;
-                float len_6 = (a_13 == u0_) ? _e278 : (ub - a_13);
+                float len_6 = (a_15 == u0_) ? _e278 : (ub - a_15);
                 float _e281 = g;
                 float _e286 = airlight_segments_12_phi(t_3 * ub);
                 g = _e281 - ((metal::exp(-(t_3) * len_6) * _e286) / ub);
-                u = a_13 + (len_6 / (2.0 + (lam_8 * len_6)));
+                u = a_15 + (len_6 / (2.0 + (lam_8 * len_6)));
             }
             float _e295 = u;
             float _e296 = u;
@@ -560,7 +597,7 @@ float airlight_segments_12_airlight_geometry(
     }
     bool _e12 = local_8;
     bool open_1 = !(_e12);
-    float tau_6 = metal::min(tau_in, airlight_segments_12_TAU_MAX);
+    float tau_9 = metal::min(tau_in, airlight_segments_12_TAU_MAX);
     if (h_in <= 0.0) {
         local_9 = x0_2 > 0.0;
     } else {
@@ -577,10 +614,10 @@ float airlight_segments_12_airlight_geometry(
         if (_e30) {
             return airlight_segments_12_HUGE;
         }
-        return ((airlight_segments_12_P_ISO * metal::exp(-(tau_6))) * rho_2) / (1.0 - rho_2);
+        return ((airlight_segments_12_P_ISO * metal::exp(-(tau_9))) * rho_2) / (1.0 - rho_2);
     }
     float h_7 = (x0_2 < 0.0) ? metal::max(h_in, 0.0000001) : h_in;
-    float t_4 = tau_6 * h_7;
+    float t_4 = tau_9 * h_7;
     if (x0_2 > 0.0) {
         float _e50 = airlight_segments_12_arctan2_(x0_2, h_7);
         len_3 = _e50;
@@ -597,24 +634,24 @@ float airlight_segments_12_airlight_geometry(
         float _e64 = sum_1;
         float _e65 = airlight_segments_12_arctan2_(h_7, x0_2);
         float _e66 = len_3;
-        float _e69 = airlight_segments_12_forward(_e65, _e66, t_4, -(tau_6) * x0_2);
+        float _e69 = airlight_segments_12_forward(_e65, _e66, t_4, -(tau_9) * x0_2);
         sum_1 = _e64 + _e69;
     }
     float _e71 = sum_1;
-    float _e72 = airlight_segments_12_backward_u(tau_6, t_4, h_7, x0_2, rho_2, xr_1, open_1);
+    float _e72 = airlight_segments_12_backward_u(tau_9, t_4, h_7, x0_2, rho_2, xr_1, open_1);
     sum_1 = _e71 + _e72;
     float _e74 = sum_1;
     return metal::min(_e74 / h_7, airlight_segments_12_HUGE);
 }
 
 float airlight_segments_12_airlight(
-    float tau_1,
+    float tau_4,
     float gamma,
     float rho_3
 ) {
     metal::float2 _e3 = airlight_segments_12_sin_cos(gamma);
     float _e10 = airlight_segments_12_foot(metal::abs(_e3.x), _e3.y, rho_3);
-    float _e11 = airlight_segments_12_airlight_geometry(tau_1, metal::abs(_e3.x), _e3.y, rho_3, _e10);
+    float _e11 = airlight_segments_12_airlight_geometry(tau_4, metal::abs(_e3.x), _e3.y, rho_3, _e10);
     return _e11;
 }
 
@@ -623,14 +660,14 @@ float airlight_segments_12_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1
+    float sigma_s_2
 ) {
     bool local_12 = {};
     metal::float3 _e7 = airlight_segments_12_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
-        float _e13 = airlight_segments_12_scaled(sigma_s_1, intensity_1, 1.0, airlight_segments_12_HUGE);
+        float _e13 = airlight_segments_12_scaled(sigma_s_2, intensity_2, 1.0, airlight_segments_12_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
@@ -645,33 +682,33 @@ float airlight_segments_12_radiance(
     float rho_8 = (surface >= 0.0) ? (surface / _e7.x) : -1.0;
     float _e37 = airlight_segments_12_foot(_e7.y, _e7.z, rho_8);
     float _e38 = airlight_segments_12_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, rho_8, _e37);
-    float _e40 = airlight_segments_12_scaled(sigma_s_1, intensity_1, _e7.x, _e38);
+    float _e40 = airlight_segments_12_scaled(sigma_s_2, intensity_2, _e7.x, _e38);
     return _e40;
 }
 
 float airlight_segments_12_along(
-    float tau_2,
+    float tau_5,
     float h_3,
     float x0_3,
     float rho_4,
     float xr_2,
     float g_1
 ) {
-    float _e6 = airlight_segments_12_airlight_geometry(tau_2, h_3, x0_3, rho_4, xr_2);
+    float _e6 = airlight_segments_12_airlight_geometry(tau_5, h_3, x0_3, rho_4, xr_2);
     return _e6;
 }
 
 metal::float3 airlight_segments_12_along_rgb(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_4,
     float x0_4,
     float rho_5,
     float xr_3,
     float g_2
 ) {
-    float _e7 = airlight_segments_12_along(tau_3.x, h_4, x0_4, rho_5, xr_3, g_2);
-    float _e9 = airlight_segments_12_along(tau_3.y, h_4, x0_4, rho_5, xr_3, g_2);
-    float _e11 = airlight_segments_12_along(tau_3.z, h_4, x0_4, rho_5, xr_3, g_2);
+    float _e7 = airlight_segments_12_along(tau_6.x, h_4, x0_4, rho_5, xr_3, g_2);
+    float _e9 = airlight_segments_12_along(tau_6.y, h_4, x0_4, rho_5, xr_3, g_2);
+    float _e11 = airlight_segments_12_along(tau_6.z, h_4, x0_4, rho_5, xr_3, g_2);
     return metal::float3(_e7, _e9, _e11);
 }
 
@@ -684,7 +721,7 @@ float airlight_segments_12_spot_asin(
 }
 
 metal::float3 airlight_segments_12_spot_core(
-    metal::float3 tau_4,
+    metal::float3 tau_7,
     float h_5,
     float x0_5,
     float rho_6,
@@ -744,10 +781,10 @@ metal::float3 airlight_segments_12_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_segments_12_along_rgb(tau_4 * _e64, _e66, _e67, _e68, _e69, g_3);
+    metal::float3 _e70 = airlight_segments_12_along_rgb(tau_7 * _e64, _e66, _e67, _e68, _e69, g_3);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_4) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_7) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_segments_12_spot_weight(
@@ -762,7 +799,7 @@ float airlight_segments_12_spot_weight(
 }
 
 metal::float3 airlight_segments_12_spot_edge(
-    metal::float3 tau_5,
+    metal::float3 tau_8,
     float h_6,
     float x0_6,
     float rho_7,
@@ -771,7 +808,7 @@ metal::float3 airlight_segments_12_spot_edge(
     float u_1,
     float v_in,
     float ca,
-    float k_1,
+    float k_3,
     float co_1,
     float ci_1,
     float g_4
@@ -781,7 +818,7 @@ metal::float3 airlight_segments_12_spot_edge(
     metal::float3 sum_2 = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_2 = {};
+    float d_3 = {};
     float st = {};
     int i = 0;
     if (!((v_in > u_1))) {
@@ -789,11 +826,11 @@ metal::float3 airlight_segments_12_spot_edge(
     }
     metal::float2 _e17 = airlight_segments_12_sin_cos(u_1);
     metal::float2 _e18 = airlight_segments_12_sin_cos(v_in);
-    float _e24 = airlight_segments_12_spot_weight((ca * _e17.x) - (k_1 * _e17.y), co_1, ci_1);
-    float _e30 = airlight_segments_12_spot_weight((ca * _e18.x) - (k_1 * _e18.y), co_1, ci_1);
+    float _e24 = airlight_segments_12_spot_weight((ca * _e17.x) - (k_3 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_segments_12_spot_weight((ca * _e18.x) - (k_3 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_segments_12_spot_core(tau_5, h_6, x0_6, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_4);
+        metal::float3 _e39 = airlight_segments_12_spot_core(tau_8, h_6, x0_6, rho_7, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_4);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -820,12 +857,12 @@ metal::float3 airlight_segments_12_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_14 = u_1 + ((v_in - u_1) * _e80);
+            float a_16 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_8 = u_1 + ((v_in - u_1) * _e88);
-            float half_ = 0.5 * (b_8 - a_14);
-            float mid = 0.5 * (b_8 + a_14);
+            float half_ = 0.5 * (b_8 - a_16);
+            float mid = 0.5 * (b_8 + a_16);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_segments_12_sin_cos(0.5 * _e100);
@@ -834,7 +871,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -845,11 +882,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_segments_12_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            float _e160 = airlight_segments_12_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum_2 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_5) * _e169));
+            sum_2 = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_8) * _e169));
             w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_segments_12_sin_cos(0.5 * _e177);
@@ -858,7 +895,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -869,11 +906,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_segments_12_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            float _e237 = airlight_segments_12_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum_2 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_5) * _e246));
+            sum_2 = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_8) * _e246));
             w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_segments_12_sin_cos(0.5 * _e254);
@@ -882,7 +919,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -893,11 +930,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_segments_12_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            float _e314 = airlight_segments_12_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum_2 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_5) * _e323));
+            sum_2 = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_8) * _e323));
             w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_segments_12_sin_cos(0.5 * _e331);
@@ -906,7 +943,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -917,11 +954,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_segments_12_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            float _e391 = airlight_segments_12_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum_2 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_5) * _e400));
+            sum_2 = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_8) * _e400));
             w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_segments_12_sin_cos(0.5 * _e408);
@@ -930,7 +967,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -941,11 +978,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_segments_12_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            float _e468 = airlight_segments_12_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum_2 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_5) * _e477));
+            sum_2 = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_8) * _e477));
             w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_segments_12_sin_cos(0.5 * _e485);
@@ -954,7 +991,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -965,11 +1002,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_segments_12_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            float _e545 = airlight_segments_12_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum_2 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_5) * _e554));
+            sum_2 = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_8) * _e554));
             w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_segments_12_sin_cos(0.5 * _e562);
@@ -978,7 +1015,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -989,11 +1026,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_segments_12_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            float _e622 = airlight_segments_12_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum_2 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_5) * _e631));
+            sum_2 = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_8) * _e631));
             w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_segments_12_sin_cos(0.5 * _e639);
@@ -1002,7 +1039,7 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649));
+            d_3 = (g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = metal::max(x0_6 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -1013,11 +1050,11 @@ metal::float3 airlight_segments_12_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_segments_12_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            float _e699 = airlight_segments_12_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum_2 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_5) * _e708));
+            sum_2 = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_8) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -1033,9 +1070,9 @@ metal::float3 airlight_segments_12_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
+    float intensity_3,
     metal::float3 sigma_t_1,
-    metal::float3 sigma_s_2
+    metal::float3 sigma_s_3
 ) {
     bool local_14 = {};
     bool local_15 = {};
@@ -1057,7 +1094,7 @@ metal::float3 airlight_segments_12_spot(
     bool local_19 = {};
     bool local_20 = {};
     bool local_21 = {};
-    metal::float3 a_8 = metal::float3(0.0);
+    metal::float3 a_10 = metal::float3(0.0);
     int j_1 = 0;
     metal::float3 _e10 = airlight_segments_12_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -1095,16 +1132,16 @@ metal::float3 airlight_segments_12_spot(
     }
     metal::float3 _e56 = ax;
     metal::float3 _e57 = n;
-    float k_2 = metal::dot(_e56, _e57);
+    float k_4 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_segments_12_spot_weight(k_2, co_2, cos_inner);
+        float _e64 = airlight_segments_12_spot_weight(k_4, co_2, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
-        float _e72 = airlight_segments_12_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_segments_12_HUGE);
+        float _e72 = airlight_segments_12_scaled(sigma_s_3.x, intensity_3 * _e68, 1.0, airlight_segments_12_HUGE);
         float _e74 = scale;
-        float _e78 = airlight_segments_12_scaled(sigma_s_2.y, intensity_2 * _e74, 1.0, airlight_segments_12_HUGE);
+        float _e78 = airlight_segments_12_scaled(sigma_s_3.y, intensity_3 * _e74, 1.0, airlight_segments_12_HUGE);
         float _e80 = scale;
-        float _e84 = airlight_segments_12_scaled(sigma_s_2.z, intensity_2 * _e80, 1.0, airlight_segments_12_HUGE);
+        float _e84 = airlight_segments_12_scaled(sigma_s_3.z, intensity_3 * _e80, 1.0, airlight_segments_12_HUGE);
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
@@ -1116,17 +1153,17 @@ metal::float3 airlight_segments_12_spot(
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_5 = _e10.x;
+    float d_6 = _e10.x;
     float h_8 = _e10.y;
     float x0_8 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_18 = (surface_1 / d_5) < airlight_segments_12_RHO_OPEN;
+        local_18 = (surface_1 / d_6) < airlight_segments_12_RHO_OPEN;
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_9 = has_end ? (surface_1 / d_5) : -1.0;
-    metal::float3 tau_7 = metal::min(metal::max(sigma_t_1 * d_5, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_9 = has_end ? (surface_1 / d_6) : -1.0;
+    metal::float3 tau_10 = metal::min(metal::max(sigma_t_1 * d_6, metal::float3(0.0)), metal::float3(10000.0));
     float _e140 = airlight_segments_12_arctan2_(h_8, x0_8);
     if (!(point)) {
         local_19 = h_8 <= 0.0;
@@ -1142,8 +1179,8 @@ metal::float3 airlight_segments_12_spot(
     bool _e154 = local_20;
     if (_e154) {
         if (!(point)) {
-            float _e157 = airlight_segments_12_spot_weight(-(k_2), co_2, cos_inner);
-            float _e158 = airlight_segments_12_spot_weight(k_2, co_2, cos_inner);
+            float _e157 = airlight_segments_12_spot_weight(-(k_4), co_2, cos_inner);
+            float _e158 = airlight_segments_12_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_21 = rho_9 < 1.0;
             } else {
@@ -1163,9 +1200,9 @@ metal::float3 airlight_segments_12_spot(
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_6 = metal::sqrt((_e185 * _e186) + (k_2 * k_2));
+        float r_6 = metal::sqrt((_e185 * _e186) + (k_4 * k_4));
         float _e191 = ca_1;
-        float _e192 = airlight_segments_12_arctan2_(k_2, _e191);
+        float _e192 = airlight_segments_12_arctan2_(k_4, _e191);
         gam_2 = _e140;
         float _e195 = airlight_segments_12_arctan2_(h_8, x0_8 - rho_9);
         om_e_1 = has_end ? _e195 : airlight_segments_12_PI;
@@ -1211,8 +1248,8 @@ metal::float3 airlight_segments_12_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_segments_12_spot_core(tau_7, h_8, x0_8, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
-        a_8 = _e248;
+        metal::float3 _e248 = airlight_segments_12_spot_core(tau_10, h_8, x0_8, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_10 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1235,24 +1272,24 @@ metal::float3 airlight_segments_12_spot(
             int _e258 = j_1;
             metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e265 = a_8;
+                metal::float3 _e265 = a_10;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_segments_12_spot_edge(tau_7, h_8, x0_8, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_2, co_2, cos_inner, 0.0);
-                a_8 = _e265 + _e271;
+                metal::float3 _e271 = airlight_segments_12_spot_edge(tau_10, h_8, x0_8, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
+                a_10 = _e265 + _e271;
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_8.x;
-    float _e281 = airlight_segments_12_scaled(sigma_s_2.x, intensity_2 * _e277, d_5, _e280);
+    float _e280 = a_10.x;
+    float _e281 = airlight_segments_12_scaled(sigma_s_3.x, intensity_3 * _e277, d_6, _e280);
     float _e283 = scale;
-    float _e286 = a_8.y;
-    float _e287 = airlight_segments_12_scaled(sigma_s_2.y, intensity_2 * _e283, d_5, _e286);
+    float _e286 = a_10.y;
+    float _e287 = airlight_segments_12_scaled(sigma_s_3.y, intensity_3 * _e283, d_6, _e286);
     float _e289 = scale;
-    float _e292 = a_8.z;
-    float _e293 = airlight_segments_12_scaled(sigma_s_2.z, intensity_2 * _e289, d_5, _e292);
+    float _e292 = a_10.z;
+    float _e293 = airlight_segments_12_scaled(sigma_s_3.z, intensity_3 * _e289, d_6, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 
@@ -1363,32 +1400,32 @@ metal::float3 airlight_segments_12_shafts_step(
 }
 
 metal::float4 airlight_segments_12_shafts_moved(
-    float a_9,
+    float a_11,
     float b_4,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_segments_12_max_abs(dir_3);
     metal::float3 u_5 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_9 * (u_5 / metal::float3(metal::length(u_5)))), (b_4 >= 0.0) ? metal::max(b_4 - a_9, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_11 * (u_5 / metal::float3(metal::length(u_5)))), (b_4 >= 0.0) ? metal::max(b_4 - a_11, 0.0) : -1.0);
 }
 
 float airlight_segments_12_shafts_run(
-    float a_10,
+    float a_12,
     float b_5,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
     metal::float3 light_3,
-    float intensity_3,
+    float intensity_4,
     float sigma_t_2,
-    float sigma_s_3
+    float sigma_s_4
 ) {
     bool local_23 = {};
     bool local_24 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_24 = b_5 <= a_10;
+            local_24 = b_5 <= a_12;
         } else {
             local_24 = false;
         }
@@ -1401,14 +1438,14 @@ float airlight_segments_12_shafts_run(
     if (_e23) {
         return 0.0;
     }
-    metal::float4 _e25 = airlight_segments_12_shafts_moved(a_10, b_5, origin_4, dir_4);
+    metal::float4 _e25 = airlight_segments_12_shafts_moved(a_12, b_5, origin_4, dir_4);
     metal::float3 o = _e25.xyz;
     float len_7 = _e25.w;
-    float _e28 = airlight_segments_12_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    float _e28 = airlight_segments_12_radiance(o, dir_4, len_7, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if (_e28 >= airlight_segments_12_HUGE) {
         return _e28;
     }
-    return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e28;
+    return (w_1 * metal::exp(-(sigma_t_2) * a_12)) * _e28;
 }
 
 void airlight_segments_12_shafts_flush(
@@ -1416,9 +1453,9 @@ void airlight_segments_12_shafts_flush(
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
-    float intensity_4,
+    float intensity_5,
     float sigma_t_3,
-    float sigma_s_4
+    float sigma_s_5
 ) {
     uint j_2 = 0u;
     uint2 loop_bound_2 = uint2(4294967295u);
@@ -1441,7 +1478,7 @@ void airlight_segments_12_shafts_flush(
             uint _e14 = j_2;
             metal::float3 r_7 = acc_6.runs.inner[_e14];
             float _e21 = acc_6.sum[0];
-            float _e25 = airlight_segments_12_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            float _e25 = airlight_segments_12_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
             acc_6.sum[0] = metal::min(_e21 + _e25, airlight_segments_12_HUGE);
         }
     }
@@ -1456,15 +1493,15 @@ void airlight_segments_12_shafts_push(
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
-    float intensity_5,
+    float intensity_6,
     float sigma_t_4,
-    float sigma_s_5
+    float sigma_s_6
 ) {
     metal::float3 _e9 = airlight_segments_12_shafts_step(acc_7, s_1, v_4);
     airlight_segments_12_shafts_hold(acc_7, _e9);
     uint _e11 = acc_7.count;
     if (_e11 == airlight_segments_12_SHAFTS_RUNS) {
-        airlight_segments_12_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+        airlight_segments_12_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6);
         return;
     } else {
         return;
@@ -1477,26 +1514,26 @@ float airlight_segments_12_shafts_finish(
     metal::float3 origin_7,
     metal::float3 dir_7,
     metal::float3 light_6,
-    float intensity_6,
+    float intensity_7,
     float sigma_t_5,
-    float sigma_s_6
+    float sigma_s_7
 ) {
     airlight_segments_12_Shafts acc_8 = {};
     acc_8 = acc_in;
     metal::float3 _e9 = airlight_segments_12_shafts_place(acc_8);
     airlight_segments_12_shafts_hold(acc_8, _e9);
-    airlight_segments_12_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    airlight_segments_12_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
     float w_3 = (_e13 < 0.0) ? 1.0 : _e11;
     float _e20 = acc_8.sum[0];
     float _e22 = acc_8.start;
-    float _e23 = airlight_segments_12_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    float _e23 = airlight_segments_12_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return metal::min(_e20 + _e23, airlight_segments_12_HUGE);
 }
 
 metal::float3 airlight_segments_12_shafts_run_spot(
-    float a_11,
+    float a_13,
     float b_6,
     float w_2,
     metal::float3 origin_8,
@@ -1505,15 +1542,15 @@ metal::float3 airlight_segments_12_shafts_run_spot(
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_7,
+    float intensity_8,
     metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7
+    metal::float3 sigma_s_8
 ) {
     bool local_25 = {};
     bool local_26 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_26 = b_6 <= a_11;
+            local_26 = b_6 <= a_13;
         } else {
             local_26 = false;
         }
@@ -1526,11 +1563,11 @@ metal::float3 airlight_segments_12_shafts_run_spot(
     if (_e26) {
         return metal::float3(0.0);
     }
-    metal::float4 _e29 = airlight_segments_12_shafts_moved(a_11, b_6, origin_8, dir_8);
+    metal::float4 _e29 = airlight_segments_12_shafts_moved(a_13, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e29.xyz;
     float len_8 = _e29.w;
-    metal::float3 _e32 = airlight_segments_12_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
-    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e32 = airlight_segments_12_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_13)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_segments_12_shafts_flush_spot(
@@ -1541,9 +1578,9 @@ void airlight_segments_12_shafts_flush_spot(
     metal::float3 axis_2,
     float cos_outer_2,
     float cos_inner_2,
-    float intensity_8,
+    float intensity_9,
     metal::float3 sigma_t_7,
-    metal::float3 sigma_s_8
+    metal::float3 sigma_s_9
 ) {
     uint j_3 = 0u;
     uint2 loop_bound_3 = uint2(4294967295u);
@@ -1566,7 +1603,7 @@ void airlight_segments_12_shafts_flush_spot(
             uint _e17 = j_3;
             metal::float3 r_8 = acc_9.runs.inner[_e17];
             metal::float3 _e22 = acc_9.sum;
-            metal::float3 _e26 = airlight_segments_12_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            metal::float3 _e26 = airlight_segments_12_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
             acc_9.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
@@ -1584,15 +1621,15 @@ void airlight_segments_12_shafts_push_spot(
     metal::float3 axis_3,
     float cos_outer_3,
     float cos_inner_3,
-    float intensity_9,
+    float intensity_10,
     metal::float3 sigma_t_8,
-    metal::float3 sigma_s_9
+    metal::float3 sigma_s_10
 ) {
     metal::float3 _e12 = airlight_segments_12_shafts_step(acc_10, s_2, v_5);
     airlight_segments_12_shafts_hold(acc_10, _e12);
     uint _e14 = acc_10.count;
     if (_e14 == airlight_segments_12_SHAFTS_RUNS) {
-        airlight_segments_12_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9);
+        airlight_segments_12_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10);
         return;
     } else {
         return;
@@ -1608,21 +1645,21 @@ metal::float3 airlight_segments_12_shafts_finish_spot(
     metal::float3 axis_4,
     float cos_outer_4,
     float cos_inner_4,
-    float intensity_10,
+    float intensity_11,
     metal::float3 sigma_t_9,
-    metal::float3 sigma_s_10
+    metal::float3 sigma_s_11
 ) {
     airlight_segments_12_Shafts acc_11 = {};
     acc_11 = acc_in_1;
     metal::float3 _e12 = airlight_segments_12_shafts_place(acc_11);
     airlight_segments_12_shafts_hold(acc_11, _e12);
-    airlight_segments_12_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    airlight_segments_12_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
     float w_4 = (_e16 < 0.0) ? 1.0 : _e14;
     metal::float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    metal::float3 _e25 = airlight_segments_12_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    metal::float3 _e25 = airlight_segments_12_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_SEGMENTS_12_MSL_INCLUDED

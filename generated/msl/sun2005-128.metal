@@ -50,6 +50,8 @@ constant float airlight_sun2005_128_FRAC_PI_2_ = 1.5707964;
 constant float airlight_sun2005_128_HUGE = 340282350000000000000000000000000000000.0;
 constant float airlight_sun2005_128_RHO_OPEN = 4294967300.0;
 constant float airlight_sun2005_128_TAU_MAX = 10000.0;
+constant float airlight_sun2005_128_LN2_HI = 0.69314575;
+constant float airlight_sun2005_128_LN2_LO = 0.0000014286068;
 constant int airlight_sun2005_128_RES = 128;
 constant float airlight_sun2005_128_U_SCALE = 6.35;
 constant float airlight_sun2005_128_V_SCALE = 80.85071;
@@ -118,8 +120,36 @@ metal::float3 airlight_sun2005_128_scale2_(
     return metal::ldexp(metal::ldexp(v_1, metal::int3(airlight_sun2005_128_naga_div(k, 2))), metal::int3(as_type<int>(as_type<uint>(k) - as_type<uint>(airlight_sun2005_128_naga_div(k, 2)))));
 }
 
+int airlight_sun2005_128_naga_f2i32(float value) {
+    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_sun2005_128_exp_neg_k(
+    float tau
+) {
+    return airlight_sun2005_128_naga_f2i32(metal::clamp(metal::floor(tau * 1.442695), 0.0, 250.0));
+}
+
+float airlight_sun2005_128_exp_neg_m(
+    float tau_1,
+    int k_1
+) {
+    float kf = static_cast<float>(k_1);
+    return metal::exp(-(((tau_1 - (kf * airlight_sun2005_128_LN2_HI)) - (kf * airlight_sun2005_128_LN2_LO))));
+}
+
 int airlight_sun2005_128_naga_neg(int val) {
     return as_type<int>(-as_type<uint>(val));
+}
+
+float airlight_sun2005_128_mul_exp_neg(
+    float a_4,
+    float tau_2
+) {
+    int _e2 = airlight_sun2005_128_exp_neg_k(tau_2);
+    float _e3 = airlight_sun2005_128_exp_neg_m(tau_2, _e2);
+    metal::float3 _e7 = airlight_sun2005_128_scale2_(metal::float3(a_4 * _e3), airlight_sun2005_128_naga_neg(_e2));
+    return _e7.x;
 }
 
 metal::float3 airlight_sun2005_128_ray_geometry(
@@ -182,11 +212,12 @@ metal::float3 airlight_sun2005_128_ray_geometry(
     return metal::float3(metal::min(dist, airlight_sun2005_128_HUGE), _e97 / n_1, x0_6 / n_1);
 }
 
-float airlight_sun2005_128_scaled(
+float airlight_sun2005_128_scaled_pow2_(
     float sigma_s,
     float intensity,
     float d_1,
-    float a_4
+    float a_5,
+    int k_2
 ) {
     bool local_2 = {};
     bool local_3 = {};
@@ -195,25 +226,25 @@ float airlight_sun2005_128_scaled(
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = a_4 > 0.0;
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = a_5 > 0.0;
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if (a_4 >= airlight_sun2005_128_HUGE) {
+    if (a_5 >= airlight_sun2005_128_HUGE) {
         return airlight_sun2005_128_HUGE;
     }
     airlight_sun2005_128_frexp_result_f32_ s_4 = airlight_sun2005_128_naga_frexp(sigma_s);
     airlight_sun2005_128_frexp_result_f32_ i_2 = airlight_sun2005_128_naga_frexp(intensity);
-    airlight_sun2005_128_frexp_result_f32_ q = airlight_sun2005_128_naga_frexp(a_4);
+    airlight_sun2005_128_frexp_result_f32_ q = airlight_sun2005_128_naga_frexp(a_5);
     airlight_sun2005_128_frexp_result_f32_ r_2 = airlight_sun2005_128_naga_frexp(d_1);
     airlight_sun2005_128_frexp_result_f32_ m = airlight_sun2005_128_naga_frexp(((s_4.fract * i_2.fract) * q.fract) / r_2.fract);
-    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp));
+    int e = as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(m.exp) + as_type<uint>(s_4.exp))) + as_type<uint>(i_2.exp))) + as_type<uint>(q.exp))) - as_type<uint>(r_2.exp))) + as_type<uint>(k_2));
     if (e > 128) {
         return airlight_sun2005_128_HUGE;
     }
@@ -223,20 +254,30 @@ float airlight_sun2005_128_scaled(
     return metal::ldexp(m.fract, e);
 }
 
+float airlight_sun2005_128_scaled(
+    float sigma_s_1,
+    float intensity_1,
+    float d_2,
+    float a_6
+) {
+    float _e5 = airlight_sun2005_128_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, 0);
+    return _e5;
+}
+
 float airlight_sun2005_128_arctan(
     float x
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_10 = metal::abs(x);
-    r = a_10;
-    if (a_10 > 2.4142137) {
+    float a_12 = metal::abs(x);
+    r = a_12;
+    if (a_12 > 2.4142137) {
         y0_ = airlight_sun2005_128_FRAC_PI_2_;
-        r = -1.0 / a_10;
+        r = -1.0 / a_12;
     } else {
-        if (a_10 > 0.41421357) {
+        if (a_12 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_10 - 1.0) / (a_10 + 1.0);
+            r = (a_12 - 1.0) / (a_12 + 1.0);
         }
     }
     float _e18 = r;
@@ -279,10 +320,6 @@ metal::float2 airlight_sun2005_128_sin_cos_octant(
     return metal::float2(s_5, c_3);
 }
 
-int airlight_sun2005_128_naga_f2i32(float value) {
-    return static_cast<int>(metal::clamp(value, -2147483600.0, 2147483500.0));
-}
-
 metal::float2 airlight_sun2005_128_sin_cos(
     float x_3
 ) {
@@ -319,27 +356,27 @@ metal::float2 airlight_sun2005_128_sin_cos(
 float airlight_sun2005_128_rows(
     int i,
     int j_1,
-    int k_1,
+    int k_3,
     float tx,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     metal::float4 _e7 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(i, j_1)), 0);
-    metal::float4 _e12 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(i, k_1)), 0);
+    metal::float4 _e12 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(i, k_3)), 0);
     float d0_ = _e7.x - _e12.x;
     metal::float4 _e20 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(as_type<int>(as_type<uint>(i) + as_type<uint>(1)), j_1)), 0);
-    metal::float4 _e27 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(as_type<int>(as_type<uint>(i) + as_type<uint>(1)), k_1)), 0);
+    metal::float4 _e27 = airlight_sun2005_128_F.read(metal::uint2(metal::int2(as_type<int>(as_type<uint>(i) + as_type<uint>(1)), k_3)), 0);
     float d1_ = _e20.x - _e27.x;
     return d0_ + (tx * (d1_ - d0_));
 }
 
 float airlight_sun2005_128_lookup_diff(
     float u,
-    float a_5,
+    float a_7,
     float b_3,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     float x_5 = metal::clamp(u * airlight_sun2005_128_U_SCALE, 0.0, 127.0);
-    float ya = metal::clamp(a_5 * airlight_sun2005_128_V_SCALE, 0.0, 127.0);
+    float ya = metal::clamp(a_7 * airlight_sun2005_128_V_SCALE, 0.0, 127.0);
     float yb = metal::clamp(b_3 * airlight_sun2005_128_V_SCALE, 0.0, 127.0);
     int i_3 = metal::min(airlight_sun2005_128_naga_f2i32(x_5), 126);
     int ja = metal::min(airlight_sun2005_128_naga_f2i32(ya), 126);
@@ -368,7 +405,7 @@ float airlight_sun2005_128_airlight_geometry(
     bool local_5 = {};
     bool local_6 = {};
     float xb = airlight_sun2005_128_FRAC_PI_2_;
-    float tau_5 = metal::min(metal::max(tau_in, 0.0), airlight_sun2005_128_TAU_MAX);
+    float tau_8 = metal::min(metal::max(tau_in, 0.0), airlight_sun2005_128_TAU_MAX);
     if (rho_1 >= 0.0) {
         local_4 = rho_1 < airlight_sun2005_128_RHO_OPEN;
     } else {
@@ -376,6 +413,9 @@ float airlight_sun2005_128_airlight_geometry(
     }
     bool _e17 = local_4;
     bool open = !(_e17);
+    if (rho_1 == 0.0) {
+        return 0.0;
+    }
     if (h_2 <= 0.0) {
         if (x0_1 > 0.0) {
             if (!(open)) {
@@ -383,31 +423,34 @@ float airlight_sun2005_128_airlight_geometry(
             } else {
                 local_6 = true;
             }
-            bool _e32 = local_6;
-            local_5 = _e32;
+            bool _e35 = local_6;
+            local_5 = _e35;
         } else {
             local_5 = false;
         }
-        bool _e34 = local_5;
-        if (_e34) {
+        bool _e37 = local_5;
+        if (_e37) {
             return airlight_sun2005_128_HUGE;
         }
-        float a_11 = open ? airlight_sun2005_128_P_ISO : ((airlight_sun2005_128_P_ISO * rho_1) / (1.0 - (x0_1 * rho_1)));
-        return a_11 * metal::exp(-(tau_5));
+        float a_13 = open ? airlight_sun2005_128_P_ISO : ((airlight_sun2005_128_P_ISO * rho_1) / (1.0 - (x0_1 * rho_1)));
+        return a_13 * metal::exp(-(tau_8));
     }
-    float t = tau_5 * h_2;
+    float t = tau_8 * h_2;
     if (!(open)) {
-        float _e51 = airlight_sun2005_128_arctan2_(h_2, xr);
-        xb = 0.5 * _e51;
+        float _e54 = airlight_sun2005_128_arctan2_(h_2, xr);
+        xb = 0.5 * _e54;
     }
-    float _e56 = xb;
-    float _e57 = airlight_sun2005_128_lookup_diff(t, 0.5 * gamma, _e56, airlight_sun2005_128_F);
-    float f = metal::max(_e57, 0.0);
-    return metal::min((metal::exp(metal::min(-(tau_5) * x0_1, 88.0)) * f) / (6.2831855 * h_2), airlight_sun2005_128_HUGE);
+    float _e59 = xb;
+    float _e60 = airlight_sun2005_128_lookup_diff(t, 0.5 * gamma, _e59, airlight_sun2005_128_F);
+    float f = metal::max(_e60, 0.0);
+    float _e65 = airlight_sun2005_128_arctan2_(h_2, -(x0_1));
+    float _e67 = airlight_sun2005_128_mul_exp_neg(_e65 / h_2, tau_8);
+    float bound = airlight_sun2005_128_P_ISO * _e67;
+    return metal::min(metal::min((metal::exp(metal::min(-(tau_8) * x0_1, 88.0)) * f) / (6.2831855 * h_2), bound), airlight_sun2005_128_HUGE);
 }
 
 float airlight_sun2005_128_airlight(
-    float tau,
+    float tau_3,
     float gamma_1,
     float rho_2,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
@@ -415,7 +458,7 @@ float airlight_sun2005_128_airlight(
     float gc = metal::clamp(gamma_1, 0.0, airlight_sun2005_128_PI);
     metal::float2 _e6 = airlight_sun2005_128_sin_cos(gc);
     float _e13 = airlight_sun2005_128_foot(metal::abs(_e6.x), _e6.y, rho_2);
-    float _e14 = airlight_sun2005_128_airlight_geometry(tau, metal::abs(_e6.x), _e6.y, gc, rho_2, _e13, airlight_sun2005_128_F);
+    float _e14 = airlight_sun2005_128_airlight_geometry(tau_3, metal::abs(_e6.x), _e6.y, gc, rho_2, _e13, airlight_sun2005_128_F);
     return _e14;
 }
 
@@ -424,15 +467,15 @@ float airlight_sun2005_128_radiance(
     metal::float3 dir_1,
     float surface,
     metal::float3 light_1,
-    float intensity_1,
+    float intensity_2,
     float sigma_t,
-    float sigma_s_1,
+    float sigma_s_2,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     bool local_7 = {};
     metal::float3 _e7 = airlight_sun2005_128_ray_geometry(origin_1, dir_1, light_1);
     if (_e7.x <= 0.0) {
-        float _e13 = airlight_sun2005_128_scaled(sigma_s_1, intensity_1, 1.0, airlight_sun2005_128_HUGE);
+        float _e13 = airlight_sun2005_128_scaled(sigma_s_2, intensity_2, 1.0, airlight_sun2005_128_HUGE);
         return _e13;
     }
     if (_e7.y <= 0.0) {
@@ -448,12 +491,12 @@ float airlight_sun2005_128_radiance(
     float _e33 = airlight_sun2005_128_arctan2_(_e7.y, _e7.z);
     float _e41 = airlight_sun2005_128_foot(_e7.y, _e7.z, rho_7);
     float _e42 = airlight_sun2005_128_airlight_geometry(sigma_t * _e7.x, _e7.y, _e7.z, _e33, rho_7, _e41, airlight_sun2005_128_F);
-    float _e43 = airlight_sun2005_128_scaled(sigma_s_1, intensity_1, _e7.x, _e42);
+    float _e43 = airlight_sun2005_128_scaled(sigma_s_2, intensity_2, _e7.x, _e42);
     return _e43;
 }
 
 float airlight_sun2005_128_along(
-    float tau_1,
+    float tau_4,
     float h_3,
     float x0_2,
     float rho_3,
@@ -462,12 +505,12 @@ float airlight_sun2005_128_along(
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     float _e6 = airlight_sun2005_128_arctan2_(h_3, x0_2);
-    float _e7 = airlight_sun2005_128_airlight_geometry(tau_1, h_3, x0_2, _e6, rho_3, xr_1, airlight_sun2005_128_F);
+    float _e7 = airlight_sun2005_128_airlight_geometry(tau_4, h_3, x0_2, _e6, rho_3, xr_1, airlight_sun2005_128_F);
     return _e7;
 }
 
 metal::float3 airlight_sun2005_128_along_rgb(
-    metal::float3 tau_2,
+    metal::float3 tau_5,
     float h_4,
     float x0_3,
     float rho_4,
@@ -475,9 +518,9 @@ metal::float3 airlight_sun2005_128_along_rgb(
     float g_1,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
-    float _e7 = airlight_sun2005_128_along(tau_2.x, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
-    float _e9 = airlight_sun2005_128_along(tau_2.y, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
-    float _e11 = airlight_sun2005_128_along(tau_2.z, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
+    float _e7 = airlight_sun2005_128_along(tau_5.x, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
+    float _e9 = airlight_sun2005_128_along(tau_5.y, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
+    float _e11 = airlight_sun2005_128_along(tau_5.z, h_4, x0_3, rho_4, xr_2, g_1, airlight_sun2005_128_F);
     return metal::float3(_e7, _e9, _e11);
 }
 
@@ -490,7 +533,7 @@ float airlight_sun2005_128_spot_asin(
 }
 
 metal::float3 airlight_sun2005_128_spot_core(
-    metal::float3 tau_3,
+    metal::float3 tau_6,
     float h_5,
     float x0_4,
     float rho_5,
@@ -551,10 +594,10 @@ metal::float3 airlight_sun2005_128_spot_core(
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    metal::float3 _e70 = airlight_sun2005_128_along_rgb(tau_3 * _e64, _e66, _e67, _e68, _e69, g_2, airlight_sun2005_128_F);
+    metal::float3 _e70 = airlight_sun2005_128_along_rgb(tau_6 * _e64, _e66, _e67, _e68, _e69, g_2, airlight_sun2005_128_F);
     float _e72 = s0_;
     float _e76 = t0_;
-    return metal::select((_e70 * metal::exp(-(tau_3) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((_e70 * metal::exp(-(tau_6) * _e72)) / metal::float3(_e76), _e70, _e70 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 float airlight_sun2005_128_spot_weight(
@@ -569,7 +612,7 @@ float airlight_sun2005_128_spot_weight(
 }
 
 metal::float3 airlight_sun2005_128_spot_edge(
-    metal::float3 tau_4,
+    metal::float3 tau_7,
     float h_6,
     float x0_5,
     float rho_6,
@@ -578,7 +621,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
     float u_1,
     float v_in,
     float ca,
-    float k_2,
+    float k_4,
     float co_1,
     float ci_1,
     float g_3,
@@ -589,7 +632,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
     metal::float3 sum = metal::float3(0.0);
     float w = {};
     metal::float2 sb = {};
-    float d_2 = {};
+    float d_3 = {};
     float st = {};
     int i_1 = 0;
     if (!((v_in > u_1))) {
@@ -597,11 +640,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
     }
     metal::float2 _e17 = airlight_sun2005_128_sin_cos(u_1);
     metal::float2 _e18 = airlight_sun2005_128_sin_cos(v_in);
-    float _e24 = airlight_sun2005_128_spot_weight((ca * _e17.x) - (k_2 * _e17.y), co_1, ci_1);
-    float _e30 = airlight_sun2005_128_spot_weight((ca * _e18.x) - (k_2 * _e18.y), co_1, ci_1);
+    float _e24 = airlight_sun2005_128_spot_weight((ca * _e17.x) - (k_4 * _e17.y), co_1, ci_1);
+    float _e30 = airlight_sun2005_128_spot_weight((ca * _e18.x) - (k_4 * _e18.y), co_1, ci_1);
     float we = metal::min(_e24, _e30);
     if (we > 0.0) {
-        metal::float3 _e39 = airlight_sun2005_128_spot_core(tau_4, h_6, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3, airlight_sun2005_128_F);
+        metal::float3 _e39 = airlight_sun2005_128_spot_core(tau_7, h_6, x0_5, rho_6, gam_1, u_1, v_in, u_1 > gam_1, v_in < om_e, g_3, airlight_sun2005_128_F);
         exact = _e39;
         metal::float3 _e40 = exact;
         if (metal::any(_e40 >= metal::float3(340282350000000000000000000000000000000.0))) {
@@ -628,12 +671,12 @@ metal::float3 airlight_sun2005_128_spot_edge(
         {
             int _e78 = i_1;
             float _e80 = pieces.inner[_e78];
-            float a_12 = u_1 + ((v_in - u_1) * _e80);
+            float a_14 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i_1;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
             float b_7 = u_1 + ((v_in - u_1) * _e88);
-            float half_ = 0.5 * (b_7 - a_12);
-            float mid = 0.5 * (b_7 + a_12);
+            float half_ = 0.5 * (b_7 - a_14);
+            float mid = 0.5 * (b_7 + a_14);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_sun2005_128_sin_cos(0.5 * _e100);
@@ -642,7 +685,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e126) / metal::max(_e129, 0.000000000000000000000000000001)), 1.0);
@@ -653,11 +696,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            float _e160 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_2 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            float _e160 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e142) * _e145) - ((k_4 * (_e148 - _e150)) * (_e154 + _e156)), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_4) * _e169));
+            sum = _e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * metal::sqrt(_e164))) * metal::exp(-(tau_7) * _e169));
             w = mid + (half_ * 0.7966665);
             float _e177 = w;
             metal::float2 _e180 = airlight_sun2005_128_sin_cos(0.5 * _e177);
@@ -666,7 +709,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e203) / metal::max(_e206, 0.000000000000000000000000000001)), 1.0);
@@ -677,11 +720,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            float _e237 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_2 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            float _e237 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e219) * _e222) - ((k_4 * (_e225 - _e227)) * (_e231 + _e233)), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_4) * _e246));
+            sum = _e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * metal::sqrt(_e241))) * metal::exp(-(tau_7) * _e246));
             w = mid + (half_ * 0.5255324);
             float _e254 = w;
             metal::float2 _e257 = airlight_sun2005_128_sin_cos(0.5 * _e254);
@@ -690,7 +733,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e280) / metal::max(_e283, 0.000000000000000000000000000001)), 1.0);
@@ -701,11 +744,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            float _e314 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_2 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            float _e314 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e296) * _e299) - ((k_4 * (_e302 - _e304)) * (_e308 + _e310)), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_4) * _e323));
+            sum = _e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * metal::sqrt(_e318))) * metal::exp(-(tau_7) * _e323));
             w = mid + (half_ * 0.18343464);
             float _e331 = w;
             metal::float2 _e334 = airlight_sun2005_128_sin_cos(0.5 * _e331);
@@ -714,7 +757,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e357) / metal::max(_e360, 0.000000000000000000000000000001)), 1.0);
@@ -725,11 +768,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            float _e391 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_2 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            float _e391 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e373) * _e376) - ((k_4 * (_e379 - _e381)) * (_e385 + _e387)), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_4) * _e400));
+            sum = _e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * metal::sqrt(_e395))) * metal::exp(-(tau_7) * _e400));
             w = mid + (half_ * -0.18343464);
             float _e408 = w;
             metal::float2 _e411 = airlight_sun2005_128_sin_cos(0.5 * _e408);
@@ -738,7 +781,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e434) / metal::max(_e437, 0.000000000000000000000000000001)), 1.0);
@@ -749,11 +792,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            float _e468 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_2 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            float _e468 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e450) * _e453) - ((k_4 * (_e456 - _e458)) * (_e462 + _e464)), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_4) * _e477));
+            sum = _e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * metal::sqrt(_e472))) * metal::exp(-(tau_7) * _e477));
             w = mid + (half_ * -0.5255324);
             float _e485 = w;
             metal::float2 _e488 = airlight_sun2005_128_sin_cos(0.5 * _e485);
@@ -762,7 +805,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e511) / metal::max(_e514, 0.000000000000000000000000000001)), 1.0);
@@ -773,11 +816,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            float _e545 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_2 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            float _e545 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e527) * _e530) - ((k_4 * (_e533 - _e535)) * (_e539 + _e541)), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_4) * _e554));
+            sum = _e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * metal::sqrt(_e549))) * metal::exp(-(tau_7) * _e554));
             w = mid + (half_ * -0.7966665);
             float _e562 = w;
             metal::float2 _e565 = airlight_sun2005_128_sin_cos(0.5 * _e562);
@@ -786,7 +829,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e588) / metal::max(_e591, 0.000000000000000000000000000001)), 1.0);
@@ -797,11 +840,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            float _e622 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_2 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            float _e622 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e604) * _e607) - ((k_4 * (_e610 - _e612)) * (_e616 + _e618)), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_4) * _e631));
+            sum = _e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * metal::sqrt(_e626))) * metal::exp(-(tau_7) * _e631));
             w = mid + (half_ * -0.96028984);
             float _e639 = w;
             metal::float2 _e642 = airlight_sun2005_128_sin_cos(0.5 * _e639);
@@ -810,7 +853,7 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
+            d_3 = (g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = metal::max(x0_5 + ((h_6 * _e665) / metal::max(_e668, 0.000000000000000000000000000001)), 1.0);
@@ -821,11 +864,11 @@ metal::float3 airlight_sun2005_128_spot_edge(
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            float _e699 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_2 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            float _e699 = airlight_sun2005_128_spot_weight((((ca * 2.0) * _e681) * _e684) - ((k_4 * (_e687 - _e689)) * (_e693 + _e695)), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_4) * _e708));
+            sum = _e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * metal::sqrt(_e703))) * metal::exp(-(tau_7) * _e708));
         }
     }
     metal::float3 _e716 = exact;
@@ -841,9 +884,9 @@ metal::float3 airlight_sun2005_128_spot(
     metal::float3 axis,
     float cos_outer,
     float cos_inner,
-    float intensity_2,
+    float intensity_3,
     metal::float3 sigma_t_1,
-    metal::float3 sigma_s_2,
+    metal::float3 sigma_s_3,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     bool local_9 = {};
@@ -866,7 +909,7 @@ metal::float3 airlight_sun2005_128_spot(
     bool local_14 = {};
     bool local_15 = {};
     bool local_16 = {};
-    metal::float3 a_6 = metal::float3(0.0);
+    metal::float3 a_8 = metal::float3(0.0);
     int j_2 = 0;
     metal::float3 _e10 = airlight_sun2005_128_ray_geometry(origin_2, dir_2, light_2);
     bool point = cos_outer <= -1.0;
@@ -904,16 +947,16 @@ metal::float3 airlight_sun2005_128_spot(
     }
     metal::float3 _e56 = ax;
     metal::float3 _e57 = n;
-    float k_3 = metal::dot(_e56, _e57);
+    float k_5 = metal::dot(_e56, _e57);
     if (_e10.x <= 0.0) {
-        float _e64 = airlight_sun2005_128_spot_weight(k_3, co_2, cos_inner);
+        float _e64 = airlight_sun2005_128_spot_weight(k_5, co_2, cos_inner);
         scale = point ? 1.0 : _e64;
         float _e68 = scale;
-        float _e72 = airlight_sun2005_128_scaled(sigma_s_2.x, intensity_2 * _e68, 1.0, airlight_sun2005_128_HUGE);
+        float _e72 = airlight_sun2005_128_scaled(sigma_s_3.x, intensity_3 * _e68, 1.0, airlight_sun2005_128_HUGE);
         float _e74 = scale;
-        float _e78 = airlight_sun2005_128_scaled(sigma_s_2.y, intensity_2 * _e74, 1.0, airlight_sun2005_128_HUGE);
+        float _e78 = airlight_sun2005_128_scaled(sigma_s_3.y, intensity_3 * _e74, 1.0, airlight_sun2005_128_HUGE);
         float _e80 = scale;
-        float _e84 = airlight_sun2005_128_scaled(sigma_s_2.z, intensity_2 * _e80, 1.0, airlight_sun2005_128_HUGE);
+        float _e84 = airlight_sun2005_128_scaled(sigma_s_3.z, intensity_3 * _e80, 1.0, airlight_sun2005_128_HUGE);
         return metal::float3(_e72, _e78, _e84);
     }
     if (_e10.y <= 0.0) {
@@ -925,17 +968,17 @@ metal::float3 airlight_sun2005_128_spot(
     if (_e95) {
         return metal::float3(0.0);
     }
-    float d_3 = _e10.x;
+    float d_4 = _e10.x;
     float h_7 = _e10.y;
     float x0_7 = _e10.z;
     if (surface_1 >= 0.0) {
-        local_13 = (surface_1 / d_3) < airlight_sun2005_128_RHO_OPEN;
+        local_13 = (surface_1 / d_4) < airlight_sun2005_128_RHO_OPEN;
     } else {
         local_13 = false;
     }
     bool has_end = local_13;
-    float rho_8 = has_end ? (surface_1 / d_3) : -1.0;
-    metal::float3 tau_6 = metal::min(metal::max(sigma_t_1 * d_3, metal::float3(0.0)), metal::float3(10000.0));
+    float rho_8 = has_end ? (surface_1 / d_4) : -1.0;
+    metal::float3 tau_9 = metal::min(metal::max(sigma_t_1 * d_4, metal::float3(0.0)), metal::float3(10000.0));
     float _e140 = airlight_sun2005_128_arctan2_(h_7, x0_7);
     if (!(point)) {
         local_14 = h_7 <= 0.0;
@@ -951,8 +994,8 @@ metal::float3 airlight_sun2005_128_spot(
     bool _e154 = local_15;
     if (_e154) {
         if (!(point)) {
-            float _e157 = airlight_sun2005_128_spot_weight(-(k_3), co_2, cos_inner);
-            float _e158 = airlight_sun2005_128_spot_weight(k_3, co_2, cos_inner);
+            float _e157 = airlight_sun2005_128_spot_weight(-(k_5), co_2, cos_inner);
+            float _e158 = airlight_sun2005_128_spot_weight(k_5, co_2, cos_inner);
             if (has_end) {
                 local_16 = rho_8 < 1.0;
             } else {
@@ -972,9 +1015,9 @@ metal::float3 airlight_sun2005_128_spot(
         ca_1 = metal::dot(cr, metal::cross(_e177, _e178)) / metal::max(metal::length(cr), 0.000000000000000000000000000001);
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_4 = metal::sqrt((_e185 * _e186) + (k_3 * k_3));
+        float r_4 = metal::sqrt((_e185 * _e186) + (k_5 * k_5));
         float _e191 = ca_1;
-        float _e192 = airlight_sun2005_128_arctan2_(k_3, _e191);
+        float _e192 = airlight_sun2005_128_arctan2_(k_5, _e191);
         gam_2 = _e140;
         float _e195 = airlight_sun2005_128_arctan2_(h_7, x0_7 - rho_8);
         om_e_1 = has_end ? _e195 : airlight_sun2005_128_PI;
@@ -1020,8 +1063,8 @@ metal::float3 airlight_sun2005_128_spot(
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        metal::float3 _e248 = airlight_sun2005_128_spot_core(tau_6, h_7, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0, airlight_sun2005_128_F);
-        a_6 = _e248;
+        metal::float3 _e248 = airlight_sun2005_128_spot_core(tau_9, h_7, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0, airlight_sun2005_128_F);
+        a_8 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u);
     bool loop_init_1 = true;
@@ -1044,24 +1087,24 @@ metal::float3 airlight_sun2005_128_spot(
             int _e258 = j_2;
             metal::float2 piece = (_e258 == 1) ? _e256.zw : _e254.xy;
             if (piece.y > piece.x) {
-                metal::float3 _e265 = a_6;
+                metal::float3 _e265 = a_8;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                metal::float3 _e271 = airlight_sun2005_128_spot_edge(tau_6, h_7, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_3, co_2, cos_inner, 0.0, airlight_sun2005_128_F);
-                a_6 = _e265 + _e271;
+                metal::float3 _e271 = airlight_sun2005_128_spot_edge(tau_9, h_7, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_5, co_2, cos_inner, 0.0, airlight_sun2005_128_F);
+                a_8 = _e265 + _e271;
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_6.x;
-    float _e281 = airlight_sun2005_128_scaled(sigma_s_2.x, intensity_2 * _e277, d_3, _e280);
+    float _e280 = a_8.x;
+    float _e281 = airlight_sun2005_128_scaled(sigma_s_3.x, intensity_3 * _e277, d_4, _e280);
     float _e283 = scale;
-    float _e286 = a_6.y;
-    float _e287 = airlight_sun2005_128_scaled(sigma_s_2.y, intensity_2 * _e283, d_3, _e286);
+    float _e286 = a_8.y;
+    float _e287 = airlight_sun2005_128_scaled(sigma_s_3.y, intensity_3 * _e283, d_4, _e286);
     float _e289 = scale;
-    float _e292 = a_6.z;
-    float _e293 = airlight_sun2005_128_scaled(sigma_s_2.z, intensity_2 * _e289, d_3, _e292);
+    float _e292 = a_8.z;
+    float _e293 = airlight_sun2005_128_scaled(sigma_s_3.z, intensity_3 * _e289, d_4, _e292);
     return metal::float3(_e281, _e287, _e293);
 }
 
@@ -1172,33 +1215,33 @@ metal::float3 airlight_sun2005_128_shafts_step(
 }
 
 metal::float4 airlight_sun2005_128_shafts_moved(
-    float a_7,
+    float a_9,
     float b_4,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_sun2005_128_max_abs(dir_3);
     metal::float3 u_2 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_7 * (u_2 / metal::float3(metal::length(u_2)))), (b_4 >= 0.0) ? metal::max(b_4 - a_7, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_9 * (u_2 / metal::float3(metal::length(u_2)))), (b_4 >= 0.0) ? metal::max(b_4 - a_9, 0.0) : -1.0);
 }
 
 float airlight_sun2005_128_shafts_run(
-    float a_8,
+    float a_10,
     float b_5,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
     metal::float3 light_3,
-    float intensity_3,
+    float intensity_4,
     float sigma_t_2,
-    float sigma_s_3,
+    float sigma_s_4,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     bool local_18 = {};
     bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_19 = b_5 <= a_8;
+            local_19 = b_5 <= a_10;
         } else {
             local_19 = false;
         }
@@ -1211,14 +1254,14 @@ float airlight_sun2005_128_shafts_run(
     if (_e23) {
         return 0.0;
     }
-    metal::float4 _e25 = airlight_sun2005_128_shafts_moved(a_8, b_5, origin_4, dir_4);
+    metal::float4 _e25 = airlight_sun2005_128_shafts_moved(a_10, b_5, origin_4, dir_4);
     metal::float3 o = _e25.xyz;
     float len = _e25.w;
-    float _e28 = airlight_sun2005_128_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, airlight_sun2005_128_F);
+    float _e28 = airlight_sun2005_128_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, airlight_sun2005_128_F);
     if (_e28 >= airlight_sun2005_128_HUGE) {
         return _e28;
     }
-    return (w_1 * metal::exp(-(sigma_t_2) * a_8)) * _e28;
+    return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e28;
 }
 
 void airlight_sun2005_128_shafts_flush(
@@ -1226,9 +1269,9 @@ void airlight_sun2005_128_shafts_flush(
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
-    float intensity_4,
+    float intensity_5,
     float sigma_t_3,
-    float sigma_s_4,
+    float sigma_s_5,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     uint j_3 = 0u;
@@ -1252,7 +1295,7 @@ void airlight_sun2005_128_shafts_flush(
             uint _e14 = j_3;
             metal::float3 r_5 = acc_6.runs.inner[_e14];
             float _e21 = acc_6.sum[0];
-            float _e25 = airlight_sun2005_128_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, airlight_sun2005_128_F);
+            float _e25 = airlight_sun2005_128_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, airlight_sun2005_128_F);
             acc_6.sum[0] = metal::min(_e21 + _e25, airlight_sun2005_128_HUGE);
         }
     }
@@ -1267,16 +1310,16 @@ void airlight_sun2005_128_shafts_push(
     metal::float3 origin_6,
     metal::float3 dir_6,
     metal::float3 light_5,
-    float intensity_5,
+    float intensity_6,
     float sigma_t_4,
-    float sigma_s_5,
+    float sigma_s_6,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     metal::float3 _e9 = airlight_sun2005_128_shafts_step(acc_7, s_1, v_4);
     airlight_sun2005_128_shafts_hold(acc_7, _e9);
     uint _e11 = acc_7.count;
     if (_e11 == airlight_sun2005_128_SHAFTS_RUNS) {
-        airlight_sun2005_128_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, airlight_sun2005_128_F);
+        airlight_sun2005_128_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, airlight_sun2005_128_F);
         return;
     } else {
         return;
@@ -1289,27 +1332,27 @@ float airlight_sun2005_128_shafts_finish(
     metal::float3 origin_7,
     metal::float3 dir_7,
     metal::float3 light_6,
-    float intensity_6,
+    float intensity_7,
     float sigma_t_5,
-    float sigma_s_6,
+    float sigma_s_7,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     airlight_sun2005_128_Shafts acc_8 = {};
     acc_8 = acc_in;
     metal::float3 _e9 = airlight_sun2005_128_shafts_place(acc_8);
     airlight_sun2005_128_shafts_hold(acc_8, _e9);
-    airlight_sun2005_128_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, airlight_sun2005_128_F);
+    airlight_sun2005_128_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_128_F);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
     float w_3 = (_e13 < 0.0) ? 1.0 : _e11;
     float _e20 = acc_8.sum[0];
     float _e22 = acc_8.start;
-    float _e23 = airlight_sun2005_128_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, airlight_sun2005_128_F);
+    float _e23 = airlight_sun2005_128_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_128_F);
     return metal::min(_e20 + _e23, airlight_sun2005_128_HUGE);
 }
 
 metal::float3 airlight_sun2005_128_shafts_run_spot(
-    float a_9,
+    float a_11,
     float b_6,
     float w_2,
     metal::float3 origin_8,
@@ -1318,16 +1361,16 @@ metal::float3 airlight_sun2005_128_shafts_run_spot(
     metal::float3 axis_1,
     float cos_outer_1,
     float cos_inner_1,
-    float intensity_7,
+    float intensity_8,
     metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7,
+    metal::float3 sigma_s_8,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     bool local_20 = {};
     bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_21 = b_6 <= a_9;
+            local_21 = b_6 <= a_11;
         } else {
             local_21 = false;
         }
@@ -1340,11 +1383,11 @@ metal::float3 airlight_sun2005_128_shafts_run_spot(
     if (_e26) {
         return metal::float3(0.0);
     }
-    metal::float4 _e29 = airlight_sun2005_128_shafts_moved(a_9, b_6, origin_8, dir_8);
+    metal::float4 _e29 = airlight_sun2005_128_shafts_moved(a_11, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e29.xyz;
     float len_1 = _e29.w;
-    metal::float3 _e32 = airlight_sun2005_128_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, airlight_sun2005_128_F);
-    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_9)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
+    metal::float3 _e32 = airlight_sun2005_128_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, airlight_sun2005_128_F);
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_sun2005_128_shafts_flush_spot(
@@ -1355,9 +1398,9 @@ void airlight_sun2005_128_shafts_flush_spot(
     metal::float3 axis_2,
     float cos_outer_2,
     float cos_inner_2,
-    float intensity_8,
+    float intensity_9,
     metal::float3 sigma_t_7,
-    metal::float3 sigma_s_8,
+    metal::float3 sigma_s_9,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     uint j_4 = 0u;
@@ -1381,7 +1424,7 @@ void airlight_sun2005_128_shafts_flush_spot(
             uint _e17 = j_4;
             metal::float3 r_6 = acc_9.runs.inner[_e17];
             metal::float3 _e22 = acc_9.sum;
-            metal::float3 _e26 = airlight_sun2005_128_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, airlight_sun2005_128_F);
+            metal::float3 _e26 = airlight_sun2005_128_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, airlight_sun2005_128_F);
             acc_9.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
@@ -1399,16 +1442,16 @@ void airlight_sun2005_128_shafts_push_spot(
     metal::float3 axis_3,
     float cos_outer_3,
     float cos_inner_3,
-    float intensity_9,
+    float intensity_10,
     metal::float3 sigma_t_8,
-    metal::float3 sigma_s_9,
+    metal::float3 sigma_s_10,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     metal::float3 _e12 = airlight_sun2005_128_shafts_step(acc_10, s_2, v_5);
     airlight_sun2005_128_shafts_hold(acc_10, _e12);
     uint _e14 = acc_10.count;
     if (_e14 == airlight_sun2005_128_SHAFTS_RUNS) {
-        airlight_sun2005_128_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, airlight_sun2005_128_F);
+        airlight_sun2005_128_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, airlight_sun2005_128_F);
         return;
     } else {
         return;
@@ -1424,22 +1467,22 @@ metal::float3 airlight_sun2005_128_shafts_finish_spot(
     metal::float3 axis_4,
     float cos_outer_4,
     float cos_inner_4,
-    float intensity_10,
+    float intensity_11,
     metal::float3 sigma_t_9,
-    metal::float3 sigma_s_10,
+    metal::float3 sigma_s_11,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_128_F
 ) {
     airlight_sun2005_128_Shafts acc_11 = {};
     acc_11 = acc_in_1;
     metal::float3 _e12 = airlight_sun2005_128_shafts_place(acc_11);
     airlight_sun2005_128_shafts_hold(acc_11, _e12);
-    airlight_sun2005_128_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, airlight_sun2005_128_F);
+    airlight_sun2005_128_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_128_F);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
     float w_4 = (_e16 < 0.0) ? 1.0 : _e14;
     metal::float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    metal::float3 _e25 = airlight_sun2005_128_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, airlight_sun2005_128_F);
+    metal::float3 _e25 = airlight_sun2005_128_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_128_F);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_SUN2005_128_MSL_INCLUDED

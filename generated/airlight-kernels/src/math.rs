@@ -374,6 +374,27 @@ fn scale2(v: f32, k: i32) -> f32 {
     v * pow2i(k / 2) * pow2i(k - k / 2)
 }
 
+/// `ln 2` in two parts, the first with its low bits zero (so that `k · LN2_HI` is
+/// exact for `k ≤ 250`).
+const LN2_HI: f32 = 0.693_145_751_953_125;
+const LN2_LO: f32 = 1.428_606_8e-6;
+
+/// `e^{−τ}` as `(e^{−r}, k)` with `e^{−τ} = 2^{−k} e^{−r}`, `r = τ − k ln 2`, `0 ≤ k ≤ 250`:
+/// past τ ≈ 87.3 `e^{−τ}` is subnormal in f32 (a few bits left, and 0 on GPUs that
+/// flush subnormals) where the products it enters are normal numbers.
+pub fn exp_neg_parts(tau: f32) -> (f32, i32) {
+    // Truncation is the floor here (the argument is clamped to [0, 250] first).
+    let k = (tau * core::f32::consts::LOG2_E).max(0.0).min(250.0) as i32;
+    let kf = k as f32;
+    (exp(-((tau - kf * LN2_HI) - kf * LN2_LO)), k)
+}
+
+/// `a · e^{−τ}` (`τ ≥ 0`) without forming `e^{−τ}`: one rounding where f32 holds it.
+pub fn mul_exp_neg(a: f32, tau: f32) -> f32 {
+    let (m, k) = exp_neg_parts(tau);
+    scale2(a * m, -k)
+}
+
 /// The canonical geometry of a view ray from `origin` along `dir` and a light at
 /// `light`: `[D, sin γ, cos γ]`, `D` the viewer–light distance. `D = 0`: the light is
 /// at the viewer. `[_, 0, 0]`: no ray (a zero or non-finite direction) or a light
@@ -433,6 +454,11 @@ fn split(x: f32) -> (f32, i32) {
 /// light or below f32's range; [`HUGE`] where `A` diverges (`a ≥ HUGE`) or the
 /// radiance passes f32's range.
 pub fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
+    scaled_pow2(sigma_s, intensity, d, a, 0)
+}
+
+/// [`scaled`] times `2^k`, the power added to the exponents before the one rounding.
+pub fn scaled_pow2(sigma_s: f32, intensity: f32, d: f32, a: f32, k: i32) -> f32 {
     if !(sigma_s > 0.0 && intensity > 0.0 && a > 0.0) {
         return 0.0;
     }
@@ -441,7 +467,7 @@ pub fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
     }
     let ((ms, es), (mi, ei), (ma, ea), (md, ed)) = (split(sigma_s), split(intensity), split(a), split(d));
     let (m, e) = split(ms * mi * ma / md);
-    let e = e + es + ei + ea - ed;
+    let e = e + es + ei + ea - ed + k;
     if e > 128 {
         HUGE
     } else if e < -149 {
@@ -512,6 +538,16 @@ mod tests {
         }
         assert_eq!(exp(100.0), HUGE);
         assert_eq!(exp(-200.0), 0.0);
+        // a·e^{−τ} keeps its digits where e^{−τ} is subnormal (issue 37: τ > 87).
+        for (a, tau) in [(1e30f32, 100.0f32), (3e20, 90.0), (1.0, 20.0), (7e37, 170.0), (2.5, 0.0)] {
+            let want = f64::from(a) * (-f64::from(tau)).exp();
+            let got = f64::from(mul_exp_neg(a, tau));
+            assert!((got / want - 1.0).abs() < 4e-7, "{a} e^-{tau}: {got:e} against {want:e}");
+            let (m, k) = exp_neg_parts(tau);
+            let back = f64::from(scaled_pow2(a, m, 1.0, 1.0, -k));
+            assert!((back / want - 1.0).abs() < 4e-7, "scaled_pow2 {a} e^-{tau}: {back:e} against {want:e}");
+        }
+        assert_eq!(mul_exp_neg(1.0, 1e4), 0.0);
         assert!((atan2(1.0, -1.0) - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-6);
         assert_eq!(sqrt(0.0), 0.0);
         assert_eq!(sqrt(f32::INFINITY), f32::INFINITY);

@@ -82,6 +82,29 @@ fn scale2(v: vec3<f32>, k: i32) -> vec3<f32> {
     return ldexp(ldexp(v, vec3<i32>(k / 2)), vec3<i32>(k - k / 2));
 }
 
+/// ln 2 in two parts, the first with its low bits zero (k * LN2_HI exact for k <= 250).
+const LN2_HI: f32 = 0.693145751953125;
+const LN2_LO: f32 = 1.42860677e-6;
+
+/// k (0 ... 250) with e^-tau = 2^-k e^-r, r = tau - k ln 2: past tau ~ 87.3 e^-tau
+/// is subnormal in f32 (few bits; 0 where a GPU flushes subnormals) where the
+/// products it enters are normal numbers, so it is carried as e^-r and k.
+fn exp_neg_k(tau: f32) -> i32 {
+    return i32(clamp(floor(tau * 1.44269504), 0.0, 250.0));
+}
+
+/// e^-r for exp_neg_k's k.
+fn exp_neg_m(tau: f32, k: i32) -> f32 {
+    let kf = f32(k);
+    return exp(-((tau - kf * LN2_HI) - kf * LN2_LO));
+}
+
+/// a * e^-tau (tau >= 0) without forming e^-tau: one rounding where f32 holds it.
+fn mul_exp_neg(a: f32, tau: f32) -> f32 {
+    let k = exp_neg_k(tau);
+    return scale2(vec3<f32>(a * exp_neg_m(tau, k)), -k).x;
+}
+
 /// The canonical geometry of a view ray from `origin` along `dir` and a light at
 /// `light`: (D, sin gamma, cos gamma), D the viewer-light distance. D = 0: the
 /// light is at the viewer. (_, 0, 0): no ray (a zero or non-finite direction) or a
@@ -131,6 +154,11 @@ fn ray_geometry(origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>) -> vec3<f32
 /// rounded once. 0 without scattering or light or below f32's range; HUGE where
 /// A diverges (a >= HUGE) or the radiance passes f32's range.
 fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
+    return scaled_pow2(sigma_s, intensity, d, a, 0);
+}
+
+/// scaled times 2^k, the power added to the exponents before the one rounding.
+fn scaled_pow2(sigma_s: f32, intensity: f32, d: f32, a: f32, k: i32) -> f32 {
     if !(sigma_s > 0.0 && intensity > 0.0 && a > 0.0) {
         return 0.0;
     }
@@ -142,7 +170,7 @@ fn scaled(sigma_s: f32, intensity: f32, d: f32, a: f32) -> f32 {
     let q = frexp(a);
     let r = frexp(d);
     let m = frexp(s.fract * i.fract * q.fract / r.fract);
-    let e = m.exp + s.exp + i.exp + q.exp - r.exp;
+    let e = m.exp + s.exp + i.exp + q.exp - r.exp + k;
     if e > 128 {
         return HUGE;
     }

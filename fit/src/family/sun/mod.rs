@@ -182,7 +182,11 @@ impl Family for SunTable {
         // `e^{−τ x0}` passes f64's range behind the viewer in dense media (τ |x0| > 709)
         // where the table's difference is its rounding: in logarithms, and like the
         // kernels' saturating `exp`, never beyond the largest finite value.
-        ((f.ln() - p.tau * x0).exp() / (2.0 * PI * h)).min(f64::MAX)
+        // A ≤ e^{−τ} P (π − γ)/h (s + t ≥ 1, and the closed form without extinction):
+        // where the two look-ups cancel (γ → π) their difference is rounding, which
+        // e^{−τ x0}/h would carry far past A; as the kernels, the form is held to it.
+        let bound = (-p.tau).exp() * h.atan2(-x0) / (4.0 * PI * h);
+        ((f.ln() - p.tau * x0).exp() / (2.0 * PI * h)).min(bound).min(f64::MAX)
     }
 
     /// Two bilinear lookups (8 texel loads), one `exp`, one `atan`, one `sin_cos`.

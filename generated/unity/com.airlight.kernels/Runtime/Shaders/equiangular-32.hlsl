@@ -42,6 +42,8 @@ static const float airlight_equiangular_32_FRAC_PI_2_ = 1.5707964;
 static const float airlight_equiangular_32_HUGE = 3.4028235e38;
 static const float airlight_equiangular_32_RHO_OPEN = 4294967300.0;
 static const float airlight_equiangular_32_TAU_MAX = 10000.0;
+static const float airlight_equiangular_32_LN2_HI = 0.69314575;
+static const float airlight_equiangular_32_LN2_LO = 1.4286068e-6;
 static const uint airlight_equiangular_32_SHAFTS_RUNS = 32u;
 
 float airlight_equiangular_32_foot(float h, float x0_, float rho)
@@ -98,8 +100,31 @@ float3 airlight_equiangular_32_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_equiangular_32_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_equiangular_32_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_equiangular_32_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_equiangular_32_exp_neg_k(float tau)
+{
+    return airlight_equiangular_32_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_equiangular_32_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_equiangular_32_LN2_HI)) - (kf * airlight_equiangular_32_LN2_LO))));
+}
+
 int airlight_equiangular_32_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_equiangular_32_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_equiangular_32_exp_neg_k(tau_2);
+    const float _e3 = airlight_equiangular_32_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_equiangular_32_scale2_(((a_4 * _e3)).xxx, airlight_equiangular_32_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_equiangular_32_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -160,7 +185,7 @@ float3 airlight_equiangular_32_ray_geometry(float3 origin, float3 dir, float3 li
     return float3(min(dist, airlight_equiangular_32_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
-float airlight_equiangular_32_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_equiangular_32_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -170,25 +195,25 @@ float airlight_equiangular_32_scaled(float sigma_s, float intensity, float d_1, 
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_equiangular_32_HUGE)) {
+    if ((a_5 >= airlight_equiangular_32_HUGE)) {
         return airlight_equiangular_32_HUGE;
     }
     airlight_equiangular_32_frexp_result_f32_ s_4 = airlight_equiangular_32_naga_frexp(sigma_s);
     airlight_equiangular_32_frexp_result_f32_ i_1 = airlight_equiangular_32_naga_frexp(intensity);
-    airlight_equiangular_32_frexp_result_f32_ q = airlight_equiangular_32_naga_frexp(a_4);
+    airlight_equiangular_32_frexp_result_f32_ q = airlight_equiangular_32_naga_frexp(a_5);
     airlight_equiangular_32_frexp_result_f32_ r_2 = airlight_equiangular_32_naga_frexp(d_1);
     airlight_equiangular_32_frexp_result_f32_ m = airlight_equiangular_32_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_equiangular_32_HUGE;
     }
@@ -198,20 +223,26 @@ float airlight_equiangular_32_scaled(float sigma_s, float intensity, float d_1, 
     return ldexp(m.fract, e);
 }
 
+float airlight_equiangular_32_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_equiangular_32_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_equiangular_32_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_9 = abs(x);
-    r = a_9;
-    if ((a_9 > 2.4142137)) {
+    float a_11 = abs(x);
+    r = a_11;
+    if ((a_11 > 2.4142137)) {
         y0_ = airlight_equiangular_32_FRAC_PI_2_;
-        r = (-1.0 / a_9);
+        r = (-1.0 / a_11);
     } else {
-        if ((a_9 > 0.41421357)) {
+        if ((a_11 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_9 - 1.0) / (a_9 + 1.0));
+            r = ((a_11 - 1.0) / (a_11 + 1.0));
         }
     }
     float _e18 = r;
@@ -251,10 +282,6 @@ float2 airlight_equiangular_32_sin_cos_octant(float x_2)
     return float2(s_5, c_3);
 }
 
-int airlight_equiangular_32_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
-}
-
 float2 airlight_equiangular_32_sin_cos(float x_3)
 {
     int j = (int)0;
@@ -288,7 +315,7 @@ float2 airlight_equiangular_32_sin_cos(float x_3)
     }
 }
 
-float airlight_equiangular_32_airlight_axis(float tau, float x0_1, float rho_1, float g)
+float airlight_equiangular_32_airlight_axis(float tau_3, float x0_1, float rho_1, float g)
 {
     bool local_4 = (bool)0;
     bool local_5 = (bool)0;
@@ -311,7 +338,7 @@ float airlight_equiangular_32_airlight_axis(float tau, float x0_1, float rho_1, 
         if (!(_e19)) {
             return airlight_equiangular_32_HUGE;
         }
-        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_32_HUGE);
+        return min((((((0.07957747 * (1.0 + g)) / ((1.0 - g) * (1.0 - g))) * exp(-(tau_3))) * rho_1) / (1.0 - rho_1)), airlight_equiangular_32_HUGE);
     }
     float lo = (has_end ? (1.0 / (1.0 + rho_1)) : 0.0);
     float half_ = (0.5 * (1.0 - lo));
@@ -319,164 +346,164 @@ float airlight_equiangular_32_airlight_axis(float tau, float x0_1, float rho_1, 
     float _e57 = sum;
     float _e60 = u;
     float _e63 = u;
-    sum = (_e57 + (0.00701861 * exp(((-2.0 * tau) * ((1.0 - _e60) / _e63)))));
+    sum = (_e57 + (0.00701861 * exp(((-2.0 * tau_3) * ((1.0 - _e60) / _e63)))));
     u = (lo + (half_ * 1.9856114));
     float _e73 = sum;
     float _e76 = u;
     float _e79 = u;
-    sum = (_e73 + (0.016274394 * exp(((-2.0 * tau) * ((1.0 - _e76) / _e79)))));
+    sum = (_e73 + (0.016274394 * exp(((-2.0 * tau_3) * ((1.0 - _e76) / _e79)))));
     u = (lo + (half_ * 1.9647622));
     float _e89 = sum;
     float _e92 = u;
     float _e95 = u;
-    sum = (_e89 + (0.025392065 * exp(((-2.0 * tau) * ((1.0 - _e92) / _e95)))));
+    sum = (_e89 + (0.025392065 * exp(((-2.0 * tau_3) * ((1.0 - _e92) / _e95)))));
     u = (lo + (half_ * 1.934906));
     float _e105 = sum;
     float _e108 = u;
     float _e111 = u;
-    sum = (_e105 + (0.034273863 * exp(((-2.0 * tau) * ((1.0 - _e108) / _e111)))));
+    sum = (_e105 + (0.034273863 * exp(((-2.0 * tau_3) * ((1.0 - _e108) / _e111)))));
     u = (lo + (half_ * 1.8963212));
     float _e121 = sum;
     float _e124 = u;
     float _e127 = u;
-    sum = (_e121 + (0.0428359 * exp(((-2.0 * tau) * ((1.0 - _e124) / _e127)))));
+    sum = (_e121 + (0.0428359 * exp(((-2.0 * tau_3) * ((1.0 - _e124) / _e127)))));
     u = (lo + (half_ * 1.8493676));
     float _e137 = sum;
     float _e140 = u;
     float _e143 = u;
-    sum = (_e137 + (0.05099806 * exp(((-2.0 * tau) * ((1.0 - _e140) / _e143)))));
+    sum = (_e137 + (0.05099806 * exp(((-2.0 * tau_3) * ((1.0 - _e140) / _e143)))));
     u = (lo + (half_ * 1.7944838));
     float _e153 = sum;
     float _e156 = u;
     float _e159 = u;
-    sum = (_e153 + (0.058684092 * exp(((-2.0 * tau) * ((1.0 - _e156) / _e159)))));
+    sum = (_e153 + (0.058684092 * exp(((-2.0 * tau_3) * ((1.0 - _e156) / _e159)))));
     u = (lo + (half_ * 1.7321821));
     float _e169 = sum;
     float _e172 = u;
     float _e175 = u;
-    sum = (_e169 + (0.06582222 * exp(((-2.0 * tau) * ((1.0 - _e172) / _e175)))));
+    sum = (_e169 + (0.06582222 * exp(((-2.0 * tau_3) * ((1.0 - _e172) / _e175)))));
     u = (lo + (half_ * 1.6630443));
     float _e185 = sum;
     float _e188 = u;
     float _e191 = u;
-    sum = (_e185 + (0.07234579 * exp(((-2.0 * tau) * ((1.0 - _e188) / _e191)))));
+    sum = (_e185 + (0.07234579 * exp(((-2.0 * tau_3) * ((1.0 - _e188) / _e191)))));
     u = (lo + (half_ * 1.5877157));
     float _e201 = sum;
     float _e204 = u;
     float _e207 = u;
-    sum = (_e201 + (0.078193896 * exp(((-2.0 * tau) * ((1.0 - _e204) / _e207)))));
+    sum = (_e201 + (0.078193896 * exp(((-2.0 * tau_3) * ((1.0 - _e204) / _e207)))));
     u = (lo + (half_ * 1.5068998));
     float _e217 = sum;
     float _e220 = u;
     float _e223 = u;
-    sum = (_e217 + (0.08331192 * exp(((-2.0 * tau) * ((1.0 - _e220) / _e223)))));
+    sum = (_e217 + (0.08331192 * exp(((-2.0 * tau_3) * ((1.0 - _e220) / _e223)))));
     u = (lo + (half_ * 1.4213513));
     float _e233 = sum;
     float _e236 = u;
     float _e239 = u;
-    sum = (_e233 + (0.087652095 * exp(((-2.0 * tau) * ((1.0 - _e236) / _e239)))));
+    sum = (_e233 + (0.087652095 * exp(((-2.0 * tau_3) * ((1.0 - _e236) / _e239)))));
     u = (lo + (half_ * 1.3318686));
     float _e249 = sum;
     float _e252 = u;
     float _e255 = u;
-    sum = (_e249 + (0.09117388 * exp(((-2.0 * tau) * ((1.0 - _e252) / _e255)))));
+    sum = (_e249 + (0.09117388 * exp(((-2.0 * tau_3) * ((1.0 - _e252) / _e255)))));
     u = (lo + (half_ * 1.2392874));
     float _e265 = sum;
     float _e268 = u;
     float _e271 = u;
-    sum = (_e265 + (0.0938444 * exp(((-2.0 * tau) * ((1.0 - _e268) / _e271)))));
+    sum = (_e265 + (0.0938444 * exp(((-2.0 * tau_3) * ((1.0 - _e268) / _e271)))));
     u = (lo + (half_ * 1.144472));
     float _e281 = sum;
     float _e284 = u;
     float _e287 = u;
-    sum = (_e281 + (0.09563872 * exp(((-2.0 * tau) * ((1.0 - _e284) / _e287)))));
+    sum = (_e281 + (0.09563872 * exp(((-2.0 * tau_3) * ((1.0 - _e284) / _e287)))));
     u = (lo + (half_ * 1.0483077));
     float _e297 = sum;
     float _e300 = u;
     float _e303 = u;
-    sum = (_e297 + (0.096540086 * exp(((-2.0 * tau) * ((1.0 - _e300) / _e303)))));
+    sum = (_e297 + (0.096540086 * exp(((-2.0 * tau_3) * ((1.0 - _e300) / _e303)))));
     u = (lo + (half_ * 0.95169234));
     float _e313 = sum;
     float _e316 = u;
     float _e319 = u;
-    sum = (_e313 + (0.096540086 * exp(((-2.0 * tau) * ((1.0 - _e316) / _e319)))));
+    sum = (_e313 + (0.096540086 * exp(((-2.0 * tau_3) * ((1.0 - _e316) / _e319)))));
     u = (lo + (half_ * 0.85552806));
     float _e329 = sum;
     float _e332 = u;
     float _e335 = u;
-    sum = (_e329 + (0.09563872 * exp(((-2.0 * tau) * ((1.0 - _e332) / _e335)))));
+    sum = (_e329 + (0.09563872 * exp(((-2.0 * tau_3) * ((1.0 - _e332) / _e335)))));
     u = (lo + (half_ * 0.7607126));
     float _e345 = sum;
     float _e348 = u;
     float _e351 = u;
-    sum = (_e345 + (0.0938444 * exp(((-2.0 * tau) * ((1.0 - _e348) / _e351)))));
+    sum = (_e345 + (0.0938444 * exp(((-2.0 * tau_3) * ((1.0 - _e348) / _e351)))));
     u = (lo + (half_ * 0.6681314));
     float _e361 = sum;
     float _e364 = u;
     float _e367 = u;
-    sum = (_e361 + (0.09117388 * exp(((-2.0 * tau) * ((1.0 - _e364) / _e367)))));
+    sum = (_e361 + (0.09117388 * exp(((-2.0 * tau_3) * ((1.0 - _e364) / _e367)))));
     u = (lo + (half_ * 0.5786487));
     float _e377 = sum;
     float _e380 = u;
     float _e383 = u;
-    sum = (_e377 + (0.087652095 * exp(((-2.0 * tau) * ((1.0 - _e380) / _e383)))));
+    sum = (_e377 + (0.087652095 * exp(((-2.0 * tau_3) * ((1.0 - _e380) / _e383)))));
     u = (lo + (half_ * 0.4931001));
     float _e393 = sum;
     float _e396 = u;
     float _e399 = u;
-    sum = (_e393 + (0.08331192 * exp(((-2.0 * tau) * ((1.0 - _e396) / _e399)))));
+    sum = (_e393 + (0.08331192 * exp(((-2.0 * tau_3) * ((1.0 - _e396) / _e399)))));
     u = (lo + (half_ * 0.41228426));
     float _e409 = sum;
     float _e412 = u;
     float _e415 = u;
-    sum = (_e409 + (0.078193896 * exp(((-2.0 * tau) * ((1.0 - _e412) / _e415)))));
+    sum = (_e409 + (0.078193896 * exp(((-2.0 * tau_3) * ((1.0 - _e412) / _e415)))));
     u = (lo + (half_ * 0.33695573));
     float _e425 = sum;
     float _e428 = u;
     float _e431 = u;
-    sum = (_e425 + (0.07234579 * exp(((-2.0 * tau) * ((1.0 - _e428) / _e431)))));
+    sum = (_e425 + (0.07234579 * exp(((-2.0 * tau_3) * ((1.0 - _e428) / _e431)))));
     u = (lo + (half_ * 0.26781785));
     float _e441 = sum;
     float _e444 = u;
     float _e447 = u;
-    sum = (_e441 + (0.06582222 * exp(((-2.0 * tau) * ((1.0 - _e444) / _e447)))));
+    sum = (_e441 + (0.06582222 * exp(((-2.0 * tau_3) * ((1.0 - _e444) / _e447)))));
     u = (lo + (half_ * 0.20551622));
     float _e457 = sum;
     float _e460 = u;
     float _e463 = u;
-    sum = (_e457 + (0.058684092 * exp(((-2.0 * tau) * ((1.0 - _e460) / _e463)))));
+    sum = (_e457 + (0.058684092 * exp(((-2.0 * tau_3) * ((1.0 - _e460) / _e463)))));
     u = (lo + (half_ * 0.15063238));
     float _e473 = sum;
     float _e476 = u;
     float _e479 = u;
-    sum = (_e473 + (0.05099806 * exp(((-2.0 * tau) * ((1.0 - _e476) / _e479)))));
+    sum = (_e473 + (0.05099806 * exp(((-2.0 * tau_3) * ((1.0 - _e476) / _e479)))));
     u = (lo + (half_ * 0.10367882));
     float _e489 = sum;
     float _e492 = u;
     float _e495 = u;
-    sum = (_e489 + (0.0428359 * exp(((-2.0 * tau) * ((1.0 - _e492) / _e495)))));
+    sum = (_e489 + (0.0428359 * exp(((-2.0 * tau_3) * ((1.0 - _e492) / _e495)))));
     u = (lo + (half_ * 0.065093935));
     float _e505 = sum;
     float _e508 = u;
     float _e511 = u;
-    sum = (_e505 + (0.034273863 * exp(((-2.0 * tau) * ((1.0 - _e508) / _e511)))));
+    sum = (_e505 + (0.034273863 * exp(((-2.0 * tau_3) * ((1.0 - _e508) / _e511)))));
     u = (lo + (half_ * 0.03523773));
     float _e521 = sum;
     float _e524 = u;
     float _e527 = u;
-    sum = (_e521 + (0.025392065 * exp(((-2.0 * tau) * ((1.0 - _e524) / _e527)))));
+    sum = (_e521 + (0.025392065 * exp(((-2.0 * tau_3) * ((1.0 - _e524) / _e527)))));
     u = (lo + (half_ * 0.014388502));
     float _e537 = sum;
     float _e540 = u;
     float _e543 = u;
-    sum = (_e537 + (0.016274394 * exp(((-2.0 * tau) * ((1.0 - _e540) / _e543)))));
+    sum = (_e537 + (0.016274394 * exp(((-2.0 * tau_3) * ((1.0 - _e540) / _e543)))));
     u = (lo + (half_ * 0.002736151));
     float _e553 = sum;
     float _e556 = u;
     float _e559 = u;
-    sum = (_e553 + (0.00701861 * exp(((-2.0 * tau) * ((1.0 - _e556) / _e559)))));
+    sum = (_e553 + (0.00701861 * exp(((-2.0 * tau_3) * ((1.0 - _e556) / _e559)))));
     float _e580 = sum;
-    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau))) * half_) * _e580);
+    return (((((0.07957747 * (1.0 - g)) / ((1.0 + g) * (1.0 + g))) * exp(-(tau_3))) * half_) * _e580);
 }
 
 float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x0_2, float gamma, float comp, float rho_2, float xr, float g_in)
@@ -490,9 +517,9 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float b_3 = (float)0;
     float co = (float)0;
     float st = (float)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_equiangular_32_TAU_MAX);
+    float tau_8 = min(max(tau_in, 0.0), airlight_equiangular_32_TAU_MAX);
     float g_15 = clamp(g_in, -0.999, 0.999);
     float gm = ((1.0 - g_15) * (1.0 - g_15));
     float gp = ((1.0 + g_15) * (1.0 + g_15));
@@ -509,7 +536,7 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     }
     bool _e39 = local_6;
     if (_e39) {
-        const float _e40 = airlight_equiangular_32_airlight_axis(tau_5, x0_2, rho_2, g_15);
+        const float _e40 = airlight_equiangular_32_airlight_axis(tau_8, x0_2, rho_2, g_15);
         return _e40;
     }
     span = comp;
@@ -544,12 +571,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e107 = sc.y;
     float _e113 = sc.x;
     float _e116 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e113) * _e116)) : (gp - (((4.0 * g_15) * _e104) * _e107)));
     float _e122 = sum_1;
     float _e124 = st;
-    float _e129 = d_2;
-    float _e130 = d_2;
-    sum_1 = (_e122 + ((0.00701861 * exp((-(tau_5) * _e124))) / (_e129 * sqrt(_e130))));
+    float _e129 = d_3;
+    float _e130 = d_3;
+    sum_1 = (_e122 + ((0.00701861 * exp((-(tau_8) * _e124))) / (_e129 * sqrt(_e130))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9856114));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9856114));
     float _e149 = b_3;
@@ -569,12 +596,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e177 = sc.y;
     float _e183 = sc.x;
     float _e186 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e183) * _e186)) : (gp - (((4.0 * g_15) * _e174) * _e177)));
     float _e192 = sum_1;
     float _e194 = st;
-    float _e199 = d_2;
-    float _e200 = d_2;
-    sum_1 = (_e192 + ((0.016274394 * exp((-(tau_5) * _e194))) / (_e199 * sqrt(_e200))));
+    float _e199 = d_3;
+    float _e200 = d_3;
+    sum_1 = (_e192 + ((0.016274394 * exp((-(tau_8) * _e194))) / (_e199 * sqrt(_e200))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.9647622));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.9647622));
     float _e219 = b_3;
@@ -594,12 +621,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e247 = sc.y;
     float _e253 = sc.x;
     float _e256 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e253) * _e256)) : (gp - (((4.0 * g_15) * _e244) * _e247)));
     float _e262 = sum_1;
     float _e264 = st;
-    float _e269 = d_2;
-    float _e270 = d_2;
-    sum_1 = (_e262 + ((0.025392065 * exp((-(tau_5) * _e264))) / (_e269 * sqrt(_e270))));
+    float _e269 = d_3;
+    float _e270 = d_3;
+    sum_1 = (_e262 + ((0.025392065 * exp((-(tau_8) * _e264))) / (_e269 * sqrt(_e270))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.934906));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.934906));
     float _e289 = b_3;
@@ -619,12 +646,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e317 = sc.y;
     float _e323 = sc.x;
     float _e326 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e323) * _e326)) : (gp - (((4.0 * g_15) * _e314) * _e317)));
     float _e332 = sum_1;
     float _e334 = st;
-    float _e339 = d_2;
-    float _e340 = d_2;
-    sum_1 = (_e332 + ((0.034273863 * exp((-(tau_5) * _e334))) / (_e339 * sqrt(_e340))));
+    float _e339 = d_3;
+    float _e340 = d_3;
+    sum_1 = (_e332 + ((0.034273863 * exp((-(tau_8) * _e334))) / (_e339 * sqrt(_e340))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.8963212));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.8963212));
     float _e359 = b_3;
@@ -644,12 +671,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e387 = sc.y;
     float _e393 = sc.x;
     float _e396 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e393) * _e396)) : (gp - (((4.0 * g_15) * _e384) * _e387)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e393) * _e396)) : (gp - (((4.0 * g_15) * _e384) * _e387)));
     float _e402 = sum_1;
     float _e404 = st;
-    float _e409 = d_2;
-    float _e410 = d_2;
-    sum_1 = (_e402 + ((0.0428359 * exp((-(tau_5) * _e404))) / (_e409 * sqrt(_e410))));
+    float _e409 = d_3;
+    float _e410 = d_3;
+    sum_1 = (_e402 + ((0.0428359 * exp((-(tau_8) * _e404))) / (_e409 * sqrt(_e410))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.8493676));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.8493676));
     float _e429 = b_3;
@@ -669,12 +696,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e457 = sc.y;
     float _e463 = sc.x;
     float _e466 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e463) * _e466)) : (gp - (((4.0 * g_15) * _e454) * _e457)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e463) * _e466)) : (gp - (((4.0 * g_15) * _e454) * _e457)));
     float _e472 = sum_1;
     float _e474 = st;
-    float _e479 = d_2;
-    float _e480 = d_2;
-    sum_1 = (_e472 + ((0.05099806 * exp((-(tau_5) * _e474))) / (_e479 * sqrt(_e480))));
+    float _e479 = d_3;
+    float _e480 = d_3;
+    sum_1 = (_e472 + ((0.05099806 * exp((-(tau_8) * _e474))) / (_e479 * sqrt(_e480))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7944838));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7944838));
     float _e499 = b_3;
@@ -694,12 +721,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e527 = sc.y;
     float _e533 = sc.x;
     float _e536 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e533) * _e536)) : (gp - (((4.0 * g_15) * _e524) * _e527)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e533) * _e536)) : (gp - (((4.0 * g_15) * _e524) * _e527)));
     float _e542 = sum_1;
     float _e544 = st;
-    float _e549 = d_2;
-    float _e550 = d_2;
-    sum_1 = (_e542 + ((0.058684092 * exp((-(tau_5) * _e544))) / (_e549 * sqrt(_e550))));
+    float _e549 = d_3;
+    float _e550 = d_3;
+    sum_1 = (_e542 + ((0.058684092 * exp((-(tau_8) * _e544))) / (_e549 * sqrt(_e550))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.7321821));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.7321821));
     float _e569 = b_3;
@@ -719,12 +746,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e597 = sc.y;
     float _e603 = sc.x;
     float _e606 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e603) * _e606)) : (gp - (((4.0 * g_15) * _e594) * _e597)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e603) * _e606)) : (gp - (((4.0 * g_15) * _e594) * _e597)));
     float _e612 = sum_1;
     float _e614 = st;
-    float _e619 = d_2;
-    float _e620 = d_2;
-    sum_1 = (_e612 + ((0.06582222 * exp((-(tau_5) * _e614))) / (_e619 * sqrt(_e620))));
+    float _e619 = d_3;
+    float _e620 = d_3;
+    sum_1 = (_e612 + ((0.06582222 * exp((-(tau_8) * _e614))) / (_e619 * sqrt(_e620))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.6630443));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.6630443));
     float _e639 = b_3;
@@ -744,12 +771,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e667 = sc.y;
     float _e673 = sc.x;
     float _e676 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e673) * _e676)) : (gp - (((4.0 * g_15) * _e664) * _e667)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e673) * _e676)) : (gp - (((4.0 * g_15) * _e664) * _e667)));
     float _e682 = sum_1;
     float _e684 = st;
-    float _e689 = d_2;
-    float _e690 = d_2;
-    sum_1 = (_e682 + ((0.07234579 * exp((-(tau_5) * _e684))) / (_e689 * sqrt(_e690))));
+    float _e689 = d_3;
+    float _e690 = d_3;
+    sum_1 = (_e682 + ((0.07234579 * exp((-(tau_8) * _e684))) / (_e689 * sqrt(_e690))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5877157));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5877157));
     float _e709 = b_3;
@@ -769,12 +796,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e737 = sc.y;
     float _e743 = sc.x;
     float _e746 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e743) * _e746)) : (gp - (((4.0 * g_15) * _e734) * _e737)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e743) * _e746)) : (gp - (((4.0 * g_15) * _e734) * _e737)));
     float _e752 = sum_1;
     float _e754 = st;
-    float _e759 = d_2;
-    float _e760 = d_2;
-    sum_1 = (_e752 + ((0.078193896 * exp((-(tau_5) * _e754))) / (_e759 * sqrt(_e760))));
+    float _e759 = d_3;
+    float _e760 = d_3;
+    sum_1 = (_e752 + ((0.078193896 * exp((-(tau_8) * _e754))) / (_e759 * sqrt(_e760))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.5068998));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.5068998));
     float _e779 = b_3;
@@ -794,12 +821,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e807 = sc.y;
     float _e813 = sc.x;
     float _e816 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e813) * _e816)) : (gp - (((4.0 * g_15) * _e804) * _e807)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e813) * _e816)) : (gp - (((4.0 * g_15) * _e804) * _e807)));
     float _e822 = sum_1;
     float _e824 = st;
-    float _e829 = d_2;
-    float _e830 = d_2;
-    sum_1 = (_e822 + ((0.08331192 * exp((-(tau_5) * _e824))) / (_e829 * sqrt(_e830))));
+    float _e829 = d_3;
+    float _e830 = d_3;
+    sum_1 = (_e822 + ((0.08331192 * exp((-(tau_8) * _e824))) / (_e829 * sqrt(_e830))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.4213513));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.4213513));
     float _e849 = b_3;
@@ -819,12 +846,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e877 = sc.y;
     float _e883 = sc.x;
     float _e886 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e883) * _e886)) : (gp - (((4.0 * g_15) * _e874) * _e877)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e883) * _e886)) : (gp - (((4.0 * g_15) * _e874) * _e877)));
     float _e892 = sum_1;
     float _e894 = st;
-    float _e899 = d_2;
-    float _e900 = d_2;
-    sum_1 = (_e892 + ((0.087652095 * exp((-(tau_5) * _e894))) / (_e899 * sqrt(_e900))));
+    float _e899 = d_3;
+    float _e900 = d_3;
+    sum_1 = (_e892 + ((0.087652095 * exp((-(tau_8) * _e894))) / (_e899 * sqrt(_e900))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.3318686));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.3318686));
     float _e919 = b_3;
@@ -844,12 +871,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e947 = sc.y;
     float _e953 = sc.x;
     float _e956 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e953) * _e956)) : (gp - (((4.0 * g_15) * _e944) * _e947)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e953) * _e956)) : (gp - (((4.0 * g_15) * _e944) * _e947)));
     float _e962 = sum_1;
     float _e964 = st;
-    float _e969 = d_2;
-    float _e970 = d_2;
-    sum_1 = (_e962 + ((0.09117388 * exp((-(tau_5) * _e964))) / (_e969 * sqrt(_e970))));
+    float _e969 = d_3;
+    float _e970 = d_3;
+    sum_1 = (_e962 + ((0.09117388 * exp((-(tau_8) * _e964))) / (_e969 * sqrt(_e970))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.2392874));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.2392874));
     float _e989 = b_3;
@@ -869,12 +896,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1017 = sc.y;
     float _e1023 = sc.x;
     float _e1026 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1023) * _e1026)) : (gp - (((4.0 * g_15) * _e1014) * _e1017)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1023) * _e1026)) : (gp - (((4.0 * g_15) * _e1014) * _e1017)));
     float _e1032 = sum_1;
     float _e1034 = st;
-    float _e1039 = d_2;
-    float _e1040 = d_2;
-    sum_1 = (_e1032 + ((0.0938444 * exp((-(tau_5) * _e1034))) / (_e1039 * sqrt(_e1040))));
+    float _e1039 = d_3;
+    float _e1040 = d_3;
+    sum_1 = (_e1032 + ((0.0938444 * exp((-(tau_8) * _e1034))) / (_e1039 * sqrt(_e1040))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.144472));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.144472));
     float _e1059 = b_3;
@@ -894,12 +921,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1087 = sc.y;
     float _e1093 = sc.x;
     float _e1096 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1093) * _e1096)) : (gp - (((4.0 * g_15) * _e1084) * _e1087)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1093) * _e1096)) : (gp - (((4.0 * g_15) * _e1084) * _e1087)));
     float _e1102 = sum_1;
     float _e1104 = st;
-    float _e1109 = d_2;
-    float _e1110 = d_2;
-    sum_1 = (_e1102 + ((0.09563872 * exp((-(tau_5) * _e1104))) / (_e1109 * sqrt(_e1110))));
+    float _e1109 = d_3;
+    float _e1110 = d_3;
+    sum_1 = (_e1102 + ((0.09563872 * exp((-(tau_8) * _e1104))) / (_e1109 * sqrt(_e1110))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 1.0483077));
     co = ((0.5 * comp) - ((0.5 * half_1) * 1.0483077));
     float _e1129 = b_3;
@@ -919,12 +946,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1157 = sc.y;
     float _e1163 = sc.x;
     float _e1166 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1163) * _e1166)) : (gp - (((4.0 * g_15) * _e1154) * _e1157)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1163) * _e1166)) : (gp - (((4.0 * g_15) * _e1154) * _e1157)));
     float _e1172 = sum_1;
     float _e1174 = st;
-    float _e1179 = d_2;
-    float _e1180 = d_2;
-    sum_1 = (_e1172 + ((0.096540086 * exp((-(tau_5) * _e1174))) / (_e1179 * sqrt(_e1180))));
+    float _e1179 = d_3;
+    float _e1180 = d_3;
+    sum_1 = (_e1172 + ((0.096540086 * exp((-(tau_8) * _e1174))) / (_e1179 * sqrt(_e1180))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.95169234));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.95169234));
     float _e1199 = b_3;
@@ -944,12 +971,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1227 = sc.y;
     float _e1233 = sc.x;
     float _e1236 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1233) * _e1236)) : (gp - (((4.0 * g_15) * _e1224) * _e1227)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1233) * _e1236)) : (gp - (((4.0 * g_15) * _e1224) * _e1227)));
     float _e1242 = sum_1;
     float _e1244 = st;
-    float _e1249 = d_2;
-    float _e1250 = d_2;
-    sum_1 = (_e1242 + ((0.096540086 * exp((-(tau_5) * _e1244))) / (_e1249 * sqrt(_e1250))));
+    float _e1249 = d_3;
+    float _e1250 = d_3;
+    sum_1 = (_e1242 + ((0.096540086 * exp((-(tau_8) * _e1244))) / (_e1249 * sqrt(_e1250))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.85552806));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.85552806));
     float _e1269 = b_3;
@@ -969,12 +996,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1297 = sc.y;
     float _e1303 = sc.x;
     float _e1306 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1303) * _e1306)) : (gp - (((4.0 * g_15) * _e1294) * _e1297)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1303) * _e1306)) : (gp - (((4.0 * g_15) * _e1294) * _e1297)));
     float _e1312 = sum_1;
     float _e1314 = st;
-    float _e1319 = d_2;
-    float _e1320 = d_2;
-    sum_1 = (_e1312 + ((0.09563872 * exp((-(tau_5) * _e1314))) / (_e1319 * sqrt(_e1320))));
+    float _e1319 = d_3;
+    float _e1320 = d_3;
+    sum_1 = (_e1312 + ((0.09563872 * exp((-(tau_8) * _e1314))) / (_e1319 * sqrt(_e1320))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.7607126));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.7607126));
     float _e1339 = b_3;
@@ -994,12 +1021,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1367 = sc.y;
     float _e1373 = sc.x;
     float _e1376 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1373) * _e1376)) : (gp - (((4.0 * g_15) * _e1364) * _e1367)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1373) * _e1376)) : (gp - (((4.0 * g_15) * _e1364) * _e1367)));
     float _e1382 = sum_1;
     float _e1384 = st;
-    float _e1389 = d_2;
-    float _e1390 = d_2;
-    sum_1 = (_e1382 + ((0.0938444 * exp((-(tau_5) * _e1384))) / (_e1389 * sqrt(_e1390))));
+    float _e1389 = d_3;
+    float _e1390 = d_3;
+    sum_1 = (_e1382 + ((0.0938444 * exp((-(tau_8) * _e1384))) / (_e1389 * sqrt(_e1390))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.6681314));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.6681314));
     float _e1409 = b_3;
@@ -1019,12 +1046,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1437 = sc.y;
     float _e1443 = sc.x;
     float _e1446 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1443) * _e1446)) : (gp - (((4.0 * g_15) * _e1434) * _e1437)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1443) * _e1446)) : (gp - (((4.0 * g_15) * _e1434) * _e1437)));
     float _e1452 = sum_1;
     float _e1454 = st;
-    float _e1459 = d_2;
-    float _e1460 = d_2;
-    sum_1 = (_e1452 + ((0.09117388 * exp((-(tau_5) * _e1454))) / (_e1459 * sqrt(_e1460))));
+    float _e1459 = d_3;
+    float _e1460 = d_3;
+    sum_1 = (_e1452 + ((0.09117388 * exp((-(tau_8) * _e1454))) / (_e1459 * sqrt(_e1460))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.5786487));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.5786487));
     float _e1479 = b_3;
@@ -1044,12 +1071,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1507 = sc.y;
     float _e1513 = sc.x;
     float _e1516 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1513) * _e1516)) : (gp - (((4.0 * g_15) * _e1504) * _e1507)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1513) * _e1516)) : (gp - (((4.0 * g_15) * _e1504) * _e1507)));
     float _e1522 = sum_1;
     float _e1524 = st;
-    float _e1529 = d_2;
-    float _e1530 = d_2;
-    sum_1 = (_e1522 + ((0.087652095 * exp((-(tau_5) * _e1524))) / (_e1529 * sqrt(_e1530))));
+    float _e1529 = d_3;
+    float _e1530 = d_3;
+    sum_1 = (_e1522 + ((0.087652095 * exp((-(tau_8) * _e1524))) / (_e1529 * sqrt(_e1530))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.4931001));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.4931001));
     float _e1549 = b_3;
@@ -1069,12 +1096,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1577 = sc.y;
     float _e1583 = sc.x;
     float _e1586 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1583) * _e1586)) : (gp - (((4.0 * g_15) * _e1574) * _e1577)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1583) * _e1586)) : (gp - (((4.0 * g_15) * _e1574) * _e1577)));
     float _e1592 = sum_1;
     float _e1594 = st;
-    float _e1599 = d_2;
-    float _e1600 = d_2;
-    sum_1 = (_e1592 + ((0.08331192 * exp((-(tau_5) * _e1594))) / (_e1599 * sqrt(_e1600))));
+    float _e1599 = d_3;
+    float _e1600 = d_3;
+    sum_1 = (_e1592 + ((0.08331192 * exp((-(tau_8) * _e1594))) / (_e1599 * sqrt(_e1600))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.41228426));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.41228426));
     float _e1619 = b_3;
@@ -1094,12 +1121,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1647 = sc.y;
     float _e1653 = sc.x;
     float _e1656 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1653) * _e1656)) : (gp - (((4.0 * g_15) * _e1644) * _e1647)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1653) * _e1656)) : (gp - (((4.0 * g_15) * _e1644) * _e1647)));
     float _e1662 = sum_1;
     float _e1664 = st;
-    float _e1669 = d_2;
-    float _e1670 = d_2;
-    sum_1 = (_e1662 + ((0.078193896 * exp((-(tau_5) * _e1664))) / (_e1669 * sqrt(_e1670))));
+    float _e1669 = d_3;
+    float _e1670 = d_3;
+    sum_1 = (_e1662 + ((0.078193896 * exp((-(tau_8) * _e1664))) / (_e1669 * sqrt(_e1670))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.33695573));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.33695573));
     float _e1689 = b_3;
@@ -1119,12 +1146,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1717 = sc.y;
     float _e1723 = sc.x;
     float _e1726 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1723) * _e1726)) : (gp - (((4.0 * g_15) * _e1714) * _e1717)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1723) * _e1726)) : (gp - (((4.0 * g_15) * _e1714) * _e1717)));
     float _e1732 = sum_1;
     float _e1734 = st;
-    float _e1739 = d_2;
-    float _e1740 = d_2;
-    sum_1 = (_e1732 + ((0.07234579 * exp((-(tau_5) * _e1734))) / (_e1739 * sqrt(_e1740))));
+    float _e1739 = d_3;
+    float _e1740 = d_3;
+    sum_1 = (_e1732 + ((0.07234579 * exp((-(tau_8) * _e1734))) / (_e1739 * sqrt(_e1740))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.26781785));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.26781785));
     float _e1759 = b_3;
@@ -1144,12 +1171,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1787 = sc.y;
     float _e1793 = sc.x;
     float _e1796 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1793) * _e1796)) : (gp - (((4.0 * g_15) * _e1784) * _e1787)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1793) * _e1796)) : (gp - (((4.0 * g_15) * _e1784) * _e1787)));
     float _e1802 = sum_1;
     float _e1804 = st;
-    float _e1809 = d_2;
-    float _e1810 = d_2;
-    sum_1 = (_e1802 + ((0.06582222 * exp((-(tau_5) * _e1804))) / (_e1809 * sqrt(_e1810))));
+    float _e1809 = d_3;
+    float _e1810 = d_3;
+    sum_1 = (_e1802 + ((0.06582222 * exp((-(tau_8) * _e1804))) / (_e1809 * sqrt(_e1810))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.20551622));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.20551622));
     float _e1829 = b_3;
@@ -1169,12 +1196,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1857 = sc.y;
     float _e1863 = sc.x;
     float _e1866 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1863) * _e1866)) : (gp - (((4.0 * g_15) * _e1854) * _e1857)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1863) * _e1866)) : (gp - (((4.0 * g_15) * _e1854) * _e1857)));
     float _e1872 = sum_1;
     float _e1874 = st;
-    float _e1879 = d_2;
-    float _e1880 = d_2;
-    sum_1 = (_e1872 + ((0.058684092 * exp((-(tau_5) * _e1874))) / (_e1879 * sqrt(_e1880))));
+    float _e1879 = d_3;
+    float _e1880 = d_3;
+    sum_1 = (_e1872 + ((0.058684092 * exp((-(tau_8) * _e1874))) / (_e1879 * sqrt(_e1880))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.15063238));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.15063238));
     float _e1899 = b_3;
@@ -1194,12 +1221,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1927 = sc.y;
     float _e1933 = sc.x;
     float _e1936 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1933) * _e1936)) : (gp - (((4.0 * g_15) * _e1924) * _e1927)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e1933) * _e1936)) : (gp - (((4.0 * g_15) * _e1924) * _e1927)));
     float _e1942 = sum_1;
     float _e1944 = st;
-    float _e1949 = d_2;
-    float _e1950 = d_2;
-    sum_1 = (_e1942 + ((0.05099806 * exp((-(tau_5) * _e1944))) / (_e1949 * sqrt(_e1950))));
+    float _e1949 = d_3;
+    float _e1950 = d_3;
+    sum_1 = (_e1942 + ((0.05099806 * exp((-(tau_8) * _e1944))) / (_e1949 * sqrt(_e1950))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.10367882));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.10367882));
     float _e1969 = b_3;
@@ -1219,12 +1246,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e1997 = sc.y;
     float _e2003 = sc.x;
     float _e2006 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2003) * _e2006)) : (gp - (((4.0 * g_15) * _e1994) * _e1997)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2003) * _e2006)) : (gp - (((4.0 * g_15) * _e1994) * _e1997)));
     float _e2012 = sum_1;
     float _e2014 = st;
-    float _e2019 = d_2;
-    float _e2020 = d_2;
-    sum_1 = (_e2012 + ((0.0428359 * exp((-(tau_5) * _e2014))) / (_e2019 * sqrt(_e2020))));
+    float _e2019 = d_3;
+    float _e2020 = d_3;
+    sum_1 = (_e2012 + ((0.0428359 * exp((-(tau_8) * _e2014))) / (_e2019 * sqrt(_e2020))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.065093935));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.065093935));
     float _e2039 = b_3;
@@ -1244,12 +1271,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2067 = sc.y;
     float _e2073 = sc.x;
     float _e2076 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2073) * _e2076)) : (gp - (((4.0 * g_15) * _e2064) * _e2067)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2073) * _e2076)) : (gp - (((4.0 * g_15) * _e2064) * _e2067)));
     float _e2082 = sum_1;
     float _e2084 = st;
-    float _e2089 = d_2;
-    float _e2090 = d_2;
-    sum_1 = (_e2082 + ((0.034273863 * exp((-(tau_5) * _e2084))) / (_e2089 * sqrt(_e2090))));
+    float _e2089 = d_3;
+    float _e2090 = d_3;
+    sum_1 = (_e2082 + ((0.034273863 * exp((-(tau_8) * _e2084))) / (_e2089 * sqrt(_e2090))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.03523773));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.03523773));
     float _e2109 = b_3;
@@ -1269,12 +1296,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2137 = sc.y;
     float _e2143 = sc.x;
     float _e2146 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2143) * _e2146)) : (gp - (((4.0 * g_15) * _e2134) * _e2137)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2143) * _e2146)) : (gp - (((4.0 * g_15) * _e2134) * _e2137)));
     float _e2152 = sum_1;
     float _e2154 = st;
-    float _e2159 = d_2;
-    float _e2160 = d_2;
-    sum_1 = (_e2152 + ((0.025392065 * exp((-(tau_5) * _e2154))) / (_e2159 * sqrt(_e2160))));
+    float _e2159 = d_3;
+    float _e2160 = d_3;
+    sum_1 = (_e2152 + ((0.025392065 * exp((-(tau_8) * _e2154))) / (_e2159 * sqrt(_e2160))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.014388502));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.014388502));
     float _e2179 = b_3;
@@ -1294,12 +1321,12 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2207 = sc.y;
     float _e2213 = sc.x;
     float _e2216 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2213) * _e2216)) : (gp - (((4.0 * g_15) * _e2204) * _e2207)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2213) * _e2216)) : (gp - (((4.0 * g_15) * _e2204) * _e2207)));
     float _e2222 = sum_1;
     float _e2224 = st;
-    float _e2229 = d_2;
-    float _e2230 = d_2;
-    sum_1 = (_e2222 + ((0.016274394 * exp((-(tau_5) * _e2224))) / (_e2229 * sqrt(_e2230))));
+    float _e2229 = d_3;
+    float _e2230 = d_3;
+    sum_1 = (_e2222 + ((0.016274394 * exp((-(tau_8) * _e2224))) / (_e2229 * sqrt(_e2230))));
     b_3 = ((0.5 * gamma) + ((0.5 * half_1) * 0.002736151));
     co = ((0.5 * comp) - ((0.5 * half_1) * 0.002736151));
     float _e2249 = b_3;
@@ -1319,14 +1346,14 @@ float airlight_equiangular_32_airlight_geometry(float tau_in, float h_2, float x
     float _e2277 = sc.y;
     float _e2283 = sc.x;
     float _e2286 = sc.x;
-    d_2 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2283) * _e2286)) : (gp - (((4.0 * g_15) * _e2274) * _e2277)));
+    d_3 = ((g_15 >= 0.0) ? (gm + (((4.0 * g_15) * _e2283) * _e2286)) : (gp - (((4.0 * g_15) * _e2274) * _e2277)));
     float _e2292 = sum_1;
     float _e2294 = st;
-    float _e2299 = d_2;
-    float _e2300 = d_2;
-    sum_1 = (_e2292 + ((0.00701861 * exp((-(tau_5) * _e2294))) / (_e2299 * sqrt(_e2300))));
+    float _e2299 = d_3;
+    float _e2300 = d_3;
+    sum_1 = (_e2292 + ((0.00701861 * exp((-(tau_8) * _e2294))) / (_e2299 * sqrt(_e2300))));
     float _e2312 = sum_1;
-    return min((((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e2312) * half_1) / h_2), airlight_equiangular_32_HUGE);
+    return min(((((0.07957747 * (1.0 - g_15)) * (1.0 + g_15)) * _e2312) * (half_1 / h_2)), airlight_equiangular_32_HUGE);
 }
 
 float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3, float x0_3, float gamma_1, float comp_1, float rho_3, float xr_1, float g_in_1)
@@ -1340,9 +1367,9 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float b_4 = (float)0;
     float co_1 = (float)0;
     float st_1 = (float)0;
-    float d_3 = (float)0;
+    float d_4 = (float)0;
 
-    float3 tau_6 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
+    float3 tau_9 = min(max(tau_in_1, (0.0).xxx), (10000.0).xxx);
     float g_16 = clamp(g_in_1, -0.999, 0.999);
     float gm_1 = ((1.0 - g_16) * (1.0 - g_16));
     float gp_1 = ((1.0 + g_16) * (1.0 + g_16));
@@ -1359,9 +1386,9 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     }
     bool _e41 = local_9;
     if (_e41) {
-        const float _e43 = airlight_equiangular_32_airlight_axis(tau_6.x, x0_3, rho_3, g_16);
-        const float _e45 = airlight_equiangular_32_airlight_axis(tau_6.y, x0_3, rho_3, g_16);
-        const float _e47 = airlight_equiangular_32_airlight_axis(tau_6.z, x0_3, rho_3, g_16);
+        const float _e43 = airlight_equiangular_32_airlight_axis(tau_9.x, x0_3, rho_3, g_16);
+        const float _e45 = airlight_equiangular_32_airlight_axis(tau_9.y, x0_3, rho_3, g_16);
+        const float _e47 = airlight_equiangular_32_airlight_axis(tau_9.z, x0_3, rho_3, g_16);
         return float3(_e43, _e45, _e47);
     }
     span_1 = comp_1;
@@ -1396,12 +1423,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e116 = sc_1.y;
     float _e122 = sc_1.x;
     float _e125 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e122) * _e125)) : (gp_1 - (((4.0 * g_16) * _e113) * _e116)));
     float3 _e131 = sum_2;
     float _e133 = st_1;
-    float _e138 = d_3;
-    float _e139 = d_3;
-    sum_2 = (_e131 + ((0.00701861 * exp((-(tau_6) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
+    float _e138 = d_4;
+    float _e139 = d_4;
+    sum_2 = (_e131 + ((0.00701861 * exp((-(tau_9) * _e133))) / ((_e138 * sqrt(_e139))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9856114));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9856114));
     float _e159 = b_4;
@@ -1421,12 +1448,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e187 = sc_1.y;
     float _e193 = sc_1.x;
     float _e196 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e193) * _e196)) : (gp_1 - (((4.0 * g_16) * _e184) * _e187)));
     float3 _e202 = sum_2;
     float _e204 = st_1;
-    float _e209 = d_3;
-    float _e210 = d_3;
-    sum_2 = (_e202 + ((0.016274394 * exp((-(tau_6) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
+    float _e209 = d_4;
+    float _e210 = d_4;
+    sum_2 = (_e202 + ((0.016274394 * exp((-(tau_9) * _e204))) / ((_e209 * sqrt(_e210))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.9647622));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.9647622));
     float _e230 = b_4;
@@ -1446,12 +1473,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e258 = sc_1.y;
     float _e264 = sc_1.x;
     float _e267 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e264) * _e267)) : (gp_1 - (((4.0 * g_16) * _e255) * _e258)));
     float3 _e273 = sum_2;
     float _e275 = st_1;
-    float _e280 = d_3;
-    float _e281 = d_3;
-    sum_2 = (_e273 + ((0.025392065 * exp((-(tau_6) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
+    float _e280 = d_4;
+    float _e281 = d_4;
+    sum_2 = (_e273 + ((0.025392065 * exp((-(tau_9) * _e275))) / ((_e280 * sqrt(_e281))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.934906));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.934906));
     float _e301 = b_4;
@@ -1471,12 +1498,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e329 = sc_1.y;
     float _e335 = sc_1.x;
     float _e338 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e335) * _e338)) : (gp_1 - (((4.0 * g_16) * _e326) * _e329)));
     float3 _e344 = sum_2;
     float _e346 = st_1;
-    float _e351 = d_3;
-    float _e352 = d_3;
-    sum_2 = (_e344 + ((0.034273863 * exp((-(tau_6) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
+    float _e351 = d_4;
+    float _e352 = d_4;
+    sum_2 = (_e344 + ((0.034273863 * exp((-(tau_9) * _e346))) / ((_e351 * sqrt(_e352))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.8963212));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.8963212));
     float _e372 = b_4;
@@ -1496,12 +1523,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e400 = sc_1.y;
     float _e406 = sc_1.x;
     float _e409 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e406) * _e409)) : (gp_1 - (((4.0 * g_16) * _e397) * _e400)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e406) * _e409)) : (gp_1 - (((4.0 * g_16) * _e397) * _e400)));
     float3 _e415 = sum_2;
     float _e417 = st_1;
-    float _e422 = d_3;
-    float _e423 = d_3;
-    sum_2 = (_e415 + ((0.0428359 * exp((-(tau_6) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
+    float _e422 = d_4;
+    float _e423 = d_4;
+    sum_2 = (_e415 + ((0.0428359 * exp((-(tau_9) * _e417))) / ((_e422 * sqrt(_e423))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.8493676));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.8493676));
     float _e443 = b_4;
@@ -1521,12 +1548,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e471 = sc_1.y;
     float _e477 = sc_1.x;
     float _e480 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e477) * _e480)) : (gp_1 - (((4.0 * g_16) * _e468) * _e471)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e477) * _e480)) : (gp_1 - (((4.0 * g_16) * _e468) * _e471)));
     float3 _e486 = sum_2;
     float _e488 = st_1;
-    float _e493 = d_3;
-    float _e494 = d_3;
-    sum_2 = (_e486 + ((0.05099806 * exp((-(tau_6) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
+    float _e493 = d_4;
+    float _e494 = d_4;
+    sum_2 = (_e486 + ((0.05099806 * exp((-(tau_9) * _e488))) / ((_e493 * sqrt(_e494))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7944838));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7944838));
     float _e514 = b_4;
@@ -1546,12 +1573,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e542 = sc_1.y;
     float _e548 = sc_1.x;
     float _e551 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e548) * _e551)) : (gp_1 - (((4.0 * g_16) * _e539) * _e542)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e548) * _e551)) : (gp_1 - (((4.0 * g_16) * _e539) * _e542)));
     float3 _e557 = sum_2;
     float _e559 = st_1;
-    float _e564 = d_3;
-    float _e565 = d_3;
-    sum_2 = (_e557 + ((0.058684092 * exp((-(tau_6) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
+    float _e564 = d_4;
+    float _e565 = d_4;
+    sum_2 = (_e557 + ((0.058684092 * exp((-(tau_9) * _e559))) / ((_e564 * sqrt(_e565))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.7321821));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.7321821));
     float _e585 = b_4;
@@ -1571,12 +1598,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e613 = sc_1.y;
     float _e619 = sc_1.x;
     float _e622 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e619) * _e622)) : (gp_1 - (((4.0 * g_16) * _e610) * _e613)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e619) * _e622)) : (gp_1 - (((4.0 * g_16) * _e610) * _e613)));
     float3 _e628 = sum_2;
     float _e630 = st_1;
-    float _e635 = d_3;
-    float _e636 = d_3;
-    sum_2 = (_e628 + ((0.06582222 * exp((-(tau_6) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
+    float _e635 = d_4;
+    float _e636 = d_4;
+    sum_2 = (_e628 + ((0.06582222 * exp((-(tau_9) * _e630))) / ((_e635 * sqrt(_e636))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.6630443));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.6630443));
     float _e656 = b_4;
@@ -1596,12 +1623,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e684 = sc_1.y;
     float _e690 = sc_1.x;
     float _e693 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e690) * _e693)) : (gp_1 - (((4.0 * g_16) * _e681) * _e684)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e690) * _e693)) : (gp_1 - (((4.0 * g_16) * _e681) * _e684)));
     float3 _e699 = sum_2;
     float _e701 = st_1;
-    float _e706 = d_3;
-    float _e707 = d_3;
-    sum_2 = (_e699 + ((0.07234579 * exp((-(tau_6) * _e701))) / ((_e706 * sqrt(_e707))).xxx));
+    float _e706 = d_4;
+    float _e707 = d_4;
+    sum_2 = (_e699 + ((0.07234579 * exp((-(tau_9) * _e701))) / ((_e706 * sqrt(_e707))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5877157));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5877157));
     float _e727 = b_4;
@@ -1621,12 +1648,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e755 = sc_1.y;
     float _e761 = sc_1.x;
     float _e764 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e761) * _e764)) : (gp_1 - (((4.0 * g_16) * _e752) * _e755)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e761) * _e764)) : (gp_1 - (((4.0 * g_16) * _e752) * _e755)));
     float3 _e770 = sum_2;
     float _e772 = st_1;
-    float _e777 = d_3;
-    float _e778 = d_3;
-    sum_2 = (_e770 + ((0.078193896 * exp((-(tau_6) * _e772))) / ((_e777 * sqrt(_e778))).xxx));
+    float _e777 = d_4;
+    float _e778 = d_4;
+    sum_2 = (_e770 + ((0.078193896 * exp((-(tau_9) * _e772))) / ((_e777 * sqrt(_e778))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.5068998));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.5068998));
     float _e798 = b_4;
@@ -1646,12 +1673,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e826 = sc_1.y;
     float _e832 = sc_1.x;
     float _e835 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e832) * _e835)) : (gp_1 - (((4.0 * g_16) * _e823) * _e826)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e832) * _e835)) : (gp_1 - (((4.0 * g_16) * _e823) * _e826)));
     float3 _e841 = sum_2;
     float _e843 = st_1;
-    float _e848 = d_3;
-    float _e849 = d_3;
-    sum_2 = (_e841 + ((0.08331192 * exp((-(tau_6) * _e843))) / ((_e848 * sqrt(_e849))).xxx));
+    float _e848 = d_4;
+    float _e849 = d_4;
+    sum_2 = (_e841 + ((0.08331192 * exp((-(tau_9) * _e843))) / ((_e848 * sqrt(_e849))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.4213513));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.4213513));
     float _e869 = b_4;
@@ -1671,12 +1698,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e897 = sc_1.y;
     float _e903 = sc_1.x;
     float _e906 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e903) * _e906)) : (gp_1 - (((4.0 * g_16) * _e894) * _e897)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e903) * _e906)) : (gp_1 - (((4.0 * g_16) * _e894) * _e897)));
     float3 _e912 = sum_2;
     float _e914 = st_1;
-    float _e919 = d_3;
-    float _e920 = d_3;
-    sum_2 = (_e912 + ((0.087652095 * exp((-(tau_6) * _e914))) / ((_e919 * sqrt(_e920))).xxx));
+    float _e919 = d_4;
+    float _e920 = d_4;
+    sum_2 = (_e912 + ((0.087652095 * exp((-(tau_9) * _e914))) / ((_e919 * sqrt(_e920))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.3318686));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.3318686));
     float _e940 = b_4;
@@ -1696,12 +1723,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e968 = sc_1.y;
     float _e974 = sc_1.x;
     float _e977 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e974) * _e977)) : (gp_1 - (((4.0 * g_16) * _e965) * _e968)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e974) * _e977)) : (gp_1 - (((4.0 * g_16) * _e965) * _e968)));
     float3 _e983 = sum_2;
     float _e985 = st_1;
-    float _e990 = d_3;
-    float _e991 = d_3;
-    sum_2 = (_e983 + ((0.09117388 * exp((-(tau_6) * _e985))) / ((_e990 * sqrt(_e991))).xxx));
+    float _e990 = d_4;
+    float _e991 = d_4;
+    sum_2 = (_e983 + ((0.09117388 * exp((-(tau_9) * _e985))) / ((_e990 * sqrt(_e991))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.2392874));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.2392874));
     float _e1011 = b_4;
@@ -1721,12 +1748,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1039 = sc_1.y;
     float _e1045 = sc_1.x;
     float _e1048 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1045) * _e1048)) : (gp_1 - (((4.0 * g_16) * _e1036) * _e1039)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1045) * _e1048)) : (gp_1 - (((4.0 * g_16) * _e1036) * _e1039)));
     float3 _e1054 = sum_2;
     float _e1056 = st_1;
-    float _e1061 = d_3;
-    float _e1062 = d_3;
-    sum_2 = (_e1054 + ((0.0938444 * exp((-(tau_6) * _e1056))) / ((_e1061 * sqrt(_e1062))).xxx));
+    float _e1061 = d_4;
+    float _e1062 = d_4;
+    sum_2 = (_e1054 + ((0.0938444 * exp((-(tau_9) * _e1056))) / ((_e1061 * sqrt(_e1062))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.144472));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.144472));
     float _e1082 = b_4;
@@ -1746,12 +1773,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1110 = sc_1.y;
     float _e1116 = sc_1.x;
     float _e1119 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1116) * _e1119)) : (gp_1 - (((4.0 * g_16) * _e1107) * _e1110)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1116) * _e1119)) : (gp_1 - (((4.0 * g_16) * _e1107) * _e1110)));
     float3 _e1125 = sum_2;
     float _e1127 = st_1;
-    float _e1132 = d_3;
-    float _e1133 = d_3;
-    sum_2 = (_e1125 + ((0.09563872 * exp((-(tau_6) * _e1127))) / ((_e1132 * sqrt(_e1133))).xxx));
+    float _e1132 = d_4;
+    float _e1133 = d_4;
+    sum_2 = (_e1125 + ((0.09563872 * exp((-(tau_9) * _e1127))) / ((_e1132 * sqrt(_e1133))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 1.0483077));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 1.0483077));
     float _e1153 = b_4;
@@ -1771,12 +1798,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1181 = sc_1.y;
     float _e1187 = sc_1.x;
     float _e1190 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1187) * _e1190)) : (gp_1 - (((4.0 * g_16) * _e1178) * _e1181)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1187) * _e1190)) : (gp_1 - (((4.0 * g_16) * _e1178) * _e1181)));
     float3 _e1196 = sum_2;
     float _e1198 = st_1;
-    float _e1203 = d_3;
-    float _e1204 = d_3;
-    sum_2 = (_e1196 + ((0.096540086 * exp((-(tau_6) * _e1198))) / ((_e1203 * sqrt(_e1204))).xxx));
+    float _e1203 = d_4;
+    float _e1204 = d_4;
+    sum_2 = (_e1196 + ((0.096540086 * exp((-(tau_9) * _e1198))) / ((_e1203 * sqrt(_e1204))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.95169234));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.95169234));
     float _e1224 = b_4;
@@ -1796,12 +1823,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1252 = sc_1.y;
     float _e1258 = sc_1.x;
     float _e1261 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1258) * _e1261)) : (gp_1 - (((4.0 * g_16) * _e1249) * _e1252)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1258) * _e1261)) : (gp_1 - (((4.0 * g_16) * _e1249) * _e1252)));
     float3 _e1267 = sum_2;
     float _e1269 = st_1;
-    float _e1274 = d_3;
-    float _e1275 = d_3;
-    sum_2 = (_e1267 + ((0.096540086 * exp((-(tau_6) * _e1269))) / ((_e1274 * sqrt(_e1275))).xxx));
+    float _e1274 = d_4;
+    float _e1275 = d_4;
+    sum_2 = (_e1267 + ((0.096540086 * exp((-(tau_9) * _e1269))) / ((_e1274 * sqrt(_e1275))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.85552806));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.85552806));
     float _e1295 = b_4;
@@ -1821,12 +1848,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1323 = sc_1.y;
     float _e1329 = sc_1.x;
     float _e1332 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1329) * _e1332)) : (gp_1 - (((4.0 * g_16) * _e1320) * _e1323)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1329) * _e1332)) : (gp_1 - (((4.0 * g_16) * _e1320) * _e1323)));
     float3 _e1338 = sum_2;
     float _e1340 = st_1;
-    float _e1345 = d_3;
-    float _e1346 = d_3;
-    sum_2 = (_e1338 + ((0.09563872 * exp((-(tau_6) * _e1340))) / ((_e1345 * sqrt(_e1346))).xxx));
+    float _e1345 = d_4;
+    float _e1346 = d_4;
+    sum_2 = (_e1338 + ((0.09563872 * exp((-(tau_9) * _e1340))) / ((_e1345 * sqrt(_e1346))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.7607126));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.7607126));
     float _e1366 = b_4;
@@ -1846,12 +1873,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1394 = sc_1.y;
     float _e1400 = sc_1.x;
     float _e1403 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1400) * _e1403)) : (gp_1 - (((4.0 * g_16) * _e1391) * _e1394)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1400) * _e1403)) : (gp_1 - (((4.0 * g_16) * _e1391) * _e1394)));
     float3 _e1409 = sum_2;
     float _e1411 = st_1;
-    float _e1416 = d_3;
-    float _e1417 = d_3;
-    sum_2 = (_e1409 + ((0.0938444 * exp((-(tau_6) * _e1411))) / ((_e1416 * sqrt(_e1417))).xxx));
+    float _e1416 = d_4;
+    float _e1417 = d_4;
+    sum_2 = (_e1409 + ((0.0938444 * exp((-(tau_9) * _e1411))) / ((_e1416 * sqrt(_e1417))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.6681314));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.6681314));
     float _e1437 = b_4;
@@ -1871,12 +1898,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1465 = sc_1.y;
     float _e1471 = sc_1.x;
     float _e1474 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1471) * _e1474)) : (gp_1 - (((4.0 * g_16) * _e1462) * _e1465)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1471) * _e1474)) : (gp_1 - (((4.0 * g_16) * _e1462) * _e1465)));
     float3 _e1480 = sum_2;
     float _e1482 = st_1;
-    float _e1487 = d_3;
-    float _e1488 = d_3;
-    sum_2 = (_e1480 + ((0.09117388 * exp((-(tau_6) * _e1482))) / ((_e1487 * sqrt(_e1488))).xxx));
+    float _e1487 = d_4;
+    float _e1488 = d_4;
+    sum_2 = (_e1480 + ((0.09117388 * exp((-(tau_9) * _e1482))) / ((_e1487 * sqrt(_e1488))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.5786487));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.5786487));
     float _e1508 = b_4;
@@ -1896,12 +1923,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1536 = sc_1.y;
     float _e1542 = sc_1.x;
     float _e1545 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1542) * _e1545)) : (gp_1 - (((4.0 * g_16) * _e1533) * _e1536)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1542) * _e1545)) : (gp_1 - (((4.0 * g_16) * _e1533) * _e1536)));
     float3 _e1551 = sum_2;
     float _e1553 = st_1;
-    float _e1558 = d_3;
-    float _e1559 = d_3;
-    sum_2 = (_e1551 + ((0.087652095 * exp((-(tau_6) * _e1553))) / ((_e1558 * sqrt(_e1559))).xxx));
+    float _e1558 = d_4;
+    float _e1559 = d_4;
+    sum_2 = (_e1551 + ((0.087652095 * exp((-(tau_9) * _e1553))) / ((_e1558 * sqrt(_e1559))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.4931001));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.4931001));
     float _e1579 = b_4;
@@ -1921,12 +1948,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1607 = sc_1.y;
     float _e1613 = sc_1.x;
     float _e1616 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1613) * _e1616)) : (gp_1 - (((4.0 * g_16) * _e1604) * _e1607)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1613) * _e1616)) : (gp_1 - (((4.0 * g_16) * _e1604) * _e1607)));
     float3 _e1622 = sum_2;
     float _e1624 = st_1;
-    float _e1629 = d_3;
-    float _e1630 = d_3;
-    sum_2 = (_e1622 + ((0.08331192 * exp((-(tau_6) * _e1624))) / ((_e1629 * sqrt(_e1630))).xxx));
+    float _e1629 = d_4;
+    float _e1630 = d_4;
+    sum_2 = (_e1622 + ((0.08331192 * exp((-(tau_9) * _e1624))) / ((_e1629 * sqrt(_e1630))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.41228426));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.41228426));
     float _e1650 = b_4;
@@ -1946,12 +1973,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1678 = sc_1.y;
     float _e1684 = sc_1.x;
     float _e1687 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1684) * _e1687)) : (gp_1 - (((4.0 * g_16) * _e1675) * _e1678)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1684) * _e1687)) : (gp_1 - (((4.0 * g_16) * _e1675) * _e1678)));
     float3 _e1693 = sum_2;
     float _e1695 = st_1;
-    float _e1700 = d_3;
-    float _e1701 = d_3;
-    sum_2 = (_e1693 + ((0.078193896 * exp((-(tau_6) * _e1695))) / ((_e1700 * sqrt(_e1701))).xxx));
+    float _e1700 = d_4;
+    float _e1701 = d_4;
+    sum_2 = (_e1693 + ((0.078193896 * exp((-(tau_9) * _e1695))) / ((_e1700 * sqrt(_e1701))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.33695573));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.33695573));
     float _e1721 = b_4;
@@ -1971,12 +1998,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1749 = sc_1.y;
     float _e1755 = sc_1.x;
     float _e1758 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1755) * _e1758)) : (gp_1 - (((4.0 * g_16) * _e1746) * _e1749)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1755) * _e1758)) : (gp_1 - (((4.0 * g_16) * _e1746) * _e1749)));
     float3 _e1764 = sum_2;
     float _e1766 = st_1;
-    float _e1771 = d_3;
-    float _e1772 = d_3;
-    sum_2 = (_e1764 + ((0.07234579 * exp((-(tau_6) * _e1766))) / ((_e1771 * sqrt(_e1772))).xxx));
+    float _e1771 = d_4;
+    float _e1772 = d_4;
+    sum_2 = (_e1764 + ((0.07234579 * exp((-(tau_9) * _e1766))) / ((_e1771 * sqrt(_e1772))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.26781785));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.26781785));
     float _e1792 = b_4;
@@ -1996,12 +2023,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1820 = sc_1.y;
     float _e1826 = sc_1.x;
     float _e1829 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1826) * _e1829)) : (gp_1 - (((4.0 * g_16) * _e1817) * _e1820)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1826) * _e1829)) : (gp_1 - (((4.0 * g_16) * _e1817) * _e1820)));
     float3 _e1835 = sum_2;
     float _e1837 = st_1;
-    float _e1842 = d_3;
-    float _e1843 = d_3;
-    sum_2 = (_e1835 + ((0.06582222 * exp((-(tau_6) * _e1837))) / ((_e1842 * sqrt(_e1843))).xxx));
+    float _e1842 = d_4;
+    float _e1843 = d_4;
+    sum_2 = (_e1835 + ((0.06582222 * exp((-(tau_9) * _e1837))) / ((_e1842 * sqrt(_e1843))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.20551622));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.20551622));
     float _e1863 = b_4;
@@ -2021,12 +2048,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1891 = sc_1.y;
     float _e1897 = sc_1.x;
     float _e1900 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1897) * _e1900)) : (gp_1 - (((4.0 * g_16) * _e1888) * _e1891)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1897) * _e1900)) : (gp_1 - (((4.0 * g_16) * _e1888) * _e1891)));
     float3 _e1906 = sum_2;
     float _e1908 = st_1;
-    float _e1913 = d_3;
-    float _e1914 = d_3;
-    sum_2 = (_e1906 + ((0.058684092 * exp((-(tau_6) * _e1908))) / ((_e1913 * sqrt(_e1914))).xxx));
+    float _e1913 = d_4;
+    float _e1914 = d_4;
+    sum_2 = (_e1906 + ((0.058684092 * exp((-(tau_9) * _e1908))) / ((_e1913 * sqrt(_e1914))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.15063238));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.15063238));
     float _e1934 = b_4;
@@ -2046,12 +2073,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e1962 = sc_1.y;
     float _e1968 = sc_1.x;
     float _e1971 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1968) * _e1971)) : (gp_1 - (((4.0 * g_16) * _e1959) * _e1962)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e1968) * _e1971)) : (gp_1 - (((4.0 * g_16) * _e1959) * _e1962)));
     float3 _e1977 = sum_2;
     float _e1979 = st_1;
-    float _e1984 = d_3;
-    float _e1985 = d_3;
-    sum_2 = (_e1977 + ((0.05099806 * exp((-(tau_6) * _e1979))) / ((_e1984 * sqrt(_e1985))).xxx));
+    float _e1984 = d_4;
+    float _e1985 = d_4;
+    sum_2 = (_e1977 + ((0.05099806 * exp((-(tau_9) * _e1979))) / ((_e1984 * sqrt(_e1985))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.10367882));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.10367882));
     float _e2005 = b_4;
@@ -2071,12 +2098,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2033 = sc_1.y;
     float _e2039 = sc_1.x;
     float _e2042 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2039) * _e2042)) : (gp_1 - (((4.0 * g_16) * _e2030) * _e2033)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2039) * _e2042)) : (gp_1 - (((4.0 * g_16) * _e2030) * _e2033)));
     float3 _e2048 = sum_2;
     float _e2050 = st_1;
-    float _e2055 = d_3;
-    float _e2056 = d_3;
-    sum_2 = (_e2048 + ((0.0428359 * exp((-(tau_6) * _e2050))) / ((_e2055 * sqrt(_e2056))).xxx));
+    float _e2055 = d_4;
+    float _e2056 = d_4;
+    sum_2 = (_e2048 + ((0.0428359 * exp((-(tau_9) * _e2050))) / ((_e2055 * sqrt(_e2056))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.065093935));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.065093935));
     float _e2076 = b_4;
@@ -2096,12 +2123,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2104 = sc_1.y;
     float _e2110 = sc_1.x;
     float _e2113 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2110) * _e2113)) : (gp_1 - (((4.0 * g_16) * _e2101) * _e2104)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2110) * _e2113)) : (gp_1 - (((4.0 * g_16) * _e2101) * _e2104)));
     float3 _e2119 = sum_2;
     float _e2121 = st_1;
-    float _e2126 = d_3;
-    float _e2127 = d_3;
-    sum_2 = (_e2119 + ((0.034273863 * exp((-(tau_6) * _e2121))) / ((_e2126 * sqrt(_e2127))).xxx));
+    float _e2126 = d_4;
+    float _e2127 = d_4;
+    sum_2 = (_e2119 + ((0.034273863 * exp((-(tau_9) * _e2121))) / ((_e2126 * sqrt(_e2127))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.03523773));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.03523773));
     float _e2147 = b_4;
@@ -2121,12 +2148,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2175 = sc_1.y;
     float _e2181 = sc_1.x;
     float _e2184 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2181) * _e2184)) : (gp_1 - (((4.0 * g_16) * _e2172) * _e2175)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2181) * _e2184)) : (gp_1 - (((4.0 * g_16) * _e2172) * _e2175)));
     float3 _e2190 = sum_2;
     float _e2192 = st_1;
-    float _e2197 = d_3;
-    float _e2198 = d_3;
-    sum_2 = (_e2190 + ((0.025392065 * exp((-(tau_6) * _e2192))) / ((_e2197 * sqrt(_e2198))).xxx));
+    float _e2197 = d_4;
+    float _e2198 = d_4;
+    sum_2 = (_e2190 + ((0.025392065 * exp((-(tau_9) * _e2192))) / ((_e2197 * sqrt(_e2198))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.014388502));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.014388502));
     float _e2218 = b_4;
@@ -2146,12 +2173,12 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2246 = sc_1.y;
     float _e2252 = sc_1.x;
     float _e2255 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2252) * _e2255)) : (gp_1 - (((4.0 * g_16) * _e2243) * _e2246)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2252) * _e2255)) : (gp_1 - (((4.0 * g_16) * _e2243) * _e2246)));
     float3 _e2261 = sum_2;
     float _e2263 = st_1;
-    float _e2268 = d_3;
-    float _e2269 = d_3;
-    sum_2 = (_e2261 + ((0.016274394 * exp((-(tau_6) * _e2263))) / ((_e2268 * sqrt(_e2269))).xxx));
+    float _e2268 = d_4;
+    float _e2269 = d_4;
+    sum_2 = (_e2261 + ((0.016274394 * exp((-(tau_9) * _e2263))) / ((_e2268 * sqrt(_e2269))).xxx));
     b_4 = ((0.5 * gamma_1) + ((0.5 * half_2) * 0.002736151));
     co_1 = ((0.5 * comp_1) - ((0.5 * half_2) * 0.002736151));
     float _e2289 = b_4;
@@ -2171,17 +2198,17 @@ float3 airlight_equiangular_32_airlight_geometry_rgb(float3 tau_in_1, float h_3,
     float _e2317 = sc_1.y;
     float _e2323 = sc_1.x;
     float _e2326 = sc_1.x;
-    d_3 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2323) * _e2326)) : (gp_1 - (((4.0 * g_16) * _e2314) * _e2317)));
+    d_4 = ((g_16 >= 0.0) ? (gm_1 + (((4.0 * g_16) * _e2323) * _e2326)) : (gp_1 - (((4.0 * g_16) * _e2314) * _e2317)));
     float3 _e2332 = sum_2;
     float _e2334 = st_1;
-    float _e2339 = d_3;
-    float _e2340 = d_3;
-    sum_2 = (_e2332 + ((0.00701861 * exp((-(tau_6) * _e2334))) / ((_e2339 * sqrt(_e2340))).xxx));
+    float _e2339 = d_4;
+    float _e2340 = d_4;
+    sum_2 = (_e2332 + ((0.00701861 * exp((-(tau_9) * _e2334))) / ((_e2339 * sqrt(_e2340))).xxx));
     float3 _e2353 = sum_2;
-    return min((((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e2353) * half_2) / (h_3).xxx), (3.4028235e38).xxx);
+    return min(((((0.07957747 * (1.0 - g_16)) * (1.0 + g_16)) * _e2353) * (half_2 / h_3)), (3.4028235e38).xxx);
 }
 
-float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_4, float g_1)
+float airlight_equiangular_32_airlight(float tau_4, float gamma_2, float rho_4, float g_1)
 {
     float gc = clamp(gamma_2, 0.0, airlight_equiangular_32_PI);
     const float2 _e7 = airlight_equiangular_32_sin_cos(gc);
@@ -2189,17 +2216,17 @@ float airlight_equiangular_32_airlight(float tau_1, float gamma_2, float rho_4, 
     const float2 _e16 = airlight_equiangular_32_sin_cos(comp_2);
     float h_7 = ((gc > comp_2) ? _e16.x : abs(_e7.x));
     const float _e22 = airlight_equiangular_32_foot(h_7, _e7.y, rho_4);
-    const float _e23 = airlight_equiangular_32_airlight_geometry(tau_1, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
+    const float _e23 = airlight_equiangular_32_airlight_geometry(tau_4, h_7, _e7.y, gc, comp_2, rho_4, _e22, g_1);
     return _e23;
 }
 
-float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_2)
+float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_2)
 {
     bool local_12 = (bool)0;
 
     const float3 _e8 = airlight_equiangular_32_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
-        const float _e14 = airlight_equiangular_32_scaled(sigma_s_1, intensity_1, 1.0, airlight_equiangular_32_HUGE);
+        const float _e14 = airlight_equiangular_32_scaled(sigma_s_2, intensity_2, 1.0, airlight_equiangular_32_HUGE);
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
@@ -2216,15 +2243,15 @@ float airlight_equiangular_32_radiance(float3 origin_1, float3 dir_1, float surf
     const float _e38 = airlight_equiangular_32_arctan2_(_e8.y, -(_e8.z));
     const float _e46 = airlight_equiangular_32_foot(_e8.y, _e8.z, rho_8);
     const float _e47 = airlight_equiangular_32_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, _e34, _e38, rho_8, _e46, g_2);
-    const float _e48 = airlight_equiangular_32_scaled(sigma_s_1, intensity_1, _e8.x, _e47);
+    const float _e48 = airlight_equiangular_32_scaled(sigma_s_2, intensity_2, _e8.x, _e47);
     return _e48;
 }
 
-float3 airlight_equiangular_32_along_rgb(float3 tau_2, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
+float3 airlight_equiangular_32_along_rgb(float3 tau_5, float h_4, float x0_4, float rho_5, float xr_2, float g_3)
 {
     const float _e6 = airlight_equiangular_32_arctan2_(h_4, x0_4);
     const float _e8 = airlight_equiangular_32_arctan2_(h_4, -(x0_4));
-    const float3 _e9 = airlight_equiangular_32_airlight_geometry_rgb(tau_2, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
+    const float3 _e9 = airlight_equiangular_32_airlight_geometry_rgb(tau_5, h_4, x0_4, _e6, _e8, rho_5, xr_2, g_3);
     return _e9;
 }
 
@@ -2234,7 +2261,7 @@ float airlight_equiangular_32_spot_asin(float x_4, float r_1)
     return _e8;
 }
 
-float3 airlight_equiangular_32_spot_core(float3 tau_3, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
+float3 airlight_equiangular_32_spot_core(float3 tau_6, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_4)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -2286,10 +2313,10 @@ float3 airlight_equiangular_32_spot_core(float3 tau_3, float h_5, float x0_5, fl
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_equiangular_32_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_4);
+    const float3 _e70 = airlight_equiangular_32_along_rgb((tau_6 * _e64), _e66, _e67, _e68, _e69, g_4);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_6) * _e72))) / (_e76).xxx));
 }
 
 float airlight_equiangular_32_spot_weight(float c_2, float co_2, float ci)
@@ -2306,14 +2333,14 @@ airlight_equiangular_32_ret_Constructarray6_float_ airlight_equiangular_32_Const
     return ret;
 }
 
-float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_1, float co_3, float ci_1, float g_5)
+float3 airlight_equiangular_32_spot_edge(float3 tau_7, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_3, float ci_1, float g_5)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_equiangular_32_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_3 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_4 = (float)0;
+    float d_5 = (float)0;
     float st_2 = (float)0;
     int i = int(0);
 
@@ -2322,11 +2349,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
     }
     const float2 _e17 = airlight_equiangular_32_sin_cos(u_1);
     const float2 _e18 = airlight_equiangular_32_sin_cos(v_in);
-    const float _e24 = airlight_equiangular_32_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_3, ci_1);
-    const float _e30 = airlight_equiangular_32_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_3, ci_1);
+    const float _e24 = airlight_equiangular_32_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_3, ci_1);
+    const float _e30 = airlight_equiangular_32_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_3, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_equiangular_32_spot_core(tau_4, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
+        const float3 _e39 = airlight_equiangular_32_spot_core(tau_7, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_5);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -2353,12 +2380,12 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_10 = (u_1 + ((v_in - u_1) * _e80));
+            float a_12 = (u_1 + ((v_in - u_1) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_8 = (u_1 + ((v_in - u_1) * _e88));
-            float half_3 = (0.5 * (b_8 - a_10));
-            float mid = (0.5 * (b_8 + a_10));
+            float half_3 = (0.5 * (b_8 - a_12));
+            float mid = (0.5 * (b_8 + a_12));
             w = (mid + (half_3 * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_equiangular_32_sin_cos((0.5 * _e100));
@@ -2367,7 +2394,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e116) * _e119)) : (gp_2 - (((4.0 * g_5) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -2378,11 +2405,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            const float _e160 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_3, ci_1);
-            float _e163 = d_4;
-            float _e164 = d_4;
+            const float _e160 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_3, ci_1);
+            float _e163 = d_5;
+            float _e164 = d_5;
             float _e169 = st_2;
-            sum_3 = (_e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+            sum_3 = (_e136 + ((((half_3 * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_7) * _e169))));
             w = (mid + (half_3 * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_equiangular_32_sin_cos((0.5 * _e177));
@@ -2391,7 +2418,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e193) * _e196)) : (gp_2 - (((4.0 * g_5) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -2402,11 +2429,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            const float _e237 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_3, ci_1);
-            float _e240 = d_4;
-            float _e241 = d_4;
+            const float _e237 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_3, ci_1);
+            float _e240 = d_5;
+            float _e241 = d_5;
             float _e246 = st_2;
-            sum_3 = (_e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_4) * _e246))));
+            sum_3 = (_e213 + ((((half_3 * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_7) * _e246))));
             w = (mid + (half_3 * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_equiangular_32_sin_cos((0.5 * _e254));
@@ -2415,7 +2442,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e270) * _e273)) : (gp_2 - (((4.0 * g_5) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -2426,11 +2453,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            const float _e314 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_3, ci_1);
-            float _e317 = d_4;
-            float _e318 = d_4;
+            const float _e314 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_3, ci_1);
+            float _e317 = d_5;
+            float _e318 = d_5;
             float _e323 = st_2;
-            sum_3 = (_e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_4) * _e323))));
+            sum_3 = (_e290 + ((((half_3 * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_7) * _e323))));
             w = (mid + (half_3 * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_equiangular_32_sin_cos((0.5 * _e331));
@@ -2439,7 +2466,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e347) * _e350)) : (gp_2 - (((4.0 * g_5) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -2450,11 +2477,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            const float _e391 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_3, ci_1);
-            float _e394 = d_4;
-            float _e395 = d_4;
+            const float _e391 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_3, ci_1);
+            float _e394 = d_5;
+            float _e395 = d_5;
             float _e400 = st_2;
-            sum_3 = (_e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_4) * _e400))));
+            sum_3 = (_e367 + ((((half_3 * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_7) * _e400))));
             w = (mid + (half_3 * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_equiangular_32_sin_cos((0.5 * _e408));
@@ -2463,7 +2490,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e424) * _e427)) : (gp_2 - (((4.0 * g_5) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -2474,11 +2501,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            const float _e468 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_3, ci_1);
-            float _e471 = d_4;
-            float _e472 = d_4;
+            const float _e468 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_3, ci_1);
+            float _e471 = d_5;
+            float _e472 = d_5;
             float _e477 = st_2;
-            sum_3 = (_e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_4) * _e477))));
+            sum_3 = (_e444 + ((((half_3 * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_7) * _e477))));
             w = (mid + (half_3 * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_equiangular_32_sin_cos((0.5 * _e485));
@@ -2487,7 +2514,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e501) * _e504)) : (gp_2 - (((4.0 * g_5) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -2498,11 +2525,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            const float _e545 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_3, ci_1);
-            float _e548 = d_4;
-            float _e549 = d_4;
+            const float _e545 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_3, ci_1);
+            float _e548 = d_5;
+            float _e549 = d_5;
             float _e554 = st_2;
-            sum_3 = (_e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_4) * _e554))));
+            sum_3 = (_e521 + ((((half_3 * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_7) * _e554))));
             w = (mid + (half_3 * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_equiangular_32_sin_cos((0.5 * _e562));
@@ -2511,7 +2538,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e578) * _e581)) : (gp_2 - (((4.0 * g_5) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -2522,11 +2549,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            const float _e622 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_3, ci_1);
-            float _e625 = d_4;
-            float _e626 = d_4;
+            const float _e622 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_3, ci_1);
+            float _e625 = d_5;
+            float _e626 = d_5;
             float _e631 = st_2;
-            sum_3 = (_e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_4) * _e631))));
+            sum_3 = (_e598 + ((((half_3 * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_7) * _e631))));
             w = (mid + (half_3 * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_equiangular_32_sin_cos((0.5 * _e639));
@@ -2535,7 +2562,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_4 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649)));
+            d_5 = ((g_5 >= 0.0) ? (gm_2 + (((4.0 * g_5) * _e655) * _e658)) : (gp_2 - (((4.0 * g_5) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st_2 = max((x0_6 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -2546,11 +2573,11 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            const float _e699 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_3, ci_1);
-            float _e702 = d_4;
-            float _e703 = d_4;
+            const float _e699 = airlight_equiangular_32_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_3, ci_1);
+            float _e702 = d_5;
+            float _e703 = d_5;
             float _e708 = st_2;
-            sum_3 = (_e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_4) * _e708))));
+            sum_3 = (_e675 + ((((half_3 * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_7) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -2558,7 +2585,7 @@ float3 airlight_equiangular_32_spot_edge(float3 tau_4, float h_6, float x0_6, fl
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_5)) * (1.0 + g_5)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_6)
+float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_6)
 {
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
@@ -2580,7 +2607,7 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     bool local_19 = (bool)0;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    float3 a_7 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_equiangular_32_ray_geometry(origin_2, dir_2, light_2);
@@ -2619,16 +2646,16 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_2 = dot(_e57, _e58);
+    float k_4 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_equiangular_32_spot_weight(k_2, co_4, cos_inner);
+        const float _e65 = airlight_equiangular_32_spot_weight(k_4, co_4, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
-        const float _e73 = airlight_equiangular_32_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_equiangular_32_HUGE);
+        const float _e73 = airlight_equiangular_32_scaled(sigma_s_3.x, (intensity_3 * _e69), 1.0, airlight_equiangular_32_HUGE);
         float _e75 = scale;
-        const float _e79 = airlight_equiangular_32_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_equiangular_32_HUGE);
+        const float _e79 = airlight_equiangular_32_scaled(sigma_s_3.y, (intensity_3 * _e75), 1.0, airlight_equiangular_32_HUGE);
         float _e81 = scale;
-        const float _e85 = airlight_equiangular_32_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_equiangular_32_HUGE);
+        const float _e85 = airlight_equiangular_32_scaled(sigma_s_3.z, (intensity_3 * _e81), 1.0, airlight_equiangular_32_HUGE);
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
@@ -2640,17 +2667,17 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     if (_e96) {
         return (0.0).xxx;
     }
-    float d_5 = _e11.x;
+    float d_6 = _e11.x;
     float h_8 = _e11.y;
     float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_18 = ((surface_1 / d_5) < airlight_equiangular_32_RHO_OPEN);
+        local_18 = ((surface_1 / d_6) < airlight_equiangular_32_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end_1 = local_18;
-    float rho_9 = (has_end_1 ? (surface_1 / d_5) : -1.0);
-    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float rho_9 = (has_end_1 ? (surface_1 / d_6) : -1.0);
+    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_6, -0.999, 0.999);
     const float _e143 = airlight_equiangular_32_arctan2_(h_8, x0_8);
     if (!(point_)) {
@@ -2667,8 +2694,8 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
     bool _e157 = local_20;
     if (_e157) {
         if (!(point_)) {
-            const float _e160 = airlight_equiangular_32_spot_weight(-(k_2), co_4, cos_inner);
-            const float _e161 = airlight_equiangular_32_spot_weight(k_2, co_4, cos_inner);
+            const float _e160 = airlight_equiangular_32_spot_weight(-(k_4), co_4, cos_inner);
+            const float _e161 = airlight_equiangular_32_spot_weight(k_4, co_4, cos_inner);
             if (has_end_1) {
                 local_21 = (rho_9 < 1.0);
             } else {
@@ -2688,9 +2715,9 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_4 = sqrt(((_e188 * _e189) + (k_2 * k_2)));
+        float r_4 = sqrt(((_e188 * _e189) + (k_4 * k_4)));
         float _e194 = ca_1;
-        const float _e195 = airlight_equiangular_32_arctan2_(k_2, _e194);
+        const float _e195 = airlight_equiangular_32_arctan2_(k_4, _e194);
         gam_2 = _e143;
         const float _e198 = airlight_equiangular_32_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end_1 ? _e198 : airlight_equiangular_32_PI);
@@ -2736,8 +2763,8 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_equiangular_32_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
-        a_5 = _e251;
+        const float3 _e251 = airlight_equiangular_32_spot_core(tau_10, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        a_7 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -2760,24 +2787,24 @@ float3 airlight_equiangular_32_spot(float3 origin_2, float3 dir_2, float surface
             int _e261 = j_1;
             float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e268 = a_5;
+                float3 _e268 = a_7;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_equiangular_32_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_4, cos_inner, gg);
-                a_5 = (_e268 + _e274);
+                const float3 _e274 = airlight_equiangular_32_spot_edge(tau_10, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_4, cos_inner, gg);
+                a_7 = (_e268 + _e274);
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_5.x;
-    const float _e284 = airlight_equiangular_32_scaled(sigma_s_2.x, (intensity_2 * _e280), d_5, _e283);
+    float _e283 = a_7.x;
+    const float _e284 = airlight_equiangular_32_scaled(sigma_s_3.x, (intensity_3 * _e280), d_6, _e283);
     float _e286 = scale;
-    float _e289 = a_5.y;
-    const float _e290 = airlight_equiangular_32_scaled(sigma_s_2.y, (intensity_2 * _e286), d_5, _e289);
+    float _e289 = a_7.y;
+    const float _e290 = airlight_equiangular_32_scaled(sigma_s_3.y, (intensity_3 * _e286), d_6, _e289);
     float _e292 = scale;
-    float _e295 = a_5.z;
-    const float _e296 = airlight_equiangular_32_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
+    float _e295 = a_7.z;
+    const float _e296 = airlight_equiangular_32_scaled(sigma_s_3.z, (intensity_3 * _e292), d_6, _e295);
     return float3(_e284, _e290, _e296);
 }
 
@@ -2881,21 +2908,21 @@ float3 airlight_equiangular_32_shafts_step(inout airlight_equiangular_32_Shafts 
     return _e3;
 }
 
-float4 airlight_equiangular_32_shafts_moved(float a_6, float b_5, float3 origin_3, float3 dir_3)
+float4 airlight_equiangular_32_shafts_moved(float a_8, float b_5, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_equiangular_32_max_abs(dir_3);
     float3 u_2 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_6 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_6), 0.0) : -1.0));
+    return float4((origin_3 + (a_8 * (u_2 / (length(u_2)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_8), 0.0) : -1.0));
 }
 
-float airlight_equiangular_32_shafts_run(float a_7, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_7)
+float airlight_equiangular_32_shafts_run(float a_9, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_7)
 {
     bool local_23 = (bool)0;
     bool local_24 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_6 >= 0.0)) {
-            local_24 = (b_6 <= a_7);
+            local_24 = (b_6 <= a_9);
         } else {
             local_24 = false;
         }
@@ -2908,17 +2935,17 @@ float airlight_equiangular_32_shafts_run(float a_7, float b_6, float w_1, float3
     if (_e24) {
         return 0.0;
     }
-    const float4 _e26 = airlight_equiangular_32_shafts_moved(a_7, b_6, origin_4, dir_4);
+    const float4 _e26 = airlight_equiangular_32_shafts_moved(a_9, b_6, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len = _e26.w;
-    const float _e29 = airlight_equiangular_32_radiance(o, dir_4, len, light_3, intensity_3, sigma_t_2, sigma_s_3, g_7);
+    const float _e29 = airlight_equiangular_32_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if ((_e29 >= airlight_equiangular_32_HUGE)) {
         return _e29;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e29);
+    return ((w_1 * exp((-(sigma_t_2) * a_9))) * _e29);
 }
 
-void airlight_equiangular_32_shafts_flush(inout airlight_equiangular_32_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_equiangular_32_shafts_flush(inout airlight_equiangular_32_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_8)
 {
     uint j_2 = 0u;
 
@@ -2942,7 +2969,7 @@ void airlight_equiangular_32_shafts_flush(inout airlight_equiangular_32_Shafts a
             uint _e15 = j_2;
             float3 r_5 = acc_6.runs[min(uint(_e15), 31u)];
             float _e22 = acc_6.sum.x;
-            const float _e26 = airlight_equiangular_32_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_8);
+            const float _e26 = airlight_equiangular_32_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
             acc_6.sum.x = min((_e22 + _e26), airlight_equiangular_32_HUGE);
         }
     }
@@ -2950,44 +2977,44 @@ void airlight_equiangular_32_shafts_flush(inout airlight_equiangular_32_Shafts a
     return;
 }
 
-void airlight_equiangular_32_shafts_push(inout airlight_equiangular_32_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+void airlight_equiangular_32_shafts_push(inout airlight_equiangular_32_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_9)
 {
     const float3 _e10 = airlight_equiangular_32_shafts_step(acc_7, s_1, v_4);
     airlight_equiangular_32_shafts_hold(acc_7, _e10);
     uint _e12 = acc_7.count;
     if ((_e12 == airlight_equiangular_32_SHAFTS_RUNS)) {
-        airlight_equiangular_32_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_9);
+        airlight_equiangular_32_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_9);
         return;
     } else {
         return;
     }
 }
 
-float airlight_equiangular_32_shafts_finish(airlight_equiangular_32_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
+float airlight_equiangular_32_shafts_finish(airlight_equiangular_32_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_10)
 {
     airlight_equiangular_32_Shafts acc_8 = (airlight_equiangular_32_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e10 = airlight_equiangular_32_shafts_place(acc_8);
     airlight_equiangular_32_shafts_hold(acc_8, _e10);
-    airlight_equiangular_32_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    airlight_equiangular_32_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
     float w_3 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_8.sum.x;
     float _e23 = acc_8.start;
-    const float _e24 = airlight_equiangular_32_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_10);
+    const float _e24 = airlight_equiangular_32_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return min((_e21 + _e24), airlight_equiangular_32_HUGE);
 }
 
-float3 airlight_equiangular_32_shafts_run_spot(float a_8, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+float3 airlight_equiangular_32_shafts_run_spot(float a_10, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_11)
 {
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_7 >= 0.0)) {
-            local_26 = (b_7 <= a_8);
+            local_26 = (b_7 <= a_10);
         } else {
             local_26 = false;
         }
@@ -3000,14 +3027,14 @@ float3 airlight_equiangular_32_shafts_run_spot(float a_8, float b_7, float w_2, 
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_equiangular_32_shafts_moved(a_8, b_7, origin_8, dir_8);
+    const float4 _e30 = airlight_equiangular_32_shafts_moved(a_10, b_7, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_1 = _e30.w;
-    const float3 _e33 = airlight_equiangular_32_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_11);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e33));
+    const float3 _e33 = airlight_equiangular_32_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_10))) * _e33));
 }
 
-void airlight_equiangular_32_shafts_flush_spot(inout airlight_equiangular_32_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
+void airlight_equiangular_32_shafts_flush_spot(inout airlight_equiangular_32_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_12)
 {
     uint j_3 = 0u;
 
@@ -3031,7 +3058,7 @@ void airlight_equiangular_32_shafts_flush_spot(inout airlight_equiangular_32_Sha
             uint _e18 = j_3;
             float3 r_6 = acc_9.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_9.sum;
-            const float3 _e27 = airlight_equiangular_32_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_12);
+            const float3 _e27 = airlight_equiangular_32_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
             acc_9.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -3039,33 +3066,33 @@ void airlight_equiangular_32_shafts_flush_spot(inout airlight_equiangular_32_Sha
     return;
 }
 
-void airlight_equiangular_32_shafts_push_spot(inout airlight_equiangular_32_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
+void airlight_equiangular_32_shafts_push_spot(inout airlight_equiangular_32_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_13)
 {
     const float3 _e13 = airlight_equiangular_32_shafts_step(acc_10, s_2, v_5);
     airlight_equiangular_32_shafts_hold(acc_10, _e13);
     uint _e15 = acc_10.count;
     if ((_e15 == airlight_equiangular_32_SHAFTS_RUNS)) {
-        airlight_equiangular_32_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_13);
+        airlight_equiangular_32_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_13);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_equiangular_32_shafts_finish_spot(airlight_equiangular_32_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_14)
+float3 airlight_equiangular_32_shafts_finish_spot(airlight_equiangular_32_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_14)
 {
     airlight_equiangular_32_Shafts acc_11 = (airlight_equiangular_32_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e13 = airlight_equiangular_32_shafts_place(acc_11);
     airlight_equiangular_32_shafts_hold(acc_11, _e13);
-    airlight_equiangular_32_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    airlight_equiangular_32_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
     float w_4 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    const float3 _e26 = airlight_equiangular_32_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_14);
+    const float3 _e26 = airlight_equiangular_32_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

@@ -48,6 +48,8 @@ static const float airlight_hg_exp2_FRAC_PI_2_ = 1.5707964;
 static const float airlight_hg_exp2_HUGE = 3.4028235e38;
 static const float airlight_hg_exp2_RHO_OPEN = 4294967300.0;
 static const float airlight_hg_exp2_TAU_MAX = 10000.0;
+static const float airlight_hg_exp2_LN2_HI = 0.69314575;
+static const float airlight_hg_exp2_LN2_LO = 1.4286068e-6;
 static const uint airlight_hg_exp2_SHAFTS_RUNS = 32u;
 
 float airlight_hg_exp2_foot(float h, float x0_, float rho)
@@ -104,8 +106,31 @@ float3 airlight_hg_exp2_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_hg_exp2_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_hg_exp2_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_hg_exp2_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_hg_exp2_exp_neg_k(float tau)
+{
+    return airlight_hg_exp2_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_hg_exp2_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_hg_exp2_LN2_HI)) - (kf * airlight_hg_exp2_LN2_LO))));
+}
+
 int airlight_hg_exp2_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_hg_exp2_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_hg_exp2_exp_neg_k(tau_2);
+    const float _e3 = airlight_hg_exp2_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_hg_exp2_scale2_(((a_4 * _e3)).xxx, airlight_hg_exp2_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_hg_exp2_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -166,7 +191,7 @@ float3 airlight_hg_exp2_ray_geometry(float3 origin, float3 dir, float3 light)
     return float3(min(dist, airlight_hg_exp2_HUGE), (_e97 / n_1), (x0_7 / n_1));
 }
 
-float airlight_hg_exp2_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_hg_exp2_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -176,25 +201,25 @@ float airlight_hg_exp2_scaled(float sigma_s, float intensity, float d_1, float a
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_hg_exp2_HUGE)) {
+    if ((a_5 >= airlight_hg_exp2_HUGE)) {
         return airlight_hg_exp2_HUGE;
     }
     airlight_hg_exp2_frexp_result_f32_ s_4 = airlight_hg_exp2_naga_frexp(sigma_s);
     airlight_hg_exp2_frexp_result_f32_ i_1 = airlight_hg_exp2_naga_frexp(intensity);
-    airlight_hg_exp2_frexp_result_f32_ q = airlight_hg_exp2_naga_frexp(a_4);
+    airlight_hg_exp2_frexp_result_f32_ q = airlight_hg_exp2_naga_frexp(a_5);
     airlight_hg_exp2_frexp_result_f32_ r_2 = airlight_hg_exp2_naga_frexp(d_1);
     airlight_hg_exp2_frexp_result_f32_ m = airlight_hg_exp2_naga_frexp((((s_4.fract * i_1.fract) * q.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_4.exp_))) + asuint(i_1.exp_))) + asuint(q.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_hg_exp2_HUGE;
     }
@@ -204,20 +229,26 @@ float airlight_hg_exp2_scaled(float sigma_s, float intensity, float d_1, float a
     return ldexp(m.fract, e);
 }
 
+float airlight_hg_exp2_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_hg_exp2_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_hg_exp2_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_12 = abs(x);
-    r = a_12;
-    if ((a_12 > 2.4142137)) {
+    float a_14 = abs(x);
+    r = a_14;
+    if ((a_14 > 2.4142137)) {
         y0_ = airlight_hg_exp2_FRAC_PI_2_;
-        r = (-1.0 / a_12);
+        r = (-1.0 / a_14);
     } else {
-        if ((a_12 > 0.41421357)) {
+        if ((a_14 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_12 - 1.0) / (a_12 + 1.0));
+            r = ((a_14 - 1.0) / (a_14 + 1.0));
         }
     }
     float _e18 = r;
@@ -255,10 +286,6 @@ float2 airlight_hg_exp2_sin_cos_octant(float x_2)
     float s_5 = (((((((-0.00019515296 * z_2) + 0.008332161) * z_2) - 0.16666655) * z_2) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_2) - 0.0013887316) * z_2) + 0.041666646) * z_2) * z_2) - (0.5 * z_2)) + 1.0);
     return float2(s_5, c_3);
-}
-
-int airlight_hg_exp2_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
 float2 airlight_hg_exp2_sin_cos(float x_3)
@@ -315,9 +342,9 @@ float airlight_hg_exp2_phi(float z)
         float r_4 = (1.0 / z);
         return (r_4 * (1.0 + (r_4 * (-2.0 + (r_4 * (6.0 + (r_4 * (-24.0 + (r_4 * 120.0)))))))));
     }
-    float d_3 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
+    float d_4 = (((((((z + 9.573322) * z) + 25.632956) * z) + 21.099653) * z) + 3.9584968);
     float n_2 = ((((((0.9999936 * z) + 7.5739393) * z) + 12.464892) * z) + 3.6907232);
-    return (n_2 / d_3);
+    return (n_2 / d_4);
 }
 
 airlight_hg_exp2_Phase airlight_hg_exp2_phase(float g)
@@ -386,28 +413,28 @@ airlight_hg_exp2_Phase airlight_hg_exp2_phase(float g)
 
 float airlight_hg_exp2_phase_at(airlight_hg_exp2_Phase ph_1, float alpha)
 {
-    float a_13 = (ph_1.mirrored ? (airlight_hg_exp2_PI - alpha) : alpha);
-    return max(((ph_1.c[0] * exp((-(ph_1.b[0]) * a_13))) + (ph_1.c[1] * exp((-(ph_1.b[1]) * a_13)))), 0.0);
+    float a_15 = (ph_1.mirrored ? (airlight_hg_exp2_PI - alpha) : alpha);
+    return max(((ph_1.c[0] * exp((-(ph_1.b[0]) * a_15))) + (ph_1.c[1] * exp((-(ph_1.b[1]) * a_15)))), 0.0);
 }
 
 float airlight_hg_exp2_phase_u(airlight_hg_exp2_Phase ph_2, float u)
 {
     const float _e2 = airlight_hg_exp2_arctan(u);
     const float _e7 = airlight_hg_exp2_arctan((1.0 / u));
-    float a_14 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
-    return max(((ph_2.c[0] * exp((-(ph_2.b[0]) * a_14))) + (ph_2.c[1] * exp((-(ph_2.b[1]) * a_14)))), 0.0);
+    float a_16 = (ph_2.mirrored ? (2.0 * _e7) : (2.0 * _e2));
+    return max(((ph_2.c[0] * exp((-(ph_2.b[0]) * a_16))) + (ph_2.c[1] * exp((-(ph_2.b[1]) * a_16)))), 0.0);
 }
 
-float airlight_hg_exp2_piece(float a_5, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored)
+float airlight_hg_exp2_piece(float a_7, float b_3, float len, float lo_j, float hi_j, float slope, float icpt, float t, float att, float beta, bool mirrored)
 {
     bool local_4 = (bool)0;
 
-    float lo = max(a_5, lo_j);
+    float lo = max(a_7, lo_j);
     float hi_1 = min(b_3, hi_j);
     if ((hi_1 <= lo)) {
         return 0.0;
     }
-    if ((a_5 >= lo_j)) {
+    if ((a_7 >= lo_j)) {
         local_4 = (b_3 <= hi_j);
     } else {
         local_4 = false;
@@ -421,28 +448,28 @@ float airlight_hg_exp2_piece(float a_5, float b_3, float len, float lo_j, float 
     return ((exp(max(ea, (ea + (lam * l)))) * l) * _e45);
 }
 
-float airlight_hg_exp2_segments(float a_6, float len_1, float t_1, float att_1, float beta_1, bool mirrored_1)
+float airlight_hg_exp2_segments(float a_8, float len_1, float t_1, float att_1, float beta_1, bool mirrored_1)
 {
-    float b_7 = (a_6 + len_1);
-    const float _e11 = airlight_hg_exp2_piece(a_6, b_7, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1, beta_1, mirrored_1);
-    const float _e16 = airlight_hg_exp2_piece(a_6, b_7, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1, beta_1, mirrored_1);
-    const float _e22 = airlight_hg_exp2_piece(a_6, b_7, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1, beta_1, mirrored_1);
-    const float _e28 = airlight_hg_exp2_piece(a_6, b_7, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1, beta_1, mirrored_1);
-    const float _e34 = airlight_hg_exp2_piece(a_6, b_7, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1, beta_1, mirrored_1);
-    const float _e40 = airlight_hg_exp2_piece(a_6, b_7, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1, beta_1, mirrored_1);
-    const float _e46 = airlight_hg_exp2_piece(a_6, b_7, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1, beta_1, mirrored_1);
-    const float _e52 = airlight_hg_exp2_piece(a_6, b_7, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1, beta_1, mirrored_1);
+    float b_7 = (a_8 + len_1);
+    const float _e11 = airlight_hg_exp2_piece(a_8, b_7, len_1, 0.0, 0.4487326, 0.5122334, -0.0021856981, t_1, att_1, beta_1, mirrored_1);
+    const float _e16 = airlight_hg_exp2_piece(a_8, b_7, len_1, 0.4487326, 0.6744829, 0.54096955, -0.0150805535, t_1, att_1, beta_1, mirrored_1);
+    const float _e22 = airlight_hg_exp2_piece(a_8, b_7, len_1, 0.6744829, 0.88237894, 0.58496594, -0.044755377, t_1, att_1, beta_1, mirrored_1);
+    const float _e28 = airlight_hg_exp2_piece(a_8, b_7, len_1, 0.88237894, 1.0653183, 0.64039624, -0.093665875, t_1, att_1, beta_1, mirrored_1);
+    const float _e34 = airlight_hg_exp2_piece(a_8, b_7, len_1, 1.0653183, 1.2227743, 0.70677376, -0.16437908, t_1, att_1, beta_1, mirrored_1);
+    const float _e40 = airlight_hg_exp2_piece(a_8, b_7, len_1, 1.2227743, 1.3695656, 0.78885734, -0.26474875, t_1, att_1, beta_1, mirrored_1);
+    const float _e46 = airlight_hg_exp2_piece(a_8, b_7, len_1, 1.3695656, 1.4860294, 0.8778542, -0.38663587, t_1, att_1, beta_1, mirrored_1);
+    const float _e52 = airlight_hg_exp2_piece(a_8, b_7, len_1, 1.4860294, 1.5707964, 0.96539825, -0.5167288, t_1, att_1, beta_1, mirrored_1);
     return (((((((_e11 + _e16) + _e22) + _e28) + _e34) + _e40) + _e46) + _e52);
 }
 
-float airlight_hg_exp2_forward(float a_7, float len_2, float t_2, float att_2, airlight_hg_exp2_Phase ph_3)
+float airlight_hg_exp2_forward(float a_9, float len_2, float t_2, float att_2, airlight_hg_exp2_Phase ph_3)
 {
-    const float _e10 = airlight_hg_exp2_segments(a_7, len_2, t_2, att_2, ph_3.b[0], ph_3.mirrored);
-    const float _e17 = airlight_hg_exp2_segments(a_7, len_2, t_2, att_2, ph_3.b[1], ph_3.mirrored);
+    const float _e10 = airlight_hg_exp2_segments(a_9, len_2, t_2, att_2, ph_3.b[0], ph_3.mirrored);
+    const float _e17 = airlight_hg_exp2_segments(a_9, len_2, t_2, att_2, ph_3.b[1], ph_3.mirrored);
     return max(((ph_3.c[0] * _e10) + (ph_3.c[1] * _e17)), 0.0);
 }
 
-float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_hg_exp2_Phase ph_4)
+float airlight_hg_exp2_backward_u(float tau_3, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_hg_exp2_Phase ph_4)
 {
     float span = airlight_hg_exp2_HUGE;
     bool local_5 = (bool)0;
@@ -456,9 +483,9 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
     float ua = ((x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
-        float d_4 = -(xr);
-        float r_5 = sqrt(((d_4 * d_4) + (h_2 * h_2)));
-        span = ((x0_1 < 0.0) ? (((2.0 * rho_1) * (d_4 + r_5)) / (((rho_1 + r_5) + 1.0) * h_2)) : (((d_4 + r_5) / h_2) - u0_));
+        float d_5 = -(xr);
+        float r_5 = sqrt(((d_5 * d_5) + (h_2 * h_2)));
+        span = ((x0_1 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_5)) / (((rho_1 + r_5) + 1.0) * h_2)) : (((d_5 + r_5) / h_2) - u0_));
     }
     float _e42 = span;
     if (!((_e42 > 0.0))) {
@@ -473,7 +500,7 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
     bool endless = local_5;
     float _e55 = span;
     float ub = (u0_ + _e55);
-    float base = (-(tau) - (t_3 * (u0_ - ua)));
+    float base = (-(tau_3) - (t_3 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
         float _e67 = span;
         float len_4 = ((ub <= 16.0) ? _e67 : (16.0 - u0_));
@@ -517,21 +544,21 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
     }
     bool _e165 = local_6;
     if (_e165) {
-        float a_15 = max(u0_, 16.0);
-        float shift = (base - (t_3 * (a_15 - u0_)));
+        float a_17 = max(u0_, 16.0);
+        float shift = (base - (t_3 * (a_17 - u0_)));
         if (!(endless)) {
-            local_7 = (ub <= (2.0 * a_15));
+            local_7 = (ub <= (2.0 * a_17));
         } else {
             local_7 = false;
         }
         bool _e178 = local_7;
         if (_e178) {
             float _e182 = span;
-            float len_5 = ((a_15 == u0_) ? (_e182 / a_15) : ((ub / a_15) - 1.0));
-            float ta = (t_3 * a_15);
+            float len_5 = ((a_17 == u0_) ? (_e182 / a_17) : ((ub / a_17) - 1.0));
+            float ta = (t_3 * a_17);
             {
                 float lam_5 = (ta + 0.26840276);
-                float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
+                float u_3 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
                 float _e205 = part;
                 const float _e214 = airlight_hg_exp2_exprel((-(lam_5) * len_5));
@@ -540,7 +567,7 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
             }
             {
                 float lam_6 = (ta + 1.5659415);
-                float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
+                float u_4 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
                 float _e236 = part;
                 const float _e245 = airlight_hg_exp2_exprel((-(lam_6) * len_5));
@@ -549,7 +576,7 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
             }
             {
                 float lam_7 = (ta + 4.449333);
-                float u_5 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
+                float u_5 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
                 float _e267 = part;
                 const float _e276 = airlight_hg_exp2_exprel((-(lam_7) * len_5));
@@ -558,19 +585,19 @@ float airlight_hg_exp2_backward_u(float tau, float t_3, float h_2, float x0_1, f
             }
             float _e282 = sum;
             float _e283 = part;
-            sum = (_e282 + (_e283 / a_15));
+            sum = (_e282 + (_e283 / a_17));
         } else {
-            float lam_8 = (t_3 + (2.0 / a_15));
-            const float _e290 = airlight_hg_exp2_phi((t_3 * a_15));
-            g_1 = (_e290 / a_15);
-            u_1 = (a_15 + (1.0 / lam_8));
+            float lam_8 = (t_3 + (2.0 / a_17));
+            const float _e290 = airlight_hg_exp2_phi((t_3 * a_17));
+            g_1 = (_e290 / a_17);
+            u_1 = (a_17 + (1.0 / lam_8));
             if (!(endless)) {
                 float _e299 = span;
-                float len_6 = ((a_15 == u0_) ? _e299 : (ub - a_15));
+                float len_6 = ((a_17 == u0_) ? _e299 : (ub - a_17));
                 float _e302 = g_1;
                 const float _e307 = airlight_hg_exp2_phi((t_3 * ub));
                 g_1 = (_e302 - ((exp((-(t_3) * len_6)) * _e307) / ub));
-                u_1 = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
+                u_1 = (a_17 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
             float _e316 = u_1;
             float _e317 = u_1;
@@ -603,7 +630,7 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
     }
     bool _e14 = local_8;
     bool open_1 = !(_e14);
-    float tau_6 = min(tau_in, airlight_hg_exp2_TAU_MAX);
+    float tau_9 = min(tau_in, airlight_hg_exp2_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_2 > 0.0);
     } else {
@@ -621,10 +648,10 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
             return airlight_hg_exp2_HUGE;
         }
         const float _e35 = airlight_hg_exp2_phase_at(_e6, 0.0);
-        return (((_e35 * exp(-(tau_6))) * rho_2) / (1.0 - rho_2));
+        return (((_e35 * exp(-(tau_9))) * rho_2) / (1.0 - rho_2));
     }
     float h_7 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_6 * h_7);
+    float t_4 = (tau_9 * h_7);
     if ((x0_2 > 0.0)) {
         const float _e53 = airlight_hg_exp2_arctan2_(x0_2, h_7);
         len_3 = _e53;
@@ -641,31 +668,31 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
         float _e67 = sum_1;
         const float _e68 = airlight_hg_exp2_arctan2_(h_7, x0_2);
         float _e69 = len_3;
-        const float _e72 = airlight_hg_exp2_forward(_e68, _e69, t_4, (-(tau_6) * x0_2), _e6);
+        const float _e72 = airlight_hg_exp2_forward(_e68, _e69, t_4, (-(tau_9) * x0_2), _e6);
         sum_1 = (_e67 + _e72);
     }
     float _e74 = sum_1;
-    const float _e75 = airlight_hg_exp2_backward_u(tau_6, t_4, h_7, x0_2, rho_2, xr_1, open_1, _e6);
+    const float _e75 = airlight_hg_exp2_backward_u(tau_9, t_4, h_7, x0_2, rho_2, xr_1, open_1, _e6);
     sum_1 = (_e74 + _e75);
     float _e77 = sum_1;
     return min((_e77 / h_7), airlight_hg_exp2_HUGE);
 }
 
-float airlight_hg_exp2_airlight(float tau_1, float gamma, float rho_3, float g_3)
+float airlight_hg_exp2_airlight(float tau_4, float gamma, float rho_3, float g_3)
 {
     const float2 _e4 = airlight_hg_exp2_sin_cos(gamma);
     const float _e11 = airlight_hg_exp2_foot(abs(_e4.x), _e4.y, rho_3);
-    const float _e12 = airlight_hg_exp2_airlight_geometry(tau_1, abs(_e4.x), _e4.y, rho_3, _e11, g_3);
+    const float _e12 = airlight_hg_exp2_airlight_geometry(tau_4, abs(_e4.x), _e4.y, rho_3, _e11, g_3);
     return _e12;
 }
 
-float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1, float g_4)
+float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_4)
 {
     bool local_12 = (bool)0;
 
     const float3 _e8 = airlight_hg_exp2_ray_geometry(origin_1, dir_1, light_1);
     if ((_e8.x <= 0.0)) {
-        const float _e14 = airlight_hg_exp2_scaled(sigma_s_1, intensity_1, 1.0, airlight_hg_exp2_HUGE);
+        const float _e14 = airlight_hg_exp2_scaled(sigma_s_2, intensity_2, 1.0, airlight_hg_exp2_HUGE);
         return _e14;
     }
     if ((_e8.y <= 0.0)) {
@@ -680,21 +707,21 @@ float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, fl
     float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
     const float _e38 = airlight_hg_exp2_foot(_e8.y, _e8.z, rho_8);
     const float _e39 = airlight_hg_exp2_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_8, _e38, g_4);
-    const float _e41 = airlight_hg_exp2_scaled(sigma_s_1, intensity_1, _e8.x, _e39);
+    const float _e41 = airlight_hg_exp2_scaled(sigma_s_2, intensity_2, _e8.x, _e39);
     return _e41;
 }
 
-float airlight_hg_exp2_along(float tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_5)
+float airlight_hg_exp2_along(float tau_5, float h_3, float x0_3, float rho_4, float xr_2, float g_5)
 {
-    const float _e6 = airlight_hg_exp2_airlight_geometry(tau_2, h_3, x0_3, rho_4, xr_2, g_5);
+    const float _e6 = airlight_hg_exp2_airlight_geometry(tau_5, h_3, x0_3, rho_4, xr_2, g_5);
     return _e6;
 }
 
-float3 airlight_hg_exp2_along_rgb(float3 tau_3, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
+float3 airlight_hg_exp2_along_rgb(float3 tau_6, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
 {
-    const float _e7 = airlight_hg_exp2_along(tau_3.x, h_4, x0_4, rho_5, xr_3, g_6);
-    const float _e9 = airlight_hg_exp2_along(tau_3.y, h_4, x0_4, rho_5, xr_3, g_6);
-    const float _e11 = airlight_hg_exp2_along(tau_3.z, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e7 = airlight_hg_exp2_along(tau_6.x, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e9 = airlight_hg_exp2_along(tau_6.y, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e11 = airlight_hg_exp2_along(tau_6.z, h_4, x0_4, rho_5, xr_3, g_6);
     return float3(_e7, _e9, _e11);
 }
 
@@ -704,7 +731,7 @@ float airlight_hg_exp2_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_hg_exp2_spot_core(float3 tau_4, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
+float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -756,10 +783,10 @@ float3 airlight_hg_exp2_spot_core(float3 tau_4, float h_5, float x0_5, float rho
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_hg_exp2_along_rgb((tau_4 * _e64), _e66, _e67, _e68, _e69, g_7);
+    const float3 _e70 = airlight_hg_exp2_along_rgb((tau_7 * _e64), _e66, _e67, _e68, _e69, g_7);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_4) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_7) * _e72))) / (_e76).xxx));
 }
 
 float airlight_hg_exp2_spot_weight(float c_2, float co, float ci)
@@ -776,14 +803,14 @@ airlight_hg_exp2_ret_Constructarray6_float_ airlight_hg_exp2_Constructarray6_flo
     return ret;
 }
 
-float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_1, float ci_1, float g_8)
+float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_1, float ci_1, float g_8)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_hg_exp2_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_2 = (0.0).xxx;
     float w = (float)0;
     float2 sb = (float2)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float st = (float)0;
     int i = int(0);
 
@@ -792,11 +819,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
     }
     const float2 _e17 = airlight_hg_exp2_sin_cos(u_2);
     const float2 _e18 = airlight_hg_exp2_sin_cos(v_in);
-    const float _e24 = airlight_hg_exp2_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_1, ci_1);
-    const float _e30 = airlight_hg_exp2_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_1, ci_1);
+    const float _e24 = airlight_hg_exp2_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_1, ci_1);
+    const float _e30 = airlight_hg_exp2_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_hg_exp2_spot_core(tau_5, h_6, x0_6, rho_7, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
+        const float3 _e39 = airlight_hg_exp2_spot_core(tau_8, h_6, x0_6, rho_7, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -823,12 +850,12 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_16 = (u_2 + ((v_in - u_2) * _e80));
+            float a_18 = (u_2 + ((v_in - u_2) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_8 = (u_2 + ((v_in - u_2) * _e88));
-            float half_ = (0.5 * (b_8 - a_16));
-            float mid = (0.5 * (b_8 + a_16));
+            float half_ = (0.5 * (b_8 - a_18));
+            float mid = (0.5 * (b_8 + a_18));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_hg_exp2_sin_cos((0.5 * _e100));
@@ -837,7 +864,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e116) * _e119)) : (gp - (((4.0 * g_8) * _e107) * _e110)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e116) * _e119)) : (gp - (((4.0 * g_8) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
             st = max((x0_6 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -848,11 +875,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e150 = sb.x;
             float _e154 = sb.y;
             float _e156 = sb.x;
-            const float _e160 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
-            float _e163 = d_2;
-            float _e164 = d_2;
+            const float _e160 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_1, ci_1);
+            float _e163 = d_3;
+            float _e164 = d_3;
             float _e169 = st;
-            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_5) * _e169))));
+            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_8) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_hg_exp2_sin_cos((0.5 * _e177));
@@ -861,7 +888,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e193) * _e196)) : (gp - (((4.0 * g_8) * _e184) * _e187)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e193) * _e196)) : (gp - (((4.0 * g_8) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
             st = max((x0_6 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -872,11 +899,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e227 = sb.x;
             float _e231 = sb.y;
             float _e233 = sb.x;
-            const float _e237 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
-            float _e240 = d_2;
-            float _e241 = d_2;
+            const float _e237 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_1, ci_1);
+            float _e240 = d_3;
+            float _e241 = d_3;
             float _e246 = st;
-            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_5) * _e246))));
+            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_8) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_hg_exp2_sin_cos((0.5 * _e254));
@@ -885,7 +912,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e270) * _e273)) : (gp - (((4.0 * g_8) * _e261) * _e264)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e270) * _e273)) : (gp - (((4.0 * g_8) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
             st = max((x0_6 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -896,11 +923,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e304 = sb.x;
             float _e308 = sb.y;
             float _e310 = sb.x;
-            const float _e314 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
-            float _e317 = d_2;
-            float _e318 = d_2;
+            const float _e314 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_1, ci_1);
+            float _e317 = d_3;
+            float _e318 = d_3;
             float _e323 = st;
-            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_5) * _e323))));
+            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_8) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_hg_exp2_sin_cos((0.5 * _e331));
@@ -909,7 +936,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e347) * _e350)) : (gp - (((4.0 * g_8) * _e338) * _e341)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e347) * _e350)) : (gp - (((4.0 * g_8) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
             st = max((x0_6 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -920,11 +947,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e381 = sb.x;
             float _e385 = sb.y;
             float _e387 = sb.x;
-            const float _e391 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
-            float _e394 = d_2;
-            float _e395 = d_2;
+            const float _e391 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_1, ci_1);
+            float _e394 = d_3;
+            float _e395 = d_3;
             float _e400 = st;
-            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_5) * _e400))));
+            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_8) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_hg_exp2_sin_cos((0.5 * _e408));
@@ -933,7 +960,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e424) * _e427)) : (gp - (((4.0 * g_8) * _e415) * _e418)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e424) * _e427)) : (gp - (((4.0 * g_8) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
             st = max((x0_6 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -944,11 +971,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e458 = sb.x;
             float _e462 = sb.y;
             float _e464 = sb.x;
-            const float _e468 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
-            float _e471 = d_2;
-            float _e472 = d_2;
+            const float _e468 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_1, ci_1);
+            float _e471 = d_3;
+            float _e472 = d_3;
             float _e477 = st;
-            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_5) * _e477))));
+            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_8) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_hg_exp2_sin_cos((0.5 * _e485));
@@ -957,7 +984,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e501) * _e504)) : (gp - (((4.0 * g_8) * _e492) * _e495)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e501) * _e504)) : (gp - (((4.0 * g_8) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
             st = max((x0_6 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -968,11 +995,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e535 = sb.x;
             float _e539 = sb.y;
             float _e541 = sb.x;
-            const float _e545 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
-            float _e548 = d_2;
-            float _e549 = d_2;
+            const float _e545 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_1, ci_1);
+            float _e548 = d_3;
+            float _e549 = d_3;
             float _e554 = st;
-            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_5) * _e554))));
+            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_8) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_hg_exp2_sin_cos((0.5 * _e562));
@@ -981,7 +1008,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e578) * _e581)) : (gp - (((4.0 * g_8) * _e569) * _e572)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e578) * _e581)) : (gp - (((4.0 * g_8) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
             st = max((x0_6 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -992,11 +1019,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e612 = sb.x;
             float _e616 = sb.y;
             float _e618 = sb.x;
-            const float _e622 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
-            float _e625 = d_2;
-            float _e626 = d_2;
+            const float _e622 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_1, ci_1);
+            float _e625 = d_3;
+            float _e626 = d_3;
             float _e631 = st;
-            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_5) * _e631))));
+            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_8) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_hg_exp2_sin_cos((0.5 * _e639));
@@ -1005,7 +1032,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_2 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e655) * _e658)) : (gp - (((4.0 * g_8) * _e646) * _e649)));
+            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e655) * _e658)) : (gp - (((4.0 * g_8) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
             st = max((x0_6 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -1016,11 +1043,11 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
             float _e689 = sb.x;
             float _e693 = sb.y;
             float _e695 = sb.x;
-            const float _e699 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
-            float _e702 = d_2;
-            float _e703 = d_2;
+            const float _e699 = airlight_hg_exp2_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_1, ci_1);
+            float _e702 = d_3;
+            float _e703 = d_3;
             float _e708 = st;
-            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_5) * _e708))));
+            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_8) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -1028,7 +1055,7 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_5, float h_6, float x0_6, float rho
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2, float g_9)
+float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_9)
 {
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
@@ -1050,7 +1077,7 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     bool local_19 = (bool)0;
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
-    float3 a_8 = (0.0).xxx;
+    float3 a_10 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e11 = airlight_hg_exp2_ray_geometry(origin_2, dir_2, light_2);
@@ -1089,16 +1116,16 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     }
     float3 _e57 = ax;
     float3 _e58 = n;
-    float k_2 = dot(_e57, _e58);
+    float k_4 = dot(_e57, _e58);
     if ((_e11.x <= 0.0)) {
-        const float _e65 = airlight_hg_exp2_spot_weight(k_2, co_2, cos_inner);
+        const float _e65 = airlight_hg_exp2_spot_weight(k_4, co_2, cos_inner);
         scale = (point_ ? 1.0 : _e65);
         float _e69 = scale;
-        const float _e73 = airlight_hg_exp2_scaled(sigma_s_2.x, (intensity_2 * _e69), 1.0, airlight_hg_exp2_HUGE);
+        const float _e73 = airlight_hg_exp2_scaled(sigma_s_3.x, (intensity_3 * _e69), 1.0, airlight_hg_exp2_HUGE);
         float _e75 = scale;
-        const float _e79 = airlight_hg_exp2_scaled(sigma_s_2.y, (intensity_2 * _e75), 1.0, airlight_hg_exp2_HUGE);
+        const float _e79 = airlight_hg_exp2_scaled(sigma_s_3.y, (intensity_3 * _e75), 1.0, airlight_hg_exp2_HUGE);
         float _e81 = scale;
-        const float _e85 = airlight_hg_exp2_scaled(sigma_s_2.z, (intensity_2 * _e81), 1.0, airlight_hg_exp2_HUGE);
+        const float _e85 = airlight_hg_exp2_scaled(sigma_s_3.z, (intensity_3 * _e81), 1.0, airlight_hg_exp2_HUGE);
         return float3(_e73, _e79, _e85);
     }
     if ((_e11.y <= 0.0)) {
@@ -1110,17 +1137,17 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     if (_e96) {
         return (0.0).xxx;
     }
-    float d_5 = _e11.x;
+    float d_6 = _e11.x;
     float h_8 = _e11.y;
     float x0_8 = _e11.z;
     if ((surface_1 >= 0.0)) {
-        local_18 = ((surface_1 / d_5) < airlight_hg_exp2_RHO_OPEN);
+        local_18 = ((surface_1 / d_6) < airlight_hg_exp2_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_9 = (has_end ? (surface_1 / d_5) : -1.0);
-    float3 tau_7 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
+    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
     float gg = clamp(g_9, -0.999, 0.999);
     const float _e143 = airlight_hg_exp2_arctan2_(h_8, x0_8);
     if (!(point_)) {
@@ -1137,8 +1164,8 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
     bool _e157 = local_20;
     if (_e157) {
         if (!(point_)) {
-            const float _e160 = airlight_hg_exp2_spot_weight(-(k_2), co_2, cos_inner);
-            const float _e161 = airlight_hg_exp2_spot_weight(k_2, co_2, cos_inner);
+            const float _e160 = airlight_hg_exp2_spot_weight(-(k_4), co_2, cos_inner);
+            const float _e161 = airlight_hg_exp2_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
                 local_21 = (rho_9 < 1.0);
             } else {
@@ -1158,9 +1185,9 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         ca_1 = (dot(cr, cross(_e180, _e181)) / max(length(cr), 1e-30));
         float _e188 = ca_1;
         float _e189 = ca_1;
-        float r_6 = sqrt(((_e188 * _e189) + (k_2 * k_2)));
+        float r_6 = sqrt(((_e188 * _e189) + (k_4 * k_4)));
         float _e194 = ca_1;
-        const float _e195 = airlight_hg_exp2_arctan2_(k_2, _e194);
+        const float _e195 = airlight_hg_exp2_arctan2_(k_4, _e194);
         gam_2 = _e143;
         const float _e198 = airlight_hg_exp2_arctan2_(h_8, (x0_8 - rho_9));
         om_e_1 = (has_end ? _e198 : airlight_hg_exp2_PI);
@@ -1206,8 +1233,8 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_hg_exp2_spot_core(tau_7, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
-        a_8 = _e251;
+        const float3 _e251 = airlight_hg_exp2_spot_core(tau_10, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        a_10 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1230,24 +1257,24 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
             int _e261 = j_1;
             float2 piece = ((_e261 == int(1)) ? _e259.zw : _e257.xy);
             if ((piece.y > piece.x)) {
-                float3 _e268 = a_8;
+                float3 _e268 = a_10;
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_hg_exp2_spot_edge(tau_7, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_2, co_2, cos_inner, gg);
-                a_8 = (_e268 + _e274);
+                const float3 _e274 = airlight_hg_exp2_spot_edge(tau_10, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_2, cos_inner, gg);
+                a_10 = (_e268 + _e274);
             }
         }
     }
     float _e280 = scale;
-    float _e283 = a_8.x;
-    const float _e284 = airlight_hg_exp2_scaled(sigma_s_2.x, (intensity_2 * _e280), d_5, _e283);
+    float _e283 = a_10.x;
+    const float _e284 = airlight_hg_exp2_scaled(sigma_s_3.x, (intensity_3 * _e280), d_6, _e283);
     float _e286 = scale;
-    float _e289 = a_8.y;
-    const float _e290 = airlight_hg_exp2_scaled(sigma_s_2.y, (intensity_2 * _e286), d_5, _e289);
+    float _e289 = a_10.y;
+    const float _e290 = airlight_hg_exp2_scaled(sigma_s_3.y, (intensity_3 * _e286), d_6, _e289);
     float _e292 = scale;
-    float _e295 = a_8.z;
-    const float _e296 = airlight_hg_exp2_scaled(sigma_s_2.z, (intensity_2 * _e292), d_5, _e295);
+    float _e295 = a_10.z;
+    const float _e296 = airlight_hg_exp2_scaled(sigma_s_3.z, (intensity_3 * _e292), d_6, _e295);
     return float3(_e284, _e290, _e296);
 }
 
@@ -1351,21 +1378,21 @@ float3 airlight_hg_exp2_shafts_step(inout airlight_hg_exp2_Shafts acc_5, float s
     return _e3;
 }
 
-float4 airlight_hg_exp2_shafts_moved(float a_9, float b_4, float3 origin_3, float3 dir_3)
+float4 airlight_hg_exp2_shafts_moved(float a_11, float b_4, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_hg_exp2_max_abs(dir_3);
     float3 u_6 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_9 * (u_6 / (length(u_6)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_9), 0.0) : -1.0));
+    return float4((origin_3 + (a_11 * (u_6 / (length(u_6)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_11), 0.0) : -1.0));
 }
 
-float airlight_hg_exp2_shafts_run(float a_10, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3, float g_10)
+float airlight_hg_exp2_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_10)
 {
     bool local_23 = (bool)0;
     bool local_24 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_24 = (b_5 <= a_10);
+            local_24 = (b_5 <= a_12);
         } else {
             local_24 = false;
         }
@@ -1378,17 +1405,17 @@ float airlight_hg_exp2_shafts_run(float a_10, float b_5, float w_1, float3 origi
     if (_e24) {
         return 0.0;
     }
-    const float4 _e26 = airlight_hg_exp2_shafts_moved(a_10, b_5, origin_4, dir_4);
+    const float4 _e26 = airlight_hg_exp2_shafts_moved(a_12, b_5, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len_7 = _e26.w;
-    const float _e29 = airlight_hg_exp2_radiance(o, dir_4, len_7, light_3, intensity_3, sigma_t_2, sigma_s_3, g_10);
+    const float _e29 = airlight_hg_exp2_radiance(o, dir_4, len_7, light_3, intensity_4, sigma_t_2, sigma_s_4, g_10);
     if ((_e29 >= airlight_hg_exp2_HUGE)) {
         return _e29;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_10))) * _e29);
+    return ((w_1 * exp((-(sigma_t_2) * a_12))) * _e29);
 }
 
-void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_11)
+void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_11)
 {
     uint j_2 = 0u;
 
@@ -1412,7 +1439,7 @@ void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_6, float3 o
             uint _e15 = j_2;
             float3 r_7 = acc_6.runs[min(uint(_e15), 31u)];
             float _e22 = acc_6.sum.x;
-            const float _e26 = airlight_hg_exp2_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4, g_11);
+            const float _e26 = airlight_hg_exp2_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_11);
             acc_6.sum.x = min((_e22 + _e26), airlight_hg_exp2_HUGE);
         }
     }
@@ -1420,44 +1447,44 @@ void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_6, float3 o
     return;
 }
 
-void airlight_hg_exp2_shafts_push(inout airlight_hg_exp2_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_12)
+void airlight_hg_exp2_shafts_push(inout airlight_hg_exp2_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_12)
 {
     const float3 _e10 = airlight_hg_exp2_shafts_step(acc_7, s_1, v_4);
     airlight_hg_exp2_shafts_hold(acc_7, _e10);
     uint _e12 = acc_7.count;
     if ((_e12 == airlight_hg_exp2_SHAFTS_RUNS)) {
-        airlight_hg_exp2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5, g_12);
+        airlight_hg_exp2_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_12);
         return;
     } else {
         return;
     }
 }
 
-float airlight_hg_exp2_shafts_finish(airlight_hg_exp2_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_13)
+float airlight_hg_exp2_shafts_finish(airlight_hg_exp2_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_13)
 {
     airlight_hg_exp2_Shafts acc_8 = (airlight_hg_exp2_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e10 = airlight_hg_exp2_shafts_place(acc_8);
     airlight_hg_exp2_shafts_hold(acc_8, _e10);
-    airlight_hg_exp2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    airlight_hg_exp2_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
     float _e12 = acc_8.v;
     float _e14 = acc_8.v;
     float w_3 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_8.sum.x;
     float _e23 = acc_8.start;
-    const float _e24 = airlight_hg_exp2_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6, g_13);
+    const float _e24 = airlight_hg_exp2_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
     return min((_e21 + _e24), airlight_hg_exp2_HUGE);
 }
 
-float3 airlight_hg_exp2_shafts_run_spot(float a_11, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_14)
+float3 airlight_hg_exp2_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_14)
 {
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_6 >= 0.0)) {
-            local_26 = (b_6 <= a_11);
+            local_26 = (b_6 <= a_13);
         } else {
             local_26 = false;
         }
@@ -1470,14 +1497,14 @@ float3 airlight_hg_exp2_shafts_run_spot(float a_11, float b_6, float w_2, float3
     if (_e27) {
         return (0.0).xxx;
     }
-    const float4 _e30 = airlight_hg_exp2_shafts_moved(a_11, b_6, origin_8, dir_8);
+    const float4 _e30 = airlight_hg_exp2_shafts_moved(a_13, b_6, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_8 = _e30.w;
-    const float3 _e33 = airlight_hg_exp2_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7, g_14);
-    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_11))) * _e33));
+    const float3 _e33 = airlight_hg_exp2_spot(o_1, dir_8, len_8, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_14);
+    return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_13))) * _e33));
 }
 
-void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_15)
+void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_15)
 {
     uint j_3 = 0u;
 
@@ -1501,7 +1528,7 @@ void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_9, flo
             uint _e18 = j_3;
             float3 r_8 = acc_9.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_9.sum;
-            const float3 _e27 = airlight_hg_exp2_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8, g_15);
+            const float3 _e27 = airlight_hg_exp2_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_15);
             acc_9.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -1509,33 +1536,33 @@ void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_9, flo
     return;
 }
 
-void airlight_hg_exp2_shafts_push_spot(inout airlight_hg_exp2_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_16)
+void airlight_hg_exp2_shafts_push_spot(inout airlight_hg_exp2_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_16)
 {
     const float3 _e13 = airlight_hg_exp2_shafts_step(acc_10, s_2, v_5);
     airlight_hg_exp2_shafts_hold(acc_10, _e13);
     uint _e15 = acc_10.count;
     if ((_e15 == airlight_hg_exp2_SHAFTS_RUNS)) {
-        airlight_hg_exp2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9, g_16);
+        airlight_hg_exp2_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_16);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_hg_exp2_shafts_finish_spot(airlight_hg_exp2_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10, float g_17)
+float3 airlight_hg_exp2_shafts_finish_spot(airlight_hg_exp2_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_17)
 {
     airlight_hg_exp2_Shafts acc_11 = (airlight_hg_exp2_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e13 = airlight_hg_exp2_shafts_place(acc_11);
     airlight_hg_exp2_shafts_hold(acc_11, _e13);
-    airlight_hg_exp2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
+    airlight_hg_exp2_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
     float _e15 = acc_11.v;
     float _e17 = acc_11.v;
     float w_4 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_11.sum;
     float _e25 = acc_11.start;
-    const float3 _e26 = airlight_hg_exp2_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10, g_17);
+    const float3 _e26 = airlight_hg_exp2_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

@@ -42,6 +42,8 @@ static const float airlight_phi_iso_6_FRAC_PI_2_ = 1.5707964;
 static const float airlight_phi_iso_6_HUGE = 3.4028235e38;
 static const float airlight_phi_iso_6_RHO_OPEN = 4294967300.0;
 static const float airlight_phi_iso_6_TAU_MAX = 10000.0;
+static const float airlight_phi_iso_6_LN2_HI = 0.69314575;
+static const float airlight_phi_iso_6_LN2_LO = 1.4286068e-6;
 static const uint airlight_phi_iso_6_SHAFTS_RUNS = 32u;
 
 float airlight_phi_iso_6_foot(float h, float x0_, float rho)
@@ -98,8 +100,31 @@ float3 airlight_phi_iso_6_scale2_(float3 v_1, int k)
     return ldexp(ldexp(v_1, (airlight_phi_iso_6_naga_div(k, int(2))).xxx), (asint(asuint(k) - asuint(airlight_phi_iso_6_naga_div(k, int(2))))).xxx);
 }
 
+int airlight_phi_iso_6_naga_f2i32(float value) {
+    return int(clamp(value, -2147483600.0, 2147483500.0));
+}
+
+int airlight_phi_iso_6_exp_neg_k(float tau)
+{
+    return airlight_phi_iso_6_naga_f2i32(clamp(floor((tau * 1.442695)), 0.0, 250.0));
+}
+
+float airlight_phi_iso_6_exp_neg_m(float tau_1, int k_1)
+{
+    float kf = float(k_1);
+    return exp(-(((tau_1 - (kf * airlight_phi_iso_6_LN2_HI)) - (kf * airlight_phi_iso_6_LN2_LO))));
+}
+
 int airlight_phi_iso_6_naga_neg(int val) {
     return asint(-asuint(val));
+}
+
+float airlight_phi_iso_6_mul_exp_neg(float a_4, float tau_2)
+{
+    const int _e2 = airlight_phi_iso_6_exp_neg_k(tau_2);
+    const float _e3 = airlight_phi_iso_6_exp_neg_m(tau_2, _e2);
+    const float3 _e7 = airlight_phi_iso_6_scale2_(((a_4 * _e3)).xxx, airlight_phi_iso_6_naga_neg(_e2));
+    return _e7.x;
 }
 
 float3 airlight_phi_iso_6_ray_geometry(float3 origin, float3 dir, float3 light)
@@ -160,7 +185,7 @@ float3 airlight_phi_iso_6_ray_geometry(float3 origin, float3 dir, float3 light)
     return float3(min(dist, airlight_phi_iso_6_HUGE), (_e97 / n_1), (x0_6 / n_1));
 }
 
-float airlight_phi_iso_6_scaled(float sigma_s, float intensity, float d_1, float a_4)
+float airlight_phi_iso_6_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
 {
     bool local_2 = (bool)0;
     bool local_3 = (bool)0;
@@ -170,25 +195,25 @@ float airlight_phi_iso_6_scaled(float sigma_s, float intensity, float d_1, float
     } else {
         local_2 = false;
     }
-    bool _e11 = local_2;
-    if (_e11) {
-        local_3 = (a_4 > 0.0);
+    bool _e12 = local_2;
+    if (_e12) {
+        local_3 = (a_5 > 0.0);
     } else {
         local_3 = false;
     }
-    bool _e17 = local_3;
-    if (!(_e17)) {
+    bool _e18 = local_3;
+    if (!(_e18)) {
         return 0.0;
     }
-    if ((a_4 >= airlight_phi_iso_6_HUGE)) {
+    if ((a_5 >= airlight_phi_iso_6_HUGE)) {
         return airlight_phi_iso_6_HUGE;
     }
     airlight_phi_iso_6_frexp_result_f32_ s_6 = airlight_phi_iso_6_naga_frexp(sigma_s);
     airlight_phi_iso_6_frexp_result_f32_ i_1 = airlight_phi_iso_6_naga_frexp(intensity);
-    airlight_phi_iso_6_frexp_result_f32_ q_1 = airlight_phi_iso_6_naga_frexp(a_4);
+    airlight_phi_iso_6_frexp_result_f32_ q_1 = airlight_phi_iso_6_naga_frexp(a_5);
     airlight_phi_iso_6_frexp_result_f32_ r_2 = airlight_phi_iso_6_naga_frexp(d_1);
     airlight_phi_iso_6_frexp_result_f32_ m = airlight_phi_iso_6_naga_frexp((((s_6.fract * i_1.fract) * q_1.fract) / r_2.fract));
-    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_));
+    int e = asint(asuint(asint(asuint(asint(asuint(asint(asuint(asint(asuint(m.exp_) + asuint(s_6.exp_))) + asuint(i_1.exp_))) + asuint(q_1.exp_))) - asuint(r_2.exp_))) + asuint(k_2));
     if ((e > int(128))) {
         return airlight_phi_iso_6_HUGE;
     }
@@ -198,20 +223,26 @@ float airlight_phi_iso_6_scaled(float sigma_s, float intensity, float d_1, float
     return ldexp(m.fract, e);
 }
 
+float airlight_phi_iso_6_scaled(float sigma_s_1, float intensity_1, float d_2, float a_6)
+{
+    const float _e5 = airlight_phi_iso_6_scaled_pow2_(sigma_s_1, intensity_1, d_2, a_6, int(0));
+    return _e5;
+}
+
 float airlight_phi_iso_6_arctan(float x)
 {
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_9 = abs(x);
-    r = a_9;
-    if ((a_9 > 2.4142137)) {
+    float a_11 = abs(x);
+    r = a_11;
+    if ((a_11 > 2.4142137)) {
         y0_ = airlight_phi_iso_6_FRAC_PI_2_;
-        r = (-1.0 / a_9);
+        r = (-1.0 / a_11);
     } else {
-        if ((a_9 > 0.41421357)) {
+        if ((a_11 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_9 - 1.0) / (a_9 + 1.0));
+            r = ((a_11 - 1.0) / (a_11 + 1.0));
         }
     }
     float _e18 = r;
@@ -249,10 +280,6 @@ float2 airlight_phi_iso_6_sin_cos_octant(float x_2)
     float s_7 = (((((((-0.00019515296 * z_1) + 0.008332161) * z_1) - 0.16666655) * z_1) * x_2) + x_2);
     float c_3 = ((((((((2.4433157e-5 * z_1) - 0.0013887316) * z_1) + 0.041666646) * z_1) * z_1) - (0.5 * z_1)) + 1.0);
     return float2(s_7, c_3);
-}
-
-int airlight_phi_iso_6_naga_f2i32(float value) {
-    return int(clamp(value, -2147483600.0, 2147483500.0));
 }
 
 float2 airlight_phi_iso_6_sin_cos(float x_3)
@@ -379,7 +406,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     bool local_9 = (bool)0;
     float sum = 0.0;
     bool local_10 = (bool)0;
-    float d_2 = (float)0;
+    float d_3 = (float)0;
     float beta = (float)0;
     float co = (float)0;
     float2 sc = (float2)0;
@@ -390,7 +417,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     float s_1 = 0.0;
     float sb = 0.0;
 
-    float tau_5 = min(max(tau_in, 0.0), airlight_phi_iso_6_TAU_MAX);
+    float tau_8 = min(max(tau_in, 0.0), airlight_phi_iso_6_TAU_MAX);
     float4 md_4 = float4(0.0, 1.0, 1.0, 1.0);
     if ((x0_1 > 0.0)) {
         local_4 = (h_in < 8.673617e-19);
@@ -406,7 +433,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
         }
         bool _e29 = local_5;
         if (_e29) {
-            return min((((0.07957747 * exp(-(tau_5))) * rho_1) / (1.0 - rho_1)), airlight_phi_iso_6_HUGE);
+            return min((((0.07957747 * exp(-(tau_8))) * rho_1) / (1.0 - rho_1)), airlight_phi_iso_6_HUGE);
         }
         if ((h_in <= 0.0)) {
             return airlight_phi_iso_6_HUGE;
@@ -434,7 +461,7 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
     }
     float _e111 = du;
     float ub = (ua + _e111);
-    float t_1 = (tau_5 * tb);
+    float t_1 = (tau_8 * tb);
     float xf = (3.7283664 * max(md_4.w, 1.0));
     float lcut = ((t_1 > 0.0) ? (4.91128 / max(t_1, 1e-30)) : airlight_phi_iso_6_HUGE);
     float m_1 = max(ua, xf);
@@ -469,41 +496,41 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
         bool _e177 = local_10;
         if (_e177) {
             float hl = (0.5 * len);
-            d_2 = (hl * 1.9324695);
+            d_3 = (hl * 1.9324695);
             float _e183 = sum;
-            float _e184 = d_2;
+            float _e184 = d_3;
             const float _e186 = airlight_phi_iso_6_w_u((ua + _e184), md_4);
-            float _e190 = d_2;
+            float _e190 = d_3;
             sum = (_e183 + ((0.17132449 * _e186) * exp((-(t_1) * _e190))));
-            d_2 = (hl * 1.6612093);
+            d_3 = (hl * 1.6612093);
             float _e197 = sum;
-            float _e198 = d_2;
+            float _e198 = d_3;
             const float _e200 = airlight_phi_iso_6_w_u((ua + _e198), md_4);
-            float _e204 = d_2;
+            float _e204 = d_3;
             sum = (_e197 + ((0.36076158 * _e200) * exp((-(t_1) * _e204))));
-            d_2 = (hl * 1.2386192);
+            d_3 = (hl * 1.2386192);
             float _e211 = sum;
-            float _e212 = d_2;
+            float _e212 = d_3;
             const float _e214 = airlight_phi_iso_6_w_u((ua + _e212), md_4);
-            float _e218 = d_2;
+            float _e218 = d_3;
             sum = (_e211 + ((0.46791393 * _e214) * exp((-(t_1) * _e218))));
-            d_2 = (hl * 0.7613808);
+            d_3 = (hl * 0.7613808);
             float _e225 = sum;
-            float _e226 = d_2;
+            float _e226 = d_3;
             const float _e228 = airlight_phi_iso_6_w_u((ua + _e226), md_4);
-            float _e232 = d_2;
+            float _e232 = d_3;
             sum = (_e225 + ((0.46791393 * _e228) * exp((-(t_1) * _e232))));
-            d_2 = (hl * 0.3387906);
+            d_3 = (hl * 0.3387906);
             float _e239 = sum;
-            float _e240 = d_2;
+            float _e240 = d_3;
             const float _e242 = airlight_phi_iso_6_w_u((ua + _e240), md_4);
-            float _e246 = d_2;
+            float _e246 = d_3;
             sum = (_e239 + ((0.36076158 * _e242) * exp((-(t_1) * _e246))));
-            d_2 = (hl * 0.06753051);
+            d_3 = (hl * 0.06753051);
             float _e253 = sum;
-            float _e254 = d_2;
+            float _e254 = d_3;
             const float _e256 = airlight_phi_iso_6_w_u((ua + _e254), md_4);
-            float _e260 = d_2;
+            float _e260 = d_3;
             sum = (_e253 + ((0.17132449 * _e256) * exp((-(t_1) * _e260))));
             float _e265 = sum;
             sum = (_e265 * hl);
@@ -702,29 +729,32 @@ float airlight_phi_iso_6_airlight_geometry(float tau_in, float h_in, float x0_1,
         }
     }
     if ((tb < 8.673617e-19)) {
-        float _e735 = sum;
-        const float _e743 = airlight_phi_iso_6_scaled((2.0 * max(_e735, 0.0)), exp(-(tau_5)), tb, 1.0);
-        return _e743;
+        const int _e735 = airlight_phi_iso_6_exp_neg_k(tau_8);
+        float _e736 = sum;
+        const float _e741 = airlight_phi_iso_6_exp_neg_m(tau_8, _e735);
+        const float _e744 = airlight_phi_iso_6_scaled_pow2_((2.0 * max(_e736, 0.0)), _e741, tb, 1.0, airlight_phi_iso_6_naga_neg(_e735));
+        return _e744;
     }
-    float _e748 = sum;
-    return min(max(((2.0 * exp(-(tau_5))) * (_e748 / tb)), 0.0), airlight_phi_iso_6_HUGE);
+    float _e745 = sum;
+    const float _e747 = airlight_phi_iso_6_mul_exp_neg((_e745 / tb), tau_8);
+    return min(max((2.0 * _e747), 0.0), airlight_phi_iso_6_HUGE);
 }
 
-float airlight_phi_iso_6_airlight(float tau, float gamma, float rho_2)
+float airlight_phi_iso_6_airlight(float tau_3, float gamma, float rho_2)
 {
     const float2 _e6 = airlight_phi_iso_6_sin_cos(clamp(gamma, 0.0, airlight_phi_iso_6_PI));
     const float _e13 = airlight_phi_iso_6_foot(abs(_e6.x), _e6.y, rho_2);
-    const float _e14 = airlight_phi_iso_6_airlight_geometry(tau, abs(_e6.x), _e6.y, rho_2, _e13);
+    const float _e14 = airlight_phi_iso_6_airlight_geometry(tau_3, abs(_e6.x), _e6.y, rho_2, _e13);
     return _e14;
 }
 
-float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_1, float sigma_t, float sigma_s_1)
+float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2)
 {
     bool local_11 = (bool)0;
 
     const float3 _e7 = airlight_phi_iso_6_ray_geometry(origin_1, dir_1, light_1);
     if ((_e7.x <= 0.0)) {
-        const float _e13 = airlight_phi_iso_6_scaled(sigma_s_1, intensity_1, 1.0, airlight_phi_iso_6_HUGE);
+        const float _e13 = airlight_phi_iso_6_scaled(sigma_s_2, intensity_2, 1.0, airlight_phi_iso_6_HUGE);
         return _e13;
     }
     if ((_e7.y <= 0.0)) {
@@ -739,21 +769,21 @@ float airlight_phi_iso_6_radiance(float3 origin_1, float3 dir_1, float surface, 
     float rho_7 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
     const float _e38 = airlight_phi_iso_6_foot(_e7.y, _e7.z, rho_7);
     const float _e39 = airlight_phi_iso_6_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_7, _e38);
-    const float _e40 = airlight_phi_iso_6_scaled(sigma_s_1, intensity_1, _e7.x, _e39);
+    const float _e40 = airlight_phi_iso_6_scaled(sigma_s_2, intensity_2, _e7.x, _e39);
     return _e40;
 }
 
-float airlight_phi_iso_6_along(float tau_1, float h_2, float x0_2, float rho_3, float xr_1, float g)
+float airlight_phi_iso_6_along(float tau_4, float h_2, float x0_2, float rho_3, float xr_1, float g)
 {
-    const float _e6 = airlight_phi_iso_6_airlight_geometry(tau_1, h_2, x0_2, rho_3, xr_1);
+    const float _e6 = airlight_phi_iso_6_airlight_geometry(tau_4, h_2, x0_2, rho_3, xr_1);
     return _e6;
 }
 
-float3 airlight_phi_iso_6_along_rgb(float3 tau_2, float h_3, float x0_3, float rho_4, float xr_2, float g_1)
+float3 airlight_phi_iso_6_along_rgb(float3 tau_5, float h_3, float x0_3, float rho_4, float xr_2, float g_1)
 {
-    const float _e7 = airlight_phi_iso_6_along(tau_2.x, h_3, x0_3, rho_4, xr_2, g_1);
-    const float _e9 = airlight_phi_iso_6_along(tau_2.y, h_3, x0_3, rho_4, xr_2, g_1);
-    const float _e11 = airlight_phi_iso_6_along(tau_2.z, h_3, x0_3, rho_4, xr_2, g_1);
+    const float _e7 = airlight_phi_iso_6_along(tau_5.x, h_3, x0_3, rho_4, xr_2, g_1);
+    const float _e9 = airlight_phi_iso_6_along(tau_5.y, h_3, x0_3, rho_4, xr_2, g_1);
+    const float _e11 = airlight_phi_iso_6_along(tau_5.z, h_3, x0_3, rho_4, xr_2, g_1);
     return float3(_e7, _e9, _e11);
 }
 
@@ -763,7 +793,7 @@ float airlight_phi_iso_6_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
+float3 airlight_phi_iso_6_spot_core(float3 tau_6, float h_4, float x0_4, float rho_5, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_2)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -815,10 +845,10 @@ float3 airlight_phi_iso_6_spot_core(float3 tau_3, float h_4, float x0_4, float r
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_phi_iso_6_along_rgb((tau_3 * _e64), _e66, _e67, _e68, _e69, g_2);
+    const float3 _e70 = airlight_phi_iso_6_along_rgb((tau_6 * _e64), _e66, _e67, _e68, _e69, g_2);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_3) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_6) * _e72))) / (_e76).xxx));
 }
 
 float airlight_phi_iso_6_spot_weight(float c_2, float co_1, float ci)
@@ -835,14 +865,14 @@ airlight_phi_iso_6_ret_Constructarray6_float_ airlight_phi_iso_6_Constructarray6
     return ret;
 }
 
-float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_1, float co_2, float ci_1, float g_3)
+float3 airlight_phi_iso_6_spot_edge(float3 tau_7, float h_5, float x0_5, float rho_6, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_2, float ci_1, float g_3)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_phi_iso_6_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
     float3 sum_1 = (0.0).xxx;
     float w = (float)0;
     float2 sb_1 = (float2)0;
-    float d_3 = (float)0;
+    float d_4 = (float)0;
     float st = (float)0;
     int i = int(0);
 
@@ -851,11 +881,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
     }
     const float2 _e17 = airlight_phi_iso_6_sin_cos(u_2);
     const float2 _e18 = airlight_phi_iso_6_sin_cos(v_in);
-    const float _e24 = airlight_phi_iso_6_spot_weight(((ca * _e17.x) - (k_1 * _e17.y)), co_2, ci_1);
-    const float _e30 = airlight_phi_iso_6_spot_weight(((ca * _e18.x) - (k_1 * _e18.y)), co_2, ci_1);
+    const float _e24 = airlight_phi_iso_6_spot_weight(((ca * _e17.x) - (k_3 * _e17.y)), co_2, ci_1);
+    const float _e30 = airlight_phi_iso_6_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_2, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_phi_iso_6_spot_core(tau_4, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_3);
+        const float3 _e39 = airlight_phi_iso_6_spot_core(tau_7, h_5, x0_5, rho_6, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_3);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -882,12 +912,12 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_10 = (u_2 + ((v_in - u_2) * _e80));
+            float a_12 = (u_2 + ((v_in - u_2) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
             float b_6 = (u_2 + ((v_in - u_2) * _e88));
-            float half_ = (0.5 * (b_6 - a_10));
-            float mid = (0.5 * (b_6 + a_10));
+            float half_ = (0.5 * (b_6 - a_12));
+            float mid = (0.5 * (b_6 + a_12));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_phi_iso_6_sin_cos((0.5 * _e100));
@@ -896,7 +926,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e110 = sb_1.y;
             float _e116 = sb_1.x;
             float _e119 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e116) * _e119)) : (gp - (((4.0 * g_3) * _e107) * _e110)));
             float _e126 = sb_1.x;
             float _e129 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e126) / max(_e129, 1e-30))), 1.0);
@@ -907,11 +937,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e150 = sb_1.x;
             float _e154 = sb_1.y;
             float _e156 = sb_1.x;
-            const float _e160 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_1 * (_e148 - _e150)) * (_e154 + _e156))), co_2, ci_1);
-            float _e163 = d_3;
-            float _e164 = d_3;
+            const float _e160 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e142) * _e145) - ((k_3 * (_e148 - _e150)) * (_e154 + _e156))), co_2, ci_1);
+            float _e163 = d_4;
+            float _e164 = d_4;
             float _e169 = st;
-            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_4) * _e169))));
+            sum_1 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_7) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_phi_iso_6_sin_cos((0.5 * _e177));
@@ -920,7 +950,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e187 = sb_1.y;
             float _e193 = sb_1.x;
             float _e196 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e193) * _e196)) : (gp - (((4.0 * g_3) * _e184) * _e187)));
             float _e203 = sb_1.x;
             float _e206 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e203) / max(_e206, 1e-30))), 1.0);
@@ -931,11 +961,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e227 = sb_1.x;
             float _e231 = sb_1.y;
             float _e233 = sb_1.x;
-            const float _e237 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_1 * (_e225 - _e227)) * (_e231 + _e233))), co_2, ci_1);
-            float _e240 = d_3;
-            float _e241 = d_3;
+            const float _e237 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e219) * _e222) - ((k_3 * (_e225 - _e227)) * (_e231 + _e233))), co_2, ci_1);
+            float _e240 = d_4;
+            float _e241 = d_4;
             float _e246 = st;
-            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_4) * _e246))));
+            sum_1 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_7) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_phi_iso_6_sin_cos((0.5 * _e254));
@@ -944,7 +974,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e264 = sb_1.y;
             float _e270 = sb_1.x;
             float _e273 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e270) * _e273)) : (gp - (((4.0 * g_3) * _e261) * _e264)));
             float _e280 = sb_1.x;
             float _e283 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e280) / max(_e283, 1e-30))), 1.0);
@@ -955,11 +985,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e304 = sb_1.x;
             float _e308 = sb_1.y;
             float _e310 = sb_1.x;
-            const float _e314 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_1 * (_e302 - _e304)) * (_e308 + _e310))), co_2, ci_1);
-            float _e317 = d_3;
-            float _e318 = d_3;
+            const float _e314 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e296) * _e299) - ((k_3 * (_e302 - _e304)) * (_e308 + _e310))), co_2, ci_1);
+            float _e317 = d_4;
+            float _e318 = d_4;
             float _e323 = st;
-            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_4) * _e323))));
+            sum_1 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_7) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_phi_iso_6_sin_cos((0.5 * _e331));
@@ -968,7 +998,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e341 = sb_1.y;
             float _e347 = sb_1.x;
             float _e350 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e347) * _e350)) : (gp - (((4.0 * g_3) * _e338) * _e341)));
             float _e357 = sb_1.x;
             float _e360 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e357) / max(_e360, 1e-30))), 1.0);
@@ -979,11 +1009,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e381 = sb_1.x;
             float _e385 = sb_1.y;
             float _e387 = sb_1.x;
-            const float _e391 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_1 * (_e379 - _e381)) * (_e385 + _e387))), co_2, ci_1);
-            float _e394 = d_3;
-            float _e395 = d_3;
+            const float _e391 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e373) * _e376) - ((k_3 * (_e379 - _e381)) * (_e385 + _e387))), co_2, ci_1);
+            float _e394 = d_4;
+            float _e395 = d_4;
             float _e400 = st;
-            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_4) * _e400))));
+            sum_1 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_7) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_phi_iso_6_sin_cos((0.5 * _e408));
@@ -992,7 +1022,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e418 = sb_1.y;
             float _e424 = sb_1.x;
             float _e427 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e424) * _e427)) : (gp - (((4.0 * g_3) * _e415) * _e418)));
             float _e434 = sb_1.x;
             float _e437 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e434) / max(_e437, 1e-30))), 1.0);
@@ -1003,11 +1033,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e458 = sb_1.x;
             float _e462 = sb_1.y;
             float _e464 = sb_1.x;
-            const float _e468 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_1 * (_e456 - _e458)) * (_e462 + _e464))), co_2, ci_1);
-            float _e471 = d_3;
-            float _e472 = d_3;
+            const float _e468 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e450) * _e453) - ((k_3 * (_e456 - _e458)) * (_e462 + _e464))), co_2, ci_1);
+            float _e471 = d_4;
+            float _e472 = d_4;
             float _e477 = st;
-            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_4) * _e477))));
+            sum_1 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_7) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_phi_iso_6_sin_cos((0.5 * _e485));
@@ -1016,7 +1046,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e495 = sb_1.y;
             float _e501 = sb_1.x;
             float _e504 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e501) * _e504)) : (gp - (((4.0 * g_3) * _e492) * _e495)));
             float _e511 = sb_1.x;
             float _e514 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e511) / max(_e514, 1e-30))), 1.0);
@@ -1027,11 +1057,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e535 = sb_1.x;
             float _e539 = sb_1.y;
             float _e541 = sb_1.x;
-            const float _e545 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_1 * (_e533 - _e535)) * (_e539 + _e541))), co_2, ci_1);
-            float _e548 = d_3;
-            float _e549 = d_3;
+            const float _e545 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e527) * _e530) - ((k_3 * (_e533 - _e535)) * (_e539 + _e541))), co_2, ci_1);
+            float _e548 = d_4;
+            float _e549 = d_4;
             float _e554 = st;
-            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_4) * _e554))));
+            sum_1 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_7) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_phi_iso_6_sin_cos((0.5 * _e562));
@@ -1040,7 +1070,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e572 = sb_1.y;
             float _e578 = sb_1.x;
             float _e581 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e578) * _e581)) : (gp - (((4.0 * g_3) * _e569) * _e572)));
             float _e588 = sb_1.x;
             float _e591 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e588) / max(_e591, 1e-30))), 1.0);
@@ -1051,11 +1081,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e612 = sb_1.x;
             float _e616 = sb_1.y;
             float _e618 = sb_1.x;
-            const float _e622 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_1 * (_e610 - _e612)) * (_e616 + _e618))), co_2, ci_1);
-            float _e625 = d_3;
-            float _e626 = d_3;
+            const float _e622 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e604) * _e607) - ((k_3 * (_e610 - _e612)) * (_e616 + _e618))), co_2, ci_1);
+            float _e625 = d_4;
+            float _e626 = d_4;
             float _e631 = st;
-            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_4) * _e631))));
+            sum_1 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_7) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_phi_iso_6_sin_cos((0.5 * _e639));
@@ -1064,7 +1094,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e649 = sb_1.y;
             float _e655 = sb_1.x;
             float _e658 = sb_1.x;
-            d_3 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649)));
+            d_4 = ((g_3 >= 0.0) ? (gm + (((4.0 * g_3) * _e655) * _e658)) : (gp - (((4.0 * g_3) * _e646) * _e649)));
             float _e665 = sb_1.x;
             float _e668 = sb_1.y;
             st = max((x0_5 + ((h_5 * _e665) / max(_e668, 1e-30))), 1.0);
@@ -1075,11 +1105,11 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
             float _e689 = sb_1.x;
             float _e693 = sb_1.y;
             float _e695 = sb_1.x;
-            const float _e699 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_1 * (_e687 - _e689)) * (_e693 + _e695))), co_2, ci_1);
-            float _e702 = d_3;
-            float _e703 = d_3;
+            const float _e699 = airlight_phi_iso_6_spot_weight(((((ca * 2.0) * _e681) * _e684) - ((k_3 * (_e687 - _e689)) * (_e693 + _e695))), co_2, ci_1);
+            float _e702 = d_4;
+            float _e703 = d_4;
             float _e708 = st;
-            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_4) * _e708))));
+            sum_1 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_7) * _e708))));
         }
     }
     float3 _e716 = exact;
@@ -1087,7 +1117,7 @@ float3 airlight_phi_iso_6_spot_edge(float3 tau_4, float h_5, float x0_5, float r
     return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_3)) * (1.0 + g_3)) * _e725) / (h_5).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_2, float3 sigma_t_1, float3 sigma_s_2)
+float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3)
 {
     bool local_13 = (bool)0;
     bool local_14 = (bool)0;
@@ -1109,7 +1139,7 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     bool local_18 = (bool)0;
     bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    float3 a_5 = (0.0).xxx;
+    float3 a_7 = (0.0).xxx;
     int j_1 = int(0);
 
     const float3 _e10 = airlight_phi_iso_6_ray_geometry(origin_2, dir_2, light_2);
@@ -1148,16 +1178,16 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     }
     float3 _e56 = ax;
     float3 _e57 = n;
-    float k_2 = dot(_e56, _e57);
+    float k_4 = dot(_e56, _e57);
     if ((_e10.x <= 0.0)) {
-        const float _e64 = airlight_phi_iso_6_spot_weight(k_2, co_3, cos_inner);
+        const float _e64 = airlight_phi_iso_6_spot_weight(k_4, co_3, cos_inner);
         scale = (point_ ? 1.0 : _e64);
         float _e68 = scale;
-        const float _e72 = airlight_phi_iso_6_scaled(sigma_s_2.x, (intensity_2 * _e68), 1.0, airlight_phi_iso_6_HUGE);
+        const float _e72 = airlight_phi_iso_6_scaled(sigma_s_3.x, (intensity_3 * _e68), 1.0, airlight_phi_iso_6_HUGE);
         float _e74 = scale;
-        const float _e78 = airlight_phi_iso_6_scaled(sigma_s_2.y, (intensity_2 * _e74), 1.0, airlight_phi_iso_6_HUGE);
+        const float _e78 = airlight_phi_iso_6_scaled(sigma_s_3.y, (intensity_3 * _e74), 1.0, airlight_phi_iso_6_HUGE);
         float _e80 = scale;
-        const float _e84 = airlight_phi_iso_6_scaled(sigma_s_2.z, (intensity_2 * _e80), 1.0, airlight_phi_iso_6_HUGE);
+        const float _e84 = airlight_phi_iso_6_scaled(sigma_s_3.z, (intensity_3 * _e80), 1.0, airlight_phi_iso_6_HUGE);
         return float3(_e72, _e78, _e84);
     }
     if ((_e10.y <= 0.0)) {
@@ -1169,17 +1199,17 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     if (_e95) {
         return (0.0).xxx;
     }
-    float d_4 = _e10.x;
+    float d_5 = _e10.x;
     float h_6 = _e10.y;
     float x0_7 = _e10.z;
     if ((surface_1 >= 0.0)) {
-        local_17 = ((surface_1 / d_4) < airlight_phi_iso_6_RHO_OPEN);
+        local_17 = ((surface_1 / d_5) < airlight_phi_iso_6_RHO_OPEN);
     } else {
         local_17 = false;
     }
     bool has_end = local_17;
-    float rho_8 = (has_end ? (surface_1 / d_4) : -1.0);
-    float3 tau_6 = min(max((sigma_t_1 * d_4), (0.0).xxx), (10000.0).xxx);
+    float rho_8 = (has_end ? (surface_1 / d_5) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_5), (0.0).xxx), (10000.0).xxx);
     const float _e140 = airlight_phi_iso_6_arctan2_(h_6, x0_7);
     if (!(point_)) {
         local_18 = (h_6 <= 0.0);
@@ -1195,8 +1225,8 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
     bool _e154 = local_19;
     if (_e154) {
         if (!(point_)) {
-            const float _e157 = airlight_phi_iso_6_spot_weight(-(k_2), co_3, cos_inner);
-            const float _e158 = airlight_phi_iso_6_spot_weight(k_2, co_3, cos_inner);
+            const float _e157 = airlight_phi_iso_6_spot_weight(-(k_4), co_3, cos_inner);
+            const float _e158 = airlight_phi_iso_6_spot_weight(k_4, co_3, cos_inner);
             if (has_end) {
                 local_20 = (rho_8 < 1.0);
             } else {
@@ -1216,9 +1246,9 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         ca_1 = (dot(cr, cross(_e177, _e178)) / max(length(cr), 1e-30));
         float _e185 = ca_1;
         float _e186 = ca_1;
-        float r_4 = sqrt(((_e185 * _e186) + (k_2 * k_2)));
+        float r_4 = sqrt(((_e185 * _e186) + (k_4 * k_4)));
         float _e191 = ca_1;
-        const float _e192 = airlight_phi_iso_6_arctan2_(k_2, _e191);
+        const float _e192 = airlight_phi_iso_6_arctan2_(k_4, _e191);
         gam_2 = _e140;
         const float _e195 = airlight_phi_iso_6_arctan2_(h_6, (x0_7 - rho_8));
         om_e_1 = (has_end ? _e195 : airlight_phi_iso_6_PI);
@@ -1264,8 +1294,8 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_phi_iso_6_spot_core(tau_6, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
-        a_5 = _e248;
+        const float3 _e248 = airlight_phi_iso_6_spot_core(tau_9, h_6, x0_7, rho_8, _e243, _e244, _e245, _e246, _e247, 0.0);
+        a_7 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
     bool loop_init_1 = true;
@@ -1288,24 +1318,24 @@ float3 airlight_phi_iso_6_spot(float3 origin_2, float3 dir_2, float surface_1, f
             int _e258 = j_1;
             float2 piece = ((_e258 == int(1)) ? _e256.zw : _e254.xy);
             if ((piece.y > piece.x)) {
-                float3 _e265 = a_5;
+                float3 _e265 = a_7;
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_phi_iso_6_spot_edge(tau_6, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_2, co_3, cos_inner, 0.0);
-                a_5 = (_e265 + _e271);
+                const float3 _e271 = airlight_phi_iso_6_spot_edge(tau_9, h_6, x0_7, rho_8, _e266, _e267, piece.x, piece.y, _e270, k_4, co_3, cos_inner, 0.0);
+                a_7 = (_e265 + _e271);
             }
         }
     }
     float _e277 = scale;
-    float _e280 = a_5.x;
-    const float _e281 = airlight_phi_iso_6_scaled(sigma_s_2.x, (intensity_2 * _e277), d_4, _e280);
+    float _e280 = a_7.x;
+    const float _e281 = airlight_phi_iso_6_scaled(sigma_s_3.x, (intensity_3 * _e277), d_5, _e280);
     float _e283 = scale;
-    float _e286 = a_5.y;
-    const float _e287 = airlight_phi_iso_6_scaled(sigma_s_2.y, (intensity_2 * _e283), d_4, _e286);
+    float _e286 = a_7.y;
+    const float _e287 = airlight_phi_iso_6_scaled(sigma_s_3.y, (intensity_3 * _e283), d_5, _e286);
     float _e289 = scale;
-    float _e292 = a_5.z;
-    const float _e293 = airlight_phi_iso_6_scaled(sigma_s_2.z, (intensity_2 * _e289), d_4, _e292);
+    float _e292 = a_7.z;
+    const float _e293 = airlight_phi_iso_6_scaled(sigma_s_3.z, (intensity_3 * _e289), d_5, _e292);
     return float3(_e281, _e287, _e293);
 }
 
@@ -1409,21 +1439,21 @@ float3 airlight_phi_iso_6_shafts_step(inout airlight_phi_iso_6_Shafts acc_5, flo
     return _e3;
 }
 
-float4 airlight_phi_iso_6_shafts_moved(float a_6, float b_3, float3 origin_3, float3 dir_3)
+float4 airlight_phi_iso_6_shafts_moved(float a_8, float b_3, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_phi_iso_6_max_abs(dir_3);
     float3 u_3 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_6 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_6), 0.0) : -1.0));
+    return float4((origin_3 + (a_8 * (u_3 / (length(u_3)).xxx))), ((b_3 >= 0.0) ? max((b_3 - a_8), 0.0) : -1.0));
 }
 
-float airlight_phi_iso_6_shafts_run(float a_7, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_3, float sigma_t_2, float sigma_s_3)
+float airlight_phi_iso_6_shafts_run(float a_9, float b_4, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4)
 {
     bool local_22 = (bool)0;
     bool local_23 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_4 >= 0.0)) {
-            local_23 = (b_4 <= a_7);
+            local_23 = (b_4 <= a_9);
         } else {
             local_23 = false;
         }
@@ -1436,17 +1466,17 @@ float airlight_phi_iso_6_shafts_run(float a_7, float b_4, float w_1, float3 orig
     if (_e23) {
         return 0.0;
     }
-    const float4 _e25 = airlight_phi_iso_6_shafts_moved(a_7, b_4, origin_4, dir_4);
+    const float4 _e25 = airlight_phi_iso_6_shafts_moved(a_9, b_4, origin_4, dir_4);
     float3 o = _e25.xyz;
     float len_1 = _e25.w;
-    const float _e28 = airlight_phi_iso_6_radiance(o, dir_4, len_1, light_3, intensity_3, sigma_t_2, sigma_s_3);
+    const float _e28 = airlight_phi_iso_6_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if ((_e28 >= airlight_phi_iso_6_HUGE)) {
         return _e28;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_7))) * _e28);
+    return ((w_1 * exp((-(sigma_t_2) * a_9))) * _e28);
 }
 
-void airlight_phi_iso_6_shafts_flush(inout airlight_phi_iso_6_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4)
+void airlight_phi_iso_6_shafts_flush(inout airlight_phi_iso_6_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
 {
     uint j_2 = 0u;
 
@@ -1470,7 +1500,7 @@ void airlight_phi_iso_6_shafts_flush(inout airlight_phi_iso_6_Shafts acc_6, floa
             uint _e14 = j_2;
             float3 r_5 = acc_6.runs[min(uint(_e14), 31u)];
             float _e21 = acc_6.sum.x;
-            const float _e25 = airlight_phi_iso_6_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_4, sigma_t_3, sigma_s_4);
+            const float _e25 = airlight_phi_iso_6_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
             acc_6.sum.x = min((_e21 + _e25), airlight_phi_iso_6_HUGE);
         }
     }
@@ -1478,44 +1508,44 @@ void airlight_phi_iso_6_shafts_flush(inout airlight_phi_iso_6_Shafts acc_6, floa
     return;
 }
 
-void airlight_phi_iso_6_shafts_push(inout airlight_phi_iso_6_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5)
+void airlight_phi_iso_6_shafts_push(inout airlight_phi_iso_6_Shafts acc_7, float s_3, float v_6, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
 {
     const float3 _e9 = airlight_phi_iso_6_shafts_step(acc_7, s_3, v_6);
     airlight_phi_iso_6_shafts_hold(acc_7, _e9);
     uint _e11 = acc_7.count;
     if ((_e11 == airlight_phi_iso_6_SHAFTS_RUNS)) {
-        airlight_phi_iso_6_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_5, sigma_t_4, sigma_s_5);
+        airlight_phi_iso_6_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6);
         return;
     } else {
         return;
     }
 }
 
-float airlight_phi_iso_6_shafts_finish(airlight_phi_iso_6_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6)
+float airlight_phi_iso_6_shafts_finish(airlight_phi_iso_6_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7)
 {
     airlight_phi_iso_6_Shafts acc_8 = (airlight_phi_iso_6_Shafts)0;
 
     acc_8 = acc_in;
     const float3 _e9 = airlight_phi_iso_6_shafts_place(acc_8);
     airlight_phi_iso_6_shafts_hold(acc_8, _e9);
-    airlight_phi_iso_6_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    airlight_phi_iso_6_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     float _e11 = acc_8.v;
     float _e13 = acc_8.v;
     float w_3 = ((_e13 < 0.0) ? 1.0 : _e11);
     float _e20 = acc_8.sum.x;
     float _e22 = acc_8.start;
-    const float _e23 = airlight_phi_iso_6_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_6, sigma_t_5, sigma_s_6);
+    const float _e23 = airlight_phi_iso_6_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return min((_e20 + _e23), airlight_phi_iso_6_HUGE);
 }
 
-float3 airlight_phi_iso_6_shafts_run_spot(float a_8, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_7, float3 sigma_t_6, float3 sigma_s_7)
+float3 airlight_phi_iso_6_shafts_run_spot(float a_10, float b_5, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_25 = (b_5 <= a_8);
+            local_25 = (b_5 <= a_10);
         } else {
             local_25 = false;
         }
@@ -1528,14 +1558,14 @@ float3 airlight_phi_iso_6_shafts_run_spot(float a_8, float b_5, float w_2, float
     if (_e26) {
         return (0.0).xxx;
     }
-    const float4 _e29 = airlight_phi_iso_6_shafts_moved(a_8, b_5, origin_8, dir_8);
+    const float4 _e29 = airlight_phi_iso_6_shafts_moved(a_10, b_5, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
     float len_2 = _e29.w;
-    const float3 _e32 = airlight_phi_iso_6_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_7, sigma_t_6, sigma_s_7);
-    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_8))) * _e32));
+    const float3 _e32 = airlight_phi_iso_6_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_10))) * _e32));
 }
 
-void airlight_phi_iso_6_shafts_flush_spot(inout airlight_phi_iso_6_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8)
+void airlight_phi_iso_6_shafts_flush_spot(inout airlight_phi_iso_6_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
 {
     uint j_3 = 0u;
 
@@ -1559,7 +1589,7 @@ void airlight_phi_iso_6_shafts_flush_spot(inout airlight_phi_iso_6_Shafts acc_9,
             uint _e17 = j_3;
             float3 r_6 = acc_9.runs[min(uint(_e17), 31u)];
             float3 _e22 = acc_9.sum;
-            const float3 _e26 = airlight_phi_iso_6_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_8, sigma_t_7, sigma_s_8);
+            const float3 _e26 = airlight_phi_iso_6_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
             acc_9.sum = min((_e22 + _e26), (3.4028235e38).xxx);
         }
     }
@@ -1567,33 +1597,33 @@ void airlight_phi_iso_6_shafts_flush_spot(inout airlight_phi_iso_6_Shafts acc_9,
     return;
 }
 
-void airlight_phi_iso_6_shafts_push_spot(inout airlight_phi_iso_6_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9)
+void airlight_phi_iso_6_shafts_push_spot(inout airlight_phi_iso_6_Shafts acc_10, float s_4, float v_7, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
 {
     const float3 _e12 = airlight_phi_iso_6_shafts_step(acc_10, s_4, v_7);
     airlight_phi_iso_6_shafts_hold(acc_10, _e12);
     uint _e14 = acc_10.count;
     if ((_e14 == airlight_phi_iso_6_SHAFTS_RUNS)) {
-        airlight_phi_iso_6_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_9, sigma_t_8, sigma_s_9);
+        airlight_phi_iso_6_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_phi_iso_6_shafts_finish_spot(airlight_phi_iso_6_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_10, float3 sigma_t_9, float3 sigma_s_10)
+float3 airlight_phi_iso_6_shafts_finish_spot(airlight_phi_iso_6_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11)
 {
     airlight_phi_iso_6_Shafts acc_11 = (airlight_phi_iso_6_Shafts)0;
 
     acc_11 = acc_in_1;
     const float3 _e12 = airlight_phi_iso_6_shafts_place(acc_11);
     airlight_phi_iso_6_shafts_hold(acc_11, _e12);
-    airlight_phi_iso_6_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    airlight_phi_iso_6_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     float _e14 = acc_11.v;
     float _e16 = acc_11.v;
     float w_4 = ((_e16 < 0.0) ? 1.0 : _e14);
     float3 _e22 = acc_11.sum;
     float _e24 = acc_11.start;
-    const float3 _e25 = airlight_phi_iso_6_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_10, sigma_t_9, sigma_s_10);
+    const float3 _e25 = airlight_phi_iso_6_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 
