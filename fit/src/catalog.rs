@@ -566,7 +566,7 @@ pub fn measure_within(model: &dyn Model, v: &Validation, project: &(dyn Fn(Point
         for _ in 0..POLISH_ROUNDS {
             scale *= 0.25;
             let (found, e) = refine(model, v.domain, v.g_range, project, worst, scale);
-            if !(e > max) {
+            if e.is_nan() || e <= max {
                 break;
             }
             (max, worst) = (e, found);

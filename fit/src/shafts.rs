@@ -196,7 +196,7 @@ fn ball_crossings(center: Vec3, radius: f64, o: Vec3, d: Vec3) -> Option<(f64, f
     let b = dot(w, d);
     let nw = norm(w);
     let disc = b * b - (nw - r) * (nw + r);
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return None;
     }
     let q = -(b + b.signum() * disc.sqrt());
@@ -247,7 +247,7 @@ fn ball_blocks(center: Vec3, radius: f64, x: Vec3, light: Vec3) -> bool {
 fn tangent_cone_cuts(center: Vec3, radius: f64, o: Vec3, d: Vec3, light: Vec3, out: &mut Vec<f64>) {
     let u = sub(center, light);
     let du = norm(u);
-    if !(du >= radius) {
+    if du.is_nan() || du < radius {
         return; // the light is inside: the ball's own surface bounds the shadow
     }
     let ku = binade(du);
@@ -262,7 +262,7 @@ fn tangent_cone_cuts(center: Vec3, radius: f64, o: Vec3, d: Vec3, light: Vec3, o
     let b = c * dot(x0, x1) - s * y0 * y1;
     let cc = c * dot(x0, x0) - s * y0 * y0;
     let disc = b * b - a * cc;
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         if a != 0.0 {
             out.push(ldexp(-b / a, kw));
         }

@@ -600,13 +600,16 @@ pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCa
     Ok(cases)
 }
 
+/// One kept shadowed ray: `(origin, direction, light, σt, intensity, (centre, radius))`.
+pub type KeptShadowed = ([f32; 3], [f32; 3], [f32; 3], f32, f32, ([f64; 3], f64));
+
 /// Shadowed rays kept from issue 37's probe, where the exact lit intervals were
 /// once wrong: `(origin, direction, light, σt, intensity, ball)`, σs = σt, no
 /// surface. A light on a ball's surface (its tangent plane is the shadow's edge),
 /// balls 1e-9 and 1e-10 of their distance across (thin shadow cones the
 /// ray runs along for a thousand units), a ball 2e200 across holding the viewer and
 /// one 1e-300 across holding the light (the radius squared overflows and underflows).
-pub const KEPT_SHADOWED: [([f32; 3], [f32; 3], [f32; 3], f32, f32, ([f64; 3], f64)); 7] = [
+pub const KEPT_SHADOWED: [KeptShadowed; 7] = [
     ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 1.0, ([1.0, 0.0, 0.0], 1.0)),
     ([-1.0, 5.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3], 0.1, 1.0, ([3.0, 0.0, 4.0], 5.0)),
     ([-1.0, 5.0, 0.0], [1.0, 0.2, 0.1], [0.0; 3], 0.8, 1.0, ([-3.0, 0.0, -4.0], 5.0)),

@@ -384,7 +384,7 @@ const LN2_LO: f32 = 1.428_606_8e-6;
 /// flush subnormals) where the products it enters are normal numbers.
 pub fn exp_neg_parts(tau: f32) -> (f32, i32) {
     // Truncation is the floor here (the argument is clamped to [0, 250] first).
-    let k = (tau * core::f32::consts::LOG2_E).max(0.0).min(250.0) as i32;
+    let k = (tau * core::f32::consts::LOG2_E).clamp(0.0, 250.0) as i32;
     let kf = k as f32;
     (exp(-((tau - kf * LN2_HI) - kf * LN2_LO)), k)
 }
