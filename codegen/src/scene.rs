@@ -625,8 +625,10 @@ mod tests {
     #[test]
     fn example_scenes_get_the_cheapest_model_meeting_their_budget() {
         let models = models();
+        // Counted calls rank here (no bench). fog-street's 2% budget is below
+        // lite-iso-2's declared 2.5e-2 (its searched 2.0e-2 with the 25% margin).
         for (file, want) in
-            [("fog-street.toml", "lite-iso-2"), ("smoke-room.toml", "lite-iso-3"), ("harbour-fog.toml", "lite-iso-2")]
+            [("fog-street.toml", "lite-iso-3"), ("smoke-room.toml", "lite-iso-3"), ("harbour-fog.toml", "lite-iso-2")]
         {
             let s = scene(file);
             let p = plan(&s, &models, None).unwrap();
@@ -654,7 +656,7 @@ mod tests {
         let far = text.replacen("max_distance = 150.0", "max_distance = 1e300", 1);
         let e = plan(&parse("s.toml", &far).unwrap(), &models, None).unwrap_err().to_string();
         assert!(e.contains("τ = σt·D = ") && e.len() < 200 && !e.contains("0000000000"), "{e}");
-        let wide = text.replacen("g = 0.8", "g = 0.995", 1);
+        let wide = text.replacen("\ng = 0.8\n", "\ng = 0.995\n", 1);
         let e = plan(&parse("s.toml", &wide).unwrap(), &models, None).unwrap_err().to_string();
         assert!(e.contains("no model covers g = 0.995") && e.contains("[-0.99, 0.99]"), "{e}");
     }
