@@ -765,9 +765,9 @@ vec3 airlight_paper_refit_spot(vec3 origin, vec3 dir, float surface, vec3 light,
 // integrals; dark runs cost nothing; the error is the family's bound times the
 // unshadowed value (docs/MATH.md section 8). A push never evaluates the kernel:
 // closed lit runs wait in a buffer of 32 and are all evaluated by finish, so that
-// the lanes of a wave evaluate the kernel together; the push that fills the
-// buffer evaluates it and empties it, so no run is ever merged or dropped (see
-// the WGSL).
+// the lanes of a wave evaluate the kernel together; past 32 lit runs, call
+// shafts_flush when shafts_full (exact), or each further run is merged into the
+// last held one and counted by shafts_merged (see the WGSL).
 //
 // Use:
 //   airlight_paper_refit_Shafts acc = airlight_paper_refit_shafts_begin();
@@ -778,6 +778,8 @@ vec3 airlight_paper_refit_spot(vec3 origin, vec3 dir, float surface, vec3 light,
 //       for (int k = 0; k < 4 && airlight_paper_refit_shafts_probe(acc) >= 0.0; k++) {
 //           airlight_paper_refit_shafts_refine(acc, my_visibility(airlight_paper_refit_shafts_probe(acc)));
 //       }
+//       // optional, past 32 lit runs: exact instead of merged
+//       if (airlight_paper_refit_shafts_full(acc)) { airlight_paper_refit_shafts_flush(acc, <the same arguments>); }
 //   }
 //   float l = airlight_paper_refit_shafts_finish(acc, surface, <the same arguments>);  // surface < 0: open ray
 // The spot entry: airlight_paper_refit_shafts_push_spot and airlight_paper_refit_shafts_finish_spot (RGB).
@@ -801,6 +803,8 @@ struct airlight_paper_refit_Shafts {
     // Closed lit runs not yet evaluated (start, end, visibility), for finish.
     vec3 runs[32];
     uint count;
+    // Runs merged into the last held one (the buffer was full and not flushed).
+    uint merged;
 };
 
 airlight_paper_refit_Shafts airlight_paper_refit_shafts_begin() {
@@ -819,17 +823,36 @@ airlight_paper_refit_Shafts airlight_paper_refit_shafts_begin() {
         acc.runs[i] = vec3(0.0);
     }
     acc.count = 0u;
+    acc.merged = 0u;
     return acc;
 }
 
-// Holds a closed run. The pushes keep a free place (they flush a full buffer).
+// Holds a closed run; past the buffer, merges it into the last held run and counts it.
 void airlight_paper_refit_shafts_hold(inout airlight_paper_refit_Shafts acc, vec3 run) {
-    if (!(run.z > 0.0) || acc.count >= 32u) {
+    if (!(run.z > 0.0)) {
         return;
     }
-    acc.runs[acc.count] = run;
-    acc.count += 1u;
-    acc.calls += 1u;
+    if (acc.count < 32u) {
+        acc.runs[acc.count] = run;
+        acc.count += 1u;
+        acc.calls += 1u;
+        return;
+    }
+    vec3 last = acc.runs[31];
+    float len = run.y - last.x;
+    float w = len > 0.0 ? (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len : last.z;
+    acc.runs[31] = vec3(last.x, run.y, w);
+    acc.merged += 1u;
+}
+
+// Whether the buffer of closed lit runs is full: flush now to keep the sum exact.
+bool airlight_paper_refit_shafts_full(airlight_paper_refit_Shafts acc) {
+    return acc.count >= 32u;
+}
+
+// Lit runs merged so far because the buffer was full and not flushed (0: exact).
+uint airlight_paper_refit_shafts_merged(airlight_paper_refit_Shafts acc) {
+    return acc.merged;
 }
 
 // Where to look visibility up to halve the pending change's bracket; negative
@@ -919,9 +942,6 @@ void airlight_paper_refit_shafts_push(inout airlight_paper_refit_Shafts acc, flo
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_paper_refit_shafts_step(acc, s, v);
     airlight_paper_refit_shafts_hold(acc, run);
-    if (acc.count == 32u) {
-        airlight_paper_refit_shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s);
-    }
 }
 
 // The shadowed in-scattering of airlight_paper_refit_radiance's ray to the surface at `end`
@@ -960,9 +980,6 @@ void airlight_paper_refit_shafts_push_spot(inout airlight_paper_refit_Shafts acc
     // A temporary: an inout argument is copied in before the others are evaluated.
     vec3 run = airlight_paper_refit_shafts_step(acc, s, v);
     airlight_paper_refit_shafts_hold(acc, run);
-    if (acc.count == 32u) {
-        airlight_paper_refit_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-    }
 }
 
 // airlight_paper_refit_shafts_finish for airlight_paper_refit_spot's ray, cone and RGB medium.

@@ -606,6 +606,21 @@ float airlight_raymarch_128_shafts_probe(airlight_raymarch_128_Shafts acc) {
 void airlight_raymarch_128_shafts_refine(inout airlight_raymarch_128_Shafts acc, float v) {
 }
 
+// The march holds no runs: never full, nothing merged, nothing to flush.
+bool airlight_raymarch_128_shafts_full(airlight_raymarch_128_Shafts acc) {
+    return false;
+}
+
+uint airlight_raymarch_128_shafts_merged(airlight_raymarch_128_Shafts acc) {
+    return 0u;
+}
+
+void airlight_raymarch_128_shafts_flush(inout airlight_raymarch_128_Shafts acc, vec3 origin, vec3 dir, vec3 light, float intensity, float sigma_t, float sigma_s, float g) {
+}
+
+void airlight_raymarch_128_shafts_flush_spot(inout airlight_raymarch_128_Shafts acc, vec3 origin, vec3 dir, vec3 light, vec3 axis, float cos_outer, float cos_inner, float intensity, vec3 sigma_t, vec3 sigma_s, float g) {
+}
+
 // The step around s: from where the last one ended to as far past s.
 float airlight_raymarch_128_shafts_step(inout airlight_raymarch_128_Shafts acc, float s) {
     float step = max(2.0 * (s - acc.end), 0.0);

@@ -23,9 +23,9 @@ struct airlight_sun2005_512_Shafts {
     float3 runs[32];
     int _pad11_0;
     uint count;
+    uint merged;
     int _end_pad_0;
     int _end_pad_1;
-    int _end_pad_2;
 };
 
 airlight_sun2005_512_frexp_result_f32_ airlight_sun2005_512_naga_frexp(float arg) {
@@ -1015,46 +1015,57 @@ airlight_sun2005_512_Shafts airlight_sun2005_512_shafts_begin()
 
 void airlight_sun2005_512_shafts_hold(inout airlight_sun2005_512_Shafts acc_1, float3 run)
 {
-    bool local_17 = (bool)0;
-
-    if (!(!((run.z > 0.0)))) {
-        uint _e10 = acc_1.count;
-        local_17 = (_e10 >= airlight_sun2005_512_SHAFTS_RUNS);
-    } else {
-        local_17 = true;
-    }
-    bool _e14 = local_17;
-    if (_e14) {
+    if (!((run.z > 0.0))) {
         return;
     }
-    uint _e17 = acc_1.count;
-    acc_1.runs[min(uint(_e17), 31u)] = run;
-    uint _e20 = acc_1.count;
-    acc_1.count = (_e20 + 1u);
-    uint _e24 = acc_1.calls;
-    acc_1.calls = (_e24 + 1u);
+    uint _e7 = acc_1.count;
+    if ((_e7 < airlight_sun2005_512_SHAFTS_RUNS)) {
+        uint _e12 = acc_1.count;
+        acc_1.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc_1.count;
+        acc_1.count = (_e15 + 1u);
+        uint _e19 = acc_1.calls;
+        acc_1.calls = (_e19 + 1u);
+        return;
+    }
+    float3 last = acc_1.runs[31];
+    float len = (run.y - last.x);
+    float w_3 = ((len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z);
+    acc_1.runs[31] = float3(last.x, run.y, w_3);
+    uint _e50 = acc_1.merged;
+    acc_1.merged = (_e50 + 1u);
     return;
 }
 
-float airlight_sun2005_512_shafts_probe(airlight_sun2005_512_Shafts acc_2)
+bool airlight_sun2005_512_shafts_full(airlight_sun2005_512_Shafts acc_2)
 {
-    return (acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0);
+    return (acc_2.count >= airlight_sun2005_512_SHAFTS_RUNS);
 }
 
-void airlight_sun2005_512_shafts_refine(inout airlight_sun2005_512_Shafts acc_3, float v_2)
+uint airlight_sun2005_512_shafts_merged(airlight_sun2005_512_Shafts acc_3)
 {
-    bool _e3 = acc_3.pending;
+    return acc_3.merged;
+}
+
+float airlight_sun2005_512_shafts_probe(airlight_sun2005_512_Shafts acc_4)
+{
+    return (acc_4.pending ? (0.5 * (acc_4.lo + acc_4.hi)) : -1.0);
+}
+
+void airlight_sun2005_512_shafts_refine(inout airlight_sun2005_512_Shafts acc_5, float v_2)
+{
+    bool _e3 = acc_5.pending;
     if (_e3) {
-        float _e5 = acc_3.lo;
-        float _e7 = acc_3.hi;
+        float _e5 = acc_5.lo;
+        float _e7 = acc_5.hi;
         float m_1 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_3.before;
-        float _e16 = acc_3.after;
+        float _e12 = acc_5.before;
+        float _e16 = acc_5.after;
         if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
-            acc_3.lo = m_1;
+            acc_5.lo = m_1;
             return;
         } else {
-            acc_3.hi = m_1;
+            acc_5.hi = m_1;
             return;
         }
     } else {
@@ -1062,44 +1073,44 @@ void airlight_sun2005_512_shafts_refine(inout airlight_sun2005_512_Shafts acc_3,
     }
 }
 
-float3 airlight_sun2005_512_shafts_place(inout airlight_sun2005_512_Shafts acc_4)
+float3 airlight_sun2005_512_shafts_place(inout airlight_sun2005_512_Shafts acc_6)
 {
-    bool _e2 = acc_4.pending;
+    bool _e2 = acc_6.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_4.pending = false;
-    float _e9 = acc_4.lo;
-    float _e11 = acc_4.hi;
+    acc_6.pending = false;
+    float _e9 = acc_6.lo;
+    float _e11 = acc_6.hi;
     float m_2 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_4.start;
-    float _e18 = acc_4.before;
+    float _e16 = acc_6.start;
+    float _e18 = acc_6.before;
     float3 run_1 = float3(_e16, m_2, _e18);
-    acc_4.start = m_2;
-    float _e23 = acc_4.after;
-    acc_4.v = _e23;
+    acc_6.start = m_2;
+    float _e23 = acc_6.after;
+    acc_6.v = _e23;
     return run_1;
 }
 
-float3 airlight_sun2005_512_shafts_step(inout airlight_sun2005_512_Shafts acc_5, float s, float v_3)
+float3 airlight_sun2005_512_shafts_step(inout airlight_sun2005_512_Shafts acc_7, float s, float v_3)
 {
-    const float3 _e3 = airlight_sun2005_512_shafts_place(acc_5);
-    float _e5 = acc_5.v;
+    const float3 _e3 = airlight_sun2005_512_shafts_place(acc_7);
+    float _e5 = acc_7.v;
     if ((_e5 < 0.0)) {
-        acc_5.v = v_3;
+        acc_7.v = v_3;
     } else {
-        float _e10 = acc_5.v;
+        float _e10 = acc_7.v;
         if ((v_3 != _e10)) {
-            acc_5.pending = true;
-            float _e16 = acc_5.s;
-            acc_5.lo = _e16;
-            acc_5.hi = s;
-            float _e20 = acc_5.v;
-            acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_7.pending = true;
+            float _e16 = acc_7.s;
+            acc_7.lo = _e16;
+            acc_7.hi = s;
+            float _e20 = acc_7.v;
+            acc_7.before = _e20;
+            acc_7.after = v_3;
         }
     }
-    acc_5.s = s;
+    acc_7.s = s;
     return _e3;
 }
 
@@ -1112,35 +1123,35 @@ float4 airlight_sun2005_512_shafts_moved(float a_9, float b_4, float3 origin_3, 
 
 float airlight_sun2005_512_shafts_run(float a_10, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4)
 {
+    bool local_17 = (bool)0;
     bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
         if ((b_5 >= 0.0)) {
-            local_19 = (b_5 <= a_10);
+            local_18 = (b_5 <= a_10);
         } else {
-            local_19 = false;
+            local_18 = false;
         }
-        bool _e21 = local_19;
-        local_18 = _e21;
+        bool _e21 = local_18;
+        local_17 = _e21;
     } else {
-        local_18 = true;
+        local_17 = true;
     }
-    bool _e23 = local_18;
+    bool _e23 = local_17;
     if (_e23) {
         return 0.0;
     }
     const float4 _e25 = airlight_sun2005_512_shafts_moved(a_10, b_5, origin_4, dir_4);
     float3 o = _e25.xyz;
-    float len = _e25.w;
-    const float _e28 = airlight_sun2005_512_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4);
+    float len_1 = _e25.w;
+    const float _e28 = airlight_sun2005_512_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if ((_e28 >= airlight_sun2005_512_HUGE)) {
         return _e28;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_10))) * _e28);
 }
 
-void airlight_sun2005_512_shafts_flush(inout airlight_sun2005_512_Shafts acc_6, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
+void airlight_sun2005_512_shafts_flush(inout airlight_sun2005_512_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
 {
     uint j_3 = 0u;
 
@@ -1155,81 +1166,75 @@ void airlight_sun2005_512_shafts_flush(inout airlight_sun2005_512_Shafts acc_6, 
         }
         loop_init_2 = false;
         uint _e9 = j_3;
-        uint _e11 = acc_6.count;
+        uint _e11 = acc_8.count;
         if ((_e9 < _e11)) {
         } else {
             break;
         }
         {
             uint _e14 = j_3;
-            float3 r_5 = acc_6.runs[min(uint(_e14), 31u)];
-            float _e21 = acc_6.sum.x;
+            float3 r_5 = acc_8.runs[min(uint(_e14), 31u)];
+            float _e21 = acc_8.sum.x;
             const float _e25 = airlight_sun2005_512_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
-            acc_6.sum.x = min((_e21 + _e25), airlight_sun2005_512_HUGE);
+            acc_8.sum.x = min((_e21 + _e25), airlight_sun2005_512_HUGE);
         }
     }
-    acc_6.count = 0u;
+    acc_8.count = 0u;
     return;
 }
 
-void airlight_sun2005_512_shafts_push(inout airlight_sun2005_512_Shafts acc_7, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
+void airlight_sun2005_512_shafts_push(inout airlight_sun2005_512_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
 {
-    const float3 _e9 = airlight_sun2005_512_shafts_step(acc_7, s_1, v_4);
-    airlight_sun2005_512_shafts_hold(acc_7, _e9);
-    uint _e11 = acc_7.count;
-    if ((_e11 == airlight_sun2005_512_SHAFTS_RUNS)) {
-        airlight_sun2005_512_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6);
-        return;
-    } else {
-        return;
-    }
+    const float3 _e9 = airlight_sun2005_512_shafts_step(acc_9, s_1, v_4);
+    airlight_sun2005_512_shafts_hold(acc_9, _e9);
+    return;
 }
 
 float airlight_sun2005_512_shafts_finish(airlight_sun2005_512_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7)
 {
-    airlight_sun2005_512_Shafts acc_8 = (airlight_sun2005_512_Shafts)0;
+    airlight_sun2005_512_Shafts acc_10 = (airlight_sun2005_512_Shafts)0;
 
-    acc_8 = acc_in;
-    const float3 _e9 = airlight_sun2005_512_shafts_place(acc_8);
-    airlight_sun2005_512_shafts_hold(acc_8, _e9);
-    airlight_sun2005_512_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
-    float _e11 = acc_8.v;
-    float _e13 = acc_8.v;
-    float w_3 = ((_e13 < 0.0) ? 1.0 : _e11);
-    float _e20 = acc_8.sum.x;
-    float _e22 = acc_8.start;
-    const float _e23 = airlight_sun2005_512_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
+    acc_10 = acc_in;
+    const float3 _e9 = airlight_sun2005_512_shafts_place(acc_10);
+    airlight_sun2005_512_shafts_hold(acc_10, _e9);
+    airlight_sun2005_512_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
+    float _e11 = acc_10.v;
+    float _e13 = acc_10.v;
+    float w_4 = ((_e13 < 0.0) ? 1.0 : _e11);
+    float _e20 = acc_10.sum.x;
+    float _e22 = acc_10.start;
+    const float _e23 = airlight_sun2005_512_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return min((_e20 + _e23), airlight_sun2005_512_HUGE);
 }
 
 float3 airlight_sun2005_512_shafts_run_spot(float a_11, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8)
 {
+    bool local_19 = (bool)0;
     bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
         if ((b_6 >= 0.0)) {
-            local_21 = (b_6 <= a_11);
+            local_20 = (b_6 <= a_11);
         } else {
-            local_21 = false;
+            local_20 = false;
         }
-        bool _e24 = local_21;
-        local_20 = _e24;
+        bool _e24 = local_20;
+        local_19 = _e24;
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e26 = local_20;
+    bool _e26 = local_19;
     if (_e26) {
         return (0.0).xxx;
     }
     const float4 _e29 = airlight_sun2005_512_shafts_moved(a_11, b_6, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
-    float len_1 = _e29.w;
-    const float3 _e32 = airlight_sun2005_512_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
+    float len_2 = _e29.w;
+    const float3 _e32 = airlight_sun2005_512_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
     return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_11))) * _e32));
 }
 
-void airlight_sun2005_512_shafts_flush_spot(inout airlight_sun2005_512_Shafts acc_9, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
+void airlight_sun2005_512_shafts_flush_spot(inout airlight_sun2005_512_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
 {
     uint j_4 = 0u;
 
@@ -1244,50 +1249,44 @@ void airlight_sun2005_512_shafts_flush_spot(inout airlight_sun2005_512_Shafts ac
         }
         loop_init_3 = false;
         uint _e12 = j_4;
-        uint _e14 = acc_9.count;
+        uint _e14 = acc_11.count;
         if ((_e12 < _e14)) {
         } else {
             break;
         }
         {
             uint _e17 = j_4;
-            float3 r_6 = acc_9.runs[min(uint(_e17), 31u)];
-            float3 _e22 = acc_9.sum;
+            float3 r_6 = acc_11.runs[min(uint(_e17), 31u)];
+            float3 _e22 = acc_11.sum;
             const float3 _e26 = airlight_sun2005_512_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
-            acc_9.sum = min((_e22 + _e26), (3.4028235e38).xxx);
+            acc_11.sum = min((_e22 + _e26), (3.4028235e38).xxx);
         }
     }
-    acc_9.count = 0u;
+    acc_11.count = 0u;
     return;
 }
 
-void airlight_sun2005_512_shafts_push_spot(inout airlight_sun2005_512_Shafts acc_10, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
+void airlight_sun2005_512_shafts_push_spot(inout airlight_sun2005_512_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
 {
-    const float3 _e12 = airlight_sun2005_512_shafts_step(acc_10, s_2, v_5);
-    airlight_sun2005_512_shafts_hold(acc_10, _e12);
-    uint _e14 = acc_10.count;
-    if ((_e14 == airlight_sun2005_512_SHAFTS_RUNS)) {
-        airlight_sun2005_512_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10);
-        return;
-    } else {
-        return;
-    }
+    const float3 _e12 = airlight_sun2005_512_shafts_step(acc_12, s_2, v_5);
+    airlight_sun2005_512_shafts_hold(acc_12, _e12);
+    return;
 }
 
 float3 airlight_sun2005_512_shafts_finish_spot(airlight_sun2005_512_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11)
 {
-    airlight_sun2005_512_Shafts acc_11 = (airlight_sun2005_512_Shafts)0;
+    airlight_sun2005_512_Shafts acc_13 = (airlight_sun2005_512_Shafts)0;
 
-    acc_11 = acc_in_1;
-    const float3 _e12 = airlight_sun2005_512_shafts_place(acc_11);
-    airlight_sun2005_512_shafts_hold(acc_11, _e12);
-    airlight_sun2005_512_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
-    float _e14 = acc_11.v;
-    float _e16 = acc_11.v;
-    float w_4 = ((_e16 < 0.0) ? 1.0 : _e14);
-    float3 _e22 = acc_11.sum;
-    float _e24 = acc_11.start;
-    const float3 _e25 = airlight_sun2005_512_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
+    acc_13 = acc_in_1;
+    const float3 _e12 = airlight_sun2005_512_shafts_place(acc_13);
+    airlight_sun2005_512_shafts_hold(acc_13, _e12);
+    airlight_sun2005_512_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
+    float _e14 = acc_13.v;
+    float _e16 = acc_13.v;
+    float w_5 = ((_e16 < 0.0) ? 1.0 : _e14);
+    float3 _e22 = acc_13.sum;
+    float _e24 = acc_13.start;
+    const float3 _e25 = airlight_sun2005_512_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
 

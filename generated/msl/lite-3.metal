@@ -37,7 +37,8 @@ struct airlight_lite_3_Shafts {
     uint calls;
     airlight_lite_3_type_9 runs;
     uint count;
-    char _pad12[12];
+    uint merged;
+    char _pad13[8];
 };
 
 airlight_lite_3_frexp_result_f32_ airlight_lite_3_naga_frexp(float arg) {
@@ -1200,48 +1201,62 @@ void airlight_lite_3_shafts_hold(
     thread airlight_lite_3_Shafts& acc_1,
     metal::float3 run
 ) {
-    bool local_17 = {};
-    if (!(!((run.z > 0.0)))) {
-        uint _e10 = acc_1.count;
-        local_17 = _e10 >= airlight_lite_3_SHAFTS_RUNS;
-    } else {
-        local_17 = true;
-    }
-    bool _e14 = local_17;
-    if (_e14) {
+    if (!((run.z > 0.0))) {
         return;
     }
-    uint _e17 = acc_1.count;
-    acc_1.runs.inner[_e17] = run;
-    uint _e20 = acc_1.count;
-    acc_1.count = _e20 + 1u;
-    uint _e24 = acc_1.calls;
-    acc_1.calls = _e24 + 1u;
+    uint _e7 = acc_1.count;
+    if (_e7 < airlight_lite_3_SHAFTS_RUNS) {
+        uint _e12 = acc_1.count;
+        acc_1.runs.inner[_e12] = run;
+        uint _e15 = acc_1.count;
+        acc_1.count = _e15 + 1u;
+        uint _e19 = acc_1.calls;
+        acc_1.calls = _e19 + 1u;
+        return;
+    }
+    metal::float3 last = acc_1.runs.inner[31];
+    float len = run.y - last.x;
+    float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
+    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e50 = acc_1.merged;
+    acc_1.merged = _e50 + 1u;
     return;
 }
 
-float airlight_lite_3_shafts_probe(
+bool airlight_lite_3_shafts_full(
     airlight_lite_3_Shafts acc_2
 ) {
-    return acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0;
+    return acc_2.count >= airlight_lite_3_SHAFTS_RUNS;
+}
+
+uint airlight_lite_3_shafts_merged(
+    airlight_lite_3_Shafts acc_3
+) {
+    return acc_3.merged;
+}
+
+float airlight_lite_3_shafts_probe(
+    airlight_lite_3_Shafts acc_4
+) {
+    return acc_4.pending ? (0.5 * (acc_4.lo + acc_4.hi)) : -1.0;
 }
 
 void airlight_lite_3_shafts_refine(
-    thread airlight_lite_3_Shafts& acc_3,
+    thread airlight_lite_3_Shafts& acc_5,
     float v_3
 ) {
-    bool _e3 = acc_3.pending;
+    bool _e3 = acc_5.pending;
     if (_e3) {
-        float _e5 = acc_3.lo;
-        float _e7 = acc_3.hi;
+        float _e5 = acc_5.lo;
+        float _e7 = acc_5.hi;
         float m_3 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_3.before;
-        float _e16 = acc_3.after;
+        float _e12 = acc_5.before;
+        float _e16 = acc_5.after;
         if (metal::abs(v_3 - _e12) <= metal::abs(v_3 - _e16)) {
-            acc_3.lo = m_3;
+            acc_5.lo = m_3;
             return;
         } else {
-            acc_3.hi = m_3;
+            acc_5.hi = m_3;
             return;
         }
     } else {
@@ -1250,47 +1265,47 @@ void airlight_lite_3_shafts_refine(
 }
 
 metal::float3 airlight_lite_3_shafts_place(
-    thread airlight_lite_3_Shafts& acc_4
+    thread airlight_lite_3_Shafts& acc_6
 ) {
-    bool _e2 = acc_4.pending;
+    bool _e2 = acc_6.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_4.pending = false;
-    float _e9 = acc_4.lo;
-    float _e11 = acc_4.hi;
+    acc_6.pending = false;
+    float _e9 = acc_6.lo;
+    float _e11 = acc_6.hi;
     float m_4 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_4.start;
-    float _e18 = acc_4.before;
+    float _e16 = acc_6.start;
+    float _e18 = acc_6.before;
     metal::float3 run_1 = metal::float3(_e16, m_4, _e18);
-    acc_4.start = m_4;
-    float _e23 = acc_4.after;
-    acc_4.v = _e23;
+    acc_6.start = m_4;
+    float _e23 = acc_6.after;
+    acc_6.v = _e23;
     return run_1;
 }
 
 metal::float3 airlight_lite_3_shafts_step(
-    thread airlight_lite_3_Shafts& acc_5,
+    thread airlight_lite_3_Shafts& acc_7,
     float s,
     float v_4
 ) {
-    metal::float3 _e3 = airlight_lite_3_shafts_place(acc_5);
-    float _e5 = acc_5.v;
+    metal::float3 _e3 = airlight_lite_3_shafts_place(acc_7);
+    float _e5 = acc_7.v;
     if (_e5 < 0.0) {
-        acc_5.v = v_4;
+        acc_7.v = v_4;
     } else {
-        float _e10 = acc_5.v;
+        float _e10 = acc_7.v;
         if (v_4 != _e10) {
-            acc_5.pending = true;
-            float _e16 = acc_5.s;
-            acc_5.lo = _e16;
-            acc_5.hi = s;
-            float _e20 = acc_5.v;
-            acc_5.before = _e20;
-            acc_5.after = v_4;
+            acc_7.pending = true;
+            float _e16 = acc_7.s;
+            acc_7.lo = _e16;
+            acc_7.hi = s;
+            float _e20 = acc_7.v;
+            acc_7.before = _e20;
+            acc_7.after = v_4;
         }
     }
-    acc_5.s = s;
+    acc_7.s = s;
     return _e3;
 }
 
@@ -1317,27 +1332,27 @@ float airlight_lite_3_shafts_run(
     float sigma_s_4,
     float g_7
 ) {
+    bool local_17 = {};
     bool local_18 = {};
-    bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_4 >= 0.0) {
-            local_19 = b_4 <= a_9;
+            local_18 = b_4 <= a_9;
         } else {
-            local_19 = false;
+            local_18 = false;
         }
-        bool _e22 = local_19;
-        local_18 = _e22;
+        bool _e22 = local_18;
+        local_17 = _e22;
     } else {
-        local_18 = true;
+        local_17 = true;
     }
-    bool _e24 = local_18;
+    bool _e24 = local_17;
     if (_e24) {
         return 0.0;
     }
     metal::float4 _e26 = airlight_lite_3_shafts_moved(a_9, b_4, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
-    float len = _e26.w;
-    float _e29 = airlight_lite_3_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
+    float len_1 = _e26.w;
+    float _e29 = airlight_lite_3_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if (_e29 >= airlight_lite_3_HUGE) {
         return _e29;
     }
@@ -1345,7 +1360,7 @@ float airlight_lite_3_shafts_run(
 }
 
 void airlight_lite_3_shafts_flush(
-    thread airlight_lite_3_Shafts& acc_6,
+    thread airlight_lite_3_Shafts& acc_8,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1366,25 +1381,25 @@ void airlight_lite_3_shafts_flush(
         }
         loop_init_2 = false;
         uint _e10 = j_2;
-        uint _e12 = acc_6.count;
+        uint _e12 = acc_8.count;
         if (_e10 < _e12) {
         } else {
             break;
         }
         {
             uint _e15 = j_2;
-            metal::float3 r_6 = acc_6.runs.inner[_e15];
-            float _e22 = acc_6.sum[0];
+            metal::float3 r_6 = acc_8.runs.inner[_e15];
+            float _e22 = acc_8.sum[0];
             float _e26 = airlight_lite_3_shafts_run(r_6.x, r_6.y, r_6.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
-            acc_6.sum[0] = metal::min(_e22 + _e26, airlight_lite_3_HUGE);
+            acc_8.sum[0] = metal::min(_e22 + _e26, airlight_lite_3_HUGE);
         }
     }
-    acc_6.count = 0u;
+    acc_8.count = 0u;
     return;
 }
 
 void airlight_lite_3_shafts_push(
-    thread airlight_lite_3_Shafts& acc_7,
+    thread airlight_lite_3_Shafts& acc_9,
     float s_1,
     float v_5,
     metal::float3 origin_6,
@@ -1395,15 +1410,9 @@ void airlight_lite_3_shafts_push(
     float sigma_s_6,
     float g_9
 ) {
-    metal::float3 _e10 = airlight_lite_3_shafts_step(acc_7, s_1, v_5);
-    airlight_lite_3_shafts_hold(acc_7, _e10);
-    uint _e12 = acc_7.count;
-    if (_e12 == airlight_lite_3_SHAFTS_RUNS) {
-        airlight_lite_3_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, g_9);
-        return;
-    } else {
-        return;
-    }
+    metal::float3 _e10 = airlight_lite_3_shafts_step(acc_9, s_1, v_5);
+    airlight_lite_3_shafts_hold(acc_9, _e10);
+    return;
 }
 
 float airlight_lite_3_shafts_finish(
@@ -1417,17 +1426,17 @@ float airlight_lite_3_shafts_finish(
     float sigma_s_7,
     float g_10
 ) {
-    airlight_lite_3_Shafts acc_8 = {};
-    acc_8 = acc_in;
-    metal::float3 _e10 = airlight_lite_3_shafts_place(acc_8);
-    airlight_lite_3_shafts_hold(acc_8, _e10);
-    airlight_lite_3_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
-    float _e12 = acc_8.v;
-    float _e14 = acc_8.v;
-    float w_3 = (_e14 < 0.0) ? 1.0 : _e12;
-    float _e21 = acc_8.sum[0];
-    float _e23 = acc_8.start;
-    float _e24 = airlight_lite_3_shafts_run(_e23, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
+    airlight_lite_3_Shafts acc_10 = {};
+    acc_10 = acc_in;
+    metal::float3 _e10 = airlight_lite_3_shafts_place(acc_10);
+    airlight_lite_3_shafts_hold(acc_10, _e10);
+    airlight_lite_3_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
+    float _e12 = acc_10.v;
+    float _e14 = acc_10.v;
+    float w_4 = (_e14 < 0.0) ? 1.0 : _e12;
+    float _e21 = acc_10.sum[0];
+    float _e23 = acc_10.start;
+    float _e24 = airlight_lite_3_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return metal::min(_e21 + _e24, airlight_lite_3_HUGE);
 }
 
@@ -1446,32 +1455,32 @@ metal::float3 airlight_lite_3_shafts_run_spot(
     metal::float3 sigma_s_8,
     float g_11
 ) {
+    bool local_19 = {};
     bool local_20 = {};
-    bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_21 = b_5 <= a_10;
+            local_20 = b_5 <= a_10;
         } else {
-            local_21 = false;
+            local_20 = false;
         }
-        bool _e25 = local_21;
-        local_20 = _e25;
+        bool _e25 = local_20;
+        local_19 = _e25;
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e27 = local_20;
+    bool _e27 = local_19;
     if (_e27) {
         return metal::float3(0.0);
     }
     metal::float4 _e30 = airlight_lite_3_shafts_moved(a_10, b_5, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
-    float len_1 = _e30.w;
-    metal::float3 _e33 = airlight_lite_3_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
+    float len_2 = _e30.w;
+    metal::float3 _e33 = airlight_lite_3_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
     return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_10)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_lite_3_shafts_flush_spot(
-    thread airlight_lite_3_Shafts& acc_9,
+    thread airlight_lite_3_Shafts& acc_11,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
@@ -1495,25 +1504,25 @@ void airlight_lite_3_shafts_flush_spot(
         }
         loop_init_3 = false;
         uint _e13 = j_3;
-        uint _e15 = acc_9.count;
+        uint _e15 = acc_11.count;
         if (_e13 < _e15) {
         } else {
             break;
         }
         {
             uint _e18 = j_3;
-            metal::float3 r_7 = acc_9.runs.inner[_e18];
-            metal::float3 _e23 = acc_9.sum;
+            metal::float3 r_7 = acc_11.runs.inner[_e18];
+            metal::float3 _e23 = acc_11.sum;
             metal::float3 _e27 = airlight_lite_3_shafts_run_spot(r_7.x, r_7.y, r_7.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
-            acc_9.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
+            acc_11.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
-    acc_9.count = 0u;
+    acc_11.count = 0u;
     return;
 }
 
 void airlight_lite_3_shafts_push_spot(
-    thread airlight_lite_3_Shafts& acc_10,
+    thread airlight_lite_3_Shafts& acc_12,
     float s_2,
     float v_6,
     metal::float3 origin_10,
@@ -1527,15 +1536,9 @@ void airlight_lite_3_shafts_push_spot(
     metal::float3 sigma_s_10,
     float g_13
 ) {
-    metal::float3 _e13 = airlight_lite_3_shafts_step(acc_10, s_2, v_6);
-    airlight_lite_3_shafts_hold(acc_10, _e13);
-    uint _e15 = acc_10.count;
-    if (_e15 == airlight_lite_3_SHAFTS_RUNS) {
-        airlight_lite_3_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, g_13);
-        return;
-    } else {
-        return;
-    }
+    metal::float3 _e13 = airlight_lite_3_shafts_step(acc_12, s_2, v_6);
+    airlight_lite_3_shafts_hold(acc_12, _e13);
+    return;
 }
 
 metal::float3 airlight_lite_3_shafts_finish_spot(
@@ -1552,17 +1555,17 @@ metal::float3 airlight_lite_3_shafts_finish_spot(
     metal::float3 sigma_s_11,
     float g_14
 ) {
-    airlight_lite_3_Shafts acc_11 = {};
-    acc_11 = acc_in_1;
-    metal::float3 _e13 = airlight_lite_3_shafts_place(acc_11);
-    airlight_lite_3_shafts_hold(acc_11, _e13);
-    airlight_lite_3_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
-    float _e15 = acc_11.v;
-    float _e17 = acc_11.v;
-    float w_4 = (_e17 < 0.0) ? 1.0 : _e15;
-    metal::float3 _e23 = acc_11.sum;
-    float _e25 = acc_11.start;
-    metal::float3 _e26 = airlight_lite_3_shafts_run_spot(_e25, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
+    airlight_lite_3_Shafts acc_13 = {};
+    acc_13 = acc_in_1;
+    metal::float3 _e13 = airlight_lite_3_shafts_place(acc_13);
+    airlight_lite_3_shafts_hold(acc_13, _e13);
+    airlight_lite_3_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
+    float _e15 = acc_13.v;
+    float _e17 = acc_13.v;
+    float w_5 = (_e17 < 0.0) ? 1.0 : _e15;
+    metal::float3 _e23 = acc_13.sum;
+    float _e25 = acc_13.start;
+    metal::float3 _e26 = airlight_lite_3_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_LITE_3_MSL_INCLUDED

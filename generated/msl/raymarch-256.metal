@@ -360,7 +360,7 @@ float airlight_raymarch_256_airlight_geometry(
     float sum = 0.0;
     uint i = 0u;
     float tau_8 = metal::min(metal::max(tau_in, 0.0), airlight_raymarch_256_TAU_MAX);
-    float g_12 = metal::clamp(g_in, -0.999, 0.999);
+    float g_14 = metal::clamp(g_in, -0.999, 0.999);
     if (tau_8 > 0.0046051703) {
         float k_4 = 1.0 + (airlight_raymarch_256_LN_CUTOFF / tau_8);
         len = metal::min(((k_4 - 1.0) * (k_4 + 1.0)) / (2.0 * (k_4 - x0_1)), airlight_raymarch_256_FAR);
@@ -401,7 +401,7 @@ float airlight_raymarch_256_airlight_geometry(
             float om_1 = (x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5);
             float op_1 = (x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5));
             float _e74 = sum;
-            float _e77 = airlight_raymarch_256_hg(g_12, om_1 / t, op_1 / t);
+            float _e77 = airlight_raymarch_256_hg(g_14, om_1 / t, op_1 / t);
             sum = _e74 + ((_e77 * metal::exp(-(tau_8) * (s_8 + t))) / t2_);
         }
     }
@@ -1080,31 +1080,72 @@ void airlight_raymarch_256_shafts_refine(
     return;
 }
 
+bool airlight_raymarch_256_shafts_full(
+    airlight_raymarch_256_Shafts acc_2
+) {
+    return false;
+}
+
+uint airlight_raymarch_256_shafts_merged(
+    airlight_raymarch_256_Shafts acc_3
+) {
+    return 0u;
+}
+
+void airlight_raymarch_256_shafts_flush(
+    thread airlight_raymarch_256_Shafts& acc_4,
+    metal::float3 origin_3,
+    metal::float3 dir_3,
+    metal::float3 light_3,
+    float intensity_4,
+    float sigma_t_2,
+    float sigma_s_4,
+    float g_8
+) {
+    return;
+}
+
+void airlight_raymarch_256_shafts_flush_spot(
+    thread airlight_raymarch_256_Shafts& acc_5,
+    metal::float3 origin_4,
+    metal::float3 dir_4,
+    metal::float3 light_4,
+    metal::float3 axis_1,
+    float cos_outer_1,
+    float cos_inner_1,
+    float intensity_5,
+    metal::float3 sigma_t_3,
+    metal::float3 sigma_s_5,
+    float g_9
+) {
+    return;
+}
+
 float airlight_raymarch_256_shafts_step(
-    thread airlight_raymarch_256_Shafts& acc_2,
+    thread airlight_raymarch_256_Shafts& acc_6,
     float s
 ) {
-    float _e3 = acc_2.end;
+    float _e3 = acc_6.end;
     float step_1 = metal::max(2.0 * (s - _e3), 0.0);
-    float _e10 = acc_2.end;
-    acc_2.end = _e10 + step_1;
+    float _e10 = acc_6.end;
+    acc_6.end = _e10 + step_1;
     return step_1;
 }
 
 metal::float3 airlight_raymarch_256_march_at(
     float s_1,
     float step,
-    metal::float3 sigma_t_2,
-    metal::float3 origin_3,
-    metal::float3 dir_3,
-    metal::float3 light_3,
+    metal::float3 sigma_t_4,
+    metal::float3 origin_5,
+    metal::float3 dir_5,
+    metal::float3 light_5,
     float g_in_1
 ) {
-    metal::float3 _e7 = airlight_raymarch_256_ray_geometry(origin_3, dir_3, light_3);
+    metal::float3 _e7 = airlight_raymarch_256_ray_geometry(origin_5, dir_5, light_5);
     if (!((_e7.x > 0.0))) {
         return metal::float3(340282350000000000000000000000000000000.0);
     }
-    float g_13 = metal::clamp(g_in_1, -0.999, 0.999);
+    float g_15 = metal::clamp(g_in_1, -0.999, 0.999);
     float sc = s_1 / _e7.x;
     float dt_1 = step / _e7.x;
     float x_6 = _e7.z - sc;
@@ -1113,31 +1154,31 @@ metal::float3 airlight_raymarch_256_march_at(
     float t_1 = metal::sqrt(t2_1);
     float om_2 = (x_6 > 0.0) ? (h2_1 / (t_1 + x_6)) : (t_1 - x_6);
     float op_2 = (x_6 > 0.0) ? (t_1 + x_6) : (h2_1 / (t_1 - x_6));
-    float _e45 = airlight_raymarch_256_hg(g_13, om_2 / t_1, op_2 / t_1);
-    metal::float3 tau_10 = metal::min(metal::max(sigma_t_2 * _e7.x, metal::float3(0.0)), metal::float3(10000.0));
+    float _e45 = airlight_raymarch_256_hg(g_15, om_2 / t_1, op_2 / t_1);
+    metal::float3 tau_10 = metal::min(metal::max(sigma_t_4 * _e7.x, metal::float3(0.0)), metal::float3(10000.0));
     return metal::min((((_e45 * metal::exp(-(tau_10) * (sc + t_1))) / metal::float3(t2_1)) * dt_1) / metal::float3(_e7.x), metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_raymarch_256_shafts_push(
-    thread airlight_raymarch_256_Shafts& acc_3,
+    thread airlight_raymarch_256_Shafts& acc_7,
     float s_2,
     float v_3,
-    metal::float3 origin_4,
-    metal::float3 dir_4,
-    metal::float3 light_4,
-    float intensity_4,
-    float sigma_t_3,
-    float sigma_s_4,
-    float g_8
+    metal::float3 origin_6,
+    metal::float3 dir_6,
+    metal::float3 light_6,
+    float intensity_6,
+    float sigma_t_5,
+    float sigma_s_6,
+    float g_10
 ) {
-    float _e10 = airlight_raymarch_256_shafts_step(acc_3, s_2);
+    float _e10 = airlight_raymarch_256_shafts_step(acc_7, s_2);
     if (v_3 > 0.0) {
-        metal::float3 _e14 = airlight_raymarch_256_march_at(s_2, _e10, metal::float3(sigma_t_3), origin_4, dir_4, light_4, g_8);
-        float _e19 = acc_3.sum[0];
-        float _e22 = airlight_raymarch_256_scaled(sigma_s_4, intensity_4, 1.0, _e14.x);
-        acc_3.sum[0] = metal::min(_e19 + (v_3 * _e22), airlight_raymarch_256_HUGE);
-        uint _e28 = acc_3.calls;
-        acc_3.calls = _e28 + 1u;
+        metal::float3 _e14 = airlight_raymarch_256_march_at(s_2, _e10, metal::float3(sigma_t_5), origin_6, dir_6, light_6, g_10);
+        float _e19 = acc_7.sum[0];
+        float _e22 = airlight_raymarch_256_scaled(sigma_s_6, intensity_6, 1.0, _e14.x);
+        acc_7.sum[0] = metal::min(_e19 + (v_3 * _e22), airlight_raymarch_256_HUGE);
+        uint _e28 = acc_7.calls;
+        acc_7.calls = _e28 + 1u;
         return;
     } else {
         return;
@@ -1145,62 +1186,62 @@ void airlight_raymarch_256_shafts_push(
 }
 
 float airlight_raymarch_256_shafts_finish(
-    airlight_raymarch_256_Shafts acc_4,
+    airlight_raymarch_256_Shafts acc_8,
     float end,
-    metal::float3 origin_5,
-    metal::float3 dir_5,
-    metal::float3 light_5,
-    float intensity_5,
-    float sigma_t_4,
-    float sigma_s_5,
-    float g_9
+    metal::float3 origin_7,
+    metal::float3 dir_7,
+    metal::float3 light_7,
+    float intensity_7,
+    float sigma_t_6,
+    float sigma_s_7,
+    float g_11
 ) {
-    return acc_4.sum[0];
+    return acc_8.sum[0];
 }
 
 void airlight_raymarch_256_shafts_push_spot(
-    thread airlight_raymarch_256_Shafts& acc_5,
+    thread airlight_raymarch_256_Shafts& acc_9,
     float s_3,
     float v_4,
-    metal::float3 origin_6,
-    metal::float3 dir_6,
-    metal::float3 light_6,
-    metal::float3 axis_1,
-    float cos_outer_1,
-    float cos_inner_1,
-    float intensity_6,
-    metal::float3 sigma_t_5,
-    metal::float3 sigma_s_6,
-    float g_10
+    metal::float3 origin_8,
+    metal::float3 dir_8,
+    metal::float3 light_8,
+    metal::float3 axis_2,
+    float cos_outer_2,
+    float cos_inner_2,
+    float intensity_8,
+    metal::float3 sigma_t_7,
+    metal::float3 sigma_s_8,
+    float g_12
 ) {
     float w_1 = 1.0;
-    float _e13 = airlight_raymarch_256_shafts_step(acc_5, s_3);
+    float _e13 = airlight_raymarch_256_shafts_step(acc_9, s_3);
     if (v_4 > 0.0) {
-        float _e16 = airlight_raymarch_256_max_abs(dir_6);
-        metal::float3 u_1 = dir_6 / metal::float3(_e16);
-        metal::float3 r_5 = (origin_6 + (s_3 * (u_1 / metal::float3(metal::length(u_1))))) - light_6;
-        if (cos_outer_1 > -1.0) {
-            float _e29 = airlight_raymarch_256_max_abs(axis_1);
-            metal::float3 a_10 = axis_1 / metal::float3(_e29);
+        float _e16 = airlight_raymarch_256_max_abs(dir_8);
+        metal::float3 u_1 = dir_8 / metal::float3(_e16);
+        metal::float3 r_5 = (origin_8 + (s_3 * (u_1 / metal::float3(metal::length(u_1))))) - light_8;
+        if (cos_outer_2 > -1.0) {
+            float _e29 = airlight_raymarch_256_max_abs(axis_2);
+            metal::float3 a_10 = axis_2 / metal::float3(_e29);
             float rr = metal::length(r_5);
-            float _e43 = airlight_raymarch_256_spot_weight((rr > 0.0) ? (metal::dot(r_5, a_10) / (rr * metal::length(a_10))) : 1.0, metal::max(cos_outer_1, 0.0), cos_inner_1);
+            float _e43 = airlight_raymarch_256_spot_weight((rr > 0.0) ? (metal::dot(r_5, a_10) / (rr * metal::length(a_10))) : 1.0, metal::max(cos_outer_2, 0.0), cos_inner_2);
             w_1 = _e43;
         }
         float _e44 = w_1;
         if (_e44 > 0.0) {
-            metal::float3 _e47 = airlight_raymarch_256_march_at(s_3, _e13, sigma_t_5, origin_6, dir_6, light_6, g_10);
+            metal::float3 _e47 = airlight_raymarch_256_march_at(s_3, _e13, sigma_t_7, origin_8, dir_8, light_8, g_12);
             float _e49 = w_1;
-            float _e53 = airlight_raymarch_256_scaled(sigma_s_6.x, intensity_6 * _e49, 1.0, _e47.x);
+            float _e53 = airlight_raymarch_256_scaled(sigma_s_8.x, intensity_8 * _e49, 1.0, _e47.x);
             float _e55 = w_1;
-            float _e59 = airlight_raymarch_256_scaled(sigma_s_6.y, intensity_6 * _e55, 1.0, _e47.y);
+            float _e59 = airlight_raymarch_256_scaled(sigma_s_8.y, intensity_8 * _e55, 1.0, _e47.y);
             float _e61 = w_1;
-            float _e65 = airlight_raymarch_256_scaled(sigma_s_6.z, intensity_6 * _e61, 1.0, _e47.z);
+            float _e65 = airlight_raymarch_256_scaled(sigma_s_8.z, intensity_8 * _e61, 1.0, _e47.z);
             metal::float3 add = metal::float3(_e53, _e59, _e65);
-            metal::float3 _e69 = acc_5.sum;
-            acc_5.sum = metal::min(_e69 + (v_4 * add), metal::float3(340282350000000000000000000000000000000.0));
+            metal::float3 _e69 = acc_9.sum;
+            acc_9.sum = metal::min(_e69 + (v_4 * add), metal::float3(340282350000000000000000000000000000000.0));
         }
-        uint _e76 = acc_5.calls;
-        acc_5.calls = _e76 + 1u;
+        uint _e76 = acc_9.calls;
+        acc_9.calls = _e76 + 1u;
         return;
     } else {
         return;
@@ -1208,19 +1249,19 @@ void airlight_raymarch_256_shafts_push_spot(
 }
 
 metal::float3 airlight_raymarch_256_shafts_finish_spot(
-    airlight_raymarch_256_Shafts acc_6,
+    airlight_raymarch_256_Shafts acc_10,
     float end_1,
-    metal::float3 origin_7,
-    metal::float3 dir_7,
-    metal::float3 light_7,
-    metal::float3 axis_2,
-    float cos_outer_2,
-    float cos_inner_2,
-    float intensity_7,
-    metal::float3 sigma_t_6,
-    metal::float3 sigma_s_7,
-    float g_11
+    metal::float3 origin_9,
+    metal::float3 dir_9,
+    metal::float3 light_9,
+    metal::float3 axis_3,
+    float cos_outer_3,
+    float cos_inner_3,
+    float intensity_9,
+    metal::float3 sigma_t_8,
+    metal::float3 sigma_s_9,
+    float g_13
 ) {
-    return acc_6.sum;
+    return acc_10.sum;
 }
 #endif // AIRLIGHT_RAYMARCH_256_MSL_INCLUDED

@@ -37,7 +37,8 @@ struct airlight_sun2005_256_Shafts {
     uint calls;
     airlight_sun2005_256_type_11 runs;
     uint count;
-    char _pad12[12];
+    uint merged;
+    char _pad13[8];
 };
 
 airlight_sun2005_256_frexp_result_f32_ airlight_sun2005_256_naga_frexp(float arg) {
@@ -1120,48 +1121,62 @@ void airlight_sun2005_256_shafts_hold(
     thread airlight_sun2005_256_Shafts& acc_1,
     metal::float3 run
 ) {
-    bool local_17 = {};
-    if (!(!((run.z > 0.0)))) {
-        uint _e10 = acc_1.count;
-        local_17 = _e10 >= airlight_sun2005_256_SHAFTS_RUNS;
-    } else {
-        local_17 = true;
-    }
-    bool _e14 = local_17;
-    if (_e14) {
+    if (!((run.z > 0.0))) {
         return;
     }
-    uint _e17 = acc_1.count;
-    acc_1.runs.inner[_e17] = run;
-    uint _e20 = acc_1.count;
-    acc_1.count = _e20 + 1u;
-    uint _e24 = acc_1.calls;
-    acc_1.calls = _e24 + 1u;
+    uint _e7 = acc_1.count;
+    if (_e7 < airlight_sun2005_256_SHAFTS_RUNS) {
+        uint _e12 = acc_1.count;
+        acc_1.runs.inner[_e12] = run;
+        uint _e15 = acc_1.count;
+        acc_1.count = _e15 + 1u;
+        uint _e19 = acc_1.calls;
+        acc_1.calls = _e19 + 1u;
+        return;
+    }
+    metal::float3 last = acc_1.runs.inner[31];
+    float len = run.y - last.x;
+    float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
+    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e50 = acc_1.merged;
+    acc_1.merged = _e50 + 1u;
     return;
 }
 
-float airlight_sun2005_256_shafts_probe(
+bool airlight_sun2005_256_shafts_full(
     airlight_sun2005_256_Shafts acc_2
 ) {
-    return acc_2.pending ? (0.5 * (acc_2.lo + acc_2.hi)) : -1.0;
+    return acc_2.count >= airlight_sun2005_256_SHAFTS_RUNS;
+}
+
+uint airlight_sun2005_256_shafts_merged(
+    airlight_sun2005_256_Shafts acc_3
+) {
+    return acc_3.merged;
+}
+
+float airlight_sun2005_256_shafts_probe(
+    airlight_sun2005_256_Shafts acc_4
+) {
+    return acc_4.pending ? (0.5 * (acc_4.lo + acc_4.hi)) : -1.0;
 }
 
 void airlight_sun2005_256_shafts_refine(
-    thread airlight_sun2005_256_Shafts& acc_3,
+    thread airlight_sun2005_256_Shafts& acc_5,
     float v_2
 ) {
-    bool _e3 = acc_3.pending;
+    bool _e3 = acc_5.pending;
     if (_e3) {
-        float _e5 = acc_3.lo;
-        float _e7 = acc_3.hi;
+        float _e5 = acc_5.lo;
+        float _e7 = acc_5.hi;
         float m_1 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_3.before;
-        float _e16 = acc_3.after;
+        float _e12 = acc_5.before;
+        float _e16 = acc_5.after;
         if (metal::abs(v_2 - _e12) <= metal::abs(v_2 - _e16)) {
-            acc_3.lo = m_1;
+            acc_5.lo = m_1;
             return;
         } else {
-            acc_3.hi = m_1;
+            acc_5.hi = m_1;
             return;
         }
     } else {
@@ -1170,47 +1185,47 @@ void airlight_sun2005_256_shafts_refine(
 }
 
 metal::float3 airlight_sun2005_256_shafts_place(
-    thread airlight_sun2005_256_Shafts& acc_4
+    thread airlight_sun2005_256_Shafts& acc_6
 ) {
-    bool _e2 = acc_4.pending;
+    bool _e2 = acc_6.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_4.pending = false;
-    float _e9 = acc_4.lo;
-    float _e11 = acc_4.hi;
+    acc_6.pending = false;
+    float _e9 = acc_6.lo;
+    float _e11 = acc_6.hi;
     float m_2 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_4.start;
-    float _e18 = acc_4.before;
+    float _e16 = acc_6.start;
+    float _e18 = acc_6.before;
     metal::float3 run_1 = metal::float3(_e16, m_2, _e18);
-    acc_4.start = m_2;
-    float _e23 = acc_4.after;
-    acc_4.v = _e23;
+    acc_6.start = m_2;
+    float _e23 = acc_6.after;
+    acc_6.v = _e23;
     return run_1;
 }
 
 metal::float3 airlight_sun2005_256_shafts_step(
-    thread airlight_sun2005_256_Shafts& acc_5,
+    thread airlight_sun2005_256_Shafts& acc_7,
     float s,
     float v_3
 ) {
-    metal::float3 _e3 = airlight_sun2005_256_shafts_place(acc_5);
-    float _e5 = acc_5.v;
+    metal::float3 _e3 = airlight_sun2005_256_shafts_place(acc_7);
+    float _e5 = acc_7.v;
     if (_e5 < 0.0) {
-        acc_5.v = v_3;
+        acc_7.v = v_3;
     } else {
-        float _e10 = acc_5.v;
+        float _e10 = acc_7.v;
         if (v_3 != _e10) {
-            acc_5.pending = true;
-            float _e16 = acc_5.s;
-            acc_5.lo = _e16;
-            acc_5.hi = s;
-            float _e20 = acc_5.v;
-            acc_5.before = _e20;
-            acc_5.after = v_3;
+            acc_7.pending = true;
+            float _e16 = acc_7.s;
+            acc_7.lo = _e16;
+            acc_7.hi = s;
+            float _e20 = acc_7.v;
+            acc_7.before = _e20;
+            acc_7.after = v_3;
         }
     }
-    acc_5.s = s;
+    acc_7.s = s;
     return _e3;
 }
 
@@ -1237,27 +1252,27 @@ float airlight_sun2005_256_shafts_run(
     float sigma_s_4,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
 ) {
+    bool local_17 = {};
     bool local_18 = {};
-    bool local_19 = {};
     if (!(!((w_1 > 0.0)))) {
         if (b_5 >= 0.0) {
-            local_19 = b_5 <= a_10;
+            local_18 = b_5 <= a_10;
         } else {
-            local_19 = false;
+            local_18 = false;
         }
-        bool _e21 = local_19;
-        local_18 = _e21;
+        bool _e21 = local_18;
+        local_17 = _e21;
     } else {
-        local_18 = true;
+        local_17 = true;
     }
-    bool _e23 = local_18;
+    bool _e23 = local_17;
     if (_e23) {
         return 0.0;
     }
     metal::float4 _e25 = airlight_sun2005_256_shafts_moved(a_10, b_5, origin_4, dir_4);
     metal::float3 o = _e25.xyz;
-    float len = _e25.w;
-    float _e28 = airlight_sun2005_256_radiance(o, dir_4, len, light_3, intensity_4, sigma_t_2, sigma_s_4, airlight_sun2005_256_F);
+    float len_1 = _e25.w;
+    float _e28 = airlight_sun2005_256_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4, airlight_sun2005_256_F);
     if (_e28 >= airlight_sun2005_256_HUGE) {
         return _e28;
     }
@@ -1265,7 +1280,7 @@ float airlight_sun2005_256_shafts_run(
 }
 
 void airlight_sun2005_256_shafts_flush(
-    thread airlight_sun2005_256_Shafts& acc_6,
+    thread airlight_sun2005_256_Shafts& acc_8,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1286,25 +1301,25 @@ void airlight_sun2005_256_shafts_flush(
         }
         loop_init_2 = false;
         uint _e9 = j_3;
-        uint _e11 = acc_6.count;
+        uint _e11 = acc_8.count;
         if (_e9 < _e11) {
         } else {
             break;
         }
         {
             uint _e14 = j_3;
-            metal::float3 r_5 = acc_6.runs.inner[_e14];
-            float _e21 = acc_6.sum[0];
+            metal::float3 r_5 = acc_8.runs.inner[_e14];
+            float _e21 = acc_8.sum[0];
             float _e25 = airlight_sun2005_256_shafts_run(r_5.x, r_5.y, r_5.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, airlight_sun2005_256_F);
-            acc_6.sum[0] = metal::min(_e21 + _e25, airlight_sun2005_256_HUGE);
+            acc_8.sum[0] = metal::min(_e21 + _e25, airlight_sun2005_256_HUGE);
         }
     }
-    acc_6.count = 0u;
+    acc_8.count = 0u;
     return;
 }
 
 void airlight_sun2005_256_shafts_push(
-    thread airlight_sun2005_256_Shafts& acc_7,
+    thread airlight_sun2005_256_Shafts& acc_9,
     float s_1,
     float v_4,
     metal::float3 origin_6,
@@ -1312,18 +1327,11 @@ void airlight_sun2005_256_shafts_push(
     metal::float3 light_5,
     float intensity_6,
     float sigma_t_4,
-    float sigma_s_6,
-    metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
+    float sigma_s_6
 ) {
-    metal::float3 _e9 = airlight_sun2005_256_shafts_step(acc_7, s_1, v_4);
-    airlight_sun2005_256_shafts_hold(acc_7, _e9);
-    uint _e11 = acc_7.count;
-    if (_e11 == airlight_sun2005_256_SHAFTS_RUNS) {
-        airlight_sun2005_256_shafts_flush(acc_7, origin_6, dir_6, light_5, intensity_6, sigma_t_4, sigma_s_6, airlight_sun2005_256_F);
-        return;
-    } else {
-        return;
-    }
+    metal::float3 _e9 = airlight_sun2005_256_shafts_step(acc_9, s_1, v_4);
+    airlight_sun2005_256_shafts_hold(acc_9, _e9);
+    return;
 }
 
 float airlight_sun2005_256_shafts_finish(
@@ -1337,17 +1345,17 @@ float airlight_sun2005_256_shafts_finish(
     float sigma_s_7,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
 ) {
-    airlight_sun2005_256_Shafts acc_8 = {};
-    acc_8 = acc_in;
-    metal::float3 _e9 = airlight_sun2005_256_shafts_place(acc_8);
-    airlight_sun2005_256_shafts_hold(acc_8, _e9);
-    airlight_sun2005_256_shafts_flush(acc_8, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_256_F);
-    float _e11 = acc_8.v;
-    float _e13 = acc_8.v;
-    float w_3 = (_e13 < 0.0) ? 1.0 : _e11;
-    float _e20 = acc_8.sum[0];
-    float _e22 = acc_8.start;
-    float _e23 = airlight_sun2005_256_shafts_run(_e22, end, w_3, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_256_F);
+    airlight_sun2005_256_Shafts acc_10 = {};
+    acc_10 = acc_in;
+    metal::float3 _e9 = airlight_sun2005_256_shafts_place(acc_10);
+    airlight_sun2005_256_shafts_hold(acc_10, _e9);
+    airlight_sun2005_256_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_256_F);
+    float _e11 = acc_10.v;
+    float _e13 = acc_10.v;
+    float w_4 = (_e13 < 0.0) ? 1.0 : _e11;
+    float _e20 = acc_10.sum[0];
+    float _e22 = acc_10.start;
+    float _e23 = airlight_sun2005_256_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, airlight_sun2005_256_F);
     return metal::min(_e20 + _e23, airlight_sun2005_256_HUGE);
 }
 
@@ -1366,32 +1374,32 @@ metal::float3 airlight_sun2005_256_shafts_run_spot(
     metal::float3 sigma_s_8,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
 ) {
+    bool local_19 = {};
     bool local_20 = {};
-    bool local_21 = {};
     if (!(!((w_2 > 0.0)))) {
         if (b_6 >= 0.0) {
-            local_21 = b_6 <= a_11;
+            local_20 = b_6 <= a_11;
         } else {
-            local_21 = false;
+            local_20 = false;
         }
-        bool _e24 = local_21;
-        local_20 = _e24;
+        bool _e24 = local_20;
+        local_19 = _e24;
     } else {
-        local_20 = true;
+        local_19 = true;
     }
-    bool _e26 = local_20;
+    bool _e26 = local_19;
     if (_e26) {
         return metal::float3(0.0);
     }
     metal::float4 _e29 = airlight_sun2005_256_shafts_moved(a_11, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e29.xyz;
-    float len_1 = _e29.w;
-    metal::float3 _e32 = airlight_sun2005_256_spot(o_1, dir_8, len_1, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, airlight_sun2005_256_F);
+    float len_2 = _e29.w;
+    metal::float3 _e32 = airlight_sun2005_256_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, airlight_sun2005_256_F);
     return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e32, _e32, _e32 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_sun2005_256_shafts_flush_spot(
-    thread airlight_sun2005_256_Shafts& acc_9,
+    thread airlight_sun2005_256_Shafts& acc_11,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
@@ -1415,25 +1423,25 @@ void airlight_sun2005_256_shafts_flush_spot(
         }
         loop_init_3 = false;
         uint _e12 = j_4;
-        uint _e14 = acc_9.count;
+        uint _e14 = acc_11.count;
         if (_e12 < _e14) {
         } else {
             break;
         }
         {
             uint _e17 = j_4;
-            metal::float3 r_6 = acc_9.runs.inner[_e17];
-            metal::float3 _e22 = acc_9.sum;
+            metal::float3 r_6 = acc_11.runs.inner[_e17];
+            metal::float3 _e22 = acc_11.sum;
             metal::float3 _e26 = airlight_sun2005_256_shafts_run_spot(r_6.x, r_6.y, r_6.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, airlight_sun2005_256_F);
-            acc_9.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
+            acc_11.sum = metal::min(_e22 + _e26, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
-    acc_9.count = 0u;
+    acc_11.count = 0u;
     return;
 }
 
 void airlight_sun2005_256_shafts_push_spot(
-    thread airlight_sun2005_256_Shafts& acc_10,
+    thread airlight_sun2005_256_Shafts& acc_12,
     float s_2,
     float v_5,
     metal::float3 origin_10,
@@ -1444,18 +1452,11 @@ void airlight_sun2005_256_shafts_push_spot(
     float cos_inner_3,
     float intensity_10,
     metal::float3 sigma_t_8,
-    metal::float3 sigma_s_10,
-    metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
+    metal::float3 sigma_s_10
 ) {
-    metal::float3 _e12 = airlight_sun2005_256_shafts_step(acc_10, s_2, v_5);
-    airlight_sun2005_256_shafts_hold(acc_10, _e12);
-    uint _e14 = acc_10.count;
-    if (_e14 == airlight_sun2005_256_SHAFTS_RUNS) {
-        airlight_sun2005_256_shafts_flush_spot(acc_10, origin_10, dir_10, light_9, axis_3, cos_outer_3, cos_inner_3, intensity_10, sigma_t_8, sigma_s_10, airlight_sun2005_256_F);
-        return;
-    } else {
-        return;
-    }
+    metal::float3 _e12 = airlight_sun2005_256_shafts_step(acc_12, s_2, v_5);
+    airlight_sun2005_256_shafts_hold(acc_12, _e12);
+    return;
 }
 
 metal::float3 airlight_sun2005_256_shafts_finish_spot(
@@ -1472,17 +1473,17 @@ metal::float3 airlight_sun2005_256_shafts_finish_spot(
     metal::float3 sigma_s_11,
     metal::texture2d<float, metal::access::sample> airlight_sun2005_256_F
 ) {
-    airlight_sun2005_256_Shafts acc_11 = {};
-    acc_11 = acc_in_1;
-    metal::float3 _e12 = airlight_sun2005_256_shafts_place(acc_11);
-    airlight_sun2005_256_shafts_hold(acc_11, _e12);
-    airlight_sun2005_256_shafts_flush_spot(acc_11, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_256_F);
-    float _e14 = acc_11.v;
-    float _e16 = acc_11.v;
-    float w_4 = (_e16 < 0.0) ? 1.0 : _e14;
-    metal::float3 _e22 = acc_11.sum;
-    float _e24 = acc_11.start;
-    metal::float3 _e25 = airlight_sun2005_256_shafts_run_spot(_e24, end_1, w_4, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_256_F);
+    airlight_sun2005_256_Shafts acc_13 = {};
+    acc_13 = acc_in_1;
+    metal::float3 _e12 = airlight_sun2005_256_shafts_place(acc_13);
+    airlight_sun2005_256_shafts_hold(acc_13, _e12);
+    airlight_sun2005_256_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_256_F);
+    float _e14 = acc_13.v;
+    float _e16 = acc_13.v;
+    float w_5 = (_e16 < 0.0) ? 1.0 : _e14;
+    metal::float3 _e22 = acc_13.sum;
+    float _e24 = acc_13.start;
+    metal::float3 _e25 = airlight_sun2005_256_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, airlight_sun2005_256_F);
     return metal::min(_e22 + _e25, metal::float3(340282350000000000000000000000000000000.0));
 }
 #endif // AIRLIGHT_SUN2005_256_MSL_INCLUDED

@@ -970,10 +970,14 @@ fn airlight_equiangular_16_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32,
 // finish, so that the lanes of a wave whose changes fall at different samples
 // evaluate the kernel together (evaluated at each push, a wave would run it at
 // every sample where any lane sees a change, and the walk's loop would carry the
-// whole kernel). When the buffer is full, the push that filled it evaluates the
-// held runs (a ray with more than airlight_equiangular_16_SHAFTS_RUNS lit runs pays one such flush
-// per airlight_equiangular_16_SHAFTS_RUNS runs, in the walk's loop) and empties it: no run is ever
-// merged or dropped, so the sum is exact for any number of runs.
+// whole kernel). A walk that can see more than airlight_equiangular_16_SHAFTS_RUNS lit runs calls
+// airlight_equiangular_16_shafts_flush when airlight_equiangular_16_shafts_full says the buffer is full: it evaluates
+// the held runs and empties the buffer, and the sum stays exact for any number of
+// runs (the flush puts a second call of the kernel in the walk's loop, which is
+// why it is the caller's to write). Without it, each run past the buffer is merged
+// into the last held one (their visibility averaged over the merged stretch: an
+// error up to that stretch's own in-scattering) and counted: airlight_equiangular_16_shafts_merged
+// says how many were, so nothing is lost silently.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = airlight_equiangular_16_shafts_begin();
@@ -984,6 +988,8 @@ fn airlight_equiangular_16_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32,
 //       for (var k = 0; k < 4 && airlight_equiangular_16_shafts_probe(acc) >= 0.0; k++) {
 //           airlight_equiangular_16_shafts_refine(&acc, my_visibility(airlight_equiangular_16_shafts_probe(acc)));
 //       }
+//       // optional, past 32 lit runs: exact instead of merged
+//       if airlight_equiangular_16_shafts_full(acc) { airlight_equiangular_16_shafts_flush(&acc, <the same arguments>); }
 //   }
 //   let l = airlight_equiangular_16_shafts_finish(acc, surface, <the same arguments>);  // surface < 0: open ray
 // The spot entry: airlight_equiangular_16_shafts_push_spot and airlight_equiangular_16_shafts_finish_spot (RGB).
@@ -1007,6 +1013,8 @@ struct airlight_equiangular_16_Shafts {
     // Closed lit runs not yet evaluated: (start, end, visibility).
     runs: array<vec3<f32>, 32>,
     count: u32,
+    // Runs merged into the last held one (the buffer was full and not flushed).
+    merged: u32,
 }
 
 /// Closed lit runs held for finish.
@@ -1020,15 +1028,33 @@ fn airlight_equiangular_16_shafts_begin() -> airlight_equiangular_16_Shafts {
     return acc;
 }
 
-/// Holds a closed run (start, end, visibility). The pushes keep a free place
-/// (they flush a full buffer), so nothing is ever dropped.
+/// Holds a closed run (start, end, visibility); past the buffer, merges it into
+/// the last held run and counts it.
 fn airlight_equiangular_16_shafts_hold(acc: ptr<function, airlight_equiangular_16_Shafts>, run: vec3<f32>) {
-    if !(run.z > 0.0) || (*acc).count >= airlight_equiangular_16_SHAFTS_RUNS {
+    if !(run.z > 0.0) {
         return;
     }
-    (*acc).runs[(*acc).count] = run;
-    (*acc).count += 1u;
-    (*acc).calls += 1u;
+    if (*acc).count < airlight_equiangular_16_SHAFTS_RUNS {
+        (*acc).runs[(*acc).count] = run;
+        (*acc).count += 1u;
+        (*acc).calls += 1u;
+        return;
+    }
+    let last = (*acc).runs[airlight_equiangular_16_SHAFTS_RUNS - 1u];
+    let len = run.y - last.x;
+    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
+    (*acc).runs[airlight_equiangular_16_SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
+    (*acc).merged += 1u;
+}
+
+/// Whether the buffer of closed lit runs is full: flush now to keep the sum exact.
+fn airlight_equiangular_16_shafts_full(acc: airlight_equiangular_16_Shafts) -> bool {
+    return acc.count >= airlight_equiangular_16_SHAFTS_RUNS;
+}
+
+/// Lit runs merged so far because the buffer was full and not flushed (0: exact).
+fn airlight_equiangular_16_shafts_merged(acc: airlight_equiangular_16_Shafts) -> u32 {
+    return acc.merged;
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -1103,7 +1129,8 @@ fn airlight_equiangular_16_shafts_run(a: f32, b: f32, w: f32, origin: vec3<f32>,
     return w * exp(-sigma_t * a) * c;
 }
 
-/// Evaluates the held runs, in order, into the sum.
+/// Evaluates the held runs, in order, into the sum, and empties the buffer (call
+/// it when airlight_equiangular_16_shafts_full, with the push's arguments).
 fn airlight_equiangular_16_shafts_flush(acc: ptr<function, airlight_equiangular_16_Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
     for (var j = 0u; j < (*acc).count; j++) {
         let r = (*acc).runs[j];
@@ -1117,9 +1144,6 @@ fn airlight_equiangular_16_shafts_flush(acc: ptr<function, airlight_equiangular_
 fn airlight_equiangular_16_shafts_push(acc: ptr<function, airlight_equiangular_16_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
     let run = airlight_equiangular_16_shafts_step(acc, s, v);
     airlight_equiangular_16_shafts_hold(acc, run);
-    if (*acc).count == airlight_equiangular_16_SHAFTS_RUNS {
-        airlight_equiangular_16_shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s, g);
-    }
 }
 
 /// The shadowed in-scattering of airlight_equiangular_16_radiance's ray to the surface at `end`
@@ -1158,9 +1182,6 @@ fn airlight_equiangular_16_shafts_flush_spot(acc: ptr<function, airlight_equiang
 fn airlight_equiangular_16_shafts_push_spot(acc: ptr<function, airlight_equiangular_16_Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) {
     let run = airlight_equiangular_16_shafts_step(acc, s, v);
     airlight_equiangular_16_shafts_hold(acc, run);
-    if (*acc).count == airlight_equiangular_16_SHAFTS_RUNS {
-        airlight_equiangular_16_shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
-    }
 }
 
 /// airlight_equiangular_16_shafts_finish for airlight_equiangular_16_spot's ray, cone and RGB medium.

@@ -591,6 +591,22 @@ fn airlight_raymarch_64_shafts_probe(acc: airlight_raymarch_64_Shafts) -> f32 {
 fn airlight_raymarch_64_shafts_refine(acc: ptr<function, airlight_raymarch_64_Shafts>, v: f32) {
 }
 
+/// The march holds no runs: never full, nothing merged.
+fn airlight_raymarch_64_shafts_full(acc: airlight_raymarch_64_Shafts) -> bool {
+    return false;
+}
+
+fn airlight_raymarch_64_shafts_merged(acc: airlight_raymarch_64_Shafts) -> u32 {
+    return 0u;
+}
+
+/// The march holds no runs: nothing to flush.
+fn airlight_raymarch_64_shafts_flush(acc: ptr<function, airlight_raymarch_64_Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
+}
+
+fn airlight_raymarch_64_shafts_flush_spot(acc: ptr<function, airlight_raymarch_64_Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) {
+}
+
 /// The step around s: from where the last one ended to as far past s.
 fn airlight_raymarch_64_shafts_step(acc: ptr<function, airlight_raymarch_64_Shafts>, s: f32) -> f32 {
     let step = max(2.0 * (s - (*acc).end), 0.0);

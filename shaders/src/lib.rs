@@ -946,9 +946,11 @@ fn wrap_shadowed(k: &KernelSource, entry: Entry, stride: usize) -> Result<String
         .join(", ");
     let end = arg(Arg::Surface)?;
     let (args, outputs) = (entry.packed_vec4s(), entry.outputs());
-    let (push, finish) = match entry {
-        Entry::Spot => ("shafts_push_spot", "shafts_finish_spot"),
-        _ => ("shafts_push", "shafts_finish"),
+    // Every push is followed by a flush of a full buffer: exact for any number of
+    // lit runs, as the f64 accumulator is.
+    let (push, flush, finish) = match entry {
+        Entry::Spot => ("shafts_push_spot", "shafts_flush_spot", "shafts_finish_spot"),
+        _ => ("shafts_push", "shafts_flush", "shafts_finish"),
     };
     let p = k.prefix;
     let store = store_results(outputs);
@@ -975,6 +977,9 @@ void main() {{\n\
         vec4 q = airlight_inputs[base + {args}u + 1u + j / 2u];\n\
         vec2 sv = (j & 1u) == 1u ? q.zw : q.xy;\n\
         {p}{push}(acc, sv.x, sv.y, {pass});\n\
+        if ({p}shafts_full(acc)) {{\n\
+            {p}{flush}(acc, {pass});\n\
+        }}\n\
     }}\n\
     {ty} r = {p}{finish}(acc, {end}, {pass});\n\
     {store}\n\
@@ -1006,6 +1011,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
         let q = airlight_inputs[base + {args}u + 1u + j / 2u];\n\
         let sv = select(q.xy, q.zw, (j & 1u) == 1u);\n\
         {p}{push}(&acc, sv.x, sv.y, {pass});\n\
+        if {p}shafts_full(acc) {{\n\
+            {p}{flush}(&acc, {pass});\n\
+        }}\n\
     }}\n\
     let r = {p}{finish}(acc, {end}, {pass});\n\
     {store}\n\

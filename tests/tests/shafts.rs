@@ -167,3 +167,49 @@ fn spot_and_march() {
         assert!((m32 - m64).abs() <= 1e-4 * m64.abs().max(1e-30), "march: {m32} vs {m64}");
     }
 }
+
+/// Past the 32 held runs (issue 37): a walk that flushes when the buffer is full
+/// sums any number of runs exactly; one that does not is told how many runs were
+/// merged, so nothing is lost silently.
+#[test]
+fn past_the_held_runs_a_flush_is_exact_and_a_merge_is_counted() {
+    use airlight_kernels::phi_8::Shafts;
+    let occ: Vec<Occluder> = (0..100)
+        .map(|k| Occluder::Sphere { center: [0.5 * (f64::from(k) + 0.5) + 25.0, 20.0, 0.0], radius: 0.08 })
+        .collect();
+    let ray = PhysicalRay {
+        origin: [0.0; 3],
+        direction: [1.0, 0.0, 0.0],
+        surface_distance: Some(100.0),
+        light: [50.0, 40.0, 0.0],
+        intensity: 1.0,
+        sigma_t: 0.02,
+        sigma_s: 0.02,
+    };
+    let lit = shafts::lit_intervals(&ray, &occ);
+    assert_eq!(lit.len(), 101);
+    let a = |p: Point| reference::airlight(p).unwrap();
+    let want = shafts::shadowed_radiance(&ray, None, 0.3, &lit, &a).unwrap();
+    let args = ([0.0f32; 3], [1.0f32, 0.0, 0.0], [50.0f32, 40.0, 0.0], 1.0f32, 0.02f32, 0.02f32, 0.3f32);
+    let (o, d, l, i, st, ss, g) = args;
+    for flush in [true, false] {
+        let mut acc = Shafts::new();
+        for [s, v] in f32s(&shafts::exact_samples(&ray, &lit)) {
+            acc.push(s, v, o, d, l, i, st, ss, g);
+            if flush && acc.full() {
+                acc.flush(o, d, l, i, st, ss, g);
+            }
+        }
+        let merged = acc.merged();
+        let got = f64::from(acc.finish(100.0, o, d, l, i, st, ss, g));
+        let e = (got / want - 1.0).abs();
+        if flush {
+            assert_eq!(merged, 0);
+            assert!(e < 2e-5, "flushed: {got} against {want}: {e:.2e}");
+        } else {
+            // The last run is the one `finish` closes at the surface, never held.
+            assert_eq!(merged, 101 - 32 - 1, "every held run past the 32 is counted");
+            assert!(e > 1e-3, "merged: {got} against {want}: {e:.2e} (the merge is not exact)");
+        }
+    }
+}

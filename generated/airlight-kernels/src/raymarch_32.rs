@@ -346,6 +346,28 @@ impl Shafts {
     /// The march places nothing: ignored.
     pub fn refine(&mut self, _v: f32) {}
 
+    /// The march holds no runs: never full.
+    pub fn full(&self) -> bool {
+        false
+    }
+
+    /// The march holds no runs: nothing merged.
+    pub fn merged(&self) -> u32 {
+        0
+    }
+
+    /// The march holds no runs: nothing to flush.
+    #[allow(clippy::too_many_arguments)]
+    pub fn flush(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
+        let _ = (origin, dir, light, intensity, sigma_t, sigma_s, g);
+    }
+
+    /// The march holds no runs: nothing to flush.
+    #[allow(clippy::too_many_arguments)]
+    pub fn flush_spot(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3], g: f32) {
+        let _ = (origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+    }
+
     /// The step around `s`: from where the last one ended to as far past `s`.
     fn step(&mut self, s: f32) -> f32 {
         let step = (2.0 * (s - self.end)).max(0.0);
@@ -435,6 +457,9 @@ pub fn shadowed(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3],
     let mut acc = Shafts::new();
     for &[s, v] in samples {
         acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s, g);
+        if acc.full() {
+            acc.flush(origin, dir, light, intensity, sigma_t, sigma_s, g);
+        }
     }
     acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s, g)
 }
@@ -445,6 +470,9 @@ pub fn shadowed_spot(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32
     let mut acc = Shafts::new();
     for &[s, v] in samples {
         acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+        if acc.full() {
+            acc.flush_spot(origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g);
+        }
     }
     acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s, g)
 }

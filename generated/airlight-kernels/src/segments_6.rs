@@ -420,8 +420,10 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
 // stretch, never a difference of two. Dark runs cost nothing; the error is the
 // family's bound times the unshadowed value (docs/MATH.md §8). As in the shaders
 // (where a wave's lanes must evaluate the kernel together), pushes only hold the
-// closed lit runs, up to `SHAFTS_RUNS`; the push that fills the buffer evaluates
-// and empties it, and `finish` evaluates the rest: no run is merged or dropped.
+// closed lit runs, up to `SHAFTS_RUNS`, and `finish` evaluates them. Past that,
+// call `flush` when `full` (exact for any number of runs), or each further run is
+// merged into the last held one (its visibility averaged over the merged stretch)
+// and counted by `merged`.
 
 /// The shafts accumulator of one view ray. Push the ray's visibility samples
 /// `(s, v)` in increasing `s` ([`Shafts::push`], or [`Shafts::push_spot`] for the spot
@@ -451,10 +453,12 @@ pub struct Shafts {
     runs: [[f32; 3]; SHAFTS_RUNS],
     /// How many are held.
     count: usize,
+    /// Runs merged into the last held one (the buffer was full and not flushed).
+    merged: u32,
 }
 
-/// Closed lit runs an accumulator holds before it evaluates them (at `finish`, or
-/// at the push that fills the buffer: any number of runs is summed exactly).
+/// Closed lit runs an accumulator holds for `finish` (or for `flush`, which keeps
+/// any number of runs exact); past them, each further run is merged into the last.
 pub const SHAFTS_RUNS: usize = 32;
 
 impl Shafts {
@@ -512,21 +516,40 @@ impl Shafts {
         Some(run)
     }
 
-    /// Holds a closed lit run. The pushes keep a free place (they flush a full
-    /// buffer), so nothing is dropped.
+    /// Holds a closed lit run; past [`SHAFTS_RUNS`], merges it into the last and counts it.
     fn hold(&mut self, run: Option<(f32, f32, f32)>) {
         let Some((a, b, w)) = run else { return };
-        if w.is_nan() || w <= 0.0 || self.count >= SHAFTS_RUNS {
+        if w.is_nan() || w <= 0.0 {
             return;
         }
-        self.runs[self.count] = [a, b, w];
-        self.count += 1;
-        self.calls += 1;
+        if self.count < SHAFTS_RUNS {
+            self.runs[self.count] = [a, b, w];
+            self.count += 1;
+            self.calls += 1;
+            return;
+        }
+        let [la, lb, lw] = self.runs[SHAFTS_RUNS - 1];
+        let len = b - la;
+        let merged = if len > 0.0 { (lw * (lb - la) + w * (b - a)) / len } else { lw };
+        self.runs[SHAFTS_RUNS - 1] = [la, b, merged];
+        self.merged += 1;
     }
 
-    /// Evaluates the held runs, in order, into the sum, and empties the buffer.
+    /// Whether the buffer of closed lit runs is full: [`Shafts::flush`] now to keep
+    /// the sum exact.
+    pub fn full(&self) -> bool {
+        self.count >= SHAFTS_RUNS
+    }
+
+    /// Lit runs merged so far because the buffer was full and not flushed (0: exact).
+    pub fn merged(&self) -> u32 {
+        self.merged
+    }
+
+    /// Evaluates the held runs, in order, into the sum, and empties the buffer (call
+    /// it when [`Shafts::full`], with the push's arguments).
     #[allow(clippy::too_many_arguments)]
-    fn flush(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
+    pub fn flush(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
         let (runs, count) = (self.runs, self.count);
         for &[a, b, w] in &runs[..count] {
             let x = shafts_run(a, b, w, origin, dir, light, intensity, sigma_t, sigma_s);
@@ -537,7 +560,7 @@ impl Shafts {
 
     /// [`Shafts::flush`] for the spot entry.
     #[allow(clippy::too_many_arguments)]
-    fn flush_spot(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
+    pub fn flush_spot(&mut self, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
         let (runs, count) = (self.runs, self.count);
         for &[a, b, w] in &runs[..count] {
             let x = shafts_run_spot(a, b, w, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
@@ -557,11 +580,9 @@ impl Shafts {
     /// for [`radiance`]'s ray, light and medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], intensity: f32, sigma_t: f32, sigma_s: f32) {
+        let _ = (origin, dir, light, intensity, sigma_t, sigma_s);
         let run = self.step(s, v);
         self.hold(run);
-        if self.count == SHAFTS_RUNS {
-            self.flush(origin, dir, light, intensity, sigma_t, sigma_s);
-        }
     }
 
     /// The shadowed in-scattering of [`radiance`]'s ray to the surface at `end`
@@ -580,11 +601,9 @@ impl Shafts {
     /// [`Shafts::push`] for [`spot`]'s ray, cone and RGB medium.
     #[allow(clippy::too_many_arguments)]
     pub fn push_spot(&mut self, s: f32, v: f32, origin: [f32; 3], dir: [f32; 3], light: [f32; 3], axis: [f32; 3], cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: [f32; 3], sigma_s: [f32; 3]) {
+        let _ = (origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
         let run = self.step(s, v);
         self.hold(run);
-        if self.count == SHAFTS_RUNS {
-            self.flush_spot(origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-        }
     }
 
     /// [`Shafts::finish`] for [`spot`]'s ray, cone and RGB medium.
@@ -647,6 +666,9 @@ pub fn shadowed(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32; 3],
     let mut acc = Shafts::new();
     for &[s, v] in samples {
         acc.push(s, v, origin, dir, light, intensity, sigma_t, sigma_s);
+        if acc.full() {
+            acc.flush(origin, dir, light, intensity, sigma_t, sigma_s);
+        }
     }
     acc.finish(end, origin, dir, light, intensity, sigma_t, sigma_s)
 }
@@ -657,6 +679,9 @@ pub fn shadowed_spot(samples: &[[f32; 2]], end: f32, origin: [f32; 3], dir: [f32
     let mut acc = Shafts::new();
     for &[s, v] in samples {
         acc.push_spot(s, v, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+        if acc.full() {
+            acc.flush_spot(origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
+        }
     }
     acc.finish_spot(end, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s)
 }

@@ -593,6 +593,22 @@ fn shafts_probe(acc: Shafts) -> f32 {
 fn shafts_refine(acc: ptr<function, Shafts>, v: f32) {
 }
 
+/// The march holds no runs: never full, nothing merged.
+fn shafts_full(acc: Shafts) -> bool {
+    return false;
+}
+
+fn shafts_merged(acc: Shafts) -> u32 {
+    return 0u;
+}
+
+/// The march holds no runs: nothing to flush.
+fn shafts_flush(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32, g: f32) {
+}
+
+fn shafts_flush_spot(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>, g: f32) {
+}
+
 /// The step around s: from where the last one ended to as far past s.
 fn shafts_step(acc: ptr<function, Shafts>, s: f32) -> f32 {
     let step = max(2.0 * (s - (*acc).end), 0.0);

@@ -732,10 +732,14 @@ fn spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis:
 // finish, so that the lanes of a wave whose changes fall at different samples
 // evaluate the kernel together (evaluated at each push, a wave would run it at
 // every sample where any lane sees a change, and the walk's loop would carry the
-// whole kernel). When the buffer is full, the push that filled it evaluates the
-// held runs (a ray with more than SHAFTS_RUNS lit runs pays one such flush
-// per SHAFTS_RUNS runs, in the walk's loop) and empties it: no run is ever
-// merged or dropped, so the sum is exact for any number of runs.
+// whole kernel). A walk that can see more than SHAFTS_RUNS lit runs calls
+// shafts_flush when shafts_full says the buffer is full: it evaluates
+// the held runs and empties the buffer, and the sum stays exact for any number of
+// runs (the flush puts a second call of the kernel in the walk's loop, which is
+// why it is the caller's to write). Without it, each run past the buffer is merged
+// into the last held one (their visibility averaged over the merged stretch: an
+// error up to that stretch's own in-scattering) and counted: shafts_merged
+// says how many were, so nothing is lost silently.
 //
 // Use (WGSL has no function pointers: the caller's loop looks visibility up):
 //   var acc = shafts_begin();
@@ -746,6 +750,8 @@ fn spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis:
 //       for (var k = 0; k < 4 && shafts_probe(acc) >= 0.0; k++) {
 //           shafts_refine(&acc, my_visibility(shafts_probe(acc)));
 //       }
+//       // optional, past 32 lit runs: exact instead of merged
+//       if shafts_full(acc) { shafts_flush(&acc, <the same arguments>); }
 //   }
 //   let l = shafts_finish(acc, surface, <the same arguments>);  // surface < 0: open ray
 // The spot entry: shafts_push_spot and shafts_finish_spot (RGB).
@@ -769,6 +775,8 @@ struct Shafts {
     // Closed lit runs not yet evaluated: (start, end, visibility).
     runs: array<vec3<f32>, 32>,
     count: u32,
+    // Runs merged into the last held one (the buffer was full and not flushed).
+    merged: u32,
 }
 
 /// Closed lit runs held for finish.
@@ -782,15 +790,33 @@ fn shafts_begin() -> Shafts {
     return acc;
 }
 
-/// Holds a closed run (start, end, visibility). The pushes keep a free place
-/// (they flush a full buffer), so nothing is ever dropped.
+/// Holds a closed run (start, end, visibility); past the buffer, merges it into
+/// the last held run and counts it.
 fn shafts_hold(acc: ptr<function, Shafts>, run: vec3<f32>) {
-    if !(run.z > 0.0) || (*acc).count >= SHAFTS_RUNS {
+    if !(run.z > 0.0) {
         return;
     }
-    (*acc).runs[(*acc).count] = run;
-    (*acc).count += 1u;
-    (*acc).calls += 1u;
+    if (*acc).count < SHAFTS_RUNS {
+        (*acc).runs[(*acc).count] = run;
+        (*acc).count += 1u;
+        (*acc).calls += 1u;
+        return;
+    }
+    let last = (*acc).runs[SHAFTS_RUNS - 1u];
+    let len = run.y - last.x;
+    let w = select(last.z, (last.z * (last.y - last.x) + run.z * (run.y - run.x)) / len, len > 0.0);
+    (*acc).runs[SHAFTS_RUNS - 1u] = vec3<f32>(last.x, run.y, w);
+    (*acc).merged += 1u;
+}
+
+/// Whether the buffer of closed lit runs is full: flush now to keep the sum exact.
+fn shafts_full(acc: Shafts) -> bool {
+    return acc.count >= SHAFTS_RUNS;
+}
+
+/// Lit runs merged so far because the buffer was full and not flushed (0: exact).
+fn shafts_merged(acc: Shafts) -> u32 {
+    return acc.merged;
 }
 
 /// Where to look visibility up to halve the pending change's bracket; negative
@@ -865,7 +891,8 @@ fn shafts_run(a: f32, b: f32, w: f32, origin: vec3<f32>, dir: vec3<f32>, light: 
     return w * exp(-sigma_t * a) * c;
 }
 
-/// Evaluates the held runs, in order, into the sum.
+/// Evaluates the held runs, in order, into the sum, and empties the buffer (call
+/// it when shafts_full, with the push's arguments).
 fn shafts_flush(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
     for (var j = 0u; j < (*acc).count; j++) {
         let r = (*acc).runs[j];
@@ -879,9 +906,6 @@ fn shafts_flush(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f32>, l
 fn shafts_push(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, intensity: f32, sigma_t: f32, sigma_s: f32) {
     let run = shafts_step(acc, s, v);
     shafts_hold(acc, run);
-    if (*acc).count == SHAFTS_RUNS {
-        shafts_flush(acc, origin, dir, light, intensity, sigma_t, sigma_s);
-    }
 }
 
 /// The shadowed in-scattering of radiance's ray to the surface at `end`
@@ -920,9 +944,6 @@ fn shafts_flush_spot(acc: ptr<function, Shafts>, origin: vec3<f32>, dir: vec3<f3
 fn shafts_push_spot(acc: ptr<function, Shafts>, s: f32, v: f32, origin: vec3<f32>, dir: vec3<f32>, light: vec3<f32>, axis: vec3<f32>, cos_outer: f32, cos_inner: f32, intensity: f32, sigma_t: vec3<f32>, sigma_s: vec3<f32>) {
     let run = shafts_step(acc, s, v);
     shafts_hold(acc, run);
-    if (*acc).count == SHAFTS_RUNS {
-        shafts_flush_spot(acc, origin, dir, light, axis, cos_outer, cos_inner, intensity, sigma_t, sigma_s);
-    }
 }
 
 /// shafts_finish for spot's ray, cone and RGB medium.

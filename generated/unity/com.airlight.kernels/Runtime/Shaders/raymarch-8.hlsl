@@ -321,7 +321,7 @@ float airlight_raymarch_8_airlight_geometry(float tau_in, float h_2, float x0_1,
     uint i = 0u;
 
     float tau_8 = min(max(tau_in, 0.0), airlight_raymarch_8_TAU_MAX);
-    float g_12 = clamp(g_in, -0.999, 0.999);
+    float g_14 = clamp(g_in, -0.999, 0.999);
     if ((tau_8 > 0.0046051703)) {
         float k_4 = (1.0 + (airlight_raymarch_8_LN_CUTOFF / tau_8));
         len = min((((k_4 - 1.0) * (k_4 + 1.0)) / (2.0 * (k_4 - x0_1))), airlight_raymarch_8_FAR);
@@ -362,7 +362,7 @@ float airlight_raymarch_8_airlight_geometry(float tau_in, float h_2, float x0_1,
             float om_1 = ((x_5 > 0.0) ? (h2_ / (t + x_5)) : (t - x_5));
             float op_1 = ((x_5 > 0.0) ? (t + x_5) : (h2_ / (t - x_5)));
             float _e74 = sum;
-            const float _e77 = airlight_raymarch_8_hg(g_12, (om_1 / t), (op_1 / t));
+            const float _e77 = airlight_raymarch_8_hg(g_14, (om_1 / t), (op_1 / t));
             sum = (_e74 + ((_e77 * exp((-(tau_8) * (s_8 + t)))) / t2_));
         }
     }
@@ -994,22 +994,42 @@ void airlight_raymarch_8_shafts_refine(inout airlight_raymarch_8_Shafts acc_1, f
     return;
 }
 
-float airlight_raymarch_8_shafts_step(inout airlight_raymarch_8_Shafts acc_2, float s)
+bool airlight_raymarch_8_shafts_full(airlight_raymarch_8_Shafts acc_2)
 {
-    float _e3 = acc_2.end;
+    return false;
+}
+
+uint airlight_raymarch_8_shafts_merged(airlight_raymarch_8_Shafts acc_3)
+{
+    return 0u;
+}
+
+void airlight_raymarch_8_shafts_flush(inout airlight_raymarch_8_Shafts acc_4, float3 origin_3, float3 dir_3, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_8)
+{
+    return;
+}
+
+void airlight_raymarch_8_shafts_flush_spot(inout airlight_raymarch_8_Shafts acc_5, float3 origin_4, float3 dir_4, float3 light_4, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_5, float3 sigma_t_3, float3 sigma_s_5, float g_9)
+{
+    return;
+}
+
+float airlight_raymarch_8_shafts_step(inout airlight_raymarch_8_Shafts acc_6, float s)
+{
+    float _e3 = acc_6.end;
     float step_1 = max((2.0 * (s - _e3)), 0.0);
-    float _e10 = acc_2.end;
-    acc_2.end = (_e10 + step_1);
+    float _e10 = acc_6.end;
+    acc_6.end = (_e10 + step_1);
     return step_1;
 }
 
-float3 airlight_raymarch_8_march_at(float s_1, float step_, float3 sigma_t_2, float3 origin_3, float3 dir_3, float3 light_3, float g_in_1)
+float3 airlight_raymarch_8_march_at(float s_1, float step_, float3 sigma_t_4, float3 origin_5, float3 dir_5, float3 light_5, float g_in_1)
 {
-    const float3 _e7 = airlight_raymarch_8_ray_geometry(origin_3, dir_3, light_3);
+    const float3 _e7 = airlight_raymarch_8_ray_geometry(origin_5, dir_5, light_5);
     if (!((_e7.x > 0.0))) {
         return (3.4028235e38).xxx;
     }
-    float g_13 = clamp(g_in_1, -0.999, 0.999);
+    float g_15 = clamp(g_in_1, -0.999, 0.999);
     float sc = (s_1 / _e7.x);
     float dt_1 = (step_ / _e7.x);
     float x_6 = (_e7.z - sc);
@@ -1018,72 +1038,72 @@ float3 airlight_raymarch_8_march_at(float s_1, float step_, float3 sigma_t_2, fl
     float t_1 = sqrt(t2_1);
     float om_2 = ((x_6 > 0.0) ? (h2_1 / (t_1 + x_6)) : (t_1 - x_6));
     float op_2 = ((x_6 > 0.0) ? (t_1 + x_6) : (h2_1 / (t_1 - x_6)));
-    const float _e45 = airlight_raymarch_8_hg(g_13, (om_2 / t_1), (op_2 / t_1));
-    float3 tau_10 = min(max((sigma_t_2 * _e7.x), (0.0).xxx), (10000.0).xxx);
+    const float _e45 = airlight_raymarch_8_hg(g_15, (om_2 / t_1), (op_2 / t_1));
+    float3 tau_10 = min(max((sigma_t_4 * _e7.x), (0.0).xxx), (10000.0).xxx);
     return min(((((_e45 * exp((-(tau_10) * (sc + t_1)))) / (t2_1).xxx) * dt_1) / (_e7.x).xxx), (3.4028235e38).xxx);
 }
 
-void airlight_raymarch_8_shafts_push(inout airlight_raymarch_8_Shafts acc_3, float s_2, float v_3, float3 origin_4, float3 dir_4, float3 light_4, float intensity_4, float sigma_t_3, float sigma_s_4, float g_8)
+void airlight_raymarch_8_shafts_push(inout airlight_raymarch_8_Shafts acc_7, float s_2, float v_3, float3 origin_6, float3 dir_6, float3 light_6, float intensity_6, float sigma_t_5, float sigma_s_6, float g_10)
 {
-    const float _e10 = airlight_raymarch_8_shafts_step(acc_3, s_2);
+    const float _e10 = airlight_raymarch_8_shafts_step(acc_7, s_2);
     if ((v_3 > 0.0)) {
-        const float3 _e14 = airlight_raymarch_8_march_at(s_2, _e10, (sigma_t_3).xxx, origin_4, dir_4, light_4, g_8);
-        float _e19 = acc_3.sum.x;
-        const float _e22 = airlight_raymarch_8_scaled(sigma_s_4, intensity_4, 1.0, _e14.x);
-        acc_3.sum.x = min((_e19 + (v_3 * _e22)), airlight_raymarch_8_HUGE);
-        uint _e28 = acc_3.calls;
-        acc_3.calls = (_e28 + 1u);
+        const float3 _e14 = airlight_raymarch_8_march_at(s_2, _e10, (sigma_t_5).xxx, origin_6, dir_6, light_6, g_10);
+        float _e19 = acc_7.sum.x;
+        const float _e22 = airlight_raymarch_8_scaled(sigma_s_6, intensity_6, 1.0, _e14.x);
+        acc_7.sum.x = min((_e19 + (v_3 * _e22)), airlight_raymarch_8_HUGE);
+        uint _e28 = acc_7.calls;
+        acc_7.calls = (_e28 + 1u);
         return;
     } else {
         return;
     }
 }
 
-float airlight_raymarch_8_shafts_finish(airlight_raymarch_8_Shafts acc_4, float end, float3 origin_5, float3 dir_5, float3 light_5, float intensity_5, float sigma_t_4, float sigma_s_5, float g_9)
+float airlight_raymarch_8_shafts_finish(airlight_raymarch_8_Shafts acc_8, float end, float3 origin_7, float3 dir_7, float3 light_7, float intensity_7, float sigma_t_6, float sigma_s_7, float g_11)
 {
-    return acc_4.sum.x;
+    return acc_8.sum.x;
 }
 
-void airlight_raymarch_8_shafts_push_spot(inout airlight_raymarch_8_Shafts acc_5, float s_3, float v_4, float3 origin_6, float3 dir_6, float3 light_6, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_6, float3 sigma_t_5, float3 sigma_s_6, float g_10)
+void airlight_raymarch_8_shafts_push_spot(inout airlight_raymarch_8_Shafts acc_9, float s_3, float v_4, float3 origin_8, float3 dir_8, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_8, float3 sigma_t_7, float3 sigma_s_8, float g_12)
 {
     float w_1 = 1.0;
 
-    const float _e13 = airlight_raymarch_8_shafts_step(acc_5, s_3);
+    const float _e13 = airlight_raymarch_8_shafts_step(acc_9, s_3);
     if ((v_4 > 0.0)) {
-        const float _e16 = airlight_raymarch_8_max_abs(dir_6);
-        float3 u_1 = (dir_6 / (_e16).xxx);
-        float3 r_5 = ((origin_6 + (s_3 * (u_1 / (length(u_1)).xxx))) - light_6);
-        if ((cos_outer_1 > -1.0)) {
-            const float _e29 = airlight_raymarch_8_max_abs(axis_1);
-            float3 a_10 = (axis_1 / (_e29).xxx);
+        const float _e16 = airlight_raymarch_8_max_abs(dir_8);
+        float3 u_1 = (dir_8 / (_e16).xxx);
+        float3 r_5 = ((origin_8 + (s_3 * (u_1 / (length(u_1)).xxx))) - light_8);
+        if ((cos_outer_2 > -1.0)) {
+            const float _e29 = airlight_raymarch_8_max_abs(axis_2);
+            float3 a_10 = (axis_2 / (_e29).xxx);
             float rr = length(r_5);
-            const float _e43 = airlight_raymarch_8_spot_weight(((rr > 0.0) ? (dot(r_5, a_10) / (rr * length(a_10))) : 1.0), max(cos_outer_1, 0.0), cos_inner_1);
+            const float _e43 = airlight_raymarch_8_spot_weight(((rr > 0.0) ? (dot(r_5, a_10) / (rr * length(a_10))) : 1.0), max(cos_outer_2, 0.0), cos_inner_2);
             w_1 = _e43;
         }
         float _e44 = w_1;
         if ((_e44 > 0.0)) {
-            const float3 _e47 = airlight_raymarch_8_march_at(s_3, _e13, sigma_t_5, origin_6, dir_6, light_6, g_10);
+            const float3 _e47 = airlight_raymarch_8_march_at(s_3, _e13, sigma_t_7, origin_8, dir_8, light_8, g_12);
             float _e49 = w_1;
-            const float _e53 = airlight_raymarch_8_scaled(sigma_s_6.x, (intensity_6 * _e49), 1.0, _e47.x);
+            const float _e53 = airlight_raymarch_8_scaled(sigma_s_8.x, (intensity_8 * _e49), 1.0, _e47.x);
             float _e55 = w_1;
-            const float _e59 = airlight_raymarch_8_scaled(sigma_s_6.y, (intensity_6 * _e55), 1.0, _e47.y);
+            const float _e59 = airlight_raymarch_8_scaled(sigma_s_8.y, (intensity_8 * _e55), 1.0, _e47.y);
             float _e61 = w_1;
-            const float _e65 = airlight_raymarch_8_scaled(sigma_s_6.z, (intensity_6 * _e61), 1.0, _e47.z);
+            const float _e65 = airlight_raymarch_8_scaled(sigma_s_8.z, (intensity_8 * _e61), 1.0, _e47.z);
             float3 add = float3(_e53, _e59, _e65);
-            float3 _e69 = acc_5.sum;
-            acc_5.sum = min((_e69 + (v_4 * add)), (3.4028235e38).xxx);
+            float3 _e69 = acc_9.sum;
+            acc_9.sum = min((_e69 + (v_4 * add)), (3.4028235e38).xxx);
         }
-        uint _e76 = acc_5.calls;
-        acc_5.calls = (_e76 + 1u);
+        uint _e76 = acc_9.calls;
+        acc_9.calls = (_e76 + 1u);
         return;
     } else {
         return;
     }
 }
 
-float3 airlight_raymarch_8_shafts_finish_spot(airlight_raymarch_8_Shafts acc_6, float end_1, float3 origin_7, float3 dir_7, float3 light_7, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_7, float3 sigma_t_6, float3 sigma_s_7, float g_11)
+float3 airlight_raymarch_8_shafts_finish_spot(airlight_raymarch_8_Shafts acc_10, float end_1, float3 origin_9, float3 dir_9, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_9, float3 sigma_t_8, float3 sigma_s_9, float g_13)
 {
-    return acc_6.sum;
+    return acc_10.sum;
 }
 
 #endif // AIRLIGHT_RAYMARCH_8_HLSL_INCLUDED
