@@ -90,8 +90,9 @@ fn isotropic_without_surfaces_has_no_phase_or_surface_code() {
 
 #[test]
 fn a_fixed_g_bakes_one_bands_terms_and_a_g_range_keeps_only_its_bands() {
-    // HG models' declared bounds are near 100% (REPORT.md): budgets must allow it.
-    let (spec, files) = render(&scene_text("phase = \"hg\"\ng = 0.5", true, true, 1.0));
+    // HG models' declared bounds are near 100% (REPORT.md), above it with the 25%
+    // margin (hg-exp3's band [0.1, 0.3]: 1.2): budgets must allow it.
+    let (spec, files) = render(&scene_text("phase = \"hg\"\ng = 0.5", true, true, 1.5));
     assert!(matches!(spec.phase, KernelPhase::Fixed(g) if g == 0.5));
     let (_, wgsl) = files.iter().find(|f| f.0 == "wgsl/scene-test.wgsl").unwrap();
     assert!(wgsl.contains("const airlight_scene_test_PHASE = airlight_scene_test_Phase("), "{wgsl}");
@@ -101,7 +102,7 @@ fn a_fixed_g_bakes_one_bands_terms_and_a_g_range_keeps_only_its_bands() {
     let (_, glsl) = files.iter().find(|f| f.0 == "glsl/scene-test.glsl").unwrap();
     glslang_compiles(glsl, "scene-test");
 
-    let (spec, files) = render(&scene_text("phase = \"hg\"\ng_range = [0.1, 0.3]", true, false, 1.0));
+    let (spec, files) = render(&scene_text("phase = \"hg\"\ng_range = [0.1, 0.3]", true, false, 1.5));
     let KernelPhase::Banded(bands) = &spec.phase else { panic!("{:?}", spec.phase) };
     assert_eq!(bands, &[0, 1], "g in [0.1, 0.3] lies in the bands [0, 0.2] and (0.2, 0.4]");
     let (_, wgsl) = files.iter().find(|f| f.0 == "wgsl/scene-test.wgsl").unwrap();
