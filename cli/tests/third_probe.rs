@@ -234,6 +234,40 @@ fn f32_kernels_keep_their_digits_where_a_factor_is_subnormal() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The split family (`segments-N`, `hg-expN`) where `e^{−τ}` is subnormal in f32
+/// (item 11: `segments-N` gave 0 for a near-light radiance of 1.8e-18): its sums are
+/// taken relative to `e^{−τ}`, so a canonical value f32 holds is kept, and the
+/// radiance is formed from mantissas and exponents, so a radiance f32 holds is kept
+/// where `A` alone is subnormal. Against the f64 model of the same member (its own
+/// approximation error is not at issue here), on every target.
+#[test]
+fn split_kernels_keep_values_that_f32_holds_past_tau_87() {
+    let dir = scratch("split-subnormal");
+    // Near the axis ahead of the viewer, past and before the light: A ≈ 1e-34 … 1e-15.
+    let points = "tau,gamma,rho,g\n\
+                  102.0258,1.11959e-30,inf,0\n92.8988,7.52398e-23,inf,0\n88.3587,4.60407e-17,0.9999990463256836,0\n95,1e-20,1.5,0\n";
+    // Light 1e-3 off the ray, σt = 6188, τ ≈ 95–99: A ≈ 1e-42 (subnormal), the radiance ≈ 1e-18.
+    let rays = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g\n\
+                0,0,0,1,0,0,inf,0.0153,0.001,0,2.4e18,6188,6188,0\n\
+                0,0,0,1,0,0,inf,0.016,0.001,0,1e20,6188,6188,0\n\
+                0,0,0,1,0,0,0.5,-0.016,0.001,0,1e20,6188,6188,0\n";
+    for model in ["segments-2", "segments-16", "hg-exp2"] {
+        for (csv, entry) in [(points, "airlight"), (rays, "radiance")] {
+            let want = eval_rows(&dir, csv, &["--model", model, "--entry", entry]).unwrap();
+            assert!(want.iter().all(|w| *w > 1e-36 && *w < 1e-10), "{model} {entry}: {want:?}");
+            for target in [&["--precision", "f32"][..], &["--target", "wgsl"], &["--target", "glsl"]] {
+                let mut args = vec!["--model", model, "--entry", entry];
+                args.extend_from_slice(target);
+                let Some(got) = eval_rows(&dir, csv, &args) else { continue };
+                for (i, (x, w)) in got.iter().zip(&want).enumerate() {
+                    assert!(((x - w) / w).abs() < 1e-3, "{model} {entry} {target:?} row {i}: {x:e} against {w:e}");
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The Sun tables behind the viewer near the axis, where their two look-ups
 /// cancel, returned f32's largest value for an answer of ~1e-45 (item 8); and a
 /// ray of length zero gave light (item 10). Every target now stays within the

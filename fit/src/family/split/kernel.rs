@@ -139,7 +139,19 @@ fn phase(ctx: &mut Context, k: &KernelView, exp: Option<&ExpPhase>) -> (&'static
 
 /// The Rust module's imports: exactly what the kernel uses.
 fn rust_imports(ctx: &mut Context, sp: &Split, k: &KernelView, iso: bool) {
-    let mut math = vec!["atan2", "exp", "exprel", "ray_geometry", "scaled", "sin_cos", "HUGE", "TAU_MAX"];
+    let mut math = vec![
+        "atan2",
+        "exp",
+        "exp_neg_parts",
+        "exprel",
+        "mul_exp_neg",
+        "ray_geometry",
+        "scaled",
+        "scaled_pow2",
+        "sin_cos",
+        "HUGE",
+        "TAU_MAX",
+    ];
     if k.surfaces {
         math.push("RHO_OPEN");
         if k.backscatter {
