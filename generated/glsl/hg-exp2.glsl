@@ -403,13 +403,13 @@ float airlight_hg_exp2_forward(float a, float len, float t, float att, airlight_
         + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored), 0.0);
 }
 
-// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 // (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-float airlight_hg_exp2_backward_u(float tau, float t, float h, float x0, float rho, float xr, bool open, airlight_hg_exp2_Phase ph) {
+float airlight_hg_exp2_backward_u(float att, float t, float h, float x0, float rho, float xr, bool open, airlight_hg_exp2_Phase ph) {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
@@ -428,7 +428,7 @@ float airlight_hg_exp2_backward_u(float tau, float t, float h, float x0, float r
     // Past u0 + 1e30 the rest of the ray adds below float's resolution.
     bool endless = open || span >= 1e30;
     float ub = u0 + span;
-    float base = -tau - t * (u0 - ua);
+    float base = att - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
         float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
@@ -495,17 +495,20 @@ float airlight_hg_exp2_backward_u(float tau, float t, float h, float x0, float r
     return 2.0 * sum;
 }
 
-// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr, float g) {
+// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+// (no path from viewer to light is shorter than D), so a value float holds is not
+// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+vec2 airlight_hg_exp2_airlight_scaled(float tau_in, float h_in, float x0, float rho, float xr, float g) {
     airlight_hg_exp2_Phase ph = airlight_hg_exp2_phase(g);
     bool open = !(rho >= 0.0 && rho < airlight_hg_exp2_RHO_OPEN);
     float tau = min(tau_in, airlight_hg_exp2_TAU_MAX);
+    float c = tau;
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
-            return airlight_hg_exp2_HUGE;
+            return vec2(airlight_hg_exp2_HUGE, 0.0);
         }
-        return airlight_hg_exp2_phase_at(ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return vec2(airlight_hg_exp2_phase_at(ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     float h = x0 < 0.0 ? max(h_in, 1e-7) : h_in;
@@ -519,10 +522,16 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0, flo
         if (!open && xr > 0.0) {
             len = airlight_hg_exp2_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_hg_exp2_forward(airlight_hg_exp2_arctan2(h, x0), len, t, -tau * x0, ph);
+        sum += airlight_hg_exp2_forward(airlight_hg_exp2_arctan2(h, x0), len, t, c - tau * x0, ph);
     }
-    sum += airlight_hg_exp2_backward_u(tau, t, h, x0, rho, xr, open, ph);
-    return min(sum / h, airlight_hg_exp2_HUGE);
+    sum += airlight_hg_exp2_backward_u(c - tau, t, h, x0, rho, xr, open, ph);
+    return vec2(min(sum / h, airlight_hg_exp2_HUGE), c);
+}
+
+// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
+float airlight_hg_exp2_airlight_geometry(float tau, float h, float x0, float rho, float xr, float g) {
+    vec2 sc = airlight_hg_exp2_airlight_scaled(tau, h, x0, rho, xr, g);
+    return min(airlight_hg_exp2_mul_exp_neg(sc.x, sc.y), airlight_hg_exp2_HUGE);
 }
 
 // The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
@@ -546,8 +555,11 @@ float airlight_hg_exp2_radiance(vec3 origin, vec3 dir, float surface, vec3 light
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    float a = airlight_hg_exp2_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_hg_exp2_foot(geo.y, geo.z, rho), g);
-    return airlight_hg_exp2_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // float holds is kept where A alone would be subnormal.
+    vec2 sc = airlight_hg_exp2_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_hg_exp2_foot(geo.y, geo.z, rho), g);
+    int k = airlight_hg_exp2_exp_neg_k(sc.y);
+    return airlight_hg_exp2_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_hg_exp2_exp_neg_m(sc.y, k), -k);
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -388,25 +388,27 @@ float airlight_paper_refit_hg_cubic(float c0, float c1, float c2, float c3, floa
 }
 
 // The backward part from the foot point (gamma <= pi/2) by the paper's ratio
-// f(theta) e^(-g(theta) kappa^h(theta)), times h, the phase at the mean angle.
-float airlight_paper_refit_hg_backward_ratio(float tau, float t, float x0, float theta_b, airlight_paper_refit_hg_Phase ph) {
-    float decay = 1.0;
+// f(theta) e^(-g(theta) kappa^h(theta)), times h and e^c, the phase at the mean
+// angle; att = c - tau x0. The ratio's decay joins att in one exponential, capped
+// where a ratio that does not fall with T would pass f32's range.
+float airlight_paper_refit_hg_backward_ratio(float att, float t, float theta_b, airlight_paper_refit_hg_Phase ph) {
+    float decay = 0.0;
     if (t > 0.0) {
-        decay = exp(-airlight_paper_refit_hg_cubic(-1.82215020e-1, 4.32376623e-1, 3.58311594e-1, 6.05879784e-1, theta_b) * exp(airlight_paper_refit_hg_cubic(1.24764390e-1, -2.91488498e-1, -1.26079964e-2, 1.11344206e0, theta_b) * log(t)));
+        decay = -airlight_paper_refit_hg_cubic(-1.82215020e-1, 4.32376623e-1, 3.58311594e-1, 6.05879784e-1, theta_b) * exp(airlight_paper_refit_hg_cubic(1.24764390e-1, -2.91488498e-1, -1.26079964e-2, 1.11344206e0, theta_b) * log(t));
     }
-    float r = max(airlight_paper_refit_hg_cubic(-9.09452140e-2, 1.17275916e-1, 6.07704282e-1, 7.01923796e-4, theta_b) * decay, 0.0);
+    float r = max(airlight_paper_refit_hg_cubic(-9.09452140e-2, 1.17275916e-1, 6.07704282e-1, 7.01923796e-4, theta_b), 0.0) * exp(min(att + decay, 80.0));
     float whole = airlight_paper_refit_hg_segments(0.0, airlight_paper_refit_hg_FRAC_PI_2, t, 0.0, 0.0, false);
     float mean = theta_b / (2.0 + t * theta_b);
-    return exp(-tau * x0) * airlight_paper_refit_hg_phase_at(ph, airlight_paper_refit_hg_FRAC_PI_2 + mean) * r * whole;
+    return airlight_paper_refit_hg_phase_at(ph, airlight_paper_refit_hg_FRAC_PI_2 + mean) * r * whole;
 }
 
-// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 // (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-float airlight_paper_refit_hg_backward_u(float tau, float t, float h, float x0, float rho, float xr, bool open, airlight_paper_refit_hg_Phase ph) {
+float airlight_paper_refit_hg_backward_u(float att, float t, float h, float x0, float rho, float xr, bool open, airlight_paper_refit_hg_Phase ph) {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
@@ -425,7 +427,7 @@ float airlight_paper_refit_hg_backward_u(float tau, float t, float h, float x0, 
     // Past u0 + 1e30 the rest of the ray adds below float's resolution.
     bool endless = open || span >= 1e30;
     float ub = u0 + span;
-    float base = -tau - t * (u0 - ua);
+    float base = att - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
         float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
@@ -492,17 +494,20 @@ float airlight_paper_refit_hg_backward_u(float tau, float t, float h, float x0, 
     return 2.0 * sum;
 }
 
-// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr, float g) {
+// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+// (no path from viewer to light is shorter than D), so a value float holds is not
+// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+vec2 airlight_paper_refit_hg_airlight_scaled(float tau_in, float h_in, float x0, float rho, float xr, float g) {
     airlight_paper_refit_hg_Phase ph = airlight_paper_refit_hg_phase(g);
     bool open = !(rho >= 0.0 && rho < airlight_paper_refit_hg_RHO_OPEN);
     float tau = min(tau_in, airlight_paper_refit_hg_TAU_MAX);
+    float c = tau;
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
-            return airlight_paper_refit_hg_HUGE;
+            return vec2(airlight_paper_refit_hg_HUGE, 0.0);
         }
-        return airlight_paper_refit_hg_phase_at(ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return vec2(airlight_paper_refit_hg_phase_at(ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     float h = x0 < 0.0 ? max(h_in, 1e-7) : h_in;
@@ -516,7 +521,7 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
         if (!open && xr > 0.0) {
             len = airlight_paper_refit_hg_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_paper_refit_hg_forward(airlight_paper_refit_hg_arctan2(h, x0), len, t, -tau * x0, ph);
+        sum += airlight_paper_refit_hg_forward(airlight_paper_refit_hg_arctan2(h, x0), len, t, c - tau * x0, ph);
     }
     if (x0 >= 0.0) {
         if (open || xr < 0.0) {
@@ -524,12 +529,18 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
             if (!open) {
                 theta_b = airlight_paper_refit_hg_arctan2(-xr, h);
             }
-            sum += airlight_paper_refit_hg_backward_ratio(tau, t, x0, theta_b, ph);
+            sum += airlight_paper_refit_hg_backward_ratio(c - tau * x0, t, theta_b, ph);
         }
     } else {
-        sum += airlight_paper_refit_hg_backward_u(tau, t, h, x0, rho, xr, open, ph);
+        sum += airlight_paper_refit_hg_backward_u(c - tau, t, h, x0, rho, xr, open, ph);
     }
-    return min(sum / h, airlight_paper_refit_hg_HUGE);
+    return vec2(min(sum / h, airlight_paper_refit_hg_HUGE), c);
+}
+
+// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
+float airlight_paper_refit_hg_airlight_geometry(float tau, float h, float x0, float rho, float xr, float g) {
+    vec2 sc = airlight_paper_refit_hg_airlight_scaled(tau, h, x0, rho, xr, g);
+    return min(airlight_paper_refit_hg_mul_exp_neg(sc.x, sc.y), airlight_paper_refit_hg_HUGE);
 }
 
 // The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
@@ -553,8 +564,11 @@ float airlight_paper_refit_hg_radiance(vec3 origin, vec3 dir, float surface, vec
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    float a = airlight_paper_refit_hg_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_hg_foot(geo.y, geo.z, rho), g);
-    return airlight_paper_refit_hg_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // float holds is kept where A alone would be subnormal.
+    vec2 sc = airlight_paper_refit_hg_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_hg_foot(geo.y, geo.z, rho), g);
+    int k = airlight_paper_refit_hg_exp_neg_k(sc.y);
+    return airlight_paper_refit_hg_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_paper_refit_hg_exp_neg_m(sc.y, k), -k);
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -326,24 +326,26 @@ float airlight_paper_refit_cubic(float c0, float c1, float c2, float c3, float x
 }
 
 // The backward part from the foot point (gamma <= pi/2) by the paper's ratio
-// f(theta) e^(-g(theta) kappa^h(theta)), times h, the phase at the mean angle.
-float airlight_paper_refit_backward_ratio(float tau, float t, float x0, float theta_b) {
-    float decay = 1.0;
+// f(theta) e^(-g(theta) kappa^h(theta)), times h and e^c, the phase at the mean
+// angle; att = c - tau x0. The ratio's decay joins att in one exponential, capped
+// where a ratio that does not fall with T would pass f32's range.
+float airlight_paper_refit_backward_ratio(float att, float t, float theta_b) {
+    float decay = 0.0;
     if (t > 0.0) {
-        decay = exp(-airlight_paper_refit_cubic(-1.30706400e-1, 4.16929960e-1, 3.79035532e-1, 5.97798407e-1, theta_b) * exp(airlight_paper_refit_cubic(1.99891962e-2, -1.58746392e-1, -4.20794487e-2, 1.08285904e0, theta_b) * log(t)));
+        decay = -airlight_paper_refit_cubic(-1.30706400e-1, 4.16929960e-1, 3.79035532e-1, 5.97798407e-1, theta_b) * exp(airlight_paper_refit_cubic(1.99891962e-2, -1.58746392e-1, -4.20794487e-2, 1.08285904e0, theta_b) * log(t));
     }
-    float r = max(airlight_paper_refit_cubic(-4.03924733e-2, 1.07373938e-1, 5.75859427e-1, 4.64046700e-3, theta_b) * decay, 0.0);
+    float r = max(airlight_paper_refit_cubic(-4.03924733e-2, 1.07373938e-1, 5.75859427e-1, 4.64046700e-3, theta_b), 0.0) * exp(min(att + decay, 80.0));
     float whole = airlight_paper_refit_segments(0.0, airlight_paper_refit_FRAC_PI_2, t, 0.0);
-    return exp(-tau * x0) * airlight_paper_refit_P_ISO * r * whole;
+    return airlight_paper_refit_P_ISO * r * whole;
 }
 
-// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 // (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, float rho, float xr, bool open) {
+float airlight_paper_refit_backward_u(float att, float t, float h, float x0, float rho, float xr, bool open) {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
@@ -362,7 +364,7 @@ float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, flo
     // Past u0 + 1e30 the rest of the ray adds below float's resolution.
     bool endless = open || span >= 1e30;
     float ub = u0 + span;
-    float base = -tau - t * (u0 - ua);
+    float base = att - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
         float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
@@ -425,16 +427,19 @@ float airlight_paper_refit_backward_u(float tau, float t, float h, float x0, flo
     return 2.0 * sum;
 }
 
-// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr) {
+// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+// (no path from viewer to light is shorter than D), so a value float holds is not
+// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+vec2 airlight_paper_refit_airlight_scaled(float tau_in, float h_in, float x0, float rho, float xr) {
     bool open = !(rho >= 0.0 && rho < airlight_paper_refit_RHO_OPEN);
     float tau = min(tau_in, airlight_paper_refit_TAU_MAX);
+    float c = tau;
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
-            return airlight_paper_refit_HUGE;
+            return vec2(airlight_paper_refit_HUGE, 0.0);
         }
-        return airlight_paper_refit_P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return vec2(airlight_paper_refit_P_ISO * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     float h = x0 < 0.0 ? max(h_in, 1e-7) : h_in;
@@ -448,7 +453,7 @@ float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0,
         if (!open && xr > 0.0) {
             len = airlight_paper_refit_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_paper_refit_forward(airlight_paper_refit_arctan2(h, x0), len, t, -tau * x0);
+        sum += airlight_paper_refit_forward(airlight_paper_refit_arctan2(h, x0), len, t, c - tau * x0);
     }
     if (x0 >= 0.0) {
         if (open || xr < 0.0) {
@@ -456,12 +461,18 @@ float airlight_paper_refit_airlight_geometry(float tau_in, float h_in, float x0,
             if (!open) {
                 theta_b = airlight_paper_refit_arctan2(-xr, h);
             }
-            sum += airlight_paper_refit_backward_ratio(tau, t, x0, theta_b);
+            sum += airlight_paper_refit_backward_ratio(c - tau * x0, t, theta_b);
         }
     } else {
-        sum += airlight_paper_refit_backward_u(tau, t, h, x0, rho, xr, open);
+        sum += airlight_paper_refit_backward_u(c - tau, t, h, x0, rho, xr, open);
     }
-    return min(sum / h, airlight_paper_refit_HUGE);
+    return vec2(min(sum / h, airlight_paper_refit_HUGE), c);
+}
+
+// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
+float airlight_paper_refit_airlight_geometry(float tau, float h, float x0, float rho, float xr) {
+    vec2 sc = airlight_paper_refit_airlight_scaled(tau, h, x0, rho, xr);
+    return min(airlight_paper_refit_mul_exp_neg(sc.x, sc.y), airlight_paper_refit_HUGE);
 }
 
 // The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
@@ -485,8 +496,11 @@ float airlight_paper_refit_radiance(vec3 origin, vec3 dir, float surface, vec3 l
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    float a = airlight_paper_refit_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_foot(geo.y, geo.z, rho));
-    return airlight_paper_refit_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // float holds is kept where A alone would be subnormal.
+    vec2 sc = airlight_paper_refit_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_foot(geo.y, geo.z, rho));
+    int k = airlight_paper_refit_exp_neg_k(sc.y);
+    return airlight_paper_refit_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_paper_refit_exp_neg_m(sc.y, k), -k);
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

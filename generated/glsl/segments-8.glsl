@@ -326,13 +326,13 @@ float airlight_segments_8_forward(float a, float len, float t, float att) {
     return airlight_segments_8_P_ISO * airlight_segments_8_segments(a, len, t, att);
 }
 
-// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 // e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 // (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 // beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 // mean point), integrated exactly through phi, or for short far parts
 // (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-float airlight_segments_8_backward_u(float tau, float t, float h, float x0, float rho, float xr, bool open) {
+float airlight_segments_8_backward_u(float att, float t, float h, float x0, float rho, float xr, bool open) {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     float ua = x0 >= 0.0 ? h / (1.0 + x0) : (1.0 - x0) / h;
     float u0 = max(ua, 1.0);
@@ -351,7 +351,7 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
     // Past u0 + 1e30 the rest of the ray adds below float's resolution.
     bool endless = open || span >= 1e30;
     float ub = u0 + span;
-    float base = -tau - t * (u0 - ua);
+    float base = att - t * (u0 - ua);
     float sum = 0.0;
     if (u0 < 1.60000000e1) {
         float len = ub <= 1.60000000e1 ? span : 1.60000000e1 - u0;
@@ -414,16 +414,19 @@ float airlight_segments_8_backward_u(float tau, float t, float h, float x0, floa
     return 2.0 * sum;
 }
 
-// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-float airlight_segments_8_airlight_geometry(float tau_in, float h_in, float x0, float rho, float xr) {
+// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+// (no path from viewer to light is shorter than D), so a value float holds is not
+// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+vec2 airlight_segments_8_airlight_scaled(float tau_in, float h_in, float x0, float rho, float xr) {
     bool open = !(rho >= 0.0 && rho < airlight_segments_8_RHO_OPEN);
     float tau = min(tau_in, airlight_segments_8_TAU_MAX);
+    float c = tau;
     if (h_in <= 0.0 && x0 > 0.0) {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if (open || rho >= 1.0) {
-            return airlight_segments_8_HUGE;
+            return vec2(airlight_segments_8_HUGE, 0.0);
         }
-        return airlight_segments_8_P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return vec2(airlight_segments_8_P_ISO * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     float h = x0 < 0.0 ? max(h_in, 1e-7) : h_in;
@@ -437,10 +440,16 @@ float airlight_segments_8_airlight_geometry(float tau_in, float h_in, float x0, 
         if (!open && xr > 0.0) {
             len = airlight_segments_8_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_segments_8_forward(airlight_segments_8_arctan2(h, x0), len, t, -tau * x0);
+        sum += airlight_segments_8_forward(airlight_segments_8_arctan2(h, x0), len, t, c - tau * x0);
     }
-    sum += airlight_segments_8_backward_u(tau, t, h, x0, rho, xr, open);
-    return min(sum / h, airlight_segments_8_HUGE);
+    sum += airlight_segments_8_backward_u(c - tau, t, h, x0, rho, xr, open);
+    return vec2(min(sum / h, airlight_segments_8_HUGE), c);
+}
+
+// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
+float airlight_segments_8_airlight_geometry(float tau, float h, float x0, float rho, float xr) {
+    vec2 sc = airlight_segments_8_airlight_scaled(tau, h, x0, rho, xr);
+    return min(airlight_segments_8_mul_exp_neg(sc.x, sc.y), airlight_segments_8_HUGE);
 }
 
 // The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
@@ -464,8 +473,11 @@ float airlight_segments_8_radiance(vec3 origin, vec3 dir, float surface, vec3 li
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     float rho = surface >= 0.0 ? surface / geo.x : -1.0;
-    float a = airlight_segments_8_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_segments_8_foot(geo.y, geo.z, rho));
-    return airlight_segments_8_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // float holds is kept where A alone would be subnormal.
+    vec2 sc = airlight_segments_8_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_segments_8_foot(geo.y, geo.z, rho));
+    int k = airlight_segments_8_exp_neg_k(sc.y);
+    return airlight_segments_8_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_segments_8_exp_neg_m(sc.y, k), -k);
 }
 
 // A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -180,14 +180,14 @@ float3 airlight_hg_exp2_ray_geometry(float3 origin, float3 dir, float3 light)
         float3 cs = (_e75 / (_e70).xxx);
         h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_8 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h_1;
     float _e85 = h_1;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_8 * x0_8)));
     const float3 _e93 = airlight_hg_exp2_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return float3(min(dist, airlight_hg_exp2_HUGE), (_e97 / n_1), (x0_7 / n_1));
+    return float3(min(dist, airlight_hg_exp2_HUGE), (_e97 / n_1), (x0_8 / n_1));
 }
 
 float airlight_hg_exp2_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
@@ -468,7 +468,7 @@ float airlight_hg_exp2_forward(float a_9, float len_2, float t_2, float att_2, a
     return max(((ph_3.c[0] * _e10) + (ph_3.c[1] * _e17)), 0.0);
 }
 
-float airlight_hg_exp2_backward_u(float tau_3, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_hg_exp2_Phase ph_4)
+float airlight_hg_exp2_backward_u(float att_3, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_hg_exp2_Phase ph_4)
 {
     float span = airlight_hg_exp2_HUGE;
     bool local_5 = (bool)0;
@@ -499,41 +499,41 @@ float airlight_hg_exp2_backward_u(float tau_3, float t_3, float h_2, float x0_1,
     bool endless = local_5;
     float _e55 = span;
     float ub = (u0_ + _e55);
-    float base = (-(tau_3) - (t_3 * (u0_ - ua)));
+    float base = (att_3 - (t_3 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
-        float _e67 = span;
-        float len_4 = ((ub <= 16.0) ? _e67 : (16.0 - u0_));
+        float _e66 = span;
+        float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
         {
             float lam_1 = (t_3 + 0.024973566);
             float mean = (u0_ + (len_4 / (2.0 + (lam_1 * len_4))));
-            float _e78 = sum;
-            const float _e88 = airlight_hg_exp2_exprel((-(lam_1) * len_4));
-            const float _e90 = airlight_hg_exp2_phase_u(ph_4, mean);
-            sum = (_e78 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e88) * _e90));
+            float _e77 = sum;
+            const float _e87 = airlight_hg_exp2_exprel((-(lam_1) * len_4));
+            const float _e89 = airlight_hg_exp2_phase_u(ph_4, mean);
+            sum = (_e77 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e87) * _e89));
         }
         {
             float lam_2 = (t_3 + 0.19339234);
             float mean_1 = (u0_ + (len_4 / (2.0 + (lam_2 * len_4))));
-            float _e100 = sum;
-            const float _e110 = airlight_hg_exp2_exprel((-(lam_2) * len_4));
-            const float _e112 = airlight_hg_exp2_phase_u(ph_4, mean_1);
-            sum = (_e100 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e110) * _e112));
+            float _e99 = sum;
+            const float _e109 = airlight_hg_exp2_exprel((-(lam_2) * len_4));
+            const float _e111 = airlight_hg_exp2_phase_u(ph_4, mean_1);
+            sum = (_e99 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e109) * _e111));
         }
         {
             float lam_3 = (t_3 + 0.58173054);
             float mean_2 = (u0_ + (len_4 / (2.0 + (lam_3 * len_4))));
-            float _e122 = sum;
-            const float _e132 = airlight_hg_exp2_exprel((-(lam_3) * len_4));
-            const float _e134 = airlight_hg_exp2_phase_u(ph_4, mean_2);
-            sum = (_e122 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e132) * _e134));
+            float _e121 = sum;
+            const float _e131 = airlight_hg_exp2_exprel((-(lam_3) * len_4));
+            const float _e133 = airlight_hg_exp2_phase_u(ph_4, mean_2);
+            sum = (_e121 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e131) * _e133));
         }
         {
             float lam_4 = (t_3 + 1.4293756);
             float mean_3 = (u0_ + (len_4 / (2.0 + (lam_4 * len_4))));
-            float _e144 = sum;
-            const float _e154 = airlight_hg_exp2_exprel((-(lam_4) * len_4));
-            const float _e156 = airlight_hg_exp2_phase_u(ph_4, mean_3);
-            sum = (_e144 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e154) * _e156));
+            float _e143 = sum;
+            const float _e153 = airlight_hg_exp2_exprel((-(lam_4) * len_4));
+            const float _e155 = airlight_hg_exp2_phase_u(ph_4, mean_3);
+            sum = (_e143 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e153) * _e155));
         }
     }
     if (!(endless)) {
@@ -541,8 +541,8 @@ float airlight_hg_exp2_backward_u(float tau_3, float t_3, float h_2, float x0_1,
     } else {
         local_6 = true;
     }
-    bool _e165 = local_6;
-    if (_e165) {
+    bool _e164 = local_6;
+    if (_e164) {
         float a_17 = max(u0_, 16.0);
         float shift = (base - (t_3 * (a_17 - u0_)));
         if (!(endless)) {
@@ -550,69 +550,69 @@ float airlight_hg_exp2_backward_u(float tau_3, float t_3, float h_2, float x0_1,
         } else {
             local_7 = false;
         }
-        bool _e178 = local_7;
-        if (_e178) {
-            float _e182 = span;
-            float len_5 = ((a_17 == u0_) ? (_e182 / a_17) : ((ub / a_17) - 1.0));
+        bool _e177 = local_7;
+        if (_e177) {
+            float _e181 = span;
+            float len_5 = ((a_17 == u0_) ? (_e181 / a_17) : ((ub / a_17) - 1.0));
             float ta = (t_3 * a_17);
             {
                 float lam_5 = (ta + 0.26840276);
                 float u_3 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
-                float _e205 = part;
-                const float _e214 = airlight_hg_exp2_exprel((-(lam_5) * len_5));
-                const float _e217 = airlight_hg_exp2_phase_u(ph_4, u_3);
-                part = (_e205 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e214) * q_1) * _e217));
+                float _e204 = part;
+                const float _e213 = airlight_hg_exp2_exprel((-(lam_5) * len_5));
+                const float _e216 = airlight_hg_exp2_phase_u(ph_4, u_3);
+                part = (_e204 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e213) * q_1) * _e216));
             }
             {
                 float lam_6 = (ta + 1.5659415);
                 float u_4 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
-                float _e236 = part;
-                const float _e245 = airlight_hg_exp2_exprel((-(lam_6) * len_5));
-                const float _e248 = airlight_hg_exp2_phase_u(ph_4, u_4);
-                part = (_e236 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e245) * q_2) * _e248));
+                float _e235 = part;
+                const float _e244 = airlight_hg_exp2_exprel((-(lam_6) * len_5));
+                const float _e247 = airlight_hg_exp2_phase_u(ph_4, u_4);
+                part = (_e235 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e244) * q_2) * _e247));
             }
             {
                 float lam_7 = (ta + 4.449333);
                 float u_5 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
-                float _e267 = part;
-                const float _e276 = airlight_hg_exp2_exprel((-(lam_7) * len_5));
-                const float _e279 = airlight_hg_exp2_phase_u(ph_4, u_5);
-                part = (_e267 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e276) * q_3) * _e279));
+                float _e266 = part;
+                const float _e275 = airlight_hg_exp2_exprel((-(lam_7) * len_5));
+                const float _e278 = airlight_hg_exp2_phase_u(ph_4, u_5);
+                part = (_e266 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e275) * q_3) * _e278));
             }
-            float _e282 = sum;
-            float _e283 = part;
-            sum = (_e282 + (_e283 / a_17));
+            float _e281 = sum;
+            float _e282 = part;
+            sum = (_e281 + (_e282 / a_17));
         } else {
             float lam_8 = (t_3 + (2.0 / a_17));
-            const float _e290 = airlight_hg_exp2_phi((t_3 * a_17));
-            g_1 = (_e290 / a_17);
+            const float _e289 = airlight_hg_exp2_phi((t_3 * a_17));
+            g_1 = (_e289 / a_17);
             u_1 = (a_17 + (1.0 / lam_8));
             if (!(endless)) {
-                float _e299 = span;
-                float len_6 = ((a_17 == u0_) ? _e299 : (ub - a_17));
-                float _e302 = g_1;
-                const float _e307 = airlight_hg_exp2_phi((t_3 * ub));
-                g_1 = (_e302 - ((exp((-(t_3) * len_6)) * _e307) / ub));
+                float _e298 = span;
+                float len_6 = ((a_17 == u0_) ? _e298 : (ub - a_17));
+                float _e301 = g_1;
+                const float _e306 = airlight_hg_exp2_phi((t_3 * ub));
+                g_1 = (_e301 - ((exp((-(t_3) * len_6)) * _e306) / ub));
                 u_1 = (a_17 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
+            float _e315 = u_1;
             float _e316 = u_1;
-            float _e317 = u_1;
-            float q_4 = (1.0 / (1.0 + (1.0 / (_e316 * _e317))));
-            float _e325 = sum;
-            float _e327 = g_1;
-            float _e330 = u_1;
-            const float _e331 = airlight_hg_exp2_phase_u(ph_4, _e330);
-            sum = (_e325 + (((exp(shift) * _e327) * q_4) * _e331));
+            float q_4 = (1.0 / (1.0 + (1.0 / (_e315 * _e316))));
+            float _e324 = sum;
+            float _e326 = g_1;
+            float _e329 = u_1;
+            const float _e330 = airlight_hg_exp2_phase_u(ph_4, _e329);
+            sum = (_e324 + (((exp(shift) * _e326) * q_4) * _e330));
         }
     }
-    float _e334 = sum;
-    return (2.0 * _e334);
+    float _e333 = sum;
+    return (2.0 * _e333);
 }
 
-float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, float rho_2, float xr_1, float g_2)
+float2 airlight_hg_exp2_airlight_scaled(float tau_in, float h_in, float x0_2, float rho_2, float xr_1, float g_2)
 {
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
@@ -629,7 +629,7 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
     }
     bool _e14 = local_8;
     bool open_1 = !(_e14);
-    float tau_9 = min(tau_in, airlight_hg_exp2_TAU_MAX);
+    float c_5 = min(tau_in, airlight_hg_exp2_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_2 > 0.0);
     } else {
@@ -644,15 +644,15 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
         }
         bool _e32 = local_10;
         if (_e32) {
-            return airlight_hg_exp2_HUGE;
+            return float2(3.4028235e38, 0.0);
         }
-        const float _e35 = airlight_hg_exp2_phase_at(_e6, 0.0);
-        return (((_e35 * exp(-(tau_9))) * rho_2) / (1.0 - rho_2));
+        const float _e37 = airlight_hg_exp2_phase_at(_e6, 0.0);
+        return float2(((_e37 * rho_2) / (1.0 - rho_2)), c_5);
     }
-    float h_7 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_9 * h_7);
+    float h_8 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_4 = (c_5 * h_8);
     if ((x0_2 > 0.0)) {
-        const float _e53 = airlight_hg_exp2_arctan2_(x0_2, h_7);
+        const float _e53 = airlight_hg_exp2_arctan2_(x0_2, h_8);
         len_3 = _e53;
         if (!(open_1)) {
             local_11 = (xr_1 > 0.0);
@@ -661,31 +661,38 @@ float airlight_hg_exp2_airlight_geometry(float tau_in, float h_in, float x0_2, f
         }
         bool _e61 = local_11;
         if (_e61) {
-            const float _e66 = airlight_hg_exp2_arctan2_((h_7 * rho_2), ((h_7 * h_7) + (x0_2 * xr_1)));
+            const float _e66 = airlight_hg_exp2_arctan2_((h_8 * rho_2), ((h_8 * h_8) + (x0_2 * xr_1)));
             len_3 = _e66;
         }
         float _e67 = sum_1;
-        const float _e68 = airlight_hg_exp2_arctan2_(h_7, x0_2);
+        const float _e68 = airlight_hg_exp2_arctan2_(h_8, x0_2);
         float _e69 = len_3;
-        const float _e72 = airlight_hg_exp2_forward(_e68, _e69, t_4, (-(tau_9) * x0_2), _e6);
+        const float _e72 = airlight_hg_exp2_forward(_e68, _e69, t_4, (c_5 - (c_5 * x0_2)), _e6);
         sum_1 = (_e67 + _e72);
     }
     float _e74 = sum_1;
-    const float _e75 = airlight_hg_exp2_backward_u(tau_9, t_4, h_7, x0_2, rho_2, xr_1, open_1, _e6);
-    sum_1 = (_e74 + _e75);
-    float _e77 = sum_1;
-    return min((_e77 / h_7), airlight_hg_exp2_HUGE);
+    const float _e76 = airlight_hg_exp2_backward_u((c_5 - c_5), t_4, h_8, x0_2, rho_2, xr_1, open_1, _e6);
+    sum_1 = (_e74 + _e76);
+    float _e78 = sum_1;
+    return float2(min((_e78 / h_8), airlight_hg_exp2_HUGE), c_5);
 }
 
-float airlight_hg_exp2_airlight(float tau_4, float gamma, float rho_3, float g_3)
+float airlight_hg_exp2_airlight_geometry(float tau_3, float h_3, float x0_3, float rho_3, float xr_2, float g_3)
+{
+    const float2 _e6 = airlight_hg_exp2_airlight_scaled(tau_3, h_3, x0_3, rho_3, xr_2, g_3);
+    const float _e9 = airlight_hg_exp2_mul_exp_neg(_e6.x, _e6.y);
+    return min(_e9, airlight_hg_exp2_HUGE);
+}
+
+float airlight_hg_exp2_airlight(float tau_4, float gamma, float rho_4, float g_4)
 {
     const float2 _e4 = airlight_hg_exp2_sin_cos(gamma);
-    const float _e11 = airlight_hg_exp2_foot(abs(_e4.x), _e4.y, rho_3);
-    const float _e12 = airlight_hg_exp2_airlight_geometry(tau_4, abs(_e4.x), _e4.y, rho_3, _e11, g_3);
+    const float _e11 = airlight_hg_exp2_foot(abs(_e4.x), _e4.y, rho_4);
+    const float _e12 = airlight_hg_exp2_airlight_geometry(tau_4, abs(_e4.x), _e4.y, rho_4, _e11, g_4);
     return _e12;
 }
 
-float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_4)
+float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_5)
 {
     bool local_12 = (bool)0;
 
@@ -703,24 +710,26 @@ float airlight_hg_exp2_radiance(float3 origin_1, float3 dir_1, float surface, fl
     if (_e24) {
         return 0.0;
     }
-    float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e38 = airlight_hg_exp2_foot(_e8.y, _e8.z, rho_8);
-    const float _e39 = airlight_hg_exp2_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_8, _e38, g_4);
-    const float _e41 = airlight_hg_exp2_scaled(sigma_s_2, intensity_2, _e8.x, _e39);
-    return _e41;
+    float rho_9 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e38 = airlight_hg_exp2_foot(_e8.y, _e8.z, rho_9);
+    const float2 _e39 = airlight_hg_exp2_airlight_scaled((sigma_t * _e8.x), _e8.y, _e8.z, rho_9, _e38, g_5);
+    const int _e41 = airlight_hg_exp2_exp_neg_k(_e39.y);
+    const float _e45 = airlight_hg_exp2_exp_neg_m(_e39.y, _e41);
+    const float _e48 = airlight_hg_exp2_scaled_pow2_(sigma_s_2, intensity_2, _e8.x, (_e39.x * _e45), airlight_hg_exp2_naga_neg(_e41));
+    return _e48;
 }
 
-float airlight_hg_exp2_along(float tau_5, float h_3, float x0_3, float rho_4, float xr_2, float g_5)
+float airlight_hg_exp2_along(float tau_5, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
 {
-    const float _e6 = airlight_hg_exp2_airlight_geometry(tau_5, h_3, x0_3, rho_4, xr_2, g_5);
+    const float _e6 = airlight_hg_exp2_airlight_geometry(tau_5, h_4, x0_4, rho_5, xr_3, g_6);
     return _e6;
 }
 
-float3 airlight_hg_exp2_along_rgb(float3 tau_6, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
+float3 airlight_hg_exp2_along_rgb(float3 tau_6, float h_5, float x0_5, float rho_6, float xr_4, float g_7)
 {
-    const float _e7 = airlight_hg_exp2_along(tau_6.x, h_4, x0_4, rho_5, xr_3, g_6);
-    const float _e9 = airlight_hg_exp2_along(tau_6.y, h_4, x0_4, rho_5, xr_3, g_6);
-    const float _e11 = airlight_hg_exp2_along(tau_6.z, h_4, x0_4, rho_5, xr_3, g_6);
+    const float _e7 = airlight_hg_exp2_along(tau_6.x, h_5, x0_5, rho_6, xr_4, g_7);
+    const float _e9 = airlight_hg_exp2_along(tau_6.y, h_5, x0_5, rho_6, xr_4, g_7);
+    const float _e11 = airlight_hg_exp2_along(tau_6.z, h_5, x0_5, rho_6, xr_4, g_7);
     return float3(_e7, _e9, _e11);
 }
 
@@ -730,7 +739,7 @@ float airlight_hg_exp2_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
+float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_6, float x0_6, float rho_7, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_8)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -740,18 +749,18 @@ float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho
     float xr1_ = (float)0;
     bool local_13 = (bool)0;
 
-    h1_ = h_5;
-    x1_ = x0_5;
-    rho1_ = rho_6;
+    h1_ = h_6;
+    x1_ = x0_6;
+    rho1_ = rho_7;
     const float2 _e17 = airlight_hg_exp2_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_5 / max(_e17.x, 1e-30));
+        t0_ = (h_6 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_hg_exp2_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
-    const float _e31 = airlight_hg_exp2_foot(h_5, x0_5, rho_6);
+    const float _e31 = airlight_hg_exp2_foot(h_6, x0_6, rho_7);
     xr1_ = _e31;
     if (cut_b) {
         const float2 _e33 = airlight_hg_exp2_sin_cos(wb);
@@ -761,7 +770,7 @@ float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho
         xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_6 >= 0.0);
+            local_13 = (rho_7 >= 0.0);
         } else {
             local_13 = false;
         }
@@ -769,7 +778,7 @@ float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            rho1_ = max(((rho_7 - _e54) / _e56), 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -782,7 +791,7 @@ float3 airlight_hg_exp2_spot_core(float3 tau_7, float h_5, float x0_5, float rho
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_hg_exp2_along_rgb((tau_7 * _e64), _e66, _e67, _e68, _e69, g_7);
+    const float3 _e70 = airlight_hg_exp2_along_rgb((tau_7 * _e64), _e66, _e67, _e68, _e69, g_8);
     float _e72 = s0_;
     float _e76 = t0_;
     return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_7) * _e72))) / (_e76).xxx));
@@ -802,7 +811,7 @@ airlight_hg_exp2_ret_Constructarray6_float_ airlight_hg_exp2_Constructarray6_flo
     return ret;
 }
 
-float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_1, float ci_1, float g_8)
+float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_7, float x0_7, float rho_8, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_1, float ci_1, float g_9)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_hg_exp2_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
@@ -822,15 +831,15 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
     const float _e30 = airlight_hg_exp2_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_hg_exp2_spot_core(tau_8, h_6, x0_6, rho_7, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
+        const float3 _e39 = airlight_hg_exp2_spot_core(tau_8, h_7, x0_7, rho_8, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_9);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
             return (3.4028235e38).xxx;
         }
     }
-    float gm = ((1.0 - g_8) * (1.0 - g_8));
-    float gp = ((1.0 + g_8) * (1.0 + g_8));
+    float gm = ((1.0 - g_9) * (1.0 - g_9));
+    float gp = ((1.0 + g_9) * (1.0 + g_9));
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
@@ -863,10 +872,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e116) * _e119)) : (gp - (((4.0 * g_8) * _e107) * _e110)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e116) * _e119)) : (gp - (((4.0 * g_9) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
-            st = max((x0_6 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e126) / max(_e129, 1e-30))), 1.0);
             float3 _e136 = sum_2;
             float _e142 = sb.x;
             float _e145 = sb.y;
@@ -887,10 +896,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e193) * _e196)) : (gp - (((4.0 * g_8) * _e184) * _e187)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e193) * _e196)) : (gp - (((4.0 * g_9) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
-            st = max((x0_6 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e203) / max(_e206, 1e-30))), 1.0);
             float3 _e213 = sum_2;
             float _e219 = sb.x;
             float _e222 = sb.y;
@@ -911,10 +920,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e270) * _e273)) : (gp - (((4.0 * g_8) * _e261) * _e264)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e270) * _e273)) : (gp - (((4.0 * g_9) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
-            st = max((x0_6 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e280) / max(_e283, 1e-30))), 1.0);
             float3 _e290 = sum_2;
             float _e296 = sb.x;
             float _e299 = sb.y;
@@ -935,10 +944,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e347) * _e350)) : (gp - (((4.0 * g_8) * _e338) * _e341)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e347) * _e350)) : (gp - (((4.0 * g_9) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
-            st = max((x0_6 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e357) / max(_e360, 1e-30))), 1.0);
             float3 _e367 = sum_2;
             float _e373 = sb.x;
             float _e376 = sb.y;
@@ -959,10 +968,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e424) * _e427)) : (gp - (((4.0 * g_8) * _e415) * _e418)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e424) * _e427)) : (gp - (((4.0 * g_9) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
-            st = max((x0_6 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e434) / max(_e437, 1e-30))), 1.0);
             float3 _e444 = sum_2;
             float _e450 = sb.x;
             float _e453 = sb.y;
@@ -983,10 +992,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e501) * _e504)) : (gp - (((4.0 * g_8) * _e492) * _e495)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e501) * _e504)) : (gp - (((4.0 * g_9) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
-            st = max((x0_6 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e511) / max(_e514, 1e-30))), 1.0);
             float3 _e521 = sum_2;
             float _e527 = sb.x;
             float _e530 = sb.y;
@@ -1007,10 +1016,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e578) * _e581)) : (gp - (((4.0 * g_8) * _e569) * _e572)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e578) * _e581)) : (gp - (((4.0 * g_9) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
-            st = max((x0_6 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e588) / max(_e591, 1e-30))), 1.0);
             float3 _e598 = sum_2;
             float _e604 = sb.x;
             float _e607 = sb.y;
@@ -1031,10 +1040,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e655) * _e658)) : (gp - (((4.0 * g_8) * _e646) * _e649)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e655) * _e658)) : (gp - (((4.0 * g_9) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
-            st = max((x0_6 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e665) / max(_e668, 1e-30))), 1.0);
             float3 _e675 = sum_2;
             float _e681 = sb.x;
             float _e684 = sb.y;
@@ -1051,10 +1060,10 @@ float3 airlight_hg_exp2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho
     }
     float3 _e716 = exact;
     float3 _e725 = sum_2;
-    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_9)) * (1.0 + g_9)) * _e725) / (h_7).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_9)
+float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_10)
 {
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
@@ -1137,20 +1146,20 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         return (0.0).xxx;
     }
     float d_6 = _e11.x;
-    float h_8 = _e11.y;
-    float x0_8 = _e11.z;
+    float h_9 = _e11.y;
+    float x0_9 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_18 = ((surface_1 / d_6) < airlight_hg_exp2_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
-    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
-    float gg = clamp(g_9, -0.999, 0.999);
-    const float _e143 = airlight_hg_exp2_arctan2_(h_8, x0_8);
+    float rho_10 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
+    float gg = clamp(g_10, -0.999, 0.999);
+    const float _e143 = airlight_hg_exp2_arctan2_(h_9, x0_9);
     if (!(point_)) {
-        local_19 = (h_8 <= 0.0);
+        local_19 = (h_9 <= 0.0);
     } else {
         local_19 = true;
     }
@@ -1166,12 +1175,12 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
             const float _e160 = airlight_hg_exp2_spot_weight(-(k_4), co_2, cos_inner);
             const float _e161 = airlight_hg_exp2_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
-                local_21 = (rho_9 < 1.0);
+                local_21 = (rho_10 < 1.0);
             } else {
                 local_21 = false;
             }
             bool _e168 = local_21;
-            scale = ((x0_8 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
+            scale = ((x0_9 < 0.0) ? _e161 : (_e168 ? _e160 : max(_e160, _e161)));
         }
         core = true;
     } else {
@@ -1188,7 +1197,7 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         float _e194 = ca_1;
         const float _e195 = airlight_hg_exp2_arctan2_(k_4, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_hg_exp2_arctan2_(h_8, (x0_8 - rho_9));
+        const float _e198 = airlight_hg_exp2_arctan2_(h_9, (x0_9 - rho_10));
         om_e_1 = (has_end ? _e198 : airlight_hg_exp2_PI);
         if ((co_2 < r_6)) {
             const float _e201 = airlight_hg_exp2_spot_asin(co_2, r_6);
@@ -1232,7 +1241,7 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_hg_exp2_spot_core(tau_10, h_8, x0_8, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_hg_exp2_spot_core(tau_9, h_9, x0_9, rho_10, _e246, _e247, _e248, _e249, _e250, gg);
         a_10 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1260,7 +1269,7 @@ float3 airlight_hg_exp2_spot(float3 origin_2, float3 dir_2, float surface_1, flo
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_hg_exp2_spot_edge(tau_10, h_8, x0_8, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_2, cos_inner, gg);
+                const float3 _e274 = airlight_hg_exp2_spot_edge(tau_9, h_9, x0_9, rho_10, _e269, _e270, piece.x, piece.y, _e273, k_4, co_2, cos_inner, gg);
                 a_10 = (_e268 + _e274);
             }
         }
@@ -1395,7 +1404,7 @@ float4 airlight_hg_exp2_shafts_moved(float a_11, float b_4, float3 origin_3, flo
     return float4((origin_3 + (a_11 * (u_6 / (length(u_6)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_11), 0.0) : -1.0));
 }
 
-float airlight_hg_exp2_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_10)
+float airlight_hg_exp2_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_11)
 {
     bool local_22 = (bool)0;
     bool local_23 = (bool)0;
@@ -1418,14 +1427,14 @@ float airlight_hg_exp2_shafts_run(float a_12, float b_5, float w_1, float3 origi
     const float4 _e26 = airlight_hg_exp2_shafts_moved(a_12, b_5, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len_8 = _e26.w;
-    const float _e29 = airlight_hg_exp2_radiance(o, dir_4, len_8, light_3, intensity_4, sigma_t_2, sigma_s_4, g_10);
+    const float _e29 = airlight_hg_exp2_radiance(o, dir_4, len_8, light_3, intensity_4, sigma_t_2, sigma_s_4, g_11);
     if ((_e29 >= airlight_hg_exp2_HUGE)) {
         return _e29;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_12))) * _e29);
 }
 
-void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_11)
+void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_12)
 {
     uint j_2 = 0u;
 
@@ -1449,7 +1458,7 @@ void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_8, float3 o
             uint _e15 = j_2;
             float3 r_7 = acc_8.runs[min(uint(_e15), 31u)];
             float _e22 = acc_8.sum.x;
-            const float _e26 = airlight_hg_exp2_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_11);
+            const float _e26 = airlight_hg_exp2_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_12);
             acc_8.sum.x = min((_e22 + _e26), airlight_hg_exp2_HUGE);
         }
     }
@@ -1457,31 +1466,31 @@ void airlight_hg_exp2_shafts_flush(inout airlight_hg_exp2_Shafts acc_8, float3 o
     return;
 }
 
-void airlight_hg_exp2_shafts_push(inout airlight_hg_exp2_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_12)
+void airlight_hg_exp2_shafts_push(inout airlight_hg_exp2_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_13)
 {
     const float3 _e10 = airlight_hg_exp2_shafts_step(acc_9, s_1, v_4);
     airlight_hg_exp2_shafts_hold(acc_9, _e10);
     return;
 }
 
-float airlight_hg_exp2_shafts_finish(airlight_hg_exp2_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_13)
+float airlight_hg_exp2_shafts_finish(airlight_hg_exp2_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_14)
 {
     airlight_hg_exp2_Shafts acc_10 = (airlight_hg_exp2_Shafts)0;
 
     acc_10 = acc_in;
     const float3 _e10 = airlight_hg_exp2_shafts_place(acc_10);
     airlight_hg_exp2_shafts_hold(acc_10, _e10);
-    airlight_hg_exp2_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
+    airlight_hg_exp2_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_14);
     float _e12 = acc_10.v;
     float _e14 = acc_10.v;
     float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_10.sum.x;
     float _e23 = acc_10.start;
-    const float _e24 = airlight_hg_exp2_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
+    const float _e24 = airlight_hg_exp2_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_14);
     return min((_e21 + _e24), airlight_hg_exp2_HUGE);
 }
 
-float3 airlight_hg_exp2_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_14)
+float3 airlight_hg_exp2_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_15)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
@@ -1504,11 +1513,11 @@ float3 airlight_hg_exp2_shafts_run_spot(float a_13, float b_6, float w_2, float3
     const float4 _e30 = airlight_hg_exp2_shafts_moved(a_13, b_6, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_9 = _e30.w;
-    const float3 _e33 = airlight_hg_exp2_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_14);
+    const float3 _e33 = airlight_hg_exp2_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_15);
     return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_13))) * _e33));
 }
 
-void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_15)
+void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_16)
 {
     uint j_3 = 0u;
 
@@ -1532,7 +1541,7 @@ void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_11, fl
             uint _e18 = j_3;
             float3 r_8 = acc_11.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_11.sum;
-            const float3 _e27 = airlight_hg_exp2_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_15);
+            const float3 _e27 = airlight_hg_exp2_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_16);
             acc_11.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -1540,27 +1549,27 @@ void airlight_hg_exp2_shafts_flush_spot(inout airlight_hg_exp2_Shafts acc_11, fl
     return;
 }
 
-void airlight_hg_exp2_shafts_push_spot(inout airlight_hg_exp2_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_16)
+void airlight_hg_exp2_shafts_push_spot(inout airlight_hg_exp2_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_17)
 {
     const float3 _e13 = airlight_hg_exp2_shafts_step(acc_12, s_2, v_5);
     airlight_hg_exp2_shafts_hold(acc_12, _e13);
     return;
 }
 
-float3 airlight_hg_exp2_shafts_finish_spot(airlight_hg_exp2_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_17)
+float3 airlight_hg_exp2_shafts_finish_spot(airlight_hg_exp2_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_18)
 {
     airlight_hg_exp2_Shafts acc_13 = (airlight_hg_exp2_Shafts)0;
 
     acc_13 = acc_in_1;
     const float3 _e13 = airlight_hg_exp2_shafts_place(acc_13);
     airlight_hg_exp2_shafts_hold(acc_13, _e13);
-    airlight_hg_exp2_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
+    airlight_hg_exp2_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_18);
     float _e15 = acc_13.v;
     float _e17 = acc_13.v;
     float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_13.sum;
     float _e25 = acc_13.start;
-    const float3 _e26 = airlight_hg_exp2_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
+    const float3 _e26 = airlight_hg_exp2_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_18);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

@@ -453,25 +453,25 @@ float airlight_paper_refit_hg_cubic(float c0_, float c1_, float c2_, float c3_, 
     return ((((((c0_ * x_5) + c1_) * x_5) + c2_) * x_5) + c3_);
 }
 
-float airlight_paper_refit_hg_backward_ratio(float tau_3, float t_3, float x0_1, float theta_b, airlight_paper_refit_hg_Phase ph_4)
+float airlight_paper_refit_hg_backward_ratio(float att_3, float t_3, float theta_b, airlight_paper_refit_hg_Phase ph_4)
 {
-    float decay = 1.0;
+    float decay = 0.0;
 
     if ((t_3 > 0.0)) {
-        const float _e13 = airlight_paper_refit_hg_cubic(-0.18221502, 0.43237662, 0.3583116, 0.6058798, theta_b);
-        const float _e19 = airlight_paper_refit_hg_cubic(0.12476439, -0.2914885, -0.012607996, 1.1134421, theta_b);
-        decay = exp((-(_e13) * exp((_e19 * log(t_3)))));
+        const float _e12 = airlight_paper_refit_hg_cubic(-0.18221502, 0.43237662, 0.3583116, 0.6058798, theta_b);
+        const float _e18 = airlight_paper_refit_hg_cubic(0.12476439, -0.2914885, -0.012607996, 1.1134421, theta_b);
+        decay = (-(_e12) * exp((_e18 * log(t_3))));
     }
-    const float _e29 = airlight_paper_refit_hg_cubic(-0.090945214, 0.117275916, 0.6077043, 0.0007019238, theta_b);
+    const float _e27 = airlight_paper_refit_hg_cubic(-0.090945214, 0.117275916, 0.6077043, 0.0007019238, theta_b);
     float _e30 = decay;
-    float r_5 = max((_e29 * _e30), 0.0);
-    const float _e39 = airlight_paper_refit_hg_segments(0.0, airlight_paper_refit_hg_FRAC_PI_2_, t_3, 0.0, 0.0, false);
+    float r_5 = (max(_e27, 0.0) * exp(min((att_3 + _e30), 80.0)));
+    const float _e41 = airlight_paper_refit_hg_segments(0.0, airlight_paper_refit_hg_FRAC_PI_2_, t_3, 0.0, 0.0, false);
     float mean = (theta_b / (2.0 + (t_3 * theta_b)));
-    const float _e49 = airlight_paper_refit_hg_phase_at(ph_4, (airlight_paper_refit_hg_FRAC_PI_2_ + mean));
-    return (((exp((-(tau_3) * x0_1)) * _e49) * r_5) * _e39);
+    const float _e48 = airlight_paper_refit_hg_phase_at(ph_4, (airlight_paper_refit_hg_FRAC_PI_2_ + mean));
+    return ((_e48 * r_5) * _e41);
 }
 
-float airlight_paper_refit_hg_backward_u(float tau_4, float t_4, float h_2, float x0_2, float rho_1, float xr, bool open, airlight_paper_refit_hg_Phase ph_5)
+float airlight_paper_refit_hg_backward_u(float att_4, float t_4, float h_2, float x0_1, float rho_1, float xr, bool open, airlight_paper_refit_hg_Phase ph_5)
 {
     float span = airlight_paper_refit_hg_HUGE;
     bool local_5 = (bool)0;
@@ -482,12 +482,12 @@ float airlight_paper_refit_hg_backward_u(float tau_4, float t_4, float h_2, floa
     float g_1 = (float)0;
     float u_1 = (float)0;
 
-    float ua = ((x0_2 >= 0.0) ? (h_2 / (1.0 + x0_2)) : ((1.0 - x0_2) / h_2));
+    float ua = ((x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
         float d_5 = -(xr);
         float r_6 = sqrt(((d_5 * d_5) + (h_2 * h_2)));
-        span = ((x0_2 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_5 + r_6) / h_2) - u0_));
+        span = ((x0_1 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_5 + r_6) / h_2) - u0_));
     }
     float _e42 = span;
     if (!((_e42 > 0.0))) {
@@ -502,41 +502,41 @@ float airlight_paper_refit_hg_backward_u(float tau_4, float t_4, float h_2, floa
     bool endless = local_5;
     float _e55 = span;
     float ub = (u0_ + _e55);
-    float base = (-(tau_4) - (t_4 * (u0_ - ua)));
+    float base = (att_4 - (t_4 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
-        float _e67 = span;
-        float len_4 = ((ub <= 16.0) ? _e67 : (16.0 - u0_));
+        float _e66 = span;
+        float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
         {
             float lam_1 = (t_4 + 0.024973566);
             float mean_1 = (u0_ + (len_4 / (2.0 + (lam_1 * len_4))));
-            float _e78 = sum;
-            const float _e88 = airlight_paper_refit_hg_exprel((-(lam_1) * len_4));
-            const float _e90 = airlight_paper_refit_hg_phase_u(ph_5, mean_1);
-            sum = (_e78 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e88) * _e90));
+            float _e77 = sum;
+            const float _e87 = airlight_paper_refit_hg_exprel((-(lam_1) * len_4));
+            const float _e89 = airlight_paper_refit_hg_phase_u(ph_5, mean_1);
+            sum = (_e77 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e87) * _e89));
         }
         {
             float lam_2 = (t_4 + 0.19339234);
             float mean_2 = (u0_ + (len_4 / (2.0 + (lam_2 * len_4))));
-            float _e100 = sum;
-            const float _e110 = airlight_paper_refit_hg_exprel((-(lam_2) * len_4));
-            const float _e112 = airlight_paper_refit_hg_phase_u(ph_5, mean_2);
-            sum = (_e100 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e110) * _e112));
+            float _e99 = sum;
+            const float _e109 = airlight_paper_refit_hg_exprel((-(lam_2) * len_4));
+            const float _e111 = airlight_paper_refit_hg_phase_u(ph_5, mean_2);
+            sum = (_e99 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e109) * _e111));
         }
         {
             float lam_3 = (t_4 + 0.58173054);
             float mean_3 = (u0_ + (len_4 / (2.0 + (lam_3 * len_4))));
-            float _e122 = sum;
-            const float _e132 = airlight_paper_refit_hg_exprel((-(lam_3) * len_4));
-            const float _e134 = airlight_paper_refit_hg_phase_u(ph_5, mean_3);
-            sum = (_e122 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e132) * _e134));
+            float _e121 = sum;
+            const float _e131 = airlight_paper_refit_hg_exprel((-(lam_3) * len_4));
+            const float _e133 = airlight_paper_refit_hg_phase_u(ph_5, mean_3);
+            sum = (_e121 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e131) * _e133));
         }
         {
             float lam_4 = (t_4 + 1.4293756);
             float mean_4 = (u0_ + (len_4 / (2.0 + (lam_4 * len_4))));
-            float _e144 = sum;
-            const float _e154 = airlight_paper_refit_hg_exprel((-(lam_4) * len_4));
-            const float _e156 = airlight_paper_refit_hg_phase_u(ph_5, mean_4);
-            sum = (_e144 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e154) * _e156));
+            float _e143 = sum;
+            const float _e153 = airlight_paper_refit_hg_exprel((-(lam_4) * len_4));
+            const float _e155 = airlight_paper_refit_hg_phase_u(ph_5, mean_4);
+            sum = (_e143 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e153) * _e155));
         }
     }
     if (!(endless)) {
@@ -544,8 +544,8 @@ float airlight_paper_refit_hg_backward_u(float tau_4, float t_4, float h_2, floa
     } else {
         local_6 = true;
     }
-    bool _e165 = local_6;
-    if (_e165) {
+    bool _e164 = local_6;
+    if (_e164) {
         float a_17 = max(u0_, 16.0);
         float shift = (base - (t_4 * (a_17 - u0_)));
         if (!(endless)) {
@@ -553,69 +553,69 @@ float airlight_paper_refit_hg_backward_u(float tau_4, float t_4, float h_2, floa
         } else {
             local_7 = false;
         }
-        bool _e178 = local_7;
-        if (_e178) {
-            float _e182 = span;
-            float len_5 = ((a_17 == u0_) ? (_e182 / a_17) : ((ub / a_17) - 1.0));
+        bool _e177 = local_7;
+        if (_e177) {
+            float _e181 = span;
+            float len_5 = ((a_17 == u0_) ? (_e181 / a_17) : ((ub / a_17) - 1.0));
             float ta = (t_4 * a_17);
             {
                 float lam_5 = (ta + 0.26840276);
                 float u_3 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
-                float _e205 = part;
-                const float _e214 = airlight_paper_refit_hg_exprel((-(lam_5) * len_5));
-                const float _e217 = airlight_paper_refit_hg_phase_u(ph_5, u_3);
-                part = (_e205 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e214) * q_1) * _e217));
+                float _e204 = part;
+                const float _e213 = airlight_paper_refit_hg_exprel((-(lam_5) * len_5));
+                const float _e216 = airlight_paper_refit_hg_phase_u(ph_5, u_3);
+                part = (_e204 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e213) * q_1) * _e216));
             }
             {
                 float lam_6 = (ta + 1.5659415);
                 float u_4 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
-                float _e236 = part;
-                const float _e245 = airlight_paper_refit_hg_exprel((-(lam_6) * len_5));
-                const float _e248 = airlight_paper_refit_hg_phase_u(ph_5, u_4);
-                part = (_e236 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e245) * q_2) * _e248));
+                float _e235 = part;
+                const float _e244 = airlight_paper_refit_hg_exprel((-(lam_6) * len_5));
+                const float _e247 = airlight_paper_refit_hg_phase_u(ph_5, u_4);
+                part = (_e235 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e244) * q_2) * _e247));
             }
             {
                 float lam_7 = (ta + 4.449333);
                 float u_5 = (a_17 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_5 * u_5))));
-                float _e267 = part;
-                const float _e276 = airlight_paper_refit_hg_exprel((-(lam_7) * len_5));
-                const float _e279 = airlight_paper_refit_hg_phase_u(ph_5, u_5);
-                part = (_e267 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e276) * q_3) * _e279));
+                float _e266 = part;
+                const float _e275 = airlight_paper_refit_hg_exprel((-(lam_7) * len_5));
+                const float _e278 = airlight_paper_refit_hg_phase_u(ph_5, u_5);
+                part = (_e266 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e275) * q_3) * _e278));
             }
-            float _e282 = sum;
-            float _e283 = part;
-            sum = (_e282 + (_e283 / a_17));
+            float _e281 = sum;
+            float _e282 = part;
+            sum = (_e281 + (_e282 / a_17));
         } else {
             float lam_8 = (t_4 + (2.0 / a_17));
-            const float _e290 = airlight_paper_refit_hg_phi((t_4 * a_17));
-            g_1 = (_e290 / a_17);
+            const float _e289 = airlight_paper_refit_hg_phi((t_4 * a_17));
+            g_1 = (_e289 / a_17);
             u_1 = (a_17 + (1.0 / lam_8));
             if (!(endless)) {
-                float _e299 = span;
-                float len_6 = ((a_17 == u0_) ? _e299 : (ub - a_17));
-                float _e302 = g_1;
-                const float _e307 = airlight_paper_refit_hg_phi((t_4 * ub));
-                g_1 = (_e302 - ((exp((-(t_4) * len_6)) * _e307) / ub));
+                float _e298 = span;
+                float len_6 = ((a_17 == u0_) ? _e298 : (ub - a_17));
+                float _e301 = g_1;
+                const float _e306 = airlight_paper_refit_hg_phi((t_4 * ub));
+                g_1 = (_e301 - ((exp((-(t_4) * len_6)) * _e306) / ub));
                 u_1 = (a_17 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
+            float _e315 = u_1;
             float _e316 = u_1;
-            float _e317 = u_1;
-            float q_4 = (1.0 / (1.0 + (1.0 / (_e316 * _e317))));
-            float _e325 = sum;
-            float _e327 = g_1;
-            float _e330 = u_1;
-            const float _e331 = airlight_paper_refit_hg_phase_u(ph_5, _e330);
-            sum = (_e325 + (((exp(shift) * _e327) * q_4) * _e331));
+            float q_4 = (1.0 / (1.0 + (1.0 / (_e315 * _e316))));
+            float _e324 = sum;
+            float _e326 = g_1;
+            float _e329 = u_1;
+            const float _e330 = airlight_paper_refit_hg_phase_u(ph_5, _e329);
+            sum = (_e324 + (((exp(shift) * _e326) * q_4) * _e330));
         }
     }
-    float _e334 = sum;
-    return (2.0 * _e334);
+    float _e333 = sum;
+    return (2.0 * _e333);
 }
 
-float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float x0_3, float rho_2, float xr_1, float g_2)
+float2 airlight_paper_refit_hg_airlight_scaled(float tau_in, float h_in, float x0_2, float rho_2, float xr_1, float g_2)
 {
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
@@ -634,9 +634,9 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
     }
     bool _e14 = local_8;
     bool open_1 = !(_e14);
-    float tau_10 = min(tau_in, airlight_paper_refit_hg_TAU_MAX);
+    float c_5 = min(tau_in, airlight_paper_refit_hg_TAU_MAX);
     if ((h_in <= 0.0)) {
-        local_9 = (x0_3 > 0.0);
+        local_9 = (x0_2 > 0.0);
     } else {
         local_9 = false;
     }
@@ -649,15 +649,15 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
         }
         bool _e32 = local_10;
         if (_e32) {
-            return airlight_paper_refit_hg_HUGE;
+            return float2(3.4028235e38, 0.0);
         }
-        const float _e35 = airlight_paper_refit_hg_phase_at(_e6, 0.0);
-        return (((_e35 * exp(-(tau_10))) * rho_2) / (1.0 - rho_2));
+        const float _e37 = airlight_paper_refit_hg_phase_at(_e6, 0.0);
+        return float2(((_e37 * rho_2) / (1.0 - rho_2)), c_5);
     }
-    float h_7 = ((x0_3 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_5 = (tau_10 * h_7);
-    if ((x0_3 > 0.0)) {
-        const float _e53 = airlight_paper_refit_hg_arctan2_(x0_3, h_7);
+    float h_8 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_5 = (c_5 * h_8);
+    if ((x0_2 > 0.0)) {
+        const float _e53 = airlight_paper_refit_hg_arctan2_(x0_2, h_8);
         len_3 = _e53;
         if (!(open_1)) {
             local_11 = (xr_1 > 0.0);
@@ -666,16 +666,16 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
         }
         bool _e61 = local_11;
         if (_e61) {
-            const float _e66 = airlight_paper_refit_hg_arctan2_((h_7 * rho_2), ((h_7 * h_7) + (x0_3 * xr_1)));
+            const float _e66 = airlight_paper_refit_hg_arctan2_((h_8 * rho_2), ((h_8 * h_8) + (x0_2 * xr_1)));
             len_3 = _e66;
         }
         float _e67 = sum_1;
-        const float _e68 = airlight_paper_refit_hg_arctan2_(h_7, x0_3);
+        const float _e68 = airlight_paper_refit_hg_arctan2_(h_8, x0_2);
         float _e69 = len_3;
-        const float _e72 = airlight_paper_refit_hg_forward(_e68, _e69, t_5, (-(tau_10) * x0_3), _e6);
+        const float _e72 = airlight_paper_refit_hg_forward(_e68, _e69, t_5, (c_5 - (c_5 * x0_2)), _e6);
         sum_1 = (_e67 + _e72);
     }
-    if ((x0_3 >= 0.0)) {
+    if ((x0_2 >= 0.0)) {
         if (!(open_1)) {
             local_12 = (xr_1 < 0.0);
         } else {
@@ -684,32 +684,39 @@ float airlight_paper_refit_hg_airlight_geometry(float tau_in, float h_in, float 
         bool _e82 = local_12;
         if (_e82) {
             if (!(open_1)) {
-                const float _e87 = airlight_paper_refit_hg_arctan2_(-(xr_1), h_7);
+                const float _e87 = airlight_paper_refit_hg_arctan2_(-(xr_1), h_8);
                 theta_b_1 = _e87;
             }
             float _e88 = sum_1;
-            float _e89 = theta_b_1;
-            const float _e90 = airlight_paper_refit_hg_backward_ratio(tau_10, t_5, x0_3, _e89, _e6);
-            sum_1 = (_e88 + _e90);
+            float _e91 = theta_b_1;
+            const float _e92 = airlight_paper_refit_hg_backward_ratio((c_5 - (c_5 * x0_2)), t_5, _e91, _e6);
+            sum_1 = (_e88 + _e92);
         }
     } else {
-        float _e92 = sum_1;
-        const float _e93 = airlight_paper_refit_hg_backward_u(tau_10, t_5, h_7, x0_3, rho_2, xr_1, open_1, _e6);
-        sum_1 = (_e92 + _e93);
+        float _e94 = sum_1;
+        const float _e96 = airlight_paper_refit_hg_backward_u((c_5 - c_5), t_5, h_8, x0_2, rho_2, xr_1, open_1, _e6);
+        sum_1 = (_e94 + _e96);
     }
-    float _e95 = sum_1;
-    return min((_e95 / h_7), airlight_paper_refit_hg_HUGE);
+    float _e98 = sum_1;
+    return float2(min((_e98 / h_8), airlight_paper_refit_hg_HUGE), c_5);
 }
 
-float airlight_paper_refit_hg_airlight(float tau_5, float gamma, float rho_3, float g_3)
+float airlight_paper_refit_hg_airlight_geometry(float tau_3, float h_3, float x0_3, float rho_3, float xr_2, float g_3)
+{
+    const float2 _e6 = airlight_paper_refit_hg_airlight_scaled(tau_3, h_3, x0_3, rho_3, xr_2, g_3);
+    const float _e9 = airlight_paper_refit_hg_mul_exp_neg(_e6.x, _e6.y);
+    return min(_e9, airlight_paper_refit_hg_HUGE);
+}
+
+float airlight_paper_refit_hg_airlight(float tau_4, float gamma, float rho_4, float g_4)
 {
     const float2 _e4 = airlight_paper_refit_hg_sin_cos(gamma);
-    const float _e11 = airlight_paper_refit_hg_foot(abs(_e4.x), _e4.y, rho_3);
-    const float _e12 = airlight_paper_refit_hg_airlight_geometry(tau_5, abs(_e4.x), _e4.y, rho_3, _e11, g_3);
+    const float _e11 = airlight_paper_refit_hg_foot(abs(_e4.x), _e4.y, rho_4);
+    const float _e12 = airlight_paper_refit_hg_airlight_geometry(tau_4, abs(_e4.x), _e4.y, rho_4, _e11, g_4);
     return _e12;
 }
 
-float airlight_paper_refit_hg_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_4)
+float airlight_paper_refit_hg_radiance(float3 origin_1, float3 dir_1, float surface, float3 light_1, float intensity_2, float sigma_t, float sigma_s_2, float g_5)
 {
     bool local_13 = (bool)0;
 
@@ -727,24 +734,26 @@ float airlight_paper_refit_hg_radiance(float3 origin_1, float3 dir_1, float surf
     if (_e24) {
         return 0.0;
     }
-    float rho_8 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
-    const float _e38 = airlight_paper_refit_hg_foot(_e8.y, _e8.z, rho_8);
-    const float _e39 = airlight_paper_refit_hg_airlight_geometry((sigma_t * _e8.x), _e8.y, _e8.z, rho_8, _e38, g_4);
-    const float _e41 = airlight_paper_refit_hg_scaled(sigma_s_2, intensity_2, _e8.x, _e39);
-    return _e41;
+    float rho_9 = ((surface >= 0.0) ? (surface / _e8.x) : -1.0);
+    const float _e38 = airlight_paper_refit_hg_foot(_e8.y, _e8.z, rho_9);
+    const float2 _e39 = airlight_paper_refit_hg_airlight_scaled((sigma_t * _e8.x), _e8.y, _e8.z, rho_9, _e38, g_5);
+    const int _e41 = airlight_paper_refit_hg_exp_neg_k(_e39.y);
+    const float _e45 = airlight_paper_refit_hg_exp_neg_m(_e39.y, _e41);
+    const float _e48 = airlight_paper_refit_hg_scaled_pow2_(sigma_s_2, intensity_2, _e8.x, (_e39.x * _e45), airlight_paper_refit_hg_naga_neg(_e41));
+    return _e48;
 }
 
-float airlight_paper_refit_hg_along(float tau_6, float h_3, float x0_4, float rho_4, float xr_2, float g_5)
+float airlight_paper_refit_hg_along(float tau_5, float h_4, float x0_4, float rho_5, float xr_3, float g_6)
 {
-    const float _e6 = airlight_paper_refit_hg_airlight_geometry(tau_6, h_3, x0_4, rho_4, xr_2, g_5);
+    const float _e6 = airlight_paper_refit_hg_airlight_geometry(tau_5, h_4, x0_4, rho_5, xr_3, g_6);
     return _e6;
 }
 
-float3 airlight_paper_refit_hg_along_rgb(float3 tau_7, float h_4, float x0_5, float rho_5, float xr_3, float g_6)
+float3 airlight_paper_refit_hg_along_rgb(float3 tau_6, float h_5, float x0_5, float rho_6, float xr_4, float g_7)
 {
-    const float _e7 = airlight_paper_refit_hg_along(tau_7.x, h_4, x0_5, rho_5, xr_3, g_6);
-    const float _e9 = airlight_paper_refit_hg_along(tau_7.y, h_4, x0_5, rho_5, xr_3, g_6);
-    const float _e11 = airlight_paper_refit_hg_along(tau_7.z, h_4, x0_5, rho_5, xr_3, g_6);
+    const float _e7 = airlight_paper_refit_hg_along(tau_6.x, h_5, x0_5, rho_6, xr_4, g_7);
+    const float _e9 = airlight_paper_refit_hg_along(tau_6.y, h_5, x0_5, rho_6, xr_4, g_7);
+    const float _e11 = airlight_paper_refit_hg_along(tau_6.z, h_5, x0_5, rho_6, xr_4, g_7);
     return float3(_e7, _e9, _e11);
 }
 
@@ -754,7 +763,7 @@ float airlight_paper_refit_hg_spot_asin(float x_6, float r_1)
     return _e8;
 }
 
-float3 airlight_paper_refit_hg_spot_core(float3 tau_8, float h_5, float x0_6, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_7)
+float3 airlight_paper_refit_hg_spot_core(float3 tau_7, float h_6, float x0_6, float rho_7, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_8)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -764,18 +773,18 @@ float3 airlight_paper_refit_hg_spot_core(float3 tau_8, float h_5, float x0_6, fl
     float xr1_ = (float)0;
     bool local_14 = (bool)0;
 
-    h1_ = h_5;
+    h1_ = h_6;
     x1_ = x0_6;
-    rho1_ = rho_6;
+    rho1_ = rho_7;
     const float2 _e17 = airlight_paper_refit_hg_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_5 / max(_e17.x, 1e-30));
+        t0_ = (h_6 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_paper_refit_hg_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
-    const float _e31 = airlight_paper_refit_hg_foot(h_5, x0_6, rho_6);
+    const float _e31 = airlight_paper_refit_hg_foot(h_6, x0_6, rho_7);
     xr1_ = _e31;
     if (cut_b) {
         const float2 _e33 = airlight_paper_refit_hg_sin_cos(wb);
@@ -785,7 +794,7 @@ float3 airlight_paper_refit_hg_spot_core(float3 tau_8, float h_5, float x0_6, fl
         xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_14 = (rho_6 >= 0.0);
+            local_14 = (rho_7 >= 0.0);
         } else {
             local_14 = false;
         }
@@ -793,7 +802,7 @@ float3 airlight_paper_refit_hg_spot_core(float3 tau_8, float h_5, float x0_6, fl
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            rho1_ = max(((rho_7 - _e54) / _e56), 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -806,10 +815,10 @@ float3 airlight_paper_refit_hg_spot_core(float3 tau_8, float h_5, float x0_6, fl
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_paper_refit_hg_along_rgb((tau_8 * _e64), _e66, _e67, _e68, _e69, g_7);
+    const float3 _e70 = airlight_paper_refit_hg_along_rgb((tau_7 * _e64), _e66, _e67, _e68, _e69, g_8);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_8) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_7) * _e72))) / (_e76).xxx));
 }
 
 float airlight_paper_refit_hg_spot_weight(float c_2, float co, float ci)
@@ -826,7 +835,7 @@ airlight_paper_refit_hg_ret_Constructarray6_float_ airlight_paper_refit_hg_Const
     return ret;
 }
 
-float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, float rho_7, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_1, float ci_1, float g_8)
+float3 airlight_paper_refit_hg_spot_edge(float3 tau_8, float h_7, float x0_7, float rho_8, float gam_1, float om_e, float u_2, float v_in, float ca, float k_3, float co_1, float ci_1, float g_9)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_paper_refit_hg_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
@@ -846,15 +855,15 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
     const float _e30 = airlight_paper_refit_hg_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_paper_refit_hg_spot_core(tau_9, h_6, x0_7, rho_7, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_8);
+        const float3 _e39 = airlight_paper_refit_hg_spot_core(tau_8, h_7, x0_7, rho_8, gam_1, u_2, v_in, (u_2 > gam_1), (v_in < om_e), g_9);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
             return (3.4028235e38).xxx;
         }
     }
-    float gm = ((1.0 - g_8) * (1.0 - g_8));
-    float gp = ((1.0 + g_8) * (1.0 + g_8));
+    float gm = ((1.0 - g_9) * (1.0 - g_9));
+    float gp = ((1.0 + g_9) * (1.0 + g_9));
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
     while(true) {
@@ -887,10 +896,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e110 = sb.y;
             float _e116 = sb.x;
             float _e119 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e116) * _e119)) : (gp - (((4.0 * g_8) * _e107) * _e110)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e116) * _e119)) : (gp - (((4.0 * g_9) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
-            st = max((x0_7 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e126) / max(_e129, 1e-30))), 1.0);
             float3 _e136 = sum_2;
             float _e142 = sb.x;
             float _e145 = sb.y;
@@ -902,7 +911,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e163 = d_3;
             float _e164 = d_3;
             float _e169 = st;
-            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_9) * _e169))));
+            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_8) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_paper_refit_hg_sin_cos((0.5 * _e177));
@@ -911,10 +920,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e187 = sb.y;
             float _e193 = sb.x;
             float _e196 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e193) * _e196)) : (gp - (((4.0 * g_8) * _e184) * _e187)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e193) * _e196)) : (gp - (((4.0 * g_9) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
-            st = max((x0_7 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e203) / max(_e206, 1e-30))), 1.0);
             float3 _e213 = sum_2;
             float _e219 = sb.x;
             float _e222 = sb.y;
@@ -926,7 +935,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e240 = d_3;
             float _e241 = d_3;
             float _e246 = st;
-            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_9) * _e246))));
+            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_8) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_paper_refit_hg_sin_cos((0.5 * _e254));
@@ -935,10 +944,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e264 = sb.y;
             float _e270 = sb.x;
             float _e273 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e270) * _e273)) : (gp - (((4.0 * g_8) * _e261) * _e264)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e270) * _e273)) : (gp - (((4.0 * g_9) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
-            st = max((x0_7 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e280) / max(_e283, 1e-30))), 1.0);
             float3 _e290 = sum_2;
             float _e296 = sb.x;
             float _e299 = sb.y;
@@ -950,7 +959,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e317 = d_3;
             float _e318 = d_3;
             float _e323 = st;
-            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_9) * _e323))));
+            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_8) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_paper_refit_hg_sin_cos((0.5 * _e331));
@@ -959,10 +968,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e341 = sb.y;
             float _e347 = sb.x;
             float _e350 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e347) * _e350)) : (gp - (((4.0 * g_8) * _e338) * _e341)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e347) * _e350)) : (gp - (((4.0 * g_9) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
-            st = max((x0_7 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e357) / max(_e360, 1e-30))), 1.0);
             float3 _e367 = sum_2;
             float _e373 = sb.x;
             float _e376 = sb.y;
@@ -974,7 +983,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e394 = d_3;
             float _e395 = d_3;
             float _e400 = st;
-            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_9) * _e400))));
+            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_8) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_paper_refit_hg_sin_cos((0.5 * _e408));
@@ -983,10 +992,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e418 = sb.y;
             float _e424 = sb.x;
             float _e427 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e424) * _e427)) : (gp - (((4.0 * g_8) * _e415) * _e418)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e424) * _e427)) : (gp - (((4.0 * g_9) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
-            st = max((x0_7 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e434) / max(_e437, 1e-30))), 1.0);
             float3 _e444 = sum_2;
             float _e450 = sb.x;
             float _e453 = sb.y;
@@ -998,7 +1007,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e471 = d_3;
             float _e472 = d_3;
             float _e477 = st;
-            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_9) * _e477))));
+            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_8) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_paper_refit_hg_sin_cos((0.5 * _e485));
@@ -1007,10 +1016,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e495 = sb.y;
             float _e501 = sb.x;
             float _e504 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e501) * _e504)) : (gp - (((4.0 * g_8) * _e492) * _e495)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e501) * _e504)) : (gp - (((4.0 * g_9) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
-            st = max((x0_7 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e511) / max(_e514, 1e-30))), 1.0);
             float3 _e521 = sum_2;
             float _e527 = sb.x;
             float _e530 = sb.y;
@@ -1022,7 +1031,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e548 = d_3;
             float _e549 = d_3;
             float _e554 = st;
-            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_9) * _e554))));
+            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_8) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_paper_refit_hg_sin_cos((0.5 * _e562));
@@ -1031,10 +1040,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e572 = sb.y;
             float _e578 = sb.x;
             float _e581 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e578) * _e581)) : (gp - (((4.0 * g_8) * _e569) * _e572)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e578) * _e581)) : (gp - (((4.0 * g_9) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
-            st = max((x0_7 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e588) / max(_e591, 1e-30))), 1.0);
             float3 _e598 = sum_2;
             float _e604 = sb.x;
             float _e607 = sb.y;
@@ -1046,7 +1055,7 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e625 = d_3;
             float _e626 = d_3;
             float _e631 = st;
-            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_9) * _e631))));
+            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_8) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_paper_refit_hg_sin_cos((0.5 * _e639));
@@ -1055,10 +1064,10 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e649 = sb.y;
             float _e655 = sb.x;
             float _e658 = sb.x;
-            d_3 = ((g_8 >= 0.0) ? (gm + (((4.0 * g_8) * _e655) * _e658)) : (gp - (((4.0 * g_8) * _e646) * _e649)));
+            d_3 = ((g_9 >= 0.0) ? (gm + (((4.0 * g_9) * _e655) * _e658)) : (gp - (((4.0 * g_9) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
-            st = max((x0_7 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e665) / max(_e668, 1e-30))), 1.0);
             float3 _e675 = sum_2;
             float _e681 = sb.x;
             float _e684 = sb.y;
@@ -1070,15 +1079,15 @@ float3 airlight_paper_refit_hg_spot_edge(float3 tau_9, float h_6, float x0_7, fl
             float _e702 = d_3;
             float _e703 = d_3;
             float _e708 = st;
-            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_9) * _e708))));
+            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_8) * _e708))));
         }
     }
     float3 _e716 = exact;
     float3 _e725 = sum_2;
-    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_8)) * (1.0 + g_8)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_9)) * (1.0 + g_9)) * _e725) / (h_7).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
-float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_9)
+float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3, float g_10)
 {
     bool local_15 = (bool)0;
     bool local_16 = (bool)0;
@@ -1161,7 +1170,7 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
         return (0.0).xxx;
     }
     float d_6 = _e11.x;
-    float h_8 = _e11.y;
+    float h_9 = _e11.y;
     float x0_9 = _e11.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_6) < airlight_paper_refit_hg_RHO_OPEN);
@@ -1169,12 +1178,12 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
         local_19 = false;
     }
     bool has_end = local_19;
-    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
-    float3 tau_11 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
-    float gg = clamp(g_9, -0.999, 0.999);
-    const float _e143 = airlight_paper_refit_hg_arctan2_(h_8, x0_9);
+    float rho_10 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
+    float gg = clamp(g_10, -0.999, 0.999);
+    const float _e143 = airlight_paper_refit_hg_arctan2_(h_9, x0_9);
     if (!(point_)) {
-        local_20 = (h_8 <= 0.0);
+        local_20 = (h_9 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -1190,7 +1199,7 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
             const float _e160 = airlight_paper_refit_hg_spot_weight(-(k_4), co_2, cos_inner);
             const float _e161 = airlight_paper_refit_hg_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
-                local_22 = (rho_9 < 1.0);
+                local_22 = (rho_10 < 1.0);
             } else {
                 local_22 = false;
             }
@@ -1212,7 +1221,7 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
         float _e194 = ca_1;
         const float _e195 = airlight_paper_refit_hg_arctan2_(k_4, _e194);
         gam_2 = _e143;
-        const float _e198 = airlight_paper_refit_hg_arctan2_(h_8, (x0_9 - rho_9));
+        const float _e198 = airlight_paper_refit_hg_arctan2_(h_9, (x0_9 - rho_10));
         om_e_1 = (has_end ? _e198 : airlight_paper_refit_hg_PI);
         if ((co_2 < r_7)) {
             const float _e201 = airlight_paper_refit_hg_spot_asin(co_2, r_7);
@@ -1256,7 +1265,7 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
         float _e248 = wb_1;
         bool _e249 = cut_a_1;
         bool _e250 = cut_b_1;
-        const float3 _e251 = airlight_paper_refit_hg_spot_core(tau_11, h_8, x0_9, rho_9, _e246, _e247, _e248, _e249, _e250, gg);
+        const float3 _e251 = airlight_paper_refit_hg_spot_core(tau_9, h_9, x0_9, rho_10, _e246, _e247, _e248, _e249, _e250, gg);
         a_10 = _e251;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1284,7 +1293,7 @@ float3 airlight_paper_refit_hg_spot(float3 origin_2, float3 dir_2, float surface
                 float _e269 = gam_2;
                 float _e270 = om_e_1;
                 float _e273 = ca_1;
-                const float3 _e274 = airlight_paper_refit_hg_spot_edge(tau_11, h_8, x0_9, rho_9, _e269, _e270, piece.x, piece.y, _e273, k_4, co_2, cos_inner, gg);
+                const float3 _e274 = airlight_paper_refit_hg_spot_edge(tau_9, h_9, x0_9, rho_10, _e269, _e270, piece.x, piece.y, _e273, k_4, co_2, cos_inner, gg);
                 a_10 = (_e268 + _e274);
             }
         }
@@ -1419,7 +1428,7 @@ float4 airlight_paper_refit_hg_shafts_moved(float a_11, float b_4, float3 origin
     return float4((origin_3 + (a_11 * (u_6 / (length(u_6)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_11), 0.0) : -1.0));
 }
 
-float airlight_paper_refit_hg_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_10)
+float airlight_paper_refit_hg_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4, float g_11)
 {
     bool local_23 = (bool)0;
     bool local_24 = (bool)0;
@@ -1442,14 +1451,14 @@ float airlight_paper_refit_hg_shafts_run(float a_12, float b_5, float w_1, float
     const float4 _e26 = airlight_paper_refit_hg_shafts_moved(a_12, b_5, origin_4, dir_4);
     float3 o = _e26.xyz;
     float len_8 = _e26.w;
-    const float _e29 = airlight_paper_refit_hg_radiance(o, dir_4, len_8, light_3, intensity_4, sigma_t_2, sigma_s_4, g_10);
+    const float _e29 = airlight_paper_refit_hg_radiance(o, dir_4, len_8, light_3, intensity_4, sigma_t_2, sigma_s_4, g_11);
     if ((_e29 >= airlight_paper_refit_hg_HUGE)) {
         return _e29;
     }
     return ((w_1 * exp((-(sigma_t_2) * a_12))) * _e29);
 }
 
-void airlight_paper_refit_hg_shafts_flush(inout airlight_paper_refit_hg_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_11)
+void airlight_paper_refit_hg_shafts_flush(inout airlight_paper_refit_hg_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5, float g_12)
 {
     uint j_2 = 0u;
 
@@ -1473,7 +1482,7 @@ void airlight_paper_refit_hg_shafts_flush(inout airlight_paper_refit_hg_Shafts a
             uint _e15 = j_2;
             float3 r_8 = acc_8.runs[min(uint(_e15), 31u)];
             float _e22 = acc_8.sum.x;
-            const float _e26 = airlight_paper_refit_hg_shafts_run(r_8.x, r_8.y, r_8.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_11);
+            const float _e26 = airlight_paper_refit_hg_shafts_run(r_8.x, r_8.y, r_8.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_12);
             acc_8.sum.x = min((_e22 + _e26), airlight_paper_refit_hg_HUGE);
         }
     }
@@ -1481,31 +1490,31 @@ void airlight_paper_refit_hg_shafts_flush(inout airlight_paper_refit_hg_Shafts a
     return;
 }
 
-void airlight_paper_refit_hg_shafts_push(inout airlight_paper_refit_hg_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_12)
+void airlight_paper_refit_hg_shafts_push(inout airlight_paper_refit_hg_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6, float g_13)
 {
     const float3 _e10 = airlight_paper_refit_hg_shafts_step(acc_9, s_1, v_4);
     airlight_paper_refit_hg_shafts_hold(acc_9, _e10);
     return;
 }
 
-float airlight_paper_refit_hg_shafts_finish(airlight_paper_refit_hg_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_13)
+float airlight_paper_refit_hg_shafts_finish(airlight_paper_refit_hg_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7, float g_14)
 {
     airlight_paper_refit_hg_Shafts acc_10 = (airlight_paper_refit_hg_Shafts)0;
 
     acc_10 = acc_in;
     const float3 _e10 = airlight_paper_refit_hg_shafts_place(acc_10);
     airlight_paper_refit_hg_shafts_hold(acc_10, _e10);
-    airlight_paper_refit_hg_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
+    airlight_paper_refit_hg_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_14);
     float _e12 = acc_10.v;
     float _e14 = acc_10.v;
     float w_4 = ((_e14 < 0.0) ? 1.0 : _e12);
     float _e21 = acc_10.sum.x;
     float _e23 = acc_10.start;
-    const float _e24 = airlight_paper_refit_hg_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_13);
+    const float _e24 = airlight_paper_refit_hg_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_14);
     return min((_e21 + _e24), airlight_paper_refit_hg_HUGE);
 }
 
-float3 airlight_paper_refit_hg_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_14)
+float3 airlight_paper_refit_hg_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8, float g_15)
 {
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
@@ -1528,11 +1537,11 @@ float3 airlight_paper_refit_hg_shafts_run_spot(float a_13, float b_6, float w_2,
     const float4 _e30 = airlight_paper_refit_hg_shafts_moved(a_13, b_6, origin_8, dir_8);
     float3 o_1 = _e30.xyz;
     float len_9 = _e30.w;
-    const float3 _e33 = airlight_paper_refit_hg_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_14);
+    const float3 _e33 = airlight_paper_refit_hg_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_15);
     return ((_e33 >= (3.4028235e38).xxx) ? _e33 : ((w_2 * exp((-(sigma_t_6) * a_13))) * _e33));
 }
 
-void airlight_paper_refit_hg_shafts_flush_spot(inout airlight_paper_refit_hg_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_15)
+void airlight_paper_refit_hg_shafts_flush_spot(inout airlight_paper_refit_hg_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9, float g_16)
 {
     uint j_3 = 0u;
 
@@ -1556,7 +1565,7 @@ void airlight_paper_refit_hg_shafts_flush_spot(inout airlight_paper_refit_hg_Sha
             uint _e18 = j_3;
             float3 r_9 = acc_11.runs[min(uint(_e18), 31u)];
             float3 _e23 = acc_11.sum;
-            const float3 _e27 = airlight_paper_refit_hg_shafts_run_spot(r_9.x, r_9.y, r_9.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_15);
+            const float3 _e27 = airlight_paper_refit_hg_shafts_run_spot(r_9.x, r_9.y, r_9.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_16);
             acc_11.sum = min((_e23 + _e27), (3.4028235e38).xxx);
         }
     }
@@ -1564,27 +1573,27 @@ void airlight_paper_refit_hg_shafts_flush_spot(inout airlight_paper_refit_hg_Sha
     return;
 }
 
-void airlight_paper_refit_hg_shafts_push_spot(inout airlight_paper_refit_hg_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_16)
+void airlight_paper_refit_hg_shafts_push_spot(inout airlight_paper_refit_hg_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10, float g_17)
 {
     const float3 _e13 = airlight_paper_refit_hg_shafts_step(acc_12, s_2, v_5);
     airlight_paper_refit_hg_shafts_hold(acc_12, _e13);
     return;
 }
 
-float3 airlight_paper_refit_hg_shafts_finish_spot(airlight_paper_refit_hg_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_17)
+float3 airlight_paper_refit_hg_shafts_finish_spot(airlight_paper_refit_hg_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11, float g_18)
 {
     airlight_paper_refit_hg_Shafts acc_13 = (airlight_paper_refit_hg_Shafts)0;
 
     acc_13 = acc_in_1;
     const float3 _e13 = airlight_paper_refit_hg_shafts_place(acc_13);
     airlight_paper_refit_hg_shafts_hold(acc_13, _e13);
-    airlight_paper_refit_hg_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
+    airlight_paper_refit_hg_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_18);
     float _e15 = acc_13.v;
     float _e17 = acc_13.v;
     float w_5 = ((_e17 < 0.0) ? 1.0 : _e15);
     float3 _e23 = acc_13.sum;
     float _e25 = acc_13.start;
-    const float3 _e26 = airlight_paper_refit_hg_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_17);
+    const float3 _e26 = airlight_paper_refit_hg_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_18);
     return min((_e23 + _e26), (3.4028235e38).xxx);
 }
 

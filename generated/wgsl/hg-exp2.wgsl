@@ -388,13 +388,13 @@ fn airlight_hg_exp2_forward(a: f32, len: f32, t: f32, att: f32, ph: airlight_hg_
         + ph.c[1] * airlight_hg_exp2_segments(a, len, t, att, ph.b[1], ph.mirrored), 0.0);
 }
 
-/// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+/// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 /// e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 /// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-fn airlight_hg_exp2_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: airlight_hg_exp2_Phase) -> f32 {
+fn airlight_hg_exp2_backward_u(att: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: airlight_hg_exp2_Phase) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
@@ -413,7 +413,7 @@ fn airlight_hg_exp2_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: 
     // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
     let endless = open || span >= 1e30;
     let ub = u0 + span;
-    let base = -tau - t * (u0 - ua);
+    let base = att - t * (u0 - ua);
     var sum = 0.0;
     if u0 < 1.60000000e1 {
         let len = select(1.60000000e1 - u0, span, ub <= 1.60000000e1);
@@ -481,16 +481,25 @@ fn airlight_hg_exp2_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: 
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_hg_exp2_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+fn airlight_hg_exp2_airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    let sc = airlight_hg_exp2_airlight_scaled(tau, h, x0, rho, xr, g);
+    return min(airlight_hg_exp2_mul_exp_neg(sc.x, sc.y), airlight_hg_exp2_HUGE);
+}
+
+/// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+/// (no path from viewer to light is shorter than D), so a value f32 holds is not
+/// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+fn airlight_hg_exp2_airlight_scaled(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec2<f32> {
     let ph = airlight_hg_exp2_phase(g);
     let open = !(rho >= 0.0 && rho < airlight_hg_exp2_RHO_OPEN);
     let tau = min(tau_in, airlight_hg_exp2_TAU_MAX);
+    let c = tau;
     if h_in <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if open || rho >= 1.0 {
-            return airlight_hg_exp2_HUGE;
+            return vec2<f32>(airlight_hg_exp2_HUGE, 0.0);
         }
-        return airlight_hg_exp2_phase_at(ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return vec2<f32>(airlight_hg_exp2_phase_at(ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     let h = select(h_in, max(h_in, 1e-7), x0 < 0.0);
@@ -504,10 +513,10 @@ fn airlight_hg_exp2_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32,
         if !open && xr > 0.0 {
             len = airlight_hg_exp2_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_hg_exp2_forward(airlight_hg_exp2_arctan2(h, x0), len, t, -tau * x0, ph);
+        sum += airlight_hg_exp2_forward(airlight_hg_exp2_arctan2(h, x0), len, t, c - tau * x0, ph);
     }
-    sum += airlight_hg_exp2_backward_u(tau, t, h, x0, rho, xr, open, ph);
-    return min(sum / h, airlight_hg_exp2_HUGE);
+    sum += airlight_hg_exp2_backward_u(c - tau, t, h, x0, rho, xr, open, ph);
+    return vec2<f32>(min(sum / h, airlight_hg_exp2_HUGE), c);
 }
 
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
@@ -531,8 +540,11 @@ fn airlight_hg_exp2_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32, li
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    let a = airlight_hg_exp2_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_hg_exp2_foot(geo.y, geo.z, rho), g);
-    return airlight_hg_exp2_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // f32 holds is kept where A alone would be subnormal.
+    let sc = airlight_hg_exp2_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_hg_exp2_foot(geo.y, geo.z, rho), g);
+    let k = airlight_hg_exp2_exp_neg_k(sc.y);
+    return airlight_hg_exp2_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_hg_exp2_exp_neg_m(sc.y, k), -k);
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -373,25 +373,27 @@ fn airlight_paper_refit_hg_cubic(c0: f32, c1: f32, c2: f32, c3: f32, x: f32) -> 
 }
 
 /// The backward part from the foot point (gamma <= pi/2) by the paper's ratio
-/// f(theta) e^(-g(theta) kappa^h(theta)), times h, the phase at the mean angle.
-fn airlight_paper_refit_hg_backward_ratio(tau: f32, t: f32, x0: f32, theta_b: f32, ph: airlight_paper_refit_hg_Phase) -> f32 {
-    var decay = 1.0;
+/// f(theta) e^(-g(theta) kappa^h(theta)), times h and e^c, the phase at the mean
+/// angle; att = c - tau x0. The ratio's decay joins att in one exponential, capped
+/// where a ratio that does not fall with T would pass f32's range.
+fn airlight_paper_refit_hg_backward_ratio(att: f32, t: f32, theta_b: f32, ph: airlight_paper_refit_hg_Phase) -> f32 {
+    var decay = 0.0;
     if t > 0.0 {
-        decay = exp(-airlight_paper_refit_hg_cubic(-1.82215020e-1, 4.32376623e-1, 3.58311594e-1, 6.05879784e-1, theta_b) * exp(airlight_paper_refit_hg_cubic(1.24764390e-1, -2.91488498e-1, -1.26079964e-2, 1.11344206e0, theta_b) * log(t)));
+        decay = -airlight_paper_refit_hg_cubic(-1.82215020e-1, 4.32376623e-1, 3.58311594e-1, 6.05879784e-1, theta_b) * exp(airlight_paper_refit_hg_cubic(1.24764390e-1, -2.91488498e-1, -1.26079964e-2, 1.11344206e0, theta_b) * log(t));
     }
-    let r = max(airlight_paper_refit_hg_cubic(-9.09452140e-2, 1.17275916e-1, 6.07704282e-1, 7.01923796e-4, theta_b) * decay, 0.0);
+    let r = max(airlight_paper_refit_hg_cubic(-9.09452140e-2, 1.17275916e-1, 6.07704282e-1, 7.01923796e-4, theta_b), 0.0) * exp(min(att + decay, 80.0));
     let whole = airlight_paper_refit_hg_segments(0.0, airlight_paper_refit_hg_FRAC_PI_2, t, 0.0, 0.0, false);
     let mean = theta_b / (2.0 + t * theta_b);
-    return exp(-tau * x0) * airlight_paper_refit_hg_phase_at(ph, airlight_paper_refit_hg_FRAC_PI_2 + mean) * r * whole;
+    return airlight_paper_refit_hg_phase_at(ph, airlight_paper_refit_hg_FRAC_PI_2 + mean) * r * whole;
 }
 
-/// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+/// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 /// e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 /// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-fn airlight_paper_refit_hg_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: airlight_paper_refit_hg_Phase) -> f32 {
+fn airlight_paper_refit_hg_backward_u(att: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: airlight_paper_refit_hg_Phase) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
@@ -410,7 +412,7 @@ fn airlight_paper_refit_hg_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f3
     // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
     let endless = open || span >= 1e30;
     let ub = u0 + span;
-    let base = -tau - t * (u0 - ua);
+    let base = att - t * (u0 - ua);
     var sum = 0.0;
     if u0 < 1.60000000e1 {
         let len = select(1.60000000e1 - u0, span, ub <= 1.60000000e1);
@@ -478,16 +480,25 @@ fn airlight_paper_refit_hg_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f3
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_paper_refit_hg_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+fn airlight_paper_refit_hg_airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    let sc = airlight_paper_refit_hg_airlight_scaled(tau, h, x0, rho, xr, g);
+    return min(airlight_paper_refit_hg_mul_exp_neg(sc.x, sc.y), airlight_paper_refit_hg_HUGE);
+}
+
+/// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+/// (no path from viewer to light is shorter than D), so a value f32 holds is not
+/// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+fn airlight_paper_refit_hg_airlight_scaled(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32, g: f32) -> vec2<f32> {
     let ph = airlight_paper_refit_hg_phase(g);
     let open = !(rho >= 0.0 && rho < airlight_paper_refit_hg_RHO_OPEN);
     let tau = min(tau_in, airlight_paper_refit_hg_TAU_MAX);
+    let c = tau;
     if h_in <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if open || rho >= 1.0 {
-            return airlight_paper_refit_hg_HUGE;
+            return vec2<f32>(airlight_paper_refit_hg_HUGE, 0.0);
         }
-        return airlight_paper_refit_hg_phase_at(ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return vec2<f32>(airlight_paper_refit_hg_phase_at(ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     let h = select(h_in, max(h_in, 1e-7), x0 < 0.0);
@@ -501,7 +512,7 @@ fn airlight_paper_refit_hg_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rh
         if !open && xr > 0.0 {
             len = airlight_paper_refit_hg_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_paper_refit_hg_forward(airlight_paper_refit_hg_arctan2(h, x0), len, t, -tau * x0, ph);
+        sum += airlight_paper_refit_hg_forward(airlight_paper_refit_hg_arctan2(h, x0), len, t, c - tau * x0, ph);
     }
     if x0 >= 0.0 {
         if open || xr < 0.0 {
@@ -509,12 +520,12 @@ fn airlight_paper_refit_hg_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rh
             if !open {
                 theta_b = airlight_paper_refit_hg_arctan2(-xr, h);
             }
-            sum += airlight_paper_refit_hg_backward_ratio(tau, t, x0, theta_b, ph);
+            sum += airlight_paper_refit_hg_backward_ratio(c - tau * x0, t, theta_b, ph);
         }
     } else {
-        sum += airlight_paper_refit_hg_backward_u(tau, t, h, x0, rho, xr, open, ph);
+        sum += airlight_paper_refit_hg_backward_u(c - tau, t, h, x0, rho, xr, open, ph);
     }
-    return min(sum / h, airlight_paper_refit_hg_HUGE);
+    return vec2<f32>(min(sum / h, airlight_paper_refit_hg_HUGE), c);
 }
 
 /// The canonical A(τ, γ, ρ; g) (docs/MATH.md section 2).
@@ -538,8 +549,11 @@ fn airlight_paper_refit_hg_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: 
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    let a = airlight_paper_refit_hg_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_hg_foot(geo.y, geo.z, rho), g);
-    return airlight_paper_refit_hg_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // f32 holds is kept where A alone would be subnormal.
+    let sc = airlight_paper_refit_hg_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_paper_refit_hg_foot(geo.y, geo.z, rho), g);
+    let k = airlight_paper_refit_hg_exp_neg_k(sc.y);
+    return airlight_paper_refit_hg_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_paper_refit_hg_exp_neg_m(sc.y, k), -k);
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

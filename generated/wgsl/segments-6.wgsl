@@ -309,13 +309,13 @@ fn airlight_segments_6_forward(a: f32, len: f32, t: f32, att: f32) -> f32 {
     return airlight_segments_6_P_ISO * airlight_segments_6_segments(a, len, t, att);
 }
 
-/// The backward part in the u form, times h: 2 e^(-tau) times the integral of
+/// The backward part in the u form, times h and e^c: 2 e^att (att = c - tau) times the integral of
 /// e^(-T(u - ua)) P w(u) over u in [max(ua, 1), ub], as positive exponential terms
 /// (docs/MATH.md section 3). w(u) = 1/(1 + u^2) ~ sum of c e^(-s u) up to u = 16;
 /// beyond, w = q(u)/u^2 with q = u^2/(1 + u^2) within 0.4% of 1 (taken at the
 /// mean point), integrated exactly through phi, or for short far parts
 /// (ub < 2 a) by a sum for 1/y^2 on y = u/a.
-fn airlight_segments_6_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool) -> f32 {
+fn airlight_segments_6_backward_u(att: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool) -> f32 {
     // u = tan(alpha/2), written without cancellation on either side of the foot point.
     let ua = select((1.0 - x0) / h, h / (1.0 + x0), x0 >= 0.0);
     let u0 = max(ua, 1.0);
@@ -334,7 +334,7 @@ fn airlight_segments_6_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, x
     // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
     let endless = open || span >= 1e30;
     let ub = u0 + span;
-    let base = -tau - t * (u0 - ua);
+    let base = att - t * (u0 - ua);
     var sum = 0.0;
     if u0 < 1.60000000e1 {
         let len = select(1.60000000e1 - u0, span, ub <= 1.60000000e1);
@@ -398,15 +398,24 @@ fn airlight_segments_6_backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, x
 }
 
 /// A from the geometry: h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface).
-fn airlight_segments_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32) -> f32 {
+fn airlight_segments_6_airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32) -> f32 {
+    let sc = airlight_segments_6_airlight_scaled(tau, h, x0, rho, xr);
+    return min(airlight_segments_6_mul_exp_neg(sc.x, sc.y), airlight_segments_6_HUGE);
+}
+
+/// A as (s, c), A = s e^-c: every exponential is taken relative to e^-c, c = tau
+/// (no path from viewer to light is shorter than D), so a value f32 holds is not
+/// lost where e^-tau alone is subnormal (tau > 87); s saturates at HUGE.
+fn airlight_segments_6_airlight_scaled(tau_in: f32, h_in: f32, x0: f32, rho: f32, xr: f32) -> vec2<f32> {
     let open = !(rho >= 0.0 && rho < airlight_segments_6_RHO_OPEN);
     let tau = min(tau_in, airlight_segments_6_TAU_MAX);
+    let c = tau;
     if h_in <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and alpha = 0 all along.
         if open || rho >= 1.0 {
-            return airlight_segments_6_HUGE;
+            return vec2<f32>(airlight_segments_6_HUGE, 0.0);
         }
-        return airlight_segments_6_P_ISO * exp(-tau) * rho / (1.0 - rho);
+        return vec2<f32>(airlight_segments_6_P_ISO * rho / (1.0 - rho), c);
     }
     // A is flat in gamma within 1e-7 of pi.
     let h = select(h_in, max(h_in, 1e-7), x0 < 0.0);
@@ -420,10 +429,10 @@ fn airlight_segments_6_airlight_geometry(tau_in: f32, h_in: f32, x0: f32, rho: f
         if !open && xr > 0.0 {
             len = airlight_segments_6_arctan2(h * rho, h * h + x0 * xr);
         }
-        sum += airlight_segments_6_forward(airlight_segments_6_arctan2(h, x0), len, t, -tau * x0);
+        sum += airlight_segments_6_forward(airlight_segments_6_arctan2(h, x0), len, t, c - tau * x0);
     }
-    sum += airlight_segments_6_backward_u(tau, t, h, x0, rho, xr, open);
-    return min(sum / h, airlight_segments_6_HUGE);
+    sum += airlight_segments_6_backward_u(c - tau, t, h, x0, rho, xr, open);
+    return vec2<f32>(min(sum / h, airlight_segments_6_HUGE), c);
 }
 
 /// The canonical A(τ, γ, ρ) (docs/MATH.md section 2).
@@ -447,8 +456,11 @@ fn airlight_segments_6_radiance(origin: vec3<f32>, dir: vec3<f32>, surface: f32,
     }
     // Negative or NaN: no surface; an infinite rho is none too.
     let rho = select(-1.0, surface / geo.x, surface >= 0.0);
-    let a = airlight_segments_6_airlight_geometry(sigma_t * geo.x, geo.y, geo.z, rho, airlight_segments_6_foot(geo.y, geo.z, rho));
-    return airlight_segments_6_scaled(sigma_s, intensity, geo.x, a);
+    // A as s e^-c: the radiance is formed from mantissas and exponents, so a value
+    // f32 holds is kept where A alone would be subnormal.
+    let sc = airlight_segments_6_airlight_scaled(sigma_t * geo.x, geo.y, geo.z, rho, airlight_segments_6_foot(geo.y, geo.z, rho));
+    let k = airlight_segments_6_exp_neg_k(sc.y);
+    return airlight_segments_6_scaled_pow2(sigma_s, intensity, geo.x, sc.x * airlight_segments_6_exp_neg_m(sc.y, k), -k);
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -20,7 +20,7 @@
 //! light, where `A` diverges (and where the value passes f32's range), 0 where it
 //! underflows; τ beyond [`TAU_MAX`] gives 0 (`A` is below f32's range there).
 
-use crate::math::{atan, atan2, exp, exprel, HUGE, phi, ray_geometry, RHO_OPEN, scaled, sin_cos, sqrt, TAU_MAX};
+use crate::math::{atan, atan2, exp, exp_neg_parts, exprel, HUGE, mul_exp_neg, phi, ray_geometry, RHO_OPEN, scaled, scaled_pow2, sin_cos, sqrt, TAU_MAX};
 use core::f32::consts::{PI};
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
@@ -134,11 +134,11 @@ fn forward(a: f32, len: f32, t: f32, att: f32, ph: &Phase) -> f32 {
     sum.max(0.0)
 }
 
-/// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`
-/// over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
+/// The backward part in the u form, times `h` and `e^c`: `2 e^{att} ∫ e^{−T(u − ua)} P w(u) du`,
+/// `att = c − τ`, over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
 /// `open`: no surface (`ub = ∞`).
 #[allow(clippy::too_many_arguments)]
-fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: &Phase) -> f32 {
+fn backward_u(att: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: &Phase) -> f32 {
     // u = tan(α/2), written without cancellation on either side of the foot point.
     let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
     let u0 = ua.max(1.0);
@@ -162,7 +162,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, 
     // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
     let open = open || span >= 1e30;
     let ub = u0 + span;
-    let base = -tau - t * (u0 - ua);
+    let base = att - t * (u0 - ua);
     let mut sum = 0.0;
     if u0 < SPLIT {
         let len = if ub <= SPLIT { span } else { SPLIT - u0 };
@@ -207,15 +207,25 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, 
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `rho` (negative or
 /// infinite: no surface).
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    let (s, c) = airlight_scaled(tau, h, x0, rho, xr, g);
+    mul_exp_neg(s, c).min(HUGE)
+}
+
+/// `A` as `s · e^{−c}`, `(s, c)`: every exponential is taken relative to `e^{−c}`,
+/// `c = τ` (no path from viewer to light is shorter than `D`, so nothing in `s`
+/// passes 1 for that reason), so a value f32 holds is not lost where `e^{−τ}` alone
+/// is subnormal (τ > 87); `s` saturates at [`HUGE`].
+fn airlight_scaled(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> (f32, f32) {
     let ph = phase(g);
     let open = !(0.0..RHO_OPEN).contains(&rho);
     let tau = tau.min(TAU_MAX);
+    let c = tau;
     if h <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and α = 0 all along.
         if open || rho >= 1.0 {
-            return HUGE;
+            return (HUGE, 0.0);
         }
-        return phase_at(&ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return (phase_at(&ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in γ within 1e-7 of π.
     let h = if x0 < 0.0 { h.max(1e-7) } else { h };
@@ -226,10 +236,10 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -
         // both lengths are taken as angles between vectors, precise when short.
 
         let len = if !open && xr > 0.0 { atan2(h * rho, h * h + x0 * xr) } else { atan2(x0, h) };
-        sum += forward(atan2(h, x0), len, t, -tau * x0, &ph);
+        sum += forward(atan2(h, x0), len, t, c - tau * x0, &ph);
     }
-    sum += backward_u(tau, t, h, x0, rho, xr, open, &ph);
-    (sum / h).min(HUGE)
+    sum += backward_u(c - tau, t, h, x0, rho, xr, open, &ph);
+    ((sum / h).min(HUGE), c)
 }
 
 /// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
@@ -254,8 +264,11 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
     }
     // Negative or NaN: no surface; an infinite ρ is none too.
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    let a = airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g);
-    scaled(sigma_s, intensity, dd, a)
+    // A as s·e^{−c}: the radiance is formed from mantissas and exponents, so a value
+    // f32 holds is kept where A alone would be subnormal.
+    let (s, c) = airlight_scaled(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g);
+    let (m, k) = exp_neg_parts(c);
+    scaled_pow2(sigma_s, intensity, dd, s * m, -k)
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

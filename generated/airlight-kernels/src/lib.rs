@@ -225,7 +225,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.1506739390230947e0,
         dense_max_rel: 1.1793994239118733e3,
-        f32_thin_max_rel: Some(1.1506784250903408e0),
+        f32_thin_max_rel: Some(1.1506783247942312e0),
         f32_dense_max_rel: Some(1.1793994239118733e3),
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -243,7 +243,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.200769173871468e-1,
         dense_max_rel: 8.171250367882981e2,
-        f32_thin_max_rel: Some(9.20081799810651e-1),
+        f32_thin_max_rel: Some(9.200814104022847e-1),
         f32_dense_max_rel: Some(8.171250367882981e2),
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -280,7 +280,7 @@ pub const KERNELS: &[Kernel] = &[
         thin_max_rel: 1.2499894672217062e0,
         dense_max_rel: 5.437696034803902e0,
         f32_thin_max_rel: Some(1.2499894672217062e0),
-        f32_dense_max_rel: Some(5.437709639108922e0),
+        f32_dense_max_rel: Some(5.437707775033878e0),
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -299,8 +299,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.4272635893891885e-2,
         dense_max_rel: 2.650894079142562e-1,
-        f32_thin_max_rel: Some(2.4280777150346343e-2),
-        f32_dense_max_rel: Some(2.6510073911914667e-1),
+        f32_thin_max_rel: Some(2.42810431452866e-2),
+        f32_dense_max_rel: Some(2.651005036799625e-1),
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -317,8 +317,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.1788867709147572e-2,
         dense_max_rel: 1.2302946952748502e-1,
-        f32_thin_max_rel: Some(1.1796563228085285e-2),
-        f32_dense_max_rel: Some(1.2303886567323398e-1),
+        f32_thin_max_rel: Some(1.1796653939969036e-2),
+        f32_dense_max_rel: Some(1.230378825226359e-1),
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -335,8 +335,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.33600761566586e-3,
         dense_max_rel: 7.533739106803236e-2,
-        f32_thin_max_rel: Some(7.343728230139688e-3),
-        f32_dense_max_rel: Some(7.534657980717913e-2),
+        f32_thin_max_rel: Some(7.3436432381090285e-3),
+        f32_dense_max_rel: Some(7.534728874339586e-2),
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -353,8 +353,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 4.4856667393215e-3,
         dense_max_rel: 4.559567557226216e-2,
-        f32_thin_max_rel: Some(4.493122789690236e-3),
-        f32_dense_max_rel: Some(4.560403186174427e-2),
+        f32_thin_max_rel: Some(4.493046337668233e-3),
+        f32_dense_max_rel: Some(4.560422897682887e-2),
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -371,8 +371,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.455033849328966e-3,
         dense_max_rel: 2.476940686138501e-2,
-        f32_thin_max_rel: Some(2.463042305858018e-3),
-        f32_dense_max_rel: Some(2.4776837467721635e-2),
+        f32_thin_max_rel: Some(2.46303668812159e-3),
+        f32_dense_max_rel: Some(2.4777509257847496e-2),
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -389,8 +389,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.8726380132923271e-3,
         dense_max_rel: 1.468997835656401e-2,
-        f32_thin_max_rel: Some(1.8733132336053433e-3),
-        f32_dense_max_rel: Some(1.4699772424817074e-2),
+        f32_thin_max_rel: Some(1.87326232968834e-3),
+        f32_dense_max_rel: Some(1.4698944384325978e-2),
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -407,8 +407,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.8726380132923271e-3,
         dense_max_rel: 1.1691836850241225e-2,
-        f32_thin_max_rel: Some(1.8733132336053433e-3),
-        f32_dense_max_rel: Some(1.1701619069458193e-2),
+        f32_thin_max_rel: Some(1.87326232968834e-3),
+        f32_dense_max_rel: Some(1.1701551359464823e-2),
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)

@@ -20,7 +20,7 @@
 //! light, where `A` diverges (and where the value passes f32's range), 0 where it
 //! underflows; τ beyond [`TAU_MAX`] gives 0 (`A` is below f32's range there).
 
-use crate::math::{atan, atan2, exp, exprel, HUGE, ln, phi, ray_geometry, RHO_OPEN, scaled, sin_cos, sqrt, TAU_MAX};
+use crate::math::{atan, atan2, exp, exp_neg_parts, exprel, HUGE, ln, mul_exp_neg, phi, ray_geometry, RHO_OPEN, scaled, scaled_pow2, sin_cos, sqrt, TAU_MAX};
 use core::f32::consts::{FRAC_PI_2, PI};
 
 /// Forward kernel `k̂ ≈ sec θ − tan θ` as segments in the scattering angle
@@ -143,21 +143,23 @@ fn forward(a: f32, len: f32, t: f32, att: f32, ph: &Phase) -> f32 {
     sum.max(0.0)
 }
 
-/// The backward part from the foot point (γ ≤ π/2) by the paper's ratio, times `h`:
-/// `e^{−τ x0} P(π/2 + θ̄) R(θb, T) ∫₀^{π/2} e^{−T k̂}`, the phase at the mean angle.
-fn backward_ratio(tau: f32, t: f32, x0: f32, theta_b: f32, ph: &Phase) -> f32 {
-    let decay = if t > 0.0 { exp(-cubic(&RATIO_G, theta_b) * exp(cubic(&RATIO_H, theta_b) * ln(t))) } else { 1.0 };
-    let r = (cubic(&RATIO_F, theta_b) * decay).max(0.0);
+/// The backward part from the foot point (γ ≤ π/2) by the paper's ratio, times `h`
+/// and `e^c`: `e^{att} P(π/2 + θ̄) R(θb, T) ∫₀^{π/2} e^{−T k̂}`, `att = c − τ x0`, the
+/// phase at the mean angle. `R`'s own decay joins `att` in one exponential, capped
+/// where a ratio that does not fall with `T` would pass f32's range.
+fn backward_ratio(att: f32, t: f32, theta_b: f32, ph: &Phase) -> f32 {
+    let decay = if t > 0.0 { -cubic(&RATIO_G, theta_b) * exp(cubic(&RATIO_H, theta_b) * ln(t)) } else { 0.0 };
+    let r = cubic(&RATIO_F, theta_b).max(0.0) * exp((att + decay).min(80.0));
     let whole = segments(0.0, FRAC_PI_2, t, 0.0, 0.0, false);
     let mean = theta_b / (2.0 + t * theta_b);
-    exp(-tau * x0) * phase_at(ph, FRAC_PI_2 + mean) * r * whole
+    phase_at(ph, FRAC_PI_2 + mean) * r * whole
 }
 
-/// The backward part in the u form, times `h`: `2 e^{−τ} ∫ e^{−T(u − ua)} P w(u) du`
-/// over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
+/// The backward part in the u form, times `h` and `e^c`: `2 e^{att} ∫ e^{−T(u − ua)} P w(u) du`,
+/// `att = c − τ`, over `u ∈ [max(ua, 1), ub]` as positive exponential terms (docs/MATH.md §3);
 /// `open`: no surface (`ub = ∞`).
 #[allow(clippy::too_many_arguments)]
-fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: &Phase) -> f32 {
+fn backward_u(att: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, ph: &Phase) -> f32 {
     // u = tan(α/2), written without cancellation on either side of the foot point.
     let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
     let u0 = ua.max(1.0);
@@ -181,7 +183,7 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, 
     // Past u0 + 1e30 the rest of the ray adds below f32's resolution.
     let open = open || span >= 1e30;
     let ub = u0 + span;
-    let base = -tau - t * (u0 - ua);
+    let base = att - t * (u0 - ua);
     let mut sum = 0.0;
     if u0 < SPLIT {
         let len = if ub <= SPLIT { span } else { SPLIT - u0 };
@@ -226,15 +228,25 @@ fn backward_u(tau: f32, t: f32, h: f32, x0: f32, rho: f32, xr: f32, open: bool, 
 /// `A` from the geometry: `h = sin γ ≥ 0`, `x0 = cos γ`, `rho` (negative or
 /// infinite: no surface).
 pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> f32 {
+    let (s, c) = airlight_scaled(tau, h, x0, rho, xr, g);
+    mul_exp_neg(s, c).min(HUGE)
+}
+
+/// `A` as `s · e^{−c}`, `(s, c)`: every exponential is taken relative to `e^{−c}`,
+/// `c = τ` (no path from viewer to light is shorter than `D`, so nothing in `s`
+/// passes 1 for that reason), so a value f32 holds is not lost where `e^{−τ}` alone
+/// is subnormal (τ > 87); `s` saturates at [`HUGE`].
+fn airlight_scaled(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -> (f32, f32) {
     let ph = phase(g);
     let open = !(0.0..RHO_OPEN).contains(&rho);
     let tau = tau.min(TAU_MAX);
+    let c = tau;
     if h <= 0.0 && x0 > 0.0 {
         // On the axis towards the light: s + t = 1 and α = 0 all along.
         if open || rho >= 1.0 {
-            return HUGE;
+            return (HUGE, 0.0);
         }
-        return phase_at(&ph, 0.0) * exp(-tau) * rho / (1.0 - rho);
+        return (phase_at(&ph, 0.0) * rho / (1.0 - rho), c);
     }
     // A is flat in γ within 1e-7 of π.
     let h = if x0 < 0.0 { h.max(1e-7) } else { h };
@@ -245,17 +257,17 @@ pub fn airlight_geometry(tau: f32, h: f32, x0: f32, rho: f32, xr: f32, g: f32) -
         // both lengths are taken as angles between vectors, precise when short.
 
         let len = if !open && xr > 0.0 { atan2(h * rho, h * h + x0 * xr) } else { atan2(x0, h) };
-        sum += forward(atan2(h, x0), len, t, -tau * x0, &ph);
+        sum += forward(atan2(h, x0), len, t, c - tau * x0, &ph);
     }
     if x0 >= 0.0 {
         if open || xr < 0.0 {
             let theta_b = if open { FRAC_PI_2 } else { atan2(-xr, h) };
-            sum += backward_ratio(tau, t, x0, theta_b, &ph);
+            sum += backward_ratio(c - tau * x0, t, theta_b, &ph);
         }
     } else {
-        sum += backward_u(tau, t, h, x0, rho, xr, open, &ph);
+        sum += backward_u(c - tau, t, h, x0, rho, xr, open, &ph);
     }
-    (sum / h).min(HUGE)
+    ((sum / h).min(HUGE), c)
 }
 
 /// The canonical `A(τ, γ, ρ; g)` (docs/MATH.md §2).
@@ -280,8 +292,11 @@ pub fn radiance(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], 
     }
     // Negative or NaN: no surface; an infinite ρ is none too.
     let rho = if surface >= 0.0 { surface / dd } else { -1.0 };
-    let a = airlight_geometry(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g);
-    scaled(sigma_s, intensity, dd, a)
+    // A as s·e^{−c}: the radiance is formed from mantissas and exponents, so a value
+    // f32 holds is kept where A alone would be subnormal.
+    let (s, c) = airlight_scaled(sigma_t * dd, h, x0, rho, crate::math::foot(h, x0, rho), g);
+    let (m, k) = exp_neg_parts(c);
+    scaled_pow2(sigma_s, intensity, dd, s * m, -k)
 }
 
 /// A from the unit geometry h = sin(gamma) >= 0, x0 = cos(gamma), rho (negative: no surface), xr = x0 - rho (its foot offset, formed by the caller) and g (ignored where the kernel has none): the one signature the spot entry calls for every family.

@@ -384,23 +384,23 @@ float airlight_paper_as_printed_cubic(float c0_, float c1_, float c2_, float c3_
     return ((((((c0_ * x_5) + c1_) * x_5) + c2_) * x_5) + c3_);
 }
 
-float airlight_paper_as_printed_backward_ratio(float tau_3, float t_3, float x0_1, float theta_b)
+float airlight_paper_as_printed_backward_ratio(float att_3, float t_3, float theta_b)
 {
-    float decay = 1.0;
+    float decay = 0.0;
 
     if ((t_3 > 0.0)) {
-        const float _e12 = airlight_paper_as_printed_cubic(-0.1299, 0.4204, 0.3811, 0.5993, theta_b);
-        const float _e18 = airlight_paper_as_printed_cubic(0.0171, -0.1586, -0.0424, 1.0879, theta_b);
-        decay = exp((-(_e12) * exp((_e18 * log(t_3)))));
+        const float _e11 = airlight_paper_as_printed_cubic(-0.1299, 0.4204, 0.3811, 0.5993, theta_b);
+        const float _e17 = airlight_paper_as_printed_cubic(0.0171, -0.1586, -0.0424, 1.0879, theta_b);
+        decay = (-(_e11) * exp((_e17 * log(t_3))));
     }
-    const float _e28 = airlight_paper_as_printed_cubic(-0.0394, 0.1065, 0.5774, 0.0058, theta_b);
+    const float _e26 = airlight_paper_as_printed_cubic(-0.0394, 0.1065, 0.5774, 0.0058, theta_b);
     float _e29 = decay;
-    float r_5 = max((_e28 * _e29), 0.0);
-    const float _e36 = airlight_paper_as_printed_segments(0.0, airlight_paper_as_printed_FRAC_PI_2_, t_3, 0.0);
-    return (((exp((-(tau_3) * x0_1)) * airlight_paper_as_printed_P_ISO) * r_5) * _e36);
+    float r_5 = (max(_e26, 0.0) * exp(min((att_3 + _e29), 80.0)));
+    const float _e38 = airlight_paper_as_printed_segments(0.0, airlight_paper_as_printed_FRAC_PI_2_, t_3, 0.0);
+    return ((airlight_paper_as_printed_P_ISO * r_5) * _e38);
 }
 
-float airlight_paper_as_printed_backward_u(float tau_4, float t_4, float h_2, float x0_2, float rho_1, float xr, bool open)
+float airlight_paper_as_printed_backward_u(float att_4, float t_4, float h_2, float x0_1, float rho_1, float xr, bool open)
 {
     float span = airlight_paper_as_printed_HUGE;
     bool local_5 = (bool)0;
@@ -411,12 +411,12 @@ float airlight_paper_as_printed_backward_u(float tau_4, float t_4, float h_2, fl
     float g = (float)0;
     float u = (float)0;
 
-    float ua = ((x0_2 >= 0.0) ? (h_2 / (1.0 + x0_2)) : ((1.0 - x0_2) / h_2));
+    float ua = ((x0_1 >= 0.0) ? (h_2 / (1.0 + x0_1)) : ((1.0 - x0_1) / h_2));
     float u0_ = max(ua, 1.0);
     if (!(open)) {
         float d_5 = -(xr);
         float r_6 = sqrt(((d_5 * d_5) + (h_2 * h_2)));
-        span = ((x0_2 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_5 + r_6) / h_2) - u0_));
+        span = ((x0_1 < 0.0) ? (((2.0 * rho_1) * (d_5 + r_6)) / (((rho_1 + r_6) + 1.0) * h_2)) : (((d_5 + r_6) / h_2) - u0_));
     }
     float _e41 = span;
     if (!((_e41 > 0.0))) {
@@ -431,33 +431,33 @@ float airlight_paper_as_printed_backward_u(float tau_4, float t_4, float h_2, fl
     bool endless = local_5;
     float _e54 = span;
     float ub = (u0_ + _e54);
-    float base = (-(tau_4) - (t_4 * (u0_ - ua)));
+    float base = (att_4 - (t_4 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
-        float _e66 = span;
-        float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
+        float _e65 = span;
+        float len_4 = ((ub <= 16.0) ? _e65 : (16.0 - u0_));
         {
             float lam_1 = (t_4 + 0.024973566);
-            float _e72 = sum;
-            const float _e82 = airlight_paper_as_printed_exprel((-(lam_1) * len_4));
-            sum = (_e72 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e82) * airlight_paper_as_printed_P_ISO));
+            float _e71 = sum;
+            const float _e81 = airlight_paper_as_printed_exprel((-(lam_1) * len_4));
+            sum = (_e71 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e81) * airlight_paper_as_printed_P_ISO));
         }
         {
             float lam_2 = (t_4 + 0.19339234);
-            float _e89 = sum;
-            const float _e99 = airlight_paper_as_printed_exprel((-(lam_2) * len_4));
-            sum = (_e89 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e99) * airlight_paper_as_printed_P_ISO));
+            float _e88 = sum;
+            const float _e98 = airlight_paper_as_printed_exprel((-(lam_2) * len_4));
+            sum = (_e88 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e98) * airlight_paper_as_printed_P_ISO));
         }
         {
             float lam_3 = (t_4 + 0.58173054);
-            float _e106 = sum;
-            const float _e116 = airlight_paper_as_printed_exprel((-(lam_3) * len_4));
-            sum = (_e106 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e116) * airlight_paper_as_printed_P_ISO));
+            float _e105 = sum;
+            const float _e115 = airlight_paper_as_printed_exprel((-(lam_3) * len_4));
+            sum = (_e105 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e115) * airlight_paper_as_printed_P_ISO));
         }
         {
             float lam_4 = (t_4 + 1.4293756);
-            float _e123 = sum;
-            const float _e133 = airlight_paper_as_printed_exprel((-(lam_4) * len_4));
-            sum = (_e123 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e133) * airlight_paper_as_printed_P_ISO));
+            float _e122 = sum;
+            const float _e132 = airlight_paper_as_printed_exprel((-(lam_4) * len_4));
+            sum = (_e122 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e132) * airlight_paper_as_printed_P_ISO));
         }
     }
     if (!(endless)) {
@@ -465,8 +465,8 @@ float airlight_paper_as_printed_backward_u(float tau_4, float t_4, float h_2, fl
     } else {
         local_6 = true;
     }
-    bool _e144 = local_6;
-    if (_e144) {
+    bool _e143 = local_6;
+    if (_e143) {
         float a_15 = max(u0_, 16.0);
         float shift = (base - (t_4 * (a_15 - u0_)));
         if (!(endless)) {
@@ -474,64 +474,64 @@ float airlight_paper_as_printed_backward_u(float tau_4, float t_4, float h_2, fl
         } else {
             local_7 = false;
         }
-        bool _e157 = local_7;
-        if (_e157) {
-            float _e161 = span;
-            float len_5 = ((a_15 == u0_) ? (_e161 / a_15) : ((ub / a_15) - 1.0));
+        bool _e156 = local_7;
+        if (_e156) {
+            float _e160 = span;
+            float len_5 = ((a_15 == u0_) ? (_e160 / a_15) : ((ub / a_15) - 1.0));
             float ta = (t_4 * a_15);
             {
                 float lam_5 = (ta + 0.26840276);
                 float u_2 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_2 * u_2))));
-                float _e184 = part;
-                const float _e193 = airlight_paper_as_printed_exprel((-(lam_5) * len_5));
-                part = (_e184 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e193) * q_1) * airlight_paper_as_printed_P_ISO));
+                float _e183 = part;
+                const float _e192 = airlight_paper_as_printed_exprel((-(lam_5) * len_5));
+                part = (_e183 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e192) * q_1) * airlight_paper_as_printed_P_ISO));
             }
             {
                 float lam_6 = (ta + 1.5659415);
                 float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
-                float _e215 = part;
-                const float _e224 = airlight_paper_as_printed_exprel((-(lam_6) * len_5));
-                part = (_e215 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e224) * q_2) * airlight_paper_as_printed_P_ISO));
+                float _e214 = part;
+                const float _e223 = airlight_paper_as_printed_exprel((-(lam_6) * len_5));
+                part = (_e214 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e223) * q_2) * airlight_paper_as_printed_P_ISO));
             }
             {
                 float lam_7 = (ta + 4.449333);
                 float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
-                float _e246 = part;
-                const float _e255 = airlight_paper_as_printed_exprel((-(lam_7) * len_5));
-                part = (_e246 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e255) * q_3) * airlight_paper_as_printed_P_ISO));
+                float _e245 = part;
+                const float _e254 = airlight_paper_as_printed_exprel((-(lam_7) * len_5));
+                part = (_e245 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e254) * q_3) * airlight_paper_as_printed_P_ISO));
             }
-            float _e261 = sum;
-            float _e262 = part;
-            sum = (_e261 + (_e262 / a_15));
+            float _e260 = sum;
+            float _e261 = part;
+            sum = (_e260 + (_e261 / a_15));
         } else {
             float lam_8 = (t_4 + (2.0 / a_15));
-            const float _e269 = airlight_paper_as_printed_phi((t_4 * a_15));
-            g = (_e269 / a_15);
+            const float _e268 = airlight_paper_as_printed_phi((t_4 * a_15));
+            g = (_e268 / a_15);
             u = (a_15 + (1.0 / lam_8));
             if (!(endless)) {
-                float _e278 = span;
-                float len_6 = ((a_15 == u0_) ? _e278 : (ub - a_15));
-                float _e281 = g;
-                const float _e286 = airlight_paper_as_printed_phi((t_4 * ub));
-                g = (_e281 - ((exp((-(t_4) * len_6)) * _e286) / ub));
+                float _e277 = span;
+                float len_6 = ((a_15 == u0_) ? _e277 : (ub - a_15));
+                float _e280 = g;
+                const float _e285 = airlight_paper_as_printed_phi((t_4 * ub));
+                g = (_e280 - ((exp((-(t_4) * len_6)) * _e285) / ub));
                 u = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
+            float _e294 = u;
             float _e295 = u;
-            float _e296 = u;
-            float q_4 = (1.0 / (1.0 + (1.0 / (_e295 * _e296))));
-            float _e304 = sum;
-            float _e306 = g;
-            sum = (_e304 + (((exp(shift) * _e306) * q_4) * airlight_paper_as_printed_P_ISO));
+            float q_4 = (1.0 / (1.0 + (1.0 / (_e294 * _e295))));
+            float _e303 = sum;
+            float _e305 = g;
+            sum = (_e303 + (((exp(shift) * _e305) * q_4) * airlight_paper_as_printed_P_ISO));
         }
     }
-    float _e312 = sum;
-    return (2.0 * _e312);
+    float _e311 = sum;
+    return (2.0 * _e311);
 }
 
-float airlight_paper_as_printed_airlight_geometry(float tau_in, float h_in, float x0_3, float rho_2, float xr_1)
+float2 airlight_paper_as_printed_airlight_scaled(float tau_in, float h_in, float x0_2, float rho_2, float xr_1)
 {
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
@@ -549,77 +549,84 @@ float airlight_paper_as_printed_airlight_geometry(float tau_in, float h_in, floa
     }
     bool _e12 = local_8;
     bool open_1 = !(_e12);
-    float tau_10 = min(tau_in, airlight_paper_as_printed_TAU_MAX);
+    float tau_9 = min(tau_in, airlight_paper_as_printed_TAU_MAX);
     if ((h_in <= 0.0)) {
-        local_9 = (x0_3 > 0.0);
+        local_9 = (x0_2 > 0.0);
     } else {
         local_9 = false;
     }
-    bool _e23 = local_9;
-    if (_e23) {
+    bool _e24 = local_9;
+    if (_e24) {
         if (!(open_1)) {
             local_10 = (rho_2 >= 1.0);
         } else {
             local_10 = true;
         }
-        bool _e30 = local_10;
-        if (_e30) {
-            return airlight_paper_as_printed_HUGE;
+        bool _e31 = local_10;
+        if (_e31) {
+            return float2(3.4028235e38, 0.0);
         }
-        return ((0.07957747 * rho_2) / (1.0 - rho_2));
+        return float2(((airlight_paper_as_printed_P_ISO * rho_2) / (1.0 - rho_2)), 0.0);
     }
-    float h_7 = ((x0_3 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_5 = (tau_10 * h_7);
-    if ((x0_3 > 0.0)) {
-        const float _e47 = airlight_paper_as_printed_arctan2_(x0_3, h_7);
-        len_3 = _e47;
+    float h_8 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_5 = (tau_9 * h_8);
+    if ((x0_2 > 0.0)) {
+        const float _e51 = airlight_paper_as_printed_arctan2_(x0_2, h_8);
+        len_3 = _e51;
         if (!(open_1)) {
             local_11 = (xr_1 > 0.0);
         } else {
             local_11 = false;
         }
-        bool _e55 = local_11;
-        if (_e55) {
-            const float _e60 = airlight_paper_as_printed_arctan2_((h_7 * rho_2), ((h_7 * h_7) + (x0_3 * xr_1)));
-            len_3 = _e60;
+        bool _e59 = local_11;
+        if (_e59) {
+            const float _e64 = airlight_paper_as_printed_arctan2_((h_8 * rho_2), ((h_8 * h_8) + (x0_2 * xr_1)));
+            len_3 = _e64;
         }
-        float _e61 = sum_1;
-        const float _e62 = airlight_paper_as_printed_arctan2_(h_7, x0_3);
-        float _e63 = len_3;
-        const float _e65 = airlight_paper_as_printed_forward(_e62, _e63, t_5, 0.0);
-        sum_1 = (_e61 + _e65);
+        float _e65 = sum_1;
+        const float _e66 = airlight_paper_as_printed_arctan2_(h_8, x0_2);
+        float _e67 = len_3;
+        const float _e69 = airlight_paper_as_printed_forward(_e66, _e67, t_5, 0.0);
+        sum_1 = (_e65 + _e69);
     }
-    if ((x0_3 >= 0.0)) {
+    if ((x0_2 >= 0.0)) {
         if (!(open_1)) {
             local_12 = (xr_1 < 0.0);
         } else {
             local_12 = true;
         }
-        bool _e75 = local_12;
-        if (_e75) {
+        bool _e79 = local_12;
+        if (_e79) {
             if (!(open_1)) {
-                const float _e80 = airlight_paper_as_printed_arctan2_(-(xr_1), h_7);
-                theta_b_1 = _e80;
+                const float _e84 = airlight_paper_as_printed_arctan2_(-(xr_1), h_8);
+                theta_b_1 = _e84;
             }
-            float _e81 = sum_1;
-            float _e82 = theta_b_1;
-            const float _e83 = airlight_paper_as_printed_backward_ratio(tau_10, t_5, x0_3, _e82);
-            sum_1 = (_e81 + _e83);
+            float _e85 = sum_1;
+            float _e88 = theta_b_1;
+            const float _e89 = airlight_paper_as_printed_backward_ratio((0.0 - (tau_9 * x0_2)), t_5, _e88);
+            sum_1 = (_e85 + _e89);
         }
     } else {
-        float _e85 = sum_1;
-        const float _e86 = airlight_paper_as_printed_backward_u(tau_10, t_5, h_7, x0_3, rho_2, xr_1, open_1);
-        sum_1 = (_e85 + _e86);
+        float _e91 = sum_1;
+        const float _e93 = airlight_paper_as_printed_backward_u((0.0 - tau_9), t_5, h_8, x0_2, rho_2, xr_1, open_1);
+        sum_1 = (_e91 + _e93);
     }
-    float _e88 = sum_1;
-    return min((_e88 / h_7), airlight_paper_as_printed_HUGE);
+    float _e95 = sum_1;
+    return float2(min((_e95 / h_8), airlight_paper_as_printed_HUGE), 0.0);
 }
 
-float airlight_paper_as_printed_airlight(float tau_5, float gamma, float rho_3)
+float airlight_paper_as_printed_airlight_geometry(float tau_3, float h_3, float x0_3, float rho_3, float xr_2)
+{
+    const float2 _e5 = airlight_paper_as_printed_airlight_scaled(tau_3, h_3, x0_3, rho_3, xr_2);
+    const float _e8 = airlight_paper_as_printed_mul_exp_neg(_e5.x, _e5.y);
+    return min(_e8, airlight_paper_as_printed_HUGE);
+}
+
+float airlight_paper_as_printed_airlight(float tau_4, float gamma, float rho_4)
 {
     const float2 _e3 = airlight_paper_as_printed_sin_cos(gamma);
-    const float _e10 = airlight_paper_as_printed_foot(abs(_e3.x), _e3.y, rho_3);
-    const float _e11 = airlight_paper_as_printed_airlight_geometry(tau_5, abs(_e3.x), _e3.y, rho_3, _e10);
+    const float _e10 = airlight_paper_as_printed_foot(abs(_e3.x), _e3.y, rho_4);
+    const float _e11 = airlight_paper_as_printed_airlight_geometry(tau_4, abs(_e3.x), _e3.y, rho_4, _e10);
     return _e11;
 }
 
@@ -641,24 +648,26 @@ float airlight_paper_as_printed_radiance(float3 origin_1, float3 dir_1, float su
     if (_e23) {
         return 0.0;
     }
-    float rho_8 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e37 = airlight_paper_as_printed_foot(_e7.y, _e7.z, rho_8);
-    const float _e38 = airlight_paper_as_printed_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_8, _e37);
-    const float _e40 = airlight_paper_as_printed_scaled(sigma_s_2, intensity_2, _e7.x, _e38);
-    return _e40;
+    float rho_9 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e37 = airlight_paper_as_printed_foot(_e7.y, _e7.z, rho_9);
+    const float2 _e38 = airlight_paper_as_printed_airlight_scaled((sigma_t * _e7.x), _e7.y, _e7.z, rho_9, _e37);
+    const int _e40 = airlight_paper_as_printed_exp_neg_k(_e38.y);
+    const float _e44 = airlight_paper_as_printed_exp_neg_m(_e38.y, _e40);
+    const float _e47 = airlight_paper_as_printed_scaled_pow2_(sigma_s_2, intensity_2, _e7.x, (_e38.x * _e44), airlight_paper_as_printed_naga_neg(_e40));
+    return _e47;
 }
 
-float airlight_paper_as_printed_along(float tau_6, float h_3, float x0_4, float rho_4, float xr_2, float g_1)
+float airlight_paper_as_printed_along(float tau_5, float h_4, float x0_4, float rho_5, float xr_3, float g_1)
 {
-    const float _e6 = airlight_paper_as_printed_airlight_geometry(tau_6, h_3, x0_4, rho_4, xr_2);
+    const float _e6 = airlight_paper_as_printed_airlight_geometry(tau_5, h_4, x0_4, rho_5, xr_3);
     return _e6;
 }
 
-float3 airlight_paper_as_printed_along_rgb(float3 tau_7, float h_4, float x0_5, float rho_5, float xr_3, float g_2)
+float3 airlight_paper_as_printed_along_rgb(float3 tau_6, float h_5, float x0_5, float rho_6, float xr_4, float g_2)
 {
-    const float _e7 = airlight_paper_as_printed_along(tau_7.x, h_4, x0_5, rho_5, xr_3, g_2);
-    const float _e9 = airlight_paper_as_printed_along(tau_7.y, h_4, x0_5, rho_5, xr_3, g_2);
-    const float _e11 = airlight_paper_as_printed_along(tau_7.z, h_4, x0_5, rho_5, xr_3, g_2);
+    const float _e7 = airlight_paper_as_printed_along(tau_6.x, h_5, x0_5, rho_6, xr_4, g_2);
+    const float _e9 = airlight_paper_as_printed_along(tau_6.y, h_5, x0_5, rho_6, xr_4, g_2);
+    const float _e11 = airlight_paper_as_printed_along(tau_6.z, h_5, x0_5, rho_6, xr_4, g_2);
     return float3(_e7, _e9, _e11);
 }
 
@@ -668,7 +677,7 @@ float airlight_paper_as_printed_spot_asin(float x_6, float r_1)
     return _e8;
 }
 
-float3 airlight_paper_as_printed_spot_core(float3 tau_8, float h_5, float x0_6, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_paper_as_printed_spot_core(float3 tau_7, float h_6, float x0_6, float rho_7, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -678,18 +687,18 @@ float3 airlight_paper_as_printed_spot_core(float3 tau_8, float h_5, float x0_6, 
     float xr1_ = (float)0;
     bool local_14 = (bool)0;
 
-    h1_ = h_5;
+    h1_ = h_6;
     x1_ = x0_6;
-    rho1_ = rho_6;
+    rho1_ = rho_7;
     const float2 _e17 = airlight_paper_as_printed_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_5 / max(_e17.x, 1e-30));
+        t0_ = (h_6 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_paper_as_printed_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
-    const float _e31 = airlight_paper_as_printed_foot(h_5, x0_6, rho_6);
+    const float _e31 = airlight_paper_as_printed_foot(h_6, x0_6, rho_7);
     xr1_ = _e31;
     if (cut_b) {
         const float2 _e33 = airlight_paper_as_printed_sin_cos(wb);
@@ -699,7 +708,7 @@ float3 airlight_paper_as_printed_spot_core(float3 tau_8, float h_5, float x0_6, 
         xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_14 = (rho_6 >= 0.0);
+            local_14 = (rho_7 >= 0.0);
         } else {
             local_14 = false;
         }
@@ -707,7 +716,7 @@ float3 airlight_paper_as_printed_spot_core(float3 tau_8, float h_5, float x0_6, 
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            rho1_ = max(((rho_7 - _e54) / _e56), 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -720,10 +729,10 @@ float3 airlight_paper_as_printed_spot_core(float3 tau_8, float h_5, float x0_6, 
     float _e67 = x1_;
     float _e68 = rho1_;
     float _e69 = xr1_;
-    const float3 _e70 = airlight_paper_as_printed_along_rgb((tau_8 * _e64), _e66, _e67, _e68, _e69, g_3);
+    const float3 _e70 = airlight_paper_as_printed_along_rgb((tau_7 * _e64), _e66, _e67, _e68, _e69, g_3);
     float _e72 = s0_;
     float _e76 = t0_;
-    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_8) * _e72))) / (_e76).xxx));
+    return ((_e70 >= (3.4028235e38).xxx) ? _e70 : ((_e70 * exp((-(tau_7) * _e72))) / (_e76).xxx));
 }
 
 float airlight_paper_as_printed_spot_weight(float c_2, float co, float ci)
@@ -740,7 +749,7 @@ airlight_paper_as_printed_ret_Constructarray6_float_ airlight_paper_as_printed_C
     return ret;
 }
 
-float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_1, float ci_1, float g_4)
+float3 airlight_paper_as_printed_spot_edge(float3 tau_8, float h_7, float x0_7, float rho_8, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_1, float ci_1, float g_4)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_paper_as_printed_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
@@ -760,7 +769,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
     const float _e30 = airlight_paper_as_printed_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_paper_as_printed_spot_core(tau_9, h_6, x0_7, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
+        const float3 _e39 = airlight_paper_as_printed_spot_core(tau_8, h_7, x0_7, rho_8, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -804,7 +813,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
-            st = max((x0_7 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e126) / max(_e129, 1e-30))), 1.0);
             float3 _e136 = sum_2;
             float _e142 = sb.x;
             float _e145 = sb.y;
@@ -816,7 +825,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e163 = d_3;
             float _e164 = d_3;
             float _e169 = st;
-            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_9) * _e169))));
+            sum_2 = (_e136 + ((((half_ * 0.101228535) * (_e160 - we)) / (_e163 * sqrt(_e164))) * exp((-(tau_8) * _e169))));
             w = (mid + (half_ * 0.7966665));
             float _e177 = w;
             const float2 _e180 = airlight_paper_as_printed_sin_cos((0.5 * _e177));
@@ -828,7 +837,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
-            st = max((x0_7 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e203) / max(_e206, 1e-30))), 1.0);
             float3 _e213 = sum_2;
             float _e219 = sb.x;
             float _e222 = sb.y;
@@ -840,7 +849,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e240 = d_3;
             float _e241 = d_3;
             float _e246 = st;
-            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_9) * _e246))));
+            sum_2 = (_e213 + ((((half_ * 0.22238104) * (_e237 - we)) / (_e240 * sqrt(_e241))) * exp((-(tau_8) * _e246))));
             w = (mid + (half_ * 0.5255324));
             float _e254 = w;
             const float2 _e257 = airlight_paper_as_printed_sin_cos((0.5 * _e254));
@@ -852,7 +861,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
-            st = max((x0_7 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e280) / max(_e283, 1e-30))), 1.0);
             float3 _e290 = sum_2;
             float _e296 = sb.x;
             float _e299 = sb.y;
@@ -864,7 +873,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e317 = d_3;
             float _e318 = d_3;
             float _e323 = st;
-            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_9) * _e323))));
+            sum_2 = (_e290 + ((((half_ * 0.31370664) * (_e314 - we)) / (_e317 * sqrt(_e318))) * exp((-(tau_8) * _e323))));
             w = (mid + (half_ * 0.18343464));
             float _e331 = w;
             const float2 _e334 = airlight_paper_as_printed_sin_cos((0.5 * _e331));
@@ -876,7 +885,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
-            st = max((x0_7 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e357) / max(_e360, 1e-30))), 1.0);
             float3 _e367 = sum_2;
             float _e373 = sb.x;
             float _e376 = sb.y;
@@ -888,7 +897,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e394 = d_3;
             float _e395 = d_3;
             float _e400 = st;
-            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_9) * _e400))));
+            sum_2 = (_e367 + ((((half_ * 0.36268377) * (_e391 - we)) / (_e394 * sqrt(_e395))) * exp((-(tau_8) * _e400))));
             w = (mid + (half_ * -0.18343464));
             float _e408 = w;
             const float2 _e411 = airlight_paper_as_printed_sin_cos((0.5 * _e408));
@@ -900,7 +909,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
-            st = max((x0_7 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e434) / max(_e437, 1e-30))), 1.0);
             float3 _e444 = sum_2;
             float _e450 = sb.x;
             float _e453 = sb.y;
@@ -912,7 +921,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e471 = d_3;
             float _e472 = d_3;
             float _e477 = st;
-            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_9) * _e477))));
+            sum_2 = (_e444 + ((((half_ * 0.36268377) * (_e468 - we)) / (_e471 * sqrt(_e472))) * exp((-(tau_8) * _e477))));
             w = (mid + (half_ * -0.5255324));
             float _e485 = w;
             const float2 _e488 = airlight_paper_as_printed_sin_cos((0.5 * _e485));
@@ -924,7 +933,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
-            st = max((x0_7 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e511) / max(_e514, 1e-30))), 1.0);
             float3 _e521 = sum_2;
             float _e527 = sb.x;
             float _e530 = sb.y;
@@ -936,7 +945,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e548 = d_3;
             float _e549 = d_3;
             float _e554 = st;
-            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_9) * _e554))));
+            sum_2 = (_e521 + ((((half_ * 0.31370664) * (_e545 - we)) / (_e548 * sqrt(_e549))) * exp((-(tau_8) * _e554))));
             w = (mid + (half_ * -0.7966665));
             float _e562 = w;
             const float2 _e565 = airlight_paper_as_printed_sin_cos((0.5 * _e562));
@@ -948,7 +957,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
-            st = max((x0_7 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e588) / max(_e591, 1e-30))), 1.0);
             float3 _e598 = sum_2;
             float _e604 = sb.x;
             float _e607 = sb.y;
@@ -960,7 +969,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e625 = d_3;
             float _e626 = d_3;
             float _e631 = st;
-            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_9) * _e631))));
+            sum_2 = (_e598 + ((((half_ * 0.22238104) * (_e622 - we)) / (_e625 * sqrt(_e626))) * exp((-(tau_8) * _e631))));
             w = (mid + (half_ * -0.96028984));
             float _e639 = w;
             const float2 _e642 = airlight_paper_as_printed_sin_cos((0.5 * _e639));
@@ -972,7 +981,7 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
-            st = max((x0_7 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e665) / max(_e668, 1e-30))), 1.0);
             float3 _e675 = sum_2;
             float _e681 = sb.x;
             float _e684 = sb.y;
@@ -984,12 +993,12 @@ float3 airlight_paper_as_printed_spot_edge(float3 tau_9, float h_6, float x0_7, 
             float _e702 = d_3;
             float _e703 = d_3;
             float _e708 = st;
-            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_9) * _e708))));
+            sum_2 = (_e675 + ((((half_ * 0.101228535) * (_e699 - we)) / (_e702 * sqrt(_e703))) * exp((-(tau_8) * _e708))));
         }
     }
     float3 _e716 = exact;
     float3 _e725 = sum_2;
-    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e725) / (h_7).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3)
@@ -1075,7 +1084,7 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
         return (0.0).xxx;
     }
     float d_6 = _e10.x;
-    float h_8 = _e10.y;
+    float h_9 = _e10.y;
     float x0_9 = _e10.z;
     if ((surface_1 >= 0.0)) {
         local_19 = ((surface_1 / d_6) < airlight_paper_as_printed_RHO_OPEN);
@@ -1083,11 +1092,11 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
         local_19 = false;
     }
     bool has_end = local_19;
-    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
-    float3 tau_11 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
-    const float _e140 = airlight_paper_as_printed_arctan2_(h_8, x0_9);
+    float rho_10 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
+    const float _e140 = airlight_paper_as_printed_arctan2_(h_9, x0_9);
     if (!(point_)) {
-        local_20 = (h_8 <= 0.0);
+        local_20 = (h_9 <= 0.0);
     } else {
         local_20 = true;
     }
@@ -1103,7 +1112,7 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
             const float _e157 = airlight_paper_as_printed_spot_weight(-(k_4), co_2, cos_inner);
             const float _e158 = airlight_paper_as_printed_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
-                local_22 = (rho_9 < 1.0);
+                local_22 = (rho_10 < 1.0);
             } else {
                 local_22 = false;
             }
@@ -1125,7 +1134,7 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
         float _e191 = ca_1;
         const float _e192 = airlight_paper_as_printed_arctan2_(k_4, _e191);
         gam_2 = _e140;
-        const float _e195 = airlight_paper_as_printed_arctan2_(h_8, (x0_9 - rho_9));
+        const float _e195 = airlight_paper_as_printed_arctan2_(h_9, (x0_9 - rho_10));
         om_e_1 = (has_end ? _e195 : airlight_paper_as_printed_PI);
         if ((co_2 < r_7)) {
             const float _e198 = airlight_paper_as_printed_spot_asin(co_2, r_7);
@@ -1169,7 +1178,7 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_paper_as_printed_spot_core(tau_11, h_8, x0_9, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
+        const float3 _e248 = airlight_paper_as_printed_spot_core(tau_10, h_9, x0_9, rho_10, _e243, _e244, _e245, _e246, _e247, 0.0);
         a_10 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1197,7 +1206,7 @@ float3 airlight_paper_as_printed_spot(float3 origin_2, float3 dir_2, float surfa
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_paper_as_printed_spot_edge(tau_11, h_8, x0_9, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
+                const float3 _e271 = airlight_paper_as_printed_spot_edge(tau_10, h_9, x0_9, rho_10, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
                 a_10 = (_e265 + _e271);
             }
         }

@@ -176,14 +176,14 @@ float3 airlight_segments_2_ray_geometry(float3 origin, float3 dir, float3 light)
         float3 cs = (_e75 / (_e70).xxx);
         h_1 = (_e70 * sqrt(dot(cs, cs)));
     }
-    float x0_7 = (dot(_e44, _e37) + dot(_e44, _e40));
+    float x0_8 = (dot(_e44, _e37) + dot(_e44, _e40));
     float _e84 = h_1;
     float _e85 = h_1;
-    float n_1 = sqrt(((_e84 * _e85) + (x0_7 * x0_7)));
+    float n_1 = sqrt(((_e84 * _e85) + (x0_8 * x0_8)));
     const float3 _e93 = airlight_segments_2_scale2_((sqrt(dot(_e37, _e37))).xxx, kl);
     float dist = _e93.x;
     float _e97 = h_1;
-    return float3(min(dist, airlight_segments_2_HUGE), (_e97 / n_1), (x0_7 / n_1));
+    return float3(min(dist, airlight_segments_2_HUGE), (_e97 / n_1), (x0_8 / n_1));
 }
 
 float airlight_segments_2_scaled_pow2_(float sigma_s, float intensity, float d_1, float a_5, int k_2)
@@ -378,7 +378,7 @@ float airlight_segments_2_forward(float a_9, float len_2, float t_2, float att_2
     return (airlight_segments_2_P_ISO * _e5);
 }
 
-float airlight_segments_2_backward_u(float tau_3, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open)
+float airlight_segments_2_backward_u(float att_3, float t_3, float h_2, float x0_1, float rho_1, float xr, bool open)
 {
     float span = airlight_segments_2_HUGE;
     bool local_5 = (bool)0;
@@ -409,33 +409,33 @@ float airlight_segments_2_backward_u(float tau_3, float t_3, float h_2, float x0
     bool endless = local_5;
     float _e54 = span;
     float ub = (u0_ + _e54);
-    float base = (-(tau_3) - (t_3 * (u0_ - ua)));
+    float base = (att_3 - (t_3 * (u0_ - ua)));
     if ((u0_ < 16.0)) {
-        float _e66 = span;
-        float len_4 = ((ub <= 16.0) ? _e66 : (16.0 - u0_));
+        float _e65 = span;
+        float len_4 = ((ub <= 16.0) ? _e65 : (16.0 - u0_));
         {
             float lam_1 = (t_3 + 0.024973566);
-            float _e72 = sum;
-            const float _e82 = airlight_segments_2_exprel((-(lam_1) * len_4));
-            sum = (_e72 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e82) * airlight_segments_2_P_ISO));
+            float _e71 = sum;
+            const float _e81 = airlight_segments_2_exprel((-(lam_1) * len_4));
+            sum = (_e71 + ((((0.0024574616 * exp((base - (0.024973566 * u0_)))) * len_4) * _e81) * airlight_segments_2_P_ISO));
         }
         {
             float lam_2 = (t_3 + 0.19339234);
-            float _e89 = sum;
-            const float _e99 = airlight_segments_2_exprel((-(lam_2) * len_4));
-            sum = (_e89 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e99) * airlight_segments_2_P_ISO));
+            float _e88 = sum;
+            const float _e98 = airlight_segments_2_exprel((-(lam_2) * len_4));
+            sum = (_e88 + ((((0.04885752 * exp((base - (0.19339234 * u0_)))) * len_4) * _e98) * airlight_segments_2_P_ISO));
         }
         {
             float lam_3 = (t_3 + 0.58173054);
-            float _e106 = sum;
-            const float _e116 = airlight_segments_2_exprel((-(lam_3) * len_4));
-            sum = (_e106 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e116) * airlight_segments_2_P_ISO));
+            float _e105 = sum;
+            const float _e115 = airlight_segments_2_exprel((-(lam_3) * len_4));
+            sum = (_e105 + ((((0.30847993 * exp((base - (0.58173054 * u0_)))) * len_4) * _e115) * airlight_segments_2_P_ISO));
         }
         {
             float lam_4 = (t_3 + 1.4293756);
-            float _e123 = sum;
-            const float _e133 = airlight_segments_2_exprel((-(lam_4) * len_4));
-            sum = (_e123 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e133) * airlight_segments_2_P_ISO));
+            float _e122 = sum;
+            const float _e132 = airlight_segments_2_exprel((-(lam_4) * len_4));
+            sum = (_e122 + ((((1.1929636 * exp((base - (1.4293756 * u0_)))) * len_4) * _e132) * airlight_segments_2_P_ISO));
         }
     }
     if (!(endless)) {
@@ -443,8 +443,8 @@ float airlight_segments_2_backward_u(float tau_3, float t_3, float h_2, float x0
     } else {
         local_6 = true;
     }
-    bool _e144 = local_6;
-    if (_e144) {
+    bool _e143 = local_6;
+    if (_e143) {
         float a_15 = max(u0_, 16.0);
         float shift = (base - (t_3 * (a_15 - u0_)));
         if (!(endless)) {
@@ -452,64 +452,64 @@ float airlight_segments_2_backward_u(float tau_3, float t_3, float h_2, float x0
         } else {
             local_7 = false;
         }
-        bool _e157 = local_7;
-        if (_e157) {
-            float _e161 = span;
-            float len_5 = ((a_15 == u0_) ? (_e161 / a_15) : ((ub / a_15) - 1.0));
+        bool _e156 = local_7;
+        if (_e156) {
+            float _e160 = span;
+            float len_5 = ((a_15 == u0_) ? (_e160 / a_15) : ((ub / a_15) - 1.0));
             float ta = (t_3 * a_15);
             {
                 float lam_5 = (ta + 0.26840276);
                 float u_2 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_2 * u_2))));
-                float _e184 = part;
-                const float _e193 = airlight_segments_2_exprel((-(lam_5) * len_5));
-                part = (_e184 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e193) * q_1) * airlight_segments_2_P_ISO));
+                float _e183 = part;
+                const float _e192 = airlight_segments_2_exprel((-(lam_5) * len_5));
+                part = (_e183 + (((((0.1972373 * exp((shift - 0.26840276))) * len_5) * _e192) * q_1) * airlight_segments_2_P_ISO));
             }
             {
                 float lam_6 = (ta + 1.5659415);
                 float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
-                float _e215 = part;
-                const float _e224 = airlight_segments_2_exprel((-(lam_6) * len_5));
-                part = (_e215 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e224) * q_2) * airlight_segments_2_P_ISO));
+                float _e214 = part;
+                const float _e223 = airlight_segments_2_exprel((-(lam_6) * len_5));
+                part = (_e214 + (((((3.029358 * exp((shift - 1.5659415))) * len_5) * _e223) * q_2) * airlight_segments_2_P_ISO));
             }
             {
                 float lam_7 = (ta + 4.449333);
                 float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
-                float _e246 = part;
-                const float _e255 = airlight_segments_2_exprel((-(lam_7) * len_5));
-                part = (_e246 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e255) * q_3) * airlight_segments_2_P_ISO));
+                float _e245 = part;
+                const float _e254 = airlight_segments_2_exprel((-(lam_7) * len_5));
+                part = (_e245 + (((((18.508303 * exp((shift - 4.449333))) * len_5) * _e254) * q_3) * airlight_segments_2_P_ISO));
             }
-            float _e261 = sum;
-            float _e262 = part;
-            sum = (_e261 + (_e262 / a_15));
+            float _e260 = sum;
+            float _e261 = part;
+            sum = (_e260 + (_e261 / a_15));
         } else {
             float lam_8 = (t_3 + (2.0 / a_15));
-            const float _e269 = airlight_segments_2_phi((t_3 * a_15));
-            g = (_e269 / a_15);
+            const float _e268 = airlight_segments_2_phi((t_3 * a_15));
+            g = (_e268 / a_15);
             u = (a_15 + (1.0 / lam_8));
             if (!(endless)) {
-                float _e278 = span;
-                float len_6 = ((a_15 == u0_) ? _e278 : (ub - a_15));
-                float _e281 = g;
-                const float _e286 = airlight_segments_2_phi((t_3 * ub));
-                g = (_e281 - ((exp((-(t_3) * len_6)) * _e286) / ub));
+                float _e277 = span;
+                float len_6 = ((a_15 == u0_) ? _e277 : (ub - a_15));
+                float _e280 = g;
+                const float _e285 = airlight_segments_2_phi((t_3 * ub));
+                g = (_e280 - ((exp((-(t_3) * len_6)) * _e285) / ub));
                 u = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
+            float _e294 = u;
             float _e295 = u;
-            float _e296 = u;
-            float q_4 = (1.0 / (1.0 + (1.0 / (_e295 * _e296))));
-            float _e304 = sum;
-            float _e306 = g;
-            sum = (_e304 + (((exp(shift) * _e306) * q_4) * airlight_segments_2_P_ISO));
+            float q_4 = (1.0 / (1.0 + (1.0 / (_e294 * _e295))));
+            float _e303 = sum;
+            float _e305 = g;
+            sum = (_e303 + (((exp(shift) * _e305) * q_4) * airlight_segments_2_P_ISO));
         }
     }
-    float _e312 = sum;
-    return (2.0 * _e312);
+    float _e311 = sum;
+    return (2.0 * _e311);
 }
 
-float airlight_segments_2_airlight_geometry(float tau_in, float h_in, float x0_2, float rho_2, float xr_1)
+float2 airlight_segments_2_airlight_scaled(float tau_in, float h_in, float x0_2, float rho_2, float xr_1)
 {
     bool local_8 = (bool)0;
     bool local_9 = (bool)0;
@@ -525,7 +525,7 @@ float airlight_segments_2_airlight_geometry(float tau_in, float h_in, float x0_2
     }
     bool _e12 = local_8;
     bool open_1 = !(_e12);
-    float tau_9 = min(tau_in, airlight_segments_2_TAU_MAX);
+    float c_5 = min(tau_in, airlight_segments_2_TAU_MAX);
     if ((h_in <= 0.0)) {
         local_9 = (x0_2 > 0.0);
     } else {
@@ -540,14 +540,14 @@ float airlight_segments_2_airlight_geometry(float tau_in, float h_in, float x0_2
         }
         bool _e30 = local_10;
         if (_e30) {
-            return airlight_segments_2_HUGE;
+            return float2(3.4028235e38, 0.0);
         }
-        return (((airlight_segments_2_P_ISO * exp(-(tau_9))) * rho_2) / (1.0 - rho_2));
+        return float2(((airlight_segments_2_P_ISO * rho_2) / (1.0 - rho_2)), c_5);
     }
-    float h_7 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
-    float t_4 = (tau_9 * h_7);
+    float h_8 = ((x0_2 < 0.0) ? max(h_in, 1e-7) : h_in);
+    float t_4 = (c_5 * h_8);
     if ((x0_2 > 0.0)) {
-        const float _e50 = airlight_segments_2_arctan2_(x0_2, h_7);
+        const float _e50 = airlight_segments_2_arctan2_(x0_2, h_8);
         len_3 = _e50;
         if (!(open_1)) {
             local_11 = (xr_1 > 0.0);
@@ -556,27 +556,34 @@ float airlight_segments_2_airlight_geometry(float tau_in, float h_in, float x0_2
         }
         bool _e58 = local_11;
         if (_e58) {
-            const float _e63 = airlight_segments_2_arctan2_((h_7 * rho_2), ((h_7 * h_7) + (x0_2 * xr_1)));
+            const float _e63 = airlight_segments_2_arctan2_((h_8 * rho_2), ((h_8 * h_8) + (x0_2 * xr_1)));
             len_3 = _e63;
         }
         float _e64 = sum_1;
-        const float _e65 = airlight_segments_2_arctan2_(h_7, x0_2);
+        const float _e65 = airlight_segments_2_arctan2_(h_8, x0_2);
         float _e66 = len_3;
-        const float _e69 = airlight_segments_2_forward(_e65, _e66, t_4, (-(tau_9) * x0_2));
+        const float _e69 = airlight_segments_2_forward(_e65, _e66, t_4, (c_5 - (c_5 * x0_2)));
         sum_1 = (_e64 + _e69);
     }
     float _e71 = sum_1;
-    const float _e72 = airlight_segments_2_backward_u(tau_9, t_4, h_7, x0_2, rho_2, xr_1, open_1);
-    sum_1 = (_e71 + _e72);
-    float _e74 = sum_1;
-    return min((_e74 / h_7), airlight_segments_2_HUGE);
+    const float _e73 = airlight_segments_2_backward_u((c_5 - c_5), t_4, h_8, x0_2, rho_2, xr_1, open_1);
+    sum_1 = (_e71 + _e73);
+    float _e75 = sum_1;
+    return float2(min((_e75 / h_8), airlight_segments_2_HUGE), c_5);
 }
 
-float airlight_segments_2_airlight(float tau_4, float gamma, float rho_3)
+float airlight_segments_2_airlight_geometry(float tau_3, float h_3, float x0_3, float rho_3, float xr_2)
+{
+    const float2 _e5 = airlight_segments_2_airlight_scaled(tau_3, h_3, x0_3, rho_3, xr_2);
+    const float _e8 = airlight_segments_2_mul_exp_neg(_e5.x, _e5.y);
+    return min(_e8, airlight_segments_2_HUGE);
+}
+
+float airlight_segments_2_airlight(float tau_4, float gamma, float rho_4)
 {
     const float2 _e3 = airlight_segments_2_sin_cos(gamma);
-    const float _e10 = airlight_segments_2_foot(abs(_e3.x), _e3.y, rho_3);
-    const float _e11 = airlight_segments_2_airlight_geometry(tau_4, abs(_e3.x), _e3.y, rho_3, _e10);
+    const float _e10 = airlight_segments_2_foot(abs(_e3.x), _e3.y, rho_4);
+    const float _e11 = airlight_segments_2_airlight_geometry(tau_4, abs(_e3.x), _e3.y, rho_4, _e10);
     return _e11;
 }
 
@@ -598,24 +605,26 @@ float airlight_segments_2_radiance(float3 origin_1, float3 dir_1, float surface,
     if (_e23) {
         return 0.0;
     }
-    float rho_8 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
-    const float _e37 = airlight_segments_2_foot(_e7.y, _e7.z, rho_8);
-    const float _e38 = airlight_segments_2_airlight_geometry((sigma_t * _e7.x), _e7.y, _e7.z, rho_8, _e37);
-    const float _e40 = airlight_segments_2_scaled(sigma_s_2, intensity_2, _e7.x, _e38);
-    return _e40;
+    float rho_9 = ((surface >= 0.0) ? (surface / _e7.x) : -1.0);
+    const float _e37 = airlight_segments_2_foot(_e7.y, _e7.z, rho_9);
+    const float2 _e38 = airlight_segments_2_airlight_scaled((sigma_t * _e7.x), _e7.y, _e7.z, rho_9, _e37);
+    const int _e40 = airlight_segments_2_exp_neg_k(_e38.y);
+    const float _e44 = airlight_segments_2_exp_neg_m(_e38.y, _e40);
+    const float _e47 = airlight_segments_2_scaled_pow2_(sigma_s_2, intensity_2, _e7.x, (_e38.x * _e44), airlight_segments_2_naga_neg(_e40));
+    return _e47;
 }
 
-float airlight_segments_2_along(float tau_5, float h_3, float x0_3, float rho_4, float xr_2, float g_1)
+float airlight_segments_2_along(float tau_5, float h_4, float x0_4, float rho_5, float xr_3, float g_1)
 {
-    const float _e6 = airlight_segments_2_airlight_geometry(tau_5, h_3, x0_3, rho_4, xr_2);
+    const float _e6 = airlight_segments_2_airlight_geometry(tau_5, h_4, x0_4, rho_5, xr_3);
     return _e6;
 }
 
-float3 airlight_segments_2_along_rgb(float3 tau_6, float h_4, float x0_4, float rho_5, float xr_3, float g_2)
+float3 airlight_segments_2_along_rgb(float3 tau_6, float h_5, float x0_5, float rho_6, float xr_4, float g_2)
 {
-    const float _e7 = airlight_segments_2_along(tau_6.x, h_4, x0_4, rho_5, xr_3, g_2);
-    const float _e9 = airlight_segments_2_along(tau_6.y, h_4, x0_4, rho_5, xr_3, g_2);
-    const float _e11 = airlight_segments_2_along(tau_6.z, h_4, x0_4, rho_5, xr_3, g_2);
+    const float _e7 = airlight_segments_2_along(tau_6.x, h_5, x0_5, rho_6, xr_4, g_2);
+    const float _e9 = airlight_segments_2_along(tau_6.y, h_5, x0_5, rho_6, xr_4, g_2);
+    const float _e11 = airlight_segments_2_along(tau_6.z, h_5, x0_5, rho_6, xr_4, g_2);
     return float3(_e7, _e9, _e11);
 }
 
@@ -625,7 +634,7 @@ float airlight_segments_2_spot_asin(float x_5, float r_1)
     return _e8;
 }
 
-float3 airlight_segments_2_spot_core(float3 tau_7, float h_5, float x0_5, float rho_6, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
+float3 airlight_segments_2_spot_core(float3 tau_7, float h_6, float x0_6, float rho_7, float gam, float wa, float wb, bool cut_a, bool cut_b, float g_3)
 {
     float h1_ = (float)0;
     float x1_ = (float)0;
@@ -635,18 +644,18 @@ float3 airlight_segments_2_spot_core(float3 tau_7, float h_5, float x0_5, float 
     float xr1_ = (float)0;
     bool local_13 = (bool)0;
 
-    h1_ = h_5;
-    x1_ = x0_5;
-    rho1_ = rho_6;
+    h1_ = h_6;
+    x1_ = x0_6;
+    rho1_ = rho_7;
     const float2 _e17 = airlight_segments_2_sin_cos(wa);
     if (cut_a) {
         h1_ = _e17.x;
         x1_ = _e17.y;
-        t0_ = (h_5 / max(_e17.x, 1e-30));
+        t0_ = (h_6 / max(_e17.x, 1e-30));
         const float2 _e25 = airlight_segments_2_sin_cos((wa - gam));
         s0_ = (_e25.x / max(_e17.x, 1e-30));
     }
-    const float _e31 = airlight_segments_2_foot(h_5, x0_5, rho_6);
+    const float _e31 = airlight_segments_2_foot(h_6, x0_6, rho_7);
     xr1_ = _e31;
     if (cut_b) {
         const float2 _e33 = airlight_segments_2_sin_cos(wb);
@@ -656,7 +665,7 @@ float3 airlight_segments_2_spot_core(float3 tau_7, float h_5, float x0_5, float 
         xr1_ = ((_e41 * _e33.y) / max(_e33.x, 1e-30));
     } else {
         if (cut_a) {
-            local_13 = (rho_6 >= 0.0);
+            local_13 = (rho_7 >= 0.0);
         } else {
             local_13 = false;
         }
@@ -664,7 +673,7 @@ float3 airlight_segments_2_spot_core(float3 tau_7, float h_5, float x0_5, float 
         if (_e53) {
             float _e54 = s0_;
             float _e56 = t0_;
-            rho1_ = max(((rho_6 - _e54) / _e56), 0.0);
+            rho1_ = max(((rho_7 - _e54) / _e56), 0.0);
             float _e60 = h1_;
             float _e61 = x1_;
             float _e62 = rho1_;
@@ -697,7 +706,7 @@ airlight_segments_2_ret_Constructarray6_float_ airlight_segments_2_Constructarra
     return ret;
 }
 
-float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float rho_7, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_1, float ci_1, float g_4)
+float3 airlight_segments_2_spot_edge(float3 tau_8, float h_7, float x0_7, float rho_8, float gam_1, float om_e, float u_1, float v_in, float ca, float k_3, float co_1, float ci_1, float g_4)
 {
     float3 exact = (0.0).xxx;
     float pieces[6] = airlight_segments_2_Constructarray6_float_(0.0, 0.03125, 0.25, 0.75, 0.96875, 1.0);
@@ -717,7 +726,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
     const float _e30 = airlight_segments_2_spot_weight(((ca * _e18.x) - (k_3 * _e18.y)), co_1, ci_1);
     float we = min(_e24, _e30);
     if ((we > 0.0)) {
-        const float3 _e39 = airlight_segments_2_spot_core(tau_8, h_6, x0_6, rho_7, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
+        const float3 _e39 = airlight_segments_2_spot_core(tau_8, h_7, x0_7, rho_8, gam_1, u_1, v_in, (u_1 > gam_1), (v_in < om_e), g_4);
         exact = _e39;
         float3 _e40 = exact;
         if (any((_e40 >= (3.4028235e38).xxx))) {
@@ -761,7 +770,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e116) * _e119)) : (gp - (((4.0 * g_4) * _e107) * _e110)));
             float _e126 = sb.x;
             float _e129 = sb.y;
-            st = max((x0_6 + ((h_6 * _e126) / max(_e129, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e126) / max(_e129, 1e-30))), 1.0);
             float3 _e136 = sum_2;
             float _e142 = sb.x;
             float _e145 = sb.y;
@@ -785,7 +794,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e193) * _e196)) : (gp - (((4.0 * g_4) * _e184) * _e187)));
             float _e203 = sb.x;
             float _e206 = sb.y;
-            st = max((x0_6 + ((h_6 * _e203) / max(_e206, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e203) / max(_e206, 1e-30))), 1.0);
             float3 _e213 = sum_2;
             float _e219 = sb.x;
             float _e222 = sb.y;
@@ -809,7 +818,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e270) * _e273)) : (gp - (((4.0 * g_4) * _e261) * _e264)));
             float _e280 = sb.x;
             float _e283 = sb.y;
-            st = max((x0_6 + ((h_6 * _e280) / max(_e283, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e280) / max(_e283, 1e-30))), 1.0);
             float3 _e290 = sum_2;
             float _e296 = sb.x;
             float _e299 = sb.y;
@@ -833,7 +842,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e347) * _e350)) : (gp - (((4.0 * g_4) * _e338) * _e341)));
             float _e357 = sb.x;
             float _e360 = sb.y;
-            st = max((x0_6 + ((h_6 * _e357) / max(_e360, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e357) / max(_e360, 1e-30))), 1.0);
             float3 _e367 = sum_2;
             float _e373 = sb.x;
             float _e376 = sb.y;
@@ -857,7 +866,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e424) * _e427)) : (gp - (((4.0 * g_4) * _e415) * _e418)));
             float _e434 = sb.x;
             float _e437 = sb.y;
-            st = max((x0_6 + ((h_6 * _e434) / max(_e437, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e434) / max(_e437, 1e-30))), 1.0);
             float3 _e444 = sum_2;
             float _e450 = sb.x;
             float _e453 = sb.y;
@@ -881,7 +890,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e501) * _e504)) : (gp - (((4.0 * g_4) * _e492) * _e495)));
             float _e511 = sb.x;
             float _e514 = sb.y;
-            st = max((x0_6 + ((h_6 * _e511) / max(_e514, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e511) / max(_e514, 1e-30))), 1.0);
             float3 _e521 = sum_2;
             float _e527 = sb.x;
             float _e530 = sb.y;
@@ -905,7 +914,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e578) * _e581)) : (gp - (((4.0 * g_4) * _e569) * _e572)));
             float _e588 = sb.x;
             float _e591 = sb.y;
-            st = max((x0_6 + ((h_6 * _e588) / max(_e591, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e588) / max(_e591, 1e-30))), 1.0);
             float3 _e598 = sum_2;
             float _e604 = sb.x;
             float _e607 = sb.y;
@@ -929,7 +938,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
             d_3 = ((g_4 >= 0.0) ? (gm + (((4.0 * g_4) * _e655) * _e658)) : (gp - (((4.0 * g_4) * _e646) * _e649)));
             float _e665 = sb.x;
             float _e668 = sb.y;
-            st = max((x0_6 + ((h_6 * _e665) / max(_e668, 1e-30))), 1.0);
+            st = max((x0_7 + ((h_7 * _e665) / max(_e668, 1e-30))), 1.0);
             float3 _e675 = sum_2;
             float _e681 = sb.x;
             float _e684 = sb.y;
@@ -946,7 +955,7 @@ float3 airlight_segments_2_spot_edge(float3 tau_8, float h_6, float x0_6, float 
     }
     float3 _e716 = exact;
     float3 _e725 = sum_2;
-    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e725) / (h_6).xxx)), (0.0).xxx, (3.4028235e38).xxx);
+    return clamp(((we * _e716) + ((((0.07957747 * (1.0 - g_4)) * (1.0 + g_4)) * _e725) / (h_7).xxx)), (0.0).xxx, (3.4028235e38).xxx);
 }
 
 float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, float3 light_2, float3 axis, float cos_outer, float cos_inner, float intensity_3, float3 sigma_t_1, float3 sigma_s_3)
@@ -1032,19 +1041,19 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
         return (0.0).xxx;
     }
     float d_6 = _e10.x;
-    float h_8 = _e10.y;
-    float x0_8 = _e10.z;
+    float h_9 = _e10.y;
+    float x0_9 = _e10.z;
     if ((surface_1 >= 0.0)) {
         local_18 = ((surface_1 / d_6) < airlight_segments_2_RHO_OPEN);
     } else {
         local_18 = false;
     }
     bool has_end = local_18;
-    float rho_9 = (has_end ? (surface_1 / d_6) : -1.0);
-    float3 tau_10 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
-    const float _e140 = airlight_segments_2_arctan2_(h_8, x0_8);
+    float rho_10 = (has_end ? (surface_1 / d_6) : -1.0);
+    float3 tau_9 = min(max((sigma_t_1 * d_6), (0.0).xxx), (10000.0).xxx);
+    const float _e140 = airlight_segments_2_arctan2_(h_9, x0_9);
     if (!(point_)) {
-        local_19 = (h_8 <= 0.0);
+        local_19 = (h_9 <= 0.0);
     } else {
         local_19 = true;
     }
@@ -1060,12 +1069,12 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
             const float _e157 = airlight_segments_2_spot_weight(-(k_4), co_2, cos_inner);
             const float _e158 = airlight_segments_2_spot_weight(k_4, co_2, cos_inner);
             if (has_end) {
-                local_21 = (rho_9 < 1.0);
+                local_21 = (rho_10 < 1.0);
             } else {
                 local_21 = false;
             }
             bool _e165 = local_21;
-            scale = ((x0_8 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
+            scale = ((x0_9 < 0.0) ? _e158 : (_e165 ? _e157 : max(_e157, _e158)));
         }
         core = true;
     } else {
@@ -1082,7 +1091,7 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
         float _e191 = ca_1;
         const float _e192 = airlight_segments_2_arctan2_(k_4, _e191);
         gam_2 = _e140;
-        const float _e195 = airlight_segments_2_arctan2_(h_8, (x0_8 - rho_9));
+        const float _e195 = airlight_segments_2_arctan2_(h_9, (x0_9 - rho_10));
         om_e_1 = (has_end ? _e195 : airlight_segments_2_PI);
         if ((co_2 < r_6)) {
             const float _e198 = airlight_segments_2_spot_asin(co_2, r_6);
@@ -1126,7 +1135,7 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
         float _e245 = wb_1;
         bool _e246 = cut_a_1;
         bool _e247 = cut_b_1;
-        const float3 _e248 = airlight_segments_2_spot_core(tau_10, h_8, x0_8, rho_9, _e243, _e244, _e245, _e246, _e247, 0.0);
+        const float3 _e248 = airlight_segments_2_spot_core(tau_9, h_9, x0_9, rho_10, _e243, _e244, _e245, _e246, _e247, 0.0);
         a_10 = _e248;
     }
     uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1154,7 +1163,7 @@ float3 airlight_segments_2_spot(float3 origin_2, float3 dir_2, float surface_1, 
                 float _e266 = gam_2;
                 float _e267 = om_e_1;
                 float _e270 = ca_1;
-                const float3 _e271 = airlight_segments_2_spot_edge(tau_10, h_8, x0_8, rho_9, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
+                const float3 _e271 = airlight_segments_2_spot_edge(tau_9, h_9, x0_9, rho_10, _e266, _e267, piece.x, piece.y, _e270, k_4, co_2, cos_inner, 0.0);
                 a_10 = (_e265 + _e271);
             }
         }
