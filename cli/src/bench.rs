@@ -4,8 +4,8 @@
 use crate::workspace::generated_dir;
 use crate::{bad_input, Failure};
 use airlight_fit::catalog;
-use airlight_fit::vocab::CompiledKernel;
 use airlight_shaders::bench::{BenchError, BenchSize};
+use airlight_shapes::vocab::CompiledKernel;
 use std::path::PathBuf;
 
 pub(crate) fn bench(
@@ -28,8 +28,8 @@ pub(crate) fn bench(
     })?;
     bar.finish_and_clear();
     println!("{}", b.table());
-    let path = out.unwrap_or_else(|| generated.join("bench.json"));
-    airlight_fit::io::write_atomic(&path, b.to_json().as_bytes())
+    let path = out.unwrap_or_else(|| generated.join(airlight_shapes::bench::FILE));
+    airlight_truth::io::write_atomic(&path, b.to_json().as_bytes())
         .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
     println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());
     Ok(())

@@ -3,8 +3,8 @@
 
 use crate::workspace::generated_dir;
 use crate::{bad_input, Failure};
-use airlight_fit::vocab::CompiledKernel;
 use airlight_shaders::{gate, Gpu};
+use airlight_shapes::vocab::CompiledKernel;
 use std::path::{Path, PathBuf};
 
 /// Opens the GPU adapter for the gate: `None` (and SKIPPED) without one, unless required.
@@ -53,9 +53,9 @@ pub(crate) fn run_gate(
     println!("{}", gate::summary(&rows));
     if record {
         let adapter = gpu.map_or("none: the GPU targets were not run".to_string(), |g| g.adapter().to_string());
-        let path = generated.join(airlight_fit::record::FILE);
+        let path = generated.join(airlight_shapes::record::FILE);
         let record = gate::record(generated, &rows, f32_bounds, adapter).map_err(|e| Failure(1, e))?;
-        airlight_fit::io::write_atomic(&path, record.to_toml().as_bytes())
+        airlight_truth::io::write_atomic(&path, record.to_toml().as_bytes())
             .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
         println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());
     }

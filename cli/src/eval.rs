@@ -3,9 +3,9 @@
 
 use crate::workspace::{generated_dir, registry};
 use crate::{bad_input, EvalEntry, Failure};
-use airlight_fit::points_csv;
-use airlight_fit::vocab::{CompiledKernel, Target};
 use airlight_shaders::{gate, Gpu, KernelSource, Ray, SpotRay};
+use airlight_shapes::vocab::{CompiledKernel, Target};
+use airlight_truth::points_csv;
 use std::path::{Path, PathBuf};
 
 /// `eval` on the CPU: the f64 model, or the compiled Rust kernel of that name
@@ -84,15 +84,15 @@ fn eval_model(
 ) -> Result<(), Failure> {
     let (reg, _) = registry(root.clone())?;
     let m = reg.get(model).map_err(|e| unknown_model(model, e, &root))?;
-    let g_ok = |_: &airlight_fit::geometry::PhysicalRay, g: f64| {
-        m.check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
+    let g_ok = |_: &airlight_truth::geometry::PhysicalRay, g: f64| {
+        m.check(&airlight_truth::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
             .map_err(|e| ("g", e.to_string()))
     };
     match entry_kind {
         EvalEntry::Shadowed => Err(bad_input("--entry shadowed goes through eval_shadowed")),
         EvalEntry::Spot => {
             let rows = read_spots(input, &g_ok)?;
-            let values = airlight_fit::parallel::map(&rows, |r| r.radiance(&|p| m.eval_unchecked(p)), &|_, _| {});
+            let values = airlight_truth::parallel::map(&rows, |r| r.radiance(&|p| m.eval_unchecked(p)), &|_, _| {});
             let mut out = Vec::with_capacity(rows.len());
             for (r, v) in rows.iter().zip(values) {
                 out.push(v.map_err(|e| bad_input(format!("{}:{}: {e}", input.display(), r.line)))?);
@@ -102,7 +102,7 @@ fn eval_model(
         EvalEntry::Radiance => {
             // The f64 model's g range, on the ray's g.
             let rows = read_rays(input, &g_ok)?;
-            let values = airlight_fit::parallel::map(
+            let values = airlight_truth::parallel::map(
                 &rows,
                 |r| r.ray.radiance(r.g, &|p| m.eval_unchecked(p)).unwrap_or(f64::NAN),
                 &|_, _| {},
@@ -116,7 +116,7 @@ fn eval_model(
         EvalEntry::Airlight => {
             // The f64 model checks the points (its g range).
             let rows = read_points(input, &|p| m.check(p))?;
-            let values = airlight_fit::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {});
+            let values = airlight_truth::parallel::map(&rows, |r| m.eval_unchecked(r.point), &|_, _| {});
             write_csv(output, &points_csv::render(&rows, &values))
         }
     }
@@ -126,7 +126,7 @@ fn eval_model(
 /// or what a generated kernel takes).
 pub(crate) fn read_points(
     input: &Path,
-    check: &dyn Fn(&airlight_fit::reference::Point) -> Result<(), airlight_fit::ParamError>,
+    check: &dyn Fn(&airlight_truth::reference::Point) -> Result<(), airlight_truth::ParamError>,
 ) -> Result<Vec<points_csv::Row>, Failure> {
     let name = input.display().to_string();
     let text = read_text(input)?;
@@ -176,7 +176,7 @@ pub(crate) fn eval_gpu(
     let (source, table, path) = shader_source(root, k, language)?;
     let src = KernelSource::of(k, language, &source).with_table(table.as_ref());
     if entry_kind == EvalEntry::Spot {
-        if !k.has(airlight_fit::vocab::Entry::Spot) {
+        if !k.has(airlight_shapes::vocab::Entry::Spot) {
             return Err(bad_input(format!("kernel '{name}' has no spot entry")));
         }
         let rows = read_spots(input, &|r, g| k.check_ray(r, g))?;
@@ -211,7 +211,7 @@ pub(crate) fn eval_gpu(
 /// standard output, where a closed pipe ends the run quietly).
 pub(crate) fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure> {
     match output {
-        Some(path) if path != Path::new("-") => airlight_fit::io::write_atomic(path, csv.as_bytes()).map_err(|e| {
+        Some(path) if path != Path::new("-") => airlight_truth::io::write_atomic(path, csv.as_bytes()).map_err(|e| {
             // A special file named as the output is a usage error (2); a failing write, a runtime one (1).
             let code = if e.kind() == std::io::ErrorKind::InvalidInput { 2 } else { 1 };
             Failure(code, format!("{}: cannot write: {e}", path.display()))
@@ -254,7 +254,7 @@ pub(crate) fn eval_shadowed(
     samples: Option<usize>,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
-    use airlight_fit::shafts::{self, Feed};
+    use airlight_truth::shafts::{self, Feed};
     let name = input.display().to_string();
     let text = read_text(input)?;
     let spheres = points_csv::parse_spheres_column(&name, &text).map_err(bad_input)?;
@@ -290,11 +290,11 @@ pub(crate) fn eval_shadowed(
         }
         (_, m) => m,
     };
-    let check = |r: &airlight_fit::geometry::PhysicalRay, g: f64| -> Result<(), (&'static str, String)> {
+    let check = |r: &airlight_truth::geometry::PhysicalRay, g: f64| -> Result<(), (&'static str, String)> {
         match (entry, m) {
             (Some(e), _) => e.check_ray(r, g),
             (None, Some(m)) => m
-                .check(&airlight_fit::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
+                .check(&airlight_truth::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
                 .map_err(|e| ("g", e.to_string())),
             (None, None) => Ok(()),
         }
@@ -310,9 +310,9 @@ pub(crate) fn eval_shadowed(
     };
     let occluders = |line: usize| spheres.iter().find(|s| s.0 == line).map(|s| s.1.clone()).unwrap_or_default();
     let field = |line: usize| spheres.iter().find(|s| s.0 == line).map(|s| s.2.clone()).unwrap_or_default();
-    let bad_ray = |line: usize, e: airlight_fit::geometry::GeometryError| bad_input(format!("{name}:{line}: {e}"));
+    let bad_ray = |line: usize, e: airlight_truth::geometry::GeometryError| bad_input(format!("{name}:{line}: {e}"));
     // Each row's samples, from its (red channel's) ray.
-    let fed = |line: usize, ray: &airlight_fit::geometry::PhysicalRay, g: f64| {
+    let fed = |line: usize, ray: &airlight_truth::geometry::PhysicalRay, g: f64| {
         shafts::feed(ray, &occluders(line), g, feed).map_err(|e| bad_ray(line, e))
     };
     let as_f32 = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();
@@ -423,7 +423,7 @@ pub(crate) fn eval_shadowed(
                 }
                 Runner::Gpu(t) => {
                     let k = entry.expect("loaded above");
-                    if !k.has(airlight_fit::vocab::Entry::Spot) {
+                    if !k.has(airlight_shapes::vocab::Entry::Spot) {
                         return Err(bad_input(format!("kernel '{model}' has no spot entry")));
                     }
                     let (src_text, table, path) = shader_source(root, k, t)?;
@@ -458,7 +458,7 @@ fn compiled<'k>(ks: &'k [CompiledKernel], name: &str) -> Result<&'k CompiledKern
 /// A kernel's shader text in `language`, its table, and the file's path.
 fn shader_source(
     root: Option<PathBuf>,
-    k: &airlight_fit::vocab::IndexEntry,
+    k: &airlight_shapes::vocab::IndexEntry,
     language: Target,
 ) -> Result<(String, Option<airlight_shaders::Table>, PathBuf), Failure> {
     let generated = generated_dir(root)?;

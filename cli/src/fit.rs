@@ -6,7 +6,7 @@ use crate::{bad_input, Failure};
 use airlight_fit::catalog;
 use airlight_fit::coeffs::{self, ModelFile};
 use airlight_fit::family::Fits;
-use airlight_fit::selfcheck;
+use airlight_truth::selfcheck;
 use std::path::PathBuf;
 use std::time::Instant;
 

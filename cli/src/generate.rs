@@ -6,8 +6,8 @@ use crate::fit::{build_models, measure, print_fits, run_fits};
 use crate::workspace::{delegate, generated_dir, registry, write_outputs};
 use crate::{bad_input, Failure};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::selfcheck;
-use airlight_fit::vocab::{CompiledKernel, Domain};
+use airlight_shapes::vocab::{CompiledKernel, Domain};
+use airlight_truth::selfcheck;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

@@ -27,8 +27,8 @@ mod workspace;
 
 pub use workspace::RUNNER;
 
-use airlight_fit::vocab::{CompiledKernel, Target};
 use airlight_shaders::bench::BenchSize;
+use airlight_shapes::vocab::{CompiledKernel, Target};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;

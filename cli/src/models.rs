@@ -2,7 +2,7 @@
 
 use crate::workspace::registry;
 use crate::Failure;
-use airlight_fit::vocab::Domain;
+use airlight_shapes::vocab::Domain;
 use std::path::PathBuf;
 
 pub(crate) fn models(root: Option<PathBuf>) -> Result<(), Failure> {
@@ -12,7 +12,7 @@ pub(crate) fn models(root: Option<PathBuf>) -> Result<(), Failure> {
         "model", "g range", "thin max", "thin p99", "dense max", "dense p99"
     );
     for m in reg.iter() {
-        let e = |d: Domain, f: fn(&airlight_fit::domains::DomainErrors) -> f64| {
+        let e = |d: Domain, f: fn(&airlight_truth::domains::DomainErrors) -> f64| {
             files
                 .iter()
                 .find(|f| f.model.name == m.name())

@@ -3,8 +3,8 @@
 
 use crate::workspace::generated_dir;
 use crate::{bad_input, Failure};
-use airlight_fit::vocab::CompiledKernel;
 use airlight_shaders::{gate, Gpu};
+use airlight_shapes::vocab::CompiledKernel;
 use std::path::{Path, PathBuf};
 
 pub(crate) fn render_scene(
@@ -84,7 +84,7 @@ pub(crate) fn render_scene(
         for (k, v) in summary {
             toml.push_str(&format!("{k} = {v}\n"));
         }
-        airlight_fit::io::write_atomic(&dir.join(format!("{base}.toml")), toml.as_bytes())
+        airlight_truth::io::write_atomic(&dir.join(format!("{base}.toml")), toml.as_bytes())
             .map_err(|e| Failure(1, format!("{}: {e}", dir.display())))?;
         println!("wrote {}/{base}*; `airlight generate` puts them into REPORT.md", dir.display());
     }
@@ -102,8 +102,8 @@ struct Out {
 /// The light-shafts render of a scene with shadows (shaders/src/shafts_render.rs).
 fn render_shafts(
     generated: &Path,
-    index: &airlight_fit::vocab::Index,
-    k: &airlight_fit::vocab::IndexEntry,
+    index: &airlight_shapes::vocab::Index,
+    k: &airlight_shapes::vocab::IndexEntry,
     kernel: &str,
     scene: &airlight_codegen::scene::Scene,
     size: airlight_shaders::render::ShaftsSize,
@@ -197,7 +197,7 @@ fn render_shafts(
         toml.push_str(&format!("\n[[march]]\n{}", row(f)));
     }
     if out.report {
-        airlight_fit::io::write_atomic(&out.dir.join(format!("{}.toml", out.base)), toml.as_bytes())
+        airlight_truth::io::write_atomic(&out.dir.join(format!("{}.toml", out.base)), toml.as_bytes())
             .map_err(|e| Failure(1, format!("{}: {e}", out.dir.display())))?;
         println!("wrote {}/{}*; `airlight generate` puts them into REPORT.md", out.dir.display(), out.base);
     }

@@ -596,7 +596,7 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
     let out = dir.join("bench.json");
     let o = airlight(&["bench", "--points", "60", "--batch", "300", "--repeats", "3", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let b = airlight_fit::bench::Bench::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let b = airlight_shapes::bench::Bench::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let models = airlight_fit::catalog::load(&airlight_tests_root().join("generated/coefficients")).unwrap();
     assert_eq!(b.models.len(), models.len());
     for (m, f) in b.models.iter().zip(&models) {

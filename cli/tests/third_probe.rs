@@ -113,8 +113,8 @@ fn a_hundred_and_one_lit_runs_are_summed_exactly_on_every_target() {
     std::fs::write(&input, format!("{HEAD}\n0,0,0,1,0,0,100,50,40,0,1,0.02,0.02,0.3,{}\n", balls.join(";"))).unwrap();
     let reference = shadowed(&input, &["--model", "reference"]).unwrap()[0];
     // The ray really has 101 lit runs.
-    let occ = airlight_fit::shafts::parse_spheres(&balls.join(";")).unwrap();
-    let ray = airlight_fit::geometry::PhysicalRay {
+    let occ = airlight_truth::shafts::parse_spheres(&balls.join(";")).unwrap();
+    let ray = airlight_truth::geometry::PhysicalRay {
         origin: [0.0; 3],
         direction: [1.0, 0.0, 0.0],
         surface_distance: Some(100.0),
@@ -123,7 +123,7 @@ fn a_hundred_and_one_lit_runs_are_summed_exactly_on_every_target() {
         sigma_t: 0.02,
         sigma_s: 0.02,
     };
-    assert_eq!(airlight_fit::shafts::lit_intervals(&ray, &occ).len(), 101);
+    assert_eq!(airlight_truth::shafts::lit_intervals(&ray, &occ).len(), 101);
     for args in TARGETS {
         let mut all = vec!["--model", "phi-8"];
         all.extend_from_slice(args);

@@ -3,10 +3,10 @@
 //! kernel, or the GPU path's time per evaluation over random or frame-coherent
 //! points), each model's cost against its error (max and median over
 //! `thin ∪ dense`), which methods are dominated, airlight's own front, and the
-//! headline ratios the report quotes. The pictures ([`crate::plots::pareto`]) and
+//! headline ratios the report quotes. The pictures (`plots::pareto`) and
 //! the report's tables both read this, so they cannot disagree.
 
-use airlight_fit::bench::{Bench, BenchModel};
+use airlight_shapes::bench::{Bench, BenchModel};
 
 /// What a method's cost is measured by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,7 +107,7 @@ pub fn methods_by(b: &Bench, g: f64, measure: CostMeasure) -> Vec<Method> {
             let e = m.at(g)?;
             Some(Method {
                 name: m.name.clone(),
-                baseline: m.kind == airlight_fit::vocab::Role::Baseline,
+                baseline: m.kind == airlight_shapes::vocab::Role::Baseline,
                 ns: measure.ns(m)?,
                 max: e.max_rel.max(),
                 median: e.p50_rel.max(),

@@ -22,11 +22,11 @@ pub mod report;
 pub mod scene;
 pub mod translate;
 
-pub use output::{check, write_all, Difference, Output};
+pub use output::{write_all, Difference, Output};
 
-use airlight_fit::bench::Bench;
 use airlight_fit::coeffs::{self, ModelFile};
-use airlight_fit::selfcheck::SelfCheck;
+use airlight_shapes::bench::Bench;
+use airlight_truth::selfcheck::SelfCheck;
 use std::fmt;
 
 /// Why rendering failed.
@@ -81,24 +81,35 @@ pub fn read_renders(generated: &std::path::Path) -> std::io::Result<Vec<Output>>
 
 /// `generated/selfcheck.toml`, the figures `airlight regenerate` measured (passed
 /// through by `generate`, which never reruns the self-check).
-pub fn read_selfcheck(generated: &std::path::Path) -> Result<SelfCheck, airlight_fit::tomlfile::FieldError> {
-    let path = generated.join(airlight_fit::selfcheck::FILE);
-    let (name, text) = airlight_fit::tomlfile::read(&path, " (run `airlight regenerate`)")?;
+pub fn read_selfcheck(generated: &std::path::Path) -> Result<SelfCheck, airlight_truth::tomlfile::FieldError> {
+    let path = generated.join(airlight_truth::selfcheck::FILE);
+    let (name, text) = airlight_truth::tomlfile::read(&path, " (run `airlight regenerate`)")?;
     SelfCheck::from_toml(&name, &text)
 }
 
-/// What other commands measured on some machine and `generate` passes through
-/// for the report to quote (each absent until first written): `bench.json`
-/// (`airlight bench`), `gate.toml` (`airlight check --record`) and `fuzz.toml`
-/// (`fuzz/run`).
+/// The files under `generated/` that other commands write and the generator only
+/// reads (each absent until first written): `bench.json` (`airlight bench`),
+/// `gate.toml` (`airlight check --record`), `fuzz.toml` (`fuzz/run`) and the folder
+/// `render/` (`airlight render --report`). They are not in the table of outputs, so
+/// `generate` never writes them and `--check` does not take them for orphans.
+pub const RECORDED: [&str; 4] =
+    [airlight_shapes::bench::FILE, airlight_shapes::record::FILE, airlight_shapes::record::FUZZ_FILE, "render/"];
+
+/// Whether `rel` (a path under `generated/`, `/`-separated) is one of [`RECORDED`].
+pub fn is_recorded(rel: &str) -> bool {
+    RECORDED.iter().any(|r| if r.ends_with('/') { rel.starts_with(r) } else { rel == *r })
+}
+
+/// What other commands measured on some machine, read for the planner and the
+/// report to quote ([`RECORDED`]).
 #[derive(Debug, Clone, Default)]
 pub struct Recorded {
     /// `generated/bench.json`.
     pub bench: Option<Bench>,
     /// `generated/gate.toml`.
-    pub gate: Option<airlight_fit::record::GateRecord>,
+    pub gate: Option<airlight_shapes::record::GateRecord>,
     /// `generated/fuzz.toml`.
-    pub fuzz: Option<airlight_fit::record::FuzzRecord>,
+    pub fuzz: Option<airlight_shapes::record::FuzzRecord>,
 }
 
 /// Reads [`Recorded`] from `generated`: a missing file is `None`, a damaged one
@@ -109,14 +120,14 @@ pub fn read_recorded(generated: &std::path::Path) -> Result<Recorded, String> {
         std::fs::read_to_string(&path).ok().map(|t| (path.display().to_string(), t))
     };
     Ok(Recorded {
-        bench: text("bench.json")
+        bench: text(airlight_shapes::bench::FILE)
             .map(|(path, t)| Bench::from_json(&t).map_err(|e| format!("{path}:{e}")))
             .transpose()?,
-        gate: text(airlight_fit::record::FILE)
-            .map(|(path, t)| airlight_fit::record::GateRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
+        gate: text(airlight_shapes::record::FILE)
+            .map(|(path, t)| airlight_shapes::record::GateRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
             .transpose()?,
-        fuzz: text(airlight_fit::record::FUZZ_FILE)
-            .map(|(path, t)| airlight_fit::record::FuzzRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
+        fuzz: text(airlight_shapes::record::FUZZ_FILE)
+            .map(|(path, t)| airlight_shapes::record::FuzzRecord::from_toml(&path, &t).map_err(|e| e.to_string()))
             .transpose()?,
     })
 }
@@ -126,10 +137,10 @@ pub fn read_recorded(generated: &std::path::Path) -> Result<Recorded, String> {
 /// This list is the generator's table of outputs: a file not in it is orphaned.
 ///
 /// `recorded` holds the measurements other commands wrote ([`read_recorded`]): the
-/// report quotes them, and they are passed through so they are never orphaned.
+/// planner and the report read them; they are inputs ([`RECORDED`]), never outputs.
 /// `scenes` are the scene files (`codegen/scenes/`); each gets its own kernels and plan.
 /// `renders` are the files `airlight render --report` wrote under `generated/render/`
-/// (a GPU's output, like `bench.json`: passed through, and quoted by the report).
+/// (a GPU's output, like `bench.json`: an input the report quotes).
 pub fn render_all(
     check: &SelfCheck,
     models: &[ModelFile],
@@ -150,7 +161,7 @@ pub fn render_all(
     // Whether the recorded gate measured these kernels.
     let current = record.map(|r| {
         let files: Vec<(String, Vec<u8>)> = kernels.iter().map(|o| (o.path.clone(), o.contents.clone())).collect();
-        airlight_fit::record::digest(&files) == r.kernels_digest
+        airlight_shapes::record::digest(&files) == r.kernels_digest
     });
     // The f32 bounds it measured on them: into the registries (kernels.toml, the
     // crate's `KERNELS`), which are not kernel sources.
@@ -169,17 +180,9 @@ pub fn render_all(
     let ir = report::kernel_ir(&specs, &kernels).map_err(RenderError::Template)?;
     let mut out =
         vec![report::render(check, models, bench, gate, fuzz, &specs, &ir, renders).map_err(RenderError::Template)?];
-    out.extend(renders.iter().cloned());
-    out.push(Output::text(airlight_fit::selfcheck::FILE, check.to_toml()));
+    out.push(Output::text(airlight_truth::selfcheck::FILE, check.to_toml()));
     if let Some(b) = bench {
-        out.push(Output::text("bench.json", b.to_json()));
         out.extend(plots::pareto(b).map_err(RenderError::Plot)?);
-    }
-    if let Some(r) = record {
-        out.push(Output::text(airlight_fit::record::FILE, r.to_toml()));
-    }
-    if let Some(f) = fuzz {
-        out.push(Output::text(airlight_fit::record::FUZZ_FILE, f.to_toml()));
     }
     for m in models {
         out.push(Output::text(format!("coefficients/{}.toml", m.model.name), coeffs::render(m)));
@@ -189,4 +192,20 @@ pub fn render_all(
     out.extend(kernels);
     out.push(kernel::render_index(&specs));
     Ok(out)
+}
+
+/// Compares every output with the file under `generated`, and lists the files
+/// there that no output produces and no other command records ([`RECORDED`]);
+/// empty when all match.
+pub fn check(generated: &std::path::Path, outputs: &[Output]) -> Vec<Difference> {
+    output::check(generated, outputs)
+        .into_iter()
+        .filter(|d| match d {
+            Difference::Orphaned(p) => {
+                let rel = p.strip_prefix(generated).unwrap_or(p).to_string_lossy().replace('\\', "/");
+                !is_recorded(&rel)
+            }
+            _ => true,
+        })
+        .collect()
 }

@@ -43,15 +43,15 @@ impl fmt::Display for Difference {
 }
 
 /// Writes every output under `root` that differs from what is there, all of them
-/// or none ([`airlight_fit::io::write_all_or_none`]): a failure leaves every file
+/// or none ([`airlight_truth::io::write_all_or_none`]): a failure leaves every file
 /// as it was and names the file that failed. Returns the files written.
-pub fn write_all(root: &Path, outputs: &[Output]) -> Result<Vec<PathBuf>, airlight_fit::io::WriteError> {
+pub fn write_all(root: &Path, outputs: &[Output]) -> Result<Vec<PathBuf>, airlight_truth::io::WriteError> {
     let changed: Vec<(PathBuf, &[u8])> = outputs
         .iter()
         .map(|o| (root.join(&o.path), &o.contents[..]))
         .filter(|(path, contents)| std::fs::read(path).ok().as_deref() != Some(*contents))
         .collect();
-    airlight_fit::io::write_all_or_none(&changed)?;
+    airlight_truth::io::write_all_or_none(&changed)?;
     Ok(changed.into_iter().map(|(p, _)| p).collect())
 }
 

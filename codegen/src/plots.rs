@@ -1,10 +1,10 @@
 //! The report's figures (`generated/plots/*.{svg,png}`), drawn with plotters:
-//! each family's figures (`airlight_fit::figure`, computed by the family from
+//! each family's figures (`airlight_shapes::figure`, computed by the family from
 //! its coefficient files) and the bench's Pareto fronts.
 
 use crate::output::Output;
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::figure::{Figure, Heatmap, Lines, Panel};
+use airlight_shapes::figure::{Figure, Heatmap, Lines, Panel};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -160,7 +160,7 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, l: &Lines) -> Result
     Ok(())
 }
 
-/// The palette [`Line::colour`](airlight_fit::figure::Line) indexes.
+/// The palette [`Line::colour`](airlight_shapes::figure::Line) indexes.
 const COLOURS: [RGBColor; 6] = [
     RGBColor(0, 0, 0),
     RGBColor(200, 40, 40),
@@ -286,7 +286,7 @@ fn pareto_panel<DB: DrawingBackend>(
 /// `plots/pareto-<g><measure>.{svg,png}` for every `g` of the bench and every
 /// cost measure it holds ([`crate::front::CostMeasure::suffix`]): max error
 /// (left) and median error (right) against ns/eval on that measure.
-pub fn pareto(b: &airlight_fit::bench::Bench) -> Result<Vec<Output>, PlotError> {
+pub fn pareto(b: &airlight_shapes::bench::Bench) -> Result<Vec<Output>, PlotError> {
     register_font()?;
     let mut out = Vec::new();
     for cost in crate::front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)) {

@@ -4,10 +4,10 @@
 //! measured where the scene's kernels run ([`Ranking`]).
 
 use crate::front::CostMeasure;
-use airlight_fit::bench::Bench;
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::tomlfile::{deny_unknown, field_error, parse_table, FieldError};
-use airlight_fit::vocab::{Domain, Target};
+use airlight_shapes::bench::Bench;
+use airlight_shapes::vocab::{Domain, Target};
+use airlight_truth::tomlfile::{deny_unknown, field_error, parse_table, FieldError};
 use std::fmt;
 
 /// The phase function a scene's medium needs.
@@ -473,7 +473,7 @@ impl fmt::Display for PlanError {
             PlanError::OutsideDomains { tau_max } => write!(
                 f,
                 "the scene reaches τ = σt·D = {} but models are measured only up to τ = 20 (the dense domain)",
-                airlight_fit::tomlfile::short(*tau_max)
+                airlight_truth::tomlfile::short(*tau_max)
             ),
             PlanError::Budget { budget, best: Some((name, bound)), .. } => write!(
                 f,
@@ -488,9 +488,9 @@ impl fmt::Display for PlanError {
                 f,
                 "extinction = false, but at σt·D up to {} ignoring extinction is off by up to {} (measured), \
                  beyond max_rel_error = {budget}: set extinction = true, or a budget of at least {}",
-                airlight_fit::tomlfile::short(*tau_max),
-                airlight_fit::tomlfile::short(*error),
-                airlight_fit::tomlfile::short(*error)
+                airlight_truth::tomlfile::short(*tau_max),
+                airlight_truth::tomlfile::short(*error),
+                airlight_truth::tomlfile::short(*error)
             ),
             PlanError::Budget { budget, best: None, g: (lo, hi), widest: (wlo, whi) } => {
                 let g = if lo == hi { format!("g = {lo}") } else { format!("g in [{lo}, {hi}]") };

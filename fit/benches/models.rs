@@ -2,8 +2,8 @@
 //! coefficient files: the cost column of REPORT.md in evaluations per second.
 
 use airlight_fit::coeffs::load_dir;
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::model::Model;
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 use std::path::Path;

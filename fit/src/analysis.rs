@@ -2,7 +2,7 @@
 //! docs/MATH.md §4's grid and a model's error on it, and the cost of ignoring
 //! extinction (what the planner weighs against the closed form).
 
-use crate::reference::Point;
+use airlight_truth::reference::Point;
 use std::f64::consts::PI;
 
 /// `n` points from `lo` to `hi`, evenly spaced.
@@ -16,20 +16,20 @@ pub fn logspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 }
 
 /// docs/MATH.md §4's grid: isotropic, γ ∈ [0.05, 1.5] (61 values), ρ ∈ {1.5, 3, ∞}.
-pub fn math_grid(tau: f64) -> Vec<crate::reference::Point> {
+pub fn math_grid(tau: f64) -> Vec<airlight_truth::reference::Point> {
     (0..=60)
         .flat_map(|i| {
             let gamma = 0.05 + 1.45 * i as f64 / 60.0;
-            [1.5, 3.0, f64::INFINITY].map(|rho| crate::reference::Point { tau, gamma, rho, g: 0.0 })
+            [1.5, 3.0, f64::INFINITY].map(|rho| airlight_truth::reference::Point { tau, gamma, rho, g: 0.0 })
         })
         .collect()
 }
 
 /// Largest relative error of `model` (an evaluator of `A`) on [`math_grid`]`(tau)`.
-pub fn math_grid_error(model: &dyn Fn(crate::reference::Point) -> f64, tau: f64) -> f64 {
+pub fn math_grid_error(model: &dyn Fn(airlight_truth::reference::Point) -> f64, tau: f64) -> f64 {
     math_grid(tau)
         .into_iter()
-        .map(|p| crate::stats::rel_error(model(p), crate::reference::airlight(p).expect("valid")))
+        .map(|p| airlight_truth::stats::rel_error(model(p), airlight_truth::reference::airlight(p).expect("valid")))
         .fold(0.0, f64::max)
 }
 
@@ -51,9 +51,9 @@ pub fn extinction_error(tau: f64, surfaces: bool, gs: &[f64]) -> f64 {
         for &rho in &rhos {
             for i in 0..41 {
                 let gamma = 0.01 + (PI - 0.02) * f64::from(i) / 40.0;
-                let at = |tau| crate::reference::airlight(Point { tau, gamma, rho, g }).unwrap_or(f64::NAN);
+                let at = |tau| airlight_truth::reference::airlight(Point { tau, gamma, rho, g }).unwrap_or(f64::NAN);
                 let (a, a0) = (at(tau), at(0.0));
-                worst = worst.max(crate::stats::rel_error(a0, a));
+                worst = worst.max(airlight_truth::stats::rel_error(a0, a));
             }
         }
     }

@@ -2,11 +2,11 @@
 //! `g` range and a [`Body`]: the family values it evaluates `A` with (see
 //! [`crate::family`], one module per family).
 
-use crate::cost::{Cost, PhaseShape, Shape};
 pub use crate::family::split::{PhaseModel, Split};
 pub use crate::family::Body;
 use crate::model::Model;
-use crate::reference::Point;
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
+use airlight_truth::reference::Point;
 
 /// A model: what it is called, which `g` it takes, and its families.
 #[derive(Debug, Clone, PartialEq)]

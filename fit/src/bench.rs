@@ -1,4 +1,5 @@
-//! The speed/accuracy trade (`airlight bench`, `generated/bench.json`): every
+//! The speed/accuracy trade (`airlight bench`, `generated/bench.json`, whose shape
+//! is `airlight_shapes::bench`): every
 //! shipped model — airlight's and the baselines — measured in one run on the same
 //! seeded points: the generated f32 Rust kernel's relative error against the
 //! reference per `g` and domain, its CPU cost in thread CPU time, and (from the
@@ -6,10 +7,10 @@
 //! throughput. Timings never enter the tests; the report quotes this file, so
 //! regenerating stays byte-identical.
 
-use crate::domains::{Domain, VALIDATION_SEED};
-use crate::reference::Point;
-use crate::vocab::CanonicalFn;
-use serde::{Deserialize, Serialize};
+use airlight_shapes::bench::{GErrors, PerDomain};
+use airlight_shapes::vocab::CanonicalFn;
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
+use airlight_truth::reference::Point;
 use std::hint::black_box;
 
 /// The `g` values errors are measured at: isotropic, then the HG media of the issue.
@@ -23,159 +24,12 @@ pub const REPEATS: usize = 7;
 /// Seed of the bench's points (not the validation's nor any fit's).
 pub const BENCH_SEED: u64 = VALIDATION_SEED ^ 0xBE7C_0000_0000_0000;
 
-/// A figure on each of the two sampled domains.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct PerDomain {
-    /// On `thin`.
-    pub thin: f64,
-    /// On `dense`.
-    pub dense: f64,
-}
-
-impl PerDomain {
-    /// The larger of the two.
-    pub fn max(&self) -> f64 {
-        self.thin.max(self.dense)
-    }
-}
-
-/// Errors of one kernel at one `g`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GErrors {
-    /// The asymmetry.
-    pub g: f64,
-    /// Largest relative error over the sampled points.
-    pub max_rel: PerDomain,
-    /// 99th percentile.
-    pub p99_rel: PerDomain,
-    /// Median.
-    pub p50_rel: PerDomain,
-}
-
-/// One model's row.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BenchModel {
-    /// Model name.
-    pub name: String,
-    /// `airlight` or `baseline`.
-    pub kind: crate::vocab::Role,
-    /// Supported `g`.
-    pub g_range: [f64; 2],
-    /// Errors of the f32 Rust kernel at each bench `g` in its range.
-    pub errors: Vec<GErrors>,
-    /// Median thread CPU time per evaluation of the f32 Rust kernel, ns.
-    pub cpu_ns_per_eval: f64,
-    /// Fastest and slowest of the repeats, ns.
-    pub cpu_ns_range: [f64; 2],
-    /// Median ns per evaluation one call at a time ([`time_kernels`]): each call's
-    /// arguments and result opaque to the compiler (through memory), each call's
-    /// first argument depending on the last result; 0 where not measured.
-    #[serde(default)]
-    pub cpu_ns_one_at_a_time: f64,
-    /// Operations in the naga IR of its WGSL `airlight` (worst path, loops counted by trip count).
-    pub ops: usize,
-    /// Of those, calls of transcendental built-ins (exp, log, sqrt, pow, trigonometry).
-    pub transcendentals: usize,
-    /// GPU evaluations per second (timestamp queries) over the random batch
-    /// (every lane on its own branch: the worst case for divergence), 0 where
-    /// not measured.
-    pub gpu_evals_per_s: f64,
-    /// GPU evaluations per second over frame-coherent points: every pixel of two
-    /// rendered frames, light by light, in pixel order (neighbouring lanes on
-    /// neighbouring rays); 0 where not measured.
-    #[serde(default)]
-    pub gpu_frame_evals_per_s: f64,
-    /// Bytes of tables it needs (0: none).
-    pub bytes: usize,
-}
-
-/// Everything `airlight bench` measures.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Bench {
-    /// The GPU adapter the throughputs come from (lavapipe is labelled CPU emulation).
-    pub adapter: String,
-    /// The CPU the kernels were timed on.
-    pub cpu: String,
-    /// Points per `(g, domain)` for the errors.
-    pub error_points: usize,
-    /// Points in the timing batch.
-    pub cost_batch: usize,
-    /// Timing repeats.
-    pub repeats: usize,
-    /// One row per model, in catalog order.
-    pub models: Vec<BenchModel>,
-    /// The RGB (spot) entry against three scalar calls, per model with a spot entry.
-    #[serde(default)]
-    pub rgb: Vec<RgbCost>,
-    /// Light shafts: the accumulator against the march, on the same shadow-map
-    /// samples, per sample count.
-    #[serde(default)]
-    pub shafts: Vec<ShaftsCost>,
-}
-
-/// One method of shadowed in-scattering at one sample count: errors against the
-/// shadowed reference and costs, over the gate's shadowed rays.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ShaftsCost {
-    /// The kernel: a model's accumulator, or `raymarch-N` (the engines' march).
-    pub name: String,
-    /// Visibility samples per ray (0: the exact lit intervals).
-    pub samples: usize,
-    /// Mean kernel (or integrand) evaluations per ray.
-    pub calls_per_ray: f64,
-    /// Largest relative error against the shadowed reference (rays with some light).
-    pub max_rel: f64,
-    /// Mean relative error.
-    pub mean_rel: f64,
-    /// Largest error relative to the ray's unshadowed in-scattering (as the gate
-    /// holds it: how much of the pixel's possible glow is wrong).
-    #[serde(default)]
-    pub max_of_unshadowed: f64,
-    /// Mean error relative to the unshadowed in-scattering.
-    #[serde(default)]
-    pub mean_of_unshadowed: f64,
-    /// CPU ns per ray, f32 kernel, samples given (the shadow look-ups are the caller's).
-    pub cpu_ns_per_ray: f64,
-    /// GPU rays per second (timestamp queries); 0 without timestamps or not run there.
-    pub gpu_rays_per_s: f64,
-    /// A per-frame table's build per light (the seed's `F'`): CPU ms (0: none).
-    #[serde(default)]
-    pub build_cpu_ms: f64,
-    /// The same build as one GPU compute pass over the kernel, ms (0: not measured).
-    #[serde(default)]
-    pub build_gpu_ms: f64,
-}
-
-/// What RGB costs: a model's spot entry (one call, three channels) against its
-/// physical entry called once per channel, on the same rays; CPU ns per ray
-/// (median of interleaved repeats).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RgbCost {
-    /// Model name.
-    pub name: String,
-    /// `radiance` three times (R, G, B) per ray.
-    pub three_scalar_ns: f64,
-    /// `spot` with a point light (`cos_outer = −1`): the RGB price alone.
-    pub rgb_point_ns: f64,
-    /// `spot` with a hard-edged cone.
-    pub rgb_hard_cone_ns: f64,
-    /// `spot` with a smooth-edged cone.
-    pub rgb_soft_cone_ns: f64,
-    /// GPU rays per second (RGB each) by three `radiance` dispatches: a third of
-    /// the physical entry's rate; 0 without timestamps.
-    #[serde(default)]
-    pub gpu_three_scalar_rays_per_s: f64,
-    /// GPU rays per second of `spot` with a point light; 0 without timestamps.
-    #[serde(default)]
-    pub gpu_rgb_point_rays_per_s: f64,
-}
-
 /// Rays for the RGB timing: `n` view rays from the origin, lights 1…100 units
 /// away in random directions, a cone aimed near the ray (its axis from the light
 /// to a point of the ray, 30° outer, 20° inner half-angle), σt = (0.03, 0.05,
 /// 0.08), σs = 0.8 σt, g = 0.5; deterministic. Items: (dir, light, axis).
 pub fn rgb_rays(n: usize) -> Vec<RgbRay> {
-    let mut rng = crate::domains::SplitMix64(0xB0B5);
+    let mut rng = airlight_truth::domains::SplitMix64(0xB0B5);
     let mut unit = move || loop {
         let v = [2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0];
         let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -233,28 +87,6 @@ pub fn time_rgb(
     [median(&mut times[0]), median(&mut times[1]), median(&mut times[2]), median(&mut times[3])]
 }
 
-impl Bench {
-    /// The file's text (pretty JSON, trailing newline): deterministic for a value.
-    pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("plain data serialises") + "\n"
-    }
-    /// Reads the file's text.
-    pub fn from_json(text: &str) -> Result<Bench, String> {
-        serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))
-    }
-    /// The row of `name`.
-    pub fn model(&self, name: &str) -> Option<&BenchModel> {
-        self.models.iter().find(|m| m.name == name)
-    }
-}
-
-impl BenchModel {
-    /// Its errors at `g`, if measured.
-    pub fn at(&self, g: f64) -> Option<&GErrors> {
-        self.errors.iter().find(|e| e.g == g)
-    }
-}
-
 /// One domain's bench points with their reference `A`.
 pub type DomainSet = (Domain, Vec<(Point, f64)>);
 
@@ -276,8 +108,11 @@ pub fn error_sets(n: usize, progress: &(dyn Fn(usize, usize) + Sync)) -> ErrorSe
         }
     }
     let all: Vec<Point> = pts.iter().flatten().copied().collect();
-    let values =
-        crate::parallel::map(&all, |p| crate::reference::airlight(*p).expect("bench points are valid"), progress);
+    let values = airlight_truth::parallel::map(
+        &all,
+        |p| airlight_truth::reference::airlight(*p).expect("bench points are valid"),
+        progress,
+    );
     let mut it = values.into_iter();
     let mut sets = Vec::new();
     let mut pts = pts.into_iter();
@@ -302,9 +137,10 @@ pub fn errors(eval: &dyn Fn(Point) -> f64, g_range: (f64, f64), sets: &ErrorSets
         }
         let mut stats = [[0.0; 3]; 2];
         for (k, (_, pts)) in per.iter().enumerate() {
-            let mut e: Vec<f64> = pts.iter().map(|&(p, exact)| crate::stats::rel_error(eval(p), exact)).collect();
+            let mut e: Vec<f64> =
+                pts.iter().map(|&(p, exact)| airlight_truth::stats::rel_error(eval(p), exact)).collect();
             e.sort_by(f64::total_cmp);
-            let rank = |q| crate::stats::nearest_rank(&e, q);
+            let rank = |q| airlight_truth::stats::nearest_rank(&e, q);
             stats[k] = [rank(1.0), rank(0.99), rank(0.5)];
         }
         let pd = |i: usize| PerDomain { thin: stats[0][i], dense: stats[1][i] };
@@ -333,7 +169,7 @@ pub fn cost_batch(n: usize) -> Vec<Point> {
         })
         .collect();
     // Fisher–Yates with a seeded stream: the same order on every machine.
-    let mut rng = crate::domains::SplitMix64(BENCH_SEED ^ 0x5EF1_E000);
+    let mut rng = airlight_truth::domains::SplitMix64(BENCH_SEED ^ 0x5EF1_E000);
     for i in (1..out.len()).rev() {
         let j = (rng.next_u64() % (i as u64 + 1)) as usize;
         out.swap(i, j);
@@ -342,9 +178,9 @@ pub fn cost_batch(n: usize) -> Vec<Point> {
 }
 
 /// Points as every kernel's canonical entry takes them: `(τ, γ, ρ, g)` in f32,
-/// `ρ = ∞` as [`crate::vocab::NO_SURFACE`].
+/// `ρ = ∞` as [`airlight_shapes::vocab::NO_SURFACE`].
 pub fn canonical_args(points: &[Point]) -> Vec<[f32; 4]> {
-    points.iter().map(|p| [p.tau as f32, p.gamma as f32, crate::vocab::rho_arg(p.rho), p.g as f32]).collect()
+    points.iter().map(|p| [p.tau as f32, p.gamma as f32, airlight_shapes::vocab::rho_arg(p.rho), p.g as f32]).collect()
 }
 
 /// CPU time of the calling thread, in seconds (wall time where the platform has no thread clock).
@@ -441,101 +277,10 @@ pub fn cpu_name() -> String {
     format!("{name} ({cores} cores visible; one thread timed)")
 }
 
-impl Bench {
-    /// The table `airlight bench` prints: the adapter and CPU, every model's
-    /// errors, time, IR cost and GPU rate, and the RGB costs.
-    pub fn table(&self) -> String {
-        let mut lines = Vec::new();
-        lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
-        lines.push(format!(
-            "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>6} {:>5} {:>12} {:>12}",
-            "model",
-            "thin max",
-            "dense max",
-            "thin p50",
-            "dense p50",
-            "ns/eval",
-            "ns one",
-            "ops",
-            "tr",
-            "GPU evals/s",
-            "GPU frame/s"
-        ));
-        for m in &self.models {
-            let e = m.errors.first();
-            let f = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
-            lines.push(format!(
-                "{:<16} {:>9} {:>9} {:>9} {:>9} {:>10.1} {:>10.1} {:>6} {:>5} {:>12.3e} {:>12.3e}   (g = {})",
-                m.name,
-                f(e.map(|e| e.max_rel.thin)),
-                f(e.map(|e| e.max_rel.dense)),
-                f(e.map(|e| e.p50_rel.thin)),
-                f(e.map(|e| e.p50_rel.dense)),
-                m.cpu_ns_per_eval,
-                m.cpu_ns_one_at_a_time,
-                m.ops,
-                m.transcendentals,
-                m.gpu_evals_per_s,
-                m.gpu_frame_evals_per_s,
-                e.map_or(0.0, |e| e.g)
-            ));
-        }
-        lines.push("\nRGB, CPU ns per ray: three scalar `radiance` calls against one `spot` call".to_string());
-        lines.push(format!(
-            "{:<16} {:>10} {:>10} {:>7} {:>10} {:>10} {:>12} {:>12}",
-            "model", "3 scalar", "RGB point", "ratio", "hard cone", "soft cone", "GPU 3 scalar", "GPU RGB"
-        ));
-        for r in &self.rgb {
-            lines.push(format!(
-                "{:<16} {:>10.1} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>12.3e} {:>12.3e}",
-                r.name,
-                r.three_scalar_ns,
-                r.rgb_point_ns,
-                r.rgb_point_ns / r.three_scalar_ns,
-                r.rgb_hard_cone_ns,
-                r.rgb_soft_cone_ns,
-                r.gpu_three_scalar_rays_per_s,
-                r.gpu_rgb_point_rays_per_s
-            ));
-        }
-        lines.push("\nLight shafts: accumulator against the march on the same shadow-map samples".to_string());
-        lines.push(format!(
-            "{:<22} {:>7} {:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>12} {:>10} {:>10}",
-            "kernel",
-            "samples",
-            "calls",
-            "max rel",
-            "mean rel",
-            "max/U",
-            "mean/U",
-            "ns/ray",
-            "GPU rays/s",
-            "build ms",
-            "GPU build"
-        ));
-        for r in &self.shafts {
-            lines.push(format!(
-                "{:<22} {:>7} {:>8.2} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.1} {:>12.3e} {:>10.2} {:>10.3}",
-                r.name,
-                if r.samples == 0 { "exact".to_string() } else { r.samples.to_string() },
-                r.calls_per_ray,
-                r.max_rel,
-                r.mean_rel,
-                r.max_of_unshadowed,
-                r.mean_of_unshadowed,
-                r.cpu_ns_per_ray,
-                r.gpu_rays_per_s,
-                r.build_cpu_ms,
-                r.build_gpu_ms
-            ));
-        }
-        lines.join("\n")
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use airlight_shapes::bench::{Bench, BenchModel, RgbCost, ShaftsCost};
 
     #[test]
     fn the_bench_runs_on_a_small_batch() {
@@ -562,7 +307,7 @@ mod tests {
             repeats: 1,
             models: vec![BenchModel {
                 name: "closed".into(),
-                kind: crate::vocab::Role::Baseline,
+                kind: airlight_shapes::vocab::Role::Baseline,
                 g_range: [0.0, 0.0],
                 errors: errors(&|p| crate::family::CLOSED_FORM.eval(p), (0.0, 0.0), &sets),
                 cpu_ns_per_eval: 12.5,

@@ -5,17 +5,17 @@
 
 use crate::approx::Approximation;
 use crate::coeffs::ModelFile;
-use crate::domains::{Domain, DomainErrors, VALIDATION_POINTS, VALIDATION_SEED};
 use crate::family::lite::fit::{LiteTier, Objective};
 use crate::family::phi::fit::PhiTier;
 use crate::family::split::fit::{BackChoice, ForwardChoice, PhaseChoice, MIRRORED_G, PAPER_G};
 use crate::family::{split, Fits, Recipe, Role};
 use crate::lsq;
 use crate::model::Model;
-use crate::reference::{self, Point, REFERENCE_REL_TOL};
-use crate::stats::rel_error;
-use crate::tomlfile::value::{f, hex_seed, i, kv, s};
-use crate::tomlfile::Provenance;
+use airlight_truth::domains::{Domain, DomainErrors, VALIDATION_POINTS, VALIDATION_SEED};
+use airlight_truth::reference::{self, Point, REFERENCE_REL_TOL};
+use airlight_truth::stats::rel_error;
+use airlight_truth::tomlfile::value::{f, hex_seed, i, kv, s};
+use airlight_truth::tomlfile::Provenance;
 use std::f64::consts::PI;
 use toml::Value;
 
@@ -268,7 +268,7 @@ fn provenance_table(method: Vec<(String, Value)>) -> Provenance {
     let mut v = method;
     v.extend(kv(vec![
             ("crate", s(concat!("airlight-fit ", env!("CARGO_PKG_VERSION")))),
-            ("reference", s("adaptive Gauss-Kronrod on the u form (fit/src/reference.rs)")),
+            ("reference", s("adaptive Gauss-Kronrod on the u form (truth/src/reference.rs)")),
             ("reference_rel_tol", f(REFERENCE_REL_TOL)),
             ("validation_seed", hex_seed(VALIDATION_SEED)),
             ("validation_points_per_domain", i(VALIDATION_POINTS)),
@@ -346,24 +346,6 @@ pub const POLISH_ROUNDS: usize = 4;
 /// Points per side of each face grid.
 pub const FACE_GRID: usize = 48;
 
-/// The `g` values of the face grids for a `g` range: its ends and 0 if inside.
-pub fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
-    let mut gs = vec![g_range.0];
-    if g_range.0 < 0.0 && g_range.1 > 0.0 {
-        gs.push(0.0);
-    }
-    if g_range.1 != g_range.0 {
-        gs.push(g_range.1);
-    }
-    gs
-}
-
-/// Edges of the bands of `g` over which a model whose `g` is a run-time argument
-/// also declares its bound ([`crate::coeffs::BandErrors`]): a kernel with `g`
-/// baked in (a scene's) holds its band's, which can be far below the bound over
-/// the whole range (every family is hardest at |g| → 0.99).
-pub const G_BANDS: [f64; 12] = [-0.99, -0.9, -0.7, -0.5, -0.3, -0.1, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99];
-
 /// Validation points per band and domain (the bands' sets are smaller than the
 /// whole range's; the faces, local searches and a held-out round are the same).
 pub const BAND_POINTS: usize = 4000;
@@ -375,12 +357,16 @@ pub const BAND_HELD_OUT_ROUNDS: usize = 3;
 /// range's do from [`VALIDATION_SEED`]).
 pub const BAND_SEED: u64 = VALIDATION_SEED ^ 0xBA4D_0000_0000_0000;
 
-/// The bands of `g_range` ([`G_BANDS`] cut to it; none for a single `g`).
+/// The bands of `g_range` ([`crate::coeffs::G_BANDS`] cut to it; none for a single `g`).
 pub fn bands_of(g_range: (f64, f64)) -> Vec<(f64, f64)> {
     if g_range.0 >= g_range.1 {
         return Vec::new();
     }
-    G_BANDS.windows(2).map(|w| (w[0].max(g_range.0), w[1].min(g_range.1))).filter(|(lo, hi)| lo < hi).collect()
+    crate::coeffs::G_BANDS
+        .windows(2)
+        .map(|w| (w[0].max(g_range.0), w[1].min(g_range.1)))
+        .filter(|(lo, hi)| lo < hi)
+        .collect()
 }
 
 /// How big a validation is.
@@ -436,15 +422,22 @@ fn validations_sized(
                 d,
                 r,
                 d.validation_set(r, sizes.points, sizes.seed),
-                [d.faces(&face_gs(r), sizes.face_grid), d.gamma_faces(&face_gs(r), sizes.face_grid)].concat(),
+                [
+                    d.faces(&crate::fitset::face_gs(r), sizes.face_grid),
+                    d.gamma_faces(&crate::fitset::face_gs(r), sizes.face_grid),
+                ]
+                .concat(),
                 held,
             ));
         }
     }
     let all: Vec<Point> =
         sets.iter().flat_map(|s| s.2.iter().chain(&s.3).chain(s.4.iter().flatten()).copied()).collect();
-    let values =
-        crate::parallel::map(&all, |p| reference::airlight(*p).expect("validation points are valid"), progress);
+    let values = airlight_truth::parallel::map(
+        &all,
+        |p| reference::airlight(*p).expect("validation points are valid"),
+        progress,
+    );
     let mut it = values.into_iter();
     let mut with_values = |pts: Vec<Point>| -> Vec<(Point, f64)> {
         pts.into_iter().map(|p| (p, it.next().expect("one value per point"))).collect()
@@ -503,7 +496,7 @@ pub fn measure_within(model: &dyn Model, v: &Validation, project: &(dyn Fn(Point
             signed.push((p, a / exact - 1.0));
         }
     }
-    let stats = crate::stats::ErrorStats::from_errors(errs.iter().copied());
+    let stats = airlight_truth::stats::ErrorStats::from_errors(errs.iter().copied());
     let mut worst = stats.worst.unwrap_or(Point { tau: 0.0, gamma: 1.0, rho: 1.0, g: 0.0 });
     let mut max = stats.max;
     if v.domain != Domain::Extreme && max.is_finite() {
@@ -694,7 +687,7 @@ fn measure_on(
             sets.iter().enumerate().filter(|(_, v)| belongs(f, v)).map(move |(j, _)| (i, j)).collect::<Vec<_>>()
         })
         .collect();
-    let measured = crate::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
+    let measured = airlight_truth::parallel::map(&jobs, |&(i, j)| measure(&files[i].model, &sets[j]), progress);
     jobs.into_iter().zip(measured).map(|((i, j), e)| (i, j, e)).collect()
 }
 

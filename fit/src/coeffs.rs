@@ -8,13 +8,19 @@
 //! byte-identical.
 
 use crate::approx::{Approximation, Body};
-use crate::domains::{Domain, DomainErrors};
 use crate::family::Member;
-use crate::reference::Point;
-use crate::tomlfile::{dec, locate, locate_nth, parse_table, short, FieldError, Provenance, Reader};
+use airlight_truth::domains::{Domain, DomainErrors};
+use airlight_truth::reference::Point;
+use airlight_truth::tomlfile::{dec, locate, locate_nth, parse_table, short, FieldError, Provenance, Reader};
 use std::fmt::Write;
 use std::path::Path;
 use toml::{Table, Value};
+
+/// Edges of the bands of `g` over which a model whose `g` is a run-time argument
+/// also declares its bound ([`BandErrors`]): a kernel with `g`
+/// baked in (a scene's) holds its band's, which can be far below the bound over
+/// the whole range (every family is hardest at |g| → 0.99).
+pub const G_BANDS: [f64; 12] = [-0.99, -0.9, -0.7, -0.5, -0.3, -0.1, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99];
 
 /// The version of the file layout [`render`] writes and [`parse`] reads; a file
 /// with another `format_version` (or none) is refused.
@@ -30,7 +36,7 @@ pub struct ModelFile {
     /// Measured errors, one entry per domain.
     pub errors: Vec<DomainErrors>,
     /// For a model whose `g` is a run-time argument: the same measurement over
-    /// each band of `g` ([`crate::catalog::G_BANDS`]) on `thin` and `dense`, the
+    /// each band of `g` ([`G_BANDS`]) on `thin` and `dense`, the
     /// bound that a kernel with `g` baked inside the band holds.
     pub bands: Vec<BandErrors>,
     /// Provenance tables in file order (`forward.fit`, `phase.fit`, …, `provenance`).
@@ -63,7 +69,7 @@ impl ModelFile {
     }
 
     /// What its family's report section sees of it, with its bench row.
-    pub fn member<'a>(&'a self, bench: Option<&'a crate::bench::BenchModel>) -> Member<'a, Body> {
+    pub fn member<'a>(&'a self, bench: Option<&'a airlight_shapes::bench::BenchModel>) -> Member<'a, Body> {
         Member {
             name: &self.model.name,
             g_range: self.model.g_range,
@@ -314,7 +320,7 @@ pub fn load_dir(dir: &Path) -> Result<Vec<ModelFile>, CoeffError> {
     paths
         .iter()
         .map(|path| {
-            let (name, text) = crate::tomlfile::read(path, "")?;
+            let (name, text) = airlight_truth::tomlfile::read(path, "")?;
             let f = parse(&name, &text)?;
             let stem = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
             if stem != f.model.name {

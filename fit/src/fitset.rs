@@ -3,9 +3,9 @@
 //! seed of its own, each with the reference `A`, computed once per request and
 //! shared by every member that asks for the same sets.
 
-use crate::domains::Domain;
-use crate::reference::{self, Point};
-use crate::stats::rel_error;
+use airlight_truth::domains::Domain;
+use airlight_truth::reference::{self, Point};
+use airlight_truth::stats::rel_error;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Points with reference `A`.
@@ -39,9 +39,13 @@ pub fn sets(spec: SetSpec) -> (Set, Set) {
     if let Some((_, a, b)) = cache.lock().expect("not poisoned").iter().find(|c| c.0 == spec) {
         return (a.clone(), b.clone());
     }
-    let gs = crate::catalog::face_gs(spec.g_range);
+    let gs = face_gs(spec.g_range);
     let with_ref = |pts: Vec<Point>| -> Set {
-        let v = crate::parallel::map(&pts, |p| reference::airlight(*p).expect("domain points are valid"), &|_, _| {});
+        let v = airlight_truth::parallel::map(
+            &pts,
+            |p| reference::airlight(*p).expect("domain points are valid"),
+            &|_, _| {},
+        );
         Arc::new(pts.into_iter().zip(v).filter(|(_, a)| a.is_finite() && *a > 0.0).collect())
     };
     let (mut fit, mut check) = (Vec::new(), Vec::new());
@@ -57,7 +61,7 @@ pub fn sets(spec: SetSpec) -> (Set, Set) {
 
 /// The largest relative error of `eval` on `set`.
 pub fn max_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> f64 {
-    let errs = crate::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
+    let errs = airlight_truth::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
     errs.into_iter().fold(0.0, f64::max)
 }
 
@@ -69,7 +73,7 @@ pub const MEDIAN_G_EDGES: [f64; 11] = [-1.0, -0.8, -0.6, -0.4, -0.2, 0.0, 0.2, 0
 /// ([`MEDIAN_G_EDGES`]; an isotropic set is one band): what the bench's median levels
 /// ask of every `g`. NaN or infinite errors count as infinite.
 pub fn median_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> f64 {
-    let errs = crate::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
+    let errs = airlight_truth::parallel::map(set, |(p, a)| rel_error(eval(*p), *a), &|_, _| {});
     let mut groups: Vec<Vec<f64>> = vec![Vec::new(); 2 * (MEDIAN_G_EDGES.len() - 1)];
     for ((p, _), e) in set.iter().zip(errs) {
         let band = MEDIAN_G_EDGES[1..].iter().position(|&hi| p.g < hi).unwrap_or(MEDIAN_G_EDGES.len() - 2);
@@ -84,6 +88,18 @@ pub fn median_on(eval: &(dyn Fn(Point) -> f64 + Sync), set: &[(Point, f64)]) -> 
             g[g.len() / 2]
         })
         .fold(0.0, f64::max)
+}
+
+/// The `g` values of the face grids for a `g` range: its ends and 0 if inside.
+pub fn face_gs(g_range: (f64, f64)) -> Vec<f64> {
+    let mut gs = vec![g_range.0];
+    if g_range.0 < 0.0 && g_range.1 > 0.0 {
+        gs.push(0.0);
+    }
+    if g_range.1 != g_range.0 {
+        gs.push(g_range.1);
+    }
+    gs
 }
 
 #[cfg(test)]

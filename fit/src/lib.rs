@@ -1,10 +1,11 @@
-//! airlight-fit: the reference single-scattering airlight integral, the geometry
-//! that maps a scene onto it, the models that approximate it, and the error
-//! analysis that measures them.
+//! airlight-fit: the models that approximate the airlight integral — the families
+//! (`family/`), their fits, the catalog of shipped members with their declared
+//! bounds, and the speed/accuracy bench of the CPU kernels.
 //!
-//! Everything here is f64 and follows `docs/MATH.md`: `A(τ, γ, ρ; P)` is the canonical,
-//! dimensionless airlight, and every error figure is a relative error of `A`.
-//! Nothing here prints or exits; errors are values.
+//! The integral's truth (reference, geometry, domains, the shadowed reference) is
+//! `airlight-truth`; the shapes the crates share (vocabulary, template contexts,
+//! costs, figures, the gate record) are `airlight-shapes`. Everything here is f64
+//! and follows `docs/MATH.md`; nothing here prints or exits; errors are values.
 
 #![warn(missing_docs)]
 
@@ -13,31 +14,7 @@ pub mod approx;
 pub mod bench;
 pub mod catalog;
 pub mod coeffs;
-pub mod cost;
-pub mod domains;
-pub mod e1;
 pub mod family;
-pub mod figure;
 pub mod fitset;
-pub mod fixtures;
-pub mod geometry;
-pub mod hexf;
-pub mod io;
-pub mod ircost;
 pub mod lsq;
 pub mod model;
-pub mod parallel;
-pub mod phase;
-pub mod points_csv;
-pub mod quad;
-pub mod record;
-pub mod reference;
-pub mod selfcheck;
-pub mod shafts;
-pub mod stats;
-pub mod template;
-pub mod tomlfile;
-pub mod vocab;
-
-pub use phase::Phase;
-pub use reference::{airlight, airlight_detailed, Param, ParamError, Point};

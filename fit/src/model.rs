@@ -1,10 +1,10 @@
 //! Models: complete evaluators of `A(τ, γ, ρ; g)`, looked up by name.
 //!
 //! The reference is built in; fitted models come from their coefficient files
-//! (`generated/coefficients/<name>.toml`, see [`crate::coeffs`]) and join a
+//! (`generated/coefficients/<name>.toml`, see the `coeffs` module) and join a
 //! [`Registry`], so `airlight eval --model NAME` and every report see them.
 
-use crate::reference::{self, Param, ParamError, Point};
+use airlight_truth::reference::{self, Param, ParamError, Point};
 use std::fmt;
 
 /// A complete evaluator of the canonical airlight.

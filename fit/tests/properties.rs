@@ -1,8 +1,8 @@
 //! Properties the exact airlight has for every input, checked on random points
 //! over the whole domain (proptest shrinks any failure to a minimal point).
 
-use airlight_fit::geometry::PhysicalRay;
-use airlight_fit::reference::{airlight, Point};
+use airlight_truth::geometry::PhysicalRay;
+use airlight_truth::reference::{airlight, Point};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 

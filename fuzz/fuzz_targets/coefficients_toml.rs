@@ -4,7 +4,7 @@
 #![no_main]
 use airlight_fit::coeffs;
 use airlight_fit::model::Model;
-use airlight_fit::reference::Point;
+use airlight_truth::reference::Point;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -8,10 +8,10 @@ use std::sync::OnceLock;
 
 /// Each kernel's g range, from the committed index.
 fn g_range(name: &str) -> [f32; 2] {
-    static INDEX: OnceLock<airlight_fit::vocab::Index> = OnceLock::new();
+    static INDEX: OnceLock<airlight_shapes::vocab::Index> = OnceLock::new();
     let index = INDEX.get_or_init(|| {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated");
-        airlight_fit::vocab::Index::load(&dir).expect("generated/kernels.toml")
+        airlight_shapes::vocab::Index::load(&dir).expect("generated/kernels.toml")
     });
     index.get(name).map(|e| [e.g[0] as f32, e.g[1] as f32]).expect("every kernel is in the index")
 }

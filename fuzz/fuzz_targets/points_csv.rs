@@ -1,7 +1,7 @@
 //! The eval input files: any text as a points file and as a rays file parses to
 //! rows or to one located error, never a panic; what parses renders.
 #![no_main]
-use airlight_fit::points_csv;
+use airlight_truth::points_csv;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -13,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
         }
         Err(e) => assert!(e.to_string().starts_with("in.csv:"), "{e}"),
     }
-    let any = |_: &airlight_fit::geometry::PhysicalRay, _: f64| Ok(());
+    let any = |_: &airlight_truth::geometry::PhysicalRay, _: f64| Ok(());
     match points_csv::parse_rays("in.csv", text, &any) {
         Ok(rows) => {
             for r in &rows {

@@ -4,7 +4,7 @@
 //! `render`, `bench`, and the gate at the end of `regenerate`), so that a broken
 //! generated kernel can never stop `airlight generate` from repairing it.
 
-use airlight_fit::vocab::CompiledKernel;
+use airlight_shapes::vocab::CompiledKernel;
 
 fn main() -> std::process::ExitCode {
     let kernels: Vec<CompiledKernel> = airlight_kernels::KERNELS

@@ -6,9 +6,10 @@
 //! three scalar `radiance` calls, on the CPU and the GPU.
 
 use crate::{Gpu, GpuError, KernelSource, Ray, SpotRay};
-use airlight_fit::bench::{self, Bench, BenchModel, RgbCost, RgbRay, ShaftsCost};
+use airlight_fit::bench::{self, RgbRay};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::vocab::{CompiledKernel, Index, IndexEntry, Target};
+use airlight_shapes::bench::{Bench, BenchModel, RgbCost, ShaftsCost};
+use airlight_shapes::vocab::{CompiledKernel, Index, IndexEntry, Target};
 use std::path::Path;
 
 /// How much is measured.
@@ -169,12 +170,12 @@ fn model_row(
     inputs: &Inputs,
     f: &ModelFile,
     k: &CompiledKernel,
-    errors: Vec<bench::GErrors>,
+    errors: Vec<airlight_shapes::bench::GErrors>,
 ) -> Result<(BenchModel, (f64, f64)), BenchError> {
     let name = &f.model.name;
     let (entry, path, source) = wgsl_of(inputs, name)?;
     let fail = |e: String| BenchError::Failed(format!("{}: {e}", path.display()));
-    let cost = airlight_fit::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix))
+    let cost = airlight_shapes::ircost::ir_cost(&source, &format!("{}airlight", entry.prefix))
         .map_err(|e| fail(e.to_string()))?;
     let (mut gpu_evals_per_s, mut gpu_frame_evals_per_s, mut gpu_rgb) = (0.0, 0.0, (0.0, 0.0));
     if let Some(g) = inputs.gpu {
@@ -270,12 +271,22 @@ fn median_ns(repeats: usize, n: usize, f: &dyn Fn(usize) -> f64) -> f64 {
 
 /// The seed's table for the frame of `r` (its viewer and light), filled by the f32
 /// kernel's `radiance` over `x ∈ [0, x_max]`.
-fn fprime_table(radiance: airlight_fit::vocab::RadianceFn, r: &Ray, x_max: f64) -> airlight_fit::shafts::FPrimeTable {
+fn fprime_table(
+    radiance: airlight_shapes::vocab::RadianceFn,
+    r: &Ray,
+    x_max: f64,
+) -> airlight_truth::shafts::FPrimeTable {
     let fill = |d: [f64; 3], x: f64| {
         f64::from(radiance(r.origin, d.map(|v| v as f32), x as f32, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g))
     };
     let phys = r.physical();
-    airlight_fit::shafts::FPrimeTable::build(airlight_fit::shafts::FPRIME_RES, phys.origin, phys.light, x_max, &fill)
+    airlight_truth::shafts::FPrimeTable::build(
+        airlight_truth::shafts::FPRIME_RES,
+        phys.origin,
+        phys.light,
+        x_max,
+        &fill,
+    )
 }
 
 /// Sample counts of the shafts bench.
@@ -298,7 +309,7 @@ fn shafts_costs(
     kernels: &[CompiledKernel],
     progress: &Progress,
 ) -> Result<Vec<ShaftsCost>, BenchError> {
-    use airlight_fit::shafts::{self, Feed};
+    use airlight_truth::shafts::{self, Feed};
     let entry = inputs.index.get("phi-8").map_err(BenchError::Input)?;
     let cases = crate::gate::shadowed_rays(entry, crate::gate::SHADOWED_RAYS, 0x5AF7_BE7C)
         .map_err(|e| BenchError::Failed(e.to_string()))?;
@@ -394,7 +405,7 @@ fn fprime_costs(
     cases: &[crate::gate::ShadowCase],
     progress: &Progress,
 ) -> Result<Vec<ShaftsCost>, BenchError> {
-    use airlight_fit::shafts::{self, FPrimeTable, Feed, FPRIME_KERNEL, FPRIME_RES};
+    use airlight_truth::shafts::{self, FPrimeTable, Feed, FPRIME_KERNEL, FPRIME_RES};
     let k = kernels.iter().find(|k| k.name == FPRIME_KERNEL).ok_or_else(|| {
         BenchError::Failed(format!("bench: no compiled kernel '{FPRIME_KERNEL}': run `airlight generate` and rebuild"))
     })?;

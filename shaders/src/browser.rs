@@ -9,7 +9,7 @@
 //! POSTs the pixels back, and they are compared with the f64 reference render.
 
 use crate::render::{View, FOV_Y, GROUND_Y};
-use airlight_fit::vocab::{Arg, IndexEntry};
+use airlight_shapes::vocab::{Arg, IndexEntry};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};

@@ -13,17 +13,17 @@
 use crate::{Gpu, GpuError, KernelSource};
 use airlight_fit::catalog::{self, Validation};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
 use airlight_fit::family::Body;
-use airlight_fit::reference::{self, Point};
-pub use airlight_fit::vocab::{
+pub use airlight_shapes::vocab::{
     f32_domain_limit, f32_limit, Target, F32_ADAPTER_ALLOWANCE, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE,
 };
-use airlight_fit::vocab::{CompiledKernel, Entry, Index, IndexEntry};
+use airlight_shapes::vocab::{CompiledKernel, Entry, Index, IndexEntry};
+use airlight_truth::domains::{Domain, VALIDATION_POINTS, VALIDATION_SEED};
+use airlight_truth::reference::{self, Point};
 use std::fmt;
 use std::path::Path;
 
-pub use airlight_fit::record::{target_label, F32Bound, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SPOT};
+pub use airlight_shapes::record::{target_label, F32Bound, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SPOT};
 
 /// One kernel × target × domain.
 #[derive(Debug, Clone, PartialEq)]
@@ -163,7 +163,7 @@ fn point_sets(k: &IndexEntry, validations: &[Validation]) -> Result<Vec<(Domain,
 fn with_reference(k: &IndexEntry, mut pts: Vec<Point>) -> Result<Checked, GateError> {
     pts.sort_by(|a, b| (a.tau, a.gamma, a.rho, a.g).partial_cmp(&(b.tau, b.gamma, b.rho, b.g)).expect("no NaN"));
     pts.dedup();
-    let values = airlight_fit::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
+    let values = airlight_truth::parallel::map(&pts, |p| reference::airlight(*p), &|_, _| {});
     pts.into_iter()
         .zip(values)
         .map(|(p, v)| v.map(|a| (p, a)).map_err(|e| GateError::Input(format!("{}: {e}", k.name))))
@@ -237,8 +237,8 @@ pub fn physical_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::
 /// The rays of [`physical_rays`] with the canonical point of their f32 inputs
 /// (projected onto what `k` takes) and the scale `σs·I/D` of their radiance.
 fn placements(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<(crate::Ray, Point, f64)>, GateError> {
-    let mut rng = airlight_fit::domains::SplitMix64(seed);
-    let unit = |rng: &mut airlight_fit::domains::SplitMix64| loop {
+    let mut rng = airlight_truth::domains::SplitMix64(seed);
+    let unit = |rng: &mut airlight_truth::domains::SplitMix64| loop {
         let v = [2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0, 2.0 * rng.next_f64() - 1.0];
         let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         if r > 0.1 && r <= 1.0 {
@@ -339,7 +339,7 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
     let base = placements(k, n, seed)?;
-    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x5907);
+    let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x5907);
     let mut rays = Vec::with_capacity(n);
     for (i, (r, p, _)) in base.iter().enumerate() {
         let o = r.origin.map(f64::from);
@@ -388,7 +388,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         let f = [1.0, 0.4 + 0.6 * rng.next_f64(), 0.4 + 0.6 * rng.next_f64()];
         // A kernel that does not take σt (no extinction) is checked in a medium without it:
         // ignoring the transmittance to a stretch is not bounded by its bound on A.
-        let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+        let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
         let sigma_t = if takes_sigma_t { f.map(|x| (x * f64::from(r.sigma_t)) as f32) } else { [0.0; 3] };
         let sigma_s = f.map(|x| (x * f64::from(r.sigma_s)) as f32);
         rays.push((
@@ -439,7 +439,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         let co = 30f64.to_radians().cos();
         let ci = if smooth { 20f64.to_radians().cos() } else { co };
         let surface = if with_surface { (0.5 * dist) as f32 } else { -1.0 };
-        let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+        let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
         let sigma_t = if takes_sigma_t { [r.sigma_t, 0.7 * r.sigma_t, 0.4 * r.sigma_t] } else { [0.0; 3] };
         let ray = crate::SpotRay {
             origin: [0.0; 3],
@@ -469,7 +469,7 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         }
     }
     rays.extend(line);
-    let refs = airlight_fit::parallel::map(
+    let refs = airlight_truth::parallel::map(
         &rays,
         |(r, _)| -> Result<([f64; 3], f64), String> {
             let a = |q: Point| reference::airlight(project(k, q)).unwrap_or(f64::NAN);
@@ -518,8 +518,8 @@ pub struct ShadowCase {
     /// The canonical point of the unshadowed ray (where it is reported).
     pub point: Point,
     /// The occluders.
-    pub occluders: Vec<airlight_fit::shafts::Occluder>,
-    /// The exact lit intervals fed as samples ([`airlight_fit::shafts::exact_samples`]).
+    pub occluders: Vec<airlight_truth::shafts::Occluder>,
+    /// The exact lit intervals fed as samples ([`airlight_truth::shafts::exact_samples`]).
     pub samples: Vec<(f64, f64)>,
     /// Visibility changes on the ray (lit intervals' ends inside it).
     pub transitions: usize,
@@ -538,9 +538,9 @@ pub struct ShadowCase {
 /// left out. Returns the cases with the exact lit intervals and the reference
 /// shadowed and unshadowed radiance.
 pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCase>, GateError> {
-    use airlight_fit::shafts::{self, Occluder};
+    use airlight_truth::shafts::{self, Occluder};
     let base = placements(k, n, seed)?;
-    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x54AD);
+    let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x54AD);
     let mut cases = Vec::with_capacity(n);
     for (i, (r, p, _)) in base.into_iter().enumerate() {
         let phys = r.physical();
@@ -584,7 +584,7 @@ pub fn shadowed_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<ShadowCa
         let a = |q: Point| reference::airlight(q).unwrap_or(f64::NAN);
         let g = f64::from(ray.g);
         let fail =
-            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: shadowed ray: {e}", k.name));
+            |e: airlight_truth::geometry::GeometryError| GateError::Input(format!("{}: shadowed ray: {e}", k.name));
         let reference = shafts::shadowed_radiance(&phys, None, g, &lit, &a).map_err(fail)?;
         let unshadowed = phys.radiance(g, &a).map_err(fail)?;
         cases.push(ShadowCase {
@@ -623,14 +623,15 @@ pub const KEPT_SHADOWED: [KeptShadowed; 7] = [
 /// of its range; left out where the kernel would project the ray's canonical point
 /// elsewhere: no extinction).
 pub fn kept_shadowed_rays(k: &IndexEntry) -> Result<Vec<ShadowCase>, GateError> {
-    use airlight_fit::shafts::{self, Occluder};
+    use airlight_truth::shafts::{self, Occluder};
     let g = 0.5 * (k.g[0] + k.g[1]);
     let mut out = Vec::new();
     for (origin, dir, light, sigma_t, intensity, (center, radius)) in KEPT_SHADOWED {
         let ray = crate::Ray { origin, dir, surface: -1.0, light, intensity, sigma_t, sigma_s: sigma_t, g: g as f32 };
         let phys = ray.physical();
-        let fail =
-            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: kept shadowed ray: {e}", k.name));
+        let fail = |e: airlight_truth::geometry::GeometryError| {
+            GateError::Input(format!("{}: kept shadowed ray: {e}", k.name))
+        };
         let point = phys.to_canonical(f64::from(ray.g)).map_err(fail)?.point;
         if project(k, point) != point {
             continue;
@@ -680,9 +681,9 @@ pub fn spot_shadowed_rays(
     n: usize,
     seed: u64,
 ) -> Result<Vec<SpotShadowCase>, GateError> {
-    use airlight_fit::shafts;
-    let mut rng = airlight_fit::domains::SplitMix64(seed ^ 0x5B0D);
-    let takes_sigma_t = k.spot_params.contains(&airlight_fit::vocab::Arg::SigmaTRgb);
+    use airlight_truth::shafts;
+    let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x5B0D);
+    let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
     let mut out = Vec::new();
     for (i, c) in cases.iter().take(n).enumerate() {
         let r = c.ray;
@@ -714,8 +715,9 @@ pub fn spot_shadowed_rays(
         let cone = ray.cone();
         let lit = shafts::lit_intervals(&ray.physical(0), &c.occluders);
         let a = |q: Point| reference::airlight(project(k, q)).unwrap_or(f64::NAN);
-        let fail =
-            |e: airlight_fit::geometry::GeometryError| GateError::Input(format!("{}: spot shadowed ray: {e}", k.name));
+        let fail = |e: airlight_truth::geometry::GeometryError| {
+            GateError::Input(format!("{}: spot shadowed ray: {e}", k.name))
+        };
         let mut reference = [0.0; 3];
         let mut unshadowed = [0.0; 3];
         for ch in 0..3 {
@@ -783,7 +785,7 @@ fn shadow_row(k: &IndexEntry, target: Option<Target>, items: &[Held], got: &[f64
             errs.push((c.point, (v - c.reference).abs() / (c.unshadowed * (1.0 + c.transitions as f64))));
         }
     }
-    let stats = airlight_fit::stats::ErrorStats::from_errors(errs);
+    let stats = airlight_truth::stats::ErrorStats::from_errors(errs);
     Row {
         kernel: k.name.clone(),
         target,
@@ -888,7 +890,7 @@ pub fn physical_extremes(k: &IndexEntry) -> Result<Vec<(crate::Ray, Point, f64)>
             g: gs[0] as f32,
         });
     }
-    let expected = airlight_fit::parallel::map(
+    let expected = airlight_truth::parallel::map(
         &rays,
         |r| {
             let phys = r.physical();
@@ -971,7 +973,7 @@ fn row(
             }
         }
     }
-    let stats = airlight_fit::stats::ErrorStats::from_errors(errs);
+    let stats = airlight_truth::stats::ErrorStats::from_errors(errs);
     Row {
         kernel: k.name.clone(),
         target,
@@ -1034,7 +1036,7 @@ impl Subject<'_> {
     fn point_rows(&self, label: &'static str, pts: &Checked, bound: Bound) -> Result<Vec<Row>, GateError> {
         let (k, mut rows) = (self.k, Vec::new());
         let raw: Vec<[f64; 4]> = pts.iter().map(|(p, _)| [p.tau, p.gamma, p.rho, p.g]).collect();
-        let f64s = airlight_fit::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
+        let f64s = airlight_truth::parallel::map(pts, |(p, _)| (self.model)(*p), &|_, _| {});
         rows.push(row(k, None, label, pts, &f64s, bound, None));
         if let Some(rk) = self.compiled {
             let got: Vec<f64> = pts.iter().map(|(p, _)| rust_at(rk.airlight, *p)).collect();
@@ -1070,7 +1072,7 @@ impl Subject<'_> {
         let extremes = physical_extremes(k)?;
         for (label, rays, bound) in [(PHYSICAL, &physical, sampled), (PHYS_EXTREME, &extremes, hull)] {
             let expected: Vec<(Point, f64)> = rays.iter().map(|r| (r.1, r.2)).collect();
-            let f64s = airlight_fit::parallel::map(
+            let f64s = airlight_truth::parallel::map(
                 rays,
                 |(r, _, _)| r.physical().radiance(f64::from(r.g), &|p| (self.model)(p)).unwrap_or(f64::NAN),
                 &|_, _| {},
@@ -1097,7 +1099,7 @@ impl Subject<'_> {
         let cases = spot_rays(k, SPOT_RAYS, VALIDATION_SEED ^ 0x5B07)?;
         let expected: Vec<(Point, f64)> = cases.iter().flat_map(|c| c.reference.map(|v| (c.point, v))).collect();
         let held: Vec<f64> = cases.iter().flat_map(|c| [c.ulp_change; 3]).collect();
-        let f64s: Vec<f64> = airlight_fit::parallel::map(
+        let f64s: Vec<f64> = airlight_truth::parallel::map(
             &cases,
             |c| [0, 1, 2].map(|ch| c.ray.reference(ch, &|p| (self.model)(p)).unwrap_or(f64::NAN)),
             &|_, _| {},
@@ -1140,23 +1142,30 @@ impl Subject<'_> {
         held.extend(spots.iter().flat_map(SpotShadowCase::held));
         let f32s = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();
         // The f64 model through the f64 accumulator.
-        let mut f64s: Vec<f64> = airlight_fit::parallel::map(
+        let mut f64s: Vec<f64> = airlight_truth::parallel::map(
             &cases,
             |c| {
                 let phys = c.ray.physical();
-                airlight_fit::shafts::evaluate(&phys, None, f64::from(c.ray.g), &c.samples, &|p| (self.model)(p), false)
-                    .map_or(f64::NAN, |v| v.0)
+                airlight_truth::shafts::evaluate(
+                    &phys,
+                    None,
+                    f64::from(c.ray.g),
+                    &c.samples,
+                    &|p| (self.model)(p),
+                    false,
+                )
+                .map_or(f64::NAN, |v| v.0)
             },
             &|_, _| {},
         );
         f64s.extend(
-            airlight_fit::parallel::map(
+            airlight_truth::parallel::map(
                 &spots,
                 |c| {
                     let cone = c.ray.cone();
                     [0, 1, 2].map(|ch| {
                         let p = c.ray.physical(ch);
-                        airlight_fit::shafts::evaluate(
+                        airlight_truth::shafts::evaluate(
                             &p,
                             cone.as_ref(),
                             f64::from(c.ray.g),
@@ -1333,10 +1342,10 @@ fn run_with(
             let f32 = match (d, measuring) {
                 (Domain::Extreme, _) | (_, true) => model,
                 (d, false) => k.f32_bound(d).ok_or_else(|| {
-                    let path = generated.join(airlight_fit::vocab::INDEX_FILE);
+                    let path = generated.join(airlight_shapes::vocab::INDEX_FILE);
                     let text = std::fs::read_to_string(&path).unwrap_or_default();
                     let n = index.kernel.iter().position(|e| e.name == k.name).unwrap_or(0);
-                    let line = airlight_fit::tomlfile::locate_nth(&text, "kernel", n, &format!("f32_{d}_max_rel"));
+                    let line = airlight_truth::tomlfile::locate_nth(&text, "kernel", n, &format!("f32_{d}_max_rel"));
                     GateError::Input(format!(
                         "{}:{line}: kernel {}: no f32_{d}_max_rel (its f32 bound on {d}): the gate record does not \
                          cover these kernel sources; run `airlight check --record`, then `airlight generate`",
@@ -1388,7 +1397,7 @@ fn run_with(
 struct F32Kernel<'a> {
     name: &'a str,
     g_range: (f64, f64),
-    f: airlight_fit::vocab::CanonicalFn,
+    f: airlight_shapes::vocab::CanonicalFn,
 }
 
 impl airlight_fit::model::Model for F32Kernel<'_> {
@@ -1407,7 +1416,7 @@ impl airlight_fit::model::Model for F32Kernel<'_> {
 }
 
 /// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32).
-fn rust_at(f: airlight_fit::vocab::CanonicalFn, p: Point) -> f64 {
+fn rust_at(f: airlight_shapes::vocab::CanonicalFn, p: Point) -> f64 {
     crate::from_kernel(f(p.tau as f32, p.gamma as f32, crate::rho_arg(p.rho), p.g as f32))
 }
 
@@ -1428,7 +1437,7 @@ impl Subject<'_> {
         let k = self.k;
         let domains: Vec<&(Domain, Checked)> = sets.iter().filter(|(d, _)| *d != Domain::Extreme).collect();
         // The Rust kernel's searches, one domain per thread.
-        let searched: Vec<Option<(f64, Point)>> = airlight_fit::parallel::map(
+        let searched: Vec<Option<(f64, Point)>> = airlight_truth::parallel::map(
             &domains,
             |(d, pts)| {
                 let rk = self.compiled?;
@@ -1473,7 +1482,7 @@ impl Subject<'_> {
                     let raw = [[worst.tau, worst.gamma, worst.rho, worst.g]];
                     for (target, src) in &self.shaders {
                         let got = gpu.airlight(src, &raw).map_err(self.gpu_error(*target))?;
-                        let e = airlight_fit::stats::rel_error(crate::from_kernel(got[0]), exact) * margin;
+                        let e = airlight_truth::stats::rel_error(crate::from_kernel(got[0]), exact) * margin;
                         if e > best.0 {
                             best = (e, target_label(Some(*target)), Some(worst));
                         }
@@ -1501,7 +1510,7 @@ pub fn record(
     rows: &[Row],
     f32_bounds: Vec<F32Bound>,
     adapter: String,
-) -> Result<airlight_fit::record::GateRecord, String> {
+) -> Result<airlight_shapes::record::GateRecord, String> {
     let mut files = Vec::new();
     for dir in ["wgsl", "wgsl/bevy", "glsl", "airlight-kernels/src"] {
         let entries = std::fs::read_dir(generated.join(dir))
@@ -1514,12 +1523,12 @@ pub fn record(
             }
         }
     }
-    Ok(airlight_fit::record::GateRecord {
+    Ok(airlight_shapes::record::GateRecord {
         adapter,
-        kernels_digest: airlight_fit::record::digest(&files),
+        kernels_digest: airlight_shapes::record::digest(&files),
         rows: rows
             .iter()
-            .map(|r| airlight_fit::record::GateRow {
+            .map(|r| airlight_shapes::record::GateRow {
                 kernel: r.kernel.clone(),
                 target: target_label(r.target).to_string(),
                 domain: r.domain.to_string(),

@@ -18,12 +18,12 @@ pub mod gate;
 pub mod render;
 pub mod shafts_render;
 
-pub use airlight_fit::vocab::{Arg, Entry, Target};
-use airlight_fit::vocab::{ArgType, IndexEntry};
+pub use airlight_shapes::vocab::{Arg, Entry, Target};
+use airlight_shapes::vocab::{ArgType, IndexEntry};
 use std::fmt;
 use wgpu::util::DeviceExt;
 
-pub use airlight_fit::vocab::{rho_arg, NO_SURFACE};
+pub use airlight_shapes::vocab::{rho_arg, NO_SURFACE};
 
 /// Environment variable that makes a missing adapter an error instead of a skip.
 pub const REQUIRE_GPU_ENV: &str = "AIRLIGHT_REQUIRE_GPU";
@@ -617,7 +617,7 @@ pub struct Ray {
 
 impl Ray {
     /// An `eval` CSV row as the physical entry takes it (f32; no surface: −1).
-    pub fn from_row(r: &airlight_fit::points_csv::RayRow) -> Ray {
+    pub fn from_row(r: &airlight_truth::points_csv::RayRow) -> Ray {
         let f = |v: [f64; 3]| v.map(|x| x as f32);
         Ray {
             origin: f(r.ray.origin),
@@ -632,9 +632,9 @@ impl Ray {
     }
 
     /// The same ray in f64, for the reference (`surface < 0`: none).
-    pub fn physical(&self) -> airlight_fit::geometry::PhysicalRay {
+    pub fn physical(&self) -> airlight_truth::geometry::PhysicalRay {
         let f = |v: [f32; 3]| v.map(f64::from);
-        airlight_fit::geometry::PhysicalRay {
+        airlight_truth::geometry::PhysicalRay {
             origin: f(self.origin),
             direction: f(self.dir),
             surface_distance: (self.surface >= 0.0).then_some(f64::from(self.surface)),
@@ -646,7 +646,7 @@ impl Ray {
     }
 
     /// A compiled Rust kernel's physical entry on this ray.
-    pub fn radiance_of(&self, k: &airlight_fit::vocab::CompiledKernel) -> f32 {
+    pub fn radiance_of(&self, k: &airlight_shapes::vocab::CompiledKernel) -> f32 {
         (k.radiance)(
             self.origin,
             self.dir,
@@ -705,7 +705,7 @@ pub struct SpotRay {
 impl SpotRay {
     /// An `eval` CSV row as the spot entry takes it (f32; no surface: −1; a point
     /// light: `cos_outer` −1).
-    pub fn from_row(r: &airlight_fit::points_csv::SpotRow) -> SpotRay {
+    pub fn from_row(r: &airlight_truth::points_csv::SpotRow) -> SpotRay {
         let f = |v: [f64; 3]| v.map(|x| x as f32);
         let ray = &r.rays[0];
         let (axis, co, ci) = match &r.cone {
@@ -728,7 +728,7 @@ impl SpotRay {
     }
 
     /// Channel `c` of the ray in f64, as a point-light ray (`surface < 0`: none).
-    pub fn physical(&self, c: usize) -> airlight_fit::geometry::PhysicalRay {
+    pub fn physical(&self, c: usize) -> airlight_truth::geometry::PhysicalRay {
         let ray = Ray {
             origin: self.origin,
             dir: self.dir,
@@ -743,8 +743,8 @@ impl SpotRay {
     }
 
     /// The cone in f64; `None` for a point light (`cos_outer <= -1`).
-    pub fn cone(&self) -> Option<airlight_fit::geometry::Cone> {
-        (self.cos_outer > -1.0).then(|| airlight_fit::geometry::Cone {
+    pub fn cone(&self) -> Option<airlight_truth::geometry::Cone> {
+        (self.cos_outer > -1.0).then(|| airlight_truth::geometry::Cone {
             axis: self.axis.map(f64::from),
             cos_outer: f64::from(self.cos_outer),
             cos_inner: f64::from(self.cos_inner),
@@ -756,13 +756,13 @@ impl SpotRay {
     pub fn reference(
         &self,
         c: usize,
-        a: &dyn Fn(airlight_fit::reference::Point) -> f64,
-    ) -> Result<f64, airlight_fit::geometry::GeometryError> {
+        a: &dyn Fn(airlight_truth::reference::Point) -> f64,
+    ) -> Result<f64, airlight_truth::geometry::GeometryError> {
         self.physical(c).light_radiance(self.cone().as_ref(), f64::from(self.g), a)
     }
 
     /// A compiled Rust kernel's spot entry on this ray, where it has one.
-    pub fn spot_of(&self, k: &airlight_fit::vocab::CompiledKernel) -> Option<[f32; 3]> {
+    pub fn spot_of(&self, k: &airlight_shapes::vocab::CompiledKernel) -> Option<[f32; 3]> {
         k.spot.map(|f| {
             f(
                 self.origin,
@@ -1045,6 +1045,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
 }
 /// A compiled Rust kernel's canonical entry at `p` (arguments rounded to f32,
 /// `ρ = ∞` passed as −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
-pub fn f32_value(k: &airlight_fit::vocab::CompiledKernel, p: airlight_fit::reference::Point) -> f64 {
+pub fn f32_value(k: &airlight_shapes::vocab::CompiledKernel, p: airlight_truth::reference::Point) -> f64 {
     from_kernel((k.airlight)(p.tau as f32, p.gamma as f32, rho_arg(p.rho), p.g as f32))
 }

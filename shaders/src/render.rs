@@ -10,8 +10,8 @@
 //! plane, which ends the rays that hit it.
 
 use crate::{Gpu, GpuError};
-use airlight_fit::reference;
-use airlight_fit::vocab::{Arg, CompiledKernel, IndexEntry};
+use airlight_shapes::vocab::{Arg, CompiledKernel, IndexEntry};
+use airlight_truth::reference;
 
 /// Lights: position and radiant intensity.
 pub const LIGHTS: [([f32; 3], f32); 5] = [
@@ -294,7 +294,7 @@ pub fn render_rust(k: &CompiledKernel, view: &View) -> Vec<f32> {
 pub fn render_reference(k: &IndexEntry, view: &View) -> Vec<f64> {
     let lights = view.lights();
     let pixels: Vec<(u32, u32)> = (0..view.height).flat_map(|y| (0..view.width()).map(move |x| (x, y))).collect();
-    airlight_fit::parallel::map(
+    airlight_truth::parallel::map(
         &pixels,
         |&(x, y)| {
             let (sigma_t, dir, surface) = view.ray(x, y);
@@ -451,7 +451,7 @@ impl Gpu {
     /// The spot render of `view` on the GPU: the kernel's spot entry (WGSL, from
     /// `kernel`, its index entry `k`) for every pixel and light, RGB per pixel.
     pub fn render_spot(&self, k: &IndexEntry, kernel: &str, view: &View) -> Result<Vec<[f32; 3]>, GpuError> {
-        let src = crate::KernelSource::of(k, airlight_fit::vocab::Target::Wgsl, kernel);
+        let src = crate::KernelSource::of(k, airlight_shapes::vocab::Target::Wgsl, kernel);
         let got = self.spot(&src, &view.all_spot_rays())?;
         Ok(per_pixel(view, &got))
     }
@@ -466,7 +466,7 @@ pub fn render_spot_rust(k: &CompiledKernel, view: &View) -> Option<Vec<[f32; 3]>
 /// The spot render from the reference (f64).
 pub fn render_spot_reference(k: &IndexEntry, view: &View) -> Vec<[f64; 3]> {
     let rays = view.all_spot_rays();
-    let got = airlight_fit::parallel::map(
+    let got = airlight_truth::parallel::map(
         &rays,
         |r| {
             let a = |p| reference::airlight(crate::gate::project(k, p)).unwrap_or(f64::INFINITY);

@@ -19,9 +19,9 @@
 //! (fit::shafts); its surfaces are lit with exact visibility.
 
 use crate::{Gpu, GpuError};
-use airlight_fit::geometry::{Cone, PhysicalRay};
-use airlight_fit::shafts::{self, Occluder};
-use airlight_fit::vocab::{Arg, IndexEntry};
+use airlight_shapes::vocab::{Arg, IndexEntry};
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::shafts::{self, Occluder};
 
 /// The room's extent, metres: x, y, z ranges.
 pub const ROOM: [[f32; 2]; 3] = [[-5.0, 5.0], [0.0, 8.0], [-2.0, 16.0]];
@@ -862,8 +862,8 @@ pub fn reference_fog(view: &ShaftsView, ends: &[f64]) -> Vec<[f64; 3]> {
     };
     let (light, cam) = (LIGHT.map(f64::from), CAMERA.map(f64::from));
     let pixels: Vec<u32> = (0..view.width * view.height).collect();
-    let a = |q: airlight_fit::reference::Point| airlight_fit::reference::airlight(q).unwrap_or(f64::INFINITY);
-    airlight_fit::parallel::map(
+    let a = |q: airlight_truth::reference::Point| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    airlight_truth::parallel::map(
         &pixels,
         |&i| {
             let dir = view.dir(i % view.width, i / view.width).map(f64::from);
@@ -899,8 +899,8 @@ pub fn reference(view: &ShaftsView, gpu: &Frame) -> (Vec<[f64; 3]>, Vec<[f64; 3]
     let light = LIGHT.map(f64::from);
     let cam = CAMERA.map(f64::from);
     let pixels: Vec<u32> = (0..view.width * view.height).collect();
-    let a = |q: airlight_fit::reference::Point| airlight_fit::reference::airlight(q).unwrap_or(f64::INFINITY);
-    let out = airlight_fit::parallel::map(
+    let a = |q: airlight_truth::reference::Point| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    let out = airlight_truth::parallel::map(
         &pixels,
         |&i| {
             let dir = view.dir(i % view.width, i / view.width).map(f64::from);

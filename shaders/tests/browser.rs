@@ -14,9 +14,9 @@
 //! its fog against the reference over the exact lit intervals. Skipped loudly without a browser or the npm tools, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (CI) or `AIRLIGHT_REQUIRE_BROWSER=1`.
 
-use airlight_fit::vocab::f32_limit;
 use airlight_shaders::browser::{self, Renderer};
 use airlight_shaders::{gate, render};
+use airlight_shapes::vocab::f32_limit;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -131,7 +131,7 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
     let package = packed_package(&tmp);
     let index = gate::load_index(&root().join("generated")).unwrap();
     let k = index.get("phi-4").unwrap();
-    assert!(k.shafts && k.has(airlight_fit::vocab::Entry::Spot), "phi-4 has the spot entry and the accumulator");
+    assert!(k.shafts && k.has(airlight_shapes::vocab::Entry::Spot), "phi-4 has the spot entry and the accumulator");
     let view = sr::ShaftsView { width: 64, height: 36 };
     for renderer in Renderer::ALL {
         let what = match renderer {

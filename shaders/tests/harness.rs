@@ -8,9 +8,9 @@
 //! Without an adapter these tests print SKIPPED and pass, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (set by `.ci/run`), which makes them fail.
 
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
-use airlight_fit::reference::{airlight, Point};
-use airlight_fit::stats::{rel_error, ErrorStats};
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
+use airlight_truth::reference::{airlight, Point};
+use airlight_truth::stats::{rel_error, ErrorStats};
 mod common;
 
 use airlight_shaders::{GpuError, KernelSource, Target};

@@ -11,11 +11,11 @@
 //! the ray and the direction to the light, where `ds/t² = dω/h` and `s + t =
 //! x0 + h tan(ω/2)` (canonical units), as the kernels integrate it.
 
-use airlight_fit::geometry::{Cone, PhysicalRay};
-use airlight_fit::phase::Phase;
-use airlight_fit::reference::{self, Point};
-use airlight_fit::vocab::f32_limit;
 use airlight_shaders::gate;
+use airlight_shapes::vocab::f32_limit;
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::phase::Phase;
+use airlight_truth::reference::{self, Point};
 use std::path::Path;
 
 /// The penumbra stretches of `ray` (distances along it): lit by the outer cone,
@@ -50,7 +50,7 @@ fn stretch_rule(ray: &PhysicalRay, cone: &Cone, g: f64, s0: f64, s1: f64, graded
     let f = |w: f64| phase.eval(w) * (-tau * (x0 + h * (0.5 * w).tan())).exp() / h;
     let scale = ray.sigma_s * ray.intensity / dl;
     let (u, v) = (omega(s0), if s1.is_finite() { omega(s1) } else { std::f64::consts::PI });
-    let (x, wts) = airlight_fit::quad::gauss_legendre(8);
+    let (x, wts) = airlight_truth::quad::gauss_legendre(8);
     let gl = |a: f64, b: f64, we: f64| -> f64 {
         let (half, mid) = (0.5 * (b - a), 0.5 * (b + a));
         x.iter().zip(&wts).map(|(&xi, &wi)| wi * half * (weight(mid + half * xi) - we) * f(mid + half * xi)).sum()
@@ -74,7 +74,7 @@ fn the_new_spot_rows_break_the_old_penumbra_rule_and_hold_the_new_one() {
     let models = airlight_fit::catalog::load(&generated.join("coefficients")).unwrap();
     let k = index.get("phi-8").unwrap();
     let limit = f32_limit(gate::declared_max(k, &models).unwrap());
-    let cases = gate::spot_rays(k, gate::SPOT_RAYS, airlight_fit::domains::VALIDATION_SEED ^ 0x5B07).unwrap();
+    let cases = gate::spot_rays(k, gate::SPOT_RAYS, airlight_truth::domains::VALIDATION_SEED ^ 0x5B07).unwrap();
     let (mut smooth, mut old_over, mut new_max, mut old_max) = (0, 0, 0.0f64, 0.0f64);
     for c in &cases {
         let Some(cone) = c.ray.cone() else { continue };

@@ -8,10 +8,10 @@ mod common;
 
 use airlight_codegen::kernel::{self, Index, KernelSpec};
 use airlight_codegen::scene;
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
-use airlight_fit::reference::airlight;
 use airlight_shaders::gate::project;
 use airlight_shaders::{KernelSource, Target};
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
+use airlight_truth::reference::airlight;
 use std::path::Path;
 
 /// A scene file; without extinction the medium is clear (σt = 0), the only one
@@ -83,7 +83,7 @@ fn unexercised_specialisations_compute_within_their_bounds_on_the_gpu() {
                 entry.model
             );
             assert!(
-                worst <= airlight_fit::vocab::f32_limit(declared),
+                worst <= airlight_shapes::vocab::f32_limit(declared),
                 "{what} ({}): {worst:.3e} > declared {declared:.3e}",
                 language.name()
             );

@@ -5,8 +5,8 @@
 
 mod common;
 
-use airlight_fit::shafts::{self, Feed, Occluder};
 use airlight_shaders::gate;
+use airlight_truth::shafts::{self, Feed, Occluder};
 
 fn f32s(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
     s.iter().map(|&(a, b)| [a as f32, b as f32]).collect()
@@ -43,7 +43,7 @@ fn extreme_rays_through_the_shafts_path() {
         if let Some(gpu) = &gpu {
             let text = std::fs::read_to_string(generated.join(entry.wgsl.as_deref().unwrap())).unwrap();
             let table = airlight_shaders::load_table(&generated, entry).unwrap();
-            let src = airlight_shaders::KernelSource::of(entry, airlight_fit::vocab::Target::Wgsl, &text)
+            let src = airlight_shaders::KernelSource::of(entry, airlight_shapes::vocab::Target::Wgsl, &text)
                 .with_table(table.as_ref());
             let got = gpu.shadowed(&src, &rays, &fed).unwrap();
             assert_eq!(got.len(), rays.len());

@@ -6,15 +6,15 @@
 
 mod common;
 
-use airlight_fit::shafts::{self, Feed};
 use airlight_shaders::gate;
+use airlight_truth::shafts::{self, Feed};
 
 fn f32s(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
     s.iter().map(|&(a, b)| [a as f32, b as f32]).collect()
 }
 
 /// `[max rel, mean rel, max of U, mean of U]` of `f` fed by `feed` over `cases`.
-fn errors(f: airlight_fit::vocab::ShadowedFn, cases: &[gate::ShadowCase], feed: Feed) -> [f64; 4] {
+fn errors(f: airlight_shapes::vocab::ShadowedFn, cases: &[gate::ShadowCase], feed: Feed) -> [f64; 4] {
     let (mut rel, mut of_u) = (Vec::new(), Vec::new());
     for c in cases {
         let s = shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), feed).unwrap();

@@ -197,7 +197,10 @@ pub fn fit_cost(points: &[(f64, f64)]) -> Option<CostFit> {
         return None;
     }
     let a = DMatrix::from_fn(pts.len(), 2, |i, j| if j == 0 { pts[i].0 / pts[i].1 } else { 1.0 / pts[i].1 });
-    let c = crate::lsq::solve(a, &DVector::from_element(pts.len(), 1.0))?;
+    // Linear least squares by SVD, singular values below 1e-13 of the largest dropped.
+    let svd = a.svd(true, true);
+    let eps = 1e-13 * svd.singular_values.max();
+    let c = svd.solve(&DVector::from_element(pts.len(), 1.0), eps).ok()?;
     let dev: Vec<f64> = pts.iter().map(|(x, y)| (c[0] * x + c[1]) / y - 1.0).collect();
     Some(CostFit {
         slope: c[0],

@@ -94,7 +94,7 @@ pub struct GateRecord {
 /// f32 kernel on the domain's validation set, face grids, held-out rounds and
 /// local searches from their worst points (those of the f64 bound, run on the
 /// kernel itself), each GPU target on the validation set and at the Rust
-/// searches' worst point — times `1 +` [`crate::catalog::DECLARED_MARGIN`], as every
+/// searches' worst point — times `1 +` `DECLARED_MARGIN` (airlight-fit's `catalog`), as every
 /// declared bound, and never below the f64 model's declared bound.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -133,8 +133,8 @@ impl GateRecord {
     }
 
     /// Reads the file's text; `file` names it in the error.
-    pub fn from_toml(file: &str, text: &str) -> Result<GateRecord, crate::tomlfile::FieldError> {
-        crate::tomlfile::from_str(file, text, "rows")
+    pub fn from_toml(file: &str, text: &str) -> Result<GateRecord, airlight_truth::tomlfile::FieldError> {
+        airlight_truth::tomlfile::from_str(file, text, "rows")
     }
 }
 
@@ -202,8 +202,8 @@ impl FuzzRecord {
     }
 
     /// Reads the file's text; `file` names it in the error.
-    pub fn from_toml(file: &str, text: &str) -> Result<FuzzRecord, crate::tomlfile::FieldError> {
-        crate::tomlfile::from_str(file, text, "runs")
+    pub fn from_toml(file: &str, text: &str) -> Result<FuzzRecord, airlight_truth::tomlfile::FieldError> {
+        airlight_truth::tomlfile::from_str(file, text, "runs")
     }
 }
 

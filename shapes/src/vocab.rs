@@ -1,13 +1,13 @@
 //! The vocabulary every crate shares, typed once: the target languages, the
 //! kernels' arguments (name, type, GPU packing slot), the error domains
-//! ([`Domain`], whose box lives in [`crate::domains`]), the f32 allowance of the
+//! ([`Domain`], whose box lives in [`airlight_truth::domains`]), the f32 allowance of the
 //! gate and the tests, and the kernel index `generated/kernels.toml` that the
 //! harness, the gate and the CLI read.
 //!
 //! Strings appear only at the edges (files, command lines); an unknown name is an
 //! error there, never a silent default.
 
-pub use crate::domains::Domain;
+pub use airlight_truth::domains::Domain;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -445,8 +445,8 @@ impl IndexEntry {
     /// nothing the kernel was specialised away from (extinction: only `τ = 0`;
     /// surfaces: only `ρ = ∞`; its `g`, or its `g` range) — a kernel would otherwise
     /// evaluate another point than the one asked for, silently.
-    pub fn check(&self, p: &crate::reference::Point) -> Result<(), crate::reference::ParamError> {
-        use crate::reference::{Param, ParamError};
+    pub fn check(&self, p: &airlight_truth::reference::Point) -> Result<(), airlight_truth::reference::ParamError> {
+        use airlight_truth::reference::{Param, ParamError};
         p.validate()?;
         let only = |param, value, v: f64| Err(ParamError { param, value, allowed: Some((v, v)) });
         if !self.extinction && p.tau != 0.0 {
@@ -464,7 +464,7 @@ impl IndexEntry {
     /// The physical entry's [`IndexEntry::check`]: a ray with `g` that this kernel's
     /// `radiance` evaluates as given — σt = 0 without extinction, no surface
     /// without surfaces, `g` in its range. The error names the column.
-    pub fn check_ray(&self, ray: &crate::geometry::PhysicalRay, g: f64) -> Result<(), (&'static str, String)> {
+    pub fn check_ray(&self, ray: &airlight_truth::geometry::PhysicalRay, g: f64) -> Result<(), (&'static str, String)> {
         // The f32 contract: what an f32 argument cannot hold is refused. A surface or
         // σt past f32's range is handled exactly instead (no surface; no light
         // through), and so is one below it (0 and e^0 = 1 to f32).
@@ -483,7 +483,7 @@ impl IndexEntry {
             ("sigma_s", ray.sigma_s),
         ];
         for (col, x) in named {
-            if let Some(m) = crate::points_csv::beyond_f32(col, x) {
+            if let Some(m) = airlight_truth::points_csv::beyond_f32(col, x) {
                 return Err((col, m));
             }
         }
@@ -497,7 +497,7 @@ impl IndexEntry {
             ));
         }
         if g < self.g[0] || g > self.g[1] {
-            let p = crate::reference::Point { tau: 0.0, gamma: 0.0, rho: f64::INFINITY, g };
+            let p = airlight_truth::reference::Point { tau: 0.0, gamma: 0.0, rho: f64::INFINITY, g };
             return Err(("g", self.check(&p).err().map(|e| e.to_string()).unwrap_or_default()));
         }
         Ok(())
@@ -537,13 +537,13 @@ pub struct Index {
 
 impl Index {
     /// Reads the text of `generated/kernels.toml`.
-    pub fn parse(file: &str, text: &str) -> Result<Index, crate::tomlfile::FieldError> {
-        crate::tomlfile::from_str(file, text, "kernel")
+    pub fn parse(file: &str, text: &str) -> Result<Index, airlight_truth::tomlfile::FieldError> {
+        airlight_truth::tomlfile::from_str(file, text, "kernel")
     }
 
     /// Reads `generated/kernels.toml` under `generated`.
-    pub fn load(generated: &std::path::Path) -> Result<Index, crate::tomlfile::FieldError> {
-        let (name, text) = crate::tomlfile::read(&generated.join(INDEX_FILE), " (run `airlight generate`)")?;
+    pub fn load(generated: &std::path::Path) -> Result<Index, airlight_truth::tomlfile::FieldError> {
+        let (name, text) = airlight_truth::tomlfile::read(&generated.join(INDEX_FILE), " (run `airlight generate`)")?;
         Index::parse(&name, &text)
     }
 

@@ -4,8 +4,8 @@
 //! (`airlight bench` measures every model, errors beside cost, in one run).
 //! `cargo bench -p airlight-tests --bench kernels`.
 
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
 use airlight_fit::model::Model;
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 

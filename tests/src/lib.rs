@@ -34,12 +34,12 @@ pub fn committed_models() -> Vec<airlight_fit::coeffs::ModelFile> {
 /// sequence) inside `domain` (thin or dense) with `g` uniform in `g`: γ in
 /// [0.01, π − 0.01], ρ = ∞ for a tenth, else log-uniform in [0.01, 100].
 pub fn random_points(
-    domain: airlight_fit::domains::Domain,
+    domain: airlight_truth::domains::Domain,
     g: (f64, f64),
     n: usize,
     seed: u64,
-) -> Vec<airlight_fit::reference::Point> {
-    let mut rng = airlight_fit::domains::SplitMix64(seed);
+) -> Vec<airlight_truth::reference::Point> {
+    let mut rng = airlight_truth::domains::SplitMix64(seed);
     let (tlo, thi) = domain.tau_range();
     (0..n)
         .map(|_| {
@@ -47,7 +47,7 @@ pub fn random_points(
             let gamma = 0.01 + (std::f64::consts::PI - 0.02) * rng.next_f64();
             let rho = if rng.next_f64() < 0.1 { f64::INFINITY } else { 0.01 * 1e4f64.powf(rng.next_f64()) };
             let gv = g.0 + (g.1 - g.0) * rng.next_f64();
-            airlight_fit::reference::Point { tau, gamma, rho, g: gv }
+            airlight_truth::reference::Point { tau, gamma, rho, g: gv }
         })
         .collect()
 }

@@ -2,10 +2,10 @@
 //! promises, and models that stay finite and non-negative at the extremes.
 
 use airlight_fit::coeffs::{parse, render};
-use airlight_fit::domains::Domain;
 use airlight_fit::model::Model;
-use airlight_fit::reference::Point;
 use airlight_tests::{committed_models, generated_dir};
+use airlight_truth::domains::Domain;
+use airlight_truth::reference::Point;
 use std::f64::consts::PI;
 
 #[test]
@@ -32,7 +32,7 @@ fn files_round_trip_exactly_and_carry_the_promised_keys() {
         // Every hex coefficient's comment is its decimal value.
         for line in raw.lines().filter(|l| l.trim_start().starts_with("\"0x") || l.trim_start().starts_with("\"-0x")) {
             let (hex, comment) = line.split_once("\", #").expect("hex with comment");
-            let x = airlight_fit::hexf::parse(hex.trim().trim_start_matches('"')).unwrap();
+            let x = airlight_truth::hexf::parse(hex.trim().trim_start_matches('"')).unwrap();
             let y: f64 = comment.trim().parse().unwrap();
             assert_eq!(x.to_bits(), y.to_bits(), "{line}");
         }
@@ -64,7 +64,7 @@ fn models_are_finite_and_non_negative_at_the_extremes() {
 
 #[test]
 fn model_geometry_limits() {
-    use airlight_fit::reference::airlight;
+    use airlight_truth::reference::airlight;
     let models = committed_models();
     let m = &models.iter().find(|m| m.model.name == "segments-16").unwrap().model;
     // On the axis before the light: exact closed form P(0) e^{-τ} ρ/(1 − ρ).
@@ -100,7 +100,7 @@ fn model_geometry_limits() {
                 .iter()
                 .find(|f| f.model.name == "segments-16")
                 .unwrap()
-                .error(airlight_fit::vocab::Domain::Thin)
+                .error(airlight_shapes::vocab::Domain::Thin)
                 .unwrap()
                 .max_rel
     );

@@ -3,11 +3,11 @@
 //! Halton sequence) inside each domain and the model's g range, against the
 //! reference. The check allows the factor 1.5 the project promises.
 
-use airlight_fit::domains::Domain;
 use airlight_fit::model::Model;
-use airlight_fit::reference::airlight;
-use airlight_fit::stats::rel_error;
 use airlight_tests::{committed_models, random_points};
+use airlight_truth::domains::Domain;
+use airlight_truth::reference::airlight;
+use airlight_truth::stats::rel_error;
 use std::f64::consts::PI;
 
 #[test]
@@ -17,7 +17,7 @@ fn declared_max_holds_on_fresh_points() {
         for (domain, seed) in [(Domain::Thin, 0xA11CE), (Domain::Dense, 0xB0B)] {
             let declared = m.error(domain).expect("thin and dense errors are declared").max_rel;
             let pts = random_points(domain, m.model.g_range, 3000, seed);
-            let errs = airlight_fit::parallel::map(
+            let errs = airlight_truth::parallel::map(
                 &pts,
                 |p| rel_error(m.model.eval_unchecked(*p), airlight(*p).expect("valid")),
                 &|_, _| {},
@@ -43,8 +43,8 @@ fn declared_max_holds_on_the_public_values() {
     let mut failures = Vec::new();
     let mut checked = 0;
     for m in committed_models() {
-        for (_, text) in airlight_fit::fixtures::PUBLIC {
-            for (p, exact) in airlight_fit::fixtures::parse(text) {
+        for (_, text) in airlight_truth::fixtures::PUBLIC {
+            for (p, exact) in airlight_truth::fixtures::parse(text) {
                 let domain = if (0.0..=2.0).contains(&p.tau) {
                     Domain::Thin
                 } else if (2.0..=20.0).contains(&p.tau) {

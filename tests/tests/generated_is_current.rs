@@ -30,6 +30,6 @@ fn generated_matches_a_fresh_rendering() {
 #[test]
 fn committed_selfcheck_is_current() {
     let committed = airlight_codegen::read_selfcheck(&generated_dir()).expect("generated/selfcheck.toml reads");
-    let fresh = airlight_fit::selfcheck::run_standard(&|_, _| {});
+    let fresh = airlight_truth::selfcheck::run_standard(&|_, _| {});
     assert!(fresh == committed, "generated/selfcheck.toml is stale; run `cargo run --release -- regenerate`");
 }

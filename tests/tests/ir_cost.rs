@@ -1,9 +1,9 @@
-//! The kernels' IR operation counts (`airlight_fit::ircost`) on the committed
+//! The kernels' IR operation counts (`airlight_shapes::ircost`) on the committed
 //! WGSL: every branch counts at least the worst path; a straight-line rule
 //! (`equiangular-8`) has nearly none beside it; the φ kernels' head, far and tail
 //! branches add a third or more — what REPORT.md "What the cost follows" quotes.
 
-use airlight_fit::ircost::ir_costs;
+use airlight_shapes::ircost::ir_costs;
 use airlight_tests::generated_dir;
 
 fn counts(name: &str) -> (usize, usize) {

@@ -6,11 +6,11 @@
 // 3.14159265358979 (π − 3.2e-15) is an input of the issue, not π.
 #![allow(clippy::approx_constant)]
 
-use airlight_fit::geometry::{Cone, PhysicalRay};
 use airlight_fit::model::Model;
-use airlight_fit::reference::{self, Point};
 use airlight_kernels::{Kernel, KERNELS};
 use airlight_tests::committed_models;
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::reference::{self, Point};
 use std::f64::consts::PI;
 
 fn kernel(name: &str) -> &'static Kernel {

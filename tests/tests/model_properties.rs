@@ -4,8 +4,8 @@
 //! the exact value is.
 
 use airlight_fit::model::Model;
-use airlight_fit::reference::{airlight, Point};
 use airlight_tests::committed_models;
+use airlight_truth::reference::{airlight, Point};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 use std::sync::OnceLock;

@@ -35,16 +35,16 @@ fn published_model_errors_match_math_md() {
 }
 
 /// `[max, p99]` of `name`'s relative errors over `pts` against `reference`.
-fn max_p99(name: &str, pts: &[airlight_fit::reference::Point], reference: &[f64]) -> [f64; 2] {
+fn max_p99(name: &str, pts: &[airlight_truth::reference::Point], reference: &[f64]) -> [f64; 2] {
     let models = committed_models();
     let m = &models.iter().find(|m| m.model.name == name).expect("committed").model;
     let mut e: Vec<f64> = pts
         .iter()
         .zip(reference)
-        .map(|(&p, &a)| airlight_fit::stats::rel_error(airlight_fit::model::Model::eval_unchecked(m, p), a))
+        .map(|(&p, &a)| airlight_truth::stats::rel_error(airlight_fit::model::Model::eval_unchecked(m, p), a))
         .collect();
     e.sort_by(f64::total_cmp);
-    [e[e.len() - 1], airlight_fit::stats::nearest_rank(&e, 0.99)]
+    [e[e.len() - 1], airlight_truth::stats::nearest_rank(&e, 0.99)]
 }
 
 /// Issue 25, item 6: the refits are no worse than the published models on
@@ -52,12 +52,13 @@ fn max_p99(name: &str, pts: &[airlight_fit::reference::Point], reference: &[f64]
 /// uniform random points (not the validation sets' sequence, not the fit's).
 #[test]
 fn the_refits_dominate_the_published_models_on_held_out_points() {
-    use airlight_fit::domains::Domain;
+    use airlight_truth::domains::Domain;
     for (refit, published, g) in [("paper-refit", "paper", (0.0, 0.0)), ("paper-refit-hg", "paper-hg", (0.0, 0.99))] {
         for domain in [Domain::Thin, Domain::Dense] {
             for seed in [0xD011_A7E5_0000_0001u64, 0xD011_A7E5_0000_0002] {
                 let pts = airlight_tests::random_points(domain, g, 3000, seed);
-                let reference: Vec<f64> = pts.iter().map(|&p| airlight_fit::reference::airlight(p).unwrap()).collect();
+                let reference: Vec<f64> =
+                    pts.iter().map(|&p| airlight_truth::reference::airlight(p).unwrap()).collect();
                 let (r, p) = (max_p99(refit, &pts, &reference), max_p99(published, &pts, &reference));
                 eprintln!(
                     "{refit} vs {published}, {domain:?}, seed {seed:x}: max {:.3e} vs {:.3e}, p99 {:.3e} vs {:.3e}",

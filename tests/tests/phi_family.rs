@@ -4,9 +4,9 @@
 //! issue's targets: ≤ 1e-4 relative for the 1e-4 and 1e-5 tiers, finite and
 //! non-negative everywhere.
 
-use airlight_fit::domains::SplitMix64;
-use airlight_fit::fixtures::{parse, PUBLIC};
-use airlight_fit::reference::{airlight, Point};
+use airlight_truth::domains::SplitMix64;
+use airlight_truth::fixtures::{parse, PUBLIC};
+use airlight_truth::reference::{airlight, Point};
 use std::f64::consts::PI;
 
 /// The sampled domains' box (thin ∪ dense).

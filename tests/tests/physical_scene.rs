@@ -2,10 +2,10 @@
 //! a direct quadrature of the physical integral of docs/MATH.md §1 — no canonical
 //! form involved — at scales from 1e-3 to 1e4 units.
 
-use airlight_fit::domains::SplitMix64;
-use airlight_fit::geometry::PhysicalRay;
-use airlight_fit::quad::gauss_kronrod;
-use airlight_fit::Phase;
+use airlight_truth::domains::SplitMix64;
+use airlight_truth::geometry::PhysicalRay;
+use airlight_truth::quad::gauss_kronrod;
+use airlight_truth::Phase;
 
 /// `σs I ∫₀^Dp P(α) e^{−σt (s + t)} / t² ds` in world units, with `t` the
 /// distance from the point at `s` to the light. Breakpoints around the point
@@ -64,7 +64,7 @@ fn radiance_through_geometry_and_reference_matches_direct_integration() {
             sigma_s: 0.7 * sigma_t,
         };
         let c = ray.to_canonical(g).unwrap();
-        let via_canonical = c.scale * airlight_fit::airlight(c.point).unwrap();
+        let via_canonical = c.scale * airlight_truth::airlight(c.point).unwrap();
         let direct = direct_radiance(&ray, g);
         let rel = ((via_canonical - direct) / direct).abs();
         // The direct path takes α through acos and positions through differences

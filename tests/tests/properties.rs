@@ -16,10 +16,10 @@
 use airlight_fit::coeffs::ModelFile;
 use airlight_fit::family::Body;
 use airlight_fit::model::Model;
-use airlight_fit::reference::Point;
-use airlight_fit::vocab::{Domain, Index, IndexEntry};
 use airlight_kernels::{Kernel, KERNELS};
+use airlight_shapes::vocab::{Domain, Index, IndexEntry};
 use airlight_tests::{committed_models, generated_dir};
+use airlight_truth::reference::Point;
 use proptest::prelude::*;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
@@ -334,7 +334,7 @@ proptest! {
             for g in [g, -g] {
                 let p = Point { tau, gamma, rho: r, g };
                 let want = m.model.eval_unchecked(p);
-                let got = f64::from((k.airlight)(tau as f32, gamma as f32, airlight_fit::vocab::rho_arg(r), g as f32));
+                let got = f64::from((k.airlight)(tau as f32, gamma as f32, airlight_shapes::vocab::rho_arg(r), g as f32));
                 // The f32 inputs move A by their rounding: compare at the model's
                 // own value of the rounded point.
                 let p32 = Point { tau: f64::from(tau as f32), gamma: f64::from(gamma as f32), rho: r, g: f64::from(g as f32) };
@@ -343,7 +343,7 @@ proptest! {
                     continue; // beyond f32's range
                 }
                 let rel = (got - want32).abs() / want32;
-                prop_assert!(rel <= airlight_fit::vocab::F32_ALLOWANCE, "{}: g {g}: f32 {got:e} vs f64 {want32:e} ({want:e} unrounded), {rel:.2e} at {p:?}", k.name);
+                prop_assert!(rel <= airlight_shapes::vocab::F32_ALLOWANCE, "{}: g {g}: f32 {got:e} vs f64 {want32:e} ({want:e} unrounded), {rel:.2e} at {p:?}", k.name);
             }
         }
     }

@@ -2,10 +2,10 @@
 //! they were generated from, against the reference within each model's declared
 //! bound plus f32 rounding, and at the extremes (finite, non-negative).
 
-use airlight_fit::domains::Domain;
 use airlight_fit::model::Model;
-use airlight_fit::reference::Point;
 use airlight_tests::{committed_models, random_points};
+use airlight_truth::domains::Domain;
+use airlight_truth::reference::Point;
 use std::f64::consts::PI;
 
 /// Largest relative difference between an f32 kernel and its f64 model: f32
@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 /// the cancelling amplitudes of the 3-term phase fits (measured up to 4e-4).
 const PORT_TOLERANCE: f64 = 1e-3;
 /// Below this, `A` is not meaningfully representable in f32 (the gate's rule too).
-const F32_TINY: f64 = airlight_fit::vocab::F32_RANGE.0;
+const F32_TINY: f64 = airlight_shapes::vocab::F32_RANGE.0;
 
 fn kernel_at(k: &airlight_kernels::Kernel, p: &Point) -> f64 {
     let rho = if p.rho.is_infinite() { -1.0 } else { p.rho as f32 };
@@ -72,7 +72,7 @@ fn every_model_kernel_matches_its_f64_model() {
                     ));
                     continue;
                 }
-                if !(F32_TINY..=airlight_fit::vocab::F32_RANGE.1).contains(&want) {
+                if !(F32_TINY..=airlight_shapes::vocab::F32_RANGE.1).contains(&want) {
                     continue;
                 }
                 // The Sun table's two lookups cancel towards γ = π, and its f32 kernel
@@ -93,15 +93,15 @@ fn every_model_kernel_matches_its_f64_model() {
 
 /// Held-out points against the reference: the public 30-digit values inside each
 /// model's domains, within the kernel's declared f32 bound as the gate holds it
-/// ([`airlight_fit::vocab::f32_domain_limit`]).
+/// ([`airlight_shapes::vocab::f32_domain_limit`]).
 #[test]
 fn every_model_kernel_holds_its_declared_bound_on_the_public_values() {
     let mut failures = Vec::new();
     let mut checked = 0;
     for m in committed_models() {
         let k = airlight_kernels::kernel(&m.model.name).unwrap();
-        for (_, text) in airlight_fit::fixtures::PUBLIC {
-            for (p, exact) in airlight_fit::fixtures::parse(text) {
+        for (_, text) in airlight_truth::fixtures::PUBLIC {
+            for (p, exact) in airlight_truth::fixtures::parse(text) {
                 let domain = match p.tau {
                     t if (0.0..=2.0).contains(&t) => Domain::Thin,
                     t if (2.0..=20.0).contains(&t) => Domain::Dense,
@@ -121,7 +121,7 @@ fn every_model_kernel_holds_its_declared_bound_on_the_public_values() {
                     _ => k.f32_dense_max_rel,
                 }
                 .expect("the committed registry carries f32 bounds (airlight check --record)");
-                let limit = airlight_fit::vocab::f32_domain_limit(declared);
+                let limit = airlight_shapes::vocab::f32_domain_limit(declared);
                 if e.is_nan() || e > limit {
                     failures.push(format!(
                         "{} {domain}: {e:.3e} at {p:?} > {limit:.3e} (declared f32 bound {declared:.3e})",

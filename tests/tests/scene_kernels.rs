@@ -4,8 +4,8 @@
 use airlight_codegen::kernel::{self, KernelPhase, KernelSpec};
 use airlight_codegen::scene;
 use airlight_fit::model::Model;
-use airlight_fit::reference::{airlight, Point};
 use airlight_tests::{committed_models, generated_dir, repo_root};
+use airlight_truth::reference::{airlight, Point};
 use std::f64::consts::PI;
 
 /// A scene file; without extinction the medium is clear (σt = 0), the only one
@@ -128,7 +128,7 @@ fn scene_kernels_compute_their_model_or_the_exact_closed_form() {
     let models = committed_models();
     // The model its plan chose, as the index names it.
     let text = std::fs::read_to_string(generated_dir().join("kernels.toml")).unwrap();
-    let index = airlight_fit::vocab::Index::parse("kernels.toml", &text).unwrap();
+    let index = airlight_shapes::vocab::Index::parse("kernels.toml", &text).unwrap();
     let name = index.get("scene-harbour-fog").unwrap().model.clone().expect("a fitted model");
     let planned = models.iter().find(|m| m.model.name == name).unwrap();
     let harbour = airlight_kernels::kernel("scene-harbour-fog").unwrap();

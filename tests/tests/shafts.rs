@@ -2,10 +2,10 @@
 //! reference: exact lit intervals, soft visibility, refinement, the spot entry,
 //! the march (the extreme rays through it: shaders/tests/shafts_extremes.rs).
 
-use airlight_fit::geometry::{Cone, PhysicalRay};
-use airlight_fit::reference::{self, Point};
-use airlight_fit::shafts::{self, Feed, Occluder};
 use airlight_kernels::{Kernel, KERNELS};
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::reference::{self, Point};
+use airlight_truth::shafts::{self, Feed, Occluder};
 
 fn kernel(name: &str) -> &'static Kernel {
     KERNELS.iter().find(|k| k.name == name).unwrap_or_else(|| panic!("kernel {name} is generated"))
@@ -17,7 +17,7 @@ fn f32s(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
 
 /// Deterministic rays among 1–3 balls between the light and the ray.
 fn scenes() -> Vec<(PhysicalRay, f64, Vec<Occluder>)> {
-    let mut rng = airlight_fit::domains::SplitMix64(0x5AF7);
+    let mut rng = airlight_truth::domains::SplitMix64(0x5AF7);
     let mut out = Vec::new();
     for i in 0..40 {
         let d = [1.0, 0.3 * (rng.next_f64() - 0.5), 0.3 * (rng.next_f64() - 0.5)];

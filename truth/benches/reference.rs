@@ -1,8 +1,8 @@
 //! Throughput of the reference airlight (target: ≥ 50,000 isotropic evaluations
 //! per second on one core).
 
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
-use airlight_fit::reference::{airlight, airlight_e1, airlight_s_form};
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
+use airlight_truth::reference::{airlight, airlight_e1, airlight_s_form};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use std::hint::black_box;
 

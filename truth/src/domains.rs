@@ -217,7 +217,7 @@ pub struct DomainErrors {
     /// Points measured.
     pub points: usize,
     /// The declared bound on the relative error of `A`: the largest error the
-    /// searches found times `1 +` [`crate::catalog::DECLARED_MARGIN`].
+    /// searches found times `1 +` `DECLARED_MARGIN` (airlight-fit's `catalog`).
     pub max_rel: f64,
     /// The largest relative error the searches found (absent in files written
     /// before bounds carried a margin: then `max_rel`).

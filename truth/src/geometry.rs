@@ -313,6 +313,30 @@ impl PhysicalRay {
     }
 }
 
+// Where a march with no surface stops: the raymarch family marches to it, and the
+// shadowed reference looks visibility up along the same extent.
+
+/// The relative two-leg transmittance `e^{−τ(s + t − 1)}` at which a march with
+/// no surface stops: beyond it the rest of the ray adds less than this share of
+/// the light's unattenuated contribution.
+pub const MARCH_CUTOFF: f64 = 1e-4;
+/// The far plane of a march with no surface, in light distances `D`.
+pub const FAR_PLANE: f64 = 1000.0;
+
+/// Where a march with no surface ends: the distance at which the relative
+/// two-leg transmittance `e^{−τ(s + t − 1)}` reaches [`MARCH_CUTOFF`], capped by
+/// [`FAR_PLANE`]. `s + t` grows with `s` (`(s + t)' = 1 + (s − x0)/t ≥ 0`) and
+/// `s + t = K` at `s = (K² − 1) / (2 (K − x0))`.
+pub fn march_end(tau: f64, x0: f64) -> f64 {
+    let k = 1.0 + (1.0 / MARCH_CUTOFF).ln() / tau;
+    let s = (k * k - 1.0) / (2.0 * (k - x0));
+    if s.is_finite() {
+        s.min(FAR_PLANE)
+    } else {
+        FAR_PLANE
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

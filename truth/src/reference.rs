@@ -453,6 +453,26 @@ pub fn airlight_s_form(p: Point) -> Result<f64, ParamError> {
     Ok((-tau).exp() * total)
 }
 
+/// `A(0, γ, ρ)` for isotropic scattering, in closed form (docs/MATH.md §3): the
+/// angle the lit part of the ray subtends at the light over `4π h`; on the axis its
+/// limits (divergent through the light).
+pub fn no_extinction(gamma: f64, rho: f64) -> f64 {
+    let (h, c) = (gamma.sin(), gamma.cos());
+    if h == 0.0 {
+        return if c > 0.0 && rho >= 1.0 {
+            f64::INFINITY
+        } else if c > 0.0 {
+            rho / (4.0 * PI * (1.0 - rho))
+        } else if rho.is_infinite() {
+            1.0 / (4.0 * PI)
+        } else {
+            rho / (4.0 * PI * (1.0 + rho))
+        };
+    }
+    let angle = if rho.is_infinite() { PI - gamma } else { (h * rho).atan2(1.0 - rho * c) };
+    angle / (4.0 * PI * h)
+}
+
 /// Independent path for isotropic media: the exact complex-E1 closed form of
 /// docs/MATH.md §3. Returns the value and the condition number of its final
 /// subtraction (digits lost ≈ log10 of it). `g` must be 0.

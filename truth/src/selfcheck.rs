@@ -138,7 +138,7 @@ impl SelfCheck {
     pub fn to_toml(&self) -> String {
         let body = toml::to_string(self).expect("a self-check serialises");
         format!(
-            "# The reference's self-check, written by `airlight regenerate` (fit/src/selfcheck.rs);\n\
+            "# The reference's self-check, written by `airlight regenerate` (truth/src/selfcheck.rs);\n\
              # `airlight generate` quotes it in REPORT.md without rerunning it. Do not edit.\n{body}"
         )
     }

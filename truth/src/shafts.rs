@@ -556,13 +556,13 @@ pub fn exact_samples(ray: &PhysicalRay, lit: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// How far a march goes: the surface, or on an open ray the raymarch family's
-/// stated cut-off ([`crate::family::raymarch::march_end`], in light distances).
+/// stated cut-off ([`crate::geometry::march_end`], in light distances).
 pub fn march_length(ray: &PhysicalRay, g: f64) -> Result<f64, GeometryError> {
     if let Some(s) = ray.surface_distance {
         return Ok(s);
     }
     let c = ray.to_canonical(g)?;
-    Ok(crate::family::raymarch::march_end(c.point.tau, c.point.gamma.cos()) * c.distance)
+    Ok(crate::geometry::march_end(c.point.tau, c.point.gamma.cos()) * c.distance)
 }
 
 /// The engines' march with visibility: `Σ v_i W_i f(s_i) Δ_i` over the samples,

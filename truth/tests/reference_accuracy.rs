@@ -1,9 +1,9 @@
 //! The reference against 30-digit public values and against its independent paths.
 
-use airlight_fit::domains::{Domain, VALIDATION_SEED};
-use airlight_fit::fixtures;
-use airlight_fit::reference::{airlight, airlight_detailed, airlight_e1, airlight_s_form, Point};
-use airlight_fit::stats::rel_error;
+use airlight_truth::domains::{Domain, VALIDATION_SEED};
+use airlight_truth::fixtures;
+use airlight_truth::reference::{airlight, airlight_detailed, airlight_e1, airlight_s_form, Point};
+use airlight_truth::stats::rel_error;
 
 fn load(name: &str) -> Vec<(Point, f64)> {
     let (_, text) = fixtures::PUBLIC.iter().find(|(n, _)| *n == name).expect("a public fixture");
@@ -77,7 +77,7 @@ fn u_and_s_forms_agree_henyey_greenstein() {
 /// τ from 1e-8 to 100, g up to ±0.99. The u and s forms must agree to 1e-12.
 #[test]
 fn u_and_s_forms_agree_on_wide_random_points() {
-    use airlight_fit::domains::SplitMix64;
+    use airlight_truth::domains::SplitMix64;
     use std::f64::consts::PI;
     let mut r = SplitMix64(0xA1A1_2026);
     let mut worst = (0.0, None);

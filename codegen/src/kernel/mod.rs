@@ -21,9 +21,9 @@ pub use plan::render_plan;
 pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, SPOT_EDGE_NODES, SPOT_EDGE_PIECES};
 
 use crate::output::Output;
-use airlight_fit::template::{lit, lits, KernelView};
-use airlight_fit::vocab::{Arg, ArgType, Entry, Target};
-pub use airlight_fit::vocab::{Index, IndexEntry};
+use airlight_shapes::template::{lit, lits, KernelView};
+use airlight_shapes::vocab::{Arg, ArgType, Entry, Target};
+pub use airlight_shapes::vocab::{Index, IndexEntry};
 use std::f64::consts::PI;
 
 /// The generator's own templates, by name: one kernel template per target (the
@@ -259,7 +259,7 @@ fn shared_context(spec: &KernelSpec, out: &KernelOutput) -> tera::Context {
     ctx.insert("shared_rgb", &shared_rgb);
     ctx.insert("geometry_variants", &if shared_rgb { vec![false, true] } else { vec![false] });
     ctx.insert("spot_g", &lit(spec.phase.fixed_g().unwrap_or(0.0)));
-    let (ex, ew) = airlight_fit::quad::gauss_legendre(SPOT_EDGE_NODES);
+    let (ex, ew) = airlight_truth::quad::gauss_legendre(SPOT_EDGE_NODES);
     ctx.insert("edge_x", &lits(&ex));
     ctx.insert("edge_w", &lits(&ew));
     ctx.insert("edge_pieces", &lits(&SPOT_EDGE_PIECES));
@@ -345,7 +345,7 @@ pub fn render_crate(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
 }
 
 /// Every kernel source (and table) of `specs`, without the crate's registry:
-/// what the gate measures ([`airlight_fit::record::digest`]).
+/// what the gate measures ([`airlight_shapes::record::digest`]).
 pub fn render_sources(specs: &[KernelSpec]) -> Result<Vec<Output>, tera::Error> {
     let table = OutputTable::standard();
     let tera = engine()?;

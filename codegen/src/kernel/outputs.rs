@@ -3,7 +3,7 @@
 //! prefixes only: which templates render a kernel follows from its family and
 //! the target ([`super::templates`]).
 
-use airlight_fit::vocab::Target;
+use airlight_shapes::vocab::Target;
 use serde::Deserialize;
 
 /// The output table (`codegen/outputs.toml`).

@@ -10,7 +10,7 @@ use super::outputs::{expand, OutputTable, Wrappers};
 use super::spec::KernelSpec;
 use super::{comment, guard_macro};
 use crate::output::Output;
-use airlight_fit::vocab::{Arg, ArgType, Domain, Entry, Target};
+use airlight_shapes::vocab::{Arg, ArgType, Domain, Entry, Target};
 use serde::Serialize;
 
 /// The largest finite `half`: Shader Graph's `_half` wrappers clamp to it, so a

@@ -4,7 +4,7 @@ use super::outputs::{expand, OutputTable};
 use super::spec::{join_domains, specialisations, KernelSpec};
 use crate::output::Output;
 use crate::scene::{Choice, Plan, Scene, ScenePhase};
-use airlight_fit::stats::fmt_err;
+use airlight_truth::stats::fmt_err;
 use serde::Serialize;
 
 #[derive(Serialize)]

@@ -5,7 +5,7 @@
 use super::spec::KernelSpec;
 use super::{comment, outputs::OutputTable};
 use crate::output::Output;
-use airlight_fit::vocab::{Arg, Domain, Entry, Target};
+use airlight_shapes::vocab::{Arg, Domain, Entry, Target};
 use serde::Serialize;
 
 #[derive(Serialize)]

@@ -5,12 +5,12 @@
 use crate::scene::{Choice, Plan, Scene, ScenePhase};
 use airlight_fit::approx::Body;
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::cost::{Cost, PhaseShape, Shape};
 use airlight_fit::family::CLOSED_FORM;
-use airlight_fit::stats::fmt_err;
-pub use airlight_fit::template::KernelPhase;
-use airlight_fit::template::WantPhase;
-use airlight_fit::vocab::{Arg, Domain, Entry, Target};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
+pub use airlight_shapes::template::KernelPhase;
+use airlight_shapes::template::WantPhase;
+use airlight_shapes::vocab::{Arg, Domain, Entry, Target};
+use airlight_truth::stats::fmt_err;
 
 /// Gauss–Legendre nodes per piece of a penumbra stretch of a soft-edged spot
 /// light (the spot entry's only approximation beyond its family's).

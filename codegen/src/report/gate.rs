@@ -2,8 +2,8 @@
 //! per regime and target, the largest error of the most accurate isotropic and
 //! Henyey–Greenstein model kernels, and the bad values over every kernel.
 
-use airlight_fit::record::{self, GateRecord};
-use airlight_fit::vocab::Domain;
+use airlight_shapes::record::{self, GateRecord};
+use airlight_shapes::vocab::Domain;
 use serde::Serialize;
 
 /// What each regime of the gate checks, in words, in [`record::REGIMES`]' order.

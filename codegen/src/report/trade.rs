@@ -5,11 +5,11 @@
 
 use super::KernelIr;
 use crate::front::{self, Method};
-use airlight_fit::bench::{Bench, BenchModel};
 use airlight_fit::coeffs::ModelFile;
-use airlight_fit::cost::Shape;
-use airlight_fit::domains::Domain;
-use airlight_fit::stats::fmt_err;
+use airlight_shapes::bench::{Bench, BenchModel};
+use airlight_shapes::cost::Shape;
+use airlight_truth::domains::Domain;
+use airlight_truth::stats::fmt_err;
 use serde::Serialize;
 
 /// ns/eval as written in tables.
@@ -51,7 +51,7 @@ struct GSection {
 #[derive(Serialize)]
 struct TradeRow {
     name: String,
-    kind: airlight_fit::vocab::Role,
+    kind: airlight_shapes::vocab::Role,
     thin_max: String,
     dense_max: String,
     thin_p50: String,
@@ -219,7 +219,7 @@ fn trade_row(m: &BenchModel, ir: &[KernelIr]) -> TradeRow {
 }
 
 /// One model's RGB row: one `spot` call against three `radiance` calls.
-fn rgb_row(r: &airlight_fit::bench::RgbCost) -> RgbRow {
+fn rgb_row(r: &airlight_shapes::bench::RgbCost) -> RgbRow {
     let rate = |x: f64| if x > 0.0 { format!("{x:.3e}") } else { "—".into() };
     RgbRow {
         name: r.name.clone(),
@@ -410,7 +410,7 @@ struct FollowRow {
 
 /// Per cost measure, how well each IR count predicts the measured cost over the
 /// bench's kernels that read no table (a texture fetch is not arithmetic):
-/// [`airlight_fit::ircost::fit_cost`] on the worst path's operations and on every
+/// [`airlight_shapes::ircost::fit_cost`] on the worst path's operations and on every
 /// branch's.
 fn follows(b: &Bench, ir: &[KernelIr]) -> Vec<FollowRow> {
     let pct = |x: f64| format!("{:.1}%", 100.0 * x);
@@ -425,7 +425,7 @@ fn follows(b: &Bench, ir: &[KernelIr]) -> Vec<FollowRow> {
                 .filter_map(|m| Some((ir.iter().find(|k| k.name == m.name)?, cost.ns(m)?)))
                 .collect();
             let fit = |f: fn(&KernelIr) -> usize| {
-                airlight_fit::ircost::fit_cost(&pts.iter().map(|(k, ns)| (f(k) as f64, *ns)).collect::<Vec<_>>())
+                airlight_shapes::ircost::fit_cost(&pts.iter().map(|(k, ns)| (f(k) as f64, *ns)).collect::<Vec<_>>())
             };
             let (w, e) = (fit(|k| k.worst.ops)?, fit(|k| k.every.ops)?);
             Some(FollowRow {
@@ -449,7 +449,7 @@ fn follows(b: &Bench, ir: &[KernelIr]) -> Vec<FollowRow> {
 fn branchy(b: &Bench, ir: &[KernelIr]) -> Vec<String> {
     let mut k: Vec<&KernelIr> = ir
         .iter()
-        .filter(|k| b.model(&k.name).is_some_and(|m| m.kind == airlight_fit::vocab::Role::Airlight))
+        .filter(|k| b.model(&k.name).is_some_and(|m| m.kind == airlight_shapes::vocab::Role::Airlight))
         .filter(|k| k.every.ops > k.worst.ops)
         .collect();
     let extra = |k: &KernelIr| k.every.ops as f64 / k.worst.ops.max(1) as f64 - 1.0;
@@ -563,8 +563,8 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
         }
     }
     ctx.insert("shafts_losses", &losses);
-    ctx.insert("fprime_res", &airlight_fit::shafts::FPRIME_RES);
-    ctx.insert("fprime_kernel", &airlight_fit::shafts::FPRIME_KERNEL);
+    ctx.insert("fprime_res", &airlight_truth::shafts::FPRIME_RES);
+    ctx.insert("fprime_kernel", &airlight_truth::shafts::FPRIME_KERNEL);
     ctx.insert("spot_edge_nodes", &crate::kernel::SPOT_EDGE_NODES);
     ctx.insert("spot_edge_pieces", &(crate::kernel::SPOT_EDGE_PIECES.len() - 1));
     ctx.insert("bench_adapter", &b.adapter);
@@ -579,7 +579,7 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use airlight_fit::ircost::IrCost;
+    use airlight_shapes::ircost::IrCost;
 
     fn method(name: &str, baseline: bool, ns: f64) -> Method {
         Method {
@@ -596,7 +596,7 @@ mod tests {
     fn model(name: &str, bytes: usize) -> BenchModel {
         BenchModel {
             name: name.into(),
-            kind: airlight_fit::vocab::Role::Baseline,
+            kind: airlight_shapes::vocab::Role::Baseline,
             g_range: [0.0, 0.0],
             errors: Vec::new(),
             cpu_ns_per_eval: 1.0,

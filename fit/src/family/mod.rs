@@ -12,15 +12,18 @@
 //! Adding a family: its folder, one line in that list, and its catalog rows
 //! (README, "Adding a family").
 
-use crate::bench::BenchModel;
-use crate::cost::{Cost, PhaseShape, Shape};
-use crate::domains::{Domain, DomainErrors};
-use crate::figure::Figure;
-use crate::reference::Point;
-use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
-use crate::tomlfile::{FieldError, Provenance, Reader};
-pub use crate::vocab::Role;
+use airlight_shapes::bench::BenchModel;
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::figure::Figure;
+use airlight_shapes::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
+pub use airlight_shapes::vocab::Role;
+use airlight_truth::domains::{Domain, DomainErrors};
+use airlight_truth::reference::Point;
+use airlight_truth::tomlfile::{FieldError, Provenance, Reader};
 use toml::{Table, Value};
+
+/// The u form the φ and lite families share (no family reaches into a sibling).
+pub mod uform;
 
 /// A family's member built from its recipe and fit (errors not yet measured).
 #[derive(Debug, Clone)]
@@ -42,7 +45,7 @@ pub fn phase_label(g_range: (f64, f64)) -> String {
 
 /// A baseline's provenance keys: its method, and that nothing is fitted.
 pub fn baseline_method(method: &str) -> Vec<(String, Value)> {
-    use crate::tomlfile::value::s;
+    use airlight_truth::tomlfile::value::s;
     vec![("baseline".into(), s(method)), ("fitted".into(), s("nothing: the method's own parameters"))]
 }
 
@@ -296,7 +299,7 @@ macro_rules! families {
             }
 
             /// `A` at a valid point (a surface beyond
-            /// [`crate::reference::RHO_OPEN`] is none, as for the reference).
+            /// [`airlight_truth::reference::RHO_OPEN`] is none, as for the reference).
             pub fn eval(&self, p: Point) -> f64 {
                 let p = p.open_far();
                 match self { $(Body::$variant(f) => f.eval(p),)+ }

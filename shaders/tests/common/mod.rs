@@ -1,7 +1,7 @@
 //! What the GPU tests share.
 
-use airlight_fit::vocab::CompiledKernel;
 use airlight_shaders::{gpu_required, Gpu};
+use airlight_shapes::vocab::CompiledKernel;
 
 /// The generated Rust kernels compiled into this test, as the gate takes them.
 #[allow(dead_code)]

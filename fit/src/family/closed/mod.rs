@@ -5,12 +5,11 @@
 //! `A(0, γ, ρ) = atan2(h ρ, 1 − ρ cos γ) / (4π h)`, `h = sin γ` (`ρ = ∞`:
 //! `(π − γ) / (4π h)`); on the axis (`h = 0`) `ρ / (4π (1 − ρ))` before the light.
 
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use crate::family::{baseline_method, phase_label, Assembled, Family, Role};
-use crate::reference::Point;
-use crate::template::{Context, KernelView, Templates};
-use crate::tomlfile::{FieldError, Reader};
-use std::f64::consts::PI;
+use airlight_truth::reference::Point;
+use airlight_shapes::template::{Context, KernelView, Templates};
+use airlight_truth::tomlfile::{FieldError, Reader};
 use toml::Table;
 
 /// The closed form (isotropic, extinction ignored).
@@ -22,7 +21,7 @@ impl Family for NoExtinction {
     const DIR: &'static str = "closed";
     const ROLE: Role = Role::Baseline;
     const TABLES: &'static [&'static str] = &[];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const EXTINCTION: bool = false;
     const COST_FLOOR: bool = true;
     type Recipe = ();
@@ -41,20 +40,7 @@ impl Family for NoExtinction {
 
     /// `A(0, γ, ρ)` whatever `τ` and `g` the point has.
     fn eval(&self, p: Point) -> f64 {
-        let (h, c) = (p.gamma.sin(), p.gamma.cos());
-        if h == 0.0 {
-            return if c > 0.0 && p.rho >= 1.0 {
-                f64::INFINITY
-            } else if c > 0.0 {
-                p.rho / (4.0 * PI * (1.0 - p.rho))
-            } else if p.rho.is_infinite() {
-                1.0 / (4.0 * PI)
-            } else {
-                p.rho / (4.0 * PI * (1.0 + p.rho))
-            };
-        }
-        let angle = if p.rho.is_infinite() { PI - p.gamma } else { (h * p.rho).atan2(1.0 - p.rho * c) };
-        angle / (4.0 * PI * h)
+        airlight_truth::reference::no_extinction(p.gamma, p.rho)
     }
 
     /// One `atan2`, one `sin_cos`, two divisions, whatever the shape.
@@ -87,12 +73,13 @@ impl Family for NoExtinction {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn agrees_with_the_reference_without_extinction() {
         for &(gamma, rho) in &[(0.3, 0.5), (1.0, 2.0), (2.5, f64::INFINITY), (3.1, 100.0), (0.0, 0.5), (PI, 3.0)] {
             let p = Point { tau: 0.0, gamma, rho, g: 0.0 };
-            let exact = crate::reference::airlight(p).unwrap();
+            let exact = airlight_truth::reference::airlight(p).unwrap();
             let got = NoExtinction.eval(p);
             assert!((got - exact).abs() <= 1e-12 * exact, "γ {gamma} ρ {rho}: {got} vs {exact}");
         }

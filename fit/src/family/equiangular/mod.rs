@@ -4,11 +4,11 @@
 //! the phase function exactly at each node. Nothing is fitted: its parameters are
 //! the method's, and its errors are measured like every model's.
 
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use crate::family::{baseline_method, phase_label, Assembled, Family, Role};
-use crate::reference::Point;
-use crate::template::{lits, Context, KernelView, Templates};
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::reference::Point;
+use airlight_shapes::template::{lits, Context, KernelView, Templates};
+use airlight_truth::tomlfile::{FieldError, Reader};
 use std::f64::consts::PI;
 use std::fmt::Write;
 use toml::Table;
@@ -25,7 +25,7 @@ pub struct Equiangular {
 impl Equiangular {
     /// The `n`-point rule.
     pub fn new(n: usize) -> Equiangular {
-        let (x, w) = crate::quad::gauss_legendre(n);
+        let (x, w) = airlight_truth::quad::gauss_legendre(n);
         Equiangular { x, w }
     }
 
@@ -40,7 +40,7 @@ impl Family for Equiangular {
     const DIR: &'static str = "equiangular";
     const ROLE: Role = Role::Baseline;
     const TABLES: &'static [&'static str] = &["quadrature"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     /// τ enters only the transmittances: the nodes are shared across channels.
     const SHARES_RGB_NODES: bool = true;
     /// The number of nodes.
@@ -127,8 +127,8 @@ impl Family for Equiangular {
             "variable = \"equiangular angle θ: s = cos γ + sin γ tan θ, θ from γ − π/2 to the surface's angle\"\n",
         );
         let _ = writeln!(o, "nodes = {}", self.n());
-        crate::tomlfile::hex_list(o, "x", &self.x);
-        crate::tomlfile::hex_list(o, "w", &self.w);
+        airlight_truth::tomlfile::hex_list(o, "x", &self.x);
+        airlight_truth::tomlfile::hex_list(o, "w", &self.w);
     }
 
     /// Reads its table: the nodes and weights must be the Gauss–Legendre rule.
@@ -155,7 +155,7 @@ impl Family for Equiangular {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference;
+    use airlight_truth::reference;
 
     #[test]
     fn converges_to_the_reference() {

@@ -3,13 +3,13 @@
 //! `x ln(1 + 1/x)` carries the `x ln x` at 0 (the `T ln T` of an open ray) and tends
 //! to 1 at infinity, where `N₁/D ~ 1/x`; `D ≥ 1` for `x ≥ 0` (no pole),
 //! so a GPU pays one `log` and two divisions, with no branch. The φ family's
-//! [`crate::family::phi::ExpE2`] (a series below 1, a rational beyond) is more
+//! the φ family's `ExpE2` (a series below 1, a rational beyond) is more
 //! accurate and branches; this one is fitted to the lite family's budget.
 
-use crate::family::phi::{exp_e2_exact, horner1};
+use crate::family::uform::{exp_e2_exact, horner1};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
-use crate::tomlfile::value::{f, i, kv, s};
-use crate::tomlfile::{FieldError, Reader, Provenance};
+use airlight_truth::tomlfile::value::{f, i, kv, s};
+use airlight_truth::tomlfile::{FieldError, Reader, Provenance};
 use toml::Table;
 
 /// Degrees of `N₁`, `N₂`, `D`.
@@ -88,9 +88,9 @@ impl LogE2 {
     /// Writes the `[e2]` table of a coefficient file (its provenance `e2.fit` by `prov`).
     pub fn render_toml(&self, o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[e2]\nform = \"e^x E2(x) = (N1(x) - x ln(1 + 1/x) N2(x)) / D(x), N1 = 1 + sum n1_k x^k, N2 = 1 + sum n2_k x^k, D = 1 + sum d_k x^k\"\n");
-        crate::tomlfile::hex_list(o, "n1", &self.n1);
-        crate::tomlfile::hex_list(o, "n2", &self.n2);
-        crate::tomlfile::hex_list(o, "d", &self.d);
+        airlight_truth::tomlfile::hex_list(o, "n1", &self.n1);
+        airlight_truth::tomlfile::hex_list(o, "n2", &self.n2);
+        airlight_truth::tomlfile::hex_list(o, "d", &self.d);
         prov(o, "e2.fit");
     }
 
@@ -119,7 +119,7 @@ pub fn provenance(fit: &LogE2Fit) -> Provenance {
         "e2.fit".into(),
         kv(vec![
             ("form", s("(N1 - x ln(1 + 1/x) N2) / D, degrees 3, 2, 4, unit constant terms, every coefficient non-negative (fitted through their logarithms)")),
-            ("target", s("e^x E2(x) = 1 - x e^x E1(x) through the reference complex E1 (fit/src/e1.rs)")),
+            ("target", s("e^x E2(x) = 1 - x e^x E1(x) through the reference complex E1 (truth/src/e1.rs)")),
             ("objective", s(&format!("least squares of the relative error over {FIT_POINTS} log-spaced points, x in [1e-10, 1e4]"))),
             ("solver", s(&format!("{OUTER_SOLVER}, from all coefficients 1, restarted up to {RESTARTS} times, {ITERS} iterations a run"))),
             ("iterations", i(fit.outcome.iterations)),

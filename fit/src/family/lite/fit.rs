@@ -11,7 +11,7 @@ use super::e2::{self, LogE2, LogE2Fit};
 use crate::family::{phase_label, Assembled};
 use crate::fitset::{self, SetSpec};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
-use crate::tomlfile::value::{f, hex_seed, i, kv, s};
+use airlight_truth::tomlfile::value::{f, hex_seed, i, kv, s};
 use toml::Value;
 
 /// The part `airlight fit --family lite` names.
@@ -62,7 +62,7 @@ pub enum Objective {
 
 impl Objective {
     /// Its value for `eval` on `set` (a non-finite value counts as the largest).
-    fn on(self, eval: &(dyn Fn(crate::reference::Point) -> f64 + Sync), set: &[(crate::reference::Point, f64)]) -> f64 {
+    fn on(self, eval: &(dyn Fn(airlight_truth::reference::Point) -> f64 + Sync), set: &[(airlight_truth::reference::Point, f64)]) -> f64 {
         let m = match self {
             Objective::Max => fitset::max_on(eval, set),
             Objective::Median => fitset::median_on(eval, set),
@@ -164,7 +164,7 @@ pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
     let (fit_set, check_set) = fitset::sets(spec(g_range));
     let hg = is_hg(&[g_range.0, g_range.1]);
     let start = LiteRule::start(n, hg.then_some(FADE_START), e2.clone());
-    let max_on = |r: &LiteRule, set: &[(crate::reference::Point, f64)]| objective.on(&|p| r.eval(p), set);
+    let max_on = |r: &LiteRule, set: &[(airlight_truth::reference::Point, f64)]| objective.on(&|p| r.eval(p), set);
     let cost = |p: &[f64]| max_on(&rule_at(&start, p), &fit_set);
     let p0 = params(&start);
     let mut step: Vec<f64> = vec![0.3; n];
@@ -183,7 +183,7 @@ pub fn fit_nodes(tier: LiteTier, g_range: (f64, f64), e2: &LogE2) -> NodeFit {
 }
 
 /// The node fit's provenance table.
-fn provenance(fit: &NodeFit) -> crate::tomlfile::Provenance {
+fn provenance(fit: &NodeFit) -> airlight_truth::tomlfile::Provenance {
     let arr = |x: &[f64]| Value::Array(x.iter().map(|&v| f(v)).collect());
     // The boxes as `rule_at` clamps to them.
     let (a, sh, fb) = (ALPHA_BOX, SHORT_BOX, FADE_BOX);

@@ -34,13 +34,13 @@
 pub mod e2;
 pub mod fit;
 
-use crate::cost::{Cost, PhaseShape, Shape};
-use crate::family::phi::{on_axis, u_geometry};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
+use crate::family::uform::{on_axis, u_geometry};
 use e2::{LogE2, LogE2Fit};
 use crate::family::{Assembled, Family, Role};
-use crate::reference::Point;
-use crate::template::{lit, lits, Context, KernelView, Templates};
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::reference::Point;
+use airlight_shapes::template::{lit, lits, Context, KernelView, Templates};
+use airlight_truth::tomlfile::{FieldError, Reader};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use toml::Table;
@@ -71,7 +71,7 @@ impl LiteRule {
     /// `n` Gauss–Legendre nodes on `[0, 1]`, `α = 1/2`, `σ = 0.1`: where the fit starts.
     /// HG members (`fade`) start from `b = 0.3`.
     pub fn start(n: usize, fade: Option<f64>, e2: LogE2) -> LiteRule {
-        let (x, w) = crate::quad::gauss_legendre(n);
+        let (x, w) = airlight_truth::quad::gauss_legendre(n);
         LiteRule::from_nodes(x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect(), 0.5, 0.1, fade, e2)
     }
 
@@ -134,7 +134,7 @@ impl Family for LiteRule {
     const DIR: &'static str = "lite";
     const ROLE: Role = Role::Airlight;
     const TABLES: &'static [&'static str] = &["nodes", "split", "e2"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const FIT_PARTS: &'static [&'static str] = &[fit::PART];
     /// The number of nodes and the fit's objective.
     type Recipe = fit::LiteTier;
@@ -217,8 +217,8 @@ impl Family for LiteRule {
             "variable = \"s in [0, s_b]: u = ua + lambda s/(1 - s), lambda = m/(1 + alpha T m), m = {m}, s_b = du/(lambda + du) (1 open); s = s_b x\""
         );
         let _ = writeln!(o, "nodes = {}", self.x.len());
-        crate::tomlfile::hex_list(o, "x", &self.x);
-        crate::tomlfile::hex_list(o, "w", &self.w);
+        airlight_truth::tomlfile::hex_list(o, "x", &self.x);
+        airlight_truth::tomlfile::hex_list(o, "w", &self.w);
         prov(o, "nodes.fit");
         o.push_str("\n[split]\n");
         let _ = writeln!(o, "alpha = {:?}", self.alpha);
@@ -272,7 +272,7 @@ impl Family for LiteRule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference;
+    use airlight_truth::reference;
 
     #[test]
     fn the_split_weight_is_the_isotropic_weight() {

@@ -8,8 +8,8 @@ use super::{E2Fit, PhiRule, E2_DEGREE, EIN_TERMS};
 use crate::fitset::{self, Set, SetSpec};
 use crate::family::{phase_label, Assembled, Family};
 use crate::lsq::{self, Outcome, OUTER_SOLVER};
-use crate::reference::Point;
-use crate::tomlfile::value::{f, hex_seed, i, kv, s};
+use airlight_truth::reference::Point;
+use airlight_truth::tomlfile::value::{f, hex_seed, i, kv, s};
 use toml::Value;
 
 /// The part `airlight fit --family phi` names.
@@ -157,7 +157,7 @@ pub fn fit_split(rule: &PhiRule, g_range: (f64, f64)) -> SplitFit {
 }
 
 /// The split fit's provenance table.
-fn split_provenance(fit: &SplitFit) -> crate::tomlfile::Provenance {
+fn split_provenance(fit: &SplitFit) -> airlight_truth::tomlfile::Provenance {
     let arr = |x: &[f64; 5]| Value::Array(x.iter().map(|&v| f(v)).collect());
     (
         "split.fit".into(),
@@ -191,7 +191,7 @@ fn split_provenance(fit: &SplitFit) -> crate::tomlfile::Provenance {
 }
 
 /// The node-count search's provenance table.
-fn nodes_provenance(n: &NodeSearch, t: PhiTier) -> crate::tomlfile::Provenance {
+fn nodes_provenance(n: &NodeSearch, t: PhiTier) -> airlight_truth::tomlfile::Provenance {
     let col = |f: &dyn Fn(&(usize, usize, f64)) -> Value| Value::Array(n.tried.iter().map(f).collect());
     (
         "head.fit".into(),
@@ -239,12 +239,12 @@ pub fn assemble(t: PhiTier, g_range: (f64, f64), fit: Option<&E2Fit>) -> Result<
 }
 
 /// The provenance table of `eˣE₂`'s fit (`[e2.fit]`), for every family that integrates with it.
-fn e2_provenance(fit: &E2Fit) -> crate::tomlfile::Provenance {
+fn e2_provenance(fit: &E2Fit) -> airlight_truth::tomlfile::Provenance {
 (
         "e2.fit".into(),
         kv(vec![
             ("source", s("this project: e^x E2(x) = 1 - x e^x E1(x); Ein's Taylor series below x = 1, a rational in t = 1/x beyond")),
-            ("target", s("e^x E2(x), x >= 1, through the reference complex E1 (fit/src/e1.rs, about 1e-15)")),
+            ("target", s("e^x E2(x), x >= 1, through the reference complex E1 (truth/src/e1.rs, about 1e-15)")),
             ("form", s(&format!("t P(t)/Q(t), P, Q of degree {E2_DEGREE} with unit constant terms; Ein to x^{EIN_TERMS}"))),
             ("objective", s("relative error, linearised (Sanathanan-Koerner): each step linear least squares by SVD (nalgebra 0.34), weighted by the previous denominator")),
             ("points", i(fit.points)),

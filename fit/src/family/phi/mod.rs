@@ -26,14 +26,15 @@
 pub mod fit;
 mod report;
 
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use crate::family::{Assembled, Family, Member, ReportFloor, Role};
 use crate::lsq;
-use crate::template::{lit, lits, Context, KernelView, Templates};
+use airlight_shapes::template::{lit, lits, Context, KernelView, Templates};
 use serde::Serialize;
-use crate::reference::Point;
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::reference::Point;
+use airlight_truth::tomlfile::{FieldError, Reader};
 use std::f64::consts::PI;
+use crate::family::uform::{exp_e2_exact, horner1, on_axis, u_geometry};
 use std::fmt::Write as _;
 use toml::Table;
 
@@ -71,22 +72,13 @@ pub struct E2Fit {
     pub series_max_rel: (f64, f64),
 }
 
-/// `eˣE₂(x)` to double precision (the fit's target): `1 − x eˣE₁(x)` through the
-/// reference exponential integral.
-pub fn exp_e2_exact(x: f64) -> f64 {
-    if x == 0.0 {
-        return 1.0;
-    }
-    1.0 - x * crate::e1::exp_e1(crate::e1::Complex::new(x, 0.0)).re
-}
-
 impl ExpE2 {
     /// Writes the `[e2]` table of a coefficient file (its provenance `e2.fit` by `prov`).
     pub fn render_toml(&self, o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[e2]\nform = \"e^x E2(x): 1 + x e^x (ln x + Euler gamma - Ein(x)) for x < 1, Ein(x) = sum ein_k x^k; t P(t)/Q(t), t = 1/x, P = 1 + sum p_k t^k, Q = 1 + sum q_k t^k beyond\"\n");
-        crate::tomlfile::hex_list(o, "ein", &self.ein);
-        crate::tomlfile::hex_list(o, "p", &self.p);
-        crate::tomlfile::hex_list(o, "q", &self.q);
+        airlight_truth::tomlfile::hex_list(o, "ein", &self.ein);
+        airlight_truth::tomlfile::hex_list(o, "p", &self.p);
+        airlight_truth::tomlfile::hex_list(o, "q", &self.q);
         prov(o, "e2.fit");
     }
 
@@ -181,15 +173,6 @@ impl ExpE2 {
     }
 }
 
-/// `1 + Σ c_k t^k`.
-pub(crate) fn horner1(c: &[f64], t: f64) -> f64 {
-    let mut s = 0.0;
-    for x in c.iter().rev() {
-        s = (s + x) * t;
-    }
-    1.0 + s
-}
-
 /// A quadrature rule on a reference interval.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Rule {
@@ -260,44 +243,11 @@ pub struct PhiRule {
     pub e2: ExpE2,
 }
 
-/// The geometry of the u form, cancellation-free: `(h, ua, du = ub − ua, ub)`,
-/// `ub = ∞` (and `du = ∞`) without a surface.
-pub fn u_geometry(gamma: f64, rho: f64) -> (f64, f64, f64, f64) {
-    let (h, x0) = (gamma.sin(), gamma.cos());
-    let one_minus = if x0 >= 0.0 { h * h / (1.0 + x0) } else { 1.0 - x0 };
-    let ua = if x0 >= 0.0 { h / (1.0 + x0) } else { (1.0 - x0) / h };
-    if rho.is_infinite() {
-        return (h, ua, f64::INFINITY, f64::INFINITY);
-    }
-    let tr = (rho - 1.0).hypot((2.0 * rho * one_minus).sqrt());
-    // x0 − ρ from 1 − ρ (exact near 1) where cos γ rounds towards 1.
-    let xr = if x0 >= 0.0 { (1.0 - rho) - one_minus } else { x0 - rho };
-    let du = if xr <= 0.0 {
-        rho * (tr - xr + one_minus) / ((tr + 1.0) * h)
-    } else {
-        2.0 * rho * h / ((1.0 + rho + tr) * (tr + xr))
-    };
-    (h, ua, du, ua + du)
-}
-
-/// `A` on the axis (`h = 0`, docs/MATH.md §5), for the families that integrate in
-/// the u form: the light ahead, `P(0) e^{−τ} ρ/(1 − ρ)` before it, divergent through
-/// it; behind, `A` is flat in `h` to O(h²), so `off_axis` evaluates it 1e-12 off.
-pub fn on_axis(p: Point, g: f64, off_axis: &dyn Fn(Point) -> f64) -> f64 {
-    if p.gamma >= 1.0 {
-        off_axis(Point { gamma: PI - 1e-12, ..p })
-    } else if p.rho < 1.0 {
-        crate::phase::hg(g, 0.0, 2.0) * (-p.tau).exp() * p.rho / (1.0 - p.rho)
-    } else {
-        f64::INFINITY
-    }
-}
-
 impl PhiRule {
     /// The member with `n` head nodes, `nf` far nodes, `nt` tail nodes and these splits.
     pub fn new(n: usize, nf: usize, nt: usize, cut: f64, far_cut: f64, e2: ExpE2) -> PhiRule {
-        let (x, w) = crate::quad::gauss_legendre(n);
-        let (fx, fw) = crate::quad::gauss_legendre(nf);
+        let (x, w) = airlight_truth::quad::gauss_legendre(n);
+        let (fx, fw) = airlight_truth::quad::gauss_legendre(nf);
         PhiRule {
             head: Rule { x, w },
             cut,
@@ -318,7 +268,7 @@ impl Family for PhiRule {
     const DIR: &'static str = "phi";
     const ROLE: Role = Role::Airlight;
     const TABLES: &'static [&'static str] = &["head", "split", "far", "tail", "e2"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const REPORT: Option<&'static str> = Some(include_str!("report.md.tera"));
     const FIT_PARTS: &'static [&'static str] = &[fit::PART];
     type Recipe = fit::PhiTier;
@@ -473,8 +423,8 @@ impl Family for PhiRule {
         o.push_str("\n[head]\nrule = \"gauss-legendre\"\n");
         o.push_str("variable = \"φ: η = (1 + g cos φ)/(1 − g²), η the HG variable (1 + g² − 2g cos α)^(-1/2); u itself past X or on short intervals\"\n");
         let _ = writeln!(o, "nodes = {}", self.head.x.len());
-        crate::tomlfile::hex_list(o, "x", &self.head.x);
-        crate::tomlfile::hex_list(o, "w", &self.head.w);
+        airlight_truth::tomlfile::hex_list(o, "x", &self.head.x);
+        airlight_truth::tomlfile::hex_list(o, "w", &self.head.w);
         prov(o, "head.fit");
         o.push_str("\n[split]\n");
         let _ = writeln!(o, "cut = {:?}", self.cut);
@@ -485,12 +435,12 @@ impl Family for PhiRule {
         prov(o, "split.fit");
         o.push_str("\n[far]\nrule = \"gauss-legendre\"\nvariable = \"v = 1/u\"\n");
         let _ = writeln!(o, "nodes = {}", self.far.x.len());
-        crate::tomlfile::hex_list(o, "x", &self.far.x);
-        crate::tomlfile::hex_list(o, "w", &self.far.w);
+        airlight_truth::tomlfile::hex_list(o, "x", &self.far.x);
+        airlight_truth::tomlfile::hex_list(o, "w", &self.far.w);
         o.push_str("\n[tail]\nrule = \"gauss-laguerre\"\n");
         let _ = writeln!(o, "nodes = {}", self.tail.x.len());
-        crate::tomlfile::hex_list(o, "x", &self.tail.x);
-        crate::tomlfile::hex_list(o, "w", &self.tail.w);
+        airlight_truth::tomlfile::hex_list(o, "x", &self.tail.x);
+        airlight_truth::tomlfile::hex_list(o, "w", &self.tail.w);
         self.e2.render_toml(o, prov);
     }
 
@@ -509,7 +459,7 @@ impl Family for PhiRule {
             let want = if laguerre {
                 gauss_laguerre(n)
             } else {
-                let (x, w) = crate::quad::gauss_legendre(n);
+                let (x, w) = airlight_truth::quad::gauss_legendre(n);
                 Rule { x, w }
             };
             for (key, got, want) in [("x", &x, &want.x), ("w", &w, &want.w)] {
@@ -626,7 +576,7 @@ fn kernel_context(r: &PhiRule, k: &KernelView) -> Context {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference;
+    use airlight_truth::reference;
 
     #[test]
     fn the_variable_and_its_inverse_agree() {

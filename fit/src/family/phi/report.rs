@@ -3,11 +3,11 @@
 //! ns and ratio to the cost floor, and its f32 kernel's largest error per g.
 
 use super::PhiRule;
-use crate::cost::{PhaseShape, Shape};
-use crate::domains::Domain;
+use airlight_shapes::cost::{PhaseShape, Shape};
+use airlight_truth::domains::Domain;
 use crate::family::{Family, Member, ReportFloor};
-use crate::stats::{fmt_err, fmt_point};
-use crate::template::Context;
+use airlight_truth::stats::{fmt_err, fmt_point};
+use airlight_shapes::template::Context;
 use serde::Serialize;
 
 #[derive(Serialize)]

@@ -4,21 +4,15 @@
 //! phase function exactly at each step. Nothing is fitted: its parameters are the
 //! method's, and its errors are measured like every model's.
 
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use crate::family::{baseline_method, phase_label, Assembled, Family, Role};
-use crate::phase::{hg, one_minus_plus_cos};
-use crate::reference::Point;
-use crate::template::{lit, Context, KernelView, Templates};
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::phase::{hg, one_minus_plus_cos};
+use airlight_truth::reference::Point;
+use airlight_shapes::template::{lit, Context, KernelView, Templates};
+use airlight_truth::tomlfile::{FieldError, Reader};
+use airlight_truth::geometry::{march_end, FAR_PLANE, MARCH_CUTOFF};
 use std::fmt::Write;
 use toml::Table;
-
-/// The relative two-leg transmittance `e^{−τ(s + t − 1)}` at which a march with
-/// no surface stops: beyond it the rest of the ray adds less than this share of
-/// the light's unattenuated contribution.
-pub const MARCH_CUTOFF: f64 = 1e-4;
-/// The far plane of a march with no surface, in light distances `D`.
-pub const FAR_PLANE: f64 = 1000.0;
 
 /// Uniform midpoint ray marching with `steps` samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -27,26 +21,12 @@ pub struct RayMarch {
     pub steps: usize,
 }
 
-/// Where a march with no surface ends: the distance at which the relative
-/// two-leg transmittance `e^{−τ(s + t − 1)}` reaches [`MARCH_CUTOFF`], capped by
-/// [`FAR_PLANE`]. `s + t` grows with `s` (`(s + t)' = 1 + (s − x0)/t ≥ 0`) and
-/// `s + t = K` at `s = (K² − 1) / (2 (K − x0))`.
-pub fn march_end(tau: f64, x0: f64) -> f64 {
-    let k = 1.0 + (1.0 / MARCH_CUTOFF).ln() / tau;
-    let s = (k * k - 1.0) / (2.0 * (k - x0));
-    if s.is_finite() {
-        s.min(FAR_PLANE)
-    } else {
-        FAR_PLANE
-    }
-}
-
 impl Family for RayMarch {
     const KIND: &'static str = "raymarch";
     const DIR: &'static str = "raymarch";
     const ROLE: Role = Role::Baseline;
     const TABLES: &'static [&'static str] = &["march"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     /// The number of steps.
     type Recipe = usize;
     type Fit = ();
@@ -107,8 +87,8 @@ impl Family for RayMarch {
         o.push_str("\n[march]\nrule = \"midpoint\"\n");
         let _ = writeln!(o, "steps = {}", self.steps);
         let _ = writeln!(o, "# no surface: march to the relative two-leg transmittance below, capped by the far plane");
-        let _ = writeln!(o, "cutoff_transmittance = {}", crate::tomlfile::dec(MARCH_CUTOFF));
-        let _ = writeln!(o, "far_plane = {} # light distances", crate::tomlfile::dec(FAR_PLANE));
+        let _ = writeln!(o, "cutoff_transmittance = {}", airlight_truth::tomlfile::dec(MARCH_CUTOFF));
+        let _ = writeln!(o, "far_plane = {} # light distances", airlight_truth::tomlfile::dec(FAR_PLANE));
     }
 
     /// Reads its table.
@@ -133,7 +113,7 @@ impl Family for RayMarch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference;
+    use airlight_truth::reference;
 
     #[test]
     fn converges_to_the_reference() {

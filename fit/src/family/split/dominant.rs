@@ -10,11 +10,11 @@ use super::expsum::Backward;
 use super::ratio::Ratio;
 use super::segments::Segments;
 use super::{PhaseModel, Split};
-use crate::domains::Domain;
+use airlight_truth::domains::Domain;
 use crate::family::Family;
 use crate::lsq::{self, Outcome};
-use crate::reference::Point;
-use crate::stats::{nearest_rank, rel_error};
+use airlight_truth::reference::Point;
+use airlight_truth::stats::{nearest_rank, rel_error};
 use std::f64::consts::FRAC_PI_2;
 
 /// Seed of the fitting set (validation uses its own).
@@ -88,7 +88,7 @@ fn fitting_set() -> [Vec<(Point, f64)>; 4] {
     };
     let groups = [inside(Domain::Thin), inside(Domain::Dense), edges(Domain::Thin), edges(Domain::Dense)];
     groups.map(|pts| {
-        crate::parallel::map(&pts, |&p| (p, crate::reference::airlight(p).unwrap_or(f64::NAN)), &|_, _| {})
+        airlight_truth::parallel::map(&pts, |&p| (p, airlight_truth::reference::airlight(p).unwrap_or(f64::NAN)), &|_, _| {})
             .into_iter()
             .filter(|(_, a)| a.is_finite() && *a > 0.0)
             .collect()
@@ -101,7 +101,7 @@ fn model(forward: Segments, ratio: Ratio, expsum: &Backward) -> Split {
 
 /// `[max, p99]` of the relative errors of `m` over `set`.
 fn max_p99(m: &Split, set: &[(Point, f64)]) -> [f64; 2] {
-    let mut e: Vec<f64> = crate::parallel::map(set, |&(p, a)| rel_error(m.eval(p), a), &|_, _| {});
+    let mut e: Vec<f64> = airlight_truth::parallel::map(set, |&(p, a)| rel_error(m.eval(p), a), &|_, _| {});
     e.sort_by(f64::total_cmp);
     [e.last().copied().unwrap_or(0.0), nearest_rank(&e, 0.99)]
 }

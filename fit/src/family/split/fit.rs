@@ -11,9 +11,9 @@ use super::segments::{self, Segments, SegmentsFit};
 use super::{PhaseModel, Split};
 use crate::family::Assembled;
 use crate::lsq::OUTER_SOLVER;
-use crate::stats::rms_max;
-use crate::tomlfile::value::{f, hex_seed, i, kv, s};
-use crate::tomlfile::Provenance;
+use airlight_truth::stats::rms_max;
+use airlight_truth::tomlfile::value::{f, hex_seed, i, kv, s};
+use airlight_truth::tomlfile::Provenance;
 use std::collections::BTreeMap;
 use toml::Value;
 
@@ -165,7 +165,7 @@ pub fn fit(parts: &[&str], progress: &(dyn Fn(usize, usize) + Sync)) -> SplitFit
         jobs.insert(1, Job::ExpSum(Target::Near));
         jobs.push(Job::Ratio);
     }
-    let outs = crate::parallel::map(
+    let outs = airlight_truth::parallel::map(
         &jobs,
         |job| match *job {
             Job::Segments(n) => JobOut::Segments(n, segments::fit(n, &fwd_samples)),

@@ -5,8 +5,8 @@
 use super::expsum::{ExpSum, LOCAL_RATIO, SPLIT};
 use super::phase_exp::ExpPhase;
 use super::{PhaseModel, Split};
-use crate::template::{lit, lits, Context, KernelPhase, KernelView, WantPhase};
-use crate::vocab::Target;
+use airlight_shapes::template::{lit, lits, Context, KernelPhase, KernelView, WantPhase};
+use airlight_shapes::vocab::Target;
 use serde::Serialize;
 use std::f64::consts::FRAC_PI_2;
 

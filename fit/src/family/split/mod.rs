@@ -26,8 +26,8 @@
 //! `γ = 0` uses the exact on-axis value; `γ` within 1e-7 of π is evaluated at
 //! `π − 1e-7` (A is flat in γ there).
 
-use crate::tomlfile::{dec, hex_list, quad_rows};
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_truth::tomlfile::{dec, hex_list, quad_rows};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 pub mod dominant;
 pub mod expsum;
 pub mod fit;
@@ -38,15 +38,15 @@ mod report;
 pub mod segments;
 
 use crate::family::{Assembled, Family, Member, ReportFloor, Role};
-use crate::figure::Figure;
-use crate::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
+use airlight_shapes::figure::Figure;
+use airlight_shapes::template::{Context, KernelPhase, KernelView, Templates, WantPhase};
 use expsum::{Backward, ExpSum};
 use phase_exp::{sec_plus_tan, Band, ExpPhase, Terms};
 use ratio::Ratio;
 use segments::Segments;
-use crate::hexf;
-use crate::reference::Point;
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::hexf;
+use airlight_truth::reference::Point;
+use airlight_truth::tomlfile::{FieldError, Reader};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write;
 use toml::Table;
@@ -179,7 +179,7 @@ impl Family for Split {
     const DIR: &'static str = "split";
     const ROLE: Role = Role::Airlight;
     const TABLES: &'static [&'static str] = &["forward", "phase", "backscatter"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const FIT_PARTS: &'static [&'static str] = &[fit::SEGMENTS, fit::PHASE, fit::BACKSCATTER];
     const REPORT: Option<&'static str> = Some(include_str!("report.md.tera"));
     type Recipe = fit::Recipe;
@@ -257,7 +257,7 @@ impl Family for Split {
     }
 
 
-    /// Its tables of a coefficient file ([`crate::coeffs::render`]); `prov(out,
+    /// Its tables of a coefficient file (the `coeffs` module renders the rest); `prov(out,
     /// table)` writes the provenance table `table` where it belongs.
     fn render_toml(&self, g_range: (f64, f64), o: &mut String, prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[forward]\nfamily = \"segments\"\n");

@@ -13,10 +13,10 @@
 //! coefficients of `a` solve a linear least-squares problem (SVD), and the
 //! coefficients of `b` are moved by Nelder–Mead.
 
-use crate::domains::Domain;
+use airlight_truth::domains::Domain;
 use crate::lsq::{self, Outcome};
-use crate::quad::gauss_legendre;
-use crate::reference::{self, Point};
+use airlight_truth::quad::gauss_legendre;
+use airlight_truth::reference::{self, Point};
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -184,7 +184,7 @@ pub fn phase_samples(g_lo: f64, g_hi: f64, n: usize, seed: u64) -> Vec<PhaseSamp
     for d in [Domain::Thin, Domain::Dense] {
         pts.extend(d.validation_set((g_lo, g_hi), n, seed).into_iter().take(n));
     }
-    crate::parallel::map(
+    airlight_truth::parallel::map(
         &pts,
         |p| {
             let a = reference::airlight(*p).expect("sampled inside the domain");
@@ -291,7 +291,7 @@ pub fn fit_band(g_lo: f64, g_hi: f64, start: &[f64], samples: &[PhaseSample]) ->
     let (a, mse) = solve_amplitudes(&b, gm, samples).expect("the search ended at a finite cost");
     let band = Band { g_lo, g_hi, a, b };
     let errs = a_errors(|g| ExpPhase { bands: vec![band.clone()], scale: 1.0 }.terms(g), samples);
-    BandFit { band, outcome, samples: samples.len(), rms_rel: mse.sqrt(), max_rel: crate::stats::rms_max(&errs).1 }
+    BandFit { band, outcome, samples: samples.len(), rms_rel: mse.sqrt(), max_rel: airlight_truth::stats::rms_max(&errs).1 }
 }
 
 /// Starting decays for a `k`-term fit of a band: the paper's `b` at the band's

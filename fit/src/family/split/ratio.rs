@@ -11,11 +11,11 @@
 //! the glow. For fixed `g, h` the coefficients of `f` solve a linear least-squares
 //! problem (SVD); `g, h` are moved by Nelder–Mead, starting from the paper's values.
 
-use crate::domains::Domain;
+use airlight_truth::domains::Domain;
 use super::phase_exp::sec_plus_tan;
 use super::segments::exact_forward;
 use crate::lsq::{self, Outcome};
-use crate::quad::gauss_kronrod;
+use airlight_truth::quad::gauss_kronrod;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::FRAC_PI_2;
 
@@ -123,7 +123,7 @@ pub fn ratio_samples(n: usize, seed: u64) -> Vec<RatioSample> {
             }
         }
     }
-    crate::parallel::map(
+    airlight_truth::parallel::map(
         &pts,
         |&(kappa, theta1, gamma)| RatioSample {
             kappa,
@@ -202,7 +202,7 @@ pub fn fit(samples: &[RatioSample]) -> RatioFit {
     let outcome = lsq::nelder_mead_restarted(&cost, &x0, &step, c0 * 1e-10, 4000, 2);
     let (g, h) = split(&outcome.param);
     let (ratio, mse) = solve_f(g, h, samples).expect("the search ended at a finite cost");
-    let (rms_rel, max_rel) = crate::stats::rms_max(&backward_errors(&ratio, samples));
+    let (rms_rel, max_rel) = airlight_truth::stats::rms_max(&backward_errors(&ratio, samples));
     RatioFit { ratio, outcome, samples: samples.len(), rms_rel, max_rel, a_rms_rel: mse.sqrt() }
 }
 

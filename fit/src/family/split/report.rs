@@ -13,12 +13,12 @@ use super::{expsum, PhaseModel, Split};
 use super::ratio::exact_backward;
 use super::segments::exact_forward;
 use crate::analysis::{linspace, logspace, math_grid_error};
-use crate::domains::Domain;
+use airlight_truth::domains::Domain;
 use crate::family::{Family, Member};
-use crate::figure::{Figure, Heatmap, Line, Lines, Panel};
-use crate::stats::fmt_err;
-use crate::template::Context;
-use crate::Phase;
+use airlight_shapes::figure::{Figure, Heatmap, Line, Lines, Panel};
+use airlight_truth::stats::fmt_err;
+use airlight_shapes::template::Context;
+use airlight_truth::Phase;
 use serde::Serialize;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -209,7 +209,7 @@ pub(super) fn context(members: &[Member<'_, Split>]) -> Option<Context> {
 /// as in the paper's Fig. 4 (its `θ` is `π/2 − γ`).
 pub fn forward_error_grid(seg: &Segments, ts: &[f64], thetas: &[f64]) -> Vec<Vec<f64>> {
     let cells: Vec<(f64, f64)> = ts.iter().flat_map(|&t| thetas.iter().map(move |&th| (t, th))).collect();
-    let errs = crate::parallel::map(
+    let errs = airlight_truth::parallel::map(
         &cells,
         |&(t, th)| (seg.integrate(0.0, th, t, 0.0, 0.0) / exact_forward(t, 0.0, th) - 1.0).abs(),
         &|_, _| {},
@@ -339,7 +339,7 @@ fn error_vs_n_figure(members: &[Member<'_, Split>]) -> Option<Figure> {
         return None;
     }
     pts.sort_by_key(|p| p.0);
-    let get = |d: Domain, f: &dyn Fn(&crate::domains::DomainErrors) -> f64| -> Vec<(f64, f64)> {
+    let get = |d: Domain, f: &dyn Fn(&airlight_truth::domains::DomainErrors) -> f64| -> Vec<(f64, f64)> {
         pts.iter().filter_map(|(n, m)| m.error(d).map(|e| (*n as f64, f(e)))).collect()
     };
     let fwd: Vec<(f64, f64)> = pts

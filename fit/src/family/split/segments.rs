@@ -8,10 +8,10 @@
 //! each a linear least-squares problem solved by SVD; the breakpoints are moved by
 //! Nelder–Mead.
 
-use crate::domains::Domain;
+use airlight_truth::domains::Domain;
 use crate::lsq::{self, Outcome};
-use crate::quad::gauss_kronrod;
-use crate::reference::Point;
+use airlight_truth::quad::gauss_kronrod;
+use airlight_truth::reference::Point;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::FRAC_PI_2;
 
@@ -182,7 +182,7 @@ pub fn samples(n: usize, seed: u64) -> Vec<ForwardSample> {
             }
         }
     }
-    crate::parallel::map(
+    airlight_truth::parallel::map(
         &tasks,
         |&(t, lo, hi)| ForwardSample { t, lo, hi, exact: exact_forward(t, lo, hi) },
         &|_, _| {},
@@ -283,7 +283,7 @@ pub fn fit(n: usize, samples: &[ForwardSample]) -> SegmentsFit {
     let c0 = cost(&start);
     let outcome = lsq::nelder_mead_restarted(&cost, &start, &vec![0.3; n - 1], c0 * 1e-9, 150 * n as u64 + 200, 2);
     let (segments, _, inner_steps) = fit_values(&breakpoints_from(&outcome.param), samples);
-    let (rms_rel, max_rel) = crate::stats::rms_max(&forward_errors(&segments, samples));
+    let (rms_rel, max_rel) = airlight_truth::stats::rms_max(&forward_errors(&segments, samples));
     SegmentsFit { segments, outcome, inner_steps, samples: samples.len(), rms_rel, max_rel }
 }
 

@@ -11,11 +11,11 @@
 //! checked against the adaptive reference quadrature in the tests), stored as
 //! f32, which is what every evaluator — this f64 one included — reads.
 
-use crate::cost::{Cost, PhaseShape, Shape};
+use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use crate::family::{baseline_method, phase_label, Assembled, Family, Role, Texture};
-use crate::reference::Point;
-use crate::template::{lit, Context, KernelView, Templates};
-use crate::tomlfile::{FieldError, Reader};
+use airlight_truth::reference::Point;
+use airlight_shapes::template::{lit, Context, KernelView, Templates};
+use airlight_truth::tomlfile::{FieldError, Reader};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write;
 use toml::Table;
@@ -53,7 +53,7 @@ fn column(u: f64, res: usize, x: &[f64], w: &[f64]) -> Vec<f64> {
 impl SunTable {
     /// Builds the `res × res` table.
     pub fn build(res: usize) -> SunTable {
-        let (x, w) = crate::quad::gauss_legendre(8);
+        let (x, w) = airlight_truth::quad::gauss_legendre(8);
         let cols: Vec<Vec<f64>> = (0..res).map(|i| column(U_MAX * i as f64 / (res - 1) as f64, res, &x, &w)).collect();
         let mut texels = vec![0.0f32; res * res];
         for (i, c) in cols.iter().enumerate() {
@@ -125,7 +125,7 @@ impl Family for SunTable {
     const DIR: &'static str = "sun";
     const ROLE: Role = Role::Baseline;
     const TABLES: &'static [&'static str] = &["table"];
-    const TEMPLATES: Templates = crate::core_templates!();
+    const TEMPLATES: Templates = airlight_shapes::core_templates!();
     /// The table's resolution.
     type Recipe = usize;
     type Fit = ();
@@ -170,7 +170,7 @@ impl Family for SunTable {
                 // limit, which it has reached by γ = 1e-8.
                 return if p.rho * x0 >= 1.0 { f64::INFINITY } else { self.eval(Point { gamma: 1e-12, ..p }) };
             }
-            return crate::family::closed::NoExtinction.eval(p) * (-p.tau).exp();
+            return airlight_truth::reference::no_extinction(p.gamma, p.rho) * (-p.tau).exp();
         }
         let t = p.tau * h;
         // ξb = π/4 + ½ atan((ρ − x0)/h) = ½ atan2(h, x0 − ρ): no cancellation as h → 0.
@@ -198,8 +198,8 @@ impl Family for SunTable {
     fn render_toml(&self, _g_range: (f64, f64), o: &mut String, _prov: &dyn Fn(&mut String, &str)) {
         o.push_str("\n[table]\nfunction = \"F(u, v) = integral of exp(-u tan xi) over xi in [0, v]\"\n");
         let _ = writeln!(o, "resolution = {}", self.res);
-        let _ = writeln!(o, "u_max = {}", crate::tomlfile::dec(U_MAX));
-        let _ = writeln!(o, "v_max = {} # pi/2", crate::tomlfile::dec(V_MAX));
+        let _ = writeln!(o, "u_max = {}", airlight_truth::tomlfile::dec(U_MAX));
+        let _ = writeln!(o, "v_max = {} # pi/2", airlight_truth::tomlfile::dec(V_MAX));
         o.push_str("texel = \"r32float\"\nlookup = \"bilinear, clamped to the edges\"\n");
         o.push_str("built = \"8-point Gauss-Legendre per cell, cumulative in v, f64, rounded to f32\"\n");
         let _ = writeln!(o, "bytes = {}", self.bytes());
@@ -236,12 +236,12 @@ mod tests {
     fn the_table_is_the_integral_and_the_form_is_the_reference() {
         let t = SunTable::build(64);
         for &(u, v) in &[(0.0, 1.0), (0.5, 0.7), (3.0, 1.5), (19.0, 0.2)] {
-            let q = crate::quad::gauss_kronrod(|x: f64| (-u * x.tan()).exp(), &[0.0, v], 1e-13, 200);
+            let q = airlight_truth::quad::gauss_kronrod(|x: f64| (-u * x.tan()).exp(), &[0.0, v], 1e-13, 200);
             // Bilinear between texels: the table's own interpolation error, not the build's.
             let n = 63.0;
             let (i, j) = ((u / U_MAX * n).round(), (v / V_MAX * n).round());
             let (uu, vv) = (U_MAX * i / n, V_MAX * j / n);
-            let exact = crate::quad::gauss_kronrod(|x: f64| (-uu * x.tan()).exp(), &[0.0, vv], 1e-13, 200).value;
+            let exact = airlight_truth::quad::gauss_kronrod(|x: f64| (-uu * x.tan()).exp(), &[0.0, vv], 1e-13, 200).value;
             let got = f64::from(t.texels[j as usize * 64 + i as usize]);
             assert!((got - exact).abs() <= 1e-7 * exact.max(1e-3), "F({uu}, {vv}) = {got} vs {exact}");
             assert!(q.value > 0.0);
@@ -249,7 +249,7 @@ mod tests {
         // The half-angle form with a fine table agrees with the reference where it is well conditioned.
         let fine = SunTable::build(512);
         let p = Point { tau: 0.5, gamma: 1.0, rho: 3.0, g: 0.0 };
-        let exact = crate::reference::airlight(p).unwrap();
+        let exact = airlight_truth::reference::airlight(p).unwrap();
         assert!((fine.eval(p) / exact - 1.0).abs() < 2e-3, "{} vs {exact}", fine.eval(p));
         assert_eq!(t.bytes(), 64 * 64 * 4);
     }
