@@ -110,7 +110,7 @@ fn render_shafts(
     out: &Out,
 ) -> Result<(), Failure> {
     use airlight_shaders::render;
-    use airlight_shaders::shafts_render::{self as sr, Method};
+    use airlight_shaders::shafts::render::{self as sr, Method};
     if !scene.spot || f64::from(sr::SIGMA_T) > scene.sigma_t.1 || scene.sigma_t.0 > 0.0 {
         return Err(bad_input(format!(
             "{}: the shafts render draws a spot light in σt up to {} (and from 0): the scene must allow both",

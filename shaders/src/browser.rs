@@ -309,7 +309,7 @@ fn glsl_v3(v: [f32; 3]) -> String {
 }
 
 /// The light-shafts page (`WebGLRenderer`): the window-shafts room's occluders
-/// (`crate::shafts_render`) as three.js meshes that cast shadows, its spot as a
+/// (`crate::shafts::render`) as three.js meshes that cast shadows, its spot as a
 /// `SpotLight` with a shadow map (`PCFShadowMap`: a depth texture with a
 /// comparison sampler, 2×2 filtered); one render builds three.js's shadow map,
 /// then a full-screen `RawShaderMaterial` with the kernel's GLSL include walks
@@ -320,12 +320,12 @@ fn glsl_v3(v: [f32; 3]) -> String {
 /// as f32 and POSTs them (base64 of the floats, rows from the top).
 pub fn shafts_page(
     k: &IndexEntry,
-    view: &crate::shafts_render::ShaftsView,
+    view: &crate::shafts::render::ShaftsView,
     look_ups: u32,
     refine: u32,
     renderer: Renderer,
 ) -> String {
-    use crate::shafts_render as sr;
+    use crate::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let sources = format!("./airlight-three/sources/{}.js", k.name);
     let p = &k.prefix;
@@ -474,7 +474,7 @@ return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }}
 /// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
 /// render that draws three.js's shadow map into `light.shadow`.
 fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
-    use crate::shafts_render as sr;
+    use crate::shafts::render as sr;
     let js_boxes: Vec<String> = sr::boxes()
         .iter()
         .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
@@ -536,8 +536,8 @@ if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.
 /// map, and the package's shafts TSL node walking each ray in `look_ups` steps
 /// (the page's own code node finds the first surface) — on WebGPU through
 /// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
-fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts_render::ShaftsView, look_ups: u32, webgl: bool) -> String {
-    use crate::shafts_render as sr;
+fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts::render::ShaftsView, look_ups: u32, webgl: bool) -> String {
+    use crate::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
     let v3 = |v: [f32; 3]| {

@@ -115,7 +115,7 @@ fn the_three_js_package_matches_the_reference_render_in_webgl_and_webgpu() {
 
 #[test]
 fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference() {
-    use airlight_shaders::shafts_render as sr;
+    use airlight_shaders::shafts::render as sr;
     let Some(chrome) = browser::chromium() else {
         assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
         eprintln!("SKIPPED light_shafts_in_three_js: no chromium");

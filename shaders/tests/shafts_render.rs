@@ -7,7 +7,7 @@
 mod common;
 
 use airlight_shaders::gate;
-use airlight_shaders::shafts_render::{self as sr, Method};
+use airlight_shaders::shafts::render::{self as sr, Method};
 
 #[test]
 fn the_shafts_render_runs_and_the_accumulator_beats_a_march() {

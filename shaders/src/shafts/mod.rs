@@ -1,0 +1,9 @@
+//! Light shafts, in one room: what the GPU harness does with a kernel's shafts
+//! accumulator (`harness`: wrap, pack, dispatch), the headless render of a
+//! shadowed scene (`render`, its scene shader in `scene.wgsl`). The shadowed
+//! reference and its occluders are `airlight-truth`'s `shafts`; the accumulator's
+//! templates are `codegen/templates/kernels/shafts/`. README, "Adding an
+//! accumulator or a visibility source", lists every place a change touches.
+
+mod harness;
+pub mod render;
