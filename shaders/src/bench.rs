@@ -237,7 +237,7 @@ fn rgb_cost(k: &CompiledKernel, rays: &[RgbRay], repeats: usize, gpu: (f64, f64)
 /// Errors of `values` (one per case) against the shadowed reference: max and mean
 /// relative to it (rays with some light), then max and mean relative to the ray's
 /// unshadowed value.
-fn shafts_errors(cases: &[crate::gate::ShadowCase], values: &[f64]) -> [f64; 4] {
+fn shafts_errors(cases: &[crate::shafts::cases::ShadowCase], values: &[f64]) -> [f64; 4] {
     let (mut rel, mut of_u) = (Vec::new(), Vec::new());
     for (c, &v) in cases.iter().zip(values) {
         if c.reference > 0.0 && c.reference.is_finite() {
@@ -311,7 +311,7 @@ fn shafts_costs(
 ) -> Result<Vec<ShaftsCost>, BenchError> {
     use airlight_truth::shafts::{self, Feed};
     let entry = inputs.index.get("phi-8").map_err(BenchError::Input)?;
-    let cases = crate::gate::shadowed_rays(entry, crate::gate::SHADOWED_RAYS, 0x5AF7_BE7C)
+    let cases = crate::shafts::cases::shadowed_rays(entry, crate::shafts::cases::SHADOWED_RAYS, 0x5AF7_BE7C)
         .map_err(|e| BenchError::Failed(e.to_string()))?;
     let rays: Vec<crate::Ray> = cases.iter().map(|c| c.ray).collect();
     let mut jobs: Vec<(String, usize)> = Vec::new();
@@ -402,7 +402,7 @@ fn shafts_costs(
 fn fprime_costs(
     inputs: &Inputs,
     kernels: &[CompiledKernel],
-    cases: &[crate::gate::ShadowCase],
+    cases: &[crate::shafts::cases::ShadowCase],
     progress: &Progress,
 ) -> Result<Vec<ShaftsCost>, BenchError> {
     use airlight_truth::shafts::{self, FPrimeTable, Feed, FPRIME_KERNEL, FPRIME_RES};

@@ -3,41 +3,13 @@
 //! over a packed batch and reads the f32 results back, or times it with timestamp
 //! queries.
 
+use crate::error::GpuError;
 use crate::rho_arg;
-use crate::wrap::{wrap, wrap_kernel};
+use crate::wrap::{wrap, wrap_kernel, MAX_GROUPS_X, WORKGROUP};
 use crate::wrap::{KernelSource, Table};
 use crate::{Entry, Ray, SpotRay};
 use std::fmt;
 use wgpu::util::DeviceExt;
-
-/// What went wrong on the GPU side.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum GpuError {
-    /// No adapter could be opened.
-    NoAdapter(String),
-    /// The adapter refused a device.
-    Device(String),
-    /// The shader did not compile or validate, or the pipeline failed.
-    Shader(String),
-    /// Reading results back failed.
-    Readback(String),
-    /// The batch does not fit one dispatch.
-    TooLarge(usize),
-}
-
-impl fmt::Display for GpuError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            GpuError::NoAdapter(e) => write!(f, "no GPU adapter: {e}"),
-            GpuError::Device(e) => write!(f, "the adapter refused a device: {e}"),
-            GpuError::Shader(e) => write!(f, "shader error: {e}"),
-            GpuError::Readback(e) => write!(f, "reading results back failed: {e}"),
-            GpuError::TooLarge(n) => write!(f, "{n} points do not fit one dispatch"),
-        }
-    }
-}
-
-impl std::error::Error for GpuError {}
 
 /// The adapter, described for reports: name, backend, driver.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -64,10 +36,6 @@ pub struct Gpu {
     queue: wgpu::Queue,
     summary: AdapterSummary,
 }
-
-pub(crate) const WORKGROUP: u32 = 64;
-
-pub(crate) const MAX_GROUPS_X: u32 = 65_535;
 
 impl Gpu {
     /// Opens the best adapter available on the primary backends (Vulkan, Metal,
@@ -437,14 +405,4 @@ pub(crate) fn workgroups(n: usize) -> Result<(u32, u32), GpuError> {
 
 pub(crate) fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
     points.iter().flat_map(|p| [p[0] as f32, p[1] as f32, rho_arg(p[2]), p[3] as f32]).collect()
-}
-
-/// A kernel's result as `A`: kernels saturate at `f32::MAX` where `A` diverges
-/// (the ray through the light), which is ∞ here.
-pub fn from_kernel(v: f32) -> f64 {
-    if v == f32::MAX {
-        f64::INFINITY
-    } else {
-        f64::from(v)
-    }
 }

@@ -10,7 +10,7 @@
 //! physical extreme set also passes `+∞` and `f32::MAX` surfaces, which every
 //! kernel takes as none.
 //!
-//! One concept per module: the adapter and dispatch (`gpu`), rays as the GPU takes
+//! One concept per module: its error (`error`), the adapter and dispatch (`gpu`), rays as the GPU takes
 //! them (`rays`), the compute shader around a kernel (`wrap`), the error gate
 //! (`gate/`), the bench (`bench`), the headless render (`render`), and light shafts
 //! in a room of their own (`shafts/`: the accumulator on the GPU, the gate's
@@ -20,6 +20,7 @@
 
 pub mod bench;
 pub mod browser;
+mod error;
 pub mod gate;
 mod gpu;
 mod rays;
@@ -28,9 +29,10 @@ pub mod shafts;
 mod wrap;
 
 pub use airlight_shapes::vocab::{rho_arg, Arg, Entry, Target, NO_SURFACE};
-pub use gpu::{from_kernel, AdapterSummary, Gpu, GpuError};
+pub use error::GpuError;
+pub use gpu::{AdapterSummary, Gpu};
 pub use rays::{Ray, SpotRay};
-pub use wrap::{f32_value, load_table, wrap_kernel, KernelSource, Table};
+pub use wrap::{f32_value, from_kernel, load_table, wrap_kernel, KernelSource, Table};
 
 /// Environment variable that makes a missing adapter an error instead of a skip.
 pub const REQUIRE_GPU_ENV: &str = "AIRLIGHT_REQUIRE_GPU";

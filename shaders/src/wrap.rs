@@ -2,7 +2,7 @@
 //! kernel and the arguments it takes), the wrapper per entry (canonical, physical,
 //! spot) and the hand-written ABI of [`wrap_kernel`].
 
-use crate::gpu::{from_kernel, GpuError, WORKGROUP};
+use crate::error::GpuError;
 use crate::rho_arg;
 use crate::{Arg, Entry, Target};
 use airlight_shapes::vocab::{ArgType, IndexEntry};
@@ -210,4 +210,18 @@ pub(crate) fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
 /// `ρ = ∞` passed as −1), as f64; the kernel's `HUGE` (the ray through the light) is ∞.
 pub fn f32_value(k: &airlight_shapes::vocab::CompiledKernel, p: airlight_truth::reference::Point) -> f64 {
     from_kernel((k.airlight)(p.tau as f32, p.gamma as f32, rho_arg(p.rho), p.g as f32))
+}
+
+pub(crate) const WORKGROUP: u32 = 64;
+
+pub(crate) const MAX_GROUPS_X: u32 = 65_535;
+
+/// A kernel's result as `A`: kernels saturate at `f32::MAX` where `A` diverges
+/// (the ray through the light), which is ∞ here.
+pub fn from_kernel(v: f32) -> f64 {
+    if v == f32::MAX {
+        f64::INFINITY
+    } else {
+        f64::from(v)
+    }
 }

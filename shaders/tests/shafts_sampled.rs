@@ -7,6 +7,7 @@
 mod common;
 
 use airlight_shaders::gate;
+use airlight_shaders::shafts::cases;
 use airlight_truth::shafts::{self, Feed};
 
 fn f32s(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
@@ -14,7 +15,7 @@ fn f32s(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
 }
 
 /// `[max rel, mean rel, max of U, mean of U]` of `f` fed by `feed` over `cases`.
-fn errors(f: airlight_shapes::vocab::ShadowedFn, cases: &[gate::ShadowCase], feed: Feed) -> [f64; 4] {
+fn errors(f: airlight_shapes::vocab::ShadowedFn, cases: &[cases::ShadowCase], feed: Feed) -> [f64; 4] {
     let (mut rel, mut of_u) = (Vec::new(), Vec::new());
     for c in cases {
         let s = shafts::feed(&c.ray.physical(), &c.occluders, f64::from(c.ray.g), feed).unwrap();
@@ -46,7 +47,7 @@ fn the_accumulator_beats_the_march_on_the_same_look_ups() {
     let entry = index.get("phi-8").unwrap();
     let mut cases = Vec::new();
     for seed in [0x0DD5_EED1u64, 0x0DD5_EED2, 0x0DD5_EED3] {
-        cases.extend(gate::shadowed_rays(entry, 200, seed).unwrap());
+        cases.extend(cases::shadowed_rays(entry, 200, seed).unwrap());
     }
     let acc = compiled.iter().find(|k| k.name == "phi-8").and_then(|k| k.shadowed).expect("phi-8");
     for n in airlight_shaders::bench::SHAFTS_SAMPLES {

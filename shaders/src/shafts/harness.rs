@@ -3,9 +3,10 @@
 //! finished at its surface ([`Gpu::shadowed`], [`Gpu::spot_shadowed`]), and its
 //! throughput.
 
-use crate::gpu::WORKGROUP;
-use crate::gpu::{Gpu, GpuError};
+use crate::error::GpuError;
+use crate::gpu::Gpu;
 use crate::wrap::KernelSource;
+use crate::wrap::WORKGROUP;
 use crate::wrap::{arg_expr, shader_only, store_results};
 use crate::{Arg, Entry, Ray, SpotRay, Target};
 

@@ -5,5 +5,6 @@
 //! templates are `codegen/templates/kernels/shafts/`. README, "Adding an
 //! accumulator or a visibility source", lists every place a change touches.
 
+pub mod cases;
 mod harness;
 pub mod render;

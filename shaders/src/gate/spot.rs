@@ -1,0 +1,217 @@
+//! The spot entry's rays for the gate: cones placed around chosen canonical points,
+//! on a grid of outer and inner angles.
+
+use super::*;
+use airlight_shapes::vocab::IndexEntry;
+use airlight_truth::reference::{self, Point};
+
+/// One spot ray of the gate.
+#[derive(Debug, Clone, Copy)]
+pub struct SpotCase {
+    /// The ray, light and medium.
+    pub ray: crate::SpotRay,
+    /// The canonical point its error is held at (the lit stretch's).
+    pub point: Point,
+    /// The reference RGB radiance.
+    pub reference: [f64; 3],
+    /// The relative change of the reference when the cone's cosines move by one
+    /// f32 ulp: how much of the answer the f32 inputs alone leave undetermined.
+    pub ulp_change: f64,
+}
+
+/// Spot rays whose answer changes by more than this when the cone's cosines move
+/// by one f32 ulp (narrow cones, rays grazing an edge) are ill-conditioned in f32
+/// itself: there an f32 kernel is held to its limit plus [`SPOT_ULP_FACTOR`] times
+/// that change, and its error enters the row's statistics only if it breaks that.
+pub const SPOT_ULP_CHANGE: f64 = 1e-5;
+
+/// How many one-ulp changes of the cone's cosines an f32 kernel's spot error may
+/// add on ill-conditioned rays (measured: at most 20 on 4,500 rays of three kernels).
+pub const SPOT_ULP_FACTOR: f64 = 32.0;
+
+/// Spot rays per kernel with a spot entry.
+pub const SPOT_RAYS: usize = 224;
+
+/// The outer half-angles (degrees) of the gate's grid of cones (issue 23: the
+/// cones renderers use).
+pub const SPOT_GRID_OUTER: [f64; 7] = [5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 80.0];
+
+/// The inner half-angles of the grid, as shares of the outer: from a hard edge
+/// (equal) to a quarter.
+pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
+
+/// Spot-light rays for kernel `k`'s spot entry: the placements of
+/// [`physical_rays`], each light made a spot light aimed at a random point of the
+/// ray (or beside it): every fourth the next cone of the grid [`SPOT_GRID_OUTER`] ×
+/// [`SPOT_GRID_INNER`] (every eighth turned so that the ray leaves through its
+/// penumbra), the others outer half-angle 2°…80° log-uniform, every other one with a
+/// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
+/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then 28
+/// rays on the line through the light and beside it. Returns
+/// the rays with the canonical point of their unclipped red channel and the
+/// reference RGB radiance (through [`crate::SpotRay::reference`]).
+pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
+    let base = placements(k, n, seed)?;
+    let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x5907);
+    let mut rays = Vec::with_capacity(n);
+    for (i, (r, p, _)) in base.iter().enumerate() {
+        let o = r.origin.map(f64::from);
+        let l = r.light.map(f64::from);
+        let dn = {
+            let d = r.dir.map(f64::from);
+            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            d.map(|x| x / m)
+        };
+        let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
+        let s = 2.0 * dist * rng.next_f64();
+        let jitter = 0.3 * dist * rng.next_f64();
+        let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
+        let mut axis: [f64; 3] = std::array::from_fn(|j| o[j] + s * dn[j] + jitter * u[j] - l[j]);
+        let outer = (2.0f64 * 40f64.powf(rng.next_f64())).to_radians();
+        let inner = outer * (0.2 + 0.75 * rng.next_f64());
+        // Every fourth ray: the next cone of the grid renderers use.
+        let (grid_outer, grid_inner) = {
+            let j = i / 4;
+            let o = SPOT_GRID_OUTER[j % SPOT_GRID_OUTER.len()];
+            (o.to_radians(), (o * SPOT_GRID_INNER[(j / SPOT_GRID_OUTER.len()) % SPOT_GRID_INNER.len()]).to_radians())
+        };
+        if i % 8 == 0 {
+            // Every other grid ray leaves through the penumbra: the axis turned from
+            // the ray's direction by an angle between the inner and outer half-angles,
+            // so that the far end of the ray (ω → π, the backscatter peak and the
+            // tail) lies in the smooth edge.
+            let frac = 0.2 + 0.6 * rng.next_f64();
+            let a = grid_inner + frac * (grid_outer - grid_inner);
+            let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
+            let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
+            let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+            if qn > 0.0 {
+                axis = std::array::from_fn(|j| a.cos() * dn[j] + a.sin() * q[j] / qn);
+            }
+        }
+        let (cos_outer, cos_inner) = if i % 16 == 15 {
+            (-1.0, -1.0)
+        } else if i % 4 == 0 {
+            (grid_outer.cos(), grid_inner.cos())
+        } else if i % 2 == 0 {
+            (outer.cos(), inner.cos())
+        } else {
+            (outer.cos(), outer.cos())
+        };
+        let f = [1.0, 0.4 + 0.6 * rng.next_f64(), 0.4 + 0.6 * rng.next_f64()];
+        // A kernel that does not take σt (no extinction) is checked in a medium without it:
+        // ignoring the transmittance to a stretch is not bounded by its bound on A.
+        let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
+        let sigma_t = if takes_sigma_t { f.map(|x| (x * f64::from(r.sigma_t)) as f32) } else { [0.0; 3] };
+        let sigma_s = f.map(|x| (x * f64::from(r.sigma_s)) as f32);
+        rays.push((
+            crate::SpotRay {
+                origin: r.origin,
+                dir: r.dir,
+                surface: r.surface,
+                light: r.light,
+                axis: axis.map(|x| x as f32),
+                cos_outer: cos_outer as f32,
+                cos_inner: cos_inner as f32,
+                intensity: r.intensity,
+                sigma_t,
+                sigma_s,
+                g: r.g,
+            },
+            *p,
+        ));
+    }
+    // The line through the light (issue 23): the light on the ray's line ahead and
+    // off it by 1e-9 and 1e-5 of its distance, behind on it and off it by 1e-30 …
+    // 1e-7, a smooth 30°/20° and a hard 30° cone aimed along the line either way,
+    // surfaces before the light and none. On the line the value is the point
+    // light's times the line's weight, and the edge regime holds the point light
+    // to the bound at γ = 0 and π exactly: these are held at γ brought into the
+    // sampled hull.
+    let mut line = Vec::new();
+    let mut cases = Vec::new();
+    for smooth in [true, false] {
+        for toward in [true, false] {
+            // Ahead, the cone's cut falls within `h cot ω` of the light's foot; the f64
+            // reference places it in distances, which hold `h` from about 1e-9 up.
+            for off in [0.0, 1e-9, 1e-5] {
+                cases.push((true, off, smooth, toward, toward && off == 0.0));
+            }
+            for off in [0.0, 1e-30, 1e-12, 1e-7] {
+                cases.push((false, off, smooth, toward, false));
+            }
+        }
+    }
+    for (i, &(ahead, off, smooth, toward, with_surface)) in cases.iter().enumerate() {
+        let (r, p, _) = &base[i % base.len()];
+        let dist = {
+            let (o, l) = (r.origin.map(f64::from), r.light.map(f64::from));
+            ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt()
+        };
+        let side = if ahead { 1.0 } else { -1.0 };
+        let co = 30f64.to_radians().cos();
+        let ci = if smooth { 20f64.to_radians().cos() } else { co };
+        let surface = if with_surface { (0.5 * dist) as f32 } else { -1.0 };
+        let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
+        let sigma_t = if takes_sigma_t { [r.sigma_t, 0.7 * r.sigma_t, 0.4 * r.sigma_t] } else { [0.0; 3] };
+        let ray = crate::SpotRay {
+            origin: [0.0; 3],
+            dir: [1.0, 0.0, 0.0],
+            surface,
+            light: [(side * dist) as f32, (off * dist) as f32, 0.0],
+            axis: [if toward { -side as f32 } else { side as f32 }, 0.0, 0.0],
+            cos_outer: co as f32,
+            cos_inner: ci as f32,
+            intensity: r.intensity,
+            sigma_t,
+            sigma_s: [r.sigma_s, 0.8 * r.sigma_s, 0.6 * r.sigma_s],
+            g: r.g,
+        };
+        let q = Point { gamma: if ahead { 1e-4 } else { std::f64::consts::PI - 1e-4 }, ..*p };
+        line.push((ray, q));
+    }
+    // The canonical point each error is held at: the lit stretch's own (the
+    // viewer moved to where the outer cone begins), where the family's bound applies.
+    for (r, p) in rays.iter_mut() {
+        let Some(cone) = r.cone() else { continue };
+        let ray = r.physical(0);
+        if let Some((s0, s1)) = cone.lit(&ray, cone.cos_outer) {
+            if let Ok(c) = ray.stretch(s0, s1).0.to_canonical(f64::from(r.g)) {
+                *p = project(k, c.point);
+            }
+        }
+    }
+    rays.extend(line);
+    let refs = airlight_truth::parallel::map(
+        &rays,
+        |(r, _)| -> Result<([f64; 3], f64), String> {
+            let a = |q: Point| reference::airlight(project(k, q)).unwrap_or(f64::NAN);
+            let mut out = [0.0; 3];
+            for (c, v) in out.iter_mut().enumerate() {
+                *v = r.reference(c, &a).map_err(|e| e.to_string())?;
+            }
+            // The problem's own f32 conditioning: the change when the cone's
+            // cosines move by one f32 ulp either way.
+            let mut change = 0.0;
+            if r.cone().is_some() {
+                for step in [-1.0f32, 1.0] {
+                    let mut q = *r;
+                    let ulp = |x: f32| x + step * x.abs().max(f32::MIN_POSITIVE) * f32::EPSILON;
+                    q.cos_outer = ulp(r.cos_outer);
+                    q.cos_inner = ulp(r.cos_inner);
+                    let v = q.reference(0, &a).map_err(|e| e.to_string())?;
+                    change = f64::max(change, (v - out[0]).abs() / out[0].max(f64::MIN_POSITIVE));
+                }
+            }
+            Ok((out, change))
+        },
+        &|_, _| {},
+    );
+    rays.into_iter()
+        .zip(refs)
+        .map(|((ray, point), v)| {
+            v.map(|(reference, change)| SpotCase { ray, point, reference, ulp_change: change })
+                .map_err(|e| GateError::Input(format!("{}: spot ray: {e}", k.name)))
+        })
+        .collect()
+}
