@@ -842,7 +842,7 @@ vec3 airlight_hg_exp3_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec
     return vec3(airlight_hg_exp3_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_hg_exp3_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_hg_exp3_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.glsl.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.glsl.tera) ----
 //
 // The shadowed in-scattering of a ray whose visibility v the caller samples (its
 // shadow map): constant between changes, each change placed between the samples

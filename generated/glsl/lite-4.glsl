@@ -658,7 +658,7 @@ vec3 airlight_lite_4_spot(vec3 origin, vec3 dir, float surface, vec3 light, vec3
     return vec3(airlight_lite_4_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_lite_4_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_lite_4_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.glsl.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.glsl.tera) ----
 //
 // The shadowed in-scattering of a ray whose visibility v the caller samples (its
 // shadow map): constant between changes, each change placed between the samples

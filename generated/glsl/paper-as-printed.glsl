@@ -768,7 +768,7 @@ vec3 airlight_paper_as_printed_spot(vec3 origin, vec3 dir, float surface, vec3 l
     return vec3(airlight_paper_as_printed_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_paper_as_printed_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_paper_as_printed_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.glsl.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.glsl.tera) ----
 //
 // The shadowed in-scattering of a ray whose visibility v the caller samples (its
 // shadow map): constant between changes, each change placed between the samples

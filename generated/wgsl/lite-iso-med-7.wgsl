@@ -644,7 +644,7 @@ fn airlight_lite_iso_med_7_spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32,
     return vec3<f32>(airlight_lite_iso_med_7_scaled(sigma_s.x, intensity * scale, d, a.x), airlight_lite_iso_med_7_scaled(sigma_s.y, intensity * scale, d, a.y), airlight_lite_iso_med_7_scaled(sigma_s.z, intensity * scale, d, a.z));
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.wgsl.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.wgsl.tera) ----
 //
 // The shadowed in-scattering of a ray whose visibility v the caller samples (its
 // shadow map): constant between changes, each change placed between the samples

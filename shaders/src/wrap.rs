@@ -168,7 +168,7 @@ void main() {{\n\
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\
 @compute @workgroup_size({WORKGROUP})\n\
-pub(crate) fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
     let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
     if (i >= arrayLength(&airlight_results) / {outputs}u) {{\n\
         return;\n\
@@ -195,7 +195,7 @@ pub fn wrap_kernel(kernel: &str, function: &str) -> String {
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\
 @compute @workgroup_size({WORKGROUP})\n\
-pub(crate) fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {{\n\
     let i = id.x + id.y * groups.x * {WORKGROUP}u;\n\
     if (i >= arrayLength(&airlight_points)) {{\n\
         return;\n\

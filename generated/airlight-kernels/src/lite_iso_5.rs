@@ -373,7 +373,7 @@ pub fn spot(origin: [f32; 3], dir: [f32; 3], surface: f32, light: [f32; 3], axis
     [0, 1, 2].map(|c| scaled(sigma_s[c], intensity * scale, d, a[c]))
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.rs.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.rs.tera) ----
 //
 // The shadowed in-scattering `∫ v dC` of a ray whose visibility `v` the caller
 // samples (its shadow map): constant between changes, each change placed between

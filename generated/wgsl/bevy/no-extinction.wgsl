@@ -557,7 +557,7 @@ fn spot(origin: vec3<f32>, dir: vec3<f32>, surface: f32, light: vec3<f32>, axis:
     return vec3<f32>(scaled(sigma_s.x, intensity * scale, d, a.x), scaled(sigma_s.y, intensity * scale, d, a.y), scaled(sigma_s.z, intensity * scale, d, a.z));
 }
 
-// ---- Light shafts (codegen/templates/kernels/shafts.wgsl.tera) ----
+// ---- Light shafts (codegen/templates/kernels/shafts/accumulator.wgsl.tera) ----
 //
 // The shadowed in-scattering of a ray whose visibility v the caller samples (its
 // shadow map): constant between changes, each change placed between the samples
