@@ -50,7 +50,7 @@ fn the_accumulator_beats_the_march_on_the_same_look_ups() {
         cases.extend(cases::shadowed_rays(entry, 200, seed).unwrap());
     }
     let acc = compiled.iter().find(|k| k.name == "phi-8").and_then(|k| k.shadowed).expect("phi-8");
-    for n in airlight_shaders::bench::SHAFTS_SAMPLES {
+    for n in airlight_shaders::shafts::bench::SHAFTS_SAMPLES {
         let name = format!("raymarch-{n}");
         let march = compiled.iter().find(|k| k.name == name).and_then(|k| k.shadowed).expect("march");
         let a = errors(acc, &cases, Feed::Samples(n));

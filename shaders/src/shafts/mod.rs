@@ -5,6 +5,7 @@
 //! templates are `codegen/templates/kernels/shafts/`. README, "Adding an
 //! accumulator or a visibility source", lists every place a change touches.
 
+pub mod bench;
 pub mod cases;
 mod harness;
 pub mod render;

@@ -1,0 +1,110 @@
+// The light-shafts scene's shader (shaders/src/shafts/render.rs puts the scene's
+// constants, SC_*, before it): a room of boxes and a ball lit by a spot light with a
+// shadow map; the first surface along a view ray, its normal, the light's clip
+// position and shadow-map visibility, the cone's weight, the camera's rays.
+
+@group(0) @binding(0) var sc_shadow_map: texture_depth_2d;
+@group(0) @binding(1) var sc_shadow_cmp: sampler_comparison;
+
+fn sc_safe(d: vec3<f32>) -> vec3<f32> {
+    return select(d, vec3<f32>(1e-30), abs(d) < vec3<f32>(1e-30));
+}
+
+// The first surface along o + t d (d unit, o inside the room): (t, object id).
+fn sc_hit(o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
+    let inv = 1.0 / sc_safe(d);
+    // The room's faces from inside: floor 0, ceiling 1, walls -x 2, +x 3, +z 4, -z 5.
+    let t0 = (SC_ROOM_MIN - o) * inv;
+    let t1 = (SC_ROOM_MAX - o) * inv;
+    let far = max(t0, t1);
+    var best = far.y;
+    var id = select(0.0, 1.0, d.y > 0.0);
+    if far.x < best { best = far.x; id = select(2.0, 3.0, d.x > 0.0); }
+    if far.z < best { best = far.z; id = select(5.0, 4.0, d.z > 0.0); }
+    var mins = SC_BOX_MIN;
+    var maxs = SC_BOX_MAX;
+    for (var i = 0u; i < SC_NB; i++) {
+        let a = (mins[i] - o) * inv;
+        let b = (maxs[i] - o) * inv;
+        let lo = min(a, b);
+        let hi = max(a, b);
+        let tn = max(max(lo.x, lo.y), lo.z);
+        let tf = min(min(hi.x, hi.y), hi.z);
+        if tn <= tf && tn > 0.0 && tn < best { best = tn; id = 6.0 + f32(i); }
+    }
+    let oc = o - SC_BALL.xyz;
+    let bq = dot(oc, d);
+    let cq = dot(oc, oc) - SC_BALL.w * SC_BALL.w;
+    let disc = bq * bq - cq;
+    if disc >= 0.0 {
+        let t = -bq - sqrt(disc);
+        if t > 0.0 && t < best { best = t; id = 6.0 + f32(SC_NB); }
+    }
+    return vec2<f32>(best, id);
+}
+
+// The outward normal of object `id` at its surface point p.
+fn sc_normal(id: u32, p: vec3<f32>) -> vec3<f32> {
+    switch id {
+        case 0u: { return vec3<f32>(0.0, 1.0, 0.0); }
+        case 1u: { return vec3<f32>(0.0, -1.0, 0.0); }
+        case 2u: { return vec3<f32>(1.0, 0.0, 0.0); }
+        case 3u: { return vec3<f32>(-1.0, 0.0, 0.0); }
+        case 4u: { return vec3<f32>(0.0, 0.0, -1.0); }
+        case 5u: { return vec3<f32>(0.0, 0.0, 1.0); }
+        default: {}
+    }
+    if id == 6u + SC_NB {
+        return normalize(p - SC_BALL.xyz);
+    }
+    var mins = SC_BOX_MIN;
+    var maxs = SC_BOX_MAX;
+    let lo = abs(p - mins[id - 6u]);
+    let hi = abs(maxs[id - 6u] - p);
+    var n = vec3<f32>(-1.0, 0.0, 0.0);
+    var m = lo.x;
+    if hi.x < m { m = hi.x; n = vec3<f32>(1.0, 0.0, 0.0); }
+    if lo.y < m { m = lo.y; n = vec3<f32>(0.0, -1.0, 0.0); }
+    if hi.y < m { m = hi.y; n = vec3<f32>(0.0, 1.0, 0.0); }
+    if lo.z < m { m = lo.z; n = vec3<f32>(0.0, 0.0, -1.0); }
+    if hi.z < m { m = hi.z; n = vec3<f32>(0.0, 0.0, 1.0); }
+    return n;
+}
+
+// The light's clip position of p (perspective along the spot's axis; depth 0 … 1
+// from the near to the far plane).
+fn sc_light_clip(p: vec3<f32>) -> vec4<f32> {
+    let q = p - SC_LIGHT;
+    let d = dot(q, SC_L_F);
+    return vec4<f32>(SC_L_K * dot(q, SC_L_R), SC_L_K * dot(q, SC_L_U), SC_L_A * d - SC_L_B, d);
+}
+
+// The light's visibility at p from the shadow map (2×2 PCF by the comparison
+// sampler); 1 outside the map (outside the cone too).
+fn sc_shadow(p: vec3<f32>) -> f32 {
+    let c = sc_light_clip(p);
+    if c.w <= 0.0 {
+        return 1.0;
+    }
+    let n = c.xyz / c.w;
+    let uv = vec2<f32>(0.5 * n.x + 0.5, 0.5 - 0.5 * n.y);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || n.z > 1.0 {
+        return 1.0;
+    }
+    return textureSampleCompareLevel(sc_shadow_map, sc_shadow_cmp, uv, n.z);
+}
+
+// The smooth cone's weight (linear in the cosine between the two cut-offs).
+fn sc_cone(to_point: vec3<f32>) -> f32 {
+    let c = dot(normalize(to_point), SC_AXIS);
+    return clamp((c - SC_COS_OUTER) / (SC_COS_INNER - SC_COS_OUTER), 0.0, 1.0);
+}
+
+fn sc_dir(pos: vec2<f32>) -> vec3<f32> {
+    let u = 2.0 * pos.x / SC_WIDTH - 1.0;
+    let v = 1.0 - 2.0 * pos.y / SC_HEIGHT;
+    let t = tan(SC_HALF_FOV);
+    let a = SC_WIDTH / SC_HEIGHT;
+    let d = SC_CAM_F + (u * t * a) * SC_CAM_R + (v * t) * SC_CAM_U;
+    return d / sqrt(dot(d, d));
+}
