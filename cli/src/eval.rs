@@ -63,7 +63,7 @@ fn eval_compiled(
 
 /// A model the registry does not know. Outside the repository only the
 /// reference is known: the message says why first (every entry says it alike).
-fn unknown_model(model: &str, e: impl std::fmt::Display, root: &Option<PathBuf>) -> Failure {
+pub(crate) fn unknown_model(model: &str, e: impl std::fmt::Display, root: &Option<PathBuf>) -> Failure {
     let found = root.clone().or_else(|| crate::workspace::find_root().ok());
     match found {
         None if model != "reference" => bad_input(format!(
@@ -142,7 +142,7 @@ pub(crate) fn read_rays(input: &Path, check: &points_csv::RayCheck) -> Result<Ve
 
 /// The text of an `eval` input: UTF-8, or an error naming the line of the first
 /// byte that is not.
-fn read_text(input: &Path) -> Result<String, Failure> {
+pub(crate) fn read_text(input: &Path) -> Result<String, Failure> {
     let name = input.display().to_string();
     let bytes = std::fs::read(input).map_err(|e| bad_input(format!("{name}: cannot read: {e}")))?;
     points_csv::decode(&name, bytes).map_err(bad_input)
@@ -229,226 +229,8 @@ pub(crate) fn write_csv(output: Option<&Path>, csv: &str) -> Result<(), Failure>
     }
 }
 
-/// Where `eval --entry shadowed` runs: the f64 model, a compiled f32 Rust kernel,
-/// or a shader kernel on the GPU adapter.
-pub(crate) enum Runner<'a> {
-    F64,
-    F32(&'a [CompiledKernel]),
-    Gpu(Target),
-}
-
-/// The rows of a shadowed file: rays of the physical entry, or of the spot entry
-/// (its header names `cos_outer`).
-enum ShadowRows {
-    Point(Vec<points_csv::RayRow>),
-    Spot(Vec<points_csv::SpotRow>),
-}
-
-/// `eval --entry shadowed`: the shafts accumulator (or, for a raymarch-N model,
-/// the engines' march) over each ray's lit runs among its spheres.
-pub(crate) fn eval_shadowed(
-    model: &str,
-    input: &Path,
-    output: Option<&Path>,
-    on: Runner,
-    samples: Option<usize>,
-    root: Option<PathBuf>,
-) -> Result<(), Failure> {
-    use airlight_truth::shafts::{self, Feed};
-    let name = input.display().to_string();
-    let text = read_text(input)?;
-    let spheres = points_csv::parse_spheres_column(&name, &text).map_err(bad_input)?;
-    let spot = points_csv::names_spot_columns(&text);
-    // The f64 models say which are marches, and check g on the f64 path.
-    let (reg, _) = registry(root.clone())?;
-    let f64_model = reg.get(model).ok();
-    let march_steps = f64_model.and_then(|m| m.march_steps());
-    let feed = match (march_steps, samples) {
-        (Some(n), Some(m)) if m != n => {
-            return Err(bad_input(format!(
-                "{model} looks visibility up at its own {n} steps; --samples {m} differs (give {n} or none)"
-            )))
-        }
-        (Some(n), _) => Feed::LookUps(n),
-        (None, Some(0)) => return Err(bad_input("--samples needs at least 1".to_string())),
-        (None, Some(n)) => Feed::Samples(n),
-        (None, None) => Feed::Exact,
-    };
-    // The checks of the runner: the model's g range, or what the kernel takes.
-    let index = match on {
-        Runner::F64 => None,
-        _ => Some(gate::load_index(&generated_dir(root.clone())?).map_err(|e| bad_input(e.to_string()))?),
-    };
-    let entry = match &index {
-        Some(ix) => Some(ix.get(model).map_err(bad_input)?),
-        None => None,
-    };
-    let m = match (&on, f64_model) {
-        (Runner::F64, None) => {
-            let e = reg.get(model).err().map(|e| e.to_string()).unwrap_or_default();
-            return Err(unknown_model(model, e, &root));
-        }
-        (_, m) => m,
-    };
-    let check = |r: &airlight_truth::geometry::PhysicalRay, g: f64| -> Result<(), (&'static str, String)> {
-        match (entry, m) {
-            (Some(e), _) => e.check_ray(r, g),
-            (None, Some(m)) => m
-                .check(&airlight_truth::reference::Point { tau: 0.0, gamma: 1.0, rho: f64::INFINITY, g })
-                .map_err(|e| ("g", e.to_string())),
-            (None, None) => Ok(()),
-        }
-    };
-    let rows = if spot {
-        let rows = points_csv::parse_spots(&name, &text, check).map_err(bad_input)?;
-        if entry.is_some() {
-            points_csv::check_axes_f32(&name, &rows).map_err(bad_input)?;
-        }
-        ShadowRows::Spot(rows)
-    } else {
-        ShadowRows::Point(points_csv::parse_rays(&name, &text, check).map_err(bad_input)?)
-    };
-    let occluders = |line: usize| spheres.iter().find(|s| s.0 == line).map(|s| s.1.clone()).unwrap_or_default();
-    let field = |line: usize| spheres.iter().find(|s| s.0 == line).map(|s| s.2.clone()).unwrap_or_default();
-    let bad_ray = |line: usize, e: airlight_truth::geometry::GeometryError| bad_input(format!("{name}:{line}: {e}"));
-    // Each row's samples, from its (red channel's) ray.
-    let fed = |line: usize, ray: &airlight_truth::geometry::PhysicalRay, g: f64| {
-        shafts::feed(ray, &occluders(line), g, feed).map_err(|e| bad_ray(line, e))
-    };
-    let as_f32 = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();
-    let header = |cols: &[&str], out: &str| format!("{},spheres,{out}\n", cols.join(","));
-    match rows {
-        ShadowRows::Point(rows) => {
-            let fed_rows = rows.iter().map(|r| fed(r.line, &r.ray, r.g)).collect::<Result<Vec<_>, _>>()?;
-            let values: Vec<f64> = match on {
-                Runner::F64 => {
-                    let m = m.expect("checked above");
-                    let mut out = Vec::with_capacity(rows.len());
-                    for (r, s) in rows.iter().zip(&fed_rows) {
-                        let v = shafts::evaluate(&r.ray, None, r.g, s, &|p| m.eval_unchecked(p), march_steps.is_some());
-                        out.push(v.map_err(|e| bad_ray(r.line, e))?.0);
-                    }
-                    out
-                }
-                Runner::F32(ks) => {
-                    let k = compiled(ks, model)?;
-                    let f =
-                        k.shadowed.ok_or_else(|| bad_input(format!("kernel '{model}' has no shafts accumulator")))?;
-                    rows.iter()
-                        .zip(&fed_rows)
-                        .map(|(r, s)| {
-                            let x = Ray::from_row(r);
-                            f64::from(f(
-                                &as_f32(s),
-                                x.surface,
-                                x.origin,
-                                x.dir,
-                                x.light,
-                                x.intensity,
-                                x.sigma_t,
-                                x.sigma_s,
-                                x.g,
-                            ))
-                        })
-                        .collect()
-                }
-                Runner::Gpu(t) => {
-                    let k = entry.expect("loaded above");
-                    let (src_text, table, path) = shader_source(root, k, t)?;
-                    let src = KernelSource::of(k, t, &src_text).with_table(table.as_ref());
-                    let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
-                    eprintln!("adapter: {}", gpu.adapter());
-                    let plain: Vec<Ray> = rows.iter().map(Ray::from_row).collect();
-                    let s: Vec<Vec<[f32; 2]>> = fed_rows.iter().map(|s| as_f32(s)).collect();
-                    let got =
-                        gpu.shadowed(&src, &plain, &s).map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
-                    got.into_iter().map(f64::from).collect()
-                }
-            };
-            let mut out = header(&points_csv::RAY_COLUMNS, "radiance");
-            for (r, v) in rows.iter().zip(&values) {
-                out.push_str(&format!("{},{},{v:?}\n", r.text.join(","), field(r.line)));
-            }
-            write_csv(output, &out)
-        }
-        ShadowRows::Spot(rows) => {
-            let fed_rows = rows.iter().map(|r| fed(r.line, &r.rays[0], r.g)).collect::<Result<Vec<_>, _>>()?;
-            let values: Vec<[f64; 3]> = match on {
-                Runner::F64 => {
-                    let m = m.expect("checked above");
-                    let mut out = Vec::with_capacity(rows.len());
-                    for (r, s) in rows.iter().zip(&fed_rows) {
-                        let mut v = [0.0; 3];
-                        for (c, ray) in r.rays.iter().enumerate() {
-                            let x = shafts::evaluate(
-                                ray,
-                                r.cone.as_ref(),
-                                r.g,
-                                s,
-                                &|p| m.eval_unchecked(p),
-                                march_steps.is_some(),
-                            );
-                            v[c] = x.map_err(|e| bad_ray(r.line, e))?.0;
-                        }
-                        out.push(v);
-                    }
-                    out
-                }
-                Runner::F32(ks) => {
-                    let k = compiled(ks, model)?;
-                    let f = k.spot_shadowed.ok_or_else(|| {
-                        bad_input(format!("kernel '{model}' has no shafts accumulator over a spot entry"))
-                    })?;
-                    rows.iter()
-                        .zip(&fed_rows)
-                        .map(|(r, s)| {
-                            let x = SpotRay::from_row(r);
-                            f(
-                                &as_f32(s),
-                                x.surface,
-                                x.origin,
-                                x.dir,
-                                x.light,
-                                x.axis,
-                                x.cos_outer,
-                                x.cos_inner,
-                                x.intensity,
-                                x.sigma_t,
-                                x.sigma_s,
-                                x.g,
-                            )
-                            .map(f64::from)
-                        })
-                        .collect()
-                }
-                Runner::Gpu(t) => {
-                    let k = entry.expect("loaded above");
-                    if !k.has(airlight_shapes::vocab::Entry::Spot) {
-                        return Err(bad_input(format!("kernel '{model}' has no spot entry")));
-                    }
-                    let (src_text, table, path) = shader_source(root, k, t)?;
-                    let src = KernelSource::of(k, t, &src_text).with_table(table.as_ref());
-                    let gpu = Gpu::open().map_err(|e| Failure(1, format!("{e}")))?;
-                    eprintln!("adapter: {}", gpu.adapter());
-                    let plain: Vec<SpotRay> = rows.iter().map(SpotRay::from_row).collect();
-                    let s: Vec<Vec<[f32; 2]>> = fed_rows.iter().map(|s| as_f32(s)).collect();
-                    let got = gpu
-                        .spot_shadowed(&src, &plain, &s)
-                        .map_err(|e| Failure(1, format!("{}: {e}", path.display())))?;
-                    got.into_iter().map(|v| v.map(f64::from)).collect()
-                }
-            };
-            let mut out = header(&points_csv::SPOT_COLUMNS, "r,g_out,b");
-            for (r, v) in rows.iter().zip(&values) {
-                out.push_str(&format!("{},{},{:?},{:?},{:?}\n", r.text.join(","), field(r.line), v[0], v[1], v[2]));
-            }
-            write_csv(output, &out)
-        }
-    }
-}
-
 /// The compiled f32 kernel called `name`.
-fn compiled<'k>(ks: &'k [CompiledKernel], name: &str) -> Result<&'k CompiledKernel, Failure> {
+pub(crate) fn compiled<'k>(ks: &'k [CompiledKernel], name: &str) -> Result<&'k CompiledKernel, Failure> {
     ks.iter().find(|k| k.name == name).ok_or_else(|| {
         let known: Vec<&str> = ks.iter().map(|k| k.name).collect();
         bad_input(format!("no generated f32 kernel '{name}'; kernels: {}", known.join(", ")))
@@ -456,7 +238,7 @@ fn compiled<'k>(ks: &'k [CompiledKernel], name: &str) -> Result<&'k CompiledKern
 }
 
 /// A kernel's shader text in `language`, its table, and the file's path.
-fn shader_source(
+pub(crate) fn shader_source(
     root: Option<PathBuf>,
     k: &airlight_shapes::vocab::IndexEntry,
     language: Target,

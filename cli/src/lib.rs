@@ -23,6 +23,7 @@ mod fit;
 mod generate;
 mod models;
 mod render;
+mod shafts;
 mod workspace;
 
 pub use workspace::RUNNER;
@@ -340,12 +341,12 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
             }
             if entry == EvalEntry::Shadowed {
                 let on = match (target.0, precision, linked) {
-                    (Some(t), _, _) => eval::Runner::Gpu(t),
+                    (Some(t), _, _) => shafts::Runner::Gpu(t),
                     (None, Precision::F32, None) => return workspace::delegate(root, None),
-                    (None, Precision::F32, Some(k)) => eval::Runner::F32(k),
-                    (None, Precision::F64, _) => eval::Runner::F64,
+                    (None, Precision::F32, Some(k)) => shafts::Runner::F32(k),
+                    (None, Precision::F64, _) => shafts::Runner::F64,
                 };
-                return eval::eval_shadowed(&model, &input, output.as_deref(), on, samples, root);
+                return shafts::eval_shadowed(&model, &input, output.as_deref(), on, samples, root);
             }
             // A rays file with a cone's columns is the spot entry's.
             let rays = match entry {
