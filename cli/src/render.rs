@@ -118,7 +118,7 @@ fn render_shafts(
             sr::SIGMA_T
         )));
     }
-    let march = index.get(sr::MARCH_KERNEL).map_err(bad_input)?;
+    let march = index.get(sr::march_kernel()).map_err(bad_input)?;
     let march_path = generated.join(march.wgsl.as_deref().unwrap_or_default());
     let march_text = std::fs::read_to_string(&march_path)
         .map_err(|e| Failure(1, format!("{}: cannot read: {e}", march_path.display())))?;
@@ -184,7 +184,7 @@ fn render_shafts(
         "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\n\n[accumulator]\n{}",
         out.file,
         k.name,
-        sr::MARCH_KERNEL,
+        sr::march_kernel(),
         gpu.adapter().to_string().replace('"', "'"),
         size.0,
         size.1,

@@ -2,8 +2,10 @@
 //! `g` range and a [`Body`]: the family values it evaluates `A` with (see
 //! [`crate::family`], one module per family).
 
+use crate::family::raymarch::RayMarch;
 pub use crate::family::split::{PhaseModel, Split};
 pub use crate::family::Body;
+use crate::family::Variant;
 use crate::model::Model;
 use airlight_shapes::cost::{Cost, PhaseShape, Shape};
 use airlight_truth::reference::Point;
@@ -24,10 +26,7 @@ pub struct Approximation {
 impl Approximation {
     /// The forward + backward composition, if that is what this model is.
     pub fn split(&self) -> Option<&Split> {
-        match &self.body {
-            Body::Split(s) => Some(s),
-            _ => None,
-        }
+        Split::of(&self.body)
     }
 
     /// Operation counts of its general kernel (every part, surfaces, `g` at run
@@ -57,9 +56,6 @@ impl Model for Approximation {
         self.body.eval(p)
     }
     fn march_steps(&self) -> Option<usize> {
-        match &self.body {
-            crate::family::Body::RayMarch(m) => Some(m.steps),
-            _ => None,
-        }
+        RayMarch::of(&self.body).map(|m| m.steps)
     }
 }

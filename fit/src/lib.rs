@@ -18,3 +18,4 @@ pub mod family;
 pub mod fitset;
 pub mod lsq;
 pub mod model;
+pub mod roles;

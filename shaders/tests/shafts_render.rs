@@ -21,7 +21,7 @@ fn the_shafts_render_runs_and_the_accumulator_beats_a_march() {
         (k, std::fs::read_to_string(generated.join(k.wgsl.as_deref().unwrap())).unwrap())
     };
     let (k, kernel) = read("scene-window-shafts");
-    let (m, march) = read(sr::MARCH_KERNEL);
+    let (m, march) = read(sr::march_kernel());
     let view = sr::ShaftsView { width: 64, height: 36 };
     let acc = gpu.shafts_frame(k, &kernel, &view, Method::Accumulator(sr::LOOK_UPS), 1).unwrap();
     let m64 = gpu.shafts_frame(m, &march, &view, Method::March(64), 1).unwrap();

@@ -18,11 +18,6 @@ const WHAT: [&str; 8] = [
     "shafts accumulator, 96 rays among 1–4 analytic occluders (balls, boxes) fed the exact lit intervals, 8 of them also from a 40° spot light (smooth and hard edges, per channel); error relative to the ray's unshadowed value times (1 + visibility changes)",
 ];
 
-/// The model kernels the table follows, by name prefix: the most accurate of
-/// the `segments-N` (isotropic) and of the `hg-expN` (Henyey–Greenstein) kernels
-/// on `thin` in f64.
-const FOLLOWED: [&str; 2] = ["segments-", "hg-"];
-
 /// One regime × target cell of the robustness table.
 #[derive(Serialize)]
 struct RegimeCell {
@@ -56,8 +51,11 @@ fn best_kernel<'r>(r: &'r GateRecord, prefix: &str) -> Option<&'r str> {
 
 /// The table's rows, and the isotropic and HG kernels it follows.
 pub(super) fn regime_rows(r: &GateRecord) -> (Vec<RegimeRow>, String, String) {
-    let iso = best_kernel(r, FOLLOWED[0]).unwrap_or("—");
-    let hg = best_kernel(r, FOLLOWED[1]).unwrap_or("—");
+    // The families it follows (an isotropic one, then a Henyey–Greenstein one):
+    // `gate_followed` in fit/src/roles.toml.
+    let followed = &airlight_fit::roles::roles().report.gate_followed;
+    let iso = followed.first().and_then(|p| best_kernel(r, p)).unwrap_or("—");
+    let hg = followed.get(1).and_then(|p| best_kernel(r, p)).unwrap_or("—");
     let rows = record::REGIMES
         .iter()
         .zip(WHAT)

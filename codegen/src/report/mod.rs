@@ -87,12 +87,15 @@ fn worst_of(m: &ModelFile) -> f64 {
 fn advice(models: &[ModelFile], bench: Option<&Bench>, f32_of: &dyn Fn(&str) -> Option<f64>) -> Vec<String> {
     let mut out = Vec::new();
     let get = |n: &str| models.iter().find(|m| m.model.name == n);
-    if let (Some(p), Some(r)) = (get("paper"), get("paper-refit")) {
+    let roles = &airlight_fit::roles::roles().report;
+    if let (Some(p), Some(r)) = (get(&roles.published), get(&roles.published_refit)) {
         let e = |m: &ModelFile, d: Domain| m.error(d).map_or(f64::NAN, |e| e.max_rel);
         out.push(format!(
-            "The published isotropic model (`paper`) has max error {} on `thin` and {} on `dense`; the same forms refit (`paper-refit`) reach {} and {}.",
+            "The published isotropic model (`{}`) has max error {} on `thin` and {} on `dense`; the same forms refit (`{}`) reach {} and {}.",
+            roles.published,
             fmt_err(e(p, Domain::Thin)),
             fmt_err(e(p, Domain::Dense)),
+            roles.published_refit,
             fmt_err(e(r, Domain::Thin)),
             fmt_err(e(r, Domain::Dense))
         ));

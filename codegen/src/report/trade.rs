@@ -6,6 +6,7 @@
 use super::KernelIr;
 use crate::front::{self, Method};
 use airlight_fit::coeffs::ModelFile;
+use airlight_fit::roles::roles;
 use airlight_shapes::bench::{Bench, BenchModel};
 use airlight_shapes::cost::Shape;
 use airlight_truth::domains::Domain;
@@ -181,7 +182,7 @@ fn g_section(b: &Bench, g: f64, ir: &[KernelIr]) -> GSection {
         front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)).map(|c| measure_table(b, g, c, ir)).collect();
     let march_best = ms
         .iter()
-        .filter(|m| m.name.starts_with("raymarch-"))
+        .filter(|m| roles().is_march(&m.name))
         .min_by(|a, b| a.max.total_cmp(&b.max))
         .map_or("no raymarch measured".into(), |m| format!("{} (`{}`, {} ns)", fmt_err(m.max), m.name, ns(m.ns)));
     GSection {
@@ -378,10 +379,10 @@ type Way = (&'static str, fn(&BenchModel) -> f64);
 
 /// For each pair `(a, z)` that both ways measured: "`a` / `z` r₁× way₁, r₂× way₂",
 /// each `r` the ratio of `a`'s figure to `z`'s that way.
-fn two_ways(b: &Bench, pairs: &[(&str, &str)], ways: [Way; 2]) -> Vec<String> {
+fn two_ways(b: &Bench, pairs: &[(String, String)], ways: [Way; 2]) -> Vec<String> {
     pairs
         .iter()
-        .filter_map(|&(a, z)| {
+        .filter_map(|(a, z)| {
             let (a, z) = (b.model(a)?, b.model(z)?);
             ways.iter().all(|(_, f)| f(a) > 0.0 && f(z) > 0.0).then(|| {
                 let cells: Vec<String> = ways.iter().map(|(what, f)| format!("{:.2}× {what}", f(a) / f(z))).collect();
@@ -472,7 +473,9 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     ctx.insert("gpu_follows_every", &gpu_every);
     ctx.insert("follows", &follow_rows);
     ctx.insert("branchy", &branchy(b, ir));
-    let flat: Vec<String> = ["equiangular-8", "equiangular-16"]
+    let flat: Vec<String> = roles()
+        .report
+        .flat
         .iter()
         .filter_map(|n| ir.iter().find(|k| k.name == *n))
         .map(|k| format!("`{}` {} ({})", k.name, k.every.ops, k.worst.ops))
@@ -480,7 +483,7 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     ctx.insert("flat", &flat);
     let lite_flat: Vec<String> = ir
         .iter()
-        .filter(|k| k.name.starts_with("lite-"))
+        .filter(|k| roles().report.flat_prefixes.iter().any(|p| k.name.starts_with(p.as_str())))
         .map(|k| format!("`{}` {} ({})", k.name, k.every.ops, k.worst.ops))
         .collect();
     ctx.insert("lite_flat", &lite_flat);
@@ -488,29 +491,13 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     // GPU-path rate ratios, random and frame-coherent.
     let cpu_two_ways = two_ways(
         b,
-        &[
-            ("lite-iso-3", "no-extinction"),
-            ("lite-4", "no-extinction"),
-            ("phi-3", "no-extinction"),
-            ("phi-iso-4", "no-extinction"),
-            ("phi-4", "no-extinction"),
-            ("phi-4", "equiangular-4"),
-        ],
+        &roles().report.cpu_two_ways,
         [("in the loop", |m| m.cpu_ns_per_eval), ("one call at a time", |m| m.cpu_ns_one_at_a_time)],
     );
     ctx.insert("cpu_two_ways", &cpu_two_ways);
     let gpu_two_ways = two_ways(
         b,
-        &[
-            ("phi-3", "equiangular-8"),
-            ("lite-4", "equiangular-8"),
-            ("lite-iso-3", "equiangular-8"),
-            ("phi-4", "equiangular-16"),
-            ("lite-iso-5", "equiangular-16"),
-            ("phi-3", "no-extinction"),
-            ("lite-4", "no-extinction"),
-            ("lite-iso-3", "no-extinction"),
-        ],
+        &roles().report.gpu_two_ways,
         [("on random points", |m| m.gpu_evals_per_s), ("frame-coherent", |m| m.gpu_frame_evals_per_s)],
     );
     ctx.insert("gpu_two_ways", &gpu_two_ways);
@@ -541,8 +528,9 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     ctx.insert("shafts_rows", &shafts);
     // Where the accumulator (phi-8) loses to the march on the same samples.
     let mut losses = Vec::new();
-    for r in b.shafts.iter().filter(|r| r.name == "phi-8" && r.samples > 0) {
-        let Some(m) = b.shafts.iter().find(|m| m.name == format!("raymarch-{}", r.samples)) else { continue };
+    let roles = roles();
+    for r in b.shafts.iter().filter(|r| r.name == roles.shafts.headline && r.samples > 0) {
+        let Some(m) = b.shafts.iter().find(|m| m.name == roles.march(r.samples)) else { continue };
         let mut lost = Vec::new();
         for (what, a, x) in [
             ("max relative", r.max_rel, m.max_rel),

@@ -225,8 +225,9 @@ pub trait Family: Sized + Clone + PartialEq + std::fmt::Debug {
     }
 }
 
-/// A family's values inside a [`Body`].
-trait Variant: Sized {
+/// A family's values inside a [`Body`] (generated for every family by [`families!`]):
+/// how code outside the list reaches one family without matching on `Body`.
+pub trait Variant: Sized {
     /// The family's values, if `body` is of this family.
     fn of(body: &Body) -> Option<&Self>;
 }

@@ -22,7 +22,7 @@ pub use spot::*;
 
 use crate::{Gpu, GpuError, KernelSource};
 use airlight_fit::catalog::{self};
-use airlight_fit::family::Body;
+use airlight_fit::model::Model;
 pub use airlight_shapes::record::{target_label, F32Bound, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SPOT};
 pub use airlight_shapes::vocab::{
     f32_domain_limit, f32_limit, Target, F32_ADAPTER_ALLOWANCE, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE,
@@ -222,7 +222,7 @@ pub(crate) fn run_with(
                 .map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref())))
                 .collect(),
             gpu,
-            marches: model_file(k, &models)?.is_some_and(|m| matches!(m.model.body, Body::RayMarch(_))),
+            marches: model_file(k, &models)?.is_some_and(|m| m.model.march_steps().is_some()),
         };
         let sets = point_sets(k, &validations)?;
         // Each domain's bound: the model's, and the kernel's f32 bound (on the

@@ -70,12 +70,10 @@ pub const SHAFTS_SAMPLES: [usize; 4] = [8, 16, 32, 64];
 /// alone, without the viewer's and the surface's visibility.
 pub const LOOK_UPS_ONLY: &str = ", look-ups only";
 
-/// The accumulator kernels the shafts bench follows.
-pub const SHAFTS_KERNELS: [&str; 2] = ["phi-6", "phi-8"];
-
-/// Light shafts on the gate's shadowed rays of `phi-8` (point lights among balls
-/// and boxes): each followed model's accumulator on the exact lit intervals and on
-/// `N` shadow-map samples, and `raymarch-N` on the same samples, with errors
+/// Light shafts on the gate's shadowed rays of the headline accumulator (point
+/// lights among balls and boxes): each accumulator `fit/src/roles.toml` names
+/// (`[shafts] kernels`) on the exact lit intervals and on `N` shadow-map samples,
+/// and the march at `N` steps on the same samples, with errors
 /// against the shadowed reference, CPU ns per ray (median of interleaved repeats)
 /// and GPU rays per second.
 pub(crate) fn shafts_costs(
@@ -84,18 +82,19 @@ pub(crate) fn shafts_costs(
     progress: &Progress,
 ) -> Result<Vec<ShaftsCost>, BenchError> {
     use airlight_truth::shafts::{self, Feed};
-    let entry = inputs.index.get("phi-8").map_err(BenchError::Input)?;
+    let roles = airlight_fit::roles::roles();
+    let entry = inputs.index.get(&roles.shafts.headline).map_err(BenchError::Input)?;
     let cases = crate::shafts::cases::shadowed_rays(entry, crate::shafts::cases::SHADOWED_RAYS, 0x5AF7_BE7C)
         .map_err(|e| BenchError::Failed(e.to_string()))?;
     let rays: Vec<crate::Ray> = cases.iter().map(|c| c.ray).collect();
     let mut jobs: Vec<(String, usize)> = Vec::new();
     for n in std::iter::once(0).chain(SHAFTS_SAMPLES) {
-        for name in SHAFTS_KERNELS {
-            jobs.push((name.to_string(), n));
+        for name in &roles.shafts.kernels {
+            jobs.push((name.clone(), n));
         }
         if n > 0 {
-            jobs.push((format!("{}{LOOK_UPS_ONLY}", SHAFTS_KERNELS[1]), n));
-            jobs.push((format!("raymarch-{n}"), n));
+            jobs.push((format!("{}{LOOK_UPS_ONLY}", roles.shafts.headline), n));
+            jobs.push((roles.march(n), n));
         }
     }
     let mut out = Vec::new();
@@ -103,7 +102,7 @@ pub(crate) fn shafts_costs(
         progress(&format!("bench: shafts, {name} at {n} samples"), j, jobs.len());
         let (kernel, look_ups_only) = match name.strip_suffix(LOOK_UPS_ONLY) {
             Some(k) => (k, true),
-            None => (name.as_str(), name.starts_with("raymarch")),
+            None => (name.as_str(), roles.is_march(name)),
         };
         let k = kernels.iter().find(|k| k.name == kernel).ok_or_else(|| {
             BenchError::Failed(format!("bench: no compiled kernel '{kernel}': run `airlight generate` and rebuild"))
@@ -131,7 +130,7 @@ pub(crate) fn shafts_costs(
         let calls: f64 = samples
             .iter()
             .map(|s| {
-                if name.starts_with("raymarch") {
+                if roles.is_march(name) {
                     s.iter().filter(|x| x[1] > 0.0).count() as f64
                 } else {
                     1.0 + s.windows(2).filter(|w| w[0][1] != w[1][1] && w[1][1] > 0.0).count() as f64

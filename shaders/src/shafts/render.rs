@@ -56,8 +56,10 @@ pub const REFINE_STEPS: u32 = 5;
 /// the accumulator's is shown.
 pub const MARCH_STEPS: [u32; 5] = [32, 64, 128, 256, 512];
 /// The kernel whose march functions draw the march's frame (its shafts march
-/// takes any number of steps).
-pub const MARCH_KERNEL: &str = "raymarch-64";
+/// takes any number of steps): `[shafts] render_march` in `fit/src/roles.toml`.
+pub fn march_kernel() -> &'static str {
+    &airlight_fit::roles::roles().shafts.render_march
+}
 /// Timed repeats of each frame's full-screen pass (after a warm-up).
 pub const REPEATS: usize = 3;
 /// Normal offset of a surface's own shadow look-up, metres.
