@@ -19,7 +19,6 @@
 #![warn(missing_docs)]
 
 pub mod bench;
-pub mod browser;
 mod error;
 pub mod gate;
 mod gpu;

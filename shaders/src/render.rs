@@ -96,7 +96,7 @@ impl View {
 /// The arguments of the kernel's physical entry in a fragment shader of the
 /// view: a viewer at `origin`, the light's position and intensity as written
 /// (the shader's locals `dir`, `surface` and `sigma_t`).
-pub(crate) fn radiance_args(k: &IndexEntry, view: &View, origin: &str, light: &str, intensity: &str) -> Vec<String> {
+pub fn radiance_args(k: &IndexEntry, view: &View, origin: &str, light: &str, intensity: &str) -> Vec<String> {
     k.radiance_params
         .iter()
         .map(|p| match p {

@@ -14,9 +14,12 @@
 //! its fog against the reference over the exact lit intervals. Skipped loudly without a browser or the npm tools, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (CI) or `AIRLIGHT_REQUIRE_BROWSER=1`.
 
-use airlight_shaders::browser::{self, Renderer};
+mod driver;
+
 use airlight_shaders::{gate, render};
 use airlight_shapes::vocab::f32_limit;
+use driver as browser;
+use driver::Renderer;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

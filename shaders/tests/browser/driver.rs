@@ -1,4 +1,5 @@
-//! The airlight-three package where three.js users are: a page (three.js r187
+//! The browser driver of `main.rs` (beside it, with the page sources in `pages/`,
+//! filled by [`fill`]): the airlight-three package where three.js users are: a page (three.js r187
 //! from npm, pinned in `tests/node/package.json`) imports a kernel's ES module
 //! from the package and draws the render's view of a scene in one full-screen
 //! pass, through `WebGLRenderer` with the module's GLSL include in a
@@ -8,7 +9,7 @@
 //! a loopback HTTP server started here (no network beyond 127.0.0.1); the page
 //! POSTs the pixels back, and they are compared with the f64 reference render.
 
-use crate::render::{View, FOV_Y, GROUND_Y};
+use airlight_shaders::render::{View, FOV_Y, GROUND_Y};
 use airlight_shapes::vocab::{Arg, IndexEntry};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
@@ -22,52 +23,27 @@ pub const THREE_VERSION: &str = "0.187.0";
 /// The page's fragment shader: the GLSL include `kernel` of `k`, the view's rays
 /// (the arithmetic of [`View::ray`], rows from the top), every light summed.
 pub fn fragment_shader(k: &IndexEntry, kernel: &str, view: &View, exposure: f64) -> String {
-    let args = crate::render::radiance_args(k, view, "vec3(0.0)", "LIGHTS[i].xyz", "LIGHTS[i].w");
+    let args = airlight_shaders::render::radiance_args(k, view, "vec3(0.0)", "LIGHTS[i].xyz", "LIGHTS[i].w");
     let lights: Vec<String> =
         view.lights().iter().map(|(p, i)| format!("vec4({:?}, {:?}, {:?}, {:?})", p[0], p[1], p[2], i)).collect();
     let sigmas: Vec<String> = view.sigma_t.iter().map(|s| format!("{s:?}")).collect();
-    format!(
-        "{kernel}
-// ---- the three.js page (shaders/src/browser.rs) ----
-out highp vec4 airlight_color;
-const vec4 LIGHTS[{nl}] = vec4[{nl}]({lights});
-const float SIGMA_T[{np}] = float[{np}]({sigmas});
-void main() {{
-    float pw = {pw:?};
-    vec2 pos = vec2(gl_FragCoord.x, {h:?} - gl_FragCoord.y);
-    float panel = floor(pos.x / pw);
-    float u = 2.0 * (pos.x - panel * pw) / pw - 1.0;
-    float v = 1.0 - 2.0 * pos.y / {h:?};
-    float t = tan({half:?});
-    vec3 d = vec3(u * t * (pw / {h:?}), v * t, 1.0);
-    vec3 dir = d / sqrt(dot(d, d));
-    float surface = -1.0;
-    if ({ground} && dir.y < 0.0) {{
-        surface = {gy:?} / dir.y;
-    }}
-    float sigma_t = SIGMA_T[int(panel)];
-    float sum = 0.0;
-    for (int i = 0; i < {nl}; i++) {{
-        sum += {prefix}radiance({args});
-    }}
-    // render::tone, in f32.
-    float x = max(sum * {exposure:?}, 0.0);
-    float c = pow(x / (1.0 + x), 1.0 / 2.2);
-    airlight_color = vec4(c, c, c, 1.0);
-}}
-",
-        nl = lights.len(),
-        lights = lights.join(", "),
-        np = sigmas.len(),
-        sigmas = sigmas.join(", "),
-        pw = view.panel_width as f32,
-        h = view.height as f32,
-        half = 0.5 * FOV_Y,
-        ground = view.ground,
-        gy = GROUND_Y * view.scale,
-        prefix = k.prefix,
-        args = args.join(", "),
-        exposure = exposure as f32,
+    fill(
+        include_str!("pages/fragment.glsl"),
+        &[
+            ("kernel", kernel.to_string()),
+            ("nl", format!("{}", lights.len())),
+            ("lights", lights.join(", ").to_string()),
+            ("np", format!("{}", sigmas.len())),
+            ("sigmas", sigmas.join(", ").to_string()),
+            ("pw_dbg", format!("{:?}", view.panel_width as f32)),
+            ("h_dbg", format!("{:?}", view.height as f32)),
+            ("half_dbg", format!("{:?}", 0.5 * FOV_Y)),
+            ("ground", format!("{}", view.ground)),
+            ("gy_dbg", format!("{:?}", GROUND_Y * view.scale)),
+            ("prefix", k.prefix.to_string()),
+            ("args", args.join(", ").to_string()),
+            ("exposure_dbg", format!("{:?}", exposure as f32)),
+        ],
     )
 }
 
@@ -89,6 +65,8 @@ fn js_string(s: &str) -> String {
 
 /// Which three.js renderer a page draws with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// The names are three.js's (WebGL, WebGPU): the shared prefix is theirs.
+#[allow(clippy::enum_variant_names)]
 pub enum Renderer {
     /// `WebGLRenderer` and a `RawShaderMaterial` that prepends the package's GLSL include.
     WebGl,
@@ -117,7 +95,7 @@ impl Renderer {
 const IMPORT_MAP: &str = r#"<script type="importmap">{"imports": {"three": "./three/three.module.js", "three/webgpu": "./three/three.webgpu.js", "three/tsl": "./three/three.tsl.js"}}</script>"#;
 
 /// The page's TSL colour node: the ray of [`View::ray`] from the pixel, the
-/// package's `radiance` node per light, tone-mapped as [`crate::render::tone`].
+/// package's `radiance` node per light, tone-mapped as [`airlight_shaders::render::tone`].
 fn tsl_colour(k: &IndexEntry, view: &View, exposure: f64, node: &str) -> String {
     let lights: Vec<String> =
         view.lights().iter().map(|(p, i)| format!("[{:?}, {:?}, {:?}, {:?}]", p[0], p[1], p[2], i)).collect();
@@ -135,7 +113,7 @@ fn tsl_colour(k: &IndexEntry, view: &View, exposure: f64, node: &str) -> String 
                 Arg::Light => "vec3(l[0], l[1], l[2])".into(),
                 Arg::Intensity => "float(l[3])".into(),
                 Arg::SigmaT => "sigmaT".into(),
-                Arg::SigmaS => format!("sigmaT.mul({:?})", crate::render::ALBEDO),
+                Arg::SigmaS => format!("sigmaT.mul({:?})", airlight_shaders::render::ALBEDO),
                 Arg::G => format!("float({:?})", view.g),
                 other => unreachable!("{other} is not an argument of radiance"),
             };
@@ -147,33 +125,19 @@ fn tsl_colour(k: &IndexEntry, view: &View, exposure: f64, node: &str) -> String 
     } else {
         "float(-1.0)".into()
     };
-    format!(
-        "Fn(() => {{
-    const pw = float({pw:?}), h = float({h:?});
-    // screenCoordinate: pixels from the top left, on both backends.
-    const pos = screenCoordinate.xy;
-    const panel = floor(pos.x.div(pw));
-    const u = pos.x.sub(panel.mul(pw)).div(pw).mul(2.0).sub(1.0);
-    const v = float(1.0).sub(pos.y.mul(2.0).div(h));
-    const t = float({t:?});
-    const d = vec3(u.mul(t.mul(pw.div(h))), v.mul(t), 1.0);
-    const dir = d.div(sqrt(dot(d, d)));
-    const surface = {ground};
-    const sigmaT = {sigma};
-    let sum = float(0.0);
-    for (const l of [{lights}]) {{
-        sum = sum.add({node}({{ {args} }}));
-    }}
-    const x = max(sum.mul({exposure:?}), 0.0);
-    const c = pow(x.div(x.add(1.0)), 1.0 / 2.2);
-    return vec4(c, c, c, 1.0);
-}})()",
-        pw = view.panel_width as f32,
-        h = view.height as f32,
-        t = (0.5 * FOV_Y).tan(),
-        lights = lights.join(", "),
-        args = args.join(", "),
-        exposure = exposure as f32,
+    fill(
+        include_str!("pages/tsl_colour.js"),
+        &[
+            ("pw_dbg", format!("{:?}", view.panel_width as f32)),
+            ("h_dbg", format!("{:?}", view.height as f32)),
+            ("t_dbg", format!("{:?}", (0.5 * FOV_Y).tan())),
+            ("ground", ground.to_string()),
+            ("sigma", sigma.to_string()),
+            ("lights", lights.join(", ").to_string()),
+            ("node", node.to_string()),
+            ("args", args.join(", ").to_string()),
+            ("exposure_dbg", format!("{:?}", exposure as f32)),
+        ],
     )
 }
 
@@ -189,38 +153,9 @@ pub fn page(k: &IndexEntry, view: &View, exposure: f64, renderer: Renderer) -> S
     let (imports, body) = match renderer {
         Renderer::WebGl => (
             format!("import * as THREE from 'three';\nimport {{ glsl }} from '{sources}';"),
-            format!(
-                r#"const canvas = document.createElement('canvas');
-canvas.width = W; canvas.height = H;
-document.body.appendChild(canvas);
-const renderer = new THREE.WebGLRenderer({{ canvas, antialias: false, alpha: false, preserveDrawingBuffer: true }});
-renderer.setPixelRatio(1);
-renderer.setSize(W, H, false);
-let shaderError = null;
-renderer.debug.checkShaderErrors = true;
-renderer.debug.onShaderError = (gl, program, vs, fs) => {{
-  shaderError = 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program);
-}};
-const material = new THREE.RawShaderMaterial({{
-  glslVersion: THREE.GLSL3,
-  vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
-  fragmentShader: glsl + {main},
-}});
-const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-mesh.frustumCulled = false;
-const scene = new THREE.Scene();
-scene.add(mesh);
-renderer.render(scene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
-if (shaderError) throw new Error(shaderError);
-const gl = renderer.getContext();
-const px = new Uint8Array(W * H * 4);
-gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE, px);
-const info = gl.getExtension('WEBGL_debug_renderer_info');
-const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, ' + gl.getParameter(gl.VERSION) + ', ' +
-  (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
-// readPixels starts at the bottom row.
-return {{ adapter, rgba: px, bottomUp: true }};"#,
-                main = js_string(&fragment_shader(k, "", view, exposure)),
+            fill(
+                include_str!("pages/webgl.js"),
+                &[("main", js_string(&fragment_shader(k, "", view, exposure)).to_string())],
             ),
         ),
         Renderer::WebGpu | Renderer::WebGpuOnWebGl => {
@@ -231,33 +166,13 @@ return {{ adapter, rgba: px, bottomUp: true }};"#,
                  import {{ Fn, float, vec3, vec4, screenCoordinate, floor, sqrt, dot, max, pow, select }} from 'three/tsl';\n\
                  import * as K from '{module}';"
             );
-            let body = format!(
-                r#"const renderer = new THREE.WebGPURenderer({{ antialias: false, forceWebGL: {force} }});
-await renderer.init();
-const backend = renderer.backend.isWebGPUBackend ? 'WebGPU' : 'WebGL 2';
-if (backend !== '{want}') throw new Error('asked for {want}, got ' + backend);
-const material = new THREE.MeshBasicNodeMaterial();
-material.colorNode = {colour};
-const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-mesh.frustumCulled = false;
-const scene = new THREE.Scene();
-scene.add(mesh);
-const target = new THREE.RenderTarget(W, H, {{ type: THREE.UnsignedByteType, depthBuffer: false }});
-renderer.setRenderTarget(target);
-renderer.render(scene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
-const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
-let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + ')';
-if (renderer.backend.isWebGPUBackend) {{
-  const i = (await navigator.gpu.requestAdapter()).info;
-  adapter += ', ' + [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
-}} else {{
-  const gl = renderer.getContext();
-  const info = gl.getExtension('WEBGL_debug_renderer_info');
-  adapter += ', ' + (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
-}}
-return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: !renderer.backend.isWebGPUBackend }};"#,
-                want = if force { "WebGL 2" } else { "WebGPU" },
-                colour = tsl_colour(k, view, exposure, node),
+            let body = fill(
+                include_str!("pages/webgpu.js"),
+                &[
+                    ("force", format!("{}", force)),
+                    ("want", (if force { "WebGL 2" } else { "WebGPU" }).to_string()),
+                    ("colour", tsl_colour(k, view, exposure, node).to_string()),
+                ],
             );
             (imports, body)
         }
@@ -269,37 +184,15 @@ return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength)
 /// which returns `{adapter, rgba, bottomUp, texel}` (`texel`: bytes per pixel, 4
 /// unless given): the pixels go back rows from the top.
 fn wrap_page(imports: &str, body: &str, width: u32, height: u32) -> String {
-    format!(
-        r#"<!doctype html>
-<html><head><meta charset="utf-8"><title>airlight in three.js</title>
-{IMPORT_MAP}
-</head>
-<body>
-<script type="module">
-{imports}
-const W = {width}, H = {height};
-async function draw() {{
-{body}
-}}
-let reply;
-try {{
-  const {{ adapter, rgba, bottomUp, texel = 4 }} = await draw();
-  if (rgba.length !== W * H * texel) throw new Error(rgba.length + ' bytes read back, expected ' + W * H * texel);
-  const rows = new Uint8Array(W * H * texel);
-  for (let y = 0; y < H; y++) {{
-    const from = bottomUp ? H - 1 - y : y;
-    rows.set(rgba.subarray(from * W * texel, (from + 1) * W * texel), y * W * texel);
-  }}
-  let bin = '';
-  for (let i = 0; i < rows.length; i++) bin += String.fromCharCode(rows[i]);
-  reply = 'ok\n' + adapter + '\n' + btoa(bin);
-}} catch (e) {{
-  reply = 'error\n' + String(e && e.stack || e);
-}}
-await fetch('/result', {{ method: 'POST', body: reply }});
-</script>
-</body></html>
-"#
+    fill(
+        include_str!("pages/page.html"),
+        &[
+            ("IMPORT_MAP", IMPORT_MAP.to_string()),
+            ("imports", imports.to_string()),
+            ("width", format!("{}", width)),
+            ("height", format!("{}", height)),
+            ("body", body.to_string()),
+        ],
     )
 }
 
@@ -309,7 +202,7 @@ fn glsl_v3(v: [f32; 3]) -> String {
 }
 
 /// The light-shafts page (`WebGLRenderer`): the window-shafts room's occluders
-/// (`crate::shafts::render`) as three.js meshes that cast shadows, its spot as a
+/// (`airlight_shaders::shafts::render`) as three.js meshes that cast shadows, its spot as a
 /// `SpotLight` with a shadow map (`PCFShadowMap`: a depth texture with a
 /// comparison sampler, 2×2 filtered); one render builds three.js's shadow map,
 /// then a full-screen `RawShaderMaterial` with the kernel's GLSL include walks
@@ -320,12 +213,12 @@ fn glsl_v3(v: [f32; 3]) -> String {
 /// as f32 and POSTs them (base64 of the floats, rows from the top).
 pub fn shafts_page(
     k: &IndexEntry,
-    view: &crate::shafts::render::ShaftsView,
+    view: &airlight_shaders::shafts::render::ShaftsView,
     look_ups: u32,
     refine: u32,
     renderer: Renderer,
 ) -> String {
-    use crate::shafts::render as sr;
+    use airlight_shaders::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let sources = format!("./airlight-three/sources/{}.js", k.name);
     let p = &k.prefix;
@@ -358,112 +251,43 @@ pub fn shafts_page(
         .map(|b| format!("    end = min(end, box_entry({}, {}, dir, end));\n", glsl_v3(b.0), glsl_v3(b.1)))
         .collect();
     let room = sr::ROOM;
-    let main = format!(
-        r#"
-// ---- the light-shafts pass (shaders/src/browser.rs) ----
-uniform highp sampler2DShadow shadowMap;
-uniform highp mat4 shadowMatrix;
-out highp vec4 airlight_fog;
-const vec3 CAMERA = {camera};
-const vec3 LIGHT = {light};
-// three.js's shadow: light.shadow.matrix maps the world to [0, 1]^3; outside it, lit.
-float visibility(vec3 q) {{
-    vec4 c = shadowMatrix * vec4(q, 1.0);
-    if (c.w <= 0.0) return 1.0;
-    vec3 t = c.xyz / c.w;
-    if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(1.0)))) return 1.0;
-    return texture(shadowMap, vec3(t.xy, t.z - 0.0005));
-}}
-float box_entry(vec3 lo, vec3 hi, vec3 d, float end) {{
-    vec3 a = (lo - CAMERA) / d, b = (hi - CAMERA) / d;
-    vec3 n = min(a, b), x = max(a, b);
-    float t0 = max(max(n.x, n.y), n.z), t1 = min(min(x.x, x.y), x.z);
-    return (t0 < t1 && t0 > 0.0) ? t0 : end;
-}}
-void main() {{
-    vec2 pos = vec2(gl_FragCoord.x, {h:?} - gl_FragCoord.y);
-    float u = 2.0 * pos.x / {w:?} - 1.0;
-    float v = 1.0 - 2.0 * pos.y / {h:?};
-    float t = {t:?};
-    vec3 d = {f} + (u * t * {aspect:?}) * {r} + (v * t) * {up};
-    vec3 dir = d / sqrt(dot(d, d));
-    // The first surface: the room's walls from inside, the beams, pillars and ball.
-    vec3 a = ({room_lo} - CAMERA) / dir, b = ({room_hi} - CAMERA) / dir;
-    vec3 x = max(a, b);
-    float end = min(min(x.x, x.y), x.z);
-{slabs}    vec3 w = CAMERA - {ball_c};
-    float bb = dot(w, dir), disc = bb * bb - (dot(w, w) - {ball_r2:?});
-    float sb = -bb - sqrt(max(disc, 0.0));
-    if (disc >= 0.0 && sb > 0.0) end = min(end, sb);
-    {p}Shafts acc = {p}shafts_begin();
-    {p}shafts_push_spot(acc, 0.0, visibility(CAMERA), {args});
-    for (int i = 0; i < {n}; i++) {{
-        float s = (float(i) + 0.5) * end / {nf:?};
-        {p}shafts_push_spot(acc, s, visibility(CAMERA + s * dir), {args});
-        for (int k = 0; k < {refine} && {p}shafts_probe(acc) >= 0.0; k++) {{
-            {p}shafts_refine(acc, visibility(CAMERA + {p}shafts_probe(acc) * dir));
-        }}
-    }}
-    {p}shafts_push_spot(acc, end, visibility(CAMERA + end * (1.0 - 1e-4) * dir), {args});
-    vec3 fog = {p}shafts_finish_spot(acc, end, {args});
-    airlight_fog = vec4(fog, end);
-}}
-"#,
-        camera = glsl_v3(sr::CAMERA),
-        light = glsl_v3(sr::LIGHT),
-        h = height as f32,
-        w = width as f32,
-        t = (0.5 * FOV_Y).tan(),
-        aspect = width as f32 / height as f32,
-        f = glsl_v3(f),
-        r = glsl_v3(r),
-        up = glsl_v3(u),
-        room_lo = glsl_v3([room[0][0], room[1][0], room[2][0]]),
-        room_hi = glsl_v3([room[0][1], room[1][1], room[2][1]]),
-        ball_c = glsl_v3(sr::BALL.0),
-        ball_r2 = sr::BALL.1 * sr::BALL.1,
-        n = look_ups,
-        nf = look_ups as f32,
+    let main = fill(
+        include_str!("pages/shafts.glsl"),
+        &[
+            ("camera", glsl_v3(sr::CAMERA).to_string()),
+            ("light", glsl_v3(sr::LIGHT).to_string()),
+            ("h_dbg", format!("{:?}", height as f32)),
+            ("w_dbg", format!("{:?}", width as f32)),
+            ("t_dbg", format!("{:?}", (0.5 * FOV_Y).tan())),
+            ("f", glsl_v3(f).to_string()),
+            ("aspect_dbg", format!("{:?}", width as f32 / height as f32)),
+            ("r", glsl_v3(r).to_string()),
+            ("up", glsl_v3(u).to_string()),
+            ("room_lo", glsl_v3([room[0][0], room[1][0], room[2][0]]).to_string()),
+            ("room_hi", glsl_v3([room[0][1], room[1][1], room[2][1]]).to_string()),
+            ("slabs", slabs.to_string()),
+            ("ball_c", glsl_v3(sr::BALL.0).to_string()),
+            ("ball_r2_dbg", format!("{:?}", sr::BALL.1 * sr::BALL.1)),
+            ("p", p.to_string()),
+            ("args", args.to_string()),
+            ("n", format!("{}", look_ups)),
+            ("nf_dbg", format!("{:?}", look_ups as f32)),
+            ("refine", format!("{}", refine)),
+        ],
     );
     if renderer != Renderer::WebGl {
         return shafts_page_tsl(k, view, look_ups, renderer == Renderer::WebGpuOnWebGl);
     }
-    let body = format!(
-        r#"const renderer = new THREE.WebGLRenderer({{ antialias: false }});
-renderer.setPixelRatio(1);
-renderer.setSize(W, H, false);
-renderer.shadowMap.enabled = true;
-renderer.shadowMap.type = THREE.PCFShadowMap;
-let shaderError = null;
-renderer.debug.checkShaderErrors = true;
-renderer.debug.onShaderError = (gl, program, vs, fs) => {{
-  shaderError = 'shader: ' + gl.getShaderInfoLog(fs) + gl.getShaderInfoLog(vs) + gl.getProgramInfoLog(program);
-}};
-// The room's occluders, casting shadows, its spot light, and three.js's shadow map.
-{scene}
-const material = new THREE.RawShaderMaterial({{
-  glslVersion: THREE.GLSL3,
-  vertexShader: 'in vec3 position;\nvoid main() {{ gl_Position = vec4(position.xy, 0.0, 1.0); }}\n',
-  fragmentShader: glsl + {main},
-  uniforms: {{ shadowMap: {{ value: light.shadow.map.depthTexture }}, shadowMatrix: {{ value: light.shadow.matrix }} }},
-}});
-const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-quad.frustumCulled = false;
-const pass = new THREE.Scene();
-pass.add(quad);
-const target = new THREE.WebGLRenderTarget(W, H, {{ type: THREE.FloatType, depthBuffer: false }});
-renderer.setRenderTarget(target);
-renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
-if (shaderError) throw new Error(shaderError);
-const px = new Float32Array(W * H * 4);
-renderer.readRenderTargetPixels(target, 0, 0, W, H, px);
-const gl = renderer.getContext();
-const info = gl.getExtension('WEBGL_debug_renderer_info');
-const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, shadow map ' + light.shadow.map.width + '², ' +
-  (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
-return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }};"#,
-        scene = shafts_scene_js("new THREE.MeshBasicMaterial()", "new THREE.MeshBasicMaterial()", "WebGLRenderTarget"),
-        main = js_string(&main),
+    let body = fill(
+        include_str!("pages/shafts_webgl.js"),
+        &[
+            (
+                "scene",
+                shafts_scene_js("new THREE.MeshBasicMaterial()", "new THREE.MeshBasicMaterial()", "WebGLRenderTarget")
+                    .to_string(),
+            ),
+            ("main", js_string(&main).to_string()),
+        ],
     );
     let imports = format!("import * as THREE from 'three';\nimport {{ glsl }} from '{sources}';");
     wrap_page(&imports, &body, width, height)
@@ -474,61 +298,34 @@ return {{ adapter, rgba: new Uint8Array(px.buffer), bottomUp: true, texel: 16 }}
 /// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
 /// render that draws three.js's shadow map into `light.shadow`.
 fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
-    use crate::shafts::render as sr;
+    use airlight_shaders::shafts::render as sr;
     let js_boxes: Vec<String> = sr::boxes()
         .iter()
         .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
         .collect();
-    format!(
-        r#"const scene = new THREE.Scene();
-const stone = {material};
-for (const [x0, y0, z0, x1, y1, z1] of [{boxes}]) {{
-  const m = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0), stone);
-  m.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-  m.castShadow = true;
-  scene.add(m);
-}}
-const ball = new THREE.Mesh(new THREE.SphereGeometry({ball_r:?}, 96, 48), stone);
-ball.position.set({bx:?}, {by:?}, {bz:?});
-ball.castShadow = true;
-scene.add(ball);
-const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 18), {floor});
-floor.rotation.x = -Math.PI / 2;
-floor.position.set(0, 0, 7);
-floor.receiveShadow = true;
-scene.add(floor);
-const light = new THREE.SpotLight(0xffffff, 1.0, 0, {angle:?}, 0.0, 2);
-light.position.set({lx:?}, {ly:?}, {lz:?});
-light.target.position.set({ax:?}, {ay:?}, {az:?});
-light.castShadow = true;
-light.shadow.mapSize.set({map}, {map});
-light.shadow.camera.near = 0.3;
-light.shadow.camera.far = 30.0;
-scene.add(light, light.target);
-const camera = new THREE.PerspectiveCamera(60, W / H, 0.1, 100);
-camera.position.set({cx:?}, {cy:?}, {cz:?});
-camera.lookAt({cx:?}, {cy:?}, {cz:?} + 1.0);
-// This render draws three.js's shadow map (light.shadow.map, light.shadow.matrix).
-const scratch = new THREE.{target}(W, H);
-renderer.setRenderTarget(scratch);
-renderer.render(scene, camera);
-if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.js drew no shadow map');"#,
-        boxes = js_boxes.join(", "),
-        ball_r = sr::BALL.1,
-        bx = sr::BALL.0[0],
-        by = sr::BALL.0[1],
-        bz = sr::BALL.0[2],
-        angle = sr::CONE_DEG[0].to_radians(),
-        lx = sr::LIGHT[0],
-        ly = sr::LIGHT[1],
-        lz = sr::LIGHT[2],
-        ax = sr::AIM[0],
-        ay = sr::AIM[1],
-        az = sr::AIM[2],
-        map = sr::SHADOW_MAP,
-        cx = sr::CAMERA[0],
-        cy = sr::CAMERA[1],
-        cz = sr::CAMERA[2],
+    fill(
+        include_str!("pages/shafts_scene.js"),
+        &[
+            ("material", material.to_string()),
+            ("boxes", js_boxes.join(", ").to_string()),
+            ("ball_r_dbg", format!("{:?}", sr::BALL.1)),
+            ("bx_dbg", format!("{:?}", sr::BALL.0[0])),
+            ("by_dbg", format!("{:?}", sr::BALL.0[1])),
+            ("bz_dbg", format!("{:?}", sr::BALL.0[2])),
+            ("floor", floor.to_string()),
+            ("angle_dbg", format!("{:?}", sr::CONE_DEG[0].to_radians())),
+            ("lx_dbg", format!("{:?}", sr::LIGHT[0])),
+            ("ly_dbg", format!("{:?}", sr::LIGHT[1])),
+            ("lz_dbg", format!("{:?}", sr::LIGHT[2])),
+            ("ax_dbg", format!("{:?}", sr::AIM[0])),
+            ("ay_dbg", format!("{:?}", sr::AIM[1])),
+            ("az_dbg", format!("{:?}", sr::AIM[2])),
+            ("map", format!("{}", sr::SHADOW_MAP)),
+            ("cx_dbg", format!("{:?}", sr::CAMERA[0])),
+            ("cy_dbg", format!("{:?}", sr::CAMERA[1])),
+            ("cz_dbg", format!("{:?}", sr::CAMERA[2])),
+            ("target", target.to_string()),
+        ],
     )
 }
 
@@ -536,8 +333,13 @@ if (!light.shadow.map || !light.shadow.map.depthTexture) throw new Error('three.
 /// map, and the package's shafts TSL node walking each ray in `look_ups` steps
 /// (the page's own code node finds the first surface) — on WebGPU through
 /// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
-fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts::render::ShaftsView, look_ups: u32, webgl: bool) -> String {
-    use crate::shafts::render as sr;
+fn shafts_page_tsl(
+    k: &IndexEntry,
+    view: &airlight_shaders::shafts::render::ShaftsView,
+    look_ups: u32,
+    webgl: bool,
+) -> String {
+    use airlight_shaders::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
     let v3 = |v: [f32; 3]| {
@@ -571,37 +373,33 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts::render::ShaftsView, loo
             "fn box_entry(o: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, d: vec3<f32>, end: f32) -> f32",
         )
     };
-    let scene_end = format!(
-        "{fn_end} {{
-    {vector} o = {cam};
-    {vector} a = ({lo} - o) / dir;
-    {vector} b = ({hi} - o) / dir;
-    {vector} x = max(a, b);
-    {mutable} end = min(min(x.x, x.y), x.z);
-{slabs}    {vector} w = o - {ball};
-    {scalar} bb = dot(w, dir);
-    {scalar} disc = bb * bb - (dot(w, w) - {r2:?});
-    {scalar} sb = -bb - sqrt(max(disc, 0.0));
-    if (disc >= 0.0 && sb > 0.0) {{ end = min(end, sb); }}
-    return end;
-}}",
-        cam = v3(sr::CAMERA),
-        lo = v3([room[0][0], room[1][0], room[2][0]]),
-        hi = v3([room[0][1], room[1][1], room[2][1]]),
-        ball = v3(sr::BALL.0),
-        r2 = sr::BALL.1 * sr::BALL.1,
+    let scene_end = fill(
+        include_str!("pages/shafts_scene_end.txt"),
+        &[
+            ("fn_end", fn_end.to_string()),
+            ("vector", vector.to_string()),
+            ("cam", v3(sr::CAMERA).to_string()),
+            ("lo", v3([room[0][0], room[1][0], room[2][0]]).to_string()),
+            ("hi", v3([room[0][1], room[1][1], room[2][1]]).to_string()),
+            ("mutable", mutable.to_string()),
+            ("slabs", slabs.to_string()),
+            ("ball", v3(sr::BALL.0).to_string()),
+            ("scalar", scalar.to_string()),
+            ("r2_dbg", format!("{:?}", sr::BALL.1 * sr::BALL.1)),
+        ],
     );
-    let box_entry = format!(
-        "{fn_box} {{
-    {vector} a = (lo - o) / d;
-    {vector} b = (hi - o) / d;
-    {vector} n = min(a, b);
-    {vector} x = max(a, b);
-    {scalar} t0 = max(max(n.x, n.y), n.z);
-    {scalar} t1 = min(min(x.x, x.y), x.z);
-    return {pick};
-}}",
-        pick = if webgl { "(t0 < t1 && t0 > 0.0) ? t0 : end" } else { "select(end, t0, t0 < t1 && t0 > 0.0)" },
+    let box_entry = fill(
+        include_str!("pages/shafts_box_entry.txt"),
+        &[
+            ("fn_box", fn_box.to_string()),
+            ("vector", vector.to_string()),
+            ("scalar", scalar.to_string()),
+            (
+                "pick",
+                (if webgl { "(t0 < t1 && t0 > 0.0) ? t0 : end" } else { "select(end, t0, t0 < t1 && t0 > 0.0)" })
+                    .to_string(),
+            ),
+        ],
     );
     let (st, ss) = sr::medium();
     let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
@@ -627,65 +425,33 @@ fn shafts_page_tsl(k: &IndexEntry, view: &crate::shafts::render::ShaftsView, loo
         })
         .collect();
     let [f, r, u] = sr::camera_basis();
-    let body = format!(
-        r#"const renderer = new THREE.WebGPURenderer({{ antialias: false, forceWebGL: {webgl} }});
-await renderer.init();
-const backend = renderer.backend.isWebGPUBackend ? 'WebGPU' : 'WebGL 2';
-if (backend !== '{want}') throw new Error('asked for {want}, got ' + backend);
-renderer.shadowMap.enabled = true;
-renderer.shadowMap.type = THREE.PCFShadowMap;
-{scene}
-const sceneEnd = {code_fn}({scene_end}, [{code}({box_entry})]);
-const depth = texture(light.shadow.map.depthTexture);
-const material = new THREE.MeshBasicNodeMaterial();
-material.fragmentNode = Fn(() => {{
-  const pos = screenCoordinate.xy;
-  const u = pos.x.mul(2.0 / W).sub(1.0);
-  const v = float(1.0).sub(pos.y.mul(2.0 / H));
-  const t = float({t:?});
-  const d = {f}.add({r}.mul(u.mul(t).mul({aspect:?}))).add({up}.mul(v.mul(t)));
-  const dir = d.div(sqrt(dot(d, d)));
-  const end = sceneEnd({{ dir }});
-  const fog = K.{node}({{ {args}, shadow_map: depth, shadow_sampler: depth,
-    shadow_matrix: uniform(light.shadow.matrix), shadow_bias: float(-0.0005), look_ups: float({n:?}), reach: float(100.0) }});
-  return vec4(fog, end);
-}})();
-const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-quad.frustumCulled = false;
-const pass = new THREE.Scene();
-pass.add(quad);
-const target = new THREE.RenderTarget(W, H, {{ type: THREE.FloatType, depthBuffer: false }});
-renderer.setRenderTarget(target);
-renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
-const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
-let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), shadow map ' + light.shadow.mapSize.x + '², ';
-if (renderer.backend.isWebGPUBackend) {{
-  const i = (await navigator.gpu.requestAdapter()).info;
-  adapter += [i.vendor, i.architecture, i.device, i.description].filter((x) => x).join(' ');
-}} else {{
-  const gl = renderer.getContext();
-  const info = gl.getExtension('WEBGL_debug_renderer_info');
-  adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
-}}
-return {{ adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: {webgl}, texel: 16 }};"#,
-        scene = shafts_scene_js(
-            "new THREE.MeshStandardNodeMaterial()",
-            "new THREE.MeshStandardNodeMaterial()",
-            "RenderTarget"
-        ),
-        scene_end = js_string(&scene_end),
-        box_entry = js_string(&box_entry),
-        code_fn = if webgl { "glslFn" } else { "wgslFn" },
-        code = if webgl { "glslCode" } else { "wgslCode" },
-        node = if webgl { "shaftsSpotGLSL" } else { "shaftsSpotWGSL" },
-        want = if webgl { "WebGL 2" } else { "WebGPU" },
-        t = (0.5 * FOV_Y).tan(),
-        aspect = width as f32 / height as f32,
-        f = t3(f),
-        r = t3(r),
-        up = t3(u),
-        args = args.join(", "),
-        n = look_ups as f32,
+    let body = fill(
+        include_str!("pages/shafts_tsl.js"),
+        &[
+            ("webgl", format!("{}", webgl)),
+            ("want", (if webgl { "WebGL 2" } else { "WebGPU" }).to_string()),
+            (
+                "scene",
+                shafts_scene_js(
+                    "new THREE.MeshStandardNodeMaterial()",
+                    "new THREE.MeshStandardNodeMaterial()",
+                    "RenderTarget",
+                )
+                .to_string(),
+            ),
+            ("code_fn", (if webgl { "glslFn" } else { "wgslFn" }).to_string()),
+            ("scene_end", js_string(&scene_end).to_string()),
+            ("code", (if webgl { "glslCode" } else { "wgslCode" }).to_string()),
+            ("box_entry", js_string(&box_entry).to_string()),
+            ("t_dbg", format!("{:?}", (0.5 * FOV_Y).tan())),
+            ("f", t3(f).to_string()),
+            ("r", t3(r).to_string()),
+            ("aspect_dbg", format!("{:?}", width as f32 / height as f32)),
+            ("up", t3(u).to_string()),
+            ("node", (if webgl { "shaftsSpotGLSL" } else { "shaftsSpotWGSL" }).to_string()),
+            ("args", args.join(", ").to_string()),
+            ("n_dbg", format!("{:?}", look_ups as f32)),
+        ],
     );
     let imports = format!(
         "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode, glslFn, glsl as glslCode }} from 'three/tsl';\nimport * as K from '{module}';"
@@ -980,4 +746,30 @@ pub fn page_files(three: &Path, package: &Path, page: String) -> Result<Vec<(Str
         }
     }
     Ok(files)
+}
+
+/// `template` (a page source in `pages/`) with each `{{key}}` replaced by its value,
+/// in one pass (a value is never scanned again); a key the template names and
+/// `vars` lacks is a bug in the caller, and panics.
+fn fill(template: &str, vars: &[(&str, String)]) -> String {
+    let mut out = String::with_capacity(template.len());
+    let mut rest = template;
+    while let Some(k) = rest.find("{{") {
+        out.push_str(&rest[..k]);
+        let tail = &rest[k + 2..];
+        match tail.find("}}") {
+            Some(e) if tail[..e].chars().all(|c| c.is_ascii_alphanumeric() || c == '_') => {
+                let key = &tail[..e];
+                let v = vars.iter().find(|(n, _)| *n == key).unwrap_or_else(|| panic!("no value for {{{{{key}}}}}"));
+                out.push_str(&v.1);
+                rest = &tail[e + 2..];
+            }
+            _ => {
+                out.push_str("{{");
+                rest = tail;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
