@@ -81,16 +81,13 @@ fn worst_of(m: &ModelFile) -> f64 {
     [Domain::Thin, Domain::Dense].iter().filter_map(|&d| m.error(d)).map(|e| e.max_rel).fold(0.0, f64::max)
 }
 
-/// Plain-language advice computed from the measured table.
-/// `f32_of(name)`: the f32 bound over `thin` and `dense` of a model's kernel, where
-/// the gate record measured these kernels.
-fn advice(models: &[ModelFile], bench: Option<&Bench>, f32_of: &dyn Fn(&str) -> Option<f64>) -> Vec<String> {
-    let mut out = Vec::new();
+/// The published model against the same forms refit (`fit/src/roles.toml`).
+fn published_advice(models: &[ModelFile]) -> Option<String> {
     let get = |n: &str| models.iter().find(|m| m.model.name == n);
     let roles = &airlight_fit::roles::roles().report;
     if let (Some(p), Some(r)) = (get(&roles.published), get(&roles.published_refit)) {
         let e = |m: &ModelFile, d: Domain| m.error(d).map_or(f64::NAN, |e| e.max_rel);
-        out.push(format!(
+        return Some(format!(
             "The published isotropic model (`{}`) has max error {} on `thin` and {} on `dense`; the same forms refit (`{}`) reach {} and {}.",
             roles.published,
             fmt_err(e(p, Domain::Thin)),
@@ -100,6 +97,15 @@ fn advice(models: &[ModelFile], bench: Option<&Bench>, f32_of: &dyn Fn(&str) -> 
             fmt_err(e(r, Domain::Dense))
         ));
     }
+    None
+}
+
+/// Plain-language advice computed from the measured table.
+/// `f32_of(name)`: the f32 bound over `thin` and `dense` of a model's kernel, where
+/// the gate record measured these kernels.
+fn advice(models: &[ModelFile], bench: Option<&Bench>, f32_of: &dyn Fn(&str) -> Option<f64>) -> Vec<String> {
+    let mut out = Vec::new();
+    out.extend(published_advice(models));
     let ns_of = |m: &ModelFile| -> Option<f64> {
         bench?.models.iter().find(|b| b.name == m.model.name).map(|b| b.cpu_ns_per_eval)
     };

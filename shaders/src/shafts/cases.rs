@@ -321,88 +321,11 @@ impl Subject<'_> {
         let mut held: Vec<Held> = cases.iter().map(ShadowCase::held).collect();
         held.extend(spots.iter().flat_map(SpotShadowCase::held));
         let f32s = |s: &[(f64, f64)]| s.iter().map(|&(a, b)| [a as f32, b as f32]).collect::<Vec<_>>();
-        // The f64 model through the f64 accumulator.
-        let mut f64s: Vec<f64> = airlight_truth::parallel::map(
-            &cases,
-            |c| {
-                let phys = c.ray.physical();
-                airlight_truth::shafts::evaluate(
-                    &phys,
-                    None,
-                    f64::from(c.ray.g),
-                    &c.samples,
-                    &|p| (self.model)(p),
-                    false,
-                )
-                .map_or(f64::NAN, |v| v.0)
-            },
-            &|_, _| {},
-        );
-        f64s.extend(
-            airlight_truth::parallel::map(
-                &spots,
-                |c| {
-                    let cone = c.ray.cone();
-                    [0, 1, 2].map(|ch| {
-                        let p = c.ray.physical(ch);
-                        airlight_truth::shafts::evaluate(
-                            &p,
-                            cone.as_ref(),
-                            f64::from(c.ray.g),
-                            &c.samples,
-                            &|q| (self.model)(q),
-                            false,
-                        )
-                        .map_or(f64::NAN, |v| v.0)
-                    })
-                },
-                &|_, _| {},
-            )
-            .into_iter()
-            .flatten(),
-        );
+        let f64s = self.shadowed_f64(&cases, &spots);
         let mut rows = vec![shadow_row(k, None, &held, &f64s, bound)];
         let samples: Vec<Vec<[f32; 2]>> = cases.iter().map(|c| f32s(&c.samples)).collect();
         let spot_samples: Vec<Vec<[f32; 2]>> = spots.iter().map(|c| f32s(&c.samples)).collect();
-        if let Some(f) = self.compiled.and_then(|rk| rk.shadowed) {
-            let mut got: Vec<f64> = cases
-                .iter()
-                .zip(&samples)
-                .map(|(c, s)| {
-                    let r = &c.ray;
-                    crate::from_kernel(f(
-                        s,
-                        r.surface,
-                        r.origin,
-                        r.dir,
-                        r.light,
-                        r.intensity,
-                        r.sigma_t,
-                        r.sigma_s,
-                        r.g,
-                    ))
-                })
-                .collect();
-            if let Some(fs) = self.compiled.and_then(|rk| rk.spot_shadowed) {
-                for (c, s) in spots.iter().zip(&spot_samples) {
-                    let r = &c.ray;
-                    let v = fs(
-                        s,
-                        r.surface,
-                        r.origin,
-                        r.dir,
-                        r.light,
-                        r.axis,
-                        r.cos_outer,
-                        r.cos_inner,
-                        r.intensity,
-                        r.sigma_t,
-                        r.sigma_s,
-                        r.g,
-                    );
-                    got.extend(v.map(crate::from_kernel));
-                }
-            }
+        if let Some(got) = self.shadowed_rust(&cases, &samples, &spots, &spot_samples) {
             rows.push(shadow_row(k, Some(Target::Rust), &held, &got, bound));
         }
         if let Some(gpu) = self.gpu {
@@ -423,5 +346,90 @@ impl Subject<'_> {
             }
         }
         Ok(rows)
+    }
+
+    /// The f64 model through the f64 accumulator: one value per point case, then
+    /// three (R, G, B) per spot case.
+    fn shadowed_f64(&self, cases: &[ShadowCase], spots: &[SpotShadowCase]) -> Vec<f64> {
+        let mut f64s: Vec<f64> = airlight_truth::parallel::map(
+            cases,
+            |c| {
+                let phys = c.ray.physical();
+                airlight_truth::shafts::evaluate(
+                    &phys,
+                    None,
+                    f64::from(c.ray.g),
+                    &c.samples,
+                    &|p| (self.model)(p),
+                    false,
+                )
+                .map_or(f64::NAN, |v| v.0)
+            },
+            &|_, _| {},
+        );
+        f64s.extend(
+            airlight_truth::parallel::map(
+                spots,
+                |c| {
+                    let cone = c.ray.cone();
+                    [0, 1, 2].map(|ch| {
+                        let p = c.ray.physical(ch);
+                        airlight_truth::shafts::evaluate(
+                            &p,
+                            cone.as_ref(),
+                            f64::from(c.ray.g),
+                            &c.samples,
+                            &|q| (self.model)(q),
+                            false,
+                        )
+                        .map_or(f64::NAN, |v| v.0)
+                    })
+                },
+                &|_, _| {},
+            )
+            .into_iter()
+            .flatten(),
+        );
+        f64s
+    }
+
+    /// The compiled Rust kernel's accumulator on the same samples, where it has one.
+    fn shadowed_rust(
+        &self,
+        cases: &[ShadowCase],
+        samples: &[Vec<[f32; 2]>],
+        spots: &[SpotShadowCase],
+        spot_samples: &[Vec<[f32; 2]>],
+    ) -> Option<Vec<f64>> {
+        let f = self.compiled.and_then(|rk| rk.shadowed)?;
+        let mut got: Vec<f64> = cases
+            .iter()
+            .zip(samples)
+            .map(|(c, s)| {
+                let r = &c.ray;
+                crate::from_kernel(f(s, r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g))
+            })
+            .collect();
+        if let Some(fs) = self.compiled.and_then(|rk| rk.spot_shadowed) {
+            for (c, s) in spots.iter().zip(spot_samples) {
+                let r = &c.ray;
+                let v = fs(
+                    s,
+                    r.surface,
+                    r.origin,
+                    r.dir,
+                    r.light,
+                    r.axis,
+                    r.cos_outer,
+                    r.cos_inner,
+                    r.intensity,
+                    r.sigma_t,
+                    r.sigma_s,
+                    r.g,
+                );
+                got.extend(v.map(crate::from_kernel));
+            }
+        }
+        Some(got)
     }
 }
