@@ -159,27 +159,7 @@ fn render_shafts(
     let lit = classes.iter().filter(|c| **c == Some(false)).count();
     let edges = classes.iter().filter(|c| **c == Some(true)).count();
     println!("{}: {}×{}; {lit} lit pixels off the edges, {edges} on shaft edges", first.display(), size.0, size.1);
-    let row = |f: &sr::Frame| {
-        let e = sr::fog_errors(f, &fog, &classes);
-        println!(
-            "{:?}: {:.1} ms GPU; fog error lit max {:.2e} mean {:.2e}, edges max {:.2e} mean {:.2e}",
-            f.method,
-            f.gpu_s * 1e3,
-            e.lit_max,
-            e.lit_mean,
-            e.edge_max,
-            e.edge_mean
-        );
-        format!(
-            "steps = {}\ngpu_ms = {:e}\nlit_max = {:e}\nlit_mean = {:e}\nedge_max = {:e}\nedge_mean = {:e}\n",
-            f.method.steps(),
-            f.gpu_s * 1e3,
-            e.lit_max,
-            e.lit_mean,
-            e.edge_max,
-            e.edge_mean
-        )
-    };
+    let row = |f: &sr::Frame| frame_row(f, &fog, &classes);
     let mut toml = format!(
         "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\n\n[accumulator]\n{}",
         out.file,
@@ -202,4 +182,28 @@ fn render_shafts(
         println!("wrote {}/{}*; `airlight generate` puts them into REPORT.md", out.dir.display(), out.base);
     }
     Ok(())
+}
+
+/// A frame's fog errors against the reference: printed, and its table in the
+/// render's TOML record.
+fn frame_row(f: &airlight_shaders::shafts::render::Frame, fog: &[[f64; 3]], classes: &[Option<bool>]) -> String {
+    let e = airlight_shaders::shafts::render::fog_errors(f, fog, classes);
+    println!(
+        "{:?}: {:.1} ms GPU; fog error lit max {:.2e} mean {:.2e}, edges max {:.2e} mean {:.2e}",
+        f.method,
+        f.gpu_s * 1e3,
+        e.lit_max,
+        e.lit_mean,
+        e.edge_max,
+        e.edge_mean
+    );
+    format!(
+        "steps = {}\ngpu_ms = {:e}\nlit_max = {:e}\nlit_mean = {:e}\nedge_max = {:e}\nedge_mean = {:e}\n",
+        f.method.steps(),
+        f.gpu_s * 1e3,
+        e.lit_max,
+        e.lit_mean,
+        e.edge_max,
+        e.edge_mean
+    )
 }

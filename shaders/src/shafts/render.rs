@@ -528,53 +528,8 @@ impl Gpu {
         repeats: usize,
     ) -> Result<Frame, GpuError> {
         let d = self.device();
-        let shadow = self.shadow_map(view)?;
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("shafts frame"),
-            source: wgpu::ShaderSource::Wgsl(frame_wgsl(k, kernel, view, method).into()),
-        });
+        let (pipeline, bind) = self.frame_pipeline(k, kernel, view, method)?;
         let format = wgpu::TextureFormat::Rgba32Float;
-        let target = Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
-        let pipeline = d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shafts frame"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[target.clone(), target],
-            }),
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-        let sampler = d.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow compare"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
-        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow map"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
-            ],
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(e.to_string()));
-        }
         let (w, h) = (view.width, view.height);
         let make = |label| {
             d.create_texture(&wgpu::TextureDescriptor {
@@ -660,6 +615,67 @@ impl Gpu {
             0.0
         };
         Ok(Frame { method, color: self.read_rgba(&color, w, h)?, fog: self.read_rgba(&fog, w, h)?, gpu_s })
+    }
+
+    /// The frame's render pipeline (its shader: the scene, the kernel and the
+    /// method's walk) and its bind group (the light's shadow map, drawn first, and
+    /// its comparison sampler).
+    fn frame_pipeline(
+        &self,
+        k: &IndexEntry,
+        kernel: &str,
+        view: &ShaftsView,
+        method: Method,
+    ) -> Result<(wgpu::RenderPipeline, wgpu::BindGroup), GpuError> {
+        let d = self.device();
+        let shadow = self.shadow_map(view)?;
+        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("shafts frame"),
+            source: wgpu::ShaderSource::Wgsl(frame_wgsl(k, kernel, view, method).into()),
+        });
+        let format = wgpu::TextureFormat::Rgba32Float;
+        let target = Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
+        let pipeline = d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shafts frame"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &[target.clone(), target],
+            }),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        let sampler = d.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow compare"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow map"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
+            ],
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(e.to_string()));
+        }
+        Ok((pipeline, bind))
     }
 
     /// An Rgba32Float texture's texels, row by row.
