@@ -519,6 +519,57 @@ pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], 
     no_extinction(ctx, b, models);
 }
 
+/// The light-shafts table (`bench.json`'s `shafts`) and where the headline
+/// accumulator (`fit/src/roles.toml`) loses to the march on the same samples.
+fn shafts_context(ctx: &mut tera::Context, b: &Bench) {
+    let shafts: Vec<ShaftsRow> = b
+        .shafts
+        .iter()
+        .map(|r| ShaftsRow {
+            name: r.name.clone(),
+            samples: if r.samples == 0 { "exact intervals".into() } else { r.samples.to_string() },
+            calls: format!("{:.2}", r.calls_per_ray),
+            max: fmt_err(r.max_rel),
+            mean: fmt_err(r.mean_rel),
+            max_u: fmt_err(r.max_of_unshadowed),
+            mean_u: fmt_err(r.mean_of_unshadowed),
+            ns: ns(r.cpu_ns_per_ray),
+            gpu: if r.gpu_rays_per_s > 0.0 { format!("{:.3e}", r.gpu_rays_per_s) } else { "—".into() },
+            build: match (r.build_cpu_ms > 0.0, r.build_gpu_ms > 0.0) {
+                (false, _) => "—".into(),
+                (true, false) => format!("{:.1} ms CPU", r.build_cpu_ms),
+                (true, true) => format!("{:.1} ms CPU, {:.3} ms GPU", r.build_cpu_ms, r.build_gpu_ms),
+            },
+        })
+        .collect();
+    ctx.insert("shafts_rows", &shafts);
+    // Where the headline accumulator loses to the march on the same samples.
+    let mut losses = Vec::new();
+    let roles = roles();
+    for r in b.shafts.iter().filter(|r| r.name == roles.shafts.headline && r.samples > 0) {
+        let Some(m) = b.shafts.iter().find(|m| m.name == roles.march(r.samples)) else { continue };
+        let mut lost = Vec::new();
+        for (what, a, x) in [
+            ("max relative", r.max_rel, m.max_rel),
+            ("mean relative", r.mean_rel, m.mean_rel),
+            ("max of unshadowed", r.max_of_unshadowed, m.max_of_unshadowed),
+            ("mean of unshadowed", r.mean_of_unshadowed, m.mean_of_unshadowed),
+            ("CPU ns", r.cpu_ns_per_ray, m.cpu_ns_per_ray),
+        ] {
+            if a > x {
+                lost.push(format!("{what} ({} against {})", fmt_err(a), fmt_err(x)));
+            }
+        }
+        if r.gpu_rays_per_s > 0.0 && m.gpu_rays_per_s > 0.0 && r.gpu_rays_per_s < m.gpu_rays_per_s {
+            lost.push(format!("GPU rays/s ({:.3e} against {:.3e})", r.gpu_rays_per_s, m.gpu_rays_per_s));
+        }
+        if !lost.is_empty() {
+            losses.push(format!("at {} samples: {}", r.samples, lost.join(", ")));
+        }
+    }
+    ctx.insert("shafts_losses", &losses);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -589,55 +640,4 @@ mod tests {
         assert!(gpu.contains("IR ops on every branch (worst path): `cheap` 273 (265), `table` 198 (198)"), "{gpu}");
         assert!(!gpu.contains("KiB"), "{gpu}");
     }
-}
-
-/// The light-shafts table (`bench.json`'s `shafts`) and where the headline
-/// accumulator (`fit/src/roles.toml`) loses to the march on the same samples.
-fn shafts_context(ctx: &mut tera::Context, b: &Bench) {
-    let shafts: Vec<ShaftsRow> = b
-        .shafts
-        .iter()
-        .map(|r| ShaftsRow {
-            name: r.name.clone(),
-            samples: if r.samples == 0 { "exact intervals".into() } else { r.samples.to_string() },
-            calls: format!("{:.2}", r.calls_per_ray),
-            max: fmt_err(r.max_rel),
-            mean: fmt_err(r.mean_rel),
-            max_u: fmt_err(r.max_of_unshadowed),
-            mean_u: fmt_err(r.mean_of_unshadowed),
-            ns: ns(r.cpu_ns_per_ray),
-            gpu: if r.gpu_rays_per_s > 0.0 { format!("{:.3e}", r.gpu_rays_per_s) } else { "—".into() },
-            build: match (r.build_cpu_ms > 0.0, r.build_gpu_ms > 0.0) {
-                (false, _) => "—".into(),
-                (true, false) => format!("{:.1} ms CPU", r.build_cpu_ms),
-                (true, true) => format!("{:.1} ms CPU, {:.3} ms GPU", r.build_cpu_ms, r.build_gpu_ms),
-            },
-        })
-        .collect();
-    ctx.insert("shafts_rows", &shafts);
-    // Where the headline accumulator loses to the march on the same samples.
-    let mut losses = Vec::new();
-    let roles = roles();
-    for r in b.shafts.iter().filter(|r| r.name == roles.shafts.headline && r.samples > 0) {
-        let Some(m) = b.shafts.iter().find(|m| m.name == roles.march(r.samples)) else { continue };
-        let mut lost = Vec::new();
-        for (what, a, x) in [
-            ("max relative", r.max_rel, m.max_rel),
-            ("mean relative", r.mean_rel, m.mean_rel),
-            ("max of unshadowed", r.max_of_unshadowed, m.max_of_unshadowed),
-            ("mean of unshadowed", r.mean_of_unshadowed, m.mean_of_unshadowed),
-            ("CPU ns", r.cpu_ns_per_ray, m.cpu_ns_per_ray),
-        ] {
-            if a > x {
-                lost.push(format!("{what} ({} against {})", fmt_err(a), fmt_err(x)));
-            }
-        }
-        if r.gpu_rays_per_s > 0.0 && m.gpu_rays_per_s > 0.0 && r.gpu_rays_per_s < m.gpu_rays_per_s {
-            lost.push(format!("GPU rays/s ({:.3e} against {:.3e})", r.gpu_rays_per_s, m.gpu_rays_per_s));
-        }
-        if !lost.is_empty() {
-            losses.push(format!("at {} samples: {}", r.samples, lost.join(", ")));
-        }
-    }
-    ctx.insert("shafts_losses", &losses);
 }

@@ -293,55 +293,11 @@ pub fn shafts_page(
     wrap_page(&imports, &body, width, height)
 }
 
-/// The three.js scene of the light-shafts room (JavaScript, `THREE` in scope):
-/// its occluders as meshes casting shadows (`material`), a floor receiving them
-/// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
-/// render that draws three.js's shadow map into `light.shadow`.
-fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
+/// The TSL page's scene code in the node's language (GLSL for the WebGL 2
+/// backend, WGSL for WebGPU): where a ray from the camera first meets the room or
+/// an occluder (`airlight_page_end`), and the slab test it calls (`box_entry`).
+fn tsl_scene_code(webgl: bool) -> (String, String) {
     use airlight_shaders::shafts::render as sr;
-    let js_boxes: Vec<String> = sr::boxes()
-        .iter()
-        .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
-        .collect();
-    fill(
-        include_str!("pages/shafts_scene.js"),
-        &[
-            ("material", material.to_string()),
-            ("boxes", js_boxes.join(", ").to_string()),
-            ("ball_r_dbg", format!("{:?}", sr::BALL.1)),
-            ("bx_dbg", format!("{:?}", sr::BALL.0[0])),
-            ("by_dbg", format!("{:?}", sr::BALL.0[1])),
-            ("bz_dbg", format!("{:?}", sr::BALL.0[2])),
-            ("floor", floor.to_string()),
-            ("angle_dbg", format!("{:?}", sr::CONE_DEG[0].to_radians())),
-            ("lx_dbg", format!("{:?}", sr::LIGHT[0])),
-            ("ly_dbg", format!("{:?}", sr::LIGHT[1])),
-            ("lz_dbg", format!("{:?}", sr::LIGHT[2])),
-            ("ax_dbg", format!("{:?}", sr::AIM[0])),
-            ("ay_dbg", format!("{:?}", sr::AIM[1])),
-            ("az_dbg", format!("{:?}", sr::AIM[2])),
-            ("map", format!("{}", sr::SHADOW_MAP)),
-            ("cx_dbg", format!("{:?}", sr::CAMERA[0])),
-            ("cy_dbg", format!("{:?}", sr::CAMERA[1])),
-            ("cz_dbg", format!("{:?}", sr::CAMERA[2])),
-            ("target", target.to_string()),
-        ],
-    )
-}
-
-/// The light-shafts page on `WebGPURenderer`: the same room, three.js's shadow
-/// map, and the package's shafts TSL node walking each ray in `look_ups` steps
-/// (the page's own code node finds the first surface) — on WebGPU through
-/// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
-fn shafts_page_tsl(
-    k: &IndexEntry,
-    view: &airlight_shaders::shafts::render::ShaftsView,
-    look_ups: u32,
-    webgl: bool,
-) -> String {
-    use airlight_shaders::shafts::render as sr;
-    let (width, height) = (view.width, view.height);
-    let module = format!("./airlight-three/kernels/{}.js", k.name);
     let v3 = |v: [f32; 3]| {
         if webgl {
             glsl_v3(v)
@@ -349,7 +305,6 @@ fn shafts_page_tsl(
             format!("vec3<f32>({:?}, {:?}, {:?})", v[0], v[1], v[2])
         }
     };
-    let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
     let slabs: String = sr::boxes()
         .iter()
         .map(|b| format!("    end = min(end, box_entry(o, {}, {}, dir, end));\n", v3(b.0), v3(b.1)))
@@ -401,10 +356,16 @@ fn shafts_page_tsl(
             ),
         ],
     );
+    (scene_end, box_entry)
+}
+
+/// The spot node's arguments, by name, as the TSL page passes them.
+fn tsl_spot_args(k: &IndexEntry) -> Vec<String> {
+    use airlight_shaders::shafts::render as sr;
+    let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
     let (st, ss) = sr::medium();
     let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
-    let args: Vec<String> = k
-        .spot_params
+    k.spot_params
         .iter()
         .map(|a| {
             let v = match a {
@@ -423,7 +384,61 @@ fn shafts_page_tsl(
             };
             format!("{}: {v}", a.name())
         })
+        .collect()
+}
+
+/// The three.js scene of the light-shafts room (JavaScript, `THREE` in scope):
+/// its occluders as meshes casting shadows (`material`), a floor receiving them
+/// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
+/// render that draws three.js's shadow map into `light.shadow`.
+fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
+    use airlight_shaders::shafts::render as sr;
+    let js_boxes: Vec<String> = sr::boxes()
+        .iter()
+        .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
         .collect();
+    fill(
+        include_str!("pages/shafts_scene.js"),
+        &[
+            ("material", material.to_string()),
+            ("boxes", js_boxes.join(", ").to_string()),
+            ("ball_r_dbg", format!("{:?}", sr::BALL.1)),
+            ("bx_dbg", format!("{:?}", sr::BALL.0[0])),
+            ("by_dbg", format!("{:?}", sr::BALL.0[1])),
+            ("bz_dbg", format!("{:?}", sr::BALL.0[2])),
+            ("floor", floor.to_string()),
+            ("angle_dbg", format!("{:?}", sr::CONE_DEG[0].to_radians())),
+            ("lx_dbg", format!("{:?}", sr::LIGHT[0])),
+            ("ly_dbg", format!("{:?}", sr::LIGHT[1])),
+            ("lz_dbg", format!("{:?}", sr::LIGHT[2])),
+            ("ax_dbg", format!("{:?}", sr::AIM[0])),
+            ("ay_dbg", format!("{:?}", sr::AIM[1])),
+            ("az_dbg", format!("{:?}", sr::AIM[2])),
+            ("map", format!("{}", sr::SHADOW_MAP)),
+            ("cx_dbg", format!("{:?}", sr::CAMERA[0])),
+            ("cy_dbg", format!("{:?}", sr::CAMERA[1])),
+            ("cz_dbg", format!("{:?}", sr::CAMERA[2])),
+            ("target", target.to_string()),
+        ],
+    )
+}
+
+/// The light-shafts page on `WebGPURenderer`: the same room, three.js's shadow
+/// map, and the package's shafts TSL node walking each ray in `look_ups` steps
+/// (the page's own code node finds the first surface) — on WebGPU through
+/// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
+fn shafts_page_tsl(
+    k: &IndexEntry,
+    view: &airlight_shaders::shafts::render::ShaftsView,
+    look_ups: u32,
+    webgl: bool,
+) -> String {
+    use airlight_shaders::shafts::render as sr;
+    let (width, height) = (view.width, view.height);
+    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
+    let (scene_end, box_entry) = tsl_scene_code(webgl);
+    let args = tsl_spot_args(k);
     let [f, r, u] = sr::camera_basis();
     let body = fill(
         include_str!("pages/shafts_tsl.js"),
