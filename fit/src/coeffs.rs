@@ -194,6 +194,61 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
         return Err(p.err("model", "g_range", "must be [lo, hi] with -1 < lo <= hi < 1"));
     }
 
+    let (errors, bands) = parse_errors(&p, &doc, &g_range)?;
+
+    let body = Body::parse_toml(&kind, &p, &doc, &g_range)?;
+
+    let provenance = provenance_tables(&doc, tables);
+
+    Ok(ModelFile {
+        model: Approximation { name, summary, g_range: (g_range[0], g_range[1]), body },
+        families,
+        errors,
+        bands,
+        provenance,
+    })
+}
+
+/// One measurement table (`[error.<domain>]` or an `[[error.band]]`), its keys
+/// `extra` besides the measured ones.
+fn measured(p: &Reader, t: &Table, sec: &str, d: Domain, extra: &[&str]) -> Result<DomainErrors, CoeffError> {
+    let keys: Vec<&str> = ["points", "max_rel", "searched_max_rel", "p99_rel", "worst", "non_finite", "negative"]
+        .iter()
+        .chain(extra)
+        .copied()
+        .collect();
+    p.deny(t, sec, &keys)?;
+    let w = p.table(t, "worst").map_err(|_| p.err(sec, "worst", "missing"))?;
+    p.deny(w, sec, &["tau", "gamma", "rho", "g"])?;
+    let pf = |k: &str| p.float(w, sec, k);
+    let bound = |k: &str| -> Result<f64, CoeffError> {
+        let x = p.float(t, sec, k)?;
+        if x.is_finite() && x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(p.err(sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
+        }
+    };
+    let (max_rel, searched) =
+        (bound("max_rel")?, if t.contains_key("searched_max_rel") { Some(bound("searched_max_rel")?) } else { None });
+    if searched.is_some_and(|x| x > max_rel) {
+        return Err(p.err(sec, "max_rel", "is below searched_max_rel: a bound must hold where the search found error"));
+    }
+    Ok(DomainErrors {
+        domain: d,
+        points: p.uint(t, sec, "points")?,
+        max_rel,
+        searched_max_rel: searched,
+        p99_rel: bound("p99_rel")?,
+        worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
+        non_finite: p.uint(t, sec, "non_finite")?,
+        negative: p.uint(t, sec, "negative")?,
+    })
+}
+
+/// The `[error]` tables: every domain's measured error, then the bands of `g`.
+fn parse_errors(p: &Reader, doc: &Table, g_range: &[f64]) -> Result<(Vec<DomainErrors>, Vec<BandErrors>), CoeffError> {
+    let (file, text) = (p.file, p.text);
     // Every model declares a bound on every domain: the planner and the gate read them.
     let mut errors = Vec::new();
     let empty = Table::new();
@@ -203,47 +258,6 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     };
     let names: Vec<&str> = Domain::ALL.iter().map(|d| d.name()).collect();
     p.deny(err, "error", &names.iter().copied().chain(["band"]).collect::<Vec<_>>())?;
-    // One measurement table (`[error.<domain>]` or an `[[error.band]]`).
-    let measured = |t: &Table, sec: &str, d: Domain, extra: &[&str]| -> Result<DomainErrors, CoeffError> {
-        let keys: Vec<&str> = ["points", "max_rel", "searched_max_rel", "p99_rel", "worst", "non_finite", "negative"]
-            .iter()
-            .chain(extra)
-            .copied()
-            .collect();
-        p.deny(t, sec, &keys)?;
-        let w = p.table(t, "worst").map_err(|_| p.err(sec, "worst", "missing"))?;
-        p.deny(w, sec, &["tau", "gamma", "rho", "g"])?;
-        let pf = |k: &str| p.float(w, sec, k);
-        let bound = |k: &str| -> Result<f64, CoeffError> {
-            let x = p.float(t, sec, k)?;
-            if x.is_finite() && x >= 0.0 {
-                Ok(x)
-            } else {
-                Err(p.err(sec, k, &format!("is {}; a measured error is finite and >= 0", short(x))))
-            }
-        };
-        let (max_rel, searched) = (
-            bound("max_rel")?,
-            if t.contains_key("searched_max_rel") { Some(bound("searched_max_rel")?) } else { None },
-        );
-        if searched.is_some_and(|x| x > max_rel) {
-            return Err(p.err(
-                sec,
-                "max_rel",
-                "is below searched_max_rel: a bound must hold where the search found error",
-            ));
-        }
-        Ok(DomainErrors {
-            domain: d,
-            points: p.uint(t, sec, "points")?,
-            max_rel,
-            searched_max_rel: searched,
-            p99_rel: bound("p99_rel")?,
-            worst: Point { tau: pf("tau")?, gamma: pf("gamma")?, rho: pf("rho")?, g: pf("g")? },
-            non_finite: p.uint(t, sec, "non_finite")?,
-            negative: p.uint(t, sec, "negative")?,
-        })
-    };
     for d in Domain::ALL {
         let (domain, sec) = (d.name(), format!("error.{}", d.name()));
         let t = err.get(domain).ok_or_else(|| CoeffError {
@@ -253,7 +267,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
             message: format!("missing table [{sec}]: every model declares its measured error on {}", names.join(", ")),
         })?;
         let t = t.as_table().ok_or_else(|| p.err(&sec, domain, "must be a table"))?;
-        errors.push(measured(t, &sec, d, &[])?);
+        errors.push(measured(p, t, &sec, d, &[])?);
     }
     let mut bands = Vec::new();
     if let Some(list) = err.get("band") {
@@ -276,15 +290,16 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
                 if !(g_range[0] <= g[0] && g[0] < g[1] && g[1] <= g_range[1]) {
                     return Err(p.err(sec, "g", "must be [lo, hi] with lo < hi inside model.g_range"));
                 }
-                Ok(BandErrors { g: (g[0], g[1]), errors: measured(t, sec, d, &["g", "domain"])? })
+                Ok(BandErrors { g: (g[0], g[1]), errors: measured(p, t, sec, d, &["g", "domain"])? })
             };
             bands.push(band().map_err(at_band)?);
         }
     }
+    Ok((errors, bands))
+}
 
-    let body = Body::parse_toml(&kind, &p, &doc, &g_range)?;
-
-    // Free-form provenance tables: `<table>.<sub>` of the family's tables, then [provenance].
+/// Free-form provenance tables: `<table>.<sub>` of the family's tables, then `[provenance]`.
+fn provenance_tables(doc: &Table, tables: &[&str]) -> Vec<Provenance> {
     let mut provenance = Vec::new();
     for &table in tables {
         if let Some(t) = doc.get(table).and_then(Value::as_table) {
@@ -297,14 +312,7 @@ pub fn parse(file: &str, text: &str) -> Result<ModelFile, CoeffError> {
     if let Some(t) = doc.get("provenance").and_then(Value::as_table) {
         provenance.push(("provenance".to_string(), t.iter().map(|(k, v)| (k.clone(), v.clone())).collect()));
     }
-
-    Ok(ModelFile {
-        model: Approximation { name, summary, g_range: (g_range[0], g_range[1]), body },
-        families,
-        errors,
-        bands,
-        provenance,
-    })
+    provenance
 }
 
 /// Reads every `*.toml` under `dir`, sorted by file name.

@@ -52,6 +52,17 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
     let base = placements(k, n, seed)?;
+    let mut rays = sampled_spot_rays(k, &base, seed);
+    hold_at_lit_stretch(k, &mut rays);
+    rays.extend(line_spot_rays(k, &base));
+    spot_references(k, rays)
+}
+
+/// One spot ray per placement: cones of 2°–80° aimed near the ray, every fourth
+/// from the renderers' grid (every eighth leaving through the penumbra), every
+/// sixteenth a point light; RGB media scaled from the placement's.
+fn sampled_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed: u64) -> Vec<(crate::SpotRay, Point)> {
+    let n = base.len();
     let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x5907);
     let mut rays = Vec::with_capacity(n);
     for (i, (r, p, _)) in base.iter().enumerate() {
@@ -121,6 +132,11 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             *p,
         ));
     }
+    rays
+}
+
+/// Rays on the line through the light (issue 23), held at γ brought into the sampled hull.
+fn line_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)]) -> Vec<(crate::SpotRay, Point)> {
     // The line through the light (issue 23): the light on the ray's line ahead and
     // off it by 1e-9 and 1e-5 of its distance, behind on it and off it by 1e-30 …
     // 1e-7, a smooth 30°/20° and a hard 30° cone aimed along the line either way,
@@ -170,6 +186,11 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
         let q = Point { gamma: if ahead { 1e-4 } else { std::f64::consts::PI - 1e-4 }, ..*p };
         line.push((ray, q));
     }
+    line
+}
+
+/// Moves each sampled ray's held point to its lit stretch's own canonical point.
+fn hold_at_lit_stretch(k: &IndexEntry, rays: &mut [(crate::SpotRay, Point)]) {
     // The canonical point each error is held at: the lit stretch's own (the
     // viewer moved to where the outer cone begins), where the family's bound applies.
     for (r, p) in rays.iter_mut() {
@@ -181,7 +202,10 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
             }
         }
     }
-    rays.extend(line);
+}
+
+/// The f64 reference of every ray per channel, and its f32 conditioning.
+fn spot_references(k: &IndexEntry, rays: Vec<(crate::SpotRay, Point)>) -> Result<Vec<SpotCase>, GateError> {
     let refs = airlight_truth::parallel::map(
         &rays,
         |(r, _)| -> Result<([f64; 3], f64), String> {
