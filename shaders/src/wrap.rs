@@ -141,7 +141,7 @@ pub(crate) fn wrap(k: &KernelSource, entry: Entry) -> Result<String, GpuError> {
     Ok(if glsl {
         format!(
             "#version 450\n{src}\n\
-// ---- airlight harness (shaders/src/lib.rs) ----\n\
+// ---- airlight harness (shaders/src/wrap.rs) ----\n\
 layout(local_size_x = {WORKGROUP}) in;\n\
 layout(std430, set = 0, binding = 0) readonly buffer AirlightInputs {{ vec4 airlight_inputs[]; }};\n\
 layout(std430, set = 0, binding = 1) buffer AirlightResults {{ float airlight_results[]; }};\n\
@@ -163,7 +163,7 @@ void main() {{\n\
     } else {
         format!(
             "{src}\n\
-// ---- airlight harness (shaders/src/lib.rs) ----\n\
+// ---- airlight harness (shaders/src/wrap.rs) ----\n\
 @group(0) @binding(0) var<storage, read> airlight_inputs: array<vec4<f32>>;\n\
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\
@@ -190,7 +190,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
 pub fn wrap_kernel(kernel: &str, function: &str) -> String {
     format!(
         "{kernel}\n\
-// ---- airlight harness (shaders/src/lib.rs) ----\n\
+// ---- airlight harness (shaders/src/wrap.rs) ----\n\
 @group(0) @binding(0) var<storage, read> airlight_points: array<vec4<f32>>;\n\
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\

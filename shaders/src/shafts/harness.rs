@@ -102,7 +102,7 @@ pub(crate) fn wrap_shadowed(k: &KernelSource, entry: Entry, stride: usize) -> Re
     Ok(if glsl {
         format!(
             "#version 450\n{src}\n\
-// ---- airlight harness (shaders/src/lib.rs): the shafts accumulator ----\n\
+// ---- airlight harness (shaders/src/shafts/harness.rs): the shafts accumulator ----\n\
 layout(local_size_x = {WORKGROUP}) in;\n\
 layout(std430, set = 0, binding = 0) readonly buffer AirlightInputs {{ vec4 airlight_inputs[]; }};\n\
 layout(std430, set = 0, binding = 1) buffer AirlightResults {{ float airlight_results[]; }};\n\
@@ -135,7 +135,7 @@ void main() {{\n\
     } else {
         format!(
             "{src}\n\
-// ---- airlight harness (shaders/src/lib.rs): the shafts accumulator ----\n\
+// ---- airlight harness (shaders/src/shafts/harness.rs): the shafts accumulator ----\n\
 @group(0) @binding(0) var<storage, read> airlight_inputs: array<vec4<f32>>;\n\
 @group(0) @binding(1) var<storage, read_write> airlight_results: array<f32>;\n\
 \n\

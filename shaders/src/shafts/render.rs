@@ -14,9 +14,9 @@
 //!    light, attenuated by the medium and shadowed by the same map.
 //!
 //! The reference frame takes each pixel's ray to the same surface (the GPU
-//! frame's distance) and sums the reference in-scattering (fit::reference, per
+//! frame's distance) and sums the reference in-scattering (airlight_truth::reference, per
 //! channel) over the ray's exact lit intervals among the analytic occluders
-//! (fit::shafts); its surfaces are lit with exact visibility.
+//! (airlight_truth::shafts); its surfaces are lit with exact visibility.
 
 use crate::{Gpu, GpuError};
 use airlight_shapes::vocab::{Arg, IndexEntry};
