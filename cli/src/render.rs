@@ -99,7 +99,7 @@ struct Out {
     file: String,
 }
 
-/// The light-shafts render of a scene with shadows (shaders/src/shafts/render.rs).
+/// The light-shafts render of a scene with shadows (shaders/src/shafts/render/).
 fn render_shafts(
     generated: &Path,
     index: &airlight_shapes::vocab::Index,

@@ -1,4 +1,4 @@
-// The light-shafts scene's shader (shaders/src/shafts/render.rs puts the scene's
+// The light-shafts scene's shader (shaders/src/shafts/render/scene.rs puts the scene's
 // constants, SC_*, before it): a room of boxes and a ball lit by a spot light with a
 // shadow map; the first surface along a view ray, its normal, the light's clip
 // position and shadow-map visibility, the cone's weight, the camera's rays.

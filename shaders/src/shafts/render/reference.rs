@@ -1,0 +1,155 @@
+//! The reference frame: each pixel's first surface and its fog over the exact lit
+//! intervals among the analytic occluders, in f64.
+
+use super::*;
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::shafts::{self};
+
+/// The outward normal of object `id` at `p` (f64; the shader's `sc_normal`).
+pub(crate) fn normal(id: usize, p: [f64; 3]) -> [f64; 3] {
+    match id {
+        0 => [0.0, 1.0, 0.0],
+        1 => [0.0, -1.0, 0.0],
+        2 => [1.0, 0.0, 0.0],
+        3 => [-1.0, 0.0, 0.0],
+        4 => [0.0, 0.0, -1.0],
+        5 => [0.0, 0.0, 1.0],
+        _ => {
+            let b = boxes();
+            if id >= 6 + b.len() {
+                let c = BALL.0.map(f64::from);
+                let v = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                return v.map(|x| x / n);
+            }
+            let (mn, mx, _) = b[id - 6];
+            let mut best = (f64::INFINITY, [0.0; 3]);
+            for a in 0..3 {
+                for (dist, sign) in [((p[a] - f64::from(mn[a])).abs(), -1.0), ((f64::from(mx[a]) - p[a]).abs(), 1.0)] {
+                    if dist < best.0 {
+                        let mut n = [0.0; 3];
+                        n[a] = sign;
+                        best = (dist, n);
+                    }
+                }
+            }
+            best.1
+        }
+    }
+}
+
+pub(crate) fn albedo(id: usize) -> [f64; 3] {
+    let b = boxes();
+    let a = match id {
+        0..=5 => ROOM_ALBEDO[id],
+        i if i < 6 + b.len() => b[i - 6].2,
+        _ => BALL.2,
+    };
+    a.map(f64::from)
+}
+
+/// The distance from the camera along the unit `dir` to the first surface:
+/// the room's walls from inside, or an occluder (f64).
+pub fn first_surface(dir: [f64; 3]) -> f64 {
+    let cam = CAMERA.map(f64::from);
+    let exit = (0..3)
+        .filter(|&a| dir[a] != 0.0)
+        .map(|a| {
+            let [lo, hi] = ROOM[a].map(f64::from);
+            ((lo - cam[a]) / dir[a]).max((hi - cam[a]) / dir[a])
+        })
+        .fold(f64::INFINITY, f64::min);
+    occluders().iter().filter_map(|o| o.enters(cam, dir)).fold(exit, f64::min)
+}
+
+/// The reference fog of each pixel of `view`, its ray ending at `ends[i]`: the
+/// reference in-scattering (per channel) over the ray's exact lit intervals
+/// among the analytic occluders, for the spot's cone.
+pub fn reference_fog(view: &ShaftsView, ends: &[f64]) -> Vec<[f64; 3]> {
+    let occ = occluders();
+    let (st, ss) = medium();
+    let cone = Cone {
+        axis: axis().map(f64::from),
+        cos_outer: f64::from(CONE_DEG[0].to_radians().cos()),
+        cos_inner: f64::from(CONE_DEG[1].to_radians().cos()),
+    };
+    let (light, cam) = (LIGHT.map(f64::from), CAMERA.map(f64::from));
+    let pixels: Vec<u32> = (0..view.width * view.height).collect();
+    let a = |q: airlight_truth::reference::Point| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    airlight_truth::parallel::map(
+        &pixels,
+        |&i| {
+            let dir = view.dir(i % view.width, i / view.width).map(f64::from);
+            let ray = |c: usize| PhysicalRay {
+                origin: cam,
+                direction: dir,
+                surface_distance: Some(ends[i as usize]),
+                light,
+                intensity: f64::from(INTENSITY),
+                sigma_t: f64::from(st[c]),
+                sigma_s: f64::from(ss[c]),
+            };
+            let lit = shafts::lit_intervals(&ray(0), &occ);
+            std::array::from_fn(|c| {
+                shafts::shadowed_radiance(&ray(c), Some(&cone), f64::from(G), &lit, &a).unwrap_or(f64::NAN)
+            })
+        },
+        &|_, _| {},
+    )
+}
+
+/// The reference frame for the GPU frame `gpu` (its surface distances and
+/// object ids): the fog by the reference over the exact lit intervals, and the
+/// composite with surfaces lit under exact visibility. Per pixel RGB (f64).
+pub fn reference(view: &ShaftsView, gpu: &Frame) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let occ = occluders();
+    let (st, ss) = medium();
+    let cone = Cone {
+        axis: axis().map(f64::from),
+        cos_outer: f64::from(CONE_DEG[0].to_radians().cos()),
+        cos_inner: f64::from(CONE_DEG[1].to_radians().cos()),
+    };
+    let light = LIGHT.map(f64::from);
+    let cam = CAMERA.map(f64::from);
+    let pixels: Vec<u32> = (0..view.width * view.height).collect();
+    let a = |q: airlight_truth::reference::Point| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    let out = airlight_truth::parallel::map(
+        &pixels,
+        |&i| {
+            let dir = view.dir(i % view.width, i / view.width).map(f64::from);
+            let end = f64::from(gpu.fog[i as usize][3]);
+            let id = gpu.color[i as usize][3] as usize;
+            let ray = |c: usize| PhysicalRay {
+                origin: cam,
+                direction: dir,
+                surface_distance: Some(end),
+                light,
+                intensity: f64::from(INTENSITY),
+                sigma_t: f64::from(st[c]),
+                sigma_s: f64::from(ss[c]),
+            };
+            let lit = shafts::lit_intervals(&ray(0), &occ);
+            let fog: [f64; 3] = std::array::from_fn(|c| {
+                shafts::shadowed_radiance(&ray(c), Some(&cone), f64::from(G), &lit, &a).unwrap_or(f64::NAN)
+            });
+            let p: [f64; 3] = std::array::from_fn(|q| cam[q] + end * dir[q]);
+            let n = normal(id, p);
+            let off: [f64; 3] = std::array::from_fn(|q| p[q] + 1e-3 * n[q]);
+            let v = if occ.iter().any(|o| o.blocks(off, light)) { 0.0 } else { 1.0 };
+            let tl: [f64; 3] = std::array::from_fn(|q| light[q] - p[q]);
+            let dl = (tl[0] * tl[0] + tl[1] * tl[1] + tl[2] * tl[2]).sqrt();
+            let cos = (n[0] * tl[0] + n[1] * tl[1] + n[2] * tl[2]) / dl;
+            let w = cone.weight(tl.map(|x| -x));
+            let alb = albedo(id);
+            let color: [f64; 3] = std::array::from_fn(|c| {
+                let e = f64::from(INTENSITY) * w * cos.max(0.0) / (dl * dl) * (-f64::from(st[c]) * dl).exp() * v;
+                let surf =
+                    (alb[c] * e / std::f64::consts::PI + f64::from(AMBIENT) * alb[c]) * (-f64::from(st[c]) * end).exp();
+                fog[c] + surf
+            });
+            (fog, color)
+        },
+        &|_, _| {},
+    );
+    out.into_iter().unzip()
+}
