@@ -25,10 +25,12 @@
 mod feeds;
 mod occluders;
 mod shadowed;
+mod shadowmap;
 
 pub use feeds::*;
 pub use occluders::*;
 pub use shadowed::*;
+pub use shadowmap::*;
 
 #[cfg(test)]
 mod tests {

@@ -1,0 +1,424 @@
+//! A shadow map as a renderer has one, and its exact lit runs along a view ray:
+//! the reference the generated traversal (`shafts/shadowmap.*.tera`) is held to.
+//!
+//! A map is one perspective face (a spot light) or six 90° faces (a point light's
+//! cube map, in the OpenGL face order and orientation). A face has rows
+//! `right/tan_half`, `up/tan_half`, `forward`: a point `p` maps to
+//! `(X, Y, Z) = M (p − light)`, its map coordinates are `(X/Z, Y/Z) ∈ [−1, 1]²`
+//! and its depth is the linear `Z` (distance along the face's axis). Each texel
+//! stores the depth of the first occluder along its centre ray (`f32::MAX`: none),
+//! and the nearest-texel test says a point is lit iff `Z ≤ depth + bias`.
+//!
+//! Along a view ray `p(t) = o + t d` the face coordinates are affine in `t`, so the
+//! map coordinates are fractional-linear (monotone) and `Z` is affine: inside one
+//! texel the test flips at most once, at `t* = (depth + bias − Z(o))/Z'`.
+//! [`ShadowMap::lit_runs`] finds every texel the ray crosses (every texel
+//! boundary's crossing, solved directly), classifies each piece by its texel and
+//! splits it at its flip: the exact runs of the map's own visibility, in f64.
+//! The traversal of the min-max [`Pyramid`] in the kernels finds the same runs
+//! by skipping whole nodes; only f32 rounding of the crossings differs.
+
+use super::Occluder;
+use crate::geometry::{cross, dot, norm, sub, PhysicalRay, Vec3};
+use std::fmt;
+
+/// No occluder along a texel's centre ray.
+pub const NO_OCCLUDER: f32 = f32::MAX;
+
+/// The largest map side the traversal takes (2¹³ texels).
+pub const MAX_RES: usize = 8192;
+
+/// The cube map's faces (+X, −X, +Y, −Y, +Z, −Z) as `(right, up, forward)`, the
+/// orientation of OpenGL's cube map (`s = −z, t = −y` on +X, and so on).
+pub const CUBE_FACES: [[Vec3; 3]; 6] = [
+    [[0.0, 0.0, -1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]],
+    [[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, -1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]],
+    [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
+];
+
+/// A map that cannot be made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapError(pub String);
+
+impl fmt::Display for MapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for MapError {}
+
+/// One perspective face: `rows = [right/tan_half, up/tan_half, forward]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Face {
+    /// The rows of `M`.
+    pub rows: [Vec3; 3],
+}
+
+impl Face {
+    fn new(right: Vec3, up: Vec3, forward: Vec3, tan_half: f64) -> Face {
+        Face { rows: [right.map(|x| x / tan_half), up.map(|x| x / tan_half), forward] }
+    }
+
+    /// `M q`.
+    pub fn apply(&self, q: Vec3) -> Vec3 {
+        [dot(self.rows[0], q), dot(self.rows[1], q), dot(self.rows[2], q)]
+    }
+
+    /// The stretch of `t ∈ [t0, t1]` where `Z ≥ |X|` and `Z ≥ |Y|` (inside the
+    /// face's frustum) for the face coordinates `a + t b`; `None` if empty.
+    pub fn clip(&self, a: Vec3, b: Vec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (t0, t1);
+        for (s, k) in [(1.0, 0), (-1.0, 0), (1.0, 1), (-1.0, 1)] {
+            // Z − s·X_k ≥ 0, affine in t: c0 + t c1.
+            let (c0, c1) = (a[2] - s * a[k], b[2] - s * b[k]);
+            if c1 == 0.0 {
+                if c0 < 0.0 {
+                    return None;
+                }
+            } else if c1 > 0.0 {
+                lo = lo.max(-c0 / c1);
+            } else {
+                hi = hi.min(-c0 / c1);
+            }
+        }
+        (lo < hi).then_some((lo, hi))
+    }
+}
+
+/// A shadow map: its faces, `res × res` depths per face, row-major (`j` the row,
+/// from map coordinate −1), and the depth bias of its test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadowMap {
+    /// The light's position.
+    pub light: Vec3,
+    /// One face (spot) or six (cube).
+    pub faces: Vec<Face>,
+    /// Texels per side, a power of two.
+    pub res: usize,
+    /// `faces × res × res` depths.
+    pub depth: Vec<f32>,
+    /// The test's bias, in depth units.
+    pub bias: f64,
+}
+
+impl ShadowMap {
+    /// A point light's cube map of `res²` texels per face among `occluders`.
+    pub fn cube(light: Vec3, res: usize, occluders: &[Occluder], bias: f64) -> Result<ShadowMap, MapError> {
+        let faces = CUBE_FACES.iter().map(|f| Face::new(f[0], f[1], f[2], 1.0)).collect();
+        ShadowMap::cast(light, faces, res, occluders, bias)
+    }
+
+    /// A spot light's map: one face along `axis` with half-angle `atan(tan_half)`.
+    pub fn spot(
+        light: Vec3,
+        axis: Vec3,
+        tan_half: f64,
+        res: usize,
+        occluders: &[Occluder],
+        bias: f64,
+    ) -> Result<ShadowMap, MapError> {
+        let n = norm(axis);
+        if !(n > 0.0 && n.is_finite()) {
+            return Err(MapError(format!("spot map: axis {axis:?} has no direction")));
+        }
+        if !(tan_half > 0.0 && tan_half.is_finite()) {
+            return Err(MapError(format!("spot map: tan_half {tan_half} is not a positive number")));
+        }
+        let forward = axis.map(|x| x / n);
+        let (right, up) = basis(forward);
+        ShadowMap::cast(light, vec![Face::new(right, up, forward, tan_half)], res, occluders, bias)
+    }
+
+    fn cast(light: Vec3, faces: Vec<Face>, res: usize, occluders: &[Occluder], bias: f64) -> Result<ShadowMap, MapError> {
+        if !res.is_power_of_two() || res > MAX_RES {
+            return Err(MapError(format!("shadow map: {res} texels per side; give a power of two up to {MAX_RES}")));
+        }
+        if !(bias >= 0.0 && bias.is_finite()) {
+            return Err(MapError(format!("shadow map: bias {bias} is not a finite number >= 0")));
+        }
+        let rows: Vec<(usize, usize)> = (0..faces.len()).flat_map(|f| (0..res).map(move |j| (f, j))).collect();
+        let cast_row = |&(f, j): &(usize, usize)| -> Vec<f32> {
+            let face = &faces[f];
+            (0..res).map(|i| texel_depth(light, face, res, i, j, occluders)).collect()
+        };
+        let depth = crate::parallel::map(&rows, cast_row, &|_, _| {}).concat();
+        Ok(ShadowMap { light, faces, res, depth, bias })
+    }
+
+    /// The depth of texel `(i, j)` of face `f`.
+    pub fn texel(&self, f: usize, i: usize, j: usize) -> f32 {
+        self.depth[(f * self.res + j) * self.res + i]
+    }
+
+    /// Whether the map has six faces.
+    pub fn is_cube(&self) -> bool {
+        self.faces.len() == 6
+    }
+
+    /// The min-max pyramid of the depths.
+    pub fn pyramid(&self) -> Pyramid {
+        Pyramid::build(self.res, self.faces.len(), &self.depth)
+    }
+
+    /// The texel of map coordinate `x ∈ [−1, 1]` (clamped to the map).
+    fn cell(&self, x: f64) -> usize {
+        (((x + 1.0) * 0.5 * self.res as f64).floor().max(0.0) as usize).min(self.res - 1)
+    }
+
+    /// The lit runs `[a, b]` of `ray` under the map's nearest-texel test, in order
+    /// and disjoint (`b = ∞` on an open ray); outside a spot map's frustum, lit.
+    pub fn lit_runs(&self, ray: &PhysicalRay) -> Vec<(f64, f64)> {
+        let len = norm(ray.direction);
+        let d = ray.direction.map(|x| x / len);
+        let end = ray.surface_distance.unwrap_or(f64::INFINITY);
+        let q0 = sub(ray.origin, self.light);
+        let mut pieces: Vec<(f64, f64, bool)> = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            let (a, b) = (face.apply(q0), face.apply(d));
+            if let Some((ta, tb)) = face.clip(a, b, 0.0, end) {
+                self.face_pieces(f, a, b, ta, tb, &mut pieces);
+            }
+        }
+        pieces.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // Stretches no face covers: outside a spot map, lit.
+        let mut runs: Vec<(f64, f64)> = Vec::new();
+        let mut t = 0.0;
+        let mut push = |a: f64, b: f64, runs: &mut Vec<(f64, f64)>| {
+            if b <= a {
+                return;
+            }
+            match runs.last_mut() {
+                Some(last) if last.1 >= a => last.1 = last.1.max(b),
+                _ => runs.push((a, b)),
+            }
+        };
+        for &(a, b, lit) in &pieces {
+            if a > t && !self.is_cube() {
+                push(t, a, &mut runs);
+            }
+            if lit {
+                push(a, b, &mut runs);
+            }
+            t = t.max(b);
+        }
+        if t < end && !self.is_cube() {
+            push(t, end, &mut runs);
+        }
+        runs
+    }
+
+    /// The pieces of face `f` over `[ta, tb]` for the face coordinates `a + t b`:
+    /// cut at every texel boundary's crossing, each classified by its texel and
+    /// split where the test flips.
+    fn face_pieces(&self, f: usize, a: Vec3, b: Vec3, ta: f64, tb: f64, out: &mut Vec<(f64, f64, bool)>) {
+        let n = self.res;
+        let mut cuts = vec![ta, tb];
+        for axis in 0..2 {
+            for k in 0..=n {
+                // X_axis(t) = c Z(t), c the boundary's map coordinate.
+                let c = 2.0 * k as f64 / n as f64 - 1.0;
+                let den = b[axis] - c * b[2];
+                if den != 0.0 {
+                    let t = (c * a[2] - a[axis]) / den;
+                    if t > ta && t < tb {
+                        cuts.push(t);
+                    }
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        for w in cuts.windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            let m = if t1.is_finite() { 0.5 * (t0 + t1) } else { 2.0 * t0 + 1.0 };
+            let z = a[2] + m * b[2];
+            let (i, j) = (self.cell((a[0] + m * b[0]) / z), self.cell((a[1] + m * b[1]) / z));
+            let depth = self.texel(f, i, j);
+            if depth == NO_OCCLUDER {
+                out.push((t0, t1, true));
+                continue;
+            }
+            let thr = f64::from(depth) + self.bias;
+            // Z(t) ≤ thr, Z affine: lit on one side of t*.
+            let lit_at = |t: f64| if t.is_finite() { a[2] + t * b[2] <= thr } else { b[2] <= 0.0 };
+            let (l0, l1) = (lit_at(t0), lit_at(t1));
+            if l0 == l1 {
+                out.push((t0, t1, l0));
+            } else {
+                let ts = ((thr - a[2]) / b[2]).clamp(t0, t1);
+                out.push((t0, ts, l0));
+                out.push((ts, t1, l1));
+            }
+        }
+    }
+}
+
+/// A right and an up vector for the unit `forward`: up is the world's +Y made
+/// orthogonal (+X where `forward` is nearly vertical). The kernels' callers pass
+/// their own light matrix; this one is the reference scenes'.
+pub fn basis(forward: Vec3) -> (Vec3, Vec3) {
+    let helper = if forward[1].abs() < 0.99 { [0.0, 1.0, 0.0] } else { [1.0, 0.0, 0.0] };
+    let r = cross(helper, forward);
+    let right = r.map(|x| x / norm(r));
+    (right, cross(forward, right))
+}
+
+/// The depth (`Z`) of the first occluder along the centre ray of texel `(i, j)`.
+fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occluders: &[Occluder]) -> f32 {
+    let xc = 2.0 * (i as f64 + 0.5) / res as f64 - 1.0;
+    let yc = 2.0 * (j as f64 + 0.5) / res as f64 - 1.0;
+    // M w = (xc, yc, 1): w = forward + xc·right·tan_half + yc·up·tan_half.
+    let rows = face.rows;
+    let s2 = |r: Vec3| 1.0 / dot(r, r);
+    let w: Vec3 =
+        std::array::from_fn(|k| rows[2][k] + xc * rows[0][k] * s2(rows[0]) + yc * rows[1][k] * s2(rows[1]));
+    let len = norm(w);
+    let u = w.map(|x| x / len);
+    let hit = occluders.iter().filter_map(|o| o.enters(light, u)).fold(f64::INFINITY, f64::min);
+    if hit.is_finite() {
+        // Z = s/|w| (w has Z = 1), rounded to the map's f32.
+        (hit / len) as f32
+    } else {
+        NO_OCCLUDER
+    }
+}
+
+/// A min-max pyramid: per face, level `k` has `(res >> k)²` nodes `[min, max]`
+/// of the depths under them, up to one node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pyramid {
+    /// Texels per side of level 0.
+    pub res: usize,
+    /// Faces.
+    pub faces: usize,
+    /// `levels[face][k]`: row-major nodes of level `k`.
+    pub levels: Vec<Vec<Vec<[f32; 2]>>>,
+}
+
+impl Pyramid {
+    /// The pyramid of `faces × res × res` depths.
+    pub fn build(res: usize, faces: usize, depth: &[f32]) -> Pyramid {
+        let levels = (0..faces)
+            .map(|f| {
+                let mut out = vec![depth[f * res * res..(f + 1) * res * res].iter().map(|&d| [d, d]).collect::<Vec<_>>()];
+                let mut n = res;
+                while n > 1 {
+                    let prev = out.last().expect("level 0");
+                    let h = n / 2;
+                    let next = (0..h * h)
+                        .map(|k| {
+                            let (x, y) = (2 * (k % h), 2 * (k / h));
+                            let q = [prev[y * n + x], prev[y * n + x + 1], prev[(y + 1) * n + x], prev[(y + 1) * n + x + 1]];
+                            [q.iter().map(|v| v[0]).fold(f32::MAX, f32::min), q.iter().map(|v| v[1]).fold(f32::MIN, f32::max)]
+                        })
+                        .collect();
+                    out.push(next);
+                    n = h;
+                }
+                out
+            })
+            .collect();
+        Pyramid { res, faces, levels }
+    }
+
+    /// Levels, level 0 included.
+    pub fn level_count(&self) -> usize {
+        self.levels.first().map_or(0, Vec::len)
+    }
+
+    /// Node `(x, y)` of `level` on `face`.
+    pub fn node(&self, face: usize, level: usize, x: usize, y: usize) -> [f32; 2] {
+        let n = self.res >> level;
+        self.levels[face][level][y * n + x]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(surface: Option<f64>) -> PhysicalRay {
+        PhysicalRay {
+            origin: [-4.0, 0.3, 0.2],
+            direction: [1.0, 0.02, 0.01],
+            surface_distance: surface,
+            light: [0.5, 1.5, 0.3],
+            intensity: 1.0,
+            sigma_t: 0.1,
+            sigma_s: 0.05,
+        }
+    }
+
+    fn balls() -> Vec<Occluder> {
+        vec![
+            Occluder::Sphere { center: [0.0, 1.0, 0.25], radius: 0.2 },
+            Occluder::Sphere { center: [2.0, 1.0, 0.3], radius: 0.3 },
+            Occluder::Cuboid { min: [-1.6, 1.1, -0.2], max: [-1.4, 1.3, 0.8] },
+        ]
+    }
+
+    /// Away from the map's own resolution, its runs are the analytic ones: every
+    /// boundary within a few texels' footprint of an analytic boundary.
+    #[test]
+    fn map_runs_approach_the_analytic_runs() {
+        for surface in [Some(8.0), None] {
+            let r = ray(surface);
+            let exact = super::super::lit_intervals(&r, &balls());
+            let map = ShadowMap::cube(r.light, 1024, &balls(), 1e-4).unwrap();
+            let runs = map.lit_runs(&r);
+            assert_eq!(runs.len(), exact.len(), "{runs:?} vs {exact:?}");
+            for (x, y) in runs.iter().zip(&exact) {
+                for (p, q) in [(x.0, y.0), (x.1, y.1)] {
+                    assert!(p == q || (p - q).abs() < 0.005 * (1.0 + q), "{runs:?} vs {exact:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_piece_is_classified_by_its_own_texel() {
+        let r = ray(Some(8.0));
+        let map = ShadowMap::cube(r.light, 256, &balls(), 0.0).unwrap();
+        let runs = map.lit_runs(&r);
+        // Probe points inside runs and between them with the test itself.
+        let lit = |t: f64| {
+            let p: Vec3 = std::array::from_fn(|k| r.origin[k] + t * r.direction[k] / norm(r.direction));
+            let q = sub(p, map.light);
+            map.faces.iter().enumerate().any(|(f, face)| {
+                let c = face.apply(q);
+                if !(c[2] >= c[0].abs() && c[2] >= c[1].abs() && c[2] > 0.0) {
+                    return false;
+                }
+                let d = map.texel(f, map.cell(c[0] / c[2]), map.cell(c[1] / c[2]));
+                c[2] <= f64::from(d) + map.bias
+            })
+        };
+        for k in 1..2000 {
+            let t = 8.0 * k as f64 / 2000.0;
+            let inside = runs.iter().any(|&(a, b)| t > a && t < b);
+            let near = runs.iter().any(|&(a, b)| (t - a).abs() < 1e-9 || (t - b).abs() < 1e-9);
+            if !near {
+                assert_eq!(inside, lit(t), "t {t}: {runs:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_pyramid_bounds_every_texel_and_bad_maps_are_refused() {
+        let map = ShadowMap::spot([0.0, 2.0, 0.0], [0.0, -1.0, 0.2], 0.8, 64, &balls(), 0.0).unwrap();
+        let p = map.pyramid();
+        assert_eq!(p.level_count(), 7);
+        assert_eq!(p.levels[0][6].len(), 1);
+        let top = p.node(0, 6, 0, 0);
+        for &d in &map.depth {
+            assert!(top[0] <= d && d <= top[1]);
+        }
+        assert!(ShadowMap::cube([0.0; 3], 100, &balls(), 0.0).is_err());
+        assert!(ShadowMap::cube([0.0; 3], 64, &balls(), -1.0).is_err());
+        assert!(ShadowMap::spot([0.0; 3], [0.0; 3], 1.0, 64, &balls(), 0.0).is_err());
+    }
+}
