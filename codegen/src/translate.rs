@@ -107,7 +107,13 @@ fn top_level_names(text: &str) -> Vec<String> {
 pub fn prefix_helpers(text: &str, prefix: &str) -> Result<String, TranslateError> {
     let defined = top_level_names(text);
     let mut rename = std::collections::BTreeMap::new();
-    for name in defined.iter().filter(|n| !n.starts_with(prefix)) {
+    // A name that carries the prefix in any case (`AirlightSmapWalk` for
+    // `airlight_smap_`, `AIRLIGHT_SMAP_FAR`) is the library's own.
+    let own = |n: &str| {
+        let squash = |s: &str| s.to_ascii_lowercase().replace('_', "");
+        n.starts_with(prefix) || squash(n).starts_with(&squash(prefix))
+    };
+    for name in defined.iter().filter(|n| !own(n)) {
         let new = format!("{prefix}{}", name.trim_start_matches('_'));
         if defined.contains(&new) {
             return Err(TranslateError(format!("naga's helper {name} renamed to {new} collides with a kernel name")));

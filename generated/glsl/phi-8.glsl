@@ -906,6 +906,20 @@ void airlight_phi_8_shafts_hold(inout airlight_phi_8_Shafts acc, vec3 run) {
     acc.merged += 1u;
 }
 
+// An accumulator fed lit runs (the shadow-map walk, shadowmap.glsl): dark until a
+// run says otherwise.
+airlight_phi_8_Shafts airlight_phi_8_shafts_begin_runs() {
+    airlight_phi_8_Shafts acc = airlight_phi_8_shafts_begin();
+    acc.v = 0.0;
+    return acc;
+}
+
+// Adds the lit run [a, b] (b negative: to infinity), runs in order; flush when
+// airlight_phi_8_shafts_full to keep the sum exact.
+void airlight_phi_8_shafts_add_run(inout airlight_phi_8_Shafts acc, float a, float b) {
+    airlight_phi_8_shafts_hold(acc, vec3(a, b, 1.0));
+}
+
 // Whether the buffer of closed lit runs is full: flush now to keep the sum exact.
 bool airlight_phi_8_shafts_full(airlight_phi_8_Shafts acc) {
     return acc.count >= 32u;

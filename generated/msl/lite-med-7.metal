@@ -266,15 +266,15 @@ float airlight_lite_med_7_arctan(
 ) {
     float y0_ = 0.0;
     float r = {};
-    float a_11 = metal::abs(x);
-    r = a_11;
-    if (a_11 > 2.4142137) {
+    float a_12 = metal::abs(x);
+    r = a_12;
+    if (a_12 > 2.4142137) {
         y0_ = airlight_lite_med_7_FRAC_PI_2_;
-        r = -1.0 / a_11;
+        r = -1.0 / a_12;
     } else {
-        if (a_11 > 0.41421357) {
+        if (a_12 > 0.41421357) {
             y0_ = 0.7853982;
-            r = (a_11 - 1.0) / (a_11 + 1.0);
+            r = (a_12 - 1.0) / (a_12 + 1.0);
         }
     }
     float _e18 = r;
@@ -827,12 +827,12 @@ metal::float3 airlight_lite_med_7_spot_edge(
         {
             int _e78 = i;
             float _e80 = pieces.inner[_e78];
-            float a_12 = u_1 + ((v_in - u_1) * _e80);
+            float a_13 = u_1 + ((v_in - u_1) * _e80);
             int _e84 = i;
             float _e88 = pieces.inner[as_type<int>(as_type<uint>(_e84) + as_type<uint>(1))];
-            float b_6 = u_1 + ((v_in - u_1) * _e88);
-            float half_ = 0.5 * (b_6 - a_12);
-            float mid = 0.5 * (b_6 + a_12);
+            float b_7 = u_1 + ((v_in - u_1) * _e88);
+            float half_ = 0.5 * (b_7 - a_13);
+            float mid = 0.5 * (b_7 + a_13);
             w = mid + (half_ * 0.96028984);
             float _e100 = w;
             metal::float2 _e103 = airlight_lite_med_7_sin_cos(0.5 * _e100);
@@ -1273,66 +1273,85 @@ airlight_lite_med_7_Shafts airlight_lite_med_7_shafts_begin(
     return _e3;
 }
 
+airlight_lite_med_7_Shafts airlight_lite_med_7_shafts_begin_runs(
+) {
+    airlight_lite_med_7_Shafts acc_1 = {};
+    airlight_lite_med_7_Shafts _e0 = airlight_lite_med_7_shafts_begin();
+    acc_1 = _e0;
+    acc_1.v = 0.0;
+    airlight_lite_med_7_Shafts _e4 = acc_1;
+    return _e4;
+}
+
 void airlight_lite_med_7_shafts_hold(
-    thread airlight_lite_med_7_Shafts& acc_1,
+    thread airlight_lite_med_7_Shafts& acc_2,
     metal::float3 run
 ) {
     if (!((run.z > 0.0))) {
         return;
     }
-    uint _e7 = acc_1.count;
+    uint _e7 = acc_2.count;
     if (_e7 < airlight_lite_med_7_SHAFTS_RUNS) {
-        uint _e12 = acc_1.count;
-        acc_1.runs.inner[_e12] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = _e15 + 1u;
-        uint _e19 = acc_1.calls;
-        acc_1.calls = _e19 + 1u;
+        uint _e12 = acc_2.count;
+        acc_2.runs.inner[_e12] = run;
+        uint _e15 = acc_2.count;
+        acc_2.count = _e15 + 1u;
+        uint _e19 = acc_2.calls;
+        acc_2.calls = _e19 + 1u;
         return;
     }
-    metal::float3 last = acc_1.runs.inner[31];
+    metal::float3 last = acc_2.runs.inner[31];
     float len = run.y - last.x;
     float w_3 = (len > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len) : last.z;
-    acc_1.runs.inner[31] = metal::float3(last.x, run.y, w_3);
-    uint _e50 = acc_1.merged;
-    acc_1.merged = _e50 + 1u;
+    acc_2.runs.inner[31] = metal::float3(last.x, run.y, w_3);
+    uint _e50 = acc_2.merged;
+    acc_2.merged = _e50 + 1u;
+    return;
+}
+
+void airlight_lite_med_7_shafts_add_run(
+    thread airlight_lite_med_7_Shafts& acc_3,
+    float a_8,
+    float b_3
+) {
+    airlight_lite_med_7_shafts_hold(acc_3, metal::float3(a_8, b_3, 1.0));
     return;
 }
 
 bool airlight_lite_med_7_shafts_full(
-    airlight_lite_med_7_Shafts acc_2
+    airlight_lite_med_7_Shafts acc_4
 ) {
-    return acc_2.count >= airlight_lite_med_7_SHAFTS_RUNS;
+    return acc_4.count >= airlight_lite_med_7_SHAFTS_RUNS;
 }
 
 uint airlight_lite_med_7_shafts_merged(
-    airlight_lite_med_7_Shafts acc_3
+    airlight_lite_med_7_Shafts acc_5
 ) {
-    return acc_3.merged;
+    return acc_5.merged;
 }
 
 float airlight_lite_med_7_shafts_probe(
-    airlight_lite_med_7_Shafts acc_4
+    airlight_lite_med_7_Shafts acc_6
 ) {
-    return acc_4.pending ? (0.5 * (acc_4.lo + acc_4.hi)) : -1.0;
+    return acc_6.pending ? (0.5 * (acc_6.lo + acc_6.hi)) : -1.0;
 }
 
 void airlight_lite_med_7_shafts_refine(
-    thread airlight_lite_med_7_Shafts& acc_5,
+    thread airlight_lite_med_7_Shafts& acc_7,
     float v_3
 ) {
-    bool _e3 = acc_5.pending;
+    bool _e3 = acc_7.pending;
     if (_e3) {
-        float _e5 = acc_5.lo;
-        float _e7 = acc_5.hi;
+        float _e5 = acc_7.lo;
+        float _e7 = acc_7.hi;
         float m_3 = 0.5 * (_e5 + _e7);
-        float _e12 = acc_5.before;
-        float _e16 = acc_5.after;
+        float _e12 = acc_7.before;
+        float _e16 = acc_7.after;
         if (metal::abs(v_3 - _e12) <= metal::abs(v_3 - _e16)) {
-            acc_5.lo = m_3;
+            acc_7.lo = m_3;
             return;
         } else {
-            acc_5.hi = m_3;
+            acc_7.hi = m_3;
             return;
         }
     } else {
@@ -1341,64 +1360,64 @@ void airlight_lite_med_7_shafts_refine(
 }
 
 metal::float3 airlight_lite_med_7_shafts_place(
-    thread airlight_lite_med_7_Shafts& acc_6
+    thread airlight_lite_med_7_Shafts& acc_8
 ) {
-    bool _e2 = acc_6.pending;
+    bool _e2 = acc_8.pending;
     if (!(_e2)) {
         return metal::float3(0.0);
     }
-    acc_6.pending = false;
-    float _e9 = acc_6.lo;
-    float _e11 = acc_6.hi;
+    acc_8.pending = false;
+    float _e9 = acc_8.lo;
+    float _e11 = acc_8.hi;
     float m_4 = 0.5 * (_e9 + _e11);
-    float _e16 = acc_6.start;
-    float _e18 = acc_6.before;
+    float _e16 = acc_8.start;
+    float _e18 = acc_8.before;
     metal::float3 run_1 = metal::float3(_e16, m_4, _e18);
-    acc_6.start = m_4;
-    float _e23 = acc_6.after;
-    acc_6.v = _e23;
+    acc_8.start = m_4;
+    float _e23 = acc_8.after;
+    acc_8.v = _e23;
     return run_1;
 }
 
 metal::float3 airlight_lite_med_7_shafts_step(
-    thread airlight_lite_med_7_Shafts& acc_7,
+    thread airlight_lite_med_7_Shafts& acc_9,
     float s,
     float v_4
 ) {
-    metal::float3 _e3 = airlight_lite_med_7_shafts_place(acc_7);
-    float _e5 = acc_7.v;
+    metal::float3 _e3 = airlight_lite_med_7_shafts_place(acc_9);
+    float _e5 = acc_9.v;
     if (_e5 < 0.0) {
-        acc_7.v = v_4;
+        acc_9.v = v_4;
     } else {
-        float _e10 = acc_7.v;
+        float _e10 = acc_9.v;
         if (v_4 != _e10) {
-            acc_7.pending = true;
-            float _e16 = acc_7.s;
-            acc_7.lo = _e16;
-            acc_7.hi = s;
-            float _e20 = acc_7.v;
-            acc_7.before = _e20;
-            acc_7.after = v_4;
+            acc_9.pending = true;
+            float _e16 = acc_9.s;
+            acc_9.lo = _e16;
+            acc_9.hi = s;
+            float _e20 = acc_9.v;
+            acc_9.before = _e20;
+            acc_9.after = v_4;
         }
     }
-    acc_7.s = s;
+    acc_9.s = s;
     return _e3;
 }
 
 metal::float4 airlight_lite_med_7_shafts_moved(
-    float a_8,
-    float b_3,
+    float a_9,
+    float b_4,
     metal::float3 origin_3,
     metal::float3 dir_3
 ) {
     float _e4 = airlight_lite_med_7_max_abs(dir_3);
     metal::float3 u_2 = dir_3 / metal::float3(_e4);
-    return metal::float4(origin_3 + (a_8 * (u_2 / metal::float3(metal::length(u_2)))), (b_3 >= 0.0) ? metal::max(b_3 - a_8, 0.0) : -1.0);
+    return metal::float4(origin_3 + (a_9 * (u_2 / metal::float3(metal::length(u_2)))), (b_4 >= 0.0) ? metal::max(b_4 - a_9, 0.0) : -1.0);
 }
 
 float airlight_lite_med_7_shafts_run(
-    float a_9,
-    float b_4,
+    float a_10,
+    float b_5,
     float w_1,
     metal::float3 origin_4,
     metal::float3 dir_4,
@@ -1411,8 +1430,8 @@ float airlight_lite_med_7_shafts_run(
     bool local_17 = {};
     bool local_18 = {};
     if (!(!((w_1 > 0.0)))) {
-        if (b_4 >= 0.0) {
-            local_18 = b_4 <= a_9;
+        if (b_5 >= 0.0) {
+            local_18 = b_5 <= a_10;
         } else {
             local_18 = false;
         }
@@ -1425,18 +1444,18 @@ float airlight_lite_med_7_shafts_run(
     if (_e24) {
         return 0.0;
     }
-    metal::float4 _e26 = airlight_lite_med_7_shafts_moved(a_9, b_4, origin_4, dir_4);
+    metal::float4 _e26 = airlight_lite_med_7_shafts_moved(a_10, b_5, origin_4, dir_4);
     metal::float3 o = _e26.xyz;
     float len_1 = _e26.w;
     float _e29 = airlight_lite_med_7_radiance(o, dir_4, len_1, light_3, intensity_4, sigma_t_2, sigma_s_4, g_7);
     if (_e29 >= airlight_lite_med_7_HUGE) {
         return _e29;
     }
-    return (w_1 * metal::exp(-(sigma_t_2) * a_9)) * _e29;
+    return (w_1 * metal::exp(-(sigma_t_2) * a_10)) * _e29;
 }
 
 void airlight_lite_med_7_shafts_flush(
-    thread airlight_lite_med_7_Shafts& acc_8,
+    thread airlight_lite_med_7_Shafts& acc_10,
     metal::float3 origin_5,
     metal::float3 dir_5,
     metal::float3 light_4,
@@ -1457,25 +1476,25 @@ void airlight_lite_med_7_shafts_flush(
         }
         loop_init_2 = false;
         uint _e10 = j_2;
-        uint _e12 = acc_8.count;
+        uint _e12 = acc_10.count;
         if (_e10 < _e12) {
         } else {
             break;
         }
         {
             uint _e15 = j_2;
-            metal::float3 r_6 = acc_8.runs.inner[_e15];
-            float _e22 = acc_8.sum[0];
+            metal::float3 r_6 = acc_10.runs.inner[_e15];
+            float _e22 = acc_10.sum[0];
             float _e26 = airlight_lite_med_7_shafts_run(r_6.x, r_6.y, r_6.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5, g_8);
-            acc_8.sum[0] = metal::min(_e22 + _e26, airlight_lite_med_7_HUGE);
+            acc_10.sum[0] = metal::min(_e22 + _e26, airlight_lite_med_7_HUGE);
         }
     }
-    acc_8.count = 0u;
+    acc_10.count = 0u;
     return;
 }
 
 void airlight_lite_med_7_shafts_push(
-    thread airlight_lite_med_7_Shafts& acc_9,
+    thread airlight_lite_med_7_Shafts& acc_11,
     float s_1,
     float v_5,
     metal::float3 origin_6,
@@ -1486,8 +1505,8 @@ void airlight_lite_med_7_shafts_push(
     float sigma_s_6,
     float g_9
 ) {
-    metal::float3 _e10 = airlight_lite_med_7_shafts_step(acc_9, s_1, v_5);
-    airlight_lite_med_7_shafts_hold(acc_9, _e10);
+    metal::float3 _e10 = airlight_lite_med_7_shafts_step(acc_11, s_1, v_5);
+    airlight_lite_med_7_shafts_hold(acc_11, _e10);
     return;
 }
 
@@ -1502,23 +1521,23 @@ float airlight_lite_med_7_shafts_finish(
     float sigma_s_7,
     float g_10
 ) {
-    airlight_lite_med_7_Shafts acc_10 = {};
-    acc_10 = acc_in;
-    metal::float3 _e10 = airlight_lite_med_7_shafts_place(acc_10);
-    airlight_lite_med_7_shafts_hold(acc_10, _e10);
-    airlight_lite_med_7_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
-    float _e12 = acc_10.v;
-    float _e14 = acc_10.v;
+    airlight_lite_med_7_Shafts acc_12 = {};
+    acc_12 = acc_in;
+    metal::float3 _e10 = airlight_lite_med_7_shafts_place(acc_12);
+    airlight_lite_med_7_shafts_hold(acc_12, _e10);
+    airlight_lite_med_7_shafts_flush(acc_12, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
+    float _e12 = acc_12.v;
+    float _e14 = acc_12.v;
     float w_4 = (_e14 < 0.0) ? 1.0 : _e12;
-    float _e21 = acc_10.sum[0];
-    float _e23 = acc_10.start;
+    float _e21 = acc_12.sum[0];
+    float _e23 = acc_12.start;
     float _e24 = airlight_lite_med_7_shafts_run(_e23, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7, g_10);
     return metal::min(_e21 + _e24, airlight_lite_med_7_HUGE);
 }
 
 metal::float3 airlight_lite_med_7_shafts_run_spot(
-    float a_10,
-    float b_5,
+    float a_11,
+    float b_6,
     float w_2,
     metal::float3 origin_8,
     metal::float3 dir_8,
@@ -1534,8 +1553,8 @@ metal::float3 airlight_lite_med_7_shafts_run_spot(
     bool local_19 = {};
     bool local_20 = {};
     if (!(!((w_2 > 0.0)))) {
-        if (b_5 >= 0.0) {
-            local_20 = b_5 <= a_10;
+        if (b_6 >= 0.0) {
+            local_20 = b_6 <= a_11;
         } else {
             local_20 = false;
         }
@@ -1548,15 +1567,15 @@ metal::float3 airlight_lite_med_7_shafts_run_spot(
     if (_e27) {
         return metal::float3(0.0);
     }
-    metal::float4 _e30 = airlight_lite_med_7_shafts_moved(a_10, b_5, origin_8, dir_8);
+    metal::float4 _e30 = airlight_lite_med_7_shafts_moved(a_11, b_6, origin_8, dir_8);
     metal::float3 o_1 = _e30.xyz;
     float len_2 = _e30.w;
     metal::float3 _e33 = airlight_lite_med_7_spot(o_1, dir_8, len_2, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8, g_11);
-    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_10)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
+    return metal::select((w_2 * metal::exp(-(sigma_t_6) * a_11)) * _e33, _e33, _e33 >= metal::float3(340282350000000000000000000000000000000.0));
 }
 
 void airlight_lite_med_7_shafts_flush_spot(
-    thread airlight_lite_med_7_Shafts& acc_11,
+    thread airlight_lite_med_7_Shafts& acc_13,
     metal::float3 origin_9,
     metal::float3 dir_9,
     metal::float3 light_8,
@@ -1580,25 +1599,25 @@ void airlight_lite_med_7_shafts_flush_spot(
         }
         loop_init_3 = false;
         uint _e13 = j_3;
-        uint _e15 = acc_11.count;
+        uint _e15 = acc_13.count;
         if (_e13 < _e15) {
         } else {
             break;
         }
         {
             uint _e18 = j_3;
-            metal::float3 r_7 = acc_11.runs.inner[_e18];
-            metal::float3 _e23 = acc_11.sum;
+            metal::float3 r_7 = acc_13.runs.inner[_e18];
+            metal::float3 _e23 = acc_13.sum;
             metal::float3 _e27 = airlight_lite_med_7_shafts_run_spot(r_7.x, r_7.y, r_7.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9, g_12);
-            acc_11.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
+            acc_13.sum = metal::min(_e23 + _e27, metal::float3(340282350000000000000000000000000000000.0));
         }
     }
-    acc_11.count = 0u;
+    acc_13.count = 0u;
     return;
 }
 
 void airlight_lite_med_7_shafts_push_spot(
-    thread airlight_lite_med_7_Shafts& acc_12,
+    thread airlight_lite_med_7_Shafts& acc_14,
     float s_2,
     float v_6,
     metal::float3 origin_10,
@@ -1612,8 +1631,8 @@ void airlight_lite_med_7_shafts_push_spot(
     metal::float3 sigma_s_10,
     float g_13
 ) {
-    metal::float3 _e13 = airlight_lite_med_7_shafts_step(acc_12, s_2, v_6);
-    airlight_lite_med_7_shafts_hold(acc_12, _e13);
+    metal::float3 _e13 = airlight_lite_med_7_shafts_step(acc_14, s_2, v_6);
+    airlight_lite_med_7_shafts_hold(acc_14, _e13);
     return;
 }
 
@@ -1631,16 +1650,16 @@ metal::float3 airlight_lite_med_7_shafts_finish_spot(
     metal::float3 sigma_s_11,
     float g_14
 ) {
-    airlight_lite_med_7_Shafts acc_13 = {};
-    acc_13 = acc_in_1;
-    metal::float3 _e13 = airlight_lite_med_7_shafts_place(acc_13);
-    airlight_lite_med_7_shafts_hold(acc_13, _e13);
-    airlight_lite_med_7_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
-    float _e15 = acc_13.v;
-    float _e17 = acc_13.v;
+    airlight_lite_med_7_Shafts acc_15 = {};
+    acc_15 = acc_in_1;
+    metal::float3 _e13 = airlight_lite_med_7_shafts_place(acc_15);
+    airlight_lite_med_7_shafts_hold(acc_15, _e13);
+    airlight_lite_med_7_shafts_flush_spot(acc_15, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
+    float _e15 = acc_15.v;
+    float _e17 = acc_15.v;
     float w_5 = (_e17 < 0.0) ? 1.0 : _e15;
-    metal::float3 _e23 = acc_13.sum;
-    float _e25 = acc_13.start;
+    metal::float3 _e23 = acc_15.sum;
+    float _e25 = acc_15.start;
     metal::float3 _e26 = airlight_lite_med_7_shafts_run_spot(_e25, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11, g_14);
     return metal::min(_e23 + _e26, metal::float3(340282350000000000000000000000000000000.0));
 }

@@ -712,6 +712,20 @@ struct airlight_lite_5_Shafts {
     merged: u32,
 }
 
+/// An accumulator fed lit runs (the shadow-map walk, shadowmap.wgsl): dark until
+/// a run says otherwise.
+fn airlight_lite_5_shafts_begin_runs() -> airlight_lite_5_Shafts {
+    var acc = airlight_lite_5_shafts_begin();
+    acc.v = 0.0;
+    return acc;
+}
+
+/// Adds the lit run [a, b] (b negative: to infinity), runs in order; flush when
+/// airlight_lite_5_shafts_full to keep the sum exact.
+fn airlight_lite_5_shafts_add_run(acc: ptr<function, airlight_lite_5_Shafts>, a: f32, b: f32) {
+    airlight_lite_5_shafts_hold(acc, vec3<f32>(a, b, 1.0));
+}
+
 /// Closed lit runs held for finish.
 const airlight_lite_5_SHAFTS_RUNS: u32 = 32u;
 

@@ -795,6 +795,20 @@ struct airlight_segments_12_Shafts {
     merged: u32,
 }
 
+/// An accumulator fed lit runs (the shadow-map walk, shadowmap.wgsl): dark until
+/// a run says otherwise.
+fn airlight_segments_12_shafts_begin_runs() -> airlight_segments_12_Shafts {
+    var acc = airlight_segments_12_shafts_begin();
+    acc.v = 0.0;
+    return acc;
+}
+
+/// Adds the lit run [a, b] (b negative: to infinity), runs in order; flush when
+/// airlight_segments_12_shafts_full to keep the sum exact.
+fn airlight_segments_12_shafts_add_run(acc: ptr<function, airlight_segments_12_Shafts>, a: f32, b: f32) {
+    airlight_segments_12_shafts_hold(acc, vec3<f32>(a, b, 1.0));
+}
+
 /// Closed lit runs held for finish.
 const airlight_segments_12_SHAFTS_RUNS: u32 = 32u;
 

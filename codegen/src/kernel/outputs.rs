@@ -36,6 +36,22 @@ pub struct FileOutput {
     pub path: String,
 }
 
+/// A file every kernel shares, rendered once, and naga's translations of it.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SharedFile {
+    /// Template.
+    pub template: String,
+    /// Output path.
+    pub path: String,
+    /// Its HLSL, where it is a WGSL library.
+    #[serde(default)]
+    pub hlsl: Option<String>,
+    /// Its MSL, where it is a WGSL library.
+    #[serde(default)]
+    pub msl: Option<String>,
+}
+
 /// The whole table.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -44,6 +60,8 @@ pub struct OutputTable {
     pub kernel: Vec<KernelOutput>,
     /// Files of the Rust crate.
     pub crate_file: Vec<FileOutput>,
+    /// Files every kernel shares, rendered once (the shadow-map walk).
+    pub shared_file: Vec<SharedFile>,
     /// Per-scene plan.
     pub plan: Vec<FileOutput>,
     /// Per-kernel translations of a rendered kernel by naga.

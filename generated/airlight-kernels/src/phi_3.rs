@@ -553,6 +553,18 @@ impl Shafts {
         Shafts { v: -1.0, ..Shafts::default() }
     }
 
+    /// An accumulator fed lit runs (the shadow-map walk, [`crate::shadowmap::Walk`]):
+    /// dark until a run says otherwise.
+    pub fn for_runs() -> Shafts {
+        Shafts { v: 0.0, ..Shafts::default() }
+    }
+
+    /// Adds the lit run `[a, b]` (`b` negative: to infinity), runs in order;
+    /// [`Shafts::flush`] when [`Shafts::full`] to keep the sum exact.
+    pub fn add_run(&mut self, a: f32, b: f32) {
+        self.hold(Some((a, b, 1.0)));
+    }
+
     /// Where to look visibility up to halve the pending change's bracket; negative
     /// when no change is pending.
     pub fn probe(&self) -> f32 {

@@ -788,6 +788,20 @@ struct Shafts {
     merged: u32,
 }
 
+/// An accumulator fed lit runs (the shadow-map walk, shadowmap.wgsl): dark until
+/// a run says otherwise.
+fn shafts_begin_runs() -> Shafts {
+    var acc = shafts_begin();
+    acc.v = 0.0;
+    return acc;
+}
+
+/// Adds the lit run [a, b] (b negative: to infinity), runs in order; flush when
+/// shafts_full to keep the sum exact.
+fn shafts_add_run(acc: ptr<function, Shafts>, a: f32, b: f32) {
+    shafts_hold(acc, vec3<f32>(a, b, 1.0));
+}
+
 /// Closed lit runs held for finish.
 const SHAFTS_RUNS: u32 = 32u;
 

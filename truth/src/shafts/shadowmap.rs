@@ -187,7 +187,7 @@ impl ShadowMap {
         // Stretches no face covers: outside a spot map, lit.
         let mut runs: Vec<(f64, f64)> = Vec::new();
         let mut t = 0.0;
-        let mut push = |a: f64, b: f64, runs: &mut Vec<(f64, f64)>| {
+        let push = |a: f64, b: f64, runs: &mut Vec<(f64, f64)>| {
             if b <= a {
                 return;
             }

@@ -235,15 +235,15 @@ float airlight_segments_6_arctan(float x)
     float y0_ = 0.0;
     float r = (float)0;
 
-    float a_14 = abs(x);
-    r = a_14;
-    if ((a_14 > 2.4142137)) {
+    float a_15 = abs(x);
+    r = a_15;
+    if ((a_15 > 2.4142137)) {
         y0_ = airlight_segments_6_FRAC_PI_2_;
-        r = (-1.0 / a_14);
+        r = (-1.0 / a_15);
     } else {
-        if ((a_14 > 0.41421357)) {
+        if ((a_15 > 0.41421357)) {
             y0_ = 0.7853982;
-            r = ((a_14 - 1.0) / (a_14 + 1.0));
+            r = ((a_15 - 1.0) / (a_15 + 1.0));
         }
     }
     float _e18 = r;
@@ -366,13 +366,13 @@ float airlight_segments_6_piece(float a_7, float b_3, float len, float lo_j, flo
 
 float airlight_segments_6_segments(float a_8, float len_1, float t_1, float att_1)
 {
-    float b_7 = (a_8 + len_1);
-    const float _e9 = airlight_segments_6_piece(a_8, b_7, len_1, 0.0, 0.5596044, 0.51806617, -0.0038913945, t_1, att_1);
-    const float _e14 = airlight_segments_6_piece(a_8, b_7, len_1, 0.5596044, 0.83941275, 0.56734735, -0.031469375, t_1, att_1);
-    const float _e20 = airlight_segments_6_piece(a_8, b_7, len_1, 0.83941275, 1.0624303, 0.6347851, -0.08807748, t_1, att_1);
-    const float _e26 = airlight_segments_6_piece(a_8, b_7, len_1, 1.0624303, 1.2441628, 0.7104354, -0.16845062, t_1, att_1);
-    const float _e32 = airlight_segments_6_piece(a_8, b_7, len_1, 1.2441628, 1.4316419, 0.81226873, -0.29514784, t_1, att_1);
-    const float _e38 = airlight_segments_6_piece(a_8, b_7, len_1, 1.4316419, 1.5707964, 0.9449292, -0.48507014, t_1, att_1);
+    float b_8 = (a_8 + len_1);
+    const float _e9 = airlight_segments_6_piece(a_8, b_8, len_1, 0.0, 0.5596044, 0.51806617, -0.0038913945, t_1, att_1);
+    const float _e14 = airlight_segments_6_piece(a_8, b_8, len_1, 0.5596044, 0.83941275, 0.56734735, -0.031469375, t_1, att_1);
+    const float _e20 = airlight_segments_6_piece(a_8, b_8, len_1, 0.83941275, 1.0624303, 0.6347851, -0.08807748, t_1, att_1);
+    const float _e26 = airlight_segments_6_piece(a_8, b_8, len_1, 1.0624303, 1.2441628, 0.7104354, -0.16845062, t_1, att_1);
+    const float _e32 = airlight_segments_6_piece(a_8, b_8, len_1, 1.2441628, 1.4316419, 0.81226873, -0.29514784, t_1, att_1);
+    const float _e38 = airlight_segments_6_piece(a_8, b_8, len_1, 1.4316419, 1.5707964, 0.9449292, -0.48507014, t_1, att_1);
     return (((((_e9 + _e14) + _e20) + _e26) + _e32) + _e38);
 }
 
@@ -449,21 +449,21 @@ float airlight_segments_6_backward_u(float att_3, float t_3, float h_2, float x0
     }
     bool _e143 = local_6;
     if (_e143) {
-        float a_15 = max(u0_, 16.0);
-        float shift = (base - (t_3 * (a_15 - u0_)));
+        float a_16 = max(u0_, 16.0);
+        float shift = (base - (t_3 * (a_16 - u0_)));
         if (!(endless)) {
-            local_7 = (ub <= (2.0 * a_15));
+            local_7 = (ub <= (2.0 * a_16));
         } else {
             local_7 = false;
         }
         bool _e156 = local_7;
         if (_e156) {
             float _e160 = span;
-            float len_5 = ((a_15 == u0_) ? (_e160 / a_15) : ((ub / a_15) - 1.0));
-            float ta = (t_3 * a_15);
+            float len_5 = ((a_16 == u0_) ? (_e160 / a_16) : ((ub / a_16) - 1.0));
+            float ta = (t_3 * a_16);
             {
                 float lam_5 = (ta + 0.26840276);
-                float u_2 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
+                float u_2 = (a_16 * (1.0 + (len_5 / (2.0 + (lam_5 * len_5)))));
                 float q_1 = (1.0 / (1.0 + (1.0 / (u_2 * u_2))));
                 float _e183 = part;
                 const float _e192 = airlight_segments_6_exprel((-(lam_5) * len_5));
@@ -471,7 +471,7 @@ float airlight_segments_6_backward_u(float att_3, float t_3, float h_2, float x0
             }
             {
                 float lam_6 = (ta + 1.5659415);
-                float u_3 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
+                float u_3 = (a_16 * (1.0 + (len_5 / (2.0 + (lam_6 * len_5)))));
                 float q_2 = (1.0 / (1.0 + (1.0 / (u_3 * u_3))));
                 float _e214 = part;
                 const float _e223 = airlight_segments_6_exprel((-(lam_6) * len_5));
@@ -479,7 +479,7 @@ float airlight_segments_6_backward_u(float att_3, float t_3, float h_2, float x0
             }
             {
                 float lam_7 = (ta + 4.449333);
-                float u_4 = (a_15 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
+                float u_4 = (a_16 * (1.0 + (len_5 / (2.0 + (lam_7 * len_5)))));
                 float q_3 = (1.0 / (1.0 + (1.0 / (u_4 * u_4))));
                 float _e245 = part;
                 const float _e254 = airlight_segments_6_exprel((-(lam_7) * len_5));
@@ -487,19 +487,19 @@ float airlight_segments_6_backward_u(float att_3, float t_3, float h_2, float x0
             }
             float _e260 = sum;
             float _e261 = part;
-            sum = (_e260 + (_e261 / a_15));
+            sum = (_e260 + (_e261 / a_16));
         } else {
-            float lam_8 = (t_3 + (2.0 / a_15));
-            const float _e268 = airlight_segments_6_phi((t_3 * a_15));
-            g = (_e268 / a_15);
-            u = (a_15 + (1.0 / lam_8));
+            float lam_8 = (t_3 + (2.0 / a_16));
+            const float _e268 = airlight_segments_6_phi((t_3 * a_16));
+            g = (_e268 / a_16);
+            u = (a_16 + (1.0 / lam_8));
             if (!(endless)) {
                 float _e277 = span;
-                float len_6 = ((a_15 == u0_) ? _e277 : (ub - a_15));
+                float len_6 = ((a_16 == u0_) ? _e277 : (ub - a_16));
                 float _e280 = g;
                 const float _e285 = airlight_segments_6_phi((t_3 * ub));
                 g = (_e280 - ((exp((-(t_3) * len_6)) * _e285) / ub));
-                u = (a_15 + (len_6 / (2.0 + (lam_8 * len_6))));
+                u = (a_16 + (len_6 / (2.0 + (lam_8 * len_6))));
             }
             float _e294 = u;
             float _e295 = u;
@@ -757,12 +757,12 @@ float3 airlight_segments_6_spot_edge(float3 tau_8, float h_7, float x0_7, float 
         {
             int _e78 = i;
             float _e80 = pieces[min(uint(_e78), 5u)];
-            float a_16 = (u_1 + ((v_in - u_1) * _e80));
+            float a_17 = (u_1 + ((v_in - u_1) * _e80));
             int _e84 = i;
             float _e88 = pieces[min(uint(asint(asuint(_e84) + asuint(int(1)))), 5u)];
-            float b_8 = (u_1 + ((v_in - u_1) * _e88));
-            float half_ = (0.5 * (b_8 - a_16));
-            float mid = (0.5 * (b_8 + a_16));
+            float b_9 = (u_1 + ((v_in - u_1) * _e88));
+            float half_ = (0.5 * (b_9 - a_17));
+            float mid = (0.5 * (b_9 + a_17));
             w = (mid + (half_ * 0.96028984));
             float _e100 = w;
             const float2 _e103 = airlight_segments_6_sin_cos((0.5 * _e100));
@@ -1194,59 +1194,77 @@ airlight_segments_6_Shafts airlight_segments_6_shafts_begin()
     return airlight_segments_6_shafts;
 }
 
-void airlight_segments_6_shafts_hold(inout airlight_segments_6_Shafts acc_1, float3 run)
+airlight_segments_6_Shafts airlight_segments_6_shafts_begin_runs()
+{
+    airlight_segments_6_Shafts acc_1 = (airlight_segments_6_Shafts)0;
+
+    const airlight_segments_6_Shafts _e0 = airlight_segments_6_shafts_begin();
+    acc_1 = _e0;
+    acc_1.v = 0.0;
+    airlight_segments_6_Shafts _e4 = acc_1;
+    const airlight_segments_6_Shafts airlight_segments_6_shafts_1 = _e4;
+    return airlight_segments_6_shafts_1;
+}
+
+void airlight_segments_6_shafts_hold(inout airlight_segments_6_Shafts acc_2, float3 run)
 {
     if (!((run.z > 0.0))) {
         return;
     }
-    uint _e7 = acc_1.count;
+    uint _e7 = acc_2.count;
     if ((_e7 < airlight_segments_6_SHAFTS_RUNS)) {
-        uint _e12 = acc_1.count;
-        acc_1.runs[min(uint(_e12), 31u)] = run;
-        uint _e15 = acc_1.count;
-        acc_1.count = (_e15 + 1u);
-        uint _e19 = acc_1.calls;
-        acc_1.calls = (_e19 + 1u);
+        uint _e12 = acc_2.count;
+        acc_2.runs[min(uint(_e12), 31u)] = run;
+        uint _e15 = acc_2.count;
+        acc_2.count = (_e15 + 1u);
+        uint _e19 = acc_2.calls;
+        acc_2.calls = (_e19 + 1u);
         return;
     }
-    float3 last = acc_1.runs[31];
+    float3 last = acc_2.runs[31];
     float len_7 = (run.y - last.x);
     float w_3 = ((len_7 > 0.0) ? (((last.z * (last.y - last.x)) + (run.z * (run.y - run.x))) / len_7) : last.z);
-    acc_1.runs[31] = float3(last.x, run.y, w_3);
-    uint _e50 = acc_1.merged;
-    acc_1.merged = (_e50 + 1u);
+    acc_2.runs[31] = float3(last.x, run.y, w_3);
+    uint _e50 = acc_2.merged;
+    acc_2.merged = (_e50 + 1u);
     return;
 }
 
-bool airlight_segments_6_shafts_full(airlight_segments_6_Shafts acc_2)
+void airlight_segments_6_shafts_add_run(inout airlight_segments_6_Shafts acc_3, float a_11, float b_4)
 {
-    return (acc_2.count >= airlight_segments_6_SHAFTS_RUNS);
+    airlight_segments_6_shafts_hold(acc_3, float3(a_11, b_4, 1.0));
+    return;
 }
 
-uint airlight_segments_6_shafts_merged(airlight_segments_6_Shafts acc_3)
+bool airlight_segments_6_shafts_full(airlight_segments_6_Shafts acc_4)
 {
-    return acc_3.merged;
+    return (acc_4.count >= airlight_segments_6_SHAFTS_RUNS);
 }
 
-float airlight_segments_6_shafts_probe(airlight_segments_6_Shafts acc_4)
+uint airlight_segments_6_shafts_merged(airlight_segments_6_Shafts acc_5)
 {
-    return (acc_4.pending ? (0.5 * (acc_4.lo + acc_4.hi)) : -1.0);
+    return acc_5.merged;
 }
 
-void airlight_segments_6_shafts_refine(inout airlight_segments_6_Shafts acc_5, float v_2)
+float airlight_segments_6_shafts_probe(airlight_segments_6_Shafts acc_6)
 {
-    bool _e3 = acc_5.pending;
+    return (acc_6.pending ? (0.5 * (acc_6.lo + acc_6.hi)) : -1.0);
+}
+
+void airlight_segments_6_shafts_refine(inout airlight_segments_6_Shafts acc_7, float v_2)
+{
+    bool _e3 = acc_7.pending;
     if (_e3) {
-        float _e5 = acc_5.lo;
-        float _e7 = acc_5.hi;
+        float _e5 = acc_7.lo;
+        float _e7 = acc_7.hi;
         float m_1 = (0.5 * (_e5 + _e7));
-        float _e12 = acc_5.before;
-        float _e16 = acc_5.after;
+        float _e12 = acc_7.before;
+        float _e16 = acc_7.after;
         if ((abs((v_2 - _e12)) <= abs((v_2 - _e16)))) {
-            acc_5.lo = m_1;
+            acc_7.lo = m_1;
             return;
         } else {
-            acc_5.hi = m_1;
+            acc_7.hi = m_1;
             return;
         }
     } else {
@@ -1254,62 +1272,62 @@ void airlight_segments_6_shafts_refine(inout airlight_segments_6_Shafts acc_5, f
     }
 }
 
-float3 airlight_segments_6_shafts_place(inout airlight_segments_6_Shafts acc_6)
+float3 airlight_segments_6_shafts_place(inout airlight_segments_6_Shafts acc_8)
 {
-    bool _e2 = acc_6.pending;
+    bool _e2 = acc_8.pending;
     if (!(_e2)) {
         return (0.0).xxx;
     }
-    acc_6.pending = false;
-    float _e9 = acc_6.lo;
-    float _e11 = acc_6.hi;
+    acc_8.pending = false;
+    float _e9 = acc_8.lo;
+    float _e11 = acc_8.hi;
     float m_2 = (0.5 * (_e9 + _e11));
-    float _e16 = acc_6.start;
-    float _e18 = acc_6.before;
+    float _e16 = acc_8.start;
+    float _e18 = acc_8.before;
     float3 run_1 = float3(_e16, m_2, _e18);
-    acc_6.start = m_2;
-    float _e23 = acc_6.after;
-    acc_6.v = _e23;
+    acc_8.start = m_2;
+    float _e23 = acc_8.after;
+    acc_8.v = _e23;
     return run_1;
 }
 
-float3 airlight_segments_6_shafts_step(inout airlight_segments_6_Shafts acc_7, float s, float v_3)
+float3 airlight_segments_6_shafts_step(inout airlight_segments_6_Shafts acc_9, float s, float v_3)
 {
-    const float3 _e3 = airlight_segments_6_shafts_place(acc_7);
-    float _e5 = acc_7.v;
+    const float3 _e3 = airlight_segments_6_shafts_place(acc_9);
+    float _e5 = acc_9.v;
     if ((_e5 < 0.0)) {
-        acc_7.v = v_3;
+        acc_9.v = v_3;
     } else {
-        float _e10 = acc_7.v;
+        float _e10 = acc_9.v;
         if ((v_3 != _e10)) {
-            acc_7.pending = true;
-            float _e16 = acc_7.s;
-            acc_7.lo = _e16;
-            acc_7.hi = s;
-            float _e20 = acc_7.v;
-            acc_7.before = _e20;
-            acc_7.after = v_3;
+            acc_9.pending = true;
+            float _e16 = acc_9.s;
+            acc_9.lo = _e16;
+            acc_9.hi = s;
+            float _e20 = acc_9.v;
+            acc_9.before = _e20;
+            acc_9.after = v_3;
         }
     }
-    acc_7.s = s;
+    acc_9.s = s;
     return _e3;
 }
 
-float4 airlight_segments_6_shafts_moved(float a_11, float b_4, float3 origin_3, float3 dir_3)
+float4 airlight_segments_6_shafts_moved(float a_12, float b_5, float3 origin_3, float3 dir_3)
 {
     const float _e4 = airlight_segments_6_max_abs(dir_3);
     float3 u_5 = (dir_3 / (_e4).xxx);
-    return float4((origin_3 + (a_11 * (u_5 / (length(u_5)).xxx))), ((b_4 >= 0.0) ? max((b_4 - a_11), 0.0) : -1.0));
+    return float4((origin_3 + (a_12 * (u_5 / (length(u_5)).xxx))), ((b_5 >= 0.0) ? max((b_5 - a_12), 0.0) : -1.0));
 }
 
-float airlight_segments_6_shafts_run(float a_12, float b_5, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4)
+float airlight_segments_6_shafts_run(float a_13, float b_6, float w_1, float3 origin_4, float3 dir_4, float3 light_3, float intensity_4, float sigma_t_2, float sigma_s_4)
 {
     bool local_22 = (bool)0;
     bool local_23 = (bool)0;
 
     if (!(!((w_1 > 0.0)))) {
-        if ((b_5 >= 0.0)) {
-            local_23 = (b_5 <= a_12);
+        if ((b_6 >= 0.0)) {
+            local_23 = (b_6 <= a_13);
         } else {
             local_23 = false;
         }
@@ -1322,17 +1340,17 @@ float airlight_segments_6_shafts_run(float a_12, float b_5, float w_1, float3 or
     if (_e23) {
         return 0.0;
     }
-    const float4 _e25 = airlight_segments_6_shafts_moved(a_12, b_5, origin_4, dir_4);
+    const float4 _e25 = airlight_segments_6_shafts_moved(a_13, b_6, origin_4, dir_4);
     float3 o = _e25.xyz;
     float len_8 = _e25.w;
     const float _e28 = airlight_segments_6_radiance(o, dir_4, len_8, light_3, intensity_4, sigma_t_2, sigma_s_4);
     if ((_e28 >= airlight_segments_6_HUGE)) {
         return _e28;
     }
-    return ((w_1 * exp((-(sigma_t_2) * a_12))) * _e28);
+    return ((w_1 * exp((-(sigma_t_2) * a_13))) * _e28);
 }
 
-void airlight_segments_6_shafts_flush(inout airlight_segments_6_Shafts acc_8, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
+void airlight_segments_6_shafts_flush(inout airlight_segments_6_Shafts acc_10, float3 origin_5, float3 dir_5, float3 light_4, float intensity_5, float sigma_t_3, float sigma_s_5)
 {
     uint j_2 = 0u;
 
@@ -1347,55 +1365,55 @@ void airlight_segments_6_shafts_flush(inout airlight_segments_6_Shafts acc_8, fl
         }
         loop_init_2 = false;
         uint _e9 = j_2;
-        uint _e11 = acc_8.count;
+        uint _e11 = acc_10.count;
         if ((_e9 < _e11)) {
         } else {
             break;
         }
         {
             uint _e14 = j_2;
-            float3 r_7 = acc_8.runs[min(uint(_e14), 31u)];
-            float _e21 = acc_8.sum.x;
+            float3 r_7 = acc_10.runs[min(uint(_e14), 31u)];
+            float _e21 = acc_10.sum.x;
             const float _e25 = airlight_segments_6_shafts_run(r_7.x, r_7.y, r_7.z, origin_5, dir_5, light_4, intensity_5, sigma_t_3, sigma_s_5);
-            acc_8.sum.x = min((_e21 + _e25), airlight_segments_6_HUGE);
+            acc_10.sum.x = min((_e21 + _e25), airlight_segments_6_HUGE);
         }
     }
-    acc_8.count = 0u;
+    acc_10.count = 0u;
     return;
 }
 
-void airlight_segments_6_shafts_push(inout airlight_segments_6_Shafts acc_9, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
+void airlight_segments_6_shafts_push(inout airlight_segments_6_Shafts acc_11, float s_1, float v_4, float3 origin_6, float3 dir_6, float3 light_5, float intensity_6, float sigma_t_4, float sigma_s_6)
 {
-    const float3 _e9 = airlight_segments_6_shafts_step(acc_9, s_1, v_4);
-    airlight_segments_6_shafts_hold(acc_9, _e9);
+    const float3 _e9 = airlight_segments_6_shafts_step(acc_11, s_1, v_4);
+    airlight_segments_6_shafts_hold(acc_11, _e9);
     return;
 }
 
 float airlight_segments_6_shafts_finish(airlight_segments_6_Shafts acc_in, float end, float3 origin_7, float3 dir_7, float3 light_6, float intensity_7, float sigma_t_5, float sigma_s_7)
 {
-    airlight_segments_6_Shafts acc_10 = (airlight_segments_6_Shafts)0;
+    airlight_segments_6_Shafts acc_12 = (airlight_segments_6_Shafts)0;
 
-    acc_10 = acc_in;
-    const float3 _e9 = airlight_segments_6_shafts_place(acc_10);
-    airlight_segments_6_shafts_hold(acc_10, _e9);
-    airlight_segments_6_shafts_flush(acc_10, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
-    float _e11 = acc_10.v;
-    float _e13 = acc_10.v;
+    acc_12 = acc_in;
+    const float3 _e9 = airlight_segments_6_shafts_place(acc_12);
+    airlight_segments_6_shafts_hold(acc_12, _e9);
+    airlight_segments_6_shafts_flush(acc_12, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
+    float _e11 = acc_12.v;
+    float _e13 = acc_12.v;
     float w_4 = ((_e13 < 0.0) ? 1.0 : _e11);
-    float _e20 = acc_10.sum.x;
-    float _e22 = acc_10.start;
+    float _e20 = acc_12.sum.x;
+    float _e22 = acc_12.start;
     const float _e23 = airlight_segments_6_shafts_run(_e22, end, w_4, origin_7, dir_7, light_6, intensity_7, sigma_t_5, sigma_s_7);
     return min((_e20 + _e23), airlight_segments_6_HUGE);
 }
 
-float3 airlight_segments_6_shafts_run_spot(float a_13, float b_6, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8)
+float3 airlight_segments_6_shafts_run_spot(float a_14, float b_7, float w_2, float3 origin_8, float3 dir_8, float3 light_7, float3 axis_1, float cos_outer_1, float cos_inner_1, float intensity_8, float3 sigma_t_6, float3 sigma_s_8)
 {
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
     if (!(!((w_2 > 0.0)))) {
-        if ((b_6 >= 0.0)) {
-            local_25 = (b_6 <= a_13);
+        if ((b_7 >= 0.0)) {
+            local_25 = (b_7 <= a_14);
         } else {
             local_25 = false;
         }
@@ -1408,14 +1426,14 @@ float3 airlight_segments_6_shafts_run_spot(float a_13, float b_6, float w_2, flo
     if (_e26) {
         return (0.0).xxx;
     }
-    const float4 _e29 = airlight_segments_6_shafts_moved(a_13, b_6, origin_8, dir_8);
+    const float4 _e29 = airlight_segments_6_shafts_moved(a_14, b_7, origin_8, dir_8);
     float3 o_1 = _e29.xyz;
     float len_9 = _e29.w;
     const float3 _e32 = airlight_segments_6_spot(o_1, dir_8, len_9, light_7, axis_1, cos_outer_1, cos_inner_1, intensity_8, sigma_t_6, sigma_s_8);
-    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_13))) * _e32));
+    return ((_e32 >= (3.4028235e38).xxx) ? _e32 : ((w_2 * exp((-(sigma_t_6) * a_14))) * _e32));
 }
 
-void airlight_segments_6_shafts_flush_spot(inout airlight_segments_6_Shafts acc_11, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
+void airlight_segments_6_shafts_flush_spot(inout airlight_segments_6_Shafts acc_13, float3 origin_9, float3 dir_9, float3 light_8, float3 axis_2, float cos_outer_2, float cos_inner_2, float intensity_9, float3 sigma_t_7, float3 sigma_s_9)
 {
     uint j_3 = 0u;
 
@@ -1430,43 +1448,43 @@ void airlight_segments_6_shafts_flush_spot(inout airlight_segments_6_Shafts acc_
         }
         loop_init_3 = false;
         uint _e12 = j_3;
-        uint _e14 = acc_11.count;
+        uint _e14 = acc_13.count;
         if ((_e12 < _e14)) {
         } else {
             break;
         }
         {
             uint _e17 = j_3;
-            float3 r_8 = acc_11.runs[min(uint(_e17), 31u)];
-            float3 _e22 = acc_11.sum;
+            float3 r_8 = acc_13.runs[min(uint(_e17), 31u)];
+            float3 _e22 = acc_13.sum;
             const float3 _e26 = airlight_segments_6_shafts_run_spot(r_8.x, r_8.y, r_8.z, origin_9, dir_9, light_8, axis_2, cos_outer_2, cos_inner_2, intensity_9, sigma_t_7, sigma_s_9);
-            acc_11.sum = min((_e22 + _e26), (3.4028235e38).xxx);
+            acc_13.sum = min((_e22 + _e26), (3.4028235e38).xxx);
         }
     }
-    acc_11.count = 0u;
+    acc_13.count = 0u;
     return;
 }
 
-void airlight_segments_6_shafts_push_spot(inout airlight_segments_6_Shafts acc_12, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
+void airlight_segments_6_shafts_push_spot(inout airlight_segments_6_Shafts acc_14, float s_2, float v_5, float3 origin_10, float3 dir_10, float3 light_9, float3 axis_3, float cos_outer_3, float cos_inner_3, float intensity_10, float3 sigma_t_8, float3 sigma_s_10)
 {
-    const float3 _e12 = airlight_segments_6_shafts_step(acc_12, s_2, v_5);
-    airlight_segments_6_shafts_hold(acc_12, _e12);
+    const float3 _e12 = airlight_segments_6_shafts_step(acc_14, s_2, v_5);
+    airlight_segments_6_shafts_hold(acc_14, _e12);
     return;
 }
 
 float3 airlight_segments_6_shafts_finish_spot(airlight_segments_6_Shafts acc_in_1, float end_1, float3 origin_11, float3 dir_11, float3 light_10, float3 axis_4, float cos_outer_4, float cos_inner_4, float intensity_11, float3 sigma_t_9, float3 sigma_s_11)
 {
-    airlight_segments_6_Shafts acc_13 = (airlight_segments_6_Shafts)0;
+    airlight_segments_6_Shafts acc_15 = (airlight_segments_6_Shafts)0;
 
-    acc_13 = acc_in_1;
-    const float3 _e12 = airlight_segments_6_shafts_place(acc_13);
-    airlight_segments_6_shafts_hold(acc_13, _e12);
-    airlight_segments_6_shafts_flush_spot(acc_13, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
-    float _e14 = acc_13.v;
-    float _e16 = acc_13.v;
+    acc_15 = acc_in_1;
+    const float3 _e12 = airlight_segments_6_shafts_place(acc_15);
+    airlight_segments_6_shafts_hold(acc_15, _e12);
+    airlight_segments_6_shafts_flush_spot(acc_15, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
+    float _e14 = acc_15.v;
+    float _e16 = acc_15.v;
     float w_5 = ((_e16 < 0.0) ? 1.0 : _e14);
-    float3 _e22 = acc_13.sum;
-    float _e24 = acc_13.start;
+    float3 _e22 = acc_15.sum;
+    float _e24 = acc_15.start;
     const float3 _e25 = airlight_segments_6_shafts_run_spot(_e24, end_1, w_5, origin_11, dir_11, light_10, axis_4, cos_outer_4, cos_inner_4, intensity_11, sigma_t_9, sigma_s_11);
     return min((_e22 + _e25), (3.4028235e38).xxx);
 }
