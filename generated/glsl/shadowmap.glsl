@@ -24,7 +24,7 @@
 // shadowmap_pyramid.frag.glsl builds it, one draw per level, on WebGL 2.
 //
 // Use, with any kernel's shafts accumulator:
-//   AirlightSmapWalk w = airlight_smap_begin(origin, dir, surface, light, rows, cube, res, bias);
+//   AirlightSmapWalk w = airlight_smap_begin(origin, dir, surface, light, rows, cube, res, bias, layer);
 //   <prefix>Shafts acc = <prefix>shafts_begin_runs();
 //   for (;;) {
 //       vec2 r = airlight_smap_next(w);
@@ -49,6 +49,8 @@ struct AirlightSmapWalk {
     float res;
     int top;
     float bias;
+    // The pyramid's layer of this map's first face.
+    int layer;
     // The faces' stretches [ta, tb] in order of ta, and their faces.
     vec2 span[6];
     int face[6];
@@ -126,8 +128,9 @@ mat3 airlight_smap_rows_of(AirlightSmapWalk w, int f) {
 // A walk along the ray from origin in direction dir (any length) to the surface
 // at end (negative: open), for a light at light whose map has res^2 texels per
 // face (a power of two) and the test's bias: a cube map (rows unused) or, cube
-// false, one face whose rows are the columns of rows.
-AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 light, mat3 rows, bool cube, int res, float bias) {
+// false, one face whose rows are the columns of rows; its first face at the
+// pyramid's layer (several lights' maps in one array).
+AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 light, mat3 rows, bool cube, int res, float bias, int layer) {
     AirlightSmapWalk w;
     w.o = origin - light;
     w.d = dir / length(dir);
@@ -141,6 +144,7 @@ AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 ligh
     }
     w.top = top;
     w.bias = bias;
+    w.layer = layer;
     w.count = 0;
     w.k = 0;
     w.inside = false;
@@ -291,7 +295,7 @@ vec2 airlight_smap_step(inout AirlightSmapWalk w) {
     float t = w.t;
     float z0 = w.a.z + t * w.b.z;
     float z1 = w.a.z + te * w.b.z;
-    vec2 mm = airlight_smap_node(w.face[w.k], level, n);
+    vec2 mm = airlight_smap_node(w.layer + w.face[w.k], level, n);
     vec2 closed = vec2(-1.0);
     if (max(z0, z1) <= mm.x + w.bias) {
         closed = airlight_smap_piece(w, t, te, true);

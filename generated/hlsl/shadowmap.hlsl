@@ -14,22 +14,22 @@ struct AirlightSmapWalk {
     float res;
     uint top;
     float bias;
+    uint layer;
+    int _pad9_0;
     float2 span[6];
     uint face[6];
     uint count;
     uint k;
     bool inside;
-    int _pad13_0;
-    int _pad13_1;
-    int _pad13_2;
-    float3 a;
     int _pad14_0;
+    float3 a;
+    int _pad15_0;
     float3 b;
     int sx;
     int sy;
     float t;
     uint level;
-    int _pad19_0;
+    int _pad20_0;
     int2 cell;
     float run;
     uint steps;
@@ -134,7 +134,7 @@ float3x3 airlight_smap_rows_of(AirlightSmapWalk w, uint f_1)
     return w.rows;
 }
 
-AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, float3 light, float3x3 rows, bool cube, uint res, float bias)
+AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, float3 light, float3x3 rows, bool cube, uint res, float bias, uint layer)
 {
     AirlightSmapWalk w_1 = (AirlightSmapWalk)0;
     uint top = 0u;
@@ -153,26 +153,27 @@ AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, flo
     while(true) {
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-        uint _e27 = top;
-        if (((1u << _e27) < res)) {
-            uint _e32 = top;
-            local = (_e32 < 13u);
+        uint _e28 = top;
+        if (((1u << _e28) < res)) {
+            uint _e33 = top;
+            local = (_e33 < 13u);
         } else {
             local = false;
         }
-        bool _e36 = local;
-        if (_e36) {
+        bool _e37 = local;
+        if (_e37) {
         } else {
             break;
         }
         {
-            uint _e37 = top;
-            top = (_e37 + 1u);
+            uint _e38 = top;
+            top = (_e38 + 1u);
         }
     }
-    uint _e41 = top;
-    w_1.top = _e41;
+    uint _e42 = top;
+    w_1.top = _e42;
     w_1.bias = bias;
+    w_1.layer = layer;
     w_1.run = -1.0;
     uint faces = (cube ? 6u : 1u);
     uint2 loop_bound_2 = uint2(4294967295u, 4294967295u);
@@ -181,70 +182,70 @@ AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, flo
         if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e119 = f_2;
-            f_2 = (_e119 + 1u);
+            uint _e121 = f_2;
+            f_2 = (_e121 + 1u);
         }
         loop_init_1 = false;
-        uint _e50 = f_2;
-        if ((_e50 < faces)) {
+        uint _e52 = f_2;
+        if ((_e52 < faces)) {
         } else {
             break;
         }
         {
-            AirlightSmapWalk _e52 = w_1;
-            uint _e53 = f_2;
-            const float3x3 _e54 = airlight_smap_rows_of(_e52, _e53);
-            float3 _e56 = w_1.o;
-            const float3 _e57 = airlight_smap_apply(_e54, _e56);
-            float3 _e59 = w_1.d;
-            const float3 _e60 = airlight_smap_apply(_e54, _e59);
-            float _e62 = w_1.end;
-            const float2 _e63 = airlight_smap_clip(_e57, _e60, _e62);
-            if ((_e63.x < _e63.y)) {
-                uint _e68 = w_1.count;
-                j_1 = _e68;
+            AirlightSmapWalk _e54 = w_1;
+            uint _e55 = f_2;
+            const float3x3 _e56 = airlight_smap_rows_of(_e54, _e55);
+            float3 _e58 = w_1.o;
+            const float3 _e59 = airlight_smap_apply(_e56, _e58);
+            float3 _e61 = w_1.d;
+            const float3 _e62 = airlight_smap_apply(_e56, _e61);
+            float _e64 = w_1.end;
+            const float2 _e65 = airlight_smap_clip(_e59, _e62, _e64);
+            if ((_e65.x < _e65.y)) {
+                uint _e70 = w_1.count;
+                j_1 = _e70;
                 uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
                 while(true) {
                     if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
                     loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
-                    uint _e70 = j_1;
-                    if ((_e70 > 0u)) {
-                        uint _e76 = j_1;
-                        float _e81 = w_1.span[min(uint((_e76 - 1u)), 5u)].x;
-                        local_1 = (_e81 > _e63.x);
+                    uint _e72 = j_1;
+                    if ((_e72 > 0u)) {
+                        uint _e78 = j_1;
+                        float _e83 = w_1.span[min(uint((_e78 - 1u)), 5u)].x;
+                        local_1 = (_e83 > _e65.x);
                     } else {
                         local_1 = false;
                     }
-                    bool _e85 = local_1;
-                    if (_e85) {
+                    bool _e87 = local_1;
+                    if (_e87) {
                     } else {
                         break;
                     }
                     {
-                        uint _e87 = j_1;
-                        uint _e90 = j_1;
-                        float2 _e94 = w_1.span[min(uint((_e90 - 1u)), 5u)];
-                        w_1.span[min(uint(_e87), 5u)] = _e94;
-                        uint _e96 = j_1;
-                        uint _e99 = j_1;
-                        uint _e103 = w_1.face[min(uint((_e99 - 1u)), 5u)];
-                        w_1.face[min(uint(_e96), 5u)] = _e103;
-                        uint _e104 = j_1;
-                        j_1 = (_e104 - 1u);
+                        uint _e89 = j_1;
+                        uint _e92 = j_1;
+                        float2 _e96 = w_1.span[min(uint((_e92 - 1u)), 5u)];
+                        w_1.span[min(uint(_e89), 5u)] = _e96;
+                        uint _e98 = j_1;
+                        uint _e101 = j_1;
+                        uint _e105 = w_1.face[min(uint((_e101 - 1u)), 5u)];
+                        w_1.face[min(uint(_e98), 5u)] = _e105;
+                        uint _e106 = j_1;
+                        j_1 = (_e106 - 1u);
                     }
                 }
-                uint _e108 = j_1;
-                w_1.span[min(uint(_e108), 5u)] = _e63;
-                uint _e111 = j_1;
-                uint _e113 = f_2;
-                w_1.face[min(uint(_e111), 5u)] = _e113;
-                uint _e115 = w_1.count;
-                w_1.count = (_e115 + 1u);
+                uint _e110 = j_1;
+                w_1.span[min(uint(_e110), 5u)] = _e65;
+                uint _e113 = j_1;
+                uint _e115 = f_2;
+                w_1.face[min(uint(_e113), 5u)] = _e115;
+                uint _e117 = w_1.count;
+                w_1.count = (_e117 + 1u);
             }
         }
     }
-    AirlightSmapWalk _e121 = w_1;
-    const AirlightSmapWalk airlightsmapwalk = _e121;
+    AirlightSmapWalk _e123 = w_1;
+    const AirlightSmapWalk airlightsmapwalk = _e123;
     return airlightsmapwalk;
 }
 
@@ -423,45 +424,46 @@ float2 airlight_smap_step(inout AirlightSmapWalk w_9, Texture2DArray<float4> pyr
     float _e55 = w_9.a.z;
     float _e58 = w_9.b.z;
     float z1_ = (_e55 + (te_1 * _e58));
-    uint _e63 = w_9.k;
-    uint _e65 = w_9.face[min(uint(_e63), 5u)];
-    float4 _e68 = pyramid.Load(int4(n_2, int(_e65), int(level)));
-    float2 mm = _e68.xy;
-    float _e76 = w_9.bias;
-    if ((max(z0_, z1_) <= (mm.x + _e76))) {
-        const float2 _e80 = airlight_smap_piece(w_9, t_3, te_1, true);
-        closed = _e80;
+    uint _e62 = w_9.layer;
+    uint _e65 = w_9.k;
+    uint _e67 = w_9.face[min(uint(_e65), 5u)];
+    float4 _e71 = pyramid.Load(int4(n_2, int((_e62 + _e67)), int(level)));
+    float2 mm = _e71.xy;
+    float _e79 = w_9.bias;
+    if ((max(z0_, z1_) <= (mm.x + _e79))) {
+        const float2 _e83 = airlight_smap_piece(w_9, t_3, te_1, true);
+        closed = _e83;
     } else {
-        float _e84 = w_9.bias;
-        if ((min(z0_, z1_) > (mm.y + _e84))) {
-            const float2 _e88 = airlight_smap_piece(w_9, t_3, te_1, false);
-            closed = _e88;
+        float _e87 = w_9.bias;
+        if ((min(z0_, z1_) > (mm.y + _e87))) {
+            const float2 _e91 = airlight_smap_piece(w_9, t_3, te_1, false);
+            closed = _e91;
         } else {
             if ((level > 0u)) {
                 w_9.level = (level - 1u);
                 return (-1.0).xx;
             } else {
-                float _e98 = w_9.bias;
-                float thr = (mm.x + _e98);
+                float _e101 = w_9.bias;
+                float thr = (mm.x + _e101);
                 bool l0_ = (z0_ <= thr);
                 bool l1_ = (z1_ <= thr);
                 if ((l0_ == l1_)) {
-                    const float2 _e103 = airlight_smap_piece(w_9, t_3, te_1, l0_);
-                    closed = _e103;
+                    const float2 _e106 = airlight_smap_piece(w_9, t_3, te_1, l0_);
+                    closed = _e106;
                 } else {
-                    float _e106 = w_9.a.z;
-                    float _e110 = w_9.b.z;
-                    float ts = clamp(((thr - _e106) / _e110), t_3, te_1);
-                    const float2 _e113 = airlight_smap_piece(w_9, t_3, ts, l0_);
-                    const float2 _e114 = airlight_smap_piece(w_9, ts, te_1, l1_);
-                    closed = ((_e113.x >= 0.0) ? _e113 : _e114);
+                    float _e109 = w_9.a.z;
+                    float _e113 = w_9.b.z;
+                    float ts = clamp(((thr - _e109) / _e113), t_3, te_1);
+                    const float2 _e116 = airlight_smap_piece(w_9, t_3, ts, l0_);
+                    const float2 _e117 = airlight_smap_piece(w_9, ts, te_1, l1_);
+                    closed = ((_e116.x >= 0.0) ? _e116 : _e117);
                 }
             }
         }
     }
     airlight_smap_advance(w_9, te_1, (_e30 <= _e40), n_2, size_2);
-    float2 _e120 = closed;
-    return _e120;
+    float2 _e123 = closed;
+    return _e123;
 }
 
 float2 airlight_smap_close(inout AirlightSmapWalk w_10, float t)

@@ -17,7 +17,7 @@
 // level 0 the depths (3.4e38: no occluder). shadowmap_pyramid.wgsl builds it.
 //
 // Use, with any kernel's shafts accumulator:
-//   var w = airlight_smap_begin(origin, dir, surface, light, rows, cube, res, bias);
+//   var w = airlight_smap_begin(origin, dir, surface, light, rows, cube, res, bias, layer);
 //   var acc = <prefix>shafts_begin_runs();
 //   loop {
 //       let r = airlight_smap_next(&w, pyramid);
@@ -38,6 +38,8 @@ struct AirlightSmapWalk {
     res: f32,
     top: u32,
     bias: f32,
+    // The pyramid's layer of this map's first face.
+    layer: u32,
     // The faces' stretches [ta, tb] in order of ta, and their faces.
     span: array<vec2<f32>, 6>,
     face: array<u32, 6>,
@@ -115,8 +117,9 @@ fn airlight_smap_rows_of(w: AirlightSmapWalk, f: u32) -> mat3x3<f32> {
 /// A walk along the ray from origin in direction dir (any length) to the surface
 /// at end (negative: open), for a light at light whose map has res^2 texels per
 /// face (a power of two) and the test's bias: a cube map (rows unused) or, cube
-/// false, one face whose rows are the columns of rows.
-fn airlight_smap_begin(origin: vec3<f32>, dir: vec3<f32>, end: f32, light: vec3<f32>, rows: mat3x3<f32>, cube: bool, res: u32, bias: f32) -> AirlightSmapWalk {
+/// false, one face whose rows are the columns of rows; its first face at the
+/// pyramid's layer (several lights' maps in one array).
+fn airlight_smap_begin(origin: vec3<f32>, dir: vec3<f32>, end: f32, light: vec3<f32>, rows: mat3x3<f32>, cube: bool, res: u32, bias: f32, layer: u32) -> AirlightSmapWalk {
     var w: AirlightSmapWalk;
     w.o = origin - light;
     w.d = dir / length(dir);
@@ -130,6 +133,7 @@ fn airlight_smap_begin(origin: vec3<f32>, dir: vec3<f32>, end: f32, light: vec3<
     }
     w.top = top;
     w.bias = bias;
+    w.layer = layer;
     w.run = -1.0;
     let faces = select(1u, 6u, cube);
     for (var f = 0u; f < faces; f++) {
@@ -263,7 +267,7 @@ fn airlight_smap_step(w: ptr<function, AirlightSmapWalk>, pyramid: texture_2d_ar
     let t = (*w).t;
     let z0 = (*w).a.z + t * (*w).b.z;
     let z1 = (*w).a.z + te * (*w).b.z;
-    let mm = textureLoad(pyramid, n, i32((*w).face[(*w).k]), i32(level)).xy;
+    let mm = textureLoad(pyramid, n, i32((*w).layer + (*w).face[(*w).k]), i32(level)).xy;
     var closed = vec2<f32>(-1.0);
     if max(z0, z1) <= mm.x + (*w).bias {
         closed = airlight_smap_piece(w, t, te, true);

@@ -160,11 +160,26 @@ impl Gpu {
         n: usize,
         repeats: usize,
     ) -> Result<Option<f64>, GpuError> {
+        self.timed_with(k, source, outputs, data, n, repeats, None)
+    }
+
+    /// [`Gpu::timed_source`] with a shadow map's pyramid bound.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn timed_with(
+        &self,
+        k: &KernelSource,
+        source: &str,
+        outputs: usize,
+        data: &[f32],
+        n: usize,
+        repeats: usize,
+        pyramid: Option<&wgpu::TextureView>,
+    ) -> Result<Option<f64>, GpuError> {
         if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || n == 0 {
             return Ok(None);
         }
         let (gx, gy) = workgroups(n)?;
-        let run = self.prepare(k.shader(source), k.prefix, data, n * outputs, k.table)?;
+        let run = self.prepare(k.shader(source), k.prefix, data, n * outputs, k.table, pyramid)?;
         let d = &self.device;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("bench"),
@@ -222,6 +237,7 @@ impl Gpu {
         input: &wgpu::Buffer,
         output: &wgpu::Buffer,
         table: Option<&Table>,
+        pyramid: Option<&wgpu::TextureView>,
     ) -> Result<wgpu::BindGroup, GpuError> {
         let d = &self.device;
         let mut entries = vec![
@@ -262,6 +278,14 @@ impl Gpu {
             sampler = d.create_sampler(&wgpu::SamplerDescriptor::default());
             entries.push(wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) });
         }
+        // A shadow map's min-max pyramid (the shadow-map walk): texture 4 and, for
+        // GLSL's combined sampler, sampler 5.
+        let pyramid_sampler = d.create_sampler(&wgpu::SamplerDescriptor::default());
+        if let Some(v) = pyramid {
+            entries.push(wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(v) });
+            entries
+                .push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&pyramid_sampler) });
+        }
         let layout = pipeline.get_bind_group_layout(0);
         let attempt = |entries: &[wgpu::BindGroupEntry]| {
             let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -272,8 +296,12 @@ impl Gpu {
             }
         };
         match attempt(&entries) {
-            // A shader without the sampler (WGSL; GLSL where naga drops an unused one): bind without it.
-            Err(_) if entries.len() == 4 => attempt(&entries[..3]),
+            // A shader without a sampler (WGSL; GLSL where naga drops an unused one): bind without it.
+            Err(_) if entries.iter().any(|e| matches!(e.resource, wgpu::BindingResource::Sampler(_))) => {
+                let plain: Vec<_> =
+                    entries.into_iter().filter(|e| !matches!(e.resource, wgpu::BindingResource::Sampler(_))).collect();
+                attempt(&plain)
+            }
             other => other,
         }
     }
@@ -291,12 +319,28 @@ impl Gpu {
         outputs: usize,
         table: Option<&Table>,
     ) -> Result<Vec<f32>, GpuError> {
+        self.dispatch_with(shader, label, data, stride, n, outputs, table, None)
+    }
+
+    /// [`Gpu::dispatch`] with a shadow map's pyramid bound (texture 4, sampler 5).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn dispatch_with(
+        &self,
+        shader: wgpu::ShaderSource,
+        label: &str,
+        data: &[f32],
+        stride: usize,
+        n: usize,
+        outputs: usize,
+        table: Option<&Table>,
+        pyramid: Option<&wgpu::TextureView>,
+    ) -> Result<Vec<f32>, GpuError> {
         if n == 0 {
             return Ok(Vec::new());
         }
         let (gx, gy) = workgroups(n)?;
         debug_assert_eq!(data.len(), n * stride * 4);
-        let run = self.prepare(shader, label, data, n * outputs, table)?;
+        let run = self.prepare(shader, label, data, n * outputs, table, pyramid)?;
         let bytes = (n * outputs * 4) as u64;
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("staging"),
@@ -325,6 +369,7 @@ impl Gpu {
         data: &[f32],
         n: usize,
         table: Option<&Table>,
+        pyramid: Option<&wgpu::TextureView>,
     ) -> Result<Prepared, GpuError> {
         let d = &self.device;
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -351,7 +396,7 @@ impl Gpu {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let bind = self.bind(&pipeline, &input, &output, table)?;
+        let bind = self.bind(&pipeline, &input, &output, table, pyramid)?;
         Ok(Prepared { pipeline, bind, output })
     }
 

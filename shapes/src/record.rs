@@ -39,10 +39,23 @@ pub const EDGE: &str = "edge";
 /// lit intervals.
 pub const SHADOWED: &str = "shadowed";
 
+/// The shafts accumulator fed the lit runs of the shadow-map walk: rays among
+/// analytic occluders cast into a cube map, against the same map's exact runs.
+pub const SHADOW_MAP: &str = "shadow-map";
+
 /// The gate's regimes, in the order its tables list them: the canonical entry's
-/// domains, then the physical, spot and shadowed entries' sets.
-pub const REGIMES: [&str; 8] =
-    [Domain::Thin.name(), Domain::Dense.name(), Domain::Extreme.name(), EDGE, PHYSICAL, PHYS_EXTREME, SPOT, SHADOWED];
+/// domains, then the physical, spot, shadowed and shadow-map sets.
+pub const REGIMES: [&str; 9] = [
+    Domain::Thin.name(),
+    Domain::Dense.name(),
+    Domain::Extreme.name(),
+    EDGE,
+    PHYSICAL,
+    PHYS_EXTREME,
+    SPOT,
+    SHADOWED,
+    SHADOW_MAP,
+];
 
 /// One kernel × target × domain row of the gate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

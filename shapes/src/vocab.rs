@@ -362,7 +362,21 @@ pub struct CompiledKernel {
     pub shadowed: Option<ShadowedFn>,
     /// The shafts accumulator over `spot`, where the kernel has both.
     pub spot_shadowed: Option<SpotShadowedFn>,
+    /// The shadow-map walk of the same crate (`airlight_kernels::shadowmap`),
+    /// which feeds either accumulator its lit runs.
+    pub walk: Option<WalkFn>,
 }
+
+/// Where the walk reads a pyramid: `(layer, level, x, y) → [min, max]`.
+pub type NodeFn<'a> = &'a dyn Fn(u32, u32, i32, i32) -> [f32; 2];
+
+/// A map as the walk takes it: `(light, rows, cube, res, bias)` (docs/MATH.md §9).
+pub type WalkMap = ([f32; 3], [[f32; 3]; 3], bool, u32, f32);
+
+/// The generated f32 shadow-map walk (`airlight_kernels::shadowmap::Walk`):
+/// `(origin, dir, end, map, node)` → the lit runs `[a, b]` in order (`b < 0`:
+/// to infinity), the steps taken, and whether it ran out of steps.
+pub type WalkFn = fn([f32; 3], [f32; 3], f32, WalkMap, NodeFn) -> (Vec<[f32; 2]>, u32, bool);
 
 /// The path of the kernel index under `generated/`.
 pub const INDEX_FILE: &str = "kernels.toml";

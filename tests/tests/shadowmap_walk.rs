@@ -46,6 +46,7 @@ pub fn walk_runs(map: &ShadowMap, p: &Pyramid, ray: &PhysicalRay) -> (Vec<(f64, 
         map.is_cube(),
         map.res as u32,
         map.bias as f32,
+        0,
     );
     let mut out = Vec::new();
     while let Some([a, b]) = w.next(&Levels(p)) {
@@ -61,7 +62,10 @@ fn mismatch(x: &[(f64, f64)], y: &[(f64, f64)], far: f64) -> f64 {
     cuts.push(far);
     cuts.sort_by(f64::total_cmp);
     let inside = |r: &[(f64, f64)], t: f64| r.iter().any(|&(a, b)| t > a && t < b);
-    cuts.windows(2).filter(|w| inside(x, 0.5 * (w[0] + w[1])) != inside(y, 0.5 * (w[0] + w[1]))).map(|w| w[1] - w[0]).sum()
+    cuts.windows(2)
+        .filter(|w| inside(x, 0.5 * (w[0] + w[1])) != inside(y, 0.5 * (w[0] + w[1])))
+        .map(|w| w[1] - w[0])
+        .sum()
 }
 
 fn scene(rng: &mut Rng, light: [f64; 3]) -> Vec<Occluder> {
@@ -76,7 +80,10 @@ fn scene(rng: &mut Rng, light: [f64; 3]) -> Vec<Occluder> {
     // Thin bars: many changes along a ray.
     for k in 0..4 {
         let x = light[0] - 1.5 + 0.2 * k as f64;
-        out.push(Occluder::Cuboid { min: [x, light[1] - 2.0, light[2] + 1.0], max: [x + 0.05, light[1] + 2.0, light[2] + 1.1] });
+        out.push(Occluder::Cuboid {
+            min: [x, light[1] - 2.0, light[2] + 1.0],
+            max: [x + 0.05, light[1] + 2.0, light[2] + 1.1],
+        });
     }
     out
 }

@@ -7,7 +7,7 @@ use airlight_shapes::vocab::Domain;
 use serde::Serialize;
 
 /// What each regime of the gate checks, in words, in [`record::REGIMES`]' order.
-const WHAT: [&str; 8] = [
+const WHAT: [&str; 9] = [
     "canonical, `thin`",
     "canonical, `dense`",
     "canonical, `extreme` corners",
@@ -16,6 +16,7 @@ const WHAT: [&str; 8] = [
     "physical entry, extreme rays (1e-4 … 1e30 units, grazing, far planes, ∞)",
     "spot entry, spot lights (2°–80°, and a grid of 5°–80° cones with inner half-angles from equal to a quarter, half of them turned so that the ray leaves through the penumbra) in RGB media, per channel; rays on the line through the light",
     "shafts accumulator, 96 rays among 1–4 analytic occluders (balls, boxes) fed the exact lit intervals, 8 of them also from a 40° spot light (smooth and hard edges, per channel); error relative to the ray's unshadowed value times (1 + visibility changes)",
+    "shafts accumulator fed the shadow-map walk: 32 of those rays, their occluders cast into a 256² cube map at the light, against the reference in-scattering over the same map's exact runs (f64); error as for `shadowed`",
 ];
 
 /// One regime × target cell of the robustness table.

@@ -55,6 +55,8 @@ pub struct Walk {
     res: f32,
     top: u32,
     bias: f32,
+    /// The pyramid's layer of this map's first face.
+    layer: u32,
     /// The faces' stretches `[ta, tb]` in order of `ta`, and their faces.
     span: [[f32; 2]; 6],
     face: [u32; 6],
@@ -114,7 +116,8 @@ impl Walk {
     /// A walk along the ray from `origin` in direction `dir` (any length) to the
     /// surface at `end` (negative: open), for a light at `light` whose map has
     /// `res²` texels per face (a power of two) and the test's `bias`: a cube map
-    /// (`rows` unused) or, `cube` false, one face of rows `rows`.
+    /// (`rows` unused) or, `cube` false, one face of rows `rows`, its first face
+    /// at the pyramid's `layer` (several lights' maps in one array).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         origin: [f32; 3],
@@ -125,6 +128,7 @@ impl Walk {
         cube: bool,
         res: u32,
         bias: f32,
+        layer: u32,
     ) -> Walk {
         let len = crate::math::sqrt(dot3(dir, dir));
         let d = [dir[0] / len, dir[1] / len, dir[2] / len];
@@ -139,6 +143,7 @@ impl Walk {
             res: res as f32,
             top: res.max(1).trailing_zeros(),
             bias,
+            layer,
             span: [[0.0; 2]; 6],
             face: [0; 6],
             count: 0,
@@ -275,7 +280,7 @@ impl Walk {
         let t = self.t;
         let z0 = self.a[2] + t * self.b[2];
         let z1 = self.a[2] + te * self.b[2];
-        let mm = pyramid.node(self.face[self.k as usize], self.level, nx, ny);
+        let mm = pyramid.node(self.layer + self.face[self.k as usize], self.level, nx, ny);
         let closed = if z0.max(z1) <= mm[0] + self.bias {
             self.piece(t, te, true)
         } else if z0.min(z1) > mm[1] + self.bias {

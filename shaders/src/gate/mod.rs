@@ -23,7 +23,7 @@ pub use spot::*;
 use crate::{Gpu, GpuError, KernelSource};
 use airlight_fit::catalog::{self};
 use airlight_fit::model::Model;
-pub use airlight_shapes::record::{target_label, F32Bound, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SPOT};
+pub use airlight_shapes::record::{target_label, F32Bound, EDGE, PHYSICAL, PHYS_EXTREME, SHADOWED, SHADOW_MAP, SPOT};
 pub use airlight_shapes::vocab::{
     f32_domain_limit, f32_limit, Target, F32_ADAPTER_ALLOWANCE, F32_ALLOWANCE, F32_RANGE, F32_REL_ALLOWANCE,
 };
@@ -202,6 +202,7 @@ pub(crate) fn run_with(
     ranges.dedup();
     progress("reference values on the validation sets");
     let validations = catalog::validations(&ranges, &|_, _| {});
+    let walk = crate::shafts::WalkTexts::load(generated).map_err(|e| GateError::Input(e.to_string()))?;
     let (mut rows, mut bounds) = (Vec::new(), Vec::new());
     for k in kernels {
         progress(&k.name);
@@ -222,6 +223,7 @@ pub(crate) fn run_with(
                 .map(|(t, text)| (*t, KernelSource::of(k, *t, text).with_table(table.as_ref())))
                 .collect(),
             gpu,
+            walk: walk.sources(),
             marches: model_file(k, &models)?.is_some_and(|m| m.model.march_steps().is_some()),
         };
         let sets = point_sets(k, &validations)?;
@@ -278,6 +280,7 @@ pub(crate) fn run_with(
         // family's bound (docs/MATH.md §8), so it has no shadowed rows.
         if k.shafts && !subject.marches {
             rows.extend(subject.shadowed_rows(hull)?);
+            rows.extend(subject.mapped_rows(hull)?);
         }
     }
     Ok((rows, bounds))

@@ -115,6 +115,8 @@ pub(crate) struct Subject<'a> {
     pub(crate) compiled: Option<&'a CompiledKernel>,
     pub(crate) shaders: Vec<(Target, KernelSource<'a>)>,
     pub(crate) gpu: Option<&'a Gpu>,
+    /// The shadow-map walk's generated sources.
+    pub(crate) walk: crate::shafts::WalkSources<'a>,
     /// Whether it is the uniform ray march (the engines' method), which cannot
     /// see the divergence on the ray through the light.
     pub(crate) marches: bool,

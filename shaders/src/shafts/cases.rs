@@ -245,10 +245,10 @@ pub fn spot_shadowed_rays(
 /// What a shadowed row holds one value to: the reference, the unshadowed value of
 /// the same ray, its visibility changes, and where it is reported.
 pub(crate) struct Held {
-    point: Point,
-    reference: f64,
-    unshadowed: f64,
-    transitions: usize,
+    pub(crate) point: Point,
+    pub(crate) reference: f64,
+    pub(crate) unshadowed: f64,
+    pub(crate) transitions: usize,
 }
 
 impl ShadowCase {
@@ -276,6 +276,18 @@ impl SpotShadowCase {
 /// A shadowed row: each value's error `|Â − A| / (U (1 + transitions))`, `U` the
 /// unshadowed value of the same ray, held to `declared` like every row.
 pub(crate) fn shadow_row(k: &IndexEntry, target: Option<Target>, items: &[Held], got: &[f64], bound: Bound) -> Row {
+    shadow_row_in(SHADOWED, k, target, items, got, bound)
+}
+
+/// [`shadow_row`] in the regime `domain`.
+pub(crate) fn shadow_row_in(
+    domain: &'static str,
+    k: &IndexEntry,
+    target: Option<Target>,
+    items: &[Held],
+    got: &[f64],
+    bound: Bound,
+) -> Row {
     let declared = bound.on(target);
     let mut errs = Vec::with_capacity(items.len());
     let (mut bad, mut first_bad) = (0, None);
@@ -294,7 +306,7 @@ pub(crate) fn shadow_row(k: &IndexEntry, target: Option<Target>, items: &[Held],
     Row {
         kernel: k.name.clone(),
         target,
-        domain: SHADOWED,
+        domain,
         points: stats.count,
         max: stats.max,
         p99: stats.p99,

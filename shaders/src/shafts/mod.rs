@@ -9,4 +9,7 @@
 pub mod bench;
 pub mod cases;
 mod harness;
+mod mapped;
+pub use mapped::{MapSpec, Mapped, PyramidTexture, WalkSources, WalkTexts, WALK_FILES};
+pub mod map_cases;
 pub mod render;

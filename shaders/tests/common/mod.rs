@@ -15,6 +15,7 @@ pub fn compiled() -> Vec<CompiledKernel> {
             spot: k.spot,
             shadowed: k.shadowed,
             spot_shadowed: k.spot_shadowed,
+            walk: Some(walk),
         })
         .collect()
 }
@@ -34,4 +35,27 @@ pub fn open_or_skip(test: &str) -> Option<Gpu> {
             None
         }
     }
+}
+
+/// The crate's shadow-map walk behind [`airlight_shapes::vocab::WalkFn`].
+fn walk(
+    origin: [f32; 3],
+    dir: [f32; 3],
+    end: f32,
+    map: airlight_shapes::vocab::WalkMap,
+    node: airlight_shapes::vocab::NodeFn,
+) -> (Vec<[f32; 2]>, u32, bool) {
+    struct Nodes<'a>(airlight_shapes::vocab::NodeFn<'a>);
+    impl airlight_kernels::shadowmap::Pyramid for Nodes<'_> {
+        fn node(&self, face: u32, level: u32, x: i32, y: i32) -> [f32; 2] {
+            (self.0)(face, level, x, y)
+        }
+    }
+    let (light, rows, cube, res, bias) = map;
+    let mut w = airlight_kernels::shadowmap::Walk::new(origin, dir, end, light, rows, cube, res, bias, 0);
+    let mut runs = Vec::new();
+    while let Some(r) = w.next(&Nodes(node)) {
+        runs.push(r);
+    }
+    (runs, w.steps, w.truncated)
 }

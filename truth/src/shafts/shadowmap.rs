@@ -133,7 +133,13 @@ impl ShadowMap {
         ShadowMap::cast(light, vec![Face::new(right, up, forward, tan_half)], res, occluders, bias)
     }
 
-    fn cast(light: Vec3, faces: Vec<Face>, res: usize, occluders: &[Occluder], bias: f64) -> Result<ShadowMap, MapError> {
+    fn cast(
+        light: Vec3,
+        faces: Vec<Face>,
+        res: usize,
+        occluders: &[Occluder],
+        bias: f64,
+    ) -> Result<ShadowMap, MapError> {
         if !res.is_power_of_two() || res > MAX_RES {
             return Err(MapError(format!("shadow map: {res} texels per side; give a power of two up to {MAX_RES}")));
         }
@@ -274,8 +280,7 @@ fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occlude
     // M w = (xc, yc, 1): w = forward + xc·right·tan_half + yc·up·tan_half.
     let rows = face.rows;
     let s2 = |r: Vec3| 1.0 / dot(r, r);
-    let w: Vec3 =
-        std::array::from_fn(|k| rows[2][k] + xc * rows[0][k] * s2(rows[0]) + yc * rows[1][k] * s2(rows[1]));
+    let w: Vec3 = std::array::from_fn(|k| rows[2][k] + xc * rows[0][k] * s2(rows[0]) + yc * rows[1][k] * s2(rows[1]));
     let len = norm(w);
     let u = w.map(|x| x / len);
     let hit = occluders.iter().filter_map(|o| o.enters(light, u)).fold(f64::INFINITY, f64::min);
@@ -304,7 +309,8 @@ impl Pyramid {
     pub fn build(res: usize, faces: usize, depth: &[f32]) -> Pyramid {
         let levels = (0..faces)
             .map(|f| {
-                let mut out = vec![depth[f * res * res..(f + 1) * res * res].iter().map(|&d| [d, d]).collect::<Vec<_>>()];
+                let mut out =
+                    vec![depth[f * res * res..(f + 1) * res * res].iter().map(|&d| [d, d]).collect::<Vec<_>>()];
                 let mut n = res;
                 while n > 1 {
                     let prev = out.last().expect("level 0");
@@ -312,8 +318,16 @@ impl Pyramid {
                     let next = (0..h * h)
                         .map(|k| {
                             let (x, y) = (2 * (k % h), 2 * (k / h));
-                            let q = [prev[y * n + x], prev[y * n + x + 1], prev[(y + 1) * n + x], prev[(y + 1) * n + x + 1]];
-                            [q.iter().map(|v| v[0]).fold(f32::MAX, f32::min), q.iter().map(|v| v[1]).fold(f32::MIN, f32::max)]
+                            let q = [
+                                prev[y * n + x],
+                                prev[y * n + x + 1],
+                                prev[(y + 1) * n + x],
+                                prev[(y + 1) * n + x + 1],
+                            ];
+                            [
+                                q.iter().map(|v| v[0]).fold(f32::MAX, f32::min),
+                                q.iter().map(|v| v[1]).fold(f32::MIN, f32::max),
+                            ]
                         })
                         .collect();
                     out.push(next);

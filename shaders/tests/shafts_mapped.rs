@@ -1,0 +1,87 @@
+//! The exact mode on the GPU adapter: the shipped pyramid pass builds the same
+//! min-max pyramid as the reference, bit for bit, and a kernel's accumulator fed
+//! the walk's runs in WGSL and GLSL matches the in-scattering over the same
+//! map's exact runs (f64) to the kernel's f32 bound times (1 + changes), as the
+//! Rust walk does.
+
+mod common;
+
+use airlight_shaders::shafts::map_cases::{self, run_samples, rust_runs, upload};
+use airlight_shaders::shafts::WalkTexts;
+use airlight_shaders::{gate, KernelSource};
+use airlight_shapes::vocab::{Domain, Target};
+use airlight_truth::shafts::{Occluder, ShadowMap};
+
+fn generated() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated")
+}
+
+#[test]
+fn the_pyramid_pass_builds_the_reference_pyramid() {
+    let Some(gpu) = common::open_or_skip("the_pyramid_pass_builds_the_reference_pyramid") else { return };
+    let walk = WalkTexts::load(&generated()).unwrap();
+    let occ = vec![
+        Occluder::Sphere { center: [1.0, 0.5, 0.2], radius: 0.4 },
+        Occluder::Cuboid { min: [-2.0, -0.5, -1.0], max: [-1.5, 2.0, 1.0] },
+    ];
+    let cube = ShadowMap::cube([0.0, 0.3, 0.0], 64, &occ, 0.0).unwrap();
+    let spot = ShadowMap::spot([0.0, 0.3, 0.0], [1.0, 0.0, 0.1], 0.7, 64, &occ, 0.0).unwrap();
+    let (p, specs) = upload(&gpu, walk.sources().pyramid, &[&cube, &spot]).unwrap();
+    assert_eq!(specs[1].layer, 6);
+    let got = gpu.read_pyramid(&p).unwrap();
+    let (want_cube, want_spot) = (cube.pyramid(), spot.pyramid());
+    assert_eq!(got.len(), 7);
+    for (f, face) in got.iter().enumerate() {
+        let want = if f < 6 { &want_cube.levels[f] } else { &want_spot.levels[0] };
+        assert_eq!(face, want, "layer {f}");
+    }
+}
+
+#[test]
+fn the_walk_feeds_the_accumulator_the_maps_runs_on_every_target() {
+    let compiled = common::compiled();
+    let index = gate::load_index(&generated()).unwrap();
+    let k = index.get("phi-6").unwrap();
+    // The recorded gate's f32 bounds of phi-6 (what its shadowed rows are held to).
+    let text = std::fs::read_to_string(generated().join("gate.toml")).unwrap();
+    let record = airlight_shapes::record::GateRecord::from_toml("gate.toml", &text).unwrap();
+    let bound =
+        [Domain::Thin, Domain::Dense].into_iter().filter_map(|d| record.f32_bound("phi-6", d)).fold(0.0, f64::max);
+    assert!(bound > 0.0, "phi-6 has recorded f32 bounds");
+    let cases = map_cases::map_cases(k, 24, 128, 0x39).unwrap();
+    let ck = compiled.iter().find(|c| c.name == "phi-6").unwrap();
+    let rel = |v: f64, c: &map_cases::MapCase| (v - c.reference).abs() / (c.case.unshadowed * (1.0 + c.changes as f64));
+    let mut worst = 0.0f64;
+    let mut changes = 0;
+    for c in &cases {
+        let r = &c.case.ray;
+        let (runs, _, truncated) = rust_runs(ck.walk.unwrap(), &c.map, &c.map.pyramid(), r);
+        assert!(!truncated);
+        let s = run_samples(&runs);
+        let v = (ck.shadowed.unwrap())(&s, r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g);
+        let e = rel(f64::from(v), c);
+        assert!(e <= bound, "Rust: {e:e} > {bound:e} on {r:?}");
+        worst = worst.max(e);
+        changes += c.changes;
+    }
+    assert!(changes >= 24, "the rays must cross shadows ({changes} changes)");
+    eprintln!("Rust: worst {worst:e} (bound {bound:e})");
+    let Some(gpu) = common::open_or_skip("the_walk_feeds_the_accumulator (GPU part)") else { return };
+    let walk = WalkTexts::load(&generated()).unwrap();
+    let maps: Vec<&ShadowMap> = cases.iter().map(|c| &c.map).collect();
+    let rays: Vec<_> = cases.iter().map(|c| c.case.ray).collect();
+    for t in [Target::Wgsl, Target::Glsl] {
+        let text = std::fs::read_to_string(generated().join(k.file(t).unwrap())).unwrap();
+        let src = KernelSource::of(k, t, &text);
+        let (p, specs) = upload(&gpu, walk.sources().pyramid, &maps).unwrap();
+        let got = gpu.mapped(&src, &walk.sources(), &rays, &specs, &p).unwrap();
+        let mut worst = 0.0f64;
+        for (m, c) in got.iter().zip(&cases) {
+            assert!(m.steps > 0.0, "{t:?}: truncated or no walk: {}", m.steps);
+            let e = rel(f64::from(m.value), c);
+            assert!(e <= bound, "{t:?}: {e:e} > {bound:e} on {:?}", c.case.ray);
+            worst = worst.max(e);
+        }
+        eprintln!("{t:?}: worst {worst:e}");
+    }
+}
