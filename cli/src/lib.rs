@@ -157,6 +157,20 @@ enum Command {
         /// looks visibility up at its own N steps alone (the engines' march).
         #[arg(long, value_name = "N")]
         samples: Option<usize>,
+        /// With --entry shadowed: cast each row's spheres and boxes into a shadow
+        /// map of RES² texels per face (a power of two up to 8192) at its light —
+        /// a cube map for a point light, one face covering the cone for a spot
+        /// light — and feed the accumulator the lit runs of the walk through its
+        /// min-max pyramid (exact with respect to the map's nearest-texel test): the
+        /// f64 reference walk on --precision f64, the generated walk on f32, WGSL
+        /// and GLSL (the pyramid built there by the shipped pass). Prints the
+        /// walk's steps on standard error.
+        #[arg(long, value_name = "RES")]
+        shadow_map: Option<usize>,
+        /// With --shadow-map: the depth test's bias (lit where depth <= stored + B),
+        /// in world units.
+        #[arg(long, value_name = "B", default_value_t = 0.0)]
+        bias: f64,
         /// Repository root (the directory holding generated/coefficients/); found
         /// from the current directory if omitted. Only the reference works without it.
         #[arg(long)]
@@ -335,10 +349,17 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
         Kernels::Elsewhere => None,
     };
     match command {
-        Command::Eval { model, input, output, precision, target, entry, samples, root } => {
+        Command::Eval { model, input, output, precision, target, entry, samples, shadow_map, bias, root } => {
             if samples.is_some() && entry != EvalEntry::Shadowed {
                 return Err(bad_input("--samples goes with --entry shadowed"));
             }
+            if shadow_map.is_some() && entry != EvalEntry::Shadowed {
+                return Err(bad_input("--shadow-map goes with --entry shadowed"));
+            }
+            if shadow_map.is_some() && samples.is_some() {
+                return Err(bad_input("give --samples or --shadow-map, not both"));
+            }
+            let map = shadow_map.map(|res| shafts::MapFeed { res, bias });
             if entry == EvalEntry::Shadowed {
                 let on = match (target.0, precision, linked) {
                     (Some(t), _, _) => shafts::Runner::Gpu(t),
@@ -346,7 +367,7 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
                     (None, Precision::F32, Some(k)) => shafts::Runner::F32(k),
                     (None, Precision::F64, _) => shafts::Runner::F64,
                 };
-                return shafts::eval_shadowed(&model, &input, output.as_deref(), on, samples, root);
+                return shafts::eval_shadowed(&model, &input, output.as_deref(), on, samples, map, root);
             }
             // A rays file with a cone's columns is the spot entry's.
             let rays = match entry {

@@ -8,6 +8,7 @@ use crate::eval::{compiled, read_text, shader_source, unknown_model, write_csv};
 use crate::workspace::{generated_dir, registry};
 use crate::{bad_input, Failure};
 use airlight_fit::model::Model;
+use airlight_shaders::shafts::map_cases;
 use airlight_shaders::{gate, Gpu, KernelSource, Ray, SpotRay};
 use airlight_shapes::vocab::{CompiledKernel, IndexEntry, Target};
 use airlight_truth::geometry::{GeometryError, PhysicalRay};
@@ -21,6 +22,13 @@ pub(crate) enum Runner<'a> {
     F64,
     F32(&'a [CompiledKernel]),
     Gpu(Target),
+}
+
+/// `--shadow-map RES --bias B`: each row's occluders cast into a map at its light.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MapFeed {
+    pub(crate) res: usize,
+    pub(crate) bias: f64,
 }
 
 /// The rows of a shadowed file: rays of the physical entry, or of the spot entry
@@ -43,6 +51,8 @@ struct Job<'a> {
     /// Whether the model is a march (it looks visibility up at its own steps).
     marches: bool,
     feed: Feed,
+    /// The shadow map the walk feeds from, instead of `feed`.
+    map: Option<MapFeed>,
     /// Per input line: its spheres and the `spheres` field as written.
     spheres: Vec<(usize, Vec<shafts::Occluder>, String)>,
 }
@@ -67,6 +77,7 @@ pub(crate) fn eval_shadowed(
     output: Option<&Path>,
     on: Runner,
     samples: Option<usize>,
+    map: Option<MapFeed>,
     root: Option<PathBuf>,
 ) -> Result<(), Failure> {
     let name = input.display().to_string();
@@ -77,6 +88,11 @@ pub(crate) fn eval_shadowed(
     let f64_model = reg.get(model).ok();
     let march_steps = f64_model.and_then(|m| m.march_steps());
     let feed = choose_feed(model, march_steps, samples)?;
+    if let (Some(n), Some(_)) = (march_steps, map) {
+        return Err(bad_input(format!(
+            "{model} looks visibility up at its own {n} steps; --shadow-map feeds an accumulator"
+        )));
+    }
     let index = match on {
         Runner::F64 => None,
         _ => Some(gate::load_index(&generated_dir(root.clone())?).map_err(|e| bad_input(e.to_string()))?),
@@ -98,6 +114,7 @@ pub(crate) fn eval_shadowed(
         entry,
         marches: march_steps.is_some(),
         feed,
+        map,
         spheres,
     };
     let out = match job.rows(&text)? {
@@ -170,6 +187,10 @@ impl Job<'_> {
 
     /// The rays of the physical entry: one radiance per row.
     fn point_csv(&self, rows: &[points_csv::RayRow]) -> Result<String, Failure> {
+        if let Some(m) = self.map {
+            let values = self.point_mapped(rows, m)?;
+            return Ok(self.point_text(rows, &values));
+        }
         let fed = rows.iter().map(|r| self.fed(r.line, &r.ray, r.g)).collect::<Result<Vec<_>, _>>()?;
         let values: Vec<f64> = match &self.on {
             Runner::F64 => rows
@@ -209,15 +230,23 @@ impl Job<'_> {
                 got.into_iter().map(f64::from).collect()
             }
         };
+        Ok(self.point_text(rows, &values))
+    }
+
+    fn point_text(&self, rows: &[points_csv::RayRow], values: &[f64]) -> String {
         let mut out = format!("{},spheres,radiance\n", points_csv::RAY_COLUMNS.join(","));
-        for (r, v) in rows.iter().zip(&values) {
+        for (r, v) in rows.iter().zip(values) {
             out.push_str(&format!("{},{},{v:?}\n", r.text.join(","), self.field(r.line)));
         }
-        Ok(out)
+        out
     }
 
     /// The rays of the spot entry: RGB per row.
     fn spot_csv(&self, rows: &[points_csv::SpotRow]) -> Result<String, Failure> {
+        if let Some(m) = self.map {
+            let values = self.spot_mapped(rows, m)?;
+            return Ok(self.spot_text(rows, &values));
+        }
         let fed = rows.iter().map(|r| self.fed(r.line, &r.rays[0], r.g)).collect::<Result<Vec<_>, _>>()?;
         let values: Vec<[f64; 3]> = match &self.on {
             Runner::F64 => {
@@ -246,11 +275,15 @@ impl Job<'_> {
                 got.into_iter().map(|v| v.map(f64::from)).collect()
             }
         };
+        Ok(self.spot_text(rows, &values))
+    }
+
+    fn spot_text(&self, rows: &[points_csv::SpotRow], values: &[[f64; 3]]) -> String {
         let mut out = format!("{},spheres,r,g_out,b\n", points_csv::SPOT_COLUMNS.join(","));
-        for (r, v) in rows.iter().zip(&values) {
+        for (r, v) in rows.iter().zip(values) {
             out.push_str(&format!("{},{},{:?},{:?},{:?}\n", r.text.join(","), self.field(r.line), v[0], v[1], v[2]));
         }
-        Ok(out)
+        out
     }
 
     /// The compiled f32 kernel's accumulator over its spot entry.
@@ -291,4 +324,214 @@ impl Job<'_> {
 
 fn as_f32(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
     s.iter().map(|&(a, b)| [a as f32, b as f32]).collect()
+}
+
+/// Texels a GPU batch of maps may hold (their depths and pyramids on the adapter).
+const GPU_BATCH_TEXELS: usize = 1 << 25;
+
+/// The tangent of a spot map's half-angle for a cone of outer cosine `c`: the
+/// cone's own, at most 89.5° (outside the map, lit; the cone weighs it 0 there).
+fn spot_tan_half(cos_outer: f64) -> f64 {
+    cos_outer.clamp(89.5f64.to_radians().cos(), 1.0).acos().tan().max(1e-6)
+}
+
+impl Job<'_> {
+    /// The shadow map of `line`'s occluders at `ray`'s light: a cube map, or a spot map over `cone`.
+    fn map_for(
+        &self,
+        m: MapFeed,
+        line: usize,
+        ray: &PhysicalRay,
+        cone: Option<&airlight_truth::geometry::Cone>,
+    ) -> Result<shafts::ShadowMap, Failure> {
+        let occ = self.spheres.iter().find(|s| s.0 == line).map(|s| s.1.clone()).unwrap_or_default();
+        let map = match cone {
+            None => shafts::ShadowMap::cube(ray.light, m.res, &occ, m.bias),
+            Some(c) => shafts::ShadowMap::spot(ray.light, c.axis, spot_tan_half(c.cos_outer), m.res, &occ, m.bias),
+        };
+        map.map_err(|e| bad_input(format!("{}:{line}: --shadow-map: {e}", self.name)))
+    }
+
+    /// The walk's steps per ray, summarised on standard error.
+    fn report_steps(&self, m: MapFeed, steps: &[f32]) {
+        if steps.is_empty() {
+            return;
+        }
+        let mut s: Vec<f32> = steps.iter().map(|x| x.abs()).collect();
+        s.sort_by(f32::total_cmp);
+        let truncated = steps.iter().filter(|&&x| x < 0.0).count();
+        eprintln!(
+            "shadow map {0}x{0}: walk steps median {1}, max {2}; {truncated} of {3} rays ran out of steps",
+            m.res,
+            s[s.len() / 2],
+            s[s.len() - 1],
+            s.len()
+        );
+    }
+
+    /// The physical entry through the walk's runs.
+    fn point_mapped(&self, rows: &[points_csv::RayRow], m: MapFeed) -> Result<Vec<f64>, Failure> {
+        let mut steps = Vec::new();
+        let values = match &self.on {
+            Runner::F64 => rows
+                .iter()
+                .map(|r| {
+                    let map = self.map_for(m, r.line, &r.ray, None)?;
+                    let samples = shafts::exact_samples(&r.ray, &map.lit_runs(&r.ray));
+                    self.f64_value(r.line, &r.ray, None, r.g, &samples)
+                })
+                .collect::<Result<_, _>>()?,
+            Runner::F32(ks) => {
+                let k = compiled(ks, self.model)?;
+                let (f, walk) = match (k.shadowed, k.walk) {
+                    (Some(f), Some(w)) => (f, w),
+                    _ => return Err(bad_input(format!("kernel '{}' has no shafts accumulator", self.model))),
+                };
+                let mut out = Vec::with_capacity(rows.len());
+                for r in rows {
+                    let map = self.map_for(m, r.line, &r.ray, None)?;
+                    let x = Ray::from_row(r);
+                    let (runs, n, cut) = map_cases::rust_runs(walk, &map, &map.pyramid(), &x);
+                    steps.push(if cut { -(n as f32) } else { n as f32 });
+                    let s = map_cases::run_samples(&runs);
+                    out.push(f64::from(f(
+                        &s,
+                        x.surface,
+                        x.origin,
+                        x.dir,
+                        x.light,
+                        x.intensity,
+                        x.sigma_t,
+                        x.sigma_s,
+                        x.g,
+                    )));
+                }
+                out
+            }
+            Runner::Gpu(t) => {
+                let (src_text, table, path, gpu) = self.on_gpu(*t)?;
+                let k = self.entry.expect("loaded");
+                let src = KernelSource::of(k, *t, &src_text).with_table(table.as_ref());
+                let walk = self.walk_texts()?;
+                let mut out = Vec::with_capacity(rows.len());
+                for chunk in rows.chunks(batch_rows(m.res, 6)) {
+                    let maps =
+                        chunk.iter().map(|r| self.map_for(m, r.line, &r.ray, None)).collect::<Result<Vec<_>, _>>()?;
+                    let refs: Vec<&shafts::ShadowMap> = maps.iter().collect();
+                    let fail = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", path.display()));
+                    let (pyramid, specs) = map_cases::upload(&gpu, walk.sources().pyramid, &refs).map_err(fail)?;
+                    let plain: Vec<Ray> = chunk.iter().map(Ray::from_row).collect();
+                    let got = gpu.mapped(&src, &walk.sources(), &plain, &specs, &pyramid).map_err(fail)?;
+                    steps.extend(got.iter().map(|g| g.steps));
+                    out.extend(got.iter().map(|g| f64::from(g.value)));
+                }
+                out
+            }
+        };
+        self.report_steps(m, &steps);
+        Ok(values)
+    }
+
+    /// The spot entry through the walk's runs (one map per row, from its red channel's ray).
+    fn spot_mapped(&self, rows: &[points_csv::SpotRow], m: MapFeed) -> Result<Vec<[f64; 3]>, Failure> {
+        let mut steps = Vec::new();
+        let values = match &self.on {
+            Runner::F64 => {
+                let mut out = Vec::with_capacity(rows.len());
+                for r in rows {
+                    let map = self.map_for(m, r.line, &r.rays[0], r.cone.as_ref())?;
+                    let samples = shafts::exact_samples(&r.rays[0], &map.lit_runs(&r.rays[0]));
+                    let mut v = [0.0; 3];
+                    for (c, ray) in r.rays.iter().enumerate() {
+                        v[c] = self.f64_value(r.line, ray, r.cone.as_ref(), r.g, &samples)?;
+                    }
+                    out.push(v);
+                }
+                out
+            }
+            Runner::F32(ks) => {
+                let k = compiled(ks, self.model)?;
+                let (f, walk) = match (k.spot_shadowed, k.walk) {
+                    (Some(f), Some(w)) => (f, w),
+                    _ => {
+                        return Err(bad_input(format!(
+                            "kernel '{}' has no shafts accumulator over a spot entry",
+                            self.model
+                        )))
+                    }
+                };
+                let mut out = Vec::with_capacity(rows.len());
+                for r in rows {
+                    let map = self.map_for(m, r.line, &r.rays[0], r.cone.as_ref())?;
+                    let x = SpotRay::from_row(r);
+                    let plain = Ray {
+                        origin: x.origin,
+                        dir: x.dir,
+                        surface: x.surface,
+                        light: x.light,
+                        intensity: x.intensity,
+                        sigma_t: x.sigma_t[0],
+                        sigma_s: x.sigma_s[0],
+                        g: x.g,
+                    };
+                    let (runs, n, cut) = map_cases::rust_runs(walk, &map, &map.pyramid(), &plain);
+                    steps.push(if cut { -(n as f32) } else { n as f32 });
+                    let s = map_cases::run_samples(&runs);
+                    let v = f(
+                        &s,
+                        x.surface,
+                        x.origin,
+                        x.dir,
+                        x.light,
+                        x.axis,
+                        x.cos_outer,
+                        x.cos_inner,
+                        x.intensity,
+                        x.sigma_t,
+                        x.sigma_s,
+                        x.g,
+                    );
+                    out.push(v.map(f64::from));
+                }
+                out
+            }
+            Runner::Gpu(t) => {
+                let k = self.entry.expect("loaded");
+                if !k.has(airlight_shapes::vocab::Entry::Spot) {
+                    return Err(bad_input(format!("kernel '{}' has no spot entry", self.model)));
+                }
+                let (src_text, table, path, gpu) = self.on_gpu(*t)?;
+                let src = KernelSource::of(k, *t, &src_text).with_table(table.as_ref());
+                let walk = self.walk_texts()?;
+                let mut out = Vec::with_capacity(rows.len());
+                for chunk in rows.chunks(batch_rows(m.res, 1)) {
+                    let maps = chunk
+                        .iter()
+                        .map(|r| self.map_for(m, r.line, &r.rays[0], r.cone.as_ref()))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    let refs: Vec<&shafts::ShadowMap> = maps.iter().collect();
+                    let fail = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", path.display()));
+                    let (pyramid, specs) = map_cases::upload(&gpu, walk.sources().pyramid, &refs).map_err(fail)?;
+                    let plain: Vec<SpotRay> = chunk.iter().map(SpotRay::from_row).collect();
+                    let got = gpu.spot_mapped(&src, &walk.sources(), &plain, &specs, &pyramid).map_err(fail)?;
+                    steps.extend(got.iter().map(|g| g.steps));
+                    out.extend(got.iter().map(|g| g.value.map(f64::from)));
+                }
+                out
+            }
+        };
+        self.report_steps(m, &steps);
+        Ok(values)
+    }
+
+    /// The walk's generated sources.
+    fn walk_texts(&self) -> Result<airlight_shaders::shafts::WalkTexts, Failure> {
+        let dir = generated_dir(self.root.clone())?;
+        airlight_shaders::shafts::WalkTexts::load(&dir).map_err(|e| Failure(1, e.to_string()))
+    }
+}
+
+/// Rows per GPU batch: as many maps of `faces × res²` texels as [`GPU_BATCH_TEXELS`] holds, at least one.
+fn batch_rows(res: usize, faces: usize) -> usize {
+    (GPU_BATCH_TEXELS / (faces * res * res)).max(1)
 }

@@ -202,7 +202,7 @@ impl Walk {
 
     /// A stretch `[t0, t1]` lit or dark; returns the lit run it closes, if any.
     fn piece(&mut self, t0: f32, t1: f32, lit: bool) -> Option<[f32; 2]> {
-        if !(t1 > t0) {
+        if t1.partial_cmp(&t0) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         if lit {

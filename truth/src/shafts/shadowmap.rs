@@ -146,10 +146,21 @@ impl ShadowMap {
         if !(bias >= 0.0 && bias.is_finite()) {
             return Err(MapError(format!("shadow map: bias {bias} is not a finite number >= 0")));
         }
+        // Each occluder is cast only over the texels its bounding box covers.
+        let rects: Vec<Vec<[usize; 4]>> =
+            faces.iter().map(|f| occluders.iter().map(|o| texel_rect(f, light, o, res)).collect()).collect();
         let rows: Vec<(usize, usize)> = (0..faces.len()).flat_map(|f| (0..res).map(move |j| (f, j))).collect();
         let cast_row = |&(f, j): &(usize, usize)| -> Vec<f32> {
-            let face = &faces[f];
-            (0..res).map(|i| texel_depth(light, face, res, i, j, occluders)).collect()
+            let mut row = vec![NO_OCCLUDER; res];
+            for (o, r) in occluders.iter().zip(&rects[f]) {
+                if j < r[2] || j > r[3] {
+                    continue;
+                }
+                for (i, d) in row.iter_mut().enumerate().take(r[1] + 1).skip(r[0]) {
+                    *d = d.min(texel_depth(light, &faces[f], res, i, j, std::slice::from_ref(o)));
+                }
+            }
+            row
         };
         let depth = crate::parallel::map(&rows, cast_row, &|_, _| {}).concat();
         Ok(ShadowMap { light, faces, res, depth, bias })
@@ -273,6 +284,41 @@ pub fn basis(forward: Vec3) -> (Vec3, Vec3) {
     (right, cross(forward, right))
 }
 
+/// The texels `[i0, i1, j0, j1]` (inclusive) of face `face` whose centre rays can
+/// meet `o`: its bounding box's corners projected (the whole face where a corner
+/// is not in front of the light), widened by a texel.
+fn texel_rect(face: &Face, light: Vec3, o: &Occluder, res: usize) -> [usize; 4] {
+    let (lo, hi) = match *o {
+        Occluder::Sphere { center, radius } => (center.map(|c| c - radius), center.map(|c| c + radius)),
+        Occluder::Cuboid { min, max } => (min, max),
+    };
+    let full = [0, res - 1, 0, res - 1];
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for k in 0..8 {
+        let corner = [
+            if k & 1 == 0 { lo[0] } else { hi[0] },
+            if k & 2 == 0 { lo[1] } else { hi[1] },
+            if k & 4 == 0 { lo[2] } else { hi[2] },
+        ];
+        let c = face.apply(sub(corner, light));
+        if c[2].is_nan() || c[2] <= 0.0 {
+            return full;
+        }
+        let (x, y) = (c[0] / c[2], c[1] / c[2]);
+        if !(x.is_finite() && y.is_finite()) {
+            return full;
+        }
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    let texel = |v: f64| ((v + 1.0) * 0.5 * res as f64).floor();
+    let clamp = |t: f64| t.clamp(0.0, (res - 1) as f64) as usize;
+    if texel(x1) < 0.0 || texel(y1) < 0.0 || texel(x0) >= res as f64 || texel(y0) >= res as f64 {
+        // Outside this face: an empty range.
+        return [1, 0, 1, 0];
+    }
+    [clamp(texel(x0) - 1.0), clamp(texel(x1) + 1.0), clamp(texel(y0) - 1.0), clamp(texel(y1) + 1.0)]
+}
+
 /// The depth (`Z`) of the first occluder along the centre ray of texel `(i, j)`.
 fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occluders: &[Occluder]) -> f32 {
     let xc = 2.0 * (i as f64 + 0.5) / res as f64 - 1.0;
@@ -281,9 +327,20 @@ fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occlude
     let rows = face.rows;
     let s2 = |r: Vec3| 1.0 / dot(r, r);
     let w: Vec3 = std::array::from_fn(|k| rows[2][k] + xc * rows[0][k] * s2(rows[0]) + yc * rows[1][k] * s2(rows[1]));
-    let len = norm(w);
+    let w2 = dot(w, w);
+    // A ball is met only inside its cone of tangents from the light: a cheap
+    // test before the exact crossing.
+    let misses = |o: &Occluder| match *o {
+        Occluder::Sphere { center, radius } => {
+            let c = sub(center, light);
+            let (cw, c2) = (dot(c, w), dot(c, c));
+            c2 > radius * radius && (cw <= 0.0 || cw * cw < (c2 - radius * radius) * w2 * (1.0 - 1e-9))
+        }
+        Occluder::Cuboid { .. } => false,
+    };
+    let len = w2.sqrt();
     let u = w.map(|x| x / len);
-    let hit = occluders.iter().filter_map(|o| o.enters(light, u)).fold(f64::INFINITY, f64::min);
+    let hit = occluders.iter().filter(|o| !misses(o)).filter_map(|o| o.enters(light, u)).fold(f64::INFINITY, f64::min);
     if hit.is_finite() {
         // Z = s/|w| (w has Z = 1), rounded to the map's f32.
         (hit / len) as f32
@@ -417,6 +474,24 @@ mod tests {
             let near = runs.iter().any(|&(a, b)| (t - a).abs() < 1e-9 || (t - b).abs() < 1e-9);
             if !near {
                 assert_eq!(inside, lit(t), "t {t}: {runs:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn casting_by_bounding_rectangles_changes_no_texel() {
+        let light = [0.5, 1.5, 0.3];
+        for map in [
+            ShadowMap::cube(light, 64, &balls(), 0.0).unwrap(),
+            ShadowMap::spot(light, [1.0, -0.5, 0.0], 2.0, 64, &balls(), 0.0).unwrap(),
+        ] {
+            for f in 0..map.faces.len() {
+                for j in 0..64 {
+                    for i in 0..64 {
+                        let brute = texel_depth(light, &map.faces[f], 64, i, j, &balls());
+                        assert_eq!(map.texel(f, i, j), brute, "face {f} texel {i},{j}");
+                    }
+                }
             }
         }
     }
