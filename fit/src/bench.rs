@@ -341,6 +341,7 @@ mod tests {
                 build_cpu_ms: 0.0,
                 build_gpu_ms: 0.0,
             }],
+            shadow_map: Vec::new(),
         };
         let t = b.table();
         assert!(t.starts_with("adapter: none\ncpu: "), "{t}");

@@ -97,6 +97,40 @@ pub struct Bench {
     /// samples, per sample count.
     #[serde(default)]
     pub shafts: Vec<ShaftsCost>,
+    /// Light shafts from a shadow map: the exact walk per map resolution, against
+    /// the march and the sampled accumulator, on one street-lamp scene.
+    #[serde(default)]
+    pub shadow_map: Vec<MapCost>,
+}
+
+/// One method on the shadow-map bench's rays: errors against the analytic
+/// reference, the walk's effort, and costs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapCost {
+    /// What ran: `walk` (the exact mode), a march, or an accumulator at `N` look-ups.
+    pub method: String,
+    /// The map's texels per side (0: visibility from the analytic occluders).
+    pub res: usize,
+    /// Look-ups (or steps) per ray (0: the walk).
+    pub samples: usize,
+    /// Mean lit runs per ray.
+    pub runs_per_ray: f64,
+    /// The walk's mean and largest steps per ray (0 for the others).
+    pub steps_mean: f64,
+    /// Largest.
+    pub steps_max: f64,
+    /// Rays whose walk ran out of steps.
+    pub truncated: usize,
+    /// Largest and mean error relative to each ray's unshadowed in-scattering.
+    pub max_of_unshadowed: f64,
+    /// Mean.
+    pub mean_of_unshadowed: f64,
+    /// Rays brighter than 1.5× the reference plus 5% of their unshadowed value.
+    pub leaks: usize,
+    /// CPU ns per ray (f32; the map and its pyramid built beforehand).
+    pub cpu_ns_per_ray: f64,
+    /// GPU rays per second (timestamps; 0 without them).
+    pub gpu_rays_per_s: f64,
 }
 
 /// One method of shadowed in-scattering at one sample count: errors against the

@@ -94,6 +94,20 @@ struct ShaftsRow {
     build: String,
 }
 
+/// A row of the shadow-map table (`bench.json`'s `shadow_map`).
+#[derive(Serialize)]
+struct MapRow {
+    method: String,
+    res: String,
+    runs: String,
+    steps: String,
+    max_u: String,
+    mean_u: String,
+    leaks: usize,
+    ns: String,
+    gpu: String,
+}
+
 #[derive(Serialize)]
 struct NoExt {
     tau: f64,
@@ -568,6 +582,26 @@ fn shafts_context(ctx: &mut tera::Context, b: &Bench) {
         }
     }
     ctx.insert("shafts_losses", &losses);
+    let maps: Vec<MapRow> = b
+        .shadow_map
+        .iter()
+        .map(|r| MapRow {
+            method: r.method.clone(),
+            res: if r.res == 0 { format!("{} look-ups (analytic)", r.samples) } else { format!("{0}²", r.res) },
+            runs: format!("{:.1}", r.runs_per_ray),
+            steps: if r.res == 0 {
+                "—".into()
+            } else {
+                format!("{:.0} (max {:.0}, {} truncated)", r.steps_mean, r.steps_max, r.truncated)
+            },
+            max_u: fmt_err(r.max_of_unshadowed),
+            mean_u: fmt_err(r.mean_of_unshadowed),
+            leaks: r.leaks,
+            ns: ns(r.cpu_ns_per_ray),
+            gpu: if r.gpu_rays_per_s > 0.0 { format!("{:.3e}", r.gpu_rays_per_s) } else { "—".into() },
+        })
+        .collect();
+    ctx.insert("map_rows", &maps);
 }
 
 #[cfg(test)]
@@ -615,6 +649,7 @@ mod tests {
             models: vec![model("cheap", 0), model("table", 262_144)],
             rgb: Vec::new(),
             shafts: Vec::new(),
+            shadow_map: Vec::new(),
         };
         let ir = |name: &str, worst: usize, every: usize, calls: usize| KernelIr {
             name: name.into(),

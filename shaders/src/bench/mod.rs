@@ -253,6 +253,7 @@ pub fn measure(
     progress("bench: RGB against three scalar calls", 0, 1);
     let rgb = compiled.iter().zip(&gpu_rgb).filter_map(|(k, &g)| rgb_cost(k, &rgb_rays, size.repeats, g)).collect();
     let shafts = shafts_costs(&inputs, kernels, progress)?;
+    let shadow_map = crate::shafts::map_bench::map_costs(&inputs, kernels, progress)?;
     Ok(Bench {
         adapter: adapter_label(&gpu),
         cpu: bench::cpu_name(),
@@ -262,5 +263,6 @@ pub fn measure(
         models: rows,
         rgb,
         shafts,
+        shadow_map,
     })
 }

@@ -11,5 +11,6 @@ pub mod cases;
 mod harness;
 mod mapped;
 pub use mapped::{MapSpec, Mapped, PyramidTexture, WalkSources, WalkTexts, WALK_FILES};
+pub mod map_bench;
 pub mod map_cases;
 pub mod render;

@@ -293,14 +293,25 @@ fn texel_rect(face: &Face, light: Vec3, o: &Occluder, res: usize) -> [usize; 4] 
         Occluder::Cuboid { min, max } => (min, max),
     };
     let full = [0, res - 1, 0, res - 1];
+    let corners: Vec<Vec3> = (0..8)
+        .map(|k| {
+            let corner = [
+                if k & 1 == 0 { lo[0] } else { hi[0] },
+                if k & 2 == 0 { lo[1] } else { hi[1] },
+                if k & 4 == 0 { lo[2] } else { hi[2] },
+            ];
+            face.apply(sub(corner, light))
+        })
+        .collect();
+    // Every corner outside one plane of the frustum (Z ∓ X ≥ 0, Z ∓ Y ≥ 0): the
+    // box is outside the face.
+    for (s, a) in [(1.0, 0), (-1.0, 0), (1.0, 1), (-1.0, 1)] {
+        if corners.iter().all(|c| c[2] - s * c[a] < 0.0) {
+            return [1, 0, 1, 0];
+        }
+    }
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
-    for k in 0..8 {
-        let corner = [
-            if k & 1 == 0 { lo[0] } else { hi[0] },
-            if k & 2 == 0 { lo[1] } else { hi[1] },
-            if k & 4 == 0 { lo[2] } else { hi[2] },
-        ];
-        let c = face.apply(sub(corner, light));
+    for c in corners {
         if c[2].is_nan() || c[2] <= 0.0 {
             return full;
         }
