@@ -716,3 +716,88 @@ fn eval_shadowed_on_every_target() {
     assert!(e.contains("bad.csv:2") && e.contains("spheres") && e.lines().count() == 1, "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `eval --entry shadowed --shadow-map RES`: point rays (a cube map) and spot rays
+/// (one face over the cone) on f64, f32, WGSL and GLSL agree with each other and,
+/// to the map's resolution, with the analytic reference, the finer map closer;
+/// the walk's steps go to standard error; bad maps and clashing feeds are one
+/// line with exit 2.
+#[test]
+fn eval_shadow_map_on_every_target() {
+    let dir = scratch("shadow-map");
+    let input = dir.join("rays.csv");
+    std::fs::write(
+        &input,
+        "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres\n\
+         0,0,0,1,0.05,0,25,6,2,0.5,3,0.12,0.08,0.6,3 1.2 0.3 0.35;7 1.6 0.4 0.25\n\
+         0,0,0,1,0.05,0,-1,6,2,0.5,3,0.12,0.08,-0.3,3 1.2 0.3 0.35;7 1.6 0.4 0.25\n\
+         -3,0.5,0,1,0.1,0.02,12,0,1,0,2,0.3,0.2,0.5,-1 0.8 0 0.2;1.2 0.9 0.1 0.3\n",
+    )
+    .unwrap();
+    let spot = dir.join("spot.csv");
+    std::fs::write(
+        &spot,
+        "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,ax,ay,az,cos_outer,cos_inner,intensity,\
+         sigma_t_r,sigma_t_g,sigma_t_b,sigma_s_r,sigma_s_g,sigma_s_b,g,spheres\n\
+         0,0,0,1,0.05,0,25,6,4,0.5,0,-1,0,0.6,0.8,3,0.12,0.1,0.08,0.08,0.07,0.06,0.6,6 2 0.5 0.4;4 1 0.4 0.2\n",
+    )
+    .unwrap();
+    let run = |file: &Path, args: &[&str]| {
+        let mut all = vec!["eval", "--entry", "shadowed", "-i", file.to_str().unwrap()];
+        all.extend_from_slice(args);
+        airlight(&all)
+    };
+    let values = |o: &Output| -> Vec<f64> {
+        assert!(o.status.success(), "{}", stderr(o));
+        String::from_utf8(o.stdout.clone())
+            .unwrap()
+            .lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.rsplit(',')
+                    .take(if l.contains("0.6,0.8") { 3 } else { 1 })
+                    .map(|x| x.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    for file in [&input, &spot] {
+        let reference = values(&run(file, &["--model", "reference"]));
+        let err =
+            |v: &[f64]| v.iter().zip(&reference).map(|(x, r)| (x - r).abs() / r.abs().max(1e-30)).fold(0.0, f64::max);
+        let coarse = run(file, &["--model", "phi-6", "--shadow-map", "64"]);
+        let fine = values(&run(file, &["--model", "phi-6", "--shadow-map", "1024"]));
+        assert!(
+            err(&fine) < err(&values(&coarse)),
+            "{}: 1024² {:e} against 64² {:e}",
+            file.display(),
+            err(&fine),
+            err(&values(&coarse))
+        );
+        assert!(err(&fine) < 0.05, "{}: {:e}", file.display(), err(&fine));
+        for args in [&["--precision", "f32"][..], &["--target", "wgsl"], &["--target", "glsl"]] {
+            let mut a = vec!["--model", "phi-6", "--shadow-map", "1024"];
+            a.extend_from_slice(args);
+            let o = run(file, &a);
+            if !o.status.success() && !gpu_required() && stderr(&o).contains("no GPU adapter") {
+                eprintln!("SKIPPED --shadow-map {args:?}: {}", stderr(&o));
+                continue;
+            }
+            assert!(stderr(&o).contains("walk steps median"), "{}", stderr(&o));
+            for (x, y) in values(&o).iter().zip(&fine) {
+                assert!((x - y).abs() <= 1e-4 * y.abs() + 1e-30, "{args:?}: {x} against f64 {y}");
+            }
+        }
+    }
+    for (args, says) in [
+        (&["--shadow-map", "100"][..], "power of two"),
+        (&["--shadow-map", "64", "--samples", "8"], "not both"),
+        (&["--shadow-map", "64", "--model", "raymarch-16"], "own 16 steps"),
+    ] {
+        let o = run(&input, args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let e = stderr(&o);
+        assert!(e.contains(says) && e.lines().count() == 1, "{args:?}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -35,6 +35,9 @@ pub struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
     summary: AdapterSummary,
+    /// Harness pipelines compiled so far, by their shader's text: a batch run in
+    /// chunks (one shadow map per chunk) compiles once.
+    pipelines: std::sync::Mutex<std::collections::HashMap<String, wgpu::ComputePipeline>>,
 }
 
 impl Gpu {
@@ -76,7 +79,7 @@ impl Gpu {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        Ok(Gpu { device, queue, summary })
+        Ok(Gpu { device, queue, summary, pipelines: Default::default() })
     }
 
     /// The adapter in use.
@@ -372,18 +375,37 @@ impl Gpu {
         pyramid: Option<&wgpu::TextureView>,
     ) -> Result<Prepared, GpuError> {
         let d = &self.device;
+        let key = match &shader {
+            wgpu::ShaderSource::Wgsl(t) => Some(format!("wgsl\n{t}")),
+            wgpu::ShaderSource::Glsl { shader, .. } => Some(format!("glsl\n{shader}")),
+            _ => None,
+        };
+        let cached = key.as_ref().and_then(|k| self.pipelines.lock().ok().and_then(|m| m.get(k).cloned()));
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: shader });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = match cached {
+            Some(p) => p,
+            None => {
+                let module =
+                    d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: shader });
+                d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(label),
+                    layout: None,
+                    module: &module,
+                    entry_point: Some("main"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            }
+        };
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(e.to_string()));
+        }
+        if let (Some(k), Ok(mut m)) = (key, self.pipelines.lock()) {
+            // A few recent pipelines: a batch in chunks reuses its one.
+            if m.len() >= 8 {
+                m.clear();
+            }
+            m.insert(k, pipeline.clone());
         }
         let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("inputs"),
