@@ -383,9 +383,9 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float ub = (ua + _e106);
     float t = (tau_4 * tb);
     float m_2 = (1.0 + ua);
-    float lam = (m_2 / (1.0 + ((0.3573502 * t) * m_2)));
+    float lam = (m_2 / (1.0 + ((0.46808493 * t) * m_2)));
     float _e117 = du;
-    bool is_short = (_e117 < (0.01 * m_2));
+    bool is_short = (_e117 < (0.06245508 * m_2));
     float _e121 = du;
     float mb = (m_2 + _e121);
     float _e124 = du;
@@ -396,9 +396,9 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float _e138 = du;
     float _e139 = du;
     float sb = (open ? 1.0 : (_e138 / (lam + _e139)));
-    v_2 = (1.0 / (1.0 - (sb * 0.045649897)));
+    v_2 = (1.0 / (1.0 - (sb * 0.06898063)));
     float _e157 = v_2;
-    r_1 = ((sb * 0.045649897) * _e157);
+    r_1 = ((sb * 0.06898063) * _e157);
     float _e159 = r_1;
     u = (ua + (lam * _e159));
     float _e162 = nodes;
@@ -410,10 +410,10 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float _e182 = u;
     float _e183 = u;
     float _e190 = r_1;
-    nodes = (_e162 + (((((0.11473862 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
-    v_2 = (1.0 / (1.0 - (sb * 0.2267567)));
+    nodes = (_e162 + (((((0.18682769 * _e163) * _e166) * (is_short ? 1.0 : ((2.0 * _e168) / ((1.0 + _e171) * (1.0 + _e174))))) / (1.0 + (_e182 * _e183))) * exp(((-(t) * lam) * _e190))));
+    v_2 = (1.0 / (1.0 - (sb * 0.35530633)));
     float _e203 = v_2;
-    r_1 = ((sb * 0.2267567) * _e203);
+    r_1 = ((sb * 0.35530633) * _e203);
     float _e205 = r_1;
     u = (ua + (lam * _e205));
     float _e208 = nodes;
@@ -425,10 +425,10 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float _e228 = u;
     float _e229 = u;
     float _e236 = r_1;
-    nodes = (_e208 + (((((0.24207275 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
-    v_2 = (1.0 / (1.0 - (sb * 0.5019324)));
+    nodes = (_e208 + (((((0.3378652 * _e209) * _e212) * (is_short ? 1.0 : ((2.0 * _e214) / ((1.0 + _e217) * (1.0 + _e220))))) / (1.0 + (_e228 * _e229))) * exp(((-(t) * lam) * _e236))));
+    v_2 = (1.0 / (1.0 - (sb * 0.67262)));
     float _e249 = v_2;
-    r_1 = ((sb * 0.5019324) * _e249);
+    r_1 = ((sb * 0.67262) * _e249);
     float _e251 = r_1;
     u = (ua + (lam * _e251));
     float _e254 = nodes;
@@ -440,10 +440,10 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float _e274 = u;
     float _e275 = u;
     float _e282 = r_1;
-    nodes = (_e254 + (((((0.2868063 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
-    v_2 = (1.0 / (1.0 - (sb * 0.76887274)));
+    nodes = (_e254 + (((((0.28321356 * _e255) * _e258) * (is_short ? 1.0 : ((2.0 * _e260) / ((1.0 + _e263) * (1.0 + _e266))))) / (1.0 + (_e274 * _e275))) * exp(((-(t) * lam) * _e282))));
+    v_2 = (1.0 / (1.0 - (sb * 0.9132696)));
     float _e295 = v_2;
-    r_1 = ((sb * 0.76887274) * _e295);
+    r_1 = ((sb * 0.9132696) * _e295);
     float _e297 = r_1;
     u = (ua + (lam * _e297));
     float _e300 = nodes;
@@ -455,35 +455,20 @@ float airlight_scene_fog_street_airlight_geometry(float tau_in, float h_in, floa
     float _e320 = u;
     float _e321 = u;
     float _e328 = r_1;
-    nodes = (_e300 + (((((0.23781383 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * exp(((-(t) * lam) * _e328))));
-    v_2 = (1.0 / (1.0 - (sb * 0.9568853)));
-    float _e341 = v_2;
-    r_1 = ((sb * 0.9568853) * _e341);
-    float _e343 = r_1;
-    u = (ua + (lam * _e343));
-    float _e346 = nodes;
-    float _e347 = v_2;
-    float _e350 = v_2;
-    float _e352 = u;
-    float _e355 = u;
-    float _e358 = u;
-    float _e366 = u;
-    float _e367 = u;
-    float _e374 = r_1;
-    nodes = (_e346 + (((((0.11856851 * _e347) * _e350) * (is_short ? 1.0 : ((2.0 * _e352) / ((1.0 + _e355) * (1.0 + _e358))))) / (1.0 + (_e366 * _e367))) * exp(((-(t) * lam) * _e374))));
-    float _e379 = sum;
-    float _e380 = nodes;
-    sum = (_e379 + ((_e380 * sb) * lam));
+    nodes = (_e300 + (((((0.19209355 * _e301) * _e304) * (is_short ? 1.0 : ((2.0 * _e306) / ((1.0 + _e309) * (1.0 + _e312))))) / (1.0 + (_e320 * _e321))) * exp(((-(t) * lam) * _e328))));
+    float _e333 = sum;
+    float _e334 = nodes;
+    sum = (_e333 + ((_e334 * sb) * lam));
     if ((tb < 8.673617e-19)) {
-        const int _e386 = airlight_scene_fog_street_exp_neg_k(tau_4);
-        float _e387 = sum;
-        const float _e392 = airlight_scene_fog_street_exp_neg_m(tau_4, _e386);
-        const float _e395 = airlight_scene_fog_street_scaled_pow2_((0.15915494 * max(_e387, 0.0)), _e392, tb, 1.0, airlight_scene_fog_street_naga_neg(_e386));
-        return _e395;
+        const int _e340 = airlight_scene_fog_street_exp_neg_k(tau_4);
+        float _e341 = sum;
+        const float _e346 = airlight_scene_fog_street_exp_neg_m(tau_4, _e340);
+        const float _e349 = airlight_scene_fog_street_scaled_pow2_((0.15915494 * max(_e341, 0.0)), _e346, tb, 1.0, airlight_scene_fog_street_naga_neg(_e340));
+        return _e349;
     }
-    float _e396 = sum;
-    const float _e398 = airlight_scene_fog_street_mul_exp_neg((_e396 / tb), tau_4);
-    return min(max((0.15915494 * _e398), 0.0), airlight_scene_fog_street_HUGE);
+    float _e350 = sum;
+    const float _e352 = airlight_scene_fog_street_mul_exp_neg((_e350 / tb), tau_4);
+    return min(max((0.15915494 * _e352), 0.0), airlight_scene_fog_street_HUGE);
 }
 
 float airlight_scene_fog_street_airlight(float tau_3, float gamma, float rho_2)
