@@ -234,12 +234,19 @@ fn differences(wgsl: &str, glsl: &str) -> Vec<String> {
     let gl: BTreeMap<&str, &(String, String, String)> = names_g.iter().map(String::as_str).zip(g.iter()).collect();
     for (name, (_, pw, bw)) in names_w.iter().zip(&w) {
         let (_, pg, bg) = gl[name.as_str()];
-        let (a, b) = if name == "shafts_begin" {
+        // The constructors (the accumulator's, the shadow-map walk's): GLSL
+        // zero-initialises field by field what WGSL's `var` does at once.
+        let (mut a, b) = if name == "shafts_begin" || name == "begin" {
             let p = |x: &str| Shape { params: count_params(x), calls: vec![], literals: vec![], returns: 0, loops: 0 };
             (p(pw), p(pg))
         } else {
             (shape(pw, bw, &prefix, &all, true), shape(pg, bg, &prefix, &all, false))
         };
+        // The walk's pyramid: a WGSL texture parameter; GLSL reads it through the
+        // caller's `airlight_smap_node`.
+        if pw.contains("texture_2d_array<") {
+            a.params -= 1;
+        }
         if a != b {
             out.push(format!("{name}: WGSL {a:?}\n  GLSL {b:?}"));
         }
@@ -279,7 +286,7 @@ fn every_wgsl_kernel_and_its_glsl_twin_have_the_same_structure() {
             report.push(format!("{stem}: {d}"));
         }
     }
-    assert!(pairs >= 59, "every kernel has a pair ({pairs})");
+    assert!(pairs >= 60, "every kernel, and the shadow-map walk, has a pair ({pairs})");
     assert!(report.is_empty(), "{} difference(s):\n{}", report.len(), report.join("\n"));
 }
 
