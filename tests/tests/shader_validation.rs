@@ -230,3 +230,84 @@ fn every_glsl_kernel_compiles_as_es_300_and_450() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The shadow-map walk every kernel shares, in each language: its WGSL (with a
+/// caller that walks a ray into phi-8's accumulator) and its pyramid pass validate
+/// in naga; its GLSL compiles as ES 3.00 (fragment) and 4.50 (compute) with the
+/// caller's `airlight_smap_node`, and the WebGL 2 pyramid pass as ES 3.00; naga's
+/// HLSL compiles in glslang's HLSL front end; naga's MSL keeps the walk's functions.
+#[test]
+fn the_shadow_map_walk_compiles_in_every_language() {
+    let g = generated_dir();
+    let read = |f: &str| std::fs::read_to_string(g.join(f)).unwrap();
+    let (walk, kernel) = (read("wgsl/shadowmap.wgsl"), read("wgsl/phi-8.wgsl"));
+    let caller = "@group(0) @binding(0) var pyr: texture_2d_array<f32>;\n\
+        @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n\
+        @compute @workgroup_size(1)\n\
+        fn main() {\n\
+            let rows = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));\n\
+            var w = airlight_smap_begin(vec3<f32>(0.0), vec3<f32>(1.0, 0.0, 0.0), 10.0, vec3<f32>(2.0, 1.0, 0.0), rows, true, 1024u, 0.01, 0u);\n\
+            var acc = airlight_phi_8_shafts_begin_runs();\n\
+            loop {\n\
+                let r = airlight_smap_next(&w, pyr);\n\
+                if r.x < 0.0 { break; }\n\
+                airlight_phi_8_shafts_add_run(&acc, r.x, r.y);\n\
+            }\n\
+            out[0] = airlight_phi_8_shafts_finish(acc, 10.0, vec3<f32>(0.0), vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(2.0, 1.0, 0.0), 1.0, 0.1, 0.1, 0.5);\n\
+        }\n";
+    let source = format!("{kernel}\n{walk}\n{caller}");
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
+    validate(&module, "wgsl/shadowmap.wgsl with phi-8");
+    let pass = read("wgsl/shadowmap_pyramid.wgsl");
+    validate(&naga::front::wgsl::parse_str(&pass).unwrap(), "wgsl/shadowmap_pyramid.wgsl");
+
+    let tool = glslang();
+    let dir = std::env::temp_dir().join(format!("airlight-smap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let compile = |name: &str, src: String, extra: &[&str]| {
+        let file = dir.join(name);
+        std::fs::write(&file, src).unwrap();
+        let out = Command::new(tool).args(extra).arg(&file).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let glsl = read("glsl/shadowmap.glsl");
+    let walk_main = "void walk_it(out float n) {\n\
+        AirlightSmapWalk w = airlight_smap_begin(vec3(0.0), vec3(1.0, 0.0, 0.0), 10.0, vec3(2.0, 1.0, 0.0), mat3(1.0), true, 1024, 0.01, 0);\n\
+        n = 0.0;\n\
+        for (;;) {\n\
+            vec2 r = airlight_smap_next(w);\n\
+            if (r.x < 0.0) break;\n\
+            n += r.y - r.x;\n\
+        }\n\
+    }\n";
+    let frag = format!(
+        "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler2DArray;\n{glsl}\n\
+         uniform sampler2DArray pyr;\nvec2 airlight_smap_node(int face, int level, ivec2 p) {{ return texelFetch(pyr, ivec3(p, face), level).rg; }}\n\
+         {walk_main}out highp vec4 color;\nvoid main() {{ float n; walk_it(n); color = vec4(n); }}\n"
+    );
+    compile("walk.frag", frag, &[]);
+    let comp = format!(
+        "#version 450\n{glsl}\nlayout(binding = 1) uniform sampler2DArray pyr;\n\
+         vec2 airlight_smap_node(int face, int level, ivec2 p) {{ return texelFetch(pyr, ivec3(p, face), level).rg; }}\n\
+         {walk_main}layout(local_size_x = 1) in;\nlayout(std430, binding = 0) buffer Out {{ float v[]; }} o;\n\
+         void main() {{ float n; walk_it(n); o.v[0] = n; }}\n"
+    );
+    compile("walk.comp", comp, &[]);
+    compile("pyramid.frag", read("glsl/shadowmap_pyramid.frag.glsl"), &[]);
+    let hlsl = read("hlsl/shadowmap.hlsl");
+    assert!(hlsl.contains("airlight_smap_next(") && hlsl.contains("airlight_smap_begin("), "HLSL keeps the walk");
+    let msl = read("msl/shadowmap.metal");
+    assert!(msl.contains("airlight_smap_next(") && msl.contains("#include <metal_stdlib>"), "MSL keeps the walk");
+    let hsrc = format!("{hlsl}\nfloat4 airlight_test_main() : SV_Target {{ return float4(1.0, 0.0, 0.0, 1.0); }}\n");
+    compile(
+        "walk.frag.hlsl",
+        hsrc,
+        &["-D", "-S", "frag", "-e", "airlight_test_main", "-V", "-o", dir.join("walk.spv").to_str().unwrap()],
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
