@@ -23,7 +23,7 @@ fn copy(name: &str) -> PathBuf {
         let p = e.unwrap().path();
         std::fs::copy(&p, dir.join("coefficients").join(p.file_name().unwrap())).unwrap();
     }
-    for f in ["wgsl/segments-8.wgsl", "glsl/segments-8.glsl"] {
+    for f in ["wgsl/segments-8.wgsl", "glsl/segments-8.glsl"].into_iter().chain(airlight_shaders::shafts::WALK_FILES) {
         std::fs::copy(generated().join(f), dir.join(f)).unwrap();
     }
     dir
@@ -42,8 +42,9 @@ fn the_committed_kernels_pass_on_the_cpu() {
             .unwrap();
     assert_eq!(
         rows.len(),
-        2 * (8 + 5),
-        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, edge, physical, phys-extreme, spot, shadowed) \
+        2 * (9 + 5),
+        "f64 and rust-f32 rows of segments-8 (thin, dense, extreme, edge, physical, phys-extreme, spot, shadowed, \
+         shadow-map) \
          and of the closed form (thin, extreme, edge, physical, phys-extreme; its scene has point lights, no spot \
          entry and no shadows)"
     );
