@@ -81,7 +81,7 @@ pub(crate) fn map_costs(
 ) -> Result<Vec<MapCost>, BenchError> {
     let roles = airlight_fit::roles::roles();
     let name = &roles.shafts.headline;
-    let k = kernels.iter().find(|k| &k.name == name).ok_or_else(|| {
+    let k = kernels.iter().find(|k| k.name == *name).ok_or_else(|| {
         BenchError::Failed(format!("bench: no compiled kernel '{name}': run `airlight generate` and rebuild"))
     })?;
     let (f, walk) = match (k.shadowed, k.walk) {
