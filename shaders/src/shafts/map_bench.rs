@@ -121,7 +121,15 @@ pub(crate) fn map_costs(
             let s = run_samples(&runs);
             f(&s, r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g)
         };
-        let values: Vec<f64> = (0..rays.len()).map(|i| crate::from_kernel(call(i))).collect();
+        // The values from the walks already taken; `call` (walk and accumulator) is what is timed.
+        let values: Vec<f64> = rays
+            .iter()
+            .zip(&walked)
+            .map(|(r, (runs, _, _))| {
+                let s = run_samples(runs);
+                crate::from_kernel(f(&s, r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g))
+            })
+            .collect();
         let (max, mean, leaks) = errors(&values, &want, &unshadowed);
         let cpu_ns_per_ray = median_ns(inputs.repeats, rays.len(), &|i| f64::from(call(i)));
         let gpu_rays_per_s = match (inputs.gpu, &gpu_src) {
