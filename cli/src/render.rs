@@ -99,7 +99,9 @@ struct Out {
     file: String,
 }
 
-/// The light-shafts render of a scene with shadows (shaders/src/shafts/render/).
+/// The light-shafts render of a scene with shadows (shaders/src/shafts/render/):
+/// the exact walk's frame, the sampled accumulator's, the marches', each against
+/// the reference over the analytic occluders' exact lit intervals.
 fn render_shafts(
     generated: &Path,
     index: &airlight_shapes::vocab::Index,
@@ -111,38 +113,60 @@ fn render_shafts(
 ) -> Result<(), Failure> {
     use airlight_shaders::render;
     use airlight_shaders::shafts::render::{self as sr, Method};
-    if !scene.spot || f64::from(sr::SIGMA_T) > scene.sigma_t.1 || scene.sigma_t.0 > 0.0 {
+    let stage = sr::Stage::named(&scene.name).ok_or_else(|| {
+        bad_input(format!(
+            "{}: the shafts render draws the stages `window-shafts` and `street-lamp` (shaders/src/shafts/render/scene.rs); `{}` is neither",
+            scene.file, scene.name
+        ))
+    })?;
+    let sigma = stage.sigma_t.iter().copied().fold(0.0f32, f32::max);
+    if scene.spot != stage.spot.is_some() || f64::from(sigma) > scene.sigma_t.1 || scene.sigma_t.0 > 0.0 {
         return Err(bad_input(format!(
-            "{}: the shafts render draws a spot light in σt up to {} (and from 0): the scene must allow both",
+            "{}: the `{}` stage draws a {} light in σt from 0 up to {sigma}: the scene must allow both",
             scene.file,
-            sr::SIGMA_T
+            stage.name,
+            if stage.spot.is_some() { "spot" } else { "point" }
         )));
+    }
+    if stage.g < k.g[0] as f32 || stage.g > k.g[1] as f32 {
+        return Err(bad_input(format!("{}: the stage's g = {} is outside the kernel's {:?}", scene.file, stage.g, k.g)));
     }
     let march = index.get(sr::march_kernel()).map_err(bad_input)?;
     let march_path = generated.join(march.wgsl.as_deref().unwrap_or_default());
     let march_text = std::fs::read_to_string(&march_path)
         .map_err(|e| Failure(1, format!("{}: cannot read: {e}", march_path.display())))?;
+    let texts = airlight_shaders::shafts::WalkTexts::load(generated).map_err(|e| Failure(1, e.to_string()))?;
+    let src = texts.sources();
+    let walk = sr::WalkWgsl { walk: src.wgsl, pyramid: src.pyramid };
     let gpu = Gpu::open().map_err(|e| Failure(1, e.to_string()))?;
     println!("adapter: {}", gpu.adapter());
     let view = sr::ShaftsView { width: size.0, height: size.1 };
     let fail = |e: airlight_shaders::GpuError| Failure(1, format!("{}: {e}", k.name));
-    let acc = gpu.shafts_frame(k, kernel, &view, Method::Accumulator(sr::LOOK_UPS), sr::REPEATS).map_err(fail)?;
+    let mut frames = Vec::new();
+    let exact = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Exact, sr::REPEATS).map_err(fail)?;
     println!(
-        "accumulator, {} look-ups and {} bisection steps per change: {:.1} ms GPU",
-        sr::LOOK_UPS,
-        sr::REFINE_STEPS,
-        acc.gpu_s * 1e3
+        "exact walk of the {0}² shadow map: {1:.1} ms GPU (+ {2:.2} ms for its pyramid)",
+        stage.shadow_map,
+        exact.gpu_s * 1e3,
+        exact.pyramid_s * 1e3
     );
+    for n in sr::SAMPLED {
+        let f = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Sampled(n), sr::REPEATS).map_err(fail)?;
+        println!("sampled accumulator, {n} look-ups, {} bisection steps per change: {:.1} ms GPU", sr::REFINE_STEPS, f.gpu_s * 1e3);
+        frames.push(f);
+    }
     let mut marches = Vec::new();
     for n in sr::MARCH_STEPS {
-        let f = gpu.shafts_frame(march, &march_text, &view, Method::March(n), sr::REPEATS).map_err(fail)?;
+        let f =
+            gpu.shafts_frame(&stage, march, &march_text, walk, &view, Method::March(n), sr::REPEATS).map_err(fail)?;
         println!("march, {n} steps: {:.1} ms GPU", f.gpu_s * 1e3);
         marches.push(f);
     }
-    println!("reference: exact lit intervals, {}×{} pixels …", size.0, size.1);
-    let (fog, color) = sr::reference(&view, &acc);
+    println!("reference: exact lit intervals among the analytic occluders, {}×{} pixels …", size.0, size.1);
+    let (fog, color) = sr::reference(&stage, &view, &exact);
     let classes = sr::classify(&view, &fog);
-    let shown = sr::nearest_in_time(&acc, &marches).ok_or_else(|| Failure(1, "no march frame".into()))?;
+    let shown = sr::nearest_in_time(&exact, &marches).ok_or_else(|| Failure(1, "no march frame".into()))?;
+    let sampled = frames.last().ok_or_else(|| Failure(1, "no sampled frame".into()))?;
     let exposure = render::exposure(&render::channels(&color));
     let rgb = |f: &sr::Frame| f.color.iter().map(|p| [0, 1, 2].map(|c| f64::from(p[c]))).collect::<Vec<_>>();
     std::fs::create_dir_all(&out.dir).map_err(|e| Failure(1, format!("{}: {e}", out.dir.display())))?;
@@ -151,30 +175,35 @@ fn render_shafts(
         render::write_png(&path, size.0, size.1, pixels).map_err(|e| Failure(1, e))?;
         Ok(path)
     };
-    let first = png(if out.report { "-accumulator" } else { "" }, &render::tone_map_rgb(&rgb(&acc), exposure))?;
+    let first = png(if out.report { "-exact" } else { "" }, &render::tone_map_rgb(&rgb(&exact), exposure))?;
+    png("-accumulator", &render::tone_map_rgb(&rgb(sampled), exposure))?;
     png("-march", &render::tone_map_rgb(&rgb(shown), exposure))?;
     png("-reference", &render::tone_map_rgb(&color, exposure))?;
-    png("-diff", &sr::difference(&acc, &fog, &classes))?;
+    png("-diff-exact", &sr::difference(&exact, &fog, &classes))?;
+    png("-diff", &sr::difference(sampled, &fog, &classes))?;
     png("-diff-march", &sr::difference(shown, &fog, &classes))?;
     let lit = classes.iter().filter(|c| **c == Some(false)).count();
     let edges = classes.iter().filter(|c| **c == Some(true)).count();
     println!("{}: {}×{}; {lit} lit pixels off the edges, {edges} on shaft edges", first.display(), size.0, size.1);
-    let row = |f: &sr::Frame| frame_row(f, &fog, &classes);
     let mut toml = format!(
-        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\n\n[accumulator]\n{}",
+        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
         out.file,
+        stage.description,
+        if stage.spot.is_some() { "spot" } else { "point" },
         k.name,
         sr::march_kernel(),
         gpu.adapter().to_string().replace('"', "'"),
         size.0,
         size.1,
-        sr::SHADOW_MAP,
+        stage.shadow_map,
+        stage.faces().len(),
+        sr::WALK_BIAS,
         sr::REFINE_STEPS,
         shown.method.steps(),
-        row(&acc)
+        sampled.method.steps(),
     );
-    for f in &marches {
-        toml.push_str(&format!("\n[[march]]\n{}", row(f)));
+    for f in std::iter::once(&exact).chain(&frames).chain(&marches) {
+        toml.push_str(&format!("\n[[frame]]\n{}", frame_row(f, &fog, &classes)));
     }
     if out.report {
         airlight_truth::io::write_atomic(&out.dir.join(format!("{}.toml", out.base)), toml.as_bytes())
@@ -184,23 +213,29 @@ fn render_shafts(
     Ok(())
 }
 
-/// A frame's fog errors against the reference: printed, and its table in the
-/// render's TOML record.
+/// A frame's fog errors and leaks against the reference: printed, and its
+/// table in the render's TOML record.
 fn frame_row(f: &airlight_shaders::shafts::render::Frame, fog: &[[f64; 3]], classes: &[Option<bool>]) -> String {
-    let e = airlight_shaders::shafts::render::fog_errors(f, fog, classes);
+    use airlight_shaders::shafts::render as sr;
+    let e = sr::fog_errors(f, fog, classes);
+    let leaks = sr::leak_pixels(f, fog);
     println!(
-        "{:?}: {:.1} ms GPU; fog error lit max {:.2e} mean {:.2e}, edges max {:.2e} mean {:.2e}",
-        f.method,
+        "{} {}: {:.1} ms GPU (+ {:.2} ms pyramid); fog error lit max {:.2e} mean {:.2e}, edges max {:.2e} mean {:.2e}; {leaks} leak pixels",
+        f.method.name(),
+        f.method.steps(),
         f.gpu_s * 1e3,
+        f.pyramid_s * 1e3,
         e.lit_max,
         e.lit_mean,
         e.edge_max,
         e.edge_mean
     );
     format!(
-        "steps = {}\ngpu_ms = {:e}\nlit_max = {:e}\nlit_mean = {:e}\nedge_max = {:e}\nedge_mean = {:e}\n",
+        "method = \"{}\"\nsteps = {}\ngpu_ms = {:e}\npyramid_ms = {:e}\nlit_max = {:e}\nlit_mean = {:e}\nedge_max = {:e}\nedge_mean = {:e}\nleak_pixels = {leaks}\n",
+        f.method.name(),
         f.method.steps(),
         f.gpu_s * 1e3,
+        f.pyramid_s * 1e3,
         e.lit_max,
         e.lit_mean,
         e.edge_max,

@@ -53,3 +53,129 @@ fn extreme_rays_through_the_shafts_path() {
         }
     }
 }
+
+/// One case of the shadow-map extremes: a ray and the cube map at its light.
+struct MapCase {
+    what: String,
+    ray: airlight_shaders::Ray,
+    map: airlight_truth::shafts::ShadowMap,
+    /// The light is sealed inside an occluder the viewer is outside of: no
+    /// light may reach the ray.
+    sealed: bool,
+}
+
+/// The shadow-map extremes: the gate's physical extreme rays (1e-12 … 1e12
+/// in scale) with a ball between viewer and light cast into a 32² cube map at
+/// the light; and the occluder extremes at a metre's scale — the light on a
+/// ball's surface and inside it, the viewer inside it, the ray ending on its
+/// surface, and a comb of 150 bars (100+ runs).
+fn map_extremes(entry: &airlight_shapes::vocab::IndexEntry) -> Vec<MapCase> {
+    use airlight_truth::shafts::ShadowMap;
+    let mut out = Vec::new();
+    for (r, _, _) in gate::physical_extremes(entry).unwrap() {
+        let phys = r.physical();
+        let mid: [f64; 3] = std::array::from_fn(|q| 0.5 * (phys.origin[q] + phys.light[q]));
+        let dl = (0..3).map(|q| (phys.light[q] - phys.origin[q]).powi(2)).sum::<f64>().sqrt();
+        let occ = vec![Occluder::Sphere { center: mid, radius: 0.1 * dl.max(1e-30) }];
+        if occ[0].contains(phys.light) {
+            continue;
+        }
+        if let Ok(map) = ShadowMap::cube(phys.light, 32, &occ, 0.0) {
+            out.push(MapCase { what: format!("extreme {r:?}"), ray: r, map, sealed: false });
+        }
+    }
+    let base = airlight_shaders::Ray {
+        origin: [0.0, 0.0, -4.0],
+        dir: [0.0, 0.0, 1.0],
+        surface: -1.0,
+        light: [0.0, 0.5, 2.0],
+        intensity: 10.0,
+        sigma_t: 0.3,
+        sigma_s: 0.2,
+        g: 0.0,
+    };
+    let f = |v: [f32; 3]| v.map(f64::from);
+    let light = f(base.light);
+    let ball = |c: [f64; 3], r: f64| vec![Occluder::Sphere { center: c, radius: r }];
+    let mut add = |what: &str, ray: airlight_shaders::Ray, occ: Vec<Occluder>, sealed: bool| {
+        let map = ShadowMap::cube(f(ray.light), 64, &occ, 0.0).unwrap();
+        out.push(MapCase { what: what.into(), ray, map, sealed });
+    };
+    for dir in [[0.0, 0.0, 1.0], [0.3, 0.1, 1.0], [0.0, 0.125, 1.0], [-0.2, 0.0, -1.0]] {
+        let r = airlight_shaders::Ray { dir, ..base };
+        add("light on the ball's surface", r, ball([light[0], light[1], light[2] + 0.5], 0.5), false);
+        add("light on the ball's surface, below", r, ball([light[0], light[1] - 0.5, light[2]], 0.5), false);
+        add("light inside the ball", r, ball([light[0] + 0.1, light[1], light[2]], 0.5), true);
+        add("viewer inside the ball", r, ball([0.0, 0.1, -4.0], 1.0), false);
+        let occ = ball([0.0, 0.2, 0.0], 0.6);
+        let o = f(r.origin);
+        let n = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+        if let Some(t) = occ[0].enters(o, f(dir).map(|x| x / f64::from(n))) {
+            add("ray ending on the ball's surface", airlight_shaders::Ray { surface: t as f32, ..r }, occ, false);
+        }
+        let comb: Vec<Occluder> = (0..150)
+            .map(|i| {
+                let z = -3.5 + 0.035 * i as f64;
+                Occluder::Cuboid { min: [-3.0, -3.0, z], max: [3.0, 0.3, z + 0.012] }
+            })
+            .collect();
+        add("a comb of 150 bars", airlight_shaders::Ray { light: [0.0, 2.5, -0.9], ..r }, comb, false);
+    }
+    out
+}
+
+/// The exact mode at the extremes: the Rust f32 walk and accumulator and, where
+/// an adapter is present, the WGSL walk fused with the accumulator, over
+/// [`map_extremes`]: finite and ≥ 0, no hang (the walk is bounded; truncations
+/// are counted), nothing at all where the light is sealed inside a ball.
+#[test]
+fn extreme_rays_through_the_shadow_map_walk() {
+    use airlight_shaders::shafts::map_cases::{run_samples, rust_runs, upload};
+    let compiled = common::compiled();
+    let generated = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated");
+    let index = gate::load_index(&generated).unwrap();
+    let gpu = common::open_or_skip("extreme_rays_through_the_shadow_map_walk (GPU part)");
+    let texts = airlight_shaders::shafts::WalkTexts::load(&generated).unwrap();
+    for name in ["phi-6", "lite-4"] {
+        let entry = index.get(name).unwrap();
+        let ck = compiled.iter().find(|k| k.name == name).unwrap();
+        let (f, walk) = (ck.shadowed.unwrap(), ck.walk.unwrap());
+        let cases = map_extremes(entry);
+        assert!(cases.len() >= 40, "{name}: {} cases", cases.len());
+        let (mut truncated, mut most_runs) = (0, 0);
+        for c in &cases {
+            let r = &c.ray;
+            let (runs, _, cut) = rust_runs(walk, &c.map, &c.map.pyramid(), r);
+            truncated += usize::from(cut);
+            most_runs = most_runs.max(runs.len());
+            let v = f(&run_samples(&runs), r.surface, r.origin, r.dir, r.light, r.intensity, r.sigma_t, r.sigma_s, r.g);
+            assert!(v.is_finite() && v >= 0.0, "{name} {}: {v}", c.what);
+            if c.sealed {
+                assert!(runs.is_empty() && v == 0.0, "{name} {}: runs {runs:?}, {v}", c.what);
+            }
+        }
+        eprintln!("{name}: {} cases, {truncated} truncated, at most {most_runs} runs", cases.len());
+        assert!(most_runs >= 100, "the comb gives 100+ runs ({most_runs})");
+        let Some(gpu) = &gpu else { continue };
+        let text = std::fs::read_to_string(generated.join(entry.wgsl.as_deref().unwrap())).unwrap();
+        let table = airlight_shaders::load_table(&generated, entry).unwrap();
+        let src = airlight_shaders::KernelSource::of(entry, airlight_shapes::vocab::Target::Wgsl, &text)
+            .with_table(table.as_ref());
+        // Maps of one size share an array (at most 40 maps, 240 layers, a dispatch).
+        for res in [32, 64] {
+            let same: Vec<&MapCase> = cases.iter().filter(|c| c.map.res == res).collect();
+            for batch in same.chunks(40) {
+                let maps: Vec<_> = batch.iter().map(|c| &c.map).collect();
+                let (pyramid, specs) = upload(gpu, texts.sources().pyramid, &maps).unwrap();
+                let rays: Vec<_> = batch.iter().map(|c| c.ray).collect();
+                let got = gpu.mapped(&src, &texts.sources(), &rays, &specs, &pyramid).unwrap();
+                for (g, c) in got.iter().zip(batch) {
+                    assert!(g.value.is_finite() && g.value >= 0.0, "{name} (WGSL) {}: {g:?}", c.what);
+                    if c.sealed {
+                        assert_eq!(g.value, 0.0, "{name} (WGSL) {}", c.what);
+                    }
+                }
+            }
+        }
+    }
+}

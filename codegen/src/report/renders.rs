@@ -5,52 +5,51 @@ use crate::output::Output;
 use airlight_truth::stats::fmt_err;
 use serde::Serialize;
 
-/// A light-shafts render (`kind = "shafts"`): the accumulator's frame, the
-/// marches tried, which march is shown.
+/// A light-shafts render (`kind = "shafts"`): its frames (the exact walk, the
+/// sampled accumulator, the marches), which are shown, and how the exact frame
+/// stands against the marches.
 #[derive(Serialize)]
 pub(super) struct ShaftsRender {
     scene: String,
+    description: String,
+    light: String,
     kernel: String,
     march_kernel: String,
     adapter: String,
     size: String,
     shadow_map: i64,
-    look_ups: i64,
+    faces: i64,
+    walk_bias: String,
     refine_steps: i64,
     lit_pixels: i64,
     edge_pixels: i64,
     march_shown: i64,
+    sampled_shown: i64,
     rows: Vec<ShaftsRenderRow>,
-    /// Where the accumulator's frame loses to the march shown.
+    /// The exact frame against the 64-step march's time and the 512-step
+    /// march's errors, and its leaks.
+    verdict: Vec<String>,
+    /// Where the exact frame loses to the march shown.
     losses: Vec<String>,
 }
 
-/// One frame of a light-shafts render: its method, GPU time and fog errors.
+/// One frame of a light-shafts render: its method, GPU time, fog errors, leaks.
 #[derive(Serialize)]
 pub(super) struct ShaftsRenderRow {
     method: String,
-    steps: i64,
+    steps: String,
     gpu_ms: String,
+    pyramid_ms: String,
     lit_max: String,
     lit_mean: String,
     edge_max: String,
     edge_mean: String,
+    leaks: i64,
+    shown: bool,
 }
 
 /// The light-shafts renders under `render/`.
 pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
-    let row = |method: &str, t: &toml::Table| {
-        let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
-        ShaftsRenderRow {
-            method: method.to_string(),
-            steps: t.get("steps").and_then(|v| v.as_integer()).unwrap_or(0),
-            gpu_ms: t.get("gpu_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
-            lit_max: f("lit_max"),
-            lit_mean: f("lit_mean"),
-            edge_max: f("edge_max"),
-            edge_mean: f("edge_mean"),
-        }
-    };
     renders
         .iter()
         .filter(|o| o.path.ends_with(".toml"))
@@ -61,40 +60,89 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
             }
             let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
             let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
-            let acc = t.get("accumulator").and_then(|v| v.as_table())?;
-            let mut rows = vec![row("shafts accumulator", acc)];
-            let mut losses = Vec::new();
-            for m in t.get("march").and_then(|v| v.as_array()).into_iter().flatten() {
-                let m = m.as_table()?;
-                rows.push(row("march", m));
-                if m.get("steps").and_then(|v| v.as_integer()) == Some(i("march_shown")) {
-                    let x = |t: &toml::Table, k: &str| t.get(k).and_then(|v| v.as_float()).unwrap_or(f64::NAN);
-                    for (k, what) in [
-                        ("lit_max", "lit max"),
-                        ("lit_mean", "lit mean"),
-                        ("edge_max", "edge max"),
-                        ("edge_mean", "edge mean"),
-                        ("gpu_ms", "GPU time"),
-                    ] {
-                        if x(acc, k) > x(m, k) {
-                            losses.push(format!("{what} ({:.3e} against {:.3e})", x(acc, k), x(m, k)));
-                        }
+            let frames: Vec<&toml::Table> =
+                t.get("frame").and_then(|v| v.as_array())?.iter().filter_map(|f| f.as_table()).collect();
+            let x = |t: &toml::Table, k: &str| t.get(k).and_then(|v| v.as_float()).unwrap_or(f64::NAN);
+            let method = |t: &toml::Table| t.get("method").and_then(|v| v.as_str()).unwrap_or("—").to_string();
+            let steps = |t: &toml::Table| t.get("steps").and_then(|v| v.as_integer()).unwrap_or(0);
+            let find = |m: &str, n: i64| frames.iter().copied().find(|f| method(f) == m && (m == "exact" || steps(f) == n));
+            let rows = frames
+                .iter()
+                .map(|f| {
+                    let m = method(f);
+                    let e = |k: &str| f.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
+                    ShaftsRenderRow {
+                        method: match m.as_str() {
+                            "exact" => "exact walk".to_string(),
+                            "sampled" => "sampled accumulator".to_string(),
+                            other => other.to_string(),
+                        },
+                        steps: if m == "exact" { "—".into() } else { steps(f).to_string() },
+                        gpu_ms: format!("{:.1}", x(f, "gpu_ms")),
+                        pyramid_ms: if m == "exact" { format!("{:.2}", x(f, "pyramid_ms")) } else { "—".into() },
+                        lit_max: e("lit_max"),
+                        lit_mean: e("lit_mean"),
+                        edge_max: e("edge_max"),
+                        edge_mean: e("edge_mean"),
+                        leaks: f.get("leak_pixels").and_then(|v| v.as_integer()).unwrap_or(-1),
+                        shown: m == "exact"
+                            || (m == "march" && steps(f) == i("march_shown"))
+                            || (m == "sampled" && steps(f) == i("sampled_shown")),
                     }
+                })
+                .collect();
+            let exact = find("exact", 0)?;
+            let mut verdict = Vec::new();
+            let time = x(exact, "gpu_ms") + x(exact, "pyramid_ms");
+            if let Some(m64) = find("march", 64) {
+                let ratio = time / x(m64, "gpu_ms");
+                verdict.push(format!(
+                    "GPU time (pass and pyramid) {time:.1} ms, {ratio:.2}× the 64-step march's ({:.1} ms): {}",
+                    x(m64, "gpu_ms"),
+                    if ratio <= 1.0 { "no more" } else { "**more**" }
+                ));
+            }
+            if let Some(m512) = find("march", 512) {
+                for (k, what) in [("lit_max", "lit max"), ("lit_mean", "lit mean")] {
+                    let (a, b) = (x(exact, k), x(m512, k));
+                    verdict.push(format!(
+                        "{what} {} against the 512-step march's {}: {}",
+                        fmt_err(a),
+                        fmt_err(b),
+                        if a < b { "below" } else { "**not below**" }
+                    ));
+                }
+            }
+            verdict.push(format!("leak pixels: {}", exact.get("leak_pixels").and_then(|v| v.as_integer()).unwrap_or(-1)));
+            let mut losses = Vec::new();
+            if let Some(m) = find("march", i("march_shown")) {
+                for (k, what) in [("lit_max", "lit max"), ("lit_mean", "lit mean"), ("edge_max", "edge max"), ("edge_mean", "edge mean")] {
+                    if x(exact, k) > x(m, k) {
+                        losses.push(format!("{what} ({} against {})", fmt_err(x(exact, k)), fmt_err(x(m, k))));
+                    }
+                }
+                if time > x(m, "gpu_ms") {
+                    losses.push(format!("GPU time ({time:.1} ms against {:.1} ms)", x(m, "gpu_ms")));
                 }
             }
             Some(ShaftsRender {
                 scene: o.path.trim_start_matches("render/").trim_end_matches(".toml").to_string(),
+                description: s("description"),
+                light: s("light"),
                 kernel: s("kernel"),
                 march_kernel: s("march_kernel"),
                 adapter: s("adapter"),
                 size: format!("{}×{}", i("width"), i("height")),
                 shadow_map: i("shadow_map"),
-                look_ups: acc.get("steps").and_then(|v| v.as_integer()).unwrap_or(0),
+                faces: i("faces"),
+                walk_bias: t.get("walk_bias").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b}")),
                 refine_steps: i("refine_steps"),
                 lit_pixels: i("lit_pixels"),
                 edge_pixels: i("edge_pixels"),
                 march_shown: i("march_shown"),
+                sampled_shown: i("sampled_shown"),
                 rows,
+                verdict,
                 losses,
             })
         })

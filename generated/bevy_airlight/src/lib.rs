@@ -78,6 +78,7 @@ impl Plugin for AirlightShadersPlugin {
         load_shader_library!(app, "scene_hg_fog.wesl");
         load_shader_library!(app, "scene_smoke_room.wesl");
         load_shader_library!(app, "scene_spot_harbour.wesl");
+        load_shader_library!(app, "scene_street_lamp.wesl");
         load_shader_library!(app, "scene_window_shafts.wesl");
     }
 }
@@ -142,5 +143,6 @@ pub const MODULES: &[(&str, &str)] = &[
     ("bevy_airlight::scene_hg_fog", "max relative error of A (f64 model, over thin and dense): thin 1.5e-4, dense 2.9e-4 (over the band of g holding g = 0.8)"),
     ("bevy_airlight::scene_smoke_room", "max relative error of A (f64 model, over thin and dense): thin 1.5e-3, dense 1.6e-3"),
     ("bevy_airlight::scene_spot_harbour", "max relative error of A (f64 model, over thin and dense): thin 1.5e-4, dense 3.1e-4 (over the band of g holding g = 0.6)"),
+    ("bevy_airlight::scene_street_lamp", "max relative error of A (f64 model, over thin and dense): thin 1.5e-4, dense 3.1e-4 (over the band of g holding g = 0.6)"),
     ("bevy_airlight::scene_window_shafts", "max relative error of A (f64 model, over thin and dense): thin 1.5e-4, dense 3.1e-4 (over the band of g holding g = 0.5)"),
 ];

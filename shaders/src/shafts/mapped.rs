@@ -119,19 +119,8 @@ impl Gpu {
     /// Uploads `faces × res × res` linear depths and builds their min-max pyramid
     /// with the shipped pass, one dispatch per level.
     pub fn build_pyramid(&self, pass: &str, depth: &[f32], res: u32, faces: u32) -> Result<PyramidTexture, GpuError> {
-        let d = self.device();
-        let levels = res.max(1).trailing_zeros() + 1;
         let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
-        let source = d.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow map depths"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let source = self.depth_source(size);
         self.queue().write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &source,
@@ -143,6 +132,108 @@ impl Gpu {
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * res), rows_per_image: Some(res) },
             size,
         );
+        let mut enc = self.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
+        let (p, _) = self.pyramid_levels(pass, &mut enc, &source, res, faces, None, None)?;
+        self.queue().submit([enc.finish()]);
+        Ok(p)
+    }
+
+    /// Builds the min-max pyramid of a rasterised `Depth32Float` shadow map
+    /// (`faces` layers of `res²`, perspective depth in [0, 1] between `near` and
+    /// `far`) with the shipped pass, which makes the depth linear; and the GPU
+    /// seconds of the pass's dispatches (timestamps; 0 without them). The depth is
+    /// first copied into an `R32Float` texture (the harness's step, not timed: a
+    /// renderer binds its depth texture to the base pass directly).
+    pub fn pyramid_of_depth(
+        &self,
+        pass: &str,
+        depth: &wgpu::Texture,
+        res: u32,
+        faces: u32,
+        near_far: [f32; 2],
+    ) -> Result<(PyramidTexture, f64), GpuError> {
+        let d = self.device();
+        let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
+        let source = self.depth_source(size);
+        let staging = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("depth copy"),
+            size: u64::from(4 * res * res * faces),
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let layout = wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * res), rows_per_image: Some(res) };
+        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid of depth") });
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: depth,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::DepthOnly,
+            },
+            wgpu::TexelCopyBufferInfo { buffer: &staging, layout },
+            size,
+        );
+        enc.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo { buffer: &staging, layout },
+            source.as_image_copy(),
+            size,
+        );
+        let timed = d.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let queries = timed.then(|| {
+            d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pyramid"), ty: wgpu::QueryType::Timestamp, count: 2 })
+        });
+        let (p, _) = self.pyramid_levels(pass, &mut enc, &source, res, faces, Some(near_far), queries.as_ref())?;
+        let staging = queries.as_ref().map(|q| {
+            let buffer = |usage| {
+                d.create_buffer(&wgpu::BufferDescriptor { label: Some("pyramid stamps"), size: 16, usage, mapped_at_creation: false })
+            };
+            let resolve = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
+            let staging = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+            enc.resolve_query_set(q, 0..2, &resolve, 0);
+            enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, 16);
+            staging
+        });
+        self.queue().submit([enc.finish()]);
+        let mut gpu_s = 0.0;
+        if let Some(b) = staging {
+            let t: Vec<u64> = bytemuck::cast_slice(&self.read_back(&b)?).to_vec();
+            gpu_s = t[1].saturating_sub(t[0]) as f64 * f64::from(self.queue().get_timestamp_period()) * 1e-9;
+        }
+        Ok((p, gpu_s))
+    }
+
+    /// An `R32Float` array texture the pyramid's base pass reads.
+    fn depth_source(&self, size: wgpu::Extent3d) -> wgpu::Texture {
+        self.device().create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow map depths"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        })
+    }
+
+    /// Records the pyramid's passes into `enc`: the base level from `source`
+    /// (linear Z, or made linear for `near_far`), then each level from the one
+    /// below; timestamps into `stamps` (0 at the first pass's start, 1 at the
+    /// last one's end) when given.
+    #[allow(clippy::too_many_arguments)]
+    fn pyramid_levels(
+        &self,
+        pass: &str,
+        enc: &mut wgpu::CommandEncoder,
+        source: &wgpu::Texture,
+        res: u32,
+        faces: u32,
+        near_far: Option<[f32; 2]>,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(PyramidTexture, Vec<wgpu::BindGroup>), GpuError> {
+        let d = self.device();
+        let levels = res.max(1).trailing_zeros() + 1;
+        let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
         let texture = d.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow map pyramid"),
             size,
@@ -179,11 +270,11 @@ impl Gpu {
                 ..Default::default()
             })
         };
-        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
         let mut keep = Vec::new();
         for level in 0..levels {
             let n = res >> level;
-            let params: [u32; 4] = [0, 0, n, 1];
+            let [near, far] = near_far.unwrap_or([0.0, 0.0]);
+            let params: [u32; 4] = [near.to_bits(), far.to_bits(), n, u32::from(near_far.is_none())];
             let uniform = wgpu::util::DeviceExt::create_buffer_init(
                 d,
                 &wgpu::util::BufferInitDescriptor {
@@ -193,7 +284,7 @@ impl Gpu {
                 },
             );
             let (pipeline, below) =
-                if level == 0 { (&base, array(&source, 0)) } else { (&reduce, array(&texture, level - 1)) };
+                if level == 0 { (&base, array(source, 0)) } else { (&reduce, array(&texture, level - 1)) };
             let out = array(&texture, level);
             let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
@@ -205,23 +296,28 @@ impl Gpu {
                 ],
             });
             {
-                let mut pass =
-                    enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+                let timestamp_writes = stamps.map(|q| wgpu::ComputePassTimestampWrites {
+                    query_set: q,
+                    beginning_of_pass_write_index: (level == 0).then_some(0),
+                    end_of_pass_write_index: (level + 1 == levels).then_some(1),
+                });
+                let timestamp_writes = timestamp_writes
+                    .filter(|t| t.beginning_of_pass_write_index.is_some() || t.end_of_pass_write_index.is_some());
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, &bind, &[]);
                 pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), faces);
             }
-            keep.push((uniform, bind));
+            keep.push(bind);
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(format!("shadowmap_pyramid.wgsl: {e}")));
         }
-        self.queue().submit([enc.finish()]);
         let view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        Ok(PyramidTexture { texture, view, res, faces, levels })
+        Ok((PyramidTexture { texture, view, res, faces, levels }, keep))
     }
 
     /// Reads a pyramid back: `[face][level]` row-major `[min, max]` nodes.

@@ -136,6 +136,7 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
     let k = index.get("phi-4").unwrap();
     assert!(k.shafts && k.has(airlight_shapes::vocab::Entry::Spot), "phi-4 has the spot entry and the accumulator");
     let view = sr::ShaftsView { width: 64, height: 36 };
+    let stage = sr::Stage::window_shafts();
     for renderer in Renderer::ALL {
         let what = match renderer {
             Renderer::WebGl => "WebGLRenderer + the GLSL include's accumulator",
@@ -151,7 +152,7 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
         // The page's surfaces are the room's: its distances against the f64 ones.
         let mut off = 0;
         for (i, p) in fog.iter().enumerate() {
-            let want = sr::first_surface(view.dir(i as u32 % view.width, i as u32 / view.width).map(f64::from));
+            let want = sr::first_surface(&stage, view.dir(i as u32 % view.width, i as u32 / view.width).map(f64::from));
             off += usize::from((f64::from(p[3]) - want).abs() > 1e-3 * want);
         }
         assert!(
@@ -160,9 +161,10 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
             fog.len()
         );
         let ends: Vec<f64> = fog.iter().map(|p| f64::from(p[3])).collect();
-        let reference = sr::reference_fog(&view, &ends);
+        let reference = sr::reference_fog(&stage, &view, &ends);
         let classes = sr::classify(&view, &reference);
-        let frame = sr::Frame { method: sr::Method::Accumulator(sr::LOOK_UPS), color: Vec::new(), fog, gpu_s: 0.0 };
+        let frame =
+            sr::Frame { method: sr::Method::Sampled(sr::LOOK_UPS), color: Vec::new(), fog, gpu_s: 0.0, pyramid_s: 0.0 };
         let e = sr::fog_errors(&frame, &reference, &classes);
         let lit = classes.iter().filter(|c| c.is_some()).count();
         eprintln!("light shafts, {what}: {lit} lit pixels; fog error against the reference: {e:?}");

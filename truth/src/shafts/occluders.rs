@@ -86,6 +86,45 @@ impl Occluder {
         }
     }
 
+    /// Where the ray `o + s d` (`d` a unit vector) first crosses the occluder's
+    /// boundary ahead of `o` (`s > 0`), entering or leaving: what a depth pass
+    /// without face culling records for a light at `o` — the far side when the
+    /// light is on the surface or inside, so that neither lets light out.
+    pub fn boundary_ahead(&self, o: Vec3, d: Vec3) -> Option<f64> {
+        let first = |near: f64, far: f64| {
+            if near > 0.0 {
+                Some(near)
+            } else {
+                (far > 0.0).then_some(far)
+            }
+        };
+        match *self {
+            Occluder::Sphere { center, radius } => {
+                let (near, far) = ball_crossings(center, radius, o, d)?;
+                first(near, far)
+            }
+            Occluder::Cuboid { min, max } => {
+                let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+                for a in 0..3 {
+                    if d[a] == 0.0 {
+                        if o[a] < min[a] || o[a] > max[a] {
+                            return None;
+                        }
+                    } else {
+                        let (t1, t2) = ((min[a] - o[a]) / d[a], (max[a] - o[a]) / d[a]);
+                        lo = lo.max(t1.min(t2));
+                        hi = hi.min(t1.max(t2));
+                    }
+                }
+                if lo < hi {
+                    first(lo, hi)
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
     /// Distances along the ray `o + s d` (`d` a unit vector) at which [`blocks`](Self::blocks)
     /// can change: a superset of the shadow's boundaries on the ray. A ball's
     /// shadow is bounded by the cone of tangents from the light and by the ball

@@ -47,6 +47,31 @@ pub fn classify(view: &ShaftsView, fog: &[[f64; 3]]) -> Vec<Option<bool>> {
         .collect()
 }
 
+/// Light leaks: the pixels whose fog (the mean of its channels) is above
+/// [`LEAK_FACTOR`] times the reference's plus [`LEAK_FLOOR`] of the reference
+/// fog's 99th percentile over the frame.
+pub fn leak_pixels(frame: &Frame, fog: &[[f64; 3]]) -> usize {
+    let lum = |p: [f64; 3]| (p[0] + p[1] + p[2]) / 3.0;
+    let mut sorted: Vec<f64> = fog.iter().map(|p| lum(*p)).filter(|x| x.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let p99 = sorted.get((sorted.len() as f64 * 0.99) as usize).copied().unwrap_or(0.0);
+    frame
+        .fog
+        .iter()
+        .zip(fog)
+        .filter(|(g, r)| {
+            let g = lum([0, 1, 2].map(|c| f64::from(g[c])));
+            !(g <= LEAK_FACTOR * lum(**r) + LEAK_FLOOR * p99)
+        })
+        .count()
+}
+
+/// A leak is brighter than this many times the reference ...
+pub const LEAK_FACTOR: f64 = 1.5;
+
+/// ... plus this fraction of the reference fog's 99th percentile.
+pub const LEAK_FLOOR: f64 = 0.01;
+
 /// A neighbouring pixel's fog differs by more than this fraction on a shaft's edge.
 pub const EDGE_STEP: f64 = 0.1;
 
@@ -90,10 +115,12 @@ pub fn difference(frame: &Frame, fog: &[[f64; 3]], classes: &[Option<bool>]) -> 
         .collect()
 }
 
-/// The march frame whose GPU time is nearest the accumulator's (by ratio).
-pub fn nearest_in_time<'f>(acc: &Frame, marches: &'f [Frame]) -> Option<&'f Frame> {
+/// The march frame whose GPU time is nearest `frame`'s (by ratio; the frame's
+/// pyramid pass counted in).
+pub fn nearest_in_time<'f>(frame: &Frame, marches: &'f [Frame]) -> Option<&'f Frame> {
+    let t = frame.gpu_s + frame.pyramid_s;
     marches.iter().min_by(|a, b| {
-        let d = |f: &Frame| (f.gpu_s.max(1e-12) / acc.gpu_s.max(1e-12)).ln().abs();
+        let d = |f: &Frame| (f.gpu_s.max(1e-12) / t.max(1e-12)).ln().abs();
         d(a).total_cmp(&d(b))
     })
 }

@@ -4,32 +4,50 @@
 
 use super::*;
 use crate::{Gpu, GpuError};
+
 use airlight_shapes::vocab::{Arg, IndexEntry};
 
 /// How a frame sums its fog.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
+    /// The exact mode: the shipped shadow-map walk (`generated/wgsl/shadowmap.wgsl`)
+    /// over the min-max pyramid the shipped pass builds from the frame's own
+    /// shadow map, each lit run handed to the scene kernel's accumulator.
+    Exact,
     /// The scene kernel's shafts accumulator at `n` look-ups, fed the viewer's
     /// and the surface's visibility too, each change placed by
     /// [`REFINE_STEPS`] bisection steps on the shadow map.
-    Accumulator(u32),
+    Sampled(u32),
     /// The engines' march (`raymarch-64`'s shafts functions) at `n` steps.
     March(u32),
 }
 
 impl Method {
-    /// Look-ups (or steps) per ray.
+    /// Look-ups (or steps) per ray; 0 for the exact walk.
     pub fn steps(self) -> u32 {
         match self {
-            Method::Accumulator(n) | Method::March(n) => n,
+            Method::Exact => 0,
+            Method::Sampled(n) | Method::March(n) => n,
+        }
+    }
+
+    /// Its name in the render's record and the report.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Exact => "exact",
+            Method::Sampled(_) => "sampled",
+            Method::March(_) => "march",
         }
     }
 }
 
-/// The arguments of a kernel's `shafts_push_spot` after `(acc, s, v)` (its spot
-/// entry's, without the surface).
-pub(crate) fn push_args(k: &IndexEntry) -> String {
-    k.spot_params
+/// The arguments of the kernel entry the stage's light calls (a spot's `spot`
+/// entry, a point light's `radiance`) after `(acc, s, v)`, without the surface;
+/// and the suffix of its shafts functions (`_spot` or none).
+pub(crate) fn push_args(stage: &Stage, k: &IndexEntry) -> (String, &'static str) {
+    let spot = stage.spot.is_some();
+    let params = if spot { &k.spot_params } else { &k.radiance_params };
+    let args = params
         .iter()
         .filter(|p| **p != Arg::Surface)
         .map(|p| match p {
@@ -42,40 +60,98 @@ pub(crate) fn push_args(k: &IndexEntry) -> String {
             Arg::Intensity => "SC_INTENSITY".into(),
             Arg::SigmaTRgb => "SC_SIGMA_T".into(),
             Arg::SigmaSRgb => "SC_SIGMA_S".into(),
-            Arg::G => format!("{G:?}"),
-            other => unreachable!("{other} is not an argument of spot"),
+            Arg::SigmaT => "SC_SIGMA_T.x".into(),
+            Arg::SigmaS => "SC_SIGMA_S.x".into(),
+            Arg::G => format!("{:?}", stage.g),
+            other => unreachable!("{other} is not an argument of a light entry"),
         })
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    (args, if spot { "_spot" } else { "" })
 }
 
 /// The full-screen pass: the kernel `kernel` (index entry `k`) included as a
-/// renderer would, the fog by `method`, the surface lit; two targets: the
-/// composite (RGB, object id) and the fog alone (RGB, surface distance).
-pub(crate) fn frame_wgsl(k: &IndexEntry, kernel: &str, view: &ShaftsView, method: Method) -> String {
+/// renderer would, the fog by `method` (the walk's source `walk` for the exact
+/// mode), the surface lit; two targets: the composite (RGB, object id) and the
+/// fog alone (RGB, surface distance).
+pub(crate) fn frame_wgsl(
+    stage: &Stage,
+    k: &IndexEntry,
+    kernel: &str,
+    walk: &str,
+    view: &ShaftsView,
+    method: Method,
+) -> String {
     let p = &k.prefix;
-    let args = push_args(k);
-    let n = method.steps();
-    let ends = matches!(method, Method::Accumulator(_));
-    let (first, last) = if ends {
-        (
-            format!("    {p}shafts_push_spot(&acc, 0.0, sc_shadow(SC_CAMERA), {args});\n"),
-            format!("    {p}shafts_push_spot(&acc, end, v_surf, {args});\n"),
+    let (args, sfx) = push_args(stage, k);
+    // A point light's entry is one channel of a grey medium: its colour outside.
+    let colour = if stage.spot.is_some() { "" } else { "SC_COLOUR * " };
+    let refine = REFINE_STEPS;
+    let (walk_src, fog_body) = match method {
+        Method::Exact => (
+            walk,
+            format!(
+                "    var w = airlight_smap_begin(SC_CAMERA, dir, end, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
+    var acc = {p}shafts_begin_runs();
+    loop {{
+        let run = airlight_smap_next(&w, sc_pyramid);
+        if run.x < 0.0 {{
+            break;
+        }}
+        {p}shafts_add_run(&acc, run.x, run.y);
+        if {p}shafts_full(acc) {{
+            {p}shafts_flush{sfx}(&acc, {args});
+        }}
+    }}
+",
+                res = stage.shadow_map,
+                bias = WALK_BIAS,
+            ),
+        ),
+        Method::Sampled(n) => (
+            "",
+            format!(
+                "    var acc = {p}shafts_begin();
+    {p}shafts_push{sfx}(&acc, 0.0, sc_shadow(SC_CAMERA), {args});
+    for (var i = 0u; i < {n}u; i++) {{
+        let s = (f32(i) + 0.5) * end / {nf:?};
+        {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
+        for (var r = 0u; r < {refine}u && {p}shafts_probe(acc) >= 0.0; r++) {{
+            {p}shafts_refine(&acc, sc_shadow(SC_CAMERA + {p}shafts_probe(acc) * dir));
+        }}
+    }}
+    {p}shafts_push{sfx}(&acc, end, v_surf, {args});
+",
+                nf = n as f32
+            ),
+        ),
+        Method::March(n) => (
+            "",
+            format!(
+                "    var acc = {p}shafts_begin();
+    for (var i = 0u; i < {n}u; i++) {{
+        let s = (f32(i) + 0.5) * end / {nf:?};
+        {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
+    }}
+",
+                nf = n as f32
+            ),
+        ),
+    };
+    let pyramid = if method == Method::Exact {
+        format!(
+            "@group(0) @binding(2) var sc_pyramid: texture_2d_array<f32>;\nconst SC_WALK_ROWS = {};\n",
+            super::scene::m3(stage.faces()[0])
         )
     } else {
-        (String::new(), String::new())
+        String::new()
     };
-    let refine = REFINE_STEPS;
-    let body = if ends {
-        format!("{p}shafts_push_spot(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});\n        for (var r = 0u; r < {refine}u && {p}shafts_probe(acc) >= 0.0; r++) {{\n            {p}shafts_refine(&acc, sc_shadow(SC_CAMERA + {p}shafts_probe(acc) * dir));\n        }}")
-    } else {
-        format!("{p}shafts_push_spot(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});")
-    };
-    let fin = format!("{p}shafts_finish_spot(acc, end, {args})");
     format!(
         "{kernel}
+{walk_src}
 {scene}
-// ---- the frame: fog by {what}, surfaces lit by the spot ----
+// ---- the frame: fog by {what}, surfaces lit by the light ----
+{pyramid}
 struct ScOut {{
     @location(0) color: vec4<f32>,
     @location(1) fog: vec4<f32>,
@@ -96,47 +172,46 @@ fn fs(@builtin(position) pos: vec4<f32>) -> ScOut {{
     let p = SC_CAMERA + end * dir;
     let n = sc_normal(id, p);
     let v_surf = sc_shadow(p + {offset:?} * n);
-    var acc = {p}shafts_begin();
-{first}    for (var i = 0u; i < {n}u; i++) {{
-        let s = (f32(i) + 0.5) * end / {nf:?};
-        {body}
-    }}
-{last}    let fog = {fin};
+{fog_body}    let fog = {colour}{p}shafts_finish{sfx}(acc, end, {args});
     let tl = SC_LIGHT - p;
     let dl = length(tl);
     let l = tl / dl;
-    let e = SC_INTENSITY * sc_cone(-tl) * max(dot(n, l), 0.0) / (dl * dl) * exp(-SC_SIGMA_T * dl) * v_surf;
+    let e = SC_INTENSITY * SC_COLOUR * sc_cone(-tl) * max(dot(n, l), 0.0) / (dl * dl) * exp(-SC_SIGMA_T * dl) * v_surf;
     var albedo = SC_ALBEDO;
     let a = albedo[id];
     let surf = (a * (e / {pi:?}) + SC_AMBIENT * a) * exp(-SC_SIGMA_T * end);
     return ScOut(vec4<f32>(fog + surf, hit.y), vec4<f32>(fog, end));
 }}
 ",
-        scene = scene_wgsl(view),
-        what = if ends { "the shafts accumulator" } else { "the march" },
+        scene = scene_wgsl(stage, view),
+        what = match method {
+            Method::Exact => "the exact shadow-map walk",
+            Method::Sampled(_) => "the sampled shafts accumulator",
+            Method::March(_) => "the march",
+        },
         offset = NORMAL_OFFSET,
-        nf = n as f32,
         pi = std::f32::consts::PI,
     )
 }
 
-/// The depth pass's shader: the occluders' triangles in the light's clip space.
-pub(crate) fn depth_wgsl(view: &ShaftsView) -> String {
+/// The depth pass's shader for face `face`: the occluders' triangles in the
+/// face's clip space.
+pub(crate) fn depth_wgsl(stage: &Stage, view: &ShaftsView, face: usize) -> String {
     format!(
         "{}
 @vertex
 fn vs(@location(0) p: vec3<f32>) -> @builtin(position) vec4<f32> {{
-    return sc_light_clip(p);
+    return sc_face_clip(p, {face}u);
 }}
 ",
-        scene_wgsl(view)
+        scene_wgsl(stage, view)
     )
 }
 
 /// The occluders' triangles (boxes: 12 each; the ball: a 48 × 24 UV sphere).
-pub fn mesh() -> Vec<[f32; 3]> {
+pub fn mesh(stage: &Stage) -> Vec<[f32; 3]> {
     let mut out = Vec::new();
-    for (mn, mx, _) in boxes() {
+    for (mn, mx, _) in &stage.boxes {
         let c = |i: usize| {
             [
                 if i & 1 == 0 { mn[0] } else { mx[0] },
@@ -148,7 +223,7 @@ pub fn mesh() -> Vec<[f32; 3]> {
             out.extend([c(q[0]), c(q[1]), c(q[2]), c(q[0]), c(q[2]), c(q[3])]);
         }
     }
-    let (cen, r, _) = BALL;
+    let (cen, r, _) = stage.ball;
     let (nu, nv) = (48, 24);
     let at = |i: usize, j: usize| {
         let (th, ph) = (std::f32::consts::TAU * i as f32 / nu as f32, std::f32::consts::PI * j as f32 / nv as f32);
@@ -175,51 +250,31 @@ pub struct Frame {
     pub fog: Vec<[f32; 4]>,
     /// GPU seconds of the full-screen pass.
     pub gpu_s: f64,
+    /// GPU seconds of building the min-max pyramid (the exact frame's extra
+    /// pass, once per shadow map; 0 for the others).
+    pub pyramid_s: f64,
+}
+
+/// The walk's sources a frame needs for [`Method::Exact`]: the WGSL walk and
+/// the WGSL pyramid pass (`generated/wgsl/shadowmap.wgsl`, `shadowmap_pyramid.wgsl`).
+#[derive(Debug, Clone, Copy)]
+pub struct WalkWgsl<'a> {
+    /// The walk.
+    pub walk: &'a str,
+    /// The pyramid pass.
+    pub pyramid: &'a str,
 }
 
 impl Gpu {
-    /// The shadow map of the scene: a depth pass from the light.
-    fn shadow_map(&self, view: &ShaftsView) -> Result<wgpu::TextureView, GpuError> {
+    /// The stage's shadow map: a depth pass from the light per face, into the
+    /// layers of one `Depth32Float` array.
+    fn shadow_map(&self, stage: &Stage, view: &ShaftsView) -> Result<wgpu::Texture, GpuError> {
         use wgpu::util::DeviceExt;
         let d = self.device();
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("shafts depth"),
-            source: wgpu::ShaderSource::Wgsl(depth_wgsl(view).into()),
-        });
+        let faces = stage.faces().len() as u32;
         let format = wgpu::TextureFormat::Depth32Float;
-        let attributes =
-            [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
-        let pipeline = d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shafts depth"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &attributes,
-                })],
-            },
-            fragment: None,
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 },
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(e.to_string()));
-        }
-        let vertices = mesh();
+        let res = stage.shadow_map;
+        let vertices = mesh(stage);
         let buffer = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("occluders"),
             contents: bytemuck::cast_slice(&vertices),
@@ -227,49 +282,104 @@ impl Gpu {
         });
         let texture = d.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow map"),
-            size: wgpu::Extent3d { width: SHADOW_MAP, height: SHADOW_MAP, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
-        let tview = texture.create_view(&Default::default());
+        let attributes =
+            [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
         let mut enc = d.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut keep = Vec::new();
+        for face in 0..faces {
+            let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
+            let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("shafts depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &tview,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
+                source: wgpu::ShaderSource::Wgsl(depth_wgsl(stage, view, face as usize).into()),
             });
-            pass.set_pipeline(&pipeline);
-            pass.set_vertex_buffer(0, buffer.slice(..));
-            pass.draw(0..vertices.len() as u32, 0..1);
+            let pipeline = d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("shafts depth"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: 12,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attributes,
+                    })],
+                },
+                fragment: None,
+                primitive: Default::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 },
+                }),
+                multisample: Default::default(),
+                multiview_mask: None,
+                cache: None,
+            });
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(GpuError::Shader(e.to_string()));
+            }
+            let layer = texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: face,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("shafts depth"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &layer,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_vertex_buffer(0, buffer.slice(..));
+                pass.draw(0..vertices.len() as u32, 0..1);
+            }
+            keep.push(pipeline);
         }
         self.queue().submit([enc.finish()]);
-        Ok(tview)
+        Ok(texture)
     }
 
-    /// Draws the scene with `method`'s fog: the kernel `kernel` (WGSL, index
+    /// Draws the stage with `method`'s fog: the kernel `kernel` (WGSL, index
     /// entry `k`); the full-screen pass timed `repeats` times after a warm-up.
+    /// The exact mode builds the pyramid of the frame's own shadow map with the
+    /// shipped pass (timed once) and walks it.
+    #[allow(clippy::too_many_arguments)]
     pub fn shafts_frame(
         &self,
+        stage: &Stage,
         k: &IndexEntry,
         kernel: &str,
+        walk: WalkWgsl,
         view: &ShaftsView,
         method: Method,
         repeats: usize,
     ) -> Result<Frame, GpuError> {
         let d = self.device();
-        let (pipeline, bind) = self.frame_pipeline(k, kernel, view, method)?;
+        let (pipeline, bind, pyramid_s) = self.frame_pipeline(stage, k, kernel, walk, view, method)?;
         let format = wgpu::TextureFormat::Rgba32Float;
         let (w, h) = (view.width, view.height);
         let make = |label| {
@@ -355,25 +465,42 @@ impl Gpu {
         } else {
             0.0
         };
-        Ok(Frame { method, color: self.read_rgba(&color, w, h)?, fog: self.read_rgba(&fog, w, h)?, gpu_s })
+        Ok(Frame { method, color: self.read_rgba(&color, w, h)?, fog: self.read_rgba(&fog, w, h)?, gpu_s, pyramid_s })
     }
 
     /// The frame's render pipeline (its shader: the scene, the kernel and the
-    /// method's walk) and its bind group (the light's shadow map, drawn first, and
-    /// its comparison sampler).
+    /// method's walk) and its bind group (the light's shadow map, drawn first,
+    /// its comparison sampler and, for the exact mode, the map's pyramid), and
+    /// the pyramid's GPU seconds.
     fn frame_pipeline(
         &self,
+        stage: &Stage,
         k: &IndexEntry,
         kernel: &str,
+        walk: WalkWgsl,
         view: &ShaftsView,
         method: Method,
-    ) -> Result<(wgpu::RenderPipeline, wgpu::BindGroup), GpuError> {
+    ) -> Result<(wgpu::RenderPipeline, wgpu::BindGroup, f64), GpuError> {
         let d = self.device();
-        let shadow = self.shadow_map(view)?;
+        let shadow = self.shadow_map(stage, view)?;
+        let pyramid = match method {
+            Method::Exact => Some(self.pyramid_of_depth(
+                walk.pyramid,
+                &shadow,
+                stage.shadow_map,
+                stage.faces().len() as u32,
+                stage.near_far,
+            )?),
+            _ => None,
+        };
+        let shadow_view = shadow.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shafts frame"),
-            source: wgpu::ShaderSource::Wgsl(frame_wgsl(k, kernel, view, method).into()),
+            source: wgpu::ShaderSource::Wgsl(frame_wgsl(stage, k, kernel, walk.walk, view, method).into()),
         });
         let format = wgpu::TextureFormat::Rgba32Float;
         let target = Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
@@ -405,18 +532,22 @@ impl Gpu {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow_view) },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
+        ];
+        if let Some((p, _)) = &pyramid {
+            entries.push(wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(p.view()) });
+        }
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow map"),
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
-            ],
+            entries: &entries,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(e.to_string()));
         }
-        Ok((pipeline, bind))
+        Ok((pipeline, bind, pyramid.map_or(0.0, |p| p.1)))
     }
 
     /// An Rgba32Float texture's texels, row by row.

@@ -1,9 +1,10 @@
 // The light-shafts scene's shader (shaders/src/shafts/render/scene.rs puts the scene's
-// constants, SC_*, before it): a room of boxes and a ball lit by a spot light with a
-// shadow map; the first surface along a view ray, its normal, the light's clip
-// position and shadow-map visibility, the cone's weight, the camera's rays.
+// constants, SC_*, before it): a room of boxes and a ball lit by a spot light (one
+// perspective shadow map) or a point light (a cube map: six 90-degree faces, one
+// layer each); the first surface along a view ray, its normal, the light's clip
+// position per face and shadow-map visibility, the cone's weight, the camera's rays.
 
-@group(0) @binding(0) var sc_shadow_map: texture_depth_2d;
+@group(0) @binding(0) var sc_shadow_map: texture_depth_2d_array;
 @group(0) @binding(1) var sc_shadow_cmp: sampler_comparison;
 
 fn sc_safe(d: vec3<f32>) -> vec3<f32> {
@@ -71,18 +72,38 @@ fn sc_normal(id: u32, p: vec3<f32>) -> vec3<f32> {
     return n;
 }
 
-// The light's clip position of p (perspective along the spot's axis; depth 0 … 1
-// from the near to the far plane).
-fn sc_light_clip(p: vec3<f32>) -> vec4<f32> {
-    let q = p - SC_LIGHT;
-    let d = dot(q, SC_L_F);
-    return vec4<f32>(SC_L_K * dot(q, SC_L_R), SC_L_K * dot(q, SC_L_U), SC_L_A * d - SC_L_B, d);
+// The face of the light's map that sees the offset q from the light (a spot: its
+// one face; a cube: the major axis, faces +X, -X, +Y, -Y, +Z, -Z).
+fn sc_face(q: vec3<f32>) -> u32 {
+    if SC_FACES == 1u {
+        return 0u;
+    }
+    let a = abs(q);
+    if a.x >= a.y && a.x >= a.z {
+        return select(1u, 0u, q.x > 0.0);
+    }
+    if a.y >= a.z {
+        return select(3u, 2u, q.y > 0.0);
+    }
+    return select(5u, 4u, q.z > 0.0);
 }
 
-// The light's visibility at p from the shadow map (2×2 PCF by the comparison
+// The clip position of p on face f: (X, -Y, depth, Z) for the face's rows
+// (X, Y, Z) = M (p - light), so that texel row 0 is Y/Z = -1 as the walk reads
+// it; depth 0 ... 1 from the near to the far plane.
+fn sc_face_clip(p: vec3<f32>, f: u32) -> vec4<f32> {
+    var rows = SC_FACE_ROWS;
+    let m = rows[f];
+    let q = p - SC_LIGHT;
+    let z = dot(m[2], q);
+    return vec4<f32>(dot(m[0], q), -dot(m[1], q), SC_L_A * z - SC_L_B, z);
+}
+
+// The light's visibility at p from the shadow map (2x2 PCF by the comparison
 // sampler); 1 outside the map (outside the cone too).
 fn sc_shadow(p: vec3<f32>) -> f32 {
-    let c = sc_light_clip(p);
+    let f = sc_face(p - SC_LIGHT);
+    let c = sc_face_clip(p, f);
     if c.w <= 0.0 {
         return 1.0;
     }
@@ -91,11 +112,15 @@ fn sc_shadow(p: vec3<f32>) -> f32 {
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || n.z > 1.0 {
         return 1.0;
     }
-    return textureSampleCompareLevel(sc_shadow_map, sc_shadow_cmp, uv, n.z);
+    return textureSampleCompareLevel(sc_shadow_map, sc_shadow_cmp, uv, i32(f), n.z);
 }
 
-// The smooth cone's weight (linear in the cosine between the two cut-offs).
+// The smooth cone's weight (linear in the cosine between the two cut-offs); 1 for
+// a point light.
 fn sc_cone(to_point: vec3<f32>) -> f32 {
+    if !SC_SPOT {
+        return 1.0;
+    }
     let c = dot(normalize(to_point), SC_AXIS);
     return clamp((c - SC_COS_OUTER) / (SC_COS_INNER - SC_COS_OUTER), 0.0, 1.0);
 }
