@@ -129,7 +129,10 @@ fn render_shafts(
         )));
     }
     if stage.g < k.g[0] as f32 || stage.g > k.g[1] as f32 {
-        return Err(bad_input(format!("{}: the stage's g = {} is outside the kernel's {:?}", scene.file, stage.g, k.g)));
+        return Err(bad_input(format!(
+            "{}: the stage's g = {} is outside the kernel's {:?}",
+            scene.file, stage.g, k.g
+        )));
     }
     let march = index.get(sr::march_kernel()).map_err(bad_input)?;
     let march_path = generated.join(march.wgsl.as_deref().unwrap_or_default());
@@ -152,7 +155,11 @@ fn render_shafts(
     );
     for n in sr::SAMPLED {
         let f = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Sampled(n), sr::REPEATS).map_err(fail)?;
-        println!("sampled accumulator, {n} look-ups, {} bisection steps per change: {:.1} ms GPU", sr::REFINE_STEPS, f.gpu_s * 1e3);
+        println!(
+            "sampled accumulator, {n} look-ups, {} bisection steps per change: {:.1} ms GPU",
+            sr::REFINE_STEPS,
+            f.gpu_s * 1e3
+        );
         frames.push(f);
     }
     let mut marches = Vec::new();

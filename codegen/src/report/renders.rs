@@ -65,7 +65,8 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
             let x = |t: &toml::Table, k: &str| t.get(k).and_then(|v| v.as_float()).unwrap_or(f64::NAN);
             let method = |t: &toml::Table| t.get("method").and_then(|v| v.as_str()).unwrap_or("—").to_string();
             let steps = |t: &toml::Table| t.get("steps").and_then(|v| v.as_integer()).unwrap_or(0);
-            let find = |m: &str, n: i64| frames.iter().copied().find(|f| method(f) == m && (m == "exact" || steps(f) == n));
+            let find =
+                |m: &str, n: i64| frames.iter().copied().find(|f| method(f) == m && (m == "exact" || steps(f) == n));
             let rows = frames
                 .iter()
                 .map(|f| {
@@ -113,10 +114,16 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                     ));
                 }
             }
-            verdict.push(format!("leak pixels: {}", exact.get("leak_pixels").and_then(|v| v.as_integer()).unwrap_or(-1)));
+            verdict
+                .push(format!("leak pixels: {}", exact.get("leak_pixels").and_then(|v| v.as_integer()).unwrap_or(-1)));
             let mut losses = Vec::new();
             if let Some(m) = find("march", i("march_shown")) {
-                for (k, what) in [("lit_max", "lit max"), ("lit_mean", "lit mean"), ("edge_max", "edge max"), ("edge_mean", "edge mean")] {
+                for (k, what) in [
+                    ("lit_max", "lit max"),
+                    ("lit_mean", "lit mean"),
+                    ("edge_max", "edge max"),
+                    ("edge_mean", "edge mean"),
+                ] {
                     if x(exact, k) > x(m, k) {
                         losses.push(format!("{what} ({} against {})", fmt_err(x(exact, k)), fmt_err(x(m, k))));
                     }

@@ -180,12 +180,21 @@ impl Gpu {
         );
         let timed = d.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let queries = timed.then(|| {
-            d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pyramid"), ty: wgpu::QueryType::Timestamp, count: 2 })
+            d.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pyramid"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            })
         });
         let (p, _) = self.pyramid_levels(pass, &mut enc, &source, res, faces, Some(near_far), queries.as_ref())?;
         let staging = queries.as_ref().map(|q| {
             let buffer = |usage| {
-                d.create_buffer(&wgpu::BufferDescriptor { label: Some("pyramid stamps"), size: 16, usage, mapped_at_creation: false })
+                d.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("pyramid stamps"),
+                    size: 16,
+                    usage,
+                    mapped_at_creation: false,
+                })
             };
             let resolve = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
             let staging = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);

@@ -354,7 +354,11 @@ fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occlude
     };
     let len = w2.sqrt();
     let u = w.map(|x| x / len);
-    let hit = occluders.iter().filter(|o| !misses(o)).filter_map(|o| o.boundary_ahead(light, u)).fold(f64::INFINITY, f64::min);
+    let hit = occluders
+        .iter()
+        .filter(|o| !misses(o))
+        .filter_map(|o| o.boundary_ahead(light, u))
+        .fold(f64::INFINITY, f64::min);
     if hit.is_finite() {
         // Z = s/|w| (w has Z = 1), rounded to the map's f32.
         (hit / len) as f32

@@ -322,7 +322,12 @@ impl Gpu {
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Less),
                     stencil: Default::default(),
-                    bias: wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 },
+                    // A constant bias and no slope term: the map stays the one the
+                    // reference casts (a slope-scaled bias of 2 put every occluder
+                    // texel of window-shafts' map more than 0.2% deeper: the test
+                    // `the_depth_passes_draw_the_map_the_reference_casts`); surfaces
+                    // look it up at a normal offset instead, the walk adds its bias.
+                    bias: wgpu::DepthBiasState { constant: 2, slope_scale: 0.0, clamp: 0.0 },
                 }),
                 multisample: Default::default(),
                 multiview_mask: None,
@@ -361,6 +366,21 @@ impl Gpu {
         }
         self.queue().submit([enc.finish()]);
         Ok(texture)
+    }
+
+    /// The stage's shadow map as the exact frame walks it: the depth passes, then
+    /// the pyramid built by the shipped pass from them, read back
+    /// (`[face][level]` row-major `[min, max]` nodes; level 0 the linear depths).
+    pub fn stage_pyramid(
+        &self,
+        stage: &Stage,
+        view: &ShaftsView,
+        pass: &str,
+    ) -> Result<Vec<Vec<Vec<[f32; 2]>>>, GpuError> {
+        let shadow = self.shadow_map(stage, view)?;
+        let (p, _) =
+            self.pyramid_of_depth(pass, &shadow, stage.shadow_map, stage.faces().len() as u32, stage.near_far)?;
+        self.read_pyramid(&p)
     }
 
     /// Draws the stage with `method`'s fog: the kernel `kernel` (WGSL, index

@@ -74,7 +74,7 @@ pub(crate) const LIGHT_NEAR: f32 = 0.3;
 pub(crate) const LIGHT_FAR: f32 = 30.0;
 
 /// The exact frame's depth-test bias, metres of the light's face Z (the map's
-/// own slope-scaled raster bias comes on top): thinner than any occluder, so no
+/// constant raster bias comes on top): thinner than any occluder, so no
 /// ray behind an occluder's front face counts as lit.
 pub const WALK_BIAS: f32 = 0.01;
 
@@ -300,8 +300,7 @@ impl Stage {
     /// light is inside it).
     pub fn occluders(&self) -> Vec<Occluder> {
         let f = |v: [f32; 3]| v.map(f64::from);
-        let mut out: Vec<Occluder> =
-            self.boxes.iter().map(|b| Occluder::Cuboid { min: f(b.0), max: f(b.1) }).collect();
+        let mut out: Vec<Occluder> = self.boxes.iter().map(|b| Occluder::Cuboid { min: f(b.0), max: f(b.1) }).collect();
         out.push(Occluder::Sphere { center: f(self.ball.0), radius: f64::from(self.ball.1) });
         out
     }
@@ -342,10 +341,9 @@ impl Stage {
                 // The raster's row 0 is the top (up); the walk's is Y/Z = -1: up flipped.
                 vec![[r.map(|x| k * x), u.map(|x| -k * x), f]]
             }
-            None => airlight_truth::shafts::CUBE_FACES
-                .iter()
-                .map(|face| face.map(|row| row.map(|x| x as f32)))
-                .collect(),
+            None => {
+                airlight_truth::shafts::CUBE_FACES.iter().map(|face| face.map(|row| row.map(|x| x as f32))).collect()
+            }
         }
     }
 }
