@@ -61,7 +61,8 @@ pub fn leak_pixels(frame: &Frame, fog: &[[f64; 3]]) -> usize {
         .zip(fog)
         .filter(|(g, r)| {
             let g = lum([0, 1, 2].map(|c| f64::from(g[c])));
-            !(g <= LEAK_FACTOR * lum(**r) + LEAK_FLOOR * p99)
+            // A NaN counts as a leak.
+            g.is_nan() || g > LEAK_FACTOR * lum(**r) + LEAK_FLOOR * p99
         })
         .count()
 }
