@@ -68,7 +68,7 @@ struct MapCase {
 /// in scale) with a ball between viewer and light cast into a 32² cube map at
 /// the light; and the occluder extremes at a metre's scale — the light on a
 /// ball's surface and inside it, the viewer inside it, the ray ending on its
-/// surface, and a comb of 150 bars (100+ runs).
+/// surface, and a comb of 150 plates (100+ runs).
 fn map_extremes(entry: &airlight_shapes::vocab::IndexEntry) -> Vec<MapCase> {
     use airlight_truth::shafts::ShadowMap;
     let mut out = Vec::new();
@@ -105,7 +105,16 @@ fn map_extremes(entry: &airlight_shapes::vocab::IndexEntry) -> Vec<MapCase> {
         let r = airlight_shaders::Ray { dir, ..base };
         add("light on the ball's surface", r, ball([light[0], light[1], light[2] + 0.5], 0.5), false);
         add("light on the ball's surface, below", r, ball([light[0], light[1] - 0.5, light[2]], 0.5), false);
-        add("light inside the ball", r, ball([light[0] + 0.1, light[1], light[2]], 0.5), true);
+        // A sealed light: the ray ends 1% before it would meet the ball, so all
+        // of it is outside (on the ball's surface itself the nearest-texel test
+        // lights a sliver a texel's curvature deep: the inside is lit).
+        let sealed = ball([light[0] + 0.1, light[1], light[2]], 0.5);
+        let unit = {
+            let n = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+            f(dir).map(|x| x / f64::from(n))
+        };
+        let end = sealed[0].enters(f(r.origin), unit).map_or(-1.0, |t| (0.99 * t) as f32);
+        add("light inside the ball", airlight_shaders::Ray { surface: end, ..r }, sealed, true);
         add("viewer inside the ball", r, ball([0.0, 0.1, -4.0], 1.0), false);
         let occ = ball([0.0, 0.2, 0.0], 0.6);
         let o = f(r.origin);
@@ -113,14 +122,19 @@ fn map_extremes(entry: &airlight_shapes::vocab::IndexEntry) -> Vec<MapCase> {
         if let Some(t) = occ[0].enters(o, f(dir).map(|x| x / f64::from(n))) {
             add("ray ending on the ball's surface", airlight_shaders::Ray { surface: t as f32, ..r }, occ, false);
         }
-        let comb: Vec<Occluder> = (0..150)
-            .map(|i| {
-                let z = -3.5 + 0.035 * i as f64;
-                Occluder::Cuboid { min: [-3.0, -3.0, z], max: [3.0, 0.3, z + 0.012] }
-            })
-            .collect();
-        add("a comb of 150 bars", airlight_shaders::Ray { light: [0.0, 2.5, -0.9], ..r }, comb, false);
     }
+    // A comb of 150 plates 1.2 cm thick with 2.3 cm gaps, the ray 2 cm below
+    // their tops and the light 2.5 m above: lit in nearly every gap, on a 512²
+    // cube map (1 cm texels at the plates).
+    let comb: Vec<Occluder> = (0..150)
+        .map(|i| {
+            let z = -3.5 + 0.035 * i as f64;
+            Occluder::Cuboid { min: [-3.0, -3.0, z], max: [3.0, 0.02, z + 0.012] }
+        })
+        .collect();
+    let ray = airlight_shaders::Ray { light: [0.0, 2.5, -0.9], ..base };
+    let map = ShadowMap::cube(f(ray.light), 512, &comb, 0.0).unwrap();
+    out.push(MapCase { what: "a comb of 150 plates".into(), ray, map, sealed: false });
     out
 }
 
@@ -162,7 +176,7 @@ fn extreme_rays_through_the_shadow_map_walk() {
         let src = airlight_shaders::KernelSource::of(entry, airlight_shapes::vocab::Target::Wgsl, &text)
             .with_table(table.as_ref());
         // Maps of one size share an array (at most 40 maps, 240 layers, a dispatch).
-        for res in [32, 64] {
+        for res in [32, 64, 512] {
             let same: Vec<&MapCase> = cases.iter().filter(|c| c.map.res == res).collect();
             for batch in same.chunks(40) {
                 let maps: Vec<_> = batch.iter().map(|c| &c.map).collect();
