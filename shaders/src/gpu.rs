@@ -178,30 +178,12 @@ impl Gpu {
         repeats: usize,
         pyramid: Option<&wgpu::TextureView>,
     ) -> Result<Option<f64>, GpuError> {
-        if !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || n == 0 {
+        let Some(stamps) = Stamps::new(self).filter(|_| n > 0) else {
             return Ok(None);
-        }
+        };
         let (gx, gy) = workgroups(n)?;
         let run = self.prepare(k.shader(source), k.prefix, data, n * outputs, k.table, pyramid)?;
         let d = &self.device;
-        let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("bench"),
-            ty: wgpu::QueryType::Timestamp,
-            count: 2,
-        });
-        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
-            size: 16,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let staging = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps staging"),
-            size: 16,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let period = f64::from(self.queue.get_timestamp_period());
         let mut times = Vec::with_capacity(repeats + 1);
         // One warm-up dispatch, then the timed ones.
         for _ in 0..=repeats {
@@ -209,21 +191,15 @@ impl Gpu {
             {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: None,
-                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
-                        query_set: &queries,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }),
+                    timestamp_writes: Some(stamps.compute(true, true)),
                 });
                 pass.set_pipeline(&run.pipeline);
                 pass.set_bind_group(0, &run.bind, &[]);
                 pass.dispatch_workgroups(gx, gy, 1);
             }
-            enc.resolve_query_set(&queries, 0..2, &resolve, 0);
-            enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, 16);
+            stamps.resolve(&mut enc);
             self.queue.submit([enc.finish()]);
-            let t: Vec<u64> = bytemuck::cast_slice(&self.read_back(&staging)?).to_vec();
-            times.push(t[1].saturating_sub(t[0]) as f64 * period * 1e-9);
+            times.push(stamps.seconds(self)?);
         }
         let mut timed = times.split_off(1);
         timed.sort_by(f64::total_cmp);
@@ -472,4 +448,67 @@ pub(crate) fn workgroups(n: usize) -> Result<(u32, u32), GpuError> {
 
 pub(crate) fn pack_points(points: &[[f64; 4]]) -> Vec<f32> {
     points.iter().flat_map(|p| [p[0] as f32, p[1] as f32, rho_arg(p[2]), p[3] as f32]).collect()
+}
+
+/// A pair of timestamp queries (0 at a pass's start, 1 at a pass's end), the
+/// buffers they are resolved into and read back from: the elapsed GPU time
+/// between them.
+pub(crate) struct Stamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+    period: f64,
+}
+
+impl Stamps {
+    /// `None` where the adapter has no timestamps.
+    pub(crate) fn new(gpu: &Gpu) -> Option<Stamps> {
+        let d = gpu.device();
+        if !d.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        let buffer = |label, usage| {
+            d.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: 16, usage, mapped_at_creation: false })
+        };
+        Some(Stamps {
+            queries: d.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: buffer("timestamps", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            staging: buffer("timestamps staging", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+            period: f64::from(gpu.queue().get_timestamp_period()),
+        })
+    }
+
+    /// A compute pass's writes: the start stamp if `start`, the end stamp if `end`.
+    pub(crate) fn compute(&self, start: bool, end: bool) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: start.then_some(0),
+            end_of_pass_write_index: end.then_some(1),
+        }
+    }
+
+    /// A render pass's writes: both stamps.
+    pub(crate) fn render(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    /// Records the resolve of both stamps into the staging buffer (after the passes).
+    pub(crate) fn resolve(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.resolve_query_set(&self.queries, 0..2, &self.resolve, 0);
+        enc.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, 16);
+    }
+
+    /// Seconds between the stamps (after the encoder with [`Stamps::resolve`] was submitted).
+    pub(crate) fn seconds(&self, gpu: &Gpu) -> Result<f64, GpuError> {
+        let t: Vec<u64> = bytemuck::cast_slice(&gpu.read_back(&self.staging)?).to_vec();
+        Ok(t[1].saturating_sub(t[0]) as f64 * self.period * 1e-9)
+    }
 }

@@ -5,7 +5,7 @@
 //! ([`Gpu::mapped`], [`Gpu::spot_mapped`]), with the walk's step count per ray.
 
 use crate::error::GpuError;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, Stamps};
 use crate::wrap::{arg_expr, shader_only, KernelSource, WORKGROUP};
 use crate::{Arg, Entry, Ray, SpotRay, Target};
 
@@ -133,7 +133,7 @@ impl Gpu {
             size,
         );
         let mut enc = self.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
-        let (p, _) = self.pyramid_levels(pass, &mut enc, &source, res, faces, None, None)?;
+        let p = self.pyramid_levels(pass, &mut enc, &source, res, faces, None, None)?;
         self.queue().submit([enc.finish()]);
         Ok(p)
     }
@@ -178,36 +178,16 @@ impl Gpu {
             source.as_image_copy(),
             size,
         );
-        let timed = d.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let queries = timed.then(|| {
-            d.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pyramid"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            })
-        });
-        let (p, _) = self.pyramid_levels(pass, &mut enc, &source, res, faces, Some(near_far), queries.as_ref())?;
-        let staging = queries.as_ref().map(|q| {
-            let buffer = |usage| {
-                d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("pyramid stamps"),
-                    size: 16,
-                    usage,
-                    mapped_at_creation: false,
-                })
-            };
-            let resolve = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
-            let staging = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-            enc.resolve_query_set(q, 0..2, &resolve, 0);
-            enc.copy_buffer_to_buffer(&resolve, 0, &staging, 0, 16);
-            staging
-        });
-        self.queue().submit([enc.finish()]);
-        let mut gpu_s = 0.0;
-        if let Some(b) = staging {
-            let t: Vec<u64> = bytemuck::cast_slice(&self.read_back(&b)?).to_vec();
-            gpu_s = t[1].saturating_sub(t[0]) as f64 * f64::from(self.queue().get_timestamp_period()) * 1e-9;
+        let stamps = Stamps::new(self);
+        let p = self.pyramid_levels(pass, &mut enc, &source, res, faces, Some(near_far), stamps.as_ref())?;
+        if let Some(st) = &stamps {
+            st.resolve(&mut enc);
         }
+        self.queue().submit([enc.finish()]);
+        let gpu_s = match &stamps {
+            Some(st) => st.seconds(self)?,
+            None => 0.0,
+        };
         Ok((p, gpu_s))
     }
 
@@ -227,8 +207,8 @@ impl Gpu {
 
     /// Records the pyramid's passes into `enc`: the base level from `source`
     /// (linear Z, or made linear for `near_far`), then each level from the one
-    /// below; timestamps into `stamps` (0 at the first pass's start, 1 at the
-    /// last one's end) when given.
+    /// below; `stamps` (when given) at the first pass's start and the last one's
+    /// end. The bind groups live on in the encoder until it is submitted.
     #[allow(clippy::too_many_arguments)]
     fn pyramid_levels(
         &self,
@@ -238,8 +218,8 @@ impl Gpu {
         res: u32,
         faces: u32,
         near_far: Option<[f32; 2]>,
-        stamps: Option<&wgpu::QuerySet>,
-    ) -> Result<(PyramidTexture, Vec<wgpu::BindGroup>), GpuError> {
+        stamps: Option<&Stamps>,
+    ) -> Result<PyramidTexture, GpuError> {
         let d = self.device();
         let levels = res.max(1).trailing_zeros() + 1;
         let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
@@ -279,7 +259,6 @@ impl Gpu {
                 ..Default::default()
             })
         };
-        let mut keep = Vec::new();
         for level in 0..levels {
             let n = res >> level;
             let [near, far] = near_far.unwrap_or([0.0, 0.0]);
@@ -305,19 +284,13 @@ impl Gpu {
                 ],
             });
             {
-                let timestamp_writes = stamps.map(|q| wgpu::ComputePassTimestampWrites {
-                    query_set: q,
-                    beginning_of_pass_write_index: (level == 0).then_some(0),
-                    end_of_pass_write_index: (level + 1 == levels).then_some(1),
-                });
-                let timestamp_writes = timestamp_writes
-                    .filter(|t| t.beginning_of_pass_write_index.is_some() || t.end_of_pass_write_index.is_some());
+                let (first, last) = (level == 0, level + 1 == levels);
+                let timestamp_writes = stamps.filter(|_| first || last).map(|st| st.compute(first, last));
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, &bind, &[]);
                 pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), faces);
             }
-            keep.push(bind);
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(format!("shadowmap_pyramid.wgsl: {e}")));
@@ -326,7 +299,7 @@ impl Gpu {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        Ok((PyramidTexture { texture, view, res, faces, levels }, keep))
+        Ok(PyramidTexture { texture, view, res, faces, levels })
     }
 
     /// Reads a pyramid back: `[face][level]` row-major `[min, max]` nodes.

@@ -3,6 +3,7 @@
 //! timed by timestamp queries.
 
 use super::*;
+use crate::gpu::Stamps;
 use crate::{Gpu, GpuError};
 
 use airlight_shapes::vocab::{Arg, IndexEntry};
@@ -416,27 +417,7 @@ impl Gpu {
         };
         let (color, fog) = (make("color"), make("fog"));
         let (cv, fv) = (color.create_view(&Default::default()), fog.create_view(&Default::default()));
-        let timed = d.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let queries = timed.then(|| {
-            d.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("frame"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            })
-        });
-        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
-            size: 16,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let stamps = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps staging"),
-            size: 16,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let period = f64::from(self.queue().get_timestamp_period());
+        let stamps = Stamps::new(self);
         let mut times = Vec::new();
         for _ in 0..=repeats.max(1) {
             let mut enc = d.create_command_encoder(&Default::default());
@@ -456,11 +437,7 @@ impl Gpu {
                     label: Some("shafts frame"),
                     color_attachments: &[attach(&cv), attach(&fv)],
                     depth_stencil_attachment: None,
-                    timestamp_writes: queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
-                        query_set: q,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }),
+                    timestamp_writes: stamps.as_ref().map(Stamps::render),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
@@ -468,14 +445,12 @@ impl Gpu {
                 pass.set_bind_group(0, &bind, &[]);
                 pass.draw(0..3, 0..1);
             }
-            if let Some(q) = &queries {
-                enc.resolve_query_set(q, 0..2, &resolve, 0);
-                enc.copy_buffer_to_buffer(&resolve, 0, &stamps, 0, 16);
+            if let Some(st) = &stamps {
+                st.resolve(&mut enc);
             }
             self.queue().submit([enc.finish()]);
-            if timed {
-                let t: Vec<u64> = bytemuck::cast_slice(&self.read_back(&stamps)?).to_vec();
-                times.push(t[1].saturating_sub(t[0]) as f64 * period * 1e-9);
+            if let Some(st) = &stamps {
+                times.push(st.seconds(self)?);
             }
         }
         let gpu_s = if times.len() > 1 {
