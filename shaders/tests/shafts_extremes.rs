@@ -103,23 +103,21 @@ fn map_extremes(entry: &airlight_shapes::vocab::IndexEntry) -> Vec<MapCase> {
     };
     for dir in [[0.0, 0.0, 1.0], [0.3, 0.1, 1.0], [0.0, 0.125, 1.0], [-0.2, 0.0, -1.0]] {
         let r = airlight_shaders::Ray { dir, ..base };
+        let (o, unit) = (f(r.origin), {
+            let n = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+            f(dir).map(|x| x / f64::from(n))
+        });
         add("light on the ball's surface", r, ball([light[0], light[1], light[2] + 0.5], 0.5), false);
         add("light on the ball's surface, below", r, ball([light[0], light[1] - 0.5, light[2]], 0.5), false);
         // A sealed light: the ray ends 1% before it would meet the ball, so all
         // of it is outside (on the ball's surface itself the nearest-texel test
         // lights a sliver a texel's curvature deep: the inside is lit).
         let sealed = ball([light[0] + 0.1, light[1], light[2]], 0.5);
-        let unit = {
-            let n = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-            f(dir).map(|x| x / f64::from(n))
-        };
-        let end = sealed[0].enters(f(r.origin), unit).map_or(-1.0, |t| (0.99 * t) as f32);
+        let end = sealed[0].enters(o, unit).map_or(-1.0, |t| (0.99 * t) as f32);
         add("light inside the ball", airlight_shaders::Ray { surface: end, ..r }, sealed, true);
         add("viewer inside the ball", r, ball([0.0, 0.1, -4.0], 1.0), false);
         let occ = ball([0.0, 0.2, 0.0], 0.6);
-        let o = f(r.origin);
-        let n = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-        if let Some(t) = occ[0].enters(o, f(dir).map(|x| x / f64::from(n))) {
+        if let Some(t) = occ[0].enters(o, unit) {
             add("ray ending on the ball's surface", airlight_shaders::Ray { surface: t as f32, ..r }, occ, false);
         }
     }

@@ -10,6 +10,7 @@ mod common;
 
 use airlight_shaders::gate;
 use airlight_shaders::shafts::render::{self as sr, Method};
+use airlight_truth::shafts::ShadowMap;
 
 #[test]
 fn the_shafts_renders_run_and_the_exact_walk_beats_the_march() {
@@ -56,9 +57,9 @@ fn the_shafts_renders_run_and_the_exact_walk_beats_the_march() {
 /// The depth passes draw the map the reference casts: for each stage (the spot's
 /// one face, the point light's six cube faces, at 256² here), the linear depth
 /// the shipped pyramid pass makes of the rasterised map agrees with the f64
-/// cast of each texel's centre ray against the analytic occluders (their first
-/// boundary ahead of the light) to 0.2%, on all but a few texels on the
-/// occluders' silhouettes (the ball's facets, the raster's edge rule). A face
+/// reference's map of the same faces (`ShadowMap::from_rows`: each texel's centre
+/// ray cast against the analytic occluders) to 0.2%, on all but a few texels on
+/// the occluders' silhouettes (the ball's facets, the raster's edge rule). A face
 /// drawn upside down, or with another face's rows, fails on thousands.
 #[test]
 fn the_depth_passes_draw_the_map_the_reference_casts() {
@@ -71,37 +72,27 @@ fn the_depth_passes_draw_the_map_the_reference_casts() {
         stage.shadow_map = 256;
         let view = sr::ShaftsView { width: 64, height: 36 };
         let pyramid = gpu.stage_pyramid(&stage, &view, texts.sources().pyramid).unwrap();
+        let rows: Vec<_> = stage.faces().iter().map(|f| f.map(|r| r.map(f64::from))).collect();
         let res = stage.shadow_map as usize;
-        let occ = stage.occluders();
-        let light = stage.light.map(f64::from);
+        let map = ShadowMap::from_rows(stage.light.map(f64::from), &rows, res, &stage.occluders(), 0.0).unwrap();
         let (mut n, mut off, mut hits) = (0usize, 0usize, 0usize);
-        for (f, rows) in stage.faces().iter().enumerate() {
-            let rows = rows.map(|r| r.map(f64::from));
-            let s2 = |r: [f64; 3]| 1.0 / (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        for (f, levels) in pyramid.iter().enumerate() {
             for j in 0..res {
                 for i in 0..res {
-                    let xc = 2.0 * (i as f64 + 0.5) / res as f64 - 1.0;
-                    let yc = 2.0 * (j as f64 + 0.5) / res as f64 - 1.0;
-                    let w: [f64; 3] = std::array::from_fn(|k| {
-                        rows[2][k] + xc * rows[0][k] * s2(rows[0]) + yc * rows[1][k] * s2(rows[1])
-                    });
-                    let len = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-                    let u = w.map(|x| x / len);
-                    let hit = occ.iter().filter_map(|o| o.boundary_ahead(light, u)).fold(f64::INFINITY, f64::min);
-                    let want = if hit.is_finite() { hit / len } else { f64::INFINITY };
-                    let got = f64::from(pyramid[f][0][j * res + i][0]);
-                    let got = if got > 1e38 { f64::INFINITY } else { got };
+                    let finite = |x: f32| (x < 1e38).then_some(f64::from(x));
+                    let want = finite(map.texel(f, i, j));
+                    let got = finite(levels[0][j * res + i][0]);
                     n += 1;
-                    hits += usize::from(want.is_finite());
-                    off += usize::from(if want.is_finite() && got.is_finite() {
-                        (got - want).abs() > 2e-3 * want
-                    } else {
-                        want.is_finite() != got.is_finite()
+                    hits += usize::from(want.is_some());
+                    off += usize::from(match (want, got) {
+                        (Some(w), Some(g)) => (g - w).abs() > 2e-3 * w,
+                        (w, g) => w.is_some() != g.is_some(),
                     });
                 }
             }
         }
         eprintln!("{}: {off} of {n} texels ({hits} on an occluder) differ", stage.name);
+        assert_eq!(pyramid.len(), rows.len(), "{}: a layer per face", stage.name);
         assert!(hits * 20 > n, "{}: the occluders cover the map ({hits} of {n})", stage.name);
         assert!(off * 500 < hits, "{}: {off} of {n} texels differ from the cast", stage.name);
     }

@@ -69,19 +69,8 @@ impl Occluder {
                 (near > 0.0).then_some(near)
             }
             Occluder::Cuboid { min, max } => {
-                let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
-                for a in 0..3 {
-                    if d[a] == 0.0 {
-                        if o[a] <= min[a] || o[a] >= max[a] {
-                            return None;
-                        }
-                    } else {
-                        let (t1, t2) = ((min[a] - o[a]) / d[a], (max[a] - o[a]) / d[a]);
-                        lo = lo.max(t1.min(t2));
-                        hi = hi.min(t1.max(t2));
-                    }
-                }
-                (lo < hi && lo > 0.0).then_some(lo)
+                let (lo, _) = box_crossings(min, max, o, d, false)?;
+                (lo > 0.0).then_some(lo)
             }
         }
     }
@@ -104,23 +93,8 @@ impl Occluder {
                 first(near, far)
             }
             Occluder::Cuboid { min, max } => {
-                let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-                for a in 0..3 {
-                    if d[a] == 0.0 {
-                        if o[a] < min[a] || o[a] > max[a] {
-                            return None;
-                        }
-                    } else {
-                        let (t1, t2) = ((min[a] - o[a]) / d[a], (max[a] - o[a]) / d[a]);
-                        lo = lo.max(t1.min(t2));
-                        hi = hi.min(t1.max(t2));
-                    }
-                }
-                if lo < hi {
-                    first(lo, hi)
-                } else {
-                    None
-                }
+                let (lo, hi) = box_crossings(min, max, o, d, true)?;
+                first(lo, hi)
             }
         }
     }
@@ -206,6 +180,26 @@ pub(crate) fn cross_accurate(a: Vec3, b: Vec3) -> Vec3 {
         diff_of_products(a[2], b[0], a[0], b[2]),
         diff_of_products(a[0], b[1], a[1], b[0]),
     ]
+}
+
+/// Where the line `o + s d` meets the box, `(near, far)` (slab by slab; `near`
+/// may be behind `o`). A line parallel to a pair of faces and lying in one of
+/// their planes meets the box if `touching`, and misses it otherwise.
+fn box_crossings(min: Vec3, max: Vec3, o: Vec3, d: Vec3, touching: bool) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    for a in 0..3 {
+        if d[a] == 0.0 {
+            let outside = if touching { o[a] < min[a] || o[a] > max[a] } else { o[a] <= min[a] || o[a] >= max[a] };
+            if outside {
+                return None;
+            }
+        } else {
+            let (t1, t2) = ((min[a] - o[a]) / d[a], (max[a] - o[a]) / d[a]);
+            lo = lo.max(t1.min(t2));
+            hi = hi.min(t1.max(t2));
+        }
+    }
+    (lo < hi).then_some((lo, hi))
 }
 
 /// Where the line `o + s d` (`d` a unit vector) meets the ball, `(near, far)`.

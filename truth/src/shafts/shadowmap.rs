@@ -112,6 +112,24 @@ impl ShadowMap {
         ShadowMap::cast(light, faces, res, occluders, bias)
     }
 
+    /// A map whose faces have the given rows of `M` (`right/tan_half`,
+    /// `up/tan_half`, `forward`): a renderer's own orientation of its faces, so
+    /// that its rasterised map can be held texel by texel against this one. Six
+    /// faces make a cube map ([`ShadowMap::is_cube`]: give them in
+    /// [`CUBE_FACES`]' order).
+    pub fn from_rows(
+        light: Vec3,
+        rows: &[[Vec3; 3]],
+        res: usize,
+        occluders: &[Occluder],
+        bias: f64,
+    ) -> Result<ShadowMap, MapError> {
+        if rows.len() != 1 && rows.len() != 6 {
+            return Err(MapError(format!("shadow map: {} faces; give one (a spot) or six (a cube)", rows.len())));
+        }
+        ShadowMap::cast(light, rows.iter().map(|&rows| Face { rows }).collect(), res, occluders, bias)
+    }
+
     /// A spot light's map: one face along `axis` with half-angle `atan(tan_half)`.
     pub fn spot(
         light: Vec3,

@@ -113,15 +113,6 @@ pub(crate) const ROOM_ALBEDO: [[f32; 3]; 6] = [
     [0.31, 0.30, 0.29],
 ];
 
-/// The occluders in f64 for the reference (the room itself shadows nothing: the
-/// light is inside it).
-pub fn occluders() -> Vec<Occluder> {
-    let f = |v: [f32; 3]| v.map(f64::from);
-    let mut out: Vec<Occluder> = boxes().iter().map(|b| Occluder::Cuboid { min: f(b.0), max: f(b.1) }).collect();
-    out.push(Occluder::Sphere { center: f(BALL.0), radius: f64::from(BALL.1) });
-    out
-}
-
 /// The medium per channel: (σt, σs).
 pub fn medium() -> ([f32; 3], [f32; 3]) {
     let e = crate::render::RGB_EXTINCTION;
@@ -151,9 +142,14 @@ pub fn axis() -> [f32; 3] {
     unit(sub(AIM, LIGHT))
 }
 
-/// The camera's forward, right and up unit vectors.
+/// `window-shafts`' camera: forward, right and up unit vectors.
 pub fn camera_basis() -> [[f32; 3]; 3] {
-    let p = PITCH_DEG.to_radians();
+    pitched_basis(PITCH_DEG)
+}
+
+/// A camera looking along +z, pitched up by `pitch_deg`: forward, right, up.
+fn pitched_basis(pitch_deg: f32) -> [[f32; 3]; 3] {
+    let p = pitch_deg.to_radians();
     let fwd = [0.0, p.sin(), p.cos()];
     let right = [1.0, 0.0, 0.0];
     [fwd, right, cross(fwd, right)]
@@ -322,10 +318,7 @@ impl Stage {
 
     /// The camera's forward, right and up unit vectors.
     pub fn camera_basis(&self) -> [[f32; 3]; 3] {
-        let p = self.pitch_deg.to_radians();
-        let fwd = [0.0, p.sin(), p.cos()];
-        let right = [1.0, 0.0, 0.0];
-        [fwd, right, cross(fwd, right)]
+        pitched_basis(self.pitch_deg)
     }
 
     /// The faces of the light's map: each face's rows (right, up, forward
