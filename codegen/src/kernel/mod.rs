@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 44] = [
+pub const TEMPLATES: [(&str, &str); 48] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -42,6 +42,8 @@ pub const TEMPLATES: [(&str, &str); 44] = [
     ("shafts/shadowmap.wgsl.tera", include_str!("../../templates/kernels/shafts/shadowmap.wgsl.tera")),
     ("shafts/shadowmap.glsl.tera", include_str!("../../templates/kernels/shafts/shadowmap.glsl.tera")),
     ("shafts/shadowmap.rs.tera", include_str!("../../templates/kernels/shafts/shadowmap.rs.tera")),
+    ("shafts/atlas.wgsl.tera", include_str!("../../templates/kernels/shafts/atlas.wgsl.tera")),
+    ("shafts/atlas.glsl.tera", include_str!("../../templates/kernels/shafts/atlas.glsl.tera")),
     ("shafts/pyramid.wgsl.tera", include_str!("../../templates/kernels/shafts/pyramid.wgsl.tera")),
     ("shafts/pyramid.frag.glsl.tera", include_str!("../../templates/kernels/shafts/pyramid.frag.glsl.tera")),
     ("math.wgsl.tera", include_str!("../../templates/kernels/math.wgsl.tera")),
@@ -65,6 +67,8 @@ pub const TEMPLATES: [(&str, &str); 44] = [
     ("three/sources.d.ts.tera", include_str!("../../templates/packages/three/sources.d.ts.tera")),
     ("three/shadow.js.tera", include_str!("../../templates/packages/three/shadow.js.tera")),
     ("three/shadow.d.ts.tera", include_str!("../../templates/packages/three/shadow.d.ts.tera")),
+    ("three/shadowmap.js.tera", include_str!("../../templates/packages/three/shadowmap.js.tera")),
+    ("three/shadowmap.d.ts.tera", include_str!("../../templates/packages/three/shadowmap.d.ts.tera")),
     ("three/kernel.js.tera", include_str!("../../templates/packages/three/kernel.js.tera")),
     ("three/kernel.d.ts.tera", include_str!("../../templates/packages/three/kernel.d.ts.tera")),
     ("three/package.json.tera", include_str!("../../templates/packages/three/package.json.tera")),
@@ -337,6 +341,23 @@ fn translations(spec: &KernelSpec, table: &OutputTable, rendered: &[Output]) -> 
 /// of the ray counts as shadowed, and the walk says so).
 pub const WALK_STEPS: u32 = 4096;
 
+/// Where the shadow-map walk reads its pyramid (the walk templates' `atlas`,
+/// `pyramid_params`, `pyramid_args`): one mip-mapped `texture_2d_array` in WGSL
+/// and a caller's `airlight_smap_node` in GLSL (`atlas` false), or airlight-three's
+/// two atlases, passed down as textures (`atlas` true: three.js binds textures as
+/// function arguments only).
+pub(crate) fn walk_pyramid(ctx: &mut tera::Context, glsl: bool, atlas: bool) {
+    let (params, args) = match (glsl, atlas) {
+        (false, false) => ("pyramid: texture_2d_array<f32>", "pyramid"),
+        (false, true) => ("even: texture_2d<f32>, odd: texture_2d<f32>", "even, odd"),
+        (true, false) => ("", ""),
+        (true, true) => (", highp sampler2D even, highp sampler2D odd", ", even, odd"),
+    };
+    ctx.insert("atlas", &atlas);
+    ctx.insert("pyramid_params", params);
+    ctx.insert("pyramid_args", args);
+}
+
 /// The files every kernel shares (the shadow-map walk and its pyramid passes),
 /// and naga's HLSL and MSL of the WGSL walk.
 fn render_shared(tera: &tera::Tera, table: &OutputTable) -> Result<Vec<Output>, tera::Error> {
@@ -349,6 +370,7 @@ fn render_shared(tera: &tera::Tera, table: &OutputTable) -> Result<Vec<Output>, 
         ];
         ctx.insert("header", &comment(&lines, "//"));
         ctx.insert("walk_steps", &WALK_STEPS);
+        walk_pyramid(&mut ctx, f.path.ends_with(".glsl"), false);
         let mut text = tera.render(&f.template, &ctx)?;
         // A GLSL library gets a guard; a whole shader (its #version first) none.
         if f.path.ends_with(".glsl") && !f.path.ends_with(".frag.glsl") {

@@ -162,6 +162,7 @@ fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
             }
         })
         .chain(shafts_entries(spec))
+        .chain(exact_entries(spec))
         .collect()
 }
 
@@ -298,6 +299,103 @@ fn shafts_entries(spec: &KernelSpec) -> Vec<TslEntry> {
         .collect()
 }
 
+/// The shadow-map walk as airlight-three includes it: the atlas layout its
+/// `ShadowPyramid` writes, then the walk reading it (GLSL: in that order, each
+/// function declared before it is called).
+fn atlas_walk(tera: &tera::Tera, glsl: bool) -> Result<String, tera::Error> {
+    let lang = if glsl { "glsl" } else { "wgsl" };
+    let mut ctx = tera::Context::new();
+    ctx.insert("header", &format!("// airlight's shadow-map walk over airlight-three's pyramid atlases ({lang})."));
+    ctx.insert("walk_steps", &super::WALK_STEPS);
+    super::walk_pyramid(&mut ctx, glsl, true);
+    let layout = tera.render(&format!("shafts/atlas.{lang}.tera"), &ctx)?;
+    let walk = tera.render(&format!("shafts/shadowmap.{lang}.tera"), &ctx)?;
+    Ok(format!("{layout}\n{walk}"))
+}
+
+/// TSL nodes of the exact mode (`shaftsExact`, `shaftsSpotExact`): the view ray's
+/// lit runs from the shadow-map walk over a `ShadowPyramid` of a three.js map
+/// (`airlight-three/shadowmap.js`), each handed to the kernel's accumulator.
+fn exact_entries(spec: &KernelSpec) -> Vec<TslEntry> {
+    if !spec.shafts {
+        return Vec::new();
+    }
+    let p = spec.prefix();
+    [(Entry::Radiance, "shaftsExact", "shafts_flush", "shafts_finish"), (Entry::Spot, "shaftsSpotExact", "shafts_flush_spot", "shafts_finish_spot")]
+        .into_iter()
+        .filter(|(e, ..)| spec.args(*e).iter().any(|a| a.name() == "surface"))
+        .map(|(e, entry, flush, finish)| {
+            let args = spec.args(e);
+            let rgb = e.outputs() == 3;
+            let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
+            let rest = rest.join(", ");
+            let name = format!("{p}{entry}_tsl");
+            let wgsl_fn = format!(
+                "fn {name}({params}, pyramid_even: texture_2d<f32>, pyramid_odd: texture_2d<f32>, smap_rows: mat3x3<f32>, smap_cube: f32, smap_res: f32, smap_bias: f32) -> {ret} {{
+    var w = airlight_smap_begin(origin, dir, surface, light, smap_rows, smap_cube > 0.5, u32(smap_res), smap_bias, 0u);
+    var acc = {p}shafts_begin_runs();
+    loop {{
+        let r = airlight_smap_next(&w, pyramid_even, pyramid_odd);
+        if r.x < 0.0 {{
+            break;
+        }}
+        {p}shafts_add_run(&acc, r.x, r.y);
+        if {p}shafts_full(acc) {{
+            {p}{flush}(&acc, {rest});
+        }}
+    }}
+    return {p}{finish}(acc, surface, {rest});
+}}",
+                params = param_list(&args, false),
+                ret = if rgb { "vec3<f32>" } else { "f32" },
+            );
+            let glsl_fn = format!(
+                "{GLSL_PROPERTY}{ret} {name}({params}, property pyramid_even, property pyramid_odd, mat3 smap_rows, float smap_cube, float smap_res, float smap_bias) {{
+    AirlightSmapWalk w = airlight_smap_begin(origin, dir, surface, light, smap_rows, smap_cube > 0.5, int(smap_res), smap_bias, 0);
+    {p}Shafts acc = {p}shafts_begin_runs();
+    for (;;) {{
+        vec2 r = airlight_smap_next(w, pyramid_even, pyramid_odd);
+        if (r.x < 0.0) {{
+            break;
+        }}
+        {p}shafts_add_run(acc, r.x, r.y);
+        if ({p}shafts_full(acc)) {{
+            {p}{flush}(acc, {rest});
+        }}
+    }}
+    return {p}{finish}(acc, surface, {rest});
+}}",
+                params = param_list(&args, true),
+                ret = if rgb { "vec3" } else { "float" },
+            );
+            let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
+            params.extend(["pyramid_even", "pyramid_odd", "smap_rows", "smap_cube", "smap_res", "smap_bias"]);
+            TslEntry {
+                entry,
+                name: format!("{p}{finish}"),
+                wgsl_fn: js_string(&wgsl_fn),
+                glsl_fn: js_string(&glsl_fn),
+                includes: vec!["smapWGSL"],
+                glsl_includes: vec!["smapGLSL"],
+                shadow_at: None,
+                params,
+                rgb,
+            }
+        })
+        .collect()
+}
+
+/// The `glslFn` header that lets an exact node take the pyramid's textures:
+/// three.js passes a texture node by its bare name only to a parameter whose
+/// type is one of its reference types, here `property`, defined as GLSL's
+/// sampler.
+const GLSL_PROPERTY: &str = "#ifndef AIRLIGHT_TSL_PROPERTY
+#define AIRLIGHT_TSL_PROPERTY
+#define property highp sampler2D
+#endif
+#pragma main
+";
+
 /// Kernels that go into the engine packages: the general models without a
 /// texture to bind.
 fn packaged(specs: &[KernelSpec]) -> impl Iterator<Item = &KernelSpec> {
@@ -432,6 +530,9 @@ pub(super) fn render(
         ctx.insert("version", env!("CARGO_PKG_VERSION"));
         ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
         ctx.insert("shadow_lookup_glsl", &js_string(SHADOW_LOOKUP_GLSL));
+        ctx.insert("walk_wgsl", &js_string(&atlas_walk(tera, false)?));
+        ctx.insert("walk_glsl", &js_string(&atlas_walk(tera, true)?));
+        ctx.insert("glsl_property", &js_string(GLSL_PROPERTY));
         ctx.insert("generated_by", GENERATED_BY);
         ctx.insert("template", &format!("codegen/templates/packages/{}", f.template));
         out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));

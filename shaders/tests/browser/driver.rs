@@ -10,6 +10,7 @@
 //! POSTs the pixels back, and they are compared with the f64 reference render.
 
 use airlight_shaders::render::{View, FOV_Y, GROUND_Y};
+use airlight_shaders::shafts::render::{ShaftsView, Stage, WALK_BIAS};
 use airlight_shapes::vocab::{Arg, IndexEntry};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
@@ -211,13 +212,7 @@ fn glsl_v3(v: [f32; 3]) -> String {
 /// shafts accumulator (`shafts_push_spot`, `refine` bisection steps per change,
 /// `shafts_finish_spot`). It reads back the fog (RGB) and the surface distance
 /// as f32 and POSTs them (base64 of the floats, rows from the top).
-pub fn shafts_page(
-    k: &IndexEntry,
-    view: &airlight_shaders::shafts::render::ShaftsView,
-    look_ups: u32,
-    refine: u32,
-    renderer: Renderer,
-) -> String {
+pub fn shafts_page(k: &IndexEntry, view: &ShaftsView, look_ups: u32, refine: u32) -> String {
     use airlight_shaders::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let sources = format!("./airlight-three/sources/{}.js", k.name);
@@ -275,16 +270,19 @@ pub fn shafts_page(
             ("refine", format!("{}", refine)),
         ],
     );
-    if renderer != Renderer::WebGl {
-        return shafts_page_tsl(k, view, look_ups, renderer == Renderer::WebGpuOnWebGl);
-    }
     let body = fill(
         include_str!("pages/shafts_webgl.js"),
         &[
             (
                 "scene",
-                shafts_scene_js("new THREE.MeshBasicMaterial()", "new THREE.MeshBasicMaterial()", "WebGLRenderTarget")
-                    .to_string(),
+                shafts_scene_js(
+                    &Stage::window_shafts(),
+                    "new THREE.MeshBasicMaterial()",
+                    "new THREE.MeshBasicMaterial()",
+                    "WebGLRenderTarget",
+                    sr::SHADOW_MAP,
+                    ShadowSide::Default,
+                ),
             ),
             ("main", js_string(&main).to_string()),
         ],
@@ -294,10 +292,9 @@ pub fn shafts_page(
 }
 
 /// The TSL page's scene code in the node's language (GLSL for the WebGL 2
-/// backend, WGSL for WebGPU): where a ray from the camera first meets the room or
-/// an occluder (`airlight_page_end`), and the slab test it calls (`box_entry`).
-fn tsl_scene_code(webgl: bool) -> (String, String) {
-    use airlight_shaders::shafts::render as sr;
+/// backend, WGSL for WebGPU): where a ray from the stage's camera first meets its
+/// room or an occluder (`airlight_page_end`), and the slab test it calls (`box_entry`).
+fn tsl_scene_code(stage: &Stage, webgl: bool) -> (String, String) {
     let v3 = |v: [f32; 3]| {
         if webgl {
             glsl_v3(v)
@@ -305,11 +302,11 @@ fn tsl_scene_code(webgl: bool) -> (String, String) {
             format!("vec3<f32>({:?}, {:?}, {:?})", v[0], v[1], v[2])
         }
     };
-    let slabs: String = sr::boxes()
+    let slabs: String = stage
+        .boxes
         .iter()
         .map(|b| format!("    end = min(end, box_entry(o, {}, {}, dir, end));\n", v3(b.0), v3(b.1)))
         .collect();
-    let room = sr::ROOM;
     // Declarations by what they hold: a vector, a scalar, a scalar that changes.
     let (vector, scalar, mutable, fn_end, fn_box) = if webgl {
         (
@@ -333,14 +330,14 @@ fn tsl_scene_code(webgl: bool) -> (String, String) {
         &[
             ("fn_end", fn_end.to_string()),
             ("vector", vector.to_string()),
-            ("cam", v3(sr::CAMERA).to_string()),
-            ("lo", v3([room[0][0], room[1][0], room[2][0]]).to_string()),
-            ("hi", v3([room[0][1], room[1][1], room[2][1]]).to_string()),
+            ("cam", v3(stage.camera)),
+            ("lo", v3(stage.room[0])),
+            ("hi", v3(stage.room[1])),
             ("mutable", mutable.to_string()),
-            ("slabs", slabs.to_string()),
-            ("ball", v3(sr::BALL.0).to_string()),
+            ("slabs", slabs),
+            ("ball", v3(stage.ball.0)),
             ("scalar", scalar.to_string()),
-            ("r2_dbg", format!("{:?}", sr::BALL.1 * sr::BALL.1)),
+            ("r2_dbg", format!("{:?}", stage.ball.1 * stage.ball.1)),
         ],
     );
     let box_entry = fill(
@@ -359,87 +356,156 @@ fn tsl_scene_code(webgl: bool) -> (String, String) {
     (scene_end, box_entry)
 }
 
-/// The spot node's arguments, by name, as the TSL page passes them.
-fn tsl_spot_args(k: &IndexEntry) -> Vec<String> {
-    use airlight_shaders::shafts::render as sr;
+/// The light node's arguments, by name, as the TSL page passes them: the spot
+/// entry's for a spot stage, the radiance entry's (one channel of the stage's
+/// grey medium) for a point light.
+fn tsl_light_args(k: &IndexEntry, stage: &Stage) -> Vec<String> {
     let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
-    let (st, ss) = sr::medium();
-    let cos = sr::CONE_DEG.map(|d| d.to_radians().cos());
-    k.spot_params
+    let spot = stage.spot.zip(stage.axis());
+    let params = if spot.is_some() { &k.spot_params } else { &k.radiance_params };
+    params
         .iter()
         .map(|a| {
-            let v = match a {
-                Arg::Origin => t3(sr::CAMERA),
-                Arg::Dir => "dir".to_string(),
-                Arg::Surface => "end".into(),
-                Arg::Light => t3(sr::LIGHT),
-                Arg::Axis => t3(sr::axis()),
-                Arg::CosOuter => format!("float({:?})", cos[0]),
-                Arg::CosInner => format!("float({:?})", cos[1]),
-                Arg::Intensity => format!("float({:?})", sr::INTENSITY),
-                Arg::SigmaTRgb => t3(st),
-                Arg::SigmaSRgb => t3(ss),
-                Arg::G => format!("float({:?})", sr::G),
-                other => unreachable!("{other} is not an argument of spot"),
+            let v = match (a, spot) {
+                (Arg::Origin, _) => t3(stage.camera),
+                (Arg::Dir, _) => "dir".to_string(),
+                (Arg::Surface, _) => "end".into(),
+                (Arg::Light, _) => t3(stage.light),
+                (Arg::Axis, Some((_, axis))) => t3(axis),
+                (Arg::CosOuter, Some((s, _))) => format!("float({:?})", s.cone_deg[0].to_radians().cos()),
+                (Arg::CosInner, Some((s, _))) => format!("float({:?})", s.cone_deg[1].to_radians().cos()),
+                (Arg::Intensity, _) => format!("float({:?})", stage.intensity),
+                (Arg::SigmaTRgb, _) => t3(stage.sigma_t),
+                (Arg::SigmaSRgb, _) => t3(stage.sigma_s),
+                (Arg::SigmaT, _) => format!("float({:?})", stage.sigma_t[0]),
+                (Arg::SigmaS, _) => format!("float({:?})", stage.sigma_s[0]),
+                (Arg::G, _) => format!("float({:?})", stage.g),
+                (other, _) => unreachable!("{other} is not an argument of a light entry"),
             };
             format!("{}: {v}", a.name())
         })
         .collect()
 }
 
-/// The three.js scene of the light-shafts room (JavaScript, `THREE` in scope):
+/// The three.js scene of a light-shafts stage (JavaScript, `THREE` in scope):
 /// its occluders as meshes casting shadows (`material`), a floor receiving them
-/// (`floor`), the spot as a `SpotLight` with a shadow map, and a camera; then one
-/// render that draws three.js's shadow map into `light.shadow`.
-fn shafts_scene_js(material: &str, floor: &str, target: &str) -> String {
-    use airlight_shaders::shafts::render as sr;
-    let js_boxes: Vec<String> = sr::boxes()
+/// (`floor`), its light as a `SpotLight` or a `PointLight` with a `map`² shadow
+/// map (a cube map for the point light), and a camera; then one render that
+/// draws three.js's shadow map into `light.shadow`.
+fn shafts_scene_js(stage: &Stage, material: &str, floor: &str, target: &str, map: u32, side: ShadowSide) -> String {
+    let js_boxes: Vec<String> = stage
+        .boxes
         .iter()
         .map(|b| format!("[{:?}, {:?}, {:?}, {:?}, {:?}, {:?}]", b.0[0], b.0[1], b.0[2], b.1[0], b.1[1], b.1[2]))
         .collect();
+    let light = match stage.spot {
+        Some(s) => format!(
+            "const light = new THREE.SpotLight(0xffffff, 1.0, 0, {:?}, 0.0, 2);\nlight.target.position.set({:?}, {:?}, {:?});\nscene.add(light.target);",
+            s.cone_deg[0].to_radians(),
+            s.aim[0],
+            s.aim[1],
+            s.aim[2]
+        ),
+        None => "const light = new THREE.PointLight(0xffffff, 1.0, 0, 2);".to_string(),
+    };
+    let [lo, hi] = stage.room;
     fill(
         include_str!("pages/shafts_scene.js"),
         &[
             ("material", material.to_string()),
-            ("boxes", js_boxes.join(", ").to_string()),
-            ("ball_r_dbg", format!("{:?}", sr::BALL.1)),
-            ("bx_dbg", format!("{:?}", sr::BALL.0[0])),
-            ("by_dbg", format!("{:?}", sr::BALL.0[1])),
-            ("bz_dbg", format!("{:?}", sr::BALL.0[2])),
+            ("shadow_side", side.js().to_string()),
+            ("boxes", js_boxes.join(", ")),
+            ("ball_r_dbg", format!("{:?}", stage.ball.1)),
+            ("bx_dbg", format!("{:?}", stage.ball.0[0])),
+            ("by_dbg", format!("{:?}", stage.ball.0[1])),
+            ("bz_dbg", format!("{:?}", stage.ball.0[2])),
             ("floor", floor.to_string()),
-            ("angle_dbg", format!("{:?}", sr::CONE_DEG[0].to_radians())),
-            ("lx_dbg", format!("{:?}", sr::LIGHT[0])),
-            ("ly_dbg", format!("{:?}", sr::LIGHT[1])),
-            ("lz_dbg", format!("{:?}", sr::LIGHT[2])),
-            ("ax_dbg", format!("{:?}", sr::AIM[0])),
-            ("ay_dbg", format!("{:?}", sr::AIM[1])),
-            ("az_dbg", format!("{:?}", sr::AIM[2])),
-            ("map", format!("{}", sr::SHADOW_MAP)),
-            ("cx_dbg", format!("{:?}", sr::CAMERA[0])),
-            ("cy_dbg", format!("{:?}", sr::CAMERA[1])),
-            ("cz_dbg", format!("{:?}", sr::CAMERA[2])),
+            ("floor_w_dbg", format!("{:?}", hi[0] - lo[0])),
+            ("floor_d_dbg", format!("{:?}", hi[2] - lo[2])),
+            ("floor_x_dbg", format!("{:?}", 0.5 * (lo[0] + hi[0]))),
+            ("floor_y_dbg", format!("{:?}", lo[1])),
+            ("floor_z_dbg", format!("{:?}", 0.5 * (lo[2] + hi[2]))),
+            ("light", light),
+            ("lx_dbg", format!("{:?}", stage.light[0])),
+            ("ly_dbg", format!("{:?}", stage.light[1])),
+            ("lz_dbg", format!("{:?}", stage.light[2])),
+            ("map", format!("{map}")),
+            ("near_dbg", format!("{:?}", stage.near_far[0])),
+            ("far_dbg", format!("{:?}", stage.near_far[1])),
+            ("cx_dbg", format!("{:?}", stage.camera[0])),
+            ("cy_dbg", format!("{:?}", stage.camera[1])),
+            ("cz_dbg", format!("{:?}", stage.camera[2])),
             ("target", target.to_string()),
         ],
     )
 }
 
-/// The light-shafts page on `WebGPURenderer`: the same room, three.js's shadow
-/// map, and the package's shafts TSL node walking each ray in `look_ups` steps
-/// (the page's own code node finds the first surface) — on WebGPU through
-/// `shaftsSpotWGSL`, or (`webgl`) on the WebGL 2 backend through `shaftsSpotGLSL`.
-fn shafts_page_tsl(
+/// Which faces of the occluders three.js draws into the shadow map: its
+/// default (the back faces, against shadow acne on lit surfaces) or the front
+/// faces (the depth of the surface the light sees).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowSide {
+    Default,
+    Front,
+}
+
+impl ShadowSide {
+    fn js(self) -> &'static str {
+        match self {
+            ShadowSide::Default => "",
+            ShadowSide::Front => "stone.shadowSide = THREE.FrontSide;\n",
+        }
+    }
+}
+
+/// How a TSL light-shafts page finds the lit runs: the shafts node's `look_ups`
+/// equal steps through three.js's shadow map, or the exact mode's walk over a
+/// `ShadowPyramid` of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fog {
+    Sampled(u32),
+    Exact,
+}
+
+/// The light-shafts page on `WebGPURenderer`: `stage`'s room, three.js's shadow
+/// map of its light (`map`² texels a face), and a shafts TSL node of the package
+/// (the page's own code node finds the first surface) — on WebGPU through the
+/// `…WGSL` node, or (`webgl`) on the WebGL 2 backend through the `…GLSL` one: by
+/// `fog`, the sampled node (`shaftsSpot`, spot stages only) or the exact mode
+/// (`shaftsSpotExact` / `shaftsExact` over a `ShadowPyramid`).
+pub fn shafts_page_tsl(
     k: &IndexEntry,
-    view: &airlight_shaders::shafts::render::ShaftsView,
-    look_ups: u32,
+    stage: &Stage,
+    view: &ShaftsView,
+    fog: Fog,
+    map: u32,
+    side: ShadowSide,
     webgl: bool,
 ) -> String {
-    use airlight_shaders::shafts::render as sr;
     let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
     let t3 = |v: [f32; 3]| format!("vec3({:?}, {:?}, {:?})", v[0], v[1], v[2]);
-    let (scene_end, box_entry) = tsl_scene_code(webgl);
-    let args = tsl_spot_args(k);
-    let [f, r, u] = sr::camera_basis();
+    let (scene_end, box_entry) = tsl_scene_code(stage, webgl);
+    let args = tsl_light_args(k, stage).join(", ");
+    let lang = if webgl { "GLSL" } else { "WGSL" };
+    let spot = stage.spot.is_some();
+    let (setup, call) = match fog {
+        Fog::Sampled(n) => {
+            assert!(spot, "the sampled node takes a spot light's 2D map");
+            (
+                "const depth = texture(light.shadow.map.depthTexture);".to_string(),
+                format!("K.shaftsSpot{lang}({{ {args}, shadow_map: depth, shadow_sampler: depth, shadow_matrix: uniform(light.shadow.matrix), shadow_bias: float(-0.0005), look_ups: float({n:?}), reach: float(100.0) }})"),
+            )
+        }
+        Fog::Exact => (
+            format!("const pyramid = new ShadowPyramid(light, {{ bias: {:?} }});\nconst built = performance.now();\npyramid.update(renderer);\nconst pyramidMs = performance.now() - built;", WALK_BIAS),
+            format!("K.shafts{}Exact{lang}({{ {args}, ...pyramid.nodes() }})", if spot { "Spot" } else { "" }),
+        ),
+    };
+    // A point light's node is one channel of the grey medium: its colour outside.
+    let colour = stage.colour;
+    let fog_node = if spot { call } else { format!("vec3({call}).mul({})", t3(colour)) };
+    let [f, r, u] = stage.camera_basis();
     let body = fill(
         include_str!("pages/shafts_tsl.js"),
         &[
@@ -448,28 +514,33 @@ fn shafts_page_tsl(
             (
                 "scene",
                 shafts_scene_js(
+                    stage,
                     "new THREE.MeshStandardNodeMaterial()",
                     "new THREE.MeshStandardNodeMaterial()",
                     "RenderTarget",
-                )
-                .to_string(),
+                    map,
+                    side,
+                ),
             ),
             ("code_fn", (if webgl { "glslFn" } else { "wgslFn" }).to_string()),
-            ("scene_end", js_string(&scene_end).to_string()),
+            ("scene_end", js_string(&scene_end)),
             ("code", (if webgl { "glslCode" } else { "wgslCode" }).to_string()),
-            ("box_entry", js_string(&box_entry).to_string()),
+            ("box_entry", js_string(&box_entry)),
+            ("fog_setup", setup),
             ("t_dbg", format!("{:?}", (0.5 * FOV_Y).tan())),
-            ("f", t3(f).to_string()),
-            ("r", t3(r).to_string()),
+            ("f", t3(f)),
+            ("r", t3(r)),
             ("aspect_dbg", format!("{:?}", width as f32 / height as f32)),
-            ("up", t3(u).to_string()),
-            ("node", (if webgl { "shaftsSpotGLSL" } else { "shaftsSpotWGSL" }).to_string()),
-            ("args", args.join(", ").to_string()),
-            ("n_dbg", format!("{:?}", look_ups as f32)),
+            ("up", t3(u)),
+            ("fog", fog_node),
+            (
+                "timing",
+                (if fog == Fog::Exact { "'; pyramid ' + pyramidMs.toFixed(0) + ' ms'" } else { "''" }).to_string(),
+            ),
         ],
     );
     let imports = format!(
-        "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode, glslFn, glsl as glslCode }} from 'three/tsl';\nimport * as K from '{module}';"
+        "import * as THREE from 'three/webgpu';\nimport {{ Fn, float, vec3, vec4, screenCoordinate, sqrt, dot, texture, uniform, wgslFn, wgsl as wgslCode, glslFn, glsl as glslCode }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ ShadowPyramid }} from './airlight-three/shadowmap.js';"
     );
     wrap_page(&imports, &body, width, height)
 }

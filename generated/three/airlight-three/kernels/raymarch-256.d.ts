@@ -104,3 +104,52 @@ export declare const shaftsSpotWGSL: { (args: ShaftsSpotArgs): any; (...args: un
 export declare const shaftsSpotGLSL: { (args: ShaftsSpotArgs): any; (...args: unknown[]): any };
 
 
+/** Arguments of `airlight_raymarch_256_shafts_finish`, TSL nodes (or numbers). */
+export interface ShaftsExactArgs {
+  origin: unknown;
+  dir: unknown;
+  surface: unknown;
+  light: unknown;
+  intensity: unknown;
+  sigma_t: unknown;
+  sigma_s: unknown;
+  g: unknown;
+  pyramid_even: unknown;
+  pyramid_odd: unknown;
+  smap_rows: unknown;
+  smap_cube: unknown;
+  smap_res: unknown;
+  smap_bias: unknown;
+}
+/** TSL function node calling `airlight_raymarch_256_shafts_finish` on the WGSL. */
+export declare const shaftsExactWGSL: { (args: ShaftsExactArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_raymarch_256_shafts_finish` on the GLSL. */
+export declare const shaftsExactGLSL: { (args: ShaftsExactArgs): any; (...args: unknown[]): any };
+
+
+/** Arguments of `airlight_raymarch_256_shafts_finish_spot`, TSL nodes (or numbers). */
+export interface ShaftsSpotExactArgs {
+  origin: unknown;
+  dir: unknown;
+  surface: unknown;
+  light: unknown;
+  axis: unknown;
+  cos_outer: unknown;
+  cos_inner: unknown;
+  intensity: unknown;
+  sigma_t: unknown;
+  sigma_s: unknown;
+  g: unknown;
+  pyramid_even: unknown;
+  pyramid_odd: unknown;
+  smap_rows: unknown;
+  smap_cube: unknown;
+  smap_res: unknown;
+  smap_bias: unknown;
+}
+/** TSL function node calling `airlight_raymarch_256_shafts_finish_spot` on the WGSL. */
+export declare const shaftsSpotExactWGSL: { (args: ShaftsSpotExactArgs): any; (...args: unknown[]): any };
+/** TSL function node calling `airlight_raymarch_256_shafts_finish_spot` on the GLSL. */
+export declare const shaftsSpotExactGLSL: { (args: ShaftsSpotExactArgs): any; (...args: unknown[]): any };
+
+

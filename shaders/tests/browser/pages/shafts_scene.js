@@ -1,6 +1,6 @@
 const scene = new THREE.Scene();
 const stone = {{material}};
-for (const [x0, y0, z0, x1, y1, z1] of [{{boxes}}]) {
+{{shadow_side}}for (const [x0, y0, z0, x1, y1, z1] of [{{boxes}}]) {
   const m = new THREE.Mesh(new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0), stone);
   m.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
   m.castShadow = true;
@@ -10,19 +10,18 @@ const ball = new THREE.Mesh(new THREE.SphereGeometry({{ball_r_dbg}}, 96, 48), st
 ball.position.set({{bx_dbg}}, {{by_dbg}}, {{bz_dbg}});
 ball.castShadow = true;
 scene.add(ball);
-const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 18), {{floor}});
+const floor = new THREE.Mesh(new THREE.PlaneGeometry({{floor_w_dbg}}, {{floor_d_dbg}}), {{floor}});
 floor.rotation.x = -Math.PI / 2;
-floor.position.set(0, 0, 7);
+floor.position.set({{floor_x_dbg}}, {{floor_y_dbg}}, {{floor_z_dbg}});
 floor.receiveShadow = true;
 scene.add(floor);
-const light = new THREE.SpotLight(0xffffff, 1.0, 0, {{angle_dbg}}, 0.0, 2);
+{{light}}
 light.position.set({{lx_dbg}}, {{ly_dbg}}, {{lz_dbg}});
-light.target.position.set({{ax_dbg}}, {{ay_dbg}}, {{az_dbg}});
 light.castShadow = true;
 light.shadow.mapSize.set({{map}}, {{map}});
-light.shadow.camera.near = 0.3;
-light.shadow.camera.far = 30.0;
-scene.add(light, light.target);
+light.shadow.camera.near = {{near_dbg}};
+light.shadow.camera.far = {{far_dbg}};
+scene.add(light);
 const camera = new THREE.PerspectiveCamera(60, W / H, 0.1, 100);
 camera.position.set({{cx_dbg}}, {{cy_dbg}}, {{cz_dbg}});
 camera.lookAt({{cx_dbg}}, {{cy_dbg}}, {{cz_dbg}} + 1.0);

@@ -6,7 +6,7 @@ renderer.shadowMap.enabled = true;
 renderer.shadowMap.type = THREE.PCFShadowMap;
 {{scene}}
 const sceneEnd = {{code_fn}}({{scene_end}}, [{{code}}({{box_entry}})]);
-const depth = texture(light.shadow.map.depthTexture);
+{{fog_setup}}
 const material = new THREE.MeshBasicNodeMaterial();
 material.fragmentNode = Fn(() => {
   const pos = screenCoordinate.xy;
@@ -16,8 +16,7 @@ material.fragmentNode = Fn(() => {
   const d = {{f}}.add({{r}}.mul(u.mul(t).mul({{aspect_dbg}}))).add({{up}}.mul(v.mul(t)));
   const dir = d.div(sqrt(dot(d, d)));
   const end = sceneEnd({ dir });
-  const fog = K.{{node}}({ {{args}}, shadow_map: depth, shadow_sampler: depth,
-    shadow_matrix: uniform(light.shadow.matrix), shadow_bias: float(-0.0005), look_ups: float({{n_dbg}}), reach: float(100.0) });
+  const fog = {{fog}};
   return vec4(fog, end);
 })();
 const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
@@ -28,6 +27,7 @@ const target = new THREE.RenderTarget(W, H, { type: THREE.FloatType, depthBuffer
 renderer.setRenderTarget(target);
 renderer.render(pass, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
 const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+const timing = {{timing}};
 let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), shadow map ' + light.shadow.mapSize.x + '², ';
 if (renderer.backend.isWebGPUBackend) {
   const i = (await navigator.gpu.requestAdapter()).info;
@@ -37,4 +37,5 @@ if (renderer.backend.isWebGPUBackend) {
   const info = gl.getExtension('WEBGL_debug_renderer_info');
   adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
 }
+adapter += timing;
 return { adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: {{webgl}}, texel: 16 };
