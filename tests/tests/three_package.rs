@@ -46,6 +46,19 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     std::fs::create_dir_all(&tmp).unwrap();
     let mut shafts = 0;
     let shadow = std::fs::read_to_string(dir.join("../shadow.js")).unwrap();
+    // The exact mode's walk (one code node per language, in shadowmap.js) and its
+    // pyramid passes, compiled with it.
+    let smap = std::fs::read_to_string(dir.join("../shadowmap.js")).unwrap();
+    let walk_wgsl = string_args(&smap, "wgslCode").join("\n");
+    let walk_glsl = string_args(&smap, "glslCode").join("\n");
+    assert!(walk_wgsl.contains("fn airlight_smap_next(") && walk_glsl.contains("vec2 airlight_smap_next("), "the walk");
+    let passes = format!("{walk_wgsl}\n{}\n", string_args(&smap, "wgslFn").join("\n"));
+    let module =
+        naga::front::wgsl::parse_str(&passes).unwrap_or_else(|e| panic!("shadowmap.js: {}", e.emit_to_string(&passes)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("shadowmap.js: {e:?}"));
+    let mut exact = 0;
     for path in &modules {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let js = std::fs::read_to_string(path).unwrap();
@@ -71,8 +84,9 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         let fns = string_args(&js, "wgslFn");
         assert!(fns.len() >= 2, "{name}: {} wgslFn", fns.len());
         shafts += fns.iter().filter(|f| f.contains("shafts_begin")).count();
+        exact += fns.iter().filter(|f| f.contains("airlight_smap_next(")).count();
         let src = format!(
-            "{wgsl}\n{}\n{}\n",
+            "{wgsl}\n{}\n{walk_wgsl}\n{}\n",
             codes.iter().filter(|c| c.starts_with("fn ")).cloned().collect::<Vec<_>>().join("\n"),
             fns.join("\n")
         );
@@ -88,7 +102,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         let gfns = string_args(&js, "glslFn");
         assert_eq!(gfns.len(), fns.len(), "{name}: a glslFn per wgslFn");
         let frag = format!(
-            "#version 300 es\nprecision highp float;\nprecision highp sampler2DShadow;\n{glsl}\n{}\n{}\nout highp vec4 color;\nvoid main() {{ color = vec4(0.0); }}\n",
+            "#version 300 es\nprecision highp float;\nprecision highp sampler2DShadow;\n{glsl}\n{}\n{walk_glsl}\n{}\nout highp vec4 color;\nvoid main() {{ color = vec4(0.0); }}\n",
             gcodes.iter().filter(|c| c.starts_with("float ")).cloned().collect::<Vec<_>>().join("\n"),
             gfns.join("\n")
         );
@@ -107,26 +121,33 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         }
     }
     assert!(shafts >= 10, "{shafts} shafts nodes");
+    assert!(exact >= 10, "{exact} exact shafts nodes");
     if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
-        let out = Command::new("node").arg("--check").arg(dir.join("../shadow.js")).output().unwrap();
-        assert!(out.status.success(), "shadow.js: node --check: {}", String::from_utf8_lossy(&out.stderr));
+        for f in ["shadow.js", "shadowmap.js"] {
+            let out = Command::new("node").arg("--check").arg(dir.join("..").join(f)).output().unwrap();
+            assert!(out.status.success(), "{f}: node --check: {}", String::from_utf8_lossy(&out.stderr));
+        }
     }
     std::fs::remove_dir_all(&tmp).ok();
 }
 
 /// Two kernels' shafts nodes in one material, as TSL includes them: each
-/// kernel's WGSL once, the shared shadow look-up once, both walks — one valid
-/// WGSL module (naga).
+/// kernel's WGSL once, the shared shadow look-up once, the exact mode's walk
+/// once, both kernels' sampled and exact nodes — one valid WGSL module (naga).
 #[test]
 fn two_kernels_shafts_nodes_compose_with_one_shadow_look_up() {
     let dir = generated_dir().join("three/airlight-three");
     let shadow = std::fs::read_to_string(dir.join("shadow.js")).unwrap();
     let lookup: Vec<String> = string_args(&shadow, "wgslCode");
     assert_eq!(lookup.len(), 1, "one WGSL look-up in shadow.js");
-    let mut src = lookup[0].clone();
+    let walk = string_args(&std::fs::read_to_string(dir.join("shadowmap.js")).unwrap(), "wgslCode");
+    assert_eq!(walk.len(), 1, "one WGSL walk in shadowmap.js");
+    let mut src = format!("{}\n{}", lookup[0], walk[0]);
     for name in ["phi-4", "phi-iso-6"] {
         let js = std::fs::read_to_string(dir.join(format!("kernels/{name}.js"))).unwrap();
         assert!(js.contains("from '../shadow.js'"), "{name}: imports the shared look-up");
+        assert!(js.contains("from '../shadowmap.js'"), "{name}: imports the shared walk");
+        assert!(!js.contains("fn airlight_smap_next("), "{name}: defines the walk itself");
         let sources = std::fs::read_to_string(dir.join(format!("sources/{name}.js"))).unwrap();
         src.push('\n');
         src.push_str(&exported(&sources, "wgsl"));

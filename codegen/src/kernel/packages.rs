@@ -133,7 +133,10 @@ fn param_list(args: &[Arg], glsl: bool) -> String {
     args.iter().map(typed).collect::<Vec<_>>().join(", ")
 }
 
-fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
+/// A kernel's TSL entries; `runs`: whether its accumulator takes lit runs
+/// (`shafts_begin_runs`, `shafts_add_run`: the exact mode's nodes need them; a
+/// family whose accumulator is a march of its own has none).
+fn tsl_entries(spec: &KernelSpec, runs: bool) -> Vec<TslEntry> {
     entries(spec)
         .into_iter()
         .map(|e| {
@@ -162,7 +165,7 @@ fn tsl_entries(spec: &KernelSpec) -> Vec<TslEntry> {
             }
         })
         .chain(shafts_entries(spec))
-        .chain(exact_entries(spec))
+        .chain(exact_entries(spec).into_iter().filter(|_| runs))
         .collect()
 }
 
@@ -491,11 +494,13 @@ pub(super) fn render(
             };
             let num = |d: Domain| spec.declared(d).map_or("null".to_string(), |b| format!("{b:e}"));
             let f32n = |d: Domain| spec.f32_bound(d).map_or("null".to_string(), |b| format!("{b:e}"));
+            let wgsl = source(&row.wgsl)?;
+            let runs = wgsl.contains(&format!("fn {}shafts_begin_runs(", spec.prefix()));
             let module = ThreeModule {
                 kernel: view(spec),
                 prefix: spec.prefix(),
                 glsl: js_string(&source(&row.glsl)?),
-                wgsl: js_string(&source(&row.wgsl)?),
+                wgsl: js_string(&wgsl),
                 bound: format!(
                     "{{ thin: {}, dense: {}, f32Thin: {}, f32Dense: {} }}",
                     num(Domain::Thin),
@@ -503,7 +508,7 @@ pub(super) fn render(
                     f32n(Domain::Thin),
                     f32n(Domain::Dense)
                 ),
-                entries: tsl_entries(spec)
+                entries: tsl_entries(spec, runs)
                     .into_iter()
                     .map(|e| TslView { args_type: e.args_type(), entry: e })
                     .collect(),
