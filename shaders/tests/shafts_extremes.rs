@@ -191,3 +191,105 @@ fn extreme_rays_through_the_shadow_map_walk() {
         }
     }
 }
+
+/// The spot entry's extreme rays (the gate's: the light on the ray's line at
+/// 0, 1e-30, 1e-12 … of its distance off it, ahead and behind, toward and away
+/// from the viewer, sharp and smooth cones, open rays and surfaces, and sampled
+/// rays over the physical extremes) through the shadow-map walk: a ball midway
+/// between viewer and light casts into the spot's one-face map (64², over the
+/// outer cone), the compiled Rust walk's runs go to the spot accumulator, and
+/// the WGSL walk over the same maps feeds the WGSL one. Every value finite and
+/// non-negative, and never more than the unshadowed spot entry gives beyond the
+/// kernel's bound once per run (each run is a call of the kernel).
+#[test]
+fn extreme_spot_rays_through_the_shadow_map_walk() {
+    use airlight_shaders::shafts::map_cases::{run_samples, rust_runs, upload};
+    use airlight_truth::shafts::ShadowMap;
+    let compiled = common::compiled();
+    let generated = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../generated");
+    let index = gate::load_index(&generated).unwrap();
+    let gpu = common::open_or_skip("extreme_spot_rays_through_the_shadow_map_walk (GPU part)");
+    let texts = airlight_shaders::shafts::WalkTexts::load(&generated).unwrap();
+    for name in ["phi-6", "lite-4"] {
+        let entry = index.get(name).unwrap();
+        let ck = compiled.iter().find(|k| k.name == name).unwrap();
+        let (Some(f), Some(walk), Some(plain)) = (ck.spot_shadowed, ck.walk, ck.spot) else {
+            panic!("{name}: no spot accumulator")
+        };
+        let models = airlight_fit::catalog::load(&generated.join("coefficients")).unwrap();
+        let bound = airlight_shapes::vocab::f32_limit(gate::declared_max(entry, &models).unwrap());
+        let mut cases = Vec::new();
+        for c in gate::spot_rays(entry, 24, 39).unwrap() {
+            let r = c.ray;
+            let Some(cone) = r.cone() else { continue };
+            let ray = r.physical(0);
+            let mid: [f64; 3] = std::array::from_fn(|q| 0.5 * (ray.origin[q] + ray.light[q]));
+            let dl = (0..3).map(|q| (ray.light[q] - ray.origin[q]).powi(2)).sum::<f64>().sqrt();
+            let occ = vec![Occluder::Sphere { center: mid, radius: 0.1 * dl.max(1e-30) }];
+            if occ[0].contains(ray.light) {
+                continue;
+            }
+            let tan_half = cone.cos_outer.clamp(89.5f64.to_radians().cos(), 1.0).acos().tan().max(1e-6);
+            if let Ok(map) = ShadowMap::spot(ray.light, cone.axis, 1.05 * tan_half, 64, &occ, 0.0) {
+                cases.push((r, map));
+            }
+        }
+        assert!(cases.len() >= 30, "{name}: {} cases", cases.len());
+        let mut most_runs = 0;
+        for (r, map) in &cases {
+            let as_ray = airlight_shaders::Ray {
+                origin: r.origin,
+                dir: r.dir,
+                surface: r.surface,
+                light: r.light,
+                intensity: r.intensity,
+                sigma_t: r.sigma_t[0],
+                sigma_s: r.sigma_s[0],
+                g: r.g,
+            };
+            let (runs, _, _) = rust_runs(walk, map, &map.pyramid(), &as_ray);
+            most_runs = most_runs.max(runs.len());
+            let args = (r.surface, r.origin, r.dir, r.light, r.axis, r.cos_outer, r.cos_inner, r.intensity);
+            let v = f(
+                &run_samples(&runs),
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                args.5,
+                args.6,
+                args.7,
+                r.sigma_t,
+                r.sigma_s,
+                r.g,
+            );
+            let open = plain(args.1, args.2, args.0, args.3, args.4, args.5, args.6, args.7, r.sigma_t, r.sigma_s, r.g);
+            for c in 0..3 {
+                assert!(v[c].is_finite() && v[c] >= 0.0, "{name} {r:?}: {v:?}");
+                let most =
+                    f64::from(open[c]) * (1.0 + 2.0 * bound * (1.0 + runs.len() as f64)) + f64::from(f32::MIN_POSITIVE);
+                assert!(
+                    f64::from(v[c]) <= most,
+                    "{name} {r:?}: shadowed {v:?} above unshadowed {open:?} ({} runs)",
+                    runs.len()
+                );
+            }
+        }
+        eprintln!("{name}: {} spot cases through the walk, at most {most_runs} runs", cases.len());
+        let Some(gpu) = &gpu else { continue };
+        let text = std::fs::read_to_string(generated.join(entry.wgsl.as_deref().unwrap())).unwrap();
+        let table = airlight_shaders::load_table(&generated, entry).unwrap();
+        let src = airlight_shaders::KernelSource::of(entry, airlight_shapes::vocab::Target::Wgsl, &text)
+            .with_table(table.as_ref());
+        for batch in cases.chunks(40) {
+            let maps: Vec<_> = batch.iter().map(|c| &c.1).collect();
+            let (pyramid, specs) = upload(gpu, texts.sources().pyramid, &maps).unwrap();
+            let rays: Vec<_> = batch.iter().map(|c| c.0).collect();
+            let got = gpu.spot_mapped(&src, &texts.sources(), &rays, &specs, &pyramid).unwrap();
+            for (g, c) in got.iter().zip(batch) {
+                assert!(g.value.iter().all(|x| x.is_finite() && *x >= 0.0), "{name} (WGSL) {:?}: {g:?}", c.0);
+            }
+        }
+    }
+}
