@@ -145,3 +145,97 @@ fn the_street_lamp_through_its_cube_map_leaks_nowhere() {
     assert!(walk_sum < march_sum, "walk {walk_sum:e} against march {march_sum:e}");
     eprintln!("mean error of U over 64 rays: walk {:.3e}, raymarch-256 {:.3e}", walk_sum / 64.0, march_sum / 64.0);
 }
+
+/// The shadow-map rows' bound under an adversarial search: the gate's kind of
+/// cases (rays among spheres, each cast into a 128² cube map), the six whose
+/// Rust f32 error (walk and accumulator, against the f64 reference over the same
+/// map's exact runs, relative to the unshadowed value times one plus the
+/// changes) is largest, each moved by a compass search over its origin and
+/// direction (steps from 1% down to 1e-6, the map held) toward a larger error;
+/// the largest found stays within the kernel's recorded f32 bound (phi-6, lite-4).
+#[test]
+fn the_shadow_map_bound_survives_a_local_search_from_the_worst_rays() {
+    use airlight_truth::reference;
+    let compiled = common::compiled();
+    let index = gate::load_index(&generated()).unwrap();
+    let text = std::fs::read_to_string(generated().join("gate.toml")).unwrap();
+    let record = airlight_shapes::record::GateRecord::from_toml("gate.toml", &text).unwrap();
+    for name in ["phi-6", "lite-4"] {
+        let k = index.get(name).unwrap();
+        let bound =
+            [Domain::Thin, Domain::Dense].into_iter().filter_map(|d| record.f32_bound(name, d)).fold(0.0, f64::max);
+        assert!(bound > 0.0, "{name} has recorded f32 bounds");
+        let ck = compiled.iter().find(|c| c.name == name).unwrap();
+        let (f, walk) = (ck.shadowed.unwrap(), ck.walk.unwrap());
+        let a = |q: reference::Point| reference::airlight(q).unwrap_or(f64::NAN);
+        // The error of ray r through map (None where the reference is out of range).
+        let error = |r: &airlight_shaders::Ray, map: &ShadowMap| -> Option<f64> {
+            let phys = r.physical();
+            let g = f64::from(r.g);
+            let unshadowed = phys.radiance(g, &a).ok()?;
+            let runs = map.lit_runs(&phys);
+            let stop = phys.surface_distance.unwrap_or(f64::INFINITY);
+            let changes: usize = runs.iter().map(|&(a, b)| usize::from(a > 0.0) + usize::from(b < stop)).sum();
+            let want = airlight_truth::shafts::shadowed_radiance(&phys, None, g, &runs, &a).ok()?;
+            if !(unshadowed > 1e-30 && unshadowed < 1e30 && want.is_finite()) {
+                return None;
+            }
+            let (got, _, truncated) = rust_runs(walk, map, &map.pyramid(), r);
+            assert!(!truncated, "{r:?}: the walk ran out of steps");
+            let v = f64::from(f(
+                &run_samples(&got),
+                r.surface,
+                r.origin,
+                r.dir,
+                r.light,
+                r.intensity,
+                r.sigma_t,
+                r.sigma_s,
+                r.g,
+            ));
+            assert!(v.is_finite() && v >= 0.0, "{r:?}: {v}");
+            Some((v - want).abs() / (unshadowed * (1.0 + changes as f64)))
+        };
+        let cases = map_cases::map_cases(k, 64, 128, 0x39A).unwrap();
+        let mut scored: Vec<(f64, usize)> =
+            cases.iter().enumerate().filter_map(|(i, c)| error(&c.case.ray, &c.map).map(|e| (e, i))).collect();
+        scored.sort_by(|x, y| y.0.total_cmp(&x.0));
+        let mut worst = (0.0f64, None);
+        for &(start, i) in scored.iter().take(6) {
+            let map = &cases[i].map;
+            let mut r = cases[i].case.ray;
+            let mut e = start;
+            let scale = {
+                let d: Vec<f32> = (0..3).map(|q| r.light[q] - r.origin[q]).collect();
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+            };
+            for step in [1e-2f32, 1e-3, 1e-4, 1e-5, 1e-6] {
+                let mut moved = true;
+                while moved {
+                    moved = false;
+                    for p in 0..6 {
+                        for sign in [1.0f32, -1.0] {
+                            let mut t = r;
+                            if p < 3 {
+                                t.origin[p] += sign * step * scale;
+                            } else {
+                                t.dir[p - 3] += sign * step;
+                            }
+                            if let Some(et) = error(&t, map) {
+                                if et > e {
+                                    (r, e, moved) = (t, et, true);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            eprintln!("from {start:e} to {e:e}");
+            if e > worst.0 {
+                worst = (e, Some(r));
+            }
+        }
+        eprintln!("{name} shadow-map rays, worst after the search: {:e} (bound {bound:e}) on {:?}", worst.0, worst.1);
+        assert!(worst.0 <= bound, "{name}: {:e} > {bound:e} on {:?}", worst.0, worst.1);
+    }
+}
