@@ -498,7 +498,10 @@ pub fn shafts_page_tsl(
             )
         }
         Fog::Exact => (
-            format!("const pyramid = new ShadowPyramid(light, {{ bias: {:?} }});\nconst built = performance.now();\npyramid.update(renderer);\nconst pyramidMs = performance.now() - built;", WALK_BIAS),
+            format!(
+                "const pyramid = new ShadowPyramid(light, {{ bias: {:?} }});\npyramid.update(renderer);",
+                WALK_BIAS
+            ),
             format!("K.shafts{}Exact{lang}({{ {args}, ...pyramid.nodes() }})", if spot { "Spot" } else { "" }),
         ),
     };
@@ -533,10 +536,7 @@ pub fn shafts_page_tsl(
             ("aspect_dbg", format!("{:?}", width as f32 / height as f32)),
             ("up", t3(u)),
             ("fog", fog_node),
-            (
-                "timing",
-                (if fog == Fog::Exact { "'; pyramid ' + pyramidMs.toFixed(0) + ' ms'" } else { "''" }).to_string(),
-            ),
+            ("per_frame", (if fog == Fog::Exact { "() => pyramid.update(renderer)" } else { "null" }).to_string()),
         ],
     );
     let imports = format!(
