@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 48] = [
+pub const TEMPLATES: [(&str, &str); 50] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -67,6 +67,8 @@ pub const TEMPLATES: [(&str, &str); 48] = [
     ("three/sources.d.ts.tera", include_str!("../../templates/packages/three/sources.d.ts.tera")),
     ("three/shadow.js.tera", include_str!("../../templates/packages/three/shadow.js.tera")),
     ("three/shadow.d.ts.tera", include_str!("../../templates/packages/three/shadow.d.ts.tera")),
+    ("three/exact.wgsl.tera", include_str!("../../templates/packages/three/exact.wgsl.tera")),
+    ("three/exact.glsl.tera", include_str!("../../templates/packages/three/exact.glsl.tera")),
     ("three/shadowmap.js.tera", include_str!("../../templates/packages/three/shadowmap.js.tera")),
     ("three/shadowmap.d.ts.tera", include_str!("../../templates/packages/three/shadowmap.d.ts.tera")),
     ("three/kernel.js.tera", include_str!("../../templates/packages/three/kernel.js.tera")),

@@ -136,8 +136,9 @@ fn param_list(args: &[Arg], glsl: bool) -> String {
 /// A kernel's TSL entries; `runs`: whether its accumulator takes lit runs
 /// (`shafts_begin_runs`, `shafts_add_run`: the exact mode's nodes need them; a
 /// family whose accumulator is a march of its own has none).
-fn tsl_entries(spec: &KernelSpec, runs: bool) -> Vec<TslEntry> {
-    entries(spec)
+fn tsl_entries(tera: &tera::Tera, spec: &KernelSpec, runs: bool) -> Result<Vec<TslEntry>, tera::Error> {
+    let exact = if runs { exact_entries(tera, spec)? } else { Vec::new() };
+    Ok(entries(spec)
         .into_iter()
         .map(|e| {
             let args = spec.args(e);
@@ -165,8 +166,8 @@ fn tsl_entries(spec: &KernelSpec, runs: bool) -> Vec<TslEntry> {
             }
         })
         .chain(shafts_entries(spec))
-        .chain(exact_entries(spec).into_iter().filter(|_| runs))
-        .collect()
+        .chain(exact)
+        .collect())
 }
 
 /// The shadow-map look-up the shafts nodes share (a TSL code node): the light's
@@ -318,74 +319,61 @@ fn atlas_walk(tera: &tera::Tera, glsl: bool) -> Result<String, tera::Error> {
 
 /// TSL nodes of the exact mode (`shaftsExact`, `shaftsSpotExact`): the view ray's
 /// lit runs from the shadow-map walk over a `ShadowPyramid` of a three.js map
-/// (`airlight-three/shadowmap.js`), each handed to the kernel's accumulator.
-fn exact_entries(spec: &KernelSpec) -> Vec<TslEntry> {
+/// (`airlight-three/shadowmap.js`), each handed to the kernel's accumulator;
+/// their code from `three/exact.{wgsl,glsl}.tera`.
+fn exact_entries(tera: &tera::Tera, spec: &KernelSpec) -> Result<Vec<TslEntry>, tera::Error> {
     if !spec.shafts {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let p = spec.prefix();
-    [(Entry::Radiance, "shaftsExact", "shafts_flush", "shafts_finish"), (Entry::Spot, "shaftsSpotExact", "shafts_flush_spot", "shafts_finish_spot")]
-        .into_iter()
-        .filter(|(e, ..)| spec.args(*e).iter().any(|a| a.name() == "surface"))
-        .map(|(e, entry, flush, finish)| {
-            let args = spec.args(e);
-            let rgb = e.outputs() == 3;
-            let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
-            let rest = rest.join(", ");
-            let name = format!("{p}{entry}_tsl");
-            let wgsl_fn = format!(
-                "fn {name}({params}, pyramid_even: texture_2d<f32>, pyramid_odd: texture_2d<f32>, smap_rows: mat3x3<f32>, smap_cube: f32, smap_res: f32, smap_bias: f32) -> {ret} {{
-    var w = airlight_smap_begin(origin, dir, surface, light, smap_rows, smap_cube > 0.5, u32(smap_res), smap_bias, 0u);
-    var acc = {p}shafts_begin_runs();
-    loop {{
-        let r = airlight_smap_next(&w, pyramid_even, pyramid_odd);
-        if r.x < 0.0 {{
-            break;
-        }}
-        {p}shafts_add_run(&acc, r.x, r.y);
-        if {p}shafts_full(acc) {{
-            {p}{flush}(&acc, {rest});
-        }}
-    }}
-    return {p}{finish}(acc, surface, {rest});
-}}",
-                params = param_list(&args, false),
-                ret = if rgb { "vec3<f32>" } else { "f32" },
+    [
+        (Entry::Radiance, "shaftsExact", "shafts_flush", "shafts_finish"),
+        (Entry::Spot, "shaftsSpotExact", "shafts_flush_spot", "shafts_finish_spot"),
+    ]
+    .into_iter()
+    .filter(|(e, ..)| spec.args(*e).iter().any(|a| a.name() == "surface"))
+    .map(|(e, entry, flush, finish)| {
+        let args = spec.args(e);
+        let rgb = e.outputs() == 3;
+        let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
+        let rest = rest.join(", ");
+        let name = format!("{p}{entry}_tsl");
+        let render = |lang: &str, glsl: bool| {
+            let mut ctx = tera::Context::new();
+            ctx.insert("header", GLSL_PROPERTY);
+            ctx.insert("name", &name);
+            ctx.insert("params", &param_list(&args, glsl));
+            ctx.insert(
+                "ret",
+                match (glsl, rgb) {
+                    (false, true) => "vec3<f32>",
+                    (false, false) => "f32",
+                    (true, true) => "vec3",
+                    (true, false) => "float",
+                },
             );
-            let glsl_fn = format!(
-                "{GLSL_PROPERTY}{ret} {name}({params}, property pyramid_even, property pyramid_odd, mat3 smap_rows, float smap_cube, float smap_res, float smap_bias) {{
-    AirlightSmapWalk w = airlight_smap_begin(origin, dir, surface, light, smap_rows, smap_cube > 0.5, int(smap_res), smap_bias, 0);
-    {p}Shafts acc = {p}shafts_begin_runs();
-    for (;;) {{
-        vec2 r = airlight_smap_next(w, pyramid_even, pyramid_odd);
-        if (r.x < 0.0) {{
-            break;
-        }}
-        {p}shafts_add_run(acc, r.x, r.y);
-        if ({p}shafts_full(acc)) {{
-            {p}{flush}(acc, {rest});
-        }}
-    }}
-    return {p}{finish}(acc, surface, {rest});
-}}",
-                params = param_list(&args, true),
-                ret = if rgb { "vec3" } else { "float" },
-            );
-            let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
-            params.extend(["pyramid_even", "pyramid_odd", "smap_rows", "smap_cube", "smap_res", "smap_bias"]);
-            TslEntry {
-                entry,
-                name: format!("{p}{finish}"),
-                wgsl_fn: js_string(&wgsl_fn),
-                glsl_fn: js_string(&glsl_fn),
-                includes: vec!["smapWGSL"],
-                glsl_includes: vec!["smapGLSL"],
-                shadow_at: None,
-                params,
-                rgb,
-            }
+            ctx.insert("p", &p);
+            ctx.insert("flush", flush);
+            ctx.insert("finish", finish);
+            ctx.insert("rest", &rest);
+            tera.render(&format!("three/exact.{lang}.tera"), &ctx)
+        };
+        let (wgsl_fn, glsl_fn) = (render("wgsl", false)?, render("glsl", true)?);
+        let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
+        params.extend(["pyramid_even", "pyramid_odd", "smap_rows", "smap_cube", "smap_res", "smap_bias"]);
+        Ok(TslEntry {
+            entry,
+            name: format!("{p}{finish}"),
+            wgsl_fn: js_string(wgsl_fn.trim_end()),
+            glsl_fn: js_string(glsl_fn.trim_end()),
+            includes: vec!["smapWGSL"],
+            glsl_includes: vec!["smapGLSL"],
+            shadow_at: None,
+            params,
+            rgb,
         })
-        .collect()
+    })
+    .collect()
 }
 
 /// The `glslFn` header that lets an exact node take the pyramid's textures:
@@ -508,7 +496,7 @@ pub(super) fn render(
                     f32n(Domain::Thin),
                     f32n(Domain::Dense)
                 ),
-                entries: tsl_entries(spec, runs)
+                entries: tsl_entries(tera, spec, runs)?
                     .into_iter()
                     .map(|e| TslView { args_type: e.args_type(), entry: e })
                     .collect(),
