@@ -26,6 +26,6 @@ export declare class ShadowPyramid {
   nodes(): PyramidNodes;
   /** Builds the pyramid from the light's shadow map as the last render drew it. */
   update(renderer: unknown): void;
-  /** Frees the atlases. */
+  /** Frees the atlases and the passes. */
   dispose(): void;
 }

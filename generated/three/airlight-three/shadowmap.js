@@ -111,6 +111,7 @@ export class ShadowPyramid {
 
   /** The passes' scenes, for the renderer's backend: level 0 from the depth map, and each level from the one below. */
   build(renderer) {
+    this.disposePasses();
     const webgpu = renderer.backend.isWebGPUBackend === true;
     const f = webgpu ? passesWGSL : passesGLSL;
     const q = screenCoordinate.xy;
@@ -206,8 +207,21 @@ export class ShadowPyramid {
     };
   }
 
-  /** Frees the atlases. */
+  /** Frees the passes' materials and quads (a new depth texture rebuilds them). */
+  disposePasses() {
+    if (this.passes === null) return;
+    for (const s of [this.passes.base, this.passes.fromEven, this.passes.fromOdd]) {
+      for (const m of s.children) {
+        m.material.dispose();
+        m.geometry.dispose();
+      }
+    }
+    this.passes = null;
+  }
+
+  /** Frees the atlases and the passes. */
   dispose() {
+    this.disposePasses();
     this.even.dispose();
     this.odd.dispose();
   }
