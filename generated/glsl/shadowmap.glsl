@@ -78,6 +78,9 @@ struct AirlightSmapWalk {
 const int AIRLIGHT_SMAP_STEPS = 4096;
 // An open ray's far end.
 const float AIRLIGHT_SMAP_FAR = 1e30;
+// How far short of a node's side the walk takes the ray to be on it, relative to
+// the size of the terms of its face coordinates there (a corner's crossing rounded).
+const float AIRLIGHT_SMAP_SIDE_TOL = 1.9073486e-6;
 
 // The cube map's face f (+X, -X, +Y, -Y, +Z, -Z): rows right, up, forward.
 mat3 airlight_smap_cube_rows(int f) {
@@ -232,14 +235,17 @@ void airlight_smap_leave(inout AirlightSmapWalk w) {
 }
 
 // Where the ray, moving in the direction s along axis i, reaches the node's
-// side c (a map coordinate): now if it is there already, never (FAR) if the
-// line never gets there in front of the light.
+// side c (a map coordinate): now if it is there already (within SIDE_TOL: a ray
+// that left the last node through a corner may be a rounding short of this
+// side, where the crossing below falls behind t and would read as never), never
+// (FAR) if the line never gets there in front of the light.
 float airlight_smap_exit(AirlightSmapWalk w, int i, float c, int s) {
     if (s == 0) {
         return AIRLIGHT_SMAP_FAR;
     }
     float t = w.t;
-    if ((w.a[i] + t * w.b[i] - c * (w.a.z + t * w.b.z)) * float(s) >= 0.0) {
+    float scale = abs(w.a[i]) + abs(t * w.b[i]) + abs(c) * (abs(w.a.z) + abs(t * w.b.z));
+    if ((w.a[i] + t * w.b[i] - c * (w.a.z + t * w.b.z)) * float(s) >= -AIRLIGHT_SMAP_SIDE_TOL * scale) {
         return t;
     }
     float den = w.b[i] - c * w.b.z;

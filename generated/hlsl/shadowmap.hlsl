@@ -42,6 +42,7 @@ struct AirlightSmapWalk {
 
 static const uint AIRLIGHT_SMAP_STEPS = 4096u;
 static const float AIRLIGHT_SMAP_FAR = 1e30;
+static const float AIRLIGHT_SMAP_SIDE_TOL = 1.9073486e-6;
 
 float3x3 airlight_smap_cube_rows(uint f)
 {
@@ -329,7 +330,8 @@ float airlight_smap_exit(AirlightSmapWalk w_6, uint i, float c, int s)
         return AIRLIGHT_SMAP_FAR;
     }
     float t_2 = w_6.t;
-    if (((((w_6.a[min(uint(i), 2u)] + (t_2 * w_6.b[min(uint(i), 2u)])) - (c * (w_6.a.z + (t_2 * w_6.b.z)))) * float(s)) >= 0.0)) {
+    float scale = ((abs(w_6.a[min(uint(i), 2u)]) + abs((t_2 * w_6.b[min(uint(i), 2u)]))) + (abs(c) * (abs(w_6.a.z) + abs((t_2 * w_6.b.z)))));
+    if (((((w_6.a[min(uint(i), 2u)] + (t_2 * w_6.b[min(uint(i), 2u)])) - (c * (w_6.a.z + (t_2 * w_6.b.z)))) * float(s)) >= (-1.9073486e-6 * scale))) {
         return t_2;
     }
     float den = (w_6.b[min(uint(i), 2u)] - (c * w_6.b.z));

@@ -49,6 +49,7 @@ struct AirlightSmapWalk {
 };
 constant uint AIRLIGHT_SMAP_STEPS = 4096u;
 constant float AIRLIGHT_SMAP_FAR = 1000000000000000000000000000000.0;
+constant float AIRLIGHT_SMAP_SIDE_TOL = 0.0000019073486;
 
 metal::float3x3 airlight_smap_cube_rows(
     uint f
@@ -362,7 +363,8 @@ float airlight_smap_exit(
         return AIRLIGHT_SMAP_FAR;
     }
     float t_2 = w_6.t;
-    if ((((w_6.a[i] + (t_2 * w_6.b[i])) - (c * (w_6.a.z + (t_2 * w_6.b[2])))) * static_cast<float>(s)) >= 0.0) {
+    float scale = (metal::abs(w_6.a[i]) + metal::abs(t_2 * w_6.b[i])) + (metal::abs(c) * (metal::abs(w_6.a.z) + metal::abs(t_2 * w_6.b[2])));
+    if ((((w_6.a[i] + (t_2 * w_6.b[i])) - (c * (w_6.a.z + (t_2 * w_6.b[2])))) * static_cast<float>(s)) >= (-0.0000019073486 * scale)) {
         return t_2;
     }
     float den = w_6.b[i] - (c * w_6.b[2]);

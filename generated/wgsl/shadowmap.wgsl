@@ -67,6 +67,10 @@ struct AirlightSmapWalk {
 const AIRLIGHT_SMAP_STEPS: u32 = 4096u;
 /// An open ray's far end.
 const AIRLIGHT_SMAP_FAR: f32 = 1e30;
+/// How far short of a node's side the walk takes the ray to be on it, relative
+/// to the size of the terms of its face coordinates there (a corner's crossing
+/// rounded).
+const AIRLIGHT_SMAP_SIDE_TOL: f32 = 1.9073486e-6;
 
 /// The cube map's face f (+X, -X, +Y, -Y, +Z, -Z): rows right, up, forward.
 fn airlight_smap_cube_rows(f: u32) -> mat3x3<f32> {
@@ -204,14 +208,17 @@ fn airlight_smap_leave(w: ptr<function, AirlightSmapWalk>) {
 }
 
 /// Where the ray, moving in the direction s along axis i, reaches the node's
-/// side c (a map coordinate): now if it is there already, never (FAR) if the
-/// line never gets there in front of the light.
+/// side c (a map coordinate): now if it is there already (within SIDE_TOL: a ray
+/// that left the last node through a corner may be a rounding short of this
+/// side, where the crossing below falls behind t and would read as never), never
+/// (FAR) if the line never gets there in front of the light.
 fn airlight_smap_exit(w: AirlightSmapWalk, i: u32, c: f32, s: i32) -> f32 {
     if s == 0 {
         return AIRLIGHT_SMAP_FAR;
     }
     let t = w.t;
-    if (w.a[i] + t * w.b[i] - c * (w.a.z + t * w.b.z)) * f32(s) >= 0.0 {
+    let scale = abs(w.a[i]) + abs(t * w.b[i]) + abs(c) * (abs(w.a.z) + abs(t * w.b.z));
+    if (w.a[i] + t * w.b[i] - c * (w.a.z + t * w.b.z)) * f32(s) >= -AIRLIGHT_SMAP_SIDE_TOL * scale {
         return t;
     }
     let den = w.b[i] - c * w.b.z;

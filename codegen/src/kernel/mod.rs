@@ -343,6 +343,20 @@ fn translations(spec: &KernelSpec, table: &OutputTable, rendered: &[Output]) -> 
 /// of the ray counts as shadowed, and the walk says so).
 pub const WALK_STEPS: u32 = 4096;
 
+/// How far short of a node's side the shadow-map walk takes a ray to be on it,
+/// relative to the size of the terms of its face coordinates there: 16 ulps of
+/// f32, more than the rounding of a corner's crossing, less than 1e-5 of a
+/// texel at the largest map. As a literal for the templates (`walk_side_tol`).
+pub fn walk_side_tol() -> String {
+    format!("{:e}", 16.0 * f32::EPSILON)
+}
+
+/// The walk's constants every template that renders it is given.
+pub(crate) fn walk_constants(ctx: &mut tera::Context) {
+    ctx.insert("walk_steps", &WALK_STEPS);
+    ctx.insert("walk_side_tol", &walk_side_tol());
+}
+
 /// Where the shadow-map walk reads its pyramid (the walk templates' `atlas`,
 /// `pyramid_params`, `pyramid_args`): one mip-mapped `texture_2d_array` in WGSL
 /// and a caller's `airlight_smap_node` in GLSL (`atlas` false), or airlight-three's
@@ -371,7 +385,7 @@ fn render_shared(tera: &tera::Tera, table: &OutputTable) -> Result<Vec<Output>, 
             format!("template: codegen/templates/kernels/{}", f.template),
         ];
         ctx.insert("header", &comment(&lines, "//"));
-        ctx.insert("walk_steps", &WALK_STEPS);
+        walk_constants(&mut ctx);
         walk_pyramid(&mut ctx, f.path.ends_with(".glsl"), false);
         let mut text = tera.render(&f.template, &ctx)?;
         // A GLSL library gets a guard; a whole shader (its #version first) none.

@@ -310,7 +310,7 @@ fn atlas_walk(tera: &tera::Tera, glsl: bool) -> Result<String, tera::Error> {
     let lang = if glsl { "glsl" } else { "wgsl" };
     let mut ctx = tera::Context::new();
     ctx.insert("header", &format!("// airlight's shadow-map walk over airlight-three's pyramid atlases ({lang})."));
-    ctx.insert("walk_steps", &super::WALK_STEPS);
+    super::walk_constants(&mut ctx);
     super::walk_pyramid(&mut ctx, glsl, true);
     let layout = tera.render(&format!("shafts/atlas.{lang}.tera"), &ctx)?;
     let walk = tera.render(&format!("shafts/shadowmap.{lang}.tera"), &ctx)?;

@@ -105,7 +105,7 @@ pub(super) fn render(tera: &tera::Tera, table: &OutputTable, specs: &[KernelSpec
         ctx.insert("ln_table", &ln_table());
         ctx.insert("kernels", &kernels);
         ctx.insert("version", env!("CARGO_PKG_VERSION"));
-        ctx.insert("walk_steps", &super::WALK_STEPS);
+        super::walk_constants(&mut ctx);
         out.push(Output::text(f.path.clone(), tera.render(&f.template, &ctx)?));
     }
     Ok(out)

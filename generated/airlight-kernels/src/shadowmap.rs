@@ -28,6 +28,11 @@ pub trait Pyramid {
 /// them the rest of the ray counts as shadowed and [`Walk::truncated`] says so.
 pub const WALK_STEPS: u32 = 4096;
 
+/// How far short of a node's side the walk takes the ray to be on it, relative
+/// to the size of the terms of its face coordinates there (16 ulps: a corner's
+/// crossing rounded).
+pub const WALK_SIDE_TOL: f32 = 1.9073486e-6;
+
 /// An open ray's far end, in world units.
 pub const WALK_FAR: f32 = 1e30;
 
@@ -247,12 +252,18 @@ impl Walk {
     /// Where the ray, moving in the direction `s` along axis `i`, reaches the
     /// node's side `c` (a map coordinate): now if it is there already, never
     /// ([`WALK_FAR`]) if the line never gets there in front of the light.
+    /// "There already" allows [`WALK_SIDE_TOL`]: a ray that left the last node
+    /// through a corner is on this side too, and rounding may put it a hair short,
+    /// where the crossing solved below falls at or behind `t` and would read as
+    /// never — the next node decided up to the following side or face.
     fn exit(&self, i: usize, c: f32, s: i32) -> f32 {
         if s == 0 {
             return WALK_FAR;
         }
         let t = self.t;
-        if (self.a[i] + t * self.b[i] - c * (self.a[2] + t * self.b[2])) * s as f32 >= 0.0 {
+        let (x, z) = (self.a[i] + t * self.b[i], self.a[2] + t * self.b[2]);
+        let scale = self.a[i].abs() + (t * self.b[i]).abs() + c.abs() * (self.a[2].abs() + (t * self.b[2]).abs());
+        if (x - c * z) * s as f32 >= -WALK_SIDE_TOL * scale {
             return t;
         }
         let den = self.b[i] - c * self.b[2];

@@ -74,9 +74,13 @@ pub(crate) const LIGHT_NEAR: f32 = 0.3;
 pub(crate) const LIGHT_FAR: f32 = 30.0;
 
 /// The exact frame's depth-test bias, metres of the light's face Z (the map's
-/// constant raster bias comes on top): thinner than any occluder, so no
-/// ray behind an occluder's front face counts as lit.
-pub const WALK_BIAS: f32 = 0.01;
+/// constant raster bias comes on top): thinner than any occluder, so no ray
+/// behind an occluder counts as lit. It does light the first `bias` of Z inside
+/// an occluder, and a view ray that ends on a shadowed side face near the lit
+/// top crosses that band: at 1 cm, 3 of window-shafts' 640×360 pixels leaked
+/// so; at 3 mm none of them (measured at 5, 3, 2 and 1 mm: the errors elsewhere
+/// move by under 1%).
+pub const WALK_BIAS: f32 = 0.003;
 
 /// An axis-aligned box: min, max, albedo.
 pub(crate) type Cuboid = ([f32; 3], [f32; 3], [f32; 3]);
