@@ -22,6 +22,7 @@ mod eval;
 mod fit;
 mod generate;
 mod models;
+mod plan;
 mod render;
 mod shafts;
 mod workspace;
@@ -273,7 +274,8 @@ enum Command {
     /// the same GPU time (OUT-march.png), the reference over exact lit intervals
     /// (OUT-reference.png), and each one's relative fog error (OUT-diff*.png).
     Render {
-        /// The scene file (codegen/scenes/<name>.toml); its kernels must be generated.
+        /// The scene file (any path; planned as `airlight plan` plans it, its
+        /// kernel rendered in memory, so an edited copy draws its own kernel).
         #[arg(long)]
         scene: PathBuf,
         /// The GPU image (PNG); the others are written next to it.
@@ -291,6 +293,25 @@ enum Command {
         height: Option<u32>,
         /// Repository root (the directory holding generated/); found from the
         /// current directory if omitted.
+        #[arg(long)]
+        root: Option<PathBuf>,
+    },
+    /// Plan a scene file from anywhere (codegen/scenes/*.toml, or your own): print
+    /// the plan (every model that covers the scene, cheapest first by the measured
+    /// costs of generated/bench.json, with its declared bound over the error domains
+    /// the scene reaches, and the pick) and, with --out DIR, write the scene's kernel
+    /// for each target it names under DIR, laid out as under generated/ (wgsl/,
+    /// glsl/, hlsl/, msl/, airlight-kernels/src/, plans/): the bytes `airlight
+    /// generate` writes for a scene file of codegen/scenes/ named by the same path.
+    /// Nothing is written unless the whole scene plans.
+    Plan {
+        /// The scene file.
+        scene: PathBuf,
+        /// Where to write the kernel's files (created if missing).
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// Repository root (the directory holding generated/, whose models and
+        /// bench the plan reads); found from the current directory if omitted.
         #[arg(long)]
         root: Option<PathBuf>,
     },
@@ -396,6 +417,7 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
             bench::bench(root, linked.unwrap_or_default(), BenchSize { points, batch, repeats }, out)
         }
         Command::Models { root } => models::models(root),
+        Command::Plan { scene, out, root } => plan::plan(&scene, out.as_deref(), root),
         Command::Fit { family, root } => fit::fit(family.as_deref(), root),
         Command::Generate { check, root } => generate::generate(root, check),
         Command::Regenerate { root } => generate::regenerate(root, linked),

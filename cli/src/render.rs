@@ -17,16 +17,26 @@ pub(crate) fn render_scene(
     kernels: &[CompiledKernel],
 ) -> Result<(), Failure> {
     use airlight_shaders::render;
-    let generated = generated_dir(root)?;
+    let generated = generated_dir(root.clone())?;
     let shown = scene_file.display().to_string();
-    let text = std::fs::read_to_string(scene_file).map_err(|e| bad_input(format!("{shown}: cannot read: {e}")))?;
-    let scene = airlight_codegen::scene::parse(&shown, &text).map_err(bad_input)?;
+    // The file as given is planned and its kernel rendered here, so that an
+    // edited copy draws its own kernel, not a generated one of the same name.
+    let (scene, planned) = crate::plan::plan_file(scene_file, root)?;
     let index = gate::load_index(&generated).map_err(|e| bad_input(e.to_string()))?;
-    let name = format!("scene-{}", scene.name);
-    let k = index.get(&name).map_err(|e| bad_input(format!("{shown}: {e} (run `airlight generate`)")))?;
-    let wgsl = k.wgsl.as_ref().ok_or_else(|| bad_input(format!("{shown}: the scene has no wgsl target")))?;
-    let kernel = std::fs::read_to_string(generated.join(wgsl))
-        .map_err(|e| Failure(1, format!("{}: cannot read: {e}", generated.join(wgsl).display())))?;
+    let k = &planned.index;
+    let name = k.name.clone();
+    let source = |path: &Option<String>| {
+        path.as_ref().and_then(|p| planned.files.iter().find(|o| &o.path == p)).map(|o| o.contents.clone())
+    };
+    let kernel = source(&k.wgsl)
+        .map(|b| String::from_utf8_lossy(&b).into_owned())
+        .ok_or_else(|| bad_input(format!("{shown}: the scene has no wgsl target")))?;
+    // The linked Rust kernel draws the CPU panel only if it is this plan's: the
+    // generated module this binary was built from holds the same source.
+    let linked_is_current = match (source(&k.rust), &k.rust) {
+        (Some(planned), Some(p)) => std::fs::read(generated.join(p)).ok().as_deref() == Some(&planned[..]),
+        _ => false,
+    };
     let (width, height) = match scene.shadows {
         true => (width.unwrap_or(640), height.unwrap_or(360)),
         false => (width.unwrap_or(320), height.unwrap_or(240)),
@@ -49,7 +59,10 @@ pub(crate) fn render_scene(
     let gpu = Gpu::open().map_err(|e| Failure(1, e.to_string()))?;
     println!("adapter: {}", gpu.adapter());
     let view = render::View::for_scene(k, scene.sigma_t.1, scene.max_distance, width, height);
-    let rk = kernels.iter().find(|rk| rk.name == name);
+    let rk = kernels.iter().find(|rk| rk.name == name && linked_is_current);
+    if rk.is_none() {
+        println!("no Rust panel: the linked Rust kernels do not hold `{name}` as {shown} plans it (`airlight generate` for a scene of codegen/scenes/, then rebuild)");
+    }
     let images = render::Images::draw(&gpu, k, &kernel, &view, scene.spot, rk)
         .map_err(|e| Failure(1, format!("{name}: {e}")))?;
     let w = view.width();

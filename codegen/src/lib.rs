@@ -151,9 +151,8 @@ pub fn render_all(
     let mut specs: Vec<kernel::KernelSpec> = models.iter().map(kernel::KernelSpec::for_model).collect();
     let mut plans = Vec::new();
     for s in scenes {
-        let plan = scene::plan(s, models, recorded.bench.as_ref()).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
-        let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
-        plans.push(kernel::render_plan(s, &plan, &spec).map_err(RenderError::Template)?);
+        let (_, spec, plan_file) = plan_scene(s, models, recorded.bench.as_ref())?;
+        plans.push(plan_file);
         specs.push(spec);
     }
     let (bench, record, fuzz) = (recorded.bench.as_ref(), recorded.gate.as_ref(), recorded.fuzz.as_ref());
@@ -192,6 +191,51 @@ pub fn render_all(
     out.extend(kernels);
     out.push(kernel::render_index(&specs));
     Ok(out)
+}
+
+/// A scene's plan, its kernel's spec and the plan's file (`plans/<kernel>.md`):
+/// the planner's pick among `models` by `bench`'s measured costs.
+fn plan_scene(
+    s: &scene::Scene,
+    models: &[ModelFile],
+    bench: Option<&Bench>,
+) -> Result<(scene::Plan, kernel::KernelSpec, Output), RenderError> {
+    let plan = scene::plan(s, models, bench).map_err(|e| RenderError::Scene(s.plan_error(&e)))?;
+    let spec = kernel::KernelSpec::for_scene(s, &plan, models, &s.file);
+    let file = kernel::render_plan(s, &plan, &spec).map_err(RenderError::Template)?;
+    Ok((plan, spec, file))
+}
+
+/// One scene planned and its kernel rendered, in memory, from a scene file
+/// anywhere: what `generate` writes for a scene of `codegen/scenes/`, byte for
+/// byte (the scene's `file` as shown is the only input that names a path).
+#[derive(Debug, Clone)]
+pub struct SceneKernel {
+    /// The plan: every candidate with its bound and cost, and the pick.
+    pub plan: scene::Plan,
+    /// The plan as `generate` writes it (`plans/<kernel>.md`).
+    pub plan_file: Output,
+    /// The kernel's files, paths as under `generated/`: its source per target
+    /// and their translations (HLSL, MSL, the Bevy module); for a scene with
+    /// shadows, the shadow-map walk and pyramid passes it is used with; a
+    /// table-driven model's table.
+    pub files: Vec<Output>,
+    /// Its entry in an index (`kernels.toml`'s shape): what the GPU harness
+    /// and `render` need to call it.
+    pub index: airlight_shapes::vocab::IndexEntry,
+}
+
+/// Plans `s` (a parsed scene file) among `models` by the measured costs of
+/// `recorded`'s bench and renders its kernel ([`SceneKernel`]).
+pub fn scene_kernel(s: &scene::Scene, models: &[ModelFile], recorded: &Recorded) -> Result<SceneKernel, RenderError> {
+    let (plan, spec, plan_file) = plan_scene(s, models, recorded.bench.as_ref())?;
+    let shared: Vec<String> = kernel::OutputTable::standard().shared_file.iter().map(|f| f.path.clone()).collect();
+    let files = kernel::render_sources(std::slice::from_ref(&spec))
+        .map_err(RenderError::Template)?
+        .into_iter()
+        .filter(|o| s.shadows || !shared.contains(&o.path))
+        .collect();
+    Ok(SceneKernel { plan, plan_file, files, index: kernel::index_entry_of(&spec) })
 }
 
 /// Compares every output with the file under `generated`, and lists the files

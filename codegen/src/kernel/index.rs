@@ -51,6 +51,11 @@ fn index_entry(spec: &KernelSpec, table: &OutputTable) -> IndexEntry {
     }
 }
 
+/// One kernel's entry of the index, as `generated/kernels.toml` holds it.
+pub fn index_entry_of(spec: &KernelSpec) -> IndexEntry {
+    index_entry(spec, &OutputTable::standard())
+}
+
 /// `generated/kernels.toml`.
 pub fn render_index(specs: &[KernelSpec]) -> Output {
     let table = OutputTable::standard();

@@ -15,7 +15,7 @@ mod plan;
 mod rust_crate;
 pub mod spec;
 
-pub use index::render_index;
+pub use index::{index_entry_of, render_index};
 pub use outputs::{FileOutput, KernelOutput, OutputTable, SharedFile, Translation, OUTPUT_TABLE};
 pub use plan::render_plan;
 pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, SPOT_EDGE_NODES, SPOT_EDGE_PIECES};
