@@ -156,6 +156,12 @@ pub fn render_all(
         specs.push(spec);
     }
     let (bench, record, fuzz) = (recorded.bench.as_ref(), recorded.gate.as_ref(), recorded.fuzz.as_ref());
+    for spec in specs.iter_mut().filter(|s| s.scene.is_none()) {
+        spec.measured = bench.and_then(|b| b.models.iter().find(|m| m.name == spec.name)).map(|m| kernel::Measured {
+            cpu_ns: m.cpu_ns_per_eval,
+            gpu_ns: (m.gpu_frame_evals_per_s > 0.0).then(|| 1e9 / m.gpu_frame_evals_per_s),
+        });
+    }
     let mut kernels = kernel::render(&specs).map_err(RenderError::Template)?;
     // Whether the recorded gate measured these kernels.
     let current = record.map(|r| {

@@ -40,8 +40,10 @@ fn exported(js: &str, name: &str) -> String {
 #[test]
 fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     let dir = generated_dir().join("three/airlight-three/kernels");
-    let modules = files(&dir, "js");
+    // The menu's modules and the research kernels' (`research/kernels/`), alike.
+    let mut modules = files(&dir, "js");
     assert!(modules.len() >= 10, "{} modules", modules.len());
+    modules.extend(files(&dir.join("../research/kernels"), "js"));
     let tmp = std::env::temp_dir().join(format!("airlight-three-fns-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let mut shafts = 0;
@@ -63,7 +65,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let js = std::fs::read_to_string(path).unwrap();
         // The sources' module: the strings alone, importing nothing (WebGLRenderer needs no TSL).
-        let sources = std::fs::read_to_string(dir.join(format!("../sources/{name}.js"))).unwrap();
+        let sources = std::fs::read_to_string(path.parent().unwrap().join(format!("../sources/{name}.js"))).unwrap();
         assert!(!sources.lines().any(|l| l.starts_with("import ")), "{name}: the sources module imports");
         assert!(
             js.contains(&format!("from '../sources/{name}.js'")),
@@ -210,4 +212,79 @@ console.log(JSON.stringify({
             "inOrder": 16, "inOrderCompare": true, "inOrderMatrix": true }),
         "{got}"
     );
+}
+
+/// A menu, not a catalogue (issue 40, item 3): the package's index lists the
+/// kernels a renderer should use — airlight's own tiers and the closed form —
+/// each with its declared bounds and measured costs, and `pick` chooses from it
+/// by budget; the paper's models and the baselines are importable under
+/// `research/kernels/` and absent from the index. Run in Node with three r187.
+#[test]
+fn the_index_is_a_menu_and_pick_chooses_by_budget() {
+    use airlight_tests::npm_tools;
+    let pkg = generated_dir().join("three/airlight-three");
+    let index = std::fs::read_to_string(pkg.join("index.js")).unwrap();
+    let research = ["paper", "segments-8", "hg-exp2", "raymarch-64", "equiangular-16"];
+    for name in research {
+        assert!(!index.contains(&format!("name: \"{name}\"")), "{name} is on the menu");
+        assert!(pkg.join(format!("research/kernels/{name}.js")).is_file(), "{name}: no research module");
+        assert!(!pkg.join(format!("kernels/{name}.js")).exists(), "{name}: still among the kernels");
+    }
+    for name in ["lite-3", "lite-iso-2", "phi-6", "phi-iso-6", "no-extinction"] {
+        assert!(index.contains(&format!("name: \"{name}\"")), "{name} is not on the menu");
+    }
+    let package: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(pkg.join("package.json")).unwrap()).unwrap();
+    assert!(package["exports"]["./research/kernels/*.js"].is_object(), "research modules exported");
+    assert!(package["files"].as_array().unwrap().iter().any(|f| f == "research"), "research files packed");
+    let Some(tools) = npm_tools("three") else { return };
+    if !Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
+        return;
+    }
+    let tmp = std::env::temp_dir().join(format!("airlight-three-menu-{}", std::process::id()));
+    let modules = tmp.join("node_modules");
+    std::fs::create_dir_all(&modules).unwrap();
+    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
+    std::os::unix::fs::symlink(&pkg, modules.join("airlight-three")).unwrap();
+    let script = r#"import { kernels, pick, load, research } from 'airlight-three';
+const worst = (k) => Math.max(k.thin, k.dense);
+const out = { menu: kernels.length, research: research.length, picks: {} };
+for (const [maxError, g] of [[1e-1, 0], [1e-2, 0], [1e-3, 0], [1e-4, 0.5], [1e-2, [-0.99, 0.99]], [1e-4, [-0.99, 0.99]]]) {
+  const k = pick({ maxError, g });
+  const lo = Array.isArray(g) ? g[0] : g, hi = Array.isArray(g) ? g[1] : g;
+  // Brute force: the cheapest serving kernel within the budget.
+  const fits = kernels.filter((c) => c.gRange[0] <= lo && hi <= c.gRange[1] && worst(c) <= maxError);
+  const cheapest = Math.min(...fits.map((c) => c.gpuNs ?? c.cpuNs));
+  out.picks[`${maxError} ${g}`] = { name: k && k.name, worst: k && worst(k), cost: k && (k.gpuNs ?? k.cpuNs), cheapest,
+    serves: !!k && k.gRange[0] <= lo && hi <= k.gRange[1] };
+}
+out.none = pick({ maxError: 1e-9 });
+out.costs = kernels.every((k) => k.cpuNs > 0);
+const m = await load('phi-6');
+const r = await load('raymarch-64');
+out.loaded = typeof m.radianceWGSL === 'function' && typeof r.radianceWGSL === 'function';
+let bad = '';
+try { pick({}); } catch (e) { bad = e.message; }
+out.bad = bad;
+console.log(JSON.stringify(out));
+"#;
+    std::fs::write(tmp.join("menu.mjs"), script).unwrap();
+    let o = Command::new("node").args(["--preserve-symlinks", "menu.mjs"]).current_dir(&tmp).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    std::fs::remove_dir_all(&tmp).ok();
+    assert!(v["menu"].as_u64().unwrap() >= 15 && v["research"].as_u64().unwrap() >= 20, "{v}");
+    for (budget, p) in v["picks"].as_object().unwrap() {
+        let max: f64 = budget.split(' ').next().unwrap().parse().unwrap();
+        assert!(p["name"].is_string(), "{budget}: nothing picked: {v}");
+        assert!(p["worst"].as_f64().unwrap() <= max && p["serves"].as_bool().unwrap(), "{budget}: {p}");
+        assert!(
+            p["cost"].as_f64().unwrap() <= 1.1 * p["cheapest"].as_f64().unwrap(),
+            "{budget}: not the cheapest: {p}"
+        );
+    }
+    assert!(v["none"].is_null(), "{v}");
+    assert!(v["costs"].as_bool().unwrap(), "every menu kernel has a measured cost: {v}");
+    assert!(v["loaded"].as_bool().unwrap(), "{v}");
+    assert!(v["bad"].as_str().unwrap().contains("maxError"), "{v}");
 }

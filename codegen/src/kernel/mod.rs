@@ -18,7 +18,7 @@ pub mod spec;
 pub use index::{index_entry_of, render_index};
 pub use outputs::{FileOutput, KernelOutput, OutputTable, SharedFile, Translation, OUTPUT_TABLE};
 pub use plan::render_plan;
-pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, SPOT_EDGE_NODES, SPOT_EDGE_PIECES};
+pub use spec::{join_domains, specialisations, KernelPhase, KernelSpec, Measured, SPOT_EDGE_NODES, SPOT_EDGE_PIECES};
 
 use crate::output::Output;
 use airlight_shapes::template::{lit, lits, KernelView};

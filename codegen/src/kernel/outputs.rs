@@ -105,6 +105,11 @@ pub struct PackageModule {
     pub sources: String,
     /// Its TypeScript declarations (pattern).
     pub source_types: String,
+    /// The package's folder: the four paths above start with it.
+    pub root: String,
+    /// Where a kernel kept for comparison and research (not on the menu) goes
+    /// instead of `root`, the rest of each path the same.
+    pub research: String,
 }
 
 /// Wrappers appended to a kernel in a package.

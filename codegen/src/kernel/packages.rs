@@ -47,6 +47,37 @@ struct PackageKernelView {
     shafts: bool,
     /// Whether it takes g at run time.
     g_param: bool,
+    /// Whether the package offers it as a kernel to use (its index, `kernels/`)
+    /// or keeps it for comparison (`research/`).
+    menu: bool,
+    /// Where its modules are, relative to the package: `kernels` or `research/kernels`.
+    dir: String,
+    /// The package root relative to its TSL module: `../` or `../../`.
+    up: String,
+    /// Its declared f64 bounds on thin and dense, as JavaScript numbers (`null`: none).
+    thin: String,
+    dense: String,
+    /// The g range it serves (`[0, 0]`: isotropic).
+    g_lo: f64,
+    g_hi: f64,
+    /// Measured costs (JavaScript numbers, `null`: not measured).
+    cpu_ns: String,
+    gpu_ns: String,
+}
+
+/// Whether a packaged kernel is on the menu (its family's `ON_THE_MENU`).
+fn on_the_menu(spec: &KernelSpec) -> bool {
+    spec.model.as_ref().is_some_and(|m| m.model.body.on_the_menu())
+}
+
+/// A module path of the package for `spec`: a research kernel's under the
+/// row's `research` folder, the same relative path as under its `root`.
+fn shelved(pattern: &str, spec: &KernelSpec, row: &super::outputs::PackageModule) -> String {
+    let path = expand(pattern, &spec.name);
+    match path.strip_prefix(&row.root) {
+        Some(rel) if !on_the_menu(spec) => format!("{}{rel}", row.research),
+        _ => path,
+    }
 }
 
 /// One entry point's TSL function nodes in the three.js module.
@@ -435,6 +466,8 @@ fn view(spec: &KernelSpec) -> PackageKernelView {
         .filter_map(|&d| spec.f32_bound(d).map(|b| format!("{} {b:.1e}", d.name())))
         .collect();
     let bound = if f32s.is_empty() { spec.bound.clone() } else { format!("{}; f32: {}", spec.bound, f32s.join(", ")) };
+    let menu = on_the_menu(spec);
+    let num = |x: Option<f64>| x.map_or("null".to_string(), |b| format!("{b:e}"));
     PackageKernelView {
         name: spec.name.clone(),
         ident: spec.ident(),
@@ -442,6 +475,15 @@ fn view(spec: &KernelSpec) -> PackageKernelView {
         entries: entries(spec).iter().map(|e| format!("{}{}", spec.prefix(), e.function())).collect(),
         shafts: spec.shafts,
         g_param: spec.g_param(),
+        menu,
+        dir: if menu { "kernels" } else { "research/kernels" }.to_string(),
+        up: if menu { "../" } else { "../../" }.to_string(),
+        thin: num(spec.declared(Domain::Thin)),
+        dense: num(spec.declared(Domain::Dense)),
+        g_lo: spec.g_range.0,
+        g_hi: spec.g_range.1,
+        cpu_ns: num(spec.measured.map(|m| (m.cpu_ns * 10.0).round() / 10.0)),
+        gpu_ns: num(spec.measured.and_then(|m| m.gpu_ns).map(|n| (n * 100.0).round() / 100.0)),
     }
 }
 
@@ -504,13 +546,13 @@ pub(super) fn render(
             let mut ctx = tera::Context::from_serialize(&module)?;
             ctx.insert("generated_by", GENERATED_BY);
             ctx.insert("sources", &[expand(&row.glsl, &spec.name), expand(&row.wgsl, &spec.name)]);
-            out.push(Output::text(expand(&row.sources, &spec.name), tera.render("three/sources.js.tera", &ctx)?));
+            out.push(Output::text(shelved(&row.sources, spec, row), tera.render("three/sources.js.tera", &ctx)?));
             out.push(Output::text(
-                expand(&row.source_types, &spec.name),
+                shelved(&row.source_types, spec, row),
                 tera.render("three/sources.d.ts.tera", &ctx)?,
             ));
-            out.push(Output::text(expand(&row.path, &spec.name), tera.render("three/kernel.js.tera", &ctx)?));
-            out.push(Output::text(expand(&row.types, &spec.name), tera.render("three/kernel.d.ts.tera", &ctx)?));
+            out.push(Output::text(shelved(&row.path, spec, row), tera.render("three/kernel.js.tera", &ctx)?));
+            out.push(Output::text(shelved(&row.types, spec, row), tera.render("three/kernel.d.ts.tera", &ctx)?));
         }
     }
     let kernels: Vec<PackageKernelView> = packaged(specs).map(view).collect();

@@ -62,6 +62,19 @@ pub struct KernelSpec {
     /// (`generated/gate.toml`) measured it on these very sources; empty when the
     /// record is missing or measured other sources.
     pub f32: Vec<(Domain, f64)>,
+    /// Its general kernel's measured cost, where `generated/bench.json` has it
+    /// (filled by `render_all`; the engine packages quote it).
+    pub measured: Option<Measured>,
+}
+
+/// A kernel's cost as `airlight bench` measured it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    /// CPU ns per evaluation of the f32 Rust kernel (median, random points).
+    pub cpu_ns: f64,
+    /// GPU-path ns per evaluation over frame-coherent points (WGSL through wgpu
+    /// on the bench's adapter); `None` where not measured.
+    pub gpu_ns: Option<f64>,
 }
 
 /// The declared max of `m` on each of `domains`, as `thin 9.8e-6, dense 2.8e-6`.
@@ -102,6 +115,7 @@ impl KernelSpec {
             g_range: m.model.g_range,
             targets: Target::ALL.to_vec(),
             f32: Vec::new(),
+            measured: None,
         }
     }
 
@@ -123,6 +137,7 @@ impl KernelSpec {
             g_range: scene.phase.g_range(),
             targets: scene.targets.clone(),
             f32: Vec::new(),
+            measured: None,
         };
         match &plan.choice {
             Choice::NoExtinction => {

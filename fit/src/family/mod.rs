@@ -154,6 +154,12 @@ pub trait Family: Sized + Clone + PartialEq + std::fmt::Debug {
     const SHARES_RGB_NODES: bool = false;
     /// Whether it is the cost floor the report's ratios are taken against.
     const COST_FLOOR: bool = false;
+    /// Whether the engine packages offer its members as kernels a renderer
+    /// should use (airlight-three's index, `kernels/`), or keep them apart for
+    /// comparison and research (`research/`): the paper's families reproduced
+    /// and refit, and the baselines a user would pick instead, are research;
+    /// airlight's own tiers and the closed form are on the menu.
+    const ON_THE_MENU: bool = false;
     /// Its report section's template, if it has one (`report.md.tera` in its folder).
     const REPORT: Option<&'static str> = None;
     /// The parts `airlight fit --family` can name (none: nothing is fitted).
@@ -287,6 +293,12 @@ macro_rules! families {
             /// Whether it models extinction (takes τ).
             pub fn extinction(&self) -> bool {
                 match self { $(Body::$variant(_) => <$ty as Family>::EXTINCTION,)+ }
+            }
+
+            /// Whether the engine packages offer it as a kernel to use
+            /// ([`Family::ON_THE_MENU`]), or keep it apart as research.
+            pub fn on_the_menu(&self) -> bool {
+                match self { $(Body::$variant(_) => <$ty as Family>::ON_THE_MENU,)+ }
             }
 
             /// Whether its core shares its nodes across the spot entry's channels.

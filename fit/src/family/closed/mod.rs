@@ -20,6 +20,7 @@ impl Family for NoExtinction {
     const KIND: &'static str = "no-extinction";
     const DIR: &'static str = "closed";
     const ROLE: Role = Role::Baseline;
+    const ON_THE_MENU: bool = true;
     const TABLES: &'static [&'static str] = &[];
     const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const EXTINCTION: bool = false;

@@ -133,6 +133,7 @@ impl Family for LiteRule {
     const KIND: &'static str = "lite";
     const DIR: &'static str = "lite";
     const ROLE: Role = Role::Airlight;
+    const ON_THE_MENU: bool = true;
     const TABLES: &'static [&'static str] = &["nodes", "split", "e2"];
     const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const FIT_PARTS: &'static [&'static str] = &[fit::PART];

@@ -267,6 +267,7 @@ impl Family for PhiRule {
     const KIND: &'static str = "phi";
     const DIR: &'static str = "phi";
     const ROLE: Role = Role::Airlight;
+    const ON_THE_MENU: bool = true;
     const TABLES: &'static [&'static str] = &["head", "split", "far", "tail", "e2"];
     const TEMPLATES: Templates = airlight_shapes::core_templates!();
     const REPORT: Option<&'static str> = Some(include_str!("report.md.tera"));

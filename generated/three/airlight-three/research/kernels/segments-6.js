@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 4.5e-3, dense 4.6e-2
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/segments-6.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/segments-6.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/segments-6.js`). */
 export { glsl, wgsl, bound } from '../sources/segments-6.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 8.0e0, dense 6.1e8
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/paper-as-printed.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/paper-as-printed.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/paper-as-printed.js`). */
 export { glsl, wgsl, bound } from '../sources/paper-as-printed.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

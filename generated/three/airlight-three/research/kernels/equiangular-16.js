@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 7.5e-1, dense 5.1e-1
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/equiangular-16.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/equiangular-16.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/equiangular-16.js`). */
 export { glsl, wgsl, bound } from '../sources/equiangular-16.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

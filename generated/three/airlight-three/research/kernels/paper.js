@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 1.2e0, dense 1.2e3
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/paper.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/paper.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/paper.js`). */
 export { glsl, wgsl, bound } from '../sources/paper.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 2.1e-1, dense 6.1e-2
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/equiangular-32.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/equiangular-32.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/equiangular-32.js`). */
 export { glsl, wgsl, bound } from '../sources/equiangular-32.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

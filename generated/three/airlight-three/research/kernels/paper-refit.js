@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 9.2e-1, dense 8.2e2
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/paper-refit.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/paper-refit.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/paper-refit.js`). */
 export { glsl, wgsl, bound } from '../sources/paper-refit.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 3.1e1, dense 3.0e1
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/raymarch-128.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/raymarch-128.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/raymarch-128.js`). */
 export { glsl, wgsl, bound } from '../sources/raymarch-128.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */

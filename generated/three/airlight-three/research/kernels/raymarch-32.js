@@ -3,10 +3,10 @@
 // declared max relative error: max relative error of A (f64 model): thin 8.2e1, dense 9.4e1
 import { glsl as glslCode, glslFn, wgsl as wgslCode, wgslFn } from 'three/tsl';
 import { glsl, wgsl } from '../sources/raymarch-32.js';
-import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
-import { smapGLSL, smapWGSL } from '../shadowmap.js';
+import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js';
+import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
-/** The sources (also importable alone, without three/tsl: `airlight-three/sources/raymarch-32.js`). */
+/** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/raymarch-32.js`). */
 export { glsl, wgsl, bound } from '../sources/raymarch-32.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */
