@@ -125,7 +125,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     assert!(shafts >= 10, "{shafts} shafts nodes");
     assert!(exact >= 10, "{exact} exact shafts nodes");
     if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
-        for f in ["shadow.js", "shadowmap.js"] {
+        for f in ["shadow.js", "shadowmap.js", "lights.js"] {
             let out = Command::new("node").arg("--check").arg(dir.join("..").join(f)).output().unwrap();
             assert!(out.status.success(), "{f}: node --check: {}", String::from_utf8_lossy(&out.stderr));
         }

@@ -545,6 +545,78 @@ pub fn shafts_page_tsl(
     wrap_page(&imports, &body, width, height)
 }
 
+/// The three.js camera basis for a camera at the stage's position looking along
+/// `forward` with world +Y up (`lookAt`): forward, right (`forward × Y`), up.
+pub fn three_basis(forward: [f32; 3]) -> [[f32; 3]; 3] {
+    let c =
+        |a: [f32; 3], b: [f32; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let n = |a: [f32; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|x| x / l)
+    };
+    let r = n(c(forward, [0.0, 1.0, 0.0]));
+    [forward, r, c(r, forward)]
+}
+
+/// The scene-level API's page (`airlight-three/lights.js`): `stage`'s room drawn
+/// by three.js with its light as a `THREE.PointLight` or `THREE.SpotLight` of
+/// the stage's intensity and colour, added to a `VolumetricLights` of kernel
+/// `k` in the stage's medium; the fog alone (`fog()`: RGB, and the distance to
+/// the first surface from the scene pass's depth) read back as floats. The
+/// camera is three's, aimed as the stage's (its pixels' rays: [`three_basis`]).
+pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: bool) -> String {
+    let (width, height) = (view.width, view.height);
+    let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let l3 = |v: [f32; 3]| format!("{:?}, {:?}, {:?}", v[0], v[1], v[2]);
+    let f = stage.camera_basis()[0];
+    let c = stage.camera;
+    let penumbra = match stage.spot {
+        Some(s) => format!("light.penumbra = {:?};", 1.0 - s.cone_deg[1] / s.cone_deg[0]),
+        None => String::new(),
+    };
+    let body = fill(
+        include_str!("pages/lights_tsl.js"),
+        &[
+            ("webgl", format!("{webgl}")),
+            ("want", (if webgl { "WebGL 2" } else { "WebGPU" }).to_string()),
+            (
+                "scene",
+                shafts_scene_js(
+                    stage,
+                    "new THREE.MeshStandardNodeMaterial()",
+                    "new THREE.MeshStandardNodeMaterial()",
+                    "RenderTarget",
+                    512,
+                    ShadowSide::Front,
+                ),
+            ),
+            ("intensity", format!("{:?}", stage.intensity)),
+            ("colour", l3(stage.colour)),
+            ("spot_penumbra", penumbra),
+            ("fov_deg", format!("{:?}", FOV_Y.to_degrees())),
+            ("camera", l3(c)),
+            ("target_pos", l3([c[0] + f[0], c[1] + f[1], c[2] + f[2]])),
+            ("sigma_t", l3(stage.sigma_t)),
+            ("sigma_s", l3(stage.sigma_s)),
+            ("g", format!("{:?}", stage.g)),
+            ("name", k.name.clone()),
+            (
+                "limits",
+                (if stage.spot.is_some() {
+                    "maxPointLights: 0, maxSpotLights: 1"
+                } else {
+                    "maxPointLights: 1, maxSpotLights: 0"
+                })
+                .to_string(),
+            ),
+        ],
+    );
+    let imports = format!(
+        "import * as THREE from 'three/webgpu';\nimport {{ pass }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
+    );
+    wrap_page(&imports, &body, width, height)
+}
+
 /// What the page drew.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawn {

@@ -9,6 +9,9 @@ import { smapGLSL, smapWGSL } from '../shadowmap.js';
 /** The sources (also importable alone, without three/tsl: `airlight-three/sources/phi-3.js`). */
 export { glsl, wgsl, bound } from '../sources/phi-3.js';
 
+/** Whether its entries take g at run time (else isotropic, or g baked in). */
+export const takesG = true;
+
 /** The WGSL as a TSL code node (included once by every WGSL node below). */
 export const wgslLibrary = wgslCode(wgsl);
 

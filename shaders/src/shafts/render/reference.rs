@@ -83,6 +83,16 @@ fn fog_of(stage: &Stage, occ: &[Occluder], dir: [f64; 3], end: f64) -> [f64; 3] 
     })
 }
 
+/// The reference fog along the unit directions `dirs` from the stage's camera,
+/// each ray ending on the surface at `ends[i]`: over the exact lit intervals
+/// among the stage's occluders when `shadowed`, else over the whole ray (a
+/// light without shadows).
+pub fn reference_fog_along(stage: &Stage, dirs: &[[f64; 3]], ends: &[f64], shadowed: bool) -> Vec<[f64; 3]> {
+    let occ = if shadowed { stage.occluders() } else { Vec::new() };
+    let rays: Vec<usize> = (0..dirs.len()).collect();
+    airlight_truth::parallel::map(&rays, |&i| fog_of(stage, &occ, dirs[i], ends[i]), &|_, _| {})
+}
+
 /// The reference fog of each pixel of `view`, its ray ending at `ends[i]`.
 pub fn reference_fog(stage: &Stage, view: &ShaftsView, ends: &[f64]) -> Vec<[f64; 3]> {
     let occ = stage.occluders();
