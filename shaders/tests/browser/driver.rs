@@ -612,7 +612,7 @@ pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: 
         ],
     );
     let imports = format!(
-        "import * as THREE from 'three/webgpu';\nimport {{ pass }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
+        "import * as THREE from 'three/webgpu';\nimport {{ pass, screenUV }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
     );
     wrap_page(&imports, &body, width, height)
 }

@@ -286,7 +286,10 @@ fn light_shafts_exact_to_three_js_shadow_maps_match_the_reference() {
 /// the same camera, light and medium (no shadows: the API's lights cast none
 /// yet), over the rays three's camera casts and the distances the page read
 /// from its depth. The distances against the analytic room's first surfaces
-/// check the depth reconstruction; the fog's errors check the units.
+/// check the depth reconstruction; the fog's errors check the units. Then the
+/// composite against the scene pass's colour · T + fog, and a next frame with
+/// the light's intensity doubled in three.js alone (nothing rebuilt or
+/// refreshed by hand): its fog must double.
 #[test]
 fn volumetric_lights_from_three_js_lights_match_the_reference() {
     use airlight_shaders::shafts::render as sr;
@@ -322,13 +325,36 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
                 k.name
             );
             let page = browser::lights_page_tsl(k, &stage, &view, webgl);
-            let (adapter, fog) = browser::draw_shafts(
-                &chrome,
-                browser::page_files(&three, &package, page).unwrap(),
-                view.width,
-                view.height,
-            )
-            .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
+            let (adapter, bytes) = browser::draw_raw(&chrome, browser::page_files(&three, &package, page).unwrap())
+                .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
+            assert_eq!(bytes.len(), 64 * dirs.len(), "{what}: four frames read back");
+            let px = |k: usize| -> Vec<[f32; 4]> {
+                let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+                bytes.chunks(64).map(|p| std::array::from_fn(|j| f(&p[16 * k + 4 * j..]))).collect()
+            };
+            let (fog, colour, composite, doubled) = (px(0), px(1), px(2), px(3));
+            // The composite: colour · T + fog, T the transmittance to the first
+            // surface (to the camera's far plane, 100, past none).
+            let mut worst_t: f64 = 0.0;
+            for ((f, c), m) in fog.iter().zip(&colour).zip(&composite) {
+                let d = if f[3] < 0.0 { 100.0 } else { f64::from(f[3]) };
+                for ch in 0..3 {
+                    let want = f64::from(c[ch]) * (-f64::from(stage.sigma_t[ch]) * d).exp() + f64::from(f[ch]);
+                    worst_t = worst_t.max((f64::from(m[ch]) - want).abs() / want.max(1e-3));
+                }
+            }
+            // The next frame, the light's intensity doubled in three.js alone.
+            let mut worst_next: f64 = 0.0;
+            for (a, b) in fog.iter().zip(&doubled) {
+                for ch in 0..3 {
+                    if a[ch] > 1e-6 {
+                        worst_next = worst_next.max((f64::from(b[ch]) / f64::from(a[ch]) - 2.0).abs() / 2.0);
+                    }
+                }
+            }
+            eprintln!("volumetric lights, {what}: composite against colour · T + fog: worst {worst_t:.1e}; the next frame with the intensity doubled: worst {worst_next:.1e} off 2×");
+            assert!(worst_t < 2e-3, "{what}: the composite is not colour · T + fog ({worst_t:e})");
+            assert!(worst_next < 1e-5, "{what}: the next frame did not take the light's change ({worst_next:e})");
             eprintln!("volumetric lights, {what}: {adapter}");
             assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
             assert!(fog.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[2] >= 0.0), "{what}: non-negative fog");

@@ -31,6 +31,31 @@ const ortho = new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1);
 renderer.setRenderTarget(target);
 renderer.render(fogScene, ortho);
 const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// The scene pass's colour as the composite reads it, then the composite:
+// composite = colour · T + fog, T the medium's transmittance to the surface.
+const colourMaterial = new THREE.MeshBasicNodeMaterial();
+colourMaterial.fragmentNode = scenePass.getTextureNode('output').sample(screenUV);
+quad.material = colourMaterial;
+renderer.setRenderTarget(target);
+renderer.render(fogScene, ortho);
+const pcol = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+const compositeMaterial = new THREE.MeshBasicNodeMaterial();
+compositeMaterial.fragmentNode = volumetric.composite(scenePass, camera);
+quad.material = compositeMaterial;
+renderer.setRenderTarget(target);
+renderer.render(fogScene, ortho);
+const pc = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// The light changed between frames (twice the intensity), nothing rebuilt or
+// refreshed by hand: the next frame's fog doubles.
+light.intensity *= 2.0;
+quad.material = material;
+renderer.setRenderTarget(target);
+renderer.render(fogScene, ortho);
+const p2 = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// Per pixel: the fog, the scene's colour, the composite, the next frame's fog (16 bytes each).
+const frames = [px, pcol, pc, p2].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 64);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 64 + k * 16));
 let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), kernel ' + volumetric.name + ', ';
 if (renderer.backend.isWebGPUBackend) {
   const i = (await navigator.gpu.requestAdapter()).info;
@@ -40,4 +65,4 @@ if (renderer.backend.isWebGPUBackend) {
   const info = gl.getExtension('WEBGL_debug_renderer_info');
   adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
 }
-return { adapter, rgba: new Uint8Array(px.buffer, px.byteOffset, px.byteLength), bottomUp: {{webgl}}, texel: 16 };
+return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 64 };
