@@ -50,8 +50,6 @@ struct PackageKernelView {
     /// Whether the package offers it as a kernel to use (its index, `kernels/`)
     /// or keeps it for comparison (`research/`).
     menu: bool,
-    /// Where its modules are, relative to the package: `kernels` or `research/kernels`.
-    dir: String,
     /// The package root relative to its TSL module: `../` or `../../`.
     up: String,
     /// Its declared f64 bounds on thin and dense, as JavaScript numbers (`null`: none).
@@ -63,6 +61,11 @@ struct PackageKernelView {
     /// Measured costs (JavaScript numbers, `null`: not measured).
     cpu_ns: String,
     gpu_ns: String,
+}
+
+/// A number as JavaScript reads it back (`null`: none).
+fn js_number(x: Option<f64>) -> String {
+    x.map_or("null".to_string(), |b| format!("{b:e}"))
 }
 
 /// Whether a packaged kernel is on the menu (its family's `ON_THE_MENU`).
@@ -467,7 +470,6 @@ fn view(spec: &KernelSpec) -> PackageKernelView {
         .collect();
     let bound = if f32s.is_empty() { spec.bound.clone() } else { format!("{}; f32: {}", spec.bound, f32s.join(", ")) };
     let menu = on_the_menu(spec);
-    let num = |x: Option<f64>| x.map_or("null".to_string(), |b| format!("{b:e}"));
     PackageKernelView {
         name: spec.name.clone(),
         ident: spec.ident(),
@@ -476,14 +478,13 @@ fn view(spec: &KernelSpec) -> PackageKernelView {
         shafts: spec.shafts,
         g_param: spec.g_param(),
         menu,
-        dir: if menu { "kernels" } else { "research/kernels" }.to_string(),
         up: if menu { "../" } else { "../../" }.to_string(),
-        thin: num(spec.declared(Domain::Thin)),
-        dense: num(spec.declared(Domain::Dense)),
+        thin: js_number(spec.declared(Domain::Thin)),
+        dense: js_number(spec.declared(Domain::Dense)),
         g_lo: spec.g_range.0,
         g_hi: spec.g_range.1,
-        cpu_ns: num(spec.measured.map(|m| (m.cpu_ns * 10.0).round() / 10.0)),
-        gpu_ns: num(spec.measured.and_then(|m| m.gpu_ns).map(|n| (n * 100.0).round() / 100.0)),
+        cpu_ns: js_number(spec.measured.map(|m| (m.cpu_ns * 10.0).round() / 10.0)),
+        gpu_ns: js_number(spec.measured.and_then(|m| m.gpu_ns).map(|n| (n * 100.0).round() / 100.0)),
     }
 }
 
@@ -522,8 +523,8 @@ pub(super) fn render(
                     .map(|o| String::from_utf8_lossy(&o.contents).into_owned())
                     .ok_or_else(|| tera::Error::msg(format!("{}: {from} was not rendered", spec.name)))
             };
-            let num = |d: Domain| spec.declared(d).map_or("null".to_string(), |b| format!("{b:e}"));
-            let f32n = |d: Domain| spec.f32_bound(d).map_or("null".to_string(), |b| format!("{b:e}"));
+            let num = |d: Domain| js_number(spec.declared(d));
+            let f32n = |d: Domain| js_number(spec.f32_bound(d));
             let wgsl = source(&row.wgsl)?;
             let runs = wgsl.contains(&format!("fn {}shafts_begin_runs(", spec.prefix()));
             let module = ThreeModule {

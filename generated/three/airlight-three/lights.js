@@ -37,8 +37,7 @@ export class VolumetricLights {
   /**
    * Picks the cheapest kernel on the menu for `maxError` and the medium's g
    * (`pick`), imports it and builds the lights. `renderer` is the
-   * WebGPURenderer (after `init()`) that will draw it: its backend decides the
-   * language of the kernel's nodes.
+   * WebGPURenderer (after `init()`) that will draw it, on its WebGPU backend.
    */
   static async create(renderer, { sigmaT, sigmaS, g = 0, maxError = 1e-2, maxPointLights, maxSpotLights } = {}) {
     const k = pick({ maxError, g });
@@ -61,9 +60,8 @@ export class VolumetricLights {
     if (!renderer.backend.isWebGPUBackend) {
       throw new Error("airlight-three: VolumetricLights runs on WebGPURenderer's WebGPU backend; its WebGL 2 backend is not supported yet (use the kernels' GLSL nodes directly)");
     }
-    this.lang = 'WGSL';
-    this.radianceFn = kernel[`radiance${this.lang}`];
-    this.spotFn = kernel[`spot${this.lang}`];
+    this.radianceFn = kernel.radianceWGSL;
+    this.spotFn = kernel.spotWGSL;
     if (!this.radianceFn || !this.spotFn) throw new Error(`airlight-three: ${name} has no radiance and spot entries`);
     this.takesG = kernel.takesG === true;
     if (!(Number.isFinite(g) && g > -1 && g < 1)) throw new Error(`airlight-three: g must be in (-1, 1), got ${g}`);
@@ -87,7 +85,6 @@ export class VolumetricLights {
     this.points = [];
     this.spots = [];
     this.camera = null;
-    const v3 = () => uniform(new Vector3());
     // The lights as uniform arrays, refreshed from the three.js lights before each
     // render: moved, recoloured, added or removed, they change the next frame.
     const vectors = (n) => Array.from({ length: n }, () => new Vector3());
@@ -106,7 +103,7 @@ export class VolumetricLights {
     this.spotCount = uniform(0).onRenderUpdate(() => this.refresh().spots);
     this.projectionInverse = uniform('mat4').onRenderUpdate(() => this.camera.projectionMatrixInverse);
     this.cameraWorld = uniform('mat4').onRenderUpdate(() => this.camera.matrixWorld);
-    this.cameraOrigin = v3().onRenderUpdate(() => this.camera.getWorldPosition(new Vector3()));
+    this.cameraOrigin = uniform(new Vector3()).onRenderUpdate(() => this.camera.getWorldPosition(new Vector3()));
   }
 
   /**
@@ -133,12 +130,10 @@ export class VolumetricLights {
   }
 
   #intensity(light) {
-    if (!light) return new Vector3();
     return new Vector3(light.color.r, light.color.g, light.color.b).multiplyScalar(light.intensity);
   }
 
   #axis(light) {
-    if (!light) return new Vector3(0, -1, 0);
     light.updateMatrixWorld();
     light.target.updateMatrixWorld();
     const from = light.getWorldPosition(new Vector3());

@@ -548,14 +548,9 @@ pub fn shafts_page_tsl(
 /// The three.js camera basis for a camera at the stage's position looking along
 /// `forward` with world +Y up (`lookAt`): forward, right (`forward × Y`), up.
 pub fn three_basis(forward: [f32; 3]) -> [[f32; 3]; 3] {
-    let c =
-        |a: [f32; 3], b: [f32; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-    let n = |a: [f32; 3]| {
-        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        a.map(|x| x / l)
-    };
-    let r = n(c(forward, [0.0, 1.0, 0.0]));
-    [forward, r, c(r, forward)]
+    use airlight_shaders::shafts::render::{cross, unit};
+    let r = unit(cross(forward, [0.0, 1.0, 0.0]));
+    [forward, r, cross(r, forward)]
 }
 
 /// The scene-level API's page (`airlight-three/lights.js`): `stage`'s room drawn

@@ -31,6 +31,26 @@ fn required() -> bool {
     ["AIRLIGHT_REQUIRE_GPU", "AIRLIGHT_REQUIRE_BROWSER"].iter().any(|v| std::env::var(v).is_ok_and(|x| x == "1"))
 }
 
+/// Debian's Chromium and three.js's builds from `tests/node` (holding `file`),
+/// or `None` with the test `name` printed as skipped — a failure instead where
+/// the browser is required ([`required`]).
+fn chromium_and_three(name: &str, file: &str) -> Option<(PathBuf, PathBuf)> {
+    let Some(chrome) = browser::chromium() else {
+        assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
+        eprintln!(
+            "SKIPPED {name}: no chromium (install Debian's chromium; AIRLIGHT_REQUIRE_BROWSER=1 makes this a failure)"
+        );
+        return None;
+    };
+    let three = root().join("tests/node/node_modules/three/build");
+    if !three.join(file).exists() {
+        assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
+        eprintln!("SKIPPED {name}: three.js not installed (npm ci --prefix tests/node)");
+        return None;
+    }
+    Some((chrome, three))
+}
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
@@ -54,17 +74,7 @@ fn packed_package(dir: &Path) -> PathBuf {
 
 #[test]
 fn the_three_js_package_matches_the_reference_render_in_webgl_and_webgpu() {
-    let Some(chrome) = browser::chromium() else {
-        assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
-        eprintln!("SKIPPED the_three_js_package: no chromium (install Debian's chromium; AIRLIGHT_REQUIRE_BROWSER=1 makes this a failure)");
-        return;
-    };
-    let three = root().join("tests/node/node_modules/three/build");
-    if !three.join("three.webgpu.js").exists() {
-        assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
-        eprintln!("SKIPPED the_three_js_package: three.js not installed (npm ci --prefix tests/node)");
-        return;
-    }
+    let Some((chrome, three)) = chromium_and_three("the_three_js_package", "three.webgpu.js") else { return };
     let installed = std::fs::read_to_string(three.join("../package.json")).unwrap();
     assert!(
         installed.contains(&format!("\"version\": \"{}\"", browser::THREE_VERSION)),
@@ -158,17 +168,7 @@ fn shafts_figures(
 #[test]
 fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference() {
     use airlight_shaders::shafts::render as sr;
-    let Some(chrome) = browser::chromium() else {
-        assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
-        eprintln!("SKIPPED light_shafts_in_three_js: no chromium");
-        return;
-    };
-    let three = root().join("tests/node/node_modules/three/build");
-    if !three.join("three.module.js").exists() {
-        assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
-        eprintln!("SKIPPED light_shafts_in_three_js: three.js not installed (npm ci --prefix tests/node)");
-        return;
-    }
+    let Some((chrome, three)) = chromium_and_three("light_shafts_in_three_js", "three.module.js") else { return };
     let tmp = std::env::temp_dir().join(format!("airlight-three-shafts-{}", std::process::id()));
     let package = packed_package(&tmp);
     let index = gate::load_index(&root().join("generated")).unwrap();
@@ -234,17 +234,7 @@ fn light_shafts_with_three_js_shadow_map_and_the_accumulator_match_the_reference
 #[test]
 fn light_shafts_exact_to_three_js_shadow_maps_match_the_reference() {
     use airlight_shaders::shafts::render as sr;
-    let Some(chrome) = browser::chromium() else {
-        assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
-        eprintln!("SKIPPED light_shafts_exact_in_three_js: no chromium");
-        return;
-    };
-    let three = root().join("tests/node/node_modules/three/build");
-    if !three.join("three.webgpu.js").exists() {
-        assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
-        eprintln!("SKIPPED light_shafts_exact_in_three_js: three.js not installed (npm ci --prefix tests/node)");
-        return;
-    }
+    let Some((chrome, three)) = chromium_and_three("light_shafts_exact_in_three_js", "three.webgpu.js") else { return };
     let tmp = std::env::temp_dir().join(format!("airlight-three-exact-{}", std::process::id()));
     let package = packed_package(&tmp);
     let index = gate::load_index(&root().join("generated")).unwrap();
@@ -293,17 +283,7 @@ fn light_shafts_exact_to_three_js_shadow_maps_match_the_reference() {
 #[test]
 fn volumetric_lights_from_three_js_lights_match_the_reference() {
     use airlight_shaders::shafts::render as sr;
-    let Some(chrome) = browser::chromium() else {
-        assert!(!required(), "AIRLIGHT_REQUIRE_GPU/BROWSER=1 but no chromium: install Debian's chromium (see README)");
-        eprintln!("SKIPPED volumetric_lights: no chromium");
-        return;
-    };
-    let three = root().join("tests/node/node_modules/three/build");
-    if !three.join("three.webgpu.js").exists() {
-        assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
-        eprintln!("SKIPPED volumetric_lights: three.js not installed (npm ci --prefix tests/node)");
-        return;
-    }
+    let Some((chrome, three)) = chromium_and_three("volumetric_lights", "three.webgpu.js") else { return };
     let tmp = std::env::temp_dir().join(format!("airlight-three-lights-{}", std::process::id()));
     let package = packed_package(&tmp);
     let index = gate::load_index(&root().join("generated")).unwrap();

@@ -95,17 +95,11 @@ pub fn reference_fog_along(stage: &Stage, dirs: &[[f64; 3]], ends: &[f64], shado
 
 /// The reference fog of each pixel of `view`, its ray ending at `ends[i]`.
 pub fn reference_fog(stage: &Stage, view: &ShaftsView, ends: &[f64]) -> Vec<[f64; 3]> {
-    let occ = stage.occluders();
     let basis = stage.camera_basis();
-    let pixels: Vec<u32> = (0..view.width * view.height).collect();
-    airlight_truth::parallel::map(
-        &pixels,
-        |&i| {
-            let dir = view.dir_from(basis, i % view.width, i / view.width).map(f64::from);
-            fog_of(stage, &occ, dir, ends[i as usize])
-        },
-        &|_, _| {},
-    )
+    let dirs: Vec<[f64; 3]> = (0..view.width * view.height)
+        .map(|i| view.dir_from(basis, i % view.width, i / view.width).map(f64::from))
+        .collect();
+    reference_fog_along(stage, &dirs, ends, true)
 }
 
 /// The reference frame for the GPU frame `gpu` (its surface distances and

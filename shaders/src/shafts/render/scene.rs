@@ -132,11 +132,13 @@ pub(crate) fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-pub(crate) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+/// The cross product `a × b`.
+pub fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
-pub(crate) fn unit(a: [f32; 3]) -> [f32; 3] {
+/// `a` scaled to unit length.
+pub fn unit(a: [f32; 3]) -> [f32; 3] {
     let n = dot(a, a).sqrt();
     a.map(|x| x / n)
 }
