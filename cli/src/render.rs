@@ -166,6 +166,8 @@ fn render_shafts(
         exact.gpu_s * 1e3,
         exact.pyramid_s * 1e3
     );
+    let walk_only = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Walk, sr::REPEATS).map_err(fail)?;
+    println!("of which the walk alone (its runs summed, no kernel): {:.1} ms GPU", walk_only.gpu_s * 1e3);
     for n in sr::SAMPLED {
         let f = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Sampled(n), sr::REPEATS).map_err(fail)?;
         println!(
@@ -206,7 +208,7 @@ fn render_shafts(
     let edges = classes.iter().filter(|c| **c == Some(true)).count();
     println!("{}: {}×{}; {lit} lit pixels off the edges, {edges} on shaft edges", first.display(), size.0, size.1);
     let mut toml = format!(
-        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
+        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nend_texels = {:?}\nwalk_ms = {:e}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
         out.file,
         stage.description,
         if stage.spot.is_some() { "spot" } else { "point" },
@@ -218,6 +220,8 @@ fn render_shafts(
         stage.shadow_map,
         stage.faces().len(),
         sr::WALK_BIAS,
+        sr::END_TEXELS,
+        walk_only.gpu_s * 1e3,
         sr::REFINE_STEPS,
         shown.method.steps(),
         sampled.method.steps(),

@@ -20,6 +20,10 @@ pub(super) struct ShaftsRender {
     shadow_map: i64,
     faces: i64,
     walk_bias: String,
+    /// Texels short of a surface facing away from the light that the fog ends.
+    end_texels: String,
+    /// GPU ms of the exact frame's walk alone (no kernel).
+    walk_ms: String,
     refine_steps: i64,
     lit_pixels: i64,
     edge_pixels: i64,
@@ -143,6 +147,8 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                 shadow_map: i("shadow_map"),
                 faces: i("faces"),
                 walk_bias: t.get("walk_bias").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b}")),
+                end_texels: t.get("end_texels").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b}")),
+                walk_ms: t.get("walk_ms").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b:.1}")),
                 refine_steps: i("refine_steps"),
                 lit_pixels: i("lit_pixels"),
                 edge_pixels: i("edge_pixels"),

@@ -15,6 +15,10 @@ pub enum Method {
     /// over the min-max pyramid the shipped pass builds from the frame's own
     /// shadow map, each lit run handed to the scene kernel's accumulator.
     Exact,
+    /// The exact mode's walk alone, for its cost: the same walk, its lit runs'
+    /// total length summed in place of the accumulator (no kernel is evaluated;
+    /// the fog it writes is not radiance).
+    Walk,
     /// The scene kernel's shafts accumulator at `n` look-ups, fed the viewer's
     /// and the surface's visibility too, each change placed by
     /// [`REFINE_STEPS`] bisection steps on the shadow map.
@@ -27,7 +31,7 @@ impl Method {
     /// Look-ups (or steps) per ray; 0 for the exact walk.
     pub fn steps(self) -> u32 {
         match self {
-            Method::Exact => 0,
+            Method::Exact | Method::Walk => 0,
             Method::Sampled(n) | Method::March(n) => n,
         }
     }
@@ -36,6 +40,7 @@ impl Method {
     pub fn name(self) -> &'static str {
         match self {
             Method::Exact => "exact",
+            Method::Walk => "walk",
             Method::Sampled(_) => "sampled",
             Method::March(_) => "march",
         }
@@ -89,24 +94,31 @@ pub(crate) fn frame_wgsl(
     let colour = if stage.spot.is_some() { "" } else { "SC_COLOUR * " };
     let refine = REFINE_STEPS;
     let (walk_src, fog_body) = match method {
-        Method::Exact => (
+        Method::Exact | Method::Walk => (
             walk,
             format!(
-                "    var w = airlight_smap_begin(SC_CAMERA, dir, end, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
+                "    var w = airlight_smap_begin(SC_CAMERA, dir, fog_end, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
     var acc = {p}shafts_begin_runs();
     loop {{
         let run = airlight_smap_next(&w, sc_pyramid);
         if run.x < 0.0 {{
             break;
         }}
-        {p}shafts_add_run(&acc, run.x, run.y);
-        if {p}shafts_full(acc) {{
-            {p}shafts_flush{sfx}(&acc, {args});
-        }}
-    }}
+{each_run}    }}
 ",
                 res = stage.shadow_map,
                 bias = WALK_BIAS,
+                each_run = if method == Method::Walk {
+                    "        acc.sum.x += select(fog_end, run.y, run.y >= 0.0) - run.x;\n".to_string()
+                } else {
+                    format!(
+                        "        {p}shafts_add_run(&acc, run.x, run.y);
+        if {p}shafts_full(acc) {{
+            {p}shafts_flush{sfx}(&acc, {args});
+        }}
+"
+                    )
+                },
             ),
         ),
         Method::Sampled(n) => (
@@ -115,13 +127,13 @@ pub(crate) fn frame_wgsl(
                 "    var acc = {p}shafts_begin();
     {p}shafts_push{sfx}(&acc, 0.0, sc_shadow(SC_CAMERA), {args});
     for (var i = 0u; i < {n}u; i++) {{
-        let s = (f32(i) + 0.5) * end / {nf:?};
+        let s = (f32(i) + 0.5) * fog_end / {nf:?};
         {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
         for (var r = 0u; r < {refine}u && {p}shafts_probe(acc) >= 0.0; r++) {{
             {p}shafts_refine(&acc, sc_shadow(SC_CAMERA + {p}shafts_probe(acc) * dir));
         }}
     }}
-    {p}shafts_push{sfx}(&acc, end, v_surf, {args});
+    {p}shafts_push{sfx}(&acc, fog_end, v_surf, {args});
 ",
                 nf = n as f32
             ),
@@ -131,7 +143,7 @@ pub(crate) fn frame_wgsl(
             format!(
                 "    var acc = {p}shafts_begin();
     for (var i = 0u; i < {n}u; i++) {{
-        let s = (f32(i) + 0.5) * end / {nf:?};
+        let s = (f32(i) + 0.5) * fog_end / {nf:?};
         {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
     }}
 ",
@@ -139,7 +151,7 @@ pub(crate) fn frame_wgsl(
             ),
         ),
     };
-    let pyramid = if method == Method::Exact {
+    let pyramid = if matches!(method, Method::Exact | Method::Walk) {
         format!(
             "@group(0) @binding(2) var sc_pyramid: texture_2d_array<f32>;\nconst SC_WALK_ROWS = {};\n",
             super::scene::m3(stage.faces()[0])
@@ -173,7 +185,8 @@ fn fs(@builtin(position) pos: vec4<f32>) -> ScOut {{
     let p = SC_CAMERA + end * dir;
     let n = sc_normal(id, p);
     let v_surf = sc_shadow(p + {offset:?} * n);
-{fog_body}    let fog = {colour}{p}shafts_finish{sfx}(acc, end, {args});
+    let fog_end = sc_fog_end(end, p, n, dir);
+{fog_body}    let fog = {colour}{p}shafts_finish{sfx}(acc, fog_end, {args});
     let tl = SC_LIGHT - p;
     let dl = length(tl);
     let l = tl / dl;
@@ -187,6 +200,7 @@ fn fs(@builtin(position) pos: vec4<f32>) -> ScOut {{
         scene = scene_wgsl(stage, view),
         what = match method {
             Method::Exact => "the exact shadow-map walk",
+            Method::Walk => "the exact shadow-map walk alone (its runs' length, no kernel)",
             Method::Sampled(_) => "the sampled shafts accumulator",
             Method::March(_) => "the march",
         },
@@ -479,7 +493,7 @@ impl Gpu {
         let d = self.device();
         let shadow = self.shadow_map(stage, view)?;
         let pyramid = match method {
-            Method::Exact => Some(self.pyramid_of_depth(
+            Method::Exact | Method::Walk => Some(self.pyramid_of_depth(
                 walk.pyramid,
                 &shadow,
                 stage.shadow_map,

@@ -125,6 +125,20 @@ fn sc_cone(to_point: vec3<f32>) -> f32 {
     return clamp((c - SC_COS_OUTER) / (SC_COS_INNER - SC_COS_OUTER), 0.0, 1.0);
 }
 
+// Where a view ray's fog ends, for its surface at `end` (point p, normal n): the
+// surface, or, where it faces away from the light, SC_END_TEXELS of the map's
+// texels short of it (scene.rs, END_TEXELS): the ray is in the surface's own
+// shadow there, which the map cannot resolve near the surface's outline.
+fn sc_fog_end(end: f32, p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> f32 {
+    let tl = SC_LIGHT - p;
+    let dl = length(tl);
+    if !(dot(n, tl) < 0.0) || !(dl > 0.0) {
+        return end;
+    }
+    let foot = SC_END_TEXELS * 2.0 * dl / SC_MAP_RES;
+    return max(end - foot / max(length(cross(dir, tl / dl)), 0.05), 0.0);
+}
+
 fn sc_dir(pos: vec2<f32>) -> vec3<f32> {
     let u = 2.0 * pos.x / SC_WIDTH - 1.0;
     let v = 1.0 - 2.0 * pos.y / SC_HEIGHT;
