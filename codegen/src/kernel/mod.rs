@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 52] = [
+pub const TEMPLATES: [(&str, &str); 56] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -73,6 +73,10 @@ pub const TEMPLATES: [(&str, &str); 52] = [
     ("three/shadowmap.d.ts.tera", include_str!("../../templates/packages/three/shadowmap.d.ts.tera")),
     ("three/lights.js.tera", include_str!("../../templates/packages/three/lights.js.tera")),
     ("three/lights.d.ts.tera", include_str!("../../templates/packages/three/lights.d.ts.tera")),
+    ("three/lightset.js.tera", include_str!("../../templates/packages/three/lightset.js.tera")),
+    ("three/lightset.d.ts.tera", include_str!("../../templates/packages/three/lightset.d.ts.tera")),
+    ("three/webgl.js.tera", include_str!("../../templates/packages/three/webgl.js.tera")),
+    ("three/webgl.d.ts.tera", include_str!("../../templates/packages/three/webgl.d.ts.tera")),
     ("three/kernel.js.tera", include_str!("../../templates/packages/three/kernel.js.tera")),
     ("three/kernel.d.ts.tera", include_str!("../../templates/packages/three/kernel.d.ts.tera")),
     ("three/package.json.tera", include_str!("../../templates/packages/three/package.json.tera")),

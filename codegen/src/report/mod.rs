@@ -10,7 +10,7 @@ mod trade;
 
 pub use ir::{kernel_ir, KernelIr};
 use models::{advice, generated_kernel, model_row};
-use renders::{render_rows, shafts_renders};
+use renders::{render_rows, shafts_renders, three_example};
 use selfcheck::selfcheck_context;
 
 use crate::kernel::KernelSpec;
@@ -75,6 +75,7 @@ pub fn render(
     ctx.insert("f32_adapter", &format!("{:.1e}", airlight_shapes::vocab::F32_ADAPTER_ALLOWANCE));
     ctx.insert("renders", &render_rows(renders));
     ctx.insert("shafts_renders", &shafts_renders(renders));
+    ctx.insert("three_example", &three_example(renders));
     ctx.insert("bench", &bench.is_some());
     if let Some(b) = bench {
         trade::context(&mut ctx, b, models, ir);

@@ -183,7 +183,8 @@ pub(super) fn render_rows(renders: &[Output]) -> Vec<RenderRow> {
         .filter(|o| o.path.ends_with(".toml"))
         .filter_map(|o| {
             let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
-            if t.get("kind").and_then(|v| v.as_str()) == Some("shafts") {
+            // Light shafts and the three.js example are recorded apart.
+            if t.get("kind").is_some() {
                 return None;
             }
             let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
@@ -203,4 +204,43 @@ pub(super) fn render_rows(renders: &[Output]) -> Vec<RenderRow> {
             })
         })
         .collect()
+}
+
+/// The three.js example page as its browser test recorded it
+/// (`render/three-example.toml`, `AIRLIGHT_RECORD_EXAMPLE=1`).
+#[derive(Serialize)]
+pub(super) struct ThreeExample {
+    adapter: String,
+    kernel: String,
+    bound: String,
+    size: String,
+    lit_pixels: i64,
+    lit_max: String,
+    lit_mean: String,
+    edge_max: String,
+    edge_mean: String,
+    bad_pixels: i64,
+    frame_ms: String,
+}
+
+/// The example's record, if there is one.
+pub(super) fn three_example(renders: &[Output]) -> Option<ThreeExample> {
+    let o = renders.iter().find(|o| o.path == "render/three-example.toml")?;
+    let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
+    let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
+    let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
+    let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
+    Some(ThreeExample {
+        adapter: s("adapter"),
+        kernel: s("kernel"),
+        bound: f("bound"),
+        size: format!("{}×{}", i("width"), i("height")),
+        lit_pixels: i("lit_pixels"),
+        lit_max: f("lit_max"),
+        lit_mean: f("lit_mean"),
+        edge_max: f("edge_max"),
+        edge_mean: f("edge_mean"),
+        bad_pixels: i("bad_pixels"),
+        frame_ms: t.get("frame_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
+    })
 }

@@ -10,18 +10,9 @@
 import { Vector3 } from 'three';
 import { Break, Fn, If, Loop, exp, float, getViewPosition, length, max, screenUV, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
+import { LightSet, limits, medium, slots } from './lightset.js';
 
-/** Lights of each kind one pass takes; `add` refuses more. */
-export const MAX_POINT_LIGHTS = 4;
-export const MAX_SPOT_LIGHTS = 4;
-
-const rgb = (v, what) => {
-  const a = typeof v === 'number' ? [v, v, v] : Array.from(v ?? []);
-  if (a.length !== 3 || !a.every((x) => Number.isFinite(x) && x >= 0)) {
-    throw new Error(`airlight-three: ${what} must be a number or three numbers >= 0, got ${JSON.stringify(v)}`);
-  }
-  return new Vector3(a[0], a[1], a[2]);
-};
+export { MAX_POINT_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
 /**
  * The in-scattered light of three.js's point and spot lights in a homogeneous
@@ -52,55 +43,54 @@ export class VolumetricLights {
    * per colour channel); `g`: its Henyey–Greenstein asymmetry (the kernel must
    * take it, or be baked at it).
    */
-  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights = MAX_POINT_LIGHTS, maxSpotLights = MAX_SPOT_LIGHTS } = {}) {
+  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights } = {}) {
     if (!renderer || !renderer.backend) throw new Error('airlight-three: VolumetricLights needs a WebGPURenderer (after init())');
     // On the WebGL 2 backend the pass never finished drawing in headless
     // Chromium (SwiftShader) in this package's test, and why is not known:
-    // refused rather than left to hang.
+    // refused rather than left to hang. WebGLRenderer: VolumetricLightsPass
+    // (webgl.js).
     if (!renderer.backend.isWebGPUBackend) {
-      throw new Error("airlight-three: VolumetricLights runs on WebGPURenderer's WebGPU backend; its WebGL 2 backend is not supported yet (use the kernels' GLSL nodes directly)");
+      throw new Error("airlight-three: VolumetricLights runs on WebGPURenderer's WebGPU backend; its WebGL 2 backend is not supported yet (WebGLRenderer: VolumetricLightsPass from airlight-three/webgl.js)");
     }
     this.radianceFn = kernel.radianceWGSL;
     this.spotFn = kernel.spotWGSL;
     if (!this.radianceFn || !this.spotFn) throw new Error(`airlight-three: ${name} has no radiance and spot entries`);
     this.takesG = kernel.takesG === true;
-    if (!(Number.isFinite(g) && g > -1 && g < 1)) throw new Error(`airlight-three: g must be in (-1, 1), got ${g}`);
-    if (!this.takesG && g !== 0) {
-      throw new Error(`airlight-three: ${name} does not take g at run time; pick one that does for g = ${g}`);
-    }
+    const m = medium({ sigmaT, sigmaS, g }, this.takesG, name);
     this.name = name;
-    for (const [n, cap, what] of [[maxPointLights, MAX_POINT_LIGHTS, 'maxPointLights'], [maxSpotLights, MAX_SPOT_LIGHTS, 'maxSpotLights']]) {
-      if (!(Number.isInteger(n) && n >= 0 && n <= cap)) throw new Error(`airlight-three: ${what} must be an integer from 0 to ${cap}, got ${n}`);
-    }
     // Each kind's loop is built only if it may hold a light: a pass that never
     // draws point lights carries no radiance calls (shorter shaders to compile).
-    this.maxPoint = maxPointLights;
-    this.maxSpot = maxSpotLights;
-    this.sigmaT = uniform(rgb(sigmaT, 'sigmaT'));
-    this.sigmaS = uniform(rgb(sigmaS, 'sigmaS'));
-    if (['x', 'y', 'z'].some((c) => this.sigmaS.value[c] > this.sigmaT.value[c])) {
-      throw new Error('airlight-three: sigmaS cannot exceed sigmaT (scattering is part of extinction)');
-    }
-    this.g = uniform(g);
-    this.points = [];
-    this.spots = [];
+    const cap = limits(maxPointLights, maxSpotLights);
+    this.lights = new LightSet(cap.points, cap.spots);
+    this.maxPoint = cap.points;
+    this.maxSpot = cap.spots;
+    this.sigmaT = uniform(m.sigmaT);
+    this.sigmaS = uniform(m.sigmaS);
+    this.g = uniform(m.g);
     this.camera = null;
     // The lights as uniform arrays, refreshed from the three.js lights before each
     // render: moved, recoloured, added or removed, they change the next frame.
-    const vectors = (n) => Array.from({ length: n }, () => new Vector3());
-    const np = Math.max(this.maxPoint, 1);
-    const ns = Math.max(this.maxSpot, 1);
-    this.pointPosition = uniformArray(vectors(np), 'vec3');
-    this.pointIntensity = uniformArray(vectors(np), 'vec3');
-    this.spotPosition = uniformArray(vectors(ns), 'vec3');
-    this.spotIntensity = uniformArray(vectors(ns), 'vec3');
-    this.spotAxis = uniformArray(vectors(ns), 'vec3');
+    this.pointPosition = uniformArray(slots(this.maxPoint), 'vec3');
+    this.pointIntensity = uniformArray(slots(this.maxPoint), 'vec3');
+    this.spotPosition = uniformArray(slots(this.maxSpot), 'vec3');
+    this.spotIntensity = uniformArray(slots(this.maxSpot), 'vec3');
+    this.spotAxis = uniformArray(slots(this.maxSpot), 'vec3');
     // (cos_outer, cos_inner, 0): three's angle and penumbra as the kernel's smooth cone.
-    this.spotCone = uniformArray(vectors(ns), 'vec3');
+    this.spotCone = uniformArray(slots(this.maxSpot), 'vec3');
     // The counts are floats and the loops' bounds constants (the slots): an int
-    // uniform bounding a loop hung the WebGL 2 backend (SwiftShader) here.
-    this.pointCount = uniform(0).onRenderUpdate(() => this.refresh().points);
-    this.spotCount = uniform(0).onRenderUpdate(() => this.refresh().spots);
+    // uniform bounding a loop hung the WebGL 2 backend (SwiftShader) here. The
+    // lights are read once per render, by whichever count updates first.
+    this.counts = { points: 0, spots: 0 };
+    this.renderId = -1;
+    const counts = (frame) => {
+      if (frame.renderId !== this.renderId) {
+        this.renderId = frame.renderId;
+        this.refresh();
+      }
+      return this.counts;
+    };
+    this.pointCount = uniform(0).onRenderUpdate((frame) => counts(frame).points);
+    this.spotCount = uniform(0).onRenderUpdate((frame) => counts(frame).spots);
     this.projectionInverse = uniform('mat4').onRenderUpdate(() => this.camera.projectionMatrixInverse);
     this.cameraWorld = uniform('mat4').onRenderUpdate(() => this.camera.matrixWorld);
     this.cameraOrigin = uniform(new Vector3()).onRenderUpdate(() => this.camera.getWorldPosition(new Vector3()));
@@ -112,32 +102,17 @@ export class VolumetricLights {
    * changes made since the last one in the same frame). Returns the counts drawn.
    */
   refresh() {
-    const points = this.points.filter((l) => l.visible);
-    const spots = this.spots.filter((l) => l.visible);
-    points.forEach((l, i) => {
-      l.getWorldPosition(this.pointPosition.array[i]);
-      this.pointIntensity.array[i].copy(this.#intensity(l));
+    this.counts = this.lights.write({
+      pointPosition: this.pointPosition.array,
+      pointIntensity: this.pointIntensity.array,
+      spotPosition: this.spotPosition.array,
+      spotIntensity: this.spotIntensity.array,
+      spotAxis: this.spotAxis.array,
+      spotCone: this.spotCone.array,
     });
-    spots.forEach((l, i) => {
-      l.getWorldPosition(this.spotPosition.array[i]);
-      this.spotIntensity.array[i].copy(this.#intensity(l));
-      this.spotAxis.array[i].copy(this.#axis(l));
-      this.spotCone.array[i].set(Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra)), 0);
-    });
-    this.pointCount.value = points.length;
-    this.spotCount.value = spots.length;
-    return { points: points.length, spots: spots.length };
-  }
-
-  #intensity(light) {
-    return new Vector3(light.color.r, light.color.g, light.color.b).multiplyScalar(light.intensity);
-  }
-
-  #axis(light) {
-    light.updateMatrixWorld();
-    light.target.updateMatrixWorld();
-    const from = light.getWorldPosition(new Vector3());
-    return light.target.getWorldPosition(new Vector3()).sub(from).normalize();
+    this.pointCount.value = this.counts.points;
+    this.spotCount.value = this.counts.spots;
+    return this.counts;
   }
 
   /**
@@ -146,25 +121,14 @@ export class VolumetricLights {
    * the kernels integrate the inverse-square law, not three's range window.
    */
   add(light) {
-    const list = light.isSpotLight ? this.spots : light.isPointLight ? this.points : null;
-    if (!list) throw new Error('airlight-three: add() takes a THREE.PointLight or THREE.SpotLight');
-    if (light.distance !== 0 || light.decay !== 2) {
-      throw new Error(`airlight-three: ${light.type} with distance = ${light.distance}, decay = ${light.decay}: the kernels integrate the inverse-square law (distance 0, decay 2)`);
-    }
-    const cap = light.isSpotLight ? this.maxSpot : this.maxPoint;
-    if (list.includes(light)) return this;
-    if (list.length >= cap) throw new Error(`airlight-three: this VolumetricLights pass takes at most ${cap} ${light.type}s (maxPointLights / maxSpotLights, up to ${MAX_POINT_LIGHTS} / ${MAX_SPOT_LIGHTS})`);
-    list.push(light);
+    this.lights.add(light);
     this.refresh();
     return this;
   }
 
   /** Removes a light added before; the next frame no longer draws it. */
   remove(light) {
-    for (const list of [this.points, this.spots]) {
-      const i = list.indexOf(light);
-      if (i >= 0) list.splice(i, 1);
-    }
+    this.lights.remove(light);
     this.refresh();
     return this;
   }

@@ -560,8 +560,29 @@ pub fn three_basis(forward: [f32; 3]) -> [[f32; 3]; 3] {
 /// the first surface from the scene pass's depth) read back as floats. The
 /// camera is three's, aimed as the stage's (its pixels' rays: [`three_basis`]).
 pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: bool) -> String {
-    let (width, height) = (view.width, view.height);
     let module = format!("./airlight-three/kernels/{}.js", k.name);
+    let imports = format!(
+        "import * as THREE from 'three/webgpu';\nimport {{ pass, screenUV }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
+    );
+    lights_page(k, stage, view, Some(webgl), &imports)
+}
+
+/// The same check on `WebGLRenderer` through `VolumetricLightsPass`
+/// (`airlight-three/webgl.js`), the kernel's GLSL from its sources module:
+/// the fog alone, the scene's colour as the pass drew it, the composite, and
+/// the next frame's fog with the light's intensity doubled (16 bytes each).
+pub fn lights_page_webgl(k: &IndexEntry, stage: &Stage, view: &ShaftsView) -> String {
+    let imports = format!(
+        "import * as THREE from 'three';\nimport * as S from './airlight-three/sources/{}.js';\nimport {{ VolumetricLightsPass }} from './airlight-three/webgl.js';",
+        k.name
+    );
+    lights_page(k, stage, view, None, &imports)
+}
+
+/// A lights page: `lights_tsl.js` on WebGPURenderer (`webgl`: its backend), or
+/// `lights_webgl.js` on WebGLRenderer (None).
+fn lights_page(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: Option<bool>, imports: &str) -> String {
+    let (width, height) = (view.width, view.height);
     let l3 = |v: [f32; 3]| format!("{:?}, {:?}, {:?}", v[0], v[1], v[2]);
     let f = stage.camera_basis()[0];
     let c = stage.camera;
@@ -569,22 +590,17 @@ pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: 
         Some(s) => format!("light.penumbra = {:?};", 1.0 - s.cone_deg[1] / s.cone_deg[0]),
         None => String::new(),
     };
+    let (page, material, target) = match webgl {
+        Some(_) => (include_str!("pages/lights_tsl.js"), "new THREE.MeshStandardNodeMaterial()", "RenderTarget"),
+        None => (include_str!("pages/lights_webgl.js"), "new THREE.MeshStandardMaterial()", "WebGLRenderTarget"),
+    };
+    let webgl = webgl.unwrap_or(true);
     let body = fill(
-        include_str!("pages/lights_tsl.js"),
+        page,
         &[
             ("webgl", format!("{webgl}")),
             ("want", (if webgl { "WebGL 2" } else { "WebGPU" }).to_string()),
-            (
-                "scene",
-                shafts_scene_js(
-                    stage,
-                    "new THREE.MeshStandardNodeMaterial()",
-                    "new THREE.MeshStandardNodeMaterial()",
-                    "RenderTarget",
-                    512,
-                    ShadowSide::Front,
-                ),
-            ),
+            ("scene", shafts_scene_js(stage, material, material, target, 512, ShadowSide::Front)),
             ("intensity", format!("{:?}", stage.intensity)),
             ("colour", l3(stage.colour)),
             ("spot_penumbra", penumbra),
@@ -606,10 +622,7 @@ pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: 
             ),
         ],
     );
-    let imports = format!(
-        "import * as THREE from 'three/webgpu';\nimport {{ pass, screenUV }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
-    );
-    wrap_page(&imports, &body, width, height)
+    wrap_page(imports, &body, width, height)
 }
 
 /// What the page drew.
@@ -667,7 +680,7 @@ fn decode_base64(s: &str) -> Result<Vec<u8>, BrowserError> {
 }
 
 /// How long a page may take to report (`AIRLIGHT_BROWSER_TIMEOUT_S` overrides).
-const TIMEOUT_S: u64 = 240;
+pub const TIMEOUT_S: u64 = 240;
 
 /// What the page POSTed to `/result`.
 type Posted = std::sync::Arc<std::sync::Mutex<Option<String>>>;
@@ -696,6 +709,8 @@ fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)], posted: &P
     let mut words = line.split_whitespace();
     let method = words.next().unwrap_or("GET");
     let path = words.next().unwrap_or("/").trim_start_matches('/');
+    // A page's query is the page's: the file is the path before it.
+    let path = path.split('?').next().unwrap_or_default();
     let reply = if method == "POST" && path == "result" {
         let mut body = vec![0u8; length];
         if reader.read_exact(&mut body).is_ok() {
@@ -768,7 +783,13 @@ impl Server {
 /// SwiftShader) until the page has POSTed its result to `server`, then stops
 /// it; its log is kept for errors. A page that never reports is stopped after
 /// 240 s.
-fn run_chromium(chrome: &Path, url: &str, profile: &Path, server: &Server) -> Result<String, BrowserError> {
+fn run_chromium(
+    chrome: &Path,
+    url: &str,
+    profile: &Path,
+    server: &Server,
+    timeout_s: u64,
+) -> Result<String, BrowserError> {
     let mut child = Command::new(chrome)
         .args([
             "--headless",
@@ -801,7 +822,7 @@ fn run_chromium(chrome: &Path, url: &str, profile: &Path, server: &Server) -> Re
             text
         })
     });
-    let timeout = std::env::var("AIRLIGHT_BROWSER_TIMEOUT_S").ok().and_then(|v| v.parse().ok()).unwrap_or(TIMEOUT_S);
+    let timeout = std::env::var("AIRLIGHT_BROWSER_TIMEOUT_S").ok().and_then(|v| v.parse().ok()).unwrap_or(timeout_s);
     let start = Instant::now();
     let outcome = loop {
         if let Some(p) = server.posted() {
@@ -836,10 +857,21 @@ fn run_chromium(chrome: &Path, url: &str, profile: &Path, server: &Server) -> Re
 /// headless `chrome` and returns what the page read back: the adapter it names
 /// and its bytes, rows from the top.
 pub fn draw_raw(chrome: &Path, files: Vec<(String, Vec<u8>)>) -> Result<(String, Vec<u8>), BrowserError> {
+    draw_raw_within(chrome, files, "index.html", TIMEOUT_S)
+}
+
+/// [`draw_raw`] with the page at `page` (a path, and a query, among `files`),
+/// given `timeout_s` seconds (`AIRLIGHT_BROWSER_TIMEOUT_S` overrides it).
+pub fn draw_raw_within(
+    chrome: &Path,
+    files: Vec<(String, Vec<u8>)>,
+    page: &str,
+    timeout_s: u64,
+) -> Result<(String, Vec<u8>), BrowserError> {
     let server = Server::start(files)?;
-    let url = format!("http://127.0.0.1:{}/index.html", server.port);
+    let url = format!("http://127.0.0.1:{}/{page}", server.port);
     let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{}", std::process::id(), server.port));
-    let ran = run_chromium(chrome, &url, &profile, &server);
+    let ran = run_chromium(chrome, &url, &profile, &server, timeout_s);
     server.stop();
     std::fs::remove_dir_all(&profile).ok();
     let posted = ran?;
@@ -925,4 +957,34 @@ fn fill(template: &str, vars: &[(&str, String)]) -> String {
     }
     out.push_str(rest);
     out
+}
+
+/// The three.js example (`examples/three/`) as the repository lays it out for
+/// `node examples/three/serve.mjs`: its page with a script appended that waits
+/// for the example to start, lets it run two seconds (its frame time), reads
+/// its fog back (`window.airlightExample.readFog()`) and POSTs the fog's floats
+/// (RGB and the surface distance, rows from the top) and, as the "adapter"
+/// line, JSON with the kernel, the frame time, the camera, the medium and the
+/// lights as the page held them, and the adapter.
+pub fn example_files(root: &Path, three: &Path, package: &Path) -> Result<Vec<(String, Vec<u8>)>, BrowserError> {
+    let read = |p: &Path| std::fs::read(p).map_err(|e| BrowserError(format!("{}: {e}", p.display())));
+    let dir = root.join("examples/three");
+    let page = String::from_utf8_lossy(&read(&dir.join("index.html"))?).into_owned();
+    let probe = include_str!("pages/example_probe.html");
+    let page = page.replacen("</body>", &format!("{probe}</body>"), 1);
+    let mut files = vec![
+        ("examples/three/index.html".to_string(), page.into_bytes()),
+        ("examples/three/main.js".to_string(), read(&dir.join("main.js"))?),
+    ];
+    for f in ["three.core.js", "three.webgpu.js", "three.tsl.js"] {
+        files.push((format!("tests/node/node_modules/three/build/{f}"), read(&three.join(f))?));
+    }
+    let orbit = "examples/jsm/controls/OrbitControls.js";
+    files.push((format!("tests/node/node_modules/three/{orbit}"), read(&three.join("..").join(orbit))?));
+    for (name, bytes) in page_files(three, package, String::new())? {
+        if let Some(rel) = name.strip_prefix("airlight-three/") {
+            files.push((format!("generated/three/airlight-three/{rel}"), bytes));
+        }
+    }
+    Ok(files)
 }

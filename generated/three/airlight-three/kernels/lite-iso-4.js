@@ -7,10 +7,7 @@ import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../shadow.js';
 import { smapGLSL, smapWGSL } from '../shadowmap.js';
 
 /** The sources (also importable alone, without three/tsl: `airlight-three/sources/lite-iso-4.js`). */
-export { glsl, wgsl, bound } from '../sources/lite-iso-4.js';
-
-/** Whether its entries take g at run time (else isotropic, or g baked in). */
-export const takesG = false;
+export { glsl, wgsl, bound, prefix, takesG } from '../sources/lite-iso-4.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */
 export const wgslLibrary = wgslCode(wgsl);

@@ -7,10 +7,7 @@ import { glslShadowArgs, shadowLookup, shadowLookupGLSL } from '../../shadow.js'
 import { smapGLSL, smapWGSL } from '../../shadowmap.js';
 
 /** The sources (also importable alone, without three/tsl: `airlight-three/research/sources/raymarch-32.js`). */
-export { glsl, wgsl, bound } from '../sources/raymarch-32.js';
-
-/** Whether its entries take g at run time (else isotropic, or g baked in). */
-export const takesG = true;
+export { glsl, wgsl, bound, prefix, takesG } from '../sources/raymarch-32.js';
 
 /** The WGSL as a TSL code node (included once by every WGSL node below). */
 export const wgslLibrary = wgslCode(wgsl);

@@ -4,5 +4,9 @@
 export declare const glsl: string;
 /** The kernel's WGSL. */
 export declare const wgsl: string;
+/** The prefix of every item (`<prefix>radiance`, `<prefix>spot`). */
+export declare const prefix: string;
+/** Whether its entries take g at run time (a last argument). */
+export declare const takesG: boolean;
 /** Declared max relative errors (f64 model; f32 kernels where recorded). */
 export declare const bound: { thin: number | null; dense: number | null; f32Thin: number | null; f32Dense: number | null };
