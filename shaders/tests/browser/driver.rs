@@ -868,6 +868,10 @@ pub fn draw_raw_within(
     page: &str,
     timeout_s: u64,
 ) -> Result<(String, Vec<u8>), BrowserError> {
+    // One Chromium at a time: on two cores, pages drawn side by side by the
+    // parallel tests (SwiftShader, both CPU-bound) ran past their timeouts.
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let server = Server::start(files)?;
     let url = format!("http://127.0.0.1:{}/{page}", server.port);
     let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{}", std::process::id(), server.port));
