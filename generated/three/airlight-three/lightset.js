@@ -86,14 +86,12 @@ export class LightSet {
     const points = this.points.filter((l) => l.visible);
     const spots = this.spots.filter((l) => l.visible);
     const intensity = (l, v) => v.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
+    // getWorldPosition brings each light's (and target's) world matrix up to date.
     points.forEach((l, i) => {
-      l.updateMatrixWorld();
       l.getWorldPosition(u.pointPosition[i]);
       intensity(l, u.pointIntensity[i]);
     });
     spots.forEach((l, i) => {
-      l.updateMatrixWorld();
-      l.target.updateMatrixWorld();
       const from = l.getWorldPosition(u.spotPosition[i]);
       l.target.getWorldPosition(u.spotAxis[i]).sub(from).normalize();
       intensity(l, u.spotIntensity[i]);

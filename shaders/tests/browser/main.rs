@@ -502,19 +502,13 @@ fn the_three_js_example_page_draws_the_street_against_the_reference() {
     if std::env::var("AIRLIGHT_RECORD_EXAMPLE").is_ok_and(|v| v == "1") {
         use airlight_shaders::render;
         let out = root().join("generated/render");
-        let rgb = |f: &[[f64; 3]]| f.to_vec();
         let exposure = render::exposure(&render::channels(&reference));
         let page: Vec<[f64; 3]> = fog.iter().map(|p| [0, 1, 2].map(|c| f64::from(p[c]))).collect();
         render::write_png(&out.join("three-example-fog.png"), w, h, &render::tone_map_rgb(&page, exposure)).unwrap();
         let shown: Vec<[u8; 3]> = shown.chunks(4).map(|p| [p[0], p[1], p[2]]).collect();
         render::write_png(&out.join("three-example-page.png"), w, h, &shown).unwrap();
-        render::write_png(
-            &out.join("three-example-reference.png"),
-            w,
-            h,
-            &render::tone_map_rgb(&rgb(&reference), exposure),
-        )
-        .unwrap();
+        render::write_png(&out.join("three-example-reference.png"), w, h, &render::tone_map_rgb(&reference, exposure))
+            .unwrap();
         let toml = format!(
             "# Written by the browser test the_three_js_example_page_draws_the_street_against_the_reference (AIRLIGHT_RECORD_EXAMPLE=1); quoted by REPORT.md.\nkind = \"three-example\"\nadapter = {:?}\nkernel = \"{kernel}\"\nbound = {bound:e}\nwidth = {w}\nheight = {h}\nlit_pixels = {lit}\nlit_max = {:e}\nlit_mean = {:e}\nedge_max = {:e}\nedge_mean = {:e}\nbad_pixels = {bad}\nframe_ms = {frame_ms:e}\n",
             meta["adapter"].as_str().unwrap_or_default(),
