@@ -208,7 +208,7 @@ fn render_shafts(
     let edges = classes.iter().filter(|c| **c == Some(true)).count();
     println!("{}: {}×{}; {lit} lit pixels off the edges, {edges} on shaft edges", first.display(), size.0, size.1);
     let mut toml = format!(
-        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nend_texels = {:?}\nwalk_ms = {:e}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
+        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nend_texels = {:?}\nclip_margin_deg = {:?}\nwalk_ms = {:e}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
         out.file,
         stage.description,
         if stage.spot.is_some() { "spot" } else { "point" },
@@ -221,6 +221,7 @@ fn render_shafts(
         stage.faces().len(),
         sr::WALK_BIAS,
         sr::END_TEXELS,
+        sr::CLIP_MARGIN_DEG,
         walk_only.gpu_s * 1e3,
         sr::REFINE_STEPS,
         shown.method.steps(),

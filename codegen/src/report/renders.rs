@@ -22,6 +22,8 @@ pub(super) struct ShaftsRender {
     walk_bias: String,
     /// Texels short of a surface facing away from the light that the fog ends.
     end_texels: String,
+    /// Degrees past a spot's outer cone that its frames still walk (or march).
+    clip_margin_deg: String,
     /// GPU ms of the exact frame's walk alone (no kernel).
     walk_ms: String,
     refine_steps: i64,
@@ -148,6 +150,10 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                 faces: i("faces"),
                 walk_bias: t.get("walk_bias").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b}")),
                 end_texels: t.get("end_texels").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b}")),
+                clip_margin_deg: t
+                    .get("clip_margin_deg")
+                    .and_then(|v| v.as_float())
+                    .map_or("—".into(), |b| format!("{b}")),
                 walk_ms: t.get("walk_ms").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b:.1}")),
                 refine_steps: i("refine_steps"),
                 lit_pixels: i("lit_pixels"),
@@ -206,10 +212,14 @@ pub(super) fn render_rows(renders: &[Output]) -> Vec<RenderRow> {
         .collect()
 }
 
-/// The three.js example page as its browser test recorded it
-/// (`render/three-example.toml`, `AIRLIGHT_RECORD_EXAMPLE=1`).
+/// The three.js example page as its browser test recorded it, per renderer
+/// (`render/three-example.toml` on WebGPU, `render/three-example-webgl.toml`
+/// on WebGL 2; `AIRLIGHT_RECORD_EXAMPLE=1`).
 #[derive(Serialize)]
 pub(super) struct ThreeExample {
+    /// The records' base name under `render/` (its pictures: `-page`, `-fog`, `-reference`).
+    base: String,
+    renderer: String,
     adapter: String,
     kernel: String,
     bound: String,
@@ -223,24 +233,31 @@ pub(super) struct ThreeExample {
     frame_ms: String,
 }
 
-/// The example's record, if there is one.
-pub(super) fn three_example(renders: &[Output]) -> Option<ThreeExample> {
-    let o = renders.iter().find(|o| o.path == "render/three-example.toml")?;
-    let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
-    let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
-    let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
-    let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
-    Some(ThreeExample {
-        adapter: s("adapter"),
-        kernel: s("kernel"),
-        bound: f("bound"),
-        size: format!("{}×{}", i("width"), i("height")),
-        lit_pixels: i("lit_pixels"),
-        lit_max: f("lit_max"),
-        lit_mean: f("lit_mean"),
-        edge_max: f("edge_max"),
-        edge_mean: f("edge_mean"),
-        bad_pixels: i("bad_pixels"),
-        frame_ms: t.get("frame_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
-    })
+/// The example's records, WebGPU's first; empty if there are none.
+pub(super) fn three_example(renders: &[Output]) -> Vec<ThreeExample> {
+    ["three-example", "three-example-webgl"]
+        .into_iter()
+        .filter_map(|base| {
+            let o = renders.iter().find(|o| o.path == format!("render/{base}.toml"))?;
+            let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
+            let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
+            let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
+            let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
+            Some(ThreeExample {
+                base: base.to_string(),
+                renderer: t.get("renderer").and_then(|v| v.as_str()).unwrap_or("WebGPURenderer").to_string(),
+                adapter: s("adapter"),
+                kernel: s("kernel"),
+                bound: f("bound"),
+                size: format!("{}×{}", i("width"), i("height")),
+                lit_pixels: i("lit_pixels"),
+                lit_max: f("lit_max"),
+                lit_mean: f("lit_mean"),
+                edge_max: f("edge_max"),
+                edge_mean: f("edge_mean"),
+                bad_pixels: i("bad_pixels"),
+                frame_ms: t.get("frame_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
+            })
+        })
+        .collect()
 }

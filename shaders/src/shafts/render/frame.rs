@@ -97,25 +97,29 @@ pub(crate) fn frame_wgsl(
         Method::Exact | Method::Walk => (
             walk,
             format!(
-                "    var w = airlight_smap_begin(SC_CAMERA, dir, fog_end, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
+                "    let cc = sc_cone_clip(SC_CAMERA, dir, fog_end);
     var acc = {p}shafts_begin_runs();
-    loop {{
-        let run = airlight_smap_next(&w, sc_pyramid);
-        if run.x < 0.0 {{
-            break;
-        }}
-{each_run}    }}
+    if cc.x < cc.y {{
+        var w = airlight_smap_begin(SC_CAMERA + cc.x * dir, dir, cc.y - cc.x, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
+        loop {{
+            let r = airlight_smap_next(&w, sc_pyramid);
+            if r.x < 0.0 {{
+                break;
+            }}
+            let run = vec2<f32>(cc.x + r.x, select(cc.y, cc.x + r.y, r.y >= 0.0));
+{each_run}        }}
+    }}
 ",
                 res = stage.shadow_map,
                 bias = WALK_BIAS,
                 each_run = if method == Method::Walk {
-                    "        acc.sum.x += select(fog_end, run.y, run.y >= 0.0) - run.x;\n".to_string()
+                    "            acc.sum.x += run.y - run.x;\n".to_string()
                 } else {
                     format!(
-                        "        {p}shafts_add_run(&acc, run.x, run.y);
-        if {p}shafts_full(acc) {{
-            {p}shafts_flush{sfx}(&acc, {args});
-        }}
+                        "            {p}shafts_add_run(&acc, run.x, run.y);
+            if {p}shafts_full(acc) {{
+                {p}shafts_flush{sfx}(&acc, {args});
+            }}
 "
                     )
                 },
@@ -124,16 +128,19 @@ pub(crate) fn frame_wgsl(
         Method::Sampled(n) => (
             "",
             format!(
-                "    var acc = {p}shafts_begin();
-    {p}shafts_push{sfx}(&acc, 0.0, sc_shadow(SC_CAMERA), {args});
-    for (var i = 0u; i < {n}u; i++) {{
-        let s = (f32(i) + 0.5) * fog_end / {nf:?};
-        {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
-        for (var r = 0u; r < {refine}u && {p}shafts_probe(acc) >= 0.0; r++) {{
-            {p}shafts_refine(&acc, sc_shadow(SC_CAMERA + {p}shafts_probe(acc) * dir));
+                "    let cc = sc_cone_clip(SC_CAMERA, dir, fog_end);
+    var acc = {p}shafts_begin();
+    if cc.x < cc.y {{
+        {p}shafts_push{sfx}(&acc, cc.x, sc_shadow(SC_CAMERA + cc.x * dir), {args});
+        for (var i = 0u; i < {n}u; i++) {{
+            let s = cc.x + (f32(i) + 0.5) * (cc.y - cc.x) / {nf:?};
+            {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
+            for (var r = 0u; r < {refine}u && {p}shafts_probe(acc) >= 0.0; r++) {{
+                {p}shafts_refine(&acc, sc_shadow(SC_CAMERA + {p}shafts_probe(acc) * dir));
+            }}
         }}
+        {p}shafts_push{sfx}(&acc, cc.y, select(sc_shadow(SC_CAMERA + cc.y * dir), v_surf, cc.y >= fog_end), {args});
     }}
-    {p}shafts_push{sfx}(&acc, fog_end, v_surf, {args});
 ",
                 nf = n as f32
             ),
@@ -141,10 +148,15 @@ pub(crate) fn frame_wgsl(
         Method::March(n) => (
             "",
             format!(
-                "    var acc = {p}shafts_begin();
-    for (var i = 0u; i < {n}u; i++) {{
-        let s = (f32(i) + 0.5) * fog_end / {nf:?};
-        {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
+                "    let cc = sc_cone_clip(SC_CAMERA, dir, fog_end);
+    var acc = {p}shafts_begin();
+    if cc.x < cc.y {{
+        // The march's steps start where the cone does.
+        acc.end = cc.x;
+        for (var i = 0u; i < {n}u; i++) {{
+            let s = cc.x + (f32(i) + 0.5) * (cc.y - cc.x) / {nf:?};
+            {p}shafts_push{sfx}(&acc, s, sc_shadow(SC_CAMERA + s * dir), {args});
+        }}
     }}
 ",
                 nf = n as f32

@@ -94,6 +94,12 @@ pub const WALK_BIAS: f32 = 0.003;
 /// unchanged (3.70e-2, 1.89e-3).
 pub const END_TEXELS: f32 = 2.0;
 
+/// How far past the spot's outer cone the exact frame still walks its map,
+/// degrees: the cone's weight is 0 outside the cone, so the walk starts and ends
+/// where the view ray crosses this wider cone (scene.wgsl, `sc_cone_clip`); the
+/// margin keeps f32 rounding of that crossing off the lit cone.
+pub const CLIP_MARGIN_DEG: f32 = 0.5;
+
 /// An axis-aligned box: min, max, albedo.
 pub(crate) type Cuboid = ([f32; 3], [f32; 3], [f32; 3]);
 
@@ -415,6 +421,7 @@ pub(crate) fn scene_wgsl(stage: &Stage, view: &ShaftsView) -> String {
         (Some(axis), Some(s)) => (axis, s.cone_deg[0].to_radians().cos(), s.cone_deg[1].to_radians().cos()),
         _ => ([0.0, 0.0, 1.0], -2.0, -1.0),
     };
+    let cclip = stage.spot.map_or(-1.0, |s| (s.cone_deg[0] + CLIP_MARGIN_DEG).to_radians().cos());
     let (ball_c, ball_r, _) = stage.ball;
     let constants = format!(
         "// ---- the light-shafts scene `{name}` (shaders/src/shafts/render/scene.rs, scene.wgsl) ----
@@ -431,6 +438,7 @@ const SC_SPOT: bool = {spot};
 const SC_AXIS = {axis};
 const SC_COS_OUTER: f32 = {co:?};
 const SC_COS_INNER: f32 = {ci:?};
+const SC_COS_CLIP: f32 = {cclip:?};
 const SC_INTENSITY: f32 = {intensity:?};
 const SC_SIGMA_T = {st};
 const SC_SIGMA_S = {ss};

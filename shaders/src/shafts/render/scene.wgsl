@@ -125,6 +125,55 @@ fn sc_cone(to_point: vec3<f32>) -> f32 {
     return clamp((c - SC_COS_OUTER) / (SC_COS_INNER - SC_COS_OUTER), 0.0, 1.0);
 }
 
+// The stretch [a, b] of the view ray o + t d (|d| = 1), t in [0, end], inside the
+// spot's outer cone widened by SC_CLIP_MARGIN (the cone's weight is 0 outside
+// it, so the exact walk need not look there); a > b: none. A point light, or a
+// ray the quadric cannot decide in f32 (nearly parallel to the cone's side),
+// keeps the whole [0, end]. The cone is convex, so one stretch.
+fn sc_cone_clip(o: vec3<f32>, d: vec3<f32>, end: f32) -> vec2<f32> {
+    let all = vec2<f32>(0.0, end);
+    if !SC_SPOT {
+        return all;
+    }
+    let w = o - SC_LIGHT;
+    let c2 = SC_COS_CLIP * SC_COS_CLIP;
+    let da = dot(d, SC_AXIS);
+    let wa = dot(w, SC_AXIS);
+    let qa = da * da - c2;
+    let qb = da * wa - c2 * dot(d, w);
+    let qc = wa * wa - c2 * dot(w, w);
+    if abs(qa) < 1e-4 {
+        return all;
+    }
+    let disc = qb * qb - qa * qc;
+    if disc < 0.0 {
+        // No real crossing: inside everywhere (qa > 0, only by rounding) or nowhere.
+        return select(vec2<f32>(1.0, 0.0), all, qa > 0.0);
+    }
+    let q = -(qb + select(-1.0, 1.0, qb >= 0.0) * sqrt(disc));
+    let ra = q / qa;
+    let rb = select(qc / q, ra, q == 0.0);
+    let r1 = min(ra, rb);
+    let r2 = max(ra, rb);
+    var lo: f32;
+    var hi: f32;
+    if qa < 0.0 {
+        // Inside between the roots: the light's nappe if its middle faces the axis.
+        if wa + 0.5 * (r1 + r2) * da < 0.0 {
+            return vec2<f32>(1.0, 0.0);
+        }
+        lo = r1;
+        hi = r2;
+    } else if da > 0.0 {
+        lo = r2;
+        hi = 3.4e38;
+    } else {
+        lo = -3.4e38;
+        hi = r1;
+    }
+    return vec2<f32>(max(lo, 0.0), min(hi, end));
+}
+
 // Where a view ray's fog ends, for its surface at `end` (point p, normal n): the
 // surface, or, where it faces away from the light, SC_END_TEXELS of the map's
 // texels short of it (scene.rs, END_TEXELS): the ray is in the surface's own
