@@ -1,25 +1,33 @@
 // A street at night in fog: two lamp posts (THREE.PointLight) and a spot light on
-// a wall (THREE.SpotLight), shadows on, their glow in the fog by airlight-three's
-// VolumetricLights over WebGPURenderer, an orbit camera, a quality switch (the
-// error budget the kernel is picked for) and the frame time.
+// a wall (THREE.SpotLight), shadows on, their glow in the fog by airlight-three
+// over three.js, an orbit camera, a quality switch (the error budget the kernel is
+// picked for) and the frame time. Two renderers, one scene:
+//   (default)          WebGPURenderer, VolumetricLights as its PostProcessing output
+//   ?renderer=webgl    WebGLRenderer, VolumetricLightsPass in an EffectComposer
 // `?w=…&h=…` fixes the canvas size (the repository's browser test uses it).
-import * as THREE from 'three/webgpu';
-import { pass } from 'three/tsl';
-import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { VolumetricLights } from 'airlight-three/lights.js';
-
 const query = new URLSearchParams(location.search);
+const webgl = query.get('renderer') === 'webgl';
+const THREE = await import(webgl ? 'three' : 'three/webgpu');
+const { OrbitControls } = await import('three/addons/controls/OrbitControls.js');
 const fixed = query.has('w') ? [Number(query.get('w')), Number(query.get('h'))] : null;
-const renderer = new THREE.WebGPURenderer({ antialias: false });
-await renderer.init();
+const renderer = webgl ? new THREE.WebGLRenderer({ antialias: false }) : new THREE.WebGPURenderer({ antialias: false });
+if (!webgl) await renderer.init();
 renderer.setPixelRatio(fixed ? 1 : window.devicePixelRatio);
 renderer.setSize(...(fixed ?? [window.innerWidth, window.innerHeight]), !fixed);
 renderer.shadowMap.enabled = true;
 document.body.appendChild(renderer.domElement);
-// `?w=…&h=…` also draws into an offscreen target instead of the canvas: headless
-// Chromium's WebGPU on SwiftShader loses its device presenting to a canvas.
-const offscreen = fixed ? new THREE.RenderTarget(fixed[0], fixed[1]) : null;
+// `?w=…&h=…` on WebGPU also draws into an offscreen target instead of the canvas:
+// headless Chromium's WebGPU on SwiftShader loses its device presenting to a canvas.
+const offscreen = fixed && !webgl ? new THREE.RenderTarget(fixed[0], fixed[1]) : null;
 if (offscreen) renderer.setOutputRenderTarget(offscreen);
+document.getElementById('renderer').textContent = webgl ? 'WebGLRenderer' : 'WebGPURenderer';
+const shaftsBox = document.getElementById('shafts');
+shaftsBox.checked = !webgl && query.get('shafts') === '1';
+shaftsBox.disabled = webgl;
+shaftsBox.addEventListener('change', () => {
+  query.set('shafts', shaftsBox.checked ? '1' : '0');
+  location.search = '?' + query;
+});
 
 // The street, metres: asphalt between two rows of houses, a railing, a bench, a ball.
 export const MEDIUM = { sigmaT: [0.07, 0.075, 0.08], sigmaS: [0.055, 0.06, 0.065], g: 0.6 };
@@ -81,17 +89,47 @@ const resize = () => {
 window.addEventListener('resize', resize);
 resize();
 
-// The fog over the scene pass: a VolumetricLights per quality (the cheapest kernel
-// on airlight-three's menu whose declared bound meets it), rebuilt on a switch.
-const scenePass = pass(scene, camera);
-const post = new THREE.PostProcessing(renderer);
+// The fog over the scene: per quality (the cheapest kernel on airlight-three's
+// menu whose declared bound meets it) a VolumetricLights (WebGPU: the composite is
+// PostProcessing's output) or a VolumetricLightsPass (WebGL: the composer's pass,
+// which draws the scene itself), rebuilt on a switch.
+// Shafts (WebGPU only): each light's glow walked exactly over its own shadow map;
+// off by default (the repository's test checks the unshadowed glow), a checkbox.
+const shafts = !webgl && query.get('shafts') === '1';
+const limits = shafts ? { maxPointLights: 0, maxSpotLights: 0, maxShadowedLights: 3 } : { maxPointLights: 2, maxSpotLights: 1, shafts: false };
 let fog = null;
+let draw;
+let fogOf;
+let scenePass = null;
+if (webgl) {
+  const { EffectComposer } = await import('three/addons/postprocessing/EffectComposer.js');
+  const { VolumetricLightsPass } = await import('airlight-three/webgl.js');
+  const composer = new EffectComposer(renderer);
+  draw = () => composer.render();
+  fogOf = (maxError) => VolumetricLightsPass.create(scene, camera, { ...MEDIUM, maxError, ...limits }).then((next) => {
+    if (fog) {
+      composer.removePass(fog);
+      fog.dispose();
+    }
+    composer.addPass(next);
+    return next;
+  });
+} else {
+  const { pass } = await import('three/tsl');
+  const { VolumetricLights } = await import('airlight-three/lights.js');
+  scenePass = pass(scene, camera);
+  const post = new THREE.PostProcessing(renderer);
+  draw = () => post.render();
+  fogOf = (maxError) => VolumetricLights.create(renderer, { ...MEDIUM, maxError, ...limits }).then((next) => {
+    post.outputNode = next.composite(scenePass, camera);
+    post.needsUpdate = true;
+    return next;
+  });
+}
 async function setQuality(maxError) {
-  const next = await VolumetricLights.create(renderer, { ...MEDIUM, maxError, maxPointLights: 2, maxSpotLights: 1 });
+  const next = await fogOf(maxError);
   for (const l of [...lamps, spot]) next.add(l);
   fog = next;
-  post.outputNode = fog.composite(scenePass, camera);
-  post.needsUpdate = true;
   document.getElementById('kernel').textContent = `kernel ${fog.name}`;
 }
 const select = document.getElementById('quality');
@@ -112,36 +150,74 @@ function frame() {
   if (times.length > 30) times.shift();
   last = now;
   controls.update();
-  post.render();
+  draw();
   if (afterFrame) afterFrame();
   document.getElementById('time').textContent = `${frameMs().toFixed(1)} ms/frame`;
 }
 renderer.setAnimationLoop(frame);
 
 // For checks (the repository's browser test): the fog alone (RGB, distance to the
-// first surface) as floats, rows from the top, and what the reference needs.
+// first surface) as floats and what the page shows as 8-bit RGBA, rows from the
+// top, and what the reference needs. Both are read right after a frame of the
+// animation loop.
+const flip = (a, w, h) => {
+  const row = a.length / h;
+  const out = new a.constructor(a.length);
+  for (let y = 0; y < h; y++) out.set(a.subarray((h - 1 - y) * row, (h - y) * row), y * row);
+  return out;
+};
 async function readFog() {
   const [w, h] = fixed ?? [renderer.domElement.width, renderer.domElement.height];
-  const material = new THREE.MeshBasicNodeMaterial();
-  material.fragmentNode = fog.fog(scenePass.getTextureNode('depth'), camera);
-  const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
-  quad.frustumCulled = false;
-  const fogScene = new THREE.Scene();
-  fogScene.add(quad);
-  const target = new THREE.RenderTarget(w, h, { type: THREE.FloatType, depthBuffer: false });
-  // Drawn by the animation loop's next frame, after the scene pass, then read.
-  await new Promise((done) => {
-    afterFrame = () => {
-      afterFrame = null;
-      renderer.setRenderTarget(target);
-      renderer.render(fogScene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
-      renderer.setRenderTarget(null);
-      done();
-    };
-  });
-  const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, w, h);
-  // What the page shows (the offscreen output: 8-bit sRGB, rows from the top).
-  const shown = offscreen ? await renderer.readRenderTargetPixelsAsync(offscreen, 0, 0, w, h) : null;
+  const target = webgl
+    ? new THREE.WebGLRenderTarget(w, h, { type: THREE.FloatType, depthBuffer: false })
+    : new THREE.RenderTarget(w, h, { type: THREE.FloatType, depthBuffer: false });
+  let fogPx;
+  let shown = null;
+  if (webgl) {
+    // The canvas as the frame left it (read before the browser presents it), then
+    // the pass again with the fog alone into a float target; WebGL's rows run
+    // from the bottom.
+    await new Promise((done) => {
+      afterFrame = () => {
+        afterFrame = null;
+        const gl = renderer.getContext();
+        const bytes = new Uint8Array(w * h * 4);
+        gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, bytes);
+        shown = flip(bytes, w, h);
+        fog.fogOnly = true;
+        renderer.setRenderTarget(target);
+        fog.render(renderer);
+        renderer.setRenderTarget(null);
+        fog.fogOnly = false;
+        const px = new Float32Array(w * h * 4);
+        renderer.readRenderTargetPixels(target, 0, 0, w, h, px);
+        fogPx = flip(px, w, h);
+        done();
+      };
+    });
+  } else {
+    const material = new THREE.MeshBasicNodeMaterial();
+    material.fragmentNode = fog.fog(scenePass.getTextureNode('depth'), camera);
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+    quad.frustumCulled = false;
+    const fogScene = new THREE.Scene();
+    fogScene.add(quad);
+    // Drawn by the animation loop's next frame, after the scene pass, then read.
+    await new Promise((done) => {
+      afterFrame = () => {
+        afterFrame = null;
+        renderer.setRenderTarget(target);
+        renderer.render(fogScene, new THREE.OrthographicCamera(-1, 1, 1, -1, -1, 1));
+        renderer.setRenderTarget(null);
+        done();
+      };
+    });
+    const px = await renderer.readRenderTargetPixelsAsync(target, 0, 0, w, h);
+    fogPx = new Float32Array(px.buffer, px.byteOffset, px.byteLength / 4);
+    // What the page shows (the offscreen output: 8-bit sRGB, rows from the top).
+    shown = offscreen ? await renderer.readRenderTargetPixelsAsync(offscreen, 0, 0, w, h) : null;
+  }
+  target.dispose();
   const lights = [...lamps, spot].map((l) => ({
     spot: l.isSpotLight === true,
     position: l.getWorldPosition(new THREE.Vector3()).toArray(),
@@ -150,11 +226,12 @@ async function readFog() {
     cos: l.isSpotLight ? [Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra))] : null,
   }));
   return {
-    fog: new Float32Array(px.buffer, px.byteOffset, px.byteLength / 4),
+    fog: fogPx,
     shown,
     width: w,
     height: h,
     kernel: fog.name,
+    renderer: webgl ? 'WebGLRenderer' : 'WebGPURenderer',
     camera: { world: camera.matrixWorld.toArray(), projectionInverse: camera.projectionMatrixInverse.toArray() },
     medium: MEDIUM,
     lights,

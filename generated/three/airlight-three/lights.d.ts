@@ -6,6 +6,9 @@ import type { Node, PassNode, WebGPURenderer } from 'three/webgpu';
 /** Lights of each kind one pass takes; `add` refuses more. */
 export declare const MAX_POINT_LIGHTS: number;
 export declare const MAX_SPOT_LIGHTS: number;
+/** Lights with shafts (`castShadow`) one VolumetricLights takes, and how many it takes unless told. */
+export declare const MAX_SHADOWED_LIGHTS: number;
+export declare const DEFAULT_SHADOWED_LIGHTS: number;
 
 /** The medium: extinction and scattering per metre (a number, or one per colour channel), and HG g. */
 export interface Medium {
@@ -20,17 +23,29 @@ export interface Limits {
   maxSpotLights?: number;
 }
 
+/**
+ * Shafts (VolumetricLights only): a light added with `castShadow` is walked
+ * exactly over its own shadow map (square, a power of two) in one of
+ * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS); `shafts: false`
+ * draws every light unshadowed; `shadowBias`: the walk's depth bias, world units.
+ */
+export interface Shafts {
+  shafts?: boolean;
+  maxShadowedLights?: number;
+  shadowBias?: number;
+}
+
 /** In-scattered light of three.js's point and spot lights over a rendered scene (WebGPURenderer). */
 export declare class VolumetricLights {
   /** Picks the cheapest kernel on the menu for `maxError` (default 1e-2) and the medium's g, and imports it. */
-  static create(renderer: WebGPURenderer, options: Medium & Limits & { maxError?: number }): Promise<VolumetricLights>;
+  static create(renderer: WebGPURenderer, options: Medium & Limits & Shafts & { maxError?: number }): Promise<VolumetricLights>;
   /** With a kernel module imported yourself (`airlight-three/kernels/<name>.js`). */
-  constructor(renderer: WebGPURenderer, kernel: object, options: Medium & Limits & { name?: string });
-  /** Copies the lights into the uniforms (done before every render); the counts drawn. */
-  refresh(): { points: number; spots: number };
+  constructor(renderer: WebGPURenderer, kernel: object, options: Medium & Limits & Shafts & { name?: string });
+  /** Copies the lights into the uniforms (done before every render; `drawing`: inside the fog's draw, the shadowed lights' pyramids rebuilt); the counts drawn. */
+  refresh(drawing?: boolean): { points: number; spots: number; shadowed?: number };
   /** The kernel's name. */
   readonly name: string;
-  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2. */
+  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2; with `castShadow` (and shafts on), it casts shafts. */
   add(light: PointLight | SpotLight): this;
   /** Removes a light. */
   remove(light: PointLight | SpotLight): this;

@@ -4,15 +4,21 @@
 // One object for the medium and the kernel; the scene's own THREE.PointLight and
 // THREE.SpotLight added to it as they are. Per pixel: the ray from the camera to
 // the first surface (from the scene pass's depth), every light's in-scattered
-// light along it by the kernel's entry, and the composite — the scene's colour
-// times the medium's transmittance plus the fog. For WebGPURenderer on WebGPU, as
-// a post-processing node (its WebGL 2 backend is refused: see the constructor).
-import { Vector3 } from 'three';
-import { Break, Fn, If, Loop, exp, float, getViewPosition, length, max, screenUV, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
+// light along it by the kernel's entry — a light with `castShadow` by the exact
+// shadow-map walk over its own shadow map (shafts) — and the composite: the
+// scene's colour times the medium's transmittance plus the fog. For
+// WebGPURenderer on WebGPU, as a post-processing node (its WebGL 2 backend is
+// refused: see the constructor).
+import { DataTexture, FloatType, Matrix3, RGFormat, Vector3 } from 'three';
+import { Break, Fn, If, Loop, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
 import { LightSet, limits, medium, slots } from './lightset.js';
+import { ShadowPyramid } from './shadowmap.js';
 
-export { MAX_POINT_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
+export { MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
+
+/** Lights with `castShadow` a pass casts shafts from unless told otherwise (`maxShadowedLights`). */
+export const DEFAULT_SHADOWED_LIGHTS = 2;
 
 /**
  * The in-scattered light of three.js's point and spot lights in a homogeneous
@@ -30,20 +36,25 @@ export class VolumetricLights {
    * (`pick`), imports it and builds the lights. `renderer` is the
    * WebGPURenderer (after `init()`) that will draw it, on its WebGPU backend.
    */
-  static async create(renderer, { sigmaT, sigmaS, g = 0, maxError = 1e-2, maxPointLights, maxSpotLights } = {}) {
+  static async create(renderer, { sigmaT, sigmaS, g = 0, maxError = 1e-2, ...rest } = {}) {
     const k = pick({ maxError, g });
     if (!k) throw new Error(`airlight-three: no kernel on the menu meets maxError = ${maxError} for g = ${g}`);
     const kernel = await import(new URL(k.module, import.meta.url).href);
-    return new VolumetricLights(renderer, kernel, { sigmaT, sigmaS, g, name: k.name, maxPointLights, maxSpotLights });
+    return new VolumetricLights(renderer, kernel, { sigmaT, sigmaS, g, name: k.name, ...rest });
   }
 
   /**
    * With a kernel module you imported yourself (`airlight-three/kernels/<name>.js`).
    * `sigmaT`, `sigmaS`: the medium's extinction and scattering (a number, or one
    * per colour channel); `g`: its Henyey–Greenstein asymmetry (the kernel must
-   * take it, or be baked at it).
+   * take it, or be baked at it). `shafts` (default true): a light added with
+   * `castShadow` casts shafts — its glow walked exactly over its own shadow map
+   * (a `ShadowPyramid` rebuilt from the map every frame) — in one of
+   * `maxShadowedLights` slots (default 2, up to MAX_SHADOWED_LIGHTS; each slot
+   * is a walk in the shader); `shafts: false` draws every light unshadowed.
+   * `shadowBias`: the walk's depth bias, world units (default 0.01).
    */
-  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights } = {}) {
+  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!renderer || !renderer.backend) throw new Error('airlight-three: VolumetricLights needs a WebGPURenderer (after init())');
     // On the WebGL 2 backend the pass never finished drawing in headless
     // Chromium (SwiftShader) in this package's test, and why is not known:
@@ -60,10 +71,27 @@ export class VolumetricLights {
     this.name = name;
     // Each kind's loop is built only if it may hold a light: a pass that never
     // draws point lights carries no radiance calls (shorter shaders to compile).
-    const cap = limits(maxPointLights, maxSpotLights);
-    this.lights = new LightSet(cap.points, cap.spots);
+    const cap = limits(maxPointLights, maxSpotLights, shafts ? maxShadowedLights : 0);
+    this.lights = new LightSet(cap.points, cap.spots, cap.shadowed);
     this.maxPoint = cap.points;
     this.maxSpot = cap.spots;
+    this.maxShadowed = cap.shadowed;
+    this.spotExactFn = kernel.shaftsSpotExactWGSL;
+    if (this.maxShadowed > 0 && !this.spotExactFn) throw new Error(`airlight-three: ${name} has no exact shafts entry; pass shafts: false`);
+    this.renderer = renderer;
+    this.shadowBias = shadowBias;
+    // Each light with shafts: its pyramid; each slot: what its walk reads.
+    this.pyramids = new Map();
+    this.shadowSlots = Array.from({ length: this.maxShadowed }, () => {
+      const blank = new DataTexture(new Float32Array(2), 1, 1, RGFormat, FloatType);
+      blank.needsUpdate = true;
+      return {
+        active: uniform(0), position: uniform(new Vector3()), intensity: uniform(new Vector3()),
+        axis: uniform(new Vector3(0, 0, 1)), cone: uniform(new Vector3(-2, -1, 0)),
+        even: texture(blank), odd: texture(blank), rows: uniform(new Matrix3()),
+        cube: uniform(0), res: uniform(1), bias: uniform(shadowBias),
+      };
+    });
     this.sigmaT = uniform(m.sigmaT);
     this.sigmaS = uniform(m.sigmaS);
     this.g = uniform(m.g);
@@ -82,10 +110,13 @@ export class VolumetricLights {
     // lights are read once per render, by whichever count updates first.
     this.counts = { points: 0, spots: 0 };
     this.renderId = -1;
+    // During the fog's own draw, after the scene pass drew the shadow maps: the
+    // shadowed lights' pyramids are rebuilt from this frame's maps here.
     const counts = (frame) => {
       if (frame.renderId !== this.renderId) {
+        this.refresh(true);
+        // After the pyramids' own passes, which count as renders too.
         this.renderId = frame.renderId;
-        this.refresh();
       }
       return this.counts;
     };
@@ -100,8 +131,10 @@ export class VolumetricLights {
    * Copies the lights' positions, colours, intensities and cones into the
    * uniforms (done before every render; call it yourself only to render with
    * changes made since the last one in the same frame). Returns the counts drawn.
+   * `drawing`: called in the fog's draw, after the scene pass drew this frame's
+   * shadow maps; the shadowed lights' pyramids are rebuilt from them then only.
    */
-  refresh() {
+  refresh(drawing = false) {
     this.counts = this.lights.write({
       pointPosition: this.pointPosition.array,
       pointIntensity: this.pointIntensity.array,
@@ -112,16 +145,60 @@ export class VolumetricLights {
     });
     this.pointCount.value = this.counts.points;
     this.spotCount.value = this.counts.spots;
+    const shadowed = this.lights.shadowed.filter((l) => l.visible);
+    this.shadowSlots.forEach((s, i) => {
+      const l = shadowed[i];
+      if (!l) {
+        s.active.value = 0;
+        return;
+      }
+      const p = this.pyramids.get(l);
+      // The slot's textures are the light's pyramid from the moment it is added
+      // (a texture node built over a stand-in and switched later kept the stand-in
+      // on WebGPU here).
+      s.even.value = p.even.texture;
+      s.odd.value = p.odd.texture;
+      s.cube.value = p.cube ? 1 : 0;
+      s.res.value = p.res;
+      if (!drawing) return;
+      // Throws, naming the cause, where three drew no map (renderer.shadowMap.enabled false).
+      p.update(this.renderer);
+      l.getWorldPosition(s.position.value);
+      s.intensity.value.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
+      if (l.isSpotLight) {
+        l.target.getWorldPosition(s.axis.value).sub(s.position.value).normalize();
+        s.cone.value.set(Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra)), 0);
+      } else {
+        // The spot entry's point-light form (cos_outer <= -1): no cone.
+        s.cone.value.set(-2, -1, 0);
+      }
+      s.rows.value.copy(p.rows.value);
+      s.active.value = 1;
+    });
+    this.counts.shadowed = Math.min(shadowed.length, this.shadowSlots.length);
     return this.counts;
   }
 
   /**
    * Adds a THREE.PointLight or THREE.SpotLight (its position, colour, intensity,
    * angle and penumbra are read every frame). `distance` must be 0 and `decay` 2:
-   * the kernels integrate the inverse-square law, not three's range window.
+   * the kernels integrate the inverse-square law, not three's range window. With
+   * `castShadow` set when it is added (and `shafts` on), it casts shafts: its
+   * shadow map must be square, a power of two of at least 4 texels a side.
    */
   add(light) {
-    this.lights.add(light);
+    if (this.lights.casts(light) && !this.pyramids.has(light)) {
+      const pyramid = new ShadowPyramid(light, { bias: this.shadowBias });
+      try {
+        if (!this.lights.add(light)) pyramid.dispose();
+        else this.pyramids.set(light, pyramid);
+      } catch (e) {
+        pyramid.dispose();
+        throw e;
+      }
+    } else {
+      this.lights.add(light);
+    }
     this.refresh();
     return this;
   }
@@ -129,6 +206,11 @@ export class VolumetricLights {
   /** Removes a light added before; the next frame no longer draws it. */
   remove(light) {
     this.lights.remove(light);
+    const pyramid = this.pyramids.get(light);
+    if (pyramid) {
+      pyramid.dispose();
+      this.pyramids.delete(light);
+    }
     this.refresh();
     return this;
   }
@@ -171,6 +253,16 @@ export class VolumetricLights {
           sigma_t: this.sigmaT, sigma_s: this.sigmaS, ...g });
         total.addAssign(max(l, vec3(0.0)).mul(this.spotIntensity.element(i)));
       });
+      // The lights with shafts: one walk over each one's shadow map, exact to the
+      // map's nearest-texel test (a point light: the spot entry with no cone).
+      for (const s of this.shadowSlots) {
+        If(s.active.greaterThan(0.5), () => {
+          const l = this.spotExactFn({ origin, dir: ray, surface, light: s.position, axis: s.axis,
+            cos_outer: s.cone.x, cos_inner: s.cone.y, intensity: float(1.0), sigma_t: this.sigmaT, sigma_s: this.sigmaS, ...g,
+            pyramid_even: s.even, pyramid_odd: s.odd, smap_rows: s.rows, smap_cube: s.cube, smap_res: s.res, smap_bias: s.bias });
+          total.addAssign(max(l, vec3(0.0)).mul(s.intensity));
+        });
+      }
       return vec4(total, surface);
     })();
   }

@@ -5,19 +5,26 @@ import type { PointLight, SpotLight, Vector3 } from 'three';
 /** Lights of each kind one pass takes; `add` refuses more. */
 export declare const MAX_POINT_LIGHTS: number;
 export declare const MAX_SPOT_LIGHTS: number;
+export declare const MAX_SHADOWED_LIGHTS: number;
 /** The medium checked (σs ≤ σt per channel, g in (−1, 1), g = 0 unless the kernel takes g). */
 export declare function medium(m: { sigmaT: number | number[]; sigmaS: number | number[]; g?: number }, takesG: boolean, name: string): { sigmaT: Vector3; sigmaS: Vector3; g: number };
 /** The slots of each kind, checked against the caps. */
-export declare function limits(maxPointLights?: number, maxSpotLights?: number): { points: number; spots: number };
+export declare function limits(maxPointLights?: number, maxSpotLights?: number, maxShadowedLights?: number): { points: number; spots: number; shadowed: number };
 /** A uniform array's vectors: at least one. */
 export declare function slots(n: number): Vector3[];
 /** The lights a pass draws. */
 export declare class LightSet {
-  constructor(maxPoint: number, maxSpot: number);
+  constructor(maxPoint: number, maxSpot: number, maxShadowed?: number);
   readonly points: PointLight[];
   readonly spots: SpotLight[];
-  add(light: PointLight | SpotLight): void;
-  remove(light: PointLight | SpotLight): void;
+  /** The lights with shafts (castShadow, when the pass has shadowed slots). */
+  readonly shadowed: (PointLight | SpotLight)[];
+  /** Whether a light goes to the shadowed list. */
+  casts(light: PointLight | SpotLight): boolean;
+  /** Whether it was new. */
+  add(light: PointLight | SpotLight): boolean;
+  /** Whether it was there. */
+  remove(light: PointLight | SpotLight): boolean;
   /** Writes the visible lights into the arrays; the counts written. */
   write(u: Record<'pointPosition' | 'pointIntensity' | 'spotPosition' | 'spotIntensity' | 'spotAxis' | 'spotCone', Vector3[]>): { points: number; spots: number };
 }

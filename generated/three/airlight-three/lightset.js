@@ -12,6 +12,8 @@ import { Vector3 } from 'three';
 /** Lights of each kind one pass takes; `add` refuses more. */
 export const MAX_POINT_LIGHTS = 4;
 export const MAX_SPOT_LIGHTS = 4;
+/** Lights casting shafts (`castShadow`, each walked over its own shadow map) one pass takes. */
+export const MAX_SHADOWED_LIGHTS = 4;
 
 function rgb(v, what) {
   const a = typeof v === 'number' ? [v, v, v] : Array.from(v ?? []);
@@ -37,44 +39,77 @@ export function medium({ sigmaT, sigmaS, g = 0 }, takesG, name) {
 }
 
 /** The slots of each kind a pass holds, checked against the caps. */
-export function limits(maxPointLights = MAX_POINT_LIGHTS, maxSpotLights = MAX_SPOT_LIGHTS) {
-  for (const [n, cap, what] of [[maxPointLights, MAX_POINT_LIGHTS, 'maxPointLights'], [maxSpotLights, MAX_SPOT_LIGHTS, 'maxSpotLights']]) {
+export function limits(maxPointLights = MAX_POINT_LIGHTS, maxSpotLights = MAX_SPOT_LIGHTS, maxShadowedLights = 0) {
+  for (const [n, cap, what] of [
+    [maxPointLights, MAX_POINT_LIGHTS, 'maxPointLights'],
+    [maxSpotLights, MAX_SPOT_LIGHTS, 'maxSpotLights'],
+    [maxShadowedLights, MAX_SHADOWED_LIGHTS, 'maxShadowedLights'],
+  ]) {
     if (!(Number.isInteger(n) && n >= 0 && n <= cap)) throw new Error(`airlight-three: ${what} must be an integer from 0 to ${cap}, got ${n}`);
   }
-  return { points: maxPointLights, spots: maxSpotLights };
+  return { points: maxPointLights, spots: maxSpotLights, shadowed: maxShadowedLights };
 }
 
 /** Vectors a pass's uniform arrays hold per light: at least one slot, so that an unused kind still declares its array. */
 export const slots = (n) => Array.from({ length: Math.max(n, 1) }, () => new Vector3());
 
-/** The point and spot lights a pass draws, read into its uniform arrays before every frame. */
+/**
+ * The point and spot lights a pass draws, read into its uniform arrays before
+ * every frame. With `maxShadowed` > 0 (a pass that casts shafts), a light with
+ * `castShadow` goes to the shadowed list instead (each walked over its own
+ * shadow map); with 0 every light glows unshadowed.
+ */
 export class LightSet {
-  constructor(maxPoint, maxSpot) {
+  constructor(maxPoint, maxSpot, maxShadowed = 0) {
     this.maxPoint = maxPoint;
     this.maxSpot = maxSpot;
+    this.maxShadowed = maxShadowed;
     this.points = [];
     this.spots = [];
+    this.shadowed = [];
   }
 
-  /** Adds a THREE.PointLight or THREE.SpotLight; refuses other lights, a range window, and more than the pass holds. */
+  /** Whether the light goes to the shadowed list. */
+  casts(light) {
+    return this.maxShadowed > 0 && light.castShadow === true;
+  }
+
+  /**
+   * Adds a THREE.PointLight or THREE.SpotLight; refuses other lights, a range
+   * window, and more than the pass holds. Returns whether it was new.
+   */
   add(light) {
-    const list = light?.isSpotLight ? this.spots : light?.isPointLight ? this.points : null;
-    if (!list) throw new Error('airlight-three: add() takes a THREE.PointLight or THREE.SpotLight');
+    const kind = light?.isSpotLight ? this.spots : light?.isPointLight ? this.points : null;
+    if (!kind) throw new Error('airlight-three: add() takes a THREE.PointLight or THREE.SpotLight');
     if (light.distance !== 0 || light.decay !== 2) {
       throw new Error(`airlight-three: ${light.type} with distance = ${light.distance}, decay = ${light.decay}: the kernels integrate the inverse-square law (distance 0, decay 2)`);
     }
-    const cap = light.isSpotLight ? this.maxSpot : this.maxPoint;
-    if (list.includes(light)) return;
-    if (list.length >= cap) throw new Error(`airlight-three: this pass takes at most ${cap} ${light.type}s (maxPointLights / maxSpotLights, up to ${MAX_POINT_LIGHTS} / ${MAX_SPOT_LIGHTS})`);
+    const shadowed = this.casts(light);
+    const list = shadowed ? this.shadowed : kind;
+    if (this.points.includes(light) || this.spots.includes(light) || this.shadowed.includes(light)) return false;
+    if (shadowed) {
+      if (list.length >= this.maxShadowed) {
+        throw new Error(`airlight-three: this pass casts shafts from at most ${this.maxShadowed} lights with castShadow (maxShadowedLights, up to ${MAX_SHADOWED_LIGHTS}; shafts: false draws them unshadowed)`);
+      }
+    } else {
+      const cap = light.isSpotLight ? this.maxSpot : this.maxPoint;
+      if (list.length >= cap) throw new Error(`airlight-three: this pass takes at most ${cap} ${light.type}s without shafts (maxPointLights / maxSpotLights, up to ${MAX_POINT_LIGHTS} / ${MAX_SPOT_LIGHTS})`);
+    }
     list.push(light);
+    return true;
   }
 
-  /** Removes a light added before. */
+  /** Removes a light added before; returns whether it was there. */
   remove(light) {
-    for (const list of [this.points, this.spots]) {
+    let found = false;
+    for (const list of [this.points, this.spots, this.shadowed]) {
       const i = list.indexOf(light);
-      if (i >= 0) list.splice(i, 1);
+      if (i >= 0) {
+        list.splice(i, 1);
+        found = true;
+      }
     }
+    return found;
   }
 
   /**

@@ -96,7 +96,6 @@ export class ShadowPyramid {
     this.bias = uniform(bias);
     this.near = uniform(0.0);
     this.far = uniform(1.0);
-    this.level = uniform(0.0);
     this.camera = new OrthographicCamera(-1, 1, 1, -1, -1, 1);
     this.passes = null;
   }
@@ -135,8 +134,13 @@ export class ShadowPyramid {
       depth,
       base: scene(f.linear({ d, near: this.near, far: this.far })),
       // Level k reads level k - 1, in the other atlas.
-      fromEven: scene(f.reduce({ src: texture(this.even.texture), res, cube, k: this.level, q })),
-      fromOdd: scene(f.reduce({ src: texture(this.odd.texture), res, cube, k: this.level, q })),
+      // One pass per level, each with its own level uniform (the same shader), so
+      // that no level's draw depends on when a shared uniform is written
+      // (VolumetricLights draws these inside its own draw).
+      levels: Array.from({ length: this.top }, (_, i) => {
+        const k = i + 1;
+        return scene(f.reduce({ src: texture((k & 1 ? this.even : this.odd).texture), res, cube, k: uniform(k), q }));
+      }),
     };
   }
 
@@ -168,7 +172,6 @@ export class ShadowPyramid {
       const [x, y] = atlasOrigin(this.res, this.cube, 0, k);
       const m = this.res >> k;
       target.viewport.set(x, y, (this.cube ? 3 : 1) * m, (this.cube ? 2 : 1) * m);
-      this.level.value = k;
       renderer.setRenderTarget(target);
       renderer.render(scene, this.camera);
     };
@@ -178,7 +181,7 @@ export class ShadowPyramid {
     } finally {
       if (restore) restore();
     }
-    for (let k = 1; k <= this.top; k++) draw(k, k & 1 ? this.passes.fromEven : this.passes.fromOdd);
+    for (let k = 1; k <= this.top; k++) draw(k, this.passes.levels[k - 1]);
     renderer.setRenderTarget(before);
     renderer.autoClear = autoClear;
   }
@@ -210,7 +213,7 @@ export class ShadowPyramid {
   /** Frees the passes' materials and quads (a new depth texture rebuilds them). */
   disposePasses() {
     if (this.passes === null) return;
-    for (const s of [this.passes.base, this.passes.fromEven, this.passes.fromOdd]) {
+    for (const s of [this.passes.base, ...this.passes.levels]) {
       for (const m of s.children) {
         m.material.dispose();
         m.geometry.dispose();

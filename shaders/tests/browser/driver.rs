@@ -559,12 +559,15 @@ pub fn three_basis(forward: [f32; 3]) -> [[f32; 3]; 3] {
 /// `k` in the stage's medium; the fog alone (`fog()`: RGB, and the distance to
 /// the first surface from the scene pass's depth) read back as floats. The
 /// camera is three's, aimed as the stage's (its pixels' rays: [`three_basis`]).
-pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: bool) -> String {
+/// `shafts`: the light casts shafts from its own `map`² shadow map (the
+/// API's default for a light with `castShadow`); otherwise `shafts: false`
+/// and a 512² map that only the surfaces use.
+pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: bool, shafts: Option<u32>) -> String {
     let module = format!("./airlight-three/kernels/{}.js", k.name);
     let imports = format!(
         "import * as THREE from 'three/webgpu';\nimport {{ pass, screenUV }} from 'three/tsl';\nimport * as K from '{module}';\nimport {{ VolumetricLights }} from './airlight-three/lights.js';"
     );
-    lights_page(k, stage, view, Some(webgl), &imports)
+    lights_page(k, stage, view, Some(webgl), shafts, &imports)
 }
 
 /// The same check on `WebGLRenderer` through `VolumetricLightsPass`
@@ -576,12 +579,19 @@ pub fn lights_page_webgl(k: &IndexEntry, stage: &Stage, view: &ShaftsView) -> St
         "import * as THREE from 'three';\nimport * as S from './airlight-three/sources/{}.js';\nimport {{ VolumetricLightsPass }} from './airlight-three/webgl.js';",
         k.name
     );
-    lights_page(k, stage, view, None, &imports)
+    lights_page(k, stage, view, None, None, &imports)
 }
 
 /// A lights page: `lights_tsl.js` on WebGPURenderer (`webgl`: its backend), or
 /// `lights_webgl.js` on WebGLRenderer (None).
-fn lights_page(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: Option<bool>, imports: &str) -> String {
+fn lights_page(
+    k: &IndexEntry,
+    stage: &Stage,
+    view: &ShaftsView,
+    webgl: Option<bool>,
+    shafts: Option<u32>,
+    imports: &str,
+) -> String {
     let (width, height) = (view.width, view.height);
     let l3 = |v: [f32; 3]| format!("{:?}, {:?}, {:?}", v[0], v[1], v[2]);
     let f = stage.camera_basis()[0];
@@ -594,13 +604,19 @@ fn lights_page(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: Option<b
         Some(_) => (include_str!("pages/lights_tsl.js"), "new THREE.MeshStandardNodeMaterial()", "RenderTarget"),
         None => (include_str!("pages/lights_webgl.js"), "new THREE.MeshStandardMaterial()", "WebGLRenderTarget"),
     };
+    // The WebGPU page's shafts: on, over the stage's map, or off.
+    let extra = match (webgl, shafts) {
+        (Some(_), Some(_)) => format!(", maxShadowedLights: 1, shadowBias: {WALK_BIAS:?}"),
+        (Some(_), None) => ", shafts: false".to_string(),
+        (None, _) => String::new(),
+    };
     let webgl = webgl.unwrap_or(true);
     let body = fill(
         page,
         &[
             ("webgl", format!("{webgl}")),
             ("want", (if webgl { "WebGL 2" } else { "WebGPU" }).to_string()),
-            ("scene", shafts_scene_js(stage, material, material, target, 512, ShadowSide::Front)),
+            ("scene", shafts_scene_js(stage, material, material, target, shafts.unwrap_or(512), ShadowSide::Front)),
             ("intensity", format!("{:?}", stage.intensity)),
             ("colour", l3(stage.colour)),
             ("spot_penumbra", penumbra),
@@ -613,12 +629,15 @@ fn lights_page(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: Option<b
             ("name", k.name.clone()),
             (
                 "limits",
-                (if stage.spot.is_some() {
-                    "maxPointLights: 0, maxSpotLights: 1"
-                } else {
-                    "maxPointLights: 1, maxSpotLights: 0"
-                })
-                .to_string(),
+                format!(
+                    "{}{}",
+                    if stage.spot.is_some() {
+                        "maxPointLights: 0, maxSpotLights: 1"
+                    } else {
+                        "maxPointLights: 1, maxSpotLights: 0"
+                    },
+                    extra
+                ),
             ),
         ],
     );
@@ -980,11 +999,22 @@ pub fn example_files(root: &Path, three: &Path, package: &Path) -> Result<Vec<(S
         ("examples/three/index.html".to_string(), page.into_bytes()),
         ("examples/three/main.js".to_string(), read(&dir.join("main.js"))?),
     ];
-    for f in ["three.core.js", "three.webgpu.js", "three.tsl.js"] {
+    for f in ["three.core.js", "three.module.js", "three.webgpu.js", "three.tsl.js"] {
         files.push((format!("tests/node/node_modules/three/build/{f}"), read(&three.join(f))?));
     }
-    let orbit = "examples/jsm/controls/OrbitControls.js";
-    files.push((format!("tests/node/node_modules/three/{orbit}"), read(&three.join("..").join(orbit))?));
+    // The addons the page imports: the orbit control, and the composer its WebGL
+    // form draws through (with what the composer imports).
+    for addon in [
+        "controls/OrbitControls.js",
+        "postprocessing/EffectComposer.js",
+        "postprocessing/ShaderPass.js",
+        "postprocessing/MaskPass.js",
+        "postprocessing/Pass.js",
+        "shaders/CopyShader.js",
+    ] {
+        let rel = format!("examples/jsm/{addon}");
+        files.push((format!("tests/node/node_modules/three/{rel}"), read(&three.join("..").join(&rel))?));
+    }
     for (name, bytes) in page_files(three, package, String::new())? {
         if let Some(rel) = name.strip_prefix("airlight-three/") {
             files.push((format!("generated/three/airlight-three/{rel}"), bytes));

@@ -71,7 +71,8 @@ fn fog_of(stage: &Stage, occ: &[Occluder], dir: [f64; 3], end: f64) -> [f64; 3] 
     let ray = |c: usize| PhysicalRay {
         origin: stage.camera.map(f64::from),
         direction: dir,
-        surface_distance: Some(end),
+        // A negative distance: no surface, the ray runs on to infinity.
+        surface_distance: (end >= 0.0).then_some(end),
         light: stage.light.map(f64::from),
         intensity: f64::from(stage.intensity) * f64::from(stage.colour[c]),
         sigma_t: f64::from(stage.sigma_t[c]),
