@@ -427,7 +427,9 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
             .collect();
         let page = browser::lights_page_tsl(k, &stage, &view, false, Some(map));
         let files = browser::page_files(&three, &package, page).unwrap();
-        let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", browser::TIMEOUT_S)
+        // About 3 minutes a page alone in release here (the walk's shaders
+        // compiled by SwiftShader, four frames each rebuilding the pyramid).
+        let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", 600)
             .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
         assert_eq!(bytes.len(), 64 * dirs.len(), "{what}: four frames read back");
         let px = |k: usize| -> Vec<[f32; 4]> {
