@@ -26,8 +26,9 @@ export interface Limits {
 /**
  * Shafts (VolumetricLights only): a light added with `castShadow` is walked
  * exactly over its own shadow map (square, a power of two) in one of
- * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS); `shafts: false`
- * draws every light unshadowed; `shadowBias`: the walk's depth bias, world units.
+ * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS) when `shafts` is
+ * true (default false: every light unshadowed); `shadowBias`: the walk's depth
+ * bias, world units.
  */
 export interface Shafts {
   shafts?: boolean;

@@ -606,7 +606,7 @@ fn lights_page(
     };
     // The WebGPU page's shafts: on, over the stage's map, or off.
     let extra = match (webgl, shafts) {
-        (Some(_), Some(_)) => format!(", maxShadowedLights: 1, shadowBias: {WALK_BIAS:?}"),
+        (Some(_), Some(_)) => format!(", shafts: true, maxShadowedLights: 1, shadowBias: {WALK_BIAS:?}"),
         (Some(_), None) => ", shafts: false".to_string(),
         (None, _) => String::new(),
     };
