@@ -94,8 +94,8 @@ resize();
 // PostProcessing's output) or a VolumetricLightsPass (WebGL: the composer's pass,
 // which draws the scene itself), rebuilt on a switch.
 // Shafts (WebGPU only): each light's glow walked exactly over its own shadow map;
-// off by default, a checkbox (through composite() it drew black in a fresh scene
-// in the package's last check: see airlight-three's README).
+// off by default, a checkbox (SwiftShader, a CPU adapter, walks the three maps
+// slowly; this page's reference holds none of the street's occluders).
 const shafts = !webgl && query.get('shafts') === '1';
 const limits = shafts ? { maxPointLights: 0, maxSpotLights: 0, shafts: true, maxShadowedLights: 3 } : { maxPointLights: 2, maxSpotLights: 1, shafts: false };
 let fog = null;

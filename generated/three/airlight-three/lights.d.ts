@@ -26,9 +26,9 @@ export interface Limits {
 /**
  * Shafts (VolumetricLights only): a light added with `castShadow` is walked
  * exactly over its own shadow map (square, a power of two) in one of
- * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS) when `shafts` is
- * true (default false: every light unshadowed); `shadowBias`: the walk's depth
- * bias, world units.
+ * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS) while `shafts` is
+ * true (the default; false: every light unshadowed, and no walk in the shader);
+ * `shadowBias`: the walk's depth bias, world units.
  */
 export interface Shafts {
   shafts?: boolean;
@@ -42,7 +42,7 @@ export declare class VolumetricLights {
   static create(renderer: WebGPURenderer, options: Medium & Limits & Shafts & { maxError?: number }): Promise<VolumetricLights>;
   /** With a kernel module imported yourself (`airlight-three/kernels/<name>.js`). */
   constructor(renderer: WebGPURenderer, kernel: object, options: Medium & Limits & Shafts & { name?: string });
-  /** Copies the lights into the uniforms (done before every render; `drawing`: inside the fog's draw, the shadowed lights' pyramids rebuilt); the counts drawn. */
+  /** Copies the lights into the uniforms (done before every render; `drawing`: before the fog's draw, after the scene pass, the shadowed lights' pyramids rebuilt); the counts drawn. */
   refresh(drawing?: boolean): { points: number; spots: number; shadowed?: number };
   /** The kernel's name. */
   readonly name: string;

@@ -10,9 +10,9 @@
 // WebGPURenderer on WebGPU, as a post-processing node (its WebGL 2 backend is
 // refused: see the constructor).
 import { DataTexture, FloatType, Matrix3, RGFormat, Vector3 } from 'three';
-import { Break, Fn, If, Loop, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
+import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
-import { LightSet, limits, medium, slots } from './lightset.js';
+import { LightSet, limits, medium, slots, terms } from './lightset.js';
 import { ShadowPyramid } from './shadowmap.js';
 
 export { MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
@@ -47,22 +47,20 @@ export class VolumetricLights {
    * With a kernel module you imported yourself (`airlight-three/kernels/<name>.js`).
    * `sigmaT`, `sigmaS`: the medium's extinction and scattering (a number, or one
    * per colour channel); `g`: its Henyey–Greenstein asymmetry (the kernel must
-   * take it, or be baked at it). `shafts: true` (default false): a light added
-   * with `castShadow` casts shafts — its glow walked exactly over its own shadow
-   * map (a `ShadowPyramid` rebuilt from the map every frame) — in one of
+   * take it, or be baked at it). `shafts` (default true): a light added with
+   * `castShadow` casts shafts — its glow walked exactly over its own shadow map
+   * (a `ShadowPyramid` rebuilt from the map every frame) — in one of
    * `maxShadowedLights` slots (default 2, up to MAX_SHADOWED_LIGHTS; each slot
-   * is a walk in the shader). Tested through `fog()` drawn by a material of
-   * yours; through `composite()` as PostProcessing's output, a scene with a
-   * shadowed lamp drew black in this package's last check (not yet found why),
-   * so shafts are off unless asked for.
+   * is a walk in the shader); `shafts: false` draws every light unshadowed,
+   * with no walk in the shader.
    * `shadowBias`: the walk's depth bias, world units (default 0.01).
    */
-  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = false, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
+  constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!renderer || !renderer.backend) throw new Error('airlight-three: VolumetricLights needs a WebGPURenderer (after init())');
-    // On the WebGL 2 backend the pass never finished drawing in headless
-    // Chromium (SwiftShader) in this package's test, and why is not known:
-    // refused rather than left to hang. WebGLRenderer: VolumetricLightsPass
-    // (webgl.js).
+    // On the WebGL 2 backend (GLSL) the test page did not finish within 600 s
+    // on SwiftShader's GL (its shader compiles take minutes each; the page
+    // compiles three of them): untested there, so refused rather than left to
+    // hang. WebGLRenderer: VolumetricLightsPass (webgl.js).
     if (!renderer.backend.isWebGPUBackend) {
       throw new Error("airlight-three: VolumetricLights runs on WebGPURenderer's WebGPU backend; its WebGL 2 backend is not supported yet (WebGLRenderer: VolumetricLightsPass from airlight-three/webgl.js)");
     }
@@ -85,16 +83,15 @@ export class VolumetricLights {
     this.shadowBias = shadowBias;
     // Each light with shafts: its pyramid; each slot: what its walk reads.
     this.pyramids = new Map();
-    this.shadowSlots = Array.from({ length: this.maxShadowed }, () => {
-      const blank = new DataTexture(new Float32Array(2), 1, 1, RGFormat, FloatType);
-      blank.needsUpdate = true;
-      return {
-        active: uniform(0), position: uniform(new Vector3()), intensity: uniform(new Vector3()),
-        axis: uniform(new Vector3(0, 0, 1)), cone: uniform(new Vector3(-2, -1, 0)),
-        even: texture(blank), odd: texture(blank), rows: uniform(new Matrix3()),
-        cube: uniform(0), res: uniform(1), bias: uniform(shadowBias),
-      };
-    });
+    // An empty slot's textures: one 1×1 stand-in for all.
+    this.blank = new DataTexture(new Float32Array(2), 1, 1, RGFormat, FloatType);
+    this.blank.needsUpdate = true;
+    this.shadowSlots = Array.from({ length: this.maxShadowed }, () => ({
+      active: uniform(0), position: uniform(new Vector3()), intensity: uniform(new Vector3()),
+      axis: uniform(new Vector3(0, 0, 1)), cone: uniform(new Vector3(-2, -1, 0)),
+      even: texture(this.blank), odd: texture(this.blank), rows: uniform(new Matrix3()),
+      cube: uniform(0), res: uniform(1), bias: uniform(shadowBias),
+    }));
     this.sigmaT = uniform(m.sigmaT);
     this.sigmaS = uniform(m.sigmaS);
     this.g = uniform(m.g);
@@ -110,21 +107,10 @@ export class VolumetricLights {
     this.spotCone = uniformArray(slots(this.maxSpot), 'vec3');
     // The counts are floats and the loops' bounds constants (the slots): an int
     // uniform bounding a loop hung the WebGL 2 backend (SwiftShader) here. The
-    // lights are read once per render, by whichever count updates first.
-    this.counts = { points: 0, spots: 0 };
-    this.renderId = -1;
-    // During the fog's own draw, after the scene pass drew the shadow maps: the
-    // shadowed lights' pyramids are rebuilt from this frame's maps here.
-    const counts = (frame) => {
-      if (frame.renderId !== this.renderId) {
-        this.refresh(true);
-        // After the pyramids' own passes, which count as renders too.
-        this.renderId = frame.renderId;
-      }
-      return this.counts;
-    };
-    this.pointCount = uniform(0).onRenderUpdate((frame) => counts(frame).points);
-    this.spotCount = uniform(0).onRenderUpdate((frame) => counts(frame).spots);
+    // lights are read once per render of the fog, before its draw (fog()).
+    this.counts = { points: 0, spots: 0, shadowed: 0 };
+    this.pointCount = uniform(0).onRenderUpdate(() => this.counts.points);
+    this.spotCount = uniform(0).onRenderUpdate(() => this.counts.spots);
     this.projectionInverse = uniform('mat4').onRenderUpdate(() => this.camera.projectionMatrixInverse);
     this.cameraWorld = uniform('mat4').onRenderUpdate(() => this.camera.matrixWorld);
     this.cameraOrigin = uniform(new Vector3()).onRenderUpdate(() => this.camera.getWorldPosition(new Vector3()));
@@ -134,7 +120,7 @@ export class VolumetricLights {
    * Copies the lights' positions, colours, intensities and cones into the
    * uniforms (done before every render; call it yourself only to render with
    * changes made since the last one in the same frame). Returns the counts drawn.
-   * `drawing`: called in the fog's draw, after the scene pass drew this frame's
+   * `drawing`: called before the fog's draw, after the scene pass drew this frame's
    * shadow maps; the shadowed lights' pyramids are rebuilt from them then only.
    */
   refresh(drawing = false) {
@@ -166,15 +152,8 @@ export class VolumetricLights {
       if (!drawing) return;
       // Throws, naming the cause, where three drew no map (renderer.shadowMap.enabled false).
       p.update(this.renderer);
-      l.getWorldPosition(s.position.value);
-      s.intensity.value.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
-      if (l.isSpotLight) {
-        l.target.getWorldPosition(s.axis.value).sub(s.position.value).normalize();
-        s.cone.value.set(Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra)), 0);
-      } else {
-        // The spot entry's point-light form (cos_outer <= -1): no cone.
-        s.cone.value.set(-2, -1, 0);
-      }
+      // A point light: the spot entry's no-cone form, one walk over its cube map.
+      terms(l, s.position.value, s.intensity.value, s.axis.value, s.cone.value);
       s.rows.value.copy(p.rows.value);
       s.active.value = 1;
     });
@@ -225,6 +204,19 @@ export class VolumetricLights {
    */
   fog(depth, camera) {
     this.camera = camera;
+    // Before each render of the fog, the lights are read and the shadowed ones'
+    // pyramids rebuilt from this frame's maps: as the fog's node's updateBefore,
+    // where three.js's own passes render. (Rendered from a uniform's
+    // onRenderUpdate instead, amid the draw's own node updates, the pyramids
+    // left the composite black as PostProcessing's output.) The scene pass
+    // renders first, so that its shadow maps are this frame's.
+    const scenePass = depth.passNode ?? null;
+    const lights = uniform(0);
+    lights.updateBeforeType = NodeUpdateType.RENDER;
+    lights.updateBefore = (frame) => {
+      if (scenePass) frame.updateBeforeNode(scenePass);
+      this.refresh(true);
+    };
     return Fn(() => {
       const z = depth.sample(screenUV).r;
       const view = getViewPosition(screenUV, z, this.projectionInverse);
@@ -234,7 +226,8 @@ export class VolumetricLights {
       const dist = length(ray);
       // The far plane is no surface: the ray runs on through the medium.
       const surface = z.greaterThanEqual(1.0).select(float(-1.0), dist);
-      const total = vec3(0.0).toVar();
+      // (`lights` is 0: it is here to run its updateBefore.)
+      const total = vec3(lights).toVar();
       const g = this.takesG ? { g: this.g } : {};
       if (this.maxPoint > 0) Loop(this.maxPoint, ({ i }) => {
         If(float(i).greaterThanEqual(this.pointCount), () => Break());

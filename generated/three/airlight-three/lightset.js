@@ -120,18 +120,28 @@ export class LightSet {
   write(u) {
     const points = this.points.filter((l) => l.visible);
     const spots = this.spots.filter((l) => l.visible);
-    const intensity = (l, v) => v.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
-    // getWorldPosition brings each light's (and target's) world matrix up to date.
-    points.forEach((l, i) => {
-      l.getWorldPosition(u.pointPosition[i]);
-      intensity(l, u.pointIntensity[i]);
-    });
-    spots.forEach((l, i) => {
-      const from = l.getWorldPosition(u.spotPosition[i]);
-      l.target.getWorldPosition(u.spotAxis[i]).sub(from).normalize();
-      intensity(l, u.spotIntensity[i]);
-      u.spotCone[i].set(Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra)), 0);
-    });
+    points.forEach((l, i) => terms(l, u.pointPosition[i], u.pointIntensity[i]));
+    spots.forEach((l, i) => terms(l, u.spotPosition[i], u.spotIntensity[i], u.spotAxis[i], u.spotCone[i]));
     return { points: points.length, spots: spots.length };
+  }
+}
+
+/**
+ * One light as a kernel reads it, into Vector3s: its world position, its colour ×
+ * intensity, and (where `axis` and `cone` are given) a spot's direction towards
+ * its target and its smooth cone (x the outer cut-off's cosine, y the inner
+ * one's) — a point light's the spot entry's no-cone form (cos_outer −2).
+ */
+export function terms(l, position, intensity, axis = null, cone = null) {
+  // getWorldPosition brings the light's (and its target's) world matrix up to date.
+  l.getWorldPosition(position);
+  intensity.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
+  if (axis) {
+    if (l.isSpotLight) l.target.getWorldPosition(axis).sub(position).normalize();
+    else axis.set(0, 0, 1);
+  }
+  if (cone) {
+    if (l.isSpotLight) cone.set(Math.cos(l.angle), Math.cos(l.angle * (1 - l.penumbra)), 0);
+    else cone.set(-2, -1, 0);
   }
 }

@@ -557,7 +557,9 @@ pub fn three_basis(forward: [f32; 3]) -> [[f32; 3]; 3] {
 /// by three.js with its light as a `THREE.PointLight` or `THREE.SpotLight` of
 /// the stage's intensity and colour, added to a `VolumetricLights` of kernel
 /// `k` in the stage's medium; the fog alone (`fog()`: RGB, and the distance to
-/// the first surface from the scene pass's depth) read back as floats. The
+/// the first surface from the scene pass's depth), the scene's colour, the
+/// composite, the next frame's fog and the composite as `PostProcessing`'s
+/// output, read back as floats. The
 /// camera is three's, aimed as the stage's (its pixels' rays: [`three_basis`]).
 /// `shafts`: the light casts shafts from its own `map`² shadow map (the
 /// API's default for a light with `castShadow`); otherwise `shafts: false`

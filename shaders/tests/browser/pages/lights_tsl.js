@@ -3,6 +3,11 @@ await renderer.init();
 const backend = renderer.backend.isWebGPUBackend ? 'WebGPU' : 'WebGL 2';
 if (backend !== '{{want}}') throw new Error('asked for {{want}}, got ' + backend);
 renderer.shadowMap.enabled = true;
+// The drawing buffer is the frame's size, as a canvas would be: the scene pass
+// draws at it, and PostProcessing's output target below is read at it (three's
+// screenUV divides by the drawing buffer's size where no render target is set).
+renderer.setPixelRatio(1);
+renderer.setSize(W, H, false);
 {{scene}}
 // The light as the stage has it, in three's units (candela × colour).
 light.intensity = {{intensity}};
@@ -52,10 +57,23 @@ quad.material = material;
 renderer.setRenderTarget(target);
 renderer.render(fogScene, ortho);
 const p2 = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
-// Per pixel: the fog, the scene's colour, the composite, the next frame's fog (16 bytes each).
-const frames = [px, pcol, pc, p2].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
-const all = new Uint8Array(W * H * 64);
-for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 64 + k * 16));
+// The README's form: the composite as PostProcessing's output, drawn into the
+// renderer's output target (its render target null), at the first intensity;
+// the colour transform off, so that it stays linear like the frames above.
+light.intensity /= 2.0;
+const postProcessing = new THREE.PostProcessing(renderer);
+postProcessing.outputColorTransform = false;
+postProcessing.outputNode = volumetric.composite(scenePass, camera);
+renderer.setRenderTarget(null);
+renderer.setOutputRenderTarget(target);
+postProcessing.render();
+renderer.setOutputRenderTarget(null);
+const ppc = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// Per pixel: the fog, the scene's colour, the composite, the next frame's fog,
+// the composite through PostProcessing (16 bytes each).
+const frames = [px, pcol, pc, p2, ppc].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 80);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 80 + k * 16));
 let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), kernel ' + volumetric.name + ', ';
 if (renderer.backend.isWebGPUBackend) {
   const i = (await navigator.gpu.requestAdapter()).info;
@@ -65,4 +83,4 @@ if (renderer.backend.isWebGPUBackend) {
   const info = gl.getExtension('WEBGL_debug_renderer_info');
   adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
 }
-return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 64 };
+return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 80 };
