@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 56] = [
+pub const TEMPLATES: [(&str, &str); 57] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -86,6 +86,7 @@ pub const TEMPLATES: [(&str, &str); 56] = [
     ("bevy/Cargo.toml.tera", include_str!("../../templates/packages/bevy/Cargo.toml.tera")),
     ("bevy/lib.rs.tera", include_str!("../../templates/packages/bevy/lib.rs.tera")),
     ("bevy/README.md.tera", include_str!("../../templates/packages/bevy/README.md.tera")),
+    ("bevy/menu.rs.tera", include_str!("../../templates/packages/bevy/menu.rs.tera")),
 ];
 
 /// The file extension of `target`'s templates.

@@ -1,0 +1,385 @@
+//! A Bevy 0.19.1 app with no window draws the example's street (a lamp post's
+//! point light and a wall-mounted spot light in HG fog) through `AirlightPlugin`
+//! into an `Rgba16Float` image on the machine's adapter (lavapipe in CI), reads
+//! it back, and compares it with the reference computed here in f64 for the same
+//! camera, lights and medium: the composite `colour · T + fog · exposure` per
+//! pixel, `colour` being the same frame drawn before the camera had fog.
+//!
+//! Then the lamp's intensity is doubled and the spot despawned: the next frames
+//! must show exactly that (lights are read every frame).
+//!
+//! Without an adapter the test says so and passes, unless
+//! `AIRLIGHT_REQUIRE_GPU=1` (as `.ci/run` sets).
+
+use airlight_bevy::AirlightPlugin;
+use airlight_bevy_example::{Lamp, Spot, Street};
+use airlight_truth::geometry::{Cone, PhysicalRay};
+use bevy::camera::{Exposure, Hdr, RenderTarget};
+use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::prelude::*;
+use bevy::render::gpu_readback::{Readback, ReadbackComplete};
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::window::{ExitCondition, WindowPlugin};
+
+/// The image: 320 × 192 (rows of 320 · 8 bytes are a multiple of 256, so the
+/// read-back has no row padding).
+const W: u32 = 320;
+const H: u32 = 192;
+
+#[derive(Resource, Default)]
+struct Frames(Vec<Vec<u8>>);
+
+fn required() -> bool {
+    std::env::var("AIRLIGHT_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = i32::from((h >> 10) & 0x1f);
+    let man = f32::from(h & 0x3ff);
+    match exp {
+        0 => sign * man * 2f32.powi(-24),
+        31 if man == 0.0 => sign * f32::INFINITY,
+        31 => f32::NAN,
+        e => sign * (1.0 + man / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+fn decode(bytes: &[u8]) -> Vec<[f32; 3]> {
+    assert_eq!(bytes.len(), (W * H * 8) as usize, "read-back size");
+    bytes
+        .chunks_exact(8)
+        .map(|p| std::array::from_fn(|c| f16_to_f32(u16::from_le_bytes([p[2 * c], p[2 * c + 1]]))))
+        .collect()
+}
+
+/// Runs frames until the read-back is the same twice in a row, not black, and
+/// differs from `before` (the pass's pipeline compiles over the first frames);
+/// returns it and how many updates that took.
+fn settle(app: &mut App, before: Option<&Vec<[f32; 3]>>, what: &str) -> (Vec<[f32; 3]>, usize) {
+    let mut last: Option<Vec<[f32; 3]>> = None;
+    for n in 1..=600 {
+        app.update();
+        let frames = std::mem::take(&mut app.world_mut().resource_mut::<Frames>().0);
+        for f in frames {
+            let px = decode(&f);
+            // The first frames are black (the meshes and pipelines are still
+            // being prepared): a frame counts once it is not.
+            let new = before.is_none_or(|b| *b != px) && px.iter().any(|p| p.iter().any(|&v| v != 0.0));
+            if new && last.as_ref() == Some(&px) {
+                return (px, n);
+            }
+            last = Some(px);
+        }
+    }
+    panic!("{what}: the frame did not settle in 600 updates");
+}
+
+fn app(street: &Street) -> Option<App> {
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin {
+        primary_window: None,
+        exit_condition: ExitCondition::DontExit,
+        close_when_requested: false,
+        ..default()
+    }))
+    .add_plugins(AirlightPlugin)
+    .init_resource::<Frames>();
+    app.finish();
+    app.cleanup();
+    // No adapter: the render app is there but has no device.
+    if app.get_sub_app(bevy::render::RenderApp).is_none() {
+        return None;
+    }
+    let mut image = Image::new_target_texture(W, H, TextureFormat::Rgba16Float, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
+    let s = street.clone();
+    app.add_systems(
+        Startup,
+        move |mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>, mut mats: ResMut<Assets<StandardMaterial>>| {
+            s.spawn(&mut commands, &mut meshes, &mut mats);
+            commands.spawn((
+                Camera3d::default(),
+                Camera { clear_color: ClearColorConfig::Custom(Color::BLACK), ..default() },
+                RenderTarget::Image(target.clone().into()),
+                Hdr,
+                Tonemapping::None,
+                Msaa::Sample4,
+                Projection::Perspective(PerspectiveProjection { fov: s.fov, near: 0.05, ..default() }),
+                Exposure { ev100: s.ev100 },
+                s.camera_transform(),
+                bevy::core_pipeline::prepass::DepthPrepass,
+            ));
+            commands
+                .spawn(Readback::texture(target.clone()))
+                .observe(|ev: On<ReadbackComplete>, mut frames: ResMut<Frames>| frames.0.push(ev.event().data.clone()));
+        },
+    );
+    Some(app)
+}
+
+/// The camera's MSAA: Bevy's default, 4 samples. The pass reads sample 0's
+/// depth and casts its rays through that sample's position in the pixel.
+const SAMPLES: u32 = 4;
+
+/// Pixel `(i, j)`'s unit ray direction (f64), as Bevy's perspective projection
+/// has it, through the position in the pixel of the sample the pass reads
+/// (`i`, `j` may lie outside the image).
+fn ray(street: &Street, i: i32, j: i32) -> [f64; 3] {
+    let at = airlight_bevy::sample_position(SAMPLES).as_dvec2();
+    let t = (f64::from(street.fov) * 0.5).tan();
+    let aspect = f64::from(W) / f64::from(H);
+    let x = (2.0 * (f64::from(i) + at.x) / f64::from(W) - 1.0) * t * aspect;
+    let y = (1.0 - 2.0 * (f64::from(j) + at.y) / f64::from(H)) * t;
+    let r = street.camera_transform().rotation.as_dquat();
+    let d = r * bevy::math::DVec3::new(x, y, -1.0);
+    let d = d.normalize();
+    [d.x, d.y, d.z]
+}
+
+/// The reference fog of one light along `dir` (per channel, before exposure): the
+/// ray cut to the light's range sphere and to the surface, its in-scattering by
+/// the f64 reference.
+fn light_fog(
+    street: &Street,
+    dir: [f64; 3],
+    surface: Option<f64>,
+    at: Vec3,
+    range: f32,
+    intensity: Vec3,
+    cone: Option<&Cone>,
+) -> [f64; 3] {
+    let eye = street.eye.as_dvec3();
+    let l = at.as_dvec3();
+    let d = bevy::math::DVec3::from(dir);
+    let oc = eye - l;
+    let b = oc.dot(d);
+    let c = oc.length_squared() - f64::from(range).powi(2);
+    let disc = b * b - c;
+    if disc <= 0.0 {
+        return [0.0; 3];
+    }
+    let s0 = (-b - disc.sqrt()).max(0.0);
+    let s1 = (-b + disc.sqrt()).min(surface.unwrap_or(f64::INFINITY));
+    if s1 <= s0 {
+        return [0.0; 3];
+    }
+    let a = |q| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    std::array::from_fn(|ch| {
+        let r = PhysicalRay {
+            origin: [eye.x, eye.y, eye.z],
+            direction: dir,
+            surface_distance: Some(s1),
+            light: [l.x, l.y, l.z],
+            intensity: f64::from(intensity[ch]),
+            sigma_t: f64::from(street.fog.sigma_t[ch]),
+            sigma_s: f64::from(street.fog.sigma_s[ch]),
+        };
+        let (part, t) = r.stretch(s0, s1);
+        t * part.light_radiance(cone, f64::from(street.fog.g), &a).expect("reference")
+    })
+}
+
+struct Reference {
+    /// Per pixel: the surface distance and block (None: the ray meets none), the
+    /// lamp's and the spot's fog (before exposure), and whether it is on a silhouette.
+    surface: Vec<Option<(f64, usize)>>,
+    lamp: Vec<[f64; 3]>,
+    spot: Vec<[f64; 3]>,
+    edge: Vec<bool>,
+}
+
+fn reference(street: &Street) -> Reference {
+    let px: Vec<(u32, u32)> = (0..H).flat_map(|j| (0..W).map(move |i| (i, j))).collect();
+    let eye = street.eye.as_dvec3();
+    let surface: Vec<Option<(f64, usize)>> =
+        px.iter().map(|&(i, j)| street.first_surface([eye.x, eye.y, eye.z], ray(street, i as i32, j as i32))).collect();
+    let lamp = airlight_bevy::GpuLight::point(&street.lamp.0, &GlobalTransform::from_translation(street.lamp.1));
+    let (spot_light, spot_at, spot_aim) = &street.spot;
+    let spot = airlight_bevy::GpuLight::spot(
+        spot_light,
+        &GlobalTransform::from(Transform::from_translation(*spot_at).looking_at(*spot_aim, Vec3::Y)),
+    );
+    let axis = (*spot_aim - *spot_at).normalize().as_dvec3();
+    let cone = Cone {
+        axis: [axis.x, axis.y, axis.z],
+        cos_outer: f64::from(spot_light.outer_angle).cos(),
+        cos_inner: f64::from(spot_light.inner_angle).cos(),
+    };
+    let fogs = airlight_truth::parallel::map(
+        &(0..px.len()).collect::<Vec<_>>(),
+        |&k| {
+            let (i, j) = px[k];
+            let d = ray(street, i as i32, j as i32);
+            (
+                light_fog(street, d, surface[k].map(|s| s.0), lamp.position, lamp.range, lamp.intensity, None),
+                light_fog(street, d, surface[k].map(|s| s.0), spot.position, spot.range, spot.intensity, Some(&cone)),
+            )
+        },
+        &|_, _| {},
+    );
+    // Silhouettes: where a neighbour's ray (inside the image or not) meets
+    // another block or none. There a pixel's multisampled colour blends both
+    // sides, while the pass reads the depth of one sample.
+    let edge = (0..px.len())
+        .map(|k| {
+            let (i, j) = ((k as u32 % W) as i32, (k as u32 / W) as i32);
+            let me = surface[k];
+            [(-1i32, 0i32), (1, 0), (0, -1), (0, 1)].iter().any(|&(di, dj)| {
+                let (x, y) = (i + di, j + dj);
+                let o = if x < 0 || y < 0 || x >= W as i32 || y >= H as i32 {
+                    street.first_surface([eye.x, eye.y, eye.z], ray(street, x, y))
+                } else {
+                    surface[(y as u32 * W + x as u32) as usize]
+                };
+                me.map(|m| m.1) != o.map(|o| o.1)
+            })
+        })
+        .collect();
+    Reference { surface, lamp: fogs.iter().map(|f| f.0).collect(), spot: fogs.iter().map(|f| f.1).collect(), edge }
+}
+
+/// Figures of one frame against `colour · T + fog · exposure`.
+#[derive(Debug)]
+struct Figures {
+    /// Pixels compared (off the silhouettes), of which lit (fog ≥ 1e-3 of the frame's largest).
+    compared: usize,
+    lit: usize,
+    /// Max and mean relative error of the fog over lit pixels.
+    max: f64,
+    mean: f64,
+    /// Pixels past the allowance: the kernel's bound on the fog plus one f16 ulp
+    /// of the frame (and 1e-6 for the f32 geometry and transmittance).
+    over: usize,
+    worst_at: (u32, u32),
+    non_finite: usize,
+}
+
+fn figures(
+    street: &Street,
+    r: &Reference,
+    colour: &[[f32; 3]],
+    frame: &[[f32; 3]],
+    lamp_scale: f64,
+    spot_scale: f64,
+    bound: f64,
+) -> Figures {
+    let exposure = f64::from(Exposure { ev100: street.ev100 }.exposure());
+    let fog = |k: usize, c: usize| exposure * (lamp_scale * r.lamp[k][c] + spot_scale * r.spot[k][c]);
+    let top = (0..frame.len()).flat_map(|k| (0..3).map(move |c| (k, c))).map(|(k, c)| fog(k, c)).fold(0.0, f64::max);
+    // One unit in the last place of the f16 the frame holds `v` in: lavapipe
+    // rounds towards zero when it stores f16 (measured: every error of the fog
+    // against the reference within [-1, 0] ulp, with the kernel of bound 7e-6),
+    // so a whole ulp, not a half.
+    let ulp = |v: f64| 2f64.powi(v.abs().max(2f64.powi(-14)).log2().floor() as i32 - 10);
+    let mut f = Figures { compared: 0, lit: 0, max: 0.0, mean: 0.0, over: 0, worst_at: (0, 0), non_finite: 0 };
+    let mut sum = 0.0;
+    for k in 0..frame.len() {
+        if frame[k].iter().any(|v| !v.is_finite()) {
+            f.non_finite += 1;
+            continue;
+        }
+        if r.edge[k] {
+            continue;
+        }
+        f.compared += 1;
+        let mut lit = false;
+        for c in 0..3 {
+            let t = r.surface[k].map_or(0.0, |s| (-f64::from(street.fog.sigma_t[c]) * s.0).exp());
+            let under = f64::from(colour[k][c]) * t;
+            let got = f64::from(frame[k][c]);
+            let want = fog(k, c);
+            let allowed = bound * want + ulp(got) + 1e-6 * want + 1e-7 * top;
+            if (got - under - want).abs() > allowed {
+                f.over += 1;
+            }
+            if want >= 1e-3 * top {
+                lit = true;
+                let e = (got - under - want).abs() / want;
+                sum += e;
+                if e > f.max {
+                    f.max = e;
+                    f.worst_at = (k as u32 % W, k as u32 / W);
+                }
+            }
+        }
+        if lit {
+            f.lit += 1;
+        }
+    }
+    f.mean = sum / (3 * f.lit.max(1)) as f64;
+    f
+}
+
+/// The composite the reference gives: `colour · T + fog · exposure`.
+fn reference_frame(street: &Street, r: &Reference, colour: &[[f32; 3]]) -> Vec<[f64; 3]> {
+    let exposure = f64::from(Exposure { ev100: street.ev100 }.exposure());
+    (0..colour.len())
+        .map(|k| {
+            std::array::from_fn(|c| {
+                let t = r.surface[k].map_or(0.0, |s| (-f64::from(street.fog.sigma_t[c]) * s.0).exp());
+                f64::from(colour[k][c]) * t + exposure * (r.lamp[k][c] + r.spot[k][c])
+            })
+        })
+        .collect()
+}
+
+/// Writes the frame and the reference's composite as PNG (`bevy-street-frame.png`,
+/// `bevy-street-reference.png`), tone-mapped alike.
+fn pictures(dir: &std::path::Path, street: &Street, r: &Reference, colour: &[[f32; 3]], frame: &[[f32; 3]]) {
+    use airlight_shaders::render;
+    let want = reference_frame(street, r, colour);
+    let exposure = render::exposure(&render::channels(&want));
+    let got: Vec<[f64; 3]> = frame.iter().map(|p| p.map(f64::from)).collect();
+    render::write_png(&dir.join("bevy-street-frame.png"), W, H, &render::tone_map_rgb(&got, exposure)).unwrap();
+    render::write_png(&dir.join("bevy-street-reference.png"), W, H, &render::tone_map_rgb(&want, exposure)).unwrap();
+}
+
+#[test]
+fn a_bevy_app_draws_the_street_in_fog_against_the_reference() {
+    let street = Street::default();
+    let Some(mut app) = app(&street) else {
+        assert!(!required(), "AIRLIGHT_REQUIRE_GPU=1 but Bevy found no adapter");
+        eprintln!("no GPU adapter: skipped");
+        return;
+    };
+    let kernel = street.fog.kernel().expect("the street's budget has a kernel");
+    let bound = kernel.worst();
+    eprintln!("kernel {} (declared {})", kernel.name, kernel.bound);
+
+    // The frame without fog: each surface's colour.
+    let (colour, n0) = settle(&mut app, None, "the frame without fog");
+    let camera = app.world_mut().query_filtered::<Entity, With<Camera3d>>().single(app.world()).unwrap();
+    app.world_mut().entity_mut(camera).insert(street.fog.clone());
+    let (fogged, n1) = settle(&mut app, Some(&colour), "the frame with fog");
+    eprintln!("settled after {n0} and {n1} updates");
+
+    let start = std::time::Instant::now();
+    let r = reference(&street);
+    eprintln!("reference: {} pixels in {:.1} s", r.lamp.len(), start.elapsed().as_secs_f64());
+    let f = figures(&street, &r, &colour, &fogged, 1.0, 1.0, bound);
+    eprintln!("street, lamp and spot: {f:?}");
+    if let Ok(dir) = std::env::var("AIRLIGHT_BEVY_PICTURES") {
+        pictures(std::path::Path::new(&dir), &street, &r, &colour, &fogged);
+    }
+    assert_eq!(f.non_finite, 0, "NaN or infinite pixels");
+    assert!(f.lit > 2000, "too few lit pixels: {f:?}");
+    assert_eq!(f.over, 0, "pixels past the kernel's bound plus one f16 ulp: {f:?}");
+
+    // The lamp twice as bright: the next settled frame has twice its fog.
+    let lamp = app.world_mut().query_filtered::<Entity, With<Lamp>>().single(app.world()).unwrap();
+    app.world_mut().get_mut::<PointLight>(lamp).unwrap().intensity *= 2.0;
+    let (brighter, n2) = settle(&mut app, Some(&fogged), "the frame with the lamp doubled");
+    let f = figures(&street, &r, &colour, &brighter, 2.0, 1.0, bound);
+    eprintln!("lamp doubled (shown after {n2} updates): {f:?}");
+    assert_eq!((f.over, f.non_finite), (0, 0), "{f:?}");
+
+    // The spot removed.
+    let spot = app.world_mut().query_filtered::<Entity, With<Spot>>().single(app.world()).unwrap();
+    app.world_mut().despawn(spot);
+    let (no_spot, n3) = settle(&mut app, Some(&brighter), "the frame without the spot");
+    let f = figures(&street, &r, &colour, &no_spot, 2.0, 0.0, bound);
+    eprintln!("spot removed (shown after {n3} updates): {f:?}");
+    assert_eq!((f.over, f.non_finite), (0, 0), "{f:?}");
+}
