@@ -10,7 +10,7 @@ mod trade;
 
 pub use ir::{kernel_ir, KernelIr};
 use models::{advice, generated_kernel, model_row};
-use renders::{render_rows, shafts_renders, three_example};
+use renders::{bevy_example, render_rows, shafts_renders, three_example};
 use selfcheck::selfcheck_context;
 
 use crate::kernel::KernelSpec;
@@ -76,6 +76,7 @@ pub fn render(
     ctx.insert("renders", &render_rows(renders));
     ctx.insert("shafts_renders", &shafts_renders(renders));
     ctx.insert("three_example", &three_example(renders));
+    ctx.insert("bevy_example", &bevy_example(renders));
     ctx.insert("bench", &bench.is_some());
     if let Some(b) = bench {
         trade::context(&mut ctx, b, models, ir);

@@ -261,3 +261,54 @@ pub(super) fn three_example(renders: &[Output]) -> Vec<ThreeExample> {
         })
         .collect()
 }
+
+/// The Bevy example's street as its headless test recorded it
+/// (`render/bevy-street.toml`; `AIRLIGHT_RECORD_EXAMPLE=1`).
+#[derive(Serialize)]
+pub(super) struct BevyExample {
+    bevy: String,
+    adapter: String,
+    profile: String,
+    kernel: String,
+    bound: String,
+    size: String,
+    msaa: i64,
+    compared_pixels: i64,
+    lit_pixels: i64,
+    lit_max: String,
+    lit_mean: String,
+    /// The signed error's range in f16 ulps of the frame.
+    ulps: String,
+    over: i64,
+    bad_pixels: i64,
+    update_ms: String,
+}
+
+/// The Bevy example's record, if there is one.
+pub(super) fn bevy_example(renders: &[Output]) -> Option<BevyExample> {
+    let o = renders.iter().find(|o| o.path == "render/bevy-street.toml")?;
+    let t: toml::Table = String::from_utf8_lossy(&o.contents).parse().ok()?;
+    let s = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("—").to_string();
+    let f = |k: &str| t.get(k).and_then(|v| v.as_float()).map_or("—".to_string(), fmt_err);
+    let i = |k: &str| t.get(k).and_then(|v| v.as_integer()).unwrap_or(0);
+    Some(BevyExample {
+        bevy: s("bevy"),
+        adapter: s("adapter"),
+        profile: s("profile"),
+        kernel: s("kernel"),
+        bound: f("bound"),
+        size: format!("{}×{}", i("width"), i("height")),
+        msaa: i("msaa"),
+        compared_pixels: i("compared_pixels"),
+        lit_pixels: i("lit_pixels"),
+        lit_max: f("lit_max"),
+        lit_mean: f("lit_mean"),
+        ulps: match (t.get("ulps_min").and_then(|v| v.as_float()), t.get("ulps_max").and_then(|v| v.as_float())) {
+            (Some(lo), Some(hi)) => format!("{lo:.2} … {hi:.2}"),
+            _ => "—".into(),
+        },
+        over: i("over"),
+        bad_pixels: i("bad_pixels"),
+        update_ms: t.get("update_ms").and_then(|v| v.as_float()).map_or("—".into(), |x| format!("{x:.1}")),
+    })
+}

@@ -67,7 +67,7 @@ impl Default for Street {
                 SpotLight {
                     color: Color::linear_rgb(0.6, 0.75, 1.0),
                     intensity: 120_000.0,
-                    range: 16.0,
+                    range: 25.0,
                     outer_angle: 0.55,
                     inner_angle: 0.35,
                     shadow_maps_enabled: false,
@@ -108,9 +108,9 @@ impl Street {
                 Transform::from_translation((b.min + b.max) * 0.5),
             ));
         }
-        commands.spawn((self.lamp.0.clone(), Transform::from_translation(self.lamp.1), Lamp));
+        commands.spawn((self.lamp.0, Transform::from_translation(self.lamp.1), Lamp));
         let (spot, at, aim) = &self.spot;
-        commands.spawn((spot.clone(), Transform::from_translation(*at).looking_at(*aim, Vec3::Y), Spot));
+        commands.spawn((*spot, Transform::from_translation(*at).looking_at(*aim, Vec3::Y), Spot));
     }
 
     /// The camera's transform.

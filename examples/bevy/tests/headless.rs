@@ -76,6 +76,11 @@ fn settle(app: &mut App, before: Option<&Vec<[f32; 3]>>, what: &str) -> (Vec<[f3
 }
 
 fn app(street: &Street) -> Option<App> {
+    // Bevy panics where it finds no adapter: ask wgpu first.
+    if let Err(e) = airlight_shaders::Gpu::open() {
+        eprintln!("no GPU adapter ({e})");
+        return None;
+    }
     let mut app = App::new();
     app.add_plugins(DefaultPlugins.set(WindowPlugin {
         primary_window: None,
@@ -87,10 +92,6 @@ fn app(street: &Street) -> Option<App> {
     .init_resource::<Frames>();
     app.finish();
     app.cleanup();
-    // No adapter: the render app is there but has no device.
-    if app.get_sub_app(bevy::render::RenderApp).is_none() {
-        return None;
-    }
     let mut image = Image::new_target_texture(W, H, TextureFormat::Rgba16Float, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
@@ -253,6 +254,9 @@ struct Figures {
     /// of the frame (and 1e-6 for the f32 geometry and transmittance).
     over: usize,
     worst_at: (u32, u32),
+    /// The least and largest signed error of the fog over lit pixels, in ulps of
+    /// the f16 the frame holds the pixel in.
+    ulps: (f64, f64),
     non_finite: usize,
 }
 
@@ -273,7 +277,16 @@ fn figures(
     // against the reference within [-1, 0] ulp, with the kernel of bound 7e-6),
     // so a whole ulp, not a half.
     let ulp = |v: f64| 2f64.powi(v.abs().max(2f64.powi(-14)).log2().floor() as i32 - 10);
-    let mut f = Figures { compared: 0, lit: 0, max: 0.0, mean: 0.0, over: 0, worst_at: (0, 0), non_finite: 0 };
+    let mut f = Figures {
+        compared: 0,
+        lit: 0,
+        max: 0.0,
+        mean: 0.0,
+        over: 0,
+        worst_at: (0, 0),
+        ulps: (0.0, 0.0),
+        non_finite: 0,
+    };
     let mut sum = 0.0;
     for k in 0..frame.len() {
         if frame[k].iter().any(|v| !v.is_finite()) {
@@ -296,6 +309,8 @@ fn figures(
             }
             if want >= 1e-3 * top {
                 lit = true;
+                let u = (got - under - want) / ulp(got);
+                f.ulps = (f.ulps.0.min(u), f.ulps.1.max(u));
                 let e = (got - under - want).abs() / want;
                 sum += e;
                 if e > f.max {
@@ -360,8 +375,40 @@ fn a_bevy_app_draws_the_street_in_fog_against_the_reference() {
     eprintln!("reference: {} pixels in {:.1} s", r.lamp.len(), start.elapsed().as_secs_f64());
     let f = figures(&street, &r, &colour, &fogged, 1.0, 1.0, bound);
     eprintln!("street, lamp and spot: {f:?}");
-    if let Ok(dir) = std::env::var("AIRLIGHT_BEVY_PICTURES") {
-        pictures(std::path::Path::new(&dir), &street, &r, &colour, &fogged);
+    // The time of one update (main world and render world, read-back included),
+    // median of 15, the frame settled.
+    let mut times: Vec<f64> = (0..15)
+        .map(|_| {
+            let t = std::time::Instant::now();
+            app.update();
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    let update_ms = times[times.len() / 2];
+    app.world_mut().resource_mut::<Frames>().0.clear();
+    let adapter = app
+        .world()
+        .get_resource::<bevy::render::renderer::RenderAdapterInfo>()
+        .map_or(String::from("unknown"), |a| format!("{} ({:?}, {})", a.name, a.backend, a.driver_info));
+    eprintln!("adapter {adapter}; {update_ms:.1} ms per update (median of 15)");
+    if std::env::var("AIRLIGHT_RECORD_EXAMPLE").is_ok_and(|v| v == "1") {
+        let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../generated/render");
+        pictures(&out, &street, &r, &colour, &fogged);
+        let toml = format!(
+            "# Written by the Bevy example's headless test (examples/bevy/tests/headless.rs, AIRLIGHT_RECORD_EXAMPLE=1); quoted by REPORT.md.\nkind = \"bevy-example\"\nbevy = \"0.19.1\"\nadapter = {adapter:?}\nprofile = \"{}\"\nkernel = \"{}\"\nbound = {bound:e}\nwidth = {W}\nheight = {H}\nmsaa = {SAMPLES}\ncompared_pixels = {}\nlit_pixels = {}\nlit_max = {:e}\nlit_mean = {:e}\nulps_min = {:e}\nulps_max = {:e}\nover = {}\nbad_pixels = {}\nupdate_ms = {update_ms:e}\n",
+            if cfg!(debug_assertions) { "debug" } else { "release" },
+            kernel.name,
+            f.compared,
+            f.lit,
+            f.max,
+            f.mean,
+            f.ulps.0,
+            f.ulps.1,
+            f.over,
+            f.non_finite
+        );
+        airlight_truth::io::write_atomic(&out.join("bevy-street.toml"), toml.as_bytes()).unwrap();
     }
     assert_eq!(f.non_finite, 0, "NaN or infinite pixels");
     assert!(f.lit > 2000, "too few lit pixels: {f:?}");
