@@ -27,14 +27,20 @@
 //   AirlightSmapWalk w = airlight_smap_begin(origin, dir, surface, light, rows, cube, res, bias, layer);
 //   <prefix>Shafts acc = <prefix>shafts_begin_runs();
 //   for (;;) {
-//       vec2 r = airlight_smap_next(w);
-//       if (r.x < 0.0) break;
-//       <prefix>shafts_add_run(acc, r.x, r.y);  // r.y < 0: to infinity
-//       if (<prefix>shafts_full(acc)) { <prefix>shafts_flush(acc, <the entry's arguments but surface>); }
+//       bool more = true;
+//       for (;;) {
+//           vec2 r = airlight_smap_next(w);
+//           if (r.x < 0.0) { more = false; break; }
+//           <prefix>shafts_add_run(acc, r.x, r.y);  // r.y < 0: to infinity
+//           if (<prefix>shafts_full(acc)) break;
+//       }
+//       if (!more) break;
+//       <prefix>shafts_flush(acc, <the entry's arguments but surface>);
 //   }
 //   float l = <prefix>shafts_finish(acc, surface, <the same arguments>);
-// w.truncated says whether the walk ran out of its 4096 steps (the rest
-// counted as shadowed).
+// The kernel stays out of the walk's own loop: a full buffer of runs leaves it to
+// be flushed, and the walk goes on. w.truncated says whether the walk ran out of
+// its 4096 steps (the rest counted as shadowed).
 #ifndef AIRLIGHT_SMAP_GLSL_INCLUDED
 #define AIRLIGHT_SMAP_GLSL_INCLUDED
 

@@ -24,16 +24,21 @@ fn the_pyramid_pass_builds_the_reference_pyramid() {
         Occluder::Sphere { center: [1.0, 0.5, 0.2], radius: 0.4 },
         Occluder::Cuboid { min: [-2.0, -0.5, -1.0], max: [-1.5, 2.0, 1.0] },
     ];
-    let cube = ShadowMap::cube([0.0, 0.3, 0.0], 64, &occ, 0.0).unwrap();
-    let spot = ShadowMap::spot([0.0, 0.3, 0.0], [1.0, 0.0, 0.1], 0.7, 64, &occ, 0.0).unwrap();
-    let (p, specs) = upload(&gpu, walk.sources().pyramid, &[&cube, &spot]).unwrap();
-    assert_eq!(specs[1].layer, 6);
-    let got = gpu.read_pyramid(&p).unwrap();
-    let (want_cube, want_spot) = (cube.pyramid(), spot.pyramid());
-    assert_eq!(got.len(), 7);
-    for (f, face) in got.iter().enumerate() {
-        let want = if f < 6 { &want_cube.levels[f] } else { &want_spot.levels[0] };
-        assert_eq!(face, want, "layer {f}");
+    // 1²: level 0 alone (airlight_pyramid_base); 2²: the fused first two levels
+    // and nothing after; 64²: the fused pass, then a reduce per level.
+    for res in [1, 2, 64] {
+        let cube = ShadowMap::cube([0.0, 0.3, 0.0], res, &occ, 0.0).unwrap();
+        let spot = ShadowMap::spot([0.0, 0.3, 0.0], [1.0, 0.0, 0.1], 0.7, res, &occ, 0.0).unwrap();
+        let (p, specs) = upload(&gpu, walk.sources().pyramid, &[&cube, &spot]).unwrap();
+        assert_eq!(specs[1].layer, 6);
+        let got = gpu.read_pyramid(&p).unwrap();
+        let (want_cube, want_spot) = (cube.pyramid(), spot.pyramid());
+        assert_eq!(got.len(), 7);
+        for (f, face) in got.iter().enumerate() {
+            let want = if f < 6 { &want_cube.levels[f] } else { &want_spot.levels[0] };
+            assert_eq!(face.len(), res.trailing_zeros() as usize + 1, "{res}²: layer {f}'s levels");
+            assert_eq!(face, want, "{res}²: layer {f}");
+        }
     }
 }
 
@@ -237,5 +242,72 @@ fn the_shadow_map_bound_survives_a_local_search_from_the_worst_rays() {
         }
         eprintln!("{name} shadow-map rays, worst after the search: {:e} (bound {bound:e}) on {:?}", worst.0, worst.1);
         assert!(worst.0 <= bound, "{name}: {:e} > {bound:e} on {:?}", worst.0, worst.1);
+    }
+}
+
+/// A ray past a fence of 48 posts has more lit runs than the accumulator holds
+/// (32): the shipped loop leaves the walk to flush the full buffer and walks on.
+/// On WGSL and GLSL the value matches the in-scattering over the map's exact
+/// runs as closely as the Rust walk's does, and the ray really has more runs
+/// than the buffer.
+#[test]
+fn a_walk_with_more_runs_than_the_buffer_flushes_and_goes_on() {
+    use airlight_shaders::Ray;
+    let compiled = common::compiled();
+    let index = gate::load_index(&generated()).unwrap();
+    let k = index.get("phi-6").unwrap();
+    let ck = compiled.iter().find(|c| c.name == "phi-6").unwrap();
+    let light = [0.0f64, 2.0, 0.0];
+    let occ: Vec<Occluder> = (0..48)
+        .map(|i| {
+            let x = -6.0 + 0.25 * f64::from(i);
+            Occluder::Cuboid { min: [x, 0.0, 1.0], max: [x + 0.05, 1.5, 1.01] }
+        })
+        .collect();
+    let map = ShadowMap::cube(light, 1024, &occ, 0.0).unwrap();
+    // Along the fence's shadows on the plane z = 1.5, at knee height.
+    let ray = Ray {
+        origin: [-9.0, 0.4, 1.5],
+        dir: [1.0, 0.0, 0.0],
+        surface: 18.0,
+        light: light.map(|x| x as f32),
+        intensity: 40.0,
+        sigma_t: 0.1,
+        sigma_s: 0.08,
+        g: 0.5,
+    };
+    let (runs, _, truncated) = rust_runs(ck.walk.unwrap(), &map, &map.pyramid(), &ray);
+    assert!(!truncated);
+    assert!(runs.len() > 40, "the ray must cross the fence's shadows: {} runs", runs.len());
+    let phys = ray.physical();
+    let want_runs: Vec<(f64, f64)> = map.lit_runs(&phys);
+    let a = |q: airlight_truth::reference::Point| airlight_truth::reference::airlight(q).unwrap();
+    let want = airlight_truth::shafts::shadowed_radiance(&phys, None, f64::from(ray.g), &want_runs, &a).unwrap();
+    let s = run_samples(&runs);
+    let r = ray;
+    let rust = f64::from((ck.shadowed.unwrap())(
+        &s,
+        r.surface,
+        r.origin,
+        r.dir,
+        r.light,
+        r.intensity,
+        r.sigma_t,
+        r.sigma_s,
+        r.g,
+    ));
+    let e_rust = (rust - want).abs() / want;
+    assert!(e_rust < 1e-3, "Rust: {e_rust:e}");
+    let Some(gpu) = common::open_or_skip("a_walk_with_more_runs_than_the_buffer (GPU part)") else { return };
+    let walk = WalkTexts::load(&generated()).unwrap();
+    for t in [Target::Wgsl, Target::Glsl] {
+        let text = std::fs::read_to_string(generated().join(k.file(t).unwrap())).unwrap();
+        let src = KernelSource::of(k, t, &text);
+        let (p, specs) = upload(&gpu, walk.sources().pyramid, &[&map]).unwrap();
+        let got = gpu.mapped(&src, &walk.sources(), &[ray], &specs, &p).unwrap();
+        let e = (f64::from(got[0].value) - want).abs() / want;
+        assert!(got[0].steps > 0.0, "{t:?}: truncated");
+        assert!(e <= 2.0 * e_rust + 1e-5, "{t:?}: {e:e} against Rust's {e_rust:e}");
+        eprintln!("{t:?}: {e:e} (Rust {e_rust:e}, {} runs)", runs.len());
     }
 }

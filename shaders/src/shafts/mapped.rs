@@ -98,6 +98,29 @@ pub struct PyramidTexture {
     levels: u32,
 }
 
+/// A pyramid's passes, one per level (the first two levels in one, where the
+/// map has a level 1): the pipeline, its bind group and the nodes per side of
+/// the level it writes (the fused pass: level 1's).
+struct PyramidPasses {
+    steps: Vec<(wgpu::ComputePipeline, wgpu::BindGroup, u32)>,
+    faces: u32,
+}
+
+impl PyramidPasses {
+    /// Records the passes into `enc`; `stamps` (when given) at the first pass's
+    /// start and the last one's end.
+    fn record(&self, enc: &mut wgpu::CommandEncoder, stamps: Option<&Stamps>) {
+        let last = self.steps.len().saturating_sub(1);
+        for (i, (pipeline, bind, n)) in self.steps.iter().enumerate() {
+            let timestamp_writes = stamps.filter(|_| i == 0 || i == last).map(|st| st.compute(i == 0, i == last));
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind, &[]);
+            pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), self.faces);
+        }
+    }
+}
+
 impl PyramidTexture {
     /// The view the walk binds.
     pub fn view(&self) -> &wgpu::TextureView {
@@ -117,7 +140,7 @@ pub struct Mapped<T> {
 
 impl Gpu {
     /// Uploads `faces × res × res` linear depths and builds their min-max pyramid
-    /// with the shipped pass, one dispatch per level.
+    /// with the shipped pass.
     pub fn build_pyramid(&self, pass: &str, depth: &[f32], res: u32, faces: u32) -> Result<PyramidTexture, GpuError> {
         let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
         let source = self.depth_source(size);
@@ -132,8 +155,9 @@ impl Gpu {
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * res), rows_per_image: Some(res) },
             size,
         );
+        let (p, levels) = self.pyramid_levels(pass, &source, res, faces, None)?;
         let mut enc = self.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
-        let p = self.pyramid_levels(pass, &mut enc, &source, res, faces, None, None)?;
+        levels.record(&mut enc, None);
         self.queue().submit([enc.finish()]);
         Ok(p)
     }
@@ -141,7 +165,8 @@ impl Gpu {
     /// Builds the min-max pyramid of a rasterised `Depth32Float` shadow map
     /// (`faces` layers of `res²`, perspective depth in [0, 1] between `near` and
     /// `far`) with the shipped pass, which makes the depth linear; and the GPU
-    /// seconds of the pass's dispatches (timestamps; 0 without them). The depth is
+    /// seconds of the pass's dispatches (timestamps, the median of `repeats`
+    /// builds after a warm-up; 0 without timestamps or repeats). The depth is
     /// first copied into an `R32Float` texture (the harness's step, not timed: a
     /// renderer binds its depth texture to the base pass directly).
     pub fn pyramid_of_depth(
@@ -151,6 +176,7 @@ impl Gpu {
         res: u32,
         faces: u32,
         near_far: [f32; 2],
+        repeats: usize,
     ) -> Result<(PyramidTexture, f64), GpuError> {
         let d = self.device();
         let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
@@ -178,15 +204,30 @@ impl Gpu {
             source.as_image_copy(),
             size,
         );
-        let stamps = Stamps::new(self);
-        let p = self.pyramid_levels(pass, &mut enc, &source, res, faces, Some(near_far), stamps.as_ref())?;
-        if let Some(st) = &stamps {
-            st.resolve(&mut enc);
-        }
         self.queue().submit([enc.finish()]);
-        let gpu_s = match &stamps {
-            Some(st) => st.seconds(self)?,
-            None => 0.0,
+        let (p, levels) = self.pyramid_levels(pass, &source, res, faces, Some(near_far))?;
+        // Timed as a renderer runs it, once per frame into the same texture: a
+        // warm-up, then the median of `repeats` (the first build also pays for
+        // the fresh texture's memory).
+        let stamps = Stamps::new(self);
+        let mut times = Vec::new();
+        for _ in 0..=repeats.max(1) {
+            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
+            levels.record(&mut enc, stamps.as_ref());
+            if let Some(st) = &stamps {
+                st.resolve(&mut enc);
+            }
+            self.queue().submit([enc.finish()]);
+            if let Some(st) = &stamps {
+                times.push(st.seconds(self)?);
+            }
+        }
+        let gpu_s = if times.len() > 1 {
+            let mut t = times.split_off(1);
+            t.sort_by(f64::total_cmp);
+            t[t.len() / 2]
+        } else {
+            0.0
         };
         Ok((p, gpu_s))
     }
@@ -205,21 +246,17 @@ impl Gpu {
         })
     }
 
-    /// Records the pyramid's passes into `enc`: the base level from `source`
-    /// (linear Z, or made linear for `near_far`), then each level from the one
-    /// below; `stamps` (when given) at the first pass's start and the last one's
-    /// end. The bind groups live on in the encoder until it is submitted.
-    #[allow(clippy::too_many_arguments)]
+    /// The pyramid's texture and its passes, ready to record: the base level
+    /// from `source` (linear Z, or made linear for `near_far`), then each level
+    /// from the one below.
     fn pyramid_levels(
         &self,
         pass: &str,
-        enc: &mut wgpu::CommandEncoder,
         source: &wgpu::Texture,
         res: u32,
         faces: u32,
         near_far: Option<[f32; 2]>,
-        stamps: Option<&Stamps>,
-    ) -> Result<PyramidTexture, GpuError> {
+    ) -> Result<(PyramidTexture, PyramidPasses), GpuError> {
         let d = self.device();
         let levels = res.max(1).trailing_zeros() + 1;
         let size = wgpu::Extent3d { width: res, height: res, depth_or_array_layers: faces };
@@ -250,7 +287,8 @@ impl Gpu {
                 cache: None,
             })
         };
-        let (base, reduce) = (pipe("airlight_pyramid_base"), pipe("airlight_pyramid_reduce"));
+        let (base, base2, reduce) =
+            (pipe("airlight_pyramid_base"), pipe("airlight_pyramid_base2"), pipe("airlight_pyramid_reduce"));
         let array = |t: &wgpu::Texture, level: u32| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -259,8 +297,11 @@ impl Gpu {
                 ..Default::default()
             })
         };
-        for level in 0..levels {
-            let n = res >> level;
+        let mut steps = Vec::new();
+        // Levels 0 and 1 in one pass where there is a level 1.
+        let fused = levels >= 2;
+        for level in (0..levels).filter(|&l| !(fused && l == 1)) {
+            let n = res >> (level + u32::from(fused && level == 0));
             let [near, far] = near_far.unwrap_or([0.0, 0.0]);
             let params: [u32; 4] = [near.to_bits(), far.to_bits(), n, u32::from(near_far.is_none())];
             let uniform = wgpu::util::DeviceExt::create_buffer_init(
@@ -271,26 +312,27 @@ impl Gpu {
                     usage: wgpu::BufferUsages::UNIFORM,
                 },
             );
-            let (pipeline, below) =
-                if level == 0 { (&base, array(source, 0)) } else { (&reduce, array(&texture, level - 1)) };
+            let (pipeline, below) = match level {
+                0 if fused => (&base2, array(source, 0)),
+                0 => (&base, array(source, 0)),
+                _ => (&reduce, array(&texture, level - 1)),
+            };
             let out = array(&texture, level);
+            let out1 = array(&texture, 1.min(levels - 1));
+            let mut entries = vec![
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&below) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&out) },
+                wgpu::BindGroupEntry { binding: 2, resource: uniform.as_entire_binding() },
+            ];
+            if fused && level == 0 {
+                entries.push(wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&out1) });
+            }
             let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&below) },
-                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&out) },
-                    wgpu::BindGroupEntry { binding: 2, resource: uniform.as_entire_binding() },
-                ],
+                entries: &entries,
             });
-            {
-                let (first, last) = (level == 0, level + 1 == levels);
-                let timestamp_writes = stamps.filter(|_| first || last).map(|st| st.compute(first, last));
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), faces);
-            }
+            steps.push((pipeline.clone(), bind, n));
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(format!("shadowmap_pyramid.wgsl: {e}")));
@@ -299,7 +341,7 @@ impl Gpu {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        Ok(PyramidTexture { texture, view, res, faces, levels })
+        Ok((PyramidTexture { texture, view, res, faces, levels }, PyramidPasses { steps, faces }))
     }
 
     /// Reads a pyramid back: `[face][level]` row-major `[min, max]` nodes.
@@ -490,14 +532,22 @@ void main() {{\n\
     AirlightSmapWalk w = airlight_smap_begin({origin}, {dir}, {end}, {light}, rows, m.x > 0.5, int(m.y), m.z, int(m.w));\n\
     {p}Shafts acc = {p}shafts_begin_runs();\n\
     for (;;) {{\n\
-        vec2 run = airlight_smap_next(w);\n\
-        if (run.x < 0.0) {{\n\
+        bool more = true;\n\
+        for (;;) {{\n\
+            vec2 run = airlight_smap_next(w);\n\
+            if (run.x < 0.0) {{\n\
+                more = false;\n\
+                break;\n\
+            }}\n\
+            {p}shafts_add_run(acc, run.x, run.y);\n\
+            if ({p}shafts_full(acc)) {{\n\
+                break;\n\
+            }}\n\
+        }}\n\
+        if (!more) {{\n\
             break;\n\
         }}\n\
-        {p}shafts_add_run(acc, run.x, run.y);\n\
-        if ({p}shafts_full(acc)) {{\n\
-            {p}{flush}(acc, {pass});\n\
-        }}\n\
+        {p}{flush}(acc, {pass});\n\
     }}\n\
     {ty} r = {p}{finish}(acc, {end}, {pass});\n\
     {store}\n\
@@ -532,14 +582,22 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     var w = airlight_smap_begin({origin}, {dir}, {end}, {light}, rows, m.x > 0.5, u32(m.y), m.z, u32(m.w));\n\
     var acc = {p}shafts_begin_runs();\n\
     loop {{\n\
-        let run = airlight_smap_next(&w, airlight_pyramid);\n\
-        if run.x < 0.0 {{\n\
+        var more = true;\n\
+        loop {{\n\
+            let run = airlight_smap_next(&w, airlight_pyramid);\n\
+            if run.x < 0.0 {{\n\
+                more = false;\n\
+                break;\n\
+            }}\n\
+            {p}shafts_add_run(&acc, run.x, run.y);\n\
+            if {p}shafts_full(acc) {{\n\
+                break;\n\
+            }}\n\
+        }}\n\
+        if !more {{\n\
             break;\n\
         }}\n\
-        {p}shafts_add_run(&acc, run.x, run.y);\n\
-        if {p}shafts_full(acc) {{\n\
-            {p}{flush}(&acc, {pass});\n\
-        }}\n\
+        {p}{flush}(&acc, {pass});\n\
     }}\n\
     let r = {p}{finish}(acc, {end}, {pass});\n\
     {store}\n\

@@ -102,24 +102,35 @@ pub(crate) fn frame_wgsl(
     if cc.x < cc.y {{
         var w = airlight_smap_begin(SC_CAMERA + cc.x * dir, dir, cc.y - cc.x, SC_LIGHT, SC_WALK_ROWS, SC_FACES == 6u, {res}u, {bias:?}, 0u);
         loop {{
-            let r = airlight_smap_next(&w, sc_pyramid);
-            if r.x < 0.0 {{
+            // The walk's loop holds no kernel: a full buffer leaves it, is
+            // flushed, and the walk goes on.
+            var more = true;
+            loop {{
+                let r = airlight_smap_next(&w, sc_pyramid);
+                if r.x < 0.0 {{
+                    more = false;
+                    break;
+                }}
+                let run = vec2<f32>(cc.x + r.x, select(cc.y, cc.x + r.y, r.y >= 0.0));
+{each_run}            }}
+            if !more {{
                 break;
             }}
-            let run = vec2<f32>(cc.x + r.x, select(cc.y, cc.x + r.y, r.y >= 0.0));
-{each_run}        }}
+            {flush}
+        }}
     }}
 ",
+                flush = if method == Method::Walk { String::new() } else { format!("{p}shafts_flush{sfx}(&acc, {args});") },
                 res = stage.shadow_map,
                 bias = WALK_BIAS,
                 each_run = if method == Method::Walk {
-                    "            acc.sum.x += run.y - run.x;\n".to_string()
+                    "                acc.sum.x += run.y - run.x;\n".to_string()
                 } else {
                     format!(
-                        "            {p}shafts_add_run(&acc, run.x, run.y);
-            if {p}shafts_full(acc) {{
-                {p}shafts_flush{sfx}(&acc, {args});
-            }}
+                        "                {p}shafts_add_run(&acc, run.x, run.y);
+                if {p}shafts_full(acc) {{
+                    break;
+                }}
 "
                     )
                 },
@@ -406,14 +417,15 @@ impl Gpu {
     ) -> Result<Vec<Vec<Vec<[f32; 2]>>>, GpuError> {
         let shadow = self.shadow_map(stage, view)?;
         let (p, _) =
-            self.pyramid_of_depth(pass, &shadow, stage.shadow_map, stage.faces().len() as u32, stage.near_far)?;
+            self.pyramid_of_depth(pass, &shadow, stage.shadow_map, stage.faces().len() as u32, stage.near_far, 0)?;
         self.read_pyramid(&p)
     }
 
     /// Draws the stage with `method`'s fog: the kernel `kernel` (WGSL, index
     /// entry `k`); the full-screen pass timed `repeats` times after a warm-up.
     /// The exact mode builds the pyramid of the frame's own shadow map with the
-    /// shipped pass (timed once) and walks it.
+    /// shipped pass (timed like the frame: a warm-up, the median of `REPEATS`)
+    /// and walks it.
     #[allow(clippy::too_many_arguments)]
     pub fn shafts_frame(
         &self,
@@ -511,6 +523,7 @@ impl Gpu {
                 stage.shadow_map,
                 stage.faces().len() as u32,
                 stage.near_far,
+                REPEATS,
             )?),
             _ => None,
         };
