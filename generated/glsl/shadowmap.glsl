@@ -261,7 +261,10 @@ float airlight_smap_exit(AirlightSmapWalk w, int i, float c, int s) {
 
 // Moves past the node just decided: into the next node along the axis the ray
 // leaves it by, the other axis's texel from the position there (kept in the
-// node's range), one level up.
+// node's range); one level up where that also leaves the node's parent (a
+// sibling lies wholly ahead of the ray, the parent holds the node just passed:
+// going up into it there would only come back down; the walk alone took 12-13%
+// less time in both renders on lavapipe).
 void airlight_smap_advance(inout AirlightSmapWalk w, float te, bool by_x, ivec2 n, int size) {
     w.t = te;
     if (te >= w.span[w.k].y) {
@@ -283,7 +286,10 @@ void airlight_smap_advance(inout AirlightSmapWalk w, float te, bool by_x, ivec2 
         airlight_smap_leave(w);
         return;
     }
-    w.level = min(w.level + 1, w.top);
+    int l = w.level;
+    if (any(notEqual(w.cell >> (l + 1), n >> 1))) {
+        w.level = min(l + 1, w.top);
+    }
 }
 
 // The map coordinate of a node's side in the direction s along one axis.

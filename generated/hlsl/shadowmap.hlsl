@@ -380,10 +380,15 @@ void airlight_smap_advance(inout AirlightSmapWalk w_7, float te, bool by_x, int2
         airlight_smap_leave(w_7);
         return;
     }
-    uint _e108 = w_7.level;
-    uint _e112 = w_7.top;
-    w_7.level = min((_e108 + 1u), _e112);
-    return;
+    uint l = w_7.level;
+    int2 _e109 = w_7.cell;
+    if (any(((_e109 >> ((l + 1u)).xx) != (n >> (1u).xx)))) {
+        uint _e123 = w_7.top;
+        w_7.level = min((l + 1u), _e123);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_smap_edge(AirlightSmapWalk w_8, int n_1, int s_1, int size_1)

@@ -417,10 +417,15 @@ void airlight_smap_advance(
         airlight_smap_leave(w_7);
         return;
     }
-    uint _e108 = w_7.level;
-    uint _e112 = w_7.top;
-    w_7.level = metal::min(_e108 + 1u, _e112);
-    return;
+    uint l = w_7.level;
+    metal::int2 _e109 = w_7.cell;
+    if (metal::any((_e109 >> metal::uint2(l + 1u)) != (n >> metal::uint2(1u)))) {
+        uint _e123 = w_7.top;
+        w_7.level = metal::min(l + 1u, _e123);
+        return;
+    } else {
+        return;
+    }
 }
 
 float airlight_smap_edge(

@@ -236,7 +236,10 @@ fn airlight_smap_exit(w: AirlightSmapWalk, i: u32, c: f32, s: i32) -> f32 {
 
 /// Moves past the node just decided: into the next node along the axis the ray
 /// leaves it by, the other axis's texel from the position there (kept in the
-/// node's range), one level up.
+/// node's range); one level up where that also leaves the node's parent (a
+/// sibling lies wholly ahead of the ray, the parent holds the node just passed:
+/// going up into it there would only come back down; the walk alone took 12-13%
+/// less time in both renders on lavapipe).
 fn airlight_smap_advance(w: ptr<function, AirlightSmapWalk>, te: f32, by_x: bool, n: vec2<i32>, size: i32) {
     (*w).t = te;
     if te >= (*w).span[(*w).k].y {
@@ -258,7 +261,10 @@ fn airlight_smap_advance(w: ptr<function, AirlightSmapWalk>, te: f32, by_x: bool
         airlight_smap_leave(w);
         return;
     }
-    (*w).level = min((*w).level + 1u, (*w).top);
+    let l = (*w).level;
+    if any(((*w).cell >> vec2<u32>(l + 1u)) != (n >> vec2<u32>(1u))) {
+        (*w).level = min(l + 1u, (*w).top);
+    }
 }
 
 /// The map coordinate of a node's side in the direction s along one axis.

@@ -317,7 +317,9 @@ impl Walk {
 
     /// Moves past the node just decided: into the next node along the axis the
     /// ray leaves it by, the other axis's texel from the position there (kept in
-    /// the node's range), one level up.
+    /// the node's range); one level up where that also leaves the node's parent
+    /// (a sibling lies wholly ahead of the ray, the parent holds the node just
+    /// passed: going up into it there would only come back down).
     fn advance(&mut self, te: f32, by_x: bool, nx: i32, ny: i32, size: i32) {
         let tb = self.span[self.k as usize][1];
         self.t = te;
@@ -338,7 +340,10 @@ impl Walk {
             self.leave();
             return;
         }
-        self.level = (self.level + 1).min(self.top);
+        let l = self.level;
+        if self.cx >> (l + 1) != nx >> 1 || self.cy >> (l + 1) != ny >> 1 {
+            self.level = (l + 1).min(self.top);
+        }
     }
 
     /// The next lit run `[a, b]` of the ray in order (`b` negative: to infinity),
