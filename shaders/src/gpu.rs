@@ -511,4 +511,34 @@ impl Stamps {
         let t: Vec<u64> = bytemuck::cast_slice(&gpu.read_back(&self.staging)?).to_vec();
         Ok(t[1].saturating_sub(t[0]) as f64 * self.period * 1e-9)
     }
+
+    /// The median GPU seconds of `repeats` (at least 1) submissions of what
+    /// `record` encodes, after a warm-up submission; `record` places the stamps
+    /// (it is given none, and the result is 0, where the adapter has no
+    /// timestamps).
+    pub(crate) fn median(
+        gpu: &Gpu,
+        repeats: usize,
+        record: impl Fn(&mut wgpu::CommandEncoder, Option<&Stamps>),
+    ) -> Result<f64, GpuError> {
+        let stamps = Stamps::new(gpu);
+        let mut times = Vec::new();
+        for _ in 0..=repeats.max(1) {
+            let mut enc = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timed") });
+            record(&mut enc, stamps.as_ref());
+            if let Some(st) = &stamps {
+                st.resolve(&mut enc);
+            }
+            gpu.queue().submit([enc.finish()]);
+            if let Some(st) = &stamps {
+                times.push(st.seconds(gpu)?);
+            }
+        }
+        if times.len() < 2 {
+            return Ok(0.0);
+        }
+        let mut t = times.split_off(1);
+        t.sort_by(f64::total_cmp);
+        Ok(t[t.len() / 2])
+    }
 }

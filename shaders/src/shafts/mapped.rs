@@ -165,8 +165,8 @@ impl Gpu {
     /// Builds the min-max pyramid of a rasterised `Depth32Float` shadow map
     /// (`faces` layers of `res²`, perspective depth in [0, 1] between `near` and
     /// `far`) with the shipped pass, which makes the depth linear; and the GPU
-    /// seconds of the pass's dispatches (timestamps, the median of `repeats`
-    /// builds after a warm-up; 0 without timestamps or repeats). The depth is
+    /// seconds of the pass's dispatches (timestamps, the median of `repeats` (at
+    /// least 1) builds after a warm-up; 0 without timestamps). The depth is
     /// first copied into an `R32Float` texture (the harness's step, not timed: a
     /// renderer binds its depth texture to the base pass directly).
     pub fn pyramid_of_depth(
@@ -209,26 +209,7 @@ impl Gpu {
         // Timed as a renderer runs it, once per frame into the same texture: a
         // warm-up, then the median of `repeats` (the first build also pays for
         // the fresh texture's memory).
-        let stamps = Stamps::new(self);
-        let mut times = Vec::new();
-        for _ in 0..=repeats.max(1) {
-            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
-            levels.record(&mut enc, stamps.as_ref());
-            if let Some(st) = &stamps {
-                st.resolve(&mut enc);
-            }
-            self.queue().submit([enc.finish()]);
-            if let Some(st) = &stamps {
-                times.push(st.seconds(self)?);
-            }
-        }
-        let gpu_s = if times.len() > 1 {
-            let mut t = times.split_off(1);
-            t.sort_by(f64::total_cmp);
-            t[t.len() / 2]
-        } else {
-            0.0
-        };
+        let gpu_s = Stamps::median(self, repeats, |enc, st| levels.record(enc, st))?;
         Ok((p, gpu_s))
     }
 

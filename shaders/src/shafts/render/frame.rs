@@ -455,49 +455,30 @@ impl Gpu {
         };
         let (color, fog) = (make("color"), make("fog"));
         let (cv, fv) = (color.create_view(&Default::default()), fog.create_view(&Default::default()));
-        let stamps = Stamps::new(self);
-        let mut times = Vec::new();
-        for _ in 0..=repeats.max(1) {
-            let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let attach = |v| {
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: v,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })
-                };
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("shafts frame"),
-                    color_attachments: &[attach(&cv), attach(&fv)],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: stamps.as_ref().map(Stamps::render),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.draw(0..3, 0..1);
-            }
-            if let Some(st) = &stamps {
-                st.resolve(&mut enc);
-            }
-            self.queue().submit([enc.finish()]);
-            if let Some(st) = &stamps {
-                times.push(st.seconds(self)?);
-            }
-        }
-        let gpu_s = if times.len() > 1 {
-            let mut t = times.split_off(1);
-            t.sort_by(f64::total_cmp);
-            t[t.len() / 2]
-        } else {
-            0.0
-        };
+        let gpu_s = Stamps::median(self, repeats, |enc, stamps| {
+            let attach = |v| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            };
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shafts frame"),
+                color_attachments: &[attach(&cv), attach(&fv)],
+                depth_stencil_attachment: None,
+                timestamp_writes: stamps.map(Stamps::render),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.draw(0..3, 0..1);
+        })?;
         Ok(Frame { method, color: self.read_rgba(&color, w, h)?, fog: self.read_rgba(&fog, w, h)?, gpu_s, pyramid_s })
     }
 
