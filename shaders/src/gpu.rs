@@ -178,32 +178,20 @@ impl Gpu {
         repeats: usize,
         pyramid: Option<&wgpu::TextureView>,
     ) -> Result<Option<f64>, GpuError> {
-        let Some(stamps) = Stamps::new(self).filter(|_| n > 0) else {
+        if n == 0 || !self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return Ok(None);
-        };
+        }
         let (gx, gy) = workgroups(n)?;
         let run = self.prepare(k.shader(source), k.prefix, data, n * outputs, k.table, pyramid)?;
-        let d = &self.device;
-        let mut times = Vec::with_capacity(repeats + 1);
-        // One warm-up dispatch, then the timed ones.
-        for _ in 0..=repeats {
-            let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: None,
-                    timestamp_writes: Some(stamps.compute(true, true)),
-                });
-                pass.set_pipeline(&run.pipeline);
-                pass.set_bind_group(0, &run.bind, &[]);
-                pass.dispatch_workgroups(gx, gy, 1);
-            }
-            stamps.resolve(&mut enc);
-            self.queue.submit([enc.finish()]);
-            times.push(stamps.seconds(self)?);
-        }
-        let mut timed = times.split_off(1);
-        timed.sort_by(f64::total_cmp);
-        let median = timed[timed.len() / 2];
+        let median = Stamps::median(self, repeats, |enc, stamps| {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: None,
+                timestamp_writes: stamps.map(|st| st.compute(true, true)),
+            });
+            pass.set_pipeline(&run.pipeline);
+            pass.set_bind_group(0, &run.bind, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        })?;
         Ok((median > 0.0).then(|| n as f64 / median))
     }
 
@@ -512,18 +500,18 @@ impl Stamps {
         Ok(t[1].saturating_sub(t[0]) as f64 * self.period * 1e-9)
     }
 
-    /// The median GPU seconds of `repeats` (at least 1) submissions of what
-    /// `record` encodes, after a warm-up submission; `record` places the stamps
-    /// (it is given none, and the result is 0, where the adapter has no
-    /// timestamps).
+    /// The median GPU seconds of `repeats` submissions of what `record` encodes,
+    /// after a warm-up submission; `record` places the stamps (it is given none,
+    /// and the result is 0, where the adapter has no timestamps). `repeats` 0:
+    /// one submission, untimed (the work is wanted, not its time).
     pub(crate) fn median(
         gpu: &Gpu,
         repeats: usize,
         record: impl Fn(&mut wgpu::CommandEncoder, Option<&Stamps>),
     ) -> Result<f64, GpuError> {
-        let stamps = Stamps::new(gpu);
+        let stamps = if repeats == 0 { None } else { Stamps::new(gpu) };
         let mut times = Vec::new();
-        for _ in 0..=repeats.max(1) {
+        for _ in 0..=repeats {
             let mut enc = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timed") });
             record(&mut enc, stamps.as_ref());
             if let Some(st) = &stamps {

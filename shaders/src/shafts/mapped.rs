@@ -165,8 +165,9 @@ impl Gpu {
     /// Builds the min-max pyramid of a rasterised `Depth32Float` shadow map
     /// (`faces` layers of `res²`, perspective depth in [0, 1] between `near` and
     /// `far`) with the shipped pass, which makes the depth linear; and the GPU
-    /// seconds of the pass's dispatches (timestamps, the median of `repeats` (at
-    /// least 1) builds after a warm-up; 0 without timestamps). The depth is
+    /// seconds of the pass's dispatches (timestamps, the median of `repeats`
+    /// builds after a warm-up; 0 without timestamps, and built once, untimed, for
+    /// `repeats` 0). The depth is
     /// first copied into an `R32Float` texture (the harness's step, not timed: a
     /// renderer binds its depth texture to the base pass directly).
     pub fn pyramid_of_depth(
@@ -299,14 +300,14 @@ impl Gpu {
                 _ => (&reduce, array(&texture, level - 1)),
             };
             let out = array(&texture, level);
-            let out1 = array(&texture, 1.min(levels - 1));
+            let out1 = (fused && level == 0).then(|| array(&texture, 1));
             let mut entries = vec![
                 wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&below) },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&out) },
                 wgpu::BindGroupEntry { binding: 2, resource: uniform.as_entire_binding() },
             ];
-            if fused && level == 0 {
-                entries.push(wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&out1) });
+            if let Some(out1) = &out1 {
+                entries.push(wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(out1) });
             }
             let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
