@@ -168,6 +168,11 @@ fn render_shafts(
     );
     let walk_only = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Walk, sr::REPEATS).map_err(fail)?;
     println!("of which the walk alone (its runs summed, no kernel): {:.1} ms GPU", walk_only.gpu_s * 1e3);
+    let counts = sr::WalkCounts::of(&walk_only).ok_or_else(|| Failure(1, "the walk frame has no counts".into()))?;
+    println!(
+        "the walk over {} rays: {:.1} steps on average (90th percentile {}, max {}), {:.2} lit runs",
+        counts.walked, counts.steps_mean, counts.steps_p90, counts.steps_max, counts.runs_mean
+    );
     for n in sr::SAMPLED {
         let f = gpu.shafts_frame(&stage, k, kernel, walk, &view, Method::Sampled(n), sr::REPEATS).map_err(fail)?;
         println!(
@@ -208,7 +213,7 @@ fn render_shafts(
     let edges = classes.iter().filter(|c| **c == Some(true)).count();
     println!("{}: {}×{}; {lit} lit pixels off the edges, {edges} on shaft edges", first.display(), size.0, size.1);
     let mut toml = format!(
-        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nend_texels = {:?}\nclip_margin_deg = {:?}\nwalk_ms = {:e}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
+        "# Written by `airlight render --scene {} --report`; quoted by REPORT.md.\nkind = \"shafts\"\ndescription = \"{}\"\nlight = \"{}\"\nkernel = \"{}\"\nmarch_kernel = \"{}\"\nadapter = \"{}\"\nwidth = {}\nheight = {}\nshadow_map = {}\nfaces = {}\nwalk_bias = {:?}\nend_texels = {:?}\nclip_margin_deg = {:?}\nwalk_ms = {:e}\nwalked_pixels = {}\nwalk_steps_mean = {:e}\nwalk_steps_p90 = {:e}\nwalk_steps_max = {:e}\nwalk_runs_mean = {:e}\nrefine_steps = {}\nlit_pixels = {lit}\nedge_pixels = {edges}\nmarch_shown = {}\nsampled_shown = {}\n",
         out.file,
         stage.description,
         if stage.spot.is_some() { "spot" } else { "point" },
@@ -223,6 +228,11 @@ fn render_shafts(
         sr::END_TEXELS,
         sr::CLIP_MARGIN_DEG,
         walk_only.gpu_s * 1e3,
+        counts.walked,
+        counts.steps_mean,
+        counts.steps_p90,
+        counts.steps_max,
+        counts.runs_mean,
         sr::REFINE_STEPS,
         shown.method.steps(),
         sampled.method.steps(),

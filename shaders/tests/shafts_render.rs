@@ -3,6 +3,7 @@
 //! a shadow map from depth passes, the fog by the exact walk, by the sampled
 //! accumulator and by the march, and the reference over exact lit intervals.
 //! Every value is finite and ≥ 0, the GPU frames find the same surfaces, the
+//! walk's own counts agree with the exact frame's fog, the
 //! exact frame leaks nowhere and beats the 512-step march on lit pixels, and
 //! the sampled accumulator's mean fog error is below the 64-step march's.
 
@@ -32,6 +33,16 @@ fn the_shafts_renders_run_and_the_exact_walk_beats_the_march() {
         let view = sr::ShaftsView { width: 80, height: 45 };
         let frame = |k, kernel: &str, method| gpu.shafts_frame(&stage, k, kernel, walk, &view, method, 1).unwrap();
         let exact = frame(k, &kernel, Method::Exact);
+        // The walk alone counts what the exact frame's walks took: a pixel with
+        // fog had lit runs, one without runs has none, and no walk ran out of steps.
+        let walk_only = frame(k, &kernel, Method::Walk);
+        let counts = sr::WalkCounts::of(&walk_only).unwrap();
+        assert!(sr::WalkCounts::of(&exact).is_none());
+        assert!(counts.walked > 0 && counts.runs_mean > 0.0 && counts.steps_max < 4096.0, "{}: {counts:?}", stage.name);
+        for (e, w) in exact.fog.iter().zip(&walk_only.fog) {
+            let lit = e[..3].iter().any(|x| *x > 0.0);
+            assert!(!lit || w[1] >= 1.0, "{}: fog {e:?} from a ray without lit runs {w:?}", stage.name);
+        }
         let sampled = frame(k, &kernel, Method::Sampled(128));
         let m64 = frame(m, &march, Method::March(64));
         let m512 = frame(m, &march, Method::March(512));

@@ -26,6 +26,9 @@ pub(super) struct ShaftsRender {
     clip_margin_deg: String,
     /// GPU ms of the exact frame's walk alone (no kernel).
     walk_ms: String,
+    /// The walk's steps and lit runs per walked view ray (`—`: a file from
+    /// before they were written).
+    walk_counts: String,
     refine_steps: i64,
     lit_pixels: i64,
     edge_pixels: i64,
@@ -155,6 +158,16 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                     .and_then(|v| v.as_float())
                     .map_or("—".into(), |b| format!("{b}")),
                 walk_ms: t.get("walk_ms").and_then(|v| v.as_float()).map_or("—".into(), |b| format!("{b:.1}")),
+                walk_counts: match (
+                    t.get("walked_pixels").and_then(|v| v.as_integer()),
+                    ["walk_steps_mean", "walk_steps_p90", "walk_steps_max", "walk_runs_mean"]
+                        .map(|k| t.get(k).and_then(|v| v.as_float())),
+                ) {
+                    (Some(n), [Some(m), Some(p90), Some(max), Some(runs)]) => format!(
+                        "its {n} walked view rays take {m:.1} steps on average (90th percentile {p90}, max {max}) and hand the kernel {runs:.2} lit runs each"
+                    ),
+                    _ => "—".into(),
+                },
                 refine_steps: i("refine_steps"),
                 lit_pixels: i("lit_pixels"),
                 edge_pixels: i("edge_pixels"),

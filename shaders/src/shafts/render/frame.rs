@@ -15,9 +15,9 @@ pub enum Method {
     /// over the min-max pyramid the shipped pass builds from the frame's own
     /// shadow map, each lit run handed to the scene kernel's accumulator.
     Exact,
-    /// The exact mode's walk alone, for its cost: the same walk, its lit runs'
-    /// total length summed in place of the accumulator (no kernel is evaluated;
-    /// the fog it writes is not radiance).
+    /// The exact mode's walk alone, for its cost: the same walk, no kernel
+    /// evaluated; the fog it writes is not radiance but, per pixel, its lit runs'
+    /// total length, their count and the walk's steps ([`WalkCounts`]).
     Walk,
     /// The scene kernel's shafts accumulator at `n` look-ups, fed the viewer's
     /// and the surface's visibility too, each change placed by
@@ -118,13 +118,14 @@ pub(crate) fn frame_wgsl(
             }}
             {flush}
         }}
-    }}
+{steps}    }}
 ",
+                steps = if method == Method::Walk { "        acc.sum.z = f32(w.steps);\n" } else { "" },
                 flush = if method == Method::Walk { String::new() } else { format!("{p}shafts_flush{sfx}(&acc, {args});") },
                 res = stage.shadow_map,
                 bias = WALK_BIAS,
                 each_run = if method == Method::Walk {
-                    "                acc.sum.x += run.y - run.x;\n".to_string()
+                    "                acc.sum.x += run.y - run.x;\n                acc.sum.y += 1.0;\n".to_string()
                 } else {
                     format!(
                         "                {p}shafts_add_run(&acc, run.x, run.y);
@@ -209,7 +210,7 @@ fn fs(@builtin(position) pos: vec4<f32>) -> ScOut {{
     let n = sc_normal(id, p);
     let v_surf = sc_shadow(p + {offset:?} * n);
     let fog_end = sc_fog_end(end, p, n, dir);
-{fog_body}    let fog = {colour}{p}shafts_finish{sfx}(acc, fog_end, {args});
+{fog_body}    let fog = {fog};
     let tl = SC_LIGHT - p;
     let dl = length(tl);
     let l = tl / dl;
@@ -221,6 +222,12 @@ fn fs(@builtin(position) pos: vec4<f32>) -> ScOut {{
 }}
 ",
         scene = scene_wgsl(stage, view),
+        // The walk alone writes its counts: the runs' length, the runs, the steps.
+        fog = if method == Method::Walk {
+            "acc.sum".to_string()
+        } else {
+            format!("{colour}{p}shafts_finish{sfx}(acc, fog_end, {args})")
+        },
         what = match method {
             Method::Exact => "the exact shadow-map walk",
             Method::Walk => "the exact shadow-map walk alone (its runs' length, no kernel)",
@@ -291,6 +298,44 @@ pub struct Frame {
     /// GPU seconds of building the min-max pyramid (the exact frame's extra
     /// pass, once per shadow map; 0 for the others).
     pub pyramid_s: f64,
+}
+
+/// What the view rays' walks took, from a [`Method::Walk`] frame: over the
+/// pixels whose ray was walked (it meets the spot's cone, or any ray for a point
+/// light), the steps (mean, 90th percentile, max) and the lit runs per ray.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WalkCounts {
+    /// The pixels whose ray was walked.
+    pub walked: usize,
+    /// Their walks' steps: mean, 90th percentile and max.
+    pub steps_mean: f64,
+    /// See `steps_mean`.
+    pub steps_p90: f64,
+    /// See `steps_mean`.
+    pub steps_max: f64,
+    /// Lit runs per walked ray.
+    pub runs_mean: f64,
+}
+
+impl WalkCounts {
+    /// The counts of a [`Method::Walk`] frame; `None` for another method's.
+    pub fn of(frame: &Frame) -> Option<WalkCounts> {
+        if frame.method != Method::Walk {
+            return None;
+        }
+        let walked: Vec<[f32; 4]> = frame.fog.iter().copied().filter(|p| p[2] > 0.0).collect();
+        let mut steps: Vec<f64> = walked.iter().map(|p| f64::from(p[2])).collect();
+        steps.sort_by(f64::total_cmp);
+        let n = steps.len();
+        let mean = |v: &mut dyn Iterator<Item = f64>| if n == 0 { 0.0 } else { v.sum::<f64>() / n as f64 };
+        Some(WalkCounts {
+            walked: n,
+            steps_mean: mean(&mut steps.iter().copied()),
+            steps_p90: steps.get(n * 9 / 10).copied().unwrap_or(0.0),
+            steps_max: steps.last().copied().unwrap_or(0.0),
+            runs_mean: mean(&mut walked.iter().map(|p| f64::from(p[1]))),
+        })
+    }
 }
 
 /// The walk's sources a frame needs for [`Method::Exact`]: the WGSL walk and
