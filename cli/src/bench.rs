@@ -34,3 +34,40 @@ pub(crate) fn bench(
     println!("wrote {}; `airlight generate` puts it into REPORT.md", path.display());
     Ok(())
 }
+
+/// `airlight bench --only shadow-map`: the shadow-map section measured alone and
+/// put into the bench JSON already at the output path (the rest untouched, so no
+/// plan moves); refused, with nothing written, where there is none to put it in.
+pub(crate) fn bench_shadow_map(
+    root: Option<PathBuf>,
+    kernels: &[CompiledKernel],
+    repeats: usize,
+    out: Option<PathBuf>,
+) -> Result<(), Failure> {
+    let generated = generated_dir(root)?;
+    let path = out.unwrap_or_else(|| generated.join(airlight_shapes::bench::FILE));
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        bad_input(format!("{}: cannot read ({e}): `--only` puts a section into a full bench's JSON", path.display()))
+    })?;
+    let mut b =
+        airlight_shapes::bench::Bench::from_json(&text).map_err(|e| bad_input(format!("{}: {e}", path.display())))?;
+    let bar = indicatif::ProgressBar::new(0);
+    let (adapter, rows) =
+        airlight_shaders::bench::measure_shadow_map(&generated, kernels, repeats, &|what, done, total| {
+            bar.set_message(what.to_string());
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        })
+        .map_err(|e| match e {
+            BenchError::Input(m) => bad_input(m),
+            BenchError::Failed(m) => Failure(1, m),
+        })?;
+    bar.finish_and_clear();
+    b.shadow_map = rows;
+    b.shadow_map_alone = Some(adapter);
+    println!("{}", b.table());
+    airlight_truth::io::write_atomic(&path, b.to_json().as_bytes())
+        .map_err(|e| Failure(1, format!("{}: cannot write: {e}", path.display())))?;
+    println!("wrote the shadow-map section into {}; `airlight generate` puts it into REPORT.md", path.display());
+    Ok(())
+}

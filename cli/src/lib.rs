@@ -107,6 +107,14 @@ impl std::str::FromStr for EvalTarget {
     }
 }
 
+/// A section of `bench.json` that `airlight bench --only` measures alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum BenchSection {
+    /// The exact shadow-map walk against the march and the sampled accumulator
+    /// (`shadow_map`).
+    ShadowMap,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Evaluate a model at the points of a CSV file.
@@ -230,6 +238,11 @@ enum Command {
         /// Where to write the JSON (default generated/bench.json).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Measure one section alone and put it into the JSON already at the
+        /// output path, the rest as it was measured (the models' rows, which
+        /// the planner ranks by, stay; the section is marked as measured alone).
+        #[arg(long, value_enum)]
+        only: Option<BenchSection>,
         /// Repository root; found from the current directory if omitted.
         #[arg(long)]
         root: Option<PathBuf>,
@@ -413,8 +426,11 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
         Command::Render { scene, output, report, width, height, root } => {
             render::render_scene(&scene, output.as_deref(), report, width, height, root, linked.unwrap_or_default())
         }
-        Command::Bench { points, batch, repeats, out, root } => {
+        Command::Bench { points, batch, repeats, out, only: None, root } => {
             bench::bench(root, linked.unwrap_or_default(), BenchSize { points, batch, repeats }, out)
+        }
+        Command::Bench { repeats, out, only: Some(BenchSection::ShadowMap), root, .. } => {
+            bench::bench_shadow_map(root, linked.unwrap_or_default(), repeats, out)
         }
         Command::Models { root } => models::models(root),
         Command::Plan { scene, out, root } => plan::plan(&scene, out.as_deref(), root),

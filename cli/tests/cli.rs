@@ -631,6 +631,31 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
     // The march's IR cost grows with its steps (loops counted by trip count).
     let ops = |n: &str| b.model(n).unwrap().ops;
     assert!(ops("raymarch-1024") > 10 * ops("raymarch-8"));
+    // `--only shadow-map` measures that section again into the same file: its
+    // errors and steps (seeded rays) come out the same, the models' rows (the
+    // planner's costs) stay as they were, and the section says it ran alone.
+    assert!(b.shadow_map_alone.is_none() && !b.shadow_map.is_empty());
+    let o = airlight(&["bench", "--only", "shadow-map", "--repeats", "1", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let again = airlight_shapes::bench::Bench::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert!(again.shadow_map_alone.is_some());
+    assert_eq!(again.models.len(), b.models.len());
+    for (m, n) in again.models.iter().zip(&b.models) {
+        assert_eq!((m.cpu_ns_per_eval, m.gpu_evals_per_s), (n.cpu_ns_per_eval, n.gpu_evals_per_s), "{}", m.name);
+    }
+    assert_eq!(again.shadow_map.len(), b.shadow_map.len());
+    for (r, s) in again.shadow_map.iter().zip(&b.shadow_map) {
+        assert_eq!(
+            (&r.method, r.max_of_unshadowed, r.mean_of_unshadowed, r.steps_mean, r.leaks),
+            (&s.method, s.max_of_unshadowed, s.mean_of_unshadowed, s.steps_mean, s.leaks)
+        );
+    }
+    // With no bench to put it in: one line naming the file, exit 2, nothing written.
+    let missing = dir.join("missing.json");
+    let o = airlight(&["bench", "--only", "shadow-map", "--out", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing.json") && stderr(&o).lines().count() == 1, "{}", stderr(&o));
+    assert!(!missing.exists());
 }
 
 fn airlight_tests_root() -> PathBuf {

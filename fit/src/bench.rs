@@ -342,6 +342,7 @@ mod tests {
                 build_gpu_ms: 0.0,
             }],
             shadow_map: Vec::new(),
+            shadow_map_alone: None,
         };
         let t = b.table();
         assert!(t.starts_with("adapter: none\ncpu: "), "{t}");

@@ -101,6 +101,11 @@ pub struct Bench {
     /// the march and the sampled accumulator, on one street-lamp scene.
     #[serde(default)]
     pub shadow_map: Vec<MapCost>,
+    /// Where `shadow_map` was measured in a run of its own (`airlight bench
+    /// --only shadow-map`), after the rest: that run's adapter. Its rows compare
+    /// with each other, not with the other sections'. `None`: the same run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow_map_alone: Option<String>,
 }
 
 /// One method on the shadow-map bench's rays: errors against the analytic

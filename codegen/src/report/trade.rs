@@ -602,6 +602,7 @@ fn shafts_context(ctx: &mut tera::Context, b: &Bench) {
         })
         .collect();
     ctx.insert("map_rows", &maps);
+    ctx.insert("map_alone", &b.shadow_map_alone);
 }
 
 #[cfg(test)]
@@ -650,6 +651,7 @@ mod tests {
             rgb: Vec::new(),
             shafts: Vec::new(),
             shadow_map: Vec::new(),
+            shadow_map_alone: None,
         };
         let ir = |name: &str, worst: usize, every: usize, calls: usize| KernelIr {
             name: name.into(),

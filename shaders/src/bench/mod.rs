@@ -192,6 +192,36 @@ pub(crate) fn rgb_cost(k: &CompiledKernel, rays: &[RgbRay], repeats: usize, gpu:
     })
 }
 
+/// Measures the shadow-map section alone (`bench.json`'s `shadow_map`, from
+/// [`crate::shafts::map_bench`]), for `airlight bench --only shadow-map`: its
+/// rows compare with each other (one run), and the models' rows, which the
+/// planner ranks by, are left as they were measured. Returns the adapter's label
+/// and the rows.
+pub fn measure_shadow_map(
+    generated: &Path,
+    kernels: &[CompiledKernel],
+    repeats: usize,
+    progress: &Progress,
+) -> Result<(String, Vec<airlight_shapes::bench::MapCost>), BenchError> {
+    if repeats == 0 {
+        return Err(BenchError::Input("bench: --repeats must be at least 1".into()));
+    }
+    let index = crate::gate::load_index(generated).map_err(|e| BenchError::Input(e.to_string()))?;
+    let gpu = Gpu::open();
+    let inputs = Inputs {
+        generated,
+        index: &index,
+        gpu: gpu.as_ref().ok(),
+        batch64: Vec::new(),
+        frames: Vec::new(),
+        rgb_scalar: Vec::new(),
+        rgb_spots: Vec::new(),
+        repeats,
+    };
+    let rows = crate::shafts::map_bench::map_costs(&inputs, kernels, progress)?;
+    Ok((adapter_label(&gpu), rows))
+}
+
 /// Measures every model in `files` with its compiled kernel from `kernels` and
 /// the generated files under `generated` (the GPU figures where an adapter opens).
 pub fn measure(
@@ -264,5 +294,6 @@ pub fn measure(
         rgb,
         shafts,
         shadow_map,
+        shadow_map_alone: None,
     })
 }
