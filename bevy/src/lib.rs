@@ -269,7 +269,7 @@ impl Plugin for AirlightPlugin {
 struct KernelShaders {
     fog: HashMap<usize, Handle<Shader>>,
     modules: Vec<Handle<Shader>>,
-    /// Cameras already told that no kernel meets their budget.
+    /// Cameras told that no kernel meets their budget, until one does again.
     refused: Vec<Entity>,
 }
 
@@ -310,6 +310,8 @@ fn load_kernels(
             commands.entity(entity).remove::<AirlightKernel>();
             continue;
         };
+        // Told again if its budget goes wrong again later.
+        loaded.refused.retain(|e| *e != entity);
         let index = MENU.iter().position(|k| std::ptr::eq(k, kernel)).unwrap_or(0);
         if current.is_some_and(|c| c.index == index) {
             continue;
