@@ -241,7 +241,8 @@ enum Command {
         /// Measure one section alone and put it into the JSON already at the
         /// output path, the rest as it was measured (the models' rows, which
         /// the planner ranks by, stay; the section is marked as measured alone).
-        #[arg(long, value_enum)]
+        /// The section has its own seeded rays: --points and --batch do not apply.
+        #[arg(long, value_enum, conflicts_with_all = ["points", "batch"])]
         only: Option<BenchSection>,
         /// Repository root; found from the current directory if omitted.
         #[arg(long)]

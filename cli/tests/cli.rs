@@ -656,6 +656,12 @@ fn bench_runs_on_a_small_batch_with_finite_positive_figures() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("missing.json") && stderr(&o).lines().count() == 1, "{}", stderr(&o));
     assert!(!missing.exists());
+    // --points and --batch size the models' part: refused beside --only, not ignored.
+    for arg in ["--points", "--batch"] {
+        let o = airlight(&["bench", "--only", "shadow-map", arg, "3", "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
+    }
 }
 
 fn airlight_tests_root() -> PathBuf {

@@ -1,7 +1,6 @@
 //! The street of the Bevy example: a lamp post and a wall-mounted spot light in
 //! fog, a bench and a kerb, all boxes (so that the headless test knows every
-//! surface exactly). `spawn` builds it in a Bevy world; `first_surface` is its
-//! analytic ray cast, for the reference.
+//! surface exactly). `spawn` builds it in a Bevy world.
 
 use airlight_bevy::AirlightFog;
 use bevy::prelude::*;
@@ -116,30 +115,5 @@ impl Street {
     /// The camera's transform.
     pub fn camera_transform(&self) -> Transform {
         Transform::from_translation(self.eye).looking_at(self.target, Vec3::Y)
-    }
-
-    /// The distance along the unit `dir` from `origin` to the first block and
-    /// that block's index, or None.
-    pub fn first_surface(&self, origin: [f64; 3], dir: [f64; 3]) -> Option<(f64, usize)> {
-        self.blocks
-            .iter()
-            .enumerate()
-            .filter_map(|(id, b)| {
-                let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
-                for a in 0..3 {
-                    let (lo, hi) = (f64::from(b.min[a]), f64::from(b.max[a]));
-                    if dir[a] == 0.0 {
-                        if origin[a] < lo || origin[a] > hi {
-                            return None;
-                        }
-                        continue;
-                    }
-                    let (p, q) = ((lo - origin[a]) / dir[a], (hi - origin[a]) / dir[a]);
-                    t0 = t0.max(p.min(q));
-                    t1 = t1.min(p.max(q));
-                }
-                (t0 <= t1 && t1 > 0.0).then_some((t0.max(0.0), id))
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 }

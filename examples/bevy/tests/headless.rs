@@ -14,6 +14,7 @@
 use airlight_bevy::AirlightPlugin;
 use airlight_bevy_example::{Lamp, Spot, Street};
 use airlight_truth::geometry::{Cone, PhysicalRay};
+use airlight_truth::shafts::Occluder;
 use bevy::camera::{Exposure, Hdr, RenderTarget};
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
@@ -191,11 +192,37 @@ struct Reference {
     edge: Vec<bool>,
 }
 
+/// The distance along the unit `dir` from `origin` to the first block and that
+/// block's index, or None: the blocks as the reference's own occluders.
+fn first_surface(street: &Street, origin: [f64; 3], dir: [f64; 3]) -> Option<(f64, usize)> {
+    let corner = |v: Vec3| [f64::from(v.x), f64::from(v.y), f64::from(v.z)];
+    street
+        .blocks
+        .iter()
+        .enumerate()
+        .filter_map(|(id, b)| {
+            Occluder::Cuboid { min: corner(b.min), max: corner(b.max) }.enters(origin, dir).map(|t| (t, id))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// The camera's exposure, as Bevy applies it.
+fn exposure(street: &Street) -> f64 {
+    f64::from(Exposure { ev100: street.ev100 }.exposure())
+}
+
+/// The medium's transmittance to pixel `k`'s surface in channel `c` (0: no surface).
+fn transmittance(street: &Street, r: &Reference, k: usize, c: usize) -> f64 {
+    r.surface[k].map_or(0.0, |s| (-f64::from(street.fog.sigma_t[c]) * s.0).exp())
+}
+
 fn reference(street: &Street) -> Reference {
     let px: Vec<(u32, u32)> = (0..H).flat_map(|j| (0..W).map(move |i| (i, j))).collect();
     let eye = street.eye.as_dvec3();
-    let surface: Vec<Option<(f64, usize)>> =
-        px.iter().map(|&(i, j)| street.first_surface([eye.x, eye.y, eye.z], ray(street, i as i32, j as i32))).collect();
+    let surface: Vec<Option<(f64, usize)>> = px
+        .iter()
+        .map(|&(i, j)| first_surface(street, [eye.x, eye.y, eye.z], ray(street, i as i32, j as i32)))
+        .collect();
     let lamp = airlight_bevy::GpuLight::point(&street.lamp.0, &GlobalTransform::from_translation(street.lamp.1));
     let (spot_light, spot_at, spot_aim) = &street.spot;
     let spot = airlight_bevy::GpuLight::spot(
@@ -230,7 +257,7 @@ fn reference(street: &Street) -> Reference {
             [(-1i32, 0i32), (1, 0), (0, -1), (0, 1)].iter().any(|&(di, dj)| {
                 let (x, y) = (i + di, j + dj);
                 let o = if x < 0 || y < 0 || x >= W as i32 || y >= H as i32 {
-                    street.first_surface([eye.x, eye.y, eye.z], ray(street, x, y))
+                    first_surface(street, [eye.x, eye.y, eye.z], ray(street, x, y))
                 } else {
                     surface[(y as u32 * W + x as u32) as usize]
                 };
@@ -269,7 +296,7 @@ fn figures(
     spot_scale: f64,
     bound: f64,
 ) -> Figures {
-    let exposure = f64::from(Exposure { ev100: street.ev100 }.exposure());
+    let exposure = exposure(street);
     let fog = |k: usize, c: usize| exposure * (lamp_scale * r.lamp[k][c] + spot_scale * r.spot[k][c]);
     let top = (0..frame.len()).flat_map(|k| (0..3).map(move |c| (k, c))).map(|(k, c)| fog(k, c)).fold(0.0, f64::max);
     // One unit in the last place of the f16 the frame holds `v` in: lavapipe
@@ -299,8 +326,7 @@ fn figures(
         f.compared += 1;
         let mut lit = false;
         for c in 0..3 {
-            let t = r.surface[k].map_or(0.0, |s| (-f64::from(street.fog.sigma_t[c]) * s.0).exp());
-            let under = f64::from(colour[k][c]) * t;
+            let under = f64::from(colour[k][c]) * transmittance(street, r, k, c);
             let got = f64::from(frame[k][c]);
             let want = fog(k, c);
             let allowed = bound * want + ulp(got) + 1e-6 * want + 1e-7 * top;
@@ -329,12 +355,11 @@ fn figures(
 
 /// The composite the reference gives: `colour · T + fog · exposure`.
 fn reference_frame(street: &Street, r: &Reference, colour: &[[f32; 3]]) -> Vec<[f64; 3]> {
-    let exposure = f64::from(Exposure { ev100: street.ev100 }.exposure());
+    let exposure = exposure(street);
     (0..colour.len())
         .map(|k| {
             std::array::from_fn(|c| {
-                let t = r.surface[k].map_or(0.0, |s| (-f64::from(street.fog.sigma_t[c]) * s.0).exp());
-                f64::from(colour[k][c]) * t + exposure * (r.lamp[k][c] + r.spot[k][c])
+                f64::from(colour[k][c]) * transmittance(street, r, k, c) + exposure * (r.lamp[k][c] + r.spot[k][c])
             })
         })
         .collect()
