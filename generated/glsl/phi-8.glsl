@@ -322,9 +322,12 @@ vec2 airlight_phi_8_phi_and_complement(float u, vec4 md) {
 vec2 airlight_phi_8_u_and_weight(float s2, float c2, vec4 md) {
     float g = md.x;
     bool pos = g >= 0.0;
-    float num = pos ? 1.0 + g * c2 * c2 : md.z - g * s2 * s2;
-    float den = pos ? md.y + g * c2 * c2 : 1.0 - g * s2 * s2;
-    float q = pos ? md.y + 2.0 * g * c2 * c2 : md.z - 2.0 * g * s2 * s2;
+    // mix(.., .., bool) selects, as WGSL's select: the same values as ?:, and no
+    // branch (three ?: here, in every node of every channel, kept ANGLE's GL on
+    // SwiftShader compiling a spot entry with a run-time g for over 10 minutes).
+    float num = mix(md.z - g * s2 * s2, 1.0 + g * c2 * c2, pos);
+    float den = mix(1.0 - g * s2 * s2, md.y + g * c2 * c2, pos);
+    float q = mix(md.z - 2.0 * g * s2 * s2, md.y + 2.0 * g * c2 * c2, pos);
     float r = sqrt(num * den);
     return vec2(md.y / md.z * (s2 / c2) * (r / den), q * q / (2.0 * r));
 }

@@ -7,8 +7,8 @@
 // light along it by the kernel's entry — a light with `castShadow` by the exact
 // shadow-map walk over its own shadow map (shafts) — and the composite: the
 // scene's colour times the medium's transmittance plus the fog. For
-// WebGPURenderer on WebGPU, as a post-processing node (its WebGL 2 backend is
-// refused: see the constructor).
+// WebGPURenderer, as a post-processing node, on WebGPU (the kernel's WGSL) and
+// on its WebGL 2 backend (the kernel's GLSL).
 import { DataTexture, FloatType, Matrix3, RGFormat, Vector3 } from 'three';
 import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
@@ -34,7 +34,7 @@ export class VolumetricLights {
   /**
    * Picks the cheapest kernel on the menu for `maxError` and the medium's g
    * (`pick`), imports it and builds the lights. `renderer` is the
-   * WebGPURenderer (after `init()`) that will draw it, on its WebGPU backend.
+   * WebGPURenderer (after `init()`) that will draw it: WebGPU or its WebGL 2 backend.
    */
   static async create(renderer, { sigmaT, sigmaS, g = 0, maxError = 1e-2, ...rest } = {}) {
     const k = pick({ maxError, g });
@@ -57,15 +57,11 @@ export class VolumetricLights {
    */
   constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!renderer || !renderer.backend) throw new Error('airlight-three: VolumetricLights needs a WebGPURenderer (after init())');
-    // On the WebGL 2 backend (GLSL) the test page did not finish within 600 s
-    // on SwiftShader's GL (its shader compiles take minutes each; the page
-    // compiles three of them): untested there, so refused rather than left to
-    // hang. WebGLRenderer: VolumetricLightsPass (webgl.js).
-    if (!renderer.backend.isWebGPUBackend) {
-      throw new Error("airlight-three: VolumetricLights runs on WebGPURenderer's WebGPU backend; its WebGL 2 backend is not supported yet (WebGLRenderer: VolumetricLightsPass from airlight-three/webgl.js)");
-    }
-    this.radianceFn = kernel.radianceWGSL;
-    this.spotFn = kernel.spotWGSL;
+    // WGSL nodes on WebGPU, their GLSL twins on the WebGL 2 backend (the same
+    // arguments).
+    const gl = !renderer.backend.isWebGPUBackend;
+    this.radianceFn = gl ? kernel.radianceGLSL : kernel.radianceWGSL;
+    this.spotFn = gl ? kernel.spotGLSL : kernel.spotWGSL;
     if (!this.radianceFn || !this.spotFn) throw new Error(`airlight-three: ${name} has no radiance and spot entries`);
     this.takesG = kernel.takesG === true;
     const m = medium({ sigmaT, sigmaS, g }, this.takesG, name);
@@ -77,7 +73,7 @@ export class VolumetricLights {
     this.maxPoint = cap.points;
     this.maxSpot = cap.spots;
     this.maxShadowed = cap.shadowed;
-    this.spotExactFn = kernel.shaftsSpotExactWGSL;
+    this.spotExactFn = gl ? kernel.shaftsSpotExactGLSL : kernel.shaftsSpotExactWGSL;
     if (this.maxShadowed > 0 && !this.spotExactFn) throw new Error(`airlight-three: ${name} has no exact shafts entry; pass shafts: false`);
     this.renderer = renderer;
     this.shadowBias = shadowBias;
