@@ -1024,3 +1024,43 @@ pub fn example_files(root: &Path, three: &Path, package: &Path) -> Result<Vec<(S
     }
     Ok(files)
 }
+
+/// The arguments `spot_entries_page` passes every kernel's spot entry: the
+/// viewer, the light, its axis, (cos_outer, cos_inner, intensity), σt, σs, g,
+/// and the fan of rays (x0, dx, y, surface): pixel x's direction is
+/// (x0 + dx (x + 0.5), y, 1), its surface at `surface` for even x, none for odd.
+pub struct SpotArgs {
+    pub origin: [f32; 3],
+    pub light: [f32; 3],
+    pub axis: [f32; 3],
+    pub cone: [f32; 3],
+    pub sigma_t: [f32; 3],
+    pub sigma_s: [f32; 3],
+    pub g: f32,
+    pub fan: [f32; 4],
+}
+
+/// A WebGL 2 page (no three.js) that compiles each named kernel's spot entry
+/// from its `airlight-three/sources/<name>.js` with every argument a uniform
+/// and draws `width` rays per kernel (`pages/spot_entries.js`): RGBA32F per
+/// pixel, RGB the fog, A the seconds the kernel's program took to compile and
+/// draw; one row per kernel.
+pub fn spot_entries_page(names: &[&str], args: &SpotArgs, width: u32) -> String {
+    let list = |v: &[f32]| v.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(", ");
+    let names_js = format!("[{}]", names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", "));
+    let body = fill(
+        include_str!("pages/spot_entries.js"),
+        &[
+            ("names", names_js),
+            ("origin", list(&args.origin)),
+            ("light", list(&args.light)),
+            ("axis", list(&args.axis)),
+            ("cone", list(&args.cone)),
+            ("sigma_t", list(&args.sigma_t)),
+            ("sigma_s", list(&args.sigma_s)),
+            ("g", format!("{:?}", args.g)),
+            ("fan", list(&args.fan)),
+        ],
+    );
+    wrap_page("", &body, width, names.len() as u32)
+}

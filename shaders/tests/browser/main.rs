@@ -437,11 +437,11 @@ fn check_composite_and_next_frame(
 /// three.js holds them, with `castShadow` — a `SpotLight`'s 2048² map in the
 /// window-shafts room, a `PointLight`'s 1024² cube map in the street-lamp yard —
 /// added to a `VolumetricLights` (its default: a light with `castShadow` casts
-/// shafts, its pyramid rebuilt from this frame's map before each render of the fog),
-/// drawn on WebGPU. Against the reference over the analytic occluders' exact lit
-/// intervals for the same camera, light and medium: the same figures the exact
-/// nodes meet (`light_shafts_exact_to_three_js_shadow_maps_match_the_reference`),
-/// no leak pixel; then the composite against colour · T + fog, the composite as
+/// shafts, its pyramid rebuilt from this frame's map before each render of the fog).
+/// Against the reference over the analytic occluders' exact lit
+/// intervals for the same camera, light and medium, on WebGPU and on
+/// WebGPURenderer's WebGL 2 backend: the same figures the exact nodes meet
+/// (`light_shafts_exact_to_three_js_shadow_maps_match_the_reference`), no leak pixel; then the composite against colour · T + fog, the composite as
 /// `PostProcessing`'s output (the README's form) against it, and the next frame
 /// with the intensity doubled in three.js alone.
 #[test]
@@ -453,19 +453,21 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
     let index = gate::load_index(&root().join("generated")).unwrap();
     let k = index.get("phi-4").unwrap();
     let view = sr::ShaftsView { width: 64, height: 36 };
-    for (stage, map) in [(sr::Stage::window_shafts(), sr::SHADOW_MAP), (sr::Stage::street_lamp(), 1024)] {
+    let stages = [(sr::Stage::window_shafts(), sr::SHADOW_MAP), (sr::Stage::street_lamp(), 1024)];
+    for ((stage, map), webgl) in stages.into_iter().flat_map(|s| [(s.clone(), false), (s, true)]) {
         let what = format!(
-            "{} ({} light, {map}² {}), VolumetricLights with castShadow, {}",
+            "{} ({} light, {map}² {}), VolumetricLights with castShadow on {}, {}",
             stage.name,
             if stage.spot.is_some() { "spot" } else { "point" },
             if stage.spot.is_some() { "map" } else { "cube map" },
+            if webgl { "the WebGL 2 backend" } else { "WebGPU" },
             k.name
         );
         let basis = browser::three_basis(stage.camera_basis()[0]);
         let dirs: Vec<[f64; 3]> = (0..view.width * view.height)
             .map(|i| view.dir_from(basis, i % view.width, i / view.width).map(f64::from))
             .collect();
-        let page = browser::lights_page_tsl(k, &stage, &view, false, Some(map));
+        let page = browser::lights_page_tsl(k, &stage, &view, webgl, Some(map));
         let files = browser::page_files(&three, &package, page).unwrap();
         // About 3 minutes a page alone in release here (the walk's shaders
         // compiled by SwiftShader, four frames each rebuilding the pyramid).
@@ -643,4 +645,87 @@ fn example_page_against_the_reference(webgl: bool) {
         );
         airlight_truth::io::write_atomic(&out.join(format!("{base}.toml")), toml.as_bytes()).unwrap();
     }
+}
+
+/// Every menu kernel's spot entry (the package's `kernels/`) on WebGL 2 as
+/// `VolumetricLightsPass` calls it — every argument a run-time uniform, the
+/// kernel's GLSL from its import-free sources module — against the same entry
+/// in the generated Rust (`airlight-kernels`, f32) on 32 rays that cross the
+/// cone, half of them ending on a surface. A guard, too: ANGLE's GL on
+/// SwiftShader compiled phi's spot entry with a run-time g for over 10 minutes
+/// while its `u_and_weight` chose by `?:`; a kernel that brings such a shader
+/// back runs this page past its timeout.
+#[test]
+fn every_menu_kernels_spot_entry_draws_on_webgl2_with_run_time_arguments() {
+    let Some((chrome, three)) = chromium_and_three("spot_entries", "three.module.js") else { return };
+    let tmp = std::env::temp_dir().join(format!("airlight-three-spot-entries-{}", std::process::id()));
+    let package = packed_package(&tmp);
+    let mut names: Vec<String> = std::fs::read_dir(package.join("kernels"))
+        .unwrap()
+        .flatten()
+        .filter_map(|e| e.file_name().to_string_lossy().strip_suffix(".js").map(str::to_string))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "the menu: {names:?}");
+    let args = browser::SpotArgs {
+        origin: [0.0, 1.0, 0.0],
+        light: [0.0, 5.0, 6.0],
+        axis: [0.0, -1.0, 0.1],
+        cone: [0.7, 0.85, 50.0],
+        sigma_t: [0.05, 0.1, 0.2],
+        sigma_s: [0.04, 0.08, 0.1],
+        g: 0.6,
+        fan: [-0.6, 1.2 / 32.0, 0.25, 15.0],
+    };
+    let width = 32;
+    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    let page = browser::spot_entries_page(&refs, &args, width);
+    let (adapter, bytes) =
+        browser::draw_raw_within(&chrome, browser::page_files(&three, &package, page).unwrap(), "index.html", 600)
+            .unwrap_or_else(|e| panic!("spot entries: {e}"));
+    eprintln!("spot entries on WebGL 2: {adapter}");
+    let w = width as usize;
+    assert_eq!(bytes.len(), 16 * w * names.len(), "one row of {w} RGBA32F per kernel");
+    let f = |i: usize| f32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]]);
+    for (y, name) in names.iter().enumerate() {
+        let k = airlight_kernels::kernel(name).unwrap_or_else(|| panic!("{name}: not in airlight-kernels"));
+        let spot = k.spot.unwrap_or_else(|| panic!("{name}: no spot entry in airlight-kernels"));
+        let (mut worst, mut peak, mut lit) = (0.0f64, 0.0f64, 0);
+        let mut rows = Vec::with_capacity(w);
+        for x in 0..w {
+            let dir = [args.fan[0] + args.fan[1] * (x as f32 + 0.5), args.fan[2], 1.0];
+            let surface = if x % 2 == 0 { args.fan[3] } else { -1.0 };
+            let want = spot(
+                args.origin,
+                dir,
+                surface,
+                args.light,
+                args.axis,
+                args.cone[0],
+                args.cone[1],
+                args.cone[2],
+                args.sigma_t,
+                args.sigma_s,
+                args.g,
+            );
+            let got: [f32; 3] = std::array::from_fn(|c| f((y * w + x) * 4 + c));
+            assert!(got.iter().all(|v| v.is_finite() && *v >= 0.0), "{name}: ray {x}: {got:?}");
+            peak = want.iter().fold(peak, |m, &v| m.max(f64::from(v)));
+            lit += usize::from(want[0] > 0.0);
+            rows.push((got, want));
+        }
+        for (got, want) in &rows {
+            for c in 0..3 {
+                let (g, r) = (f64::from(got[c]), f64::from(want[c]));
+                worst = worst.max((g - r).abs() / r.max(1e-3 * peak));
+            }
+        }
+        let seconds = f((y * w) * 4 + 3);
+        eprintln!("{name}: compiled and drawn in {seconds:.2} s; {lit} of {w} rays lit; GLSL against Rust f32: worst {worst:.1e} (relative, floor 1e-3 of the row's peak)");
+        assert!(lit >= w / 4, "{name}: the fan crosses the cone ({lit} rays lit)");
+        // This checkout's run: 3.1e-6 to 3.2e-6 for every kernel, each compiled
+        // and drawn within 4.2 s (phi-8 the slowest).
+        assert!(worst <= 1e-4, "{name}: WebGL 2 against the Rust f32 kernel: {worst:e}");
+    }
+    std::fs::remove_dir_all(&tmp).ok();
 }
