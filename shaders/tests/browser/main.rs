@@ -271,8 +271,8 @@ fn light_shafts_exact_to_three_js_shadow_maps_match_the_reference() {
 /// angle and penumbra to the smooth cone, an RGB medium) and a `THREE.PointLight`
 /// (street-lamp: a coloured light in grey fog), each of the stage's intensity
 /// in three's units (candela × colour) — added to a `VolumetricLights`, the ray
-/// to the first surface taken from three's own depth pass and camera, drawn on
-/// WebGPU. Against the reference computed here for the same camera, light and
+/// to the first surface taken from three's own depth pass and camera. Against
+/// the reference computed here for the same camera, light and
 /// medium (`shafts: false`: the shafts test is
 /// `volumetric_lights_cast_shafts_from_three_js_shadow_maps`), over the rays
 /// three's camera casts and the distances the page read from its depth, on
