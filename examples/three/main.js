@@ -22,8 +22,7 @@ const offscreen = fixed && !webgl ? new THREE.RenderTarget(fixed[0], fixed[1]) :
 if (offscreen) renderer.setOutputRenderTarget(offscreen);
 document.getElementById('renderer').textContent = webgl ? 'WebGLRenderer' : 'WebGPURenderer';
 const shaftsBox = document.getElementById('shafts');
-shaftsBox.checked = !webgl && query.get('shafts') === '1';
-shaftsBox.disabled = webgl;
+shaftsBox.checked = query.get('shafts') === '1';
 shaftsBox.addEventListener('change', () => {
   query.set('shafts', shaftsBox.checked ? '1' : '0');
   location.search = '?' + query;
@@ -93,10 +92,10 @@ resize();
 // menu whose declared bound meets it) a VolumetricLights (WebGPU: the composite is
 // PostProcessing's output) or a VolumetricLightsPass (WebGL: the composer's pass,
 // which draws the scene itself), rebuilt on a switch.
-// Shafts (WebGPU only): each light's glow walked exactly over its own shadow map;
-// off by default, a checkbox (SwiftShader, a CPU adapter, walks the three maps
-// slowly; this page's reference holds none of the street's occluders).
-const shafts = !webgl && query.get('shafts') === '1';
+// Shafts (both renderers): each light's glow walked exactly over its own shadow
+// map; off by default, a checkbox (SwiftShader, a CPU adapter, walks the three
+// maps slowly; this page's reference holds none of the street's occluders).
+const shafts = query.get('shafts') === '1';
 const limits = shafts ? { maxPointLights: 0, maxSpotLights: 0, shafts: true, maxShadowedLights: 3 } : { maxPointLights: 2, maxSpotLights: 1, shafts: false };
 let fog = null;
 let draw;

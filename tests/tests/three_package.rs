@@ -48,11 +48,16 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     std::fs::create_dir_all(&tmp).unwrap();
     let mut shafts = 0;
     let shadow = std::fs::read_to_string(dir.join("../shadow.js")).unwrap();
-    // The exact mode's walk (one code node per language, in shadowmap.js) and its
-    // pyramid passes, compiled with it.
+    // The exact mode's walk (one string per language, in the import-free walk.js,
+    // which shadowmap.js wraps as code nodes) and its pyramid passes, compiled with it.
+    let walk = std::fs::read_to_string(dir.join("../walk.js")).unwrap();
+    assert!(!walk.lines().any(|l| l.starts_with("import ")), "walk.js imports");
+    let (walk_wgsl, walk_glsl) = (exported(&walk, "walkWGSL"), exported(&walk, "walkGLSL"));
     let smap = std::fs::read_to_string(dir.join("../shadowmap.js")).unwrap();
-    let walk_wgsl = string_args(&smap, "wgslCode").join("\n");
-    let walk_glsl = string_args(&smap, "glslCode").join("\n");
+    assert!(
+        smap.contains("wgslCode(walkWGSL)") && smap.contains("glslCode(walkGLSL)"),
+        "shadowmap.js wraps walk.js's strings"
+    );
     assert!(walk_wgsl.contains("fn airlight_smap_next(") && walk_glsl.contains("vec2 airlight_smap_next("), "the walk");
     let passes = format!("{walk_wgsl}\n{}\n", string_args(&smap, "wgslFn").join("\n"));
     let module =
@@ -117,6 +122,42 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
             String::from_utf8_lossy(&out.stdout),
             String::from_utf8_lossy(&out.stderr)
         );
+        // The sources' exact spot entry (WebGLRenderer's pass): after the kernel's
+        // GLSL and the walk, called, as GLSL ES 3.00; null exactly where the
+        // module has no exact nodes.
+        let open = "export const shaftsSpotExactGLSL = ";
+        let at = sources.find(open).unwrap_or_else(|| panic!("{name}: no shaftsSpotExactGLSL")) + open.len();
+        let literal = &sources[at..at + sources[at..].find(";\n").unwrap()];
+        let has_exact = fns.iter().any(|f| f.contains("shaftsSpotExact_tsl("));
+        assert_eq!(literal != "null", has_exact, "{name}: shaftsSpotExactGLSL against the exact nodes");
+        if has_exact {
+            let exact: String = serde_json::from_str(literal).unwrap();
+            let p = exported(&sources, "prefix");
+            let call = format!("{p}shafts_spot_exact(");
+            assert!(exact.contains(&format!("vec3 {call}")), "{name}: {exact}");
+            let frag = format!(
+                "#version 300 es\nprecision highp float;\n{glsl}\n{walk_glsl}\n{exact}\nuniform highp sampler2D e;\nuniform highp sampler2D o;\nout highp vec4 color;\nvoid main() {{ color = vec4({call}{}), 1.0); }}\n",
+                exact[exact.find('(').unwrap() + 1..exact.find(')').unwrap()]
+                    .split(',')
+                    .map(|a| match a.split_whitespace().collect::<Vec<_>>().as_slice() {
+                        [.., "sampler2D", "pyramid_even"] => "e".to_string(),
+                        [.., "sampler2D", "pyramid_odd"] => "o".to_string(),
+                        [ty, _] => format!("{ty}(0.5)"),
+                        other => panic!("{name}: parameter {other:?}"),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            let file = tmp.join(format!("{name}.exact.frag"));
+            std::fs::write(&file, frag).unwrap();
+            let out = Command::new(glslang()).arg(&file).output().unwrap();
+            assert!(
+                out.status.success(),
+                "{name}: the exact spot entry: {}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
         if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
             let out = Command::new("node").arg("--check").arg(path).output().unwrap();
             assert!(out.status.success(), "{name}: node --check: {}", String::from_utf8_lossy(&out.stderr));
@@ -125,7 +166,7 @@ fn every_module_carries_its_sources_and_every_tsl_function_compiles() {
     assert!(shafts >= 10, "{shafts} shafts nodes");
     assert!(exact >= 10, "{exact} exact shafts nodes");
     if Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
-        for f in ["shadow.js", "shadowmap.js", "lights.js"] {
+        for f in ["shadow.js", "walk.js", "shadowmap.js", "lights.js", "lightset.js", "webgl.js"] {
             let out = Command::new("node").arg("--check").arg(dir.join("..").join(f)).output().unwrap();
             assert!(out.status.success(), "{f}: node --check: {}", String::from_utf8_lossy(&out.stderr));
         }
@@ -142,9 +183,8 @@ fn two_kernels_shafts_nodes_compose_with_one_shadow_look_up() {
     let shadow = std::fs::read_to_string(dir.join("shadow.js")).unwrap();
     let lookup: Vec<String> = string_args(&shadow, "wgslCode");
     assert_eq!(lookup.len(), 1, "one WGSL look-up in shadow.js");
-    let walk = string_args(&std::fs::read_to_string(dir.join("shadowmap.js")).unwrap(), "wgslCode");
-    assert_eq!(walk.len(), 1, "one WGSL walk in shadowmap.js");
-    let mut src = format!("{}\n{}", lookup[0], walk[0]);
+    let walk = exported(&std::fs::read_to_string(dir.join("walk.js")).unwrap(), "walkWGSL");
+    let mut src = format!("{}\n{walk}", lookup[0]);
     for name in ["phi-4", "phi-iso-6"] {
         let js = std::fs::read_to_string(dir.join(format!("kernels/{name}.js"))).unwrap();
         assert!(js.contains("from '../shadow.js'"), "{name}: imports the shared look-up");
@@ -287,4 +327,100 @@ console.log(JSON.stringify(out));
     assert!(v["costs"].as_bool().unwrap(), "every menu kernel has a measured cost: {v}");
     assert!(v["loaded"].as_bool().unwrap(), "{v}");
     assert!(v["bad"].as_str().unwrap().contains("maxError"), "{v}");
+}
+
+/// Copies `from` into `to`, folders and all.
+fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap().flatten() {
+        let (src, dst) = (e.path(), to.join(e.file_name()));
+        if src.is_dir() {
+            copy_tree(&src, &dst);
+        } else {
+            std::fs::copy(&src, &dst).unwrap();
+        }
+    }
+}
+
+/// `VolumetricLightsPass` (WebGLRenderer), built in Node with three.js r187 as a
+/// page builds it, for every kernel on the menu — a point, a spot and (shafts on)
+/// a shadowed slot — with shafts off and on: its fragment shader, each kernel call
+/// built from the entry's own signature (a kernel without extinction takes no
+/// σt), compiles as GLSL ES 3.00 (glslang, three's `#include`s aside); with shafts
+/// on, a kernel without an exact entry is refused in one line that says so.
+#[test]
+fn every_menu_kernels_webgl_pass_shader_compiles() {
+    let Some(node) = airlight_tests::npm_tools("three") else { return };
+    let tmp = std::env::temp_dir().join(format!("airlight-three-pass-{}", std::process::id()));
+    std::fs::remove_dir_all(&tmp).ok();
+    copy_tree(&generated_dir().join("three/airlight-three"), &tmp.join("node_modules/airlight-three"));
+    std::os::unix::fs::symlink(node.join("node_modules/three"), tmp.join("node_modules/three")).unwrap();
+    std::fs::write(
+        tmp.join("build.mjs"),
+        "import * as THREE from 'three';
+import { kernels } from 'airlight-three';
+import { VolumetricLightsPass } from 'airlight-three/webgl.js';
+const scene = new THREE.Scene();
+const camera = new THREE.PerspectiveCamera();
+const out = [];
+for (const k of kernels) {
+  const S = await import(`airlight-three/sources/${k.name}.js`);
+  for (const shafts of [false, true]) {
+    try {
+      const p = new VolumetricLightsPass(scene, camera, S, { sigmaT: 0.1, sigmaS: 0.05, name: k.name,
+        maxPointLights: 1, maxSpotLights: 1, shafts, maxShadowedLights: 1 });
+      out.push({ name: k.name, shafts, fragment: p.material.fragmentShader });
+      p.dispose();
+    } catch (e) {
+      out.push({ name: k.name, shafts, error: e.message });
+    }
+  }
+}
+console.log(JSON.stringify(out));
+",
+    )
+    .unwrap();
+    let out = Command::new("node").arg("build.mjs").current_dir(&tmp).output().unwrap();
+    assert!(out.status.success(), "node: {}", String::from_utf8_lossy(&out.stderr));
+    let built: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let menu = built.len() / 2;
+    assert!(menu >= 10, "{menu} kernels on the menu");
+    let mut shafts = 0;
+    for b in &built {
+        let (name, on) = (b["name"].as_str().unwrap(), b["shafts"].as_bool().unwrap());
+        if let Some(e) = b["error"].as_str() {
+            assert!(on, "{name}: the pass without shafts refused: {e}");
+            assert_eq!(e, format!("airlight-three: {name} has no exact shafts entry; pass shafts: false"), "{name}");
+            continue;
+        }
+        let fragment = b["fragment"].as_str().unwrap();
+        shafts += usize::from(on);
+        assert_eq!(
+            fragment.contains("shafts_spot_exact("),
+            on,
+            "{name}: the walk is in the shader exactly with shafts"
+        );
+        let body: String = fragment
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("#include"))
+            .map(|l| l.replace("varying ", "in "))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let file = tmp.join(format!("{name}-{on}.frag"));
+        std::fs::write(
+            &file,
+            format!("#version 300 es\nprecision highp float;\nprecision highp int;\n#define NP 1\n#define NS 1\nout highp vec4 pc_fragColor;\n#define gl_FragColor pc_fragColor\n{body}\n"),
+        )
+        .unwrap();
+        let out = Command::new(glslang()).arg(&file).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name} (shafts {on}): {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    eprintln!("VolumetricLightsPass: {menu} menu kernels' shaders compile, {shafts} with shafts");
+    assert!(shafts >= 10, "{shafts} kernels cast shafts through the pass");
+    std::fs::remove_dir_all(&tmp).ok();
 }

@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 /// The generator's own templates, by name: one kernel template per target (the
 /// entry points), the spot entry and the shared math they include, the Rust
 /// crate's files and the scene plan.
-pub const TEMPLATES: [(&str, &str); 57] = [
+pub const TEMPLATES: [(&str, &str); 59] = [
     ("kernel.wgsl.tera", include_str!("../../templates/kernels/kernel.wgsl.tera")),
     ("kernel.glsl.tera", include_str!("../../templates/kernels/kernel.glsl.tera")),
     ("kernel.rs.tera", include_str!("../../templates/kernels/kernel.rs.tera")),
@@ -69,6 +69,8 @@ pub const TEMPLATES: [(&str, &str); 57] = [
     ("three/shadow.d.ts.tera", include_str!("../../templates/packages/three/shadow.d.ts.tera")),
     ("three/exact.wgsl.tera", include_str!("../../templates/packages/three/exact.wgsl.tera")),
     ("three/exact.glsl.tera", include_str!("../../templates/packages/three/exact.glsl.tera")),
+    ("three/walk.js.tera", include_str!("../../templates/packages/three/walk.js.tera")),
+    ("three/walk.d.ts.tera", include_str!("../../templates/packages/three/walk.d.ts.tera")),
     ("three/shadowmap.js.tera", include_str!("../../templates/packages/three/shadowmap.js.tera")),
     ("three/shadowmap.d.ts.tera", include_str!("../../templates/packages/three/shadowmap.d.ts.tera")),
     ("three/lights.js.tera", include_str!("../../templates/packages/three/lights.js.tera")),

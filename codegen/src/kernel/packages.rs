@@ -135,6 +135,8 @@ struct ThreeModule {
     /// `{ thin: …, dense: …, f32Thin: …, f32Dense: … }` (JavaScript).
     bound: String,
     entries: Vec<TslView>,
+    /// The spot entry's exact mode in plain GLSL (a JavaScript string literal), or `null`.
+    spot_exact_glsl: String,
 }
 
 /// `text` as a JavaScript (and JSON) string literal.
@@ -351,63 +353,107 @@ fn atlas_walk(tera: &tera::Tera, glsl: bool) -> Result<String, tera::Error> {
     Ok(format!("{layout}\n{walk}"))
 }
 
-/// TSL nodes of the exact mode (`shaftsExact`, `shaftsSpotExact`): the view ray's
-/// lit runs from the shadow-map walk over a `ShadowPyramid` of a three.js map
-/// (`airlight-three/shadowmap.js`), each handed to the kernel's accumulator;
-/// their code from `three/exact.{wgsl,glsl}.tera`.
-fn exact_entries(tera: &tera::Tera, spec: &KernelSpec) -> Result<Vec<TslEntry>, tera::Error> {
+/// The exact mode's entries of a kernel with shafts: (entry, its node's name,
+/// the accumulator's flush and finish) for the radiance and the spot entry
+/// where they take a surface.
+fn exact_forms(spec: &KernelSpec) -> Vec<(Entry, &'static str, &'static str, &'static str)> {
     if !spec.shafts {
-        return Ok(Vec::new());
+        return Vec::new();
     }
-    let p = spec.prefix();
     [
         (Entry::Radiance, "shaftsExact", "shafts_flush", "shafts_finish"),
         (Entry::Spot, "shaftsSpotExact", "shafts_flush_spot", "shafts_finish_spot"),
     ]
     .into_iter()
     .filter(|(e, ..)| spec.args(*e).iter().any(|a| a.name() == "surface"))
-    .map(|(e, entry, flush, finish)| {
-        let args = spec.args(e);
-        let rgb = e.outputs() == 3;
-        let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
-        let rest = rest.join(", ");
-        let name = format!("{p}{entry}_tsl");
-        let render = |lang: &str, glsl: bool| {
-            let mut ctx = tera::Context::new();
-            ctx.insert("header", GLSL_PROPERTY);
-            ctx.insert("name", &name);
-            ctx.insert("params", &param_list(&args, glsl));
-            ctx.insert(
-                "ret",
-                match (glsl, rgb) {
-                    (false, true) => "vec3<f32>",
-                    (false, false) => "f32",
-                    (true, true) => "vec3",
-                    (true, false) => "float",
-                },
-            );
-            ctx.insert("p", &p);
-            ctx.insert("flush", flush);
-            ctx.insert("finish", finish);
-            ctx.insert("rest", &rest);
-            tera.render(&format!("three/exact.{lang}.tera"), &ctx)
-        };
-        let (wgsl_fn, glsl_fn) = (render("wgsl", false)?, render("glsl", true)?);
-        let mut params: Vec<&'static str> = args.iter().map(|a| a.name()).collect();
-        params.extend(["pyramid_even", "pyramid_odd", "smap_rows", "smap_cube", "smap_res", "smap_bias"]);
-        Ok(TslEntry {
-            entry,
-            name: format!("{p}{finish}"),
-            wgsl_fn: js_string(wgsl_fn.trim_end()),
-            glsl_fn: js_string(glsl_fn.trim_end()),
-            includes: vec!["smapWGSL"],
-            glsl_includes: vec!["smapGLSL"],
-            shadow_at: None,
-            params,
-            rgb,
-        })
-    })
     .collect()
+}
+
+/// One exact entry's code (`three/exact.{wgsl,glsl}.tera`): the view ray's lit
+/// runs from the walk, each handed to the kernel's accumulator. GLSL takes the
+/// pyramid's atlases as `sampler` (TSL's `property`, or a plain sampler).
+struct ExactCode<'a> {
+    name: &'a str,
+    glsl: bool,
+    header: &'a str,
+    sampler: &'a str,
+}
+
+fn exact_code(
+    tera: &tera::Tera,
+    spec: &KernelSpec,
+    (e, _, flush, finish): (Entry, &str, &str, &str),
+    code: ExactCode<'_>,
+) -> Result<String, tera::Error> {
+    let args = spec.args(e);
+    let rgb = e.outputs() == 3;
+    let rest: Vec<&str> = args.iter().filter(|a| a.name() != "surface").map(|a| a.name()).collect();
+    let mut ctx = tera::Context::new();
+    ctx.insert("header", code.header);
+    ctx.insert("sampler", code.sampler);
+    ctx.insert("name", code.name);
+    ctx.insert("params", &param_list(&args, code.glsl));
+    ctx.insert(
+        "ret",
+        match (code.glsl, rgb) {
+            (false, true) => "vec3<f32>",
+            (false, false) => "f32",
+            (true, true) => "vec3",
+            (true, false) => "float",
+        },
+    );
+    ctx.insert("p", &spec.prefix());
+    ctx.insert("flush", flush);
+    ctx.insert("finish", finish);
+    ctx.insert("rest", &rest.join(", "));
+    let lang = if code.glsl { "glsl" } else { "wgsl" };
+    Ok(tera.render(&format!("three/exact.{lang}.tera"), &ctx)?.trim_end().to_string())
+}
+
+/// TSL nodes of the exact mode (`shaftsExact`, `shaftsSpotExact`): the view ray's
+/// lit runs from the shadow-map walk over a `ShadowPyramid` of a three.js map
+/// (`airlight-three/shadowmap.js`), each handed to the kernel's accumulator.
+fn exact_entries(tera: &tera::Tera, spec: &KernelSpec) -> Result<Vec<TslEntry>, tera::Error> {
+    let p = spec.prefix();
+    exact_forms(spec)
+        .into_iter()
+        .map(|form| {
+            let (e, entry, _, finish) = form;
+            let name = format!("{p}{entry}_tsl");
+            let tsl = |glsl: bool| ExactCode { name: &name, glsl, header: GLSL_PROPERTY, sampler: "property" };
+            let (wgsl_fn, glsl_fn) =
+                (exact_code(tera, spec, form, tsl(false))?, exact_code(tera, spec, form, tsl(true))?);
+            let mut params: Vec<&'static str> = spec.args(e).iter().map(|a| a.name()).collect();
+            params.extend(["pyramid_even", "pyramid_odd", "smap_rows", "smap_cube", "smap_res", "smap_bias"]);
+            Ok(TslEntry {
+                entry,
+                name: format!("{p}{finish}"),
+                wgsl_fn: js_string(&wgsl_fn),
+                glsl_fn: js_string(&glsl_fn),
+                includes: vec!["smapWGSL"],
+                glsl_includes: vec!["smapGLSL"],
+                shadow_at: None,
+                params,
+                rgb: e.outputs() == 3,
+            })
+        })
+        .collect()
+}
+
+/// The spot entry's exact mode as plain GLSL ES 3.00 for the sources module
+/// (`shaftsSpotExactGLSL`, the function `<prefix>shafts_spot_exact`, the
+/// atlases as `highp sampler2D`): what WebGLRenderer's pass calls, after the
+/// kernel's GLSL and the walk (`airlight-three/walk.js`). None: no shafts.
+fn exact_spot_glsl(tera: &tera::Tera, spec: &KernelSpec) -> Result<Option<String>, tera::Error> {
+    let p = spec.prefix();
+    let name = format!("{p}shafts_spot_exact");
+    exact_forms(spec)
+        .into_iter()
+        .find(|f| f.0 == Entry::Spot)
+        .map(|form| {
+            exact_code(tera, spec, form, ExactCode { name: &name, glsl: true, header: "", sampler: "highp sampler2D" })
+        })
+        .transpose()
 }
 
 /// The `glslFn` header that lets an exact node take the pyramid's textures:
@@ -539,6 +585,8 @@ pub(super) fn render(
                     f32n(Domain::Thin),
                     f32n(Domain::Dense)
                 ),
+                spot_exact_glsl: if runs { exact_spot_glsl(tera, spec)? } else { None }
+                    .map_or("null".to_string(), |c| js_string(&c)),
                 entries: tsl_entries(tera, spec, runs)?
                     .into_iter()
                     .map(|e| TslView { args_type: e.args_type(), entry: e })
@@ -559,6 +607,7 @@ pub(super) fn render(
     let kernels: Vec<PackageKernelView> = packaged(specs).map(view).collect();
     let modules: Vec<PackageKernelView> =
         specs.iter().filter(|s| s.targets.contains(&Target::Wgsl)).map(view).collect();
+    let (walk_wgsl, walk_glsl) = (js_string(&atlas_walk(tera, false)?), js_string(&atlas_walk(tera, true)?));
     for f in &table.package_file {
         let mut ctx = tera::Context::new();
         ctx.insert("kernels", &kernels);
@@ -566,8 +615,8 @@ pub(super) fn render(
         ctx.insert("version", env!("CARGO_PKG_VERSION"));
         ctx.insert("shadow_lookup", &js_string(SHADOW_LOOKUP_WGSL));
         ctx.insert("shadow_lookup_glsl", &js_string(SHADOW_LOOKUP_GLSL));
-        ctx.insert("walk_wgsl", &js_string(&atlas_walk(tera, false)?));
-        ctx.insert("walk_glsl", &js_string(&atlas_walk(tera, true)?));
+        ctx.insert("walk_wgsl", &walk_wgsl);
+        ctx.insert("walk_glsl", &walk_glsl);
         ctx.insert("glsl_property", &js_string(GLSL_PROPERTY));
         ctx.insert("generated_by", GENERATED_BY);
         ctx.insert("template", &format!("codegen/templates/packages/{}", f.template));

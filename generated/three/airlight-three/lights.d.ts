@@ -24,7 +24,7 @@ export interface Limits {
 }
 
 /**
- * Shafts (VolumetricLights only): a light added with `castShadow` is walked
+ * Shafts: a light added with `castShadow` is walked
  * exactly over its own shadow map (square, a power of two) in one of
  * `maxShadowedLights` slots (default DEFAULT_SHADOWED_LIGHTS) while `shafts` is
  * true (the default; false: every light unshadowed, and no walk in the shader);

@@ -12,13 +12,10 @@
 import { DataTexture, FloatType, Matrix3, RGFormat, Vector3 } from 'three';
 import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
-import { LightSet, limits, medium, slots, terms } from './lightset.js';
+import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
 import { ShadowPyramid } from './shadowmap.js';
 
-export { MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
-
-/** Lights with `castShadow` a pass casts shafts from unless told otherwise (`maxShadowedLights`). */
-export const DEFAULT_SHADOWED_LIGHTS = 2;
+export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
 /**
  * The in-scattered light of three.js's point and spot lights in a homogeneous

@@ -6,6 +6,8 @@ import type { PointLight, SpotLight, Vector3 } from 'three';
 export declare const MAX_POINT_LIGHTS: number;
 export declare const MAX_SPOT_LIGHTS: number;
 export declare const MAX_SHADOWED_LIGHTS: number;
+/** Lights with `castShadow` a pass casts shafts from unless told (`maxShadowedLights`). */
+export declare const DEFAULT_SHADOWED_LIGHTS: number;
 /** The medium checked (σs ≤ σt per channel, g in (−1, 1), g = 0 unless the kernel takes g). */
 export declare function medium(m: { sigmaT: number | number[]; sigmaS: number | number[]; g?: number }, takesG: boolean, name: string): { sigmaT: Vector3; sigmaS: Vector3; g: number };
 /** The slots of each kind, checked against the caps. */

@@ -14,6 +14,8 @@ export const MAX_POINT_LIGHTS = 4;
 export const MAX_SPOT_LIGHTS = 4;
 /** Lights casting shafts (`castShadow`, each walked over its own shadow map) one pass takes. */
 export const MAX_SHADOWED_LIGHTS = 4;
+/** Lights with `castShadow` a pass casts shafts from unless told otherwise (`maxShadowedLights`). */
+export const DEFAULT_SHADOWED_LIGHTS = 2;
 
 function rgb(v, what) {
   const a = typeof v === 'number' ? [v, v, v] : Array.from(v ?? []);

@@ -8,13 +8,19 @@
 // kernel's GLSL ES 3.00 entries, and writes the scene's colour times the
 // medium's transmittance plus the fog. It is an EffectComposer pass (it renders
 // the scene itself: put it first, in place of a RenderPass, and an OutputPass
-// after it), or draws on its own with `render(renderer)`.
+// after it), or draws on its own with `render(renderer)`. A light added with
+// `castShadow` casts shafts: its glow walked exactly over its own shadow map
+// (the walk of walk.js over a `ShadowPyramidGL` the pass rebuilds from the map
+// after each scene render).
 import {
-  DepthTexture, FloatType, HalfFloatType, Mesh, OrthographicCamera, PlaneGeometry, Scene, ShaderMaterial,
-  Vector2, Vector3, WebGLRenderTarget,
+  DepthTexture, FloatType, HalfFloatType, Matrix3, Mesh, NearestFilter, OrthographicCamera, PlaneGeometry, RGFormat,
+  Scene, ShaderMaterial, Vector2, Vector3, WebGLRenderTarget,
 } from 'three';
 import { pick } from './index.js';
-import { LightSet, limits, medium, slots } from './lightset.js';
+import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
+import { atlasOrigin, atlasSize, spotRows, walkableMap, walkGLSL } from './walk.js';
+
+export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
 const VERTEX = `
 varying vec2 vUv;
@@ -44,6 +50,7 @@ uniform vec3 spotIntensity[NS];
 uniform vec3 spotAxis[NS];
 uniform vec3 spotCone[NS];
 uniform int spotCount;
+SHADOWED_UNIFORMS
 uniform int fogOnly;
 varying vec2 vUv;
 
@@ -70,33 +77,233 @@ LIGHTS
 `;
 
 /**
- * The lights' code: one block per slot, its uniform arrays read at constant
- * indices. (A loop over the slots, reading them at the loop's index, never
- * finished drawing on ANGLE over SwiftShader, Chromium's software GL, in this
- * package's test; with the kernel's call replaced by a stub it did.)
+ * A call of the kernel's GLSL function `fn` built from its own signature: each
+ * parameter by name from `args` (kernels differ: one without extinction takes
+ * no sigma_t, an isotropic one no g). Refuses, naming it, a parameter the pass
+ * has nothing for.
  */
-function lightBlocks(p, points, spots, takesG) {
-  const g = takesG ? ', g' : '';
+function callOf(glsl, fn, args) {
+  const m = new RegExp(`\\b${fn}\\(([^)]*)\\)\\s*\\{`).exec(glsl);
+  if (!m) throw new Error(`airlight-three: the kernel's GLSL has no ${fn}`);
+  const names = m[1].split(',').map((a) => a.trim().split(/\s+/).pop());
+  for (const n of names) {
+    if (!(n in args)) throw new Error(`airlight-three: ${fn} takes ${n}, which VolumetricLightsPass does not pass`);
+  }
+  return `${fn}(${names.map((n) => args[n]).join(', ')})`;
+}
+
+/**
+ * The lights' code: one block per slot, its uniform arrays read at constant
+ * indices (GLSL ES 3.00 indexes an array of samplers by constants only).
+ */
+function lightBlocks(sources, points, spots, shadowed) {
+  const p = sources.prefix;
+  const common = { origin: 'cameraOrigin', dir: 'ray', surface: 'surface', g: 'g' };
   const blocks = [];
   for (let i = 0; i < points; i++) {
     // The radiance entry is one channel: once per channel of the medium.
+    const call = callOf(sources.glsl, `${p}radiance`, { ...common, light: 'at', intensity: 'intensity[c]', sigma_t: 'sigmaT[c]', sigma_s: 'sigmaS[c]' });
     blocks.push(`    if (pointCount > ${i}) {
         vec3 at = pointPosition[${i}];
         vec3 intensity = pointIntensity[${i}];
         for (int c = 0; c < 3; c++) {
-            fog[c] += max(${p}radiance(cameraOrigin, ray, surface, at, intensity[c], sigmaT[c], sigmaS[c]${g}), 0.0);
+            fog[c] += max(${call}, 0.0);
         }
     }`);
   }
+  // The spot entry takes one intensity and an RGB medium: the colour outside.
+  const spot = { ...common, cos_outer: 'cone.x', cos_inner: 'cone.y', intensity: '1.0', sigma_t: 'sigmaT', sigma_s: 'sigmaS' };
   for (let i = 0; i < spots; i++) {
-    // The spot entry takes one intensity and an RGB medium: the colour outside.
+    const call = callOf(sources.glsl, `${p}spot`, { ...spot, light: `spotPosition[${i}]`, axis: `spotAxis[${i}]` });
     blocks.push(`    if (spotCount > ${i}) {
         vec3 cone = spotCone[${i}];
-        vec3 l = ${p}spot(cameraOrigin, ray, surface, spotPosition[${i}], spotAxis[${i}], cone.x, cone.y, 1.0, sigmaT, sigmaS${g});
-        fog += max(l, vec3(0.0)) * spotIntensity[${i}];
+        fog += max(${call}, vec3(0.0)) * spotIntensity[${i}];
+    }`);
+  }
+  // The lights with shafts: one walk over each one's shadow map, exact to the
+  // map's nearest-texel test (a point light: the spot entry with no cone).
+  for (let i = 0; i < shadowed; i++) {
+    const call = callOf(sources.glsl + sources.shaftsSpotExactGLSL, `${p}shafts_spot_exact`, {
+      ...spot, light: `shadowPosition[${i}]`, axis: `shadowAxis[${i}]`, pyramid_even: `shadowEven[${i}]`,
+      pyramid_odd: `shadowOdd[${i}]`, smap_rows: `shadowRows[${i}]`, smap_cube: 'map.x', smap_res: 'map.y', smap_bias: 'map.z',
+    });
+    blocks.push(`    if (shadowCount > ${i}) {
+        vec3 cone = shadowCone[${i}];
+        vec3 map = shadowMap[${i}];
+        fog += max(${call}, vec3(0.0)) * shadowIntensity[${i}];
     }`);
   }
   return blocks.join('\n');
+}
+
+/** The shadowed slots' uniforms (none without shafts). */
+function shadowedUniforms(n) {
+  if (n === 0) return '';
+  return ['vec3 shadowPosition', 'vec3 shadowIntensity', 'vec3 shadowAxis', 'vec3 shadowCone', 'mat3 shadowRows',
+    // (cube 0 or 1, the map's side, the walk's bias)
+    'vec3 shadowMap', 'highp sampler2D shadowEven', 'highp sampler2D shadowOdd']
+    .map((u) => `uniform ${u}[${n}];`).concat(['uniform int shadowCount;']).join('\n');
+}
+
+// The pyramid's passes: a full-screen quad per level, into a viewport of an
+// atlas. The atlases' layout counts rows from the top (as TSL does): a pass's
+// fragment (x, y) is atlas texel (x, height − y).
+const PYRAMID_BASE = `
+uniform float res;
+uniform float near;
+uniform float far;
+uniform float height;
+#ifdef CUBE
+uniform highp samplerCube depthMap;
+#else
+uniform highp sampler2D depthMap;
+#endif
+void main() {
+    vec2 q = vec2(gl_FragCoord.x, height - gl_FragCoord.y);
+#ifdef CUBE
+    // The world direction through the walk's texel centre, as three.js's own
+    // point shadows look the cube up.
+    float d = texture(depthMap, airlight_smap_atlas_base_dir(res, q)).r;
+#else
+    // WebGLRenderer's map: texel row 0 is the map's bottom (Y/Z = -1), as the walk counts.
+    ivec3 at = airlight_smap_atlas_at(int(res), false, 0, q);
+    float d = texelFetch(depthMap, at.yz, 0).r;
+#endif
+    gl_FragColor = airlight_smap_atlas_linear(d, near, far);
+}
+`;
+
+const PYRAMID_REDUCE = `
+uniform highp sampler2D src;
+uniform float res;
+uniform float cube;
+uniform float level;
+uniform float height;
+void main() {
+    gl_FragColor = airlight_smap_atlas_reduce(src, res, cube, level, vec2(gl_FragCoord.x, height - gl_FragCoord.y));
+}
+`;
+
+/**
+ * The min-max pyramid of a three.js light's shadow map that the exact shafts
+ * walk, on WebGLRenderer (WebGL 2): a `SpotLight`'s map or a `PointLight`'s cube
+ * map, square, a power of two of at least 4 texels a side. The same atlases as
+ * `ShadowPyramid` (shadowmap.js) draws on WebGPURenderer, built by
+ * `ShaderMaterial` passes: `update(renderer)` after each render that drew the
+ * light's map. (`VolumetricLightsPass` holds one per light with shafts.)
+ */
+export class ShadowPyramidGL {
+  /** `bias`: the walk's depth bias in world units along the map's axis (default 0.01). */
+  constructor(light, { bias = 0.01 } = {}) {
+    const res = walkableMap(light);
+    this.light = light;
+    this.cube = light.isPointLight === true;
+    this.res = res;
+    this.top = Math.log2(res);
+    this.bias = bias;
+    const target = (odd) => {
+      const [w, h] = atlasSize(res, this.cube, odd);
+      return new WebGLRenderTarget(w, h, {
+        type: FloatType, format: RGFormat, depthBuffer: false, generateMipmaps: false,
+        minFilter: NearestFilter, magFilter: NearestFilter,
+      });
+    };
+    this.even = target(false);
+    this.odd = target(true);
+    /** The walk's rows of a spot map's camera (a cube map's faces are fixed). */
+    this.rows = new Matrix3();
+    const material = (fragment, uniforms) => new ShaderMaterial({
+      defines: this.cube ? { CUBE: 1 } : {},
+      uniforms, vertexShader: VERTEX, fragmentShader: walkGLSL + fragment, depthTest: false, depthWrite: false,
+    });
+    this.base = material(PYRAMID_BASE, {
+      res: { value: res }, near: { value: 0 }, far: { value: 1 }, height: { value: 1 }, depthMap: { value: null },
+    });
+    this.reduce = material(PYRAMID_REDUCE, {
+      src: { value: null }, res: { value: res }, cube: { value: this.cube ? 1 : 0 }, level: { value: 1 }, height: { value: 1 },
+    });
+    this.quad = new Mesh(new PlaneGeometry(2, 2), this.base);
+    this.quad.frustumCulled = false;
+    this.scene = new Scene();
+    this.scene.add(this.quad);
+    this.camera = new OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  }
+
+  /** Builds the pyramid from the light's shadow map as the last render drew it. */
+  update(renderer) {
+    const shadow = this.light.shadow;
+    if (!shadow.map || !shadow.map.depthTexture) throw new Error('airlight-three: no shadow map yet: render the scene with renderer.shadowMap.enabled first');
+    if (shadow.mapSize.x !== this.res || shadow.mapSize.y !== this.res) throw new Error('airlight-three: the shadow map changed size; add the light again');
+    if (renderer.state.buffers.depth.getReversed() === true) {
+      throw new Error('airlight-three: the exact mode reads a standard [0, 1] depth map (no reversed depth)');
+    }
+    if (renderer.capabilities.logarithmicDepthBuffer === true) throw new Error('airlight-three: the exact mode reads a standard [0, 1] depth map (no logarithmic depth)');
+    const cam = shadow.camera;
+    if (!this.cube) this.rows.set(...spotRows(cam));
+    const before = renderer.getRenderTarget();
+    const autoClear = renderer.autoClear;
+    renderer.autoClear = false;
+    const draw = (k, material) => {
+      const target = k & 1 ? this.odd : this.even;
+      const [x, top] = atlasOrigin(this.res, this.cube, 0, k);
+      const m = this.res >> k;
+      const [w, h] = [(this.cube ? 3 : 1) * m, (this.cube ? 2 : 1) * m];
+      // WebGL's viewport counts rows from the bottom.
+      target.viewport.set(x, target.height - top - h, w, h);
+      material.uniforms.height.value = target.height;
+      this.quad.material = material;
+      renderer.setRenderTarget(target);
+      renderer.render(this.scene, this.camera);
+    };
+    this.base.uniforms.depthMap.value = shadow.map.depthTexture;
+    this.base.uniforms.near.value = cam.near;
+    this.base.uniforms.far.value = cam.far;
+    const restore = this.readable(renderer);
+    try {
+      draw(0, this.base);
+    } finally {
+      restore();
+    }
+    // Level k reads level k - 1, in the other atlas.
+    for (let k = 1; k <= this.top; k++) {
+      this.reduce.uniforms.src.value = (k & 1 ? this.even : this.odd).texture;
+      this.reduce.uniforms.level.value = k;
+      draw(k, this.reduce);
+    }
+    renderer.setRenderTarget(before);
+    renderer.autoClear = autoClear;
+  }
+
+  /**
+   * WebGL 2 reads a depth texture's values only with comparison off (three.js
+   * turns it on for PCF shadows) and nearest filtering: set them for the base
+   * pass, and return what puts them back.
+   */
+  readable(renderer) {
+    const gl = renderer.getContext();
+    const depth = this.light.shadow.map.depthTexture;
+    const texture = renderer.properties.get(depth).__webglTexture;
+    if (!texture) throw new Error('airlight-three: the shadow map has no WebGL texture yet: render the scene first');
+    const type = this.cube ? gl.TEXTURE_CUBE_MAP : gl.TEXTURE_2D;
+    renderer.state.bindTexture(type, texture);
+    const saved = [gl.TEXTURE_COMPARE_MODE, gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER].map((p) => [p, gl.getTexParameter(type, p)]);
+    gl.texParameteri(type, gl.TEXTURE_COMPARE_MODE, gl.NONE);
+    gl.texParameteri(type, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(type, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    return () => {
+      renderer.state.bindTexture(type, texture);
+      for (const [p, v] of saved) gl.texParameteri(type, p, v);
+    };
+  }
+
+  /** Frees the atlases and the passes. */
+  dispose() {
+    this.even.dispose();
+    this.odd.dispose();
+    this.base.dispose();
+    this.reduce.dispose();
+    this.quad.geometry.dispose();
+  }
 }
 
 /**
@@ -113,36 +320,47 @@ export class VolumetricLightsPass {
    * (`pick`), imports its GLSL (`airlight-three/sources/<name>.js`) and builds
    * the pass for `scene` seen by `camera`.
    */
-  static async create(scene, camera, { sigmaT, sigmaS, g = 0, maxError = 1e-2, maxPointLights, maxSpotLights } = {}) {
+  static async create(scene, camera, { sigmaT, sigmaS, g = 0, maxError = 1e-2, ...rest } = {}) {
     const k = pick({ maxError, g });
     if (!k) throw new Error(`airlight-three: no kernel on the menu meets maxError = ${maxError} for g = ${g}`);
     const sources = await import(new URL(k.module.replace('./kernels/', './sources/'), import.meta.url).href);
-    return new VolumetricLightsPass(scene, camera, sources, { sigmaT, sigmaS, g, name: k.name, maxPointLights, maxSpotLights });
+    return new VolumetricLightsPass(scene, camera, sources, { sigmaT, sigmaS, g, name: k.name, ...rest });
   }
 
   /**
    * With a kernel's sources module you imported yourself
-   * (`airlight-three/sources/<name>.js`: its `glsl`, `prefix` and `takesG`).
+   * (`airlight-three/sources/<name>.js`: its `glsl`, `prefix`, `takesG` and
+   * `shaftsSpotExactGLSL`). Options as `VolumetricLights`: the medium,
+   * `maxPointLights`, `maxSpotLights`, and `shafts` (default true: a light
+   * added with `castShadow` casts shafts, walked exactly over its own shadow
+   * map, in one of `maxShadowedLights` slots, default 2), `shadowBias` (the
+   * walk's depth bias, world units, default 0.01).
    */
-  constructor(scene, camera, sources, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights } = {}) {
+  constructor(scene, camera, sources, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!scene?.isScene || !camera?.isCamera) throw new Error('airlight-three: VolumetricLightsPass takes a THREE.Scene and a THREE.Camera');
     if (typeof sources?.glsl !== 'string' || typeof sources.prefix !== 'string') {
       throw new Error('airlight-three: VolumetricLightsPass takes a kernel\'s sources module (airlight-three/sources/<name>.js)');
     }
     const takesG = sources.takesG === true;
     const m = medium({ sigmaT, sigmaS, g }, takesG, name);
-    const cap = limits(maxPointLights, maxSpotLights);
+    const cap = limits(maxPointLights, maxSpotLights, shafts ? maxShadowedLights : 0);
+    if (cap.shadowed > 0 && typeof sources.shaftsSpotExactGLSL !== 'string') {
+      throw new Error(`airlight-three: ${name} has no exact shafts entry; pass shafts: false`);
+    }
     this.name = name;
     this.scene = scene;
     this.camera = camera;
-    this.lights = new LightSet(cap.points, cap.spots);
+    this.lights = new LightSet(cap.points, cap.spots, cap.shadowed);
+    this.shadowBias = shadowBias;
+    // Each light with shafts: its pyramid.
+    this.pyramids = new Map();
     // EffectComposer's pass interface.
     this.enabled = true;
     this.needsSwap = true;
     this.clear = false;
     this.renderToScreen = false;
     this.target = new WebGLRenderTarget(1, 1, { type: HalfFloatType, depthTexture: new DepthTexture(1, 1, FloatType) });
-    const p = sources.prefix;
+    const n = Math.max(cap.shadowed, 1);
     this.uniforms = {
       tColour: { value: this.target.texture },
       tDepth: { value: this.target.depthTexture },
@@ -161,14 +379,26 @@ export class VolumetricLightsPass {
       spotAxis: { value: slots(cap.spots) },
       spotCone: { value: slots(cap.spots) },
       spotCount: { value: 0 },
+      shadowPosition: { value: slots(n) },
+      shadowIntensity: { value: slots(n) },
+      shadowAxis: { value: slots(n) },
+      shadowCone: { value: slots(n) },
+      shadowRows: { value: Array.from({ length: n }, () => new Matrix3()) },
+      shadowMap: { value: slots(n) },
+      shadowEven: { value: Array.from({ length: n }, () => null) },
+      shadowOdd: { value: Array.from({ length: n }, () => null) },
+      shadowCount: { value: 0 },
       fogOnly: { value: 0 },
     };
+    const fragment = FRAGMENT.replace('SHADOWED_UNIFORMS', shadowedUniforms(cap.shadowed))
+      .replace('LIGHTS', lightBlocks(sources, cap.points, cap.spots, cap.shadowed));
+    const walk = cap.shadowed > 0 ? walkGLSL + '\n' + sources.shaftsSpotExactGLSL + '\n' : '';
     this.material = new ShaderMaterial({
       name: `airlight VolumetricLightsPass (${name})`,
       defines: { NP: Math.max(cap.points, 1), NS: Math.max(cap.spots, 1) },
       uniforms: this.uniforms,
       vertexShader: VERTEX,
-      fragmentShader: sources.glsl + FRAGMENT.replace('LIGHTS', lightBlocks(p, cap.points, cap.spots, takesG)),
+      fragmentShader: sources.glsl + walk + fragment,
       depthTest: false,
       depthWrite: false,
     });
@@ -179,15 +409,36 @@ export class VolumetricLightsPass {
     this.quadCamera = new OrthographicCamera(-1, 1, 1, -1, 0, 1);
   }
 
-  /** Adds a THREE.PointLight or THREE.SpotLight (read every frame); `distance` must be 0 and `decay` 2. */
+  /**
+   * Adds a THREE.PointLight or THREE.SpotLight (read every frame); `distance`
+   * must be 0 and `decay` 2. With `castShadow` set when it is added (and
+   * `shafts` on), it casts shafts: its shadow map must be square, a power of
+   * two of at least 4 texels a side, and `renderer.shadowMap.enabled` true.
+   */
   add(light) {
-    this.lights.add(light);
+    if (this.lights.casts(light) && !this.pyramids.has(light)) {
+      const pyramid = new ShadowPyramidGL(light, { bias: this.shadowBias });
+      try {
+        if (!this.lights.add(light)) pyramid.dispose();
+        else this.pyramids.set(light, pyramid);
+      } catch (e) {
+        pyramid.dispose();
+        throw e;
+      }
+    } else {
+      this.lights.add(light);
+    }
     return this;
   }
 
   /** Removes a light added before; the next frame no longer draws it. */
   remove(light) {
     this.lights.remove(light);
+    const pyramid = this.pyramids.get(light);
+    if (pyramid) {
+      pyramid.dispose();
+      this.pyramids.delete(light);
+    }
     return this;
   }
 
@@ -196,7 +447,11 @@ export class VolumetricLightsPass {
     this.uniforms.fogOnly.value = on ? 1 : 0;
   }
 
-  /** Copies the lights and the camera into the uniforms (done by every render); the counts drawn. */
+  /**
+   * Copies the lights and the camera into the uniforms (done by every render);
+   * the counts drawn. The shadowed lights' slots take their pyramids'
+   * rows and textures as the last `update` built them.
+   */
   refresh() {
     const u = this.uniforms;
     const counts = this.lights.write({
@@ -209,6 +464,18 @@ export class VolumetricLightsPass {
     });
     u.pointCount.value = counts.points;
     u.spotCount.value = counts.spots;
+    const shadowed = this.lights.shadowed.filter((l) => l.visible);
+    shadowed.forEach((l, i) => {
+      const p = this.pyramids.get(l);
+      // A point light: the spot entry's no-cone form, one walk over its cube map.
+      terms(l, u.shadowPosition.value[i], u.shadowIntensity.value[i], u.shadowAxis.value[i], u.shadowCone.value[i]);
+      u.shadowRows.value[i].copy(p.rows);
+      u.shadowMap.value[i].set(p.cube ? 1 : 0, p.res, p.bias);
+      u.shadowEven.value[i] = p.even.texture;
+      u.shadowOdd.value[i] = p.odd.texture;
+    });
+    counts.shadowed = shadowed.length;
+    u.shadowCount.value = shadowed.length;
     this.camera.updateMatrixWorld();
     u.projectionInverse.value = this.camera.projectionMatrixInverse;
     u.cameraWorld.value = this.camera.matrixWorld;
@@ -230,17 +497,24 @@ export class VolumetricLightsPass {
   render(renderer, writeBuffer) {
     const size = renderer.getDrawingBufferSize(new Vector2());
     if (this.target.width !== size.x || this.target.height !== size.y) this.setSize(size.x, size.y);
-    this.refresh();
     const out = writeBuffer === undefined ? renderer.getRenderTarget() : this.renderToScreen ? null : writeBuffer;
     renderer.setRenderTarget(this.target);
     renderer.clear();
     renderer.render(this.scene, this.camera);
+    // The scene's render drew this frame's shadow maps: the shadowed lights'
+    // pyramids from them (throws, naming the cause, where three drew none).
+    for (const l of this.lights.shadowed) {
+      if (l.visible) this.pyramids.get(l).update(renderer);
+    }
+    this.refresh();
     renderer.setRenderTarget(out);
     renderer.render(this.quadScene, this.quadCamera);
   }
 
-  /** Frees the targets and the material. */
+  /** Frees the targets, the material and the lights' pyramids. */
   dispose() {
+    for (const p of this.pyramids.values()) p.dispose();
+    this.pyramids.clear();
     this.target.dispose();
     this.material.dispose();
     this.quad.geometry.dispose();

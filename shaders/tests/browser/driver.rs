@@ -576,12 +576,14 @@ pub fn lights_page_tsl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, webgl: 
 /// (`airlight-three/webgl.js`), the kernel's GLSL from its sources module:
 /// the fog alone, the scene's colour as the pass drew it, the composite, and
 /// the next frame's fog with the light's intensity doubled (16 bytes each).
-pub fn lights_page_webgl(k: &IndexEntry, stage: &Stage, view: &ShaftsView) -> String {
+/// `shafts` as on the WebGPURenderer page: the light's own `map`² shadow map
+/// walked (a `ShadowPyramidGL` the pass rebuilds each frame), or none.
+pub fn lights_page_webgl(k: &IndexEntry, stage: &Stage, view: &ShaftsView, shafts: Option<u32>) -> String {
     let imports = format!(
         "import * as THREE from 'three';\nimport * as S from './airlight-three/sources/{}.js';\nimport {{ VolumetricLightsPass }} from './airlight-three/webgl.js';",
         k.name
     );
-    lights_page(k, stage, view, None, None, &imports)
+    lights_page(k, stage, view, None, shafts, &imports)
 }
 
 /// A lights page: `lights_tsl.js` on WebGPURenderer (`webgl`: its backend), or
@@ -606,11 +608,10 @@ fn lights_page(
         Some(_) => (include_str!("pages/lights_tsl.js"), "new THREE.MeshStandardNodeMaterial()", "RenderTarget"),
         None => (include_str!("pages/lights_webgl.js"), "new THREE.MeshStandardMaterial()", "WebGLRenderTarget"),
     };
-    // The WebGPU page's shafts: on, over the stage's map, or off.
-    let extra = match (webgl, shafts) {
-        (Some(_), Some(_)) => format!(", shafts: true, maxShadowedLights: 1, shadowBias: {WALK_BIAS:?}"),
-        (Some(_), None) => ", shafts: false".to_string(),
-        (None, _) => String::new(),
+    // The shafts: on, over the stage's map, or off.
+    let extra = match shafts {
+        Some(_) => format!(", shafts: true, maxShadowedLights: 1, shadowBias: {WALK_BIAS:?}"),
+        None => ", shafts: false".to_string(),
     };
     let webgl = webgl.unwrap_or(true);
     let body = fill(

@@ -298,7 +298,10 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
             .collect();
         // WebGPURenderer on WebGPU and on its WebGL 2 backend (VolumetricLights),
         // and WebGLRenderer (VolumetricLightsPass).
-        for (renderer, pass) in [("WebGPU", false), ("WebGL 2 backend", false), ("WebGL 2", true)] {
+        // (label, WebGL, VolumetricLightsPass)
+        for (renderer, gl, pass) in
+            [("WebGPU", false, false), ("WebGL 2 backend", true, false), ("WebGL 2", true, true)]
+        {
             let what = format!(
                 "{} ({} light), {}, with {}",
                 stage.name,
@@ -311,13 +314,13 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
                 k.name
             );
             let page = match pass {
-                false => browser::lights_page_tsl(k, &stage, &view, renderer != "WebGPU", None),
-                true => browser::lights_page_webgl(k, &stage, &view),
+                false => browser::lights_page_tsl(k, &stage, &view, gl, None),
+                true => browser::lights_page_webgl(k, &stage, &view, None),
             };
             // SwiftShader's GL (ANGLE) took minutes over a spot entry with a
             // run-time g while phi's u_and_weight chose by ?: (now mix); WebGL
             // pages are still the slow ones here.
-            let timeout = if renderer == "WebGPU" { browser::TIMEOUT_S } else { 600 };
+            let timeout = if gl { 600 } else { browser::TIMEOUT_S };
             let files = browser::page_files(&three, &package, page).unwrap();
             let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", timeout)
                 .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
@@ -454,26 +457,37 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
     let k = index.get("phi-4").unwrap();
     let view = sr::ShaftsView { width: 64, height: 36 };
     let stages = [(sr::Stage::window_shafts(), sr::SHADOW_MAP), (sr::Stage::street_lamp(), 1024)];
-    for ((stage, map), webgl) in stages.into_iter().flat_map(|s| [(s.clone(), false), (s, true)]) {
+    // WebGPURenderer on WebGPU and on its WebGL 2 backend (VolumetricLights), and
+    // WebGLRenderer (VolumetricLightsPass, the pyramid by ShadowPyramidGL).
+    let renderers = [
+        ("VolumetricLights", "WebGPU", false),
+        ("VolumetricLights", "the WebGL 2 backend", true),
+        ("VolumetricLightsPass", "WebGLRenderer", true),
+    ];
+    for ((stage, map), (api, on, webgl)) in stages.into_iter().flat_map(|s| renderers.map(|r| (s.clone(), r))) {
+        let pass = api == "VolumetricLightsPass";
         let what = format!(
-            "{} ({} light, {map}² {}), VolumetricLights with castShadow on {}, {}",
+            "{} ({} light, {map}² {}), {api} with castShadow on {on}, {}",
             stage.name,
             if stage.spot.is_some() { "spot" } else { "point" },
             if stage.spot.is_some() { "map" } else { "cube map" },
-            if webgl { "the WebGL 2 backend" } else { "WebGPU" },
             k.name
         );
         let basis = browser::three_basis(stage.camera_basis()[0]);
         let dirs: Vec<[f64; 3]> = (0..view.width * view.height)
             .map(|i| view.dir_from(basis, i % view.width, i / view.width).map(f64::from))
             .collect();
-        let page = browser::lights_page_tsl(k, &stage, &view, webgl, Some(map));
+        let page = match pass {
+            false => browser::lights_page_tsl(k, &stage, &view, webgl, Some(map)),
+            true => browser::lights_page_webgl(k, &stage, &view, Some(map)),
+        };
         let files = browser::page_files(&three, &package, page).unwrap();
         // About 3 minutes a page alone in release here (the walk's shaders
         // compiled by SwiftShader, four frames each rebuilding the pyramid).
         let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", 600)
             .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
-        let frames = lights_frames(&bytes, dirs.len(), 5, &what);
+        // The WebGLRenderer page draws no PostProcessing frame.
+        let frames = lights_frames(&bytes, dirs.len(), if pass { 4 } else { 5 }, &what);
         let fog = frames[0].clone();
         eprintln!("volumetric lights, {what}: {adapter}");
         assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");

@@ -30,7 +30,6 @@ gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STAT
 // The entry's arguments by the names its signature gives them.
 const ARGS = { origin: 'uOrigin', dir: 'dir', surface: 'surface', light: 'uLight', axis: 'uAxis',
   cos_outer: 'uCone.x', cos_inner: 'uCone.y', intensity: 'uCone.z', sigma_t: 'uSigmaT', sigma_s: 'uSigmaS', g: 'uG' };
-const seconds = new Float32Array(H);
 const out = new Float32Array(W * H * 4);
 for (let y = 0; y < H; y++) {
   const S = await import('./airlight-three/sources/' + names[y] + '.js');
@@ -74,8 +73,8 @@ void main() {
   gl.drawArrays(gl.TRIANGLES, 0, 3);
   const row = new Float32Array(W * 4);
   gl.readPixels(0, y, W, 1, gl.RGBA, gl.FLOAT, row);
-  seconds[y] = (performance.now() - t0) / 1000;
-  for (let x = 0; x < W; x++) row[4 * x + 3] = seconds[y];
+  const seconds = (performance.now() - t0) / 1000;
+  for (let x = 0; x < W; x++) row[4 * x + 3] = seconds;
   out.set(row, y * W * 4);
 }
 const info = gl.getExtension('WEBGL_debug_renderer_info');

@@ -10,3 +10,5 @@ export declare const prefix: string;
 export declare const takesG: boolean;
 /** Declared max relative errors (f64 model; f32 kernels where recorded). */
 export declare const bound: { thin: number | null; dense: number | null; f32Thin: number | null; f32Dense: number | null };
+/** The spot entry's exact shafts mode (`<prefix>shafts_spot_exact`), GLSL ES 3.00 after `glsl` and the walk; null without a shafts accumulator. */
+export declare const shaftsSpotExactGLSL: string | null;

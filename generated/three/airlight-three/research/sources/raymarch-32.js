@@ -16,3 +16,6 @@ export const takesG = true;
 
 /** The declared max relative error of A (f64 model) on `thin` and `dense`, and of the f32 kernels (null where not recorded). */
 export const bound = { thin: 8.179107529860303e1, dense: 9.359707499057319e1, f32Thin: null, f32Dense: null };
+
+/** The spot entry's exact shafts mode, GLSL ES 3.00 (`airlight_raymarch_32_shafts_spot_exact`: the spot entry's arguments, then the pyramid's two atlases as `highp sampler2D`, its rows, cube flag, side and bias), to place after `glsl` and the walk (`airlight-three/walk.js`'s `walkGLSL`); null where the kernel has no shafts accumulator. */
+export const shaftsSpotExactGLSL = null;
