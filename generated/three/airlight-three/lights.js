@@ -74,8 +74,6 @@ export class VolumetricLights {
     if (this.maxShadowed > 0 && !this.spotExactFn) throw new Error(`airlight-three: ${name} has no exact shafts entry; pass shafts: false`);
     this.renderer = renderer;
     this.shadowBias = shadowBias;
-    // Each light with shafts: its pyramid; each slot: what its walk reads.
-    this.pyramids = new Map();
     // An empty slot's textures: one 1×1 stand-in for all.
     this.blank = new DataTexture(new Float32Array(2), 1, 1, RGFormat, FloatType);
     this.blank.needsUpdate = true;
@@ -134,7 +132,7 @@ export class VolumetricLights {
         s.active.value = 0;
         return;
       }
-      const p = this.pyramids.get(l);
+      const p = this.lights.pyramids.get(l);
       // The slot's textures are the light's pyramid from the moment it is added
       // (a texture node built over a stand-in and switched later kept the stand-in
       // on WebGPU here).
@@ -162,18 +160,7 @@ export class VolumetricLights {
    * shadow map must be square, a power of two of at least 4 texels a side.
    */
   add(light) {
-    if (this.lights.casts(light) && !this.pyramids.has(light)) {
-      const pyramid = new ShadowPyramid(light, { bias: this.shadowBias });
-      try {
-        if (!this.lights.add(light)) pyramid.dispose();
-        else this.pyramids.set(light, pyramid);
-      } catch (e) {
-        pyramid.dispose();
-        throw e;
-      }
-    } else {
-      this.lights.add(light);
-    }
+    this.lights.add(light, (l) => new ShadowPyramid(l, { bias: this.shadowBias }));
     this.refresh();
     return this;
   }
@@ -181,11 +168,6 @@ export class VolumetricLights {
   /** Removes a light added before; the next frame no longer draws it. */
   remove(light) {
     this.lights.remove(light);
-    const pyramid = this.pyramids.get(light);
-    if (pyramid) {
-      pyramid.dispose();
-      this.pyramids.delete(light);
-    }
     this.refresh();
     return this;
   }

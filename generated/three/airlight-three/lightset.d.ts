@@ -23,10 +23,16 @@ export declare class LightSet {
   readonly shadowed: (PointLight | SpotLight)[];
   /** Whether a light goes to the shadowed list. */
   casts(light: PointLight | SpotLight): boolean;
-  /** Whether it was new. */
-  add(light: PointLight | SpotLight): boolean;
-  /** Whether it was there. */
+  /** Each shadowed light's pyramid. */
+  readonly pyramids: Map<PointLight | SpotLight, { dispose(): void }>;
+  /** Whether it was new; a shadowed light gets `pyramidOf(light)` (disposed if the light is refused). */
+  add(light: PointLight | SpotLight, pyramidOf?: ((light: PointLight | SpotLight) => { dispose(): void }) | null): boolean;
+  /** `add` without the pyramid. */
+  adopt(light: PointLight | SpotLight): boolean;
+  /** Whether it was there (its pyramid disposed). */
   remove(light: PointLight | SpotLight): boolean;
+  /** Removes every light, disposing their pyramids. */
+  clear(): void;
   /** Writes the visible lights into the arrays; the counts written. */
   write(u: Record<'pointPosition' | 'pointIntensity' | 'spotPosition' | 'spotIntensity' | 'spotAxis' | 'spotCone', Vector3[]>): { points: number; spots: number };
 }

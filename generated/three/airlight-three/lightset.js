@@ -69,6 +69,8 @@ export class LightSet {
     this.points = [];
     this.spots = [];
     this.shadowed = [];
+    /** Each shadowed light's pyramid (the pass's, made by `add`'s `pyramidOf`). */
+    this.pyramids = new Map();
   }
 
   /** Whether the light goes to the shadowed list. */
@@ -78,9 +80,28 @@ export class LightSet {
 
   /**
    * Adds a THREE.PointLight or THREE.SpotLight; refuses other lights, a range
-   * window, and more than the pass holds. Returns whether it was new.
+   * window, and more than the pass holds. A light that goes to the shadowed list
+   * gets its pyramid, `pyramidOf(light)` (disposed again if the light is
+   * refused). Returns whether it was new.
    */
-  add(light) {
+  add(light, pyramidOf = null) {
+    if (pyramidOf === null || !this.casts(light) || this.pyramids.has(light)) return this.adopt(light);
+    const pyramid = pyramidOf(light);
+    try {
+      if (this.adopt(light)) {
+        this.pyramids.set(light, pyramid);
+        return true;
+      }
+    } catch (e) {
+      pyramid.dispose();
+      throw e;
+    }
+    pyramid.dispose();
+    return false;
+  }
+
+  /** `add` without the pyramid. */
+  adopt(light) {
     const kind = light?.isSpotLight ? this.spots : light?.isPointLight ? this.points : null;
     if (!kind) throw new Error('airlight-three: add() takes a THREE.PointLight or THREE.SpotLight');
     if (light.distance !== 0 || light.decay !== 2) {
@@ -101,8 +122,10 @@ export class LightSet {
     return true;
   }
 
-  /** Removes a light added before; returns whether it was there. */
+  /** Removes a light added before (and disposes its pyramid); returns whether it was there. */
   remove(light) {
+    this.pyramids.get(light)?.dispose();
+    this.pyramids.delete(light);
     let found = false;
     for (const list of [this.points, this.spots, this.shadowed]) {
       const i = list.indexOf(light);
@@ -112,6 +135,11 @@ export class LightSet {
       }
     }
     return found;
+  }
+
+  /** Removes every light and disposes their pyramids. */
+  clear() {
+    for (const l of [...this.points, ...this.spots, ...this.shadowed]) this.remove(l);
   }
 
   /**

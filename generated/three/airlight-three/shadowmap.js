@@ -14,7 +14,7 @@ import {
   cubeTexture, float, glsl as glslCode, glslFn, screenCoordinate, texture, textureLoad, uniform,
   wgsl as wgslCode, wgslFn,
 } from 'three/tsl';
-import { atlasOrigin, atlasSize, spotRows, walkableMap, walkGLSL, walkWGSL } from './walk.js';
+import { atlasOrigin, atlasTargets, spotRows, walkableMap, walkGLSL, walkWGSL } from './walk.js';
 
 export { atlasOrigin, atlasSize } from './walk.js';
 
@@ -62,15 +62,7 @@ export class ShadowPyramid {
     this.cube = light.isPointLight === true;
     this.res = res;
     this.top = Math.log2(res);
-    const target = (odd) => {
-      const [w, h] = atlasSize(res, this.cube, odd);
-      return new RenderTarget(w, h, {
-        type: FloatType, format: RGFormat, depthBuffer: false, generateMipmaps: false,
-        minFilter: NearestFilter, magFilter: NearestFilter,
-      });
-    };
-    this.even = target(false);
-    this.odd = target(true);
+    [this.even, this.odd] = atlasTargets(RenderTarget, { FloatType, RGFormat, NearestFilter }, res, this.cube);
     this.rows = uniform(new Matrix3());
     this.bias = uniform(bias);
     this.near = uniform(0.0);

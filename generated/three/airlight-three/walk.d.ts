@@ -12,3 +12,5 @@ export declare function atlasSize(res: number, cube: boolean, odd: boolean): [nu
 export declare function walkableMap(light: unknown): number;
 /** The walk's rows for a spot light's shadow camera, as `Matrix3.set` arguments. */
 export declare function spotRows(camera: unknown): number[];
+/** The pyramid's two atlases (even levels, odd levels) as `Target`s (RenderTarget or WebGLRenderTarget). */
+export declare function atlasTargets<T>(Target: new (w: number, h: number, options: object) => T, constants: { FloatType: number; RGFormat: number; NearestFilter: number }, res: number, cube: boolean): [T, T];

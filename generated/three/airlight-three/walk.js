@@ -31,6 +31,22 @@ export function atlasSize(res, cube, odd) {
 }
 
 /**
+ * The pyramid's two atlases (the even levels', the odd ones'): RG float render
+ * targets, nearest-filtered, no depth, made by `Target` (three's `RenderTarget`
+ * or `WebGLRenderTarget`) with three's constants `{ FloatType, RGFormat,
+ * NearestFilter }` (this module imports nothing).
+ */
+export function atlasTargets(Target, { FloatType, RGFormat, NearestFilter }, res, cube) {
+  return [false, true].map((odd) => {
+    const [w, h] = atlasSize(res, cube, odd);
+    return new Target(w, h, {
+      type: FloatType, format: RGFormat, depthBuffer: false, generateMipmaps: false,
+      minFilter: NearestFilter, magFilter: NearestFilter,
+    });
+  });
+}
+
+/**
  * A three.js light's shadow map checked for the exact mode: a `SpotLight`'s or
  * `PointLight`'s, with `castShadow`, square, a power of two of at least 4
  * texels a side. Returns its side.

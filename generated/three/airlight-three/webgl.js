@@ -18,7 +18,7 @@ import {
 } from 'three';
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
-import { atlasOrigin, atlasSize, spotRows, walkableMap, walkGLSL } from './walk.js';
+import { atlasOrigin, atlasTargets, spotRows, walkableMap, walkGLSL } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -201,15 +201,7 @@ export class ShadowPyramidGL {
     this.res = res;
     this.top = Math.log2(res);
     this.bias = bias;
-    const target = (odd) => {
-      const [w, h] = atlasSize(res, this.cube, odd);
-      return new WebGLRenderTarget(w, h, {
-        type: FloatType, format: RGFormat, depthBuffer: false, generateMipmaps: false,
-        minFilter: NearestFilter, magFilter: NearestFilter,
-      });
-    };
-    this.even = target(false);
-    this.odd = target(true);
+    [this.even, this.odd] = atlasTargets(WebGLRenderTarget, { FloatType, RGFormat, NearestFilter }, res, this.cube);
     /** The walk's rows of a spot map's camera (a cube map's faces are fixed). */
     this.rows = new Matrix3();
     const material = (fragment, uniforms) => new ShaderMaterial({
@@ -352,8 +344,6 @@ export class VolumetricLightsPass {
     this.camera = camera;
     this.lights = new LightSet(cap.points, cap.spots, cap.shadowed);
     this.shadowBias = shadowBias;
-    // Each light with shafts: its pyramid.
-    this.pyramids = new Map();
     // EffectComposer's pass interface.
     this.enabled = true;
     this.needsSwap = true;
@@ -416,29 +406,13 @@ export class VolumetricLightsPass {
    * two of at least 4 texels a side, and `renderer.shadowMap.enabled` true.
    */
   add(light) {
-    if (this.lights.casts(light) && !this.pyramids.has(light)) {
-      const pyramid = new ShadowPyramidGL(light, { bias: this.shadowBias });
-      try {
-        if (!this.lights.add(light)) pyramid.dispose();
-        else this.pyramids.set(light, pyramid);
-      } catch (e) {
-        pyramid.dispose();
-        throw e;
-      }
-    } else {
-      this.lights.add(light);
-    }
+    this.lights.add(light, (l) => new ShadowPyramidGL(l, { bias: this.shadowBias }));
     return this;
   }
 
   /** Removes a light added before; the next frame no longer draws it. */
   remove(light) {
     this.lights.remove(light);
-    const pyramid = this.pyramids.get(light);
-    if (pyramid) {
-      pyramid.dispose();
-      this.pyramids.delete(light);
-    }
     return this;
   }
 
@@ -466,7 +440,7 @@ export class VolumetricLightsPass {
     u.spotCount.value = counts.spots;
     const shadowed = this.lights.shadowed.filter((l) => l.visible);
     shadowed.forEach((l, i) => {
-      const p = this.pyramids.get(l);
+      const p = this.lights.pyramids.get(l);
       // A point light: the spot entry's no-cone form, one walk over its cube map.
       terms(l, u.shadowPosition.value[i], u.shadowIntensity.value[i], u.shadowAxis.value[i], u.shadowCone.value[i]);
       u.shadowRows.value[i].copy(p.rows);
@@ -504,7 +478,7 @@ export class VolumetricLightsPass {
     // The scene's render drew this frame's shadow maps: the shadowed lights'
     // pyramids from them (throws, naming the cause, where three drew none).
     for (const l of this.lights.shadowed) {
-      if (l.visible) this.pyramids.get(l).update(renderer);
+      if (l.visible) this.lights.pyramids.get(l).update(renderer);
     }
     this.refresh();
     renderer.setRenderTarget(out);
@@ -513,8 +487,7 @@ export class VolumetricLightsPass {
 
   /** Frees the targets, the material and the lights' pyramids. */
   dispose() {
-    for (const p of this.pyramids.values()) p.dispose();
-    this.pyramids.clear();
+    this.lights.clear();
     this.target.dispose();
     this.material.dispose();
     this.quad.geometry.dispose();
