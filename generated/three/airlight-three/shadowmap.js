@@ -14,7 +14,7 @@ import {
   cubeTexture, float, glsl as glslCode, glslFn, screenCoordinate, texture, textureLoad, uniform,
   wgsl as wgslCode, wgslFn,
 } from 'three/tsl';
-import { atlasOrigin, atlasTargets, spotRows, walkableMap, walkGLSL, walkWGSL } from './walk.js';
+import { atlasOrigin, atlasTargets, spotRows, walkable, walkGLSL, walkWGSL } from './walk.js';
 
 export { atlasOrigin, atlasSize } from './walk.js';
 
@@ -57,11 +57,8 @@ export class ShadowPyramid {
    *   texel's depth; default 0.01)
    */
   constructor(light, { bias = 0.01 } = {}) {
-    const res = walkableMap(light);
-    this.light = light;
-    this.cube = light.isPointLight === true;
-    this.res = res;
-    this.top = Math.log2(res);
+    Object.assign(this, walkable(light));
+    const res = this.res;
     [this.even, this.odd] = atlasTargets(RenderTarget, { FloatType, RGFormat, NearestFilter }, res, this.cube);
     this.rows = uniform(new Matrix3());
     this.bias = uniform(bias);

@@ -8,8 +8,8 @@ export declare const walkGLSL: string;
 export declare function atlasOrigin(res: number, cube: boolean, f: number, k: number): [number, number];
 /** An atlas's size: the even levels' (`odd` false) or the odd ones'. */
 export declare function atlasSize(res: number, cube: boolean, odd: boolean): [number, number];
-/** A light's shadow map checked for the exact mode (SpotLight or PointLight, castShadow, square power of two ≥ 4); its side. */
-export declare function walkableMap(light: unknown): number;
+/** A light's shadow map checked for the exact mode (SpotLight or PointLight, castShadow, square power of two ≥ 4), as its pyramid sees it. */
+export declare function walkable<L>(light: L): { light: L; cube: boolean; res: number; top: number };
 /** The walk's rows for a spot light's shadow camera, as `Matrix3.set` arguments. */
 export declare function spotRows(camera: unknown): number[];
 /** The pyramid's two atlases (even levels, odd levels) as `Target`s (RenderTarget or WebGLRenderTarget). */

@@ -47,11 +47,12 @@ export function atlasTargets(Target, { FloatType, RGFormat, NearestFilter }, res
 }
 
 /**
- * A three.js light's shadow map checked for the exact mode: a `SpotLight`'s or
+ * A three.js light's shadow map checked for the exact mode — a `SpotLight`'s or
  * `PointLight`'s, with `castShadow`, square, a power of two of at least 4
- * texels a side. Returns its side.
+ * texels a side — as its pyramid sees it: `{ light, cube, res, top }` (`top`
+ * the pyramid's last level, log2 of the side).
  */
-export function walkableMap(light) {
+export function walkable(light) {
   if (!light || !(light.isSpotLight || light.isPointLight)) throw new Error('airlight-three: the exact mode takes a SpotLight or a PointLight');
   if (!light.castShadow) throw new Error('airlight-three: the light casts no shadow (castShadow is false)');
   const size = light.shadow.mapSize;
@@ -59,7 +60,7 @@ export function walkableMap(light) {
   if (size.y !== res || res < 4 || (res & (res - 1)) !== 0) {
     throw new Error(`airlight-three: the shadow map is ${size.x} x ${size.y}; the exact mode takes a square map, a power of two of at least 4 texels`);
   }
-  return res;
+  return { light, cube: light.isPointLight === true, res, top: Math.log2(res) };
 }
 
 /**

@@ -18,7 +18,7 @@ import {
 } from 'three';
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
-import { atlasOrigin, atlasTargets, spotRows, walkableMap, walkGLSL } from './walk.js';
+import { atlasOrigin, atlasTargets, spotRows, walkable, walkGLSL } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -195,11 +195,8 @@ void main() {
 export class ShadowPyramidGL {
   /** `bias`: the walk's depth bias in world units along the map's axis (default 0.01). */
   constructor(light, { bias = 0.01 } = {}) {
-    const res = walkableMap(light);
-    this.light = light;
-    this.cube = light.isPointLight === true;
-    this.res = res;
-    this.top = Math.log2(res);
+    Object.assign(this, walkable(light));
+    const res = this.res;
     this.bias = bias;
     [this.even, this.odd] = atlasTargets(WebGLRenderTarget, { FloatType, RGFormat, NearestFilter }, res, this.cube);
     /** The walk's rows of a spot map's camera (a cube map's faces are fixed). */
