@@ -14,7 +14,7 @@ import {
   cubeTexture, float, glsl as glslCode, glslFn, screenCoordinate, texture, textureLoad, uniform,
   wgsl as wgslCode, wgslFn,
 } from 'three/tsl';
-import { atlasOrigin, atlasTargets, spotRows, walkable, walkGLSL, walkWGSL } from './walk.js';
+import { atlasLevel, atlasTargets, depthReadable, spotRows, walkable, walkGLSL, walkWGSL } from './walk.js';
 
 export { atlasOrigin, atlasSize } from './walk.js';
 
@@ -132,9 +132,7 @@ export class ShadowPyramid {
     renderer.autoClear = false;
     const draw = (k, scene) => {
       const target = k & 1 ? this.odd : this.even;
-      const [x, y] = atlasOrigin(this.res, this.cube, 0, k);
-      const m = this.res >> k;
-      target.viewport.set(x, y, (this.cube ? 3 : 1) * m, (this.cube ? 2 : 1) * m);
+      target.viewport.set(...atlasLevel(this.res, this.cube, k));
       renderer.setRenderTarget(target);
       renderer.render(scene, this.camera);
     };
@@ -161,14 +159,9 @@ export class ShadowPyramid {
     const { textureGPU, glTextureType } = backend.get(depth);
     const compare = depth.compareFunction;
     depth.compareFunction = null;
-    backend.state.bindTexture(glTextureType, textureGPU);
-    const saved = [gl.TEXTURE_COMPARE_MODE, gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER].map((p) => [p, gl.getTexParameter(glTextureType, p)]);
-    gl.texParameteri(glTextureType, gl.TEXTURE_COMPARE_MODE, gl.NONE);
-    gl.texParameteri(glTextureType, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(glTextureType, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    const restore = depthReadable(gl, glTextureType, () => backend.state.bindTexture(glTextureType, textureGPU));
     return () => {
-      backend.state.bindTexture(glTextureType, textureGPU);
-      for (const [p, v] of saved) gl.texParameteri(glTextureType, p, v);
+      restore();
       depth.compareFunction = compare;
     };
   }

@@ -14,3 +14,7 @@ export declare function walkable<L>(light: L): { light: L; cube: boolean; res: n
 export declare function spotRows(camera: unknown): number[];
 /** The pyramid's two atlases (even levels, odd levels) as `Target`s (RenderTarget or WebGLRenderTarget). */
 export declare function atlasTargets<T>(Target: new (w: number, h: number, options: object) => T, constants: { FloatType: number; RGFormat: number; NearestFilter: number }, res: number, cube: boolean): [T, T];
+/** The rectangle level `k` of every face fills in its atlas: `[x, y, w, h]`, y from the top. */
+export declare function atlasLevel(res: number, cube: boolean, k: number): [number, number, number, number];
+/** Comparison off and nearest filtering on the depth texture `bind()` binds; returns what puts them back. */
+export declare function depthReadable(gl: WebGL2RenderingContext, type: number, bind: () => void): () => void;

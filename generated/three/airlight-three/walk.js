@@ -24,6 +24,31 @@ export function atlasOrigin(res, cube, f, k) {
   return [band[0] + (f % cols) * m, band[1] + Math.floor(f / cols) * m];
 }
 
+/** The rectangle level `k` of every face fills in its atlas: `[x, y, w, h]`, texels, y from the top. */
+export function atlasLevel(res, cube, k) {
+  const [x, y] = atlasOrigin(res, cube, 0, k);
+  const m = res >> k;
+  return [x, y, (cube ? 3 : 1) * m, (cube ? 2 : 1) * m];
+}
+
+/**
+ * WebGL 2 reads a depth texture's values only with comparison off (three.js
+ * turns it on for PCF shadows) and nearest filtering: sets them on the texture
+ * `bind()` binds (to `type`) and returns what puts them back. For the pyramid's
+ * base pass, on either renderer's GL.
+ */
+export function depthReadable(gl, type, bind) {
+  bind();
+  const saved = [gl.TEXTURE_COMPARE_MODE, gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER].map((p) => [p, gl.getTexParameter(type, p)]);
+  gl.texParameteri(type, gl.TEXTURE_COMPARE_MODE, gl.NONE);
+  gl.texParameteri(type, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(type, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  return () => {
+    bind();
+    for (const [p, v] of saved) gl.texParameteri(type, p, v);
+  };
+}
+
 /** An atlas's size: the even levels' (`odd` false) or the odd ones'. */
 export function atlasSize(res, cube, odd) {
   const s = odd ? res >> 1 : res;

@@ -18,7 +18,7 @@ import {
 } from 'three';
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
-import { atlasOrigin, atlasTargets, spotRows, walkable, walkGLSL } from './walk.js';
+import { atlasLevel, atlasTargets, depthReadable, spotRows, walkable, walkGLSL } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -234,9 +234,7 @@ export class ShadowPyramidGL {
     renderer.autoClear = false;
     const draw = (k, material) => {
       const target = k & 1 ? this.odd : this.even;
-      const [x, top] = atlasOrigin(this.res, this.cube, 0, k);
-      const m = this.res >> k;
-      const [w, h] = [(this.cube ? 3 : 1) * m, (this.cube ? 2 : 1) * m];
+      const [x, top, w, h] = atlasLevel(this.res, this.cube, k);
       // WebGL's viewport counts rows from the bottom.
       target.viewport.set(x, target.height - top - h, w, h);
       material.uniforms.height.value = target.height;
@@ -263,26 +261,13 @@ export class ShadowPyramidGL {
     renderer.autoClear = autoClear;
   }
 
-  /**
-   * WebGL 2 reads a depth texture's values only with comparison off (three.js
-   * turns it on for PCF shadows) and nearest filtering: set them for the base
-   * pass, and return what puts them back.
-   */
+  /** The base pass's read of three's depth map (walk.js's `depthReadable`); returns what puts it back. */
   readable(renderer) {
     const gl = renderer.getContext();
-    const depth = this.light.shadow.map.depthTexture;
-    const texture = renderer.properties.get(depth).__webglTexture;
+    const texture = renderer.properties.get(this.light.shadow.map.depthTexture).__webglTexture;
     if (!texture) throw new Error('airlight-three: the shadow map has no WebGL texture yet: render the scene first');
     const type = this.cube ? gl.TEXTURE_CUBE_MAP : gl.TEXTURE_2D;
-    renderer.state.bindTexture(type, texture);
-    const saved = [gl.TEXTURE_COMPARE_MODE, gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER].map((p) => [p, gl.getTexParameter(type, p)]);
-    gl.texParameteri(type, gl.TEXTURE_COMPARE_MODE, gl.NONE);
-    gl.texParameteri(type, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(type, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-    return () => {
-      renderer.state.bindTexture(type, texture);
-      for (const [p, v] of saved) gl.texParameteri(type, p, v);
-    };
+    return depthReadable(gl, type, () => renderer.state.bindTexture(type, texture));
   }
 
   /** Frees the atlases and the passes. */
