@@ -46,7 +46,7 @@ export declare class VolumetricLights {
   refresh(drawing?: boolean): { points: number; spots: number; shadowed?: number };
   /** The kernel's name. */
   readonly name: string;
-  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2; with `castShadow` (and shafts on), it casts shafts. */
+  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2; with `castShadow` (and shafts on), it casts shafts (turned off later: it glows unshadowed until turned on again). */
   add(light: PointLight | SpotLight): this;
   /** Removes a light. */
   remove(light: PointLight | SpotLight): this;

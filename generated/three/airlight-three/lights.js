@@ -14,6 +14,7 @@ import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, lengt
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
 import { ShadowPyramid } from './shadowmap.js';
+import { walkBias } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -140,9 +141,12 @@ export class VolumetricLights {
       s.odd.value = p.odd.texture;
       s.cube.value = p.cube ? 1 : 0;
       s.res.value = p.res;
+      // castShadow turned off since the light was added: three draws its map no
+      // more; the slot walks the whole ray lit (its glow unshadowed).
+      s.bias.value = walkBias(l, this.shadowBias);
       if (!drawing) return;
       // Throws, naming the cause, where three drew no map (renderer.shadowMap.enabled false).
-      p.update(this.renderer);
+      if (l.castShadow) p.update(this.renderer);
       // A point light: the spot entry's no-cone form, one walk over its cube map.
       terms(l, s.position.value, s.intensity.value, s.axis.value, s.cone.value);
       s.rows.value.copy(p.rows.value);
@@ -158,6 +162,8 @@ export class VolumetricLights {
    * the kernels integrate the inverse-square law, not three's range window. With
    * `castShadow` set when it is added (and `shafts` on), it casts shafts: its
    * shadow map must be square, a power of two of at least 4 texels a side.
+   * Turned off later, the light glows unshadowed in its slot until it is turned
+   * on again.
    */
   add(light) {
     this.lights.add(light, (l) => new ShadowPyramid(l, { bias: this.shadowBias }));

@@ -16,5 +16,9 @@ export declare function spotRows(camera: unknown): number[];
 export declare function atlasTargets<T>(Target: new (w: number, h: number, options: object) => T, constants: { FloatType: number; RGFormat: number; NearestFilter: number }, res: number, cube: boolean): [T, T];
 /** The rectangle level `k` of every face fills in its atlas: `[x, y, w, h]`, y from the top. */
 export declare function atlasLevel(res: number, cube: boolean, k: number): [number, number, number, number];
+/** The depth bias that lights every texel (a light whose castShadow was turned off glows unshadowed in its slot). */
+export declare const LIT_BIAS: number;
+/** The walk's bias for a shadowed light this frame: `bias` while it casts a shadow, LIT_BIAS once castShadow is off. */
+export declare function walkBias(light: { castShadow: boolean }, bias: number): number;
 /** Comparison off and nearest filtering on the depth texture `bind()` binds; returns what puts them back. */
 export declare function depthReadable(gl: WebGL2RenderingContext, type: number, bind: () => void): () => void;

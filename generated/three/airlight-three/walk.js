@@ -49,6 +49,21 @@ export function depthReadable(gl, type, bind) {
   };
 }
 
+/**
+ * The depth bias that lights every texel: a walk with it finds the whole ray lit
+ * (one step per face), whatever the pyramid holds.
+ */
+export const LIT_BIAS = 1e30;
+
+/**
+ * The walk's bias for a shadowed light this frame: `bias` while it casts a
+ * shadow; `LIT_BIAS` once its `castShadow` is turned off (three draws its map no
+ * more, and the light glows unshadowed in its slot until it is turned on again).
+ */
+export function walkBias(light, bias) {
+  return light.castShadow === true ? bias : LIT_BIAS;
+}
+
 /** An atlas's size: the even levels' (`odd` false) or the odd ones'. */
 export function atlasSize(res, cube, odd) {
   const s = odd ? res >> 1 : res;

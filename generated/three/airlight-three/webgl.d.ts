@@ -42,7 +42,7 @@ export declare class VolumetricLightsPass {
   renderToScreen: boolean;
   /** Writes the fog alone (RGB; alpha the distance to the first surface, negative: none) instead of the composite. */
   set fogOnly(on: boolean);
-  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2; with `castShadow` (and shafts on), it casts shafts. */
+  /** Adds a light (read every frame); `distance` must be 0 and `decay` 2; with `castShadow` (and shafts on), it casts shafts (turned off later: it glows unshadowed until turned on again). */
   add(light: PointLight | SpotLight): this;
   /** Removes a light. */
   remove(light: PointLight | SpotLight): this;

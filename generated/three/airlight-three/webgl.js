@@ -18,7 +18,7 @@ import {
 } from 'three';
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
-import { atlasLevel, atlasTargets, depthReadable, spotRows, walkable, walkGLSL } from './walk.js';
+import { atlasLevel, atlasTargets, depthReadable, spotRows, walkable, walkBias, walkGLSL } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -386,6 +386,8 @@ export class VolumetricLightsPass {
    * must be 0 and `decay` 2. With `castShadow` set when it is added (and
    * `shafts` on), it casts shafts: its shadow map must be square, a power of
    * two of at least 4 texels a side, and `renderer.shadowMap.enabled` true.
+   * Turned off later, the light glows unshadowed in its slot until it is turned
+   * on again.
    */
   add(light) {
     this.lights.add(light, (l) => new ShadowPyramidGL(l, { bias: this.shadowBias }));
@@ -426,7 +428,7 @@ export class VolumetricLightsPass {
       // A point light: the spot entry's no-cone form, one walk over its cube map.
       terms(l, u.shadowPosition.value[i], u.shadowIntensity.value[i], u.shadowAxis.value[i], u.shadowCone.value[i]);
       u.shadowRows.value[i].copy(p.rows);
-      u.shadowMap.value[i].set(p.cube ? 1 : 0, p.res, p.bias);
+      u.shadowMap.value[i].set(p.cube ? 1 : 0, p.res, walkBias(l, p.bias));
       u.shadowEven.value[i] = p.even.texture;
       u.shadowOdd.value[i] = p.odd.texture;
     });
@@ -458,9 +460,11 @@ export class VolumetricLightsPass {
     renderer.clear();
     renderer.render(this.scene, this.camera);
     // The scene's render drew this frame's shadow maps: the shadowed lights'
-    // pyramids from them (throws, naming the cause, where three drew none).
+    // pyramids from them (throws, naming the cause, where three drew none); a
+    // light whose castShadow was turned off has no map this frame (refresh
+    // walks its slot lit).
     for (const l of this.lights.shadowed) {
-      if (l.visible) this.lights.pyramids.get(l).update(renderer);
+      if (l.visible && l.castShadow) this.lights.pyramids.get(l).update(renderer);
     }
     this.refresh();
     renderer.setRenderTarget(out);

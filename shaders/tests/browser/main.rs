@@ -324,9 +324,20 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
             let files = browser::page_files(&three, &package, page).unwrap();
             let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", timeout)
                 .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
-            // The WebGL page draws no PostProcessing frame.
-            let frames = lights_frames(&bytes, dirs.len(), if pass { 4 } else { 5 }, &what);
+            // The WebGL page draws no PostProcessing frame. The last frame, the
+            // light's castShadow turned off, is this pass's fog again (it has no
+            // slots for shafts).
+            let mut frames = lights_frames(&bytes, dirs.len(), if pass { 5 } else { 6 }, &what);
+            let again = frames.pop().unwrap();
             let fog = frames[0].clone();
+            let worst_again = fog
+                .iter()
+                .zip(&again)
+                .flat_map(|(a, b)| {
+                    (0..4).map(move |c| (f64::from(a[c]) - f64::from(b[c])).abs() / f64::from(a[c]).abs().max(1e-6))
+                })
+                .fold(0.0, f64::max);
+            assert!(worst_again < 1e-6, "{what}: castShadow turned off changed the unshadowed fog ({worst_again:e})");
             eprintln!("volumetric lights, {what}: {adapter}");
             assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
             assert!(fog.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[2] >= 0.0), "{what}: non-negative fog");
@@ -380,8 +391,9 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
 
 /// The frames a lights page read back (`count` of them, RGBA f32 per pixel): the
 /// fog, the scene pass's colour, the composite, the next frame's fog (the
-/// light's intensity doubled), and on the TSL page the composite again as
-/// PostProcessing's output into the renderer's output target (the README's form).
+/// light's intensity doubled), on the TSL page the composite again as
+/// PostProcessing's output into the renderer's output target (the README's form),
+/// and last the fog with the light's `castShadow` turned off.
 fn lights_frames(bytes: &[u8], pixels: usize, count: usize, what: &str) -> Vec<Vec<[f32; 4]>> {
     let texel = 16 * count;
     assert_eq!(bytes.len(), texel * pixels, "{what}: {count} frames read back");
@@ -486,8 +498,10 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
         // compiled by SwiftShader, four frames each rebuilding the pyramid).
         let (adapter, bytes) = browser::draw_raw_within(&chrome, files, "index.html", 600)
             .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
-        // The WebGLRenderer page draws no PostProcessing frame.
-        let frames = lights_frames(&bytes, dirs.len(), if pass { 4 } else { 5 }, &what);
+        // The WebGLRenderer page draws no PostProcessing frame; the last frame
+        // has the light's castShadow turned off.
+        let mut frames = lights_frames(&bytes, dirs.len(), if pass { 5 } else { 6 }, &what);
+        let unshadowed = frames.pop().unwrap();
         let fog = frames[0].clone();
         eprintln!("volumetric lights, {what}: {adapter}");
         assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
@@ -508,6 +522,20 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
         assert!(e.edge_mean <= 5e-3 && e.edge_max <= 0.1, "{what}: shaft edges: {e:?}");
         assert_eq!(leaks, 0, "{what}: leak pixels");
         check_composite_and_next_frame(&stage, &frames, &what);
+        // castShadow turned off after the light was added: three draws its map no
+        // more, and the slot glows unshadowed (not over the last map it drew).
+        let ends: Vec<f64> = unshadowed.iter().map(|p| f64::from(p[3])).collect();
+        let plain = sr::reference_fog_along(&stage, &dirs, &ends, false);
+        let classes = sr::classify(&view, &plain);
+        let frame =
+            sr::Frame { method: sr::Method::Exact, color: Vec::new(), fog: unshadowed, gpu_s: 0.0, pyramid_s: 0.0 };
+        let e = sr::fog_errors(&frame, &plain, &classes);
+        eprintln!("volumetric lights, {what}: castShadow turned off: fog error against the unshadowed reference {e:?}");
+        assert!(
+            frame.fog.iter().all(|p| p.iter().all(|x| x.is_finite()) && p[..3].iter().all(|x| *x >= 0.0)),
+            "{what}: finite, non-negative"
+        );
+        assert!(e.lit_max <= 1e-3 && e.edge_max <= 1e-3, "{what}: castShadow off: {e:?}");
     }
     std::fs::remove_dir_all(&tmp).ok();
 }

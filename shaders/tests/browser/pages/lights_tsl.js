@@ -69,11 +69,17 @@ renderer.setOutputRenderTarget(target);
 postProcessing.render();
 renderer.setOutputRenderTarget(null);
 const ppc = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// The light's castShadow turned off: a light with shafts glows unshadowed in its slot.
+light.castShadow = false;
+quad.material = material;
+renderer.setRenderTarget(target);
+renderer.render(fogScene, ortho);
+const p3 = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
 // Per pixel: the fog, the scene's colour, the composite, the next frame's fog,
-// the composite through PostProcessing (16 bytes each).
-const frames = [px, pcol, pc, p2, ppc].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
-const all = new Uint8Array(W * H * 80);
-for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 80 + k * 16));
+// the composite through PostProcessing, the fog with castShadow off (16 bytes each).
+const frames = [px, pcol, pc, p2, ppc, p3].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 96);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 96 + k * 16));
 let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), kernel ' + volumetric.name + ', ';
 if (renderer.backend.isWebGPUBackend) {
   const i = (await navigator.gpu.requestAdapter()).info;
@@ -83,4 +89,4 @@ if (renderer.backend.isWebGPUBackend) {
   const info = gl.getExtension('WEBGL_debug_renderer_info');
   adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
 }
-return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 80 };
+return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 96 };

@@ -34,7 +34,8 @@ const read = () => {
 };
 // The fog alone, then the composite, then the scene's colour as the pass drew it
 // (its own target, half floats), then the next frame with the light's intensity
-// doubled in three.js alone.
+// doubled in three.js alone, then one at the first intensity with the light's
+// castShadow turned off (a light with shafts glows unshadowed in its slot).
 volumetric.fogOnly = true;
 const px = read();
 volumetric.fogOnly = false;
@@ -46,11 +47,14 @@ for (let i = 0; i < half.length; i++) colour[i] = THREE.DataUtils.fromHalfFloat(
 light.intensity *= 2.0;
 volumetric.fogOnly = true;
 const p2 = read();
-const frames = [px, colour, pc, p2].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
-const all = new Uint8Array(W * H * 64);
-for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 64 + k * 16));
+light.intensity /= 2.0;
+light.castShadow = false;
+const p3 = read();
+const frames = [px, colour, pc, p2, p3].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 80);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 80 + k * 16));
 const gl = renderer.getContext();
 const info = gl.getExtension('WEBGL_debug_renderer_info');
 const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, VolumetricLightsPass with ' + volumetric.name + ', ' +
   (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
-return { adapter, rgba: all, bottomUp: true, texel: 64 };
+return { adapter, rgba: all, bottomUp: true, texel: 80 };
