@@ -280,7 +280,7 @@ pub fn cpu_name() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use airlight_shapes::bench::{Bench, BenchModel, RgbCost, ShaftsCost};
+    use airlight_shapes::bench::{Bench, BenchModel, MapCost, RgbCost, ShaftsCost};
 
     #[test]
     fn the_bench_runs_on_a_small_batch() {
@@ -341,10 +341,27 @@ mod tests {
                 build_cpu_ms: 0.0,
                 build_gpu_ms: 0.0,
             }],
-            shadow_map: Vec::new(),
-            shadow_map_alone: None,
+            shadow_map: vec![MapCost {
+                method: "phi-8, exact walk".into(),
+                res: 512,
+                samples: 0,
+                runs_per_ray: 5.0,
+                steps_mean: 107.0,
+                steps_max: 239.0,
+                truncated: 0,
+                max_of_unshadowed: 5.5e-3,
+                mean_of_unshadowed: 7.9e-4,
+                leaks: 0,
+                cpu_ns_per_ray: 6000.0,
+                gpu_rays_per_s: 2.2e5,
+            }],
+            shadow_map_alone: Some("lavapipe".into()),
         };
         let t = b.table();
+        let walk: Vec<&str> = t.lines().filter(|l| l.starts_with("phi-8, exact walk")).collect();
+        assert_eq!(walk.len(), 1, "{t}");
+        assert!(walk[0].contains(" 512 ") && walk[0].contains(" walk ") && walk[0].contains("5.50e-3"), "{t}");
+        assert!(t.contains("(measured alone, on lavapipe)"), "{t}");
         assert!(t.starts_with("adapter: none\ncpu: "), "{t}");
         let closed: Vec<&str> = t.lines().filter(|l| l.starts_with("closed ")).collect();
         assert_eq!(closed.len(), 2, "{t}");

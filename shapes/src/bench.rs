@@ -219,7 +219,8 @@ impl BenchModel {
 
 impl Bench {
     /// The table `airlight bench` prints: the adapter and CPU, every model's
-    /// errors, time, IR cost and GPU rate, and the RGB costs.
+    /// errors, time, IR cost and GPU rate, the RGB costs, and both light-shafts
+    /// sections.
     pub fn table(&self) -> String {
         let mut lines = Vec::new();
         lines.push(format!("adapter: {}\ncpu: {}", self.adapter, self.cpu));
@@ -303,6 +304,42 @@ impl Bench {
                 r.gpu_rays_per_s,
                 r.build_cpu_ms,
                 r.build_gpu_ms
+            ));
+        }
+        lines.push(format!(
+            "\nLight shafts from a shadow map: the exact walk per resolution, the march and the sampled accumulator{}",
+            self.shadow_map_alone.as_ref().map_or(String::new(), |a| format!(" (measured alone, on {a})"))
+        ));
+        lines.push(format!(
+            "{:<30} {:>5} {:>7} {:>7} {:>8} {:>6} {:>5} {:>9} {:>9} {:>5} {:>10} {:>12}",
+            "method",
+            "res",
+            "samples",
+            "runs",
+            "steps",
+            "max",
+            "trunc",
+            "max/U",
+            "mean/U",
+            "leaks",
+            "ns/ray",
+            "GPU rays/s"
+        ));
+        for r in &self.shadow_map {
+            lines.push(format!(
+                "{:<30} {:>5} {:>7} {:>7.2} {:>8.1} {:>6} {:>5} {:>9.2e} {:>9.2e} {:>5} {:>10.1} {:>12.3e}",
+                r.method,
+                r.res,
+                if r.samples == 0 { "walk".to_string() } else { r.samples.to_string() },
+                r.runs_per_ray,
+                r.steps_mean,
+                r.steps_max,
+                r.truncated,
+                r.max_of_unshadowed,
+                r.mean_of_unshadowed,
+                r.leaks,
+                r.cpu_ns_per_ray,
+                r.gpu_rays_per_s
             ));
         }
         lines.join("\n")
