@@ -14,7 +14,7 @@ import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, lengt
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
 import { ShadowPyramid } from './shadowmap.js';
-import { walkBias } from './walk.js';
+import { castsShadow, walkBias } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -146,7 +146,7 @@ export class VolumetricLights {
       s.bias.value = walkBias(l, this.shadowBias);
       if (!drawing) return;
       // Throws, naming the cause, where three drew no map (renderer.shadowMap.enabled false).
-      if (l.castShadow) p.update(this.renderer);
+      if (castsShadow(l)) p.update(this.renderer);
       // A point light: the spot entry's no-cone form, one walk over its cube map.
       terms(l, s.position.value, s.intensity.value, s.axis.value, s.cone.value);
       s.rows.value.copy(p.rows.value);

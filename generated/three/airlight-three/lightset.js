@@ -8,6 +8,7 @@
 // direction towards `target`; `distance` must be 0 and `decay` 2 (the kernels
 // integrate the inverse-square law, not three's range window).
 import { Vector3 } from 'three';
+import { castsShadow } from './walk.js';
 
 /** Lights of each kind one pass takes; `add` refuses more. */
 export const MAX_POINT_LIGHTS = 4;
@@ -75,7 +76,7 @@ export class LightSet {
 
   /** Whether the light goes to the shadowed list. */
   casts(light) {
-    return this.maxShadowed > 0 && light.castShadow === true;
+    return this.maxShadowed > 0 && castsShadow(light);
   }
 
   /**

@@ -18,6 +18,8 @@ export declare function atlasTargets<T>(Target: new (w: number, h: number, optio
 export declare function atlasLevel(res: number, cube: boolean, k: number): [number, number, number, number];
 /** The depth bias that lights every texel (a light whose castShadow was turned off glows unshadowed in its slot). */
 export declare const LIT_BIAS: number;
+/** Whether three draws the light's shadow map this frame (`castShadow === true`): the package's one test of it. */
+export declare function castsShadow(light: { castShadow: boolean }): boolean;
 /** The walk's bias for a shadowed light this frame: `bias` while it casts a shadow, LIT_BIAS once castShadow is off. */
 export declare function walkBias(light: { castShadow: boolean }, bias: number): number;
 /** Comparison off and nearest filtering on the depth texture `bind()` binds; returns what puts them back. */

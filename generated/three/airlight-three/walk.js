@@ -56,12 +56,21 @@ export function depthReadable(gl, type, bind) {
 export const LIT_BIAS = 1e30;
 
 /**
+ * Whether three draws the light's shadow map this frame (`castShadow` is
+ * `true`): the one test of it the package makes — which lights a pass adds as
+ * shadowed, which pyramids it rebuilds, which slots it walks over their map.
+ */
+export function castsShadow(light) {
+  return light.castShadow === true;
+}
+
+/**
  * The walk's bias for a shadowed light this frame: `bias` while it casts a
  * shadow; `LIT_BIAS` once its `castShadow` is turned off (three draws its map no
  * more, and the light glows unshadowed in its slot until it is turned on again).
  */
 export function walkBias(light, bias) {
-  return light.castShadow === true ? bias : LIT_BIAS;
+  return castsShadow(light) ? bias : LIT_BIAS;
 }
 
 /** An atlas's size: the even levels' (`odd` false) or the odd ones'. */

@@ -18,7 +18,7 @@ import {
 } from 'three';
 import { pick } from './index.js';
 import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
-import { atlasLevel, atlasTargets, depthReadable, spotRows, walkable, walkBias, walkGLSL } from './walk.js';
+import { atlasLevel, atlasTargets, castsShadow, depthReadable, spotRows, walkable, walkBias, walkGLSL } from './walk.js';
 
 export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
 
@@ -464,7 +464,7 @@ export class VolumetricLightsPass {
     // light whose castShadow was turned off has no map this frame (refresh
     // walks its slot lit).
     for (const l of this.lights.shadowed) {
-      if (l.visible && l.castShadow) this.lights.pyramids.get(l).update(renderer);
+      if (l.visible && castsShadow(l)) this.lights.pyramids.get(l).update(renderer);
     }
     this.refresh();
     renderer.setRenderTarget(out);

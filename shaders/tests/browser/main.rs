@@ -330,13 +330,7 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
             let mut frames = lights_frames(&bytes, dirs.len(), if pass { 5 } else { 6 }, &what);
             let again = frames.pop().unwrap();
             let fog = frames[0].clone();
-            let worst_again = fog
-                .iter()
-                .zip(&again)
-                .flat_map(|(a, b)| {
-                    (0..4).map(move |c| (f64::from(a[c]) - f64::from(b[c])).abs() / f64::from(a[c]).abs().max(1e-6))
-                })
-                .fold(0.0, f64::max);
+            let worst_again = worst_relative(&fog, &again, 4, 1e-6);
             assert!(worst_again < 1e-6, "{what}: castShadow turned off changed the unshadowed fog ({worst_again:e})");
             eprintln!("volumetric lights, {what}: {adapter}");
             assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
@@ -403,6 +397,17 @@ fn lights_frames(bytes: &[u8], pixels: usize, count: usize, what: &str) -> Vec<V
         .collect()
 }
 
+/// The worst difference of `got` from `want` over each pixel's first `channels`
+/// channels, relative to `want` (below `floor`: to `floor`); infinite where `got`
+/// is not finite.
+fn worst_relative(want: &[[f32; 4]], got: &[[f32; 4]], channels: usize, floor: f64) -> f64 {
+    want.iter()
+        .zip(got)
+        .flat_map(|(a, b)| (0..channels).map(move |c| (f64::from(a[c]), f64::from(b[c]))))
+        .map(|(a, b)| if b.is_finite() { (a - b).abs() / a.abs().max(floor) } else { f64::INFINITY })
+        .fold(0.0, f64::max)
+}
+
 /// The composite against the scene's colour · T + fog (T the transmittance to the
 /// first surface; to the camera's far plane, 100, past none); the composite drawn
 /// as PostProcessing's output against the one drawn by a material (where the
@@ -430,16 +435,7 @@ fn check_composite_and_next_frame(
             }
         }
     }
-    let post = frames.get(4).map(|pp| {
-        let mut worst: f64 = 0.0;
-        for (a, b) in composite.iter().zip(pp) {
-            for ch in 0..3 {
-                let (a, b) = (f64::from(a[ch]), f64::from(b[ch]));
-                worst = worst.max(if b.is_finite() { (a - b).abs() / a.abs().max(1e-3) } else { f64::INFINITY });
-            }
-        }
-        worst
-    });
+    let post = frames.get(4).map(|pp| worst_relative(composite, pp, 3, 1e-3));
     eprintln!("volumetric lights, {what}: composite against colour · T + fog: worst {worst_t:.1e}; through PostProcessing against it: {}; the next frame with the intensity doubled: worst {worst_next:.1e} off 2×", post.map_or("not drawn".to_string(), |w| format!("worst {w:.1e}")));
     assert!(worst_t < 2e-3, "{what}: the composite is not colour · T + fog ({worst_t:e})");
     if let Some(w) = post {
