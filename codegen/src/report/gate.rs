@@ -14,7 +14,7 @@ const WHAT: [&str; 9] = [
     "canonical, edges: the exact axis (γ = 0, π), γ down to 1e-37, surfaces at the light and out to 1e300",
     "physical entry, random rays at 1e-3 … 1e4 units",
     "physical entry, extreme rays (1e-4 … 1e30 units, grazing, far planes, ∞)",
-    "spot entry, spot lights (2°–80°, and a grid of 5°–80° cones with inner half-angles from equal to a quarter, half of them turned so that the ray leaves through the penumbra) in RGB media, per channel; rays on the line through the light",
+    "spot entry, spot lights (2°–80°, and a grid of 5°–80° cones with inner half-angles from equal to a quarter, half of them turned so that the ray leaves through the penumbra) in RGB media, per channel; rays passing close by the light with the cone's cut near its foot; rays on the line through the light; a ray whose answer one f32 ulp of an input moves by over 1e-5 counts where it breaks the limit widened by 32 such changes",
     "shafts accumulator, 96 rays among 1–4 analytic occluders (balls, boxes) fed the exact lit intervals, 8 of them also from a 40° spot light (smooth and hard edges, per channel); error relative to the ray's unshadowed value times (1 + visibility changes)",
     "shafts accumulator fed the shadow-map walk: 32 of those rays, their occluders cast into a 256² cube map at the light, against the reference in-scattering over the same map's exact runs (f64); error as for `shadowed`",
 ];

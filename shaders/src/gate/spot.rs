@@ -14,13 +14,16 @@ pub struct SpotCase {
     pub point: Point,
     /// The reference RGB radiance.
     pub reference: [f64; 3],
-    /// The relative change of the reference when the cone's cosines move by one
-    /// f32 ulp: how much of the answer the f32 inputs alone leave undetermined.
+    /// The largest relative change of the reference when the cone's cosines, or
+    /// one coordinate of the light, the viewer or the direction, move by one f32
+    /// ulp: how much of the answer the f32 inputs alone leave undetermined.
     pub ulp_change: f64,
 }
 
-/// Spot rays whose answer changes by more than this when the cone's cosines move
-/// by one f32 ulp (narrow cones, rays grazing an edge) are ill-conditioned in f32
+/// Spot rays whose answer changes by more than this when the cone's cosines, or a
+/// coordinate of the light, the viewer or the direction, move by one f32 ulp
+/// (narrow cones, rays grazing an edge, a cone's cut near a light the ray passes
+/// close by) are ill-conditioned in f32
 /// itself: there an f32 kernel is held to its limit plus [`SPOT_ULP_FACTOR`] times
 /// that change, and its error enters the row's statistics only if it breaks that.
 pub const SPOT_ULP_CHANGE: f64 = 1e-5;
@@ -46,13 +49,15 @@ pub const SPOT_GRID_INNER: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
 /// [`SPOT_GRID_INNER`] (every eighth turned so that the ray leaves through its
 /// penumbra), the others outer half-angle 2°…80° log-uniform, every other one with a
 /// smooth edge (inner half-angle 20…95% of the outer), every 16th a point light
-/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then 28
-/// rays on the line through the light and beside it. Returns
+/// (`cos_outer = −1`); σt and σs per channel the ray's scaled by 0.4…1; then
+/// [`NEAR_LIGHT_RAYS`] rays passing close by the light
+/// ([`near_light_spot_rays`]) and 28 on the line through the light and beside it. Returns
 /// the rays with the canonical point of their unclipped red channel and the
 /// reference RGB radiance (through [`crate::SpotRay::reference`]).
 pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, GateError> {
     let base = placements(k, n, seed)?;
     let mut rays = sampled_spot_rays(k, &base, seed);
+    rays.extend(near_light_spot_rays(k, &base, seed));
     hold_at_lit_stretch(k, &mut rays);
     rays.extend(line_spot_rays(k, &base));
     spot_references(k, rays)
@@ -128,6 +133,93 @@ fn sampled_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed: u6
                 sigma_t,
                 sigma_s,
                 g: r.g,
+            },
+            *p,
+        ));
+    }
+    rays
+}
+
+/// Rays passing close by a spot light whose cone's cut crosses them near it.
+pub const NEAR_LIGHT_RAYS: usize = 24;
+
+/// [`NEAR_LIGHT_RAYS`] rays that pass a spot light at 1e-3 … 5e-2 of its distance,
+/// the cone (20°–60° outer half-angle, a hard edge or an inner cone of 40% or
+/// 70% of it) aimed within a few of those offsets of the light's foot, so that
+/// its cut crosses the ray where the glow gathers: found by a held-out probe
+/// (a 60°/42.5° cone, the light 0.1 m off a ray 9.5 m away: 2.3e-4 in f32 on
+/// every family, where moving the light by one f32 ulp moves the answer by
+/// about as much; kept as the last ray). Open rays and the placements' surfaces,
+/// every other one.
+fn near_light_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed: u64) -> Vec<(crate::SpotRay, Point)> {
+    let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x4EA2);
+    let takes_sigma_t = k.spot_params.contains(&airlight_shapes::vocab::Arg::SigmaTRgb);
+    let mut rays = Vec::with_capacity(NEAR_LIGHT_RAYS);
+    for i in 0..NEAR_LIGHT_RAYS.min(base.len()) {
+        let (r, p, _) = &base[i];
+        let o = r.origin.map(f64::from);
+        let dn = {
+            let d = r.dir.map(f64::from);
+            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            d.map(|x| x / m)
+        };
+        let l0 = r.light.map(f64::from);
+        let dist = ((l0[0] - o[0]).powi(2) + (l0[1] - o[1]).powi(2) + (l0[2] - o[2]).powi(2)).sqrt();
+        // The light's foot on the ray, ahead of the viewer, and a unit vector across the ray.
+        let foot: [f64; 3] = std::array::from_fn(|j| o[j] + dist * dn[j]);
+        let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
+        let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
+        let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
+        let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt().max(1e-12);
+        let h = dist * 1e-3 * 50f64.powf(rng.next_f64());
+        let light: [f64; 3] = std::array::from_fn(|j| foot[j] + h * q[j] / qn);
+        let s = h * 4.0 * (rng.next_f64() - 0.5);
+        let axis: [f64; 3] = std::array::from_fn(|j| foot[j] + s * dn[j] - light[j]);
+        let outer = [20.0f64, 30.0, 45.0, 60.0][i % 4].to_radians();
+        let inner = outer * [1.0, 0.7, 0.4][(i / 4) % 3];
+        let f = [1.0, 0.5 + 0.5 * rng.next_f64(), 0.5 + 0.5 * rng.next_f64()];
+        let sigma_t = if takes_sigma_t { f.map(|x| (x * f64::from(r.sigma_t)) as f32) } else { [0.0; 3] };
+        rays.push((
+            crate::SpotRay {
+                origin: r.origin,
+                dir: r.dir,
+                surface: if i % 2 == 0 { -1.0 } else { r.surface },
+                light: light.map(|x| x as f32),
+                axis: axis.map(|x| x as f32),
+                cos_outer: outer.cos() as f32,
+                cos_inner: inner.cos() as f32,
+                intensity: r.intensity,
+                sigma_t,
+                sigma_s: f.map(|x| (x * f64::from(r.sigma_s)) as f32),
+                g: r.g,
+            },
+            *p,
+        ));
+    }
+    // The held-out probe's ray, kept (its g the first placement's where the
+    // kernel's g range leaves out 0.3, no σt where it takes none): 2.25e-4 in f32 on phi-6 at these f32 inputs,
+    // where one ulp of one coordinate moves the answer by 3.9e-4 and one ulp of
+    // the cone's cosines by 4.7e-6 only.
+    if let Some((r, p, _)) = base.first() {
+        let f = |v: [f64; 3]| v.map(|x| x as f32);
+        let takes_g = k.g[0] <= 0.3 && 0.3 <= k.g[1];
+        rays.push((
+            crate::SpotRay {
+                origin: f([0.9833530783653259, 2.7297496795654297, 2.6016733646392822]),
+                dir: f([0.20472407341003418, 0.6763367652893066, 0.7075709104537964]),
+                surface: 27.827672958374023f64 as f32,
+                light: f([2.8405532836914062, 9.191301345825195, 9.288833618164062]),
+                axis: f([-0.06457164883613586, -0.8368364572525024, 0.5436315536499023]),
+                cos_outer: 0.4931713044643402f64 as f32,
+                cos_inner: 0.7374817132949829f64 as f32,
+                intensity: 82.15552520751953f64 as f32,
+                sigma_t: if takes_sigma_t {
+                    f([0.08611420542001724, 0.08064102381467819, 0.06574349850416183])
+                } else {
+                    [0.0; 3]
+                },
+                sigma_s: f([0.06136471778154373, 0.027940144762396812, 0.03974611684679985]),
+                g: if takes_g { 0.3 } else { r.g },
             },
             *p,
         ));
@@ -214,17 +306,35 @@ fn spot_references(k: &IndexEntry, rays: Vec<(crate::SpotRay, Point)>) -> Result
             for (c, v) in out.iter_mut().enumerate() {
                 *v = r.reference(c, &a).map_err(|e| e.to_string())?;
             }
-            // The problem's own f32 conditioning: the change when the cone's
-            // cosines move by one f32 ulp either way.
+            // The problem's own f32 conditioning: the largest change when the
+            // cone's cosines, or one coordinate of the light, the viewer or the
+            // direction, move by one f32 ulp either way (a light near the ray moves
+            // the cone's cut across the near stretch, where the glow gathers).
             let mut change = 0.0;
             if r.cone().is_some() {
                 for step in [-1.0f32, 1.0] {
-                    let mut q = *r;
                     let ulp = |x: f32| x + step * x.abs().max(f32::MIN_POSITIVE) * f32::EPSILON;
+                    let mut moved = Vec::with_capacity(1 + 3 * 3);
+                    let mut q = *r;
                     q.cos_outer = ulp(r.cos_outer);
                     q.cos_inner = ulp(r.cos_inner);
-                    let v = q.reference(0, &a).map_err(|e| e.to_string())?;
-                    change = f64::max(change, (v - out[0]).abs() / out[0].max(f64::MIN_POSITIVE));
+                    moved.push(q);
+                    for j in 0..3 {
+                        for which in 0..3 {
+                            let mut q = *r;
+                            let v = match which {
+                                0 => &mut q.light,
+                                1 => &mut q.origin,
+                                _ => &mut q.dir,
+                            };
+                            v[j] = ulp(v[j]);
+                            moved.push(q);
+                        }
+                    }
+                    for q in moved {
+                        let v = q.reference(0, &a).map_err(|e| e.to_string())?;
+                        change = f64::max(change, (v - out[0]).abs() / out[0].max(f64::MIN_POSITIVE));
+                    }
                 }
             }
             Ok((out, change))
