@@ -63,6 +63,26 @@ pub fn spot_rays(k: &IndexEntry, n: usize, seed: u64) -> Result<Vec<SpotCase>, G
     spot_references(k, rays)
 }
 
+/// A placement's viewer, unit direction and distance to its light (f64).
+fn ray_frame(r: &crate::Ray) -> ([f64; 3], [f64; 3], f64) {
+    let o = r.origin.map(f64::from);
+    let l = r.light.map(f64::from);
+    let dn = {
+        let d = r.dir.map(f64::from);
+        let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|x| x / m)
+    };
+    let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
+    (o, dn, dist)
+}
+
+/// `u` less its part along the unit `dn`, and that remainder's length.
+fn across(u: [f64; 3], dn: [f64; 3]) -> ([f64; 3], f64) {
+    let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
+    let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
+    (q, (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt())
+}
+
 /// One spot ray per placement: cones of 2°–80° aimed near the ray, every fourth
 /// from the renderers' grid (every eighth leaving through the penumbra), every
 /// sixteenth a point light; RGB media scaled from the placement's.
@@ -71,14 +91,8 @@ fn sampled_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed: u6
     let mut rng = airlight_truth::domains::SplitMix64(seed ^ 0x5907);
     let mut rays = Vec::with_capacity(n);
     for (i, (r, p, _)) in base.iter().enumerate() {
-        let o = r.origin.map(f64::from);
+        let (o, dn, dist) = ray_frame(r);
         let l = r.light.map(f64::from);
-        let dn = {
-            let d = r.dir.map(f64::from);
-            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            d.map(|x| x / m)
-        };
-        let dist = ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt();
         let s = 2.0 * dist * rng.next_f64();
         let jitter = 0.3 * dist * rng.next_f64();
         let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
@@ -98,9 +112,7 @@ fn sampled_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed: u6
             // tail) lies in the smooth edge.
             let frac = 0.2 + 0.6 * rng.next_f64();
             let a = grid_inner + frac * (grid_outer - grid_inner);
-            let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
-            let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
-            let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+            let (q, qn) = across(u, dn);
             if qn > 0.0 {
                 axis = std::array::from_fn(|j| a.cos() * dn[j] + a.sin() * q[j] / qn);
             }
@@ -157,20 +169,12 @@ fn near_light_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed:
     let mut rays = Vec::with_capacity(NEAR_LIGHT_RAYS);
     for i in 0..NEAR_LIGHT_RAYS.min(base.len()) {
         let (r, p, _) = &base[i];
-        let o = r.origin.map(f64::from);
-        let dn = {
-            let d = r.dir.map(f64::from);
-            let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            d.map(|x| x / m)
-        };
-        let l0 = r.light.map(f64::from);
-        let dist = ((l0[0] - o[0]).powi(2) + (l0[1] - o[1]).powi(2) + (l0[2] - o[2]).powi(2)).sqrt();
-        // The light's foot on the ray, ahead of the viewer, and a unit vector across the ray.
+        let (o, dn, dist) = ray_frame(r);
+        // The light's foot on the ray, ahead of the viewer, and a direction across the ray.
         let foot: [f64; 3] = std::array::from_fn(|j| o[j] + dist * dn[j]);
         let u = [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5];
-        let dot = u[0] * dn[0] + u[1] * dn[1] + u[2] * dn[2];
-        let q: [f64; 3] = std::array::from_fn(|j| u[j] - dot * dn[j]);
-        let qn = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt().max(1e-12);
+        let (q, qn) = across(u, dn);
+        let qn = qn.max(1e-12);
         let h = dist * 1e-3 * 50f64.powf(rng.next_f64());
         let light: [f64; 3] = std::array::from_fn(|j| foot[j] + h * q[j] / qn);
         let s = h * 4.0 * (rng.next_f64() - 0.5);
@@ -197,9 +201,9 @@ fn near_light_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)], seed:
         ));
     }
     // The held-out probe's ray, kept (its g the first placement's where the
-    // kernel's g range leaves out 0.3, no σt where it takes none): 2.25e-4 in f32 on phi-6 at these f32 inputs,
-    // where one ulp of one coordinate moves the answer by 3.9e-4 and one ulp of
-    // the cone's cosines by 4.7e-6 only.
+    // kernel's g range leaves out 0.3, no σt where it takes none): 2.25e-4 in f32
+    // on phi-6 at these f32 inputs, where one ulp of one coordinate moves the
+    // answer by 3.9e-4 and one ulp of the cone's cosines by 4.7e-6 only.
     if let Some((r, p, _)) = base.first() {
         let f = |v: [f64; 3]| v.map(|x| x as f32);
         let takes_g = k.g[0] <= 0.3 && 0.3 <= k.g[1];
@@ -252,10 +256,7 @@ fn line_spot_rays(k: &IndexEntry, base: &[(crate::Ray, Point, f64)]) -> Vec<(cra
     }
     for (i, &(ahead, off, smooth, toward, with_surface)) in cases.iter().enumerate() {
         let (r, p, _) = &base[i % base.len()];
-        let dist = {
-            let (o, l) = (r.origin.map(f64::from), r.light.map(f64::from));
-            ((l[0] - o[0]).powi(2) + (l[1] - o[1]).powi(2) + (l[2] - o[2]).powi(2)).sqrt()
-        };
+        let (_, _, dist) = ray_frame(r);
         let side = if ahead { 1.0 } else { -1.0 };
         let co = 30f64.to_radians().cos();
         let ci = if smooth { 20f64.to_radians().cos() } else { co };
