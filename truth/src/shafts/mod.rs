@@ -206,8 +206,10 @@ mod tests {
         // Tiny occluders 1e6 away (r/d = 1e-9, 1e-10): lit edges at 499.745 and 1500.755.
         ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 1e-4, 0.0, ([1e6, 0.0, 0.0], 1e-3), 1.22181e-57),
         ([1000010.0, 0.002, 0.0], [1.0, -2e-6, 0.0], [0.0; 3], 1e-4, 0.0, ([1e6, 0.0, 0.0], 1e-4), 1.43990e-57),
-        // r² beyond f64's range: the viewer inside a ball 2e200 across; a light inside one 1e-300 across.
-        ([0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 0.1, 0.0, ([1.9e200, 0.0, 0.0], 2e200), 0.0),
+        // r² beyond f64's range: the viewer and the light inside a ball 2e200 across
+        // (a closed surface: they see each other, the ray is lit to the far wall —
+        // NaN here means the unshadowed value); a light inside one 1e-300 across.
+        ([0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], 0.1, 0.0, ([1.9e200, 0.0, 0.0], 2e200), f64::NAN),
         ([0.0; 3], [1.0, 0.0, 0.0], [5.0, 1.0, 0.0], 0.1, 0.0, ([5.0, 1.0, 0.0], 1e-300), 0.0),
     ];
 
@@ -226,6 +228,7 @@ mod tests {
             let occ = [Occluder::Sphere { center: c, radius: r }];
             let lit = lit_intervals(&ray, &occ);
             let got = shadowed_radiance(&ray, None, g, &lit, &|p| reference::airlight(p).unwrap()).unwrap();
+            let want = if want.is_nan() { ray.radiance(g, &|p| reference::airlight(p).unwrap()).unwrap() } else { want };
             let err = if want == 0.0 { got } else { (got / want - 1.0).abs() };
             assert!(err < 1e-5, "ball {c:?} r {r}: {got:e} against {want:e} (lit {lit:?})");
         }
@@ -251,5 +254,71 @@ mod tests {
         let edge = 3.0 * r;
         assert!(ball.blocks([x, edge * (1.0 - 1e-9), 0.0], [0.0; 3]));
         assert!(!ball.blocks([x, edge * (1.0 + 1e-9), 0.0], [0.0; 3]));
+    }
+
+    /// Issue 60 (4): a shadow's end on a ray with a surface at any finite
+    /// distance is found to adjacent doubles, as on an open ray. The light at
+    /// the origin, a ball of radius 1 at (0, 0, 2): its shadow is the cone of
+    /// half-angle 30° behind it; the ray x = 1.2 along +z enters it at
+    /// z = 1.2·√3 and never leaves; run back along −z from z = 3 it starts in
+    /// it and leaves there.
+    #[test]
+    fn a_shadows_end_is_found_whatever_the_surfaces_distance() {
+        let occ = [Occluder::Sphere { center: [0.0, 0.0, 2.0], radius: 1.0 }];
+        let edge = 1.2 * 3f64.sqrt();
+        for surface in [Some(20.0), Some(1e60), Some(1e70), Some(1e80), Some(1e200), Some(f64::MAX), None] {
+            let ray = |origin: Vec3, dz: f64| PhysicalRay {
+                origin,
+                direction: [0.0, 0.0, dz],
+                surface_distance: surface,
+                light: [0.0; 3],
+                intensity: 1.0,
+                sigma_t: 0.1,
+                sigma_s: 0.1,
+            };
+            let into = lit_intervals(&ray([1.2, 0.0, 0.0], 1.0), &occ);
+            assert_eq!(into.len(), 1, "{surface:?}: {into:?}");
+            assert!(into[0].0 == 0.0 && (into[0].1 / edge - 1.0).abs() < 1e-14, "{surface:?}: {into:?}");
+            let out = lit_intervals(&ray([1.2, 0.0, 3.0], -1.0), &occ);
+            let end = surface.unwrap_or(f64::INFINITY);
+            assert_eq!(out.len(), 1, "{surface:?}: {out:?}");
+            assert!((out[0].0 / (3.0 - edge) - 1.0).abs() < 1e-14 && out[0].1 == end, "{surface:?}: {out:?}");
+        }
+    }
+
+    /// Issue 60 (5): an occluder is a closed opaque surface. A viewer and a
+    /// light inside a ball see each other (the ray lit to the far wall); inside
+    /// and outside do not; a light on the surface lights the inside.
+    #[test]
+    fn occluders_are_closed_surfaces() {
+        let ball = Occluder::Sphere { center: [2.5, 1.0, 0.0], radius: 10.0 };
+        let boxed = Occluder::Cuboid { min: [-5.0, -5.0, -5.0], max: [5.0, 5.0, 5.0] };
+        for occ in [ball, boxed] {
+            assert!(!occ.blocks([1.0, 0.5, 0.2], [0.0; 3]), "{occ:?}: inside to inside");
+            assert!(occ.blocks([40.0, 0.5, 0.2], [0.0; 3]), "{occ:?}: outside to inside");
+            assert!(occ.blocks([0.0; 3], [40.0, 0.5, 0.2]), "{occ:?}: inside to outside");
+        }
+        let ray = PhysicalRay {
+            origin: [0.0; 3],
+            direction: [1.0, 0.0, 0.0],
+            surface_distance: Some(12.0),
+            light: [1.0, 1.0, 0.0],
+            intensity: 1.0,
+            sigma_t: 0.1,
+            sigma_s: 0.1,
+        };
+        assert_eq!(lit_intervals(&ray, &[ball]), vec![(0.0, 12.0)]);
+        // A light on the ball's surface at the origin, the ball on +x: the ray
+        // y = 0.5 along +x from x = −1 is lit up to the light's tangent plane
+        // (s = 1), dark until it enters the ball (x = 1 − √0.75), lit inside it
+        // and dark behind it.
+        let on = Occluder::Sphere { center: [1.0, 0.0, 0.0], radius: 1.0 };
+        let ray = PhysicalRay { origin: [-1.0, 0.5, 0.0], light: [0.0; 3], surface_distance: None, ..ray };
+        let lit = lit_intervals(&ray, &[on]);
+        let want = [(0.0, 1.0), (2.0 - 0.75f64.sqrt(), 2.0 + 0.75f64.sqrt())];
+        assert_eq!(lit.len(), 2, "{lit:?}");
+        for (x, y) in lit.iter().zip(want) {
+            assert!((x.0 - y.0).abs() < 1e-12 && (x.1 - y.1).abs() < 1e-12, "{lit:?}");
+        }
     }
 }

@@ -28,9 +28,19 @@ pub enum Occluder {
 }
 
 impl Occluder {
-    /// Whether the segment from `x` to `light` passes through the occluder's
-    /// interior (grazing its boundary does not block).
+    /// Whether the segment from `x` to `light` crosses the occluder's boundary:
+    /// the occluder is a closed opaque surface, as a renderer's closed mesh is
+    /// (docs/MATH.md §8). A point and a light both inside it see each other (a
+    /// lamp in a room); one inside and one outside do not; a light on the
+    /// surface lights the inside and the outside in front of its tangent plane;
+    /// grazing the boundary does not block.
     pub fn blocks(&self, x: Vec3, light: Vec3) -> bool {
+        let (xin, lin) = (self.strictly_inside(x), self.strictly_inside(light));
+        if xin || lin {
+            // From inside, the segment leaves through the boundary iff the other
+            // end is strictly outside (a convex occluder).
+            return xin != lin && !self.contains(if xin { light } else { x });
+        }
         let e = sub(light, x);
         match *self {
             Occluder::Sphere { center, radius } => ball_blocks(center, radius, x, light),
@@ -49,6 +59,14 @@ impl Occluder {
                 }
                 lo < hi
             }
+        }
+    }
+
+    /// Whether `q` lies in the occluder's interior (its boundary excluded).
+    pub fn strictly_inside(&self, q: Vec3) -> bool {
+        match *self {
+            Occluder::Sphere { center, radius } => norm(sub(q, center)) < radius,
+            Occluder::Cuboid { min, max } => (0..3).all(|a| q[a] > min[a] && q[a] < max[a]),
         }
     }
 
@@ -220,8 +238,8 @@ pub(crate) fn ball_crossings(center: Vec3, radius: f64, o: Vec3, d: Vec3) -> Opt
     Some((ldexp(x.min(y), k), ldexp(x.max(y), k)))
 }
 
-/// Whether the segment from `x` to `light` passes through the ball's interior
-/// (touching its surface does not block; a light or a point inside it is blocked).
+/// Whether the segment from `x` to `light`, both outside the ball's interior,
+/// passes through it (touching its surface does not block).
 /// Decided where it is well conditioned: a thin shadow cone (ball small against its
 /// distance) by the cross product `|u × e| < r |e|` (each factor scaled by a power of
 /// two, the cross product free of cancellation), a wide one (light near or on the
@@ -230,9 +248,6 @@ pub(crate) fn ball_crossings(center: Vec3, radius: f64, o: Vec3, d: Vec3) -> Opt
 pub(crate) fn ball_blocks(center: Vec3, radius: f64, x: Vec3, light: Vec3) -> bool {
     let u = sub(center, light);
     let du = norm(u);
-    if du < radius || norm(sub(x, center)) < radius {
-        return true;
-    }
     let e = sub(x, light);
     let de = norm(e);
     if de == 0.0 {
@@ -367,7 +382,7 @@ pub fn lit_intervals(ray: &PhysicalRay, occluders: &[Occluder]) -> Vec<(f64, f64
     let mut edges = vec![0.0];
     edges.extend(&cuts);
     edges.push(end);
-    let mid = |a: f64, b: f64| if b.is_finite() { 0.5 * (a + b) } else { far.max(a + 1.0) };
+    let mid = |a: f64, b: f64| if b.is_finite() { a + 0.5 * (b - a) } else { far.max(a + 1.0) };
     let lit: Vec<bool> = edges.windows(2).map(|w| visible(ray, occluders, mid(w[0], w[1]))).collect();
     let mut out: Vec<(f64, f64)> = Vec::new();
     let mut start: Option<f64> = None;
@@ -389,19 +404,20 @@ pub fn lit_intervals(ray: &PhysicalRay, occluders: &[Occluder]) -> Vec<(f64, f64
     out
 }
 
-/// The point between `a` and `b` where visibility changes, to adjacent doubles.
-pub(crate) fn boundary(ray: &PhysicalRay, occluders: &[Occluder], mut a: f64, mut b: f64) -> f64 {
+/// The point between `a` and `b` (`0 ≤ a < b`, finite) where visibility changes,
+/// to adjacent doubles: bisected on the doubles' ordering (their bit patterns),
+/// so that it ends in at most 64 steps at any scale — a surface at 1e300 as at 20.
+pub(crate) fn boundary(ray: &PhysicalRay, occluders: &[Occluder], a: f64, b: f64) -> f64 {
     let va = visible(ray, occluders, a);
-    for _ in 0..200 {
-        let m = 0.5 * (a + b);
-        if m <= a || m >= b {
-            break;
-        }
-        if visible(ray, occluders, m) == va {
-            a = m;
+    let (mut lo, mut hi) = (a.max(0.0).to_bits(), b.max(0.0).to_bits());
+    while hi > lo + 1 {
+        let m = lo + (hi - lo) / 2;
+        if visible(ray, occluders, f64::from_bits(m)) == va {
+            lo = m;
         } else {
-            b = m;
+            hi = m;
         }
     }
-    0.5 * (a + b)
+    let (x, y) = (f64::from_bits(lo), f64::from_bits(hi));
+    x + 0.5 * (y - x)
 }

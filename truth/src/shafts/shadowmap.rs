@@ -168,8 +168,8 @@ impl ShadowMap {
         let rects: Vec<Vec<[usize; 4]>> =
             faces.iter().map(|f| occluders.iter().map(|o| texel_rect(f, light, o, res)).collect()).collect();
         let rows: Vec<(usize, usize)> = (0..faces.len()).flat_map(|f| (0..res).map(move |j| (f, j))).collect();
-        let cast_row = |&(f, j): &(usize, usize)| -> Vec<f32> {
-            let mut row = vec![NO_OCCLUDER; res];
+        let cast_row = |&(f, j): &(usize, usize)| -> Result<Vec<f32>, MapError> {
+            let mut row = vec![f64::INFINITY; res];
             for (o, r) in occluders.iter().zip(&rects[f]) {
                 if j < r[2] || j > r[3] {
                     continue;
@@ -178,10 +178,10 @@ impl ShadowMap {
                     *d = d.min(texel_depth(light, &faces[f], res, i, j, std::slice::from_ref(o)));
                 }
             }
-            row
+            row.into_iter().map(stored_depth).collect()
         };
-        let depth = crate::parallel::map(&rows, cast_row, &|_, _| {}).concat();
-        Ok(ShadowMap { light, faces, res, depth, bias })
+        let depth = crate::parallel::map(&rows, cast_row, &|_, _| {}).into_iter().collect::<Result<Vec<_>, _>>()?;
+        Ok(ShadowMap { light, faces, res, depth: depth.concat(), bias })
     }
 
     /// The depth of texel `(i, j)` of face `f`.
@@ -351,8 +351,9 @@ fn texel_rect(face: &Face, light: Vec3, o: &Occluder, res: usize) -> [usize; 4] 
 /// The depth (`Z`) of the first occluder along the centre ray of texel `(i, j)`:
 /// its first boundary ahead of the light, entering or leaving (a light on an
 /// occluder's surface or inside it is shadowed by its far side, as a depth pass
-/// without face culling draws it).
-fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occluders: &[Occluder]) -> f32 {
+/// without face culling draws it), in f64 (`∞`: none); [`stored_depth`] rounds it
+/// to the map's f32.
+fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occluders: &[Occluder]) -> f64 {
     let xc = 2.0 * (i as f64 + 0.5) / res as f64 - 1.0;
     let yc = 2.0 * (j as f64 + 0.5) / res as f64 - 1.0;
     // M w = (xc, yc, 1): w = forward + xc·right·tan_half + yc·up·tan_half.
@@ -377,13 +378,30 @@ fn texel_depth(light: Vec3, face: &Face, res: usize, i: usize, j: usize, occlude
         .filter(|o| !misses(o))
         .filter_map(|o| o.boundary_ahead(light, u))
         .fold(f64::INFINITY, f64::min);
-    if hit.is_finite() {
-        // Z = s/|w| (w has Z = 1), rounded to the map's f32.
-        (hit / len) as f32
+    // Z = s/|w| (w has Z = 1).
+    hit / len
+}
+
+/// A texel's depth `z` (`∞`: no occluder) as the map stores it, an f32 below
+/// [`NO_OCCLUDER`]; a depth f32 cannot hold (beyond 3.4e38, or a positive depth
+/// that rounds to 0) is refused: stored as infinity or 0 it would light or
+/// darken everything behind it (docs/MATH.md §9).
+pub fn stored_depth(z: f64) -> Result<f32, MapError> {
+    if z == f64::INFINITY {
+        return Ok(NO_OCCLUDER);
+    }
+    let x = z as f32;
+    if x.is_finite() && x < NO_OCCLUDER && (x > 0.0 || z <= 0.0) {
+        Ok(x)
     } else {
-        NO_OCCLUDER
+        Err(MapError(format!(
+            "an occluder at depth {z:e} from the light is outside the range of the map's f32 depths \
+             (1.4e-45 to 3.4e38): scale the scene"
+        )))
     }
 }
+
+
 
 /// A min-max pyramid: per face, level `k` has `(res >> k)²` nodes `[min, max]`
 /// of the depths under them, up to one node.
@@ -573,7 +591,7 @@ mod tests {
             for f in 0..map.faces.len() {
                 for j in 0..64 {
                     for i in 0..64 {
-                        let brute = texel_depth(light, &map.faces[f], 64, i, j, &balls());
+                        let brute = stored_depth(texel_depth(light, &map.faces[f], 64, i, j, &balls())).unwrap();
                         assert_eq!(map.texel(f, i, j), brute, "face {f} texel {i},{j}");
                     }
                 }
@@ -594,5 +612,62 @@ mod tests {
         assert!(ShadowMap::cube([0.0; 3], 100, &balls(), 0.0).is_err());
         assert!(ShadowMap::cube([0.0; 3], 64, &balls(), -1.0).is_err());
         assert!(ShadowMap::spot([0.0; 3], [0.0; 3], 1.0, 64, &balls(), 0.0).is_err());
+    }
+
+    /// Issue 60 (5): the map and the exact model agree on occluders as closed
+    /// surfaces — a viewer and a light inside a ball lit to the far wall, a light
+    /// on a ball's surface lighting the inside.
+    #[test]
+    fn the_map_lights_the_inside_of_a_closed_occluder_as_the_exact_model_does() {
+        let inside = Occluder::Sphere { center: [2.5, 1.0, 0.0], radius: 10.0 };
+        let r = PhysicalRay {
+            origin: [0.0; 3],
+            direction: [1.0, 0.0, 0.0],
+            // The far wall is at x = 2.5 + √(100 − 1): a surface short of it by
+            // more than a texel's change in the wall's depth.
+            surface_distance: Some((2.5 + 99f64.sqrt()) * 0.95),
+            light: [1.0, 1.0, 0.0],
+            intensity: 1.0,
+            sigma_t: 0.1,
+            sigma_s: 0.1,
+        };
+        for res in [64, 1024] {
+            let map = ShadowMap::cube(r.light, res, &[inside], 0.0).unwrap();
+            assert_eq!(map.lit_runs(&r), super::super::lit_intervals(&r, &[inside]), "{res}");
+        }
+        let on = Occluder::Sphere { center: [1.0, 0.0, 0.0], radius: 1.0 };
+        let r = PhysicalRay { origin: [-1.0, 0.5, 0.0], light: [0.0; 3], surface_distance: None, ..r };
+        let exact = super::super::lit_intervals(&r, &[on]);
+        let mut last = f64::INFINITY;
+        for res in [256, 1024, 4096] {
+            let runs = ShadowMap::cube(r.light, res, &[on], 0.0).unwrap().lit_runs(&r);
+            assert_eq!(runs.len(), exact.len(), "{res}: {runs:?} vs {exact:?}");
+            let err = runs.iter().zip(&exact).map(|(x, y)| (x.0 - y.0).abs().max((x.1 - y.1).abs())).fold(0.0, f64::max);
+            assert!(err < 8.0 / res as f64 && err <= last, "{res}: {runs:?} vs {exact:?}");
+            last = err;
+        }
+    }
+
+    /// Issue 60 (7): a depth the map's f32 texels cannot hold is refused, not
+    /// stored as "no occluder".
+    #[test]
+    fn depths_beyond_f32_are_refused() {
+        for scale in [1e39, 1e100, 1e-50] {
+            let light = [0.5 * scale, 1.5 * scale, 0.3 * scale];
+            let occ: Vec<Occluder> = balls()
+                .iter()
+                .map(|o| match *o {
+                    Occluder::Sphere { center, radius } => {
+                        Occluder::Sphere { center: center.map(|c| c * scale), radius: radius * scale }
+                    }
+                    Occluder::Cuboid { min, max } => {
+                        Occluder::Cuboid { min: min.map(|c| c * scale), max: max.map(|c| c * scale) }
+                    }
+                })
+                .collect();
+            let e = ShadowMap::cube(light, 64, &occ, 0.0).unwrap_err();
+            assert!(e.0.contains("f32") && e.0.contains("scale the scene"), "{scale}: {e}");
+        }
+        assert!(stored_depth(1e-44).is_ok() && stored_depth(3e38).is_ok() && stored_depth(f64::INFINITY).is_ok());
     }
 }
