@@ -173,13 +173,16 @@ enum Command {
         /// min-max pyramid (exact with respect to the map's nearest-texel test): the
         /// f64 reference walk on --precision f64, the generated walk on f32, WGSL
         /// and GLSL (the pyramid built there by the shipped pass). Prints the
-        /// walk's steps on standard error.
-        #[arg(long, value_name = "RES")]
-        shadow_map: Option<usize>,
+        /// walk's steps on standard error; a ray whose walk runs out of its
+        /// steps (the generated walk's 4096) fails the run, naming its line. A
+        /// spot cone wider than 60° (half-angle) gets a cube map: one face
+        /// cannot cover a cone of 90° or more.
+        #[arg(long, value_name = "RES", allow_negative_numbers = true)]
+        shadow_map: Option<i64>,
         /// With --shadow-map: the depth test's bias (lit where depth <= stored + B),
-        /// in world units.
-        #[arg(long, value_name = "B", default_value_t = 0.0)]
-        bias: f64,
+        /// in world units, finite and >= 0 (default 0).
+        #[arg(long, value_name = "B", allow_negative_numbers = true)]
+        bias: Option<f64>,
         /// Repository root (the directory holding generated/coefficients/); found
         /// from the current directory if omitted. Only the reference works without it.
         #[arg(long)]
@@ -394,7 +397,10 @@ fn run(command: Command, kernels: Kernels) -> Result<(), Failure> {
             if shadow_map.is_some() && samples.is_some() {
                 return Err(bad_input("give --samples or --shadow-map, not both"));
             }
-            let map = shadow_map.map(|res| shafts::MapFeed { res, bias });
+            if shadow_map.is_none() && bias.is_some() {
+                return Err(bad_input("--bias goes with --shadow-map (the depth test's bias)"));
+            }
+            let map = shadow_map.map(|res| shafts::MapFeed::new(res, bias.unwrap_or(0.0))).transpose()?;
             if entry == EvalEntry::Shadowed {
                 let on = match (target.0, precision, linked) {
                     (Some(t), _, _) => shafts::Runner::Gpu(t),

@@ -31,6 +31,20 @@ pub(crate) struct MapFeed {
     pub(crate) bias: f64,
 }
 
+impl MapFeed {
+    /// `--shadow-map RES --bias B`, checked before any row is read.
+    pub(crate) fn new(res: i64, bias: f64) -> Result<MapFeed, Failure> {
+        let max = shafts::MAX_RES as i64;
+        if !(res > 0 && res <= max && (res & (res - 1)) == 0) {
+            return Err(bad_input(format!("--shadow-map {res}: give a power of two from 1 to {max} texels per side")));
+        }
+        if !(bias >= 0.0 && bias.is_finite()) {
+            return Err(bad_input(format!("--bias {bias}: give a finite depth bias >= 0, in world units")));
+        }
+        Ok(MapFeed { res: res as usize, bias })
+    }
+}
+
 /// The rows of a shadowed file: rays of the physical entry, or of the spot entry
 /// (its header names `cos_outer`).
 enum ShadowRows {
@@ -329,10 +343,16 @@ fn as_f32(s: &[(f64, f64)]) -> Vec<[f32; 2]> {
 /// Texels a GPU batch of maps may hold (their depths and pyramids on the adapter).
 const GPU_BATCH_TEXELS: usize = 1 << 25;
 
-/// The tangent of a spot map's half-angle for a cone of outer cosine `c`: the
-/// cone's own, at most 89.5° (outside the map, lit; the cone weighs it 0 there).
-fn spot_tan_half(cos_outer: f64) -> f64 {
-    cos_outer.clamp(89.5f64.to_radians().cos(), 1.0).acos().tan().max(1e-6)
+/// The widest spot cone (half-angle) that gets a one-face map; a wider one gets
+/// a cube map. One face cannot cover a cone of 90° or more (it lit everything
+/// outside its face: a 90° cone leaked completely), and past 60° its edge
+/// texels are over 4× the centre's.
+const SPOT_FACE_MAX_DEG: f64 = 60.0;
+
+/// The tangent of a spot map's half-angle for a cone of outer cosine `c`, at
+/// most [`SPOT_FACE_MAX_DEG`]: `None` where a cube map covers the cone.
+fn spot_tan_half(cos_outer: f64) -> Option<f64> {
+    (cos_outer >= SPOT_FACE_MAX_DEG.to_radians().cos()).then(|| cos_outer.min(1.0).acos().tan().max(1e-6))
 }
 
 impl Job<'_> {
@@ -345,17 +365,19 @@ impl Job<'_> {
         cone: Option<&airlight_truth::geometry::Cone>,
     ) -> Result<shafts::ShadowMap, Failure> {
         let occ = self.spheres.iter().find(|s| s.0 == line).map(|s| s.1.clone()).unwrap_or_default();
-        let map = match cone {
+        let map = match cone.and_then(|c| Some((c, spot_tan_half(c.cos_outer)?))) {
             None => shafts::ShadowMap::cube(ray.light, m.res, &occ, m.bias),
-            Some(c) => shafts::ShadowMap::spot(ray.light, c.axis, spot_tan_half(c.cos_outer), m.res, &occ, m.bias),
+            Some((c, tan_half)) => shafts::ShadowMap::spot(ray.light, c.axis, tan_half, m.res, &occ, m.bias),
         };
         map.map_err(|e| bad_input(format!("{}:{line}: --shadow-map: {e}", self.name)))
     }
 
-    /// The walk's steps per ray, summarised on standard error.
-    fn report_steps(&self, m: MapFeed, steps: &[f32]) {
+    /// The walk's steps per ray, summarised on standard error; a ray whose walk
+    /// ran out of steps (its rest counted as shadowed) fails the run, naming the
+    /// first such line.
+    fn report_steps(&self, m: MapFeed, lines: &[usize], steps: &[f32]) -> Result<(), Failure> {
         if steps.is_empty() {
-            return;
+            return Ok(());
         }
         let mut s: Vec<f32> = steps.iter().map(|x| x.abs()).collect();
         s.sort_by(f32::total_cmp);
@@ -367,6 +389,20 @@ impl Job<'_> {
             s[s.len() - 1],
             s.len()
         );
+        match steps.iter().position(|&x| x < 0.0) {
+            None => Ok(()),
+            Some(i) => Err(Failure(
+                1,
+                format!(
+                    "{}:{}: the shadow-map walk ran out of its {} steps ({truncated} of {} rays did; the rest of \
+                     each counted as shadowed): give a smaller --shadow-map or fewer occluders",
+                    self.name,
+                    lines.get(i).copied().unwrap_or(0),
+                    s[s.len() - 1],
+                    s.len()
+                ),
+            )),
+        }
     }
 
     /// The physical entry through the walk's runs.
@@ -428,7 +464,8 @@ impl Job<'_> {
                 out
             }
         };
-        self.report_steps(m, &steps);
+        let lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
+        self.report_steps(m, &lines, &steps)?;
         Ok(values)
     }
 
@@ -520,7 +557,8 @@ impl Job<'_> {
                 out
             }
         };
-        self.report_steps(m, &steps);
+        let lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
+        self.report_steps(m, &lines, &steps)?;
         Ok(values)
     }
 

@@ -6,7 +6,9 @@
 // the node's minimum plus the bias: lit; above its maximum plus the bias: dark)
 // is skipped, and at a texel the nearest-texel test flips at most once, at a
 // point in closed form. The runs are those of the map's own test, up to f32
-// rounding of where the ray crosses a texel's edge. GLSL ES 3.00 and 4.50; the
+// rounding of where the ray crosses a texel's edge (the walk measures the ray
+// from its point closest to the light, t0, so that a ray passing close by a
+// light from far away keeps its texels). GLSL ES 3.00 and 4.50; the
 // WGSL (shadowmap.wgsl) is the same walk, line for line.
 //
 // A face maps p to (X, Y, Z) = M (p - light), rows right/tan_half, up/tan_half,
@@ -47,8 +49,14 @@
 vec2 airlight_smap_node(int face, int level, ivec2 p);
 
 struct AirlightSmapWalk {
+    // The ray's point closest to the light (in front of the viewer, short of
+    // the surface) relative to the light, and the unit direction.
     vec3 o;
     vec3 d;
+    // That point's distance from the viewer: the walk's distances (t, span)
+    // are measured from it, the runs it hands out from the viewer.
+    float t0;
+    // The surface's distance from the viewer (an open ray: FAR).
     float end;
     mat3 rows;
     bool cube;
@@ -69,11 +77,11 @@ struct AirlightSmapWalk {
     vec3 b;
     int sx;
     int sy;
-    // Where the walk is: distance, level, level-0 texel.
+    // Where the walk is: distance from t0, level, level-0 texel.
     float t;
     int level;
     ivec2 cell;
-    // Start of the lit run not yet closed (negative: none).
+    // Start of the lit run not yet closed, from the viewer (negative: none).
     float run;
     int steps;
     bool truncated;
@@ -105,10 +113,10 @@ vec3 airlight_smap_apply(mat3 m, vec3 q) {
     return vec3(dot(m[0], q), dot(m[1], q), dot(m[2], q));
 }
 
-// The stretch of [0, end] inside a face's frustum for the face coordinates
+// The stretch of [start, end] inside a face's frustum for the face coordinates
 // a + t b; empty when x >= y.
-vec2 airlight_smap_clip(vec3 a, vec3 b, float end) {
-    float lo = 0.0;
+vec2 airlight_smap_clip(vec3 a, vec3 b, float start, float end) {
+    float lo = start;
     float hi = end;
     for (int j = 0; j < 4; j++) {
         float s = (j & 1) == 0 ? 1.0 : -1.0;
@@ -141,9 +149,12 @@ mat3 airlight_smap_rows_of(AirlightSmapWalk w, int f) {
 // pyramid's layer (several lights' maps in one array).
 AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 light, mat3 rows, bool cube, int res, float bias, int layer) {
     AirlightSmapWalk w;
-    w.o = origin - light;
+    vec3 o = origin - light;
     w.d = dir / length(dir);
     w.end = end < 0.0 ? AIRLIGHT_SMAP_FAR : end;
+    // The point closest to the light, within [0, end].
+    w.t0 = clamp(-dot(o, w.d), 0.0, w.end);
+    w.o = o + w.t0 * w.d;
     w.rows = rows;
     w.cube = cube;
     w.res = float(res);
@@ -161,7 +172,7 @@ AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 ligh
     w.b = vec3(0.0);
     w.sx = 0;
     w.sy = 0;
-    w.t = 0.0;
+    w.t = -w.t0;
     w.level = 0;
     w.cell = ivec2(0);
     w.run = -1.0;
@@ -175,7 +186,7 @@ AirlightSmapWalk airlight_smap_begin(vec3 origin, vec3 dir, float end, vec3 ligh
     int faces = cube ? 6 : 1;
     for (int f = 0; f < faces; f++) {
         mat3 m = airlight_smap_rows_of(w, f);
-        vec2 s = airlight_smap_clip(airlight_smap_apply(m, w.o), airlight_smap_apply(m, w.d), w.end);
+        vec2 s = airlight_smap_clip(airlight_smap_apply(m, w.o), airlight_smap_apply(m, w.d), -w.t0, w.end - w.t0);
         if (s.x < s.y) {
             // Insert in order of start.
             int j = w.count;
@@ -197,19 +208,25 @@ int airlight_smap_cell(AirlightSmapWalk w, float v) {
     return clamp(int(floor((v + 1.0) * 0.5 * w.res)), 0, int(w.res) - 1);
 }
 
-// A stretch [t0, t1] lit or dark; returns the lit run it closes (x negative: none).
+// A walk distance (from t0) as a distance from the viewer.
+float airlight_smap_from_viewer(AirlightSmapWalk w, float t) {
+    return t >= w.end - w.t0 ? w.end : w.t0 + t;
+}
+
+// A stretch [t0, t1] (from t0) lit or dark; returns the lit run it closes, from
+// the viewer (x negative: none).
 vec2 airlight_smap_piece(inout AirlightSmapWalk w, float t0, float t1, bool lit) {
     if (!(t1 > t0)) {
         return vec2(-1.0);
     }
     if (lit) {
         if (w.run < 0.0) {
-            w.run = t0;
+            w.run = airlight_smap_from_viewer(w, t0);
         }
         return vec2(-1.0);
     }
     if (w.run >= 0.0) {
-        vec2 r = vec2(w.run, t0);
+        vec2 r = vec2(w.run, airlight_smap_from_viewer(w, t0));
         w.run = -1.0;
         return r;
     }
@@ -227,8 +244,13 @@ void airlight_smap_enter(inout AirlightSmapWalk w) {
     w.sy = int(sign(b.y * a.z - a.y * b.z));
     float t = max(w.t, w.span[w.k].x);
     w.t = t;
-    float z = a.z + t * b.z;
-    w.cell = ivec2(airlight_smap_cell(w, (a.x + t * b.x) / z), airlight_smap_cell(w, (a.y + t * b.y) / z));
+    // At the light itself (Z = 0: the ray from or through the light) the texel
+    // is the direction's.
+    vec3 p = a + t * b;
+    if (p.z <= 0.0 && b.z > 0.0) {
+        p = b;
+    }
+    w.cell = ivec2(airlight_smap_cell(w, p.x / p.z), airlight_smap_cell(w, p.y / p.z));
     w.level = w.top;
     w.inside = true;
 }
@@ -339,12 +361,14 @@ vec2 airlight_smap_step(inout AirlightSmapWalk w) {
     return closed;
 }
 
-// Closes the open run at t (an open ray's far end: y negative); x negative: none.
+// Closes the open run at t (from t0; an open ray's far end: y negative); x
+// negative: none.
 vec2 airlight_smap_close(inout AirlightSmapWalk w, float t) {
     if (w.run < 0.0) {
         return vec2(-1.0);
     }
-    vec2 r = vec2(w.run, t >= 0.5 * AIRLIGHT_SMAP_FAR ? -1.0 : t);
+    float v = airlight_smap_from_viewer(w, t);
+    vec2 r = vec2(w.run, v >= 0.5 * AIRLIGHT_SMAP_FAR ? -1.0 : v);
     w.run = -1.0;
     return (r.y < 0.0 || r.y > r.x) ? r : vec2(-1.0);
 }
@@ -371,10 +395,11 @@ vec2 airlight_smap_next(inout AirlightSmapWalk w) {
             airlight_smap_enter(w);
         } else {
             w.done = true;
+            float end = w.end - w.t0;
             if (!w.cube) {
-                airlight_smap_piece(w, w.t, w.end, true);
+                airlight_smap_piece(w, w.t, end, true);
             }
-            return airlight_smap_close(w, w.end);
+            return airlight_smap_close(w, end);
         }
         if (closed.x >= 0.0) {
             return closed;

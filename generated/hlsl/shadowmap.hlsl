@@ -7,29 +7,33 @@ struct AirlightSmapWalk {
     float3 o;
     int _pad1_0;
     float3 d;
+    float t0_;
     float end;
-    row_major float3x3 rows;
     int _pad4_0;
+    int _pad4_1;
+    int _pad4_2;
+    row_major float3x3 rows;
+    int _pad5_0;
     bool cube;
     float res;
     uint top;
     float bias;
     uint layer;
-    int _pad9_0;
+    int _pad10_0;
     float2 span[6];
     uint face[6];
     uint count;
     uint k;
     bool inside;
-    int _pad14_0;
-    float3 a;
     int _pad15_0;
+    float3 a;
+    int _pad16_0;
     float3 b;
     int sx;
     int sy;
     float t;
     uint level;
-    int _pad20_0;
+    int _pad21_0;
     int2 cell;
     float run;
     uint steps;
@@ -77,12 +81,13 @@ uint airlight_smap_naga_div(uint lhs, uint rhs) {
     return lhs / (rhs == 0u ? 1u : rhs);
 }
 
-float2 airlight_smap_clip(float3 a, float3 b, float end)
+float2 airlight_smap_clip(float3 a, float3 b, float start, float end)
 {
-    float lo = 0.0;
+    float lo = (float)0;
     float hi = (float)0;
     uint j = 0u;
 
+    lo = start;
     hi = end;
     uint2 loop_bound = uint2(4294967295u, 4294967295u);
     bool loop_init = true;
@@ -144,9 +149,17 @@ AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, flo
     uint j_1 = (uint)0;
     bool local_1 = (bool)0;
 
-    w_1.o = (origin - light);
+    float3 o = (origin - light);
     w_1.d = (dir / (length(dir)).xxx);
     w_1.end = ((end_1 < 0.0) ? AIRLIGHT_SMAP_FAR : end_1);
+    float3 _e22 = w_1.d;
+    float _e26 = w_1.end;
+    w_1.t0_ = clamp(-(dot(o, _e22)), 0.0, _e26);
+    float _e31 = w_1.t0_;
+    float3 _e33 = w_1.d;
+    w_1.o = (o + (_e31 * _e33));
+    float _e38 = w_1.t0_;
+    w_1.t = -(_e38);
     w_1.rows = rows;
     w_1.cube = cube;
     w_1.res = float(res);
@@ -154,25 +167,25 @@ AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, flo
     while(true) {
         if (all(loop_bound_1 == uint2(0u, 0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-        uint _e28 = top;
-        if (((1u << _e28) < res)) {
-            uint _e33 = top;
-            local = (_e33 < 13u);
+        uint _e47 = top;
+        if (((1u << _e47) < res)) {
+            uint _e52 = top;
+            local = (_e52 < 13u);
         } else {
             local = false;
         }
-        bool _e37 = local;
-        if (_e37) {
+        bool _e56 = local;
+        if (_e56) {
         } else {
             break;
         }
         {
-            uint _e38 = top;
-            top = (_e38 + 1u);
+            uint _e57 = top;
+            top = (_e57 + 1u);
         }
     }
-    uint _e42 = top;
-    w_1.top = _e42;
+    uint _e61 = top;
+    w_1.top = _e61;
     w_1.bias = bias;
     w_1.layer = layer;
     w_1.run = -1.0;
@@ -183,70 +196,72 @@ AirlightSmapWalk airlight_smap_begin(float3 origin, float3 dir, float end_1, flo
         if (all(loop_bound_2 == uint2(0u, 0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e121 = f_2;
-            f_2 = (_e121 + 1u);
+            uint _e146 = f_2;
+            f_2 = (_e146 + 1u);
         }
         loop_init_1 = false;
-        uint _e52 = f_2;
-        if ((_e52 < faces)) {
+        uint _e71 = f_2;
+        if ((_e71 < faces)) {
         } else {
             break;
         }
         {
-            AirlightSmapWalk _e54 = w_1;
-            uint _e55 = f_2;
-            const float3x3 _e56 = airlight_smap_rows_of(_e54, _e55);
-            float3 _e58 = w_1.o;
-            const float3 _e59 = airlight_smap_apply(_e56, _e58);
-            float3 _e61 = w_1.d;
-            const float3 _e62 = airlight_smap_apply(_e56, _e61);
-            float _e64 = w_1.end;
-            const float2 _e65 = airlight_smap_clip(_e59, _e62, _e64);
-            if ((_e65.x < _e65.y)) {
-                uint _e70 = w_1.count;
-                j_1 = _e70;
+            AirlightSmapWalk _e73 = w_1;
+            uint _e74 = f_2;
+            const float3x3 _e75 = airlight_smap_rows_of(_e73, _e74);
+            float3 _e77 = w_1.o;
+            const float3 _e78 = airlight_smap_apply(_e75, _e77);
+            float3 _e80 = w_1.d;
+            const float3 _e81 = airlight_smap_apply(_e75, _e80);
+            float _e83 = w_1.t0_;
+            float _e86 = w_1.end;
+            float _e88 = w_1.t0_;
+            const float2 _e90 = airlight_smap_clip(_e78, _e81, -(_e83), (_e86 - _e88));
+            if ((_e90.x < _e90.y)) {
+                uint _e95 = w_1.count;
+                j_1 = _e95;
                 uint2 loop_bound_3 = uint2(4294967295u, 4294967295u);
                 while(true) {
                     if (all(loop_bound_3 == uint2(0u, 0u))) { break; }
                     loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
-                    uint _e72 = j_1;
-                    if ((_e72 > 0u)) {
-                        uint _e78 = j_1;
-                        float _e83 = w_1.span[min(uint((_e78 - 1u)), 5u)].x;
-                        local_1 = (_e83 > _e65.x);
+                    uint _e97 = j_1;
+                    if ((_e97 > 0u)) {
+                        uint _e103 = j_1;
+                        float _e108 = w_1.span[min(uint((_e103 - 1u)), 5u)].x;
+                        local_1 = (_e108 > _e90.x);
                     } else {
                         local_1 = false;
                     }
-                    bool _e87 = local_1;
-                    if (_e87) {
+                    bool _e112 = local_1;
+                    if (_e112) {
                     } else {
                         break;
                     }
                     {
-                        uint _e89 = j_1;
-                        uint _e92 = j_1;
-                        float2 _e96 = w_1.span[min(uint((_e92 - 1u)), 5u)];
-                        w_1.span[min(uint(_e89), 5u)] = _e96;
-                        uint _e98 = j_1;
-                        uint _e101 = j_1;
-                        uint _e105 = w_1.face[min(uint((_e101 - 1u)), 5u)];
-                        w_1.face[min(uint(_e98), 5u)] = _e105;
-                        uint _e106 = j_1;
-                        j_1 = (_e106 - 1u);
+                        uint _e114 = j_1;
+                        uint _e117 = j_1;
+                        float2 _e121 = w_1.span[min(uint((_e117 - 1u)), 5u)];
+                        w_1.span[min(uint(_e114), 5u)] = _e121;
+                        uint _e123 = j_1;
+                        uint _e126 = j_1;
+                        uint _e130 = w_1.face[min(uint((_e126 - 1u)), 5u)];
+                        w_1.face[min(uint(_e123), 5u)] = _e130;
+                        uint _e131 = j_1;
+                        j_1 = (_e131 - 1u);
                     }
                 }
-                uint _e110 = j_1;
-                w_1.span[min(uint(_e110), 5u)] = _e65;
-                uint _e113 = j_1;
-                uint _e115 = f_2;
-                w_1.face[min(uint(_e113), 5u)] = _e115;
-                uint _e117 = w_1.count;
-                w_1.count = (_e117 + 1u);
+                uint _e135 = j_1;
+                w_1.span[min(uint(_e135), 5u)] = _e90;
+                uint _e138 = j_1;
+                uint _e140 = f_2;
+                w_1.face[min(uint(_e138), 5u)] = _e140;
+                uint _e142 = w_1.count;
+                w_1.count = (_e142 + 1u);
             }
         }
     }
-    AirlightSmapWalk _e123 = w_1;
-    const AirlightSmapWalk airlightsmapwalk = _e123;
+    AirlightSmapWalk _e148 = w_1;
+    const AirlightSmapWalk airlightsmapwalk = _e148;
     return airlightsmapwalk;
 }
 
@@ -259,241 +274,260 @@ int airlight_smap_cell(AirlightSmapWalk w_2, float v)
     return clamp(airlight_smap_naga_f2i32(floor((((v + 1.0) * 0.5) * w_2.res))), int(0), asint(asuint(airlight_smap_naga_f2i32(w_2.res)) - asuint(int(1))));
 }
 
-float2 airlight_smap_piece(inout AirlightSmapWalk w_3, float t0_, float t1_, bool lit_)
+float airlight_smap_from_viewer(AirlightSmapWalk w_3, float t)
+{
+    return ((t >= (w_3.end - w_3.t0_)) ? w_3.end : (w_3.t0_ + t));
+}
+
+float2 airlight_smap_piece(inout AirlightSmapWalk w_4, float t0_, float t1_, bool lit_)
 {
     if (!((t1_ > t0_))) {
         return (-1.0).xx;
     }
     if (lit_) {
-        float _e9 = w_3.run;
+        float _e9 = w_4.run;
         if ((_e9 < 0.0)) {
-            w_3.run = t0_;
+            AirlightSmapWalk _e13 = w_4;
+            const float _e14 = airlight_smap_from_viewer(_e13, t0_);
+            w_4.run = _e14;
         }
         return (-1.0).xx;
     }
-    float _e16 = w_3.run;
-    if ((_e16 >= 0.0)) {
-        float _e20 = w_3.run;
-        float2 r = float2(_e20, t0_);
-        w_3.run = -1.0;
+    float _e18 = w_4.run;
+    if ((_e18 >= 0.0)) {
+        float _e22 = w_4.run;
+        AirlightSmapWalk _e23 = w_4;
+        const float _e24 = airlight_smap_from_viewer(_e23, t0_);
+        float2 r = float2(_e22, _e24);
+        w_4.run = -1.0;
         return r;
     }
     return (-1.0).xx;
 }
 
-void airlight_smap_enter(inout AirlightSmapWalk w_4)
+void airlight_smap_enter(inout AirlightSmapWalk w_5)
 {
-    AirlightSmapWalk _e1 = w_4;
-    uint _e4 = w_4.k;
-    uint _e6 = w_4.face[min(uint(_e4), 5u)];
+    bool local_2 = (bool)0;
+
+    AirlightSmapWalk _e1 = w_5;
+    uint _e4 = w_5.k;
+    uint _e6 = w_5.face[min(uint(_e4), 5u)];
     const float3x3 _e7 = airlight_smap_rows_of(_e1, _e6);
-    float3 _e9 = w_4.o;
+    float3 _e9 = w_5.o;
     const float3 _e10 = airlight_smap_apply(_e7, _e9);
-    float3 _e12 = w_4.d;
+    float3 _e12 = w_5.d;
     const float3 _e13 = airlight_smap_apply(_e7, _e12);
-    w_4.a = _e10;
-    w_4.b = _e13;
-    w_4.sx = airlight_smap_naga_f2i32(sign(((_e13.x * _e10.z) - (_e10.x * _e13.z))));
-    w_4.sy = airlight_smap_naga_f2i32(sign(((_e13.y * _e10.z) - (_e10.y * _e13.z))));
-    float _e37 = w_4.t;
-    uint _e40 = w_4.k;
-    float _e43 = w_4.span[min(uint(_e40), 5u)].x;
-    float t_1 = max(_e37, _e43);
-    w_4.t = t_1;
-    float z = (_e10.z + (t_1 * _e13.z));
-    AirlightSmapWalk _e51 = w_4;
-    const int _e57 = airlight_smap_cell(_e51, ((_e10.x + (t_1 * _e13.x)) / z));
-    AirlightSmapWalk _e58 = w_4;
-    const int _e64 = airlight_smap_cell(_e58, ((_e10.y + (t_1 * _e13.y)) / z));
-    w_4.cell = int2(_e57, _e64);
-    uint _e68 = w_4.top;
-    w_4.level = _e68;
-    w_4.inside = true;
+    w_5.a = _e10;
+    w_5.b = _e13;
+    w_5.sx = airlight_smap_naga_f2i32(sign(((_e13.x * _e10.z) - (_e10.x * _e13.z))));
+    w_5.sy = airlight_smap_naga_f2i32(sign(((_e13.y * _e10.z) - (_e10.y * _e13.z))));
+    float _e37 = w_5.t;
+    uint _e40 = w_5.k;
+    float _e43 = w_5.span[min(uint(_e40), 5u)].x;
+    float t_2 = max(_e37, _e43);
+    w_5.t = t_2;
+    if (((_e10.z + (t_2 * _e13.z)) <= 0.0)) {
+        local_2 = (_e13.z > 0.0);
+    } else {
+        local_2 = false;
+    }
+    bool _e60 = local_2;
+    float3 p = (_e60 ? _e13 : (_e10 + (t_2 * _e13)));
+    AirlightSmapWalk _e63 = w_5;
+    const int _e67 = airlight_smap_cell(_e63, (p.x / p.z));
+    AirlightSmapWalk _e68 = w_5;
+    const int _e72 = airlight_smap_cell(_e68, (p.y / p.z));
+    w_5.cell = int2(_e67, _e72);
+    uint _e76 = w_5.top;
+    w_5.level = _e76;
+    w_5.inside = true;
     return;
 }
 
-void airlight_smap_leave(inout AirlightSmapWalk w_5)
+void airlight_smap_leave(inout AirlightSmapWalk w_6)
 {
-    float _e3 = w_5.t;
-    uint _e6 = w_5.k;
-    float _e9 = w_5.span[min(uint(_e6), 5u)].y;
-    w_5.t = max(_e3, _e9);
-    w_5.inside = false;
-    uint _e14 = w_5.k;
-    w_5.k = (_e14 + 1u);
+    float _e3 = w_6.t;
+    uint _e6 = w_6.k;
+    float _e9 = w_6.span[min(uint(_e6), 5u)].y;
+    w_6.t = max(_e3, _e9);
+    w_6.inside = false;
+    uint _e14 = w_6.k;
+    w_6.k = (_e14 + 1u);
     return;
 }
 
-float airlight_smap_exit(AirlightSmapWalk w_6, uint i, float c, int s)
+float airlight_smap_exit(AirlightSmapWalk w_7, uint i, float c, int s)
 {
     if ((s == int(0))) {
         return AIRLIGHT_SMAP_FAR;
     }
-    float t_2 = w_6.t;
-    float scale = ((abs(w_6.a[min(uint(i), 2u)]) + abs((t_2 * w_6.b[min(uint(i), 2u)]))) + (abs(c) * (abs(w_6.a.z) + abs((t_2 * w_6.b.z)))));
-    if (((((w_6.a[min(uint(i), 2u)] + (t_2 * w_6.b[min(uint(i), 2u)])) - (c * (w_6.a.z + (t_2 * w_6.b.z)))) * float(s)) >= (-1.9073486e-6 * scale))) {
-        return t_2;
+    float t_3 = w_7.t;
+    float scale = ((abs(w_7.a[min(uint(i), 2u)]) + abs((t_3 * w_7.b[min(uint(i), 2u)]))) + (abs(c) * (abs(w_7.a.z) + abs((t_3 * w_7.b.z)))));
+    if (((((w_7.a[min(uint(i), 2u)] + (t_3 * w_7.b[min(uint(i), 2u)])) - (c * (w_7.a.z + (t_3 * w_7.b.z)))) * float(s)) >= (-1.9073486e-6 * scale))) {
+        return t_3;
     }
-    float den = (w_6.b[min(uint(i), 2u)] - (c * w_6.b.z));
-    float x = ((den == 0.0) ? -1.0 : (((c * w_6.a.z) - w_6.a[min(uint(i), 2u)]) / den));
-    return ((x > t_2) ? x : AIRLIGHT_SMAP_FAR);
+    float den = (w_7.b[min(uint(i), 2u)] - (c * w_7.b.z));
+    float x = ((den == 0.0) ? -1.0 : (((c * w_7.a.z) - w_7.a[min(uint(i), 2u)]) / den));
+    return ((x > t_3) ? x : AIRLIGHT_SMAP_FAR);
 }
 
-void airlight_smap_advance(inout AirlightSmapWalk w_7, float te, bool by_x, int2 n, int size)
+void airlight_smap_advance(inout AirlightSmapWalk w_8, float te, bool by_x, int2 n, int size)
 {
-    bool local_2 = (bool)0;
+    bool local_3 = (bool)0;
 
-    w_7.t = te;
-    uint _e8 = w_7.k;
-    float _e11 = w_7.span[min(uint(_e8), 5u)].y;
+    w_8.t = te;
+    uint _e8 = w_8.k;
+    float _e11 = w_8.span[min(uint(_e8), 5u)].y;
     if ((te >= _e11)) {
-        airlight_smap_leave(w_7);
+        airlight_smap_leave(w_8);
         return;
     }
-    float3 a_1 = w_7.a;
-    float3 b_1 = w_7.b;
-    float z_1 = (a_1.z + (te * b_1.z));
+    float3 a_1 = w_8.a;
+    float3 b_1 = w_8.b;
+    float z = (a_1.z + (te * b_1.z));
     if (by_x) {
-        int _e32 = w_7.sx;
-        w_7.cell.x = ((_e32 > int(0)) ? asint(asuint(asint(asuint(n.x) + asuint(int(1)))) * asuint(size)) : asint(asuint(asint(asuint(n.x) * asuint(size))) - asuint(int(1))));
-        AirlightSmapWalk _e38 = w_7;
-        const int _e44 = airlight_smap_cell(_e38, ((a_1.y + (te * b_1.y)) / z_1));
-        w_7.cell.y = clamp(_e44, asint(asuint(n.y) * asuint(size)), asint(asuint(asint(asuint(asint(asuint(n.y) + asuint(int(1)))) * asuint(size))) - asuint(int(1))));
+        int _e32 = w_8.sx;
+        w_8.cell.x = ((_e32 > int(0)) ? asint(asuint(asint(asuint(n.x) + asuint(int(1)))) * asuint(size)) : asint(asuint(asint(asuint(n.x) * asuint(size))) - asuint(int(1))));
+        AirlightSmapWalk _e38 = w_8;
+        const int _e44 = airlight_smap_cell(_e38, ((a_1.y + (te * b_1.y)) / z));
+        w_8.cell.y = clamp(_e44, asint(asuint(n.y) * asuint(size)), asint(asuint(asint(asuint(asint(asuint(n.y) + asuint(int(1)))) * asuint(size))) - asuint(int(1))));
     } else {
-        int _e65 = w_7.sy;
-        w_7.cell.y = ((_e65 > int(0)) ? asint(asuint(asint(asuint(n.y) + asuint(int(1)))) * asuint(size)) : asint(asuint(asint(asuint(n.y) * asuint(size))) - asuint(int(1))));
-        AirlightSmapWalk _e71 = w_7;
-        const int _e77 = airlight_smap_cell(_e71, ((a_1.x + (te * b_1.x)) / z_1));
-        w_7.cell.x = clamp(_e77, asint(asuint(n.x) * asuint(size)), asint(asuint(asint(asuint(asint(asuint(n.x) + asuint(int(1)))) * asuint(size))) - asuint(int(1))));
+        int _e65 = w_8.sy;
+        w_8.cell.y = ((_e65 > int(0)) ? asint(asuint(asint(asuint(n.y) + asuint(int(1)))) * asuint(size)) : asint(asuint(asint(asuint(n.y) * asuint(size))) - asuint(int(1))));
+        AirlightSmapWalk _e71 = w_8;
+        const int _e77 = airlight_smap_cell(_e71, ((a_1.x + (te * b_1.x)) / z));
+        w_8.cell.x = clamp(_e77, asint(asuint(n.x) * asuint(size)), asint(asuint(asint(asuint(asint(asuint(n.x) + asuint(int(1)))) * asuint(size))) - asuint(int(1))));
     }
-    float _e88 = w_7.res;
+    float _e88 = w_8.res;
     int r_1 = airlight_smap_naga_f2i32(_e88);
-    int2 _e91 = w_7.cell;
+    int2 _e91 = w_8.cell;
     if (!(any((_e91 < (int(0)).xx)))) {
-        int2 _e100 = w_7.cell;
-        local_2 = any((_e100 >= (r_1).xx));
+        int2 _e100 = w_8.cell;
+        local_3 = any((_e100 >= (r_1).xx));
     } else {
-        local_2 = true;
+        local_3 = true;
     }
-    bool _e105 = local_2;
+    bool _e105 = local_3;
     if (_e105) {
-        airlight_smap_leave(w_7);
+        airlight_smap_leave(w_8);
         return;
     }
-    uint l = w_7.level;
-    int2 _e109 = w_7.cell;
+    uint l = w_8.level;
+    int2 _e109 = w_8.cell;
     if (any(((_e109 >> ((l + 1u)).xx) != (n >> (1u).xx)))) {
-        uint _e123 = w_7.top;
-        w_7.level = min((l + 1u), _e123);
+        uint _e123 = w_8.top;
+        w_8.level = min((l + 1u), _e123);
         return;
     } else {
         return;
     }
 }
 
-float airlight_smap_edge(AirlightSmapWalk w_8, int n_1, int s_1, int size_1)
+float airlight_smap_edge(AirlightSmapWalk w_9, int n_1, int s_1, int size_1)
 {
-    return (((float(asint(asuint(((s_1 > int(0)) ? asint(asuint(n_1) + asuint(int(1))) : n_1)) * asuint(size_1))) * 2.0) / w_8.res) - 1.0);
+    return (((float(asint(asuint(((s_1 > int(0)) ? asint(asuint(n_1) + asuint(int(1))) : n_1)) * asuint(size_1))) * 2.0) / w_9.res) - 1.0);
 }
 
-float2 airlight_smap_step(inout AirlightSmapWalk w_9, Texture2DArray<float4> pyramid)
+float2 airlight_smap_step(inout AirlightSmapWalk w_10, Texture2DArray<float4> pyramid)
 {
     float2 closed = (-1.0).xx;
 
-    uint _e4 = w_9.k;
-    float tb = w_9.span[min(uint(_e4), 5u)].y;
-    float _e9 = w_9.t;
+    uint _e4 = w_10.k;
+    float tb = w_10.span[min(uint(_e4), 5u)].y;
+    float _e9 = w_10.t;
     if ((_e9 >= tb)) {
-        airlight_smap_leave(w_9);
+        airlight_smap_leave(w_10);
         return (-1.0).xx;
     }
-    uint level = w_9.level;
+    uint level = w_10.level;
     int size_2 = (int(1) << level);
-    int2 _e18 = w_9.cell;
+    int2 _e18 = w_10.cell;
     int2 n_2 = (_e18 >> (level).xx);
-    AirlightSmapWalk _e21 = w_9;
-    AirlightSmapWalk _e23 = w_9;
-    int _e26 = w_9.sx;
+    AirlightSmapWalk _e21 = w_10;
+    AirlightSmapWalk _e23 = w_10;
+    int _e26 = w_10.sx;
     const float _e27 = airlight_smap_edge(_e23, n_2.x, _e26, size_2);
-    int _e29 = w_9.sx;
+    int _e29 = w_10.sx;
     const float _e30 = airlight_smap_exit(_e21, 0u, _e27, _e29);
-    AirlightSmapWalk _e31 = w_9;
-    AirlightSmapWalk _e33 = w_9;
-    int _e36 = w_9.sy;
+    AirlightSmapWalk _e31 = w_10;
+    AirlightSmapWalk _e33 = w_10;
+    int _e36 = w_10.sy;
     const float _e37 = airlight_smap_edge(_e33, n_2.y, _e36, size_2);
-    int _e39 = w_9.sy;
+    int _e39 = w_10.sy;
     const float _e40 = airlight_smap_exit(_e31, 1u, _e37, _e39);
     float te_1 = min(min(_e30, _e40), tb);
-    float t_3 = w_9.t;
-    float _e47 = w_9.a.z;
-    float _e50 = w_9.b.z;
-    float z0_ = (_e47 + (t_3 * _e50));
-    float _e55 = w_9.a.z;
-    float _e58 = w_9.b.z;
+    float t_4 = w_10.t;
+    float _e47 = w_10.a.z;
+    float _e50 = w_10.b.z;
+    float z0_ = (_e47 + (t_4 * _e50));
+    float _e55 = w_10.a.z;
+    float _e58 = w_10.b.z;
     float z1_ = (_e55 + (te_1 * _e58));
-    uint _e62 = w_9.layer;
-    uint _e65 = w_9.k;
-    uint _e67 = w_9.face[min(uint(_e65), 5u)];
+    uint _e62 = w_10.layer;
+    uint _e65 = w_10.k;
+    uint _e67 = w_10.face[min(uint(_e65), 5u)];
     float4 _e71 = pyramid.Load(int4(n_2, int((_e62 + _e67)), int(level)));
     float2 mm = _e71.xy;
-    float _e79 = w_9.bias;
+    float _e79 = w_10.bias;
     if ((max(z0_, z1_) <= (mm.x + _e79))) {
-        const float2 _e83 = airlight_smap_piece(w_9, t_3, te_1, true);
+        const float2 _e83 = airlight_smap_piece(w_10, t_4, te_1, true);
         closed = _e83;
     } else {
-        float _e87 = w_9.bias;
+        float _e87 = w_10.bias;
         if ((min(z0_, z1_) > (mm.y + _e87))) {
-            const float2 _e91 = airlight_smap_piece(w_9, t_3, te_1, false);
+            const float2 _e91 = airlight_smap_piece(w_10, t_4, te_1, false);
             closed = _e91;
         } else {
             if ((level > 0u)) {
-                w_9.level = (level - 1u);
+                w_10.level = (level - 1u);
                 return (-1.0).xx;
             } else {
-                float _e101 = w_9.bias;
+                float _e101 = w_10.bias;
                 float thr = (mm.x + _e101);
                 bool l0_ = (z0_ <= thr);
                 bool l1_ = (z1_ <= thr);
                 if ((l0_ == l1_)) {
-                    const float2 _e106 = airlight_smap_piece(w_9, t_3, te_1, l0_);
+                    const float2 _e106 = airlight_smap_piece(w_10, t_4, te_1, l0_);
                     closed = _e106;
                 } else {
-                    float _e109 = w_9.a.z;
-                    float _e113 = w_9.b.z;
-                    float ts = clamp(((thr - _e109) / _e113), t_3, te_1);
-                    const float2 _e116 = airlight_smap_piece(w_9, t_3, ts, l0_);
-                    const float2 _e117 = airlight_smap_piece(w_9, ts, te_1, l1_);
+                    float _e109 = w_10.a.z;
+                    float _e113 = w_10.b.z;
+                    float ts = clamp(((thr - _e109) / _e113), t_4, te_1);
+                    const float2 _e116 = airlight_smap_piece(w_10, t_4, ts, l0_);
+                    const float2 _e117 = airlight_smap_piece(w_10, ts, te_1, l1_);
                     closed = ((_e116.x >= 0.0) ? _e116 : _e117);
                 }
             }
         }
     }
-    airlight_smap_advance(w_9, te_1, (_e30 <= _e40), n_2, size_2);
+    airlight_smap_advance(w_10, te_1, (_e30 <= _e40), n_2, size_2);
     float2 _e123 = closed;
     return _e123;
 }
 
-float2 airlight_smap_close(inout AirlightSmapWalk w_10, float t)
+float2 airlight_smap_close(inout AirlightSmapWalk w_11, float t_1)
 {
-    bool local_3 = (bool)0;
+    bool local_4 = (bool)0;
 
-    float _e3 = w_10.run;
+    float _e3 = w_11.run;
     if ((_e3 < 0.0)) {
         return (-1.0).xx;
     }
-    float _e9 = w_10.run;
-    float2 r_2 = float2(_e9, ((t >= 5e29) ? -1.0 : t));
-    w_10.run = -1.0;
+    AirlightSmapWalk _e8 = w_11;
+    const float _e9 = airlight_smap_from_viewer(_e8, t_1);
+    float _e11 = w_11.run;
+    float2 r_2 = float2(_e11, ((_e9 >= 5e29) ? -1.0 : _e9));
+    w_11.run = -1.0;
     if (!((r_2.y < 0.0))) {
-        local_3 = (r_2.y > r_2.x);
+        local_4 = (r_2.y > r_2.x);
     } else {
-        local_3 = true;
+        local_4 = true;
     }
-    bool _e29 = local_3;
-    return (_e29 ? r_2 : (-1.0).xx);
+    bool _e31 = local_4;
+    return (_e31 ? r_2 : (-1.0).xx);
 }
 
-float2 airlight_smap_next(inout AirlightSmapWalk w_11, Texture2DArray<float4> pyramid_1)
+float2 airlight_smap_next(inout AirlightSmapWalk w_12, Texture2DArray<float4> pyramid_1)
 {
     float2 closed_1 = (float2)0;
 
@@ -501,57 +535,58 @@ float2 airlight_smap_next(inout AirlightSmapWalk w_11, Texture2DArray<float4> py
     while(true) {
         if (all(loop_bound_4 == uint2(0u, 0u))) { break; }
         loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
-        bool _e3 = w_11.done;
+        bool _e3 = w_12.done;
         if (!(_e3)) {
         } else {
             break;
         }
         {
-            uint _e6 = w_11.steps;
+            uint _e6 = w_12.steps;
             if ((_e6 >= AIRLIGHT_SMAP_STEPS)) {
-                w_11.truncated = true;
-                w_11.done = true;
-                float _e14 = w_11.t;
-                const float2 _e15 = airlight_smap_close(w_11, _e14);
+                w_12.truncated = true;
+                w_12.done = true;
+                float _e14 = w_12.t;
+                const float2 _e15 = airlight_smap_close(w_12, _e14);
                 return _e15;
             }
-            uint _e17 = w_11.steps;
-            w_11.steps = (_e17 + 1u);
+            uint _e17 = w_12.steps;
+            w_12.steps = (_e17 + 1u);
             closed_1 = (-1.0).xx;
-            bool _e24 = w_11.inside;
+            bool _e24 = w_12.inside;
             if (_e24) {
-                const float2 _e25 = airlight_smap_step(w_11, pyramid_1);
+                const float2 _e25 = airlight_smap_step(w_12, pyramid_1);
                 closed_1 = _e25;
             } else {
-                uint _e27 = w_11.k;
-                uint _e29 = w_11.count;
+                uint _e27 = w_12.k;
+                uint _e29 = w_12.count;
                 if ((_e27 < _e29)) {
-                    bool _e32 = w_11.cube;
+                    bool _e32 = w_12.cube;
                     if (!(_e32)) {
-                        float _e35 = w_11.t;
-                        uint _e38 = w_11.k;
-                        float _e41 = w_11.span[min(uint(_e38), 5u)].x;
-                        const float2 _e43 = airlight_smap_piece(w_11, _e35, _e41, true);
+                        float _e35 = w_12.t;
+                        uint _e38 = w_12.k;
+                        float _e41 = w_12.span[min(uint(_e38), 5u)].x;
+                        const float2 _e43 = airlight_smap_piece(w_12, _e35, _e41, true);
                         closed_1 = _e43;
                     }
-                    airlight_smap_enter(w_11);
+                    airlight_smap_enter(w_12);
                 } else {
-                    w_11.done = true;
-                    bool _e47 = w_11.cube;
-                    if (!(_e47)) {
-                        float _e50 = w_11.t;
-                        float _e52 = w_11.end;
-                        const float2 _e54 = airlight_smap_piece(w_11, _e50, _e52, true);
+                    w_12.done = true;
+                    float _e47 = w_12.end;
+                    float _e49 = w_12.t0_;
+                    float end_2 = (_e47 - _e49);
+                    bool _e52 = w_12.cube;
+                    if (!(_e52)) {
+                        float _e55 = w_12.t;
+                        const float2 _e57 = airlight_smap_piece(w_12, _e55, end_2, true);
                     }
-                    float _e56 = w_11.end;
-                    const float2 _e57 = airlight_smap_close(w_11, _e56);
-                    return _e57;
+                    const float2 _e58 = airlight_smap_close(w_12, end_2);
+                    return _e58;
                 }
             }
-            float _e59 = closed_1.x;
-            if ((_e59 >= 0.0)) {
-                float2 _e62 = closed_1;
-                return _e62;
+            float _e60 = closed_1.x;
+            if ((_e60 >= 0.0)) {
+                float2 _e63 = closed_1;
+                return _e63;
             }
         }
     }

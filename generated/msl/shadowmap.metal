@@ -18,34 +18,36 @@ struct airlight_smap_type_7 {
 struct AirlightSmapWalk {
     metal::float3 o;
     metal::packed_float3 d;
+    float t0_;
     float end;
+    char _pad4[12];
     metal::float3x3 rows;
     bool cube;
-    char _pad5[3];
+    char _pad6[3];
     float res;
     uint top;
     float bias;
     uint layer;
-    char _pad9[4];
+    char _pad10[4];
     airlight_smap_type_6 span;
     airlight_smap_type_7 face;
     uint count;
     uint k;
     bool inside;
-    char _pad14[7];
+    char _pad15[7];
     metal::float3 a;
     metal::packed_float3 b;
     int sx;
     int sy;
     float t;
     uint level;
-    char _pad20[4];
+    char _pad21[4];
     metal::int2 cell;
     float run;
     uint steps;
     bool truncated;
     bool done;
-    char _pad25[14];
+    char _pad26[14];
 };
 constant uint AIRLIGHT_SMAP_STEPS = 4096u;
 constant float AIRLIGHT_SMAP_FAR = 1000000000000000000000000000000.0;
@@ -90,11 +92,13 @@ uint airlight_smap_naga_div(uint lhs, uint rhs) {
 metal::float2 airlight_smap_clip(
     metal::float3 a,
     metal::float3 b,
+    float start,
     float end
 ) {
-    float lo = 0.0;
+    float lo = {};
     float hi = {};
     uint j = 0u;
+    lo = start;
     hi = end;
     uint2 loop_bound = uint2(4294967295u);
     bool loop_init = true;
@@ -166,9 +170,17 @@ AirlightSmapWalk airlight_smap_begin(
     uint f_2 = 0u;
     uint j_1 = {};
     bool local_1 = {};
-    w_1.o = origin - light;
+    metal::float3 o = origin - light;
     w_1.d = dir / metal::float3(metal::length(dir));
     w_1.end = (end_1 < 0.0) ? AIRLIGHT_SMAP_FAR : end_1;
+    metal::float3 _e22 = w_1.d;
+    float _e26 = w_1.end;
+    w_1.t0_ = metal::clamp(-(metal::dot(o, _e22)), 0.0, _e26);
+    float _e31 = w_1.t0_;
+    metal::float3 _e33 = w_1.d;
+    w_1.o = o + (_e31 * _e33);
+    float _e38 = w_1.t0_;
+    w_1.t = -(_e38);
     w_1.rows = rows;
     w_1.cube = cube;
     w_1.res = static_cast<float>(res);
@@ -176,25 +188,25 @@ AirlightSmapWalk airlight_smap_begin(
     while(true) {
         if (metal::all(loop_bound_1 == uint2(0u))) { break; }
         loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
-        uint _e28 = top;
-        if ((1u << _e28) < res) {
-            uint _e33 = top;
-            local = _e33 < 13u;
+        uint _e47 = top;
+        if ((1u << _e47) < res) {
+            uint _e52 = top;
+            local = _e52 < 13u;
         } else {
             local = false;
         }
-        bool _e37 = local;
-        if (_e37) {
+        bool _e56 = local;
+        if (_e56) {
         } else {
             break;
         }
         {
-            uint _e38 = top;
-            top = _e38 + 1u;
+            uint _e57 = top;
+            top = _e57 + 1u;
         }
     }
-    uint _e42 = top;
-    w_1.top = _e42;
+    uint _e61 = top;
+    w_1.top = _e61;
     w_1.bias = bias;
     w_1.layer = layer;
     w_1.run = -1.0;
@@ -205,70 +217,72 @@ AirlightSmapWalk airlight_smap_begin(
         if (metal::all(loop_bound_2 == uint2(0u))) { break; }
         loop_bound_2 -= uint2(loop_bound_2.y == 0u, 1u);
         if (!loop_init_1) {
-            uint _e121 = f_2;
-            f_2 = _e121 + 1u;
+            uint _e146 = f_2;
+            f_2 = _e146 + 1u;
         }
         loop_init_1 = false;
-        uint _e52 = f_2;
-        if (_e52 < faces) {
+        uint _e71 = f_2;
+        if (_e71 < faces) {
         } else {
             break;
         }
         {
-            AirlightSmapWalk _e54 = w_1;
-            uint _e55 = f_2;
-            metal::float3x3 _e56 = airlight_smap_rows_of(_e54, _e55);
-            metal::float3 _e58 = w_1.o;
-            metal::float3 _e59 = airlight_smap_apply(_e56, _e58);
-            metal::float3 _e61 = w_1.d;
-            metal::float3 _e62 = airlight_smap_apply(_e56, _e61);
-            float _e64 = w_1.end;
-            metal::float2 _e65 = airlight_smap_clip(_e59, _e62, _e64);
-            if (_e65.x < _e65.y) {
-                uint _e70 = w_1.count;
-                j_1 = _e70;
+            AirlightSmapWalk _e73 = w_1;
+            uint _e74 = f_2;
+            metal::float3x3 _e75 = airlight_smap_rows_of(_e73, _e74);
+            metal::float3 _e77 = w_1.o;
+            metal::float3 _e78 = airlight_smap_apply(_e75, _e77);
+            metal::float3 _e80 = w_1.d;
+            metal::float3 _e81 = airlight_smap_apply(_e75, _e80);
+            float _e83 = w_1.t0_;
+            float _e86 = w_1.end;
+            float _e88 = w_1.t0_;
+            metal::float2 _e90 = airlight_smap_clip(_e78, _e81, -(_e83), _e86 - _e88);
+            if (_e90.x < _e90.y) {
+                uint _e95 = w_1.count;
+                j_1 = _e95;
                 uint2 loop_bound_3 = uint2(4294967295u);
                 while(true) {
                     if (metal::all(loop_bound_3 == uint2(0u))) { break; }
                     loop_bound_3 -= uint2(loop_bound_3.y == 0u, 1u);
-                    uint _e72 = j_1;
-                    if (_e72 > 0u) {
-                        uint _e78 = j_1;
-                        float _e83 = w_1.span.inner[_e78 - 1u].x;
-                        local_1 = _e83 > _e65.x;
+                    uint _e97 = j_1;
+                    if (_e97 > 0u) {
+                        uint _e103 = j_1;
+                        float _e108 = w_1.span.inner[_e103 - 1u].x;
+                        local_1 = _e108 > _e90.x;
                     } else {
                         local_1 = false;
                     }
-                    bool _e87 = local_1;
-                    if (_e87) {
+                    bool _e112 = local_1;
+                    if (_e112) {
                     } else {
                         break;
                     }
                     {
-                        uint _e89 = j_1;
-                        uint _e92 = j_1;
-                        metal::float2 _e96 = w_1.span.inner[_e92 - 1u];
-                        w_1.span.inner[_e89] = _e96;
-                        uint _e98 = j_1;
-                        uint _e101 = j_1;
-                        uint _e105 = w_1.face.inner[_e101 - 1u];
-                        w_1.face.inner[_e98] = _e105;
-                        uint _e106 = j_1;
-                        j_1 = _e106 - 1u;
+                        uint _e114 = j_1;
+                        uint _e117 = j_1;
+                        metal::float2 _e121 = w_1.span.inner[_e117 - 1u];
+                        w_1.span.inner[_e114] = _e121;
+                        uint _e123 = j_1;
+                        uint _e126 = j_1;
+                        uint _e130 = w_1.face.inner[_e126 - 1u];
+                        w_1.face.inner[_e123] = _e130;
+                        uint _e131 = j_1;
+                        j_1 = _e131 - 1u;
                     }
                 }
-                uint _e110 = j_1;
-                w_1.span.inner[_e110] = _e65;
-                uint _e113 = j_1;
-                uint _e115 = f_2;
-                w_1.face.inner[_e113] = _e115;
-                uint _e117 = w_1.count;
-                w_1.count = _e117 + 1u;
+                uint _e135 = j_1;
+                w_1.span.inner[_e135] = _e90;
+                uint _e138 = j_1;
+                uint _e140 = f_2;
+                w_1.face.inner[_e138] = _e140;
+                uint _e142 = w_1.count;
+                w_1.count = _e142 + 1u;
             }
         }
     }
-    AirlightSmapWalk _e123 = w_1;
-    return _e123;
+    AirlightSmapWalk _e148 = w_1;
+    return _e148;
 }
 
 int airlight_smap_naga_f2i32(float value) {
@@ -282,8 +296,15 @@ int airlight_smap_cell(
     return metal::clamp(airlight_smap_naga_f2i32(metal::floor(((v + 1.0) * 0.5) * w_2.res)), 0, as_type<int>(as_type<uint>(airlight_smap_naga_f2i32(w_2.res)) - as_type<uint>(1)));
 }
 
+float airlight_smap_from_viewer(
+    AirlightSmapWalk w_3,
+    float t
+) {
+    return (t >= (w_3.end - w_3.t0_)) ? w_3.end : (w_3.t0_ + t);
+}
+
 metal::float2 airlight_smap_piece(
-    thread AirlightSmapWalk& w_3,
+    thread AirlightSmapWalk& w_4,
     float t0_,
     float t1_,
     bool lit
@@ -292,69 +313,80 @@ metal::float2 airlight_smap_piece(
         return metal::float2(-1.0);
     }
     if (lit) {
-        float _e9 = w_3.run;
+        float _e9 = w_4.run;
         if (_e9 < 0.0) {
-            w_3.run = t0_;
+            AirlightSmapWalk _e13 = w_4;
+            float _e14 = airlight_smap_from_viewer(_e13, t0_);
+            w_4.run = _e14;
         }
         return metal::float2(-1.0);
     }
-    float _e16 = w_3.run;
-    if (_e16 >= 0.0) {
-        float _e20 = w_3.run;
-        metal::float2 r = metal::float2(_e20, t0_);
-        w_3.run = -1.0;
+    float _e18 = w_4.run;
+    if (_e18 >= 0.0) {
+        float _e22 = w_4.run;
+        AirlightSmapWalk _e23 = w_4;
+        float _e24 = airlight_smap_from_viewer(_e23, t0_);
+        metal::float2 r = metal::float2(_e22, _e24);
+        w_4.run = -1.0;
         return r;
     }
     return metal::float2(-1.0);
 }
 
 void airlight_smap_enter(
-    thread AirlightSmapWalk& w_4
+    thread AirlightSmapWalk& w_5
 ) {
-    AirlightSmapWalk _e1 = w_4;
-    uint _e4 = w_4.k;
-    uint _e6 = w_4.face.inner[_e4];
+    bool local_2 = {};
+    AirlightSmapWalk _e1 = w_5;
+    uint _e4 = w_5.k;
+    uint _e6 = w_5.face.inner[_e4];
     metal::float3x3 _e7 = airlight_smap_rows_of(_e1, _e6);
-    metal::float3 _e9 = w_4.o;
+    metal::float3 _e9 = w_5.o;
     metal::float3 _e10 = airlight_smap_apply(_e7, _e9);
-    metal::float3 _e12 = w_4.d;
+    metal::float3 _e12 = w_5.d;
     metal::float3 _e13 = airlight_smap_apply(_e7, _e12);
-    w_4.a = _e10;
-    w_4.b = _e13;
-    w_4.sx = airlight_smap_naga_f2i32(metal::sign((_e13.x * _e10.z) - (_e10.x * _e13.z)));
-    w_4.sy = airlight_smap_naga_f2i32(metal::sign((_e13.y * _e10.z) - (_e10.y * _e13.z)));
-    float _e37 = w_4.t;
-    uint _e40 = w_4.k;
-    float _e43 = w_4.span.inner[_e40].x;
-    float t_1 = metal::max(_e37, _e43);
-    w_4.t = t_1;
-    float z = _e10.z + (t_1 * _e13.z);
-    AirlightSmapWalk _e51 = w_4;
-    int _e57 = airlight_smap_cell(_e51, (_e10.x + (t_1 * _e13.x)) / z);
-    AirlightSmapWalk _e58 = w_4;
-    int _e64 = airlight_smap_cell(_e58, (_e10.y + (t_1 * _e13.y)) / z);
-    w_4.cell = metal::int2(_e57, _e64);
-    uint _e68 = w_4.top;
-    w_4.level = _e68;
-    w_4.inside = true;
+    w_5.a = _e10;
+    w_5.b = _e13;
+    w_5.sx = airlight_smap_naga_f2i32(metal::sign((_e13.x * _e10.z) - (_e10.x * _e13.z)));
+    w_5.sy = airlight_smap_naga_f2i32(metal::sign((_e13.y * _e10.z) - (_e10.y * _e13.z)));
+    float _e37 = w_5.t;
+    uint _e40 = w_5.k;
+    float _e43 = w_5.span.inner[_e40].x;
+    float t_2 = metal::max(_e37, _e43);
+    w_5.t = t_2;
+    if ((_e10.z + (t_2 * _e13.z)) <= 0.0) {
+        local_2 = _e13.z > 0.0;
+    } else {
+        local_2 = false;
+    }
+    bool _e60 = local_2;
+    metal::float3 p = _e60 ? _e13 : (_e10 + (t_2 * _e13));
+    AirlightSmapWalk _e63 = w_5;
+    int _e67 = airlight_smap_cell(_e63, p.x / p.z);
+    AirlightSmapWalk _e68 = w_5;
+    int _e72 = airlight_smap_cell(_e68, p.y / p.z);
+    w_5.cell = metal::int2(_e67, _e72);
+    uint _e76 = w_5.top;
+    w_5.level = _e76;
+    w_5.inside = true;
     return;
 }
 
 void airlight_smap_leave(
-    thread AirlightSmapWalk& w_5
+    thread AirlightSmapWalk& w_6
 ) {
-    float _e3 = w_5.t;
-    uint _e6 = w_5.k;
-    float _e9 = w_5.span.inner[_e6].y;
-    w_5.t = metal::max(_e3, _e9);
-    w_5.inside = false;
-    uint _e14 = w_5.k;
-    w_5.k = _e14 + 1u;
+    float _e3 = w_6.t;
+    uint _e6 = w_6.k;
+    float _e9 = w_6.span.inner[_e6].y;
+    w_6.t = metal::max(_e3, _e9);
+    w_6.inside = false;
+    uint _e14 = w_6.k;
+    w_6.k = _e14 + 1u;
     return;
 }
 
 float airlight_smap_exit(
-    AirlightSmapWalk w_6,
+    AirlightSmapWalk w_7,
     uint i,
     float c,
     int s
@@ -362,66 +394,66 @@ float airlight_smap_exit(
     if (s == 0) {
         return AIRLIGHT_SMAP_FAR;
     }
-    float t_2 = w_6.t;
-    float scale = (metal::abs(w_6.a[i]) + metal::abs(t_2 * w_6.b[i])) + (metal::abs(c) * (metal::abs(w_6.a.z) + metal::abs(t_2 * w_6.b[2])));
-    if ((((w_6.a[i] + (t_2 * w_6.b[i])) - (c * (w_6.a.z + (t_2 * w_6.b[2])))) * static_cast<float>(s)) >= (-0.0000019073486 * scale)) {
-        return t_2;
+    float t_3 = w_7.t;
+    float scale = (metal::abs(w_7.a[i]) + metal::abs(t_3 * w_7.b[i])) + (metal::abs(c) * (metal::abs(w_7.a.z) + metal::abs(t_3 * w_7.b[2])));
+    if ((((w_7.a[i] + (t_3 * w_7.b[i])) - (c * (w_7.a.z + (t_3 * w_7.b[2])))) * static_cast<float>(s)) >= (-0.0000019073486 * scale)) {
+        return t_3;
     }
-    float den = w_6.b[i] - (c * w_6.b[2]);
-    float x = (den == 0.0) ? -1.0 : (((c * w_6.a.z) - w_6.a[i]) / den);
-    return (x > t_2) ? x : AIRLIGHT_SMAP_FAR;
+    float den = w_7.b[i] - (c * w_7.b[2]);
+    float x = (den == 0.0) ? -1.0 : (((c * w_7.a.z) - w_7.a[i]) / den);
+    return (x > t_3) ? x : AIRLIGHT_SMAP_FAR;
 }
 
 void airlight_smap_advance(
-    thread AirlightSmapWalk& w_7,
+    thread AirlightSmapWalk& w_8,
     float te,
     bool by_x,
     metal::int2 n,
     int size
 ) {
-    bool local_2 = {};
-    w_7.t = te;
-    uint _e8 = w_7.k;
-    float _e11 = w_7.span.inner[_e8].y;
+    bool local_3 = {};
+    w_8.t = te;
+    uint _e8 = w_8.k;
+    float _e11 = w_8.span.inner[_e8].y;
     if (te >= _e11) {
-        airlight_smap_leave(w_7);
+        airlight_smap_leave(w_8);
         return;
     }
-    metal::float3 a_1 = w_7.a;
-    metal::float3 b_1 = w_7.b;
-    float z_1 = a_1.z + (te * b_1.z);
+    metal::float3 a_1 = w_8.a;
+    metal::float3 b_1 = w_8.b;
+    float z = a_1.z + (te * b_1.z);
     if (by_x) {
-        int _e32 = w_7.sx;
-        w_7.cell.x = (_e32 > 0) ? as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) + as_type<uint>(1))) * as_type<uint>(size)) : as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) * as_type<uint>(size))) - as_type<uint>(1));
-        AirlightSmapWalk _e38 = w_7;
-        int _e44 = airlight_smap_cell(_e38, (a_1.y + (te * b_1.y)) / z_1);
-        w_7.cell.y = metal::clamp(_e44, as_type<int>(as_type<uint>(n.y) * as_type<uint>(size)), as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) + as_type<uint>(1))) * as_type<uint>(size))) - as_type<uint>(1)));
+        int _e32 = w_8.sx;
+        w_8.cell.x = (_e32 > 0) ? as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) + as_type<uint>(1))) * as_type<uint>(size)) : as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) * as_type<uint>(size))) - as_type<uint>(1));
+        AirlightSmapWalk _e38 = w_8;
+        int _e44 = airlight_smap_cell(_e38, (a_1.y + (te * b_1.y)) / z);
+        w_8.cell.y = metal::clamp(_e44, as_type<int>(as_type<uint>(n.y) * as_type<uint>(size)), as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) + as_type<uint>(1))) * as_type<uint>(size))) - as_type<uint>(1)));
     } else {
-        int _e65 = w_7.sy;
-        w_7.cell.y = (_e65 > 0) ? as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) + as_type<uint>(1))) * as_type<uint>(size)) : as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) * as_type<uint>(size))) - as_type<uint>(1));
-        AirlightSmapWalk _e71 = w_7;
-        int _e77 = airlight_smap_cell(_e71, (a_1.x + (te * b_1.x)) / z_1);
-        w_7.cell.x = metal::clamp(_e77, as_type<int>(as_type<uint>(n.x) * as_type<uint>(size)), as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) + as_type<uint>(1))) * as_type<uint>(size))) - as_type<uint>(1)));
+        int _e65 = w_8.sy;
+        w_8.cell.y = (_e65 > 0) ? as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) + as_type<uint>(1))) * as_type<uint>(size)) : as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.y) * as_type<uint>(size))) - as_type<uint>(1));
+        AirlightSmapWalk _e71 = w_8;
+        int _e77 = airlight_smap_cell(_e71, (a_1.x + (te * b_1.x)) / z);
+        w_8.cell.x = metal::clamp(_e77, as_type<int>(as_type<uint>(n.x) * as_type<uint>(size)), as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(as_type<int>(as_type<uint>(n.x) + as_type<uint>(1))) * as_type<uint>(size))) - as_type<uint>(1)));
     }
-    float _e88 = w_7.res;
+    float _e88 = w_8.res;
     int r_1 = airlight_smap_naga_f2i32(_e88);
-    metal::int2 _e91 = w_7.cell;
+    metal::int2 _e91 = w_8.cell;
     if (!(metal::any(_e91 < metal::int2(0)))) {
-        metal::int2 _e100 = w_7.cell;
-        local_2 = metal::any(_e100 >= metal::int2(r_1));
+        metal::int2 _e100 = w_8.cell;
+        local_3 = metal::any(_e100 >= metal::int2(r_1));
     } else {
-        local_2 = true;
+        local_3 = true;
     }
-    bool _e105 = local_2;
+    bool _e105 = local_3;
     if (_e105) {
-        airlight_smap_leave(w_7);
+        airlight_smap_leave(w_8);
         return;
     }
-    uint l = w_7.level;
-    metal::int2 _e109 = w_7.cell;
+    uint l = w_8.level;
+    metal::int2 _e109 = w_8.cell;
     if (metal::any((_e109 >> metal::uint2(l + 1u)) != (n >> metal::uint2(1u)))) {
-        uint _e123 = w_7.top;
-        w_7.level = metal::min(l + 1u, _e123);
+        uint _e123 = w_8.top;
+        w_8.level = metal::min(l + 1u, _e123);
         return;
     } else {
         return;
@@ -429,115 +461,117 @@ void airlight_smap_advance(
 }
 
 float airlight_smap_edge(
-    AirlightSmapWalk w_8,
+    AirlightSmapWalk w_9,
     int n_1,
     int s_1,
     int size_1
 ) {
-    return ((static_cast<float>(as_type<int>(as_type<uint>((s_1 > 0) ? as_type<int>(as_type<uint>(n_1) + as_type<uint>(1)) : n_1) * as_type<uint>(size_1))) * 2.0) / w_8.res) - 1.0;
+    return ((static_cast<float>(as_type<int>(as_type<uint>((s_1 > 0) ? as_type<int>(as_type<uint>(n_1) + as_type<uint>(1)) : n_1) * as_type<uint>(size_1))) * 2.0) / w_9.res) - 1.0;
 }
 
 metal::float2 airlight_smap_step(
-    thread AirlightSmapWalk& w_9,
+    thread AirlightSmapWalk& w_10,
     metal::texture2d_array<float, metal::access::sample> pyramid
 ) {
     metal::float2 closed = metal::float2(-1.0);
-    uint _e4 = w_9.k;
-    float tb = w_9.span.inner[_e4].y;
-    float _e9 = w_9.t;
+    uint _e4 = w_10.k;
+    float tb = w_10.span.inner[_e4].y;
+    float _e9 = w_10.t;
     if (_e9 >= tb) {
-        airlight_smap_leave(w_9);
+        airlight_smap_leave(w_10);
         return metal::float2(-1.0);
     }
-    uint level = w_9.level;
+    uint level = w_10.level;
     int size_2 = 1 << level;
-    metal::int2 _e18 = w_9.cell;
+    metal::int2 _e18 = w_10.cell;
     metal::int2 n_2 = _e18 >> metal::uint2(level);
-    AirlightSmapWalk _e21 = w_9;
-    AirlightSmapWalk _e23 = w_9;
-    int _e26 = w_9.sx;
+    AirlightSmapWalk _e21 = w_10;
+    AirlightSmapWalk _e23 = w_10;
+    int _e26 = w_10.sx;
     float _e27 = airlight_smap_edge(_e23, n_2.x, _e26, size_2);
-    int _e29 = w_9.sx;
+    int _e29 = w_10.sx;
     float _e30 = airlight_smap_exit(_e21, 0u, _e27, _e29);
-    AirlightSmapWalk _e31 = w_9;
-    AirlightSmapWalk _e33 = w_9;
-    int _e36 = w_9.sy;
+    AirlightSmapWalk _e31 = w_10;
+    AirlightSmapWalk _e33 = w_10;
+    int _e36 = w_10.sy;
     float _e37 = airlight_smap_edge(_e33, n_2.y, _e36, size_2);
-    int _e39 = w_9.sy;
+    int _e39 = w_10.sy;
     float _e40 = airlight_smap_exit(_e31, 1u, _e37, _e39);
     float te_1 = metal::min(metal::min(_e30, _e40), tb);
-    float t_3 = w_9.t;
-    float _e47 = w_9.a.z;
-    float _e50 = w_9.b[2];
-    float z0_ = _e47 + (t_3 * _e50);
-    float _e55 = w_9.a.z;
-    float _e58 = w_9.b[2];
+    float t_4 = w_10.t;
+    float _e47 = w_10.a.z;
+    float _e50 = w_10.b[2];
+    float z0_ = _e47 + (t_4 * _e50);
+    float _e55 = w_10.a.z;
+    float _e58 = w_10.b[2];
     float z1_ = _e55 + (te_1 * _e58);
-    uint _e62 = w_9.layer;
-    uint _e65 = w_9.k;
-    uint _e67 = w_9.face.inner[_e65];
+    uint _e62 = w_10.layer;
+    uint _e65 = w_10.k;
+    uint _e67 = w_10.face.inner[_e65];
     metal::float4 _e71 = pyramid.read(metal::uint2(n_2), static_cast<int>(_e62 + _e67), static_cast<int>(level));
     metal::float2 mm = _e71.xy;
-    float _e79 = w_9.bias;
+    float _e79 = w_10.bias;
     if (metal::max(z0_, z1_) <= (mm.x + _e79)) {
-        metal::float2 _e83 = airlight_smap_piece(w_9, t_3, te_1, true);
+        metal::float2 _e83 = airlight_smap_piece(w_10, t_4, te_1, true);
         closed = _e83;
     } else {
-        float _e87 = w_9.bias;
+        float _e87 = w_10.bias;
         if (metal::min(z0_, z1_) > (mm.y + _e87)) {
-            metal::float2 _e91 = airlight_smap_piece(w_9, t_3, te_1, false);
+            metal::float2 _e91 = airlight_smap_piece(w_10, t_4, te_1, false);
             closed = _e91;
         } else {
             if (level > 0u) {
-                w_9.level = level - 1u;
+                w_10.level = level - 1u;
                 return metal::float2(-1.0);
             } else {
-                float _e101 = w_9.bias;
+                float _e101 = w_10.bias;
                 float thr = mm.x + _e101;
                 bool l0_ = z0_ <= thr;
                 bool l1_ = z1_ <= thr;
                 if (l0_ == l1_) {
-                    metal::float2 _e106 = airlight_smap_piece(w_9, t_3, te_1, l0_);
+                    metal::float2 _e106 = airlight_smap_piece(w_10, t_4, te_1, l0_);
                     closed = _e106;
                 } else {
-                    float _e109 = w_9.a.z;
-                    float _e113 = w_9.b[2];
-                    float ts = metal::clamp((thr - _e109) / _e113, t_3, te_1);
-                    metal::float2 _e116 = airlight_smap_piece(w_9, t_3, ts, l0_);
-                    metal::float2 _e117 = airlight_smap_piece(w_9, ts, te_1, l1_);
+                    float _e109 = w_10.a.z;
+                    float _e113 = w_10.b[2];
+                    float ts = metal::clamp((thr - _e109) / _e113, t_4, te_1);
+                    metal::float2 _e116 = airlight_smap_piece(w_10, t_4, ts, l0_);
+                    metal::float2 _e117 = airlight_smap_piece(w_10, ts, te_1, l1_);
                     closed = (_e116.x >= 0.0) ? _e116 : _e117;
                 }
             }
         }
     }
-    airlight_smap_advance(w_9, te_1, _e30 <= _e40, n_2, size_2);
+    airlight_smap_advance(w_10, te_1, _e30 <= _e40, n_2, size_2);
     metal::float2 _e123 = closed;
     return _e123;
 }
 
 metal::float2 airlight_smap_close(
-    thread AirlightSmapWalk& w_10,
-    float t
+    thread AirlightSmapWalk& w_11,
+    float t_1
 ) {
-    bool local_3 = {};
-    float _e3 = w_10.run;
+    bool local_4 = {};
+    float _e3 = w_11.run;
     if (_e3 < 0.0) {
         return metal::float2(-1.0);
     }
-    float _e9 = w_10.run;
-    metal::float2 r_2 = metal::float2(_e9, (t >= 500000000000000000000000000000.0) ? -1.0 : t);
-    w_10.run = -1.0;
+    AirlightSmapWalk _e8 = w_11;
+    float _e9 = airlight_smap_from_viewer(_e8, t_1);
+    float _e11 = w_11.run;
+    metal::float2 r_2 = metal::float2(_e11, (_e9 >= 500000000000000000000000000000.0) ? -1.0 : _e9);
+    w_11.run = -1.0;
     if (!((r_2.y < 0.0))) {
-        local_3 = r_2.y > r_2.x;
+        local_4 = r_2.y > r_2.x;
     } else {
-        local_3 = true;
+        local_4 = true;
     }
-    bool _e29 = local_3;
-    return _e29 ? r_2 : metal::float2(-1.0);
+    bool _e31 = local_4;
+    return _e31 ? r_2 : metal::float2(-1.0);
 }
 
 metal::float2 airlight_smap_next(
-    thread AirlightSmapWalk& w_11,
+    thread AirlightSmapWalk& w_12,
     metal::texture2d_array<float, metal::access::sample> pyramid_1
 ) {
     metal::float2 closed_1 = {};
@@ -545,57 +579,58 @@ metal::float2 airlight_smap_next(
     while(true) {
         if (metal::all(loop_bound_4 == uint2(0u))) { break; }
         loop_bound_4 -= uint2(loop_bound_4.y == 0u, 1u);
-        bool _e3 = w_11.done;
+        bool _e3 = w_12.done;
         if (!(_e3)) {
         } else {
             break;
         }
         {
-            uint _e6 = w_11.steps;
+            uint _e6 = w_12.steps;
             if (_e6 >= AIRLIGHT_SMAP_STEPS) {
-                w_11.truncated = true;
-                w_11.done = true;
-                float _e14 = w_11.t;
-                metal::float2 _e15 = airlight_smap_close(w_11, _e14);
+                w_12.truncated = true;
+                w_12.done = true;
+                float _e14 = w_12.t;
+                metal::float2 _e15 = airlight_smap_close(w_12, _e14);
                 return _e15;
             }
-            uint _e17 = w_11.steps;
-            w_11.steps = _e17 + 1u;
+            uint _e17 = w_12.steps;
+            w_12.steps = _e17 + 1u;
             closed_1 = metal::float2(-1.0);
-            bool _e24 = w_11.inside;
+            bool _e24 = w_12.inside;
             if (_e24) {
-                metal::float2 _e25 = airlight_smap_step(w_11, pyramid_1);
+                metal::float2 _e25 = airlight_smap_step(w_12, pyramid_1);
                 closed_1 = _e25;
             } else {
-                uint _e27 = w_11.k;
-                uint _e29 = w_11.count;
+                uint _e27 = w_12.k;
+                uint _e29 = w_12.count;
                 if (_e27 < _e29) {
-                    bool _e32 = w_11.cube;
+                    bool _e32 = w_12.cube;
                     if (!(_e32)) {
-                        float _e35 = w_11.t;
-                        uint _e38 = w_11.k;
-                        float _e41 = w_11.span.inner[_e38].x;
-                        metal::float2 _e43 = airlight_smap_piece(w_11, _e35, _e41, true);
+                        float _e35 = w_12.t;
+                        uint _e38 = w_12.k;
+                        float _e41 = w_12.span.inner[_e38].x;
+                        metal::float2 _e43 = airlight_smap_piece(w_12, _e35, _e41, true);
                         closed_1 = _e43;
                     }
-                    airlight_smap_enter(w_11);
+                    airlight_smap_enter(w_12);
                 } else {
-                    w_11.done = true;
-                    bool _e47 = w_11.cube;
-                    if (!(_e47)) {
-                        float _e50 = w_11.t;
-                        float _e52 = w_11.end;
-                        metal::float2 _e54 = airlight_smap_piece(w_11, _e50, _e52, true);
+                    w_12.done = true;
+                    float _e47 = w_12.end;
+                    float _e49 = w_12.t0_;
+                    float end_2 = _e47 - _e49;
+                    bool _e52 = w_12.cube;
+                    if (!(_e52)) {
+                        float _e55 = w_12.t;
+                        metal::float2 _e57 = airlight_smap_piece(w_12, _e55, end_2, true);
                     }
-                    float _e56 = w_11.end;
-                    metal::float2 _e57 = airlight_smap_close(w_11, _e56);
-                    return _e57;
+                    metal::float2 _e58 = airlight_smap_close(w_12, end_2);
+                    return _e58;
                 }
             }
-            float _e59 = closed_1.x;
-            if (_e59 >= 0.0) {
-                metal::float2 _e62 = closed_1;
-                return _e62;
+            float _e60 = closed_1.x;
+            if (_e60 >= 0.0) {
+                metal::float2 _e63 = closed_1;
+                return _e63;
             }
         }
     }

@@ -6,7 +6,10 @@
 // the node's minimum plus the bias: lit; above its maximum plus the bias: dark)
 // is skipped, and at a texel the nearest-texel test flips at most once, at a
 // point in closed form. The runs are those of the map's own test, up to f32
-// rounding of where the ray crosses a texel's edge.
+// rounding of where the ray crosses a texel's edge. The walk measures the ray
+// from its point closest to the light (t0), so that a ray passing close by a
+// light from far away keeps its texels: its distances from the viewer are
+// rounded once, when a run is handed out.
 //
 // A face maps p to (X, Y, Z) = M (p - light), rows right/tan_half, up/tan_half,
 // forward; map coordinates (X/Z, Y/Z) in [-1, 1]^2, texel (i, j) covering
@@ -38,8 +41,14 @@
 // shadowed).
 
 struct AirlightSmapWalk {
+    // The ray's point closest to the light (in front of the viewer, short of
+    // the surface) relative to the light, and the unit direction.
     o: vec3<f32>,
     d: vec3<f32>,
+    // That point's distance from the viewer: the walk's distances (t, span)
+    // are measured from it, the runs it hands out from the viewer.
+    t0: f32,
+    // The surface's distance from the viewer (an open ray: FAR).
     end: f32,
     rows: mat3x3<f32>,
     cube: bool,
@@ -60,11 +69,11 @@ struct AirlightSmapWalk {
     b: vec3<f32>,
     sx: i32,
     sy: i32,
-    // Where the walk is: distance, level, level-0 texel.
+    // Where the walk is: distance from t0, level, level-0 texel.
     t: f32,
     level: u32,
     cell: vec2<i32>,
-    // Start of the lit run not yet closed (negative: none).
+    // Start of the lit run not yet closed, from the viewer (negative: none).
     run: f32,
     steps: u32,
     truncated: bool,
@@ -97,10 +106,10 @@ fn airlight_smap_apply(m: mat3x3<f32>, q: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(m[0], q), dot(m[1], q), dot(m[2], q));
 }
 
-/// The stretch of [0, end] inside a face's frustum for the face coordinates
+/// The stretch of [start, end] inside a face's frustum for the face coordinates
 /// a + t b; empty when x >= y.
-fn airlight_smap_clip(a: vec3<f32>, b: vec3<f32>, end: f32) -> vec2<f32> {
-    var lo = 0.0;
+fn airlight_smap_clip(a: vec3<f32>, b: vec3<f32>, start: f32, end: f32) -> vec2<f32> {
+    var lo = start;
     var hi = end;
     for (var j = 0u; j < 4u; j++) {
         let s = select(-1.0, 1.0, (j & 1u) == 0u);
@@ -133,9 +142,13 @@ fn airlight_smap_rows_of(w: AirlightSmapWalk, f: u32) -> mat3x3<f32> {
 /// pyramid's layer (several lights' maps in one array).
 fn airlight_smap_begin(origin: vec3<f32>, dir: vec3<f32>, end: f32, light: vec3<f32>, rows: mat3x3<f32>, cube: bool, res: u32, bias: f32, layer: u32) -> AirlightSmapWalk {
     var w: AirlightSmapWalk;
-    w.o = origin - light;
+    let o = origin - light;
     w.d = dir / length(dir);
     w.end = select(end, AIRLIGHT_SMAP_FAR, end < 0.0);
+    // The point closest to the light, within [0, end].
+    w.t0 = clamp(-dot(o, w.d), 0.0, w.end);
+    w.o = o + w.t0 * w.d;
+    w.t = -w.t0;
     w.rows = rows;
     w.cube = cube;
     w.res = f32(res);
@@ -150,7 +163,7 @@ fn airlight_smap_begin(origin: vec3<f32>, dir: vec3<f32>, end: f32, light: vec3<
     let faces = select(1u, 6u, cube);
     for (var f = 0u; f < faces; f++) {
         let m = airlight_smap_rows_of(w, f);
-        let s = airlight_smap_clip(airlight_smap_apply(m, w.o), airlight_smap_apply(m, w.d), w.end);
+        let s = airlight_smap_clip(airlight_smap_apply(m, w.o), airlight_smap_apply(m, w.d), -w.t0, w.end - w.t0);
         if s.x < s.y {
             // Insert in order of start.
             var j = w.count;
@@ -172,19 +185,25 @@ fn airlight_smap_cell(w: AirlightSmapWalk, v: f32) -> i32 {
     return clamp(i32(floor((v + 1.0) * 0.5 * w.res)), 0, i32(w.res) - 1);
 }
 
-/// A stretch [t0, t1] lit or dark; returns the lit run it closes (x negative: none).
+/// A walk distance (from t0) as a distance from the viewer.
+fn airlight_smap_from_viewer(w: AirlightSmapWalk, t: f32) -> f32 {
+    return select(w.t0 + t, w.end, t >= w.end - w.t0);
+}
+
+/// A stretch [t0, t1] (from t0) lit or dark; returns the lit run it closes, from
+/// the viewer (x negative: none).
 fn airlight_smap_piece(w: ptr<function, AirlightSmapWalk>, t0: f32, t1: f32, lit: bool) -> vec2<f32> {
     if !(t1 > t0) {
         return vec2<f32>(-1.0);
     }
     if lit {
         if (*w).run < 0.0 {
-            (*w).run = t0;
+            (*w).run = airlight_smap_from_viewer(*w, t0);
         }
         return vec2<f32>(-1.0);
     }
     if (*w).run >= 0.0 {
-        let r = vec2<f32>((*w).run, t0);
+        let r = vec2<f32>((*w).run, airlight_smap_from_viewer(*w, t0));
         (*w).run = -1.0;
         return r;
     }
@@ -202,8 +221,10 @@ fn airlight_smap_enter(w: ptr<function, AirlightSmapWalk>) {
     (*w).sy = i32(sign(b.y * a.z - a.y * b.z));
     let t = max((*w).t, (*w).span[(*w).k].x);
     (*w).t = t;
-    let z = a.z + t * b.z;
-    (*w).cell = vec2<i32>(airlight_smap_cell(*w, (a.x + t * b.x) / z), airlight_smap_cell(*w, (a.y + t * b.y) / z));
+    // At the light itself (Z = 0: the ray from or through the light) the texel
+    // is the direction's.
+    let p = select(a + t * b, b, a.z + t * b.z <= 0.0 && b.z > 0.0);
+    (*w).cell = vec2<i32>(airlight_smap_cell(*w, p.x / p.z), airlight_smap_cell(*w, p.y / p.z));
     (*w).level = (*w).top;
     (*w).inside = true;
 }
@@ -314,12 +335,14 @@ fn airlight_smap_step(w: ptr<function, AirlightSmapWalk>, pyramid: texture_2d_ar
     return closed;
 }
 
-/// Closes the open run at t (an open ray's far end: y negative); x negative: none.
+/// Closes the open run at t (from t0; an open ray's far end: y negative); x
+/// negative: none.
 fn airlight_smap_close(w: ptr<function, AirlightSmapWalk>, t: f32) -> vec2<f32> {
     if (*w).run < 0.0 {
         return vec2<f32>(-1.0);
     }
-    let r = vec2<f32>((*w).run, select(t, -1.0, t >= 0.5 * AIRLIGHT_SMAP_FAR));
+    let v = airlight_smap_from_viewer(*w, t);
+    let r = vec2<f32>((*w).run, select(v, -1.0, v >= 0.5 * AIRLIGHT_SMAP_FAR));
     (*w).run = -1.0;
     return select(vec2<f32>(-1.0), r, r.y < 0.0 || r.y > r.x);
 }
@@ -346,10 +369,11 @@ fn airlight_smap_next(w: ptr<function, AirlightSmapWalk>, pyramid: texture_2d_ar
             airlight_smap_enter(w);
         } else {
             (*w).done = true;
+            let end = (*w).end - (*w).t0;
             if !(*w).cube {
-                _ = airlight_smap_piece(w, (*w).t, (*w).end, true);
+                _ = airlight_smap_piece(w, (*w).t, end, true);
             }
-            return airlight_smap_close(w, (*w).end);
+            return airlight_smap_close(w, end);
         }
         if closed.x >= 0.0 {
             return closed;

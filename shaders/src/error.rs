@@ -7,7 +7,7 @@ use std::fmt;
 pub enum GpuError {
     /// No adapter could be opened.
     NoAdapter(String),
-    /// The adapter refused a device.
+    /// The adapter refused a device, or the device failed (out of memory, lost).
     Device(String),
     /// The shader did not compile or validate, or the pipeline failed.
     Shader(String),
@@ -21,7 +21,7 @@ impl fmt::Display for GpuError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             GpuError::NoAdapter(e) => write!(f, "no GPU adapter: {e}"),
-            GpuError::Device(e) => write!(f, "the adapter refused a device: {e}"),
+            GpuError::Device(e) => write!(f, "the GPU device failed: {e}"),
             GpuError::Shader(e) => write!(f, "shader error: {e}"),
             GpuError::Readback(e) => write!(f, "reading results back failed: {e}"),
             GpuError::TooLarge(n) => write!(f, "{n} points do not fit one dispatch"),

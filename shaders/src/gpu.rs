@@ -38,6 +38,10 @@ pub struct Gpu {
     /// Harness pipelines compiled so far, by their shader's text: a batch run in
     /// chunks (one shadow map per chunk) compiles once.
     pipelines: std::sync::Mutex<std::collections::HashMap<String, wgpu::ComputePipeline>>,
+    /// The first error the device raised outside an error scope (out of memory,
+    /// a lost device): wgpu's default handler panics; this one keeps it for
+    /// [`Gpu::failed`], so that a GPU failure is an error, never a panic.
+    failure: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 impl Gpu {
@@ -79,7 +83,15 @@ impl Gpu {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        Ok(Gpu { device, queue, summary, pipelines: Default::default() })
+        let failure: std::sync::Arc<std::sync::Mutex<Option<String>>> = Default::default();
+        let slot = failure.clone();
+        device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+            let mut f = slot.lock().unwrap_or_else(|p| p.into_inner());
+            if f.is_none() {
+                *f = Some(e.to_string().lines().next().unwrap_or("unknown").trim().to_string());
+            }
+        }));
+        Ok(Gpu { device, queue, summary, pipelines: Default::default(), failure })
     }
 
     /// The adapter in use.
@@ -259,7 +271,7 @@ impl Gpu {
             let bind = d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries });
             match pollster::block_on(scope.pop()) {
                 None => Ok(bind),
-                Some(e) => Err(GpuError::Shader(e.to_string())),
+                Some(e) => self.failed().and(Err(GpuError::Shader(e.to_string()))),
             }
         };
         match attempt(&entries) {
@@ -362,6 +374,8 @@ impl Gpu {
             }
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
+            // An earlier device failure (out of memory) is the cause to report.
+            self.failed()?;
             return Err(GpuError::Shader(e.to_string()));
         }
         if let (Some(k), Ok(mut m)) = (key, self.pipelines.lock()) {
@@ -386,13 +400,24 @@ impl Gpu {
         Ok(Prepared { pipeline, bind, output })
     }
 
+    /// The error the device raised since it opened, if any (out of memory, a
+    /// lost device): every read-back and pyramid build checks it.
+    pub fn failed(&self) -> Result<(), GpuError> {
+        match self.failure.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            None => Ok(()),
+            Some(e) => Err(GpuError::Device(e.clone())),
+        }
+    }
+
     /// Maps `staging` after the submitted work, and copies its bytes out.
     pub(crate) fn read_back(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        self.failed()?;
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
         });
         self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.failed()?;
         rx.recv().map_err(|e| GpuError::Readback(e.to_string()))?.map_err(|e| GpuError::Readback(e.to_string()))?;
         let view = staging.get_mapped_range(..).map_err(|e| GpuError::Readback(e.to_string()))?;
         let out = view.to_vec();

@@ -204,6 +204,8 @@ impl Gpu {
             cache: None,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
+            // An earlier device failure (out of memory) is the cause to report.
+            self.failed()?;
             return Err(GpuError::Shader(e.to_string()));
         }
         let texture = d.create_texture(&wgpu::TextureDescriptor {

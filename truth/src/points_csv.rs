@@ -418,6 +418,13 @@ pub fn parse_spheres_column(
             let message = format!("missing value (the row has {fields} fields, the header {columns})");
             return Err(located(file, line, Some("spheres"), message));
         }
+        if fields > columns && col + 1 == columns {
+            let message = format!(
+                "the row has {fields} fields, the header {columns}: commas separate CSV fields — write a sphere's \
+                 numbers separated by spaces (cx cy cz r) and spheres by ';'"
+            );
+            return Err(located(file, line, Some("spheres"), message));
+        }
         let field = text.split(',').nth(col).map(str::trim).unwrap_or("");
         let occ = crate::shafts::parse_spheres(field).map_err(|m| located(file, line, Some("spheres"), m))?;
         out.push((line, occ, field.to_string()));

@@ -7,7 +7,10 @@
 //! is skipped; at a texel, the nearest-texel test flips at most once, at a point
 //! in closed form. The runs are those of the map's own test, up to f32 rounding
 //! of where the ray crosses a texel's edge; each is handed to the shafts
-//! accumulator ([`Walk::next`] then `Shafts::add_run`).
+//! accumulator ([`Walk::next`] then `Shafts::add_run`). The walk measures the
+//! ray from its point closest to the light (`t0`), so that a ray passing close
+//! by a light from far away keeps its texels: its distances from the viewer are
+//! rounded once, when a run is handed out.
 //!
 //! A face maps `p` to `(X, Y, Z) = M (p − light)`, rows `right/tan_half`,
 //! `up/tan_half`, `forward`; its map coordinates are `(X/Z, Y/Z) ∈ [−1, 1]²`,
@@ -49,10 +52,14 @@ pub const CUBE_FACES: [[[f32; 3]; 3]; 6] = [
 /// A walk along one view ray through a shadow map's pyramid.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Walk {
-    /// The viewer relative to the light, and the unit direction.
+    /// The ray's point closest to the light (in front of the viewer, short of
+    /// the surface) relative to the light, and the unit direction.
     o: [f32; 3],
     d: [f32; 3],
-    /// The surface's distance (an open ray: [`WALK_FAR`]).
+    /// That point's distance from the viewer: the walk's distances (`t`,
+    /// `span`) are measured from it, the runs it hands out from the viewer.
+    t0: f32,
+    /// The surface's distance from the viewer (an open ray: [`WALK_FAR`]).
     end: f32,
     /// A spot map's rows (unused for a cube).
     rows: [[f32; 3]; 3],
@@ -74,12 +81,12 @@ pub struct Walk {
     b: [f32; 3],
     sx: i32,
     sy: i32,
-    /// Where the walk is: distance, level, level-0 texel.
+    /// Where the walk is: distance from `t0`, level, level-0 texel.
     t: f32,
     level: u32,
     cx: i32,
     cy: i32,
-    /// Start of the lit run not yet closed (negative: none).
+    /// Start of the lit run not yet closed, from the viewer (negative: none).
     run: f32,
     /// Steps taken.
     pub steps: u32,
@@ -96,10 +103,22 @@ fn apply(rows: [[f32; 3]; 3], q: [f32; 3]) -> [f32; 3] {
     [dot3(rows[0], q), dot3(rows[1], q), dot3(rows[2], q)]
 }
 
-/// The stretch of `[0, end]` inside a face's frustum (`Z ≥ |X|`, `Z ≥ |Y|`) for
-/// the face coordinates `a + t b`; empty when `x > y`.
-fn clip(a: [f32; 3], b: [f32; 3], end: f32) -> [f32; 2] {
-    let mut lo = 0.0f32;
+/// `sign` as WGSL and GLSL have it: 0 at ±0 (Rust's `signum` gives ±1 there,
+/// which walked a ray along a cube map's seam off its face).
+fn sign(x: f32) -> i32 {
+    if x > 0.0 {
+        1
+    } else if x < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// The stretch of `[start, end]` inside a face's frustum (`Z ≥ |X|`, `Z ≥ |Y|`)
+/// for the face coordinates `a + t b`; empty when `x > y`.
+fn clip(a: [f32; 3], b: [f32; 3], start: f32, end: f32) -> [f32; 2] {
+    let mut lo = start;
     let mut hi = end;
     for (s, k) in [(1.0f32, 0usize), (-1.0, 0), (1.0, 1), (-1.0, 1)] {
         let c0 = a[2] - s * a[k];
@@ -139,9 +158,13 @@ impl Walk {
         let d = [dir[0] / len, dir[1] / len, dir[2] / len];
         let o = [origin[0] - light[0], origin[1] - light[1], origin[2] - light[2]];
         let end = if end < 0.0 { WALK_FAR } else { end };
+        // The point closest to the light, within [0, end].
+        let t0 = (-dot3(o, d)).clamp(0.0, end);
+        let o = [o[0] + t0 * d[0], o[1] + t0 * d[1], o[2] + t0 * d[2]];
         let mut w = Walk {
             o,
             d,
+            t0,
             end,
             rows,
             cube,
@@ -158,7 +181,7 @@ impl Walk {
             b: [0.0; 3],
             sx: 0,
             sy: 0,
-            t: 0.0,
+            t: -t0,
             level: 0,
             cx: 0,
             cy: 0,
@@ -170,7 +193,7 @@ impl Walk {
         let faces = if cube { 6 } else { 1 };
         for f in 0..faces {
             let m = w.rows_of(f);
-            let s = clip(apply(m, o), apply(m, d), end);
+            let s = clip(apply(m, o), apply(m, d), -t0, end - t0);
             if s[0] < s[1] {
                 // Insert in order of start.
                 let mut j = w.count as usize;
@@ -205,18 +228,28 @@ impl Walk {
         (u as i32).clamp(0, self.res as i32 - 1)
     }
 
-    /// A stretch `[t0, t1]` lit or dark; returns the lit run it closes, if any.
+    /// A walk distance (from `t0`) as a distance from the viewer.
+    fn from_viewer(&self, t: f32) -> f32 {
+        if t >= self.end - self.t0 {
+            self.end
+        } else {
+            self.t0 + t
+        }
+    }
+
+    /// A stretch `[t0, t1]` (from `t0`) lit or dark; returns the lit run it
+    /// closes, if any, from the viewer.
     fn piece(&mut self, t0: f32, t1: f32, lit: bool) -> Option<[f32; 2]> {
         if t1.partial_cmp(&t0) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         if lit {
             if self.run < 0.0 {
-                self.run = t0;
+                self.run = self.from_viewer(t0);
             }
             None
         } else if self.run >= 0.0 {
-            let r = [self.run, t0];
+            let r = [self.run, self.from_viewer(t0)];
             self.run = -1.0;
             Some(r)
         } else {
@@ -231,13 +264,18 @@ impl Walk {
         self.a = apply(m, self.o);
         self.b = apply(m, self.d);
         let (a, b) = (self.a, self.b);
-        self.sx = (b[0] * a[2] - a[0] * b[2]).signum() as i32;
-        self.sy = (b[1] * a[2] - a[1] * b[2]).signum() as i32;
+        self.sx = sign(b[0] * a[2] - a[0] * b[2]);
+        self.sy = sign(b[1] * a[2] - a[1] * b[2]);
         let t = self.t.max(self.span[self.k as usize][0]);
         self.t = t;
-        let z = a[2] + t * b[2];
-        self.cx = self.cell((a[0] + t * b[0]) / z);
-        self.cy = self.cell((a[1] + t * b[1]) / z);
+        // At the light itself (Z = 0: the ray from or through the light) the
+        // texel is the direction's.
+        let mut p = [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2]];
+        if p[2] <= 0.0 && b[2] > 0.0 {
+            p = b;
+        }
+        self.cx = self.cell(p[0] / p[2]);
+        self.cy = self.cell(p[1] / p[2]);
         self.level = self.top;
         self.inside = true;
     }
@@ -367,11 +405,12 @@ impl Walk {
                 c
             } else {
                 self.done = true;
+                let end = self.end - self.t0;
                 if !self.cube {
                     let t = self.t;
-                    let _ = self.piece(t, self.end, true);
+                    let _ = self.piece(t, end, true);
                 }
-                return self.close(self.end);
+                return self.close(end);
             };
             if closed.is_some() {
                 return closed;
@@ -380,11 +419,12 @@ impl Walk {
         None
     }
 
-    /// Closes the open run at `t` (an open ray's far end: negative).
+    /// Closes the open run at `t` (from `t0`; an open ray's far end: negative).
     fn close(&mut self, t: f32) -> Option<[f32; 2]> {
         if self.run < 0.0 {
             return None;
         }
+        let t = self.from_viewer(t);
         let r = [self.run, if t >= 0.5 * WALK_FAR { -1.0 } else { t }];
         self.run = -1.0;
         (r[1] < 0.0 || r[1] > r[0]).then_some(r)

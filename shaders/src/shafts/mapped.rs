@@ -159,6 +159,7 @@ impl Gpu {
         let mut enc = self.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("pyramid") });
         levels.record(&mut enc, None);
         self.queue().submit([enc.finish()]);
+        self.failed()?;
         Ok(p)
     }
 
@@ -317,6 +318,8 @@ impl Gpu {
             steps.push((pipeline.clone(), bind, n));
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
+            // An earlier device failure (out of memory) is the cause to report.
+            self.failed()?;
             return Err(GpuError::Shader(format!("shadowmap_pyramid.wgsl: {e}")));
         }
         let view = texture.create_view(&wgpu::TextureViewDescriptor {

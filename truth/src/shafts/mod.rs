@@ -228,7 +228,8 @@ mod tests {
             let occ = [Occluder::Sphere { center: c, radius: r }];
             let lit = lit_intervals(&ray, &occ);
             let got = shadowed_radiance(&ray, None, g, &lit, &|p| reference::airlight(p).unwrap()).unwrap();
-            let want = if want.is_nan() { ray.radiance(g, &|p| reference::airlight(p).unwrap()).unwrap() } else { want };
+            let want =
+                if want.is_nan() { ray.radiance(g, &|p| reference::airlight(p).unwrap()).unwrap() } else { want };
             let err = if want == 0.0 { got } else { (got / want - 1.0).abs() };
             assert!(err < 1e-5, "ball {c:?} r {r}: {got:e} against {want:e} (lit {lit:?})");
         }

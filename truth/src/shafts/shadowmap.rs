@@ -401,8 +401,6 @@ pub fn stored_depth(z: f64) -> Result<f32, MapError> {
     }
 }
 
-
-
 /// A min-max pyramid: per face, level `k` has `(res >> k)²` nodes `[min, max]`
 /// of the depths under them, up to one node.
 #[derive(Debug, Clone, PartialEq)]
@@ -642,7 +640,8 @@ mod tests {
         for res in [256, 1024, 4096] {
             let runs = ShadowMap::cube(r.light, res, &[on], 0.0).unwrap().lit_runs(&r);
             assert_eq!(runs.len(), exact.len(), "{res}: {runs:?} vs {exact:?}");
-            let err = runs.iter().zip(&exact).map(|(x, y)| (x.0 - y.0).abs().max((x.1 - y.1).abs())).fold(0.0, f64::max);
+            let err =
+                runs.iter().zip(&exact).map(|(x, y)| (x.0 - y.0).abs().max((x.1 - y.1).abs())).fold(0.0, f64::max);
             assert!(err < 8.0 / res as f64 && err <= last, "{res}: {runs:?} vs {exact:?}");
             last = err;
         }
