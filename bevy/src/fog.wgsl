@@ -22,6 +22,9 @@ struct Light {
     axis: vec3<f32>,
     // A spot's inner cut-off cosine.
     cos_inner: f32,
+    // The light's core: a viewer within it sees the ray from where it leaves it
+    // (the integral diverges at the source).
+    core: f32,
 }
 
 struct Fog {
@@ -59,11 +62,25 @@ fn fragment(in: FullscreenVertexOutput) -> @location(0) vec4<f32> {
     let uv = (floor(in.position.xy) + fog.sample - view.viewport.xy) / view.viewport.zw;
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let far = z <= 0.0;
-    let p = view.world_from_clip * vec4<f32>(ndc, select(z, 1.0, far), 1.0);
-    let origin = view.world_position;
-    let ray = p.xyz / p.w - origin;
-    let dist = length(ray);
-    let dir = ray / dist;
+    var origin = view.world_position;
+    var dir: vec3<f32>;
+    var dist: f32;
+    if view.clip_from_view[3].w == 1.0 {
+        // Orthographic: parallel rays along the view's forward, from the near
+        // plane (reverse Z: depth 1) through the pixel.
+        let n = view.world_from_clip * vec4<f32>(ndc, 1.0, 1.0);
+        origin = n.xyz / n.w;
+        dir = normalize(-view.world_from_view[2].xyz);
+        let p = view.world_from_clip * vec4<f32>(ndc, z, 1.0);
+        dist = max(dot(p.xyz / p.w - origin, dir), 0.0);
+    } else {
+        // Perspective: from the eye through the surface, or the near plane
+        // where there is none (its depth is finite however far the far plane).
+        let p = view.world_from_clip * vec4<f32>(ndc, select(z, 1.0, far), 1.0);
+        let ray = p.xyz / p.w - origin;
+        dist = length(ray);
+        dir = ray / dist;
+    }
     let surface = select(dist, -1.0, far);
 
     var total = vec3<f32>(0.0);
@@ -78,7 +95,12 @@ fn fragment(in: FullscreenVertexOutput) -> @location(0) vec4<f32> {
             continue;
         }
         let q = sqrt(disc);
-        let s0 = max(-b - q, 0.0);
+        var s0 = max(-b - q, 0.0);
+        // A viewer within the light's core: the ray from where it leaves it.
+        let cc = dot(oc, oc) - l.core * l.core;
+        if cc < 0.0 {
+            s0 = max(s0, -b + sqrt(b * b - cc));
+        }
         var s1 = -b + q;
         if surface >= 0.0 {
             s1 = min(s1, surface);

@@ -36,9 +36,19 @@
 //! sample's position in the pixel ([`sample_position`]), not the pixel's centre:
 //! the fog is exact for that ray, and the resolved colour is the pixel's mean.
 //!
+//! Perspective and orthographic cameras: an orthographic camera's rays run
+//! parallel from its near plane. The integral diverges at a light: a viewer
+//! within a light's core ([`LIGHT_CORE`] or the light's `radius`, the larger —
+//! a flashlight at the camera) sees its ray from where it leaves the core, a
+//! bright, finite glow (the same rule as airlight-three's). A light whose
+//! intensity or colour is NaN, infinite or negative is left out of the fog, and
+//! an [`AirlightFog`] whose σt, σs, g or `max_error` cannot be drawn draws no
+//! fog; each is logged by entity ([`GpuLight::check`], [`AirlightFog::check`]).
+//!
 //! What it does not do: no shafts (Bevy's shadow maps are not read: every light
 //! glows unshadowed), no directional lights, at most [`MAX_LIGHTS`] lights per
-//! view (the brightest at the camera are kept, and an error is logged once).
+//! view (those that can add the most to the view are kept: [`reach`]; an error
+//! is logged whenever the number left out changes).
 //!
 //! The kernel is the cheapest on airlight's menu whose declared bound meets
 //! [`AirlightFog::max_error`] for the medium's g ([`pick`]); the menu, its bounds
@@ -129,6 +139,13 @@ pub fn pick(max_error: f64, g: f32) -> Option<&'static MenuKernel> {
 /// The most point and spot lights one view's pass draws.
 pub const MAX_LIGHTS: usize = 16;
 
+/// A light's core, in scene units (metres): a viewer closer to the light than
+/// this (or than the light's `radius`, if larger) sees its ray's fog from where
+/// the ray leaves that sphere. The in-scattering diverges at the source; this
+/// keeps a light at the camera bright and finite, about `σs · I / core`.
+/// airlight-three uses the same.
+pub const LIGHT_CORE: f32 = 0.01;
+
 /// A participating medium over a camera's view: homogeneous, per colour channel.
 /// Requires the depth prepass (added with it).
 #[derive(Component, Clone, Debug, Reflect)]
@@ -156,6 +173,24 @@ impl AirlightFog {
     pub fn kernel(&self) -> Option<&'static MenuKernel> {
         pick(self.max_error, self.g)
     }
+
+    /// Whether the pass can draw this medium: σt and σs finite and ≥ 0 in every
+    /// channel (σt = 0: no extinction), g finite in (−1, 1), `max_error` > 0.
+    /// The same rules as airlight-three's.
+    pub fn check(&self) -> Result<(), String> {
+        for (name, v) in [("sigma_t", self.sigma_t), ("sigma_s", self.sigma_s)] {
+            if !(v.is_finite() && v.min_element() >= 0.0) {
+                return Err(format!("{name} = {v} must be finite and >= 0 in every channel"));
+            }
+        }
+        if !(self.g.is_finite() && self.g.abs() < 1.0) {
+            return Err(format!("g = {} must be in (-1, 1)", self.g));
+        }
+        if !(self.max_error > 0.0) {
+            return Err(format!("max_error = {} must be > 0", self.max_error));
+        }
+        Ok(())
+    }
 }
 
 /// One light as the pass reads it.
@@ -173,6 +208,8 @@ pub struct GpuLight {
     pub axis: Vec3,
     /// A spot's inner cut-off cosine; -1 for a point light.
     pub cos_inner: f32,
+    /// Its core: [`LIGHT_CORE`] or its `radius`, the larger.
+    pub core: f32,
 }
 
 impl GpuLight {
@@ -185,6 +222,7 @@ impl GpuLight {
             cos_outer: -2.0,
             axis: Vec3::Z,
             cos_inner: -1.0,
+            core: light.radius.max(LIGHT_CORE),
         }
     }
 
@@ -200,8 +238,54 @@ impl GpuLight {
             cos_outer: outer.cos(),
             axis: at.forward().as_vec3(),
             cos_inner: inner.cos(),
+            core: light.radius.max(LIGHT_CORE),
         }
     }
+
+    /// Whether the pass can draw this light: a finite position, and an
+    /// intensity (colour × lumens) finite and ≥ 0 in every channel — NaN would
+    /// poison every pixel, a negative one darken the fog. A finite intensity is
+    /// drawn as it is (its fog may saturate the frame within its range). The
+    /// same rules as airlight-three's.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.intensity.is_finite() && self.intensity.min_element() >= 0.0) {
+            return Err(format!("intensity x colour = {} cd must be finite and >= 0 in every channel", self.intensity));
+        }
+        if !(self.position.is_finite() && self.range >= 0.0) {
+            return Err(format!("position {} must be finite and range {} >= 0", self.position, self.range));
+        }
+        Ok(())
+    }
+}
+
+/// An upper bound on the fog a light can add to any pixel of a view (its
+/// intensity times the largest `∫ T/|x − light|² ds` over the view's rays,
+/// up to the phase function and σs, which every light shares): the ranking when
+/// a view has more than [`MAX_LIGHTS`]. `eye` and `forward` (unit) are the
+/// view's; `half_diagonal` the angle from the view's axis to its frustum's
+/// corner (perspective), or, with `ortho`, the half-diagonal of its rectangle
+/// in scene units. A light in view ranks by `I e^{−σt D}/(D · 1e-3)` (its ray
+/// passing a thousandth of its distance from it); one outside by the ray of the
+/// view that passes closest to it; a light behind the camera adds little.
+pub fn reach(light: &GpuLight, eye: Vec3, forward: Vec3, half_diagonal: f32, ortho: bool, sigma_t: f32) -> f32 {
+    let to = light.position - eye;
+    let d = to.length().max(1e-6);
+    let i = light.intensity.max_element();
+    // Every scattering point x has |x − eye| + |light − x| ≥ D: the transmittance
+    // of any path is at most e^{−σt D}.
+    let t = (-sigma_t.max(0.0) * d).exp();
+    let (h, ahead) = if ortho {
+        let depth = to.dot(forward);
+        let lateral = (to - depth * forward).length();
+        ((lateral - half_diagonal).max(0.0), depth)
+    } else {
+        let angle = (to.dot(forward) / d).clamp(-1.0, 1.0).acos();
+        let alpha = (angle - half_diagonal).max(0.0);
+        (d * alpha.sin(), d * alpha.cos())
+    };
+    // ∫ ds/(h² + (s − ahead)²) over s ≥ 0 = (π/2 + atan(ahead/h))/h.
+    let h = h.max(1e-3 * d);
+    i * t * (std::f32::consts::FRAC_PI_2 + (ahead / h).atan()) / h
 }
 
 /// Bevy's luminous power (lumens) and colour as a luminous intensity per linear
@@ -299,16 +383,20 @@ fn load_kernels(
     cameras: Query<(Entity, &AirlightFog, Option<&AirlightKernel>), Changed<AirlightFog>>,
 ) {
     for (entity, fog, current) in &cameras {
-        let Some(kernel) = fog.kernel() else {
-            if !loaded.refused.contains(&entity) {
-                error!(
-                    "airlight: no kernel on the menu meets max_error = {} for g = {}; camera {entity} draws no fog",
-                    fog.max_error, fog.g
-                );
-                loaded.refused.push(entity);
+        let picked = fog.check().and_then(|()| {
+            fog.kernel()
+                .ok_or_else(|| format!("no kernel on the menu meets max_error = {} for g = {}", fog.max_error, fog.g))
+        });
+        let kernel = match picked {
+            Ok(k) => k,
+            Err(e) => {
+                if !loaded.refused.contains(&entity) {
+                    error!("airlight: camera {entity}: AirlightFog: {e}; it draws no fog");
+                    loaded.refused.push(entity);
+                }
+                commands.entity(entity).remove::<AirlightKernel>();
+                continue;
             }
-            commands.entity(entity).remove::<AirlightKernel>();
-            continue;
         };
         // Told again if its budget goes wrong again later.
         loaded.refused.retain(|e| *e != entity);
@@ -355,24 +443,40 @@ impl ExtractComponent for AirlightFog {
     }
 }
 
-/// The lights of this frame (render world), brightest at the camera first.
+/// The lights of this frame (render world).
 #[derive(Resource, Default)]
 struct FogLights {
     lights: Vec<GpuLight>,
-    /// How many there were before the cut to [`MAX_LIGHTS`].
-    seen: usize,
-    told: bool,
+    /// The lights left out of the fog as bad, told once each until they are good again.
+    refused: Vec<Entity>,
+    /// The number of lights past [`MAX_LIGHTS`] last logged.
+    told_over: usize,
 }
 
 fn extract_lights(
     mut out: ResMut<FogLights>,
-    points: Extract<Query<(&PointLight, &GlobalTransform, &InheritedVisibility)>>,
-    spots: Extract<Query<(&SpotLight, &GlobalTransform, &InheritedVisibility)>>,
+    points: Extract<Query<(Entity, &PointLight, &GlobalTransform, &InheritedVisibility)>>,
+    spots: Extract<Query<(Entity, &SpotLight, &GlobalTransform, &InheritedVisibility)>>,
 ) {
     out.lights.clear();
-    out.lights.extend(points.iter().filter(|(_, _, v)| v.get()).map(|(l, t, _)| GpuLight::point(l, t)));
-    out.lights.extend(spots.iter().filter(|(_, _, v)| v.get()).map(|(l, t, _)| GpuLight::spot(l, t)));
-    out.seen = out.lights.len();
+    let all = points
+        .iter()
+        .filter(|p| p.3.get())
+        .map(|(e, l, t, _)| (e, GpuLight::point(l, t)))
+        .chain(spots.iter().filter(|s| s.3.get()).map(|(e, l, t, _)| (e, GpuLight::spot(l, t))));
+    let mut refused = Vec::new();
+    for (entity, light) in all {
+        match light.check() {
+            Ok(()) => out.lights.push(light),
+            Err(e) => {
+                if !out.refused.contains(&entity) {
+                    error!("airlight: light {entity}: {e}; it is left out of the fog");
+                }
+                refused.push(entity);
+            }
+        }
+    }
+    out.refused = refused;
 }
 
 #[derive(Resource, Default)]
@@ -386,8 +490,8 @@ pub struct FogUniformOffset(u32);
 #[derive(Component, Clone, Copy)]
 pub struct FogPipelineId(CachedRenderPipelineId);
 
-/// Writes each fog view's medium and lights (the brightest at its camera when
-/// there are more than [`MAX_LIGHTS`]).
+/// Writes each fog view's medium and lights (those that can add the most to
+/// the view, [`reach`], when there are more than [`MAX_LIGHTS`]).
 fn prepare_uniforms(
     mut commands: Commands,
     device: Res<RenderDevice>,
@@ -397,18 +501,33 @@ fn prepare_uniforms(
     views: Query<(Entity, &ExtractedView, &ExtractedFog, &Msaa)>,
 ) {
     uniforms.0.clear();
-    if lights.seen > MAX_LIGHTS && !lights.told {
-        error!(
-            "airlight: {} point and spot lights; the fog pass draws at most {MAX_LIGHTS} per view (the brightest at the camera)",
-            lights.seen
-        );
-        lights.told = true;
+    let over = lights.lights.len().saturating_sub(MAX_LIGHTS);
+    if over != lights.told_over {
+        if over > 0 {
+            error!(
+                "airlight: {} point and spot lights; the fog pass draws at most {MAX_LIGHTS} per view (those that can \
+                 add the most to it), {over} left out",
+                lights.lights.len()
+            );
+        }
+        lights.told_over = over;
     }
     for (entity, view, fog, msaa) in &views {
         let eye = view.world_from_view.translation();
         let mut chosen = lights.lights.clone();
         if chosen.len() > MAX_LIGHTS {
-            let weight = |l: &GpuLight| l.intensity.max_element() / (1.0 + l.position.distance_squared(eye));
+            let forward = view.world_from_view.forward().as_vec3();
+            let p = view.clip_from_view;
+            let ortho = p.w_axis.w == 1.0;
+            // Perspective: the angle to the frustum's corner; orthographic: the
+            // rectangle's half-diagonal.
+            let half = if ortho {
+                Vec2::new(1.0 / p.x_axis.x, 1.0 / p.y_axis.y).length()
+            } else {
+                Vec2::new(1.0 / p.x_axis.x, 1.0 / p.y_axis.y).length().atan()
+            };
+            let sigma_t = fog.sigma_t.min_element();
+            let weight = |l: &GpuLight| reach(l, eye, forward, half, ortho, sigma_t);
             chosen.sort_by(|a, b| weight(b).total_cmp(&weight(a)));
             chosen.truncate(MAX_LIGHTS);
         }
@@ -591,5 +710,59 @@ mod tests {
     fn lumens_become_candela_per_channel_as_bevy_takes_them() {
         let i = candela(Color::linear_rgb(1.0, 0.5, 0.0), 4.0 * std::f32::consts::PI * 100.0);
         assert!((i - Vec3::new(100.0, 50.0, 0.0)).abs().max_element() < 1e-3, "{i}");
+    }
+
+    fn point_at(position: Vec3, lumens: f32) -> GpuLight {
+        GpuLight::point(&PointLight { intensity: lumens, ..default() }, &GlobalTransform::from_translation(position))
+    }
+
+    /// Issue 60 (20): the same rules as airlight-three's — a light whose
+    /// intensity is NaN, infinite or negative is refused, a finite one drawn;
+    /// a medium with a NaN or negative σt, or g out of (−1, 1), is refused.
+    #[test]
+    fn bad_lights_and_media_are_refused_by_name() {
+        for lumens in [f32::NAN, f32::INFINITY, -20.0] {
+            let e = point_at(Vec3::ZERO, lumens).check().unwrap_err();
+            assert!(e.contains("intensity"), "{lumens}: {e}");
+        }
+        assert!(point_at(Vec3::ZERO, 1e30).check().is_ok());
+        assert!(point_at(Vec3::splat(f32::NAN), 100.0).check().is_err());
+        let good = AirlightFog::fog(0.05, 0.6);
+        assert!(good.check().is_ok());
+        let no_extinction = AirlightFog { sigma_t: Vec3::ZERO, ..good.clone() };
+        assert!(no_extinction.check().is_ok());
+        for (bad, says) in [
+            (AirlightFog { sigma_t: Vec3::splat(f32::NAN), ..good.clone() }, "sigma_t"),
+            (AirlightFog { sigma_t: Vec3::new(0.1, -0.1, 0.1), ..good.clone() }, "sigma_t"),
+            (AirlightFog { sigma_s: Vec3::splat(f32::INFINITY), ..good.clone() }, "sigma_s"),
+            (AirlightFog { g: 1.0, ..good.clone() }, "g ="),
+            (AirlightFog { g: f32::NAN, ..good.clone() }, "g ="),
+            (AirlightFog { max_error: f64::NAN, ..good.clone() }, "max_error"),
+        ] {
+            assert!(bad.check().unwrap_err().contains(says), "{bad:?}");
+        }
+    }
+
+    /// Issue 60 (21): a bright light behind the camera no longer pushes out a
+    /// visible one: a light in view outranks one 100x brighter at the same
+    /// distance behind, and a light beside the view ranks by how close the
+    /// view's rays pass it.
+    #[test]
+    fn lights_rank_by_what_they_can_add_to_the_view() {
+        let (eye, forward) = (Vec3::ZERO, Vec3::NEG_Z);
+        let half = (0.5f32.tan().hypot(0.3f32.tan())).atan();
+        let ahead = point_at(Vec3::new(0.0, 0.0, -10.0), 1000.0);
+        let behind = point_at(Vec3::new(0.0, 0.0, 10.0), 100_000.0);
+        let r = |l: &GpuLight| reach(l, eye, forward, half, false, 0.05);
+        assert!(r(&ahead) > r(&behind), "{} vs {}", r(&ahead), r(&behind));
+        let beside = point_at(Vec3::new(20.0, 0.0, -10.0), 1000.0);
+        let farther = point_at(Vec3::new(40.0, 0.0, -10.0), 1000.0);
+        assert!(r(&ahead) > r(&beside) && r(&beside) > r(&farther));
+        // Fog dims a far light: the same light 100 m off counts less.
+        let far = point_at(Vec3::new(0.0, 0.0, -100.0), 1000.0);
+        assert!(r(&far) < r(&ahead) * 1e-2);
+        // An orthographic view: a light within its rectangle beats one outside.
+        let o = |l: &GpuLight| reach(l, eye, forward, 5.0, true, 0.05);
+        assert!(o(&ahead) > o(&beside));
     }
 }

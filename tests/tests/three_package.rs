@@ -424,3 +424,125 @@ console.log(JSON.stringify(out));
     assert!(shafts >= 10, "{shafts} kernels cast shafts through the pass");
     std::fs::remove_dir_all(&tmp).ok();
 }
+
+/// Issue 60 (13–17) in Node with three.js r187: the rules the passes hold a
+/// three.js light and the medium to (the same as the Bevy plugin's). A light
+/// whose intensity is NaN, ±∞ or negative, or whose cone is wider than a
+/// hemisphere or too thin for f32's cosine, is refused by `add` and, turned so
+/// later, left out of the frame (warned about once); a light under an invisible
+/// group, on a layer the camera does not see, or removed from the scene is not
+/// drawn, as three does not draw it; a spot aims at its target's `matrixWorld`
+/// as three does, with no update as a side effect; σt = 0 with σs > 0 is the
+/// medium without extinction; the messages name what is wrong.
+#[test]
+fn three_lights_are_drawn_as_three_draws_them_and_refused_by_name() {
+    use airlight_tests::npm_tools;
+    let pkg = generated_dir().join("three/airlight-three");
+    let Some(tools) = npm_tools("three") else { return };
+    if !Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
+        return;
+    }
+    let tmp = std::env::temp_dir().join(format!("airlight-three-rules-{}", std::process::id()));
+    let modules = tmp.join("node_modules");
+    std::fs::create_dir_all(&modules).unwrap();
+    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
+    std::os::unix::fs::symlink(&pkg, modules.join("airlight-three")).unwrap();
+    let script = r#"import * as THREE from 'three';
+import { LightSet, lightProblem, medium, checkG, checkMaxError, LIGHT_CORE, MIN_SPOT_ANGLE } from 'airlight-three/lightset.js';
+const out = {};
+const warnings = [];
+console.warn = (m) => warnings.push(m);
+const thrown = (f) => { try { f(); return ''; } catch (e) { return e.message; } };
+const set = new LightSet(4, 4);
+const u = () => ({ pointPosition: [0, 1, 2, 3].map(() => new THREE.Vector3()), pointIntensity: [0, 1, 2, 3].map(() => new THREE.Vector3()),
+  spotPosition: [0, 1, 2, 3].map(() => new THREE.Vector3()), spotIntensity: [0, 1, 2, 3].map(() => new THREE.Vector3()),
+  spotAxis: [0, 1, 2, 3].map(() => new THREE.Vector3()), spotCone: [0, 1, 2, 3].map(() => new THREE.Vector3()) });
+// add refuses what the kernels cannot take, naming the light.
+out.refused = {};
+for (const [what, make] of [
+  ['nan', () => new THREE.SpotLight(0xffffff, NaN)], ['inf', () => new THREE.PointLight(0xffffff, Infinity)],
+  ['negative', () => new THREE.PointLight(0xffffff, -20)], ['wide', () => new THREE.SpotLight(0xffffff, 10, 0, 2.0)],
+  ['thin', () => new THREE.SpotLight(0xffffff, 10, 0, 1e-4)], ['decay', () => new THREE.PointLight(0xffffff, 10, 0, 1)],
+  ['undefined', () => undefined],
+]) out.refused[what] = thrown(() => set.add(make()));
+// Every kind of light three may not draw, and one it draws.
+const scene = new THREE.Scene();
+const camera = new THREE.PerspectiveCamera(50, 1, 0.1, 100);
+const good = new THREE.PointLight(0xffffff, 10, 0, 2); good.name = 'good';
+const grouped = new THREE.PointLight(0xffffff, 10, 0, 2);
+const group = new THREE.Group(); group.add(grouped); group.visible = false;
+const layered = new THREE.PointLight(0xffffff, 10, 0, 2); layered.layers.set(3);
+const removed = new THREE.PointLight(0xffffff, 10, 0, 2);
+scene.add(good, group, layered, removed);
+for (const l of [good, grouped, layered, removed]) set.add(l);
+scene.remove(removed);
+scene.updateMatrixWorld();
+out.drawn = set.write(u(), camera).points;
+// Turned bad after add: left out, warned once; good again: drawn again.
+good.intensity = NaN;
+out.nan = set.write(u(), camera).points;
+set.write(u(), camera);
+out.warnings = warnings.length;
+out.warning = warnings[0] ?? '';
+good.intensity = 10;
+out.again = set.write(u(), camera).points;
+good.decay = 1;
+out.decayChanged = set.write(u(), camera).points;
+good.decay = 2;
+// A spot whose target is outside the scene aims at its target's matrixWorld as
+// three does; getWorldPosition would have moved it.
+const spot = new THREE.SpotLight(0xffffff, 10, 0, 0.5); spot.position.set(0, 5, 0);
+scene.add(spot); scene.updateMatrixWorld();
+spot.target.position.set(3, 0, 0);
+set.add(spot);
+const v = u();
+set.write(v, camera);
+out.axis = v.spotAxis[0].toArray();
+out.targetMatrixUntouched = spot.target.matrixWorld.elements[12];
+// The medium.
+out.noExtinction = thrown(() => medium({ sigmaT: 0, sigmaS: 0.05 }, true, 'k'));
+out.nanSigma = thrown(() => medium({ sigmaT: NaN, sigmaS: 0.05 }, true, 'k'));
+out.stringG = thrown(() => checkG('0.5'));
+out.wideG = thrown(() => checkG(0.995));
+out.infError = thrown(() => checkMaxError(Infinity));
+out.core = LIGHT_CORE;
+out.minAngle = MIN_SPOT_ANGLE;
+set.clear();
+out.cleared = set.points.length + set.spots.length;
+console.log(JSON.stringify(out));
+"#;
+    std::fs::write(tmp.join("rules.mjs"), script).unwrap();
+    let o = Command::new("node").args(["--preserve-symlinks", "rules.mjs"]).current_dir(&tmp).output().unwrap();
+    std::fs::remove_dir_all(&tmp).ok();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for (what, says) in [
+        ("nan", "intensity NaN"),
+        ("inf", "intensity Infinity"),
+        ("negative", "intensity -20"),
+        ("wide", "angle 2"),
+        ("thin", "angle 0.0001"),
+        ("decay", "decay = 1"),
+        ("undefined", "got undefined"),
+    ] {
+        let m = v["refused"][what].as_str().unwrap();
+        assert!(m.contains(says), "{what}: '{m}'");
+    }
+    assert_eq!(v["drawn"], 1, "{v}");
+    assert_eq!(v["nan"], 0, "{v}");
+    assert_eq!(v["warnings"], 1, "{v}");
+    assert!(v["warning"].as_str().unwrap().contains("'good'"), "{v}");
+    assert_eq!(v["again"], 1, "{v}");
+    assert_eq!(v["decayChanged"], 0, "{v}");
+    // Straight down, as the target's matrixWorld (at the origin) says.
+    let axis: Vec<f64> = v["axis"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert!(axis[0].abs() < 1e-6 && (axis[1] + 1.0).abs() < 1e-6, "{v}");
+    assert_eq!(v["targetMatrixUntouched"], 0, "{v}");
+    assert_eq!(v["noExtinction"], "", "{v}");
+    assert!(v["nanSigma"].as_str().unwrap().contains("got NaN"), "{v}");
+    assert!(v["stringG"].as_str().unwrap().contains("the string '0.5'"), "{v}");
+    assert!(v["wideG"].as_str().unwrap().contains("[-0.99, 0.99]"), "{v}");
+    assert!(v["infError"].as_str().unwrap().contains("maxError"), "{v}");
+    assert_eq!(v["core"], 0.01);
+    assert_eq!(v["cleared"], 0);
+}

@@ -11,7 +11,7 @@
 //! Without an adapter the test says so and passes, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (as `.ci/run` sets).
 
-use airlight_bevy::AirlightPlugin;
+use airlight_bevy::{AirlightFog, AirlightPlugin};
 use airlight_bevy_example::{Lamp, Spot, Street};
 use airlight_truth::geometry::{Cone, PhysicalRay};
 use airlight_truth::shafts::Occluder;
@@ -77,6 +77,10 @@ fn settle(app: &mut App, before: Option<&Vec<[f32; 3]>>, what: &str) -> (Vec<[f3
 }
 
 fn app(street: &Street) -> Option<App> {
+    app_with(street, Projection::Perspective(PerspectiveProjection { fov: street.fov, near: 0.05, ..default() }))
+}
+
+fn app_with(street: &Street, projection: Projection) -> Option<App> {
     // Bevy panics where it finds no adapter: ask wgpu first.
     if let Err(e) = airlight_shaders::Gpu::open() {
         eprintln!("no GPU adapter ({e})");
@@ -108,7 +112,7 @@ fn app(street: &Street) -> Option<App> {
                 Hdr,
                 Tonemapping::None,
                 Msaa::Sample4,
-                Projection::Perspective(PerspectiveProjection { fov: s.fov, near: 0.05, ..default() }),
+                projection.clone(),
                 Exposure { ev100: s.ev100 },
                 s.camera_transform(),
                 bevy::core_pipeline::prepass::DepthPrepass,
@@ -140,19 +144,18 @@ fn ray(street: &Street, i: i32, j: i32) -> [f64; 3] {
     [d.x, d.y, d.z]
 }
 
-/// The reference fog of one light along `dir` (per channel, before exposure): the
-/// ray cut to the light's range sphere and to the surface, its in-scattering by
-/// the f64 reference.
-fn light_fog(
-    street: &Street,
-    dir: [f64; 3],
-    surface: Option<f64>,
-    at: Vec3,
-    range: f32,
-    intensity: Vec3,
-    cone: Option<&Cone>,
-) -> [f64; 3] {
-    let eye = street.eye.as_dvec3();
+/// One light as the reference takes it: position, range, intensity per channel,
+/// core (the plugin's `GpuLight`), and a spot's cone.
+type RefLight<'a> = (&'a airlight_bevy::GpuLight, Option<&'a Cone>);
+
+/// The reference fog of one light along the ray from `eye` along `dir` (per
+/// channel, before exposure): the ray cut to the light's range sphere and to the
+/// surface, and started where it leaves the light's core if the viewer is
+/// within it, its in-scattering by the f64 reference.
+fn light_fog(street: &Street, eye: [f64; 3], dir: [f64; 3], surface: Option<f64>, light: RefLight) -> [f64; 3] {
+    let (g, cone) = light;
+    let (at, range, intensity) = (g.position, g.range, g.intensity);
+    let eye = bevy::math::DVec3::from(eye);
     let l = at.as_dvec3();
     let d = bevy::math::DVec3::from(dir);
     let oc = eye - l;
@@ -162,7 +165,11 @@ fn light_fog(
     if disc <= 0.0 {
         return [0.0; 3];
     }
-    let s0 = (-b - disc.sqrt()).max(0.0);
+    let mut s0 = (-b - disc.sqrt()).max(0.0);
+    let cc = oc.length_squared() - f64::from(g.core).powi(2);
+    if cc < 0.0 {
+        s0 = s0.max(-b + (b * b - cc).sqrt());
+    }
     let s1 = (-b + disc.sqrt()).min(surface.unwrap_or(f64::INFINITY));
     if s1 <= s0 {
         return [0.0; 3];
@@ -217,12 +224,12 @@ fn transmittance(street: &Street, r: &Reference, k: usize, c: usize) -> f64 {
 }
 
 fn reference(street: &Street) -> Reference {
-    let px: Vec<(u32, u32)> = (0..H).flat_map(|j| (0..W).map(move |i| (i, j))).collect();
     let eye = street.eye.as_dvec3();
-    let surface: Vec<Option<(f64, usize)>> = px
-        .iter()
-        .map(|&(i, j)| first_surface(street, [eye.x, eye.y, eye.z], ray(street, i as i32, j as i32)))
-        .collect();
+    reference_of(street, &|i, j| ([eye.x, eye.y, eye.z], ray(street, i, j)), &street_lights(street))
+}
+
+/// The street's lamp and spot as the reference takes them.
+fn street_lights(street: &Street) -> [(airlight_bevy::GpuLight, Option<Cone>); 2] {
     let lamp = airlight_bevy::GpuLight::point(&street.lamp.0, &GlobalTransform::from_translation(street.lamp.1));
     let (spot_light, spot_at, spot_aim) = &street.spot;
     let spot = airlight_bevy::GpuLight::spot(
@@ -235,14 +242,33 @@ fn reference(street: &Street) -> Reference {
         cos_outer: f64::from(spot_light.outer_angle).cos(),
         cos_inner: f64::from(spot_light.inner_angle).cos(),
     };
+    [(lamp, None), (spot, Some(cone))]
+}
+
+/// The reference of the rays `ray_of(i, j)` (origin, unit direction) of every
+/// pixel for the two `lights` (their fogs in `Reference::lamp` and `spot`).
+fn reference_of(
+    street: &Street,
+    ray_of: &(dyn Fn(i32, i32) -> ([f64; 3], [f64; 3]) + Sync),
+    lights: &[(airlight_bevy::GpuLight, Option<Cone>); 2],
+) -> Reference {
+    let px: Vec<(u32, u32)> = (0..H).flat_map(|j| (0..W).map(move |i| (i, j))).collect();
+    let surface: Vec<Option<(f64, usize)>> = px
+        .iter()
+        .map(|&(i, j)| {
+            let (o, d) = ray_of(i as i32, j as i32);
+            first_surface(street, o, d)
+        })
+        .collect();
     let fogs = airlight_truth::parallel::map(
         &(0..px.len()).collect::<Vec<_>>(),
         |&k| {
             let (i, j) = px[k];
-            let d = ray(street, i as i32, j as i32);
+            let (o, d) = ray_of(i as i32, j as i32);
+            let s = surface[k].map(|s| s.0);
             (
-                light_fog(street, d, surface[k].map(|s| s.0), lamp.position, lamp.range, lamp.intensity, None),
-                light_fog(street, d, surface[k].map(|s| s.0), spot.position, spot.range, spot.intensity, Some(&cone)),
+                light_fog(street, o, d, s, (&lights[0].0, lights[0].1.as_ref())),
+                light_fog(street, o, d, s, (&lights[1].0, lights[1].1.as_ref())),
             )
         },
         &|_, _| {},
@@ -257,7 +283,8 @@ fn reference(street: &Street) -> Reference {
             [(-1i32, 0i32), (1, 0), (0, -1), (0, 1)].iter().any(|&(di, dj)| {
                 let (x, y) = (i + di, j + dj);
                 let o = if x < 0 || y < 0 || x >= W as i32 || y >= H as i32 {
-                    first_surface(street, [eye.x, eye.y, eye.z], ray(street, x, y))
+                    let (o, d) = ray_of(x, y);
+                    first_surface(street, o, d)
                 } else {
                     surface[(y as u32 * W + x as u32) as usize]
                 };
@@ -454,4 +481,82 @@ fn a_bevy_app_draws_the_street_in_fog_against_the_reference() {
     let f = figures(&street, &r, &colour, &no_spot, 2.0, 0.0, bound);
     eprintln!("spot removed (shown after {n3} updates): {f:?}");
     assert_eq!((f.over, f.non_finite), (0, 0), "{f:?}");
+
+    // Issue 60 (20): lights with intensity NaN, ∞ and −20 beside the lamp are
+    // left out (logged by entity): the frame is the one without them.
+    let bad: Vec<Entity> = [f32::NAN, f32::INFINITY, -20.0]
+        .iter()
+        .map(|&i| {
+            app.world_mut().spawn((PointLight { intensity: i, ..default() }, Transform::from_xyz(0.0, 2.0, 0.0))).id()
+        })
+        .collect();
+    let with_bad = after(&mut app, 8);
+    assert!(with_bad == no_spot, "bad lights changed the frame");
+    for e in bad {
+        app.world_mut().despawn(e);
+    }
+    // A medium that cannot be drawn draws no fog: the frame without fog.
+    app.world_mut().entity_mut(camera).insert(AirlightFog { sigma_t: Vec3::splat(f32::NAN), ..street.fog.clone() });
+    let (plain, _) = settle(&mut app, Some(&no_spot), "the frame with a NaN sigma_t");
+    assert!(plain == colour, "a NaN sigma_t drew something other than the frame without fog");
+    app.world_mut().entity_mut(camera).insert(street.fog.clone());
+    let (back, _) = settle(&mut app, Some(&plain), "the frame with the fog again");
+    assert!(back == no_spot, "the good medium again did not give the frame back");
+
+    // Issues 60 (19): a point light at the eye (a flashlight): every pixel
+    // finite, none clamped, and the fog that of the ray from where it leaves
+    // the light's core, as the reference gives it.
+    let flash = PointLight { intensity: 20_000.0, range: 30.0, ..default() };
+    let flash_id = app.world_mut().spawn((flash, Transform::from_translation(street.eye))).id();
+    let (lit, _) = settle(&mut app, Some(&back), "the frame with a light at the eye");
+    let eye = street.eye.as_dvec3();
+    let flash_light = airlight_bevy::GpuLight::point(&flash, &GlobalTransform::from_translation(street.eye));
+    let lights = [street_lights(&street)[0].clone(), (flash_light, None)];
+    let rf = reference_of(&street, &|i, j| ([eye.x, eye.y, eye.z], ray(&street, i, j)), &lights);
+    let f = figures(&street, &rf, &colour, &lit, 2.0, 1.0, bound);
+    let top = lit.iter().flat_map(|p| p.iter()).fold(0.0f32, |a, &b| a.max(b));
+    eprintln!("a light at the eye: {f:?}, brightest pixel {top}");
+    assert_eq!((f.over, f.non_finite), (0, 0), "{f:?}");
+    assert!(top < 65504.0, "a pixel clamped to f16's largest");
+    app.world_mut().despawn(flash_id);
+
+    // Issue 60 (18): an orthographic camera — parallel rays from its near
+    // plane — against the reference over the same rays.
+    let half = 1.5f64;
+    app.world_mut().entity_mut(camera).remove::<AirlightFog>().insert(Projection::Orthographic(
+        OrthographicProjection {
+            scaling_mode: bevy::camera::ScalingMode::FixedVertical { viewport_height: 2.0 * half as f32 },
+            ..OrthographicProjection::default_3d()
+        },
+    ));
+    let (ortho_colour, _) = settle(&mut app, Some(&lit), "the orthographic frame without fog");
+    app.world_mut().entity_mut(camera).insert(street.fog.clone());
+    let (ortho, _) = settle(&mut app, Some(&ortho_colour), "the orthographic frame with fog");
+    let rot = street.camera_transform().rotation.as_dquat();
+    let at = airlight_bevy::sample_position(SAMPLES).as_dvec2();
+    let aspect = f64::from(W) / f64::from(H);
+    let forward = rot * bevy::math::DVec3::NEG_Z;
+    let ortho_ray = |i: i32, j: i32| {
+        let x = (2.0 * (f64::from(i) + at.x) / f64::from(W) - 1.0) * half * aspect;
+        let y = (1.0 - 2.0 * (f64::from(j) + at.y) / f64::from(H)) * half;
+        let o = eye + rot * bevy::math::DVec3::new(x, y, 0.0);
+        ([o.x, o.y, o.z], [forward.x, forward.y, forward.z])
+    };
+    let ro = reference_of(&street, &ortho_ray, &street_lights(&street));
+    let f = figures(&street, &ro, &ortho_colour, &ortho, 2.0, 0.0, bound);
+    eprintln!("orthographic: {f:?}");
+    assert_eq!((f.over, f.non_finite), (0, 0), "{f:?}");
+    assert!(f.lit > 2000, "too few lit pixels: {f:?}");
+}
+
+/// Runs `n` updates and returns the last frame read back.
+fn after(app: &mut App, n: usize) -> Vec<[f32; 3]> {
+    let mut last = None;
+    for _ in 0..n {
+        app.update();
+        for f in std::mem::take(&mut app.world_mut().resource_mut::<Frames>().0) {
+            last = Some(decode(&f));
+        }
+    }
+    last.expect("a frame was read back")
 }

@@ -9,6 +9,10 @@ export declare const MAX_SPOT_LIGHTS: number;
 /** Lights with shafts (`castShadow`) one VolumetricLights takes, and how many it takes unless told. */
 export declare const MAX_SHADOWED_LIGHTS: number;
 export declare const DEFAULT_SHADOWED_LIGHTS: number;
+/** A light's core (scene units): a viewer within it sees the light's ray from where it leaves it. */
+export declare const LIGHT_CORE: number;
+/** The narrowest spot `angle` (radians) the passes draw. */
+export declare const MIN_SPOT_ANGLE: number;
 
 /** The medium: extinction and scattering per metre (a number, or one per colour channel), and HG g. */
 export interface Medium {
@@ -50,6 +54,8 @@ export declare class VolumetricLights {
   add(light: PointLight | SpotLight): this;
   /** Removes a light. */
   remove(light: PointLight | SpotLight): this;
+  /** Removes every light (and frees their pyramids). */
+  removeAll(): this;
   /** The fog alone: RGB in-scattered radiance and the distance to the first surface (negative: none). */
   fog(depth: Node, camera: Camera): Node;
   /** `colour · T + fog` over `pass(scene, camera)`: a post-processing output node. */

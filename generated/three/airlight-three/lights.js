@@ -10,13 +10,13 @@
 // WebGPURenderer, as a post-processing node, on WebGPU (the kernel's WGSL) and
 // on its WebGL 2 backend (the kernel's GLSL).
 import { DataTexture, FloatType, Matrix3, RGFormat, Vector3 } from 'three';
-import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, length, max, screenUV, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
+import { Break, Fn, If, Loop, NodeUpdateType, exp, float, getViewPosition, length, max, normalize, screenUV, sqrt, texture, uniform, uniformArray, vec3, vec4 } from 'three/tsl';
 import { pick } from './index.js';
-import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
+import { DEFAULT_SHADOWED_LIGHTS, LIGHT_CORE, LightSet, checkG, checkMaxError, limits, medium, slots, terms } from './lightset.js';
 import { ShadowPyramid } from './shadowmap.js';
 import { castsShadow, walkBias } from './walk.js';
 
-export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
+export { DEFAULT_SHADOWED_LIGHTS, LIGHT_CORE, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS, MIN_SPOT_ANGLE } from './lightset.js';
 
 /**
  * The in-scattered light of three.js's point and spot lights in a homogeneous
@@ -35,6 +35,8 @@ export class VolumetricLights {
    * WebGPURenderer (after `init()`) that will draw it: WebGPU or its WebGL 2 backend.
    */
   static async create(renderer, { sigmaT, sigmaS, g = 0, maxError = 1e-2, ...rest } = {}) {
+    checkMaxError(maxError);
+    checkG(g);
     const k = pick({ maxError, g });
     if (!k) throw new Error(`airlight-three: no kernel on the menu meets maxError = ${maxError} for g = ${g}`);
     const kernel = await import(new URL(k.module, import.meta.url).href);
@@ -55,6 +57,10 @@ export class VolumetricLights {
    */
   constructor(renderer, kernel, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!renderer || !renderer.backend) throw new Error('airlight-three: VolumetricLights needs a WebGPURenderer (after init())');
+    // The rays are unprojected from a standard [0, 1] depth buffer.
+    if (renderer.logarithmicDepthBuffer === true || renderer.reversedDepthBuffer === true) {
+      throw new Error('airlight-three: VolumetricLights reads a standard depth buffer: create the renderer without logarithmicDepthBuffer and reversedDepthBuffer');
+    }
     // WGSL nodes on WebGPU, their GLSL twins on the WebGL 2 backend (the same
     // arguments).
     const gl = !renderer.backend.isWebGPUBackend;
@@ -105,7 +111,7 @@ export class VolumetricLights {
     this.spotCount = uniform(0).onRenderUpdate(() => this.counts.spots);
     this.projectionInverse = uniform('mat4').onRenderUpdate(() => this.camera.projectionMatrixInverse);
     this.cameraWorld = uniform('mat4').onRenderUpdate(() => this.camera.matrixWorld);
-    this.cameraOrigin = uniform(new Vector3()).onRenderUpdate(() => this.camera.getWorldPosition(new Vector3()));
+    this.cameraOrigin = uniform(new Vector3()).onRenderUpdate(() => new Vector3().setFromMatrixPosition(this.camera.matrixWorld));
   }
 
   /**
@@ -123,10 +129,10 @@ export class VolumetricLights {
       spotIntensity: this.spotIntensity.array,
       spotAxis: this.spotAxis.array,
       spotCone: this.spotCone.array,
-    });
+    }, this.camera);
     this.pointCount.value = this.counts.points;
     this.spotCount.value = this.counts.spots;
-    const shadowed = this.lights.shadowed.filter((l) => l.visible);
+    const shadowed = this.lights.drawn(this.lights.shadowed, this.camera);
     this.shadowSlots.forEach((s, i) => {
       const l = shadowed[i];
       if (!l) {
@@ -178,12 +184,22 @@ export class VolumetricLights {
     return this;
   }
 
+  /** Removes every light (and frees their pyramids). */
+  removeAll() {
+    this.lights.clear();
+    this.refresh();
+    return this;
+  }
+
   /**
    * The fog alone (vec4: RGB in-scattered radiance, and the distance to the
    * first surface, negative where the ray meets none) for the scene pass's
    * `depth` texture node as drawn by `camera`.
    */
   fog(depth, camera) {
+    if (!camera?.isPerspectiveCamera) {
+      throw new Error(`airlight-three: VolumetricLights takes a THREE.PerspectiveCamera, got ${camera?.type ?? camera} (an orthographic camera's parallel rays are not supported)`);
+    }
     this.camera = camera;
     // Before each render of the fog, the lights are read and the shadowed ones'
     // pyramids rebuilt from this frame's maps: as the fog's node's updateBefore,
@@ -203,10 +219,27 @@ export class VolumetricLights {
       const view = getViewPosition(screenUV, z, this.projectionInverse);
       const world = this.cameraWorld.mul(vec4(view, 1.0)).xyz;
       const origin = this.cameraOrigin;
-      const ray = world.sub(origin);
-      const dist = length(ray);
+      // The direction from the near plane (depth 0): its unprojection stays
+      // finite at any far/near ratio, where depth 1's has w = 0 in f32.
+      const near = this.cameraWorld.mul(vec4(getViewPosition(screenUV, float(0.0), this.projectionInverse), 1.0)).xyz;
+      const ray = normalize(near.sub(origin));
+      const dist = length(world.sub(origin));
       // The far plane is no surface: the ray runs on through the medium.
       const surface = z.greaterThanEqual(1.0).select(float(-1.0), dist);
+      // A viewer within a light's core sees its ray from where it leaves the
+      // core (LIGHT_CORE): the start s0, moved origin and surface, and the
+      // transmittance to s0 (s0 = 0, the viewer outside: the ray as it is).
+      const core = (light) => {
+        const oc = origin.sub(light);
+        const b = oc.dot(ray);
+        const cc = oc.dot(oc).sub(LIGHT_CORE * LIGHT_CORE);
+        const s0 = cc.lessThan(0.0).select(b.negate().add(sqrt(max(b.mul(b).sub(cc), 0.0))), float(0.0));
+        return {
+          from: origin.add(ray.mul(s0)),
+          to: surface.lessThan(0.0).select(float(-1.0), max(surface.sub(s0), 0.0)),
+          t: exp(this.sigmaT.mul(s0).negate()),
+        };
+      };
       // (`lights` is 0: it is here to run its updateBefore.)
       const total = vec3(lights).toVar();
       const g = this.takesG ? { g: this.g } : {};
@@ -214,30 +247,33 @@ export class VolumetricLights {
         If(float(i).greaterThanEqual(this.pointCount), () => Break());
         const light = this.pointPosition.element(i);
         const intensity = this.pointIntensity.element(i);
+        const k = core(light);
         // The radiance entry is one channel: once per channel of the medium.
         for (const c of ['x', 'y', 'z']) {
-          const l = this.radianceFn({ origin, dir: ray, surface, light, intensity: intensity[c],
+          const l = this.radianceFn({ origin: k.from, dir: ray, surface: k.to, light, intensity: intensity[c],
             sigma_t: this.sigmaT[c], sigma_s: this.sigmaS[c], ...g });
-          total[c].addAssign(max(l, 0.0));
+          total[c].addAssign(max(l, 0.0).mul(k.t[c]));
         }
       });
       if (this.maxSpot > 0) Loop(this.maxSpot, ({ i }) => {
         If(float(i).greaterThanEqual(this.spotCount), () => Break());
         const cone = this.spotCone.element(i);
+        const k = core(this.spotPosition.element(i));
         // The spot entry takes one intensity and an RGB medium: the colour outside.
-        const l = this.spotFn({ origin, dir: ray, surface, light: this.spotPosition.element(i),
+        const l = this.spotFn({ origin: k.from, dir: ray, surface: k.to, light: this.spotPosition.element(i),
           axis: this.spotAxis.element(i), cos_outer: cone.x, cos_inner: cone.y, intensity: float(1.0),
           sigma_t: this.sigmaT, sigma_s: this.sigmaS, ...g });
-        total.addAssign(max(l, vec3(0.0)).mul(this.spotIntensity.element(i)));
+        total.addAssign(max(l, vec3(0.0)).mul(this.spotIntensity.element(i)).mul(k.t));
       });
       // The lights with shafts: one walk over each one's shadow map, exact to the
       // map's nearest-texel test (a point light: the spot entry with no cone).
       for (const s of this.shadowSlots) {
         If(s.active.greaterThan(0.5), () => {
-          const l = this.spotExactFn({ origin, dir: ray, surface, light: s.position, axis: s.axis,
+          const k = core(s.position);
+          const l = this.spotExactFn({ origin: k.from, dir: ray, surface: k.to, light: s.position, axis: s.axis,
             cos_outer: s.cone.x, cos_inner: s.cone.y, intensity: float(1.0), sigma_t: this.sigmaT, sigma_s: this.sigmaS, ...g,
             pyramid_even: s.even, pyramid_odd: s.odd, smap_rows: s.rows, smap_cube: s.cube, smap_res: s.res, smap_bias: s.bias });
-          total.addAssign(max(l, vec3(0.0)).mul(s.intensity));
+          total.addAssign(max(l, vec3(0.0)).mul(s.intensity).mul(k.t));
         });
       }
       return vec4(total, surface);

@@ -6,9 +6,71 @@
 // `angle` and `penumbra` the smooth cone (cos_outer = cos(angle), cos_inner =
 // cos(angle · (1 − penumbra)), the weight linear in the cosine between), its
 // direction towards `target`; `distance` must be 0 and `decay` 2 (the kernels
-// integrate the inverse-square law, not three's range window).
+// integrate the inverse-square law, not three's range window). A light is drawn
+// as three draws it: visible up its parents, on a layer the camera sees, in the
+// scene; one whose intensity or colour is NaN, infinite or negative, whose cone
+// is wider than a hemisphere or narrower than MIN_SPOT_ANGLE, or whose distance
+// or decay changed, is left out (with one console warning naming it) — the
+// same rules as airlight's Bevy plugin. The integral diverges at a light: a
+// viewer within LIGHT_CORE of one sees its ray from where it leaves that sphere.
 import { Vector3 } from 'three';
 import { castsShadow } from './walk.js';
+
+/**
+ * A light's core, in scene units (metres): a viewer closer to a light sees its
+ * ray's fog from where the ray leaves this sphere (a flashlight at the camera:
+ * bright and finite, about σs · I / LIGHT_CORE). The Bevy plugin uses the same.
+ */
+export const LIGHT_CORE = 0.01;
+
+/**
+ * The narrowest spot cone (`angle`, radians) the passes draw: the kernels take
+ * the cone as cos(angle) in f32, whose 1 − cos(angle) keeps 1% only from here
+ * (at angle 1e-3 the beam was 2% off, at 1e-4 it vanished).
+ */
+export const MIN_SPOT_ANGLE = 0.005;
+
+/** A light's name in messages: its type and name (or uuid). */
+export function lightName(l) {
+  return `${l?.type ?? typeof l} '${l?.name || l?.uuid || ''}'`;
+}
+
+/**
+ * Why the passes cannot draw `l` as it is now, or null: intensity and colour
+ * finite and >= 0, distance 0 and decay 2, a spot's angle in
+ * [MIN_SPOT_ANGLE, π/2] and penumbra in [0, 1].
+ */
+export function lightProblem(l) {
+  if (!(Number.isFinite(l.intensity) && l.intensity >= 0)) return `intensity ${l.intensity} must be a finite number >= 0`;
+  const c = l.color;
+  if (![c?.r, c?.g, c?.b].every((x) => Number.isFinite(x) && x >= 0)) return `color (${c?.r}, ${c?.g}, ${c?.b}) must be finite and >= 0`;
+  if (l.distance !== 0 || l.decay !== 2) {
+    return `distance = ${l.distance}, decay = ${l.decay}: the kernels integrate the inverse-square law (distance 0, decay 2)`;
+  }
+  if (l.isSpotLight) {
+    if (!(l.angle >= MIN_SPOT_ANGLE && l.angle <= Math.PI / 2)) {
+      return `angle ${l.angle} must be in [${MIN_SPOT_ANGLE}, π/2] (wider than a hemisphere is no cone; narrower, f32's cos(angle) loses it)`;
+    }
+    if (!(l.penumbra >= 0 && l.penumbra <= 1)) return `penumbra ${l.penumbra} must be in [0, 1]`;
+  }
+  if (![0, 1, 2, 3, 12, 13, 14].every((k) => Number.isFinite(l.matrixWorld.elements[k]))) return 'its world position is not finite';
+  return null;
+}
+
+/**
+ * Whether three draws `l` for `camera` this frame: visible with every parent,
+ * its root a Scene (removed lights are not), on a layer the camera sees.
+ */
+export function drawnByThree(l, camera) {
+  let o = l;
+  for (;;) {
+    if (!o.visible) return false;
+    if (!o.parent) break;
+    o = o.parent;
+  }
+  if (!o.isScene) return false;
+  return !camera || l.layers.test(camera.layers);
+}
 
 /** Lights of each kind one pass takes; `add` refuses more. */
 export const MAX_POINT_LIGHTS = 4;
@@ -18,25 +80,55 @@ export const MAX_SHADOWED_LIGHTS = 4;
 /** Lights with `castShadow` a pass casts shafts from unless told otherwise (`maxShadowedLights`). */
 export const DEFAULT_SHADOWED_LIGHTS = 2;
 
+/** A value as a message shows it: NaN and Infinity by name, a string quoted. */
+export function shown(v) {
+  if (typeof v === 'string') return `the string '${v}'`;
+  if (typeof v === 'number' || v === undefined || v === null) return String(v);
+  try {
+    return Array.isArray(v) || ArrayBuffer.isView(v) ? `[${Array.from(v).map(shown).join(', ')}]` : JSON.stringify(v);
+  } catch {
+    return String(v);
+  }
+}
+
 function rgb(v, what) {
-  const a = typeof v === 'number' ? [v, v, v] : Array.from(v ?? []);
-  if (a.length !== 3 || !a.every((x) => Number.isFinite(x) && x >= 0)) {
-    throw new Error(`airlight-three: ${what} must be a number or three numbers >= 0, got ${JSON.stringify(v)}`);
+  const a = typeof v === 'number' ? [v, v, v] : Array.isArray(v) || ArrayBuffer.isView(v) || v?.isVector3 ? Array.from(v.isVector3 ? [v.x, v.y, v.z] : v) : [];
+  if (a.length !== 3 || !a.every((x) => typeof x === 'number' && Number.isFinite(x) && x >= 0)) {
+    throw new Error(`airlight-three: ${what} must be a finite number >= 0 or three of them, got ${shown(v)}`);
   }
   return new Vector3(a[0], a[1], a[2]);
 }
 
+/** The g range the kernels serve. */
+export const G_RANGE = [-0.99, 0.99];
+
+/** g checked: a number in the kernels' range. */
+export function checkG(g) {
+  if (typeof g !== 'number' || !Number.isFinite(g)) throw new Error(`airlight-three: g must be a number in [${G_RANGE[0]}, ${G_RANGE[1]}], got ${shown(g)}`);
+  if (g < G_RANGE[0] || g > G_RANGE[1]) throw new Error(`airlight-three: g = ${g}: the kernels serve g in [${G_RANGE[0]}, ${G_RANGE[1]}]`);
+  return g;
+}
+
+/** maxError checked: a finite number > 0 (Infinity would pick a kernel with no bound at all). */
+export function checkMaxError(maxError) {
+  if (typeof maxError !== 'number' || !(maxError > 0 && Number.isFinite(maxError))) {
+    throw new Error(`airlight-three: maxError must be a finite number > 0, got ${shown(maxError)}`);
+  }
+  return maxError;
+}
+
 /**
- * The medium checked: σt and σs per channel (σs ≤ σt), g in (−1, 1), and a
- * kernel that takes g at run time unless g is 0.
+ * The medium checked: σt and σs per channel, finite and ≥ 0, σs ≤ σt or σt = 0
+ * (no extinction, docs/MATH.md), g in the kernels' range, and a kernel that
+ * takes g at run time unless g is 0.
  */
 export function medium({ sigmaT, sigmaS, g = 0 }, takesG, name) {
   const t = rgb(sigmaT, 'sigmaT');
   const s = rgb(sigmaS, 'sigmaS');
-  if (s.x > t.x || s.y > t.y || s.z > t.z) {
-    throw new Error('airlight-three: sigmaS cannot exceed sigmaT (scattering is part of extinction)');
+  if ((t.x > 0 && s.x > t.x) || (t.y > 0 && s.y > t.y) || (t.z > 0 && s.z > t.z)) {
+    throw new Error('airlight-three: sigmaS cannot exceed sigmaT where sigmaT > 0 (scattering is part of extinction; sigmaT = 0 is the medium without extinction)');
   }
-  if (!(Number.isFinite(g) && g > -1 && g < 1)) throw new Error(`airlight-three: g must be in (-1, 1), got ${g}`);
+  checkG(g);
   if (!takesG && g !== 0) throw new Error(`airlight-three: ${name} does not take g at run time; pick one that does for g = ${g}`);
   return { sigmaT: t, sigmaS: s, g };
 }
@@ -86,6 +178,7 @@ export class LightSet {
    * refused). Returns whether it was new.
    */
   add(light, pyramidOf = null) {
+    if (!light?.isSpotLight && !light?.isPointLight) throw new Error(`airlight-three: add() takes a THREE.PointLight or THREE.SpotLight, got ${shown(light)}`);
     if (pyramidOf === null || !this.casts(light) || this.pyramids.has(light)) return this.adopt(light);
     const pyramid = pyramidOf(light);
     try {
@@ -104,10 +197,9 @@ export class LightSet {
   /** `add` without the pyramid. */
   adopt(light) {
     const kind = light?.isSpotLight ? this.spots : light?.isPointLight ? this.points : null;
-    if (!kind) throw new Error('airlight-three: add() takes a THREE.PointLight or THREE.SpotLight');
-    if (light.distance !== 0 || light.decay !== 2) {
-      throw new Error(`airlight-three: ${light.type} with distance = ${light.distance}, decay = ${light.decay}: the kernels integrate the inverse-square law (distance 0, decay 2)`);
-    }
+    if (!kind) throw new Error(`airlight-three: add() takes a THREE.PointLight or THREE.SpotLight, got ${shown(light)}`);
+    const problem = lightProblem(light);
+    if (problem) throw new Error(`airlight-three: ${lightName(light)}: ${problem}`);
     const shadowed = this.casts(light);
     const list = shadowed ? this.shadowed : kind;
     if (this.points.includes(light) || this.spots.includes(light) || this.shadowed.includes(light)) return false;
@@ -144,13 +236,36 @@ export class LightSet {
   }
 
   /**
-   * Writes the visible lights into `u`'s arrays of Vector3 (pointPosition,
-   * pointIntensity, spotPosition, spotIntensity, spotAxis, spotCone: x the outer
-   * cut-off's cosine, y the inner one's); returns the counts written.
+   * The lights of `list` the passes draw this frame for `camera`: those three
+   * draws (`drawnByThree`) that the kernels can take (`lightProblem`; each one
+   * left out is warned about once, until it is good again).
    */
-  write(u) {
-    const points = this.points.filter((l) => l.visible);
-    const spots = this.spots.filter((l) => l.visible);
+  drawn(list, camera) {
+    this.warned ??= new Set();
+    return list.filter((l) => {
+      if (!drawnByThree(l, camera)) return false;
+      const problem = lightProblem(l);
+      if (problem === null) {
+        this.warned.delete(l);
+        return true;
+      }
+      if (!this.warned.has(l)) {
+        this.warned.add(l);
+        console.warn(`airlight-three: ${lightName(l)}: ${problem}; left out of the fog`);
+      }
+      return false;
+    });
+  }
+
+  /**
+   * Writes the lights drawn for `camera` (`drawn`) into `u`'s arrays of Vector3
+   * (pointPosition, pointIntensity, spotPosition, spotIntensity, spotAxis,
+   * spotCone: x the outer cut-off's cosine, y the inner one's); returns the
+   * counts written.
+   */
+  write(u, camera = null) {
+    const points = this.drawn(this.points, camera);
+    const spots = this.drawn(this.spots, camera);
     points.forEach((l, i) => terms(l, u.pointPosition[i], u.pointIntensity[i]));
     spots.forEach((l, i) => terms(l, u.spotPosition[i], u.spotIntensity[i], u.spotAxis[i], u.spotCone[i]));
     return { points: points.length, spots: spots.length };
@@ -164,11 +279,13 @@ export class LightSet {
  * one's) — a point light's the spot entry's no-cone form (cos_outer −2).
  */
 export function terms(l, position, intensity, axis = null, cone = null) {
-  // getWorldPosition brings the light's (and its target's) world matrix up to date.
-  l.getWorldPosition(position);
+  // The world matrices as three's own lighting reads them this frame (a target
+  // outside the scene keeps the matrix it had, as three aims the light), with
+  // no update as a side effect.
+  position.setFromMatrixPosition(l.matrixWorld);
   intensity.set(l.color.r, l.color.g, l.color.b).multiplyScalar(l.intensity);
   if (axis) {
-    if (l.isSpotLight) l.target.getWorldPosition(axis).sub(position).normalize();
+    if (l.isSpotLight) axis.setFromMatrixPosition(l.target.matrixWorld).sub(position).normalize();
     else axis.set(0, 0, 1);
   }
   if (cone) {

@@ -3,7 +3,7 @@
 import type { Camera, PointLight, Scene, SpotLight, WebGLRenderer, WebGLRenderTarget } from 'three';
 import type { Limits, Medium, Shafts } from './lights.js';
 
-export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
+export { DEFAULT_SHADOWED_LIGHTS, LIGHT_CORE, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS, MIN_SPOT_ANGLE } from './lightset.js';
 
 /** A kernel's sources module (`airlight-three/sources/<name>.js`). */
 export interface KernelSources {
@@ -46,6 +46,8 @@ export declare class VolumetricLightsPass {
   add(light: PointLight | SpotLight): this;
   /** Removes a light. */
   remove(light: PointLight | SpotLight): this;
+  /** Removes every light (and frees their pyramids). */
+  removeAll(): this;
   /** Copies the lights and the camera into the uniforms (done by every render); the counts drawn. */
   refresh(): { points: number; spots: number; shadowed: number };
   setSize(width: number, height: number): void;

@@ -17,10 +17,10 @@ import {
   Scene, ShaderMaterial, Vector2, Vector3, WebGLRenderTarget,
 } from 'three';
 import { pick } from './index.js';
-import { DEFAULT_SHADOWED_LIGHTS, LightSet, limits, medium, slots, terms } from './lightset.js';
+import { DEFAULT_SHADOWED_LIGHTS, LIGHT_CORE, LightSet, checkG, checkMaxError, limits, medium, slots, terms } from './lightset.js';
 import { atlasLevel, atlasTargets, castsShadow, depthReadable, spotRows, walkable, walkBias, walkGLSL } from './walk.js';
 
-export { DEFAULT_SHADOWED_LIGHTS, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS } from './lightset.js';
+export { DEFAULT_SHADOWED_LIGHTS, LIGHT_CORE, MAX_POINT_LIGHTS, MAX_SHADOWED_LIGHTS, MAX_SPOT_LIGHTS, MIN_SPOT_ANGLE } from './lightset.js';
 
 const VERTEX = `
 varying vec2 vUv;
@@ -54,15 +54,31 @@ SHADOWED_UNIFORMS
 uniform int fogOnly;
 varying vec2 vUv;
 
+// A viewer within a light's core (LIGHT_CORE) sees its ray from where it
+// leaves the core: the distance s0 to there (0: the viewer is outside).
+const float LIGHT_CORE = ${LIGHT_CORE.toFixed(6)};
+float airlightCoreStart(vec3 o, vec3 d, vec3 l) {
+    vec3 oc = o - l;
+    float b = dot(oc, d);
+    float cc = dot(oc, oc) - LIGHT_CORE * LIGHT_CORE;
+    return cc < 0.0 ? -b + sqrt(max(b * b - cc, 0.0)) : 0.0;
+}
+
 void main() {
     float z = texture(tDepth, vUv).r;
     vec4 v = projectionInverse * vec4(vUv * 2.0 - 1.0, z * 2.0 - 1.0, 1.0);
     vec3 world = (cameraWorld * vec4(v.xyz / v.w, 1.0)).xyz;
-    vec3 ray = world - cameraOrigin;
-    float dist = length(ray);
+    // The direction from the near plane: its unprojection stays finite at any
+    // far/near ratio, where depth 1's has w = 0 in f32.
+    vec4 n = projectionInverse * vec4(vUv * 2.0 - 1.0, -1.0, 1.0);
+    vec3 ray = normalize((cameraWorld * vec4(n.xyz / n.w, 1.0)).xyz - cameraOrigin);
+    float dist = length(world - cameraOrigin);
     // The far plane is no surface: the ray runs on through the medium.
     float surface = z >= 1.0 ? -1.0 : dist;
     vec3 fog = vec3(0.0);
+    float s0;
+    vec3 from;
+    float to;
 LIGHTS
     if (fogOnly != 0) {
         gl_FragColor = vec4(fog, surface);
@@ -98,7 +114,11 @@ function callOf(glsl, fn, args) {
  */
 function lightBlocks(sources, points, spots, shadowed) {
   const p = sources.prefix;
-  const common = { origin: 'cameraOrigin', dir: 'ray', surface: 'surface', g: 'g' };
+  // Each light's ray from where it leaves the light's core (airlightCoreStart).
+  const common = { origin: 'from', dir: 'ray', surface: 'to', g: 'g' };
+  const core = (at) => `s0 = airlightCoreStart(cameraOrigin, ray, ${at});
+        from = cameraOrigin + s0 * ray;
+        to = surface < 0.0 ? -1.0 : max(surface - s0, 0.0);`;
   const blocks = [];
   for (let i = 0; i < points; i++) {
     // The radiance entry is one channel: once per channel of the medium.
@@ -106,8 +126,10 @@ function lightBlocks(sources, points, spots, shadowed) {
     blocks.push(`    if (pointCount > ${i}) {
         vec3 at = pointPosition[${i}];
         vec3 intensity = pointIntensity[${i}];
+        ${core('at')}
+        vec3 t = exp(-sigmaT * s0);
         for (int c = 0; c < 3; c++) {
-            fog[c] += max(${call}, 0.0);
+            fog[c] += max(${call}, 0.0) * t[c];
         }
     }`);
   }
@@ -117,7 +139,8 @@ function lightBlocks(sources, points, spots, shadowed) {
     const call = callOf(sources.glsl, `${p}spot`, { ...spot, light: `spotPosition[${i}]`, axis: `spotAxis[${i}]` });
     blocks.push(`    if (spotCount > ${i}) {
         vec3 cone = spotCone[${i}];
-        fog += max(${call}, vec3(0.0)) * spotIntensity[${i}];
+        ${core(`spotPosition[${i}]`)}
+        fog += max(${call}, vec3(0.0)) * spotIntensity[${i}] * exp(-sigmaT * s0);
     }`);
   }
   // The lights with shafts: one walk over each one's shadow map, exact to the
@@ -130,7 +153,8 @@ function lightBlocks(sources, points, spots, shadowed) {
     blocks.push(`    if (shadowCount > ${i}) {
         vec3 cone = shadowCone[${i}];
         vec3 map = shadowMap[${i}];
-        fog += max(${call}, vec3(0.0)) * shadowIntensity[${i}];
+        ${core(`shadowPosition[${i}]`)}
+        fog += max(${call}, vec3(0.0)) * shadowIntensity[${i}] * exp(-sigmaT * s0);
     }`);
   }
   return blocks.join('\n');
@@ -222,7 +246,7 @@ export class ShadowPyramidGL {
   update(renderer) {
     const shadow = this.light.shadow;
     if (!shadow.map || !shadow.map.depthTexture) throw new Error('airlight-three: no shadow map yet: render the scene with renderer.shadowMap.enabled first');
-    if (shadow.mapSize.x !== this.res || shadow.mapSize.y !== this.res) throw new Error('airlight-three: the shadow map changed size; add the light again');
+    if (shadow.mapSize.x !== this.res || shadow.mapSize.y !== this.res) throw new Error('airlight-three: the shadow map changed size; remove the light and add it again');
     if (renderer.state.buffers.depth.getReversed() === true) {
       throw new Error('airlight-three: the exact mode reads a standard [0, 1] depth map (no reversed depth)');
     }
@@ -295,6 +319,8 @@ export class VolumetricLightsPass {
    * the pass for `scene` seen by `camera`.
    */
   static async create(scene, camera, { sigmaT, sigmaS, g = 0, maxError = 1e-2, ...rest } = {}) {
+    checkMaxError(maxError);
+    checkG(g);
     const k = pick({ maxError, g });
     if (!k) throw new Error(`airlight-three: no kernel on the menu meets maxError = ${maxError} for g = ${g}`);
     const sources = await import(new URL(k.module.replace('./kernels/', './sources/'), import.meta.url).href);
@@ -312,6 +338,9 @@ export class VolumetricLightsPass {
    */
   constructor(scene, camera, sources, { sigmaT, sigmaS, g = 0, name = 'kernel', maxPointLights, maxSpotLights, shafts = true, maxShadowedLights = DEFAULT_SHADOWED_LIGHTS, shadowBias = 0.01 } = {}) {
     if (!scene?.isScene || !camera?.isCamera) throw new Error('airlight-three: VolumetricLightsPass takes a THREE.Scene and a THREE.Camera');
+    if (!camera.isPerspectiveCamera) {
+      throw new Error(`airlight-three: VolumetricLightsPass takes a THREE.PerspectiveCamera, got ${camera.type} (an orthographic camera's parallel rays are not supported)`);
+    }
     if (typeof sources?.glsl !== 'string' || typeof sources.prefix !== 'string') {
       throw new Error('airlight-three: VolumetricLightsPass takes a kernel\'s sources module (airlight-three/sources/<name>.js)');
     }
@@ -400,6 +429,12 @@ export class VolumetricLightsPass {
     return this;
   }
 
+  /** Removes every light (and frees their pyramids); `clear` is EffectComposer's flag. */
+  removeAll() {
+    this.lights.clear();
+    return this;
+  }
+
   /** Whether the pass writes the fog alone (RGB, and the distance to the first surface in alpha, negative: none) instead of the composite: for checks. */
   set fogOnly(on) {
     this.uniforms.fogOnly.value = on ? 1 : 0;
@@ -419,10 +454,10 @@ export class VolumetricLightsPass {
       spotIntensity: u.spotIntensity.value,
       spotAxis: u.spotAxis.value,
       spotCone: u.spotCone.value,
-    });
+    }, this.camera);
     u.pointCount.value = counts.points;
     u.spotCount.value = counts.spots;
-    const shadowed = this.lights.shadowed.filter((l) => l.visible);
+    const shadowed = this.lights.drawn(this.lights.shadowed, this.camera);
     shadowed.forEach((l, i) => {
       const p = this.lights.pyramids.get(l);
       // A point light: the spot entry's no-cone form, one walk over its cube map.
@@ -434,10 +469,9 @@ export class VolumetricLightsPass {
     });
     counts.shadowed = shadowed.length;
     u.shadowCount.value = shadowed.length;
-    this.camera.updateMatrixWorld();
     u.projectionInverse.value = this.camera.projectionMatrixInverse;
     u.cameraWorld.value = this.camera.matrixWorld;
-    this.camera.getWorldPosition(u.cameraOrigin.value);
+    u.cameraOrigin.value.setFromMatrixPosition(this.camera.matrixWorld);
     u.cameraFar.value = this.camera.far;
     return counts;
   }
@@ -456,19 +490,31 @@ export class VolumetricLightsPass {
     const size = renderer.getDrawingBufferSize(new Vector2());
     if (this.target.width !== size.x || this.target.height !== size.y) this.setSize(size.x, size.y);
     const out = writeBuffer === undefined ? renderer.getRenderTarget() : this.renderToScreen ? null : writeBuffer;
-    renderer.setRenderTarget(this.target);
-    renderer.clear();
-    renderer.render(this.scene, this.camera);
-    // The scene's render drew this frame's shadow maps: the shadowed lights'
-    // pyramids from them (throws, naming the cause, where three drew none); a
-    // light whose castShadow was turned off has no map this frame (refresh
-    // walks its slot lit).
-    for (const l of this.lights.shadowed) {
-      if (l.visible && castsShadow(l)) this.lights.pyramids.get(l).update(renderer);
+    // The rays are unprojected from a standard [0, 1] depth buffer.
+    if (renderer.capabilities.logarithmicDepthBuffer === true || renderer.state.buffers.depth.getReversed() === true) {
+      throw new Error('airlight-three: VolumetricLightsPass reads a standard depth buffer: create the renderer without logarithmicDepthBuffer and reversedDepthBuffer');
     }
-    this.refresh();
-    renderer.setRenderTarget(out);
-    renderer.render(this.quadScene, this.quadCamera);
+    const before = renderer.getRenderTarget();
+    try {
+      renderer.setRenderTarget(this.target);
+      renderer.clear();
+      renderer.render(this.scene, this.camera);
+      // The scene's render drew this frame's shadow maps (and brought the
+      // world matrices up to date): the shadowed lights' pyramids from them
+      // (throws, naming the cause, where three drew none); a light whose
+      // castShadow was turned off has no map this frame (refresh walks its
+      // slot lit).
+      for (const l of this.lights.drawn(this.lights.shadowed, this.camera)) {
+        if (castsShadow(l)) this.lights.pyramids.get(l).update(renderer);
+      }
+      this.refresh();
+      renderer.setRenderTarget(out);
+      renderer.render(this.quadScene, this.quadCamera);
+    } catch (e) {
+      // A throw leaves the renderer drawing where it drew before.
+      renderer.setRenderTarget(before);
+      throw e;
+    }
   }
 
   /** Frees the targets, the material and the lights' pyramids. */

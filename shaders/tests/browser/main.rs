@@ -327,9 +327,11 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
             // The WebGL page draws no PostProcessing frame. The last frame, the
             // light's castShadow turned off, is this pass's fog again (it has no
             // slots for shafts).
-            let mut frames = lights_frames(&bytes, dirs.len(), if pass { 5 } else { 6 }, &what);
+            let mut frames = lights_frames(&bytes, dirs.len(), if pass { 6 } else { 7 }, &what);
+            let flash = frames.pop().unwrap();
             let again = frames.pop().unwrap();
             let fog = frames[0].clone();
+            check_flashlight(&stage, &dirs, &flash, &what);
             let worst_again = worst_relative(&fog, &again, 4, 1e-6);
             assert!(worst_again < 1e-6, "{what}: castShadow turned off changed the unshadowed fog ({worst_again:e})");
             eprintln!("volumetric lights, {what}: {adapter}");
@@ -381,6 +383,49 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
         }
     }
     std::fs::remove_dir_all(&tmp).ok();
+}
+
+/// Issue 60 (12): the light moved to the camera (the flashlight idiom), its
+/// castShadow off: every pixel finite, and each ray's fog that of the ray from
+/// where it leaves the light's core (`LIGHT_CORE` = 0.01), by the reference —
+/// the same rule as the Bevy plugin's.
+fn check_flashlight(
+    stage: &airlight_shaders::shafts::render::Stage,
+    dirs: &[[f64; 3]],
+    flash: &[[f32; 4]],
+    what: &str,
+) {
+    use airlight_truth::geometry::PhysicalRay;
+    const CORE: f64 = 0.01;
+    assert!(flash.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: a light at the camera: finite");
+    let at = airlight_shaders::shafts::render::Stage { light: stage.camera, ..stage.clone() };
+    let cone = at.cone();
+    let a = |q| airlight_truth::reference::airlight(q).unwrap_or(f64::INFINITY);
+    let (mut worst, mut lit) = (0.0f64, 0);
+    let top = flash.iter().flat_map(|p| p[..3].iter()).fold(0.0f32, |m, &v| m.max(v));
+    for (p, d) in flash.iter().zip(dirs) {
+        let end = f64::from(p[3]);
+        for c in 0..3 {
+            let ray = PhysicalRay {
+                origin: stage.camera.map(f64::from),
+                direction: *d,
+                surface_distance: (end >= 0.0).then_some(end),
+                light: stage.camera.map(f64::from),
+                intensity: f64::from(stage.intensity) * f64::from(stage.colour[c]),
+                sigma_t: f64::from(stage.sigma_t[c]),
+                sigma_s: f64::from(stage.sigma_s[c]),
+            };
+            let runs = [(CORE, if end >= 0.0 { end } else { f64::INFINITY })];
+            let want = airlight_truth::shafts::shadowed_radiance(&ray, cone.as_ref(), f64::from(stage.g), &runs, &a)
+                .unwrap_or(f64::NAN);
+            if want > 1e-3 * f64::from(top) {
+                lit += 1;
+                worst = worst.max((f64::from(p[c]) / want - 1.0).abs());
+            }
+        }
+    }
+    eprintln!("volumetric lights, {what}: a light at the camera: {lit} lit channels, worst {worst:.1e} against the ray from the core's edge");
+    assert!(lit > 100 && worst < 1e-3, "{what}: a light at the camera: {lit} lit channels, worst {worst:e}");
 }
 
 /// The frames a lights page read back (`count` of them, RGBA f32 per pixel): the
@@ -496,7 +541,9 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
             .unwrap_or_else(|e| panic!("{what}: the page: {e}"));
         // The WebGLRenderer page draws no PostProcessing frame; the last frame
         // has the light's castShadow turned off.
-        let mut frames = lights_frames(&bytes, dirs.len(), if pass { 5 } else { 6 }, &what);
+        let mut frames = lights_frames(&bytes, dirs.len(), if pass { 6 } else { 7 }, &what);
+        let flash = frames.pop().unwrap();
+        check_flashlight(&stage, &dirs, &flash, &what);
         let unshadowed = frames.pop().unwrap();
         let fog = frames[0].clone();
         eprintln!("volumetric lights, {what}: {adapter}");

@@ -75,11 +75,18 @@ quad.material = material;
 renderer.setRenderTarget(target);
 renderer.render(fogScene, ortho);
 const p3 = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
+// A flashlight: the light moved to the camera (castShadow still off): the fog
+// of each ray from where it leaves the light's core.
+light.position.copy(camera.position);
+renderer.setRenderTarget(target);
+renderer.render(fogScene, ortho);
+const p4 = await renderer.readRenderTargetPixelsAsync(target, 0, 0, W, H);
 // Per pixel: the fog, the scene's colour, the composite, the next frame's fog,
-// the composite through PostProcessing, the fog with castShadow off (16 bytes each).
-const frames = [px, pcol, pc, p2, ppc, p3].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
-const all = new Uint8Array(W * H * 96);
-for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 96 + k * 16));
+// the composite through PostProcessing, the fog with castShadow off, the
+// flashlight's fog (16 bytes each).
+const frames = [px, pcol, pc, p2, ppc, p3, p4].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 112);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 112 + k * 16));
 let adapter = 'three.js r' + THREE.REVISION + ', WebGPURenderer (' + backend + '), kernel ' + volumetric.name + ', ';
 if (renderer.backend.isWebGPUBackend) {
   const i = (await navigator.gpu.requestAdapter()).info;
@@ -89,4 +96,4 @@ if (renderer.backend.isWebGPUBackend) {
   const info = gl.getExtension('WEBGL_debug_renderer_info');
   adapter += info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
 }
-return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 96 };
+return { adapter, rgba: all, bottomUp: {{webgl}}, texel: 112 };

@@ -50,11 +50,15 @@ const p2 = read();
 light.intensity /= 2.0;
 light.castShadow = false;
 const p3 = read();
-const frames = [px, colour, pc, p2, p3].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
-const all = new Uint8Array(W * H * 80);
-for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 80 + k * 16));
+// A flashlight: the light moved to the camera (castShadow still off): the fog
+// of each ray from where it leaves the light's core.
+light.position.copy(camera.position);
+const p4 = read();
+const frames = [px, colour, pc, p2, p3, p4].map((f) => new Uint8Array(f.buffer, f.byteOffset, f.byteLength));
+const all = new Uint8Array(W * H * 96);
+for (let i = 0; i < W * H; i++) frames.forEach((f, k) => all.set(f.subarray(i * 16, i * 16 + 16), i * 96 + k * 16));
 const gl = renderer.getContext();
 const info = gl.getExtension('WEBGL_debug_renderer_info');
 const adapter = 'three.js r' + THREE.REVISION + ', WebGLRenderer, VolumetricLightsPass with ' + volumetric.name + ', ' +
   (info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
-return { adapter, rgba: all, bottomUp: true, texel: 80 };
+return { adapter, rgba: all, bottomUp: true, texel: 96 };
