@@ -4,28 +4,10 @@
 //! is 1e60 … 1e300 away, a light inside or on an occluder, depths f32 cannot
 //! hold, and the command line's checks of `--shadow-map` and `--bias`.
 
+mod probe;
+
+use probe::{airlight, gpu_required, scratch, stderr, HEAD};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn airlight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_airlight")).args(args).output().expect("runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("airlight-probe4-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn gpu_required() -> bool {
-    std::env::var("AIRLIGHT_REQUIRE_GPU").is_ok_and(|v| v == "1")
-}
-
-const HEAD: &str = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres";
 
 fn write(dir: &Path, name: &str, head: &str, rows: &[&str]) -> PathBuf {
     let p = dir.join(name);
@@ -77,7 +59,7 @@ fn rel(x: f64, y: f64) -> f64 {
 /// from its point closest to the light.
 #[test]
 fn the_walks_agree_with_their_map_on_seams_corners_and_far_rays() {
-    let dir = scratch("walk");
+    let dir = scratch("4-walk");
     // (row, tolerance against the map's f64 runs): phi-8's f32 bound per run on
     // the near rays; on the far ones the rounding of the runs' f32 distances
     // from the viewer, ulp(D)/(π h) ≈ 2e-3 at D = 1000, h = 0.01.
@@ -132,7 +114,7 @@ fn the_walks_agree_with_their_map_on_seams_corners_and_far_rays() {
 /// the light shadows the ray completely, as the exact model says, on every path.
 #[test]
 fn a_spot_cone_of_ninety_degrees_is_shadowed() {
-    let dir = scratch("wide");
+    let dir = scratch("4-wide");
     let head = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,ax,ay,az,cos_outer,cos_inner,intensity,sigma_t_r,sigma_t_g,\
                 sigma_t_b,sigma_s_r,sigma_s_g,sigma_s_b,g,spheres";
     let row = "2,4.99,0,1,0,0,20,0,5,0,0,-1,0,0,0,1,0.02,0.02,0.02,0.02,0.02,0.02,0.3,1 4.995 0 0.2";
@@ -162,7 +144,7 @@ fn a_spot_cone_of_ninety_degrees_is_shadowed() {
 /// light on a ball's surface lights its inside, the map converging to it.
 #[test]
 fn far_surfaces_and_lights_inside_occluders_agree_between_reference_and_map() {
-    let dir = scratch("inside");
+    let dir = scratch("4-inside");
     let surfaces = ["20", "1e60", "1e70", "1e80", "1e200", "1e300", "inf"];
     let into: Vec<String> = surfaces.iter().map(|s| format!("1.2,0,0,0,0,1,{s},0,0,0,1,0.1,0.1,0.3,0 0 2 1")).collect();
     let back: Vec<String> =
@@ -201,7 +183,7 @@ fn far_surfaces_and_lights_inside_occluders_agree_between_reference_and_map() {
 /// mean are refused in one line, exit 2, nothing written.
 #[test]
 fn the_command_line_refuses_what_it_cannot_do() {
-    let dir = scratch("cli");
+    let dir = scratch("4-cli");
     let head_only = write(&dir, "head.csv", HEAD, &[]);
     let rows = write(&dir, "rows.csv", HEAD, &["-3,2,2,1,0,0,10,0,0,0,1,0.1,0.08,0.3,1 1 1 0.2"]);
     let big =

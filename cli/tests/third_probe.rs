@@ -3,28 +3,9 @@
 //! ray with more lit runs than the accumulators hold at once, samples past the
 //! GPU harness's old 128, and the input the shadowed entry used to take.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod probe;
 
-fn airlight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_airlight")).args(args).output().expect("runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("airlight-probe-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn gpu_required() -> bool {
-    std::env::var("AIRLIGHT_REQUIRE_GPU").is_ok_and(|v| v == "1")
-}
-
-const HEAD: &str = "ox,oy,oz,dx,dy,dz,surface,lx,ly,lz,intensity,sigma_t,sigma_s,g,spheres";
+use probe::{airlight, gpu_required, scratch, stderr, HEAD};
 
 /// `eval --entry shadowed` of `input` with `args`: the last column of each row,
 /// or `None` where the GPU targets are skipped (no adapter, not required).
@@ -177,7 +158,7 @@ fn short_rows_and_unknown_models_are_refused_with_their_reason() {
         "{e}"
     );
     std::fs::write(&input, format!("{HEAD}\n-1,5,0,1,0,0,inf,0,0,0,1,0.1,0.1,0,\n")).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_airlight"))
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_airlight"))
         .args(["eval", "--entry", "shadowed", "--model", "phi-8", "-i", input.to_str().unwrap()])
         .current_dir(&dir)
         .output()

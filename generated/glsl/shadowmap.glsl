@@ -209,7 +209,7 @@ int airlight_smap_cell(AirlightSmapWalk w, float v) {
 }
 
 // A walk distance (from t0) as a distance from the viewer.
-float airlight_smap_from_viewer(AirlightSmapWalk w, float t) {
+float airlight_smap_viewer_distance(AirlightSmapWalk w, float t) {
     return t >= w.end - w.t0 ? w.end : w.t0 + t;
 }
 
@@ -221,12 +221,12 @@ vec2 airlight_smap_piece(inout AirlightSmapWalk w, float t0, float t1, bool lit)
     }
     if (lit) {
         if (w.run < 0.0) {
-            w.run = airlight_smap_from_viewer(w, t0);
+            w.run = airlight_smap_viewer_distance(w, t0);
         }
         return vec2(-1.0);
     }
     if (w.run >= 0.0) {
-        vec2 r = vec2(w.run, airlight_smap_from_viewer(w, t0));
+        vec2 r = vec2(w.run, airlight_smap_viewer_distance(w, t0));
         w.run = -1.0;
         return r;
     }
@@ -367,7 +367,7 @@ vec2 airlight_smap_close(inout AirlightSmapWalk w, float t) {
     if (w.run < 0.0) {
         return vec2(-1.0);
     }
-    float v = airlight_smap_from_viewer(w, t);
+    float v = airlight_smap_viewer_distance(w, t);
     vec2 r = vec2(w.run, v >= 0.5 * AIRLIGHT_SMAP_FAR ? -1.0 : v);
     w.run = -1.0;
     return (r.y < 0.0 || r.y > r.x) ? r : vec2(-1.0);

@@ -274,7 +274,7 @@ int airlight_smap_cell(AirlightSmapWalk w_2, float v)
     return clamp(airlight_smap_naga_f2i32(floor((((v + 1.0) * 0.5) * w_2.res))), int(0), asint(asuint(airlight_smap_naga_f2i32(w_2.res)) - asuint(int(1))));
 }
 
-float airlight_smap_from_viewer(AirlightSmapWalk w_3, float t)
+float airlight_smap_viewer_distance(AirlightSmapWalk w_3, float t)
 {
     return ((t >= (w_3.end - w_3.t0_)) ? w_3.end : (w_3.t0_ + t));
 }
@@ -288,7 +288,7 @@ float2 airlight_smap_piece(inout AirlightSmapWalk w_4, float t0_, float t1_, boo
         float _e9 = w_4.run;
         if ((_e9 < 0.0)) {
             AirlightSmapWalk _e13 = w_4;
-            const float _e14 = airlight_smap_from_viewer(_e13, t0_);
+            const float _e14 = airlight_smap_viewer_distance(_e13, t0_);
             w_4.run = _e14;
         }
         return (-1.0).xx;
@@ -297,7 +297,7 @@ float2 airlight_smap_piece(inout AirlightSmapWalk w_4, float t0_, float t1_, boo
     if ((_e18 >= 0.0)) {
         float _e22 = w_4.run;
         AirlightSmapWalk _e23 = w_4;
-        const float _e24 = airlight_smap_from_viewer(_e23, t0_);
+        const float _e24 = airlight_smap_viewer_distance(_e23, t0_);
         float2 r = float2(_e22, _e24);
         w_4.run = -1.0;
         return r;
@@ -514,7 +514,7 @@ float2 airlight_smap_close(inout AirlightSmapWalk w_11, float t_1)
         return (-1.0).xx;
     }
     AirlightSmapWalk _e8 = w_11;
-    const float _e9 = airlight_smap_from_viewer(_e8, t_1);
+    const float _e9 = airlight_smap_viewer_distance(_e8, t_1);
     float _e11 = w_11.run;
     float2 r_2 = float2(_e11, ((_e9 >= 5e29) ? -1.0 : _e9));
     w_11.run = -1.0;

@@ -296,7 +296,7 @@ int airlight_smap_cell(
     return metal::clamp(airlight_smap_naga_f2i32(metal::floor(((v + 1.0) * 0.5) * w_2.res)), 0, as_type<int>(as_type<uint>(airlight_smap_naga_f2i32(w_2.res)) - as_type<uint>(1)));
 }
 
-float airlight_smap_from_viewer(
+float airlight_smap_viewer_distance(
     AirlightSmapWalk w_3,
     float t
 ) {
@@ -316,7 +316,7 @@ metal::float2 airlight_smap_piece(
         float _e9 = w_4.run;
         if (_e9 < 0.0) {
             AirlightSmapWalk _e13 = w_4;
-            float _e14 = airlight_smap_from_viewer(_e13, t0_);
+            float _e14 = airlight_smap_viewer_distance(_e13, t0_);
             w_4.run = _e14;
         }
         return metal::float2(-1.0);
@@ -325,7 +325,7 @@ metal::float2 airlight_smap_piece(
     if (_e18 >= 0.0) {
         float _e22 = w_4.run;
         AirlightSmapWalk _e23 = w_4;
-        float _e24 = airlight_smap_from_viewer(_e23, t0_);
+        float _e24 = airlight_smap_viewer_distance(_e23, t0_);
         metal::float2 r = metal::float2(_e22, _e24);
         w_4.run = -1.0;
         return r;
@@ -557,7 +557,7 @@ metal::float2 airlight_smap_close(
         return metal::float2(-1.0);
     }
     AirlightSmapWalk _e8 = w_11;
-    float _e9 = airlight_smap_from_viewer(_e8, t_1);
+    float _e9 = airlight_smap_viewer_distance(_e8, t_1);
     float _e11 = w_11.run;
     metal::float2 r_2 = metal::float2(_e11, (_e9 >= 500000000000000000000000000000.0) ? -1.0 : _e9);
     w_11.run = -1.0;

@@ -186,7 +186,7 @@ fn airlight_smap_cell(w: AirlightSmapWalk, v: f32) -> i32 {
 }
 
 /// A walk distance (from t0) as a distance from the viewer.
-fn airlight_smap_from_viewer(w: AirlightSmapWalk, t: f32) -> f32 {
+fn airlight_smap_viewer_distance(w: AirlightSmapWalk, t: f32) -> f32 {
     return select(w.t0 + t, w.end, t >= w.end - w.t0);
 }
 
@@ -198,12 +198,12 @@ fn airlight_smap_piece(w: ptr<function, AirlightSmapWalk>, t0: f32, t1: f32, lit
     }
     if lit {
         if (*w).run < 0.0 {
-            (*w).run = airlight_smap_from_viewer(*w, t0);
+            (*w).run = airlight_smap_viewer_distance(*w, t0);
         }
         return vec2<f32>(-1.0);
     }
     if (*w).run >= 0.0 {
-        let r = vec2<f32>((*w).run, airlight_smap_from_viewer(*w, t0));
+        let r = vec2<f32>((*w).run, airlight_smap_viewer_distance(*w, t0));
         (*w).run = -1.0;
         return r;
     }
@@ -341,7 +341,7 @@ fn airlight_smap_close(w: ptr<function, AirlightSmapWalk>, t: f32) -> vec2<f32> 
     if (*w).run < 0.0 {
         return vec2<f32>(-1.0);
     }
-    let v = airlight_smap_from_viewer(*w, t);
+    let v = airlight_smap_viewer_distance(*w, t);
     let r = vec2<f32>((*w).run, select(v, -1.0, v >= 0.5 * AIRLIGHT_SMAP_FAR));
     (*w).run = -1.0;
     return select(vec2<f32>(-1.0), r, r.y < 0.0 || r.y > r.x);

@@ -281,11 +281,6 @@ fn the_index_is_a_menu_and_pick_chooses_by_budget() {
     if !Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
         return;
     }
-    let tmp = std::env::temp_dir().join(format!("airlight-three-menu-{}", std::process::id()));
-    let modules = tmp.join("node_modules");
-    std::fs::create_dir_all(&modules).unwrap();
-    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
-    std::os::unix::fs::symlink(&pkg, modules.join("airlight-three")).unwrap();
     let script = r#"import { kernels, pick, load, research } from 'airlight-three';
 const worst = (k) => Math.max(k.thin, k.dense);
 const out = { menu: kernels.length, research: research.length, picks: {} };
@@ -308,11 +303,7 @@ try { pick({}); } catch (e) { bad = e.message; }
 out.bad = bad;
 console.log(JSON.stringify(out));
 "#;
-    std::fs::write(tmp.join("menu.mjs"), script).unwrap();
-    let o = Command::new("node").args(["--preserve-symlinks", "menu.mjs"]).current_dir(&tmp).output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    std::fs::remove_dir_all(&tmp).ok();
+    let v = node_with_package(&tools, &pkg, "menu", script);
     assert!(v["menu"].as_u64().unwrap() >= 15 && v["research"].as_u64().unwrap() >= 20, "{v}");
     for (budget, p) in v["picks"].as_object().unwrap() {
         let max: f64 = budget.split(' ').next().unwrap().parse().unwrap();
@@ -327,6 +318,22 @@ console.log(JSON.stringify(out));
     assert!(v["costs"].as_bool().unwrap(), "every menu kernel has a measured cost: {v}");
     assert!(v["loaded"].as_bool().unwrap(), "{v}");
     assert!(v["bad"].as_str().unwrap().contains("maxError"), "{v}");
+}
+
+/// Runs `script` (an ES module) in Node with three.js from `tools` and the
+/// package `pkg` as `airlight-three`; the JSON it prints.
+fn node_with_package(tools: &std::path::Path, pkg: &std::path::Path, name: &str, script: &str) -> serde_json::Value {
+    let tmp = std::env::temp_dir().join(format!("airlight-three-{name}-{}", std::process::id()));
+    let modules = tmp.join("node_modules");
+    std::fs::create_dir_all(&modules).unwrap();
+    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
+    std::os::unix::fs::symlink(pkg, modules.join("airlight-three")).unwrap();
+    let file = format!("{name}.mjs");
+    std::fs::write(tmp.join(&file), script).unwrap();
+    let o = Command::new("node").args(["--preserve-symlinks", &file]).current_dir(&tmp).output().unwrap();
+    std::fs::remove_dir_all(&tmp).ok();
+    assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
 }
 
 /// Copies `from` into `to`, folders and all.
@@ -442,11 +449,6 @@ fn three_lights_are_drawn_as_three_draws_them_and_refused_by_name() {
     if !Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success()) {
         return;
     }
-    let tmp = std::env::temp_dir().join(format!("airlight-three-rules-{}", std::process::id()));
-    let modules = tmp.join("node_modules");
-    std::fs::create_dir_all(&modules).unwrap();
-    std::os::unix::fs::symlink(tools.join("node_modules/three"), modules.join("three")).unwrap();
-    std::os::unix::fs::symlink(&pkg, modules.join("airlight-three")).unwrap();
     let script = r#"import * as THREE from 'three';
 import { LightSet, lightProblem, medium, checkG, checkMaxError, LIGHT_CORE, MIN_SPOT_ANGLE } from 'airlight-three/lightset.js';
 const out = {};
@@ -511,11 +513,7 @@ set.clear();
 out.cleared = set.points.length + set.spots.length;
 console.log(JSON.stringify(out));
 "#;
-    std::fs::write(tmp.join("rules.mjs"), script).unwrap();
-    let o = Command::new("node").args(["--preserve-symlinks", "rules.mjs"]).current_dir(&tmp).output().unwrap();
-    std::fs::remove_dir_all(&tmp).ok();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = node_with_package(&tools, &pkg, "rules", script);
     for (what, says) in [
         ("nan", "intensity NaN"),
         ("inf", "intensity Infinity"),

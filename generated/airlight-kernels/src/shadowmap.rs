@@ -229,7 +229,7 @@ impl Walk {
     }
 
     /// A walk distance (from `t0`) as a distance from the viewer.
-    fn from_viewer(&self, t: f32) -> f32 {
+    fn viewer_distance(&self, t: f32) -> f32 {
         if t >= self.end - self.t0 {
             self.end
         } else {
@@ -245,11 +245,11 @@ impl Walk {
         }
         if lit {
             if self.run < 0.0 {
-                self.run = self.from_viewer(t0);
+                self.run = self.viewer_distance(t0);
             }
             None
         } else if self.run >= 0.0 {
-            let r = [self.run, self.from_viewer(t0)];
+            let r = [self.run, self.viewer_distance(t0)];
             self.run = -1.0;
             Some(r)
         } else {
@@ -424,7 +424,7 @@ impl Walk {
         if self.run < 0.0 {
             return None;
         }
-        let t = self.from_viewer(t);
+        let t = self.viewer_distance(t);
         let r = [self.run, if t >= 0.5 * WALK_FAR { -1.0 } else { t }];
         self.run = -1.0;
         (r[1] < 0.0 || r[1] > r[0]).then_some(r)
