@@ -211,8 +211,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.986007997097808e0,
         dense_max_rel: 6.062515819686666e8,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.986010225236836e0),
+        f32_dense_max_rel: Some(6.062516471527059e8),
         airlight: |tau, gamma, rho, _g| paper_as_printed::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_as_printed::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -229,8 +229,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.1506739390230947e0,
         dense_max_rel: 1.1793994239118733e3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.1506783247942312e0),
+        f32_dense_max_rel: Some(1.1793994239118733e3),
         airlight: |tau, gamma, rho, _g| paper::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -247,8 +247,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.200769173871468e-1,
         dense_max_rel: 8.171250367882981e2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(9.200814104022847e-1),
+        f32_dense_max_rel: Some(8.171250367882981e2),
         airlight: |tau, gamma, rho, _g| paper_refit::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             paper_refit::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -265,8 +265,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.25e0,
         dense_max_rel: 1.1781531942939373e3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.25e0),
+        f32_dense_max_rel: Some(1.1781531942939373e3),
         airlight: |tau, gamma, rho, g| paper_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -283,8 +283,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2499894672217062e0,
         dense_max_rel: 5.437696034803902e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2499894672217062e0),
+        f32_dense_max_rel: Some(5.437707775033878e0),
         airlight: |tau, gamma, rho, g| paper_refit_hg::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             paper_refit_hg::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -303,8 +303,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.4272635893891885e-2,
         dense_max_rel: 2.650894079142562e-1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.42810431452866e-2),
+        f32_dense_max_rel: Some(2.651005036799625e-1),
         airlight: |tau, gamma, rho, _g| segments_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -321,8 +321,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.1788867709147572e-2,
         dense_max_rel: 1.2302946952748502e-1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.1796653939969036e-2),
+        f32_dense_max_rel: Some(1.230378825226359e-1),
         airlight: |tau, gamma, rho, _g| segments_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -339,8 +339,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 7.33600761566586e-3,
         dense_max_rel: 7.533739106803236e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.3436432381090285e-3),
+        f32_dense_max_rel: Some(7.534728874339586e-2),
         airlight: |tau, gamma, rho, _g| segments_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -357,8 +357,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 4.4856667393215e-3,
         dense_max_rel: 4.559567557226216e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(4.493046337668233e-3),
+        f32_dense_max_rel: Some(4.560422897682887e-2),
         airlight: |tau, gamma, rho, _g| segments_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -375,8 +375,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.455033849328966e-3,
         dense_max_rel: 2.476940686138501e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.46303668812159e-3),
+        f32_dense_max_rel: Some(2.4777509257847496e-2),
         airlight: |tau, gamma, rho, _g| segments_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -393,8 +393,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.8726380132923271e-3,
         dense_max_rel: 1.468997835656401e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.87326232968834e-3),
+        f32_dense_max_rel: Some(1.4698944384325978e-2),
         airlight: |tau, gamma, rho, _g| segments_12::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -411,8 +411,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.8726380132923271e-3,
         dense_max_rel: 1.1691836850241225e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.87326232968834e-3),
+        f32_dense_max_rel: Some(1.1701551359464823e-2),
         airlight: |tau, gamma, rho, _g| segments_16::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             segments_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -429,8 +429,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2499947248727636e0,
         dense_max_rel: 1.2499915483265955e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2499947248727636e0),
+        f32_dense_max_rel: Some(1.2499915483265955e0),
         airlight: |tau, gamma, rho, g| hg_exp1::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp1::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -447,8 +447,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2495750533834025e0,
         dense_max_rel: 1.249326443901331e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2495750533834025e0),
+        f32_dense_max_rel: Some(1.249326443901331e0),
         airlight: |tau, gamma, rho, g| hg_exp2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -465,8 +465,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2030715032061121e0,
         dense_max_rel: 1.0883509053576483e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2030715032061121e0),
+        f32_dense_max_rel: Some(1.0883509053576483e0),
         airlight: |tau, gamma, rho, g| hg_exp3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             hg_exp3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -483,8 +483,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.3269690240457875e-2,
         dense_max_rel: 2.551373975244055e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.3269967901152516e-2),
+        f32_dense_max_rel: Some(2.551426518596768e-2),
         airlight: |tau, gamma, rho, _g| lite_iso_2::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -501,8 +501,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.313477002147147e-3,
         dense_max_rel: 7.073643720887982e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(6.31403866999493e-3),
+        f32_dense_max_rel: Some(7.074173074417557e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_3::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -519,8 +519,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5101042360881431e-3,
         dense_max_rel: 1.6242995893457424e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5107194150840698e-3),
+        f32_dense_max_rel: Some(1.624826926253866e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -537,8 +537,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 9.829441778029854e-4,
         dense_max_rel: 1.0312652618643166e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(9.835917017482353e-4),
+        f32_dense_max_rel: Some(1.0318561670584457e-3),
         airlight: |tau, gamma, rho, _g| lite_iso_5::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -555,8 +555,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.6901108602422973e-4,
         dense_max_rel: 3.99777928300059e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.694482998778201e-4),
+        f32_dense_max_rel: Some(4.012065838329402e-4),
         airlight: |tau, gamma, rho, _g| lite_iso_med_7::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             lite_iso_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -573,8 +573,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.085120795426331e-2,
         dense_max_rel: 3.1710952582250145e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(3.0855264250694604e-2),
+        f32_dense_max_rel: Some(3.171342792522611e-2),
         airlight: |tau, gamma, rho, g| lite_3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -591,8 +591,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.0297813665611341e-2,
         dense_max_rel: 1.071139352478425e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.0297813665611341e-2),
+        f32_dense_max_rel: Some(1.0712088887472429e-2),
         airlight: |tau, gamma, rho, g| lite_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -609,8 +609,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 9.3260048716768e-3,
         dense_max_rel: 5.020973946726566e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(9.3260048716768e-3),
+        f32_dense_max_rel: Some(5.020973946726566e-3),
         airlight: |tau, gamma, rho, g| lite_5::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_5::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -627,8 +627,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.1176391772846086e-3,
         dense_max_rel: 1.1230785141104075e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.1176391772846086e-3),
+        f32_dense_max_rel: Some(1.1245140799922104e-3),
         airlight: |tau, gamma, rho, g| lite_7::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -645,8 +645,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 4.1434886746705444e-4,
         dense_max_rel: 1.9580600145880874e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(4.27532637544913e-4),
+        f32_dense_max_rel: Some(1.9580600145880874e-4),
         airlight: |tau, gamma, rho, g| lite_12::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_12::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -663,8 +663,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 6.368974608940755e-3,
         dense_max_rel: 6.383051571286758e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(6.368974608940755e-3),
+        f32_dense_max_rel: Some(6.386092674994684e-3),
         airlight: |tau, gamma, rho, g| lite_med_7::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             lite_med_7::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -681,8 +681,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 2.2542868945604173e-5,
         dense_max_rel: 2.291372166761587e-5,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.3009829175503496e-5),
+        f32_dense_max_rel: Some(2.3601828294660785e-5),
         airlight: |tau, gamma, rho, _g| phi_iso_4::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -699,8 +699,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 4.4022029208484775e-6,
         dense_max_rel: 7.725859872829682e-6,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(4.748530867919828e-6),
+        f32_dense_max_rel: Some(8.123425236840066e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_6::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -717,8 +717,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.884108263464626e-6,
         dense_max_rel: 2.5108050783607502e-6,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(3.206620006688417e-6),
+        f32_dense_max_rel: Some(8.945348246838906e-6),
         airlight: |tau, gamma, rho, _g| phi_iso_8::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             phi_iso_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -735,8 +735,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 4.1523028194618575e-2,
         dense_max_rel: 3.602018486212642e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(4.1523731479224474e-2),
+        f32_dense_max_rel: Some(3.602018486212642e-2),
         airlight: |tau, gamma, rho, g| phi_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -753,8 +753,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.4226700359536264e-3,
         dense_max_rel: 4.6928173816714065e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(3.424129363059482e-3),
+        f32_dense_max_rel: Some(4.6928173816714065e-3),
         airlight: |tau, gamma, rho, g| phi_3::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_3::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -771,8 +771,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.000885620625842e-4,
         dense_max_rel: 6.862107624106536e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.000885620625842e-4),
+        f32_dense_max_rel: Some(6.862107624106536e-4),
         airlight: |tau, gamma, rho, g| phi_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -789,8 +789,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.5412578989743553e-5,
         dense_max_rel: 2.6784751212526696e-5,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.608646770242761e-5),
+        f32_dense_max_rel: Some(2.8063084318682894e-5),
         airlight: |tau, gamma, rho, g| phi_6::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_6::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -807,8 +807,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.11583136791395e-6,
         dense_max_rel: 4.46560213028617e-6,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.4438828163547253e-5),
+        f32_dense_max_rel: Some(2.4909036033759216e-5),
         airlight: |tau, gamma, rho, g| phi_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             phi_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -825,8 +825,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma", "rho"],
         thin_max_rel: 5.1644214861627006e1,
         dense_max_rel: 2.544331274364374e10,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(5.1644214861627006e1),
+        f32_dense_max_rel: Some(2.544331274364374e10),
         airlight: |_tau, gamma, rho, _g| no_extinction::airlight(gamma, rho),
         radiance: |origin, dir, surface, light, intensity, _sigma_t, sigma_s, _g| {
             no_extinction::radiance(origin, dir, surface, light, intensity, sigma_s)
@@ -843,8 +843,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.179107529860295e1,
         dense_max_rel: 9.359707499057313e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(8.179111290878019e1),
+        f32_dense_max_rel: Some(9.359730817103893e1),
         airlight: |tau, gamma, rho, g| raymarch_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -861,8 +861,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.179107529860303e1,
         dense_max_rel: 9.3597074990573e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(8.179111422879424e1),
+        f32_dense_max_rel: Some(9.359730734153135e1),
         airlight: |tau, gamma, rho, g| raymarch_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -879,8 +879,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 8.179107529860303e1,
         dense_max_rel: 9.359707499057319e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(8.179110855036512e1),
+        f32_dense_max_rel: Some(9.359730690652134e1),
         airlight: |tau, gamma, rho, g| raymarch_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -897,8 +897,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.87101435309994e1,
         dense_max_rel: 3.0370936989724065e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.87101435309994e1),
+        f32_dense_max_rel: Some(3.0371011266013305e1),
         airlight: |tau, gamma, rho, g| raymarch_64::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -915,8 +915,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 3.128602429920341e1,
         dense_max_rel: 3.0370936989724065e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(3.128602429920341e1),
+        f32_dense_max_rel: Some(3.037104074869611e1),
         airlight: |tau, gamma, rho, g| raymarch_128::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -933,8 +933,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.738454863140144e1,
         dense_max_rel: 1.2316318410555862e1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.738454863140144e1),
+        f32_dense_max_rel: Some(1.231635117232332e1),
         airlight: |tau, gamma, rho, g| raymarch_256::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -951,8 +951,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.5010042132854657e1,
         dense_max_rel: 3.3271209047154056e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.5010042132854657e1),
+        f32_dense_max_rel: Some(3.3271316698333515e0),
         airlight: |tau, gamma, rho, g| raymarch_1024::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             raymarch_1024::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -969,8 +969,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2492502915516752e0,
         dense_max_rel: 1.2494193140053358e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2492502923308655e0),
+        f32_dense_max_rel: Some(1.2494193200796502e0),
         airlight: |tau, gamma, rho, g| equiangular_2::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_2::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -987,8 +987,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.2431250891657242e0,
         dense_max_rel: 1.2300393928179234e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.2431250943241579e0),
+        f32_dense_max_rel: Some(1.2300394209594956e0),
         airlight: |tau, gamma, rho, g| equiangular_4::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_4::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1005,8 +1005,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 1.1682561118979498e0,
         dense_max_rel: 1.0704581787183278e0,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.1682567047675243e0),
+        f32_dense_max_rel: Some(1.0704584679484344e0),
         airlight: |tau, gamma, rho, g| equiangular_8::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_8::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1023,8 +1023,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 7.468436809357482e-1,
         dense_max_rel: 5.05754521636437e-1,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(7.468436809357482e-1),
+        f32_dense_max_rel: Some(5.057560955828954e-1),
         airlight: |tau, gamma, rho, g| equiangular_16::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_16::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1043,8 +1043,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho", "g"],
         thin_max_rel: 2.123459915708074e-1,
         dense_max_rel: 6.070811165536801e-2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(2.1236921919583246e-1),
+        f32_dense_max_rel: Some(6.0710663460051384e-2),
         airlight: |tau, gamma, rho, g| equiangular_32::airlight(tau, gamma, rho, g),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, g| {
             equiangular_32::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s, g)
@@ -1063,8 +1063,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.525818466854504e1,
         dense_max_rel: 1.5182934019463414e2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(6.533112890498066e1),
+        f32_dense_max_rel: Some(1.518293403349008e2),
         airlight: |tau, gamma, rho, _g| sun2005_64::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_64::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1081,8 +1081,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 6.089603640139363e1,
         dense_max_rel: 1.4584932352151145e2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(6.0939307929666384e1),
+        f32_dense_max_rel: Some(1.4584960419052808e2),
         airlight: |tau, gamma, rho, _g| sun2005_128::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_128::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1099,8 +1099,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 5.217373361109462e1,
         dense_max_rel: 1.4169552345682294e2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(5.220884440449842e1),
+        f32_dense_max_rel: Some(1.4169552345682294e2),
         airlight: |tau, gamma, rho, _g| sun2005_256::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_256::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1117,8 +1117,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 3.476377704915032e1,
         dense_max_rel: 1.5513552936770674e2,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(3.478334641371741e1),
+        f32_dense_max_rel: Some(1.551355981987511e2),
         airlight: |tau, gamma, rho, _g| sun2005_512::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             sun2005_512::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1135,8 +1135,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 5.500153399835198e-4,
         dense_max_rel: 4.785650259679424e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(5.500153399835198e-4),
+        f32_dense_max_rel: Some(4.785650259679424e-4),
         airlight: |tau, gamma, _rho, _g| scene_backscatter_aerosol::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_backscatter_aerosol::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1151,7 +1151,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5101042360881431e-3,
         dense_max_rel: 1.6242995893457424e-3,
-        f32_thin_max_rel: None,
+        f32_thin_max_rel: Some(1.5107194150840698e-3),
         f32_dense_max_rel: None,
         airlight: |tau, gamma, rho, _g| scene_fog_street::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
@@ -1167,8 +1167,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma"],
         thin_max_rel: 1.5101042360881431e-3,
         dense_max_rel: 1.6242995893457424e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5106288033974837e-3),
+        f32_dense_max_rel: Some(1.6242995893457424e-3),
         airlight: |tau, gamma, _rho, _g| scene_harbour_fog::airlight(tau, gamma),
         radiance: |origin, dir, _surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_harbour_fog::radiance(origin, dir, light, intensity, sigma_t, sigma_s)
@@ -1183,7 +1183,7 @@ pub const KERNELS: &[Kernel] = &[
         params: &["gamma"],
         thin_max_rel: 0e0,
         dense_max_rel: 0e0,
-        f32_thin_max_rel: None,
+        f32_thin_max_rel: Some(3.624602525062702e-7),
         f32_dense_max_rel: None,
         airlight: |_tau, gamma, _rho, _g| scene_haze_sky::airlight(gamma),
         radiance: |origin, dir, _surface, light, intensity, _sigma_t, sigma_s, _g| {
@@ -1199,8 +1199,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5051320143571047e-4,
         dense_max_rel: 2.8946958951288647e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5067550867503413e-4),
+        f32_dense_max_rel: Some(2.8946958951288647e-4),
         airlight: |tau, gamma, rho, _g| scene_hg_fog::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_hg_fog::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1215,8 +1215,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5101042360881431e-3,
         dense_max_rel: 1.6242995893457424e-3,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5107194150840698e-3),
+        f32_dense_max_rel: Some(1.6246720001643236e-3),
         airlight: |tau, gamma, rho, _g| scene_smoke_room::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_smoke_room::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1231,8 +1231,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5036556378473546e-4,
         dense_max_rel: 3.085563376296354e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5045215359714903e-4),
+        f32_dense_max_rel: Some(3.085563376296354e-4),
         airlight: |tau, gamma, rho, _g| scene_spot_harbour::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_spot_harbour::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1251,8 +1251,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5036556378473546e-4,
         dense_max_rel: 3.085563376296354e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5045215359714903e-4),
+        f32_dense_max_rel: Some(3.085563376296354e-4),
         airlight: |tau, gamma, rho, _g| scene_street_lamp::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_street_lamp::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
@@ -1267,8 +1267,8 @@ pub const KERNELS: &[Kernel] = &[
         params: &["tau", "gamma", "rho"],
         thin_max_rel: 1.5036556378473546e-4,
         dense_max_rel: 3.1283437147351965e-4,
-        f32_thin_max_rel: None,
-        f32_dense_max_rel: None,
+        f32_thin_max_rel: Some(1.5063040209831717e-4),
+        f32_dense_max_rel: Some(3.1283437147351965e-4),
         airlight: |tau, gamma, rho, _g| scene_window_shafts::airlight(tau, gamma, rho),
         radiance: |origin, dir, surface, light, intensity, sigma_t, sigma_s, _g| {
             scene_window_shafts::radiance(origin, dir, surface, light, intensity, sigma_t, sigma_s)
