@@ -186,7 +186,7 @@ impl AirlightFog {
         if !(self.g.is_finite() && self.g.abs() < 1.0) {
             return Err(format!("g = {} must be in (-1, 1)", self.g));
         }
-        if !(self.max_error > 0.0) {
+        if self.max_error.is_nan() || self.max_error <= 0.0 {
             return Err(format!("max_error = {} must be > 0", self.max_error));
         }
         Ok(())

@@ -511,7 +511,7 @@ fn a_bevy_app_draws_the_street_in_fog_against_the_reference() {
     let (lit, _) = settle(&mut app, Some(&back), "the frame with a light at the eye");
     let eye = street.eye.as_dvec3();
     let flash_light = airlight_bevy::GpuLight::point(&flash, &GlobalTransform::from_translation(street.eye));
-    let lights = [street_lights(&street)[0].clone(), (flash_light, None)];
+    let lights = [street_lights(&street)[0], (flash_light, None)];
     let rf = reference_of(&street, &|i, j| ([eye.x, eye.y, eye.z], ray(&street, i, j)), &lights);
     let f = figures(&street, &rf, &colour, &lit, 2.0, 1.0, bound);
     let top = lit.iter().flat_map(|p| p.iter()).fold(0.0f32, |a, &b| a.max(b));
