@@ -62,7 +62,7 @@ fn lights_on_surfaces_and_balls_of_any_size_are_shadowed_on_every_target() {
     .unwrap();
     for ((row, want), got) in rows.iter().zip(&reference) {
         if let Some(w) = want.map(|w| if w.is_nan() { unshadowed } else { w }) {
-            let err = if *w == 0.0 { got.abs() } else { (got / w - 1.0).abs() };
+            let err = if w == 0.0 { got.abs() } else { (got / w - 1.0).abs() };
             assert!(err < 1e-5, "{row}: {got:e} against {w:e}");
         }
     }
