@@ -11,8 +11,9 @@ use std::path::{Path, PathBuf};
 /// The package whose binary runs compiled Rust kernels.
 pub const RUNNER: &str = "airlight-run";
 
-/// Runs this command line (or `args` instead) in `airlight-run`, built first
-/// from the workspace this binary was built from (else the one at the root): the
+/// Runs this command line (or `args` instead) in `airlight-run`, built first (in
+/// this binary's profile) from the workspace this binary was built from (else the
+/// one at the root): the
 /// commands that need the compiled Rust kernels. A build failure (the generated
 /// kernels do not compile) is one line.
 pub(crate) fn delegate(root: Option<PathBuf>, args: Option<Vec<String>>) -> Result<(), Failure> {
@@ -27,9 +28,13 @@ pub(crate) fn delegate(root: Option<PathBuf>, args: Option<Vec<String>>) -> Resu
         .join("Cargo.toml")
     };
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    // The runner in this binary's own profile: `cargo run --release` hands over to
+    // a release runner, the tests' debug build to a debug one (sharing the
+    // dependencies the tests built, instead of a second, release build of them).
+    let profile: &[&str] = if cfg!(debug_assertions) { &[] } else { &["--release"] };
     let cargo_args = |verb: &str| {
         let mut c = std::process::Command::new(&cargo);
-        c.args([verb, "--release", "--quiet", "-p", RUNNER, "--manifest-path"]).arg(&manifest);
+        c.arg(verb).args(profile).args(["--quiet", "-p", RUNNER, "--manifest-path"]).arg(&manifest);
         c
     };
     let built = cargo_args("build")

@@ -4,7 +4,7 @@
 //! is 1e60 … 1e300 away, a light inside or on an occluder, depths f32 cannot
 //! hold, and the command line's checks of `--shadow-map` and `--bias`.
 
-mod probe;
+use crate::probe;
 
 use probe::{airlight, gpu_required, scratch, stderr, HEAD};
 use std::path::{Path, PathBuf};

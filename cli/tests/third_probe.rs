@@ -3,7 +3,7 @@
 //! ray with more lit runs than the accumulators hold at once, samples past the
 //! GPU harness's old 128, and the input the shadowed entry used to take.
 
-mod probe;
+use crate::probe;
 
 use probe::{airlight, gpu_required, scratch, stderr, HEAD};
 

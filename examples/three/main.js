@@ -111,25 +111,24 @@ if (webgl) {
       composer.removePass(fog);
       fog.dispose();
     }
+    for (const l of [...lamps, spot]) next.add(l);
     composer.addPass(next);
     return next;
   });
 } else {
-  const { pass } = await import('three/tsl');
-  const { VolumetricLights } = await import('airlight-three/lights.js');
-  scenePass = pass(scene, camera);
-  const post = new THREE.PostProcessing(renderer);
+  // The README's quick start (quickstart.js), with this page's medium and limits.
+  const { foggy } = await import('./quickstart.js');
+  let post = null;
   draw = () => post.render();
-  fogOf = (maxError) => VolumetricLights.create(renderer, { ...MEDIUM, maxError, ...limits }).then((next) => {
-    post.outputNode = next.composite(scenePass, camera);
-    post.needsUpdate = true;
-    return next;
+  fogOf = (maxError) => foggy(renderer, scene, camera, [...lamps, spot], { ...MEDIUM, maxError, ...limits }).then((next) => {
+    post?.dispose();
+    post = next.post;
+    scenePass = next.scenePass;
+    return next.fog;
   });
 }
 async function setQuality(maxError) {
-  const next = await fogOf(maxError);
-  for (const l of [...lamps, spot]) next.add(l);
-  fog = next;
+  fog = await fogOf(maxError);
   document.getElementById('kernel').textContent = `kernel ${fog.name}`;
 }
 const select = document.getElementById('quality');

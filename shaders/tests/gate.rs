@@ -3,7 +3,7 @@
 //! f32 bound the compiled Rust kernel cannot meet fails on the CPU; a kernel
 //! without a recorded f32 bound is refused.
 
-mod common;
+use crate::common;
 
 use airlight_shaders::gate::{self, Target};
 use std::path::{Path, PathBuf};

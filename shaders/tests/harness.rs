@@ -8,10 +8,10 @@
 //! Without an adapter these tests print SKIPPED and pass, unless
 //! `AIRLIGHT_REQUIRE_GPU=1` (set by `.ci/run`), which makes them fail.
 
+use crate::common;
 use airlight_truth::domains::{Domain, VALIDATION_SEED};
 use airlight_truth::reference::{airlight, Point};
 use airlight_truth::stats::{rel_error, ErrorStats};
-mod common;
 
 use airlight_shaders::{GpuError, KernelSource, Target};
 use common::open_or_skip;

@@ -4,7 +4,7 @@
 //! against the reference, within their model's declared bound (skipped loudly
 //! without an adapter unless `AIRLIGHT_REQUIRE_GPU=1`).
 
-mod common;
+use crate::common;
 
 use airlight_codegen::kernel::{self, Index, KernelSpec};
 use airlight_codegen::scene;

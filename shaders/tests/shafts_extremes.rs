@@ -3,7 +3,7 @@
 //! intervals and 16 shadow-map samples, every value is finite and ≥ 0 — in the
 //! Rust f32 kernels and, where an adapter is present, in their WGSL on the GPU.
 
-mod common;
+use crate::common;
 
 use airlight_shaders::gate;
 use airlight_truth::shafts::{self, Feed, Occluder};

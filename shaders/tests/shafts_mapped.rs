@@ -4,7 +4,7 @@
 //! map's exact runs (f64) to the kernel's f32 bound times (1 + changes), as the
 //! Rust walk does.
 
-mod common;
+use crate::common;
 
 use airlight_shaders::shafts::map_cases::{self, run_samples, rust_runs, upload};
 use airlight_shaders::shafts::WalkTexts;

@@ -7,7 +7,7 @@
 //! exact frame leaks nowhere and beats the 512-step march on lit pixels, and
 //! the sampled accumulator's mean fog error is below the 64-step march's.
 
-mod common;
+use crate::common;
 
 use airlight_shaders::gate;
 use airlight_shaders::shafts::render::{self as sr, Method};

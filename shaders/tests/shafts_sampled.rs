@@ -4,7 +4,7 @@
 //! look-ups and the two visibilities a renderer already has (the viewer's and the
 //! surface's) against `raymarch-N` looking visibility up at its own N steps.
 
-mod common;
+use crate::common;
 
 use airlight_shaders::gate;
 use airlight_shaders::shafts::cases;

@@ -40,6 +40,9 @@ pub(super) struct ShaftsRender {
     verdict: Vec<String>,
     /// Where the exact frame loses to the march shown.
     losses: Vec<String>,
+    /// The report's opening row: the exact frame against the marches (lit max,
+    /// GPU time, leak pixels).
+    glance: Vec<String>,
 }
 
 /// One frame of a light-shafts render: its method, GPU time, fog errors, leaks.
@@ -141,7 +144,23 @@ pub(super) fn shafts_renders(renders: &[Output]) -> Vec<ShaftsRender> {
                     losses.push(format!("GPU time ({time:.1} ms against {:.1} ms)", x(m, "gpu_ms")));
                 }
             }
+            let glance = {
+                let err = |f: Option<&&toml::Table>, k: &str| f.map_or("—".to_string(), |f| fmt_err(x(f, k)));
+                let leaks = |f: Option<&&toml::Table>| {
+                    f.and_then(|f| f.get("leak_pixels")).and_then(|v| v.as_integer()).map_or("—".into(), |n| n.to_string())
+                };
+                let (m64, m512) = (find("march", 64), find("march", 512));
+                vec![
+                    format!("{} / {} / {}", err(Some(&exact), "lit_max"), err(m64.as_ref(), "lit_max"), err(m512.as_ref(), "lit_max")),
+                    match m64 {
+                        Some(m) => format!("{time:.1} / {:.1} ({:.2}×)", x(m, "gpu_ms"), time / x(m, "gpu_ms")),
+                        None => format!("{time:.1} / —"),
+                    },
+                    format!("{} / {}", leaks(Some(&exact)), leaks(m64.as_ref())),
+                ]
+            };
             Some(ShaftsRender {
+                glance,
                 scene: o.path.trim_start_matches("render/").trim_end_matches(".toml").to_string(),
                 description: s("description"),
                 light: s("light"),

@@ -476,7 +476,52 @@ fn branchy(b: &Bench, ir: &[KernelIr]) -> Vec<String> {
 }
 
 /// The speed/accuracy section's values.
+/// One `g`'s row of the report's opening table: per cost measure, who is fastest
+/// at each error level someone reaches.
+#[derive(Serialize)]
+struct GlanceRow {
+    g: String,
+    cells: Vec<String>,
+}
+
+/// The opening table of the trade: the measures' titles and one row per `g`.
+fn glance(b: &Bench) -> (Vec<&'static str>, Vec<GlanceRow>) {
+    let measures: Vec<front::CostMeasure> = front::CostMeasure::ALL.into_iter().filter(|c| c.measured(b)).collect();
+    let rows = front::gs(b)
+        .into_iter()
+        .map(|g| GlanceRow {
+            g: if g == 0.0 { "isotropic".into() } else { format!("g = {}", front::g_label(g)) },
+            cells: measures
+                .iter()
+                .map(|&c| {
+                    let hs = front::headlines(&front::methods_by(b, g, c));
+                    let reached: Vec<&front::Headline> =
+                        hs.iter().filter(|h| h.verdict() != front::Verdict::Nobody).collect();
+                    let won = reached.iter().filter(|h| !h.verdict().airlight_loses()).count();
+                    let lost: Vec<String> = reached
+                        .iter()
+                        .filter(|h| h.verdict().airlight_loses())
+                        .map(|h| {
+                            let who = h.baseline.as_ref().map_or(String::new(), |m| format!(" (`{}`)", m.name));
+                            format!("{} {}{who}", h.measure, fmt_err(h.level))
+                        })
+                        .collect();
+                    if lost.is_empty() {
+                        format!("airlight at all {won}")
+                    } else {
+                        format!("airlight at {won} of {}; a baseline at {}", reached.len(), lost.join(", "))
+                    }
+                })
+                .collect(),
+        })
+        .collect();
+    (measures.iter().map(|c| c.title()).collect(), rows)
+}
+
 pub(super) fn context(ctx: &mut tera::Context, b: &Bench, models: &[ModelFile], ir: &[KernelIr]) {
+    let (glance_measures, glance_rows) = glance(b);
+    ctx.insert("glance_measures", &glance_measures);
+    ctx.insert("glance_rows", &glance_rows);
     let sections: Vec<GSection> = front::gs(b).into_iter().map(|g| g_section(b, g, ir)).collect();
     ctx.insert("trade", &sections);
     ctx.insert("trade_rows", &b.models.iter().map(|m| trade_row(m, ir)).collect::<Vec<_>>());

@@ -2,8 +2,24 @@
 //! fog, a bench and a kerb, all boxes (so that the headless test knows every
 //! surface exactly). `spawn` builds it in a Bevy world.
 
-use airlight_bevy::AirlightFog;
+use airlight_bevy::{AirlightFog, AirlightPlugin};
 use bevy::prelude::*;
+
+/// The README's Bevy quick start (compiled with this crate by `cargo test`; the
+/// street below is what the headless test draws): the plugin, a camera whose
+/// frame gets the fog, and a lamp that glows in it — every visible `PointLight`
+/// and `SpotLight` does.
+pub fn quick_start(app: &mut App) {
+    app.add_plugins(AirlightPlugin);
+    app.add_systems(Startup, |mut commands: Commands| {
+        commands.spawn((
+            Camera3d::default(),
+            Transform::from_xyz(0.0, 1.7, 8.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
+            AirlightFog { sigma_t: Vec3::splat(0.06), sigma_s: Vec3::splat(0.05), g: 0.6, max_error: 1e-3 },
+        ));
+        commands.spawn((PointLight { intensity: 100_000.0, ..default() }, Transform::from_xyz(0.0, 4.0, 0.0)));
+    });
+}
 
 /// An axis-aligned box: its corners and its (unlit) colour.
 #[derive(Clone, Copy, Debug)]

@@ -5,18 +5,19 @@
 //! pass, through `WebGLRenderer` with the module's GLSL include in a
 //! `RawShaderMaterial`, or through `WebGPURenderer` with its TSL node (`wgslFn`
 //! on WebGPU, `glslFn` on the WebGL 2 backend), tone-mapped to 8 bits and read
-//! back. Headless Chromium (WebGL 2 and WebGPU on SwiftShader) loads the page from
-//! a loopback HTTP server started here (no network beyond 127.0.0.1); the page
-//! POSTs the pixels back, and they are compared with the f64 reference render.
+//! back. Headless Chromium (WebGL 2 and WebGPU on SwiftShader), driven by
+//! playwright-core (npm, pinned in `tests/node`) from `tests/node/browser.mjs` —
+//! one browser for every page of the test binary — loads the page as
+//! `http://127.0.0.1:8123/…`, every request answered from the page's files (no
+//! network); the page POSTs the pixels back, and they are compared with the f64
+//! reference render.
 
 use airlight_shaders::render::{View, FOV_Y, GROUND_Y};
 use airlight_shaders::shafts::render::{ShaftsView, Stage, WALK_BIAS};
 use airlight_shapes::vocab::{Arg, IndexEntry};
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpListener;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 /// The three.js the pages load (npm, pinned in tests/node/package.json).
 pub const THREE_VERSION: &str = "0.187.0";
@@ -704,178 +705,75 @@ fn decode_base64(s: &str) -> Result<Vec<u8>, BrowserError> {
 /// How long a page may take to report (`AIRLIGHT_BROWSER_TIMEOUT_S` overrides).
 pub const TIMEOUT_S: u64 = 240;
 
-/// What the page POSTed to `/result`.
-type Posted = std::sync::Arc<std::sync::Mutex<Option<String>>>;
-
-/// Answers one HTTP request on `s`: a GET from `files` (`/`: `index.html`), or
-/// the page's POST of its result to `/result`, kept in `posted`.
-fn serve_one(mut s: std::net::TcpStream, files: &[(String, Vec<u8>)], posted: &Posted) {
-    let _ = s.set_nonblocking(false);
-    let _ = s.set_read_timeout(Some(Duration::from_secs(30)));
-    let mut line = String::new();
-    let mut reader = BufReader::new(match s.try_clone() {
-        Ok(c) => c,
-        Err(_) => return,
-    });
-    if reader.read_line(&mut line).is_err() {
-        return;
-    }
-    let mut length = 0usize;
-    let mut h = String::new();
-    while reader.read_line(&mut h).is_ok_and(|n| n > 2) {
-        if let Some(v) = h.to_ascii_lowercase().strip_prefix("content-length:") {
-            length = v.trim().parse().unwrap_or(0);
-        }
-        h.clear();
-    }
-    let mut words = line.split_whitespace();
-    let method = words.next().unwrap_or("GET");
-    let path = words.next().unwrap_or("/").trim_start_matches('/');
-    // A page's query is the page's: the file is the path before it.
-    let path = path.split('?').next().unwrap_or_default();
-    let reply = if method == "POST" && path == "result" {
-        let mut body = vec![0u8; length];
-        if reader.read_exact(&mut body).is_ok() {
-            *posted.lock().unwrap_or_else(|e| e.into_inner()) = Some(String::from_utf8_lossy(&body).into_owned());
-        }
-        b"HTTP/1.1 204 No Content\r\nConnection: close\r\n\r\n".to_vec()
-    } else {
-        let path = if path.is_empty() { "index.html" } else { path };
-        match files.iter().find(|(n, _)| n == path) {
-            Some((n, body)) => {
-                let ty = if n.ends_with(".js") { "text/javascript" } else { "text/html; charset=utf-8" };
-                let mut r = format!(
-                    "HTTP/1.1 200 OK\r\nContent-Type: {ty}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
-                    body.len()
-                )
-                .into_bytes();
-                r.extend_from_slice(body);
-                r
-            }
-            None => b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n".to_vec(),
-        }
-    };
-    let _ = s.write_all(&reply);
-    let _ = s.flush();
+/// The one browser of this test binary: `tests/node/browser.mjs`, which drives
+/// `chrome` through playwright-core (npm, pinned in `tests/node`), launched on
+/// the first page and kept for every page after it (each page in a fresh browser
+/// context). It ends when this process does (its stdin closes).
+struct Browser {
+    child: Child,
+    stdin: ChildStdin,
+    stdout: BufReader<ChildStdout>,
 }
 
-/// A loopback HTTP server of `files` until [`Server::stop`].
-struct Server {
-    port: u16,
-    posted: Posted,
-    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
-    thread: std::thread::JoinHandle<()>,
-}
+impl Browser {
+    fn start(chrome: &Path) -> Result<Browser, BrowserError> {
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/node/browser.mjs");
+        let mut child = Command::new("node")
+            .arg(&script)
+            .arg(chrome)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| BrowserError(format!("node {}: {e}", script.display())))?;
+        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
+            return Err(BrowserError("node's pipes".into()));
+        };
+        Ok(Browser { child, stdin, stdout: BufReader::new(stdout) })
+    }
 
-impl Server {
-    fn start(files: Vec<(String, Vec<u8>)>) -> Result<Server, BrowserError> {
-        let err = |e: std::io::Error| BrowserError(e.to_string());
-        let listener = TcpListener::bind("127.0.0.1:0").map_err(err)?;
-        let port = listener.local_addr().map_err(err)?.port();
-        listener.set_nonblocking(true).map_err(err)?;
-        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        let posted: Posted = std::sync::Arc::new(std::sync::Mutex::new(None));
-        let (stop, post) = (done.clone(), posted.clone());
-        let files = std::sync::Arc::new(files);
-        let thread = std::thread::spawn(move || {
-            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-                match listener.accept() {
-                    Ok((s, _)) => {
-                        let (files, post) = (files.clone(), post.clone());
-                        std::thread::spawn(move || serve_one(s, &files, &post));
-                    }
-                    Err(_) => std::thread::sleep(Duration::from_millis(5)),
+    /// Loads `page` from the files under `dir` and waits for its POST.
+    fn draw(&mut self, dir: &Path, page: &str, timeout_s: u64) -> Result<String, BrowserError> {
+        let quote = |s: &str| {
+            let mut q = String::from('"');
+            for c in s.chars() {
+                match c {
+                    '"' => q.push_str("\\\""),
+                    '\\' => q.push_str("\\\\"),
+                    c if (c as u32) < 0x20 => q.push_str(&format!("\\u{:04x}", c as u32)),
+                    c => q.push(c),
                 }
             }
-        });
-        Ok(Server { port, posted, done, thread })
-    }
-
-    fn posted(&self) -> Option<String> {
-        self.posted.lock().unwrap_or_else(|e| e.into_inner()).clone()
-    }
-
-    fn stop(self) {
-        self.done.store(true, std::sync::atomic::Ordering::Relaxed);
-        let _ = self.thread.join();
+            q.push('"');
+            q
+        };
+        let request = format!(
+            "{{\"dir\":{},\"page\":{},\"timeout_s\":{timeout_s}}}\n",
+            quote(&dir.to_string_lossy()),
+            quote(page)
+        );
+        let gone =
+            |e: std::io::Error| BrowserError(format!("the browser driver (tests/node/browser.mjs) stopped: {e}"));
+        self.stdin.write_all(request.as_bytes()).map_err(gone)?;
+        self.stdin.flush().map_err(gone)?;
+        let mut head = String::new();
+        if self.stdout.read_line(&mut head).map_err(gone)? == 0 {
+            let status = self.child.try_wait().ok().flatten();
+            return Err(BrowserError(format!("the browser driver (tests/node/browser.mjs) exited ({status:?})")));
+        }
+        let (kind, len) = head.trim_end().split_once(' ').unwrap_or(("", ""));
+        let len: usize = len.parse().map_err(|_| BrowserError(format!("the browser driver said {head:?}")))?;
+        let mut body = vec![0u8; len];
+        self.stdout.read_exact(&mut body).map_err(gone)?;
+        let body = String::from_utf8_lossy(&body).into_owned();
+        match kind {
+            "ok" => Ok(body),
+            _ => Err(BrowserError(body)),
+        }
     }
 }
 
-/// Runs headless `chrome` on `url` with a fresh profile (WebGL 2 and WebGPU on
-/// SwiftShader) until the page has POSTed its result to `server`, then stops
-/// it; its log is kept for errors. A page that never reports is stopped after
-/// 240 s.
-fn run_chromium(
-    chrome: &Path,
-    url: &str,
-    profile: &Path,
-    server: &Server,
-    timeout_s: u64,
-) -> Result<String, BrowserError> {
-    let mut child = Command::new(chrome)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu-sandbox",
-            "--use-angle=swiftshader",
-            "--enable-unsafe-swiftshader",
-            "--enable-unsafe-webgpu",
-            "--use-webgpu-adapter=swiftshader",
-            "--ignore-gpu-blocklist",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--disable-extensions",
-            // The page's console in the log: its errors explain a page that never reports.
-            "--enable-logging=stderr",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(url)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| BrowserError(format!("{}: {e}", chrome.display())))?;
-    let errs = child.stderr.take().map(|mut p| {
-        std::thread::spawn(move || {
-            let mut text = String::new();
-            let _ = p.read_to_string(&mut text);
-            text
-        })
-    });
-    let timeout = std::env::var("AIRLIGHT_BROWSER_TIMEOUT_S").ok().and_then(|v| v.parse().ok()).unwrap_or(timeout_s);
-    let start = Instant::now();
-    let outcome = loop {
-        if let Some(p) = server.posted() {
-            break Ok(p);
-        }
-        match child.try_wait() {
-            Ok(Some(s)) => break Err(format!("chromium exited ({s}) before the page reported")),
-            Err(e) => break Err(e.to_string()),
-            Ok(None) if start.elapsed() > Duration::from_secs(timeout) => {
-                break Err(format!("the page did not report within {timeout} s"));
-            }
-            Ok(None) => std::thread::sleep(Duration::from_millis(50)),
-        }
-    };
-    let _ = child.kill();
-    let _ = child.wait();
-    let log = errs.and_then(|t| t.join().ok()).unwrap_or_default();
-    if std::env::var_os("AIRLIGHT_BROWSER_CONSOLE").is_some() {
-        for l in log.lines().filter(|l| l.contains("CONSOLE")) {
-            eprintln!("{l}");
-        }
-    }
-    outcome.map_err(|e| {
-        let console: Vec<&str> = log.lines().filter(|l| l.contains("CONSOLE") || l.contains("Uncaught")).collect();
-        let lines: Vec<&str> = if console.is_empty() { log.lines().collect() } else { console };
-        let tail = lines[lines.len().saturating_sub(12)..].join("\n");
-        BrowserError(format!("{e}; chromium's log ends:\n{tail}"))
-    })
-}
-
-/// Serves `files` (name → contents) on 127.0.0.1, loads `index.html` in
+/// Serves `files` (name → contents) to the page, loads `index.html` in
 /// headless `chrome` and returns what the page read back: the adapter it names
 /// and its bytes, rows from the top.
 pub fn draw_raw(chrome: &Path, files: Vec<(String, Vec<u8>)>) -> Result<(String, Vec<u8>), BrowserError> {
@@ -890,16 +788,28 @@ pub fn draw_raw_within(
     page: &str,
     timeout_s: u64,
 ) -> Result<(String, Vec<u8>), BrowserError> {
-    // One Chromium at a time: on two cores, pages drawn side by side by the
+    // One page at a time: on two cores, pages drawn side by side by the
     // parallel tests (SwiftShader, both CPU-bound) ran past their timeouts.
-    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let server = Server::start(files)?;
-    let url = format!("http://127.0.0.1:{}/{page}", server.port);
-    let profile = std::env::temp_dir().join(format!("airlight-chromium-{}-{}", std::process::id(), server.port));
-    let ran = run_chromium(chrome, &url, &profile, &server, timeout_s);
-    server.stop();
-    std::fs::remove_dir_all(&profile).ok();
+    static BROWSER: std::sync::Mutex<Option<Browser>> = std::sync::Mutex::new(None);
+    static PAGES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let mut browser = BROWSER.lock().unwrap_or_else(|e| e.into_inner());
+    let n = PAGES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("airlight-page-{}-{n}", std::process::id()));
+    let io = |e: std::io::Error| BrowserError(format!("{}: {e}", dir.display()));
+    for (name, body) in &files {
+        let p = dir.join(name);
+        std::fs::create_dir_all(p.parent().unwrap_or(&dir)).map_err(io)?;
+        std::fs::write(&p, body).map_err(io)?;
+    }
+    let timeout = std::env::var("AIRLIGHT_BROWSER_TIMEOUT_S").ok().and_then(|v| v.parse().ok()).unwrap_or(timeout_s);
+    if browser.is_none() {
+        *browser = Some(Browser::start(chrome)?);
+    }
+    let ran = browser.as_mut().map_or_else(|| Err(BrowserError("no browser".into())), |b| b.draw(&dir, page, timeout));
+    std::fs::remove_dir_all(&dir).ok();
+    if ran.as_ref().is_err_and(|e| e.0.starts_with("the browser driver")) {
+        *browser = None; // the next page starts a new one
+    }
     let posted = ran?;
     let mut lines = posted.splitn(3, '\n');
     match (lines.next(), lines.next(), lines.next()) {
@@ -1001,6 +911,7 @@ pub fn example_files(root: &Path, three: &Path, package: &Path) -> Result<Vec<(S
     let mut files = vec![
         ("examples/three/index.html".to_string(), page.into_bytes()),
         ("examples/three/main.js".to_string(), read(&dir.join("main.js"))?),
+        ("examples/three/quickstart.js".to_string(), read(&dir.join("quickstart.js"))?),
     ];
     for f in ["three.core.js", "three.module.js", "three.webgpu.js", "three.tsl.js"] {
         files.push((format!("tests/node/node_modules/three/build/{f}"), read(&three.join(f))?));

@@ -1,7 +1,7 @@
 //! The three.js package in a real browser: `npm pack` packs
 //! `generated/three/airlight-three`, the tarball is unpacked outside the
 //! repository, and headless Chromium (Debian's `chromium`, WebGL 2 and WebGPU on
-//! SwiftShader) runs a page with three.js r187 (npm, `tests/node`) that draws the
+//! SwiftShader; one browser for every page, driven by playwright-core) runs a page with three.js r187 (npm, `tests/node`) that draws the
 //! harbour view through `phi-4`'s module three ways: `WebGLRenderer` with its GLSL
 //! include, `WebGPURenderer` with its `wgslFn` node on WebGPU, and with its
 //! `glslFn` node on the WebGL 2 backend. Every pixel must match the f64 reference
@@ -46,6 +46,14 @@ fn chromium_and_three(name: &str, file: &str) -> Option<(PathBuf, PathBuf)> {
     if !three.join(file).exists() {
         assert!(!required(), "three.js not installed in tests/node: run `npm ci --prefix tests/node` (see README)");
         eprintln!("SKIPPED {name}: three.js not installed (npm ci --prefix tests/node)");
+        return None;
+    }
+    if !root().join("tests/node/node_modules/playwright-core/package.json").exists() {
+        assert!(
+            !required(),
+            "playwright-core not installed in tests/node: run `npm ci --prefix tests/node` (see README)"
+        );
+        eprintln!("SKIPPED {name}: playwright-core not installed (npm ci --prefix tests/node)");
         return None;
     }
     Some((chrome, three))
