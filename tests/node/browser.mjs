@@ -4,12 +4,14 @@
 //
 //   node tests/node/browser.mjs CHROMIUM
 //
-// Reads one request per line on stdin, `{"dir", "page", "timeout_s"}`: the page
+// Reads one request per line on stdin, `{"dir", "page", "timeout_s", "what"}`: the page
 // `page` (a path and query) is loaded as http://127.0.0.1/<page> in a fresh
 // browser context whose every request is answered from the files under `dir`
 // (nothing reaches the network); the page POSTs its result to /result. Answers
 // each request with `ok <bytes>\n<result>` or `error <bytes>\n<why>` on stdout
-// (bytes: the UTF-8 length of what follows). Ends when stdin closes.
+// (bytes: the UTF-8 length of what follows), and prints the page's time and
+// `what` (the test drawing it) on stderr. Ends when stdin closes.
+// AIRLIGHT_CHROMIUM_ARGS adds flags to Chromium's.
 import { chromium } from 'playwright-core';
 import { readFile } from 'node:fs/promises';
 import { createInterface } from 'node:readline';
@@ -29,6 +31,7 @@ const ARGS = [
   '--enable-unsafe-webgpu',
   '--use-webgpu-adapter=swiftshader',
   '--ignore-gpu-blocklist',
+  ...(process.env.AIRLIGHT_CHROMIUM_ARGS ?? '').split(' ').filter((a) => a),
 ];
 const TYPES = { '.js': 'text/javascript', '.mjs': 'text/javascript', '.html': 'text/html; charset=utf-8', '.json': 'application/json' };
 
@@ -46,7 +49,10 @@ function reply(kind, text) {
   process.stdout.write(body);
 }
 
-async function draw({ dir, page, timeout_s }) {
+let pages = 0;
+async function draw({ dir, page, timeout_s, what }) {
+  const started = Date.now();
+  pages += 1;
   const context = await (await theBrowser()).newContext();
   const log = [];
   let report;
@@ -90,6 +96,8 @@ async function draw({ dir, page, timeout_s }) {
     reply('error', `${e.message}; the page's console ends:\n${log.slice(-12).join('\n')}`);
   } finally {
     await context.close().catch(() => {});
+    // Where CI's time goes: one line per page, on the test's own stderr.
+    console.error(`browser page ${pages} (${what ?? page}): ${((Date.now() - started) / 1000).toFixed(1)} s`);
   }
 }
 

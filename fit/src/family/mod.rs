@@ -10,7 +10,7 @@
 //! exhaustive, and a family's kind appears only in its own `Family::KIND`.
 //!
 //! Adding a family: its folder, one line in that list, and its catalog rows
-//! (README, "Adding a family").
+//! (docs/contributing.md, "Adding a family").
 
 use airlight_shapes::bench::BenchModel;
 use airlight_shapes::cost::{Cost, PhaseShape, Shape};

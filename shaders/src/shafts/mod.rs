@@ -3,7 +3,7 @@
 //! rows (`cases`), the shafts bench (`bench`), and the headless render of a
 //! shadowed scene (`render/`, its scene shader in `render/scene.wgsl`). The shadowed
 //! reference and its occluders are `airlight-truth`'s `shafts`; the accumulator's
-//! templates are `codegen/templates/kernels/shafts/`. README, "Adding an
+//! templates are `codegen/templates/kernels/shafts/`. docs/contributing.md, "Adding an
 //! accumulator or a visibility source", lists every place a change touches.
 
 pub mod bench;

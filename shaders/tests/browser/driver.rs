@@ -747,10 +747,14 @@ impl Browser {
             q.push('"');
             q
         };
+        // The test drawing it (libtest names its threads after the tests), for
+        // the driver's line of timing.
+        let what = std::thread::current().name().unwrap_or("a page").to_string();
         let request = format!(
-            "{{\"dir\":{},\"page\":{},\"timeout_s\":{timeout_s}}}\n",
+            "{{\"dir\":{},\"page\":{},\"timeout_s\":{timeout_s},\"what\":{}}}\n",
             quote(&dir.to_string_lossy()),
-            quote(page)
+            quote(page),
+            quote(&what)
         );
         let gone =
             |e: std::io::Error| BrowserError(format!("the browser driver (tests/node/browser.mjs) stopped: {e}"));

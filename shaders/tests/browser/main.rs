@@ -284,8 +284,9 @@ fn light_shafts_exact_to_three_js_shadow_maps_match_the_reference() {
 /// medium (`shafts: false`: the shafts test is
 /// `volumetric_lights_cast_shafts_from_three_js_shadow_maps`), over the rays
 /// three's camera casts and the distances the page read from its depth, on
-/// WebGPURenderer's WebGPU and WebGL 2 backends and through `VolumetricLightsPass`
-/// on WebGLRenderer. The distances against the analytic room's first surfaces
+/// WebGPURenderer's WebGL 2 backend (WebGPU and `VolumetricLightsPass` on
+/// WebGLRenderer draw the unshadowed pass in the example page's tests and with
+/// castShadow off in the shafts test). The distances against the analytic room's first surfaces
 /// check the depth reconstruction; the fog's errors check the units. Then the
 /// composite against the scene pass's colour · T + fog, and a next frame with
 /// the light's intensity doubled in three.js alone (nothing rebuilt or
@@ -304,12 +305,14 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
         let dirs: Vec<[f64; 3]> = (0..view.width * view.height)
             .map(|i| view.dir_from(basis, i % view.width, i / view.width).map(f64::from))
             .collect();
-        // WebGPURenderer on WebGPU and on its WebGL 2 backend (VolumetricLights),
-        // and WebGLRenderer (VolumetricLightsPass).
-        // (label, WebGL, VolumetricLightsPass)
-        for (renderer, gl, pass) in
-            [("WebGPU", false, false), ("WebGL 2 backend", true, false), ("WebGL 2", true, true)]
+        // Only WebGPURenderer's WebGL 2 backend here (issue 61: CI's time): the
+        // same unshadowed pass on WebGPU and VolumetricLightsPass on WebGLRenderer
+        // are the example page's (quickstart.js, shafts off, against the
+        // reference), and every renderer's unshadowed fog (castShadow off),
+        // flashlight, composite, next frame and depths are the shafts pages' too
+        // (volumetric_lights_cast_shafts_from_three_js_shadow_maps).
         {
+            let (renderer, gl, pass) = ("WebGL 2 backend", true, false);
             let what = format!(
                 "{} ({} light), {}, with {}",
                 stage.name,
@@ -348,43 +351,15 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
             eprintln!("volumetric lights, {what}: {adapter}");
             assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
             assert!(fog.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[2] >= 0.0), "{what}: non-negative fog");
-            // The depth pass's distances against the analytic first surfaces of
-            // what the page draws (the floor, the boxes and the ball; no walls:
-            // past them, no surface, a negative distance).
-            let cam = stage.camera.map(f64::from);
-            let occ = stage.occluders();
-            let (mut off, mut open) = (0, 0);
-            for (p, d) in fog.iter().zip(&dirs) {
-                // The floor is the room's footprint.
-                let floor = (d[1] < 0.0).then(|| (f64::from(stage.room[0][1]) - cam[1]) / d[1]).filter(|&t| {
-                    [0, 2].iter().all(|&a| {
-                        let x = cam[a] + t * d[a];
-                        x >= f64::from(stage.room[0][a]) && x <= f64::from(stage.room[1][a])
-                    })
-                });
-                let want = occ.iter().filter_map(|o| o.enters(cam, *d)).chain(floor).fold(f64::INFINITY, f64::min);
-                let got = f64::from(p[3]);
-                let agree = if want.is_finite() && want < 90.0 {
-                    (got - want).abs() <= 1e-2 * want
-                } else {
-                    open += 1;
-                    !(0.0..=90.0).contains(&got)
-                };
-                off += usize::from(!agree);
-            }
+            check_depths(&stage, &dirs, &fog, &what);
             let ends: Vec<f64> = fog.iter().map(|p| f64::from(p[3])).collect();
             let reference = sr::reference_fog_along(&stage, &dirs, &ends, false);
             let classes = sr::classify(&view, &reference);
             let frame = sr::Frame { method: sr::Method::Exact, color: Vec::new(), fog, gpu_s: 0.0, pyramid_s: 0.0 };
             let e = sr::fog_errors(&frame, &reference, &classes);
             let lit = classes.iter().filter(|c| c.is_some()).count();
-            eprintln!(
-                "volumetric lights, {what}: {off} of {} distances off the drawn surfaces' by more than 1% ({open} open rays); {lit} lit pixels; fog error {e:?}", dirs.len()
-            );
+            eprintln!("volumetric lights, {what}: {lit} lit pixels; fog error {e:?}");
             assert!(lit > 500, "{what}: the light reaches much of the frame ({lit} pixels)");
-            // A pixel on an occluder's outline may see past it in one and not the
-            // other (the pergola's beams are many outlines, seen grazing).
-            assert!(off * 10 <= dirs.len(), "{what}: {off} distances from the depth pass off the drawn surfaces");
             // This checkout's run (open rays, past the drawn floor, now to
             // infinity in the reference too): window-shafts lit max 3.66e-5 on
             // WebGPU and 3.7e-5 on WebGL 2, street-lamp 8.4e-6 on both — phi-4's
@@ -394,6 +369,40 @@ fn volumetric_lights_from_three_js_lights_match_the_reference() {
         }
     }
     std::fs::remove_dir_all(&tmp).ok();
+}
+
+/// The depth pass's distances (`fog[i][3]`) against the analytic first surfaces
+/// of what the page draws (the floor, the boxes and the ball; no walls: past
+/// them, no surface, a negative distance): at most a tenth of the pixels off by
+/// more than 1% (a pixel on an occluder's outline may see past it in one and not
+/// the other; the pergola's beams are many outlines, seen grazing).
+fn check_depths(stage: &airlight_shaders::shafts::render::Stage, dirs: &[[f64; 3]], fog: &[[f32; 4]], what: &str) {
+    let cam = stage.camera.map(f64::from);
+    let occ = stage.occluders();
+    let (mut off, mut open) = (0, 0);
+    for (p, d) in fog.iter().zip(dirs) {
+        // The floor is the room's footprint.
+        let floor = (d[1] < 0.0).then(|| (f64::from(stage.room[0][1]) - cam[1]) / d[1]).filter(|&t| {
+            [0, 2].iter().all(|&a| {
+                let x = cam[a] + t * d[a];
+                x >= f64::from(stage.room[0][a]) && x <= f64::from(stage.room[1][a])
+            })
+        });
+        let want = occ.iter().filter_map(|o| o.enters(cam, *d)).chain(floor).fold(f64::INFINITY, f64::min);
+        let got = f64::from(p[3]);
+        let agree = if want.is_finite() && want < 90.0 {
+            (got - want).abs() <= 1e-2 * want
+        } else {
+            open += 1;
+            !(0.0..=90.0).contains(&got)
+        };
+        off += usize::from(!agree);
+    }
+    eprintln!(
+        "volumetric lights, {what}: {off} of {} distances off the drawn surfaces' by more than 1% ({open} open rays)",
+        dirs.len()
+    );
+    assert!(off * 10 <= dirs.len(), "{what}: {off} distances from the depth pass off the drawn surfaces");
 }
 
 /// Issue 60 (12): the light moved to the camera (the flashlight idiom), its
@@ -571,6 +580,7 @@ fn volumetric_lights_cast_shafts_from_three_js_shadow_maps() {
         eprintln!("volumetric lights, {what}: {adapter}");
         assert!(fog.iter().all(|p| p.iter().all(|x| x.is_finite())), "{what}: finite");
         assert!(fog.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[2] >= 0.0), "{what}: non-negative fog");
+        check_depths(&stage, &dirs, &fog, &what);
         let ends: Vec<f64> = fog.iter().map(|p| f64::from(p[3])).collect();
         let reference = sr::reference_fog_along(&stage, &dirs, &ends, true);
         let classes = sr::classify(&view, &reference);
