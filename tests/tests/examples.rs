@@ -64,7 +64,7 @@ impl airlight_kernels::shadowmap::Pyramid for Empty {
 }
 
 /// docs/shafts.md's exact mode in Rust, as it quotes it.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::let_and_return)] // the let: as the guide quotes it
 fn exact(
     my_pyramid: &Empty,
     origin: [f32; 3],
@@ -92,7 +92,7 @@ fn exact(
 
 /// docs/shafts.md's sampled mode in Rust, as it quotes it: `shadow` is the
 /// caller's shadow-map look-up at a distance along the ray.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::let_and_return)] // the let: as the guide quotes it
 fn sampled(
     shadow: impl Fn(f32) -> f32,
     origin: [f32; 3],
